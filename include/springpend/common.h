@@ -1,0 +1,26 @@
+/* springpend: shared error codes and logging.
+ * Every function that can fail returns 0 or a negative SP_E_* code and logs
+ * once, at the point of failure, in the failing library's own words. */
+#ifndef SPRINGPEND_COMMON_H
+#define SPRINGPEND_COMMON_H
+
+#define SP_VERSION "0.1.0"
+
+enum sp_error {
+    SP_OK = 0,
+    SP_E_INPUT = -1,       /* bad scene, option or argument: exit status 2 */
+    SP_E_IO = -2,          /* file system or encoder I/O failed */
+    SP_E_NOMEM = -3,       /* allocation failed */
+    SP_E_GL = -4,          /* GL context or shader failure */
+    SP_E_CODEC = -5,       /* libav* reported an error */
+    SP_E_UNSTABLE = -6,    /* the integration blew up: exit status 3 */
+    SP_E_INTERRUPTED = -7, /* stopped by a signal */
+};
+
+/* Prints "springpend: <message>\n" to stderr. */
+void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* Maps an SP_E_* code to the process exit status documented in --help. */
+int sp_exit_status(int err);
+
+#endif

@@ -1,0 +1,19 @@
+/* springpend: the render pipeline: scene -> sim -> frame model -> render ->
+ * sink. Commands build a desc and call it; nothing here parses arguments. */
+#ifndef SPRINGPEND_PIPELINE_H
+#define SPRINGPEND_PIPELINE_H
+
+#include "springpend/scene.h"
+
+struct sp_pipeline_desc {
+    const struct sp_scene *scene;
+    const char *output;  /* target path; the sink kind follows its extension */
+    int still;           /* 1: one frame at still_at instead of the video */
+    double still_at;     /* simulated s, used when still = 1 */
+    int progress;        /* 1: draw a progress line on stderr */
+};
+
+/* Runs the whole pipeline. On any failure nothing is left at desc->output. */
+int sp_pipeline_run(const struct sp_pipeline_desc *desc);
+
+#endif

@@ -1,0 +1,46 @@
+/* springpend: PNG files through libpng. */
+#ifndef SPRINGPEND_PNG_IO_H
+#define SPRINGPEND_PNG_IO_H
+
+#include <stdio.h>
+#include "springpend/image.h"
+
+/* The zlib level sinks use. On 1080p rendered frames level 1 writes in
+ * about 14 ms, level 6 in 24 ms for files 40% smaller. */
+#define SP_PNG_LEVEL_DEFAULT 1
+
+/* One tEXt chunk. key: 1..79 printable Latin-1 characters, no leading,
+ * trailing or double spaces (e.g. "Software", "Comment"); text: Latin-1. */
+struct sp_png_text {
+    const char *key;
+    const char *text;
+};
+
+/* How to write. Use designated initializers; a zeroed struct writes
+ * uncompressed (level 0) with no text. */
+struct sp_png_write_opts {
+    int level;                      /* zlib level 0..9, SP_PNG_LEVEL_DEFAULT */
+    const struct sp_png_text *text; /* n_text chunks written before IDAT */
+    int n_text;                     /* >= 0; text may be NULL when 0 */
+};
+
+/* Writes img as an 8-bit RGBA PNG to an open stream (left open, flushed).
+ * `what` names the destination in messages. */
+int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
+                             const struct sp_png_write_opts *opts,
+                             const char *what);
+/* Creates or truncates path and writes img to it (no .part dance; sinks do
+ * that). A failed write may leave a partial file behind. */
+int sp_png_write_opts(const char *path, const struct sp_image *img,
+                      const struct sp_png_write_opts *opts);
+
+/* Shorthands with a level 0..9 and no text. */
+int sp_png_write_stream(FILE *fp, const struct sp_image *img, int level,
+                        const char *what);
+int sp_png_write(const char *path, const struct sp_image *img, int level);
+
+/* Reads any PNG and converts it to RGBA8 (straight alpha, stride 4*width).
+ * img must be freed with sp_image_free; it is zeroed on failure. */
+int sp_png_read(const char *path, struct sp_image *img);
+
+#endif

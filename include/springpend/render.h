@@ -1,0 +1,31 @@
+/* springpend: the off-screen renderer. Draws one sp_frame into an RGBA
+ * image: background, trail, ceiling mount, spring coil, bob. Antialiased
+ * analytically in the shaders (no MSAA). Knows nothing of files. */
+#ifndef SPRINGPEND_RENDER_H
+#define SPRINGPEND_RENDER_H
+
+#include "springpend/frame.h"
+#include "springpend/image.h"
+
+struct sp_render_desc {
+    int width, height;            /* px */
+    struct sp_view_extent extent; /* world rectangle to fit, speed range */
+};
+
+struct sp_renderer;
+
+/* Creates the GL context (see gl_context.h) and the GPU resources. */
+int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc);
+
+/* Draws f. On success *img points at the renderer's own pixels (top row
+ * first), valid until the next draw or destroy; the caller must not free. */
+int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
+                   struct sp_image *img);
+
+/* The GL_RENDERER string of the context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
+const char *sp_render_renderer_name(const struct sp_renderer *r);
+
+/* Frees everything and sets *r to NULL. Safe on NULL. */
+void sp_render_destroy(struct sp_renderer **r);
+
+#endif

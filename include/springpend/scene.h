@@ -1,0 +1,67 @@
+/* springpend: scene description, parsed from an INI file plus --set overrides.
+ * Pure: no GL, no rendering, no output files. Units are SI; angles are stored
+ * in radians (scene files give degrees). */
+#ifndef SPRINGPEND_SCENE_H
+#define SPRINGPEND_SCENE_H
+
+#include <stdbool.h>
+
+enum sp_method {
+    SP_METHOD_RK4 = 0,
+};
+
+struct sp_scene {
+    char name[64];  /* file stem ("default" for scenes/default.ini) */
+    struct {
+        double natural_length; /* L0, m */
+        double stiffness;      /* k, N/m */
+        double mass;           /* m, kg */
+        double gravity;        /* g, m/s^2 */
+        double damping;        /* b, N*s/m (linear, on the bob's velocity) */
+    } pendulum;
+    struct {
+        double length;      /* r0, m */
+        double angle;       /* theta0, rad from the downward vertical */
+        double length_rate; /* dr/dt at t = 0, m/s */
+        double angle_rate;  /* dtheta/dt at t = 0, rad/s */
+    } initial;
+    struct {
+        enum sp_method method;
+        double dt; /* fixed step, s */
+    } integrator;
+    struct {
+        int width, height; /* px */
+        double fps;        /* video frames per second */
+        double duration;   /* simulated seconds covered by the video */
+        double speed;      /* simulated seconds per second of video */
+    } video;
+    struct {
+        int trail; /* trail points kept, 0 = none */
+    } view;
+};
+
+/* Fills s with the original simulator's defaults (see scenes/default.ini). */
+void sp_scene_defaults(struct sp_scene *s);
+
+/* Parses INI text. `origin` names it in messages ("scenes/x.ini"). Each
+ * override is "section.key=value", applied after the text. Every problem is
+ * printed to stderr as "ORIGIN:LINE: message" (or "--set ARG: message") and
+ * the call returns SP_E_INPUT after reporting all of them; s is then
+ * unspecified. No I/O besides stderr, no exit. */
+int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
+                   const char *const *overrides, int n_overrides);
+
+/* Reads path and calls sp_scene_parse; the scene name is the file stem. */
+int sp_scene_load(struct sp_scene *s, const char *path,
+                  const char *const *overrides, int n_overrides);
+
+/* Number of video frames, N = round(duration * fps / speed). */
+int sp_scene_frame_count(const struct sp_scene *s);
+
+/* Simulated time shown by frame k: k * speed / fps, s. */
+double sp_scene_frame_time(const struct sp_scene *s, int k);
+
+/* Prints every key with its default, unit and accepted range (for --help). */
+void sp_scene_print_keys(void);
+
+#endif

@@ -1,0 +1,102 @@
+/* springpend: option parsing shared by the scene commands. */
+#include <getopt.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "springpend/common.h"
+
+static int add_override(struct sp_cli_options *o, const char *s)
+{
+    if (o->n_overrides >= SP_CLI_MAX_OVERRIDES) {
+        sp_log_error("too many overrides; at most %d are allowed", SP_CLI_MAX_OVERRIDES);
+        return SP_E_INPUT;
+    }
+    o->overrides[o->n_overrides++] = s;
+    return 0;
+}
+
+int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *usage,
+                 int allow_at)
+{
+    static const struct option longopts[] = {
+        {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
+        {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
+        {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
+        {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
+    };
+    int c, w, h, ret = 0;
+    char tail;
+    memset(o, 0, sizeof(*o));
+    o->at = -1;
+    optind = 1;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1) {
+        switch (c) {
+        case 'o': o->output = optarg; break;
+        case 's': ret = add_override(o, optarg); break;
+        case 'q': o->quiet = 1; break;
+        case 'h': fputs(usage, stdout); return 1;
+        case 'S':
+            if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2) {
+                sp_log_error("--size %s: expected WIDTHxHEIGHT, e.g. --size 1920x1080", optarg);
+                return SP_E_INPUT;
+            }
+            snprintf(o->size_buf[0], sizeof(o->size_buf[0]), "video.width=%d", w);
+            snprintf(o->size_buf[1], sizeof(o->size_buf[1]), "video.height=%d", h);
+            ret = add_override(o, o->size_buf[0]);
+            if (!ret)
+                ret = add_override(o, o->size_buf[1]);
+            break;
+        case 'F':
+            snprintf(o->fps_buf, sizeof(o->fps_buf), "video.fps=%s", optarg);
+            ret = add_override(o, o->fps_buf);
+            break;
+        case 'a': {
+            char *end;
+            o->at = strtod(optarg, &end);
+            if (!allow_at || end == optarg || *end || !(o->at >= 0) || o->at > 1e9) {
+                sp_log_error("--at %s: expected a simulated time in seconds, 0 <= t <= 1e9",
+                             optarg);
+                return SP_E_INPUT;
+            }
+            break;
+        }
+        default:
+            sp_log_error("unknown option '%s'; see '%s --help'", argv[optind - 1], argv[0]);
+            return SP_E_INPUT;
+        }
+        if (ret)
+            return ret;
+    }
+    if (optind != argc - 1) {
+        sp_log_error(optind >= argc ? "missing SCENE file; see '%s --help'"
+                                    : "expected one SCENE file; see '%s --help'", argv[0]);
+        return SP_E_INPUT;
+    }
+    o->scene_path = argv[optind];
+    return 0;
+}
+
+int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene)
+{
+    sp_scene_defaults(scene);
+    return sp_scene_load(scene, o->scene_path, o->overrides, o->n_overrides);
+}
+
+int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
+                       const char *ext, char *buf, size_t size)
+{
+    char a[PATH_MAX], b[PATH_MAX];
+    if (o->output)
+        snprintf(buf, size, "%s", o->output);
+    else
+        snprintf(buf, size, "out/%s%s", scene->name, ext);
+    if (realpath(buf, a) && realpath(o->scene_path, b) && !strcmp(a, b)) {
+        sp_log_error("output %s is the scene file itself; choose another -o", buf);
+        return SP_E_INPUT;
+    }
+    return 0;
+}

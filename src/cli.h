@@ -1,0 +1,38 @@
+/* springpend: command-line helpers shared by the commands (main.c, cli_*.c). */
+#ifndef SPRINGPEND_CLI_H
+#define SPRINGPEND_CLI_H
+
+#include "springpend/scene.h"
+
+#define SP_CLI_MAX_OVERRIDES 64
+
+/* Options every scene command understands. */
+struct sp_cli_options {
+    const char *scene_path;  /* the positional SCENE argument */
+    const char *output;      /* -o, NULL = the command's default */
+    const char *overrides[SP_CLI_MAX_OVERRIDES]; /* --set, --size, --fps */
+    int n_overrides;
+    char size_buf[2][48];    /* storage for the overrides --size makes */
+    char fps_buf[48];        /* storage for the override --fps makes */
+    int quiet;               /* -q */
+    double at;               /* --at (still), simulated s; < 0 = not given */
+};
+
+/* Parses argv for one command. `extra` lists the command's own long options
+ * ("at" only, for now). Prints a message and returns SP_E_INPUT on misuse;
+ * returns 1 when --help was asked (usage already printed). */
+int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv,
+                 const char *usage, int allow_at);
+
+/* Loads o->scene_path with the overrides into *scene. */
+int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);
+
+/* Fills buf with o->output or "out/<scene name><ext>", and refuses an output
+ * that is the scene file itself. */
+int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
+                       const char *ext, char *buf, size_t size);
+
+int sp_cmd_render(int argc, char **argv);
+int sp_cmd_still(int argc, char **argv);
+
+#endif

@@ -1,0 +1,26 @@
+/* springpend: logging and exit statuses. */
+#include <stdarg.h>
+#include <stdio.h>
+
+#include "springpend/common.h"
+
+void sp_log_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("springpend: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+int sp_exit_status(int err)
+{
+    switch (err) {
+    case SP_OK: return 0;
+    case SP_E_INPUT: return 2;
+    case SP_E_UNSTABLE: return 3;
+    case SP_E_INTERRUPTED: return 130;
+    default: return 1;
+    }
+}

@@ -1,0 +1,59 @@
+/* springpend: entry point. Dispatches to a command; the only place that
+ * turns an SP_E_* code into an exit status. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+#include "springpend/common.h"
+
+static const char usage[] =
+    "springpend " SP_VERSION " - renders the spring (elastic) pendulum, headless\n"
+    "\n"
+    "usage: springpend COMMAND SCENE [options]\n"
+    "\n"
+    "commands:\n"
+    "  render   the whole motion as MP4 video or a PNG sequence\n"
+    "  still    one frame as a PNG\n"
+    "  keys     list every scene key with its default and accepted range\n"
+    "\n"
+    "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
+    "\n"
+    "exit status: 0 done, 1 failed (I/O, encoder, GL), 2 bad input,\n"
+    "             3 the simulation became unstable\n";
+
+struct command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+};
+
+static int cmd_keys(int argc, char **argv)
+{
+    (void)argc, (void)argv;
+    printf("scene keys (SI units; angles in degrees):\n");
+    sp_scene_print_keys();
+    return 0;
+}
+
+static const struct command commands[] = {
+    {"render", sp_cmd_render},
+    {"still", sp_cmd_still},
+    {"keys", cmd_keys},
+};
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
+        !strcmp(argv[1], "help")) {
+        fputs(usage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    if (!strcmp(argv[1], "--version")) {
+        puts("springpend " SP_VERSION);
+        return 0;
+    }
+    for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
+        if (!strcmp(argv[1], commands[i].name))
+            return sp_exit_status(commands[i].run(argc - 1, argv + 1));
+    sp_log_error("unknown command '%s'; see 'springpend --help'", argv[1]);
+    return 2;
+}

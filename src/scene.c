@@ -1,0 +1,487 @@
+/* springpend: scene files. inih splits lines into sections and key = value
+ * pairs; this file owns the key table, the defaults, the validation and the
+ * FILE:LINE messages. Pure: nothing but stderr is touched. */
+#include <errno.h>
+#include <stdarg.h>
+#include <ini.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "springpend/common.h"
+#include "springpend/scene.h"
+
+#define SP_MAX_PIXELS (7680L * 4320L)
+#define SP_MAX_FRAMES 1000000 /* about 4.6 hours at 60 fps */
+
+enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD };
+
+/* One scene key: where it lives in struct sp_scene and what it accepts.
+ * Accepted: lo < v (lo_open) or lo <= v, and v <= hi. */
+struct key_info {
+    const char *section, *name;
+    enum key_kind kind;
+    size_t offset;
+    double def;      /* default, in file units (degrees for angles) */
+    double lo, hi;   /* accepted range, file units */
+    int lo_open;     /* 1: lo itself is not allowed */
+    const char *unit;
+};
+
+#define F(field) offsetof(struct sp_scene, field)
+static const struct key_info keys[] = {
+    {"pendulum", "natural_length", KEY_REAL, F(pendulum.natural_length), 0.50, 0, 1e4, 1, "m"},
+    {"pendulum", "stiffness", KEY_REAL, F(pendulum.stiffness), 2.00, 0, 1e12, 1, "N/m"},
+    {"pendulum", "mass", KEY_REAL, F(pendulum.mass), 0.50, 0, 1e6, 1, "kg"},
+    {"pendulum", "gravity", KEY_REAL, F(pendulum.gravity), 9.81, 0, 1e3, 0, "m/s^2"},
+    {"pendulum", "damping", KEY_REAL, F(pendulum.damping), 0, 0, 1e9, 0, "N*s/m"},
+    {"initial", "length", KEY_REAL, F(initial.length), 0.55, 0, 1e4, 1, "m"},
+    {"initial", "angle", KEY_DEGREES, F(initial.angle), 10, -360, 360, 0, "degrees"},
+    {"initial", "length_rate", KEY_REAL, F(initial.length_rate), 0, -1e6, 1e6, 0, "m/s"},
+    {"initial", "angle_rate", KEY_REAL, F(initial.angle_rate), 0, -1e6, 1e6, 0, "rad/s"},
+    {"integrator", "method", KEY_METHOD, F(integrator.method), 0, 0, 0, 0, "rk4"},
+    {"integrator", "dt", KEY_REAL, F(integrator.dt), 0.001, 0, 1, 1, "s"},
+    {"video", "width", KEY_INT, F(video.width), 1280, 16, 7680, 0, "px"},
+    {"video", "height", KEY_INT, F(video.height), 720, 16, 4320, 0, "px"},
+    {"video", "fps", KEY_REAL, F(video.fps), 60, 0, 1000, 1, "frames/s"},
+    {"video", "duration", KEY_REAL, F(video.duration), 10, 0, 1e6, 1, "simulated s"},
+    {"video", "speed", KEY_REAL, F(video.speed), 1, 0, 1e4, 1, "simulated s per video s"},
+    {"view", "trail", KEY_INT, F(view.trail), 600, 0, 1e6, 0, "points"},
+};
+#undef F
+#define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
+
+static const char *const method_names[] = {"rk4"};
+#define N_METHODS ((int)(sizeof(method_names) / sizeof(method_names[0])))
+
+/* Parser state shared by the inih reader and handler. */
+struct parse_ctx {
+    struct sp_scene *scene;
+    const char *origin;   /* file name for messages */
+    const char *cursor;   /* next unread byte of the text */
+    int line;             /* number of the line inih is looking at */
+    int line_has_content; /* the line is neither blank, a comment nor a section */
+    int line_handled;     /* inih called the handler for it */
+    int key_line[N_KEYS]; /* where each key was set, 0 = not set */
+    int errors;
+};
+
+static void report(struct parse_ctx *c, int line, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+static void report(struct parse_ctx *c, int line, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    if (line > 0)
+        fprintf(stderr, "%s:%d: ", c->origin, line);
+    else
+        fprintf(stderr, "%s: ", c->origin);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    c->errors++;
+}
+
+static const struct key_info *find_key(const char *section, const char *name)
+{
+    for (int i = 0; i < N_KEYS; i++)
+        if (!strcmp(keys[i].section, section) && !strcmp(keys[i].name, name))
+            return &keys[i];
+    return NULL;
+}
+
+static int section_known(const char *section)
+{
+    for (int i = 0; i < N_KEYS; i++)
+        if (!strcmp(keys[i].section, section))
+            return 1;
+    return 0;
+}
+
+/* Levenshtein distance, capped: small helper for "did you mean". */
+static int edit_distance(const char *a, const char *b)
+{
+    size_t la = strlen(a), lb = strlen(b);
+    if (la > 63 || lb > 63)
+        return 99;
+    int row[64];
+    for (size_t j = 0; j <= lb; j++)
+        row[j] = (int)j;
+    for (size_t i = 1; i <= la; i++) {
+        int diag = row[0];
+        row[0] = (int)i;
+        for (size_t j = 1; j <= lb; j++) {
+            int up = row[j];
+            int cost = a[i - 1] != b[j - 1];
+            int best = diag + cost;
+            if (row[j] + 1 < best)
+                best = row[j] + 1;
+            if (row[j - 1] + 1 < best)
+                best = row[j - 1] + 1;
+            row[j] = best;
+            diag = up;
+        }
+    }
+    return row[lb];
+}
+
+/* Writes the keys of `section` as "a, b, c" into buf. */
+static void list_keys(const char *section, char *buf, size_t size)
+{
+    buf[0] = 0;
+    for (int i = 0; i < N_KEYS; i++) {
+        if (strcmp(keys[i].section, section))
+            continue;
+        size_t used = strlen(buf);
+        snprintf(buf + used, size - used, "%s%s", used ? ", " : "", keys[i].name);
+    }
+}
+
+static void report_unknown(struct parse_ctx *c, int line, const char *section,
+                           const char *name)
+{
+    char list[256];
+    const char *best = NULL;
+    int best_d = 3;
+    if (!section_known(section)) {
+        for (int i = 0; i < N_KEYS; i++) {
+            int d = edit_distance(section, keys[i].section);
+            if (d < best_d)
+                best_d = d, best = keys[i].section;
+        }
+        if (best)
+            report(c, line, "unknown section [%s]; did you mean [%s]? "
+                   "(sections: pendulum, initial, integrator, video, view)", section, best);
+        else
+            report(c, line, "unknown section [%s] (sections: pendulum, initial, "
+                   "integrator, video, view)", section);
+        return;
+    }
+    for (int i = 0; i < N_KEYS; i++) {
+        if (strcmp(keys[i].section, section))
+            continue;
+        int d = edit_distance(name, keys[i].name);
+        if (d < best_d)
+            best_d = d, best = keys[i].name;
+    }
+    list_keys(section, list, sizeof(list));
+    if (best)
+        report(c, line, "unknown key '%s' in [%s]; did you mean '%s'? (keys: %s)",
+               name, section, best, list);
+    else
+        report(c, line, "unknown key '%s' in [%s] (keys: %s)", name, section, list);
+}
+
+static void describe_range(const struct key_info *k, char *buf, size_t size)
+{
+    if (k->kind == KEY_INT)
+        snprintf(buf, size, "an integer from %.0f to %.0f %s", k->lo, k->hi, k->unit);
+    else
+        snprintf(buf, size, "a number with %g %s %s <= %g %s", k->lo,
+                 k->lo_open ? "<" : "<=", k->name, k->hi, k->unit);
+}
+
+/* Parses and stores one value. `where` prefixes messages ("FILE:LINE" is
+ * produced by report(); overrides pass line 0 and their own origin). */
+static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
+                      const char *value)
+{
+    char range[160];
+    char *p = (char *)c->scene + k->offset;
+    describe_range(k, range, sizeof(range));
+    if (k->kind == KEY_METHOD) {
+        for (int i = 0; i < N_METHODS; i++)
+            if (!strcmp(value, method_names[i])) {
+                *(enum sp_method *)p = (enum sp_method)i;
+                return;
+            }
+        report(c, line, "%s.%s = '%s' is not a method; allowed: %s", k->section,
+               k->name, value, k->unit);
+        return;
+    }
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(value, &end);
+    if (end == value || *end != 0) {
+        report(c, line, "%s.%s = '%s' is not a number; expected %s", k->section,
+               k->name, value, range);
+        return;
+    }
+    if (!isfinite(v)) {
+        report(c, line, "%s.%s = %s is not finite; expected %s", k->section,
+               k->name, value, range);
+        return;
+    }
+    if (k->kind == KEY_INT && v != floor(v)) {
+        report(c, line, "%s.%s = %s is not an integer; expected %s", k->section,
+               k->name, value, range);
+        return;
+    }
+    if (v < k->lo || (k->lo_open && v == k->lo) || v > k->hi) {
+        report(c, line, "%s.%s = %s is out of range; expected %s", k->section,
+               k->name, value, range);
+        return;
+    }
+    if (k->kind == KEY_INT)
+        *(int *)p = (int)v;
+    else if (k->kind == KEY_DEGREES)
+        *(double *)p = v * (M_PI / 180.0);
+    else
+        *(double *)p = v;
+}
+
+static int handle_pair(void *user, const char *section, const char *name,
+                       const char *value)
+{
+    struct parse_ctx *c = user;
+    c->line_handled = 1;
+    const struct key_info *k = find_key(section, name);
+    if (!k) {
+        if (section[0] && !section_known(section))
+            return 1; /* reported once, at its [header] */
+        if (!section[0])
+            report(c, c->line, "'%s' comes before any [section]; put it under "
+                   "[pendulum], [initial], [integrator], [video] or [view]", name);
+        else
+            report_unknown(c, c->line, section, name);
+        return 1;
+    }
+    int idx = (int)(k - keys);
+    if (c->key_line[idx]) {
+        report(c, c->line, "%s.%s is set twice (first on line %d); keep one",
+               section, name, c->key_line[idx]);
+        return 1;
+    }
+    c->key_line[idx] = c->line;
+    set_value(c, c->line, k, value);
+    return 1;
+}
+
+/* A line inih read but did not hand to us was malformed. */
+static void check_previous_line(struct parse_ctx *c)
+{
+    if (c->line > 0 && c->line_has_content && !c->line_handled)
+        report(c, c->line, "expected 'key = value', '[section]' or a '#' comment");
+}
+
+/* Classifies a line: returns 1 when inih should hand it to the handler. */
+static int line_has_content(struct parse_ctx *c, const char *s)
+{
+    while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')
+        s++;
+    if (!*s || *s == '#' || *s == ';')
+        return 0;
+    if (*s == '[') {
+        const char *close = strchr(s, ']');
+        if (!close) {
+            report(c, c->line, "section header without ']'");
+            return 0;
+        }
+        char name[64];
+        size_t n = (size_t)(close - s - 1);
+        if (n >= sizeof(name))
+            n = sizeof(name) - 1;
+        memcpy(name, s + 1, n);
+        name[n] = 0;
+        if (!section_known(name))
+            report_unknown(c, c->line, name, "");
+        return 0;
+    }
+    return 1;
+}
+
+/* inih's fgets-like reader over the in-memory text. It counts lines, and
+ * turns lines inih must not see (too long, NUL bytes) into comments after
+ * reporting them. */
+static char *read_line(char *str, int num, void *stream)
+{
+    struct parse_ctx *c = stream;
+    check_previous_line(c);
+    if (!*c->cursor)
+        return NULL;
+    const char *start = c->cursor;
+    const char *nl = strchr(start, '\n');
+    size_t len = nl ? (size_t)(nl - start + 1) : strlen(start);
+    c->cursor += len;
+    c->line++;
+    c->line_handled = 0;
+    if (len + 1 > (size_t)num) {
+        const char *q = start + strspn(start, " \t");
+        if (*q != '#' && *q != ';') /* long comments are fine */
+            report(c, c->line, "line is %zu bytes long; at most %d are allowed "
+                   "for a key = value line", len, num - 2);
+        c->line_has_content = 0;
+        snprintf(str, (size_t)num, "#\n");
+        return str;
+    }
+    memcpy(str, start, len);
+    str[len] = 0;
+    c->line_has_content = line_has_content(c, str);
+    return str;
+}
+
+void sp_scene_defaults(struct sp_scene *s)
+{
+    memset(s, 0, sizeof(*s));
+    snprintf(s->name, sizeof(s->name), "scene");
+    for (int i = 0; i < N_KEYS; i++) {
+        char *p = (char *)s + keys[i].offset;
+        switch (keys[i].kind) {
+        case KEY_REAL: *(double *)p = keys[i].def; break;
+        case KEY_DEGREES: *(double *)p = keys[i].def * (M_PI / 180.0); break;
+        case KEY_INT: *(int *)p = (int)keys[i].def; break;
+        case KEY_METHOD: *(enum sp_method *)p = (enum sp_method)(int)keys[i].def; break;
+        }
+    }
+}
+
+static void apply_override(struct parse_ctx *c, const char *arg)
+{
+    char section[64], name[64];
+    const char *dot = strchr(arg, '.'), *eq = strchr(arg, '=');
+    if (!dot || !eq || dot > eq || (size_t)(dot - arg) >= sizeof(section) ||
+        (size_t)(eq - dot - 1) >= sizeof(name)) {
+        fprintf(stderr, "--set %s: expected section.key=value, e.g. --set video.fps=30\n", arg);
+        c->errors++;
+        return;
+    }
+    memcpy(section, arg, (size_t)(dot - arg));
+    section[dot - arg] = 0;
+    memcpy(name, dot + 1, (size_t)(eq - dot - 1));
+    name[eq - dot - 1] = 0;
+    char origin[256];
+    snprintf(origin, sizeof(origin), "--set %s", arg);
+    const char *saved = c->origin;
+    c->origin = origin;
+    const struct key_info *k = find_key(section, name);
+    if (!k)
+        report_unknown(c, 0, section, name);
+    else
+        set_value(c, 0, k, eq + 1);
+    c->origin = saved;
+}
+
+/* Checks that need several keys at once. */
+static void validate_whole(struct parse_ctx *c)
+{
+    struct sp_scene *s = c->scene;
+    long pixels = (long)s->video.width * s->video.height;
+    if (pixels > SP_MAX_PIXELS)
+        report(c, 0, "video size %dx%d is too large; at most %ld pixels (8K, 7680x4320)",
+               s->video.width, s->video.height, SP_MAX_PIXELS);
+    double frames = s->video.duration * s->video.fps / s->video.speed;
+    if (!(frames >= 0.5))
+        report(c, 0, "video.duration * video.fps / video.speed = %g frames; at least "
+               "1 frame is needed (raise video.duration or lower video.speed)", frames);
+    else if (frames > SP_MAX_FRAMES)
+        report(c, 0, "video.duration * video.fps / video.speed = %.0f frames; at most "
+               "%d are allowed", frames, SP_MAX_FRAMES);
+    double steps = s->video.duration / s->integrator.dt;
+    if (steps > 1e10)
+        report(c, 0, "video.duration / integrator.dt = %.3g steps; at most 1e10 are "
+               "allowed (raise integrator.dt)", steps);
+}
+
+int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
+                   const char *const *overrides, int n_overrides)
+{
+    struct parse_ctx c = {.scene = s, .origin = origin, .cursor = text};
+    char name[sizeof(s->name)];
+    snprintf(name, sizeof(name), "%s", s->name);
+    sp_scene_defaults(s);
+    snprintf(s->name, sizeof(s->name), "%s", name);
+
+    ini_allow_multiline = false;
+    ini_allow_inline_comments = true;
+    ini_inline_comment_prefixes = "#;";
+    int rc = ini_parse_stream(read_line, &c, handle_pair, &c);
+    if (rc == -2) {
+        report(&c, 0, "out of memory while parsing");
+        return SP_E_NOMEM;
+    }
+    for (int i = 0; i < n_overrides; i++)
+        apply_override(&c, overrides[i]);
+    if (!c.errors)
+        validate_whole(&c);
+    return c.errors ? SP_E_INPUT : 0;
+}
+
+int sp_scene_load(struct sp_scene *s, const char *path,
+                  const char *const *overrides, int n_overrides)
+{
+    FILE *fp = fopen(path, "rb");
+    char *text = NULL;
+    int ret = SP_E_INPUT;
+    if (!fp) {
+        fprintf(stderr, "%s: cannot open scene: %s\n", path, strerror(errno));
+        return SP_E_INPUT;
+    }
+    if (fseek(fp, 0, SEEK_END) || ftell(fp) < 0) {
+        fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
+        goto done;
+    }
+    long size = ftell(fp);
+    if (size > (1L << 20)) {
+        fprintf(stderr, "%s: scene file is %ld bytes; at most 1 MiB is allowed\n", path, size);
+        goto done;
+    }
+    rewind(fp);
+    text = malloc((size_t)size + 1);
+    if (!text) {
+        ret = SP_E_NOMEM;
+        goto done;
+    }
+    if (fread(text, 1, (size_t)size, fp) != (size_t)size) {
+        fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
+        goto done;
+    }
+    text[size] = 0;
+    if (memchr(text, 0, (size_t)size)) {
+        fprintf(stderr, "%s: contains NUL bytes; a scene is a text file of "
+                "'key = value' lines\n", path);
+        goto done;
+    }
+    /* The scene's name is the file's stem. */
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    snprintf(s->name, sizeof(s->name), "%.*s", (int)strcspn(base, "."), base);
+    if (!s->name[0])
+        snprintf(s->name, sizeof(s->name), "scene");
+    ret = sp_scene_parse(s, text, path, overrides, n_overrides);
+done:
+    free(text);
+    fclose(fp);
+    return ret;
+}
+
+int sp_scene_frame_count(const struct sp_scene *s)
+{
+    return (int)lround(s->video.duration * s->video.fps / s->video.speed);
+}
+
+double sp_scene_frame_time(const struct sp_scene *s, int k)
+{
+    return k * s->video.speed / s->video.fps;
+}
+
+void sp_scene_print_keys(void)
+{
+    const char *section = "";
+    for (int i = 0; i < N_KEYS; i++) {
+        const struct key_info *k = &keys[i];
+        char range[160];
+        if (strcmp(section, k->section))
+            printf("  [%s]\n", section = k->section);
+        if (k->kind == KEY_METHOD)
+            snprintf(range, sizeof(range), "one of: %s", k->unit);
+        else
+            describe_range(k, range, sizeof(range));
+        if (k->kind == KEY_METHOD)
+            printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
+        else
+            printf("    %-15s default %-8g %s\n", k->name, k->def, range);
+    }
+}

@@ -1,0 +1,194 @@
+/* springpend: the public sink API. Picks a backend from the path, checks
+ * what every backend needs, creates folders and keeps the frame count.
+ * The backends live in sink_png.c and sink_video.c (see sink_impl.h). */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include "springpend/common.h"
+#include "sink_impl.h"
+
+/* The kind from the file name's extension (any case); NULL if unknown. */
+static const struct sp_sink_backend *pick_backend(const char *path)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    if (!dot || dot == base)
+        return NULL;
+    if (!strcasecmp(dot, ".mp4"))
+        return &sp_sink_backend_video;
+    if (!strcasecmp(dot, ".png"))
+        return strchr(path, '%') ? &sp_sink_backend_png_sequence
+                                 : &sp_sink_backend_png_single;
+    return NULL;
+}
+
+/* mkdir -p of every folder above the file `path`. */
+static int make_parents(const char *path)
+{
+    char *dir = strdup(path);
+    int err = 0;
+    if (!dir) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    for (char *p = strchr(dir + 1, '/'); p; p = strchr(p + 1, '/')) {
+        if (p[-1] == '/')
+            continue; /* "a//b" */
+        *p = '\0';
+        struct stat st;
+        int mkdir_errno = mkdir(dir, 0777) == 0 ? 0 : errno;
+        if (mkdir_errno && mkdir_errno != EEXIST &&
+            !(stat(dir, &st) == 0 && S_ISDIR(st.st_mode))) {
+            sp_log_error("cannot create folder %s for %s: %s", dir, path,
+                         strerror(mkdir_errno));
+            err = SP_E_IO;
+            break;
+        }
+        *p = '/';
+    }
+    free(dir);
+    return err;
+}
+
+/* Frees s and what sink.c allocated; the backend has released its part. */
+static void sink_free(struct sp_sink *s)
+{
+    if (!s)
+        return;
+    free(s->priv);
+    free(s->path);
+    free(s);
+}
+
+int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc)
+{
+    struct sp_sink *s = NULL;
+    int err;
+    *out = NULL;
+
+    if (!desc->path || !desc->path[0]) {
+        sp_log_error("no output path given");
+        return SP_E_INPUT;
+    }
+    const struct sp_sink_backend *backend = pick_backend(desc->path);
+    if (!backend) {
+        sp_log_error("cannot tell what to write from the name %s: use "
+                     "NAME.mp4 (H.264 video), NAME.png (one image) or a "
+                     "pattern like frames/%%05d.png (one PNG per frame)",
+                     desc->path);
+        return SP_E_INPUT;
+    }
+    if (desc->width <= 0 || desc->height <= 0) {
+        sp_log_error("%s: image size %dx%d is not positive", desc->path,
+                     desc->width, desc->height);
+        return SP_E_INPUT;
+    }
+    if (backend->check && (err = backend->check(desc)) != 0)
+        return err;
+
+    s = calloc(1, sizeof(*s));
+    if (!s || !(s->path = strdup(desc->path)) ||
+        (backend->priv_size && !(s->priv = calloc(1, backend->priv_size)))) {
+        sp_log_error("out of memory");
+        err = SP_E_NOMEM;
+        goto fail;
+    }
+    s->backend = backend;
+    s->desc = *desc;
+    s->desc.path = s->path;
+    if ((err = make_parents(s->path)) != 0 || (err = backend->open(s)) != 0)
+        goto fail;
+    s->desc.preset = NULL; /* the caller's string, only valid until here */
+    *out = s;
+    return 0;
+fail:
+    sink_free(s);
+    return err;
+}
+
+int sp_sink_write(struct sp_sink *s, const struct sp_image *img)
+{
+    if (s->failed) {
+        sp_log_error("%s: cannot write after a failed write", s->path);
+        return SP_E_IO;
+    }
+    if (!img->pixels || img->width != s->desc.width ||
+        img->height != s->desc.height || img->stride < 4 * img->width) {
+        sp_log_error("%s: got a %dx%d image (stride %d) for a %dx%d output",
+                     s->path, img->width, img->height, img->stride,
+                     s->desc.width, s->desc.height);
+        return SP_E_INPUT;
+    }
+    int err = s->backend->write(s, img);
+    if (err) {
+        /* SP_E_INPUT: the image was refused and nothing changed. */
+        if (err != SP_E_INPUT)
+            s->failed = 1;
+        return err;
+    }
+    s->frames++;
+    return 0;
+}
+
+int sp_sink_close(struct sp_sink **sp)
+{
+    struct sp_sink *s = *sp;
+    int err;
+    if (!s)
+        return 0;
+    *sp = NULL;
+
+    if (s->failed) {
+        err = SP_E_IO; /* logged by the failed write */
+    } else if (s->frames == 0) {
+        sp_log_error("%s: no image was written", s->path);
+        err = SP_E_INPUT;
+    } else {
+        err = s->backend->close(s);
+    }
+    if (err)
+        s->backend->abort(s);
+    sink_free(s);
+    return err;
+}
+
+void sp_sink_abort(struct sp_sink **sp)
+{
+    struct sp_sink *s = *sp;
+    if (!s)
+        return;
+    *sp = NULL;
+    s->backend->abort(s);
+    sink_free(s);
+}
+
+int sp_sink_part_path(const char *path, char **out)
+{
+    if (asprintf(out, "%s.part", path) < 0) {
+        *out = NULL;
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    return 0;
+}
+
+int sp_sink_commit(const char *part, const char *target)
+{
+    if (rename(part, target) != 0) {
+        sp_log_error("cannot rename %s to %s: %s", part, target,
+                     strerror(errno));
+        return SP_E_IO;
+    }
+    return 0;
+}
+
+void sp_sink_discard(const char *path)
+{
+    if (remove(path) != 0 && errno != ENOENT)
+        sp_log_error("cannot remove %s: %s", path, strerror(errno));
+}

@@ -1,0 +1,55 @@
+/* springpend: the backend side of sinks. sink.c picks a backend from the
+ * path, validates what is common, creates folders, counts frames and owns
+ * struct sp_sink; each backend (one file: sink_png.c, sink_video.c, ...)
+ * fills a struct sp_sink_backend. A new format is a new file plus one line
+ * in sink.c's table. */
+#ifndef SPRINGPEND_SINK_IMPL_H
+#define SPRINGPEND_SINK_IMPL_H
+
+#include <stddef.h>
+
+#include "springpend/sink.h"
+
+struct sp_sink_backend {
+    size_t priv_size;      /* bytes of zeroed state sink.c allocates */
+
+    /* Validates desc without touching the file system (so a refused sink
+     * leaves no folder or file). May be NULL. SP_E_INPUT with a message. */
+    int (*check)(const struct sp_sink_desc *desc);
+    /* Starts writing; parent folders exist. On failure it must have released
+     * everything it took and removed every file it created. */
+    int (*open)(struct sp_sink *s);
+    /* Writes one image of desc's size; s->frames images came before it. */
+    int (*write)(struct sp_sink *s, const struct sp_image *img);
+    /* Finishes and renames every .part into place. On failure it leaves the
+     * rest to abort, which sink.c calls next. */
+    int (*close)(struct sp_sink *s);
+    /* Releases everything and removes every .part. Must work after a failed
+     * write or close. */
+    void (*abort)(struct sp_sink *s);
+};
+
+struct sp_sink {
+    const struct sp_sink_backend *backend;
+    struct sp_sink_desc desc; /* desc.path points at path below; desc.preset
+                                 is the caller's, read in check/open only */
+    char *path;               /* owned copy of the target path */
+    long frames;              /* images written so far */
+    int failed;               /* a write failed: only abort remains */
+    void *priv;               /* backend->priv_size bytes, owned by sink.c */
+};
+
+extern const struct sp_sink_backend sp_sink_backend_video;
+extern const struct sp_sink_backend sp_sink_backend_png_sequence;
+extern const struct sp_sink_backend sp_sink_backend_png_single;
+
+/* Helpers for backends. Each logs its own failures. */
+
+/* Allocates "PATH.part" into *out (caller frees). */
+int sp_sink_part_path(const char *path, char **out);
+/* Renames part to target; on failure logs and returns SP_E_IO. */
+int sp_sink_commit(const char *part, const char *target);
+/* Removes path if it exists; quiet about a missing file. */
+void sp_sink_discard(const char *path);
+
+#endif

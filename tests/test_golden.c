@@ -1,0 +1,116 @@
+/* springpend tests: real renders compared with reviewed golden PNGs.
+ * usage: test_golden TESTS_SOURCE_DIR OUTPUT_DIR
+ * On a mismatch, OUTPUT_DIR/NAME.actual.png and NAME.diff.png are written.
+ * SP_UPDATE_GOLDEN=1 replaces the golden files with the actual renders
+ * (review them before committing). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "springpend/common.h"
+#include "springpend/pipeline.h"
+#include "springpend/png_io.h"
+#include "tap.h"
+
+#define MAX_CHANNEL_DIFF 3     /* levels of 255 a pixel may be off ... */
+#define MAX_DIFF_FRACTION 1e-3 /* ... with at most this share beyond it */
+
+struct golden_case {
+    const char *name;       /* golden file stem */
+    const char *scene;      /* file under scenes/ */
+    double at;              /* simulated s */
+    const char *overrides[4];
+};
+
+static const struct golden_case cases[] = {
+    {"default_t3", "default.ini", 3.0, {"video.width=640", "video.height=360"}},
+    {"default_t0_notrail", "default.ini", 0.0, {"video.width=320", "video.height=240", "view.trail=0"}},
+};
+
+/* Counts pixels whose largest channel difference exceeds MAX_CHANNEL_DIFF,
+ * and paints them into diff (the expected image greyed, misses in magenta). */
+static long compare(const struct sp_image *a, const struct sp_image *b,
+                    struct sp_image *diff, int *max_diff)
+{
+    long bad = 0;
+    *max_diff = 0;
+    for (int y = 0; y < a->height; y++)
+        for (int x = 0; x < a->width; x++) {
+            const uint8_t *p = a->pixels + y * a->stride + 4 * x;
+            const uint8_t *q = b->pixels + y * b->stride + 4 * x;
+            uint8_t *d = diff->pixels + y * diff->stride + 4 * x;
+            int m = 0;
+            for (int c = 0; c < 4; c++)
+                m = abs(p[c] - q[c]) > m ? abs(p[c] - q[c]) : m;
+            if (m > *max_diff)
+                *max_diff = m;
+            uint8_t grey = (uint8_t)((p[0] + p[1] + p[2]) / 12 + 32);
+            d[0] = d[1] = d[2] = grey;
+            d[3] = 255;
+            if (m > MAX_CHANNEL_DIFF) {
+                d[0] = 255, d[1] = 0, d[2] = 255;
+                bad++;
+            }
+        }
+    return bad;
+}
+
+static void run_case(const char *src, const char *outdir, const struct golden_case *gc)
+{
+    char scene_path[4096], golden[4096], actual[4096], diffp[4096];
+    struct sp_scene scene;
+    struct sp_image want = {0}, got = {0}, diff = {0};
+    int n = 0;
+    while (n < 4 && gc->overrides[n])
+        n++;
+    snprintf(scene_path, sizeof(scene_path), "%s/../scenes/%s", src, gc->scene);
+    snprintf(golden, sizeof(golden), "%s/golden/%s.png", src, gc->name);
+    snprintf(actual, sizeof(actual), "%s/%s.actual.png", outdir, gc->name);
+    snprintf(diffp, sizeof(diffp), "%s/%s.diff.png", outdir, gc->name);
+    sp_scene_defaults(&scene);
+    if (!sp_tap_ok(sp_scene_load(&scene, scene_path, gc->overrides, n) == 0 &&
+                   sp_pipeline_run(&(struct sp_pipeline_desc){
+                       .scene = &scene, .output = actual, .still = 1, .still_at = gc->at}) == 0,
+                   "%s: rendered", gc->name))
+        return;
+    if (getenv("SP_UPDATE_GOLDEN")) {
+        struct sp_image img;
+        sp_png_read(actual, &img);
+        sp_png_write(golden, &img, 9);
+        sp_image_free(&img);
+        sp_tap_diag("%s: golden updated from %s", gc->name, actual);
+    }
+    if (!sp_tap_ok(sp_png_read(golden, &want) == 0 && sp_png_read(actual, &got) == 0,
+                   "%s: golden and actual read", gc->name))
+        goto done;
+    if (!sp_tap_ok(want.width == got.width && want.height == got.height,
+                   "%s: size %dx%d matches golden %dx%d", gc->name, got.width, got.height,
+                   want.width, want.height))
+        goto done;
+    sp_image_alloc(&diff, want.width, want.height);
+    int max_diff;
+    long bad = compare(&want, &got, &diff, &max_diff);
+    long limit = (long)(MAX_DIFF_FRACTION * want.width * want.height);
+    if (!sp_tap_ok(bad <= limit, "%s: %ld pixels differ by more than %d levels (allowed %ld; "
+                   "largest difference %d)", gc->name, bad, MAX_CHANNEL_DIFF, limit, max_diff)) {
+        sp_png_write(diffp, &diff, 6);
+        sp_tap_diag("actual: %s, diff: %s", actual, diffp);
+    } else {
+        remove(actual);
+    }
+done:
+    sp_image_free(&want);
+    sp_image_free(&got);
+    sp_image_free(&diff);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 3) {
+        fprintf(stderr, "usage: %s TESTS_SOURCE_DIR OUTPUT_DIR\n", argv[0]);
+        return 2;
+    }
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++)
+        run_case(argv[1], argv[2], &cases[i]);
+    return sp_tap_done();
+}

@@ -1,0 +1,88 @@
+/* springpend tests: scene parsing and validation (scene.c).
+ * argv[1] = the tests source folder; scenes/ is beside it. */
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "springpend/common.h"
+#include "springpend/scene.h"
+#include "tap.h"
+
+static int parse(const char *text, struct sp_scene *s)
+{
+    sp_scene_defaults(s);
+    return sp_scene_parse(s, text, "test.ini", NULL, 0);
+}
+
+static void test_presets(const char *tests_dir)
+{
+    char dir[4096], path[8192];
+    snprintf(dir, sizeof(dir), "%s/../scenes", tests_dir);
+    DIR *d = opendir(dir);
+    int n = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        size_t len = strlen(e->d_name);
+        if (len < 5 || strcmp(e->d_name + len - 4, ".ini"))
+            continue;
+        struct sp_scene s;
+        sp_scene_defaults(&s);
+        snprintf(path, sizeof(path), "%s/%s", dir, e->d_name);
+        sp_tap_ok(sp_scene_load(&s, path, NULL, 0) == 0, "scenes/%s parses", e->d_name);
+        n++;
+    }
+    if (d)
+        closedir(d);
+    sp_tap_ok(n >= 1, "found %d scene files in %s", n, dir);
+}
+
+static void test_defaults(void)
+{
+    struct sp_scene s;
+    sp_tap_ok(parse("# nothing but a comment\n", &s) == 0 &&
+              s.pendulum.natural_length == 0.5 && s.pendulum.stiffness == 2 &&
+              s.pendulum.mass == 0.5 && s.initial.length == 0.55 &&
+              fabs(s.initial.angle - 10 * M_PI / 180) < 1e-15 && s.integrator.dt == 0.001 &&
+              s.view.trail == 600 && s.pendulum.gravity == 9.81,
+              "an empty scene takes the original's defaults");
+    sp_tap_ok(parse("[pendulum]\nmass = 2 # kg\n[initial]\nangle=90\n", &s) == 0 &&
+              s.pendulum.mass == 2 && fabs(s.initial.angle - M_PI / 2) < 1e-15,
+              "keys with inline comments; angles are degrees");
+    sp_scene_defaults(&s);
+    const char *ov[] = {"video.fps=30", "pendulum.stiffness=5"};
+    sp_tap_ok(sp_scene_parse(&s, "[video]\nfps = 60\n", "t.ini", ov, 2) == 0 &&
+              s.video.fps == 30 && s.pendulum.stiffness == 5, "--set overrides the file");
+    sp_tap_ok(sp_scene_frame_count(&s) == 300, "10 s at 30 fps, speed 1: 300 frames (%d)",
+              sp_scene_frame_count(&s));
+}
+
+static void test_rejects(void)
+{
+    static const char *bad[] = {
+        "[pendulum]\nmass = 0\n", "[pendulum]\nmass = -1\n", "[pendulum]\nstiffness = nan\n",
+        "[pendulum]\nstiffness = inf\n", "[pendulum]\nstiffness = 2x\n",
+        "[pendulum]\nmas = 1\n", "[pendel]\nmass = 1\n", "[video]\nwidth = 0\n",
+        "[video]\nwidth = 100000\n", "[video]\nfps = 0\n", "[integrator]\ndt = 0\n",
+        "[integrator]\nmethod = euler\n", "[pendulum]\nmass = 1\nmass = 2\n",
+        "just some words\n", "[video]\nduration = 1e6\nfps = 1000\n",
+        "mass = 1\n", "[initial]\nlength = 0\n", "[video\nwidth = 10\n",
+    };
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+        struct sp_scene s;
+        char shown[64];
+        snprintf(shown, sizeof(shown), "%s", bad[i]);
+        for (char *p = shown; *p; p++)
+            if (*p == '\n')
+                *p = '|';
+        sp_tap_ok(parse(bad[i], &s) == SP_E_INPUT, "rejected: %s", shown);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    test_defaults();
+    test_rejects();
+    test_presets(argc > 1 ? argv[1] : "tests");
+    return sp_tap_done();
+}

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/pipeline.h"
 
 static int add_override(struct sp_cli_options *o, const char *s)
 {
@@ -25,16 +26,40 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
         {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
         {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
-        {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
+        {"help", no_argument, 0, 'h'},         {"verbose", no_argument, 0, 'v'},
+        {"format", required_argument, 0, 'f'}, {"frames", required_argument, 0, 'R'},
+        {"shard", required_argument, 0, 'D'},  {"gl", required_argument, 0, 'G'},
+        {"quality", required_argument, 0, 'Q'}, {0, 0, 0, 0},
     };
+    /* --quality: like the tools people know; --set/--size/--fps still win. */
+    static const struct { const char *name; int w, h, fps; } qualities[] = {
+        {"low", 854, 480, 15}, {"medium", 1280, 720, 30},
+        {"high", 1920, 1080, 60}, {"4k", 3840, 2160, 60},
+    };
+    const char *quality = NULL;
     int c, w, h, ret = 0;
     char tail;
     memset(o, 0, sizeof(*o));
     o->at = -1;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "o:qhv", longopts, NULL)) != -1) {
         switch (c) {
+        case 'v': o->verbose = 1; break;
+        case 'f': o->format = optarg; break;
+        case 'R': o->frames = optarg; break;
+        case 'D': o->shard = optarg; break;
+        case 'Q': quality = optarg; break;
+        case 'G':
+            if (!strcmp(optarg, "osmesa"))
+                o->gl = SP_GL_OSMESA;
+            else if (!strcmp(optarg, "egl"))
+                o->gl = SP_GL_EGL;
+            else {
+                sp_log_error("--gl %s: use osmesa or egl", optarg);
+                return SP_E_INPUT;
+            }
+            break;
         case 'o': o->output = optarg; break;
         case 's': ret = add_override(o, optarg); break;
         case 'q': o->quiet = 1; break;
@@ -71,12 +96,70 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         if (ret)
             return ret;
     }
+    if (quality) {
+        size_t i = 0, n = sizeof(qualities) / sizeof(qualities[0]);
+        while (i < n && strcmp(quality, qualities[i].name))
+            i++;
+        if (i == n) {
+            sp_log_error("--quality %s: use low (854x480@15), medium (1280x720@30), "
+                         "high (1920x1080@60) or 4k (3840x2160@60)", quality);
+            return SP_E_INPUT;
+        }
+        if (o->n_overrides + 3 > SP_CLI_MAX_OVERRIDES) {
+            sp_log_error("too many overrides; at most %d are allowed", SP_CLI_MAX_OVERRIDES);
+            return SP_E_INPUT;
+        }
+        /* First, so that --set, --size and --fps override it. */
+        memmove(o->overrides + 3, o->overrides, o->n_overrides * sizeof(o->overrides[0]));
+        o->n_overrides += 3;
+        snprintf(o->quality_buf[0], sizeof(o->quality_buf[0]), "video.width=%d", qualities[i].w);
+        snprintf(o->quality_buf[1], sizeof(o->quality_buf[1]), "video.height=%d", qualities[i].h);
+        snprintf(o->quality_buf[2], sizeof(o->quality_buf[2]), "video.fps=%d", qualities[i].fps);
+        for (int k = 0; k < 3; k++)
+            o->overrides[k] = o->quality_buf[k];
+    }
     if (optind != argc - 1) {
         sp_log_error(optind >= argc ? "missing SCENE file; see '%s --help'"
                                     : "expected one SCENE file; see '%s --help'", argv[0]);
         return SP_E_INPUT;
     }
     o->scene_path = argv[optind];
+    return 0;
+}
+
+int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
+                       int *first, int *last)
+{
+    int a, b, i, n, used = 0;
+    *first = *last = 0;
+    if (o->frames && o->shard) {
+        sp_log_error("--frames and --shard cannot be combined; give one");
+        return SP_E_INPUT;
+    }
+    if (o->frames) {
+        /* "A:B", "A:" (to the end) or ":B"; frames count from 0, B excluded */
+        a = 0, b = n_frames;
+        if (!((sscanf(o->frames, "%d:%d%n", &a, &b, &used) == 2 && !o->frames[used]) ||
+              (sscanf(o->frames, "%d:%n", &a, &used) == 1 && !o->frames[used]) ||
+              (sscanf(o->frames, ":%d%n", &b, &used) == 1 && !o->frames[used])) ||
+            a < 0 || b > n_frames || a >= b) {
+            sp_log_error("--frames %s: expected A:B with 0 <= A < B <= %d (the "
+                         "video's frames are 0..%d; B is not included)",
+                         o->frames, n_frames, n_frames - 1);
+            return SP_E_INPUT;
+        }
+        *first = a;
+        *last = b;
+    }
+    if (o->shard) {
+        if (sscanf(o->shard, "%d/%d%n", &i, &n, &used) != 2 || o->shard[used] ||
+            i < 1 || i > n || n > n_frames) {
+            sp_log_error("--shard %s: expected I/N with 1 <= I <= N <= %d (the "
+                         "video's frames), e.g. --shard 2/4", o->shard, n_frames);
+            return SP_E_INPUT;
+        }
+        return sp_pipeline_shard(n_frames, i - 1, n, first, last);
+    }
     return 0;
 }
 

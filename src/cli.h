@@ -16,6 +16,12 @@ struct sp_cli_options {
     char fps_buf[48];        /* storage for the override --fps makes */
     int quiet;               /* -q */
     double at;               /* --at (still), simulated s; < 0 = not given */
+    int verbose;             /* --verbose */
+    const char *format;      /* --format, NULL = by the output's extension */
+    const char *frames;      /* --frames A:B as given, NULL = all */
+    const char *shard;       /* --shard I/N as given, NULL = all */
+    int gl;                  /* --gl: enum sp_gl */
+    char quality_buf[3][48]; /* storage for the overrides --quality makes */
 };
 
 /* Parses argv for one command. `extra` lists the command's own long options
@@ -23,6 +29,11 @@ struct sp_cli_options {
  * returns 1 when --help was asked (usage already printed). */
 int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv,
                  const char *usage, int allow_at);
+
+/* Turns --frames / --shard into frames [*first, *last) of a video of
+ * n_frames (*last = 0: to the end). */
+int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
+                       int *first, int *last);
 
 /* Loads o->scene_path with the overrides into *scene. */
 int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);

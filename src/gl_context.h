@@ -1,22 +1,45 @@
 /* springpend (internal): a headless GL context behind one small API, so that
- * render.c knows no window system. Backends: gl_context_osmesa.c (OSMesa,
- * llvmpipe). Another (EGL) implements the same five functions. */
+ * render.c knows no window system. Backends, one file each, fill a struct
+ * sp_gl_backend: gl_context_osmesa.c (OSMesa, llvmpipe) and
+ * gl_context_egl.c (EGL on Mesa's surfaceless platform: llvmpipe, or a GPU
+ * where one exists). gl_context.c picks one. Each backend dlopens its
+ * library on first use, so a process that never renders does not load GL. */
 #ifndef SPRINGPEND_GL_CONTEXT_H
 #define SPRINGPEND_GL_CONTEXT_H
 
 #include <stdint.h>
 
-struct sp_gl_context;
+#include "springpend/render.h"
 
 /* A GL entry point as the backend returns it; cast to the PFNGL...PROC type. */
 typedef void (*sp_gl_proc)(void);
 
+struct sp_gl_context;
+
+/* What a backend implements; the contracts are those of the sp_gl_context_*
+ * functions below. Every struct sp_gl_context a backend makes starts with
+ * a pointer to its struct sp_gl_backend. */
+struct sp_gl_backend {
+    const char *name; /* "osmesa", "egl" */
+    /* Loads the library; 0, or SP_E_GL (logged unless quiet). */
+    int (*load)(int quiet);
+    int (*make)(struct sp_gl_context **out, int width, int height);
+    int (*bind)(struct sp_gl_context *c);
+    sp_gl_proc (*proc)(struct sp_gl_context *c, const char *name);
+    uint8_t *(*pixels)(struct sp_gl_context *c, int *stride);
+    void (*destroy)(struct sp_gl_context *c);
+};
+
+extern const struct sp_gl_backend sp_gl_backend_osmesa;
+extern const struct sp_gl_backend sp_gl_backend_egl;
+
 /* Creates a GL >= 3.3 core context drawing into a width x height RGBA8 colour
  * buffer (no depth, no stencil, no MSAA) that the context owns, and makes it
  * current on the calling thread. GL's framebuffer row height-1 (NDC y = +1)
- * is the buffer's first row. Returns 0, SP_E_INPUT for a bad size, SP_E_NOMEM
- * or SP_E_GL (logged). */
-int sp_gl_context_make(struct sp_gl_context **out, int width, int height);
+ * is the buffer's first row. `which` = SP_GL_DEFAULT tries OSMesa, then EGL.
+ * Returns 0, SP_E_INPUT for a bad size, SP_E_NOMEM or SP_E_GL (logged). */
+int sp_gl_context_make(struct sp_gl_context **out, int width, int height,
+                       enum sp_gl which);
 
 /* Makes c current on the calling thread if it is not already. 0 or SP_E_GL. */
 int sp_gl_context_bind(struct sp_gl_context *c);
@@ -28,6 +51,9 @@ sp_gl_proc sp_gl_context_proc(struct sp_gl_context *c, const char *name);
  * colour buffer: RGBA8, straight alpha, top row first, *stride bytes between
  * rows. Owned by c, valid until the next GL command on c or destroy. */
 uint8_t *sp_gl_context_pixels(struct sp_gl_context *c, int *stride);
+
+/* The backend that made c ("osmesa", "egl"). */
+const char *sp_gl_context_backend(const struct sp_gl_context *c);
 
 /* Frees the context and its buffer and sets *c to NULL. Safe on NULL. */
 void sp_gl_context_destroy(struct sp_gl_context **c);

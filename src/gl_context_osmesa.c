@@ -1,6 +1,8 @@
 /* springpend: the OSMesa GL context backend (Mesa's llvmpipe, no display).
  * GL draws straight into a buffer we own; glFinish makes it readable, so no
- * FBO and no glReadPixels. */
+ * FBO and no glReadPixels. libOSMesa (which pulls in LLVM) is dlopened on
+ * first use, so processes that never render start fast. */
+#include <dlfcn.h>
 #include <stdlib.h>
 
 #include <GL/osmesa.h>
@@ -8,13 +10,69 @@
 #include "springpend/common.h"
 #include "gl_context.h"
 
+#define OSMESA_LIBRARY "libOSMesa.so.8"
+
+/* The OSMesa entry points we call, loaded by osmesa_load. */
+#define OSMESA_FUNCS(X)                                                     \
+    X(OSMesaContext, CreateContextAttribs, (const int *, OSMesaContext))    \
+    X(GLboolean, MakeCurrent, (OSMesaContext, void *, GLenum, GLsizei, GLsizei)) \
+    X(OSMesaContext, GetCurrentContext, (void))                             \
+    X(void, PixelStore, (GLint, GLint))                                     \
+    X(OSMESAproc, GetProcAddress, (const char *))                           \
+    X(void, DestroyContext, (OSMesaContext))
+
+static struct {
+#define X(ret, name, args) ret (*name) args;
+    OSMESA_FUNCS(X)
+#undef X
+    void (*Finish)(void);
+    void *lib; /* dlopen handle, kept for the process's life */
+} os;
+
 struct sp_gl_context {
+    const struct sp_gl_backend *backend; /* first, see gl_context.c */
     OSMesaContext ctx;
     uint8_t *pixels; /* width * height * 4 bytes, RGBA8, owned */
     int width, height; /* px */
 };
 
-int sp_gl_context_make(struct sp_gl_context **out, int width, int height)
+static int osmesa_load(int quiet)
+{
+    if (os.lib)
+        return 0;
+    void *lib = dlopen(OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        if (!quiet)
+            sp_log_error("cannot load OSMesa: %s (install libosmesa6, or "
+                         "use --gl egl)", dlerror());
+        return SP_E_GL;
+    }
+#define X(ret, name, args)                                                   \
+    if (!(*(void **)&os.name = dlsym(lib, "OSMesa" #name))) {                \
+        if (!quiet)                                                          \
+            sp_log_error("%s lacks OSMesa" #name, OSMESA_LIBRARY);           \
+        dlclose(lib);                                                        \
+        return SP_E_GL;                                                      \
+    }
+    OSMESA_FUNCS(X)
+#undef X
+    os.Finish = (void (*)(void))os.GetProcAddress("glFinish");
+    os.lib = lib;
+    return 0;
+}
+
+static void osmesa_destroy(struct sp_gl_context *c)
+{
+    if (c->ctx) {
+        if (os.GetCurrentContext() == c->ctx)
+            os.MakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
+        os.DestroyContext(c->ctx);
+    }
+    free(c->pixels);
+    free(c);
+}
+
+static int osmesa_make(struct sp_gl_context **out, int width, int height)
 {
     static const int attribs[] = {
         OSMESA_FORMAT, OSMESA_RGBA,
@@ -26,18 +84,13 @@ int sp_gl_context_make(struct sp_gl_context **out, int width, int height)
         OSMESA_CONTEXT_MINOR_VERSION, 3,
         0,
     };
-    struct sp_gl_context *c = NULL;
+    struct sp_gl_context *c = calloc(1, sizeof(*c));
     int err = 0;
 
-    *out = NULL;
-    if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
-        sp_log_error("image size %dx%d: each side must be 1..16384 px",
-                     width, height);
-        return SP_E_INPUT;
-    }
-    c = calloc(1, sizeof(*c));
-    if (c)
+    if (c) {
+        c->backend = &sp_gl_backend_osmesa;
         c->pixels = malloc((size_t)width * height * 4);
+    }
     if (!c || !c->pixels) {
         sp_log_error("out of memory for a %dx%d GL colour buffer", width, height);
         err = SP_E_NOMEM;
@@ -45,64 +98,59 @@ int sp_gl_context_make(struct sp_gl_context **out, int width, int height)
     }
     c->width = width;
     c->height = height;
-    c->ctx = OSMesaCreateContextAttribs(attribs, NULL);
+    c->ctx = os.CreateContextAttribs(attribs, NULL);
     if (!c->ctx) {
         sp_log_error("OSMesa could not create a GL 3.3 core context");
         err = SP_E_GL;
         goto fail;
     }
-    if (!OSMesaMakeCurrent(c->ctx, c->pixels, GL_UNSIGNED_BYTE, width, height)) {
+    if (!os.MakeCurrent(c->ctx, c->pixels, GL_UNSIGNED_BYTE, width, height)) {
         sp_log_error("OSMesa could not bind a %dx%d RGBA buffer", width, height);
         err = SP_E_GL;
         goto fail;
     }
-    OSMesaPixelStore(OSMESA_Y_UP, 0); /* first row of pixels = top */
+    os.PixelStore(OSMESA_Y_UP, 0); /* first row of pixels = top */
     *out = c;
     return 0;
 
 fail:
-    sp_gl_context_destroy(&c);
+    if (c)
+        osmesa_destroy(c);
     return err;
 }
 
-int sp_gl_context_bind(struct sp_gl_context *c)
+static int osmesa_bind(struct sp_gl_context *c)
 {
-    if (OSMesaGetCurrentContext() == c->ctx)
+    if (os.GetCurrentContext() == c->ctx)
         return 0;
-    if (!OSMesaMakeCurrent(c->ctx, c->pixels, GL_UNSIGNED_BYTE, c->width,
-                           c->height)) {
+    if (!os.MakeCurrent(c->ctx, c->pixels, GL_UNSIGNED_BYTE, c->width,
+                        c->height)) {
         sp_log_error("OSMesa could not make the context current");
         return SP_E_GL;
     }
-    OSMesaPixelStore(OSMESA_Y_UP, 0);
+    os.PixelStore(OSMESA_Y_UP, 0);
     return 0;
 }
 
-sp_gl_proc sp_gl_context_proc(struct sp_gl_context *c, const char *name)
+static sp_gl_proc osmesa_proc(struct sp_gl_context *c, const char *name)
 {
     (void)c;
-    return (sp_gl_proc)OSMesaGetProcAddress(name);
+    return (sp_gl_proc)os.GetProcAddress(name);
 }
 
-uint8_t *sp_gl_context_pixels(struct sp_gl_context *c, int *stride)
+static uint8_t *osmesa_pixels(struct sp_gl_context *c, int *stride)
 {
-    glFinish();
+    os.Finish();
     *stride = 4 * c->width;
     return c->pixels;
 }
 
-void sp_gl_context_destroy(struct sp_gl_context **cp)
-{
-    struct sp_gl_context *c = *cp;
-
-    if (!c)
-        return;
-    if (c->ctx) {
-        if (OSMesaGetCurrentContext() == c->ctx)
-            OSMesaMakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
-        OSMesaDestroyContext(c->ctx);
-    }
-    free(c->pixels);
-    free(c);
-    *cp = NULL;
-}
+const struct sp_gl_backend sp_gl_backend_osmesa = {
+    .name = "osmesa",
+    .load = osmesa_load,
+    .make = osmesa_make,
+    .bind = osmesa_bind,
+    .proc = osmesa_proc,
+    .pixels = osmesa_pixels,
+    .destroy = osmesa_destroy,
+};

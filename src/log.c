@@ -3,6 +3,7 @@
 #include <stdio.h>
 
 #include "springpend/common.h"
+#include "springpend/pipeline.h"
 
 void sp_log_error(const char *fmt, ...)
 {
@@ -20,7 +21,7 @@ int sp_exit_status(int err)
     case SP_OK: return 0;
     case SP_E_INPUT: return 2;
     case SP_E_UNSTABLE: return 3;
-    case SP_E_INTERRUPTED: return 130;
+    case SP_E_INTERRUPTED: return 128 + (sp_pipeline_signal() ? sp_pipeline_signal() : 2);
     default: return 1;
     }
 }

@@ -1,5 +1,6 @@
 /* springpend: entry point. Dispatches to a command; the only place that
  * turns an SP_E_* code into an exit status. */
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -12,7 +13,7 @@ static const char usage[] =
     "usage: springpend COMMAND SCENE [options]\n"
     "\n"
     "commands:\n"
-    "  render   the whole motion as MP4 video or a PNG sequence\n"
+    "  render   the whole motion as MP4, WebM, GIF, a PNG sequence or raw frames\n"
     "  still    one frame as a PNG\n"
     "  keys     list every scene key with its default and accepted range\n"
     "\n"
@@ -42,6 +43,9 @@ static const struct command commands[] = {
 
 int main(int argc, char **argv)
 {
+    /* A closed pipe (e.g. `springpend render --format raw -o - | head -c 1`)
+     * becomes a write error with a message instead of a silent death. */
+    signal(SIGPIPE, SIG_IGN);
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
         !strcmp(argv[1], "help")) {
         fputs(usage, argc < 2 ? stderr : stdout);

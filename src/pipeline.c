@@ -1,14 +1,25 @@
 /* springpend: the render pipeline. Owns the sim, trail, renderer and sink of
- * one run and drives them frame by frame. */
+ * one run and drives them frame by frame. This thread advances the sim,
+ * updates the frame model, renders and copies each frame into a free slot
+ * of a small bounded queue; an encoder thread takes the slots in order and
+ * hands them to the sink. Both stages work at once; the slots are
+ * allocated once, so memory does not grow with the video's length. */
 #include <math.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/frame.h"
 #include "springpend/pipeline.h"
 #include "springpend/render.h"
 #include "springpend/sink.h"
+
+#define QUEUE_SLOTS 4 /* frames in flight between render and encoder */
 
 static double now_s(void)
 {
@@ -17,23 +28,179 @@ static double now_s(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+/* ---- signals ---- */
+
+static volatile sig_atomic_t signal_seen;  /* the first signal, 0 = none */
+static volatile sig_atomic_t signal_count; /* signals received this run */
+/* The .part file being written, for the second signal to remove. Points at
+ * the sink's own buffer (see sp_sink_part_file); NULL = none. */
+static const char *volatile part_file;
+
+static void on_signal(int sig)
+{
+    if (signal_count++ == 0) {
+        signal_seen = sig;
+        return;
+    }
+    /* Second signal: stop at once. Only async-signal-safe calls here. */
+    const char *part = part_file;
+    static const char msg[] = "springpend: second signal: stopped at once, "
+                              "partial file removed\n";
+    if (part)
+        unlink(part);
+    if (write(2, msg, sizeof(msg) - 1) < 0) {
+        /* nothing more can be done */
+    }
+    _exit(128 + sig);
+}
+
+int sp_pipeline_signal(void)
+{
+    return signal_seen;
+}
+
+/* ---- the bounded queue ---- */
+
+struct queue {
+    pthread_mutex_t lock;
+    pthread_cond_t changed;       /* a slot was filled or freed, or stop */
+    struct sp_image slot[QUEUE_SLOTS]; /* owned pixels, allocated once */
+    int head, count;              /* filled slots: head .. head+count-1 */
+    int closed;                   /* the producer is done */
+    int cancel;                   /* the run failed: drop what is queued */
+    int err;                      /* the consumer failed: stop producing */
+    struct sp_sink *sink;         /* written by the consumer thread only */
+    double encode_s, idle_s;      /* consumer: time in the sink, waiting */
+};
+
+/* Encoder thread: writes filled slots in order until closed and empty. */
+static void *consume(void *arg)
+{
+    struct queue *q = arg;
+    pthread_mutex_lock(&q->lock);
+    for (;;) {
+        double t0 = now_s();
+        while (!q->count && !q->closed)
+            pthread_cond_wait(&q->changed, &q->lock);
+        q->idle_s += now_s() - t0;
+        if (!q->count || q->cancel)
+            break;
+        struct sp_image *img = &q->slot[q->head];
+        pthread_mutex_unlock(&q->lock);
+        t0 = now_s();
+        int err = sp_sink_write(q->sink, img); /* logs its own failure */
+        double dt = now_s() - t0;
+        pthread_mutex_lock(&q->lock);
+        q->encode_s += dt;
+        q->head = (q->head + 1) % QUEUE_SLOTS;
+        q->count--;
+        if (err) {
+            q->err = err;
+            q->count = 0; /* drop the rest */
+        }
+        pthread_cond_broadcast(&q->changed);
+        if (err)
+            break;
+    }
+    pthread_mutex_unlock(&q->lock);
+    return NULL;
+}
+
+/* Copies img into the next free slot, waiting for one; returns the
+ * consumer's error if it failed. *wait_s grows by the time spent waiting. */
+static int enqueue(struct queue *q, const struct sp_image *img, double *wait_s)
+{
+    double t0 = now_s();
+    pthread_mutex_lock(&q->lock);
+    while (q->count == QUEUE_SLOTS && !q->err)
+        pthread_cond_wait(&q->changed, &q->lock);
+    int err = q->err;
+    struct sp_image *dst = &q->slot[(q->head + q->count) % QUEUE_SLOTS];
+    pthread_mutex_unlock(&q->lock);
+    *wait_s += now_s() - t0;
+    if (err)
+        return err;
+    for (int y = 0; y < img->height; y++)
+        memcpy(dst->pixels + (size_t)y * dst->stride,
+               img->pixels + (size_t)y * img->stride, 4 * (size_t)img->width);
+    pthread_mutex_lock(&q->lock);
+    q->count++; /* only the producer adds, so the slot is still ours */
+    pthread_cond_broadcast(&q->changed);
+    pthread_mutex_unlock(&q->lock);
+    return 0;
+}
+
+/* ---- progress and stage times ---- */
+
 static void show_progress(int done, int total, double t0)
 {
     double el = now_s() - t0, fps = el > 0 ? done / el : 0;
     double eta = fps > 0 ? (total - done) / fps : 0;
-    fprintf(stderr, "\rframe %d/%d  %.1f fps  ETA %.0f s ", done, total, fps, eta);
+    char bar[31];
+    int fill = total ? (int)(30L * done / total) : 30;
+    memset(bar, '#', (size_t)fill);
+    memset(bar + fill, '.', (size_t)(30 - fill));
+    bar[30] = '\0';
+    fprintf(stderr, "\r[%s] frame %d/%d  %.1f fps  ETA %.0f s ", bar, done,
+            total, fps, eta);
     if (done == total)
         fputc('\n', stderr);
 }
 
-/* Renders the frame model at the sim's current state and hands it to the sink. */
-static int emit(struct sp_renderer *r, struct sp_sink *sink, const struct sp_sim *sim,
-                const struct sp_trail *trail)
+struct stage_times {
+    double sim, render, copy, wait; /* s, this thread */
+    double setup, finish, total;    /* s */
+};
+
+static void print_times(const struct stage_times *t, const struct queue *q,
+                        int frames)
 {
-    struct sp_image img;
-    struct sp_frame f = {.state = sim->s, .params = &sim->p, .trail = trail};
-    int ret = sp_render_draw(r, &f, &img);
-    return ret ? ret : sp_sink_write(sink, &img);
+    double per = frames > 0 ? 1e3 / frames : 0;
+    fprintf(stderr,
+            "stage times for %d frames (s total, ms per frame):\n"
+            "  setup (camera pre-pass, GL, encoder)  %7.3f\n"
+            "  render thread: sim + frame model      %7.3f  %6.2f\n"
+            "  render thread: GL draw + readback     %7.3f  %6.2f\n"
+            "  render thread: copy into the queue    %7.3f  %6.2f\n"
+            "  render thread: waiting for a slot     %7.3f  %6.2f\n"
+            "  encoder thread: convert + encode/write %6.3f  %6.2f\n"
+            "  encoder thread: waiting for a frame   %7.3f  %6.2f\n"
+            "  finish (flush, trailer, rename)       %7.3f\n"
+            "  wall                                  %7.3f  (%.1f fps)\n",
+            frames, t->setup, t->sim, t->sim * per, t->render, t->render * per,
+            t->copy, t->copy * per, t->wait, t->wait * per, q->encode_s,
+            q->encode_s * per, q->idle_s, q->idle_s * per, t->finish, t->total,
+            t->total > 0 ? frames / t->total : 0);
+}
+
+/* ---- the run ---- */
+
+int sp_pipeline_shard(int n_frames, int i, int n, int *first, int *last)
+{
+    if (n < 1 || i < 0 || i >= n || n > n_frames) {
+        sp_log_error("shard %d/%d: need 0 <= I < N <= %d (the video's frames)",
+                     i, n, n_frames);
+        return SP_E_INPUT;
+    }
+    *first = (int)((long)n_frames * i / n);
+    *last = (int)((long)n_frames * (i + 1) / n);
+    return 0;
+}
+
+/* Installs (on = 1) or restores the SIGINT/SIGTERM handlers. */
+static void catch_signals(int on, struct sigaction old[2])
+{
+    static const int sigs[2] = {SIGINT, SIGTERM};
+    struct sigaction sa;
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    for (int i = 0; i < 2; i++) {
+        if (on)
+            sigaction(sigs[i], &sa, &old[i]);
+        else
+            sigaction(sigs[i], &old[i], NULL);
+    }
 }
 
 int sp_pipeline_run(const struct sp_pipeline_desc *desc)
@@ -44,10 +211,31 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_trail trail = {0};
     struct sp_view_extent extent;
     struct sp_sim sim;
-    int n = sp_scene_frame_count(sc), ret;
-    /* A still past the video's end still fits its camera to the whole motion. */
-    double t_end = desc->still ? fmax(desc->still_at, sp_scene_frame_time(sc, n - 1))
-                               : sp_scene_frame_time(sc, n - 1);
+    struct sp_image img;
+    struct queue q = {.lock = PTHREAD_MUTEX_INITIALIZER,
+                      .changed = PTHREAD_COND_INITIALIZER};
+    struct stage_times tm = {0};
+    struct sigaction old_sig[2];
+    pthread_t encoder;
+    int encoder_running = 0, signals_caught = 0, emitted = 0, ret;
+    int n = sp_scene_frame_count(sc);
+    int first = desc->still ? 0 : desc->first;
+    int last = desc->still || !desc->last ? n : desc->last;
+    int w = sc->video.width, h = sc->video.height;
+    double t_start = now_s(), t0;
+
+    signal_seen = signal_count = 0;
+    part_file = NULL;
+    if (first < 0 || last > n || first >= last) {
+        sp_log_error("frames %d:%d: the video has frames 0:%d; give A:B with "
+                     "0 <= A < B <= %d", first, last, n, n);
+        return SP_E_INPUT;
+    }
+    /* A still past the video's end still fits its camera to the whole
+     * motion; a frame range fits the whole video's, so shards match. */
+    double t_end = sp_scene_frame_time(sc, n - 1);
+    if (desc->still)
+        t_end = fmax(desc->still_at, t_end);
 
     ret = sp_view_extent_measure(sc, t_end, &extent);
     if (ret)
@@ -56,47 +244,128 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (ret)
         goto done;
     ret = sp_render_make(&r, &(struct sp_render_desc){
-        .width = sc->video.width, .height = sc->video.height, .extent = extent});
+        .width = w, .height = h, .extent = extent, .gl = desc->gl});
     if (ret)
         goto done;
     ret = sp_sink_open(&sink, &(struct sp_sink_desc){
-        .path = desc->output, .width = sc->video.width,
-        .height = sc->video.height, .fps = sc->video.fps});
+        .path = desc->output, .format = desc->format, .width = w,
+        .height = h, .fps = sc->video.fps, .first_frame = first,
+        .crf = sc->video.crf, .preset = sp_scene_preset_name(sc)});
     if (ret)
         goto done;
+    if (desc->handle_signals) {
+        part_file = sp_sink_part_file(sink);
+        catch_signals(1, old_sig);
+        signals_caught = 1;
+    }
 
     sp_sim_init(&sim, sc);
-    double t0 = now_s();
-    for (int k = 0; k < n; k++) {
-        double t = sp_scene_frame_time(sc, k);
-        if (desc->still && t > desc->still_at)
-            break;
-        ret = sp_sim_advance(&sim, t);
-        if (ret)
-            goto done;
-        sp_trail_push(&trail, &sim.s);
-        if (desc->still)
-            continue;
-        ret = emit(r, sink, &sim, &trail);
-        if (ret)
-            goto done;
-        if (desc->progress && (k % 10 == 9 || k == n - 1))
-            show_progress(k + 1, n, t0);
-    }
     if (desc->still) {
+        /* The trail holds the video's frame positions before still_at. */
+        for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
+            ret = sp_sim_advance(&sim, sp_scene_frame_time(sc, k));
+            if (ret)
+                goto done;
+            sp_trail_push(&trail, &sim.s);
+        }
         if (sim.s.t < desc->still_at) {
             ret = sp_sim_advance(&sim, desc->still_at);
             if (ret)
                 goto done;
             sp_trail_push(&trail, &sim.s);
         }
-        ret = emit(r, sink, &sim, &trail);
+        ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
+                                                   .trail = &trail}, &img);
+        if (!ret)
+            ret = sp_sink_write(sink, &img);
+        if (ret)
+            goto done;
+        goto finish;
+    }
+
+    for (int i = 0; i < QUEUE_SLOTS; i++) {
+        ret = sp_image_alloc(&q.slot[i], w, h);
         if (ret)
             goto done;
     }
+    q.sink = sink;
+    if (pthread_create(&encoder, NULL, consume, &q) != 0) {
+        sp_log_error("cannot start the encoder thread");
+        ret = SP_E_NOMEM;
+        goto done;
+    }
+    encoder_running = 1;
+    tm.setup = now_s() - t_start;
+
+    t0 = now_s();
+    for (int k = 0; k < last && !signal_seen; k++) {
+        /* advance sim to t_k -> update frame model -> render -> sink */
+        double ts = now_s();
+        ret = sp_sim_advance(&sim, sp_scene_frame_time(sc, k));
+        if (ret)
+            goto done;
+        sp_trail_push(&trail, &sim.s);
+        tm.sim += now_s() - ts;
+        if (k < first)
+            continue; /* frames before the range only feed the trail */
+        ts = now_s();
+        ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
+                                                   .trail = &trail}, &img);
+        if (ret)
+            goto done;
+        double tr = now_s();
+        tm.render += tr - ts;
+        ret = enqueue(&q, &img, &tm.wait);
+        if (ret)
+            goto done;
+        tm.copy += now_s() - tr;
+        emitted++;
+        if (desc->progress && (emitted % 10 == 0 || k == last - 1))
+            show_progress(emitted, last - first, t0);
+    }
+    tm.copy -= tm.wait; /* enqueue's time includes its wait */
+
+finish:
+    if (encoder_running) {
+        pthread_mutex_lock(&q.lock);
+        q.closed = 1;
+        pthread_cond_broadcast(&q.changed);
+        pthread_mutex_unlock(&q.lock);
+        pthread_join(encoder, NULL);
+        encoder_running = 0;
+        ret = q.err;
+        if (ret)
+            goto done;
+    }
+    t0 = now_s();
+    if (signal_seen && desc->progress)
+        fputc('\n', stderr);
     ret = sp_sink_close(&sink);
+    part_file = NULL;
+    tm.finish = now_s() - t0;
+    tm.total = now_s() - t_start;
+    if (!ret && signal_seen) {
+        sp_log_error("interrupted by %s: kept the %d frames rendered so far "
+                     "in %s", signal_seen == SIGINT ? "SIGINT" : "SIGTERM",
+                     emitted, desc->output);
+        ret = SP_E_INTERRUPTED;
+    }
+    if (desc->verbose && !desc->still)
+        print_times(&tm, &q, emitted);
 done:
+    if (encoder_running) {
+        pthread_mutex_lock(&q.lock);
+        q.closed = q.cancel = 1;
+        pthread_cond_broadcast(&q.changed);
+        pthread_mutex_unlock(&q.lock);
+        pthread_join(encoder, NULL);
+    }
+    part_file = NULL;
     sp_sink_abort(&sink);
+    if (signals_caught)
+        catch_signals(0, old_sig);
+    for (int i = 0; i < QUEUE_SLOTS; i++)
+        sp_image_free(&q.slot[i]);
     sp_render_destroy(&r);
     sp_trail_destroy(&trail);
     return ret;

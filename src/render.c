@@ -234,7 +234,7 @@ int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
         sp_log_error("out of memory for the renderer");
         return SP_E_NOMEM;
     }
-    err = sp_gl_context_make(&r->ctx, desc->width, desc->height);
+    err = sp_gl_context_make(&r->ctx, desc->width, desc->height, desc->gl);
     if (err)
         goto fail;
     err = load_gl(r);

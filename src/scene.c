@@ -16,7 +16,7 @@
 #define SP_MAX_PIXELS (7680L * 4320L)
 #define SP_MAX_FRAMES 1000000 /* about 4.6 hours at 60 fps */
 
-enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD };
+enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD, KEY_PRESET };
 
 /* One scene key: where it lives in struct sp_scene and what it accepts.
  * Accepted: lo < v (lo_open) or lo <= v, and v <= hi. */
@@ -48,6 +48,8 @@ static const struct key_info keys[] = {
     {"video", "fps", KEY_REAL, F(video.fps), 60, 0, 1000, 1, "frames/s"},
     {"video", "duration", KEY_REAL, F(video.duration), 10, 0, 1e6, 1, "simulated s"},
     {"video", "speed", KEY_REAL, F(video.speed), 1, 0, 1e4, 1, "simulated s per video s"},
+    {"video", "crf", KEY_INT, F(video.crf), 0, 0, 63, 0, "(quality, lower is better; 0 = the format's default: 23 H.264, 32 VP9)"},
+    {"video", "preset", KEY_PRESET, F(video.preset), 0, 0, 0, 0, "auto, ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow"},
     {"view", "trail", KEY_INT, F(view.trail), 600, 0, 1e6, 0, "points"},
 };
 #undef F
@@ -55,6 +57,19 @@ static const struct key_info keys[] = {
 
 static const char *const method_names[] = {"rk4"};
 #define N_METHODS ((int)(sizeof(method_names) / sizeof(method_names[0])))
+
+/* Encoder speed presets (x264's names; VP9 maps them to cpu-used). */
+static const char *const preset_names[] = {
+    "auto", "ultrafast", "superfast", "veryfast", "faster", "fast",
+    "medium", "slow", "slower", "veryslow",
+};
+#define N_PRESETS ((int)(sizeof(preset_names) / sizeof(preset_names[0])))
+
+const char *sp_scene_preset_name(const struct sp_scene *s)
+{
+    return s->video.preset > 0 && s->video.preset < N_PRESETS
+               ? preset_names[s->video.preset] : NULL;
+}
 
 /* Parser state shared by the inih reader and handler. */
 struct parse_ctx {
@@ -202,6 +217,16 @@ static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
                k->name, value, k->unit);
         return;
     }
+    if (k->kind == KEY_PRESET) {
+        for (int i = 0; i < N_PRESETS; i++)
+            if (!strcmp(value, preset_names[i])) {
+                *(int *)p = i;
+                return;
+            }
+        report(c, line, "%s.%s = '%s' is not a preset; allowed: %s", k->section,
+               k->name, value, k->unit);
+        return;
+    }
     char *end = NULL;
     errno = 0;
     double v = strtod(value, &end);
@@ -332,7 +357,8 @@ void sp_scene_defaults(struct sp_scene *s)
         switch (keys[i].kind) {
         case KEY_REAL: *(double *)p = keys[i].def; break;
         case KEY_DEGREES: *(double *)p = keys[i].def * (M_PI / 180.0); break;
-        case KEY_INT: *(int *)p = (int)keys[i].def; break;
+        case KEY_INT:
+        case KEY_PRESET: *(int *)p = (int)keys[i].def; break;
         case KEY_METHOD: *(enum sp_method *)p = (enum sp_method)(int)keys[i].def; break;
         }
     }
@@ -475,12 +501,14 @@ void sp_scene_print_keys(void)
         char range[160];
         if (strcmp(section, k->section))
             printf("  [%s]\n", section = k->section);
-        if (k->kind == KEY_METHOD)
+        if (k->kind == KEY_METHOD || k->kind == KEY_PRESET)
             snprintf(range, sizeof(range), "one of: %s", k->unit);
         else
             describe_range(k, range, sizeof(range));
         if (k->kind == KEY_METHOD)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
+        else if (k->kind == KEY_PRESET)
+            printf("    %-15s default %-8s %s\n", k->name, preset_names[(int)k->def], range);
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
     }

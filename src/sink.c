@@ -11,17 +11,24 @@
 #include "springpend/common.h"
 #include "sink_impl.h"
 
-/* The kind from the file name's extension (any case); NULL if unknown. */
-static const struct sp_sink_backend *pick_backend(const char *path)
+/* The kind: `format` if given, else the file name's extension (any case);
+ * NULL if unknown. */
+static const struct sp_sink_backend *pick_backend(const char *path,
+                                                  const char *format)
 {
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     const char *dot = strrchr(base, '.');
-    if (!dot || dot == base)
-        return NULL;
-    if (!strcasecmp(dot, ".mp4"))
-        return &sp_sink_backend_video;
-    if (!strcasecmp(dot, ".png"))
+    const char *kind = format ? format : dot && dot != base ? dot + 1 : "";
+    if (!strcasecmp(kind, "mp4"))
+        return &sp_sink_backend_mp4;
+    if (!strcasecmp(kind, "webm"))
+        return &sp_sink_backend_webm;
+    if (!strcasecmp(kind, "gif"))
+        return &sp_sink_backend_gif;
+    if (!strcasecmp(kind, "raw") || !strcasecmp(kind, "rgba"))
+        return &sp_sink_backend_raw;
+    if (!strcasecmp(kind, "png"))
         return strchr(path, '%') ? &sp_sink_backend_png_sequence
                                  : &sp_sink_backend_png_single;
     return NULL;
@@ -75,12 +82,23 @@ int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc)
         sp_log_error("no output path given");
         return SP_E_INPUT;
     }
-    const struct sp_sink_backend *backend = pick_backend(desc->path);
+    const struct sp_sink_backend *backend = pick_backend(desc->path,
+                                                         desc->format);
+    if (!backend && desc->format) {
+        sp_log_error("unknown format \"%s\"; use mp4, webm, gif, png or raw",
+                     desc->format);
+        return SP_E_INPUT;
+    }
     if (!backend) {
         sp_log_error("cannot tell what to write from the name %s: use "
-                     "NAME.mp4 (H.264 video), NAME.png (one image) or a "
-                     "pattern like frames/%%05d.png (one PNG per frame)",
-                     desc->path);
+                     "NAME.mp4 (H.264 video), NAME.webm (VP9 video), NAME.gif, "
+                     "NAME.png (one image), a pattern like frames/%%05d.png "
+                     "(one PNG per frame), or --format raw", desc->path);
+        return SP_E_INPUT;
+    }
+    if (!strcmp(desc->path, "-") && backend != &sp_sink_backend_raw) {
+        sp_log_error("only raw frames (--format raw) can go to stdout; "
+                     "give a file name for other formats");
         return SP_E_INPUT;
     }
     if (desc->width <= 0 || desc->height <= 0) {
@@ -101,9 +119,11 @@ int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc)
     s->backend = backend;
     s->desc = *desc;
     s->desc.path = s->path;
-    if ((err = make_parents(s->path)) != 0 || (err = backend->open(s)) != 0)
+    if ((strcmp(s->path, "-") && (err = make_parents(s->path)) != 0) ||
+        (err = backend->open(s)) != 0)
         goto fail;
-    s->desc.preset = NULL; /* the caller's string, only valid until here */
+    /* the caller's strings, only valid until here */
+    s->desc.preset = s->desc.format = NULL;
     *out = s;
     return 0;
 fail:
@@ -165,6 +185,11 @@ void sp_sink_abort(struct sp_sink **sp)
     *sp = NULL;
     s->backend->abort(s);
     sink_free(s);
+}
+
+const char *sp_sink_part_file(const struct sp_sink *s)
+{
+    return s && s->backend->part_file ? s->backend->part_file(s) : NULL;
 }
 
 int sp_sink_part_path(const char *path, char **out)

@@ -27,6 +27,8 @@ struct sp_sink_backend {
     /* Releases everything and removes every .part. Must work after a failed
      * write or close. */
     void (*abort)(struct sp_sink *s);
+    /* The .part being written (see sp_sink_part_file); may be NULL. */
+    const char *(*part_file)(const struct sp_sink *s);
 };
 
 struct sp_sink {
@@ -39,7 +41,10 @@ struct sp_sink {
     void *priv;               /* backend->priv_size bytes, owned by sink.c */
 };
 
-extern const struct sp_sink_backend sp_sink_backend_video;
+extern const struct sp_sink_backend sp_sink_backend_mp4;
+extern const struct sp_sink_backend sp_sink_backend_webm;
+extern const struct sp_sink_backend sp_sink_backend_gif;
+extern const struct sp_sink_backend sp_sink_backend_raw;
 extern const struct sp_sink_backend sp_sink_backend_png_sequence;
 extern const struct sp_sink_backend sp_sink_backend_png_single;
 

@@ -9,9 +9,12 @@
 #include "springpend/png_io.h"
 #include "sink_impl.h"
 
-static const struct sp_png_write_opts png_opts = {
-    .level = SP_PNG_LEVEL_DEFAULT,
-};
+static struct sp_png_write_opts png_opts(const struct sp_sink *s)
+{
+    return (struct sp_png_write_opts){
+        .level = s->desc.png_level ? s->desc.png_level : SP_PNG_LEVEL_DEFAULT,
+    };
+}
 
 /* ---- sequence ---- */
 
@@ -71,16 +74,24 @@ static int png_sequence_open(struct sp_sink *s)
     return 0;
 }
 
-static int png_sequence_write(struct sp_sink *s, const struct sp_image *img)
+/* Puts the name of the image numbered `number` into q->name. */
+static void png_sequence_name(struct sp_sink *s, long number)
 {
     struct png_sequence *q = s->priv;
     /* The pattern passed png_sequence_check: one int conversion. */
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wformat-nonliteral"
-    snprintf(q->name, q->cap, s->path, (int)s->frames);
+    snprintf(q->name, q->cap, s->path, (int)number);
 #pragma GCC diagnostic pop
+}
+
+static int png_sequence_write(struct sp_sink *s, const struct sp_image *img)
+{
+    struct png_sequence *q = s->priv;
+    struct sp_png_write_opts opts = png_opts(s);
+    png_sequence_name(s, s->desc.first_frame + s->frames);
     snprintf(q->part, q->cap, "%s.part", q->name);
-    int err = sp_png_write_opts(q->part, img, &png_opts);
+    int err = sp_png_write_opts(q->part, img, &opts);
     if (!err)
         err = sp_sink_commit(q->part, q->name);
     if (err)
@@ -97,11 +108,22 @@ static int png_sequence_close(struct sp_sink *s)
     return 0;
 }
 
-/* A failed write has already removed its .part; frames renamed into place
- * are complete and stay. */
+/* A failed write has already removed its .part; the frames renamed into
+ * place are removed too, so a failed run leaves no partial sequence. */
 static void png_sequence_abort(struct sp_sink *s)
 {
+    struct png_sequence *q = s->priv;
+    for (long k = 0; q->name && k < s->frames; k++) {
+        png_sequence_name(s, s->desc.first_frame + k);
+        sp_sink_discard(q->name);
+    }
     png_sequence_close(s);
+}
+
+static const char *png_sequence_part_file(const struct sp_sink *s)
+{
+    const struct png_sequence *q = s->priv;
+    return q->part;
 }
 
 const struct sp_sink_backend sp_sink_backend_png_sequence = {
@@ -111,6 +133,7 @@ const struct sp_sink_backend sp_sink_backend_png_sequence = {
     .write = png_sequence_write,
     .close = png_sequence_close,
     .abort = png_sequence_abort,
+    .part_file = png_sequence_part_file,
 };
 
 /* ---- single image ---- */
@@ -133,7 +156,8 @@ static int png_single_write(struct sp_sink *s, const struct sp_image *img)
                      "frame use a pattern like frames/%%05d.png", s->path);
         return SP_E_INPUT;
     }
-    return sp_png_write_opts(o->part, img, &png_opts);
+    struct sp_png_write_opts opts = png_opts(s);
+    return sp_png_write_opts(o->part, img, &opts);
 }
 
 static int png_single_close(struct sp_sink *s)
@@ -156,10 +180,17 @@ static void png_single_abort(struct sp_sink *s)
     o->part = NULL;
 }
 
+static const char *png_single_part_file(const struct sp_sink *s)
+{
+    const struct png_single *o = s->priv;
+    return o->part;
+}
+
 const struct sp_sink_backend sp_sink_backend_png_single = {
     .priv_size = sizeof(struct png_single),
     .open = png_single_open,
     .write = png_single_write,
     .close = png_single_close,
     .abort = png_single_abort,
+    .part_file = png_single_part_file,
 };

@@ -1,5 +1,6 @@
-/* springpend: MP4 video, H.264 (libx264) in yuv420p, through libavformat.
- * Follows FFmpeg's doc/examples/mux.c: send each frame, drain
+/* springpend: video through libavformat: MP4 with H.264 (libx264) in
+ * yuv420p, and WebM with VP9 (libvpx) in yuv420p or, with desc.alpha,
+ * yuva420p. Follows FFmpeg's doc/examples/mux.c: send each frame, drain
  * receive_packet until EAGAIN, rescale timestamps, write interleaved; at
  * the end flush with NULL and write the trailer. The muxer writes
  * NAME.part (format named explicitly, since ".part" says nothing) and
@@ -16,8 +17,6 @@
 #include "springpend/common.h"
 #include "sink_impl.h"
 
-#define VIDEO_ENCODER "libx264"
-#define VIDEO_CRF_DEFAULT 23
 #define VIDEO_PRESET_DEFAULT "veryfast"
 
 static const char *const x264_presets[] = {
@@ -25,21 +24,39 @@ static const char *const x264_presets[] = {
     "medium", "slow", "slower", "veryslow", "placebo", NULL,
 };
 
+/* What differs between the containers. */
+struct video_codec {
+    const char *encoder;  /* libavcodec encoder name */
+    const char *muxer;    /* libavformat muxer name */
+    const char *what;     /* for messages: "H.264", "VP9" */
+    int crf_default, crf_max;
+    int has_alpha;        /* yuva420p possible */
+};
+
+static const struct video_codec codec_h264 = {
+    "libx264", "mp4", "H.264", 23, 51, 0,
+};
+static const struct video_codec codec_vp9 = {
+    "libvpx-vp9", "webm", "VP9", 32, 63, 1,
+};
+
 struct video {
+    const struct video_codec *codec; /* set by the backend's open */
     AVFormatContext *oc;    /* owned; oc->pb opened by us, closed by release */
     AVStream *st;           /* owned by oc */
     AVCodecContext *enc;    /* owned */
-    AVFrame *frame;         /* owned: the one YUV420P picture, reused */
+    AVFrame *frame;         /* owned: the one YUV(A)420P picture, reused */
     AVPacket *pkt;          /* owned: reused for every packet */
-    struct SwsContext *sws; /* owned: RGBA -> YUV420P, BT.709 limited */
+    struct SwsContext *sws; /* owned: RGBA -> YUV(A)420P, BT.709 limited */
     char *url;              /* owned: "file:PATH.part"; NULL once renamed */
 };
 
-static int video_check(const struct sp_sink_desc *d)
+static int video_check(const struct sp_sink_desc *d,
+                       const struct video_codec *c)
 {
     if (d->width % 2 || d->height % 2) {
-        sp_log_error("%s: H.264 video in yuv420p needs an even width and "
-                     "height, got %dx%d (try %dx%d)", d->path, d->width,
+        sp_log_error("%s: %s video in yuv420p needs an even width and "
+                     "height, got %dx%d (try %dx%d)", d->path, c->what, d->width,
                      d->height, d->width & ~1, d->height & ~1);
         return SP_E_INPUT;
     }
@@ -48,9 +65,14 @@ static int video_check(const struct sp_sink_desc *d)
                      d->fps);
         return SP_E_INPUT;
     }
-    if (d->crf < 0 || d->crf > 51) {
-        sp_log_error("%s: CRF %d is not in 1..51 (0 = default %d)", d->path,
-                     d->crf, VIDEO_CRF_DEFAULT);
+    if (d->crf < 0 || d->crf > c->crf_max) {
+        sp_log_error("%s: CRF %d is not in 1..%d for %s (0 = default %d)",
+                     d->path, d->crf, c->crf_max, c->what, c->crf_default);
+        return SP_E_INPUT;
+    }
+    if (d->alpha && !c->has_alpha) {
+        sp_log_error("%s: %s video has no alpha; use .webm (VP9) for a "
+                     "transparent background", d->path, c->what);
         return SP_E_INPUT;
     }
     if (d->preset) {
@@ -64,13 +86,23 @@ static int video_check(const struct sp_sink_desc *d)
             return SP_E_INPUT;
         }
     }
-    if (!avcodec_find_encoder_by_name(VIDEO_ENCODER)) {
+    if (!avcodec_find_encoder_by_name(c->encoder)) {
         sp_log_error("%s: this FFmpeg (%s) has no %s encoder; install one "
-                     "built with --enable-libx264, or write PNG frames "
-                     "instead", d->path, av_version_info(), VIDEO_ENCODER);
+                     "built with it, or write PNG frames instead", d->path,
+                     av_version_info(), c->encoder);
         return SP_E_CODEC;
     }
     return 0;
+}
+
+static int mp4_check(const struct sp_sink_desc *d)
+{
+    return video_check(d, &codec_h264);
+}
+
+static int webm_check(const struct sp_sink_desc *d)
+{
+    return video_check(d, &codec_vp9);
 }
 
 /* Logs "PATH: DOING: libav's words" and returns code. */
@@ -107,13 +139,13 @@ static int video_encode(struct sp_sink *s, const AVFrame *frame)
     struct video *v = s->priv;
     int ret = avcodec_send_frame(v->enc, frame);
     if (ret < 0)
-        return av_failed(s, "H.264 encoder refused a frame", ret, SP_E_CODEC);
+        return av_failed(s, "the encoder refused a frame", ret, SP_E_CODEC);
     for (;;) {
         ret = avcodec_receive_packet(v->enc, v->pkt);
         if (ret == AVERROR(EAGAIN) || ret == AVERROR_EOF)
             return 0;
         if (ret < 0)
-            return av_failed(s, "H.264 encoding failed", ret, SP_E_CODEC);
+            return av_failed(s, "encoding failed", ret, SP_E_CODEC);
         av_packet_rescale_ts(v->pkt, v->enc->time_base, v->st->time_base);
         v->pkt->stream_index = v->st->index;
         /* Takes the packet's reference and leaves pkt blank for reuse. */
@@ -123,11 +155,34 @@ static int video_encode(struct sp_sink *s, const AVFrame *frame)
     }
 }
 
+/* The encoder's speed from an x264 preset name. VP9 (libvpx) has no
+ * presets: "good" quality with cpu-used from 8 (ultrafast) down to 0, and
+ * row-based threading so both cores work. */
+static int set_speed(AVCodecContext *enc, const struct video_codec *vc,
+                     const char *preset)
+{
+    if (!strcmp(vc->encoder, "libx264"))
+        return av_opt_set(enc->priv_data, "preset", preset, 0);
+    int i = 0;
+    while (x264_presets[i] && strcmp(x264_presets[i], preset))
+        i++;
+    int cpu_used = i >= 8 ? 0 : 8 - i; /* veryfast -> 6 */
+    enc->bit_rate = 0;                 /* constant quality: crf alone */
+    int ret = av_opt_set(enc->priv_data, "deadline", "good", 0);
+    if (ret >= 0)
+        ret = av_opt_set_int(enc->priv_data, "cpu-used", cpu_used, 0);
+    if (ret >= 0)
+        ret = av_opt_set_int(enc->priv_data, "row-mt", 1, 0);
+    return ret;
+}
+
 static int video_open(struct sp_sink *s)
 {
     struct video *v = s->priv;
     const struct sp_sink_desc *d = &s->desc;
-    const AVCodec *codec = avcodec_find_encoder_by_name(VIDEO_ENCODER);
+    const struct video_codec *vc = v->codec;
+    const AVCodec *codec = avcodec_find_encoder_by_name(vc->encoder);
+    enum AVPixelFormat pix = d->alpha ? AV_PIX_FMT_YUVA420P : AV_PIX_FMT_YUV420P;
     AVDictionary *mux_opts = NULL; /* owned, freed at fail/return */
     AVRational rate = av_d2q(d->fps, 1001000);
     char crf[16];
@@ -142,9 +197,9 @@ static int video_open(struct sp_sink *s)
         sp_log_error("out of memory");
         return SP_E_NOMEM;
     }
-    ret = avformat_alloc_output_context2(&v->oc, NULL, "mp4", v->url);
+    ret = avformat_alloc_output_context2(&v->oc, NULL, vc->muxer, v->url);
     if (ret < 0) {
-        err = av_failed(s, "cannot set up the MP4 muxer", ret, SP_E_CODEC);
+        err = av_failed(s, "cannot set up the muxer", ret, SP_E_CODEC);
         goto fail;
     }
     v->st = avformat_new_stream(v->oc, NULL);
@@ -159,7 +214,7 @@ static int video_open(struct sp_sink *s)
 
     v->enc->width = d->width;
     v->enc->height = d->height;
-    v->enc->pix_fmt = AV_PIX_FMT_YUV420P;
+    v->enc->pix_fmt = pix;
     v->enc->framerate = rate;
     v->enc->time_base = av_inv_q(rate); /* pts = frame index */
     /* sRGB pixels go through the BT.709 matrix into limited range. */
@@ -169,13 +224,15 @@ static int video_open(struct sp_sink *s)
     v->enc->color_trc = AVCOL_TRC_BT709;
     if (v->oc->oformat->flags & AVFMT_GLOBALHEADER)
         v->enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
-    snprintf(crf, sizeof(crf), "%d", d->crf ? d->crf : VIDEO_CRF_DEFAULT);
-    const char *preset = d->preset ? d->preset : VIDEO_PRESET_DEFAULT;
-    if ((ret = av_opt_set(v->enc->priv_data, "preset", preset, 0)) < 0 ||
-        (ret = av_opt_set(v->enc->priv_data, "crf", crf, 0)) < 0 ||
-        (ret = avcodec_open2(v->enc, codec, NULL)) < 0) {
-        err = av_failed(s, "cannot open the " VIDEO_ENCODER " encoder", ret,
-                        SP_E_CODEC);
+    snprintf(crf, sizeof(crf), "%d", d->crf ? d->crf : vc->crf_default);
+    ret = set_speed(v->enc, vc, d->preset ? d->preset : VIDEO_PRESET_DEFAULT);
+    if (ret >= 0)
+        ret = av_opt_set(v->enc->priv_data, "crf", crf, 0);
+    if (ret >= 0)
+        ret = avcodec_open2(v->enc, codec, NULL);
+    if (ret < 0) {
+        sp_log_error("%s: cannot open the %s encoder: %s", s->path,
+                     vc->encoder, av_err2str(ret));
         goto fail;
     }
     ret = avcodec_parameters_from_context(v->st->codecpar, v->enc);
@@ -187,7 +244,7 @@ static int video_open(struct sp_sink *s)
     v->st->time_base = v->enc->time_base; /* a hint; the muxer may change it */
     v->st->avg_frame_rate = rate;
 
-    v->frame->format = AV_PIX_FMT_YUV420P;
+    v->frame->format = pix;
     v->frame->width = d->width;
     v->frame->height = d->height;
     ret = av_frame_get_buffer(v->frame, 0);
@@ -196,10 +253,10 @@ static int video_open(struct sp_sink *s)
         goto fail;
     }
     v->sws = sws_getContext(d->width, d->height, AV_PIX_FMT_RGBA, d->width,
-                            d->height, AV_PIX_FMT_YUV420P, SWS_BICUBIC, NULL,
+                            d->height, pix, SWS_BICUBIC, NULL,
                             NULL, NULL);
     if (!v->sws) {
-        sp_log_error("%s: cannot set up RGBA to YUV420P conversion", s->path);
+        sp_log_error("%s: cannot set up RGBA to YUV conversion", s->path);
         goto fail;
     }
     const int *bt709 = sws_getCoefficients(SWS_CS_ITU709);
@@ -211,10 +268,11 @@ static int video_open(struct sp_sink *s)
         err = av_failed(s, "cannot create its .part file", ret, SP_E_IO);
         goto fail;
     }
-    av_dict_set(&mux_opts, "movflags", "+faststart", 0);
+    if (!strcmp(vc->muxer, "mp4"))
+        av_dict_set(&mux_opts, "movflags", "+faststart", 0);
     ret = avformat_write_header(v->oc, &mux_opts);
     if (ret < 0) {
-        err = av_failed(s, "cannot write the MP4 header", ret, SP_E_IO);
+        err = av_failed(s, "cannot write the header", ret, SP_E_IO);
         goto fail;
     }
     av_dict_free(&mux_opts);
@@ -235,11 +293,11 @@ static int video_write(struct sp_sink *s, const struct sp_image *img)
     int ret = av_frame_make_writable(v->frame);
     if (ret < 0)
         return av_failed(s, "cannot reuse the video frame", ret, SP_E_CODEC);
-    /* Alpha is dropped: video frames are taken as opaque. */
+    /* Alpha is dropped (H.264) or kept in the A plane (VP9 yuva420p). */
     ret = sws_scale(v->sws, src, src_stride, 0, img->height, v->frame->data,
                     v->frame->linesize);
     if (ret < 0)
-        return av_failed(s, "cannot convert RGBA to YUV420P", ret, SP_E_CODEC);
+        return av_failed(s, "cannot convert RGBA to YUV", ret, SP_E_CODEC);
     v->frame->pts = s->frames;
     return video_encode(s, v->frame);
 }
@@ -255,7 +313,7 @@ static int video_close(struct sp_sink *s)
     if (ret >= 0)
         ret = avio_closep(&v->oc->pb);
     if (ret < 0)
-        return av_failed(s, "cannot finish the MP4 file", ret, SP_E_IO);
+        return av_failed(s, "cannot finish the file", ret, SP_E_IO);
     err = sp_sink_commit(v->url + strlen("file:"), s->path);
     if (err)
         return err;
@@ -265,11 +323,40 @@ static int video_close(struct sp_sink *s)
     return 0;
 }
 
-const struct sp_sink_backend sp_sink_backend_video = {
+static const char *video_part_file(const struct sp_sink *s)
+{
+    const struct video *v = s->priv;
+    return v->url ? v->url + strlen("file:") : NULL;
+}
+
+static int mp4_open(struct sp_sink *s)
+{
+    ((struct video *)s->priv)->codec = &codec_h264;
+    return video_open(s);
+}
+
+static int webm_open(struct sp_sink *s)
+{
+    ((struct video *)s->priv)->codec = &codec_vp9;
+    return video_open(s);
+}
+
+const struct sp_sink_backend sp_sink_backend_mp4 = {
     .priv_size = sizeof(struct video),
-    .check = video_check,
-    .open = video_open,
+    .check = mp4_check,
+    .open = mp4_open,
     .write = video_write,
     .close = video_close,
     .abort = video_release,
+    .part_file = video_part_file,
+};
+
+const struct sp_sink_backend sp_sink_backend_webm = {
+    .priv_size = sizeof(struct video),
+    .check = webm_check,
+    .open = webm_open,
+    .write = video_write,
+    .close = video_close,
+    .abort = video_release,
+    .part_file = video_part_file,
 };

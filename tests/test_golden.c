@@ -1,4 +1,5 @@
-/* springpend tests: real renders compared with reviewed golden PNGs.
+/* springpend tests: real renders compared with reviewed golden PNGs, once
+ * per GL backend this machine has (OSMesa, EGL); the same goldens for both.
  * usage: test_golden TESTS_SOURCE_DIR OUTPUT_DIR
  * On a mismatch, OUTPUT_DIR/NAME.actual.png and NAME.diff.png are written.
  * SP_UPDATE_GOLDEN=1 replaces the golden files with the actual renders
@@ -10,6 +11,7 @@
 #include "springpend/common.h"
 #include "springpend/pipeline.h"
 #include "springpend/png_io.h"
+#include "gl_context.h"
 #include "tap.h"
 
 #define MAX_CHANNEL_DIFF 3     /* levels of 255 a pixel may be off ... */
@@ -55,7 +57,8 @@ static long compare(const struct sp_image *a, const struct sp_image *b,
     return bad;
 }
 
-static void run_case(const char *src, const char *outdir, const struct golden_case *gc)
+static void run_case(const char *src, const char *outdir, const struct golden_case *gc,
+                     enum sp_gl gl, const char *gl_name)
 {
     char scene_path[4096], golden[4096], actual[4096], diffp[4096];
     struct sp_scene scene;
@@ -65,15 +68,16 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
         n++;
     snprintf(scene_path, sizeof(scene_path), "%s/../scenes/%s", src, gc->scene);
     snprintf(golden, sizeof(golden), "%s/golden/%s.png", src, gc->name);
-    snprintf(actual, sizeof(actual), "%s/%s.actual.png", outdir, gc->name);
-    snprintf(diffp, sizeof(diffp), "%s/%s.diff.png", outdir, gc->name);
+    snprintf(actual, sizeof(actual), "%s/%s.%s.actual.png", outdir, gc->name, gl_name);
+    snprintf(diffp, sizeof(diffp), "%s/%s.%s.diff.png", outdir, gc->name, gl_name);
     sp_scene_defaults(&scene);
     if (!sp_tap_ok(sp_scene_load(&scene, scene_path, gc->overrides, n) == 0 &&
                    sp_pipeline_run(&(struct sp_pipeline_desc){
-                       .scene = &scene, .output = actual, .still = 1, .still_at = gc->at}) == 0,
-                   "%s: rendered", gc->name))
+                       .scene = &scene, .output = actual, .still = 1,
+                       .still_at = gc->at, .gl = gl}) == 0,
+                   "%s: rendered with %s", gc->name, gl_name))
         return;
-    if (getenv("SP_UPDATE_GOLDEN")) {
+    if (getenv("SP_UPDATE_GOLDEN") && gl == SP_GL_OSMESA) {
         struct sp_image img;
         sp_png_read(actual, &img);
         sp_png_write(golden, &img, 9);
@@ -91,8 +95,8 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
     int max_diff;
     long bad = compare(&want, &got, &diff, &max_diff);
     long limit = (long)(MAX_DIFF_FRACTION * want.width * want.height);
-    if (!sp_tap_ok(bad <= limit, "%s: %ld pixels differ by more than %d levels (allowed %ld; "
-                   "largest difference %d)", gc->name, bad, MAX_CHANNEL_DIFF, limit, max_diff)) {
+    if (!sp_tap_ok(bad <= limit, "%s (%s): %ld pixels differ by more than %d levels (allowed %ld; "
+                   "largest difference %d)", gc->name, gl_name, bad, MAX_CHANNEL_DIFF, limit, max_diff)) {
         sp_png_write(diffp, &diff, 6);
         sp_tap_diag("actual: %s, diff: %s", actual, diffp);
     } else {
@@ -110,7 +114,22 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: %s TESTS_SOURCE_DIR OUTPUT_DIR\n", argv[0]);
         return 2;
     }
-    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++)
-        run_case(argv[1], argv[2], &cases[i]);
+    static const struct { enum sp_gl gl; const char *name; } backends[] = {
+        {SP_GL_OSMESA, "osmesa"}, {SP_GL_EGL, "egl"},
+    };
+    int tested = 0;
+    for (size_t b = 0; b < sizeof(backends) / sizeof(backends[0]); b++) {
+        struct sp_gl_context *probe = NULL;
+        if (sp_gl_context_make(&probe, 64, 64, backends[b].gl)) {
+            sp_tap_diag("GL backend %s is not available here: not tested", backends[b].name);
+            continue;
+        }
+        sp_gl_context_destroy(&probe);
+        tested++;
+        for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++)
+            run_case(argv[1], argv[2], &cases[i], backends[b].gl, backends[b].name);
+    }
+    if (!tested)
+        SP_TAP_SKIP_ALL("no GL backend");
     return sp_tap_done();
 }

@@ -1,19 +1,45 @@
 /* springpend: the render pipeline: scene -> sim -> frame model -> render ->
- * sink. Commands build a desc and call it; nothing here parses arguments. */
+ * sink. Commands build a desc and call it; nothing here parses arguments.
+ * Rendering (this thread) and encoding (a second thread) overlap through a
+ * small bounded queue of frames, so memory stays flat however long the
+ * video. */
 #ifndef SPRINGPEND_PIPELINE_H
 #define SPRINGPEND_PIPELINE_H
 
+#include "springpend/render.h"
 #include "springpend/scene.h"
 
 struct sp_pipeline_desc {
     const struct sp_scene *scene;
-    const char *output;  /* target path; the sink kind follows its extension */
+    const char *output;  /* target path ("-" = stdout for raw); the sink
+                            kind follows its extension or `format` */
+    const char *format;  /* "mp4", "webm", "gif", "png", "raw"; NULL = by
+                            the output's extension */
     int still;           /* 1: one frame at still_at instead of the video */
     double still_at;     /* simulated s, used when still = 1 */
+    int first, last;     /* video frames [first, last) only; last 0 = to the
+                            end. The physics still runs from t = 0. */
+    enum sp_gl gl; /* GL backend; 0 = default */
     int progress;        /* 1: draw a progress line on stderr */
+    int verbose;         /* 1: print per-stage times on stderr at the end */
+    int handle_signals;  /* 1: SIGINT/SIGTERM finish the file so far (see
+                            sp_pipeline_run); 0 leaves signals alone */
 };
 
-/* Runs the whole pipeline. On any failure nothing is left at desc->output. */
+/* Runs the whole pipeline. On any failure nothing is left at desc->output.
+ * With handle_signals, a first SIGINT or SIGTERM finishes the frame in
+ * hand, flushes the encoder and keeps a playable file of the frames so far
+ * at the target, then returns SP_E_INTERRUPTED (see sp_pipeline_signal);
+ * a second one removes the .part being written and exits the process at
+ * once with status 128 + signal. */
 int sp_pipeline_run(const struct sp_pipeline_desc *desc);
+
+/* The signal that interrupted the last run (SIGINT, SIGTERM), 0 if none. */
+int sp_pipeline_signal(void);
+
+/* Frames [*first, *last) of shard i (0-based) of n equal consecutive
+ * ranges of n_frames frames. SP_E_INPUT (logged) unless 0 <= i < n <=
+ * n_frames. */
+int sp_pipeline_shard(int n_frames, int i, int n, int *first, int *last);
 
 #endif

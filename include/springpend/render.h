@@ -7,9 +7,18 @@
 #include "springpend/frame.h"
 #include "springpend/image.h"
 
+/* Which headless GL stack draws. Each library is loaded on first use, so
+ * commands that never render do not pay for it. */
+enum sp_gl {
+    SP_GL_DEFAULT = 0, /* OSMesa where it loads, else EGL */
+    SP_GL_OSMESA,      /* libOSMesa (Mesa's llvmpipe); gone from Mesa 25.1 */
+    SP_GL_EGL,         /* libEGL, surfaceless Mesa platform (a GPU if any) */
+};
+
 struct sp_render_desc {
     int width, height;            /* px */
     struct sp_view_extent extent; /* world rectangle to fit, speed range */
+    enum sp_gl gl;        /* 0 = default */
 };
 
 struct sp_renderer;

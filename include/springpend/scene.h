@@ -34,6 +34,9 @@ struct sp_scene {
         double fps;        /* video frames per second */
         double duration;   /* simulated seconds covered by the video */
         double speed;      /* simulated seconds per second of video */
+        int crf;           /* encoder quality, 0 = the format's default */
+        int preset;        /* encoder speed, index of [video] preset's
+                              names; 0 = auto (the format's default) */
     } video;
     struct {
         int trail; /* trail points kept, 0 = none */
@@ -60,6 +63,9 @@ int sp_scene_frame_count(const struct sp_scene *s);
 
 /* Simulated time shown by frame k: k * speed / fps, s. */
 double sp_scene_frame_time(const struct sp_scene *s, int k);
+
+/* The [video] preset's name ("veryfast", ...), or NULL for auto. */
+const char *sp_scene_preset_name(const struct sp_scene *s);
 
 /* Prints every key with its default, unit and accepted range (for --help). */
 void sp_scene_print_keys(void);

@@ -1,31 +1,51 @@
-/* springpend: where frames go. The kind is picked from the path:
- *   *.mp4            H.264 (libx264) yuv420p video through libavformat
- *   *%d*.png (printf pattern, e.g. frames/%05d.png)  one PNG per frame
- *   *.png            a single PNG (exactly one frame may be written)
- * Files are written as NAME.part and renamed on sp_sink_close, so a failed
- * or aborted run leaves nothing at the target path. Folders are created.
- * Knows nothing of GL. */
+/* springpend: where frames go. The kind is `format` if given, else picked
+ * from the path's extension:
+ *   mp4   *.mp4   H.264 (libx264) yuv420p video, +faststart
+ *   webm  *.webm  VP9 (libvpx) video, yuv420p, or yuva420p with `alpha`
+ *   gif   *.gif   GIF with a palette built for the content (libavfilter's
+ *                 palettegen/paletteuse; holds the frames until the end)
+ *   png   *%d*.png (printf pattern, e.g. frames/%05d.png)  one PNG per frame
+ *         *.png   a single PNG (exactly one frame may be written)
+ *   raw   RGBA8 frames, top row first, no header; path "-" is stdout
+ * Files are written as NAME.part and renamed into place: a video on
+ * sp_sink_close, each PNG of a sequence as soon as it is complete. A failed
+ * or aborted run leaves nothing at the target path (an aborted sequence
+ * removes the frames it wrote). Folders are created. Knows nothing of GL. */
 #ifndef SPRINGPEND_SINK_H
 #define SPRINGPEND_SINK_H
 
 #include "springpend/image.h"
 
 struct sp_sink_desc {
-    const char *path; /* target path (pattern for sequences) */
-    int width, height; /* px, every written image must match */
-    double fps;        /* frames per second of video */
-    int crf;           /* H.264 constant rate factor; 0 = default */
-    const char *preset; /* x264 preset; NULL = default */
+    const char *path;   /* target path (pattern for sequences, "-" = stdout
+                           for raw) */
+    const char *format; /* "mp4", "webm", "gif", "png", "raw"; NULL = from
+                           the path's extension */
+    int width, height;  /* px, every written image must match */
+    double fps;         /* frames per second of video */
+    long first_frame;   /* number of the first image (PNG sequence names) */
+    int alpha;          /* 1: keep the images' alpha (webm, png, raw) */
+    int crf;            /* quality: 0 = the format's default */
+    const char *preset; /* x264 preset name (VP9: mapped); NULL = default */
+    int png_level;      /* zlib level 1..9 for PNGs; 0 = default (1) */
 };
 
 struct sp_sink;
 
-/* Returns SP_E_INPUT (with a message) for an unknown extension. */
+/* Returns SP_E_INPUT (with a message) for an unknown kind or bad desc,
+ * SP_E_CODEC when this FFmpeg lacks the encoder, SP_E_IO naming the path
+ * and the cause when it cannot be created. */
 int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc);
+/* Writes one image; not thread-safe (one writer at a time). */
 int sp_sink_write(struct sp_sink *s, const struct sp_image *img);
-/* Flushes, finishes and renames into place; frees and NULLs *s. */
+/* Flushes, finishes and renames into place; frees and NULLs *s. On failure
+ * nothing is left at the target path. */
 int sp_sink_close(struct sp_sink **s);
-/* Removes every partial file; frees and NULLs *s. Safe on NULL. */
+/* Removes every file the sink wrote; frees and NULLs *s. Safe on NULL. */
 void sp_sink_abort(struct sp_sink **s);
+/* The .part file the sink is writing now, or NULL: a buffer owned by s
+ * whose address stays valid until close/abort (its contents may change
+ * between writes). For a signal handler to remove. */
+const char *sp_sink_part_file(const struct sp_sink *s);
 
 #endif

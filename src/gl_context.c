@@ -1,0 +1,57 @@
+/* springpend: picks the GL context backend and forwards to it. */
+#include <stddef.h>
+
+#include "springpend/common.h"
+#include "gl_context.h"
+
+/* Every backend's context starts with this. */
+struct sp_gl_context {
+    const struct sp_gl_backend *backend;
+};
+
+int sp_gl_context_make(struct sp_gl_context **out, int width, int height,
+                       enum sp_gl which)
+{
+    *out = NULL;
+    if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
+        sp_log_error("image size %dx%d: each side must be 1..16384 px",
+                     width, height);
+        return SP_E_INPUT;
+    }
+    const struct sp_gl_backend *b = which == SP_GL_EGL ? &sp_gl_backend_egl
+                                                       : &sp_gl_backend_osmesa;
+    /* The default falls back to EGL quietly where OSMesa is not installed
+     * (Mesa >= 25.1 dropped it). */
+    if (which == SP_GL_DEFAULT && b->load(1) != 0)
+        b = &sp_gl_backend_egl;
+    int err = b->load(0);
+    return err ? err : b->make(out, width, height);
+}
+
+int sp_gl_context_bind(struct sp_gl_context *c)
+{
+    return c->backend->bind(c);
+}
+
+sp_gl_proc sp_gl_context_proc(struct sp_gl_context *c, const char *name)
+{
+    return c->backend->proc(c, name);
+}
+
+uint8_t *sp_gl_context_pixels(struct sp_gl_context *c, int *stride)
+{
+    return c->backend->pixels(c, stride);
+}
+
+const char *sp_gl_context_backend(const struct sp_gl_context *c)
+{
+    return c->backend->name;
+}
+
+void sp_gl_context_destroy(struct sp_gl_context **c)
+{
+    if (!*c)
+        return;
+    (*c)->backend->destroy(*c);
+    *c = NULL;
+}

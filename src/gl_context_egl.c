@@ -1,0 +1,310 @@
+/* springpend: the EGL GL context backend. No window and no surface: a
+ * hardware EGL device where one exists (EGL_EXT_platform_device, e.g. an
+ * NVIDIA GPU), else Mesa's surfaceless platform (EGL_MESA_platform_surfaceless:
+ * a GPU render node, or llvmpipe). GL draws into a framebuffer object whose
+ * pixels glReadPixels copies into our buffer, top row first (through
+ * GL_MESA_pack_invert where the driver has it, else flipped here). libEGL is
+ * dlopened on first use. */
+#include <dlfcn.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/glcorearb.h>
+
+#include "springpend/common.h"
+#include "gl_context.h"
+
+#define EGL_LIBRARY "libEGL.so.1"
+#ifndef GL_PACK_INVERT_MESA
+#define GL_PACK_INVERT_MESA 0x8758
+#endif
+
+/* EGL entry points loaded by dlsym. */
+#define EGL_FUNCS(X)                                                         \
+    X(PFNEGLGETPROCADDRESSPROC, GetProcAddress)                              \
+    X(PFNEGLQUERYSTRINGPROC, QueryString)                                    \
+    X(PFNEGLINITIALIZEPROC, Initialize)                                      \
+    X(PFNEGLTERMINATEPROC, Terminate)                                        \
+    X(PFNEGLBINDAPIPROC, BindAPI)                                            \
+    X(PFNEGLCHOOSECONFIGPROC, ChooseConfig)                                  \
+    X(PFNEGLCREATECONTEXTPROC, CreateContext)                                \
+    X(PFNEGLDESTROYCONTEXTPROC, DestroyContext)                              \
+    X(PFNEGLMAKECURRENTPROC, MakeCurrent)                                    \
+    X(PFNEGLGETCURRENTCONTEXTPROC, GetCurrentContext)                        \
+    X(PFNEGLGETERRORPROC, GetError)
+
+/* GL entry points the backend itself calls, through eglGetProcAddress. */
+#define EGL_GL_FUNCS(X)                                                      \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                             \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                             \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                           \
+    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                           \
+    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                     \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)             \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)               \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                       \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                     \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                                       \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                     \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                     \
+    X(PFNGLGETSTRINGIPROC, GetStringi)
+
+static struct {
+#define X(type, name) type name;
+    EGL_FUNCS(X)
+#undef X
+    void *lib; /* dlopen handle, kept for the process's life */
+} egl;
+
+struct sp_gl_context {
+    const struct sp_gl_backend *backend; /* first, see gl_context.c */
+    EGLDisplay dpy;
+    EGLContext ctx;
+    struct {
+#define X(type, name) type name;
+        EGL_GL_FUNCS(X)
+#undef X
+    } gl;
+    GLuint fbo, rbo;
+    int pack_invert;  /* GL_MESA_pack_invert: rows come top first */
+    uint8_t *pixels;  /* width * height * 4 bytes, RGBA8, owned */
+    uint8_t *row;     /* one row of scratch for flipping, owned */
+    int width, height; /* px */
+};
+
+static int egl_load(int quiet)
+{
+    if (egl.lib)
+        return 0;
+    void *lib = dlopen(EGL_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        if (!quiet)
+            sp_log_error("cannot load EGL: %s (install libegl1 and "
+                         "libegl-mesa0)", dlerror());
+        return SP_E_GL;
+    }
+#define X(type, name)                                                        \
+    if (!(*(void **)&egl.name = dlsym(lib, "egl" #name))) {                  \
+        if (!quiet)                                                          \
+            sp_log_error("%s lacks egl" #name, EGL_LIBRARY);                 \
+        dlclose(lib);                                                        \
+        return SP_E_GL;                                                      \
+    }
+    EGL_FUNCS(X)
+#undef X
+    egl.lib = lib;
+    return 0;
+}
+
+static int has_word(const char *list, const char *word)
+{
+    size_t n = strlen(word);
+    for (const char *p = list; p && (p = strstr(p, word)) != NULL; p += n)
+        if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
+            return 1;
+    return 0;
+}
+
+/* A display on a hardware EGL device if there is one, else on Mesa's
+ * surfaceless platform; EGL_NO_DISPLAY if neither is offered. */
+static EGLDisplay open_display(void)
+{
+    const char *client = egl.QueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    PFNEGLGETPLATFORMDISPLAYEXTPROC get_display = (PFNEGLGETPLATFORMDISPLAYEXTPROC)
+        egl.GetProcAddress("eglGetPlatformDisplayEXT");
+    if (!get_display)
+        return EGL_NO_DISPLAY;
+    PFNEGLQUERYDEVICESEXTPROC query_devices = (PFNEGLQUERYDEVICESEXTPROC)
+        egl.GetProcAddress("eglQueryDevicesEXT");
+    PFNEGLQUERYDEVICESTRINGEXTPROC device_string = (PFNEGLQUERYDEVICESTRINGEXTPROC)
+        egl.GetProcAddress("eglQueryDeviceStringEXT");
+    if (has_word(client, "EGL_EXT_platform_device") && query_devices &&
+        device_string) {
+        EGLDeviceEXT devices[16];
+        EGLint n = 0;
+        if (query_devices(16, devices, &n))
+            for (EGLint i = 0; i < n; i++) {
+                const char *ext = device_string(devices[i], EGL_EXTENSIONS);
+                if (has_word(ext, "EGL_MESA_device_software"))
+                    continue; /* llvmpipe: surfaceless gives the same */
+                EGLDisplay d = get_display(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL);
+                if (d != EGL_NO_DISPLAY)
+                    return d;
+            }
+    }
+    if (has_word(client, "EGL_MESA_platform_surfaceless"))
+        return get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    return EGL_NO_DISPLAY;
+}
+
+static void egl_destroy(struct sp_gl_context *c)
+{
+    if (c->ctx != EGL_NO_CONTEXT) {
+        if (egl.GetCurrentContext() == c->ctx) {
+            if (c->fbo)
+                c->gl.DeleteFramebuffers(1, &c->fbo);
+            if (c->rbo)
+                c->gl.DeleteRenderbuffers(1, &c->rbo);
+            egl.MakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        }
+        egl.DestroyContext(c->dpy, c->ctx);
+    }
+    /* eglTerminate is left out: the display is shared by every context of
+     * the process and terminating it would pull it from under the others. */
+    free(c->pixels);
+    free(c->row);
+    free(c);
+}
+
+/* Loads the GL functions, makes the FBO and checks for pack_invert. */
+static int make_framebuffer(struct sp_gl_context *c)
+{
+#define X(type, name)                                                        \
+    if (!(*(void **)&c->gl.name = (void *)egl.GetProcAddress("gl" #name))) { \
+        sp_log_error("EGL's GL lacks gl" #name);                             \
+        return SP_E_GL;                                                      \
+    }
+    EGL_GL_FUNCS(X)
+#undef X
+    c->gl.GenRenderbuffers(1, &c->rbo);
+    c->gl.BindRenderbuffer(GL_RENDERBUFFER, c->rbo);
+    c->gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, c->width, c->height);
+    c->gl.GenFramebuffers(1, &c->fbo);
+    c->gl.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
+    c->gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                  GL_RENDERBUFFER, c->rbo);
+    GLenum status = c->gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        sp_log_error("EGL: a %dx%d RGBA8 framebuffer is incomplete (0x%x)",
+                     c->width, c->height, status);
+        return SP_E_GL;
+    }
+    GLint n = 0;
+    c->gl.GetIntegerv(GL_NUM_EXTENSIONS, &n);
+    for (GLint i = 0; i < n; i++) {
+        const char *e = (const char *)c->gl.GetStringi(GL_EXTENSIONS, (GLuint)i);
+        if (e && !strcmp(e, "GL_MESA_pack_invert"))
+            c->pack_invert = 1;
+    }
+    c->gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    if (c->pack_invert)
+        c->gl.PixelStorei(GL_PACK_INVERT_MESA, 1);
+    return 0;
+}
+
+static int egl_make(struct sp_gl_context **out, int width, int height)
+{
+    static const EGLint config_attribs[] = {
+        EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
+        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
+        EGL_NONE,
+    };
+    static const EGLint context_attribs[] = {
+        EGL_CONTEXT_MAJOR_VERSION, 3,
+        EGL_CONTEXT_MINOR_VERSION, 3,
+        EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+        EGL_NONE,
+    };
+    struct sp_gl_context *c = calloc(1, sizeof(*c));
+    EGLConfig config = NULL;
+    EGLint n_configs = 0;
+    int err = SP_E_GL;
+
+    if (c) {
+        c->backend = &sp_gl_backend_egl;
+        c->ctx = EGL_NO_CONTEXT;
+        c->pixels = malloc((size_t)width * height * 4);
+        c->row = malloc((size_t)width * 4);
+    }
+    if (!c || !c->pixels || !c->row) {
+        sp_log_error("out of memory for a %dx%d GL colour buffer", width, height);
+        err = SP_E_NOMEM;
+        goto fail;
+    }
+    c->width = width;
+    c->height = height;
+    c->dpy = open_display();
+    if (c->dpy == EGL_NO_DISPLAY || !egl.Initialize(c->dpy, NULL, NULL)) {
+        sp_log_error("EGL: no surfaceless display (needs Mesa's "
+                     "EGL_MESA_platform_surfaceless or an EGL device); "
+                     "error 0x%x", egl.GetError());
+        goto fail;
+    }
+    if (!egl.BindAPI(EGL_OPENGL_API)) {
+        sp_log_error("EGL: this display has no desktop OpenGL");
+        goto fail;
+    }
+    /* Without a surface the config only picks the context's kind. */
+    if (!egl.ChooseConfig(c->dpy, config_attribs, &config, 1, &n_configs) ||
+        n_configs < 1)
+        config = NULL; /* EGL_KHR_no_config_context */
+    c->ctx = egl.CreateContext(c->dpy, config, EGL_NO_CONTEXT, context_attribs);
+    if (c->ctx == EGL_NO_CONTEXT) {
+        sp_log_error("EGL could not create a GL 3.3 core context (0x%x)",
+                     egl.GetError());
+        goto fail;
+    }
+    if (!egl.MakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx)) {
+        sp_log_error("EGL could not make a context current without a "
+                     "surface (0x%x)", egl.GetError());
+        goto fail;
+    }
+    err = make_framebuffer(c);
+    if (err)
+        goto fail;
+    *out = c;
+    return 0;
+
+fail:
+    if (c)
+        egl_destroy(c);
+    return err;
+}
+
+static int egl_bind(struct sp_gl_context *c)
+{
+    if (egl.GetCurrentContext() == c->ctx)
+        return 0;
+    if (!egl.MakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx)) {
+        sp_log_error("EGL could not make the context current (0x%x)",
+                     egl.GetError());
+        return SP_E_GL;
+    }
+    c->gl.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
+    return 0;
+}
+
+static sp_gl_proc egl_proc(struct sp_gl_context *c, const char *name)
+{
+    (void)c;
+    return (sp_gl_proc)egl.GetProcAddress(name);
+}
+
+static uint8_t *egl_pixels(struct sp_gl_context *c, int *stride)
+{
+    size_t row = 4 * (size_t)c->width;
+    c->gl.ReadPixels(0, 0, c->width, c->height, GL_RGBA, GL_UNSIGNED_BYTE,
+                     c->pixels);
+    if (!c->pack_invert)
+        for (int y = 0; y < c->height / 2; y++) {
+            uint8_t *a = c->pixels + y * row;
+            uint8_t *b = c->pixels + (c->height - 1 - y) * row;
+            memcpy(c->row, a, row);
+            memcpy(a, b, row);
+            memcpy(b, c->row, row);
+        }
+    *stride = (int)row;
+    return c->pixels;
+}
+
+const struct sp_gl_backend sp_gl_backend_egl = {
+    .name = "egl",
+    .load = egl_load,
+    .make = egl_make,
+    .bind = egl_bind,
+    .proc = egl_proc,
+    .pixels = egl_pixels,
+    .destroy = egl_destroy,
+};

@@ -32,9 +32,9 @@ static double now_s(void)
 
 static volatile sig_atomic_t signal_seen;  /* the first signal, 0 = none */
 static volatile sig_atomic_t signal_count; /* signals received this run */
-/* The .part file being written, for the second signal to remove. Points at
- * the sink's own buffer (see sp_sink_part_file); NULL = none. */
-static const char *volatile part_file;
+/* The .part files being written, for the second signal to remove: the
+ * sink's own NULL-terminated array (see sp_sink_part_files); NULL = none. */
+static const char *const *volatile part_files;
 
 static void on_signal(int sig)
 {
@@ -43,11 +43,12 @@ static void on_signal(int sig)
         return;
     }
     /* Second signal: stop at once. Only async-signal-safe calls here. */
-    const char *part = part_file;
+    const char *const *parts = part_files;
     static const char msg[] = "springpend: second signal: stopped at once, "
                               "partial file removed\n";
-    if (part)
-        unlink(part);
+    for (int i = 0; parts && parts[i]; i++)
+        if (parts[i][0])
+            unlink(parts[i]);
     if (write(2, msg, sizeof(msg) - 1) < 0) {
         /* nothing more can be done */
     }
@@ -225,7 +226,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     double t_start = now_s(), t0;
 
     signal_seen = signal_count = 0;
-    part_file = NULL;
+    part_files = NULL;
     if (first < 0 || last > n || first >= last) {
         sp_log_error("frames %d:%d: the video has frames 0:%d; give A:B with "
                      "0 <= A < B <= %d", first, last, n, n);
@@ -254,7 +255,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (ret)
         goto done;
     if (desc->handle_signals) {
-        part_file = sp_sink_part_file(sink);
+        part_files = sp_sink_part_files(sink);
         catch_signals(1, old_sig);
         signals_caught = 1;
     }
@@ -341,7 +342,7 @@ finish:
     if (signal_seen && desc->progress)
         fputc('\n', stderr);
     ret = sp_sink_close(&sink);
-    part_file = NULL;
+    part_files = NULL;
     tm.finish = now_s() - t0;
     tm.total = now_s() - t_start;
     if (!ret && signal_seen) {
@@ -360,7 +361,7 @@ done:
         pthread_mutex_unlock(&q.lock);
         pthread_join(encoder, NULL);
     }
-    part_file = NULL;
+    part_files = NULL;
     sp_sink_abort(&sink);
     if (signals_caught)
         catch_signals(0, old_sig);

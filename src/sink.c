@@ -187,9 +187,9 @@ void sp_sink_abort(struct sp_sink **sp)
     sink_free(s);
 }
 
-const char *sp_sink_part_file(const struct sp_sink *s)
+const char *const *sp_sink_part_files(const struct sp_sink *s)
 {
-    return s && s->backend->part_file ? s->backend->part_file(s) : NULL;
+    return s && s->backend->part_files ? s->backend->part_files(s) : NULL;
 }
 
 int sp_sink_part_path(const char *path, char **out)

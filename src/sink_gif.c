@@ -32,6 +32,8 @@ struct gif {
     AVFrame *in, *out;       /* owned: reused */
     AVPacket *pkt;           /* owned: reused */
     char *url;               /* owned: "file:PATH.part"; NULL once renamed */
+    const char *parts[2];    /* {the .part in url, NULL} */
+    int created;             /* the .part exists (avio_open succeeded) */
 };
 
 static int gif_failed(const struct sp_sink *s, const char *doing, int ret,
@@ -73,8 +75,9 @@ static void gif_release(struct sp_sink *s)
     av_frame_free(&g->in);
     av_frame_free(&g->out);
     av_packet_free(&g->pkt);
-    if (g->url)
+    if (g->url && g->created)
         sp_sink_discard(g->url + strlen("file:"));
+    g->parts[0] = NULL;
     free(g->url);
     g->url = NULL;
 }
@@ -147,6 +150,7 @@ static int gif_open(struct sp_sink *s)
         sp_log_error("out of memory");
         return SP_E_NOMEM;
     }
+    g->parts[0] = g->url + strlen("file:");
     ret = gif_make_graph(s);
     if (ret < 0) {
         err = gif_failed(s, "cannot set up the palette filters", ret, SP_E_CODEC);
@@ -185,6 +189,7 @@ static int gif_open(struct sp_sink *s)
         err = gif_failed(s, "cannot create its .part file", ret, SP_E_IO);
         goto fail;
     }
+    g->created = 1;
     ret = avformat_write_header(g->oc, NULL);
     if (ret < 0) {
         err = gif_failed(s, "cannot write the GIF header", ret, SP_E_IO);
@@ -268,16 +273,17 @@ static int gif_close(struct sp_sink *s)
     err = sp_sink_commit(g->url + strlen("file:"), s->path);
     if (err)
         return err;
+    g->parts[0] = NULL;
     free(g->url);
     g->url = NULL;
     gif_release(s);
     return 0;
 }
 
-static const char *gif_part_file(const struct sp_sink *s)
+static const char *const *gif_part_files(const struct sp_sink *s)
 {
     const struct gif *g = s->priv;
-    return g->url ? g->url + strlen("file:") : NULL;
+    return g->parts;
 }
 
 const struct sp_sink_backend sp_sink_backend_gif = {
@@ -287,5 +293,5 @@ const struct sp_sink_backend sp_sink_backend_gif = {
     .write = gif_write,
     .close = gif_close,
     .abort = gif_release,
-    .part_file = gif_part_file,
+    .part_files = gif_part_files,
 };

@@ -27,8 +27,8 @@ struct sp_sink_backend {
     /* Releases everything and removes every .part. Must work after a failed
      * write or close. */
     void (*abort)(struct sp_sink *s);
-    /* The .part being written (see sp_sink_part_file); may be NULL. */
-    const char *(*part_file)(const struct sp_sink *s);
+    /* The .part files being written (see sp_sink_part_files); may be NULL. */
+    const char *const *(*part_files)(const struct sp_sink *s);
 };
 
 struct sp_sink {

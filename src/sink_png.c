@@ -1,9 +1,11 @@
-/* springpend: PNG sinks. A sequence writes frame k (from 0) to
- * snprintf(pattern, k), each through NAME.part renamed at once; a single
+/* springpend: PNG sinks. A sequence writes frame k (from desc.first_frame)
+ * to snprintf(pattern, k), each through NAME.part renamed at once; a single
  * PNG takes exactly one image, renamed into place on close. */
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/png_io.h"
@@ -18,10 +20,31 @@ static struct sp_png_write_opts png_opts(const struct sp_sink *s)
 
 /* ---- sequence ---- */
 
+/* A sequence compresses its frames on a pool of writer threads, one per
+ * core (zlib is the slow part), so sp_sink_write only copies the image into
+ * a free job and returns; a writer's failure is returned by a later write
+ * or by close. */
+#define PNG_MAX_WRITERS 8
+
+enum job_state { JOB_FREE, JOB_PENDING, JOB_RUNNING };
+
+struct png_job {
+    enum job_state state;
+    struct sp_image img; /* owned copy, allocated at the first write */
+    long number;         /* the frame number in the file name */
+    char *name, *part;   /* owned: path and path.part, room for any int */
+};
+
 struct png_sequence {
-    char *name; /* owned: the current frame's path, room for any int */
-    char *part; /* owned: name + ".part", same room */
-    size_t cap; /* bytes of each buffer */
+    pthread_mutex_t lock;
+    pthread_cond_t changed;            /* a job changed state, or stop */
+    struct png_job job[PNG_MAX_WRITERS + 1];
+    pthread_t writer[PNG_MAX_WRITERS];
+    int n_jobs, n_writers;             /* writers started */
+    int stop;                          /* writers: leave when idle */
+    int err;                           /* first writer failure */
+    size_t cap;                        /* bytes of each name buffer */
+    const char *parts[PNG_MAX_WRITERS + 2]; /* the jobs' part buffers, NULL-ended */
 };
 
 /* Accepts exactly one %d or %i with an optional 0 flag and a width of at
@@ -59,71 +82,171 @@ bad:
     return SP_E_INPUT;
 }
 
+/* Puts the name of the frame numbered `number` into buf (cap bytes). */
+static void png_sequence_name(const struct sp_sink *s, long number, char *buf,
+                              size_t cap)
+{
+    /* The pattern passed png_sequence_check: one int conversion. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+    snprintf(buf, cap, s->path, (int)number);
+#pragma GCC diagnostic pop
+}
+
+static void *png_writer(void *arg)
+{
+    struct sp_sink *s = arg;
+    struct png_sequence *q = s->priv;
+    struct sp_png_write_opts opts = png_opts(s);
+    pthread_mutex_lock(&q->lock);
+    for (;;) {
+        struct png_job *j = NULL;
+        for (int i = 0; i < q->n_jobs && !j; i++)
+            if (q->job[i].state == JOB_PENDING)
+                j = &q->job[i];
+        if (!j) {
+            if (q->stop)
+                break;
+            pthread_cond_wait(&q->changed, &q->lock);
+            continue;
+        }
+        j->state = JOB_RUNNING;
+        int skip = q->err != 0; /* after a failure, only drain */
+        pthread_mutex_unlock(&q->lock);
+        int err = 0;
+        if (!skip) {
+            png_sequence_name(s, j->number, j->name, q->cap);
+            snprintf(j->part, q->cap, "%s.part", j->name);
+            err = sp_png_write_opts(j->part, &j->img, &opts);
+            if (!err)
+                err = sp_sink_commit(j->part, j->name);
+            if (err)
+                sp_sink_discard(j->part);
+            j->part[0] = '\0';
+        }
+        pthread_mutex_lock(&q->lock);
+        if (err && !q->err)
+            q->err = err;
+        j->state = JOB_FREE;
+        pthread_cond_broadcast(&q->changed);
+    }
+    pthread_mutex_unlock(&q->lock);
+    return NULL;
+}
+
+/* Waits for every job, stops and joins the writers, frees the jobs.
+ * Returns the first writer failure. */
+static int png_sequence_finish(struct sp_sink *s)
+{
+    struct png_sequence *q = s->priv;
+    if (!q->cap)
+        return q->err; /* finished already */
+    pthread_mutex_lock(&q->lock);
+    q->stop = 1;
+    pthread_cond_broadcast(&q->changed);
+    pthread_mutex_unlock(&q->lock);
+    for (int i = 0; i < q->n_writers; i++)
+        pthread_join(q->writer[i], NULL);
+    q->n_writers = 0;
+    for (int i = 0; i < q->n_jobs; i++) {
+        sp_image_free(&q->job[i].img);
+        free(q->job[i].name);
+        free(q->job[i].part);
+        q->job[i].name = q->job[i].part = NULL;
+        q->parts[i] = NULL;
+    }
+    q->n_jobs = 0;
+    pthread_mutex_destroy(&q->lock);
+    pthread_cond_destroy(&q->changed);
+    q->cap = 0;
+    return q->err;
+}
+
 static int png_sequence_open(struct sp_sink *s)
 {
     struct png_sequence *q = s->priv;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    int writers = cores < 1 ? 1 : cores > PNG_MAX_WRITERS ? PNG_MAX_WRITERS : (int)cores;
+    pthread_mutex_init(&q->lock, NULL);
+    pthread_cond_init(&q->changed, NULL);
     q->cap = strlen(s->path) + 99 + sizeof(".part");
-    q->name = malloc(q->cap);
-    q->part = malloc(q->cap);
-    if (!q->name || !q->part) {
-        free(q->name);
-        free(q->part);
-        sp_log_error("out of memory");
+    for (q->n_jobs = 0; q->n_jobs < writers + 1; q->n_jobs++) {
+        struct png_job *j = &q->job[q->n_jobs];
+        j->name = malloc(q->cap);
+        j->part = calloc(1, q->cap);
+        q->parts[q->n_jobs] = j->part;
+        if (!j->name || !j->part) {
+            q->n_jobs++;
+            sp_log_error("out of memory");
+            png_sequence_finish(s);
+            return SP_E_NOMEM;
+        }
+    }
+    for (; q->n_writers < writers; q->n_writers++)
+        if (pthread_create(&q->writer[q->n_writers], NULL, png_writer, s) != 0)
+            break;
+    if (!q->n_writers) {
+        sp_log_error("%s: cannot start a PNG writer thread", s->path);
+        png_sequence_finish(s);
         return SP_E_NOMEM;
     }
     return 0;
 }
 
-/* Puts the name of the image numbered `number` into q->name. */
-static void png_sequence_name(struct sp_sink *s, long number)
-{
-    struct png_sequence *q = s->priv;
-    /* The pattern passed png_sequence_check: one int conversion. */
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wformat-nonliteral"
-    snprintf(q->name, q->cap, s->path, (int)number);
-#pragma GCC diagnostic pop
-}
-
 static int png_sequence_write(struct sp_sink *s, const struct sp_image *img)
 {
     struct png_sequence *q = s->priv;
-    struct sp_png_write_opts opts = png_opts(s);
-    png_sequence_name(s, s->desc.first_frame + s->frames);
-    snprintf(q->part, q->cap, "%s.part", q->name);
-    int err = sp_png_write_opts(q->part, img, &opts);
-    if (!err)
-        err = sp_sink_commit(q->part, q->name);
+    struct png_job *j = NULL;
+    pthread_mutex_lock(&q->lock);
+    while (!q->err) {
+        for (int i = 0; i < q->n_jobs && !j; i++)
+            if (q->job[i].state == JOB_FREE)
+                j = &q->job[i];
+        if (j)
+            break;
+        pthread_cond_wait(&q->changed, &q->lock);
+    }
+    int err = q->err;
+    pthread_mutex_unlock(&q->lock);
     if (err)
-        sp_sink_discard(q->part);
-    return err;
+        return err; /* logged by the writer */
+    /* A free job is ours until we mark it pending. */
+    if (!j->img.pixels && (err = sp_image_alloc(&j->img, img->width, img->height)) != 0)
+        return err;
+    for (int y = 0; y < img->height; y++)
+        memcpy(j->img.pixels + (size_t)y * j->img.stride,
+               img->pixels + (size_t)y * img->stride, 4 * (size_t)img->width);
+    j->number = s->desc.first_frame + s->frames;
+    pthread_mutex_lock(&q->lock);
+    j->state = JOB_PENDING;
+    pthread_cond_broadcast(&q->changed);
+    pthread_mutex_unlock(&q->lock);
+    return 0;
 }
 
 static int png_sequence_close(struct sp_sink *s)
 {
-    struct png_sequence *q = s->priv;
-    free(q->name);
-    free(q->part);
-    q->name = q->part = NULL;
-    return 0;
+    return png_sequence_finish(s);
 }
 
-/* A failed write has already removed its .part; the frames renamed into
- * place are removed too, so a failed run leaves no partial sequence. */
+/* Every frame is removed, so a failed or aborted run leaves no partial
+ * sequence; a failed write has already removed its .part. */
 static void png_sequence_abort(struct sp_sink *s)
 {
-    struct png_sequence *q = s->priv;
-    for (long k = 0; q->name && k < s->frames; k++) {
-        png_sequence_name(s, s->desc.first_frame + k);
-        sp_sink_discard(q->name);
+    size_t cap = strlen(s->path) + 99;
+    png_sequence_finish(s);
+    char *name = malloc(cap);
+    for (long k = 0; name && k < s->frames; k++) {
+        png_sequence_name(s, s->desc.first_frame + k, name, cap);
+        sp_sink_discard(name);
     }
-    png_sequence_close(s);
+    free(name);
 }
 
-static const char *png_sequence_part_file(const struct sp_sink *s)
+static const char *const *png_sequence_part_files(const struct sp_sink *s)
 {
     const struct png_sequence *q = s->priv;
-    return q->part;
+    return q->parts;
 }
 
 const struct sp_sink_backend sp_sink_backend_png_sequence = {
@@ -133,19 +256,22 @@ const struct sp_sink_backend sp_sink_backend_png_sequence = {
     .write = png_sequence_write,
     .close = png_sequence_close,
     .abort = png_sequence_abort,
-    .part_file = png_sequence_part_file,
+    .part_files = png_sequence_part_files,
 };
 
 /* ---- single image ---- */
 
 struct png_single {
     char *part; /* owned: "PATH.part", written by the one write */
+    const char *parts[2]; /* {part, NULL} */
 };
 
 static int png_single_open(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
-    return sp_sink_part_path(s->path, &o->part);
+    int err = sp_sink_part_path(s->path, &o->part);
+    o->parts[0] = o->part;
+    return err;
 }
 
 static int png_single_write(struct sp_sink *s, const struct sp_image *img)
@@ -165,6 +291,7 @@ static int png_single_close(struct sp_sink *s)
     struct png_single *o = s->priv;
     int err = sp_sink_commit(o->part, s->path);
     if (!err) {
+        o->parts[0] = NULL;
         free(o->part);
         o->part = NULL;
     }
@@ -176,14 +303,15 @@ static void png_single_abort(struct sp_sink *s)
     struct png_single *o = s->priv;
     if (o->part)
         sp_sink_discard(o->part);
+    o->parts[0] = NULL;
     free(o->part);
     o->part = NULL;
 }
 
-static const char *png_single_part_file(const struct sp_sink *s)
+static const char *const *png_single_part_files(const struct sp_sink *s)
 {
     const struct png_single *o = s->priv;
-    return o->part;
+    return o->parts;
 }
 
 const struct sp_sink_backend sp_sink_backend_png_single = {
@@ -192,5 +320,5 @@ const struct sp_sink_backend sp_sink_backend_png_single = {
     .write = png_single_write,
     .close = png_single_close,
     .abort = png_single_abort,
-    .part_file = png_single_part_file,
+    .part_files = png_single_part_files,
 };

@@ -13,6 +13,7 @@
 struct raw {
     int fd;     /* 1 for stdout, else owned */
     char *part; /* owned: "PATH.part"; NULL for stdout or once renamed */
+    const char *parts[2]; /* {part, NULL} */
 };
 
 static int raw_open(struct sp_sink *s)
@@ -24,10 +25,12 @@ static int raw_open(struct sp_sink *s)
     int err = sp_sink_part_path(s->path, &o->part);
     if (err)
         return err;
+    o->parts[0] = o->part;
     o->fd = open(o->part, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (o->fd < 0) {
         sp_log_error("%s: cannot create %s: %s", s->path, o->part,
                      strerror(errno));
+        o->parts[0] = NULL;
         free(o->part);
         o->part = NULL;
         return SP_E_IO;
@@ -83,6 +86,7 @@ static int raw_close(struct sp_sink *s)
     }
     int err = sp_sink_commit(o->part, s->path);
     if (!err) {
+        o->parts[0] = NULL;
         free(o->part);
         o->part = NULL;
     }
@@ -97,14 +101,15 @@ static void raw_abort(struct sp_sink *s)
     if (o->fd >= 0)
         close(o->fd);
     sp_sink_discard(o->part);
+    o->parts[0] = NULL;
     free(o->part);
     o->part = NULL;
 }
 
-static const char *raw_part_file(const struct sp_sink *s)
+static const char *const *raw_part_files(const struct sp_sink *s)
 {
     const struct raw *o = s->priv;
-    return o->part;
+    return o->parts;
 }
 
 const struct sp_sink_backend sp_sink_backend_raw = {
@@ -113,5 +118,5 @@ const struct sp_sink_backend sp_sink_backend_raw = {
     .write = raw_write,
     .close = raw_close,
     .abort = raw_abort,
-    .part_file = raw_part_file,
+    .part_files = raw_part_files,
 };

@@ -49,6 +49,8 @@ struct video {
     AVPacket *pkt;          /* owned: reused for every packet */
     struct SwsContext *sws; /* owned: RGBA -> YUV(A)420P, BT.709 limited */
     char *url;              /* owned: "file:PATH.part"; NULL once renamed */
+    const char *parts[2];   /* {the .part in url, NULL} */
+    int created;            /* the .part exists (avio_open succeeded) */
 };
 
 static int video_check(const struct sp_sink_desc *d,
@@ -127,8 +129,9 @@ static void video_release(struct sp_sink *s)
     av_packet_free(&v->pkt);
     sws_freeContext(v->sws);
     v->sws = NULL;
-    if (v->url)
+    if (v->url && v->created)
         sp_sink_discard(v->url + strlen("file:"));
+    v->parts[0] = NULL;
     free(v->url);
     v->url = NULL;
 }
@@ -197,6 +200,7 @@ static int video_open(struct sp_sink *s)
         sp_log_error("out of memory");
         return SP_E_NOMEM;
     }
+    v->parts[0] = v->url + strlen("file:");
     ret = avformat_alloc_output_context2(&v->oc, NULL, vc->muxer, v->url);
     if (ret < 0) {
         err = av_failed(s, "cannot set up the muxer", ret, SP_E_CODEC);
@@ -268,6 +272,7 @@ static int video_open(struct sp_sink *s)
         err = av_failed(s, "cannot create its .part file", ret, SP_E_IO);
         goto fail;
     }
+    v->created = 1;
     if (!strcmp(vc->muxer, "mp4"))
         av_dict_set(&mux_opts, "movflags", "+faststart", 0);
     ret = avformat_write_header(v->oc, &mux_opts);
@@ -317,16 +322,17 @@ static int video_close(struct sp_sink *s)
     err = sp_sink_commit(v->url + strlen("file:"), s->path);
     if (err)
         return err;
+    v->parts[0] = NULL;
     free(v->url);
     v->url = NULL; /* renamed: nothing left to remove */
     video_release(s);
     return 0;
 }
 
-static const char *video_part_file(const struct sp_sink *s)
+static const char *const *video_part_files(const struct sp_sink *s)
 {
     const struct video *v = s->priv;
-    return v->url ? v->url + strlen("file:") : NULL;
+    return v->parts;
 }
 
 static int mp4_open(struct sp_sink *s)
@@ -348,7 +354,7 @@ const struct sp_sink_backend sp_sink_backend_mp4 = {
     .write = video_write,
     .close = video_close,
     .abort = video_release,
-    .part_file = video_part_file,
+    .part_files = video_part_files,
 };
 
 const struct sp_sink_backend sp_sink_backend_webm = {
@@ -358,5 +364,5 @@ const struct sp_sink_backend sp_sink_backend_webm = {
     .write = video_write,
     .close = video_close,
     .abort = video_release,
-    .part_file = video_part_file,
+    .part_files = video_part_files,
 };

@@ -43,9 +43,10 @@ int sp_sink_write(struct sp_sink *s, const struct sp_image *img);
 int sp_sink_close(struct sp_sink **s);
 /* Removes every file the sink wrote; frees and NULLs *s. Safe on NULL. */
 void sp_sink_abort(struct sp_sink **s);
-/* The .part file the sink is writing now, or NULL: a buffer owned by s
- * whose address stays valid until close/abort (its contents may change
- * between writes). For a signal handler to remove. */
-const char *sp_sink_part_file(const struct sp_sink *s);
+/* The .part files the sink may be writing: a NULL-terminated array of
+ * buffers owned by s, whose addresses stay valid until close/abort (their
+ * contents change between writes; "" = none). For a signal handler to
+ * remove. NULL if there are none. */
+const char *const *sp_sink_part_files(const struct sp_sink *s);
 
 #endif

@@ -43,6 +43,11 @@ uint8_t *sp_gl_context_pixels(struct sp_gl_context *c, int *stride)
     return c->backend->pixels(c, stride);
 }
 
+void sp_gl_context_target(struct sp_gl_context *c, uint8_t *pixels)
+{
+    c->backend->target(c, pixels);
+}
+
 const char *sp_gl_context_backend(const struct sp_gl_context *c)
 {
     return c->backend->name;

@@ -27,6 +27,7 @@ struct sp_gl_backend {
     int (*bind)(struct sp_gl_context *c);
     sp_gl_proc (*proc)(struct sp_gl_context *c, const char *name);
     uint8_t *(*pixels)(struct sp_gl_context *c, int *stride);
+    void (*target)(struct sp_gl_context *c, uint8_t *pixels);
     void (*destroy)(struct sp_gl_context *c);
 };
 
@@ -51,6 +52,12 @@ sp_gl_proc sp_gl_context_proc(struct sp_gl_context *c, const char *name);
  * colour buffer: RGBA8, straight alpha, top row first, *stride bytes between
  * rows. Owned by c, valid until the next GL command on c or destroy. */
 uint8_t *sp_gl_context_pixels(struct sp_gl_context *c, int *stride);
+
+/* Makes the next frames land in `pixels` (width * height * 4 bytes, stride
+ * 4 * width, owned by the caller and alive while it is the target) instead
+ * of c's own buffer; NULL goes back to c's own. sp_gl_context_pixels then
+ * returns it. Saves a copy per frame where frames go into a queue. */
+void sp_gl_context_target(struct sp_gl_context *c, uint8_t *pixels);
 
 /* The backend that made c ("osmesa", "egl"). */
 const char *sp_gl_context_backend(const struct sp_gl_context *c);

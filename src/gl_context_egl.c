@@ -70,6 +70,7 @@ struct sp_gl_context {
     GLuint fbo, rbo;
     int pack_invert;  /* GL_MESA_pack_invert: rows come top first */
     uint8_t *pixels;  /* width * height * 4 bytes, RGBA8, owned */
+    uint8_t *target;  /* where readback goes: pixels or the caller's */
     uint8_t *row;     /* one row of scratch for flipping, owned */
     int width, height; /* px */
 };
@@ -225,6 +226,7 @@ static int egl_make(struct sp_gl_context **out, int width, int height)
     }
     c->width = width;
     c->height = height;
+    c->target = c->pixels;
     c->dpy = open_display();
     if (c->dpy == EGL_NO_DISPLAY || !egl.Initialize(c->dpy, NULL, NULL)) {
         sp_log_error("EGL: no surfaceless display (needs Mesa's "
@@ -286,17 +288,22 @@ static uint8_t *egl_pixels(struct sp_gl_context *c, int *stride)
 {
     size_t row = 4 * (size_t)c->width;
     c->gl.ReadPixels(0, 0, c->width, c->height, GL_RGBA, GL_UNSIGNED_BYTE,
-                     c->pixels);
+                     c->target);
     if (!c->pack_invert)
         for (int y = 0; y < c->height / 2; y++) {
-            uint8_t *a = c->pixels + y * row;
-            uint8_t *b = c->pixels + (c->height - 1 - y) * row;
+            uint8_t *a = c->target + y * row;
+            uint8_t *b = c->target + (c->height - 1 - y) * row;
             memcpy(c->row, a, row);
             memcpy(a, b, row);
             memcpy(b, c->row, row);
         }
     *stride = (int)row;
-    return c->pixels;
+    return c->target;
+}
+
+static void egl_target(struct sp_gl_context *c, uint8_t *pixels)
+{
+    c->target = pixels ? pixels : c->pixels;
 }
 
 const struct sp_gl_backend sp_gl_backend_egl = {
@@ -306,5 +313,6 @@ const struct sp_gl_backend sp_gl_backend_egl = {
     .bind = egl_bind,
     .proc = egl_proc,
     .pixels = egl_pixels,
+    .target = egl_target,
     .destroy = egl_destroy,
 };

@@ -33,6 +33,7 @@ struct sp_gl_context {
     const struct sp_gl_backend *backend; /* first, see gl_context.c */
     OSMesaContext ctx;
     uint8_t *pixels; /* width * height * 4 bytes, RGBA8, owned */
+    uint8_t *target; /* where GL draws: pixels or the caller's buffer */
     int width, height; /* px */
 };
 
@@ -98,6 +99,7 @@ static int osmesa_make(struct sp_gl_context **out, int width, int height)
     }
     c->width = width;
     c->height = height;
+    c->target = c->pixels;
     c->ctx = os.CreateContextAttribs(attribs, NULL);
     if (!c->ctx) {
         sp_log_error("OSMesa could not create a GL 3.3 core context");
@@ -123,7 +125,7 @@ static int osmesa_bind(struct sp_gl_context *c)
 {
     if (os.GetCurrentContext() == c->ctx)
         return 0;
-    if (!os.MakeCurrent(c->ctx, c->pixels, GL_UNSIGNED_BYTE, c->width,
+    if (!os.MakeCurrent(c->ctx, c->target, GL_UNSIGNED_BYTE, c->width,
                         c->height)) {
         sp_log_error("OSMesa could not make the context current");
         return SP_E_GL;
@@ -142,7 +144,19 @@ static uint8_t *osmesa_pixels(struct sp_gl_context *c, int *stride)
 {
     os.Finish();
     *stride = 4 * c->width;
-    return c->pixels;
+    return c->target;
+}
+
+/* OSMesa draws straight into whatever buffer is bound: rebinding is the
+ * whole switch (the context must be current, as it is while rendering). */
+static void osmesa_target(struct sp_gl_context *c, uint8_t *pixels)
+{
+    uint8_t *want = pixels ? pixels : c->pixels;
+    if (want == c->target)
+        return;
+    c->target = want;
+    os.MakeCurrent(c->ctx, c->target, GL_UNSIGNED_BYTE, c->width, c->height);
+    os.PixelStore(OSMESA_Y_UP, 0);
 }
 
 const struct sp_gl_backend sp_gl_backend_osmesa = {
@@ -152,5 +166,6 @@ const struct sp_gl_backend sp_gl_backend_osmesa = {
     .bind = osmesa_bind,
     .proc = osmesa_proc,
     .pixels = osmesa_pixels,
+    .target = osmesa_target,
     .destroy = osmesa_destroy,
 };

@@ -1,9 +1,9 @@
 /* springpend: the render pipeline. Owns the sim, trail, renderer and sink of
  * one run and drives them frame by frame. This thread advances the sim,
- * updates the frame model, renders and copies each frame into a free slot
- * of a small bounded queue; an encoder thread takes the slots in order and
- * hands them to the sink. Both stages work at once; the slots are
- * allocated once, so memory does not grow with the video's length. */
+ * updates the frame model and renders each frame straight into a free slot
+ * of a small bounded queue (no copy); an encoder thread takes the slots in
+ * order and hands them to the sink. Both stages work at once; the slots
+ * are allocated once, so memory does not grow with the video's length. */
 #include <math.h>
 #include <pthread.h>
 #include <signal.h>
@@ -107,28 +107,28 @@ static void *consume(void *arg)
     return NULL;
 }
 
-/* Copies img into the next free slot, waiting for one; returns the
- * consumer's error if it failed. *wait_s grows by the time spent waiting. */
-static int enqueue(struct queue *q, const struct sp_image *img, double *wait_s)
+/* Waits for the next free slot and returns it (the producer's to fill), or
+ * NULL with *err set if the consumer failed. *wait_s grows by the wait. */
+static struct sp_image *acquire(struct queue *q, int *err, double *wait_s)
 {
     double t0 = now_s();
     pthread_mutex_lock(&q->lock);
     while (q->count == QUEUE_SLOTS && !q->err)
         pthread_cond_wait(&q->changed, &q->lock);
-    int err = q->err;
-    struct sp_image *dst = &q->slot[(q->head + q->count) % QUEUE_SLOTS];
+    *err = q->err;
+    struct sp_image *slot = &q->slot[(q->head + q->count) % QUEUE_SLOTS];
     pthread_mutex_unlock(&q->lock);
     *wait_s += now_s() - t0;
-    if (err)
-        return err;
-    for (int y = 0; y < img->height; y++)
-        memcpy(dst->pixels + (size_t)y * dst->stride,
-               img->pixels + (size_t)y * img->stride, 4 * (size_t)img->width);
+    return *err ? NULL : slot;
+}
+
+/* Hands the slot acquire returned to the consumer. */
+static void publish(struct queue *q)
+{
     pthread_mutex_lock(&q->lock);
     q->count++; /* only the producer adds, so the slot is still ours */
     pthread_cond_broadcast(&q->changed);
     pthread_mutex_unlock(&q->lock);
-    return 0;
 }
 
 /* ---- progress and stage times ---- */
@@ -149,7 +149,7 @@ static void show_progress(int done, int total, double t0)
 }
 
 struct stage_times {
-    double sim, render, copy, wait; /* s, this thread */
+    double sim, render, wait;       /* s, this thread */
     double setup, finish, total;    /* s */
 };
 
@@ -162,14 +162,13 @@ static void print_times(const struct stage_times *t, const struct queue *q,
             "  setup (camera pre-pass, GL, encoder)  %7.3f\n"
             "  render thread: sim + frame model      %7.3f  %6.2f\n"
             "  render thread: GL draw + readback     %7.3f  %6.2f\n"
-            "  render thread: copy into the queue    %7.3f  %6.2f\n"
             "  render thread: waiting for a slot     %7.3f  %6.2f\n"
             "  encoder thread: convert + encode/write %6.3f  %6.2f\n"
             "  encoder thread: waiting for a frame   %7.3f  %6.2f\n"
             "  finish (flush, trailer, rename)       %7.3f\n"
             "  wall                                  %7.3f  (%.1f fps)\n",
             frames, t->setup, t->sim, t->sim * per, t->render, t->render * per,
-            t->copy, t->copy * per, t->wait, t->wait * per, q->encode_s,
+            t->wait, t->wait * per, q->encode_s,
             q->encode_s * per, q->idle_s, q->idle_s * per, t->finish, t->total,
             t->total > 0 ? frames / t->total : 0);
 }
@@ -309,22 +308,22 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         tm.sim += now_s() - ts;
         if (k < first)
             continue; /* frames before the range only feed the trail */
+        struct sp_image *slot = acquire(&q, &ret, &tm.wait);
+        if (!slot)
+            goto done;
         ts = now_s();
-        ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                   .trail = &trail}, &img);
+        ret = sp_render_target(r, slot);
+        if (!ret)
+            ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
+                                                       .trail = &trail}, &img);
         if (ret)
             goto done;
-        double tr = now_s();
-        tm.render += tr - ts;
-        ret = enqueue(&q, &img, &tm.wait);
-        if (ret)
-            goto done;
-        tm.copy += now_s() - tr;
+        tm.render += now_s() - ts;
+        publish(&q);
         emitted++;
         if (desc->progress && (emitted % 10 == 0 || k == last - 1))
             show_progress(emitted, last - first, t0);
     }
-    tm.copy -= tm.wait; /* enqueue's time includes its wait */
 
 finish:
     if (encoder_running) {
@@ -363,6 +362,8 @@ done:
     }
     part_files = NULL;
     sp_sink_abort(&sink);
+    if (r)
+        sp_render_target(r, NULL); /* before the slots go */
     if (signals_caught)
         catch_signals(0, old_sig);
     for (int i = 0; i < QUEUE_SLOTS; i++)

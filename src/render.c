@@ -461,6 +461,21 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
     return 0;
 }
 
+int sp_render_target(struct sp_renderer *r, const struct sp_image *dst)
+{
+    if (dst && (dst->width != r->width || dst->height != r->height ||
+                dst->stride != 4 * r->width)) {
+        sp_log_error("render target %dx%d (stride %d) is not the renderer's "
+                     "%dx%d", dst->width, dst->height, dst->stride, r->width,
+                     r->height);
+        return SP_E_INPUT;
+    }
+    int err = sp_gl_context_bind(r->ctx);
+    if (!err)
+        sp_gl_context_target(r->ctx, dst ? dst->pixels : NULL);
+    return err;
+}
+
 const char *sp_render_renderer_name(const struct sp_renderer *r)
 {
     return r->name ? r->name : "unknown";

@@ -219,6 +219,9 @@ static int video_open(struct sp_sink *s)
     v->enc->width = d->width;
     v->enc->height = d->height;
     v->enc->pix_fmt = pix;
+    /* libavcodec's default is one thread; let the encoder use every core,
+     * as the ffmpeg command does ("-threads auto"). */
+    v->enc->thread_count = 0;
     v->enc->framerate = rate;
     v->enc->time_base = av_inv_q(rate); /* pts = frame index */
     /* sRGB pixels go through the BT.709 matrix into limited range. */

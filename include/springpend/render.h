@@ -31,6 +31,11 @@ int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc);
 int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
                    struct sp_image *img);
 
+/* Makes the following draws land in dst's pixels (dst must be width x
+ * height with stride 4 * width, and outlive its use) instead of the
+ * renderer's own buffer; NULL goes back. Saves a copy per frame. */
+int sp_render_target(struct sp_renderer *r, const struct sp_image *dst);
+
 /* The GL_RENDERER string of the context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
 const char *sp_render_renderer_name(const struct sp_renderer *r);
 

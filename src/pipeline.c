@@ -244,12 +244,14 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (ret)
         goto done;
     ret = sp_render_make(&r, &(struct sp_render_desc){
-        .width = w, .height = h, .extent = extent, .gl = desc->gl});
+        .width = w, .height = h, .extent = extent, .gl = desc->gl,
+        .transparent = sc->view.transparent});
     if (ret)
         goto done;
     ret = sp_sink_open(&sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = first,
+        .alpha = sc->view.transparent,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc)});
     if (ret)
         goto done;

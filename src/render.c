@@ -95,6 +95,7 @@ static const float BOB[4] = {0.93f, 0.33f, 0.16f, 1};
 
 struct sp_renderer {
     struct sp_gl_context *ctx;
+    int transparent; /* background alpha 0; pixels un-premultiplied */
     struct gl_api gl;
     GLuint program, vao, vbo;
     struct instance *inst; /* staging for one frame, `capacity` entries */
@@ -265,10 +266,19 @@ int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
     if (err)
         goto fail;
     gl->Viewport(0, 0, r->width, r->height);
-    gl->ClearColor(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0f);
     gl->Enable(GL_BLEND);
-    /* Colour: premultiplied over; alpha stays the cleared 1 (opaque). */
-    gl->BlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    r->transparent = desc->transparent;
+    if (r->transparent) {
+        /* Premultiplied over for colour and alpha on a clear background;
+         * sp_render_draw un-premultiplies. */
+        gl->ClearColor(0, 0, 0, 0);
+        gl->BlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE,
+                              GL_ONE_MINUS_SRC_ALPHA);
+    } else {
+        gl->ClearColor(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 1.0f);
+        /* Colour: premultiplied over; alpha stays the cleared 1 (opaque). */
+        gl->BlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    }
     glerr = gl->GetError();
     if (glerr != GL_NO_ERROR) {
         sp_log_error("setting up GL failed with error 0x%04x", glerr);
@@ -416,6 +426,23 @@ static struct instance *put_spring(const struct sp_renderer *r, const float pv[2
     return in;
 }
 
+/* Premultiplied RGBA (what GL blended) to straight alpha, in place. */
+static void unpremultiply(const struct sp_image *img)
+{
+    for (int y = 0; y < img->height; y++) {
+        uint8_t *p = img->pixels + (size_t)y * img->stride;
+        for (int x = 0; x < img->width; x++, p += 4) {
+            unsigned a = p[3];
+            if (a == 0 || a == 255)
+                continue;
+            for (int c = 0; c < 3; c++) {
+                unsigned v = (p[c] * 255u + a / 2) / a;
+                p[c] = (uint8_t)(v > 255 ? 255 : v);
+            }
+        }
+    }
+}
+
 int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
                    struct sp_image *img)
 {
@@ -458,6 +485,8 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
     img->width = r->width;
     img->height = r->height;
     img->stride = stride;
+    if (r->transparent)
+        unpremultiply(img);
     return 0;
 }
 

@@ -50,6 +50,11 @@ static int gif_check(const struct sp_sink_desc *d)
                      d->fps);
         return SP_E_INPUT;
     }
+    if (d->alpha) {
+        sp_log_error("%s: springpend's GIFs have no transparency; use .webm, "
+                     ".png or raw for a transparent background", d->path);
+        return SP_E_INPUT;
+    }
     if (d->width > 65535 || d->height > 65535) {
         sp_log_error("%s: GIF sides are at most 65535 px", d->path);
         return SP_E_INPUT;

@@ -87,6 +87,22 @@ for name, fmt_args, codec, pix in [
        f"{name}: {codec} {pix}, {N} frames, {DUR} s, no .part (got {p}, "
        f"rc {r.returncode} {r.stderr.decode()[-200:]!r})")
 
+# A transparent background: VP9 with an alpha plane (yuva420p; ffprobe shows
+# the main plane and the alpha_mode tag, libvpx decodes the alpha).
+r = run("render", scene, *SMALL, "--set", "view.transparent=1", "-o", "alpha.webm")
+tags = subprocess.run(["ffprobe", "-v", "error", "-show_entries", "stream_tags=alpha_mode",
+                       "-of", "csv=p=0", path("alpha.webm")], capture_output=True, text=True)
+rgba = decode(path("alpha.webm"), pre=["-c:v", "libvpx-vp9"], post=["-frames:v", "1"])
+alpha = rgba[3::4] if rgba else b""
+clear = sum(a < 8 for a in alpha) / max(len(alpha), 1)
+solid = sum(a > 247 for a in alpha)
+ok(r.returncode == 0 and tags.stdout.strip() == "1" and clear > 0.9 and solid > 20,
+   f"alpha.webm: VP9 with alpha; {clear:.0%} of the first frame clear, {solid} px "
+   f"opaque (the pendulum)")
+r = run("render", scene, *SMALL, "--set", "view.transparent=1", "-o", "alpha.mp4")
+ok(r.returncode == 2 and b"use .webm" in r.stderr and not os.path.exists(path("alpha.mp4")),
+   "a transparent background in MP4: exit 2, points to .webm, no file")
+
 # GIF: above 50 fps every other frame is kept; the duration is the same.
 r = run("render", scene, *SMALL, "--fps", "60", "-o", "all.gif")
 p = probe(path("all.gif")) if r.returncode == 0 else None

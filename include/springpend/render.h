@@ -19,6 +19,7 @@ struct sp_render_desc {
     int width, height;            /* px */
     struct sp_view_extent extent; /* world rectangle to fit, speed range */
     enum sp_gl gl;        /* 0 = default */
+    int transparent;      /* 1: transparent background, straight alpha */
 };
 
 struct sp_renderer;

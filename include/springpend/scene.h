@@ -40,6 +40,7 @@ struct sp_scene {
     } video;
     struct {
         int trail; /* trail points kept, 0 = none */
+        int transparent; /* 1: transparent background (alpha 0) */
     } view;
 };
 

@@ -41,9 +41,11 @@ struct sp_sink {
     void *priv;               /* backend->priv_size bytes, owned by sink.c */
 };
 
+/* In springpend-av.so (sink_video.c, sink_gif.c), found by dlsym. */
 extern const struct sp_sink_backend sp_sink_backend_mp4;
 extern const struct sp_sink_backend sp_sink_backend_webm;
 extern const struct sp_sink_backend sp_sink_backend_gif;
+/* Built in. */
 extern const struct sp_sink_backend sp_sink_backend_raw;
 extern const struct sp_sink_backend sp_sink_backend_png_sequence;
 extern const struct sp_sink_backend sp_sink_backend_png_single;

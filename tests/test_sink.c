@@ -174,6 +174,41 @@ static bool test_png_sequence(void)
     return pass;
 }
 
+/* Numbering from first_frame; an aborted sequence removes what it wrote
+ * (sink.h: nothing is left at the target path). */
+static bool test_png_sequence_abort(void)
+{
+    struct sp_image img;
+    struct sp_sink *s = NULL;
+    assert(sp_image_alloc(&img, 32, 24) == 0);
+    int err = sp_sink_open(&s, &(struct sp_sink_desc){
+        .path = out_path("seqab/%03d.png"), .width = 32, .height = 24,
+        .fps = 30, .first_frame = 7 });
+    bool pass = err == 0;
+    for (int k = 0; pass && k < 4; k++) {
+        draw(&img, k, false);
+        pass = sp_sink_write(s, &img) == 0;
+    }
+    sp_sink_abort(&s);
+    pass = pass && !s;
+    for (int k = 0; k < 12; k++) {
+        char name[64];
+        snprintf(name, sizeof(name), "seqab/%03d.png", k);
+        pass = pass && !exists(out_path(name)) && !exists_part(out_path(name));
+    }
+    /* and a closed one keeps frames 007..010 */
+    err = sp_sink_open(&s, &(struct sp_sink_desc){
+        .path = out_path("seqab/%03d.png"), .width = 32, .height = 24,
+        .fps = 30, .first_frame = 7 });
+    for (int k = 0; pass && k < 4; k++)
+        pass = sp_sink_write(s, &img) == 0;
+    pass = pass && sp_sink_close(&s) == 0 && !exists(out_path("seqab/006.png")) &&
+           exists(out_path("seqab/007.png")) && exists(out_path("seqab/010.png")) &&
+           !exists(out_path("seqab/011.png"));
+    sp_image_free(&img);
+    return pass;
+}
+
 static bool test_png_single(void)
 {
     const char *path = out_path("single.png");
@@ -410,6 +445,7 @@ int main(int argc, char **argv)
         { "PNG I/O refuses a missing file, level 10, empty key", test_png_errors, false },
         { "PNG sequence of 5 frames, folders created, no .part, %% literal", test_png_sequence, false },
         { "single PNG: one write, second refused, renamed on close", test_png_single, false },
+        { "PNG sequence numbered from first_frame; abort removes every frame", test_png_sequence_abort, false },
         { "MP4 30 frames 320x240 at 30 fps: h264 yuv420p, 1 s, faststart, colours", test_mp4, true },
         { "abort leaves neither target nor .part", test_abort, true },
         { "unknown kinds, bad patterns, odd MP4 size: SP_E_INPUT, no files", test_refusals, true },

@@ -140,6 +140,30 @@ p.wait()
 ok(p.returncode == 1 and "closed the pipe" in err,
    f"raw into a closed pipe: exit 1, says so (got {p.returncode}: {err.strip()!r})")
 
+# ---- progress: a bar on a terminal, nothing otherwise ----
+import pty
+master, slave = pty.openpty()
+p = subprocess.Popen([exe, "render", scene, "--size", f"{W}x{H}", "--fps", str(FPS), "--set",
+                      f"video.duration={DUR}", "-o", "bar.mp4"], stderr=slave, cwd=work)
+os.close(slave)
+tty = b""
+while True:
+    try:
+        chunk = os.read(master, 4096)
+    except OSError:
+        break
+    if not chunk:
+        break
+    tty += chunk
+p.wait()
+os.close(master)
+r = run("render", scene, "--size", f"{W}x{H}", "--fps", str(FPS), "--set",
+        f"video.duration={DUR}", "-o", "nobar.mp4")
+ok(p.returncode == 0 and f"frame {N}/{N}".encode() in tty and b"fps" in tty and b"ETA" in tty
+   and b"frame " not in r.stderr and r.stderr.strip() == b"wrote nobar.mp4",
+   f"progress bar (frames, fps, ETA) on a terminal, none into a pipe (got {tty[-90:]!r}, "
+   f"{r.stderr[-60:]!r})")
+
 # ---- frame ranges and shards ----
 parts = [run("render", scene, *SMALL, "--format", "raw", "--shard", f"{i}/3", "-o", "-")
          for i in (1, 2, 3)]

@@ -231,6 +231,11 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
                      "0 <= A < B <= %d", first, last, n, n);
         return SP_E_INPUT;
     }
+    if (desc->handle_signals) {
+        /* From the start: a signal during setup stops before frame one. */
+        catch_signals(1, old_sig);
+        signals_caught = 1;
+    }
     /* A still past the video's end still fits its camera to the whole
      * motion; a frame range fits the whole video's, so shards match. */
     double t_end = sp_scene_frame_time(sc, n - 1);
@@ -255,11 +260,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc)});
     if (ret)
         goto done;
-    if (desc->handle_signals) {
-        part_files = sp_sink_part_files(sink);
-        catch_signals(1, old_sig);
-        signals_caught = 1;
-    }
+    part_files = sp_sink_part_files(sink);
 
     sp_sim_init(&sim, sc);
     if (desc->still) {
@@ -342,6 +343,12 @@ finish:
     t0 = now_s();
     if (signal_seen && desc->progress)
         fputc('\n', stderr);
+    if (signal_seen && !emitted && !desc->still) {
+        sp_log_error("interrupted by %s before the first frame: nothing written",
+                     signal_seen == SIGINT ? "SIGINT" : "SIGTERM");
+        ret = SP_E_INTERRUPTED;
+        goto done; /* aborts the sink */
+    }
     ret = sp_sink_close(&sink);
     part_files = NULL;
     tm.finish = now_s() - t0;

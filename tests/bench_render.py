@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """springpend benchmark: the default scene, 1080p60, 10 s of video (600
 frames), side by side with the encoder floor, ffmpeg's PNG writer and the
-matplotlib peer. Prints a Markdown table: wall time, fps, peak memory (the
-measured process's own maximum RSS, from wait4).
+matplotlib peer. Prints a Markdown table: wall time, fps, CPU time (user +
+sys, the process and the children it waited for) and peak memory (maximum
+RSS, from wait4). On a busy machine the wall times swell; CPU times much less.
 usage: bench_render.py SPRINGPEND SCENE [WORK_DIR] [--quick]
   --quick: 2 s of video instead of 10 (and 12 s instead of 60 for memory).
 Raw frames for the floor are kept in WORK_DIR (default: /dev/shm when it
@@ -43,8 +44,8 @@ work = tempfile.mkdtemp(prefix="springpend-bench-", dir=pick_dir())
 rows = []
 
 
-def measure(label, cmd, stdout=None, stdin=None, note=""):
-    """Runs cmd once; returns (wall s, peak RSS MiB) and records a row."""
+def measure(label, cmd, stdout=None, stdin=None):
+    """Runs cmd once; returns (wall s, peak RSS MiB, CPU s) and records a row."""
     t0 = time.monotonic()
     p = subprocess.Popen(cmd, stdout=stdout or subprocess.DEVNULL, stdin=stdin,
                          stderr=subprocess.PIPE, cwd=work)
@@ -54,18 +55,20 @@ def measure(label, cmd, stdout=None, stdin=None, note=""):
     p.returncode = os.waitstatus_to_exitcode(status)
     if p.returncode != 0:
         print(f"# {label} failed ({p.returncode}): {err.strip()[-300:]}", file=sys.stderr)
-        rows.append((label, None, None, None, note))
+        rows.append((label, None, None, None, None))
         return None
     mib = ru.ru_maxrss / 1024
-    rows.append((label, wall, N / wall, mib, note))
-    print(f"# {label}: {wall:.2f} s, {mib:.0f} MiB", file=sys.stderr, flush=True)
-    return wall, mib
+    cpu = ru.ru_utime + ru.ru_stime
+    rows.append((label, wall, N / wall, mib, cpu))
+    print(f"# {label}: {wall:.2f} s, CPU {cpu:.2f} s, {mib:.0f} MiB", file=sys.stderr,
+          flush=True)
+    return wall, mib, cpu
 
 
 base = [exe, "render", scene, "--quality", "high", "--set", f"video.duration={SECONDS}", "-q"]
 try:
     sp_mp4 = measure("springpend -> MP4 (defaults: CRF 23, preset veryfast)",
-                     base + ["-o", "sp.mp4"], note=" ".join(base[1:] + ["-o", "sp.mp4"]))
+                     base + ["-o", "sp.mp4"])
     sp_med = measure("springpend -> MP4 (preset medium, as the peer)",
                      base + ["--set", "video.preset=medium", "-o", "sp_medium.mp4"])
     raw = os.path.join(work, "frames.rgba")
@@ -90,7 +93,7 @@ try:
                       capture_output=True).returncode == 0 and os.path.exists(PEER):
         peer = measure("matplotlib + FFMpegWriter peer (its defaults: preset medium)",
                        ["/usr/bin/python3", PEER, str(SECONDS), str(FPS), str(W), str(H),
-                        "peer.mp4"], note="RSS of the Python process only")
+                        "peer.mp4"])
     short_s, long_s = (2, 12) if quick else (5, 60)
     mem = []
     for s in (short_s, long_s):
@@ -99,26 +102,29 @@ try:
                             "--set", f"video.duration={s}", "-q", "-o", f"mem{s}.mp4"]))
     # fps for the memory rows counts their own frames
     for i, s in enumerate((short_s, long_s)):
-        lab, wall, _, mib, note = rows[-2 + i]
-        rows[-2 + i] = (lab, wall, s * FPS / wall if wall else None, mib, note)
+        lab, wall, _, mib, cpu = rows[-2 + i]
+        rows[-2 + i] = (lab, wall, s * FPS / wall if wall else None, mib, cpu)
 finally:
     shutil.rmtree(work, ignore_errors=True)
 
-print(f"| run ({W}x{H}@{FPS}, {N} frames unless said) | wall s | fps | peak RSS MiB |")
-print("|---|---:|---:|---:|")
-for label, wall, fps, mib, note in rows:
+print(f"| run ({W}x{H}@{FPS}, {N} frames unless said) | wall s | fps | CPU s | peak RSS MiB |")
+print("|---|---:|---:|---:|---:|")
+for label, wall, fps, mib, cpu in rows:
     if wall is None:
-        print(f"| {label} | failed | | |")
+        print(f"| {label} | failed | | | |")
     else:
-        print(f"| {label} | {wall:.2f} | {fps:.1f} | {mib:.0f} |")
+        print(f"| {label} | {wall:.2f} | {fps:.1f} | {cpu:.2f} | {mib:.0f} |")
 print()
-if sp_mp4 and floor:
-    print(f"MP4 / encoder floor at equal settings: {sp_mp4[0] / floor[0]:.2f}x (goal <= 1.15x)")
-if sp_mp4 and peer:
-    print(f"matplotlib peer / springpend defaults: {peer[0] / sp_mp4[0]:.2f}x faster (goal >= 1.7x)")
-if sp_png and ff_png:
-    print(f"ffmpeg PNG / springpend PNG at equal compression: {ff_png[0] / sp_png[0]:.2f}x "
-          f"faster (goal >= 2x)")
+
+
+def ratio(what, a, b, goal):
+    if a and b:
+        print(f"{what}: {a[0] / b[0]:.2f}x wall, {a[2] / b[2]:.2f}x CPU ({goal})")
+
+
+ratio("springpend MP4 / encoder floor, equal settings", sp_mp4, floor, "goal <= 1.15x")
+ratio("matplotlib peer / springpend defaults", peer, sp_mp4, "goal >= 1.7x")
+ratio("ffmpeg PNG / springpend PNG, equal compression", ff_png, sp_png, "goal >= 2x")
 if all(mem):
     print(f"peak memory, {long_s} s / {short_s} s of video: {mem[1][1] / mem[0][1]:.3f} "
           f"(goal <= 1.10)")

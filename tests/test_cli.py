@@ -43,6 +43,10 @@ bad = [
     ("[integrator]\ndt = -1\n", "bad.ini:2: integrator.dt = -1 is out of range", "0 < dt"),
     ("[video]\nwidth = 99999\n", "bad.ini:2: video.width = 99999 is out of range", "16 to 7680"),
     ("[initial]\nlength = 0\n[video]\nfps = 0\n", "bad.ini:2: initial.length", "bad.ini:4: video.fps"),
+    ("[integrator]\nmethod = rk5\n", "bad.ini:2: integrator.method = 'rk5' is not a method",
+     "rk4, verlet, yoshida4, dopri5, dop853"),
+    ("[integrator]\ntolerance = 1\n", "bad.ini:2: integrator.tolerance = 1 is out of range", "0.01"),
+    ("[pivot]\namplitud = 1\n", "bad.ini:2: unknown key 'amplitud' in [pivot]", "did you mean 'amplitude'"),
     ("", None, None),
 ]
 for text, want1, want2 in bad:

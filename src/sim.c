@@ -16,6 +16,10 @@
  * run may show before it is declared unstable. Sane steps drift by ~1e-10. */
 #define SP_ENERGY_DRIFT_LIMIT 1e-2
 
+/* For the functions taking `const int forced`: inlined always, so that each
+ * caller passing a constant gets its own specialised copy. */
+#define SPECIALISED static inline __attribute__((always_inline))
+
 static const struct sp_method_info methods[] = {
     [SP_METHOD_RK4] = {"rk4", 4, 0, 2.8284271247461903, 4},
     [SP_METHOD_VERLET] = {"verlet", 2, 0, 2.0, 1},
@@ -57,7 +61,7 @@ static inline void accel_q(const struct sp_params *p, double x, double y, double
 /* d/dt of u = (x, y, vx, vy, w), w the work per mass done by damping and the
  * drive (J/kg). `forced` is a compile-time constant at every call: 0 skips
  * damping, drive and w. */
-static inline void rhs(const struct sp_params *p, double t, const double *u, double *d,
+SPECIALISED void rhs(const struct sp_params *p, double t, const double *u, double *d,
                        const int forced)
 {
     double vp = 0, ap = 0;
@@ -77,7 +81,7 @@ static inline void rhs(const struct sp_params *p, double t, const double *u, dou
 
 /* ---- fixed-step methods -------------------------------------------------- */
 
-static inline void rk4_step(const struct sp_params *p, double t, double *u, double h,
+SPECIALISED void rk4_step(const struct sp_params *p, double t, double *u, double h,
                             const int forced)
 {
     double k1[5], k2[5], k3[5], k4[5], v[5];
@@ -126,7 +130,7 @@ static inline void kick(double *u, double h, double ax, double ay, double a_pivo
  * depends on position and time only, so one evaluation per drift serves the
  * kick after it and the kick before the next drift. a[] carries the force at
  * the start of the step in and at its end out. Returns evaluations made. */
-static inline int splitting_step(const struct sp_params *p, double t, double *u,
+SPECIALISED int splitting_step(const struct sp_params *p, double t, double *u,
                                  double h, const double *w, int n, double *a,
                                  const int forced)
 {
@@ -157,7 +161,7 @@ static const double yoshida_w[] = {1 / (2 - CBRT2), -CBRT2 / (2 - CBRT2), 1 / (2
 /* One step of a fixed-step method from t over h, in place; a[] is the
  * force cache of the splitting methods (valid for u at t, in and out).
  * Returns the evaluations made. */
-static inline int fixed_step(const struct sp_sim *sim, double t, double *u, double h,
+SPECIALISED int fixed_step(const struct sp_sim *sim, double t, double *u, double h,
                              double *a, const int forced)
 {
     switch (sim->method) {
@@ -361,7 +365,7 @@ static inline double err_norm(const double *e, const double *w)
 
 /* Tries one Dormand-Prince 5(4) step of size h from (t1, y1) into u;
  * k[0] holds f(t1, y1). Returns the error norm (<= 1: acceptable). */
-static inline double dopri5_try(struct sp_sim *sim, double h, double *u, const int forced)
+SPECIALISED double dopri5_try(struct sp_sim *sim, double h, double *u, const int forced)
 {
     const int n = NC(forced);
     double v[5], e[5];
@@ -378,7 +382,7 @@ static inline double dopri5_try(struct sp_sim *sim, double h, double *u, const i
 }
 
 /* Tries one DOP853 step; as dopri5_try. */
-static inline double dop853_try(struct sp_sim *sim, double h, double *u, const int forced)
+SPECIALISED double dop853_try(struct sp_sim *sim, double h, double *u, const int forced)
 {
     const int n = NC(forced);
     double v[5], e5[5], e3[5];
@@ -399,7 +403,7 @@ static inline double dop853_try(struct sp_sim *sim, double h, double *u, const i
 }
 
 /* Fills sim->dense for the step [t0, t1]. */
-static void dense_prepare(struct sp_sim *sim, const int forced)
+SPECIALISED void dense_prepare(struct sp_sim *sim, const int forced)
 {
     const int n = NC(forced);
     const double h = sim->t1 - sim->t0;
@@ -431,7 +435,7 @@ static void dense_prepare(struct sp_sim *sim, const int forced)
 }
 
 /* The interpolated state at t in [t0, t1] into u. */
-static void dense_eval(struct sp_sim *sim, double t, double *u, const int forced)
+SPECIALISED void dense_eval(struct sp_sim *sim, double t, double *u, const int forced)
 {
     const int n = NC(forced);
     if (!sim->dense_ready)
@@ -661,7 +665,7 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
 
 /* Fixed-step methods: walk the grid to the last point <= t_target, then one
  * short step from a copy to t_target. */
-static inline int advance_fixed(struct sp_sim *sim, double t_target, const int forced)
+SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int forced)
 {
     double u[5], a[3];
     long n = lround(sim->t1 / sim->dt);
@@ -699,7 +703,7 @@ static inline double step_factor(double err, const int d853)
 }
 
 /* Adaptive methods: accepted steps until t1 >= t_target, then dense output. */
-static inline int advance_adaptive(struct sp_sim *sim, double t_target, const int forced)
+SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int forced)
 {
     const int d853 = sim->method == SP_METHOD_DOP853;
     const int fsal = d853 ? 12 : 6;

@@ -42,7 +42,7 @@ static const struct key_info keys[] = {
     {"initial", "length_rate", KEY_REAL, F(initial.length_rate), 0, -1e6, 1e6, 0, "m/s"},
     {"initial", "angle_rate", KEY_REAL, F(initial.angle_rate), 0, -1e6, 1e6, 0, "rad/s"},
     {"integrator", "method", KEY_METHOD, F(integrator.method), 0, 0, 0, 0,
-     "rk4, verlet, yoshida4, dopri5, dop853"},
+     "rk4, verlet, yoshida4, dopri5, dop853, rkn1210"},
     {"integrator", "dt", KEY_REAL, F(integrator.dt), 0.001, 0, 1, 1, "s"},
     {"integrator", "tolerance", KEY_REAL, F(integrator.tolerance), 1e-9, 1e-15, 1e-2, 0, "(relative)"},
     {"pivot", "amplitude", KEY_REAL, F(pivot.amplitude), 0, 0, 1e4, 0, "m"},
@@ -57,7 +57,8 @@ static const struct key_info keys[] = {
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
 
-static const char *const method_names[] = {"rk4", "verlet", "yoshida4", "dopri5", "dop853"};
+static const char *const method_names[] = {"rk4",    "verlet", "yoshida4",
+                                           "dopri5", "dop853", "rkn1210"};
 #define N_METHODS ((int)(sizeof(method_names) / sizeof(method_names[0])))
 
 /* Parser state shared by the inih reader and handler. */
@@ -383,6 +384,11 @@ static void validate_whole(struct parse_ctx *c)
     else if (frames > SP_MAX_FRAMES)
         report(c, 0, "video.duration * video.fps / video.speed = %.0f frames; at most "
                "%d are allowed", frames, SP_MAX_FRAMES);
+    if (s->integrator.method == SP_METHOD_RKN1210 &&
+        (s->pendulum.damping > 0 || (s->pivot.amplitude > 0 && s->pivot.frequency > 0)))
+        report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "
+               "position only: set pendulum.damping = 0 and pivot.amplitude = 0, or use "
+               "integrator.method = dop853");
     double steps = s->video.duration / s->integrator.dt;
     if (s->integrator.method <= SP_METHOD_YOSHIDA4 && steps > 1e10)
         report(c, 0, "video.duration / integrator.dt = %.3g steps; at most 1e10 are "

@@ -44,7 +44,9 @@ bad = [
     ("[video]\nwidth = 99999\n", "bad.ini:2: video.width = 99999 is out of range", "16 to 7680"),
     ("[initial]\nlength = 0\n[video]\nfps = 0\n", "bad.ini:2: initial.length", "bad.ini:4: video.fps"),
     ("[integrator]\nmethod = rk5\n", "bad.ini:2: integrator.method = 'rk5' is not a method",
-     "rk4, verlet, yoshida4, dopri5, dop853"),
+     "rk4, verlet, yoshida4, dopri5, dop853, rkn1210"),
+    ("[integrator]\nmethod = rkn1210\n[pendulum]\ndamping = 0.1\n",
+     "integrator.method = rkn1210 needs a force that depends on the position only", "dop853"),
     ("[integrator]\ntolerance = 1\n", "bad.ini:2: integrator.tolerance = 1 is out of range", "0.01"),
     ("[pivot]\namplitud = 1\n", "bad.ini:2: unknown key 'amplitud' in [pivot]", "did you mean 'amplitude'"),
     ("", None, None),
@@ -118,7 +120,7 @@ import io
 import math
 
 cols = "t,x,y,vx,vy,r,theta,r_dot,theta_dot,kinetic,spring,gravity,energy".split(",")
-for method in ("rk4", "verlet", "yoshida4", "dopri5", "dop853"):
+for method in ("rk4", "verlet", "yoshida4", "dopri5", "dop853", "rkn1210"):
     r = run("data", default, "--every", "0.25", "--set", f"integrator.method={method}", "-o", "-")
     rows = list(csv.DictReader(io.StringIO(r.stdout))) if r.returncode == 0 else []
     ts = [float(x["t"]) for x in rows]
@@ -129,7 +131,7 @@ for method in ("rk4", "verlet", "yoshida4", "dopri5", "dop853"):
                               - float(rows[0]["energy"]))) < 1e-9 for x in rows)
     ok(r.returncode == 0 and len(rows) == 41 and ts[0] == 0 and ts[-1] == 10
        and all(c in rows[0] for c in cols) and polar_ok
-       and max(e) - min(e) < {"verlet": 1e-4, "dopri5": 1e-6, "dop853": 1e-6}.get(method, 1e-7),
+       and max(e) - min(e) < {"verlet": 1e-4, "dopri5": 1e-6, "dop853": 1e-6, "rkn1210": 1e-6}.get(method, 1e-7),
        f"data --every 0.25 with {method}: 41 rows t = 0..10, r/theta match x, "
        f"energy spread {max(e) - min(e) if e else -1:.1e} J ({r.stderr.strip()[:200]})")
 r = run("data", default, "--set", "video.duration=1", "-q")

@@ -254,8 +254,8 @@ static void test_adaptive(void)
     const double T = 10;
     struct sp_scene ref = scene_method(SP_METHOD_RK4, 2e-5, 0);
     struct sp_sim r, a;
-    const enum sp_method ms[] = {SP_METHOD_DOPRI5, SP_METHOD_DOP853};
-    for (int i = 0; i < 2; i++) {
+    const enum sp_method ms[] = {SP_METHOD_DOPRI5, SP_METHOD_DOP853, SP_METHOD_RKN1210};
+    for (int i = 0; i < 3; i++) {
         struct sp_scene sc = scene_method(ms[i], 1e-3, 1e-10);
         double worst = 0;
         sp_sim_init(&r, &ref);
@@ -268,13 +268,30 @@ static void test_adaptive(void)
             worst = fmax(worst, hypot(a.s.x - r.s.x, a.s.y - r.s.y));
         }
         sp_tap_ok(ok && worst < 1e-6,
-                  "%s tol 1e-10: worst position error over 600 interpolated frames in "
+                  "%s tol 1e-10: worst position error over 600 sampled frames in "
                   "10 s is %.2e m (< 1e-6; %ld evaluations, %ld steps, %ld rejected)",
                   sp_method_info(ms[i])->name, worst, a.evals, a.steps, a.rejected);
         if (ms[i] == SP_METHOD_DOP853)
             sp_tap_ok(a.evals * 20 < r.evals,
                       "dop853 used %ld evaluations, RK4 at dt=2e-5 %ld", a.evals, r.evals);
     }
+    /* RKN12(10) to the end alone: fewer steps than dop853 at the same
+     * tolerance, and at least as close to a dop853 run at 1e-15 */
+    struct sp_scene tight = scene_method(SP_METHOD_DOP853, 1e-3, 1e-15);
+    sp_sim_init(&r, &tight);
+    sp_sim_advance(&r, T);
+    long steps[2];
+    double err[2];
+    for (int i = 0; i < 2; i++) {
+        struct sp_scene sc = scene_method(i ? SP_METHOD_RKN1210 : SP_METHOD_DOP853, 1e-3, 1e-12);
+        sp_sim_init(&a, &sc);
+        sp_sim_advance(&a, T);
+        steps[i] = a.steps;
+        err[i] = hypot(a.s.x - r.s.x, a.s.y - r.s.y);
+    }
+    sp_tap_ok(steps[1] * 2 < steps[0] && err[1] < 1e-10 && err[1] < 10 * err[0],
+              "rkn1210 tol 1e-12, 10 s: %ld steps, error %.1e m (dop853: %ld steps, %.1e m)",
+              steps[1], err[1], steps[0], err[0]);
 }
 
 /* Long runs: the symplectic methods' energy error stays bounded. */

@@ -12,6 +12,7 @@ enum sp_method {
     SP_METHOD_YOSHIDA4, /* Yoshida's triple jump, fixed dt, symplectic, order 4 */
     SP_METHOD_DOPRI5,  /* Dormand-Prince 5(4), adaptive, dense output */
     SP_METHOD_DOP853,  /* Dormand-Prince 8(5,3), adaptive, dense output */
+    SP_METHOD_RKN1210, /* Runge-Kutta-Nystrom 12(10), adaptive, no damping or drive */
 };
 
 struct sp_scene {

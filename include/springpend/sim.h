@@ -91,7 +91,7 @@ struct sp_sim {
     double atol[4];      /* adaptive: absolute tolerance per component */
     int dense_ready;     /* adaptive: dense[] is filled for [t0, t1] */
     int last_rejected;
-    double k[16][5];     /* stage derivatives of the current step */
+    double k[17][5];     /* stage derivatives of the current step */
     double dense[7][5];  /* dense output coefficients */
 };
 

@@ -228,7 +228,7 @@ static const double tols[] = {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9,
 static void sweep(struct bench_scene *b)
 {
     struct run_ctx c = {.b = b};
-    for (int m = 0; m <= SP_METHOD_DOP853; m++) {
+    for (int m = 0; m <= SP_METHOD_RKN1210; m++) {
         const struct sp_method_info *mi = sp_method_info((enum sp_method)m);
         int n = mi->adaptive ? N_TOLS : N_DTS;
         for (int i = 0; i < n; i++) {
@@ -343,7 +343,7 @@ static void energy_runs(FILE *csv)
     const struct { enum sp_method m; double dt, tol; } w[] = {
         {SP_METHOD_RK4, 1e-3, 0}, {SP_METHOD_VERLET, 1e-3, 0},
         {SP_METHOD_YOSHIDA4, 1e-3, 0}, {SP_METHOD_DOPRI5, 0, 1e-9},
-        {SP_METHOD_DOP853, 0, 1e-9},
+        {SP_METHOD_DOP853, 0, 1e-9}, {SP_METHOD_RKN1210, 0, 1e-9},
     };
     printf("\nenergy over %g s on the default scene, sampled every 100 s\n", T);
     printf("  %-9s %-8s %-13s %-13s %-13s %-9s %-9s %s\n", "method", "dt/tol",
@@ -389,8 +389,9 @@ static void energy_runs(FILE *csv)
 
 static const struct { const char *method; uint32_t rgb; int dash; } styles[] = {
     {"rk4", 0x1f77b4, 0},      {"verlet", 0xff7f0e, 0},    {"yoshida4", 0x2ca02c, 0},
-    {"dopri5", 0xd62728, 0},   {"dop853", 0x9467bd, 0},    {"gsl-rk4", 0x1f77b4, 1},
-    {"gsl-rkf45", 0xd62728, 1}, {"gsl-rk8pd", 0x9467bd, 1},
+    {"dopri5", 0xd62728, 0},   {"dop853", 0x9467bd, 0},    {"rkn1210", 0x000000, 0},
+    {"gsl-rk4", 0x1f77b4, 1},
+    {"gsl-rkf45", 0xd62728, 1}, {"gsl-rk8pd", 0x8c564b, 1},
 };
 #define N_STYLES ((int)(sizeof(styles) / sizeof(styles[0])))
 

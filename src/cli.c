@@ -26,10 +26,11 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
         {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
         {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
-        {"help", no_argument, 0, 'h'},         {"verbose", no_argument, 0, 'v'},
-        {"format", required_argument, 0, 'f'}, {"frames", required_argument, 0, 'R'},
-        {"shard", required_argument, 0, 'D'},  {"gl", required_argument, 0, 'G'},
-        {"quality", required_argument, 0, 'Q'}, {0, 0, 0, 0},
+        {"help", no_argument, 0, 'h'},         {"every", required_argument, 0, 'e'},
+        {"verbose", no_argument, 0, 'v'},      {"format", required_argument, 0, 'f'},
+        {"frames", required_argument, 0, 'R'}, {"shard", required_argument, 0, 'D'},
+        {"gl", required_argument, 0, 'G'},     {"quality", required_argument, 0, 'Q'},
+        {0, 0, 0, 0},
     };
     /* --quality: like the tools people know; --set/--size/--fps still win. */
     static const struct { const char *name; int w, h, fps; } qualities[] = {
@@ -41,6 +42,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
     char tail;
     memset(o, 0, sizeof(*o));
     o->at = -1;
+    o->every = -1;
     optind = 1;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qhv", longopts, NULL)) != -1) {
@@ -82,9 +84,20 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'a': {
             char *end;
             o->at = strtod(optarg, &end);
-            if (!allow_at || end == optarg || *end || !(o->at >= 0) || o->at > 1e9) {
+            if (!(allow_at & SP_CLI_AT) || end == optarg || *end || !(o->at >= 0) || o->at > 1e9) {
                 sp_log_error("--at %s: expected a simulated time in seconds, 0 <= t <= 1e9",
                              optarg);
+                return SP_E_INPUT;
+            }
+            break;
+        }
+        case 'e': {
+            char *end;
+            o->every = strtod(optarg, &end);
+            if (!(allow_at & SP_CLI_EVERY) || end == optarg || *end || !(o->every > 0) ||
+                o->every > 1e9) {
+                sp_log_error("--every %s: expected a sampling interval in simulated "
+                             "seconds, 0 < every <= 1e9", optarg);
                 return SP_E_INPUT;
             }
             break;

@@ -22,7 +22,8 @@ static const char usage[] =
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
     "\n"
     "exit status: 0 done, 1 failed (I/O, encoder, GL), 2 bad input,\n"
-    "             3 the simulation became unstable\n";
+    "             3 the simulation became unstable,\n"
+    "             130/143 stopped by SIGINT/SIGTERM (render keeps the frames so far)\n";
 
 struct command {
     const char *name;

@@ -44,7 +44,7 @@ work = tempfile.mkdtemp(prefix="springpend-bench-", dir=pick_dir())
 rows = []
 
 
-def measure(label, cmd, stdout=None, stdin=None):
+def measure(label, cmd, stdout=None, stdin=None, size_of=None):
     """Runs cmd once; returns (wall s, peak RSS MiB, CPU s) and records a row."""
     t0 = time.monotonic()
     p = subprocess.Popen(cmd, stdout=stdout or subprocess.DEVNULL, stdin=stdin,
@@ -59,6 +59,11 @@ def measure(label, cmd, stdout=None, stdin=None):
         return None
     mib = ru.ru_maxrss / 1024
     cpu = ru.ru_utime + ru.ru_stime
+    if size_of:
+        d = os.path.join(work, size_of)
+        mb = sum(os.path.getsize(os.path.join(d, f)) for f in os.listdir(d)) / 1e6
+        label += f", {mb:.0f} MB"
+        shutil.rmtree(d)
     rows.append((label, wall, N / wall, mib, cpu))
     print(f"# {label}: {wall:.2f} s, CPU {cpu:.2f} s, {mib:.0f} MiB", file=sys.stderr,
           flush=True)
@@ -67,7 +72,7 @@ def measure(label, cmd, stdout=None, stdin=None):
 
 base = [exe, "render", scene, "--quality", "high", "--set", f"video.duration={SECONDS}", "-q"]
 try:
-    sp_mp4 = measure("springpend -> MP4 (defaults: CRF 23, preset veryfast)",
+    sp_mp4 = measure("springpend -> MP4 (defaults: CRF 23, preset superfast)",
                      base + ["-o", "sp.mp4"])
     sp_med = measure("springpend -> MP4 (preset medium, as the peer)",
                      base + ["--set", "video.preset=medium", "-o", "sp_medium.mp4"])
@@ -77,17 +82,23 @@ try:
                 stdout=f)
     ff_in = ["ffmpeg", "-v", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgba",
              "-s", f"{W}x{H}", "-r", str(FPS), "-i", raw]
-    floor = measure("encoder floor: ffmpeg raw -> MP4, CRF 23 veryfast",
-                    ff_in + ["-c:v", "libx264", "-preset", "veryfast", "-crf", "23",
+    floor = measure("encoder floor: ffmpeg raw -> MP4, CRF 23 superfast",
+                    ff_in + ["-c:v", "libx264", "-preset", "superfast", "-crf", "23",
                              "-pix_fmt", "yuv420p", "-colorspace", "bt709",
                              "-movflags", "+faststart", "floor.mp4"])
-    os.makedirs(os.path.join(work, "sp_png"))
-    os.makedirs(os.path.join(work, "ff_png"))
-    sp_png = measure("springpend -> PNG sequence (zlib 1, filter up)",
-                     base + ["-o", "sp_png/%04d.png"])
+    for d in ("sp_png", "ff_png", "ff_png_default"):
+        os.makedirs(os.path.join(work, d))
+    sp_png = measure("springpend -> PNG sequence (its default: zlib 1, filter up)",
+                     base + ["-o", "sp_png/%04d.png"], size_of="sp_png")
     ff_png = measure("ffmpeg raw -> PNG sequence (zlib 1, filter up)",
-                     ff_in + ["-compression_level", "1", "-pred", "up", "ff_png/%04d.png"])
+                     ff_in + ["-compression_level", "1", "-pred", "up", "ff_png/%04d.png"],
+                     size_of="ff_png")
+    ff_png_default = measure("ffmpeg raw -> PNG sequence (ffmpeg's defaults)",
+                             ff_in + ["ff_png_default/%04d.png"], size_of="ff_png_default")
     os.remove(raw)
+    with open(os.devnull, "wb") as f:
+        measure("springpend -> raw RGBA (to /dev/null)", base + ["--format", "raw", "-o", "-"],
+                stdout=f)
     peer = None
     if subprocess.run(["/usr/bin/python3", "-c", "import matplotlib"],
                       capture_output=True).returncode == 0 and os.path.exists(PEER):
@@ -125,6 +136,8 @@ def ratio(what, a, b, goal):
 ratio("springpend MP4 / encoder floor, equal settings", sp_mp4, floor, "goal <= 1.15x")
 ratio("matplotlib peer / springpend defaults", peer, sp_mp4, "goal >= 1.7x")
 ratio("ffmpeg PNG / springpend PNG, equal compression", ff_png, sp_png, "goal >= 2x")
+ratio("ffmpeg PNG at its defaults / springpend PNG at its defaults", ff_png_default, sp_png,
+      "for reference")
 if all(mem):
     print(f"peak memory, {long_s} s / {short_s} s of video: {mem[1][1] / mem[0][1]:.3f} "
           f"(goal <= 1.10)")

@@ -87,6 +87,30 @@ for name, fmt_args, codec, pix in [
        f"{name}: {codec} {pix}, {N} frames, {DUR} s, no .part (got {p}, "
        f"rc {r.returncode} {r.stderr.decode()[-200:]!r})")
 
+# [video] crf and preset reach x264 (it writes its settings into the stream).
+data = open(path("all.mp4"), "rb").read()
+r = run("render", scene, *SMALL, "--set", "video.crf=40", "--set", "video.preset=ultrafast",
+        "-o", "crf40.mp4")
+data40 = open(path("crf40.mp4"), "rb").read() if r.returncode == 0 else b""
+ok(b"crf=23.0" in data and b"cabac=1" in data and b"crf=40.0" in data40 and b"cabac=0" in data40,
+   "defaults reach x264 as crf=23 (CABAC on); video.crf=40, preset=ultrafast as crf=40, CABAC off")
+
+# --quality presets, and --size still overrides them.
+def size_fps(f):
+    r = subprocess.run(["ffprobe", "-v", "error", "-show_entries", "stream=width,height,r_frame_rate",
+                        "-of", "csv=p=0", f], capture_output=True, text=True)
+    return r.stdout.strip()
+
+
+r = run("render", scene, "--quality", "low", "--set", "video.duration=0.5", "-q", "-o", "low.mp4")
+r2 = run("render", scene, "--quality", "low", "--size", "320x240", "--set", "video.duration=0.5",
+         "-q", "-o", "low2.mp4")
+ok(size_fps(path("low.mp4")) == "854,480,15/1" and size_fps(path("low2.mp4")) == "320,240,15/1",
+   f"--quality low is 854x480 at 15 fps; --size overrides its size "
+   f"({size_fps(path('low.mp4'))}; {size_fps(path('low2.mp4'))})")
+r = run("render", scene, "--quality", "8k", "-o", "q.mp4")
+ok(r.returncode == 2 and b"low (854x480@15)" in r.stderr, "--quality 8k: exit 2, lists the presets")
+
 # A transparent background: VP9 with an alpha plane (yuva420p; ffprobe shows
 # the main plane and the alpha_mode tag, libvpx decodes the alpha).
 r = run("render", scene, *SMALL, "--set", "view.transparent=1", "-o", "alpha.webm")

@@ -75,7 +75,7 @@ int sp_scene_frame_count(const struct sp_scene *s);
 /* Simulated time shown by frame k: k * speed / fps, s. */
 double sp_scene_frame_time(const struct sp_scene *s, int k);
 
-/* The [video] preset's name ("veryfast", ...), or NULL for auto. */
+/* The [video] preset's name ("superfast", ...), or NULL for auto. */
 const char *sp_scene_preset_name(const struct sp_scene *s);
 
 /* Prints every key with its default, unit and accepted range (for --help). */

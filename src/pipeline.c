@@ -256,7 +256,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     ret = sp_sink_open(&sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = first,
-        .alpha = sc->view.transparent,
+        .alpha = sc->view.transparent, .png_level = sc->video.png_level,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc)});
     if (ret)
         goto done;

@@ -54,6 +54,7 @@ static const struct key_info keys[] = {
     {"video", "speed", KEY_REAL, F(video.speed), 1, 0, 1e4, 1, "simulated s per video s"},
     {"video", "crf", KEY_INT, F(video.crf), 0, 0, 63, 0, "(quality, lower is better; 0 = the format's default: 23 H.264, 32 VP9)"},
     {"video", "preset", KEY_PRESET, F(video.preset), 0, 0, 0, 0, "auto (superfast for H.264), ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow"},
+    {"video", "png_level", KEY_INT, F(video.png_level), 5, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
     {"view", "trail", KEY_INT, F(view.trail), 600, 0, 1e6, 0, "points"},
     {"view", "transparent", KEY_INT, F(view.transparent), 0, 0, 1, 0, "(1: transparent background; .webm, .png, raw)"},
 };

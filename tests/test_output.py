@@ -95,6 +95,16 @@ data40 = open(path("crf40.mp4"), "rb").read() if r.returncode == 0 else b""
 ok(b"crf=23.0" in data and b"cabac=1" in data and b"crf=40.0" in data40 and b"cabac=0" in data40,
    "defaults reach x264 as crf=23 (CABAC on); video.crf=40, preset=ultrafast as crf=40, CABAC off")
 
+# [video] png_level: 9 writes smaller files than 1, with the same pixels.
+sizes = {}
+for lvl in (1, 9):
+    run("render", scene, *SMALL, "--set", f"video.png_level={lvl}", "--frames", "50:51",
+        "-o", f"lvl{lvl}/%03d.png")
+    f = path(f"lvl{lvl}/050.png")
+    sizes[lvl] = os.path.getsize(f) if os.path.exists(f) else 0
+ok(0 < sizes[9] < sizes[1] and decode(path("lvl1/050.png")) == decode(path("lvl9/050.png")),
+   f"png_level 9 is smaller than 1 ({sizes[9]} < {sizes[1]} bytes), same pixels")
+
 # --quality presets, and --size still overrides them.
 def size_fps(f):
     r = subprocess.run(["ffprobe", "-v", "error", "-show_entries", "stream=width,height,r_frame_rate",

@@ -1,4 +1,4 @@
-/* springpend: PNG files through libpng. */
+/* springpend: PNG files through libpng, compressed by libdeflate. */
 #ifndef SPRINGPEND_PNG_IO_H
 #define SPRINGPEND_PNG_IO_H
 
@@ -7,7 +7,7 @@
 
 /* The zlib level sinks use. On 1080p rendered frames level 1 writes in
  * about 14 ms, level 6 in 24 ms for files 40% smaller. */
-#define SP_PNG_LEVEL_DEFAULT 1
+#define SP_PNG_LEVEL_DEFAULT 6
 
 /* One tEXt chunk. key: 1..79 printable Latin-1 characters, no leading,
  * trailing or double spaces (e.g. "Software", "Comment"); text: Latin-1. */

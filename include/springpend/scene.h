@@ -47,6 +47,7 @@ struct sp_scene {
         int crf;           /* encoder quality, 0 = the format's default */
         int preset;        /* encoder speed, index of [video] preset's
                               names; 0 = auto (the format's default) */
+        int png_level;     /* PNG compression level 1..9 */
     } video;
     struct {
         int trail; /* trail points kept, 0 = none */

@@ -27,7 +27,7 @@ struct sp_sink_desc {
     int alpha;          /* 1: keep the images' alpha (webm, png, raw) */
     int crf;            /* quality: 0 = the format's default */
     const char *preset; /* x264 preset name (VP9: mapped); NULL = default */
-    int png_level;      /* zlib level 1..9 for PNGs; 0 = default (1) */
+    int png_level;      /* level 1..9 for PNGs; 0 = SP_PNG_LEVEL_DEFAULT */
 };
 
 struct sp_sink;

@@ -22,7 +22,7 @@ static const char render_usage[] =
     "\n"
     "options:\n"
     "  -o, --output PATH      where to write\n"
-    "  --format KIND          mp4, webm, gif, png or raw, whatever the name says\n"
+    "  --format KIND          mp4, webm, gif, png or raw, whatever the extension\n"
     "  --quality Q            low 854x480@15, medium 1280x720@30, high 1920x1080@60,\n"
     "                         4k 3840x2160@60 (--size, --fps, --set still override)\n"
     "  --frames A:B           only frames A..B-1 (from 0; the physics still starts at 0)\n"

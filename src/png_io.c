@@ -93,22 +93,28 @@ static struct deflate_scratch *scratch_get(int level, size_t n)
     return d->filtered && d->packed ? d : NULL;
 }
 
-/* Filters every row with UP into d->filtered and compresses it into
- * d->packed; returns the compressed size (0: failed). */
-static size_t deflate_image(struct deflate_scratch *d, const struct sp_image *img)
+/* Filters every row with UP into d->filtered (as RGB, alpha dropped, when
+ * bpp is 3) and compresses it into d->packed; returns the compressed size
+ * (0: failed). */
+static size_t deflate_image(struct deflate_scratch *d, const struct sp_image *img,
+                            int bpp)
 {
-    size_t row = 4 * (size_t)img->width;
+    size_t row = (size_t)bpp * img->width;
     for (int y = 0; y < img->height; y++) {
         uint8_t *out = d->filtered + (size_t)y * (row + 1);
         const uint8_t *cur = img->pixels + (size_t)y * img->stride;
-        out[0] = 2; /* UP */
-        if (y == 0) {
-            memcpy(out + 1, cur, row);
-            continue;
-        }
         const uint8_t *up = cur - img->stride;
-        for (size_t i = 0; i < row; i++)
-            out[1 + i] = (uint8_t)(cur[i] - up[i]);
+        out[0] = 2; /* UP; the row above the first is zero */
+        out++;
+        if (bpp == 4 && y == 0)
+            memcpy(out, cur, row);
+        else if (bpp == 4)
+            for (size_t i = 0; i < row; i++)
+                out[i] = (uint8_t)(cur[i] - up[i]);
+        else
+            for (int x = 0; x < img->width; x++, out += 3, cur += 4, up += 4)
+                for (int c = 0; c < 3; c++)
+                    out[c] = (uint8_t)(cur[c] - (y ? up[c] : 0));
     }
     return libdeflate_zlib_compress(d->c, d->filtered, (row + 1) * img->height,
                                     d->packed, d->packed_cap);
@@ -173,7 +179,8 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
 
     png_init_io(png, fp);
     png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height,
-                 8, PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE,
+                 8, opts->opaque ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA,
+                 PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     for (int i = 0; i < opts->n_text; i++) {
         /* libpng copies key and text into info. */
@@ -185,9 +192,10 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
         png_set_text(png, info, &t, 1);
     }
     /* Checked by sp_image size limits: at most 8K, well under 2^31 bytes. */
-    size_t n = (4 * (size_t)img->width + 1) * img->height;
+    int bpp = opts->opaque ? 3 : 4;
+    size_t n = ((size_t)bpp * img->width + 1) * img->height;
     struct deflate_scratch *d = scratch_get(opts->level, n);
-    size_t packed = d ? deflate_image(d, img) : 0;
+    size_t packed = d ? deflate_image(d, img, bpp) : 0;
     if (!packed) {
         sp_log_error("%s: out of memory to compress a %dx%d PNG", what,
                      img->width, img->height);

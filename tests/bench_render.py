@@ -88,7 +88,7 @@ try:
                              "-movflags", "+faststart", "floor.mp4"])
     for d in ("sp_png", "ff_png", "ff_png_default"):
         os.makedirs(os.path.join(work, d))
-    sp_png = measure("springpend -> PNG sequence (its default: zlib 1, filter up)",
+    sp_png = measure("springpend -> PNG sequence (its default: level 5, filter up)",
                      base + ["-o", "sp_png/%04d.png"], size_of="sp_png")
     ff_png = measure("ffmpeg raw -> PNG sequence (zlib 1, filter up)",
                      ff_in + ["-compression_level", "1", "-pred", "up", "ff_png/%04d.png"],

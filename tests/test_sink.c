@@ -149,7 +149,9 @@ static bool test_png_sequence(void)
     struct sp_image img, back = { 0 };
     int err;
     assert(sp_image_alloc(&img, 64, 48) == 0);
-    struct sp_sink *s = open_sink(pattern, 64, 48, &err);
+    struct sp_sink *s = NULL;
+    err = sp_sink_open(&s, &(struct sp_sink_desc){
+        .path = pattern, .width = 64, .height = 48, .fps = 30, .alpha = 1 });
     bool pass = err == 0;
     for (int k = 0; pass && k < 5; k++) {
         draw(&img, k, true);
@@ -443,7 +445,7 @@ int main(int argc, char **argv)
     } tests[] = {
         { "PNG write/read round trip keeps RGBA and text", test_png_round_trip, false },
         { "PNG I/O refuses a missing file, level 10, empty key", test_png_errors, false },
-        { "PNG sequence of 5 frames, folders created, no .part, %% literal", test_png_sequence, false },
+        { "PNG sequence of 5 frames with alpha, folders created, no .part, %% literal", test_png_sequence, false },
         { "single PNG: one write, second refused, renamed on close", test_png_single, false },
         { "PNG sequence numbered from first_frame; abort removes every frame", test_png_sequence_abort, false },
         { "MP4 30 frames 320x240 at 30 fps: h264 yuv420p, 1 s, faststart, colours", test_mp4, true },

@@ -22,9 +22,12 @@ struct sp_png_write_opts {
     int level;                      /* zlib level 0..9, SP_PNG_LEVEL_DEFAULT */
     const struct sp_png_text *text; /* n_text chunks written before IDAT */
     int n_text;                     /* >= 0; text may be NULL when 0 */
+    int opaque;                     /* 1: the image is opaque; write RGB
+                                       (a quarter less to compress) */
 };
 
-/* Writes img as an 8-bit RGBA PNG to an open stream (left open, flushed).
+/* Writes img as an 8-bit RGBA (RGB if opts->opaque) PNG to an open stream
+ * (left open, flushed).
  * `what` names the destination in messages. */
 int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
                              const struct sp_png_write_opts *opts,

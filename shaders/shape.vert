@@ -4,7 +4,7 @@
 // The quad is built from gl_VertexID (triangle strip of 4), one pixel wider
 // than the capsule on every side for the antialiased edge.
 layout(location = 0) in vec4 a_seg;   // p0.xy, p1.xy, px
-layout(location = 1) in vec2 a_style; // half width (px), kind (0 flat, 1 ball)
+layout(location = 1) in vec2 a_style; // half width (px), kind (0 flat, 1 ball, 2 box)
 layout(location = 2) in vec4 a_color; // straight RGBA, 0..1
 
 uniform vec2 u_size; // viewport, px

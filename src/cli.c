@@ -25,7 +25,8 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
         {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
         {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
-        {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
+        {"help", no_argument, 0, 'h'},         {"scale", required_argument, 0, 'X'},
+        {0, 0, 0, 0},
     };
     int c, w, h, ret = 0;
     char tail;
@@ -62,6 +63,17 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
                              optarg);
                 return SP_E_INPUT;
             }
+            break;
+        }
+        case 'X': {
+            char *end;
+            const long v = strtol(optarg, &end, 10);
+            if (!allow_at || end == optarg || *end || v < 1 || v > 4) {
+                sp_log_error("--scale %s: expected a supersampling factor from 1 to 4 "
+                             "(still only)", optarg);
+                return SP_E_INPUT;
+            }
+            o->scale = (int)v;
             break;
         }
         default:

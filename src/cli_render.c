@@ -32,7 +32,9 @@ static const char still_usage[] =
     "  --at SECONDS           simulated time of the frame\n"
     "  -o, --output PATH      where to write (.png)\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
-    "  --size WxH             shorthand for video.width and video.height\n"
+    "  --size WxH             shorthand for video.width and video.height (up to 7680x4320)\n"
+    "  --scale N              draw at N times the size (1..4) and average down:\n"
+    "                         supersampled, smoother edges and text\n"
     "  -h, --help             this text\n";
 
 static int run(int argc, char **argv, int still)
@@ -51,7 +53,7 @@ static int run(int argc, char **argv, int still)
     ret = sp_pipeline_run(&(struct sp_pipeline_desc){
         .scene = &scene, .output = out, .still = still,
         .still_at = o.at < 0 ? 0 : o.at,
-        .progress = !o.quiet && !still && isatty(2)});
+        .progress = !o.quiet && !still && isatty(2), .supersample = o.scale});
     if (!ret && !o.quiet)
         fprintf(stderr, "wrote %s\n", out);
     return ret;

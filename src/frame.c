@@ -46,12 +46,20 @@ const struct sp_trail_point *sp_trail_at(const struct sp_trail *tr, int i)
     return &tr->points[(oldest + i) % tr->capacity];
 }
 
+static void widen(struct sp_range *g, double v)
+{
+    g->lo = fmin(g->lo, v);
+    g->hi = fmax(g->hi, v);
+}
+
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                            struct sp_view_extent *out)
 {
     struct sp_sim sim;
     sp_sim_init(&sim, scene);
-    *out = (struct sp_view_extent){0};
+    *out = (struct sp_view_extent){.t_end = t_end};
+    out->r = out->theta = out->r_dot = out->theta_dot = out->energy =
+        (struct sp_range){INFINITY, -INFINITY};
     /* Sample every step: the camera must hold every position the bob takes. */
     for (;;) {
         const struct sp_state *s = &sim.s;
@@ -61,6 +69,20 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
         out->ymin = fmin(out->ymin, s->y);
         out->ymax = fmax(out->ymax, s->y);
         out->max_speed = fmax(out->max_speed, v);
+        if (scene->view.panels) {
+            struct sp_polar pol;
+            struct sp_energy e;
+            sp_state_polar(s, &pol);
+            sp_state_energy(&sim.p, s, &e);
+            widen(&out->r, pol.r);
+            widen(&out->theta, pol.theta);
+            widen(&out->r_dot, pol.r_dot);
+            widen(&out->theta_dot, pol.theta_dot);
+            widen(&out->energy, e.total);
+            widen(&out->energy, e.kinetic);
+            widen(&out->energy, e.spring);
+            widen(&out->energy, e.gravity);
+        }
         if (s->t >= t_end)
             break;
         int ret = sp_sim_advance(&sim, fmin(t_end, s->t + sim.dt));
@@ -69,5 +91,139 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     }
     if (out->max_speed <= 0)
         out->max_speed = 1;
+    return 0;
+}
+
+/* ---- panel histories ---- */
+
+int sp_history_make(struct sp_history *h, const struct sp_scene *scene)
+{
+    *h = (struct sp_history){0};
+    h->active = scene->view.panels != 0 || scene->view.strobe > 0;
+    h->poincare = (scene->view.panels & SP_PANEL_POINCARE) != 0;
+    return 0;
+}
+
+void sp_history_destroy(struct sp_history *h)
+{
+    free(h->samples);
+    free(h->crossings);
+    *h = (struct sp_history){0};
+}
+
+/* Makes room for one more element; 0 or SP_E_NOMEM (logged). */
+static int grow(void **items, int *cap, int used, size_t size, const char *what)
+{
+    void *p;
+    int want;
+    if (used < *cap)
+        return 0;
+    want = *cap ? 2 * *cap : 1024;
+    p = realloc(*items, (size_t)want * size);
+    if (!p) {
+        sp_log_error("out of memory for %d %s", want, what);
+        return SP_E_NOMEM;
+    }
+    *items = p;
+    *cap = want;
+    return 0;
+}
+
+/* The bob's acceleration, m/s^2: the equations of motion of sim.h. */
+static void accel_of(const struct sp_params *p, const struct sp_state *s, double a[2])
+{
+    const double rho = sqrt(s->x * s->x + s->y * s->y);
+    const double f = p->k_over_m * (1 - (rho > 0 ? p->L0 / rho : 0));
+    a[0] = -f * s->x - p->b_over_m * s->vx;
+    a[1] = -f * s->y - p->g - p->b_over_m * s->vy;
+}
+
+/* Quintic Hermite interpolant on [0, 1] of a coordinate with values q,
+ * derivatives dq and second derivatives ddq (per unit time) at both ends of
+ * an interval of length h: value and time derivative at u. */
+static void hermite5(const double q[2], const double dq[2], const double ddq[2], double h,
+                     double u, double *val, double *der)
+{
+    const double u2 = u * u, u3 = u2 * u, u4 = u3 * u, u5 = u4 * u;
+    const double h0 = 1 - 10 * u3 + 15 * u4 - 6 * u5, h5 = 1 - h0;
+    const double h1 = u - 6 * u3 + 8 * u4 - 3 * u5, h4 = -4 * u3 + 7 * u4 - 3 * u5;
+    const double h2 = 0.5 * (u2 - 3 * u3 + 3 * u4 - u5), h3 = 0.5 * (u3 - 2 * u4 + u5);
+    const double d0 = -30 * u2 + 60 * u3 - 30 * u4;
+    const double d1 = 1 - 18 * u2 + 32 * u3 - 15 * u4, d4 = -12 * u2 + 28 * u3 - 15 * u4;
+    const double d2 = u - 4.5 * u2 + 6 * u3 - 2.5 * u4, d3 = 1.5 * u2 - 4 * u3 + 2.5 * u4;
+    *val = h0 * q[0] + h5 * q[1] + h * (h1 * dq[0] + h4 * dq[1]) + h * h * (h2 * ddq[0] + h3 * ddq[1]);
+    *der = (d0 * q[0] - d0 * q[1]) / h + d1 * dq[0] + d4 * dq[1] + h * (d2 * ddq[0] + d3 * ddq[1]);
+}
+
+int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
+                             const struct sp_state *a, const struct sp_state *b)
+{
+    double aa[2], ab[2], lo = 0, hi = 1, x, y, vx, vy;
+    const double dt = b->t - a->t;
+    int err;
+
+    /* theta = 0 is x = 0 below the pivot; theta' > 0 there means x grows. */
+    if (!(a->x < 0 && b->x >= 0) || (a->y >= 0 && b->y >= 0) || dt <= 0)
+        return 0;
+    accel_of(p, a, aa);
+    accel_of(p, b, ab);
+    const double qx[2] = {a->x, b->x}, vqx[2] = {a->vx, b->vx}, ax[2] = {aa[0], ab[0]};
+    const double qy[2] = {a->y, b->y}, vqy[2] = {a->vy, b->vy}, ay[2] = {aa[1], ab[1]};
+    for (int i = 0; i < 60; i++) { /* bisection: x(lo) < 0 <= x(hi) */
+        const double mid = 0.5 * (lo + hi);
+        hermite5(qx, vqx, ax, dt, mid, &x, &vx);
+        if (x < 0)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    hermite5(qx, vqx, ax, dt, hi, &x, &vx);
+    hermite5(qy, vqy, ay, dt, hi, &y, &vy);
+    if (y >= 0 || vx <= 0)
+        return 0;
+    err = grow((void **)&h->crossings, &h->cap_crossings, h->n_crossings,
+               sizeof(*h->crossings), "Poincare points");
+    if (err)
+        return err;
+    /* At x = 0: r = |y| = -y, r' = (x vx + y vy) / r = -vy. */
+    h->crossings[h->n_crossings++] = (struct sp_crossing){a->t + hi * dt, -y, -vy};
+    return 0;
+}
+
+int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
+{
+    struct sp_polar pol;
+    struct sp_energy e;
+    int err = 0;
+
+    if (!h->active)
+        return sp_sim_advance(sim, t_target);
+    if (h->poincare) {
+        /* A quarter radian of the fastest small oscillation per interval
+         * keeps the interpolant's error near 1e-7 of the amplitude. */
+        if (h->max_step <= 0)
+            h->max_step = 0.25 / sp_params_omega_max(&sim->p);
+        const double t0 = sim->s.t;
+        const int parts = (int)ceil((t_target - t0) / h->max_step - 1e-9);
+        for (int i = 1; i <= parts && !err; i++) {
+            const struct sp_state a = sim->s;
+            err = sp_sim_advance(sim, i == parts ? t_target : t0 + (t_target - t0) * i / parts);
+            if (!err)
+                err = sp_history_find_crossing(h, &sim->p, &a, &sim->s);
+        }
+    } else {
+        err = sp_sim_advance(sim, t_target);
+    }
+    if (!err)
+        err = grow((void **)&h->samples, &h->capacity, h->count, sizeof(*h->samples),
+                   "panel samples");
+    if (err)
+        return err;
+    sp_state_polar(&sim->s, &pol);
+    sp_state_energy(&sim->p, &sim->s, &e);
+    h->samples[h->count++] = (struct sp_history_sample){
+        (float)sim->s.t, (float)sim->s.x, (float)sim->s.y, (float)pol.r, (float)pol.theta,
+        (float)pol.r_dot, (float)pol.theta_dot, (float)e.kinetic, (float)e.spring,
+        (float)e.gravity};
     return 0;
 }

@@ -28,10 +28,10 @@ static void show_progress(int done, int total, double t0)
 
 /* Renders the frame model at the sim's current state and hands it to the sink. */
 static int emit(struct sp_renderer *r, struct sp_sink *sink, const struct sp_sim *sim,
-                const struct sp_trail *trail)
+                const struct sp_trail *trail, const struct sp_history *hist)
 {
     struct sp_image img;
-    struct sp_frame f = {.state = sim->s, .params = &sim->p, .trail = trail};
+    struct sp_frame f = {.state = sim->s, .params = &sim->p, .trail = trail, .history = hist};
     int ret = sp_render_draw(r, &f, &img);
     return ret ? ret : sp_sink_write(sink, &img);
 }
@@ -42,6 +42,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_renderer *r = NULL;
     struct sp_sink *sink = NULL;
     struct sp_trail trail = {0};
+    struct sp_history hist = {0};
     struct sp_view_extent extent;
     struct sp_sim sim;
     int n = sp_scene_frame_count(sc), ret;
@@ -52,11 +53,14 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     ret = sp_view_extent_measure(sc, t_end, &extent);
     if (ret)
         goto done;
-    ret = sp_trail_make(&trail, sc->view.trail);
+    ret = sp_trail_make(&trail, sc->view.trail == SP_TRAIL_ALL ? n + 1 : sc->view.trail);
+    if (!ret)
+        ret = sp_history_make(&hist, sc);
     if (ret)
         goto done;
     ret = sp_render_make(&r, &(struct sp_render_desc){
-        .width = sc->video.width, .height = sc->video.height, .extent = extent});
+        .width = sc->video.width, .height = sc->video.height, .extent = extent,
+        .scene = sc, .supersample = desc->supersample});
     if (ret)
         goto done;
     ret = sp_sink_open(&sink, &(struct sp_sink_desc){
@@ -71,13 +75,13 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         double t = sp_scene_frame_time(sc, k);
         if (desc->still && t > desc->still_at)
             break;
-        ret = sp_sim_advance(&sim, t);
+        ret = sp_history_follow(&hist, &sim, t);
         if (ret)
             goto done;
         sp_trail_push(&trail, &sim.s);
         if (desc->still)
             continue;
-        ret = emit(r, sink, &sim, &trail);
+        ret = emit(r, sink, &sim, &trail, &hist);
         if (ret)
             goto done;
         if (desc->progress && (k % 10 == 9 || k == n - 1))
@@ -85,12 +89,12 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     }
     if (desc->still) {
         if (sim.s.t < desc->still_at) {
-            ret = sp_sim_advance(&sim, desc->still_at);
+            ret = sp_history_follow(&hist, &sim, desc->still_at);
             if (ret)
                 goto done;
             sp_trail_push(&trail, &sim.s);
         }
-        ret = emit(r, sink, &sim, &trail);
+        ret = emit(r, sink, &sim, &trail, &hist);
         if (ret)
             goto done;
     }
@@ -99,5 +103,6 @@ done:
     sp_sink_abort(&sink);
     sp_render_destroy(&r);
     sp_trail_destroy(&trail);
+    sp_history_destroy(&hist);
     return ret;
 }

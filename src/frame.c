@@ -190,32 +190,12 @@ int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
     return 0;
 }
 
-int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
+/* Appends the sample of sim's state; 0 or SP_E_NOMEM. */
+static int push_sample(struct sp_history *h, const struct sp_sim *sim)
 {
     struct sp_polar pol;
     struct sp_energy e;
-    int err = 0;
-
-    if (!h->active)
-        return sp_sim_advance(sim, t_target);
-    if (h->poincare) {
-        /* A quarter radian of the fastest small oscillation per interval
-         * keeps the interpolant's error near 1e-7 of the amplitude. */
-        if (h->max_step <= 0)
-            h->max_step = 0.25 / sp_params_omega_max(&sim->p);
-        const double t0 = sim->s.t;
-        const int parts = (int)ceil((t_target - t0) / h->max_step - 1e-9);
-        for (int i = 1; i <= parts && !err; i++) {
-            const struct sp_state a = sim->s;
-            err = sp_sim_advance(sim, i == parts ? t_target : t0 + (t_target - t0) * i / parts);
-            if (!err)
-                err = sp_history_find_crossing(h, &sim->p, &a, &sim->s);
-        }
-    } else {
-        err = sp_sim_advance(sim, t_target);
-    }
-    if (!err)
-        err = grow((void **)&h->samples, &h->capacity, h->count, sizeof(*h->samples),
+    int err = grow((void **)&h->samples, &h->capacity, h->count, sizeof(*h->samples),
                    "panel samples");
     if (err)
         return err;
@@ -226,4 +206,28 @@ int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
         (float)pol.r_dot, (float)pol.theta_dot, (float)e.kinetic, (float)e.spring,
         (float)e.gravity};
     return 0;
+}
+
+int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
+{
+    int err = 0;
+
+    if (!h->active)
+        return sp_sim_advance(sim, t_target);
+    /* A tenth of a radian of the fastest small oscillation per interval keeps
+     * the crossings' interpolation error near 1e-10 of the amplitude, and
+     * the charts smooth where frames are far apart for the motion. */
+    if (h->max_step <= 0)
+        h->max_step = 0.1 / sp_params_omega_max(&sim->p);
+    const double t0 = sim->s.t;
+    const int parts = (int)ceil((t_target - t0) / h->max_step - 1e-9);
+    for (int i = 1; i <= parts && !err; i++) {
+        const struct sp_state a = sim->s;
+        err = sp_sim_advance(sim, i == parts ? t_target : t0 + (t_target - t0) * i / parts);
+        if (!err && h->poincare)
+            err = sp_history_find_crossing(h, &sim->p, &a, &sim->s);
+        if (!err && i < parts)
+            err = push_sample(h, sim);
+    }
+    return err ? err : push_sample(h, sim);
 }

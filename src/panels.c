@@ -161,7 +161,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
      * narrow one on its own row below, so that it can keep its ticks. */
     const int xl_below = r->x1 - r->x0 < 1.6f * (r->y1 - r->y0);
     p->area.y1 = r->y1 - pad - line_s * (xl_below ? 2 : 1) - tick;
-    axis_make(&p->y, yr.lo, yr.hi, (int)((p->area.y1 - p->area.y0) / (1.3f * line_s)), 0.06);
+    axis_make(&p->y, yr.lo, yr.hi, (int)fmaxf(3, (p->area.y1 - p->area.y0) / (1.3f * line_s)), 0.06);
     for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
         format_tick(buf, sizeof(buf), v, p->y.decimals);
         const int w = sp_font_width(f, SP_TEXT_SMALL, buf);
@@ -268,7 +268,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
 
     frame_plot(c, r, &p, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
                yr, 0, pal, unit);
-    if (bit == 3 || (bit == 1 && yr.lo < 0 && yr.hi > 0)) /* the zero line */
+    if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) /* the zero line */
         sp_canvas_rect(c, p.area.x0, px_y(&p, 0) - hw * 0.6f, p.area.x1, px_y(&p, 0) + hw * 0.6f, pal->axis);
     if (!h || h->count == 0)
         return;

@@ -49,7 +49,8 @@ struct sp_view_extent {
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                            struct sp_view_extent *out);
 
-/* What the panels plot, sampled at each frame time. */
+/* What the panels plot, sampled at each frame time (and between frames that
+ * are far apart for the motion). */
 struct sp_history_sample {
     float t;                        /* s */
     float x, y;                     /* m, bob (for stroboscopic images) */
@@ -83,10 +84,11 @@ int sp_history_make(struct sp_history *h, const struct sp_scene *scene);
 void sp_history_destroy(struct sp_history *h);
 
 /* Advances sim to t_target (as sp_sim_advance does) and, when h is active,
- * records a sample at t_target and every crossing on the way. Crossings are
- * located on the quintic Hermite interpolant (positions, velocities and
- * accelerations at both ends) of intervals no longer than h->max_step, so the
- * sim is stopped more often only when frames are farther apart than that. */
+ * records samples up to t_target (at least one every h->max_step, a tenth of a
+ * radian of the fastest oscillation: the sim is stopped more often only when
+ * frames are farther apart than that) and every crossing on the way, located
+ * on the quintic Hermite interpolant (positions, velocities and accelerations
+ * at both ends) of each interval. */
 int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target);
 
 /* Adds the crossing of x = 0 from x < 0 (below the pivot), if any, between

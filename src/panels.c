@@ -151,17 +151,21 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     int tw = 0;
 
     sp_canvas_rect(c, r->x0, r->y0, r->x1, r->y1, pal->panel);
-    /* the title at the left of its row, the y axis's name at the right; the
-     * title shrinks when both do not fit */
-    const int tsize = sp_font_width(f, SP_TEXT_NORMAL, title) + sp_font_width(f, SP_TEXT_SMALL, ylabel) +
-                      3 * pad > r->x1 - r->x0 ? SP_TEXT_SMALL : SP_TEXT_NORMAL;
-    sp_canvas_text(c, tsize, r->x0 + pad, r->y0 + pad + cap_n, SP_ALIGN_LEFT, pal->text, title);
+    /* the title at the left of its row, the y axis's name at the right; when
+     * both do not fit, the title's short form ("long|short") in small type */
+    const char *bar = strchr(title, '|');
+    char full[96];
+    snprintf(full, sizeof(full), "%.*s", bar ? (int)(bar - title) : (int)strlen(title), title);
+    const int fits = sp_font_width(f, SP_TEXT_NORMAL, full) + sp_font_width(f, SP_TEXT_SMALL, ylabel) +
+                     3 * pad <= r->x1 - r->x0;
+    sp_canvas_text(c, fits ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
+                   SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
     p->area.y0 = r->y0 + 2.2f * pad + cap_n + 0.5f * cap_s;
     /* A wide plot names its x axis at the right end of the tick row; a
      * narrow one on its own row below, so that it can keep its ticks. */
     const int xl_below = r->x1 - r->x0 < 1.6f * (r->y1 - r->y0);
     p->area.y1 = r->y1 - pad - line_s * (xl_below ? 2 : 1) - tick;
-    axis_make(&p->y, yr.lo, yr.hi, (int)fmaxf(3, (p->area.y1 - p->area.y0) / (1.3f * line_s)), 0.06);
+    axis_make(&p->y, yr.lo, yr.hi, (int)fmaxf(3, (p->area.y1 - p->area.y0) / (2.6f * line_s)), 0.06);
     for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
         format_tick(buf, sizeof(buf), v, p->y.decimals);
         const int w = sp_font_width(f, SP_TEXT_SMALL, buf);
@@ -256,8 +260,8 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                         const struct sp_frame *f, const struct sp_view_extent *e,
                         const struct sp_palette *pal, float unit)
 {
-    static const char *const titles[] = {"Spring length r", "Angle θ", "Energy",
-                                         "Spring extension r − L₀"};
+    static const char *const titles[] = {"Spring length r|r", "Angle θ|θ", "Energy|E",
+                                         "Spring extension r − L₀|Extension"};
     static const char *const ylabels[] = {"r (m)", "θ (°)", "E (J)", "r − L₀ (m)"};
     const double L0 = f->params->L0;
     const struct sp_range yr = bit == 0 ? e->r : bit == 1 ? range_of(e->theta, RAD2DEG, 0)
@@ -277,7 +281,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     if (bit == 2) { /* the split first, the total on top; a legend in the title row */
         static const char *const names[] = {"total", "kinetic", "spring", "gravity"};
         float x = r->x0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
-                  sp_font_width(c->font, SP_TEXT_NORMAL, titles[2]) + sp_font_line(c->font, SP_TEXT_SMALL);
+                  sp_font_width(c->font, SP_TEXT_NORMAL, "Energy") + sp_font_line(c->font, SP_TEXT_SMALL);
         for (int k = 3; k >= 0; k--)
             polyline(c, &p, h, -1, 5 + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], 0);
         for (int k = 0; k < 4; k++)
@@ -299,10 +303,10 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
     const float hw = fmaxf(0.6f, 0.0012f * unit);
     struct plot p;
     if (theta)
-        frame_plot(c, r, &p, "Phase portrait θ, θ̇", "θ (°)", "θ̇ (°/s)", range_of(e->theta, RAD2DEG, 0),
+        frame_plot(c, r, &p, "Phase portrait θ, θ̇|θ, θ̇", "θ (°)", "θ̇ (°/s)", range_of(e->theta, RAD2DEG, 0),
                    range_of(e->theta_dot, RAD2DEG, 0), 0.06, pal, unit);
     else
-        frame_plot(c, r, &p, "Phase portrait r, ṙ", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal, unit);
+        frame_plot(c, r, &p, "Phase portrait r, ṙ|r, ṙ", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal, unit);
     if (!h || h->count == 0)
         return;
     const int xq = theta ? 1 : 0, yq = theta ? 4 : 3;
@@ -315,10 +319,10 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
                           const struct sp_view_extent *e, const struct sp_palette *pal, float unit)
 {
     const struct sp_history *h = f->history;
-    const float dot = fmaxf(1.2f, 0.0028f * unit);
+    const float dot = fmaxf(1.8f, 0.0035f * unit);
     char count[64];
     struct plot p;
-    frame_plot(c, r, &p, "Poincaré θ = 0, θ̇ > 0", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal, unit);
+    frame_plot(c, r, &p, "Poincaré θ = 0, θ̇ > 0|Poincaré", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal, unit);
     if (!h)
         return;
     snprintf(count, sizeof(count), "%d crossing%s", h->n_crossings, h->n_crossings == 1 ? "" : "s");

@@ -58,7 +58,7 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     struct sp_sim sim;
     sp_sim_init(&sim, scene);
     *out = (struct sp_view_extent){.t_end = t_end};
-    out->r = out->theta = out->r_dot = out->theta_dot = out->energy =
+    out->r = out->theta = out->r_dot = out->theta_dot = out->energy = out->modes =
         (struct sp_range){INFINITY, -INFINITY};
     /* Sample every step: the camera must hold every position the bob takes. */
     for (;;) {
@@ -82,6 +82,10 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
             widen(&out->energy, e.kinetic);
             widen(&out->energy, e.spring);
             widen(&out->energy, e.gravity);
+            double bounce, swing;
+            sp_energy_modes(&sim.p, pol.r, pol.theta, pol.r_dot, pol.theta_dot, &bounce, &swing);
+            widen(&out->modes, bounce);
+            widen(&out->modes, swing);
         }
         if (s->t >= t_end)
             break;
@@ -92,6 +96,14 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     if (out->max_speed <= 0)
         out->max_speed = 1;
     return 0;
+}
+
+void sp_energy_modes(const struct sp_params *p, double r, double theta, double r_dot,
+                     double theta_dot, double *bounce, double *swing)
+{
+    const double ell = p->L0 + p->g / p->k_over_m;
+    *bounce = 0.5 * p->mass * r_dot * r_dot + 0.5 * p->stiffness * (r - ell) * (r - ell);
+    *swing = 0.5 * p->mass * r * r * theta_dot * theta_dot + p->mass * p->g * r * (1 - cos(theta));
 }
 
 /* ---- panel histories ---- */

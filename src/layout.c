@@ -28,8 +28,11 @@ static void stack(struct sp_layout *o, unsigned bits, int square, struct sp_rect
         if (!((bits >> b) & 1) || is_square(b) != square)
             continue;
         const int r = i / cols, c = i % cols;
+        /* an odd last cell of a two-column stack takes the whole row */
+        const int span = !square && cols == 2 && i == n - 1 && n % 2 ? 2 : 1;
         o->panel[b] = (struct sp_rect){area.x0 + c * (cw + g), area.y0 + r * (ch + g),
-                                       area.x0 + c * (cw + g) + cw, area.y0 + r * (ch + g) + ch};
+                                       area.x0 + c * (cw + g) + span * cw + (span - 1) * g,
+                                       area.y0 + r * (ch + g) + ch};
         i++;
     }
 }

@@ -87,7 +87,7 @@ struct axis {
 static void axis_make(struct axis *a, double lo, double hi, int max_ticks, double pad)
 {
     double span = hi - lo, mag = fmax(fabs(lo), fabs(hi));
-    static const double mult[] = {1, 2, 5, 10};
+    static const double mult[] = {1, 2, 5};
     if (!(span > 1e-9 * (mag + 1e-30)) || !isfinite(span)) {
         const double half = mag > 0 ? 0.1 * mag : 1;
         lo -= half;
@@ -99,12 +99,15 @@ static void axis_make(struct axis *a, double lo, double hi, int max_ticks, doubl
     span = hi - lo;
     if (max_ticks < 2)
         max_ticks = 2;
+    /* the round step whose tick count is nearest to max_ticks, not above it by much */
     const double raw = span / max_ticks, p10 = pow(10, floor(log10(raw)));
-    a->step = 10 * p10;
-    for (int i = 0; i < 4; i++)
-        if (mult[i] * p10 >= raw) {
-            a->step = mult[i] * p10;
-            break;
+    double best = 1e300;
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < 3; i++) {
+            const double step = mult[i] * p10 * (k ? 10 : 1), count = span / step;
+            const double miss = fabs(log(count / max_ticks)) + (count > 1.4 * max_ticks ? 10 : 0);
+            if (miss < best)
+                best = miss, a->step = step;
         }
     a->lo = lo;
     a->hi = hi;
@@ -165,7 +168,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
      * narrow one on its own row below, so that it can keep its ticks. */
     const int xl_below = r->x1 - r->x0 < 1.6f * (r->y1 - r->y0);
     p->area.y1 = r->y1 - pad - line_s * (xl_below ? 2 : 1) - tick;
-    axis_make(&p->y, yr.lo, yr.hi, (int)fmaxf(3, (p->area.y1 - p->area.y0) / (2.6f * line_s)), 0.06);
+    axis_make(&p->y, yr.lo, yr.hi, (int)fmaxf(4, (p->area.y1 - p->area.y0) / (2.6f * line_s)), 0.06);
     for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
         format_tick(buf, sizeof(buf), v, p->y.decimals);
         const int w = sp_font_width(f, SP_TEXT_SMALL, buf);
@@ -209,8 +212,14 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
 }
 
 /* Which quantity a strip chart or phase plot shows. */
-static double quantity(const struct sp_history_sample *s, int which, double L0)
+static double quantity(const struct sp_history_sample *s, int which, const struct sp_params *p)
 {
+    double bounce, swing;
+    const double L0 = p->L0;
+    if (which >= 9) {
+        sp_energy_modes(p, s->r, s->theta, s->r_dot, s->theta_dot, &bounce, &swing);
+        return which == 9 ? bounce : swing;
+    }
     switch (which) {
     case 0: return s->r;
     case 1: return s->theta * RAD2DEG;
@@ -227,7 +236,7 @@ static double quantity(const struct sp_history_sample *s, int which, double L0)
 /* A polyline of (x(i), y(i)) over the samples, at most ~2 segments per
  * pixel of width; fade > 0 makes old parts fade (alpha by age). */
 static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
-                     int xq, int yq, double L0, int first, float hw, const float color[4],
+                     int xq, int yq, const struct sp_params *pp, int first, float hw, const float color[4],
                      int fade)
 {
     const int n = h->count - first;
@@ -238,8 +247,8 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
     for (int i = first; i < h->count; i += stride) {
         const int j = i + stride >= h->count ? h->count - 1 : i;
         const struct sp_history_sample *s = &h->samples[j];
-        const float bx = xq < 0 ? px_x(p, s->t) : px_x(p, quantity(s, xq, L0));
-        const float by = px_y(p, quantity(s, yq, L0));
+        const float bx = xq < 0 ? px_x(p, s->t) : px_x(p, quantity(s, xq, pp));
+        const float by = px_y(p, quantity(s, yq, pp));
         if (have) {
             if (fade)
                 col[3] = color[3] * (0.06f + 0.94f * powf((float)(j - first) / (float)n, 1.5f));
@@ -261,11 +270,13 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                         const struct sp_palette *pal, float unit)
 {
     static const char *const titles[] = {"Spring length r|r", "Angle θ|θ", "Energy|E",
-                                         "Spring extension r − L₀|Extension"};
-    static const char *const ylabels[] = {"r (m)", "θ (°)", "E (J)", "r − L₀ (m)"};
-    const double L0 = f->params->L0;
+                                         "Spring extension r − L₀|Extension", "", "", "",
+                                         "Energy of bounce and swing|Modes"};
+    static const char *const ylabels[] = {"r (m)", "θ (°)", "E (J)", "r − L₀ (m)", "", "", "", "E (J)"};
+    const struct sp_params *L0 = f->params;
     const struct sp_range yr = bit == 0 ? e->r : bit == 1 ? range_of(e->theta, RAD2DEG, 0)
-                             : bit == 2 ? e->energy : range_of(e->r, 1, -L0);
+                             : bit == 2 ? e->energy : bit == 3 ? range_of(e->r, 1, -L0->L0)
+                             : e->modes;
     const struct sp_history *h = f->history;
     const float hw = fmaxf(0.6f, 0.0013f * unit);
     struct plot p;
@@ -288,6 +299,21 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
             x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
                                 sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k],
                                 names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);
+    } else if (bit == 7) { /* bounce and swing, with a legend */
+        static const char *const names[] = {"bounce", "swing"};
+        float x = r->x0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
+                  sp_font_width(c->font, SP_TEXT_NORMAL, "Energy of bounce and swing") +
+                  sp_font_line(c->font, SP_TEXT_SMALL);
+        for (int k = 0; k < 2; k++) {
+            polyline(c, &p, h, -1, 9 + k, L0, 0, 1.2f * hw, pal->series[k + 1], 0);
+            sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], 9 + k, L0)), 2.2f * hw,
+                           0, pal->series[k + 1]);
+        }
+        if (x + sp_font_width(c->font, SP_TEXT_SMALL, "bounce  swing  E (J)") < r->x1 - 10)
+            for (int k = 0; k < 2; k++)
+                x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
+                                    sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k + 1],
+                                    names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);
     } else {
         const int q = bit == 0 ? 0 : bit == 1 ? 1 : 2;
         polyline(c, &p, h, -1, q, L0, 0, hw, pal->series[1], 0);
@@ -310,9 +336,10 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
     if (!h || h->count == 0)
         return;
     const int xq = theta ? 1 : 0, yq = theta ? 4 : 3;
-    polyline(c, &p, h, xq, yq, f->params->L0, 0, hw, pal->series[1], 1);
+    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], 1);
     const struct sp_history_sample *s = &h->samples[h->count - 1];
-    sp_canvas_disc(c, px_x(&p, quantity(s, xq, 0)), px_y(&p, quantity(s, yq, 0)), 2.6f * hw, 0, pal->cursor);
+    sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
+                   2.6f * hw, 0, pal->cursor);
 }
 
 static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
@@ -341,7 +368,7 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
         const struct sp_rect *r = &lay->panel[b];
         if (!sp_rect_valid(r))
             continue;
-        if (b <= 3)
+        if (b <= 3 || b == 7)
             strip_chart(c, r, b, f, e, pal, unit);
         else if (b <= 5)
             phase_plot(c, r, b == 5, f, e, pal, unit);
@@ -467,7 +494,7 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
         sp_colormap(colormap, 0.18f + 0.82f * (1.0f - (i + 0.5f) / STEPS), rgb);
         sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);
     }
-    axis_make(&a, 0, max_speed, (int)(h / (2.5f * sp_font_line(f, SP_TEXT_SMALL))), 0);
+    axis_make(&a, 0, max_speed, (int)(h / (4.0f * sp_font_line(f, SP_TEXT_SMALL))), 0);
     for (double v = 0; v <= max_speed * (1 + 1e-9); v += a.step) {
         const float y = (float)(y0 + h * (1 - v / max_speed));
         format_tick(buf, sizeof(buf), v, a.decimals);

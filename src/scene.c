@@ -1,6 +1,7 @@
 /* springpend: scene files. inih splits lines into sections and key = value
  * pairs; this file owns the key table, the defaults, the validation and the
  * FILE:LINE messages. Pure: nothing but stderr is touched. */
+#include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
 #include <ini.h>
@@ -55,7 +56,7 @@ static const struct key_info keys[] = {
     {"video", "speed", KEY_REAL, F(video.speed), 1, 0, 1e4, 1, "simulated s per video s"},
     {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "points"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
-     "none, all, r, theta, energy, extension, phase, poincare"},
+     "none, all, r, theta, energy, extension, phase, poincare, modes"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
     {"view", "theme", KEY_CHOICE, F(view.theme), 0, 0, 0, 0, "dark, light"},
     {"view", "background", KEY_COLOR, F(view.background), SP_BACKGROUND_THEME, 0, 0, 0,
@@ -198,6 +199,8 @@ static void describe_range(const struct key_info *k, char *buf, size_t size)
                  k->lo_open ? "<" : "<=", k->name, k->hi, k->unit);
 }
 
+#define COLOUR_MARK '\x01' /* stands for the '#' of a colour value, see protect_colour */
+
 /* Index of `word` in the ", "-separated list, or -1. */
 static int choice_index(const char *list, const char *word, size_t len)
 {
@@ -218,7 +221,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
 {
     static const unsigned panel_bits[] = {
         0, (1u << SP_PANEL_COUNT) - 1, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
-        SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE};
+        SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE,
+        SP_PANEL_MODES};
     unsigned bits = 0;
     int i;
     switch (k->kind) {
@@ -240,7 +244,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             i = choice_index(k->unit, w, n);
             if (i < 0 || (i == 0 && (w != value || w[n]))) {
                 report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
-                       "list of: r, theta, energy, extension, phase, poincare (or all, "
+                       "list of: r, theta, energy, extension, phase, poincare, modes (or all, "
                        "or none alone)", k->section, k->name, (int)n, w);
                 return 1;
             }
@@ -255,7 +259,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             *(int *)p = value[1] == 'h' ? SP_BACKGROUND_THEME : SP_BACKGROUND_TRANSPARENT;
             return 1;
         }
-        if (value[0] == '#' && strlen(value) == 7 && strspn(value + 1, "0123456789abcdefABCDEF") == 6) {
+        if ((value[0] == '#' || value[0] == COLOUR_MARK) && strlen(value) == 7 && strspn(value + 1, "0123456789abcdefABCDEF") == 6) {
             *(int *)p = (int)strtol(value + 1, NULL, 16);
             return 1;
         }
@@ -268,8 +272,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
     default:
         return 0;
     }
-    report(c, line, "%s.%s = '%s' is not allowed; allowed: %s", k->section, k->name,
-           value, k->unit);
+    report(c, line, "%s.%s = '%s%s' is not allowed; allowed: %s", k->section, k->name,
+           value[0] == COLOUR_MARK ? "#" : "", value + (value[0] == COLOUR_MARK), k->unit);
     return 1;
 }
 
@@ -384,6 +388,19 @@ static int line_has_content(struct parse_ctx *c, const char *s)
     return 1;
 }
 
+/* A value "#rrggbb" would read as an inline comment to inih: a '#' that
+ * starts a value and is followed by a letter or digit becomes COLOUR_MARK,
+ * which set_word reads back as '#'. */
+static void protect_colour(char *line)
+{
+    char *eq = strchr(line, '='), *v;
+    if (!eq)
+        return;
+    v = eq + 1 + strspn(eq + 1, " \t");
+    if (v[0] == '#' && isalnum((unsigned char)v[1]))
+        v[0] = COLOUR_MARK;
+}
+
 /* inih's fgets-like reader over the in-memory text. It counts lines, and
  * turns lines inih must not see (too long, NUL bytes) into comments after
  * reporting them. */
@@ -410,6 +427,7 @@ static char *read_line(char *str, int num, void *stream)
     }
     memcpy(str, start, len);
     str[len] = 0;
+    protect_colour(str);
     c->line_has_content = line_has_content(c, str);
     return str;
 }

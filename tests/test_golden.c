@@ -100,6 +100,13 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
     if (!sp_tap_ok(sp_png_read(golden, &want) == 0 && sp_png_read(actual, &got) == 0,
                    "%s: golden and actual read", gc->name))
         goto done;
+    if (strstr(gc->overrides[2] ? gc->overrides[2] : "", "transparent")) {
+        int opaque = 0;
+        for (int i = 0; i < got.width * got.height; i++)
+            opaque += got.pixels[4 * i + 3] == 255;
+        sp_tap_ok(got.pixels[3] == 0 && opaque > 200, "%s: see-through corner, %d opaque pixels "
+                  "(bob, spring)", gc->name, opaque);
+    }
     if (!sp_tap_ok(want.width == got.width && want.height == got.height,
                    "%s: size %dx%d matches golden %dx%d", gc->name, got.width, got.height,
                    want.width, want.height))

@@ -41,6 +41,7 @@ struct sp_view_extent {
     struct sp_range r_dot;         /* m/s */
     struct sp_range theta_dot;     /* rad/s */
     struct sp_range energy;        /* J, of total, kinetic, spring and gravity */
+    struct sp_range modes;         /* J, of the bounce and swing energies */
 };
 
 /* Runs the scene's physics from 0 to t_end (cheaply, no rendering) and
@@ -95,6 +96,12 @@ int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
  * states a and b of the same motion. Exposed for tests. 0 or SP_E_NOMEM. */
 int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
                              const struct sp_state *a, const struct sp_state *b);
+
+/* The energy of the bounce, 1/2 m r'^2 + 1/2 k (r - l)^2, and of the swing,
+ * 1/2 m r^2 theta'^2 + m g r (1 - cos theta), J, with l = L0 + m g / k; their
+ * sum differs from the total energy by the constant m g (L0 + l) / 2. */
+void sp_energy_modes(const struct sp_params *p, double r, double theta, double r_dot,
+                     double theta_dot, double *bounce, double *swing);
 
 struct sp_frame {
     struct sp_state state;        /* the bob now */

@@ -19,7 +19,8 @@ enum sp_panel {
     SP_PANEL_PHASE_R = 1 << 4,     /* phase portrait r against dr/dt ("phase") */
     SP_PANEL_PHASE_THETA = 1 << 5, /* theta against dtheta/dt ("phase") */
     SP_PANEL_POINCARE = 1 << 6,    /* (r, dr/dt) where theta = 0 with dtheta/dt > 0 */
-    SP_PANEL_COUNT = 7,
+    SP_PANEL_MODES = 1 << 7,       /* energy split into bounce and swing */
+    SP_PANEL_COUNT = 8,
 };
 enum sp_theme { SP_THEME_DARK = 0, SP_THEME_LIGHT = 1 };
 enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1 };

@@ -237,8 +237,9 @@ static double quantity(const struct sp_history_sample *s, int which, const struc
  * pixel of width; fade > 0 makes old parts fade (alpha by age). */
 static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
                      int xq, int yq, const struct sp_params *pp, int first, float hw, const float color[4],
-                     int fade)
+                     const float *fade_to)
 {
+    const int fade = fade_to != NULL;
     const int n = h->count - first;
     const int stride = n > 4 * (int)(p->area.x1 - p->area.x0) ? n / (2 * (int)(p->area.x1 - p->area.x0)) : 1;
     float col[4] = {color[0], color[1], color[2], color[3]};
@@ -250,8 +251,11 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
         const float bx = xq < 0 ? px_x(p, s->t) : px_x(p, quantity(s, xq, pp));
         const float by = px_y(p, quantity(s, yq, pp));
         if (have) {
-            if (fade)
-                col[3] = color[3] * (0.06f + 0.94f * powf((float)(j - first) / (float)n, 1.5f));
+            if (fade) { /* mixed with the opaque panel colour: no beads at the joints */
+                const float a = 0.06f + 0.94f * powf((float)(j - first) / (float)n, 1.5f);
+                for (int k = 0; k < 3; k++)
+                    col[k] = fade_to[k] + a * (color[k] - fade_to[k]);
+            }
             sp_canvas_line(c, ax, ay, bx, by, hw, col);
         }
         ax = bx, ay = by, have = 1;
@@ -294,7 +298,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
         float x = r->x0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
                   sp_font_width(c->font, SP_TEXT_NORMAL, "Energy") + sp_font_line(c->font, SP_TEXT_SMALL);
         for (int k = 3; k >= 0; k--)
-            polyline(c, &p, h, -1, 5 + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], 0);
+            polyline(c, &p, h, -1, 5 + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], NULL);
         for (int k = 0; k < 4; k++)
             x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
                                 sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k],
@@ -305,7 +309,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                   sp_font_width(c->font, SP_TEXT_NORMAL, "Energy of bounce and swing") +
                   sp_font_line(c->font, SP_TEXT_SMALL);
         for (int k = 0; k < 2; k++) {
-            polyline(c, &p, h, -1, 9 + k, L0, 0, 1.2f * hw, pal->series[k + 1], 0);
+            polyline(c, &p, h, -1, 9 + k, L0, 0, 1.2f * hw, pal->series[k + 1], NULL);
             sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], 9 + k, L0)), 2.2f * hw,
                            0, pal->series[k + 1]);
         }
@@ -316,7 +320,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                                     names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);
     } else {
         const int q = bit == 0 ? 0 : bit == 1 ? 1 : 2;
-        polyline(c, &p, h, -1, q, L0, 0, hw, pal->series[1], 0);
+        polyline(c, &p, h, -1, q, L0, 0, hw, pal->series[1], NULL);
         sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], q, L0)), 2.2f * hw, 0, pal->series[1]);
     }
 }
@@ -336,7 +340,7 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
     if (!h || h->count == 0)
         return;
     const int xq = theta ? 1 : 0, yq = theta ? 4 : 3;
-    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], 1);
+    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], pal->panel);
     const struct sp_history_sample *s = &h->samples[h->count - 1];
     sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
                    2.6f * hw, 0, pal->cursor);

@@ -25,13 +25,15 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
         {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
         {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
-        {"help", no_argument, 0, 'h'},         {"scale", required_argument, 0, 'X'},
+        {"help", no_argument, 0, 'h'},         {"every", required_argument, 0, 'e'},
+        {"scale", required_argument, 0, 'X'},
         {0, 0, 0, 0},
     };
     int c, w, h, ret = 0;
     char tail;
     memset(o, 0, sizeof(*o));
     o->at = -1;
+    o->every = -1;
     optind = 1;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1) {
@@ -58,7 +60,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'a': {
             char *end;
             o->at = strtod(optarg, &end);
-            if (!allow_at || end == optarg || *end || !(o->at >= 0) || o->at > 1e9) {
+            if (!(allow_at & SP_CLI_AT) || end == optarg || *end || !(o->at >= 0) || o->at > 1e9) {
                 sp_log_error("--at %s: expected a simulated time in seconds, 0 <= t <= 1e9",
                              optarg);
                 return SP_E_INPUT;
@@ -68,12 +70,23 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'X': {
             char *end;
             const long v = strtol(optarg, &end, 10);
-            if (!allow_at || end == optarg || *end || v < 1 || v > 4) {
+            if (!(allow_at & SP_CLI_AT) || end == optarg || *end || v < 1 || v > 4) {
                 sp_log_error("--scale %s: expected a supersampling factor from 1 to 4 "
                              "(still only)", optarg);
                 return SP_E_INPUT;
             }
             o->scale = (int)v;
+            break;
+        }
+        case 'e': {
+            char *end;
+            o->every = strtod(optarg, &end);
+            if (!(allow_at & SP_CLI_EVERY) || end == optarg || *end || !(o->every > 0) ||
+                o->every > 1e9) {
+                sp_log_error("--every %s: expected a sampling interval in simulated "
+                             "seconds, 0 < every <= 1e9", optarg);
+                return SP_E_INPUT;
+            }
             break;
         }
         default:

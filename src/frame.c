@@ -28,11 +28,16 @@ void sp_trail_destroy(struct sp_trail *tr)
 
 void sp_trail_push(struct sp_trail *tr, const struct sp_state *s)
 {
+    sp_trail_push_at(tr, s, 0);
+}
+
+void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivot_y)
+{
     if (tr->capacity == 0)
         return;
     tr->points[tr->head] = (struct sp_trail_point){
         .x = (float)s->x,
-        .y = (float)s->y,
+        .y = (float)(s->y + pivot_y),
         .speed = (float)sqrt(s->vx * s->vx + s->vy * s->vy),
     };
     tr->head = (tr->head + 1) % tr->capacity;
@@ -64,10 +69,11 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     for (;;) {
         const struct sp_state *s = &sim.s;
         double v = sqrt(s->vx * s->vx + s->vy * s->vy);
+        const double yp = sp_pivot_y(&sim.p, s->t); /* the bob in the lab: y + yp */
         out->xmin = fmin(out->xmin, s->x);
         out->xmax = fmax(out->xmax, s->x);
-        out->ymin = fmin(out->ymin, s->y);
-        out->ymax = fmax(out->ymax, s->y);
+        out->ymin = fmin(out->ymin, fmin(s->y + yp, yp));
+        out->ymax = fmax(out->ymax, fmax(s->y + yp, yp));
         out->max_speed = fmax(out->max_speed, v);
         if (scene->view.panels) {
             struct sp_polar pol;
@@ -82,10 +88,8 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
             widen(&out->energy, e.kinetic);
             widen(&out->energy, e.spring);
             widen(&out->energy, e.gravity);
-            double bounce, swing;
-            sp_energy_modes(&sim.p, pol.r, pol.theta, pol.r_dot, pol.theta_dot, &bounce, &swing);
-            widen(&out->modes, bounce);
-            widen(&out->modes, swing);
+            widen(&out->modes, e.bounce);
+            widen(&out->modes, e.swing);
         }
         if (s->t >= t_end)
             break;
@@ -96,14 +100,6 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     if (out->max_speed <= 0)
         out->max_speed = 1;
     return 0;
-}
-
-void sp_energy_modes(const struct sp_params *p, double r, double theta, double r_dot,
-                     double theta_dot, double *bounce, double *swing)
-{
-    const double ell = p->L0 + p->g / p->k_over_m;
-    *bounce = 0.5 * p->mass * r_dot * r_dot + 0.5 * p->stiffness * (r - ell) * (r - ell);
-    *swing = 0.5 * p->mass * r * r * theta_dot * theta_dot + p->mass * p->g * r * (1 - cos(theta));
 }
 
 /* ---- panel histories ---- */
@@ -141,13 +137,18 @@ static int grow(void **items, int *cap, int used, size_t size, const char *what)
     return 0;
 }
 
-/* The bob's acceleration, m/s^2: the equations of motion of sim.h. */
+/* The bob's acceleration relative to the pivot, m/s^2: the equations of
+ * motion of sim.h, moving pivot and damping (against the air at rest)
+ * included. */
 static void accel_of(const struct sp_params *p, const struct sp_state *s, double a[2])
 {
     const double rho = sqrt(s->x * s->x + s->y * s->y);
     const double f = p->k_over_m * (1 - (rho > 0 ? p->L0 / rho : 0));
+    const double w = p->drive_omega * s->t;
+    const double vp = p->drive_amp * p->drive_omega * cos(w);
+    const double ap = -p->drive_amp * p->drive_omega * p->drive_omega * sin(w);
     a[0] = -f * s->x - p->b_over_m * s->vx;
-    a[1] = -f * s->y - p->g - p->b_over_m * s->vy;
+    a[1] = -f * s->y - p->g - ap - p->b_over_m * (s->vy + vp);
 }
 
 /* Quintic Hermite interpolant on [0, 1] of a coordinate with values q,
@@ -214,9 +215,9 @@ static int push_sample(struct sp_history *h, const struct sp_sim *sim)
     sp_state_polar(&sim->s, &pol);
     sp_state_energy(&sim->p, &sim->s, &e);
     h->samples[h->count++] = (struct sp_history_sample){
-        (float)sim->s.t, (float)sim->s.x, (float)sim->s.y, (float)pol.r, (float)pol.theta,
-        (float)pol.r_dot, (float)pol.theta_dot, (float)e.kinetic, (float)e.spring,
-        (float)e.gravity};
+        (float)sim->s.t, (float)sim->s.x, (float)(sim->s.y + sp_pivot_y(&sim->p, sim->s.t)),
+        (float)pol.r, (float)pol.theta, (float)pol.r_dot, (float)pol.theta_dot,
+        (float)e.kinetic, (float)e.spring, (float)e.gravity, (float)e.bounce, (float)e.swing};
     return 0;
 }
 

@@ -214,12 +214,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
 /* Which quantity a strip chart or phase plot shows. */
 static double quantity(const struct sp_history_sample *s, int which, const struct sp_params *p)
 {
-    double bounce, swing;
     const double L0 = p->L0;
-    if (which >= 9) {
-        sp_energy_modes(p, s->r, s->theta, s->r_dot, s->theta_dot, &bounce, &swing);
-        return which == 9 ? bounce : swing;
-    }
     switch (which) {
     case 0: return s->r;
     case 1: return s->theta * RAD2DEG;
@@ -229,7 +224,9 @@ static double quantity(const struct sp_history_sample *s, int which, const struc
     case 5: return (double)s->kinetic + s->spring + s->gravity;
     case 6: return s->kinetic;
     case 7: return s->spring;
-    default: return s->gravity;
+    case 8: return s->gravity;
+    case 9: return s->bounce;
+    default: return s->swing;
     }
 }
 

@@ -78,7 +78,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         ret = sp_history_follow(&hist, &sim, t);
         if (ret)
             goto done;
-        sp_trail_push(&trail, &sim.s);
+        sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         if (desc->still)
             continue;
         ret = emit(r, sink, &sim, &trail, &hist);
@@ -92,7 +92,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
             ret = sp_history_follow(&hist, &sim, desc->still_at);
             if (ret)
                 goto done;
-            sp_trail_push(&trail, &sim.s);
+            sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
         ret = emit(r, sink, &sim, &trail, &hist);
         if (ret)

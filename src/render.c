@@ -378,8 +378,9 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
     if (!r->laid_out)
         lay_out(r, f->params);
     sp_canvas_reset(cv);
-    to_px(r, 0, 0, pv);
-    to_px(r, f->state.x, f->state.y, bb);
+    const double yp = sp_pivot_y(f->params, f->state.t); /* a driven pivot moves */
+    to_px(r, 0, yp, pv);
+    to_px(r, f->state.x, f->state.y + yp, bb);
     if (f->trail && f->trail->count > 1)
         put_trail(r, f->trail);
     trail_segs = cv->n_shapes;

@@ -22,6 +22,8 @@ struct sp_trail {
 int sp_trail_make(struct sp_trail *tr, int capacity);
 void sp_trail_destroy(struct sp_trail *tr);
 void sp_trail_push(struct sp_trail *tr, const struct sp_state *s);
+/* The same with the pivot at height pivot_y (m): the trail is kept in the lab. */
+void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivot_y);
 /* i-th point, 0 = oldest, count-1 = newest. */
 const struct sp_trail_point *sp_trail_at(const struct sp_trail *tr, int i);
 
@@ -33,7 +35,8 @@ struct sp_range {
  * the trail's colormap spans, m/s, and the ranges the panels' axes span (so
  * they do not jump). Found by a physics pre-pass over every step. */
 struct sp_view_extent {
-    double xmin, xmax, ymin, ymax; /* m, pivot at (0,0) included */
+    double xmin, xmax, ymin, ymax; /* m, in the lab: the pivot's rest position at
+                                      (0,0), its whole travel and the bob's */
     double max_speed;              /* m/s, > 0 */
     double t_end;                  /* s, the time axis spans [0, t_end] */
     struct sp_range r;             /* m */
@@ -54,10 +57,11 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
  * are far apart for the motion). */
 struct sp_history_sample {
     float t;                        /* s */
-    float x, y;                     /* m, bob (for stroboscopic images) */
+    float x, y;                     /* m, bob in the lab (for stroboscopic images) */
     float r, theta;                 /* m, rad */
     float r_dot, theta_dot;         /* m/s, rad/s */
     float kinetic, spring, gravity; /* J */
+    float bounce, swing;            /* J, see struct sp_energy */
 };
 
 /* A Poincare point: the bob passing theta = 0 with dtheta/dt > 0. */
@@ -96,12 +100,6 @@ int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
  * states a and b of the same motion. Exposed for tests. 0 or SP_E_NOMEM. */
 int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
                              const struct sp_state *a, const struct sp_state *b);
-
-/* The energy of the bounce, 1/2 m r'^2 + 1/2 k (r - l)^2, and of the swing,
- * 1/2 m r^2 theta'^2 + m g r (1 - cos theta), J, with l = L0 + m g / k; their
- * sum differs from the total energy by the constant m g (L0 + l) / 2. */
-void sp_energy_modes(const struct sp_params *p, double r, double theta, double r_dot,
-                     double theta_dot, double *bounce, double *swing);
 
 struct sp_frame {
     struct sp_state state;        /* the bob now */

@@ -230,15 +230,18 @@ static double quantity(const struct sp_history_sample *s, int which, const struc
     }
 }
 
-/* A polyline of (x(i), y(i)) over the samples, at most ~2 segments per
- * pixel of width; fade > 0 makes old parts fade (alpha by age). */
+/* A polyline of (x(i), y(i)) over the samples (x = time when xq < 0);
+ * with fade_to, old parts fade into that colour. */
 static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
                      int xq, int yq, const struct sp_params *pp, int first, float hw, const float color[4],
                      const float *fade_to)
 {
     const int fade = fade_to != NULL;
     const int n = h->count - first;
-    const int stride = n > 4 * (int)(p->area.x1 - p->area.x0) ? n / (2 * (int)(p->area.x1 - p->area.x0)) : 1;
+    /* over time, two segments per pixel column; a phase curve may wind over
+     * itself many times, so it keeps up to 8000 */
+    const int max_segs = xq < 0 ? 2 * (int)(p->area.x1 - p->area.x0) : 8000;
+    const int stride = n > max_segs ? (n + max_segs - 1) / max_segs : 1;
     float col[4] = {color[0], color[1], color[2], color[3]};
     float ax = 0, ay = 0;
     int have = 0;
@@ -428,6 +431,12 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float ma
     add_item(font, max_width, lines, &n, max, item, 0);
     snprintf(item, sizeof(item), "ℓ = L₀ + mg/k = %.3f m", ell);
     add_item(font, max_width, lines, &n, max, item, 0);
+    if (p->drive_amp > 0 && p->drive_omega > 0) {
+        snprintf(item, sizeof(item), "pivot: %.3g m at %.4g Hz", p->drive_amp, p->drive_omega / (2 * M_PI));
+        add_item(font, max_width, lines, &n, max, item, 1);
+        snprintf(item, sizeof(item), "Ω/ωₚ = %.3f", p->drive_omega / wp);
+        add_item(font, max_width, lines, &n, max, item, 0);
+    }
     sp_params_resonant(p, &ratio);
     snprintf(item, sizeof(item), "ωₛ/ωₚ = %.3f", ratio);
     add_item(font, max_width, lines, &n, max, item, 1);

@@ -36,6 +36,7 @@ static const struct golden_case cases[] = {
                                              "view.colorbar=false"}},
     {"panel_poincare", "resonance.ini", 30.0, {SMALL, "view.panels=poincare", "view.hud=false",
                                                 "view.colorbar=false"}},
+    {"panel_modes_driven", "driven.ini", 20.0, {SMALL, "view.panels=modes", "view.hud=true"}},
     {"all_portrait", "resonance.ini", 20.0, {"video.width=360", "video.height=640"}},
     /* alpha in the PNG: the background is see-through, the pendulum opaque */
     {"transparent", "chaotic.ini", 8.0, {SMALL, "view.background=transparent", "view.panels=none",

@@ -299,7 +299,8 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                   sp_font_width(c->font, SP_TEXT_NORMAL, "Energy") + sp_font_line(c->font, SP_TEXT_SMALL);
         for (int k = 3; k >= 0; k--)
             polyline(c, &p, h, -1, 5 + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], NULL);
-        for (int k = 0; k < 4; k++)
+        const int legend = sp_font_width(c->font, SP_TEXT_SMALL, "total  kinetic  spring  gravity  E (J)");
+        for (int k = 0; k < 4 && x + legend < r->x1; k++)
             x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
                                 sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k],
                                 names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);

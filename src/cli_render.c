@@ -35,7 +35,11 @@ static const char still_usage[] =
     "  --size WxH             shorthand for video.width and video.height (up to 7680x4320)\n"
     "  --scale N              draw at N times the size (1..4) and average down:\n"
     "                         supersampled, smoother edges and text\n"
-    "  -h, --help             this text\n";
+    "  -h, --help             this text\n"
+    "\n"
+    "Teaching overlays and looks come from the scene's [view] keys (panels, hud,\n"
+    "theme, background, colormap, colorbar, strobe, trail = all): see 'springpend keys'.\n"
+    "A transparent background writes a PNG with alpha, for slides.\n";
 
 static int run(int argc, char **argv, int still)
 {

@@ -18,7 +18,7 @@ static const struct sp_palette DARK = {
     .cursor = {0.93f, 0.33f, 0.16f, 0.8f}, .accent = {0.40f, 0.90f, 0.50f, 1},
     .mount = {0.56f, 0.60f, 0.66f, 1}, .wire_front = {0.80f, 0.82f, 0.85f, 1},
     .wire_back = {0.47f, 0.50f, 0.55f, 1}, .pivot = {0.86f, 0.88f, 0.91f, 1},
-    .bob = {0.93f, 0.33f, 0.16f, 1},
+    .bob = {0.93f, 0.33f, 0.16f, 1}, .cmap_lo = 0.18f, .cmap_hi = 1.0f,
 };
 
 static const struct sp_palette LIGHT = {
@@ -30,7 +30,7 @@ static const struct sp_palette LIGHT = {
     .cursor = {0.85f, 0.25f, 0.10f, 0.8f}, .accent = {0.05f, 0.55f, 0.20f, 1},
     .mount = {0.40f, 0.43f, 0.48f, 1}, .wire_front = {0.30f, 0.33f, 0.37f, 1},
     .wire_back = {0.62f, 0.65f, 0.69f, 1}, .pivot = {0.25f, 0.27f, 0.30f, 1},
-    .bob = {0.88f, 0.30f, 0.12f, 1},
+    .bob = {0.88f, 0.30f, 0.12f, 1}, .cmap_lo = 0.0f, .cmap_hi = 0.82f,
 };
 
 void sp_palette_get(const struct sp_scene *scene, struct sp_palette *out)
@@ -43,6 +43,11 @@ void sp_palette_get(const struct sp_scene *scene, struct sp_palette *out)
         out->background[0] = (float)((bg >> 16) & 255) / 255.f;
         out->background[1] = (float)((bg >> 8) & 255) / 255.f;
         out->background[2] = (float)(bg & 255) / 255.f;
+        /* a light background hides the colormap's light end, a dark one its dark end */
+        const int light = 0.3f * out->background[0] + 0.6f * out->background[1] +
+                          0.1f * out->background[2] > 0.5f;
+        out->cmap_lo = light ? 0.0f : 0.18f;
+        out->cmap_hi = light ? 0.82f : 1.0f;
     }
 }
 
@@ -299,8 +304,8 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                   sp_font_width(c->font, SP_TEXT_NORMAL, "Energy") + sp_font_line(c->font, SP_TEXT_SMALL);
         for (int k = 3; k >= 0; k--)
             polyline(c, &p, h, -1, 5 + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], NULL);
-        const int legend = sp_font_width(c->font, SP_TEXT_SMALL, "total  kinetic  spring  gravity  E (J)");
-        for (int k = 0; k < 4 && x + legend < r->x1; k++)
+        const int fits = x + sp_font_width(c->font, SP_TEXT_SMALL, "total  kinetic  spring  gravity  E (J)") < r->x1;
+        for (int k = 0; k < 4 && fits; k++)
             x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
                                 sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k],
                                 names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);
@@ -502,7 +507,7 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
     float rgb[4] = {0, 0, 0, 1};
     sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap, SP_ALIGN_LEFT, pal->muted, "|v| (m/s)");
     for (int i = 0; i < STEPS; i++) { /* fast at the top, like the trail's speed range */
-        sp_colormap(colormap, 0.18f + 0.82f * (1.0f - (i + 0.5f) / STEPS), rgb);
+        sp_colormap(colormap, pal->cmap_lo + (pal->cmap_hi - pal->cmap_lo) * (1.0f - (i + 0.5f) / STEPS), rgb);
         sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);
     }
     axis_make(&a, 0, max_speed, (int)(h / (4.0f * sp_font_line(f, SP_TEXT_SMALL))), 0);

@@ -233,8 +233,8 @@ static void put_trail(struct sp_renderer *r, const struct sp_trail *tr)
         float alpha = floor_alpha + (1 - floor_alpha) * powf(age, 1.4f);
 
         to_px(r, q->x, q->y, b);
-        sp_colormap(r->scene.view.colormap,
-                    0.18f + 0.82f * fminf(speed / (float)r->max_speed, 1.0f), color);
+        sp_colormap(r->scene.view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
+                    fminf(speed / (float)r->max_speed, 1.0f), color);
         if (r->premix_trail) {
             for (int k = 0; k < 3; k++)
                 color[k] = bg[k] + alpha * (color[k] - bg[k]);

@@ -30,6 +30,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"verbose", no_argument, 0, 'v'},      {"format", required_argument, 0, 'f'},
         {"frames", required_argument, 0, 'R'}, {"shard", required_argument, 0, 'D'},
         {"gl", required_argument, 0, 'G'},     {"quality", required_argument, 0, 'Q'},
+        {"scale", required_argument, 0, 'X'},
         {0, 0, 0, 0},
     };
     /* --quality: like the tools people know; --set/--size/--fps still win. */
@@ -89,6 +90,17 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
                              optarg);
                 return SP_E_INPUT;
             }
+            break;
+        }
+        case 'X': {
+            char *end;
+            const long v = strtol(optarg, &end, 10);
+            if (!(allow_at & SP_CLI_AT) || end == optarg || *end || v < 1 || v > 4) {
+                sp_log_error("--scale %s: expected a supersampling factor from 1 to 4 "
+                             "(still only)", optarg);
+                return SP_E_INPUT;
+            }
+            o->scale = (int)v;
             break;
         }
         case 'e': {

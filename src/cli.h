@@ -23,6 +23,7 @@ struct sp_cli_options {
     const char *shard;       /* --shard I/N as given, NULL = all */
     int gl;                  /* --gl: enum sp_gl */
     char quality_buf[3][48]; /* storage for the overrides --quality makes */
+    int scale;               /* --scale (still): supersampling factor, 0 = not given */
 };
 
 /* Command-specific options sp_cli_parse accepts (allow_at is a mask). */

@@ -47,9 +47,15 @@ static const char still_usage[] =
     "  --at SECONDS           simulated time of the frame\n"
     "  -o, --output PATH      where to write (.png)\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
-    "  --size WxH             shorthand for video.width and video.height\n"
+    "  --size WxH             shorthand for video.width and video.height (up to 7680x4320)\n"
+    "  --scale N              draw at N times the size (1..4) and average down:\n"
+    "                         supersampled, smoother edges and text\n"
     "  --gl osmesa|egl        GL backend (default: OSMesa if installed, else EGL)\n"
-    "  -h, --help             this text\n";
+    "  -h, --help             this text\n"
+    "\n"
+    "Teaching overlays and looks come from the scene's [view] keys (panels, hud,\n"
+    "theme, background, colormap, colorbar, strobe, trail = all): see 'springpend keys'.\n"
+    "A transparent background writes a PNG with alpha, for slides.\n";
 
 static int run(int argc, char **argv, int still)
 {
@@ -72,7 +78,7 @@ static int run(int argc, char **argv, int still)
         .scene = &scene, .output = out, .format = still ? NULL : o.format,
         .still = still, .still_at = o.at < 0 ? 0 : o.at, .first = first,
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
-        .handle_signals = !still,
+        .handle_signals = !still, .supersample = o.scale,
         .progress = !o.quiet && !still && isatty(2)});
     if ((!ret || ret == SP_E_INTERRUPTED) && !o.quiet)
         fprintf(stderr, "wrote %s\n", out);

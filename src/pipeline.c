@@ -209,6 +209,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_renderer *r = NULL;
     struct sp_sink *sink = NULL;
     struct sp_trail trail = {0};
+    struct sp_history hist = {0};
     struct sp_view_extent extent;
     struct sp_sim sim;
     struct sp_image img;
@@ -245,18 +246,21 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     ret = sp_view_extent_measure(sc, t_end, &extent);
     if (ret)
         goto done;
-    ret = sp_trail_make(&trail, sc->view.trail);
+    ret = sp_trail_make(&trail, sc->view.trail == SP_TRAIL_ALL ? n + 1 : sc->view.trail);
+    if (!ret)
+        ret = sp_history_make(&hist, sc);
     if (ret)
         goto done;
     ret = sp_render_make(&r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
-        .transparent = sc->view.transparent});
+        .scene = sc, .supersample = desc->supersample});
     if (ret)
         goto done;
     ret = sp_sink_open(&sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = first,
-        .alpha = sc->view.transparent, .png_level = sc->video.png_level,
+        .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
+        .png_level = sc->video.png_level,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc)});
     if (ret)
         goto done;
@@ -266,19 +270,19 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (desc->still) {
         /* The trail holds the video's frame positions before still_at. */
         for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
-            ret = sp_sim_advance(&sim, sp_scene_frame_time(sc, k));
+            ret = sp_history_follow(&hist, &sim, sp_scene_frame_time(sc, k));
             if (ret)
                 goto done;
-            sp_trail_push(&trail, &sim.s);
+            sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
         if (sim.s.t < desc->still_at) {
-            ret = sp_sim_advance(&sim, desc->still_at);
+            ret = sp_history_follow(&hist, &sim, desc->still_at);
             if (ret)
                 goto done;
-            sp_trail_push(&trail, &sim.s);
+            sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                   .trail = &trail}, &img);
+                                                   .trail = &trail, .history = &hist}, &img);
         if (!ret)
             ret = sp_sink_write(sink, &img);
         if (ret)
@@ -304,13 +308,13 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     for (int k = 0; k < last && !signal_seen; k++) {
         /* advance sim to t_k -> update frame model -> render -> sink */
         double ts = now_s();
-        ret = sp_sim_advance(&sim, sp_scene_frame_time(sc, k));
+        ret = sp_history_follow(&hist, &sim, sp_scene_frame_time(sc, k));
         if (ret)
             goto done;
-        sp_trail_push(&trail, &sim.s);
+        sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         tm.sim += now_s() - ts;
         if (k < first)
-            continue; /* frames before the range only feed the trail */
+            continue; /* frames before the range only feed trail and histories */
         struct sp_image *slot = acquire(&q, &ret, &tm.wait);
         if (!slot)
             goto done;
@@ -318,7 +322,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         ret = sp_render_target(r, slot);
         if (!ret)
             ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                       .trail = &trail}, &img);
+                                                       .trail = &trail, .history = &hist}, &img);
         if (ret)
             goto done;
         tm.render += now_s() - ts;
@@ -379,5 +383,6 @@ done:
         sp_image_free(&q.slot[i]);
     sp_render_destroy(&r);
     sp_trail_destroy(&trail);
+    sp_history_destroy(&hist);
     return ret;
 }

@@ -123,7 +123,7 @@ ok(r.returncode == 2 and b"low (854x480@15)" in r.stderr, "--quality 8k: exit 2,
 
 # A transparent background: VP9 with an alpha plane (yuva420p; ffprobe shows
 # the main plane and the alpha_mode tag, libvpx decodes the alpha).
-r = run("render", scene, *SMALL, "--set", "view.transparent=1", "-o", "alpha.webm")
+r = run("render", scene, *SMALL, "--set", "view.background=transparent", "-o", "alpha.webm")
 tags = subprocess.run(["ffprobe", "-v", "error", "-show_entries", "stream_tags=alpha_mode",
                        "-of", "csv=p=0", path("alpha.webm")], capture_output=True, text=True)
 rgba = decode(path("alpha.webm"), pre=["-c:v", "libvpx-vp9"], post=["-frames:v", "1"])
@@ -133,7 +133,7 @@ solid = sum(a > 247 for a in alpha)
 ok(r.returncode == 0 and tags.stdout.strip() == "1" and clear > 0.9 and solid > 20,
    f"alpha.webm: VP9 with alpha; {clear:.0%} of the first frame clear, {solid} px "
    f"opaque (the pendulum)")
-r = run("render", scene, *SMALL, "--set", "view.transparent=1", "-o", "alpha.mp4")
+r = run("render", scene, *SMALL, "--set", "view.background=transparent", "-o", "alpha.mp4")
 ok(r.returncode == 2 and b"use .webm" in r.stderr and not os.path.exists(path("alpha.mp4")),
    "a transparent background in MP4: exit 2, points to .webm, no file")
 

@@ -57,6 +57,23 @@ static void test_defaults(void)
               sp_scene_frame_count(&s));
 }
 
+static void test_view(void)
+{
+    struct sp_scene s;
+    sp_tap_ok(parse("[view]\npanels = r, phase,poincare\nhud = true\ntheme = light\n"
+                    "background = #FF8000\ncolormap = viridis\ntrail = all\nstrobe = 0.25\n", &s) == 0 &&
+              s.view.panels == (SP_PANEL_R | SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA | SP_PANEL_POINCARE) &&
+              s.view.hud == 1 && s.view.theme == SP_THEME_LIGHT && s.view.background == 0xFF8000 &&
+              s.view.colormap == SP_COLORMAP_VIRIDIS && s.view.trail == SP_TRAIL_ALL &&
+              s.view.strobe == 0.25, "[view] keys: panel list, hud, theme, colour, colormap, trail = all");
+    sp_tap_ok(parse("[view]\npanels = all\nbackground = transparent\n", &s) == 0 &&
+              s.view.panels == (1u << SP_PANEL_COUNT) - 1 &&
+              s.view.background == SP_BACKGROUND_TRANSPARENT, "panels = all, background = transparent");
+    sp_tap_ok(parse("", &s) == 0 && s.view.panels == 0 && !s.view.hud &&
+              s.view.background == SP_BACKGROUND_THEME && s.view.strobe == 0,
+              "by default no panels, no text, the theme's background");
+}
+
 static void test_rejects(void)
 {
     static const char *bad[] = {
@@ -67,6 +84,9 @@ static void test_rejects(void)
         "[integrator]\nmethod = euler\n", "[pendulum]\nmass = 1\nmass = 2\n",
         "just some words\n", "[video]\nduration = 1e6\nfps = 1000\n",
         "mass = 1\n", "[initial]\nlength = 0\n", "[video\nwidth = 10\n",
+        "[view]\npanels = r, foo\n", "[view]\npanels = none, r\n", "[view]\ntheme = blue\n",
+        "[view]\nbackground = #12345\n", "[view]\nhud = maybe\n", "[view]\ntrail = some\n",
+        "[view]\ncolormap = jet\n", "[view]\nstrobe = -1\n",
     };
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
         struct sp_scene s;
@@ -82,6 +102,7 @@ static void test_rejects(void)
 int main(int argc, char **argv)
 {
     test_defaults();
+    test_view();
     test_rejects();
     test_presets(argc > 1 ? argv[1] : "tests");
     return sp_tap_done();

@@ -24,6 +24,7 @@ struct sp_pipeline_desc {
     int verbose;         /* 1: print per-stage times on stderr at the end */
     int handle_signals;  /* 1: SIGINT/SIGTERM finish the file so far (see
                             sp_pipeline_run); 0 leaves signals alone */
+    int supersample;     /* draw at this many times the size, average down; 0/1 = off */
 };
 
 /* Runs the whole pipeline. On any failure nothing is left at desc->output.

@@ -32,7 +32,16 @@ int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);
 int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *ext, char *buf, size_t size);
 
+/* 1 when both paths exist and name the same file (links resolved). */
+int sp_cli_same_file(const char *a, const char *b);
+
+/* Refuses (SP_E_INPUT, with a message) an output path that cannot be
+ * written: a folder, or under something that is not a writable folder.
+ * Looks only; creates nothing. `what` names the option ("-o"). */
+int sp_cli_check_writable(const char *path, const char *what);
+
 int sp_cmd_render(int argc, char **argv);
 int sp_cmd_still(int argc, char **argv);
+int sp_cmd_compare(int argc, char **argv);
 
 #endif

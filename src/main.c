@@ -38,6 +38,7 @@ static const struct command commands[] = {
     {"render", sp_cmd_render},
     {"still", sp_cmd_still},
     {"keys", cmd_keys},
+    {"compare", sp_cmd_compare},
 };
 
 int main(int argc, char **argv)

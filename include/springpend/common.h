@@ -15,6 +15,7 @@ enum sp_error {
     SP_E_CODEC = -5,       /* libav* reported an error */
     SP_E_UNSTABLE = -6,    /* the integration blew up: exit status 3 */
     SP_E_INTERRUPTED = -7, /* stopped by a signal */
+    SP_E_MISMATCH = -8,    /* compare: images differ beyond tolerance: exit status 1 */
 };
 
 /* Prints "springpend: <message>\n" to stderr. */

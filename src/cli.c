@@ -28,7 +28,8 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
         {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
         {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
-        {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
+        {"help", no_argument, 0, 'h'},         {"state", required_argument, 0, 'J'},
+        {0, 0, 0, 0},
     };
     int c, w, h, ret = 0;
     char tail;
@@ -56,6 +57,13 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'F':
             snprintf(o->fps_buf, sizeof(o->fps_buf), "video.fps=%s", optarg);
             ret = add_override(o, o->fps_buf);
+            break;
+        case 'J':
+            if (!allow_at) {
+                sp_log_error("--state is for 'springpend still'; see '%s --help'", argv[0]);
+                return SP_E_INPUT;
+            }
+            o->state = optarg;
             break;
         case 'a': {
             char *end;

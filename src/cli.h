@@ -16,6 +16,7 @@ struct sp_cli_options {
     char fps_buf[48];        /* storage for the override --fps makes */
     int quiet;               /* -q */
     double at;               /* --at (still), simulated s; < 0 = not given */
+    const char *state;       /* --state (still): JSON path, NULL = none */
 };
 
 /* Parses argv for one command. `extra` lists the command's own long options

@@ -7,6 +7,7 @@
 #include "springpend/common.h"
 #include "springpend/frame.h"
 #include "springpend/pipeline.h"
+#include "springpend/provenance.h"
 #include "springpend/render.h"
 #include "springpend/sink.h"
 
@@ -28,10 +29,11 @@ static void show_progress(int done, int total, double t0)
 
 /* Renders the frame model at the sim's current state and hands it to the sink. */
 static int emit(struct sp_renderer *r, struct sp_sink *sink, const struct sp_sim *sim,
-                const struct sp_trail *trail)
+                const struct sp_trail *trail, struct sp_provenance *prov)
 {
     struct sp_image img;
     struct sp_frame f = {.state = sim->s, .params = &sim->p, .trail = trail};
+    sp_provenance_set_time(prov, sim->s.t);
     int ret = sp_render_draw(r, &f, &img);
     return ret ? ret : sp_sink_write(sink, &img);
 }
@@ -44,6 +46,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_trail trail = {0};
     struct sp_view_extent extent;
     struct sp_sim sim;
+    struct sp_provenance prov;
     int n = sp_scene_frame_count(sc), ret;
     /* A still past the video's end still fits its camera to the whole motion. */
     double t_end = desc->still ? fmax(desc->still_at, sp_scene_frame_time(sc, n - 1))
@@ -57,11 +60,12 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         goto done;
     ret = sp_render_make(&r, &(struct sp_render_desc){
         .width = sc->video.width, .height = sc->video.height, .extent = extent});
-    if (ret)
+    if (ret || (ret = sp_provenance_init(&prov, sc, sp_render_renderer_name(r))) != 0)
         goto done;
     ret = sp_sink_open(&sink, &(struct sp_sink_desc){
         .path = desc->output, .width = sc->video.width,
-        .height = sc->video.height, .fps = sc->video.fps});
+        .height = sc->video.height, .fps = sc->video.fps,
+        .text = prov.text, .n_text = SP_PROVENANCE_N_TEXT});
     if (ret)
         goto done;
 
@@ -77,7 +81,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         sp_trail_push(&trail, &sim.s);
         if (desc->still)
             continue;
-        ret = emit(r, sink, &sim, &trail);
+        ret = emit(r, sink, &sim, &trail, &prov);
         if (ret)
             goto done;
         if (desc->progress && (k % 10 == 9 || k == n - 1))
@@ -90,11 +94,13 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
                 goto done;
             sp_trail_push(&trail, &sim.s);
         }
-        ret = emit(r, sink, &sim, &trail);
+        ret = emit(r, sink, &sim, &trail, &prov);
         if (ret)
             goto done;
     }
     ret = sp_sink_close(&sink);
+    if (!ret && desc->state_out)
+        *desc->state_out = sim.s;
 done:
     sp_sink_abort(&sink);
     sp_render_destroy(&r);

@@ -467,6 +467,27 @@ double sp_scene_frame_time(const struct sp_scene *s, int k)
     return k * s->video.speed / s->video.fps;
 }
 
+int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
+{
+    size_t used = 0;
+    for (int i = 0; i < N_KEYS; i++) {
+        const struct key_info *k = &keys[i];
+        const char *p = (const char *)s + k->offset;
+        char *at = used < size ? buf + used : NULL;
+        size_t room = used < size ? size - used : 0;
+        int n;
+        if (k->kind == KEY_INT)
+            n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
+        else if (k->kind == KEY_METHOD)
+            n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name,
+                         method_names[*(const enum sp_method *)p]);
+        else
+            n = snprintf(at, room, "%s.%s=%.17g\n", k->section, k->name, *(const double *)p);
+        used += (size_t)n;
+    }
+    return (int)used;
+}
+
 void sp_scene_print_keys(void)
 {
     const char *section = "";

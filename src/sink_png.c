@@ -9,9 +9,13 @@
 #include "springpend/png_io.h"
 #include "sink_impl.h"
 
-static const struct sp_png_write_opts png_opts = {
-    .level = SP_PNG_LEVEL_DEFAULT,
-};
+/* How every PNG of this sink is written: the default level and the
+ * caller's text chunks. */
+static struct sp_png_write_opts png_opts(const struct sp_sink *s)
+{
+    return (struct sp_png_write_opts){
+        .level = SP_PNG_LEVEL_DEFAULT, .text = s->desc.text, .n_text = s->desc.n_text};
+}
 
 /* ---- sequence ---- */
 
@@ -80,7 +84,8 @@ static int png_sequence_write(struct sp_sink *s, const struct sp_image *img)
     snprintf(q->name, q->cap, s->path, (int)s->frames);
 #pragma GCC diagnostic pop
     snprintf(q->part, q->cap, "%s.part", q->name);
-    int err = sp_png_write_opts(q->part, img, &png_opts);
+    struct sp_png_write_opts wo = png_opts(s);
+    int err = sp_png_write_opts(q->part, img, &wo);
     if (!err)
         err = sp_sink_commit(q->part, q->name);
     if (err)
@@ -133,7 +138,8 @@ static int png_single_write(struct sp_sink *s, const struct sp_image *img)
                      "frame use a pattern like frames/%%05d.png", s->path);
         return SP_E_INPUT;
     }
-    return sp_png_write_opts(o->part, img, &png_opts);
+    struct sp_png_write_opts wo = png_opts(s);
+    return sp_png_write_opts(o->part, img, &wo);
 }
 
 static int png_single_close(struct sp_sink *s)

@@ -4,6 +4,7 @@
 #define SPRINGPEND_PIPELINE_H
 
 #include "springpend/scene.h"
+#include "springpend/sim.h"
 
 struct sp_pipeline_desc {
     const struct sp_scene *scene;
@@ -11,9 +12,12 @@ struct sp_pipeline_desc {
     int still;           /* 1: one frame at still_at instead of the video */
     double still_at;     /* simulated s, used when still = 1 */
     int progress;        /* 1: draw a progress line on stderr */
+    struct sp_state *state_out; /* not NULL: receives the bob's state in the
+                                   last frame drawn */
 };
 
-/* Runs the whole pipeline. On any failure nothing is left at desc->output. */
+/* Runs the whole pipeline. PNGs carry provenance.h's text chunks. On any
+ * failure nothing is left at desc->output. */
 int sp_pipeline_run(const struct sp_pipeline_desc *desc);
 
 #endif

@@ -9,6 +9,7 @@
 #define SPRINGPEND_SINK_H
 
 #include "springpend/image.h"
+#include "springpend/png_io.h"
 
 struct sp_sink_desc {
     const char *path; /* target path (pattern for sequences) */
@@ -16,6 +17,11 @@ struct sp_sink_desc {
     double fps;        /* frames per second of video */
     int crf;           /* H.264 constant rate factor; 0 = default */
     const char *preset; /* x264 preset; NULL = default */
+    const struct sp_png_text *text; /* PNG sinks: text chunks for every image,
+                                       read at each write (the caller may
+                                       change them in between); borrowed
+                                       until close; NULL = none */
+    int n_text;
 };
 
 struct sp_sink;

@@ -124,7 +124,7 @@ int sp_cli_check_writable(const char *path, const char *what)
         *slash = 0;
         if (slash == dir)
             snprintf(dir, sizeof(dir), "/");
-        if (!dir[0] || stat(dir, &st) == 0 || errno != ENOENT)
+        if (!dir[0] || stat(dir, &st) == 0 || (errno != ENOENT && errno != ENOTDIR))
             break;
     }
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {

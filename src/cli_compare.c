@@ -229,8 +229,10 @@ static int compare_files(const struct compare_cli *c, const char *name, const ch
         snprintf(why, sizeof(why), "comparison failed");
         goto done;
     }
-    if (!r.pass && diff_path && sp_png_write(diff_path, &d, SP_PNG_LEVEL_DEFAULT) != 0)
+    if (!r.pass && diff_path && sp_png_write(diff_path, &d, SP_PNG_LEVEL_DEFAULT) != 0) {
+        remove(diff_path); /* logged; the verdict stands */
         diff_path = NULL;
+    }
     ret = r.pass ? 0 : SP_E_MISMATCH;
 done:
     /* Unreadable or missing input is the caller's mistake: exit 2. */

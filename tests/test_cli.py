@@ -4,7 +4,9 @@ usage: test_cli.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import math
 import os
+import resource
 import shutil
+import signal
 import struct
 import subprocess
 import sys
@@ -321,6 +323,29 @@ r = run("compare", base, new)
 ok(r.returncode == 2 and "ERROR one.png: no actual image" in r.stdout
    and "ERROR three.png: no baseline" in r.stdout and "FAIL two.png" in r.stdout,
    f"compare folders: a missing render and a missing baseline are errors ({r.stdout.strip()})")
+
+
+# Faults: a write that fails half way (the file size limit stands in for a
+# full disk) is exit 1 with the reason, and leaves no file behind.
+def small_files():
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (3000, 3000))
+
+
+for what, args, says in (
+        ("still", ["still", default, "--size", "640x360", "-o", "full/s.png"], "s.png.part: libpng: Write Error"),
+        ("mp4", ["render", default, "--size", "320x240", "--set", "video.duration=1", "-o", "full/v.mp4", "-q"],
+         "File too large"),
+        ("PNG sequence", ["render", default, "--size", "320x240", "--set", "video.duration=1",
+                          "-o", "full/%03d.png", "-q"], "000.png.part"),
+        ("compare --diff", ["compare", P("a.png"), P("moved.png"), "--diff", "full/d.png"], "d.png")):
+    shutil.rmtree(os.path.join(work, "full"), ignore_errors=True)
+    os.makedirs(os.path.join(work, "full"))
+    r = subprocess.run([exe, *args], capture_output=True, text=True, cwd=work, preexec_fn=small_files)
+    left = os.listdir(os.path.join(work, "full"))
+    ok(r.returncode == 1 and says in r.stderr and not left,
+       f"a write beyond the file size limit ({what}): exit 1, says {says!r}, nothing left "
+       f"(got {r.returncode}, {left}: {r.stderr.strip()[:200]!r})")
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -1,6 +1,7 @@
 /* springpend: the compare command, for snapshot tests in CI. Decodes PNGs
- * (files or every PNG of two folders), applies image_compare's rule and
- * reports; exit 0 match, 1 differ, 2 unreadable, missing or resized. */
+ * (files or every PNG of two folders) or videos frame by frame, applies
+ * image_compare's rule and reports; exit 0 match, 1 differ, 2 unreadable,
+ * missing or resized. */
 #include <dirent.h>
 #include <getopt.h>
 #include <limits.h>
@@ -14,13 +15,16 @@
 #include "springpend/common.h"
 #include "springpend/image_compare.h"
 #include "springpend/png_io.h"
+#include "springpend/video_read.h"
 
 static const char compare_usage[] =
     "usage: springpend compare EXPECTED ACTUAL [options]\n"
     "\n"
     "Compares two PNG images, or every *.png in folder EXPECTED with the file of\n"
-    "the same name in folder ACTUAL (subfolders are not walked). Exit status:\n"
-    "0 all match, 1 some differ, 2 unreadable, missing, extra or resized images.\n"
+    "the same name in folder ACTUAL (subfolders are not walked), or two videos\n"
+    "(any name not ending in .png: MP4 and whatever FFmpeg reads) frame by frame.\n"
+    "Exit status: 0 all match, 1 some differ, 2 unreadable, missing, extra or\n"
+    "resized images, or videos with different frame counts.\n"
     "\n"
     "Default rule (reftest style): a pixel differs when a channel moves by more\n"
     "than --max-diff levels of 255; the images match when at most --max-pixels\n"
@@ -33,7 +37,8 @@ static const char compare_usage[] =
     "  --metric rms --tol X   pytest-mpl's rule instead: pass when the RMS of the\n"
     "                         RGB differences is <= X levels (default 2)\n"
     "  --diff PATH            on a mismatch, write a diff image there (a folder\n"
-    "                         when comparing folders: PATH/NAME.diff.png): the\n"
+    "                         when comparing folders: PATH/NAME.diff.png; for\n"
+    "                         videos, of the worst frame): the\n"
     "                         expected image in grey, differing pixels magenta,\n"
     "                         smaller changes pale magenta\n"
     "  --json                 print the figures as JSON\n"
@@ -146,6 +151,22 @@ static void json_string(const char *s)
     putchar('"');
 }
 
+/* The figures of one comparison, as the rest of a text line. */
+static void print_figures(const struct compare_cli *c, const struct sp_compare_result *r,
+                          const char *diff)
+{
+    printf("%ld of %ld pixels differ by more than %d levels (%ld allowed); "
+           "largest difference %d; rms %.3f",
+           r->differing, r->pixels, r->max_diff, r->allowed, r->max_channel_diff, r->rms);
+    if (c->opts.metric == SP_COMPARE_RMS)
+        printf(" %s tol %g", r->pass ? "<=" : ">", r->tol);
+    if (r->differing)
+        printf("; in x %d..%d, y %d..%d", r->bbox[0], r->bbox[2], r->bbox[1], r->bbox[3]);
+    if (diff)
+        printf("; diff: %s", diff);
+    putchar('\n');
+}
+
 /* One comparison's report: a line of text or a JSON object. `status` is 0
  * (compared, see r), or the SP_E_* code of why it could not be. */
 static void report(const struct compare_cli *c, const char *name, int status,
@@ -184,18 +205,8 @@ static void report(const struct compare_cli *c, const char *name, int status,
     }
     if (c->quiet && r->pass)
         return;
-    printf("%s %s: %ld of %ld pixels differ by more than %d levels (%ld allowed); "
-           "largest difference %d; rms %.3f%s",
-           r->pass ? "ok  " : "FAIL", name, r->differing, r->pixels, r->max_diff, r->allowed,
-           r->max_channel_diff, r->rms,
-           c->opts.metric == SP_COMPARE_RMS ? (r->pass ? " <= tol" : " > tol") : "");
-    if (c->opts.metric == SP_COMPARE_RMS)
-        printf(" %g", r->tol);
-    if (r->differing)
-        printf("; in x %d..%d, y %d..%d", r->bbox[0], r->bbox[2], r->bbox[1], r->bbox[3]);
-    if (diff)
-        printf("; diff: %s", diff);
-    putchar('\n');
+    printf("%s %s: ", r->pass ? "ok  " : "FAIL", name);
+    print_figures(c, r, diff);
 }
 
 /* Compares two PNG files and reports. Returns 0, SP_E_MISMATCH, or
@@ -244,6 +255,115 @@ done:
     sp_image_free(&a);
     sp_image_free(&d);
     return ret;
+}
+
+/* Compares two videos frame by frame: each frame pair under the rule; the
+ * videos match when every frame does. Prints the failing frames (text) and
+ * a summary with the worst frame; --diff gets the worst frame's diff. */
+static int compare_videos(const struct compare_cli *c, const char *expected, const char *actual,
+                          const char *diff_path)
+{
+    struct sp_video_reader *ve = NULL, *va = NULL;
+    struct sp_image fe, fa, d = {0}, worst_diff = {0};
+    struct sp_compare_result r, worst = {0};
+    char why[512] = "", label[PATH_MAX + 32];
+    int frames = 0, failed = 0, worst_frame = -1, ret, ge, ga = 0;
+    double worst_score = -1;
+
+    if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
+        (ret = sp_video_reader_open(&va, actual)) != 0) {
+        snprintf(why, sizeof(why), "cannot read %s", ve ? actual : expected);
+        goto done;
+    }
+    if (c->json)
+        printf("{\"name\": "), json_string(actual), printf(", \"failed_frames\": [");
+    while ((ge = sp_video_reader_read(ve, &fe)) == 1 && (ga = sp_video_reader_read(va, &fa)) == 1) {
+        if (fe.width != fa.width || fe.height != fa.height) {
+            snprintf(why, sizeof(why), "frame %d: expected %dx%d, actual %dx%d", frames,
+                     fe.width, fe.height, fa.width, fa.height);
+            ret = SP_E_INPUT;
+            goto done;
+        }
+        ret = sp_compare_images(&fe, &fa, &c->opts, &r, diff_path ? &d : NULL);
+        if (ret)
+            goto done;
+        double score = c->opts.metric == SP_COMPARE_RMS ? r.rms : (double)r.differing + r.rms * 1e-9;
+        if (score > worst_score) {
+            worst_score = score, worst = r, worst_frame = frames;
+            sp_image_free(&worst_diff);
+            worst_diff = d;
+            d = (struct sp_image){0};
+        }
+        sp_image_free(&d);
+        if (!r.pass) {
+            if (c->json)
+                printf("%s%d", failed ? ", " : "", frames);
+            else if (failed < 10) {
+                snprintf(label, sizeof(label), "%s frame %d", actual, frames);
+                report(c, label, 0, NULL, &r, NULL);
+            }
+            failed++;
+        }
+        frames++;
+    }
+    if (ge < 0 || (ge == 1 && ga < 0)) {
+        ret = ge < 0 ? ge : ga;
+        snprintf(why, sizeof(why), "cannot decode %s", ge < 0 ? expected : actual);
+        goto done;
+    }
+    if (ge == 1 || (ge == 0 && sp_video_reader_read(va, &fa) == 1)) {
+        if (ge == 1)
+            snprintf(why, sizeof(why), "%s ends after %d frames; %s has more", actual, frames,
+                     expected);
+        else
+            snprintf(why, sizeof(why), "%s has more than the %d frames of %s", actual, frames,
+                     expected);
+        sp_log_error("%s", why);
+        ret = SP_E_INPUT;
+        goto done;
+    }
+    if (!frames) {
+        snprintf(why, sizeof(why), "no frames in %s", expected);
+        ret = SP_E_INPUT;
+        goto done;
+    }
+    if (failed && diff_path && sp_png_write(diff_path, &worst_diff, SP_PNG_LEVEL_DEFAULT) != 0) {
+        remove(diff_path);
+        diff_path = NULL;
+    }
+    ret = failed ? SP_E_MISMATCH : 0;
+done:
+    if (ret && ret != SP_E_MISMATCH && ret != SP_E_NOMEM)
+        ret = SP_E_INPUT;
+    if (c->json) {
+        if (!ve || !va)
+            printf("{\"name\": "), json_string(actual), printf(", \"failed_frames\": [");
+        printf("], \"frames\": %d, \"pass\": %s", frames, ret ? "false" : "true");
+        if (why[0])
+            printf(", \"error\": "), json_string(why);
+        if (worst_frame >= 0) {
+            printf(", \"worst_frame\": %d, \"worst\": ", worst_frame);
+            report(c, actual, 0, NULL, &worst, ret == SP_E_MISMATCH ? diff_path : NULL);
+        }
+        printf("}\n");
+    } else if (why[0]) {
+        printf("ERROR %s: %s\n", actual, why);
+    } else if (!c->quiet || ret) {
+        printf("%s %s: %d of %d frames differ; worst frame %d: ", ret ? "FAIL" : "ok  ",
+               actual, failed, frames, worst_frame);
+        print_figures(c, &worst, ret == SP_E_MISMATCH ? diff_path : NULL);
+    }
+    sp_image_free(&d);
+    sp_image_free(&worst_diff);
+    sp_video_reader_destroy(&ve);
+    sp_video_reader_destroy(&va);
+    return ret;
+}
+
+static int is_png_path(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && !strcasecmp(path + n - 4, ".png");
 }
 
 static int is_png_name(const struct dirent *d)
@@ -355,6 +475,12 @@ int sp_cmd_compare(int argc, char **argv)
         }
         return compare_folders(&c, e, a);
     }
+    if (is_png_path(e) != is_png_path(a)) {
+        sp_log_error("%s and %s: compare two PNG images or two videos", e, a);
+        return SP_E_INPUT;
+    }
+    if (!is_png_path(e))
+        return compare_videos(&c, e, a, c.diff);
     ret = compare_files(&c, a, e, a, c.diff);
     if (c.json)
         putchar('\n');

@@ -325,6 +325,25 @@ ok(r.returncode == 2 and "ERROR one.png: no actual image" in r.stdout
    f"compare folders: a missing render and a missing baseline are errors ({r.stdout.strip()})")
 
 
+# Videos, frame by frame.
+for name, extra in (("v1", []), ("v2", []), ("angle", ["--set", "initial.angle=11"]),
+                    ("short", ["--set", "video.duration=0.9"])):
+    run("render", default, "--size", "160x120", "--fps", "30", "--set", "video.duration=1",
+        *extra, "-o", f"vid/{name}.mp4", "-q")
+V = lambda name: os.path.join(work, "vid", name + ".mp4")
+r = run("compare", V("v1"), V("v2"))
+ok(r.returncode == 0 and "0 of 30 frames differ" in r.stdout, f"compare videos: two renders match ({r.stdout.strip()})")
+r = run("compare", V("v1"), V("angle"), "--json", "--diff", os.path.join(work, "vid", "worst.png"))
+j = json.loads(r.stdout) if r.returncode == 1 else {}
+ok(j.get("frames") == 30 and j.get("failed_frames") and j.get("worst", {}).get("differing", 0) > 0
+   and os.path.exists(os.path.join(work, "vid", "worst.png")),
+   f"compare videos: 1 degree more fails, worst frame {j.get('worst_frame')}, diff written")
+r = run("compare", V("v1"), V("short"))
+ok(r.returncode == 2 and "ends after 27 frames" in r.stdout, f"compare videos: a frame count mismatch exits 2")
+r = run("compare", V("v1"), P("a.png"))
+ok(r.returncode == 2 and "two PNG images or two videos" in r.stderr, "compare: a video against a PNG is refused")
+
+
 # Faults: a write that fails half way (the file size limit stands in for a
 # full disk) is exit 1 with the reason, and leaves no file behind.
 def small_files():

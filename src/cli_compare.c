@@ -3,6 +3,7 @@
  * image_compare's rule and reports; exit 0 match, 1 differ, 2 unreadable,
  * missing or resized. */
 #include <dirent.h>
+#include <errno.h>
 #include <getopt.h>
 #include <limits.h>
 #include <stdio.h>
@@ -36,11 +37,11 @@ static const char compare_usage[] =
     "                         of the image (default 0.1%)\n"
     "  --metric rms --tol X   pytest-mpl's rule instead: pass when the RMS of the\n"
     "                         RGB differences is <= X levels (default 2)\n"
-    "  --diff PATH            on a mismatch, write a diff image there (a folder\n"
-    "                         when comparing folders: PATH/NAME.diff.png; for\n"
-    "                         videos, of the worst frame): the\n"
+    "  --diff PATH            on a mismatch, write a diff image to PATH: the\n"
     "                         expected image in grey, differing pixels magenta,\n"
-    "                         smaller changes pale magenta\n"
+    "                         smaller changes blue. Folders: PATH is a\n"
+    "                         folder (made if missing) for NAME.diff.png files;\n"
+    "                         videos: the diff of the worst frame\n"
     "  --json                 print the figures as JSON\n"
     "  -q, --quiet            print failures only (no effect with --json)\n"
     "  -h, --help             this text\n";
@@ -468,9 +469,9 @@ int sp_cmd_compare(int argc, char **argv)
         return SP_E_INPUT;
     }
     if (de) {
-        if (c.diff && !is_dir(c.diff)) {
-            sp_log_error("--diff %s: comparing folders needs an existing folder for the "
-                         "diff images", c.diff);
+        if (c.diff && !is_dir(c.diff) && mkdir(c.diff, 0777) != 0) {
+            sp_log_error("--diff %s: cannot create the folder for the diff images: %s",
+                         c.diff, strerror(errno));
             return SP_E_INPUT;
         }
         return compare_folders(&c, e, a);

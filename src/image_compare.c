@@ -22,8 +22,8 @@ static void resolve(const struct sp_compare_opts *o, long pixels, struct sp_comp
     res->tol = o->tol == SP_COMPARE_NONE ? 0 : o->tol > 0 ? o->tol : SP_COMPARE_TOL_DEFAULT;
 }
 
-/* Paints one diff pixel: grey from the expected pixel's luma, then
- * magenta at full strength (differing) or half (changed within max_diff). */
+/* Paints one diff pixel: grey from the expected pixel's luma, magenta
+ * where it differs beyond max_diff, blue where it changed within it. */
 static void paint(uint8_t *d, const uint8_t *e, int level)
 {
     int luma = (77 * e[0] + 150 * e[1] + 29 * e[2]) >> 8;
@@ -33,9 +33,7 @@ static void paint(uint8_t *d, const uint8_t *e, int level)
     if (level == 2) {
         d[0] = 255, d[1] = 0, d[2] = 255;
     } else if (level == 1) {
-        d[0] = (uint8_t)((grey + 255) / 2);
-        d[1] = (uint8_t)(grey / 2);
-        d[2] = (uint8_t)((grey + 255) / 2);
+        d[0] = 40, d[1] = 110, d[2] = 210; /* a quieter blue */
     }
 }
 

@@ -19,7 +19,8 @@ static const char usage[] =
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
     "\n"
     "exit status: 0 done, 1 failed (I/O, encoder, GL), 2 bad input,\n"
-    "             3 the simulation became unstable\n";
+    "             3 the simulation became unstable, 130 interrupted (partial\n"
+    "             files removed)\n";
 
 struct command {
     const char *name;
@@ -52,6 +53,7 @@ int main(int argc, char **argv)
         puts("springpend " SP_VERSION);
         return 0;
     }
+    sp_interrupt_install();
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
         if (!strcmp(argv[1], commands[i].name))
             return sp_exit_status(commands[i].run(argc - 1, argv + 1));

@@ -75,7 +75,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         double t = sp_scene_frame_time(sc, k);
         if (desc->still && t > desc->still_at)
             break;
-        ret = sp_sim_advance(&sim, t);
+        ret = sp_interrupted() ? SP_E_INTERRUPTED : sp_sim_advance(&sim, t);
         if (ret)
             goto done;
         sp_trail_push(&trail, &sim.s);
@@ -98,10 +98,12 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         if (ret)
             goto done;
     }
-    ret = sp_sink_close(&sink);
+    ret = sp_interrupted() ? SP_E_INTERRUPTED : sp_sink_close(&sink);
     if (!ret && desc->state_out)
         *desc->state_out = sim.s;
 done:
+    if (ret == SP_E_INTERRUPTED)
+        sp_log_error("interrupted; %s is not written", desc->output);
     sp_sink_abort(&sink);
     sp_render_destroy(&r);
     sp_trail_destroy(&trail);

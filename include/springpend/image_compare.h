@@ -58,8 +58,8 @@ struct sp_compare_result {
 /* Compares expected with actual. They must have the same size: otherwise
  * logs both sizes and returns SP_E_INPUT. When diff is not NULL it receives
  * a new image of that size (free with sp_image_free): the expected image
- * faded to grey, pixels beyond max_diff in strong magenta and smaller
- * changes in a pale magenta. Returns 0 (whatever the verdict),
+ * faded to grey, pixels beyond max_diff in magenta and smaller changes in
+ * a quieter blue. Returns 0 (whatever the verdict),
  * SP_E_INPUT or SP_E_NOMEM. */
 int sp_compare_images(const struct sp_image *expected, const struct sp_image *actual,
                       const struct sp_compare_opts *opts, struct sp_compare_result *res,

@@ -168,10 +168,43 @@ static void print_figures(const struct compare_cli *c, const struct sp_compare_r
     putchar('\n');
 }
 
+/* The provenance.h chunks that, when they differ, explain a mismatch. */
+static const char *const provenance_keys[][2] = {
+    {"springpend.scene-sha256", "the scene differs (springpend.scene-sha256)"},
+    {"Software", "made by another springpend (Software)"},
+    {"Source", "made by another GL renderer (Source)"},
+};
+
+/* Prints a note (text) or a "notes" array (JSON) for each provenance
+ * chunk that both images carry with different values. */
+static void report_provenance(const struct compare_cli *c, const char *expected,
+                              const char *actual)
+{
+    int n = 0;
+    for (size_t i = 0; i < sizeof(provenance_keys) / sizeof(provenance_keys[0]); i++) {
+        char e[256], a[256];
+        if (sp_png_read_text(expected, provenance_keys[i][0], e, sizeof(e)) != 1 ||
+            sp_png_read_text(actual, provenance_keys[i][0], a, sizeof(a)) != 1 || !strcmp(e, a))
+            continue;
+        if (c->json) {
+            printf("%s", n ? ", " : ", \"notes\": [");
+            json_string(provenance_keys[i][1]);
+        } else {
+            printf("     note: %s: %s vs %s\n", provenance_keys[i][1], e, a);
+        }
+        n++;
+    }
+    if (c->json && n)
+        printf("]");
+}
+
 /* One comparison's report: a line of text or a JSON object. `status` is 0
- * (compared, see r), or the SP_E_* code of why it could not be. */
+ * (compared, see r), or the SP_E_* code of why it could not be. pngs, when
+ * not NULL, names the expected and actual PNGs of a failed comparison,
+ * whose differing provenance is noted. */
 static void report(const struct compare_cli *c, const char *name, int status,
-                   const char *why, const struct sp_compare_result *r, const char *diff)
+                   const char *why, const struct sp_compare_result *r, const char *diff,
+                   const char *const pngs[2])
 {
     if (c->json) {
         printf("{\"name\": ");
@@ -197,6 +230,8 @@ static void report(const struct compare_cli *c, const char *name, int status,
             json_string(diff);
         else
             printf("null");
+        if (pngs && !r->pass)
+            report_provenance(c, pngs[0], pngs[1]);
         printf("}");
         return;
     }
@@ -208,6 +243,8 @@ static void report(const struct compare_cli *c, const char *name, int status,
         return;
     printf("%s %s: ", r->pass ? "ok  " : "FAIL", name);
     print_figures(c, r, diff);
+    if (pngs && !r->pass)
+        report_provenance(c, pngs[0], pngs[1]);
 }
 
 /* Compares two PNG files and reports. Returns 0, SP_E_MISMATCH, or
@@ -251,7 +288,7 @@ done:
     if (ret && ret != SP_E_MISMATCH)
         ret = ret == SP_E_NOMEM ? ret : SP_E_INPUT;
     report(c, name, ret == SP_E_MISMATCH ? 0 : ret, why, &r,
-           ret == SP_E_MISMATCH ? diff_path : NULL);
+           ret == SP_E_MISMATCH ? diff_path : NULL, (const char *const[2]){expected, actual});
     sp_image_free(&e);
     sp_image_free(&a);
     sp_image_free(&d);
@@ -301,7 +338,7 @@ static int compare_videos(const struct compare_cli *c, const char *expected, con
                 printf("%s%d", failed ? ", " : "", frames);
             else if (failed < 10) {
                 snprintf(label, sizeof(label), "%s frame %d", actual, frames);
-                report(c, label, 0, NULL, &r, NULL);
+                report(c, label, 0, NULL, &r, NULL, NULL);
             }
             failed++;
         }
@@ -344,7 +381,7 @@ done:
             printf(", \"error\": "), json_string(why);
         if (worst_frame >= 0) {
             printf(", \"worst_frame\": %d, \"worst\": ", worst_frame);
-            report(c, actual, 0, NULL, &worst, ret == SP_E_MISMATCH ? diff_path : NULL);
+            report(c, actual, 0, NULL, &worst, ret == SP_E_MISMATCH ? diff_path : NULL, NULL);
         }
         printf("}\n");
     } else if (why[0]) {
@@ -409,7 +446,7 @@ static int compare_folders(const struct compare_cli *c, const char *dir_e, const
             char why[PATH_MAX + 64];
             snprintf(why, sizeof(why), cmp < 0 ? "no actual image in %s" : "no baseline in %s",
                      cmp < 0 ? dir_a : dir_e);
-            report(c, name, SP_E_INPUT, why, NULL, NULL);
+            report(c, name, SP_E_INPUT, why, NULL, NULL, NULL);
             r = SP_E_INPUT;
         } else {
             snprintf(pe, sizeof(pe), "%s/%s", dir_e, name);

@@ -173,3 +173,42 @@ int sp_png_read(const char *path, struct sp_image *img)
     }
     return 0;
 }
+
+int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)
+{
+    /* Owned here, destroyed at `done`; set before setjmp, never changed. */
+    png_structp png = NULL;
+    png_infop info = NULL;
+    FILE *fp = fopen(path, "rb");
+    png_textp text;
+    int n, ret = 0;
+    if (!fp) {
+        sp_log_error("%s: cannot open: %s", path, strerror(errno));
+        return SP_E_IO;
+    }
+    png = png_create_read_struct(PNG_LIBPNG_VER_STRING, (png_voidp)path, on_png_error,
+                                 on_png_warning);
+    if (png)
+        info = png_create_info_struct(png);
+    if (!png || !info) {
+        sp_log_error("%s: out of memory for the PNG reader", path);
+        ret = SP_E_NOMEM;
+        goto done;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        ret = SP_E_IO; /* on_png_error has logged */
+        goto done;
+    }
+    png_init_io(png, fp);
+    png_read_info(png, info); /* reads up to the first IDAT */
+    n = png_get_text(png, info, &text, NULL);
+    for (int i = 0; i < n && !ret; i++)
+        if (!strcmp(text[i].key, key)) {
+            snprintf(buf, size, "%s", text[i].text);
+            ret = 1;
+        }
+done:
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    return ret;
+}

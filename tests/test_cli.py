@@ -271,9 +271,10 @@ ok(times == ["0", "0.1"], f"each PNG of a sequence carries its own time: {times}
 
 # compare, end to end.
 cmp_dir = os.path.join(work, "cmp")
-for name, at, size in (("a", "3", "320x240"), ("b", "3", "320x240"), ("moved", "3.05", "320x240"),
-                       ("small", "3", "160x120")):
-    run("still", default, "--at", at, "--size", size, "-o", f"cmp/{name}.png", "-q")
+for name, at, size, *extra in (("a", "3", "320x240"), ("b", "3", "320x240"),
+                               ("moved", "3.05", "320x240"), ("small", "3", "160x120"),
+                               ("damped", "3", "320x240", "--set", "pendulum.damping=0.1")):
+    run("still", default, "--at", at, "--size", size, *extra, "-o", f"cmp/{name}.png", "-q")
 P = lambda name: os.path.join(cmp_dir, name)
 r = run("compare", P("a.png"), P("b.png"), "--diff", P("d-same.png"))
 ok(r.returncode == 0 and r.stdout.startswith("ok") and not os.path.exists(P("d-same.png")),
@@ -287,6 +288,11 @@ j = json.loads(r.stdout) if r.returncode == 1 else {}
 ok(j.get("pass") is False and j.get("differing", 0) > j.get("allowed", 1) and j.get("max_diff") == 3
    and j.get("pixels") == 76800 and len(j.get("bbox") or []) == 4 and j.get("rms", 0) > 0,
    f"compare --json: {r.stdout.strip()[:300]}")
+r = run("compare", P("a.png"), P("moved.png"))
+ok(r.returncode == 1 and "note" not in r.stdout, "compare: no provenance note between renders of one scene")
+r = run("compare", P("a.png"), P("damped.png"))
+ok(r.returncode == 1 and "note: the scene differs (springpend.scene-sha256)" in r.stdout,
+   f"compare: a failure notes that the scene hashes differ ({r.stdout.strip()[:200]})")
 r = run("compare", P("a.png"), P("moved.png"), "--max-pixels", "100%")
 ok(r.returncode == 0, "compare --max-pixels 100% lets anything of the same size pass")
 r = run("compare", P("a.png"), P("moved.png"), "--metric", "rms", "--tol", "0.5")

@@ -29,7 +29,7 @@ def memcheck(what, args, want_rc):
     log = os.path.join(work, f"vg{count + 1}.log")
     r = subprocess.run([valgrind, "--error-exitcode=99", "--leak-check=full",
                         "--show-leak-kinds=definite,indirect",
-                        "--errors-for-leak-kinds=definite,indirect", "--track-origins=yes",
+                        "--errors-for-leak-kinds=definite,indirect",
                         "--suppressions=" + os.path.join(src, "valgrind.supp"),
                         f"--log-file={log}", exe, *args],
                        capture_output=True, text=True, cwd=work)

@@ -43,4 +43,10 @@ int sp_png_write(const char *path, const struct sp_image *img, int level);
  * img must be freed with sp_image_free; it is zeroed on failure. */
 int sp_png_read(const char *path, struct sp_image *img);
 
+/* Finds the tEXt/zTXt/iTXt chunk `key` that comes before the image data
+ * and copies its text (truncated to size - 1 bytes) into buf. Returns 1
+ * when found, 0 when the PNG has no such chunk, or SP_E_IO (logged) when
+ * the file cannot be read as a PNG. */
+int sp_png_read_text(const char *path, const char *key, char *buf, size_t size);
+
 #endif

@@ -28,13 +28,15 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
         {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
         {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
-        {"help", no_argument, 0, 'h'},         {"state", required_argument, 0, 'J'},
+        {"help", no_argument, 0, 'h'},         {"every", required_argument, 0, 'e'},
+        {"state", required_argument, 0, 'J'},
         {0, 0, 0, 0},
     };
     int c, w, h, ret = 0;
     char tail;
     memset(o, 0, sizeof(*o));
     o->at = -1;
+    o->every = -1;
     optind = 1;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1) {
@@ -59,7 +61,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             ret = add_override(o, o->fps_buf);
             break;
         case 'J':
-            if (!allow_at) {
+            if (!(allow_at & SP_CLI_AT)) {
                 sp_log_error("--state is for 'springpend still'; see '%s --help'", argv[0]);
                 return SP_E_INPUT;
             }
@@ -68,9 +70,20 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'a': {
             char *end;
             o->at = strtod(optarg, &end);
-            if (!allow_at || end == optarg || *end || !(o->at >= 0) || o->at > 1e9) {
+            if (!(allow_at & SP_CLI_AT) || end == optarg || *end || !(o->at >= 0) || o->at > 1e9) {
                 sp_log_error("--at %s: expected a simulated time in seconds, 0 <= t <= 1e9",
                              optarg);
+                return SP_E_INPUT;
+            }
+            break;
+        }
+        case 'e': {
+            char *end;
+            o->every = strtod(optarg, &end);
+            if (!(allow_at & SP_CLI_EVERY) || end == optarg || *end || !(o->every > 0) ||
+                o->every > 1e9) {
+                sp_log_error("--every %s: expected a sampling interval in simulated "
+                             "seconds, 0 < every <= 1e9", optarg);
                 return SP_E_INPUT;
             }
             break;

@@ -16,11 +16,16 @@ struct sp_cli_options {
     char fps_buf[48];        /* storage for the override --fps makes */
     int quiet;               /* -q */
     double at;               /* --at (still), simulated s; < 0 = not given */
+    double every;            /* --every (data), simulated s; < 0 = not given */
     const char *state;       /* --state (still): JSON path, NULL = none */
 };
 
-/* Parses argv for one command. `extra` lists the command's own long options
- * ("at" only, for now). Prints a message and returns SP_E_INPUT on misuse;
+/* Command-specific options sp_cli_parse accepts (allow_at is a mask). */
+#define SP_CLI_AT 1    /* --at SECONDS */
+#define SP_CLI_EVERY 2 /* --every SECONDS */
+
+/* Parses argv for one command. allow_at: the SP_CLI_* options the command
+ * takes. Prints a message and returns SP_E_INPUT on misuse;
  * returns 1 when --help was asked (usage already printed). */
 int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv,
                  const char *usage, int allow_at);
@@ -43,6 +48,8 @@ int sp_cli_check_writable(const char *path, const char *what);
 
 int sp_cmd_render(int argc, char **argv);
 int sp_cmd_still(int argc, char **argv);
+int sp_cmd_data(int argc, char **argv);
+int sp_cmd_info(int argc, char **argv);
 int sp_cmd_compare(int argc, char **argv);
 
 #endif

@@ -94,12 +94,12 @@ static int write_state(const char *path, const struct sp_scene *scene,
 }
 
 /* Refuses --state paths that would clobber an input or the image, or
- * cannot be written; and a still so late that reaching it would take
- * more than 1e10 steps. */
+ * cannot be written; and a still so late that reaching it would take a
+ * fixed-step method more than 1e10 steps (scene.c's limit for videos). */
 static int check_still(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *out)
 {
-    if (o->at > 0 && o->at / scene->integrator.dt > 1e10) {
+    if (scene->integrator.method <= SP_METHOD_YOSHIDA4 && o->at / scene->integrator.dt > 1e10) {
         sp_log_error("--at %g: reaching it takes %.3g steps of integrator.dt = %g s; at most "
                      "1e10 are allowed", o->at, o->at / scene->integrator.dt,
                      scene->integrator.dt);

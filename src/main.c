@@ -14,6 +14,8 @@ static const char usage[] =
     "commands:\n"
     "  render   the whole motion as MP4 video or a PNG sequence\n"
     "  still    one frame as a PNG\n"
+    "  data     the motion as CSV: state, polar form, energies (no rendering)\n"
+    "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"
     "\n"
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
@@ -38,6 +40,8 @@ static int cmd_keys(int argc, char **argv)
 static const struct command commands[] = {
     {"render", sp_cmd_render},
     {"still", sp_cmd_still},
+    {"data", sp_cmd_data},
+    {"info", sp_cmd_info},
     {"keys", cmd_keys},
     {"compare", sp_cmd_compare},
 };

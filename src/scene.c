@@ -41,8 +41,12 @@ static const struct key_info keys[] = {
     {"initial", "angle", KEY_DEGREES, F(initial.angle), 10, -360, 360, 0, "degrees"},
     {"initial", "length_rate", KEY_REAL, F(initial.length_rate), 0, -1e6, 1e6, 0, "m/s"},
     {"initial", "angle_rate", KEY_REAL, F(initial.angle_rate), 0, -1e6, 1e6, 0, "rad/s"},
-    {"integrator", "method", KEY_METHOD, F(integrator.method), 0, 0, 0, 0, "rk4"},
+    {"integrator", "method", KEY_METHOD, F(integrator.method), 0, 0, 0, 0,
+     "rk4, verlet, yoshida4, dopri5, dop853, rkn1210"},
     {"integrator", "dt", KEY_REAL, F(integrator.dt), 0.001, 0, 1, 1, "s"},
+    {"integrator", "tolerance", KEY_REAL, F(integrator.tolerance), 1e-9, 1e-15, 1e-2, 0, "(relative)"},
+    {"pivot", "amplitude", KEY_REAL, F(pivot.amplitude), 0, 0, 1e4, 0, "m"},
+    {"pivot", "frequency", KEY_REAL, F(pivot.frequency), 0, 0, 1e6, 0, "Hz"},
     {"video", "width", KEY_INT, F(video.width), 1280, 16, 7680, 0, "px"},
     {"video", "height", KEY_INT, F(video.height), 720, 16, 4320, 0, "px"},
     {"video", "fps", KEY_REAL, F(video.fps), 60, 0, 1000, 1, "frames/s"},
@@ -53,7 +57,8 @@ static const struct key_info keys[] = {
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
 
-static const char *const method_names[] = {"rk4"};
+static const char *const method_names[] = {"rk4",    "verlet", "yoshida4",
+                                           "dopri5", "dop853", "rkn1210"};
 #define N_METHODS ((int)(sizeof(method_names) / sizeof(method_names[0])))
 
 /* Parser state shared by the inih reader and handler. */
@@ -160,10 +165,10 @@ static void report_unknown(struct parse_ctx *c, int line, const char *section,
         }
         if (best)
             report(c, line, "unknown section [%s]; did you mean [%s]? "
-                   "(sections: pendulum, initial, integrator, video, view)", section, best);
+                   "(sections: pendulum, initial, integrator, pivot, video, view)", section, best);
         else
             report(c, line, "unknown section [%s] (sections: pendulum, initial, "
-                   "integrator, video, view)", section);
+                   "integrator, pivot, video, view)", section);
         return;
     }
     for (int i = 0; i < N_KEYS; i++) {
@@ -250,7 +255,7 @@ static int handle_pair(void *user, const char *section, const char *name,
             return 1; /* reported once, at its [header] */
         if (!section[0])
             report(c, c->line, "'%s' comes before any [section]; put it under "
-                   "[pendulum], [initial], [integrator], [video] or [view]", name);
+                   "[pendulum], [initial], [integrator], [pivot], [video] or [view]", name);
         else
             report_unknown(c, c->line, section, name);
         return 1;
@@ -426,8 +431,13 @@ static void validate_whole(struct parse_ctx *c)
     else if (frames > SP_MAX_FRAMES)
         report(c, 0, "video.duration * video.fps / video.speed = %.0f frames; at most "
                "%d are allowed", frames, SP_MAX_FRAMES);
+    if (s->integrator.method == SP_METHOD_RKN1210 &&
+        (s->pendulum.damping > 0 || (s->pivot.amplitude > 0 && s->pivot.frequency > 0)))
+        report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "
+               "position only: set pendulum.damping = 0 and pivot.amplitude = 0, or use "
+               "integrator.method = dop853");
     double steps = s->video.duration / s->integrator.dt;
-    if (steps > 1e10)
+    if (s->integrator.method <= SP_METHOD_YOSHIDA4 && steps > 1e10)
         report(c, 0, "video.duration / integrator.dt = %.3g steps; at most 1e10 are "
                "allowed (raise integrator.dt)", steps);
 }

@@ -1,46 +1,383 @@
-/* springpend: the integrator core. Cartesian RK4 with the right-hand side
- * inlined, exact landing on requested times, and a blow-up guard. */
+/* springpend: the integrator core. Five methods share one right-hand side,
+ * inlined into each stepper: fixed-step RK4, Stormer-Verlet and Yoshida's
+ * 4th-order composition on a uniform grid, and the adaptive Dormand-Prince
+ * pairs 5(4) and 8(5,3) with dense output. The blow-up guard checks after
+ * every step (every 4th on RK4's cheap steps) that the state is finite and
+ * that total energy, less the work done by damping and the moving pivot,
+ * stays put. No allocation anywhere. */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "springpend/common.h"
 #include "springpend/sim.h"
 
-/* Relative energy drift (of sim->energy_scale) that an undamped run may show
- * before it is declared unstable. RK4 at a sane step drifts by ~1e-10. */
+/* Drift of total - energy0 - work, as a fraction of the energy scale, that a
+ * run may show before it is declared unstable. Sane steps drift by ~1e-10. */
 #define SP_ENERGY_DRIFT_LIMIT 1e-2
-#define SP_RK4_STABILITY 2.8284271247461903 /* |h*omega| on the imaginary axis */
 
-/* Acceleration of the bob, m/s^2. Regular everywhere: at the pivot the unit
- * vector is taken as zero (the force stays bounded, only its direction jumps). */
-static inline void accel(const struct sp_params *p, double x, double y, double vx,
-                         double vy, double *ax, double *ay)
+/* For the functions taking `const int forced`: inlined always, so that each
+ * caller passing a constant gets its own specialised copy. */
+#define SPECIALISED static inline __attribute__((always_inline))
+
+static const struct sp_method_info methods[] = {
+    [SP_METHOD_RKN1210] = {"rkn1210", 12, 1, 0, 17},
+    [SP_METHOD_RK4] = {"rk4", 4, 0, 2.8284271247461903, 4},
+    [SP_METHOD_VERLET] = {"verlet", 2, 0, 2.0, 1},
+    /* |h omega| < 1.5734 for the triple jump, found from the trace of the
+     * composed harmonic-oscillator map */
+    [SP_METHOD_YOSHIDA4] = {"yoshida4", 4, 0, 1.5734, 3},
+    [SP_METHOD_DOPRI5] = {"dopri5", 5, 1, 0, 6},
+    [SP_METHOD_DOP853] = {"dop853", 8, 1, 0, 12},
+};
+
+const struct sp_method_info *sp_method_info(enum sp_method m)
+{
+    return &methods[m];
+}
+
+/* ---- the right-hand side ------------------------------------------------ */
+
+/* The pivot's velocity and acceleration at t, m/s and m/s^2. */
+static inline void pivot_motion(const struct sp_params *p, double t, double *v, double *a)
+{
+    double s = sin(p->drive_omega * t), c = cos(p->drive_omega * t);
+    *v = p->drive_amp * p->drive_omega * c;
+    *a = -p->drive_amp * p->drive_omega * p->drive_omega * s;
+}
+
+/* Acceleration of the bob at position (x, y) from the spring, gravity and
+ * the pivot's acceleration a_pivot, m/s^2: everything that does not depend on
+ * the velocity. Regular everywhere: at the pivot the unit vector is taken as
+ * zero (the force stays bounded, only its direction jumps). */
+static inline void accel_q(const struct sp_params *p, double x, double y, double a_pivot,
+                           double *ax, double *ay)
 {
     double rho = sqrt(x * x + y * y);
-    double inv = rho > 0 ? p->L0 / rho : 0;
-    *ax = -p->k_over_m * (x - inv * x) - p->b_over_m * vx;
-    *ay = -p->k_over_m * (y - inv * y) - p->g - p->b_over_m * vy;
+    double c = p->k_over_m * (1 - (rho > 0 ? p->L0 / rho : 0));
+    *ax = -c * x;
+    *ay = -c * y - p->g - a_pivot;
 }
 
-static inline void rk4_step(const struct sp_params *p, struct sp_state *s, double h)
+/* d/dt of u = (x, y, vx, vy, w), w the work per mass done by damping and the
+ * drive (J/kg). `forced` is a compile-time constant at every call: 0 skips
+ * damping, drive and w. */
+SPECIALISED void rhs(const struct sp_params *p, double t, const double *u, double *d,
+                       const int forced)
 {
-    double x = s->x, y = s->y, vx = s->vx, vy = s->vy;
-    double a1x, a1y, a2x, a2y, a3x, a3y, a4x, a4y;
-    accel(p, x, y, vx, vy, &a1x, &a1y);
-    double x2 = x + 0.5 * h * vx, y2 = y + 0.5 * h * vy;
-    double vx2 = vx + 0.5 * h * a1x, vy2 = vy + 0.5 * h * a1y;
-    accel(p, x2, y2, vx2, vy2, &a2x, &a2y);
-    double x3 = x + 0.5 * h * vx2, y3 = y + 0.5 * h * vy2;
-    double vx3 = vx + 0.5 * h * a2x, vy3 = vy + 0.5 * h * a2y;
-    accel(p, x3, y3, vx3, vy3, &a3x, &a3y);
-    double x4 = x + h * vx3, y4 = y + h * vy3;
-    double vx4 = vx + h * a3x, vy4 = vy + h * a3y;
-    accel(p, x4, y4, vx4, vy4, &a4x, &a4y);
-    s->x = x + h / 6 * (vx + 2 * vx2 + 2 * vx3 + vx4);
-    s->y = y + h / 6 * (vy + 2 * vy2 + 2 * vy3 + vy4);
-    s->vx = vx + h / 6 * (a1x + 2 * a2x + 2 * a3x + a4x);
-    s->vy = vy + h / 6 * (a1y + 2 * a2y + 2 * a3y + a4y);
+    double vp = 0, ap = 0;
+    if (forced && p->drive_amp != 0)
+        pivot_motion(p, t, &vp, &ap);
+    accel_q(p, u[0], u[1], ap, &d[2], &d[3]);
+    d[0] = u[2];
+    d[1] = u[3];
+    if (forced) {
+        d[2] -= p->b_over_m * u[2];
+        d[3] -= p->b_over_m * (u[3] + vp);
+        d[4] = -p->b_over_m * (u[2] * u[2] + u[3] * (u[3] + vp)) - ap * u[3];
+    }
 }
+
+#define NC(forced) ((forced) ? 5 : 4)
+
+/* ---- fixed-step methods -------------------------------------------------- */
+
+SPECIALISED void rk4_step(const struct sp_params *p, double t, double *u, double h,
+                            const int forced)
+{
+    double k1[5], k2[5], k3[5], k4[5], v[5];
+    const int n = NC(forced);
+    rhs(p, t, u, k1, forced);
+    for (int c = 0; c < n; c++)
+        v[c] = u[c] + 0.5 * h * k1[c];
+    rhs(p, t + 0.5 * h, v, k2, forced);
+    for (int c = 0; c < n; c++)
+        v[c] = u[c] + 0.5 * h * k2[c];
+    rhs(p, t + 0.5 * h, v, k3, forced);
+    for (int c = 0; c < n; c++)
+        v[c] = u[c] + h * k3[c];
+    rhs(p, t + h, v, k4, forced);
+    for (int c = 0; c < n; c++)
+        u[c] += h / 6 * (k1[c] + 2 * (k2[c] + k3[c]) + k4[c]);
+}
+
+/* The exact flow of the damping alone over h: the velocity relative to the
+ * air decays by exp(-b h / m); its work is the change of kinetic energy. */
+static inline void damp(const struct sp_params *p, double t, double *u, double h)
+{
+    double vp = 0, ap, f = exp(-p->b_over_m * h);
+    if (p->drive_amp != 0)
+        pivot_motion(p, t, &vp, &ap);
+    double e = u[2] * u[2] + u[3] * u[3];
+    u[2] *= f;
+    u[3] = (u[3] + vp) * f - vp;
+    u[4] += 0.5 * (u[2] * u[2] + u[3] * u[3] - e);
+}
+
+/* A kick: v += h a(q, t) with a = (ax, ay) precomputed; the drive's share
+ * of the work is -a_pivot * vy_mean * h. */
+static inline void kick(double *u, double h, double ax, double ay, double a_pivot,
+                        const int forced)
+{
+    double vy = u[3];
+    u[2] += h * ax;
+    u[3] += h * ay;
+    if (forced)
+        u[4] -= a_pivot * 0.5 * (vy + u[3]) * h;
+}
+
+/* Symmetric composition of Stormer-Verlet substeps with weights w[0..n-1]:
+ * for each, damp(h/2) kick(h/2) drift(h) kick(h/2) damp(h/2). The force
+ * depends on position and time only, so one evaluation per drift serves the
+ * kick after it and the kick before the next drift. a[] carries the force at
+ * the start of the step in and at its end out. Returns evaluations made. */
+SPECIALISED int splitting_step(const struct sp_params *p, double t, double *u,
+                                 double h, const double *w, int n, double *a,
+                                 const int forced)
+{
+    for (int i = 0; i < n; i++) {
+        double hi = w[i] * h;
+        if (forced && p->b_over_m != 0)
+            damp(p, t, u, 0.5 * hi);
+        kick(u, 0.5 * hi, a[0], a[1], a[2], forced);
+        u[0] += hi * u[2];
+        u[1] += hi * u[3];
+        t += hi;
+        double vp;
+        a[2] = 0;
+        if (forced && p->drive_amp != 0)
+            pivot_motion(p, t, &vp, &a[2]);
+        accel_q(p, u[0], u[1], a[2], &a[0], &a[1]);
+        kick(u, 0.5 * hi, a[0], a[1], a[2], forced);
+        if (forced && p->b_over_m != 0)
+            damp(p, t, u, 0.5 * hi);
+    }
+    return n;
+}
+
+#define CBRT2 1.2599210498948731648
+static const double verlet_w[] = {1};
+static const double yoshida_w[] = {1 / (2 - CBRT2), -CBRT2 / (2 - CBRT2), 1 / (2 - CBRT2)};
+
+/* One step of a fixed-step method from t over h, in place; a[] is the
+ * force cache of the splitting methods (valid for u at t, in and out).
+ * Returns the evaluations made. */
+SPECIALISED int fixed_step(const struct sp_sim *sim, double t, double *u, double h,
+                             double *a, const int forced)
+{
+    switch (sim->method) {
+    case SP_METHOD_VERLET:
+        return splitting_step(&sim->p, t, u, h, verlet_w, 1, a, forced);
+    case SP_METHOD_YOSHIDA4:
+        return splitting_step(&sim->p, t, u, h, yoshida_w, 3, a, forced);
+    default:
+        rk4_step(&sim->p, t, u, h, forced);
+        return 4;
+    }
+}
+
+/* The force cache for state u at time t: acceleration without the velocity
+ * terms, and the pivot's acceleration. */
+static void force_at(const struct sp_params *p, double t, const double *u, double *a)
+{
+    double vp;
+    a[2] = 0;
+    if (p->drive_amp != 0)
+        pivot_motion(p, t, &vp, &a[2]);
+    accel_q(p, u[0], u[1], a[2], &a[0], &a[1]);
+}
+
+/* ---- adaptive methods ---------------------------------------------------- */
+
+#include "sim_tableaus.h"
+
+/* Two doubles in one SSE2/NEON register (GCC vector extension). */
+typedef double v2d __attribute__((vector_size(16)));
+
+static inline v2d load2(const double *p)
+{
+    v2d v;
+    memcpy(&v, p, sizeof(v));
+    return v;
+}
+
+static inline void store2(double *p, v2d v)
+{
+    memcpy(p, &v, sizeof(v));
+}
+
+/* v = u + h * sum_j a[j] k[j] over j < s. The loop unrolls fully, the zero
+ * coefficients of the sparse tableaus fall away at compile time, and the
+ * components go two by two: (x, y) and (vx, vy), then w when forced. */
+#define STAGE_SUM(v, u, h, a, k, s, n)                                        \
+    do {                                                                      \
+        v2d q_ = {0, 0}, p_ = {0, 0};                                         \
+        double w_ = 0;                                                        \
+        _Pragma("GCC unroll 16") for (int j_ = 0; j_ < (s); j_++)             \
+            if ((a)[j_] != 0.0) {                                             \
+                q_ += (a)[j_] * load2(&(k)[j_][0]);                           \
+                p_ += (a)[j_] * load2(&(k)[j_][2]);                           \
+                if ((n) == 5)                                                 \
+                    w_ += (a)[j_] * (k)[j_][4];                               \
+            }                                                                 \
+        store2(&(v)[0], load2(&(u)[0]) + (h) * q_);                           \
+        store2(&(v)[2], load2(&(u)[2]) + (h) * p_);                           \
+        if ((n) == 5)                                                         \
+            (v)[4] = (u)[4] + (h) * w_;                                       \
+    } while (0)
+
+/* 1 / (atol + tol * max(|u0|, |u1|)) per physical component: the weights of
+ * Hairer's RMS error norm. */
+static inline void err_weights(const struct sp_sim *sim, const double *u0, const double *u1,
+                               double *w)
+{
+    for (int c = 0; c < 4; c++) {
+        double a = fabs(u0[c]), b = fabs(u1[c]);
+        w[c] = 1 / (sim->atol[c] + sim->tol * (a > b ? a : b));
+    }
+}
+
+static inline double err_norm(const double *e, const double *w)
+{
+    double sum = 0;
+    for (int c = 0; c < 4; c++)
+        sum += (e[c] * w[c]) * (e[c] * w[c]);
+    return sqrt(sum / 4);
+}
+
+/* Tries one Dormand-Prince 5(4) step of size h from (t1, y1) into u;
+ * k[0] holds f(t1, y1). Returns the error norm (<= 1: acceptable). */
+SPECIALISED double dopri5_try(struct sp_sim *sim, double h, double *u, const int forced)
+{
+    const int n = NC(forced);
+    double v[5], e[5];
+    _Pragma("GCC unroll 6") for (int s = 1; s < 6; s++) {
+        STAGE_SUM(v, sim->y1, h, dp5_a[s], sim->k, s, n);
+        rhs(&sim->p, sim->t1 + dp5_c[s] * h, v, sim->k[s], forced);
+    }
+    STAGE_SUM(u, sim->y1, h, dp5_a[6], sim->k, 6, n);
+    rhs(&sim->p, sim->t1 + h, u, sim->k[6], forced);
+    STAGE_SUM(e, (double[5]){0}, h, dp5_e, sim->k, 7, 4);
+    double w[4];
+    err_weights(sim, sim->y1, u, w);
+    return err_norm(e, w);
+}
+
+/* Tries one DOP853 step; as dopri5_try. */
+SPECIALISED double dop853_try(struct sp_sim *sim, double h, double *u, const int forced)
+{
+    const int n = NC(forced);
+    double v[5], e5[5], e3[5];
+    _Pragma("GCC unroll 12") for (int s = 1; s < 12; s++) {
+        STAGE_SUM(v, sim->y1, h, d8_a[s], sim->k, s, n);
+        rhs(&sim->p, sim->t1 + d8_c[s] * h, v, sim->k[s], forced);
+    }
+    STAGE_SUM(u, sim->y1, h, d8_a[12], sim->k, 12, n);
+    rhs(&sim->p, sim->t1 + h, u, sim->k[12], forced);
+    STAGE_SUM(e5, (double[5]){0}, 1.0, d8_e5, sim->k, 12, 4);
+    STAGE_SUM(e3, (double[5]){0}, 1.0, d8_e3, sim->k, 12, 4);
+    double w[4];
+    err_weights(sim, sim->y1, u, w);
+    double n5 = err_norm(e5, w), n3 = err_norm(e3, w);
+    if (n5 == 0 && n3 == 0)
+        return 0;
+    return fabs(h) * n5 * n5 / sqrt(n5 * n5 + 0.01 * n3 * n3);
+}
+
+/* Tries one RKN12(10) step of size h from (t, y) into u (q'' = f(q): no
+ * damping, no drive, so only positions enter the stages). g_s goes to
+ * sim->k[s][0..1]. Returns the error norm. */
+static inline double rkn_try(struct sp_sim *sim, double t, const double *y, double h,
+                             double *u)
+{
+    double(*g)[5] = sim->k;
+    const v2d q0 = load2(&y[0]), v0 = load2(&y[2]);
+    (void)t;
+    accel_q(&sim->p, y[0], y[1], 0, &g[0][0], &g[0][1]);
+    _Pragma("GCC unroll 17") for (int s = 1; s < 17; s++) {
+        v2d acc = {0, 0}, q;
+        _Pragma("GCC unroll 16") for (int j = 0; j < s; j++)
+            if (rkn_a[s][j] != 0.0)
+                acc += rkn_a[s][j] * load2(&g[j][0]);
+        q = q0 + (rkn_c[s] * h) * v0 + (h * h) * acc;
+        accel_q(&sim->p, q[0], q[1], 0, &g[s][0], &g[s][1]);
+    }
+    v2d bq = {0, 0}, bv = {0, 0}, eq = {0, 0}, ev = {0, 0};
+    _Pragma("GCC unroll 17") for (int j = 0; j < 17; j++) {
+        v2d gj = load2(&g[j][0]);
+        if (rkn_bhat[j] != 0.0)
+            bq += rkn_bhat[j] * gj;
+        if (rkn_bphat[j] != 0.0)
+            bv += rkn_bphat[j] * gj;
+        if (rkn_bhat[j] - rkn_b[j] != 0.0)
+            eq += (rkn_bhat[j] - rkn_b[j]) * gj;
+        if (rkn_bphat[j] - rkn_bp[j] != 0.0)
+            ev += (rkn_bphat[j] - rkn_bp[j]) * gj;
+    }
+    store2(&u[0], q0 + h * v0 + (h * h) * bq);
+    store2(&u[2], v0 + h * bv);
+    u[4] = y[4];
+    double e[4] = {h * h * eq[0], h * h * eq[1], h * ev[0], h * ev[1]}, w[4];
+    err_weights(sim, y, u, w);
+    return err_norm(e, w);
+}
+
+/* Fills sim->dense for the step [t0, t1]. */
+SPECIALISED void dense_prepare(struct sp_sim *sim, const int forced)
+{
+    const int n = NC(forced);
+    const double h = sim->t1 - sim->t0;
+    if (sim->method == SP_METHOD_DOPRI5) {
+        for (int j = 0; j < 4; j++)
+            for (int c = 0; c < n; c++) {
+                double acc = 0;
+                for (int i = 0; i < 7; i++)
+                    acc += dp5_p[i][j] * sim->k[i][c];
+                sim->dense[j][c] = h * acc;
+            }
+    } else {
+        double v[5];
+        for (int s = 13; s < 16; s++) {
+            STAGE_SUM(v, sim->y0, h, d8_a[s], sim->k, s, n);
+            rhs(&sim->p, sim->t0 + d8_c[s] * h, v, sim->k[s], forced);
+        }
+        sim->evals += 3;
+        for (int c = 0; c < n; c++) {
+            double dy = sim->y1[c] - sim->y0[c];
+            sim->dense[0][c] = dy;
+            sim->dense[1][c] = h * sim->k[0][c] - dy;
+            sim->dense[2][c] = 2 * dy - h * (sim->k[12][c] + sim->k[0][c]);
+        }
+        for (int i = 0; i < 4; i++)
+            STAGE_SUM(sim->dense[3 + i], (double[5]){0}, h, d8_d[i], sim->k, 16, n);
+    }
+    sim->dense_ready = 1;
+}
+
+/* The interpolated state at t in [t0, t1] into u. */
+SPECIALISED void dense_eval(struct sp_sim *sim, double t, double *u, const int forced)
+{
+    const int n = NC(forced);
+    if (!sim->dense_ready)
+        dense_prepare(sim, forced);
+    double x = (t - sim->t0) / (sim->t1 - sim->t0);
+    for (int c = 0; c < n; c++) {
+        if (sim->method == SP_METHOD_DOPRI5) {
+            const double(*q)[5] = sim->dense;
+            u[c] = sim->y0[c] + x * (q[0][c] + x * (q[1][c] + x * (q[2][c] + x * q[3][c])));
+        } else {
+            /* Hairer's contd8: alternating factors x and (1 - x) */
+            double y = 0;
+            for (int i = 6; i >= 0; i--) {
+                y += sim->dense[i][c];
+                y *= ((6 - i) % 2 == 0) ? x : 1 - x;
+            }
+            u[c] = sim->y0[c] + y;
+        }
+    }
+}
+
+/* ---- derived quantities -------------------------------------------------- */
 
 void sp_state_polar(const struct sp_state *s, struct sp_polar *out)
 {
@@ -54,11 +391,23 @@ void sp_state_polar(const struct sp_state *s, struct sp_polar *out)
 void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
                      struct sp_energy *out)
 {
-    double rho = sqrt(s->x * s->x + s->y * s->y);
+    struct sp_polar q;
+    double ell = p->L0 + p->g / p->k_over_m;
+    sp_state_polar(s, &q);
     out->kinetic = 0.5 * p->mass * (s->vx * s->vx + s->vy * s->vy);
-    out->spring = 0.5 * p->stiffness * (rho - p->L0) * (rho - p->L0);
+    out->spring = 0.5 * p->stiffness * (q.r - p->L0) * (q.r - p->L0);
     out->gravity = p->mass * p->g * s->y;
     out->total = out->kinetic + out->spring + out->gravity;
+    out->bounce = 0.5 * p->mass * q.r_dot * q.r_dot +
+                  0.5 * p->stiffness * (q.r - ell) * (q.r - ell);
+    /* r (1 - cos theta) = r + y, exact also near theta = 0 */
+    out->swing = 0.5 * p->mass * q.r * q.r * q.theta_dot * q.theta_dot +
+                 p->mass * p->g * (q.r + s->y);
+}
+
+double sp_pivot_y(const struct sp_params *p, double t)
+{
+    return p->drive_amp * sin(p->drive_omega * t);
 }
 
 double sp_params_omega_max(const struct sp_params *p)
@@ -72,11 +421,62 @@ double sp_params_omega_max(const struct sp_params *p)
     return w;
 }
 
+double sp_method_dt_limit(enum sp_method m, const struct sp_params *p, double *safe)
+{
+    const struct sp_method_info *mi = sp_method_info(m);
+    if (mi->adaptive) {
+        if (safe)
+            *safe = 0;
+        return 0;
+    }
+    double limit = mi->stability / sp_params_omega_max(p);
+    if (safe) {
+        /* half the limit, rounded down to one significant digit */
+        double half = 0.5 * limit, mag = pow(10, floor(log10(half)));
+        *safe = floor(half / mag) * mag;
+    }
+    return limit;
+}
+
+/* ---- set-up and the guard ------------------------------------------------ */
+
+static void to_state(double t, const double *u, struct sp_state *s)
+{
+    *s = (struct sp_state){.t = t, .x = u[0], .y = u[1], .vx = u[2], .vy = u[3]};
+}
+
+/* Hairer's starting step for an adaptive method of the given order. */
+static double initial_step(struct sp_sim *sim, int order)
+{
+    double d0 = 0, d1 = 0, d2 = 0, u[5], f1[5];
+    const double *y = sim->y1, *f0 = sim->k[0];
+    for (int c = 0; c < 4; c++) {
+        double sc = sim->atol[c] + sim->tol * fabs(y[c]);
+        d0 += (y[c] / sc) * (y[c] / sc);
+        d1 += (f0[c] / sc) * (f0[c] / sc);
+    }
+    d0 = sqrt(d0 / 4), d1 = sqrt(d1 / 4);
+    double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+    for (int c = 0; c < 5; c++)
+        u[c] = y[c] + h0 * f0[c];
+    rhs(&sim->p, sim->t1 + h0, u, f1, 1);
+    sim->evals++;
+    for (int c = 0; c < 4; c++) {
+        double sc = sim->atol[c] + sim->tol * fabs(y[c]);
+        d2 += ((f1[c] - f0[c]) / sc) * ((f1[c] - f0[c]) / sc);
+    }
+    d2 = sqrt(d2 / 4) / h0;
+    double dm = fmax(d1, d2);
+    double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : pow(0.01 / dm, 1.0 / (order + 1));
+    return fmin(100 * h0, h1);
+}
+
 void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
 {
     const double r = scene->initial.length, th = scene->initial.angle;
     const double rd = scene->initial.length_rate, thd = scene->initial.angle_rate;
     struct sp_energy e;
+    memset(sim, 0, sizeof(*sim));
     sim->scene = scene;
     sim->p = (struct sp_params){
         .k_over_m = scene->pendulum.stiffness / scene->pendulum.mass,
@@ -85,7 +485,11 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
         .b_over_m = scene->pendulum.damping / scene->pendulum.mass,
         .mass = scene->pendulum.mass,
         .stiffness = scene->pendulum.stiffness,
+        .drive_amp = scene->pivot.amplitude,
+        .drive_omega = 2 * M_PI * scene->pivot.frequency,
     };
+    if (sim->p.drive_omega == 0)
+        sim->p.drive_amp = 0; /* a pivot displaced but at rest is no drive */
     sim->s = (struct sp_state){
         .t = 0,
         .x = r * sin(th),
@@ -93,8 +497,13 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
         .vx = rd * sin(th) + r * thd * cos(th),
         .vy = -rd * cos(th) + r * thd * sin(th),
     };
+    sim->method = scene->integrator.method;
     sim->dt = scene->integrator.dt;
-    sim->steps = 0;
+    sim->tol = scene->integrator.tolerance;
+    sim->forced = sim->p.b_over_m != 0 || sim->p.drive_amp != 0;
+    /* the scene refuses this pairing; a scene built in code gets dop853 */
+    if (sim->forced && sim->method == SP_METHOD_RKN1210)
+        sim->method = SP_METHOD_DOP853;
     sp_state_energy(&sim->p, &sim->s, &e);
     sim->energy0 = e.total;
     /* The energies the motion trades between, J: the start's own terms, and
@@ -103,68 +512,227 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
     sim->energy_scale = fabs(e.kinetic) + fabs(e.spring) + fabs(e.gravity) +
                         sim->p.mass * sim->p.g * ell +
                         0.5 * sim->p.stiffness * sim->p.L0 * sim->p.L0;
+    sim->y1[0] = sim->s.x, sim->y1[1] = sim->s.y;
+    sim->y1[2] = sim->s.vx, sim->y1[3] = sim->s.vy;
+    memcpy(sim->y0, sim->y1, sizeof(sim->y0));
+    force_at(&sim->p, 0, sim->y1, sim->force);
+    if (sp_method_info(sim->method)->adaptive) {
+        /* absolute tolerances from the scene's length and speed scales */
+        double len = fmax(fmax(ell, r), sim->p.L0);
+        double speed = sqrt(2 * sim->energy_scale / sim->p.mass);
+        sim->atol[0] = sim->atol[1] = sim->tol * len;
+        sim->atol[2] = sim->atol[3] = sim->tol * speed;
+        rhs(&sim->p, 0, sim->y1, sim->k[0], 1);
+        sim->evals = 1;
+        sim->h = initial_step(sim, sp_method_info(sim->method)->order);
+    }
 }
 
 /* Prints what went wrong, when, and how to fix it. */
-static int report_blowup(const struct sp_sim *sim, double energy, const char *what)
+static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, double energy,
+                         const char *what)
 {
-    double w = sp_params_omega_max(&sim->p);
-    double limit = SP_RK4_STABILITY / w;
-    /* suggest half the limit, rounded down to one significant digit */
-    double safe = 0.5 * limit, mag = pow(10, floor(log10(safe)));
-    safe = floor(safe / mag) * mag;
+    const struct sp_method_info *mi = sp_method_info(sim->method);
+    double w = sp_params_omega_max(&sim->p), safe;
+    double limit = sp_method_dt_limit(sim->method, &sim->p, &safe);
     sp_log_error("the simulation became unstable at t = %.6g s (%s): "
                  "x = %.6g m, y = %.6g m, vx = %.6g m/s, vy = %.6g m/s, "
-                 "energy %.6g J vs %.6g J at t = 0",
-                 sim->s.t, what, sim->s.x, sim->s.y, sim->s.vx, sim->s.vy, energy,
-                 sim->energy0);
-    if (sim->dt * w > SP_RK4_STABILITY)
-        fprintf(stderr, "  dt = %g s is above RK4's stability limit %.3g s for "
-                "omega_max = %.4g rad/s (k/m = %g 1/s^2); use integrator.dt <= %g\n",
-                sim->dt, limit, w, sim->p.k_over_m, safe);
+                 "energy %.6g J vs %.6g J at t = 0 (%.6g J of it work by damping "
+                 "and drive)",
+                 s->t, what, s->x, s->y, s->vx, s->vy, energy, sim->energy0, sim->work);
+    if (mi->adaptive)
+        fprintf(stderr, "  %s with tolerance %g cannot follow this motion; try "
+                "integrator.tolerance = %g\n", mi->name, sim->tol, sim->tol * 1e-3);
+    else if (sim->dt * w > mi->stability)
+        fprintf(stderr, "  dt = %g s is above %s's stability limit %.3g s for "
+                "omega_max = %.4g rad/s (k/m = %g 1/s^2); use integrator.dt <= %g "
+                "or integrator.method = dop853\n",
+                sim->dt, mi->name, limit, w, sim->p.k_over_m, safe);
     else
-        fprintf(stderr, "  dt = %g s is within RK4's stability limit %.3g s but too "
-                "coarse for this motion; try integrator.dt = %g\n",
-                sim->dt, limit, sim->dt / 10);
+        fprintf(stderr, "  dt = %g s is within %s's stability limit %.3g s but too "
+                "coarse for this motion; try integrator.dt = %g or "
+                "integrator.method = dop853\n", sim->dt, mi->name, limit, sim->dt / 10);
     return SP_E_UNSTABLE;
 }
 
-/* 0 if the state is finite and the energy plausible, else the report. */
-static int check_state(const struct sp_sim *sim)
+/* 0 if state u at time t is finite and its energy balance plausible, else
+ * the report. */
+static int check_state(struct sp_sim *sim, double t, const double *u)
 {
-    const struct sp_state *s = &sim->s;
-    if (!isfinite(s->x) || !isfinite(s->y) || !isfinite(s->vx) || !isfinite(s->vy))
-        return report_blowup(sim, NAN, "the state is no longer finite");
-    struct sp_energy e;
-    sp_state_energy(&sim->p, s, &e);
-    double drift = (e.total - sim->energy0) / sim->energy_scale;
-    /* Damping only removes energy; without it energy is conserved. */
-    if (drift > SP_ENERGY_DRIFT_LIMIT ||
-        (sim->p.b_over_m == 0 && drift < -SP_ENERGY_DRIFT_LIMIT)) {
-        char what[96];
-        snprintf(what, sizeof(what), "energy drifted by %.3g%% of its scale %.3g J",
-                 100 * drift, sim->energy_scale);
-        return report_blowup(sim, e.total, what);
+    struct sp_state s;
+    to_state(t, u, &s);
+    if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]) || !isfinite(u[3]) ||
+        !isfinite(u[4]))
+        return report_blowup(sim, &s, NAN, "the state is no longer finite");
+    /* the three energies, as sp_state_energy has them, without the polar
+     * form it needs for bounce and swing (this runs after every step) */
+    const struct sp_params *p = &sim->p;
+    double stretch = sqrt(u[0] * u[0] + u[1] * u[1]) - p->L0;
+    double kin = 0.5 * p->mass * (u[2] * u[2] + u[3] * u[3]);
+    double spring = 0.5 * p->stiffness * stretch * stretch, grav = p->mass * p->g * u[1];
+    double total = kin + spring + grav, work = p->mass * u[4];
+    /* judged against the energies in play now too: a drive may pump them up */
+    double scale = sim->energy_scale + kin + spring + fabs(grav);
+    double drift = (total - sim->energy0 - work) / scale;
+    if (!(fabs(drift) <= SP_ENERGY_DRIFT_LIMIT)) {
+        char what[128];
+        snprintf(what, sizeof(what), "energy, less the work of damping and drive, "
+                 "drifted by %.3g%% of its scale %.3g J", 100 * drift, scale);
+        sim->work = work;
+        return report_blowup(sim, &s, total, what);
     }
     return 0;
 }
 
-int sp_sim_advance(struct sp_sim *sim, double t_target)
+/* ---- advancing ----------------------------------------------------------- */
+
+/* Fixed-step methods: walk the grid to the last point <= t_target, then one
+ * short step from a copy to t_target. */
+SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int forced)
 {
-    struct sp_state *s = &sim->s;
-    while (s->t < t_target) {
-        double h = sim->dt, remaining = t_target - s->t;
-        int last = remaining <= h * (1 + 1e-9);
-        if (last)
-            h = remaining;
-        rk4_step(&sim->p, s, h);
-        s->t = last ? t_target : s->t + h;
+    double u[5], a[3];
+    long n = lround(sim->t1 / sim->dt);
+    const int check_every = sim->method == SP_METHOD_VERLET ? 8 : 4;
+    memcpy(u, sim->y1, sizeof(u));
+    memcpy(a, sim->force, sizeof(a));
+    while ((double)(n + 1) * sim->dt <= t_target) {
+        sim->evals += fixed_step(sim, (double)n * sim->dt, u, sim->dt, a, forced);
+        n++;
         sim->steps++;
-        if (!isfinite(s->x + s->y + s->vx + s->vy) || (sim->steps & 3) == 0) {
-            int ret = check_state(sim);
-            if (ret)
+        if (sim->steps % check_every == 0 || !isfinite(u[0] + u[1] + u[2] + u[3])) {
+            int ret = check_state(sim, (double)n * sim->dt, u);
+            if (ret) {
+                to_state((double)n * sim->dt, u, &sim->s);
                 return ret;
+            }
         }
     }
-    return check_state(sim);
+    sim->t1 = (double)n * sim->dt;
+    memcpy(sim->y1, u, sizeof(u));
+    memcpy(sim->force, a, sizeof(a));
+    if (t_target > sim->t1)
+        sim->evals += fixed_step(sim, sim->t1, u, t_target - sim->t1, a, forced);
+    int ret = check_state(sim, t_target, u);
+    to_state(t_target, u, &sim->s);
+    sim->work = sim->p.mass * u[4];
+    return ret;
+}
+
+/* err^(-1/(order+1)) for the step-size controller: for dop853 (-1/8) three
+ * square roots, cheaper than pow. */
+static inline double step_factor(double err, const int d853)
+{
+    return d853 ? 1 / sqrt(sqrt(sqrt(err))) : pow(err, -0.2);
+}
+
+/* Adaptive methods: accepted steps until t1 >= t_target, then dense output. */
+SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int forced)
+{
+    const int d853 = sim->method == SP_METHOD_DOP853;
+    const int fsal = d853 ? 12 : 6;
+    const double fac_min = d853 ? 0.333 : 0.2, fac_max = d853 ? 6 : 10;
+    double u[5] = {0}; /* u[4] stays 0 when not forced */
+    while (sim->t1 < t_target) {
+        double h = sim->h, err;
+        if (sim->steps > 0 || sim->rejected > 0)
+            memcpy(sim->k[0], sim->k[fsal], sizeof(sim->k[0]));
+        for (;;) {
+            if (!(h > 1e-14 * fmax(1, fabs(sim->t1)))) {
+                struct sp_state s;
+                to_state(sim->t1, sim->y1, &s);
+                sim->s = s;
+                return report_blowup(sim, &s, NAN, "the step size fell below 1e-14 s");
+            }
+            err = d853 ? dop853_try(sim, h, u, forced) : dopri5_try(sim, h, u, forced);
+            sim->evals += d853 ? 12 : 6;
+            if (err <= 1)
+                break;
+            /* a NaN error also lands here: shrink and retry */
+            h *= isfinite(err) ? fmax(fac_min, 0.9 * step_factor(err, d853)) : fac_min;
+            sim->rejected++;
+            sim->last_rejected = 1;
+        }
+        double fac = err == 0 ? fac_max : fmin(fac_max, fmax(fac_min, 0.9 * step_factor(err, d853)));
+        if (sim->last_rejected)
+            fac = fmin(fac, 1);
+        sim->last_rejected = 0;
+        sim->t0 = sim->t1;
+        memcpy(sim->y0, sim->y1, sizeof(u));
+        sim->t1 += h;
+        memcpy(sim->y1, u, sizeof(u));
+        sim->h = h * fac;
+        sim->steps++;
+        sim->dense_ready = 0;
+        int ret = check_state(sim, sim->t1, sim->y1);
+        if (ret) {
+            to_state(sim->t1, sim->y1, &sim->s);
+            return ret;
+        }
+    }
+    if (t_target == sim->t1)
+        memcpy(u, sim->y1, sizeof(u));
+    else
+        dense_eval(sim, t_target, u, forced);
+    int ret = check_state(sim, t_target, u);
+    to_state(t_target, u, &sim->s);
+    sim->work = sim->p.mass * u[4];
+    return ret;
+}
+
+/* RKN12(10): accepted steps until t1 >= t_target; a time inside the last
+ * step is reached by one extra step from its start (17 evaluations, and
+ * the step sequence stays what the error control chose). */
+static int advance_rkn(struct sp_sim *sim, double t_target)
+{
+    double u[5] = {0};
+    while (sim->t1 < t_target) {
+        double h = sim->h, err;
+        for (;;) {
+            if (!(h > 1e-14 * fmax(1, fabs(sim->t1)))) {
+                to_state(sim->t1, sim->y1, &sim->s);
+                return report_blowup(sim, &sim->s, NAN, "the step size fell below 1e-14 s");
+            }
+            err = rkn_try(sim, sim->t1, sim->y1, h, u);
+            sim->evals += 17;
+            if (err <= 1)
+                break;
+            h *= isfinite(err) ? fmax(0.2, 0.9 * pow(err, -1.0 / 11)) : 0.2;
+            sim->rejected++;
+            sim->last_rejected = 1;
+        }
+        double fac = err == 0 ? 5 : fmin(5, fmax(0.2, 0.9 * pow(err, -1.0 / 11)));
+        if (sim->last_rejected)
+            fac = fmin(fac, 1);
+        sim->last_rejected = 0;
+        sim->t0 = sim->t1;
+        memcpy(sim->y0, sim->y1, sizeof(u));
+        sim->t1 += h;
+        memcpy(sim->y1, u, sizeof(u));
+        sim->h = h * fac;
+        sim->steps++;
+        int ret = check_state(sim, sim->t1, sim->y1);
+        if (ret) {
+            to_state(sim->t1, sim->y1, &sim->s);
+            return ret;
+        }
+    }
+    if (t_target == sim->t1) {
+        memcpy(u, sim->y1, sizeof(u));
+    } else {
+        rkn_try(sim, sim->t0, sim->y0, t_target - sim->t0, u);
+        sim->evals += 17;
+    }
+    int ret = check_state(sim, t_target, u);
+    to_state(t_target, u, &sim->s);
+    return ret;
+}
+
+int sp_sim_advance(struct sp_sim *sim, double t_target)
+{
+    if (sim->method == SP_METHOD_RKN1210)
+        return advance_rkn(sim, t_target);
+    if (sp_method_info(sim->method)->adaptive)
+        return sim->forced ? advance_adaptive(sim, t_target, 1)
+                           : advance_adaptive(sim, t_target, 0);
+    return sim->forced ? advance_fixed(sim, t_target, 1) : advance_fixed(sim, t_target, 0);
 }

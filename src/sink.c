@@ -192,3 +192,8 @@ void sp_sink_discard(const char *path)
     if (remove(path) != 0 && errno != ENOENT)
         sp_log_error("cannot remove %s: %s", path, strerror(errno));
 }
+
+int sp_sink_make_parents(const char *path)
+{
+    return make_parents(path);
+}

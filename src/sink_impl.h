@@ -49,6 +49,8 @@ extern const struct sp_sink_backend sp_sink_backend_png_single;
 int sp_sink_part_path(const char *path, char **out);
 /* Renames part to target; on failure logs and returns SP_E_IO. */
 int sp_sink_commit(const char *part, const char *target);
+/* mkdir -p of every folder above the file path (also for the data command). */
+int sp_sink_make_parents(const char *path);
 /* Removes path if it exists; quiet about a missing file. */
 void sp_sink_discard(const char *path);
 

@@ -4,7 +4,6 @@
  * the end flush with NULL and write the trailer. The muxer writes
  * NAME.part (format named explicitly, since ".part" says nothing) and
  * +faststart moves the index (moov) before the data at the trailer. */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,6 +73,14 @@ static int video_check(const struct sp_sink_desc *d)
     return 0;
 }
 
+/* Logs "PATH: DOING: libav's words" and returns code. */
+static int av_failed(const struct sp_sink *s, const char *doing, int ret,
+                     int code)
+{
+    sp_log_error("%s: %s: %s", s->path, doing, av_err2str(ret));
+    return code;
+}
+
 /* Frees everything in v and removes the .part unless it was renamed. */
 static void video_release(struct sp_sink *s)
 {
@@ -99,29 +106,20 @@ static int video_encode(struct sp_sink *s, const AVFrame *frame)
 {
     struct video *v = s->priv;
     int ret = avcodec_send_frame(v->enc, frame);
-    if (ret < 0) {
-        sp_log_error("%s: H.264 encoder refused a frame: %s", s->path,
-                     av_err2str(ret));
-        return SP_E_CODEC;
-    }
+    if (ret < 0)
+        return av_failed(s, "H.264 encoder refused a frame", ret, SP_E_CODEC);
     for (;;) {
         ret = avcodec_receive_packet(v->enc, v->pkt);
         if (ret == AVERROR(EAGAIN) || ret == AVERROR_EOF)
             return 0;
-        if (ret < 0) {
-            sp_log_error("%s: H.264 encoding failed: %s", s->path,
-                         av_err2str(ret));
-            return SP_E_CODEC;
-        }
+        if (ret < 0)
+            return av_failed(s, "H.264 encoding failed", ret, SP_E_CODEC);
         av_packet_rescale_ts(v->pkt, v->enc->time_base, v->st->time_base);
         v->pkt->stream_index = v->st->index;
         /* Takes the packet's reference and leaves pkt blank for reuse. */
         ret = av_interleaved_write_frame(v->oc, v->pkt);
-        if (ret < 0) {
-            sp_log_error("%s: cannot write video: %s", s->path,
-                         av_err2str(ret));
-            return SP_E_IO;
-        }
+        if (ret < 0)
+            return av_failed(s, "cannot write video", ret, SP_E_IO);
     }
 }
 
@@ -146,8 +144,7 @@ static int video_open(struct sp_sink *s)
     }
     ret = avformat_alloc_output_context2(&v->oc, NULL, "mp4", v->url);
     if (ret < 0) {
-        sp_log_error("%s: cannot set up the MP4 muxer: %s", s->path,
-                     av_err2str(ret));
+        err = av_failed(s, "cannot set up the MP4 muxer", ret, SP_E_CODEC);
         goto fail;
     }
     v->st = avformat_new_stream(v->oc, NULL);
@@ -177,14 +174,14 @@ static int video_open(struct sp_sink *s)
     if ((ret = av_opt_set(v->enc->priv_data, "preset", preset, 0)) < 0 ||
         (ret = av_opt_set(v->enc->priv_data, "crf", crf, 0)) < 0 ||
         (ret = avcodec_open2(v->enc, codec, NULL)) < 0) {
-        sp_log_error("%s: cannot open the %s encoder: %s", s->path,
-                     VIDEO_ENCODER, av_err2str(ret));
+        err = av_failed(s, "cannot open the " VIDEO_ENCODER " encoder", ret,
+                        SP_E_CODEC);
         goto fail;
     }
     ret = avcodec_parameters_from_context(v->st->codecpar, v->enc);
     if (ret < 0) {
-        sp_log_error("%s: cannot copy the encoder's parameters: %s", s->path,
-                     av_err2str(ret));
+        err = av_failed(s, "cannot copy the encoder's parameters", ret,
+                        SP_E_CODEC);
         goto fail;
     }
     v->st->time_base = v->enc->time_base; /* a hint; the muxer may change it */
@@ -195,9 +192,7 @@ static int video_open(struct sp_sink *s)
     v->frame->height = d->height;
     ret = av_frame_get_buffer(v->frame, 0);
     if (ret < 0) {
-        sp_log_error("%s: cannot allocate a video frame: %s", s->path,
-                     av_err2str(ret));
-        err = SP_E_NOMEM;
+        err = av_failed(s, "cannot allocate a video frame", ret, SP_E_NOMEM);
         goto fail;
     }
     v->sws = sws_getContext(d->width, d->height, AV_PIX_FMT_RGBA, d->width,
@@ -213,17 +208,13 @@ static int video_open(struct sp_sink *s)
     /* The file is created last, so a refused setup leaves nothing. */
     ret = avio_open(&v->oc->pb, v->url, AVIO_FLAG_WRITE);
     if (ret < 0) {
-        sp_log_error("%s: cannot create %s: %s", s->path,
-                     v->url + strlen("file:"), av_err2str(ret));
-        err = SP_E_IO;
+        err = av_failed(s, "cannot create its .part file", ret, SP_E_IO);
         goto fail;
     }
     av_dict_set(&mux_opts, "movflags", "+faststart", 0);
     ret = avformat_write_header(v->oc, &mux_opts);
     if (ret < 0) {
-        sp_log_error("%s: cannot write the MP4 header: %s", s->path,
-                     av_err2str(ret));
-        err = SP_E_IO;
+        err = av_failed(s, "cannot write the MP4 header", ret, SP_E_IO);
         goto fail;
     }
     av_dict_free(&mux_opts);
@@ -242,19 +233,13 @@ static int video_write(struct sp_sink *s, const struct sp_image *img)
 
     /* The encoder has let go of the last frame, so this does not copy. */
     int ret = av_frame_make_writable(v->frame);
-    if (ret < 0) {
-        sp_log_error("%s: cannot reuse the video frame: %s", s->path,
-                     av_err2str(ret));
-        return SP_E_CODEC;
-    }
+    if (ret < 0)
+        return av_failed(s, "cannot reuse the video frame", ret, SP_E_CODEC);
     /* Alpha is dropped: video frames are taken as opaque. */
     ret = sws_scale(v->sws, src, src_stride, 0, img->height, v->frame->data,
                     v->frame->linesize);
-    if (ret < 0) {
-        sp_log_error("%s: cannot convert RGBA to YUV420P: %s", s->path,
-                     av_err2str(ret));
-        return SP_E_CODEC;
-    }
+    if (ret < 0)
+        return av_failed(s, "cannot convert RGBA to YUV420P", ret, SP_E_CODEC);
     v->frame->pts = s->frames;
     return video_encode(s, v->frame);
 }
@@ -269,11 +254,8 @@ static int video_close(struct sp_sink *s)
     int ret = av_write_trailer(v->oc);
     if (ret >= 0)
         ret = avio_closep(&v->oc->pb);
-    if (ret < 0) {
-        sp_log_error("%s: cannot finish the MP4 file: %s", s->path,
-                     av_err2str(ret));
-        return SP_E_IO;
-    }
+    if (ret < 0)
+        return av_failed(s, "cannot finish the MP4 file", ret, SP_E_IO);
     err = sp_sink_commit(v->url + strlen("file:"), s->path);
     if (err)
         return err;

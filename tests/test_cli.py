@@ -49,6 +49,12 @@ bad = [
     ("[integrator]\ndt = -1\n", "bad.ini:2: integrator.dt = -1 is out of range", "0 < dt"),
     ("[video]\nwidth = 99999\n", "bad.ini:2: video.width = 99999 is out of range", "16 to 7680"),
     ("[initial]\nlength = 0\n[video]\nfps = 0\n", "bad.ini:2: initial.length", "bad.ini:4: video.fps"),
+    ("[integrator]\nmethod = rk5\n", "bad.ini:2: integrator.method = 'rk5' is not a method",
+     "rk4, verlet, yoshida4, dopri5, dop853, rkn1210"),
+    ("[integrator]\nmethod = rkn1210\n[pendulum]\ndamping = 0.1\n",
+     "integrator.method = rkn1210 needs a force that depends on the position only", "dop853"),
+    ("[integrator]\ntolerance = 1\n", "bad.ini:2: integrator.tolerance = 1 is out of range", "0.01"),
+    ("[pivot]\namplitud = 1\n", "bad.ini:2: unknown key 'amplitud' in [pivot]", "did you mean 'amplitude'"),
 ]
 for text, want1, want2 in bad:
     scene = write("bad.ini", text)
@@ -171,7 +177,7 @@ r = run("render", default, "-o", default)
 ok(r.returncode == 2 and "scene file itself" in r.stderr, "the output may not overwrite the scene")
 r = run("frobnicate")
 ok(r.returncode == 2 and "unknown command" in r.stderr, "an unknown command")
-for cmd in ([], ["render"], ["still"]):
+for cmd in ([], ["render"], ["still"], ["data"], ["info"]):
     r = run(*cmd, "--help")
     ok(r.returncode == 0 and "usage:" in r.stdout, f"springpend {' '.join(cmd)} --help")
 
@@ -386,6 +392,53 @@ for what, args, says in (
     ok(r.returncode == 1 and says in r.stderr and not left,
        f"a write beyond the file size limit ({what}): exit 1, says {says!r}, nothing left "
        f"(got {r.returncode}, {left}: {r.stderr.strip()[:200]!r})")
+
+# data: CSV rows at the requested times, physics that holds, every method.
+import csv
+import io
+import math
+
+cols = "t,x,y,vx,vy,r,theta,r_dot,theta_dot,kinetic,spring,gravity,energy".split(",")
+for method in ("rk4", "verlet", "yoshida4", "dopri5", "dop853", "rkn1210"):
+    r = run("data", default, "--every", "0.25", "--set", f"integrator.method={method}", "-o", "-")
+    rows = list(csv.DictReader(io.StringIO(r.stdout))) if r.returncode == 0 else []
+    ts = [float(x["t"]) for x in rows]
+    e = [float(x["energy"]) for x in rows]
+    polar_ok = all(abs(float(x["r"]) * math.sin(float(x["theta"])) - float(x["x"])) < 1e-9
+                   and abs(float(x["bounce"]) + float(x["swing"]) - float(x["energy"])
+                           - (float(rows[0]["bounce"]) + float(rows[0]["swing"])
+                              - float(rows[0]["energy"]))) < 1e-9 for x in rows)
+    ok(r.returncode == 0 and len(rows) == 41 and ts[0] == 0 and ts[-1] == 10
+       and all(c in rows[0] for c in cols) and polar_ok
+       and max(e) - min(e) < {"verlet": 1e-4, "dopri5": 1e-6, "dop853": 1e-6, "rkn1210": 1e-6}.get(method, 1e-7),
+       f"data --every 0.25 with {method}: 41 rows t = 0..10, r/theta match x, "
+       f"energy spread {max(e) - min(e) if e else -1:.1e} J ({r.stderr.strip()[:200]})")
+r = run("data", default, "--set", "video.duration=1", "-q")
+path = os.path.join(work, "out", "default.csv")
+n = sum(1 for _ in open(path)) if os.path.exists(path) else 0
+ok(r.returncode == 0 and n == 61, f"data without -o writes out/default.csv, 60 frame rows + header ({n})")
+r = run("data", default, "--set", "pendulum.stiffness=5e6", "-o", "blow.csv")
+ok(r.returncode == 3 and "stability limit" in r.stderr and not os.path.exists(os.path.join(work, "blow.csv"))
+   and not os.path.exists(os.path.join(work, "blow.csv.part")),
+   "an unstable data run exits 3, names the stability limit, and leaves no file")
+r = run("data", default, "--every", "0", "-o", "-")
+ok(r.returncode == 2 and "--every 0" in r.stderr, "--every 0 is refused with exit 2")
+r = run("data", default, "--set", "pendulum.stiffness=5e6", "--set", "pendulum.mass=0.5",
+        "--set", "integrator.method=dop853", "--set", "video.duration=0.5", "-o", "-")
+ok(r.returncode == 0 and len(r.stdout.splitlines()) == 31,
+   "the same stiff scene runs clean with dop853")
+
+# info: the resonance check, with l = L0 + m g / k, and the stability warning.
+r = run("info", default)
+ok(r.returncode == 0 and "l = L0 + m g / k = 2.9525 m" in r.stdout
+   and "sqrt(g/l) = 1.8228" in r.stdout and "not near 2:1" in r.stdout and "warning" not in r.stdout,
+   "info on the default scene: l = 2.9525 m, omega_p = sqrt(g/l), not near 2:1")
+r = run("info", default, "--set", "pendulum.stiffness=29.43", "--set", "initial.length=0.8")
+ok(r.returncode == 0 and "near 2:1 (+0.00%)" in r.stdout and "growth rate" in r.stdout,
+   f"info at k L0 = 3 m g: near 2:1 with the exchange estimate")
+r = run("info", default, "--set", "pendulum.stiffness=5e6")
+ok(r.returncode == 0 and "warning: dt = 0.001 s is above rk4's stability limit" in r.stdout
+   and "integrator.dt <= 0.0004" in r.stdout, "info warns about an unstable dt with a safe one")
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

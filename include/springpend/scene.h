@@ -8,7 +8,12 @@
 #include <stddef.h>
 
 enum sp_method {
-    SP_METHOD_RK4 = 0,
+    SP_METHOD_RK4 = 0, /* classical Runge-Kutta, fixed dt */
+    SP_METHOD_VERLET,  /* Stormer-Verlet, fixed dt, symplectic, order 2 */
+    SP_METHOD_YOSHIDA4, /* Yoshida's triple jump, fixed dt, symplectic, order 4 */
+    SP_METHOD_DOPRI5,  /* Dormand-Prince 5(4), adaptive, dense output */
+    SP_METHOD_DOP853,  /* Dormand-Prince 8(5,3), adaptive, dense output */
+    SP_METHOD_RKN1210, /* Runge-Kutta-Nystrom 12(10), adaptive, no damping or drive */
 };
 
 struct sp_scene {
@@ -28,8 +33,13 @@ struct sp_scene {
     } initial;
     struct {
         enum sp_method method;
-        double dt; /* fixed step, s */
+        double dt;        /* fixed step, s */
+        double tolerance; /* adaptive methods' relative tolerance */
     } integrator;
+    struct {
+        double amplitude; /* vertical oscillation of the pivot, m */
+        double frequency; /* Hz */
+    } pivot;
     struct {
         int width, height; /* px */
         double fps;        /* video frames per second */

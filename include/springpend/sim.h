@@ -1,11 +1,15 @@
 /* springpend: the physics. Pure: no I/O but the blow-up message, no GL.
- * Cartesian state, pivot at the origin, y up (x = r sin(theta),
+ * Cartesian state relative to the pivot, y up (x = r sin(theta),
  * y = -r cos(theta)). Equations of motion from the Lagrangian
  *   T = m/2 (r'^2 + r^2 theta'^2),  U = k/2 (r - L0)^2 - m g r cos(theta):
  *   x'' = -(k/m)(1 - L0/rho) x - (b/m) x'
- *   y'' = -(k/m)(1 - L0/rho) y - g - (b/m) y'
+ *   y'' = -(k/m)(1 - L0/rho) y - g - a_p(t) - (b/m)(y' + v_p(t))
  * which in polar form is r'' = r theta'^2 + g cos(theta) + (k/m)(L0 - r)
- * (note + g cos: the original page's - g cos breaks energy conservation). */
+ * (note + g cos: the original page's - g cos breaks energy conservation).
+ * The pivot moves vertically, y_p(t) = A sin(Omega t) (A = 0: fixed); the
+ * state is kept in the pivot's frame, where the pivot's acceleration a_p acts
+ * as a time-dependent gravity. Damping acts on the bob's velocity relative
+ * to the air, which is at rest in the lab: v + v_p(t) y-hat. */
 #ifndef SPRINGPEND_SIM_H
 #define SPRINGPEND_SIM_H
 
@@ -13,17 +17,19 @@
 
 struct sp_state {
     double t;      /* simulated time, s */
-    double x, y;   /* bob position, m */
-    double vx, vy; /* bob velocity, m/s */
+    double x, y;   /* bob position relative to the pivot, m */
+    double vx, vy; /* bob velocity relative to the pivot, m/s */
 };
 
 struct sp_params {
-    double k_over_m;  /* 1/s^2 */
-    double L0;        /* natural length, m */
-    double g;         /* m/s^2 */
-    double b_over_m;  /* 1/s */
-    double mass;      /* kg */
-    double stiffness; /* N/m */
+    double k_over_m;    /* 1/s^2 */
+    double L0;          /* natural length, m */
+    double g;           /* m/s^2 */
+    double b_over_m;    /* 1/s */
+    double mass;        /* kg */
+    double stiffness;   /* N/m */
+    double drive_amp;   /* pivot amplitude A, m (0: fixed pivot) */
+    double drive_omega; /* pivot angular frequency Omega, rad/s */
 };
 
 struct sp_polar {
@@ -33,38 +39,86 @@ struct sp_polar {
     double theta_dot; /* rad/s */
 };
 
+/* Energies in the pivot's frame. bounce + swing = total - E_eq, where E_eq
+ * is the energy of the bob hanging still at the equilibrium length
+ * l = L0 + m g / k: the split the original text speaks of. */
 struct sp_energy {
     double kinetic; /* J */
     double spring;  /* J */
     double gravity; /* J, zero at the pivot's height */
     double total;   /* J */
+    double bounce;  /* J: m r'^2 / 2 + k (r - l)^2 / 2, radial */
+    double swing;   /* J: m r^2 theta'^2 / 2 + m g r (1 - cos theta), angular */
 };
 
+/* What a method is: for `info`, the blow-up message and the benchmark. */
+struct sp_method_info {
+    const char *name;  /* as in the scene file */
+    int order;         /* global order of accuracy */
+    int adaptive;      /* 1: error-controlled steps, dense output */
+    double stability;  /* largest |dt*omega| on the imaginary axis (fixed dt) */
+    int evals;         /* right-hand-side evaluations per step */
+};
+
+const struct sp_method_info *sp_method_info(enum sp_method m);
+
+/* The integrator. Fixed-step methods walk the grid t_n = n dt and reach a
+ * requested time between grid points with one extra short step from the
+ * last grid state, so the grid (and a symplectic method's energy behaviour)
+ * does not depend on when it is sampled. Adaptive methods take their own
+ * steps and interpolate (dense output). Fields below `private` are the
+ * stepper's own. */
 struct sp_sim {
     struct sp_params p;
-    struct sp_state s;
-    double dt;           /* nominal step, s */
+    struct sp_state s;   /* the state at the last requested time */
+    enum sp_method method;
+    double dt;           /* fixed step, s (adaptive: the scene's dt, unused) */
+    double tol;          /* adaptive methods' tolerance, relative */
     double energy0;      /* total energy at t = 0, J */
     double energy_scale; /* J: the size against which drift is judged */
-    long steps;          /* steps taken so far */
+    double work;         /* J: work done on the bob by damping and the moving
+                          * pivot up to s.t; total - energy0 - work is drift */
+    long steps;          /* steps taken so far (accepted, on adaptive) */
+    long rejected;       /* adaptive: steps rejected by error control */
+    long evals;          /* right-hand-side evaluations so far */
     const struct sp_scene *scene; /* for messages */
+    /* private */
+    int forced;          /* damping or a moving pivot: track the work */
+    double y0[5], y1[5]; /* state (x, y, vx, vy, work/m) at t0 and t1 */
+    double t0, t1;       /* the current step (adaptive); t1: grid point (fixed) */
+    double force[3];     /* splitting methods: ax, ay, a_pivot at (t1, y1) */
+    double h;            /* adaptive: next step size, s */
+    double atol[4];      /* adaptive: absolute tolerance per component */
+    int dense_ready;     /* adaptive: dense[] is filled for [t0, t1] */
+    int last_rejected;
+    double k[17][5];     /* stage derivatives of the current step */
+    double dense[7][5];  /* dense output coefficients */
 };
 
 /* Sets up the initial state from the scene. */
 void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene);
 
-/* Integrates forward to exactly t_target (>= sim->s.t), shortening the last
- * step so it lands on t_target. Returns SP_E_UNSTABLE (after printing the
- * time, state, energy drift and a fix) if the state stops being finite or
- * the energy of an undamped run drifts beyond what any sane step allows. */
+/* Integrates forward so that afterwards sim->s is the state at exactly
+ * t_target (>= sim->s.t). Returns SP_E_UNSTABLE (after printing the time,
+ * state, energy drift and a fix) if the state stops being finite or the
+ * energy, less the work of damping and drive, drifts beyond what any sane
+ * step allows; sim->s is then the last state checked. */
 int sp_sim_advance(struct sp_sim *sim, double t_target);
 
 void sp_state_polar(const struct sp_state *s, struct sp_polar *out);
 void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
                      struct sp_energy *out);
 
+/* The pivot's height at time t, m (0 for a fixed pivot). */
+double sp_pivot_y(const struct sp_params *p, double t);
+
 /* The fastest small-oscillation angular frequency of the scene, rad/s:
- * max(sqrt(k/m), sqrt(g/l)) with l = L0 + m g / k. */
+ * max(sqrt(k/m), sqrt(g/l), b/m) with l = L0 + m g / k. */
 double sp_params_omega_max(const struct sp_params *p);
+
+/* The largest dt a fixed-step method is stable at for this scene, s, with
+ * half of it as a suggestion rounded down to one significant digit in *safe.
+ * Adaptive methods: returns 0. */
+double sp_method_dt_limit(enum sp_method m, const struct sp_params *p, double *safe);
 
 #endif

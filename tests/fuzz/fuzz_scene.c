@@ -48,7 +48,12 @@ static void check_accepted(const struct sp_scene *s)
     int n = sp_scene_frame_count(s);
     CHECK(n >= 1 && n <= 1000000);
     CHECK(isfinite(sp_scene_frame_time(s, n - 1)) && sp_scene_frame_time(s, n - 1) >= 0);
-    CHECK(s->video.duration / s->integrator.dt <= 1e10);
+    if (s->integrator.method <= SP_METHOD_YOSHIDA4) /* fixed steps */
+        CHECK(s->video.duration / s->integrator.dt <= 1e10);
+    if (s->integrator.method == SP_METHOD_RKN1210)
+        CHECK(s->pendulum.damping == 0 && !(s->pivot.amplitude > 0 && s->pivot.frequency > 0));
+    CHECK(s->integrator.tolerance >= 1e-15 && s->integrator.tolerance <= 1e-2);
+    CHECK(isfinite(s->pivot.amplitude) && isfinite(s->pivot.frequency));
     CHECK(s->view.trail >= 0 && s->view.trail <= 1000000);
     CHECK(s->name[sizeof(s->name) - 1] == 0);
     char buf[4096];

@@ -2,7 +2,8 @@
 // Coverage of a capsule from the pixel's distance to its segment:
 // clamp(radius - d + 0.5, 0, 1), one pixel of analytic antialiasing.
 // kind 1 shades the disc as a lit ball (light from the upper left) with a
-// darker rim. Output is premultiplied by alpha * coverage.
+// darker rim. kind 2 is a box: the segment's rectangle without round caps
+// (panel backgrounds, axes, ticks). Output is premultiplied by alpha * coverage.
 in vec2 v_local;
 flat in float v_half_len;
 flat in float v_radius;
@@ -15,10 +16,12 @@ void main()
 {
     float d = length(vec2(max(abs(v_local.x) - v_half_len, 0.0), v_local.y));
     float cover = clamp(v_radius - d + 0.5, 0.0, 1.0);
+    if (v_kind > 1.5)
+        cover = clamp(min(v_half_len - abs(v_local.x), v_radius - abs(v_local.y)) + 0.5, 0.0, 1.0);
     if (cover <= 0.0)
         discard;
     vec3 rgb = v_color.rgb;
-    if (v_kind > 0.5) {
+    if (v_kind > 0.5 && v_kind < 1.5) {
         // v_local is (x right, y down) from the centre for a disc.
         vec2 q = v_local / v_radius;
         vec3 nrm = vec3(q, sqrt(max(1.0 - dot(q, q), 0.0)));

@@ -29,6 +29,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
         {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
         {"help", no_argument, 0, 'h'},         {"every", required_argument, 0, 'e'},
+        {"scale", required_argument, 0, 'X'},
         {"state", required_argument, 0, 'J'},
         {0, 0, 0, 0},
     };
@@ -75,6 +76,17 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
                              optarg);
                 return SP_E_INPUT;
             }
+            break;
+        }
+        case 'X': {
+            char *end;
+            const long v = strtol(optarg, &end, 10);
+            if (!(allow_at & SP_CLI_AT) || end == optarg || *end || v < 1 || v > 4) {
+                sp_log_error("--scale %s: expected a supersampling factor from 1 to 4 "
+                             "(still only)", optarg);
+                return SP_E_INPUT;
+            }
+            o->scale = (int)v;
             break;
         }
         case 'e': {

@@ -17,6 +17,7 @@ struct sp_cli_options {
     int quiet;               /* -q */
     double at;               /* --at (still), simulated s; < 0 = not given */
     double every;            /* --every (data), simulated s; < 0 = not given */
+    int scale;               /* --scale (still): supersampling factor, 0 = not given */
     const char *state;       /* --state (still): JSON path, NULL = none */
 };
 

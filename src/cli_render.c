@@ -39,8 +39,14 @@ static const char still_usage[] =
     "                         (t, x, y, vx, vy, r, theta, energies), so CI can\n"
     "                         check the physics apart from the pixels\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
-    "  --size WxH             shorthand for video.width and video.height\n"
-    "  -h, --help             this text\n";
+    "  --size WxH             shorthand for video.width and video.height (up to 7680x4320)\n"
+    "  --scale N              draw at N times the size (1..4) and average down:\n"
+    "                         supersampled, smoother edges and text\n"
+    "  -h, --help             this text\n"
+    "\n"
+    "Teaching overlays and looks come from the scene's [view] keys (panels, hud,\n"
+    "theme, background, colormap, colorbar, strobe, trail = all): see 'springpend keys'.\n"
+    "A transparent background writes a PNG with alpha, for slides.\n";
 
 /* Writes the physics of the still's frame as JSON through PATH.part. */
 static int write_state(const char *path, const struct sp_scene *scene,
@@ -135,7 +141,8 @@ static int run(int argc, char **argv, int still)
     ret = sp_pipeline_run(&(struct sp_pipeline_desc){
         .scene = &scene, .output = out, .still = still,
         .still_at = o.at < 0 ? 0 : o.at,
-        .progress = !o.quiet && !still && isatty(2), .state_out = &state});
+        .progress = !o.quiet && !still && isatty(2), .supersample = o.scale,
+        .state_out = &state});
     /* Both files or neither. */
     if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0)
         remove(out);

@@ -7,4 +7,9 @@ extern const unsigned long sp_embed_shape_vert_size;
 extern const char sp_embed_shape_frag[];
 extern const unsigned long sp_embed_shape_frag_size;
 
+extern const char sp_embed_text_vert[];
+extern const char sp_embed_text_frag[];
+extern const char sp_embed_DejaVuSans_ttf[];
+extern const unsigned long sp_embed_DejaVuSans_ttf_size;
+
 #endif

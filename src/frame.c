@@ -28,11 +28,16 @@ void sp_trail_destroy(struct sp_trail *tr)
 
 void sp_trail_push(struct sp_trail *tr, const struct sp_state *s)
 {
+    sp_trail_push_at(tr, s, 0);
+}
+
+void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivot_y)
+{
     if (tr->capacity == 0)
         return;
     tr->points[tr->head] = (struct sp_trail_point){
         .x = (float)s->x,
-        .y = (float)s->y,
+        .y = (float)(s->y + pivot_y),
         .speed = (float)sqrt(s->vx * s->vx + s->vy * s->vy),
     };
     tr->head = (tr->head + 1) % tr->capacity;
@@ -46,21 +51,46 @@ const struct sp_trail_point *sp_trail_at(const struct sp_trail *tr, int i)
     return &tr->points[(oldest + i) % tr->capacity];
 }
 
+static void widen(struct sp_range *g, double v)
+{
+    g->lo = fmin(g->lo, v);
+    g->hi = fmax(g->hi, v);
+}
+
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                            struct sp_view_extent *out)
 {
     struct sp_sim sim;
     sp_sim_init(&sim, scene);
-    *out = (struct sp_view_extent){0};
+    *out = (struct sp_view_extent){.t_end = t_end};
+    out->r = out->theta = out->r_dot = out->theta_dot = out->energy = out->modes =
+        (struct sp_range){INFINITY, -INFINITY};
     /* Sample every step: the camera must hold every position the bob takes. */
     for (;;) {
         const struct sp_state *s = &sim.s;
         double v = sqrt(s->vx * s->vx + s->vy * s->vy);
+        const double yp = sp_pivot_y(&sim.p, s->t); /* the bob in the lab: y + yp */
         out->xmin = fmin(out->xmin, s->x);
         out->xmax = fmax(out->xmax, s->x);
-        out->ymin = fmin(out->ymin, s->y);
-        out->ymax = fmax(out->ymax, s->y);
+        out->ymin = fmin(out->ymin, fmin(s->y + yp, yp));
+        out->ymax = fmax(out->ymax, fmax(s->y + yp, yp));
         out->max_speed = fmax(out->max_speed, v);
+        if (scene->view.panels) {
+            struct sp_polar pol;
+            struct sp_energy e;
+            sp_state_polar(s, &pol);
+            sp_state_energy(&sim.p, s, &e);
+            widen(&out->r, pol.r);
+            widen(&out->theta, pol.theta);
+            widen(&out->r_dot, pol.r_dot);
+            widen(&out->theta_dot, pol.theta_dot);
+            widen(&out->energy, e.total);
+            widen(&out->energy, e.kinetic);
+            widen(&out->energy, e.spring);
+            widen(&out->energy, e.gravity);
+            widen(&out->modes, e.bounce);
+            widen(&out->modes, e.swing);
+        }
         if (s->t >= t_end)
             break;
         int ret = sp_sim_advance(&sim, fmin(t_end, s->t + sim.dt));
@@ -70,4 +100,147 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     if (out->max_speed <= 0)
         out->max_speed = 1;
     return 0;
+}
+
+/* ---- panel histories ---- */
+
+int sp_history_make(struct sp_history *h, const struct sp_scene *scene)
+{
+    *h = (struct sp_history){0};
+    h->active = scene->view.panels != 0 || scene->view.strobe > 0;
+    h->poincare = (scene->view.panels & SP_PANEL_POINCARE) != 0;
+    return 0;
+}
+
+void sp_history_destroy(struct sp_history *h)
+{
+    free(h->samples);
+    free(h->crossings);
+    *h = (struct sp_history){0};
+}
+
+/* Makes room for one more element; 0 or SP_E_NOMEM (logged). */
+static int grow(void **items, int *cap, int used, size_t size, const char *what)
+{
+    void *p;
+    int want;
+    if (used < *cap)
+        return 0;
+    want = *cap ? 2 * *cap : 1024;
+    p = realloc(*items, (size_t)want * size);
+    if (!p) {
+        sp_log_error("out of memory for %d %s", want, what);
+        return SP_E_NOMEM;
+    }
+    *items = p;
+    *cap = want;
+    return 0;
+}
+
+/* The bob's acceleration relative to the pivot, m/s^2: the equations of
+ * motion of sim.h, moving pivot and damping (against the air at rest)
+ * included. */
+static void accel_of(const struct sp_params *p, const struct sp_state *s, double a[2])
+{
+    const double rho = sqrt(s->x * s->x + s->y * s->y);
+    const double f = p->k_over_m * (1 - (rho > 0 ? p->L0 / rho : 0));
+    const double w = p->drive_omega * s->t;
+    const double vp = p->drive_amp * p->drive_omega * cos(w);
+    const double ap = -p->drive_amp * p->drive_omega * p->drive_omega * sin(w);
+    a[0] = -f * s->x - p->b_over_m * s->vx;
+    a[1] = -f * s->y - p->g - ap - p->b_over_m * (s->vy + vp);
+}
+
+/* Quintic Hermite interpolant on [0, 1] of a coordinate with values q,
+ * derivatives dq and second derivatives ddq (per unit time) at both ends of
+ * an interval of length h: value and time derivative at u. */
+static void hermite5(const double q[2], const double dq[2], const double ddq[2], double h,
+                     double u, double *val, double *der)
+{
+    const double u2 = u * u, u3 = u2 * u, u4 = u3 * u, u5 = u4 * u;
+    const double h0 = 1 - 10 * u3 + 15 * u4 - 6 * u5, h5 = 1 - h0;
+    const double h1 = u - 6 * u3 + 8 * u4 - 3 * u5, h4 = -4 * u3 + 7 * u4 - 3 * u5;
+    const double h2 = 0.5 * (u2 - 3 * u3 + 3 * u4 - u5), h3 = 0.5 * (u3 - 2 * u4 + u5);
+    const double d0 = -30 * u2 + 60 * u3 - 30 * u4;
+    const double d1 = 1 - 18 * u2 + 32 * u3 - 15 * u4, d4 = -12 * u2 + 28 * u3 - 15 * u4;
+    const double d2 = u - 4.5 * u2 + 6 * u3 - 2.5 * u4, d3 = 1.5 * u2 - 4 * u3 + 2.5 * u4;
+    *val = h0 * q[0] + h5 * q[1] + h * (h1 * dq[0] + h4 * dq[1]) + h * h * (h2 * ddq[0] + h3 * ddq[1]);
+    *der = (d0 * q[0] - d0 * q[1]) / h + d1 * dq[0] + d4 * dq[1] + h * (d2 * ddq[0] + d3 * ddq[1]);
+}
+
+int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
+                             const struct sp_state *a, const struct sp_state *b)
+{
+    double aa[2], ab[2], lo = 0, hi = 1, x, y, vx, vy;
+    const double dt = b->t - a->t;
+    int err;
+
+    /* theta = 0 is x = 0 below the pivot; theta' > 0 there means x grows. */
+    if (!(a->x < 0 && b->x >= 0) || (a->y >= 0 && b->y >= 0) || dt <= 0)
+        return 0;
+    accel_of(p, a, aa);
+    accel_of(p, b, ab);
+    const double qx[2] = {a->x, b->x}, vqx[2] = {a->vx, b->vx}, ax[2] = {aa[0], ab[0]};
+    const double qy[2] = {a->y, b->y}, vqy[2] = {a->vy, b->vy}, ay[2] = {aa[1], ab[1]};
+    for (int i = 0; i < 60; i++) { /* bisection: x(lo) < 0 <= x(hi) */
+        const double mid = 0.5 * (lo + hi);
+        hermite5(qx, vqx, ax, dt, mid, &x, &vx);
+        if (x < 0)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    hermite5(qx, vqx, ax, dt, hi, &x, &vx);
+    hermite5(qy, vqy, ay, dt, hi, &y, &vy);
+    if (y >= 0 || vx <= 0)
+        return 0;
+    err = grow((void **)&h->crossings, &h->cap_crossings, h->n_crossings,
+               sizeof(*h->crossings), "Poincare points");
+    if (err)
+        return err;
+    /* At x = 0: r = |y| = -y, r' = (x vx + y vy) / r = -vy. */
+    h->crossings[h->n_crossings++] = (struct sp_crossing){a->t + hi * dt, -y, -vy};
+    return 0;
+}
+
+/* Appends the sample of sim's state; 0 or SP_E_NOMEM. */
+static int push_sample(struct sp_history *h, const struct sp_sim *sim)
+{
+    struct sp_polar pol;
+    struct sp_energy e;
+    int err = grow((void **)&h->samples, &h->capacity, h->count, sizeof(*h->samples),
+                   "panel samples");
+    if (err)
+        return err;
+    sp_state_polar(&sim->s, &pol);
+    sp_state_energy(&sim->p, &sim->s, &e);
+    h->samples[h->count++] = (struct sp_history_sample){
+        (float)sim->s.t, (float)sim->s.x, (float)(sim->s.y + sp_pivot_y(&sim->p, sim->s.t)),
+        (float)pol.r, (float)pol.theta, (float)pol.r_dot, (float)pol.theta_dot,
+        (float)e.kinetic, (float)e.spring, (float)e.gravity, (float)e.bounce, (float)e.swing};
+    return 0;
+}
+
+int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
+{
+    int err = 0;
+
+    if (!h->active)
+        return sp_sim_advance(sim, t_target);
+    /* A tenth of a radian of the fastest small oscillation per interval keeps
+     * the crossings' interpolation error near 1e-10 of the amplitude, and
+     * the charts smooth where frames are far apart for the motion. */
+    if (h->max_step <= 0)
+        h->max_step = 0.1 / sp_params_omega_max(&sim->p);
+    const double t0 = sim->s.t;
+    const int parts = (int)ceil((t_target - t0) / h->max_step - 1e-9);
+    for (int i = 1; i <= parts && !err; i++) {
+        const struct sp_state a = sim->s;
+        err = sp_sim_advance(sim, i == parts ? t_target : t0 + (t_target - t0) * i / parts);
+        if (!err && h->poincare)
+            err = sp_history_find_crossing(h, &sim->p, &a, &sim->s);
+        if (!err && i < parts)
+            err = push_sample(h, sim);
+    }
+    return err ? err : push_sample(h, sim);
 }

@@ -29,10 +29,11 @@ static void show_progress(int done, int total, double t0)
 
 /* Renders the frame model at the sim's current state and hands it to the sink. */
 static int emit(struct sp_renderer *r, struct sp_sink *sink, const struct sp_sim *sim,
-                const struct sp_trail *trail, struct sp_provenance *prov)
+                const struct sp_trail *trail, const struct sp_history *hist,
+                struct sp_provenance *prov)
 {
     struct sp_image img;
-    struct sp_frame f = {.state = sim->s, .params = &sim->p, .trail = trail};
+    struct sp_frame f = {.state = sim->s, .params = &sim->p, .trail = trail, .history = hist};
     sp_provenance_set_time(prov, sim->s.t);
     int ret = sp_render_draw(r, &f, &img);
     return ret ? ret : sp_sink_write(sink, &img);
@@ -44,6 +45,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_renderer *r = NULL;
     struct sp_sink *sink = NULL;
     struct sp_trail trail = {0};
+    struct sp_history hist = {0};
     struct sp_view_extent extent;
     struct sp_sim sim;
     struct sp_provenance prov;
@@ -55,11 +57,14 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     ret = sp_view_extent_measure(sc, t_end, &extent);
     if (ret)
         goto done;
-    ret = sp_trail_make(&trail, sc->view.trail);
+    ret = sp_trail_make(&trail, sc->view.trail == SP_TRAIL_ALL ? n + 1 : sc->view.trail);
+    if (!ret)
+        ret = sp_history_make(&hist, sc);
     if (ret)
         goto done;
     ret = sp_render_make(&r, &(struct sp_render_desc){
-        .width = sc->video.width, .height = sc->video.height, .extent = extent});
+        .width = sc->video.width, .height = sc->video.height, .extent = extent,
+        .scene = sc, .supersample = desc->supersample});
     if (ret || (ret = sp_provenance_init(&prov, sc, sp_render_renderer_name(r))) != 0)
         goto done;
     ret = sp_sink_open(&sink, &(struct sp_sink_desc){
@@ -75,13 +80,13 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         double t = sp_scene_frame_time(sc, k);
         if (desc->still && t > desc->still_at)
             break;
-        ret = sp_interrupted() ? SP_E_INTERRUPTED : sp_sim_advance(&sim, t);
+        ret = sp_interrupted() ? SP_E_INTERRUPTED : sp_history_follow(&hist, &sim, t);
         if (ret)
             goto done;
-        sp_trail_push(&trail, &sim.s);
+        sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         if (desc->still)
             continue;
-        ret = emit(r, sink, &sim, &trail, &prov);
+        ret = emit(r, sink, &sim, &trail, &hist, &prov);
         if (ret)
             goto done;
         if (desc->progress && (k % 10 == 9 || k == n - 1))
@@ -89,12 +94,12 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     }
     if (desc->still) {
         if (sim.s.t < desc->still_at) {
-            ret = sp_sim_advance(&sim, desc->still_at);
+            ret = sp_history_follow(&hist, &sim, desc->still_at);
             if (ret)
                 goto done;
-            sp_trail_push(&trail, &sim.s);
+            sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
-        ret = emit(r, sink, &sim, &trail, &prov);
+        ret = emit(r, sink, &sim, &trail, &hist, &prov);
         if (ret)
             goto done;
     }
@@ -107,5 +112,6 @@ done:
     sp_sink_abort(&sink);
     sp_render_destroy(&r);
     sp_trail_destroy(&trail);
+    sp_history_destroy(&hist);
     return ret;
 }

@@ -1,6 +1,7 @@
 /* springpend: scene files. inih splits lines into sections and key = value
  * pairs; this file owns the key table, the defaults, the validation and the
  * FILE:LINE messages. Pure: nothing but stderr is touched. */
+#include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
 #include <ini.h>
@@ -16,7 +17,12 @@
 #define SP_MAX_PIXELS (7680L * 4320L)
 #define SP_MAX_FRAMES 1000000 /* about 4.6 hours at 60 fps */
 
-enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD };
+enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
+                KEY_BOOL,    /* true/false, stored as int */
+                KEY_CHOICE,  /* one of the names in `unit` (", "-separated), int index */
+                KEY_PANELS,  /* a list of panel names, unsigned SP_PANEL_* bits */
+                KEY_COLOR,   /* #rrggbb, "theme" or "transparent", int */
+                KEY_TRAIL }; /* an integer or "all" (SP_TRAIL_ALL), int */
 
 /* One scene key: where it lives in struct sp_scene and what it accepts.
  * Accepted: lo < v (lo_open) or lo <= v, and v <= hi. */
@@ -52,7 +58,16 @@ static const struct key_info keys[] = {
     {"video", "fps", KEY_REAL, F(video.fps), 60, 0, 1000, 1, "frames/s"},
     {"video", "duration", KEY_REAL, F(video.duration), 10, 0, 1e6, 1, "simulated s"},
     {"video", "speed", KEY_REAL, F(video.speed), 1, 0, 1e4, 1, "simulated s per video s"},
-    {"view", "trail", KEY_INT, F(view.trail), 600, 0, 1e6, 0, "points"},
+    {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "points"},
+    {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
+     "none, all, r, theta, energy, extension, phase, poincare, modes"},
+    {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
+    {"view", "theme", KEY_CHOICE, F(view.theme), 0, 0, 0, 0, "dark, light"},
+    {"view", "background", KEY_COLOR, F(view.background), SP_BACKGROUND_THEME, 0, 0, 0,
+     "#rrggbb, theme, transparent"},
+    {"view", "colormap", KEY_CHOICE, F(view.colormap), 0, 0, 0, 0, "inferno, viridis"},
+    {"view", "colorbar", KEY_BOOL, F(view.colorbar), 0, 0, 0, 0, "true, false"},
+    {"view", "strobe", KEY_REAL, F(view.strobe), 0, 0, 1e6, 0, "s"},
 };
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
@@ -188,11 +203,89 @@ static void report_unknown(struct parse_ctx *c, int line, const char *section,
 
 static void describe_range(const struct key_info *k, char *buf, size_t size)
 {
-    if (k->kind == KEY_INT)
+    if (k->kind == KEY_INT || k->kind == KEY_TRAIL)
         snprintf(buf, size, "an integer from %.0f to %.0f %s", k->lo, k->hi, k->unit);
     else
         snprintf(buf, size, "a number with %g %s %s <= %g %s", k->lo,
                  k->lo_open ? "<" : "<=", k->name, k->hi, k->unit);
+}
+
+#define COLOUR_MARK '\x01' /* stands for the '#' of a colour value, see protect_colour */
+
+/* Index of `word` in the ", "-separated list, or -1. */
+static int choice_index(const char *list, const char *word, size_t len)
+{
+    for (int i = 0; *list; i++) {
+        size_t n = strcspn(list, ",");
+        if (n == len && !strncmp(list, word, len))
+            return i;
+        list += n;
+        list += strspn(list, ", ");
+    }
+    return -1;
+}
+
+/* The word-valued kinds. Returns 1 when it consumed the value (stored or
+ * reported), 0 to let a KEY_TRAIL number go on to the numeric parser. */
+static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
+                    const char *value, char *p)
+{
+    static const unsigned panel_bits[] = {
+        0, (1u << SP_PANEL_COUNT) - 1, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
+        SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE,
+        SP_PANEL_MODES};
+    unsigned bits = 0;
+    int i;
+    switch (k->kind) {
+    case KEY_BOOL:
+        i = choice_index("false, true, no, yes, off, on, 0, 1", value, strlen(value));
+        if (i < 0)
+            break;
+        *(int *)p = i & 1;
+        return 1;
+    case KEY_CHOICE:
+        i = choice_index(k->unit, value, strlen(value));
+        if (i < 0)
+            break;
+        *(int *)p = i;
+        return 1;
+    case KEY_PANELS:
+        for (const char *w = value; *w;) {
+            size_t n = strcspn(w, ", ");
+            i = choice_index(k->unit, w, n);
+            if (i < 0 || (i == 0 && (w != value || w[n]))) {
+                report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
+                       "list of: r, theta, energy, extension, phase, poincare, modes (or all, "
+                       "or none alone)", k->section, k->name, (int)n, w);
+                return 1;
+            }
+            bits |= panel_bits[i];
+            w += n;
+            w += strspn(w, ", ");
+        }
+        *(unsigned *)p = bits;
+        return 1;
+    case KEY_COLOR:
+        if (!strcmp(value, "theme") || !strcmp(value, "transparent")) {
+            *(int *)p = value[1] == 'h' ? SP_BACKGROUND_THEME : SP_BACKGROUND_TRANSPARENT;
+            return 1;
+        }
+        if ((value[0] == '#' || value[0] == COLOUR_MARK) && strlen(value) == 7 && strspn(value + 1, "0123456789abcdefABCDEF") == 6) {
+            *(int *)p = (int)strtol(value + 1, NULL, 16);
+            return 1;
+        }
+        break;
+    case KEY_TRAIL:
+        if (strcmp(value, "all"))
+            return 0;
+        *(int *)p = SP_TRAIL_ALL;
+        return 1;
+    default:
+        return 0;
+    }
+    report(c, line, "%s.%s = '%s%s' is not allowed; allowed: %s", k->section, k->name,
+           value[0] == COLOUR_MARK ? "#" : "", value + (value[0] == COLOUR_MARK), k->unit);
+    return 1;
 }
 
 /* Parses and stores one value. `where` prefixes messages ("FILE:LINE" is
@@ -213,6 +306,8 @@ static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
                k->name, value, k->unit);
         return;
     }
+    if (k->kind >= KEY_BOOL && set_word(c, line, k, value, p))
+        return;
     char *end = NULL;
     errno = 0;
     double v = strtod(value, &end);
@@ -226,7 +321,7 @@ static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
                k->name, value, range);
         return;
     }
-    if (k->kind == KEY_INT && v != floor(v)) {
+    if ((k->kind == KEY_INT || k->kind == KEY_TRAIL) && v != floor(v)) {
         report(c, line, "%s.%s = %s is not an integer; expected %s", k->section,
                k->name, value, range);
         return;
@@ -236,7 +331,7 @@ static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
                k->name, value, range);
         return;
     }
-    if (k->kind == KEY_INT)
+    if (k->kind == KEY_INT || k->kind == KEY_TRAIL)
         *(int *)p = (int)v;
     else if (k->kind == KEY_DEGREES)
         *(double *)p = v * (M_PI / 180.0);
@@ -304,6 +399,19 @@ static int line_has_content(struct parse_ctx *c, const char *s)
     return 1;
 }
 
+/* A value "#rrggbb" would read as an inline comment to inih: a '#' that
+ * starts a value and is followed by a letter or digit becomes COLOUR_MARK,
+ * which set_word reads back as '#'. */
+static void protect_colour(char *line)
+{
+    char *eq = strchr(line, '='), *v;
+    if (!eq)
+        return;
+    v = eq + 1 + strspn(eq + 1, " \t");
+    if (v[0] == '#' && isalnum((unsigned char)v[1]))
+        v[0] = COLOUR_MARK;
+}
+
 /* inih's fgets-like reader over the in-memory text. It counts lines, and
  * turns lines inih must not see (too long, NUL bytes) into comments after
  * reporting them. */
@@ -330,6 +438,7 @@ static char *read_line(char *str, int num, void *stream)
     }
     memcpy(str, start, len);
     str[len] = 0;
+    protect_colour(str);
     c->line_has_content = line_has_content(c, str);
     return str;
 }
@@ -345,6 +454,8 @@ void sp_scene_defaults(struct sp_scene *s)
         case KEY_DEGREES: *(double *)p = keys[i].def * (M_PI / 180.0); break;
         case KEY_INT: *(int *)p = (int)keys[i].def; break;
         case KEY_METHOD: *(enum sp_method *)p = (enum sp_method)(int)keys[i].def; break;
+        case KEY_PANELS: *(unsigned *)p = (unsigned)keys[i].def; break;
+        default: *(int *)p = (int)keys[i].def; break; /* bool, choice, colour, trail */
         }
     }
 }
@@ -535,13 +646,22 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
         char *at = used < size ? buf + used : NULL;
         size_t room = used < size ? size - used : 0;
         int n;
-        if (k->kind == KEY_INT)
-            n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
-        else if (k->kind == KEY_METHOD)
+        switch (k->kind) {
+        case KEY_REAL:
+        case KEY_DEGREES:
+            n = snprintf(at, room, "%s.%s=%.17g\n", k->section, k->name, *(const double *)p);
+            break;
+        case KEY_METHOD:
             n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name,
                          method_names[*(const enum sp_method *)p]);
-        else
-            n = snprintf(at, room, "%s.%s=%.17g\n", k->section, k->name, *(const double *)p);
+            break;
+        case KEY_PANELS:
+            n = snprintf(at, room, "%s.%s=%#x\n", k->section, k->name, *(const unsigned *)p);
+            break;
+        default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR, KEY_TRAIL: an int */
+            n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
+            break;
+        }
         used += (size_t)n;
     }
     return (int)used;
@@ -555,12 +675,20 @@ void sp_scene_print_keys(void)
         char range[160];
         if (strcmp(section, k->section))
             printf("  [%s]\n", section = k->section);
-        if (k->kind == KEY_METHOD)
+        if (k->kind == KEY_TRAIL)
+            snprintf(range, sizeof(range), "an integer from 0 to 1000000 %s, or all", k->unit);
+        else if (k->kind >= KEY_BOOL)
+            snprintf(range, sizeof(range), "%s: %s", k->kind == KEY_PANELS ? "list of" : "one of", k->unit);
+        else if (k->kind == KEY_METHOD)
             snprintf(range, sizeof(range), "one of: %s", k->unit);
         else
             describe_range(k, range, sizeof(range));
         if (k->kind == KEY_METHOD)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
+        else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
+            printf("    %-15s default %-8.*s %s\n", k->name,
+                   k->kind == KEY_BOOL ? 5 : (int)strcspn(k->unit, ","),
+                   k->kind == KEY_BOOL ? "false" : k->kind == KEY_COLOR ? "theme" : k->unit, range);
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
     }

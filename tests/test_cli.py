@@ -393,6 +393,38 @@ for what, args, says in (
        f"a write beyond the file size limit ({what}): exit 1, says {says!r}, nothing left "
        f"(got {r.returncode}, {left}: {r.stderr.strip()[:200]!r})")
 
+
+# Stills for slides: --scale supersamples to the same size; a transparent
+# background writes RGBA with see-through corners and an opaque bob.
+def png_header(path):
+    with open(path, "rb") as f:
+        head = f.read(33)
+    return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big"), head[25]
+
+
+r = run("still", default, "--at", "2", "--size", "320x180", "--scale", "3", "-o", "ss.png", "-q")
+ok(r.returncode == 0 and png_header(os.path.join(work, "ss.png"))[:2] == (320, 180),
+   f"still --scale 3 writes the asked size ({r.stderr.strip()[:200]})")
+r = run("still", default, "--scale", "9", "-o", "ss9.png")
+ok(r.returncode == 2 and "--scale" in r.stderr and not os.path.exists(os.path.join(work, "ss9.png")),
+   "--scale beyond 4 is refused")
+r = run("render", default, "--scale", "2", "-o", "x.mp4")
+ok(r.returncode == 2 and "--scale" in r.stderr, "--scale is for stills only")
+r = run("still", default, "--at", "2", "--size", "320x180", "--set", "view.background=transparent",
+        "-o", "alpha.png", "-q")
+ok(r.returncode == 0 and png_header(os.path.join(work, "alpha.png"))[2] == 6,
+   "a transparent background writes an RGBA PNG (its alpha: see the golden test)")
+r = run("still", default, "--set", "view.panels=r,bogus", "-o", "bogus.png")
+ok(r.returncode == 2 and "'bogus' is not a panel" in r.stderr
+   and not os.path.exists(os.path.join(work, "bogus.png")), "an unknown panel is refused")
+
+# Every preset renders a still with its panels.
+for name in sorted(os.listdir(scenes)):
+    if name.endswith(".ini"):
+        out = os.path.join(work, name[:-4] + ".png")
+        r = run("still", os.path.join(scenes, name), "--at", "3", "--size", "480x270", "-o", out, "-q")
+        ok(r.returncode == 0 and os.path.getsize(out) > 5000, f"preset {name} renders a still")
+
 # data: CSV rows at the requested times, physics that holds, every method.
 import csv
 import io

@@ -20,12 +20,30 @@ struct golden_case {
     const char *name;       /* golden file stem */
     const char *scene;      /* file under scenes/ */
     double at;              /* simulated s */
-    const char *overrides[4];
+    const char *overrides[8];
 };
+
+#define SMALL "video.width=640", "video.height=360"
 
 static const struct golden_case cases[] = {
     {"default_t3", "default.ini", 3.0, {"video.width=640", "video.height=360"}},
     {"default_t0_notrail", "default.ini", 0.0, {"video.width=320", "video.height=240", "view.trail=0"}},
+    /* one per panel kind, with the heads-up text and colourbar in some */
+    {"panel_r", "default.ini", 4.0, {SMALL, "view.panels=r", "view.hud=true"}},
+    {"panel_theta", "default.ini", 4.0, {SMALL, "view.panels=theta", "view.colorbar=true"}},
+    {"panel_energy", "damped.ini", 6.0, {SMALL, "view.panels=energy"}},
+    {"panel_extension", "default.ini", 4.0, {SMALL, "view.panels=extension", "view.theme=light"}},
+    {"panel_phase", "resonance.ini", 12.0, {SMALL, "view.panels=phase", "view.hud=false",
+                                             "view.colorbar=false"}},
+    {"panel_poincare", "resonance.ini", 30.0, {SMALL, "view.panels=poincare", "view.hud=false",
+                                                "view.colorbar=false"}},
+    {"panel_modes_driven", "driven.ini", 20.0, {SMALL, "view.panels=modes", "view.hud=true"}},
+    {"all_portrait", "resonance.ini", 20.0, {"video.width=360", "video.height=640"}},
+    /* alpha in the PNG: the background is see-through, the pendulum opaque */
+    {"transparent", "chaotic.ini", 8.0, {SMALL, "view.background=transparent", "view.panels=none",
+                                          "view.hud=false", "view.colorbar=false"}},
+    {"strobe_light", "pure_swing.ini", 2.0, {SMALL, "view.panels=none", "view.hud=false",
+                                              "view.strobe=0.1", "view.theme=light"}},
 };
 
 static void run_case(const char *src, const char *outdir, const struct golden_case *gc)
@@ -34,7 +52,7 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
     struct sp_scene scene;
     struct sp_image want = {0}, got = {0}, diff = {0};
     int n = 0;
-    while (n < 4 && gc->overrides[n])
+    while (n < 8 && gc->overrides[n])
         n++;
     snprintf(scene_path, sizeof(scene_path), "%s/../scenes/%s", src, gc->scene);
     snprintf(golden, sizeof(golden), "%s/golden/%s.png", src, gc->name);
@@ -56,6 +74,13 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
     if (!sp_tap_ok(sp_png_read(golden, &want) == 0 && sp_png_read(actual, &got) == 0,
                    "%s: golden and actual read", gc->name))
         goto done;
+    if (strstr(gc->overrides[2] ? gc->overrides[2] : "", "transparent")) {
+        int opaque = 0;
+        for (int i = 0; i < got.width * got.height; i++)
+            opaque += got.pixels[4 * i + 3] == 255;
+        sp_tap_ok(got.pixels[3] == 0 && opaque > 200, "%s: see-through corner, %d opaque pixels "
+                  "(bob, spring)", gc->name, opaque);
+    }
     if (!sp_tap_ok(want.width == got.width && want.height == got.height,
                    "%s: size %dx%d matches golden %dx%d", gc->name, got.width, got.height,
                    want.width, want.height))

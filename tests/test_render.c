@@ -135,7 +135,7 @@ int main(int argc, char **argv)
         return 1;
     f.state = (struct sp_state){.t = 1, .x = 1, .y = -2.5, .vx = 5};
 
-    err = sp_render_make(&r, &(struct sp_render_desc){W, H, EXTENT});
+    err = sp_render_make(&r, &(struct sp_render_desc){.width = W, .height = H, .extent = EXTENT});
     sp_tap_ok(err == 0, "renderer made (%s)", r ? sp_render_renderer_name(r) : "-");
     if (err)
         goto done;

@@ -57,6 +57,23 @@ static void test_defaults(void)
               sp_scene_frame_count(&s));
 }
 
+static void test_view(void)
+{
+    struct sp_scene s;
+    sp_tap_ok(parse("[view]\npanels = r, phase,poincare\nhud = true\ntheme = light\n"
+                    "background = #FF8000\ncolormap = viridis\ntrail = all\nstrobe = 0.25\n", &s) == 0 &&
+              s.view.panels == (SP_PANEL_R | SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA | SP_PANEL_POINCARE) &&
+              s.view.hud == 1 && s.view.theme == SP_THEME_LIGHT && s.view.background == 0xFF8000 &&
+              s.view.colormap == SP_COLORMAP_VIRIDIS && s.view.trail == SP_TRAIL_ALL &&
+              s.view.strobe == 0.25, "[view] keys: panel list, hud, theme, colour, colormap, trail = all");
+    sp_tap_ok(parse("[view]\npanels = all\nbackground = transparent\n", &s) == 0 &&
+              s.view.panels == (1u << SP_PANEL_COUNT) - 1 &&
+              s.view.background == SP_BACKGROUND_TRANSPARENT, "panels = all, background = transparent");
+    sp_tap_ok(parse("# all defaults\n", &s) == 0 && s.view.panels == 0 && !s.view.hud &&
+              s.view.background == SP_BACKGROUND_THEME && s.view.strobe == 0,
+              "by default no panels, no text, the theme's background");
+}
+
 static void test_rejects(void)
 {
     static const char *bad[] = {
@@ -69,6 +86,9 @@ static void test_rejects(void)
         "mass = 1\n", "[initial]\nlength = 0\n", "[video\nwidth = 10\n",
         "", " \n\t\r\n", "[pendulum]\nmass = 1\x01\n", "[pendulum]\nmass = \xff\n",
         "[pendulum]\n# caf\xc3\n", "[pendulum]\n# \xed\xa0\x80 (a surrogate)\n",
+        "[view]\npanels = r, foo\n", "[view]\npanels = none, r\n", "[view]\ntheme = blue\n",
+        "[view]\nbackground = #12345\n", "[view]\nhud = maybe\n", "[view]\ntrail = some\n",
+        "[view]\ncolormap = jet\n", "[view]\nstrobe = -1\n",
     };
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
         struct sp_scene s;
@@ -98,6 +118,12 @@ static void test_text(void)
     sp_scene_canonical(&b, cb, sizeof(cb));
     sp_tap_ok(strcmp(ca, cb) != 0 && strstr(cb, "pendulum.mass=0.25\n"),
               "an override changes the canonical text");
+    parse("[view]\nhud = true\ntrail = all\npanels = r\nstrobe = 0.5\n", &b);
+    sp_scene_canonical(&b, cb, sizeof(cb));
+    sp_tap_ok(strstr(cb, "view.hud=1\n") && strstr(cb, "view.trail=-1\n") &&
+              strstr(cb, "view.strobe=0.5\n") && strstr(ca, "view.panels=0\n") &&
+              strstr(cb, "view.panels=0x"),
+              "every kind of key is written with its own type");
     sp_tap_ok(sp_scene_canonical(&a, ca, 10) == na && strlen(ca) == 9,
               "a short buffer is truncated and the full length returned");
 }
@@ -105,6 +131,7 @@ static void test_text(void)
 int main(int argc, char **argv)
 {
     test_defaults();
+    test_view();
     test_text();
     test_rejects();
     test_presets(argc > 1 ? argv[1] : "tests");

@@ -22,14 +22,29 @@ struct sp_trail {
 int sp_trail_make(struct sp_trail *tr, int capacity);
 void sp_trail_destroy(struct sp_trail *tr);
 void sp_trail_push(struct sp_trail *tr, const struct sp_state *s);
+/* The same with the pivot at height pivot_y (m): the trail is kept in the lab. */
+void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivot_y);
 /* i-th point, 0 = oldest, count-1 = newest. */
 const struct sp_trail_point *sp_trail_at(const struct sp_trail *tr, int i);
 
-/* The world rectangle the camera must keep in view, m, and the speed range
- * that the trail's colormap spans, m/s. Found by a physics pre-pass. */
+struct sp_range {
+    double lo, hi;
+};
+
+/* The world rectangle the camera must keep in view, m, the speed range that
+ * the trail's colormap spans, m/s, and the ranges the panels' axes span (so
+ * they do not jump). Found by a physics pre-pass over every step. */
 struct sp_view_extent {
-    double xmin, xmax, ymin, ymax; /* m, pivot at (0,0) included */
+    double xmin, xmax, ymin, ymax; /* m, in the lab: the pivot's rest position at
+                                      (0,0), its whole travel and the bob's */
     double max_speed;              /* m/s, > 0 */
+    double t_end;                  /* s, the time axis spans [0, t_end] */
+    struct sp_range r;             /* m */
+    struct sp_range theta;         /* rad */
+    struct sp_range r_dot;         /* m/s */
+    struct sp_range theta_dot;     /* rad/s */
+    struct sp_range energy;        /* J, of total, kinetic, spring and gravity */
+    struct sp_range modes;         /* J, of the bounce and swing energies */
 };
 
 /* Runs the scene's physics from 0 to t_end (cheaply, no rendering) and
@@ -38,10 +53,59 @@ struct sp_view_extent {
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                            struct sp_view_extent *out);
 
+/* What the panels plot, sampled at each frame time (and between frames that
+ * are far apart for the motion). */
+struct sp_history_sample {
+    float t;                        /* s */
+    float x, y;                     /* m, bob in the lab (for stroboscopic images) */
+    float r, theta;                 /* m, rad */
+    float r_dot, theta_dot;         /* m/s, rad/s */
+    float kinetic, spring, gravity; /* J */
+    float bounce, swing;            /* J, see struct sp_energy */
+};
+
+/* A Poincare point: the bob passing theta = 0 with dtheta/dt > 0. */
+struct sp_crossing {
+    double t;     /* s */
+    double r;     /* m */
+    double r_dot; /* m/s */
+};
+
+/* The panels' memory: samples at frame times and every Poincare crossing so
+ * far. Allocated only when the scene asks for panels or a strobe. */
+struct sp_history {
+    int active;                        /* 0: nothing kept, nothing sampled */
+    int poincare;                      /* 1: crossings are looked for */
+    struct sp_history_sample *samples; /* count valid, oldest first, owned */
+    int count, capacity;
+    struct sp_crossing *crossings;     /* n_crossings valid, in time order, owned */
+    int n_crossings, cap_crossings;
+    double max_step;                   /* s: longest interval interpolated over */
+};
+
+/* Sets h up for scene: active when view.panels or view.strobe ask for it,
+ * looking for crossings when the Poincare panel is shown. 0 or SP_E_NOMEM. */
+int sp_history_make(struct sp_history *h, const struct sp_scene *scene);
+void sp_history_destroy(struct sp_history *h);
+
+/* Advances sim to t_target (as sp_sim_advance does) and, when h is active,
+ * records samples up to t_target (at least one every h->max_step, a tenth of a
+ * radian of the fastest oscillation: the sim is stopped more often only when
+ * frames are farther apart than that) and every crossing on the way, located
+ * on the quintic Hermite interpolant (positions, velocities and accelerations
+ * at both ends) of each interval. */
+int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target);
+
+/* Adds the crossing of x = 0 from x < 0 (below the pivot), if any, between
+ * states a and b of the same motion. Exposed for tests. 0 or SP_E_NOMEM. */
+int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
+                             const struct sp_state *a, const struct sp_state *b);
+
 struct sp_frame {
     struct sp_state state;        /* the bob now */
     const struct sp_params *params;
     const struct sp_trail *trail; /* may be NULL or empty */
+    const struct sp_history *history; /* may be NULL or inactive */
 };
 
 #endif

@@ -12,6 +12,7 @@ struct sp_pipeline_desc {
     int still;           /* 1: one frame at still_at instead of the video */
     double still_at;     /* simulated s, used when still = 1 */
     int progress;        /* 1: draw a progress line on stderr */
+    int supersample;     /* draw at this many times the size, average down; 0/1 = off */
     struct sp_state *state_out; /* not NULL: receives the bob's state in the
                                    last frame drawn */
 };

@@ -1,6 +1,8 @@
 /* springpend: the off-screen renderer. Draws one sp_frame into an RGBA
- * image: background, trail, ceiling mount, spring coil, bob. Antialiased
- * analytically in the shaders (no MSAA). Knows nothing of files. */
+ * image: background, trail, stroboscopic images, ceiling mount, spring coil,
+ * bob, then the panels, heads-up text and colourbar the scene's [view] asks
+ * for. Antialiased analytically in the shaders (no MSAA), optionally
+ * supersampled. Knows nothing of files. */
 #ifndef SPRINGPEND_RENDER_H
 #define SPRINGPEND_RENDER_H
 
@@ -8,8 +10,11 @@
 #include "springpend/image.h"
 
 struct sp_render_desc {
-    int width, height;            /* px */
-    struct sp_view_extent extent; /* world rectangle to fit, speed range */
+    int width, height;            /* px of the output image */
+    struct sp_view_extent extent; /* world rectangle to fit, speed and panel ranges */
+    const struct sp_scene *scene; /* [view] options; NULL = the defaults */
+    int supersample;              /* draw at this many times the size and average
+                                     down; 0 or 1 = off */
 };
 
 struct sp_renderer;

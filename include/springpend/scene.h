@@ -16,6 +16,24 @@ enum sp_method {
     SP_METHOD_RKN1210, /* Runge-Kutta-Nystrom 12(10), adaptive, no damping or drive */
 };
 
+/* [view] panels: which charts are drawn beside the pendulum. */
+enum sp_panel {
+    SP_PANEL_R = 1 << 0,           /* r(t) strip chart */
+    SP_PANEL_THETA = 1 << 1,       /* theta(t) */
+    SP_PANEL_ENERGY = 1 << 2,      /* total energy and its kinetic/spring/gravity split */
+    SP_PANEL_EXTENSION = 1 << 3,   /* r - L0 */
+    SP_PANEL_PHASE_R = 1 << 4,     /* phase portrait r against dr/dt ("phase") */
+    SP_PANEL_PHASE_THETA = 1 << 5, /* theta against dtheta/dt ("phase") */
+    SP_PANEL_POINCARE = 1 << 6,    /* (r, dr/dt) where theta = 0 with dtheta/dt > 0 */
+    SP_PANEL_MODES = 1 << 7,       /* energy split into bounce and swing */
+    SP_PANEL_COUNT = 8,
+};
+enum sp_theme { SP_THEME_DARK = 0, SP_THEME_LIGHT = 1 };
+enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1 };
+#define SP_TRAIL_ALL (-1)
+#define SP_BACKGROUND_THEME (-1)
+#define SP_BACKGROUND_TRANSPARENT (-2)
+
 struct sp_scene {
     char name[64];  /* file stem ("default" for scenes/default.ini) */
     struct {
@@ -47,7 +65,14 @@ struct sp_scene {
         double speed;      /* simulated seconds per second of video */
     } video;
     struct {
-        int trail; /* trail points kept, 0 = none */
+        int trail;       /* trail points kept, 0 = none, SP_TRAIL_ALL = whole run */
+        unsigned panels; /* SP_PANEL_* bits, 0 = none */
+        int hud;         /* 1: time, parameters and resonance check as text */
+        int theme;       /* enum sp_theme */
+        int background;  /* 0xRRGGBB, or SP_BACKGROUND_THEME / _TRANSPARENT */
+        int colormap;    /* enum sp_colormap, for the trail's speed */
+        int colorbar;    /* 1: a colourbar for the trail's speed */
+        double strobe;   /* s between stroboscopic images of the bob, 0 = off */
     } view;
 };
 

@@ -54,7 +54,8 @@ static void check_accepted(const struct sp_scene *s)
         CHECK(s->pendulum.damping == 0 && !(s->pivot.amplitude > 0 && s->pivot.frequency > 0));
     CHECK(s->integrator.tolerance >= 1e-15 && s->integrator.tolerance <= 1e-2);
     CHECK(isfinite(s->pivot.amplitude) && isfinite(s->pivot.frequency));
-    CHECK(s->view.trail >= 0 && s->view.trail <= 1000000);
+    CHECK(isfinite(s->view.strobe) && s->view.strobe >= 0);
+    CHECK((s->view.trail >= 0 && s->view.trail <= 1000000) || s->view.trail == SP_TRAIL_ALL);
     CHECK(s->name[sizeof(s->name) - 1] == 0);
     char buf[4096];
     int len = sp_scene_canonical(s, buf, sizeof(buf));

@@ -1,0 +1,98 @@
+/* springpend (internal): frame layout. See layout.h. */
+#include <math.h>
+
+#include "layout.h"
+
+static int is_square(int bit)
+{
+    return ((1u << bit) & (SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA | SP_PANEL_POINCARE)) != 0;
+}
+
+/* Stacks n cells of the given kind in area: one column, or two when a
+ * column would be thinner than min_h. */
+static void stack(struct sp_layout *o, unsigned bits, int square, struct sp_rect area,
+                  float min_h)
+{
+    int n = 0, i = 0;
+    for (int b = 0; b < SP_PANEL_COUNT; b++)
+        n += ((bits >> b) & 1) && is_square(b) == square;
+    if (!n)
+        return;
+    const float w = area.x1 - area.x0, h = area.y1 - area.y0, g = o->gap;
+    int cols = (h - (n - 1) * g) / n < min_h && n > 1 ? 2 : 1;
+    if (square) /* side by side when the area is wider than tall */
+        cols = w > h ? n : 1;
+    const int rows = (n + cols - 1) / cols;
+    const float cw = (w - (cols - 1) * g) / cols, ch = (h - (rows - 1) * g) / rows;
+    for (int b = 0; b < SP_PANEL_COUNT; b++) {
+        if (!((bits >> b) & 1) || is_square(b) != square)
+            continue;
+        const int r = i / cols, c = i % cols;
+        /* an odd last cell of a two-column stack takes the whole row */
+        const int span = !square && cols == 2 && i == n - 1 && n % 2 ? 2 : 1;
+        o->panel[b] = (struct sp_rect){area.x0 + c * (cw + g), area.y0 + r * (ch + g),
+                                       area.x0 + c * (cw + g) + span * cw + (span - 1) * g,
+                                       area.y0 + r * (ch + g) + ch};
+        i++;
+    }
+}
+
+void sp_layout_compute(const struct sp_layout_desc *d, struct sp_layout *o)
+{
+    const float W = (float)d->width, H = (float)d->height;
+    const float unit = fminf(W, H), g = roundf(0.015f * unit);
+    int ns = 0, nq = 0;
+    struct sp_rect view = {0, 0, W, H}, rest = {0}, strips, squares;
+
+    *o = (struct sp_layout){.gap = g};
+    for (int b = 0; b < SP_PANEL_COUNT; b++)
+        if ((d->panels >> b) & 1)
+            is_square(b) ? nq++ : ns++;
+    if (ns + nq) {
+        if (W >= 1.15f * H) { /* landscape: the view at the left */
+            const float vw = roundf(fmaxf(0.34f * W, fminf(0.8f * H, 0.45f * W)));
+            view = (struct sp_rect){0, 0, vw, H};
+            rest = (struct sp_rect){vw, g, W - g, H - g};
+        } else { /* portrait or square: the view on top */
+            const float vh = roundf((W >= H ? 0.45f : 0.36f) * H);
+            view = (struct sp_rect){0, 0, W, vh};
+            rest = (struct sp_rect){g, vh, W - g, H - g};
+        }
+        const float rw = rest.x1 - rest.x0, rh = rest.y1 - rest.y0;
+        strips = squares = rest;
+        if (ns && nq) {
+            if (rw >= rh) { /* squares in a column at the right */
+                const float side = fminf((rh - (nq - 1) * g) / nq, 0.45f * rw);
+                squares.x0 = rest.x1 - side;
+                strips.x1 = squares.x0 - g;
+            } else { /* squares in a row at the bottom */
+                const float side = fminf((rw - (nq - 1) * g) / nq, 0.45f * rh);
+                squares.y0 = rest.y1 - side;
+                strips.y1 = squares.y0 - g;
+            }
+        }
+        stack(o, d->panels, 0, strips, 0.16f * unit);
+        stack(o, d->panels, 1, squares, 0);
+    }
+    /* Heads-up text along the top of the view, the colourbar at its right. */
+    o->camera = view;
+    if (d->hud_height > 0) {
+        o->hud = (struct sp_rect){view.x0 + g, view.y0 + g, view.x1 - g, view.y0 + g + d->hud_height};
+        o->camera.y0 = o->hud.y1;
+    }
+    if (d->colorbar_width > 0) {
+        o->colorbar = (struct sp_rect){view.x1 - g - d->colorbar_width, o->camera.y0 + g,
+                                       view.x1 - g, view.y1 - g};
+        o->camera.x1 = o->colorbar.x0 - g;
+    }
+}
+
+int sp_rect_overlap(const struct sp_rect *a, const struct sp_rect *b)
+{
+    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+int sp_rect_valid(const struct sp_rect *a)
+{
+    return a->x1 > a->x0 && a->y1 > a->y0;
+}

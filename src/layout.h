@@ -1,0 +1,39 @@
+/* springpend (internal): where things go in the frame. The pendulum view
+ * and the panels side by side (landscape) or one above the other (portrait),
+ * the strip charts stacked where they can be wide, the phase and Poincare
+ * plots square; heads-up text at the top of the view, the colourbar at its
+ * right. Pure arithmetic on pixel rectangles, so it can be tested alone. */
+#ifndef SPRINGPEND_LAYOUT_H
+#define SPRINGPEND_LAYOUT_H
+
+#include "springpend/scene.h"
+
+struct sp_rect {
+    float x0, y0, x1, y1; /* px, y down from the top-left corner; x0 < x1, y0 < y1 */
+};
+
+struct sp_layout_desc {
+    int width, height;  /* px */
+    unsigned panels;    /* SP_PANEL_* bits */
+    float hud_height;   /* px of heads-up text, 0 = none */
+    float colorbar_width; /* px of the colourbar with its labels, 0 = none */
+};
+
+struct sp_layout {
+    struct sp_rect camera;   /* the pendulum fits in here */
+    struct sp_rect hud;      /* heads-up text (empty when not asked) */
+    struct sp_rect colorbar; /* the colourbar and its labels (empty when not asked) */
+    struct sp_rect panel[SP_PANEL_COUNT]; /* indexed by bit number; empty when not shown */
+    float gap;               /* px between neighbours */
+};
+
+/* Places everything without overlap, every rectangle inside the frame. */
+void sp_layout_compute(const struct sp_layout_desc *d, struct sp_layout *out);
+
+/* 1 when a and b share interior pixels. */
+int sp_rect_overlap(const struct sp_rect *a, const struct sp_rect *b);
+
+/* 1 when the rectangle has positive width and height. */
+int sp_rect_valid(const struct sp_rect *a);
+
+#endif

@@ -1,0 +1,520 @@
+/* springpend (internal): charts, phase portraits, Poincare section, HUD and
+ * colourbar. See panels.h. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "panels.h"
+
+#define RAD2DEG 57.29577951308232
+
+static const struct sp_palette DARK = {
+    .background = {0x12 / 255.f, 0x16 / 255.f, 0x1c / 255.f, 1},
+    .panel = {0x1a / 255.f, 0x20 / 255.f, 0x29 / 255.f, 1},
+    .axis = {0.50f, 0.55f, 0.62f, 1}, .grid = {1, 1, 1, 0.07f},
+    .text = {0.90f, 0.92f, 0.94f, 1}, .muted = {0.62f, 0.66f, 0.72f, 1},
+    .series = {{0.95f, 0.95f, 0.95f, 1}, {0.35f, 0.70f, 1.00f, 1},
+               {0.40f, 0.85f, 0.50f, 1}, {1.00f, 0.65f, 0.25f, 1}},
+    .cursor = {0.93f, 0.33f, 0.16f, 0.8f}, .accent = {0.40f, 0.90f, 0.50f, 1},
+    .mount = {0.56f, 0.60f, 0.66f, 1}, .wire_front = {0.80f, 0.82f, 0.85f, 1},
+    .wire_back = {0.47f, 0.50f, 0.55f, 1}, .pivot = {0.86f, 0.88f, 0.91f, 1},
+    .bob = {0.93f, 0.33f, 0.16f, 1}, .cmap_lo = 0.18f, .cmap_hi = 1.0f,
+};
+
+static const struct sp_palette LIGHT = {
+    .background = {0.97f, 0.97f, 0.955f, 1}, .panel = {1, 1, 1, 1},
+    .axis = {0.35f, 0.38f, 0.42f, 1}, .grid = {0, 0, 0, 0.08f},
+    .text = {0.10f, 0.12f, 0.15f, 1}, .muted = {0.36f, 0.39f, 0.44f, 1},
+    .series = {{0.10f, 0.10f, 0.10f, 1}, {0.10f, 0.45f, 0.80f, 1},
+               {0.15f, 0.58f, 0.25f, 1}, {0.85f, 0.45f, 0.05f, 1}},
+    .cursor = {0.85f, 0.25f, 0.10f, 0.8f}, .accent = {0.05f, 0.55f, 0.20f, 1},
+    .mount = {0.40f, 0.43f, 0.48f, 1}, .wire_front = {0.30f, 0.33f, 0.37f, 1},
+    .wire_back = {0.62f, 0.65f, 0.69f, 1}, .pivot = {0.25f, 0.27f, 0.30f, 1},
+    .bob = {0.88f, 0.30f, 0.12f, 1}, .cmap_lo = 0.0f, .cmap_hi = 0.82f,
+};
+
+void sp_palette_get(const struct sp_scene *scene, struct sp_palette *out)
+{
+    const int bg = scene->view.background;
+    *out = scene->view.theme == SP_THEME_LIGHT ? LIGHT : DARK;
+    if (bg == SP_BACKGROUND_TRANSPARENT) {
+        out->background[3] = 0;
+    } else if (bg >= 0) {
+        out->background[0] = (float)((bg >> 16) & 255) / 255.f;
+        out->background[1] = (float)((bg >> 8) & 255) / 255.f;
+        out->background[2] = (float)(bg & 255) / 255.f;
+        /* a light background hides the colormap's light end, a dark one its dark end */
+        const int light = 0.3f * out->background[0] + 0.6f * out->background[1] +
+                          0.1f * out->background[2] > 0.5f;
+        out->cmap_lo = light ? 0.0f : 0.18f;
+        out->cmap_hi = light ? 0.82f : 1.0f;
+    }
+}
+
+/* Polynomial fits of matplotlib's colormaps by Matt Zucker (CC0). */
+static const float COLORMAPS[2][7][3] = {
+    { /* inferno */
+        {0.0002189404f, 0.0016510046f, -0.0194808984f}, {0.1065134195f, 0.5639564368f, 3.9327123889f},
+        {11.6024930825f, -3.9728539657f, -15.9423941063f}, {-41.7039961314f, 17.4363988821f, 44.3541451987f},
+        {77.1629356994f, -33.4023589421f, -81.8073092574f}, {-71.3194282450f, 32.6260642640f, 73.2095198580f},
+        {25.1311262248f, -12.2426689524f, -23.0703250029f},
+    },
+    { /* viridis */
+        {0.2777273272f, 0.0054073445f, 0.3340998053f}, {0.1050930431f, 1.4046135299f, 1.3845901626f},
+        {-0.3308618287f, 0.2148475595f, 0.0950951630f}, {-4.6342304990f, -5.7991009734f, -19.3324409563f},
+        {6.2282699363f, 14.1799333668f, 56.6905526007f}, {4.7763849977f, -13.7451453777f, -65.3530326334f},
+        {-5.4354558559f, 4.6458526122f, 26.3124352496f},
+    },
+};
+
+void sp_colormap(int colormap, float t, float rgb[3])
+{
+    const float(*c)[3] = COLORMAPS[colormap == SP_COLORMAP_VIRIDIS];
+    t = fminf(fmaxf(t, 0.0f), 1.0f);
+    for (int k = 0; k < 3; k++) {
+        float v = c[6][k];
+        for (int i = 5; i >= 0; i--)
+            v = v * t + c[i][k];
+        rgb[k] = fminf(fmaxf(v, 0.0f), 1.0f);
+    }
+}
+
+/* ---- axes ---- */
+
+struct axis {
+    double lo, hi;         /* data range shown */
+    double step, first;    /* tick spacing and first tick */
+    int decimals;
+};
+
+/* Widens [lo, hi] a little and picks round ticks (1, 2, 5 x 10^k), at most
+ * max_ticks of them. */
+static void axis_make(struct axis *a, double lo, double hi, int max_ticks, double pad)
+{
+    double span = hi - lo, mag = fmax(fabs(lo), fabs(hi));
+    static const double mult[] = {1, 2, 5};
+    if (!(span > 1e-9 * (mag + 1e-30)) || !isfinite(span)) {
+        const double half = mag > 0 ? 0.1 * mag : 1;
+        lo -= half;
+        hi += half;
+        span = hi - lo;
+    }
+    lo -= pad * span;
+    hi += pad * span;
+    span = hi - lo;
+    if (max_ticks < 2)
+        max_ticks = 2;
+    /* the round step whose tick count is nearest to max_ticks, not above it by much */
+    const double raw = span / max_ticks, p10 = pow(10, floor(log10(raw)));
+    double best = 1e300;
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < 3; i++) {
+            const double step = mult[i] * p10 * (k ? 10 : 1), count = span / step;
+            const double miss = fabs(log(count / max_ticks)) + (count > 1.4 * max_ticks ? 10 : 0);
+            if (miss < best)
+                best = miss, a->step = step;
+        }
+    a->lo = lo;
+    a->hi = hi;
+    a->first = ceil(lo / a->step - 1e-9) * a->step;
+    a->decimals = a->step >= 1 ? 0 : (int)ceil(-log10(a->step) - 1e-9);
+}
+
+/* "1.5", with a real minus sign. */
+static void format_tick(char *buf, size_t size, double v, int decimals)
+{
+    if (fabs(v) < 1e-12)
+        v = 0;
+    snprintf(buf, size, "%s%.*f", v < 0 ? "\xe2\x88\x92" : "", decimals, fabs(v));
+}
+
+struct plot {
+    struct sp_rect area; /* the data rectangle, px */
+    struct axis x, y;
+};
+
+static float px_x(const struct plot *p, double v)
+{
+    return (float)(p->area.x0 + (v - p->x.lo) / (p->x.hi - p->x.lo) * (p->area.x1 - p->area.x0));
+}
+
+static float px_y(const struct plot *p, double v)
+{
+    return (float)(p->area.y1 - (v - p->y.lo) / (p->y.hi - p->y.lo) * (p->area.y1 - p->area.y0));
+}
+
+/* Lays out a panel in r: background, title, axes with ticks and labels;
+ * fills p->area. ylabel/xlabel name the axes with their units. */
+static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot *p,
+                       const char *title, const char *xlabel, const char *ylabel,
+                       struct sp_range xr, struct sp_range yr, double xpad,
+                       const struct sp_palette *pal, float unit)
+{
+    const struct sp_font *f = c->font;
+    const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
+    const float line_s = (float)sp_font_line(f, SP_TEXT_SMALL), cap_s = (float)sp_font_cap(f, SP_TEXT_SMALL);
+    const float cap_n = (float)sp_font_cap(f, SP_TEXT_NORMAL);
+    const float hw = fmaxf(0.5f, 0.0009f * unit), tick = roundf(0.006f * unit);
+    char buf[32];
+    int tw = 0;
+
+    sp_canvas_rect(c, r->x0, r->y0, r->x1, r->y1, pal->panel);
+    /* the title at the left of its row, the y axis's name at the right; when
+     * both do not fit, the title's short form ("long|short") in small type */
+    const char *bar = strchr(title, '|');
+    char full[96];
+    snprintf(full, sizeof(full), "%.*s", bar ? (int)(bar - title) : (int)strlen(title), title);
+    const int fits = sp_font_width(f, SP_TEXT_NORMAL, full) + sp_font_width(f, SP_TEXT_SMALL, ylabel) +
+                     3 * pad <= r->x1 - r->x0;
+    sp_canvas_text(c, fits ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
+                   SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
+    p->area.y0 = r->y0 + 2.2f * pad + cap_n + 0.5f * cap_s;
+    /* A wide plot names its x axis at the right end of the tick row; a
+     * narrow one on its own row below, so that it can keep its ticks. */
+    const int xl_below = r->x1 - r->x0 < 1.6f * (r->y1 - r->y0);
+    p->area.y1 = r->y1 - pad - line_s * (xl_below ? 2 : 1) - tick;
+    axis_make(&p->y, yr.lo, yr.hi, (int)fmaxf(4, (p->area.y1 - p->area.y0) / (2.6f * line_s)), 0.06);
+    for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
+        format_tick(buf, sizeof(buf), v, p->y.decimals);
+        const int w = sp_font_width(f, SP_TEXT_SMALL, buf);
+        tw = w > tw ? w : tw;
+    }
+    p->area.x0 = r->x0 + pad + tw + tick + 0.5f * pad;
+    p->area.x1 = r->x1 - pad - 0.5f * sp_font_width(f, SP_TEXT_SMALL, "00");
+    const int xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
+    const float probe = (float)sp_font_width(f, SP_TEXT_SMALL, "00.0");
+    axis_make(&p->x, xr.lo, xr.hi,
+              (int)((p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w)) / (1.6f * probe)), xpad);
+
+    /* grid, ticks and labels */
+    const float base = p->area.y1 + tick + cap_s + 0.25f * pad;
+    const float xl_x0 = xl_below ? p->area.x1 + 2 * pad : p->area.x1 - xl_w;
+    sp_canvas_text(c, SP_TEXT_SMALL, xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
+                   xl_below ? base + line_s : base, xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT,
+                   pal->muted, xlabel);
+    for (double v = p->x.first; v <= p->x.hi + 1e-9 * p->x.step; v += p->x.step) {
+        const float x = px_x(p, v);
+        format_tick(buf, sizeof(buf), v, p->x.decimals);
+        const float w = (float)sp_font_width(f, SP_TEXT_SMALL, buf);
+        sp_canvas_rect(c, x - hw, p->area.y0, x + hw, p->area.y1, pal->grid);
+        sp_canvas_rect(c, x - hw, p->area.y1, x + hw, p->area.y1 + tick, pal->axis);
+        if (x + 0.5f * w < fminf(xl_x0 - pad, r->x1) && x - 0.5f * w >= r->x0 + pad)
+            sp_canvas_text(c, SP_TEXT_SMALL, x, base, SP_ALIGN_CENTER, pal->muted, buf);
+    }
+    for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
+        const float y = px_y(p, v);
+        format_tick(buf, sizeof(buf), v, p->y.decimals);
+        sp_canvas_rect(c, p->area.x0, y - hw, p->area.x1, y + hw, pal->grid);
+        sp_canvas_rect(c, p->area.x0 - tick, y - hw, p->area.x0, y + hw, pal->axis);
+        sp_canvas_text(c, SP_TEXT_SMALL, p->area.x0 - tick - 0.4f * pad, y + 0.5f * cap_s,
+                       SP_ALIGN_RIGHT, pal->muted, buf);
+    }
+    /* the y axis's name and unit at the right end of the title row */
+    sp_canvas_text(c, SP_TEXT_SMALL, r->x1 - pad, r->y0 + pad + cap_n, SP_ALIGN_RIGHT, pal->muted, ylabel);
+    /* axes lines: left and bottom */
+    sp_canvas_rect(c, p->area.x0 - hw, p->area.y0, p->area.x0 + hw, p->area.y1 + hw, pal->axis);
+    sp_canvas_rect(c, p->area.x0 - hw, p->area.y1 - hw, p->area.x1, p->area.y1 + hw, pal->axis);
+}
+
+/* Which quantity a strip chart or phase plot shows. */
+static double quantity(const struct sp_history_sample *s, int which, const struct sp_params *p)
+{
+    const double L0 = p->L0;
+    switch (which) {
+    case 0: return s->r;
+    case 1: return s->theta * RAD2DEG;
+    case 2: return s->r - L0;
+    case 3: return s->r_dot;
+    case 4: return s->theta_dot * RAD2DEG;
+    case 5: return (double)s->kinetic + s->spring + s->gravity;
+    case 6: return s->kinetic;
+    case 7: return s->spring;
+    case 8: return s->gravity;
+    case 9: return s->bounce;
+    default: return s->swing;
+    }
+}
+
+/* A polyline of (x(i), y(i)) over the samples (x = time when xq < 0);
+ * with fade_to, old parts fade into that colour. */
+static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
+                     int xq, int yq, const struct sp_params *pp, int first, float hw, const float color[4],
+                     const float *fade_to)
+{
+    const int fade = fade_to != NULL;
+    const int n = h->count - first;
+    /* over time, two segments per pixel column; a phase curve may wind over
+     * itself many times, so it keeps up to 8000 */
+    const int max_segs = xq < 0 ? 2 * (int)(p->area.x1 - p->area.x0) : 8000;
+    const int stride = n > max_segs ? (n + max_segs - 1) / max_segs : 1;
+    float col[4] = {color[0], color[1], color[2], color[3]};
+    float ax = 0, ay = 0;
+    int have = 0;
+    for (int i = first; i < h->count; i += stride) {
+        const int j = i + stride >= h->count ? h->count - 1 : i;
+        const struct sp_history_sample *s = &h->samples[j];
+        const float bx = xq < 0 ? px_x(p, s->t) : px_x(p, quantity(s, xq, pp));
+        const float by = px_y(p, quantity(s, yq, pp));
+        if (have) {
+            if (fade) { /* mixed with the opaque panel colour: no beads at the joints */
+                const float a = 0.06f + 0.94f * powf((float)(j - first) / (float)n, 1.5f);
+                for (int k = 0; k < 3; k++)
+                    col[k] = fade_to[k] + a * (color[k] - fade_to[k]);
+            }
+            sp_canvas_line(c, ax, ay, bx, by, hw, col);
+        }
+        ax = bx, ay = by, have = 1;
+        if (j == h->count - 1)
+            break;
+    }
+}
+
+static struct sp_range range_of(struct sp_range r, double scale, double shift)
+{
+    return (struct sp_range){r.lo * scale + shift, r.hi * scale + shift};
+}
+
+static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
+                        const struct sp_frame *f, const struct sp_view_extent *e,
+                        const struct sp_palette *pal, float unit)
+{
+    static const char *const titles[] = {"Spring length r|r", "Angle θ|θ", "Energy|E",
+                                         "Spring extension r − L₀|Extension", "", "", "",
+                                         "Energy of bounce and swing|Modes"};
+    static const char *const ylabels[] = {"r (m)", "θ (°)", "E (J)", "r − L₀ (m)", "", "", "", "E (J)"};
+    const struct sp_params *L0 = f->params;
+    const struct sp_range yr = bit == 0 ? e->r : bit == 1 ? range_of(e->theta, RAD2DEG, 0)
+                             : bit == 2 ? e->energy : bit == 3 ? range_of(e->r, 1, -L0->L0)
+                             : e->modes;
+    const struct sp_history *h = f->history;
+    const float hw = fmaxf(0.6f, 0.0013f * unit);
+    struct plot p;
+
+    frame_plot(c, r, &p, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
+               yr, 0, pal, unit);
+    if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) /* the zero line */
+        sp_canvas_rect(c, p.area.x0, px_y(&p, 0) - hw * 0.6f, p.area.x1, px_y(&p, 0) + hw * 0.6f, pal->axis);
+    if (!h || h->count == 0)
+        return;
+    const float now = px_x(&p, h->samples[h->count - 1].t);
+    sp_canvas_rect(c, now - hw * 0.8f, p.area.y0, now + hw * 0.8f, p.area.y1, pal->cursor);
+    if (bit == 2) { /* the split first, the total on top; a legend in the title row */
+        static const char *const names[] = {"total", "kinetic", "spring", "gravity"};
+        float x = r->x0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
+                  sp_font_width(c->font, SP_TEXT_NORMAL, "Energy") + sp_font_line(c->font, SP_TEXT_SMALL);
+        for (int k = 3; k >= 0; k--)
+            polyline(c, &p, h, -1, 5 + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], NULL);
+        const int fits = x + sp_font_width(c->font, SP_TEXT_SMALL, "total  kinetic  spring  gravity  E (J)") < r->x1;
+        for (int k = 0; k < 4 && fits; k++)
+            x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
+                                sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k],
+                                names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);
+    } else if (bit == 7) { /* bounce and swing, with a legend */
+        static const char *const names[] = {"bounce", "swing"};
+        float x = r->x0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
+                  sp_font_width(c->font, SP_TEXT_NORMAL, "Energy of bounce and swing") +
+                  sp_font_line(c->font, SP_TEXT_SMALL);
+        for (int k = 0; k < 2; k++) {
+            polyline(c, &p, h, -1, 9 + k, L0, 0, 1.2f * hw, pal->series[k + 1], NULL);
+            sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], 9 + k, L0)), 2.2f * hw,
+                           0, pal->series[k + 1]);
+        }
+        if (x + sp_font_width(c->font, SP_TEXT_SMALL, "bounce  swing  E (J)") < r->x1 - 10)
+            for (int k = 0; k < 2; k++)
+                x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
+                                    sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k + 1],
+                                    names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);
+    } else {
+        const int q = bit == 0 ? 0 : bit == 1 ? 1 : 2;
+        polyline(c, &p, h, -1, q, L0, 0, hw, pal->series[1], NULL);
+        sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], q, L0)), 2.2f * hw, 0, pal->series[1]);
+    }
+}
+
+static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
+                       const struct sp_frame *f, const struct sp_view_extent *e,
+                       const struct sp_palette *pal, float unit)
+{
+    const struct sp_history *h = f->history;
+    const float hw = fmaxf(0.6f, 0.0012f * unit);
+    struct plot p;
+    if (theta)
+        frame_plot(c, r, &p, "Phase portrait θ, θ̇|θ, θ̇", "θ (°)", "θ̇ (°/s)", range_of(e->theta, RAD2DEG, 0),
+                   range_of(e->theta_dot, RAD2DEG, 0), 0.06, pal, unit);
+    else
+        frame_plot(c, r, &p, "Phase portrait r, ṙ|r, ṙ", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal, unit);
+    if (!h || h->count == 0)
+        return;
+    const int xq = theta ? 1 : 0, yq = theta ? 4 : 3;
+    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], pal->panel);
+    const struct sp_history_sample *s = &h->samples[h->count - 1];
+    sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
+                   2.6f * hw, 0, pal->cursor);
+}
+
+static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
+                          const struct sp_view_extent *e, const struct sp_palette *pal, float unit)
+{
+    const struct sp_history *h = f->history;
+    const float dot = fmaxf(1.8f, 0.0035f * unit);
+    char count[64];
+    struct plot p;
+    frame_plot(c, r, &p, "Poincaré θ = 0, θ̇ > 0|Poincaré", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal, unit);
+    if (!h)
+        return;
+    snprintf(count, sizeof(count), "%d crossing%s", h->n_crossings, h->n_crossings == 1 ? "" : "s");
+    sp_canvas_text(c, SP_TEXT_SMALL, p.area.x1 - 4, p.area.y0 + sp_font_line(c->font, SP_TEXT_SMALL),
+                   SP_ALIGN_RIGHT, pal->muted, count);
+    for (int i = 0; i < h->n_crossings; i++)
+        sp_canvas_disc(c, px_x(&p, h->crossings[i].r), px_y(&p, h->crossings[i].r_dot),
+                       i == h->n_crossings - 1 ? 1.8f * dot : dot, 0,
+                       i == h->n_crossings - 1 ? pal->cursor : pal->series[2]);
+}
+
+void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
+                    const struct sp_view_extent *e, const struct sp_palette *pal, float unit)
+{
+    for (int b = 0; b < SP_PANEL_COUNT; b++) {
+        const struct sp_rect *r = &lay->panel[b];
+        if (!sp_rect_valid(r))
+            continue;
+        if (b <= 3 || b == 7)
+            strip_chart(c, r, b, f, e, pal, unit);
+        else if (b <= 5)
+            phase_plot(c, r, b == 5, f, e, pal, unit);
+        else
+            poincare_plot(c, r, f, e, pal, unit);
+    }
+}
+
+/* ---- heads-up text ---- */
+
+int sp_params_resonant(const struct sp_params *p, double *ratio)
+{
+    const double ell = p->L0 + p->g / p->k_over_m;
+    *ratio = sqrt(p->k_over_m) / sqrt(p->g / ell);
+    return fabs(*ratio - 2) <= 0.03 * 2;
+}
+
+/* Appends `item` to the lines, starting a new line when it would not fit. */
+static void add_item(const struct sp_font *font, float max_width, char lines[][SP_HUD_LINE_BYTES],
+                     int *n, int max, const char *item, int new_line)
+{
+    char *l = lines[*n - 1];
+    char joined[2 * SP_HUD_LINE_BYTES];
+    snprintf(joined, sizeof(joined), "%s%s%s", l, *l ? "    " : "", item);
+    if (!new_line && (!*l || sp_font_width(font, SP_TEXT_NORMAL, joined) <= max_width)) {
+        snprintf(l, SP_HUD_LINE_BYTES, "%.*s", SP_HUD_LINE_BYTES - 1, joined);
+        return;
+    }
+    if (*n < max)
+        snprintf(lines[(*n)++], SP_HUD_LINE_BYTES, "%s", item);
+}
+
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
+                 char lines[][SP_HUD_LINE_BYTES], int max)
+{
+    const double ell = p->L0 + p->g / p->k_over_m, ws = sqrt(p->k_over_m), wp = sqrt(p->g / ell);
+    char item[SP_HUD_LINE_BYTES];
+    double ratio;
+    int n = 2;
+    lines[0][0] = lines[1][0] = 0;
+    snprintf(item, sizeof(item), "m = %.3g kg", p->mass);
+    add_item(font, max_width, lines, &n, max, item, 0);
+    snprintf(item, sizeof(item), "k = %.4g N/m", p->stiffness);
+    add_item(font, max_width, lines, &n, max, item, 0);
+    snprintf(item, sizeof(item), "L₀ = %.3g m", p->L0);
+    add_item(font, max_width, lines, &n, max, item, 0);
+    snprintf(item, sizeof(item), "g = %.3g m/s²", p->g);
+    add_item(font, max_width, lines, &n, max, item, 0);
+    if (p->b_over_m > 0) {
+        snprintf(item, sizeof(item), "b = %.3g N·s/m", p->b_over_m * p->mass);
+        add_item(font, max_width, lines, &n, max, item, 0);
+    }
+    snprintf(item, sizeof(item), "ωₛ = √(k/m) = %.3f rad/s", ws);
+    add_item(font, max_width, lines, &n, max, item, 1);
+    snprintf(item, sizeof(item), "ωₚ = √(g/ℓ) = %.3f rad/s", wp);
+    add_item(font, max_width, lines, &n, max, item, 0);
+    snprintf(item, sizeof(item), "ℓ = L₀ + mg/k = %.3f m", ell);
+    add_item(font, max_width, lines, &n, max, item, 0);
+    if (p->drive_amp > 0 && p->drive_omega > 0) {
+        snprintf(item, sizeof(item), "pivot: %.3g m at %.4g Hz", p->drive_amp, p->drive_omega / (2 * M_PI));
+        add_item(font, max_width, lines, &n, max, item, 1);
+        snprintf(item, sizeof(item), "Ω/ωₚ = %.3f", p->drive_omega / wp);
+        add_item(font, max_width, lines, &n, max, item, 0);
+    }
+    sp_params_resonant(p, &ratio);
+    snprintf(item, sizeof(item), "ωₛ/ωₚ = %.3f", ratio);
+    add_item(font, max_width, lines, &n, max, item, 1);
+    return n;
+}
+
+float sp_hud_height(const struct sp_font *font, int n)
+{
+    return (float)sp_font_line(font, SP_TEXT_LARGE) + (float)(n - 1) * sp_font_line(font, SP_TEXT_NORMAL);
+}
+
+void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
+                 char lines[][SP_HUD_LINE_BYTES], int n, const struct sp_params *p,
+                 const struct sp_palette *pal)
+{
+    const struct sp_font *f = c->font;
+    char buf[64];
+    double ratio;
+    float y = r->y0 + sp_font_cap(f, SP_TEXT_LARGE);
+    snprintf(buf, sizeof(buf), "t = %.2f s", t);
+    sp_canvas_text(c, SP_TEXT_LARGE, r->x0, y, SP_ALIGN_LEFT, pal->text, buf);
+    y += 0.5f * (sp_font_line(f, SP_TEXT_LARGE) - sp_font_cap(f, SP_TEXT_LARGE)) +
+         0.5f * (sp_font_line(f, SP_TEXT_NORMAL) - sp_font_cap(f, SP_TEXT_NORMAL));
+    for (int i = 1; i < n; i++) {
+        y += sp_font_line(f, SP_TEXT_NORMAL);
+        if (!lines[i][0])
+            continue;
+        const float w = (float)sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, y - sp_font_line(f, SP_TEXT_NORMAL) +
+                                              sp_font_cap(f, SP_TEXT_NORMAL), SP_ALIGN_LEFT,
+                                              i == n - 1 ? pal->text : pal->muted, lines[i]);
+        if (i == n - 1) {
+            const int res = sp_params_resonant(p, &ratio);
+            snprintf(buf, sizeof(buf), res ? "≈ 2:1 resonance ✓" : "(2:1 resonance needs kL₀ = 3mg)");
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0 + w + sp_font_line(f, SP_TEXT_NORMAL),
+                           y - sp_font_line(f, SP_TEXT_NORMAL) + sp_font_cap(f, SP_TEXT_NORMAL),
+                           SP_ALIGN_LEFT, res ? pal->accent : pal->muted, buf);
+        }
+    }
+}
+
+/* ---- colourbar ---- */
+
+float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed)
+{
+    char buf[32];
+    format_tick(buf, sizeof(buf), max_speed, 2);
+    const int w = sp_font_width(font, SP_TEXT_SMALL, buf), t = sp_font_width(font, SP_TEXT_SMALL, "|v| (m/s)");
+    return fmaxf(roundf(0.018f * unit) + roundf(0.006f * unit) + (float)w + 4, (float)t);
+}
+
+void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap,
+                      double max_speed, const struct sp_palette *pal, float unit)
+{
+    const struct sp_font *f = c->font;
+    const float bw = roundf(0.018f * unit), tick = roundf(0.006f * unit);
+    const float cap = (float)sp_font_cap(f, SP_TEXT_SMALL);
+    const float y0 = r->y0 + 1.6f * cap, h = fminf(r->y1 - y0 - cap, 0.4f * unit);
+    const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed) - bw - tick);
+    enum { STEPS = 64 };
+    struct axis a;
+    char buf[32];
+    float rgb[4] = {0, 0, 0, 1};
+    sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap, SP_ALIGN_LEFT, pal->muted, "|v| (m/s)");
+    for (int i = 0; i < STEPS; i++) { /* fast at the top, like the trail's speed range */
+        sp_colormap(colormap, pal->cmap_lo + (pal->cmap_hi - pal->cmap_lo) * (1.0f - (i + 0.5f) / STEPS), rgb);
+        sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);
+    }
+    axis_make(&a, 0, max_speed, (int)(h / (4.0f * sp_font_line(f, SP_TEXT_SMALL))), 0);
+    for (double v = 0; v <= max_speed * (1 + 1e-9); v += a.step) {
+        const float y = (float)(y0 + h * (1 - v / max_speed));
+        format_tick(buf, sizeof(buf), v, a.decimals);
+        sp_canvas_rect(c, x0 + bw, y - 0.5f, x0 + bw + tick, y + 0.5f, pal->axis);
+        sp_canvas_text(c, SP_TEXT_SMALL, x0 + bw + tick + 3, y + 0.5f * cap, SP_ALIGN_LEFT, pal->muted, buf);
+    }
+}

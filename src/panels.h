@@ -1,0 +1,55 @@
+/* springpend (internal): the teaching overlays drawn into a canvas: strip
+ * charts (r, theta, energy, extension), phase portraits, the Poincare
+ * section, the heads-up text and the speed colourbar. Axes come from the
+ * pre-pass ranges (struct sp_view_extent), so they never jump. */
+#ifndef SPRINGPEND_PANELS_H
+#define SPRINGPEND_PANELS_H
+
+#include "springpend/frame.h"
+#include "canvas.h"
+#include "layout.h"
+
+/* Colours of a theme, straight RGBA. */
+struct sp_palette {
+    float background[4], panel[4], axis[4], grid[4], text[4], muted[4];
+    float series[4][4]; /* total / the plotted quantity, kinetic, spring, gravity */
+    float cursor[4], accent[4];
+    float mount[4], wire_front[4], wire_back[4], pivot[4], bob[4];
+    float cmap_lo, cmap_hi; /* the part of the colormap speeds 0..max use: the
+                               end that would vanish into the background is left out */
+};
+
+/* The theme's palette with the scene's background applied. */
+void sp_palette_get(const struct sp_scene *scene, struct sp_palette *out);
+
+/* Colour of a speed fraction t in [0, 1] in the scene's colormap. */
+void sp_colormap(int colormap, float t, float rgb[3]);
+
+/* Draws every panel the layout holds for frame f. `unit` is the frame's
+ * smaller side, px (line widths and dot sizes follow it). */
+void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
+                    const struct sp_view_extent *e, const struct sp_palette *pal, float unit);
+
+/* Heads-up text: writes the lines for params (time left out) wrapped to
+ * max_width px into lines[0..max) and returns how many; line 0 is the time
+ * line, filled in at draw time. */
+#define SP_HUD_MAX_LINES 8
+#define SP_HUD_LINE_BYTES 200
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
+                 char lines[][SP_HUD_LINE_BYTES], int max);
+/* Height in px of n heads-up lines. */
+float sp_hud_height(const struct sp_font *font, int n);
+/* Draws the time and the lines in r. */
+void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
+                 char lines[][SP_HUD_LINE_BYTES], int n, const struct sp_params *p,
+                 const struct sp_palette *pal);
+
+/* Width in px the colourbar needs, and its drawing (speed 0 .. max_speed). */
+float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed);
+void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap,
+                      double max_speed, const struct sp_palette *pal, float unit);
+
+/* True when omega_spring / omega_pendulum is within 3 % of 2. */
+int sp_params_resonant(const struct sp_params *p, double *ratio);
+
+#endif

@@ -1,0 +1,216 @@
+/* springpend tests: the teaching overlays' pure parts: text rasterization
+ * (text.c), the frame layout (layout.c) and the Poincare crossings
+ * (frame.c). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "springpend/common.h"
+#include "springpend/frame.h"
+#include "springpend/scene.h"
+#include "springpend/sim.h"
+#include "layout.h"
+#include "text.h"
+#include "tap.h"
+
+#ifdef NDEBUG
+#error "tests need assertions"
+#endif
+
+#define TW 480
+#define TH 64
+static const char SAMPLE[] = "θ = 0, θ̇ > 0   ωₛ/ωₚ ≈ 2   r₀ = 1.5 m   g = 9.81 m/s²   ṙ Poincaré";
+
+/* Lays SAMPLE out with a fresh font and returns its coverage image. */
+static uint8_t *render_sample(int *ink)
+{
+    static const int px[SP_TEXT_SIZES] = {12, 16, 22};
+    static const float white[4] = {1, 1, 1, 1};
+    struct sp_font *f = NULL;
+    struct sp_glyph_quad q[256];
+    uint8_t *img = calloc(TW * TH, 1);
+    if (!img || sp_font_make(&f, px)) {
+        free(img);
+        return NULL;
+    }
+    const int n = sp_font_layout(f, SP_TEXT_NORMAL, SAMPLE, 4, 40, white, q, 256);
+    sp_font_blit(f, q, n < 256 ? n : 256, img, TW, TH);
+    *ink = 0;
+    for (int i = 0; i < TW * TH; i++)
+        *ink += img[i] > 128;
+    sp_font_destroy(&f);
+    return img;
+}
+
+static void test_text(void)
+{
+    static const int px[SP_TEXT_SIZES] = {12, 16, 22};
+    static const uint32_t needed[] = {0x03B8, 0x03C9, 0x2080, 0x00B2, 0x1E59, 0x0307,
+                                      0x209B, 0x209A, 0x2248, 0x00E9, 0x2212, 0x2113};
+    struct sp_font *f = NULL;
+    int ink1 = 0, ink2 = 0, missing = 0;
+
+    if (!sp_tap_ok(sp_font_make(&f, px) == 0, "font made from the embedded DejaVu Sans"))
+        return;
+    for (size_t i = 0; i < sizeof(needed) / sizeof(needed[0]); i++)
+        if (!sp_font_has(f, needed[i])) {
+            sp_tap_diag("no glyph for U+%04X", needed[i]);
+            missing++;
+        }
+    sp_tap_ok(missing == 0, "the font has every Greek, sub/superscript and math glyph used");
+    sp_tap_ok(!sp_font_has(f, 0x4E2D), "a code point outside the atlas is reported missing");
+    const int wa = sp_font_width(f, SP_TEXT_NORMAL, "θ"), wb = sp_font_width(f, SP_TEXT_NORMAL, "θ̇");
+    sp_tap_ok(wa > 0 && wa == wb, "a combining dot adds no width (%d, %d)", wa, wb);
+    sp_tap_ok(sp_font_width(f, SP_TEXT_LARGE, "mmm") > sp_font_width(f, SP_TEXT_SMALL, "mmm"),
+              "larger sizes are wider");
+    sp_font_destroy(&f);
+    sp_tap_ok(f == NULL, "destroy sets the font to NULL");
+
+    uint8_t *a = render_sample(&ink1), *b = render_sample(&ink2);
+    sp_tap_ok(a && b && ink1 > 400, "the sample string leaves ink (%d pixels)", ink1);
+    sp_tap_ok(a && b && memcmp(a, b, TW * TH) == 0,
+              "two fonts built apart render the string to the same glyph pixels");
+    free(a);
+    free(b);
+}
+
+static void test_layout(void)
+{
+    static const int sizes[][2] = {{1920, 1080}, {1280, 960}, {1080, 1920}, {640, 360},
+                                   {3840, 2160}, {1000, 1000}};
+    static const unsigned sets[] = {
+        (1u << SP_PANEL_COUNT) - 1, SP_PANEL_R, SP_PANEL_POINCARE,
+        SP_PANEL_R | SP_PANEL_THETA | SP_PANEL_ENERGY | SP_PANEL_EXTENSION,
+        SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA | SP_PANEL_POINCARE,
+        SP_PANEL_ENERGY | SP_PANEL_POINCARE};
+    for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
+        const int W = sizes[i][0], H = sizes[i][1];
+        int bad = 0;
+        for (size_t s = 0; s < sizeof(sets) / sizeof(sets[0]); s++) {
+            for (int extras = 0; extras < 2; extras++) {
+                struct sp_layout l;
+                struct sp_rect all[SP_PANEL_COUNT + 3];
+                int n = 0;
+                sp_layout_compute(&(struct sp_layout_desc){W, H, sets[s], extras ? 0.08f * H : 0,
+                                                           extras ? 0.06f * W : 0}, &l);
+                all[n++] = l.camera;
+                if (extras) {
+                    all[n++] = l.hud;
+                    all[n++] = l.colorbar;
+                }
+                for (int b = 0; b < SP_PANEL_COUNT; b++) {
+                    const int want = (sets[s] >> b) & 1;
+                    if (want != sp_rect_valid(&l.panel[b]))
+                        bad++, sp_tap_diag("%dx%d set %zu: panel %d shown %d", W, H, s, b, !want);
+                    if (want)
+                        all[n++] = l.panel[b];
+                }
+                for (int a = 0; a < n; a++) {
+                    const struct sp_rect *r = &all[a];
+                    const float min_side = a == 0 ? 0.25f * (W < H ? W : H) : 0.05f * (W < H ? W : H);
+                    if (!sp_rect_valid(r) || r->x0 < 0 || r->y0 < 0 || r->x1 > W || r->y1 > H ||
+                        r->x1 - r->x0 < min_side || r->y1 - r->y0 < min_side) {
+                        bad++;
+                        sp_tap_diag("%dx%d set %zu: rect %d (%.0f %.0f %.0f %.0f) outside the "
+                                    "frame or too small", W, H, s, a, r->x0, r->y0, r->x1, r->y1);
+                    }
+                    for (int c = a + 1; c < n; c++)
+                        if (sp_rect_overlap(r, &all[c])) {
+                            bad++;
+                            sp_tap_diag("%dx%d set %zu: rects %d and %d overlap", W, H, s, a, c);
+                        }
+                }
+            }
+        }
+        sp_tap_ok(bad == 0, "layout at %dx%d: every panel inside the frame, none overlapping",
+                  W, H);
+    }
+}
+
+/* Runs scene text for `seconds` with the Poincare panel, sampling at 60 Hz. */
+static int run_history(const char *text, double seconds, struct sp_scene *sc,
+                       struct sp_history *h, struct sp_sim *sim)
+{
+    sp_scene_defaults(sc);
+    if (sp_scene_parse(sc, text, "test.ini", NULL, 0) || sp_history_make(h, sc))
+        return 1;
+    sp_sim_init(sim, sc);
+    for (int k = 0; k <= (int)(seconds * 60); k++)
+        if (sp_history_follow(h, sim, k / 60.0))
+            return 1;
+    return 0;
+}
+
+static void test_poincare(void)
+{
+    struct sp_scene sc;
+    struct sp_history h;
+    struct sp_sim sim;
+
+    /* Pure bounce: theta stays 0, it is never crossed with dtheta/dt > 0. */
+    int err = run_history("[pendulum]\nnatural_length = 1\nstiffness = 20\nmass = 1\n"
+                          "[initial]\nlength = 1.79\nangle = 0\n[view]\npanels = poincare\n",
+                          20, &sc, &h, &sim);
+    sp_tap_ok(!err && h.count > 1000 && h.n_crossings == 0,
+              "pure bounce: no Poincare points in 20 s (%d)", h.n_crossings);
+    sp_history_destroy(&h);
+
+    /* Small swing of a stiff spring from rest at the equilibrium length: the
+     * bob passes theta = 0 once per swing period 2 pi sqrt(l/g), at r = l
+     * (to the centrifugal stretch, ~ l theta0^2 omega_p^2/omega_s^2) with r' ~ 0. */
+    const double k = 5000, m = 1, L0 = 1, g = 9.81;
+    const double ell = L0 + m * g / k, period = 2 * M_PI * sqrt(ell / g);
+    char text[512];
+    snprintf(text, sizeof(text), "[pendulum]\nnatural_length = %g\nstiffness = %g\nmass = %g\n"
+             "[initial]\nlength = %.10f\nangle = 2\n[integrator]\ndt = 0.0002\n"
+             "[view]\npanels = poincare\n", L0, k, m, ell);
+    err = run_history(text, 30, &sc, &h, &sim);
+    const int expected = (int)floor((30 - 0.75 * period) / period) + 1;
+    double worst_r = 0, worst_rd = 0, worst_gap = 0;
+    for (int i = 0; i < h.n_crossings; i++) {
+        worst_r = fmax(worst_r, fabs(h.crossings[i].r - ell));
+        worst_rd = fmax(worst_rd, fabs(h.crossings[i].r_dot));
+        if (i)
+            worst_gap = fmax(worst_gap, fabs(h.crossings[i].t - h.crossings[i - 1].t - period));
+    }
+    sp_tap_ok(!err && h.n_crossings == expected, "small swing: %d crossings in 30 s, one per "
+              "period %.4f s (%d)", expected, period, h.n_crossings);
+    sp_tap_ok(h.n_crossings > 0 && worst_r < 2e-4 && worst_rd < 2e-3,
+              "small swing: every point at r = l = %.5f m, r' = 0 (worst %.2g m, %.2g m/s)",
+              ell, worst_r, worst_rd);
+    sp_tap_ok(h.n_crossings > 1 && worst_gap < 2e-3 * period,
+              "small swing: crossings one period apart (worst %.2g s off)", worst_gap);
+
+    /* Exactness: at each crossing time the motion itself (integrated there
+     * directly) has x = 0 and the same r, r'. Frames are 1/60 s apart, so a
+     * nearest-sample answer would be off by up to ~1e-2 s. */
+    double worst_x = 0, worst_dr = 0;
+    for (int i = 0; i < h.n_crossings && i < 6; i++) {
+        struct sp_sim ref;
+        struct sp_polar pol;
+        sp_sim_init(&ref, &sc);
+        for (int j = 1; j * (1 / 60.0) < h.crossings[i].t; j++) /* the same stops as the run */
+            sp_sim_advance(&ref, j / 60.0);
+        sp_sim_advance(&ref, h.crossings[i].t);
+        sp_state_polar(&ref.s, &pol);
+        worst_x = fmax(worst_x, fabs(ref.s.x));
+        worst_dr = fmax(worst_dr, fabs(pol.r_dot - h.crossings[i].r_dot));
+    }
+    sp_tap_ok(worst_x < 1e-7 && worst_dr < 1e-5, "crossings located exactly: |x| <= %.2g m, "
+              "r' off by %.2g m/s at the interpolated times", worst_x, worst_dr);
+    sp_history_destroy(&h);
+
+    /* Panels not asked for cost nothing. */
+    err = run_history("[view]\npanels = none\n", 2, &sc, &h, &sim);
+    sp_tap_ok(!err && !h.active && h.samples == NULL && h.count == 0,
+              "without panels no history is kept");
+}
+
+int main(void)
+{
+    test_text();
+    test_layout();
+    test_poincare();
+    return sp_tap_done();
+}

@@ -230,18 +230,20 @@ def png_text(path):
     return text, chunks
 
 
-# Determinism: the same still, whatever LP_NUM_THREADS, gives the same bytes.
+# Determinism: the same still (all panels and text), whatever LP_NUM_THREADS,
+# gives the same bytes.
 det = os.path.join(work, "det")
 os.makedirs(det)
 stills = {}
 for threads in ("1", "2", "4", "4"):
     path = os.path.join(det, f"t{threads}-{len(stills)}.png")
-    r = subprocess.run([exe, "still", default, "--at", "2.5", "--size", "480x270", "-o", path, "-q"],
+    r = subprocess.run([exe, "still", default, "--at", "2.5", "--size", "480x270", "-o", path, "-q",
+                        "--set", "view.panels=all", "--set", "view.hud=true"],
                        capture_output=True, text=True, env=dict(os.environ, LP_NUM_THREADS=threads))
     stills[path] = open(path, "rb").read() if r.returncode == 0 else b""
 first = next(iter(stills.values()))
 ok(first and all(v == first for v in stills.values()),
-   f"LP_NUM_THREADS=1, 2, 4 and a second run at 4 give identical PNG bytes "
+   f"LP_NUM_THREADS=1, 2, 4 and a second run at 4 give identical PNG bytes (panels, text) "
    f"({[len(v) for v in stills.values()]} bytes)")
 paths = list(stills)
 r = run("compare", paths[0], paths[2], "--max-diff", "0", "--max-pixels", "0")

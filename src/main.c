@@ -17,6 +17,7 @@ static const char usage[] =
     "  data     the motion as CSV: state, polar form, energies (no rendering)\n"
     "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"
+    "  compare  compare PNG images, folders of them or videos (snapshot tests in CI)\n"
     "\n"
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
     "\n"

@@ -177,9 +177,10 @@ r = run("render", default, "-o", default)
 ok(r.returncode == 2 and "scene file itself" in r.stderr, "the output may not overwrite the scene")
 r = run("frobnicate")
 ok(r.returncode == 2 and "unknown command" in r.stderr, "an unknown command")
-for cmd in ([], ["render"], ["still"], ["data"], ["info"]):
+for cmd in ([], ["render"], ["still"], ["data"], ["info"], ["compare"]):
     r = run(*cmd, "--help")
     ok(r.returncode == 0 and "usage:" in r.stdout, f"springpend {' '.join(cmd)} --help")
+ok("compare" in run("--help").stdout, "springpend --help lists compare")
 
 # A blow-up is an error with exit 3, never a file.
 r = run("render", default, "--set", "pendulum.stiffness=5e6", "--set", "pendulum.mass=0.5",

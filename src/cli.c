@@ -1,9 +1,12 @@
 /* springpend: option parsing shared by the scene commands. */
+#include <errno.h>
 #include <getopt.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "springpend/common.h"
@@ -31,6 +34,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"frames", required_argument, 0, 'R'}, {"shard", required_argument, 0, 'D'},
         {"gl", required_argument, 0, 'G'},     {"quality", required_argument, 0, 'Q'},
         {"scale", required_argument, 0, 'X'},
+        {"state", required_argument, 0, 'J'},
         {0, 0, 0, 0},
     };
     /* --quality: like the tools people know; --set/--size/--fps still win. */
@@ -81,6 +85,13 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'F':
             snprintf(o->fps_buf, sizeof(o->fps_buf), "video.fps=%s", optarg);
             ret = add_override(o, o->fps_buf);
+            break;
+        case 'J':
+            if (!(allow_at & SP_CLI_AT)) {
+                sp_log_error("--state is for 'springpend still'; see '%s --help'", argv[0]);
+                return SP_E_INPUT;
+            }
+            o->state = optarg;
             break;
         case 'a': {
             char *end;
@@ -194,17 +205,57 @@ int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene)
     return sp_scene_load(scene, o->scene_path, o->overrides, o->n_overrides);
 }
 
+int sp_cli_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+int sp_cli_check_writable(const char *path, const char *what)
+{
+    char dir[PATH_MAX];
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        sp_log_error("%s %s is a folder; give a file name", what, path);
+        return SP_E_INPUT;
+    }
+    /* The nearest ancestor that exists must be a folder we may write in;
+     * the sink creates the missing ones below it. */
+    snprintf(dir, sizeof(dir), "%s", path);
+    for (;;) {
+        char *slash = strrchr(dir, '/');
+        if (!slash) {
+            snprintf(dir, sizeof(dir), ".");
+            break;
+        }
+        *slash = 0;
+        if (slash == dir)
+            snprintf(dir, sizeof(dir), "/");
+        if (!dir[0] || stat(dir, &st) == 0 || (errno != ENOENT && errno != ENOTDIR))
+            break;
+    }
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        sp_log_error("%s %s: %s is not a folder", what, path, dir);
+        return SP_E_INPUT;
+    }
+    if (access(dir, W_OK | X_OK) != 0) {
+        sp_log_error("%s %s: cannot write in folder %s: %s", what, path, dir, strerror(errno));
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *ext, char *buf, size_t size)
 {
-    char a[PATH_MAX], b[PATH_MAX];
     if (o->output)
         snprintf(buf, size, "%s", o->output);
     else
         snprintf(buf, size, "out/%s%s", scene->name, ext);
-    if (realpath(buf, a) && realpath(o->scene_path, b) && !strcmp(a, b)) {
+    if (sp_cli_same_file(buf, o->scene_path)) {
         sp_log_error("output %s is the scene file itself; choose another -o", buf);
         return SP_E_INPUT;
     }
-    return 0;
+    return sp_cli_check_writable(buf, "output");
 }

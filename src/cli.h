@@ -24,6 +24,7 @@ struct sp_cli_options {
     int gl;                  /* --gl: enum sp_gl */
     char quality_buf[3][48]; /* storage for the overrides --quality makes */
     int scale;               /* --scale (still): supersampling factor, 0 = not given */
+    const char *state;       /* --state (still): JSON path, NULL = none */
 };
 
 /* Command-specific options sp_cli_parse accepts (allow_at is a mask). */
@@ -49,9 +50,18 @@ int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);
 int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *ext, char *buf, size_t size);
 
+/* 1 when both paths exist and name the same file (links resolved). */
+int sp_cli_same_file(const char *a, const char *b);
+
+/* Refuses (SP_E_INPUT, with a message) an output path that cannot be
+ * written: a folder, or under something that is not a writable folder.
+ * Looks only; creates nothing. `what` names the option ("-o"). */
+int sp_cli_check_writable(const char *path, const char *what);
+
 int sp_cmd_render(int argc, char **argv);
 int sp_cmd_still(int argc, char **argv);
 int sp_cmd_data(int argc, char **argv);
 int sp_cmd_info(int argc, char **argv);
+int sp_cmd_compare(int argc, char **argv);
 
 #endif

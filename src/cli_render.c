@@ -1,10 +1,14 @@
 /* springpend: the render and still commands. */
+#include <errno.h>
 #include <stdio.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "cli.h"
 #include "springpend/common.h"
 #include "springpend/pipeline.h"
+#include "springpend/provenance.h"
+#include "springpend/sim.h"
 
 static const char render_usage[] =
     "usage: springpend render SCENE [-o OUTPUT] [options]\n"
@@ -46,6 +50,9 @@ static const char still_usage[] =
     "options:\n"
     "  --at SECONDS           simulated time of the frame\n"
     "  -o, --output PATH      where to write (.png)\n"
+    "  --state FILE.json      also write the bob's physics state in that frame\n"
+    "                         (t, x, y, vx, vy, r, theta, energies), so CI can\n"
+    "                         check the physics apart from the pixels\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
     "  --size WxH             shorthand for video.width and video.height (up to 7680x4320)\n"
     "  --scale N              draw at N times the size (1..4) and average down:\n"
@@ -56,6 +63,80 @@ static const char still_usage[] =
     "Teaching overlays and looks come from the scene's [view] keys (panels, hud,\n"
     "theme, background, colormap, colorbar, strobe, trail = all): see 'springpend keys'.\n"
     "A transparent background writes a PNG with alpha, for slides.\n";
+
+/* Writes the physics of the still's frame as JSON through PATH.part. */
+static int write_state(const char *path, const struct sp_scene *scene,
+                       const struct sp_state *st)
+{
+    struct sp_sim sim;
+    struct sp_provenance prov;
+    struct sp_polar pol;
+    struct sp_energy e;
+    char part[4200];
+    int ret = sp_provenance_init(&prov, scene, NULL);
+    if (ret)
+        return ret;
+    sp_sim_init(&sim, scene); /* for the parameters and the initial energy */
+    sp_state_polar(st, &pol);
+    sp_state_energy(&sim.p, st, &e);
+    snprintf(part, sizeof(part), "%s.part", path);
+    FILE *fp = fopen(part, "w");
+    if (!fp) {
+        sp_log_error("%s: cannot create: %s", part, strerror(errno));
+        return SP_E_IO;
+    }
+    fprintf(fp,
+            "{\n  \"springpend\": \"%s\",\n  \"scene_sha256\": \"%s\",\n"
+            "  \"units\": {\"t\": \"s\", \"x\": \"m\", \"y\": \"m\", \"vx\": \"m/s\", "
+            "\"vy\": \"m/s\", \"r\": \"m\", \"theta\": \"rad from the downward vertical\", "
+            "\"r_dot\": \"m/s\", \"theta_dot\": \"rad/s\", \"energy\": \"J\"},\n"
+            "  \"t\": %.17g,\n  \"x\": %.17g,\n  \"y\": %.17g,\n"
+            "  \"vx\": %.17g,\n  \"vy\": %.17g,\n"
+            "  \"r\": %.17g,\n  \"theta\": %.17g,\n  \"r_dot\": %.17g,\n  \"theta_dot\": %.17g,\n"
+            "  \"energy\": {\"kinetic\": %.17g, \"spring\": %.17g, \"gravity\": %.17g, "
+            "\"total\": %.17g, \"initial_total\": %.17g}\n}\n",
+            SP_VERSION, prov.scene_sha256, st->t, st->x, st->y, st->vx, st->vy, pol.r,
+            pol.theta, pol.r_dot, pol.theta_dot, e.kinetic, e.spring, e.gravity, e.total,
+            sim.energy0);
+    if (fflush(fp) || ferror(fp)) {
+        sp_log_error("%s: cannot write: %s", part, strerror(errno));
+        ret = SP_E_IO;
+    }
+    if (fclose(fp) && !ret) {
+        sp_log_error("%s: cannot write: %s", part, strerror(errno));
+        ret = SP_E_IO;
+    }
+    if (!ret && rename(part, path)) {
+        sp_log_error("cannot rename %s to %s: %s", part, path, strerror(errno));
+        ret = SP_E_IO;
+    }
+    if (ret)
+        remove(part);
+    return ret;
+}
+
+/* Refuses --state paths that would clobber an input or the image, or
+ * cannot be written; and a still so late that reaching it would take a
+ * fixed-step method more than 1e10 steps (scene.c's limit for videos). */
+static int check_still(const struct sp_cli_options *o, const struct sp_scene *scene,
+                       const char *out)
+{
+    if (scene->integrator.method <= SP_METHOD_YOSHIDA4 && o->at / scene->integrator.dt > 1e10) {
+        sp_log_error("--at %g: reaching it takes %.3g steps of integrator.dt = %g s; at most "
+                     "1e10 are allowed", o->at, o->at / scene->integrator.dt,
+                     scene->integrator.dt);
+        return SP_E_INPUT;
+    }
+    if (!o->state)
+        return 0;
+    if (sp_cli_same_file(o->state, o->scene_path) || !strcmp(o->state, out) ||
+        sp_cli_same_file(o->state, out)) {
+        sp_log_error("--state %s would overwrite the scene or the image; choose another path",
+                     o->state);
+        return SP_E_INPUT;
+    }
+    return sp_cli_check_writable(o->state, "--state");
+}
 
 static int run(int argc, char **argv, int still)
 {
@@ -72,16 +153,22 @@ static int run(int argc, char **argv, int still)
         ret = sp_cli_output_path(&o, &scene, still ? ".png" : ext, out, sizeof(out));
     if (!ret && !still)
         ret = sp_cli_frame_range(&o, sp_scene_frame_count(&scene), &first, &last);
+    if (!ret && still)
+        ret = check_still(&o, &scene, out);
     if (ret)
         return ret;
+    struct sp_state state;
     ret = sp_pipeline_run(&(struct sp_pipeline_desc){
         .scene = &scene, .output = out, .format = still ? NULL : o.format,
         .still = still, .still_at = o.at < 0 ? 0 : o.at, .first = first,
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
-        .handle_signals = !still, .supersample = o.scale,
+        .handle_signals = !still, .supersample = o.scale, .state_out = &state,
         .progress = !o.quiet && !still && isatty(2)});
+    /* Both files or neither. */
+    if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0)
+        remove(out);
     if ((!ret || ret == SP_E_INTERRUPTED) && !o.quiet)
-        fprintf(stderr, "wrote %s\n", out);
+        fprintf(stderr, "wrote %s%s%s\n", out, o.state ? " and " : "", o.state ? o.state : "");
     return ret;
 }
 

@@ -18,12 +18,13 @@ static const char usage[] =
     "  data     the motion as CSV: state, polar form, energies (no rendering)\n"
     "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"
+    "  compare  compare PNG images, folders of them or videos (snapshot tests in CI)\n"
     "\n"
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
     "\n"
     "exit status: 0 done, 1 failed (I/O, encoder, GL), 2 bad input,\n"
-    "             3 the simulation became unstable,\n"
-    "             130/143 stopped by SIGINT/SIGTERM (render keeps the frames so far)\n";
+    "             3 the simulation became unstable, 130/143 interrupted by\n"
+    "             SIGINT/SIGTERM (render keeps the frames so far, playable)\n";
 
 struct command {
     const char *name;
@@ -44,6 +45,7 @@ static const struct command commands[] = {
     {"data", sp_cmd_data},
     {"info", sp_cmd_info},
     {"keys", cmd_keys},
+    {"compare", sp_cmd_compare},
 };
 
 int main(int argc, char **argv)
@@ -60,6 +62,7 @@ int main(int argc, char **argv)
         puts("springpend " SP_VERSION);
         return 0;
     }
+    sp_interrupt_install();
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
         if (!strcmp(argv[1], commands[i].name))
             return sp_exit_status(commands[i].run(argc - 1, argv + 1));

@@ -16,6 +16,7 @@
 #include "springpend/common.h"
 #include "springpend/frame.h"
 #include "springpend/pipeline.h"
+#include "springpend/provenance.h"
 #include "springpend/render.h"
 #include "springpend/sink.h"
 
@@ -55,6 +56,11 @@ static void on_signal(int sig)
     _exit(128 + sig);
 }
 
+static const char *sig_name(int sig)
+{
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
+}
+
 int sp_pipeline_signal(void)
 {
     return signal_seen;
@@ -66,11 +72,13 @@ struct queue {
     pthread_mutex_t lock;
     pthread_cond_t changed;       /* a slot was filled or freed, or stop */
     struct sp_image slot[QUEUE_SLOTS]; /* owned pixels, allocated once */
+    double slot_t[QUEUE_SLOTS];   /* simulated s each slot shows */
     int head, count;              /* filled slots: head .. head+count-1 */
     int closed;                   /* the producer is done */
     int cancel;                   /* the run failed: drop what is queued */
     int err;                      /* the consumer failed: stop producing */
     struct sp_sink *sink;         /* written by the consumer thread only */
+    struct sp_provenance *prov;   /* the sink's text chunks: consumer only */
     double encode_s, idle_s;      /* consumer: time in the sink, waiting */
 };
 
@@ -87,6 +95,7 @@ static void *consume(void *arg)
         if (!q->count || q->cancel)
             break;
         struct sp_image *img = &q->slot[q->head];
+        sp_provenance_set_time(q->prov, q->slot_t[q->head]);
         pthread_mutex_unlock(&q->lock);
         t0 = now_s();
         int err = sp_sink_write(q->sink, img); /* logs its own failure */
@@ -122,10 +131,12 @@ static struct sp_image *acquire(struct queue *q, int *err, double *wait_s)
     return *err ? NULL : slot;
 }
 
-/* Hands the slot acquire returned to the consumer. */
-static void publish(struct queue *q)
+/* Hands the slot acquire returned, showing simulated time t, s, to the
+ * consumer. */
+static void publish(struct queue *q, double t)
 {
     pthread_mutex_lock(&q->lock);
+    q->slot_t[(q->head + q->count) % QUEUE_SLOTS] = t;
     q->count++; /* only the producer adds, so the slot is still ours */
     pthread_cond_broadcast(&q->changed);
     pthread_mutex_unlock(&q->lock);
@@ -187,15 +198,15 @@ int sp_pipeline_shard(int n_frames, int i, int n, int *first, int *last)
     return 0;
 }
 
-/* Installs (on = 1) or restores the SIGINT/SIGTERM handlers. */
-static void catch_signals(int on, struct sigaction old[2])
+/* Installs (on = 1) or restores the SIGINT/SIGTERM/SIGHUP handlers. */
+static void catch_signals(int on, struct sigaction old[3])
 {
-    static const int sigs[2] = {SIGINT, SIGTERM};
+    static const int sigs[3] = {SIGINT, SIGTERM, SIGHUP};
     struct sigaction sa;
     memset(&sa, 0, sizeof(sa));
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
-    for (int i = 0; i < 2; i++) {
+    for (int i = 0; i < 3; i++) {
         if (on)
             sigaction(sigs[i], &sa, &old[i]);
         else
@@ -212,11 +223,12 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_history hist = {0};
     struct sp_view_extent extent;
     struct sp_sim sim;
+    struct sp_provenance prov;
     struct sp_image img;
     struct queue q = {.lock = PTHREAD_MUTEX_INITIALIZER,
                       .changed = PTHREAD_COND_INITIALIZER};
     struct stage_times tm = {0};
-    struct sigaction old_sig[2];
+    struct sigaction old_sig[3];
     pthread_t encoder;
     int encoder_running = 0, signals_caught = 0, emitted = 0, ret;
     int n = sp_scene_frame_count(sc);
@@ -254,14 +266,15 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     ret = sp_render_make(&r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .scene = sc, .supersample = desc->supersample});
-    if (ret)
+    if (ret || (ret = sp_provenance_init(&prov, sc, sp_render_renderer_name(r))) != 0)
         goto done;
     ret = sp_sink_open(&sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = first,
         .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
         .png_level = sc->video.png_level,
-        .crf = sc->video.crf, .preset = sp_scene_preset_name(sc)});
+        .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),
+        .text = prov.text, .n_text = SP_PROVENANCE_N_TEXT});
     if (ret)
         goto done;
     part_files = sp_sink_part_files(sink);
@@ -281,6 +294,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
                 goto done;
             sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
+        sp_provenance_set_time(&prov, sim.s.t);
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
                                                    .trail = &trail, .history = &hist}, &img);
         if (!ret)
@@ -296,6 +310,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
             goto done;
     }
     q.sink = sink;
+    q.prov = &prov;
     if (pthread_create(&encoder, NULL, consume, &q) != 0) {
         sp_log_error("cannot start the encoder thread");
         ret = SP_E_NOMEM;
@@ -326,7 +341,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         if (ret)
             goto done;
         tm.render += now_s() - ts;
-        publish(&q);
+        publish(&q, sim.s.t);
         emitted++;
         if (desc->progress && (emitted % 10 == 0 || k == last - 1))
             show_progress(emitted, last - first, t0);
@@ -349,18 +364,20 @@ finish:
         fputc('\n', stderr);
     if (signal_seen && !emitted && !desc->still) {
         sp_log_error("interrupted by %s before the first frame: nothing written",
-                     signal_seen == SIGINT ? "SIGINT" : "SIGTERM");
+                     sig_name(signal_seen));
         ret = SP_E_INTERRUPTED;
         goto done; /* aborts the sink */
     }
     ret = sp_sink_close(&sink);
     part_files = NULL;
+    if (!ret && desc->state_out)
+        *desc->state_out = sim.s;
     tm.finish = now_s() - t0;
     tm.total = now_s() - t_start;
     if (!ret && signal_seen) {
-        sp_log_error("interrupted by %s: kept the %d frames rendered so far "
-                     "in %s", signal_seen == SIGINT ? "SIGINT" : "SIGTERM",
-                     emitted, desc->output);
+        sp_log_error("interrupted by %s: kept the %d frame%s rendered so far "
+                     "in %s", sig_name(signal_seen), emitted, emitted == 1 ? "" : "s",
+                     desc->output);
         ret = SP_E_INTERRUPTED;
     }
     if (desc->verbose && !desc->still)

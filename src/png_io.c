@@ -6,7 +6,6 @@
 #include <errno.h>
 #include <libdeflate.h>
 #include <png.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -32,46 +31,35 @@ static void on_png_warning(png_structp png, png_const_charp msg)
                  msg);
 }
 
-/* Per-thread scratch for writing: the compressor and the buffers are kept
- * between images, so a PNG sequence allocates nothing per frame. Freed when
- * the thread ends. */
-struct deflate_scratch {
+/* A compressor and buffers kept between images (see png_io.h), so a PNG
+ * sequence allocates nothing per frame. */
+struct sp_png_scratch {
     struct libdeflate_compressor *c; /* owned */
     int level;                       /* c's level */
     uint8_t *filtered, *packed;      /* owned */
     size_t filtered_cap, packed_cap; /* bytes */
 };
 
-static pthread_key_t scratch_key;
-static pthread_once_t scratch_once = PTHREAD_ONCE_INIT;
-
-static void scratch_free(void *p)
+void sp_png_scratch_free(struct sp_png_scratch **sp)
 {
-    struct deflate_scratch *d = p;
+    struct sp_png_scratch *d = *sp;
+    if (!d)
+        return;
     libdeflate_free_compressor(d->c);
     free(d->filtered);
     free(d->packed);
     free(d);
+    *sp = NULL;
 }
 
-static void scratch_key_make(void)
+/* Makes *sp (allocating it if NULL) hold a level-`level` compressor and
+ * room for n filtered bytes; NULL when out of memory. */
+static struct sp_png_scratch *scratch_get(struct sp_png_scratch **sp, int level,
+                                          size_t n)
 {
-    pthread_key_create(&scratch_key, scratch_free);
-}
-
-/* This thread's scratch with a level-`level` compressor and room for n
- * filtered bytes; NULL when out of memory. */
-static struct deflate_scratch *scratch_get(int level, size_t n)
-{
-    pthread_once(&scratch_once, scratch_key_make);
-    struct deflate_scratch *d = pthread_getspecific(scratch_key);
-    if (!d) {
-        d = calloc(1, sizeof(*d));
-        if (!d || pthread_setspecific(scratch_key, d) != 0) {
-            free(d);
-            return NULL;
-        }
-    }
+    struct sp_png_scratch *d = *sp;
+    if (!d && !(d = *sp = calloc(1, sizeof(*d))))
+        return NULL;
     if (!d->c || d->level != level) {
         libdeflate_free_compressor(d->c);
         d->c = libdeflate_alloc_compressor(level);
@@ -96,7 +84,7 @@ static struct deflate_scratch *scratch_get(int level, size_t n)
 /* Filters every row with UP into d->filtered (as RGB, alpha dropped, when
  * bpp is 3) and compresses it into d->packed; returns the compressed size
  * (0: failed). */
-static size_t deflate_image(struct deflate_scratch *d, const struct sp_image *img,
+static size_t deflate_image(struct sp_png_scratch *d, const struct sp_image *img,
                             int bpp)
 {
     size_t row = (size_t)bpp * img->width;
@@ -155,16 +143,26 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
                              const struct sp_png_write_opts *opts,
                              const char *what)
 {
-    /* Both owned here, destroyed at `done`. Set before setjmp and never
+    /* All owned here, released at `done`. Set before setjmp and never
      * changed after, so they survive the longjmp without volatile. */
     png_structp png = NULL;
     png_infop info = NULL;
+    struct sp_png_scratch *own = NULL; /* when the caller keeps none */
+    struct sp_png_scratch *volatile d = NULL; /* the compressed image data */
+    volatile size_t packed = 0;        /* its bytes */
+    int bpp = opts->opaque ? 3 : 4;
     int err = check_write_args(img, opts, what);
     if (err)
         return err;
 
-    png = png_create_write_struct(PNG_LIBPNG_VER_STRING, (png_voidp)what,
-                                  on_png_error, on_png_warning);
+    /* Checked by sp_image size limits: at most 8K, well under 2^31 bytes. */
+    d = scratch_get(opts->scratch ? opts->scratch : &own, opts->level,
+                    ((size_t)bpp * img->width + 1) * img->height);
+    if (d)
+        packed = deflate_image(d, img, bpp);
+    if (packed)
+        png = png_create_write_struct(PNG_LIBPNG_VER_STRING, (png_voidp)what,
+                                      on_png_error, on_png_warning);
     if (png)
         info = png_create_info_struct(png);
     if (!png || !info) {
@@ -191,17 +189,7 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
         };
         png_set_text(png, info, &t, 1);
     }
-    /* Checked by sp_image size limits: at most 8K, well under 2^31 bytes. */
-    int bpp = opts->opaque ? 3 : 4;
-    size_t n = ((size_t)bpp * img->width + 1) * img->height;
-    struct deflate_scratch *d = scratch_get(opts->level, n);
-    size_t packed = d ? deflate_image(d, img, bpp) : 0;
-    if (!packed) {
-        sp_log_error("%s: out of memory to compress a %dx%d PNG", what,
-                     img->width, img->height);
-        err = SP_E_NOMEM;
-        goto done;
-    }
+    /* libpng writes the chunks around the data compressed above. */
     png_write_info(png, info);
     png_write_chunk(png, (png_const_bytep) "IDAT", d->packed, packed);
     png_write_chunk(png, (png_const_bytep) "IEND", NULL, 0);
@@ -212,6 +200,7 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
     }
 done:
     png_destroy_write_struct(&png, &info);
+    sp_png_scratch_free(&own);
     return err;
 }
 
@@ -273,4 +262,43 @@ int sp_png_read(const char *path, struct sp_image *img)
         return SP_E_IO;
     }
     return 0;
+}
+
+int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)
+{
+    /* Owned here, destroyed at `done`; set before setjmp, never changed. */
+    png_structp png = NULL;
+    png_infop info = NULL;
+    FILE *fp = fopen(path, "rb");
+    png_textp text;
+    int n, ret = 0;
+    if (!fp) {
+        sp_log_error("%s: cannot open: %s", path, strerror(errno));
+        return SP_E_IO;
+    }
+    png = png_create_read_struct(PNG_LIBPNG_VER_STRING, (png_voidp)path, on_png_error,
+                                 on_png_warning);
+    if (png)
+        info = png_create_info_struct(png);
+    if (!png || !info) {
+        sp_log_error("%s: out of memory for the PNG reader", path);
+        ret = SP_E_NOMEM;
+        goto done;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        ret = SP_E_IO; /* on_png_error has logged */
+        goto done;
+    }
+    png_init_io(png, fp);
+    png_read_info(png, info); /* reads up to the first IDAT */
+    n = png_get_text(png, info, &text, NULL);
+    for (int i = 0; i < n && !ret; i++)
+        if (!strcmp(text[i].key, key)) {
+            snprintf(buf, size, "%s", text[i].text);
+            ret = 1;
+        }
+done:
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    return ret;
 }

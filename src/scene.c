@@ -111,9 +111,16 @@ struct parse_ctx {
 static void report(struct parse_ctx *c, int line, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
+#define MAX_REPORTS 20 /* messages printed before the rest are only counted */
+
 static void report(struct parse_ctx *c, int line, const char *fmt, ...)
 {
     va_list ap;
+    if (++c->errors > MAX_REPORTS) {
+        if (c->errors == MAX_REPORTS + 1)
+            fprintf(stderr, "%s: too many errors; not showing more\n", c->origin);
+        return;
+    }
     va_start(ap, fmt);
     if (line > 0)
         fprintf(stderr, "%s:%d: ", c->origin, line);
@@ -122,7 +129,6 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     va_end(ap);
-    c->errors++;
 }
 
 static const struct key_info *find_key(const char *section, const char *name)
@@ -500,6 +506,47 @@ static void apply_override(struct parse_ctx *c, const char *arg)
     c->origin = saved;
 }
 
+/* Length of the UTF-8 sequence at s (1..4), or 0 when it is not one. */
+static int utf8_length(const unsigned char *s)
+{
+    int n = s[0] < 0x80 ? 1 : s[0] >= 0xc2 && s[0] <= 0xdf ? 2
+          : s[0] >= 0xe0 && s[0] <= 0xef ? 3 : s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : 0;
+    for (int i = 1; i < n; i++)
+        if ((s[i] & 0xc0) != 0x80)
+            return 0;
+    /* overlong 3- and 4-byte forms, surrogates, beyond U+10FFFF */
+    if ((n == 3 && ((s[0] == 0xe0 && s[1] < 0xa0) || (s[0] == 0xed && s[1] > 0x9f))) ||
+        (n == 4 && ((s[0] == 0xf0 && s[1] < 0x90) || (s[0] == 0xf4 && s[1] > 0x8f))))
+        return 0;
+    return n;
+}
+
+/* A scene is UTF-8 text without control characters but tab, CR and LF, and
+ * not empty. Reports the first offending byte; returns 1 when text is fine. */
+static int check_text(struct parse_ctx *c, const char *text)
+{
+    const unsigned char *p = (const unsigned char *)text, *line_start = p;
+    int line = 1, blank = 1;
+    while (*p) {
+        int n = utf8_length(p);
+        if (!n || (*p < 0x20 && *p != '\t' && *p != '\r' && *p != '\n') || *p == 0x7f) {
+            report(c, line, "byte 0x%02x at column %d is not text; a scene is a UTF-8 "
+                   "text file of 'key = value' lines", *p, (int)(p - line_start) + 1);
+            return 0;
+        }
+        blank &= *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n';
+        if (*p == '\n')
+            line++, line_start = p + 1;
+        p += n;
+    }
+    if (blank) {
+        report(c, 0, "the scene is empty; set at least one key (e.g. '[pendulum]' then "
+               "'mass = 1'), or start from scenes/default.ini");
+        return 0;
+    }
+    return 1;
+}
+
 /* Checks that need several keys at once. */
 static void validate_whole(struct parse_ctx *c)
 {
@@ -535,6 +582,8 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     sp_scene_defaults(s);
     snprintf(s->name, sizeof(s->name), "%s", name);
 
+    if (!check_text(&c, text))
+        return SP_E_INPUT;
     ini_allow_multiline = false;
     ini_allow_inline_comments = true;
     ini_inline_comment_prefixes = "#;";
@@ -606,6 +655,36 @@ int sp_scene_frame_count(const struct sp_scene *s)
 double sp_scene_frame_time(const struct sp_scene *s, int k)
 {
     return k * s->video.speed / s->video.fps;
+}
+
+int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
+{
+    size_t used = 0;
+    for (int i = 0; i < N_KEYS; i++) {
+        const struct key_info *k = &keys[i];
+        const char *p = (const char *)s + k->offset;
+        char *at = used < size ? buf + used : NULL;
+        size_t room = used < size ? size - used : 0;
+        int n;
+        switch (k->kind) {
+        case KEY_REAL:
+        case KEY_DEGREES:
+            n = snprintf(at, room, "%s.%s=%.17g\n", k->section, k->name, *(const double *)p);
+            break;
+        case KEY_METHOD:
+            n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name,
+                         method_names[*(const enum sp_method *)p]);
+            break;
+        case KEY_PANELS:
+            n = snprintf(at, room, "%s.%s=%#x\n", k->section, k->name, *(const unsigned *)p);
+            break;
+        default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR, KEY_TRAIL: an int */
+            n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
+            break;
+        }
+        used += (size_t)n;
+    }
+    return (int)used;
 }
 
 void sp_scene_print_keys(void)

@@ -1,66 +1,16 @@
 /* springpend: the public sink API. Picks a backend from the path, checks
  * what every backend needs, creates folders and keeps the frame count.
  * The backends live in sink_png.c and sink_video.c (see sink_impl.h). */
-#include <dlfcn.h>
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "springpend/common.h"
+#include "av_module.h"
 #include "sink_impl.h"
-
-/* The backends that need FFmpeg (libavcodec, libavformat, libavfilter,
- * libswscale) live in a module, springpend-av.so, loaded on the first
- * sp_sink_open that needs one: loading FFmpeg's libraries costs a process
- * some 20-35 ms, which commands that write no video should not pay. It is
- * looked for beside the executable (the build tree), one folder up (tests),
- * then in SP_MODULE_DIR (installed). */
-#define AV_MODULE "springpend-av.so"
-
-static const struct sp_sink_backend *av_backend(const char *symbol)
-{
-    static void *module;
-    if (!module) {
-        char exe[4096], try[4096 + 64], tried[3 * 4200] = "";
-        ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-        const char *where[3] = {NULL, NULL, SP_MODULE_DIR};
-        if (n > 0) {
-            exe[n] = '\0';
-            char *slash = strrchr(exe, '/');
-            if (slash)
-                *slash = '\0';
-            where[0] = exe;
-            where[1] = "..";
-        }
-        for (int i = 0; i < 3 && !module; i++) {
-            if (!where[i])
-                continue;
-            if (i == 1)
-                snprintf(try, sizeof(try), "%s/../%s", exe, AV_MODULE);
-            else
-                snprintf(try, sizeof(try), "%s/%s", where[i], AV_MODULE);
-            if (access(try, R_OK) == 0)
-                module = dlopen(try, RTLD_NOW | RTLD_LOCAL);
-            if (!module)
-                snprintf(tried + strlen(tried), sizeof(tried) - strlen(tried),
-                         "%s%s: %s", tried[0] ? "; " : "", try,
-                         access(try, R_OK) == 0 ? dlerror() : strerror(errno));
-        }
-        if (!module) {
-            sp_log_error("cannot load springpend's FFmpeg module, needed for "
-                         "video and GIF (%s); reinstall springpend", tried);
-            return NULL;
-        }
-    }
-    const struct sp_sink_backend *b = dlsym(module, symbol);
-    if (!b)
-        sp_log_error("%s lacks %s: %s", AV_MODULE, symbol, dlerror());
-    return b;
-}
 
 /* The kind: `format` if given, else the file name's extension (any case).
  * Sets *b, or returns SP_E_INPUT for an unknown kind (not logged) or
@@ -80,7 +30,7 @@ static int pick_backend(const char *path, const char *format,
     *b = NULL;
     for (size_t i = 0; i < sizeof(av_kinds) / sizeof(av_kinds[0]); i++)
         if (!strcasecmp(kind, av_kinds[i][0]))
-            return (*b = av_backend(av_kinds[i][1])) ? 0 : SP_E_CODEC;
+            return (*b = sp_av_module_symbol(av_kinds[i][1])) ? 0 : SP_E_CODEC;
     if (!strcasecmp(kind, "raw") || !strcasecmp(kind, "rgba"))
         *b = &sp_sink_backend_raw;
     else if (!strcasecmp(kind, "png"))

@@ -11,11 +11,14 @@
 #include "springpend/png_io.h"
 #include "sink_impl.h"
 
+/* How every PNG of this sink is written: its level, RGB when the frames
+ * are opaque, and the caller's text chunks. */
 static struct sp_png_write_opts png_opts(const struct sp_sink *s)
 {
     return (struct sp_png_write_opts){
         .level = s->desc.png_level ? s->desc.png_level : SP_PNG_LEVEL_DEFAULT,
         .opaque = !s->desc.alpha, /* frames without alpha are opaque */
+        .text = s->desc.text, .n_text = s->desc.n_text,
     };
 }
 
@@ -26,6 +29,8 @@ static struct sp_png_write_opts png_opts(const struct sp_sink *s)
  * a free job and returns; a writer's failure is returned by a later write
  * or by close. */
 #define PNG_MAX_WRITERS 8
+#define PNG_MAX_TEXT 8          /* text chunks a frame may carry */
+#define PNG_TEXT_BYTES 2048     /* their keys and texts, with NULs */
 
 enum job_state { JOB_FREE, JOB_PENDING, JOB_RUNNING };
 
@@ -34,6 +39,11 @@ struct png_job {
     struct sp_image img; /* owned copy, allocated at the first write */
     long number;         /* the frame number in the file name */
     char *name, *part;   /* owned: path and path.part, room for any int */
+    /* The caller's text chunks as they were at the write (the caller may
+     * change them before the writer gets to this job). */
+    struct sp_png_text text[PNG_MAX_TEXT]; /* point into text_buf */
+    int n_text;
+    char text_buf[PNG_TEXT_BYTES];
 };
 
 struct png_sequence {
@@ -98,7 +108,7 @@ static void *png_writer(void *arg)
 {
     struct sp_sink *s = arg;
     struct png_sequence *q = s->priv;
-    struct sp_png_write_opts opts = png_opts(s);
+    struct sp_png_scratch *scratch = NULL; /* this writer's, reused */
     pthread_mutex_lock(&q->lock);
     for (;;) {
         struct png_job *j = NULL;
@@ -118,6 +128,10 @@ static void *png_writer(void *arg)
         if (!skip) {
             png_sequence_name(s, j->number, j->name, q->cap);
             snprintf(j->part, q->cap, "%s.part", j->name);
+            struct sp_png_write_opts opts = png_opts(s);
+            opts.text = j->text;
+            opts.n_text = j->n_text;
+            opts.scratch = &scratch;
             err = sp_png_write_opts(j->part, &j->img, &opts);
             if (!err)
                 err = sp_sink_commit(j->part, j->name);
@@ -132,6 +146,7 @@ static void *png_writer(void *arg)
         pthread_cond_broadcast(&q->changed);
     }
     pthread_mutex_unlock(&q->lock);
+    sp_png_scratch_free(&scratch);
     return NULL;
 }
 
@@ -194,6 +209,32 @@ static int png_sequence_open(struct sp_sink *s)
     return 0;
 }
 
+/* Copies the caller's text chunks into j; SP_E_INPUT (logged) if they do
+ * not fit. */
+static int copy_text(const struct sp_sink *s, struct png_job *j)
+{
+    size_t used = 0;
+    if (s->desc.n_text > PNG_MAX_TEXT) {
+        sp_log_error("%s: %d PNG text chunks; at most %d", s->path,
+                     s->desc.n_text, PNG_MAX_TEXT);
+        return SP_E_INPUT;
+    }
+    for (int i = 0; i < s->desc.n_text; i++) {
+        const struct sp_png_text *t = &s->desc.text[i];
+        size_t nk = strlen(t->key) + 1, nt = strlen(t->text) + 1;
+        if (used + nk + nt > sizeof(j->text_buf)) {
+            sp_log_error("%s: PNG text chunks longer than %d bytes", s->path,
+                         PNG_TEXT_BYTES);
+            return SP_E_INPUT;
+        }
+        j->text[i].key = memcpy(j->text_buf + used, t->key, nk);
+        j->text[i].text = memcpy(j->text_buf + used + nk, t->text, nt);
+        used += nk + nt;
+    }
+    j->n_text = s->desc.n_text;
+    return 0;
+}
+
 static int png_sequence_write(struct sp_sink *s, const struct sp_image *img)
 {
     struct png_sequence *q = s->priv;
@@ -217,6 +258,8 @@ static int png_sequence_write(struct sp_sink *s, const struct sp_image *img)
     for (int y = 0; y < img->height; y++)
         memcpy(j->img.pixels + (size_t)y * j->img.stride,
                img->pixels + (size_t)y * img->stride, 4 * (size_t)img->width);
+    if ((err = copy_text(s, j)) != 0)
+        return err;
     j->number = s->desc.first_frame + s->frames;
     pthread_mutex_lock(&q->lock);
     j->state = JOB_PENDING;

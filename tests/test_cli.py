@@ -2,10 +2,15 @@
 """springpend tests: the command line, end to end, as a user meets it.
 usage: test_cli.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
+import math
 import os
+import resource
 import shutil
+import signal
+import struct
 import subprocess
 import sys
+import time
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "cli"))
@@ -19,6 +24,7 @@ def ok(cond, what):
     global count, failed
     count += 1
     failed += not cond
+    what = what.replace("\n", " | ")
     print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
     return cond
 
@@ -49,19 +55,114 @@ bad = [
      "integrator.method = rkn1210 needs a force that depends on the position only", "dop853"),
     ("[integrator]\ntolerance = 1\n", "bad.ini:2: integrator.tolerance = 1 is out of range", "0.01"),
     ("[pivot]\namplitud = 1\n", "bad.ini:2: unknown key 'amplitud' in [pivot]", "did you mean 'amplitude'"),
-    ("", None, None),
 ]
 for text, want1, want2 in bad:
     scene = write("bad.ini", text)
     out = os.path.join(work, "bad.mp4")
     r = run("render", scene, "-o", out, "-q")
-    if want1 is None:  # an empty scene is all defaults: valid; check with a short render
-        continue
     ok(r.returncode == 2 and want1 in r.stderr and want2 in r.stderr and not os.path.exists(out),
        f"bad scene {text.strip()!r}: exit 2, says {want1!r} and {want2!r}, no file "
        f"(got {r.returncode}: {r.stderr.strip()[:200]!r})")
 
 default = os.path.join(scenes, "default.ini")
+
+
+# The bad input catalogue: each is refused with exit 2 and its message, and
+# leaves no file behind (each runs in an empty folder of its own).
+def refused(what, content, args, *needles):
+    global case_no
+    case_no += 1
+    d = os.path.join(work, f"bad{case_no}")
+    os.makedirs(d)
+    inputs = set()
+    if content is not None:
+        with open(os.path.join(d, "scene.ini"), "wb") as f:
+            f.write(content if isinstance(content, bytes) else content.encode())
+        inputs.add("scene.ini")
+    for name in ("file.txt",):  # a plain file, for "not a folder" paths
+        with open(os.path.join(d, name), "w") as f:
+            f.write("x")
+        inputs.add(name)
+    os.makedirs(os.path.join(d, "folder.png"))
+    inputs.add("folder.png")
+    t0 = time.monotonic()
+    r = subprocess.run([exe, *args], capture_output=True, text=True, cwd=d,
+                       errors="replace")
+    left = set(os.listdir(d)) - inputs
+    ok(r.returncode == 2 and all(n in r.stderr for n in needles) and not left,
+       f"bad input: {what}: exit 2, says {needles}, no file "
+       f"(got {r.returncode} in {time.monotonic() - t0:.1f} s, left {sorted(left)}: "
+       f"{r.stderr.strip()[:300]!r})")
+
+
+case_no = 0
+SC = "scene.ini"
+still = ["still", SC, "-o", "out.png", "--size", "64x48"]
+refused("empty file", "", still, "scene.ini: the scene is empty")
+refused("only blank lines", "\n  \n\t\n", still, "the scene is empty")
+refused("binary garbage", bytes(range(256)) * 64, still, "contains NUL bytes")
+refused("a PNG given as the scene", open(os.path.join(src, "golden", "default_t0_notrail.png"), "rb").read(),
+        still, "contains NUL bytes")
+refused("binary without NUL bytes", "[pendulum]\n".encode() + bytes(range(128, 256)) * 8, still,
+        "scene.ini:2: byte 0x80 at column 1 is not text")
+refused("a 10 MB line", "[pendulum]\nmass = " + "1" * 10_000_000 + "\n", still,
+        "scene.ini: scene file is 10000019 bytes; at most 1 MiB")
+refused("a 100 kB line", "[pendulum]\nmass = " + "1" * 100_000 + "\n", still,
+        "scene.ini:2: line is 100008 bytes long")
+refused("duplicate keys", "[video]\nfps = 30\nwidth = 320\nfps = 60\n", still,
+        "scene.ini:4: video.fps is set twice (first on line 2)")
+refused("unknown key", "[initial]\nangel = 30\n", still,
+        "scene.ini:2: unknown key 'angel' in [initial]; did you mean 'angle'?")
+refused("unknown section", "[pendulm]\nmass = 1\n", still,
+        "scene.ini:1: unknown section [pendulm]; did you mean [pendulum]?")
+refused("unknown key in --set", "[video]\nfps = 30\n", still + ["--set", "pendulum.stifness=3"],
+        "--set pendulum.stifness=3: unknown key 'stifness' in [pendulum]; did you mean 'stiffness'?")
+for key, value, says in [
+        ("pendulum.stiffness", "nan", "is not finite"), ("pendulum.mass", "inf", "is not finite"),
+        ("pendulum.gravity", "-inf", "is not finite"), ("initial.length", "NaN", "is not finite"),
+        ("pendulum.mass", "-0.5", "is out of range"), ("pendulum.natural_length", "0", "is out of range"),
+        ("pendulum.stiffness", "-2", "is out of range"), ("integrator.dt", "0", "is out of range"),
+        ("pendulum.damping", "-1", "is out of range"), ("video.fps", "-30", "is out of range"),
+        ("video.speed", "0", "is out of range"), ("pendulum.mass", "1e400", "is not finite")]:
+    section, name = key.split(".")
+    refused(f"{key} = {value}", f"[{section}]\n{name} = {value}\n", still,
+            f"scene.ini:2: {key} = {value} {says}; expected")
+refused("absurd width", "[video]\nwidth = 1000000000\n", still,
+        "video.width = 1000000000 is out of range; expected an integer from 16 to 7680 px")
+refused("absurd --size", "[video]\nfps = 30\n", ["still", SC, "-o", "out.png", "--size", "100000x100000"],
+        "video.width = 100000 is out of range")
+refused("height beyond 8K", "[video]\nwidth = 7680\nheight = 4320\n", still[:4] + ["--set", "video.height=4321"],
+        "video.height = 4321 is out of range")
+refused("absurd frame count", "[video]\nduration = 1e6\nfps = 1000\n",
+        ["render", SC, "-o", "out.mp4", "-q"], "= 1000000000 frames; at most 1000000 are allowed")
+refused("absurd trail", "[view]\ntrail = 1e12\n", still, "view.trail = 1e12 is out of range")
+refused("absurd step count", "[integrator]\ndt = 1e-9\n[video]\nduration = 1e3\n",
+        ["render", SC, "-o", "out.mp4", "-q"], "steps; at most 1e10 are allowed")
+refused("absurd --at", "[video]\nfps = 30\n", still + ["--at", "1e9"],
+        "--at 1e+09: reaching it takes 1e+12 steps")
+refused("output under a plain file", "[video]\nfps = 30\n", ["still", SC, "-o", "file.txt/x.png"],
+        "output file.txt/x.png: file.txt is not a folder")
+refused("output deep under a plain file", "[video]\nfps = 30\n",
+        ["render", SC, "-o", "file.txt/a/b/%03d.png"], "file.txt is not a folder")
+refused("output is a folder", "[video]\nfps = 30\n", ["still", SC, "-o", "folder.png"],
+        "output folder.png is a folder")
+refused("output is the scene", "[video]\nfps = 30\n", ["still", SC, "-o", SC], "is the scene file itself")
+refused("output is the scene by another path", "[video]\nfps = 30\n",
+        ["still", SC, "-o", "./folder.png/../scene.ini"], "is the scene file itself")
+refused("--state is the scene", "[video]\nfps = 30\n", still + ["--state", SC],
+        "--state scene.ini would overwrite the scene or the image")
+refused("--state is the image", "[video]\nfps = 30\n", still + ["--state", "out.png"],
+        "would overwrite the scene or the image")
+refused("--state under a plain file", "[video]\nfps = 30\n", still + ["--state", "file.txt/s.json"],
+        "--state file.txt/s.json: file.txt is not a folder")
+refused("--state on render", "[video]\nfps = 30\n", ["render", SC, "--state", "s.json"],
+        "--state is for 'springpend still'")
+if os.geteuid() != 0:  # root may write anywhere
+    ro = os.path.join(work, "readonly")
+    os.makedirs(ro)
+    os.chmod(ro, 0o555)
+    refused("output in a read-only folder", "[video]\nfps = 30\n", still[:2] + ["-o", ro + "/x.png"],
+            "cannot write in folder")
 r = run("render", default, "--set", "video.fps=0", "-o", "x.mp4")
 ok(r.returncode == 2 and "--set video.fps=0: video.fps = 0 is out of range" in r.stderr
    and not os.path.exists(os.path.join(work, "x.mp4")), "a bad --set names the override")
@@ -76,9 +177,10 @@ r = run("render", default, "-o", default)
 ok(r.returncode == 2 and "scene file itself" in r.stderr, "the output may not overwrite the scene")
 r = run("frobnicate")
 ok(r.returncode == 2 and "unknown command" in r.stderr, "an unknown command")
-for cmd in ([], ["render"], ["still"], ["data"], ["info"]):
+for cmd in ([], ["render"], ["still"], ["data"], ["info"], ["compare"]):
     r = run(*cmd, "--help")
     ok(r.returncode == 0 and "usage:" in r.stdout, f"springpend {' '.join(cmd)} --help")
+ok("compare" in run("--help").stdout, "springpend --help lists compare")
 
 # A blow-up is an error with exit 3, never a file.
 r = run("render", default, "--set", "pendulum.stiffness=5e6", "--set", "pendulum.mass=0.5",
@@ -113,6 +215,190 @@ ok(files == [f"{i:03d}.png" for i in range(5)], f"PNG sequence of 5 frames: {fil
 r = run("still", default, "--at", "1.5", "--size", "320x180")
 ok(r.returncode == 0 and os.path.exists(os.path.join(work, "out", "default.png")),
    "still without -o writes out/default.png")
+
+
+def png_text(path):
+    """The tEXt chunks of a PNG as a dict, and the list of chunk types."""
+    data, chunks, text = open(path, "rb").read(), [], {}
+    i = 8
+    while i < len(data):
+        n, kind = struct.unpack(">I4s", data[i:i + 8])
+        chunks.append(kind.decode())
+        if kind == b"tEXt":
+            k, v = data[i + 8:i + 8 + n].split(b"\0", 1)
+            text[k.decode("latin-1")] = v.decode("latin-1")
+        i += 12 + n
+    return text, chunks
+
+
+# Determinism: the same still (all panels and text), whatever LP_NUM_THREADS,
+# gives the same bytes.
+det = os.path.join(work, "det")
+os.makedirs(det)
+stills = {}
+for threads in ("1", "2", "4", "4"):
+    path = os.path.join(det, f"t{threads}-{len(stills)}.png")
+    r = subprocess.run([exe, "still", default, "--at", "2.5", "--size", "480x270", "-o", path, "-q",
+                        "--set", "view.panels=all", "--set", "view.hud=true"],
+                       capture_output=True, text=True, env=dict(os.environ, LP_NUM_THREADS=threads))
+    stills[path] = open(path, "rb").read() if r.returncode == 0 else b""
+first = next(iter(stills.values()))
+ok(first and all(v == first for v in stills.values()),
+   f"LP_NUM_THREADS=1, 2, 4 and a second run at 4 give identical PNG bytes (panels, text) "
+   f"({[len(v) for v in stills.values()]} bytes)")
+paths = list(stills)
+r = run("compare", paths[0], paths[2], "--max-diff", "0", "--max-pixels", "0")
+ok(r.returncode == 0 and "0 of 129600 pixels differ by more than 0 levels" in r.stdout,
+   f"compare: 1 thread and 4 threads give identical pixels ({r.stdout.strip()})")
+
+# Provenance: text chunks, no timestamp; the --state file agrees with them.
+r = run("still", default, "--at", "1.5", "--size", "320x180", "-o", "prov.png",
+        "--state", "prov.json", "-q")
+text, chunks = png_text(os.path.join(work, "prov.png"))
+state = json.load(open(os.path.join(work, "prov.json"))) if r.returncode == 0 else {}
+ok(text.get("Software") == "springpend 0.1.0" and text.get("springpend.time") == "1.5"
+   and len(text.get("springpend.scene-sha256", "")) == 64 and text.get("Source")
+   and "tIME" not in chunks and chunks[0] == "IHDR" and chunks[-1] == "IEND",
+   f"PNG text chunks: {text}, chunks {sorted(set(chunks))}")
+ok(state.get("scene_sha256") == text.get("springpend.scene-sha256") and state.get("t") == 1.5,
+   "--state carries the image's scene hash and time")
+E = state.get("energy", {})
+ok(abs(math.hypot(state.get("x", 0), state.get("y", 0)) - state.get("r", -1)) < 1e-12
+   and abs(E.get("total", 1) - E.get("initial_total", 0)) < 1e-6 * abs(E.get("initial_total", 1))
+   and abs(E.get("kinetic", 0) - 0.25 * (state.get("vx", 0) ** 2 + state.get("vy", 0) ** 2)) < 1e-12,
+   f"--state: r = |(x, y)|, kinetic = m|v|^2/2, energy conserved ({E})")
+r = run("still", default, "--at", "1.5", "--size", "320x180", "-o", "prov2.png", "-q",
+        "--set", "pendulum.damping=0.01")
+text2, _ = png_text(os.path.join(work, "prov2.png"))
+ok(text2.get("springpend.scene-sha256") not in (None, text.get("springpend.scene-sha256")),
+   "a changed scene key changes the scene hash")
+r = run("render", default, "--set", "video.duration=0.2", "--size", "64x48", "--fps", "10",
+        "-o", "pseq/%02d.png", "-q")
+times = [png_text(os.path.join(work, "pseq", f"{k:02d}.png"))[0].get("springpend.time")
+         for k in range(2)] if r.returncode == 0 else []
+ok(times == ["0", "0.1"], f"each PNG of a sequence carries its own time: {times}")
+
+# compare, end to end.
+cmp_dir = os.path.join(work, "cmp")
+for name, at, size, *extra in (("a", "3", "320x240"), ("b", "3", "320x240"),
+                               ("moved", "3.05", "320x240"), ("small", "3", "160x120"),
+                               ("damped", "3", "320x240", "--set", "pendulum.damping=0.1")):
+    run("still", default, "--at", at, "--size", size, *extra, "-o", f"cmp/{name}.png", "-q")
+P = lambda name: os.path.join(cmp_dir, name)
+r = run("compare", P("a.png"), P("b.png"), "--diff", P("d-same.png"))
+ok(r.returncode == 0 and r.stdout.startswith("ok") and not os.path.exists(P("d-same.png")),
+   f"compare: identical renders match, no diff image ({r.stdout.strip()})")
+r = run("compare", P("a.png"), P("moved.png"), "--diff", P("d.png"))
+ok(r.returncode == 1 and r.stdout.startswith("FAIL") and "d.png" in r.stdout
+   and png_text(P("d.png"))[1][0] == "IHDR",
+   f"compare: a moved bob fails with a diff image ({r.stdout.strip()})")
+r = run("compare", P("a.png"), P("moved.png"), "--json")
+j = json.loads(r.stdout) if r.returncode == 1 else {}
+ok(j.get("pass") is False and j.get("differing", 0) > j.get("allowed", 1) and j.get("max_diff") == 3
+   and j.get("pixels") == 76800 and len(j.get("bbox") or []) == 4 and j.get("rms", 0) > 0,
+   f"compare --json: {r.stdout.strip()[:300]}")
+r = run("compare", P("a.png"), P("moved.png"))
+ok(r.returncode == 1 and "note" not in r.stdout, "compare: no provenance note between renders of one scene")
+r = run("compare", P("a.png"), P("damped.png"))
+ok(r.returncode == 1 and "note: the scene differs (springpend.scene-sha256)" in r.stdout,
+   f"compare: a failure notes that the scene hashes differ ({r.stdout.strip()[:200]})")
+r = run("compare", P("a.png"), P("moved.png"), "--max-pixels", "100%")
+ok(r.returncode == 0, "compare --max-pixels 100% lets anything of the same size pass")
+r = run("compare", P("a.png"), P("moved.png"), "--metric", "rms", "--tol", "0.5")
+ok(r.returncode == 1 and "> tol 0.5" in r.stdout, f"compare --metric rms --tol 0.5: {r.stdout.strip()}")
+r = run("compare", P("a.png"), P("small.png"))
+ok(r.returncode == 2 and "320x240" in r.stderr and "160x120" in r.stderr,
+   f"compare: different sizes exit 2 ({r.stderr.strip()})")
+write("cmp/text.png", "not a png")
+r = run("compare", P("a.png"), P("text.png"))
+ok(r.returncode == 2 and "text.png: cannot read PNG" in r.stderr, f"compare: unreadable exits 2 ({r.stderr.strip()})")
+r = run("compare", P("a.png"), P("b.png"), "--diff", P("a.png"))
+ok(r.returncode == 2 and "would overwrite an input" in r.stderr, "compare: --diff may not overwrite an input")
+for bad_opt in (["--max-diff", "300"], ["--max-pixels", "5x"], ["--metric", "ssim"], ["--tol", "-1"]):
+    r = run("compare", P("a.png"), P("b.png"), *bad_opt)
+    ok(r.returncode == 2 and bad_opt[0] in r.stderr, f"compare {' '.join(bad_opt)} is refused")
+
+# Folders: a baseline folder against a render folder.
+base, new, diffs = (os.path.join(work, d) for d in ("base", "new", "diffs"))
+for d in (base, new):
+    os.makedirs(d)
+for name in ("one.png", "two.png"):
+    shutil.copy(P("a.png"), os.path.join(base, name))
+    shutil.copy(P("b.png"), os.path.join(new, name))
+r = run("compare", base, new)
+ok(r.returncode == 0 and "2 compared, 2 passed" in r.stdout, f"compare folders: all match ({r.stdout.strip()})")
+shutil.copy(P("moved.png"), os.path.join(new, "two.png"))
+r = run("compare", base, new, "--diff", diffs, "--json")
+j = json.loads(r.stdout) if r.returncode == 1 else {}
+ok(j.get("passed") == 1 and j.get("failed") == 1 and os.listdir(diffs) == ["two.diff.png"],
+   f"compare folders: one fails, its diff in --diff ({r.stdout.strip()[:200]})")
+shutil.copy(P("a.png"), os.path.join(new, "three.png"))
+os.remove(os.path.join(new, "one.png"))
+r = run("compare", base, new)
+ok(r.returncode == 2 and "ERROR one.png: no actual image" in r.stdout
+   and "ERROR three.png: no baseline" in r.stdout and "FAIL two.png" in r.stdout,
+   f"compare folders: a missing render and a missing baseline are errors ({r.stdout.strip()})")
+
+
+# Videos, frame by frame.
+for name, extra in (("v1", []), ("v2", []), ("angle", ["--set", "initial.angle=11"]),
+                    ("short", ["--set", "video.duration=0.9"])):
+    run("render", default, "--size", "160x120", "--fps", "30", "--set", "video.duration=1",
+        *extra, "-o", f"vid/{name}.mp4", "-q")
+V = lambda name: os.path.join(work, "vid", name + ".mp4")
+r = run("compare", V("v1"), V("v2"))
+ok(r.returncode == 0 and "0 of 30 frames differ" in r.stdout, f"compare videos: two renders match ({r.stdout.strip()})")
+r = run("compare", V("v1"), V("angle"), "--json", "--diff", os.path.join(work, "vid", "worst.png"))
+j = json.loads(r.stdout) if r.returncode == 1 else {}
+ok(j.get("frames") == 30 and j.get("failed_frames") and j.get("worst", {}).get("differing", 0) > 0
+   and os.path.exists(os.path.join(work, "vid", "worst.png")),
+   f"compare videos: 1 degree more fails, worst frame {j.get('worst_frame')}, diff written")
+r = run("compare", V("v1"), V("short"))
+ok(r.returncode == 2 and "ends after 27 frames" in r.stdout, f"compare videos: a frame count mismatch exits 2")
+r = run("compare", V("v1"), P("a.png"))
+ok(r.returncode == 2 and "two PNG images or two videos" in r.stderr, "compare: a video against a PNG is refused")
+
+
+# Interrupted: SIGINT or SIGTERM mid-render stops cleanly, exit 128 + signal,
+# no .part left: the frames so far are a playable file (test_output.py checks
+# it plays), or nothing if no frame was done yet.
+for sig in (signal.SIGINT, signal.SIGTERM):
+    target = os.path.join(work, "intr", f"{sig.name}.mp4")
+    p = subprocess.Popen([exe, "render", default, "--size", "320x240", "-o", target, "-q"],
+                         stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 30
+    while not os.path.exists(target + ".part") and p.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    p.send_signal(sig)
+    err = p.communicate()[1]
+    left = os.listdir(os.path.dirname(target))
+    ok(p.returncode == 128 + sig and "interrupted" in err and
+       not [n for n in left if n.endswith(".part")],
+       f"{sig.name} during a render: exit {p.returncode}, says {err.strip()!r}, left {left}")
+
+
+# Faults: a write that fails half way (the file size limit stands in for a
+# full disk) is exit 1 with the reason, and leaves no file behind.
+def small_files():
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (600, 600))
+
+
+for what, args, says in (
+        ("still", ["still", default, "--size", "640x360", "-o", "full/s.png"], "s.png.part: cannot write: File too large"),
+        ("mp4", ["render", default, "--size", "320x240", "--set", "video.duration=1", "-o", "full/v.mp4", "-q"],
+         "File too large"),
+        ("PNG sequence", ["render", default, "--size", "320x240", "--set", "video.duration=1",
+                          "-o", "full/%03d.png", "-q"], ".png.part: cannot write: File too large"),
+        ("compare --diff", ["compare", P("a.png"), P("moved.png"), "--diff", "full/d.png"], "d.png")):
+    shutil.rmtree(os.path.join(work, "full"), ignore_errors=True)
+    os.makedirs(os.path.join(work, "full"))
+    r = subprocess.run([exe, *args], capture_output=True, text=True, cwd=work, preexec_fn=small_files)
+    left = os.listdir(os.path.join(work, "full"))
+    ok(r.returncode == 1 and says in r.stderr and not left,
+       f"a write beyond the file size limit ({what}): exit 1, says {says!r}, nothing left "
+       f"(got {r.returncode}, {left}: {r.stderr.strip()[:200]!r})")
+
 
 # Stills for slides: --scale supersamples to the same size; a transparent
 # background writes RGBA with see-through corners and an opaque bob.

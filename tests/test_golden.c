@@ -9,13 +9,14 @@
 #include <string.h>
 
 #include "springpend/common.h"
+#include "springpend/image_compare.h"
 #include "springpend/pipeline.h"
 #include "springpend/png_io.h"
 #include "gl_context.h"
 #include "tap.h"
 
-#define MAX_CHANNEL_DIFF 3     /* levels of 255 a pixel may be off ... */
-#define MAX_DIFF_FRACTION 1e-3 /* ... with at most this share beyond it */
+/* The rule is `springpend compare`'s default (image_compare.h): at most
+ * 0.1% of the pixels may have a channel more than 3 levels off. */
 
 struct golden_case {
     const char *name;       /* golden file stem */
@@ -46,34 +47,6 @@ static const struct golden_case cases[] = {
     {"strobe_light", "pure_swing.ini", 2.0, {SMALL, "view.panels=none", "view.hud=false",
                                               "view.strobe=0.1", "view.theme=light"}},
 };
-
-/* Counts pixels whose largest channel difference exceeds MAX_CHANNEL_DIFF,
- * and paints them into diff (the expected image greyed, misses in magenta). */
-static long compare(const struct sp_image *a, const struct sp_image *b,
-                    struct sp_image *diff, int *max_diff)
-{
-    long bad = 0;
-    *max_diff = 0;
-    for (int y = 0; y < a->height; y++)
-        for (int x = 0; x < a->width; x++) {
-            const uint8_t *p = a->pixels + y * a->stride + 4 * x;
-            const uint8_t *q = b->pixels + y * b->stride + 4 * x;
-            uint8_t *d = diff->pixels + y * diff->stride + 4 * x;
-            int m = 0;
-            for (int c = 0; c < 4; c++)
-                m = abs(p[c] - q[c]) > m ? abs(p[c] - q[c]) : m;
-            if (m > *max_diff)
-                *max_diff = m;
-            uint8_t grey = (uint8_t)((p[0] + p[1] + p[2]) / 12 + 32);
-            d[0] = d[1] = d[2] = grey;
-            d[3] = 255;
-            if (m > MAX_CHANNEL_DIFF) {
-                d[0] = 255, d[1] = 0, d[2] = 255;
-                bad++;
-            }
-        }
-    return bad;
-}
 
 static void run_case(const char *src, const char *outdir, const struct golden_case *gc,
                      enum sp_gl gl, const char *gl_name)
@@ -116,12 +89,13 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
                    "%s: size %dx%d matches golden %dx%d", gc->name, got.width, got.height,
                    want.width, want.height))
         goto done;
-    sp_image_alloc(&diff, want.width, want.height);
-    int max_diff;
-    long bad = compare(&want, &got, &diff, &max_diff);
-    long limit = (long)(MAX_DIFF_FRACTION * want.width * want.height);
-    if (!sp_tap_ok(bad <= limit, "%s (%s): %ld pixels differ by more than %d levels (allowed %ld; "
-                   "largest difference %d)", gc->name, gl_name, bad, MAX_CHANNEL_DIFF, limit, max_diff)) {
+    struct sp_compare_result r;
+    if (!sp_tap_ok(sp_compare_images(&want, &got, &(struct sp_compare_opts){0}, &r, &diff) == 0,
+                   "%s (%s): compared", gc->name, gl_name))
+        goto done;
+    if (!sp_tap_ok(r.pass, "%s (%s): %ld pixels differ by more than %d levels (allowed %ld; "
+                   "largest difference %d)", gc->name, gl_name, r.differing, r.max_diff, r.allowed,
+                   r.max_channel_diff)) {
         sp_png_write(diffp, &diff, 6);
         sp_tap_diag("actual: %s, diff: %s", actual, diffp);
     } else {

@@ -69,7 +69,7 @@ static void test_view(void)
     sp_tap_ok(parse("[view]\npanels = all\nbackground = transparent\n", &s) == 0 &&
               s.view.panels == (1u << SP_PANEL_COUNT) - 1 &&
               s.view.background == SP_BACKGROUND_TRANSPARENT, "panels = all, background = transparent");
-    sp_tap_ok(parse("", &s) == 0 && s.view.panels == 0 && !s.view.hud &&
+    sp_tap_ok(parse("# all defaults\n", &s) == 0 && s.view.panels == 0 && !s.view.hud &&
               s.view.background == SP_BACKGROUND_THEME && s.view.strobe == 0,
               "by default no panels, no text, the theme's background");
 }
@@ -84,6 +84,8 @@ static void test_rejects(void)
         "[integrator]\nmethod = euler\n", "[pendulum]\nmass = 1\nmass = 2\n",
         "just some words\n", "[video]\nduration = 1e6\nfps = 1000\n",
         "mass = 1\n", "[initial]\nlength = 0\n", "[video\nwidth = 10\n",
+        "", " \n\t\r\n", "[pendulum]\nmass = 1\x01\n", "[pendulum]\nmass = \xff\n",
+        "[pendulum]\n# caf\xc3\n", "[pendulum]\n# \xed\xa0\x80 (a surrogate)\n",
         "[view]\npanels = r, foo\n", "[view]\npanels = none, r\n", "[view]\ntheme = blue\n",
         "[view]\nbackground = #12345\n", "[view]\nhud = maybe\n", "[view]\ntrail = some\n",
         "[view]\ncolormap = jet\n", "[view]\nstrobe = -1\n",
@@ -99,10 +101,38 @@ static void test_rejects(void)
     }
 }
 
+/* UTF-8 text is fine in comments; a canonical text ignores layout. */
+static void test_text(void)
+{
+    struct sp_scene a, b;
+    char ca[2048], cb[2048];
+    sp_tap_ok(parse("# Résumé: a ½ kg bob, θ₀ = 10°\n[pendulum]\nmass = 0.5\n", &a) == 0,
+              "UTF-8 comments are accepted");
+    parse("[video]\nwidth=1280\n", &b);
+    int na = sp_scene_canonical(&a, ca, sizeof(ca)), nb = sp_scene_canonical(&b, cb, sizeof(cb));
+    sp_tap_ok(na > 0 && na < (int)sizeof(ca) && na == nb && !strcmp(ca, cb),
+              "two layouts of the default scene give the same canonical text (%d bytes)", na);
+    const char *ov[] = {"pendulum.mass=0.25"};
+    sp_scene_defaults(&b);
+    sp_scene_parse(&b, "[video]\nwidth=1280\n", "t.ini", ov, 1);
+    sp_scene_canonical(&b, cb, sizeof(cb));
+    sp_tap_ok(strcmp(ca, cb) != 0 && strstr(cb, "pendulum.mass=0.25\n"),
+              "an override changes the canonical text");
+    parse("[view]\nhud = true\ntrail = all\npanels = r\nstrobe = 0.5\n", &b);
+    sp_scene_canonical(&b, cb, sizeof(cb));
+    sp_tap_ok(strstr(cb, "view.hud=1\n") && strstr(cb, "view.trail=-1\n") &&
+              strstr(cb, "view.strobe=0.5\n") && strstr(ca, "view.panels=0\n") &&
+              strstr(cb, "view.panels=0x"),
+              "every kind of key is written with its own type");
+    sp_tap_ok(sp_scene_canonical(&a, ca, 10) == na && strlen(ca) == 9,
+              "a short buffer is truncated and the full length returned");
+}
+
 int main(int argc, char **argv)
 {
     test_defaults();
     test_view();
+    test_text();
     test_rejects();
     test_presets(argc > 1 ? argv[1] : "tests");
     return sp_tap_done();

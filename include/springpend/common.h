@@ -15,10 +15,20 @@ enum sp_error {
     SP_E_CODEC = -5,       /* libav* reported an error */
     SP_E_UNSTABLE = -6,    /* the integration blew up: exit status 3 */
     SP_E_INTERRUPTED = -7, /* stopped by a signal */
+    SP_E_MISMATCH = -8,    /* compare: images differ beyond tolerance: exit status 1 */
 };
 
 /* Prints "springpend: <message>\n" to stderr. */
 void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* Makes SIGINT, SIGTERM and SIGHUP set a flag instead of killing the
+ * process, so a long run can stop cleanly and remove its partial files.
+ * main calls it once. */
+void sp_interrupt_install(void);
+
+/* 1 once one of those signals has arrived. Loops that run for long check
+ * it and return SP_E_INTERRUPTED. */
+int sp_interrupted(void);
 
 /* Maps an SP_E_* code to the process exit status documented in --help. */
 int sp_exit_status(int err);

@@ -8,6 +8,7 @@
 
 #include "springpend/render.h"
 #include "springpend/scene.h"
+#include "springpend/sim.h"
 
 struct sp_pipeline_desc {
     const struct sp_scene *scene;
@@ -22,20 +23,22 @@ struct sp_pipeline_desc {
     enum sp_gl gl; /* GL backend; 0 = default */
     int progress;        /* 1: draw a progress line on stderr */
     int verbose;         /* 1: print per-stage times on stderr at the end */
-    int handle_signals;  /* 1: SIGINT/SIGTERM finish the file so far (see
+    int handle_signals;  /* 1: SIGINT/SIGTERM/SIGHUP finish the file so far (see
                             sp_pipeline_run); 0 leaves signals alone */
     int supersample;     /* draw at this many times the size, average down; 0/1 = off */
+    struct sp_state *state_out; /* not NULL: receives the bob's state in the
+                                   last frame drawn */
 };
 
 /* Runs the whole pipeline. On any failure nothing is left at desc->output.
- * With handle_signals, a first SIGINT or SIGTERM finishes the frame in
+ * With handle_signals, a first SIGINT, SIGTERM or SIGHUP finishes the frame in
  * hand, flushes the encoder and keeps a playable file of the frames so far
  * at the target, then returns SP_E_INTERRUPTED (see sp_pipeline_signal);
  * a second one removes the .part being written and exits the process at
- * once with status 128 + signal. */
+ * once with status 128 + signal. PNGs carry provenance.h's text chunks. */
 int sp_pipeline_run(const struct sp_pipeline_desc *desc);
 
-/* The signal that interrupted the last run (SIGINT, SIGTERM), 0 if none. */
+/* The signal that interrupted the last run (SIGINT, SIGTERM, SIGHUP), 0 if none. */
 int sp_pipeline_signal(void);
 
 /* Frames [*first, *last) of shard i (0-based) of n equal consecutive

@@ -24,7 +24,16 @@ struct sp_png_write_opts {
     int n_text;                     /* >= 0; text may be NULL when 0 */
     int opaque;                     /* 1: the image is opaque; write RGB
                                        (a quarter less to compress) */
+    struct sp_png_scratch **scratch; /* compressor and buffers kept between
+                                        writes by one thread (made on first
+                                        use, sp_png_scratch_free); NULL =
+                                        made and freed for this write */
 };
+
+struct sp_png_scratch;
+
+/* Frees what sp_png_write_opts kept in *s and sets it to NULL. */
+void sp_png_scratch_free(struct sp_png_scratch **s);
 
 /* Writes img as an 8-bit RGBA (RGB if opts->opaque) PNG to an open stream
  * (left open, flushed).
@@ -45,5 +54,11 @@ int sp_png_write(const char *path, const struct sp_image *img, int level);
 /* Reads any PNG and converts it to RGBA8 (straight alpha, stride 4*width).
  * img must be freed with sp_image_free; it is zeroed on failure. */
 int sp_png_read(const char *path, struct sp_image *img);
+
+/* Finds the tEXt/zTXt/iTXt chunk `key` that comes before the image data
+ * and copies its text (truncated to size - 1 bytes) into buf. Returns 1
+ * when found, 0 when the PNG has no such chunk, or SP_E_IO (logged) when
+ * the file cannot be read as a PNG. */
+int sp_png_read_text(const char *path, const char *key, char *buf, size_t size);
 
 #endif

@@ -5,6 +5,7 @@
 #define SPRINGPEND_SCENE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 enum sp_method {
     SP_METHOD_RK4 = 0, /* classical Runge-Kutta, fixed dt */
@@ -102,6 +103,13 @@ double sp_scene_frame_time(const struct sp_scene *s, int k);
 
 /* The [video] preset's name ("superfast", ...), or NULL for auto. */
 const char *sp_scene_preset_name(const struct sp_scene *s);
+
+/* Writes every key's value as "section.key=value\n" lines in the key
+ * table's order (numbers with %.17g in stored units: angles in radians),
+ * so two scenes that simulate and render alike give the same text whatever
+ * their files' layout, comments or overrides. The name is left out.
+ * Returns the length snprintf would need (write again if >= size). */
+int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size);
 
 /* Prints every key with its default, unit and accepted range (for --help). */
 void sp_scene_print_keys(void);

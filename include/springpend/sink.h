@@ -15,6 +15,7 @@
 #define SPRINGPEND_SINK_H
 
 #include "springpend/image.h"
+#include "springpend/png_io.h"
 
 struct sp_sink_desc {
     const char *path;   /* target path (pattern for sequences, "-" = stdout
@@ -28,6 +29,11 @@ struct sp_sink_desc {
     int crf;            /* quality: 0 = the format's default */
     const char *preset; /* x264 preset name (VP9: mapped); NULL = default */
     int png_level;      /* level 1..9 for PNGs; 0 = SP_PNG_LEVEL_DEFAULT */
+    const struct sp_png_text *text; /* PNG sinks: text chunks for every image,
+                                       read at each write (the caller may
+                                       change them in between); borrowed
+                                       until close; NULL = none */
+    int n_text;
 };
 
 struct sp_sink;

@@ -1,0 +1,68 @@
+/* springpend: image comparison for snapshot tests. Pure: no files, no GL.
+ *
+ * Two rules, both well known:
+ *   reftest (default, Firefox/WPT "fuzzy" style): a pixel differs when any
+ *     of its RGBA channels differs by more than max_diff levels of 255; the
+ *     images match when at most `allowed` pixels differ.
+ *   rms (matplotlib.testing.compare / pytest-mpl): the root mean square of
+ *     the channel differences, in levels, over RGB (RGBA when either image
+ *     has a pixel with alpha < 255), must be <= tol.
+ * Whatever the rule, the result carries every figure. */
+#ifndef SPRINGPEND_IMAGE_COMPARE_H
+#define SPRINGPEND_IMAGE_COMPARE_H
+
+#include "springpend/image.h"
+
+/* Defaults: llvmpipe on another CPU may move a level or two, and an
+ * antialiased edge pixel here and there a little more; a 1 px shift of a
+ * rendered still changes far more than 0.1% of the pixels. */
+#define SP_COMPARE_MAX_DIFF_DEFAULT 3     /* levels of 255 */
+#define SP_COMPARE_MAX_FRACTION_DEFAULT 1e-3 /* of the pixels */
+#define SP_COMPARE_TOL_DEFAULT 2.0        /* rms, levels (pytest-mpl's) */
+
+/* Put in a field to ask for zero where zero itself means "default". */
+#define SP_COMPARE_NONE (-1)
+
+enum sp_compare_metric {
+    SP_COMPARE_REFTEST = 0,
+    SP_COMPARE_RMS = 1,
+};
+
+/* Zero fields take the defaults above. */
+struct sp_compare_opts {
+    enum sp_compare_metric metric;
+    int max_diff;        /* levels of 255 a channel may move unnoticed;
+                            SP_COMPARE_NONE = 0 */
+    long max_pixels;     /* differing pixels allowed; SP_COMPARE_NONE = 0;
+                            0 = use max_fraction */
+    double max_fraction; /* share of the pixels allowed to differ, 0..1, when
+                            max_pixels is 0; 0 = default */
+    double tol;          /* rms metric: largest rms, levels; SP_COMPARE_NONE
+                            = 0 (identical) */
+};
+
+struct sp_compare_result {
+    long pixels;          /* compared: width * height */
+    long differing;       /* pixels with a channel off by more than max_diff */
+    long changed;         /* pixels with any channel off at all */
+    long allowed;         /* differing pixels the reftest rule allows */
+    int max_diff;         /* the max_diff that was applied, levels */
+    double tol;           /* the rms tolerance that was applied, levels */
+    int max_channel_diff; /* largest channel difference, levels of 255 */
+    double rms;           /* levels of 255, see above */
+    int bbox[4];          /* x0, y0, x1, y1 (inclusive, px, top-left origin)
+                             of the differing pixels; all -1 when none */
+    int pass;             /* 1: the images match under opts->metric */
+};
+
+/* Compares expected with actual. They must have the same size: otherwise
+ * logs both sizes and returns SP_E_INPUT. When diff is not NULL it receives
+ * a new image of that size (free with sp_image_free): the expected image
+ * faded to grey, pixels beyond max_diff in magenta and smaller changes in
+ * a quieter blue. Returns 0 (whatever the verdict),
+ * SP_E_INPUT or SP_E_NOMEM. */
+int sp_compare_images(const struct sp_image *expected, const struct sp_image *actual,
+                      const struct sp_compare_opts *opts, struct sp_compare_result *res,
+                      struct sp_image *diff);
+
+#endif

@@ -1,0 +1,34 @@
+/* springpend: where an image came from, as PNG text chunks, so a snapshot
+ * in CI says which springpend, scene, time and GL renderer made it:
+ *   Software                 "springpend 0.1.0"
+ *   Source                   the GL_RENDERER string (PNG's keyword for
+ *                            "device used to create the image")
+ *   springpend.scene-sha256  SHA-256 of sp_scene_canonical's text
+ *   springpend.time          simulated time of the frame, s (%.9g)
+ * Nothing that changes from run to run (no date): the same frame gives the
+ * same bytes. */
+#ifndef SPRINGPEND_PROVENANCE_H
+#define SPRINGPEND_PROVENANCE_H
+
+#include "springpend/png_io.h"
+#include "springpend/scene.h"
+
+#define SP_PROVENANCE_N_TEXT 4
+
+struct sp_provenance {
+    char software[32];
+    char renderer[128];
+    char scene_sha256[65]; /* lower-case hex */
+    char time[32];         /* s */
+    struct sp_png_text text[SP_PROVENANCE_N_TEXT]; /* point into the above */
+};
+
+/* Hashes the scene and fills every chunk (time 0). renderer may be NULL
+ * ("none"). Returns 0 or SP_E_NOMEM. */
+int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
+                       const char *renderer);
+
+/* Sets the simulated time, s, that the next image shows. */
+void sp_provenance_set_time(struct sp_provenance *p, double t);
+
+#endif

@@ -1,0 +1,24 @@
+/* springpend: reading video frames back as RGBA8 images through libav*,
+ * for `springpend compare a.mp4 b.mp4`. Any container and codec FFmpeg
+ * decodes; the first video stream only. */
+#ifndef SPRINGPEND_VIDEO_READ_H
+#define SPRINGPEND_VIDEO_READ_H
+
+#include "springpend/image.h"
+
+struct sp_video_reader;
+
+/* Opens path and its decoder. SP_E_INPUT (with a message) when it is not a
+ * readable video. */
+int sp_video_reader_open(struct sp_video_reader **out, const char *path);
+
+/* Decodes the next frame into *img: pixels owned by the reader, valid
+ * until the next read or destroy. The conversion to RGBA is bit-exact
+ * (SWS_BITEXACT), so equal frames give equal pixels on any CPU. Returns 1
+ * with a frame, 0 after the last one, or a negative SP_E_* code. */
+int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img);
+
+/* Frees everything and sets *r to NULL. Safe on NULL. */
+void sp_video_reader_destroy(struct sp_video_reader **r);
+
+#endif

@@ -1,0 +1,53 @@
+/* springpend: PNG text chunks naming an image's origin (provenance.h).
+ * SHA-256 from libavutil, which the video sink links anyway. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include <libavutil/mem.h>
+#include <libavutil/sha.h>
+
+#include "springpend/common.h"
+#include "springpend/provenance.h"
+
+/* SHA-256 of the scene's canonical text into hex[65]. */
+static int scene_sha256(const struct sp_scene *scene, char hex[65])
+{
+    uint8_t digest[32];
+    int n = sp_scene_canonical(scene, NULL, 0);
+    char *text = malloc((size_t)n + 1);
+    struct AVSHA *sha = av_sha_alloc();
+    int err = 0;
+    if (!text || !sha) {
+        sp_log_error("out of memory");
+        err = SP_E_NOMEM;
+        goto done;
+    }
+    sp_scene_canonical(scene, text, (size_t)n + 1);
+    av_sha_init(sha, 256);
+    av_sha_update(sha, (const uint8_t *)text, (size_t)n);
+    av_sha_final(sha, digest);
+    for (int i = 0; i < 32; i++)
+        snprintf(hex + 2 * i, 3, "%02x", digest[i]);
+done:
+    av_free(sha);
+    free(text);
+    return err;
+}
+
+int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
+                       const char *renderer)
+{
+    snprintf(p->software, sizeof(p->software), "springpend " SP_VERSION);
+    snprintf(p->renderer, sizeof(p->renderer), "%s", renderer ? renderer : "none");
+    sp_provenance_set_time(p, 0);
+    p->text[0] = (struct sp_png_text){"Software", p->software};
+    p->text[1] = (struct sp_png_text){"Source", p->renderer};
+    p->text[2] = (struct sp_png_text){"springpend.scene-sha256", p->scene_sha256};
+    p->text[3] = (struct sp_png_text){"springpend.time", p->time};
+    return scene_sha256(scene, p->scene_sha256);
+}
+
+void sp_provenance_set_time(struct sp_provenance *p, double t)
+{
+    snprintf(p->time, sizeof(p->time), "%.9g", t);
+}

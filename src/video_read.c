@@ -1,0 +1,146 @@
+/* springpend: video frames back to RGBA8 (video_read.h). The decode loop
+ * is FFmpeg's doc/examples/demux_decode.c: read a packet, send it, drain
+ * receive_frame until EAGAIN; at the end send NULL and drain to EOF. */
+#include <stdlib.h>
+#include <string.h>
+
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/pixdesc.h>
+#include <libswscale/swscale.h>
+
+#include "springpend/common.h"
+#include "springpend/video_read.h"
+
+struct sp_video_reader {
+    char *path;              /* owned copy, for messages */
+    AVFormatContext *fmt;    /* owned */
+    AVCodecContext *dec;     /* owned */
+    AVPacket *pkt;           /* owned, reused */
+    AVFrame *frame;          /* owned, reused: the decoded frame */
+    struct SwsContext *sws;  /* owned, made for the first frame's format */
+    struct sp_image rgba;    /* owned, the converted frame */
+    int stream;              /* index of the video stream in fmt */
+    int flushing;            /* the demuxer is done; NULL was sent */
+};
+
+static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
+{
+    sp_log_error("%s: %s: %s", r->path, what, av_err2str(averr));
+    return averr == AVERROR(ENOMEM) ? SP_E_NOMEM : SP_E_CODEC;
+}
+
+int sp_video_reader_open(struct sp_video_reader **out, const char *path)
+{
+    struct sp_video_reader *r = calloc(1, sizeof(*r));
+    const AVCodec *codec = NULL;
+    int ret;
+    *out = NULL;
+    if (!r || !(r->path = strdup(path)) || !(r->pkt = av_packet_alloc()) ||
+        !(r->frame = av_frame_alloc())) {
+        sp_log_error("out of memory");
+        ret = SP_E_NOMEM;
+        goto fail;
+    }
+    ret = avformat_open_input(&r->fmt, path, NULL, NULL);
+    if (ret >= 0)
+        ret = avformat_find_stream_info(r->fmt, NULL);
+    if (ret >= 0)
+        ret = r->stream = av_find_best_stream(r->fmt, AVMEDIA_TYPE_VIDEO, -1, -1, &codec, 0);
+    if (ret < 0) {
+        sp_log_error("%s: cannot read a video from it: %s", path, av_err2str(ret));
+        ret = SP_E_INPUT;
+        goto fail;
+    }
+    if (!(r->dec = avcodec_alloc_context3(codec))) {
+        ret = av_fail(r, "cannot make a decoder", AVERROR(ENOMEM));
+        goto fail;
+    }
+    ret = avcodec_parameters_to_context(r->dec, r->fmt->streams[r->stream]->codecpar);
+    if (ret >= 0)
+        ret = avcodec_open2(r->dec, codec, NULL);
+    if (ret < 0) {
+        ret = av_fail(r, "cannot open the decoder", ret);
+        goto fail;
+    }
+    *out = r;
+    return 0;
+fail:
+    sp_video_reader_destroy(&r);
+    return ret;
+}
+
+/* Converts r->frame into r->rgba. */
+static int convert(struct sp_video_reader *r, struct sp_image *img)
+{
+    const AVFrame *f = r->frame;
+    if (!r->rgba.pixels || r->rgba.width != f->width || r->rgba.height != f->height) {
+        sp_image_free(&r->rgba);
+        int err = sp_image_alloc(&r->rgba, f->width, f->height);
+        if (err)
+            return err;
+    }
+    r->sws = sws_getCachedContext(r->sws, f->width, f->height, f->format, f->width,
+                                  f->height, AV_PIX_FMT_RGBA,
+                                  SWS_BILINEAR | SWS_ACCURATE_RND | SWS_BITEXACT |
+                                      SWS_FULL_CHR_H_INT,
+                                  NULL, NULL, NULL);
+    if (!r->sws) {
+        sp_log_error("%s: cannot convert %dx%d %s frames to RGBA", r->path, f->width,
+                     f->height, av_get_pix_fmt_name(f->format));
+        return SP_E_CODEC;
+    }
+    uint8_t *dst[4] = {r->rgba.pixels};
+    int dst_stride[4] = {r->rgba.stride};
+    sws_scale(r->sws, (const uint8_t *const *)f->data, f->linesize, 0, f->height, dst,
+              dst_stride);
+    *img = r->rgba;
+    return 1;
+}
+
+int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img)
+{
+    for (;;) {
+        int ret = avcodec_receive_frame(r->dec, r->frame);
+        if (ret >= 0) {
+            ret = convert(r, img);
+            av_frame_unref(r->frame);
+            return ret;
+        }
+        if (ret == AVERROR_EOF)
+            return 0;
+        if (ret != AVERROR(EAGAIN))
+            return av_fail(r, "cannot decode", ret);
+        if (r->flushing)
+            return av_fail(r, "the decoder wants input after the end", ret);
+        /* Feed the next packet of our stream, or NULL at the end. */
+        do {
+            av_packet_unref(r->pkt);
+            ret = av_read_frame(r->fmt, r->pkt);
+        } while (ret >= 0 && r->pkt->stream_index != r->stream);
+        if (ret == AVERROR_EOF) {
+            r->flushing = 1;
+            ret = avcodec_send_packet(r->dec, NULL);
+        } else if (ret >= 0) {
+            ret = avcodec_send_packet(r->dec, r->pkt);
+        }
+        if (ret < 0)
+            return av_fail(r, "cannot read the next frame", ret);
+    }
+}
+
+void sp_video_reader_destroy(struct sp_video_reader **rp)
+{
+    struct sp_video_reader *r = *rp;
+    if (!r)
+        return;
+    sws_freeContext(r->sws);
+    sp_image_free(&r->rgba);
+    av_frame_free(&r->frame);
+    av_packet_free(&r->pkt);
+    avcodec_free_context(&r->dec);
+    avformat_close_input(&r->fmt);
+    free(r->path);
+    free(r);
+    *rp = NULL;
+}

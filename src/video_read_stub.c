@@ -1,0 +1,36 @@
+/* springpend: video_read.h's functions for the executable. The decoder
+ * itself (video_read.c) lives in springpend-av.so with the rest of FFmpeg's
+ * users (av_module.h); these forward to it, loading it on first use. */
+#include <stddef.h>
+
+#include "springpend/common.h"
+#include "springpend/video_read.h"
+#include "av_module.h"
+
+int sp_video_reader_open(struct sp_video_reader **out, const char *path)
+{
+    int (*open_fn)(struct sp_video_reader **, const char *);
+    *(void **)&open_fn = sp_av_module_symbol("sp_video_reader_open");
+    if (!open_fn) {
+        *out = NULL;
+        return SP_E_CODEC;
+    }
+    return open_fn(out, path);
+}
+
+int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img)
+{
+    int (*read_fn)(struct sp_video_reader *, struct sp_image *);
+    *(void **)&read_fn = sp_av_module_symbol("sp_video_reader_read");
+    return read_fn ? read_fn(r, img) : SP_E_CODEC;
+}
+
+void sp_video_reader_destroy(struct sp_video_reader **r)
+{
+    if (!*r)
+        return; /* made by nothing: the module need not load */
+    void (*destroy_fn)(struct sp_video_reader **);
+    *(void **)&destroy_fn = sp_av_module_symbol("sp_video_reader_destroy");
+    if (destroy_fn)
+        destroy_fn(r);
+}

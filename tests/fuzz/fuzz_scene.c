@@ -1,0 +1,87 @@
+/* springpend fuzzing: the scene parser and validation (sp_scene_parse) on
+ * arbitrary text plus --set overrides. The input is split at NUL bytes: the
+ * first piece is the scene text, each further piece one override (at most
+ * SP_CLI_MAX_OVERRIDES, as on the command line). No I/O but the parser's
+ * messages on stderr (silence them with libFuzzer's -close_fd_mask=2).
+ *
+ * Built two ways (tests/fuzz/meson.build): with libFuzzer (-Dfuzz=enabled,
+ * clang) for fuzzing, and with replay.c as a plain test that runs the seed
+ * corpus and every past crash (tests/fuzz/regressions) in every build. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "springpend/common.h"
+#include "springpend/scene.h"
+
+/* An invariant of an accepted scene is broken: a bug, so crash loudly. */
+#define CHECK(cond)                                                              \
+    do {                                                                         \
+        if (!(cond)) {                                                           \
+            fprintf(stderr, "fuzz_scene: invariant failed: %s\n", #cond);        \
+            abort();                                                             \
+        }                                                                        \
+    } while (0)
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+/* What validation promises about a scene it accepted. */
+static void check_accepted(const struct sp_scene *s)
+{
+    const double reals[] = {
+        s->pendulum.natural_length, s->pendulum.stiffness, s->pendulum.mass,
+        s->pendulum.gravity, s->pendulum.damping, s->initial.length, s->initial.angle,
+        s->initial.length_rate, s->initial.angle_rate, s->integrator.dt, s->video.fps,
+        s->video.duration, s->video.speed,
+    };
+    for (size_t i = 0; i < sizeof(reals) / sizeof(reals[0]); i++)
+        CHECK(isfinite(reals[i]));
+    CHECK(s->pendulum.natural_length > 0 && s->pendulum.stiffness > 0 && s->pendulum.mass > 0);
+    CHECK(s->pendulum.gravity >= 0 && s->pendulum.damping >= 0 && s->initial.length > 0);
+    CHECK(s->integrator.dt > 0 && s->integrator.dt <= 1);
+    CHECK(s->video.width >= 16 && s->video.height >= 16 &&
+          (long)s->video.width * s->video.height <= 7680L * 4320L);
+    CHECK(s->video.fps > 0 && s->video.duration > 0 && s->video.speed > 0);
+    int n = sp_scene_frame_count(s);
+    CHECK(n >= 1 && n <= 1000000);
+    CHECK(isfinite(sp_scene_frame_time(s, n - 1)) && sp_scene_frame_time(s, n - 1) >= 0);
+    if (s->integrator.method <= SP_METHOD_YOSHIDA4) /* fixed steps */
+        CHECK(s->video.duration / s->integrator.dt <= 1e10);
+    if (s->integrator.method == SP_METHOD_RKN1210)
+        CHECK(s->pendulum.damping == 0 && !(s->pivot.amplitude > 0 && s->pivot.frequency > 0));
+    CHECK(s->integrator.tolerance >= 1e-15 && s->integrator.tolerance <= 1e-2);
+    CHECK(isfinite(s->pivot.amplitude) && isfinite(s->pivot.frequency));
+    CHECK(isfinite(s->view.strobe) && s->view.strobe >= 0);
+    CHECK((s->view.trail >= 0 && s->view.trail <= 1000000) || s->view.trail == SP_TRAIL_ALL);
+    CHECK(s->name[sizeof(s->name) - 1] == 0);
+    char buf[4096];
+    int len = sp_scene_canonical(s, buf, sizeof(buf));
+    CHECK(len > 0 && len < (int)sizeof(buf) && (int)strlen(buf) == len);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    const char *overrides[SP_CLI_MAX_OVERRIDES];
+    int n = 0;
+    char *text = malloc(size + 1);
+    if (!text)
+        return 0;
+    memcpy(text, data, size);
+    text[size] = 0;
+    for (char *p = text + strlen(text); p < text + size && n < SP_CLI_MAX_OVERRIDES;
+         p += strlen(p))
+        overrides[n++] = ++p;
+
+    struct sp_scene s;
+    sp_scene_defaults(&s);
+    snprintf(s.name, sizeof(s.name), "fuzz");
+    int ret = sp_scene_parse(&s, text, "fuzz.ini", overrides, n);
+    CHECK(ret == 0 || ret == SP_E_INPUT);
+    if (ret == 0)
+        check_accepted(&s);
+    free(text);
+    return 0;
+}

@@ -168,7 +168,8 @@ static int run(int argc, char **argv, int still)
     if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0)
         remove(out);
     if ((!ret || ret == SP_E_INTERRUPTED) && !o.quiet)
-        fprintf(stderr, "wrote %s%s%s\n", out, o.state ? " and " : "", o.state ? o.state : "");
+        fprintf(stderr, "wrote %s%s%s\n", strcmp(out, "-") ? out : "stdout", o.state ? " and " : "",
+                o.state ? o.state : "");
     return ret;
 }
 

@@ -1,10 +1,7 @@
 /* springpend: PNG files through libpng. Writing uses the full API (so we
- * choose filters, zlib level and text chunks); reading uses the simplified
- * API, which converts any PNG to RGBA8. The image data (IDAT) is filtered
- * here and compressed by libdeflate, which at equal size takes half zlib's
- * time; libpng writes the chunks around it. */
+ * choose the filter, zlib level and text chunks); reading uses the simplified
+ * API, which converts any PNG to RGBA8. */
 #include <errno.h>
-#include <libdeflate.h>
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,10 +9,10 @@
 #include "springpend/common.h"
 #include "springpend/png_io.h"
 
-/* Rows are filtered with UP alone: one fixed filter skips a per-row trial
- * of every candidate (2.6x faster than libpng's PNG_ALL_FILTERS at 1080p),
- * and on rendered frames (flat background, thin curves) and on gradients UP
- * gave smaller files than SUB or NONE at the same speed. */
+/* Rows are filtered with UP alone: one fixed filter skips libpng's per-row
+ * trial of every candidate (2.6x faster than PNG_ALL_FILTERS at 1080p), and
+ * on rendered frames (flat background, thin curves) UP gave smaller files
+ * than SUB or NONE at the same speed. */
 
 /* libpng's error callback: error_ptr is the destination's name. Logs and
  * jumps back to the setjmp in the writer; never returns. */
@@ -25,87 +22,26 @@ static void on_png_error(png_structp png, png_const_charp msg)
     png_longjmp(png, 1);
 }
 
+/* libpng's write callback: stdio, with the OS's reason on failure (e.g.
+ * "No space left on device"); jumps back like on_png_error. */
+static void on_png_write(png_structp png, png_bytep data, size_t n)
+{
+    if (fwrite(data, 1, n, (FILE *)png_get_io_ptr(png)) != n) {
+        sp_log_error("%s: cannot write: %s", (const char *)png_get_error_ptr(png),
+                     strerror(errno));
+        png_longjmp(png, 1);
+    }
+}
+
+static void on_png_flush(png_structp png)
+{
+    fflush((FILE *)png_get_io_ptr(png));
+}
+
 static void on_png_warning(png_structp png, png_const_charp msg)
 {
     sp_log_error("%s: libpng warning: %s", (const char *)png_get_error_ptr(png),
                  msg);
-}
-
-/* A compressor and buffers kept between images (see png_io.h), so a PNG
- * sequence allocates nothing per frame. */
-struct sp_png_scratch {
-    struct libdeflate_compressor *c; /* owned */
-    int level;                       /* c's level */
-    uint8_t *filtered, *packed;      /* owned */
-    size_t filtered_cap, packed_cap; /* bytes */
-};
-
-void sp_png_scratch_free(struct sp_png_scratch **sp)
-{
-    struct sp_png_scratch *d = *sp;
-    if (!d)
-        return;
-    libdeflate_free_compressor(d->c);
-    free(d->filtered);
-    free(d->packed);
-    free(d);
-    *sp = NULL;
-}
-
-/* Makes *sp (allocating it if NULL) hold a level-`level` compressor and
- * room for n filtered bytes; NULL when out of memory. */
-static struct sp_png_scratch *scratch_get(struct sp_png_scratch **sp, int level,
-                                          size_t n)
-{
-    struct sp_png_scratch *d = *sp;
-    if (!d && !(d = *sp = calloc(1, sizeof(*d))))
-        return NULL;
-    if (!d->c || d->level != level) {
-        libdeflate_free_compressor(d->c);
-        d->c = libdeflate_alloc_compressor(level);
-        d->level = level;
-        if (!d->c)
-            return NULL;
-    }
-    size_t bound = libdeflate_zlib_compress_bound(d->c, n);
-    if (d->filtered_cap < n) {
-        free(d->filtered);
-        d->filtered = malloc(n);
-        d->filtered_cap = d->filtered ? n : 0;
-    }
-    if (d->packed_cap < bound) {
-        free(d->packed);
-        d->packed = malloc(bound);
-        d->packed_cap = d->packed ? bound : 0;
-    }
-    return d->filtered && d->packed ? d : NULL;
-}
-
-/* Filters every row with UP into d->filtered (as RGB, alpha dropped, when
- * bpp is 3) and compresses it into d->packed; returns the compressed size
- * (0: failed). */
-static size_t deflate_image(struct sp_png_scratch *d, const struct sp_image *img,
-                            int bpp)
-{
-    size_t row = (size_t)bpp * img->width;
-    for (int y = 0; y < img->height; y++) {
-        uint8_t *out = d->filtered + (size_t)y * (row + 1);
-        const uint8_t *cur = img->pixels + (size_t)y * img->stride;
-        const uint8_t *up = cur - img->stride;
-        out[0] = 2; /* UP; the row above the first is zero */
-        out++;
-        if (bpp == 4 && y == 0)
-            memcpy(out, cur, row);
-        else if (bpp == 4)
-            for (size_t i = 0; i < row; i++)
-                out[i] = (uint8_t)(cur[i] - up[i]);
-        else
-            for (int x = 0; x < img->width; x++, out += 3, cur += 4, up += 4)
-                for (int c = 0; c < 3; c++)
-                    out[c] = (uint8_t)(cur[c] - (y ? up[c] : 0));
-    }
-    return libdeflate_zlib_compress(d->c, d->filtered, (row + 1) * img->height,
-                                    d->packed, d->packed_cap);
 }
 
 static int check_write_args(const struct sp_image *img,
@@ -143,26 +79,16 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
                              const struct sp_png_write_opts *opts,
                              const char *what)
 {
-    /* All owned here, released at `done`. Set before setjmp and never
-     * changed after, so they survive the longjmp without volatile. */
+    /* Owned here, released at `done`. Set before setjmp and never changed
+     * after, so they survive the longjmp without volatile. */
     png_structp png = NULL;
     png_infop info = NULL;
-    struct sp_png_scratch *own = NULL; /* when the caller keeps none */
-    struct sp_png_scratch *volatile d = NULL; /* the compressed image data */
-    volatile size_t packed = 0;        /* its bytes */
-    int bpp = opts->opaque ? 3 : 4;
     int err = check_write_args(img, opts, what);
     if (err)
         return err;
 
-    /* Checked by sp_image size limits: at most 8K, well under 2^31 bytes. */
-    d = scratch_get(opts->scratch ? opts->scratch : &own, opts->level,
-                    ((size_t)bpp * img->width + 1) * img->height);
-    if (d)
-        packed = deflate_image(d, img, bpp);
-    if (packed)
-        png = png_create_write_struct(PNG_LIBPNG_VER_STRING, (png_voidp)what,
-                                      on_png_error, on_png_warning);
+    png = png_create_write_struct(PNG_LIBPNG_VER_STRING, (png_voidp)what,
+                                  on_png_error, on_png_warning);
     if (png)
         info = png_create_info_struct(png);
     if (!png || !info) {
@@ -175,7 +101,9 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
         goto done;
     }
 
-    png_init_io(png, fp);
+    png_set_write_fn(png, fp, on_png_write, on_png_flush);
+    png_set_compression_level(png, opts->level);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
     png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height,
                  8, opts->opaque ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA,
                  PNG_INTERLACE_NONE,
@@ -189,10 +117,12 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
         };
         png_set_text(png, info, &t, 1);
     }
-    /* libpng writes the chunks around the data compressed above. */
     png_write_info(png, info);
-    png_write_chunk(png, (png_const_bytep) "IDAT", d->packed, packed);
-    png_write_chunk(png, (png_const_bytep) "IEND", NULL, 0);
+    if (opts->opaque) /* rows stay RGBA in memory; libpng drops the A */
+        png_set_filler(png, 0, PNG_FILLER_AFTER);
+    for (int y = 0; y < img->height; y++)
+        png_write_row(png, img->pixels + (size_t)y * img->stride);
+    png_write_end(png, NULL);
 
     if (fflush(fp) != 0 || ferror(fp)) {
         sp_log_error("%s: cannot write: %s", what, strerror(errno));
@@ -200,7 +130,6 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
     }
 done:
     png_destroy_write_struct(&png, &info);
-    sp_png_scratch_free(&own);
     return err;
 }
 

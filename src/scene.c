@@ -63,7 +63,7 @@ static const struct key_info keys[] = {
     {"video", "speed", KEY_REAL, F(video.speed), 1, 0, 1e4, 1, "simulated s per video s"},
     {"video", "crf", KEY_INT, F(video.crf), 0, 0, 63, 0, "(quality, lower is better; 0 = the format's default: 23 H.264, 32 VP9)"},
     {"video", "preset", KEY_CHOICE, F(video.preset), 0, 0, 0, 0, PRESET_NAMES},
-    {"video", "png_level", KEY_INT, F(video.png_level), 5, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
+    {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
     {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "points"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
      "none, all, r, theta, energy, extension, phase, poincare, modes"},

@@ -108,7 +108,6 @@ static void *png_writer(void *arg)
 {
     struct sp_sink *s = arg;
     struct png_sequence *q = s->priv;
-    struct sp_png_scratch *scratch = NULL; /* this writer's, reused */
     pthread_mutex_lock(&q->lock);
     for (;;) {
         struct png_job *j = NULL;
@@ -131,7 +130,6 @@ static void *png_writer(void *arg)
             struct sp_png_write_opts opts = png_opts(s);
             opts.text = j->text;
             opts.n_text = j->n_text;
-            opts.scratch = &scratch;
             err = sp_png_write_opts(j->part, &j->img, &opts);
             if (!err)
                 err = sp_sink_commit(j->part, j->name);
@@ -146,7 +144,6 @@ static void *png_writer(void *arg)
         pthread_cond_broadcast(&q->changed);
     }
     pthread_mutex_unlock(&q->lock);
-    sp_png_scratch_free(&scratch);
     return NULL;
 }
 

@@ -1,13 +1,14 @@
-/* springpend: PNG files through libpng, compressed by libdeflate. */
+/* springpend: PNG files through libpng. */
 #ifndef SPRINGPEND_PNG_IO_H
 #define SPRINGPEND_PNG_IO_H
 
 #include <stdio.h>
 #include "springpend/image.h"
 
-/* The zlib level sinks use. On 1080p rendered frames level 1 writes in
- * about 14 ms, level 6 in 24 ms for files 40% smaller. */
-#define SP_PNG_LEVEL_DEFAULT 6
+/* The zlib level sinks use unless told: chosen for speed. On 1080p rendered
+ * frames level 1 writes in about 14 ms, level 6 in 24 ms for files 40%
+ * smaller. */
+#define SP_PNG_LEVEL_DEFAULT 1
 
 /* One tEXt chunk. key: 1..79 printable Latin-1 characters, no leading,
  * trailing or double spaces (e.g. "Software", "Comment"); text: Latin-1. */
@@ -24,16 +25,7 @@ struct sp_png_write_opts {
     int n_text;                     /* >= 0; text may be NULL when 0 */
     int opaque;                     /* 1: the image is opaque; write RGB
                                        (a quarter less to compress) */
-    struct sp_png_scratch **scratch; /* compressor and buffers kept between
-                                        writes by one thread (made on first
-                                        use, sp_png_scratch_free); NULL =
-                                        made and freed for this write */
 };
-
-struct sp_png_scratch;
-
-/* Frees what sp_png_write_opts kept in *s and sets it to NULL. */
-void sp_png_scratch_free(struct sp_png_scratch **s);
 
 /* Writes img as an 8-bit RGBA (RGB if opts->opaque) PNG to an open stream
  * (left open, flushed).

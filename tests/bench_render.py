@@ -96,7 +96,7 @@ try:
                     ff_in + ["-c:v", "libx264", "-preset", "superfast", "-crf", "23",
                              "-pix_fmt", "yuv420p", "-colorspace", "bt709",
                              "-movflags", "+faststart", "floor.mp4"])
-    sp_png = measure("springpend -> PNG sequence (its default: level 5, filter up)",
+    sp_png = measure("springpend -> PNG sequence (its default: level 1, filter up)",
                      base + ["-o", "sp_png/%04d.png"], out_dir="sp_png")
     ff_png = measure("ffmpeg raw -> PNG sequence (zlib 1, filter up)",
                      ff_in + ["-compression_level", "1", "-pred", "up", "ff_png/%04d.png"],

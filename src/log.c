@@ -1,11 +1,10 @@
-/* springpend: logging and exit statuses. */
+/* springpend: logging, and the interrupt flag of commands that do not render. */
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "springpend/common.h"
-#include "springpend/pipeline.h"
 
 void sp_log_error(const char *fmt, ...)
 {
@@ -39,15 +38,4 @@ void sp_interrupt_install(void)
 int sp_interrupted(void)
 {
     return interrupted;
-}
-
-int sp_exit_status(int err)
-{
-    switch (err) {
-    case SP_OK: return 0;
-    case SP_E_INPUT: return 2;
-    case SP_E_UNSTABLE: return 3;
-    case SP_E_INTERRUPTED: return 128 + (sp_pipeline_signal() ? sp_pipeline_signal() : 2);
-    default: return 1;
-    }
 }

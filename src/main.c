@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/pipeline.h"
 
 static const char usage[] =
     "springpend " SP_VERSION " - renders the spring (elastic) pendulum, headless\n"
@@ -25,6 +26,18 @@ static const char usage[] =
     "exit status: 0 done, 1 failed (I/O, encoder, GL), 2 bad input,\n"
     "             3 the simulation became unstable, 130/143 interrupted by\n"
     "             SIGINT/SIGTERM (render keeps the frames so far, playable)\n";
+
+/* The process exit status of an SP_E_* code, as --help documents it. */
+static int exit_status(int err)
+{
+    switch (err) {
+    case SP_OK: return 0;
+    case SP_E_INPUT: return 2;
+    case SP_E_UNSTABLE: return 3;
+    case SP_E_INTERRUPTED: return 128 + (sp_pipeline_signal() ? sp_pipeline_signal() : SIGINT);
+    default: return 1;
+    }
+}
 
 struct command {
     const char *name;
@@ -65,7 +78,7 @@ int main(int argc, char **argv)
     sp_interrupt_install();
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
         if (!strcmp(argv[1], commands[i].name))
-            return sp_exit_status(commands[i].run(argc - 1, argv + 1));
+            return exit_status(commands[i].run(argc - 1, argv + 1));
     sp_log_error("unknown command '%s'; see 'springpend --help'", argv[1]);
     return 2;
 }

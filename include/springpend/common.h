@@ -30,7 +30,4 @@ void sp_interrupt_install(void);
  * it and return SP_E_INTERRUPTED. */
 int sp_interrupted(void);
 
-/* Maps an SP_E_* code to the process exit status documented in --help. */
-int sp_exit_status(int err);
-
 #endif

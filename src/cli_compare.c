@@ -316,6 +316,11 @@ static int compare_videos(const struct compare_cli *c, const char *expected, con
     if (c->json)
         printf("{\"name\": "), json_string(actual), printf(", \"failed_frames\": [");
     while ((ge = sp_video_reader_read(ve, &fe)) == 1 && (ga = sp_video_reader_read(va, &fa)) == 1) {
+        if (sp_interrupted()) {
+            snprintf(why, sizeof(why), "interrupted at frame %d", frames);
+            ret = SP_E_INTERRUPTED;
+            goto done;
+        }
         if (fe.width != fa.width || fe.height != fa.height) {
             snprintf(why, sizeof(why), "frame %d: expected %dx%d, actual %dx%d", frames,
                      fe.width, fe.height, fa.width, fa.height);

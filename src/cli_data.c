@@ -69,7 +69,7 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every)
     sp_sim_init(&sim, sc);
     for (long k = 0; k < n; k++) {
         double t = every > 0 ? k * every : sp_scene_frame_time(sc, (int)k);
-        int ret = sp_sim_advance(&sim, t);
+        int ret = sp_interrupted() ? SP_E_INTERRUPTED : sp_sim_advance(&sim, t);
         if (!ret)
             ret = write_row(fp, &sim);
         if (ret)
@@ -125,6 +125,8 @@ int sp_cmd_data(int argc, char **argv)
     fp = NULL;
     if (ret == SP_E_IO)
         sp_log_error("cannot write %s: %s", part, strerror(errno));
+    if (ret == SP_E_INTERRUPTED)
+        sp_log_error("interrupted: %s not written", out);
     if (!ret)
         ret = sp_sink_commit(part, out);
     if (!ret && !o.quiet)

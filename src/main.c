@@ -34,7 +34,10 @@ static int exit_status(int err)
     case SP_OK: return 0;
     case SP_E_INPUT: return 2;
     case SP_E_UNSTABLE: return 3;
-    case SP_E_INTERRUPTED: return 128 + (sp_pipeline_signal() ? sp_pipeline_signal() : SIGINT);
+    case SP_E_INTERRUPTED: {
+        int sig = sp_pipeline_signal() ? sp_pipeline_signal() : sp_interrupted();
+        return 128 + (sig ? sig : SIGINT);
+    }
     default: return 1;
     }
 }

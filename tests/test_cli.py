@@ -376,6 +376,20 @@ for sig in (signal.SIGINT, signal.SIGTERM):
        not [n for n in left if n.endswith(".part")],
        f"{sig.name} during a render: exit {p.returncode}, says {err.strip()!r}, left {left}")
 
+# The same for a long `data` run: exit 128 + signal, no CSV and no .part.
+for sig in (signal.SIGINT, signal.SIGTERM):
+    target = os.path.join(work, "intr", f"{sig.name}.csv")
+    p = subprocess.Popen([exe, "data", default, "--set", "video.duration=10000", "--every", "0.0001",
+                          "-o", target, "-q"], stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 30
+    while not os.path.exists(target + ".part") and p.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    p.send_signal(sig)
+    err = p.communicate()[1]
+    left = [n for n in os.listdir(os.path.dirname(target)) if n.startswith(sig.name + ".csv")]
+    ok(p.returncode == 128 + sig and "interrupted" in err and not left,
+       f"{sig.name} during data: exit {p.returncode}, says {err.strip()!r}, left {left}")
+
 
 # Faults: a write that fails half way (the file size limit stands in for a
 # full disk) is exit 1 with the reason, and leaves no file behind.

@@ -26,8 +26,8 @@ void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
  * main calls it once. */
 void sp_interrupt_install(void);
 
-/* 1 once one of those signals has arrived. Loops that run for long check
- * it and return SP_E_INTERRUPTED. */
+/* The signal's number once one of those signals has arrived, else 0.
+ * Loops that run for long check it and return SP_E_INTERRUPTED. */
 int sp_interrupted(void);
 
 #endif

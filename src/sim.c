@@ -618,6 +618,26 @@ SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int for
     return ret;
 }
 
+/* Accepts an adaptive step of h from (t1, y1) to u: the step window moves
+ * on, the next step is h * fac (not grown right after a rejection), and the
+ * new state is checked. Returns check_state's verdict. */
+static int accept_step(struct sp_sim *sim, double h, double fac, const double u[5])
+{
+    if (sim->last_rejected)
+        fac = fmin(fac, 1);
+    sim->last_rejected = 0;
+    sim->t0 = sim->t1;
+    memcpy(sim->y0, sim->y1, sizeof(sim->y0));
+    sim->t1 += h;
+    memcpy(sim->y1, u, sizeof(sim->y1));
+    sim->h = h * fac;
+    sim->steps++;
+    int ret = check_state(sim, sim->t1, sim->y1);
+    if (ret)
+        to_state(sim->t1, sim->y1, &sim->s);
+    return ret;
+}
+
 /* err^(-1/(order+1)) for the step-size controller: for dop853 (-1/8) three
  * square roots, cheaper than pow. */
 static inline double step_factor(double err, const int d853)
@@ -653,21 +673,10 @@ SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int 
             sim->last_rejected = 1;
         }
         double fac = err == 0 ? fac_max : fmin(fac_max, fmax(fac_min, 0.9 * step_factor(err, d853)));
-        if (sim->last_rejected)
-            fac = fmin(fac, 1);
-        sim->last_rejected = 0;
-        sim->t0 = sim->t1;
-        memcpy(sim->y0, sim->y1, sizeof(u));
-        sim->t1 += h;
-        memcpy(sim->y1, u, sizeof(u));
-        sim->h = h * fac;
-        sim->steps++;
         sim->dense_ready = 0;
-        int ret = check_state(sim, sim->t1, sim->y1);
-        if (ret) {
-            to_state(sim->t1, sim->y1, &sim->s);
+        int ret = accept_step(sim, h, fac, u);
+        if (ret)
             return ret;
-        }
     }
     if (t_target == sim->t1)
         memcpy(u, sim->y1, sizeof(u));
@@ -701,20 +710,9 @@ static int advance_rkn(struct sp_sim *sim, double t_target)
             sim->last_rejected = 1;
         }
         double fac = err == 0 ? 5 : fmin(5, fmax(0.2, 0.9 * pow(err, -1.0 / 11)));
-        if (sim->last_rejected)
-            fac = fmin(fac, 1);
-        sim->last_rejected = 0;
-        sim->t0 = sim->t1;
-        memcpy(sim->y0, sim->y1, sizeof(u));
-        sim->t1 += h;
-        memcpy(sim->y1, u, sizeof(u));
-        sim->h = h * fac;
-        sim->steps++;
-        int ret = check_state(sim, sim->t1, sim->y1);
-        if (ret) {
-            to_state(sim->t1, sim->y1, &sim->s);
+        int ret = accept_step(sim, h, fac, u);
+        if (ret)
             return ret;
-        }
     }
     if (t_target == sim->t1) {
         memcpy(u, sim->y1, sizeof(u));

@@ -167,7 +167,9 @@ static int run(int argc, char **argv, int still)
     /* Both files or neither. */
     if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0)
         remove(out);
-    if ((!ret || ret == SP_E_INTERRUPTED) && !o.quiet)
+    /* An interrupted render keeps the frames so far, when there were any. */
+    int kept = ret == SP_E_INTERRUPTED && !still && strcmp(out, "-") && access(out, F_OK) == 0;
+    if ((!ret || kept) && !o.quiet)
         fprintf(stderr, "wrote %s%s%s\n", strcmp(out, "-") ? out : "stdout", o.state ? " and " : "",
                 o.state ? o.state : "");
     return ret;

@@ -34,6 +34,11 @@ void sp_interrupt_install(void)
     sigaction(SIGHUP, &sa, NULL);
 }
 
+void sp_interrupt_note(int sig)
+{
+    interrupted = sig;
+}
+
 int sp_interrupted(void)
 {
     return interrupted;

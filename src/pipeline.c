@@ -41,6 +41,7 @@ static void on_signal(int sig)
 {
     if (signal_count++ == 0) {
         signal_seen = sig;
+        sp_interrupt_note(sig); /* stops a long sp_sim_advance too */
         return;
     }
     /* Second signal: stop at once. Only async-signal-safe calls here. */
@@ -324,6 +325,8 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         /* advance sim to t_k -> update frame model -> render -> sink */
         double ts = now_s();
         ret = sp_history_follow(&hist, &sim, sp_scene_frame_time(sc, k));
+        if (ret == SP_E_INTERRUPTED && signal_seen)
+            break; /* keep the frames so far, below */
         if (ret)
             goto done;
         sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
@@ -363,13 +366,13 @@ finish:
     if (signal_seen && desc->progress)
         fputc('\n', stderr);
     if (signal_seen && !emitted && !desc->still) {
-        sp_log_error("interrupted by %s before the first frame: nothing written",
-                     sig_name(signal_seen));
-        ret = SP_E_INTERRUPTED;
+        ret = SP_E_INTERRUPTED; /* said at done */
         goto done; /* aborts the sink */
     }
-    ret = sp_sink_close(&sink);
+    /* From here a second signal exits without unlinking: close frees the
+     * part list the handler would read. */
     part_files = NULL;
+    ret = sp_sink_close(&sink);
     if (!ret && desc->state_out)
         *desc->state_out = sim.s;
     tm.finish = now_s() - t0;
@@ -383,6 +386,11 @@ finish:
     if (desc->verbose && !desc->still)
         print_times(&tm, &q, emitted);
 done:
+    if (ret == SP_E_INTERRUPTED && !emitted) {
+        int sig = signal_seen ? signal_seen : sp_interrupted();
+        sp_log_error("interrupted by %s before the first frame: nothing written",
+                     sig_name(sig));
+    }
     if (encoder_running) {
         pthread_mutex_lock(&q.lock);
         q.closed = q.cancel = 1;

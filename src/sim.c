@@ -560,6 +560,10 @@ static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, dou
 static int check_state(struct sp_sim *sim, double t, const double *u)
 {
     struct sp_state s;
+    /* A signal stops a long integration (a still far in the future, the
+     * camera pre-pass); callers decide what to keep. */
+    if (sp_interrupted())
+        return SP_E_INTERRUPTED;
     to_state(t, u, &s);
     if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]) || !isfinite(u[3]) ||
         !isfinite(u[4]))

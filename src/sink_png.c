@@ -162,11 +162,11 @@ static int png_sequence_finish(struct sp_sink *s)
         pthread_join(q->writer[i], NULL);
     q->n_writers = 0;
     for (int i = 0; i < q->n_jobs; i++) {
+        q->parts[i] = NULL; /* before the free: a signal handler reads it */
         sp_image_free(&q->job[i].img);
         free(q->job[i].name);
         free(q->job[i].part);
         q->job[i].name = q->job[i].part = NULL;
-        q->parts[i] = NULL;
     }
     q->n_jobs = 0;
     pthread_mutex_destroy(&q->lock);

@@ -390,6 +390,24 @@ for sig in (signal.SIGINT, signal.SIGTERM):
     ok(p.returncode == 128 + sig and "interrupted" in err and not left,
        f"{sig.name} during data: exit {p.returncode}, says {err.strip()!r}, left {left}")
 
+# A still far in the future and a render's camera pre-pass are long
+# integrations: a signal stops them too (no file, exit 128 + signal). The
+# 30 s bound only catches a run that ignores the signal (minutes).
+for what, args in (("still --at 1e7", ["still", default, "--at", "1e7", "--size", "160x90"]),
+                   ("a render's pre-pass", ["render", default, "--fps", "1", "--size", "160x90",
+                                            "--set", "video.duration=900000"])):
+    target = os.path.join(work, "intr", "long.png" if args[0] == "still" else "long.mp4")
+    p = subprocess.Popen([exe, *args, "-o", target, "-q"], stderr=subprocess.PIPE, text=True)
+    time.sleep(0.5)
+    p.send_signal(signal.SIGINT)
+    try:
+        err = p.communicate(timeout=30)[1]
+    except subprocess.TimeoutExpired:
+        p.kill()
+        err = p.communicate()[1] + " (ignored SIGINT for 30 s)"
+    left = [n for n in os.listdir(os.path.dirname(target)) if n.startswith("long.")]
+    ok(p.returncode == 130 and "interrupted by SIGINT before the first frame" in err and not left,
+       f"SIGINT during {what}: exit {p.returncode}, says {err.strip()!r}, left {left}")
 
 # Faults: a write that fails half way (the file size limit stands in for a
 # full disk) is exit 1 with the reason, and leaves no file behind.

@@ -146,7 +146,7 @@ static void test_polar_agrees(void)
     sp_sim_init(&sim, &sc);
     sp_sim_advance(&sim, 5);
     double good = polar_distance(+1, &sim, 5), bad = polar_distance(-1, &sim, 5);
-    sp_tap_ok(good < 1e-7, "polar form with +g cos(theta) matches Cartesian after 5 s: %.2e m", good);
+    sp_tap_ok(good < 1e-11, "polar form with +g cos(theta) matches Cartesian after 5 s: %.2e m", good);
     sp_tap_ok(bad > 0.1, "the original page's -g cos(theta) does not: %.2f m apart", bad);
 }
 

@@ -46,6 +46,13 @@ def memcheck(what, args, want_rc):
 memcheck("still 160x120 with a trail", ["still", default, "--at", "1", "--size", "160x120",
                                         "-o", "still.png", "--state", "still.json", "-q"], 0)
 
+# The threaded paths: render thread, bounded queue, encoder thread, the PNG
+# writer pool and the video sink in springpend-av.so.
+memcheck("render to a PNG sequence", ["render", default, "--size", "64x48", "--fps", "10",
+                                      "--set", "video.duration=0.5", "-o", "seq/%03d.png", "-q"], 0)
+memcheck("render to MP4", ["render", default, "--size", "64x48", "--fps", "10",
+                           "--set", "video.duration=0.5", "-o", "v.mp4", "-q"], 0)
+
 
 def write_png(name, rgba_rows):
     """A small RGBA8 PNG, by hand, so the compare below has something to differ."""

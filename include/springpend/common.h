@@ -30,4 +30,8 @@ void sp_interrupt_install(void);
  * Loops that run for long check it and return SP_E_INTERRUPTED. */
 int sp_interrupted(void);
 
+/* Records sig as if the handler above had caught it; async-signal-safe, for
+ * handlers installed elsewhere (the render pipeline's). */
+void sp_interrupt_note(int sig);
+
 #endif

@@ -225,6 +225,44 @@ void sp_sink_discard(const char *path)
         sp_log_error("cannot remove %s: %s", path, strerror(errno));
 }
 
+int sp_sink_part_begin(struct sp_sink_part *p, const char *target)
+{
+    if (asprintf(&p->url, "file:%s.part", target) < 0) {
+        *p = (struct sp_sink_part){0};
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    p->path = p->url + strlen("file:");
+    p->list[0] = p->path;
+    p->list[1] = NULL;
+    return 0;
+}
+
+/* Forgets the .part: the handler's list first, then the memory. */
+static void part_forget(struct sp_sink_part *p)
+{
+    p->list[0] = NULL;
+    free(p->url);
+    *p = (struct sp_sink_part){0};
+}
+
+int sp_sink_part_commit(struct sp_sink_part *p, const char *target)
+{
+    int err = sp_sink_commit(p->path, target);
+    if (!err)
+        part_forget(p);
+    return err;
+}
+
+void sp_sink_part_discard(struct sp_sink_part *p)
+{
+    if (!p->url)
+        return;
+    if (p->created)
+        sp_sink_discard(p->path);
+    part_forget(p);
+}
+
 int sp_sink_make_parents(const char *path)
 {
     return make_parents(path);

@@ -31,9 +31,7 @@ struct gif {
     AVCodecContext *enc;     /* owned: the "gif" encoder, PAL8 */
     AVFrame *in, *out;       /* owned: reused */
     AVPacket *pkt;           /* owned: reused */
-    char *url;               /* owned: "file:PATH.part"; NULL once renamed */
-    const char *parts[2];    /* {the .part in url, NULL} */
-    int created;             /* the .part exists (avio_open succeeded) */
+    struct sp_sink_part part; /* created by avio_open; none once renamed */
 };
 
 static int gif_failed(const struct sp_sink *s, const char *doing, int ret,
@@ -80,11 +78,7 @@ static void gif_release(struct sp_sink *s)
     av_frame_free(&g->in);
     av_frame_free(&g->out);
     av_packet_free(&g->pkt);
-    if (g->url && g->created)
-        sp_sink_discard(g->url + strlen("file:"));
-    g->parts[0] = NULL;
-    free(g->url);
-    g->url = NULL;
+    sp_sink_part_discard(&g->part);
 }
 
 /* The kept frame rate: fps divided by the smallest whole step that brings
@@ -150,18 +144,14 @@ static int gif_open(struct sp_sink *s)
 
     if (av_log_get_level() == AV_LOG_INFO)
         av_log_set_level(AV_LOG_ERROR);
-    if (asprintf(&g->url, "file:%s.part", s->path) < 0) {
-        g->url = NULL;
-        sp_log_error("out of memory");
+    if (sp_sink_part_begin(&g->part, s->path) != 0)
         return SP_E_NOMEM;
-    }
-    g->parts[0] = g->url + strlen("file:");
     ret = gif_make_graph(s);
     if (ret < 0) {
         err = gif_failed(s, "cannot set up the palette filters", ret, SP_E_CODEC);
         goto fail;
     }
-    ret = avformat_alloc_output_context2(&g->oc, NULL, "gif", g->url);
+    ret = avformat_alloc_output_context2(&g->oc, NULL, "gif", g->part.url);
     if (ret < 0) {
         err = gif_failed(s, "cannot set up the GIF muxer", ret, SP_E_CODEC);
         goto fail;
@@ -189,12 +179,12 @@ static int gif_open(struct sp_sink *s)
         goto fail;
     }
     g->st->time_base = g->enc->time_base;
-    ret = avio_open(&g->oc->pb, g->url, AVIO_FLAG_WRITE);
+    ret = avio_open(&g->oc->pb, g->part.url, AVIO_FLAG_WRITE);
     if (ret < 0) {
         err = gif_failed(s, "cannot create its .part file", ret, SP_E_IO);
         goto fail;
     }
-    g->created = 1;
+    g->part.created = 1;
     ret = avformat_write_header(g->oc, NULL);
     if (ret < 0) {
         err = gif_failed(s, "cannot write the GIF header", ret, SP_E_IO);
@@ -275,12 +265,9 @@ static int gif_close(struct sp_sink *s)
         ret = avio_closep(&g->oc->pb);
     if (ret < 0)
         return gif_failed(s, "cannot finish the GIF", ret, SP_E_IO);
-    err = sp_sink_commit(g->url + strlen("file:"), s->path);
+    err = sp_sink_part_commit(&g->part, s->path); /* then nothing to remove */
     if (err)
         return err;
-    g->parts[0] = NULL;
-    free(g->url);
-    g->url = NULL;
     gif_release(s);
     return 0;
 }
@@ -288,7 +275,7 @@ static int gif_close(struct sp_sink *s)
 static const char *const *gif_part_files(const struct sp_sink *s)
 {
     const struct gif *g = s->priv;
-    return g->parts;
+    return g->part.list;
 }
 
 const struct sp_sink_backend sp_sink_backend_gif = {

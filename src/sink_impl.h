@@ -61,4 +61,22 @@ int sp_sink_make_parents(const char *path);
 /* Removes path if it exists; quiet about a missing file. */
 void sp_sink_discard(const char *path);
 
+/* The one .part file of a single-file backend (raw, single PNG, video, GIF). */
+struct sp_sink_part {
+    char *url;           /* owned "file:TARGET.part" (libav opens URLs); NULL = none */
+    const char *path;    /* url + 5: the .part's file name */
+    const char *list[2]; /* {path, NULL} while it may exist: the backend's
+                            part_files answer (a signal handler reads it) */
+    int created;         /* set by the backend once it has created the file:
+                            only then does discard remove it */
+};
+/* Names the .part beside target; creates nothing. */
+int sp_sink_part_begin(struct sp_sink_part *p, const char *target);
+/* Renames the .part to target and forgets it; on failure keeps it for
+ * sp_sink_part_discard. */
+int sp_sink_part_commit(struct sp_sink_part *p, const char *target);
+/* Removes the .part if the backend created it, and forgets it. Safe when
+ * there is none. */
+void sp_sink_part_discard(struct sp_sink_part *p);
+
 #endif

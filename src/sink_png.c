@@ -303,16 +303,13 @@ const struct sp_sink_backend sp_sink_backend_png_sequence = {
 /* ---- single image ---- */
 
 struct png_single {
-    char *part; /* owned: "PATH.part", written by the one write */
-    const char *parts[2]; /* {part, NULL} */
+    struct sp_sink_part part; /* written by the one write */
 };
 
 static int png_single_open(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
-    int err = sp_sink_part_path(s->path, &o->part);
-    o->parts[0] = o->part;
-    return err;
+    return sp_sink_part_begin(&o->part, s->path);
 }
 
 static int png_single_write(struct sp_sink *s, const struct sp_image *img)
@@ -324,35 +321,26 @@ static int png_single_write(struct sp_sink *s, const struct sp_image *img)
         return SP_E_INPUT;
     }
     struct sp_png_write_opts opts = png_opts(s);
-    return sp_png_write_opts(o->part, img, &opts);
+    o->part.created = 1; /* even a failed write may leave some of it */
+    return sp_png_write_opts(o->part.path, img, &opts);
 }
 
 static int png_single_close(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
-    int err = sp_sink_commit(o->part, s->path);
-    if (!err) {
-        o->parts[0] = NULL;
-        free(o->part);
-        o->part = NULL;
-    }
-    return err;
+    return sp_sink_part_commit(&o->part, s->path);
 }
 
 static void png_single_abort(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
-    if (o->part)
-        sp_sink_discard(o->part);
-    o->parts[0] = NULL;
-    free(o->part);
-    o->part = NULL;
+    sp_sink_part_discard(&o->part);
 }
 
 static const char *const *png_single_part_files(const struct sp_sink *s)
 {
     const struct png_single *o = s->priv;
-    return o->parts;
+    return o->part.list;
 }
 
 const struct sp_sink_backend sp_sink_backend_png_single = {

@@ -11,9 +11,8 @@
 #include "sink_impl.h"
 
 struct raw {
-    int fd;     /* 1 for stdout, else owned */
-    char *part; /* owned: "PATH.part"; NULL for stdout or once renamed */
-    const char *parts[2]; /* {part, NULL} */
+    int fd;                  /* 1 for stdout, else owned */
+    struct sp_sink_part part; /* none for stdout or once renamed */
 };
 
 static int raw_open(struct sp_sink *s)
@@ -22,17 +21,15 @@ static int raw_open(struct sp_sink *s)
     o->fd = 1;
     if (!strcmp(s->path, "-"))
         return 0;
-    int err = sp_sink_part_path(s->path, &o->part);
+    int err = sp_sink_part_begin(&o->part, s->path);
     if (err)
         return err;
-    o->parts[0] = o->part;
-    o->fd = open(o->part, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    o->fd = open(o->part.path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    o->part.created = o->fd >= 0;
     if (o->fd < 0) {
-        sp_log_error("%s: cannot create %s: %s", s->path, o->part,
+        sp_log_error("%s: cannot create %s: %s", s->path, o->part.path,
                      strerror(errno));
-        o->parts[0] = NULL;
-        free(o->part);
-        o->part = NULL;
+        sp_sink_part_discard(&o->part);
         return SP_E_IO;
     }
     return 0;
@@ -48,7 +45,7 @@ static int write_all(struct sp_sink *s, const uint8_t *buf, size_t n)
             continue;
         if (k < 0) {
             sp_log_error("%s: cannot write frame %ld: %s",
-                         o->fd == 1 && !o->part ? "stdout" : s->path,
+                         o->fd == 1 && !o->part.url ? "stdout" : s->path,
                          s->frames, errno == EPIPE ? "the reader closed the "
                          "pipe" : strerror(errno));
             return SP_E_IO;
@@ -75,41 +72,32 @@ static int raw_write(struct sp_sink *s, const struct sp_image *img)
 static int raw_close(struct sp_sink *s)
 {
     struct raw *o = s->priv;
-    if (!o->part)
+    if (!o->part.url)
         return 0; /* stdout: the caller owns it */
     int fd = o->fd;
     o->fd = -1;
     if (close(fd) != 0) {
-        sp_log_error("%s: cannot finish %s: %s", s->path, o->part,
+        sp_log_error("%s: cannot finish %s: %s", s->path, o->part.path,
                      strerror(errno));
         return SP_E_IO;
     }
-    int err = sp_sink_commit(o->part, s->path);
-    if (!err) {
-        o->parts[0] = NULL;
-        free(o->part);
-        o->part = NULL;
-    }
-    return err;
+    return sp_sink_part_commit(&o->part, s->path);
 }
 
 static void raw_abort(struct sp_sink *s)
 {
     struct raw *o = s->priv;
-    if (!o->part)
+    if (!o->part.url)
         return;
     if (o->fd >= 0)
         close(o->fd);
-    sp_sink_discard(o->part);
-    o->parts[0] = NULL;
-    free(o->part);
-    o->part = NULL;
+    sp_sink_part_discard(&o->part);
 }
 
 static const char *const *raw_part_files(const struct sp_sink *s)
 {
     const struct raw *o = s->priv;
-    return o->parts;
+    return o->part.list;
 }
 
 const struct sp_sink_backend sp_sink_backend_raw = {

@@ -52,9 +52,7 @@ struct video {
     AVFrame *frame;         /* owned: the one YUV(A)420P picture, reused */
     AVPacket *pkt;          /* owned: reused for every packet */
     struct SwsContext *sws; /* owned: RGBA -> YUV(A)420P, BT.709 limited */
-    char *url;              /* owned: "file:PATH.part"; NULL once renamed */
-    const char *parts[2];   /* {the .part in url, NULL} */
-    int created;            /* the .part exists (avio_open succeeded) */
+    struct sp_sink_part part; /* created by avio_open; none once renamed */
 };
 
 static int video_check(const struct sp_sink_desc *d,
@@ -133,11 +131,7 @@ static void video_release(struct sp_sink *s)
     av_packet_free(&v->pkt);
     sws_freeContext(v->sws);
     v->sws = NULL;
-    if (v->url && v->created)
-        sp_sink_discard(v->url + strlen("file:"));
-    v->parts[0] = NULL;
-    free(v->url);
-    v->url = NULL;
+    sp_sink_part_discard(&v->part);
 }
 
 /* Sends frame (NULL = flush) and writes every packet the encoder returns. */
@@ -199,13 +193,9 @@ static int video_open(struct sp_sink *s)
     if (av_log_get_level() == AV_LOG_INFO)
         av_log_set_level(AV_LOG_ERROR);
 
-    if (asprintf(&v->url, "file:%s.part", s->path) < 0) {
-        v->url = NULL;
-        sp_log_error("out of memory");
+    if (sp_sink_part_begin(&v->part, s->path) != 0)
         return SP_E_NOMEM;
-    }
-    v->parts[0] = v->url + strlen("file:");
-    ret = avformat_alloc_output_context2(&v->oc, NULL, vc->muxer, v->url);
+    ret = avformat_alloc_output_context2(&v->oc, NULL, vc->muxer, v->part.url);
     if (ret < 0) {
         err = av_failed(s, "cannot set up the muxer", ret, SP_E_CODEC);
         goto fail;
@@ -274,12 +264,12 @@ static int video_open(struct sp_sink *s)
     sws_setColorspaceDetails(v->sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
 
     /* The file is created last, so a refused setup leaves nothing. */
-    ret = avio_open(&v->oc->pb, v->url, AVIO_FLAG_WRITE);
+    ret = avio_open(&v->oc->pb, v->part.url, AVIO_FLAG_WRITE);
     if (ret < 0) {
         err = av_failed(s, "cannot create its .part file", ret, SP_E_IO);
         goto fail;
     }
-    v->created = 1;
+    v->part.created = 1;
     if (!strcmp(vc->muxer, "mp4"))
         av_dict_set(&mux_opts, "movflags", "+faststart", 0);
     ret = avformat_write_header(v->oc, &mux_opts);
@@ -326,12 +316,9 @@ static int video_close(struct sp_sink *s)
         ret = avio_closep(&v->oc->pb);
     if (ret < 0)
         return av_failed(s, "cannot finish the file", ret, SP_E_IO);
-    err = sp_sink_commit(v->url + strlen("file:"), s->path);
+    err = sp_sink_part_commit(&v->part, s->path); /* then nothing to remove */
     if (err)
         return err;
-    v->parts[0] = NULL;
-    free(v->url);
-    v->url = NULL; /* renamed: nothing left to remove */
     video_release(s);
     return 0;
 }
@@ -339,7 +326,7 @@ static int video_close(struct sp_sink *s)
 static const char *const *video_part_files(const struct sp_sink *s)
 {
     const struct video *v = s->priv;
-    return v->parts;
+    return v->part.list;
 }
 
 static int mp4_open(struct sp_sink *s)

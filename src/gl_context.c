@@ -1,4 +1,5 @@
 /* springpend: picks the GL context backend and forwards to it. */
+#include <dlfcn.h>
 #include <stddef.h>
 
 #include "springpend/common.h"
@@ -59,4 +60,25 @@ void sp_gl_context_destroy(struct sp_gl_context **c)
         return;
     (*c)->backend->destroy(*c);
     *c = NULL;
+}
+
+int sp_gl_load_library(const char *lib, const char *what, const char *hint,
+                       const struct sp_gl_symbol *syms, int n, int quiet,
+                       void **handle)
+{
+    void *h = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        if (!quiet)
+            sp_log_error("cannot load %s: %s (%s)", what, dlerror(), hint);
+        return SP_E_GL;
+    }
+    for (int i = 0; i < n; i++)
+        if (!(*syms[i].slot = dlsym(h, syms[i].name))) {
+            if (!quiet)
+                sp_log_error("%s lacks %s", lib, syms[i].name);
+            dlclose(h);
+            return SP_E_GL;
+        }
+    *handle = h;
+    return 0;
 }

@@ -31,6 +31,19 @@ struct sp_gl_backend {
     void (*destroy)(struct sp_gl_context *c);
 };
 
+/* For backends: one library symbol and the function pointer it fills. */
+struct sp_gl_symbol {
+    const char *name;
+    void **slot; /* address of the backend's function pointer */
+};
+
+/* dlopens lib and resolves every symbol; *handle is set only when all are
+ * found. On failure (logged unless quiet: "cannot load WHAT: reason (HINT)"
+ * or "LIB lacks NAME") the library is closed and SP_E_GL returned. */
+int sp_gl_load_library(const char *lib, const char *what, const char *hint,
+                       const struct sp_gl_symbol *syms, int n, int quiet,
+                       void **handle);
+
 extern const struct sp_gl_backend sp_gl_backend_osmesa;
 extern const struct sp_gl_backend sp_gl_backend_egl;
 

@@ -5,7 +5,6 @@
  * pixels glReadPixels copies into our buffer, top row first (through
  * GL_MESA_pack_invert where the driver has it, else flipped here). libEGL is
  * dlopened on first use. */
-#include <dlfcn.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -77,26 +76,15 @@ struct sp_gl_context {
 
 static int egl_load(int quiet)
 {
+    static const struct sp_gl_symbol syms[] = {
+#define X(type, name) {"egl" #name, (void **)&egl.name},
+        EGL_FUNCS(X)
+#undef X
+    };
     if (egl.lib)
         return 0;
-    void *lib = dlopen(EGL_LIBRARY, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) {
-        if (!quiet)
-            sp_log_error("cannot load EGL: %s (install libegl1 and "
-                         "libegl-mesa0)", dlerror());
-        return SP_E_GL;
-    }
-#define X(type, name)                                                        \
-    if (!(*(void **)&egl.name = dlsym(lib, "egl" #name))) {                  \
-        if (!quiet)                                                          \
-            sp_log_error("%s lacks egl" #name, EGL_LIBRARY);                 \
-        dlclose(lib);                                                        \
-        return SP_E_GL;                                                      \
-    }
-    EGL_FUNCS(X)
-#undef X
-    egl.lib = lib;
-    return 0;
+    return sp_gl_load_library(EGL_LIBRARY, "EGL", "install libegl1 and libegl-mesa0",
+                              syms, (int)(sizeof(syms) / sizeof(syms[0])), quiet, &egl.lib);
 }
 
 static int has_word(const char *list, const char *word)

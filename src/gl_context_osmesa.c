@@ -2,7 +2,6 @@
  * GL draws straight into a buffer we own; glFinish makes it readable, so no
  * FBO and no glReadPixels. libOSMesa (which pulls in LLVM) is dlopened on
  * first use, so processes that never render start fast. */
-#include <dlfcn.h>
 #include <stdlib.h>
 
 #include <GL/osmesa.h>
@@ -39,27 +38,18 @@ struct sp_gl_context {
 
 static int osmesa_load(int quiet)
 {
+    static const struct sp_gl_symbol syms[] = {
+#define X(ret, name, args) {"OSMesa" #name, (void **)&os.name},
+        OSMESA_FUNCS(X)
+#undef X
+    };
     if (os.lib)
         return 0;
-    void *lib = dlopen(OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) {
-        if (!quiet)
-            sp_log_error("cannot load OSMesa: %s (install libosmesa6, or "
-                         "use --gl egl)", dlerror());
-        return SP_E_GL;
-    }
-#define X(ret, name, args)                                                   \
-    if (!(*(void **)&os.name = dlsym(lib, "OSMesa" #name))) {                \
-        if (!quiet)                                                          \
-            sp_log_error("%s lacks OSMesa" #name, OSMESA_LIBRARY);           \
-        dlclose(lib);                                                        \
-        return SP_E_GL;                                                      \
-    }
-    OSMESA_FUNCS(X)
-#undef X
-    os.Finish = (void (*)(void))os.GetProcAddress("glFinish");
-    os.lib = lib;
-    return 0;
+    int err = sp_gl_load_library(OSMESA_LIBRARY, "OSMesa", "install libosmesa6, or use --gl egl",
+                                 syms, (int)(sizeof(syms) / sizeof(syms[0])), quiet, &os.lib);
+    if (!err)
+        os.Finish = (void (*)(void))os.GetProcAddress("glFinish");
+    return err;
 }
 
 static void osmesa_destroy(struct sp_gl_context *c)

@@ -245,7 +245,9 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
     const int n = h->count - first;
     /* over time, two segments per pixel column; a phase curve may wind over
      * itself many times, so it keeps up to 8000 */
-    const int max_segs = xq < 0 ? 2 * (int)(p->area.x1 - p->area.x0) : 8000;
+    int max_segs = xq < 0 ? 2 * (int)(p->area.x1 - p->area.x0) : 8000;
+    if (max_segs < 2) /* a plot squeezed to under a pixel (tiny frames) */
+        max_segs = 2;
     const int stride = n > max_segs ? (n + max_segs - 1) / max_segs : 1;
     float col[4] = {color[0], color[1], color[2], color[3]};
     float ax = 0, ay = 0;

@@ -408,6 +408,15 @@ for what, args in (("still --at 1e7", ["still", default, "--at", "1e7", "--size"
     left = [n for n in os.listdir(os.path.dirname(target)) if n.startswith("long.")]
     ok(p.returncode == 130 and "interrupted by SIGINT before the first frame" in err and not left,
        f"SIGINT during {what}: exit {p.returncode}, says {err.strip()!r}, left {left}")
+# Every panel, the HUD and the colourbar at frames far too small for them:
+# squeezed, never a crash (a plot under a pixel wide once divided by zero).
+for size in ("16x16", "64x48", "400x16", "16x400"):
+    r = run("render", default, "--size", size, "--fps", "10", "--set", "video.duration=0.3",
+            "--set", "view.panels=all", "-o", f"tiny/{size}_%02d.png", "-q")
+    made = [n for n in os.listdir(os.path.join(work, "tiny")) if n.startswith(size + "_")] \
+        if r.returncode == 0 else []
+    ok(r.returncode == 0 and len(made) == 3,
+       f"all panels at {size}: exit {r.returncode} {r.stderr.strip()[:120]!r}")
 
 # Faults: a write that fails half way (the file size limit stands in for a
 # full disk) is exit 1 with the reason, and leaves no file behind.

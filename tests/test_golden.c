@@ -28,13 +28,19 @@ struct golden_case {
 #define SMALL "video.width=640", "video.height=360"
 
 static const struct golden_case cases[] = {
-    {"default_t3", "default.ini", 3.0, {"video.width=640", "video.height=360"}},
-    {"default_t0_notrail", "default.ini", 0.0, {"video.width=320", "video.height=240", "view.trail=0"}},
+    /* the pendulum alone; default.ini itself shows panels (default_panels) */
+#define ALONE "view.panels=none", "view.hud=false", "view.colorbar=false"
+    {"default_t3", "default.ini", 3.0, {"video.width=640", "video.height=360", ALONE}},
+    {"default_t0_notrail", "default.ini", 0.0, {"video.width=320", "video.height=240",
+                                                 "view.trail=0", ALONE}},
+    {"default_panels", "default.ini", 8.5, {SMALL}},
     /* one per panel kind, with the heads-up text and colourbar in some */
-    {"panel_r", "default.ini", 4.0, {SMALL, "view.panels=r", "view.hud=true"}},
-    {"panel_theta", "default.ini", 4.0, {SMALL, "view.panels=theta", "view.colorbar=true"}},
+    {"panel_r", "default.ini", 4.0, {SMALL, "view.panels=r", "view.hud=true", "view.colorbar=false"}},
+    {"panel_theta", "default.ini", 4.0, {SMALL, "view.panels=theta", "view.hud=false",
+                                         "view.colorbar=true"}},
     {"panel_energy", "damped.ini", 6.0, {SMALL, "view.panels=energy"}},
-    {"panel_extension", "default.ini", 4.0, {SMALL, "view.panels=extension", "view.theme=light"}},
+    {"panel_extension", "default.ini", 4.0, {SMALL, "view.panels=extension", "view.theme=light",
+                                             "view.hud=false", "view.colorbar=false"}},
     {"panel_phase", "resonance.ini", 12.0, {SMALL, "view.panels=phase", "view.hud=false",
                                              "view.colorbar=false"}},
     {"panel_poincare", "resonance.ini", 30.0, {SMALL, "view.panels=poincare", "view.hud=false",

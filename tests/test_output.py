@@ -123,7 +123,8 @@ ok(r.returncode == 2 and b"low (854x480@15)" in r.stderr, "--quality 8k: exit 2,
 
 # A transparent background: VP9 with an alpha plane (yuva420p; ffprobe shows
 # the main plane and the alpha_mode tag, libvpx decodes the alpha).
-r = run("render", scene, *SMALL, "--set", "view.background=transparent", "-o", "alpha.webm")
+r = run("render", scene, *SMALL, "--set", "view.background=transparent", "--set", "view.panels=none",
+        "--set", "view.hud=false", "--set", "view.colorbar=false", "-o", "alpha.webm")
 tags = subprocess.run(["ffprobe", "-v", "error", "-show_entries", "stream_tags=alpha_mode",
                        "-of", "csv=p=0", path("alpha.webm")], capture_output=True, text=True)
 rgba = decode(path("alpha.webm"), pre=["-c:v", "libvpx-vp9"], post=["-frames:v", "1"])

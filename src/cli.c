@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 
 static int add_override(struct sp_cli_options *o, const char *s)
@@ -216,6 +217,8 @@ int sp_cli_check_writable(const char *path, const char *what)
 {
     char dir[PATH_MAX];
     struct stat st;
+    if (sp_outfile_is_stream(path))
+        return 0; /* written through: stdout, a device or a FIFO */
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
         sp_log_error("%s %s is a folder; give a file name", what, path);
         return SP_E_INPUT;

@@ -1,5 +1,6 @@
 /* springpend: entry point. Dispatches to a command; the only place that
  * turns an SP_E_* code into an exit status. */
+#include <errno.h>
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
@@ -42,6 +43,18 @@ static int exit_status(int err)
     }
 }
 
+/* What a command printed must have reached stdout: a full disk, a closed
+ * pipe or /dev/full is a failure (exit 1) with a message, not a silent 0. */
+static int stdout_checked(int err)
+{
+    if (fflush(stdout) == 0 && !ferror(stdout))
+        return err;
+    if (err == SP_OK || err == SP_E_MISMATCH)
+        sp_log_error("cannot write to stdout: %s", errno == EPIPE
+                     ? "the reader closed the pipe" : strerror(errno));
+    return err ? err : SP_E_IO;
+}
+
 struct command {
     const char *name;
     int (*run)(int argc, char **argv);
@@ -78,10 +91,13 @@ int main(int argc, char **argv)
         puts("springpend " SP_VERSION);
         return 0;
     }
+    /* A file size limit (ulimit -f) makes writes fail with EFBIG, reported
+     * and cleaned up like any write error, instead of killing the process. */
+    signal(SIGXFSZ, SIG_IGN);
     sp_interrupt_install();
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
         if (!strcmp(argv[1], commands[i].name))
-            return exit_status(commands[i].run(argc - 1, argv + 1));
+            return exit_status(stdout_checked(commands[i].run(argc - 1, argv + 1)));
     sp_log_error("unknown command '%s'; see 'springpend --help'", argv[1]);
     return 2;
 }

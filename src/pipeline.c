@@ -15,6 +15,7 @@
 
 #include "springpend/common.h"
 #include "springpend/frame.h"
+#include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
 #include "springpend/render.h"
@@ -33,9 +34,6 @@ static double now_s(void)
 
 static volatile sig_atomic_t signal_seen;  /* the first signal, 0 = none */
 static volatile sig_atomic_t signal_count; /* signals received this run */
-/* The .part files being written, for the second signal to remove: the
- * sink's own NULL-terminated array (see sp_sink_part_files); NULL = none. */
-static const char *const *volatile part_files;
 
 static void on_signal(int sig)
 {
@@ -44,13 +42,11 @@ static void on_signal(int sig)
         sp_interrupt_note(sig); /* stops a long sp_sim_advance too */
         return;
     }
-    /* Second signal: stop at once. Only async-signal-safe calls here. */
-    const char *const *parts = part_files;
+    /* Second signal: stop at once. Only async-signal-safe calls here. The
+     * .part table stays valid through the sink's close (outfile.c). */
     static const char msg[] = "springpend: second signal: stopped at once, "
                               "partial file removed\n";
-    for (int i = 0; parts && parts[i]; i++)
-        if (parts[i][0])
-            unlink(parts[i]);
+    sp_outfile_remove_parts();
     if (write(2, msg, sizeof(msg) - 1) < 0) {
         /* nothing more can be done */
     }
@@ -239,7 +235,6 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     double t_start = now_s(), t0;
 
     signal_seen = signal_count = 0;
-    part_files = NULL;
     if (first < 0 || last > n || first >= last) {
         sp_log_error("frames %d:%d: the video has frames 0:%d; give A:B with "
                      "0 <= A < B <= %d", first, last, n, n);
@@ -278,7 +273,6 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         .text = prov.text, .n_text = SP_PROVENANCE_N_TEXT});
     if (ret)
         goto done;
-    part_files = sp_sink_part_files(sink);
 
     sp_sim_init(&sim, sc);
     if (desc->still) {
@@ -369,9 +363,6 @@ finish:
         ret = SP_E_INTERRUPTED; /* said at done */
         goto done; /* aborts the sink */
     }
-    /* From here a second signal exits without unlinking: close frees the
-     * part list the handler would read. */
-    part_files = NULL;
     ret = sp_sink_close(&sink);
     if (!ret && desc->state_out)
         *desc->state_out = sim.s;
@@ -398,7 +389,6 @@ done:
         pthread_mutex_unlock(&q.lock);
         pthread_join(encoder, NULL);
     }
-    part_files = NULL;
     sp_sink_abort(&sink);
     if (r)
         sp_render_target(r, NULL); /* before the slots go */

@@ -5,7 +5,7 @@
  * frame before it emits the palette, so the graph holds the frames until
  * close: GIFs are for short, small clips (--quality low). GIF delays are
  * in 1/100 s and players slow down delays under 2/100 s, so above 50 fps
- * every second (third, ...) frame is kept. Written as NAME.part, renamed
+ * every second (third, ...) frame is kept. Written as a unique .part (outfile.h), renamed
  * on close. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,7 +31,7 @@ struct gif {
     AVCodecContext *enc;     /* owned: the "gif" encoder, PAL8 */
     AVFrame *in, *out;       /* owned: reused */
     AVPacket *pkt;           /* owned: reused */
-    struct sp_sink_part part; /* created by avio_open; none once renamed */
+    struct sp_outfile file; /* the .part libav writes by name (file.url) */
 };
 
 static int gif_failed(const struct sp_sink *s, const char *doing, int ret,
@@ -78,7 +78,7 @@ static void gif_release(struct sp_sink *s)
     av_frame_free(&g->in);
     av_frame_free(&g->out);
     av_packet_free(&g->pkt);
-    sp_sink_part_discard(&g->part);
+    sp_outfile_discard(&g->file);
 }
 
 /* The kept frame rate: fps divided by the smallest whole step that brings
@@ -144,14 +144,15 @@ static int gif_open(struct sp_sink *s)
 
     if (av_log_get_level() == AV_LOG_INFO)
         av_log_set_level(AV_LOG_ERROR);
-    if (sp_sink_part_begin(&g->part, s->path) != 0)
-        return SP_E_NOMEM;
+    if ((err = sp_outfile_open(&g->file, s->path, 0)) != 0)
+        return err;
+    err = SP_E_CODEC; /* what a failure below is, unless it says */
     ret = gif_make_graph(s);
     if (ret < 0) {
         err = gif_failed(s, "cannot set up the palette filters", ret, SP_E_CODEC);
         goto fail;
     }
-    ret = avformat_alloc_output_context2(&g->oc, NULL, "gif", g->part.url);
+    ret = avformat_alloc_output_context2(&g->oc, NULL, "gif", g->file.url);
     if (ret < 0) {
         err = gif_failed(s, "cannot set up the GIF muxer", ret, SP_E_CODEC);
         goto fail;
@@ -179,12 +180,11 @@ static int gif_open(struct sp_sink *s)
         goto fail;
     }
     g->st->time_base = g->enc->time_base;
-    ret = avio_open(&g->oc->pb, g->part.url, AVIO_FLAG_WRITE);
+    ret = avio_open(&g->oc->pb, g->file.url, AVIO_FLAG_WRITE);
     if (ret < 0) {
-        err = gif_failed(s, "cannot create its .part file", ret, SP_E_IO);
+        err = gif_failed(s, "cannot open its .part file", ret, SP_E_IO);
         goto fail;
     }
-    g->part.created = 1;
     ret = avformat_write_header(g->oc, NULL);
     if (ret < 0) {
         err = gif_failed(s, "cannot write the GIF header", ret, SP_E_IO);
@@ -265,17 +265,11 @@ static int gif_close(struct sp_sink *s)
         ret = avio_closep(&g->oc->pb);
     if (ret < 0)
         return gif_failed(s, "cannot finish the GIF", ret, SP_E_IO);
-    err = sp_sink_part_commit(&g->part, s->path); /* then nothing to remove */
+    err = sp_outfile_commit(&g->file); /* then nothing to remove */
     if (err)
         return err;
     gif_release(s);
     return 0;
-}
-
-static const char *const *gif_part_files(const struct sp_sink *s)
-{
-    const struct gif *g = s->priv;
-    return g->part.list;
 }
 
 const struct sp_sink_backend sp_sink_backend_gif = {
@@ -285,5 +279,4 @@ const struct sp_sink_backend sp_sink_backend_gif = {
     .write = gif_write,
     .close = gif_close,
     .abort = gif_release,
-    .part_files = gif_part_files,
 };

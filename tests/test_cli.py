@@ -372,7 +372,8 @@ for sig in (signal.SIGINT, signal.SIGTERM):
         time.sleep(0.01)
     p.send_signal(sig)
     err = p.communicate()[1]
-    left = os.listdir(os.path.dirname(target))
+    folder = os.path.dirname(target)  # removed when the run left it empty
+    left = os.listdir(folder) if os.path.isdir(folder) else []
     ok(p.returncode == 128 + sig and "interrupted" in err and
        not [n for n in left if n.endswith(".part")],
        f"{sig.name} during a render: exit {p.returncode}, says {err.strip()!r}, left {left}")
@@ -387,7 +388,9 @@ for sig in (signal.SIGINT, signal.SIGTERM):
         time.sleep(0.01)
     p.send_signal(sig)
     err = p.communicate()[1]
-    left = [n for n in os.listdir(os.path.dirname(target)) if n.startswith(sig.name + ".csv")]
+    folder = os.path.dirname(target)
+    left = [n for n in (os.listdir(folder) if os.path.isdir(folder) else [])
+            if n.startswith(sig.name + ".csv")]
     ok(p.returncode == 128 + sig and "interrupted" in err and not left,
        f"{sig.name} during data: exit {p.returncode}, says {err.strip()!r}, left {left}")
 

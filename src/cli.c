@@ -45,13 +45,13 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
     };
     const char *quality = NULL;
     int c, w, h, ret = 0;
-    char tail;
     memset(o, 0, sizeof(*o));
     o->at = -1;
     o->every = -1;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:qhv", longopts, NULL)) != -1) {
+    /* ':' first: an option missing its value returns ':', not '?'. */
+    while ((c = getopt_long(argc, argv, ":o:qhv", longopts, NULL)) != -1) {
         switch (c) {
         case 'v': o->verbose = 1; break;
         case 'f': o->format = optarg; break;
@@ -69,16 +69,29 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             }
             break;
         case 'o': o->output = optarg; break;
-        case 's': ret = add_override(o, optarg); break;
+        case 's':
+            if (!strchr(optarg, '=')) {
+                sp_log_error("--set %s: expected SECTION.KEY=VALUE with '=' in one argument, "
+                             "e.g. --set %s=%s", optarg, optarg,
+                             optind < argc ? argv[optind] : "VALUE");
+                return SP_E_INPUT;
+            }
+            ret = add_override(o, optarg);
+            break;
         case 'q': o->quiet = 1; break;
         case 'h': fputs(usage, stdout); return 1;
         case 'S':
-            if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2) {
-                sp_log_error("--size %s: expected WIDTHxHEIGHT, e.g. --size 1920x1080", optarg);
+            /* Digits as typed (the scene checks the range and names the
+             * number), so no int overflow can change them. */
+            w = (int)strspn(optarg, "0123456789");
+            h = optarg[w] == 'x' ? (int)strspn(optarg + w + 1, "0123456789") : 0;
+            if (!w || !h || optarg[w + 1 + h] || w > 20 || h > 20) {
+                sp_log_error("--size %s: expected WIDTHxHEIGHT in pixels, e.g. --size 1920x1080",
+                             optarg);
                 return SP_E_INPUT;
             }
-            snprintf(o->size_buf[0], sizeof(o->size_buf[0]), "video.width=%d", w);
-            snprintf(o->size_buf[1], sizeof(o->size_buf[1]), "video.height=%d", h);
+            snprintf(o->size_buf[0], sizeof(o->size_buf[0]), "video.width=%.*s", w, optarg);
+            snprintf(o->size_buf[1], sizeof(o->size_buf[1]), "video.height=%s", optarg + w + 1);
             ret = add_override(o, o->size_buf[0]);
             if (!ret)
                 ret = add_override(o, o->size_buf[1]);
@@ -126,6 +139,10 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             }
             break;
         }
+        case ':':
+            sp_log_error("option '%s' needs a value; see '%s --help'", argv[optind - 1],
+                         argv[0]);
+            return SP_E_INPUT;
         default:
             sp_log_error("unknown option '%s'; see '%s --help'", argv[optind - 1], argv[0]);
             return SP_E_INPUT;

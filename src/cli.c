@@ -12,6 +12,7 @@
 #include "springpend/common.h"
 #include "springpend/outfile.h"
 #include "springpend/pipeline.h"
+#include "springpend/sim.h"
 
 static int add_override(struct sp_cli_options *o, const char *s)
 {
@@ -278,4 +279,39 @@ int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *sc
         return SP_E_INPUT;
     }
     return sp_cli_check_writable(buf, "output");
+}
+
+/* Past this many steps a run is refused: hours of integration. The same
+ * limit scene.c puts on fixed-step videos. */
+#define SP_MAX_STEPS 1e10
+/* Past this many a run says how long it will be. */
+#define SP_NOTE_STEPS 3e8
+
+int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
+                      double t_end, int camera)
+{
+    const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
+    double steps = sp_sim_estimate_steps(sc, t_end);
+    /* The camera's pre-pass samples every integrator.dt (adaptive too). */
+    double samples = camera && mi->adaptive ? t_end / sc->integrator.dt : 0;
+    if (steps + samples > SP_MAX_STEPS) {
+        if (samples > steps)
+            sp_log_error("integrating to t = %g s samples the camera every integrator.dt = "
+                         "%g s: %.2g samples; at most %.0e are allowed (raise integrator.dt, "
+                         "which %s uses only for that)", t_end, sc->integrator.dt, samples,
+                         SP_MAX_STEPS, mi->name);
+        else
+            sp_log_error("integrating to t = %g s takes %s about %.2g steps (%.3g per simulated "
+                         "second at %s); at most %.0e are allowed: %s, lower "
+                         "pendulum.stiffness / pendulum.mass, or integrate less far",
+                         t_end, mi->name, steps, steps / t_end,
+                         mi->adaptive ? "this tolerance" : "this dt", SP_MAX_STEPS,
+                         mi->adaptive ? "raise integrator.tolerance" : "raise integrator.dt");
+        return SP_E_INPUT;
+    }
+    if (steps + samples > SP_NOTE_STEPS && !o->quiet)
+        fprintf(stderr, "springpend: integrating to t = %g s takes %s about %.2g steps; this "
+                "will take a while%s\n", t_end, mi->name, steps + samples,
+                isatty(2) ? "" : " (progress is shown on a terminal)");
+    return 0;
 }

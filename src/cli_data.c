@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "springpend/common.h"
@@ -98,6 +99,10 @@ int sp_cmd_data(int argc, char **argv)
                      "allowed", o.every, scene.video.duration / o.every);
         return SP_E_INPUT;
     }
+    double t_end = o.every > 0 ? scene.video.duration
+                               : sp_scene_frame_time(&scene, sp_scene_frame_count(&scene) - 1);
+    if ((ret = sp_cli_check_work(&o, &scene, t_end, 0)) != 0)
+        return ret;
     int to_stdout = !strcmp(out, "-");
     const char *what = to_stdout ? "stdout" : out;
     if (!to_stdout && !sp_outfile_is_stream(out))
@@ -115,7 +120,9 @@ int sp_cmd_data(int argc, char **argv)
     f.fd = -1; /* fp owns it */
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
+    sp_progress_begin(!o.quiet && !(to_stdout && isatty(1)), "data", t_end);
     ret = write_samples(fp, &scene, o.every);
+    sp_progress_end();
     int write_errno = errno;
     if (fclose(fp) != 0 && !ret)
         ret = SP_E_IO, write_errno = errno;

@@ -1,5 +1,6 @@
 /* springpend: the render and still commands. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
@@ -174,6 +175,9 @@ static int run(int argc, char **argv, int still)
         ret = sp_cli_frame_range(&o, sp_scene_frame_count(&scene), &first, &last);
     if (!ret && still)
         ret = check_still(&o, &scene, out);
+    double t_end = sp_scene_frame_time(&scene, sp_scene_frame_count(&scene) - 1);
+    if (!ret)
+        ret = sp_cli_check_work(&o, &scene, still ? fmax(t_end, o.at) : t_end, 1);
     if (ret)
         return ret;
     struct sp_state state;
@@ -182,7 +186,7 @@ static int run(int argc, char **argv, int still)
         .still = still, .still_at = o.at < 0 ? 0 : o.at, .first = first,
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
         .handle_signals = !still, .supersample = o.scale, .state_out = &state,
-        .progress = !o.quiet && !still && isatty(2)});
+        .progress = !o.quiet && isatty(2)});
     /* Both files or neither (a device or stdout is never removed). */
     if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0 &&
         !sp_outfile_is_stream(out))

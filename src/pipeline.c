@@ -251,7 +251,9 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (desc->still)
         t_end = fmax(desc->still_at, t_end);
 
+    sp_progress_begin(desc->progress, "camera pre-pass", t_end);
     ret = sp_view_extent_measure(sc, t_end, &extent);
+    sp_progress_end();
     if (ret)
         goto done;
     ret = sp_trail_make(&trail, sc->view.trail == SP_TRAIL_ALL ? n + 1 : sc->view.trail);
@@ -277,6 +279,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     sp_sim_init(&sim, sc);
     if (desc->still) {
         /* The trail holds the video's frame positions before still_at. */
+        sp_progress_begin(desc->progress, "integrating", desc->still_at);
         for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
             ret = sp_history_follow(&hist, &sim, sp_scene_frame_time(sc, k));
             if (ret)
@@ -289,6 +292,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
                 goto done;
             sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
+        sp_progress_end();
         sp_provenance_set_time(&prov, sim.s.t);
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
                                                    .trail = &trail, .history = &hist}, &img);
@@ -377,6 +381,7 @@ finish:
     if (desc->verbose && !desc->still)
         print_times(&tm, &q, emitted);
 done:
+    sp_progress_end();
     if (ret == SP_E_INTERRUPTED && !emitted) {
         int sig = signal_seen ? signal_seen : sp_interrupted();
         sp_log_error("interrupted by %s before the first frame: nothing written",

@@ -528,10 +528,16 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
     }
 }
 
+/* 1 while sp_sim_estimate_steps probes: its failures are the real run's
+ * to report. */
+static _Thread_local int probing;
+
 /* Prints what went wrong, when, and how to fix it. */
 static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, double energy,
                          const char *what)
 {
+    if (probing)
+        return SP_E_UNSTABLE;
     const struct sp_method_info *mi = sp_method_info(sim->method);
     double w = sp_params_omega_max(&sim->p), safe;
     double limit = sp_method_dt_limit(sim->method, &sim->p, &safe);
@@ -564,6 +570,7 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
      * camera pre-pass); callers decide what to keep. */
     if (sp_interrupted())
         return SP_E_INTERRUPTED;
+    sp_progress_sim(t);
     to_state(t, u, &s);
     if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]) || !isfinite(u[3]) ||
         !isfinite(u[4]))
@@ -737,4 +744,19 @@ int sp_sim_advance(struct sp_sim *sim, double t_target)
         return sim->forced ? advance_adaptive(sim, t_target, 1)
                            : advance_adaptive(sim, t_target, 0);
     return sim->forced ? advance_fixed(sim, t_target, 1) : advance_fixed(sim, t_target, 0);
+}
+
+double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end)
+{
+    struct sp_sim sim;
+    if (!sp_method_info(scene->integrator.method)->adaptive)
+        return t_end / scene->integrator.dt;
+    sp_sim_init(&sim, scene);
+    const double t_probe = fmin(t_end, 100 / sp_params_omega_max(&sim.p));
+    probing = 1;
+    int err = t_probe > 0 ? sp_sim_advance(&sim, t_probe) : SP_E_INPUT;
+    probing = 0;
+    if (err)
+        return 0;
+    return (double)(sim.steps + sim.rejected) * (t_end / t_probe);
 }

@@ -159,6 +159,9 @@ static int video_encode(struct sp_sink *s, const AVFrame *frame)
 /* The encoder's speed from an x264 preset name. VP9 (libvpx) has no
  * presets: "good" quality with cpu-used from 8 (ultrafast) down to 0, and
  * row-based threading so both cores work. */
+/* Encoder threads, whatever the core count (see video_open). */
+#define VIDEO_THREADS 8
+
 static int set_speed(AVCodecContext *enc, const struct video_codec *vc,
                      const char *preset)
 {
@@ -201,6 +204,8 @@ static int video_open(struct sp_sink *s)
         err = av_failed(s, "cannot set up the muxer", ret, SP_E_CODEC);
         goto fail;
     }
+    /* No random Matroska UIDs, no version strings: the same bytes each run. */
+    v->oc->flags |= AVFMT_FLAG_BITEXACT;
     v->st = avformat_new_stream(v->oc, NULL);
     v->enc = avcodec_alloc_context3(codec);
     v->frame = av_frame_alloc();
@@ -214,9 +219,9 @@ static int video_open(struct sp_sink *s)
     v->enc->width = d->width;
     v->enc->height = d->height;
     v->enc->pix_fmt = pix;
-    /* libavcodec's default is one thread; let the encoder use every core,
-     * as the ffmpeg command does ("-threads auto"). */
-    v->enc->thread_count = 0;
+    /* A fixed thread count, not one per core: x264's output depends on its
+     * threads, so the same scene gives the same bytes on any machine. */
+    v->enc->thread_count = VIDEO_THREADS;
     v->enc->framerate = rate;
     v->enc->time_base = av_inv_q(rate); /* pts = frame index */
     /* sRGB pixels go through the BT.709 matrix into limited range. */

@@ -1,12 +1,17 @@
-/* springpend: animated GIF through libavfilter and libavformat. The
- * frames go through FFmpeg's own two-step palette recipe,
- *   split [a][b]; [a] palettegen [p]; [b][p] paletteuse
- * so the 256 colours are chosen for this content. palettegen sees every
- * frame before it emits the palette, so the graph holds the frames until
- * close: GIFs are for short, small clips (--quality low). GIF delays are
- * in 1/100 s and players slow down delays under 2/100 s, so above 50 fps
- * every second (third, ...) frame is kept. Written as a unique .part (outfile.h), renamed
- * on close. */
+/* springpend: animated GIF through libavfilter and libavformat, with
+ * FFmpeg's own two-step palette recipe in two passes, so that memory stays
+ * flat however long the clip:
+ *   pass 1 (each write): the kept frame goes to palettegen, which only
+ *     counts colours, and, zlib-compressed, to a spool (an unlinked
+ *     temporary file: nothing is left behind, whatever happens);
+ *   pass 2 (close): the palette and the spooled frames go through
+ *     paletteuse into the GIF encoder.
+ * The 256 colours are chosen for this content, from every frame. GIF delays
+ * are in 1/100 s and players slow down delays under 2/100 s, so above
+ * 50 fps every second (third, ...) frame is kept. Written as a unique .part
+ * (outfile.h), renamed on close. */
+#include <errno.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,6 +22,7 @@
 #include <libavfilter/buffersrc.h>
 #include <libavformat/avformat.h>
 #include <libavutil/opt.h>
+#include <zlib.h>
 
 #include "springpend/common.h"
 #include "sink_impl.h"
@@ -24,14 +30,23 @@
 #define GIF_MAX_FPS 50.0
 
 struct gif {
-    AVFilterGraph *graph;    /* owned; src and sink belong to it */
-    AVFilterContext *src, *sink;
-    AVFormatContext *oc;     /* owned; oc->pb opened by us */
-    AVStream *st;            /* owned by oc */
-    AVCodecContext *enc;     /* owned: the "gif" encoder, PAL8 */
-    AVFrame *in, *out;       /* owned: reused */
-    AVPacket *pkt;           /* owned: reused */
-    struct sp_outfile file; /* the .part libav writes by name (file.url) */
+    AVFilterGraph *stats;       /* owned, pass 1: in -> palettegen -> out */
+    AVFilterContext *stats_src, *stats_sink;
+    AVFilterGraph *map;         /* owned, pass 2: [in][pal] paletteuse -> out */
+    AVFilterContext *map_src, *pal_src, *map_sink;
+    FILE *spool;                /* owned: the kept frames, each a uint32 length
+                                   and its zlib data; unlinked temp file */
+    uint8_t *raw, *z;           /* owned: one frame, packed, and compressed */
+    uLongf z_cap;               /* bytes of z */
+    long kept;                  /* frames in the spool */
+    int step;                   /* every step-th frame is kept */
+    AVRational tb;              /* s per kept frame: step / fps */
+    AVFormatContext *oc;        /* owned; oc->pb opened by us */
+    AVStream *st;               /* owned by oc */
+    AVCodecContext *enc;        /* owned: the "gif" encoder, PAL8 */
+    AVFrame *in, *out;          /* owned: reused */
+    AVPacket *pkt;              /* owned: reused */
+    struct sp_outfile file;     /* the .part libav writes by name (file.url) */
 };
 
 static int gif_failed(const struct sp_sink *s, const char *doing, int ret,
@@ -69,7 +84,14 @@ static int gif_check(const struct sp_sink_desc *d)
 static void gif_release(struct sp_sink *s)
 {
     struct gif *g = s->priv;
-    avfilter_graph_free(&g->graph);
+    avfilter_graph_free(&g->stats);
+    avfilter_graph_free(&g->map);
+    if (g->spool)
+        fclose(g->spool);
+    g->spool = NULL;
+    free(g->raw);
+    free(g->z);
+    g->raw = g->z = NULL;
     if (g->oc)
         avio_closep(&g->oc->pb);
     avformat_free_context(g->oc);
@@ -91,48 +113,72 @@ static int gif_step(double fps)
     return step;
 }
 
-/* Builds buffer -> [frame thinning] -> palette recipe -> buffersink. */
-static int gif_make_graph(struct sp_sink *s)
+/* A buffer source named name in graph for w x h frames of pix. */
+static int make_src(AVFilterGraph *graph, AVFilterContext **src, const char *name,
+                    int w, int h, enum AVPixelFormat pix, AVRational tb)
+{
+    char args[256];
+    snprintf(args, sizeof(args),
+             "video_size=%dx%d:pix_fmt=%d:time_base=%d/%d:pixel_aspect=1/1", w, h,
+             pix, tb.num, tb.den);
+    return avfilter_graph_create_filter(src, avfilter_get_by_name("buffer"), name, args,
+                                        NULL, graph);
+}
+
+/* Links the sources srcs (named like themselves in chain) and the sink
+ * "out" through chain, and configures the graph. */
+static int link_graph(AVFilterGraph *graph, const char *chain, AVFilterContext **srcs,
+                      int n_srcs, AVFilterContext **sink)
+{
+    AVFilterInOut *outputs = NULL, *inputs = avfilter_inout_alloc();
+    int ret = avfilter_graph_create_filter(sink, avfilter_get_by_name("buffersink"), "out",
+                                           NULL, NULL, graph);
+    for (int i = n_srcs - 1; i >= 0 && ret >= 0; i--) {
+        AVFilterInOut *o = avfilter_inout_alloc();
+        if (!o) {
+            ret = AVERROR(ENOMEM);
+            break;
+        }
+        o->name = av_strdup(srcs[i]->name);
+        o->filter_ctx = srcs[i];
+        o->next = outputs;
+        outputs = o;
+    }
+    if (ret >= 0 && !inputs)
+        ret = AVERROR(ENOMEM);
+    if (ret >= 0) {
+        inputs->name = av_strdup("out");
+        inputs->filter_ctx = *sink;
+        ret = avfilter_graph_parse_ptr(graph, chain, &inputs, &outputs, NULL);
+    }
+    if (ret >= 0)
+        ret = avfilter_graph_config(graph, NULL);
+    avfilter_inout_free(&inputs);
+    avfilter_inout_free(&outputs);
+    return ret;
+}
+
+/* Builds both passes' graphs. palettegen's palette is 16x16 RGB32. */
+static int gif_make_graphs(struct sp_sink *s)
 {
     struct gif *g = s->priv;
     const struct sp_sink_desc *d = &s->desc;
-    AVFilterInOut *outputs = avfilter_inout_alloc();
-    AVFilterInOut *inputs = avfilter_inout_alloc();
-    AVRational rate = av_d2q(d->fps, 1001000);
-    char args[256], chain[256];
-    int ret;
-
-    g->graph = avfilter_graph_alloc();
-    if (!g->graph || !outputs || !inputs) {
-        ret = AVERROR(ENOMEM);
-        goto done;
-    }
-    snprintf(args, sizeof(args),
-             "video_size=%dx%d:pix_fmt=%d:time_base=%d/%d:pixel_aspect=1/1",
-             d->width, d->height, AV_PIX_FMT_RGBA, rate.den, rate.num);
-    ret = avfilter_graph_create_filter(&g->src, avfilter_get_by_name("buffer"),
-                                       "in", args, NULL, g->graph);
-    if (ret < 0)
-        goto done;
-    ret = avfilter_graph_create_filter(&g->sink,
-                                       avfilter_get_by_name("buffersink"),
-                                       "out", NULL, NULL, g->graph);
-    if (ret < 0)
-        goto done;
-    snprintf(chain, sizeof(chain),
-             "select='not(mod(n\\,%d))',split[a][b];"
-             "[a]palettegen=stats_mode=full[p];"
-             "[b][p]paletteuse=dither=sierra2_4a", gif_step(d->fps));
-    outputs->name = av_strdup("in");
-    outputs->filter_ctx = g->src;
-    inputs->name = av_strdup("out");
-    inputs->filter_ctx = g->sink;
-    ret = avfilter_graph_parse_ptr(g->graph, chain, &inputs, &outputs, NULL);
+    g->stats = avfilter_graph_alloc();
+    g->map = avfilter_graph_alloc();
+    if (!g->stats || !g->map)
+        return AVERROR(ENOMEM);
+    int ret = make_src(g->stats, &g->stats_src, "in", d->width, d->height,
+                       AV_PIX_FMT_RGBA, g->tb);
     if (ret >= 0)
-        ret = avfilter_graph_config(g->graph, NULL);
-done:
-    avfilter_inout_free(&inputs);
-    avfilter_inout_free(&outputs);
+        ret = link_graph(g->stats, "[in]palettegen=stats_mode=full[out]", &g->stats_src, 1,
+                         &g->stats_sink);
+    if (ret >= 0)
+        ret = make_src(g->map, &g->map_src, "in", d->width, d->height, AV_PIX_FMT_RGBA, g->tb);
+    if (ret >= 0)
+        ret = make_src(g->map, &g->pal_src, "pal", 16, 16, AV_PIX_FMT_RGB32, g->tb);
+    if (ret >= 0)
+        ret = link_graph(g->map, "[in][pal]paletteuse=dither=sierra2_4a[out]",
+                         (AVFilterContext *[]){g->map_src, g->pal_src}, 2, &g->map_sink);
     return ret;
 }
 
@@ -147,9 +193,25 @@ static int gif_open(struct sp_sink *s)
     if ((err = sp_outfile_open(&g->file, s->path, 0)) != 0)
         return err;
     err = SP_E_CODEC; /* what a failure below is, unless it says */
-    ret = gif_make_graph(s);
+    g->step = gif_step(d->fps);
+    g->tb = av_mul_q(av_inv_q(av_d2q(d->fps, 1001000)), (AVRational){g->step, 1});
+    ret = gif_make_graphs(s);
     if (ret < 0) {
         err = gif_failed(s, "cannot set up the palette filters", ret, SP_E_CODEC);
+        goto fail;
+    }
+    g->z_cap = compressBound(4 * (uLong)d->width * (uLong)d->height);
+    g->raw = malloc(4 * (size_t)d->width * (size_t)d->height);
+    g->z = malloc(g->z_cap);
+    if (!g->raw || !g->z) {
+        sp_log_error("%s: out of memory for the GIF's frames", s->path);
+        err = SP_E_NOMEM;
+        goto fail;
+    }
+    if (!(g->spool = tmpfile())) {
+        sp_log_error("%s: cannot create a temporary file for the GIF's frames: %s",
+                     s->path, strerror(errno));
+        err = SP_E_IO;
         goto fail;
     }
     ret = avformat_alloc_output_context2(&g->oc, NULL, "gif", g->file.url);
@@ -157,6 +219,7 @@ static int gif_open(struct sp_sink *s)
         err = gif_failed(s, "cannot set up the GIF muxer", ret, SP_E_CODEC);
         goto fail;
     }
+    g->oc->flags |= AVFMT_FLAG_BITEXACT;
     const AVCodec *codec = avcodec_find_encoder(AV_CODEC_ID_GIF);
     g->st = avformat_new_stream(g->oc, NULL);
     g->enc = avcodec_alloc_context3(codec);
@@ -171,7 +234,7 @@ static int gif_open(struct sp_sink *s)
     g->enc->width = d->width;
     g->enc->height = d->height;
     g->enc->pix_fmt = AV_PIX_FMT_PAL8;
-    g->enc->time_base = av_buffersink_get_time_base(g->sink);
+    g->enc->time_base = av_buffersink_get_time_base(g->map_sink);
     ret = avcodec_open2(g->enc, codec, NULL);
     if (ret >= 0)
         ret = avcodec_parameters_from_context(g->st->codecpar, g->enc);
@@ -196,12 +259,12 @@ fail:
     return err;
 }
 
-/* Encodes every frame the graph has ready (all of them once flushed). */
+/* Encodes every frame pass 2 has ready (all of them once flushed). */
 static int gif_drain(struct sp_sink *s)
 {
     struct gif *g = s->priv;
     for (;;) {
-        int ret = av_buffersink_get_frame(g->sink, g->out);
+        int ret = av_buffersink_get_frame(g->map_sink, g->out);
         if (ret == AVERROR(EAGAIN) || ret == AVERROR_EOF)
             break;
         if (ret < 0)
@@ -223,36 +286,104 @@ static int gif_drain(struct sp_sink *s)
     return 0;
 }
 
-static int gif_write(struct sp_sink *s, const struct sp_image *img)
+/* Hands g->raw (packed RGBA) to src as frame number pts. */
+static int send_raw(struct sp_sink *s, AVFilterContext *src, long pts)
 {
     struct gif *g = s->priv;
+    const int w = s->desc.width, h = s->desc.height;
     g->in->format = AV_PIX_FMT_RGBA;
-    g->in->width = img->width;
-    g->in->height = img->height;
+    g->in->width = w;
+    g->in->height = h;
     int ret = av_frame_get_buffer(g->in, 0);
     if (ret < 0)
         return gif_failed(s, "cannot allocate a frame", ret, SP_E_NOMEM);
-    for (int y = 0; y < img->height; y++)
+    for (int y = 0; y < h; y++)
         memcpy(g->in->data[0] + (size_t)y * g->in->linesize[0],
-               img->pixels + (size_t)y * img->stride, 4 * (size_t)img->width);
-    g->in->pts = s->frames;
-    /* The graph takes the frame's reference and leaves g->in blank. */
-    ret = av_buffersrc_add_frame(g->src, g->in);
+               g->raw + (size_t)y * 4 * w, 4 * (size_t)w);
+    g->in->pts = pts;
+    /* The graph takes the frame's reference and leaves g->in blank; PUSH
+     * runs the filters now, so frames do not queue at the source. */
+    ret = av_buffersrc_add_frame_flags(src, g->in, AV_BUFFERSRC_FLAG_PUSH);
+    return ret < 0 ? gif_failed(s, "palette filters refused a frame", ret, SP_E_CODEC) : 0;
+}
+
+static int spool_failed(struct sp_sink *s, const char *doing)
+{
+    sp_log_error("%s: cannot %s the GIF's temporary frames: %s", s->path, doing,
+                 errno ? strerror(errno) : "short file");
+    return SP_E_IO;
+}
+
+/* Pass 1: counts the kept frame's colours and spools it. */
+static int gif_write(struct sp_sink *s, const struct sp_image *img)
+{
+    struct gif *g = s->priv;
+    if (s->frames % g->step)
+        return 0;
+    const size_t row = 4 * (size_t)img->width;
+    for (int y = 0; y < img->height; y++)
+        memcpy(g->raw + y * row, img->pixels + (size_t)y * img->stride, row);
+    uLongf n = g->z_cap;
+    if (compress2(g->z, &n, g->raw, row * img->height, 1) != Z_OK) {
+        sp_log_error("%s: cannot compress a frame", s->path);
+        return SP_E_NOMEM;
+    }
+    uint32_t len = (uint32_t)n;
+    errno = 0;
+    if (fwrite(&len, sizeof(len), 1, g->spool) != 1 || fwrite(g->z, 1, n, g->spool) != n)
+        return spool_failed(s, "write");
+    return send_raw(s, g->stats_src, g->kept++);
+}
+
+/* Pass 2: the palette, then every spooled frame through paletteuse. */
+static int gif_map(struct sp_sink *s)
+{
+    struct gif *g = s->priv;
+    int ret = av_buffersrc_add_frame(g->stats_src, NULL);
+    if (ret >= 0)
+        ret = av_buffersink_get_frame(g->stats_sink, g->out);
+    if (ret >= 0) {
+        g->out->pts = 0;
+        ret = av_buffersrc_add_frame(g->pal_src, g->out);
+    }
+    if (ret >= 0)
+        ret = av_buffersrc_add_frame(g->pal_src, NULL);
     if (ret < 0)
-        return gif_failed(s, "palette filters refused a frame", ret, SP_E_CODEC);
+        return gif_failed(s, "cannot make the palette", ret, SP_E_CODEC);
+    errno = 0;
+    if (fflush(g->spool) != 0 || fseek(g->spool, 0, SEEK_SET) != 0)
+        return spool_failed(s, "read");
+    const uLongf size = 4 * (uLongf)s->desc.width * (uLongf)s->desc.height;
+    for (long k = 0; k < g->kept; k++) {
+        uint32_t len;
+        uLongf n = size;
+        errno = 0;
+        if (fread(&len, sizeof(len), 1, g->spool) != 1 || len > g->z_cap ||
+            fread(g->z, 1, len, g->spool) != len)
+            return spool_failed(s, "read");
+        if (uncompress(g->raw, &n, g->z, len) != Z_OK || n != size) {
+            sp_log_error("%s: the GIF's temporary frames are damaged", s->path);
+            return SP_E_IO;
+        }
+        int err = send_raw(s, g->map_src, k);
+        if (!err)
+            err = gif_drain(s);
+        if (err)
+            return err;
+    }
+    ret = av_buffersrc_add_frame(g->map_src, NULL);
+    if (ret < 0)
+        return gif_failed(s, "cannot flush the palette filters", ret, SP_E_CODEC);
     return gif_drain(s);
 }
 
 static int gif_close(struct sp_sink *s)
 {
     struct gif *g = s->priv;
-    int ret = av_buffersrc_add_frame(g->src, NULL);
-    if (ret < 0)
-        return gif_failed(s, "cannot flush the palette filters", ret, SP_E_CODEC);
-    int err = gif_drain(s);
+    int err = gif_map(s);
     if (err)
         return err;
-    ret = avcodec_send_frame(g->enc, NULL);
+    int ret = avcodec_send_frame(g->enc, NULL);
     while (ret >= 0 && (ret = avcodec_receive_packet(g->enc, g->pkt)) >= 0) {
         av_packet_rescale_ts(g->pkt, g->enc->time_base, g->st->time_base);
         g->pkt->stream_index = g->st->index;

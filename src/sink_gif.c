@@ -38,6 +38,9 @@ struct gif {
                                    and its zlib data; unlinked temp file */
     uint8_t *raw, *z;           /* owned: one frame, packed, and compressed */
     uLongf z_cap;               /* bytes of z */
+    z_stream zs;                /* deflate (pass 1), then inflate (pass 2),
+                                   reset per frame: no allocation per frame */
+    int zs_mode;                /* 0 none, 1 deflate, 2 inflate */
     long kept;                  /* frames in the spool */
     int step;                   /* every step-th frame is kept */
     AVRational tb;              /* s per kept frame: step / fps */
@@ -86,6 +89,11 @@ static void gif_release(struct sp_sink *s)
     struct gif *g = s->priv;
     avfilter_graph_free(&g->stats);
     avfilter_graph_free(&g->map);
+    if (g->zs_mode == 1)
+        deflateEnd(&g->zs);
+    else if (g->zs_mode == 2)
+        inflateEnd(&g->zs);
+    g->zs_mode = 0;
     if (g->spool)
         fclose(g->spool);
     g->spool = NULL;
@@ -208,6 +216,12 @@ static int gif_open(struct sp_sink *s)
         err = SP_E_NOMEM;
         goto fail;
     }
+    if (deflateInit(&g->zs, 1) != Z_OK) {
+        sp_log_error("%s: out of memory for the GIF's frames", s->path);
+        err = SP_E_NOMEM;
+        goto fail;
+    }
+    g->zs_mode = 1;
     if (!(g->spool = tmpfile())) {
         sp_log_error("%s: cannot create a temporary file for the GIF's frames: %s",
                      s->path, strerror(errno));
@@ -226,7 +240,13 @@ static int gif_open(struct sp_sink *s)
     g->in = av_frame_alloc();
     g->out = av_frame_alloc();
     g->pkt = av_packet_alloc();
-    if (!g->st || !g->enc || !g->in || !g->out || !g->pkt) {
+    if (g->in) {
+        g->in->format = AV_PIX_FMT_RGBA;
+        g->in->width = d->width;
+        g->in->height = d->height;
+    }
+    if (!g->st || !g->enc || !g->in || !g->out || !g->pkt ||
+        av_frame_get_buffer(g->in, 0) < 0) {
         sp_log_error("%s: out of memory for the GIF encoder", s->path);
         err = SP_E_NOMEM;
         goto fail;
@@ -291,19 +311,19 @@ static int send_raw(struct sp_sink *s, AVFilterContext *src, long pts)
 {
     struct gif *g = s->priv;
     const int w = s->desc.width, h = s->desc.height;
-    g->in->format = AV_PIX_FMT_RGBA;
-    g->in->width = w;
-    g->in->height = h;
-    int ret = av_frame_get_buffer(g->in, 0);
+    /* The filters let go of the last frame during its PUSH, so this does
+     * not copy: one frame buffer for the whole GIF. */
+    int ret = av_frame_make_writable(g->in);
     if (ret < 0)
-        return gif_failed(s, "cannot allocate a frame", ret, SP_E_NOMEM);
+        return gif_failed(s, "cannot reuse the frame", ret, SP_E_NOMEM);
     for (int y = 0; y < h; y++)
         memcpy(g->in->data[0] + (size_t)y * g->in->linesize[0],
                g->raw + (size_t)y * 4 * w, 4 * (size_t)w);
     g->in->pts = pts;
-    /* The graph takes the frame's reference and leaves g->in blank; PUSH
-     * runs the filters now, so frames do not queue at the source. */
-    ret = av_buffersrc_add_frame_flags(src, g->in, AV_BUFFERSRC_FLAG_PUSH);
+    /* KEEP_REF: the graph takes a reference of its own; PUSH runs the
+     * filters now, so frames do not queue at the source. */
+    ret = av_buffersrc_add_frame_flags(src, g->in,
+                                       AV_BUFFERSRC_FLAG_KEEP_REF | AV_BUFFERSRC_FLAG_PUSH);
     return ret < 0 ? gif_failed(s, "palette filters refused a frame", ret, SP_E_CODEC) : 0;
 }
 
@@ -323,11 +343,15 @@ static int gif_write(struct sp_sink *s, const struct sp_image *img)
     const size_t row = 4 * (size_t)img->width;
     for (int y = 0; y < img->height; y++)
         memcpy(g->raw + y * row, img->pixels + (size_t)y * img->stride, row);
-    uLongf n = g->z_cap;
-    if (compress2(g->z, &n, g->raw, row * img->height, 1) != Z_OK) {
+    g->zs.next_in = g->raw;
+    g->zs.avail_in = (uInt)(row * img->height);
+    g->zs.next_out = g->z;
+    g->zs.avail_out = (uInt)g->z_cap;
+    if (deflate(&g->zs, Z_FINISH) != Z_STREAM_END || deflateReset(&g->zs) != Z_OK) {
         sp_log_error("%s: cannot compress a frame", s->path);
         return SP_E_NOMEM;
     }
+    uLongf n = g->z_cap - g->zs.avail_out;
     uint32_t len = (uint32_t)n;
     errno = 0;
     if (fwrite(&len, sizeof(len), 1, g->spool) != 1 || fwrite(g->z, 1, n, g->spool) != n)
@@ -354,14 +378,26 @@ static int gif_map(struct sp_sink *s)
     if (fflush(g->spool) != 0 || fseek(g->spool, 0, SEEK_SET) != 0)
         return spool_failed(s, "read");
     const uLongf size = 4 * (uLongf)s->desc.width * (uLongf)s->desc.height;
+    deflateEnd(&g->zs);
+    g->zs = (z_stream){0};
+    g->zs_mode = 0;
+    if (inflateInit(&g->zs) != Z_OK) {
+        sp_log_error("%s: out of memory for the GIF's frames", s->path);
+        return SP_E_NOMEM;
+    }
+    g->zs_mode = 2;
     for (long k = 0; k < g->kept; k++) {
         uint32_t len;
-        uLongf n = size;
         errno = 0;
         if (fread(&len, sizeof(len), 1, g->spool) != 1 || len > g->z_cap ||
             fread(g->z, 1, len, g->spool) != len)
             return spool_failed(s, "read");
-        if (uncompress(g->raw, &n, g->z, len) != Z_OK || n != size) {
+        g->zs.next_in = g->z;
+        g->zs.avail_in = len;
+        g->zs.next_out = g->raw;
+        g->zs.avail_out = (uInt)size;
+        if (inflate(&g->zs, Z_FINISH) != Z_STREAM_END || g->zs.avail_out != 0 ||
+            inflateReset(&g->zs) != Z_OK) {
             sp_log_error("%s: the GIF's temporary frames are damaged", s->path);
             return SP_E_IO;
         }

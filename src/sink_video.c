@@ -2,9 +2,9 @@
  * yuv420p, and WebM with VP9 (libvpx) in yuv420p or, with desc.alpha,
  * yuva420p. Follows FFmpeg's doc/examples/mux.c: send each frame, drain
  * receive_packet until EAGAIN, rescale timestamps, write interleaved; at
- * the end flush with NULL and write the trailer. The muxer writes
- * a unique .part (outfile.h; format named explicitly, since ".part" says nothing) and
- * +faststart moves the index (moov) before the data at the trailer. */
+ * the end flush with NULL and write the trailer. The muxer writes a unique
+ * .part (outfile.h; format named explicitly, since ".part" says nothing)
+ * and +faststart moves the index (moov) before the data at the trailer. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

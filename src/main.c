@@ -1,6 +1,7 @@
 /* springpend: entry point. Dispatches to a command; the only place that
  * turns an SP_E_* code into an exit status. */
 #include <errno.h>
+#include <malloc.h>
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
@@ -91,6 +92,11 @@ int main(int argc, char **argv)
         puts("springpend " SP_VERSION);
         return 0;
     }
+    /* Buffers of 256 KiB and more (frames) come from mmap and go back to
+     * the system when freed. glibc would otherwise raise this threshold after
+     * the first such free and serve them from the heap, where frames of
+     * changing neighbours fragment it: a GIF's memory grew with its length. */
+    mallopt(M_MMAP_THRESHOLD, 256 * 1024);
     /* A file size limit (ulimit -f) makes writes fail with EFBIG, reported
      * and cleaned up like any write error, instead of killing the process. */
     signal(SIGXFSZ, SIG_IGN);

@@ -48,6 +48,9 @@ struct gif {
     AVStream *st;               /* owned by oc */
     AVCodecContext *enc;        /* owned: the "gif" encoder, PAL8 */
     AVFrame *in, *out;          /* owned: reused */
+    AVBufferPool *pool;         /* owned: in's pixel buffers, recycled (a
+                                   fresh buffer per frame fragmented the heap:
+                                   memory grew with length) */
     AVPacket *pkt;              /* owned: reused */
     struct sp_outfile file;     /* the .part libav writes by name (file.url) */
 };
@@ -107,6 +110,7 @@ static void gif_release(struct sp_sink *s)
     avcodec_free_context(&g->enc);
     av_frame_free(&g->in);
     av_frame_free(&g->out);
+    av_buffer_pool_uninit(&g->pool);
     av_packet_free(&g->pkt);
     sp_outfile_discard(&g->file);
 }
@@ -240,13 +244,8 @@ static int gif_open(struct sp_sink *s)
     g->in = av_frame_alloc();
     g->out = av_frame_alloc();
     g->pkt = av_packet_alloc();
-    if (g->in) {
-        g->in->format = AV_PIX_FMT_RGBA;
-        g->in->width = d->width;
-        g->in->height = d->height;
-    }
-    if (!g->st || !g->enc || !g->in || !g->out || !g->pkt ||
-        av_frame_get_buffer(g->in, 0) < 0) {
+    g->pool = av_buffer_pool_init(4 * (size_t)d->width * (size_t)d->height, NULL);
+    if (!g->st || !g->enc || !g->in || !g->out || !g->pkt || !g->pool) {
         sp_log_error("%s: out of memory for the GIF encoder", s->path);
         err = SP_E_NOMEM;
         goto fail;
@@ -311,19 +310,21 @@ static int send_raw(struct sp_sink *s, AVFilterContext *src, long pts)
 {
     struct gif *g = s->priv;
     const int w = s->desc.width, h = s->desc.height;
-    /* The filters let go of the last frame during its PUSH, so this does
-     * not copy: one frame buffer for the whole GIF. */
-    int ret = av_frame_make_writable(g->in);
-    if (ret < 0)
-        return gif_failed(s, "cannot reuse the frame", ret, SP_E_NOMEM);
-    for (int y = 0; y < h; y++)
-        memcpy(g->in->data[0] + (size_t)y * g->in->linesize[0],
-               g->raw + (size_t)y * 4 * w, 4 * (size_t)w);
+    /* A buffer from the pool: paletteuse keeps the last frame, so the one
+     * before comes back to the pool instead of being freed. */
+    g->in->buf[0] = av_buffer_pool_get(g->pool);
+    if (!g->in->buf[0])
+        return gif_failed(s, "cannot allocate a frame", AVERROR(ENOMEM), SP_E_NOMEM);
+    g->in->data[0] = g->in->buf[0]->data;
+    g->in->linesize[0] = 4 * w;
+    g->in->format = AV_PIX_FMT_RGBA;
+    g->in->width = w;
+    g->in->height = h;
+    memcpy(g->in->data[0], g->raw, 4 * (size_t)w * (size_t)h);
     g->in->pts = pts;
-    /* KEEP_REF: the graph takes a reference of its own; PUSH runs the
-     * filters now, so frames do not queue at the source. */
-    ret = av_buffersrc_add_frame_flags(src, g->in,
-                                       AV_BUFFERSRC_FLAG_KEEP_REF | AV_BUFFERSRC_FLAG_PUSH);
+    /* The graph takes the frame's reference and leaves g->in blank; PUSH
+     * runs the filters now, so frames do not queue at the source. */
+    int ret = av_buffersrc_add_frame_flags(src, g->in, AV_BUFFERSRC_FLAG_PUSH);
     return ret < 0 ? gif_failed(s, "palette filters refused a frame", ret, SP_E_CODEC) : 0;
 }
 

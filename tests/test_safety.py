@@ -183,9 +183,9 @@ deadline = time.monotonic() + 60
 while not glob.glob(glob.escape(gif) + "*.part") and p.poll() is None and \
         time.monotonic() < deadline:
     time.sleep(0.05)
-time.sleep(1.0)
+time.sleep(2.0)
 p.send_signal(signal.SIGINT)
-time.sleep(0.4)  # the render loop stops within a frame; then close encodes every frame
+time.sleep(0.15)  # the render loop stops within a frame; then close maps every frame
 p.send_signal(signal.SIGINT)
 e = p.communicate(timeout=60)[1]
 ok(p.returncode == 130 and not parts(path("gif")) and "second signal" in e,
@@ -325,11 +325,13 @@ def gif_anon_peak(seconds):
     return p.returncode, peak / 1024
 
 
-(c1, m1), (c2, m2) = gif_anon_peak(2), gif_anon_peak(10)
+# A sanitizer's allocator keeps freed memory in quarantine: nothing to see.
+sanitized = b"__asan_init" in open(exe, "rb").read()
+(c1, m1), (c2, m2) = ((0, 0), (0, 0)) if sanitized else (gif_anon_peak(2), gif_anon_peak(10))
 ok(c1 == 0 and c2 == 0 and m2 - m1 < 25,
    f"GIF memory is flat with length: peak anonymous memory 2 s {m1:.0f} MiB, 10 s "
    f"{m2:.0f} MiB (holding the 240 more frames would take {240 * 320 * 240 * 4 / 2**20:.0f} "
-   f"MiB)")
+   f"MiB)", skip="a sanitizer build" if sanitized else None)
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -25,25 +25,6 @@ static struct sp_png_write_opts png_opts(const struct sp_sink *s)
     };
 }
 
-/* Writes img into the open f (its descriptor is used up; f stays open for
- * commit or discard). */
-static int png_to_outfile(struct sp_outfile *f, const struct sp_image *img,
-                          const struct sp_png_write_opts *opts)
-{
-    FILE *fp = fdopen(f->fd, "wb");
-    if (!fp) {
-        sp_log_error("%s: %s", f->target, strerror(errno));
-        return SP_E_NOMEM;
-    }
-    f->fd = -1; /* fp owns it now */
-    int err = sp_png_write_stream_opts(fp, img, opts, f->target);
-    if (fclose(fp) != 0 && !err) {
-        sp_log_error("%s: cannot write: %s", f->target, strerror(errno));
-        err = SP_E_IO;
-    }
-    return err;
-}
-
 /* ---- sequence ---- */
 
 /* A sequence compresses its frames on a pool of writer threads, one per
@@ -150,16 +131,11 @@ static void *png_writer(void *arg)
         pthread_mutex_unlock(&q->lock);
         int err = 0;
         if (!skip) {
-            struct sp_outfile f;
             png_sequence_name(s, j->number, j->name, q->cap);
             struct sp_png_write_opts opts = png_opts(s);
             opts.text = j->text;
             opts.n_text = j->n_text;
-            err = sp_outfile_open(&f, j->name, 0);
-            if (!err && (err = png_to_outfile(&f, &j->img, &opts)) != 0)
-                sp_outfile_discard(&f);
-            else if (!err)
-                err = sp_outfile_commit(&f);
+            err = sp_png_write_opts(j->name, &j->img, &opts); /* whole or nothing */
         }
         pthread_mutex_lock(&q->lock);
         if (!skip && !err)
@@ -365,7 +341,7 @@ static int png_single_write(struct sp_sink *s, const struct sp_image *img)
         return SP_E_INPUT;
     }
     struct sp_png_write_opts opts = png_opts(s);
-    return png_to_outfile(&o->out, img, &opts);
+    return sp_png_write_outfile(&o->out, img, &opts);
 }
 
 static int png_single_close(struct sp_sink *s)

@@ -12,10 +12,6 @@
 #include "springpend/common.h"
 #include "springpend/sim.h"
 
-/* Drift of total - energy0 - work, as a fraction of the energy scale, that a
- * run may show before it is declared unstable. Sane steps drift by ~1e-10. */
-#define SP_ENERGY_DRIFT_LIMIT 1e-2
-
 /* For the functions taking `const int forced`: inlined always, so that each
  * caller passing a constant gets its own specialised copy. */
 #define SPECIALISED static inline __attribute__((always_inline))
@@ -471,6 +467,14 @@ static double initial_step(struct sp_sim *sim, int order)
     return fmin(100 * h0, h1);
 }
 
+/* The energy of the motion in a state of total energy `total` whose terms
+ * add up to `size` in magnitude, J: total - energy_min, and never below the
+ * rounding of its terms (a bob hanging still has none). */
+static double motion_energy(const struct sp_sim *sim, double total, double size)
+{
+    return fmax(total - sim->energy_min, 1e-12 * (size + fabs(sim->energy_min)));
+}
+
 void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
 {
     const double r = scene->initial.length, th = scene->initial.angle;
@@ -506,12 +510,15 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
         sim->method = SP_METHOD_DOP853;
     sp_state_energy(&sim->p, &sim->s, &e);
     sim->energy0 = e.total;
-    /* The energies the motion trades between, J: the start's own terms, and
-     * what hanging at the equilibrium length ell = L0 + m g / k involves. */
+    /* Drift is judged against the energy of the motion, what can move: the
+     * energy above the least the scene can hold (hanging still at ell), not
+     * offsets such as k L0^2 / 2 that cancel out of every difference. */
     double ell = sim->p.L0 + sim->p.g / sim->p.k_over_m;
-    sim->energy_scale = fabs(e.kinetic) + fabs(e.spring) + fabs(e.gravity) +
-                        sim->p.mass * sim->p.g * ell +
-                        0.5 * sim->p.stiffness * sim->p.L0 * sim->p.L0;
+    const double mg = sim->p.mass * sim->p.g;
+    sim->energy_min = -mg * sim->p.L0 - 0.5 * mg * mg / sim->p.stiffness;
+    sim->energy_scale = motion_energy(sim, e.total, fabs(e.kinetic) + fabs(e.spring) +
+                                      fabs(e.gravity));
+    sim->drift_limit = SP_SIM_DRIFT_LIMIT;
     sim->y1[0] = sim->s.x, sim->y1[1] = sim->s.y;
     sim->y1[2] = sim->s.vx, sim->y1[3] = sim->s.vy;
     memcpy(sim->y0, sim->y1, sizeof(sim->y0));
@@ -519,7 +526,10 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
     if (sp_method_info(sim->method)->adaptive) {
         /* absolute tolerances from the scene's length and speed scales */
         double len = fmax(fmax(ell, r), sim->p.L0);
-        double speed = sqrt(2 * sim->energy_scale / sim->p.mass);
+        /* a speed from the energies the motion trades between */
+        double energies = fabs(e.kinetic) + fabs(e.spring) + fabs(e.gravity) + mg * ell +
+                          0.5 * sim->p.stiffness * sim->p.L0 * sim->p.L0;
+        double speed = sqrt(2 * energies / sim->p.mass);
         sim->atol[0] = sim->atol[1] = sim->tol * len;
         sim->atol[2] = sim->atol[3] = sim->tol * speed;
         rhs(&sim->p, 0, sim->y1, sim->k[0], 1);
@@ -532,6 +542,8 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
 static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, double energy,
                          const char *what)
 {
+    if (sim->quiet)
+        return SP_E_UNSTABLE;
     const struct sp_method_info *mi = sp_method_info(sim->method);
     double w = sp_params_omega_max(&sim->p), safe;
     double limit = sp_method_dt_limit(sim->method, &sim->p, &safe);
@@ -575,16 +587,18 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
     double kin = 0.5 * p->mass * (u[2] * u[2] + u[3] * u[3]);
     double spring = 0.5 * p->stiffness * stretch * stretch, grav = p->mass * p->g * u[1];
     double total = kin + spring + grav, work = p->mass * u[4];
-    /* judged against the energies in play now too: a drive may pump them up */
-    double scale = sim->energy_scale + kin + spring + fabs(grav);
+    /* the largest the motion has been: a drive may pump it up, damping drain
+     * it, and what was integrated carries the error made at its peak */
+    double scale = fmax(sim->energy_scale, motion_energy(sim, total, kin + spring + fabs(grav)));
     double drift = (total - sim->energy0 - work) / scale;
-    if (!(fabs(drift) <= SP_ENERGY_DRIFT_LIMIT)) {
+    if (!(fabs(drift) <= sim->drift_limit)) {
         char what[128];
         snprintf(what, sizeof(what), "energy, less the work of damping and drive, "
                  "drifted by %.3g%% of its scale %.3g J", 100 * drift, scale);
         sim->work = work;
         return report_blowup(sim, &s, total, what);
     }
+    sim->energy_scale = scale;
     return 0;
 }
 

@@ -406,6 +406,14 @@ double sp_pivot_y(const struct sp_params *p, double t)
     return p->drive_amp * sin(p->drive_omega * t);
 }
 
+void sp_params_physics(const struct sp_params *p, struct sp_physics *out)
+{
+    out->ell = p->L0 + p->g / p->k_over_m;
+    out->omega_s = sqrt(p->k_over_m);
+    out->omega_p = sqrt(p->g / out->ell);
+    out->ratio = out->omega_s / out->omega_p;
+}
+
 double sp_params_omega_max(const struct sp_params *p)
 {
     double ell = p->L0 + p->g / p->k_over_m;

@@ -124,6 +124,16 @@ void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
 /* The pivot's height at time t, m (0 for a fixed pivot). */
 double sp_pivot_y(const struct sp_params *p, double t);
 
+/* What a scene's parameters imply for small oscillations. */
+struct sp_physics {
+    double ell;     /* m: equilibrium length L0 + m g / k */
+    double omega_s; /* rad/s: the bounce, sqrt(k/m) */
+    double omega_p; /* rad/s: the swing, sqrt(g/l) (0 without gravity) */
+    double ratio;   /* omega_s / omega_p (infinite without gravity); 2:1 at 2 */
+};
+
+void sp_params_physics(const struct sp_params *p, struct sp_physics *out);
+
 /* The fastest small-oscillation angular frequency of the scene, rad/s:
  * max(sqrt(k/m), sqrt(g/l), b/m) with l = L0 + m g / k. */
 double sp_params_omega_max(const struct sp_params *p);

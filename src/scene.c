@@ -15,7 +15,9 @@
 #include "springpend/scene.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
-#define SP_MAX_FRAMES 1000000 /* about 4.6 hours at 60 fps */
+/* Frame times are indexed by int; what a command makes of them has its own
+ * limit (render: video frames, data: rows). */
+#define SP_MAX_FRAMES 1000000000
 
 enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_BOOL,    /* true/false, stored as int */
@@ -560,8 +562,8 @@ static void validate_whole(struct parse_ctx *c)
         report(c, 0, "video.duration * video.fps / video.speed = %g frames; at least "
                "1 frame is needed (raise video.duration or lower video.speed)", frames);
     else if (frames > SP_MAX_FRAMES)
-        report(c, 0, "video.duration * video.fps / video.speed = %.0f frames; at most "
-               "%d are allowed", frames, SP_MAX_FRAMES);
+        report(c, 0, "video.duration * video.fps / video.speed = %.0f frame times; at "
+               "most %d are allowed", frames, SP_MAX_FRAMES);
     if (s->integrator.method == SP_METHOD_RKN1210 &&
         (s->pendulum.damping > 0 || (s->pivot.amplitude > 0 && s->pivot.frequency > 0)))
         report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "

@@ -509,7 +509,8 @@ static int write_plot(const char *path, struct bench_scene *bs, int nb)
         char title[128];
         snprintf(title, sizeof(title), "%s: %g s%s", bs[s].name, bs[s].T,
                  bs[s].frames ? ", 600 frames" : "");
-        plot_axes(&p, &pn, title, "wall time per run, s", "final position error, m");
+        plot_axes(&p, &pn, title, "wall time per run, s",
+                  bs[s].frames ? "worst position error over the frames, m" : "final position error, m");
         for (int k = 0; k < N_STYLES; k++) {
             double x[64], y[64];
             int n = 0;

@@ -74,7 +74,7 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
     } else {
         printf("  near 2:1 (%+.2f%%): energy flows between bounce and swing\n",
                100 * (ratio / 2 - 1));
-        printf("  swing growth     s = 3 omega_p |B0| / (4 l) = %.4g 1/s at the start (Lynch; "
+        printf("  growth rate      s = 3 omega_p |B0| / (4 l) = %.4g 1/s of the swing at the start (Lynch; "
                "(L0/l^2) omega_p B0 at exact 2:1), B0 = |r0 - l| = %.4g m\n",
                in->ex.rate, fabs(sc->initial.length - ell));
         if (isnan(in->ex.time))

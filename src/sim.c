@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "springpend/advice.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
 
@@ -425,23 +426,6 @@ double sp_params_omega_max(const struct sp_params *p)
     return w;
 }
 
-double sp_method_dt_limit(enum sp_method m, const struct sp_params *p, double *safe)
-{
-    const struct sp_method_info *mi = sp_method_info(m);
-    if (mi->adaptive) {
-        if (safe)
-            *safe = 0;
-        return 0;
-    }
-    double limit = mi->stability / sp_params_omega_max(p);
-    if (safe) {
-        /* half the limit, rounded down to one significant digit */
-        double half = 0.5 * limit, mag = pow(10, floor(log10(half)));
-        *safe = floor(half / mag) * mag;
-    }
-    return limit;
-}
-
 /* ---- set-up and the guard ------------------------------------------------ */
 
 static void to_state(double t, const double *u, struct sp_state *s)
@@ -553,8 +537,7 @@ static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, dou
     if (sim->quiet)
         return SP_E_UNSTABLE;
     const struct sp_method_info *mi = sp_method_info(sim->method);
-    double w = sp_params_omega_max(&sim->p), safe;
-    double limit = sp_method_dt_limit(sim->method, &sim->p, &safe);
+    struct sp_dt_advice a;
     sp_log_error("the simulation became unstable at t = %.6g s (%s): "
                  "x = %.6g m, y = %.6g m, vx = %.6g m/s, vy = %.6g m/s, "
                  "energy %.6g J vs %.6g J at t = 0 (%.6g J of it work by damping "
@@ -563,15 +546,16 @@ static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, dou
     if (mi->adaptive)
         fprintf(stderr, "  %s with tolerance %g cannot follow this motion; try "
                 "integrator.tolerance = %g\n", mi->name, sim->tol, sim->tol * 1e-3);
-    else if (sim->dt * w > mi->stability)
-        fprintf(stderr, "  dt = %g s is above %s's stability limit %.3g s for "
-                "omega_max = %.4g rad/s (k/m = %g 1/s^2); use integrator.dt <= %g "
-                "or integrator.method = dop853\n",
-                sim->dt, mi->name, limit, w, sim->p.k_over_m, safe);
+    /* a step suggested is one the run was seen to complete with */
+    else if (sp_advise_dt(sim->scene, fmax(sim->scene->video.duration, s->t), &a) == 0 &&
+             !isnan(a.safe))
+        fprintf(stderr, "  dt = %g s is too coarse for this motion (it reaches omega_max = "
+                "%.4g rad/s, where %s's stability limit is %.3g s); use integrator.dt = %g "
+                "(the run completes with it over [0, %g] s) or integrator.method = dop853\n",
+                sim->dt, a.omega_max, mi->name, a.limit, a.safe, a.checked);
     else
-        fprintf(stderr, "  dt = %g s is within %s's stability limit %.3g s but too "
-                "coarse for this motion; try integrator.dt = %g or "
-                "integrator.method = dop853\n", sim->dt, mi->name, limit, sim->dt / 10);
+        fprintf(stderr, "  dt = %g s is too coarse for this motion; use integrator.method = "
+                "dop853\n", sim->dt);
     return SP_E_UNSTABLE;
 }
 

@@ -137,6 +137,14 @@ for name, d in issue_scenes:
        f"{name}: data at the suggested dt {j['safe_dt']} s exits {safe.returncode}; the scene's "
        f"own dt {d.get('integrator.dt', 1e-3)} exits {own.returncode}, info said completes = "
        f"{j['dt_completes']} (margin {j['stability_margin']:.3g})")
+# The blow-up message's step is the same promise.
+for name, d in [("k/m = 1e7", {"pendulum.stiffness": 5e6}), ("default at dt 1", {"integrator.dt": 1})]:
+    r = run("data", DEFAULT, "-o", "-", "--every", "0.1", *sets(d))
+    said = r.stderr.split("use integrator.dt = ")[-1].split(" ")[0] if "use integrator.dt = " in r.stderr else None
+    again = run("data", DEFAULT, "-o", "-", "--every", "0.1", *sets({**d, "integrator.dt": said})) if said else None
+    ok(r.returncode == 3 and again is not None and again.returncode == 0,
+       f"{name}: data exits {r.returncode}, its message suggests dt {said}, with which data exits "
+       f"{again.returncode if again else None}")
 # RK4 on the negative real axis: |R(-x)| = 1 at the real root of
 # x^3/24 - x^2/6 + x/2 - 1 = 0 (2.785), not 2 sqrt 2.
 root = max(z.real for z in np.roots([1 / 24, -1 / 6, 1 / 2, -1]) if abs(z.imag) < 1e-9)

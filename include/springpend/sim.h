@@ -138,9 +138,4 @@ void sp_params_physics(const struct sp_params *p, struct sp_physics *out);
  * max(sqrt(k/m), sqrt(g/l), b/m) with l = L0 + m g / k. */
 double sp_params_omega_max(const struct sp_params *p);
 
-/* The largest dt a fixed-step method is stable at for this scene, s, with
- * half of it as a suggestion rounded down to one significant digit in *safe.
- * Adaptive methods: returns 0. */
-double sp_method_dt_limit(enum sp_method m, const struct sp_params *p, double *safe);
-
 #endif

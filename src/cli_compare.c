@@ -136,22 +136,6 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
     return 0;
 }
 
-/* Prints s as a JSON string. */
-static void json_string(const char *s)
-{
-    putchar('"');
-    for (; *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        if (ch == '"' || ch == '\\')
-            printf("\\%c", ch);
-        else if (ch < 0x20)
-            printf("\\u%04x", ch);
-        else
-            putchar(ch);
-    }
-    putchar('"');
-}
-
 /* The figures of one comparison, as the rest of a text line. */
 static void print_figures(const struct compare_cli *c, const struct sp_compare_result *r,
                           const char *diff)
@@ -188,7 +172,7 @@ static void report_provenance(const struct compare_cli *c, const char *expected,
             continue;
         if (c->json) {
             printf("%s", n ? ", " : ", \"notes\": [");
-            json_string(provenance_keys[i][1]);
+            sp_cli_json_string(provenance_keys[i][1]);
         } else {
             printf("     note: %s: %s vs %s\n", provenance_keys[i][1], e, a);
         }
@@ -208,10 +192,10 @@ static void report(const struct compare_cli *c, const char *name, int status,
 {
     if (c->json) {
         printf("{\"name\": ");
-        json_string(name);
+        sp_cli_json_string(name);
         if (status) {
             printf(", \"pass\": false, \"error\": ");
-            json_string(why);
+            sp_cli_json_string(why);
             printf("}");
             return;
         }
@@ -227,7 +211,7 @@ static void report(const struct compare_cli *c, const char *name, int status,
             printf("null");
         printf(", \"diff\": ");
         if (diff)
-            json_string(diff);
+            sp_cli_json_string(diff);
         else
             printf("null");
         if (pngs && !r->pass)
@@ -314,7 +298,7 @@ static int compare_videos(const struct compare_cli *c, const char *expected, con
         goto done;
     }
     if (c->json)
-        printf("{\"name\": "), json_string(actual), printf(", \"failed_frames\": [");
+        printf("{\"name\": "), sp_cli_json_string(actual), printf(", \"failed_frames\": [");
     while ((ge = sp_video_reader_read(ve, &fe)) == 1 && (ga = sp_video_reader_read(va, &fa)) == 1) {
         if (sp_interrupted()) {
             snprintf(why, sizeof(why), "interrupted at frame %d", frames);
@@ -380,10 +364,10 @@ done:
         ret = SP_E_INPUT;
     if (c->json) {
         if (!ve || !va)
-            printf("{\"name\": "), json_string(actual), printf(", \"failed_frames\": [");
+            printf("{\"name\": "), sp_cli_json_string(actual), printf(", \"failed_frames\": [");
         printf("], \"frames\": %d, \"pass\": %s", frames, ret ? "false" : "true");
         if (why[0])
-            printf(", \"error\": "), json_string(why);
+            printf(", \"error\": "), sp_cli_json_string(why);
         if (worst_frame >= 0) {
             printf(", \"worst_frame\": %d, \"worst\": ", worst_frame);
             report(c, actual, 0, NULL, &worst, ret == SP_E_MISMATCH ? diff_path : NULL, NULL);

@@ -179,7 +179,9 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
                        const struct info *in)
 {
     const int fixed = !sp_method_info(sc->integrator.method)->adaptive;
-    printf("{\n  \"scene\": \"%s\",\n", sc->name); /* names are [A-Za-z0-9_.-] stems */
+    printf("{\n  \"scene\": ");
+    sp_cli_json_string(sc->name);
+    printf(",\n");
     json_num("equilibrium_length", in->ph.ell, 0);
     json_num("omega_spring", in->ph.omega_s, 0);
     json_num("omega_pendulum", in->ph.omega_p, 0);

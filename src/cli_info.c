@@ -143,12 +143,9 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
     const struct sp_dt_advice *a = &in->dt;
     printf("  integrator       %s, order %d, dt = %g s; the motion reaches omega_max = %.4g "
            "rad/s (a dop853 probe of the run: spring, near-pivot and rotation rates, drive), "
-           "stability limit dt <= %.4g s (%s): margin %.3gx\n", mi->name, mi->order,
-           sc->integrator.dt, a->omega_max, a->limit,
-           sc->integrator.method != SP_METHOD_RK4 ? "damping is taken exactly"
-           : sim->p.b_over_m > 0 ? "with the damping b/m on the real axis, 2.785 there"
-                                 : "2.83 / omega_max",
-           in->margin);
+           "stability limit dt <= %.4g s (%s's step for a damped oscillator at omega_max, "
+           "b/m = %g 1/s): margin %.3gx\n", mi->name, mi->order, sc->integrator.dt,
+           a->omega_max, a->limit, mi->name, sim->p.b_over_m, in->margin);
     if (a->scene_ok)
         printf("  this dt          completes the run (checked over [0, %g] s)\n",
                a->scene_checked);

@@ -153,6 +153,42 @@ ok(abs(j["stability_limit"] * 1000 - root) < 1e-3 and j["stability_margin"] < 1,
    f"RK4 with b/m = 1000: stability limit x b/m = {j['stability_limit'] * 1000:.5f} "
    f"(closed form {root:.5f}), margin {j['stability_margin']:.3f} < 1")
 
+# Verlet and Yoshida-4 take the damping as its exact flow in each substep:
+# Verlet's limit stays 2 / omega; Yoshida-4's backward substep (weight
+# -2^(1/3) / (2 - 2^(1/3))) amplifies by exp(+b/m h |w| / 2) and limits it.
+# Reference: the spectral radius of one step's 2x2 map for x'' = -w^2 x - g x',
+# composed here in numpy, scanned for where it first exceeds 1.
+def split_limit(weights, w, g):
+    def radius(h):
+        M = np.eye(2)
+        for wi in weights:
+            hi = wi * h
+            d = np.diag([1, math.exp(-g * hi / 2)])
+            kick = np.array([[1, 0], [-0.5 * hi * w * w, 1]])
+            drift = np.array([[1, hi], [0, 1]])
+            M = d @ kick @ drift @ kick @ d @ M
+        return max(abs(np.linalg.eigvals(M)))
+    lo = hi = 1e-5
+    while radius(hi) <= 1 + 1e-9:
+        lo, hi = hi, hi * 1.01
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if radius(mid) > 1 + 1e-9 else (mid, hi)
+    return lo
+
+
+c2 = 2 ** (1 / 3)
+w_damped = math.sqrt(10)
+for method, weights in (("verlet", [1]), ("yoshida4", [1 / (2 - c2), -c2 / (2 - c2), 1 / (2 - c2)])):
+    j = info(DEFAULT, {**damped_heavy, "integrator.method": method})
+    ref = split_limit(weights, w_damped, 1000)
+    over = run("data", DEFAULT, "-o", "-", *sets({**damped_heavy, "integrator.method": method,
+                                                "integrator.dt": 1.15 * j["stability_limit"]}))
+    ok(abs(j["stability_limit"] / ref - 1) < 1e-3 and over.returncode == 3,
+       f"{method} with b/m = 1000: stability limit {j['stability_limit']:.5g} s (numpy's step map: "
+       f"{ref:.5g} s; undamped {(2 if method == 'verlet' else 1.5734) / w_damped:.4g} s); at 1.15x "
+       f"it data exits {over.returncode}")
+
 # ---- info --json: the scene's frequencies, closed forms --------------------
 L0, k, m = 0.5, 2.0, 0.5
 ell = L0 + m * G / k

@@ -13,11 +13,12 @@ struct sp_dt_advice {
                           * dop853 probe of the run: sqrt(k/m), the spring's
                           * tangential rate sqrt(k/m |1 - L0/r|) (large near the
                           * pivot), the rotation |v|/r, sqrt(g/l), the drive */
-    double limit;        /* s: the method's linear stability limit for those
-                          * rates with the damping (RK4: the complex roots of
-                          * s^2 + (b/m) s + omega^2 against its stability region,
-                          * 2.785 on the negative real axis; verlet and yoshida4
-                          * take the damping exactly and are not limited by it) */
+    double limit;        /* s: where the method's one-step map of the damped
+                          * oscillator x'' = -w^2 x - (b/m) x' first grows, at
+                          * w = omega_max and at w = 0 (RK4: 2.83 / w undamped,
+                          * 2.785 / (b/m) on the negative real axis; verlet takes
+                          * the damping as its exact flow and keeps 2 / w;
+                          * yoshida4's backward substep amplifies under damping) */
     double safe;         /* s: a step the run completed with, its drift under a
                           * tenth of the blow-up guard's; one significant digit */
     double checked;      /* s: safe and the scene's dt were run over [0, checked]

@@ -145,7 +145,7 @@ int sp_cmd_data(int argc, char **argv)
                         : o.every > 0 ? floor(scene.video.duration / o.every * (1 + 1e-12)) + 1
                                       : sp_scene_frame_count(&scene);
     if (rows > MAX_ROWS) {
-        sp_log_error("%s%g over video.duration = %g s: %.0f rows, about %.2g GB of CSV; at "
+        sp_log_error("%s%g over video.duration = %g s: %.0f rows, about %.3g GB of CSV; at "
                      "most %.0f rows are written (raise --every or lower video.duration)",
                      o.every > 0 ? "--every " : "frame times every ",
                      o.every > 0 ? o.every : scene.video.speed / scene.video.fps,

@@ -138,7 +138,7 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
     return sp_cli_check_writable(o->state, "--state");
 }
 
-/* The longest video render makes, frames. */
+/* The longest video render and still make and show, frames. */
 #define SP_MAX_VIDEO_FRAMES 1000000
 
 static int run(int argc, char **argv, int still)
@@ -154,7 +154,8 @@ static int run(int argc, char **argv, int still)
         snprintf(ext, sizeof(ext), ".%s", o.format);
     if (!ret)
         ret = sp_cli_output_path(&o, &scene, still ? ".png" : ext, out, sizeof(out));
-    if (!ret && !still && sp_scene_frame_count(&scene) > SP_MAX_VIDEO_FRAMES) {
+    /* a still too: its camera, trail and charts span the video's frames */
+    if (!ret && sp_scene_frame_count(&scene) > SP_MAX_VIDEO_FRAMES) {
         sp_log_error("video.duration * video.fps / video.speed = %d frames; at most %d are "
                      "allowed in a video (about 4.6 hours at 60 fps)",
                      sp_scene_frame_count(&scene), SP_MAX_VIDEO_FRAMES);

@@ -318,6 +318,11 @@ ok(r.returncode == 2 and "10000001 rows" in r.stderr and "GB" in r.stderr
    and not os.path.exists(os.path.join(work, "big.csv")),
    f"data --every 1e-4 over 1000 s is refused with its size: {r.stderr.strip()}")
 
+s_ = run("still", DEFAULT, "--set", "video.duration=40000", "--set", "video.fps=60", "-o", "x.png")
+ok(s_.returncode == 2 and "frames; at most 1000000 are allowed in a video" in s_.stderr
+   and not os.path.exists(os.path.join(work, "x.png")),
+   f"a still of a 2.4e6-frame video is refused as a video ({s_.stderr.strip()})")
+
 # ---- data --poincare against scipy's events --------------------------------
 res = os.path.join(scenes, "resonance.ini")
 r = run("data", res, "--poincare", "-o", "-")

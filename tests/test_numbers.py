@@ -307,6 +307,25 @@ ok(j["drive_time_10x"] > 30 and env.max() < 2,
    f"{j['drive_swing_growth']:.3f} 1/s, {100 * j['drive_seed_share']:.0f}% of the seed growing); "
    f"scipy's swing stays under {env.max():.2f}x its start in 30 s")
 
+# The bounce under a vertical drive is forced, not parametric: at Omega = 2 omega_s
+# it stays at its forced amplitude A Omega^2 / |omega_s^2 - Omega^2| plus the free
+# start, and does not grow.
+ws = math.sqrt(200)
+d = {"pendulum.natural_length": 0.95, "pendulum.stiffness": 200, "initial.angle": 0,
+     "initial.length": 0.95 + G / 200 + 0.01, "pivot.amplitude": 0.005,
+     "pivot.frequency": 2 * ws / (2 * math.pi)}
+j = info(os.path.join(scenes, "driven.ini"), d)
+txt = run("info", os.path.join(scenes, "driven.ini"), *sets(d)).stdout
+ts = np.linspace(0, 60, 60001)
+u = solve(model(0.95, 200, 1, 0, 0.005, d["pivot.frequency"]), start(d["initial.length"], 0), 60, ts).y
+z = np.hypot(u[0], u[1]) - (0.95 + G / 200)
+early, late = abs(z[ts < 10]).max(), abs(z[ts > 55]).max()
+ok(abs(j["drive_bounce_amplitude"] - 0.005 * 4 * ws ** 2 / (3 * ws ** 2)) < 1e-12
+   and "no parametric resonance of the bounce" in txt and late < 1.05 * early,
+   f"drive at 2 omega_s: forced bounce {j['drive_bounce_amplitude']:.4g} m (closed form 4A/3), "
+   f"info says no parametric bounce resonance; scipy's bounce {early:.4f} m in the first 10 s, "
+   f"{late:.4f} m at 55-60 s")
+
 # ---- data: limits on rows, not video frames --------------------------------
 r = run("data", os.path.join(scenes, "chaotic.ini"), "--set", "video.duration=20000",
         "--every", "100", "-o", "-")

@@ -22,7 +22,7 @@ static const char info_usage[] =
     "growth; the energies at t = 0; and for fixed-step methods the fastest rate\n"
     "the motion reaches (a short dop853 probe of the run), the stability margin,\n"
     "whether the scene's dt completes the run, and a safe dt that does (checked\n"
-    "by running it over video.duration).\n"
+    "by running it over video.duration, or its first 2e6 steps).\n"
     "\n"
     "  --json   the same facts for scripts, SI units, null where none applies:\n"
     "           omega_spring, omega_pendulum, ratio, equilibrium_length,\n"

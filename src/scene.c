@@ -13,6 +13,7 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
+#include "ini_lines.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
 #define SP_MAX_FRAMES 1000000 /* about 4.6 hours at 60 fps */
@@ -438,26 +439,22 @@ static void protect_colour(char *line)
 static char *read_line(char *str, int num, void *stream)
 {
     struct parse_ctx *c = stream;
-    check_previous_line(c);
-    if (!*c->cursor)
-        return NULL;
+    struct sp_ini_lines l = {c->cursor, c->line};
     const char *start = c->cursor;
-    const char *nl = strchr(start, '\n');
-    size_t len = nl ? (size_t)(nl - start + 1) : strlen(start);
-    c->cursor += len;
-    c->line++;
+    size_t len;
+    check_previous_line(c);
+    if (!sp_ini_lines_next(&l, str, num, &len))
+        return NULL;
+    c->cursor = l.cursor, c->line = l.line;
     c->line_handled = 0;
-    if (len + 1 > (size_t)num) {
+    if (len) {
         const char *q = start + strspn(start, " \t");
         if (*q != '#' && *q != ';') /* long comments are fine */
             report(c, c->line, "line is %zu bytes long; at most %d are allowed "
                    "for a key = value line", len, num - 2);
         c->line_has_content = 0;
-        snprintf(str, (size_t)num, "#\n");
         return str;
     }
-    memcpy(str, start, len);
-    str[len] = 0;
     protect_colour(str);
     c->line_has_content = line_has_content(c, str);
     return str;

@@ -343,8 +343,10 @@ static int record_error(struct sp_compare_record *r, const char *fmt, ...)
 static int check_header(struct sp_compare_record *r, const char *path, int *w, int *h)
 {
     struct sp_png_info info;
-    if (sp_png_read_info(path, &info) != 0)
-        return record_error(r, "cannot read %s as a PNG", path);
+    int err = sp_png_read_info(path, &info);
+    if (err)
+        return record_error(r, err == SP_E_INPUT ? "%s is not a regular file"
+                                                 : "cannot read %s as a PNG", path);
     *w = info.width, *h = info.height;
     if (sp_png_check_size(path, &info) != 0)
         return record_error(r, "%s is %dx%d, beyond the %ld-pixel limit", path, info.width,

@@ -375,26 +375,31 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           "body{font:14px/1.4 sans-serif;margin:1em;background:#fafafa;color:#222}\n"
           "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:6px;"
           "vertical-align:top;text-align:left}\n"
-          "img{max-width:360px;image-rendering:pixelated;display:block;background:"
+          "img{max-width:280px;image-rendering:pixelated;display:block;background:"
           "repeating-conic-gradient(#ddd 0 25%,#fff 0 50%) 0 0/16px 16px}\n"
           ".v-fail{background:#fde0e0}.v-error{background:#fff0c0}.v-pass{background:#e4f6e4}\n"
-          ".verdict{font-weight:bold;text-transform:uppercase}.none{color:#999}\n"
+          ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;font-size:12px;word-break:break-word}.none{color:#999}\n"
           "</style></head><body>\n<h1>springpend compare</h1>\n", fp);
     fprintf(fp, "<p id=\"summary\">%s: %d compared, %d passed, %d failed, %d missing or "
             "unreadable, %d updated</p>\n",
             c.failed || c.errors ? "FAIL" : "ok", c.compared, c.passed, c.failed, c.errors,
             c.updated);
-    fputs("<table>\n<tr><th>image</th><th>expected</th><th>actual</th><th>diff</th>"
-          "<th>flip</th><th>figures</th></tr>\n", fp);
+    fputs("<table>\n<tr><th>image, verdict, figures</th><th>expected</th><th>actual</th><th>diff</th>"
+          "<th>flip</th></tr>\n", fp);
     for (int rank = 0; rank < 3; rank++)
         for (int i = 0; i < rep->n; i++) {
             const struct sp_compare_record *r = &rep->records[i];
             if (row_rank(r) != rank)
                 continue;
             record_line(r, line, sizeof(line));
-            fprintf(fp, "<tr class=\"row v-%s\"><td><div class=\"name\">", verdict_word(r->verdict));
+            fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">",
+                    verdict_word(r->verdict));
             xml_string(fp, r->name);
-            fprintf(fp, "</div><div class=\"verdict\">%s</div></td>", verdict_word(r->verdict));
+            fprintf(fp, "</div><div class=\"verdict\">%s</div>", verdict_word(r->verdict));
+            xml_string(fp, line);
+            if (r->hint[0])
+                fputs("<br>", fp), xml_string(fp, r->hint);
+            fputs("</td>", fp);
             html_image(fp, "expected", r->expected);
             html_image(fp, "actual", r->actual);
             html_image(fp, "diff", r->diff);
@@ -404,11 +409,7 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
                       "<div class=\"showing\">actual</div></td>", fp);
             else
                 fputs("<td class=\"none\">-</td>", fp);
-            fputs("<td class=\"figures\">", fp);
-            xml_string(fp, line);
-            if (r->hint[0])
-                fputs("<br>", fp), xml_string(fp, r->hint);
-            fputs("</td></tr>\n", fp);
+            fputs("</tr>\n", fp);
         }
     /* The flip cell starts as the actual image; the button (or a click on
      * the image) swaps in the expected one, so a change blinks in place.

@@ -546,8 +546,10 @@ static int compare_folders(const struct compare_cli *c, struct sp_compare_report
 {
     struct dirent **le = NULL, **la = NULL;
     int ne = scandir(dir_e, &le, is_png_name, alphasort);
-    int na = ne < 0 ? -1 : scandir(dir_a, &la, is_png_name, alphasort);
     int ret = 0;
+    if (ne < 0 && errno == ENOENT) /* no baselines yet: all are missing */
+        ne = 0;
+    int na = ne < 0 ? -1 : scandir(dir_a, &la, is_png_name, alphasort);
     if (ne < 0 || na < 0) {
         sp_log_error("cannot list %s: %s", ne < 0 ? dir_e : dir_a, strerror(errno));
         ret = SP_E_INPUT;
@@ -583,6 +585,8 @@ static int compare_folders(const struct compare_cli *c, struct sp_compare_report
                 snprintf(pd, sizeof(pd), "%s/%.*s.diff.png", c->diff, (int)strlen(name) - 4, name);
             compare_files(c, r, name, pe, pa, c->diff ? pd : NULL);
         }
+        if (c->update != UPDATE_NONE && cmp > 0 && mkdir(dir_e, 0777) != 0 && errno != EEXIST)
+            sp_log_error("cannot create the baseline folder %s: %s", dir_e, strerror(errno));
         apply_update(c, r, pe);
         i += cmp <= 0;
         j += cmp >= 0;
@@ -647,7 +651,8 @@ int sp_cmd_compare(int argc, char **argv)
     if (ret)
         return ret > 0 ? 0 : ret;
     const char *e = argv[optind], *a = argv[optind + 1];
-    int de = is_dir(e), da = is_dir(a);
+    struct stat st;
+    int da = is_dir(a), de = is_dir(e) || (da && stat(e, &st) != 0 && errno == ENOENT);
     if (de != da) {
         sp_log_error("%s is a folder but %s is not; compare two images or two folders",
                      de ? e : a, de ? a : e);
@@ -672,7 +677,6 @@ int sp_cmd_compare(int argc, char **argv)
         ret = compare_folders(&c, &rep, e, a);
     } else {
         struct sp_compare_record *r = sp_compare_report_add(&rep);
-        struct stat st;
         if (!r) {
             ret = SP_E_NOMEM;
             goto done;

@@ -208,6 +208,63 @@ ok(r.returncode == 0 and "identical pixels" in r.stdout, f"two renders: identica
 r = run("compare", W("a.png"), W("moved.png"))
 ok(r.returncode == 1 and "ssim 0." in r.stdout, f"a moved bob: fuzzy rule, SSIM beside the counts ({r.stdout.strip()})")
 
+
+
+def read_png(path):
+    """8-bit RGB or RGBA, not interlaced (what springpend writes), to rows of RGB."""
+    d = open(path, "rb").read()
+    i, idat, hdr = 8, b"", None
+    while i < len(d):
+        n, kind = struct.unpack(">I4s", d[i:i + 8])
+        if kind == b"IHDR":
+            hdr = struct.unpack(">IIBBBBB", d[i + 8:i + 21])
+        elif kind == b"IDAT":
+            idat += d[i + 8:i + 8 + n]
+        i += 12 + n
+    width, height, bpc = hdr[0], hdr[1], {2: 3, 6: 4}[hdr[3]]
+    raw, stride, prev, rows = zlib.decompress(idat), hdr[0] * bpc, [0] * hdr[0] * bpc, []
+    for y in range(height):
+        f, line = raw[y * (stride + 1)], list(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for x in range(stride):
+            a = line[x - bpc] if x >= bpc else 0
+            b, c = prev[x], prev[x - bpc] if x >= bpc else 0
+            if f == 1:
+                line[x] = (line[x] + a) & 255
+            elif f == 2:
+                line[x] = (line[x] + b) & 255
+            elif f == 3:
+                line[x] = (line[x] + (a + b) // 2) & 255
+            elif f == 4:
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append([line[x * bpc:x * bpc + 3] for x in range(width)])
+        prev = line
+    return rows
+
+
+def ssim(e, a):
+    """Wang et al.'s SSIM on BT.601 luma, 8x8 windows every 4 px, population variances."""
+    L = lambda img: [[0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2] for p in row] for row in img]
+    le, la, c1, c2, vals = L(e), L(a), (0.01 * 255) ** 2, (0.03 * 255) ** 2, []
+    for y0 in range(0, len(le) - 7, 4):
+        for x0 in range(0, len(le[0]) - 7, 4):
+            u = [le[y][x] for y in range(y0, y0 + 8) for x in range(x0, x0 + 8)]
+            v = [la[y][x] for y in range(y0, y0 + 8) for x in range(x0, x0 + 8)]
+            mu, mv = sum(u) / 64, sum(v) / 64
+            vu = sum((p - mu) ** 2 for p in u) / 64
+            vv = sum((q - mv) ** 2 for q in v) / 64
+            cov = sum((p - mu) * (q - mv) for p, q in zip(u, v)) / 64
+            vals.append((2 * mu * mv + c1) * (2 * cov + c2) / ((mu * mu + mv * mv + c1) * (vu + vv + c2)))
+    return sum(vals) / len(vals)
+
+
+run("still", default, "--size", "96x64", "--at", "3", "-o", "s1.png", "-q")
+run("still", default, "--size", "96x64", "--at", "3.2", "-o", "s2.png", "-q")
+r = run("compare", W("s1.png"), W("s2.png"), "--json")
+got = json.loads(r.stdout)["results"][0]["measured"]["ssim"]
+want = ssim(read_png(W("s1.png")), read_png(W("s2.png")))
+ok(abs(got - want) < 1e-6 and want < 0.999, f"SSIM {got:.6f} agrees with an independent computation {want:.6f}")
+
 # Size mismatch: a failure (exit 1) with both images side by side.
 r = run("compare", W("a.png"), W("small.png"), "--diff", W("size-diff.png"), "--json")
 j = json.loads(r.stdout)

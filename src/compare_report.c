@@ -129,7 +129,7 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
         fprintf(fp, "%s: %d compared, %d passed, %d failed, %d missing or unreadable, "
                 "%d updated\n", c.failed || c.errors || rep->interrupted ? "FAIL" : "ok",
                 c.compared, c.passed, c.failed, c.errors, c.updated);
-    if (rep->interrupted)
+    if (summary && rep->interrupted)
         fprintf(fp, "interrupted after %d images\n", rep->n);
 }
 

@@ -371,5 +371,18 @@ for sig in (signal.SIGINT, signal.SIGTERM):
        f"{signal.Signals(sig).name} stops a folder compare: exit {p.returncode} "
        f"({out.strip()[-80:]})")
 
+# ... and a long video compare (180 frames of 720p, about 2 s here).
+run("render", default, "--size", "1280x720", "--fps", "30", "--set", "video.duration=6",
+    "--set", "view.panels=none", "-o", "long.mp4", "-q")
+os.link(W("long.mp4"), W("long2.mp4"))
+for sig in (signal.SIGINT, signal.SIGTERM):
+    p = subprocess.Popen([exe, "compare", W("long.mp4"), W("long2.mp4")], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, cwd=work)
+    time.sleep(0.4)
+    p.send_signal(sig)
+    out, err = p.communicate(timeout=30)
+    ok(p.returncode == 128 + sig and "interrupted at frame" in out,
+       f"{signal.Signals(sig).name} stops a video compare: exit {p.returncode} ({out.strip()[-80:]})")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -70,7 +70,8 @@ enum update_mode { UPDATE_NONE, UPDATE_MISSING, UPDATE_CHANGED, UPDATE_ALL };
 
 struct compare_cli {
     struct sp_compare_rule base;   /* the command line's rule */
-    struct sp_compare_config cfg;  /* compare.ini beside the baselines */
+    struct sp_compare_config cfg;  /* compare.ini beside the baselines; rules
+                                      note which images used them */
     const char *diff;              /* --diff, NULL = none */
     const char *html, *junit;      /* --report, --junit, NULL = none */
     enum update_mode update;
@@ -355,7 +356,7 @@ static int check_header(struct sp_compare_record *r, const char *path, int *w, i
 }
 
 /* Compares two PNG files into record r. diff_path may be NULL. */
-static void compare_files(const struct compare_cli *c, struct sp_compare_record *r,
+static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
                           const char *name, const char *expected, const char *actual,
                           const char *diff_path)
 {
@@ -541,7 +542,7 @@ static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
 
 /* Compares every PNG of folder dir_e with its namesake in dir_a; a PNG in
  * only one of them is an error (a missing render or a missing baseline). */
-static int compare_folders(const struct compare_cli *c, struct sp_compare_report *rep,
+static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
                            const char *dir_e, const char *dir_a)
 {
     struct dirent **le = NULL, **la = NULL;
@@ -694,6 +695,8 @@ int sp_cmd_compare(int argc, char **argv)
         }
         apply_update(&c, r, e);
     }
+    if (!rep.interrupted)
+        sp_compare_config_warn_unused(&c.cfg);
     if (c.json)
         sp_compare_report_json(stdout, &rep);
     else

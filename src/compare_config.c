@@ -90,7 +90,8 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
 struct config_ctx {
     struct sp_compare_config *cfg;
     struct sp_ini_lines lines;
-    int handled, errors, nomem;
+    int section_line; /* of the last [header] read */
+    int errors, nomem;
 };
 
 static char *read_line(char *str, int num, void *stream)
@@ -98,6 +99,8 @@ static char *read_line(char *str, int num, void *stream)
     struct config_ctx *c = stream;
     size_t len;
     char *s = sp_ini_lines_next(&c->lines, str, num, &len);
+    if (s && s[strspn(s, " \t")] == '[')
+        c->section_line = c->lines.line;
     if (s && len) {
         fprintf(stderr, "%s:%d: line is %zu bytes long; at most %d are allowed\n",
                 c->cfg->path, c->lines.line, len, num - 2);
@@ -110,7 +113,17 @@ static int handle(void *user, const char *section, const char *name, const char 
 {
     struct config_ctx *c = user;
     struct sp_compare_config *cfg = c->cfg;
-    char why[256];
+    char why[256], v[256];
+    /* An inline comment starts at whitespace then '#' or ';', as in scenes. */
+    snprintf(v, sizeof(v), "%s", value);
+    for (char *p = v; *p; p++)
+        if ((*p == '#' || *p == ';') && p > v && (p[-1] == ' ' || p[-1] == '\t')) {
+            *p = 0;
+            break;
+        }
+    for (size_t n = strlen(v); n && (v[n - 1] == ' ' || v[n - 1] == '\t');)
+        v[--n] = 0;
+    value = v;
     if (!section[0]) {
         fprintf(stderr, "%s:%d: '%s' comes before any section; put it under [*] (every "
                 "image) or [NAME.png]\n", cfg->path, c->lines.line, name);
@@ -134,7 +147,7 @@ static int handle(void *user, const char *section, const char *name, const char 
         r += cfg->n_rules++;
         memset(r, 0, sizeof(*r));
         snprintf(r->name, sizeof(r->name), "%s", section);
-        r->line = c->lines.line;
+        r->line = c->section_line;
     }
     if (sp_compare_rule_set(&cfg->rules[cfg->n_rules - 1], name, value, why, sizeof(why))) {
         fprintf(stderr, "%s:%d: %s\n", cfg->path, c->lines.line, why);
@@ -206,13 +219,13 @@ static void apply(const struct sp_compare_rule *r, struct sp_compare_opts *o)
         o->tol = r->opts.tol;
 }
 
-void sp_compare_config_resolve(const struct sp_compare_config *cfg, const char *name,
+void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
                                const struct sp_compare_opts *base,
                                struct sp_compare_opts *opts,
                                const struct sp_compare_mask **masks, int *n_masks,
                                const struct sp_compare_mask **star_masks, int *n_star_masks)
 {
-    const struct sp_compare_rule *star = NULL, *own = NULL;
+    struct sp_compare_rule *star = NULL, *own = NULL;
     for (int i = 0; i < cfg->n_rules; i++) {
         if (!strcmp(cfg->rules[i].name, "*"))
             star = &cfg->rules[i];
@@ -220,6 +233,8 @@ void sp_compare_config_resolve(const struct sp_compare_config *cfg, const char *
             own = &cfg->rules[i];
     }
     *opts = *base;
+    if (own)
+        own->used = 1;
     if (star)
         apply(star, opts);
     if (own)
@@ -228,6 +243,14 @@ void sp_compare_config_resolve(const struct sp_compare_config *cfg, const char *
     *n_masks = own ? own->n_masks : 0;
     *star_masks = star ? star->masks : NULL;
     *n_star_masks = star ? star->n_masks : 0;
+}
+
+void sp_compare_config_warn_unused(const struct sp_compare_config *cfg)
+{
+    for (int i = 0; i < cfg->n_rules; i++)
+        if (!cfg->rules[i].used && strcmp(cfg->rules[i].name, "*"))
+            fprintf(stderr, "%s:%d: warning: [%s] matches no compared image\n", cfg->path,
+                    cfg->rules[i].line, cfg->rules[i].name);
 }
 
 void sp_compare_config_free(struct sp_compare_config *cfg)

@@ -318,6 +318,16 @@ r = run("compare", base, act)
 ok(r.returncode == 2 and "compare.ini:4: mask 1, 2, -3, 4" in r.stderr
    and "compare.ini:5: unknown key 'max_dif'" in r.stderr,
    f"compare.ini errors say FILE:LINE ({r.stderr.strip()})")
+# The README's compare.ini, as printed there, parses; [chart.png] names no
+# image here and is warned about.
+readme = open(os.path.join(src, "..", "README.md")).read()
+example = next(b for b in readme.split("```ini\n")[1:] if "[hud.png]" in b).split("```")[0]
+with open(os.path.join(base, "compare.ini"), "w") as f:
+    f.write(example.replace("hud.png", "two.png"))
+r = run("compare", base, act)
+ok(r.returncode == 0 and "pixels masked" in r.stdout
+   and "compare.ini:6: warning: [chart.png] matches no compared image" in r.stderr,
+   f"the README's compare.ini works as printed ({r.stderr.strip()})")
 os.remove(os.path.join(base, "compare.ini"))
 
 # --update: never without asking; missing, changed, all.

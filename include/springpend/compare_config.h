@@ -29,6 +29,7 @@ struct sp_compare_rule {
     unsigned set;                /* SP_COMPARE_SET_* bits */
     struct sp_compare_mask masks[SP_COMPARE_MAX_MASKS];
     int n_masks;
+    int used;                    /* a compared image matched it */
 };
 
 #define SP_COMPARE_SET_METRIC 1u
@@ -55,11 +56,15 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir);
 
 /* The options and masks for image `name`: base (the command line), then
  * [*], then [name]. masks points into cfg (or is NULL). */
-void sp_compare_config_resolve(const struct sp_compare_config *cfg, const char *name,
+void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
                                const struct sp_compare_opts *base,
                                struct sp_compare_opts *opts,
                                const struct sp_compare_mask **masks, int *n_masks,
                                const struct sp_compare_mask **star_masks, int *n_star_masks);
+
+/* Warns (stderr, FILE:LINE) about [file] sections that matched no image:
+ * a misspelt name would otherwise be ignored in silence. */
+void sp_compare_config_warn_unused(const struct sp_compare_config *cfg);
 
 void sp_compare_config_free(struct sp_compare_config *cfg);
 

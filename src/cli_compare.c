@@ -24,6 +24,7 @@
 #include "springpend/compare_report.h"
 #include "springpend/image_compare.h"
 #include "springpend/png_io.h"
+#include "springpend/scene.h"
 #include "springpend/video_read.h"
 
 static const char compare_usage[] =
@@ -316,8 +317,8 @@ static void note_provenance(struct sp_compare_record *r)
                 if (r->n_changes < SP_COMPARE_MAX_CHANGES) {
                     struct sp_scene_change *ch = &r->changes[r->n_changes++];
                     snprintf(ch->key, sizeof(ch->key), "%s", key);
-                    snprintf(ch->expected, sizeof(ch->expected), "%s", ve);
-                    snprintf(ch->actual, sizeof(ch->actual), "%s", va);
+                    sp_scene_canonical_display(key, ve, ch->expected, sizeof(ch->expected));
+                    sp_scene_canonical_display(key, va, ch->actual, sizeof(ch->actual));
                 } else {
                     r->more_changes++;
                 }

@@ -710,3 +710,63 @@ void sp_scene_print_keys(void)
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
     }
 }
+
+void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
+{
+    static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
+                                              "poincare", "modes"};
+    static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
+                                          SP_PANEL_EXTENSION,
+                                          SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
+                                          SP_PANEL_POINCARE, SP_PANEL_MODES};
+    char section[64];
+    const char *dot = strchr(key, '.');
+    const struct key_info *k = NULL;
+    char *end;
+    double v = strtod(value, &end);
+    snprintf(buf, size, "%s", value);
+    if (dot && (size_t)(dot - key) < sizeof(section)) {
+        snprintf(section, sizeof(section), "%.*s", (int)(dot - key), key);
+        k = find_key(section, dot + 1);
+    }
+    if (!k || end == value || *end)
+        return;
+    switch (k->kind) {
+    case KEY_REAL: snprintf(buf, size, "%.10g", v); break;
+    case KEY_DEGREES: snprintf(buf, size, "%.10g", v * (180.0 / M_PI)); break;
+    case KEY_BOOL: snprintf(buf, size, "%s", v != 0 ? "true" : "false"); break;
+    case KEY_CHOICE: {
+        const char *w = k->unit;
+        for (int i = 0; i < (int)v && *w; i++)
+            w += strcspn(w, ","), w += strspn(w, ", ");
+        if (*w)
+            snprintf(buf, size, "%.*s", (int)strcspn(w, ","), w);
+        break;
+    }
+    case KEY_COLOR:
+        if ((int)v == SP_BACKGROUND_THEME)
+            snprintf(buf, size, "theme");
+        else if ((int)v == SP_BACKGROUND_TRANSPARENT)
+            snprintf(buf, size, "transparent");
+        else
+            snprintf(buf, size, "#%06x", (unsigned)v);
+        break;
+    case KEY_TRAIL:
+        if ((int)v == SP_TRAIL_ALL)
+            snprintf(buf, size, "all");
+        break;
+    case KEY_PANELS: {
+        unsigned bits = (unsigned)strtoul(value, NULL, 0);
+        size_t used = 0;
+        buf[0] = 0;
+        for (int i = 0; i < 7; i++)
+            if (bits & panel_bits[i] && used < size)
+                used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
+                                         panel_names[i]);
+        if (!bits)
+            snprintf(buf, size, "none");
+        break;
+    }
+    default: break;
+    }
+}

@@ -277,8 +277,16 @@ ok(r.returncode == 1 and rec["size_mismatch"] and rec["verdict"] == "fail"
 
 # Provenance: the scene keys that changed, with both values.
 r = run("compare", W("a.png"), W("damped.png"))
-ok(r.returncode == 1 and "scene: pendulum.damping = 0 (expected) vs 0.10000000000000001 (actual)"
+ok(r.returncode == 1 and "scene: pendulum.damping = 0 (expected) vs 0.1 (actual)"
    in r.stdout, f"a changed scene names the key and both values ({r.stdout.strip()[-300:]})")
+
+run("still", default, "--size", "320x240", "--at", "3", "--set", "view.theme=light", "--set",
+    "initial.angle=12", "--set", "view.panels=r,energy", "-o", "looks.png", "-q")
+r = run("compare", W("a.png"), W("looks.png"), "--json")
+ch = {c["key"]: (c["expected"], c["actual"]) for c in json.loads(r.stdout)["results"][0]["scene_changes"]}
+ok(ch == {"initial.angle": ("10", "12"), "view.theme": ("dark", "light"),
+          "view.panels": ("r, theta, energy, extension", "r, energy")},
+   f"scene changes as a scene file spells them (degrees, names, panel lists): {ch}")
 
 # JSON: one schema for a pair and for folders; a list of results always.
 r1 = json.loads(run("compare", W("a.png"), W("moved.png"), "--json").stdout)

@@ -10,6 +10,7 @@
 #include <libgen.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -425,6 +426,21 @@ done:
     sp_image_free(&d);
 }
 
+/* One frame read on another thread. */
+struct read_job {
+    struct sp_video_reader *r;
+    struct sp_image img; /* the frame, owned by r */
+    double t;            /* its time, s */
+    int ret;             /* sp_video_reader_read's */
+};
+
+static void *read_job_run(void *arg)
+{
+    struct read_job *j = arg;
+    j->ret = sp_video_reader_read(j->r, &j->img, &j->t);
+    return NULL;
+}
+
 /* Frame times that differ by more than this are a failure, s: well under
  * a frame at any rate a video has. */
 #define FRAME_TIME_SLACK 5e-4
@@ -449,8 +465,20 @@ static int compare_videos(const struct compare_cli *c, struct sp_compare_record 
         ret = record_error(r, "cannot read %s", ve ? actual : expected);
         goto done;
     }
-    while ((ge = sp_video_reader_read(ve, &fe, &te)) == 1 &&
-           (ga = sp_video_reader_read(va, &fa, &ta)) == 1) {
+    for (;;) {
+        /* The two decoders run at once, one on a thread of its own: the
+         * decoding and conversion are most of the time. */
+        struct read_job job = {.r = ve};
+        pthread_t th;
+        int threaded = pthread_create(&th, NULL, read_job_run, &job) == 0;
+        if (!threaded)
+            read_job_run(&job);
+        ga = sp_video_reader_read(va, &fa, &ta);
+        if (threaded)
+            pthread_join(th, NULL);
+        ge = job.ret, fe = job.img, te = job.t;
+        if (ge != 1 || ga != 1)
+            break;
         if (sp_interrupted()) {
             ret = record_error(r, "interrupted at frame %d", r->frames);
             ret = SP_E_INTERRUPTED;
@@ -490,11 +518,11 @@ static int compare_videos(const struct compare_cli *c, struct sp_compare_record 
         }
         r->frames++;
     }
-    if (ge < 0 || (ge == 1 && ga < 0)) {
+    if (ge < 0 || ga < 0) {
         ret = record_error(r, "cannot decode %s", ge < 0 ? expected : actual);
         goto done;
     }
-    if (ge == 1 || (ge == 0 && sp_video_reader_read(va, &fa, NULL) == 1)) {
+    if (ge != ga) {
         if (ge == 1)
             ret = record_error(r, "%s ends after %d frames; %s has more", actual, r->frames,
                                expected);

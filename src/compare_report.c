@@ -2,6 +2,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
@@ -361,8 +362,17 @@ static int row_rank(const struct sp_compare_record *r)
 
 static void html_image(FILE *fp, const char *cls, const char *path)
 {
+    size_t n = strlen(path);
     if (!path[0]) {
         fprintf(fp, "<td class=\"%s none\">none</td>", cls);
+        return;
+    }
+    if (n < 4 || strcasecmp(path + n - 4, ".png")) { /* a video: named, not shown */
+        fprintf(fp, "<td class=\"%s\"><a href=\"", cls);
+        xml_string(fp, path);
+        fputs("\">", fp);
+        xml_string(fp, path);
+        fputs("</a></td>", fp);
         return;
     }
     fprintf(fp, "<td class=\"%s\"><img alt=\"%s\" src=\"", cls, cls);
@@ -407,7 +417,7 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
             html_image(fp, "expected", r->expected);
             html_image(fp, "actual", r->actual);
             html_image(fp, "diff", r->diff);
-            if (r->expected[0] && r->actual[0])
+            if (r->expected[0] && r->actual[0] && r->frames == 0)
                 fputs("<td class=\"flipcell\"><button class=\"flip\" type=\"button\">"
                       "show expected</button><img class=\"flipimg\" alt=\"actual\" src=\"\">"
                       "<div class=\"showing\">actual</div></td>", fp);

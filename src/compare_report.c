@@ -281,8 +281,13 @@ static void record_line(const struct sp_compare_record *r, char *buf, size_t siz
         return;
     if (r->verdict == SP_VERDICT_ERROR)
         fprintf(m, "%s", r->error);
-    else if (r->compared)
+    else if (r->frames > 0)
+        fprintf(m, "%d of %d frames differ; worst frame %d: ", r->failed_frames, r->frames,
+                r->worst_frame);
+    if (r->verdict != SP_VERDICT_ERROR && r->compared)
         text_figures(m, r);
+    for (int k = 0; k < r->n_notes; k++)
+        fprintf(m, "; %s", r->notes[k]);
     for (int k = 0; k < r->n_changes; k++)
         fprintf(m, "%sscene %s: %s vs %s", k || r->compared ? "; " : "", r->changes[k].key,
                 r->changes[k].expected, r->changes[k].actual);

@@ -377,6 +377,13 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
     if (check_header(r, expected, &r->expected_w, &r->expected_h) ||
         check_header(r, actual, &r->actual_w, &r->actual_h))
         goto done;
+    if ((r->expected_w != r->actual_w || r->expected_h != r->actual_h) && !diff_path) {
+        /* The headers decide; only a diff image would need the pixels. */
+        r->compared = r->size_mismatch = 1;
+        r->verdict = SP_VERDICT_FAIL;
+        note_provenance(r);
+        goto done;
+    }
     if (sp_png_read(expected, &e) != 0) {
         record_error(r, "cannot read %s", expected);
         goto done;

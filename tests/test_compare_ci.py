@@ -133,17 +133,23 @@ huge = W("huge.png")
 with open(huge, "wb") as f:
     f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 100000, 100000, 8, 2, 0, 0, 0))
             + chunk(b"IDAT", zlib.compress(b"\0" * 10)) + chunk(b"IEND", b""))
-# A real decompression bomb: 20000x20000 RGB of zeros, about 1.2 MB: one
-# deflate chunk full-flushed and repeated, so it takes no time to make.
-row = b"\0" * (20000 * 3 + 1)
-c = zlib.compressobj(9, zlib.DEFLATED, -15)
-piece = c.compress(row * 100) + c.flush(zlib.Z_FULL_FLUSH)
-body = b"\x78\xda" + piece * 200 + zlib.compressobj(9, zlib.DEFLATED, -15).flush()
-body += struct.pack(">I", ((len(row) * 20000) % 65521) << 16 | 1)  # adler32 of zeros
-bomb = W("bomb.png")
-with open(bomb, "wb") as f:
-    f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 20000, 20000, 8, 2, 0, 0, 0))
-            + chunk(b"IDAT", body) + chunk(b"IEND", b""))
+
+
+def zeros_png(path, w, h):
+    """A real w x h RGB PNG of zeros, a decompression bomb when large: one
+    deflate piece of 100 rows, full-flushed and repeated, so it is quick to make."""
+    row = b"\0" * (w * 3 + 1)
+    c = zlib.compressobj(9, zlib.DEFLATED, -15)
+    piece = c.compress(row * 100) + c.flush(zlib.Z_FULL_FLUSH)
+    body = b"\x78\xda" + piece * (h // 100) + zlib.compressobj(9, zlib.DEFLATED, -15).flush()
+    body += struct.pack(">I", ((len(row) * h) % 65521) << 16 | 1)  # adler32 of zeros
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+                + chunk(b"IDAT", body) + chunk(b"IEND", b""))
+    return path
+
+
+bomb = zeros_png(W("bomb.png"), 20000, 20000)
 for what, path, size in (("a tiny PNG declaring 100000x100000", huge, os.path.getsize(huge)),
                          ("a 20000x20000 decompression bomb", bomb, os.path.getsize(bomb))):
     # The peak memory of the child alone: measured in a fresh process.
@@ -274,6 +280,19 @@ dims = json.loads(ident.stdout)["results"][0]["measured"]["actual_size"]
 ok(r.returncode == 1 and rec["size_mismatch"] and rec["verdict"] == "fail"
    and dims == [320 + 8 + 160, 240],
    f"sizes differ: exit 1, side-by-side diff {dims} ({rec.get('error')})")
+
+# Without --diff a size mismatch is decided from the headers: an actual
+# image of 9000x9000 (81 Mpx, under the limit) is not decoded.
+big = zeros_png(W("big9000.png"), 9000, 9000)
+probe = subprocess.run([sys.executable, "-c",
+                        "import resource, subprocess, sys; "
+                        "r = subprocess.run(sys.argv[1:], capture_output=True, text=True); "
+                        "print(r.returncode, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss); "
+                        "print(r.stdout)", exe, "compare", W("a.png"), big],
+                       capture_output=True, text=True, timeout=60)
+rc, rss = (int(v) for v in probe.stdout.split("\n")[0].split())
+ok(rc == 1 and "actual 9000x9000" in probe.stdout and rss < 100 * 1024,
+   f"a size mismatch without --diff is decided from the headers: exit 1, peak RSS {rss // 1024} MiB")
 
 # Provenance: the scene keys that changed, with both values.
 r = run("compare", W("a.png"), W("damped.png"))

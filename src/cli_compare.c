@@ -487,7 +487,7 @@ static int compare_videos(const struct compare_cli *c, struct sp_compare_record 
         if (ge != 1 || ga != 1)
             break;
         if (sp_interrupted()) {
-            ret = record_error(r, "interrupted at frame %d", r->frames);
+            record_error(r, "interrupted at frame %d", r->frames);
             ret = SP_E_INTERRUPTED;
             goto done;
         }

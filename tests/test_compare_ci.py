@@ -280,6 +280,12 @@ dims = json.loads(ident.stdout)["results"][0]["measured"]["actual_size"]
 ok(r.returncode == 1 and rec["size_mismatch"] and rec["verdict"] == "fail"
    and dims == [320 + 8 + 160, 240],
    f"sizes differ: exit 1, side-by-side diff {dims} ({rec.get('error')})")
+d, ea, sm = read_png(W("size-diff.png")), read_png(W("a.png")), read_png(W("small.png"))
+tint = lambda p: [(p[0] + 255) // 2, p[1] // 2, (p[2] + 255) // 2]
+ok(d[10][10] == ea[10][10] and d[200][300] == tint(ea[200][300])
+   and d[100][328 + 50] == sm[100][50] and d[200][328 + 50] == [48, 48, 48],
+   "the side-by-side diff: the shared area as it is, the expected image's extra area tinted "
+   "magenta, the actual image beside it")
 
 # Without --diff a size mismatch is decided from the headers: an actual
 # image of 9000x9000 (81 Mpx, under the limit) is not decoded.

@@ -370,8 +370,10 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
     snprintf(r->name, sizeof(r->name), "%s", name);
     snprintf(r->expected, sizeof(r->expected), "%s", expected);
     snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    sp_compare_config_resolve(&c->cfg, name, &c->base.opts, &opts, &masks, &n_masks,
-                              &star_masks, &n_star_masks);
+    /* compare.ini names images by the baseline's file name. */
+    const char *slash = strrchr(expected, '/');
+    sp_compare_config_resolve(&c->cfg, slash ? slash + 1 : expected, &c->base.opts, &opts,
+                              &masks, &n_masks, &star_masks, &n_star_masks);
     r->metric = opts.metric;
     /* Both headers first: nothing is decoded that is too large. */
     if (check_header(r, expected, &r->expected_w, &r->expected_h) ||
@@ -454,7 +456,7 @@ static void *read_job_run(void *arg)
 
 /* Compares two videos frame by frame, times included, into record r: the
  * figures are the worst frame's; --diff gets its diff image. */
-static int compare_videos(const struct compare_cli *c, struct sp_compare_record *r,
+static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
                           const char *expected, const char *actual, const char *diff_path)
 {
     struct sp_video_reader *ve = NULL, *va = NULL;
@@ -463,10 +465,16 @@ static int compare_videos(const struct compare_cli *c, struct sp_compare_record 
     int ret, ge, ga = 0, timing_noted = 0;
     double worst_score = -1, te = 0, ta = 0, te0 = NAN, ta0 = NAN;
 
+    struct sp_compare_opts opts;
+    const struct sp_compare_mask *masks, *star_masks;
+    int n_masks, n_star_masks;
+    const char *slash = strrchr(expected, '/');
     snprintf(r->name, sizeof(r->name), "%s", actual);
     snprintf(r->expected, sizeof(r->expected), "%s", expected);
     snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    r->metric = c->base.opts.metric;
+    sp_compare_config_resolve(&c->cfg, slash ? slash + 1 : expected, &c->base.opts, &opts,
+                              &masks, &n_masks, &star_masks, &n_star_masks);
+    r->metric = opts.metric;
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
         (ret = sp_video_reader_open(&va, actual)) != 0) {
         ret = record_error(r, "cannot read %s", ve ? actual : expected);
@@ -505,7 +513,11 @@ static int compare_videos(const struct compare_cli *c, struct sp_compare_record 
             snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
                      "frame %d is at %.4f s in the expected video, %.4f s in the actual one",
                      r->frames, te, ta);
-        ret = sp_compare_images(&fe, &fa, &c->base.opts, &res, diff_path ? &d : NULL);
+        /* The reader owns fa's pixels until its next read: masks may
+         * overwrite them. */
+        r->masked_pixels = sp_compare_apply_masks(&fe, &fa, star_masks, n_star_masks) +
+                           sp_compare_apply_masks(&fe, &fa, masks, n_masks);
+        ret = sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
         if (ret) {
             ret = record_error(r, "comparison failed");
             goto done;

@@ -397,6 +397,24 @@ ok(r.returncode == 1 and v.get("failed_frames") == v.get("frames") - 1
    and round(v.get("expected_fps", 0)) == 30 and round(v.get("actual_fps", 0)) == 15,
    f"the same frames retimed to 15 fps differ ({v}, {rec.get('notes')})")
 
+# compare.ini also applies to a single pair and to videos, by the
+# baseline's file name.
+cfg_dir = W("cfg")
+os.makedirs(cfg_dir)
+for name, extra in (("v.mp4", []), ("v11.mp4", ["--set", "initial.angle=30"])):
+    run("render", default, "--size", "160x120", "--set", "video.duration=0.4", "--fps", "30",
+        *extra, "-o", os.path.join(cfg_dir, name), "-q")
+shutil.copy(W("a.png"), os.path.join(cfg_dir, "a.png"))
+r1 = run("compare", os.path.join(cfg_dir, "a.png"), W("moved.png"))
+r2 = run("compare", os.path.join(cfg_dir, "v.mp4"), os.path.join(cfg_dir, "v11.mp4"))
+with open(os.path.join(cfg_dir, "compare.ini"), "w") as f:
+    f.write("[a.png]\nmax_pixels = 100%\n[v.mp4]\nmask = 0, 0, 160, 120\n")
+r3 = run("compare", os.path.join(cfg_dir, "a.png"), W("moved.png"))
+r4 = run("compare", os.path.join(cfg_dir, "v.mp4"), os.path.join(cfg_dir, "v11.mp4"))
+ok((r1.returncode, r2.returncode, r3.returncode, r4.returncode) == (1, 1, 0, 0)
+   and "19200 pixels masked" in r4.stdout,
+   f"compare.ini beside a single pair and beside videos ({r3.stdout.strip()} | {r4.stdout.strip()})")
+
 # Signals: a long folder compare stops at once with 128 + signal.
 big_e, big_a = W("big_e"), W("big_a")
 os.makedirs(big_e), os.makedirs(big_a)

@@ -1,6 +1,7 @@
 /* springpend: per-image tolerances and masks for `springpend compare`, in a
  * file named compare.ini beside the baselines (the EXPECTED folder, or the
- * expected image's folder). Same INI syntax as scenes:
+ * expected image's or video's folder), sections naming the baseline's file
+ * name. Same INI syntax as scenes:
  *
  *     [*]                   # every image
  *     max_diff = 4

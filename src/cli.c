@@ -269,19 +269,3 @@ int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *sc
     }
     return sp_cli_check_writable(buf, "output");
 }
-
-/* Prints s as a JSON string. */
-void sp_cli_json_string(const char *s)
-{
-    putchar('"');
-    for (; *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        if (ch == '"' || ch == '\\')
-            printf("\\%c", ch);
-        else if (ch < 0x20)
-            printf("\\u%04x", ch);
-        else
-            putchar(ch);
-    }
-    putchar('"');
-}

@@ -62,9 +62,6 @@ int sp_cli_same_file(const char *a, const char *b);
  * Looks only; creates nothing. `what` names the option ("-o"). */
 int sp_cli_check_writable(const char *path, const char *what);
 
-/* Prints s to stdout as a JSON string, quotes and escapes included. */
-void sp_cli_json_string(const char *s);
-
 int sp_cmd_render(int argc, char **argv);
 int sp_cmd_still(int argc, char **argv);
 int sp_cmd_data(int argc, char **argv);

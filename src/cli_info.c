@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "springpend/advice.h"
+#include "springpend/compare_report.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
 
@@ -177,7 +178,7 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
 {
     const int fixed = !sp_method_info(sc->integrator.method)->adaptive;
     printf("{\n  \"scene\": ");
-    sp_cli_json_string(sc->name);
+    sp_report_json_string(stdout, sc->name);
     printf(",\n");
     json_num("equilibrium_length", in->ph.ell, 0);
     json_num("omega_spring", in->ph.omega_s, 0);

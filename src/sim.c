@@ -461,10 +461,13 @@ static double initial_step(struct sp_sim *sim, int order)
 
 /* The energy of the motion in a state of total energy `total` whose terms
  * add up to `size` in magnitude, J: total - energy_min, and never below the
- * rounding of its terms (a bob hanging still has none). */
+ * rounding of its terms or of the scene's energy scales (a bob at rest has
+ * none: hanging still at l, or at L0 without gravity). */
 static double motion_energy(const struct sp_sim *sim, double total, double size)
 {
-    return fmax(total - sim->energy_min, 1e-12 * (size + fabs(sim->energy_min)));
+    const double L0 = sim->p.L0;
+    return fmax(total - sim->energy_min,
+                1e-12 * (size + fabs(sim->energy_min) + sim->p.stiffness * L0 * L0));
 }
 
 void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)

@@ -104,6 +104,13 @@ for dt, dur, every in [("2.9e-4", 1, "1e-4"), ("2.7718e-4", 1.8, "0.01")]:
     ok(r.returncode == 3 and worst <= 0.01,
        f"stiff scene at dt {dt}: exit {r.returncode} (3 wanted), {len(rows)} rows written, "
        f"worst drift {worst:.2e} of the motion's energy {e0 - emin:.4g} J (<= 1%)")
+# A bob at rest has no motion to judge drift against: it must not be "unstable".
+rest = [("hanging still at l", {"initial.length": 0.5 + 0.5 * G / 2, "initial.angle": 0}),
+        ("at L0 without gravity", {"pendulum.gravity": 0, "initial.length": 0.5})]
+for name, d in rest:
+    codes = {m: run("data", DEFAULT, "-o", "-", "--every", "1", *sets({**d, "integrator.method": m})).returncode
+             for m in ("rk4", "verlet", "yoshida4", "dopri5", "dop853", "rkn1210")}
+    ok(set(codes.values()) == {0}, f"a bob at rest, {name}: every method exits 0 ({codes})")
 r = run("still", DEFAULT, "--at", "1", "-o", "late.png", "--state", "late.json", "-q",
         *sets({**stiff, "integrator.dt": "2.7718e-4", "video.duration": 2}))
 ok(r.returncode == 3 and not os.path.exists(os.path.join(work, "late.png"))

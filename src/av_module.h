@@ -8,7 +8,9 @@
 /* The address of `symbol` in the module, loading it on the first call; NULL
  * (logged) if it cannot be loaded or lacks the symbol. Not thread-safe on
  * the first call. The module is looked for beside the executable (the build
- * tree), one folder up (tests), then in SP_MODULE_DIR (installed). */
+ * tree), one folder up (tests), at SP_MODULE_RELDIR from the executable's
+ * folder (installed, wherever the prefix now is: found through
+ * /proc/self/exe), then in SP_MODULE_DIR (the configured prefix). */
 void *sp_av_module_symbol(const char *symbol);
 
 #endif

@@ -158,6 +158,9 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
     return sp_cli_check_writable(o->state, "--state");
 }
 
+/* The longest video render and still make and show, frames. */
+#define SP_MAX_VIDEO_FRAMES 1000000
+
 static int run(int argc, char **argv, int still)
 {
     struct sp_cli_options o;
@@ -171,6 +174,13 @@ static int run(int argc, char **argv, int still)
         snprintf(ext, sizeof(ext), ".%s", o.format);
     if (!ret)
         ret = sp_cli_output_path(&o, &scene, still ? ".png" : ext, out, sizeof(out));
+    /* a still too: its camera, trail and charts span the video's frames */
+    if (!ret && sp_scene_frame_count(&scene) > SP_MAX_VIDEO_FRAMES) {
+        sp_log_error("video.duration * video.fps / video.speed = %d frames; at most %d are "
+                     "allowed in a video (about 4.6 hours at 60 fps)",
+                     sp_scene_frame_count(&scene), SP_MAX_VIDEO_FRAMES);
+        ret = SP_E_INPUT;
+    }
     if (!ret && !still)
         ret = sp_cli_frame_range(&o, sp_scene_frame_count(&scene), &first, &last);
     if (!ret && still)

@@ -198,8 +198,9 @@ int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
                sizeof(*h->crossings), "Poincare points");
     if (err)
         return err;
-    /* At x = 0: r = |y| = -y, r' = (x vx + y vy) / r = -vy. */
-    h->crossings[h->n_crossings++] = (struct sp_crossing){a->t + hi * dt, -y, -vy};
+    /* At x = 0: r = |y| = -y, r' = (x vx + y vy) / r = -vy,
+     * theta' = (x vy - y vx) / r^2 = vx / r. */
+    h->crossings[h->n_crossings++] = (struct sp_crossing){a->t + hi * dt, -y, -vy, vx / -y};
     return 0;
 }
 
@@ -208,6 +209,8 @@ static int push_sample(struct sp_history *h, const struct sp_sim *sim)
 {
     struct sp_polar pol;
     struct sp_energy e;
+    if (h->crossings_only)
+        return 0;
     int err = grow((void **)&h->samples, &h->capacity, h->count, sizeof(*h->samples),
                    "panel samples");
     if (err)

@@ -17,9 +17,12 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
+#include "ini_lines.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
-#define SP_MAX_FRAMES 1000000 /* about 4.6 hours at 60 fps */
+/* Frame times are indexed by int; what a command makes of them has its own
+ * limit (render: video frames, data: rows). */
+#define SP_MAX_FRAMES 1000000000
 #define SP_MAX_RATE2 1e24  /* k/m and b/m, 1/s^2 and 1/s: omega up to 1e12 rad/s */
 #define SP_MAX_STRETCH 1e9 /* m g / k, m: beyond it nothing is on screen */
 
@@ -444,31 +447,22 @@ static void protect_colour(char *line)
 static char *read_line(char *str, int num, void *stream)
 {
     struct parse_ctx *c = stream;
-    check_previous_line(c);
-    if (!*c->cursor)
-        return NULL;
+    struct sp_ini_lines l = {c->cursor, c->line};
     const char *start = c->cursor;
-    size_t len = strcspn(start, "\r\n");
-    /* LF, CRLF, and CR alone (old Mac files) end a line; a lone CR is
-     * handed to inih as LF. */
-    int lone_cr = start[len] == '\r' && start[len + 1] != '\n';
-    len += start[len] == '\r' && start[len + 1] == '\n' ? 2 : start[len] ? 1 : 0;
-    c->cursor += len;
-    c->line++;
+    size_t len;
+    check_previous_line(c);
+    if (!sp_ini_lines_next(&l, str, num, &len))
+        return NULL;
+    c->cursor = l.cursor, c->line = l.line;
     c->line_handled = 0;
-    if (len + 1 > (size_t)num) {
+    if (len) {
         const char *q = start + strspn(start, " \t");
         if (*q != '#' && *q != ';') /* long comments are fine */
             report(c, c->line, "line is %zu bytes long; at most %d are allowed "
                    "for a key = value line", len, num - 2);
         c->line_has_content = 0;
-        snprintf(str, (size_t)num, "#\n");
         return str;
     }
-    memcpy(str, start, len);
-    str[len] = 0;
-    if (lone_cr)
-        str[len - 1] = '\n';
     protect_colour(str);
     c->line_has_content = line_has_content(c, str);
     return str;
@@ -571,8 +565,8 @@ static void validate_whole(struct parse_ctx *c)
         report(c, 0, "video.duration * video.fps / video.speed = %g frames; at least "
                "1 frame is needed (raise video.duration or lower video.speed)", frames);
     else if (frames > SP_MAX_FRAMES)
-        report(c, 0, "video.duration * video.fps / video.speed = %.3g frames; at most "
-               "%d are allowed", frames, SP_MAX_FRAMES);
+        report(c, 0, "video.duration * video.fps / video.speed = %.3g frame times; at "
+               "most %d are allowed", frames, SP_MAX_FRAMES);
     /* Quantities the simulation derives must be finite: k/m and b/m set
      * the time scales, m g / k the static stretch. Printed by their inputs,
      * which are finite. */
@@ -794,5 +788,65 @@ void sp_scene_print_keys(void)
                    k->kind == KEY_BOOL ? "false" : k->kind == KEY_COLOR ? "theme" : k->unit, range);
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
+    }
+}
+
+void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
+{
+    static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
+                                              "poincare", "modes"};
+    static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
+                                          SP_PANEL_EXTENSION,
+                                          SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
+                                          SP_PANEL_POINCARE, SP_PANEL_MODES};
+    char section[64];
+    const char *dot = strchr(key, '.');
+    const struct key_info *k = NULL;
+    char *end;
+    double v = strtod(value, &end);
+    snprintf(buf, size, "%s", value);
+    if (dot && (size_t)(dot - key) < sizeof(section)) {
+        snprintf(section, sizeof(section), "%.*s", (int)(dot - key), key);
+        k = find_key(section, dot + 1);
+    }
+    if (!k || end == value || *end)
+        return;
+    switch (k->kind) {
+    case KEY_REAL: snprintf(buf, size, "%.10g", v); break;
+    case KEY_DEGREES: snprintf(buf, size, "%.10g", v * (180.0 / M_PI)); break;
+    case KEY_BOOL: snprintf(buf, size, "%s", v != 0 ? "true" : "false"); break;
+    case KEY_CHOICE: {
+        const char *w = k->unit;
+        for (int i = 0; i < (int)v && *w; i++)
+            w += strcspn(w, ","), w += strspn(w, ", ");
+        if (*w)
+            snprintf(buf, size, "%.*s", (int)strcspn(w, ","), w);
+        break;
+    }
+    case KEY_COLOR:
+        if ((int)v == SP_BACKGROUND_THEME)
+            snprintf(buf, size, "theme");
+        else if ((int)v == SP_BACKGROUND_TRANSPARENT)
+            snprintf(buf, size, "transparent");
+        else
+            snprintf(buf, size, "#%06x", (unsigned)v);
+        break;
+    case KEY_TRAIL:
+        if ((int)v == SP_TRAIL_ALL)
+            snprintf(buf, size, "all");
+        break;
+    case KEY_PANELS: {
+        unsigned bits = (unsigned)strtoul(value, NULL, 0);
+        size_t used = 0;
+        buf[0] = 0;
+        for (int i = 0; i < 7; i++)
+            if (bits & panel_bits[i] && used < size)
+                used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
+                                         panel_names[i]);
+        if (!bits)
+            snprintf(buf, size, "none");
+        break;
+    }
+    default: break;
     }
 }

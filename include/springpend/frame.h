@@ -66,9 +66,10 @@ struct sp_history_sample {
 
 /* A Poincare point: the bob passing theta = 0 with dtheta/dt > 0. */
 struct sp_crossing {
-    double t;     /* s */
-    double r;     /* m */
-    double r_dot; /* m/s */
+    double t;         /* s */
+    double r;         /* m */
+    double r_dot;     /* m/s */
+    double theta_dot; /* rad/s, > 0 */
 };
 
 /* The panels' memory: samples at frame times and every Poincare crossing so
@@ -76,6 +77,7 @@ struct sp_crossing {
 struct sp_history {
     int active;                        /* 0: nothing kept, nothing sampled */
     int poincare;                      /* 1: crossings are looked for */
+    int crossings_only;                /* 1: no samples kept (data --poincare) */
     struct sp_history_sample *samples; /* count valid, oldest first, owned */
     int count, capacity;
     struct sp_crossing *crossings;     /* n_crossings valid, in time order, owned */

@@ -158,6 +158,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     char buf[32];
     int tw = 0;
 
+    sp_canvas_layer(c, SP_LAYER_STATIC);
     sp_canvas_rect(c, r->x0, r->y0, r->x1, r->y1, pal->panel);
     /* the title at the left of its row, the y axis's name at the right; when
      * both do not fit, the title's short form ("long|short") in small type */
@@ -214,6 +215,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     /* axes lines: left and bottom */
     sp_canvas_rect(c, p->area.x0 - hw, p->area.y0, p->area.x0 + hw, p->area.y1 + hw, pal->axis);
     sp_canvas_rect(c, p->area.x0 - hw, p->area.y1 - hw, p->area.x1, p->area.y1 + hw, pal->axis);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* the data from here */
 }
 
 /* Which quantity a strip chart or phase plot shows. */
@@ -252,6 +254,7 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
     float col[4] = {color[0], color[1], color[2], color[3]};
     float ax = 0, ay = 0;
     int have = 0;
+    sp_canvas_path_begin(c);
     for (int i = first; i < h->count; i += stride) {
         const int j = i + stride >= h->count ? h->count - 1 : i;
         const struct sp_history_sample *s = &h->samples[j];
@@ -269,6 +272,7 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
         if (j == h->count - 1)
             break;
     }
+    sp_canvas_path_end(c);
 }
 
 static struct sp_range range_of(struct sp_range r, double scale, double shift)

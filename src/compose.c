@@ -1,0 +1,314 @@
+/* springpend (internal): frame composition on the CPU. See compose.h. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "springpend/common.h"
+#include "compose.h"
+#include "layout.h"
+
+enum {
+    COIL_TURNS = 12,
+    COIL_STEPS = 16,                      /* polyline segments per turn */
+    COIL_SEGS = COIL_TURNS * COIL_STEPS,
+    HATCHES = 7,
+    MAX_STROBE = 400,                     /* stroboscopic images at most */
+};
+
+/* Sizes as fractions of the image's smaller side. */
+#define BOB_RADIUS 0.022f
+#define PIVOT_RADIUS 0.0065f
+#define WIRE_RADIUS 0.0021f  /* half the spring wire's thickness */
+#define COIL_RADIUS 0.016f   /* half the coil's width */
+#define COIL_TILT 0.35f      /* helix seen from this much above: loop depth */
+#define LEAD_TOP 0.012f
+#define LEAD_BOTTOM 0.008f   /* beyond the bob's radius */
+#define TRAIL_RADIUS 0.0022f
+#define MOUNT_HALF 0.035f
+#define MARGIN 0.06f         /* around the extent, besides the bob's radius */
+
+struct sp_composer {
+    struct sp_canvas canvas;  /* this frame's draw list */
+    struct sp_font *font;     /* NULL when no text is drawn */
+    struct sp_scene scene;    /* a copy: its [view] options */
+    struct sp_view_extent extent;
+    struct sp_palette pal;
+    struct sp_layout layout;
+    int laid_out;             /* layout and camera fitted (at the first frame) */
+    char hud[SP_HUD_MAX_LINES][SP_HUD_LINE_BYTES];
+    int hud_lines;
+    int width, height;        /* px */
+    float unit;               /* the smaller side, px */
+    double scale;             /* px per m */
+    double ox, oy;            /* px of the world origin (the pivot) */
+    double max_speed;         /* m/s, the top of the trail's colormap */
+    int premix_trail;         /* light opaque background: trail mixed with it, opaque */
+};
+
+/* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
+static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
+{
+    const struct sp_view_extent *e = &r->extent;
+    const double margin = (BOB_RADIUS + MARGIN) * r->unit;
+    const double ew = fmax(e->xmax - e->xmin, 1e-6);
+    const double eh = fmax(e->ymax - e->ymin, 1e-6);
+    const double aw = fmax(v->x1 - v->x0 - 2 * margin, 1.0);
+    const double ah = fmax(v->y1 - v->y0 - 2 * margin, 1.0);
+
+    r->scale = fmin(aw / ew, ah / eh);
+    r->ox = 0.5 * (v->x0 + v->x1) - r->scale * 0.5 * (e->xmin + e->xmax);
+    r->oy = 0.5 * (v->y0 + v->y1) + r->scale * 0.5 * (e->ymin + e->ymax);
+}
+
+/* Text sizes follow the frame's smaller side, with a floor for small frames. */
+static void text_sizes(float unit, int px[SP_TEXT_SIZES])
+{
+    px[SP_TEXT_SMALL] = (int)fmaxf(9, roundf(0.0150f * unit));
+    px[SP_TEXT_NORMAL] = (int)fmaxf(10, roundf(0.0175f * unit));
+    px[SP_TEXT_LARGE] = (int)fmaxf(12, roundf(0.0230f * unit));
+}
+
+int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc)
+{
+    struct sp_composer *r = calloc(1, sizeof(*r));
+    int px[SP_TEXT_SIZES], err;
+
+    *out = NULL;
+    if (!r) {
+        sp_log_error("out of memory for the composer");
+        return SP_E_NOMEM;
+    }
+    if (desc->scene)
+        r->scene = *desc->scene;
+    else
+        sp_scene_defaults(&r->scene);
+    r->width = desc->width;
+    r->height = desc->height;
+    r->unit = (float)(r->width < r->height ? r->width : r->height);
+    r->extent = desc->extent;
+    r->max_speed = desc->extent.max_speed > 0 ? desc->extent.max_speed : 1.0;
+    sp_palette_get(&r->scene, &r->pal);
+    r->premix_trail = r->pal.background[3] > 0 &&
+                      0.3f * r->pal.background[0] + 0.6f * r->pal.background[1] +
+                              0.1f * r->pal.background[2] > 0.35f;
+    if (r->scene.view.panels || r->scene.view.hud || r->scene.view.colorbar) {
+        text_sizes(r->unit, px);
+        err = sp_font_make(&r->font, px);
+        if (err) {
+            sp_compose_destroy(&r);
+            return err;
+        }
+        r->canvas.font = r->font;
+    }
+    *out = r;
+    return 0;
+}
+
+/* Places the view, panels, heads-up text and colourbar (once: the
+ * parameters do not change during a run). */
+static void lay_out(struct sp_composer *r, const struct sp_params *p)
+{
+    struct sp_layout_desc d = {.width = r->width, .height = r->height,
+                               .panels = r->scene.view.panels};
+    /* The view's width decides the HUD's wrapping: lay out once without it. */
+    sp_layout_compute(&d, &r->layout);
+    if (r->scene.view.hud) {
+        const float w = r->layout.camera.x1 - r->layout.camera.x0 - 2 * r->layout.gap;
+        r->hud_lines = sp_hud_lines(r->font, p, w, r->hud, SP_HUD_MAX_LINES);
+        d.hud_height = sp_hud_height(r->font, r->hud_lines);
+    }
+    if (r->scene.view.colorbar)
+        d.colorbar_width = sp_colorbar_width(r->font, r->unit, r->max_speed);
+    sp_layout_compute(&d, &r->layout);
+    fit_camera(r, &r->layout.camera);
+    r->laid_out = 1;
+}
+
+/* ---- geometry, all in px ---- */
+
+static void to_px(const struct sp_composer *r, double x, double y, float p[2])
+{
+    p[0] = (float)(r->ox + r->scale * x);
+    p[1] = (float)(r->oy - r->scale * y);
+}
+
+/* Trail segments, oldest first: colour by speed, fading and thinning with
+ * age. A trail over the whole run (trail = all) fades less. */
+static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
+{
+    const float w = TRAIL_RADIUS * r->unit;
+    const float floor_alpha = r->scene.view.trail == SP_TRAIL_ALL ? 0.3f : 0.03f;
+    const float *bg = r->pal.background;
+    float a[2], b[2], color[4] = {0, 0, 0, 1};
+    const struct sp_trail_point *p = sp_trail_at(tr, 0);
+
+    sp_canvas_blend(&r->canvas, r->premix_trail ? SP_BLEND_OVER : SP_BLEND_MAX);
+    sp_canvas_path_begin(&r->canvas);
+    to_px(r, p->x, p->y, a);
+    for (int i = 1; i < tr->count; i++) {
+        const struct sp_trail_point *q = sp_trail_at(tr, i);
+        const float age = (float)i / (float)(tr->count - 1); /* 1 = newest */
+        const float speed = 0.5f * (p->speed + q->speed);
+        float alpha = floor_alpha + (1 - floor_alpha) * powf(age, 1.4f);
+
+        to_px(r, q->x, q->y, b);
+        sp_colormap(r->scene.view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
+                    fminf(speed / (float)r->max_speed, 1.0f), color);
+        if (r->premix_trail) {
+            for (int k = 0; k < 3; k++)
+                color[k] = bg[k] + alpha * (color[k] - bg[k]);
+            alpha = 1;
+        }
+        color[3] = alpha;
+        sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], w * (0.55f + 0.45f * age), color);
+        a[0] = b[0];
+        a[1] = b[1];
+        p = q;
+    }
+    sp_canvas_path_end(&r->canvas);
+    sp_canvas_blend(&r->canvas, SP_BLEND_OVER);
+}
+
+/* Ceiling: a bar just above the pivot with hatch strokes above it. */
+static void put_mount(struct sp_composer *r, const float pv[2])
+{
+    const float u = r->unit, half = MOUNT_HALF * u, wr = WIRE_RADIUS * u;
+    const float y = pv[1] - PIVOT_RADIUS * u - wr;
+    const float hatch = 0.012f * u;
+
+    sp_canvas_line(&r->canvas, pv[0] - half, y, pv[0] + half, y, 1.2f * wr, r->pal.mount);
+    for (int i = 0; i < HATCHES; i++) {
+        const float x = pv[0] - half + hatch + (2 * half - hatch) * i / (HATCHES - 1);
+        sp_canvas_line(&r->canvas, x - hatch, y - wr - hatch, x, y - wr, 0.55f * wr, r->pal.mount);
+    }
+}
+
+/* The spring from pivot pv to bob bb: straight leads, then COIL_TURNS turns of
+ * a helix seen slightly from the side, its pitch stretching with the length.
+ * Segments behind the axis are written first (darker), so the front ones
+ * cover them. */
+static void put_spring(struct sp_composer *r, const float pv[2], const float bb[2])
+{
+    const float u = r->unit, wr = WIRE_RADIUS * u, rad = COIL_RADIUS * u;
+    const float dx = bb[0] - pv[0], dy = bb[1] - pv[1];
+    const float len = sqrtf(dx * dx + dy * dy);
+    const float ax = len > 1e-3f ? dx / len : 0, ay = len > 1e-3f ? dy / len : 1;
+    float lead0 = LEAD_TOP * u, lead1 = (BOB_RADIUS + LEAD_BOTTOM) * u;
+    float c0[2], c1[2], coil;
+
+    if (lead0 + lead1 > 0.3f * len) { /* short spring: shrink the leads */
+        const float f = 0.3f * len / (lead0 + lead1);
+        lead0 *= f;
+        lead1 *= f;
+    }
+    coil = len - lead0 - lead1;
+    c0[0] = pv[0] + ax * lead0;
+    c0[1] = pv[1] + ay * lead0;
+    c1[0] = bb[0] - ax * lead1;
+    c1[1] = bb[1] - ay * lead1;
+    sp_canvas_line(&r->canvas, pv[0], pv[1], c0[0], c0[1], wr, r->pal.wire_front);
+    sp_canvas_line(&r->canvas, c1[0], c1[1], bb[0], bb[1], wr, r->pal.wire_front);
+
+    for (int front = 0; front <= 1; front++) {
+        float a[2] = {c0[0], c0[1]}, b[2];
+        for (int i = 1; i <= COIL_SEGS; i++) {
+            const float t = (float)i / COIL_SEGS;
+            const float phase = 6.28318531f * COIL_TURNS * t;
+            /* Ease the radius in and out over the first and last half turn. */
+            const float ends = fminf(t, 1.0f - t) * 2.0f * COIL_TURNS;
+            const float env = ends >= 1.0f ? 1.0f : ends * ends * (3 - 2 * ends);
+            const float side = env * rad * sinf(phase);
+            const float along = coil * t + env * rad * COIL_TILT * cosf(phase);
+            const float mid = cosf(phase - 3.14159265f / COIL_STEPS); /* mid-segment */
+
+            b[0] = c0[0] + ax * along - ay * side;
+            b[1] = c0[1] + ay * along + ax * side;
+            if ((mid > 0) == front)
+                sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], wr,
+                               front ? r->pal.wire_front : r->pal.wire_back);
+            a[0] = b[0];
+            a[1] = b[1];
+        }
+    }
+}
+
+/* The bob every view.strobe seconds back from now, fading with age. */
+static void put_strobe(struct sp_composer *r, const struct sp_history *h)
+{
+    const double dt = r->scene.view.strobe;
+    float p[2], color[4];
+    if (!h || h->count < 2 || dt <= 0)
+        return;
+    const double now = h->samples[h->count - 1].t;
+    const int n = (int)fmin(floor(now / dt + 1e-9), MAX_STROBE);
+    int j = h->count - 1;
+    for (int k = n; k >= 1; k--) { /* oldest first, so newer ones cover them */
+        const double t = now - k * dt;
+        const float age = 1.0f - (float)k / (float)(n + 1);
+        /* the sample nearest to t (samples are in time order) */
+        int lo = 0, hi = h->count - 1;
+        while (hi - lo > 1) {
+            j = (lo + hi) / 2;
+            if (h->samples[j].t <= t)
+                lo = j;
+            else
+                hi = j;
+        }
+        j = t - h->samples[lo].t <= h->samples[hi].t - t ? lo : hi;
+        to_px(r, h->samples[j].x, h->samples[j].y, p);
+        memcpy(color, r->pal.bob, sizeof(color));
+        color[3] = 0.12f + 0.5f * age;
+        sp_canvas_disc(&r->canvas, p[0], p[1], 0.8f * BOB_RADIUS * r->unit, 0, color);
+    }
+}
+
+int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
+                     const struct sp_canvas **out)
+{
+    struct sp_canvas *cv = &r->canvas;
+    float pv[2], bb[2];
+
+    if (!r->laid_out)
+        lay_out(r, f->params);
+    sp_canvas_reset(cv);
+    const double yp = sp_pivot_y(f->params, f->state.t); /* a driven pivot moves */
+    to_px(r, 0, yp, pv);
+    to_px(r, f->state.x, f->state.y + yp, bb);
+    sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
+    if (f->trail && f->trail->count > 1)
+        put_trail(r, f->trail);
+    put_strobe(r, f->history);
+    put_mount(r, pv);
+    put_spring(r, pv, bb);
+    sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
+    sp_canvas_disc(cv, bb[0], bb[1], BOB_RADIUS * r->unit, 1, r->pal.bob);
+    if (r->scene.view.panels)
+        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit);
+    if (r->scene.view.hud)
+        sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
+    if (r->scene.view.colorbar) {
+        sp_canvas_layer(cv, SP_LAYER_STATIC);
+        sp_colorbar_draw(cv, &r->layout.colorbar, r->scene.view.colormap, r->max_speed,
+                         &r->pal, r->unit);
+    }
+    if (cv->err) {
+        sp_log_error("out of memory for %d shapes and %d glyphs", cv->n_shapes, cv->n_quads);
+        return cv->err;
+    }
+    *out = cv;
+    return 0;
+}
+
+const struct sp_font *sp_compose_font(const struct sp_composer *c) { return c->font; }
+const struct sp_palette *sp_compose_palette(const struct sp_composer *c) { return &c->pal; }
+
+void sp_compose_destroy(struct sp_composer **cp)
+{
+    struct sp_composer *c = *cp;
+    if (!c)
+        return;
+    sp_font_destroy(&c->font);
+    sp_canvas_free(&c->canvas);
+    free(c);
+    *cp = NULL;
+}

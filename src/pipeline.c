@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "springpend/common.h"
+#include "springpend/figure.h"
 #include "springpend/frame.h"
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
@@ -236,6 +237,8 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     int first = desc->still ? 0 : desc->first;
     int last = desc->still || !desc->last ? n : desc->last;
     int w = sc->video.width, h = sc->video.height;
+    /* a still to .svg or .pdf: composed and drawn with cairo, no GL */
+    const int figure = desc->still && sp_figure_format(desc->output) != SP_FIGURE_NONE;
     double t_start = now_s(), t0;
 
     signal_seen = signal_count = 0;
@@ -262,8 +265,8 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     ret = sp_trail_make(&trail, sc->view.trail == SP_TRAIL_ALL ? n + 1 : sc->view.trail);
     if (!ret)
         ret = sp_history_make(&hist, sc);
-    if (ret)
-        goto done;
+    if (ret || figure)
+        goto setup_done;
     ret = sp_render_make(&r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .scene = sc, .supersample = desc->supersample});
@@ -279,7 +282,9 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (ret)
         goto done;
     part_files = sp_sink_part_files(sink);
-
+setup_done:
+    if (ret)
+        goto done;
     sp_sim_init(&sim, sc);
     if (desc->still) {
         /* The trail holds the video's frame positions before still_at. */
@@ -294,6 +299,15 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
             if (ret)
                 goto done;
             sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
+        }
+        if (figure) {
+            ret = sp_figure_write(&(struct sp_figure_desc){
+                .width = w, .height = h, .extent = extent, .scene = sc, .path = desc->output},
+                &(struct sp_frame){.state = sim.s, .params = &sim.p, .trail = &trail,
+                                   .history = &hist});
+            if (!ret && desc->state_out)
+                *desc->state_out = sim.s;
+            goto done;
         }
         sp_provenance_set_time(&prov, sim.s.t);
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,

@@ -1,5 +1,6 @@
 /* springpend (internal): frame composition on the CPU. See compose.h. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,6 +14,7 @@ enum {
     COIL_SEGS = COIL_TURNS * COIL_STEPS,
     HATCHES = 7,
     MAX_STROBE = 400,                     /* stroboscopic images at most */
+    CAPTION_LINES = 4,                    /* a caption wraps to this many lines */
 };
 
 /* Sizes as fractions of the image's smaller side. */
@@ -43,6 +45,9 @@ struct sp_composer {
     double ox, oy;            /* px of the world origin (the pivot) */
     double max_speed;         /* m/s, the top of the trail's colormap */
     int premix_trail;         /* light opaque background: trail mixed with it, opaque */
+    char caption[CAPTION_LINES][SP_VIEW_TEXT_BYTES]; /* the caption, wrapped */
+    int caption_lines;
+    char speed[32];           /* "speed ×0.25" when [video] speed != 1, else "" */
 };
 
 /* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
@@ -60,12 +65,42 @@ static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
     r->oy = 0.5 * (v->y0 + v->y1) + r->scale * 0.5 * (e->ymin + e->ymax);
 }
 
-/* Text sizes follow the frame's smaller side, with a floor for small frames. */
-static void text_sizes(float unit, int px[SP_TEXT_SIZES])
+/* Text sizes follow the frame's smaller side, with a floor for small
+ * frames, times [view] font_scale. */
+static void text_sizes(float unit, double scale, int px[SP_TEXT_SIZES])
 {
-    px[SP_TEXT_SMALL] = (int)fmaxf(9, roundf(0.0150f * unit));
-    px[SP_TEXT_NORMAL] = (int)fmaxf(10, roundf(0.0175f * unit));
-    px[SP_TEXT_LARGE] = (int)fmaxf(12, roundf(0.0230f * unit));
+    static const float frac[SP_TEXT_SIZES] = {0.0150f, 0.0175f, 0.0230f, 0.0300f};
+    static const float floor_px[SP_TEXT_SIZES] = {9, 10, 12, 14};
+    for (int s = 0; s < SP_TEXT_SIZES; s++)
+        px[s] = (int)fminf(400, fmaxf(4, roundf((float)scale * fmaxf(floor_px[s], roundf(frac[s] * unit)))));
+}
+
+/* Wraps text at spaces into lines of at most max_width px; returns how many
+ * (at most max; the rest is dropped). */
+static int wrap(const struct sp_font *f, int size, const char *text, float max_width,
+                char lines[][SP_VIEW_TEXT_BYTES], int max)
+{
+    int n = 0;
+    while (*text && n < max) {
+        size_t fit = strlen(text), space = 0;
+        char try[SP_VIEW_TEXT_BYTES];
+        /* the longest prefix ending at a space (or the end) that fits */
+        for (size_t i = 0;; i++) {
+            if (text[i] == ' ' || !text[i]) {
+                snprintf(try, sizeof(try), "%.*s", (int)i, text);
+                if (sp_font_width(f, size, try) > max_width && space)
+                    break;
+                fit = i;
+                space = i;
+                if (!text[i])
+                    break;
+            }
+        }
+        snprintf(lines[n++], SP_VIEW_TEXT_BYTES, "%.*s", (int)fit, text);
+        text += fit;
+        text += strspn(text, " ");
+    }
+    return n;
 }
 
 int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc)
@@ -91,8 +126,13 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     r->premix_trail = r->pal.background[3] > 0 &&
                       0.3f * r->pal.background[0] + 0.6f * r->pal.background[1] +
                               0.1f * r->pal.background[2] > 0.35f;
-    if (r->scene.view.panels || r->scene.view.hud || r->scene.view.colorbar) {
-        text_sizes(r->unit, px);
+    if (r->scene.video.speed != 1) /* a real multiplication sign */
+        snprintf(r->speed, sizeof(r->speed), "speed \xc3\x97%g", r->scene.video.speed);
+    if (!r->scene.view.pendulum)
+        r->scene.view.colorbar = 0; /* no trail to explain */
+    if (r->scene.view.panels || r->scene.view.hud || r->scene.view.colorbar ||
+        r->scene.view.title[0] || r->scene.view.caption[0] || r->speed[0]) {
+        text_sizes(r->unit, r->scene.view.font_scale, px);
         err = sp_font_make(&r->font, px);
         if (err) {
             sp_compose_destroy(&r);
@@ -108,14 +148,27 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
  * parameters do not change during a run). */
 static void lay_out(struct sp_composer *r, const struct sp_params *p)
 {
+    const struct sp_font *f = r->font;
     struct sp_layout_desc d = {.width = r->width, .height = r->height,
-                               .panels = r->scene.view.panels};
+                               .panels = r->scene.view.panels,
+                               .no_pendulum = !r->scene.view.pendulum};
+    if (r->scene.view.title[0])
+        d.title_height = (float)sp_font_line(f, SP_TEXT_TITLE);
+    if (r->scene.view.caption[0]) {
+        r->caption_lines = wrap(f, SP_TEXT_NORMAL, r->scene.view.caption,
+                                r->width - 2 * roundf(0.015f * r->unit), r->caption, CAPTION_LINES);
+        d.caption_height = (float)(r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL));
+    }
     /* The view's width decides the HUD's wrapping: lay out once without it. */
     sp_layout_compute(&d, &r->layout);
     if (r->scene.view.hud) {
-        const float w = r->layout.camera.x1 - r->layout.camera.x0 - 2 * r->layout.gap;
-        r->hud_lines = sp_hud_lines(r->font, p, w, r->hud, SP_HUD_MAX_LINES);
-        d.hud_height = sp_hud_height(r->font, r->hud_lines);
+        const struct sp_rect *v = d.no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0}
+                                                : &r->layout.camera;
+        const float w = v->x1 - v->x0 - 2 * r->layout.gap;
+        r->hud_lines = sp_hud_lines(f, p, w, r->hud, SP_HUD_MAX_LINES);
+        d.hud_height = sp_hud_height(f, r->hud_lines);
+    } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
+        d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
     }
     if (r->scene.view.colorbar)
         d.colorbar_width = sp_colorbar_width(r->font, r->unit, r->max_speed);
@@ -149,7 +202,8 @@ static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
         const struct sp_trail_point *q = sp_trail_at(tr, i);
         const float age = (float)i / (float)(tr->count - 1); /* 1 = newest */
         const float speed = 0.5f * (p->speed + q->speed);
-        float alpha = floor_alpha + (1 - floor_alpha) * powf(age, 1.4f);
+        const float fade = r->scene.view.fade ? 1.0f : 0.0f;
+        float alpha = 1 - fade * (1 - floor_alpha) * (1 - powf(age, 1.4f));
 
         to_px(r, q->x, q->y, b);
         sp_colormap(r->scene.view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
@@ -160,7 +214,7 @@ static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
             alpha = 1;
         }
         color[3] = alpha;
-        sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], w * (0.55f + 0.45f * age), color);
+        sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], w * (1 - fade * 0.45f * (1 - age)), color);
         a[0] = b[0];
         a[1] = b[1];
         p = q;
@@ -262,6 +316,32 @@ static void put_strobe(struct sp_composer *r, const struct sp_history *h)
     }
 }
 
+/* Title, caption and the speed marker (static: the same in every frame). */
+static void put_texts(struct sp_composer *r)
+{
+    const struct sp_layout *l = &r->layout;
+    const struct sp_font *f = r->font;
+    struct sp_canvas *cv = &r->canvas;
+    sp_canvas_layer(cv, SP_LAYER_STATIC);
+    if (sp_rect_valid(&l->title))
+        sp_canvas_text(cv, SP_TEXT_TITLE, 0.5f * (l->title.x0 + l->title.x1),
+                       l->title.y0 + sp_font_cap(f, SP_TEXT_TITLE) +
+                       0.5f * (sp_font_line(f, SP_TEXT_TITLE) - sp_font_cap(f, SP_TEXT_TITLE)) -
+                       0.15f * sp_font_cap(f, SP_TEXT_TITLE),
+                       SP_ALIGN_CENTER, r->pal.text, r->scene.view.title);
+    for (int i = 0; i < r->caption_lines; i++)
+        sp_canvas_text(cv, SP_TEXT_NORMAL, 0.5f * (l->caption.x0 + l->caption.x1),
+                       l->caption.y0 + i * sp_font_line(f, SP_TEXT_NORMAL) + sp_font_cap(f, SP_TEXT_NORMAL),
+                       SP_ALIGN_CENTER, r->pal.muted, r->caption[i]);
+    /* at the right of the heads-up time line, else of the title */
+    if (r->speed[0] && sp_rect_valid(&l->hud))
+        sp_canvas_text(cv, SP_TEXT_LARGE, l->hud.x1, l->hud.y0 + sp_font_cap(f, SP_TEXT_LARGE),
+                       SP_ALIGN_RIGHT, r->pal.accent, r->speed);
+    else if (r->speed[0])
+        sp_canvas_text(cv, SP_TEXT_LARGE, l->title.x1, l->title.y0 + sp_font_cap(f, SP_TEXT_TITLE),
+                       SP_ALIGN_RIGHT, r->pal.accent, r->speed);
+}
+
 int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
                      const struct sp_canvas **out)
 {
@@ -275,17 +355,20 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     to_px(r, 0, yp, pv);
     to_px(r, f->state.x, f->state.y + yp, bb);
     sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
-    if (f->trail && f->trail->count > 1)
-        put_trail(r, f->trail);
-    put_strobe(r, f->history);
-    put_mount(r, pv);
-    put_spring(r, pv, bb);
-    sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
-    sp_canvas_disc(cv, bb[0], bb[1], BOB_RADIUS * r->unit, 1, r->pal.bob);
+    if (r->scene.view.pendulum) {
+        if (f->trail && f->trail->count > 1)
+            put_trail(r, f->trail);
+        put_strobe(r, f->history);
+        put_mount(r, pv);
+        put_spring(r, pv, bb);
+        sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
+        sp_canvas_disc(cv, bb[0], bb[1], BOB_RADIUS * r->unit, 1, r->pal.bob);
+    }
     if (r->scene.view.panels)
-        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit);
+        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->scene.view.fade);
     if (r->scene.view.hud)
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
+    put_texts(r);
     if (r->scene.view.colorbar) {
         sp_canvas_layer(cv, SP_LAYER_STATIC);
         sp_colorbar_draw(cv, &r->layout.colorbar, r->scene.view.colormap, r->max_speed,

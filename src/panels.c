@@ -339,7 +339,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
 
 static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
                        const struct sp_frame *f, const struct sp_view_extent *e,
-                       const struct sp_palette *pal, float unit)
+                       const struct sp_palette *pal, float unit, int fade)
 {
     const struct sp_history *h = f->history;
     const float hw = fmaxf(0.6f, 0.0012f * unit);
@@ -352,7 +352,7 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
     if (!h || h->count == 0)
         return;
     const int xq = theta ? 1 : 0, yq = theta ? 4 : 3;
-    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], pal->panel);
+    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], fade ? pal->panel : NULL);
     const struct sp_history_sample *s = &h->samples[h->count - 1];
     sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
                    2.6f * hw, 0, pal->cursor);
@@ -378,7 +378,8 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
 }
 
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
-                    const struct sp_view_extent *e, const struct sp_palette *pal, float unit)
+                    const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
+                    int fade)
 {
     for (int b = 0; b < SP_PANEL_COUNT; b++) {
         const struct sp_rect *r = &lay->panel[b];
@@ -387,7 +388,7 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
         if (b <= 3 || b == 7)
             strip_chart(c, r, b, f, e, pal, unit);
         else if (b <= 5)
-            phase_plot(c, r, b == 5, f, e, pal, unit);
+            phase_plot(c, r, b == 5, f, e, pal, unit, fade);
         else
             poincare_plot(c, r, f, e, pal, unit);
     }

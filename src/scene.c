@@ -22,7 +22,8 @@ enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_CHOICE,  /* one of the names in `unit` (", "-separated), int index */
                 KEY_PANELS,  /* a list of panel names, unsigned SP_PANEL_* bits */
                 KEY_COLOR,   /* #rrggbb, "theme" or "transparent", int */
-                KEY_TRAIL }; /* an integer or "all" (SP_TRAIL_ALL), int */
+                KEY_TRAIL,   /* an integer or "all" (SP_TRAIL_ALL), int */
+                KEY_TEXT };  /* UTF-8 text, char[SP_VIEW_TEXT_BYTES] */
 
 /* One scene key: where it lives in struct sp_scene and what it accepts.
  * Accepted: lo < v (lo_open) or lo <= v, and v <= hi. */
@@ -74,6 +75,11 @@ static const struct key_info keys[] = {
     {"view", "colormap", KEY_CHOICE, F(view.colormap), 0, 0, 0, 0, "inferno, viridis"},
     {"view", "colorbar", KEY_BOOL, F(view.colorbar), 0, 0, 0, 0, "true, false"},
     {"view", "strobe", KEY_REAL, F(view.strobe), 0, 0, 1e6, 0, "s"},
+    {"view", "pendulum", KEY_BOOL, F(view.pendulum), 1, 0, 0, 0, "true, false"},
+    {"view", "fade", KEY_BOOL, F(view.fade), 1, 0, 0, 0, "true, false"},
+    {"view", "font_scale", KEY_REAL, F(view.font_scale), 1, 0.25, 4, 0, "(text size factor)"},
+    {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
+    {"view", "caption", KEY_TEXT, F(view.caption), 0, 0, 0, 0, "text"},
 };
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
@@ -300,6 +306,22 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             return 0;
         *(int *)p = SP_TRAIL_ALL;
         return 1;
+    case KEY_TEXT: {
+        size_t n = strlen(value);
+        if (n >= 2 && value[0] == '"' && value[n - 1] == '"') /* optional quotes */
+            value++, n -= 2;
+        if (n >= SP_VIEW_TEXT_BYTES) {
+            report(c, line, "%s.%s is %zu bytes long; at most %d are allowed", k->section,
+                   k->name, n, SP_VIEW_TEXT_BYTES - 1);
+            return 1;
+        }
+        memcpy(p, value, n);
+        p[n] = 0;
+        for (char *q = p; *q; q++) /* a '#' kept from the comment stripper */
+            if (*q == COLOUR_MARK)
+                *q = '#';
+        return 1;
+    }
     default:
         return 0;
     }
@@ -475,6 +497,7 @@ void sp_scene_defaults(struct sp_scene *s)
         case KEY_INT: *(int *)p = (int)keys[i].def; break;
         case KEY_METHOD: *(enum sp_method *)p = (enum sp_method)(int)keys[i].def; break;
         case KEY_PANELS: *(unsigned *)p = (unsigned)keys[i].def; break;
+        case KEY_TEXT: *p = 0; break;
         default: *(int *)p = (int)keys[i].def; break; /* bool, choice, colour, trail */
         }
     }
@@ -678,6 +701,9 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
         case KEY_PANELS:
             n = snprintf(at, room, "%s.%s=%#x\n", k->section, k->name, *(const unsigned *)p);
             break;
+        case KEY_TEXT:
+            n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name, p);
+            break;
         default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR, KEY_TRAIL: an int */
             n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
@@ -697,6 +723,8 @@ void sp_scene_print_keys(void)
             printf("  [%s]\n", section = k->section);
         if (k->kind == KEY_TRAIL)
             snprintf(range, sizeof(range), "an integer from 0 to 1000000 %s, or all", k->unit);
+        else if (k->kind == KEY_TEXT)
+            snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
         else if (k->kind >= KEY_BOOL)
             snprintf(range, sizeof(range), "%s: %s", k->kind == KEY_PANELS ? "list of" : "one of", k->unit);
         else if (k->kind == KEY_METHOD)
@@ -705,10 +733,13 @@ void sp_scene_print_keys(void)
             describe_range(k, range, sizeof(range));
         if (k->kind == KEY_METHOD)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
+        else if (k->kind == KEY_TEXT)
+            printf("    %-15s default %-8s %s\n", k->name, "\"\"", range);
         else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             printf("    %-15s default %-8.*s %s\n", k->name,
                    k->kind == KEY_BOOL ? 5 : (int)strcspn(k->unit, ","),
-                   k->kind == KEY_BOOL ? "false" : k->kind == KEY_COLOR ? "theme" : k->unit, range);
+                   k->kind == KEY_BOOL ? (k->def ? "true" : "false")
+                   : k->kind == KEY_COLOR ? "theme" : k->unit, range);
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
     }

@@ -9,7 +9,7 @@
 
 #include <stdint.h>
 
-enum sp_text_size { SP_TEXT_SMALL, SP_TEXT_NORMAL, SP_TEXT_LARGE, SP_TEXT_SIZES };
+enum sp_text_size { SP_TEXT_SMALL, SP_TEXT_NORMAL, SP_TEXT_LARGE, SP_TEXT_TITLE, SP_TEXT_SIZES };
 
 /* One glyph on screen; layout matches the attributes of shaders/text.vert. */
 struct sp_glyph_quad {

@@ -110,6 +110,28 @@ ok("Spring length r" in text and "Poincaré" in text and "t = 20.00 s" in text,
    "the PDF's text is selectable (pdftotext finds the titles and the time)")
 ok(b"DejaVu" in pdf, "the PDF embeds DejaVu Sans")
 
+
+# Figure layout: title, caption and the speed marker are real text; without
+# the pendulum its colourbar goes too; long titles are refused.
+still("titled.pdf", "resonance.ini", 20, "--size", "1280x720", "--set", "view.pendulum=false",
+      "--set", "view.panels=poincare,phase", "--set", "view.title=Résonance 2:1 — θ, r",
+      "--set", "view.caption=Energy flows from bounce to swing", "--set", "video.speed=0.25",
+      "--set", "view.colorbar=true")
+text = subprocess.run(["pdftotext", p("titled.pdf"), "-"], capture_output=True, text=True).stdout
+ok("Résonance 2:1 — θ, r" in text and "Energy flows from bounce to swing" in text,
+   "the title and caption are written (UTF-8)")
+ok("speed ×0.25" in text, "speed = 0.25 is marked 'speed ×0.25'")
+ok("Poincaré" in text and "|v|" not in text, "view.pendulum = false drops the pendulum and its colourbar")
+r = run("still", os.path.join(root, "scenes", "default.ini"), "--set", "view.title=" + "x" * 300,
+        "-o", p("long.png"))
+ok(r.returncode == 2 and "at most 255" in r.stderr and not os.path.exists(p("long.png")),
+   "a 300-byte title is refused with exit 2 and no file")
+still("fade.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.panels=phase")
+still("nofade.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.panels=phase",
+      "--set", "view.fade=false")
+r = run("compare", p("fade.png"), p("nofade.png"))
+ok(r.returncode == 1, "view.fade = false changes the trail and the phase curves")
+
 # Failure leaves nothing; bad names are refused.
 r = run("still", os.path.join(root, "scenes", "default.ini"), "-o", p("nodir/x/../../c0.svg/x.svg"))
 ok(r.returncode != 0 and not os.path.exists(p("c0.svg/x.svg")), "an impossible path fails and writes nothing")

@@ -70,7 +70,8 @@ static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 static void text_sizes(float unit, double scale, int px[SP_TEXT_SIZES])
 {
     static const float frac[SP_TEXT_SIZES] = {0.0150f, 0.0175f, 0.0230f, 0.0300f};
-    static const float floor_px[SP_TEXT_SIZES] = {9, 10, 12, 14};
+    /* at least 11 px: a 480p GIF's tick labels read on a projector */
+    static const float floor_px[SP_TEXT_SIZES] = {11, 12, 14, 17};
     for (int s = 0; s < SP_TEXT_SIZES; s++)
         px[s] = (int)fminf(400, fmaxf(4, roundf((float)scale * fmaxf(floor_px[s], roundf(frac[s] * unit)))));
 }

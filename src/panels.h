@@ -35,7 +35,7 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
 /* Heads-up text: writes the lines for params (time left out) wrapped to
  * max_width px into lines[0..max) and returns how many; line 0 is the time
  * line, filled in at draw time. */
-#define SP_HUD_MAX_LINES 8
+#define SP_HUD_MAX_LINES 12
 #define SP_HUD_LINE_BYTES 200
 int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
                  char lines[][SP_HUD_LINE_BYTES], int max);

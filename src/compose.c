@@ -186,28 +186,42 @@ static void to_px(const struct sp_composer *r, double x, double y, float p[2])
     p[1] = (float)(r->oy - r->scale * y);
 }
 
-/* Trail segments, oldest first: colour by speed, fading and thinning with
- * age. A trail over the whole run (trail = all) fades less. */
+/* Trail segments, oldest first, over the scene's trail window (a number of
+ * frames, a duration, or the whole run): colour by speed, fading and
+ * thinning with age in simulated time, so a trail looks the same at any fps.
+ * A trail over the whole run (trail = all) fades less. */
 static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
 {
+    const struct sp_scene *sc = &r->scene;
     const float w = TRAIL_RADIUS * r->unit;
-    const float floor_alpha = r->scene.view.trail == SP_TRAIL_ALL ? 0.3f : 0.03f;
+    const float floor_alpha = sc->view.trail == SP_TRAIL_ALL ? 0.3f : 0.03f;
+    const float fade = sc->view.fade ? 1.0f : 0.0f;
     const float *bg = r->pal.background;
+    const double now = sp_trail_at(tr, tr->count - 1)->t;
+    const double span = sc->view.trail == SP_TRAIL_ALL ? now
+                      : sc->view.trail == SP_TRAIL_DURATION ? sc->view.trail_duration
+                      : (sc->view.trail - 1) * sc->video.speed / sc->video.fps;
+    const double start = now - span;
     float a[2], b[2], color[4] = {0, 0, 0, 1};
-    const struct sp_trail_point *p = sp_trail_at(tr, 0);
+    int i = 0;
+    while (i < tr->count - 1 && sp_trail_at(tr, i)->t < start - 1e-9 * (1 + fabs(start)))
+        i++; /* the ring may hold a little more than the window */
+    const struct sp_trail_point *p = sp_trail_at(tr, i);
 
     sp_canvas_blend(&r->canvas, r->premix_trail ? SP_BLEND_OVER : SP_BLEND_MAX);
     sp_canvas_path_begin(&r->canvas);
     to_px(r, p->x, p->y, a);
-    for (int i = 1; i < tr->count; i++) {
+    for (i++; i < tr->count; i++) {
         const struct sp_trail_point *q = sp_trail_at(tr, i);
-        const float age = (float)i / (float)(tr->count - 1); /* 1 = newest */
+        const float age = span > 0 ? (float)fmin(fmax((q->t - start) / span, 0), 1) : 1; /* 1 = newest */
         const float speed = 0.5f * (p->speed + q->speed);
-        const float fade = r->scene.view.fade ? 1.0f : 0.0f;
         float alpha = 1 - fade * (1 - floor_alpha) * (1 - powf(age, 1.4f));
 
         to_px(r, q->x, q->y, b);
-        sp_colormap(r->scene.view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
+        /* points closer than a pixel to the last drawn one add nothing */
+        if (i < tr->count - 1 && fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
+            continue;
+        sp_colormap(sc->view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
                     fminf(speed / (float)r->max_speed, 1.0f), color);
         if (r->premix_trail) {
             for (int k = 0; k < 3; k++)

@@ -262,7 +262,20 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     ret = sp_view_extent_measure(sc, t_end, &extent);
     if (ret)
         goto done;
-    ret = sp_trail_make(&trail, sc->view.trail == SP_TRAIL_ALL ? n + 1 : sc->view.trail);
+    /* The trail is sampled between frames finely enough that its chords stay
+     * within half a pixel: at most the top speed times the fastest angular
+     * frequency of acceleration, at the largest scale the camera can have. */
+    sp_sim_init(&sim, sc);
+    const double frame_dt = sc->video.speed / sc->video.fps;
+    const int ss = desc->supersample > 1 ? desc->supersample : 1;
+    const int substeps = sp_trail_substeps(
+        frame_dt, extent.max_speed * sp_params_omega_max(&sim.p),
+        ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9)));
+    const int trail_frames = sc->view.trail == SP_TRAIL_ALL ? n + 1
+                           : sc->view.trail == SP_TRAIL_DURATION
+                               ? (int)fmin(ceil(sc->view.trail_duration / frame_dt) + 1, n + 1)
+                               : sc->view.trail;
+    ret = sp_trail_make(&trail, trail_frames ? (trail_frames - 1) * substeps + 1 : 0);
     if (!ret)
         ret = sp_history_make(&hist, sc);
     if (ret || figure)
@@ -285,20 +298,17 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
 setup_done:
     if (ret)
         goto done;
-    sp_sim_init(&sim, sc);
     if (desc->still) {
         /* The trail holds the video's frame positions before still_at. */
         for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
-            ret = sp_history_follow(&hist, &sim, sp_scene_frame_time(sc, k));
+            ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
             if (ret)
                 goto done;
-            sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
         if (sim.s.t < desc->still_at) {
-            ret = sp_history_follow(&hist, &sim, desc->still_at);
+            ret = sp_trail_follow(&trail, &hist, &sim, desc->still_at, substeps);
             if (ret)
                 goto done;
-            sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
         if (figure) {
             ret = sp_figure_write(&(struct sp_figure_desc){
@@ -338,12 +348,11 @@ setup_done:
     for (int k = 0; k < last && !signal_seen; k++) {
         /* advance sim to t_k -> update frame model -> render -> sink */
         double ts = now_s();
-        ret = sp_history_follow(&hist, &sim, sp_scene_frame_time(sc, k));
+        ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
         if (ret == SP_E_INTERRUPTED && signal_seen)
             break; /* keep the frames so far, below */
         if (ret)
             goto done;
-        sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         tm.sim += now_s() - ts;
         if (k < first)
             continue; /* frames before the range only feed trail and histories */

@@ -65,7 +65,7 @@ static const struct key_info keys[] = {
     {"video", "crf", KEY_INT, F(video.crf), 0, 0, 63, 0, "(quality, lower is better; 0 = the format's default: 23 H.264, 32 VP9)"},
     {"video", "preset", KEY_CHOICE, F(video.preset), 0, 0, 0, 0, PRESET_NAMES},
     {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
-    {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "points"},
+    {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "frames"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
      "none, all, r, theta, energy, extension, phase, poincare, modes"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
@@ -301,11 +301,26 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             return 1;
         }
         break;
-    case KEY_TRAIL:
-        if (strcmp(value, "all"))
+    case KEY_TRAIL: {
+        char *end = NULL;
+        const size_t n = strlen(value);
+        if (!strcmp(value, "all")) {
+            *(int *)p = SP_TRAIL_ALL;
+            return 1;
+        }
+        if (n < 2 || value[n - 1] != 's')
             return 0;
-        *(int *)p = SP_TRAIL_ALL;
+        const double d = strtod(value, &end);
+        if (end != value + n - 1 || !(d > 0 && d <= 1e6)) {
+            report(c, line, "%s.%s = '%s' is not allowed; give a number of frames from 0 to "
+                   "1000000, all, or a duration 0 < D <= 1e+06 s such as 5s", k->section,
+                   k->name, value);
+            return 1;
+        }
+        *(int *)p = SP_TRAIL_DURATION;
+        c->scene->view.trail_duration = d;
         return 1;
+    }
     case KEY_TEXT: {
         size_t n = strlen(value);
         if (n >= 2 && value[0] == '"' && value[n - 1] == '"') /* optional quotes */
@@ -704,7 +719,13 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
         case KEY_TEXT:
             n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name, p);
             break;
-        default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR, KEY_TRAIL: an int */
+        case KEY_TRAIL:
+            if (*(const int *)p == SP_TRAIL_DURATION)
+                n = snprintf(at, room, "%s.%s=%.17gs\n", k->section, k->name, s->view.trail_duration);
+            else
+                n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
+            break;
+        default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR: an int */
             n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         }
@@ -722,7 +743,7 @@ void sp_scene_print_keys(void)
         if (strcmp(section, k->section))
             printf("  [%s]\n", section = k->section);
         if (k->kind == KEY_TRAIL)
-            snprintf(range, sizeof(range), "an integer from 0 to 1000000 %s, or all", k->unit);
+            snprintf(range, sizeof(range), "frames from 0 to 1000000, all, or a duration (5s)");
         else if (k->kind == KEY_TEXT)
             snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
         else if (k->kind >= KEY_BOOL)

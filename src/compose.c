@@ -67,13 +67,13 @@ static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 
 /* Text sizes follow the frame's smaller side, with a floor for small
  * frames, times [view] font_scale. */
-static void text_sizes(float unit, double scale, int px[SP_TEXT_SIZES])
+static void text_sizes(float unit, double scale, int ss, int px[SP_TEXT_SIZES])
 {
     static const float frac[SP_TEXT_SIZES] = {0.0150f, 0.0175f, 0.0230f, 0.0300f};
     /* at least 11 px: a 480p GIF's tick labels read on a projector */
     static const float floor_px[SP_TEXT_SIZES] = {11, 12, 14, 17};
     for (int s = 0; s < SP_TEXT_SIZES; s++)
-        px[s] = (int)fminf(400, fmaxf(4, roundf((float)scale * fmaxf(floor_px[s], roundf(frac[s] * unit)))));
+        px[s] = (int)fminf(400, fmaxf(4, roundf((float)scale * fmaxf(ss * floor_px[s], roundf(frac[s] * unit)))));
 }
 
 /* Wraps text at spaces into lines of at most max_width px; returns how many
@@ -133,7 +133,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         r->scene.view.colorbar = 0; /* no trail to explain */
     if (r->scene.view.panels || r->scene.view.hud || r->scene.view.colorbar ||
         r->scene.view.title[0] || r->scene.view.caption[0] || r->speed[0]) {
-        text_sizes(r->unit, r->scene.view.font_scale, px);
+        text_sizes(r->unit, r->scene.view.font_scale, desc->supersample > 1 ? desc->supersample : 1, px);
         err = sp_font_make(&r->font, px);
         if (err) {
             sp_compose_destroy(&r);

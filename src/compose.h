@@ -14,6 +14,8 @@ struct sp_compose_desc {
     int width, height;            /* px of the drawing (supersampled size) */
     struct sp_view_extent extent; /* world rectangle to fit, speed and panel ranges */
     const struct sp_scene *scene; /* [view] options; NULL = the defaults */
+    int supersample;              /* the drawing is this many times the output
+                                     (0 or 1 = not): text floors scale with it */
 };
 
 struct sp_composer;

@@ -132,6 +132,23 @@ still("nofade.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.pan
 r = run("compare", p("fade.png"), p("nofade.png"))
 ok(r.returncode == 1, "view.fade = false changes the trail and the phase curves")
 
+# Transparent stills for slides: the theme names the slide. Over white, the
+# light theme's heads-up text is dark; the dark theme's would vanish.
+def darkest_top_left(png):
+    """The darkest pixel (0..255 luma) of the top-left 300x40 px of png
+    composited over white."""
+    raw = subprocess.run(["ffmpeg", "-v", "error", "-f", "lavfi", "-i", "color=white:s=960x540", "-i", png,
+                          "-filter_complex", "[0][1]overlay=format=auto,crop=300:40:0:0,format=gray",
+                          "-frames:v", "1", "-f", "rawvideo", "-"], capture_output=True).stdout
+    return min(raw) if raw else 255
+
+
+for theme in ("light", "dark"):
+    still(f"slide_{theme}.png", "resonance.ini", 20, "--size", "960x540", "--set", "view.background=transparent",
+          "--set", f"view.theme={theme}")
+ok(darkest_top_left(p("slide_light.png")) < 80, "transparent + light theme: dark text on a white slide")
+ok(darkest_top_left(p("slide_dark.png")) > 150, "transparent + dark theme: light text (for dark slides)")
+
 # Failure leaves nothing; bad names are refused.
 r = run("still", os.path.join(root, "scenes", "default.ini"), "-o", p("nodir/x/../../c0.svg/x.svg"))
 ok(r.returncode != 0 and not os.path.exists(p("c0.svg/x.svg")), "an impossible path fails and writes nothing")

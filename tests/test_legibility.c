@@ -70,7 +70,7 @@ static int check(const char *src, const char *scene_file, double t, int w, int h
             return 1;
         sp_trail_push_at(&trail, &sim.s, 0);
     }
-    if (sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &sc}) ||
+    if (sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &sc, 1}) ||
         sp_compose_frame(comp, &(struct sp_frame){.state = sim.s, .params = &sim.p,
                                                    .trail = &trail, .history = &hist}, &cv))
         return 1;

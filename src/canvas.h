@@ -14,8 +14,8 @@
  *           out once on the CPU, text.h; GL draws its glyph quads).
  * Every item carries a layer (static: the same every frame, e.g. panel
  * frames and axes; dynamic: the motion) so that a backend may cache the
- * static part. Both backends draw the shapes in list order, then the text
- * over them. Allocation failures are remembered in `err` and reported once
+ * static part. Both backends draw the accumulated layer, then the shapes
+ * in list order, then the text over them. Allocation failures are remembered in `err` and reported once
  * by the caller. */
 #ifndef SPRINGPEND_CANVAS_H
 #define SPRINGPEND_CANVAS_H
@@ -38,6 +38,10 @@ enum sp_item_kind { SP_ITEM_SHAPES, SP_ITEM_PATH, SP_ITEM_TEXT };
 enum sp_layer {
     SP_LAYER_STATIC,  /* the same in every frame of a run */
     SP_LAYER_DYNAMIC, /* changes with the motion */
+    SP_LAYER_ACCUM,   /* drawn once and kept: each frame's list holds only
+                         what is new (a long exposure's settled trail), drawn
+                         under everything else; a backend that draws one
+                         frame just draws it first */
 };
 
 /* How shapes combine with what is under them. */

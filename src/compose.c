@@ -15,6 +15,7 @@ enum {
     HATCHES = 7,
     MAX_STROBE = 400,                     /* stroboscopic images at most */
     CAPTION_LINES = 4,                    /* a caption wraps to this many lines */
+    ALL_FADE = 10,                        /* s: trail = all fades in its newest 10 s */
 };
 
 /* Sizes as fractions of the image's smaller side. */
@@ -48,6 +49,9 @@ struct sp_composer {
     char caption[CAPTION_LINES][SP_VIEW_TEXT_BYTES]; /* the caption, wrapped */
     int caption_lines;
     char speed[32];           /* "speed ×0.25" when [video] speed != 1, else "" */
+    /* trail = all: the part older than ALL_FADE is drawn once (SP_LAYER_ACCUM) */
+    double accum_t;           /* s: the last trail point accumulated; < 0 = none */
+    struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
 };
 
 /* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
@@ -120,6 +124,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         sp_scene_defaults(&r->scene);
     r->width = desc->width;
     r->height = desc->height;
+    r->accum_t = -1;
     r->unit = (float)(r->width < r->height ? r->width : r->height);
     r->extent = desc->extent;
     r->max_speed = desc->extent.max_speed > 0 ? desc->extent.max_speed : 1.0;
@@ -186,52 +191,101 @@ static void to_px(const struct sp_composer *r, double x, double y, float p[2])
     p[1] = (float)(r->oy - r->scale * y);
 }
 
-/* Trail segments, oldest first, over the scene's trail window (a number of
- * frames, a duration, or the whole run): colour by speed, fading and
- * thinning with age in simulated time, so a trail looks the same at any fps.
- * A trail over the whole run (trail = all) fades less. */
-static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
+/* The trail's segment from a to point q (a, q in px): colour by speed, alpha
+ * and width by age (1 = newest, 0 = oldest shown). */
+static void trail_segment(struct sp_composer *r, const float a[2], const float b[2], float speed,
+                          float age)
 {
     const struct sp_scene *sc = &r->scene;
     const float w = TRAIL_RADIUS * r->unit;
     const float floor_alpha = sc->view.trail == SP_TRAIL_ALL ? 0.3f : 0.03f;
     const float fade = sc->view.fade ? 1.0f : 0.0f;
     const float *bg = r->pal.background;
+    float alpha = 1 - fade * (1 - floor_alpha) * (1 - powf(age, 1.4f)), color[4] = {0, 0, 0, 1};
+    sp_colormap(sc->view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
+                fminf(speed / (float)r->max_speed, 1.0f), color);
+    if (r->premix_trail) {
+        for (int k = 0; k < 3; k++)
+            color[k] = bg[k] + alpha * (color[k] - bg[k]);
+        alpha = 1;
+    }
+    color[3] = alpha;
+    sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], w * (1 - fade * 0.45f * (1 - age)), color);
+}
+
+/* Index of the first trail point later than t (points are in time order). */
+static int trail_after(const struct sp_trail *tr, double t)
+{
+    int lo = 0, hi = tr->count;
+    while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (sp_trail_at(tr, mid)->t <= t)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Trail segments, oldest first, over the scene's trail window (a number of
+ * frames, a duration, or the whole run), fading and thinning with age in
+ * simulated time, so a trail looks the same at any fps. Points closer than
+ * a pixel to the last drawn one add nothing and are skipped. A trail over
+ * the whole run (trail = all) fades over its newest ALL_FADE s only; what is
+ * older no longer changes and goes to the accumulated layer, each segment
+ * once, so a long exposure costs the same per frame however long it is. */
+static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
+{
+    const struct sp_scene *sc = &r->scene;
+    const int all = sc->view.trail == SP_TRAIL_ALL;
     const double now = sp_trail_at(tr, tr->count - 1)->t;
-    const double span = sc->view.trail == SP_TRAIL_ALL ? now
+    const double span = all ? ALL_FADE
                       : sc->view.trail == SP_TRAIL_DURATION ? sc->view.trail_duration
                       : (sc->view.trail - 1) * sc->video.speed / sc->video.fps;
     const double start = now - span;
-    float a[2], b[2], color[4] = {0, 0, 0, 1};
-    int i = 0;
-    while (i < tr->count - 1 && sp_trail_at(tr, i)->t < start - 1e-9 * (1 + fabs(start)))
-        i++; /* the ring may hold a little more than the window */
-    const struct sp_trail_point *p = sp_trail_at(tr, i);
+    const struct sp_trail_point *p;
+    float a[2], b[2];
+    int i;
 
     sp_canvas_blend(&r->canvas, r->premix_trail ? SP_BLEND_OVER : SP_BLEND_MAX);
+    if (all) {
+        if (r->accum_t < 0) {
+            r->accum_p = *sp_trail_at(tr, 0);
+            r->accum_t = r->accum_p.t;
+        }
+        to_px(r, r->accum_p.x, r->accum_p.y, a);
+        i = trail_after(tr, r->accum_t);
+        sp_canvas_layer(&r->canvas, SP_LAYER_ACCUM);
+        sp_canvas_path_begin(&r->canvas);
+        for (; i < tr->count && sp_trail_at(tr, i)->t <= start; i++) {
+            const struct sp_trail_point *q = sp_trail_at(tr, i);
+            r->accum_t = q->t;
+            to_px(r, q->x, q->y, b);
+            if (fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
+                continue;
+            trail_segment(r, a, b, 0.5f * (r->accum_p.speed + q->speed), 0);
+            a[0] = b[0], a[1] = b[1];
+            r->accum_p = *q;
+        }
+        sp_canvas_path_end(&r->canvas);
+        sp_canvas_layer(&r->canvas, SP_LAYER_DYNAMIC);
+        p = &r->accum_p;
+    } else {
+        i = 0;
+        while (i < tr->count - 1 && sp_trail_at(tr, i)->t < start - 1e-9 * (1 + fabs(start)))
+            i++; /* the ring may hold a little more than the window */
+        p = sp_trail_at(tr, i++);
+        to_px(r, p->x, p->y, a);
+    }
     sp_canvas_path_begin(&r->canvas);
-    to_px(r, p->x, p->y, a);
-    for (i++; i < tr->count; i++) {
+    for (; i < tr->count; i++) {
         const struct sp_trail_point *q = sp_trail_at(tr, i);
-        const float age = span > 0 ? (float)fmin(fmax((q->t - start) / span, 0), 1) : 1; /* 1 = newest */
-        const float speed = 0.5f * (p->speed + q->speed);
-        float alpha = 1 - fade * (1 - floor_alpha) * (1 - powf(age, 1.4f));
-
         to_px(r, q->x, q->y, b);
-        /* points closer than a pixel to the last drawn one add nothing */
         if (i < tr->count - 1 && fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
             continue;
-        sp_colormap(sc->view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
-                    fminf(speed / (float)r->max_speed, 1.0f), color);
-        if (r->premix_trail) {
-            for (int k = 0; k < 3; k++)
-                color[k] = bg[k] + alpha * (color[k] - bg[k]);
-            alpha = 1;
-        }
-        color[3] = alpha;
-        sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], w * (1 - fade * 0.45f * (1 - age)), color);
-        a[0] = b[0];
-        a[1] = b[1];
+        trail_segment(r, a, b, 0.5f * (p->speed + q->speed),
+                      span > 0 ? (float)fmin(fmax((q->t - start) / span, 0), 1) : 1);
+        a[0] = b[0], a[1] = b[1];
         p = q;
     }
     sp_canvas_path_end(&r->canvas);

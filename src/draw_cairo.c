@@ -181,13 +181,18 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
         source(cr, d->background);
         cairo_paint(cr);
     }
-    for (int i = 0; i < c->n_items; i++) {
-        const struct sp_item *it = &c->items[i];
-        if (it->kind == SP_ITEM_PATH)
-            path(cr, c->shapes + it->first, it->count);
-        else if (it->kind == SP_ITEM_SHAPES)
-            for (int k = 0; k < it->count; k++)
-                shape(cr, &c->shapes[it->first + k]);
+    /* the accumulated layer first, then the rest in order */
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < c->n_items; i++) {
+            const struct sp_item *it = &c->items[i];
+            if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
+                continue;
+            if (it->kind == SP_ITEM_PATH)
+                path(cr, c->shapes + it->first, it->count);
+            else if (it->kind == SP_ITEM_SHAPES)
+                for (int k = 0; k < it->count; k++)
+                    shape(cr, &c->shapes[it->first + k]);
+        }
     }
     /* text over everything, as the GL backend draws it */
     if (d->font && c->n_strings) {

@@ -15,6 +15,8 @@ struct sp_draw_gl {
     const struct sp_gl_api *gl;
     struct instances shape, text;
     GLuint atlas;
+    GLuint accum_fbo, accum_tex; /* SP_LAYER_ACCUM's picture; 0 = none yet */
+    int width, height;           /* px */
 };
 
 /* Compiles the pair, sets u_size, makes a VAO with three per-instance
@@ -83,6 +85,8 @@ int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
         return SP_E_NOMEM;
     }
     d->gl = gl;
+    d->width = width;
+    d->height = height;
     err = instances_make(gl, &d->shape, sp_embed_shape_vert, sp_embed_shape_frag, "shape",
                          width, height);
     if (!err && font) {
@@ -121,34 +125,86 @@ int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
     return 0;
 }
 
+/* One instanced draw per run of shape items with the same blending, over
+ * the items of the accumulated layer (accum = 1) or the others. */
+static void draw_shapes(const struct sp_gl_api *gl, const struct sp_canvas *c, int accum)
+{
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_TEXT || (it->layer == SP_LAYER_ACCUM) != accum)
+            continue;
+        int end = it->first + it->count, j = i + 1;
+        while (j < c->n_items &&
+               (c->items[j].kind == SP_ITEM_TEXT ||
+                ((c->items[j].layer == SP_LAYER_ACCUM) == accum && c->items[j].blend == it->blend))) {
+            if (c->items[j].kind != SP_ITEM_TEXT)
+                end = c->items[j].first + c->items[j].count;
+            j++;
+        }
+        const int start = it->first;
+        if (it->blend == SP_BLEND_MAX)
+            gl->BlendEquation(GL_MAX);
+        shape_base(gl, start);
+        gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - start));
+        gl->BlendEquation(GL_FUNC_ADD);
+        i = j - 1;
+    }
+}
+
+/* Makes the accumulation texture and its framebuffer, cleared to bg
+ * (premultiplied). 0 or SP_E_GL (logged). */
+static int accum_make(struct sp_draw_gl *d, const float bg[4])
+{
+    const struct sp_gl_api *gl = d->gl;
+    gl->GenTextures(1, &d->accum_tex);
+    gl->BindTexture(GL_TEXTURE_2D, d->accum_tex);
+    gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, d->width, d->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    gl->GenFramebuffers(1, &d->accum_fbo);
+    gl->BindFramebuffer(GL_FRAMEBUFFER, d->accum_fbo);
+    gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, d->accum_tex, 0);
+    if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        sp_log_error("GL cannot make a %dx%d framebuffer for the long exposure", d->width, d->height);
+        return SP_E_GL;
+    }
+    gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
+    gl->Clear(GL_COLOR_BUFFER_BIT);
+    return 0;
+}
+
 int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float bg[4])
 {
     const struct sp_gl_api *gl = d->gl;
+    GLint target = 0;
     GLenum glerr;
+    int accum = 0, err = 0;
 
-    gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
-    gl->Clear(GL_COLOR_BUFFER_BIT);
-    if (c->n_shapes) {
+    for (int i = 0; i < c->n_items && !accum; i++)
+        accum = c->items[i].layer == SP_LAYER_ACCUM;
+    if (c->n_shapes)
         instances_upload(gl, &d->shape, c->shapes, c->n_shapes, sizeof(struct sp_shape));
-        /* One draw per run of items with the same blending. */
-        for (int i = 0; i < c->n_items; i++) {
-            const struct sp_item *it = &c->items[i];
-            if (it->kind == SP_ITEM_TEXT)
-                continue;
-            int end = it->first + it->count, j = i + 1;
-            while (j < c->n_items && (c->items[j].kind == SP_ITEM_TEXT || c->items[j].blend == it->blend)) {
-                if (c->items[j].kind != SP_ITEM_TEXT)
-                    end = c->items[j].first + c->items[j].count;
-                j++;
-            }
-            const int start = it->first;
-            if (it->blend == SP_BLEND_MAX)
-                gl->BlendEquation(GL_MAX);
-            shape_base(gl, start);
-            gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - start));
-            gl->BlendEquation(GL_FUNC_ADD);
-            i = j - 1;
-        }
+    gl->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+    if (accum) { /* what is new of the accumulated layer, into its picture */
+        if (!d->accum_fbo && (err = accum_make(d, bg)) != 0)
+            return err;
+        gl->BindFramebuffer(GL_FRAMEBUFFER, d->accum_fbo);
+        gl->UseProgram(d->shape.program);
+        gl->BindVertexArray(d->shape.vao);
+        draw_shapes(gl, c, 1);
+        gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
+    }
+    if (d->accum_fbo) { /* the accumulated picture instead of the background */
+        gl->BindFramebuffer(GL_READ_FRAMEBUFFER, d->accum_fbo);
+        gl->BlitFramebuffer(0, 0, d->width, d->height, 0, 0, d->width, d->height,
+                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
+    } else {
+        gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
+        gl->Clear(GL_COLOR_BUFFER_BIT);
+    }
+    if (c->n_shapes) {
+        gl->UseProgram(d->shape.program);
+        gl->BindVertexArray(d->shape.vao);
+        draw_shapes(gl, c, 0);
     }
     if (c->n_quads && d->atlas) {
         instances_upload(gl, &d->text, c->quads, c->n_quads, sizeof(struct sp_glyph_quad));

@@ -68,6 +68,15 @@ ok(still("frames.png", "--fps", "10", "--set", "view.trail=51") and same("frames
 # The rule sees a shorter trail.
 ok(still("short.png", "--fps", "120", "--set", "view.trail=2s") and not same("fps120.png", "short.png"),
    "a 2 s trail differs from a 5 s one under the same rule")
+# trail = all: what is older than its 10 s fade is drawn once into an
+# accumulated picture; the video's last frame must equal a still of it.
+SMALL = ["--size", "320x180", "--fps", "30", "--set", "view.trail=all", "--set", "video.duration=14",
+         "--set", "view.panels=none", "--set", "view.hud=false", "-q"]
+r = run("render", scene, "-o", "all_%03d.png", *SMALL)
+s = run("still", scene, "--at", repr(419 / 30), "-o", "all_still.png", *SMALL)
+ok(r.returncode == 0 and s.returncode == 0 and
+   run("compare", "all_419.png", "all_still.png").returncode == 0,
+   "trail = all: frame 419 of the video (accumulated) equals the still at its time")
 for bad in ("0s", "5x", "-1s", "1e9s"):
     r = run("still", scene, "--set", f"view.trail={bad}", "-o", "bad.png")
     ok(r.returncode == 2 and "view.trail" in r.stderr and not os.path.exists(os.path.join(work, "bad.png")),

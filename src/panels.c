@@ -349,10 +349,12 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     p->title_end = r->x0 + pad +
         sp_canvas_text(c, fits ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
                        SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* a legend may count what is shown */
     if (n_leg)
         legend_draw(c, f, leg_row ? r->x0 + pad : p->title_end + pad,
                     r->y0 + pad + cap_n + (leg_row ? line_s : 0), r->x0 + pad, r->x1 - pad, leg, n_leg,
                     shrt);
+    sp_canvas_layer(c, SP_LAYER_STATIC);
     for (double v = p->y.first; label_y && v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
         tick_label(&p->y, v, buf, sizeof(buf));
         const int w = sp_font_width(f, SP_TEXT_SMALL, buf);

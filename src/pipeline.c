@@ -268,13 +268,15 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     sp_sim_init(&sim, sc);
     const double frame_dt = sc->video.speed / sc->video.fps;
     const int ss = desc->supersample > 1 ? desc->supersample : 1;
-    const int substeps = sp_trail_substeps(
+    int substeps = sp_trail_substeps(
         frame_dt, extent.max_speed * sp_params_omega_max(&sim.p),
         ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9)));
     const int trail_frames = sc->view.trail == SP_TRAIL_ALL ? n + 1
                            : sc->view.trail == SP_TRAIL_DURATION
                                ? (int)fmin(ceil(sc->view.trail_duration / frame_dt) + 1, n + 1)
                                : sc->view.trail;
+    if ((double)trail_frames * substeps > 4e6) /* about 100 MB of trail at most */
+        substeps = (int)fmax(1, 4e6 / fmax(trail_frames, 1));
     ret = sp_trail_make(&trail, trail_frames ? (trail_frames - 1) * substeps + 1 : 0);
     if (!ret)
         ret = sp_history_make(&hist, sc);

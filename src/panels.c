@@ -160,13 +160,13 @@ static void axis_step(struct axis *a, double step)
     a->offset = 0;
     if (mag > 0 && floor(log10(mag)) + 1 + a->decimals > 4 && span < 0.02 * mag) {
         const double q = pow(10, ceil(log10(span)));
-        a->offset = round(0.5 * (a->lo + a->hi) / q) * q;
+        a->offset = floor(a->lo / q) * q; /* below the range: positive labels */
         a->offset_decimals = q >= 1 ? 0 : (int)lround(-log10(q));
     }
 }
 
-/* Picks the finest round step (1, 2, 5 x 10^k) whose labels fit along an
- * axis of `length` px: side by side with a gap of one line height
+/* Picks the finest round step (1, 2, 5 x 10^k), 10 ticks at most, whose
+ * labels fit along an axis of `length` px: side by side with a gap of one line height
  * (horizontal), or 1.3 line heights apart (vertical). */
 static void axis_fit(struct axis *a, const struct sp_font *f, float length, int vertical)
 {
@@ -187,7 +187,8 @@ static void axis_fit(struct axis *a, const struct sp_font *f, float length, int 
                 }
                 need = widest + line;
             }
-            if (step / span * length >= need)
+            /* at most 10 ticks: more is clutter, not information */
+            if (step / span * length >= need && span / step <= 10)
                 return;
         }
 }

@@ -57,6 +57,13 @@ static struct sp_item *new_item(struct sp_canvas *c, enum sp_item_kind kind, int
     return it;
 }
 
+void sp_canvas_clip(struct sp_canvas *c, const float rect[4])
+{
+    struct sp_item *it = new_item(c, SP_ITEM_CLIP, c->n_shapes);
+    if (it)
+        memcpy(it->clip, rect ? rect : (const float[4]){0, 0, 0, 0}, sizeof(it->clip));
+}
+
 void sp_canvas_path_begin(struct sp_canvas *c)
 {
     c->in_path = 1;

@@ -11,7 +11,9 @@
  *           width per segment (a vector backend strokes it as one path, or
  *           one per run of equal colour);
  *   TEXT    a run of UTF-8 text at a size, pen position and colour (laid
- *           out once on the CPU, text.h; GL draws its glyph quads).
+ *           out once on the CPU, text.h; GL draws its glyph quads);
+ *   CLIP    the rectangle the shapes after it are clipped to (text is not
+ *           clipped), or none.
  * Every item carries a layer (static: the same every frame, e.g. panel
  * frames and axes; dynamic: the motion) so that a backend may cache the
  * static part. Both backends draw the accumulated layer, then the shapes
@@ -33,7 +35,7 @@ struct sp_shape {
 
 enum sp_align { SP_ALIGN_LEFT, SP_ALIGN_CENTER, SP_ALIGN_RIGHT };
 
-enum sp_item_kind { SP_ITEM_SHAPES, SP_ITEM_PATH, SP_ITEM_TEXT };
+enum sp_item_kind { SP_ITEM_SHAPES, SP_ITEM_PATH, SP_ITEM_TEXT, SP_ITEM_CLIP };
 
 enum sp_layer {
     SP_LAYER_STATIC,  /* the same in every frame of a run */
@@ -63,6 +65,8 @@ struct sp_item {
     float x, y;       /* pen start and baseline, px (whole pixels) */
     float color[4];   /* straight RGBA */
     int text;         /* byte offset of the NUL-terminated UTF-8 in `strings` */
+    /* CLIP only: */
+    float clip[4];    /* x0, y0, x1, y1, px; x1 <= x0 = no clipping */
 };
 
 struct sp_canvas {
@@ -95,6 +99,10 @@ void sp_canvas_blend(struct sp_canvas *c, enum sp_blend blend);
  * (SHAPES). */
 void sp_canvas_path_begin(struct sp_canvas *c);
 void sp_canvas_path_end(struct sp_canvas *c);
+
+/* Clips the shapes added from now on to the rectangle (x0, y0, x1, y1) px;
+ * NULL = no clipping. */
+void sp_canvas_clip(struct sp_canvas *c, const float rect[4]);
 
 /* A segment from a to b, half width hw px, round caps. */
 void sp_canvas_line(struct sp_canvas *c, float ax, float ay, float bx, float by, float hw,

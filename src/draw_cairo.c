@@ -187,13 +187,21 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
             const struct sp_item *it = &c->items[i];
             if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
                 continue;
-            if (it->kind == SP_ITEM_PATH)
+            if (it->kind == SP_ITEM_CLIP) {
+                cairo_reset_clip(cr);
+                if (it->clip[2] > it->clip[0]) {
+                    cairo_rectangle(cr, it->clip[0], it->clip[1], it->clip[2] - it->clip[0],
+                                    it->clip[3] - it->clip[1]);
+                    cairo_clip(cr);
+                }
+            } else if (it->kind == SP_ITEM_PATH)
                 path(cr, c->shapes + it->first, it->count);
             else if (it->kind == SP_ITEM_SHAPES)
                 for (int k = 0; k < it->count; k++)
                     shape(cr, &c->shapes[it->first + k]);
         }
     }
+    cairo_reset_clip(cr);
     /* text over everything, as the GL backend draws it */
     if (d->font && c->n_strings) {
         cairo_font_face_t *face = dejavu();

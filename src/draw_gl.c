@@ -1,4 +1,5 @@
 /* springpend (internal): the draw list drawn with GL. See draw_gl.h. */
+#include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 
@@ -125,16 +126,34 @@ int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
     return 0;
 }
 
-/* One instanced draw per run of shape items with the same blending, over
- * the items of the accumulated layer (accum = 1) or the others. */
-static void draw_shapes(const struct sp_gl_api *gl, const struct sp_canvas *c, int accum)
+/* Sets the scissor for a CLIP item (rect in px, y down) of a height px frame. */
+static void clip(const struct sp_gl_api *gl, const float r[4], int height)
+{
+    if (r[2] <= r[0]) {
+        gl->Disable(GL_SCISSOR_TEST);
+        return;
+    }
+    const GLint x0 = (GLint)floorf(r[0]), x1 = (GLint)ceilf(r[2]);
+    const GLint y0 = (GLint)floorf(r[1]), y1 = (GLint)ceilf(r[3]);
+    gl->Enable(GL_SCISSOR_TEST);
+    /* GL counts rows from the bottom; a collapsed rectangle shows nothing */
+    gl->Scissor(x0, height - y1, x1 > x0 ? x1 - x0 : 0, y1 > y0 ? y1 - y0 : 0);
+}
+
+/* One instanced draw per run of shape items with the same blending and
+ * clip, over the items of the accumulated layer (accum = 1, not clipped)
+ * or the others. */
+static void draw_shapes(const struct sp_gl_api *gl, const struct sp_canvas *c, int accum, int height)
 {
     for (int i = 0; i < c->n_items; i++) {
         const struct sp_item *it = &c->items[i];
-        if (it->kind == SP_ITEM_TEXT || (it->layer == SP_LAYER_ACCUM) != accum)
+        if (it->kind == SP_ITEM_CLIP && !accum)
+            clip(gl, it->clip, height);
+        if (it->kind == SP_ITEM_TEXT || it->kind == SP_ITEM_CLIP ||
+            (it->layer == SP_LAYER_ACCUM) != accum)
             continue;
         int end = it->first + it->count, j = i + 1;
-        while (j < c->n_items &&
+        while (j < c->n_items && c->items[j].kind != SP_ITEM_CLIP &&
                (c->items[j].kind == SP_ITEM_TEXT ||
                 ((c->items[j].layer == SP_LAYER_ACCUM) == accum && c->items[j].blend == it->blend))) {
             if (c->items[j].kind != SP_ITEM_TEXT)
@@ -149,6 +168,7 @@ static void draw_shapes(const struct sp_gl_api *gl, const struct sp_canvas *c, i
         gl->BlendEquation(GL_FUNC_ADD);
         i = j - 1;
     }
+    gl->Disable(GL_SCISSOR_TEST);
 }
 
 /* Makes the accumulation texture and its framebuffer, cleared to bg
@@ -189,7 +209,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
         gl->BindFramebuffer(GL_FRAMEBUFFER, d->accum_fbo);
         gl->UseProgram(d->shape.program);
         gl->BindVertexArray(d->shape.vao);
-        draw_shapes(gl, c, 1);
+        draw_shapes(gl, c, 1, d->height);
         gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
     }
     if (d->accum_fbo) { /* the accumulated picture instead of the background */
@@ -204,7 +224,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     if (c->n_shapes) {
         gl->UseProgram(d->shape.program);
         gl->BindVertexArray(d->shape.vao);
-        draw_shapes(gl, c, 0);
+        draw_shapes(gl, c, 0, d->height);
     }
     if (c->n_quads && d->atlas) {
         instances_upload(gl, &d->text, c->quads, c->n_quads, sizeof(struct sp_glyph_quad));

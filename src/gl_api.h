@@ -53,7 +53,9 @@
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                    \
     X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)          \
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)      \
-    X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)
+    X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                    \
+    X(PFNGLSCISSORPROC, Scissor)                                    \
+    X(PFNGLDISABLEPROC, Disable)
 
 struct sp_gl_api {
 #define X(type, name) type name;

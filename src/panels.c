@@ -401,7 +401,11 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     /* axes lines: left and bottom */
     sp_canvas_rect(c, p->area.x0 - hw, p->area.y0, p->area.x0 + hw, p->area.y1 + hw, pal->axis);
     sp_canvas_rect(c, p->area.x0 - hw, p->area.y1 - hw, p->area.x1, p->area.y1 + hw, pal->axis);
-    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* the data from here */
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* the data from here, inside the axes (with
+                                             room for a marker on the edge) */
+    const float m = 0.006f * unit;
+    if (p->area.x1 > p->area.x0 + 1 && p->area.y1 > p->area.y0 + 1) /* not a collapsed plot */
+        sp_canvas_clip(c, (const float[4]){p->area.x0 - m, p->area.y0 - m, p->area.x1 + m, p->area.y1 + m});
 }
 
 /* Which quantity a strip chart or phase plot shows. */
@@ -570,6 +574,7 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
             phase_plot(c, r, b == 5, f, e, pal, unit, fade);
         else
             poincare_plot(c, r, f, e, pal, unit);
+        sp_canvas_clip(c, NULL);
     }
 }
 

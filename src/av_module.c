@@ -26,9 +26,9 @@ void *sp_module_symbol(const char *name, const char *needed_for, const char *sym
     }
     module = loaded[slot].handle;
     if (!module) {
-        char exe[4096], try[4096 + 64], tried[3 * 4200] = "";
+        char exe[4096], try[4096 + 256], tried[4 * 4400] = "";
         ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-        const char *where[3] = {NULL, NULL, SP_MODULE_DIR};
+        const char *where[4] = {NULL, NULL, NULL, SP_MODULE_DIR};
         if (n > 0) {
             exe[n] = '\0';
             char *slash = strrchr(exe, '/');
@@ -36,12 +36,13 @@ void *sp_module_symbol(const char *name, const char *needed_for, const char *sym
                 *slash = '\0';
             where[0] = exe;
             where[1] = exe; /* and its parent, below */
+            where[2] = exe; /* and the installed layout, below */
         }
-        for (int i = 0; i < 3 && !module; i++) {
+        for (int i = 0; i < 4 && !module; i++) {
             if (!where[i])
                 continue;
-            snprintf(try, sizeof(try), "%s%s/%s", where[i], i == 1 ? "/.." : "",
-                     name);
+            snprintf(try, sizeof(try), "%s%s/%s", where[i],
+                     i == 1 ? "/.." : i == 2 ? "/" SP_MODULE_RELDIR : "", name);
             int readable = access(try, R_OK) == 0;
             if (readable)
                 module = dlopen(try, RTLD_NOW | RTLD_LOCAL);

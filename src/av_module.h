@@ -10,7 +10,9 @@
  * on the first call; NULL (logged, naming `needed_for`) if it cannot be
  * loaded or lacks the symbol. Not thread-safe on the first call. A module is
  * looked for beside the executable (the build tree), one folder up (tests),
- * then in SP_MODULE_DIR (installed). */
+ * at SP_MODULE_RELDIR from the executable's folder (installed, wherever the
+ * prefix now is: found through /proc/self/exe), then in SP_MODULE_DIR (the
+ * configured prefix). */
 void *sp_module_symbol(const char *name, const char *needed_for, const char *symbol);
 
 /* sp_module_symbol of springpend-av.so. */

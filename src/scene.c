@@ -13,6 +13,7 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
+#include "ini_lines.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
 #define SP_MAX_FRAMES 1000000 /* about 4.6 hours at 60 fps */
@@ -475,26 +476,22 @@ static void protect_colour(char *line)
 static char *read_line(char *str, int num, void *stream)
 {
     struct parse_ctx *c = stream;
-    check_previous_line(c);
-    if (!*c->cursor)
-        return NULL;
+    struct sp_ini_lines l = {c->cursor, c->line};
     const char *start = c->cursor;
-    const char *nl = strchr(start, '\n');
-    size_t len = nl ? (size_t)(nl - start + 1) : strlen(start);
-    c->cursor += len;
-    c->line++;
+    size_t len;
+    check_previous_line(c);
+    if (!sp_ini_lines_next(&l, str, num, &len))
+        return NULL;
+    c->cursor = l.cursor, c->line = l.line;
     c->line_handled = 0;
-    if (len + 1 > (size_t)num) {
+    if (len) {
         const char *q = start + strspn(start, " \t");
         if (*q != '#' && *q != ';') /* long comments are fine */
             report(c, c->line, "line is %zu bytes long; at most %d are allowed "
                    "for a key = value line", len, num - 2);
         c->line_has_content = 0;
-        snprintf(str, (size_t)num, "#\n");
         return str;
     }
-    memcpy(str, start, len);
-    str[len] = 0;
     protect_colour(str);
     c->line_has_content = line_has_content(c, str);
     return str;
@@ -763,5 +760,65 @@ void sp_scene_print_keys(void)
                    : k->kind == KEY_COLOR ? "theme" : k->unit, range);
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
+    }
+}
+
+void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
+{
+    static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
+                                              "poincare", "modes"};
+    static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
+                                          SP_PANEL_EXTENSION,
+                                          SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
+                                          SP_PANEL_POINCARE, SP_PANEL_MODES};
+    char section[64];
+    const char *dot = strchr(key, '.');
+    const struct key_info *k = NULL;
+    char *end;
+    double v = strtod(value, &end);
+    snprintf(buf, size, "%s", value);
+    if (dot && (size_t)(dot - key) < sizeof(section)) {
+        snprintf(section, sizeof(section), "%.*s", (int)(dot - key), key);
+        k = find_key(section, dot + 1);
+    }
+    if (!k || end == value || *end)
+        return;
+    switch (k->kind) {
+    case KEY_REAL: snprintf(buf, size, "%.10g", v); break;
+    case KEY_DEGREES: snprintf(buf, size, "%.10g", v * (180.0 / M_PI)); break;
+    case KEY_BOOL: snprintf(buf, size, "%s", v != 0 ? "true" : "false"); break;
+    case KEY_CHOICE: {
+        const char *w = k->unit;
+        for (int i = 0; i < (int)v && *w; i++)
+            w += strcspn(w, ","), w += strspn(w, ", ");
+        if (*w)
+            snprintf(buf, size, "%.*s", (int)strcspn(w, ","), w);
+        break;
+    }
+    case KEY_COLOR:
+        if ((int)v == SP_BACKGROUND_THEME)
+            snprintf(buf, size, "theme");
+        else if ((int)v == SP_BACKGROUND_TRANSPARENT)
+            snprintf(buf, size, "transparent");
+        else
+            snprintf(buf, size, "#%06x", (unsigned)v);
+        break;
+    case KEY_TRAIL:
+        if ((int)v == SP_TRAIL_ALL)
+            snprintf(buf, size, "all");
+        break;
+    case KEY_PANELS: {
+        unsigned bits = (unsigned)strtoul(value, NULL, 0);
+        size_t used = 0;
+        buf[0] = 0;
+        for (int i = 0; i < 7; i++)
+            if (bits & panel_bits[i] && used < size)
+                used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
+                                         panel_names[i]);
+        if (!bits)
+            snprintf(buf, size, "none");
+        break;
+    }
+    default: break;
     }
 }

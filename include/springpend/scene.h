@@ -124,6 +124,13 @@ const char *sp_scene_preset_name(const struct sp_scene *s);
  * Returns the length snprintf would need (write again if >= size). */
 int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size);
 
+/* One canonical line's value as a scene file spells it, into buf: numbers
+ * to 10 digits, angles in degrees, choices and panels by name, booleans
+ * true/false, colours #rrggbb, theme or transparent. key is "section.name";
+ * an unknown key or value is copied as it is. For messages (compare names
+ * the keys that changed between two images' scenes). */
+void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size);
+
 /* Prints every key with its default, unit and accepted range (for --help). */
 void sp_scene_print_keys(void);
 

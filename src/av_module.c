@@ -1,4 +1,4 @@
-/* springpend: loads springpend-av.so on first use (see av_module.h). */
+/* springpend: loads modules on first use (see av_module.h). */
 #include <dlfcn.h>
 #include <errno.h>
 #include <stdio.h>
@@ -8,11 +8,23 @@
 #include "springpend/common.h"
 #include "av_module.h"
 
-#define AV_MODULE "springpend-av.so"
+enum { MAX_MODULES = 4 };
 
-void *sp_av_module_symbol(const char *symbol)
+void *sp_module_symbol(const char *name, const char *needed_for, const char *symbol)
 {
-    static void *module;
+    static struct {
+        const char *name;
+        void *handle;
+    } loaded[MAX_MODULES];
+    void *module = NULL;
+    int slot = 0;
+    while (slot < MAX_MODULES && loaded[slot].name && strcmp(loaded[slot].name, name))
+        slot++;
+    if (slot == MAX_MODULES) {
+        sp_log_error("too many modules to load %s", name);
+        return NULL;
+    }
+    module = loaded[slot].handle;
     if (!module) {
         char exe[4096], try[4096 + 256], tried[4 * 4400] = "";
         ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
@@ -30,7 +42,7 @@ void *sp_av_module_symbol(const char *symbol)
             if (!where[i])
                 continue;
             snprintf(try, sizeof(try), "%s%s/%s", where[i],
-                     i == 1 ? "/.." : i == 2 ? "/" SP_MODULE_RELDIR : "", AV_MODULE);
+                     i == 1 ? "/.." : i == 2 ? "/" SP_MODULE_RELDIR : "", name);
             int readable = access(try, R_OK) == 0;
             if (readable)
                 module = dlopen(try, RTLD_NOW | RTLD_LOCAL);
@@ -40,13 +52,20 @@ void *sp_av_module_symbol(const char *symbol)
                          readable ? dlerror() : strerror(errno));
         }
         if (!module) {
-            sp_log_error("cannot load springpend's FFmpeg module, needed for "
-                         "video and GIF (%s); reinstall springpend", tried);
+            sp_log_error("cannot load springpend's module %s, needed for %s (%s); "
+                         "reinstall springpend", name, needed_for, tried);
             return NULL;
         }
+        loaded[slot].name = name;
+        loaded[slot].handle = module;
     }
     void *p = dlsym(module, symbol);
     if (!p)
-        sp_log_error("%s lacks %s: %s", AV_MODULE, symbol, dlerror());
+        sp_log_error("%s lacks %s: %s", name, symbol, dlerror());
     return p;
+}
+
+void *sp_av_module_symbol(const char *symbol)
+{
+    return sp_module_symbol("springpend-av.so", "video and GIF", symbol);
 }

@@ -45,15 +45,16 @@ static const char render_usage[] =
     "  -h, --help             this text\n";
 
 static const char still_usage[] =
-    "usage: springpend still SCENE [--at SECONDS] [-o OUTPUT.png] [options]\n"
+    "usage: springpend still SCENE [--at SECONDS] [-o OUTPUT.png|.svg|.pdf] [options]\n"
     "\n"
     "Renders one frame at simulated time SECONDS (default 0), integrating only up\n"
     "to it; the trail holds the positions at the video's frame times before it.\n"
-    "Default output: out/<scene>.png.\n"
+    "Default output: out/<scene>.png. NAME.svg and NAME.pdf are vector figures of\n"
+    "the same frame (cairo: real paths; the PDF keeps its text selectable).\n"
     "\n"
     "options:\n"
     "  --at SECONDS           simulated time of the frame\n"
-    "  -o, --output PATH      where to write (.png)\n"
+    "  -o, --output PATH      where to write (.png, .svg or .pdf)\n"
     "  --state FILE.json      also write the bob's physics state in that frame\n"
     "                         (t, x, y, vx, vy, r, theta, energies), so CI can\n"
     "                         check the physics apart from the pixels\n"
@@ -111,8 +112,9 @@ static int write_state(const char *path, const struct sp_scene *scene,
     return sp_outfile_commit(&f);
 }
 
-/* What a still can be written as, by extension; the message lists them. */
-static const char *const still_formats[] = {"png"};
+/* What a still can be written as, by extension (PNG through the sink, SVG
+ * and PDF through figure.c); the message lists them. */
+static const char *const still_formats[] = {"png", "svg", "pdf"};
 
 /* Refuses a still whose -o names a format that is not an image. */
 static int check_still_format(const char *out)

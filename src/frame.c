@@ -39,10 +39,33 @@ void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivo
         .x = (float)s->x,
         .y = (float)(s->y + pivot_y),
         .speed = (float)sqrt(s->vx * s->vx + s->vy * s->vy),
+        .t = s->t,
     };
     tr->head = (tr->head + 1) % tr->capacity;
     if (tr->count < tr->capacity)
         tr->count++;
+}
+
+int sp_trail_follow(struct sp_trail *tr, struct sp_history *h, struct sp_sim *sim,
+                    double t_target, int substeps)
+{
+    const double t0 = sim->s.t;
+    int err = 0;
+    if (substeps < 1 || t_target <= t0)
+        substeps = 1;
+    for (int i = 1; i <= substeps && !err; i++) {
+        err = sp_history_follow(h, sim, i == substeps ? t_target : t0 + (t_target - t0) * i / substeps);
+        if (!err)
+            sp_trail_push_at(tr, &sim->s, sp_pivot_y(&sim->p, sim->s.t));
+    }
+    return err;
+}
+
+int sp_trail_substeps(double dt, double accel, double px_per_m)
+{
+    /* a h^2 / 8 * px_per_m <= 0.5  <=>  h <= 2 / sqrt(a px_per_m) */
+    const double n = ceil(dt * sqrt(fmax(accel, 0) * fmax(px_per_m, 0)) / 2 - 1e-9);
+    return !(n > 1) ? 1 : n > 64 ? 64 : (int)n;
 }
 
 const struct sp_trail_point *sp_trail_at(const struct sp_trail *tr, int i)

@@ -31,7 +31,8 @@ enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_CHOICE,  /* one of the names in `unit` (", "-separated), int index */
                 KEY_PANELS,  /* a list of panel names, unsigned SP_PANEL_* bits */
                 KEY_COLOR,   /* #rrggbb, "theme" or "transparent", int */
-                KEY_TRAIL }; /* an integer or "all" (SP_TRAIL_ALL), int */
+                KEY_TRAIL,   /* an integer or "all" (SP_TRAIL_ALL), int */
+                KEY_TEXT };  /* UTF-8 text, char[SP_VIEW_TEXT_BYTES] */
 
 /* One scene key: where it lives in struct sp_scene and what it accepts.
  * Accepted: lo < v (lo_open) or lo <= v, and v <= hi. */
@@ -73,7 +74,7 @@ static const struct key_info keys[] = {
     {"video", "crf", KEY_INT, F(video.crf), 0, 0, 63, 0, "(quality, lower is better; 0 = the format's default: 23 H.264, 32 VP9)"},
     {"video", "preset", KEY_CHOICE, F(video.preset), 0, 0, 0, 0, PRESET_NAMES},
     {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
-    {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "points"},
+    {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "frames"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
      "none, all, r, theta, energy, extension, phase, poincare, modes"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
@@ -83,6 +84,11 @@ static const struct key_info keys[] = {
     {"view", "colormap", KEY_CHOICE, F(view.colormap), 0, 0, 0, 0, "inferno, viridis"},
     {"view", "colorbar", KEY_BOOL, F(view.colorbar), 0, 0, 0, 0, "true, false"},
     {"view", "strobe", KEY_REAL, F(view.strobe), 0, 0, 1e6, 0, "s"},
+    {"view", "pendulum", KEY_BOOL, F(view.pendulum), 1, 0, 0, 0, "true, false"},
+    {"view", "fade", KEY_BOOL, F(view.fade), 1, 0, 0, 0, "true, false"},
+    {"view", "font_scale", KEY_REAL, F(view.font_scale), 1, 0.25, 4, 0, "(text size factor)"},
+    {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
+    {"view", "caption", KEY_TEXT, F(view.caption), 0, 0, 0, 0, "text"},
 };
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
@@ -304,11 +310,42 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             return 1;
         }
         break;
-    case KEY_TRAIL:
-        if (strcmp(value, "all"))
+    case KEY_TRAIL: {
+        char *end = NULL;
+        const size_t n = strlen(value);
+        if (!strcmp(value, "all")) {
+            *(int *)p = SP_TRAIL_ALL;
+            return 1;
+        }
+        if (n < 2 || value[n - 1] != 's')
             return 0;
-        *(int *)p = SP_TRAIL_ALL;
+        const double d = strtod(value, &end);
+        if (end != value + n - 1 || !(d > 0 && d <= 1e6)) {
+            report(c, line, "%s.%s = '%s' is not allowed; give a number of frames from 0 to "
+                   "1000000, all, or a duration 0 < D <= 1e+06 s such as 5s", k->section,
+                   k->name, value);
+            return 1;
+        }
+        *(int *)p = SP_TRAIL_DURATION;
+        c->scene->view.trail_duration = d;
         return 1;
+    }
+    case KEY_TEXT: {
+        size_t n = strlen(value);
+        if (n >= 2 && value[0] == '"' && value[n - 1] == '"') /* optional quotes */
+            value++, n -= 2;
+        if (n >= SP_VIEW_TEXT_BYTES) {
+            report(c, line, "%s.%s is %zu bytes long; at most %d are allowed", k->section,
+                   k->name, n, SP_VIEW_TEXT_BYTES - 1);
+            return 1;
+        }
+        memcpy(p, value, n);
+        p[n] = 0;
+        for (char *q = p; *q; q++) /* a '#' kept from the comment stripper */
+            if (*q == COLOUR_MARK)
+                *q = '#';
+        return 1;
+    }
     default:
         return 0;
     }
@@ -480,6 +517,7 @@ void sp_scene_defaults(struct sp_scene *s)
         case KEY_INT: *(int *)p = (int)keys[i].def; break;
         case KEY_METHOD: *(enum sp_method *)p = (enum sp_method)(int)keys[i].def; break;
         case KEY_PANELS: *(unsigned *)p = (unsigned)keys[i].def; break;
+        case KEY_TEXT: *p = 0; break;
         default: *(int *)p = (int)keys[i].def; break; /* bool, choice, colour, trail */
         }
     }
@@ -755,7 +793,16 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
         case KEY_PANELS:
             n = snprintf(at, room, "%s.%s=%#x\n", k->section, k->name, *(const unsigned *)p);
             break;
-        default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR, KEY_TRAIL: an int */
+        case KEY_TEXT:
+            n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name, p);
+            break;
+        case KEY_TRAIL:
+            if (*(const int *)p == SP_TRAIL_DURATION)
+                n = snprintf(at, room, "%s.%s=%.17gs\n", k->section, k->name, s->view.trail_duration);
+            else
+                n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
+            break;
+        default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR: an int */
             n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         }
@@ -773,7 +820,9 @@ void sp_scene_print_keys(void)
         if (strcmp(section, k->section))
             printf("  [%s]\n", section = k->section);
         if (k->kind == KEY_TRAIL)
-            snprintf(range, sizeof(range), "an integer from 0 to 1000000 %s, or all", k->unit);
+            snprintf(range, sizeof(range), "frames from 0 to 1000000, all, or a duration (5s)");
+        else if (k->kind == KEY_TEXT)
+            snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
         else if (k->kind >= KEY_BOOL)
             snprintf(range, sizeof(range), "%s: %s", k->kind == KEY_PANELS ? "list of" : "one of", k->unit);
         else if (k->kind == KEY_METHOD)
@@ -782,10 +831,13 @@ void sp_scene_print_keys(void)
             describe_range(k, range, sizeof(range));
         if (k->kind == KEY_METHOD)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
+        else if (k->kind == KEY_TEXT)
+            printf("    %-15s default %-8s %s\n", k->name, "\"\"", range);
         else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             printf("    %-15s default %-8.*s %s\n", k->name,
                    k->kind == KEY_BOOL ? 5 : (int)strcspn(k->unit, ","),
-                   k->kind == KEY_BOOL ? "false" : k->kind == KEY_COLOR ? "theme" : k->unit, range);
+                   k->kind == KEY_BOOL ? (k->def ? "true" : "false")
+                   : k->kind == KEY_COLOR ? "theme" : k->unit, range);
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
     }

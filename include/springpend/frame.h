@@ -5,10 +5,13 @@
 
 #include "springpend/sim.h"
 
-/* A trail point: where the bob was, and how fast it went. */
+struct sp_history;
+
+/* A trail point: where the bob was, when, and how fast it went. */
 struct sp_trail_point {
     float x, y;  /* m */
     float speed; /* m/s */
+    double t;    /* s */
 };
 
 /* Ring buffer of the last `capacity` bob positions, oldest first on read. */
@@ -24,6 +27,17 @@ void sp_trail_destroy(struct sp_trail *tr);
 void sp_trail_push(struct sp_trail *tr, const struct sp_state *s);
 /* The same with the pivot at height pivot_y (m): the trail is kept in the lab. */
 void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivot_y);
+/* Advances sim to t_target through sp_history_follow in `substeps` equal
+ * steps, pushing a trail point (pivot at its height) after each, so that the
+ * trail follows the motion between frames. 0 or sp_sim_advance's error. */
+int sp_trail_follow(struct sp_trail *tr, struct sp_history *h, struct sp_sim *sim,
+                    double t_target, int substeps);
+
+/* Substeps per frame interval dt (s) for a trail drawn at px_per_m whose
+ * bob accelerates at most by accel (m/s^2): chords then stay within half a
+ * pixel of the path (sagitta a h^2 / 8). At least 1, at most 64. */
+int sp_trail_substeps(double dt, double accel, double px_per_m);
+
 /* i-th point, 0 = oldest, count-1 = newest. */
 const struct sp_trail_point *sp_trail_at(const struct sp_trail *tr, int i);
 

@@ -59,7 +59,11 @@ static void check_accepted(const struct sp_scene *s)
     CHECK(s->integrator.tolerance >= 1e-15 && s->integrator.tolerance <= 1e-2);
     CHECK(isfinite(s->pivot.amplitude) && isfinite(s->pivot.frequency));
     CHECK(isfinite(s->view.strobe) && s->view.strobe >= 0);
-    CHECK((s->view.trail >= 0 && s->view.trail <= 1000000) || s->view.trail == SP_TRAIL_ALL);
+    CHECK((s->view.trail >= 0 && s->view.trail <= 1000000) || s->view.trail == SP_TRAIL_ALL ||
+          (s->view.trail == SP_TRAIL_DURATION && s->view.trail_duration > 0 &&
+           s->view.trail_duration <= 1e6));
+    CHECK(s->view.font_scale >= 0.25 && s->view.font_scale <= 4);
+    CHECK(memchr(s->view.title, 0, sizeof(s->view.title)) && memchr(s->view.caption, 0, sizeof(s->view.caption)));
     CHECK(s->name[sizeof(s->name) - 1] == 0);
     char buf[4096];
     int len = sp_scene_canonical(s, buf, sizeof(buf));

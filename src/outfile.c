@@ -242,6 +242,8 @@ int sp_outfile_commit(struct sp_outfile *f)
 
 void sp_outfile_discard(struct sp_outfile *f)
 {
+    if (!f->target) /* closed, or zeroed and never opened */
+        return;
     if (f->fd >= 0)
         close(f->fd);
     f->fd = -1;

@@ -58,7 +58,8 @@ double sp_sweep_axis_value(const struct sp_sweep_axis *a, int i)
 
 int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *between)
 {
-    static const char *const columns[] = {"lyapunov,lyapunov_half", "t,theta,r", "t,r,r_dot"};
+    static const char *const columns[] = {"lyapunov,lyapunov_half", "t,theta,r",
+                                          "t,r,r_dot,theta_dot"};
     fprintf(fp, "# springpend sweep scene=%s measure=%s time=%.17g transient=%.17g "
             "energy=%.17g driven=%d method=%s dt=%.17g theme=%d colormap=%d",
             d->scene, measure_names[d->measure], d->time, d->transient, d->energy, d->driven,
@@ -390,12 +391,12 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
             }
             double x = hermite(s, dt, x0, vx0, x1, vx1), y = hermite(s, dt, y0, vy0, y1, vy1);
             double vx = vx0 + s * (vx1 - vx0), vy = vy0 + s * (vy1 - vy0);
-            double r = hypot(x, y), rd = (x * vx + y * vy) / r;
+            double r = hypot(x, y), rd = (x * vx + y * vy) / r, thd = (x * vy - y * vx) / (r * r);
             row_start(&rows[i], d, pts[i]);
             if (d->measure == SP_MEASURE_ORBIT)
                 sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", t0 + s * dt, 0.0, r);
             else
-                sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", t0 + s * dt, r, rd);
+                sb_printf(&rows[i], "%.10g,%.9g,%.9g,%.9g\n", t0 + s * dt, r, rd, thd);
         }
     }
     for (int i = 0; i < n; i++) {
@@ -404,7 +405,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
             out->blown_up++;
             rows[i].len = 0;
             row_start(&rows[i], d, pts[i]);
-            sb_printf(&rows[i], "nan,nan,nan\n");
+            sb_printf(&rows[i], d->measure == SP_MEASURE_ORBIT ? "nan,nan,nan\n" : "nan,nan,nan,nan\n");
         }
         sb_append(&out->text, &rows[i]);
         free(rows[i].s);

@@ -8,7 +8,7 @@
  * CSV layout: line 1 the description, line 2 the column names, then rows.
  *   lyapunov: point,KEY[,KEY2],lyapunov,lyapunov_half   (1/s; the value at T/2)
  *   orbit:    point,KEY,t,theta,r                       (s, degrees, m)
- *   poincare: point,KEY[,KEY2],t,r,r_dot                (s, m, m/s)
+ *   poincare: point,KEY[,KEY2],t,r,r_dot,theta_dot      (s, m, m/s, rad/s)
  * A shard's CSV has a "# shard I/N" line after the description. */
 #ifndef SPRINGPEND_SWEEP_H
 #define SPRINGPEND_SWEEP_H

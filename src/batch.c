@@ -37,6 +37,7 @@
 /* One block's parameters, copied out of the batch's arrays. */
 struct blk {
     double km[B], L0[B], g[B], bm[B], amp[B], om[B];
+    double kl[B]; /* k / (m L0^2), 1/(s^2 m^2): the Jacobian's k L0 / (m rho^3) = kl q^3 */
 };
 
 /* A component takes part when it exists: work only when forced, the tangent
@@ -94,7 +95,7 @@ SPECIALISED void rhs_blk(const struct blk *p, const double *t, double u[NC][B], 
         d[SP_BVX][l] = ax;
         d[SP_BVY][l] = ay;
         if (tangent) {
-            double a = rho > 0 ? p->km[l] * q / (rho * rho) : 0; /* k L0 / (m rho^3) */
+            double a = p->kl[l] * q * q * q; /* k L0 / (m rho^3), no division */
             double jxx = -c - a * x * x, jxy = -a * x * y, jyy = -c - a * y * y;
             double dx = u[SP_BDX][l], dy = u[SP_BDY][l];
             d[SP_BDX][l] = u[SP_BDVX][l];
@@ -197,7 +198,7 @@ SPECIALISED void force_blk(const struct blk *p, double u[NC][B], double a[6][B],
         a[0][l] = -c * x;
         a[1][l] = -c * y - p->g[l] - a[2][l];
         if (tangent) {
-            double s = rho > 0 ? p->km[l] * q / (rho * rho) : 0;
+            double s = p->kl[l] * q * q * q;
             a[3][l] = -c - s * x * x;
             a[4][l] = -s * x * y;
             a[5][l] = -c - s * y * y;
@@ -290,6 +291,8 @@ static void load_blk(const struct sp_batch *b, int base, struct blk *p)
     memcpy(p->bm, b->bm + base, sizeof(p->bm));
     memcpy(p->amp, b->amp + base, sizeof(p->amp));
     memcpy(p->om, b->om + base, sizeof(p->om));
+    for (int l = 0; l < B; l++)
+        p->kl[l] = p->km[l] / (p->L0[l] * p->L0[l]);
 }
 
 /* Walks one block's grid from index n0 to n1 with step dt, then writes the

@@ -85,12 +85,21 @@ static void *work_run(void *arg)
     return NULL;
 }
 
-/* Seconds for the whole grid on `threads` threads (equal contiguous parts). */
-static double batch_time(int total, double T, double dt, int tangent, int threads, double *lambda)
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Seconds for the whole grid on `threads` threads (equal contiguous parts);
+ * *cpu: the process's CPU seconds meanwhile (all threads). */
+static double batch_time(int total, double T, double dt, int tangent, int threads, double *lambda,
+                         double *cpu)
 {
     pthread_t tid[64];
     struct work w[64];
-    double t0 = now();
+    double t0 = now(), c0 = cpu_now();
     for (int i = 0; i < threads; i++) {
         w[i] = (struct work){total * i / threads, total * (i + 1) / threads - total * i / threads,
                              total, tangent, T, dt, lambda};
@@ -98,6 +107,7 @@ static double batch_time(int total, double T, double dt, int tangent, int thread
     }
     for (int i = 0; i < threads; i++)
         pthread_join(tid[i], NULL);
+    *cpu = cpu_now() - c0;
     return now() - t0;
 }
 
@@ -155,10 +165,12 @@ int main(int argc, char **argv)
     double *lam = calloc((size_t)n, sizeof(double));
     for (int tangent = 0; tangent < 2; tangent++) {
         const char *what = tangent ? "tangent" : "state";
-        double t1 = batch_time(n, T, dt, tangent, 1, NULL);
-        double tn = batch_time(n, T, dt, tangent, cores, tangent ? lam : NULL);
+        double c1, cn;
+        double t1 = batch_time(n, T, dt, tangent, 1, NULL, &c1);
+        double tn = batch_time(n, T, dt, tangent, cores, tangent ? lam : NULL, &cn);
         printf("springpend_%s_1 = %.4g\n", what, steps / t1);
         printf("springpend_%s_%d = %.4g\n", what, cores, steps / tn);
+        printf("springpend_%s_cpu = %.4g\n", what, steps / cn);
     }
     int idx[3] = {0, n / 2, n - 1};
     for (int k = 0; k < 3; k++)
@@ -167,11 +179,12 @@ int main(int argc, char **argv)
     /* a sample of the grid (GSL is slow): 16 trajectories, then the three */
     for (int tangent = 0; tangent < 2; tangent++) {
         int m = 16;
-        double t0 = now();
+        double t0 = now(), c0 = cpu_now();
         for (int i = 0; i < m; i++)
             gsl_one(angle_deg(i * (n - 1) / (m - 1), n), T, dt, tangent);
-        printf("gsl_%s_1 = %.4g\n", tangent ? "tangent" : "state",
-               (double)m * lround(T) * lround(1.0 / dt) / (now() - t0));
+        double gsteps = (double)m * lround(T) * lround(1.0 / dt);
+        printf("gsl_%s_1 = %.4g\n", tangent ? "tangent" : "state", gsteps / (now() - t0));
+        printf("gsl_%s_cpu = %.4g\n", tangent ? "tangent" : "state", gsteps / (cpu_now() - c0));
     }
     for (int k = 0; k < 3; k++)
         printf("gsl_lambda_%.1f = %.6f\n", angle_deg(idx[k], n), gsl_one(angle_deg(idx[k], n), T, dt, 1));

@@ -178,7 +178,7 @@ static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct 
     cairo_set_font_size(cr, 17);
     set_rgba(cr, pal->text);
     snprintf(buf, sizeof(buf), "%s: %s", d->scene, what);
-    text_at(cr, 80, 16, buf, 0, 0);
+    text_at(cr, 80, 10, buf, 0, 0);
     cairo_set_font_size(cr, 12);
     set_rgba(cr, pal->muted);
     if (d->measure == SP_MEASURE_POINCARE)
@@ -187,7 +187,7 @@ static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct 
     else
         snprintf(buf, sizeof(buf), "T = %g s after %g s, %s dt = %g s", d->time, d->transient,
                  d->method, d->dt);
-    text_at(cr, W - 30, 20, buf, 1, 0);
+    text_at(cr, 80, 34, buf, 0, 0);
 }
 
 static void colormap_rgb(const struct sp_sweep_desc *d, double t, float rgb[3])
@@ -255,7 +255,7 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     key_label(xl, sizeof(xl), ax->key);
     draw_title(cr, d, pal, "largest Lyapunov exponent");
     if (d->n_axes == 1) {
-        struct frame f = {80, 50, W - 110, H - 110, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
+        struct frame f = {80, 56, W - 110, H - 116, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
         fix_range(&f.xlo, &f.xhi);
         draw_axes(cr, &f, pal, xl, "λ (1/s)");
         cairo_save(cr);
@@ -290,7 +290,7 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         /* cells centred on the grid values */
         double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
         double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
-        struct frame f = {80, 50, W - 200, H - 110, ax->from - dx / 2, ax->to + dx / 2,
+        struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
         cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, ax->count, ay->count);
         unsigned char *data = cairo_image_surface_get_data(img);
@@ -346,7 +346,7 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     fix_range(&xlo, &xhi);
     fix_range(&ylo, &yhi);
     double mx = orbit ? 0 : 0.04 * (xhi - xlo), my = 0.05 * (yhi - ylo);
-    struct frame f = {80, 50, W - 110, H - 110, xlo - mx, xhi + mx, ylo - my, yhi + my};
+    struct frame f = {80, 56, W - 110, H - 116, xlo - mx, xhi + mx, ylo - my, yhi + my};
     char xl[96];
     key_label(xl, sizeof(xl), d->axis[0].key);
     draw_title(cr, d, pal, orbit ? (d->driven ? "orbit diagram, once per drive period"
@@ -360,7 +360,7 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
     cairo_clip(cr);
     /* dots fade with their number, so dense regions read as density */
-    double radius = orbit ? 0.7 : 0.8;
+    double radius = orbit ? 0.7 : 0.9;
     double alpha = fmin(0.9, fmax(0.15, 3e4 / (double)(dots + 1)));
     while (next_row(fp, d, 3, &r)) {
         if (!isfinite(XV) || !isfinite(YV))
@@ -379,6 +379,25 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
 #undef XV
 #undef YV
     cairo_restore(cr);
+    if (!orbit) {
+        /* which colour is which start: a small gradient over the first key */
+        const double x0 = W - 250, y0 = 22, w = 150;
+        for (int i = 0; i < 64; i++) {
+            float rgb[3];
+            colormap_rgb(d, 0.1 + 0.85 * (i + 0.5) / 64, rgb);
+            cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+            cairo_rectangle(cr, x0 + i * w / 64, y0, w / 64 + 0.3, 10);
+            cairo_fill(cr);
+        }
+        char buf[64];
+        cairo_set_font_size(cr, 11);
+        set_rgba(cr, pal->muted);
+        snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
+        text_at(cr, x0 - 5, y0 + 5, buf, 1, 0.5);
+        snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
+        text_at(cr, x0 + w + 5, y0 + 5, buf, 0, 0.5);
+        text_at(cr, x0 + w / 2, y0 - 4, xl, 0.5, 1);
+    }
     return 0;
 }
 

@@ -181,12 +181,13 @@ static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct 
     text_at(cr, 80, 10, buf, 0, 0);
     cairo_set_font_size(cr, 12);
     set_rgba(cr, pal->muted);
+    char energy[48] = "", transient[48] = "";
     if (d->measure == SP_MEASURE_POINCARE)
-        snprintf(buf, sizeof(buf), "E = %.6g J, T = %g s after %g s, %s dt = %g s", d->energy,
-                 d->time, d->transient, d->method, d->dt);
-    else
-        snprintf(buf, sizeof(buf), "T = %g s after %g s, %s dt = %g s", d->time, d->transient,
-                 d->method, d->dt);
+        snprintf(energy, sizeof(energy), "energy %.6g J, ", d->energy);
+    if (d->transient > 0)
+        snprintf(transient, sizeof(transient), " after a %g s transient", d->transient);
+    snprintf(buf, sizeof(buf), "%sover %g s%s, %s at dt = %g s", energy, d->time, transient,
+             d->method, d->dt);
     text_at(cr, 80, 34, buf, 0, 0);
 }
 

@@ -32,9 +32,19 @@ work = tempfile.mkdtemp(prefix="springpend-bench-sweep-")
 print(f"# load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
 
 
+import resource
+
+last_cpu = 0.0  # CPU seconds (user + sys) of the last sweep
+
+
 def sweep(*args):
+    """Runs springpend sweep; returns its wall time (and sets last_cpu)."""
+    global last_cpu
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     r = subprocess.run([exe, "sweep", *args, "-q"], capture_output=True, text=True, cwd=work)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    last_cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     if r.returncode:
         sys.exit(f"springpend sweep failed: {r.stderr}")
     return time.perf_counter() - t0
@@ -95,7 +105,7 @@ el = sweep(chaotic, "--vary", f"initial.angle=1:179:{N}", "--measure", "lyapunov
 got = rows("line.csv")
 sweep_lam = [float(g["lyapunov"]) for g in got]
 results[f"springpend sweep (the command, start to PNG), {cores} threads"] = (
-    STEPS / el, None, [sweep_lam[i] for i in (0, N // 2, N - 1)])
+    STEPS / el, STEPS / last_cpu, [sweep_lam[i] for i in (0, N // 2, N - 1)])
 
 print(f"\n{N} trajectories x {T} s at dt {DT} ({STEPS / 1e6:.1f} M trajectory-steps each):\n")
 print(f"| run | M trajectory-steps/s (wall) | x numba | per CPU-second | x numba | "
@@ -135,6 +145,7 @@ if not quick:
     grid = ["--vary", "initial.angle=1:179:256", "--vary", "initial.length=0.8:1.6:256"]
     el = sweep(chaotic, *grid, "--measure", "lyapunov", "--time", "200", "--set", "integrator.dt=0.001",
                "-o", "map.png", "--csv", "map.csv")
+    map_cpu = last_cpu
     full = rows("map.csv")
     sweep(chaotic, "--vary", "initial.angle=1:179:4", "--vary", "initial.length=0.8:1.6:4",
           "--measure", "lyapunov", "--time", "200", "--set", "integrator.dt=0.00025",
@@ -146,8 +157,10 @@ if not quick:
         a, b2 = float(full[j * 256 + i]["lyapunov"]), float(t["lyapunov"])
         diffs["regular (tight lambda < 0.05)" if b2 < 0.05 else "chaotic"].append((abs(a - b2), b2))
     print(f"\n256x256 Lyapunov map of chaotic.ini's physics over (theta0 1..179 deg, r0 0.8..1.6 m), "
-          f"T = 200 s, RK4 dt = 1e-3, {cores} threads: {el:.1f} s "
-          f"({65536 * 200 / 0.001 / el / 1e6:.0f} M trajectory-steps/s)")
+          f"T = 200 s, RK4 dt = 1e-3, {cores} threads: {el:.1f} s wall, {map_cpu:.1f} s CPU "
+          f"({65536 * 200 / 0.001 / el / 1e6:.0f} M trajectory-steps/s; "
+          f"{65536 * 200 / 0.001 / map_cpu / 1e6:.0f} M per CPU-second); load average now "
+          f"{os.getloadavg()[0]:.2f}")
     for k, v in diffs.items():
         if v:
             ds = sorted(d for d, _ in v)

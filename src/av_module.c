@@ -9,10 +9,14 @@
 #include "av_module.h"
 
 #define AV_MODULE "springpend-av.so"
+#define PLOT_MODULE "springpend-plot.so"
 
-void *sp_av_module_symbol(const char *symbol)
+/* The address of `symbol` in the module file `name`, loading it into
+ * *module on first use; `what` says what it is for in the message. */
+static void *module_symbol(void **module_slot, const char *name, const char *what,
+                           const char *symbol)
 {
-    static void *module;
+    void *module = *module_slot;
     if (!module) {
         char exe[4096], try[4096 + 64], tried[3 * 4200] = "";
         ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
@@ -28,8 +32,7 @@ void *sp_av_module_symbol(const char *symbol)
         for (int i = 0; i < 3 && !module; i++) {
             if (!where[i])
                 continue;
-            snprintf(try, sizeof(try), "%s%s/%s", where[i], i == 1 ? "/.." : "",
-                     AV_MODULE);
+            snprintf(try, sizeof(try), "%s%s/%s", where[i], i == 1 ? "/.." : "", name);
             int readable = access(try, R_OK) == 0;
             if (readable)
                 module = dlopen(try, RTLD_NOW | RTLD_LOCAL);
@@ -39,13 +42,25 @@ void *sp_av_module_symbol(const char *symbol)
                          readable ? dlerror() : strerror(errno));
         }
         if (!module) {
-            sp_log_error("cannot load springpend's FFmpeg module, needed for "
-                         "video and GIF (%s); reinstall springpend", tried);
+            sp_log_error("cannot load springpend's %s (%s); reinstall springpend", what, tried);
             return NULL;
         }
+        *module_slot = module;
     }
     void *p = dlsym(module, symbol);
     if (!p)
-        sp_log_error("%s lacks %s: %s", AV_MODULE, symbol, dlerror());
+        sp_log_error("%s lacks %s: %s", name, symbol, dlerror());
     return p;
+}
+
+void *sp_av_module_symbol(const char *symbol)
+{
+    static void *module;
+    return module_symbol(&module, AV_MODULE, "FFmpeg module, needed for video and GIF", symbol);
+}
+
+void *sp_plot_module_symbol(const char *symbol)
+{
+    static void *module;
+    return module_symbol(&module, PLOT_MODULE, "plot module, needed for sweep figures", symbol);
 }

@@ -11,4 +11,9 @@
  * tree), one folder up (tests), then in SP_MODULE_DIR (installed). */
 void *sp_av_module_symbol(const char *symbol);
 
+/* The same for springpend-plot.so, the sweeps' figures (sweep_plot.c, with
+ * cairo, which costs a process about 1.2 ms to load). It calls back into
+ * the sweep command's code, so only executables that link sweep.c load it. */
+void *sp_plot_module_symbol(const char *symbol);
+
 #endif

@@ -90,7 +90,8 @@ int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *b
 /* Draws the figure for the CSV in fp (rewound and read to the end) into
  * path (.png, .svg or .pdf, written as path.part then renamed). Lives in
  * sweep_plot.c (cairo); the executable reaches it through the module that
- * av_module.h loads, so that cairo costs only the commands that draw.
+ * av_module.h loads (springpend-plot.so), so that cairo costs only the
+ * commands that draw.
  * Returns 0, SP_E_INPUT (not a sweep CSV) or SP_E_IO. */
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path);
 

@@ -2,7 +2,7 @@
  * sweep.h): a Lyapunov map with a colour bar (two keys) or line (one key),
  * an orbit diagram (dots), a Poincare mosaic (dots coloured by orbit). The
  * look is the scene's theme and colormap (panels.c's palette), text in
- * DejaVu Sans. Built into springpend-av.so, loaded on first use, so that
+ * DejaVu Sans. Built as springpend-plot.so, loaded on first use, so that
  * cairo costs only the commands that draw.
  * To do: move onto the figures' backend-neutral draw list when it lands. */
 #include <cairo-pdf.h>

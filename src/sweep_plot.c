@@ -9,6 +9,7 @@
 #include <cairo-svg.h>
 #include <cairo.h>
 #include <errno.h>
+#include <fontconfig/fontconfig.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -442,6 +443,10 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     if (!st)
         st = cairo_surface_status(s);
     cairo_surface_destroy(s);
+    /* cairo keeps its font faces and fontconfig its configuration for the
+     * next figure; there is none: give them back (a sanitizer build checks) */
+    cairo_debug_reset_static_data();
+    FcFini();
     if (!ret && st) {
         sp_log_error("cannot write %s: %s", path, cairo_status_to_string(st));
         ret = SP_E_IO;

@@ -235,6 +235,29 @@ except subprocess.TimeoutExpired:
 left = [f for f in os.listdir(work) if f.startswith("int.")]
 ok(p.returncode == 130 and not left, f"Ctrl-C stops a sweep: exit {p.returncode}, nothing left {left}: {err.strip()}")
 
+# ---- the progress bar, on a terminal only ------------------------------------
+import pty
+master, slave = pty.openpty()
+p = subprocess.Popen([exe, "sweep", chaotic, "--vary", "initial.angle=1:179:64", "--measure", "lyapunov",
+                      "--time", "2", "-o", "bar.png"], cwd=work, stderr=slave, stdout=subprocess.DEVNULL)
+os.close(slave)
+seen = b""
+while True:
+    try:
+        chunk = os.read(master, 4096)
+    except OSError:
+        break
+    if not chunk:
+        break
+    seen += chunk
+p.wait()
+os.close(master)
+text = seen.decode(errors="replace")
+ok(p.returncode == 0 and "point 64/64" in text and "ETA" in text and "wrote bar.png" in text,
+   f"a terminal gets a progress bar with the ETA: {text.strip().splitlines()[-1] if text.strip() else ''}")
+rr = run(chaotic, "--vary", "initial.angle=1:179:64", "--measure", "lyapunov", "--time", "2", "-o", "nobar.png")
+ok(rr.returncode == 0 and "ETA" not in rr.stderr, "a pipe gets no progress bar")
+
 # ---- Poincare points at one energy ------------------------------------------
 rr = run(chaotic, "--vary", "initial.length=0.7:1.5:9", "--set", "initial.angle=0",
          "--measure", "poincare", "--energy", "-6", "--time", "20", "-o", "pm.png", "--csv", "pm.csv", "-q")

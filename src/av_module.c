@@ -1,4 +1,4 @@
-/* springpend: loads springpend-av.so on first use (see av_module.h). */
+/* springpend: loads modules on first use (see av_module.h). */
 #include <dlfcn.h>
 #include <errno.h>
 #include <stdio.h>
@@ -8,19 +8,27 @@
 #include "springpend/common.h"
 #include "av_module.h"
 
-#define AV_MODULE "springpend-av.so"
-#define PLOT_MODULE "springpend-plot.so"
+enum { MAX_MODULES = 4 };
 
-/* The address of `symbol` in the module file `name`, loading it into
- * *module on first use; `what` says what it is for in the message. */
-static void *module_symbol(void **module_slot, const char *name, const char *what,
-                           const char *symbol)
+void *sp_module_symbol(const char *name, const char *needed_for, const char *symbol)
 {
-    void *module = *module_slot;
+    static struct {
+        const char *name;
+        void *handle;
+    } loaded[MAX_MODULES];
+    void *module = NULL;
+    int slot = 0;
+    while (slot < MAX_MODULES && loaded[slot].name && strcmp(loaded[slot].name, name))
+        slot++;
+    if (slot == MAX_MODULES) {
+        sp_log_error("too many modules to load %s", name);
+        return NULL;
+    }
+    module = loaded[slot].handle;
     if (!module) {
-        char exe[4096], try[4096 + 64], tried[3 * 4200] = "";
+        char exe[4096], try[4096 + 256], tried[4 * 4400] = "";
         ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-        const char *where[3] = {NULL, NULL, SP_MODULE_DIR};
+        const char *where[4] = {NULL, NULL, NULL, SP_MODULE_DIR};
         if (n > 0) {
             exe[n] = '\0';
             char *slash = strrchr(exe, '/');
@@ -28,11 +36,13 @@ static void *module_symbol(void **module_slot, const char *name, const char *wha
                 *slash = '\0';
             where[0] = exe;
             where[1] = exe; /* and its parent, below */
+            where[2] = exe; /* and the installed layout, below */
         }
-        for (int i = 0; i < 3 && !module; i++) {
+        for (int i = 0; i < 4 && !module; i++) {
             if (!where[i])
                 continue;
-            snprintf(try, sizeof(try), "%s%s/%s", where[i], i == 1 ? "/.." : "", name);
+            snprintf(try, sizeof(try), "%s%s/%s", where[i],
+                     i == 1 ? "/.." : i == 2 ? "/" SP_MODULE_RELDIR : "", name);
             int readable = access(try, R_OK) == 0;
             if (readable)
                 module = dlopen(try, RTLD_NOW | RTLD_LOCAL);
@@ -42,10 +52,12 @@ static void *module_symbol(void **module_slot, const char *name, const char *wha
                          readable ? dlerror() : strerror(errno));
         }
         if (!module) {
-            sp_log_error("cannot load springpend's %s (%s); reinstall springpend", what, tried);
+            sp_log_error("cannot load springpend's module %s, needed for %s (%s); "
+                         "reinstall springpend", name, needed_for, tried);
             return NULL;
         }
-        *module_slot = module;
+        loaded[slot].name = name;
+        loaded[slot].handle = module;
     }
     void *p = dlsym(module, symbol);
     if (!p)
@@ -55,12 +67,5 @@ static void *module_symbol(void **module_slot, const char *name, const char *wha
 
 void *sp_av_module_symbol(const char *symbol)
 {
-    static void *module;
-    return module_symbol(&module, AV_MODULE, "FFmpeg module, needed for video and GIF", symbol);
-}
-
-void *sp_plot_module_symbol(const char *symbol)
-{
-    static void *module;
-    return module_symbol(&module, PLOT_MODULE, "plot module, needed for sweep figures", symbol);
+    return sp_module_symbol("springpend-av.so", "video and GIF", symbol);
 }

@@ -31,7 +31,6 @@
  * (-fopenmp-simd: the pragma only, no OpenMP run time). */
 #define LANES _Pragma("omp simd") for (int l = 0; l < B; l++)
 
-#define ENERGY_DRIFT_LIMIT 1e-2 /* as sim.c */
 #define CHECK_EVERY 16          /* fixed steps between energy checks (sim.c: 4) */
 
 /* One block's parameters, copied out of the batch's arrays. */
@@ -255,7 +254,7 @@ SPECIALISED void splitting_blk(const struct blk *p, double t, double u[NC][B], d
 /* sim.c's energy test per lane; marks and poisons the lanes that fail.
  * Branch-free over the lanes (it vectorises); the rare failure is handled
  * after. */
-static void check_blk(const struct sp_batch *b, int base, double u[NC][B], unsigned char *dead)
+static void check_blk(struct sp_batch *b, int base, double u[NC][B], unsigned char *dead)
 {
     int bad[B], any = 0;
     LANES {
@@ -266,11 +265,18 @@ static void check_blk(const struct sp_batch *b, int base, double u[NC][B], unsig
         double spring = 0.5 * b->stiff[i] * stretch * stretch;
         double grav = b->mass[i] * b->g[i] * y;
         double work = b->forced ? b->mass[i] * u[SP_BW][l] : 0;
-        double scale = b->escale[i] + kin + spring + fabs(grav);
-        double drift = (kin + spring + grav - b->e0[i] - work) / scale;
+        double total = kin + spring + grav;
+        /* sim.c's scale: the largest the energy of the motion has been (total
+         * less the least the scene can hold), never below its rounding */
+        double motion = fmax(total - b->emin[i],
+                             1e-12 * (kin + spring + fabs(grav) + fabs(b->emin[i]) +
+                                      b->stiff[i] * b->L0[i] * b->L0[i]));
+        double scale = fmax(b->escale[i], motion);
+        double drift = (total - b->e0[i] - work) / scale;
+        b->escale[i] = scale;
         /* a NaN anywhere in the state makes the drift or the tangent's sum NaN */
         double t = b->tangent ? u[SP_BDX][l] + u[SP_BDY][l] + u[SP_BDVX][l] + u[SP_BDVY][l] : 0;
-        bad[l] = !(fabs(drift) <= ENERGY_DRIFT_LIMIT) | !(t - t == 0);
+        bad[l] = !(fabs(drift) <= b->drift_limit) | !(t - t == 0);
         any |= bad[l];
     }
     if (!any)
@@ -588,10 +594,10 @@ int sp_batch_make(struct sp_batch **out, const struct sp_scene *const *scenes, i
     for (int c = 0; c < 6; c++)
         b->cache[c] = m, m += b->cap;
     double **arr[] = {&b->km, &b->L0, &b->g, &b->bm, &b->amp, &b->om, &b->mass, &b->stiff,
-                      &b->e0, &b->escale, &b->atol_q, &b->atol_v, &b->h};
+                      &b->e0, &b->escale, &b->emin, &b->atol_q, &b->atol_v, &b->h};
     for (size_t i = 0; i < sizeof(arr) / sizeof(arr[0]); i++)
         *arr[i] = m, m += b->cap;
-    m += 3 * b->cap;
+    m += 2 * b->cap;
     b->dead = (unsigned char *)m;
     b->forced = force_forced;
     for (int i = 0; i < b->cap; i++) {
@@ -602,7 +608,8 @@ int sp_batch_make(struct sp_batch **out, const struct sp_scene *const *scenes, i
         b->km[i] = sim.p.k_over_m, b->L0[i] = sim.p.L0, b->g[i] = sim.p.g;
         b->bm[i] = sim.p.b_over_m, b->amp[i] = sim.p.drive_amp, b->om[i] = sim.p.drive_omega;
         b->mass[i] = sim.p.mass, b->stiff[i] = sim.p.stiffness;
-        b->e0[i] = sim.energy0, b->escale[i] = sim.energy_scale;
+        b->e0[i] = sim.energy0, b->escale[i] = sim.energy_scale, b->emin[i] = sim.energy_min;
+        b->drift_limit = sim.drift_limit;
         b->atol_q[i] = sim.atol[0], b->atol_v[i] = sim.atol[2];
         b->h[i] = sim.h;
         b->forced |= sim.forced;

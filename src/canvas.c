@@ -1,13 +1,17 @@
 /* springpend (internal): the per-frame draw list. See canvas.h. */
+#include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "springpend/common.h"
 #include "canvas.h"
 
 void sp_canvas_reset(struct sp_canvas *c)
 {
-    c->n_shapes = 0;
-    c->n_quads = 0;
+    c->n_shapes = c->n_quads = c->n_items = c->n_strings = 0;
+    c->layer = SP_LAYER_STATIC;
+    c->blend = SP_BLEND_OVER;
+    c->in_path = 0;
     c->err = 0;
 }
 
@@ -15,34 +19,77 @@ void sp_canvas_free(struct sp_canvas *c)
 {
     free(c->shapes);
     free(c->quads);
+    free(c->items);
+    free(c->strings);
     *c = (struct sp_canvas){0};
 }
 
-/* Makes room for n more items of `size` bytes in *items; 0 or SP_E_NOMEM. */
-static int grow(void **items, int *cap, int used, int n, size_t size)
+void sp_canvas_layer(struct sp_canvas *c, enum sp_layer layer) { c->layer = layer; }
+void sp_canvas_blend(struct sp_canvas *c, enum sp_blend blend) { c->blend = blend; }
+
+/* Makes room for n more items of `size` bytes in *items; 0 or SP_E_NOMEM
+ * (remembered in c->err). */
+static int grow(struct sp_canvas *c, void **items, int *cap, int used, int n, size_t size)
 {
     int want = *cap ? *cap : 256;
     void *p;
+    if (c->err)
+        return c->err;
     if (used + n <= *cap)
         return 0;
     while (want < used + n)
         want *= 2;
     p = realloc(*items, (size_t)want * size);
     if (!p)
-        return SP_E_NOMEM;
+        return c->err = SP_E_NOMEM;
     *items = p;
     *cap = want;
     return 0;
 }
 
+/* A new item of `kind` starting at `first`; NULL when out of memory. */
+static struct sp_item *new_item(struct sp_canvas *c, enum sp_item_kind kind, int first)
+{
+    if (grow(c, (void **)&c->items, &c->cap_items, c->n_items, 1, sizeof(*c->items)))
+        return NULL;
+    struct sp_item *it = &c->items[c->n_items++];
+    *it = (struct sp_item){.kind = kind, .layer = c->layer, .blend = c->blend, .first = first};
+    return it;
+}
+
+void sp_canvas_clip(struct sp_canvas *c, const float rect[4])
+{
+    struct sp_item *it = new_item(c, SP_ITEM_CLIP, c->n_shapes);
+    if (it)
+        memcpy(it->clip, rect ? rect : (const float[4]){0, 0, 0, 0}, sizeof(it->clip));
+}
+
+void sp_canvas_path_begin(struct sp_canvas *c)
+{
+    c->in_path = 1;
+    new_item(c, SP_ITEM_PATH, c->n_shapes);
+}
+
+void sp_canvas_path_end(struct sp_canvas *c)
+{
+    c->in_path = 0;
+    if (c->n_items && c->items[c->n_items - 1].kind == SP_ITEM_PATH &&
+        c->items[c->n_items - 1].count == 0)
+        c->n_items--; /* an empty path */
+}
+
 static void push(struct sp_canvas *c, float ax, float ay, float bx, float by, float hw,
                  float kind, const float color[4])
 {
-    if (c->err || grow((void **)&c->shapes, &c->cap_shapes, c->n_shapes, 1,
-                       sizeof(*c->shapes))) {
-        c->err = SP_E_NOMEM;
+    struct sp_item *last = c->n_items ? &c->items[c->n_items - 1] : NULL;
+    if (grow(c, (void **)&c->shapes, &c->cap_shapes, c->n_shapes, 1, sizeof(*c->shapes)))
         return;
-    }
+    if (!c->in_path && (!last || last->kind != SP_ITEM_SHAPES || last->layer != c->layer ||
+                        last->blend != c->blend || last->first + last->count != c->n_shapes))
+        last = new_item(c, SP_ITEM_SHAPES, c->n_shapes);
+    if (!last)
+        return;
+    last->count++;
     c->shapes[c->n_shapes++] = (struct sp_shape){
         {ax, ay, bx, by}, {hw, kind}, {color[0], color[1], color[2], color[3]}};
 }
@@ -69,17 +116,26 @@ void sp_canvas_rect(struct sp_canvas *c, float x0, float y0, float x1, float y1,
 int sp_canvas_text(struct sp_canvas *c, int size, float x, float y, enum sp_align align,
                    const float color[4], const char *utf8)
 {
-    const int w = sp_font_width(c->font, size, utf8);
+    const int w = sp_font_width(c->font, size, utf8), len = (int)strlen(utf8) + 1;
+    struct sp_item *it;
     int n;
     if (align == SP_ALIGN_CENTER)
         x -= 0.5f * (float)w;
     else if (align == SP_ALIGN_RIGHT)
         x -= (float)w;
     n = sp_font_layout(c->font, size, utf8, x, y, color, NULL, 0);
-    if (c->err || grow((void **)&c->quads, &c->cap_quads, c->n_quads, n, sizeof(*c->quads))) {
-        c->err = SP_E_NOMEM;
+    if (grow(c, (void **)&c->quads, &c->cap_quads, c->n_quads, n, sizeof(*c->quads)) ||
+        grow(c, (void **)&c->strings, &c->cap_strings, c->n_strings, len, 1) ||
+        !(it = new_item(c, SP_ITEM_TEXT, c->n_quads)))
         return w;
-    }
-    c->n_quads += sp_font_layout(c->font, size, utf8, x, y, color, c->quads + c->n_quads, n);
+    it->count = sp_font_layout(c->font, size, utf8, x, y, color, c->quads + c->n_quads, n);
+    it->size = size;
+    it->x = roundf(x);
+    it->y = roundf(y);
+    memcpy(it->color, color, sizeof(it->color));
+    it->text = c->n_strings;
+    memcpy(c->strings + c->n_strings, utf8, (size_t)len);
+    c->n_strings += len;
+    c->n_quads += it->count;
     return w;
 }

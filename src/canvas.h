@@ -1,9 +1,24 @@
-/* springpend (internal): the draw list of one frame, in pixels (y down from
- * the top-left corner). Shapes are capsules for shaders/shape.vert (lines,
- * discs, lit balls, axis-aligned boxes); text becomes glyph quads. render.c
- * fills one, the panels and the heads-up text add to it, and render.c draws
- * the shapes, then the text. Allocation failures are remembered in `err`
- * and reported once by the renderer. */
+/* springpend (internal): the draw list of one frame, composed on the CPU in
+ * output pixels (y down from the top-left corner) and drawn by a backend:
+ * GL (draw_gl.c: videos, PNG) or cairo (draw_cairo.c: SVG, PDF). Nothing
+ * here knows GL or cairo.
+ *
+ * Geometry is a flat array of capsules (segment + half width + kind +
+ * straight colour: lines, discs, lit balls, axis-aligned boxes), which the GL
+ * backend uploads as they are. Items give the array its structure:
+ *   SHAPES  independent capsules (markers, boxes, single strokes);
+ *   PATH    a polyline: capsule i ends where capsule i+1 starts, a colour and
+ *           width per segment (a vector backend strokes it as one path, or
+ *           one per run of equal colour);
+ *   TEXT    a run of UTF-8 text at a size, pen position and colour (laid
+ *           out once on the CPU, text.h; GL draws its glyph quads);
+ *   CLIP    the rectangle the shapes after it are clipped to (text is not
+ *           clipped), or none.
+ * Every item carries a layer (static: the same every frame, e.g. panel
+ * frames and axes; dynamic: the motion) so that a backend may cache the
+ * static part. Both backends draw the accumulated layer, then the shapes
+ * in list order, then the text over them. Allocation failures are remembered in `err` and reported once
+ * by the caller. */
 #ifndef SPRINGPEND_CANVAS_H
 #define SPRINGPEND_CANVAS_H
 
@@ -20,19 +35,74 @@ struct sp_shape {
 
 enum sp_align { SP_ALIGN_LEFT, SP_ALIGN_CENTER, SP_ALIGN_RIGHT };
 
+enum sp_item_kind { SP_ITEM_SHAPES, SP_ITEM_PATH, SP_ITEM_TEXT, SP_ITEM_CLIP };
+
+enum sp_layer {
+    SP_LAYER_STATIC,  /* the same in every frame of a run */
+    SP_LAYER_DYNAMIC, /* changes with the motion */
+    SP_LAYER_ACCUM,   /* drawn once and kept: each frame's list holds only
+                         what is new (a long exposure's settled trail), drawn
+                         under everything else; a backend that draws one
+                         frame just draws it first */
+};
+
+/* How shapes combine with what is under them. */
+enum sp_blend {
+    SP_BLEND_OVER, /* "over" */
+    SP_BLEND_MAX,  /* a faded trail on a dark or transparent background: the
+                      brighter of the two, so overlapping segments do not
+                      stack into beads (GL_MAX; vector backends stroke the
+                      trail as paths, which has the same effect) */
+};
+
+struct sp_item {
+    enum sp_item_kind kind;
+    enum sp_layer layer;
+    enum sp_blend blend;
+    int first, count; /* shapes (SHAPES, PATH) or glyph quads (TEXT) */
+    /* TEXT only: */
+    int size;         /* enum sp_text_size */
+    float x, y;       /* pen start and baseline, px (whole pixels) */
+    float color[4];   /* straight RGBA */
+    int text;         /* byte offset of the NUL-terminated UTF-8 in `strings` */
+    /* CLIP only: */
+    float clip[4];    /* x0, y0, x1, y1, px; x1 <= x0 = no clipping */
+};
+
 struct sp_canvas {
     struct sp_shape *shapes;
     int n_shapes, cap_shapes;
     struct sp_glyph_quad *quads;
     int n_quads, cap_quads;
+    struct sp_item *items;
+    int n_items, cap_items;
+    char *strings;
+    int n_strings, cap_strings; /* bytes */
     const struct sp_font *font;
+    enum sp_layer layer; /* given to the items added from now on */
+    enum sp_blend blend;
+    int in_path;         /* between sp_canvas_path_begin and _end */
     int err; /* 0, or SP_E_NOMEM once an append failed */
 };
 
-/* Empties the lists, keeping their memory. */
+/* Empties the lists, keeping their memory; layer static, blend over. */
 void sp_canvas_reset(struct sp_canvas *c);
 /* Frees the lists. */
 void sp_canvas_free(struct sp_canvas *c);
+
+/* The layer and blending of what is added from now on. */
+void sp_canvas_layer(struct sp_canvas *c, enum sp_layer layer);
+void sp_canvas_blend(struct sp_canvas *c, enum sp_blend blend);
+
+/* Lines between begin and end form one PATH item; each must start where the
+ * previous one ended. Outside a path a line is an item of its own kind
+ * (SHAPES). */
+void sp_canvas_path_begin(struct sp_canvas *c);
+void sp_canvas_path_end(struct sp_canvas *c);
+
+/* Clips the shapes added from now on to the rectangle (x0, y0, x1, y1) px;
+ * NULL = no clipping. */
+void sp_canvas_clip(struct sp_canvas *c, const float rect[4]);
 
 /* A segment from a to b, half width hw px, round caps. */
 void sp_canvas_line(struct sp_canvas *c, float ax, float ay, float bx, float by, float hw,

@@ -35,6 +35,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"gl", required_argument, 0, 'G'},     {"quality", required_argument, 0, 'Q'},
         {"scale", required_argument, 0, 'X'},
         {"state", required_argument, 0, 'J'},
+        {"json", no_argument, 0, 'j'},         {"poincare", no_argument, 0, 'P'},
         {0, 0, 0, 0},
     };
     /* --quality: like the tools people know; --set/--size/--fps still win. */
@@ -70,6 +71,15 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'o': o->output = optarg; break;
         case 's': ret = add_override(o, optarg); break;
         case 'q': o->quiet = 1; break;
+        case 'j':
+        case 'P':
+            if (!(allow_at & (c == 'j' ? SP_CLI_JSON : SP_CLI_POINCARE))) {
+                sp_log_error("%s is for 'springpend %s'; see '%s --help'", argv[optind - 1],
+                             c == 'j' ? "info" : "data", argv[0]);
+                return SP_E_INPUT;
+            }
+            *(c == 'j' ? &o->json : &o->poincare) = 1;
+            break;
         case 'h': fputs(usage, stdout); return 1;
         case 'S':
             if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2) {

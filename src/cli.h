@@ -25,11 +25,15 @@ struct sp_cli_options {
     char quality_buf[3][48]; /* storage for the overrides --quality makes */
     int scale;               /* --scale (still): supersampling factor, 0 = not given */
     const char *state;       /* --state (still): JSON path, NULL = none */
+    int json;                /* --json (info) */
+    int poincare;            /* --poincare (data) */
 };
 
 /* Command-specific options sp_cli_parse accepts (allow_at is a mask). */
 #define SP_CLI_AT 1    /* --at SECONDS */
 #define SP_CLI_EVERY 2 /* --every SECONDS */
+#define SP_CLI_JSON 4  /* --json */
+#define SP_CLI_POINCARE 8 /* --poincare */
 
 /* Parses argv for one command. allow_at: the SP_CLI_* options the command
  * takes. Prints a message and returns SP_E_INPUT on misuse;

@@ -10,10 +10,16 @@
 #include "cli.h"
 #include "sink_impl.h"
 #include "springpend/common.h"
+#include "springpend/frame.h"
 #include "springpend/sim.h"
 
+/* The most rows one run writes, and the size of a typical row, bytes. */
+#define MAX_ROWS 1e7
+#define ROW_BYTES 260
+
 static const char data_usage[] =
-    "usage: springpend data SCENE [-o FILE.csv | -o -] [--every SECONDS] [options]\n"
+    "usage: springpend data SCENE [-o FILE.csv | -o -] [--every SECONDS | --poincare]\n"
+    "                            [options]\n"
     "\n"
     "Writes the motion as CSV, one row per sample: by default at the video's frame\n"
     "times (k * speed / fps, k = 0 .. frames-1); with --every at t = 0, every,\n"
@@ -24,13 +30,24 @@ static const char data_usage[] =
     "bounce + swing = energy - E_eq (E_eq: hanging still at l = L0 + m g / k);\n"
     "work: done on the bob by damping and the moving pivot since t = 0, so\n"
     "energy - work stays at its t = 0 value.\n"
-    "Default output: out/<scene>.csv; '-o -' writes to stdout. A run that becomes\n"
-    "unstable stops with exit status 3 and leaves no file (stdout keeps the rows\n"
-    "before it, each of them checked).\n"
+    "Driven pivot (pivot.amplitude > 0): positions, velocities and energies are in\n"
+    "the pivot's frame (gravity measured from the pivot's current height; the\n"
+    "pivot's acceleration does work, counted in work); pivot_y is the pivot's\n"
+    "height in the lab. Damping acts on the bob's velocity relative to the air,\n"
+    "at rest in the lab. initial.length_rate and angle_rate are relative to the\n"
+    "pivot, so the bob starts with the pivot's velocity added.\n"
+    "With --poincare: one row per crossing of the Poincare section (theta = 0\n"
+    "going forward, theta_dot > 0) over video.duration, located on a quintic\n"
+    "Hermite interpolant as the Poincare panel does: t,r,r_dot,theta_dot.\n"
+    "At most 1e7 rows (about 2.6 GB) are written; the video's frame limit does not\n"
+    "apply. Default output: out/<scene>.csv; '-o -' writes to stdout. A run that\n"
+    "becomes unstable stops with exit status 3 and leaves no file (stdout keeps the\n"
+    "rows before it, each of them checked against the blow-up guard).\n"
     "\n"
     "options:\n"
     "  -o, --output PATH      where to write (.csv, or - for stdout)\n"
     "  --every SECONDS        sampling interval in simulated seconds\n"
+    "  --poincare             the Poincare section's crossings instead of samples\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
     "  -q, --quiet            no 'wrote' line\n"
     "  -h, --help             this text\n";
@@ -55,11 +72,36 @@ static int write_row(FILE *fp, const struct sp_sim *sim)
                    sp_pivot_y(&sim->p, s->t)) < 0 ? SP_E_IO : 0;
 }
 
-/* Writes every sample of the scene to fp. */
-static int write_samples(FILE *fp, const struct sp_scene *sc, double every)
+/* Writes the Poincare section's crossings over [0, video.duration] to fp as
+ * they are found (the panel's code: sp_history_follow with samples off). */
+static int write_crossings(FILE *fp, const struct sp_scene *sc)
+{
+    struct sp_sim sim;
+    struct sp_history h = {.active = 1, .poincare = 1, .crossings_only = 1};
+    int ret = fputs("t,r,r_dot,theta_dot\n", fp) < 0 ? SP_E_IO : 0;
+    sp_sim_init(&sim, sc);
+    /* in pieces of about 1000 interpolation intervals, memory stays flat */
+    const double piece = 1000 * 0.1 / sp_params_omega_max(&sim.p);
+    for (double t = 0; !ret && t < sc->video.duration;) {
+        t = fmin(sc->video.duration, t + piece);
+        ret = sp_interrupted() ? SP_E_INTERRUPTED : sp_history_follow(&h, &sim, t);
+        for (int i = 0; i < h.n_crossings && !ret; i++)
+            if (fprintf(fp, "%.15g,%.15g,%.15g,%.15g\n", h.crossings[i].t, h.crossings[i].r,
+                        h.crossings[i].r_dot, h.crossings[i].theta_dot) < 0)
+                ret = SP_E_IO;
+        h.n_crossings = 0;
+    }
+    sp_history_destroy(&h);
+    return ret;
+}
+
+/* Writes every sample of the scene to fp, or its crossings. */
+static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int poincare)
 {
     struct sp_sim sim;
     long n;
+    if (poincare)
+        return write_crossings(fp, sc);
     if (every > 0)
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else
@@ -85,7 +127,7 @@ int sp_cmd_data(int argc, char **argv)
     char out[4096];
     char *part = NULL;
     FILE *fp = NULL;
-    int ret = sp_cli_parse(&o, argc, argv, data_usage, SP_CLI_EVERY);
+    int ret = sp_cli_parse(&o, argc, argv, data_usage, SP_CLI_EVERY | SP_CLI_POINCARE);
     if (ret)
         return ret > 0 ? 0 : ret;
     ret = sp_cli_load_scene(&o, &scene);
@@ -93,13 +135,25 @@ int sp_cmd_data(int argc, char **argv)
         ret = sp_cli_output_path(&o, &scene, ".csv", out, sizeof(out));
     if (ret)
         return ret;
-    if (o.every > 0 && scene.video.duration / o.every > 1e8) {
-        sp_log_error("--every %g: video.duration / every = %.3g rows; at most 1e8 are "
-                     "allowed", o.every, scene.video.duration / o.every);
+    if (o.every > 0 && o.poincare) {
+        sp_log_error("--every and --poincare cannot be combined: the crossings fall where "
+                     "they fall");
+        return SP_E_INPUT;
+    }
+    /* the limit is on what data writes, rows, not on video frames */
+    const double rows = o.poincare ? 0
+                        : o.every > 0 ? floor(scene.video.duration / o.every * (1 + 1e-12)) + 1
+                                      : sp_scene_frame_count(&scene);
+    if (rows > MAX_ROWS) {
+        sp_log_error("%s%g over video.duration = %g s: %.0f rows, about %.3g GB of CSV; at "
+                     "most %.0f rows are written (raise --every or lower video.duration)",
+                     o.every > 0 ? "--every " : "frame times every ",
+                     o.every > 0 ? o.every : scene.video.speed / scene.video.fps,
+                     scene.video.duration, rows, rows * ROW_BYTES / 1e9, MAX_ROWS);
         return SP_E_INPUT;
     }
     if (!strcmp(out, "-")) {
-        ret = write_samples(stdout, &scene, o.every);
+        ret = write_samples(stdout, &scene, o.every, o.poincare);
         if (fflush(stdout) != 0 && !ret) {
             sp_log_error("cannot write the CSV to stdout");
             ret = SP_E_IO;
@@ -119,7 +173,7 @@ int sp_cmd_data(int argc, char **argv)
     }
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
-    ret = write_samples(fp, &scene, o.every);
+    ret = write_samples(fp, &scene, o.every, o.poincare);
     if (fclose(fp) != 0 && !ret)
         ret = SP_E_IO;
     fp = NULL;

@@ -1,73 +1,64 @@
 /* springpend: the info command. The original page's "resonance check" and
  * more: the scene's two small-oscillation frequencies, how far it is from
- * 2:1, its energies, and the chosen method's margin. Prints only. */
+ * 2:1 and when the swing takes the bounce's energy, the damping's decay
+ * times, the driven pivot's parametric resonance, its energies, and a step
+ * the chosen method completes the run with. Prints only (text or --json). */
 #include <math.h>
 #include <stdio.h>
 
 #include "cli.h"
+#include "springpend/advice.h"
+#include "springpend/compare_report.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
 
 static const char info_usage[] =
-    "usage: springpend info SCENE [--set SECTION.KEY=VAL ...]\n"
+    "usage: springpend info SCENE [--json] [--set SECTION.KEY=VAL ...]\n"
     "\n"
     "Prints the scene's equilibrium length l = L0 + m g / k, the spring and pendulum\n"
     "frequencies sqrt(k/m) and sqrt(g/l), their ratio and its distance from the\n"
-    "2:1 resonance, the predicted bounce-swing energy-exchange time near 2:1, the\n"
-    "energies at t = 0, and the integrator's stability margin, with a warning and\n"
-    "a safe dt when the step is too large.\n";
+    "2:1 resonance; near 2:1, when the swing's energy first peaks (Lynch's averaged\n"
+    "equations); with damping, each mode's regime and energy decay time; with a\n"
+    "moving pivot, where parametric resonance lies and the swing's predicted\n"
+    "growth; the energies at t = 0; and for fixed-step methods the fastest rate\n"
+    "the motion reaches (a short dop853 probe of the run), the stability margin,\n"
+    "whether the scene's dt completes the run, and a safe dt that does (checked\n"
+    "by running it over video.duration, or its first 2e6 steps).\n"
+    "\n"
+    "  --json   the same facts for scripts, SI units, null where none applies:\n"
+    "           omega_spring, omega_pendulum, ratio, equilibrium_length,\n"
+    "           exchange_rate, exchange_time, bounce_decay_time, swing_decay_time,\n"
+    "           drive_swing_growth, stability_margin, safe_dt, ...\n";
 
-/* The near-2:1 part: Lynch's averaged growth rate of the swing, s = (L0 / l^2)
- * omega_p B0, for a bounce of amplitude B0. */
-static void print_resonance(const struct sp_scene *sc, double ell, double wp, double ratio)
+/* Everything info says, in SI units; NAN where it does not apply. */
+struct info {
+    struct sp_physics ph;
+    struct sp_energy e;
+    struct sp_exchange ex;
+    int near21;                 /* within 10% of 2:1 */
+    struct sp_decay bounce, swing; /* valid when damped */
+    int damped, driven;
+    struct sp_drive_advice drive;
+    struct sp_dt_advice dt;     /* fixed-step methods */
+    double margin;              /* limit / dt */
+};
+
+static const char *regime_name(int r)
 {
-    const double B0 = fabs(sc->initial.length - ell);
-    const double th0 = fabs(sc->initial.angle);
-    printf("  2:1 resonance    k L0 = 3 m g, i.e. k = %.6g N/m for this m and L0\n",
-           3 * sc->pendulum.mass * sc->pendulum.gravity / sc->pendulum.natural_length);
-    if (fabs(ratio / 2 - 1) > 0.1) {
-        printf("  not near 2:1 (%.1f%% away): bounce and swing stay apart\n",
-               100 * (ratio / 2 - 1));
-        return;
-    }
-    double s = sc->pendulum.natural_length / (ell * ell) * wp * B0;
-    printf("  near 2:1 (%+.2f%%): energy flows between bounce and swing\n",
-           100 * (ratio / 2 - 1));
-    if (s <= 0) {
-        printf("  no bounce to start from (r0 = l): the exchange needs B0 = |r0 - l| > 0\n");
-        return;
-    }
-    printf("  swing growth rate s = (L0/l^2) omega_p B0 = %.4g 1/s (B0 = |r0 - l| = %.4g m;"
-           " Lynch)\n", s, B0);
-    if (th0 > 0 && ell * th0 < B0)
-        printf("  energy exchange  the swing grows from %.3g m to the bounce's size in about "
-               "ln(B0 / (l theta0)) / s = %.3g s\n", ell * th0, log(B0 / (ell * th0)) / s);
-    else
-        printf("  energy exchange  time scale 1/s = %.3g s\n", 1 / s);
+    return r < 0 ? "underdamped" : r == 0 ? "critically damped" : "overdamped";
 }
 
-int sp_cmd_info(int argc, char **argv)
+static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc,
+                       const struct sp_sim *sim, const struct info *in)
 {
-    struct sp_cli_options o;
-    struct sp_scene sc;
-    struct sp_sim sim;
-    struct sp_energy e;
-    int ret = sp_cli_parse(&o, argc, argv, info_usage, 0);
-    if (ret)
-        return ret > 0 ? 0 : ret;
-    ret = sp_cli_load_scene(&o, &sc);
-    if (ret)
-        return ret;
-    sp_sim_init(&sim, &sc);
-    sp_state_energy(&sim.p, &sim.s, &e);
-    const double k = sc.pendulum.stiffness, m = sc.pendulum.mass, g = sc.pendulum.gravity;
-    const double L0 = sc.pendulum.natural_length, ell = L0 + m * g / k;
-    const double ws = sqrt(k / m), wp = sqrt(g / ell), ratio = ws / wp;
-    const struct sp_method_info *mi = sp_method_info(sc.integrator.method);
+    const double k = sc->pendulum.stiffness, m = sc->pendulum.mass, g = sc->pendulum.gravity;
+    const double L0 = sc->pendulum.natural_length, ell = in->ph.ell;
+    const double ws = in->ph.omega_s, wp = in->ph.omega_p, ratio = in->ph.ratio;
+    const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
 
-    printf("scene %s (%s)\n", sc.name, o.scene_path);
+    printf("scene %s (%s)\n", sc->name, o->scene_path);
     printf("  pendulum         L0 = %g m, k = %g N/m, m = %g kg, g = %g m/s^2, b = %g N*s/m\n",
-           L0, k, m, g, sc.pendulum.damping);
+           L0, k, m, g, sc->pendulum.damping);
     printf("  equilibrium      l = L0 + m g / k = %.6g m (static stretch m g / k = %.6g m)\n",
            ell, m * g / k);
     printf("  omega_spring     sqrt(k/m) = %.6g rad/s, period %.6g s\n", ws, 2 * M_PI / ws);
@@ -76,41 +67,188 @@ int sp_cmd_info(int argc, char **argv)
            wp, 2 * M_PI / wp, sqrt(g / L0));
     printf("  ratio            omega_spring / omega_pendulum = %.6g (2:1 resonance at 2)\n",
            ratio);
-    print_resonance(&sc, ell, wp, ratio);
-    if (sc.pendulum.damping > 0)
-        printf("  damping          energy decay time m / b = %.4g s, quality factor "
-               "Q = m omega_spring / b = %.4g\n", m / sc.pendulum.damping,
-               m * ws / sc.pendulum.damping);
-    if (sim.p.drive_amp > 0)
-        printf("  pivot            A = %g m at %g Hz: Omega / omega_pendulum = %.4g "
-               "(swing parametric resonance at 2), Omega / omega_spring = %.4g; energy is "
-               "not conserved\n", sc.pivot.amplitude, sc.pivot.frequency,
-               sim.p.drive_omega / wp, sim.p.drive_omega / ws);
+    printf("  2:1 resonance    k L0 = 3 m g, i.e. k = %.6g N/m for this m and L0\n",
+           3 * m * g / L0);
+    if (!in->near21) {
+        printf("  not near 2:1 (%.1f%% away): bounce and swing stay apart\n",
+               100 * (ratio / 2 - 1));
+    } else {
+        printf("  near 2:1 (%+.2f%%): energy flows between bounce and swing\n",
+               100 * (ratio / 2 - 1));
+        printf("  growth rate      s = 3 omega_p |B0| / (4 l) = %.4g 1/s of the swing at the start (Lynch; "
+               "(L0/l^2) omega_p B0 at exact 2:1), B0 = |r0 - l| = %.4g m\n",
+               in->ex.rate, fabs(sc->initial.length - ell));
+        if (isnan(in->ex.time))
+            printf("  energy exchange  none expected: it needs both a bounce (r0 != l or a "
+                   "length rate) and a seed of swing (theta0 or an angle rate)\n");
+        else
+            printf("  energy exchange  the swing's energy first peaks at t = %.3g s, holding "
+                   "%.0f%% of the bounce + swing energy (Lynch's averaged equations): the bob "
+                   "then swings widest and barely bounces; the energy flows back to the "
+                   "bounce by about t = %.3g s, and so on\n",
+                   in->ex.time, 100 * in->ex.swing_share, 2 * in->ex.time);
+    }
+    if (in->damped) {
+        const struct sp_decay *d[2] = {&in->bounce, &in->swing};
+        const char *name[2] = {"bounce", "swing"};
+        for (int i = 0; i < 2; i++)
+            printf("  damping %-8s %s (Q = omega / (b/m) = %.3g): its energy falls by e every "
+                   "%.4g s%s\n", name[i], regime_name(d[i]->regime), d[i]->q, d[i]->energy_time,
+                   d[i]->regime < 0    ? " (m / b)"
+                   : d[i]->regime == 0 ? " (m / b, times (1 + omega t)^2)"
+                                       : " (1 / (2 s_slow), the slow root; m / b would be "
+                                         "too short)");
+    }
+    if (in->driven) {
+        const struct sp_drive_advice *dv = &in->drive;
+        const double W = sim->p.drive_omega;
+        printf("  pivot            A = %g m at %g Hz: Omega = %.4g rad/s; energies are in the "
+               "pivot's frame, not conserved\n", sc->pivot.amplitude, sc->pivot.frequency, W);
+        printf("  swing resonance  parametric at Omega = 2 omega_p = %.4g rad/s (here Omega / "
+               "omega_p = %.4g); it grows where |Omega/2 - omega_p| < omega_p h / 4 = %.3g "
+               "rad/s, h = %.3g the modulation of the swing's stiffness by the forced bounce\n",
+               2 * wp, W / wp, dv->tongue, dv->h);
+        printf("  bounce           forced directly, amplitude %.3g m (resonant at Omega = "
+               "omega_s = %.4g rad/s; a vertical pivot leaves the spring's stiffness alone, "
+               "so there is no parametric resonance of the bounce at 2 omega_s = %.4g rad/s)\n",
+               dv->bounce_amp, ws, 2 * ws);
+        if (dv->growth > 0 && !isnan(dv->time_10x))
+            printf("  swing growth     expected: amplitude grows as exp(%.3g t) (damping "
+                   "included); %.2g%% of the start's swing is in the growing mode, so it "
+                   "reaches 10 times its start by about t = %.3g s\n", dv->growth,
+                   100 * dv->seed_share, dv->time_10x);
+        else if (dv->growth > 0)
+            printf("  swing growth     possible at exp(%.3g t), but the scene starts with no "
+                   "swing (theta0 = 0, no angle rate): nothing to amplify\n", dv->growth);
+        else
+            printf("  swing growth     none expected: %s\n",
+                   dv->tongue > fabs(dv->detuning)
+                       ? "the damping outweighs the drive's pumping"
+                       : "Omega is outside the resonance tongue (too far from 2 omega_p)");
+    }
     printf("  energy at t = 0  kinetic %.6g J, spring %.6g J, gravity %.6g J, total %.6g J\n",
-           e.kinetic, e.spring, e.gravity, e.total);
+           in->e.kinetic, in->e.spring, in->e.gravity, in->e.total);
     printf("                   bounce %.6g J, swing %.6g J (bounce + swing = total - E_eq)\n",
-           e.bounce, e.swing);
-    printf("  video            %g s at %g fps and speed %g: %d frames\n", sc.video.duration,
-           sc.video.fps, sc.video.speed, sp_scene_frame_count(&sc));
-
-    double w = sp_params_omega_max(&sim.p), safe;
+           in->e.bounce, in->e.swing);
+    printf("  video            %g s at %g fps and speed %g: %d frames\n", sc->video.duration,
+           sc->video.fps, sc->video.speed, sp_scene_frame_count(sc));
     if (mi->adaptive) {
         printf("  integrator       %s, order %d, adaptive, tolerance %g, %s\n", mi->name,
-               mi->order, sc.integrator.tolerance,
-               sc.integrator.method == SP_METHOD_RKN1210
+               mi->order, sc->integrator.tolerance,
+               sc->integrator.method == SP_METHOD_RKN1210
                    ? "each sample reached by one extra step (17 evaluations): best for "
                      "sparse samples; for video frames dop853's dense output is cheaper"
                    : "dense output at every sample");
-        return 0;
+        return;
     }
-    double limit = sp_method_dt_limit(sc.integrator.method, &sim.p, &safe);
-    printf("  integrator       %s, order %d, dt = %g s: dt omega_max = %.4g (omega_max = "
-           "%.6g rad/s), stability limit %.4g: margin %.3gx\n", mi->name, mi->order,
-           sc.integrator.dt, sc.integrator.dt * w, w, mi->stability,
-           mi->stability / (sc.integrator.dt * w));
-    if (sc.integrator.dt > limit)
-        printf("warning: dt = %g s is above %s's stability limit %.4g s for this scene; "
-               "the run will blow up. Use integrator.dt <= %g or integrator.method = "
-               "dop853\n", sc.integrator.dt, mi->name, limit, safe);
+    const struct sp_dt_advice *a = &in->dt;
+    printf("  integrator       %s, order %d, dt = %g s; the motion reaches omega_max = %.4g "
+           "rad/s (a dop853 probe of the run: spring, near-pivot and rotation rates, drive), "
+           "stability limit dt <= %.4g s (%s's step for a damped oscillator at omega_max, "
+           "b/m = %g 1/s): margin %.3gx\n", mi->name, mi->order, sc->integrator.dt,
+           a->omega_max, a->limit, mi->name, sim->p.b_over_m, in->margin);
+    if (a->scene_ok)
+        printf("  this dt          completes the run (checked over [0, %g] s)\n",
+               a->scene_checked);
+    if (!a->scene_ok && !isnan(a->safe))
+        printf("warning: dt = %g s is stopped as unstable at t = %.4g s. Use integrator.dt = "
+               "%g (it completes the run over [0, %g] s with drift under %g%%) or "
+               "integrator.method = dop853\n", sc->integrator.dt, a->scene_fail_t, a->safe,
+               a->checked, 100 * 0.1 * SP_SIM_DRIFT_LIMIT);
+    else if (!a->scene_ok)
+        printf("warning: dt = %g s is stopped as unstable at t = %.4g s, and no step down to "
+               "1e-12 of it completed; use integrator.method = dop853\n", sc->integrator.dt,
+               a->scene_fail_t);
+    else if (!isnan(a->safe))
+        printf("  safe dt          %g s (completes the run over [0, %g] s with drift under "
+               "%g%%)\n", a->safe, a->checked, 100 * 0.1 * SP_SIM_DRIFT_LIMIT);
+}
+
+/* A number, or null where it does not apply. */
+static void json_num(const char *key, double v, int last)
+{
+    if (isfinite(v))
+        printf("  \"%s\": %.10g%s\n", key, v, last ? "" : ",");
+    else
+        printf("  \"%s\": null%s\n", key, last ? "" : ",");
+}
+
+static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
+                       const struct info *in)
+{
+    const int fixed = !sp_method_info(sc->integrator.method)->adaptive;
+    printf("{\n  \"scene\": ");
+    sp_report_json_string(stdout, sc->name);
+    printf(",\n");
+    json_num("equilibrium_length", in->ph.ell, 0);
+    json_num("omega_spring", in->ph.omega_s, 0);
+    json_num("omega_pendulum", in->ph.omega_p, 0);
+    json_num("ratio", in->ph.ratio, 0);
+    printf("  \"near_2_1\": %s,\n", in->near21 ? "true" : "false");
+    json_num("exchange_rate", in->near21 ? in->ex.rate : NAN, 0);
+    json_num("exchange_time", in->ex.time, 0);
+    json_num("exchange_swing_share", in->ex.swing_share, 0);
+    printf("  \"bounce_regime\": %s%s%s,\n", in->damped ? "\"" : "",
+           in->damped ? regime_name(in->bounce.regime) : "null", in->damped ? "\"" : "");
+    printf("  \"swing_regime\": %s%s%s,\n", in->damped ? "\"" : "",
+           in->damped ? regime_name(in->swing.regime) : "null", in->damped ? "\"" : "");
+    json_num("bounce_decay_time", in->damped ? in->bounce.energy_time : NAN, 0);
+    json_num("swing_decay_time", in->damped ? in->swing.energy_time : NAN, 0);
+    json_num("drive_omega", in->driven ? sim->p.drive_omega : NAN, 0);
+    json_num("drive_bounce_amplitude", in->driven ? in->drive.bounce_amp : NAN, 0);
+    json_num("drive_modulation", in->driven ? in->drive.h : NAN, 0);
+    json_num("drive_swing_growth", in->driven ? in->drive.growth : NAN, 0);
+    json_num("drive_seed_share", in->driven ? in->drive.seed_share : NAN, 0);
+    json_num("drive_time_10x", in->driven ? in->drive.time_10x : NAN, 0);
+    json_num("energy_kinetic", in->e.kinetic, 0);
+    json_num("energy_spring", in->e.spring, 0);
+    json_num("energy_gravity", in->e.gravity, 0);
+    json_num("energy_total", in->e.total, 0);
+    json_num("energy_bounce", in->e.bounce, 0);
+    json_num("energy_swing", in->e.swing, 0);
+    printf("  \"method\": \"%s\",\n", sp_method_info(sc->integrator.method)->name);
+    json_num("dt", fixed ? sc->integrator.dt : NAN, 0);
+    json_num("omega_max", fixed ? in->dt.omega_max : NAN, 0);
+    json_num("stability_limit", fixed ? in->dt.limit : NAN, 0);
+    json_num("stability_margin", fixed ? in->margin : NAN, 0);
+    printf("  \"dt_completes\": %s,\n", !fixed ? "null" : in->dt.scene_ok ? "true" : "false");
+    json_num("dt_checked_until", fixed ? in->dt.scene_checked : NAN, 0);
+    json_num("safe_dt", fixed ? in->dt.safe : NAN, 0);
+    json_num("safe_dt_checked_until", fixed && !isnan(in->dt.safe) ? in->dt.checked : NAN, 1);
+    printf("}\n");
+}
+
+int sp_cmd_info(int argc, char **argv)
+{
+    struct sp_cli_options o;
+    struct sp_scene sc;
+    struct sp_sim sim;
+    struct info in = {0};
+    int ret = sp_cli_parse(&o, argc, argv, info_usage, SP_CLI_JSON);
+    if (ret)
+        return ret > 0 ? 0 : ret;
+    ret = sp_cli_load_scene(&o, &sc);
+    if (ret)
+        return ret;
+    sp_sim_init(&sim, &sc);
+    sp_state_energy(&sim.p, &sim.s, &in.e);
+    sp_params_physics(&sim.p, &in.ph);
+    in.near21 = sp_advise_exchange(&sim.p, &sim.s, &in.ex) == 0;
+    in.damped = sim.p.b_over_m > 0;
+    if (in.damped) {
+        sp_advise_decay(in.ph.omega_s, sim.p.b_over_m, &in.bounce);
+        sp_advise_decay(in.ph.omega_p, sim.p.b_over_m, &in.swing);
+    }
+    in.driven = sp_advise_drive(&sim.p, &sim.s, &in.drive) == 0;
+    if (!sp_method_info(sc.integrator.method)->adaptive) {
+        ret = sp_advise_dt(&sc, sc.video.duration, &in.dt);
+        if (ret)
+            return ret;
+        in.margin = in.dt.limit / sc.integrator.dt;
+    }
+    if (o.json)
+        print_json(&sc, &sim, &in);
+    else
+        print_text(&o, &sc, &sim, &in);
     return 0;
 }

@@ -41,15 +41,16 @@ static const char render_usage[] =
     "  -h, --help             this text\n";
 
 static const char still_usage[] =
-    "usage: springpend still SCENE [--at SECONDS] [-o OUTPUT.png] [options]\n"
+    "usage: springpend still SCENE [--at SECONDS] [-o OUTPUT.png|.svg|.pdf] [options]\n"
     "\n"
     "Renders one frame at simulated time SECONDS (default 0), integrating only up\n"
     "to it; the trail holds the positions at the video's frame times before it.\n"
-    "Default output: out/<scene>.png.\n"
+    "Default output: out/<scene>.png. NAME.svg and NAME.pdf are vector figures of\n"
+    "the same frame (cairo: real paths; the PDF keeps its text selectable).\n"
     "\n"
     "options:\n"
     "  --at SECONDS           simulated time of the frame\n"
-    "  -o, --output PATH      where to write (.png)\n"
+    "  -o, --output PATH      where to write (.png, .svg or .pdf)\n"
     "  --state FILE.json      also write the bob's physics state in that frame\n"
     "                         (t, x, y, vx, vy, r, theta, energies), so CI can\n"
     "                         check the physics apart from the pixels\n"
@@ -138,6 +139,9 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
     return sp_cli_check_writable(o->state, "--state");
 }
 
+/* The longest video render and still make and show, frames. */
+#define SP_MAX_VIDEO_FRAMES 1000000
+
 static int run(int argc, char **argv, int still)
 {
     struct sp_cli_options o;
@@ -151,6 +155,13 @@ static int run(int argc, char **argv, int still)
         snprintf(ext, sizeof(ext), ".%s", o.format);
     if (!ret)
         ret = sp_cli_output_path(&o, &scene, still ? ".png" : ext, out, sizeof(out));
+    /* a still too: its camera, trail and charts span the video's frames */
+    if (!ret && sp_scene_frame_count(&scene) > SP_MAX_VIDEO_FRAMES) {
+        sp_log_error("video.duration * video.fps / video.speed = %d frames; at most %d are "
+                     "allowed in a video (about 4.6 hours at 60 fps)",
+                     sp_scene_frame_count(&scene), SP_MAX_VIDEO_FRAMES);
+        ret = SP_E_INPUT;
+    }
     if (!ret && !still)
         ret = sp_cli_frame_range(&o, sp_scene_frame_count(&scene), &first, &last);
     if (!ret && still)

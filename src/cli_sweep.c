@@ -284,7 +284,7 @@ static int open_rows(const char *csv, char **part, FILE **fp)
 static int draw(FILE *rows, const char *rows_name, const char *figure)
 {
     int (*plot)(FILE *, const char *, const char *);
-    *(void **)&plot = sp_plot_module_symbol("sp_sweep_plot");
+    *(void **)&plot = sp_module_symbol("springpend-plot.so", "sweep figures", "sp_sweep_plot");
     if (!plot)
         return SP_E_IO;
     int ret = sp_sink_make_parents(figure);

@@ -39,10 +39,33 @@ void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivo
         .x = (float)s->x,
         .y = (float)(s->y + pivot_y),
         .speed = (float)sqrt(s->vx * s->vx + s->vy * s->vy),
+        .t = s->t,
     };
     tr->head = (tr->head + 1) % tr->capacity;
     if (tr->count < tr->capacity)
         tr->count++;
+}
+
+int sp_trail_follow(struct sp_trail *tr, struct sp_history *h, struct sp_sim *sim,
+                    double t_target, int substeps)
+{
+    const double t0 = sim->s.t;
+    int err = 0;
+    if (substeps < 1 || t_target <= t0)
+        substeps = 1;
+    for (int i = 1; i <= substeps && !err; i++) {
+        err = sp_history_follow(h, sim, i == substeps ? t_target : t0 + (t_target - t0) * i / substeps);
+        if (!err)
+            sp_trail_push_at(tr, &sim->s, sp_pivot_y(&sim->p, sim->s.t));
+    }
+    return err;
+}
+
+int sp_trail_substeps(double dt, double accel, double px_per_m)
+{
+    /* a h^2 / 8 * px_per_m <= 0.5  <=>  h <= 2 / sqrt(a px_per_m) */
+    const double n = ceil(dt * sqrt(fmax(accel, 0) * fmax(px_per_m, 0)) / 2 - 1e-9);
+    return !(n > 1) ? 1 : n > 64 ? 64 : (int)n;
 }
 
 const struct sp_trail_point *sp_trail_at(const struct sp_trail *tr, int i)
@@ -198,8 +221,9 @@ int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
                sizeof(*h->crossings), "Poincare points");
     if (err)
         return err;
-    /* At x = 0: r = |y| = -y, r' = (x vx + y vy) / r = -vy. */
-    h->crossings[h->n_crossings++] = (struct sp_crossing){a->t + hi * dt, -y, -vy};
+    /* At x = 0: r = |y| = -y, r' = (x vx + y vy) / r = -vy,
+     * theta' = (x vy - y vx) / r^2 = vx / r. */
+    h->crossings[h->n_crossings++] = (struct sp_crossing){a->t + hi * dt, -y, -vy, vx / -y};
     return 0;
 }
 
@@ -208,6 +232,8 @@ static int push_sample(struct sp_history *h, const struct sp_sim *sim)
 {
     struct sp_polar pol;
     struct sp_energy e;
+    if (h->crossings_only)
+        return 0;
     int err = grow((void **)&h->samples, &h->capacity, h->count, sizeof(*h->samples),
                    "panel samples");
     if (err)

@@ -48,7 +48,14 @@
     X(PFNGLENABLEPROC, Enable)                                      \
     X(PFNGLBLENDEQUATIONPROC, BlendEquation)                        \
     X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                \
-    X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)
+    X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)           \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                    \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                    \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)          \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)      \
+    X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                    \
+    X(PFNGLSCISSORPROC, Scissor)                                    \
+    X(PFNGLDISABLEPROC, Disable)
 
 struct sp_gl_api {
 #define X(type, name) type name;

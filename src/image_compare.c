@@ -1,7 +1,11 @@
 /* springpend: image comparison for snapshot tests (see image_compare.h). */
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
+
+#include <libavutil/mem.h>
+#include <libavutil/sha.h>
 
 #include "springpend/common.h"
 #include "springpend/image_compare.h"
@@ -100,5 +104,115 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
         res->pass = res->rms <= res->tol;
     else
         res->pass = res->differing <= res->allowed;
+    return 0;
+}
+
+long sp_compare_apply_masks(const struct sp_image *expected, struct sp_image *actual,
+                            const struct sp_compare_mask *masks, int n_masks)
+{
+    long covered = 0;
+    for (int i = 0; i < n_masks; i++) {
+        int x0 = masks[i].x < 0 ? 0 : masks[i].x, y0 = masks[i].y < 0 ? 0 : masks[i].y;
+        long x1 = (long)masks[i].x + masks[i].w, y1 = (long)masks[i].y + masks[i].h;
+        x1 = x1 > expected->width ? expected->width : x1;
+        y1 = y1 > expected->height ? expected->height : y1;
+        if (x1 <= x0 || y1 <= y0)
+            continue;
+        covered += (x1 - x0) * (y1 - y0);
+        for (int y = y0; y < y1; y++)
+            memcpy(actual->pixels + (size_t)y * actual->stride + 4 * (size_t)x0,
+                   expected->pixels + (size_t)y * expected->stride + 4 * (size_t)x0,
+                   4 * (size_t)(x1 - x0));
+    }
+    return covered;
+}
+
+int sp_compare_pixel_hash(const struct sp_image *img, char hex[65])
+{
+    uint8_t digest[32];
+    char size[32];
+    struct AVSHA *sha = av_sha_alloc();
+    if (!sha) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    av_sha_init(sha, 256);
+    for (int y = 0; y < img->height; y++)
+        av_sha_update(sha, img->pixels + (size_t)y * img->stride, 4 * (size_t)img->width);
+    int n = snprintf(size, sizeof(size), "%dx%d", img->width, img->height);
+    av_sha_update(sha, (const uint8_t *)size, (size_t)n);
+    av_sha_final(sha, digest);
+    av_free(sha);
+    for (int i = 0; i < 32; i++)
+        snprintf(hex + 2 * i, 3, "%02x", digest[i]);
+    return 0;
+}
+
+static double luma(const uint8_t *p)
+{
+    return 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
+}
+
+double sp_compare_ssim(const struct sp_image *e, const struct sp_image *a)
+{
+    const double c1 = (0.01 * 255) * (0.01 * 255), c2 = (0.03 * 255) * (0.03 * 255);
+    int ww = e->width < 8 ? e->width : 8, wh = e->height < 8 ? e->height : 8;
+    double total = 0;
+    long windows = 0;
+    if (e->width != a->width || e->height != a->height || ww <= 0 || wh <= 0)
+        return 0;
+    for (int y0 = 0; y0 + wh <= e->height; y0 += 4) {
+        for (int x0 = 0; x0 + ww <= e->width; x0 += 4) {
+            double se = 0, sa = 0, see = 0, saa = 0, sea = 0, n = (double)ww * wh;
+            for (int y = y0; y < y0 + wh; y++) {
+                const uint8_t *p = e->pixels + (size_t)y * e->stride + 4 * (size_t)x0;
+                const uint8_t *q = a->pixels + (size_t)y * a->stride + 4 * (size_t)x0;
+                for (int x = 0; x < ww; x++, p += 4, q += 4) {
+                    double u = luma(p), v = luma(q);
+                    se += u, sa += v, see += u * u, saa += v * v, sea += u * v;
+                }
+            }
+            double me = se / n, ma = sa / n;
+            double ve = see / n - me * me, va = saa / n - ma * ma, cov = sea / n - me * ma;
+            total += (2 * me * ma + c1) * (2 * cov + c2) /
+                     ((me * me + ma * ma + c1) * (ve + va + c2));
+            windows++;
+        }
+    }
+    return windows ? total / windows : 1;
+}
+
+/* Copies src into dst at (x0, 0), tinting magenta the part outside
+ * other_w x other_h (what the other image lacks). */
+static void blit_marked(struct sp_image *dst, int x0, const struct sp_image *src, int other_w,
+                        int other_h)
+{
+    for (int y = 0; y < src->height; y++) {
+        const uint8_t *p = src->pixels + (size_t)y * src->stride;
+        uint8_t *d = dst->pixels + (size_t)y * dst->stride + 4 * (size_t)x0;
+        for (int x = 0; x < src->width; x++, p += 4, d += 4) {
+            int extra = x >= other_w || y >= other_h;
+            d[0] = extra ? (uint8_t)((p[0] + 255) / 2) : p[0];
+            d[1] = extra ? (uint8_t)(p[1] / 2) : p[1];
+            d[2] = extra ? (uint8_t)((p[2] + 255) / 2) : p[2];
+            d[3] = 255;
+        }
+    }
+}
+
+int sp_compare_size_diff(const struct sp_image *e, const struct sp_image *a,
+                         struct sp_image *diff)
+{
+    int w = e->width + 8 + a->width, h = e->height > a->height ? e->height : a->height;
+    int err = sp_image_alloc(diff, w, h);
+    if (err)
+        return err;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            uint8_t *d = diff->pixels + (size_t)y * diff->stride + 4 * (size_t)x;
+            d[0] = d[1] = d[2] = 48, d[3] = 255;
+        }
+    blit_marked(diff, 0, e, a->width, a->height);
+    blit_marked(diff, e->width + 8, a, e->width, e->height);
     return 0;
 }

@@ -37,26 +37,78 @@ static void stack(struct sp_layout *o, unsigned bits, int square, struct sp_rect
     }
 }
 
+/* Tiles area with the n panels of `bits` without a pendulum: the grid of
+ * cols x rows whose cells are nearest (in log aspect) to each panel's
+ * preferred shape, wide for strip charts, square for the others. */
+static void tile(struct sp_layout *o, unsigned bits, struct sp_rect area)
+{
+    const float w = area.x1 - area.x0, h = area.y1 - area.y0, g = o->gap;
+    int n = 0, best_cols = 1;
+    double best = 1e300;
+    for (int b = 0; b < SP_PANEL_COUNT; b++)
+        n += (bits >> b) & 1;
+    for (int cols = 1; cols <= n; cols++) {
+        const int rows = (n + cols - 1) / cols;
+        const double aspect = (w - (cols - 1) * g) / cols / ((h - (rows - 1) * g) / rows);
+        double miss = (double)(rows * cols - n); /* empty cells */
+        for (int b = 0; b < SP_PANEL_COUNT; b++)
+            if ((bits >> b) & 1)
+                miss += fabs(log(aspect / (is_square(b) ? 1.0 : 2.4)));
+        if (miss < best)
+            best = miss, best_cols = cols;
+    }
+    const int cols = best_cols, rows = (n + cols - 1) / cols;
+    const float ch = (h - (rows - 1) * g) / rows;
+    for (int b = 0, i = 0; b < SP_PANEL_COUNT; b++) {
+        if (!((bits >> b) & 1))
+            continue;
+        const int r = i / cols, c = i % cols;
+        /* the last row's cells share its whole width */
+        const int in_row = r == rows - 1 ? n - r * cols : cols;
+        const float rw = (w - (in_row - 1) * g) / in_row;
+        o->panel[b] = (struct sp_rect){area.x0 + c * (rw + g), area.y0 + r * (ch + g),
+                                       area.x0 + c * (rw + g) + rw, area.y0 + r * (ch + g) + ch};
+        i++;
+    }
+}
+
 void sp_layout_compute(const struct sp_layout_desc *d, struct sp_layout *o)
 {
     const float W = (float)d->width, H = (float)d->height;
     const float unit = fminf(W, H), g = roundf(0.015f * unit);
+    const float top = d->title_height > 0 ? d->title_height + g : 0;
+    const float bottom = d->caption_height > 0 ? d->caption_height + g : 0;
+    const float Y0 = top, Hb = fmaxf(H - top - bottom, 1);
     int ns = 0, nq = 0;
-    struct sp_rect view = {0, 0, W, H}, rest = {0}, strips, squares;
+    struct sp_rect view = {0, Y0, W, Y0 + Hb}, rest = {0}, strips, squares;
 
     *o = (struct sp_layout){.gap = g};
+    if (top > 0)
+        o->title = (struct sp_rect){g, g, W - g, g + d->title_height};
+    if (bottom > 0)
+        o->caption = (struct sp_rect){g, H - g - d->caption_height, W - g, H - g};
     for (int b = 0; b < SP_PANEL_COUNT; b++)
         if ((d->panels >> b) & 1)
             is_square(b) ? nq++ : ns++;
+    if (d->no_pendulum) {
+        struct sp_rect area = {g, Y0 + g, W - g, Y0 + Hb - g};
+        if (d->hud_height > 0) {
+            o->hud = (struct sp_rect){g, area.y0, W - g, area.y0 + d->hud_height};
+            area.y0 = o->hud.y1 + g;
+        }
+        if (ns + nq)
+            tile(o, d->panels, area);
+        return;
+    }
     if (ns + nq) {
-        if (W >= 1.15f * H) { /* landscape: the view at the left */
-            const float vw = roundf(fmaxf(0.34f * W, fminf(0.8f * H, 0.45f * W)));
-            view = (struct sp_rect){0, 0, vw, H};
-            rest = (struct sp_rect){vw, g, W - g, H - g};
+        if (W >= 1.15f * Hb) { /* landscape: the view at the left */
+            const float vw = roundf(fmaxf(0.34f * W, fminf(0.8f * Hb, 0.45f * W)));
+            view = (struct sp_rect){0, Y0, vw, Y0 + Hb};
+            rest = (struct sp_rect){vw, Y0 + g, W - g, Y0 + Hb - g};
         } else { /* portrait or square: the view on top */
-            const float vh = roundf((W >= H ? 0.45f : 0.36f) * H);
-            view = (struct sp_rect){0, 0, W, vh};
-            rest = (struct sp_rect){g, vh, W - g, H - g};
+            const float vh = roundf((W >= Hb ? 0.45f : 0.36f) * Hb);
+            view = (struct sp_rect){0, Y0, W, Y0 + vh};
+            rest = (struct sp_rect){g, Y0 + vh, W - g, Y0 + Hb - g};
         }
         const float rw = rest.x1 - rest.x0, rh = rest.y1 - rest.y0;
         strips = squares = rest;

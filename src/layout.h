@@ -1,8 +1,13 @@
-/* springpend (internal): where things go in the frame. The pendulum view
- * and the panels side by side (landscape) or one above the other (portrait),
- * the strip charts stacked where they can be wide, the phase and Poincare
- * plots square; heads-up text at the top of the view, the colourbar at its
- * right. Pure arithmetic on pixel rectangles, so it can be tested alone. */
+/* springpend (internal): where things go in the frame. A title band at the
+ * top and a caption band at the bottom when asked; between them the pendulum
+ * view and the panels side by side (landscape) or one above the other
+ * (portrait), the strip charts stacked where they can be wide, the phase and
+ * Poincare plots square; heads-up text at the top of the view, the colourbar
+ * at its right. Without the pendulum the panels tile the whole area: a lone
+ * panel fills it, several take the grid whose cells come nearest to each
+ * kind's preferred shape (strip charts wide, the others square; a cell is not
+ * forced to that shape, since a phase portrait's axes have different units).
+ * Pure arithmetic on pixel rectangles, so it can be tested alone. */
 #ifndef SPRINGPEND_LAYOUT_H
 #define SPRINGPEND_LAYOUT_H
 
@@ -17,12 +22,17 @@ struct sp_layout_desc {
     unsigned panels;    /* SP_PANEL_* bits */
     float hud_height;   /* px of heads-up text, 0 = none */
     float colorbar_width; /* px of the colourbar with its labels, 0 = none */
+    int no_pendulum;    /* 1: no pendulum view: the panels take its room */
+    float title_height; /* px of the title band, 0 = none */
+    float caption_height; /* px of the caption band, 0 = none */
 };
 
 struct sp_layout {
-    struct sp_rect camera;   /* the pendulum fits in here */
+    struct sp_rect camera;   /* the pendulum fits in here (empty without it) */
     struct sp_rect hud;      /* heads-up text (empty when not asked) */
     struct sp_rect colorbar; /* the colourbar and its labels (empty when not asked) */
+    struct sp_rect title;    /* the title band (empty when not asked) */
+    struct sp_rect caption;  /* the caption band (empty when not asked) */
     struct sp_rect panel[SP_PANEL_COUNT]; /* indexed by bit number; empty when not shown */
     float gap;               /* px between neighbours */
 };

@@ -85,23 +85,34 @@ struct axis {
     double lo, hi;         /* data range shown */
     double step, first;    /* tick spacing and first tick */
     int decimals;
+    double offset;         /* subtracted from the ticks before labelling; 0 = none */
+    int offset_decimals;
 };
 
 /* Widens [lo, hi] a little and picks round ticks (1, 2, 5 x 10^k), at most
  * max_ticks of them. */
-static void axis_make(struct axis *a, double lo, double hi, int max_ticks, double pad)
+static const double MULT[] = {1, 2, 5};
+
+/* Widens [lo, hi] by pad of its span (and an empty range around its value). */
+static void axis_range(struct axis *a, double lo, double hi, double pad)
 {
     double span = hi - lo, mag = fmax(fabs(lo), fabs(hi));
-    static const double mult[] = {1, 2, 5};
     if (!(span > 1e-9 * (mag + 1e-30)) || !isfinite(span)) {
         const double half = mag > 0 ? 0.1 * mag : 1;
         lo -= half;
         hi += half;
         span = hi - lo;
     }
-    lo -= pad * span;
-    hi += pad * span;
-    span = hi - lo;
+    *a = (struct axis){.lo = lo - pad * span, .hi = hi + pad * span};
+}
+
+static void axis_make(struct axis *a, double lo, double hi, int max_ticks, double pad)
+{
+    axis_range(a, lo, hi, pad);
+    lo = a->lo;
+    hi = a->hi;
+    const double span = hi - lo;
+    const double *mult = MULT;
     if (max_ticks < 2)
         max_ticks = 2;
     /* the round step whose tick count is nearest to max_ticks, not above it by much */
@@ -128,9 +139,79 @@ static void format_tick(char *buf, size_t size, double v, int decimals)
     snprintf(buf, size, "%s%.*f", v < 0 ? "\xe2\x88\x92" : "", decimals, fabs(v));
 }
 
+/* The label of tick v of axis a. */
+static void tick_label(const struct axis *a, double v, char *buf, size_t size)
+{
+    double d = v - a->offset;
+    if (fabs(d) < 1e-9 * a->step)
+        d = 0;
+    format_tick(buf, size, d, a->decimals);
+}
+
+/* Sets a's step, first tick, decimals and offset for step `step`. Small
+ * ranges around a large value (more than 4 significant digits needed, the
+ * span under 2% of the value) are labelled from a round offset. */
+static void axis_step(struct axis *a, double step)
+{
+    const double span = a->hi - a->lo, mag = fmax(fabs(a->lo), fabs(a->hi));
+    a->step = step;
+    a->first = ceil(a->lo / step - 1e-9) * step;
+    a->decimals = step >= 1 ? 0 : (int)ceil(-log10(step) - 1e-9);
+    a->offset = 0;
+    if (mag > 0 && floor(log10(mag)) + 1 + a->decimals > 4 && span < 0.02 * mag) {
+        const double q = pow(10, ceil(log10(span)));
+        a->offset = floor(a->lo / q) * q; /* below the range: positive labels */
+        a->offset_decimals = q >= 1 ? 0 : (int)lround(-log10(q));
+    }
+}
+
+/* Picks the finest round step (1, 2, 5 x 10^k), 10 ticks at most, whose
+ * labels fit along an axis of `length` px: side by side with a gap of one line height
+ * (horizontal), or 1.3 line heights apart (vertical). */
+static void axis_fit(struct axis *a, const struct sp_font *f, float length, int vertical)
+{
+    const double span = a->hi - a->lo;
+    const float line = (float)sp_font_line(f, SP_TEXT_SMALL);
+    double p10 = pow(10, floor(log10(span / 60)));
+    char buf[48];
+    for (int k = 0; k < 12; k++, p10 *= 10)
+        for (int i = 0; i < 3; i++) {
+            const double step = MULT[i] * p10;
+            float need = 1.3f * line;
+            axis_step(a, step);
+            if (!vertical) {
+                float widest = 0;
+                for (double v = a->first; v <= a->hi + 1e-9 * step; v += step) {
+                    tick_label(a, v, buf, sizeof(buf));
+                    widest = fmaxf(widest, (float)sp_font_width(f, SP_TEXT_SMALL, buf));
+                }
+                need = widest + line;
+            }
+            /* at most 10 ticks: more is clutter, not information */
+            if (step / span * length >= need && span / step <= 10)
+                return;
+        }
+}
+
+/* The axis's name with its offset: "r (m)" with offset 1.004 is
+ * "r − 1.004 (m)", so the ticks read as the difference. */
+static void axis_name(const struct axis *a, const char *name, char *buf, size_t size)
+{
+    char off[40];
+    const char *unit = strstr(name, " (");
+    if (a->offset == 0) {
+        snprintf(buf, size, "%s", name);
+        return;
+    }
+    format_tick(off, sizeof(off), fabs(a->offset), a->offset_decimals);
+    snprintf(buf, size, "%.*s %s %s%s", unit ? (int)(unit - name) : (int)strlen(name), name,
+             a->offset > 0 ? "\xe2\x88\x92" : "+", off, unit ? unit : "");
+}
+
 struct plot {
     struct sp_rect area; /* the data rectangle, px */
     struct axis x, y;
+    float title_end;     /* px: where the title ends in its row */
 };
 
 static float px_x(const struct plot *p, double v)
@@ -143,12 +224,77 @@ static float px_y(const struct plot *p, double v)
     return (float)(p->area.y1 - (v - p->y.lo) / (p->y.hi - p->y.lo) * (p->area.y1 - p->area.y0));
 }
 
+/* One legend entry: a text in `color`, after a dot of that colour when
+ * `dot` (a mark such as the current state), or of `dot_color` when set.
+ * The label may have a short form: "long|short". */
+struct legend_item {
+    const char *label;
+    const float *color;
+    int dot;
+    const float *dot_color;
+};
+
+/* The long (shrt = 0) or short form of a "long|short" label. */
+static const char *label_form(const char *label, int shrt, char *buf, size_t size)
+{
+    const char *bar = strchr(label, '|');
+    snprintf(buf, size, "%.*s", bar && !shrt ? (int)(bar - label) : (int)strlen(label),
+             bar && shrt ? bar + 1 : label);
+    return buf;
+}
+
+static float legend_width(const struct sp_font *f, const struct legend_item *it, int n, int shrt)
+{
+    const float line = (float)sp_font_line(f, SP_TEXT_SMALL);
+    char buf[64];
+    float w = 0;
+    for (int i = 0; i < n; i++)
+        w += (it[i].dot ? line : 0) + (i ? 0.7f * line : 0) +
+             sp_font_width(f, SP_TEXT_SMALL, label_form(it[i].label, shrt, buf, sizeof(buf)));
+    return w;
+}
+
+/* Draws the legend with its first entry starting at x, baseline y,
+ * wrapping at x1 onto rows starting at x_wrap; returns the rows used. With
+ * c = NULL it only counts them. */
+static int legend_draw(struct sp_canvas *c, const struct sp_font *f, float x, float y, float x_wrap,
+                       float x1, const struct legend_item *it, int n, int shrt)
+{
+    const float line = (float)sp_font_line(f, SP_TEXT_SMALL), cap = (float)sp_font_cap(f, SP_TEXT_SMALL);
+    char label[64];
+    int rows = 1;
+    for (int i = 0; i < n; i++) {
+        label_form(it[i].label, shrt, label, sizeof(label));
+        const float w = (it[i].dot ? line : 0) + sp_font_width(f, SP_TEXT_SMALL, label);
+        if (x + w > x1 && i > 0) {
+            x = x_wrap;
+            y += line;
+            rows++;
+        }
+        if (!c) {
+            x += w + 0.7f * line;
+            continue;
+        }
+        if (it[i].dot) {
+            sp_canvas_disc(c, x + 0.35f * line, y - 0.5f * cap, 0.28f * line, 0,
+                           it[i].dot_color ? it[i].dot_color : it[i].color);
+            x += line;
+        }
+        x += sp_canvas_text(c, SP_TEXT_SMALL, x, y, SP_ALIGN_LEFT, it[i].color, label) + 0.7f * line;
+    }
+    return rows;
+}
+
 /* Lays out a panel in r: background, title, axes with ticks and labels;
- * fills p->area. ylabel/xlabel name the axes with their units. */
+ * fills p->area. ylabel/xlabel name the axes with their units. The legend
+ * goes in the title row when it fits between the title and the y axis's
+ * name, else on a row of its own below (the plot gives up the room), so it
+ * never disappears. */
 static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot *p,
                        const char *title, const char *xlabel, const char *ylabel,
                        struct sp_range xr, struct sp_range yr, double xpad,
-                       const struct sp_palette *pal, float unit)
+                       const struct sp_palette *pal, float unit,
+                       const struct legend_item *leg, int n_leg)
 {
     const struct sp_font *f = c->font;
     const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
@@ -158,7 +304,39 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     char buf[32];
     int tw = 0;
 
+    sp_canvas_layer(c, SP_LAYER_STATIC);
     sp_canvas_rect(c, r->x0, r->y0, r->x1, r->y1, pal->panel);
+    /* the legend's room: the title row (judged with the short title and the
+     * plain y name) or a row of its own */
+    const char *bar0 = strchr(title, '|');
+    char full0[96];
+    snprintf(full0, sizeof(full0), "%.*s", bar0 ? (int)(bar0 - title) : (int)strlen(title), title);
+    const float row_free = r->x1 - r->x0 - 4 * pad - sp_font_width(f, SP_TEXT_SMALL, ylabel) -
+                           sp_font_width(f, SP_TEXT_NORMAL, full0);
+    const int leg_row = n_leg && legend_width(f, leg, n_leg, 0) > row_free;
+    /* on a row of its own: long labels on one row, else short ones, wrapped */
+    const int shrt = leg_row && legend_width(f, leg, n_leg, 0) > r->x1 - r->x0 - 2 * pad;
+    const int leg_rows = leg_row ? legend_draw(NULL, f, r->x0 + pad, 0, r->x0 + pad, r->x1 - pad, leg,
+                                               n_leg, shrt) : 0;
+    p->area.y0 = r->y0 + 2.2f * pad + cap_n + 0.5f * cap_s + leg_rows * line_s;
+    /* A wide plot names its x axis at the right end of the tick row; a
+     * narrow one on its own row below, so that it can keep its ticks. */
+    int xl_below = r->x1 - r->x0 < 1.6f * (r->y1 - r->y0);
+    /* x labels clear of the lowest y label (half a cap above the axis' end) */
+    const float drop = fmaxf(tick, 0.6f * cap_s);
+    /* A panel too small for its labels keeps at least two lines of plot:
+     * the x axis's name moves to the tick row, then the x labels go, then
+     * the y labels (never drawn over one another). */
+    if (xl_below && r->y1 - pad - 2 * line_s - drop - p->area.y0 < 2 * line_s)
+        xl_below = 0;
+    const int label_x = r->y1 - pad - line_s - drop - p->area.y0 >= 2 * line_s;
+    p->area.y1 = r->y1 - pad - line_s * (label_x ? (xl_below ? 2 : 1) : 0) - (label_x ? drop : tick);
+    const int label_y = p->area.y1 - p->area.y0 >= 1.3f * line_s;
+    axis_range(&p->y, yr.lo, yr.hi, 0.06);
+    axis_fit(&p->y, f, p->area.y1 - p->area.y0, 1);
+    char yname[128], xname[128];
+    axis_name(&p->y, ylabel, yname, sizeof(yname));
+    ylabel = yname;
     /* the title at the left of its row, the y axis's name at the right; when
      * both do not fit, the title's short form ("long|short") in small type */
     const char *bar = strchr(title, '|');
@@ -166,54 +344,68 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     snprintf(full, sizeof(full), "%.*s", bar ? (int)(bar - title) : (int)strlen(title), title);
     const int fits = sp_font_width(f, SP_TEXT_NORMAL, full) + sp_font_width(f, SP_TEXT_SMALL, ylabel) +
                      3 * pad <= r->x1 - r->x0;
-    sp_canvas_text(c, fits ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
-                   SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
-    p->area.y0 = r->y0 + 2.2f * pad + cap_n + 0.5f * cap_s;
-    /* A wide plot names its x axis at the right end of the tick row; a
-     * narrow one on its own row below, so that it can keep its ticks. */
-    const int xl_below = r->x1 - r->x0 < 1.6f * (r->y1 - r->y0);
-    p->area.y1 = r->y1 - pad - line_s * (xl_below ? 2 : 1) - tick;
-    axis_make(&p->y, yr.lo, yr.hi, (int)fmaxf(4, (p->area.y1 - p->area.y0) / (2.6f * line_s)), 0.06);
-    for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
-        format_tick(buf, sizeof(buf), v, p->y.decimals);
+    /* in a very narrow panel the y name gives way to the short title */
+    const int name_fits = fits || sp_font_width(f, SP_TEXT_SMALL, bar ? bar + 1 : full) +
+                                  sp_font_width(f, SP_TEXT_SMALL, ylabel) + 3 * pad <= r->x1 - r->x0;
+    p->title_end = r->x0 + pad +
+        sp_canvas_text(c, fits ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
+                       SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* a legend may count what is shown */
+    if (n_leg)
+        legend_draw(c, f, leg_row ? r->x0 + pad : p->title_end + pad,
+                    r->y0 + pad + cap_n + (leg_row ? line_s : 0), r->x0 + pad, r->x1 - pad, leg, n_leg,
+                    shrt);
+    sp_canvas_layer(c, SP_LAYER_STATIC);
+    for (double v = p->y.first; label_y && v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
+        tick_label(&p->y, v, buf, sizeof(buf));
         const int w = sp_font_width(f, SP_TEXT_SMALL, buf);
         tw = w > tw ? w : tw;
     }
     p->area.x0 = r->x0 + pad + tw + tick + 0.5f * pad;
     p->area.x1 = r->x1 - pad - 0.5f * sp_font_width(f, SP_TEXT_SMALL, "00");
-    const int xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
-    const float probe = (float)sp_font_width(f, SP_TEXT_SMALL, "00.0");
-    axis_make(&p->x, xr.lo, xr.hi,
-              (int)((p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w)) / (1.6f * probe)), xpad);
+    int xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
+    axis_range(&p->x, xr.lo, xr.hi, xpad);
+    axis_fit(&p->x, f, p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w + pad), 0);
+    axis_name(&p->x, xlabel, xname, sizeof(xname));
+    xlabel = xname;
+    xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
 
     /* grid, ticks and labels */
-    const float base = p->area.y1 + tick + cap_s + 0.25f * pad;
+    const float base = p->area.y1 + drop + cap_s + 0.25f * pad;
     const float xl_x0 = xl_below ? p->area.x1 + 2 * pad : p->area.x1 - xl_w;
-    sp_canvas_text(c, SP_TEXT_SMALL, xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
-                   xl_below ? base + line_s : base, xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT,
-                   pal->muted, xlabel);
+    if (label_x)
+        sp_canvas_text(c, SP_TEXT_SMALL, xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
+                       xl_below ? base + line_s : base, xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT,
+                       pal->muted, xlabel);
     for (double v = p->x.first; v <= p->x.hi + 1e-9 * p->x.step; v += p->x.step) {
         const float x = px_x(p, v);
-        format_tick(buf, sizeof(buf), v, p->x.decimals);
+        tick_label(&p->x, v, buf, sizeof(buf));
         const float w = (float)sp_font_width(f, SP_TEXT_SMALL, buf);
         sp_canvas_rect(c, x - hw, p->area.y0, x + hw, p->area.y1, pal->grid);
         sp_canvas_rect(c, x - hw, p->area.y1, x + hw, p->area.y1 + tick, pal->axis);
-        if (x + 0.5f * w < fminf(xl_x0 - pad, r->x1) && x - 0.5f * w >= r->x0 + pad)
+        if (label_x && x + 0.5f * w < fminf(xl_x0 - pad, r->x1) && x - 0.5f * w >= r->x0 + pad)
             sp_canvas_text(c, SP_TEXT_SMALL, x, base, SP_ALIGN_CENTER, pal->muted, buf);
     }
     for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
         const float y = px_y(p, v);
-        format_tick(buf, sizeof(buf), v, p->y.decimals);
+        tick_label(&p->y, v, buf, sizeof(buf));
         sp_canvas_rect(c, p->area.x0, y - hw, p->area.x1, y + hw, pal->grid);
         sp_canvas_rect(c, p->area.x0 - tick, y - hw, p->area.x0, y + hw, pal->axis);
-        sp_canvas_text(c, SP_TEXT_SMALL, p->area.x0 - tick - 0.4f * pad, y + 0.5f * cap_s,
-                       SP_ALIGN_RIGHT, pal->muted, buf);
+        if (label_y)
+            sp_canvas_text(c, SP_TEXT_SMALL, p->area.x0 - tick - 0.4f * pad, y + 0.5f * cap_s,
+                           SP_ALIGN_RIGHT, pal->muted, buf);
     }
     /* the y axis's name and unit at the right end of the title row */
-    sp_canvas_text(c, SP_TEXT_SMALL, r->x1 - pad, r->y0 + pad + cap_n, SP_ALIGN_RIGHT, pal->muted, ylabel);
+    if (name_fits)
+        sp_canvas_text(c, SP_TEXT_SMALL, r->x1 - pad, r->y0 + pad + cap_n, SP_ALIGN_RIGHT, pal->muted, ylabel);
     /* axes lines: left and bottom */
     sp_canvas_rect(c, p->area.x0 - hw, p->area.y0, p->area.x0 + hw, p->area.y1 + hw, pal->axis);
     sp_canvas_rect(c, p->area.x0 - hw, p->area.y1 - hw, p->area.x1, p->area.y1 + hw, pal->axis);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* the data from here, inside the axes (with
+                                             room for a marker on the edge) */
+    const float m = 0.006f * unit;
+    if (p->area.x1 > p->area.x0 + 1 && p->area.y1 > p->area.y0 + 1) /* not a collapsed plot */
+        sp_canvas_clip(c, (const float[4]){p->area.x0 - m, p->area.y0 - m, p->area.x1 + m, p->area.y1 + m});
 }
 
 /* Which quantity a strip chart or phase plot shows. */
@@ -252,6 +444,7 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
     float col[4] = {color[0], color[1], color[2], color[3]};
     float ax = 0, ay = 0;
     int have = 0;
+    sp_canvas_path_begin(c);
     for (int i = first; i < h->count; i += stride) {
         const int j = i + stride >= h->count ? h->count - 1 : i;
         const struct sp_history_sample *s = &h->samples[j];
@@ -269,6 +462,7 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
         if (j == h->count - 1)
             break;
     }
+    sp_canvas_path_end(c);
 }
 
 static struct sp_range range_of(struct sp_range r, double scale, double shift)
@@ -292,40 +486,29 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     const float hw = fmaxf(0.6f, 0.0013f * unit);
     struct plot p;
 
+    const struct legend_item energy[] = {{"total|tot", pal->series[0], 0, NULL},
+                                         {"kinetic|kin", pal->series[1], 0, NULL},
+                                         {"spring|spr", pal->series[2], 0, NULL},
+                                         {"gravity|grav", pal->series[3], 0, NULL}};
+    const struct legend_item modes[] = {{"bounce|bnc", pal->series[1], 0, NULL},
+                                        {"swing|swg", pal->series[2], 0, NULL}};
     frame_plot(c, r, &p, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
-               yr, 0, pal, unit);
+               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 4 : bit == 7 ? 2 : 0);
     if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) /* the zero line */
         sp_canvas_rect(c, p.area.x0, px_y(&p, 0) - hw * 0.6f, p.area.x1, px_y(&p, 0) + hw * 0.6f, pal->axis);
     if (!h || h->count == 0)
         return;
     const float now = px_x(&p, h->samples[h->count - 1].t);
     sp_canvas_rect(c, now - hw * 0.8f, p.area.y0, now + hw * 0.8f, p.area.y1, pal->cursor);
-    if (bit == 2) { /* the split first, the total on top; a legend in the title row */
-        static const char *const names[] = {"total", "kinetic", "spring", "gravity"};
-        float x = r->x0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
-                  sp_font_width(c->font, SP_TEXT_NORMAL, "Energy") + sp_font_line(c->font, SP_TEXT_SMALL);
+    if (bit == 2) { /* the split first, the total on top */
         for (int k = 3; k >= 0; k--)
             polyline(c, &p, h, -1, 5 + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], NULL);
-        const int fits = x + sp_font_width(c->font, SP_TEXT_SMALL, "total  kinetic  spring  gravity  E (J)") < r->x1;
-        for (int k = 0; k < 4 && fits; k++)
-            x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
-                                sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k],
-                                names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);
-    } else if (bit == 7) { /* bounce and swing, with a legend */
-        static const char *const names[] = {"bounce", "swing"};
-        float x = r->x0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
-                  sp_font_width(c->font, SP_TEXT_NORMAL, "Energy of bounce and swing") +
-                  sp_font_line(c->font, SP_TEXT_SMALL);
+    } else if (bit == 7) { /* bounce and swing */
         for (int k = 0; k < 2; k++) {
             polyline(c, &p, h, -1, 9 + k, L0, 0, 1.2f * hw, pal->series[k + 1], NULL);
             sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], 9 + k, L0)), 2.2f * hw,
                            0, pal->series[k + 1]);
         }
-        if (x + sp_font_width(c->font, SP_TEXT_SMALL, "bounce  swing  E (J)") < r->x1 - 10)
-            for (int k = 0; k < 2; k++)
-                x += sp_canvas_text(c, SP_TEXT_SMALL, x, r->y0 + 0.5f * sp_font_line(c->font, SP_TEXT_SMALL) +
-                                    sp_font_cap(c->font, SP_TEXT_NORMAL), SP_ALIGN_LEFT, pal->series[k + 1],
-                                    names[k]) + 0.6f * sp_font_line(c->font, SP_TEXT_SMALL);
     } else {
         const int q = bit == 0 ? 0 : bit == 1 ? 1 : 2;
         polyline(c, &p, h, -1, q, L0, 0, hw, pal->series[1], NULL);
@@ -335,20 +518,22 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
 
 static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
                        const struct sp_frame *f, const struct sp_view_extent *e,
-                       const struct sp_palette *pal, float unit)
+                       const struct sp_palette *pal, float unit, int fade)
 {
     const struct sp_history *h = f->history;
     const float hw = fmaxf(0.6f, 0.0012f * unit);
     struct plot p;
+    const struct legend_item now[] = {{"now", pal->muted, 1, pal->cursor}};
     if (theta)
         frame_plot(c, r, &p, "Phase portrait θ, θ̇|θ, θ̇", "θ (°)", "θ̇ (°/s)", range_of(e->theta, RAD2DEG, 0),
-                   range_of(e->theta_dot, RAD2DEG, 0), 0.06, pal, unit);
+                   range_of(e->theta_dot, RAD2DEG, 0), 0.06, pal, unit, now, 1);
     else
-        frame_plot(c, r, &p, "Phase portrait r, ṙ|r, ṙ", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal, unit);
+        frame_plot(c, r, &p, "Phase portrait r, ṙ|r, ṙ", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal,
+                   unit, now, 1);
     if (!h || h->count == 0)
         return;
     const int xq = theta ? 1 : 0, yq = theta ? 4 : 3;
-    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], pal->panel);
+    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], fade ? pal->panel : NULL);
     const struct sp_history_sample *s = &h->samples[h->count - 1];
     sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
                    2.6f * hw, 0, pal->cursor);
@@ -361,12 +546,14 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
     const float dot = fmaxf(1.8f, 0.0035f * unit);
     char count[64];
     struct plot p;
-    frame_plot(c, r, &p, "Poincaré θ = 0, θ̇ > 0|Poincaré", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal, unit);
+    const int n = h ? h->n_crossings : 0;
+    snprintf(count, sizeof(count), "%d crossing%s|%d", n, n == 1 ? "" : "s", n);
+    const struct legend_item leg[] = {{count, pal->muted, 1, pal->series[2]},
+                                      {"latest", pal->muted, 1, pal->cursor}};
+    frame_plot(c, r, &p, "Poincaré θ = 0, θ̇ > 0|Poincaré", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal,
+               unit, leg, n ? 2 : 1);
     if (!h)
         return;
-    snprintf(count, sizeof(count), "%d crossing%s", h->n_crossings, h->n_crossings == 1 ? "" : "s");
-    sp_canvas_text(c, SP_TEXT_SMALL, p.area.x1 - 4, p.area.y0 + sp_font_line(c->font, SP_TEXT_SMALL),
-                   SP_ALIGN_RIGHT, pal->muted, count);
     for (int i = 0; i < h->n_crossings; i++)
         sp_canvas_disc(c, px_x(&p, h->crossings[i].r), px_y(&p, h->crossings[i].r_dot),
                        i == h->n_crossings - 1 ? 1.8f * dot : dot, 0,
@@ -374,7 +561,8 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
 }
 
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
-                    const struct sp_view_extent *e, const struct sp_palette *pal, float unit)
+                    const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
+                    int fade)
 {
     for (int b = 0; b < SP_PANEL_COUNT; b++) {
         const struct sp_rect *r = &lay->panel[b];
@@ -383,9 +571,10 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
         if (b <= 3 || b == 7)
             strip_chart(c, r, b, f, e, pal, unit);
         else if (b <= 5)
-            phase_plot(c, r, b == 5, f, e, pal, unit);
+            phase_plot(c, r, b == 5, f, e, pal, unit, fade);
         else
             poincare_plot(c, r, f, e, pal, unit);
+        sp_canvas_clip(c, NULL);
     }
 }
 
@@ -402,6 +591,16 @@ int sp_params_resonant(const struct sp_params *p, double *ratio)
 static void add_item(const struct sp_font *font, float max_width, char lines[][SP_HUD_LINE_BYTES],
                      int *n, int max, const char *item, int new_line)
 {
+    /* "long|short": the short form when the long one is wider than a line;
+     * neither when both are (a tiny frame) */
+    char form[SP_HUD_LINE_BYTES];
+    const char *bar = strchr(item, '|');
+    snprintf(form, sizeof(form), "%.*s", bar ? (int)(bar - item) : (int)strlen(item), item);
+    if (bar && sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
+        snprintf(form, sizeof(form), "%s", bar + 1);
+    if (sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
+        return;
+    item = form;
     char *l = lines[*n - 1];
     char joined[2 * SP_HUD_LINE_BYTES];
     snprintf(joined, sizeof(joined), "%s%s%s", l, *l ? "    " : "", item);
@@ -411,6 +610,15 @@ static void add_item(const struct sp_font *font, float max_width, char lines[][S
     }
     if (*n < max)
         snprintf(lines[(*n)++], SP_HUD_LINE_BYTES, "%s", item);
+}
+
+/* The resonance check's words, short when the long ones do not fit. */
+static const char *resonance_note(const struct sp_font *f, int resonant, float max_width)
+{
+    const char *note = resonant ? "≈ 2:1 resonance ✓" : "(2:1 resonance needs kL₀ = 3mg)";
+    if (sp_font_width(f, SP_TEXT_NORMAL, note) > max_width)
+        note = resonant ? "≈ 2:1 ✓" : "(not 2:1)";
+    return note;
 }
 
 int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
@@ -433,11 +641,11 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float ma
         snprintf(item, sizeof(item), "b = %.3g N·s/m", p->b_over_m * p->mass);
         add_item(font, max_width, lines, &n, max, item, 0);
     }
-    snprintf(item, sizeof(item), "ωₛ = √(k/m) = %.3f rad/s", ws);
+    snprintf(item, sizeof(item), "ωₛ = √(k/m) = %.3f rad/s|ωₛ = %.3f rad/s", ws, ws);
     add_item(font, max_width, lines, &n, max, item, 1);
-    snprintf(item, sizeof(item), "ωₚ = √(g/ℓ) = %.3f rad/s", wp);
+    snprintf(item, sizeof(item), "ωₚ = √(g/ℓ) = %.3f rad/s|ωₚ = %.3f rad/s", wp, wp);
     add_item(font, max_width, lines, &n, max, item, 0);
-    snprintf(item, sizeof(item), "ℓ = L₀ + mg/k = %.3f m", ell);
+    snprintf(item, sizeof(item), "ℓ = L₀ + mg/k = %.3f m|ℓ = %.3f m", ell, ell);
     add_item(font, max_width, lines, &n, max, item, 0);
     if (p->drive_amp > 0 && p->drive_omega > 0) {
         snprintf(item, sizeof(item), "pivot: %.3g m at %.4g Hz", p->drive_amp, p->drive_omega / (2 * M_PI));
@@ -445,9 +653,13 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float ma
         snprintf(item, sizeof(item), "Ω/ωₚ = %.3f", p->drive_omega / wp);
         add_item(font, max_width, lines, &n, max, item, 0);
     }
-    sp_params_resonant(p, &ratio);
+    const int res = sp_params_resonant(p, &ratio);
     snprintf(item, sizeof(item), "ωₛ/ωₚ = %.3f", ratio);
     add_item(font, max_width, lines, &n, max, item, 1);
+    /* the resonance note after the ratio, or on a line of its own ("\1") */
+    snprintf(item, sizeof(item), "%s    %s", lines[n - 1], resonance_note(font, res, max_width));
+    if (sp_font_width(font, SP_TEXT_NORMAL, item) > max_width && n < max)
+        snprintf(lines[n++], SP_HUD_LINE_BYTES, "\1");
     return n;
 }
 
@@ -468,20 +680,24 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
     sp_canvas_text(c, SP_TEXT_LARGE, r->x0, y, SP_ALIGN_LEFT, pal->text, buf);
     y += 0.5f * (sp_font_line(f, SP_TEXT_LARGE) - sp_font_cap(f, SP_TEXT_LARGE)) +
          0.5f * (sp_font_line(f, SP_TEXT_NORMAL) - sp_font_cap(f, SP_TEXT_NORMAL));
+    const int res = sp_params_resonant(p, &ratio);
+    const int own_line = n > 1 && !strcmp(lines[n - 1], "\1");
+    const int last = own_line ? n - 2 : n - 1; /* the ratio's line */
+    const char *note = resonance_note(f, res, r->x1 - r->x0);
     for (int i = 1; i < n; i++) {
+        const float base = y + sp_font_cap(f, SP_TEXT_NORMAL);
         y += sp_font_line(f, SP_TEXT_NORMAL);
         if (!lines[i][0])
             continue;
-        const float w = (float)sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, y - sp_font_line(f, SP_TEXT_NORMAL) +
-                                              sp_font_cap(f, SP_TEXT_NORMAL), SP_ALIGN_LEFT,
-                                              i == n - 1 ? pal->text : pal->muted, lines[i]);
-        if (i == n - 1) {
-            const int res = sp_params_resonant(p, &ratio);
-            snprintf(buf, sizeof(buf), res ? "≈ 2:1 resonance ✓" : "(2:1 resonance needs kL₀ = 3mg)");
-            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0 + w + sp_font_line(f, SP_TEXT_NORMAL),
-                           y - sp_font_line(f, SP_TEXT_NORMAL) + sp_font_cap(f, SP_TEXT_NORMAL),
-                           SP_ALIGN_LEFT, res ? pal->accent : pal->muted, buf);
+        if (i == n - 1 && own_line) {
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, res ? pal->accent : pal->muted, note);
+            continue;
         }
+        const float w = (float)sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT,
+                                              i == last ? pal->text : pal->muted, lines[i]);
+        if (i == last && !own_line)
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0 + w + sp_font_line(f, SP_TEXT_NORMAL), base,
+                           SP_ALIGN_LEFT, res ? pal->accent : pal->muted, note);
     }
 }
 

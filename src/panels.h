@@ -26,14 +26,16 @@ void sp_palette_get(const struct sp_scene *scene, struct sp_palette *out);
 void sp_colormap(int colormap, float t, float rgb[3]);
 
 /* Draws every panel the layout holds for frame f. `unit` is the frame's
- * smaller side, px (line widths and dot sizes follow it). */
+ * smaller side, px (line widths and dot sizes follow it); with fade = 0 the
+ * phase curves' history is drawn at full strength. */
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
-                    const struct sp_view_extent *e, const struct sp_palette *pal, float unit);
+                    const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
+                    int fade);
 
 /* Heads-up text: writes the lines for params (time left out) wrapped to
  * max_width px into lines[0..max) and returns how many; line 0 is the time
  * line, filled in at draw time. */
-#define SP_HUD_MAX_LINES 8
+#define SP_HUD_MAX_LINES 12
 #define SP_HUD_LINE_BYTES 200
 int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
                  char lines[][SP_HUD_LINE_BYTES], int max);

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "springpend/common.h"
+#include "springpend/figure.h"
 #include "springpend/frame.h"
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
@@ -236,6 +237,8 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     int first = desc->still ? 0 : desc->first;
     int last = desc->still || !desc->last ? n : desc->last;
     int w = sc->video.width, h = sc->video.height;
+    /* a still to .svg or .pdf: composed and drawn with cairo, no GL */
+    const int figure = desc->still && sp_figure_format(desc->output) != SP_FIGURE_NONE;
     double t_start = now_s(), t0;
 
     signal_seen = signal_count = 0;
@@ -259,11 +262,26 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     ret = sp_view_extent_measure(sc, t_end, &extent);
     if (ret)
         goto done;
-    ret = sp_trail_make(&trail, sc->view.trail == SP_TRAIL_ALL ? n + 1 : sc->view.trail);
+    /* The trail is sampled between frames finely enough that its chords stay
+     * within half a pixel: at most the top speed times the fastest angular
+     * frequency of acceleration, at the largest scale the camera can have. */
+    sp_sim_init(&sim, sc);
+    const double frame_dt = sc->video.speed / sc->video.fps;
+    const int ss = desc->supersample > 1 ? desc->supersample : 1;
+    int substeps = sp_trail_substeps(
+        frame_dt, extent.max_speed * sp_params_omega_max(&sim.p),
+        ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9)));
+    const int trail_frames = sc->view.trail == SP_TRAIL_ALL ? n + 1
+                           : sc->view.trail == SP_TRAIL_DURATION
+                               ? (int)fmin(ceil(sc->view.trail_duration / frame_dt) + 1, n + 1)
+                               : sc->view.trail;
+    if ((double)trail_frames * substeps > 4e6) /* about 100 MB of trail at most */
+        substeps = (int)fmax(1, 4e6 / fmax(trail_frames, 1));
+    ret = sp_trail_make(&trail, trail_frames ? (trail_frames - 1) * substeps + 1 : 0);
     if (!ret)
         ret = sp_history_make(&hist, sc);
-    if (ret)
-        goto done;
+    if (ret || figure)
+        goto setup_done;
     ret = sp_render_make(&r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .scene = sc, .supersample = desc->supersample});
@@ -279,21 +297,29 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (ret)
         goto done;
     part_files = sp_sink_part_files(sink);
-
-    sp_sim_init(&sim, sc);
+setup_done:
+    if (ret)
+        goto done;
     if (desc->still) {
         /* The trail holds the video's frame positions before still_at. */
         for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
-            ret = sp_history_follow(&hist, &sim, sp_scene_frame_time(sc, k));
+            ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
             if (ret)
                 goto done;
-            sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         }
         if (sim.s.t < desc->still_at) {
-            ret = sp_history_follow(&hist, &sim, desc->still_at);
+            ret = sp_trail_follow(&trail, &hist, &sim, desc->still_at, substeps);
             if (ret)
                 goto done;
-            sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
+        }
+        if (figure) {
+            ret = sp_figure_write(&(struct sp_figure_desc){
+                .width = w, .height = h, .extent = extent, .scene = sc, .path = desc->output},
+                &(struct sp_frame){.state = sim.s, .params = &sim.p, .trail = &trail,
+                                   .history = &hist});
+            if (!ret && desc->state_out)
+                *desc->state_out = sim.s;
+            goto done;
         }
         sp_provenance_set_time(&prov, sim.s.t);
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
@@ -324,12 +350,11 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     for (int k = 0; k < last && !signal_seen; k++) {
         /* advance sim to t_k -> update frame model -> render -> sink */
         double ts = now_s();
-        ret = sp_history_follow(&hist, &sim, sp_scene_frame_time(sc, k));
+        ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
         if (ret == SP_E_INTERRUPTED && signal_seen)
             break; /* keep the frames so far, below */
         if (ret)
             goto done;
-        sp_trail_push_at(&trail, &sim.s, sp_pivot_y(&sim.p, sim.s.t));
         tm.sim += now_s() - ts;
         if (k < first)
             continue; /* frames before the range only feed trail and histories */

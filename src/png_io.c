@@ -1,7 +1,10 @@
 /* springpend: PNG files through libpng. Writing uses the full API (so we
- * choose the filter, zlib level and text chunks); reading uses the simplified
- * API, which converts any PNG to RGBA8. */
+ * choose the filter, zlib level and text chunks), and so does reading, which
+ * converts any PNG to RGBA8 by value after checking its size. */
 #include <errno.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,6 +34,13 @@ static void on_png_write(png_structp png, png_bytep data, size_t n)
                      strerror(errno));
         png_longjmp(png, 1);
     }
+}
+
+/* The same for readers, in the words compare's users know. */
+static void on_png_read_error(png_structp png, png_const_charp msg)
+{
+    sp_log_error("%s: cannot read PNG: libpng: %s", (const char *)png_get_error_ptr(png), msg);
+    png_longjmp(png, 1);
 }
 
 static void on_png_flush(png_structp png)
@@ -111,7 +121,8 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
     for (int i = 0; i < opts->n_text; i++) {
         /* libpng copies key and text into info. */
         png_text t = {
-            .compression = PNG_TEXT_COMPRESSION_NONE,
+            .compression = opts->text[i].compressed ? PNG_TEXT_COMPRESSION_zTXt
+                                                    : PNG_TEXT_COMPRESSION_NONE,
             .key = (png_charp)opts->text[i].key,
             .text = (png_charp)opts->text[i].text,
         };
@@ -165,69 +176,178 @@ int sp_png_write(const char *path, const struct sp_image *img, int level)
                              &(struct sp_png_write_opts){ .level = level });
 }
 
+/* Opens path for reading if it is a regular file: a FIFO or a device
+ * named *.png must not hang or flood the reader. O_NONBLOCK keeps open()
+ * itself from waiting on a FIFO; it is cleared before reading. */
+static FILE *open_regular(const char *path, int *err)
+{
+    struct stat st;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        sp_log_error("%s: cannot open: %s", path, strerror(errno));
+        *err = SP_E_IO;
+        return NULL;
+    }
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        sp_log_error("%s: not a regular file; a PNG must be a file", path);
+        close(fd);
+        *err = SP_E_INPUT;
+        return NULL;
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    FILE *fp = fdopen(fd, "rb");
+    if (!fp) {
+        sp_log_error("%s: cannot open: %s", path, strerror(errno));
+        close(fd);
+        *err = SP_E_NOMEM;
+    }
+    return fp;
+}
+
+/* The reader's state, behind a pointer so that what is set after setjmp
+ * survives the longjmp. */
+struct png_reader {
+    FILE *fp;
+    png_structp png;
+    png_infop info;
+    png_bytep *rows;
+};
+
+static void reader_close(struct png_reader *r)
+{
+    png_destroy_read_struct(&r->png, &r->info, NULL);
+    free(r->rows);
+    if (r->fp)
+        fclose(r->fp);
+}
+
+/* Opens path and makes the libpng reader (errors jump to the caller's
+ * setjmp, which it must set right after). */
+static int reader_open(struct png_reader *r, const char *path)
+{
+    int err = 0;
+    memset(r, 0, sizeof(*r));
+    if (!(r->fp = open_regular(path, &err)))
+        return err;
+    r->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, (png_voidp)path,
+                                    on_png_read_error, on_png_warning);
+    if (r->png)
+        r->info = png_create_info_struct(r->png);
+    if (!r->png || !r->info) {
+        sp_log_error("%s: out of memory for the PNG reader", path);
+        reader_close(r);
+        return SP_E_NOMEM;
+    }
+    png_init_io(r->png, r->fp);
+    return 0;
+}
+
+int sp_png_read_info(const char *path, struct sp_png_info *out)
+{
+    struct png_reader rd, *r = &rd;
+    int err = reader_open(r, path);
+    memset(out, 0, sizeof(*out));
+    if (err)
+        return err;
+    if (setjmp(png_jmpbuf(r->png))) {
+        reader_close(r); /* on_png_error has logged */
+        return SP_E_IO;
+    }
+    png_read_info(r->png, r->info);
+    out->width = (int)png_get_image_width(r->png, r->info);
+    out->height = (int)png_get_image_height(r->png, r->info);
+    out->bit_depth = png_get_bit_depth(r->png, r->info);
+    out->color_type = png_get_color_type(r->png, r->info);
+    out->interlaced = png_get_interlace_type(r->png, r->info) != PNG_INTERLACE_NONE;
+    reader_close(r);
+    return 0;
+}
+
+int sp_png_check_size(const char *path, const struct sp_png_info *info)
+{
+    if ((long long)info->width * info->height > SP_PNG_MAX_PIXELS) {
+        sp_log_error("%s: %dx%d is %lld pixels; springpend reads PNGs of at most %ld "
+                     "pixels (%ld MB as RGBA)",
+                     path, info->width, info->height, (long long)info->width * info->height,
+                     SP_PNG_MAX_PIXELS, SP_PNG_MAX_PIXELS * 4 / 1000000);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 int sp_png_read(const char *path, struct sp_image *img)
 {
-    /* The simplified API owns its decoder state in pi.opaque and frees it
-     * on every error and at the end of png_image_finish_read. */
-    png_image pi;
-    memset(&pi, 0, sizeof(pi));
-    pi.version = PNG_IMAGE_VERSION;
+    struct png_reader rd, *r = &rd;
+    struct sp_png_info hdr;
+    int err = reader_open(r, path);
     memset(img, 0, sizeof(*img));
-
-    if (!png_image_begin_read_from_file(&pi, path)) {
-        sp_log_error("%s: cannot read PNG: %s", path, pi.message);
+    if (err)
+        return err;
+    if (setjmp(png_jmpbuf(r->png))) {
+        sp_image_free(img); /* on_png_error has logged */
+        reader_close(r);
         return SP_E_IO;
     }
-    pi.format = PNG_FORMAT_RGBA;
-    int err = sp_image_alloc(img, (int)pi.width, (int)pi.height);
-    if (err) {
-        png_image_free(&pi);
+    png_read_info(r->png, r->info);
+    hdr.width = (int)png_get_image_width(r->png, r->info);
+    hdr.height = (int)png_get_image_height(r->png, r->info);
+    if ((err = sp_png_check_size(path, &hdr)) != 0) {
+        reader_close(r);
         return err;
     }
-    if (!png_image_finish_read(&pi, NULL, img->pixels, img->stride, NULL)) {
-        sp_log_error("%s: cannot read PNG: %s", path, pi.message);
+    /* Every colour type to RGBA8 by value: 16-bit samples are scaled with
+     * rounding (v * 255 / 65535), so v * 257 gives back v exactly; no
+     * gamma or colour-space conversion. */
+    int type = png_get_color_type(r->png, r->info);
+    if (type == PNG_COLOR_TYPE_PALETTE)
+        png_set_palette_to_rgb(r->png);
+    if (type == PNG_COLOR_TYPE_GRAY && png_get_bit_depth(r->png, r->info) < 8)
+        png_set_expand_gray_1_2_4_to_8(r->png);
+    if (png_get_valid(r->png, r->info, PNG_INFO_tRNS))
+        png_set_tRNS_to_alpha(r->png);
+    if (png_get_bit_depth(r->png, r->info) == 16)
+        png_set_scale_16(r->png);
+    if (type == PNG_COLOR_TYPE_GRAY || type == PNG_COLOR_TYPE_GRAY_ALPHA)
+        png_set_gray_to_rgb(r->png);
+    png_set_add_alpha(r->png, 0xff, PNG_FILLER_AFTER); /* only where none */
+    png_set_interlace_handling(r->png);
+    png_read_update_info(r->png, r->info);
+    if (png_get_rowbytes(r->png, r->info) != 4 * (size_t)hdr.width)
+        png_error(r->png, "unexpected row size after conversion to RGBA8");
+    if ((err = sp_image_alloc(img, hdr.width, hdr.height)) != 0 ||
+        !(r->rows = malloc(sizeof(*r->rows) * (size_t)hdr.height))) {
+        if (!err)
+            sp_log_error("%s: out of memory", path);
         sp_image_free(img);
-        png_image_free(&pi);
-        return SP_E_IO;
+        reader_close(r);
+        return SP_E_NOMEM;
     }
+    for (int y = 0; y < hdr.height; y++)
+        r->rows[y] = img->pixels + (size_t)y * img->stride;
+    png_read_image(r->png, r->rows);
+    png_read_end(r->png, NULL); /* a missing IEND is a truncated file */
+    reader_close(r);
     return 0;
 }
 
 int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)
 {
-    /* Owned here, destroyed at `done`; set before setjmp, never changed. */
-    png_structp png = NULL;
-    png_infop info = NULL;
-    FILE *fp = fopen(path, "rb");
+    struct png_reader rd, *r = &rd;
     png_textp text;
-    int n, ret = 0;
-    if (!fp) {
-        sp_log_error("%s: cannot open: %s", path, strerror(errno));
+    int n, ret = reader_open(r, path);
+    if (ret)
+        return ret;
+    if (setjmp(png_jmpbuf(r->png))) {
+        reader_close(r); /* on_png_error has logged */
         return SP_E_IO;
     }
-    png = png_create_read_struct(PNG_LIBPNG_VER_STRING, (png_voidp)path, on_png_error,
-                                 on_png_warning);
-    if (png)
-        info = png_create_info_struct(png);
-    if (!png || !info) {
-        sp_log_error("%s: out of memory for the PNG reader", path);
-        ret = SP_E_NOMEM;
-        goto done;
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        ret = SP_E_IO; /* on_png_error has logged */
-        goto done;
-    }
-    png_init_io(png, fp);
-    png_read_info(png, info); /* reads up to the first IDAT */
-    n = png_get_text(png, info, &text, NULL);
+    png_read_info(r->png, r->info); /* reads up to the first IDAT */
+    n = png_get_text(r->png, r->info, &text, NULL);
     for (int i = 0; i < n && !ret; i++)
         if (!strcmp(text[i].key, key)) {
             snprintf(buf, size, "%s", text[i].text);
             ret = 1;
         }
-done:
-    png_destroy_read_struct(&png, &info, NULL);
-    fclose(fp);
+    reader_close(r);
     return ret;
 }

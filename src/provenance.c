@@ -9,8 +9,9 @@
 #include "springpend/common.h"
 #include "springpend/provenance.h"
 
-/* SHA-256 of the scene's canonical text into hex[65]. */
-static int scene_sha256(const struct sp_scene *scene, char hex[65])
+/* SHA-256 of the scene's canonical text into hex[65]; the text itself
+ * into copy (empty when it does not fit). */
+static int scene_sha256(const struct sp_scene *scene, char hex[65], char *copy, size_t size)
 {
     uint8_t digest[32];
     int n = sp_scene_canonical(scene, NULL, 0);
@@ -28,6 +29,7 @@ static int scene_sha256(const struct sp_scene *scene, char hex[65])
     av_sha_final(sha, digest);
     for (int i = 0; i < 32; i++)
         snprintf(hex + 2 * i, 3, "%02x", digest[i]);
+    snprintf(copy, size, "%s", (size_t)n < size ? text : "");
 done:
     av_free(sha);
     free(text);
@@ -40,11 +42,12 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
     snprintf(p->software, sizeof(p->software), "springpend " SP_VERSION);
     snprintf(p->renderer, sizeof(p->renderer), "%s", renderer ? renderer : "none");
     sp_provenance_set_time(p, 0);
-    p->text[0] = (struct sp_png_text){"Software", p->software};
-    p->text[1] = (struct sp_png_text){"Source", p->renderer};
-    p->text[2] = (struct sp_png_text){"springpend.scene-sha256", p->scene_sha256};
-    p->text[3] = (struct sp_png_text){"springpend.time", p->time};
-    return scene_sha256(scene, p->scene_sha256);
+    p->text[0] = (struct sp_png_text){.key = "Software", .text = p->software};
+    p->text[1] = (struct sp_png_text){.key = "Source", .text = p->renderer};
+    p->text[2] = (struct sp_png_text){.key = "springpend.scene-sha256", .text = p->scene_sha256};
+    p->text[3] = (struct sp_png_text){.key = "springpend.time", .text = p->time};
+    p->text[4] = (struct sp_png_text){.key = "springpend.scene", .text = p->scene, .compressed = 1};
+    return scene_sha256(scene, p->scene_sha256, p->scene, sizeof(p->scene));
 }
 
 void sp_provenance_set_time(struct sp_provenance *p, double t)

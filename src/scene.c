@@ -13,16 +13,20 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
+#include "ini_lines.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
-#define SP_MAX_FRAMES 1000000 /* about 4.6 hours at 60 fps */
+/* Frame times are indexed by int; what a command makes of them has its own
+ * limit (render: video frames, data: rows). */
+#define SP_MAX_FRAMES 1000000000
 
 enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_BOOL,    /* true/false, stored as int */
                 KEY_CHOICE,  /* one of the names in `unit` (", "-separated), int index */
                 KEY_PANELS,  /* a list of panel names, unsigned SP_PANEL_* bits */
                 KEY_COLOR,   /* #rrggbb, "theme" or "transparent", int */
-                KEY_TRAIL }; /* an integer or "all" (SP_TRAIL_ALL), int */
+                KEY_TRAIL,   /* an integer or "all" (SP_TRAIL_ALL), int */
+                KEY_TEXT };  /* UTF-8 text, char[SP_VIEW_TEXT_BYTES] */
 
 /* One scene key: where it lives in struct sp_scene and what it accepts.
  * Accepted: lo < v (lo_open) or lo <= v, and v <= hi. */
@@ -64,7 +68,7 @@ static const struct key_info keys[] = {
     {"video", "crf", KEY_INT, F(video.crf), 0, 0, 63, 0, "(quality, lower is better; 0 = the format's default: 23 H.264, 32 VP9)"},
     {"video", "preset", KEY_CHOICE, F(video.preset), 0, 0, 0, 0, PRESET_NAMES},
     {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
-    {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "points"},
+    {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "frames"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
      "none, all, r, theta, energy, extension, phase, poincare, modes"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
@@ -74,6 +78,11 @@ static const struct key_info keys[] = {
     {"view", "colormap", KEY_CHOICE, F(view.colormap), 0, 0, 0, 0, "inferno, viridis"},
     {"view", "colorbar", KEY_BOOL, F(view.colorbar), 0, 0, 0, 0, "true, false"},
     {"view", "strobe", KEY_REAL, F(view.strobe), 0, 0, 1e6, 0, "s"},
+    {"view", "pendulum", KEY_BOOL, F(view.pendulum), 1, 0, 0, 0, "true, false"},
+    {"view", "fade", KEY_BOOL, F(view.fade), 1, 0, 0, 0, "true, false"},
+    {"view", "font_scale", KEY_REAL, F(view.font_scale), 1, 0.25, 4, 0, "(text size factor)"},
+    {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
+    {"view", "caption", KEY_TEXT, F(view.caption), 0, 0, 0, 0, "text"},
 };
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
@@ -295,11 +304,42 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             return 1;
         }
         break;
-    case KEY_TRAIL:
-        if (strcmp(value, "all"))
+    case KEY_TRAIL: {
+        char *end = NULL;
+        const size_t n = strlen(value);
+        if (!strcmp(value, "all")) {
+            *(int *)p = SP_TRAIL_ALL;
+            return 1;
+        }
+        if (n < 2 || value[n - 1] != 's')
             return 0;
-        *(int *)p = SP_TRAIL_ALL;
+        const double d = strtod(value, &end);
+        if (end != value + n - 1 || !(d > 0 && d <= 1e6)) {
+            report(c, line, "%s.%s = '%s' is not allowed; give a number of frames from 0 to "
+                   "1000000, all, or a duration 0 < D <= 1e+06 s such as 5s", k->section,
+                   k->name, value);
+            return 1;
+        }
+        *(int *)p = SP_TRAIL_DURATION;
+        c->scene->view.trail_duration = d;
         return 1;
+    }
+    case KEY_TEXT: {
+        size_t n = strlen(value);
+        if (n >= 2 && value[0] == '"' && value[n - 1] == '"') /* optional quotes */
+            value++, n -= 2;
+        if (n >= SP_VIEW_TEXT_BYTES) {
+            report(c, line, "%s.%s is %zu bytes long; at most %d are allowed", k->section,
+                   k->name, n, SP_VIEW_TEXT_BYTES - 1);
+            return 1;
+        }
+        memcpy(p, value, n);
+        p[n] = 0;
+        for (char *q = p; *q; q++) /* a '#' kept from the comment stripper */
+            if (*q == COLOUR_MARK)
+                *q = '#';
+        return 1;
+    }
     default:
         return 0;
     }
@@ -438,26 +478,22 @@ static void protect_colour(char *line)
 static char *read_line(char *str, int num, void *stream)
 {
     struct parse_ctx *c = stream;
-    check_previous_line(c);
-    if (!*c->cursor)
-        return NULL;
+    struct sp_ini_lines l = {c->cursor, c->line};
     const char *start = c->cursor;
-    const char *nl = strchr(start, '\n');
-    size_t len = nl ? (size_t)(nl - start + 1) : strlen(start);
-    c->cursor += len;
-    c->line++;
+    size_t len;
+    check_previous_line(c);
+    if (!sp_ini_lines_next(&l, str, num, &len))
+        return NULL;
+    c->cursor = l.cursor, c->line = l.line;
     c->line_handled = 0;
-    if (len + 1 > (size_t)num) {
+    if (len) {
         const char *q = start + strspn(start, " \t");
         if (*q != '#' && *q != ';') /* long comments are fine */
             report(c, c->line, "line is %zu bytes long; at most %d are allowed "
                    "for a key = value line", len, num - 2);
         c->line_has_content = 0;
-        snprintf(str, (size_t)num, "#\n");
         return str;
     }
-    memcpy(str, start, len);
-    str[len] = 0;
     protect_colour(str);
     c->line_has_content = line_has_content(c, str);
     return str;
@@ -475,6 +511,7 @@ void sp_scene_defaults(struct sp_scene *s)
         case KEY_INT: *(int *)p = (int)keys[i].def; break;
         case KEY_METHOD: *(enum sp_method *)p = (enum sp_method)(int)keys[i].def; break;
         case KEY_PANELS: *(unsigned *)p = (unsigned)keys[i].def; break;
+        case KEY_TEXT: *p = 0; break;
         default: *(int *)p = (int)keys[i].def; break; /* bool, choice, colour, trail */
         }
     }
@@ -560,8 +597,8 @@ static void validate_whole(struct parse_ctx *c)
         report(c, 0, "video.duration * video.fps / video.speed = %g frames; at least "
                "1 frame is needed (raise video.duration or lower video.speed)", frames);
     else if (frames > SP_MAX_FRAMES)
-        report(c, 0, "video.duration * video.fps / video.speed = %.0f frames; at most "
-               "%d are allowed", frames, SP_MAX_FRAMES);
+        report(c, 0, "video.duration * video.fps / video.speed = %.0f frame times; at "
+               "most %d are allowed", frames, SP_MAX_FRAMES);
     if (s->integrator.method == SP_METHOD_RKN1210 &&
         (s->pendulum.damping > 0 || (s->pivot.amplitude > 0 && s->pivot.frequency > 0)))
         report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "
@@ -678,7 +715,16 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
         case KEY_PANELS:
             n = snprintf(at, room, "%s.%s=%#x\n", k->section, k->name, *(const unsigned *)p);
             break;
-        default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR, KEY_TRAIL: an int */
+        case KEY_TEXT:
+            n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name, p);
+            break;
+        case KEY_TRAIL:
+            if (*(const int *)p == SP_TRAIL_DURATION)
+                n = snprintf(at, room, "%s.%s=%.17gs\n", k->section, k->name, s->view.trail_duration);
+            else
+                n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
+            break;
+        default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR: an int */
             n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         }
@@ -696,7 +742,9 @@ void sp_scene_print_keys(void)
         if (strcmp(section, k->section))
             printf("  [%s]\n", section = k->section);
         if (k->kind == KEY_TRAIL)
-            snprintf(range, sizeof(range), "an integer from 0 to 1000000 %s, or all", k->unit);
+            snprintf(range, sizeof(range), "frames from 0 to 1000000, all, or a duration (5s)");
+        else if (k->kind == KEY_TEXT)
+            snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
         else if (k->kind >= KEY_BOOL)
             snprintf(range, sizeof(range), "%s: %s", k->kind == KEY_PANELS ? "list of" : "one of", k->unit);
         else if (k->kind == KEY_METHOD)
@@ -705,12 +753,75 @@ void sp_scene_print_keys(void)
             describe_range(k, range, sizeof(range));
         if (k->kind == KEY_METHOD)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
+        else if (k->kind == KEY_TEXT)
+            printf("    %-15s default %-8s %s\n", k->name, "\"\"", range);
         else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             printf("    %-15s default %-8.*s %s\n", k->name,
                    k->kind == KEY_BOOL ? 5 : (int)strcspn(k->unit, ","),
-                   k->kind == KEY_BOOL ? "false" : k->kind == KEY_COLOR ? "theme" : k->unit, range);
+                   k->kind == KEY_BOOL ? (k->def ? "true" : "false")
+                   : k->kind == KEY_COLOR ? "theme" : k->unit, range);
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
+    }
+}
+
+void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
+{
+    static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
+                                              "poincare", "modes"};
+    static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
+                                          SP_PANEL_EXTENSION,
+                                          SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
+                                          SP_PANEL_POINCARE, SP_PANEL_MODES};
+    char section[64];
+    const char *dot = strchr(key, '.');
+    const struct key_info *k = NULL;
+    char *end;
+    double v = strtod(value, &end);
+    snprintf(buf, size, "%s", value);
+    if (dot && (size_t)(dot - key) < sizeof(section)) {
+        snprintf(section, sizeof(section), "%.*s", (int)(dot - key), key);
+        k = find_key(section, dot + 1);
+    }
+    if (!k || end == value || *end)
+        return;
+    switch (k->kind) {
+    case KEY_REAL: snprintf(buf, size, "%.10g", v); break;
+    case KEY_DEGREES: snprintf(buf, size, "%.10g", v * (180.0 / M_PI)); break;
+    case KEY_BOOL: snprintf(buf, size, "%s", v != 0 ? "true" : "false"); break;
+    case KEY_CHOICE: {
+        const char *w = k->unit;
+        for (int i = 0; i < (int)v && *w; i++)
+            w += strcspn(w, ","), w += strspn(w, ", ");
+        if (*w)
+            snprintf(buf, size, "%.*s", (int)strcspn(w, ","), w);
+        break;
+    }
+    case KEY_COLOR:
+        if ((int)v == SP_BACKGROUND_THEME)
+            snprintf(buf, size, "theme");
+        else if ((int)v == SP_BACKGROUND_TRANSPARENT)
+            snprintf(buf, size, "transparent");
+        else
+            snprintf(buf, size, "#%06x", (unsigned)v);
+        break;
+    case KEY_TRAIL:
+        if ((int)v == SP_TRAIL_ALL)
+            snprintf(buf, size, "all");
+        break;
+    case KEY_PANELS: {
+        unsigned bits = (unsigned)strtoul(value, NULL, 0);
+        size_t used = 0;
+        buf[0] = 0;
+        for (int i = 0; i < 7; i++)
+            if (bits & panel_bits[i] && used < size)
+                used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
+                                         panel_names[i]);
+        if (!bits)
+            snprintf(buf, size, "none");
+        break;
+    }
+    default: break;
     }
 }
 

@@ -9,12 +9,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "springpend/advice.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
-
-/* Drift of total - energy0 - work, as a fraction of the energy scale, that a
- * run may show before it is declared unstable. Sane steps drift by ~1e-10. */
-#define SP_ENERGY_DRIFT_LIMIT 1e-2
 
 /* For the functions taking `const int forced`: inlined always, so that each
  * caller passing a constant gets its own specialised copy. */
@@ -410,6 +407,14 @@ double sp_pivot_y(const struct sp_params *p, double t)
     return p->drive_amp * sin(p->drive_omega * t);
 }
 
+void sp_params_physics(const struct sp_params *p, struct sp_physics *out)
+{
+    out->ell = p->L0 + p->g / p->k_over_m;
+    out->omega_s = sqrt(p->k_over_m);
+    out->omega_p = sqrt(p->g / out->ell);
+    out->ratio = out->omega_s / out->omega_p;
+}
+
 double sp_params_omega_max(const struct sp_params *p)
 {
     double ell = p->L0 + p->g / p->k_over_m;
@@ -419,23 +424,6 @@ double sp_params_omega_max(const struct sp_params *p)
     if (p->b_over_m > w)
         w = p->b_over_m;
     return w;
-}
-
-double sp_method_dt_limit(enum sp_method m, const struct sp_params *p, double *safe)
-{
-    const struct sp_method_info *mi = sp_method_info(m);
-    if (mi->adaptive) {
-        if (safe)
-            *safe = 0;
-        return 0;
-    }
-    double limit = mi->stability / sp_params_omega_max(p);
-    if (safe) {
-        /* half the limit, rounded down to one significant digit */
-        double half = 0.5 * limit, mag = pow(10, floor(log10(half)));
-        *safe = floor(half / mag) * mag;
-    }
-    return limit;
 }
 
 /* ---- set-up and the guard ------------------------------------------------ */
@@ -469,6 +457,17 @@ static double initial_step(struct sp_sim *sim, int order)
     double dm = fmax(d1, d2);
     double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : pow(0.01 / dm, 1.0 / (order + 1));
     return fmin(100 * h0, h1);
+}
+
+/* The energy of the motion in a state of total energy `total` whose terms
+ * add up to `size` in magnitude, J: total - energy_min, and never below the
+ * rounding of its terms or of the scene's energy scales (a bob at rest has
+ * none: hanging still at l, or at L0 without gravity). */
+static double motion_energy(const struct sp_sim *sim, double total, double size)
+{
+    const double L0 = sim->p.L0;
+    return fmax(total - sim->energy_min,
+                1e-12 * (size + fabs(sim->energy_min) + sim->p.stiffness * L0 * L0));
 }
 
 void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
@@ -506,12 +505,15 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
         sim->method = SP_METHOD_DOP853;
     sp_state_energy(&sim->p, &sim->s, &e);
     sim->energy0 = e.total;
-    /* The energies the motion trades between, J: the start's own terms, and
-     * what hanging at the equilibrium length ell = L0 + m g / k involves. */
+    /* Drift is judged against the energy of the motion, what can move: the
+     * energy above the least the scene can hold (hanging still at ell), not
+     * offsets such as k L0^2 / 2 that cancel out of every difference. */
     double ell = sim->p.L0 + sim->p.g / sim->p.k_over_m;
-    sim->energy_scale = fabs(e.kinetic) + fabs(e.spring) + fabs(e.gravity) +
-                        sim->p.mass * sim->p.g * ell +
-                        0.5 * sim->p.stiffness * sim->p.L0 * sim->p.L0;
+    const double mg = sim->p.mass * sim->p.g;
+    sim->energy_min = -mg * sim->p.L0 - 0.5 * mg * mg / sim->p.stiffness;
+    sim->energy_scale = motion_energy(sim, e.total, fabs(e.kinetic) + fabs(e.spring) +
+                                      fabs(e.gravity));
+    sim->drift_limit = SP_SIM_DRIFT_LIMIT;
     sim->y1[0] = sim->s.x, sim->y1[1] = sim->s.y;
     sim->y1[2] = sim->s.vx, sim->y1[3] = sim->s.vy;
     memcpy(sim->y0, sim->y1, sizeof(sim->y0));
@@ -519,7 +521,10 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
     if (sp_method_info(sim->method)->adaptive) {
         /* absolute tolerances from the scene's length and speed scales */
         double len = fmax(fmax(ell, r), sim->p.L0);
-        double speed = sqrt(2 * sim->energy_scale / sim->p.mass);
+        /* a speed from the energies the motion trades between */
+        double energies = fabs(e.kinetic) + fabs(e.spring) + fabs(e.gravity) + mg * ell +
+                          0.5 * sim->p.stiffness * sim->p.L0 * sim->p.L0;
+        double speed = sqrt(2 * energies / sim->p.mass);
         sim->atol[0] = sim->atol[1] = sim->tol * len;
         sim->atol[2] = sim->atol[3] = sim->tol * speed;
         rhs(&sim->p, 0, sim->y1, sim->k[0], 1);
@@ -532,9 +537,10 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
 static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, double energy,
                          const char *what)
 {
+    if (sim->quiet)
+        return SP_E_UNSTABLE;
     const struct sp_method_info *mi = sp_method_info(sim->method);
-    double w = sp_params_omega_max(&sim->p), safe;
-    double limit = sp_method_dt_limit(sim->method, &sim->p, &safe);
+    struct sp_dt_advice a;
     sp_log_error("the simulation became unstable at t = %.6g s (%s): "
                  "x = %.6g m, y = %.6g m, vx = %.6g m/s, vy = %.6g m/s, "
                  "energy %.6g J vs %.6g J at t = 0 (%.6g J of it work by damping "
@@ -543,15 +549,16 @@ static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, dou
     if (mi->adaptive)
         fprintf(stderr, "  %s with tolerance %g cannot follow this motion; try "
                 "integrator.tolerance = %g\n", mi->name, sim->tol, sim->tol * 1e-3);
-    else if (sim->dt * w > mi->stability)
-        fprintf(stderr, "  dt = %g s is above %s's stability limit %.3g s for "
-                "omega_max = %.4g rad/s (k/m = %g 1/s^2); use integrator.dt <= %g "
-                "or integrator.method = dop853\n",
-                sim->dt, mi->name, limit, w, sim->p.k_over_m, safe);
+    /* a step suggested is one the run was seen to complete with */
+    else if (sp_advise_dt(sim->scene, fmax(sim->scene->video.duration, s->t), &a) == 0 &&
+             !isnan(a.safe))
+        fprintf(stderr, "  dt = %g s is too coarse for this motion (it reaches omega_max = "
+                "%.4g rad/s, where %s's stability limit is %.3g s); use integrator.dt = %g "
+                "(the run completes with it over [0, %g] s) or integrator.method = dop853\n",
+                sim->dt, a.omega_max, mi->name, a.limit, a.safe, a.checked);
     else
-        fprintf(stderr, "  dt = %g s is within %s's stability limit %.3g s but too "
-                "coarse for this motion; try integrator.dt = %g or "
-                "integrator.method = dop853\n", sim->dt, mi->name, limit, sim->dt / 10);
+        fprintf(stderr, "  dt = %g s is too coarse for this motion; use integrator.method = "
+                "dop853\n", sim->dt);
     return SP_E_UNSTABLE;
 }
 
@@ -575,16 +582,18 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
     double kin = 0.5 * p->mass * (u[2] * u[2] + u[3] * u[3]);
     double spring = 0.5 * p->stiffness * stretch * stretch, grav = p->mass * p->g * u[1];
     double total = kin + spring + grav, work = p->mass * u[4];
-    /* judged against the energies in play now too: a drive may pump them up */
-    double scale = sim->energy_scale + kin + spring + fabs(grav);
+    /* the largest the motion has been: a drive may pump it up, damping drain
+     * it, and what was integrated carries the error made at its peak */
+    double scale = fmax(sim->energy_scale, motion_energy(sim, total, kin + spring + fabs(grav)));
     double drift = (total - sim->energy0 - work) / scale;
-    if (!(fabs(drift) <= SP_ENERGY_DRIFT_LIMIT)) {
+    if (!(fabs(drift) <= sim->drift_limit)) {
         char what[128];
         snprintf(what, sizeof(what), "energy, less the work of damping and drive, "
                  "drifted by %.3g%% of its scale %.3g J", 100 * drift, scale);
         sim->work = work;
         return report_blowup(sim, &s, total, what);
     }
+    sim->energy_scale = scale;
     return 0;
 }
 

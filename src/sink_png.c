@@ -30,7 +30,7 @@ static struct sp_png_write_opts png_opts(const struct sp_sink *s)
  * or by close. */
 #define PNG_MAX_WRITERS 8
 #define PNG_MAX_TEXT 8          /* text chunks a frame may carry */
-#define PNG_TEXT_BYTES 2048     /* their keys and texts, with NULs */
+#define PNG_TEXT_BYTES 10240    /* their keys and texts, with NULs (the scene: 0.6 kB) */
 
 enum job_state { JOB_FREE, JOB_PENDING, JOB_RUNNING };
 
@@ -226,6 +226,7 @@ static int copy_text(const struct sp_sink *s, struct png_job *j)
         }
         j->text[i].key = memcpy(j->text_buf + used, t->key, nk);
         j->text[i].text = memcpy(j->text_buf + used + nk, t->text, nt);
+        j->text[i].compressed = t->compressed;
         used += nk + nt;
     }
     j->n_text = s->desc.n_text;

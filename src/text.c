@@ -1,5 +1,4 @@
-/* springpend (internal): FreeType glyph atlas, UTF-8 layout and the GL text
- * pass. See text.h. */
+/* springpend (internal): FreeType glyph atlas and UTF-8 layout. See text.h. */
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -32,11 +31,13 @@ struct glyph {
     int left, top;   /* bitmap offset from the pen, px (top: up) */
     int advance;     /* px */
     int present;     /* the font has it */
+    unsigned index;  /* the font's glyph index (0: missing) */
 };
 
 struct sp_font {
     struct glyph g[SP_TEXT_SIZES][N_GLYPHS];
     int cap[SP_TEXT_SIZES], line[SP_TEXT_SIZES]; /* px */
+    int px[SP_TEXT_SIZES];                       /* em size, px */
     uint8_t *atlas;                              /* R8 */
     int aw, ah;                                  /* texels */
 };
@@ -100,7 +101,7 @@ static int raster_all(struct sp_font *f, FT_Face face, const int px[SP_TEXT_SIZE
             }
             *g = (struct glyph){x, y, (int)bm->width, (int)bm->rows, face->glyph->bitmap_left,
                                 face->glyph->bitmap_top,
-                                (int)((face->glyph->advance.x + 32) >> 6), index != 0};
+                                (int)((face->glyph->advance.x + 32) >> 6), index != 0, index};
             if (f->atlas)
                 for (unsigned r = 0; r < bm->rows; r++)
                     memcpy(f->atlas + (size_t)(y + r) * f->aw + x,
@@ -138,6 +139,7 @@ int sp_font_make(struct sp_font **out, const int px[SP_TEXT_SIZES])
         sp_log_error("FreeType cannot open the embedded DejaVu Sans");
         goto done;
     }
+    memcpy(f->px, px, sizeof(f->px));
     f->aw = px[SP_TEXT_LARGE] > 48 ? 2048 : 1024;
     err = raster_all(f, face, px); /* measure */
     if (err)
@@ -189,38 +191,87 @@ int sp_font_width(const struct sp_font *f, int size, const char *s)
 int sp_font_cap(const struct sp_font *f, int size) { return f->cap[size]; }
 int sp_font_line(const struct sp_font *f, int size) { return f->line[size]; }
 
-int sp_font_layout(const struct sp_font *f, int size, const char *s, float x,
-                   float baseline, const float color[4], struct sp_glyph_quad *out, int max)
+int sp_font_px(const struct sp_font *f, int size) { return f->px[size]; }
+
+/* Places the glyphs of s with the pen starting at (x, baseline): calls
+ * put(g, bitmap x, bitmap y, bytes of its code point) for each code point in
+ * order (combining marks centred over the glyph before them, just above it). */
+static void place(const struct sp_font *f, int size, const char *s, float x, float baseline,
+                  void (*put)(void *ctx, const struct glyph *g, int gx, int gy, int bytes),
+                  void *ctx)
 {
-    int pen = (int)lroundf(x), base = (int)lroundf(baseline), n = 0;
+    int pen = (int)lroundf(x), base = (int)lroundf(baseline);
     const struct glyph *prev = NULL;
     int prev_pen = pen;
     while (*s) {
+        const char *start = s;
         const uint32_t cp = utf8_next(&s);
         const struct glyph *g = &f->g[size][glyph_slot(cp)];
         const int combining = cp >= 0x0300 && cp < 0x0370 && prev;
         int gx = pen + g->left, gy = base - g->top;
-        if (combining) { /* centred over the previous glyph, just above it */
+        if (combining) {
             gx = prev_pen + prev->left + (prev->w - g->w) / 2;
             gy = base - prev->top - g->h - (f->cap[size] + 9) / 10;
         }
-        if (g->w > 0 && g->h > 0) {
-            if (n < max) {
-                const float x0 = (float)gx, y0 = (float)gy;
-                out[n] = (struct sp_glyph_quad){
-                    {x0, y0, x0 + g->w, y0 + g->h},
-                    {(float)g->x, (float)g->y, (float)(g->x + g->w), (float)(g->y + g->h)},
-                    {color[0], color[1], color[2], color[3]}};
-            }
-            n++;
-        }
+        put(ctx, g, gx, gy, (int)(s - start));
         if (combining)
             continue;
         prev = g;
         prev_pen = pen;
         pen += g->advance;
     }
-    return n;
+}
+
+struct quad_ctx {
+    const float *color;
+    struct sp_glyph_quad *out;
+    int max, n;
+};
+
+static void put_quad(void *ctx, const struct glyph *g, int gx, int gy, int bytes)
+{
+    struct quad_ctx *q = ctx;
+    (void)bytes;
+    if (g->w <= 0 || g->h <= 0)
+        return;
+    if (q->n < q->max) {
+        const float x0 = (float)gx, y0 = (float)gy;
+        q->out[q->n] = (struct sp_glyph_quad){
+            {x0, y0, x0 + g->w, y0 + g->h},
+            {(float)g->x, (float)g->y, (float)(g->x + g->w), (float)(g->y + g->h)},
+            {q->color[0], q->color[1], q->color[2], q->color[3]}};
+    }
+    q->n++;
+}
+
+int sp_font_layout(const struct sp_font *f, int size, const char *s, float x,
+                   float baseline, const float color[4], struct sp_glyph_quad *out, int max)
+{
+    struct quad_ctx q = {color, out, max, 0};
+    place(f, size, s, x, baseline, put_quad, &q);
+    return q.n;
+}
+
+struct pos_ctx {
+    struct sp_glyph_pos *out;
+    int max, n;
+};
+
+static void put_pos(void *ctx, const struct glyph *g, int gx, int gy, int bytes)
+{
+    struct pos_ctx *q = ctx;
+    if (q->n < q->max) /* the outline's origin, where its bitmap would sit at gx, gy */
+        q->out[q->n] = (struct sp_glyph_pos){g->index, (float)(gx - g->left),
+                                             (float)(gy + g->top), bytes};
+    q->n++;
+}
+
+int sp_font_glyphs(const struct sp_font *f, int size, const char *s, float x, float baseline,
+                   struct sp_glyph_pos *out, int max)
+{
+    struct pos_ctx q = {out, max, 0};
+    place(f, size, s, x, baseline, put_pos, &q);
+    return q.n;
 }
 
 const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h)
@@ -246,92 +297,4 @@ void sp_font_blit(const struct sp_font *f, const struct sp_glyph_quad *q, int n,
                 *d = a > *d ? a : *d;
             }
     }
-}
-
-/* ---- the GL pass ---- */
-
-struct sp_text_pass {
-    const struct sp_gl_api *gl;
-    GLuint program, vao, vbo, texture;
-    int capacity; /* quads the VBO holds */
-};
-
-static void set_attribs(const struct sp_gl_api *gl)
-{
-    const GLsizei stride = sizeof(struct sp_glyph_quad);
-    gl->VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride,
-                            (const void *)offsetof(struct sp_glyph_quad, rect));
-    gl->VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, stride,
-                            (const void *)offsetof(struct sp_glyph_quad, uv));
-    gl->VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride,
-                            (const void *)offsetof(struct sp_glyph_quad, color));
-}
-
-int sp_text_pass_make(struct sp_text_pass **out, const struct sp_gl_api *gl,
-                      const struct sp_font *f, int width, int height)
-{
-    struct sp_text_pass *p = calloc(1, sizeof(*p));
-    int err;
-
-    *out = NULL;
-    if (!p) {
-        sp_log_error("out of memory for the text pass");
-        return SP_E_NOMEM;
-    }
-    p->gl = gl;
-    err = sp_gl_program_make(gl, sp_embed_text_vert, sp_embed_text_frag, "text", &p->program);
-    if (err) {
-        free(p);
-        return err;
-    }
-    gl->UseProgram(p->program);
-    gl->Uniform2f(gl->GetUniformLocation(p->program, "u_size"), (float)width, (float)height);
-    gl->Uniform2f(gl->GetUniformLocation(p->program, "u_atlas"), (float)f->aw, (float)f->ah);
-    gl->Uniform1i(gl->GetUniformLocation(p->program, "u_atlas_tex"), 0);
-    gl->ActiveTexture(GL_TEXTURE0);
-    gl->GenTextures(1, &p->texture);
-    gl->BindTexture(GL_TEXTURE_2D, p->texture);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    gl->TexImage2D(GL_TEXTURE_2D, 0, GL_R8, f->aw, f->ah, 0, GL_RED, GL_UNSIGNED_BYTE, f->atlas);
-    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    gl->GenVertexArrays(1, &p->vao);
-    gl->BindVertexArray(p->vao);
-    gl->GenBuffers(1, &p->vbo);
-    gl->BindBuffer(GL_ARRAY_BUFFER, p->vbo);
-    for (GLuint i = 0; i < 3; i++) {
-        gl->EnableVertexAttribArray(i);
-        gl->VertexAttribDivisor(i, 1);
-    }
-    set_attribs(gl);
-    *out = p;
-    return 0;
-}
-
-int sp_text_pass_draw(struct sp_text_pass *p, const struct sp_glyph_quad *q, int n)
-{
-    const struct sp_gl_api *gl = p->gl;
-    if (n <= 0)
-        return 0;
-    gl->UseProgram(p->program);
-    gl->BindVertexArray(p->vao);
-    gl->BindBuffer(GL_ARRAY_BUFFER, p->vbo);
-    gl->ActiveTexture(GL_TEXTURE0);
-    gl->BindTexture(GL_TEXTURE_2D, p->texture);
-    if (n > p->capacity) {
-        p->capacity = n * 2;
-        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)p->capacity * sizeof(*q), NULL,
-                       GL_STREAM_DRAW);
-    }
-    gl->BufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)n * sizeof(*q), q);
-    gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, n);
-    return 0;
-}
-
-void sp_text_pass_destroy(struct sp_text_pass **p)
-{
-    free(*p);
-    *p = NULL;
 }

@@ -1,15 +1,15 @@
 /* springpend (internal): text. A font (DejaVu Sans, embedded at build time)
  * rasterized once by FreeType into a glyph atlas at a few pixel sizes; strings
  * are laid out into textured quads at whole pixels, so the same string always
- * gives the same pixels. The GL pass draws the quads in one instanced call. */
+ * gives the same pixels. Pure CPU work shared by the backends: GL draws the
+ * quads from the atlas (draw_gl.c), cairo the glyphs' outlines at the same
+ * pen positions (draw_cairo.c, via sp_font_glyphs). */
 #ifndef SPRINGPEND_TEXT_H
 #define SPRINGPEND_TEXT_H
 
 #include <stdint.h>
 
-#include "gl_api.h"
-
-enum sp_text_size { SP_TEXT_SMALL, SP_TEXT_NORMAL, SP_TEXT_LARGE, SP_TEXT_SIZES };
+enum sp_text_size { SP_TEXT_SMALL, SP_TEXT_NORMAL, SP_TEXT_LARGE, SP_TEXT_TITLE, SP_TEXT_SIZES };
 
 /* One glyph on screen; layout matches the attributes of shaders/text.vert. */
 struct sp_glyph_quad {
@@ -45,6 +45,23 @@ int sp_font_layout(const struct sp_font *f, int size, const char *utf8, float x,
                    float baseline, const float color[4], struct sp_glyph_quad *out,
                    int max);
 
+/* One glyph of a laid-out string for an outline renderer: the font's glyph
+ * index and where its origin goes, px (the same place sp_font_layout puts
+ * its bitmap), and how many bytes of the UTF-8 string it stands for. */
+struct sp_glyph_pos {
+    unsigned index;
+    float x, y;
+    int bytes;
+};
+
+/* Lays out utf8 as sp_font_layout does, one entry per code point, into
+ * out[0..max); returns how many it needs. */
+int sp_font_glyphs(const struct sp_font *f, int size, const char *utf8, float x,
+                   float baseline, struct sp_glyph_pos *out, int max);
+
+/* The em size of a text size, px (what FreeType was asked for). */
+int sp_font_px(const struct sp_font *f, int size);
+
 /* The R8 atlas: *w x *h bytes, row 0 first. Owned by f. */
 const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h);
 
@@ -52,20 +69,5 @@ const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h);
  * copying atlas texels, the way the GL pass samples them (nearest). For tests. */
 void sp_font_blit(const struct sp_font *f, const struct sp_glyph_quad *q, int n,
                   uint8_t *img, int w, int h);
-
-/* The GL pass: program, atlas texture and instance buffer. */
-struct sp_text_pass;
-
-/* Uploads f's atlas; the context of gl must be current. 0, SP_E_GL, SP_E_NOMEM. */
-int sp_text_pass_make(struct sp_text_pass **out, const struct sp_gl_api *gl,
-                      const struct sp_font *f, int width, int height);
-
-/* Draws n quads with premultiplied "over" blending (set by the caller).
- * Leaves its program, VAO and buffer bound. 0 or SP_E_NOMEM. */
-int sp_text_pass_draw(struct sp_text_pass *p, const struct sp_glyph_quad *q, int n);
-
-/* Frees the pass's CPU memory and sets *p to NULL (its GL objects die with
- * the context). Safe on NULL. */
-void sp_text_pass_destroy(struct sp_text_pass **p);
 
 #endif

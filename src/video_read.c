@@ -1,6 +1,7 @@
 /* springpend: video frames back to RGBA8 (video_read.h). The decode loop
  * is FFmpeg's doc/examples/demux_decode.c: read a packet, send it, drain
  * receive_frame until EAGAIN; at the end send NULL and drain to EOF. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -98,11 +99,17 @@ static int convert(struct sp_video_reader *r, struct sp_image *img)
     return 1;
 }
 
-int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img)
+int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double *t)
 {
     for (;;) {
         int ret = avcodec_receive_frame(r->dec, r->frame);
         if (ret >= 0) {
+            if (t) {
+                int64_t pts = r->frame->best_effort_timestamp;
+                *t = pts == AV_NOPTS_VALUE
+                         ? NAN
+                         : pts * av_q2d(r->fmt->streams[r->stream]->time_base);
+            }
             ret = convert(r, img);
             av_frame_unref(r->frame);
             return ret;

@@ -18,11 +18,11 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
     return open_fn(out, path);
 }
 
-int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img)
+int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double *t)
 {
-    int (*read_fn)(struct sp_video_reader *, struct sp_image *);
+    int (*read_fn)(struct sp_video_reader *, struct sp_image *, double *);
     *(void **)&read_fn = sp_av_module_symbol("sp_video_reader_read");
-    return read_fn ? read_fn(r, img) : SP_E_CODEC;
+    return read_fn ? read_fn(r, img, t) : SP_E_CODEC;
 }
 
 void sp_video_reader_destroy(struct sp_video_reader **r)

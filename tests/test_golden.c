@@ -22,7 +22,7 @@ struct golden_case {
     const char *name;       /* golden file stem */
     const char *scene;      /* file under scenes/ */
     double at;              /* simulated s */
-    const char *overrides[8];
+    const char *overrides[12];
 };
 
 #define SMALL "video.width=640", "video.height=360"
@@ -52,6 +52,16 @@ static const struct golden_case cases[] = {
                                           "view.hud=false", "view.colorbar=false"}},
     {"strobe_light", "pure_swing.ini", 2.0, {SMALL, "view.panels=none", "view.hud=false",
                                               "view.strobe=0.1", "view.theme=light"}},
+    /* legibility: every panel at the sizes people use, 4:3, 16:9 and 9:16 */
+#define ALL_AT(w, h) {"size_" #w "x" #h, "resonance.ini", 20.0, {"video.width=" #w, \
+                      "video.height=" #h, "view.panels=all", "view.colorbar=true"}}
+    ALL_AT(320, 240), ALL_AT(640, 360), ALL_AT(854, 480), ALL_AT(1024, 768),
+    ALL_AT(1920, 1080), ALL_AT(1080, 1920),
+    /* figure layout: no pendulum, a title, a caption, the speed marker */
+    {"figure_tiles", "resonance.ini", 20.0, {SMALL, "view.pendulum=false", "view.panels=all",
+                                             "view.hud=false", "view.title=Spring pendulum at 2:1",
+                                             "view.caption=Energy flows from bounce to swing",
+                                             "video.speed=0.25", "view.theme=light"}},
 };
 
 static void run_case(const char *src, const char *outdir, const struct golden_case *gc,
@@ -61,7 +71,7 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
     struct sp_scene scene;
     struct sp_image want = {0}, got = {0}, diff = {0};
     int n = 0;
-    while (n < 8 && gc->overrides[n])
+    while (n < 12 && gc->overrides[n])
         n++;
     snprintf(scene_path, sizeof(scene_path), "%s/../scenes/%s", src, gc->scene);
     snprintf(golden, sizeof(golden), "%s/golden/%s.png", src, gc->name);

@@ -25,7 +25,7 @@ static const char SAMPLE[] = "θ = 0, θ̇ > 0   ωₛ/ωₚ ≈ 2   r₀ = 1.5 
 /* Lays SAMPLE out with a fresh font and returns its coverage image. */
 static uint8_t *render_sample(int *ink)
 {
-    static const int px[SP_TEXT_SIZES] = {12, 16, 22};
+    static const int px[SP_TEXT_SIZES] = {12, 16, 22, 28};
     static const float white[4] = {1, 1, 1, 1};
     struct sp_font *f = NULL;
     struct sp_glyph_quad q[256];
@@ -45,7 +45,7 @@ static uint8_t *render_sample(int *ink)
 
 static void test_text(void)
 {
-    static const int px[SP_TEXT_SIZES] = {12, 16, 22};
+    static const int px[SP_TEXT_SIZES] = {12, 16, 22, 28};
     static const uint32_t needed[] = {0x03B8, 0x03C9, 0x2080, 0x00B2, 0x1E59, 0x0307,
                                       0x209B, 0x209A, 0x2248, 0x00E9, 0x2212, 0x2113};
     struct sp_font *f = NULL;
@@ -93,7 +93,7 @@ static void test_layout(void)
                 struct sp_rect all[SP_PANEL_COUNT + 3];
                 int n = 0;
                 sp_layout_compute(&(struct sp_layout_desc){W, H, sets[s], extras ? 0.08f * H : 0,
-                                                           extras ? 0.06f * W : 0}, &l);
+                                                           extras ? 0.06f * W : 0, 0, 0, 0}, &l);
                 all[n++] = l.camera;
                 if (extras) {
                     all[n++] = l.hud;

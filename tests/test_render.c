@@ -103,7 +103,8 @@ static int fill_trail(struct sp_trail *tr, int n)
         return 1;
     for (int i = 0; i < n; i++) {
         const double u = (double)i / (n - 1);
-        const struct sp_state s = {.x = -1.5 + 2.5 * u, .y = -2.5, .vx = 5 * u};
+        /* spread over the default trail window, 599 frames at 60 fps */
+        const struct sp_state s = {.t = u * 599 / 60.0, .x = -1.5 + 2.5 * u, .y = -2.5, .vx = 5 * u};
         sp_trail_push(tr, &s);
     }
     return 0;

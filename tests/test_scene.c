@@ -82,7 +82,7 @@ static void test_rejects(void)
         "[pendulum]\nmas = 1\n", "[pendel]\nmass = 1\n", "[video]\nwidth = 0\n",
         "[video]\nwidth = 100000\n", "[video]\nfps = 0\n", "[integrator]\ndt = 0\n",
         "[integrator]\nmethod = euler\n", "[pendulum]\nmass = 1\nmass = 2\n",
-        "just some words\n", "[video]\nduration = 1e6\nfps = 1000\n",
+        "just some words\n", "[video]\nduration = 1e6\nfps = 1000\nspeed = 0.1\n",
         "mass = 1\n", "[initial]\nlength = 0\n", "[video\nwidth = 10\n",
         "", " \n\t\r\n", "[pendulum]\nmass = 1\x01\n", "[pendulum]\nmass = \xff\n",
         "[pendulum]\n# caf\xc3\n", "[pendulum]\n# \xed\xa0\x80 (a surrogate)\n",

@@ -102,8 +102,8 @@ static bool test_png_round_trip(void)
     bool pass = sp_image_alloc(&a, 97, 61) == 0; /* odd sizes on purpose */
     draw(&a, 2, true);
     const struct sp_png_text text[] = {
-        { "Software", "springpend " SP_VERSION },
-        { "Comment", "round trip" },
+        { .key = "Software", .text = "springpend " SP_VERSION },
+        { .key = "Comment", .text = "round trip" },
     };
     pass = pass && sp_png_write_opts(path, &a, &(struct sp_png_write_opts){
         .level = SP_PNG_LEVEL_DEFAULT, .text = text, .n_text = 2 }) == 0;
@@ -127,7 +127,7 @@ static bool test_png_errors(void)
     pass = pass && sp_png_write_opts(out_path("bad-key.png"), &tiny,
                        &(struct sp_png_write_opts){
                            .level = 1, .n_text = 1,
-                           .text = &(struct sp_png_text){ "", "x" } }) ==
+                           .text = &(struct sp_png_text){ .key = "", .text = "x" } }) ==
                        SP_E_INPUT;
     pass = pass && !exists(out_path("bad-level.png")) &&
            !exists(out_path("bad-key.png"));

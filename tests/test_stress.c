@@ -5,6 +5,8 @@
  * tolerances from fine to absurd). Each run must either reach its end with
  * every sample finite, on time and within the energy balance, or stop with
  * SP_E_UNSTABLE; never a NaN sample, never another error, never a hang.
+ * On the fixed-step scenes among the first ADVISED, info's safe dt must be
+ * a promise kept: the run completes with it over the span info checked.
  * usage: test_stress [SCENES [SEED]]   (defaults 3000 and 20261122) */
 #include <fcntl.h>
 #include <math.h>
@@ -13,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "springpend/advice.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
 #include "tap.h"
@@ -79,11 +82,28 @@ static double draw(struct sp_scene *sc)
     return fmin(1, 3000 * sc->integrator.dt);
 }
 
+/* Runs sc at dt over [0, T] in 20 samples with the guard every command
+ * uses; 0 or the error. */
+static int run_at(const struct sp_scene *sc, double dt, double T)
+{
+    struct sp_scene s = *sc;
+    struct sp_sim sim;
+    s.integrator.dt = dt;
+    sp_sim_init(&sim, &s);
+    int ret = 0;
+    for (int k = 1; k <= 20 && !ret; k++)
+        ret = sp_sim_advance(&sim, T * k / 20);
+    return ret;
+}
+
+#define ADVISED 250
+
 int main(int argc, char **argv)
 {
     const int n = argc > 1 ? atoi(argv[1]) : 3000;
     rng_state = argc > 2 ? strtoull(argv[2], NULL, 10) : 20261122;
     int finished = 0, unstable = 0, bad = 0, by_method[6][2] = {{0}};
+    int advised = 0, kept = 0, partial = 0, own_fails = 0;
     long evals = 0;
     clock_t c0 = clock();
 
@@ -96,6 +116,7 @@ int main(int argc, char **argv)
         struct sp_sim sim;
         double T = draw(&sc);
         sp_sim_init(&sim, &sc);
+        sim.quiet = 1; /* no message: thousands, and each would probe for a dt */
         int ret = 0;
         for (int k = 0; k <= 20 && !ret; k++) {
             double t = T * k / 20;
@@ -121,6 +142,21 @@ int main(int argc, char **argv)
                 dup2(devnull, 2);
             }
         }
+        if (i < ADVISED && !sp_method_info(sc.integrator.method)->adaptive) {
+            struct sp_dt_advice a;
+            advised++;
+            if (sp_advise_dt(&sc, T, &a) == 0 && a.safe > 0 && run_at(&sc, a.safe, a.checked) == 0)
+                kept++;
+            else if (bad++ < 10) {
+                dup2(saved, 2);
+                sp_tap_diag("scene %d (%s, dt %g): suggested dt %g failed over [0, %g] s", i,
+                            sp_method_info(sc.integrator.method)->name, sc.integrator.dt,
+                            a.safe, a.checked);
+                dup2(devnull, 2);
+            }
+            partial += a.checked < T;
+            own_fails += !a.scene_ok;
+        }
         if (ret == 0)
             finished++;
         else if (ret == SP_E_UNSTABLE)
@@ -140,6 +176,10 @@ int main(int argc, char **argv)
     sp_tap_diag("%ld right-hand-side evaluations in %.2f s of CPU", evals, cpu);
     sp_tap_ok(bad == 0, "%d random scenes: every sample finite, on time and within the "
               "energy balance, or the run stopped as unstable (%d bad)", n, bad);
+    sp_tap_ok(advised > 0 && kept == advised,
+              "info's safe dt on %d fixed-step scenes: %d completed with it (%d of the scenes' "
+              "own steps did not; %d checked over less than the whole run, 2e6 steps)",
+              advised, kept, own_fails, partial);
     sp_tap_ok(finished + unstable == n && finished > n / 4 && unstable > n / 50,
               "both outcomes occur: %d finished, %d stopped as unstable", finished, unstable);
     return sp_tap_done();

@@ -57,7 +57,10 @@ struct sp_batch {
     double *cache[6];         /* splitting: ax, ay, a_pivot, jxx, jxy, jyy at u */
     double *km, *L0, *g, *bm, *amp, *om; /* 1/s^2, m, m/s^2, 1/s, m, rad/s */
     double *mass, *stiff;     /* kg, N/m */
-    double *e0, *escale;      /* energy at t = 0 and its scale, J (as sim.c) */
+    double *e0, *escale;      /* energy at t = 0, and the largest energy of the
+                               * motion so far, J (as sim.c) */
+    double *emin;             /* the least energy the scene can hold, J */
+    double drift_limit;       /* as sim.c's: |drift| / escale that is a blow-up */
     double *atol_q, *atol_v;  /* adaptive: absolute tolerances, m and m/s */
     double *h;                /* adaptive: next step per trajectory, s */
     double *mem;

@@ -5,10 +5,13 @@
 
 #include "springpend/sim.h"
 
-/* A trail point: where the bob was, and how fast it went. */
+struct sp_history;
+
+/* A trail point: where the bob was, when, and how fast it went. */
 struct sp_trail_point {
     float x, y;  /* m */
     float speed; /* m/s */
+    double t;    /* s */
 };
 
 /* Ring buffer of the last `capacity` bob positions, oldest first on read. */
@@ -24,6 +27,17 @@ void sp_trail_destroy(struct sp_trail *tr);
 void sp_trail_push(struct sp_trail *tr, const struct sp_state *s);
 /* The same with the pivot at height pivot_y (m): the trail is kept in the lab. */
 void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivot_y);
+/* Advances sim to t_target through sp_history_follow in `substeps` equal
+ * steps, pushing a trail point (pivot at its height) after each, so that the
+ * trail follows the motion between frames. 0 or sp_sim_advance's error. */
+int sp_trail_follow(struct sp_trail *tr, struct sp_history *h, struct sp_sim *sim,
+                    double t_target, int substeps);
+
+/* Substeps per frame interval dt (s) for a trail drawn at px_per_m whose
+ * bob accelerates at most by accel (m/s^2): chords then stay within half a
+ * pixel of the path (sagitta a h^2 / 8). At least 1, at most 64. */
+int sp_trail_substeps(double dt, double accel, double px_per_m);
+
 /* i-th point, 0 = oldest, count-1 = newest. */
 const struct sp_trail_point *sp_trail_at(const struct sp_trail *tr, int i);
 
@@ -66,9 +80,10 @@ struct sp_history_sample {
 
 /* A Poincare point: the bob passing theta = 0 with dtheta/dt > 0. */
 struct sp_crossing {
-    double t;     /* s */
-    double r;     /* m */
-    double r_dot; /* m/s */
+    double t;         /* s */
+    double r;         /* m */
+    double r_dot;     /* m/s */
+    double theta_dot; /* rad/s, > 0 */
 };
 
 /* The panels' memory: samples at frame times and every Poincare crossing so
@@ -76,6 +91,7 @@ struct sp_crossing {
 struct sp_history {
     int active;                        /* 0: nothing kept, nothing sampled */
     int poincare;                      /* 1: crossings are looked for */
+    int crossings_only;                /* 1: no samples kept (data --poincare) */
     struct sp_history_sample *samples; /* count valid, oldest first, owned */
     int count, capacity;
     struct sp_crossing *crossings;     /* n_crossings valid, in time order, owned */

@@ -65,4 +65,35 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
                       const struct sp_compare_opts *opts, struct sp_compare_result *res,
                       struct sp_image *diff);
 
+/* A rectangle of pixels the comparison ignores (a clock in a HUD). */
+struct sp_compare_mask {
+    int x, y, w, h; /* px, top-left origin; clipped to the image */
+};
+
+/* Copies the masked rectangles of expected into actual, so they compare
+ * equal; returns how many pixels the masks cover (clipped, overlaps
+ * counted once per rectangle). */
+long sp_compare_apply_masks(const struct sp_image *expected, struct sp_image *actual,
+                            const struct sp_compare_mask *masks, int n_masks);
+
+/* SHA-256 of the decoded pixels (rows of width * 4 bytes, stride skipped,
+ * then the width and height as text), as 64 lower-case hex digits in
+ * hex[65]. Equal hashes: identical images, whatever their files hold.
+ * Returns 0 or SP_E_NOMEM. */
+int sp_compare_pixel_hash(const struct sp_image *img, char hex[65]);
+
+/* The structural similarity (SSIM, Wang et al. 2004) of the two images'
+ * luma (BT.601 weights), averaged over 8x8 windows every 4 px: 1 for
+ * identical images, lower for structural change; for a person deciding,
+ * never part of the verdict. Same sizes only; images smaller than 8 px
+ * either way use one window of their size. */
+double sp_compare_ssim(const struct sp_image *expected, const struct sp_image *actual);
+
+/* The diff image of two images of different sizes: both side by side on
+ * one canvas (expected left, actual right, 8 px apart), the area of each
+ * that the other lacks tinted magenta, the rest of the canvas dark grey.
+ * Returns 0 or SP_E_NOMEM; free diff with sp_image_free. */
+int sp_compare_size_diff(const struct sp_image *expected, const struct sp_image *actual,
+                         struct sp_image *diff);
+
 #endif

@@ -15,6 +15,7 @@
 struct sp_png_text {
     const char *key;
     const char *text;
+    int compressed; /* 1: a zTXt chunk (deflated), 0: tEXt */
 };
 
 /* How to write. Use designated initializers; a zeroed struct writes
@@ -43,8 +44,34 @@ int sp_png_write_stream(FILE *fp, const struct sp_image *img, int level,
                         const char *what);
 int sp_png_write(const char *path, const struct sp_image *img, int level);
 
-/* Reads any PNG and converts it to RGBA8 (straight alpha, stride 4*width).
- * img must be freed with sp_image_free; it is zeroed on failure. */
+/* The most pixels sp_png_read decodes: 100 Mpx (400 MB as RGBA8; an 8K
+ * still is 33 Mpx). A header asking for more is refused before anything
+ * is allocated, so a tiny file declaring 100000x100000, or a decompression
+ * bomb, costs nothing. */
+#define SP_PNG_MAX_PIXELS 100000000L
+
+/* What a PNG's header says. */
+struct sp_png_info {
+    int width, height; /* px */
+    int bit_depth;     /* 1, 2, 4, 8 or 16 */
+    int color_type;    /* PNG_COLOR_TYPE_* */
+    int interlaced;    /* 1: Adam7 */
+};
+
+/* Reads the header (and the chunks before the image data) only. Returns 0,
+ * SP_E_IO (cannot open, not a PNG), SP_E_INPUT (not a regular file). */
+int sp_png_read_info(const char *path, struct sp_png_info *info);
+
+/* SP_E_INPUT (logged) when info's size is beyond SP_PNG_MAX_PIXELS. */
+int sp_png_check_size(const char *path, const struct sp_png_info *info);
+
+/* Reads any PNG (palette, grey, grey+alpha, RGB, RGBA, 1 to 16 bits,
+ * interlaced or not) into RGBA8 by value: 16-bit samples v become
+ * round(v * 255 / 65535), so v * 257 reads as v; no gamma or colour
+ * conversion. Stride 4*width, straight alpha; free with sp_image_free; img
+ * is zeroed on failure. Refuses (SP_E_INPUT) what is not a regular file and
+ * images beyond SP_PNG_MAX_PIXELS; a damaged or truncated file, including
+ * one missing IEND, is SP_E_IO. */
 int sp_png_read(const char *path, struct sp_image *img);
 
 /* Finds the tEXt/zTXt/iTXt chunk `key` that comes before the image data

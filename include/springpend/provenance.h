@@ -5,6 +5,9 @@
  *                            "device used to create the image")
  *   springpend.scene-sha256  SHA-256 of sp_scene_canonical's text
  *   springpend.time          simulated time of the frame, s (%.9g)
+ *   springpend.scene         sp_scene_canonical's text itself (zTXt,
+ *                            0.6 kB, 0.3 kB deflated), so compare can name the keys
+ *                            that changed
  * Nothing that changes from run to run (no date): the same frame gives the
  * same bytes. */
 #ifndef SPRINGPEND_PROVENANCE_H
@@ -13,13 +16,15 @@
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
 
-#define SP_PROVENANCE_N_TEXT 4
+#define SP_PROVENANCE_N_TEXT 5
+#define SP_PROVENANCE_SCENE_MAX 8192 /* bytes of canonical text */
 
 struct sp_provenance {
     char software[32];
     char renderer[128];
     char scene_sha256[65]; /* lower-case hex */
     char time[32];         /* s */
+    char scene[SP_PROVENANCE_SCENE_MAX]; /* canonical text, "key=value\n" lines */
     struct sp_png_text text[SP_PROVENANCE_N_TEXT]; /* point into the above */
 };
 

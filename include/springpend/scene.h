@@ -31,6 +31,11 @@ enum sp_panel {
 enum sp_theme { SP_THEME_DARK = 0, SP_THEME_LIGHT = 1 };
 enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1 };
 #define SP_TRAIL_ALL (-1)
+/* [view] trail given as a duration ("5s"): see view.trail_duration. */
+#define SP_TRAIL_DURATION (-2)
+
+/* Bytes of [view] title and caption, with the terminating NUL. */
+#define SP_VIEW_TEXT_BYTES 256
 #define SP_BACKGROUND_THEME (-1)
 #define SP_BACKGROUND_TRANSPARENT (-2)
 
@@ -69,7 +74,10 @@ struct sp_scene {
         int png_level;     /* PNG compression level 1..9 */
     } video;
     struct {
-        int trail;       /* trail points kept, 0 = none, SP_TRAIL_ALL = whole run */
+        int trail;       /* trail length in frames, 0 = none, SP_TRAIL_ALL = whole
+                            run, SP_TRAIL_DURATION = trail_duration */
+        double trail_duration; /* simulated s of motion the trail shows, when
+                                  trail = SP_TRAIL_DURATION */
         unsigned panels; /* SP_PANEL_* bits, 0 = none */
         int hud;         /* 1: time, parameters and resonance check as text */
         int theme;       /* enum sp_theme */
@@ -77,6 +85,11 @@ struct sp_scene {
         int colormap;    /* enum sp_colormap, for the trail's speed */
         int colorbar;    /* 1: a colourbar for the trail's speed */
         double strobe;   /* s between stroboscopic images of the bob, 0 = off */
+        int pendulum;    /* 1: the pendulum is drawn; 0: the panels fill the frame */
+        int fade;        /* 1: old trail and phase curves fade; 0: full strength */
+        double font_scale; /* text size factor, 1 = default */
+        char title[SP_VIEW_TEXT_BYTES];   /* UTF-8, "" = none: above everything */
+        char caption[SP_VIEW_TEXT_BYTES]; /* UTF-8, "" = none: below everything */
     } view;
 };
 
@@ -110,6 +123,13 @@ const char *sp_scene_preset_name(const struct sp_scene *s);
  * their files' layout, comments or overrides. The name is left out.
  * Returns the length snprintf would need (write again if >= size). */
 int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size);
+
+/* One canonical line's value as a scene file spells it, into buf: numbers
+ * to 10 digits, angles in degrees, choices and panels by name, booleans
+ * true/false, colours #rrggbb, theme or transparent. key is "section.name";
+ * an unknown key or value is copied as it is. For messages (compare names
+ * the keys that changed between two images' scenes). */
+void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size);
 
 /* The unit of a numeric key "section.key" (KEY_REAL, degrees or integer), or
  * NULL when there is no such numeric key. */

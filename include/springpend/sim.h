@@ -75,7 +75,14 @@ struct sp_sim {
     double dt;           /* fixed step, s (adaptive: the scene's dt, unused) */
     double tol;          /* adaptive methods' tolerance, relative */
     double energy0;      /* total energy at t = 0, J */
-    double energy_scale; /* J: the size against which drift is judged */
+    double energy_min;   /* J: the least energy the scene can hold, hanging
+                          * still at l = L0 + m g / k: -m g L0 - (m g)^2 / 2k */
+    double energy_scale; /* J: the energy of the motion, total - energy_min,
+                          * the largest it has been so far (at least at t = 0):
+                          * drift is judged against it */
+    double drift_limit;  /* largest |total - energy0 - work| / energy_scale a
+                          * run may show (SP_SIM_DRIFT_LIMIT unless set) */
+    int quiet;           /* 1: no blow-up message (probes that expect failure) */
     double work;         /* J: work done on the bob by damping and the moving
                           * pivot up to s.t; total - energy0 - work is drift */
     long steps;          /* steps taken so far (accepted, on adaptive) */
@@ -95,14 +102,19 @@ struct sp_sim {
     double dense[7][5];  /* dense output coefficients */
 };
 
+/* The blow-up guard's default: energy drift, less the work of damping and
+ * drive, as a fraction of the motion's energy. Sane steps drift by ~1e-10. */
+#define SP_SIM_DRIFT_LIMIT 1e-2
+
 /* Sets up the initial state from the scene. */
 void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene);
 
 /* Integrates forward so that afterwards sim->s is the state at exactly
  * t_target (>= sim->s.t). Returns SP_E_UNSTABLE (after printing the time,
  * state, energy drift and a fix) if the state stops being finite or the
- * energy, less the work of damping and drive, drifts beyond what any sane
- * step allows; sim->s is then the last state checked. */
+ * energy, less the work of damping and drive, drifts by more than
+ * drift_limit of the motion's energy (energy_scale); sim->s is then the last
+ * state checked. A state returned with 0 always passed that check. */
 int sp_sim_advance(struct sp_sim *sim, double t_target);
 
 void sp_state_polar(const struct sp_state *s, struct sp_polar *out);
@@ -112,13 +124,18 @@ void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
 /* The pivot's height at time t, m (0 for a fixed pivot). */
 double sp_pivot_y(const struct sp_params *p, double t);
 
+/* What a scene's parameters imply for small oscillations. */
+struct sp_physics {
+    double ell;     /* m: equilibrium length L0 + m g / k */
+    double omega_s; /* rad/s: the bounce, sqrt(k/m) */
+    double omega_p; /* rad/s: the swing, sqrt(g/l) (0 without gravity) */
+    double ratio;   /* omega_s / omega_p (infinite without gravity); 2:1 at 2 */
+};
+
+void sp_params_physics(const struct sp_params *p, struct sp_physics *out);
+
 /* The fastest small-oscillation angular frequency of the scene, rad/s:
  * max(sqrt(k/m), sqrt(g/l), b/m) with l = L0 + m g / k. */
 double sp_params_omega_max(const struct sp_params *p);
-
-/* The largest dt a fixed-step method is stable at for this scene, s, with
- * half of it as a suggestion rounded down to one significant digit in *safe.
- * Adaptive methods: returns 0. */
-double sp_method_dt_limit(enum sp_method m, const struct sp_params *p, double *safe);
 
 #endif

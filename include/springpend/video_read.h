@@ -13,10 +13,11 @@ struct sp_video_reader;
 int sp_video_reader_open(struct sp_video_reader **out, const char *path);
 
 /* Decodes the next frame into *img: pixels owned by the reader, valid
- * until the next read or destroy. The conversion to RGBA is bit-exact
+ * until the next read or destroy; *t (when t is not NULL) gets the frame's
+ * presentation time, s (its best-effort timestamp; NAN when it has none). The conversion to RGBA is bit-exact
  * (SWS_BITEXACT), so equal frames give equal pixels on any CPU. Returns 1
  * with a frame, 0 after the last one, or a negative SP_E_* code. */
-int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img);
+int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double *t);
 
 /* Frees everything and sets *r to NULL. Safe on NULL. */
 void sp_video_reader_destroy(struct sp_video_reader **r);

@@ -46,7 +46,7 @@ static void check_accepted(const struct sp_scene *s)
           (long)s->video.width * s->video.height <= 7680L * 4320L);
     CHECK(s->video.fps > 0 && s->video.duration > 0 && s->video.speed > 0);
     int n = sp_scene_frame_count(s);
-    CHECK(n >= 1 && n <= 1000000);
+    CHECK(n >= 1 && n <= 1000000000);
     CHECK(isfinite(sp_scene_frame_time(s, n - 1)) && sp_scene_frame_time(s, n - 1) >= 0);
     if (s->integrator.method <= SP_METHOD_YOSHIDA4) /* fixed steps */
         CHECK(s->video.duration / s->integrator.dt <= 1e10);
@@ -55,7 +55,11 @@ static void check_accepted(const struct sp_scene *s)
     CHECK(s->integrator.tolerance >= 1e-15 && s->integrator.tolerance <= 1e-2);
     CHECK(isfinite(s->pivot.amplitude) && isfinite(s->pivot.frequency));
     CHECK(isfinite(s->view.strobe) && s->view.strobe >= 0);
-    CHECK((s->view.trail >= 0 && s->view.trail <= 1000000) || s->view.trail == SP_TRAIL_ALL);
+    CHECK((s->view.trail >= 0 && s->view.trail <= 1000000) || s->view.trail == SP_TRAIL_ALL ||
+          (s->view.trail == SP_TRAIL_DURATION && s->view.trail_duration > 0 &&
+           s->view.trail_duration <= 1e6));
+    CHECK(s->view.font_scale >= 0.25 && s->view.font_scale <= 4);
+    CHECK(memchr(s->view.title, 0, sizeof(s->view.title)) && memchr(s->view.caption, 0, sizeof(s->view.caption)));
     CHECK(s->name[sizeof(s->name) - 1] == 0);
     char buf[4096];
     int len = sp_scene_canonical(s, buf, sizeof(buf));

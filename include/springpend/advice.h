@@ -1,0 +1,90 @@
+/* springpend: what `info` predicts about a scene: the step a fixed-step
+ * method needs (found by probing the run itself), the bounce-swing exchange
+ * near 2:1 (Lynch's averaged equations), the damping's decay times and the
+ * driven pivot's parametric resonance. Pure: no I/O. */
+#ifndef SPRINGPEND_ADVICE_H
+#define SPRINGPEND_ADVICE_H
+
+#include "springpend/sim.h"
+
+/* A fixed-step method's step for a scene, found by running it. */
+struct sp_dt_advice {
+    double omega_max;    /* rad/s: the fastest rate the motion reaches over a
+                          * dop853 probe of the run: sqrt(k/m), the spring's
+                          * tangential rate sqrt(k/m |1 - L0/r|) (large near the
+                          * pivot), the rotation |v|/r, sqrt(g/l), the drive */
+    double limit;        /* s: where the method's one-step map of the damped
+                          * oscillator x'' = -w^2 x - (b/m) x' first grows, at
+                          * w = omega_max and at w = 0 (RK4: 2.83 / w undamped,
+                          * 2.785 / (b/m) on the negative real axis; verlet takes
+                          * the damping as its exact flow and keeps 2 / w;
+                          * yoshida4's backward substep amplifies under damping) */
+    double safe;         /* s: a step the run completed with, its drift under a
+                          * tenth of the blow-up guard's; one significant digit */
+    double checked;      /* s: safe and the scene's dt were run over [0, checked]
+                          * (t_end, or less where that takes over 2e6 steps) */
+    int scene_ok;        /* 1: the scene's own dt completed over [0, scene_checked] */
+    double scene_checked; /* s */
+    double scene_fail_t; /* s: where the scene's dt was stopped (scene_ok 0) */
+};
+
+/* Fills *out for sc's fixed-step method over [0, t_end]. Adaptive methods:
+ * SP_E_INPUT (they choose their own steps). Otherwise 0. */
+int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *out);
+
+/* The bounce-swing exchange near 2:1, from Lynch's averaged equations for the
+ * complex amplitudes of the swing, x = Re(A e^{i w_p t}) (x = l theta), and of
+ * the bounce, r - l = Re(B e^{i w_s t}):
+ *   A' = i k_A B A* e^{i d t},  B' = i k_B A^2 e^{-i d t},
+ *   k_A = 3 w_p / (4 l),  k_B = k_A w_p^2 / w_s^2,  d = w_s - 2 w_p,
+ * so |A| first grows at Lynch's rate s = k_A |B0| = (L0 / l^2) w_p B0 at 2:1. */
+struct sp_exchange {
+    double rate;        /* 1/s: s = 3 w_p |B0| / (4 l), the start's growth rate */
+    double time;        /* s: the first maximum of the swing energy, NAN if none
+                         * is expected (no swing or no bounce to start from) */
+    double swing_share; /* swing energy / (swing + bounce) at that maximum */
+};
+
+/* Fills *out for the motion starting at s0 (t = 0). 0, or SP_E_INPUT when the
+ * scene is not within 10% of 2:1 (no exchange: out->time is NAN). */
+int sp_advise_exchange(const struct sp_params *p, const struct sp_state *s0,
+                       struct sp_exchange *out);
+
+/* Linear damping of one mode of angular frequency omega, gamma = b/m. */
+struct sp_decay {
+    int regime;         /* -1 underdamped, 0 critical (within 1%), 1 overdamped */
+    double energy_time; /* s: the e-folding time of the mode's energy: 1/gamma
+                         * under- and critically damped (times (1 + omega t)^2
+                         * at critical), 1/(2 s_slow) overdamped with the slow
+                         * root s_slow = gamma/2 - sqrt(gamma^2/4 - omega^2) */
+    double q;           /* quality factor omega / gamma */
+};
+
+void sp_advise_decay(double omega, double gamma, struct sp_decay *out);
+
+/* The driven pivot, y_p = A sin(Omega t). The bounce is forced directly
+ * (amplitude |Z| below, resonant at Omega = omega_s; a vertical drive leaves
+ * the spring's stiffness alone, so there is no parametric resonance of the
+ * bounce at 2 omega_s). The swing, x, obeys
+ *   x'' + gamma x' + (w_p^2 + w_s^2 (L0 / l^2) z(t)) x = 0
+ * with z the forced bounce: a Mathieu equation, parametric resonance at
+ * Omega = 2 w_p, amplitude growth rate sqrt((w_p h / 4)^2 - detuning^2) -
+ * gamma / 2 with h = w_s^2 L0 |Z| / (g l) (exact at small swing). */
+struct sp_drive_advice {
+    double bounce_amp;  /* m: |Z|, the forced bounce */
+    double h;           /* the swing stiffness' relative modulation */
+    double detuning;    /* rad/s: (w_p^2 - (Omega/2)^2) / Omega */
+    double growth;      /* 1/s: the swing amplitude's growth rate; <= 0: none */
+    double tongue;      /* rad/s: |Omega/2 - w_p| below which growth is possible
+                         * undamped, w_p h / 4 */
+    double seed_share;  /* the start's swing in the growing mode, as a fraction
+                         * of its amplitude (the rest decays first) */
+    double time_10x;    /* s: until the swing is 10 times its start, NAN if it
+                         * does not grow */
+};
+
+/* Fills *out; SP_E_INPUT (nothing filled) when the pivot is fixed. */
+int sp_advise_drive(const struct sp_params *p, const struct sp_state *s0,
+                    struct sp_drive_advice *out);
+
+#endif

@@ -1,0 +1,72 @@
+/* springpend: per-image tolerances and masks for `springpend compare`, in a
+ * file named compare.ini beside the baselines (the EXPECTED folder, or the
+ * expected image's or video's folder), sections naming the baseline's file
+ * name. Same INI syntax as scenes:
+ *
+ *     [*]                   # every image
+ *     max_diff = 4
+ *     [hud.png]             # one image (its file name)
+ *     max_pixels = 0.5%
+ *     mask = 0, 0, 200, 30  # x, y, width, height in px; repeat for more
+ *     metric = rms
+ *     tol = 1.5
+ *
+ * Keys: metric (reftest or rms), max_diff (0..255 levels), max_pixels (a
+ * count or P%), tol (rms levels 0..255), mask. A [file] section overrides
+ * [*], which overrides the command line. */
+#ifndef SPRINGPEND_COMPARE_CONFIG_H
+#define SPRINGPEND_COMPARE_CONFIG_H
+
+#include "springpend/image_compare.h"
+
+#define SP_COMPARE_CONFIG_NAME "compare.ini"
+#define SP_COMPARE_MAX_MASKS 32
+
+/* The options a command line or a section set. */
+struct sp_compare_rule {
+    char name[256];              /* section: a file name, or "*" */
+    int line;                    /* of the [section] header */
+    struct sp_compare_opts opts; /* the fields set below */
+    unsigned set;                /* SP_COMPARE_SET_* bits */
+    struct sp_compare_mask masks[SP_COMPARE_MAX_MASKS];
+    int n_masks;
+    int used;                    /* a compared image matched it */
+};
+
+#define SP_COMPARE_SET_METRIC 1u
+#define SP_COMPARE_SET_MAX_DIFF 2u
+#define SP_COMPARE_SET_MAX_PIXELS 4u
+#define SP_COMPARE_SET_TOL 8u
+
+struct sp_compare_config {
+    char path[4096];               /* "" when there was no file */
+    struct sp_compare_rule *rules; /* owned */
+    int n_rules;
+};
+
+/* Parses one option into rule (name without "--": metric, max-diff or
+ * max_diff, max-pixels or max_pixels, tol, mask). Returns 0, or
+ * SP_E_INPUT with "what is allowed" in why. */
+int sp_compare_rule_set(struct sp_compare_rule *rule, const char *name, const char *value,
+                        char *why, size_t why_size);
+
+/* Reads dir/compare.ini into cfg when it exists (cfg stays empty when it
+ * does not). Errors are printed as FILE:LINE: what is wrong, what is
+ * allowed; returns 0, SP_E_INPUT or SP_E_NOMEM. */
+int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir);
+
+/* The options and masks for image `name`: base (the command line), then
+ * [*], then [name]. masks points into cfg (or is NULL). */
+void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
+                               const struct sp_compare_opts *base,
+                               struct sp_compare_opts *opts,
+                               const struct sp_compare_mask **masks, int *n_masks,
+                               const struct sp_compare_mask **star_masks, int *n_star_masks);
+
+/* Warns (stderr, FILE:LINE) about [file] sections that matched no image:
+ * a misspelt name would otherwise be ignored in silence. */
+void sp_compare_config_warn_unused(const struct sp_compare_config *cfg);
+
+void sp_compare_config_free(struct sp_compare_config *cfg);
+
+#endif

@@ -1,0 +1,105 @@
+/* springpend: what `springpend compare` found, as records, and the
+ * reporters that print them: text lines, JSON, JUnit XML and an HTML
+ * page. Comparing fills records; reporters only read them. */
+#ifndef SPRINGPEND_COMPARE_REPORT_H
+#define SPRINGPEND_COMPARE_REPORT_H
+
+#include <stdio.h>
+
+#include "springpend/image_compare.h"
+
+enum sp_verdict {
+    SP_VERDICT_PASS = 0,  /* matches (exactly, or within tolerance) */
+    SP_VERDICT_FAIL,      /* differs beyond tolerance, or in size: exit 1 */
+    SP_VERDICT_ERROR,     /* cannot be compared (unreadable, missing): exit 2 */
+};
+
+/* What --update did to the baseline. */
+enum sp_update_action {
+    SP_UPDATE_NONE = 0,
+    SP_UPDATE_ADDED,    /* copied: there was no baseline */
+    SP_UPDATE_REPLACED, /* copied over a baseline that differed */
+    SP_UPDATE_REMOVED,  /* baseline deleted: no actual image (--update=all) */
+};
+
+#define SP_COMPARE_MAX_CHANGES 16
+#define SP_COMPARE_MAX_FRAMES_LISTED 10
+
+/* A scene key whose value differs between the two images' provenance. */
+struct sp_scene_change {
+    char key[64];
+    char expected[48], actual[48];
+};
+
+/* One comparison: an image pair, or two videos. */
+struct sp_compare_record {
+    char name[256];           /* the file name (folders) or the actual path */
+    char expected[4096];      /* path, "" when there is none */
+    char actual[4096];        /* path, "" when there is none */
+    char diff[4096];          /* diff image written, "" when none */
+    enum sp_verdict verdict;
+    enum sp_update_action update;
+    char error[512];          /* why it could not be compared; "" when it was */
+    char hint[512];           /* what to do about it, "" when nothing */
+    int compared;             /* 1: result below holds figures */
+    int exact;                /* the decoded pixels are identical (equal hashes) */
+    char expected_sha256[65]; /* of the decoded pixels, "" when not read */
+    char actual_sha256[65];
+    int expected_w, expected_h, actual_w, actual_h; /* px; 0 unknown */
+    int size_mismatch;        /* 1: sizes differ (a failure) */
+    struct sp_compare_result result; /* measured figures and the applied rule */
+    enum sp_compare_metric metric;
+    double ssim;              /* perceptual, not in the verdict; < 0 not computed */
+    long masked_pixels;       /* pixels ignored by compare.ini masks */
+    /* Videos (frames > 0): figures above are the worst frame's. */
+    int frames, failed_frames, worst_frame;
+    int listed[SP_COMPARE_MAX_FRAMES_LISTED]; /* first failing frames */
+    double expected_fps, actual_fps; /* from the timestamps; 0 unknown */
+    /* Provenance (PNG text chunks) that differs. */
+    char notes[3][160];
+    int n_notes;
+    struct sp_scene_change changes[SP_COMPARE_MAX_CHANGES];
+    int n_changes, more_changes;
+};
+
+struct sp_compare_report {
+    struct sp_compare_record *records; /* owned */
+    int n, cap;
+    int interrupted;                   /* stopped by a signal */
+};
+
+/* A new zeroed record at the end of rep (ssim -1, worst_frame -1); NULL
+ * (logged) when out of memory. */
+struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep);
+void sp_compare_report_free(struct sp_compare_report *rep);
+
+/* Counts of rep's records by verdict; a record whose baseline --update
+ * changed counts as updated only. */
+struct sp_compare_counts {
+    int compared, passed, failed, errors, updated;
+};
+struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report *rep);
+
+/* Text: one line per record (failures only when quiet), notes, hints and
+ * updates beneath, then a summary line when `summary` (folders). */
+void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
+                            int summary);
+
+/* JSON, one schema always (see the README): {"schema": "springpend-compare/1",
+ * "pass": ..., "counts": {...}, "results": [ ... ]}. */
+void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep);
+
+/* JUnit XML: one testsuite, a testcase per record, <failure> or <error>. */
+void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep);
+
+/* One self-contained HTML page: the images embedded as data: URLs, a row
+ * per record, failures first, expected | actual | diff side by side, a
+ * button (or a click on the image) flipping between expected and actual,
+ * the figures and the verdict. Returns 0, or SP_E_NOMEM. */
+int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep);
+
+/* Writes s to fp as a JSON string: quoted, with quotes, backslashes and
+ * control characters escaped (every JSON printer's strings, info's too). */
+void sp_report_json_string(FILE *fp, const char *s);
+
+#endif

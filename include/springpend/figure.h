@@ -1,0 +1,27 @@
+/* springpend: one frame as a vector figure (SVG or PDF) for papers and
+ * slides: the same composition as the rendered PNG (compose.c), drawn with
+ * cairo (springpend-cairo.so, loaded on first use) instead of GL; needs no
+ * GL context. One output pixel is one SVG px or one PDF pt. */
+#ifndef SPRINGPEND_FIGURE_H
+#define SPRINGPEND_FIGURE_H
+
+#include "springpend/frame.h"
+
+enum sp_figure_format { SP_FIGURE_NONE, SP_FIGURE_SVG, SP_FIGURE_PDF };
+
+/* The vector format a path's extension names (.svg, .pdf, any case), or
+ * SP_FIGURE_NONE. */
+enum sp_figure_format sp_figure_format(const char *path);
+
+struct sp_figure_desc {
+    int width, height;            /* px (SVG) or pt (PDF) */
+    struct sp_view_extent extent; /* as for sp_render_desc */
+    const struct sp_scene *scene; /* [view] options; NULL = the defaults */
+    const char *path;             /* .svg or .pdf; written as PATH.part, renamed */
+};
+
+/* Composes f and writes it. On failure nothing is left at path. 0,
+ * SP_E_INPUT (not .svg/.pdf), SP_E_IO or SP_E_NOMEM (logged). */
+int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f);
+
+#endif

@@ -1,0 +1,261 @@
+/* springpend: compare.ini, per-image tolerances and masks
+ * (compare_config.h). libinih splits the lines; ini_lines.c counts them. */
+#include <errno.h>
+#include <ini.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "springpend/common.h"
+#include "springpend/compare_config.h"
+#include "ini_lines.h"
+
+/* A number that fills all of s, within [lo, hi]. */
+static int parse_number(const char *s, double lo, double hi, double *v)
+{
+    char *end;
+    while (*s == ' ' || *s == '\t')
+        s++;
+    *v = strtod(s, &end);
+    while (*end == ' ' || *end == '\t')
+        end++;
+    return end != s && !*end && *v >= lo && *v <= hi;
+}
+
+int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char *value,
+                        char *why, size_t why_size)
+{
+    struct sp_compare_opts *o = &r->opts;
+    double v;
+    size_t n = strlen(value);
+    if (!strcmp(name, "metric")) {
+        if (strcmp(value, "reftest") && strcmp(value, "rms")) {
+            snprintf(why, why_size, "metric %s: expected reftest or rms", value);
+            return SP_E_INPUT;
+        }
+        o->metric = value[1] == 'm' ? SP_COMPARE_RMS : SP_COMPARE_REFTEST;
+        r->set |= SP_COMPARE_SET_METRIC;
+    } else if (!strcmp(name, "max-diff") || !strcmp(name, "max_diff")) {
+        if (!parse_number(value, 0, 255, &v) || v != (int)v) {
+            snprintf(why, why_size, "%s %s: expected an integer from 0 to 255 (levels)", name,
+                     value);
+            return SP_E_INPUT;
+        }
+        o->max_diff = v == 0 ? SP_COMPARE_NONE : (int)v;
+        r->set |= SP_COMPARE_SET_MAX_DIFF;
+    } else if (!strcmp(name, "max-pixels") || !strcmp(name, "max_pixels")) {
+        char num[64];
+        int pct = n > 0 && value[n - 1] == '%';
+        snprintf(num, sizeof(num), "%.*s", (int)(n - pct), value);
+        if (n >= sizeof(num) || !parse_number(num, 0, pct ? 100 : (double)(LONG_MAX / 2), &v) ||
+            (!pct && v != (long)v)) {
+            snprintf(why, why_size, "%s %s: expected a pixel count like 100 or a "
+                     "percentage like 0.5%%", name, value);
+            return SP_E_INPUT;
+        }
+        o->max_pixels = v == 0 ? SP_COMPARE_NONE : pct ? 0 : (long)v;
+        o->max_fraction = pct ? v / 100 : 0;
+        r->set |= SP_COMPARE_SET_MAX_PIXELS;
+    } else if (!strcmp(name, "tol")) {
+        if (!parse_number(value, 0, 255, &v)) {
+            snprintf(why, why_size, "tol %s: expected an RMS from 0 to 255 (levels)", value);
+            return SP_E_INPUT;
+        }
+        o->tol = v == 0 ? SP_COMPARE_NONE : v;
+        r->set |= SP_COMPARE_SET_TOL;
+    } else if (!strcmp(name, "mask")) {
+        struct sp_compare_mask m;
+        char tail;
+        if (sscanf(value, "%d , %d , %d , %d %c", &m.x, &m.y, &m.w, &m.h, &tail) != 4 ||
+            m.x < 0 || m.y < 0 || m.w <= 0 || m.h <= 0) {
+            snprintf(why, why_size, "mask %s: expected x, y, width, height in px "
+                     "(x, y >= 0; width, height > 0)", value);
+            return SP_E_INPUT;
+        }
+        if (r->n_masks == SP_COMPARE_MAX_MASKS) {
+            snprintf(why, why_size, "more than %d masks for one image", SP_COMPARE_MAX_MASKS);
+            return SP_E_INPUT;
+        }
+        r->masks[r->n_masks++] = m;
+    } else {
+        snprintf(why, why_size, "unknown key '%s'; keys: metric, max_diff, max_pixels, tol, "
+                 "mask", name);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+struct config_ctx {
+    struct sp_compare_config *cfg;
+    struct sp_ini_lines lines;
+    int section_line; /* of the last [header] read */
+    int errors, nomem;
+};
+
+static char *read_line(char *str, int num, void *stream)
+{
+    struct config_ctx *c = stream;
+    size_t len;
+    char *s = sp_ini_lines_next(&c->lines, str, num, &len);
+    if (s && s[strspn(s, " \t")] == '[')
+        c->section_line = c->lines.line;
+    if (s && len) {
+        fprintf(stderr, "%s:%d: line is %zu bytes long; at most %d are allowed\n",
+                c->cfg->path, c->lines.line, len, num - 2);
+        c->errors++;
+    }
+    return s;
+}
+
+static int handle(void *user, const char *section, const char *name, const char *value)
+{
+    struct config_ctx *c = user;
+    struct sp_compare_config *cfg = c->cfg;
+    char why[256], v[256];
+    /* An inline comment starts at whitespace then '#' or ';', as in scenes. */
+    snprintf(v, sizeof(v), "%s", value);
+    for (char *p = v; *p; p++)
+        if ((*p == '#' || *p == ';') && p > v && (p[-1] == ' ' || p[-1] == '\t')) {
+            *p = 0;
+            break;
+        }
+    for (size_t n = strlen(v); n && (v[n - 1] == ' ' || v[n - 1] == '\t');)
+        v[--n] = 0;
+    value = v;
+    if (!section[0]) {
+        fprintf(stderr, "%s:%d: '%s' comes before any section; put it under [*] (every "
+                "image) or [NAME.png]\n", cfg->path, c->lines.line, name);
+        c->errors++;
+        return 1;
+    }
+    if (!cfg->n_rules || strcmp(cfg->rules[cfg->n_rules - 1].name, section)) {
+        for (int i = 0; i < cfg->n_rules; i++)
+            if (!strcmp(cfg->rules[i].name, section)) {
+                fprintf(stderr, "%s:%d: [%s] appears twice (first on line %d); keep one\n",
+                        cfg->path, c->lines.line, section, cfg->rules[i].line);
+                c->errors++;
+                return 1;
+            }
+        struct sp_compare_rule *r = realloc(cfg->rules, sizeof(*r) * (size_t)(cfg->n_rules + 1));
+        if (!r) {
+            c->nomem = 1;
+            return 0;
+        }
+        cfg->rules = r;
+        r += cfg->n_rules++;
+        memset(r, 0, sizeof(*r));
+        snprintf(r->name, sizeof(r->name), "%s", section);
+        r->line = c->section_line;
+    }
+    if (sp_compare_rule_set(&cfg->rules[cfg->n_rules - 1], name, value, why, sizeof(why))) {
+        fprintf(stderr, "%s:%d: %s\n", cfg->path, c->lines.line, why);
+        c->errors++;
+    }
+    return 1;
+}
+
+int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
+{
+    struct stat st;
+    char *text = NULL;
+    FILE *fp = NULL;
+    int ret = 0;
+    memset(cfg, 0, sizeof(*cfg));
+    snprintf(cfg->path, sizeof(cfg->path), "%s/%s", dir, SP_COMPARE_CONFIG_NAME);
+    if (stat(cfg->path, &st) != 0) {
+        cfg->path[0] = 0;
+        return 0;
+    }
+    if (!S_ISREG(st.st_mode) || st.st_size > (1 << 20)) {
+        sp_log_error("%s: expected a text file of at most 1 MB", cfg->path);
+        return SP_E_INPUT;
+    }
+    if (!(fp = fopen(cfg->path, "rb"))) {
+        sp_log_error("%s: cannot open: %s", cfg->path, strerror(errno));
+        return SP_E_INPUT;
+    }
+    if (!(text = calloc(1, (size_t)st.st_size + 1))) {
+        sp_log_error("out of memory");
+        fclose(fp);
+        return SP_E_NOMEM;
+    }
+    size_t n = fread(text, 1, (size_t)st.st_size, fp);
+    fclose(fp);
+    if (strlen(text) != n) {
+        sp_log_error("%s: holds NUL bytes; expected an INI text file", cfg->path);
+        free(text);
+        return SP_E_INPUT;
+    }
+    struct config_ctx c = {.cfg = cfg, .lines = {.cursor = text}};
+    int rc = ini_parse_stream(read_line, &c, handle, &c);
+    if (c.nomem) {
+        sp_log_error("out of memory");
+        ret = SP_E_NOMEM;
+    } else if (rc > 0 && !c.errors) {
+        fprintf(stderr, "%s:%d: expected 'key = value', '[NAME.png]', '[*]' or a '#' comment\n",
+                cfg->path, rc);
+        ret = SP_E_INPUT;
+    } else if (c.errors || rc) {
+        ret = SP_E_INPUT;
+    }
+    free(text);
+    if (ret)
+        sp_compare_config_free(cfg);
+    return ret;
+}
+
+/* Applies the fields rule sets onto o. */
+static void apply(const struct sp_compare_rule *r, struct sp_compare_opts *o)
+{
+    if (r->set & SP_COMPARE_SET_METRIC)
+        o->metric = r->opts.metric;
+    if (r->set & SP_COMPARE_SET_MAX_DIFF)
+        o->max_diff = r->opts.max_diff;
+    if (r->set & SP_COMPARE_SET_MAX_PIXELS)
+        o->max_pixels = r->opts.max_pixels, o->max_fraction = r->opts.max_fraction;
+    if (r->set & SP_COMPARE_SET_TOL)
+        o->tol = r->opts.tol;
+}
+
+void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
+                               const struct sp_compare_opts *base,
+                               struct sp_compare_opts *opts,
+                               const struct sp_compare_mask **masks, int *n_masks,
+                               const struct sp_compare_mask **star_masks, int *n_star_masks)
+{
+    struct sp_compare_rule *star = NULL, *own = NULL;
+    for (int i = 0; i < cfg->n_rules; i++) {
+        if (!strcmp(cfg->rules[i].name, "*"))
+            star = &cfg->rules[i];
+        else if (!strcmp(cfg->rules[i].name, name))
+            own = &cfg->rules[i];
+    }
+    *opts = *base;
+    if (own)
+        own->used = 1;
+    if (star)
+        apply(star, opts);
+    if (own)
+        apply(own, opts);
+    *masks = own ? own->masks : NULL;
+    *n_masks = own ? own->n_masks : 0;
+    *star_masks = star ? star->masks : NULL;
+    *n_star_masks = star ? star->n_masks : 0;
+}
+
+void sp_compare_config_warn_unused(const struct sp_compare_config *cfg)
+{
+    for (int i = 0; i < cfg->n_rules; i++)
+        if (!cfg->rules[i].used && strcmp(cfg->rules[i].name, "*"))
+            fprintf(stderr, "%s:%d: warning: [%s] matches no compared image\n", cfg->path,
+                    cfg->rules[i].line, cfg->rules[i].name);
+}
+
+void sp_compare_config_free(struct sp_compare_config *cfg)
+{
+    free(cfg->rules);
+    cfg->rules = NULL;
+    cfg->n_rules = 0;
+}

@@ -1,0 +1,466 @@
+/* springpend (internal): frame composition on the CPU. See compose.h. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "springpend/common.h"
+#include "compose.h"
+#include "layout.h"
+
+enum {
+    COIL_TURNS = 12,
+    COIL_STEPS = 16,                      /* polyline segments per turn */
+    COIL_SEGS = COIL_TURNS * COIL_STEPS,
+    HATCHES = 7,
+    MAX_STROBE = 400,                     /* stroboscopic images at most */
+    CAPTION_LINES = 4,                    /* a caption wraps to this many lines */
+    ALL_FADE = 10,                        /* s: trail = all fades in its newest 10 s */
+};
+
+/* Sizes as fractions of the image's smaller side. */
+#define BOB_RADIUS 0.022f
+#define PIVOT_RADIUS 0.0065f
+#define WIRE_RADIUS 0.0021f  /* half the spring wire's thickness */
+#define COIL_RADIUS 0.016f   /* half the coil's width */
+#define COIL_TILT 0.35f      /* helix seen from this much above: loop depth */
+#define LEAD_TOP 0.012f
+#define LEAD_BOTTOM 0.008f   /* beyond the bob's radius */
+#define TRAIL_RADIUS 0.0022f
+#define MOUNT_HALF 0.035f
+#define MARGIN 0.06f         /* around the extent, besides the bob's radius */
+
+struct sp_composer {
+    struct sp_canvas canvas;  /* this frame's draw list */
+    struct sp_font *font;     /* NULL when no text is drawn */
+    struct sp_scene scene;    /* a copy: its [view] options */
+    struct sp_view_extent extent;
+    struct sp_palette pal;
+    struct sp_layout layout;
+    int laid_out;             /* layout and camera fitted (at the first frame) */
+    char hud[SP_HUD_MAX_LINES][SP_HUD_LINE_BYTES];
+    int hud_lines;
+    int width, height;        /* px */
+    float unit;               /* the smaller side, px */
+    double scale;             /* px per m */
+    double ox, oy;            /* px of the world origin (the pivot) */
+    double max_speed;         /* m/s, the top of the trail's colormap */
+    int premix_trail;         /* light opaque background: trail mixed with it, opaque */
+    char caption[CAPTION_LINES][SP_VIEW_TEXT_BYTES]; /* the caption, wrapped */
+    int caption_lines;
+    char speed[32];           /* "speed ×0.25" when [video] speed != 1, else "" */
+    /* trail = all: the part older than ALL_FADE is drawn once (SP_LAYER_ACCUM) */
+    double accum_t;           /* s: the last trail point accumulated; < 0 = none */
+    struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
+};
+
+/* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
+static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
+{
+    const struct sp_view_extent *e = &r->extent;
+    const double margin = (BOB_RADIUS + MARGIN) * r->unit;
+    const double ew = fmax(e->xmax - e->xmin, 1e-6);
+    const double eh = fmax(e->ymax - e->ymin, 1e-6);
+    const double aw = fmax(v->x1 - v->x0 - 2 * margin, 1.0);
+    const double ah = fmax(v->y1 - v->y0 - 2 * margin, 1.0);
+
+    r->scale = fmin(aw / ew, ah / eh);
+    r->ox = 0.5 * (v->x0 + v->x1) - r->scale * 0.5 * (e->xmin + e->xmax);
+    r->oy = 0.5 * (v->y0 + v->y1) + r->scale * 0.5 * (e->ymin + e->ymax);
+}
+
+/* Text sizes follow the frame's smaller side, with a floor for small
+ * frames, times [view] font_scale. */
+static void text_sizes(float unit, double scale, int ss, int px[SP_TEXT_SIZES])
+{
+    static const float frac[SP_TEXT_SIZES] = {0.0150f, 0.0175f, 0.0230f, 0.0300f};
+    /* at least 11 px: a 480p GIF's tick labels read on a projector */
+    static const float floor_px[SP_TEXT_SIZES] = {11, 12, 14, 17};
+    for (int s = 0; s < SP_TEXT_SIZES; s++)
+        px[s] = (int)fminf(400, fmaxf(4, roundf((float)scale * fmaxf(ss * floor_px[s], roundf(frac[s] * unit)))));
+}
+
+/* Wraps text at spaces into lines of at most max_width px; returns how many
+ * (at most max; the rest is dropped). */
+static int wrap(const struct sp_font *f, int size, const char *text, float max_width,
+                char lines[][SP_VIEW_TEXT_BYTES], int max)
+{
+    int n = 0;
+    while (*text && n < max) {
+        size_t fit = strlen(text), space = 0;
+        char try[SP_VIEW_TEXT_BYTES];
+        /* the longest prefix ending at a space (or the end) that fits */
+        for (size_t i = 0;; i++) {
+            if (text[i] == ' ' || !text[i]) {
+                snprintf(try, sizeof(try), "%.*s", (int)i, text);
+                if (sp_font_width(f, size, try) > max_width && space)
+                    break;
+                fit = i;
+                space = i;
+                if (!text[i])
+                    break;
+            }
+        }
+        snprintf(lines[n++], SP_VIEW_TEXT_BYTES, "%.*s", (int)fit, text);
+        text += fit;
+        text += strspn(text, " ");
+    }
+    return n;
+}
+
+int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc)
+{
+    struct sp_composer *r = calloc(1, sizeof(*r));
+    int px[SP_TEXT_SIZES], err;
+
+    *out = NULL;
+    if (!r) {
+        sp_log_error("out of memory for the composer");
+        return SP_E_NOMEM;
+    }
+    if (desc->scene)
+        r->scene = *desc->scene;
+    else
+        sp_scene_defaults(&r->scene);
+    r->width = desc->width;
+    r->height = desc->height;
+    r->accum_t = -1;
+    r->unit = (float)(r->width < r->height ? r->width : r->height);
+    r->extent = desc->extent;
+    r->max_speed = desc->extent.max_speed > 0 ? desc->extent.max_speed : 1.0;
+    sp_palette_get(&r->scene, &r->pal);
+    r->premix_trail = r->pal.background[3] > 0 &&
+                      0.3f * r->pal.background[0] + 0.6f * r->pal.background[1] +
+                              0.1f * r->pal.background[2] > 0.35f;
+    if (r->scene.video.speed != 1) /* a real multiplication sign */
+        snprintf(r->speed, sizeof(r->speed), "speed \xc3\x97%g", r->scene.video.speed);
+    if (!r->scene.view.pendulum)
+        r->scene.view.colorbar = 0; /* no trail to explain */
+    if (r->scene.view.panels || r->scene.view.hud || r->scene.view.colorbar ||
+        r->scene.view.title[0] || r->scene.view.caption[0] || r->speed[0]) {
+        text_sizes(r->unit, r->scene.view.font_scale, desc->supersample > 1 ? desc->supersample : 1, px);
+        err = sp_font_make(&r->font, px);
+        if (err) {
+            sp_compose_destroy(&r);
+            return err;
+        }
+        r->canvas.font = r->font;
+    }
+    *out = r;
+    return 0;
+}
+
+/* Places the view, panels, heads-up text and colourbar (once: the
+ * parameters do not change during a run). */
+static void lay_out(struct sp_composer *r, const struct sp_params *p)
+{
+    const struct sp_font *f = r->font;
+    struct sp_layout_desc d = {.width = r->width, .height = r->height,
+                               .panels = r->scene.view.panels,
+                               .no_pendulum = !r->scene.view.pendulum};
+    if (r->scene.view.title[0])
+        d.title_height = (float)sp_font_line(f, SP_TEXT_TITLE);
+    if (r->scene.view.caption[0]) {
+        r->caption_lines = wrap(f, SP_TEXT_NORMAL, r->scene.view.caption,
+                                r->width - 2 * roundf(0.015f * r->unit), r->caption, CAPTION_LINES);
+        d.caption_height = (float)(r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL));
+    }
+    /* The view's width decides the HUD's wrapping: lay out once without it. */
+    sp_layout_compute(&d, &r->layout);
+    if (r->scene.view.hud) {
+        const struct sp_rect *v = d.no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0}
+                                                : &r->layout.camera;
+        const float w = v->x1 - v->x0 - 2 * r->layout.gap;
+        r->hud_lines = sp_hud_lines(f, p, w, r->hud, SP_HUD_MAX_LINES);
+        d.hud_height = sp_hud_height(f, r->hud_lines);
+    } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
+        d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
+    }
+    if (r->scene.view.colorbar)
+        d.colorbar_width = sp_colorbar_width(r->font, r->unit, r->max_speed);
+    sp_layout_compute(&d, &r->layout);
+    fit_camera(r, &r->layout.camera);
+    r->laid_out = 1;
+}
+
+/* ---- geometry, all in px ---- */
+
+static void to_px(const struct sp_composer *r, double x, double y, float p[2])
+{
+    p[0] = (float)(r->ox + r->scale * x);
+    p[1] = (float)(r->oy - r->scale * y);
+}
+
+/* The trail's segment from a to point q (a, q in px): colour by speed, alpha
+ * and width by age (1 = newest, 0 = oldest shown). */
+static void trail_segment(struct sp_composer *r, const float a[2], const float b[2], float speed,
+                          float age)
+{
+    const struct sp_scene *sc = &r->scene;
+    const float w = TRAIL_RADIUS * r->unit;
+    const float floor_alpha = sc->view.trail == SP_TRAIL_ALL ? 0.3f : 0.03f;
+    const float fade = sc->view.fade ? 1.0f : 0.0f;
+    const float *bg = r->pal.background;
+    float alpha = 1 - fade * (1 - floor_alpha) * (1 - powf(age, 1.4f)), color[4] = {0, 0, 0, 1};
+    sp_colormap(sc->view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
+                fminf(speed / (float)r->max_speed, 1.0f), color);
+    if (r->premix_trail) {
+        for (int k = 0; k < 3; k++)
+            color[k] = bg[k] + alpha * (color[k] - bg[k]);
+        alpha = 1;
+    }
+    color[3] = alpha;
+    sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], w * (1 - fade * 0.45f * (1 - age)), color);
+}
+
+/* Index of the first trail point later than t (points are in time order). */
+static int trail_after(const struct sp_trail *tr, double t)
+{
+    int lo = 0, hi = tr->count;
+    while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (sp_trail_at(tr, mid)->t <= t)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Trail segments, oldest first, over the scene's trail window (a number of
+ * frames, a duration, or the whole run), fading and thinning with age in
+ * simulated time, so a trail looks the same at any fps. Points closer than
+ * a pixel to the last drawn one add nothing and are skipped. A trail over
+ * the whole run (trail = all) fades over its newest ALL_FADE s only; what is
+ * older no longer changes and goes to the accumulated layer, each segment
+ * once, so a long exposure costs the same per frame however long it is. */
+static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
+{
+    const struct sp_scene *sc = &r->scene;
+    const int all = sc->view.trail == SP_TRAIL_ALL;
+    const double now = sp_trail_at(tr, tr->count - 1)->t;
+    const double span = all ? ALL_FADE
+                      : sc->view.trail == SP_TRAIL_DURATION ? sc->view.trail_duration
+                      : (sc->view.trail - 1) * sc->video.speed / sc->video.fps;
+    const double start = now - span;
+    const struct sp_trail_point *p;
+    float a[2], b[2];
+    int i;
+
+    sp_canvas_blend(&r->canvas, r->premix_trail ? SP_BLEND_OVER : SP_BLEND_MAX);
+    if (all) {
+        if (r->accum_t < 0) {
+            r->accum_p = *sp_trail_at(tr, 0);
+            r->accum_t = r->accum_p.t;
+        }
+        to_px(r, r->accum_p.x, r->accum_p.y, a);
+        i = trail_after(tr, r->accum_t);
+        sp_canvas_layer(&r->canvas, SP_LAYER_ACCUM);
+        sp_canvas_path_begin(&r->canvas);
+        for (; i < tr->count && sp_trail_at(tr, i)->t <= start; i++) {
+            const struct sp_trail_point *q = sp_trail_at(tr, i);
+            r->accum_t = q->t;
+            to_px(r, q->x, q->y, b);
+            if (fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
+                continue;
+            trail_segment(r, a, b, 0.5f * (r->accum_p.speed + q->speed), 0);
+            a[0] = b[0], a[1] = b[1];
+            r->accum_p = *q;
+        }
+        sp_canvas_path_end(&r->canvas);
+        sp_canvas_layer(&r->canvas, SP_LAYER_DYNAMIC);
+        p = &r->accum_p;
+    } else {
+        i = 0;
+        while (i < tr->count - 1 && sp_trail_at(tr, i)->t < start - 1e-9 * (1 + fabs(start)))
+            i++; /* the ring may hold a little more than the window */
+        p = sp_trail_at(tr, i++);
+        to_px(r, p->x, p->y, a);
+    }
+    sp_canvas_path_begin(&r->canvas);
+    for (; i < tr->count; i++) {
+        const struct sp_trail_point *q = sp_trail_at(tr, i);
+        to_px(r, q->x, q->y, b);
+        if (i < tr->count - 1 && fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
+            continue;
+        trail_segment(r, a, b, 0.5f * (p->speed + q->speed),
+                      span > 0 ? (float)fmin(fmax((q->t - start) / span, 0), 1) : 1);
+        a[0] = b[0], a[1] = b[1];
+        p = q;
+    }
+    sp_canvas_path_end(&r->canvas);
+    sp_canvas_blend(&r->canvas, SP_BLEND_OVER);
+}
+
+/* Ceiling: a bar just above the pivot with hatch strokes above it. */
+static void put_mount(struct sp_composer *r, const float pv[2])
+{
+    const float u = r->unit, half = MOUNT_HALF * u, wr = WIRE_RADIUS * u;
+    const float y = pv[1] - PIVOT_RADIUS * u - wr;
+    const float hatch = 0.012f * u;
+
+    sp_canvas_line(&r->canvas, pv[0] - half, y, pv[0] + half, y, 1.2f * wr, r->pal.mount);
+    for (int i = 0; i < HATCHES; i++) {
+        const float x = pv[0] - half + hatch + (2 * half - hatch) * i / (HATCHES - 1);
+        sp_canvas_line(&r->canvas, x - hatch, y - wr - hatch, x, y - wr, 0.55f * wr, r->pal.mount);
+    }
+}
+
+/* The spring from pivot pv to bob bb: straight leads, then COIL_TURNS turns of
+ * a helix seen slightly from the side, its pitch stretching with the length.
+ * Segments behind the axis are written first (darker), so the front ones
+ * cover them. */
+static void put_spring(struct sp_composer *r, const float pv[2], const float bb[2])
+{
+    const float u = r->unit, wr = WIRE_RADIUS * u, rad = COIL_RADIUS * u;
+    const float dx = bb[0] - pv[0], dy = bb[1] - pv[1];
+    const float len = sqrtf(dx * dx + dy * dy);
+    const float ax = len > 1e-3f ? dx / len : 0, ay = len > 1e-3f ? dy / len : 1;
+    float lead0 = LEAD_TOP * u, lead1 = (BOB_RADIUS + LEAD_BOTTOM) * u;
+    float c0[2], c1[2], coil;
+
+    if (lead0 + lead1 > 0.3f * len) { /* short spring: shrink the leads */
+        const float f = 0.3f * len / (lead0 + lead1);
+        lead0 *= f;
+        lead1 *= f;
+    }
+    coil = len - lead0 - lead1;
+    c0[0] = pv[0] + ax * lead0;
+    c0[1] = pv[1] + ay * lead0;
+    c1[0] = bb[0] - ax * lead1;
+    c1[1] = bb[1] - ay * lead1;
+    sp_canvas_line(&r->canvas, pv[0], pv[1], c0[0], c0[1], wr, r->pal.wire_front);
+    sp_canvas_line(&r->canvas, c1[0], c1[1], bb[0], bb[1], wr, r->pal.wire_front);
+
+    for (int front = 0; front <= 1; front++) {
+        float a[2] = {c0[0], c0[1]}, b[2];
+        for (int i = 1; i <= COIL_SEGS; i++) {
+            const float t = (float)i / COIL_SEGS;
+            const float phase = 6.28318531f * COIL_TURNS * t;
+            /* Ease the radius in and out over the first and last half turn. */
+            const float ends = fminf(t, 1.0f - t) * 2.0f * COIL_TURNS;
+            const float env = ends >= 1.0f ? 1.0f : ends * ends * (3 - 2 * ends);
+            const float side = env * rad * sinf(phase);
+            const float along = coil * t + env * rad * COIL_TILT * cosf(phase);
+            const float mid = cosf(phase - 3.14159265f / COIL_STEPS); /* mid-segment */
+
+            b[0] = c0[0] + ax * along - ay * side;
+            b[1] = c0[1] + ay * along + ax * side;
+            if ((mid > 0) == front)
+                sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], wr,
+                               front ? r->pal.wire_front : r->pal.wire_back);
+            a[0] = b[0];
+            a[1] = b[1];
+        }
+    }
+}
+
+/* The bob every view.strobe seconds back from now, fading with age. */
+static void put_strobe(struct sp_composer *r, const struct sp_history *h)
+{
+    const double dt = r->scene.view.strobe;
+    float p[2], color[4];
+    if (!h || h->count < 2 || dt <= 0)
+        return;
+    const double now = h->samples[h->count - 1].t;
+    const int n = (int)fmin(floor(now / dt + 1e-9), MAX_STROBE);
+    int j = h->count - 1;
+    for (int k = n; k >= 1; k--) { /* oldest first, so newer ones cover them */
+        const double t = now - k * dt;
+        const float age = 1.0f - (float)k / (float)(n + 1);
+        /* the sample nearest to t (samples are in time order) */
+        int lo = 0, hi = h->count - 1;
+        while (hi - lo > 1) {
+            j = (lo + hi) / 2;
+            if (h->samples[j].t <= t)
+                lo = j;
+            else
+                hi = j;
+        }
+        j = t - h->samples[lo].t <= h->samples[hi].t - t ? lo : hi;
+        to_px(r, h->samples[j].x, h->samples[j].y, p);
+        memcpy(color, r->pal.bob, sizeof(color));
+        color[3] = 0.12f + 0.5f * age;
+        sp_canvas_disc(&r->canvas, p[0], p[1], 0.8f * BOB_RADIUS * r->unit, 0, color);
+    }
+}
+
+/* Title, caption and the speed marker (static: the same in every frame). */
+static void put_texts(struct sp_composer *r)
+{
+    const struct sp_layout *l = &r->layout;
+    const struct sp_font *f = r->font;
+    struct sp_canvas *cv = &r->canvas;
+    sp_canvas_layer(cv, SP_LAYER_STATIC);
+    if (sp_rect_valid(&l->title))
+        sp_canvas_text(cv, SP_TEXT_TITLE, 0.5f * (l->title.x0 + l->title.x1),
+                       l->title.y0 + sp_font_cap(f, SP_TEXT_TITLE) +
+                       0.5f * (sp_font_line(f, SP_TEXT_TITLE) - sp_font_cap(f, SP_TEXT_TITLE)) -
+                       0.15f * sp_font_cap(f, SP_TEXT_TITLE),
+                       SP_ALIGN_CENTER, r->pal.text, r->scene.view.title);
+    for (int i = 0; i < r->caption_lines; i++)
+        sp_canvas_text(cv, SP_TEXT_NORMAL, 0.5f * (l->caption.x0 + l->caption.x1),
+                       l->caption.y0 + i * sp_font_line(f, SP_TEXT_NORMAL) + sp_font_cap(f, SP_TEXT_NORMAL),
+                       SP_ALIGN_CENTER, r->pal.muted, r->caption[i]);
+    /* at the right of the heads-up time line, else of the title */
+    if (r->speed[0] && sp_rect_valid(&l->hud))
+        sp_canvas_text(cv, SP_TEXT_LARGE, l->hud.x1, l->hud.y0 + sp_font_cap(f, SP_TEXT_LARGE),
+                       SP_ALIGN_RIGHT, r->pal.accent, r->speed);
+    else if (r->speed[0])
+        sp_canvas_text(cv, SP_TEXT_LARGE, l->title.x1, l->title.y0 + sp_font_cap(f, SP_TEXT_TITLE),
+                       SP_ALIGN_RIGHT, r->pal.accent, r->speed);
+}
+
+int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
+                     const struct sp_canvas **out)
+{
+    struct sp_canvas *cv = &r->canvas;
+    float pv[2], bb[2];
+
+    if (!r->laid_out)
+        lay_out(r, f->params);
+    sp_canvas_reset(cv);
+    const double yp = sp_pivot_y(f->params, f->state.t); /* a driven pivot moves */
+    to_px(r, 0, yp, pv);
+    to_px(r, f->state.x, f->state.y + yp, bb);
+    sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
+    if (r->scene.view.pendulum) {
+        if (f->trail && f->trail->count > 1)
+            put_trail(r, f->trail);
+        put_strobe(r, f->history);
+        put_mount(r, pv);
+        put_spring(r, pv, bb);
+        sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
+        sp_canvas_disc(cv, bb[0], bb[1], BOB_RADIUS * r->unit, 1, r->pal.bob);
+    }
+    if (r->scene.view.panels)
+        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->scene.view.fade);
+    if (r->scene.view.hud)
+        sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
+    put_texts(r);
+    if (r->scene.view.colorbar) {
+        sp_canvas_layer(cv, SP_LAYER_STATIC);
+        sp_colorbar_draw(cv, &r->layout.colorbar, r->scene.view.colormap, r->max_speed,
+                         &r->pal, r->unit);
+    }
+    if (cv->err) {
+        sp_log_error("out of memory for %d shapes and %d glyphs", cv->n_shapes, cv->n_quads);
+        return cv->err;
+    }
+    *out = cv;
+    return 0;
+}
+
+const struct sp_font *sp_compose_font(const struct sp_composer *c) { return c->font; }
+const struct sp_palette *sp_compose_palette(const struct sp_composer *c) { return &c->pal; }
+
+void sp_compose_destroy(struct sp_composer **cp)
+{
+    struct sp_composer *c = *cp;
+    if (!c)
+        return;
+    sp_font_destroy(&c->font);
+    sp_canvas_free(&c->canvas);
+    free(c);
+    *cp = NULL;
+}

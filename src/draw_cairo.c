@@ -1,0 +1,233 @@
+/* springpend (internal): the draw list drawn with cairo into SVG or PDF.
+ * See draw_cairo.h. Built into springpend-cairo.so. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cairo.h>
+#include <cairo-ft.h>
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <ft2build.h>
+#include FT_FREETYPE_H
+
+#include "springpend/common.h"
+#include "draw_cairo.h"
+#include "embedded.h"
+
+/* The embedded font as a cairo face, made once and kept for the process
+ * (cairo's caches may hold it past any one document). */
+static cairo_font_face_t *dejavu(void)
+{
+    static FT_Library lib;
+    static FT_Face face;
+    static cairo_font_face_t *cf;
+    if (cf)
+        return cf;
+    if ((!lib && FT_Init_FreeType(&lib)) ||
+        (!face && FT_New_Memory_Face(lib, (const FT_Byte *)sp_embed_DejaVuSans_ttf,
+                                     (FT_Long)sp_embed_DejaVuSans_ttf_size, 0, &face))) {
+        sp_log_error("FreeType cannot open the embedded DejaVu Sans");
+        return NULL;
+    }
+    cf = cairo_ft_font_face_create_for_ft_face(face, FT_LOAD_NO_HINTING);
+    if (cairo_font_face_status(cf)) {
+        sp_log_error("cairo cannot use the embedded font: %s",
+                     cairo_status_to_string(cairo_font_face_status(cf)));
+        cairo_font_face_destroy(cf);
+        cf = NULL;
+    }
+    return cf;
+}
+
+static void source(cairo_t *cr, const float c[4])
+{
+    cairo_set_source_rgba(cr, c[0], c[1], c[2], c[3]);
+}
+
+/* A lit ball like shaders/shape.frag's: light from the upper left, a
+ * highlight, a darker rim. */
+static void ball(cairo_t *cr, const struct sp_shape *s)
+{
+    const double x = s->seg[0], y = s->seg[1], r = s->style[0];
+    const float *c = s->color;
+    cairo_pattern_t *g = cairo_pattern_create_radial(x - 0.35 * r, y - 0.4 * r, 0, x, y, r);
+    static const double stops[][2] = {{0, 1.0}, {0.45, 0.95}, {0.85, 0.62}, {1, 0.38}};
+    for (int i = 0; i < 4; i++) {
+        const double hi = i == 0 ? 0.45 : 0;
+        cairo_pattern_add_color_stop_rgba(g, stops[i][0], fmin(1, c[0] * stops[i][1] + hi),
+                                          fmin(1, c[1] * stops[i][1] + hi),
+                                          fmin(1, c[2] * stops[i][1] + hi), c[3]);
+    }
+    cairo_set_source(cr, g);
+    cairo_arc(cr, x, y, r, 0, 2 * M_PI);
+    cairo_fill(cr);
+    cairo_pattern_destroy(g);
+}
+
+static void shape(cairo_t *cr, const struct sp_shape *s)
+{
+    const float *p = s->seg, hw = s->style[0];
+    const int kind = (int)lroundf(s->style[1]);
+    if (kind == SP_SHAPE_BALL)
+        return ball(cr, s);
+    source(cr, s->color);
+    if (kind == SP_SHAPE_BOX) {
+        cairo_rectangle(cr, fmin(p[0], p[2]), p[1] - hw, fabs(p[2] - p[0]), 2 * hw);
+        cairo_fill(cr);
+    } else if (p[0] == p[2] && p[1] == p[3]) {
+        cairo_arc(cr, p[0], p[1], hw, 0, 2 * M_PI);
+        cairo_fill(cr);
+    } else {
+        cairo_move_to(cr, p[0], p[1]);
+        cairo_line_to(cr, p[2], p[3]);
+        cairo_set_line_width(cr, 2 * hw);
+        cairo_stroke(cr);
+    }
+}
+
+static int similar(const struct sp_shape *a, const struct sp_shape *b)
+{
+    for (int k = 0; k < 4; k++)
+        if (fabsf(a->color[k] - b->color[k]) > 6.0f / 255)
+            return 0;
+    return fabsf(a->style[0] - b->style[0]) <= 0.15f;
+}
+
+/* A polyline: one path per run of segments of about the same colour and
+ * width (all of it when it has one colour). Runs meet with butt caps, so a
+ * translucent curve shows no beads where they join. */
+static void path(cairo_t *cr, const struct sp_shape *s, int n)
+{
+    int runs = 0;
+    for (int i = 0; i < n; runs++) {
+        int j = i + 1;
+        while (j < n && similar(&s[i], &s[j]))
+            j++;
+        i = j;
+    }
+    cairo_set_line_cap(cr, runs > 1 ? CAIRO_LINE_CAP_BUTT : CAIRO_LINE_CAP_ROUND);
+    for (int i = 0; i < n;) {
+        int j = i + 1;
+        double w = s[i].style[0];
+        while (j < n && similar(&s[i], &s[j]))
+            w += s[j++].style[0];
+        source(cr, s[(i + j) / 2].color);
+        cairo_move_to(cr, s[i].seg[0], s[i].seg[1]);
+        for (int k = i; k < j; k++)
+            cairo_line_to(cr, s[k].seg[2], s[k].seg[3]);
+        cairo_set_line_width(cr, 2 * w / (j - i));
+        cairo_stroke(cr);
+        i = j;
+    }
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+}
+
+/* A text run as glyphs with their text (clusters of one code point each),
+ * so a PDF keeps it selectable. */
+static int text(cairo_t *cr, const struct sp_font *f, const struct sp_item *it, const char *utf8)
+{
+    const int n = sp_font_glyphs(f, it->size, utf8, it->x, it->y, NULL, 0);
+    struct sp_glyph_pos *pos = malloc((size_t)(n ? n : 1) * sizeof(*pos));
+    cairo_glyph_t *g = malloc((size_t)(n ? n : 1) * sizeof(*g));
+    cairo_text_cluster_t *cl = malloc((size_t)(n ? n : 1) * sizeof(*cl));
+    if (!pos || !g || !cl) {
+        free(pos), free(g), free(cl);
+        sp_log_error("out of memory for a text run");
+        return SP_E_NOMEM;
+    }
+    sp_font_glyphs(f, it->size, utf8, it->x, it->y, pos, n);
+    for (int i = 0; i < n; i++) {
+        g[i] = (cairo_glyph_t){pos[i].index, pos[i].x, pos[i].y};
+        cl[i] = (cairo_text_cluster_t){pos[i].bytes, 1};
+    }
+    cairo_set_font_size(cr, sp_font_px(f, it->size));
+    source(cr, it->color);
+    cairo_show_text_glyphs(cr, utf8, -1, g, n, cl, n, 0);
+    free(pos), free(g), free(cl);
+    return 0;
+}
+
+int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
+{
+    const struct sp_canvas *c = d->canvas;
+    cairo_surface_t *surface;
+    cairo_font_options_t *fo;
+    cairo_status_t st;
+    cairo_t *cr;
+    int err = 0;
+
+    if (d->format == SP_FIGURE_PDF)
+        surface = cairo_pdf_surface_create(d->path, d->width, d->height);
+    else
+        surface = cairo_svg_surface_create(d->path, d->width, d->height);
+    st = cairo_surface_status(surface);
+    if (st) {
+        sp_log_error("%s: cannot create: %s", d->path, cairo_status_to_string(st));
+        cairo_surface_destroy(surface);
+        return SP_E_IO;
+    }
+    if (d->format == SP_FIGURE_PDF) {
+        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "springpend " SP_VERSION);
+        if (d->title)
+            cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, d->title);
+    } else {
+        cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PX);
+    }
+    cr = cairo_create(surface);
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    if (d->background[3] > 0) {
+        source(cr, d->background);
+        cairo_paint(cr);
+    }
+    /* the accumulated layer first, then the rest in order */
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < c->n_items; i++) {
+            const struct sp_item *it = &c->items[i];
+            if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
+                continue;
+            if (it->kind == SP_ITEM_CLIP) {
+                cairo_reset_clip(cr);
+                if (it->clip[2] > it->clip[0]) {
+                    cairo_rectangle(cr, it->clip[0], it->clip[1], it->clip[2] - it->clip[0],
+                                    it->clip[3] - it->clip[1]);
+                    cairo_clip(cr);
+                }
+            } else if (it->kind == SP_ITEM_PATH)
+                path(cr, c->shapes + it->first, it->count);
+            else if (it->kind == SP_ITEM_SHAPES)
+                for (int k = 0; k < it->count; k++)
+                    shape(cr, &c->shapes[it->first + k]);
+        }
+    }
+    cairo_reset_clip(cr);
+    /* text over everything, as the GL backend draws it */
+    if (d->font && c->n_strings) {
+        cairo_font_face_t *face = dejavu();
+        if (!face)
+            err = SP_E_IO;
+        else {
+            cairo_set_font_face(cr, face);
+            fo = cairo_font_options_create();
+            cairo_font_options_set_hint_style(fo, CAIRO_HINT_STYLE_NONE);
+            cairo_font_options_set_hint_metrics(fo, CAIRO_HINT_METRICS_OFF);
+            cairo_set_font_options(cr, fo);
+            cairo_font_options_destroy(fo);
+        }
+        for (int i = 0; i < c->n_items && !err; i++)
+            if (c->items[i].kind == SP_ITEM_TEXT)
+                err = text(cr, d->font, &c->items[i], c->strings + c->items[i].text);
+    }
+    st = cairo_status(cr);
+    cairo_destroy(cr);
+    cairo_surface_finish(surface);
+    if (!st)
+        st = cairo_surface_status(surface);
+    cairo_surface_destroy(surface);
+    if (st && !err) {
+        sp_log_error("%s: cairo failed: %s", d->path, cairo_status_to_string(st));
+        err = st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
+    }
+    return err;
+}

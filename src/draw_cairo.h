@@ -1,0 +1,28 @@
+/* springpend (internal): the cairo backend of the draw list (canvas.h),
+ * writing SVG or PDF. It lives in springpend-cairo.so (loaded on first use,
+ * av_module.h). Shapes become real vector paths (a polyline is one path, or
+ * one per run of equal colour when its colour changes along it), text runs
+ * glyphs of the embedded DejaVu Sans at the pen positions text.c's layout
+ * gives, so the picture matches the GL one. cairo's SVG surface writes the
+ * glyphs as outlines; its PDF surface embeds the font and keeps the text
+ * selectable. One user unit is one output pixel (SVG: px; PDF: pt). */
+#ifndef SPRINGPEND_DRAW_CAIRO_H
+#define SPRINGPEND_DRAW_CAIRO_H
+
+#include "springpend/figure.h"
+#include "canvas.h"
+
+struct sp_draw_cairo_desc {
+    const struct sp_canvas *canvas;
+    const struct sp_font *font; /* NULL when the list has no text */
+    float background[4];        /* straight RGBA; alpha 0 = transparent */
+    int width, height;          /* px (SVG) or pt (PDF) */
+    const char *path;           /* written as it is (the caller renames) */
+    enum sp_figure_format format; /* SVG or PDF */
+    const char *title;          /* document title (PDF metadata); NULL = none */
+};
+
+/* Writes the list. 0, or SP_E_IO / SP_E_NOMEM with cairo's reason logged. */
+int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d);
+
+#endif

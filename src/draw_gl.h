@@ -1,0 +1,28 @@
+/* springpend (internal): the GL backend of the draw list (canvas.h). Every
+ * capsule is an instance of one program (shaders/shape.*), glyphs quads of a
+ * second (shaders/text.*) sampling the font's atlas; a frame is a few
+ * instanced draws: one per run of shapes with the same blending (usually the
+ * trail, then everything else), then all text. */
+#ifndef SPRINGPEND_DRAW_GL_H
+#define SPRINGPEND_DRAW_GL_H
+
+#include "canvas.h"
+#include "gl_api.h"
+
+struct sp_draw_gl;
+
+/* Builds the programs and buffers for a width x height px target, and
+ * uploads font's atlas (font may be NULL: no text). The context of gl must be
+ * current. 0, SP_E_GL or SP_E_NOMEM (logged). */
+int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
+                    const struct sp_font *font, int width, int height);
+
+/* Clears to bg (straight RGBA) and draws c; the result is premultiplied.
+ * 0 or SP_E_GL (logged). */
+int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float bg[4]);
+
+/* Frees the CPU side and sets *d to NULL (GL objects die with the context).
+ * Safe on NULL. */
+void sp_draw_gl_destroy(struct sp_draw_gl **d);
+
+#endif

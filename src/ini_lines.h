@@ -1,0 +1,21 @@
+/* springpend (internal): the line-counting reader that scene files and
+ * compare.ini hand to libinih (ini_parse_stream), so that every message
+ * can say FILE:LINE. */
+#ifndef SPRINGPEND_INI_LINES_H
+#define SPRINGPEND_INI_LINES_H
+
+#include <stddef.h>
+
+/* Lines of an in-memory, NUL-terminated text. Zero it, set cursor. */
+struct sp_ini_lines {
+    const char *cursor; /* next unread byte */
+    int line;           /* number of the line last returned, 1-based */
+};
+
+/* Copies the next line (with its '\n') into str, of num bytes, and counts
+ * it. A line that does not fit is replaced by "#\n" (a comment) and *len
+ * set to its length so the caller can report it; otherwise *len is 0.
+ * Returns str, or NULL after the last line. */
+char *sp_ini_lines_next(struct sp_ini_lines *l, char *str, int num, size_t *too_long);
+
+#endif

@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""springpend tests: vector figures (still -o fig.svg|fig.pdf) against the PNG
+of the same frame, and the draw list's independence from GL.
+usage: test_figures.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)
+
+The SVG is rasterised with rsvg-convert, the PDF with pdftoppm at 72 dpi
+(one pt per pixel). Edges and glyphs are antialiased differently by GL,
+librsvg and poppler (full-size RMS 4-14 levels), so the rule compares what a
+reader sees: both images are averaged over 8x8 blocks (ffmpeg's area
+scaler) and at most 0.5% of the blocks may differ by more than 32 levels.
+The same rule fails a frame 0.5 s later and a frame without its heads-up
+text. Exits 77 (skip) without rsvg-convert, pdftoppm or ffmpeg."""
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+work = os.path.abspath(os.path.join(sys.argv[3], "figures"))
+root = os.path.join(src, "..")
+need = [t for t in ("rsvg-convert", "pdftoppm", "pdftotext", "ffmpeg") if not shutil.which(t)]
+if need:
+    print(f"1..0 # SKIP {', '.join(need)} not installed")
+    sys.exit(77)
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+count = failed = 0
+RULE = ["--max-diff", "32", "--max-pixels", "0.5%"]
+
+
+def ok(cond, what):
+    global count, failed
+    count += 1
+    failed += not cond
+    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
+    return cond
+
+
+def run(*args):
+    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=work)
+
+
+def p(name):
+    return os.path.join(work, name)
+
+
+def still(name, scene, at, *args):
+    r = run("still", os.path.join(root, "scenes", scene), "--at", str(at), "-o", p(name), "-q", *args)
+    if r.returncode:
+        print(f"# {name}: {r.stderr.strip()}")
+    return r.returncode == 0
+
+
+def raster(name):
+    """The figure rasterised to NAME.png beside it; the path or None."""
+    base, ext = os.path.splitext(p(name))
+    if ext == ".svg":
+        cmd = ["rsvg-convert", p(name), "-o", base + "_svg.png"]
+        out = base + "_svg.png"
+    else:
+        cmd = ["pdftoppm", "-r", "72", "-png", "-singlefile", p(name), base + "_pdf"]
+        out = base + "_pdf.png"
+    return out if subprocess.run(cmd, capture_output=True).returncode == 0 else None
+
+
+def blocks(png):
+    out = png[:-4] + "_8x8.png"
+    subprocess.run(["ffmpeg", "-v", "error", "-y", "-i", png, "-vf",
+                    "scale=iw/8:ih/8:flags=area,format=rgb24", out], check=True)
+    return out
+
+
+def same(a, b):
+    r = run("compare", blocks(a), blocks(b), *RULE)
+    print("# " + (r.stdout.strip() or r.stderr.strip()))
+    return r.returncode == 0
+
+
+cases = [
+    ("resonance.ini", 20, "640x360", ["--set", "view.panels=all"]),
+    ("default.ini", 8.5, "1024x768", ["--set", "view.theme=light"]),
+    ("chaotic.ini", 12, "320x240", []),
+]
+for i, (scene, at, size, extra) in enumerate(cases):
+    args = ["--size", size, *extra]
+    made = all(still(f"c{i}.{k}", scene, at, *args) for k in ("png", "svg", "pdf"))
+    if not ok(made, f"{scene} at {size}: PNG, SVG and PDF written"):
+        continue
+    for k in ("svg", "pdf"):
+        r = raster(f"c{i}.{k}")
+        ok(r and same(p(f"c{i}.png"), r), f"{scene} {size}: the {k.upper()} rasterised matches the PNG")
+
+# The rule is not blind: another moment, or the text missing, fails it.
+still("later.png", "resonance.ini", 20.5, "--size", "640x360", "--set", "view.panels=all")
+still("nohud.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.panels=all",
+      "--set", "view.hud=false")
+svg0 = p("c0_svg.png")
+ok(not same(p("later.png"), svg0), "the rule fails a frame 0.5 s later")
+ok(not same(p("nohud.png"), svg0), "the rule fails a frame without its heads-up text")
+
+# Real vectors and real text.
+svg = open(p("c0.svg"), encoding="utf-8").read()
+pdf = open(p("c0.pdf"), "rb").read()
+ok("<image" not in svg and b"/Image" not in pdf, "no raster images inside the SVG or PDF")
+ok(max(d.count(" L ") for d in re.findall(r' d="([^"]*)"', svg)) >= 200,
+   "a chart curve is one SVG path of many segments, not a capsule per segment")
+text = subprocess.run(["pdftotext", p("c0.pdf"), "-"], capture_output=True, text=True).stdout
+ok("Spring length r" in text and "Poincaré" in text and "t = 20.00 s" in text,
+   "the PDF's text is selectable (pdftotext finds the titles and the time)")
+ok(b"DejaVu" in pdf, "the PDF embeds DejaVu Sans")
+
+
+# Figure layout: title, caption and the speed marker are real text; without
+# the pendulum its colourbar goes too; long titles are refused.
+still("titled.pdf", "resonance.ini", 20, "--size", "1280x720", "--set", "view.pendulum=false",
+      "--set", "view.panels=poincare,phase", "--set", "view.title=Résonance 2:1 — θ, r",
+      "--set", "view.caption=Energy flows from bounce to swing", "--set", "video.speed=0.25",
+      "--set", "view.colorbar=true")
+text = subprocess.run(["pdftotext", p("titled.pdf"), "-"], capture_output=True, text=True).stdout
+ok("Résonance 2:1 — θ, r" in text and "Energy flows from bounce to swing" in text,
+   "the title and caption are written (UTF-8)")
+ok("speed ×0.25" in text, "speed = 0.25 is marked 'speed ×0.25'")
+ok("Poincaré" in text and "|v|" not in text, "view.pendulum = false drops the pendulum and its colourbar")
+r = run("still", os.path.join(root, "scenes", "default.ini"), "--set", "view.title=" + "x" * 300,
+        "-o", p("long.png"))
+ok(r.returncode == 2 and "at most 255" in r.stderr and not os.path.exists(p("long.png")),
+   "a 300-byte title is refused with exit 2 and no file")
+still("fade.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.panels=phase")
+still("nofade.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.panels=phase",
+      "--set", "view.fade=false")
+r = run("compare", p("fade.png"), p("nofade.png"))
+ok(r.returncode == 1, "view.fade = false changes the trail and the phase curves")
+
+# Transparent stills for slides: the theme names the slide. Over white, the
+# light theme's heads-up text is dark; the dark theme's would vanish.
+def darkest_top_left(png):
+    """The darkest pixel (0..255 luma) of the top-left 300x40 px of png
+    composited over white."""
+    raw = subprocess.run(["ffmpeg", "-v", "error", "-f", "lavfi", "-i", "color=white:s=960x540", "-i", png,
+                          "-filter_complex", "[0][1]overlay=format=auto,crop=300:40:0:0,format=gray",
+                          "-frames:v", "1", "-f", "rawvideo", "-"], capture_output=True).stdout
+    return min(raw) if raw else 255
+
+
+for theme in ("light", "dark"):
+    still(f"slide_{theme}.png", "resonance.ini", 20, "--size", "960x540", "--set", "view.background=transparent",
+          "--set", f"view.theme={theme}")
+ok(darkest_top_left(p("slide_light.png")) < 80, "transparent + light theme: dark text on a white slide")
+ok(darkest_top_left(p("slide_dark.png")) > 150, "transparent + dark theme: light text (for dark slides)")
+
+# Failure leaves nothing; bad names are refused.
+r = run("still", os.path.join(root, "scenes", "default.ini"), "-o", p("nodir/x/../../c0.svg/x.svg"))
+ok(r.returncode != 0 and not os.path.exists(p("c0.svg/x.svg")), "an impossible path fails and writes nothing")
+
+# Nothing that composes a frame includes a GL (or cairo) header, directly or
+# through another header of the tree.
+def includes(f, seen):
+    for inc in re.findall(r'#include [<"]([^>"]+)[>"]', open(f, encoding="utf-8").read()):
+        if inc in seen:
+            continue
+        seen.add(inc)
+        for d in ("src", "include"):
+            q = os.path.join(root, d, inc)
+            if os.path.exists(q):
+                includes(q, seen)
+    return seen
+
+
+bad = {}
+for f in ("compose.c", "canvas.c", "panels.c", "layout.c", "text.c", "figure.c"):
+    hit = [i for i in includes(os.path.join(root, "src", f), set())
+           if i.startswith(("GL/", "EGL/", "cairo")) or i in ("gl_api.h", "draw_gl.h", "gl_context.h")]
+    if hit:
+        bad[f] = hit
+ok(not bad, f"composition includes no GL or cairo header {bad or ''}")
+
+print(f"1..{count}")
+sys.exit(1 if failed else 0)

@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""springpend tests: `meson install --destdir` into a temporary folder, then
+the installed tool, moved elsewhere, runs render (MP4: the FFmpeg module is
+found relative to the executable), still and compare; springpend(1) and the
+bash completion are installed and agree with --help.
+usage: test_install.py BUILD_ROOT PREFIX BINDIR MANDIR DATADIR OUTPUT_DIR (TAP)"""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+build, prefix, bindir, mandir, datadir, out = sys.argv[1:7]
+work = os.path.abspath(os.path.join(out, "install"))
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+count = failed = 0
+
+
+def ok(cond, what):
+    global count, failed
+    count += 1
+    failed += not cond
+    print(f"{'' if cond else 'not '}ok {count} - {what}".replace("\n", " | "), flush=True)
+    return cond
+
+
+meson = shutil.which("meson")
+dest = os.path.join(work, "destdir")
+r = subprocess.run([meson, "install", "-C", build, "--destdir", dest, "--no-rebuild", "--quiet"],
+                   capture_output=True, text=True)
+root = dest + prefix if os.path.isabs(prefix) else os.path.join(dest, prefix)
+ok(r.returncode == 0 and os.path.isfile(os.path.join(root, bindir, "springpend")),
+   f"meson install --destdir {dest}: {r.stderr.strip()[-300:]}")
+# Move the whole tree: nothing may depend on where it was installed.
+moved = os.path.join(work, "moved")
+shutil.move(root, moved)
+shutil.rmtree(dest, ignore_errors=True)
+exe = os.path.join(moved, bindir, "springpend")
+scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "default.ini")
+env = dict(os.environ, PATH=os.path.dirname(exe) + ":" + os.environ["PATH"])
+
+
+def run(*args):
+    return subprocess.run(["springpend", *args], capture_output=True, text=True, cwd=work, env=env)
+
+
+r = run("render", scene, "--size", "96x64", "--set", "video.duration=0.3", "-o", "v.mp4", "-q")
+ok(r.returncode == 0 and os.path.getsize(os.path.join(work, "v.mp4")) > 0,
+   f"the moved install renders an MP4 (FFmpeg module found beside it) ({r.stderr.strip()[-300:]})")
+r = run("still", scene, "--size", "96x64", "--at", "1", "-o", "a.png", "-q")
+r2 = run("still", scene, "--size", "96x64", "--at", "1", "-o", "b.png", "-q")
+ok(r.returncode == 0 and r2.returncode == 0, f"still ({r.stderr.strip()})")
+r = run("compare", "a.png", "b.png")
+ok(r.returncode == 0 and "identical pixels" in r.stdout, f"compare ({r.stdout.strip()})")
+r = run("compare", "v.mp4", "v.mp4")
+ok(r.returncode == 0, f"compare of videos through the module ({r.stdout.strip()}{r.stderr.strip()})")
+
+man = os.path.join(moved, mandir, "man1", "springpend.1")
+page = subprocess.run(["man", "-l", man], capture_output=True, text=True,
+                      env=dict(os.environ, MANWIDTH="100")).stdout if shutil.which("man") else open(man).read()
+helps = [run(c, "--help").stdout for c in ("render", "still", "data", "compare")]
+missing = [l.strip() for h in helps for l in h.splitlines()
+           if l.strip().startswith("--") and l.strip() not in page.replace("\u2010", "-")]
+ok(os.path.exists(man) and "springpend compare EXPECTED ACTUAL" in page and not missing,
+   f"springpend(1) is installed and holds every option line of --help (missing: {missing[:3]})")
+
+comp = os.path.join(moved, datadir, "bash-completion", "completions", "springpend")
+
+
+def complete(*words):
+    line = " ".join(words)
+    script = (f"source {comp}; COMP_WORDS=({line}); COMP_CWORD={len(words) - 1}; "
+              "_springpend; printf '%s\\n' \"${COMPREPLY[@]}\"")
+    return subprocess.run(["bash", "-c", script], capture_output=True, text=True,
+                          cwd=work).stdout.split()
+
+
+ok(os.path.exists(comp) and complete("springpend", "comp") == ["compare"]
+   and complete("springpend", "compare", "--up") == ["--update"]
+   and "pendulum.stiffness=" in complete("springpend", "render", "--set", "pendulum.s"),
+   f"bash completion: commands, options, scene keys ({complete('springpend', 'render', '--set', 'pendulum.s')})")
+# The README's worked example, followed as written with the installed tool:
+# its snapshots.sh, then its compare commands, in a folder of their own.
+import re
+import xml.etree.ElementTree as ET
+readme = open(os.path.join(os.path.dirname(scene), "..", "README.md")).read()
+script = re.search(r"```sh\n(#!/bin/sh\n# snapshots.sh OUTDIR.*?)```", readme, re.S).group(1)
+lines = [l for l in readme.splitlines() if l.startswith("springpend compare snapshots actual")]
+ci, add, update = (next(l for l in lines if want in l)
+                   for want in ("--junit", "--update=missing", "--update=changed"))
+ex = os.path.join(work, "example")
+os.makedirs(ex)
+os.symlink(os.path.join(os.path.dirname(scene)), os.path.join(ex, "scenes"))
+open(os.path.join(ex, "snapshots.sh"), "w").write(script)
+sh = lambda cmd: subprocess.run(["sh", "-c", cmd.split("  #")[0]], capture_output=True, text=True,
+                                cwd=ex, env=env)
+r = sh("sh snapshots.sh actual")
+ok(r.returncode == 0 and len(os.listdir(os.path.join(ex, "actual"))) == 8,
+   f"README: sh snapshots.sh actual ({r.stderr.strip()})")
+r = sh(ci)
+ok(r.returncode == 2 and "--update=missing" in r.stdout and os.path.exists(os.path.join(ex, "report.xml")),
+   f"README: the first compare reports every baseline missing and how to add them ({r.stdout.strip()[-120:]})")
+r = sh(add)
+ok(r.returncode == 0 and r.stdout.count("added") == 7
+   and len(os.listdir(os.path.join(ex, "snapshots"))) == 7, f"README: {add} ({r.stdout.strip()[-120:]})")
+r = sh(ci)
+cases = ET.parse(os.path.join(ex, "report.xml")).getroot().findall("./testsuite/testcase")
+ok(r.returncode == 0 and "7 passed" in r.stdout and len(cases) == 7
+   and os.path.getsize(os.path.join(ex, "report.html")) > 10000,
+   f"README: the CI compare passes, report.html and report.xml written ({r.stdout.strip()[-120:]})")
+sh("springpend still scenes/default.ini --at 2 --size 640x360 -o actual/default_t3.png -q")
+r = sh(ci)
+ok(r.returncode == 1 and "FAIL default_t3.png" in r.stdout, "README: a changed picture fails the job")
+r = sh(update)
+r2 = sh(ci)
+ok(r.returncode == 0 and "replaced" in r.stdout and r2.returncode == 0,
+   f"README: {update} takes the change, the job passes again ({r.stdout.strip()[-120:]})")
+
+print(f"1..{count}")
+sys.exit(1 if failed else 0)

@@ -1,0 +1,123 @@
+/* springpend tests: text stays legible at every output size. Composes
+ * frames (on the CPU: compose.c, no GL) with every panel at sizes from
+ * 320x240 to 7680x4320, at 4:3, 16:9 and 9:16, and checks the draw list's
+ * text runs: none overlaps another, all lie inside the frame, none is
+ * smaller than the legible minimum, every legend is there, and the tick
+ * labels of a small range around a large value are short.
+ * usage: test_legibility TESTS_SOURCE_DIR */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "springpend/common.h"
+#include "springpend/frame.h"
+#include "springpend/sim.h"
+#include "compose.h"
+#include "tap.h"
+
+#ifdef NDEBUG
+#error "tests need assertions"
+#endif
+
+struct box {
+    float x0, y0, x1, y1;
+    const char *text;
+};
+
+/* The boxes of c's text runs: pen to advance, cap height above the
+ * baseline to a fifth of the em below it. */
+static int boxes(const struct sp_canvas *c, const struct sp_font *f, struct box *out, int max)
+{
+    int n = 0;
+    for (int i = 0; i < c->n_items && n < max; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind != SP_ITEM_TEXT)
+            continue;
+        const char *s = c->strings + it->text;
+        const float w = (float)sp_font_width(f, it->size, s);
+        out[n++] = (struct box){it->x, it->y - sp_font_cap(f, it->size), it->x + w,
+                                it->y + 0.2f * sp_font_px(f, it->size), s};
+    }
+    return n;
+}
+
+/* Composes `scene` at t with the overrides and checks its text; returns
+ * the problems found (diagnosed). `need` lists texts that must appear. */
+static int check(const char *src, const char *scene_file, double t, int w, int h,
+                 const char *const *need, int n_need, int min_px)
+{
+    char path[4096], size_w[32], size_h[32];
+    const char *ov[] = {size_w, size_h, "view.panels=all", "view.colorbar=true"};
+    struct sp_scene sc;
+    struct sp_sim sim;
+    struct sp_history hist = {0};
+    struct sp_trail trail = {0};
+    struct sp_view_extent e;
+    struct sp_composer *comp = NULL;
+    const struct sp_canvas *cv;
+    static struct box b[4096];
+    int bad = 0;
+
+    snprintf(path, sizeof(path), "%s/../scenes/%s", src, scene_file);
+    snprintf(size_w, sizeof(size_w), "video.width=%d", w);
+    snprintf(size_h, sizeof(size_h), "video.height=%d", h);
+    if (sp_scene_load(&sc, path, ov, 4) || sp_view_extent_measure(&sc, sc.video.duration, &e) ||
+        sp_history_make(&hist, &sc) || sp_trail_make(&trail, 600))
+        return 1;
+    sp_sim_init(&sim, &sc);
+    for (int k = 0; sp_scene_frame_time(&sc, k) <= t; k++) {
+        if (sp_history_follow(&hist, &sim, sp_scene_frame_time(&sc, k)))
+            return 1;
+        sp_trail_push_at(&trail, &sim.s, 0);
+    }
+    if (sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &sc, 1}) ||
+        sp_compose_frame(comp, &(struct sp_frame){.state = sim.s, .params = &sim.p,
+                                                   .trail = &trail, .history = &hist}, &cv))
+        return 1;
+    const struct sp_font *f = sp_compose_font(comp);
+    const int n = boxes(cv, f, b, 4096);
+    for (int s = 0; s < SP_TEXT_SIZES; s++)
+        if (sp_font_px(f, s) < min_px)
+            bad++, sp_tap_diag("%s %dx%d: text size %d is %d px", scene_file, w, h, s, sp_font_px(f, s));
+    for (int i = 0; i < n; i++) {
+        if (b[i].x0 < 0 || b[i].y0 < 0 || b[i].x1 > w || b[i].y1 > h)
+            bad++, sp_tap_diag("%s %dx%d: '%s' leaves the frame", scene_file, w, h, b[i].text);
+        for (int j = i + 1; j < n; j++)
+            if (b[i].x0 < b[j].x1 - 0.5f && b[j].x0 < b[i].x1 - 0.5f &&
+                b[i].y0 < b[j].y1 - 0.5f && b[j].y0 < b[i].y1 - 0.5f)
+                bad++, sp_tap_diag("%s %dx%d: '%s' overlaps '%s'", scene_file, w, h, b[i].text,
+                                   b[j].text);
+    }
+    for (int k = 0; k < n_need; k++) {
+        int found = 0;
+        for (int i = 0; i < n && !found; i++)
+            found = strstr(b[i].text, need[k]) != NULL;
+        if (!found)
+            bad++, sp_tap_diag("%s %dx%d: no '%s'", scene_file, w, h, need[k]);
+    }
+    sp_compose_destroy(&comp);
+    sp_history_destroy(&hist);
+    sp_trail_destroy(&trail);
+    return bad;
+}
+
+int main(int argc, char **argv)
+{
+    static const int sizes[][2] = {{320, 240}, {640, 360}, {854, 480}, {1024, 768}, {1280, 720},
+                                   {1920, 1080}, {1080, 1920}, {720, 1280}, {1600, 1200},
+                                   {3840, 2160}, {7680, 4320}};
+    /* the legends' entries (short forms at least) and the current-state mark */
+    static const char *const need[] = {"tot", "kin", "spr", "grav", "b", "sw", "now", "latest"};
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s TESTS_SOURCE_DIR\n", argv[0]);
+        return 2;
+    }
+    for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
+        const int w = sizes[i][0], h = sizes[i][1];
+        int bad = check(argv[1], "resonance.ini", 20, w, h, need, 8, 11);
+        bad += check(argv[1], "pure_swing.ini", 5, w, h, need, 7, 11);
+        sp_tap_ok(bad == 0, "%dx%d, every panel: no text overlaps, all inside, at least 11 px, "
+                  "every legend shown", w, h);
+    }
+    return sp_tap_done();
+}

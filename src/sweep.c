@@ -211,6 +211,12 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
                 return SP_E_INPUT;
         }
     }
+    if (sp_sweep_points(d) > SP_SWEEP_MAX_POINTS) {
+        sp_log_error("--vary: %ld grid points; at most %ld (the figure keeps two numbers "
+                     "per point); split the range over several sweeps", sp_sweep_points(d),
+                     (long)SP_SWEEP_MAX_POINTS);
+        return SP_E_INPUT;
+    }
     if (d->measure == SP_MEASURE_ORBIT && d->n_axes != 1) {
         sp_log_error("--measure orbit draws one diagram over one key: give one --vary");
         return SP_E_INPUT;

@@ -20,6 +20,7 @@
 enum sp_measure { SP_MEASURE_LYAPUNOV, SP_MEASURE_ORBIT, SP_MEASURE_POINCARE };
 
 #define SP_SWEEP_MAX_AXES 2
+#define SP_SWEEP_MAX_POINTS 50000000L /* a map's figure holds 16 bytes per point */
 
 struct sp_sweep_axis {
     char key[48];  /* "section.key" */

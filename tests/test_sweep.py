@@ -214,6 +214,7 @@ bad = [(["--vary", "video.width=100:200:3"], "only the physics can be varied"),
        (["--vary", "pendulum.mas=1:2:3"], "no such numeric key"),
        (["--vary", "pendulum.mass=-1:2:3"], "pendulum.mass = -1 is out of range"),
        (["--vary", "initial.angle=1:2"], "expected KEY=FROM:TO:COUNT"),
+       (["--vary", "initial.angle=1:2:100000", "--vary", "initial.length=1:2:1000"], "at most 50000000"),
        (["--vary", "initial.angle=1:2:3", "--measure", "nope"], "use lyapunov, orbit or poincare")]
 for args, want in bad:
     rr = run(chaotic, *args, "--measure", "lyapunov", "--time", "1", "-o", "bad.png", "--csv", "bad.csv")

@@ -22,6 +22,8 @@ static const char usage[] =
     "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"
     "  compare  compare PNG images, folders of them or videos (snapshot tests in CI)\n"
+    "  sweep    many pendulums over a grid of keys: Lyapunov maps, orbit diagrams,\n"
+    "           Poincare mosaics (PNG, SVG, PDF; sharded runs and their merge)\n"
     "\n"
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
     "\n"
@@ -76,6 +78,7 @@ static const struct command commands[] = {
     {"info", sp_cmd_info},
     {"keys", cmd_keys},
     {"compare", sp_cmd_compare},
+    {"sweep", sp_cmd_sweep},
 };
 
 int main(int argc, char **argv)

@@ -902,3 +902,38 @@ void sp_scene_canonical_display(const char *key, const char *value, char *buf, s
     default: break;
     }
 }
+
+/* ---- numeric keys by name (sweeps) ---- */
+
+static const struct key_info *numeric_key(const char *key)
+{
+    char section[32];
+    const char *dot = strchr(key, '.');
+    if (!dot || dot - key >= (long)sizeof(section))
+        return NULL;
+    snprintf(section, sizeof(section), "%.*s", (int)(dot - key), key);
+    const struct key_info *k = find_key(section, dot + 1);
+    return k && (k->kind == KEY_REAL || k->kind == KEY_DEGREES || k->kind == KEY_INT) ? k : NULL;
+}
+
+const char *sp_scene_key_unit(const char *key)
+{
+    const struct key_info *k = numeric_key(key);
+    return k ? k->unit : NULL;
+}
+
+int sp_scene_set_number(struct sp_scene *s, const char *key, double value, const char *origin)
+{
+    const struct key_info *k = numeric_key(key);
+    struct parse_ctx c = {.scene = s, .origin = origin};
+    char text[64];
+    if (!k) {
+        sp_log_error("%s: '%s' is not a numeric scene key; see 'springpend keys'", origin, key);
+        return SP_E_INPUT;
+    }
+    snprintf(text, sizeof(text), "%.17g", value);
+    set_value(&c, 0, k, text);
+    if (!c.errors)
+        validate_whole(&c);
+    return c.errors ? SP_E_INPUT : 0;
+}

@@ -131,6 +131,15 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size);
  * the keys that changed between two images' scenes). */
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size);
 
+/* The unit of a numeric key "section.key" (KEY_REAL, degrees or integer), or
+ * NULL when there is no such numeric key. */
+const char *sp_scene_key_unit(const char *key);
+
+/* Sets the numeric key "section.key" to value, in file units (degrees for
+ * angles), with the parser's range checks and whole-scene checks; problems
+ * are printed as "ORIGIN: message" and SP_E_INPUT is returned. */
+int sp_scene_set_number(struct sp_scene *s, const char *key, double value, const char *origin);
+
 /* Prints every key with its default, unit and accepted range (for --help). */
 void sp_scene_print_keys(void);
 

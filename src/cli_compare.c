@@ -24,6 +24,7 @@
 #include "springpend/compare_config.h"
 #include "springpend/compare_report.h"
 #include "springpend/image_compare.h"
+#include "springpend/outfile.h"
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
 #include "springpend/video_read.h"
@@ -136,47 +137,33 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
     return 0;
 }
 
-/* Writes path whole or not at all: fill() writes a temporary file beside
- * it (NAME.XXXXXX.tmp), which is renamed over path when complete and
- * removed when not. Only a regular file or a new name is replaced; a
- * folder or device at path is refused (SP_E_INPUT). */
+/* Writes path whole or not at all through outfile.h (a unique .part in the
+ * signal table, renamed over path when complete and removed when not).
+ * Only a regular file or a new name is replaced; a folder or device at path
+ * is refused (SP_E_INPUT). */
 static int write_whole(const char *path, int (*fill)(FILE *, void *), void *arg)
 {
-    struct stat st;
-    char tmp[PATH_MAX];
-    if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
-        sp_log_error("%s exists and is not a regular file; springpend replaces only files",
-                     path);
-        return SP_E_INPUT;
+    struct sp_outfile f;
+    int err = sp_outfile_open(&f, path, 0);
+    if (err)
+        return err;
+    FILE *fp = fdopen(f.fd, "wb");
+    if (!fp) {
+        sp_log_error("%s: %s", path, strerror(errno));
+        sp_outfile_discard(&f);
+        return SP_E_NOMEM;
     }
-    if (snprintf(tmp, sizeof(tmp), "%s.XXXXXX.tmp", path) >= (int)sizeof(tmp)) {
-        sp_log_error("%s: path too long", path);
-        return SP_E_INPUT;
-    }
-    int fd = mkstemps(tmp, 4);
-    if (fd < 0) {
-        sp_log_error("%s: cannot create: %s", tmp, strerror(errno));
-        return SP_E_IO;
-    }
-    mode_t mask = umask(0);
-    umask(mask);
-    fchmod(fd, 0666 & ~mask); /* mkstemps makes it 0600 */
-    FILE *fp = fdopen(fd, "wb");
-    int err = fp ? fill(fp, arg) : SP_E_NOMEM;
-    if (!fp)
-        close(fd);
-    if (fp && (fclose(fp) != 0 || err)) {
-        if (!err)
-            sp_log_error("%s: cannot write: %s", path, strerror(errno));
-        err = err ? err : SP_E_IO;
-    }
-    if (!err && rename(tmp, path) != 0) {
-        sp_log_error("%s: cannot rename %s to it: %s", path, tmp, strerror(errno));
+    f.fd = -1; /* fp owns it now */
+    err = fill(fp, arg);
+    if (fclose(fp) != 0 && !err) {
+        sp_log_error("%s: cannot write: %s", path, strerror(errno));
         err = SP_E_IO;
     }
-    if (err)
-        unlink(tmp); /* ours: made by mkstemps above */
-    return err;
+    if (err) {
+        sp_outfile_discard(&f);
+        return err;
+    }
+    return sp_outfile_commit(&f);
 }
 
 /* An image to write and the path it goes to, for messages. */

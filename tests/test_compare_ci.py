@@ -383,7 +383,7 @@ ok(r.returncode == 2 and os.path.exists(os.path.join(base, "three.png")),
 r = run("compare", base, act, "--update=all")
 ok(r.returncode == 0 and not os.path.exists(os.path.join(base, "three.png"))
    and "removed" in r.stdout and "three.png" in r.stdout and not
-   [n for n in os.listdir(base) if n.endswith(".tmp")],
+   [n for n in os.listdir(base) if n.endswith((".tmp", ".part"))],
    f"--update=all removes three.png and lists it ({r.stdout.strip()[-200:]})")
 
 # Videos: the same frames at another rate differ.

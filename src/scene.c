@@ -46,8 +46,9 @@ struct key_info {
     const char *unit;
 };
 
-/* [video] preset's choices, in the order of preset_names below. */
-#define PRESET_NAMES "auto, ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow"
+/* [video] preset's choices: auto, then scene.h's SP_VIDEO_PRESETS. */
+#define PRESET_LISTED(name) ", " name
+#define PRESET_NAMES "auto" SP_VIDEO_PRESETS(PRESET_LISTED)
 
 #define F(field) offsetof(struct sp_scene, field)
 static const struct key_info keys[] = {
@@ -99,10 +100,8 @@ static const char *const method_names[] = {"rk4",    "verlet", "yoshida4",
 
 /* Encoder speed presets (x264's names; VP9 maps them to cpu-used); auto is
  * the format's default (superfast for H.264). */
-static const char *const preset_names[] = {
-    "auto", "ultrafast", "superfast", "veryfast", "faster", "fast",
-    "medium", "slow", "slower", "veryslow",
-};
+#define PRESET_ITEM(name) name,
+static const char *const preset_names[] = {"auto", SP_VIDEO_PRESETS(PRESET_ITEM)};
 #define N_PRESETS ((int)(sizeof(preset_names) / sizeof(preset_names[0])))
 
 const char *sp_scene_preset_name(const struct sp_scene *s)

@@ -15,6 +15,7 @@
 #include <libswscale/swscale.h>
 
 #include "springpend/common.h"
+#include "springpend/scene.h"
 #include "sink_impl.h"
 
 /* On springpend's content (flat background, thin lines) superfast looks as
@@ -23,10 +24,9 @@
  * small. */
 #define VIDEO_PRESET_DEFAULT "superfast"
 
-static const char *const x264_presets[] = {
-    "ultrafast", "superfast", "veryfast", "faster", "fast",
-    "medium", "slow", "slower", "veryslow", "placebo", NULL,
-};
+/* The scene's presets (scene.h) and x264's slowest, fastest first. */
+#define X264_PRESET(name) name,
+static const char *const x264_presets[] = {SP_VIDEO_PRESETS(X264_PRESET) "placebo", NULL};
 
 /* What differs between the containers. */
 struct video_codec {

@@ -114,6 +114,12 @@ int sp_scene_frame_count(const struct sp_scene *s);
 /* Simulated time shown by frame k: k * speed / fps, s. */
 double sp_scene_frame_time(const struct sp_scene *s, int k);
 
+/* The encoder speed presets a scene can name ([video] preset, after
+ * "auto"), fastest first: x264's names, which sink_video.c also maps to
+ * VP9's cpu-used. The one list of them: X(name) once per preset. */
+#define SP_VIDEO_PRESETS(X) X("ultrafast") X("superfast") X("veryfast") X("faster") \
+    X("fast") X("medium") X("slow") X("slower") X("veryslow")
+
 /* The [video] preset's name ("superfast", ...), or NULL for auto. */
 const char *sp_scene_preset_name(const struct sp_scene *s);
 

@@ -212,41 +212,56 @@ static void catch_signals(int on, struct sigaction old[3])
     }
 }
 
-int sp_pipeline_run(const struct sp_pipeline_desc *desc)
-{
-    const struct sp_scene *sc = desc->scene;
-    struct sp_renderer *r = NULL;
-    struct sp_sink *sink = NULL;
-    struct sp_trail trail = {0};
-    struct sp_history hist = {0};
+/* One run: what sp_pipeline_run's steps share. */
+struct run {
+    const struct sp_pipeline_desc *desc;
+    const struct sp_scene *sc;
+    int n;                       /* the video's frames */
+    int first, last;             /* frames [first, last) are written */
+    int w, h;                    /* px */
+    int figure;                  /* a still to .svg or .pdf: cairo, no GL */
+    int substeps;                /* trail samples per frame */
     struct sp_view_extent extent;
     struct sp_sim sim;
+    struct sp_trail trail;
+    struct sp_history hist;
+    struct sp_renderer *r;
     struct sp_provenance prov;
-    struct sp_image img;
-    struct queue q = {.lock = PTHREAD_MUTEX_INITIALIZER,
-                      .changed = PTHREAD_COND_INITIALIZER};
-    struct stage_times tm = {0};
-    struct sigaction old_sig[3];
+    struct sp_sink *sink;
+    struct sp_image img;         /* a still's frame, the renderer's */
+    struct queue q;              /* video: frames between render and encoder */
     pthread_t encoder;
-    int encoder_running = 0, signals_caught = 0, emitted = 0, ret;
-    int n = sp_scene_frame_count(sc);
-    int first = desc->still ? 0 : desc->first;
-    int last = desc->still || !desc->last ? n : desc->last;
-    int w = sc->video.width, h = sc->video.height;
-    /* a still to .svg or .pdf: composed and drawn with cairo, no GL */
-    const int figure = desc->still && sp_figure_format(desc->output) != SP_FIGURE_NONE;
-    double t_start = now_s(), t0;
+    int encoder_running;
+    int signals_caught;
+    struct sigaction old_sig[3];
+    int emitted;                 /* frames handed to the encoder */
+    struct stage_times tm;
+    double t_start;              /* s, monotonic */
+};
 
-    signal_seen = signal_count = 0;
-    if (first < 0 || last > n || first >= last) {
+/* The frame range, checked before anything is set up. */
+static int run_check(const struct run *run)
+{
+    if (run->first < 0 || run->last > run->n || run->first >= run->last) {
         sp_log_error("frames %d:%d: the video has frames 0:%d; give A:B with "
-                     "0 <= A < B <= %d", first, last, n, n);
+                     "0 <= A < B <= %d", run->first, run->last, run->n, run->n);
         return SP_E_INPUT;
     }
+    return 0;
+}
+
+/* Signals, the camera pre-pass, the sim, trail and histories; then, unless
+ * a figure, the renderer, provenance and sink. */
+static int run_setup(struct run *run)
+{
+    const struct sp_pipeline_desc *desc = run->desc;
+    const struct sp_scene *sc = run->sc;
+    const int n = run->n, w = run->w, h = run->h;
+    int ret;
     if (desc->handle_signals) {
         /* From the start: a signal during setup stops before frame one. */
-        catch_signals(1, old_sig);
-        signals_caught = 1;
+        catch_signals(1, run->old_sig);
+        run->signals_caught = 1;
     }
     /* A still past the video's end still fits its camera to the whole
      * motion; a frame range fits the whole video's, so shards match. */
@@ -255,18 +270,19 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         t_end = fmax(desc->still_at, t_end);
 
     sp_progress_begin(desc->progress, "camera pre-pass", t_end);
-    ret = sp_view_extent_measure(sc, t_end, &extent);
+    ret = sp_view_extent_measure(sc, t_end, &run->extent);
     sp_progress_end();
     if (ret)
-        goto done;
+        return ret;
+    const struct sp_view_extent extent = run->extent;
     /* The trail is sampled between frames finely enough that its chords stay
      * within half a pixel: at most the top speed times the fastest angular
      * frequency of acceleration, at the largest scale the camera can have. */
-    sp_sim_init(&sim, sc);
+    sp_sim_init(&run->sim, sc);
     const double frame_dt = sc->video.speed / sc->video.fps;
     const int ss = desc->supersample > 1 ? desc->supersample : 1;
     int substeps = sp_trail_substeps(
-        frame_dt, extent.max_speed * sp_params_omega_max(&sim.p),
+        frame_dt, extent.max_speed * sp_params_omega_max(&run->sim.p),
         ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9)));
     const int trail_frames = sc->view.trail == SP_TRAIL_ALL ? n + 1
                            : sc->view.trail == SP_TRAIL_DURATION
@@ -274,160 +290,236 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
                                : sc->view.trail;
     if ((double)trail_frames * substeps > 4e6) /* about 100 MB of trail at most */
         substeps = (int)fmax(1, 4e6 / fmax(trail_frames, 1));
-    ret = sp_trail_make(&trail, trail_frames ? (trail_frames - 1) * substeps + 1 : 0);
+    run->substeps = substeps;
+    ret = sp_trail_make(&run->trail, trail_frames ? (trail_frames - 1) * substeps + 1 : 0);
     if (!ret)
-        ret = sp_history_make(&hist, sc);
-    if (ret || figure)
-        goto setup_done;
-    ret = sp_render_make(&r, &(struct sp_render_desc){
+        ret = sp_history_make(&run->hist, sc);
+    if (ret || run->figure)
+        return ret;
+    ret = sp_render_make(&run->r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .scene = sc, .supersample = desc->supersample});
-    if (ret || (ret = sp_provenance_init(&prov, sc, sp_render_renderer_name(r))) != 0)
-        goto done;
-    ret = sp_sink_open(&sink, &(struct sp_sink_desc){
+    if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r))) != 0)
+        return ret;
+    return sp_sink_open(&run->sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
-        .height = h, .fps = sc->video.fps, .first_frame = first,
+        .height = h, .fps = sc->video.fps, .first_frame = run->first,
         .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
         .png_level = sc->video.png_level,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),
-        .text = prov.text, .n_text = SP_PROVENANCE_N_TEXT});
-    if (ret)
-        goto done;
-setup_done:
-    if (ret)
-        goto done;
-    if (desc->still) {
-        /* The trail holds the video's frame positions before still_at. */
-        sp_progress_begin(desc->progress, "integrating", desc->still_at);
-        for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
-            ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
-            if (ret)
-                goto done;
-        }
-        if (sim.s.t < desc->still_at) {
-            ret = sp_trail_follow(&trail, &hist, &sim, desc->still_at, substeps);
-            if (ret)
-                goto done;
-        }
-        if (figure) {
-            ret = sp_figure_write(&(struct sp_figure_desc){
-                .width = w, .height = h, .extent = extent, .scene = sc, .path = desc->output},
-                &(struct sp_frame){.state = sim.s, .params = &sim.p, .trail = &trail,
-                                   .history = &hist});
-            if (!ret && desc->state_out)
-                *desc->state_out = sim.s;
-            goto done;
-        }
-        sp_progress_end();
-        sp_provenance_set_time(&prov, sim.s.t);
-        ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                   .trail = &trail, .history = &hist}, &img);
-        if (!ret)
-            ret = sp_sink_write(sink, &img);
-        if (ret)
-            goto done;
-        goto finish;
-    }
+        .text = run->prov.text, .n_text = SP_PROVENANCE_N_TEXT});
+}
 
+/* A still: the sim to still_at, the trail holding the video's frame
+ * positions before it. The progress line stays up (run_close ends it). */
+static int run_still_follow(struct run *run)
+{
+    const struct sp_scene *sc = run->sc;
+    const double at = run->desc->still_at;
+    int ret;
+    sp_progress_begin(run->desc->progress, "integrating", at);
+    for (int k = 0; k < run->n && sp_scene_frame_time(sc, k) <= at; k++) {
+        ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, sp_scene_frame_time(sc, k),
+                              run->substeps);
+        if (ret)
+            return ret;
+    }
+    if (run->sim.s.t < at)
+        return sp_trail_follow(&run->trail, &run->hist, &run->sim, at, run->substeps);
+    return 0;
+}
+
+/* A still to .svg or .pdf, composed and drawn with cairo; sp_figure_write
+ * writes it whole, so run_finish does not follow. */
+static int run_figure(struct run *run)
+{
+    int ret = run_still_follow(run);
+    if (ret)
+        return ret;
+    ret = sp_figure_write(&(struct sp_figure_desc){
+        .width = run->w, .height = run->h, .extent = run->extent, .scene = run->sc,
+        .path = run->desc->output},
+        &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p, .trail = &run->trail,
+                           .history = &run->hist});
+    if (!ret && run->desc->state_out)
+        *run->desc->state_out = run->sim.s;
+    return ret;
+}
+
+/* A still PNG: one frame drawn and handed to the sink. */
+static int run_still(struct run *run)
+{
+    int ret = run_still_follow(run);
+    if (ret)
+        return ret;
+    sp_progress_end();
+    sp_provenance_set_time(&run->prov, run->sim.s.t);
+    ret = sp_render_draw(run->r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
+                                                    .trail = &run->trail, .history = &run->hist},
+                         &run->img);
+    if (!ret)
+        ret = sp_sink_write(run->sink, &run->img);
+    return ret;
+}
+
+/* The render stage: the frame the sim, trail and histories are at, drawn
+ * into the queue's slot. */
+static int render_frame(struct run *run, struct sp_image *slot)
+{
+    struct sp_renderer *r = run->r;
+    int ret = sp_render_target(r, slot);
+    if (!ret)
+        ret = sp_render_draw(r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
+                                                   .trail = &run->trail, .history = &run->hist},
+                             &run->img);
+    return ret;
+}
+
+/* The video: an encoder thread, then frame by frame: advance the sim to t_k
+ * -> update the frame model -> render into a free slot -> publish it to the
+ * encoder. A first signal ends the loop with the frames so far (returns 0:
+ * run_finish keeps them). */
+static int run_video(struct run *run)
+{
+    const struct sp_scene *sc = run->sc;
+    struct queue *q = &run->q;
+    struct stage_times *tm = &run->tm;
+    int ret;
     for (int i = 0; i < QUEUE_SLOTS; i++) {
-        ret = sp_image_alloc(&q.slot[i], w, h);
+        ret = sp_image_alloc(&q->slot[i], run->w, run->h);
         if (ret)
-            goto done;
+            return ret;
     }
-    q.sink = sink;
-    q.prov = &prov;
-    if (pthread_create(&encoder, NULL, consume, &q) != 0) {
+    q->sink = run->sink;
+    q->prov = &run->prov;
+    if (pthread_create(&run->encoder, NULL, consume, q) != 0) {
         sp_log_error("cannot start the encoder thread");
-        ret = SP_E_NOMEM;
-        goto done;
+        return SP_E_NOMEM;
     }
-    encoder_running = 1;
-    tm.setup = now_s() - t_start;
+    run->encoder_running = 1;
+    tm->setup = now_s() - run->t_start;
 
-    t0 = now_s();
-    for (int k = 0; k < last && !signal_seen; k++) {
-        /* advance sim to t_k -> update frame model -> render -> sink */
+    const double t0 = now_s();
+    for (int k = 0; k < run->last && !signal_seen; k++) {
         double ts = now_s();
-        ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
+        ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, sp_scene_frame_time(sc, k),
+                              run->substeps);
         if (ret == SP_E_INTERRUPTED && signal_seen)
-            break; /* keep the frames so far, below */
+            break; /* keep the frames so far, in run_finish */
         if (ret)
-            goto done;
-        tm.sim += now_s() - ts;
-        if (k < first)
+            return ret;
+        tm->sim += now_s() - ts;
+        if (k < run->first)
             continue; /* frames before the range only feed trail and histories */
-        struct sp_image *slot = acquire(&q, &ret, &tm.wait);
+        struct sp_image *slot = acquire(q, &ret, &tm->wait);
         if (!slot)
-            goto done;
+            return ret;
         ts = now_s();
-        ret = sp_render_target(r, slot);
-        if (!ret)
-            ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                       .trail = &trail, .history = &hist}, &img);
+        ret = render_frame(run, slot);
         if (ret)
-            goto done;
-        tm.render += now_s() - ts;
-        publish(&q, sim.s.t);
-        emitted++;
-        if (desc->progress && (emitted % 10 == 0 || k == last - 1))
-            show_progress(emitted, last - first, t0);
+            return ret;
+        tm->render += now_s() - ts;
+        publish(q, run->sim.s.t);
+        run->emitted++;
+        if (run->desc->progress && (run->emitted % 10 == 0 || k == run->last - 1))
+            show_progress(run->emitted, run->last - run->first, t0);
     }
+    return 0;
+}
 
-finish:
-    if (encoder_running) {
-        pthread_mutex_lock(&q.lock);
-        q.closed = 1;
-        pthread_cond_broadcast(&q.changed);
-        pthread_mutex_unlock(&q.lock);
-        pthread_join(encoder, NULL);
-        encoder_running = 0;
-        ret = q.err;
+/* Drains the encoder, closes the sink (the file appears whole), says what a
+ * signal kept and prints the stage times. */
+static int run_finish(struct run *run)
+{
+    const struct sp_pipeline_desc *desc = run->desc;
+    struct queue *q = &run->q;
+    int ret;
+    if (run->encoder_running) {
+        pthread_mutex_lock(&q->lock);
+        q->closed = 1;
+        pthread_cond_broadcast(&q->changed);
+        pthread_mutex_unlock(&q->lock);
+        pthread_join(run->encoder, NULL);
+        run->encoder_running = 0;
+        ret = q->err;
         if (ret)
-            goto done;
+            return ret;
     }
-    t0 = now_s();
+    const double t0 = now_s();
     if (signal_seen && desc->progress)
         fputc('\n', stderr);
-    if (signal_seen && !emitted && !desc->still) {
-        ret = SP_E_INTERRUPTED; /* said at done */
-        goto done; /* aborts the sink */
-    }
-    ret = sp_sink_close(&sink);
+    if (signal_seen && !run->emitted && !desc->still)
+        return SP_E_INTERRUPTED; /* said by run_close, which aborts the sink */
+    ret = sp_sink_close(&run->sink);
     if (!ret && desc->state_out)
-        *desc->state_out = sim.s;
-    tm.finish = now_s() - t0;
-    tm.total = now_s() - t_start;
+        *desc->state_out = run->sim.s;
+    run->tm.finish = now_s() - t0;
+    run->tm.total = now_s() - run->t_start;
     if (!ret && signal_seen) {
         sp_log_error("interrupted by %s: kept the %d frame%s rendered so far "
-                     "in %s", sig_name(signal_seen), emitted, emitted == 1 ? "" : "s",
-                     desc->output);
+                     "in %s", sig_name(signal_seen), run->emitted,
+                     run->emitted == 1 ? "" : "s", desc->output);
         ret = SP_E_INTERRUPTED;
     }
     if (desc->verbose && !desc->still)
-        print_times(&tm, &q, emitted);
-done:
+        print_times(&run->tm, q, run->emitted);
+    return ret;
+}
+
+/* Whatever the outcome ret: says an interruption that kept nothing, stops
+ * the encoder, aborts a sink still open (its .part goes), restores the
+ * signals and frees everything. */
+static void run_close(struct run *run, int ret)
+{
+    struct queue *q = &run->q;
     sp_progress_end();
-    if (ret == SP_E_INTERRUPTED && !emitted) {
+    if (ret == SP_E_INTERRUPTED && !run->emitted) {
         int sig = signal_seen ? signal_seen : sp_interrupted();
         sp_log_error("interrupted by %s before the first frame: nothing written",
                      sig_name(sig));
     }
-    if (encoder_running) {
-        pthread_mutex_lock(&q.lock);
-        q.closed = q.cancel = 1;
-        pthread_cond_broadcast(&q.changed);
-        pthread_mutex_unlock(&q.lock);
-        pthread_join(encoder, NULL);
+    if (run->encoder_running) {
+        pthread_mutex_lock(&q->lock);
+        q->closed = q->cancel = 1;
+        pthread_cond_broadcast(&q->changed);
+        pthread_mutex_unlock(&q->lock);
+        pthread_join(run->encoder, NULL);
     }
-    sp_sink_abort(&sink);
-    if (r)
-        sp_render_target(r, NULL); /* before the slots go */
-    if (signals_caught)
-        catch_signals(0, old_sig);
+    sp_sink_abort(&run->sink);
+    if (run->r)
+        sp_render_target(run->r, NULL); /* before the slots go */
+    if (run->signals_caught)
+        catch_signals(0, run->old_sig);
     for (int i = 0; i < QUEUE_SLOTS; i++)
-        sp_image_free(&q.slot[i]);
-    sp_render_destroy(&r);
-    sp_trail_destroy(&trail);
-    sp_history_destroy(&hist);
+        sp_image_free(&q->slot[i]);
+    sp_render_destroy(&run->r);
+    sp_trail_destroy(&run->trail);
+    sp_history_destroy(&run->hist);
+}
+
+/* check -> setup -> (figure | still | video) -> finish -> close. */
+int sp_pipeline_run(const struct sp_pipeline_desc *desc)
+{
+    const struct sp_scene *sc = desc->scene;
+    const int n = sp_scene_frame_count(sc);
+    struct run run = {
+        .desc = desc, .sc = sc, .n = n,
+        .first = desc->still ? 0 : desc->first,
+        .last = desc->still || !desc->last ? n : desc->last,
+        .w = sc->video.width, .h = sc->video.height,
+        .figure = desc->still && sp_figure_format(desc->output) != SP_FIGURE_NONE,
+        .q = {.lock = PTHREAD_MUTEX_INITIALIZER, .changed = PTHREAD_COND_INITIALIZER},
+        .t_start = now_s(),
+    };
+    signal_seen = signal_count = 0;
+    int ret = run_check(&run);
+    if (ret)
+        return ret;
+    ret = run_setup(&run);
+    if (!ret)
+        ret = run.figure ? run_figure(&run) : desc->still ? run_still(&run) : run_video(&run);
+    if (!ret && !run.figure)
+        ret = run_finish(&run);
+    run_close(&run, ret);
     return ret;
 }

@@ -9,6 +9,7 @@
 
 #include "springpend/advice.h"
 #include "springpend/common.h"
+#include "springpend/signals.h"
 
 /* The longest a probe or a check may run, in evaluations and in steps. */
 #define PROBE_EVALS 400000
@@ -39,7 +40,7 @@ static double probe_omega(const struct sp_scene *sc, double t_end)
     probe.integrator.method = SP_METHOD_DOP853;
     probe.integrator.tolerance = 1e-9;
     sp_sim_init(&sim, &probe);
-    sim.quiet = 1;
+    sim.cancel = sp_signal_flag(); /* a failure is not reported: it is data */
     sp_params_physics(&sim.p, &ph);
     double w = fmax(fmax(ph.omega_s, ph.omega_p), sim.p.drive_omega);
     w = fmax(w, local_rate(&sim.p, &sim.s));
@@ -140,7 +141,7 @@ static int run_fixed(const struct sp_scene *sc, double dt, double t, double drif
     struct sp_sim sim;
     s.integrator.dt = dt;
     sp_sim_init(&sim, &s);
-    sim.quiet = 1;
+    sim.cancel = sp_signal_flag(); /* a failure is not reported: it is data */
     sim.drift_limit = drift_limit;
     const int ret = sp_sim_advance(&sim, t);
     *fail_t = sim.s.t;

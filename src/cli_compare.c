@@ -27,6 +27,7 @@
 #include "springpend/outfile.h"
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
+#include "springpend/signals.h"
 #include "springpend/video_read.h"
 
 static const char compare_usage[] =
@@ -481,7 +482,7 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
         ge = job.ret, fe = job.img, te = job.t;
         if (ge != 1 || ga != 1)
             break;
-        if (sp_interrupted()) {
+        if (sp_signal_seen()) {
             record_error(r, "interrupted at frame %d", r->frames);
             ret = SP_E_INTERRUPTED;
             goto done;
@@ -597,7 +598,7 @@ static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
         const char *name = cmp <= 0 ? le[i]->d_name : la[j]->d_name;
         char pe[PATH_MAX], pa[PATH_MAX], pd[PATH_MAX];
         struct sp_compare_record *r;
-        if (sp_interrupted()) {
+        if (sp_signal_seen()) {
             rep->interrupted = 1;
             ret = SP_E_INTERRUPTED;
             goto done;

@@ -12,7 +12,9 @@
 #include "springpend/common.h"
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
+#include "springpend/signals.h"
 #include "springpend/sim.h"
+#include "springpend/sim_report.h"
 
 /* The most rows one run writes, and the size of a typical row, bytes. */
 #define MAX_ROWS 1e7
@@ -81,17 +83,21 @@ static int write_crossings(FILE *fp, const struct sp_scene *sc)
     struct sp_history h = {.active = 1, .poincare = 1, .crossings_only = 1};
     int ret = fputs("t,r,r_dot,theta_dot\n", fp) < 0 ? SP_E_IO : 0;
     sp_sim_init(&sim, sc);
+    sim.cancel = sp_signal_flag();
+    sim.progress = sp_progress_sim;
     /* in pieces of about 1000 interpolation intervals, memory stays flat */
     const double piece = 1000 * 0.1 / sp_params_omega_max(&sim.p);
     for (double t = 0; !ret && t < sc->video.duration;) {
         t = fmin(sc->video.duration, t + piece);
-        ret = sp_interrupted() ? SP_E_INTERRUPTED : sp_history_follow(&h, &sim, t);
+        ret = sp_signal_seen() ? SP_E_INTERRUPTED : sp_history_follow(&h, &sim, t);
         for (int i = 0; i < h.n_crossings && !ret; i++)
             if (fprintf(fp, "%.15g,%.15g,%.15g,%.15g\n", h.crossings[i].t, h.crossings[i].r,
                         h.crossings[i].r_dot, h.crossings[i].theta_dot) < 0)
                 ret = SP_E_IO;
         h.n_crossings = 0;
     }
+    if (ret == SP_E_UNSTABLE)
+        sp_sim_explain(&sim);
     sp_history_destroy(&h);
     return ret;
 }
@@ -110,9 +116,13 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
     if (fputs(csv_header, fp) < 0)
         return SP_E_IO;
     sp_sim_init(&sim, sc);
+    sim.cancel = sp_signal_flag();
+    sim.progress = sp_progress_sim;
     for (long k = 0; k < n; k++) {
         double t = every > 0 ? k * every : sp_scene_frame_time(sc, (int)k);
-        int ret = sp_interrupted() ? SP_E_INTERRUPTED : sp_sim_advance(&sim, t);
+        int ret = sp_signal_seen() ? SP_E_INTERRUPTED : sp_sim_advance(&sim, t);
+        if (ret == SP_E_UNSTABLE)
+            sp_sim_explain(&sim);
         if (!ret)
             ret = write_row(fp, &sim);
         if (ret)

@@ -5,6 +5,8 @@
 
 #include "springpend/common.h"
 #include "springpend/frame.h"
+#include "springpend/signals.h"
+#include "springpend/sim_report.h"
 
 int sp_trail_make(struct sp_trail *tr, int capacity)
 {
@@ -85,6 +87,8 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
 {
     struct sp_sim sim;
     sp_sim_init(&sim, scene);
+    sim.cancel = sp_signal_flag();
+    sim.progress = sp_progress_sim;
     *out = (struct sp_view_extent){.t_end = t_end};
     out->r = out->theta = out->r_dot = out->theta_dot = out->energy = out->modes =
         (struct sp_range){INFINITY, -INFINITY};
@@ -117,6 +121,8 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
         if (s->t >= t_end)
             break;
         int ret = sp_sim_advance(&sim, fmin(t_end, s->t + sim.dt));
+        if (ret == SP_E_UNSTABLE)
+            sp_sim_explain(&sim);
         if (ret)
             return ret;
     }

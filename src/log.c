@@ -1,5 +1,4 @@
-/* springpend: logging, and the interrupt flag of commands that do not render. */
-#include <signal.h>
+/* springpend: logging, and the progress line of long integrations. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -16,34 +15,6 @@ void sp_log_error(const char *fmt, ...)
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     va_end(ap);
-}
-
-static volatile sig_atomic_t interrupted;
-
-static void on_signal(int sig)
-{
-    interrupted = sig;
-}
-
-void sp_interrupt_install(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof(sa));
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-    sigaction(SIGHUP, &sa, NULL);
-}
-
-void sp_interrupt_note(int sig)
-{
-    interrupted = sig;
-}
-
-int sp_interrupted(void)
-{
-    return interrupted;
 }
 
 /* ---- progress of long integrations ---- */
@@ -75,8 +46,9 @@ void sp_progress_begin(int enable, const char *what, double t_goal)
     progress.wall0 = progress.wall_last = wall_s();
 }
 
-void sp_progress_sim(double t)
+void sp_progress_sim(void *ctx, double t)
 {
+    (void)ctx;
     if (!progress.on || (++progress.calls & 0xfff))
         return;
     double now = wall_s();

@@ -8,7 +8,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
-#include "springpend/pipeline.h"
+#include "springpend/signals.h"
 
 static const char usage[] =
     "springpend " SP_VERSION " - renders the spring (elastic) pendulum, headless\n"
@@ -39,7 +39,7 @@ static int exit_status(int err)
     case SP_E_INPUT: return 2;
     case SP_E_UNSTABLE: return 3;
     case SP_E_INTERRUPTED: {
-        int sig = sp_pipeline_signal() ? sp_pipeline_signal() : sp_interrupted();
+        int sig = sp_signal_seen();
         return 128 + (sig ? sig : SIGINT);
     }
     default: return 1;
@@ -103,7 +103,7 @@ int main(int argc, char **argv)
     /* A file size limit (ulimit -f) makes writes fail with EFBIG, reported
      * and cleaned up like any write error, instead of killing the process. */
     signal(SIGXFSZ, SIG_IGN);
-    sp_interrupt_install();
+    sp_signals_install();
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
         if (!strcmp(argv[1], commands[i].name))
             return exit_status(stdout_checked(commands[i].run(argc - 1, argv + 1)));

@@ -13,6 +13,7 @@
 
 #include "springpend/common.h"
 #include "springpend/outfile.h"
+#include "springpend/signals.h"
 
 /* ---- the .part table a signal handler reads ---- */
 
@@ -127,7 +128,7 @@ static int open_through(struct sp_outfile *f, int fd)
     }
     do
         f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY);
-    while (f->fd < 0 && errno == EINTR && !sp_interrupted());
+    while (f->fd < 0 && errno == EINTR && !sp_signal_seen());
     if (f->fd < 0) {
         sp_log_error("%s: cannot open for writing: %s", f->target, strerror(errno));
         return errno == EINTR ? SP_E_INTERRUPTED : SP_E_IO;

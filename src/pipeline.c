@@ -6,7 +6,6 @@
  * are allocated once, so memory does not grow with the video's length. */
 #include <math.h>
 #include <pthread.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,6 +19,8 @@
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
 #include "springpend/render.h"
+#include "springpend/signals.h"
+#include "springpend/sim_report.h"
 #include "springpend/sink.h"
 
 #define QUEUE_SLOTS 4 /* frames in flight between render and encoder */
@@ -29,39 +30,6 @@ static double now_s(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-/* ---- signals ---- */
-
-static volatile sig_atomic_t signal_seen;  /* the first signal, 0 = none */
-static volatile sig_atomic_t signal_count; /* signals received this run */
-
-static void on_signal(int sig)
-{
-    if (signal_count++ == 0) {
-        signal_seen = sig;
-        sp_interrupt_note(sig); /* stops a long sp_sim_advance too */
-        return;
-    }
-    /* Second signal: stop at once. Only async-signal-safe calls here. The
-     * .part table stays valid through the sink's close (outfile.c). */
-    static const char msg[] = "springpend: second signal: stopped at once, "
-                              "partial file removed\n";
-    sp_outfile_remove_parts();
-    if (write(2, msg, sizeof(msg) - 1) < 0) {
-        /* nothing more can be done */
-    }
-    _exit(128 + sig);
-}
-
-static const char *sig_name(int sig)
-{
-    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
-}
-
-int sp_pipeline_signal(void)
-{
-    return signal_seen;
 }
 
 /* ---- the bounded queue ---- */
@@ -196,22 +164,6 @@ int sp_pipeline_shard(int n_frames, int i, int n, int *first, int *last)
     return 0;
 }
 
-/* Installs (on = 1) or restores the SIGINT/SIGTERM/SIGHUP handlers. */
-static void catch_signals(int on, struct sigaction old[3])
-{
-    static const int sigs[3] = {SIGINT, SIGTERM, SIGHUP};
-    struct sigaction sa;
-    memset(&sa, 0, sizeof(sa));
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    for (int i = 0; i < 3; i++) {
-        if (on)
-            sigaction(sigs[i], &sa, &old[i]);
-        else
-            sigaction(sigs[i], &old[i], NULL);
-    }
-}
-
 /* One run: what sp_pipeline_run's steps share. */
 struct run {
     const struct sp_pipeline_desc *desc;
@@ -232,12 +184,19 @@ struct run {
     struct queue q;              /* video: frames between render and encoder */
     pthread_t encoder;
     int encoder_running;
-    int signals_caught;
-    struct sigaction old_sig[3];
+    int signals_held;            /* desc->handle_signals: signals.h's hold */
+    struct sp_signals_saved saved_signals;
     int emitted;                 /* frames handed to the encoder */
     struct stage_times tm;
     double t_start;              /* s, monotonic */
 };
+
+/* The signal that stops a render which holds the signals (signals.h): it
+ * keeps the frames so far. 0 = none, or not held. */
+static int stopped(const struct run *run)
+{
+    return run->signals_held ? sp_signal_seen() : 0;
+}
 
 /* The frame range, checked before anything is set up. */
 static int run_check(const struct run *run)
@@ -260,8 +219,8 @@ static int run_setup(struct run *run)
     int ret;
     if (desc->handle_signals) {
         /* From the start: a signal during setup stops before frame one. */
-        catch_signals(1, run->old_sig);
-        run->signals_caught = 1;
+        sp_signals_hold(&run->saved_signals);
+        run->signals_held = 1;
     }
     /* A still past the video's end still fits its camera to the whole
      * motion; a frame range fits the whole video's, so shards match. */
@@ -279,6 +238,8 @@ static int run_setup(struct run *run)
      * within half a pixel: at most the top speed times the fastest angular
      * frequency of acceleration, at the largest scale the camera can have. */
     sp_sim_init(&run->sim, sc);
+    run->sim.cancel = sp_signal_flag();
+    run->sim.progress = sp_progress_sim;
     const double frame_dt = sc->video.speed / sc->video.fps;
     const int ss = desc->supersample > 1 ? desc->supersample : 1;
     int substeps = sp_trail_substeps(
@@ -310,6 +271,15 @@ static int run_setup(struct run *run)
         .text = run->prov.text, .n_text = SP_PROVENANCE_N_TEXT});
 }
 
+/* The sim, trail and histories to t_target, s; a blow-up is worded here. */
+static int run_follow(struct run *run, double t_target)
+{
+    int ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, t_target, run->substeps);
+    if (ret == SP_E_UNSTABLE)
+        sp_sim_explain(&run->sim);
+    return ret;
+}
+
 /* A still: the sim to still_at, the trail holding the video's frame
  * positions before it. The progress line stays up (run_close ends it). */
 static int run_still_follow(struct run *run)
@@ -319,13 +289,12 @@ static int run_still_follow(struct run *run)
     int ret;
     sp_progress_begin(run->desc->progress, "integrating", at);
     for (int k = 0; k < run->n && sp_scene_frame_time(sc, k) <= at; k++) {
-        ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, sp_scene_frame_time(sc, k),
-                              run->substeps);
+        ret = run_follow(run, sp_scene_frame_time(sc, k));
         if (ret)
             return ret;
     }
     if (run->sim.s.t < at)
-        return sp_trail_follow(&run->trail, &run->hist, &run->sim, at, run->substeps);
+        return run_follow(run, at);
     return 0;
 }
 
@@ -400,11 +369,10 @@ static int run_video(struct run *run)
     tm->setup = now_s() - run->t_start;
 
     const double t0 = now_s();
-    for (int k = 0; k < run->last && !signal_seen; k++) {
+    for (int k = 0; k < run->last && !stopped(run); k++) {
         double ts = now_s();
-        ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, sp_scene_frame_time(sc, k),
-                              run->substeps);
-        if (ret == SP_E_INTERRUPTED && signal_seen)
+        ret = run_follow(run, sp_scene_frame_time(sc, k));
+        if (ret == SP_E_INTERRUPTED && stopped(run))
             break; /* keep the frames so far, in run_finish */
         if (ret)
             return ret;
@@ -446,18 +414,18 @@ static int run_finish(struct run *run)
             return ret;
     }
     const double t0 = now_s();
-    if (signal_seen && desc->progress)
+    if (stopped(run) && desc->progress)
         fputc('\n', stderr);
-    if (signal_seen && !run->emitted && !desc->still)
+    if (stopped(run) && !run->emitted && !desc->still)
         return SP_E_INTERRUPTED; /* said by run_close, which aborts the sink */
     ret = sp_sink_close(&run->sink);
     if (!ret && desc->state_out)
         *desc->state_out = run->sim.s;
     run->tm.finish = now_s() - t0;
     run->tm.total = now_s() - run->t_start;
-    if (!ret && signal_seen) {
+    if (!ret && stopped(run)) {
         sp_log_error("interrupted by %s: kept the %d frame%s rendered so far "
-                     "in %s", sig_name(signal_seen), run->emitted,
+                     "in %s", sp_signal_name(stopped(run)), run->emitted,
                      run->emitted == 1 ? "" : "s", desc->output);
         ret = SP_E_INTERRUPTED;
     }
@@ -474,9 +442,8 @@ static void run_close(struct run *run, int ret)
     struct queue *q = &run->q;
     sp_progress_end();
     if (ret == SP_E_INTERRUPTED && !run->emitted) {
-        int sig = signal_seen ? signal_seen : sp_interrupted();
         sp_log_error("interrupted by %s before the first frame: nothing written",
-                     sig_name(sig));
+                     sp_signal_name(sp_signal_seen()));
     }
     if (run->encoder_running) {
         pthread_mutex_lock(&q->lock);
@@ -488,8 +455,8 @@ static void run_close(struct run *run, int ret)
     sp_sink_abort(&run->sink);
     if (run->r)
         sp_render_target(run->r, NULL); /* before the slots go */
-    if (run->signals_caught)
-        catch_signals(0, run->old_sig);
+    if (run->signals_held)
+        sp_signals_release(&run->saved_signals);
     for (int i = 0; i < QUEUE_SLOTS; i++)
         sp_image_free(&q->slot[i]);
     sp_render_destroy(&run->r);
@@ -511,7 +478,6 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         .q = {.lock = PTHREAD_MUTEX_INITIALIZER, .changed = PTHREAD_COND_INITIALIZER},
         .t_start = now_s(),
     };
-    signal_seen = signal_count = 0;
     int ret = run_check(&run);
     if (ret)
         return ret;

@@ -17,6 +17,7 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
+#include "springpend/signals.h"
 #include "ini_lines.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
@@ -689,7 +690,7 @@ static int read_scene(const char *path, char **text, size_t *size)
     if (S_ISFIFO(st.st_mode)) {
         struct pollfd pfd = {.fd = fd, .events = POLLIN};
         int n;
-        while ((n = poll(&pfd, 1, SCENE_FIFO_WAIT_MS)) < 0 && errno == EINTR && !sp_interrupted())
+        while ((n = poll(&pfd, 1, SCENE_FIFO_WAIT_MS)) < 0 && errno == EINTR && !sp_signal_seen())
             ;
         if (n == 0) {
             fprintf(stderr, "%s: a FIFO with nothing written to it after %d s; start its "
@@ -715,7 +716,7 @@ static int read_scene(const char *path, char **text, size_t *size)
         }
         *text = grown;
         ssize_t got = read(fd, *text + *size, cap - 1 - *size);
-        if (got < 0 && errno == EINTR && !sp_interrupted())
+        if (got < 0 && errno == EINTR && !sp_signal_seen())
             continue;
         if (got < 0) {
             fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));

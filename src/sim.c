@@ -9,7 +9,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "springpend/advice.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
 
@@ -533,32 +532,12 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
     }
 }
 
-/* Prints what went wrong, when, and how to fix it. */
-static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, double energy,
-                         const char *what)
+/* Records what went wrong and when, for the caller to word. */
+static int unstable(struct sp_sim *sim, const struct sp_state *s, double energy, const char *what)
 {
-    if (sim->quiet)
-        return SP_E_UNSTABLE;
-    const struct sp_method_info *mi = sp_method_info(sim->method);
-    struct sp_dt_advice a;
-    sp_log_error("the simulation became unstable at t = %.6g s (%s): "
-                 "x = %.6g m, y = %.6g m, vx = %.6g m/s, vy = %.6g m/s, "
-                 "energy %.6g J vs %.6g J at t = 0 (%.6g J of it work by damping "
-                 "and drive)",
-                 s->t, what, s->x, s->y, s->vx, s->vy, energy, sim->energy0, sim->work);
-    if (mi->adaptive)
-        fprintf(stderr, "  %s with tolerance %g cannot follow this motion; try "
-                "integrator.tolerance = %g\n", mi->name, sim->tol, sim->tol * 1e-3);
-    /* a step suggested is one the run was seen to complete with */
-    else if (sp_advise_dt(sim->scene, fmax(sim->scene->video.duration, s->t), &a) == 0 &&
-             !isnan(a.safe))
-        fprintf(stderr, "  dt = %g s is too coarse for this motion (it reaches omega_max = "
-                "%.4g rad/s, where %s's stability limit is %.3g s); use integrator.dt = %g "
-                "(the run completes with it over [0, %g] s) or integrator.method = dop853\n",
-                sim->dt, a.omega_max, mi->name, a.limit, a.safe, a.checked);
-    else
-        fprintf(stderr, "  dt = %g s is too coarse for this motion; use integrator.method = "
-                "dop853\n", sim->dt);
+    sim->failure.s = *s;
+    sim->failure.energy = energy;
+    snprintf(sim->failure.what, sizeof(sim->failure.what), "%s", what);
     return SP_E_UNSTABLE;
 }
 
@@ -567,15 +546,16 @@ static int report_blowup(const struct sp_sim *sim, const struct sp_state *s, dou
 static int check_state(struct sp_sim *sim, double t, const double *u)
 {
     struct sp_state s;
-    /* A signal stops a long integration (a still far in the future, the
-     * camera pre-pass); callers decide what to keep. */
-    if (sp_interrupted())
+    /* The caller's cancel flag (a signal) stops a long integration (a still
+     * far in the future, the camera pre-pass); callers decide what to keep. */
+    if (sim->cancel && *sim->cancel)
         return SP_E_INTERRUPTED;
-    sp_progress_sim(t);
+    if (sim->progress)
+        sim->progress(sim->progress_ctx, t);
     to_state(t, u, &s);
     if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]) || !isfinite(u[3]) ||
         !isfinite(u[4]))
-        return report_blowup(sim, &s, NAN, "the state is no longer finite");
+        return unstable(sim, &s, NAN, "the state is no longer finite");
     /* the three energies, as sp_state_energy has them, without the polar
      * form it needs for bounce and swing (this runs after every step) */
     const struct sp_params *p = &sim->p;
@@ -592,7 +572,7 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
         snprintf(what, sizeof(what), "energy, less the work of damping and drive, "
                  "drifted by %.3g%% of its scale %.3g J", 100 * drift, scale);
         sim->work = work;
-        return report_blowup(sim, &s, total, what);
+        return unstable(sim, &s, total, what);
     }
     sim->energy_scale = scale;
     return 0;
@@ -660,7 +640,7 @@ static inline double step_factor(double err, const int d853)
 }
 
 /* The adaptive step fell below what double precision resolves at t1 (about
- * 1e-14 t): the tolerance cannot be met here. Reports it with the state and
+ * 1e-14 t): the tolerance cannot be met here. Records it with the state and
  * its (finite) energy; sim->s is that state. */
 static int report_step_collapse(struct sp_sim *sim, double h)
 {
@@ -671,7 +651,7 @@ static int report_step_collapse(struct sp_sim *sim, double h)
     snprintf(what, sizeof(what), "the step size fell to %.3g s, under the %.3g s that double "
              "precision resolves at this time: tolerance %g cannot be met here", h,
              1e-14 * fmax(1, fabs(sim->t1)), sim->tol);
-    return report_blowup(sim, &sim->s, e.total, what);
+    return unstable(sim, &sim->s, e.total, what);
 }
 
 /* Adaptive methods: accepted steps until t1 >= t_target, then dense output. */
@@ -765,7 +745,6 @@ double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end)
         return t_end / scene->integrator.dt;
     sp_sim_init(&sim, scene);
     const double t_probe = fmin(t_end, 100 / sp_params_omega_max(&sim.p));
-    sim.quiet = 1; /* a failure is the real run's to report */
     int err = t_probe > 0 ? sp_sim_advance(&sim, t_probe) : SP_E_INPUT;
     if (err)
         return 0;

@@ -17,6 +17,7 @@
 
 #include "springpend/batch.h"
 #include "springpend/common.h"
+#include "springpend/signals.h"
 #include "springpend/sim.h"
 #include "sweep.h"
 
@@ -306,7 +307,7 @@ static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, c
         sp_batch_advance(b, TAU_TIME(k0));
     sp_batch_reset_tangent(b);
     for (long k = 1; k <= K; k++) {
-        if (sp_interrupted())
+        if (sp_signal_seen())
             return SP_E_INTERRUPTED;
         sp_batch_advance(b, TAU_TIME(k0 + k));
         sp_batch_renormalise(b, growth);
@@ -357,7 +358,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
         double t0 = (double)step * dt, t1 = (double)(step + 1) * dt;
         if (t0 >= t_end)
             break;
-        if (step % 1024 == 0 && sp_interrupted()) {
+        if (step % 1024 == 0 && sp_signal_seen()) {
             ret = SP_E_INTERRUPTED;
             break;
         }
@@ -554,7 +555,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
     for (long c = 0; !ret && c < r.n_chunks; c++) {
         struct slot *s = &r.slots[c % r.window];
         pthread_mutex_lock(&r.lock);
-        while (!s->done && !r.stop && !sp_interrupted()) {
+        while (!s->done && !r.stop && !sp_signal_seen()) {
             struct timespec until;
             clock_gettime(CLOCK_REALTIME, &until);
             until.tv_nsec += 200000000;
@@ -564,7 +565,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
         }
         pthread_mutex_unlock(&r.lock);
         if (!s->done) {
-            ret = sp_interrupted() ? SP_E_INTERRUPTED : SP_E_NOMEM;
+            ret = sp_signal_seen() ? SP_E_INTERRUPTED : SP_E_NOMEM;
             break;
         }
         ret = s->ret;
@@ -595,7 +596,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
         pthread_join(tid[i], NULL);
     for (int i = 0; i < r.window; i++)
         free(r.slots[i].out.text.s);
-    if (!ret && sp_interrupted())
+    if (!ret && sp_signal_seen())
         ret = SP_E_INTERRUPTED;
     pthread_mutex_destroy(&r.lock);
     pthread_cond_destroy(&r.changed);

@@ -116,7 +116,6 @@ int main(int argc, char **argv)
         struct sp_sim sim;
         double T = draw(&sc);
         sp_sim_init(&sim, &sc);
-        sim.quiet = 1; /* no message: thousands, and each would probe for a dt */
         int ret = 0;
         for (int k = 0; k <= 20 && !ret; k++) {
             double t = T * k / 20;

@@ -21,26 +21,14 @@ enum sp_error {
 /* Prints "springpend: <message>\n" to stderr. */
 void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
-/* Makes SIGINT, SIGTERM and SIGHUP set a flag instead of killing the
- * process, so a long run can stop cleanly and remove its partial files.
- * main calls it once. */
-void sp_interrupt_install(void);
-
-/* The signal's number once one of those signals has arrived, else 0.
- * Loops that run for long check it and return SP_E_INTERRUPTED. */
-int sp_interrupted(void);
-
-/* Records sig as if the handler above had caught it; async-signal-safe, for
- * handlers installed elsewhere (the render pipeline's). */
-void sp_interrupt_note(int sig);
-
 /* Progress of a long integration, drawn on stderr when it is a terminal:
  * a command calls sp_progress_begin before integrating to t_goal
- * (simulated s; what names the pass), the simulation calls sp_progress_sim
- * as it goes (cheap: it redraws at most 4 times a second and only after
- * 2 s), and sp_progress_end clears the line. enable = 0 draws nothing. */
+ * (simulated s; what names the pass), hands sp_progress_sim to the
+ * simulation as its progress callback (sim.h; ctx unused; cheap: it redraws
+ * at most 4 times a second and only after 2 s), and sp_progress_end clears
+ * the line. enable = 0 draws nothing. */
 void sp_progress_begin(int enable, const char *what, double t_goal);
-void sp_progress_sim(double t);
+void sp_progress_sim(void *ctx, double t);
 void sp_progress_end(void);
 
 #endif

@@ -24,7 +24,8 @@ struct sp_pipeline_desc {
     int progress;        /* 1: draw a progress line on stderr */
     int verbose;         /* 1: print per-stage times on stderr at the end */
     int handle_signals;  /* 1: SIGINT/SIGTERM/SIGHUP finish the file so far (see
-                            sp_pipeline_run); 0 leaves signals alone */
+                            sp_pipeline_run, and signals.h's hold); 0 leaves
+                            them to main's handler */
     int supersample;     /* draw at this many times the size, average down; 0/1 = off */
     struct sp_state *state_out; /* not NULL: receives the bob's state in the
                                    last frame drawn */
@@ -33,13 +34,10 @@ struct sp_pipeline_desc {
 /* Runs the whole pipeline. On any failure nothing is left at desc->output.
  * With handle_signals, a first SIGINT, SIGTERM or SIGHUP finishes the frame in
  * hand, flushes the encoder and keeps a playable file of the frames so far
- * at the target, then returns SP_E_INTERRUPTED (see sp_pipeline_signal);
+ * at the target, then returns SP_E_INTERRUPTED (the signal: sp_signal_seen);
  * a second one removes the .part being written and exits the process at
  * once with status 128 + signal. PNGs carry provenance.h's text chunks. */
 int sp_pipeline_run(const struct sp_pipeline_desc *desc);
-
-/* The signal that interrupted the last run (SIGINT, SIGTERM, SIGHUP), 0 if none. */
-int sp_pipeline_signal(void);
 
 /* Frames [*first, *last) of shard i (0-based) of n equal consecutive
  * ranges of n_frames frames. SP_E_INPUT (logged) unless 0 <= i < n <=

@@ -1,4 +1,6 @@
-/* springpend: the physics. Pure: no I/O but the blow-up message, no GL.
+/* springpend: the physics. Pure: no I/O, no process-wide state, no GL; a
+ * caller hands it a cancel flag and a progress callback, and words its
+ * failures (sp_sim_failure; sim_report.h's sp_sim_explain).
  * Cartesian state relative to the pivot, y up (x = r sin(theta),
  * y = -r cos(theta)). Equations of motion from the Lagrangian
  *   T = m/2 (r'^2 + r^2 theta'^2),  U = k/2 (r - L0)^2 - m g r cos(theta):
@@ -12,6 +14,8 @@
  * to the air, which is at rest in the lab: v + v_p(t) y-hat. */
 #ifndef SPRINGPEND_SIM_H
 #define SPRINGPEND_SIM_H
+
+#include <signal.h>
 
 #include "springpend/scene.h"
 
@@ -62,6 +66,13 @@ struct sp_method_info {
 
 const struct sp_method_info *sp_method_info(enum sp_method m);
 
+/* Why sp_sim_advance returned SP_E_UNSTABLE, for the caller to word. */
+struct sp_sim_failure {
+    struct sp_state s; /* the last state checked */
+    double energy;     /* J: its total energy; NAN when not finite */
+    char what[256];    /* what failed: "the state is no longer finite", ... */
+};
+
 /* The integrator. Fixed-step methods walk the grid t_n = n dt and reach a
  * requested time between grid points with one extra short step from the
  * last grid state, so the grid (and a symplectic method's energy behaviour)
@@ -82,7 +93,15 @@ struct sp_sim {
                           * drift is judged against it */
     double drift_limit;  /* largest |total - energy0 - work| / energy_scale a
                           * run may show (SP_SIM_DRIFT_LIMIT unless set) */
-    int quiet;           /* 1: no blow-up message (probes that expect failure) */
+    const volatile sig_atomic_t *cancel; /* the caller's: not NULL, once *cancel
+                          * is nonzero sp_sim_advance stops with
+                          * SP_E_INTERRUPTED (sp_sim_init: NULL) */
+    void (*progress)(void *ctx, double t); /* the caller's: not NULL, called
+                          * with the simulated time, s, after each checked
+                          * step; must be cheap (sp_sim_init: NULL) */
+    void *progress_ctx;  /* progress's first argument */
+    struct sp_sim_failure failure; /* set when sp_sim_advance returns
+                          * SP_E_UNSTABLE */
     double work;         /* J: work done on the bob by damping and the moving
                           * pivot up to s.t; total - energy0 - work is drift */
     long steps;          /* steps taken so far (accepted, on adaptive) */
@@ -110,11 +129,12 @@ struct sp_sim {
 void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene);
 
 /* Integrates forward so that afterwards sim->s is the state at exactly
- * t_target (>= sim->s.t). Returns SP_E_UNSTABLE (after printing the time,
- * state, energy drift and a fix) if the state stops being finite or the
- * energy, less the work of damping and drive, drifts by more than
- * drift_limit of the motion's energy (energy_scale); sim->s is then the last
- * state checked. A state returned with 0 always passed that check. */
+ * t_target (>= sim->s.t). Returns SP_E_UNSTABLE, with sim->failure saying
+ * what and where (nothing is printed: sp_sim_explain words it), if the state
+ * stops being finite or the energy, less the work of damping and drive,
+ * drifts by more than drift_limit of the motion's energy (energy_scale);
+ * sim->s is then the last state checked. SP_E_INTERRUPTED once *sim->cancel
+ * is set. A state returned with 0 always passed the check. */
 int sp_sim_advance(struct sp_sim *sim, double t_target);
 
 /* The steps an integration of scene from 0 to t_end takes: t_end / dt for

@@ -1,0 +1,41 @@
+/* springpend: the process's signals. The one owner of SIGINT, SIGTERM and
+ * SIGHUP: main installs a handler that sets a flag; long loops poll
+ * sp_signal_seen, and hand sp_signal_flag to the simulation as its cancel
+ * flag (sim.h). While a render holds them (sp_signals_hold), a second
+ * signal removes the partial files (outfile.h) and exits at once. */
+#ifndef SPRINGPEND_SIGNALS_H
+#define SPRINGPEND_SIGNALS_H
+
+#include <signal.h>
+
+/* Makes SIGINT, SIGTERM and SIGHUP set the flag instead of killing the
+ * process, so a long run can stop cleanly and remove its partial files.
+ * main calls it once. */
+void sp_signals_install(void);
+
+/* The first signal's number once one has arrived, else 0. Loops that run
+ * for long check it and return SP_E_INTERRUPTED. */
+int sp_signal_seen(void);
+
+/* The flag itself (nonzero once a signal arrived), for struct sp_sim's
+ * cancel. */
+const volatile sig_atomic_t *sp_signal_flag(void);
+
+/* "SIGINT", "SIGTERM" or "SIGHUP". */
+const char *sp_signal_name(int sig);
+
+/* The handlers a hold replaced. */
+struct sp_signals_saved {
+    struct sigaction old[3];
+};
+
+/* Until sp_signals_release: the first SIGINT, SIGTERM or SIGHUP (counted
+ * from here) sets the flag; a second removes every .part now open
+ * (sp_outfile_remove_parts) and exits the process at once with status 128 +
+ * signal. For a render that finishes the file so far on the first. */
+void sp_signals_hold(struct sp_signals_saved *saved);
+
+/* Restores the handlers sp_signals_hold replaced. */
+void sp_signals_release(const struct sp_signals_saved *saved);
+
+#endif

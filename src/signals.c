@@ -1,0 +1,79 @@
+/* springpend: the process's signals (signals.h). */
+#include <signal.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "springpend/outfile.h"
+#include "springpend/signals.h"
+
+static const int caught[3] = {SIGINT, SIGTERM, SIGHUP};
+
+static volatile sig_atomic_t seen;  /* the first signal, 0 = none */
+static volatile sig_atomic_t count; /* signals since sp_signals_hold */
+
+static void on_signal(int sig)
+{
+    seen = sig;
+}
+
+/* While held: the first sets the flag, the second stops at once. Only
+ * async-signal-safe calls here. The .part table stays valid through the
+ * sink's close (outfile.c). */
+static void on_signal_held(int sig)
+{
+    if (count++ == 0) {
+        seen = sig;
+        return;
+    }
+    static const char msg[] = "springpend: second signal: stopped at once, "
+                              "partial file removed\n";
+    sp_outfile_remove_parts();
+    if (write(2, msg, sizeof(msg) - 1) < 0) {
+        /* nothing more can be done */
+    }
+    _exit(128 + sig);
+}
+
+/* Sets handler for the three signals, keeping the old ones in old (NULL:
+ * not kept). */
+static void set_handlers(void (*handler)(int), struct sigaction old[3])
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = handler;
+    sigemptyset(&sa.sa_mask);
+    for (int i = 0; i < 3; i++)
+        sigaction(caught[i], &sa, old ? &old[i] : NULL);
+}
+
+void sp_signals_install(void)
+{
+    set_handlers(on_signal, NULL);
+}
+
+int sp_signal_seen(void)
+{
+    return seen;
+}
+
+const volatile sig_atomic_t *sp_signal_flag(void)
+{
+    return &seen;
+}
+
+const char *sp_signal_name(int sig)
+{
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
+}
+
+void sp_signals_hold(struct sp_signals_saved *saved)
+{
+    count = 0;
+    set_handlers(on_signal_held, saved->old);
+}
+
+void sp_signals_release(const struct sp_signals_saved *saved)
+{
+    for (int i = 0; i < 3; i++)
+        sigaction(caught[i], &saved->old[i], NULL);
+}

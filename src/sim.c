@@ -384,11 +384,18 @@ void sp_state_polar(const struct sp_state *s, struct sp_polar *out)
     out->theta_dot = r > 0 ? (s->x * s->vy - s->y * s->vx) / (r * r) : 0;
 }
 
+/* The equilibrium length l = L0 + m g / k, m: the one place it is
+ * computed (sp_params_physics hands it out). */
+static inline double equilibrium_length(const struct sp_params *p)
+{
+    return p->L0 + p->g / p->k_over_m;
+}
+
 void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
                      struct sp_energy *out)
 {
     struct sp_polar q;
-    double ell = p->L0 + p->g / p->k_over_m;
+    double ell = equilibrium_length(p);
     sp_state_polar(s, &q);
     out->kinetic = 0.5 * p->mass * (s->vx * s->vx + s->vy * s->vy);
     out->spring = 0.5 * p->stiffness * (q.r - p->L0) * (q.r - p->L0);
@@ -408,7 +415,7 @@ double sp_pivot_y(const struct sp_params *p, double t)
 
 void sp_params_physics(const struct sp_params *p, struct sp_physics *out)
 {
-    out->ell = p->L0 + p->g / p->k_over_m;
+    out->ell = equilibrium_length(p);
     out->omega_s = sqrt(p->k_over_m);
     out->omega_p = sqrt(p->g / out->ell);
     out->ratio = out->omega_s / out->omega_p;
@@ -416,10 +423,11 @@ void sp_params_physics(const struct sp_params *p, struct sp_physics *out)
 
 double sp_params_omega_max(const struct sp_params *p)
 {
-    double ell = p->L0 + p->g / p->k_over_m;
-    double w = sqrt(p->k_over_m);
-    if (sqrt(p->g / ell) > w)
-        w = sqrt(p->g / ell);
+    struct sp_physics ph;
+    sp_params_physics(p, &ph);
+    double w = ph.omega_s;
+    if (ph.omega_p > w)
+        w = ph.omega_p;
     if (p->b_over_m > w)
         w = p->b_over_m;
     return w;
@@ -507,7 +515,7 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
     /* Drift is judged against the energy of the motion, what can move: the
      * energy above the least the scene can hold (hanging still at ell), not
      * offsets such as k L0^2 / 2 that cancel out of every difference. */
-    double ell = sim->p.L0 + sim->p.g / sim->p.k_over_m;
+    double ell = equilibrium_length(&sim->p);
     const double mg = sim->p.mass * sim->p.g;
     sim->energy_min = -mg * sim->p.L0 - 0.5 * mg * mg / sim->p.stiffness;
     sim->energy_scale = motion_energy(sim, e.total, fabs(e.kinetic) + fabs(e.spring) +

@@ -9,7 +9,7 @@
 
 #include "springpend/advice.h"
 #include "springpend/common.h"
-#include "springpend/signals.h"
+#include "signals.h"
 
 /* The longest a probe or a check may run, in evaluations and in steps. */
 #define PROBE_EVALS 400000

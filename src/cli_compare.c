@@ -27,8 +27,8 @@
 #include "springpend/outfile.h"
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
-#include "springpend/signals.h"
 #include "springpend/video_read.h"
+#include "signals.h"
 
 static const char compare_usage[] =
     "usage: springpend compare EXPECTED ACTUAL [options]\n"

@@ -12,9 +12,9 @@
 #include "springpend/common.h"
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
-#include "springpend/signals.h"
 #include "springpend/sim.h"
-#include "springpend/sim_report.h"
+#include "signals.h"
+#include "sim_report.h"
 
 /* The most rows one run writes, and the size of a typical row, bytes. */
 #define MAX_ROWS 1e7

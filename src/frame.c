@@ -5,8 +5,8 @@
 
 #include "springpend/common.h"
 #include "springpend/frame.h"
-#include "springpend/signals.h"
-#include "springpend/sim_report.h"
+#include "signals.h"
+#include "sim_report.h"
 
 int sp_trail_make(struct sp_trail *tr, int capacity)
 {

@@ -8,7 +8,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
-#include "springpend/signals.h"
+#include "signals.h"
 
 static const char usage[] =
     "springpend " SP_VERSION " - renders the spring (elastic) pendulum, headless\n"

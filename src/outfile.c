@@ -13,7 +13,7 @@
 
 #include "springpend/common.h"
 #include "springpend/outfile.h"
-#include "springpend/signals.h"
+#include "signals.h"
 
 /* ---- the .part table a signal handler reads ---- */
 

@@ -19,9 +19,9 @@
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
 #include "springpend/render.h"
-#include "springpend/signals.h"
-#include "springpend/sim_report.h"
 #include "springpend/sink.h"
+#include "signals.h"
+#include "sim_report.h"
 
 #define QUEUE_SLOTS 4 /* frames in flight between render and encoder */
 

@@ -17,8 +17,8 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
-#include "springpend/signals.h"
 #include "ini_lines.h"
+#include "signals.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
 /* Frame times are indexed by int; what a command makes of them has its own

@@ -4,7 +4,7 @@
 #include <unistd.h>
 
 #include "springpend/outfile.h"
-#include "springpend/signals.h"
+#include "signals.h"
 
 static const int caught[3] = {SIGINT, SIGTERM, SIGHUP};
 

@@ -4,7 +4,7 @@
 
 #include "springpend/advice.h"
 #include "springpend/common.h"
-#include "springpend/sim_report.h"
+#include "sim_report.h"
 
 void sp_sim_explain(const struct sp_sim *sim)
 {

@@ -17,8 +17,8 @@
 
 #include "springpend/batch.h"
 #include "springpend/common.h"
-#include "springpend/signals.h"
 #include "springpend/sim.h"
+#include "signals.h"
 #include "sweep.h"
 
 #define CHUNK 32  /* points per batch */

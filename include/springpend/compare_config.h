@@ -17,6 +17,8 @@
 #ifndef SPRINGPEND_COMPARE_CONFIG_H
 #define SPRINGPEND_COMPARE_CONFIG_H
 
+#include <stddef.h>
+
 #include "springpend/image_compare.h"
 
 #define SP_COMPARE_CONFIG_NAME "compare.ini"

@@ -1,4 +1,4 @@
-/* springpend: the words for a simulation that failed. The sim (sim.h) only
+/* springpend (internal): the words for a simulation that failed. The sim (sim.h) only
  * records what went wrong; the command that ran it says so here. */
 #ifndef SPRINGPEND_SIM_REPORT_H
 #define SPRINGPEND_SIM_REPORT_H

@@ -1,4 +1,4 @@
-/* springpend: the process's signals. The one owner of SIGINT, SIGTERM and
+/* springpend (internal): the process's signals. The one owner of SIGINT, SIGTERM and
  * SIGHUP: main installs a handler that sets a flag; long loops poll
  * sp_signal_seen, and hand sp_signal_flag to the simulation as its cancel
  * flag (sim.h). While a render holds them (sp_signals_hold), a second

@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "sink_impl.h"
 #include "springpend/common.h"
+#include "springpend/ensemble.h"
 #include "springpend/frame.h"
 #include "springpend/sim.h"
 
@@ -39,6 +40,9 @@ static const char data_usage[] =
     "With --poincare: one row per crossing of the Poincare section (theta = 0\n"
     "going forward, theta_dot > 0) over video.duration, located on a quintic\n"
     "Hermite interpolant as the Poincare panel does: t,r,r_dot,theta_dot.\n"
+    "A scene with [ensemble] count = N > 1 writes its N members instead, N rows\n"
+    "per time: t,member,KEY,x,y,vx,vy (KEY: ensemble.key's value, file units,\n"
+    "17 digits; each member is the single run with --set KEY=that value).\n"
     "At most 1e7 rows (about 2.6 GB) are written; the video's frame limit does not\n"
     "apply. Default output: out/<scene>.csv; '-o -' writes to stdout. A run that\n"
     "becomes unstable stops with exit status 3 and leaves no file (stdout keeps the\n"
@@ -102,6 +106,8 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
     long n;
     if (poincare)
         return write_crossings(fp, sc);
+    if (sc->ensemble.count > 1)
+        return sp_ensemble_write_csv(fp, sc, every);
     if (every > 0)
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else

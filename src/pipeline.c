@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "springpend/common.h"
+#include "springpend/ensemble.h"
 #include "springpend/figure.h"
 #include "springpend/frame.h"
 #include "springpend/pipeline.h"
@@ -223,6 +224,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_sink *sink = NULL;
     struct sp_trail trail = {0};
     struct sp_history hist = {0};
+    struct sp_ensemble *ens = NULL;
     struct sp_view_extent extent;
     struct sp_sim sim;
     struct sp_provenance prov;
@@ -260,6 +262,8 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         t_end = fmax(desc->still_at, t_end);
 
     ret = sp_view_extent_measure(sc, t_end, &extent);
+    if (!ret && sc->ensemble.count > 1) /* widens the extent by every member's motion */
+        ret = sp_ensemble_make(&ens, sc, t_end, &extent);
     if (ret)
         goto done;
     /* The trail is sampled between frames finely enough that its chords stay
@@ -304,11 +308,15 @@ setup_done:
         /* The trail holds the video's frame positions before still_at. */
         for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
             ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
+            if (!ret && ens)
+                ret = sp_ensemble_advance(ens, sim.s.t);
             if (ret)
                 goto done;
         }
         if (sim.s.t < desc->still_at) {
             ret = sp_trail_follow(&trail, &hist, &sim, desc->still_at, substeps);
+            if (!ret && ens)
+                ret = sp_ensemble_advance(ens, sim.s.t);
             if (ret)
                 goto done;
         }
@@ -316,14 +324,15 @@ setup_done:
             ret = sp_figure_write(&(struct sp_figure_desc){
                 .width = w, .height = h, .extent = extent, .scene = sc, .path = desc->output},
                 &(struct sp_frame){.state = sim.s, .params = &sim.p, .trail = &trail,
-                                   .history = &hist});
+                                   .history = &hist, .ensemble = ens});
             if (!ret && desc->state_out)
                 *desc->state_out = sim.s;
             goto done;
         }
         sp_provenance_set_time(&prov, sim.s.t);
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                   .trail = &trail, .history = &hist}, &img);
+                                                   .trail = &trail, .history = &hist,
+                                                   .ensemble = ens}, &img);
         if (!ret)
             ret = sp_sink_write(sink, &img);
         if (ret)
@@ -351,6 +360,8 @@ setup_done:
         /* advance sim to t_k -> update frame model -> render -> sink */
         double ts = now_s();
         ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
+        if (!ret && ens)
+            ret = sp_ensemble_advance(ens, sim.s.t);
         if (ret == SP_E_INTERRUPTED && signal_seen)
             break; /* keep the frames so far, below */
         if (ret)
@@ -365,7 +376,8 @@ setup_done:
         ret = sp_render_target(r, slot);
         if (!ret)
             ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                       .trail = &trail, .history = &hist}, &img);
+                                                       .trail = &trail, .history = &hist,
+                                                   .ensemble = ens}, &img);
         if (ret)
             goto done;
         tm.render += now_s() - ts;
@@ -434,5 +446,6 @@ done:
     sp_render_destroy(&r);
     sp_trail_destroy(&trail);
     sp_history_destroy(&hist);
+    sp_ensemble_destroy(&ens);
     return ret;
 }

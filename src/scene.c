@@ -88,7 +88,7 @@ static const struct key_info keys[] = {
      "pendulums (0 or 1 = no ensemble)"},
     {"ensemble", "key", KEY_TEXT, F(ensemble.key), 0, 0, 0, 0,
      "a numeric key of [pendulum], [initial] or [pivot]; default initial.angle"},
-    {"ensemble", "spread", KEY_REAL, F(ensemble.spread), 1e-6, 0, 1e6, 1, "(the key's units, total range)"},
+    {"ensemble", "spread", KEY_REAL, F(ensemble.spread), 1e-6, 0, 1e12, 1, "(the key's units, total range)"},
     {"ensemble", "trails", KEY_BOOL, F(ensemble.trails), 0, 0, 0, 0, "true, false"},
 };
 #undef F

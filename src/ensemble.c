@@ -196,8 +196,8 @@ int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, dou
     if (ret)
         goto fail;
     if (scene->ensemble.trails) {
-        /* at most about 6000 trail segments per frame in all */
-        e->trail_cap = (int)fmin(SP_ENSEMBLE_TRAIL, fmax(8, 6000.0 / e->n));
+        /* at most about 3000 trail segments per frame in all */
+        e->trail_cap = (int)fmin(SP_ENSEMBLE_TRAIL, fmax(8, 3000.0 / e->n));
         e->trail_xy = calloc((size_t)e->n * e->trail_cap * 2, sizeof(*e->trail_xy));
         if (!e->trail_xy) {
             sp_log_error("out of memory for %d trails", e->n);

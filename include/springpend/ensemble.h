@@ -14,8 +14,8 @@
 #include "springpend/frame.h"
 
 /* Trail points each member keeps when [ensemble] trails = true: at most
- * this many frames back, and at most about 6000 / N, so that N trails cost
- * no more than about 6000 segments per frame. */
+ * this many frames back, and at most about 3000 / N, so that N trails cost
+ * no more than about 3000 segments per frame. */
 #define SP_ENSEMBLE_TRAIL 90
 
 struct sp_ensemble {

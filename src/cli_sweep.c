@@ -12,8 +12,8 @@
 
 #include "av_module.h"
 #include "cli.h"
-#include "sink_impl.h"
 #include "springpend/common.h"
+#include "springpend/outfile.h"
 #include "sweep.h"
 
 static const char sweep_usage[] =
@@ -252,10 +252,11 @@ static void show_progress(void *user, long done, long total)
         fputc('\n', stderr);
 }
 
-/* The rows' file: --csv's .part, or an anonymous temporary file. */
-static int open_rows(const char *csv, char **part, FILE **fp)
+/* The rows' file: --csv's .part (outfile.h; read back for the figure, so a
+ * regular file), or an anonymous temporary file (rows stays closed). */
+static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp)
 {
-    *part = NULL;
+    *rows = (struct sp_outfile){.fd = -1, .slot = -1};
     if (!csv) {
         *fp = tmpfile();
         if (!*fp) {
@@ -265,16 +266,15 @@ static int open_rows(const char *csv, char **part, FILE **fp)
         }
         return 0;
     }
-    int ret = sp_sink_make_parents(csv);
+    int ret = sp_dirs_make(csv, NULL);
     if (!ret)
-        ret = sp_sink_part_path(csv, part);
+        ret = sp_outfile_open(rows, csv, 0);
     if (ret)
         return ret;
-    *fp = fopen(*part, "w+");
+    *fp = fopen(rows->path, "w+"); /* ours: made by sp_outfile_open */
     if (!*fp) {
-        sp_log_error("cannot create %s: %s", *part, strerror(errno));
-        free(*part);
-        *part = NULL;
+        sp_log_error("cannot create %s: %s", rows->path, strerror(errno));
+        sp_outfile_discard(rows);
         return SP_E_IO;
     }
     return 0;
@@ -287,29 +287,29 @@ static int draw(FILE *rows, const char *rows_name, const char *figure)
     *(void **)&plot = sp_module_symbol("springpend-plot.so", "sweep figures", "sp_sweep_plot");
     if (!plot)
         return SP_E_IO;
-    int ret = sp_sink_make_parents(figure);
+    int ret = sp_outfile_is_stream(figure) ? 0 : sp_dirs_make(figure, NULL);
     return ret ? ret : plot(rows, rows_name, figure);
 }
 
 /* Flushes the rows, draws, renames the CSV into place; on failure removes
  * the CSV's .part. Closes fp. */
-static int finish(FILE *fp, char *part, const struct sweep_opts *o, int ret)
+static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o, int ret)
 {
+    const char *name = rows->target ? rows->path : "the rows";
     if (!ret && fflush(fp) != 0) {
-        sp_log_error("cannot write %s: %s", part ? part : "the rows", strerror(errno));
+        sp_log_error("cannot write %s: %s", name, strerror(errno));
         ret = SP_E_IO;
     }
     if (!ret && o->output)
         ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output);
     if (fclose(fp) != 0 && !ret) {
-        sp_log_error("cannot write %s: %s", part, strerror(errno));
+        sp_log_error("cannot write %s: %s", name, strerror(errno));
         ret = SP_E_IO;
     }
-    if (!ret && part)
-        ret = sp_sink_commit(part, o->csv);
-    if (ret && part)
-        sp_sink_discard(part);
-    free(part);
+    if (!ret)
+        ret = sp_outfile_commit(rows); /* nothing to do without --csv */
+    if (ret)
+        sp_outfile_discard(rows);
     return ret;
 }
 
@@ -374,10 +374,10 @@ static int merge(const struct sweep_opts *o)
         }
         parts[i - 1] = fp;
     }
-    char *part = NULL;
+    struct sp_outfile rows = {.fd = -1, .slot = -1};
     FILE *out = NULL;
     if (!ret)
-        ret = open_rows(o->csv, &part, &out);
+        ret = open_rows(o->csv, &rows, &out);
     if (!ret) {
         fprintf(out, "%s\n%s\n", header, columns);
         static char buf[1 << 16];
@@ -386,7 +386,7 @@ static int merge(const struct sweep_opts *o)
             while ((got = fread(buf, 1, sizeof(buf), parts[i])) > 0)
                 fwrite(buf, 1, got, out);
         }
-        ret = finish(out, part, o, 0);
+        ret = finish(out, &rows, o, 0);
     }
     for (int i = 0; i < o->n_parts; i++)
         if (parts[i])
@@ -427,9 +427,9 @@ int sp_cmd_sweep(int argc, char **argv)
         first = total * (si - 1) / sn;
         last = total * si / sn;
     }
-    char *part;
+    struct sp_outfile rows;
     FILE *fp;
-    if ((ret = open_rows(o.csv, &part, &fp)))
+    if ((ret = open_rows(o.csv, &rows, &fp)))
         return ret;
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
@@ -445,7 +445,7 @@ int sp_cmd_sweep(int argc, char **argv)
     if (ret == SP_E_INTERRUPTED)
         sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
                      "say which part)");
-    ret = finish(fp, part, &o, ret);
+    ret = finish(fp, &rows, &o, ret);
     if (ret)
         return ret;
     if (blown)

@@ -17,6 +17,7 @@
 #include "springpend/ensemble.h"
 #include "springpend/figure.h"
 #include "springpend/frame.h"
+#include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
 #include "springpend/render.h"
@@ -35,9 +36,6 @@ static double now_s(void)
 
 static volatile sig_atomic_t signal_seen;  /* the first signal, 0 = none */
 static volatile sig_atomic_t signal_count; /* signals received this run */
-/* The .part files being written, for the second signal to remove: the
- * sink's own NULL-terminated array (see sp_sink_part_files); NULL = none. */
-static const char *const *volatile part_files;
 
 static void on_signal(int sig)
 {
@@ -46,13 +44,11 @@ static void on_signal(int sig)
         sp_interrupt_note(sig); /* stops a long sp_sim_advance too */
         return;
     }
-    /* Second signal: stop at once. Only async-signal-safe calls here. */
-    const char *const *parts = part_files;
+    /* Second signal: stop at once. Only async-signal-safe calls here. The
+     * .part table stays valid through the sink's close (outfile.c). */
     static const char msg[] = "springpend: second signal: stopped at once, "
                               "partial file removed\n";
-    for (int i = 0; parts && parts[i]; i++)
-        if (parts[i][0])
-            unlink(parts[i]);
+    sp_outfile_remove_parts();
     if (write(2, msg, sizeof(msg) - 1) < 0) {
         /* nothing more can be done */
     }
@@ -244,7 +240,6 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     double t_start = now_s(), t0;
 
     signal_seen = signal_count = 0;
-    part_files = NULL;
     if (first < 0 || last > n || first >= last) {
         sp_log_error("frames %d:%d: the video has frames 0:%d; give A:B with "
                      "0 <= A < B <= %d", first, last, n, n);
@@ -261,7 +256,9 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (desc->still)
         t_end = fmax(desc->still_at, t_end);
 
+    sp_progress_begin(desc->progress, "camera pre-pass", t_end);
     ret = sp_view_extent_measure(sc, t_end, &extent);
+    sp_progress_end();
     if (!ret && sc->ensemble.count > 1) /* widens the extent by every member's motion */
         ret = sp_ensemble_make(&ens, sc, t_end, &extent);
     if (ret)
@@ -300,12 +297,12 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         .text = prov.text, .n_text = SP_PROVENANCE_N_TEXT});
     if (ret)
         goto done;
-    part_files = sp_sink_part_files(sink);
 setup_done:
     if (ret)
         goto done;
     if (desc->still) {
         /* The trail holds the video's frame positions before still_at. */
+        sp_progress_begin(desc->progress, "integrating", desc->still_at);
         for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
             ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
             if (!ret && ens)
@@ -329,6 +326,7 @@ setup_done:
                 *desc->state_out = sim.s;
             goto done;
         }
+        sp_progress_end();
         sp_provenance_set_time(&prov, sim.s.t);
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
                                                    .trail = &trail, .history = &hist,
@@ -406,9 +404,6 @@ finish:
         ret = SP_E_INTERRUPTED; /* said at done */
         goto done; /* aborts the sink */
     }
-    /* From here a second signal exits without unlinking: close frees the
-     * part list the handler would read. */
-    part_files = NULL;
     ret = sp_sink_close(&sink);
     if (!ret && desc->state_out)
         *desc->state_out = sim.s;
@@ -423,6 +418,7 @@ finish:
     if (desc->verbose && !desc->still)
         print_times(&tm, &q, emitted);
 done:
+    sp_progress_end();
     if (ret == SP_E_INTERRUPTED && !emitted) {
         int sig = signal_seen ? signal_seen : sp_interrupted();
         sp_log_error("interrupted by %s before the first frame: nothing written",
@@ -435,7 +431,6 @@ done:
         pthread_mutex_unlock(&q.lock);
         pthread_join(encoder, NULL);
     }
-    part_files = NULL;
     sp_sink_abort(&sink);
     if (r)
         sp_render_target(r, NULL); /* before the slots go */

@@ -3,6 +3,8 @@
  * FILE:LINE messages. Pure: nothing but stderr is touched. */
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
 #include <stdarg.h>
 #include <ini.h>
 #include <math.h>
@@ -10,6 +12,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
@@ -19,6 +23,8 @@
 /* Frame times are indexed by int; what a command makes of them has its own
  * limit (render: video frames, data: rows). */
 #define SP_MAX_FRAMES 1000000000
+#define SP_MAX_RATE2 1e24  /* k/m and b/m, 1/s^2 and 1/s: omega up to 1e12 rad/s */
+#define SP_MAX_STRETCH 1e9 /* m g / k, m: beyond it nothing is on screen */
 #define SP_ENSEMBLE_MAX 10000 /* [ensemble] count */
 
 enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
@@ -583,7 +589,7 @@ static int check_text(struct parse_ctx *c, const char *text)
             return 0;
         }
         blank &= *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n';
-        if (*p == '\n')
+        if (*p == '\n' || (*p == '\r' && p[1] != '\n'))
             line++, line_start = p + 1;
         p += n;
     }
@@ -608,8 +614,21 @@ static void validate_whole(struct parse_ctx *c)
         report(c, 0, "video.duration * video.fps / video.speed = %g frames; at least "
                "1 frame is needed (raise video.duration or lower video.speed)", frames);
     else if (frames > SP_MAX_FRAMES)
-        report(c, 0, "video.duration * video.fps / video.speed = %.0f frame times; at "
+        report(c, 0, "video.duration * video.fps / video.speed = %.3g frame times; at "
                "most %d are allowed", frames, SP_MAX_FRAMES);
+    /* Quantities the simulation derives must be finite: k/m and b/m set
+     * the time scales, m g / k the static stretch. Printed by their inputs,
+     * which are finite. */
+    const double k = s->pendulum.stiffness, m = s->pendulum.mass, b = s->pendulum.damping;
+    const double g = s->pendulum.gravity;
+    if (!(k / m <= SP_MAX_RATE2) || !(b / m <= SP_MAX_RATE2))
+        report(c, 0, "pendulum.mass = %g kg is too small for stiffness = %g N/m and damping "
+               "= %g N*s/m: k/m and b/m must be at most %g (mass >= %g kg)", m, k, b,
+               SP_MAX_RATE2, fmax(k, b) / SP_MAX_RATE2);
+    else if (!(m * g / k <= SP_MAX_STRETCH))
+        report(c, 0, "pendulum.stiffness = %g N/m is too weak for mass = %g kg and gravity = "
+               "%g m/s^2: the static stretch m g / k must be at most %g m (stiffness >= %g "
+               "N/m)", k, m, g, SP_MAX_STRETCH, m * g / SP_MAX_STRETCH);
     if (s->integrator.method == SP_METHOD_RKN1210 &&
         (s->pendulum.damping > 0 || (s->pivot.amplitude > 0 && s->pivot.frequency > 0)))
         report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "
@@ -666,6 +685,8 @@ static void check_ensemble(struct parse_ctx *c)
 int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
                    const char *const *overrides, int n_overrides)
 {
+    if (!strncmp(text, "\xef\xbb\xbf", 3))
+        text += 3; /* a UTF-8 byte order mark, as some editors write */
     struct parse_ctx c = {.scene = s, .origin = origin, .cursor = text};
     char name[sizeof(s->name)];
     snprintf(name, sizeof(name), "%s", s->name);
@@ -689,40 +710,99 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     return c.errors ? SP_E_INPUT : 0;
 }
 
-int sp_scene_load(struct sp_scene *s, const char *path,
-                  const char *const *overrides, int n_overrides)
+/* How long a FIFO scene waits for its writer before giving up. */
+#define SCENE_FIFO_WAIT_MS 5000
+
+/* Reads the whole scene at path into *text (NUL-terminated, caller frees).
+ * A regular file is read by its size; a pipe, FIFO or device as a stream
+ * (`<(cat x)`, `/dev/stdin`), at most 1 MiB, after waiting at most
+ * SCENE_FIFO_WAIT_MS for a writer; a folder is refused. Logs; SP_E_INPUT. */
+static int read_scene(const char *path, char **text, size_t *size)
 {
-    FILE *fp = fopen(path, "rb");
-    char *text = NULL;
+    const size_t max = 1u << 20;
+    struct stat st;
     int ret = SP_E_INPUT;
-    if (!fp) {
+    *text = NULL;
+    *size = 0;
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer forever. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) {
         fprintf(stderr, "%s: cannot open scene: %s\n", path, strerror(errno));
         return SP_E_INPUT;
     }
-    if (fseek(fp, 0, SEEK_END) || ftell(fp) < 0) {
-        fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
+    if (fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "%s: %s; give a scene file (.ini)\n", path,
+                S_ISDIR(st.st_mode) ? "is a folder" : strerror(errno));
         goto done;
     }
-    long size = ftell(fp);
-    if (size > (1L << 20)) {
-        fprintf(stderr, "%s: scene file is %ld bytes; at most 1 MiB is allowed\n", path, size);
+    if (S_ISREG(st.st_mode) && (size_t)st.st_size > max) {
+        fprintf(stderr, "%s: scene file is %lld bytes; at most 1 MiB is allowed\n", path,
+                (long long)st.st_size);
         goto done;
     }
-    rewind(fp);
-    text = malloc((size_t)size + 1);
-    if (!text) {
-        ret = SP_E_NOMEM;
-        goto done;
+    if (S_ISFIFO(st.st_mode)) {
+        struct pollfd pfd = {.fd = fd, .events = POLLIN};
+        int n;
+        while ((n = poll(&pfd, 1, SCENE_FIFO_WAIT_MS)) < 0 && errno == EINTR && !sp_interrupted())
+            ;
+        if (n == 0) {
+            fprintf(stderr, "%s: a FIFO with nothing written to it after %d s; start its "
+                    "writer first, or give a scene file\n", path, SCENE_FIFO_WAIT_MS / 1000);
+            goto done;
+        }
     }
-    if (fread(text, 1, (size_t)size, fp) != (size_t)size) {
-        fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
-        goto done;
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    size_t cap = S_ISREG(st.st_mode) ? (size_t)st.st_size + 1 : 4096;
+    for (;;) {
+        if (*size + 1 >= cap) {
+            cap = cap * 2 > max + 2 ? max + 2 : cap * 2;
+            if (*size + 1 >= cap) {
+                fprintf(stderr, "%s: the scene is more than 1 MiB; at most 1 MiB is "
+                        "allowed\n", path);
+                goto done;
+            }
+        }
+        char *grown = realloc(*text, cap);
+        if (!grown) {
+            ret = SP_E_NOMEM;
+            goto done;
+        }
+        *text = grown;
+        ssize_t got = read(fd, *text + *size, cap - 1 - *size);
+        if (got < 0 && errno == EINTR && !sp_interrupted())
+            continue;
+        if (got < 0) {
+            fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
+            goto done;
+        }
+        if (got == 0)
+            break;
+        *size += (size_t)got;
     }
-    text[size] = 0;
-    if (memchr(text, 0, (size_t)size)) {
+    (*text)[*size] = 0;
+    ret = 0;
+done:
+    close(fd);
+    if (ret) {
+        free(*text);
+        *text = NULL;
+    }
+    return ret;
+}
+
+int sp_scene_load(struct sp_scene *s, const char *path,
+                  const char *const *overrides, int n_overrides)
+{
+    char *text;
+    size_t size;
+    int ret = read_scene(path, &text, &size);
+    if (ret)
+        return ret;
+    if (memchr(text, 0, size)) {
         fprintf(stderr, "%s: contains NUL bytes; a scene is a text file of "
                 "'key = value' lines\n", path);
-        goto done;
+        free(text);
+        return SP_E_INPUT;
     }
     /* The scene's name is the file's stem. */
     const char *base = strrchr(path, '/');
@@ -731,9 +811,7 @@ int sp_scene_load(struct sp_scene *s, const char *path,
     if (!s->name[0])
         snprintf(s->name, sizeof(s->name), "scene");
     ret = sp_scene_parse(s, text, path, overrides, n_overrides);
-done:
     free(text);
-    fclose(fp);
     return ret;
 }
 

@@ -16,8 +16,8 @@
 #include <string.h>
 
 #include "panels.h"
-#include "sink_impl.h"
 #include "springpend/common.h"
+#include "springpend/outfile.h"
 #include "sweep.h"
 
 #define W 900.0  /* figure size, pt (PNG: 2 px per pt) */
@@ -408,15 +408,17 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     struct sp_sweep_desc d;
     struct sp_scene look;
     struct sp_palette pal;
-    char *part = NULL;
+    struct sp_outfile out;
     int ret = to_rows(csv, csv_name, &d);
     if (ret)
         return ret;
     sp_scene_defaults(&look);
     look.view.theme = d.theme;
     sp_palette_get(&look, &pal);
-    if ((ret = sp_sink_part_path(path, &part)))
+    /* cairo writes front to back: a device or stdout is fine */
+    if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;
+    const char *part = out.path;
     const char *ext = strrchr(path, '.');
     cairo_surface_t *s;
     if (!strcmp(ext, ".svg"))
@@ -452,9 +454,8 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
         ret = SP_E_IO;
     }
     if (!ret)
-        ret = sp_sink_commit(part, path);
+        ret = sp_outfile_commit(&out); /* whole or not at all */
     if (ret)
-        sp_sink_discard(part);
-    free(part);
+        sp_outfile_discard(&out);
     return ret;
 }

@@ -41,6 +41,10 @@ static void check_accepted(const struct sp_scene *s)
         CHECK(isfinite(reals[i]));
     CHECK(s->pendulum.natural_length > 0 && s->pendulum.stiffness > 0 && s->pendulum.mass > 0);
     CHECK(s->pendulum.gravity >= 0 && s->pendulum.damping >= 0 && s->initial.length > 0);
+    /* what the simulation derives stays finite (k/m, b/m, the static stretch) */
+    CHECK(isfinite(s->pendulum.stiffness / s->pendulum.mass) &&
+          isfinite(s->pendulum.damping / s->pendulum.mass) &&
+          isfinite(s->pendulum.mass * s->pendulum.gravity / s->pendulum.stiffness));
     CHECK(s->integrator.dt > 0 && s->integrator.dt <= 1);
     CHECK(s->video.width >= 16 && s->video.height >= 16 &&
           (long)s->video.width * s->video.height <= 7680L * 4320L);

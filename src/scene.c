@@ -93,7 +93,7 @@ static const struct key_info keys[] = {
     {"ensemble", "count", KEY_INT, F(ensemble.count), 0, 0, SP_ENSEMBLE_MAX, 0,
      "pendulums (0 or 1 = no ensemble)"},
     {"ensemble", "key", KEY_TEXT, F(ensemble.key), 0, 0, 0, 0,
-     "a numeric key of [pendulum], [initial] or [pivot]; default initial.angle"},
+     "a numeric key of [pendulum], [initial] or [pivot]"},
     {"ensemble", "spread", KEY_REAL, F(ensemble.spread), 1e-6, 0, 1e12, 1, "(the key's units, total range)"},
     {"ensemble", "trails", KEY_BOOL, F(ensemble.trails), 0, 0, 0, 0, "true, false"},
 };
@@ -276,7 +276,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
                     const char *value, char *p)
 {
     static const unsigned panel_bits[] = {
-        0, SP_PANEL_SPREAD - 1, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
+        0, SP_PANEL_ALL, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
         SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE,
         SP_PANEL_MODES, SP_PANEL_SPREAD};
     unsigned bits = 0;
@@ -866,7 +866,9 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
 
 void sp_scene_print_keys(void)
 {
+    static struct sp_scene def; /* big: not on the stack */
     const char *section = "";
+    sp_scene_defaults(&def);
     for (int i = 0; i < N_KEYS; i++) {
         const struct key_info *k = &keys[i];
         char range[160];
@@ -874,6 +876,8 @@ void sp_scene_print_keys(void)
             printf("  [%s]\n", section = k->section);
         if (k->kind == KEY_TRAIL)
             snprintf(range, sizeof(range), "frames from 0 to 1000000, all, or a duration (5s)");
+        else if (k->kind == KEY_TEXT && strcmp(k->unit, "text"))
+            snprintf(range, sizeof(range), "%s", k->unit);
         else if (k->kind == KEY_TEXT)
             snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
         else if (k->kind >= KEY_BOOL)
@@ -885,7 +889,8 @@ void sp_scene_print_keys(void)
         if (k->kind == KEY_METHOD)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
         else if (k->kind == KEY_TEXT)
-            printf("    %-15s default %-8s %s\n", k->name, "\"\"", range);
+            printf("    %-15s default %-8s %s\n", k->name,
+                   *((const char *)&def + k->offset) ? (const char *)&def + k->offset : "\"\"", range);
         else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             printf("    %-15s default %-8.*s %s\n", k->name,
                    k->kind == KEY_BOOL ? 5 : (int)strcspn(k->unit, ","),

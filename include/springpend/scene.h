@@ -29,6 +29,7 @@ enum sp_panel {
     SP_PANEL_SPREAD = 1 << 8,      /* [ensemble]: log10 of the members' spread against t
                                       (not part of "all": it needs an ensemble) */
     SP_PANEL_COUNT = 9,
+    SP_PANEL_ALL = SP_PANEL_SPREAD - 1, /* "all": every panel but spread */
 };
 enum sp_theme { SP_THEME_DARK = 0, SP_THEME_LIGHT = 1 };
 enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1 };

@@ -153,6 +153,10 @@ for name, (text, line, word) in bad.items():
        and not os.path.exists(os.path.join(work, "bad.png")),
        f"{name}: exit 2 with '{name}:{line}: ... {word} ...'")
 
+r = run("data", chaotic, "--set", "ensemble.count=10000", "--set", "video.duration=1000", "-o", "big.csv")
+ok(r.returncode == 2 and "ensemble members" in r.stderr and not os.path.exists(os.path.join(work, "big.csv")),
+   "data: members times rows past 1e7 refused up front (exit 2, no file)")
+
 # ---- a member that blows up stops the run: exit 3, no file ----
 r = run("still", os.path.join(scenes, "default.ini"), "--set", "pendulum.stiffness=6e6",
         "--set", "pendulum.mass=1", "--set", "initial.length=0.5", "--set", "ensemble.count=5",

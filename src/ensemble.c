@@ -123,7 +123,7 @@ static int lyapunov(const struct sp_scene *scene, double t_end, double *lambda)
     const int fixed = b->method != SP_METHOD_DOP853;
     const long m = fixed ? lround(fmax(1.0, 1.0 / b->dt)) : 1;
     const double tau = fixed ? (double)m * b->dt : 1.0;
-    const long K = (long)fmax(1, floor(t_end / tau));
+    const long K = (long)fmax(1, lround(t_end / tau)); /* the video's span, to the second */
     for (long k = 1; k <= K && !b->dead[0]; k++) {
         sp_batch_advance(b, fixed ? (double)(k * m) * b->dt : (double)k * tau);
         sp_batch_renormalise(b, &growth);

@@ -904,11 +904,11 @@ void sp_scene_print_keys(void)
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
 {
     static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
-                                              "poincare", "modes"};
+                                              "poincare", "modes", "spread"};
     static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
                                           SP_PANEL_EXTENSION,
                                           SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
-                                          SP_PANEL_POINCARE, SP_PANEL_MODES};
+                                          SP_PANEL_POINCARE, SP_PANEL_MODES, SP_PANEL_SPREAD};
     char section[64];
     const char *dot = strchr(key, '.');
     const struct key_info *k = NULL;
@@ -949,7 +949,7 @@ void sp_scene_canonical_display(const char *key, const char *value, char *buf, s
         unsigned bits = (unsigned)strtoul(value, NULL, 0);
         size_t used = 0;
         buf[0] = 0;
-        for (int i = 0; i < 7; i++)
+        for (int i = 0; i < (int)(sizeof(panel_bits) / sizeof(panel_bits[0])); i++)
             if (bits & panel_bits[i] && used < size)
                 used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
                                          panel_names[i]);

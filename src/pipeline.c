@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "springpend/common.h"
+#include "springpend/ensemble.h"
 #include "springpend/figure.h"
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
@@ -177,6 +178,7 @@ struct run {
     struct sp_sim sim;
     struct sp_trail trail;
     struct sp_history hist;
+    struct sp_ensemble *ens;     /* NULL: one pendulum */
     struct sp_renderer *r;
     struct sp_provenance prov;
     struct sp_sink *sink;
@@ -231,6 +233,8 @@ static int run_setup(struct run *run)
     sp_progress_begin(desc->progress, "camera pre-pass", t_end);
     ret = sp_view_extent_measure(sc, t_end, &run->extent);
     sp_progress_end();
+    if (!ret && sc->ensemble.count > 1) /* widens the extent by every member's motion */
+        ret = sp_ensemble_make(&run->ens, sc, t_end, &run->extent);
     if (ret)
         return ret;
     const struct sp_view_extent extent = run->extent;
@@ -271,12 +275,15 @@ static int run_setup(struct run *run)
         .text = run->prov.text, .n_text = SP_PROVENANCE_N_TEXT});
 }
 
-/* The sim, trail and histories to t_target, s; a blow-up is worded here. */
+/* The sim, trail, histories and ensemble to t_target, s; the sim's blow-up
+ * is worded here (the ensemble words its own). */
 static int run_follow(struct run *run, double t_target)
 {
     int ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, t_target, run->substeps);
     if (ret == SP_E_UNSTABLE)
         sp_sim_explain(&run->sim);
+    if (!ret && run->ens)
+        ret = sp_ensemble_advance(run->ens, run->sim.s.t);
     return ret;
 }
 
@@ -309,7 +316,7 @@ static int run_figure(struct run *run)
         .width = run->w, .height = run->h, .extent = run->extent, .scene = run->sc,
         .path = run->desc->output},
         &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p, .trail = &run->trail,
-                           .history = &run->hist});
+                           .history = &run->hist, .ensemble = run->ens});
     if (!ret && run->desc->state_out)
         *run->desc->state_out = run->sim.s;
     return ret;
@@ -324,7 +331,8 @@ static int run_still(struct run *run)
     sp_progress_end();
     sp_provenance_set_time(&run->prov, run->sim.s.t);
     ret = sp_render_draw(run->r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
-                                                    .trail = &run->trail, .history = &run->hist},
+                                                    .trail = &run->trail, .history = &run->hist,
+                                                    .ensemble = run->ens},
                          &run->img);
     if (!ret)
         ret = sp_sink_write(run->sink, &run->img);
@@ -339,7 +347,8 @@ static int render_frame(struct run *run, struct sp_image *slot)
     int ret = sp_render_target(r, slot);
     if (!ret)
         ret = sp_render_draw(r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
-                                                   .trail = &run->trail, .history = &run->hist},
+                                                   .trail = &run->trail, .history = &run->hist,
+                                                   .ensemble = run->ens},
                              &run->img);
     return ret;
 }
@@ -462,6 +471,7 @@ static void run_close(struct run *run, int ret)
     sp_render_destroy(&run->r);
     sp_trail_destroy(&run->trail);
     sp_history_destroy(&run->hist);
+    sp_ensemble_destroy(&run->ens);
 }
 
 /* check -> setup -> (figure | still | video) -> finish -> close. */

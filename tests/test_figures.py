@@ -154,22 +154,29 @@ r = run("still", os.path.join(root, "scenes", "default.ini"), "-o", p("nodir/x/.
 ok(r.returncode != 0 and not os.path.exists(p("c0.svg/x.svg")), "an impossible path fails and writes nothing")
 
 # Nothing that composes a frame includes a GL (or cairo) header, directly or
-# through another header of the tree.
+# through another header of the tree (src/ flat or in folders).
+def find(name):
+    for d in ("src", "include"):
+        for dirpath, _, _ in os.walk(os.path.join(root, d)):
+            if os.path.exists(os.path.join(dirpath, name)):
+                return os.path.join(dirpath, name)
+    return None
+
+
 def includes(f, seen):
     for inc in re.findall(r'#include [<"]([^>"]+)[>"]', open(f, encoding="utf-8").read()):
         if inc in seen:
             continue
         seen.add(inc)
-        for d in ("src", "include"):
-            q = os.path.join(root, d, inc)
-            if os.path.exists(q):
-                includes(q, seen)
+        q = find(inc)
+        if q:
+            includes(q, seen)
     return seen
 
 
 bad = {}
 for f in ("compose.c", "canvas.c", "panels.c", "layout.c", "text.c", "figure.c"):
-    hit = [i for i in includes(os.path.join(root, "src", f), set())
+    hit = [i for i in includes(find(f), set())
            if i.startswith(("GL/", "EGL/", "cairo")) or i in ("gl_api.h", "draw_gl.h", "gl_context.h")]
     if hit:
         bad[f] = hit

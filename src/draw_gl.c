@@ -387,7 +387,35 @@ static int box_meets(const struct box *a, const struct box *b)
            a->y0 <= b->y1 && b->y0 <= a->y1;
 }
 
-/* Fills d->boxes for the items of c. 0 or SP_E_NOMEM. */
+/* The box of primitive k (a shape, or a glyph quad when text) of item it,
+ * cut by the clip cl (x1 <= x0 = none). */
+static struct box prim_box(const struct sp_canvas *c, const struct sp_item *it, int k,
+                           const float cl[4])
+{
+    struct box b = {INFINITY, INFINITY, -INFINITY, -INFINITY, {0, 0, 0, 0}};
+    if (it->kind == SP_ITEM_TEXT) {
+        const float *r = c->quads[k].rect;
+        box_add(&b, fminf(r[0], r[2]) - 1, fminf(r[1], r[3]) - 1, fmaxf(r[0], r[2]) + 1,
+                fmaxf(r[1], r[3]) + 1);
+        return b; /* text is never clipped */
+    }
+    const struct sp_shape *sh = &c->shapes[k];
+    const float e = sh->style[0] + 2; /* the quad reaches half width + 1 px */
+    /* a box (kind 2, horizontal as sp_canvas_rect makes them) reaches 1 px
+     * beyond its ends */
+    const float ex = sh->style[1] > 1.5f && sh->seg[1] == sh->seg[3] ? 2 : e;
+    box_add(&b, fminf(sh->seg[0], sh->seg[2]) - ex, fminf(sh->seg[1], sh->seg[3]) - e,
+            fmaxf(sh->seg[0], sh->seg[2]) + ex, fmaxf(sh->seg[1], sh->seg[3]) + e);
+    if (it->layer != SP_LAYER_ACCUM && cl[2] > cl[0]) { /* the scissor's whole pixels */
+        memcpy(b.clip, cl, sizeof(b.clip));
+        b.x0 = fmaxf(b.x0, floorf(cl[0]) - 1), b.y0 = fmaxf(b.y0, floorf(cl[1]) - 1);
+        b.x1 = fminf(b.x1, ceilf(cl[2]) + 1), b.y1 = fminf(b.y1, ceilf(cl[3]) + 1);
+    }
+    return b;
+}
+
+/* Fills d->boxes for the items of c: each the union of its primitives'.
+ * 0 or SP_E_NOMEM. */
 static int boxes_make(struct sp_draw_gl *d, const struct sp_canvas *c)
 {
     float cl[4] = {0, 0, 0, 0};
@@ -406,24 +434,32 @@ static int boxes_make(struct sp_draw_gl *d, const struct sp_canvas *c)
             memcpy(cl, it->clip, sizeof(cl));
             continue;
         }
-        if (it->kind == SP_ITEM_TEXT) {
-            for (int k = it->first; k < it->first + it->count; k++) {
-                const float *r = c->quads[k].rect;
-                box_add(b, fminf(r[0], r[2]) - 1, fminf(r[1], r[3]) - 1, fmaxf(r[0], r[2]) + 1,
-                        fmaxf(r[1], r[3]) + 1);
-            }
-            continue; /* text is never clipped */
-        }
-        for (int k = it->first; k < it->first + it->count; k++) {
-            const struct sp_shape *sh = &c->shapes[k];
-            const float e = sh->style[0] + 2; /* the quad reaches half width + 1 px */
-            box_add(b, fminf(sh->seg[0], sh->seg[2]) - e, fminf(sh->seg[1], sh->seg[3]) - e,
-                    fmaxf(sh->seg[0], sh->seg[2]) + e, fmaxf(sh->seg[1], sh->seg[3]) + e);
-        }
-        if (it->layer != SP_LAYER_ACCUM && cl[2] > cl[0]) { /* the scissor's whole pixels */
+        if (it->kind != SP_ITEM_TEXT && it->layer != SP_LAYER_ACCUM)
             memcpy(b->clip, cl, sizeof(cl));
-            b->x0 = fmaxf(b->x0, floorf(cl[0]) - 1), b->y0 = fmaxf(b->y0, floorf(cl[1]) - 1);
-            b->x1 = fminf(b->x1, ceilf(cl[2]) + 1), b->y1 = fminf(b->y1, ceilf(cl[3]) + 1);
+        for (int k = it->first; k < it->first + it->count; k++) {
+            const struct box p = prim_box(c, it, k, cl);
+            if (p.x1 >= p.x0)
+                box_add(b, p.x0, p.y0, p.x1, p.y1);
+        }
+    }
+    return 0;
+}
+
+/* Whether items a and b touch a common pixel: their boxes meet, and so do
+ * the boxes of some primitive of each (a coarse test, then a finer one). */
+static int items_meet(const struct sp_draw_gl *d, const struct sp_canvas *c, int a, int b)
+{
+    const struct sp_item *ia = &c->items[a], *ib = &c->items[b];
+    if (!box_meets(&d->boxes[a], &d->boxes[b]))
+        return 0;
+    for (int k = ia->first; k < ia->first + ia->count; k++) {
+        const struct box pa = prim_box(c, ia, k, d->boxes[a].clip);
+        if (!box_meets(&pa, &d->boxes[b]))
+            continue;
+        for (int m = ib->first; m < ib->first + ib->count; m++) {
+            const struct box pb = prim_box(c, ib, m, d->boxes[b].clip);
+            if (box_meets(&pa, &pb))
+                return 1;
         }
     }
     return 0;
@@ -446,7 +482,7 @@ static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c, in
                 continue;
             const int text_d = dy->kind == SP_ITEM_TEXT, text_s = st->kind == SP_ITEM_TEXT;
             const int before = text_d == text_s ? k < s : text_s;
-            if (before && box_meets(&d->boxes[k], &d->boxes[s]))
+            if (before && items_meet(d, c, k, s))
                 return 0;
         }
     }
@@ -503,7 +539,7 @@ static int accum_apart(const struct sp_draw_gl *d, const struct sp_canvas *c)
             continue;
         for (int s = 0; s < c->n_items; s++)
             if (c->items[s].kind != SP_ITEM_CLIP && c->items[s].layer == SP_LAYER_STATIC &&
-                box_meets(&d->boxes[a], &d->boxes[s]))
+                items_meet(d, c, a, s))
                 return 0;
     }
     return 1;

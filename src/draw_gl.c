@@ -573,12 +573,11 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     }
     if (c->n_shapes)
         instances_upload(gl, &d->shape, c->shapes, c->n_shapes, sizeof(struct sp_shape));
-    if (text)
-        instances_upload(gl, &d->text, c->quads, c->n_quads, sizeof(struct sp_glyph_quad));
     gl->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
     if (accum) { /* what is new of the accumulated layer, into its picture */
         if (!d->accum_fbo && (err = layer_make(d, &d->accum_fbo, &d->accum_tex, bg, "the long exposure")) != 0)
             return err;
+        gl->BindFramebuffer(GL_FRAMEBUFFER, d->accum_fbo);
         shapes_bind(gl, &d->shape);
         draw_shapes(gl, c, ACCUM_BIT, d->height);
         if (d->base_valid && cached && accum_apart(d, c)) { /* and into the cache, under nothing */
@@ -589,6 +588,8 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
         }
         gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
     }
+    if (text)
+        instances_upload(gl, &d->text, c->quads, c->n_quads, sizeof(struct sp_glyph_quad));
     if (cached) {
         if ((err = key_make(d, c, bg)) != 0) {
             sp_log_error("out of memory for the static cache's key");

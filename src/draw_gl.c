@@ -8,6 +8,15 @@
 #include "draw_gl.h"
 #include "embedded.h"
 
+enum { TILE = 32, MAX_FILLS = 200 }; /* px: the grain of copies and fills */
+
+/* A rectangle of the static cache: x0, y0, x1, y1 px; v = 1: copied from the
+ * cache, v >= 2: filled with fills[v - 2]. */
+struct fill_rect {
+    float r[4];
+    int v;
+};
+
 struct instances {
     GLuint program, vao, vbo;
     int capacity; /* instances the VBO holds */
@@ -22,10 +31,12 @@ struct sp_draw_gl {
      * static layer drawn over it, copied under each frame's dynamic layer. */
     GLuint base_fbo, base_tex;   /* 0 = none yet */
     GLuint copy_program, copy_vao; /* draws a layer's texture as it is */
-    float *rects;                /* x0, y0, x1, y1 px: where base differs from
-                                    the background (no accumulated layer) */
+    struct fill_rect *rects;     /* where base differs from the background (no
+                                    accumulated layer): copied, or filled */
     int n_rects, cap_rects;
-    unsigned char *tiles;        /* scratch: TILE px squares the static layer touches */
+    float fills[MAX_FILLS][4];   /* the opaque colours of filled rectangles */
+    int n_fills;
+    unsigned char *tiles;        /* scratch: what base holds in TILE px squares */
     int base_valid;              /* base holds `key`'s static layer */
     unsigned char *key;          /* the static layer it was drawn from */
     size_t n_key, cap_key;       /* bytes */
@@ -299,69 +310,6 @@ struct box {
     float clip[4];        /* the clip the item is drawn under (x1 <= x0 = none) */
 };
 
-enum { TILE = 32 }; /* px: the grain of the copied rectangles */
-
-/* The rectangles, whole tiles, that hold every static item's box:
- * runs of touched tiles along each row of tiles, joined with the run
- * above when it spans the same columns. 0 or SP_E_NOMEM. */
-static int rects_make(struct sp_draw_gl *d, const struct sp_canvas *c)
-{
-    const int tw = (d->width + TILE - 1) / TILE, th = (d->height + TILE - 1) / TILE;
-    if (!d->tiles && !(d->tiles = malloc((size_t)tw * (size_t)th)))
-        return SP_E_NOMEM;
-    memset(d->tiles, 0, (size_t)tw * (size_t)th);
-    for (int i = 0; i < c->n_items; i++) {
-        const struct box *b = &d->boxes[i];
-        if (c->items[i].kind == SP_ITEM_CLIP || c->items[i].layer != SP_LAYER_STATIC || b->x1 < b->x0)
-            continue;
-        const int x0 = (int)fmaxf(0, floorf(b->x0 / TILE)), x1 = (int)fminf(tw - 1, floorf(b->x1 / TILE));
-        const int y0 = (int)fmaxf(0, floorf(b->y0 / TILE)), y1 = (int)fminf(th - 1, floorf(b->y1 / TILE));
-        for (int y = y0; y <= y1; y++)
-            for (int x = x0; x <= x1; x++)
-                d->tiles[y * tw + x] = 1;
-    }
-    d->n_rects = 0;
-    int row_first = 0; /* the rectangles ending on the previous row start here */
-    for (int y = 0; y < th; y++) {
-        const int prev_first = row_first;
-        int prev_end = d->n_rects;
-        row_first = d->n_rects;
-        for (int x = 0; x < tw;) {
-            if (!d->tiles[y * tw + x]) {
-                x++;
-                continue;
-            }
-            int e = x;
-            while (e < tw && d->tiles[y * tw + e])
-                e++;
-            const float r[4] = {(float)(x * TILE), (float)(y * TILE), (float)(e * TILE), (float)((y + 1) * TILE)};
-            int k = prev_first;
-            while (k < prev_end && !(d->rects[4 * k] == r[0] && d->rects[4 * k + 2] == r[2]))
-                k++;
-            if (k < prev_end) { /* the same columns as a run above: grow it down */
-                float t[4];
-                memcpy(t, d->rects + 4 * k, sizeof(t));
-                t[3] = r[3];
-                /* keep this row's rectangles together at the end */
-                memmove(d->rects + 4 * k, d->rects + 4 * (k + 1), (size_t)(d->n_rects - k - 1) * 4 * sizeof(float));
-                memcpy(d->rects + 4 * (d->n_rects - 1), t, sizeof(t));
-                row_first--;
-                prev_end--;
-            } else {
-                if (d->n_rects == d->cap_rects) {
-                    float *p = realloc(d->rects, (size_t)(2 * d->cap_rects + 16) * 4 * sizeof(float));
-                    if (!p)
-                        return SP_E_NOMEM;
-                    d->rects = p;
-                    d->cap_rects = 2 * d->cap_rects + 16;
-                }
-                memcpy(d->rects + 4 * d->n_rects++, r, sizeof(r));
-            }
-            x = e;
-        }
-    }
-    return 0;
-}
 
 /* ---- the static cache ----
  * Drawing the static layer first (once, into base) and the dynamic layer
@@ -487,6 +435,108 @@ static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c, in
         }
     }
     return 1;
+}
+
+/* Marks tiles x0..x1, y0..y1 (inclusive, clamped) with v. */
+static void tiles_mark(struct sp_draw_gl *d, int tw, int th, int x0, int y0, int x1, int y1,
+                       unsigned char v)
+{
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 >= tw ? tw - 1 : x1, y1 = y1 >= th ? th - 1 : y1;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            d->tiles[y * tw + x] = v;
+}
+
+/* Sorts the tiles by what base holds there: the background (0), what
+ * must be copied (1), or one opaque colour (2 + its index in d->fills):
+ * the primitives of the static layer in list order, each marking the tiles
+ * its box touches 1, except an opaque box (alpha 1, horizontal) that
+ * covers whole tiles, which marks those with its colour (all it covers is
+ * that colour, whatever was under it). Then the rectangles: runs of equal
+ * tiles along each row, joined with the run above when it spans the same
+ * columns with the same value. 0 or SP_E_NOMEM. */
+static int rects_make(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    const int tw = (d->width + TILE - 1) / TILE, th = (d->height + TILE - 1) / TILE;
+    if (!d->tiles && !(d->tiles = malloc((size_t)tw * (size_t)th)))
+        return SP_E_NOMEM;
+    memset(d->tiles, 0, (size_t)tw * (size_t)th);
+    d->n_fills = 0;
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_STATIC)
+            continue;
+        for (int k = it->first; k < it->first + it->count; k++) {
+            const struct box b = prim_box(c, it, k, d->boxes[i].clip);
+            if (b.x1 < b.x0)
+                continue;
+            tiles_mark(d, tw, th, (int)floorf(b.x0 / TILE), (int)floorf(b.y0 / TILE),
+                       (int)floorf(b.x1 / TILE), (int)floorf(b.y1 / TILE), 1);
+            const struct sp_shape *sh = it->kind == SP_ITEM_TEXT ? NULL : &c->shapes[k];
+            if (!sh || sh->style[1] < 1.5f || sh->color[3] < 1 || sh->seg[1] != sh->seg[3] ||
+                d->boxes[i].clip[2] > d->boxes[i].clip[0] || d->n_fills == MAX_FILLS)
+                continue;
+            /* pixels whose centres are half a pixel inside are fully covered */
+            const float x0 = fminf(sh->seg[0], sh->seg[2]), x1 = fmaxf(sh->seg[0], sh->seg[2]);
+            const float y0 = sh->seg[1] - sh->style[0], y1 = sh->seg[1] + sh->style[0];
+            const int tx0 = (int)ceilf(x0 / TILE), ty0 = (int)ceilf(y0 / TILE);
+            /* whole tiles inside the frame only (the last row and column may be cut) */
+            const int tx1 = (int)fminf(floorf(x1 / TILE), (float)(d->width / TILE)) - 1;
+            const int ty1 = (int)fminf(floorf(y1 / TILE), (float)(d->height / TILE)) - 1;
+            if (tx1 < tx0 || ty1 < ty0)
+                continue;
+            int f = 0;
+            while (f < d->n_fills && memcmp(d->fills[f], sh->color, sizeof(d->fills[f])))
+                f++;
+            if (f == d->n_fills)
+                memcpy(d->fills[d->n_fills++], sh->color, sizeof(d->fills[f]));
+            tiles_mark(d, tw, th, tx0, ty0, tx1, ty1, (unsigned char)(2 + f));
+        }
+    }
+    d->n_rects = 0;
+    int row_first = 0; /* the rectangles ending on the previous row start here */
+    for (int y = 0; y < th; y++) {
+        const int prev_first = row_first;
+        int prev_end = d->n_rects;
+        row_first = d->n_rects;
+        for (int x = 0; x < tw;) {
+            const unsigned char v = d->tiles[y * tw + x];
+            if (!v) {
+                x++;
+                continue;
+            }
+            int e = x;
+            while (e < tw && d->tiles[y * tw + e] == v)
+                e++;
+            const struct fill_rect r = {{(float)(x * TILE), (float)(y * TILE), (float)(e * TILE),
+                                         (float)((y + 1) * TILE)}, v};
+            int k = prev_first;
+            while (k < prev_end && !(d->rects[k].r[0] == r.r[0] && d->rects[k].r[2] == r.r[2] &&
+                                     d->rects[k].v == v))
+                k++;
+            if (k < prev_end) { /* the same columns as a run above: grow it down, and
+                                   keep this row's rectangles together at the end */
+                struct fill_rect t = d->rects[k];
+                t.r[3] = r.r[3];
+                memmove(d->rects + k, d->rects + k + 1, (size_t)(d->n_rects - k - 1) * sizeof(t));
+                d->rects[d->n_rects - 1] = t;
+                row_first--;
+                prev_end--;
+            } else {
+                if (d->n_rects == d->cap_rects) {
+                    struct fill_rect *p = realloc(d->rects, (size_t)(2 * d->cap_rects + 16) * sizeof(*p));
+                    if (!p)
+                        return SP_E_NOMEM;
+                    d->rects = p;
+                    d->cap_rects = 2 * d->cap_rects + 16;
+                }
+                d->rects[d->n_rects++] = r;
+            }
+            x = e;
+        }
+    }
+    return 0;
 }
 
 static int append(unsigned char **buf, size_t *n, size_t *cap, const void *data, size_t size)
@@ -638,8 +688,15 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
             gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
             gl->Clear(GL_COLOR_BUFFER_BIT);
             for (int k = 0; k < d->n_rects && !err; k++) {
-                clip(gl, d->rects + 4 * k, d->height);
-                err = layer_copy(d, d->base_tex);
+                const struct fill_rect *fr = &d->rects[k];
+                clip(gl, fr->r, d->height);
+                if (fr->v == 1) {
+                    err = layer_copy(d, d->base_tex);
+                } else { /* opaque: the shader's output for it, premultiplied */
+                    const float *f = d->fills[fr->v - 2];
+                    gl->ClearColor(f[0], f[1], f[2], 1);
+                    gl->Clear(GL_COLOR_BUFFER_BIT);
+                }
             }
             gl->Disable(GL_SCISSOR_TEST);
             if (err)

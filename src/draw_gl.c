@@ -30,7 +30,8 @@ struct sp_draw_gl {
     /* The static cache: the accumulated picture (or the background) with the
      * static layer drawn over it, copied under each frame's dynamic layer. */
     GLuint base_fbo, base_tex;   /* 0 = none yet */
-    GLuint copy_program, copy_vao; /* draws a layer's texture as it is */
+    struct instances patch;      /* draws layers as they are (struct patch) */
+    int n_patches;               /* the static cache's, after instance 0 */
     struct fill_rect *rects;     /* where base differs from the background (no
                                     accumulated layer): copied, or filled */
     int n_rects, cap_rects;
@@ -270,46 +271,107 @@ static int layer_make(struct sp_draw_gl *d, GLuint *fbo, GLuint *tex, const floa
     return 0;
 }
 
-/* Copies a layer's texture into the bound framebuffer, pixel for pixel: a
- * triangle over the whole target fetching texel for pixel, no blending.
- * (In llvmpipe this costs a fraction of glBlitFramebuffer, which took
- * about 9 ms of CPU per 1080p frame.) */
-static const char copy_vs[] =
-    "#version 330 core\n"
-    "void main() { vec2 p = vec2(float((gl_VertexID & 1) << 2), float((gl_VertexID & 2) << 1)) - 1.0;\n"
-    "    gl_Position = vec4(p, 0.0, 1.0); }\n";
-static const char copy_fs[] =
-    "#version 330 core\n"
-    "uniform sampler2D u_layer;\n"
-    "out vec4 o_color;\n"
-    "void main() { o_color = texelFetch(u_layer, ivec2(gl_FragCoord.xy), 0); }\n";
-
-static int layer_copy(struct sp_draw_gl *d, GLuint tex)
-{
-    const struct sp_gl_api *gl = d->gl;
-    if (!d->copy_program) {
-        int err = sp_gl_program_make(gl, copy_vs, copy_fs, "layer copy", &d->copy_program);
-        if (err)
-            return err;
-        gl->UseProgram(d->copy_program);
-        gl->Uniform1i(gl->GetUniformLocation(d->copy_program, "u_layer"), 0);
-        gl->GenVertexArrays(1, &d->copy_vao);
-    }
-    gl->UseProgram(d->copy_program);
-    gl->BindVertexArray(d->copy_vao);
-    gl->ActiveTexture(GL_TEXTURE0);
-    gl->BindTexture(GL_TEXTURE_2D, tex);
-    gl->Disable(GL_BLEND);
-    gl->DrawArraysInstanced(GL_TRIANGLES, 0, 3, 1);
-    gl->Enable(GL_BLEND);
-    return 0;
-}
-
 struct box {
     float x0, y0, x1, y1; /* px; x1 < x0 = touches nothing */
     float clip[4];        /* the clip the item is drawn under (x1 <= x0 = none) */
 };
 
+/* Patches of a layer drawn into the bound framebuffer as they are, in one
+ * instanced draw without blending: each a rectangle (px, whole pixels) that
+ * copies the layer's texture texel for pixel, or fills with an opaque
+ * colour. Instance 0 is the whole frame (a copy); 1.. the static cache's
+ * rectangles. (glBlitFramebuffer of a whole 1080p frame cost llvmpipe
+ * about 9 ms of CPU, and a draw or clear per rectangle nearly as much.) */
+static const char patch_vs[] =
+    "#version 330 core\n"
+    "layout(location = 0) in vec4 a_rect;\n"
+    "layout(location = 1) in vec4 a_fill;\n"
+    "uniform vec2 u_size;\n"
+    "flat out vec4 v_fill;\n"
+    "void main() {\n"
+    "    vec2 c = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1));\n"
+    "    vec2 p = mix(a_rect.xy, a_rect.zw, c);\n"
+    "    gl_Position = vec4(2.0 * p.x / u_size.x - 1.0, 1.0 - 2.0 * p.y / u_size.y, 0.0, 1.0);\n"
+    "    v_fill = a_fill;\n"
+    "}\n";
+static const char patch_fs[] =
+    "#version 330 core\n"
+    "uniform sampler2D u_layer;\n"
+    "flat in vec4 v_fill;\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "    o_color = v_fill.a < 0.0 ? texelFetch(u_layer, ivec2(gl_FragCoord.xy), 0) : v_fill;\n"
+    "}\n";
+
+struct patch {
+    float rect[4]; /* x0, y0, x1, y1 px */
+    float fill[4]; /* opaque RGBA; alpha < 0 = copy the texture */
+};
+
+/* Makes the patch program and uploads instance 0 plus n patches. */
+static int patches_upload(struct sp_draw_gl *d, const struct patch *p, int n)
+{
+    const struct sp_gl_api *gl = d->gl;
+    if (!d->patch.program) {
+        int err = sp_gl_program_make(gl, patch_vs, patch_fs, "layer patch", &d->patch.program);
+        if (err)
+            return err;
+        gl->UseProgram(d->patch.program);
+        gl->Uniform2f(gl->GetUniformLocation(d->patch.program, "u_size"), (float)d->width,
+                      (float)d->height);
+        gl->Uniform1i(gl->GetUniformLocation(d->patch.program, "u_layer"), 0);
+        gl->GenVertexArrays(1, &d->patch.vao);
+        gl->BindVertexArray(d->patch.vao);
+        gl->GenBuffers(1, &d->patch.vbo);
+        gl->BindBuffer(GL_ARRAY_BUFFER, d->patch.vbo);
+        for (GLuint i = 0; i < 2; i++) {
+            gl->EnableVertexAttribArray(i);
+            gl->VertexAttribDivisor(i, 1);
+        }
+    }
+    gl->UseProgram(d->patch.program);
+    gl->BindVertexArray(d->patch.vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, d->patch.vbo);
+    if (n + 1 > d->patch.capacity) {
+        d->patch.capacity = 2 * (n + 1);
+        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)d->patch.capacity * (GLsizeiptr)sizeof(*p), NULL,
+                       GL_STATIC_DRAW);
+    }
+    const struct patch whole = {{0, 0, (float)d->width, (float)d->height}, {0, 0, 0, -1}};
+    gl->BufferSubData(GL_ARRAY_BUFFER, 0, sizeof(whole), &whole);
+    if (n)
+        gl->BufferSubData(GL_ARRAY_BUFFER, sizeof(whole), (GLsizeiptr)n * (GLsizeiptr)sizeof(*p), p);
+    gl->VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(*p), (const void *)offsetof(struct patch, rect));
+    gl->VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(*p), (const void *)offsetof(struct patch, fill));
+    return 0;
+}
+
+/* Draws patches first..first+n-1 of the layer texture tex. */
+static int patches_draw(struct sp_draw_gl *d, GLuint tex, int first, int n)
+{
+    const struct sp_gl_api *gl = d->gl;
+    int err = d->patch.program ? 0 : patches_upload(d, NULL, 0);
+    if (err || n <= 0)
+        return err;
+    gl->UseProgram(d->patch.program);
+    gl->BindVertexArray(d->patch.vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, d->patch.vbo);
+    static const size_t off[3] = {offsetof(struct patch, rect), offsetof(struct patch, fill), 0};
+    for (GLuint i = 0; i < 2; i++)
+        gl->VertexAttribPointer(i, 4, GL_FLOAT, GL_FALSE, sizeof(struct patch),
+                                (const void *)((size_t)first * sizeof(struct patch) + off[i]));
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, tex);
+    gl->Disable(GL_BLEND);
+    gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, n);
+    gl->Enable(GL_BLEND);
+    return 0;
+}
+
+static int layer_copy(struct sp_draw_gl *d, GLuint tex)
+{
+    return patches_draw(d, tex, 0, 1);
+}
 
 /* ---- the static cache ----
  * Drawing the static layer first (once, into base) and the dynamic layer
@@ -539,6 +601,30 @@ static int rects_make(struct sp_draw_gl *d, const struct sp_canvas *c)
     return 0;
 }
 
+/* Uploads the static cache's rectangles as patches. 0 or SP_E_NOMEM. */
+static int patches_set(struct sp_draw_gl *d)
+{
+    struct patch *p = malloc((size_t)(d->n_rects ? d->n_rects : 1) * sizeof(*p));
+    if (!p) {
+        sp_log_error("out of memory for the static cache's rectangles");
+        return SP_E_NOMEM;
+    }
+    for (int k = 0; k < d->n_rects; k++) {
+        const struct fill_rect *fr = &d->rects[k];
+        memcpy(p[k].rect, fr->r, sizeof(p[k].rect));
+        p[k].rect[2] = fminf(p[k].rect[2], (float)d->width); /* the last tiles are cut */
+        p[k].rect[3] = fminf(p[k].rect[3], (float)d->height);
+        if (fr->v == 1)
+            memcpy(p[k].fill, (const float[4]){0, 0, 0, -1}, sizeof(p[k].fill));
+        else /* opaque: what the shape shader writes for it (premultiplied, alpha 1) */
+            memcpy(p[k].fill, d->fills[fr->v - 2], sizeof(p[k].fill));
+    }
+    int err = patches_upload(d, p, d->n_rects);
+    free(p);
+    d->n_patches = d->n_rects;
+    return err;
+}
+
 static int append(unsigned char **buf, size_t *n, size_t *cap, const void *data, size_t size)
 {
     if (*n + size > *cap) {
@@ -681,25 +767,15 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
                 sp_log_error("out of memory for the static cache's rectangles");
                 return err;
             }
+            if (!d->accum_fbo && (err = patches_set(d)) != 0)
+                return err;
         } else if (d->accum_fbo) { /* the cache under this frame */
             if ((err = layer_copy(d, d->base_tex)) != 0)
                 return err;
         } else { /* the background, and the cache where it differs from it */
             gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
             gl->Clear(GL_COLOR_BUFFER_BIT);
-            for (int k = 0; k < d->n_rects && !err; k++) {
-                const struct fill_rect *fr = &d->rects[k];
-                clip(gl, fr->r, d->height);
-                if (fr->v == 1) {
-                    err = layer_copy(d, d->base_tex);
-                } else { /* opaque: the shader's output for it, premultiplied */
-                    const float *f = d->fills[fr->v - 2];
-                    gl->ClearColor(f[0], f[1], f[2], 1);
-                    gl->Clear(GL_COLOR_BUFFER_BIT);
-                }
-            }
-            gl->Disable(GL_SCISSOR_TEST);
-            if (err)
+            if ((err = patches_draw(d, d->base_tex, 1, d->n_patches)) != 0)
                 return err;
         }
         d->stats.cached++;

@@ -1,6 +1,8 @@
 /* springpend (internal): modules loaded on first use. springpend-av.so holds
  * everything that needs FFmpeg (sink_video.c, sink_gif.c, video_read.c);
- * springpend-cairo.so the vector figures (draw_cairo.c). Loading FFmpeg's
+ * springpend-cairo.so the vector figures (draw_cairo.c); springpend-plot.so
+ * the sweeps' figures (sweep_plot.c, cairo; it calls back into the sweep
+ * command's code, so only `springpend sweep` loads it). Loading FFmpeg's
  * libraries costs a process some 20-35 ms, cairo's about 1 ms, which commands
  * that write no video or vector figure should not pay. */
 #ifndef SPRINGPEND_AV_MODULE_H

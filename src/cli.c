@@ -10,7 +10,9 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/outfile.h"
 #include "springpend/pipeline.h"
+#include "springpend/sim.h"
 
 static int add_override(struct sp_cli_options *o, const char *s)
 {
@@ -45,13 +47,13 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
     };
     const char *quality = NULL;
     int c, w, h, ret = 0;
-    char tail;
     memset(o, 0, sizeof(*o));
     o->at = -1;
     o->every = -1;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:qhv", longopts, NULL)) != -1) {
+    /* ':' first: an option missing its value returns ':', not '?'. */
+    while ((c = getopt_long(argc, argv, ":o:qhv", longopts, NULL)) != -1) {
         switch (c) {
         case 'v': o->verbose = 1; break;
         case 'f': o->format = optarg; break;
@@ -69,7 +71,15 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             }
             break;
         case 'o': o->output = optarg; break;
-        case 's': ret = add_override(o, optarg); break;
+        case 's':
+            if (!strchr(optarg, '=')) {
+                sp_log_error("--set %s: expected SECTION.KEY=VALUE with '=' in one argument, "
+                             "e.g. --set %s=%s", optarg, optarg,
+                             optind < argc ? argv[optind] : "VALUE");
+                return SP_E_INPUT;
+            }
+            ret = add_override(o, optarg);
+            break;
         case 'q': o->quiet = 1; break;
         case 'j':
         case 'P':
@@ -82,12 +92,17 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             break;
         case 'h': fputs(usage, stdout); return 1;
         case 'S':
-            if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2) {
-                sp_log_error("--size %s: expected WIDTHxHEIGHT, e.g. --size 1920x1080", optarg);
+            /* Digits as typed (the scene checks the range and names the
+             * number), so no int overflow can change them. */
+            w = (int)strspn(optarg, "0123456789");
+            h = optarg[w] == 'x' ? (int)strspn(optarg + w + 1, "0123456789") : 0;
+            if (!w || !h || optarg[w + 1 + h] || w > 20 || h > 20) {
+                sp_log_error("--size %s: expected WIDTHxHEIGHT in pixels, e.g. --size 1920x1080",
+                             optarg);
                 return SP_E_INPUT;
             }
-            snprintf(o->size_buf[0], sizeof(o->size_buf[0]), "video.width=%d", w);
-            snprintf(o->size_buf[1], sizeof(o->size_buf[1]), "video.height=%d", h);
+            snprintf(o->size_buf[0], sizeof(o->size_buf[0]), "video.width=%.*s", w, optarg);
+            snprintf(o->size_buf[1], sizeof(o->size_buf[1]), "video.height=%s", optarg + w + 1);
             ret = add_override(o, o->size_buf[0]);
             if (!ret)
                 ret = add_override(o, o->size_buf[1]);
@@ -135,6 +150,10 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             }
             break;
         }
+        case ':':
+            sp_log_error("option '%s' needs a value; see '%s --help'", argv[optind - 1],
+                         argv[0]);
+            return SP_E_INPUT;
         default:
             sp_log_error("unknown option '%s'; see '%s --help'", argv[optind - 1], argv[0]);
             return SP_E_INPUT;
@@ -226,6 +245,8 @@ int sp_cli_check_writable(const char *path, const char *what)
 {
     char dir[PATH_MAX];
     struct stat st;
+    if (sp_outfile_is_stream(path))
+        return 0; /* written through: stdout, a device or a FIFO */
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
         sp_log_error("%s %s is a folder; give a file name", what, path);
         return SP_E_INPUT;
@@ -268,4 +289,39 @@ int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *sc
         return SP_E_INPUT;
     }
     return sp_cli_check_writable(buf, "output");
+}
+
+/* Past this many steps a run is refused: hours of integration. The same
+ * limit scene.c puts on fixed-step videos. */
+#define SP_MAX_STEPS 1e10
+/* Past this many a run says how long it will be. */
+#define SP_NOTE_STEPS 3e8
+
+int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
+                      double t_end, int camera)
+{
+    const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
+    double steps = sp_sim_estimate_steps(sc, t_end);
+    /* The camera's pre-pass samples every integrator.dt (adaptive too). */
+    double samples = camera && mi->adaptive ? t_end / sc->integrator.dt : 0;
+    if (steps + samples > SP_MAX_STEPS) {
+        if (samples > steps)
+            sp_log_error("integrating to t = %g s samples the camera every integrator.dt = "
+                         "%g s: %.2g samples; at most %.0e are allowed (raise integrator.dt, "
+                         "which %s uses only for that)", t_end, sc->integrator.dt, samples,
+                         SP_MAX_STEPS, mi->name);
+        else
+            sp_log_error("integrating to t = %g s takes %s about %.2g steps (%.3g per simulated "
+                         "second at %s); at most %.0e are allowed: %s, lower "
+                         "pendulum.stiffness / pendulum.mass, or integrate less far",
+                         t_end, mi->name, steps, steps / t_end,
+                         mi->adaptive ? "this tolerance" : "this dt", SP_MAX_STEPS,
+                         mi->adaptive ? "raise integrator.tolerance" : "raise integrator.dt");
+        return SP_E_INPUT;
+    }
+    if (steps + samples > SP_NOTE_STEPS && !o->quiet)
+        fprintf(stderr, "springpend: integrating to t = %g s takes %s about %.2g steps; this "
+                "will take a while%s\n", t_end, mi->name, steps + samples,
+                isatty(2) ? "" : " (progress is shown on a terminal)");
+    return 0;
 }

@@ -62,10 +62,17 @@ int sp_cli_same_file(const char *a, const char *b);
  * Looks only; creates nothing. `what` names the option ("-o"). */
 int sp_cli_check_writable(const char *path, const char *what);
 
+/* Estimates the integration to t_end (plus, with camera, the camera's
+ * pre-pass) and refuses it (SP_E_INPUT, with the numbers and what to
+ * change) beyond 1e10 steps; says so on stderr when it is long. */
+int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
+                      double t_end, int camera);
+
 int sp_cmd_render(int argc, char **argv);
 int sp_cmd_still(int argc, char **argv);
 int sp_cmd_data(int argc, char **argv);
 int sp_cmd_info(int argc, char **argv);
 int sp_cmd_compare(int argc, char **argv);
+int sp_cmd_sweep(int argc, char **argv);
 
 #endif

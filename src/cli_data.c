@@ -6,11 +6,13 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
-#include "sink_impl.h"
 #include "springpend/common.h"
+#include "springpend/ensemble.h"
 #include "springpend/frame.h"
+#include "springpend/outfile.h"
 #include "springpend/sim.h"
 
 /* The most rows one run writes, and the size of a typical row, bytes. */
@@ -39,6 +41,10 @@ static const char data_usage[] =
     "With --poincare: one row per crossing of the Poincare section (theta = 0\n"
     "going forward, theta_dot > 0) over video.duration, located on a quintic\n"
     "Hermite interpolant as the Poincare panel does: t,r,r_dot,theta_dot.\n"
+    "A scene with [ensemble] count = N > 1 writes its N members instead, N rows\n"
+    "per time: t,member,KEY,x,y,vx,vy (KEY: ensemble.key's value, file units,\n"
+    "17 digits; each member is the single run with --set KEY=that value;\n"
+    "--poincare still writes the scene's own crossings).\n"
     "At most 1e7 rows (about 2.6 GB) are written; the video's frame limit does not\n"
     "apply. Default output: out/<scene>.csv; '-o -' writes to stdout. A run that\n"
     "becomes unstable stops with exit status 3 and leaves no file (stdout keeps the\n"
@@ -102,6 +108,8 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
     long n;
     if (poincare)
         return write_crossings(fp, sc);
+    if (sc->ensemble.count > 1)
+        return sp_ensemble_write_csv(fp, sc, every);
     if (every > 0)
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else
@@ -124,9 +132,9 @@ int sp_cmd_data(int argc, char **argv)
 {
     struct sp_cli_options o;
     struct sp_scene scene;
+    struct sp_outfile f = {.fd = -1, .slot = -1};
+    struct sp_dirs dirs = {0};
     char out[4096];
-    char *part = NULL;
-    FILE *fp = NULL;
     int ret = sp_cli_parse(&o, argc, argv, data_usage, SP_CLI_EVERY | SP_CLI_POINCARE);
     if (ret)
         return ret > 0 ? 0 : ret;
@@ -144,6 +152,13 @@ int sp_cmd_data(int argc, char **argv)
     const double rows = o.poincare ? 0
                         : o.every > 0 ? floor(scene.video.duration / o.every * (1 + 1e-12)) + 1
                                       : sp_scene_frame_count(&scene);
+    const double members = !o.poincare && scene.ensemble.count > 1 ? scene.ensemble.count : 1;
+    if (rows * members > MAX_ROWS && members > 1) {
+        sp_log_error("%.0f times of %d ensemble members: %.0f rows; at most %.0f are written "
+                     "(raise --every, lower video.duration or ensemble.count)", rows,
+                     scene.ensemble.count, rows * members, MAX_ROWS);
+        return SP_E_INPUT;
+    }
     if (rows > MAX_ROWS) {
         sp_log_error("%s%g over video.duration = %g s: %.0f rows, about %.3g GB of CSV; at "
                      "most %.0f rows are written (raise --every or lower video.duration)",
@@ -152,42 +167,49 @@ int sp_cmd_data(int argc, char **argv)
                      scene.video.duration, rows, rows * ROW_BYTES / 1e9, MAX_ROWS);
         return SP_E_INPUT;
     }
-    if (!strcmp(out, "-")) {
-        ret = write_samples(stdout, &scene, o.every, o.poincare);
-        if (fflush(stdout) != 0 && !ret) {
-            sp_log_error("cannot write the CSV to stdout");
-            ret = SP_E_IO;
-        }
+    double t_end = o.every > 0 || o.poincare
+                       ? scene.video.duration
+                       : sp_scene_frame_time(&scene, sp_scene_frame_count(&scene) - 1);
+    if ((ret = sp_cli_check_work(&o, &scene, t_end, 0)) != 0)
         return ret;
-    }
-    ret = sp_sink_make_parents(out);
+    int to_stdout = !strcmp(out, "-");
+    const char *what = to_stdout ? "stdout" : out;
+    if (!to_stdout && !sp_outfile_is_stream(out))
+        ret = sp_dirs_make(out, &dirs);
     if (!ret)
-        ret = sp_sink_part_path(out, &part);
+        ret = sp_outfile_open(&f, out, SP_OUTFILE_STREAM);
     if (ret)
         goto done;
-    fp = fopen(part, "w");
+    FILE *fp = fdopen(f.fd, "w");
     if (!fp) {
-        sp_log_error("cannot create %s: %s", part, strerror(errno));
-        ret = SP_E_IO;
+        sp_log_error("%s: %s", what, strerror(errno));
+        ret = SP_E_NOMEM;
         goto done;
     }
+    f.fd = -1; /* fp owns it */
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
+    sp_progress_begin(!o.quiet && !(to_stdout && isatty(1)), "data", t_end);
     ret = write_samples(fp, &scene, o.every, o.poincare);
+    sp_progress_end();
+    int write_errno = errno;
     if (fclose(fp) != 0 && !ret)
-        ret = SP_E_IO;
-    fp = NULL;
+        ret = SP_E_IO, write_errno = errno;
     if (ret == SP_E_IO)
-        sp_log_error("cannot write %s: %s", part, strerror(errno));
-    if (ret == SP_E_INTERRUPTED)
+        sp_log_error("cannot write the CSV to %s: %s", what, write_errno == EPIPE
+                     ? "the reader closed the pipe" : strerror(write_errno));
+    if (ret == SP_E_INTERRUPTED && !f.through)
         sp_log_error("interrupted: %s not written", out);
+    int through = f.through;
     if (!ret)
-        ret = sp_sink_commit(part, out);
-    if (!ret && !o.quiet)
+        ret = sp_outfile_commit(&f);
+    if (!ret && !o.quiet && !through)
         fprintf(stderr, "wrote %s\n", out);
 done:
-    if (ret && part)
-        sp_sink_discard(part);
-    free(part);
+    if (ret) {
+        sp_outfile_discard(&f);
+        sp_dirs_remove_empty(&dirs);
+    }
+    sp_dirs_keep(&dirs);
     return ret;
 }

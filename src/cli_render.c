@@ -1,11 +1,14 @@
 /* springpend: the render and still commands. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
 #include "springpend/sim.h"
@@ -20,7 +23,8 @@ static const char render_usage[] =
     "  out/NAME.gif           GIF, palette made for the content (short clips)\n"
     "  'out/frames/%05d.png'  a PNG sequence, one file per frame (numbered from 0)\n"
     "  --format raw -o -      raw RGBA8 frames (W*H*4 bytes each) to stdout\n"
-    "Files are written as NAME.part and renamed when complete. Ctrl-C (SIGINT) or\n"
+    "Files are written as NAME.XXXXXX.part and renamed when complete; a device,\n"
+    "FIFO or /dev/stdout is written through (raw frames) or refused. Ctrl-C (SIGINT) or\n"
     "SIGTERM keeps a playable file of the frames so far (exit 130/143); a second\n"
     "one stops at once and removes the .part.\n"
     "\n"
@@ -65,7 +69,7 @@ static const char still_usage[] =
     "theme, background, colormap, colorbar, strobe, trail = all): see 'springpend keys'.\n"
     "A transparent background writes a PNG with alpha, for slides.\n";
 
-/* Writes the physics of the still's frame as JSON through PATH.part. */
+/* Writes the physics of the still's frame as JSON, whole or not at all. */
 static int write_state(const char *path, const struct sp_scene *scene,
                        const struct sp_state *st)
 {
@@ -73,19 +77,20 @@ static int write_state(const char *path, const struct sp_scene *scene,
     struct sp_provenance prov;
     struct sp_polar pol;
     struct sp_energy e;
-    char part[4200];
+    struct sp_outfile f;
     int ret = sp_provenance_init(&prov, scene, NULL);
-    if (ret)
+    if (ret || (ret = sp_outfile_open(&f, path, SP_OUTFILE_STREAM)) != 0)
         return ret;
     sp_sim_init(&sim, scene); /* for the parameters and the initial energy */
     sp_state_polar(st, &pol);
     sp_state_energy(&sim.p, st, &e);
-    snprintf(part, sizeof(part), "%s.part", path);
-    FILE *fp = fopen(part, "w");
+    FILE *fp = fdopen(f.fd, "w");
     if (!fp) {
-        sp_log_error("%s: cannot create: %s", part, strerror(errno));
-        return SP_E_IO;
+        sp_log_error("%s: %s", path, strerror(errno));
+        sp_outfile_discard(&f);
+        return SP_E_NOMEM;
     }
+    f.fd = -1; /* fp owns it */
     fprintf(fp,
             "{\n  \"springpend\": \"%s\",\n  \"scene_sha256\": \"%s\",\n"
             "  \"units\": {\"t\": \"s\", \"x\": \"m\", \"y\": \"m\", \"vx\": \"m/s\", "
@@ -99,21 +104,36 @@ static int write_state(const char *path, const struct sp_scene *scene,
             SP_VERSION, prov.scene_sha256, st->t, st->x, st->y, st->vx, st->vy, pol.r,
             pol.theta, pol.r_dot, pol.theta_dot, e.kinetic, e.spring, e.gravity, e.total,
             sim.energy0);
-    if (fflush(fp) || ferror(fp)) {
-        sp_log_error("%s: cannot write: %s", part, strerror(errno));
-        ret = SP_E_IO;
+    if (ferror(fp) | fclose(fp)) {
+        sp_log_error("%s: cannot write: %s", path, strerror(errno));
+        sp_outfile_discard(&f);
+        return SP_E_IO;
     }
-    if (fclose(fp) && !ret) {
-        sp_log_error("%s: cannot write: %s", part, strerror(errno));
-        ret = SP_E_IO;
+    return sp_outfile_commit(&f);
+}
+
+/* What a still can be written as, by extension (PNG through the sink, SVG
+ * and PDF through figure.c); the message lists them. */
+static const char *const still_formats[] = {"png", "svg", "pdf"};
+
+/* Refuses a still whose -o names a format that is not an image. */
+static int check_still_format(const char *out)
+{
+    const char *base = strrchr(out, '/'), *dot;
+    base = base ? base + 1 : out;
+    dot = strrchr(base, '.');
+    if (!strcmp(out, "-") || sp_outfile_is_stream(out))
+        return 0; /* written as PNG */
+    char list[128] = "";
+    for (size_t i = 0; i < sizeof(still_formats) / sizeof(still_formats[0]); i++) {
+        if (dot && dot != base && !strcasecmp(dot + 1, still_formats[i]))
+            return 0;
+        snprintf(list + strlen(list), sizeof(list) - strlen(list), "%s.%s", i ? ", " : "",
+                 still_formats[i]);
     }
-    if (!ret && rename(part, path)) {
-        sp_log_error("cannot rename %s to %s: %s", part, path, strerror(errno));
-        ret = SP_E_IO;
-    }
-    if (ret)
-        remove(part);
-    return ret;
+    sp_log_error("still -o %s: a still is one image; give a name ending in %s (for a "
+                 "video use 'springpend render')", out, list);
+    return SP_E_INPUT;
 }
 
 /* Refuses --state paths that would clobber an input or the image, or
@@ -128,8 +148,9 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
                      scene->integrator.dt);
         return SP_E_INPUT;
     }
-    if (!o->state)
-        return 0;
+    int ret = check_still_format(out);
+    if (ret || !o->state)
+        return ret;
     if (sp_cli_same_file(o->state, o->scene_path) || !strcmp(o->state, out) ||
         sp_cli_same_file(o->state, out)) {
         sp_log_error("--state %s would overwrite the scene or the image; choose another path",
@@ -166,17 +187,21 @@ static int run(int argc, char **argv, int still)
         ret = sp_cli_frame_range(&o, sp_scene_frame_count(&scene), &first, &last);
     if (!ret && still)
         ret = check_still(&o, &scene, out);
+    double t_end = sp_scene_frame_time(&scene, sp_scene_frame_count(&scene) - 1);
+    if (!ret)
+        ret = sp_cli_check_work(&o, &scene, still ? fmax(t_end, o.at) : t_end, 1);
     if (ret)
         return ret;
     struct sp_state state;
     ret = sp_pipeline_run(&(struct sp_pipeline_desc){
-        .scene = &scene, .output = out, .format = still ? NULL : o.format,
+        .scene = &scene, .output = out, .format = still ? "png" : o.format,
         .still = still, .still_at = o.at < 0 ? 0 : o.at, .first = first,
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
         .handle_signals = !still, .supersample = o.scale, .state_out = &state,
-        .progress = !o.quiet && !still && isatty(2)});
-    /* Both files or neither. */
-    if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0)
+        .progress = !o.quiet && isatty(2)});
+    /* Both files or neither (a device or stdout is never removed). */
+    if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0 &&
+        !sp_outfile_is_stream(out))
         remove(out);
     /* An interrupted render keeps the frames so far, when there were any. */
     int kept = ret == SP_E_INTERRUPTED && !still && strcmp(out, "-") && access(out, F_OK) == 0;

@@ -5,10 +5,10 @@
 
 #include "springpend/common.h"
 #include "springpend/figure.h"
+#include "springpend/outfile.h"
 #include "av_module.h"
 #include "compose.h"
 #include "draw_cairo.h"
-#include "sink_impl.h"
 
 enum sp_figure_format sp_figure_format(const char *path)
 {
@@ -26,7 +26,8 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
     struct sp_composer *c = NULL;
     const struct sp_canvas *cv;
     int (*write_fn)(const struct sp_draw_cairo_desc *);
-    char *part = NULL;
+    struct sp_outfile out = {.fd = -1, .slot = -1};
+    struct sp_dirs dirs = {0};
     int err;
 
     if (!format) {
@@ -41,23 +42,25 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
         .width = d->width, .height = d->height, .extent = d->extent, .scene = d->scene});
     if (!err)
         err = sp_compose_frame(c, f, &cv);
-    if (!err)
-        err = sp_sink_part_path(d->path, &part);
-    if (!err)
-        err = sp_sink_make_parents(d->path);
+    if (!err && !sp_outfile_is_stream(d->path))
+        err = sp_dirs_make(d->path, &dirs);
+    if (!err) /* cairo writes front to back: a device or stdout is fine */
+        err = sp_outfile_open(&out, d->path, SP_OUTFILE_STREAM);
     if (!err) {
         struct sp_draw_cairo_desc dd = {
             .canvas = cv, .font = sp_compose_font(c), .width = d->width,
-            .height = d->height, .path = part, .format = format,
+            .height = d->height, .path = out.path, .format = format,
             .title = d->scene ? d->scene->name : NULL};
         memcpy(dd.background, sp_compose_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }
     if (!err)
-        err = sp_sink_commit(part, d->path);
-    if (err && part)
-        sp_sink_discard(part);
-    free(part);
+        err = sp_outfile_commit(&out); /* whole or not at all */
+    if (err) {
+        sp_outfile_discard(&out);
+        sp_dirs_remove_empty(&dirs);
+    }
+    sp_dirs_keep(&dirs);
     sp_compose_destroy(&c);
     return err;
 }

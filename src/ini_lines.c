@@ -10,8 +10,11 @@ char *sp_ini_lines_next(struct sp_ini_lines *l, char *str, int num, size_t *too_
     if (!*l->cursor)
         return NULL;
     const char *start = l->cursor;
-    const char *nl = strchr(start, '\n');
-    size_t len = nl ? (size_t)(nl - start + 1) : strlen(start);
+    size_t len = strcspn(start, "\r\n");
+    /* LF, CRLF, and CR alone (old Mac files) end a line; a lone CR is
+     * handed to inih as LF. */
+    int lone_cr = start[len] == '\r' && start[len + 1] != '\n';
+    len += start[len] == '\r' && start[len + 1] == '\n' ? 2 : start[len] ? 1 : 0;
     l->cursor += len;
     l->line++;
     if (len + 1 > (size_t)num) {
@@ -21,5 +24,7 @@ char *sp_ini_lines_next(struct sp_ini_lines *l, char *str, int num, size_t *too_
     }
     memcpy(str, start, len);
     str[len] = 0;
+    if (lone_cr)
+        str[len - 1] = '\n';
     return str;
 }

@@ -12,7 +12,8 @@ struct sp_ini_lines {
     int line;           /* number of the line last returned, 1-based */
 };
 
-/* Copies the next line (with its '\n') into str, of num bytes, and counts
+/* Copies the next line (with its '\n'; LF, CRLF or a lone CR end a line,
+ * a lone CR comes out as '\n') into str, of num bytes, and counts
  * it. A line that does not fit is replaced by "#\n" (a comment) and *len
  * set to its length so the caller can report it; otherwise *len is 0.
  * Returns str, or NULL after the last line. */

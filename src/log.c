@@ -3,6 +3,8 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 
@@ -42,4 +44,56 @@ void sp_interrupt_note(int sig)
 int sp_interrupted(void)
 {
     return interrupted;
+}
+
+/* ---- progress of long integrations ---- */
+
+static struct {
+    int on, drawn;
+    unsigned calls;
+    double goal, t_from;      /* simulated s */
+    double wall0, wall_last;  /* s, monotonic */
+    const char *what;
+} progress;
+
+static double wall_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void sp_progress_begin(int enable, const char *what, double t_goal)
+{
+    sp_progress_end();
+    if (!enable || !isatty(2))
+        return;
+    progress.on = 1;
+    progress.what = what;
+    progress.goal = t_goal;
+    progress.t_from = -1;
+    progress.wall0 = progress.wall_last = wall_s();
+}
+
+void sp_progress_sim(double t)
+{
+    if (!progress.on || (++progress.calls & 0xfff))
+        return;
+    double now = wall_s();
+    if (progress.t_from < 0)
+        progress.t_from = t, progress.wall0 = now;
+    if (now - progress.wall_last < 0.25 || now - progress.wall0 < 2 || !(progress.goal > 0))
+        return;
+    progress.wall_last = now;
+    double rate = (t - progress.t_from) / (now - progress.wall0); /* simulated s per s */
+    fprintf(stderr, "\r%s: t = %.4g of %.4g s (%.1f%%), ETA %.0f s ", progress.what, t,
+            progress.goal, 100 * t / progress.goal, rate > 0 ? (progress.goal - t) / rate : 0);
+    progress.drawn = 1;
+}
+
+void sp_progress_end(void)
+{
+    if (progress.drawn)
+        fputc('\n', stderr);
+    progress.on = progress.drawn = 0;
 }

@@ -1,5 +1,7 @@
 /* springpend: entry point. Dispatches to a command; the only place that
  * turns an SP_E_* code into an exit status. */
+#include <errno.h>
+#include <malloc.h>
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
@@ -20,6 +22,8 @@ static const char usage[] =
     "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"
     "  compare  compare PNG images, folders of them or videos (snapshot tests in CI)\n"
+    "  sweep    many pendulums over a grid of keys: Lyapunov maps, orbit diagrams,\n"
+    "           Poincare mosaics (PNG, SVG, PDF; sharded runs and their merge)\n"
     "\n"
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
     "\n"
@@ -42,6 +46,18 @@ static int exit_status(int err)
     }
 }
 
+/* What a command printed must have reached stdout: a full disk, a closed
+ * pipe or /dev/full is a failure (exit 1) with a message, not a silent 0. */
+static int stdout_checked(int err)
+{
+    if (fflush(stdout) == 0 && !ferror(stdout))
+        return err;
+    if (err == SP_OK || err == SP_E_MISMATCH)
+        sp_log_error("cannot write to stdout: %s", errno == EPIPE
+                     ? "the reader closed the pipe" : strerror(errno));
+    return err ? err : SP_E_IO;
+}
+
 struct command {
     const char *name;
     int (*run)(int argc, char **argv);
@@ -62,6 +78,7 @@ static const struct command commands[] = {
     {"info", sp_cmd_info},
     {"keys", cmd_keys},
     {"compare", sp_cmd_compare},
+    {"sweep", sp_cmd_sweep},
 };
 
 int main(int argc, char **argv)
@@ -78,10 +95,18 @@ int main(int argc, char **argv)
         puts("springpend " SP_VERSION);
         return 0;
     }
+    /* Buffers of 256 KiB and more (frames) come from mmap and go back to
+     * the system when freed. glibc would otherwise raise this threshold after
+     * the first such free and serve them from the heap, where frames of
+     * changing neighbours fragment it: a GIF's memory grew with its length. */
+    mallopt(M_MMAP_THRESHOLD, 256 * 1024);
+    /* A file size limit (ulimit -f) makes writes fail with EFBIG, reported
+     * and cleaned up like any write error, instead of killing the process. */
+    signal(SIGXFSZ, SIG_IGN);
     sp_interrupt_install();
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
         if (!strcmp(argv[1], commands[i].name))
-            return exit_status(commands[i].run(argc - 1, argv + 1));
+            return exit_status(stdout_checked(commands[i].run(argc - 1, argv + 1)));
     sp_log_error("unknown command '%s'; see 'springpend --help'", argv[1]);
     return 2;
 }

@@ -14,8 +14,10 @@
 #include <unistd.h>
 
 #include "springpend/common.h"
+#include "springpend/ensemble.h"
 #include "springpend/figure.h"
 #include "springpend/frame.h"
+#include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
 #include "springpend/render.h"
@@ -34,9 +36,6 @@ static double now_s(void)
 
 static volatile sig_atomic_t signal_seen;  /* the first signal, 0 = none */
 static volatile sig_atomic_t signal_count; /* signals received this run */
-/* The .part files being written, for the second signal to remove: the
- * sink's own NULL-terminated array (see sp_sink_part_files); NULL = none. */
-static const char *const *volatile part_files;
 
 static void on_signal(int sig)
 {
@@ -45,13 +44,11 @@ static void on_signal(int sig)
         sp_interrupt_note(sig); /* stops a long sp_sim_advance too */
         return;
     }
-    /* Second signal: stop at once. Only async-signal-safe calls here. */
-    const char *const *parts = part_files;
+    /* Second signal: stop at once. Only async-signal-safe calls here. The
+     * .part table stays valid through the sink's close (outfile.c). */
     static const char msg[] = "springpend: second signal: stopped at once, "
                               "partial file removed\n";
-    for (int i = 0; parts && parts[i]; i++)
-        if (parts[i][0])
-            unlink(parts[i]);
+    sp_outfile_remove_parts();
     if (write(2, msg, sizeof(msg) - 1) < 0) {
         /* nothing more can be done */
     }
@@ -227,6 +224,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_sink *sink = NULL;
     struct sp_trail trail = {0};
     struct sp_history hist = {0};
+    struct sp_ensemble *ens = NULL;
     struct sp_view_extent extent;
     struct sp_sim sim;
     struct sp_provenance prov;
@@ -246,7 +244,6 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     double t_start = now_s(), t0;
 
     signal_seen = signal_count = 0;
-    part_files = NULL;
     if (first < 0 || last > n || first >= last) {
         sp_log_error("frames %d:%d: the video has frames 0:%d; give A:B with "
                      "0 <= A < B <= %d", first, last, n, n);
@@ -263,7 +260,11 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (desc->still)
         t_end = fmax(desc->still_at, t_end);
 
+    sp_progress_begin(desc->progress, "camera pre-pass", t_end);
     ret = sp_view_extent_measure(sc, t_end, &extent);
+    sp_progress_end();
+    if (!ret && sc->ensemble.count > 1) /* widens the extent by every member's motion */
+        ret = sp_ensemble_make(&ens, sc, t_end, &extent);
     if (ret)
         goto done;
     /* The trail is sampled between frames finely enough that its chords stay
@@ -300,19 +301,23 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         .text = prov.text, .n_text = SP_PROVENANCE_N_TEXT});
     if (ret)
         goto done;
-    part_files = sp_sink_part_files(sink);
 setup_done:
     if (ret)
         goto done;
     if (desc->still) {
         /* The trail holds the video's frame positions before still_at. */
+        sp_progress_begin(desc->progress, "integrating", desc->still_at);
         for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
             ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
+            if (!ret && ens)
+                ret = sp_ensemble_advance(ens, sim.s.t);
             if (ret)
                 goto done;
         }
         if (sim.s.t < desc->still_at) {
             ret = sp_trail_follow(&trail, &hist, &sim, desc->still_at, substeps);
+            if (!ret && ens)
+                ret = sp_ensemble_advance(ens, sim.s.t);
             if (ret)
                 goto done;
         }
@@ -320,14 +325,16 @@ setup_done:
             ret = sp_figure_write(&(struct sp_figure_desc){
                 .width = w, .height = h, .extent = extent, .scene = sc, .path = desc->output},
                 &(struct sp_frame){.state = sim.s, .params = &sim.p, .trail = &trail,
-                                   .history = &hist});
+                                   .history = &hist, .ensemble = ens});
             if (!ret && desc->state_out)
                 *desc->state_out = sim.s;
             goto done;
         }
+        sp_progress_end();
         sp_provenance_set_time(&prov, sim.s.t);
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                   .trail = &trail, .history = &hist}, &img);
+                                                   .trail = &trail, .history = &hist,
+                                                   .ensemble = ens}, &img);
         if (!ret)
             ret = sp_sink_write(sink, &img);
         if (ret)
@@ -355,6 +362,8 @@ setup_done:
         /* advance sim to t_k -> update frame model -> render -> sink */
         double ts = now_s();
         ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
+        if (!ret && ens)
+            ret = sp_ensemble_advance(ens, sim.s.t);
         if (ret == SP_E_INTERRUPTED && signal_seen)
             break; /* keep the frames so far, below */
         if (ret)
@@ -369,7 +378,8 @@ setup_done:
         ret = sp_render_target(r, slot);
         if (!ret)
             ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                       .trail = &trail, .history = &hist}, &img);
+                                                       .trail = &trail, .history = &hist,
+                                                   .ensemble = ens}, &img);
         if (ret)
             goto done;
         tm.render += now_s() - ts;
@@ -398,9 +408,6 @@ finish:
         ret = SP_E_INTERRUPTED; /* said at done */
         goto done; /* aborts the sink */
     }
-    /* From here a second signal exits without unlinking: close frees the
-     * part list the handler would read. */
-    part_files = NULL;
     ret = sp_sink_close(&sink);
     if (!ret && desc->state_out)
         *desc->state_out = sim.s;
@@ -418,6 +425,7 @@ finish:
         print_times(&tm, &q, &rs, emitted);
     }
 done:
+    sp_progress_end();
     if (ret == SP_E_INTERRUPTED && !emitted) {
         int sig = signal_seen ? signal_seen : sp_interrupted();
         sp_log_error("interrupted by %s before the first frame: nothing written",
@@ -430,7 +438,6 @@ done:
         pthread_mutex_unlock(&q.lock);
         pthread_join(encoder, NULL);
     }
-    part_files = NULL;
     sp_sink_abort(&sink);
     if (r)
         sp_render_target(r, NULL); /* before the slots go */
@@ -441,5 +448,6 @@ done:
     sp_render_destroy(&r);
     sp_trail_destroy(&trail);
     sp_history_destroy(&hist);
+    sp_ensemble_destroy(&ens);
     return ret;
 }

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "springpend/common.h"
+#include "springpend/outfile.h"
 #include "springpend/png_io.h"
 
 /* Rows are filtered with UP alone: one fixed filter skips libpng's per-row
@@ -144,23 +145,35 @@ done:
     return err;
 }
 
-int sp_png_write_opts(const char *path, const struct sp_image *img,
-                      const struct sp_png_write_opts *opts)
+int sp_png_write_outfile(struct sp_outfile *f, const struct sp_image *img,
+                         const struct sp_png_write_opts *opts)
 {
-    int err = check_write_args(img, opts, path); /* before creating it */
-    if (err)
-        return err;
-    FILE *fp = fopen(path, "wb");
+    FILE *fp = fdopen(f->fd, "wb");
     if (!fp) {
-        sp_log_error("%s: cannot create: %s", path, strerror(errno));
-        return SP_E_IO;
+        sp_log_error("%s: %s", f->target, strerror(errno));
+        return SP_E_NOMEM;
     }
-    err = sp_png_write_stream_opts(fp, img, opts, path);
+    f->fd = -1; /* fp owns it now */
+    int err = sp_png_write_stream_opts(fp, img, opts, f->target);
     if (fclose(fp) != 0 && !err) {
-        sp_log_error("%s: cannot write: %s", path, strerror(errno));
+        sp_log_error("%s: cannot write: %s", f->target, strerror(errno));
         err = SP_E_IO;
     }
     return err;
+}
+
+int sp_png_write_opts(const char *path, const struct sp_image *img,
+                      const struct sp_png_write_opts *opts)
+{
+    struct sp_outfile f;
+    int err = check_write_args(img, opts, path); /* before creating it */
+    if (err || (err = sp_outfile_open(&f, path, SP_OUTFILE_STREAM)) != 0)
+        return err;
+    if ((err = sp_png_write_outfile(&f, img, opts)) != 0) {
+        sp_outfile_discard(&f);
+        return err;
+    }
+    return sp_outfile_commit(&f);
 }
 
 int sp_png_write_stream(FILE *fp, const struct sp_image *img, int level,

@@ -3,6 +3,8 @@
  * FILE:LINE messages. Pure: nothing but stderr is touched. */
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
 #include <stdarg.h>
 #include <ini.h>
 #include <math.h>
@@ -10,6 +12,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
@@ -19,6 +23,9 @@
 /* Frame times are indexed by int; what a command makes of them has its own
  * limit (render: video frames, data: rows). */
 #define SP_MAX_FRAMES 1000000000
+#define SP_MAX_RATE2 1e24  /* k/m and b/m, 1/s^2 and 1/s: omega up to 1e12 rad/s */
+#define SP_MAX_STRETCH 1e9 /* m g / k, m: beyond it nothing is on screen */
+#define SP_ENSEMBLE_MAX 10000 /* [ensemble] count */
 
 enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_BOOL,    /* true/false, stored as int */
@@ -70,7 +77,7 @@ static const struct key_info keys[] = {
     {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
     {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "frames"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
-     "none, all, r, theta, energy, extension, phase, poincare, modes"},
+     "none, all, r, theta, energy, extension, phase, poincare, modes, spread"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
     {"view", "theme", KEY_CHOICE, F(view.theme), 0, 0, 0, 0, "dark, light"},
     {"view", "background", KEY_COLOR, F(view.background), SP_BACKGROUND_THEME, 0, 0, 0,
@@ -83,6 +90,12 @@ static const struct key_info keys[] = {
     {"view", "font_scale", KEY_REAL, F(view.font_scale), 1, 0.25, 4, 0, "(text size factor)"},
     {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
     {"view", "caption", KEY_TEXT, F(view.caption), 0, 0, 0, 0, "text"},
+    {"ensemble", "count", KEY_INT, F(ensemble.count), 0, 0, SP_ENSEMBLE_MAX, 0,
+     "pendulums (0 or 1 = no ensemble)"},
+    {"ensemble", "key", KEY_TEXT, F(ensemble.key), 0, 0, 0, 0,
+     "a numeric key of [pendulum], [initial] or [pivot]"},
+    {"ensemble", "spread", KEY_REAL, F(ensemble.spread), 1e-6, 0, 1e12, 1, "(the key's units, total range)"},
+    {"ensemble", "trails", KEY_BOOL, F(ensemble.trails), 0, 0, 0, 0, "true, false"},
 };
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
@@ -139,6 +152,9 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
     fputc('\n', stderr);
     va_end(ap);
 }
+
+static const struct key_info *numeric_key(const char *key);
+static void check_ensemble(struct parse_ctx *c);
 
 static const struct key_info *find_key(const char *section, const char *name)
 {
@@ -260,9 +276,9 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
                     const char *value, char *p)
 {
     static const unsigned panel_bits[] = {
-        0, (1u << SP_PANEL_COUNT) - 1, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
+        0, SP_PANEL_ALL, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
         SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE,
-        SP_PANEL_MODES};
+        SP_PANEL_MODES, SP_PANEL_SPREAD};
     unsigned bits = 0;
     int i;
     switch (k->kind) {
@@ -284,8 +300,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             i = choice_index(k->unit, w, n);
             if (i < 0 || (i == 0 && (w != value || w[n]))) {
                 report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
-                       "list of: r, theta, energy, extension, phase, poincare, modes (or all, "
-                       "or none alone)", k->section, k->name, (int)n, w);
+                       "list of: r, theta, energy, extension, phase, poincare, modes, spread "
+                       "(or all, or none alone)", k->section, k->name, (int)n, w);
                 return 1;
             }
             bits |= panel_bits[i];
@@ -410,7 +426,7 @@ static int handle_pair(void *user, const char *section, const char *name,
             return 1; /* reported once, at its [header] */
         if (!section[0])
             report(c, c->line, "'%s' comes before any [section]; put it under "
-                   "[pendulum], [initial], [integrator], [pivot], [video] or [view]", name);
+                   "[pendulum], [initial], [integrator], [pivot], [video], [view] or [ensemble]", name);
         else
             report_unknown(c, c->line, section, name);
         return 1;
@@ -515,6 +531,7 @@ void sp_scene_defaults(struct sp_scene *s)
         default: *(int *)p = (int)keys[i].def; break; /* bool, choice, colour, trail */
         }
     }
+    snprintf(s->ensemble.key, sizeof(s->ensemble.key), "initial.angle");
 }
 
 static void apply_override(struct parse_ctx *c, const char *arg)
@@ -572,7 +589,7 @@ static int check_text(struct parse_ctx *c, const char *text)
             return 0;
         }
         blank &= *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n';
-        if (*p == '\n')
+        if (*p == '\n' || (*p == '\r' && p[1] != '\n'))
             line++, line_start = p + 1;
         p += n;
     }
@@ -597,8 +614,21 @@ static void validate_whole(struct parse_ctx *c)
         report(c, 0, "video.duration * video.fps / video.speed = %g frames; at least "
                "1 frame is needed (raise video.duration or lower video.speed)", frames);
     else if (frames > SP_MAX_FRAMES)
-        report(c, 0, "video.duration * video.fps / video.speed = %.0f frame times; at "
+        report(c, 0, "video.duration * video.fps / video.speed = %.3g frame times; at "
                "most %d are allowed", frames, SP_MAX_FRAMES);
+    /* Quantities the simulation derives must be finite: k/m and b/m set
+     * the time scales, m g / k the static stretch. Printed by their inputs,
+     * which are finite. */
+    const double k = s->pendulum.stiffness, m = s->pendulum.mass, b = s->pendulum.damping;
+    const double g = s->pendulum.gravity;
+    if (!(k / m <= SP_MAX_RATE2) || !(b / m <= SP_MAX_RATE2))
+        report(c, 0, "pendulum.mass = %g kg is too small for stiffness = %g N/m and damping "
+               "= %g N*s/m: k/m and b/m must be at most %g (mass >= %g kg)", m, k, b,
+               SP_MAX_RATE2, fmax(k, b) / SP_MAX_RATE2);
+    else if (!(m * g / k <= SP_MAX_STRETCH))
+        report(c, 0, "pendulum.stiffness = %g N/m is too weak for mass = %g kg and gravity = "
+               "%g m/s^2: the static stretch m g / k must be at most %g m (stiffness >= %g "
+               "N/m)", k, m, g, SP_MAX_STRETCH, m * g / SP_MAX_STRETCH);
     if (s->integrator.method == SP_METHOD_RKN1210 &&
         (s->pendulum.damping > 0 || (s->pivot.amplitude > 0 && s->pivot.frequency > 0)))
         report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "
@@ -608,11 +638,55 @@ static void validate_whole(struct parse_ctx *c)
     if (s->integrator.method <= SP_METHOD_YOSHIDA4 && steps > 1e10)
         report(c, 0, "video.duration / integrator.dt = %.3g steps; at most 1e10 are "
                "allowed (raise integrator.dt)", steps);
+    if (s->ensemble.count > 1)
+        check_ensemble(c);
+}
+
+/* [ensemble]: the key is a numeric physics key (as sweep's --vary), the
+ * integrator is batched, and both ends of the spread are scenes the parser
+ * accepts (their messages prefixed with the spread's or key's line). */
+static void check_ensemble(struct parse_ctx *c)
+{
+    const struct sp_scene *s = c->scene;
+    const char *key = s->ensemble.key;
+    const int key_line = c->key_line[find_key("ensemble", "key") - keys];
+    const int spread_line = c->key_line[find_key("ensemble", "spread") - keys];
+    const int count_line = c->key_line[find_key("ensemble", "count") - keys];
+    if ((strncmp(key, "pendulum.", 9) && strncmp(key, "initial.", 8) && strncmp(key, "pivot.", 6)) ||
+        !numeric_key(key) || numeric_key(key)->kind == KEY_INT) {
+        report(c, key_line, "ensemble.key = '%s' cannot be varied; give a numeric key of "
+               "[pendulum], [initial] or [pivot], e.g. initial.angle", key);
+        return;
+    }
+    if (s->integrator.method == SP_METHOD_RKN1210) {
+        report(c, count_line, "[ensemble] needs a batched integrator; set integrator.method "
+               "to rk4, verlet, yoshida4, dopri5 or dop853");
+        return;
+    }
+    for (int end = -1; end <= 1; end += 2) {
+        struct sp_scene e = *s;
+        char origin[700];
+        const double v = sp_scene_get_number(s, key) + 0.5 * end * s->ensemble.spread;
+        const int line = spread_line ? spread_line : key_line;
+        if (line)
+            snprintf(origin, sizeof(origin), "%s:%d: ensemble.spread = %g around %s = %g",
+                     c->origin, line, s->ensemble.spread, key, sp_scene_get_number(s, key));
+        else
+            snprintf(origin, sizeof(origin), "%s: ensemble.spread = %g around %s = %g",
+                     c->origin, s->ensemble.spread, key, sp_scene_get_number(s, key));
+        e.ensemble.count = 0; /* no recursion */
+        if (sp_scene_set_number(&e, key, v, origin)) {
+            c->errors++;
+            return;
+        }
+    }
 }
 
 int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
                    const char *const *overrides, int n_overrides)
 {
+    if (!strncmp(text, "\xef\xbb\xbf", 3))
+        text += 3; /* a UTF-8 byte order mark, as some editors write */
     struct parse_ctx c = {.scene = s, .origin = origin, .cursor = text};
     char name[sizeof(s->name)];
     snprintf(name, sizeof(name), "%s", s->name);
@@ -636,40 +710,99 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     return c.errors ? SP_E_INPUT : 0;
 }
 
-int sp_scene_load(struct sp_scene *s, const char *path,
-                  const char *const *overrides, int n_overrides)
+/* How long a FIFO scene waits for its writer before giving up. */
+#define SCENE_FIFO_WAIT_MS 5000
+
+/* Reads the whole scene at path into *text (NUL-terminated, caller frees).
+ * A regular file is read by its size; a pipe, FIFO or device as a stream
+ * (`<(cat x)`, `/dev/stdin`), at most 1 MiB, after waiting at most
+ * SCENE_FIFO_WAIT_MS for a writer; a folder is refused. Logs; SP_E_INPUT. */
+static int read_scene(const char *path, char **text, size_t *size)
 {
-    FILE *fp = fopen(path, "rb");
-    char *text = NULL;
+    const size_t max = 1u << 20;
+    struct stat st;
     int ret = SP_E_INPUT;
-    if (!fp) {
+    *text = NULL;
+    *size = 0;
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer forever. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) {
         fprintf(stderr, "%s: cannot open scene: %s\n", path, strerror(errno));
         return SP_E_INPUT;
     }
-    if (fseek(fp, 0, SEEK_END) || ftell(fp) < 0) {
-        fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
+    if (fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "%s: %s; give a scene file (.ini)\n", path,
+                S_ISDIR(st.st_mode) ? "is a folder" : strerror(errno));
         goto done;
     }
-    long size = ftell(fp);
-    if (size > (1L << 20)) {
-        fprintf(stderr, "%s: scene file is %ld bytes; at most 1 MiB is allowed\n", path, size);
+    if (S_ISREG(st.st_mode) && (size_t)st.st_size > max) {
+        fprintf(stderr, "%s: scene file is %lld bytes; at most 1 MiB is allowed\n", path,
+                (long long)st.st_size);
         goto done;
     }
-    rewind(fp);
-    text = malloc((size_t)size + 1);
-    if (!text) {
-        ret = SP_E_NOMEM;
-        goto done;
+    if (S_ISFIFO(st.st_mode)) {
+        struct pollfd pfd = {.fd = fd, .events = POLLIN};
+        int n;
+        while ((n = poll(&pfd, 1, SCENE_FIFO_WAIT_MS)) < 0 && errno == EINTR && !sp_interrupted())
+            ;
+        if (n == 0) {
+            fprintf(stderr, "%s: a FIFO with nothing written to it after %d s; start its "
+                    "writer first, or give a scene file\n", path, SCENE_FIFO_WAIT_MS / 1000);
+            goto done;
+        }
     }
-    if (fread(text, 1, (size_t)size, fp) != (size_t)size) {
-        fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
-        goto done;
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    size_t cap = S_ISREG(st.st_mode) ? (size_t)st.st_size + 1 : 4096;
+    for (;;) {
+        if (*size + 1 >= cap) {
+            cap = cap * 2 > max + 2 ? max + 2 : cap * 2;
+            if (*size + 1 >= cap) {
+                fprintf(stderr, "%s: the scene is more than 1 MiB; at most 1 MiB is "
+                        "allowed\n", path);
+                goto done;
+            }
+        }
+        char *grown = realloc(*text, cap);
+        if (!grown) {
+            ret = SP_E_NOMEM;
+            goto done;
+        }
+        *text = grown;
+        ssize_t got = read(fd, *text + *size, cap - 1 - *size);
+        if (got < 0 && errno == EINTR && !sp_interrupted())
+            continue;
+        if (got < 0) {
+            fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
+            goto done;
+        }
+        if (got == 0)
+            break;
+        *size += (size_t)got;
     }
-    text[size] = 0;
-    if (memchr(text, 0, (size_t)size)) {
+    (*text)[*size] = 0;
+    ret = 0;
+done:
+    close(fd);
+    if (ret) {
+        free(*text);
+        *text = NULL;
+    }
+    return ret;
+}
+
+int sp_scene_load(struct sp_scene *s, const char *path,
+                  const char *const *overrides, int n_overrides)
+{
+    char *text;
+    size_t size;
+    int ret = read_scene(path, &text, &size);
+    if (ret)
+        return ret;
+    if (memchr(text, 0, size)) {
         fprintf(stderr, "%s: contains NUL bytes; a scene is a text file of "
                 "'key = value' lines\n", path);
-        goto done;
+        free(text);
+        return SP_E_INPUT;
     }
     /* The scene's name is the file's stem. */
     const char *base = strrchr(path, '/');
@@ -678,9 +811,7 @@ int sp_scene_load(struct sp_scene *s, const char *path,
     if (!s->name[0])
         snprintf(s->name, sizeof(s->name), "scene");
     ret = sp_scene_parse(s, text, path, overrides, n_overrides);
-done:
     free(text);
-    fclose(fp);
     return ret;
 }
 
@@ -735,7 +866,9 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
 
 void sp_scene_print_keys(void)
 {
+    static struct sp_scene def; /* big: not on the stack */
     const char *section = "";
+    sp_scene_defaults(&def);
     for (int i = 0; i < N_KEYS; i++) {
         const struct key_info *k = &keys[i];
         char range[160];
@@ -743,6 +876,8 @@ void sp_scene_print_keys(void)
             printf("  [%s]\n", section = k->section);
         if (k->kind == KEY_TRAIL)
             snprintf(range, sizeof(range), "frames from 0 to 1000000, all, or a duration (5s)");
+        else if (k->kind == KEY_TEXT && strcmp(k->unit, "text"))
+            snprintf(range, sizeof(range), "%s", k->unit);
         else if (k->kind == KEY_TEXT)
             snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
         else if (k->kind >= KEY_BOOL)
@@ -754,7 +889,8 @@ void sp_scene_print_keys(void)
         if (k->kind == KEY_METHOD)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
         else if (k->kind == KEY_TEXT)
-            printf("    %-15s default %-8s %s\n", k->name, "\"\"", range);
+            printf("    %-15s default %-8s %s\n", k->name,
+                   *((const char *)&def + k->offset) ? (const char *)&def + k->offset : "\"\"", range);
         else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             printf("    %-15s default %-8.*s %s\n", k->name,
                    k->kind == KEY_BOOL ? 5 : (int)strcspn(k->unit, ","),
@@ -768,11 +904,11 @@ void sp_scene_print_keys(void)
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
 {
     static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
-                                              "poincare", "modes"};
+                                              "poincare", "modes", "spread"};
     static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
                                           SP_PANEL_EXTENSION,
                                           SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
-                                          SP_PANEL_POINCARE, SP_PANEL_MODES};
+                                          SP_PANEL_POINCARE, SP_PANEL_MODES, SP_PANEL_SPREAD};
     char section[64];
     const char *dot = strchr(key, '.');
     const struct key_info *k = NULL;
@@ -813,7 +949,7 @@ void sp_scene_canonical_display(const char *key, const char *value, char *buf, s
         unsigned bits = (unsigned)strtoul(value, NULL, 0);
         size_t used = 0;
         buf[0] = 0;
-        for (int i = 0; i < 7; i++)
+        for (int i = 0; i < (int)(sizeof(panel_bits) / sizeof(panel_bits[0])); i++)
             if (bits & panel_bits[i] && used < size)
                 used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
                                          panel_names[i]);
@@ -823,4 +959,50 @@ void sp_scene_canonical_display(const char *key, const char *value, char *buf, s
     }
     default: break;
     }
+}
+
+/* ---- numeric keys by name (sweeps) ---- */
+
+static const struct key_info *numeric_key(const char *key)
+{
+    char section[32];
+    const char *dot = strchr(key, '.');
+    if (!dot || dot - key >= (long)sizeof(section))
+        return NULL;
+    snprintf(section, sizeof(section), "%.*s", (int)(dot - key), key);
+    const struct key_info *k = find_key(section, dot + 1);
+    return k && (k->kind == KEY_REAL || k->kind == KEY_DEGREES || k->kind == KEY_INT) ? k : NULL;
+}
+
+const char *sp_scene_key_unit(const char *key)
+{
+    const struct key_info *k = numeric_key(key);
+    return k ? k->unit : NULL;
+}
+
+double sp_scene_get_number(const struct sp_scene *s, const char *key)
+{
+    const struct key_info *k = numeric_key(key);
+    const char *p = (const char *)s;
+    if (!k)
+        return NAN;
+    if (k->kind == KEY_INT)
+        return *(const int *)(p + k->offset);
+    return *(const double *)(p + k->offset) * (k->kind == KEY_DEGREES ? 180.0 / M_PI : 1.0);
+}
+
+int sp_scene_set_number(struct sp_scene *s, const char *key, double value, const char *origin)
+{
+    const struct key_info *k = numeric_key(key);
+    struct parse_ctx c = {.scene = s, .origin = origin};
+    char text[64];
+    if (!k) {
+        sp_log_error("%s: '%s' is not a numeric scene key; see 'springpend keys'", origin, key);
+        return SP_E_INPUT;
+    }
+    snprintf(text, sizeof(text), "%.17g", value);
+    set_value(&c, 0, k, text);
+    if (!c.errors)
+        validate_whole(&c);
+    return c.errors ? SP_E_INPUT : 0;
 }

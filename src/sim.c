@@ -571,6 +571,7 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
      * camera pre-pass); callers decide what to keep. */
     if (sp_interrupted())
         return SP_E_INTERRUPTED;
+    sp_progress_sim(t);
     to_state(t, u, &s);
     if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]) || !isfinite(u[3]) ||
         !isfinite(u[4]))
@@ -658,6 +659,21 @@ static inline double step_factor(double err, const int d853)
     return d853 ? 1 / sqrt(sqrt(sqrt(err))) : pow(err, -0.2);
 }
 
+/* The adaptive step fell below what double precision resolves at t1 (about
+ * 1e-14 t): the tolerance cannot be met here. Reports it with the state and
+ * its (finite) energy; sim->s is that state. */
+static int report_step_collapse(struct sp_sim *sim, double h)
+{
+    struct sp_energy e;
+    char what[200];
+    to_state(sim->t1, sim->y1, &sim->s);
+    sp_state_energy(&sim->p, &sim->s, &e);
+    snprintf(what, sizeof(what), "the step size fell to %.3g s, under the %.3g s that double "
+             "precision resolves at this time: tolerance %g cannot be met here", h,
+             1e-14 * fmax(1, fabs(sim->t1)), sim->tol);
+    return report_blowup(sim, &sim->s, e.total, what);
+}
+
 /* Adaptive methods: accepted steps until t1 >= t_target, then dense output. */
 SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int forced)
 {
@@ -670,12 +686,8 @@ SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int 
         if (sim->steps > 0 || sim->rejected > 0)
             memcpy(sim->k[0], sim->k[fsal], sizeof(sim->k[0]));
         for (;;) {
-            if (!(h > 1e-14 * fmax(1, fabs(sim->t1)))) {
-                struct sp_state s;
-                to_state(sim->t1, sim->y1, &s);
-                sim->s = s;
-                return report_blowup(sim, &s, NAN, "the step size fell below 1e-14 s");
-            }
+            if (!(h > 1e-14 * fmax(1, fabs(sim->t1))))
+                return report_step_collapse(sim, h);
             err = d853 ? dop853_try(sim, h, u, forced) : dopri5_try(sim, h, u, forced);
             sim->evals += d853 ? 12 : 6;
             if (err <= 1)
@@ -710,10 +722,8 @@ static int advance_rkn(struct sp_sim *sim, double t_target)
     while (sim->t1 < t_target) {
         double h = sim->h, err;
         for (;;) {
-            if (!(h > 1e-14 * fmax(1, fabs(sim->t1)))) {
-                to_state(sim->t1, sim->y1, &sim->s);
-                return report_blowup(sim, &sim->s, NAN, "the step size fell below 1e-14 s");
-            }
+            if (!(h > 1e-14 * fmax(1, fabs(sim->t1))))
+                return report_step_collapse(sim, h);
             err = rkn_try(sim, sim->t1, sim->y1, h, u);
             sim->evals += 17;
             if (err <= 1)
@@ -746,4 +756,18 @@ int sp_sim_advance(struct sp_sim *sim, double t_target)
         return sim->forced ? advance_adaptive(sim, t_target, 1)
                            : advance_adaptive(sim, t_target, 0);
     return sim->forced ? advance_fixed(sim, t_target, 1) : advance_fixed(sim, t_target, 0);
+}
+
+double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end)
+{
+    struct sp_sim sim;
+    if (!sp_method_info(scene->integrator.method)->adaptive)
+        return t_end / scene->integrator.dt;
+    sp_sim_init(&sim, scene);
+    const double t_probe = fmin(t_end, 100 / sp_params_omega_max(&sim.p));
+    sim.quiet = 1; /* a failure is the real run's to report */
+    int err = t_probe > 0 ? sp_sim_advance(&sim, t_probe) : SP_E_INPUT;
+    if (err)
+        return 0;
+    return (double)(sim.steps + sim.rejected) * (t_end / t_probe);
 }

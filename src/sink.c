@@ -39,39 +39,12 @@ static int pick_backend(const char *path, const char *format,
     return *b ? 0 : SP_E_INPUT;
 }
 
-/* mkdir -p of every folder above the file `path`. */
-static int make_parents(const char *path)
-{
-    char *dir = strdup(path);
-    int err = 0;
-    if (!dir) {
-        sp_log_error("out of memory");
-        return SP_E_NOMEM;
-    }
-    for (char *p = strchr(dir + 1, '/'); p; p = strchr(p + 1, '/')) {
-        if (p[-1] == '/')
-            continue; /* "a//b" */
-        *p = '\0';
-        struct stat st;
-        int mkdir_errno = mkdir(dir, 0777) == 0 ? 0 : errno;
-        if (mkdir_errno && mkdir_errno != EEXIST &&
-            !(stat(dir, &st) == 0 && S_ISDIR(st.st_mode))) {
-            sp_log_error("cannot create folder %s for %s: %s", dir, path,
-                         strerror(mkdir_errno));
-            err = SP_E_IO;
-            break;
-        }
-        *p = '/';
-    }
-    free(dir);
-    return err;
-}
-
 /* Frees s and what sink.c allocated; the backend has released its part. */
 static void sink_free(struct sp_sink *s)
 {
     if (!s)
         return;
+    sp_dirs_keep(&s->dirs);
     free(s->priv);
     free(s->path);
     free(s);
@@ -103,8 +76,9 @@ int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc)
                      "(one PNG per frame), or --format raw", desc->path);
         return SP_E_INPUT;
     }
-    if (!strcmp(desc->path, "-") && backend != &sp_sink_backend_raw) {
-        sp_log_error("only raw frames (--format raw) can go to stdout; "
+    if (!strcmp(desc->path, "-") && backend != &sp_sink_backend_raw &&
+        backend != &sp_sink_backend_png_single) {
+        sp_log_error("only raw frames (--format raw) or a still can go to stdout; "
                      "give a file name for other formats");
         return SP_E_INPUT;
     }
@@ -126,9 +100,11 @@ int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc)
     s->backend = backend;
     s->desc = *desc;
     s->desc.path = s->path;
-    if ((strcmp(s->path, "-") && (err = make_parents(s->path)) != 0) ||
-        (err = backend->open(s)) != 0)
+    if ((!sp_outfile_is_stream(s->path) && (err = sp_dirs_make(s->path, &s->dirs)) != 0) ||
+        (err = backend->open(s)) != 0) {
+        sp_dirs_remove_empty(&s->dirs);
         goto fail;
+    }
     /* the caller's strings, only valid until here */
     s->desc.preset = s->desc.format = NULL;
     *out = s;
@@ -178,8 +154,10 @@ int sp_sink_close(struct sp_sink **sp)
     } else {
         err = s->backend->close(s);
     }
-    if (err)
+    if (err) {
         s->backend->abort(s);
+        sp_dirs_remove_empty(&s->dirs);
+    }
     sink_free(s);
     return err;
 }
@@ -191,79 +169,6 @@ void sp_sink_abort(struct sp_sink **sp)
         return;
     *sp = NULL;
     s->backend->abort(s);
+    sp_dirs_remove_empty(&s->dirs);
     sink_free(s);
-}
-
-const char *const *sp_sink_part_files(const struct sp_sink *s)
-{
-    return s && s->backend->part_files ? s->backend->part_files(s) : NULL;
-}
-
-int sp_sink_part_path(const char *path, char **out)
-{
-    if (asprintf(out, "%s.part", path) < 0) {
-        *out = NULL;
-        sp_log_error("out of memory");
-        return SP_E_NOMEM;
-    }
-    return 0;
-}
-
-int sp_sink_commit(const char *part, const char *target)
-{
-    if (rename(part, target) != 0) {
-        sp_log_error("cannot rename %s to %s: %s", part, target,
-                     strerror(errno));
-        return SP_E_IO;
-    }
-    return 0;
-}
-
-void sp_sink_discard(const char *path)
-{
-    if (remove(path) != 0 && errno != ENOENT)
-        sp_log_error("cannot remove %s: %s", path, strerror(errno));
-}
-
-int sp_sink_part_begin(struct sp_sink_part *p, const char *target)
-{
-    if (asprintf(&p->url, "file:%s.part", target) < 0) {
-        *p = (struct sp_sink_part){0};
-        sp_log_error("out of memory");
-        return SP_E_NOMEM;
-    }
-    p->path = p->url + strlen("file:");
-    p->list[0] = p->path;
-    p->list[1] = NULL;
-    return 0;
-}
-
-/* Forgets the .part: the handler's list first, then the memory. */
-static void part_forget(struct sp_sink_part *p)
-{
-    p->list[0] = NULL;
-    free(p->url);
-    *p = (struct sp_sink_part){0};
-}
-
-int sp_sink_part_commit(struct sp_sink_part *p, const char *target)
-{
-    int err = sp_sink_commit(p->path, target);
-    if (!err)
-        part_forget(p);
-    return err;
-}
-
-void sp_sink_part_discard(struct sp_sink_part *p)
-{
-    if (!p->url)
-        return;
-    if (p->created)
-        sp_sink_discard(p->path);
-    part_forget(p);
-}
-
-int sp_sink_make_parents(const char *path)
-{
-    return make_parents(path);
 }

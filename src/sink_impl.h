@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 
+#include "springpend/outfile.h"
 #include "springpend/sink.h"
 
 struct sp_sink_backend {
@@ -24,11 +25,9 @@ struct sp_sink_backend {
     /* Finishes and renames every .part into place. On failure it leaves the
      * rest to abort, which sink.c calls next. */
     int (*close)(struct sp_sink *s);
-    /* Releases everything and removes every .part. Must work after a failed
-     * write or close. */
+    /* Releases everything and removes every .part and every file it
+     * created. Must work after a failed write or close. */
     void (*abort)(struct sp_sink *s);
-    /* The .part files being written (see sp_sink_part_files); may be NULL. */
-    const char *const *(*part_files)(const struct sp_sink *s);
 };
 
 struct sp_sink {
@@ -39,6 +38,7 @@ struct sp_sink {
     long frames;              /* images written so far */
     int failed;               /* a write failed: only abort remains */
     void *priv;               /* backend->priv_size bytes, owned by sink.c */
+    struct sp_dirs dirs;      /* folders sink.c created for the output */
 };
 
 /* In springpend-av.so (sink_video.c, sink_gif.c), found by dlsym. */
@@ -50,33 +50,6 @@ extern const struct sp_sink_backend sp_sink_backend_raw;
 extern const struct sp_sink_backend sp_sink_backend_png_sequence;
 extern const struct sp_sink_backend sp_sink_backend_png_single;
 
-/* Helpers for backends. Each logs its own failures. */
-
-/* Allocates "PATH.part" into *out (caller frees). */
-int sp_sink_part_path(const char *path, char **out);
-/* Renames part to target; on failure logs and returns SP_E_IO. */
-int sp_sink_commit(const char *part, const char *target);
-/* mkdir -p of every folder above the file path (also for the data command). */
-int sp_sink_make_parents(const char *path);
-/* Removes path if it exists; quiet about a missing file. */
-void sp_sink_discard(const char *path);
-
-/* The one .part file of a single-file backend (raw, single PNG, video, GIF). */
-struct sp_sink_part {
-    char *url;           /* owned "file:TARGET.part" (libav opens URLs); NULL = none */
-    const char *path;    /* url + 5: the .part's file name */
-    const char *list[2]; /* {path, NULL} while it may exist: the backend's
-                            part_files answer (a signal handler reads it) */
-    int created;         /* set by the backend once it has created the file:
-                            only then does discard remove it */
-};
-/* Names the .part beside target; creates nothing. */
-int sp_sink_part_begin(struct sp_sink_part *p, const char *target);
-/* Renames the .part to target and forgets it; on failure keeps it for
- * sp_sink_part_discard. */
-int sp_sink_part_commit(struct sp_sink_part *p, const char *target);
-/* Removes the .part if the backend created it, and forgets it. Safe when
- * there is none. */
-void sp_sink_part_discard(struct sp_sink_part *p);
+/* Backends write every file through struct sp_outfile (outfile.h). */
 
 #endif

@@ -1,7 +1,10 @@
 /* springpend: PNG sinks. A sequence writes frame k (from desc.first_frame)
- * to snprintf(pattern, k), each through NAME.part renamed at once; a single
- * PNG takes exactly one image, renamed into place on close. */
+ * to snprintf(pattern, k), each through its own .part renamed at once; a
+ * single PNG takes exactly one image, renamed into place on close (or
+ * written through a device, FIFO or stdout). */
+#include <errno.h>
 #include <pthread.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,7 +41,7 @@ struct png_job {
     enum job_state state;
     struct sp_image img; /* owned copy, allocated at the first write */
     long number;         /* the frame number in the file name */
-    char *name, *part;   /* owned: path and path.part, room for any int */
+    char *name;          /* owned: its path, room for any int */
     /* The caller's text chunks as they were at the write (the caller may
      * change them before the writer gets to this job). */
     struct sp_png_text text[PNG_MAX_TEXT]; /* point into text_buf */
@@ -55,7 +58,10 @@ struct png_sequence {
     int stop;                          /* writers: leave when idle */
     int err;                           /* first writer failure */
     size_t cap;                        /* bytes of each name buffer */
-    const char *parts[PNG_MAX_WRITERS + 2]; /* the jobs' part buffers, NULL-ended */
+    /* written[k]: frame first_frame + k was renamed into place by this
+     * run (so only those are removed on abort); n_written entries */
+    uint8_t *written;
+    long n_written;
 };
 
 /* Accepts exactly one %d or %i with an optional 0 flag and a width of at
@@ -126,18 +132,14 @@ static void *png_writer(void *arg)
         int err = 0;
         if (!skip) {
             png_sequence_name(s, j->number, j->name, q->cap);
-            snprintf(j->part, q->cap, "%s.part", j->name);
             struct sp_png_write_opts opts = png_opts(s);
             opts.text = j->text;
             opts.n_text = j->n_text;
-            err = sp_png_write_opts(j->part, &j->img, &opts);
-            if (!err)
-                err = sp_sink_commit(j->part, j->name);
-            if (err)
-                sp_sink_discard(j->part);
-            j->part[0] = '\0';
+            err = sp_png_write_opts(j->name, &j->img, &opts); /* whole or nothing */
         }
         pthread_mutex_lock(&q->lock);
+        if (!skip && !err)
+            q->written[j->number - s->desc.first_frame] = 1;
         if (err && !q->err)
             q->err = err;
         j->state = JOB_FREE;
@@ -162,11 +164,9 @@ static int png_sequence_finish(struct sp_sink *s)
         pthread_join(q->writer[i], NULL);
     q->n_writers = 0;
     for (int i = 0; i < q->n_jobs; i++) {
-        q->parts[i] = NULL; /* before the free: a signal handler reads it */
         sp_image_free(&q->job[i].img);
         free(q->job[i].name);
-        free(q->job[i].part);
-        q->job[i].name = q->job[i].part = NULL;
+        q->job[i].name = NULL;
     }
     q->n_jobs = 0;
     pthread_mutex_destroy(&q->lock);
@@ -182,13 +182,11 @@ static int png_sequence_open(struct sp_sink *s)
     int writers = cores < 1 ? 1 : cores > PNG_MAX_WRITERS ? PNG_MAX_WRITERS : (int)cores;
     pthread_mutex_init(&q->lock, NULL);
     pthread_cond_init(&q->changed, NULL);
-    q->cap = strlen(s->path) + 99 + sizeof(".part");
+    q->cap = strlen(s->path) + 99;
     for (q->n_jobs = 0; q->n_jobs < writers + 1; q->n_jobs++) {
         struct png_job *j = &q->job[q->n_jobs];
         j->name = malloc(q->cap);
-        j->part = calloc(1, q->cap);
-        q->parts[q->n_jobs] = j->part;
-        if (!j->name || !j->part) {
+        if (!j->name) {
             q->n_jobs++;
             sp_log_error("out of memory");
             png_sequence_finish(s);
@@ -260,35 +258,58 @@ static int png_sequence_write(struct sp_sink *s, const struct sp_image *img)
         return err;
     j->number = s->desc.first_frame + s->frames;
     pthread_mutex_lock(&q->lock);
+    if (s->frames >= q->n_written) {
+        long n = q->n_written ? 2 * q->n_written : 256;
+        uint8_t *w = realloc(q->written, (size_t)n);
+        if (!w) {
+            pthread_mutex_unlock(&q->lock);
+            sp_log_error("out of memory");
+            return SP_E_NOMEM;
+        }
+        memset(w + q->n_written, 0, (size_t)(n - q->n_written));
+        q->written = w;
+        q->n_written = n;
+    }
     j->state = JOB_PENDING;
     pthread_cond_broadcast(&q->changed);
     pthread_mutex_unlock(&q->lock);
     return 0;
 }
 
-static int png_sequence_close(struct sp_sink *s)
+static void png_sequence_free(struct sp_sink *s)
 {
-    return png_sequence_finish(s);
+    struct png_sequence *q = s->priv;
+    free(q->written);
+    q->written = NULL;
+    q->n_written = 0;
 }
 
-/* Every frame is removed, so a failed or aborted run leaves no partial
- * sequence; a failed write has already removed its .part. */
+static int png_sequence_close(struct sp_sink *s)
+{
+    int err = png_sequence_finish(s);
+    if (!err)
+        png_sequence_free(s); /* else abort comes next and needs it */
+    return err;
+}
+
+/* Every frame this run renamed into place is removed, so a failed or
+ * aborted run leaves no partial sequence; files it never wrote (an earlier
+ * run's frames) stay, and a failed write has already removed its .part. */
 static void png_sequence_abort(struct sp_sink *s)
 {
+    struct png_sequence *q = s->priv;
     size_t cap = strlen(s->path) + 99;
     png_sequence_finish(s);
     char *name = malloc(cap);
-    for (long k = 0; name && k < s->frames; k++) {
+    for (long k = 0; name && k < s->frames && k < q->n_written; k++) {
+        if (!q->written[k])
+            continue;
         png_sequence_name(s, s->desc.first_frame + k, name, cap);
-        sp_sink_discard(name);
+        if (unlink(name) != 0 && errno != ENOENT)
+            sp_log_error("cannot remove %s: %s", name, strerror(errno));
     }
     free(name);
-}
-
-static const char *const *png_sequence_part_files(const struct sp_sink *s)
-{
-    const struct png_sequence *q = s->priv;
-    return q->parts;
+    png_sequence_free(s);
 }
 
 const struct sp_sink_backend sp_sink_backend_png_sequence = {
@@ -298,19 +319,18 @@ const struct sp_sink_backend sp_sink_backend_png_sequence = {
     .write = png_sequence_write,
     .close = png_sequence_close,
     .abort = png_sequence_abort,
-    .part_files = png_sequence_part_files,
 };
 
 /* ---- single image ---- */
 
 struct png_single {
-    struct sp_sink_part part; /* written by the one write */
+    struct sp_outfile out; /* written by the one write */
 };
 
 static int png_single_open(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
-    return sp_sink_part_begin(&o->part, s->path);
+    return sp_outfile_open(&o->out, s->path, SP_OUTFILE_STREAM);
 }
 
 static int png_single_write(struct sp_sink *s, const struct sp_image *img)
@@ -322,26 +342,19 @@ static int png_single_write(struct sp_sink *s, const struct sp_image *img)
         return SP_E_INPUT;
     }
     struct sp_png_write_opts opts = png_opts(s);
-    o->part.created = 1; /* even a failed write may leave some of it */
-    return sp_png_write_opts(o->part.path, img, &opts);
+    return sp_png_write_outfile(&o->out, img, &opts);
 }
 
 static int png_single_close(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
-    return sp_sink_part_commit(&o->part, s->path);
+    return sp_outfile_commit(&o->out);
 }
 
 static void png_single_abort(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
-    sp_sink_part_discard(&o->part);
-}
-
-static const char *const *png_single_part_files(const struct sp_sink *s)
-{
-    const struct png_single *o = s->priv;
-    return o->part.list;
+    sp_outfile_discard(&o->out);
 }
 
 const struct sp_sink_backend sp_sink_backend_png_single = {
@@ -350,5 +363,4 @@ const struct sp_sink_backend sp_sink_backend_png_single = {
     .write = png_single_write,
     .close = png_single_close,
     .abort = png_single_abort,
-    .part_files = png_single_part_files,
 };

@@ -1,8 +1,8 @@
 /* springpend: raw frames, for piping into other tools: each image as
  * height rows of width RGBA8 pixels (4 bytes each, top row first), no
- * header, no padding. Path "-" is stdout; a file goes through NAME.part. */
+ * header, no padding. Path "-" is stdout; a device or FIFO is written
+ * through; a file goes through a .part (outfile.h). */
 #include <errno.h>
-#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -11,28 +11,13 @@
 #include "sink_impl.h"
 
 struct raw {
-    int fd;                  /* 1 for stdout, else owned */
-    struct sp_sink_part part; /* none for stdout or once renamed */
+    struct sp_outfile out; /* the .part, or stdout / a device written through */
 };
 
 static int raw_open(struct sp_sink *s)
 {
     struct raw *o = s->priv;
-    o->fd = 1;
-    if (!strcmp(s->path, "-"))
-        return 0;
-    int err = sp_sink_part_begin(&o->part, s->path);
-    if (err)
-        return err;
-    o->fd = open(o->part.path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    o->part.created = o->fd >= 0;
-    if (o->fd < 0) {
-        sp_log_error("%s: cannot create %s: %s", s->path, o->part.path,
-                     strerror(errno));
-        sp_sink_part_discard(&o->part);
-        return SP_E_IO;
-    }
-    return 0;
+    return sp_outfile_open(&o->out, s->path, SP_OUTFILE_STREAM);
 }
 
 /* Writes all n bytes of buf, retrying after signals and short writes. */
@@ -40,12 +25,12 @@ static int write_all(struct sp_sink *s, const uint8_t *buf, size_t n)
 {
     struct raw *o = s->priv;
     while (n > 0) {
-        ssize_t k = write(o->fd, buf, n);
+        ssize_t k = write(o->out.fd, buf, n);
         if (k < 0 && errno == EINTR)
             continue;
         if (k < 0) {
             sp_log_error("%s: cannot write frame %ld: %s",
-                         o->fd == 1 && !o->part.url ? "stdout" : s->path,
+                         strcmp(s->path, "-") ? s->path : "stdout",
                          s->frames, errno == EPIPE ? "the reader closed the "
                          "pipe" : strerror(errno));
             return SP_E_IO;
@@ -72,32 +57,13 @@ static int raw_write(struct sp_sink *s, const struct sp_image *img)
 static int raw_close(struct sp_sink *s)
 {
     struct raw *o = s->priv;
-    if (!o->part.url)
-        return 0; /* stdout: the caller owns it */
-    int fd = o->fd;
-    o->fd = -1;
-    if (close(fd) != 0) {
-        sp_log_error("%s: cannot finish %s: %s", s->path, o->part.path,
-                     strerror(errno));
-        return SP_E_IO;
-    }
-    return sp_sink_part_commit(&o->part, s->path);
+    return sp_outfile_commit(&o->out);
 }
 
 static void raw_abort(struct sp_sink *s)
 {
     struct raw *o = s->priv;
-    if (!o->part.url)
-        return;
-    if (o->fd >= 0)
-        close(o->fd);
-    sp_sink_part_discard(&o->part);
-}
-
-static const char *const *raw_part_files(const struct sp_sink *s)
-{
-    const struct raw *o = s->priv;
-    return o->part.list;
+    sp_outfile_discard(&o->out);
 }
 
 const struct sp_sink_backend sp_sink_backend_raw = {
@@ -106,5 +72,4 @@ const struct sp_sink_backend sp_sink_backend_raw = {
     .write = raw_write,
     .close = raw_close,
     .abort = raw_abort,
-    .part_files = raw_part_files,
 };

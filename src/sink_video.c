@@ -2,9 +2,9 @@
  * yuv420p, and WebM with VP9 (libvpx) in yuv420p or, with desc.alpha,
  * yuva420p. Follows FFmpeg's doc/examples/mux.c: send each frame, drain
  * receive_packet until EAGAIN, rescale timestamps, write interleaved; at
- * the end flush with NULL and write the trailer. The muxer writes
- * NAME.part (format named explicitly, since ".part" says nothing) and
- * +faststart moves the index (moov) before the data at the trailer. */
+ * the end flush with NULL and write the trailer. The muxer writes a unique
+ * .part (outfile.h; format named explicitly, since ".part" says nothing)
+ * and +faststart moves the index (moov) before the data at the trailer. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,7 +52,7 @@ struct video {
     AVFrame *frame;         /* owned: the one YUV(A)420P picture, reused */
     AVPacket *pkt;          /* owned: reused for every packet */
     struct SwsContext *sws; /* owned: RGBA -> YUV(A)420P, BT.709 limited */
-    struct sp_sink_part part; /* created by avio_open; none once renamed */
+    struct sp_outfile file; /* the .part libav writes by name (file.url) */
 };
 
 static int video_check(const struct sp_sink_desc *d,
@@ -131,7 +131,7 @@ static void video_release(struct sp_sink *s)
     av_packet_free(&v->pkt);
     sws_freeContext(v->sws);
     v->sws = NULL;
-    sp_sink_part_discard(&v->part);
+    sp_outfile_discard(&v->file);
 }
 
 /* Sends frame (NULL = flush) and writes every packet the encoder returns. */
@@ -159,6 +159,9 @@ static int video_encode(struct sp_sink *s, const AVFrame *frame)
 /* The encoder's speed from an x264 preset name. VP9 (libvpx) has no
  * presets: "good" quality with cpu-used from 8 (ultrafast) down to 0, and
  * row-based threading so both cores work. */
+/* Encoder threads, whatever the core count (see video_open). */
+#define VIDEO_THREADS 8
+
 static int set_speed(AVCodecContext *enc, const struct video_codec *vc,
                      const char *preset)
 {
@@ -193,13 +196,16 @@ static int video_open(struct sp_sink *s)
     if (av_log_get_level() == AV_LOG_INFO)
         av_log_set_level(AV_LOG_ERROR);
 
-    if (sp_sink_part_begin(&v->part, s->path) != 0)
-        return SP_E_NOMEM;
-    ret = avformat_alloc_output_context2(&v->oc, NULL, vc->muxer, v->part.url);
+    if ((err = sp_outfile_open(&v->file, s->path, 0)) != 0)
+        return err;
+    err = SP_E_CODEC; /* what a failure below is, unless it says */
+    ret = avformat_alloc_output_context2(&v->oc, NULL, vc->muxer, v->file.url);
     if (ret < 0) {
         err = av_failed(s, "cannot set up the muxer", ret, SP_E_CODEC);
         goto fail;
     }
+    /* No random Matroska UIDs, no version strings: the same bytes each run. */
+    v->oc->flags |= AVFMT_FLAG_BITEXACT;
     v->st = avformat_new_stream(v->oc, NULL);
     v->enc = avcodec_alloc_context3(codec);
     v->frame = av_frame_alloc();
@@ -213,9 +219,9 @@ static int video_open(struct sp_sink *s)
     v->enc->width = d->width;
     v->enc->height = d->height;
     v->enc->pix_fmt = pix;
-    /* libavcodec's default is one thread; let the encoder use every core,
-     * as the ffmpeg command does ("-threads auto"). */
-    v->enc->thread_count = 0;
+    /* A fixed thread count, not one per core: x264's output depends on its
+     * threads, so the same scene gives the same bytes on any machine. */
+    v->enc->thread_count = VIDEO_THREADS;
     v->enc->framerate = rate;
     v->enc->time_base = av_inv_q(rate); /* pts = frame index */
     /* sRGB pixels go through the BT.709 matrix into limited range. */
@@ -263,13 +269,12 @@ static int video_open(struct sp_sink *s)
     const int *bt709 = sws_getCoefficients(SWS_CS_ITU709);
     sws_setColorspaceDetails(v->sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
 
-    /* The file is created last, so a refused setup leaves nothing. */
-    ret = avio_open(&v->oc->pb, v->part.url, AVIO_FLAG_WRITE);
+    /* A refused setup removes the .part (video_release). */
+    ret = avio_open(&v->oc->pb, v->file.url, AVIO_FLAG_WRITE);
     if (ret < 0) {
-        err = av_failed(s, "cannot create its .part file", ret, SP_E_IO);
+        err = av_failed(s, "cannot open its .part file", ret, SP_E_IO);
         goto fail;
     }
-    v->part.created = 1;
     if (!strcmp(vc->muxer, "mp4"))
         av_dict_set(&mux_opts, "movflags", "+faststart", 0);
     ret = avformat_write_header(v->oc, &mux_opts);
@@ -316,17 +321,11 @@ static int video_close(struct sp_sink *s)
         ret = avio_closep(&v->oc->pb);
     if (ret < 0)
         return av_failed(s, "cannot finish the file", ret, SP_E_IO);
-    err = sp_sink_part_commit(&v->part, s->path); /* then nothing to remove */
+    err = sp_outfile_commit(&v->file); /* then nothing to remove */
     if (err)
         return err;
     video_release(s);
     return 0;
-}
-
-static const char *const *video_part_files(const struct sp_sink *s)
-{
-    const struct video *v = s->priv;
-    return v->part.list;
 }
 
 static int mp4_open(struct sp_sink *s)
@@ -348,7 +347,6 @@ const struct sp_sink_backend sp_sink_backend_mp4 = {
     .write = video_write,
     .close = video_close,
     .abort = video_release,
-    .part_files = video_part_files,
 };
 
 const struct sp_sink_backend sp_sink_backend_webm = {
@@ -358,5 +356,4 @@ const struct sp_sink_backend sp_sink_backend_webm = {
     .write = video_write,
     .close = video_close,
     .abort = video_release,
-    .part_files = video_part_files,
 };

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """springpend tests: the command line, end to end, as a user meets it.
 usage: test_cli.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import glob
 import json
 import math
 import os
@@ -193,7 +194,7 @@ ok(r.returncode == 3 and "unstable" in r.stderr and "use integrator.dt = " in r.
 r = run("render", default, "--set", "video.duration=2", "--size", "320x240", "--fps", "30",
         "-o", "short.mp4", "-q")
 mp4 = os.path.join(work, "short.mp4")
-ok(r.returncode == 0 and os.path.exists(mp4) and not os.path.exists(mp4 + ".part"),
+ok(r.returncode == 0 and os.path.exists(mp4) and not glob.glob(glob.escape(mp4) + ".*.part"),
    f"render writes an mp4 ({r.stderr.strip()[:200]})")
 if shutil.which("ffprobe") and os.path.exists(mp4):
     p = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-show_streams", "-show_format",
@@ -370,11 +371,12 @@ for sig in (signal.SIGINT, signal.SIGTERM):
     p = subprocess.Popen([exe, "render", default, "--size", "320x240", "-o", target, "-q"],
                          stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 30
-    while not os.path.exists(target + ".part") and p.poll() is None and time.monotonic() < deadline:
+    while not glob.glob(glob.escape(target) + ".*.part") and p.poll() is None and time.monotonic() < deadline:
         time.sleep(0.01)
     p.send_signal(sig)
     err = p.communicate()[1]
-    left = os.listdir(os.path.dirname(target))
+    folder = os.path.dirname(target)  # removed when the run left it empty
+    left = os.listdir(folder) if os.path.isdir(folder) else []
     ok(p.returncode == 128 + sig and "interrupted" in err and
        not [n for n in left if n.endswith(".part")],
        f"{sig.name} during a render: exit {p.returncode}, says {err.strip()!r}, left {left}")
@@ -385,11 +387,13 @@ for sig in (signal.SIGINT, signal.SIGTERM):
     p = subprocess.Popen([exe, "data", default, "--set", "video.duration=900", "--every", "0.0001",
                           "-o", target, "-q"], stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 30
-    while not os.path.exists(target + ".part") and p.poll() is None and time.monotonic() < deadline:
+    while not glob.glob(glob.escape(target) + ".*.part") and p.poll() is None and time.monotonic() < deadline:
         time.sleep(0.01)
     p.send_signal(sig)
     err = p.communicate()[1]
-    left = [n for n in os.listdir(os.path.dirname(target)) if n.startswith(sig.name + ".csv")]
+    folder = os.path.dirname(target)
+    left = [n for n in (os.listdir(folder) if os.path.isdir(folder) else [])
+            if n.startswith(sig.name + ".csv")]
     ok(p.returncode == 128 + sig and "interrupted" in err and not left,
        f"{sig.name} during data: exit {p.returncode}, says {err.strip()!r}, left {left}")
 
@@ -408,7 +412,9 @@ for what, args in (("still --at 1e7", ["still", default, "--at", "1e7", "--size"
     except subprocess.TimeoutExpired:
         p.kill()
         err = p.communicate()[1] + " (ignored SIGINT for 30 s)"
-    left = [n for n in os.listdir(os.path.dirname(target)) if n.startswith("long.")]
+    folder = os.path.dirname(target)
+    left = [n for n in (os.listdir(folder) if os.path.isdir(folder) else [])
+            if n.startswith("long.")]
     ok(p.returncode == 130 and "interrupted by SIGINT before the first frame" in err and not left,
        f"SIGINT during {what}: exit {p.returncode}, says {err.strip()!r}, left {left}")
 # Every panel, the HUD and the colourbar at frames far too small for them:
@@ -429,11 +435,11 @@ def small_files():
 
 
 for what, args, says in (
-        ("still", ["still", default, "--size", "640x360", "-o", "full/s.png"], "s.png.part: cannot write: File too large"),
+        ("still", ["still", default, "--size", "640x360", "-o", "full/s.png"], "s.png: cannot write: File too large"),
         ("mp4", ["render", default, "--size", "320x240", "--set", "video.duration=1", "-o", "full/v.mp4", "-q"],
          "File too large"),
         ("PNG sequence", ["render", default, "--size", "320x240", "--set", "video.duration=1",
-                          "-o", "full/%03d.png", "-q"], ".png.part: cannot write: File too large"),
+                          "-o", "full/%03d.png", "-q"], ".png: cannot write: File too large"),
         ("compare --diff", ["compare", P("a.png"), P("moved.png"), "--diff", "full/d.png"], "d.png")):
     shutil.rmtree(os.path.join(work, "full"), ignore_errors=True)
     os.makedirs(os.path.join(work, "full"))
@@ -502,7 +508,7 @@ n = sum(1 for _ in open(path)) if os.path.exists(path) else 0
 ok(r.returncode == 0 and n == 61, f"data without -o writes out/default.csv, 60 frame rows + header ({n})")
 r = run("data", default, "--set", "pendulum.stiffness=5e6", "-o", "blow.csv")
 ok(r.returncode == 3 and "stability limit" in r.stderr and not os.path.exists(os.path.join(work, "blow.csv"))
-   and not os.path.exists(os.path.join(work, "blow.csv.part")),
+   and not glob.glob(os.path.join(work, "blow.csv.*.part")),
    "an unstable data run exits 3, names the stability limit, and leaves no file")
 r = run("data", default, "--every", "0", "-o", "-")
 ok(r.returncode == 2 and "--every 0" in r.stderr, "--every 0 is refused with exit 2")

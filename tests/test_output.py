@@ -5,6 +5,7 @@ a full disk and a read-only folder give a clear error and leave no file.
 usage: test_output.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)
 Exits 77 (skip) without ffprobe/ffmpeg. The full-disk and read-only checks
 mount a tmpfs and are skipped where mounting is not permitted."""
+import glob
 import hashlib
 import json
 import os
@@ -246,7 +247,7 @@ def start_and_wait_for_part(out):
     p = subprocess.Popen([exe, "render", scene, *LONG, "-o", out], cwd=work,
                          stderr=subprocess.PIPE)
     t0 = time.time()
-    while not os.path.exists(out + ".part") and time.time() - t0 < 20:
+    while not glob.glob(glob.escape(out) + ".*.part") and time.time() - t0 < 20:
         time.sleep(0.05)
     time.sleep(0.5)  # some frames
     return p
@@ -259,7 +260,7 @@ for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
     err = p.communicate(timeout=60)[1].decode()
     pr = probe(out)
     ok(p.returncode == code and pr and pr[0] == "h264" and 0 < pr[2] < 3600 and
-       not os.path.exists(out + ".part") and "kept the" in err,
+       not glob.glob(glob.escape(out) + ".*.part") and "kept the" in err,
        f"{sig.name}: exit {code}, a playable MP4 of the frames so far, no .part "
        f"(got {p.returncode}, {pr}, {err.strip()[-120:]!r})")
 
@@ -271,7 +272,7 @@ p.send_signal(signal.SIGINT)
 p.communicate(timeout=60)
 # The first may have finished the file before the second arrives; either
 # way no .part is left, and what is at the target plays.
-ok(p.returncode == 130 and not os.path.exists(out + ".part") and
+ok(p.returncode == 130 and not glob.glob(glob.escape(out) + ".*.part") and
    (not os.path.exists(out) or probe(out)),
    f"a second SIGINT stops at once and removes the .part (got {p.returncode}, "
    f"file {'kept' if os.path.exists(out) else 'none'})")

@@ -6,6 +6,7 @@
 #endif
 #include <assert.h>
 #include <ftw.h>
+#include <glob.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,11 +39,15 @@ static bool exists(const char *path)
     return stat(path, &st) == 0;
 }
 
+/* Any PATH.XXXXXX.part (outfile.h's unique .part names). */
 static bool exists_part(const char *path)
 {
-    char part[4300];
-    snprintf(part, sizeof(part), "%s.part", path);
-    return exists(part);
+    char pattern[4300];
+    glob_t g;
+    snprintf(pattern, sizeof(pattern), "%s.??????.part", path);
+    bool found = glob(pattern, 0, NULL, &g) == 0 && g.gl_pathc > 0;
+    globfree(&g);
+    return found;
 }
 
 /* ---- synthetic frames ---- */

@@ -34,4 +34,13 @@ int sp_interrupted(void);
  * handlers installed elsewhere (the render pipeline's). */
 void sp_interrupt_note(int sig);
 
+/* Progress of a long integration, drawn on stderr when it is a terminal:
+ * a command calls sp_progress_begin before integrating to t_goal
+ * (simulated s; what names the pass), the simulation calls sp_progress_sim
+ * as it goes (cheap: it redraws at most 4 times a second and only after
+ * 2 s), and sp_progress_end clears the line. enable = 0 draws nothing. */
+void sp_progress_begin(int enable, const char *what, double t_goal);
+void sp_progress_sim(double t);
+void sp_progress_end(void);
+
 #endif

@@ -34,10 +34,16 @@ struct sp_png_write_opts {
 int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
                              const struct sp_png_write_opts *opts,
                              const char *what);
-/* Creates or truncates path and writes img to it (no .part dance; sinks do
- * that). A failed write may leave a partial file behind. */
+/* Writes img to path whole or not at all (outfile.h): through a unique
+ * .part renamed into place, or straight through a device, FIFO or stdout.
+ * A failed write leaves nothing and removes nothing that was there. */
 int sp_png_write_opts(const char *path, const struct sp_image *img,
                       const struct sp_png_write_opts *opts);
+struct sp_outfile;
+/* Writes img into f, opened by sp_outfile_open: f's descriptor is used up,
+ * f stays open for sp_outfile_commit or sp_outfile_discard. */
+int sp_png_write_outfile(struct sp_outfile *f, const struct sp_image *img,
+                         const struct sp_png_write_opts *opts);
 
 /* Shorthands with a level 0..9 and no text. */
 int sp_png_write_stream(FILE *fp, const struct sp_image *img, int level,

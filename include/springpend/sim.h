@@ -117,6 +117,13 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene);
  * state checked. A state returned with 0 always passed that check. */
 int sp_sim_advance(struct sp_sim *sim, double t_target);
 
+/* The steps an integration of scene from 0 to t_end takes: t_end / dt for
+ * a fixed-step method; for an adaptive one, the steps of a probe over the
+ * first 100 / omega_max seconds scaled to t_end. An estimate within a
+ * factor of a few (the motion may change its pace); 0 when the probe
+ * itself fails (the real run then reports why). */
+double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end);
+
 void sp_state_polar(const struct sp_state *s, struct sp_polar *out);
 void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
                      struct sp_energy *out);

@@ -7,10 +7,13 @@
  *   png   *%d*.png (printf pattern, e.g. frames/%05d.png)  one PNG per frame
  *         *.png   a single PNG (exactly one frame may be written)
  *   raw   RGBA8 frames, top row first, no header; path "-" is stdout
- * Files are written as NAME.part and renamed into place: a video on
- * sp_sink_close, each PNG of a sequence as soon as it is complete. A failed
+ * Files are written through struct sp_outfile (outfile.h): a unique
+ * NAME.XXXXXX.part renamed into place, a video on sp_sink_close, each PNG of
+ * a sequence as soon as it is complete; raw frames and a single PNG may be
+ * written through a device, FIFO or stdout, the others refuse one. A failed
  * or aborted run leaves nothing at the target path (an aborted sequence
- * removes the frames it wrote). Folders are created. Knows nothing of GL. */
+ * removes the frames this run wrote, no other) and removes the folders it
+ * created when they are empty. Knows nothing of GL. */
 #ifndef SPRINGPEND_SINK_H
 #define SPRINGPEND_SINK_H
 
@@ -49,10 +52,4 @@ int sp_sink_write(struct sp_sink *s, const struct sp_image *img);
 int sp_sink_close(struct sp_sink **s);
 /* Removes every file the sink wrote; frees and NULLs *s. Safe on NULL. */
 void sp_sink_abort(struct sp_sink **s);
-/* The .part files the sink may be writing: a NULL-terminated array of
- * buffers owned by s, whose addresses stay valid until close/abort (their
- * contents change between writes; "" = none). For a signal handler to
- * remove. NULL if there are none. */
-const char *const *sp_sink_part_files(const struct sp_sink *s);
-
 #endif

@@ -41,6 +41,10 @@ static void check_accepted(const struct sp_scene *s)
         CHECK(isfinite(reals[i]));
     CHECK(s->pendulum.natural_length > 0 && s->pendulum.stiffness > 0 && s->pendulum.mass > 0);
     CHECK(s->pendulum.gravity >= 0 && s->pendulum.damping >= 0 && s->initial.length > 0);
+    /* what the simulation derives stays finite (k/m, b/m, the static stretch) */
+    CHECK(isfinite(s->pendulum.stiffness / s->pendulum.mass) &&
+          isfinite(s->pendulum.damping / s->pendulum.mass) &&
+          isfinite(s->pendulum.mass * s->pendulum.gravity / s->pendulum.stiffness));
     CHECK(s->integrator.dt > 0 && s->integrator.dt <= 1);
     CHECK(s->video.width >= 16 && s->video.height >= 16 &&
           (long)s->video.width * s->video.height <= 7680L * 4320L);
@@ -61,6 +65,11 @@ static void check_accepted(const struct sp_scene *s)
     CHECK(s->view.font_scale >= 0.25 && s->view.font_scale <= 4);
     CHECK(memchr(s->view.title, 0, sizeof(s->view.title)) && memchr(s->view.caption, 0, sizeof(s->view.caption)));
     CHECK(s->name[sizeof(s->name) - 1] == 0);
+    CHECK(s->ensemble.count >= 0 && s->ensemble.count <= 10000);
+    CHECK(s->ensemble.spread > 0 && s->ensemble.spread <= 1e12);
+    CHECK(memchr(s->ensemble.key, 0, sizeof(s->ensemble.key)));
+    if (s->ensemble.count > 1) /* a numeric key, whose both ends the parser accepted */
+        CHECK(sp_scene_key_unit(s->ensemble.key) != NULL);
     char buf[4096];
     int len = sp_scene_canonical(s, buf, sizeof(buf));
     CHECK(len > 0 && len < (int)sizeof(buf) && (int)strlen(buf) == len);

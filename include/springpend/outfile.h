@@ -1,0 +1,84 @@
+/* springpend: a file that appears whole or not at all. Every file
+ * springpend writes (videos, PNGs, raw frames, CSV, JSON) goes through here:
+ *
+ *   struct sp_outfile f;
+ *   if (sp_outfile_open(&f, "out/a.csv", SP_OUTFILE_STREAM) == 0) {
+ *       ... write to f.fd (or open f.path / f.url by name) ...
+ *       ret = ok ? sp_outfile_commit(&f) : (sp_outfile_discard(&f), err);
+ *   }
+ *
+ * The promises:
+ * - A regular file (or a new name) is written as NAME.XXXXXX.part, a name
+ *   made unique with O_EXCL in the target's folder, and renamed over the
+ *   target only when complete: concurrent runs never share a .part, the last
+ *   one to finish wins with a whole file, and nothing that already exists is
+ *   opened, truncated or removed (not even a file named like a .part).
+ * - A symlink to a regular file is followed: the file it points to is
+ *   replaced, the link stays.
+ * - A device, FIFO or socket, and /dev/stdout, /dev/stderr, /dev/fd/N, are
+ *   never replaced or removed. With SP_OUTFILE_STREAM (a format written
+ *   front to back) they are written through directly (no .part; a FIFO
+ *   waits for its reader); without it they are refused (SP_E_INPUT).
+ * - While a .part exists its name is in a table a signal handler can read:
+ *   sp_outfile_remove_parts removes them all (async-signal-safe).
+ * Every failure is logged once, here, naming the path and the cause. */
+#ifndef SPRINGPEND_OUTFILE_H
+#define SPRINGPEND_OUTFILE_H
+
+#include <stddef.h>
+
+struct sp_outfile {
+    char *target;  /* owned: the file that appears in the end (a symlink
+                      to a regular file resolved); NULL = closed */
+    char *url;     /* owned: "file:" + path, for libav's avio_open */
+    const char *path; /* url + 5: where the bytes go now: the .part, or the
+                         target itself when written through */
+    int fd;        /* open for writing (O_CLOEXEC); -1 once closed */
+    int through;   /* 1: a device, FIFO or stdout written directly */
+    int slot;      /* the signal table's slot holding path; -1 = none */
+};
+
+#define SP_OUTFILE_STREAM 1u /* the format may be written through a device,
+                                FIFO or /dev/stdout (no seeking back) */
+
+/* Opens target for writing as described above. The target's folder must
+ * exist (see sp_dirs_make). On failure *f is closed and nothing was
+ * created. SP_E_INPUT for a folder or a refused non-regular target, SP_E_IO
+ * when the .part cannot be created. */
+int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags);
+
+/* Closes f->fd and renames the .part over the target (nothing to rename
+ * when written through: then it reports the close's fate). On failure the
+ * .part is removed. Either way f is closed. SP_E_IO on failure. */
+int sp_outfile_commit(struct sp_outfile *f);
+
+/* Closes f->fd and removes the .part; a target written through is left
+ * alone. Safe on a closed or zeroed f. */
+void sp_outfile_discard(struct sp_outfile *f);
+
+/* Whether writing to target would write through it (a device, FIFO,
+ * socket or stdout): such a target must never be removed. */
+int sp_outfile_is_stream(const char *target);
+
+/* Removes every .part now open in this process. Async-signal-safe: for the
+ * handler of a second Ctrl-C. */
+void sp_outfile_remove_parts(void);
+
+/* The folders a run created, so that a failed run can remove them. */
+struct sp_dirs {
+    char *deepest; /* owned: the deepest folder created; NULL = none */
+    size_t top;    /* strlen of the topmost folder created */
+};
+
+/* mkdir -p of every folder above the file path, remembering in *made the
+ * ones that did not exist (made may be NULL). SP_E_IO with a message. */
+int sp_dirs_make(const char *path, struct sp_dirs *made);
+
+/* Removes the folders in *made that are empty, deepest first (a folder with
+ * anything in it stays), and forgets them. Safe on a zeroed struct. */
+void sp_dirs_remove_empty(struct sp_dirs *made);
+
+/* Forgets the folders without removing them (the run succeeded). */
+void sp_dirs_keep(struct sp_dirs *made);
+
+#endif

@@ -1,0 +1,643 @@
+/* springpend: the batched integrator (see batch.h). Each stepper works on a
+ * block of SP_BATCH_BLOCK trajectories held in small arrays, one loop over
+ * the lanes per operation; GCC vectorises those loops. This file is built
+ * with -O3 -fno-math-errno -fno-trapping-math -fopenmp-simd (sqrt and the
+ * guarded divisions become vector instructions; `omp simd` keeps the
+ * unroller from scalarising the hot loops first), and the project with
+ * -ffp-contract=off (no fused multiply-add changes a rounding), so a lane
+ * does exactly what sim.c does. The block steppers are compiled twice, for AVX2
+ * and for the baseline, and the CPU picks at load time (target_clones).
+ * sin, cos and exp stay scalar libm calls, as in sim.c. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "springpend/batch.h"
+#include "springpend/common.h"
+#include "springpend/sim.h"
+
+#define B SP_BATCH_BLOCK
+#define NC SP_BATCH_NC
+#define SPECIALISED static inline __attribute__((always_inline))
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define CLONES __attribute__((target_clones("avx2", "default"), noinline))
+#else
+#define CLONES __attribute__((noinline))
+#endif
+
+/* A loop over a block's lanes, vectorised whatever the unroller does first
+ * (-fopenmp-simd: the pragma only, no OpenMP run time). */
+#define LANES _Pragma("omp simd") for (int l = 0; l < B; l++)
+
+#define CHECK_EVERY 16          /* fixed steps between energy checks (sim.c: 4) */
+
+/* One block's parameters, copied out of the batch's arrays. */
+struct blk {
+    double km[B], L0[B], g[B], bm[B], amp[B], om[B];
+    double kl[B]; /* k / (m L0^2), 1/(s^2 m^2): the Jacobian's k L0 / (m rho^3) = kl q^3 */
+};
+
+/* A component takes part when it exists: work only when forced, the tangent
+ * only when asked for. */
+#define USED(c, forced, tangent) \
+    ((c) < SP_BW || ((c) == SP_BW && (forced)) || ((c) > SP_BW && (tangent)))
+
+/* ---- the right-hand side, per block ------------------------------------- */
+
+/* The pivot's velocity and acceleration per lane at times t[], as sim.c's
+ * pivot_motion; lanes that share the frequency and time share one sin/cos. */
+static void pivot_blk(const struct blk *p, const double *t, double *vp, double *ap)
+{
+    double s = 0, c = 0, last_arg = NAN;
+    for (int l = 0; l < B; l++) {
+        if (p->amp[l] == 0) {
+            vp[l] = ap[l] = 0;
+            continue;
+        }
+        double arg = p->om[l] * t[l];
+        if (!(arg == last_arg)) {
+            s = sin(arg), c = cos(arg);
+            last_arg = arg;
+        }
+        vp[l] = p->amp[l] * p->om[l] * c;
+        ap[l] = -p->amp[l] * p->om[l] * p->om[l] * s;
+    }
+}
+
+/* d/dt of u, as sim.c's rhs, plus the tangent equations. t[]: per lane. */
+SPECIALISED void rhs_blk(const struct blk *p, const double *t, double u[NC][B], double d[NC][B],
+                         const int forced, const int tangent)
+{
+    double vp[B], ap[B];
+    if (forced)
+        pivot_blk(p, t, vp, ap);
+    else
+        for (int l = 0; l < B; l++)
+            vp[l] = ap[l] = 0;
+    LANES {
+        double x = u[SP_BX][l], y = u[SP_BY][l];
+        double rho = sqrt(x * x + y * y);
+        double q = rho > 0 ? p->L0[l] / rho : 0;
+        double c = p->km[l] * (1 - q);
+        double ax = -c * x, ay = -c * y - p->g[l] - ap[l];
+        d[SP_BX][l] = u[SP_BVX][l];
+        d[SP_BY][l] = u[SP_BVY][l];
+        if (forced) {
+            ax -= p->bm[l] * u[SP_BVX][l];
+            ay -= p->bm[l] * (u[SP_BVY][l] + vp[l]);
+            d[SP_BW][l] = -p->bm[l] * (u[SP_BVX][l] * u[SP_BVX][l] +
+                                       u[SP_BVY][l] * (u[SP_BVY][l] + vp[l])) -
+                          ap[l] * u[SP_BVY][l];
+        }
+        d[SP_BVX][l] = ax;
+        d[SP_BVY][l] = ay;
+        if (tangent) {
+            double a = p->kl[l] * q * q * q; /* k L0 / (m rho^3), no division */
+            double jxx = -c - a * x * x, jxy = -a * x * y, jyy = -c - a * y * y;
+            double dx = u[SP_BDX][l], dy = u[SP_BDY][l];
+            d[SP_BDX][l] = u[SP_BDVX][l];
+            d[SP_BDY][l] = u[SP_BDVY][l];
+            d[SP_BDVX][l] = jxx * dx + jxy * dy;
+            d[SP_BDVY][l] = jxy * dx + jyy * dy;
+            if (forced) {
+                d[SP_BDVX][l] -= p->bm[l] * u[SP_BDVX][l];
+                d[SP_BDVY][l] -= p->bm[l] * u[SP_BDVY][l];
+            }
+        }
+    }
+}
+
+/* ---- fixed-step methods, as sim.c ---------------------------------------- */
+
+SPECIALISED void rk4_blk(const struct blk *p, double t, double u[NC][B], double h,
+                         const int forced, const int tangent)
+{
+    double k1[NC][B], k2[NC][B], k3[NC][B], k4[NC][B], v[NC][B], tt[B];
+    for (int l = 0; l < B; l++)
+        tt[l] = t;
+    rhs_blk(p, tt, u, k1, forced, tangent);
+    for (int c = 0; c < NC; c++)
+        if (USED(c, forced, tangent))
+            for (int l = 0; l < B; l++)
+                v[c][l] = u[c][l] + 0.5 * h * k1[c][l];
+    for (int l = 0; l < B; l++)
+        tt[l] = t + 0.5 * h;
+    rhs_blk(p, tt, v, k2, forced, tangent);
+    for (int c = 0; c < NC; c++)
+        if (USED(c, forced, tangent))
+            for (int l = 0; l < B; l++)
+                v[c][l] = u[c][l] + 0.5 * h * k2[c][l];
+    rhs_blk(p, tt, v, k3, forced, tangent);
+    for (int c = 0; c < NC; c++)
+        if (USED(c, forced, tangent))
+            for (int l = 0; l < B; l++)
+                v[c][l] = u[c][l] + h * k3[c][l];
+    for (int l = 0; l < B; l++)
+        tt[l] = t + h;
+    rhs_blk(p, tt, v, k4, forced, tangent);
+    for (int c = 0; c < NC; c++)
+        if (USED(c, forced, tangent))
+            for (int l = 0; l < B; l++)
+                u[c][l] += h / 6 * (k1[c][l] + 2 * (k2[c][l] + k3[c][l]) + k4[c][l]);
+}
+
+/* The exact flow of the damping over h (factor f[] = exp(-b h / m) per
+ * lane), where a lane has damping; as sim.c's damp. */
+static inline void damp_blk(const struct blk *p, double t, double u[NC][B], const double *f,
+                            const int tangent)
+{
+    double tt[B], vp[B], ap[B];
+    for (int l = 0; l < B; l++)
+        tt[l] = t;
+    pivot_blk(p, tt, vp, ap);
+    for (int l = 0; l < B; l++) {
+        if (p->bm[l] == 0)
+            continue;
+        double e = u[SP_BVX][l] * u[SP_BVX][l] + u[SP_BVY][l] * u[SP_BVY][l];
+        u[SP_BVX][l] *= f[l];
+        u[SP_BVY][l] = (u[SP_BVY][l] + vp[l]) * f[l] - vp[l];
+        u[SP_BW][l] += 0.5 * (u[SP_BVX][l] * u[SP_BVX][l] + u[SP_BVY][l] * u[SP_BVY][l] - e);
+        if (tangent) {
+            u[SP_BDVX][l] *= f[l];
+            u[SP_BDVY][l] *= f[l];
+        }
+    }
+}
+
+/* A kick of h with the cached force a[] (ax, ay, a_pivot, J); as sim.c's kick. */
+SPECIALISED void kick_blk(double u[NC][B], double h, double a[6][B], const int forced,
+                          const int tangent)
+{
+    LANES {
+        double vy = u[SP_BVY][l];
+        u[SP_BVX][l] += h * a[0][l];
+        u[SP_BVY][l] += h * a[1][l];
+        if (forced)
+            u[SP_BW][l] -= a[2][l] * 0.5 * (vy + u[SP_BVY][l]) * h;
+        if (tangent) {
+            double dx = u[SP_BDX][l], dy = u[SP_BDY][l];
+            u[SP_BDVX][l] += h * (a[3][l] * dx + a[4][l] * dy);
+            u[SP_BDVY][l] += h * (a[4][l] * dx + a[5][l] * dy);
+        }
+    }
+}
+
+/* The force cache at u for pivot accelerations a[2][] (sim.c's accel_q),
+ * with the Jacobian when the tangent is integrated. */
+SPECIALISED void force_blk(const struct blk *p, double u[NC][B], double a[6][B],
+                           const int tangent)
+{
+    LANES {
+        double x = u[SP_BX][l], y = u[SP_BY][l];
+        double rho = sqrt(x * x + y * y);
+        double q = rho > 0 ? p->L0[l] / rho : 0;
+        double c = p->km[l] * (1 - q);
+        a[0][l] = -c * x;
+        a[1][l] = -c * y - p->g[l] - a[2][l];
+        if (tangent) {
+            double s = p->kl[l] * q * q * q;
+            a[3][l] = -c - s * x * x;
+            a[4][l] = -s * x * y;
+            a[5][l] = -c - s * y * y;
+        }
+    }
+}
+
+/* The pivot's acceleration at t into a[2][] (0 where the pivot is fixed). */
+static inline void pivot_accel_blk(const struct blk *p, double t, double a[6][B], const int forced)
+{
+    double tt[B], vp[B];
+    if (!forced) {
+        for (int l = 0; l < B; l++)
+            a[2][l] = 0;
+        return;
+    }
+    for (int l = 0; l < B; l++)
+        tt[l] = t;
+    pivot_blk(p, tt, vp, a[2]);
+}
+
+#define CBRT2 1.2599210498948731648
+static const double verlet_w[] = {1};
+static const double yoshida_w[] = {1 / (2 - CBRT2), -CBRT2 / (2 - CBRT2), 1 / (2 - CBRT2)};
+
+/* One symmetric composition step of n Stormer-Verlet substeps; as sim.c's
+ * splitting_step. f[i][] = exp(-b (w[i] h / 2) / m) per lane. */
+SPECIALISED void splitting_blk(const struct blk *p, double t, double u[NC][B], double h,
+                               const double *w, int n, double a[6][B], double f[3][B],
+                               const int forced, const int tangent)
+{
+    for (int i = 0; i < n; i++) {
+        double hi = w[i] * h;
+        if (forced)
+            damp_blk(p, t, u, f[i], tangent);
+        kick_blk(u, 0.5 * hi, a, forced, tangent);
+        LANES {
+            u[SP_BX][l] += hi * u[SP_BVX][l];
+            u[SP_BY][l] += hi * u[SP_BVY][l];
+            if (tangent) {
+                u[SP_BDX][l] += hi * u[SP_BDVX][l];
+                u[SP_BDY][l] += hi * u[SP_BDVY][l];
+            }
+        }
+        t += hi;
+        pivot_accel_blk(p, t, a, forced);
+        force_blk(p, u, a, tangent);
+        kick_blk(u, 0.5 * hi, a, forced, tangent);
+        if (forced)
+            damp_blk(p, t, u, f[i], tangent);
+    }
+}
+
+/* sim.c's energy test per lane; marks and poisons the lanes that fail.
+ * Branch-free over the lanes (it vectorises); the rare failure is handled
+ * after. */
+static void check_blk(struct sp_batch *b, int base, double u[NC][B], unsigned char *dead)
+{
+    int bad[B], any = 0;
+    LANES {
+        const int i = base + l;
+        double x = u[SP_BX][l], y = u[SP_BY][l], vx = u[SP_BVX][l], vy = u[SP_BVY][l];
+        double stretch = sqrt(x * x + y * y) - b->L0[i];
+        double kin = 0.5 * b->mass[i] * (vx * vx + vy * vy);
+        double spring = 0.5 * b->stiff[i] * stretch * stretch;
+        double grav = b->mass[i] * b->g[i] * y;
+        double work = b->forced ? b->mass[i] * u[SP_BW][l] : 0;
+        double total = kin + spring + grav;
+        /* sim.c's scale: the largest the energy of the motion has been (total
+         * less the least the scene can hold), never below its rounding */
+        double motion = fmax(total - b->emin[i],
+                             1e-12 * (kin + spring + fabs(grav) + fabs(b->emin[i]) +
+                                      b->stiff[i] * b->L0[i] * b->L0[i]));
+        double scale = fmax(b->escale[i], motion);
+        double drift = (total - b->e0[i] - work) / scale;
+        b->escale[i] = scale;
+        /* a NaN anywhere in the state makes the drift or the tangent's sum NaN */
+        double t = b->tangent ? u[SP_BDX][l] + u[SP_BDY][l] + u[SP_BDVX][l] + u[SP_BDVY][l] : 0;
+        bad[l] = !(fabs(drift) <= b->drift_limit) | !(t - t == 0);
+        any |= bad[l];
+    }
+    if (!any)
+        return;
+    for (int l = 0; l < B; l++)
+        if (bad[l] && !dead[l]) {
+            dead[l] = 1;
+            for (int c = 0; c < NC; c++)
+                u[c][l] = NAN;
+        }
+}
+
+static void load_blk(const struct sp_batch *b, int base, struct blk *p)
+{
+    memcpy(p->km, b->km + base, sizeof(p->km));
+    memcpy(p->L0, b->L0 + base, sizeof(p->L0));
+    memcpy(p->g, b->g + base, sizeof(p->g));
+    memcpy(p->bm, b->bm + base, sizeof(p->bm));
+    memcpy(p->amp, b->amp + base, sizeof(p->amp));
+    memcpy(p->om, b->om + base, sizeof(p->om));
+    for (int l = 0; l < B; l++)
+        p->kl[l] = p->km[l] / (p->L0[l] * p->L0[l]);
+}
+
+/* Walks one block's grid from index n0 to n1 with step dt, then writes the
+ * state at t_target (one short step from a copy when off the grid). */
+SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, double t_target,
+                                const int forced, const int tangent)
+{
+    struct blk p;
+    double u[NC][B], a[6][B], f[3][B], fs[3][B];
+    unsigned char dead[B];
+    const int split = b->method != SP_METHOD_RK4;
+    const double *w = b->method == SP_METHOD_VERLET ? verlet_w : yoshida_w;
+    const int nw = b->method == SP_METHOD_VERLET ? 1 : 3;
+    load_blk(b, base, &p);
+    memcpy(dead, b->dead + base, sizeof(dead));
+    for (int c = 0; c < NC; c++)
+        memcpy(u[c], b->u[c] + base, sizeof(u[c]));
+    if (split) {
+        for (int c = 0; c < 6; c++)
+            memcpy(a[c], b->cache[c] + base, sizeof(a[c]));
+        if (forced)
+            for (int i = 0; i < nw; i++)
+                for (int l = 0; l < B; l++)
+                    f[i][l] = exp(-p.bm[l] * (0.5 * (w[i] * b->dt)));
+    }
+    for (long n = n0; n < n1; n++) {
+        if (split)
+            splitting_blk(&p, (double)n * b->dt, u, b->dt, w, nw, a, f, forced, tangent);
+        else
+            rk4_blk(&p, (double)n * b->dt, u, b->dt, forced, tangent);
+        if ((n + 1) % CHECK_EVERY == 0)
+            check_blk(b, base, u, dead);
+    }
+    check_blk(b, base, u, dead);
+    for (int c = 0; c < NC; c++)
+        memcpy(b->u[c] + base, u[c], sizeof(u[c]));
+    memcpy(b->dead + base, dead, sizeof(dead));
+    if (split)
+        for (int c = 0; c < 6; c++)
+            memcpy(b->cache[c] + base, a[c], sizeof(a[c]));
+    double t1 = (double)n1 * b->dt;
+    if (t_target > t1) {
+        double h = t_target - t1;
+        if (split) {
+            if (forced)
+                for (int i = 0; i < nw; i++)
+                    for (int l = 0; l < B; l++)
+                        fs[i][l] = exp(-p.bm[l] * (0.5 * (w[i] * h)));
+            splitting_blk(&p, t1, u, h, w, nw, a, fs, forced, tangent);
+        } else {
+            rk4_blk(&p, t1, u, h, forced, tangent);
+        }
+        check_blk(b, base, u, dead);
+        memcpy(b->dead + base, dead, sizeof(dead));
+    }
+    for (int c = 0; c < NC; c++)
+        memcpy(b->out[c] + base, u[c], sizeof(u[c]));
+}
+
+CLONES static void fixed_blk_00(struct sp_batch *b, int base, long n0, long n1, double t)
+{
+    fixed_blk_impl(b, base, n0, n1, t, 0, 0);
+}
+CLONES static void fixed_blk_01(struct sp_batch *b, int base, long n0, long n1, double t)
+{
+    fixed_blk_impl(b, base, n0, n1, t, 0, 1);
+}
+CLONES static void fixed_blk_10(struct sp_batch *b, int base, long n0, long n1, double t)
+{
+    fixed_blk_impl(b, base, n0, n1, t, 1, 0);
+}
+CLONES static void fixed_blk_11(struct sp_batch *b, int base, long n0, long n1, double t)
+{
+    fixed_blk_impl(b, base, n0, n1, t, 1, 1);
+}
+
+/* ---- the adaptive method: DOP853, per-lane step control ------------------ */
+
+#include "sim_tableaus.h"
+
+/* The DOP853 error norm of sim.c (Hairer's), per lane: e5, e3 are the two
+ * embedded error estimates (without the factor h). */
+static inline double dop853_err(double h, double n5, double n3)
+{
+    if (n5 == 0 && n3 == 0)
+        return 0;
+    return fabs(h) * n5 * n5 / sqrt(n5 * n5 + 0.01 * n3 * n3);
+}
+
+SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target,
+                                   const int forced, const int tangent)
+{
+    struct blk p;
+    double y[NC][B], u[NC][B], v[NC][B], k[12][NC][B];
+    double tl[B], hh[B], tt[B], err[B];
+    unsigned char dead[B], rejected[B];
+    load_blk(b, base, &p);
+    memcpy(dead, b->dead + base, sizeof(dead));
+    memset(rejected, 0, sizeof(rejected));
+    for (int c = 0; c < NC; c++)
+        memcpy(y[c], b->u[c] + base, sizeof(y[c]));
+    for (int l = 0; l < B; l++)
+        tl[l] = dead[l] ? t_target : b->t;
+    for (;;) {
+        int active = 0;
+        for (int l = 0; l < B; l++) {
+            double h = b->h[base + l];
+            hh[l] = tl[l] < t_target ? fmin(h, t_target - tl[l]) : 0;
+            if (tl[l] < t_target && !(hh[l] > 1e-14 * fmax(1, fabs(tl[l])))) {
+                dead[l] = 1, tl[l] = t_target, hh[l] = 0; /* the step collapsed */
+                for (int c = 0; c < NC; c++)
+                    y[c][l] = NAN;
+            }
+            active |= hh[l] > 0;
+        }
+        if (!active)
+            break;
+        rhs_blk(&p, tl, y, k[0], forced, tangent);
+        for (int s = 1; s < 13; s++) {
+            double(*dst)[B] = s < 12 ? v : u;
+            for (int c = 0; c < NC; c++) {
+                if (!USED(c, forced, tangent))
+                    continue;
+                for (int l = 0; l < B; l++) {
+                    double acc = 0;
+                    for (int j = 0; j < s; j++)
+                        acc += d8_a[s][j] * k[j][c][l];
+                    dst[c][l] = y[c][l] + hh[l] * acc;
+                }
+            }
+            if (s < 12) {
+                for (int l = 0; l < B; l++)
+                    tt[l] = tl[l] + d8_c[s] * hh[l];
+                rhs_blk(&p, tt, v, k[s], forced, tangent);
+            }
+        }
+        for (int l = 0; l < B; l++) {
+            double n5 = 0, n3 = 0;
+            for (int c = 0; c < 4; c++) {
+                double e5 = 0, e3 = 0;
+                for (int j = 0; j < 12; j++) {
+                    e5 += d8_e5[j] * k[j][c][l];
+                    e3 += d8_e3[j] * k[j][c][l];
+                }
+                double at = c < 2 ? b->atol_q[base + l] : b->atol_v[base + l];
+                double sc = at + b->tol * fmax(fabs(y[c][l]), fabs(u[c][l]));
+                n5 += (e5 / sc) * (e5 / sc);
+                n3 += (e3 / sc) * (e3 / sc);
+            }
+            err[l] = dop853_err(hh[l], sqrt(n5 / 4), sqrt(n3 / 4));
+        }
+        for (int l = 0; l < B; l++) {
+            if (!(hh[l] > 0))
+                continue;
+            double *h = &b->h[base + l];
+            if (err[l] <= 1) {
+                double fac = err[l] == 0 ? 6 : fmin(6, fmax(0.333, 0.9 / sqrt(sqrt(sqrt(err[l])))));
+                if (rejected[l])
+                    fac = fmin(fac, 1);
+                rejected[l] = 0;
+                int cut = hh[l] < *h; /* shortened to land on t_target */
+                tl[l] = cut ? t_target : tl[l] + hh[l];
+                *h = cut ? fmax(*h, hh[l] * fac) : hh[l] * fac;
+                for (int c = 0; c < NC; c++)
+                    y[c][l] = USED(c, forced, tangent) ? u[c][l] : y[c][l];
+                b->steps++;
+            } else {
+                *h = hh[l] * (isfinite(err[l]) ? fmax(0.333, 0.9 / sqrt(sqrt(sqrt(err[l]))))
+                                               : 0.333);
+                rejected[l] = 1;
+            }
+        }
+        check_blk(b, base, y, dead);
+        for (int l = 0; l < B; l++)
+            if (dead[l])
+                tl[l] = t_target;
+    }
+    for (int c = 0; c < NC; c++) {
+        memcpy(b->u[c] + base, y[c], sizeof(y[c]));
+        memcpy(b->out[c] + base, y[c], sizeof(y[c]));
+    }
+    memcpy(b->dead + base, dead, sizeof(dead));
+}
+
+CLONES static void adaptive_blk_00(struct sp_batch *b, int base, double t)
+{
+    adaptive_blk_impl(b, base, t, 0, 0);
+}
+CLONES static void adaptive_blk_01(struct sp_batch *b, int base, double t)
+{
+    adaptive_blk_impl(b, base, t, 0, 1);
+}
+CLONES static void adaptive_blk_10(struct sp_batch *b, int base, double t)
+{
+    adaptive_blk_impl(b, base, t, 1, 0);
+}
+CLONES static void adaptive_blk_11(struct sp_batch *b, int base, double t)
+{
+    adaptive_blk_impl(b, base, t, 1, 1);
+}
+
+/* ---- the batch ----------------------------------------------------------- */
+
+void sp_batch_advance(struct sp_batch *b, double t_target)
+{
+    const int sel = b->forced * 2 + b->tangent;
+    if (b->method == SP_METHOD_DOP853) {
+        static void (*const fn[4])(struct sp_batch *, int, double) = {
+            adaptive_blk_00, adaptive_blk_01, adaptive_blk_10, adaptive_blk_11};
+        if (t_target > b->t)
+            for (int base = 0; base < b->cap; base += B)
+                fn[sel](b, base, t_target);
+    } else {
+        static void (*const fn[4])(struct sp_batch *, int, long, long, double) = {
+            fixed_blk_00, fixed_blk_01, fixed_blk_10, fixed_blk_11};
+        long n1 = b->grid;
+        while ((double)(n1 + 1) * b->dt <= t_target)
+            n1++;
+        for (int base = 0; base < b->cap; base += B)
+            fn[sel](b, base, b->grid, n1, t_target);
+        b->steps += n1 - b->grid;
+        b->grid = n1;
+    }
+    b->t = t_target;
+}
+
+void sp_batch_renormalise(struct sp_batch *b, double *growth)
+{
+    for (int i = 0; i < b->n; i++) {
+        double *u[NC], *o[NC];
+        for (int c = 0; c < NC; c++)
+            u[c] = &b->u[c][i], o[c] = &b->out[c][i];
+        double nrm = sqrt(*u[SP_BDX] * *u[SP_BDX] + *u[SP_BDY] * *u[SP_BDY] +
+                          *u[SP_BDVX] * *u[SP_BDVX] + *u[SP_BDVY] * *u[SP_BDVY]);
+        growth[i] = log(nrm);
+        for (int c = SP_BDX; c <= SP_BDVY; c++) {
+            *u[c] /= nrm;
+            *o[c] = *u[c];
+        }
+    }
+}
+
+void sp_batch_reset_tangent(struct sp_batch *b)
+{
+    for (int i = 0; i < b->cap; i++) {
+        int dead = b->dead[i];
+        b->u[SP_BDX][i] = b->out[SP_BDX][i] = dead ? NAN : 1;
+        b->u[SP_BDY][i] = b->out[SP_BDY][i] = dead ? NAN : 0;
+        b->u[SP_BDVX][i] = b->out[SP_BDVX][i] = dead ? NAN : 0;
+        b->u[SP_BDVY][i] = b->out[SP_BDVY][i] = dead ? NAN : 0;
+    }
+    /* the splitting methods' cached Jacobian is of the position, unchanged */
+}
+
+void sp_batch_destroy(struct sp_batch **b)
+{
+    if (!*b)
+        return;
+    free((*b)->mem);
+    free(*b);
+    *b = NULL;
+}
+
+int sp_batch_make(struct sp_batch **out, const struct sp_scene *const *scenes, int n,
+                  int tangent, int force_forced)
+{
+    const struct sp_scene *s0 = scenes[0];
+    struct sp_batch *b = calloc(1, sizeof(*b));
+    *out = NULL;
+    if (s0->integrator.method == SP_METHOD_RKN1210) {
+        sp_log_error("rkn1210 is not available for many trajectories at once; "
+                     "use rk4, verlet, yoshida4, dopri5 or dop853");
+        free(b);
+        return SP_E_INPUT;
+    }
+    if (!b)
+        goto nomem;
+    b->n = n;
+    b->cap = (n + B - 1) / B * B;
+    b->method = s0->integrator.method == SP_METHOD_DOPRI5 ? SP_METHOD_DOP853
+                                                          : s0->integrator.method;
+    b->tangent = tangent;
+    b->dt = s0->integrator.dt;
+    b->tol = s0->integrator.tolerance;
+    /* 2 NC state arrays, 6 cache, 16 per-trajectory values, dead bytes */
+    const int n_arrays = 2 * NC + 6 + 16;
+    b->mem = calloc((size_t)b->cap * n_arrays + (size_t)b->cap / 8 + 1, sizeof(double));
+    if (!b->mem)
+        goto nomem;
+    double *m = b->mem;
+    for (int c = 0; c < NC; c++)
+        b->u[c] = m, m += b->cap, b->out[c] = m, m += b->cap;
+    for (int c = 0; c < 6; c++)
+        b->cache[c] = m, m += b->cap;
+    double **arr[] = {&b->km, &b->L0, &b->g, &b->bm, &b->amp, &b->om, &b->mass, &b->stiff,
+                      &b->e0, &b->escale, &b->emin, &b->atol_q, &b->atol_v, &b->h};
+    for (size_t i = 0; i < sizeof(arr) / sizeof(arr[0]); i++)
+        *arr[i] = m, m += b->cap;
+    m += 2 * b->cap;
+    b->dead = (unsigned char *)m;
+    b->forced = force_forced;
+    for (int i = 0; i < b->cap; i++) {
+        /* sp_sim_init derives everything a trajectory starts from */
+        struct sp_sim sim;
+        const struct sp_scene *sc = scenes[i < n ? i : n - 1];
+        sp_sim_init(&sim, sc);
+        b->km[i] = sim.p.k_over_m, b->L0[i] = sim.p.L0, b->g[i] = sim.p.g;
+        b->bm[i] = sim.p.b_over_m, b->amp[i] = sim.p.drive_amp, b->om[i] = sim.p.drive_omega;
+        b->mass[i] = sim.p.mass, b->stiff[i] = sim.p.stiffness;
+        b->e0[i] = sim.energy0, b->escale[i] = sim.energy_scale, b->emin[i] = sim.energy_min;
+        b->drift_limit = sim.drift_limit;
+        b->atol_q[i] = sim.atol[0], b->atol_v[i] = sim.atol[2];
+        b->h[i] = sim.h;
+        b->forced |= sim.forced;
+        b->u[SP_BX][i] = sim.s.x, b->u[SP_BY][i] = sim.s.y;
+        b->u[SP_BVX][i] = sim.s.vx, b->u[SP_BVY][i] = sim.s.vy;
+        b->u[SP_BDX][i] = 1;
+        for (int c = 0; c < NC; c++)
+            b->out[c][i] = b->u[c][i];
+        for (int c = 0; c < 3; c++)
+            b->cache[c][i] = sim.force[c];
+    }
+    /* the Jacobian part of the splitting methods' cache */
+    for (int base = 0; base < b->cap; base += B) {
+        struct blk p;
+        double u[NC][B], a[6][B];
+        load_blk(b, base, &p);
+        for (int c = 0; c < NC; c++)
+            memcpy(u[c], b->u[c] + base, sizeof(u[c]));
+        for (int l = 0; l < B; l++)
+            a[2][l] = b->cache[2][base + l];
+        force_blk(&p, u, a, 1);
+        for (int c = 3; c < 6; c++)
+            memcpy(b->cache[c] + base, a[c], sizeof(a[c]));
+    }
+    *out = b;
+    return 0;
+nomem:
+    sp_log_error("out of memory for a batch of %d trajectories", n);
+    sp_batch_destroy(&b);
+    return SP_E_NOMEM;
+}

@@ -1,0 +1,462 @@
+/* springpend: the sweep command. Options, the output files (.part, then
+ * renamed), shards and their merge, the progress bar; the grid's work is
+ * sweep.c's, the figure sweep_plot.c's. */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "av_module.h"
+#include "cli.h"
+#include "springpend/common.h"
+#include "springpend/outfile.h"
+#include "sweep.h"
+
+static const char sweep_usage[] =
+    "usage: springpend sweep SCENE --vary KEY=FROM:TO:COUNT [--vary KEY=FROM:TO:COUNT]\n"
+    "                        --measure lyapunov|orbit|poincare --time T [--transient T0]\n"
+    "                        -o FIGURE.png|.svg|.pdf [--csv FILE.csv] [options]\n"
+    "       springpend sweep SCENE ... --shard I/N --csv PART.csv\n"
+    "       springpend sweep --merge PART.csv... -o FIGURE [--csv WHOLE.csv]\n"
+    "\n"
+    "Integrates the scene over a grid of one or two numeric keys of [pendulum],\n"
+    "[initial] or [pivot] (file units: degrees for angles), COUNT values from FROM\n"
+    "to TO each, on all cores, and draws what --measure asks for:\n"
+    "  lyapunov  the largest Lyapunov exponent (1/s; Benettin: tangent equations,\n"
+    "            renormalised every second) over T after the transient: a line over\n"
+    "            one key, a coloured map over two. The CSV also has the value at T/2.\n"
+    "  orbit     orbit diagram over one key: after the transient, theta (degrees) once\n"
+    "            per drive period when the pivot moves (stroboscopic, at t = k/f),\n"
+    "            else r at each Poincare crossing (theta = 0, dtheta/dt > 0).\n"
+    "  poincare  Poincare mosaic: (r, dr/dt) at every crossing of every grid point's\n"
+    "            orbit, coloured by orbit, all at one energy: each point's\n"
+    "            initial.angle_rate is derived from --energy E (J; default the\n"
+    "            scene's own), so vary initial.length, initial.angle or\n"
+    "            initial.length_rate. Points that cannot reach E are skipped.\n"
+    "The scene's [integrator] is used (rk4, verlet, yoshida4 at its dt; dopri5 and\n"
+    "dop853 as dop853 at its tolerance, landing on every sample time).\n"
+    "A point whose integration blows up is NaN in the CSV and the figure, and\n"
+    "counted; the sweep goes on. Ctrl-C stops and writes nothing (exit 130).\n"
+    "\n"
+    "options:\n"
+    "  --vary KEY=FROM:TO:COUNT  a key to vary (one or two)\n"
+    "  --measure NAME            lyapunov, orbit or poincare\n"
+    "  --time T                  simulated seconds measured, after the transient\n"
+    "  --transient T0            simulated seconds integrated first (default 0)\n"
+    "  --energy E                poincare: the orbits' energy, J\n"
+    "  -o, --output FIGURE       .png, .svg or .pdf\n"
+    "  --csv FILE                also write the rows (streamed)\n"
+    "  --shard I/N               compute the I-th of N equal parts of the grid into\n"
+    "                            --csv only; join them with --merge\n"
+    "  --merge                   the arguments are shard CSVs: draw (and --csv) the whole\n"
+    "  --threads N               worker threads (default: one per core)\n"
+    "  --set SECTION.KEY=VAL     override a scene key (repeatable)\n"
+    "  -q, --quiet               no progress bar, no 'wrote' line\n"
+    "  -h, --help                this text\n";
+
+struct sweep_opts {
+    const char *scene, *output, *csv, *shard;
+    const char *overrides[SP_CLI_MAX_OVERRIDES];
+    int n_overrides, quiet, merge, threads, energy_given;
+    const char **parts;
+    int n_parts;
+};
+
+static int parse_number(const char *opt, const char *arg, double lo, double *v)
+{
+    char *end;
+    *v = strtod(arg, &end);
+    if (end == arg || *end || !isfinite(*v) || *v < lo) {
+        sp_log_error("%s %s: expected a number >= %g", opt, arg, lo);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+static int parse_vary(const char *arg, struct sp_sweep_desc *d)
+{
+    struct sp_sweep_axis *a = &d->axis[d->n_axes];
+    const char *eq = strchr(arg, '=');
+    int used = 0;
+    if (d->n_axes == SP_SWEEP_MAX_AXES) {
+        sp_log_error("--vary %s: at most %d keys can be varied", arg, SP_SWEEP_MAX_AXES);
+        return SP_E_INPUT;
+    }
+    if (!eq || eq - arg >= (long)sizeof(a->key) ||
+        sscanf(eq + 1, "%lf:%lf:%d%n", &a->from, &a->to, &a->count, &used) != 3 || eq[1 + used] ||
+        a->count < 1 || a->count > 100000 || !isfinite(a->from) || !isfinite(a->to)) {
+        sp_log_error("--vary %s: expected KEY=FROM:TO:COUNT with 1 <= COUNT <= 100000, "
+                     "e.g. --vary initial.angle=10:170:256", arg);
+        return SP_E_INPUT;
+    }
+    snprintf(a->key, sizeof(a->key), "%.*s", (int)(eq - arg), arg);
+    d->n_axes++;
+    return 0;
+}
+
+static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_sweep_desc *d)
+{
+    static const struct option longopts[] = {
+        {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
+        {"vary", required_argument, 0, 'V'},   {"measure", required_argument, 0, 'M'},
+        {"time", required_argument, 0, 'T'},   {"transient", required_argument, 0, 'R'},
+        {"energy", required_argument, 0, 'E'}, {"csv", required_argument, 0, 'C'},
+        {"shard", required_argument, 0, 'D'},  {"merge", no_argument, 0, 'G'},
+        {"threads", required_argument, 0, 'N'}, {"quiet", no_argument, 0, 'q'},
+        {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
+    };
+    int c, ret = 0, have_measure = 0;
+    double v;
+    memset(o, 0, sizeof(*o));
+    d->time = -1;
+    optind = 1;
+    opterr = 0;
+    while (!ret && (c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1) {
+        switch (c) {
+        case 'o': o->output = optarg; break;
+        case 'C': o->csv = optarg; break;
+        case 'D': o->shard = optarg; break;
+        case 'G': o->merge = 1; break;
+        case 'q': o->quiet = 1; break;
+        case 'h': fputs(sweep_usage, stdout); return 1;
+        case 's':
+            if (o->n_overrides == SP_CLI_MAX_OVERRIDES) {
+                sp_log_error("too many --set; at most %d", SP_CLI_MAX_OVERRIDES);
+                return SP_E_INPUT;
+            }
+            o->overrides[o->n_overrides++] = optarg;
+            break;
+        case 'V': ret = parse_vary(optarg, d); break;
+        case 'M':
+            have_measure = 1;
+            if (!strcmp(optarg, "lyapunov"))
+                d->measure = SP_MEASURE_LYAPUNOV;
+            else if (!strcmp(optarg, "orbit"))
+                d->measure = SP_MEASURE_ORBIT;
+            else if (!strcmp(optarg, "poincare"))
+                d->measure = SP_MEASURE_POINCARE;
+            else {
+                sp_log_error("--measure %s: use lyapunov, orbit or poincare", optarg);
+                return SP_E_INPUT;
+            }
+            break;
+        case 'T':
+            ret = parse_number("--time", optarg, 0, &d->time);
+            if (!ret && !(d->time > 0 && d->time <= 1e7)) {
+                sp_log_error("--time %s: expected simulated seconds, 0 < T <= 1e7", optarg);
+                ret = SP_E_INPUT;
+            }
+            break;
+        case 'R': ret = parse_number("--transient", optarg, 0, &d->transient); break;
+        case 'E':
+            ret = parse_number("--energy", optarg, -1e300, &d->energy);
+            o->energy_given = 1;
+            break;
+        case 'N':
+            ret = parse_number("--threads", optarg, 1, &v);
+            if (!ret && (v != floor(v) || v > 1024)) {
+                sp_log_error("--threads %s: expected an integer from 1 to 1024", optarg);
+                ret = SP_E_INPUT;
+            }
+            o->threads = (int)v;
+            break;
+        default:
+            sp_log_error("unknown option '%s'; see 'springpend sweep --help'", argv[optind - 1]);
+            return SP_E_INPUT;
+        }
+    }
+    if (ret)
+        return ret;
+    if (o->merge) {
+        o->parts = (const char **)argv + optind;
+        o->n_parts = argc - optind;
+        if (!o->n_parts || !o->output || o->shard || d->n_axes || o->n_overrides) {
+            sp_log_error("--merge takes shard CSVs and -o FIGURE (and --csv WHOLE.csv); "
+                         "see 'springpend sweep --help'");
+            return SP_E_INPUT;
+        }
+        return 0;
+    }
+    if (optind != argc - 1) {
+        sp_log_error(optind >= argc ? "missing SCENE file; see 'springpend sweep --help'"
+                                    : "expected one SCENE file; see 'springpend sweep --help'");
+        return SP_E_INPUT;
+    }
+    o->scene = argv[optind];
+    if (!d->n_axes || !have_measure || d->time < 0) {
+        sp_log_error("sweep needs --vary KEY=FROM:TO:COUNT, --measure and --time; see "
+                     "'springpend sweep --help'");
+        return SP_E_INPUT;
+    }
+    if (o->shard ? (!o->csv || o->output) : !o->output) {
+        sp_log_error(o->shard ? "--shard writes its part of the rows to --csv PART.csv only "
+                                "(no -o; --merge draws the figure)"
+                              : "sweep needs -o FIGURE.png|.svg|.pdf");
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+/* The figure's path must end in .png, .svg or .pdf and be writable. */
+static int check_outputs(const struct sweep_opts *o)
+{
+    if (o->output) {
+        const char *dot = strrchr(o->output, '.');
+        if (!dot || (strcmp(dot, ".png") && strcmp(dot, ".svg") && strcmp(dot, ".pdf"))) {
+            sp_log_error("-o %s: the figure must be .png, .svg or .pdf", o->output);
+            return SP_E_INPUT;
+        }
+        if (sp_cli_check_writable(o->output, "-o"))
+            return SP_E_INPUT;
+    }
+    if (o->csv && sp_cli_check_writable(o->csv, "--csv"))
+        return SP_E_INPUT;
+    if (o->csv && o->output && sp_cli_same_file(o->csv, o->output)) {
+        sp_log_error("--csv and -o name the same file");
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+struct progress {
+    double t0, last;
+};
+
+static void show_progress(void *user, long done, long total)
+{
+    struct progress *p = user;
+    double now = now_s();
+    if (done < total && now - p->last < 0.1)
+        return;
+    p->last = now;
+    double el = now - p->t0, rate = el > 0 ? done / el : 0;
+    char bar[31];
+    int fill = total ? (int)(30 * done / total) : 30;
+    memset(bar, '#', (size_t)fill);
+    memset(bar + fill, '.', (size_t)(30 - fill));
+    bar[30] = 0;
+    fprintf(stderr, "\r[%s] point %ld/%ld  %.0f points/s  ETA %.0f s ", bar, done, total, rate,
+            rate > 0 ? (total - done) / rate : 0);
+    if (done == total)
+        fputc('\n', stderr);
+}
+
+/* The rows' file: --csv's .part (outfile.h; read back for the figure, so a
+ * regular file), or an anonymous temporary file (rows stays closed). */
+static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp)
+{
+    *rows = (struct sp_outfile){.fd = -1, .slot = -1};
+    if (!csv) {
+        *fp = tmpfile();
+        if (!*fp) {
+            sp_log_error("cannot create a temporary file for the sweep's rows: %s",
+                         strerror(errno));
+            return SP_E_IO;
+        }
+        return 0;
+    }
+    int ret = sp_dirs_make(csv, NULL);
+    if (!ret)
+        ret = sp_outfile_open(rows, csv, 0);
+    if (ret)
+        return ret;
+    *fp = fopen(rows->path, "w+"); /* ours: made by sp_outfile_open */
+    if (!*fp) {
+        sp_log_error("cannot create %s: %s", rows->path, strerror(errno));
+        sp_outfile_discard(rows);
+        return SP_E_IO;
+    }
+    return 0;
+}
+
+/* The figure from the rows (through the module: cairo is loaded only here). */
+static int draw(FILE *rows, const char *rows_name, const char *figure)
+{
+    int (*plot)(FILE *, const char *, const char *);
+    *(void **)&plot = sp_module_symbol("springpend-plot.so", "sweep figures", "sp_sweep_plot");
+    if (!plot)
+        return SP_E_IO;
+    int ret = sp_outfile_is_stream(figure) ? 0 : sp_dirs_make(figure, NULL);
+    return ret ? ret : plot(rows, rows_name, figure);
+}
+
+/* Flushes the rows, draws, renames the CSV into place; on failure removes
+ * the CSV's .part. Closes fp. */
+static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o, int ret)
+{
+    const char *name = rows->target ? rows->path : "the rows";
+    if (!ret && fflush(fp) != 0) {
+        sp_log_error("cannot write %s: %s", name, strerror(errno));
+        ret = SP_E_IO;
+    }
+    if (!ret && o->output)
+        ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output);
+    if (fclose(fp) != 0 && !ret) {
+        sp_log_error("cannot write %s: %s", name, strerror(errno));
+        ret = SP_E_IO;
+    }
+    if (!ret)
+        ret = sp_outfile_commit(rows); /* nothing to do without --csv */
+    if (ret)
+        sp_outfile_discard(rows);
+    return ret;
+}
+
+/* Reads one line (without its newline) into buf; 0 at the end. */
+static int read_line(FILE *fp, char *buf, size_t size)
+{
+    if (!fgets(buf, (int)size, fp))
+        return 0;
+    buf[strcspn(buf, "\n")] = 0;
+    return 1;
+}
+
+static int merge(const struct sweep_opts *o)
+{
+    char header[1024] = "", line[1024], columns[1024] = "";
+    int n = 0, ret = 0;
+    FILE **parts = calloc((size_t)o->n_parts, sizeof(*parts));
+    if (!parts)
+        return SP_E_NOMEM;
+    for (int k = 0; !ret && k < o->n_parts; k++) {
+        int i, total, used = 0;
+        FILE *fp = fopen(o->parts[k], "r");
+        char h[1024], c[1024];
+        struct sp_sweep_desc d;
+        if (!fp) {
+            sp_log_error("cannot read %s: %s", o->parts[k], strerror(errno));
+            ret = SP_E_INPUT;
+            break;
+        }
+        if (!read_line(fp, h, sizeof(h)) || sp_sweep_parse_header(h, &d) ||
+            !read_line(fp, line, sizeof(line)) ||
+            sscanf(line, "# shard %d/%d%n", &i, &total, &used) != 2 || line[used] ||
+            !read_line(fp, c, sizeof(c))) {
+            sp_log_error("%s:1: not a sweep shard's CSV (written by 'springpend sweep "
+                         "--shard I/N --csv FILE')", o->parts[k]);
+            fclose(fp);
+            ret = SP_E_INPUT;
+            break;
+        }
+        if (k == 0) {
+            n = total;
+            snprintf(header, sizeof(header), "%s", h);
+            snprintf(columns, sizeof(columns), "%s", c);
+            if (n != o->n_parts) {
+                sp_log_error("%s is shard %d of %d, but %d files were given; give all %d",
+                             o->parts[k], i, n, o->n_parts, n);
+                fclose(fp);
+                ret = SP_E_INPUT;
+                break;
+            }
+        } else if (strcmp(h, header) || total != n) {
+            sp_log_error("%s:1: is from another sweep than %s", o->parts[k], o->parts[0]);
+            fclose(fp);
+            ret = SP_E_INPUT;
+            break;
+        }
+        if (i < 1 || i > n || parts[i - 1]) {
+            sp_log_error("%s:2: shard %d/%d is given twice or out of range", o->parts[k], i, n);
+            fclose(fp);
+            ret = SP_E_INPUT;
+            break;
+        }
+        parts[i - 1] = fp;
+    }
+    struct sp_outfile rows = {.fd = -1, .slot = -1};
+    FILE *out = NULL;
+    if (!ret)
+        ret = open_rows(o->csv, &rows, &out);
+    if (!ret) {
+        fprintf(out, "%s\n%s\n", header, columns);
+        static char buf[1 << 16];
+        for (int i = 0; i < n; i++) {
+            size_t got;
+            while ((got = fread(buf, 1, sizeof(buf), parts[i])) > 0)
+                fwrite(buf, 1, got, out);
+        }
+        ret = finish(out, &rows, o, 0);
+    }
+    for (int i = 0; i < o->n_parts; i++)
+        if (parts[i])
+            fclose(parts[i]);
+    free(parts);
+    if (!ret && !o->quiet)
+        fprintf(stderr, "wrote %s%s%s from %d shards\n", o->output, o->csv ? " and " : "",
+                o->csv ? o->csv : "", n);
+    return ret;
+}
+
+int sp_cmd_sweep(int argc, char **argv)
+{
+    struct sweep_opts o;
+    struct sp_sweep_desc d = {0};
+    struct sp_scene scene;
+    int ret = parse_args(argc, argv, &o, &d);
+    if (ret)
+        return ret > 0 ? 0 : ret;
+    if ((ret = check_outputs(&o)))
+        return ret;
+    if (o.merge)
+        return merge(&o);
+    sp_scene_defaults(&scene);
+    if ((ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
+        return ret;
+    if ((ret = sp_sweep_check(&d, &scene, o.energy_given)))
+        return ret;
+    long total = sp_sweep_points(&d), first = 0, last = total;
+    int si = 0, sn = 0, used = 0;
+    if (o.shard) {
+        if (sscanf(o.shard, "%d/%d%n", &si, &sn, &used) != 2 || o.shard[used] || si < 1 ||
+            si > sn || sn > total) {
+            sp_log_error("--shard %s: expected I/N with 1 <= I <= N <= %ld (the grid's "
+                         "points), e.g. --shard 2/4", o.shard, total);
+            return SP_E_INPUT;
+        }
+        first = total * (si - 1) / sn;
+        last = total * si / sn;
+    }
+    struct sp_outfile rows;
+    FILE *fp;
+    if ((ret = open_rows(o.csv, &rows, &fp)))
+        return ret;
+    static char buf[1 << 16];
+    setvbuf(fp, buf, _IOFBF, sizeof(buf));
+    char shard_line[64];
+    snprintf(shard_line, sizeof(shard_line), "# shard %d/%d\n", si, sn);
+    ret = sp_sweep_write_header(fp, &d, o.shard ? shard_line : NULL);
+    long blown = 0, unreachable = 0;
+    struct progress prog = {.t0 = now_s()};
+    double t0 = now_s();
+    if (!ret)
+        ret = sp_sweep_run(&d, &scene, first, last, o.threads, fp, &blown, &unreachable,
+                           !o.quiet && isatty(2) ? show_progress : NULL, &prog);
+    if (ret == SP_E_INTERRUPTED)
+        sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
+                     "say which part)");
+    ret = finish(fp, &rows, &o, ret);
+    if (ret)
+        return ret;
+    if (blown)
+        sp_log_error("%ld of %ld points blew up (NaN in the %s); the rest are drawn", blown,
+                     last - first, o.output ? "figure" : "CSV");
+    if (unreachable)
+        sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
+                     last - first, d.energy);
+    if (!o.quiet)
+        fprintf(stderr, "wrote %s%s%s: %ld points in %.2f s\n", o.output ? o.output : "",
+                o.output && o.csv ? " and " : "", o.csv ? o.csv : "", last - first,
+                now_s() - t0);
+    return 0;
+}

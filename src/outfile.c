@@ -1,0 +1,311 @@
+/* springpend: files that appear whole or not at all (see outfile.h). */
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "springpend/common.h"
+#include "springpend/outfile.h"
+
+/* ---- the .part table a signal handler reads ---- */
+
+/* A PNG sequence has at most 9 .parts open at once; a still and its JSON 2. */
+#define PART_SLOTS 32
+
+static char part_name[PART_SLOTS][PATH_MAX];
+static volatile sig_atomic_t part_armed[PART_SLOTS]; /* 1: part_name exists
+                                                        and is ours */
+static int part_taken[PART_SLOTS];                   /* under part_lock */
+static pthread_mutex_t part_lock = PTHREAD_MUTEX_INITIALIZER;
+
+void sp_outfile_remove_parts(void)
+{
+    for (int i = 0; i < PART_SLOTS; i++)
+        if (part_armed[i])
+            unlink(part_name[i]);
+}
+
+static int slot_take(void)
+{
+    int slot = -1;
+    pthread_mutex_lock(&part_lock);
+    for (int i = 0; i < PART_SLOTS && slot < 0; i++)
+        if (!part_taken[i])
+            part_taken[slot = i] = 1;
+    pthread_mutex_unlock(&part_lock);
+    return slot;
+}
+
+/* The .part is renamed or removed already: a handler that still sees it
+ * armed unlinks a name nobody else uses. */
+static void slot_give(int slot)
+{
+    if (slot < 0)
+        return;
+    part_armed[slot] = 0;
+    pthread_mutex_lock(&part_lock);
+    part_taken[slot] = 0;
+    pthread_mutex_unlock(&part_lock);
+}
+
+/* ---- targets ---- */
+
+/* The descriptor a name stands for: "-", /dev/stdout, /dev/stderr,
+ * /dev/fd/N, /proc/self/fd/N; else -1. */
+static int stdio_alias(const char *target)
+{
+    const char *n = NULL;
+    if (!strcmp(target, "-") || !strcmp(target, "/dev/stdout"))
+        return 1;
+    if (!strcmp(target, "/dev/stderr"))
+        return 2;
+    if (!strncmp(target, "/dev/fd/", 8))
+        n = target + 8;
+    else if (!strncmp(target, "/proc/self/fd/", 14))
+        n = target + 14;
+    if (!n || !*n || strspn(n, "0123456789") != strlen(n) || strlen(n) > 6)
+        return -1;
+    return atoi(n);
+}
+
+static const char *file_kind(mode_t m)
+{
+    return S_ISCHR(m) ? "character device" : S_ISBLK(m) ? "block device"
+         : S_ISFIFO(m) ? "FIFO" : S_ISSOCK(m) ? "socket" : "special file";
+}
+
+int sp_outfile_is_stream(const char *target)
+{
+    struct stat st;
+    return stdio_alias(target) >= 0 ||
+           (stat(target, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode));
+}
+
+static void outfile_free(struct sp_outfile *f)
+{
+    free(f->target);
+    free(f->url);
+    *f = (struct sp_outfile){.fd = -1, .slot = -1};
+}
+
+/* Six characters that make the .part's name unique: the process id, a
+ * counter and the clock, mixed; O_EXCL settles any collision. */
+static void unique_suffix(char out[7])
+{
+    static const char digits[] =
+        "0123456789abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ";
+    static unsigned long counter;
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    unsigned long long x = (unsigned long long)getpid() * 0x9e3779b97f4a7c15ull ^
+                           (unsigned long long)ts.tv_nsec * 0xbf58476d1ce4e5b9ull ^
+                           (unsigned long long)__atomic_add_fetch(&counter, 1, __ATOMIC_RELAXED) *
+                               0x94d049bb133111ebull;
+    for (int i = 0; i < 6; i++, x /= 62)
+        out[i] = digits[x % 62];
+    out[6] = 0;
+}
+
+/* Writes through the non-regular target (or the stdio descriptor fd). */
+static int open_through(struct sp_outfile *f, int fd)
+{
+    if (fd >= 0) {
+        f->fd = fcntl(fd, F_DUPFD_CLOEXEC, 3);
+        if (f->fd < 0) {
+            sp_log_error("%s: cannot write to descriptor %d: %s", f->target, fd,
+                         strerror(errno));
+            return SP_E_IO;
+        }
+        return 0;
+    }
+    do
+        f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY);
+    while (f->fd < 0 && errno == EINTR && !sp_interrupted());
+    if (f->fd < 0) {
+        sp_log_error("%s: cannot open for writing: %s", f->target, strerror(errno));
+        return errno == EINTR ? SP_E_INTERRUPTED : SP_E_IO;
+    }
+    return 0;
+}
+
+/* Creates target.XXXXXX.part with O_EXCL (mode 0666 less the umask) and
+ * arms its slot. */
+static int open_part(struct sp_outfile *f)
+{
+    size_t n = strlen(f->target);
+    if (n + sizeof(".XXXXXX.part") > PATH_MAX) {
+        sp_log_error("%s: the path is too long", f->target);
+        return SP_E_INPUT;
+    }
+    if ((f->slot = slot_take()) < 0) {
+        sp_log_error("%s: more than %d files open for writing at once", f->target,
+                     PART_SLOTS);
+        return SP_E_NOMEM;
+    }
+    char *name = part_name[f->slot];
+    for (int tries = 0; tries < 100; tries++) {
+        char suffix[7];
+        unique_suffix(suffix);
+        snprintf(name, PATH_MAX, "%s.%s.part", f->target, suffix);
+        f->fd = open(name, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOCTTY, 0666);
+        if (f->fd >= 0 || errno != EEXIST)
+            break;
+    }
+    if (f->fd < 0) {
+        sp_log_error("%s: cannot create %s: %s", f->target, name, strerror(errno));
+        return SP_E_IO;
+    }
+    part_armed[f->slot] = 1;
+    if (asprintf(&f->url, "file:%s", name) < 0) {
+        f->url = NULL;
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    f->path = f->url + 5;
+    return 0;
+}
+
+int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags)
+{
+    struct stat st, lst;
+    int fd = stdio_alias(target), err;
+    *f = (struct sp_outfile){.fd = -1, .slot = -1};
+    int exists = fd < 0 && stat(target, &st) == 0;
+    if (exists && S_ISDIR(st.st_mode)) {
+        sp_log_error("%s is a folder; give a file name", target);
+        return SP_E_INPUT;
+    }
+    if (fd >= 0 || (exists && !S_ISREG(st.st_mode))) {
+        if (!(flags & SP_OUTFILE_STREAM)) {
+            sp_log_error("%s is %s, not a regular file; this format must be written to "
+                         "a file (raw frames, single PNGs and CSV can be written through "
+                         "one)", target, fd >= 0 ? "standard output or error"
+                         : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
+                         : file_kind(st.st_mode));
+            return SP_E_INPUT;
+        }
+        f->through = 1;
+    }
+    /* A link to a regular file: replace the file, keep the link. */
+    if (exists && !f->through && lstat(target, &lst) == 0 && S_ISLNK(lst.st_mode))
+        f->target = realpath(target, NULL);
+    else
+        f->target = strdup(target);
+    if (!f->target) {
+        sp_log_error("%s: %s", target, strerror(errno));
+        outfile_free(f);
+        return SP_E_NOMEM;
+    }
+    if (f->through) {
+        err = asprintf(&f->url, "file:%s", f->target) < 0 ? SP_E_NOMEM : 0;
+        if (err)
+            f->url = NULL, sp_log_error("out of memory");
+        else
+            f->path = f->url + 5, err = open_through(f, fd);
+    } else {
+        err = open_part(f);
+    }
+    if (err)
+        sp_outfile_discard(f);
+    return err;
+}
+
+int sp_outfile_commit(struct sp_outfile *f)
+{
+    int err = 0;
+    if (!f->target)
+        return 0;
+    if (f->fd >= 0 && close(f->fd) != 0) {
+        sp_log_error("%s: cannot finish writing: %s", f->target, strerror(errno));
+        err = SP_E_IO;
+    }
+    f->fd = -1;
+    if (!err && !f->through && rename(f->path, f->target) != 0) {
+        sp_log_error("cannot rename %s to %s: %s", f->path, f->target, strerror(errno));
+        err = SP_E_IO;
+    }
+    if (err) {
+        sp_outfile_discard(f);
+        return err;
+    }
+    slot_give(f->slot);
+    outfile_free(f);
+    return 0;
+}
+
+void sp_outfile_discard(struct sp_outfile *f)
+{
+    if (!f->target) /* closed, or zeroed and never opened */
+        return;
+    if (f->fd >= 0)
+        close(f->fd);
+    f->fd = -1;
+    if (!f->through && f->slot >= 0 && part_armed[f->slot] && unlink(part_name[f->slot]) != 0 &&
+        errno != ENOENT)
+        sp_log_error("cannot remove %s: %s", part_name[f->slot], strerror(errno));
+    slot_give(f->slot);
+    outfile_free(f);
+}
+
+/* ---- folders ---- */
+
+int sp_dirs_make(const char *path, struct sp_dirs *made)
+{
+    char *dir = strdup(path);
+    int err = 0;
+    if (!dir) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    for (char *p = strchr(dir + 1, '/'); p; p = strchr(p + 1, '/')) {
+        if (p[-1] == '/')
+            continue; /* "a//b" */
+        *p = '\0';
+        struct stat st;
+        int mkdir_errno = mkdir(dir, 0777) == 0 ? 0 : errno;
+        if (!mkdir_errno && made) {
+            char *copy = strdup(dir);
+            if (copy) { /* without memory it is merely not removed */
+                if (!made->deepest)
+                    made->top = strlen(dir);
+                free(made->deepest);
+                made->deepest = copy;
+            }
+        }
+        if (mkdir_errno && mkdir_errno != EEXIST &&
+            !(stat(dir, &st) == 0 && S_ISDIR(st.st_mode))) {
+            sp_log_error("cannot create folder %s for %s: %s", dir, path,
+                         strerror(mkdir_errno));
+            err = SP_E_IO;
+            break;
+        }
+        *p = '/';
+    }
+    free(dir);
+    return err;
+}
+
+void sp_dirs_remove_empty(struct sp_dirs *made)
+{
+    char *d = made->deepest;
+    while (d && strlen(d) >= made->top && rmdir(d) == 0) {
+        char *slash = strrchr(d, '/');
+        if (!slash)
+            break;
+        *slash = '\0';
+    }
+    sp_dirs_keep(made);
+}
+
+void sp_dirs_keep(struct sp_dirs *made)
+{
+    free(made->deepest);
+    *made = (struct sp_dirs){0};
+}

@@ -1,0 +1,605 @@
+/* springpend: sweeps (see sweep.h). The grid is cut into chunks of CHUNK
+ * points; workers (one per core) take chunks in order, integrate each as one
+ * batch and format its rows; the calling thread writes the chunks in grid
+ * order as they complete. At most WINDOW chunks per worker are held, so
+ * memory stays flat whatever the grid's size. Every point's numbers depend
+ * on its own scene only, so the thread count, the chunking and the shards
+ * never change a byte. */
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "springpend/batch.h"
+#include "springpend/common.h"
+#include "springpend/sim.h"
+#include "sweep.h"
+
+#define CHUNK 32  /* points per batch */
+#define WINDOW 4  /* chunks held per worker, finished or not */
+#define RAD2DEG 57.29577951308232
+
+static const char *const measure_names[] = {"lyapunov", "orbit", "poincare"};
+static const char *const method_names[] = {"rk4", "verlet", "yoshida4", "dopri5", "dop853",
+                                           "rkn1210"};
+
+/* ---- the grid and its description ---------------------------------------- */
+
+long sp_sweep_points(const struct sp_sweep_desc *d)
+{
+    long n = 1;
+    for (int a = 0; a < d->n_axes; a++)
+        n *= d->axis[a].count;
+    return n;
+}
+
+void sp_sweep_point_index(const struct sp_sweep_desc *d, long p, int idx[SP_SWEEP_MAX_AXES])
+{
+    for (int a = 0; a < SP_SWEEP_MAX_AXES; a++) {
+        int n = a < d->n_axes ? d->axis[a].count : 1;
+        idx[a] = (int)(p % n);
+        p /= n;
+    }
+}
+
+double sp_sweep_axis_value(const struct sp_sweep_axis *a, int i)
+{
+    if (a->count <= 1)
+        return a->from;
+    if (i == a->count - 1)
+        return a->to;
+    return a->from + (a->to - a->from) * i / (a->count - 1);
+}
+
+int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *between)
+{
+    static const char *const columns[] = {"lyapunov,lyapunov_half", "t,theta,r",
+                                          "t,r,r_dot,theta_dot"};
+    fprintf(fp, "# springpend sweep scene=%s measure=%s time=%.17g transient=%.17g "
+            "energy=%.17g driven=%d method=%s dt=%.17g theme=%d colormap=%d",
+            d->scene, measure_names[d->measure], d->time, d->transient, d->energy, d->driven,
+            d->method, d->dt, d->theme, d->colormap);
+    for (int a = 0; a < d->n_axes; a++)
+        fprintf(fp, " vary=%s=%.17g:%.17g:%d", d->axis[a].key, d->axis[a].from,
+                d->axis[a].to, d->axis[a].count);
+    fprintf(fp, "\n%spoint", between ? between : "");
+    for (int a = 0; a < d->n_axes; a++)
+        fprintf(fp, ",%s", d->axis[a].key);
+    return fprintf(fp, ",%s\n", columns[d->measure]) < 0 ? SP_E_IO : 0;
+}
+
+int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
+{
+    const char *prefix = "# springpend sweep ";
+    memset(d, 0, sizeof(*d));
+    d->measure = -1;
+    if (strncmp(line, prefix, strlen(prefix)))
+        return SP_E_INPUT;
+    char buf[1024];
+    snprintf(buf, sizeof(buf), "%s", line + strlen(prefix));
+    int seen = 0;
+    for (char *save = NULL, *w = strtok_r(buf, " \n", &save); w; w = strtok_r(NULL, " \n", &save)) {
+        char *eq = strchr(w, '=');
+        if (!eq)
+            return SP_E_INPUT;
+        *eq = 0;
+        const char *v = eq + 1;
+        if (!strcmp(w, "scene"))
+            snprintf(d->scene, sizeof(d->scene), "%s", v);
+        else if (!strcmp(w, "measure")) {
+            for (int i = 0; i < 3; i++)
+                if (!strcmp(v, measure_names[i]))
+                    d->measure = (enum sp_measure)i;
+        } else if (!strcmp(w, "time"))
+            d->time = strtod(v, NULL);
+        else if (!strcmp(w, "transient"))
+            d->transient = strtod(v, NULL);
+        else if (!strcmp(w, "energy"))
+            d->energy = strtod(v, NULL);
+        else if (!strcmp(w, "driven"))
+            d->driven = atoi(v);
+        else if (!strcmp(w, "method"))
+            snprintf(d->method, sizeof(d->method), "%s", v);
+        else if (!strcmp(w, "dt"))
+            d->dt = strtod(v, NULL);
+        else if (!strcmp(w, "theme"))
+            d->theme = atoi(v);
+        else if (!strcmp(w, "colormap"))
+            d->colormap = atoi(v);
+        else if (!strcmp(w, "vary") && d->n_axes < SP_SWEEP_MAX_AXES) {
+            struct sp_sweep_axis *a = &d->axis[d->n_axes];
+            const char *eq2 = strchr(v, '=');
+            if (!eq2 || eq2 - v >= (long)sizeof(a->key) ||
+                sscanf(eq2 + 1, "%lf:%lf:%d", &a->from, &a->to, &a->count) != 3 || a->count < 1)
+                return SP_E_INPUT;
+            snprintf(a->key, sizeof(a->key), "%.*s", (int)(eq2 - v), v);
+            d->n_axes++;
+        } else
+            return SP_E_INPUT;
+        seen++;
+    }
+    return seen && (int)d->measure >= 0 && d->n_axes > 0 ? 0 : SP_E_INPUT;
+}
+
+/* ---- the scenes of the grid ---------------------------------------------- */
+
+/* The scene's total energy at t = 0, J. */
+static double scene_energy(const struct sp_scene *s)
+{
+    struct sp_sim sim;
+    sp_sim_init(&sim, s);
+    return sim.energy0;
+}
+
+/* Poincare sweeps at one energy E: dtheta/dt at t = 0 from
+ * E = m/2 (r'^2 + r^2 theta'^2) + k/2 (r - L0)^2 - m g r cos(theta), with the
+ * sign of the base scene's rate (+ when 0). Returns 1 when E is too low. */
+static int set_energy(struct sp_scene *s, double energy, double sign)
+{
+    double m = s->pendulum.mass, r = s->initial.length, rd = s->initial.length_rate;
+    double u = 0.5 * s->pendulum.stiffness * (r - s->pendulum.natural_length) *
+                   (r - s->pendulum.natural_length) -
+               m * s->pendulum.gravity * r * cos(s->initial.angle);
+    double kin = energy - u - 0.5 * m * rd * rd;
+    if (!(kin >= 0))
+        return 1;
+    s->initial.angle_rate = sign * sqrt(2 * kin / m) / r;
+    return 0;
+}
+
+int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *base, long p,
+                         struct sp_scene *out)
+{
+    int idx[SP_SWEEP_MAX_AXES];
+    *out = *base;
+    sp_sweep_point_index(d, p, idx);
+    for (int a = 0; a < d->n_axes; a++)
+        if (sp_scene_set_number(out, d->axis[a].key, sp_sweep_axis_value(&d->axis[a], idx[a]),
+                                "--vary"))
+            return -1; /* checked before: not reached */
+    if (d->measure == SP_MEASURE_POINCARE)
+        return set_energy(out, d->energy, base->initial.angle_rate < 0 ? -1 : 1);
+    return 0;
+}
+
+int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given)
+{
+    snprintf(d->scene, sizeof(d->scene), "%s", base->name);
+    snprintf(d->method, sizeof(d->method), "%s", method_names[base->integrator.method]);
+    d->dt = base->integrator.dt;
+    d->theme = base->view.theme;
+    d->colormap = base->view.colormap;
+    if (base->integrator.method == SP_METHOD_RKN1210) {
+        sp_log_error("integrator.method = rkn1210 cannot sweep; use rk4, yoshida4, verlet or "
+                     "dop853 (--set integrator.method=dop853)");
+        return SP_E_INPUT;
+    }
+    int varies_frequency = 0;
+    for (int a = 0; a < d->n_axes; a++) {
+        const char *k = d->axis[a].key;
+        if (strncmp(k, "pendulum.", 9) && strncmp(k, "initial.", 8) && strncmp(k, "pivot.", 6)) {
+            sp_log_error("--vary %s: only the physics can be varied: keys of [pendulum], "
+                         "[initial] and [pivot] (see 'springpend keys')", k);
+            return SP_E_INPUT;
+        }
+        if (!sp_scene_key_unit(k)) {
+            sp_log_error("--vary %s: no such numeric key; see 'springpend keys'", k);
+            return SP_E_INPUT;
+        }
+        if (d->measure == SP_MEASURE_POINCARE && !strcmp(k, "initial.angle_rate")) {
+            sp_log_error("--vary initial.angle_rate: a poincare sweep derives it from the "
+                         "energy (--energy); vary initial.length, initial.angle or "
+                         "initial.length_rate instead");
+            return SP_E_INPUT;
+        }
+        for (int b = 0; b < a; b++)
+            if (!strcmp(k, d->axis[b].key)) {
+                sp_log_error("--vary %s is given twice", k);
+                return SP_E_INPUT;
+            }
+        varies_frequency |= !strcmp(k, "pivot.frequency");
+        for (int end = 0; end < 2; end++) {
+            struct sp_scene s = *base;
+            char origin[96];
+            snprintf(origin, sizeof(origin), "--vary %s", k);
+            if (sp_scene_set_number(&s, k, end ? d->axis[a].to : d->axis[a].from, origin))
+                return SP_E_INPUT;
+        }
+    }
+    if (sp_sweep_points(d) > SP_SWEEP_MAX_POINTS) {
+        sp_log_error("--vary: %ld grid points; at most %ld (the figure keeps two numbers "
+                     "per point); split the range over several sweeps", sp_sweep_points(d),
+                     (long)SP_SWEEP_MAX_POINTS);
+        return SP_E_INPUT;
+    }
+    if (d->measure == SP_MEASURE_ORBIT && d->n_axes != 1) {
+        sp_log_error("--measure orbit draws one diagram over one key: give one --vary");
+        return SP_E_INPUT;
+    }
+    d->driven = base->pivot.frequency > 0 || varies_frequency;
+    if (d->measure == SP_MEASURE_POINCARE && !energy_given)
+        d->energy = scene_energy(base);
+    if (!(d->time > 0) || !(d->transient >= 0)) {
+        sp_log_error("--time must be > 0 and --transient >= 0 (simulated seconds)");
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+/* ---- rows into memory ----------------------------------------------------- */
+
+struct sbuf {
+    char *s;
+    size_t len, cap;
+    int failed;
+};
+
+__attribute__((format(printf, 2, 3))) static void sb_printf(struct sbuf *b, const char *fmt, ...)
+{
+    va_list ap;
+    for (;;) {
+        size_t room = b->cap - b->len;
+        va_start(ap, fmt);
+        int n = b->s ? vsnprintf(b->s + b->len, room, fmt, ap) : -1;
+        va_end(ap);
+        if (n >= 0 && (size_t)n < room) {
+            b->len += (size_t)n;
+            return;
+        }
+        size_t cap = b->cap ? 2 * b->cap : 4096;
+        while (n >= 0 && cap < b->len + (size_t)n + 1)
+            cap *= 2;
+        char *s = realloc(b->s, cap);
+        if (!s) {
+            b->failed = 1;
+            return;
+        }
+        b->s = s, b->cap = cap;
+    }
+}
+
+static void sb_append(struct sbuf *b, const struct sbuf *other)
+{
+    if (other->len)
+        sb_printf(b, "%.*s", (int)other->len, other->s);
+    b->failed |= other->failed;
+}
+
+/* "p,v1[,v2]," the start of point p's rows. */
+static void row_start(struct sbuf *b, const struct sp_sweep_desc *d, long p)
+{
+    int idx[SP_SWEEP_MAX_AXES];
+    sp_sweep_point_index(d, p, idx);
+    sb_printf(b, "%ld", p);
+    for (int a = 0; a < d->n_axes; a++)
+        sb_printf(b, ",%.10g", sp_sweep_axis_value(&d->axis[a], idx[a]));
+    sb_printf(b, ",");
+}
+
+/* ---- measurements on one chunk ------------------------------------------- */
+
+struct chunk_out {
+    struct sbuf text;
+    long blown_up, unreachable;
+};
+
+/* Benettin: renormalise the tangent every tau (about a second, on the grid
+ * for fixed steps); lambda = sum of ln growth / T, and the same at T/2. */
+static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, const long *pts,
+                            const int *skip, int n, struct chunk_out *out)
+{
+    const int fixed = b->method != SP_METHOD_DOP853;
+    long m = fixed ? lround(fmax(1.0, 1.0 / b->dt)) : 1; /* steps per tau (fixed) */
+    double tau = fixed ? (double)m * b->dt : fmin(1.0, d->time / 2);
+    long k0 = (long)ceil(d->transient / tau - 1e-9);
+    long K = lround(d->time / tau);
+    if (K < 2)
+        K = 2;
+    double growth[CHUNK], sum[CHUNK] = {0}, half[CHUNK] = {0};
+#define TAU_TIME(k) (fixed ? (double)((k) * m) * b->dt : (double)(k) * tau)
+    if (k0 > 0)
+        sp_batch_advance(b, TAU_TIME(k0));
+    sp_batch_reset_tangent(b);
+    for (long k = 1; k <= K; k++) {
+        if (sp_interrupted())
+            return SP_E_INTERRUPTED;
+        sp_batch_advance(b, TAU_TIME(k0 + k));
+        sp_batch_renormalise(b, growth);
+        for (int i = 0; i < n; i++) {
+            sum[i] += growth[i];
+            if (k == K / 2)
+                half[i] = sum[i] / (k * tau);
+        }
+    }
+#undef TAU_TIME
+    for (int i = 0; i < n; i++) {
+        if (skip[i])
+            continue;
+        double lam = sum[i] / (K * tau);
+        if (b->dead[i] || !isfinite(lam))
+            lam = half[i] = NAN, out->blown_up++;
+        row_start(&out->text, d, pts[i]);
+        sb_printf(&out->text, "%.9g,%.9g\n", lam, half[i]);
+    }
+    return 0;
+}
+
+/* The cubic Hermite interpolant of a position over a step of length h:
+ * value at s in [0, 1] from the ends' positions and velocities. */
+static inline double hermite(double s, double h, double q0, double v0, double q1, double v1)
+{
+    double s2 = s * s, s3 = s2 * s;
+    return (2 * s3 - 3 * s2 + 1) * q0 + (s3 - 2 * s2 + s) * h * v0 + (-2 * s3 + 3 * s2) * q1 +
+           (s3 - s2) * h * v1;
+}
+
+/* Events along each trajectory, checked every step dt after the transient:
+ * the drive's period (stroboscopic, orbit with a moving pivot) or
+ * theta = 0 with dtheta/dt > 0 (Poincare crossings: x goes from < 0 to
+ * >= 0 below the pivot). Positions at an event come from the cubic Hermite
+ * interpolant of the step (error ~ dt^4), velocities by linear
+ * interpolation (~ dt^2). */
+static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
+                          const struct sp_scene *scenes, const long *pts, const int *skip, int n,
+                          struct chunk_out *out)
+{
+    const double dt = d->dt, t_end = d->transient + d->time;
+    const int strobe = d->measure == SP_MEASURE_ORBIT && d->driven;
+    struct sbuf rows[CHUNK] = {{0}};
+    double prev[4][CHUNK];
+    int ret = 0;
+    for (long step = 0;; step++) {
+        double t0 = (double)step * dt, t1 = (double)(step + 1) * dt;
+        if (t0 >= t_end)
+            break;
+        if (step % 1024 == 0 && sp_interrupted()) {
+            ret = SP_E_INTERRUPTED;
+            break;
+        }
+        for (int c = 0; c < 4; c++)
+            memcpy(prev[c], b->out[c], sizeof(double) * (size_t)n);
+        sp_batch_advance(b, t1);
+        if (t1 < d->transient)
+            continue;
+        for (int i = 0; i < n; i++) {
+            if (skip[i] || b->dead[i])
+                continue;
+            const double x0 = prev[0][i], y0 = prev[1][i], vx0 = prev[2][i], vy0 = prev[3][i];
+            const double x1 = b->out[SP_BX][i], y1 = b->out[SP_BY][i];
+            const double vx1 = b->out[SP_BVX][i], vy1 = b->out[SP_BVY][i];
+            double s;
+            if (strobe) {
+                double f = scenes[i].pivot.frequency;
+                if (!(f > 0))
+                    continue;
+                double k = floor(t1 * f * (1 + 1e-15)), te = k / f;
+                if (!(te > t0 && te <= t1 * (1 + 1e-15) && te >= d->transient))
+                    continue;
+                s = fmin(1, (te - t0) / dt);
+                double x = hermite(s, dt, x0, vx0, x1, vx1), y = hermite(s, dt, y0, vy0, y1, vy1);
+                row_start(&rows[i], d, pts[i]);
+                sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", te, atan2(x, -y) * RAD2DEG, hypot(x, y));
+                continue;
+            }
+            if (!(x0 < 0 && x1 >= 0 && y0 < 0 && y1 < 0))
+                continue;
+            s = x0 / (x0 - x1);
+            for (int it = 0; it < 4; it++) { /* Newton on the Hermite x(s) */
+                double hs = 1e-7, fx = hermite(s, dt, x0, vx0, x1, vx1);
+                double dfx = (hermite(s + hs, dt, x0, vx0, x1, vx1) - fx) / hs;
+                if (dfx != 0)
+                    s = fmin(1, fmax(0, s - fx / dfx));
+            }
+            double x = hermite(s, dt, x0, vx0, x1, vx1), y = hermite(s, dt, y0, vy0, y1, vy1);
+            double vx = vx0 + s * (vx1 - vx0), vy = vy0 + s * (vy1 - vy0);
+            double r = hypot(x, y), rd = (x * vx + y * vy) / r, thd = (x * vy - y * vx) / (r * r);
+            row_start(&rows[i], d, pts[i]);
+            if (d->measure == SP_MEASURE_ORBIT)
+                sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", t0 + s * dt, 0.0, r);
+            else
+                sb_printf(&rows[i], "%.10g,%.9g,%.9g,%.9g\n", t0 + s * dt, r, rd, thd);
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        if (!skip[i] && b->dead[i]) {
+            /* the points of a blown-up orbit are dropped; one NaN row says so */
+            out->blown_up++;
+            rows[i].len = 0;
+            row_start(&rows[i], d, pts[i]);
+            sb_printf(&rows[i], d->measure == SP_MEASURE_ORBIT ? "nan,nan,nan\n" : "nan,nan,nan,nan\n");
+        }
+        sb_append(&out->text, &rows[i]);
+        free(rows[i].s);
+    }
+    return ret;
+}
+
+static int run_chunk(const struct sp_sweep_desc *d, const struct sp_scene *base, int forced,
+                     long first, int n, struct chunk_out *out)
+{
+    struct sp_scene scenes[CHUNK];
+    const struct sp_scene *ptr[CHUNK];
+    long pts[CHUNK];
+    int skip[CHUNK];
+    for (int i = 0; i < n; i++) {
+        pts[i] = first + i;
+        skip[i] = sp_sweep_point_scene(d, base, pts[i], &scenes[i]) != 0;
+        if (skip[i]) {
+            out->unreachable++;
+            scenes[i] = *base; /* integrated for company, not written */
+        }
+        ptr[i] = &scenes[i];
+    }
+    struct sp_batch *b;
+    int ret = sp_batch_make(&b, ptr, n, d->measure == SP_MEASURE_LYAPUNOV, forced);
+    if (ret)
+        return ret;
+    if (d->measure == SP_MEASURE_LYAPUNOV)
+        ret = measure_lyapunov(d, b, pts, skip, n, out);
+    else
+        ret = measure_events(d, b, scenes, pts, skip, n, out);
+    sp_batch_destroy(&b);
+    if (!ret && out->text.failed) {
+        sp_log_error("out of memory for a sweep's rows");
+        ret = SP_E_NOMEM;
+    }
+    return ret;
+}
+
+/* ---- threads -------------------------------------------------------------- */
+
+struct slot {
+    int done;
+    int ret;
+    struct chunk_out out;
+};
+
+struct run {
+    const struct sp_sweep_desc *d;
+    const struct sp_scene *base;
+    int forced;
+    long first, last, n_chunks;
+    int window;
+    pthread_mutex_t lock;
+    pthread_cond_t changed;
+    long next, written;
+    int stop;
+    struct slot *slots;
+};
+
+static void *worker(void *arg)
+{
+    struct run *r = arg;
+    for (;;) {
+        pthread_mutex_lock(&r->lock);
+        while (!r->stop && r->next < r->n_chunks && r->next >= r->written + r->window)
+            pthread_cond_wait(&r->changed, &r->lock);
+        if (r->stop || r->next >= r->n_chunks) {
+            pthread_mutex_unlock(&r->lock);
+            return NULL;
+        }
+        long c = r->next++;
+        pthread_mutex_unlock(&r->lock);
+        struct chunk_out out;
+        memset(&out, 0, sizeof(out));
+        long p0 = r->first + c * CHUNK;
+        int n = (int)(r->last - p0 < CHUNK ? r->last - p0 : CHUNK);
+        int ret = run_chunk(r->d, r->base, r->forced, p0, n, &out);
+        pthread_mutex_lock(&r->lock);
+        struct slot *s = &r->slots[c % r->window];
+        s->out = out, s->ret = ret, s->done = 1;
+        if (ret)
+            r->stop = 1;
+        pthread_cond_broadcast(&r->changed);
+        pthread_mutex_unlock(&r->lock);
+    }
+}
+
+/* Whether any point of the grid has damping or a moving pivot (then every
+ * batch takes the forced path, so no point's arithmetic depends on its
+ * neighbours). Both ends of each axis suffice: the keys act monotonically. */
+static int grid_forced(const struct sp_sweep_desc *d, const struct sp_scene *base)
+{
+    for (int corner = 0; corner < (1 << d->n_axes); corner++) {
+        struct sp_scene s = *base;
+        for (int a = 0; a < d->n_axes; a++)
+            sp_scene_set_number(&s, d->axis[a].key,
+                                (corner >> a) & 1 ? d->axis[a].to : d->axis[a].from, "--vary");
+        struct sp_sim sim;
+        sp_sim_init(&sim, &s);
+        if (sim.forced)
+            return 1;
+    }
+    return 0;
+}
+
+int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, long first,
+                 long last, int threads, FILE *fp, long *blown_up, long *unreachable,
+                 sp_sweep_progress_fn progress, void *user)
+{
+    struct run r = {.d = d, .base = base, .first = first, .last = last};
+    int ret = 0;
+    *blown_up = *unreachable = 0;
+    if (threads <= 0) {
+        long n = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = n > 0 ? (int)n : 1;
+    }
+    r.forced = grid_forced(d, base);
+    r.n_chunks = (last - first + CHUNK - 1) / CHUNK;
+    if (threads > r.n_chunks)
+        threads = r.n_chunks > 0 ? (int)r.n_chunks : 1;
+    r.window = WINDOW * threads;
+    r.slots = calloc((size_t)r.window, sizeof(*r.slots));
+    pthread_t *tid = calloc((size_t)threads, sizeof(*tid));
+    if (!r.slots || !tid) {
+        free(r.slots), free(tid);
+        sp_log_error("out of memory for a sweep");
+        return SP_E_NOMEM;
+    }
+    pthread_mutex_init(&r.lock, NULL);
+    pthread_cond_init(&r.changed, NULL);
+    int started = 0;
+    for (; started < threads; started++)
+        if (pthread_create(&tid[started], NULL, worker, &r))
+            break;
+    if (!started) {
+        sp_log_error("cannot start a sweep thread");
+        ret = SP_E_NOMEM;
+    }
+    for (long c = 0; !ret && c < r.n_chunks; c++) {
+        struct slot *s = &r.slots[c % r.window];
+        pthread_mutex_lock(&r.lock);
+        while (!s->done && !r.stop && !sp_interrupted()) {
+            struct timespec until;
+            clock_gettime(CLOCK_REALTIME, &until);
+            until.tv_nsec += 200000000;
+            if (until.tv_nsec >= 1000000000)
+                until.tv_sec++, until.tv_nsec -= 1000000000;
+            pthread_cond_timedwait(&r.changed, &r.lock, &until);
+        }
+        pthread_mutex_unlock(&r.lock);
+        if (!s->done) {
+            ret = sp_interrupted() ? SP_E_INTERRUPTED : SP_E_NOMEM;
+            break;
+        }
+        ret = s->ret;
+        if (!ret && s->out.text.len && fwrite(s->out.text.s, 1, s->out.text.len, fp) != s->out.text.len) {
+            sp_log_error("cannot write the sweep's rows: %s", strerror(errno));
+            ret = SP_E_IO;
+        }
+        *blown_up += s->out.blown_up;
+        *unreachable += s->out.unreachable;
+        free(s->out.text.s);
+        pthread_mutex_lock(&r.lock);
+        memset(s, 0, sizeof(*s));
+        r.written++;
+        if (ret)
+            r.stop = 1;
+        pthread_cond_broadcast(&r.changed);
+        pthread_mutex_unlock(&r.lock);
+        if (progress) {
+            long done = first + (c + 1) * CHUNK < last ? (c + 1) * CHUNK : last - first;
+            progress(user, done, last - first);
+        }
+    }
+    pthread_mutex_lock(&r.lock);
+    r.stop = 1;
+    pthread_cond_broadcast(&r.changed);
+    pthread_mutex_unlock(&r.lock);
+    for (int i = 0; i < started; i++)
+        pthread_join(tid[i], NULL);
+    for (int i = 0; i < r.window; i++)
+        free(r.slots[i].out.text.s);
+    if (!ret && sp_interrupted())
+        ret = SP_E_INTERRUPTED;
+    pthread_mutex_destroy(&r.lock);
+    pthread_cond_destroy(&r.changed);
+    free(r.slots);
+    free(tid);
+    return ret;
+}

@@ -1,0 +1,99 @@
+/* springpend (internal): sweeps. A grid over one or two numeric scene keys,
+ * every point integrated by the batched integrator (batch.h) on all cores,
+ * one measurement per point, streamed as CSV in the grid's order. The CSV
+ * carries its own description (a first "# springpend sweep" line), so the
+ * figure is drawn from the CSV alone: a whole run and the merge of its
+ * shards give the same CSV bytes and the same figure.
+ *
+ * CSV layout: line 1 the description, line 2 the column names, then rows.
+ *   lyapunov: point,KEY[,KEY2],lyapunov,lyapunov_half   (1/s; the value at T/2)
+ *   orbit:    point,KEY,t,theta,r                       (s, degrees, m)
+ *   poincare: point,KEY[,KEY2],t,r,r_dot,theta_dot      (s, m, m/s, rad/s)
+ * A shard's CSV has a "# shard I/N" line after the description. */
+#ifndef SPRINGPEND_SWEEP_H
+#define SPRINGPEND_SWEEP_H
+
+#include <stdio.h>
+
+#include "springpend/scene.h"
+
+enum sp_measure { SP_MEASURE_LYAPUNOV, SP_MEASURE_ORBIT, SP_MEASURE_POINCARE };
+
+#define SP_SWEEP_MAX_AXES 2
+#define SP_SWEEP_MAX_POINTS 50000000L /* a map's figure holds 16 bytes per point */
+
+struct sp_sweep_axis {
+    char key[48];  /* "section.key" */
+    double from, to; /* file units (degrees for angles) */
+    int count;     /* grid points along the axis, >= 1 */
+};
+
+/* What a sweep computes; the figure is drawn from this and the rows. */
+struct sp_sweep_desc {
+    char scene[64];              /* the scene's name, for titles */
+    enum sp_measure measure;
+    struct sp_sweep_axis axis[SP_SWEEP_MAX_AXES];
+    int n_axes;
+    double time;                 /* measured span T, s */
+    double transient;            /* s integrated before measuring */
+    double energy;               /* poincare: the energy every orbit has, J */
+    int driven;                  /* orbit: 1 stroboscopic (drive period), 0 Poincare crossings */
+    char method[16];             /* the integrator's name */
+    double dt;                   /* its step, s (fixed-step methods) */
+    int theme, colormap;         /* the scene's look, for the figure */
+};
+
+/* Point p's index along each axis (the first axis varies fastest). */
+void sp_sweep_point_index(const struct sp_sweep_desc *d, long p, int idx[SP_SWEEP_MAX_AXES]);
+
+/* The value of axis a at index i, in file units. */
+double sp_sweep_axis_value(const struct sp_sweep_axis *a, int i);
+
+/* Grid points in all. */
+long sp_sweep_points(const struct sp_sweep_desc *d);
+
+/* Writes the description line ("# springpend sweep ...\n"), `between` (a
+ * shard's "# shard I/N\n" line, or NULL) and the column names. Returns 0 or
+ * SP_E_IO. */
+int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *between);
+
+/* Parses a description line back (the line without its newline). Returns 0
+ * or SP_E_INPUT (no message; the caller names the file). */
+int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d);
+
+/* A running sweep's report to its caller (progress bar), from the calling
+ * thread: points done of total. */
+typedef void (*sp_sweep_progress_fn)(void *user, long done, long total);
+
+/* Runs points [first, last) of the grid of d over `base` (a scene with the
+ * run's integrator) on `threads` threads (0: one per core) and writes their
+ * rows to fp in the grid's order (no header). *blown_up counts points whose
+ * integration blew up (NaN rows; the run goes on), *unreachable the
+ * poincare points whose energy cannot be met (skipped). Returns 0,
+ * SP_E_IO, SP_E_NOMEM or SP_E_INTERRUPTED (a signal; rows written so far
+ * are incomplete). The grid's scenes must have been checked already
+ * (sp_sweep_check). */
+int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, long first,
+                 long last, int threads, FILE *fp, long *blown_up, long *unreachable,
+                 sp_sweep_progress_fn progress, void *user);
+
+/* Checks that every key can be varied and both ends of every axis give a
+ * valid scene; fills d's derived fields (driven, energy if < 0: the base
+ * scene's, method, dt, theme). Messages name `origin`. */
+int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given);
+
+/* The scene of grid point p: base with the axes' values set (and, for
+ * poincare, the angle rate that gives the sweep's energy). Returns 0, or 1
+ * when the energy cannot be reached from that start. */
+int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *base, long p,
+                         struct sp_scene *out);
+
+/* Draws the figure for the CSV in fp (rewound and read to the end) into
+ * path (.png, .svg or .pdf, written as path.part then renamed). Lives in
+ * sweep_plot.c (cairo); the executable reaches it through the module that
+ * av_module.h loads (springpend-plot.so), so that cairo costs only the
+ * commands that draw.
+ * Returns 0, SP_E_INPUT (not a sweep CSV) or SP_E_IO. */
+int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path);
+
+#endif

@@ -1,0 +1,461 @@
+/* springpend: a sweep's figure, drawn with cairo straight from its CSV (see
+ * sweep.h): a Lyapunov map with a colour bar (two keys) or line (one key),
+ * an orbit diagram (dots), a Poincare mosaic (dots coloured by orbit). The
+ * look is the scene's theme and colormap (panels.c's palette), text in
+ * DejaVu Sans. Built as springpend-plot.so, loaded on first use, so that
+ * cairo costs only the commands that draw.
+ * To do: move onto the figures' backend-neutral draw list when it lands. */
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <errno.h>
+#include <fontconfig/fontconfig.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "panels.h"
+#include "springpend/common.h"
+#include "springpend/outfile.h"
+#include "sweep.h"
+
+#define W 900.0  /* figure size, pt (PNG: 2 px per pt) */
+#define H 600.0
+#define PNG_SCALE 2
+
+/* The plot area and the data range it shows. */
+struct frame {
+    double x0, y0, w, h;       /* plot rectangle, pt (y0 top) */
+    double xlo, xhi, ylo, yhi; /* data range */
+};
+
+static double px(const struct frame *f, double x)
+{
+    return f->x0 + (x - f->xlo) / (f->xhi - f->xlo) * f->w;
+}
+
+static double py(const struct frame *f, double y)
+{
+    return f->y0 + f->h - (y - f->ylo) / (f->yhi - f->ylo) * f->h;
+}
+
+static void set_rgba(cairo_t *cr, const float c[4])
+{
+    cairo_set_source_rgba(cr, c[0], c[1], c[2], c[3]);
+}
+
+/* Round tick spacing (1, 2, 5 x 10^k) for about n ticks over [lo, hi]. */
+static double tick_step(double lo, double hi, int n)
+{
+    double raw = (hi - lo) / n, mag = pow(10, floor(log10(raw))), r = raw / mag;
+    return (r < 1.5 ? 1 : r < 3.5 ? 2 : r < 7.5 ? 5 : 10) * mag;
+}
+
+/* Widens a range that is empty or not finite. */
+static void fix_range(double *lo, double *hi)
+{
+    if (!isfinite(*lo) || !isfinite(*hi))
+        *lo = 0, *hi = 1;
+    if (*hi - *lo < 1e-12 * fmax(1, fabs(*lo))) {
+        double d = fmax(fabs(*lo) * 0.05, 1e-3);
+        *lo -= d, *hi += d;
+    }
+}
+
+static void text_at(cairo_t *cr, double x, double y, const char *s, double ax, double ay)
+{
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, s, &e);
+    cairo_move_to(cr, x - ax * e.width - e.x_bearing, y - ay * e.height - e.y_bearing);
+    cairo_show_text(cr, s);
+}
+
+static void fmt_tick(char *buf, size_t size, double v, double step)
+{
+    int dec = step >= 1 ? 0 : (int)ceil(-log10(step) - 1e-9);
+    if (fabs(v) < step * 1e-6)
+        v = 0;
+    snprintf(buf, size, "%.*f", dec, v);
+}
+
+/* Axes, ticks, grid and labels around the frame. */
+static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palette *pal,
+                      const char *xlabel, const char *ylabel)
+{
+    char buf[64];
+    cairo_set_font_size(cr, 12);
+    double sx = tick_step(f->xlo, f->xhi, 8), sy = tick_step(f->ylo, f->yhi, 6);
+    cairo_set_line_width(cr, 1);
+    for (double v = ceil(f->xlo / sx - 1e-9) * sx; v <= f->xhi + 1e-9 * sx; v += sx) {
+        double x = px(f, v);
+        set_rgba(cr, pal->grid);
+        cairo_move_to(cr, x, f->y0), cairo_line_to(cr, x, f->y0 + f->h), cairo_stroke(cr);
+        set_rgba(cr, pal->axis);
+        cairo_move_to(cr, x, f->y0 + f->h), cairo_line_to(cr, x, f->y0 + f->h + 5);
+        cairo_stroke(cr);
+        fmt_tick(buf, sizeof(buf), v, sx);
+        set_rgba(cr, pal->muted);
+        text_at(cr, x, f->y0 + f->h + 9, buf, 0.5, 0);
+    }
+    for (double v = ceil(f->ylo / sy - 1e-9) * sy; v <= f->yhi + 1e-9 * sy; v += sy) {
+        double y = py(f, v);
+        set_rgba(cr, pal->grid);
+        cairo_move_to(cr, f->x0, y), cairo_line_to(cr, f->x0 + f->w, y), cairo_stroke(cr);
+        set_rgba(cr, pal->axis);
+        cairo_move_to(cr, f->x0 - 5, y), cairo_line_to(cr, f->x0, y), cairo_stroke(cr);
+        fmt_tick(buf, sizeof(buf), v, sy);
+        set_rgba(cr, pal->muted);
+        text_at(cr, f->x0 - 9, y, buf, 1, 0.5);
+    }
+    set_rgba(cr, pal->axis);
+    cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
+    cairo_stroke(cr);
+    cairo_set_font_size(cr, 14);
+    set_rgba(cr, pal->text);
+    text_at(cr, f->x0 + f->w / 2, f->y0 + f->h + 30, xlabel, 0.5, 0);
+    cairo_save(cr);
+    cairo_translate(cr, f->x0 - 58, f->y0 + f->h / 2);
+    cairo_rotate(cr, -M_PI / 2);
+    text_at(cr, 0, 0, ylabel, 0.5, 0.5);
+    cairo_restore(cr);
+}
+
+/* "initial.angle (degrees)" */
+static void key_label(char *buf, size_t size, const char *key)
+{
+    const char *unit = sp_scene_key_unit(key);
+    if (unit && unit[0] != '(')
+        snprintf(buf, size, "%s (%s)", key, unit);
+    else
+        snprintf(buf, size, "%s", key);
+}
+
+/* ---- reading rows ---- */
+
+/* One row: the point, its axis values, and up to three numbers. */
+struct row {
+    long point;
+    double key[SP_SWEEP_MAX_AXES];
+    double v[3];
+};
+
+static int next_row(FILE *fp, const struct sp_sweep_desc *d, int nv, struct row *r)
+{
+    char line[512], *p, *end;
+    if (!fgets(line, sizeof(line), fp))
+        return 0;
+    r->point = strtol(line, &p, 10);
+    for (int a = 0; a < d->n_axes; a++) {
+        r->key[a] = strtod(p + 1, &end);
+        p = end;
+    }
+    for (int i = 0; i < nv; i++) {
+        r->v[i] = strtod(p + 1, &end);
+        p = end;
+    }
+    return 1;
+}
+
+/* Rewinds to the first row. Returns 0 or SP_E_INPUT. */
+static int to_rows(FILE *fp, const char *name, struct sp_sweep_desc *d)
+{
+    char line[1024];
+    rewind(fp);
+    if (!fgets(line, sizeof(line), fp) || (line[strcspn(line, "\n")] = 0, 0) ||
+        sp_sweep_parse_header(line, d) || !fgets(line, sizeof(line), fp)) {
+        sp_log_error("%s:1: not a sweep CSV", name);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+/* ---- the figures ---- */
+
+static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                       const char *what)
+{
+    char buf[256];
+    cairo_set_font_size(cr, 17);
+    set_rgba(cr, pal->text);
+    snprintf(buf, sizeof(buf), "%s: %s", d->scene, what);
+    text_at(cr, 80, 10, buf, 0, 0);
+    cairo_set_font_size(cr, 12);
+    set_rgba(cr, pal->muted);
+    char energy[48] = "", transient[48] = "";
+    if (d->measure == SP_MEASURE_POINCARE)
+        snprintf(energy, sizeof(energy), "energy %.6g J, ", d->energy);
+    if (d->transient > 0)
+        snprintf(transient, sizeof(transient), " after a %g s transient", d->transient);
+    snprintf(buf, sizeof(buf), "%sover %g s%s, %s at dt = %g s", energy, d->time, transient,
+             d->method, d->dt);
+    text_at(cr, 80, 34, buf, 0, 0);
+}
+
+static void colormap_rgb(const struct sp_sweep_desc *d, double t, float rgb[3])
+{
+    sp_colormap(d->colormap, (float)t, rgb);
+}
+
+static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                          double x, double y, double h, double lo, double hi, const char *label)
+{
+    const int n = 128;
+    for (int i = 0; i < n; i++) {
+        float rgb[3];
+        colormap_rgb(d, (i + 0.5) / n, rgb);
+        cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+        cairo_rectangle(cr, x, y + h - (i + 1) * h / n, 18, h / n + 0.5);
+        cairo_fill(cr);
+    }
+    set_rgba(cr, pal->axis);
+    cairo_set_line_width(cr, 1);
+    cairo_rectangle(cr, x, y, 18, h);
+    cairo_stroke(cr);
+    double step = tick_step(lo, hi, 6);
+    char buf[64];
+    cairo_set_font_size(cr, 12);
+    for (double v = ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * step; v += step) {
+        double yy = y + h - (v - lo) / (hi - lo) * h;
+        set_rgba(cr, pal->axis);
+        cairo_move_to(cr, x + 18, yy), cairo_line_to(cr, x + 23, yy), cairo_stroke(cr);
+        fmt_tick(buf, sizeof(buf), v, step);
+        set_rgba(cr, pal->muted);
+        text_at(cr, x + 26, yy, buf, 0, 0.5);
+    }
+    cairo_set_font_size(cr, 14);
+    set_rgba(cr, pal->text);
+    text_at(cr, x + 9, y - 10, label, 0.5, 1);
+}
+
+static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
+                         const struct sp_palette *pal)
+{
+    const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
+    long n = sp_sweep_points(d);
+    double *lam = malloc(sizeof(double) * (size_t)n), *half = malloc(sizeof(double) * (size_t)n);
+    struct row r;
+    if (!lam || !half) {
+        free(lam), free(half);
+        sp_log_error("out of memory for a figure of %ld points", n);
+        return SP_E_NOMEM;
+    }
+    for (long i = 0; i < n; i++)
+        lam[i] = half[i] = NAN;
+    double lo = INFINITY, hi = -INFINITY;
+    while (next_row(fp, d, 2, &r))
+        if (r.point >= 0 && r.point < n) {
+            lam[r.point] = r.v[0], half[r.point] = r.v[1];
+            for (int k = 0; k < (d->n_axes == 1 ? 2 : 1); k++) /* a line shows both */
+                if (isfinite(r.v[k]))
+                    lo = fmin(lo, r.v[k]), hi = fmax(hi, r.v[k]);
+        }
+    if (lo > 0)
+        lo = 0;
+    fix_range(&lo, &hi);
+    char xl[96], yl[96];
+    key_label(xl, sizeof(xl), ax->key);
+    draw_title(cr, d, pal, "largest Lyapunov exponent");
+    if (d->n_axes == 1) {
+        struct frame f = {80, 56, W - 110, H - 116, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
+        fix_range(&f.xlo, &f.xhi);
+        draw_axes(cr, &f, pal, xl, "λ (1/s)");
+        cairo_save(cr);
+        cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
+        cairo_clip(cr);
+        for (int pass = 0; pass < 2; pass++) {
+            const double *v = pass ? lam : half;
+            set_rgba(cr, pass ? pal->series[1] : pal->muted);
+            cairo_set_line_width(cr, pass ? 1.6 : 1.0);
+            int pen = 0;
+            for (long i = 0; i < n; i++) {
+                double x = px(&f, sp_sweep_axis_value(ax, (int)i));
+                if (!isfinite(v[i])) {
+                    pen = 0;
+                    continue;
+                }
+                if (pen)
+                    cairo_line_to(cr, x, py(&f, v[i]));
+                else
+                    cairo_move_to(cr, x, py(&f, v[i]));
+                pen = 1;
+            }
+            cairo_stroke(cr);
+        }
+        cairo_restore(cr);
+        cairo_set_font_size(cr, 12);
+        set_rgba(cr, pal->series[1]);
+        text_at(cr, f.x0 + f.w - 8, f.y0 + 8, "λ over T", 1, 0);
+        set_rgba(cr, pal->muted);
+        text_at(cr, f.x0 + f.w - 8, f.y0 + 24, "λ over T/2", 1, 0);
+    } else {
+        /* cells centred on the grid values */
+        double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
+        double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
+        struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
+                          ay->from - dy / 2, ay->to + dy / 2};
+        cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, ax->count, ay->count);
+        unsigned char *data = cairo_image_surface_get_data(img);
+        int stride = cairo_image_surface_get_stride(img);
+        cairo_surface_flush(img);
+        for (long p = 0; p < n; p++) {
+            int idx[SP_SWEEP_MAX_AXES];
+            sp_sweep_point_index(d, p, idx);
+            float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
+            if (isfinite(lam[p]))
+                colormap_rgb(d, (lam[p] - lo) / (hi - lo), rgb);
+            uint32_t *px32 = (uint32_t *)(data + (size_t)(ay->count - 1 - idx[1]) * stride) + idx[0];
+            *px32 = (uint32_t)lrintf(rgb[0] * 255) << 16 | (uint32_t)lrintf(rgb[1] * 255) << 8 |
+                    (uint32_t)lrintf(rgb[2] * 255);
+        }
+        cairo_surface_mark_dirty(img);
+        cairo_save(cr);
+        cairo_translate(cr, f.x0, f.y0);
+        cairo_scale(cr, f.w / ax->count, f.h / ay->count);
+        cairo_set_source_surface(cr, img, 0, 0);
+        cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+        cairo_paint(cr);
+        cairo_restore(cr);
+        cairo_surface_destroy(img);
+        key_label(yl, sizeof(yl), ay->key);
+        draw_axes(cr, &f, pal, xl, yl);
+        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ (1/s)");
+    }
+    free(lam), free(half);
+    return 0;
+}
+
+/* Orbit diagram and Poincare mosaic: two passes over the rows, for the range
+ * and for the dots. */
+static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_desc *d,
+                     const struct sp_palette *pal)
+{
+    const int orbit = d->measure == SP_MEASURE_ORBIT;
+    struct row r;
+    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+    long n = sp_sweep_points(d), dots = 0;
+    /* orbit: x = the key, y = theta (driven) or r; poincare: x = r, y = dr/dt */
+#define XV (orbit ? r.key[0] : r.v[1])
+#define YV (orbit ? (d->driven ? r.v[1] : r.v[2]) : r.v[2])
+    while (next_row(fp, d, 3, &r)) {
+        if (!isfinite(XV) || !isfinite(YV))
+            continue;
+        xlo = fmin(xlo, XV), xhi = fmax(xhi, XV), ylo = fmin(ylo, YV), yhi = fmax(yhi, YV);
+        dots++;
+    }
+    if (orbit)
+        xlo = d->axis[0].from, xhi = d->axis[0].to;
+    fix_range(&xlo, &xhi);
+    fix_range(&ylo, &yhi);
+    double mx = orbit ? 0 : 0.04 * (xhi - xlo), my = 0.05 * (yhi - ylo);
+    struct frame f = {80, 56, W - 110, H - 116, xlo - mx, xhi + mx, ylo - my, yhi + my};
+    char xl[96];
+    key_label(xl, sizeof(xl), d->axis[0].key);
+    draw_title(cr, d, pal, orbit ? (d->driven ? "orbit diagram, once per drive period"
+                                               : "orbit diagram at the Poincaré crossings")
+                                 : "Poincaré sections (θ = 0, θ' > 0), one colour per orbit");
+    draw_axes(cr, &f, pal, orbit ? xl : "r (m)",
+              orbit ? (d->driven ? "θ (degrees)" : "r (m)") : "dr/dt (m/s)");
+    if (to_rows(fp, name, d))
+        return SP_E_INPUT;
+    cairo_save(cr);
+    cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
+    cairo_clip(cr);
+    /* dots fade with their number, so dense regions read as density */
+    double radius = orbit ? 0.7 : 0.9;
+    double alpha = fmin(0.9, fmax(0.15, 3e4 / (double)(dots + 1)));
+    while (next_row(fp, d, 3, &r)) {
+        if (!isfinite(XV) || !isfinite(YV))
+            continue;
+        if (orbit) {
+            cairo_set_source_rgba(cr, pal->series[1][0], pal->series[1][1], pal->series[1][2],
+                                  alpha);
+        } else {
+            float rgb[3];
+            colormap_rgb(d, 0.1 + 0.85 * (n > 1 ? (double)r.point / (n - 1) : 0.5), rgb);
+            cairo_set_source_rgba(cr, rgb[0], rgb[1], rgb[2], fmax(alpha, 0.5));
+        }
+        cairo_rectangle(cr, px(&f, XV) - radius, py(&f, YV) - radius, 2 * radius, 2 * radius);
+        cairo_fill(cr);
+    }
+#undef XV
+#undef YV
+    cairo_restore(cr);
+    if (!orbit) {
+        /* which colour is which start: a small gradient over the first key */
+        const double x0 = W - 250, y0 = 22, w = 150;
+        for (int i = 0; i < 64; i++) {
+            float rgb[3];
+            colormap_rgb(d, 0.1 + 0.85 * (i + 0.5) / 64, rgb);
+            cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+            cairo_rectangle(cr, x0 + i * w / 64, y0, w / 64 + 0.3, 10);
+            cairo_fill(cr);
+        }
+        char buf[64];
+        cairo_set_font_size(cr, 11);
+        set_rgba(cr, pal->muted);
+        snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
+        text_at(cr, x0 - 5, y0 + 5, buf, 1, 0.5);
+        snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
+        text_at(cr, x0 + w + 5, y0 + 5, buf, 0, 0.5);
+        text_at(cr, x0 + w / 2, y0 - 4, xl, 0.5, 1);
+    }
+    return 0;
+}
+
+int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
+{
+    struct sp_sweep_desc d;
+    struct sp_scene look;
+    struct sp_palette pal;
+    struct sp_outfile out;
+    int ret = to_rows(csv, csv_name, &d);
+    if (ret)
+        return ret;
+    sp_scene_defaults(&look);
+    look.view.theme = d.theme;
+    sp_palette_get(&look, &pal);
+    /* cairo writes front to back: a device or stdout is fine */
+    if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
+        return ret;
+    const char *part = out.path;
+    const char *ext = strrchr(path, '.');
+    cairo_surface_t *s;
+    if (!strcmp(ext, ".svg"))
+        s = cairo_svg_surface_create(part, W, H);
+    else if (!strcmp(ext, ".pdf"))
+        s = cairo_pdf_surface_create(part, W, H);
+    else
+        s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W * PNG_SCALE, (int)H * PNG_SCALE);
+    cairo_t *cr = cairo_create(s);
+    if (!strcmp(ext, ".png"))
+        cairo_scale(cr, PNG_SCALE, PNG_SCALE);
+    cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_source_rgb(cr, pal.background[0], pal.background[1], pal.background[2]);
+    cairo_paint(cr);
+    if (d.measure == SP_MEASURE_LYAPUNOV)
+        ret = draw_lyapunov(cr, csv, &d, &pal);
+    else
+        ret = draw_dots(cr, csv, csv_name, &d, &pal);
+    cairo_status_t st = cairo_status(cr);
+    cairo_destroy(cr);
+    if (!ret && !st && !strcmp(ext, ".png"))
+        st = cairo_surface_write_to_png(s, part);
+    cairo_surface_finish(s);
+    if (!st)
+        st = cairo_surface_status(s);
+    cairo_surface_destroy(s);
+    /* cairo keeps its font faces and fontconfig its configuration for the
+     * next figure; there is none: give them back (a sanitizer build checks) */
+    cairo_debug_reset_static_data();
+    FcFini();
+    if (!ret && st) {
+        sp_log_error("cannot write %s: %s", path, cairo_status_to_string(st));
+        ret = SP_E_IO;
+    }
+    if (!ret)
+        ret = sp_outfile_commit(&out); /* whole or not at all */
+    if (ret)
+        sp_outfile_discard(&out);
+    return ret;
+}

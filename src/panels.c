@@ -718,7 +718,9 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
     double ratio;
     float y = r->y0 + sp_font_cap(f, SP_TEXT_LARGE);
     snprintf(buf, sizeof(buf), "t = %.2f s", t);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC);
     sp_canvas_text(c, SP_TEXT_LARGE, r->x0, y, SP_ALIGN_LEFT, pal->text, buf);
+    sp_canvas_layer(c, SP_LAYER_STATIC); /* the parameters do not change in a run */
     y += 0.5f * (sp_font_line(f, SP_TEXT_LARGE) - sp_font_cap(f, SP_TEXT_LARGE)) +
          0.5f * (sp_font_line(f, SP_TEXT_NORMAL) - sp_font_cap(f, SP_TEXT_NORMAL));
     const int res = sp_params_resonant(p, &ratio);

@@ -132,23 +132,27 @@ struct stage_times {
 };
 
 static void print_times(const struct stage_times *t, const struct queue *q,
-                        int frames)
+                        const struct sp_render_stats *rs, int frames)
 {
     double per = frames > 0 ? 1e3 / frames : 0;
     fprintf(stderr,
             "stage times for %d frames (s total, ms per frame):\n"
             "  setup (camera pre-pass, GL, encoder)  %7.3f\n"
             "  render thread: sim + frame model      %7.3f  %6.2f\n"
+            "  render thread: compose draw list      %7.3f  %6.2f\n"
             "  render thread: GL draw + readback     %7.3f  %6.2f\n"
             "  render thread: waiting for a slot     %7.3f  %6.2f\n"
             "  encoder thread: convert + encode/write %6.3f  %6.2f\n"
             "  encoder thread: waiting for a frame   %7.3f  %6.2f\n"
             "  finish (flush, trailer, rename)       %7.3f\n"
             "  wall                                  %7.3f  (%.1f fps)\n",
-            frames, t->setup, t->sim, t->sim * per, t->render, t->render * per,
+            frames, t->setup, t->sim, t->sim * per, rs->compose_s, rs->compose_s * per,
+            t->render - rs->compose_s, (t->render - rs->compose_s) * per,
             t->wait, t->wait * per, q->encode_s,
             q->encode_s * per, q->idle_s, q->idle_s * per, t->finish, t->total,
             t->total > 0 ? frames / t->total : 0);
+    fprintf(stderr, "  static layer cached in %ld frames (drawn %ld time%s), uncached in %ld\n",
+            rs->cached, rs->redrawn, rs->redrawn == 1 ? "" : "s", rs->uncached);
 }
 
 /* ---- the run ---- */
@@ -438,8 +442,11 @@ static int run_finish(struct run *run)
                      run->emitted == 1 ? "" : "s", desc->output);
         ret = SP_E_INTERRUPTED;
     }
-    if (desc->verbose && !desc->still)
-        print_times(&run->tm, q, run->emitted);
+    if (desc->verbose && !desc->still) {
+        struct sp_render_stats rs;
+        sp_render_stats(run->r, &rs);
+        print_times(&run->tm, q, &rs, run->emitted);
+    }
     return ret;
 }
 

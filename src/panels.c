@@ -409,36 +409,54 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
         sp_canvas_clip(c, (const float[4]){p->area.x0 - m, p->area.y0 - m, p->area.x1 + m, p->area.y1 + m});
 }
 
-/* Which quantity a strip chart or phase plot shows. */
-static double quantity(const struct sp_history_sample *s, int which, const struct sp_params *p)
+/* What a strip chart or phase plot shows along an axis. The energies run
+ * total, kinetic, spring, gravity (palette series 0..3), then the modes. */
+enum quantity {
+    Q_TIME = -1,  /* s: the x axis of a strip chart */
+    Q_R,          /* m */
+    Q_THETA,      /* degrees */
+    Q_EXTENSION,  /* m: r - L0 */
+    Q_R_DOT,      /* m/s */
+    Q_THETA_DOT,  /* degrees/s */
+    Q_ENERGY,     /* J: kinetic + spring + gravity */
+    Q_KINETIC,    /* J */
+    Q_SPRING,     /* J */
+    Q_GRAVITY,    /* J */
+    Q_BOUNCE,     /* J */
+    Q_SWING,      /* J */
+};
+
+/* Sample s's value of quantity which (not Q_TIME). */
+static double quantity(const struct sp_history_sample *s, enum quantity which,
+                       const struct sp_params *p)
 {
     const double L0 = p->L0;
     switch (which) {
-    case 0: return s->r;
-    case 1: return s->theta * RAD2DEG;
-    case 2: return s->r - L0;
-    case 3: return s->r_dot;
-    case 4: return s->theta_dot * RAD2DEG;
-    case 5: return (double)s->kinetic + s->spring + s->gravity;
-    case 6: return s->kinetic;
-    case 7: return s->spring;
-    case 8: return s->gravity;
-    case 9: return s->bounce;
+    case Q_R: return s->r;
+    case Q_THETA: return s->theta * RAD2DEG;
+    case Q_EXTENSION: return s->r - L0;
+    case Q_R_DOT: return s->r_dot;
+    case Q_THETA_DOT: return s->theta_dot * RAD2DEG;
+    case Q_ENERGY: return (double)s->kinetic + s->spring + s->gravity;
+    case Q_KINETIC: return s->kinetic;
+    case Q_SPRING: return s->spring;
+    case Q_GRAVITY: return s->gravity;
+    case Q_BOUNCE: return s->bounce;
     default: return s->swing;
     }
 }
 
-/* A polyline of (x(i), y(i)) over the samples (x = time when xq < 0);
+/* A polyline of (x(i), y(i)) over the samples (x = time when xq is Q_TIME);
  * with fade_to, old parts fade into that colour. */
 static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
-                     int xq, int yq, const struct sp_params *pp, int first, float hw, const float color[4],
+                     enum quantity xq, enum quantity yq, const struct sp_params *pp, int first, float hw, const float color[4],
                      const float *fade_to)
 {
     const int fade = fade_to != NULL;
     const int n = h->count - first;
     /* over time, two segments per pixel column; a phase curve may wind over
      * itself many times, so it keeps up to 8000 */
-    int max_segs = xq < 0 ? 2 * (int)(p->area.x1 - p->area.x0) : 8000;
+    int max_segs = xq == Q_TIME ? 2 * (int)(p->area.x1 - p->area.x0) : 8000;
     if (max_segs < 2) /* a plot squeezed to under a pixel (tiny frames) */
         max_segs = 2;
     const int stride = n > max_segs ? (n + max_segs - 1) / max_segs : 1;
@@ -449,7 +467,7 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
     for (int i = first; i < h->count; i += stride) {
         const int j = i + stride >= h->count ? h->count - 1 : i;
         const struct sp_history_sample *s = &h->samples[j];
-        const float bx = xq < 0 ? px_x(p, s->t) : px_x(p, quantity(s, xq, pp));
+        const float bx = xq == Q_TIME ? px_x(p, s->t) : px_x(p, quantity(s, xq, pp));
         const float by = px_y(p, quantity(s, yq, pp));
         if (have) {
             if (fade) { /* mixed with the opaque panel colour: no beads at the joints */
@@ -503,16 +521,16 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     sp_canvas_rect(c, now - hw * 0.8f, p.area.y0, now + hw * 0.8f, p.area.y1, pal->cursor);
     if (bit == 2) { /* the split first, the total on top */
         for (int k = 3; k >= 0; k--)
-            polyline(c, &p, h, -1, 5 + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], NULL);
+            polyline(c, &p, h, Q_TIME, Q_ENERGY + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], NULL);
     } else if (bit == 7) { /* bounce and swing */
         for (int k = 0; k < 2; k++) {
-            polyline(c, &p, h, -1, 9 + k, L0, 0, 1.2f * hw, pal->series[k + 1], NULL);
-            sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], 9 + k, L0)), 2.2f * hw,
+            polyline(c, &p, h, Q_TIME, Q_BOUNCE + k, L0, 0, 1.2f * hw, pal->series[k + 1], NULL);
+            sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], Q_BOUNCE + k, L0)), 2.2f * hw,
                            0, pal->series[k + 1]);
         }
     } else {
-        const int q = bit == 0 ? 0 : bit == 1 ? 1 : 2;
-        polyline(c, &p, h, -1, q, L0, 0, hw, pal->series[1], NULL);
+        const enum quantity q = bit == 0 ? Q_R : bit == 1 ? Q_THETA : Q_EXTENSION;
+        polyline(c, &p, h, Q_TIME, q, L0, 0, hw, pal->series[1], NULL);
         sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], q, L0)), 2.2f * hw, 0, pal->series[1]);
     }
 }
@@ -533,7 +551,7 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
                    unit, now, 1);
     if (!h || h->count == 0)
         return;
-    const int xq = theta ? 1 : 0, yq = theta ? 4 : 3;
+    const enum quantity xq = theta ? Q_THETA : Q_R, yq = theta ? Q_THETA_DOT : Q_R_DOT;
     polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], fade ? pal->panel : NULL);
     const struct sp_history_sample *s = &h->samples[h->count - 1];
     sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),

@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "panels.h"
 #include "springpend/common.h"
@@ -403,6 +404,29 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     return 0;
 }
 
+/* cairo's own file streams can lose a failed write (cairo 1.16: a PDF to a
+ * full device "succeeds"); the figure goes through out.fd here and every
+ * write's fate is kept, whatever cairo reports. */
+struct fd_sink {
+    int fd;
+    int err; /* errno of the first failed write; 0 = all written */
+};
+
+static cairo_status_t fd_write(void *closure, const unsigned char *data, unsigned int length)
+{
+    struct fd_sink *k = closure;
+    while (length && !k->err) {
+        ssize_t n = write(k->fd, data, length);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            k->err = n < 0 ? errno : EIO;
+        else
+            data += n, length -= (unsigned int)n;
+    }
+    return k->err ? CAIRO_STATUS_WRITE_ERROR : CAIRO_STATUS_SUCCESS;
+}
+
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
 {
     struct sp_sweep_desc d;
@@ -418,13 +442,13 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     /* cairo writes front to back: a device or stdout is fine */
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;
-    const char *part = out.path;
+    struct fd_sink sink = {.fd = out.fd};
     const char *ext = strrchr(path, '.');
     cairo_surface_t *s;
     if (!strcmp(ext, ".svg"))
-        s = cairo_svg_surface_create(part, W, H);
+        s = cairo_svg_surface_create_for_stream(fd_write, &sink, W, H);
     else if (!strcmp(ext, ".pdf"))
-        s = cairo_pdf_surface_create(part, W, H);
+        s = cairo_pdf_surface_create_for_stream(fd_write, &sink, W, H);
     else
         s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W * PNG_SCALE, (int)H * PNG_SCALE);
     cairo_t *cr = cairo_create(s);
@@ -440,17 +464,20 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     cairo_status_t st = cairo_status(cr);
     cairo_destroy(cr);
     if (!ret && !st && !strcmp(ext, ".png"))
-        st = cairo_surface_write_to_png(s, part);
+        st = cairo_surface_write_to_png_stream(s, fd_write, &sink);
     cairo_surface_finish(s);
     if (!st)
         st = cairo_surface_status(s);
+    if (!st && sink.err)
+        st = CAIRO_STATUS_WRITE_ERROR;
     cairo_surface_destroy(s);
     /* cairo keeps its font faces and fontconfig its configuration for the
      * next figure; there is none: give them back (a sanitizer build checks) */
     cairo_debug_reset_static_data();
     FcFini();
     if (!ret && st) {
-        sp_log_error("cannot write %s: %s", path, cairo_status_to_string(st));
+        sp_log_error("cannot write %s: %s", path,
+                     sink.err ? strerror(sink.err) : cairo_status_to_string(st));
         ret = SP_E_IO;
     }
     if (!ret)

@@ -219,6 +219,17 @@ static int check_outputs(const struct sweep_opts *o)
         sp_log_error("--csv and -o name the same file");
         return SP_E_INPUT;
     }
+    /* the scene or a shard being read must not be replaced by what it makes */
+    const char *outs[2][2] = {{"-o", o->output}, {"--csv", o->csv}};
+    for (int i = 0; i < 2; i++)
+        for (int k = -1; outs[i][1] && k < (o->merge ? o->n_parts : 0); k++) {
+            const char *in = k < 0 ? o->scene : o->parts[k];
+            if (in && sp_cli_same_file(outs[i][1], in)) {
+                sp_log_error("%s %s would overwrite an input; choose another path", outs[i][0],
+                             outs[i][1]);
+                return SP_E_INPUT;
+            }
+        }
     return 0;
 }
 

@@ -60,5 +60,33 @@ for ext in ("pdf", "svg", "png"):
        f"sweep -o a full device (.{ext}) exits 1 naming the cause: {r.returncode} {err(r)}")
     ok(stat.S_ISCHR(os.stat(full).st_mode), f"the device full.{ext} is still a device")
 
+# ---- a sweep never replaces what it reads ----
+# --csv (or -o) naming the scene, or one of --merge's shards, replaced it with
+# the sweep's rows: exit 0 and the input gone.
+with open(default) as f:
+    scene_text = f.read()
+scene = path("s.ini")
+with open(scene, "w") as f:
+    f.write(scene_text)
+r = run(*[scene if a == default else a for a in SWEEP], "-o", path("m.png"), "--csv", scene)
+with open(scene) as f:
+    ok(r.returncode == 2 and "would overwrite an input" in err(r) and f.read() == scene_text,
+       f"sweep --csv SCENE is refused, the scene intact: {r.returncode} {err(r)}")
+base = [a for a in SWEEP if a != "-q"] + ["-q"]
+for i in (1, 2):
+    r = run(*base, "--shard", f"{i}/2", "--csv", path(f"part{i}.csv"))
+    ok(r.returncode == 0, f"shard {i}/2 written: {err(r)}")
+with open(path("part1.csv"), "rb") as f:
+    part1 = f.read()
+r = run("sweep", "--merge", path("part1.csv"), path("part2.csv"), "-o", path("m.png"),
+        "--csv", path("part1.csv"), "-q")
+with open(path("part1.csv"), "rb") as f:
+    ok(r.returncode == 2 and "would overwrite an input" in err(r) and f.read() == part1,
+       f"sweep --merge ... --csv PART is refused, the shard intact: {r.returncode} {err(r)}")
+r = run("sweep", "--merge", path("part1.csv"), path("part2.csv"), "-o", path("m.png"),
+        "--csv", path("whole.csv"), "-q")
+ok(r.returncode == 0 and os.path.getsize(path("whole.csv")) > 0,
+   f"sweep --merge to other paths still works: {r.returncode} {err(r)}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

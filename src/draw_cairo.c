@@ -1,5 +1,6 @@
 /* springpend (internal): the draw list drawn with cairo into SVG or PDF.
  * See draw_cairo.h. Built into springpend-cairo.so. */
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,7 @@
 #include FT_FREETYPE_H
 
 #include "springpend/common.h"
+#include "cairo_fd.h"
 #include "draw_cairo.h"
 #include "embedded.h"
 
@@ -157,10 +159,13 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     cairo_t *cr;
     int err = 0;
 
+    struct sp_cairo_fd sink = {.fd = d->fd}; /* every write checked */
     if (d->format == SP_FIGURE_PDF)
-        surface = cairo_pdf_surface_create(d->path, d->width, d->height);
+        surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, d->width,
+                                                      d->height);
     else
-        surface = cairo_svg_surface_create(d->path, d->width, d->height);
+        surface = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, d->width,
+                                                      d->height);
     st = cairo_surface_status(surface);
     if (st) {
         sp_log_error("%s: cannot create: %s", d->path, cairo_status_to_string(st));
@@ -225,7 +230,10 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     if (!st)
         st = cairo_surface_status(surface);
     cairo_surface_destroy(surface);
-    if (st && !err) {
+    if (sink.err && !err) {
+        sp_log_error("%s: cannot write: %s", d->path, strerror(sink.err));
+        err = SP_E_IO;
+    } else if (st && !err) {
         sp_log_error("%s: cairo failed: %s", d->path, cairo_status_to_string(st));
         err = st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
     }

@@ -14,8 +14,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
+#include "cairo_fd.h"
 #include "panels.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
@@ -404,29 +404,6 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     return 0;
 }
 
-/* cairo's own file streams can lose a failed write (cairo 1.16: a PDF to a
- * full device "succeeds"); the figure goes through out.fd here and every
- * write's fate is kept, whatever cairo reports. */
-struct fd_sink {
-    int fd;
-    int err; /* errno of the first failed write; 0 = all written */
-};
-
-static cairo_status_t fd_write(void *closure, const unsigned char *data, unsigned int length)
-{
-    struct fd_sink *k = closure;
-    while (length && !k->err) {
-        ssize_t n = write(k->fd, data, length);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            k->err = n < 0 ? errno : EIO;
-        else
-            data += n, length -= (unsigned int)n;
-    }
-    return k->err ? CAIRO_STATUS_WRITE_ERROR : CAIRO_STATUS_SUCCESS;
-}
-
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
 {
     struct sp_sweep_desc d;
@@ -442,13 +419,13 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     /* cairo writes front to back: a device or stdout is fine */
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;
-    struct fd_sink sink = {.fd = out.fd};
+    struct sp_cairo_fd sink = {.fd = out.fd}; /* every write checked */
     const char *ext = strrchr(path, '.');
     cairo_surface_t *s;
     if (!strcmp(ext, ".svg"))
-        s = cairo_svg_surface_create_for_stream(fd_write, &sink, W, H);
+        s = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
     else if (!strcmp(ext, ".pdf"))
-        s = cairo_pdf_surface_create_for_stream(fd_write, &sink, W, H);
+        s = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
     else
         s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W * PNG_SCALE, (int)H * PNG_SCALE);
     cairo_t *cr = cairo_create(s);
@@ -464,7 +441,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     cairo_status_t st = cairo_status(cr);
     cairo_destroy(cr);
     if (!ret && !st && !strcmp(ext, ".png"))
-        st = cairo_surface_write_to_png_stream(s, fd_write, &sink);
+        st = cairo_surface_write_to_png_stream(s, sp_cairo_fd_write, &sink);
     cairo_surface_finish(s);
     if (!st)
         st = cairo_surface_status(s);

@@ -4,6 +4,7 @@ outfile, the sweep's figures, still's vector figures, compare's CI outputs).
 Device-node cases need root and are skipped without it.
 usage: test_review.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
+import resource
 import shutil
 import stat
 import subprocess
@@ -87,6 +88,26 @@ r = run("sweep", "--merge", path("part1.csv"), path("part2.csv"), "-o", path("m.
         "--csv", path("whole.csv"), "-q")
 ok(r.returncode == 0 and os.path.getsize(path("whole.csv")) > 0,
    f"sweep --merge to other paths still works: {r.returncode} {err(r)}")
+
+# ---- a vector figure cut short by `ulimit -f` is an error, not a file ----
+# cairo 1.16's own file stream lost the EFBIG of a PDF's last write: `still
+# -o fig.pdf` printed "wrote", exited 0 and left an 8 KiB, truncated PDF.
+def fsize_limit():
+    resource.setrlimit(resource.RLIMIT_FSIZE, (8192, 8192))
+
+
+os.makedirs(path("limited"))
+for ext in ("pdf", "svg"):
+    target = path("limited", f"still.{ext}")
+    r = run("still", default, "-o", target, preexec_fn=fsize_limit)
+    ok(r.returncode == 1 and "File too large" in err(r) and not os.path.exists(target),
+       f"still -o .{ext} over ulimit -f: exit 1, no file: {r.returncode} {err(r)}")
+    target = path("limited", f"sweep.{ext}")
+    r = run(*SWEEP[:3], "initial.angle=5:40:40", *SWEEP[4:], "-o", target,
+            preexec_fn=fsize_limit)
+    ok(r.returncode == 1 and "File too large" in err(r) and not os.path.exists(target),
+       f"sweep -o .{ext} over ulimit -f: exit 1, no file: {r.returncode} {err(r)}")
+ok(not os.listdir(path("limited")), f"no .part left: {os.listdir(path('limited'))}")
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

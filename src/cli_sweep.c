@@ -313,6 +313,8 @@ static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o,
     }
     if (!ret && o->output)
         ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output);
+    if (!ret && sp_interrupted()) /* while drawing or merging: nothing written */
+        ret = SP_E_INTERRUPTED;
     if (fclose(fp) != 0 && !ret) {
         sp_log_error("cannot write %s: %s", name, strerror(errno));
         ret = SP_E_IO;
@@ -398,6 +400,8 @@ static int merge(const struct sweep_opts *o)
                 fwrite(buf, 1, got, out);
         }
         ret = finish(out, &rows, o, 0);
+        if (ret == SP_E_INTERRUPTED)
+            sp_log_error("interrupted: nothing written");
     }
     for (int i = 0; i < o->n_parts; i++)
         if (parts[i])
@@ -453,10 +457,10 @@ int sp_cmd_sweep(int argc, char **argv)
     if (!ret)
         ret = sp_sweep_run(&d, &scene, first, last, o.threads, fp, &blown, &unreachable,
                            !o.quiet && isatty(2) ? show_progress : NULL, &prog);
+    ret = finish(fp, &rows, &o, ret);
     if (ret == SP_E_INTERRUPTED)
         sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
                      "say which part)");
-    ret = finish(fp, &rows, &o, ret);
     if (ret)
         return ret;
     if (blown)

@@ -144,7 +144,7 @@ struct row {
 static int next_row(FILE *fp, const struct sp_sweep_desc *d, int nv, struct row *r)
 {
     char line[512], *p, *end;
-    if (!fgets(line, sizeof(line), fp))
+    if (sp_interrupted() || !fgets(line, sizeof(line), fp)) /* Ctrl-C: stop drawing */
         return 0;
     r->point = strtol(line, &p, 10);
     for (int a = 0; a < d->n_axes; a++) {
@@ -452,6 +452,8 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
      * next figure; there is none: give them back (a sanitizer build checks) */
     cairo_debug_reset_static_data();
     FcFini();
+    if (!ret && sp_interrupted())
+        ret = SP_E_INTERRUPTED; /* a figure cut short by a signal is not written */
     if (!ret && st) {
         sp_log_error("cannot write %s: %s", path,
                      sink.err ? strerror(sink.err) : cairo_status_to_string(st));

@@ -6,6 +6,7 @@ usage: test_review.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)""
 import os
 import resource
 import shutil
+import signal
 import stat
 import subprocess
 import sys
@@ -108,6 +109,35 @@ for ext in ("pdf", "svg"):
     ok(r.returncode == 1 and "File too large" in err(r) and not os.path.exists(target),
        f"sweep -o .{ext} over ulimit -f: exit 1, no file: {r.returncode} {err(r)}")
 ok(not os.listdir(path("limited")), f"no .part left: {os.listdir(path('limited'))}")
+
+# ---- a signal while a sweep draws its figure writes nothing ----
+# The help promises "Ctrl-C stops and writes nothing (exit 130)"; a signal
+# after the integration (while drawing, or during --merge) was swallowed: the
+# figure and --csv were written, exit 0. The figure goes to a FIFO whose
+# reader takes one byte, then the signal is sent, then the rest is read: the
+# signal surely arrives while the figure is being written (it is far larger
+# than a pipe's buffer).
+parametric = os.path.join(src, "..", "scenes", "parametric.ini")
+r = run("sweep", parametric, "--vary", "pivot.amplitude=0:0.06:60", "--measure", "orbit",
+        "--time", "30", "-q", "--shard", "1/1", "--csv", path("orbit.csv"))
+ok(r.returncode == 0, f"an orbit shard to merge: {err(r)}")
+for sig, name in ((signal.SIGTERM, "SIGTERM"), (signal.SIGINT, "SIGINT")):
+    fifo = path(f"fig-{name}.svg")
+    os.mkfifo(fifo)
+    p = subprocess.Popen([exe, "sweep", "--merge", path("orbit.csv"), "-o", fifo,
+                          "--csv", path(f"whole-{name}.csv"), "-q"], cwd=work,
+                         stderr=subprocess.PIPE)
+    with open(fifo, "rb") as f:
+        first = f.read(1)
+        p.send_signal(sig)
+        rest = f.read()
+    p.wait(timeout=60)
+    e = p.stderr.read().decode(errors="replace").strip()
+    ok(first and p.returncode == 128 + sig and "interrupted" in e,
+       f"{name} during sweep --merge's figure: exit {p.returncode}, {e!r}")
+    ok(not os.path.exists(path(f"whole-{name}.csv")),
+       f"{name} during the figure: no --csv written")
+    ok(not [n for n in os.listdir(work) if n.endswith(".part")], "no .part left")
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -188,7 +188,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     }
     /* the accumulated layer first, then the rest in order */
     for (int pass = 0; pass < 2; pass++) {
-        for (int i = 0; i < c->n_items; i++) {
+        for (int i = 0; i < c->n_items && !sp_interrupted(); i++) { /* Ctrl-C: stop */
             const struct sp_item *it = &c->items[i];
             if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
                 continue;

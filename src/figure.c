@@ -54,6 +54,8 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
         memcpy(dd.background, sp_compose_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }
+    if (!err && sp_interrupted()) /* a signal while drawing: nothing written */
+        err = SP_E_INTERRUPTED;
     if (!err)
         err = sp_outfile_commit(&out); /* whole or not at all */
     if (err) {

@@ -139,5 +139,23 @@ for sig, name in ((signal.SIGTERM, "SIGTERM"), (signal.SIGINT, "SIGINT")):
        f"{name} during the figure: no --csv written")
     ok(not [n for n in os.listdir(work) if n.endswith(".part")], "no .part left")
 
+# ---- a signal while `still` writes an SVG or PDF writes nothing ----
+# README: still "stops at once and writes nothing"; a signal after the
+# integration, while the figure was drawn, was swallowed (exit 0, "wrote").
+chaotic = os.path.join(src, "..", "scenes", "chaotic.ini")
+for ext, sig in (("svg", signal.SIGTERM), ("pdf", signal.SIGINT)):
+    fifo = path(f"still-{ext}.fifo.{ext}")
+    os.mkfifo(fifo)
+    p = subprocess.Popen([exe, "still", chaotic, "--at", "30", "--size", "320x240", "--set",
+                          "view.trail=all", "-o", fifo], cwd=work, stderr=subprocess.PIPE)
+    with open(fifo, "rb") as f:
+        first = f.read(1)
+        p.send_signal(sig)
+        rest = f.read()
+    p.wait(timeout=60)
+    e = p.stderr.read().decode(errors="replace").strip()
+    ok(first and p.returncode == 128 + sig and "interrupted" in e and "wrote" not in e,
+       f"signal {int(sig)} during still -o .{ext}: exit {p.returncode}, {e!r}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

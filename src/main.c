@@ -17,7 +17,7 @@ static const char usage[] =
     "\n"
     "commands:\n"
     "  render   the whole motion as MP4, WebM, GIF, a PNG sequence or raw frames\n"
-    "  still    one frame as a PNG\n"
+    "  still    one frame as a PNG, or an SVG or PDF vector figure\n"
     "  data     the motion as CSV: state, polar form, energies (no rendering)\n"
     "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"

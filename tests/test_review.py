@@ -4,6 +4,7 @@ outfile, the sweep's figures, still's vector figures, compare's CI outputs).
 Device-node cases need root and are skipped without it.
 usage: test_review.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
+import re
 import resource
 import shutil
 import signal
@@ -156,6 +157,26 @@ for ext, sig in (("svg", signal.SIGTERM), ("pdf", signal.SIGINT)):
     e = p.stderr.read().decode(errors="replace").strip()
     ok(first and p.returncode == 128 + sig and "interrupted" in e and "wrote" not in e,
        f"signal {int(sig)} during still -o .{ext}: exit {p.returncode}, {e!r}")
+
+# ---- every option the README's commands use is in that command's --help ----
+# `still ... -q` (snapshots.sh) and `still --fps 30` ran but still's --help
+# did not list them; the top-level help called still "one frame as a PNG".
+with open(os.path.join(src, "..", "README.md"), encoding="utf-8") as f:
+    readme = f.read()
+blocks = "\n".join(re.findall(r"^```(?:sh|yaml)?\n(.*?)^```", re.sub(
+    r"^```(?!sh\n|yaml\n|\n).*?^```\n", "", readme, flags=re.S | re.M), re.S | re.M))
+blocks = blocks.replace("\\\n", " ")
+used = {}
+for line in blocks.splitlines():
+    for m in re.finditer(r"springpend (render|still|data|info|compare|sweep)\b([^|#;&]*)", line):
+        for opt in re.findall(r"(?<![\w-])(--?[a-zA-Z][\w-]*)", m.group(2)):
+            used.setdefault(m.group(1), set()).add(opt.split("=")[0])
+for cmd in sorted(used):
+    h = run(cmd, "--help").stdout.decode()
+    missing = sorted(o for o in used[cmd] if not re.search(r"(?<![\w-])" + re.escape(o) + r"\b", h))
+    ok(not missing, f"{cmd} --help lists every option the README uses with it: missing {missing}")
+top = run("--help").stdout.decode()
+ok(re.search(r"still .*SVG", top), "springpend --help says still writes SVG and PDF too")
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

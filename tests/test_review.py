@@ -178,5 +178,30 @@ for cmd in sorted(used):
 top = run("--help").stdout.decode()
 ok(re.search(r"still .*SVG", top), "springpend --help says still writes SVG and PDF too")
 
+# ---- the README's worked CI example runs as written ----
+# Its JSON check read snapshots/default_t3.json, which no step put there
+# (--update copies PNGs only): FileNotFoundError on the first run.
+def block(marker):
+    for b in re.findall(r"^```[a-z]*\n(.*?)^```", readme, re.S | re.M):
+        if marker in b:
+            return b
+    return ""
+
+
+ci = path("ci")
+os.makedirs(path("ci", "bin"))
+os.symlink(exe, path("ci", "bin", "springpend"))
+os.symlink(os.path.join(src, "..", "scenes"), path("ci", "scenes"))
+with open(path("ci", "snapshots.sh"), "w") as f:
+    f.write(block("# snapshots.sh OUTDIR"))
+env = dict(os.environ, PATH=path("ci", "bin") + os.pathsep + os.environ["PATH"])
+steps = ["sh snapshots.sh actual",
+         *[l for l in block("--update=missing").splitlines() if not l.startswith("git ")],
+         block('json.load(open(d + "/default_t3.json"))')]
+for step in steps:
+    r = subprocess.run(step, shell=True, cwd=ci, env=env, capture_output=True, timeout=120)
+    ok(step.strip() and r.returncode == 0,
+       f"README worked example: {step.strip()[:60]!r} exits 0: {r.returncode} {err(r)[-300:]}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -335,6 +335,49 @@ static int read_line(FILE *fp, char *buf, size_t size)
     return 1;
 }
 
+/* A shard's rows, from fp's position to its end, must be whole: each line
+ * ends in a newline and holds as many numbers as `columns` names, its
+ * point (the first) inside the shard's points [first, last) and never
+ * before the previous row's; a Lyapunov shard has one row per point. A copy
+ * cut short or edited would otherwise be drawn without a word. fp is left
+ * where it was. SP_E_INPUT with FILE:LINE. */
+static int check_rows(FILE *fp, const char *name, const char *columns, long first, long last,
+                      int one_per_point)
+{
+    char line[1024], *p, *end;
+    long at = ftell(fp), lineno = 3, rows = 0, prev = first;
+    int fields = 1, ret = 0;
+    for (const char *c = columns; *c; c++)
+        fields += *c == ',';
+    while (!ret && fgets(line, sizeof(line), fp)) {
+        int n = 0;
+        lineno++;
+        long point = strtol(line, &end, 10);
+        for (p = line; n < fields; n++, p = end + 1) {
+            strtod(p, &end);
+            if (end == p || *end != (n + 1 < fields ? ',' : '\n'))
+                break;
+        }
+        if (n < fields || point < prev || point >= last) {
+            sp_log_error("%s:%ld: not a whole row of this shard (%d numbers, point %ld to "
+                         "%ld); the file was cut short or edited: write it again", name,
+                         lineno, fields, first, last - 1);
+            ret = SP_E_INPUT;
+        }
+        prev = point, rows++;
+    }
+    if (!ret && one_per_point && rows != last - first) {
+        sp_log_error("%s: %ld rows, but the shard has %ld points; the file was cut short or "
+                     "edited: write it again", name, rows, last - first);
+        ret = SP_E_INPUT;
+    }
+    if (!ret && (ferror(fp) || fseek(fp, at, SEEK_SET) != 0)) {
+        sp_log_error("cannot read %s: %s", name, strerror(errno));
+        ret = SP_E_INPUT;
+    }
+    return ret;
+}
+
 static int merge(const struct sweep_opts *o)
 {
     char header[1024] = "", line[1024], columns[1024] = "";
@@ -373,7 +416,7 @@ static int merge(const struct sweep_opts *o)
                 ret = SP_E_INPUT;
                 break;
             }
-        } else if (strcmp(h, header) || total != n) {
+        } else if (strcmp(h, header) || strcmp(c, columns) || total != n) {
             sp_log_error("%s:1: is from another sweep than %s", o->parts[k], o->parts[0]);
             fclose(fp);
             ret = SP_E_INPUT;
@@ -386,6 +429,9 @@ static int merge(const struct sweep_opts *o)
             break;
         }
         parts[i - 1] = fp;
+        const long points = sp_sweep_points(&d);
+        ret = check_rows(fp, o->parts[k], c, points * (i - 1) / n, points * i / n,
+                         d.measure == SP_MEASURE_LYAPUNOV);
     }
     struct sp_outfile rows = {.fd = -1, .slot = -1};
     FILE *out = NULL;

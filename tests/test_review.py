@@ -203,5 +203,28 @@ for step in steps:
     ok(step.strip() and r.returncode == 0,
        f"README worked example: {step.strip()[:60]!r} exits 0: {r.returncode} {err(r)[-300:]}")
 
+# ---- --merge refuses a shard cut short or edited ----
+# A shard truncated in copying (its last row cut mid-number), missing a row,
+# or with a row that is not numbers, was merged and drawn, exit 0.
+with open(path("part2.csv")) as f:
+    p2 = f.read()
+bad = {"cut": p2[:-7], "row-missing": "".join(p2.splitlines(True)[:3] + p2.splitlines(True)[4:]),
+       "not-numbers": p2.replace(p2.splitlines()[-1], p2.splitlines()[-1].rsplit(",", 1)[0] + ",x"),
+       "columns": p2.replace("lyapunov_half", "other")}
+for what, text in bad.items():
+    with open(path(f"bad-{what}.csv"), "w") as f:
+        f.write(text)
+    r = run("sweep", "--merge", path("part1.csv"), path(f"bad-{what}.csv"), "-o",
+            path(f"bad-{what}.png"), "-q")
+    ok(r.returncode == 2 and not os.path.exists(path(f"bad-{what}.png")),
+       f"sweep --merge with a shard {what}: exit 2, no figure: {r.returncode} {err(r)}")
+with open(path("orbit.csv")) as f:
+    orbit = f.read()
+with open(path("orbit-cut.csv"), "w") as f:
+    f.write(orbit[:len(orbit) // 2])
+r = run("sweep", "--merge", path("orbit-cut.csv"), "-o", path("orbit-cut.png"), "-q")
+ok(r.returncode == 2 and "cut short" in err(r),
+   f"sweep --merge of an orbit shard cut in half: exit 2: {r.returncode} {err(r)}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

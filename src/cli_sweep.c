@@ -49,7 +49,7 @@ static const char sweep_usage[] =
     "  --transient T0            simulated seconds integrated first (default 0)\n"
     "  --energy E                poincare: the orbits' energy, J\n"
     "  -o, --output FIGURE       .png, .svg or .pdf\n"
-    "  --csv FILE                also write the rows (streamed)\n"
+    "  --csv FILE                also write the rows (a regular file)\n"
     "  --shard I/N               compute the I-th of N equal parts of the grid into\n"
     "                            --csv only; join them with --merge\n"
     "  --merge                   the arguments are shard CSVs: draw (and --csv) the whole\n"
@@ -212,6 +212,11 @@ static int check_outputs(const struct sweep_opts *o)
         }
         if (sp_cli_check_writable(o->output, "-o"))
             return SP_E_INPUT;
+    }
+    if (o->csv && sp_outfile_is_stream(o->csv)) { /* outfile's message says CSV may be */
+        sp_log_error("--csv %s: a sweep's rows are read back (for the figure and --merge), "
+                     "so --csv must name a regular file", o->csv);
+        return SP_E_INPUT;
     }
     if (o->csv && sp_cli_check_writable(o->csv, "--csv"))
         return SP_E_INPUT;

@@ -226,5 +226,12 @@ r = run("sweep", "--merge", path("orbit-cut.csv"), "-o", path("orbit-cut.png"), 
 ok(r.returncode == 2 and "cut short" in err(r),
    f"sweep --merge of an orbit shard cut in half: exit 2: {r.returncode} {err(r)}")
 
+# ---- sweep --csv to a stream says why it is refused ----
+# The refusal said "CSV can be written through one" (outfile's message for
+# data -o -) while refusing the CSV; --help called the CSV "streamed".
+r = run(*SWEEP, "-o", path("s.png"), "--csv", "-")
+ok(r.returncode == 2 and "can be written through" not in err(r) and "regular file" in err(r),
+   f"sweep --csv - is refused with a message that fits: {r.returncode} {err(r)}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

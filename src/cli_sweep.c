@@ -508,6 +508,11 @@ int sp_cmd_sweep(int argc, char **argv)
     if (!ret)
         ret = sp_sweep_run(&d, &scene, first, last, o.threads, fp, &blown, &unreachable,
                            !o.quiet && isatty(2) ? show_progress : NULL, &prog);
+    if (!ret && !o.shard && unreachable == last - first) { /* an empty figure */
+        sp_log_error("--energy %g: no point of the grid can have this energy; nothing "
+                     "written (omit --energy for the scene's own)", d.energy);
+        ret = SP_E_INPUT;
+    }
     ret = finish(fp, &rows, &o, ret);
     if (ret == SP_E_INTERRUPTED)
         sp_log_error("interrupted: nothing written (a figure of part of a grid would not "

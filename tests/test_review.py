@@ -233,5 +233,17 @@ r = run(*SWEEP, "-o", path("s.png"), "--csv", "-")
 ok(r.returncode == 2 and "can be written through" not in err(r) and "regular file" in err(r),
    f"sweep --csv - is refused with a message that fits: {r.returncode} {err(r)}")
 
+# ---- a Poincare mosaic no point can draw is refused ----
+# --energy below every grid point's reach skipped all of them and wrote an
+# empty figure, exit 0.
+r = run("sweep", chaotic, "--set", "initial.angle=0", "--vary", "initial.length=0.4:1.8:4",
+        "--measure", "poincare", "--energy", "-1e300", "--time", "5", "-q", "-o", path("empty.png"))
+ok(r.returncode == 2 and not os.path.exists(path("empty.png")),
+   f"sweep --measure poincare with an energy no point has: exit 2, no figure: {r.returncode} {err(r)}")
+r = run("sweep", chaotic, "--set", "initial.angle=0", "--vary", "initial.length=0.4:1.8:4",
+        "--measure", "poincare", "--energy", "-1e300", "--time", "5", "-q", "--shard", "1/2",
+        "--csv", path("empty-shard.csv"))
+ok(r.returncode == 0, f"...but a shard may hold no reachable point (others may): {r.returncode} {err(r)}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -16,6 +16,7 @@
 #include "cairo_fd.h"
 #include "draw_cairo.h"
 #include "embedded.h"
+#include "text.h"
 
 /* The embedded font as a cairo face, made once and kept for the process
  * (cairo's caches may hold it past any one document). */
@@ -174,7 +175,10 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     }
     if (d->format == SP_FIGURE_PDF) {
         cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "springpend " SP_VERSION);
-        if (d->title)
+        size_t n = 0, len = d->title ? strlen(d->title) : 0;
+        while (n < len && sp_utf8_char(d->title + n))
+            n += sp_utf8_char(d->title + n);
+        if (d->title && n == len) /* a file name that is not UTF-8 gets no title */
             cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, d->title);
     } else {
         cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PX);

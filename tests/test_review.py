@@ -245,5 +245,24 @@ r = run("sweep", chaotic, "--set", "initial.angle=0", "--vary", "initial.length=
         "--csv", path("empty-shard.csv"))
 ok(r.returncode == 0, f"...but a shard may hold no reachable point (others may): {r.returncode} {err(r)}")
 
+# ---- scene names that are not one plain word ----
+# A sweep of "my scene.ini" computed every point, then failed "not a sweep
+# CSV" (the name split the CSV header); a name that is not UTF-8, or is cut
+# mid-character at 63 bytes, failed the figure ("input string not valid
+# UTF-8", exit 1), and so did `still -o fig.pdf` (the PDF's title).
+names = {"space": b"my scene.ini", "latin1": b"donn\xe9es.ini",
+         "long-utf8": ("\u00e4" * 40 + ".ini").encode()}
+for what, name in names.items():
+    scene_path = os.path.join(os.fsencode(work), name)
+    with open(scene_path, "w") as f:
+        f.write(scene_text)
+    for ext in ("png", "pdf"):
+        r = run(*[scene_path if a == default else a for a in SWEEP], "-o", path(f"n-{what}.{ext}"),
+                "--csv", path(f"n-{what}.csv"))
+        ok(r.returncode == 0 and os.path.getsize(path(f"n-{what}.{ext}")) > 0,
+           f"sweep of a scene named {what}, -o .{ext}: {r.returncode} {err(r)}")
+    r = run("still", scene_path, "--size", "160x120", "-o", path(f"n-{what}-still.pdf"), "-q")
+    ok(r.returncode == 0, f"still -o .pdf of a scene named {what}: {r.returncode} {err(r)}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

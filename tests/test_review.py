@@ -3,6 +3,7 @@
 outfile, the sweep's figures, still's vector figures, compare's CI outputs).
 Device-node cases need root and are skipped without it.
 usage: test_review.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import json
 import os
 import re
 import resource
@@ -11,6 +12,7 @@ import signal
 import stat
 import subprocess
 import sys
+import xml.dom.minidom
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "review"))
@@ -263,6 +265,35 @@ for what, name in names.items():
            f"sweep of a scene named {what}, -o .{ext}: {r.returncode} {err(r)}")
     r = run("still", scene_path, "--size", "160x120", "-o", path(f"n-{what}-still.pdf"), "-q")
     ok(r.returncode == 0, f"still -o .pdf of a scene named {what}: {r.returncode} {err(r)}")
+
+# ---- JSON and JUnit stay valid UTF-8 whatever the file names ----
+# `info --json` of a scene named donn\xe9es.ini (Latin-1) and compare's --json
+# and --junit for such an image wrote the raw byte: not JSON, not XML.
+latin1 = os.path.join(os.fsencode(work), b"donn\xe9es.ini")
+r = run("info", latin1, "--json")
+try:
+    scene_name = json.loads(r.stdout)["scene"]
+except ValueError as e:
+    scene_name = f"invalid: {e}"
+ok(r.returncode == 0 and scene_name.startswith("donn"),
+   f"info --json of a Latin-1 file name is valid JSON: {scene_name!r}")
+for side in ("exp", "act"):
+    os.makedirs(path(side))
+    r = run("still", default, "--size", "64x48", "--at", "0" if side == "exp" else "1", "-q",
+            "-o", os.path.join(os.fsencode(path(side)), b"fig\xfe.png"))
+r = run("compare", path("exp"), path("act"), "--json", "--junit", path("j.xml"))
+try:
+    names = [x["name"] for x in json.loads(r.stdout)["results"]]
+except ValueError as e:
+    names = [f"invalid: {e}"]
+ok(r.returncode == 1 and names and names[0].endswith(".png"),
+   f"compare --json with a non-UTF-8 file name is valid JSON: {names}")
+try:
+    xml.dom.minidom.parse(path("j.xml"))
+    junit = "valid"
+except Exception as e:
+    junit = f"invalid: {e}"
+ok(junit == "valid", f"compare --junit with a non-UTF-8 file name is valid XML: {junit}")
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/ensemble.h"
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
@@ -40,6 +41,10 @@ static const char data_usage[] =
     "With --poincare: one row per crossing of the Poincare section (theta = 0\n"
     "going forward, theta_dot > 0) over video.duration, located on a quintic\n"
     "Hermite interpolant as the Poincare panel does: t,r,r_dot,theta_dot.\n"
+    "A scene with [ensemble] count = N > 1 writes its N members instead, N rows\n"
+    "per time: t,member,KEY,x,y,vx,vy (KEY: ensemble.key's value, file units,\n"
+    "17 digits; each member is the single run with --set KEY=that value;\n"
+    "--poincare still writes the scene's own crossings).\n"
     "At most 1e7 rows (about 2.6 GB) are written; the video's frame limit does not\n"
     "apply. Default output: out/<scene>.csv; '-o -' writes to stdout. A run that\n"
     "becomes unstable stops with exit status 3 and leaves no file (stdout keeps the\n"
@@ -103,6 +108,8 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
     long n;
     if (poincare)
         return write_crossings(fp, sc);
+    if (sc->ensemble.count > 1)
+        return sp_ensemble_write_csv(fp, sc, every);
     if (every > 0)
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else
@@ -145,6 +152,13 @@ int sp_cmd_data(int argc, char **argv)
     const double rows = o.poincare ? 0
                         : o.every > 0 ? floor(scene.video.duration / o.every * (1 + 1e-12)) + 1
                                       : sp_scene_frame_count(&scene);
+    const double members = !o.poincare && scene.ensemble.count > 1 ? scene.ensemble.count : 1;
+    if (rows * members > MAX_ROWS && members > 1) {
+        sp_log_error("%.0f times of %d ensemble members: %.0f rows; at most %.0f are written "
+                     "(raise --every, lower video.duration or ensemble.count)", rows,
+                     scene.ensemble.count, rows * members, MAX_ROWS);
+        return SP_E_INPUT;
+    }
     if (rows > MAX_ROWS) {
         sp_log_error("%s%g over video.duration = %g s: %.0f rows, about %.3g GB of CSV; at "
                      "most %.0f rows are written (raise --every or lower video.duration)",

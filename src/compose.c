@@ -134,8 +134,8 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
                               0.1f * r->pal.background[2] > 0.35f;
     if (r->scene.video.speed != 1) /* a real multiplication sign */
         snprintf(r->speed, sizeof(r->speed), "speed \xc3\x97%g", r->scene.video.speed);
-    if (!r->scene.view.pendulum)
-        r->scene.view.colorbar = 0; /* no trail to explain */
+    if (!r->scene.view.pendulum || r->scene.ensemble.count > 1)
+        r->scene.view.colorbar = 0; /* no speed-coloured trail to explain */
     if (r->scene.view.panels || r->scene.view.hud || r->scene.view.colorbar ||
         r->scene.view.title[0] || r->scene.view.caption[0] || r->speed[0]) {
         text_sizes(r->unit, r->scene.view.font_scale, desc->supersample > 1 ? desc->supersample : 1, px);
@@ -424,7 +424,11 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     to_px(r, 0, yp, pv);
     to_px(r, f->state.x, f->state.y + yp, bb);
     sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
-    if (r->scene.view.pendulum) {
+    if (r->scene.view.pendulum && f->ensemble) { /* the members instead of the one bob */
+        put_mount(r, pv);
+        sp_compose_ensemble(cv, f->ensemble, r->ox, r->oy, r->scale, r->unit, &r->pal);
+        sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
+    } else if (r->scene.view.pendulum) {
         if (f->trail && f->trail->count > 1)
             put_trail(r, f->trail);
         put_strobe(r, f->history);

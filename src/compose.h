@@ -34,6 +34,14 @@ int sp_compose_frame(struct sp_composer *c, const struct sp_frame *f,
 const struct sp_font *sp_compose_font(const struct sp_composer *c);
 const struct sp_palette *sp_compose_palette(const struct sp_composer *c);
 
+/* compose_ensemble.c: draws ensemble e's members (thin rods from their
+ * pivots, discs in sp_ensemble_color, and their trails when kept) with the
+ * camera px = (ox + scale x, oy - scale y); unit is the frame's smaller
+ * side, px. */
+struct sp_ensemble;
+void sp_compose_ensemble(struct sp_canvas *c, const struct sp_ensemble *e, double ox, double oy,
+                         double scale, float unit, const struct sp_palette *pal);
+
 /* Frees everything and sets *c to NULL. Safe on NULL. */
 void sp_compose_destroy(struct sp_composer **c);
 

@@ -2,10 +2,20 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "springpend/common.h"
 #include "draw_gl.h"
 #include "embedded.h"
+
+enum { TILE = 32, MAX_FILLS = 200 }; /* px: the grain of copies and fills */
+
+/* A rectangle of the static cache: x0, y0, x1, y1 px; v = 1: copied from the
+ * cache, v >= 2: filled with fills[v - 2]. */
+struct fill_rect {
+    float r[4];
+    int v;
+};
 
 struct instances {
     GLuint program, vao, vbo;
@@ -17,6 +27,26 @@ struct sp_draw_gl {
     struct instances shape, text;
     GLuint atlas;
     GLuint accum_fbo, accum_tex; /* SP_LAYER_ACCUM's picture; 0 = none yet */
+    /* The static cache: the accumulated picture (or the background) with the
+     * static layer drawn over it, copied under each frame's dynamic layer. */
+    GLuint base_fbo, base_tex;   /* 0 = none yet */
+    struct instances patch;      /* draws layers as they are (struct patch) */
+    int n_patches;               /* the static cache's, after instance 0 */
+    struct fill_rect *rects;     /* where base differs from the background (no
+                                    accumulated layer): copied, or filled */
+    int n_rects, cap_rects;
+    float fills[MAX_FILLS][4];   /* the opaque colours of filled rectangles */
+    int n_fills;
+    unsigned char *tiles;        /* scratch: what base holds in TILE px squares */
+    int base_valid;              /* base holds `key`'s static layer */
+    unsigned char *key;          /* the static layer it was drawn from */
+    size_t n_key, cap_key;       /* bytes */
+    unsigned char *next;         /* this frame's, compared with key */
+    size_t n_next, cap_next;     /* bytes */
+    struct box *boxes;           /* per item of the list: what it may touch */
+    int cap_boxes;
+    int cache;                   /* 1 = cache the static layer */
+    struct sp_draw_gl_stats stats;
     int width, height;           /* px */
 };
 
@@ -67,6 +97,15 @@ static void instances_base(const struct sp_gl_api *gl, int first, GLsizei stride
                                 (const void *)(base + off[i]));
 }
 
+static void text_base(const struct sp_gl_api *gl, int first)
+{
+    static const size_t off[3] = {offsetof(struct sp_glyph_quad, rect),
+                                  offsetof(struct sp_glyph_quad, uv),
+                                  offsetof(struct sp_glyph_quad, color)};
+    static const GLint comps[3] = {4, 4, 4};
+    instances_base(gl, first, sizeof(struct sp_glyph_quad), off, comps);
+}
+
 static void shape_base(const struct sp_gl_api *gl, int first)
 {
     static const size_t off[3] = {offsetof(struct sp_shape, seg), offsetof(struct sp_shape, style),
@@ -88,13 +127,10 @@ int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
     d->gl = gl;
     d->width = width;
     d->height = height;
+    d->cache = 1;
     err = instances_make(gl, &d->shape, sp_embed_shape_vert, sp_embed_shape_frag, "shape",
                          width, height);
     if (!err && font) {
-        static const size_t off[3] = {offsetof(struct sp_glyph_quad, rect),
-                                      offsetof(struct sp_glyph_quad, uv),
-                                      offsetof(struct sp_glyph_quad, color)};
-        static const GLint comps[3] = {4, 4, 4};
         int aw, ah;
         const uint8_t *atlas = sp_font_atlas(font, &aw, &ah);
         err = instances_make(gl, &d->text, sp_embed_text_vert, sp_embed_text_frag, "text",
@@ -111,7 +147,7 @@ int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
             gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
             gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
             gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-            instances_base(gl, 0, sizeof(struct sp_glyph_quad), off, comps);
+            text_base(gl, 0);
         }
     }
     if (err) {
@@ -140,22 +176,29 @@ static void clip(const struct sp_gl_api *gl, const float r[4], int height)
     gl->Scissor(x0, height - y1, x1 > x0 ? x1 - x0 : 0, y1 > y0 ? y1 - y0 : 0);
 }
 
-/* One instanced draw per run of shape items with the same blending and
- * clip, over the items of the accumulated layer (accum = 1, not clipped)
- * or the others. */
-static void draw_shapes(const struct sp_gl_api *gl, const struct sp_canvas *c, int accum, int height)
+/* Layers as bits, to pick the items a pass draws. */
+#define LAYER_BIT(l) (1u << (l))
+#define STATIC_BIT LAYER_BIT(SP_LAYER_STATIC)
+#define DYNAMIC_BIT LAYER_BIT(SP_LAYER_DYNAMIC)
+#define ACCUM_BIT LAYER_BIT(SP_LAYER_ACCUM)
+
+/* One instanced draw per run of shape items of the layers in `layers` with
+ * the same blending and clip. Clip items apply except to the accumulated
+ * layer (never clipped). The shape program must be bound. */
+static void draw_shapes(const struct sp_gl_api *gl, const struct sp_canvas *c, unsigned layers,
+                        int height)
 {
+    const int clipped = layers != ACCUM_BIT;
     for (int i = 0; i < c->n_items; i++) {
         const struct sp_item *it = &c->items[i];
-        if (it->kind == SP_ITEM_CLIP && !accum)
+        if (it->kind == SP_ITEM_CLIP && clipped)
             clip(gl, it->clip, height);
-        if (it->kind == SP_ITEM_TEXT || it->kind == SP_ITEM_CLIP ||
-            (it->layer == SP_LAYER_ACCUM) != accum)
+        if (it->kind == SP_ITEM_TEXT || it->kind == SP_ITEM_CLIP || !(LAYER_BIT(it->layer) & layers))
             continue;
         int end = it->first + it->count, j = i + 1;
         while (j < c->n_items && c->items[j].kind != SP_ITEM_CLIP &&
                (c->items[j].kind == SP_ITEM_TEXT ||
-                ((c->items[j].layer == SP_LAYER_ACCUM) == accum && c->items[j].blend == it->blend))) {
+                ((LAYER_BIT(c->items[j].layer) & layers) && c->items[j].blend == it->blend))) {
             if (c->items[j].kind != SP_ITEM_TEXT)
                 end = c->items[j].first + c->items[j].count;
             j++;
@@ -171,19 +214,56 @@ static void draw_shapes(const struct sp_gl_api *gl, const struct sp_canvas *c, i
     gl->Disable(GL_SCISSOR_TEST);
 }
 
-/* Makes the accumulation texture and its framebuffer, cleared to bg
- * (premultiplied). 0 or SP_E_GL (logged). */
-static int accum_make(struct sp_draw_gl *d, const float bg[4])
+/* One instanced draw per run of text items of the layers in `layers` (the
+ * quads are uploaded). */
+static void draw_text(const struct sp_gl_api *gl, const struct instances *text, GLuint atlas,
+                      const struct sp_canvas *c, unsigned layers)
+{
+    int start = -1, end = 0;
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, atlas);
+    gl->UseProgram(text->program);
+    gl->BindVertexArray(text->vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, text->vbo);
+    for (int i = 0; i <= c->n_items; i++) {
+        const struct sp_item *it = i < c->n_items ? &c->items[i] : NULL;
+        if (it && (it->kind != SP_ITEM_TEXT || !it->count))
+            continue;
+        if (it && (LAYER_BIT(it->layer) & layers) && (start < 0 || it->first == end)) {
+            if (start < 0)
+                start = it->first;
+            end = it->first + it->count;
+            continue;
+        }
+        if (start >= 0) { /* a run ends */
+            text_base(gl, start);
+            gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - start));
+            start = -1;
+        }
+        if (it && (LAYER_BIT(it->layer) & layers)) {
+            start = it->first;
+            end = it->first + it->count;
+        }
+    }
+    text_base(gl, 0);
+}
+
+/* Makes a texture of the target's size and a framebuffer for it, cleared
+ * to bg (premultiplied). 0 or SP_E_GL (logged). */
+static int layer_make(struct sp_draw_gl *d, GLuint *fbo, GLuint *tex, const float bg[4],
+                      const char *what)
 {
     const struct sp_gl_api *gl = d->gl;
-    gl->GenTextures(1, &d->accum_tex);
-    gl->BindTexture(GL_TEXTURE_2D, d->accum_tex);
+    gl->GenTextures(1, tex);
+    gl->BindTexture(GL_TEXTURE_2D, *tex);
     gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, d->width, d->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-    gl->GenFramebuffers(1, &d->accum_fbo);
-    gl->BindFramebuffer(GL_FRAMEBUFFER, d->accum_fbo);
-    gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, d->accum_tex, 0);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST); /* complete: no mipmaps */
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl->GenFramebuffers(1, fbo);
+    gl->BindFramebuffer(GL_FRAMEBUFFER, *fbo);
+    gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *tex, 0);
     if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        sp_log_error("GL cannot make a %dx%d framebuffer for the long exposure", d->width, d->height);
+        sp_log_error("GL cannot make a %dx%d framebuffer for %s", d->width, d->height, what);
         return SP_E_GL;
     }
     gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
@@ -191,47 +271,530 @@ static int accum_make(struct sp_draw_gl *d, const float bg[4])
     return 0;
 }
 
+struct box {
+    float x0, y0, x1, y1; /* px; x1 < x0 = touches nothing */
+    float clip[4];        /* the clip the item is drawn under (x1 <= x0 = none) */
+};
+
+/* Patches of a layer drawn into the bound framebuffer as they are, in one
+ * instanced draw without blending: each a rectangle (px, whole pixels) that
+ * copies the layer's texture texel for pixel, or fills with an opaque
+ * colour. Instance 0 is the whole frame (a copy); 1.. the static cache's
+ * rectangles. (glBlitFramebuffer of a whole 1080p frame cost llvmpipe
+ * about 9 ms of CPU, and a draw or clear per rectangle nearly as much.) */
+static const char patch_vs[] =
+    "#version 330 core\n"
+    "layout(location = 0) in vec4 a_rect;\n"
+    "layout(location = 1) in vec4 a_fill;\n"
+    "uniform vec2 u_size;\n"
+    "flat out vec4 v_fill;\n"
+    "void main() {\n"
+    "    vec2 c = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1));\n"
+    "    vec2 p = mix(a_rect.xy, a_rect.zw, c);\n"
+    "    gl_Position = vec4(2.0 * p.x / u_size.x - 1.0, 1.0 - 2.0 * p.y / u_size.y, 0.0, 1.0);\n"
+    "    v_fill = a_fill;\n"
+    "}\n";
+static const char patch_fs[] =
+    "#version 330 core\n"
+    "uniform sampler2D u_layer;\n"
+    "flat in vec4 v_fill;\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "    o_color = v_fill.a < 0.0 ? texelFetch(u_layer, ivec2(gl_FragCoord.xy), 0) : v_fill;\n"
+    "}\n";
+
+struct patch {
+    float rect[4]; /* x0, y0, x1, y1 px */
+    float fill[4]; /* opaque RGBA; alpha < 0 = copy the texture */
+};
+
+/* Makes the patch program and uploads instance 0 plus n patches. */
+static int patches_upload(struct sp_draw_gl *d, const struct patch *p, int n)
+{
+    const struct sp_gl_api *gl = d->gl;
+    if (!d->patch.program) {
+        int err = sp_gl_program_make(gl, patch_vs, patch_fs, "layer patch", &d->patch.program);
+        if (err)
+            return err;
+        gl->UseProgram(d->patch.program);
+        gl->Uniform2f(gl->GetUniformLocation(d->patch.program, "u_size"), (float)d->width,
+                      (float)d->height);
+        gl->Uniform1i(gl->GetUniformLocation(d->patch.program, "u_layer"), 0);
+        gl->GenVertexArrays(1, &d->patch.vao);
+        gl->BindVertexArray(d->patch.vao);
+        gl->GenBuffers(1, &d->patch.vbo);
+        gl->BindBuffer(GL_ARRAY_BUFFER, d->patch.vbo);
+        for (GLuint i = 0; i < 2; i++) {
+            gl->EnableVertexAttribArray(i);
+            gl->VertexAttribDivisor(i, 1);
+        }
+    }
+    gl->UseProgram(d->patch.program);
+    gl->BindVertexArray(d->patch.vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, d->patch.vbo);
+    if (n + 1 > d->patch.capacity) {
+        d->patch.capacity = 2 * (n + 1);
+        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)d->patch.capacity * (GLsizeiptr)sizeof(*p), NULL,
+                       GL_STATIC_DRAW);
+    }
+    const struct patch whole = {{0, 0, (float)d->width, (float)d->height}, {0, 0, 0, -1}};
+    gl->BufferSubData(GL_ARRAY_BUFFER, 0, sizeof(whole), &whole);
+    if (n)
+        gl->BufferSubData(GL_ARRAY_BUFFER, sizeof(whole), (GLsizeiptr)n * (GLsizeiptr)sizeof(*p), p);
+    gl->VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(*p), (const void *)offsetof(struct patch, rect));
+    gl->VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(*p), (const void *)offsetof(struct patch, fill));
+    return 0;
+}
+
+/* Draws patches first..first+n-1 of the layer texture tex. */
+static int patches_draw(struct sp_draw_gl *d, GLuint tex, int first, int n)
+{
+    const struct sp_gl_api *gl = d->gl;
+    int err = d->patch.program ? 0 : patches_upload(d, NULL, 0);
+    if (err || n <= 0)
+        return err;
+    gl->UseProgram(d->patch.program);
+    gl->BindVertexArray(d->patch.vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, d->patch.vbo);
+    static const size_t off[3] = {offsetof(struct patch, rect), offsetof(struct patch, fill), 0};
+    for (GLuint i = 0; i < 2; i++)
+        gl->VertexAttribPointer(i, 4, GL_FLOAT, GL_FALSE, sizeof(struct patch),
+                                (const void *)((size_t)first * sizeof(struct patch) + off[i]));
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, tex);
+    gl->Disable(GL_BLEND);
+    gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, n);
+    gl->Enable(GL_BLEND);
+    return 0;
+}
+
+static int layer_copy(struct sp_draw_gl *d, GLuint tex)
+{
+    return patches_draw(d, tex, 0, 1);
+}
+
+/* ---- the static cache ----
+ * Drawing the static layer first (once, into base) and the dynamic layer
+ * over it gives the very pixels of drawing the list in order (all shapes,
+ * then all text) wherever no dynamic item drawn earlier than a static one
+ * touches it: blending is per pixel, so only the order at each pixel
+ * counts. The frame is checked for that from the items' bounding boxes
+ * (conservative: every pixel a capsule's or glyph's quad may cover, cut by
+ * the clip the item is under); a frame that fails is drawn uncached. The
+ * cache is redrawn whenever its content would change: the static items
+ * (their geometry, colours, blending and clips, byte for byte) differ from
+ * those it was drawn from, or new accumulated items touch the static ones. */
+
+static void box_add(struct box *b, float x0, float y0, float x1, float y1)
+{
+    b->x0 = fminf(b->x0, x0), b->y0 = fminf(b->y0, y0);
+    b->x1 = fmaxf(b->x1, x1), b->y1 = fmaxf(b->y1, y1);
+}
+
+static int box_meets(const struct box *a, const struct box *b)
+{
+    return a->x1 >= a->x0 && b->x1 >= b->x0 && a->x0 <= b->x1 && b->x0 <= a->x1 &&
+           a->y0 <= b->y1 && b->y0 <= a->y1;
+}
+
+/* The box of primitive k (a shape, or a glyph quad when text) of item it,
+ * cut by the clip cl (x1 <= x0 = none). */
+static struct box prim_box(const struct sp_canvas *c, const struct sp_item *it, int k,
+                           const float cl[4])
+{
+    struct box b = {INFINITY, INFINITY, -INFINITY, -INFINITY, {0, 0, 0, 0}};
+    if (it->kind == SP_ITEM_TEXT) {
+        const float *r = c->quads[k].rect;
+        box_add(&b, fminf(r[0], r[2]) - 1, fminf(r[1], r[3]) - 1, fmaxf(r[0], r[2]) + 1,
+                fmaxf(r[1], r[3]) + 1);
+        return b; /* text is never clipped */
+    }
+    const struct sp_shape *sh = &c->shapes[k];
+    const float e = sh->style[0] + 2; /* the quad reaches half width + 1 px */
+    /* a box (kind 2, horizontal as sp_canvas_rect makes them) reaches 1 px
+     * beyond its ends */
+    const float ex = sh->style[1] > 1.5f && sh->seg[1] == sh->seg[3] ? 2 : e;
+    box_add(&b, fminf(sh->seg[0], sh->seg[2]) - ex, fminf(sh->seg[1], sh->seg[3]) - e,
+            fmaxf(sh->seg[0], sh->seg[2]) + ex, fmaxf(sh->seg[1], sh->seg[3]) + e);
+    if (it->layer != SP_LAYER_ACCUM && cl[2] > cl[0]) { /* the scissor's whole pixels */
+        memcpy(b.clip, cl, sizeof(b.clip));
+        b.x0 = fmaxf(b.x0, floorf(cl[0]) - 1), b.y0 = fmaxf(b.y0, floorf(cl[1]) - 1);
+        b.x1 = fminf(b.x1, ceilf(cl[2]) + 1), b.y1 = fminf(b.y1, ceilf(cl[3]) + 1);
+    }
+    return b;
+}
+
+/* Fills d->boxes for the items of c: each the union of its primitives'.
+ * 0 or SP_E_NOMEM. */
+static int boxes_make(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    float cl[4] = {0, 0, 0, 0};
+    if (c->n_items > d->cap_boxes) {
+        struct box *b = realloc(d->boxes, (size_t)c->n_items * 2 * sizeof(*b));
+        if (!b)
+            return SP_E_NOMEM;
+        d->boxes = b;
+        d->cap_boxes = c->n_items * 2;
+    }
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        struct box *b = &d->boxes[i];
+        *b = (struct box){INFINITY, INFINITY, -INFINITY, -INFINITY, {0, 0, 0, 0}};
+        if (it->kind == SP_ITEM_CLIP) {
+            memcpy(cl, it->clip, sizeof(cl));
+            continue;
+        }
+        if (it->kind != SP_ITEM_TEXT && it->layer != SP_LAYER_ACCUM)
+            memcpy(b->clip, cl, sizeof(cl));
+        for (int k = it->first; k < it->first + it->count; k++) {
+            const struct box p = prim_box(c, it, k, cl);
+            if (p.x1 >= p.x0)
+                box_add(b, p.x0, p.y0, p.x1, p.y1);
+        }
+    }
+    return 0;
+}
+
+/* Whether items a and b touch a common pixel: their boxes meet, and so do
+ * the boxes of some primitive of each (a coarse test, then a finer one). */
+static int items_meet(const struct sp_draw_gl *d, const struct sp_canvas *c, int a, int b)
+{
+    const struct sp_item *ia = &c->items[a], *ib = &c->items[b];
+    if (!box_meets(&d->boxes[a], &d->boxes[b]))
+        return 0;
+    for (int k = ia->first; k < ia->first + ia->count; k++) {
+        const struct box pa = prim_box(c, ia, k, d->boxes[a].clip);
+        if (!box_meets(&pa, &d->boxes[b]))
+            continue;
+        for (int m = ib->first; m < ib->first + ib->count; m++) {
+            const struct box pb = prim_box(c, ib, m, d->boxes[b].clip);
+            if (box_meets(&pa, &pb))
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* Whether drawing c's static layer before its dynamic one keeps every
+ * pixel: no dynamic item that the list draws before a static one (shapes
+ * in list order, then text in list order) touches it. */
+static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c, int *any_static)
+{
+    *any_static = 0;
+    for (int s = 0; s < c->n_items; s++) {
+        const struct sp_item *st = &c->items[s];
+        if (st->kind == SP_ITEM_CLIP || st->layer != SP_LAYER_STATIC)
+            continue;
+        *any_static = 1;
+        for (int k = 0; k < c->n_items; k++) {
+            const struct sp_item *dy = &c->items[k];
+            if (dy->kind == SP_ITEM_CLIP || dy->layer != SP_LAYER_DYNAMIC)
+                continue;
+            const int text_d = dy->kind == SP_ITEM_TEXT, text_s = st->kind == SP_ITEM_TEXT;
+            const int before = text_d == text_s ? k < s : text_s;
+            if (before && items_meet(d, c, k, s))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* Marks tiles x0..x1, y0..y1 (inclusive, clamped) with v. */
+static void tiles_mark(struct sp_draw_gl *d, int tw, int th, int x0, int y0, int x1, int y1,
+                       unsigned char v)
+{
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 >= tw ? tw - 1 : x1, y1 = y1 >= th ? th - 1 : y1;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            d->tiles[y * tw + x] = v;
+}
+
+/* Sorts the tiles by what base holds there: the background (0), what
+ * must be copied (1), or one opaque colour (2 + its index in d->fills):
+ * the primitives of the static layer in list order, each marking the tiles
+ * its box touches 1, except an opaque box (alpha 1, horizontal) that
+ * covers whole tiles, which marks those with its colour (all it covers is
+ * that colour, whatever was under it). Then the rectangles: runs of equal
+ * tiles along each row, joined with the run above when it spans the same
+ * columns with the same value. 0 or SP_E_NOMEM. */
+static int rects_make(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    const int tw = (d->width + TILE - 1) / TILE, th = (d->height + TILE - 1) / TILE;
+    if (!d->tiles && !(d->tiles = malloc((size_t)tw * (size_t)th)))
+        return SP_E_NOMEM;
+    memset(d->tiles, 0, (size_t)tw * (size_t)th);
+    d->n_fills = 0;
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_STATIC)
+            continue;
+        for (int k = it->first; k < it->first + it->count; k++) {
+            const struct box b = prim_box(c, it, k, d->boxes[i].clip);
+            if (b.x1 < b.x0)
+                continue;
+            tiles_mark(d, tw, th, (int)floorf(b.x0 / TILE), (int)floorf(b.y0 / TILE),
+                       (int)floorf(b.x1 / TILE), (int)floorf(b.y1 / TILE), 1);
+            const struct sp_shape *sh = it->kind == SP_ITEM_TEXT ? NULL : &c->shapes[k];
+            if (!sh || sh->style[1] < 1.5f || sh->color[3] < 1 || sh->seg[1] != sh->seg[3] ||
+                d->boxes[i].clip[2] > d->boxes[i].clip[0] || d->n_fills == MAX_FILLS)
+                continue;
+            /* pixels whose centres are half a pixel inside are fully covered */
+            const float x0 = fminf(sh->seg[0], sh->seg[2]), x1 = fmaxf(sh->seg[0], sh->seg[2]);
+            const float y0 = sh->seg[1] - sh->style[0], y1 = sh->seg[1] + sh->style[0];
+            const int tx0 = (int)ceilf(x0 / TILE), ty0 = (int)ceilf(y0 / TILE);
+            /* whole tiles inside the frame only (the last row and column may be cut) */
+            const int tx1 = (int)fminf(floorf(x1 / TILE), (float)(d->width / TILE)) - 1;
+            const int ty1 = (int)fminf(floorf(y1 / TILE), (float)(d->height / TILE)) - 1;
+            if (tx1 < tx0 || ty1 < ty0)
+                continue;
+            int f = 0;
+            while (f < d->n_fills && memcmp(d->fills[f], sh->color, sizeof(d->fills[f])))
+                f++;
+            if (f == d->n_fills)
+                memcpy(d->fills[d->n_fills++], sh->color, sizeof(d->fills[f]));
+            tiles_mark(d, tw, th, tx0, ty0, tx1, ty1, (unsigned char)(2 + f));
+        }
+    }
+    d->n_rects = 0;
+    int row_first = 0; /* the rectangles ending on the previous row start here */
+    for (int y = 0; y < th; y++) {
+        const int prev_first = row_first;
+        int prev_end = d->n_rects;
+        row_first = d->n_rects;
+        for (int x = 0; x < tw;) {
+            const unsigned char v = d->tiles[y * tw + x];
+            if (!v) {
+                x++;
+                continue;
+            }
+            int e = x;
+            while (e < tw && d->tiles[y * tw + e] == v)
+                e++;
+            const struct fill_rect r = {{(float)(x * TILE), (float)(y * TILE), (float)(e * TILE),
+                                         (float)((y + 1) * TILE)}, v};
+            int k = prev_first;
+            while (k < prev_end && !(d->rects[k].r[0] == r.r[0] && d->rects[k].r[2] == r.r[2] &&
+                                     d->rects[k].v == v))
+                k++;
+            if (k < prev_end) { /* the same columns as a run above: grow it down, and
+                                   keep this row's rectangles together at the end */
+                struct fill_rect t = d->rects[k];
+                t.r[3] = r.r[3];
+                memmove(d->rects + k, d->rects + k + 1, (size_t)(d->n_rects - k - 1) * sizeof(t));
+                d->rects[d->n_rects - 1] = t;
+                row_first--;
+                prev_end--;
+            } else {
+                if (d->n_rects == d->cap_rects) {
+                    struct fill_rect *p = realloc(d->rects, (size_t)(2 * d->cap_rects + 16) * sizeof(*p));
+                    if (!p)
+                        return SP_E_NOMEM;
+                    d->rects = p;
+                    d->cap_rects = 2 * d->cap_rects + 16;
+                }
+                d->rects[d->n_rects++] = r;
+            }
+            x = e;
+        }
+    }
+    return 0;
+}
+
+/* Uploads the static cache's rectangles as patches. 0 or SP_E_NOMEM. */
+static int patches_set(struct sp_draw_gl *d)
+{
+    struct patch *p = malloc((size_t)(d->n_rects ? d->n_rects : 1) * sizeof(*p));
+    if (!p) {
+        sp_log_error("out of memory for the static cache's rectangles");
+        return SP_E_NOMEM;
+    }
+    for (int k = 0; k < d->n_rects; k++) {
+        const struct fill_rect *fr = &d->rects[k];
+        memcpy(p[k].rect, fr->r, sizeof(p[k].rect));
+        p[k].rect[2] = fminf(p[k].rect[2], (float)d->width); /* the last tiles are cut */
+        p[k].rect[3] = fminf(p[k].rect[3], (float)d->height);
+        if (fr->v == 1)
+            memcpy(p[k].fill, (const float[4]){0, 0, 0, -1}, sizeof(p[k].fill));
+        else /* opaque: what the shape shader writes for it (premultiplied, alpha 1) */
+            memcpy(p[k].fill, d->fills[fr->v - 2], sizeof(p[k].fill));
+    }
+    int err = patches_upload(d, p, d->n_rects);
+    free(p);
+    d->n_patches = d->n_rects;
+    return err;
+}
+
+static int append(unsigned char **buf, size_t *n, size_t *cap, const void *data, size_t size)
+{
+    if (*n + size > *cap) {
+        size_t want = *cap ? *cap : 4096;
+        while (want < *n + size)
+            want *= 2;
+        unsigned char *p = realloc(*buf, want);
+        if (!p)
+            return SP_E_NOMEM;
+        *buf = p;
+        *cap = want;
+    }
+    memcpy(*buf + *n, data, size);
+    *n += size;
+    return 0;
+}
+
+/* What the cache's pixels depend on: every static item (kind, blending,
+ * clip) with its shapes or glyph quads, and the background. */
+static int key_make(struct sp_draw_gl *d, const struct sp_canvas *c, const float bg[4])
+{
+    int err;
+    d->n_next = 0;
+    err = append(&d->next, &d->n_next, &d->cap_next, bg, 4 * sizeof(float));
+    for (int i = 0; i < c->n_items && !err; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_STATIC)
+            continue;
+        const int head[3] = {it->kind, it->blend, it->count};
+        err = append(&d->next, &d->n_next, &d->cap_next, head, sizeof(head));
+        if (!err)
+            err = append(&d->next, &d->n_next, &d->cap_next, d->boxes[i].clip, sizeof(d->boxes[i].clip));
+        if (!err && it->kind == SP_ITEM_TEXT)
+            err = append(&d->next, &d->n_next, &d->cap_next, c->quads + it->first,
+                         (size_t)it->count * sizeof(*c->quads));
+        else if (!err)
+            err = append(&d->next, &d->n_next, &d->cap_next, c->shapes + it->first,
+                         (size_t)it->count * sizeof(*c->shapes));
+    }
+    return err;
+}
+
+/* Whether the accumulated items of c touch no static item. */
+static int accum_apart(const struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    for (int a = 0; a < c->n_items; a++) {
+        if (c->items[a].kind == SP_ITEM_CLIP || c->items[a].layer != SP_LAYER_ACCUM)
+            continue;
+        for (int s = 0; s < c->n_items; s++)
+            if (c->items[s].kind != SP_ITEM_CLIP && c->items[s].layer == SP_LAYER_STATIC &&
+                items_meet(d, c, a, s))
+                return 0;
+    }
+    return 1;
+}
+
+/* Binds the shape program and its instances (attribute pointers are set
+ * from the bound buffer). */
+static void shapes_bind(const struct sp_gl_api *gl, const struct instances *shape)
+{
+    gl->UseProgram(shape->program);
+    gl->BindVertexArray(shape->vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, shape->vbo);
+}
+
 int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float bg[4])
 {
     const struct sp_gl_api *gl = d->gl;
     GLint target = 0;
     GLenum glerr;
-    int accum = 0, err = 0;
+    int accum = 0, err = 0, cached = 0, any_static = 0;
+    const int text = c->n_quads && d->atlas;
 
     for (int i = 0; i < c->n_items && !accum; i++)
-        accum = c->items[i].layer == SP_LAYER_ACCUM;
+        accum = c->items[i].layer == SP_LAYER_ACCUM && c->items[i].kind != SP_ITEM_CLIP;
+    if (d->cache) {
+        if ((err = boxes_make(d, c)) != 0) {
+            sp_log_error("out of memory for the static cache's bounds");
+            return err;
+        }
+        cached = order_keeps(d, c, &any_static) && any_static;
+    }
     if (c->n_shapes)
         instances_upload(gl, &d->shape, c->shapes, c->n_shapes, sizeof(struct sp_shape));
     gl->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
     if (accum) { /* what is new of the accumulated layer, into its picture */
-        if (!d->accum_fbo && (err = accum_make(d, bg)) != 0)
+        if (!d->accum_fbo && (err = layer_make(d, &d->accum_fbo, &d->accum_tex, bg, "the long exposure")) != 0)
             return err;
         gl->BindFramebuffer(GL_FRAMEBUFFER, d->accum_fbo);
-        gl->UseProgram(d->shape.program);
-        gl->BindVertexArray(d->shape.vao);
-        draw_shapes(gl, c, 1, d->height);
+        shapes_bind(gl, &d->shape);
+        draw_shapes(gl, c, ACCUM_BIT, d->height);
+        if (d->base_valid && cached && accum_apart(d, c)) { /* and into the cache, under nothing */
+            gl->BindFramebuffer(GL_FRAMEBUFFER, d->base_fbo);
+            draw_shapes(gl, c, ACCUM_BIT, d->height);
+        } else {
+            d->base_valid = 0;
+        }
         gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
     }
-    if (d->accum_fbo) { /* the accumulated picture instead of the background */
-        gl->BindFramebuffer(GL_READ_FRAMEBUFFER, d->accum_fbo);
-        gl->BlitFramebuffer(0, 0, d->width, d->height, 0, 0, d->width, d->height,
-                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
+    if (text)
+        instances_upload(gl, &d->text, c->quads, c->n_quads, sizeof(struct sp_glyph_quad));
+    if (cached) {
+        if ((err = key_make(d, c, bg)) != 0) {
+            sp_log_error("out of memory for the static cache's key");
+            return err;
+        }
+        if (!d->base_valid || d->n_next != d->n_key || memcmp(d->next, d->key, d->n_key)) {
+            /* (re)draw the cache: the long exposure or the background, then
+             * the static layer's shapes and text, drawn into the target
+             * itself (its pixel format may blend with other rounding than
+             * a texture's) and copied */
+            if (!d->base_fbo &&
+                (err = layer_make(d, &d->base_fbo, &d->base_tex, bg, "the static layer")) != 0)
+                return err;
+            gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
+            if (d->accum_fbo) {
+                gl->BindFramebuffer(GL_READ_FRAMEBUFFER, d->accum_fbo);
+                gl->BlitFramebuffer(0, 0, d->width, d->height, 0, 0, d->width, d->height,
+                                    GL_COLOR_BUFFER_BIT, GL_NEAREST);
+                gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
+            } else {
+                gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
+                gl->Clear(GL_COLOR_BUFFER_BIT);
+            }
+            shapes_bind(gl, &d->shape);
+            draw_shapes(gl, c, STATIC_BIT, d->height);
+            if (text)
+                draw_text(gl, &d->text, d->atlas, c, STATIC_BIT);
+            gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->base_fbo);
+            gl->BlitFramebuffer(0, 0, d->width, d->height, 0, 0, d->width, d->height,
+                                GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
+            unsigned char *swap = d->key;
+            size_t cap = d->cap_key;
+            d->key = d->next, d->n_key = d->n_next, d->cap_key = d->cap_next;
+            d->next = swap, d->cap_next = cap, d->n_next = 0;
+            d->base_valid = 1;
+            d->stats.redrawn++;
+            if (!d->accum_fbo && (err = rects_make(d, c)) != 0) {
+                sp_log_error("out of memory for the static cache's rectangles");
+                return err;
+            }
+            if (!d->accum_fbo && (err = patches_set(d)) != 0)
+                return err;
+        } else if (d->accum_fbo) { /* the cache under this frame */
+            if ((err = layer_copy(d, d->base_tex)) != 0)
+                return err;
+        } else { /* the background, and the cache where it differs from it */
+            gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
+            gl->Clear(GL_COLOR_BUFFER_BIT);
+            if ((err = patches_draw(d, d->base_tex, 1, d->n_patches)) != 0)
+                return err;
+        }
+        d->stats.cached++;
+    } else if (d->accum_fbo) { /* the accumulated picture instead of the background */
+        d->stats.uncached++;
+        if ((err = layer_copy(d, d->accum_tex)) != 0)
+            return err;
     } else {
+        d->stats.uncached++;
         gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
         gl->Clear(GL_COLOR_BUFFER_BIT);
     }
+    const unsigned layers = cached ? DYNAMIC_BIT : DYNAMIC_BIT | STATIC_BIT;
     if (c->n_shapes) {
-        gl->UseProgram(d->shape.program);
-        gl->BindVertexArray(d->shape.vao);
-        draw_shapes(gl, c, 0, d->height);
+        shapes_bind(gl, &d->shape);
+        draw_shapes(gl, c, layers, d->height);
     }
-    if (c->n_quads && d->atlas) {
-        instances_upload(gl, &d->text, c->quads, c->n_quads, sizeof(struct sp_glyph_quad));
-        gl->ActiveTexture(GL_TEXTURE0);
-        gl->BindTexture(GL_TEXTURE_2D, d->atlas);
-        gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, c->n_quads);
-    }
+    if (text)
+        draw_text(gl, &d->text, d->atlas, c, layers);
     glerr = gl->GetError();
     if (glerr != GL_NO_ERROR) {
         sp_log_error("drawing a frame failed with GL error 0x%04x", glerr);
@@ -240,8 +803,26 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     return 0;
 }
 
+void sp_draw_gl_cache(struct sp_draw_gl *d, int on)
+{
+    d->cache = on;
+    d->base_valid = 0;
+}
+
+void sp_draw_gl_stats(const struct sp_draw_gl *d, struct sp_draw_gl_stats *out)
+{
+    *out = d->stats;
+}
+
 void sp_draw_gl_destroy(struct sp_draw_gl **d)
 {
+    if (!*d)
+        return;
+    free((*d)->key);
+    free((*d)->next);
+    free((*d)->boxes);
+    free((*d)->rects);
+    free((*d)->tiles);
     free(*d);
     *d = NULL;
 }

@@ -21,6 +21,21 @@ int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
  * 0 or SP_E_GL (logged). */
 int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float bg[4]);
 
+/* Turns the static cache on (the default) or off. With it on, the static
+ * layer of a frame is drawn once into a texture (over the accumulated
+ * layer) and copied under the dynamic layer of each frame whose static
+ * layer is the same, byte for byte; the pixels are those of the list drawn
+ * in order (frames where that cannot be shown from the items' bounds are
+ * drawn uncached). Off: every frame draws every item. */
+void sp_draw_gl_cache(struct sp_draw_gl *d, int on);
+
+/* Frames drawn over the cache, times the cache was (re)drawn, frames drawn
+ * without it. */
+struct sp_draw_gl_stats {
+    long cached, redrawn, uncached;
+};
+void sp_draw_gl_stats(const struct sp_draw_gl *d, struct sp_draw_gl_stats *out);
+
 /* Frees the CPU side and sets *d to NULL (GL objects die with the context).
  * Safe on NULL. */
 void sp_draw_gl_destroy(struct sp_draw_gl **d);

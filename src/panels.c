@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "springpend/ensemble.h"
 #include "panels.h"
 
 #define RAD2DEG 57.29577951308232
@@ -560,6 +561,44 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
                        i == h->n_crossings - 1 ? pal->cursor : pal->series[2]);
 }
 
+/* [ensemble]: log10 of the members' spread in phase space against time, and
+ * the line of slope lambda / ln 10 from the spread at t = 0 (what growth at
+ * the central scene's Lyapunov exponent would give). */
+static void spread_plot(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
+                        const struct sp_view_extent *e, const struct sp_palette *pal, float unit)
+{
+    const struct sp_ensemble *en = f->ensemble;
+    const float hw = fmaxf(0.6f, 0.0013f * unit);
+    char slope[64];
+    struct plot p;
+    const struct sp_range yr = en ? (struct sp_range){en->log_spread.lo - 0.3, en->log_spread.hi + 0.3}
+                                  : (struct sp_range){-1, 1};
+    snprintf(slope, sizeof(slope), "Lyapunov slope %.3g/s|%.3g/s", en ? en->lambda : 0, en ? en->lambda : 0);
+    const struct legend_item leg[] = {{"spread|spr", pal->series[1], 0, NULL},
+                                      {slope, pal->accent, 0, NULL}};
+    frame_plot(c, r, &p, "Ensemble spread in phase space|Spread", "t (s)", "log₁₀ spread (m)",
+               (struct sp_range){0, e->t_end}, yr, 0, pal, unit, leg, en ? 2 : 0);
+    if (!en || en->n_spread == 0)
+        return;
+    /* the line lambda: log10 d(t) = log10 d(0) + lambda t / ln 10, to the axes' top */
+    const double t_top = en->lambda > 0 ? fmin(e->t_end, (yr.hi - en->log_spread0) * M_LN10 / en->lambda)
+                                        : e->t_end;
+    sp_canvas_line(c, px_x(&p, 0), px_y(&p, en->log_spread0), px_x(&p, t_top),
+                   px_y(&p, en->log_spread0 + en->lambda * t_top / M_LN10), 0.8f * hw, pal->accent);
+    const int n = en->n_spread, max_segs = (int)fmaxf(2, 2 * (p.area.x1 - p.area.x0));
+    const int stride = n > max_segs ? (n + max_segs - 1) / max_segs : 1;
+    float ax = px_x(&p, en->spread_t[0]), ay = px_y(&p, en->spread_log[0]);
+    sp_canvas_path_begin(c);
+    for (int i = stride; i < n + stride - 1; i += stride) {
+        const int j = i < n ? i : n - 1;
+        const float bx = px_x(&p, en->spread_t[j]), by = px_y(&p, en->spread_log[j]);
+        sp_canvas_line(c, ax, ay, bx, by, 1.2f * hw, pal->series[1]);
+        ax = bx, ay = by;
+    }
+    sp_canvas_path_end(c);
+    sp_canvas_disc(c, ax, ay, 2.2f * hw, 0, pal->series[1]);
+}
+
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
                     const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
                     int fade)
@@ -568,7 +607,9 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
         const struct sp_rect *r = &lay->panel[b];
         if (!sp_rect_valid(r))
             continue;
-        if (b <= 3 || b == 7)
+        if (b == 8)
+            spread_plot(c, r, f, e, pal, unit);
+        else if (b <= 3 || b == 7)
             strip_chart(c, r, b, f, e, pal, unit);
         else if (b <= 5)
             phase_plot(c, r, b == 5, f, e, pal, unit, fade);
@@ -677,7 +718,9 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
     double ratio;
     float y = r->y0 + sp_font_cap(f, SP_TEXT_LARGE);
     snprintf(buf, sizeof(buf), "t = %.2f s", t);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC);
     sp_canvas_text(c, SP_TEXT_LARGE, r->x0, y, SP_ALIGN_LEFT, pal->text, buf);
+    sp_canvas_layer(c, SP_LAYER_STATIC); /* the parameters do not change in a run */
     y += 0.5f * (sp_font_line(f, SP_TEXT_LARGE) - sp_font_cap(f, SP_TEXT_LARGE)) +
          0.5f * (sp_font_line(f, SP_TEXT_NORMAL) - sp_font_cap(f, SP_TEXT_NORMAL));
     const int res = sp_params_resonant(p, &ratio);

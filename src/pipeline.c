@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "springpend/common.h"
+#include "springpend/ensemble.h"
 #include "springpend/figure.h"
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
@@ -163,23 +164,27 @@ struct stage_times {
 };
 
 static void print_times(const struct stage_times *t, const struct queue *q,
-                        int frames)
+                        const struct sp_render_stats *rs, int frames)
 {
     double per = frames > 0 ? 1e3 / frames : 0;
     fprintf(stderr,
             "stage times for %d frames (s total, ms per frame):\n"
             "  setup (camera pre-pass, GL, encoder)  %7.3f\n"
             "  render thread: sim + frame model      %7.3f  %6.2f\n"
+            "  render thread: compose draw list      %7.3f  %6.2f\n"
             "  render thread: GL draw + readback     %7.3f  %6.2f\n"
             "  render thread: waiting for a slot     %7.3f  %6.2f\n"
             "  encoder thread: convert + encode/write %6.3f  %6.2f\n"
             "  encoder thread: waiting for a frame   %7.3f  %6.2f\n"
             "  finish (flush, trailer, rename)       %7.3f\n"
             "  wall                                  %7.3f  (%.1f fps)\n",
-            frames, t->setup, t->sim, t->sim * per, t->render, t->render * per,
+            frames, t->setup, t->sim, t->sim * per, rs->compose_s, rs->compose_s * per,
+            t->render - rs->compose_s, (t->render - rs->compose_s) * per,
             t->wait, t->wait * per, q->encode_s,
             q->encode_s * per, q->idle_s, q->idle_s * per, t->finish, t->total,
             t->total > 0 ? frames / t->total : 0);
+    fprintf(stderr, "  static layer cached in %ld frames (drawn %ld time%s), uncached in %ld\n",
+            rs->cached, rs->redrawn, rs->redrawn == 1 ? "" : "s", rs->uncached);
 }
 
 /* ---- the run ---- */
@@ -219,6 +224,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     struct sp_sink *sink = NULL;
     struct sp_trail trail = {0};
     struct sp_history hist = {0};
+    struct sp_ensemble *ens = NULL;
     struct sp_view_extent extent;
     struct sp_sim sim;
     struct sp_provenance prov;
@@ -257,6 +263,8 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     sp_progress_begin(desc->progress, "camera pre-pass", t_end);
     ret = sp_view_extent_measure(sc, t_end, &extent);
     sp_progress_end();
+    if (!ret && sc->ensemble.count > 1) /* widens the extent by every member's motion */
+        ret = sp_ensemble_make(&ens, sc, t_end, &extent);
     if (ret)
         goto done;
     /* The trail is sampled between frames finely enough that its chords stay
@@ -301,11 +309,15 @@ setup_done:
         sp_progress_begin(desc->progress, "integrating", desc->still_at);
         for (int k = 0; k < n && sp_scene_frame_time(sc, k) <= desc->still_at; k++) {
             ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
+            if (!ret && ens)
+                ret = sp_ensemble_advance(ens, sim.s.t);
             if (ret)
                 goto done;
         }
         if (sim.s.t < desc->still_at) {
             ret = sp_trail_follow(&trail, &hist, &sim, desc->still_at, substeps);
+            if (!ret && ens)
+                ret = sp_ensemble_advance(ens, sim.s.t);
             if (ret)
                 goto done;
         }
@@ -313,7 +325,7 @@ setup_done:
             ret = sp_figure_write(&(struct sp_figure_desc){
                 .width = w, .height = h, .extent = extent, .scene = sc, .path = desc->output},
                 &(struct sp_frame){.state = sim.s, .params = &sim.p, .trail = &trail,
-                                   .history = &hist});
+                                   .history = &hist, .ensemble = ens});
             if (!ret && desc->state_out)
                 *desc->state_out = sim.s;
             goto done;
@@ -321,7 +333,8 @@ setup_done:
         sp_progress_end();
         sp_provenance_set_time(&prov, sim.s.t);
         ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                   .trail = &trail, .history = &hist}, &img);
+                                                   .trail = &trail, .history = &hist,
+                                                   .ensemble = ens}, &img);
         if (!ret)
             ret = sp_sink_write(sink, &img);
         if (ret)
@@ -349,6 +362,8 @@ setup_done:
         /* advance sim to t_k -> update frame model -> render -> sink */
         double ts = now_s();
         ret = sp_trail_follow(&trail, &hist, &sim, sp_scene_frame_time(sc, k), substeps);
+        if (!ret && ens)
+            ret = sp_ensemble_advance(ens, sim.s.t);
         if (ret == SP_E_INTERRUPTED && signal_seen)
             break; /* keep the frames so far, below */
         if (ret)
@@ -363,7 +378,8 @@ setup_done:
         ret = sp_render_target(r, slot);
         if (!ret)
             ret = sp_render_draw(r, &(struct sp_frame){.state = sim.s, .params = &sim.p,
-                                                       .trail = &trail, .history = &hist}, &img);
+                                                       .trail = &trail, .history = &hist,
+                                                   .ensemble = ens}, &img);
         if (ret)
             goto done;
         tm.render += now_s() - ts;
@@ -403,8 +419,11 @@ finish:
                      desc->output);
         ret = SP_E_INTERRUPTED;
     }
-    if (desc->verbose && !desc->still)
-        print_times(&tm, &q, emitted);
+    if (desc->verbose && !desc->still) {
+        struct sp_render_stats rs;
+        sp_render_stats(r, &rs);
+        print_times(&tm, &q, &rs, emitted);
+    }
 done:
     sp_progress_end();
     if (ret == SP_E_INTERRUPTED && !emitted) {
@@ -429,5 +448,6 @@ done:
     sp_render_destroy(&r);
     sp_trail_destroy(&trail);
     sp_history_destroy(&hist);
+    sp_ensemble_destroy(&ens);
     return ret;
 }

@@ -3,6 +3,8 @@
  * headless GL context (gl_context.h), then, when supersampled or
  * transparent, averaged down and un-premultiplied. */
 #include <stdlib.h>
+#include <string.h>
+#include <time.h>
 
 #include "springpend/common.h"
 #include "springpend/render.h"
@@ -22,7 +24,15 @@ struct sp_renderer {
     struct sp_image target;   /* the caller's buffer for the output (see
                                  sp_render_target); pixels NULL = none */
     const char *name;         /* GL_RENDERER */
+    double compose_s, draw_s; /* s spent so far (sp_render_stats) */
 };
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
 {
@@ -57,6 +67,10 @@ int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
     err = sp_draw_gl_make(&r->draw, &r->gl, sp_compose_font(r->composer), r->width, r->height);
     if (err)
         goto fail;
+    /* SPRINGPEND_DRAW_CACHE=0 draws every item of every frame: the
+     * reference the cached frames are tested against */
+    const char *cache = getenv("SPRINGPEND_DRAW_CACHE");
+    sp_draw_gl_cache(r->draw, !(cache && !strcmp(cache, "0")));
     *out = r;
     return 0;
 
@@ -99,10 +113,13 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
     const struct sp_canvas *cv;
     int stride, err;
     uint8_t *pixels;
+    double t0 = now_s(), t1;
 
     err = sp_gl_context_bind(r->ctx);
     if (!err)
         err = sp_compose_frame(r->composer, f, &cv);
+    t1 = now_s();
+    r->compose_s += t1 - t0;
     if (!err)
         err = sp_draw_gl_list(r->draw, cv, sp_compose_palette(r->composer)->background);
     if (err)
@@ -110,6 +127,7 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
     pixels = sp_gl_context_pixels(r->ctx, &stride);
     if (direct(r)) {
         *img = (struct sp_image){pixels, r->width, r->height, stride};
+        r->draw_s += now_s() - t1;
         return 0;
     }
     /* Supersampled or transparent: average down and un-premultiply. */
@@ -120,7 +138,17 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
     }
     *img = r->target.pixels ? r->target : r->out;
     resolve(r, pixels, stride, img);
+    r->draw_s += now_s() - t1;
     return 0;
+}
+
+void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out)
+{
+    struct sp_draw_gl_stats d;
+    sp_draw_gl_stats(r->draw, &d);
+    *out = (struct sp_render_stats){.compose_s = r->compose_s, .draw_s = r->draw_s,
+                                    .cached = d.cached, .redrawn = d.redrawn,
+                                    .uncached = d.uncached};
 }
 
 int sp_render_target(struct sp_renderer *r, const struct sp_image *dst)

@@ -25,6 +25,7 @@
 #define SP_MAX_FRAMES 1000000000
 #define SP_MAX_RATE2 1e24  /* k/m and b/m, 1/s^2 and 1/s: omega up to 1e12 rad/s */
 #define SP_MAX_STRETCH 1e9 /* m g / k, m: beyond it nothing is on screen */
+#define SP_ENSEMBLE_MAX 10000 /* [ensemble] count */
 
 enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_BOOL,    /* true/false, stored as int */
@@ -76,7 +77,7 @@ static const struct key_info keys[] = {
     {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
     {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "frames"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
-     "none, all, r, theta, energy, extension, phase, poincare, modes"},
+     "none, all, r, theta, energy, extension, phase, poincare, modes, spread"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
     {"view", "theme", KEY_CHOICE, F(view.theme), 0, 0, 0, 0, "dark, light"},
     {"view", "background", KEY_COLOR, F(view.background), SP_BACKGROUND_THEME, 0, 0, 0,
@@ -89,6 +90,12 @@ static const struct key_info keys[] = {
     {"view", "font_scale", KEY_REAL, F(view.font_scale), 1, 0.25, 4, 0, "(text size factor)"},
     {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
     {"view", "caption", KEY_TEXT, F(view.caption), 0, 0, 0, 0, "text"},
+    {"ensemble", "count", KEY_INT, F(ensemble.count), 0, 0, SP_ENSEMBLE_MAX, 0,
+     "pendulums (0 or 1 = no ensemble)"},
+    {"ensemble", "key", KEY_TEXT, F(ensemble.key), 0, 0, 0, 0,
+     "a numeric key of [pendulum], [initial] or [pivot]"},
+    {"ensemble", "spread", KEY_REAL, F(ensemble.spread), 1e-6, 0, 1e12, 1, "(the key's units, total range)"},
+    {"ensemble", "trails", KEY_BOOL, F(ensemble.trails), 0, 0, 0, 0, "true, false"},
 };
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
@@ -145,6 +152,9 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
     fputc('\n', stderr);
     va_end(ap);
 }
+
+static const struct key_info *numeric_key(const char *key);
+static void check_ensemble(struct parse_ctx *c);
 
 static const struct key_info *find_key(const char *section, const char *name)
 {
@@ -266,9 +276,9 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
                     const char *value, char *p)
 {
     static const unsigned panel_bits[] = {
-        0, (1u << SP_PANEL_COUNT) - 1, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
+        0, SP_PANEL_ALL, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
         SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE,
-        SP_PANEL_MODES};
+        SP_PANEL_MODES, SP_PANEL_SPREAD};
     unsigned bits = 0;
     int i;
     switch (k->kind) {
@@ -290,8 +300,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             i = choice_index(k->unit, w, n);
             if (i < 0 || (i == 0 && (w != value || w[n]))) {
                 report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
-                       "list of: r, theta, energy, extension, phase, poincare, modes (or all, "
-                       "or none alone)", k->section, k->name, (int)n, w);
+                       "list of: r, theta, energy, extension, phase, poincare, modes, spread "
+                       "(or all, or none alone)", k->section, k->name, (int)n, w);
                 return 1;
             }
             bits |= panel_bits[i];
@@ -416,7 +426,7 @@ static int handle_pair(void *user, const char *section, const char *name,
             return 1; /* reported once, at its [header] */
         if (!section[0])
             report(c, c->line, "'%s' comes before any [section]; put it under "
-                   "[pendulum], [initial], [integrator], [pivot], [video] or [view]", name);
+                   "[pendulum], [initial], [integrator], [pivot], [video], [view] or [ensemble]", name);
         else
             report_unknown(c, c->line, section, name);
         return 1;
@@ -521,6 +531,7 @@ void sp_scene_defaults(struct sp_scene *s)
         default: *(int *)p = (int)keys[i].def; break; /* bool, choice, colour, trail */
         }
     }
+    snprintf(s->ensemble.key, sizeof(s->ensemble.key), "initial.angle");
 }
 
 static void apply_override(struct parse_ctx *c, const char *arg)
@@ -627,6 +638,48 @@ static void validate_whole(struct parse_ctx *c)
     if (s->integrator.method <= SP_METHOD_YOSHIDA4 && steps > 1e10)
         report(c, 0, "video.duration / integrator.dt = %.3g steps; at most 1e10 are "
                "allowed (raise integrator.dt)", steps);
+    if (s->ensemble.count > 1)
+        check_ensemble(c);
+}
+
+/* [ensemble]: the key is a numeric physics key (as sweep's --vary), the
+ * integrator is batched, and both ends of the spread are scenes the parser
+ * accepts (their messages prefixed with the spread's or key's line). */
+static void check_ensemble(struct parse_ctx *c)
+{
+    const struct sp_scene *s = c->scene;
+    const char *key = s->ensemble.key;
+    const int key_line = c->key_line[find_key("ensemble", "key") - keys];
+    const int spread_line = c->key_line[find_key("ensemble", "spread") - keys];
+    const int count_line = c->key_line[find_key("ensemble", "count") - keys];
+    if ((strncmp(key, "pendulum.", 9) && strncmp(key, "initial.", 8) && strncmp(key, "pivot.", 6)) ||
+        !numeric_key(key) || numeric_key(key)->kind == KEY_INT) {
+        report(c, key_line, "ensemble.key = '%s' cannot be varied; give a numeric key of "
+               "[pendulum], [initial] or [pivot], e.g. initial.angle", key);
+        return;
+    }
+    if (s->integrator.method == SP_METHOD_RKN1210) {
+        report(c, count_line, "[ensemble] needs a batched integrator; set integrator.method "
+               "to rk4, verlet, yoshida4, dopri5 or dop853");
+        return;
+    }
+    for (int end = -1; end <= 1; end += 2) {
+        struct sp_scene e = *s;
+        char origin[700];
+        const double v = sp_scene_get_number(s, key) + 0.5 * end * s->ensemble.spread;
+        const int line = spread_line ? spread_line : key_line;
+        if (line)
+            snprintf(origin, sizeof(origin), "%s:%d: ensemble.spread = %g around %s = %g",
+                     c->origin, line, s->ensemble.spread, key, sp_scene_get_number(s, key));
+        else
+            snprintf(origin, sizeof(origin), "%s: ensemble.spread = %g around %s = %g",
+                     c->origin, s->ensemble.spread, key, sp_scene_get_number(s, key));
+        e.ensemble.count = 0; /* no recursion */
+        if (sp_scene_set_number(&e, key, v, origin)) {
+            c->errors++;
+            return;
+        }
+    }
 }
 
 int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
@@ -813,7 +866,9 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
 
 void sp_scene_print_keys(void)
 {
+    static struct sp_scene def; /* big: not on the stack */
     const char *section = "";
+    sp_scene_defaults(&def);
     for (int i = 0; i < N_KEYS; i++) {
         const struct key_info *k = &keys[i];
         char range[160];
@@ -821,6 +876,8 @@ void sp_scene_print_keys(void)
             printf("  [%s]\n", section = k->section);
         if (k->kind == KEY_TRAIL)
             snprintf(range, sizeof(range), "frames from 0 to 1000000, all, or a duration (5s)");
+        else if (k->kind == KEY_TEXT && strcmp(k->unit, "text"))
+            snprintf(range, sizeof(range), "%s", k->unit);
         else if (k->kind == KEY_TEXT)
             snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
         else if (k->kind >= KEY_BOOL)
@@ -832,7 +889,8 @@ void sp_scene_print_keys(void)
         if (k->kind == KEY_METHOD)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
         else if (k->kind == KEY_TEXT)
-            printf("    %-15s default %-8s %s\n", k->name, "\"\"", range);
+            printf("    %-15s default %-8s %s\n", k->name,
+                   *((const char *)&def + k->offset) ? (const char *)&def + k->offset : "\"\"", range);
         else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             printf("    %-15s default %-8.*s %s\n", k->name,
                    k->kind == KEY_BOOL ? 5 : (int)strcspn(k->unit, ","),
@@ -846,11 +904,11 @@ void sp_scene_print_keys(void)
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
 {
     static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
-                                              "poincare", "modes"};
+                                              "poincare", "modes", "spread"};
     static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
                                           SP_PANEL_EXTENSION,
                                           SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
-                                          SP_PANEL_POINCARE, SP_PANEL_MODES};
+                                          SP_PANEL_POINCARE, SP_PANEL_MODES, SP_PANEL_SPREAD};
     char section[64];
     const char *dot = strchr(key, '.');
     const struct key_info *k = NULL;
@@ -891,7 +949,7 @@ void sp_scene_canonical_display(const char *key, const char *value, char *buf, s
         unsigned bits = (unsigned)strtoul(value, NULL, 0);
         size_t used = 0;
         buf[0] = 0;
-        for (int i = 0; i < 7; i++)
+        for (int i = 0; i < (int)(sizeof(panel_bits) / sizeof(panel_bits[0])); i++)
             if (bits & panel_bits[i] && used < size)
                 used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
                                          panel_names[i]);
@@ -920,6 +978,17 @@ const char *sp_scene_key_unit(const char *key)
 {
     const struct key_info *k = numeric_key(key);
     return k ? k->unit : NULL;
+}
+
+double sp_scene_get_number(const struct sp_scene *s, const char *key)
+{
+    const struct key_info *k = numeric_key(key);
+    const char *p = (const char *)s;
+    if (!k)
+        return NAN;
+    if (k->kind == KEY_INT)
+        return *(const int *)(p + k->offset);
+    return *(const double *)(p + k->offset) * (k->kind == KEY_DEGREES ? 180.0 / M_PI : 1.0);
 }
 
 int sp_scene_set_number(struct sp_scene *s, const char *key, double value, const char *origin)

@@ -67,7 +67,7 @@ static void test_view(void)
               s.view.colormap == SP_COLORMAP_VIRIDIS && s.view.trail == SP_TRAIL_ALL &&
               s.view.strobe == 0.25, "[view] keys: panel list, hud, theme, colour, colormap, trail = all");
     sp_tap_ok(parse("[view]\npanels = all\nbackground = transparent\n", &s) == 0 &&
-              s.view.panels == (1u << SP_PANEL_COUNT) - 1 &&
+              s.view.panels == SP_PANEL_ALL &&
               s.view.background == SP_BACKGROUND_TRANSPARENT, "panels = all, background = transparent");
     sp_tap_ok(parse("# all defaults\n", &s) == 0 && s.view.panels == 0 && !s.view.hud &&
               s.view.background == SP_BACKGROUND_THEME && s.view.strobe == 0,

@@ -6,6 +6,7 @@
 #include "springpend/sim.h"
 
 struct sp_history;
+struct sp_ensemble;
 
 /* A trail point: where the bob was, when, and how fast it went. */
 struct sp_trail_point {
@@ -122,6 +123,8 @@ struct sp_frame {
     const struct sp_params *params;
     const struct sp_trail *trail; /* may be NULL or empty */
     const struct sp_history *history; /* may be NULL or inactive */
+    const struct sp_ensemble *ensemble; /* NULL, or [ensemble]'s members drawn
+                                           instead of the one bob (ensemble.h) */
 };
 
 #endif

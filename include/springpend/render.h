@@ -41,6 +41,17 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
  * renderer's own buffer; NULL goes back. Saves a copy per frame. */
 int sp_render_target(struct sp_renderer *r, const struct sp_image *dst);
 
+/* Where a renderer's time went so far: seconds of wall time composing the
+ * draw lists on the CPU and drawing them with GL (with the readback, or
+ * the resolve when supersampled or transparent), and what the static
+ * cache did (frames drawn over it, times it was redrawn, frames drawn
+ * without it). */
+struct sp_render_stats {
+    double compose_s, draw_s;
+    long cached, redrawn, uncached;
+};
+void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out);
+
 /* The GL_RENDERER string of the context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
 const char *sp_render_renderer_name(const struct sp_renderer *r);
 

@@ -26,7 +26,10 @@ enum sp_panel {
     SP_PANEL_PHASE_THETA = 1 << 5, /* theta against dtheta/dt ("phase") */
     SP_PANEL_POINCARE = 1 << 6,    /* (r, dr/dt) where theta = 0 with dtheta/dt > 0 */
     SP_PANEL_MODES = 1 << 7,       /* energy split into bounce and swing */
-    SP_PANEL_COUNT = 8,
+    SP_PANEL_SPREAD = 1 << 8,      /* [ensemble]: log10 of the members' spread against t
+                                      (not part of "all": it needs an ensemble) */
+    SP_PANEL_COUNT = 9,
+    SP_PANEL_ALL = SP_PANEL_SPREAD - 1, /* "all": every panel but spread */
 };
 enum sp_theme { SP_THEME_DARK = 0, SP_THEME_LIGHT = 1 };
 enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1 };
@@ -91,6 +94,12 @@ struct sp_scene {
         char title[SP_VIEW_TEXT_BYTES];   /* UTF-8, "" = none: above everything */
         char caption[SP_VIEW_TEXT_BYTES]; /* UTF-8, "" = none: below everything */
     } view;
+    struct {
+        int count;     /* pendulums drawn together, 0 or 1 = no ensemble */
+        char key[SP_VIEW_TEXT_BYTES]; /* the numeric physics key they differ in */
+        double spread; /* total range of the key's values, in its file units */
+        int trails;    /* 1: every member draws a short thin trail */
+    } ensemble;
 };
 
 /* Fills s with the original simulator's defaults (see scenes/default.ini). */
@@ -139,6 +148,10 @@ const char *sp_scene_key_unit(const char *key);
  * angles), with the parser's range checks and whole-scene checks; problems
  * are printed as "ORIGIN: message" and SP_E_INPUT is returned. */
 int sp_scene_set_number(struct sp_scene *s, const char *key, double value, const char *origin);
+
+/* The numeric key "section.key"'s value in file units (degrees for angles),
+ * or NAN when there is no such numeric key. */
+double sp_scene_get_number(const struct sp_scene *s, const char *key);
 
 /* Prints every key with its default, unit and accepted range (for --help). */
 void sp_scene_print_keys(void);

@@ -65,6 +65,11 @@ static void check_accepted(const struct sp_scene *s)
     CHECK(s->view.font_scale >= 0.25 && s->view.font_scale <= 4);
     CHECK(memchr(s->view.title, 0, sizeof(s->view.title)) && memchr(s->view.caption, 0, sizeof(s->view.caption)));
     CHECK(s->name[sizeof(s->name) - 1] == 0);
+    CHECK(s->ensemble.count >= 0 && s->ensemble.count <= 10000);
+    CHECK(s->ensemble.spread > 0 && s->ensemble.spread <= 1e12);
+    CHECK(memchr(s->ensemble.key, 0, sizeof(s->ensemble.key)));
+    if (s->ensemble.count > 1) /* a numeric key, whose both ends the parser accepted */
+        CHECK(sp_scene_key_unit(s->ensemble.key) != NULL);
     char buf[4096];
     int len = sp_scene_canonical(s, buf, sizeof(buf));
     CHECK(len > 0 && len < (int)sizeof(buf) && (int)strlen(buf) == len);

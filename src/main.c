@@ -65,7 +65,11 @@ struct command {
 
 static int cmd_keys(int argc, char **argv)
 {
-    (void)argc, (void)argv;
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "-h") && strcmp(argv[i], "--help")) {
+            sp_log_error("keys takes no arguments, not '%s'; see 'springpend --help'", argv[i]);
+            return SP_E_INPUT;
+        }
     printf("scene keys (SI units; angles in degrees):\n");
     sp_scene_print_keys();
     return 0;

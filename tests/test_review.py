@@ -295,5 +295,13 @@ except Exception as e:
     junit = f"invalid: {e}"
 ok(junit == "valid", f"compare --junit with a non-UTF-8 file name is valid XML: {junit}")
 
+# ---- keys refuses what it does not take ----
+# `springpend keys --bogus` (or a scene: `keys scene.ini`) printed the table, exit 0.
+for extra in ("--bogus", default):
+    r = run("keys", extra)
+    ok(r.returncode == 2 and not r.stdout, f"keys {os.path.basename(extra)}: exit 2: {r.returncode} {err(r)}")
+r = run("keys")
+ok(r.returncode == 0 and b"font_scale" in r.stdout, "keys alone still lists the keys")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -303,5 +303,14 @@ for extra in ("--bogus", default):
 r = run("keys")
 ok(r.returncode == 0 and b"font_scale" in r.stdout, "keys alone still lists the keys")
 
+# ---- render's options are refused where they would do nothing ----
+# `still --format raw -o -` wrote a PNG to stdout; still --shard / --frames
+# and data --format were taken and ignored, exit 0.
+for args in (["still", "--format", "raw", "-o", "-"], ["still", "--shard", "1/2", "-o", path("x.png")],
+             ["still", "--frames", "0:1", "-o", path("x.png")], ["data", "--format", "raw", "-o", path("x.csv")]):
+    r = run(args[0], default, "--size", "64x48", "-q", *args[1:])
+    ok(r.returncode == 2 and "is for 'springpend render'" in err(r) and not r.stdout,
+       f"{' '.join(args[:3])}: exit 2: {r.returncode} {err(r)}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -269,8 +269,9 @@ static void show_progress(void *user, long done, long total)
 }
 
 /* The rows' file: --csv's .part (outfile.h; read back for the figure, so a
- * regular file), or an anonymous temporary file (rows stays closed). */
-static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp)
+ * regular file), or an anonymous temporary file (rows stays closed). The
+ * folders made for it go in *made (removed here on failure, else by finish). */
+static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp, struct sp_dirs *made)
 {
     *rows = (struct sp_outfile){.fd = -1, .slot = -1};
     if (!csv) {
@@ -282,34 +283,35 @@ static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp)
         }
         return 0;
     }
-    int ret = sp_dirs_make(csv, NULL);
+    int ret = sp_dirs_make(csv, made);
     if (!ret)
         ret = sp_outfile_open(rows, csv, 0);
-    if (ret)
-        return ret;
-    *fp = fopen(rows->path, "w+"); /* ours: made by sp_outfile_open */
-    if (!*fp) {
+    if (!ret && !(*fp = fopen(rows->path, "w+"))) { /* ours: made by sp_outfile_open */
         sp_log_error("cannot create %s: %s", rows->path, strerror(errno));
         sp_outfile_discard(rows);
-        return SP_E_IO;
+        ret = SP_E_IO;
     }
-    return 0;
+    if (ret)
+        sp_dirs_remove_empty(made);
+    return ret;
 }
 
 /* The figure from the rows (through the module: cairo is loaded only here). */
-static int draw(FILE *rows, const char *rows_name, const char *figure)
+static int draw(FILE *rows, const char *rows_name, const char *figure, struct sp_dirs *made)
 {
     int (*plot)(FILE *, const char *, const char *);
     *(void **)&plot = sp_module_symbol("springpend-plot.so", "sweep figures", "sp_sweep_plot");
     if (!plot)
         return SP_E_IO;
-    int ret = sp_outfile_is_stream(figure) ? 0 : sp_dirs_make(figure, NULL);
+    int ret = sp_outfile_is_stream(figure) ? 0 : sp_dirs_make(figure, made);
     return ret ? ret : plot(rows, rows_name, figure);
 }
 
 /* Flushes the rows, draws, renames the CSV into place; on failure removes
- * the CSV's .part. Closes fp. */
-static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o, int ret)
+ * the CSV's .part and the folders made (made[0]: the CSV's, made[1]: the
+ * figure's) that are left empty. Closes fp. */
+static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o, int ret,
+                  struct sp_dirs made[2])
 {
     const char *name = rows->target ? rows->path : "the rows";
     if (!ret && fflush(fp) != 0) {
@@ -317,7 +319,7 @@ static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o,
         ret = SP_E_IO;
     }
     if (!ret && o->output)
-        ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output);
+        ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output, &made[1]);
     if (!ret && sp_interrupted()) /* while drawing or merging: nothing written */
         ret = SP_E_INTERRUPTED;
     if (fclose(fp) != 0 && !ret) {
@@ -326,8 +328,13 @@ static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o,
     }
     if (!ret)
         ret = sp_outfile_commit(rows); /* nothing to do without --csv */
-    if (ret)
+    if (ret) {
         sp_outfile_discard(rows);
+        sp_dirs_remove_empty(&made[1]);
+        sp_dirs_remove_empty(&made[0]);
+    }
+    sp_dirs_keep(&made[0]);
+    sp_dirs_keep(&made[1]);
     return ret;
 }
 
@@ -440,8 +447,9 @@ static int merge(const struct sweep_opts *o)
     }
     struct sp_outfile rows = {.fd = -1, .slot = -1};
     FILE *out = NULL;
+    struct sp_dirs made[2] = {{0}, {0}};
     if (!ret)
-        ret = open_rows(o->csv, &rows, &out);
+        ret = open_rows(o->csv, &rows, &out, &made[0]);
     if (!ret) {
         fprintf(out, "%s\n%s\n", header, columns);
         static char buf[1 << 16];
@@ -450,7 +458,7 @@ static int merge(const struct sweep_opts *o)
             while ((got = fread(buf, 1, sizeof(buf), parts[i])) > 0)
                 fwrite(buf, 1, got, out);
         }
-        ret = finish(out, &rows, o, 0);
+        ret = finish(out, &rows, o, 0, made);
         if (ret == SP_E_INTERRUPTED)
             sp_log_error("interrupted: nothing written");
     }
@@ -495,7 +503,8 @@ int sp_cmd_sweep(int argc, char **argv)
     }
     struct sp_outfile rows;
     FILE *fp;
-    if ((ret = open_rows(o.csv, &rows, &fp)))
+    struct sp_dirs made[2] = {{0}, {0}};
+    if ((ret = open_rows(o.csv, &rows, &fp, &made[0])))
         return ret;
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
@@ -513,7 +522,7 @@ int sp_cmd_sweep(int argc, char **argv)
                      "written (omit --energy for the scene's own)", d.energy);
         ret = SP_E_INPUT;
     }
-    ret = finish(fp, &rows, &o, ret);
+    ret = finish(fp, &rows, &o, ret, made);
     if (ret == SP_E_INTERRUPTED)
         sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
                      "say which part)");

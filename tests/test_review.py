@@ -312,5 +312,14 @@ for args in (["still", "--format", "raw", "-o", "-"], ["still", "--shard", "1/2"
     ok(r.returncode == 2 and "is for 'springpend render'" in err(r) and not r.stdout,
        f"{' '.join(args[:3])}: exit 2: {r.returncode} {err(r)}")
 
+# ---- a failed sweep removes the folders it made ----
+# README: a failed run removes "the folders it created when they are left
+# empty"; a sweep's figure failing (here over ulimit -f) left them.
+r = run(*SWEEP[:3], "initial.angle=5:40:40", *SWEEP[4:], "-o", path("made", "fig", "x.pdf"),
+        "--csv", path("made", "rows", "x.csv"), preexec_fn=fsize_limit)
+ok(r.returncode == 1 and not os.path.exists(path("made")),
+   f"a failed sweep leaves no folder it made: {r.returncode} {err(r)} "
+   f"{os.listdir(path('made')) if os.path.exists(path('made')) else ''}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -56,9 +56,16 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
     while ((c = getopt_long(argc, argv, ":o:qhv", longopts, NULL)) != -1) {
         switch (c) {
         case 'v': o->verbose = 1; break;
-        case 'f': o->format = optarg; break;
-        case 'R': o->frames = optarg; break;
-        case 'D': o->shard = optarg; break;
+        case 'f':
+        case 'R':
+        case 'D': /* a still, data or info would take them and do nothing */
+            if (allow_at) {
+                sp_log_error("%s is for 'springpend render'; see '%s --help'",
+                             c == 'f' ? "--format" : c == 'R' ? "--frames" : "--shard", argv[0]);
+                return SP_E_INPUT;
+            }
+            *(c == 'f' ? &o->format : c == 'R' ? &o->frames : &o->shard) = optarg;
+            break;
         case 'Q': quality = optarg; break;
         case 'G':
             if (!strcmp(optarg, "osmesa"))

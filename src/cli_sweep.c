@@ -49,7 +49,7 @@ static const char sweep_usage[] =
     "  --transient T0            simulated seconds integrated first (default 0)\n"
     "  --energy E                poincare: the orbits' energy, J\n"
     "  -o, --output FIGURE       .png, .svg or .pdf\n"
-    "  --csv FILE                also write the rows (streamed)\n"
+    "  --csv FILE                also write the rows (a regular file)\n"
     "  --shard I/N               compute the I-th of N equal parts of the grid into\n"
     "                            --csv only; join them with --merge\n"
     "  --merge                   the arguments are shard CSVs: draw (and --csv) the whole\n"
@@ -213,12 +213,28 @@ static int check_outputs(const struct sweep_opts *o)
         if (sp_cli_check_writable(o->output, "-o"))
             return SP_E_INPUT;
     }
+    if (o->csv && sp_outfile_is_stream(o->csv)) { /* outfile's message says CSV may be */
+        sp_log_error("--csv %s: a sweep's rows are read back (for the figure and --merge), "
+                     "so --csv must name a regular file", o->csv);
+        return SP_E_INPUT;
+    }
     if (o->csv && sp_cli_check_writable(o->csv, "--csv"))
         return SP_E_INPUT;
     if (o->csv && o->output && sp_cli_same_file(o->csv, o->output)) {
         sp_log_error("--csv and -o name the same file");
         return SP_E_INPUT;
     }
+    /* the scene or a shard being read must not be replaced by what it makes */
+    const char *outs[2][2] = {{"-o", o->output}, {"--csv", o->csv}};
+    for (int i = 0; i < 2; i++)
+        for (int k = -1; outs[i][1] && k < (o->merge ? o->n_parts : 0); k++) {
+            const char *in = k < 0 ? o->scene : o->parts[k];
+            if (in && sp_cli_same_file(outs[i][1], in)) {
+                sp_log_error("%s %s would overwrite an input; choose another path", outs[i][0],
+                             outs[i][1]);
+                return SP_E_INPUT;
+            }
+        }
     return 0;
 }
 
@@ -253,8 +269,9 @@ static void show_progress(void *user, long done, long total)
 }
 
 /* The rows' file: --csv's .part (outfile.h; read back for the figure, so a
- * regular file), or an anonymous temporary file (rows stays closed). */
-static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp)
+ * regular file), or an anonymous temporary file (rows stays closed). The
+ * folders made for it go in *made (removed here on failure, else by finish). */
+static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp, struct sp_dirs *made)
 {
     *rows = (struct sp_outfile){.fd = -1, .slot = -1};
     if (!csv) {
@@ -266,34 +283,35 @@ static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp)
         }
         return 0;
     }
-    int ret = sp_dirs_make(csv, NULL);
+    int ret = sp_dirs_make(csv, made);
     if (!ret)
         ret = sp_outfile_open(rows, csv, 0);
-    if (ret)
-        return ret;
-    *fp = fopen(rows->path, "w+"); /* ours: made by sp_outfile_open */
-    if (!*fp) {
+    if (!ret && !(*fp = fopen(rows->path, "w+"))) { /* ours: made by sp_outfile_open */
         sp_log_error("cannot create %s: %s", rows->path, strerror(errno));
         sp_outfile_discard(rows);
-        return SP_E_IO;
+        ret = SP_E_IO;
     }
-    return 0;
+    if (ret)
+        sp_dirs_remove_empty(made);
+    return ret;
 }
 
 /* The figure from the rows (through the module: cairo is loaded only here). */
-static int draw(FILE *rows, const char *rows_name, const char *figure)
+static int draw(FILE *rows, const char *rows_name, const char *figure, struct sp_dirs *made)
 {
     int (*plot)(FILE *, const char *, const char *);
     *(void **)&plot = sp_module_symbol("springpend-plot.so", "sweep figures", "sp_sweep_plot");
     if (!plot)
         return SP_E_IO;
-    int ret = sp_outfile_is_stream(figure) ? 0 : sp_dirs_make(figure, NULL);
+    int ret = sp_outfile_is_stream(figure) ? 0 : sp_dirs_make(figure, made);
     return ret ? ret : plot(rows, rows_name, figure);
 }
 
 /* Flushes the rows, draws, renames the CSV into place; on failure removes
- * the CSV's .part. Closes fp. */
-static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o, int ret)
+ * the CSV's .part and the folders made (made[0]: the CSV's, made[1]: the
+ * figure's) that are left empty. Closes fp. */
+static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o, int ret,
+                  struct sp_dirs made[2])
 {
     const char *name = rows->target ? rows->path : "the rows";
     if (!ret && fflush(fp) != 0) {
@@ -301,15 +319,22 @@ static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o,
         ret = SP_E_IO;
     }
     if (!ret && o->output)
-        ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output);
+        ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output, &made[1]);
+    if (!ret && sp_interrupted()) /* while drawing or merging: nothing written */
+        ret = SP_E_INTERRUPTED;
     if (fclose(fp) != 0 && !ret) {
         sp_log_error("cannot write %s: %s", name, strerror(errno));
         ret = SP_E_IO;
     }
     if (!ret)
         ret = sp_outfile_commit(rows); /* nothing to do without --csv */
-    if (ret)
+    if (ret) {
         sp_outfile_discard(rows);
+        sp_dirs_remove_empty(&made[1]);
+        sp_dirs_remove_empty(&made[0]);
+    }
+    sp_dirs_keep(&made[0]);
+    sp_dirs_keep(&made[1]);
     return ret;
 }
 
@@ -320,6 +345,49 @@ static int read_line(FILE *fp, char *buf, size_t size)
         return 0;
     buf[strcspn(buf, "\n")] = 0;
     return 1;
+}
+
+/* A shard's rows, from fp's position to its end, must be whole: each line
+ * ends in a newline and holds as many numbers as `columns` names, its
+ * point (the first) inside the shard's points [first, last) and never
+ * before the previous row's; a Lyapunov shard has one row per point. A copy
+ * cut short or edited would otherwise be drawn without a word. fp is left
+ * where it was. SP_E_INPUT with FILE:LINE. */
+static int check_rows(FILE *fp, const char *name, const char *columns, long first, long last,
+                      int one_per_point)
+{
+    char line[1024], *p, *end;
+    long at = ftell(fp), lineno = 3, rows = 0, prev = first;
+    int fields = 1, ret = 0;
+    for (const char *c = columns; *c; c++)
+        fields += *c == ',';
+    while (!ret && fgets(line, sizeof(line), fp)) {
+        int n = 0;
+        lineno++;
+        long point = strtol(line, &end, 10);
+        for (p = line; n < fields; n++, p = end + 1) {
+            strtod(p, &end);
+            if (end == p || *end != (n + 1 < fields ? ',' : '\n'))
+                break;
+        }
+        if (n < fields || point < prev || point >= last) {
+            sp_log_error("%s:%ld: not a whole row of this shard (%d numbers, point %ld to "
+                         "%ld); the file was cut short or edited: write it again", name,
+                         lineno, fields, first, last - 1);
+            ret = SP_E_INPUT;
+        }
+        prev = point, rows++;
+    }
+    if (!ret && one_per_point && rows != last - first) {
+        sp_log_error("%s: %ld rows, but the shard has %ld points; the file was cut short or "
+                     "edited: write it again", name, rows, last - first);
+        ret = SP_E_INPUT;
+    }
+    if (!ret && (ferror(fp) || fseek(fp, at, SEEK_SET) != 0)) {
+        sp_log_error("cannot read %s: %s", name, strerror(errno));
+        ret = SP_E_INPUT;
+    }
+    return ret;
 }
 
 static int merge(const struct sweep_opts *o)
@@ -360,7 +428,7 @@ static int merge(const struct sweep_opts *o)
                 ret = SP_E_INPUT;
                 break;
             }
-        } else if (strcmp(h, header) || total != n) {
+        } else if (strcmp(h, header) || strcmp(c, columns) || total != n) {
             sp_log_error("%s:1: is from another sweep than %s", o->parts[k], o->parts[0]);
             fclose(fp);
             ret = SP_E_INPUT;
@@ -373,11 +441,15 @@ static int merge(const struct sweep_opts *o)
             break;
         }
         parts[i - 1] = fp;
+        const long points = sp_sweep_points(&d);
+        ret = check_rows(fp, o->parts[k], c, points * (i - 1) / n, points * i / n,
+                         d.measure == SP_MEASURE_LYAPUNOV);
     }
     struct sp_outfile rows = {.fd = -1, .slot = -1};
     FILE *out = NULL;
+    struct sp_dirs made[2] = {{0}, {0}};
     if (!ret)
-        ret = open_rows(o->csv, &rows, &out);
+        ret = open_rows(o->csv, &rows, &out, &made[0]);
     if (!ret) {
         fprintf(out, "%s\n%s\n", header, columns);
         static char buf[1 << 16];
@@ -386,7 +458,9 @@ static int merge(const struct sweep_opts *o)
             while ((got = fread(buf, 1, sizeof(buf), parts[i])) > 0)
                 fwrite(buf, 1, got, out);
         }
-        ret = finish(out, &rows, o, 0);
+        ret = finish(out, &rows, o, 0, made);
+        if (ret == SP_E_INTERRUPTED)
+            sp_log_error("interrupted: nothing written");
     }
     for (int i = 0; i < o->n_parts; i++)
         if (parts[i])
@@ -429,7 +503,8 @@ int sp_cmd_sweep(int argc, char **argv)
     }
     struct sp_outfile rows;
     FILE *fp;
-    if ((ret = open_rows(o.csv, &rows, &fp)))
+    struct sp_dirs made[2] = {{0}, {0}};
+    if ((ret = open_rows(o.csv, &rows, &fp, &made[0])))
         return ret;
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
@@ -442,10 +517,15 @@ int sp_cmd_sweep(int argc, char **argv)
     if (!ret)
         ret = sp_sweep_run(&d, &scene, first, last, o.threads, fp, &blown, &unreachable,
                            !o.quiet && isatty(2) ? show_progress : NULL, &prog);
+    if (!ret && !o.shard && unreachable == last - first) { /* an empty figure */
+        sp_log_error("--energy %g: no point of the grid can have this energy; nothing "
+                     "written (omit --energy for the scene's own)", d.energy);
+        ret = SP_E_INPUT;
+    }
+    ret = finish(fp, &rows, &o, ret, made);
     if (ret == SP_E_INTERRUPTED)
         sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
                      "say which part)");
-    ret = finish(fp, &rows, &o, ret);
     if (ret)
         return ret;
     if (blown)

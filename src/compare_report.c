@@ -6,6 +6,7 @@
 
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
+#include "text.h"
 
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
 {
@@ -141,14 +142,17 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
 void sp_report_json_string(FILE *fp, const char *s)
 {
     fputc('"', fp);
-    for (; *s; s++) {
+    for (size_t n; *s; s += n ? n : 1) {
         unsigned char ch = (unsigned char)*s;
-        if (ch == '"' || ch == '\\')
+        n = sp_utf8_char(s); /* JSON is UTF-8: a file name's stray byte is U+FFFD */
+        if (!n)
+            fputs("\\ufffd", fp);
+        else if (ch == '"' || ch == '\\')
             fprintf(fp, "\\%c", ch);
         else if (ch < 0x20)
             fprintf(fp, "\\u%04x", ch);
         else
-            fputc(ch, fp);
+            fwrite(s, 1, n, fp);
     }
     fputc('"', fp);
 }
@@ -257,7 +261,11 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
 /* s with XML's five special characters escaped. */
 static void xml_string(FILE *fp, const char *s)
 {
-    for (; *s; s++) {
+    for (size_t n; *s; s += n ? n : 1) {
+        if ((n = sp_utf8_char(s)) != 1) { /* XML is UTF-8: a stray byte is U+FFFD */
+            fwrite(n ? s : "\xEF\xBF\xBD", 1, n ? n : 3, fp);
+            continue;
+        }
         switch (*s) {
         case '<': fputs("&lt;", fp); break;
         case '>': fputs("&gt;", fp); break;

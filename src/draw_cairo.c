@@ -1,5 +1,6 @@
 /* springpend (internal): the draw list drawn with cairo into SVG or PDF.
  * See draw_cairo.h. Built into springpend-cairo.so. */
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,8 +13,10 @@
 #include FT_FREETYPE_H
 
 #include "springpend/common.h"
+#include "cairo_fd.h"
 #include "draw_cairo.h"
 #include "embedded.h"
+#include "text.h"
 
 /* The embedded font as a cairo face, made once and kept for the process
  * (cairo's caches may hold it past any one document). */
@@ -157,10 +160,13 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     cairo_t *cr;
     int err = 0;
 
+    struct sp_cairo_fd sink = {.fd = d->fd}; /* every write checked */
     if (d->format == SP_FIGURE_PDF)
-        surface = cairo_pdf_surface_create(d->path, d->width, d->height);
+        surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, d->width,
+                                                      d->height);
     else
-        surface = cairo_svg_surface_create(d->path, d->width, d->height);
+        surface = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, d->width,
+                                                      d->height);
     st = cairo_surface_status(surface);
     if (st) {
         sp_log_error("%s: cannot create: %s", d->path, cairo_status_to_string(st));
@@ -169,7 +175,10 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     }
     if (d->format == SP_FIGURE_PDF) {
         cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "springpend " SP_VERSION);
-        if (d->title)
+        size_t n = 0, len = d->title ? strlen(d->title) : 0;
+        while (n < len && sp_utf8_char(d->title + n))
+            n += sp_utf8_char(d->title + n);
+        if (d->title && n == len) /* a file name that is not UTF-8 gets no title */
             cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, d->title);
     } else {
         cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PX);
@@ -183,7 +192,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     }
     /* the accumulated layer first, then the rest in order */
     for (int pass = 0; pass < 2; pass++) {
-        for (int i = 0; i < c->n_items; i++) {
+        for (int i = 0; i < c->n_items && !sp_interrupted(); i++) { /* Ctrl-C: stop */
             const struct sp_item *it = &c->items[i];
             if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
                 continue;
@@ -225,7 +234,10 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     if (!st)
         st = cairo_surface_status(surface);
     cairo_surface_destroy(surface);
-    if (st && !err) {
+    if (sink.err && !err) {
+        sp_log_error("%s: cannot write: %s", d->path, strerror(sink.err));
+        err = SP_E_IO;
+    } else if (st && !err) {
         sp_log_error("%s: cairo failed: %s", d->path, cairo_status_to_string(st));
         err = st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
     }

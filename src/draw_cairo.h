@@ -17,7 +17,9 @@ struct sp_draw_cairo_desc {
     const struct sp_font *font; /* NULL when the list has no text */
     float background[4];        /* straight RGBA; alpha 0 = transparent */
     int width, height;          /* px (SVG) or pt (PDF) */
-    const char *path;           /* written as it is (the caller renames) */
+    int fd;                     /* where the document goes (open for writing;
+                                   the caller closes and renames it) */
+    const char *path;           /* the target's name, for messages */
     enum sp_figure_format format; /* SVG or PDF */
     const char *title;          /* document title (PDF metadata); NULL = none */
 };

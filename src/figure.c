@@ -49,11 +49,13 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
     if (!err) {
         struct sp_draw_cairo_desc dd = {
             .canvas = cv, .font = sp_compose_font(c), .width = d->width,
-            .height = d->height, .path = out.path, .format = format,
+            .height = d->height, .fd = out.fd, .path = d->path, .format = format,
             .title = d->scene ? d->scene->name : NULL};
         memcpy(dd.background, sp_compose_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }
+    if (!err && sp_interrupted()) /* a signal while drawing: nothing written */
+        err = SP_E_INTERRUPTED;
     if (!err)
         err = sp_outfile_commit(&out); /* whole or not at all */
     if (err) {

@@ -17,7 +17,7 @@ static const char usage[] =
     "\n"
     "commands:\n"
     "  render   the whole motion as MP4, WebM, GIF, a PNG sequence or raw frames\n"
-    "  still    one frame as a PNG\n"
+    "  still    one frame as a PNG, or an SVG or PDF vector figure\n"
     "  data     the motion as CSV: state, polar form, energies (no rendering)\n"
     "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"
@@ -65,7 +65,11 @@ struct command {
 
 static int cmd_keys(int argc, char **argv)
 {
-    (void)argc, (void)argv;
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "-h") && strcmp(argv[i], "--help")) {
+            sp_log_error("keys takes no arguments, not '%s'; see 'springpend --help'", argv[i]);
+            return SP_E_INPUT;
+        }
     printf("scene keys (SI units; angles in degrees):\n");
     sp_scene_print_keys();
     return 0;

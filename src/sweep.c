@@ -20,6 +20,7 @@
 #include "springpend/sim.h"
 #include "signals.h"
 #include "sweep.h"
+#include "text.h"
 
 #define CHUNK 32  /* points per batch */
 #define WINDOW 4  /* chunks held per worker, finished or not */
@@ -168,9 +169,28 @@ int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *b
     return 0;
 }
 
+/* The scene's name as the CSV header's one word and the figure's title:
+ * whole UTF-8 characters only (cairo refuses the rest), a space, '=' or
+ * control byte (which would split the header) or a malformed byte as '_'. */
+static void header_name(char *dst, size_t size, const char *name)
+{
+    size_t at = 0, n;
+    for (; *name; name += n ? n : 1) {
+        n = sp_utf8_char(name);
+        if (at + (n ? n : 1) >= size)
+            break;
+        if (n > 1)
+            memcpy(dst + at, name, n), at += n;
+        else
+            dst[at++] = n && (unsigned char)*name > ' ' && *name != '=' && *name != 0x7F
+                        ? *name : '_';
+    }
+    dst[at] = 0;
+}
+
 int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given)
 {
-    snprintf(d->scene, sizeof(d->scene), "%s", base->name);
+    header_name(d->scene, sizeof(d->scene), base->name);
     snprintf(d->method, sizeof(d->method), "%s", method_names[base->integrator.method]);
     d->dt = base->integrator.dt;
     d->theme = base->view.theme;

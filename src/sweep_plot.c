@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cairo_fd.h"
 #include "panels.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
@@ -143,7 +144,7 @@ struct row {
 static int next_row(FILE *fp, const struct sp_sweep_desc *d, int nv, struct row *r)
 {
     char line[512], *p, *end;
-    if (!fgets(line, sizeof(line), fp))
+    if (sp_interrupted() || !fgets(line, sizeof(line), fp)) /* Ctrl-C: stop drawing */
         return 0;
     r->point = strtol(line, &p, 10);
     for (int a = 0; a < d->n_axes; a++) {
@@ -418,13 +419,13 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     /* cairo writes front to back: a device or stdout is fine */
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;
-    const char *part = out.path;
+    struct sp_cairo_fd sink = {.fd = out.fd}; /* every write checked */
     const char *ext = strrchr(path, '.');
     cairo_surface_t *s;
     if (!strcmp(ext, ".svg"))
-        s = cairo_svg_surface_create(part, W, H);
+        s = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
     else if (!strcmp(ext, ".pdf"))
-        s = cairo_pdf_surface_create(part, W, H);
+        s = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
     else
         s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W * PNG_SCALE, (int)H * PNG_SCALE);
     cairo_t *cr = cairo_create(s);
@@ -440,17 +441,22 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     cairo_status_t st = cairo_status(cr);
     cairo_destroy(cr);
     if (!ret && !st && !strcmp(ext, ".png"))
-        st = cairo_surface_write_to_png(s, part);
+        st = cairo_surface_write_to_png_stream(s, sp_cairo_fd_write, &sink);
     cairo_surface_finish(s);
     if (!st)
         st = cairo_surface_status(s);
+    if (!st && sink.err)
+        st = CAIRO_STATUS_WRITE_ERROR;
     cairo_surface_destroy(s);
     /* cairo keeps its font faces and fontconfig its configuration for the
      * next figure; there is none: give them back (a sanitizer build checks) */
     cairo_debug_reset_static_data();
     FcFini();
+    if (!ret && sp_interrupted())
+        ret = SP_E_INTERRUPTED; /* a figure cut short by a signal is not written */
     if (!ret && st) {
-        sp_log_error("cannot write %s: %s", path, cairo_status_to_string(st));
+        sp_log_error("cannot write %s: %s", path,
+                     sink.err ? strerror(sink.err) : cairo_status_to_string(st));
         ret = SP_E_IO;
     }
     if (!ret)

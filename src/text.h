@@ -7,6 +7,7 @@
 #ifndef SPRINGPEND_TEXT_H
 #define SPRINGPEND_TEXT_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 enum sp_text_size { SP_TEXT_SMALL, SP_TEXT_NORMAL, SP_TEXT_LARGE, SP_TEXT_TITLE, SP_TEXT_SIZES };
@@ -19,6 +20,11 @@ struct sp_glyph_quad {
 };
 
 struct sp_font;
+
+/* The byte length (1..4) of the well-formed UTF-8 character at s, or 0 when
+ * s is at its NUL or at a malformed, overlong or surrogate sequence (text
+ * that cairo would refuse whole). */
+size_t sp_utf8_char(const char *s);
 
 /* Builds the atlas for the pixel sizes px[SP_TEXT_SIZES] (em height, px, each
  * 4..400). 0, SP_E_INPUT (bad size) or SP_E_NOMEM / SP_E_IO (FreeType's

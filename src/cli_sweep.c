@@ -12,6 +12,7 @@
 
 #include "av_module.h"
 #include "cli.h"
+#include "signals.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
 #include "sweep.h"
@@ -320,7 +321,7 @@ static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o,
     }
     if (!ret && o->output)
         ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output, &made[1]);
-    if (!ret && sp_interrupted()) /* while drawing or merging: nothing written */
+    if (!ret && sp_signal_seen()) /* while drawing or merging: nothing written */
         ret = SP_E_INTERRUPTED;
     if (fclose(fp) != 0 && !ret) {
         sp_log_error("cannot write %s: %s", name, strerror(errno));

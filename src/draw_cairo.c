@@ -16,6 +16,7 @@
 #include "cairo_fd.h"
 #include "draw_cairo.h"
 #include "embedded.h"
+#include "signals.h"
 #include "text.h"
 
 /* The embedded font as a cairo face, made once and kept for the process
@@ -192,7 +193,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     }
     /* the accumulated layer first, then the rest in order */
     for (int pass = 0; pass < 2; pass++) {
-        for (int i = 0; i < c->n_items && !sp_interrupted(); i++) { /* Ctrl-C: stop */
+        for (int i = 0; i < c->n_items && !sp_signal_seen(); i++) { /* Ctrl-C: stop */
             const struct sp_item *it = &c->items[i];
             if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
                 continue;

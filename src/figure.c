@@ -9,6 +9,7 @@
 #include "av_module.h"
 #include "compose.h"
 #include "draw_cairo.h"
+#include "signals.h"
 
 enum sp_figure_format sp_figure_format(const char *path)
 {
@@ -54,7 +55,7 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
         memcpy(dd.background, sp_compose_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }
-    if (!err && sp_interrupted()) /* a signal while drawing: nothing written */
+    if (!err && sp_signal_seen()) /* a signal while drawing: nothing written */
         err = SP_E_INTERRUPTED;
     if (!err)
         err = sp_outfile_commit(&out); /* whole or not at all */

@@ -17,6 +17,7 @@
 
 #include "cairo_fd.h"
 #include "panels.h"
+#include "signals.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
 #include "sweep.h"
@@ -144,7 +145,7 @@ struct row {
 static int next_row(FILE *fp, const struct sp_sweep_desc *d, int nv, struct row *r)
 {
     char line[512], *p, *end;
-    if (sp_interrupted() || !fgets(line, sizeof(line), fp)) /* Ctrl-C: stop drawing */
+    if (sp_signal_seen() || !fgets(line, sizeof(line), fp)) /* Ctrl-C: stop drawing */
         return 0;
     r->point = strtol(line, &p, 10);
     for (int a = 0; a < d->n_axes; a++) {
@@ -452,7 +453,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
      * next figure; there is none: give them back (a sanitizer build checks) */
     cairo_debug_reset_static_data();
     FcFini();
-    if (!ret && sp_interrupted())
+    if (!ret && sp_signal_seen())
         ret = SP_E_INTERRUPTED; /* a figure cut short by a signal is not written */
     if (!ret && st) {
         sp_log_error("cannot write %s: %s", path,

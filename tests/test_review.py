@@ -338,5 +338,13 @@ r = run("still", default, "--at", "0", "--size", "160x120", "-q", "--set",
 ok(r.returncode == 0 and os.path.exists(path("caption-ok.pdf")),
    f"--set view.caption with UTF-8 text is drawn: {r.returncode} {err(r)}")
 
+# ---- the figure's extension in any case, as still takes it ----
+for ext in ("PNG", "Svg", "PDF"):
+    out = path(f"upper.{ext}")
+    r = run(*SWEEP, "-o", out)
+    head = open(out, "rb").read(5) if os.path.exists(out) else b""
+    ok(r.returncode == 0 and head[:4] in (b"\x89PNG", b"<?xm", b"%PDF"),
+       f"sweep -o x.{ext} writes that format: {r.returncode} {head!r} {err(r)}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

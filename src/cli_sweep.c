@@ -207,7 +207,7 @@ static int check_outputs(const struct sweep_opts *o)
 {
     if (o->output) {
         const char *dot = strrchr(o->output, '.');
-        if (!dot || (strcmp(dot, ".png") && strcmp(dot, ".svg") && strcmp(dot, ".pdf"))) {
+        if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg") && strcasecmp(dot, ".pdf"))) {
             sp_log_error("-o %s: the figure must be .png, .svg or .pdf", o->output);
             return SP_E_INPUT;
         }

@@ -270,6 +270,8 @@ static int choice_index(const char *list, const char *word, size_t len)
     return -1;
 }
 
+static int utf8_length(const unsigned char *s); /* below, with the file's text check */
+
 /* The word-valued kinds. Returns 1 when it consumed the value (stored or
  * reported), 0 to let a KEY_TRAIL number go on to the numeric parser. */
 static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
@@ -348,6 +350,16 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             report(c, line, "%s.%s is %zu bytes long; at most %d are allowed", k->section,
                    k->name, n, SP_VIEW_TEXT_BYTES - 1);
             return 1;
+        }
+        for (size_t i = 0; i < n;) { /* --set bypasses the file's text check */
+            const unsigned char *u = (const unsigned char *)value + i;
+            int len = utf8_length(u);
+            if (!len || i + (size_t)len > n || *u < 0x20 || *u == 0x7f) {
+                report(c, line, "%s.%s: byte 0x%02x at byte %zu is not text; allowed: "
+                       "UTF-8 text without control characters", k->section, k->name, *u, i + 1);
+                return 1;
+            }
+            i += (size_t)len;
         }
         memcpy(p, value, n);
         p[n] = 0;

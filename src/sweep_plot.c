@@ -423,14 +423,14 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     struct sp_cairo_fd sink = {.fd = out.fd}; /* every write checked */
     const char *ext = strrchr(path, '.');
     cairo_surface_t *s;
-    if (!strcmp(ext, ".svg"))
+    if (!strcasecmp(ext, ".svg"))
         s = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
-    else if (!strcmp(ext, ".pdf"))
+    else if (!strcasecmp(ext, ".pdf"))
         s = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
     else
         s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W * PNG_SCALE, (int)H * PNG_SCALE);
     cairo_t *cr = cairo_create(s);
-    if (!strcmp(ext, ".png"))
+    if (!strcasecmp(ext, ".png"))
         cairo_scale(cr, PNG_SCALE, PNG_SCALE);
     cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_source_rgb(cr, pal.background[0], pal.background[1], pal.background[2]);
@@ -441,7 +441,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
         ret = draw_dots(cr, csv, csv_name, &d, &pal);
     cairo_status_t st = cairo_status(cr);
     cairo_destroy(cr);
-    if (!ret && !st && !strcmp(ext, ".png"))
+    if (!ret && !st && !strcasecmp(ext, ".png"))
         st = cairo_surface_write_to_png_stream(s, sp_cairo_fd_write, &sink);
     cairo_surface_finish(s);
     if (!st)

@@ -321,5 +321,30 @@ ok(r.returncode == 1 and not os.path.exists(path("made")),
    f"a failed sweep leaves no folder it made: {r.returncode} {err(r)} "
    f"{os.listdir(path('made')) if os.path.exists(path('made')) else ''}")
 
+# ---- text keys set on the command line are UTF-8 text, as in a file ----
+# `--set view.caption=x\xff` was taken (exit 1 "cairo failed" for a PDF);
+# a scene file with that byte is refused with exit 2, so --set must be too.
+for bad, what in ((b"x\xff", "a byte that is not UTF-8"), (b"a\tb", "a control character"),
+                  (b"\xe2\x9c", "a cut-off sequence")):
+    for ext in ("png", "pdf"):
+        out = path(f"caption-bad.{ext}")
+        r = subprocess.run([exe.encode(), b"still", default.encode(), b"--at", b"0", b"--size",
+                            b"160x120", b"-q", b"--set", b"view.caption=" + bad, b"-o",
+                            out.encode()], cwd=work, capture_output=True, timeout=60)
+        ok(r.returncode == 2 and "not text" in err(r) and not os.path.exists(out),
+           f"--set view.caption with {what} (.{ext}): exit 2, no file: {r.returncode} {err(r)}")
+r = run("still", default, "--at", "0", "--size", "160x120", "-q", "--set",
+        "view.caption=Résumé ✓ ω", "-o", path("caption-ok.pdf"))
+ok(r.returncode == 0 and os.path.exists(path("caption-ok.pdf")),
+   f"--set view.caption with UTF-8 text is drawn: {r.returncode} {err(r)}")
+
+# ---- the figure's extension in any case, as still takes it ----
+for ext in ("PNG", "Svg", "PDF"):
+    out = path(f"upper.{ext}")
+    r = run(*SWEEP, "-o", out)
+    head = open(out, "rb").read(5) if os.path.exists(out) else b""
+    ok(r.returncode == 0 and head[:4] in (b"\x89PNG", b"<?xm", b"%PDF"),
+       f"sweep -o x.{ext} writes that format: {r.returncode} {head!r} {err(r)}")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

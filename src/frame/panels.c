@@ -641,8 +641,9 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
 
 int sp_params_resonant(const struct sp_params *p, double *ratio)
 {
-    const double ell = p->L0 + p->g / p->k_over_m;
-    *ratio = sqrt(p->k_over_m) / sqrt(p->g / ell);
+    struct sp_physics ph;
+    sp_params_physics(p, &ph);
+    *ratio = ph.ratio;
     return fabs(*ratio - 2) <= 0.03 * 2;
 }
 
@@ -683,7 +684,9 @@ static const char *resonance_note(const struct sp_font *f, int resonant, float m
 int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
                  char lines[][SP_HUD_LINE_BYTES], int max)
 {
-    const double ell = p->L0 + p->g / p->k_over_m, ws = sqrt(p->k_over_m), wp = sqrt(p->g / ell);
+    struct sp_physics ph;
+    sp_params_physics(p, &ph);
+    const double ell = ph.ell, ws = ph.omega_s, wp = ph.omega_p;
     char item[SP_HUD_LINE_BYTES];
     double ratio;
     int n = 2;

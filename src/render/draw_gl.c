@@ -9,6 +9,7 @@
 #include "embedded.h"
 
 enum { TILE = 32, MAX_FILLS = 200 }; /* px: the grain of copies and fills */
+enum { DTILE = 16 }; /* px: the grain of the damaged rectangles */
 
 /* A rectangle of the static cache: x0, y0, x1, y1 px; v = 1: copied from the
  * cache, v >= 2: filled with fills[v - 2]. */
@@ -43,6 +44,17 @@ struct sp_draw_gl {
     size_t n_key, cap_key;       /* bytes */
     unsigned char *next;         /* this frame's, compared with key */
     size_t n_next, cap_next;     /* bytes */
+    /* The target keeps its pixels from frame to frame (an FBO with EGL; with
+     * Mesa's gallium OSMesa, the context's own colour texture, copied to the
+     * bound buffer at glFinish). After a cached frame without accumulated
+     * layer it holds base plus that frame's dynamic items inside `damage`:
+     * the next frame restores base there only, instead of clearing and
+     * copying all of base. */
+    struct instances restore;    /* draws `damage` with the patch program */
+    struct patch *damage;        /* the last frame's dynamic items' tiles */
+    int n_damage, cap_damage;
+    int kept;                    /* the target holds base + damage, as above */
+    unsigned char *dtiles;       /* scratch: DTILE px squares touched */
     struct box *boxes;           /* per item of the list: what it may touch */
     int cap_boxes;
     int cache;                   /* 1 = cache the static layer */
@@ -690,6 +702,87 @@ static void shapes_bind(const struct sp_gl_api *gl, const struct instances *shap
     gl->BindBuffer(GL_ARRAY_BUFFER, shape->vbo);
 }
 
+/* Sets d->damage to the DTILE px squares c's dynamic items may touch, as
+ * runs along each row. 0 or SP_E_NOMEM. */
+static int damage_make(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    const int tw = (d->width + DTILE - 1) / DTILE, th = (d->height + DTILE - 1) / DTILE;
+    if (!d->dtiles && !(d->dtiles = malloc((size_t)tw * (size_t)th)))
+        return SP_E_NOMEM;
+    memset(d->dtiles, 0, (size_t)tw * (size_t)th);
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_DYNAMIC)
+            continue;
+        for (int k = it->first; k < it->first + it->count; k++) {
+            const struct box b = prim_box(c, it, k, d->boxes[i].clip);
+            if (b.x1 < b.x0)
+                continue;
+            int x0 = (int)floorf(b.x0 / DTILE), y0 = (int)floorf(b.y0 / DTILE);
+            int x1 = (int)floorf(b.x1 / DTILE), y1 = (int)floorf(b.y1 / DTILE);
+            x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+            x1 = x1 >= tw ? tw - 1 : x1, y1 = y1 >= th ? th - 1 : y1;
+            for (int y = y0; y <= y1; y++)
+                memset(d->dtiles + (size_t)y * tw + x0, 1, x1 >= x0 ? (size_t)(x1 - x0 + 1) : 0);
+        }
+    }
+    d->n_damage = 0;
+    for (int y = 0; y < th; y++)
+        for (int x = 0; x < tw;) {
+            if (!d->dtiles[y * tw + x]) {
+                x++;
+                continue;
+            }
+            int e = x;
+            while (e < tw && d->dtiles[y * tw + e])
+                e++;
+            if (d->n_damage == d->cap_damage) {
+                struct patch *p = realloc(d->damage, (size_t)(2 * d->cap_damage + 64) * sizeof(*p));
+                if (!p)
+                    return SP_E_NOMEM;
+                d->damage = p;
+                d->cap_damage = 2 * d->cap_damage + 64;
+            }
+            d->damage[d->n_damage++] = (struct patch){
+                {(float)(x * DTILE), (float)(y * DTILE), fminf((float)(e * DTILE), (float)d->width),
+                 fminf((float)((y + 1) * DTILE), (float)d->height)},
+                {0, 0, 0, -1}};
+            x = e;
+        }
+    return 0;
+}
+
+/* Copies base over d->damage, in one instanced draw without blending. */
+static int damage_restore(struct sp_draw_gl *d)
+{
+    const struct sp_gl_api *gl = d->gl;
+    int err = d->patch.program ? 0 : patches_upload(d, NULL, 0);
+    if (err || !d->n_damage)
+        return err;
+    if (!d->restore.vao) {
+        gl->GenVertexArrays(1, &d->restore.vao);
+        gl->BindVertexArray(d->restore.vao);
+        gl->GenBuffers(1, &d->restore.vbo);
+        gl->BindBuffer(GL_ARRAY_BUFFER, d->restore.vbo);
+        for (GLuint i = 0; i < 2; i++) {
+            gl->EnableVertexAttribArray(i);
+            gl->VertexAttribDivisor(i, 1);
+        }
+    }
+    d->restore.program = d->patch.program;
+    instances_upload(gl, &d->restore, d->damage, d->n_damage, sizeof(struct patch));
+    gl->VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(struct patch),
+                            (const void *)offsetof(struct patch, rect));
+    gl->VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(struct patch),
+                            (const void *)offsetof(struct patch, fill));
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, d->base_tex);
+    gl->Disable(GL_BLEND);
+    gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, d->n_damage);
+    gl->Enable(GL_BLEND);
+    return 0;
+}
+
 int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float bg[4])
 {
     const struct sp_gl_api *gl = d->gl;
@@ -697,6 +790,8 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     GLenum glerr;
     int accum = 0, err = 0, cached = 0, any_static = 0;
     const int text = c->n_quads && d->atlas;
+    const int kept = d->kept; /* cleared until this frame is drawn */
+    d->kept = 0;
 
     for (int i = 0; i < c->n_items && !accum; i++)
         accum = c->items[i].layer == SP_LAYER_ACCUM && c->items[i].kind != SP_ITEM_CLIP;
@@ -772,6 +867,9 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
         } else if (d->accum_fbo) { /* the cache under this frame */
             if ((err = layer_copy(d, d->base_tex)) != 0)
                 return err;
+        } else if (kept) { /* base where the last frame's dynamic items were */
+            if ((err = damage_restore(d)) != 0)
+                return err;
         } else { /* the background, and the cache where it differs from it */
             gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
             gl->Clear(GL_COLOR_BUFFER_BIT);
@@ -795,6 +893,13 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     }
     if (text)
         draw_text(gl, &d->text, d->atlas, c, layers);
+    if (cached && !d->accum_fbo) {
+        if ((err = damage_make(d, c)) != 0) {
+            sp_log_error("out of memory for the damaged rectangles");
+            return err;
+        }
+        d->kept = 1;
+    }
     glerr = gl->GetError();
     if (glerr != GL_NO_ERROR) {
         sp_log_error("drawing a frame failed with GL error 0x%04x", glerr);
@@ -807,6 +912,7 @@ void sp_draw_gl_cache(struct sp_draw_gl *d, int on)
 {
     d->cache = on;
     d->base_valid = 0;
+    d->kept = 0;
 }
 
 void sp_draw_gl_stats(const struct sp_draw_gl *d, struct sp_draw_gl_stats *out)
@@ -823,6 +929,8 @@ void sp_draw_gl_destroy(struct sp_draw_gl **d)
     free((*d)->boxes);
     free((*d)->rects);
     free((*d)->tiles);
+    free((*d)->damage);
+    free((*d)->dtiles);
     free(*d);
     *d = NULL;
 }

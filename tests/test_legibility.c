@@ -53,6 +53,7 @@ static int check(const char *src, const char *scene_file, double t, int w, int h
     struct sp_history hist = {0};
     struct sp_trail trail = {0};
     struct sp_view_extent e;
+    struct sp_look look;
     struct sp_composer *comp = NULL;
     const struct sp_canvas *cv;
     static struct box b[4096];
@@ -61,7 +62,7 @@ static int check(const char *src, const char *scene_file, double t, int w, int h
     snprintf(path, sizeof(path), "%s/../scenes/%s", src, scene_file);
     snprintf(size_w, sizeof(size_w), "video.width=%d", w);
     snprintf(size_h, sizeof(size_h), "video.height=%d", h);
-    if (sp_scene_load(&sc, path, ov, 4) || sp_view_extent_measure(&sc, sc.video.duration, &e) ||
+    if (sp_scene_load(&sc, path, ov, 4) || sp_view_extent_measure(&sc, sc.video.duration, NULL, NULL, NULL, &e) ||
         sp_history_make(&hist, &sc) || sp_trail_make(&trail, 600))
         return 1;
     sp_sim_init(&sim, &sc);
@@ -70,7 +71,8 @@ static int check(const char *src, const char *scene_file, double t, int w, int h
             return 1;
         sp_trail_push_at(&trail, &sim.s, 0);
     }
-    if (sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &sc, 1}) ||
+    sp_look_of(&sc, &look);
+    if (sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &look, 1}) ||
         sp_compose_frame(comp, &(struct sp_frame){.state = sim.s, .params = &sim.p,
                                                    .trail = &trail, .history = &hist}, &cv))
         return 1;

@@ -44,9 +44,10 @@ struct sp_ensemble {
  * finding the spread's range and, with a second batch of one, the central
  * scene's Lyapunov exponent; then sets the members back to t = 0. A member
  * that blows up fails the whole run: SP_E_UNSTABLE (exit 3), naming it and
- * its key value; also SP_E_NOMEM. Logged. */
+ * its key value; also SP_E_NOMEM. Logged. Once the caller's *cancel is set
+ * (NULL = never), the pre-pass stops with SP_E_INTERRUPTED. */
 int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, double t_end,
-                     struct sp_view_extent *extent);
+                     const volatile sig_atomic_t *cancel, struct sp_view_extent *extent);
 
 /* Advances every member to t (>= the current time), pushing a trail point
  * and a spread sample. 0, SP_E_UNSTABLE or SP_E_NOMEM (logged). */
@@ -66,8 +67,10 @@ void sp_ensemble_color(int i, int n, float rgb[3]);
 /* Writes the members' states at times t_k = k * every (every > 0) or the
  * video's frame times as CSV rows "t,member,KEY,x,y,vx,vy" (positions and
  * velocities relative to the pivot, as data's columns; %.15g like data).
- * 0, SP_E_UNSTABLE, SP_E_IO, SP_E_NOMEM or SP_E_INTERRUPTED. */
-int sp_ensemble_write_csv(FILE *fp, const struct sp_scene *scene, double every);
+ * 0, SP_E_UNSTABLE, SP_E_IO, SP_E_NOMEM or SP_E_INTERRUPTED (once the
+ * caller's *cancel is set; NULL = never). */
+int sp_ensemble_write_csv(FILE *fp, const struct sp_scene *scene, double every,
+                          const volatile sig_atomic_t *cancel);
 
 /* Frees e and sets *e to NULL; NULL is fine. */
 void sp_ensemble_destroy(struct sp_ensemble **e);

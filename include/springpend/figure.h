@@ -16,7 +16,8 @@ enum sp_figure_format sp_figure_format(const char *path);
 struct sp_figure_desc {
     int width, height;            /* px (SVG) or pt (PDF) */
     struct sp_view_extent extent; /* as for sp_render_desc */
-    const struct sp_scene *scene; /* [view] options; NULL = the defaults */
+    const struct sp_look *look;   /* as for sp_render_desc */
+    const char *title;            /* the document's title (the scene's name); NULL = none */
     const char *path;             /* .svg or .pdf; written as PATH.part, renamed */
 };
 

@@ -63,10 +63,27 @@ struct sp_view_extent {
 };
 
 /* Runs the scene's physics from 0 to t_end (cheaply, no rendering) and
- * returns the extent of the bob and pivot. Fails with SP_E_UNSTABLE like
- * sp_sim_advance. */
+ * returns the extent of the bob and pivot. The sim's hooks are the caller's
+ * (see struct sp_sim): cancel (NULL = never) stops it with
+ * SP_E_INTERRUPTED, progress (NULL = none) hears the simulated time with
+ * progress_ctx. Fails with SP_E_UNSTABLE like sp_sim_advance. */
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
+                           const volatile sig_atomic_t *cancel,
+                           void (*progress)(void *ctx, double t), void *progress_ctx,
                            struct sp_view_extent *out);
+
+/* What a frame's look is made of, all the composer reads of a scene: its
+ * [view], two [video] numbers (the trail's length in frames) and whether
+ * an ensemble is drawn. */
+struct sp_look {
+    struct sp_view view;
+    double fps;         /* [video] fps: frames per second of video */
+    double speed;       /* [video] speed: simulated s per s of video */
+    int ensemble_count; /* [ensemble] count: > 1 draws its members */
+};
+
+/* The look of scene, or of the default scene when scene is NULL. */
+void sp_look_of(const struct sp_scene *scene, struct sp_look *out);
 
 /* What the panels plot, sampled at each frame time (and between frames that
  * are far apart for the motion). */
@@ -112,11 +129,6 @@ void sp_history_destroy(struct sp_history *h);
  * on the quintic Hermite interpolant (positions, velocities and accelerations
  * at both ends) of each interval. */
 int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target);
-
-/* Adds the crossing of x = 0 from x < 0 (below the pivot), if any, between
- * states a and b of the same motion. Exposed for tests. 0 or SP_E_NOMEM. */
-int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
-                             const struct sp_state *a, const struct sp_state *b);
 
 struct sp_frame {
     struct sp_state state;        /* the bob now */

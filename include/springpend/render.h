@@ -1,6 +1,6 @@
 /* springpend: the off-screen renderer. Draws one sp_frame into an RGBA
  * image: background, trail, stroboscopic images, ceiling mount, spring coil,
- * bob, then the panels, heads-up text and colourbar the scene's [view] asks
+ * bob, then the panels, heads-up text and colourbar the look (sp_look) asks
  * for. Antialiased analytically in the shaders (no MSAA), optionally
  * supersampled. Knows nothing of files. */
 #ifndef SPRINGPEND_RENDER_H
@@ -20,7 +20,8 @@ enum sp_gl {
 struct sp_render_desc {
     int width, height;            /* px of the output image */
     struct sp_view_extent extent; /* world rectangle to fit, speed and panel ranges */
-    const struct sp_scene *scene; /* [view] options; NULL = the defaults */
+    const struct sp_look *look;   /* what is drawn and how (sp_look_of a scene);
+                                     NULL = the default scene's */
     int supersample;              /* draw at this many times the size and average
                                      down; 0 or 1 = off */
     enum sp_gl gl;                /* GL backend; 0 = default */

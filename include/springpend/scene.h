@@ -76,7 +76,7 @@ struct sp_scene {
                               names; 0 = auto (the format's default) */
         int png_level;     /* PNG compression level 1..9 */
     } video;
-    struct {
+    struct sp_view { /* named: the composer is handed this part alone (sp_look) */
         int trail;       /* trail length in frames, 0 = none, SP_TRAIL_ALL = whole
                             run, SP_TRAIL_DURATION = trail_duration */
         double trail_duration; /* simulated s of motion the trail shows, when

@@ -115,7 +115,7 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
     if (poincare)
         return write_crossings(fp, sc);
     if (sc->ensemble.count > 1)
-        return sp_ensemble_write_csv(fp, sc, every);
+        return sp_ensemble_write_csv(fp, sc, every, sp_signal_flag());
     if (every > 0)
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else

@@ -33,7 +33,7 @@ enum {
 struct sp_composer {
     struct sp_canvas canvas;  /* this frame's draw list */
     struct sp_font *font;     /* NULL when no text is drawn */
-    struct sp_scene scene;    /* a copy: its [view] options */
+    struct sp_look look;      /* a copy: what is drawn and how */
     struct sp_view_extent extent;
     struct sp_palette pal;
     struct sp_layout layout;
@@ -118,27 +118,27 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         sp_log_error("out of memory for the composer");
         return SP_E_NOMEM;
     }
-    if (desc->scene)
-        r->scene = *desc->scene;
+    if (desc->look)
+        r->look = *desc->look;
     else
-        sp_scene_defaults(&r->scene);
+        sp_look_of(NULL, &r->look);
     r->width = desc->width;
     r->height = desc->height;
     r->accum_t = -1;
     r->unit = (float)(r->width < r->height ? r->width : r->height);
     r->extent = desc->extent;
     r->max_speed = desc->extent.max_speed > 0 ? desc->extent.max_speed : 1.0;
-    sp_palette_get(&r->scene, &r->pal);
+    sp_palette_get(&r->look.view, &r->pal);
     r->premix_trail = r->pal.background[3] > 0 &&
                       0.3f * r->pal.background[0] + 0.6f * r->pal.background[1] +
                               0.1f * r->pal.background[2] > 0.35f;
-    if (r->scene.video.speed != 1) /* a real multiplication sign */
-        snprintf(r->speed, sizeof(r->speed), "speed \xc3\x97%g", r->scene.video.speed);
-    if (!r->scene.view.pendulum || r->scene.ensemble.count > 1)
-        r->scene.view.colorbar = 0; /* no speed-coloured trail to explain */
-    if (r->scene.view.panels || r->scene.view.hud || r->scene.view.colorbar ||
-        r->scene.view.title[0] || r->scene.view.caption[0] || r->speed[0]) {
-        text_sizes(r->unit, r->scene.view.font_scale, desc->supersample > 1 ? desc->supersample : 1, px);
+    if (r->look.speed != 1) /* a real multiplication sign */
+        snprintf(r->speed, sizeof(r->speed), "speed \xc3\x97%g", r->look.speed);
+    if (!r->look.view.pendulum || r->look.ensemble_count > 1)
+        r->look.view.colorbar = 0; /* no speed-coloured trail to explain */
+    if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar ||
+        r->look.view.title[0] || r->look.view.caption[0] || r->speed[0]) {
+        text_sizes(r->unit, r->look.view.font_scale, desc->supersample > 1 ? desc->supersample : 1, px);
         err = sp_font_make(&r->font, px);
         if (err) {
             sp_compose_destroy(&r);
@@ -156,18 +156,18 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
 {
     const struct sp_font *f = r->font;
     struct sp_layout_desc d = {.width = r->width, .height = r->height,
-                               .panels = r->scene.view.panels,
-                               .no_pendulum = !r->scene.view.pendulum};
-    if (r->scene.view.title[0])
+                               .panels = r->look.view.panels,
+                               .no_pendulum = !r->look.view.pendulum};
+    if (r->look.view.title[0])
         d.title_height = (float)sp_font_line(f, SP_TEXT_TITLE);
-    if (r->scene.view.caption[0]) {
-        r->caption_lines = wrap(f, SP_TEXT_NORMAL, r->scene.view.caption,
+    if (r->look.view.caption[0]) {
+        r->caption_lines = wrap(f, SP_TEXT_NORMAL, r->look.view.caption,
                                 r->width - 2 * roundf(0.015f * r->unit), r->caption, CAPTION_LINES);
         d.caption_height = (float)(r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL));
     }
     /* The view's width decides the HUD's wrapping: lay out once without it. */
     sp_layout_compute(&d, &r->layout);
-    if (r->scene.view.hud) {
+    if (r->look.view.hud) {
         const struct sp_rect *v = d.no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0}
                                                 : &r->layout.camera;
         const float w = v->x1 - v->x0 - 2 * r->layout.gap;
@@ -176,7 +176,7 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
     } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
     }
-    if (r->scene.view.colorbar)
+    if (r->look.view.colorbar)
         d.colorbar_width = sp_colorbar_width(r->font, r->unit, r->max_speed);
     sp_layout_compute(&d, &r->layout);
     fit_camera(r, &r->layout.camera);
@@ -196,13 +196,13 @@ static void to_px(const struct sp_composer *r, double x, double y, float p[2])
 static void trail_segment(struct sp_composer *r, const float a[2], const float b[2], float speed,
                           float age)
 {
-    const struct sp_scene *sc = &r->scene;
+    const struct sp_look *lk = &r->look;
     const float w = TRAIL_RADIUS * r->unit;
-    const float floor_alpha = sc->view.trail == SP_TRAIL_ALL ? 0.3f : 0.03f;
-    const float fade = sc->view.fade ? 1.0f : 0.0f;
+    const float floor_alpha = lk->view.trail == SP_TRAIL_ALL ? 0.3f : 0.03f;
+    const float fade = lk->view.fade ? 1.0f : 0.0f;
     const float *bg = r->pal.background;
     float alpha = 1 - fade * (1 - floor_alpha) * (1 - powf(age, 1.4f)), color[4] = {0, 0, 0, 1};
-    sp_colormap(sc->view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
+    sp_colormap(lk->view.colormap, r->pal.cmap_lo + (r->pal.cmap_hi - r->pal.cmap_lo) *
                 fminf(speed / (float)r->max_speed, 1.0f), color);
     if (r->premix_trail) {
         for (int k = 0; k < 3; k++)
@@ -236,12 +236,12 @@ static int trail_after(const struct sp_trail *tr, double t)
  * once, so a long exposure costs the same per frame however long it is. */
 static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
 {
-    const struct sp_scene *sc = &r->scene;
-    const int all = sc->view.trail == SP_TRAIL_ALL;
+    const struct sp_look *lk = &r->look;
+    const int all = lk->view.trail == SP_TRAIL_ALL;
     const double now = sp_trail_at(tr, tr->count - 1)->t;
     const double span = all ? ALL_FADE
-                      : sc->view.trail == SP_TRAIL_DURATION ? sc->view.trail_duration
-                      : (sc->view.trail - 1) * sc->video.speed / sc->video.fps;
+                      : lk->view.trail == SP_TRAIL_DURATION ? lk->view.trail_duration
+                      : (lk->view.trail - 1) * lk->speed / lk->fps;
     const double start = now - span;
     const struct sp_trail_point *p;
     float a[2], b[2];
@@ -358,7 +358,7 @@ static void put_spring(struct sp_composer *r, const float pv[2], const float bb[
 /* The bob every view.strobe seconds back from now, fading with age. */
 static void put_strobe(struct sp_composer *r, const struct sp_history *h)
 {
-    const double dt = r->scene.view.strobe;
+    const double dt = r->look.view.strobe;
     float p[2], color[4];
     if (!h || h->count < 2 || dt <= 0)
         return;
@@ -397,7 +397,7 @@ static void put_texts(struct sp_composer *r)
                        l->title.y0 + sp_font_cap(f, SP_TEXT_TITLE) +
                        0.5f * (sp_font_line(f, SP_TEXT_TITLE) - sp_font_cap(f, SP_TEXT_TITLE)) -
                        0.15f * sp_font_cap(f, SP_TEXT_TITLE),
-                       SP_ALIGN_CENTER, r->pal.text, r->scene.view.title);
+                       SP_ALIGN_CENTER, r->pal.text, r->look.view.title);
     for (int i = 0; i < r->caption_lines; i++)
         sp_canvas_text(cv, SP_TEXT_NORMAL, 0.5f * (l->caption.x0 + l->caption.x1),
                        l->caption.y0 + i * sp_font_line(f, SP_TEXT_NORMAL) + sp_font_cap(f, SP_TEXT_NORMAL),
@@ -424,11 +424,11 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     to_px(r, 0, yp, pv);
     to_px(r, f->state.x, f->state.y + yp, bb);
     sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
-    if (r->scene.view.pendulum && f->ensemble) { /* the members instead of the one bob */
+    if (r->look.view.pendulum && f->ensemble) { /* the members instead of the one bob */
         put_mount(r, pv);
         sp_compose_ensemble(cv, f->ensemble, r->ox, r->oy, r->scale, r->unit, &r->pal);
         sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
-    } else if (r->scene.view.pendulum) {
+    } else if (r->look.view.pendulum) {
         if (f->trail && f->trail->count > 1)
             put_trail(r, f->trail);
         put_strobe(r, f->history);
@@ -437,14 +437,14 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
         sp_canvas_disc(cv, bb[0], bb[1], BOB_RADIUS * r->unit, 1, r->pal.bob);
     }
-    if (r->scene.view.panels)
-        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->scene.view.fade);
-    if (r->scene.view.hud)
+    if (r->look.view.panels)
+        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->look.view.fade);
+    if (r->look.view.hud)
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
     put_texts(r);
-    if (r->scene.view.colorbar) {
+    if (r->look.view.colorbar) {
         sp_canvas_layer(cv, SP_LAYER_STATIC);
-        sp_colorbar_draw(cv, &r->layout.colorbar, r->scene.view.colormap, r->max_speed,
+        sp_colorbar_draw(cv, &r->layout.colorbar, r->look.view.colormap, r->max_speed,
                          &r->pal, r->unit);
     }
     if (cv->err) {

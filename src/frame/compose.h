@@ -1,8 +1,8 @@
 /* springpend (internal): composes a frame on the CPU into a draw list
  * (canvas.h): the trail, stroboscopic images, mount, spring and bob in a
  * camera fitted to the motion, and the panels, heads-up text and colourbar
- * the scene's [view] asks for, placed by layout.c. Includes no GL or cairo:
- * any backend draws the result. */
+ * the look (sp_look: [view] and a few scene numbers) asks for, placed by
+ * layout.c. Includes no GL or cairo: any backend draws the result. */
 #ifndef SPRINGPEND_COMPOSE_H
 #define SPRINGPEND_COMPOSE_H
 
@@ -13,7 +13,7 @@
 struct sp_compose_desc {
     int width, height;            /* px of the drawing (supersampled size) */
     struct sp_view_extent extent; /* world rectangle to fit, speed and panel ranges */
-    const struct sp_scene *scene; /* [view] options; NULL = the defaults */
+    const struct sp_look *look;   /* what is drawn and how; NULL = the default scene's */
     int supersample;              /* the drawing is this many times the output
                                      (0 or 1 = not): text floors scale with it */
 };

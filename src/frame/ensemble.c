@@ -5,7 +5,6 @@
 
 #include "springpend/common.h"
 #include "springpend/ensemble.h"
-#include "signals.h"
 
 /* The members' scenes and parameters: value i = centre + spread (i/(n-1) - 1/2),
  * set through the parser's own path (sp_scene_set_number), so that a single
@@ -141,7 +140,7 @@ static int lyapunov(const struct sp_scene *scene, double t_end, double *lambda)
 }
 
 int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, double t_end,
-                     struct sp_view_extent *extent)
+                     const volatile sig_atomic_t *cancel, struct sp_view_extent *extent)
 {
     struct sp_ensemble *e = calloc(1, sizeof(*e));
     struct sp_batch *pre = NULL;
@@ -181,7 +180,7 @@ int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, dou
             extent->ymax = fmax(extent->ymax, fmax(y, yp));
             extent->max_speed = fmax(extent->max_speed, sqrt(vx * vx + vy * vy));
         }
-        if (sp_signal_seen()) {
+        if (cancel && *cancel) {
             ret = SP_E_INTERRUPTED;
             goto fail;
         }
@@ -255,7 +254,8 @@ int sp_ensemble_advance(struct sp_ensemble *e, double t)
     return 0;
 }
 
-int sp_ensemble_write_csv(FILE *fp, const struct sp_scene *scene, double every)
+int sp_ensemble_write_csv(FILE *fp, const struct sp_scene *scene, double every,
+                          const volatile sig_atomic_t *cancel)
 {
     struct sp_ensemble e = {0};
     struct sp_batch *b = NULL;
@@ -268,7 +268,7 @@ int sp_ensemble_write_csv(FILE *fp, const struct sp_scene *scene, double every)
         ret = SP_E_IO;
     for (long k = 0; k < n && !ret; k++) {
         const double t = every > 0 ? k * every : sp_scene_frame_time(scene, (int)k);
-        if (sp_signal_seen()) {
+        if (cancel && *cancel) {
             ret = SP_E_INTERRUPTED;
             break;
         }

@@ -40,7 +40,7 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
     if (!write_fn)
         return SP_E_IO;
     err = sp_compose_make(&c, &(struct sp_compose_desc){
-        .width = d->width, .height = d->height, .extent = d->extent, .scene = d->scene});
+        .width = d->width, .height = d->height, .extent = d->extent, .look = d->look});
     if (!err)
         err = sp_compose_frame(c, f, &cv);
     if (!err && !sp_outfile_is_stream(d->path))
@@ -51,7 +51,7 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
         struct sp_draw_cairo_desc dd = {
             .canvas = cv, .font = sp_compose_font(c), .width = d->width,
             .height = d->height, .fd = out.fd, .path = d->path, .format = format,
-            .title = d->scene ? d->scene->name : NULL};
+            .title = d->title};
         memcpy(dd.background, sp_compose_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }

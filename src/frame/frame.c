@@ -5,7 +5,6 @@
 
 #include "springpend/common.h"
 #include "springpend/frame.h"
-#include "signals.h"
 #include "sim_report.h"
 
 int sp_trail_make(struct sp_trail *tr, int capacity)
@@ -82,13 +81,28 @@ static void widen(struct sp_range *g, double v)
     g->hi = fmax(g->hi, v);
 }
 
+void sp_look_of(const struct sp_scene *scene, struct sp_look *out)
+{
+    struct sp_scene defaults;
+    if (!scene) {
+        sp_scene_defaults(&defaults);
+        scene = &defaults;
+    }
+    *out = (struct sp_look){.view = scene->view, .fps = scene->video.fps,
+                            .speed = scene->video.speed,
+                            .ensemble_count = scene->ensemble.count};
+}
+
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
+                           const volatile sig_atomic_t *cancel,
+                           void (*progress)(void *ctx, double t), void *progress_ctx,
                            struct sp_view_extent *out)
 {
     struct sp_sim sim;
     sp_sim_init(&sim, scene);
-    sim.cancel = sp_signal_flag();
-    sim.progress = sp_progress_sim;
+    sim.cancel = cancel;
+    sim.progress = progress;
+    sim.progress_ctx = progress_ctx;
     *out = (struct sp_view_extent){.t_end = t_end};
     out->r = out->theta = out->r_dot = out->theta_dot = out->energy = out->modes =
         (struct sp_range){INFINITY, -INFINITY};
@@ -197,8 +211,10 @@ static void hermite5(const double q[2], const double dq[2], const double ddq[2],
     *der = (d0 * q[0] - d0 * q[1]) / h + d1 * dq[0] + d4 * dq[1] + h * (d2 * ddq[0] + d3 * ddq[1]);
 }
 
-int sp_history_find_crossing(struct sp_history *h, const struct sp_params *p,
-                             const struct sp_state *a, const struct sp_state *b)
+/* Adds the crossing of x = 0 from x < 0 (below the pivot), if any, between
+ * states a and b of the same motion. 0 or SP_E_NOMEM. */
+static int find_crossing(struct sp_history *h, const struct sp_params *p,
+                         const struct sp_state *a, const struct sp_state *b)
 {
     double aa[2], ab[2], lo = 0, hi = 1, x, y, vx, vy;
     const double dt = b->t - a->t;
@@ -270,7 +286,7 @@ int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
         const struct sp_state a = sim->s;
         err = sp_sim_advance(sim, i == parts ? t_target : t0 + (t_target - t0) * i / parts);
         if (!err && h->poincare)
-            err = sp_history_find_crossing(h, &sim->p, &a, &sim->s);
+            err = find_crossing(h, &sim->p, &a, &sim->s);
         if (!err && i < parts)
             err = push_sample(h, sim);
     }

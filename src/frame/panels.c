@@ -34,10 +34,10 @@ static const struct sp_palette LIGHT = {
     .bob = {0.88f, 0.30f, 0.12f, 1}, .cmap_lo = 0.0f, .cmap_hi = 0.82f,
 };
 
-void sp_palette_get(const struct sp_scene *scene, struct sp_palette *out)
+void sp_palette_get(const struct sp_view *view, struct sp_palette *out)
 {
-    const int bg = scene->view.background;
-    *out = scene->view.theme == SP_THEME_LIGHT ? LIGHT : DARK;
+    const int bg = view->background;
+    *out = view->theme == SP_THEME_LIGHT ? LIGHT : DARK;
     if (bg == SP_BACKGROUND_TRANSPARENT) {
         out->background[3] = 0;
     } else if (bg >= 0) {

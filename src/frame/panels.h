@@ -19,8 +19,8 @@ struct sp_palette {
                                end that would vanish into the background is left out */
 };
 
-/* The theme's palette with the scene's background applied. */
-void sp_palette_get(const struct sp_scene *scene, struct sp_palette *out);
+/* The theme's palette with [view]'s background applied. */
+void sp_palette_get(const struct sp_view *view, struct sp_palette *out);
 
 /* Colour of a speed fraction t in [0, 1] in the scene's colormap. */
 void sp_colormap(int colormap, float t, float rgb[3]);

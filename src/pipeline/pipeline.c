@@ -235,10 +235,10 @@ static int run_setup(struct run *run)
         t_end = fmax(desc->still_at, t_end);
 
     sp_progress_begin(desc->progress, "camera pre-pass", t_end);
-    ret = sp_view_extent_measure(sc, t_end, &run->extent);
+    ret = sp_view_extent_measure(sc, t_end, sp_signal_flag(), sp_progress_sim, NULL, &run->extent);
     sp_progress_end();
     if (!ret && sc->ensemble.count > 1) /* widens the extent by every member's motion */
-        ret = sp_ensemble_make(&run->ens, sc, t_end, &run->extent);
+        ret = sp_ensemble_make(&run->ens, sc, t_end, sp_signal_flag(), &run->extent);
     if (ret)
         return ret;
     const struct sp_view_extent extent = run->extent;
@@ -265,9 +265,11 @@ static int run_setup(struct run *run)
         ret = sp_history_make(&run->hist, sc);
     if (ret || run->figure)
         return ret;
+    struct sp_look look;
+    sp_look_of(sc, &look);
     ret = sp_render_make(&run->r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
-        .scene = sc, .supersample = desc->supersample});
+        .look = &look, .supersample = desc->supersample});
     if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r))) != 0)
         return ret;
     return sp_sink_open(&run->sink, &(struct sp_sink_desc){
@@ -313,12 +315,14 @@ static int run_still_follow(struct run *run)
  * writes it whole, so run_finish does not follow. */
 static int run_figure(struct run *run)
 {
+    struct sp_look look;
     int ret = run_still_follow(run);
     if (ret)
         return ret;
+    sp_look_of(run->sc, &look);
     ret = sp_figure_write(&(struct sp_figure_desc){
-        .width = run->w, .height = run->h, .extent = run->extent, .scene = run->sc,
-        .path = run->desc->output},
+        .width = run->w, .height = run->h, .extent = run->extent, .look = &look,
+        .title = run->sc->name, .path = run->desc->output},
         &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p, .trail = &run->trail,
                            .history = &run->hist, .ensemble = run->ens});
     if (!ret && run->desc->state_out)

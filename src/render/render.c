@@ -54,7 +54,7 @@ int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
         goto fail;
     }
     err = sp_compose_make(&r->composer, &(struct sp_compose_desc){
-        .width = r->width, .height = r->height, .extent = desc->extent, .scene = desc->scene,
+        .width = r->width, .height = r->height, .extent = desc->extent, .look = desc->look,
         .supersample = r->ss});
     if (!err)
         err = sp_gl_context_make(&r->ctx, r->width, r->height, desc->gl);

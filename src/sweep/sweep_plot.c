@@ -416,7 +416,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
         return ret;
     sp_scene_defaults(&look);
     look.view.theme = d.theme;
-    sp_palette_get(&look, &pal);
+    sp_palette_get(&look.view, &pal);
     /* cairo writes front to back: a device or stdout is fine */
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;

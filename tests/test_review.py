@@ -12,6 +12,7 @@ import signal
 import stat
 import subprocess
 import sys
+import time
 import xml.dom.minidom
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
@@ -345,6 +346,26 @@ for ext in ("PNG", "Svg", "PDF"):
     head = open(out, "rb").read(5) if os.path.exists(out) else b""
     ok(r.returncode == 0 and head[:4] in (b"\x89PNG", b"<?xm", b"%PDF"),
        f"sweep -o x.{ext} writes that format: {r.returncode} {head!r} {err(r)}")
+
+# ---- Ctrl-C while a FIFO scene waits for its writer: 130 at once ----
+# The wait ignored the signal once the parser stopped reading the process's
+# flag (and read() then blocked); the parser itself reads no global state.
+fifo_scene = path("waiting.ini")
+os.mkfifo(fifo_scene)
+p = subprocess.Popen([exe, "info", fifo_scene], cwd=work, stdout=subprocess.PIPE,
+                     stderr=subprocess.PIPE)
+time.sleep(0.5)
+p.send_signal(signal.SIGINT)
+t0 = time.monotonic()
+try:
+    p.communicate(timeout=3)
+    waited = time.monotonic() - t0
+except subprocess.TimeoutExpired:
+    p.kill()
+    p.communicate()
+    waited = None
+ok(waited is not None and p.returncode == 130,
+   f"Ctrl-C while a FIFO scene waits for its writer: exit 130 promptly: {p.returncode} {waited}")
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

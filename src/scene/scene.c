@@ -18,7 +18,6 @@
 #include "springpend/common.h"
 #include "springpend/scene.h"
 #include "ini_lines.h"
-#include "signals.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
 /* Frame times are indexed by int; what a command makes of them has its own
@@ -728,7 +727,8 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
 /* Reads the whole scene at path into *text (NUL-terminated, caller frees).
  * A regular file is read by its size; a pipe, FIFO or device as a stream
  * (`<(cat x)`, `/dev/stdin`), at most 1 MiB, after waiting at most
- * SCENE_FIFO_WAIT_MS for a writer; a folder is refused. Logs; SP_E_INPUT. */
+ * SCENE_FIFO_WAIT_MS for a writer; a folder is refused. Logs; SP_E_INPUT, or
+ * SP_E_INTERRUPTED without a word when a stop signal cuts the wait or a read. */
 static int read_scene(const char *path, char **text, size_t *size)
 {
     const size_t max = 1u << 20;
@@ -755,8 +755,17 @@ static int read_scene(const char *path, char **text, size_t *size)
     if (S_ISFIFO(st.st_mode)) {
         struct pollfd pfd = {.fd = fd, .events = POLLIN};
         int n;
-        while ((n = poll(&pfd, 1, SCENE_FIFO_WAIT_MS)) < 0 && errno == EINTR && !sp_signal_seen())
-            ;
+        /* EINTR here is a stop signal: the only handlers springpend installs
+         * (signals.c) are for SIGINT, SIGTERM and SIGHUP, so give up at once. */
+        n = poll(&pfd, 1, SCENE_FIFO_WAIT_MS);
+        if (n < 0) {
+            if (errno == EINTR)
+                ret = SP_E_INTERRUPTED;
+            else
+                fprintf(stderr, "%s: cannot wait for the FIFO's writer: %s\n", path,
+                        strerror(errno));
+            goto done;
+        }
         if (n == 0) {
             fprintf(stderr, "%s: a FIFO with nothing written to it after %d s; start its "
                     "writer first, or give a scene file\n", path, SCENE_FIFO_WAIT_MS / 1000);
@@ -781,8 +790,10 @@ static int read_scene(const char *path, char **text, size_t *size)
         }
         *text = grown;
         ssize_t got = read(fd, *text + *size, cap - 1 - *size);
-        if (got < 0 && errno == EINTR && !sp_signal_seen())
-            continue;
+        if (got < 0 && errno == EINTR) { /* a stop signal, as above */
+            ret = SP_E_INTERRUPTED;
+            goto done;
+        }
         if (got < 0) {
             fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
             goto done;

@@ -70,6 +70,12 @@ void sp_canvas_path_begin(struct sp_canvas *c)
     new_item(c, SP_ITEM_PATH, c->n_shapes);
 }
 
+void sp_canvas_path_lanes(struct sp_canvas *c, int n)
+{
+    if (c->in_path && c->n_items && c->items[c->n_items - 1].kind == SP_ITEM_PATH)
+        c->items[c->n_items - 1].lanes = n;
+}
+
 void sp_canvas_path_end(struct sp_canvas *c)
 {
     c->in_path = 0;

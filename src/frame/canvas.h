@@ -15,9 +15,10 @@
  *   CLIP    the rectangle the shapes after it are clipped to (text is not
  *           clipped), or none.
  * Every item carries a layer (static: the same every frame, e.g. panel
- * frames and axes; dynamic: the motion) so that a backend may cache the
- * static part. Both backends draw the accumulated layer, then the shapes
- * in list order, then the text over them. Allocation failures are remembered in `err` and reported once
+ * frames and axes; settled: a strip chart's past, which only grows;
+ * dynamic: the motion) so that a backend may cache the static part and
+ * append to the settled one. Both backends draw the accumulated layer, then
+ * the shapes in list order, then the text over them. Allocation failures are remembered in `err` and reported once
  * by the caller. */
 #ifndef SPRINGPEND_CANVAS_H
 #define SPRINGPEND_CANVAS_H
@@ -44,6 +45,11 @@ enum sp_layer {
                          what is new (a long exposure's settled trail), drawn
                          under everything else; a backend that draws one
                          frame just draws it first */
+    SP_LAYER_SETTLED, /* drawn in list order like the others, but append-only:
+                         each frame's item holds the last frame's shapes of
+                         the same item first, unchanged, then what is new
+                         (a strip chart's curve up to its newest complete
+                         time bin), so a backend may draw only what is new */
 };
 
 /* How shapes combine with what is under them. */
@@ -60,6 +66,12 @@ struct sp_item {
     enum sp_layer layer;
     enum sp_blend blend;
     int first, count; /* shapes (SHAPES, PATH) or glyph quads (TEXT) */
+    /* PATH only: lanes >= 2 interleaves that many polylines, shape k
+     * belonging to lane (k - first) % lanes: the series of one chart drawn
+     * point by point (each point's segments in lane order), so that the
+     * chart's appended parts overlap as the whole does; a vector backend
+     * strokes each lane as one path, lane 0 first. 0 or 1: one polyline. */
+    int lanes;
     /* TEXT only: */
     int size;         /* enum sp_text_size */
     float x, y;       /* pen start and baseline, px (whole pixels) */
@@ -99,6 +111,8 @@ void sp_canvas_blend(struct sp_canvas *c, enum sp_blend blend);
  * (SHAPES). */
 void sp_canvas_path_begin(struct sp_canvas *c);
 void sp_canvas_path_end(struct sp_canvas *c);
+/* Within a path: its shapes interleave n polylines (sp_item.lanes). */
+void sp_canvas_path_lanes(struct sp_canvas *c, int n);
 
 /* Clips the shapes added from now on to the rectangle (x0, y0, x1, y1) px;
  * NULL = no clipping. */

@@ -412,7 +412,6 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
 /* What a strip chart or phase plot shows along an axis. The energies run
  * total, kinetic, spring, gravity (palette series 0..3), then the modes. */
 enum quantity {
-    Q_TIME = -1,  /* s: the x axis of a strip chart */
     Q_R,          /* m */
     Q_THETA,      /* degrees */
     Q_EXTENSION,  /* m: r - L0 */
@@ -426,7 +425,7 @@ enum quantity {
     Q_SWING,      /* J */
 };
 
-/* Sample s's value of quantity which (not Q_TIME). */
+/* Sample s's value of quantity which. */
 static double quantity(const struct sp_history_sample *s, enum quantity which,
                        const struct sp_params *p)
 {
@@ -446,19 +445,16 @@ static double quantity(const struct sp_history_sample *s, enum quantity which,
     }
 }
 
-/* A polyline of (x(i), y(i)) over the samples (x = time when xq is Q_TIME);
- * with fade_to, old parts fade into that colour. */
+/* A phase curve: the polyline of (x(i), y(i)) over the samples; with
+ * fade_to, old parts fade into that colour. */
 static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
                      enum quantity xq, enum quantity yq, const struct sp_params *pp, int first, float hw, const float color[4],
                      const float *fade_to)
 {
     const int fade = fade_to != NULL;
     const int n = h->count - first;
-    /* over time, two segments per pixel column; a phase curve may wind over
-     * itself many times, so it keeps up to 8000 */
-    int max_segs = xq == Q_TIME ? 2 * (int)(p->area.x1 - p->area.x0) : 8000;
-    if (max_segs < 2) /* a plot squeezed to under a pixel (tiny frames) */
-        max_segs = 2;
+    /* it may wind over itself many times, so it keeps up to 8000 segments */
+    const int max_segs = 8000;
     const int stride = n > max_segs ? (n + max_segs - 1) / max_segs : 1;
     float col[4] = {color[0], color[1], color[2], color[3]};
     float ax = 0, ay = 0;
@@ -467,7 +463,7 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
     for (int i = first; i < h->count; i += stride) {
         const int j = i + stride >= h->count ? h->count - 1 : i;
         const struct sp_history_sample *s = &h->samples[j];
-        const float bx = xq == Q_TIME ? px_x(p, s->t) : px_x(p, quantity(s, xq, pp));
+        const float bx = px_x(p, quantity(s, xq, pp));
         const float by = px_y(p, quantity(s, yq, pp));
         if (have) {
             if (fade) { /* mixed with the opaque panel colour: no beads at the joints */
@@ -487,6 +483,57 @@ static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_
 static struct sp_range range_of(struct sp_range r, double scale, double shift)
 {
     return (struct sp_range){r.lo * scale + shift, r.hi * scale + shift};
+}
+
+/* The series of a strip chart, drawn over time. What is drawn of the past
+ * must not change as the history grows, so that a backend may keep it
+ * (SP_LAYER_SETTLED): the x axis spans the whole run, and the samples are
+ * thinned by fixed time bins of the axis (two per pixel column) instead of
+ * a stride that grows with their count. A sample is a point of the curve
+ * when it is the first, or the last of its bin, which is known once the
+ * next sample exists; the points so far form the settled curve, one PATH
+ * item whose segments interleave the series point by point, in the order
+ * given (the last on top). The tail from the last point to the newest
+ * sample is redrawn each frame (dynamic). Each series has its colour and
+ * half width (px). */
+static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
+                         const struct sp_params *pp, const enum quantity *qs, int n,
+                         const float *const *colors, const float *hws)
+{
+    int max_segs = 2 * (int)(p->area.x1 - p->area.x0);
+    if (max_segs < 2) /* a plot squeezed to under a pixel (tiny frames) */
+        max_segs = 2;
+    const double bin = (p->x.hi - p->x.lo) / max_segs;
+    const struct sp_history_sample *s = h->samples;
+    float ax = px_x(p, s[0].t), ay[4];
+    for (int k = 0; k < n; k++)
+        ay[k] = px_y(p, quantity(&s[0], qs[k], pp));
+    sp_canvas_layer(c, SP_LAYER_SETTLED);
+    sp_canvas_path_begin(c);
+    sp_canvas_path_lanes(c, n);
+    double b_this = h->count > 1 ? floor((s[1].t - p->x.lo) / bin) : 0;
+    for (int i = 1; i + 1 < h->count; i++) {
+        const double b_next = floor((s[i + 1].t - p->x.lo) / bin);
+        const int point = b_next != b_this || !(bin > 0);
+        b_this = b_next;
+        if (!point)
+            continue;
+        const float bx = px_x(p, s[i].t);
+        for (int k = 0; k < n; k++) {
+            const float by = px_y(p, quantity(&s[i], qs[k], pp));
+            sp_canvas_line(c, ax, ay[k], bx, by, hws[k], colors[k]);
+            ay[k] = by;
+        }
+        ax = bx;
+    }
+    sp_canvas_path_end(c);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC);
+    if (h->count < 2)
+        return;
+    const struct sp_history_sample *last = &s[h->count - 1];
+    const float bx = px_x(p, last->t);
+    for (int k = 0; k < n; k++)
+        sp_canvas_line(c, ax, ay[k], bx, px_y(p, quantity(last, qs[k], pp)), hws[k], colors[k]);
 }
 
 static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
@@ -513,26 +560,36 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                                         {"swing|swg", pal->series[2], 0, NULL}};
     frame_plot(c, r, &p, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
                yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 4 : bit == 7 ? 2 : 0);
-    if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) /* the zero line */
+    if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) { /* the zero line */
+        sp_canvas_layer(c, SP_LAYER_STATIC);
         sp_canvas_rect(c, p.area.x0, px_y(&p, 0) - hw * 0.6f, p.area.x1, px_y(&p, 0) + hw * 0.6f, pal->axis);
+        sp_canvas_layer(c, SP_LAYER_DYNAMIC);
+    }
     if (!h || h->count == 0)
         return;
-    const float now = px_x(&p, h->samples[h->count - 1].t);
-    sp_canvas_rect(c, now - hw * 0.8f, p.area.y0, now + hw * 0.8f, p.area.y1, pal->cursor);
-    if (bit == 2) { /* the split first, the total on top */
-        for (int k = 3; k >= 0; k--)
-            polyline(c, &p, h, Q_TIME, Q_ENERGY + k, L0, 0, k ? hw : 1.4f * hw, pal->series[k], NULL);
-    } else if (bit == 7) { /* bounce and swing */
-        for (int k = 0; k < 2; k++) {
-            polyline(c, &p, h, Q_TIME, Q_BOUNCE + k, L0, 0, 1.2f * hw, pal->series[k + 1], NULL);
-            sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], Q_BOUNCE + k, L0)), 2.2f * hw,
-                           0, pal->series[k + 1]);
-        }
+    /* the series (the energies' split first, the total on top), then the
+     * cursor at the newest time, then the dots on it */
+    enum quantity qs[4];
+    const float *colors[4];
+    float hws[4];
+    int n = 0;
+    if (bit == 2) {
+        for (int k = 3; k >= 0; k--, n++)
+            qs[n] = Q_ENERGY + k, colors[n] = pal->series[k], hws[n] = k ? hw : 1.4f * hw;
+    } else if (bit == 7) {
+        for (int k = 0; k < 2; k++, n++)
+            qs[n] = Q_BOUNCE + k, colors[n] = pal->series[k + 1], hws[n] = 1.2f * hw;
     } else {
-        const enum quantity q = bit == 0 ? Q_R : bit == 1 ? Q_THETA : Q_EXTENSION;
-        polyline(c, &p, h, Q_TIME, q, L0, 0, hw, pal->series[1], NULL);
-        sp_canvas_disc(c, now, px_y(&p, quantity(&h->samples[h->count - 1], q, L0)), 2.2f * hw, 0, pal->series[1]);
+        qs[0] = bit == 0 ? Q_R : bit == 1 ? Q_THETA : Q_EXTENSION;
+        colors[0] = pal->series[1], hws[0] = hw, n = 1;
     }
+    strip_curves(c, &p, h, L0, qs, n, colors, hws);
+    const struct sp_history_sample *last = &h->samples[h->count - 1];
+    const float now = px_x(&p, last->t);
+    sp_canvas_rect(c, now - hw * 0.8f, p.area.y0, now + hw * 0.8f, p.area.y1, pal->cursor);
+    if (bit != 2)
+        for (int k = 0; k < n; k++)
+            sp_canvas_disc(c, now, px_y(&p, quantity(last, qs[k], L0)), 2.2f * hw, 0, colors[k]);
 }
 
 static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,

@@ -151,8 +151,9 @@ static void print_times(const struct stage_times *t, const struct queue *q,
             t->wait, t->wait * per, q->encode_s,
             q->encode_s * per, q->idle_s, q->idle_s * per, t->finish, t->total,
             t->total > 0 ? frames / t->total : 0);
-    fprintf(stderr, "  static layer cached in %ld frames (drawn %ld time%s), uncached in %ld\n",
-            rs->cached, rs->redrawn, rs->redrawn == 1 ? "" : "s", rs->uncached);
+    fprintf(stderr, "  static layer cached in %ld frames (drawn %ld time%s), uncached in %ld\n"
+            "  settled chart curves appended to it in %ld frames\n",
+            rs->cached, rs->redrawn, rs->redrawn == 1 ? "" : "s", rs->uncached, rs->appended);
 }
 
 /* ---- the run ---- */

@@ -127,6 +127,27 @@ static void path(cairo_t *cr, const struct sp_shape *s, int n)
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
 }
 
+/* n shapes interleaving `lanes` polylines (sp_item.lanes): each stroked as
+ * one path, lane 0 first. 0 or SP_E_NOMEM. */
+static int lanes(cairo_t *cr, const struct sp_shape *s, int n, int lanes)
+{
+    const int per = (n + lanes - 1) / lanes;
+    struct sp_shape *lane = malloc((size_t)(per ? per : 1) * sizeof(*lane));
+    if (!lane) {
+        sp_log_error("out of memory for a chart's curves");
+        return SP_E_NOMEM;
+    }
+    for (int l = 0; l < lanes; l++) {
+        int m = 0;
+        for (int k = l; k < n; k += lanes)
+            lane[m++] = s[k];
+        if (m)
+            path(cr, lane, m);
+    }
+    free(lane);
+    return 0;
+}
+
 /* A text run as glyphs with their text (clusters of one code point each),
  * so a PDF keeps it selectable. */
 static int text(cairo_t *cr, const struct sp_font *f, const struct sp_item *it, const char *utf8)
@@ -192,8 +213,8 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
         cairo_paint(cr);
     }
     /* the accumulated layer first, then the rest in order */
-    for (int pass = 0; pass < 2; pass++) {
-        for (int i = 0; i < c->n_items && !sp_signal_seen(); i++) { /* Ctrl-C: stop */
+    for (int pass = 0; pass < 2 && !err; pass++) {
+        for (int i = 0; i < c->n_items && !err && !sp_signal_seen(); i++) { /* Ctrl-C: stop */
             const struct sp_item *it = &c->items[i];
             if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
                 continue;
@@ -204,6 +225,9 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
                                     it->clip[3] - it->clip[1]);
                     cairo_clip(cr);
                 }
+            } else if (it->kind == SP_ITEM_PATH && it->lanes > 1) {
+                if ((err = lanes(cr, c->shapes + it->first, it->count, it->lanes)) != 0)
+                    break;
             } else if (it->kind == SP_ITEM_PATH)
                 path(cr, c->shapes + it->first, it->count);
             else if (it->kind == SP_ITEM_SHAPES)

@@ -57,6 +57,14 @@ struct sp_draw_gl {
     unsigned char *dtiles;       /* scratch: DTILE px squares touched */
     struct box *boxes;           /* per item of the list: what it may touch */
     int cap_boxes;
+    /* The settled layer as base holds it: per settled item in list order, a
+     * struct settled_head and the shapes drawn. A frame whose settled items
+     * start with these, unchanged, draws only the rest into base. */
+    unsigned char *settled;
+    size_t n_settled, cap_settled; /* bytes */
+    int *settled_old;            /* scratch: per settled item, shapes base holds */
+    int *settled_new;            /* scratch: per settled item, 4 ints (settled_find_new) */
+    int n_settled_items, cap_settled_old;
     int cache;                   /* 1 = cache the static layer */
     struct sp_draw_gl_stats stats;
     int width, height;           /* px */
@@ -193,6 +201,7 @@ static void clip(const struct sp_gl_api *gl, const float r[4], int height)
 #define STATIC_BIT LAYER_BIT(SP_LAYER_STATIC)
 #define DYNAMIC_BIT LAYER_BIT(SP_LAYER_DYNAMIC)
 #define ACCUM_BIT LAYER_BIT(SP_LAYER_ACCUM)
+#define SETTLED_BIT LAYER_BIT(SP_LAYER_SETTLED)
 
 /* One instanced draw per run of shape items of the layers in `layers` with
  * the same blending and clip. Clip items apply except to the accumulated
@@ -487,12 +496,31 @@ static int items_meet(const struct sp_draw_gl *d, const struct sp_canvas *c, int
     return 0;
 }
 
-/* Whether drawing c's static layer before its dynamic one keeps every
- * pixel: no dynamic item that the list draws before a static one (shapes
- * in list order, then text in list order) touches it. */
+/* Whether drawing c's static layer, then its settled one, then its
+ * dynamic one keeps every pixel of drawing the list in order (shapes in
+ * list order, then text in list order): no dynamic item that the list draws
+ * before a static one touches it; no settled item touches static text, a
+ * static shape the list draws after it, a dynamic shape the list draws
+ * before it, or another settled item (base gets each frame's new parts of
+ * all settled items in turn). */
 static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c, int *any_static)
 {
     *any_static = 0;
+    for (int a = 0; a < c->n_items; a++) {
+        if (c->items[a].kind == SP_ITEM_CLIP || c->items[a].layer != SP_LAYER_SETTLED)
+            continue;
+        for (int k = 0; k < c->n_items; k++) {
+            const struct sp_item *o = &c->items[k];
+            if (k == a || o->kind == SP_ITEM_CLIP)
+                continue;
+            const int text = o->kind == SP_ITEM_TEXT;
+            const int clash = o->layer == SP_LAYER_SETTLED ||
+                              (o->layer == SP_LAYER_STATIC && (text || k > a)) ||
+                              (o->layer == SP_LAYER_DYNAMIC && !text && k < a);
+            if (clash && items_meet(d, c, a, k))
+                return 0;
+        }
+    }
     for (int s = 0; s < c->n_items; s++) {
         const struct sp_item *st = &c->items[s];
         if (st->kind == SP_ITEM_CLIP || st->layer != SP_LAYER_STATIC)
@@ -567,6 +595,18 @@ static int rects_make(struct sp_draw_gl *d, const struct sp_canvas *c)
                 memcpy(d->fills[d->n_fills++], sh->color, sizeof(d->fills[f]));
             tiles_mark(d, tw, th, tx0, ty0, tx1, ty1, (unsigned char)(2 + f));
         }
+    }
+    /* base holds the settled layer too, which grows: all it may cover */
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_SETTLED)
+            continue;
+        const float *cl = d->boxes[i].clip;
+        if (cl[2] > cl[0])
+            tiles_mark(d, tw, th, (int)floorf((floorf(cl[0]) - 1) / TILE), (int)floorf((floorf(cl[1]) - 1) / TILE),
+                       (int)floorf((ceilf(cl[2]) + 1) / TILE), (int)floorf((ceilf(cl[3]) + 1) / TILE), 1);
+        else
+            tiles_mark(d, tw, th, 0, 0, tw - 1, th - 1, 1);
     }
     d->n_rects = 0;
     int row_first = 0; /* the rectangles ending on the previous row start here */
@@ -679,14 +719,15 @@ static int key_make(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     return err;
 }
 
-/* Whether the accumulated items of c touch no static item. */
+/* Whether the accumulated items of c touch no static or settled item. */
 static int accum_apart(const struct sp_draw_gl *d, const struct sp_canvas *c)
 {
     for (int a = 0; a < c->n_items; a++) {
         if (c->items[a].kind == SP_ITEM_CLIP || c->items[a].layer != SP_LAYER_ACCUM)
             continue;
         for (int s = 0; s < c->n_items; s++)
-            if (c->items[s].kind != SP_ITEM_CLIP && c->items[s].layer == SP_LAYER_STATIC &&
+            if (c->items[s].kind != SP_ITEM_CLIP &&
+                (c->items[s].layer == SP_LAYER_STATIC || c->items[s].layer == SP_LAYER_SETTLED) &&
                 items_meet(d, c, a, s))
                 return 0;
     }
@@ -702,30 +743,53 @@ static void shapes_bind(const struct sp_gl_api *gl, const struct instances *shap
     gl->BindBuffer(GL_ARRAY_BUFFER, shape->vbo);
 }
 
-/* Sets d->damage to the DTILE px squares c's dynamic items may touch, as
- * runs along each row. 0 or SP_E_NOMEM. */
-static int damage_make(struct sp_draw_gl *d, const struct sp_canvas *c)
+/* Marks the DTILE px squares that shapes [from, to) of item i of c may touch
+ * in d->dtiles (sized by dtiles_clear). */
+static void dtiles_mark(struct sp_draw_gl *d, const struct sp_canvas *c, int i, int from, int to)
+{
+    const int tw = (d->width + DTILE - 1) / DTILE, th = (d->height + DTILE - 1) / DTILE;
+    const struct sp_item *it = &c->items[i];
+    for (int k = from; k < to; k++) {
+        const struct box b = prim_box(c, it, k, d->boxes[i].clip);
+        if (b.x1 < b.x0)
+            continue;
+        int x0 = (int)floorf(b.x0 / DTILE), y0 = (int)floorf(b.y0 / DTILE);
+        int x1 = (int)floorf(b.x1 / DTILE), y1 = (int)floorf(b.y1 / DTILE);
+        x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+        x1 = x1 >= tw ? tw - 1 : x1, y1 = y1 >= th ? th - 1 : y1;
+        for (int y = y0; y <= y1; y++)
+            memset(d->dtiles + (size_t)y * tw + x0, 1, x1 >= x0 ? (size_t)(x1 - x0 + 1) : 0);
+    }
+}
+
+/* Empties d->dtiles. 0 or SP_E_NOMEM. */
+static int dtiles_clear(struct sp_draw_gl *d)
 {
     const int tw = (d->width + DTILE - 1) / DTILE, th = (d->height + DTILE - 1) / DTILE;
     if (!d->dtiles && !(d->dtiles = malloc((size_t)tw * (size_t)th)))
         return SP_E_NOMEM;
     memset(d->dtiles, 0, (size_t)tw * (size_t)th);
-    for (int i = 0; i < c->n_items; i++) {
+    return 0;
+}
+
+/* Marks the squares c's dynamic items may touch: what the next frame
+ * restores from base. 0 or SP_E_NOMEM. */
+static int damage_mark(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    int err = dtiles_clear(d);
+    for (int i = 0; i < c->n_items && !err; i++) {
         const struct sp_item *it = &c->items[i];
-        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_DYNAMIC)
-            continue;
-        for (int k = it->first; k < it->first + it->count; k++) {
-            const struct box b = prim_box(c, it, k, d->boxes[i].clip);
-            if (b.x1 < b.x0)
-                continue;
-            int x0 = (int)floorf(b.x0 / DTILE), y0 = (int)floorf(b.y0 / DTILE);
-            int x1 = (int)floorf(b.x1 / DTILE), y1 = (int)floorf(b.y1 / DTILE);
-            x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
-            x1 = x1 >= tw ? tw - 1 : x1, y1 = y1 >= th ? th - 1 : y1;
-            for (int y = y0; y <= y1; y++)
-                memset(d->dtiles + (size_t)y * tw + x0, 1, x1 >= x0 ? (size_t)(x1 - x0 + 1) : 0);
-        }
+        if (it->kind != SP_ITEM_CLIP && it->layer == SP_LAYER_DYNAMIC)
+            dtiles_mark(d, c, i, it->first, it->first + it->count);
     }
+    return err;
+}
+
+/* Sets d->damage to the marked squares, as runs along each row. 0 or
+ * SP_E_NOMEM. */
+static int damage_runs(struct sp_draw_gl *d)
+{
+    const int tw = (d->width + DTILE - 1) / DTILE, th = (d->height + DTILE - 1) / DTILE;
     d->n_damage = 0;
     for (int y = 0; y < th; y++)
         for (int x = 0; x < tw;) {
@@ -750,6 +814,141 @@ static int damage_make(struct sp_draw_gl *d, const struct sp_canvas *c)
             x = e;
         }
     return 0;
+}
+
+/* ---- the settled layer in base ---- */
+
+struct settled_head {
+    int blend, lanes, count;
+    float clip[4];
+};
+
+/* Whether base holds a prefix of each of c's settled items (the same
+ * items, blending, lanes and clips; their first shapes byte for byte), and
+ * how many shapes of each (d->settled_old). 0 = no, 1 = yes, or
+ * SP_E_NOMEM. */
+static int settled_prefix(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    size_t at = 0;
+    int j = 0;
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_SETTLED)
+            continue;
+        struct settled_head h;
+        if (at + sizeof(h) > d->n_settled)
+            return 0;
+        memcpy(&h, d->settled + at, sizeof(h));
+        at += sizeof(h);
+        if (h.blend != (int)it->blend || h.lanes != it->lanes || h.count > it->count ||
+            memcmp(h.clip, d->boxes[i].clip, sizeof(h.clip)) ||
+            memcmp(d->settled + at, c->shapes + it->first, (size_t)h.count * sizeof(*c->shapes)))
+            return 0;
+        at += (size_t)h.count * sizeof(*c->shapes);
+        if (j == d->cap_settled_old) {
+            int *p = realloc(d->settled_old, (size_t)(2 * j + 8) * sizeof(*p));
+            if (!p)
+                return SP_E_NOMEM;
+            d->settled_old = p;
+            p = realloc(d->settled_new, (size_t)(2 * j + 8) * 4 * sizeof(*p));
+            if (!p)
+                return SP_E_NOMEM;
+            d->settled_new = p;
+            d->cap_settled_old = 2 * j + 8;
+        }
+        d->settled_old[j++] = h.count;
+    }
+    d->n_settled_items = j;
+    return at == d->n_settled;
+}
+
+/* Records c's settled items as base now holds them. 0 or SP_E_NOMEM. */
+static int settled_save(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    int err = 0;
+    d->n_settled = 0;
+    for (int i = 0; i < c->n_items && !err; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_SETTLED)
+            continue;
+        struct settled_head h = {(int)it->blend, it->lanes, it->count, {0, 0, 0, 0}};
+        memcpy(h.clip, d->boxes[i].clip, sizeof(h.clip));
+        err = append(&d->settled, &d->n_settled, &d->cap_settled, &h, sizeof(h));
+        if (!err)
+            err = append(&d->settled, &d->n_settled, &d->cap_settled, c->shapes + it->first,
+                         (size_t)it->count * sizeof(*c->shapes));
+    }
+    if (err)
+        d->n_settled = 0;
+    return err;
+}
+
+/* The whole pixels (x0, y0, x1, y1, y down) that what is new of c's
+ * settled items (past d->settled_old) may touch, per item in d->settled_new
+ * (x1 <= x0: nothing new), also marked in d->dtiles. Returns the shapes. */
+static int settled_find_new(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    int j = 0, n_new = 0;
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_SETTLED)
+            continue;
+        const int old = d->settled_old[j];
+        struct box u = {INFINITY, INFINITY, -INFINITY, -INFINITY, {0, 0, 0, 0}};
+        for (int k = it->first + old; k < it->first + it->count; k++) {
+            const struct box b = prim_box(c, it, k, d->boxes[i].clip);
+            if (b.x1 >= b.x0)
+                box_add(&u, b.x0, b.y0, b.x1, b.y1);
+        }
+        int *r = d->settled_new + 4 * j++;
+        r[0] = r[1] = r[2] = r[3] = 0;
+        if (u.x1 >= u.x0) {
+            r[0] = (int)fmaxf(0, floorf(u.x0)), r[1] = (int)fmaxf(0, floorf(u.y0));
+            r[2] = (int)fminf((float)d->width, ceilf(u.x1) + 1);
+            r[3] = (int)fminf((float)d->height, ceilf(u.y1) + 1);
+            dtiles_mark(d, c, i, it->first + old, it->first + it->count);
+        }
+        n_new += it->count - old;
+    }
+    return n_new;
+}
+
+/* Draws what is new of c's settled items into the bound framebuffer, under
+ * their clips. The shape program must be bound. */
+static void settled_draw_new(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    const struct sp_gl_api *gl = d->gl;
+    int j = 0;
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_SETTLED)
+            continue;
+        const int old = d->settled_old[j++];
+        if (it->count == old)
+            continue;
+        clip(gl, d->boxes[i].clip, d->height);
+        if (it->blend == SP_BLEND_MAX)
+            gl->BlendEquation(GL_MAX);
+        shape_base(gl, it->first + old);
+        gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(it->count - old));
+        gl->BlendEquation(GL_FUNC_ADD);
+    }
+    gl->Disable(GL_SCISSOR_TEST);
+}
+
+/* Copies d->settled_new's rectangles of the target into base. */
+static void settled_copy_back(struct sp_draw_gl *d, int n_items, GLuint target)
+{
+    const struct sp_gl_api *gl = d->gl;
+    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, target);
+    gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->base_fbo);
+    for (int j = 0; j < n_items; j++) {
+        const int *r = d->settled_new + 4 * j;
+        if (r[2] > r[0] && r[3] > r[1]) /* GL counts rows from the bottom */
+            gl->BlitFramebuffer(r[0], d->height - r[3], r[2], d->height - r[1], r[0], d->height - r[3],
+                                r[2], d->height - r[1], GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    gl->BindFramebuffer(GL_FRAMEBUFFER, target);
 }
 
 /* Copies base over d->damage, in one instanced draw without blending. */
@@ -826,11 +1025,16 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
             sp_log_error("out of memory for the static cache's key");
             return err;
         }
-        if (!d->base_valid || d->n_next != d->n_key || memcmp(d->next, d->key, d->n_key)) {
+        int prefix = 0; /* base holds the static layer and a prefix of the settled one */
+        if (d->base_valid && d->n_next == d->n_key && !memcmp(d->next, d->key, d->n_key) &&
+            (prefix = settled_prefix(d, c)) < 0) {
+            sp_log_error("out of memory for the settled layer's record");
+            return prefix;
+        }
+        if (!prefix) {
             /* (re)draw the cache: the long exposure or the background, then
-             * the static layer's shapes and text, drawn into the target
-             * itself (its pixel format may blend with other rounding than
-             * a texture's) and copied */
+             * the static layer's shapes and text, then the settled layer,
+             * drawn into the target itself and copied */
             if (!d->base_fbo &&
                 (err = layer_make(d, &d->base_fbo, &d->base_tex, bg, "the static layer")) != 0)
                 return err;
@@ -848,6 +1052,12 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
             draw_shapes(gl, c, STATIC_BIT, d->height);
             if (text)
                 draw_text(gl, &d->text, d->atlas, c, STATIC_BIT);
+            shapes_bind(gl, &d->shape);
+            draw_shapes(gl, c, SETTLED_BIT, d->height);
+            if ((err = settled_save(d, c)) != 0) {
+                sp_log_error("out of memory for the settled layer's record");
+                return err;
+            }
             gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->base_fbo);
             gl->BlitFramebuffer(0, 0, d->width, d->height, 0, 0, d->width, d->height,
                                 GL_COLOR_BUFFER_BIT, GL_NEAREST);
@@ -864,17 +1074,41 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
             }
             if (!d->accum_fbo && (err = patches_set(d)) != 0)
                 return err;
-        } else if (d->accum_fbo) { /* the cache under this frame */
-            if ((err = layer_copy(d, d->base_tex)) != 0)
+        } else {
+            /* base under this frame (restored where the settled layer
+             * grows too), then what is new of the settled layer, drawn
+             * into the target and copied into base */
+            if (!kept && (err = dtiles_clear(d)) != 0) {
+                sp_log_error("out of memory for the damaged rectangles");
                 return err;
-        } else if (kept) { /* base where the last frame's dynamic items were */
-            if ((err = damage_restore(d)) != 0)
-                return err;
-        } else { /* the background, and the cache where it differs from it */
-            gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
-            gl->Clear(GL_COLOR_BUFFER_BIT);
-            if ((err = patches_draw(d, d->base_tex, 1, d->n_patches)) != 0)
-                return err;
+            }
+            const int n_new = settled_find_new(d, c);
+            if (d->accum_fbo) { /* the cache under this frame */
+                if ((err = layer_copy(d, d->base_tex)) != 0)
+                    return err;
+            } else if (kept) { /* base where the last frame's dynamic items were */
+                if ((err = damage_runs(d)) != 0) {
+                    sp_log_error("out of memory for the damaged rectangles");
+                    return err;
+                }
+                if ((err = damage_restore(d)) != 0)
+                    return err;
+            } else { /* the background, and the cache where it differs from it */
+                gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
+                gl->Clear(GL_COLOR_BUFFER_BIT);
+                if ((err = patches_draw(d, d->base_tex, 1, d->n_patches)) != 0)
+                    return err;
+            }
+            if (n_new) {
+                shapes_bind(gl, &d->shape);
+                settled_draw_new(d, c);
+                settled_copy_back(d, d->n_settled_items, (GLuint)target);
+                d->stats.appended++;
+                if ((err = settled_save(d, c)) != 0) {
+                    sp_log_error("out of memory for the settled layer's record");
+                    return err;
+                }
+            }
         }
         d->stats.cached++;
     } else if (d->accum_fbo) { /* the accumulated picture instead of the background */
@@ -886,7 +1120,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
         gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
         gl->Clear(GL_COLOR_BUFFER_BIT);
     }
-    const unsigned layers = cached ? DYNAMIC_BIT : DYNAMIC_BIT | STATIC_BIT;
+    const unsigned layers = cached ? DYNAMIC_BIT : DYNAMIC_BIT | STATIC_BIT | SETTLED_BIT;
     if (c->n_shapes) {
         shapes_bind(gl, &d->shape);
         draw_shapes(gl, c, layers, d->height);
@@ -894,7 +1128,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     if (text)
         draw_text(gl, &d->text, d->atlas, c, layers);
     if (cached && !d->accum_fbo) {
-        if ((err = damage_make(d, c)) != 0) {
+        if ((err = damage_mark(d, c)) != 0) {
             sp_log_error("out of memory for the damaged rectangles");
             return err;
         }
@@ -931,6 +1165,9 @@ void sp_draw_gl_destroy(struct sp_draw_gl **d)
     free((*d)->tiles);
     free((*d)->damage);
     free((*d)->dtiles);
+    free((*d)->settled);
+    free((*d)->settled_old);
+    free((*d)->settled_new);
     free(*d);
     *d = NULL;
 }

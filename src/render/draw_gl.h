@@ -24,15 +24,17 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
 /* Turns the static cache on (the default) or off. With it on, the static
  * layer of a frame is drawn once into a texture (over the accumulated
  * layer) and copied under the dynamic layer of each frame whose static
- * layer is the same, byte for byte; the pixels are those of the list drawn
+ * layer is the same, byte for byte; the settled layer is kept in that
+ * texture too, each frame drawing only what it appends; the pixels are those of the list drawn
  * in order (frames where that cannot be shown from the items' bounds are
  * drawn uncached). Off: every frame draws every item. */
 void sp_draw_gl_cache(struct sp_draw_gl *d, int on);
 
 /* Frames drawn over the cache, times the cache was (re)drawn, frames drawn
- * without it. */
+ * without it, and cached frames that drew only what was new of the settled
+ * layer into the cache. */
 struct sp_draw_gl_stats {
-    long cached, redrawn, uncached;
+    long cached, redrawn, uncached, appended;
 };
 void sp_draw_gl_stats(const struct sp_draw_gl *d, struct sp_draw_gl_stats *out);
 

@@ -179,6 +179,8 @@ static void axis_fit(struct axis *a, const struct sp_font *f, float length, int 
         for (int i = 0; i < 3; i++) {
             const double step = MULT[i] * p10;
             float need = 1.3f * line;
+            if (span / step > 10) /* at most 10 ticks: more is clutter, not information */
+                continue;
             axis_step(a, step);
             if (!vertical) {
                 float widest = 0;
@@ -188,8 +190,7 @@ static void axis_fit(struct axis *a, const struct sp_font *f, float length, int 
                 }
                 need = widest + line;
             }
-            /* at most 10 ticks: more is clutter, not information */
-            if (step / span * length >= need && span / step <= 10)
+            if (step / span * length >= need)
                 return;
         }
 }

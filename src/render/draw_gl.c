@@ -63,8 +63,7 @@ struct sp_draw_gl {
     unsigned char *settled;
     size_t n_settled, cap_settled; /* bytes */
     int *settled_old;            /* scratch: per settled item, shapes base holds */
-    int *settled_new;            /* scratch: per settled item, 4 ints (settled_find_new) */
-    int n_settled_items, cap_settled_old;
+    int cap_settled_old;
     int cache;                   /* 1 = cache the static layer */
     struct sp_draw_gl_stats stats;
     int width, height;           /* px */
@@ -850,15 +849,10 @@ static int settled_prefix(struct sp_draw_gl *d, const struct sp_canvas *c)
             if (!p)
                 return SP_E_NOMEM;
             d->settled_old = p;
-            p = realloc(d->settled_new, (size_t)(2 * j + 8) * 4 * sizeof(*p));
-            if (!p)
-                return SP_E_NOMEM;
-            d->settled_new = p;
             d->cap_settled_old = 2 * j + 8;
         }
         d->settled_old[j++] = h.count;
     }
-    d->n_settled_items = j;
     return at == d->n_settled;
 }
 
@@ -883,9 +877,8 @@ static int settled_save(struct sp_draw_gl *d, const struct sp_canvas *c)
     return err;
 }
 
-/* The whole pixels (x0, y0, x1, y1, y down) that what is new of c's
- * settled items (past d->settled_old) may touch, per item in d->settled_new
- * (x1 <= x0: nothing new), also marked in d->dtiles. Returns the shapes. */
+/* Marks in d->dtiles the squares that what is new of c's settled items
+ * (past d->settled_old) may touch. Returns the new shapes. */
 static int settled_find_new(struct sp_draw_gl *d, const struct sp_canvas *c)
 {
     int j = 0, n_new = 0;
@@ -893,21 +886,8 @@ static int settled_find_new(struct sp_draw_gl *d, const struct sp_canvas *c)
         const struct sp_item *it = &c->items[i];
         if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_SETTLED)
             continue;
-        const int old = d->settled_old[j];
-        struct box u = {INFINITY, INFINITY, -INFINITY, -INFINITY, {0, 0, 0, 0}};
-        for (int k = it->first + old; k < it->first + it->count; k++) {
-            const struct box b = prim_box(c, it, k, d->boxes[i].clip);
-            if (b.x1 >= b.x0)
-                box_add(&u, b.x0, b.y0, b.x1, b.y1);
-        }
-        int *r = d->settled_new + 4 * j++;
-        r[0] = r[1] = r[2] = r[3] = 0;
-        if (u.x1 >= u.x0) {
-            r[0] = (int)fmaxf(0, floorf(u.x0)), r[1] = (int)fmaxf(0, floorf(u.y0));
-            r[2] = (int)fminf((float)d->width, ceilf(u.x1) + 1);
-            r[3] = (int)fminf((float)d->height, ceilf(u.y1) + 1);
-            dtiles_mark(d, c, i, it->first + old, it->first + it->count);
-        }
+        const int old = d->settled_old[j++];
+        dtiles_mark(d, c, i, it->first + old, it->first + it->count);
         n_new += it->count - old;
     }
     return n_new;
@@ -934,21 +914,6 @@ static void settled_draw_new(struct sp_draw_gl *d, const struct sp_canvas *c)
         gl->BlendEquation(GL_FUNC_ADD);
     }
     gl->Disable(GL_SCISSOR_TEST);
-}
-
-/* Copies d->settled_new's rectangles of the target into base. */
-static void settled_copy_back(struct sp_draw_gl *d, int n_items, GLuint target)
-{
-    const struct sp_gl_api *gl = d->gl;
-    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, target);
-    gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->base_fbo);
-    for (int j = 0; j < n_items; j++) {
-        const int *r = d->settled_new + 4 * j;
-        if (r[2] > r[0] && r[3] > r[1]) /* GL counts rows from the bottom */
-            gl->BlitFramebuffer(r[0], d->height - r[3], r[2], d->height - r[1], r[0], d->height - r[3],
-                                r[2], d->height - r[1], GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    }
-    gl->BindFramebuffer(GL_FRAMEBUFFER, target);
 }
 
 /* Copies base over d->damage, in one instanced draw without blending. */
@@ -1075,14 +1040,25 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
             if (!d->accum_fbo && (err = patches_set(d)) != 0)
                 return err;
         } else {
-            /* base under this frame (restored where the settled layer
-             * grows too), then what is new of the settled layer, drawn
-             * into the target and copied into base */
+            /* what is new of the settled layer, into base (which has the
+             * target's pixel format and orientation: the same pixels as
+             * drawing it into the target); then base under this frame,
+             * restored where the settled layer grew too */
             if (!kept && (err = dtiles_clear(d)) != 0) {
                 sp_log_error("out of memory for the damaged rectangles");
                 return err;
             }
-            const int n_new = settled_find_new(d, c);
+            if (settled_find_new(d, c)) {
+                gl->BindFramebuffer(GL_FRAMEBUFFER, d->base_fbo);
+                shapes_bind(gl, &d->shape);
+                settled_draw_new(d, c);
+                gl->BindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
+                d->stats.appended++;
+                if ((err = settled_save(d, c)) != 0) {
+                    sp_log_error("out of memory for the settled layer's record");
+                    return err;
+                }
+            }
             if (d->accum_fbo) { /* the cache under this frame */
                 if ((err = layer_copy(d, d->base_tex)) != 0)
                     return err;
@@ -1098,16 +1074,6 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
                 gl->Clear(GL_COLOR_BUFFER_BIT);
                 if ((err = patches_draw(d, d->base_tex, 1, d->n_patches)) != 0)
                     return err;
-            }
-            if (n_new) {
-                shapes_bind(gl, &d->shape);
-                settled_draw_new(d, c);
-                settled_copy_back(d, d->n_settled_items, (GLuint)target);
-                d->stats.appended++;
-                if ((err = settled_save(d, c)) != 0) {
-                    sp_log_error("out of memory for the settled layer's record");
-                    return err;
-                }
             }
         }
         d->stats.cached++;
@@ -1167,7 +1133,6 @@ void sp_draw_gl_destroy(struct sp_draw_gl **d)
     free((*d)->dtiles);
     free((*d)->settled);
     free((*d)->settled_old);
-    free((*d)->settled_new);
     free(*d);
     *d = NULL;
 }

@@ -2,9 +2,8 @@
  * hardware EGL device where one exists (EGL_EXT_platform_device, e.g. an
  * NVIDIA GPU), else Mesa's surfaceless platform (EGL_MESA_platform_surfaceless:
  * a GPU render node, or llvmpipe). GL draws into a framebuffer object whose
- * pixels glReadPixels copies into our buffer, top row first (through
- * GL_MESA_pack_invert where the driver has it, else flipped here). libEGL is
- * dlopened on first use. */
+ * pixels are read back into our buffer (gl_offscreen.h). libEGL is dlopened
+ * on first use. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,12 +13,9 @@
 
 #include "springpend/common.h"
 #include "gl_context.h"
+#include "gl_offscreen.h"
 
 #define EGL_LIBRARY "libEGL.so.1"
-#ifndef GL_PACK_INVERT_MESA
-#define GL_PACK_INVERT_MESA 0x8758
-#endif
-
 /* EGL entry points loaded by dlsym. */
 #define EGL_FUNCS(X)                                                         \
     X(PFNEGLGETPROCADDRESSPROC, GetProcAddress)                              \
@@ -34,22 +30,6 @@
     X(PFNEGLGETCURRENTCONTEXTPROC, GetCurrentContext)                        \
     X(PFNEGLGETERRORPROC, GetError)
 
-/* GL entry points the backend itself calls, through eglGetProcAddress. */
-#define EGL_GL_FUNCS(X)                                                      \
-    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                             \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                             \
-    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                           \
-    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                           \
-    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                     \
-    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)             \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)               \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                       \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                     \
-    X(PFNGLREADPIXELSPROC, ReadPixels)                                       \
-    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                     \
-    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                     \
-    X(PFNGLGETSTRINGIPROC, GetStringi)
-
 static struct {
 #define X(type, name) type name;
     EGL_FUNCS(X)
@@ -61,16 +41,9 @@ struct sp_gl_context {
     const struct sp_gl_backend *backend; /* first, see gl_context.c */
     EGLDisplay dpy;
     EGLContext ctx;
-    struct {
-#define X(type, name) type name;
-        EGL_GL_FUNCS(X)
-#undef X
-    } gl;
-    GLuint fbo, rbo;
-    int pack_invert;  /* GL_MESA_pack_invert: rows come top first */
+    struct sp_gl_offscreen fb;
     uint8_t *pixels;  /* width * height * 4 bytes, RGBA8, owned */
     uint8_t *target;  /* where readback goes: pixels or the caller's */
-    uint8_t *row;     /* one row of scratch for flipping, owned */
     int width, height; /* px */
 };
 
@@ -131,56 +104,21 @@ static EGLDisplay open_display(void)
 static void egl_destroy(struct sp_gl_context *c)
 {
     if (c->ctx != EGL_NO_CONTEXT) {
-        if (egl.GetCurrentContext() == c->ctx) {
-            if (c->fbo)
-                c->gl.DeleteFramebuffers(1, &c->fbo);
-            if (c->rbo)
-                c->gl.DeleteRenderbuffers(1, &c->rbo);
+        const int current = egl.GetCurrentContext() == c->ctx;
+        sp_gl_offscreen_destroy(&c->fb, current);
+        if (current)
             egl.MakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-        }
         egl.DestroyContext(c->dpy, c->ctx);
     }
     /* eglTerminate is left out: the display is shared by every context of
      * the process and terminating it would pull it from under the others. */
     free(c->pixels);
-    free(c->row);
     free(c);
 }
 
-/* Loads the GL functions, makes the FBO and checks for pack_invert. */
-static int make_framebuffer(struct sp_gl_context *c)
+static void *egl_getproc(const char *name)
 {
-#define X(type, name)                                                        \
-    if (!(*(void **)&c->gl.name = (void *)egl.GetProcAddress("gl" #name))) { \
-        sp_log_error("EGL's GL lacks gl" #name);                             \
-        return SP_E_GL;                                                      \
-    }
-    EGL_GL_FUNCS(X)
-#undef X
-    c->gl.GenRenderbuffers(1, &c->rbo);
-    c->gl.BindRenderbuffer(GL_RENDERBUFFER, c->rbo);
-    c->gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, c->width, c->height);
-    c->gl.GenFramebuffers(1, &c->fbo);
-    c->gl.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
-    c->gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
-                                  GL_RENDERBUFFER, c->rbo);
-    GLenum status = c->gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        sp_log_error("EGL: a %dx%d RGBA8 framebuffer is incomplete (0x%x)",
-                     c->width, c->height, status);
-        return SP_E_GL;
-    }
-    GLint n = 0;
-    c->gl.GetIntegerv(GL_NUM_EXTENSIONS, &n);
-    for (GLint i = 0; i < n; i++) {
-        const char *e = (const char *)c->gl.GetStringi(GL_EXTENSIONS, (GLuint)i);
-        if (e && !strcmp(e, "GL_MESA_pack_invert"))
-            c->pack_invert = 1;
-    }
-    c->gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    if (c->pack_invert)
-        c->gl.PixelStorei(GL_PACK_INVERT_MESA, 1);
-    return 0;
+    return (void *)egl.GetProcAddress(name);
 }
 
 static int egl_make(struct sp_gl_context **out, int width, int height)
@@ -205,9 +143,8 @@ static int egl_make(struct sp_gl_context **out, int width, int height)
         c->backend = &sp_gl_backend_egl;
         c->ctx = EGL_NO_CONTEXT;
         c->pixels = malloc((size_t)width * height * 4);
-        c->row = malloc((size_t)width * 4);
     }
-    if (!c || !c->pixels || !c->row) {
+    if (!c || !c->pixels) {
         sp_log_error("out of memory for a %dx%d GL colour buffer", width, height);
         err = SP_E_NOMEM;
         goto fail;
@@ -241,7 +178,7 @@ static int egl_make(struct sp_gl_context **out, int width, int height)
                      "surface (0x%x)", egl.GetError());
         goto fail;
     }
-    err = make_framebuffer(c);
+    err = sp_gl_offscreen_make(&c->fb, egl_getproc, "EGL", width, height);
     if (err)
         goto fail;
     *out = c;
@@ -262,7 +199,7 @@ static int egl_bind(struct sp_gl_context *c)
                      egl.GetError());
         return SP_E_GL;
     }
-    c->gl.BindFramebuffer(GL_FRAMEBUFFER, c->fbo);
+    sp_gl_offscreen_bind(&c->fb);
     return 0;
 }
 
@@ -274,18 +211,8 @@ static sp_gl_proc egl_proc(struct sp_gl_context *c, const char *name)
 
 static uint8_t *egl_pixels(struct sp_gl_context *c, int *stride)
 {
-    size_t row = 4 * (size_t)c->width;
-    c->gl.ReadPixels(0, 0, c->width, c->height, GL_RGBA, GL_UNSIGNED_BYTE,
-                     c->target);
-    if (!c->pack_invert)
-        for (int y = 0; y < c->height / 2; y++) {
-            uint8_t *a = c->target + y * row;
-            uint8_t *b = c->target + (c->height - 1 - y) * row;
-            memcpy(c->row, a, row);
-            memcpy(a, b, row);
-            memcpy(b, c->row, row);
-        }
-    *stride = (int)row;
+    sp_gl_offscreen_read(&c->fb, c->target);
+    *stride = 4 * c->width;
     return c->target;
 }
 

@@ -1,13 +1,17 @@
 /* springpend: the OSMesa GL context backend (Mesa's llvmpipe, no display).
- * GL draws straight into a buffer we own; glFinish makes it readable, so no
- * FBO and no glReadPixels. libOSMesa (which pulls in LLVM) is dlopened on
- * first use, so processes that never render start fast. */
+ * GL draws into a framebuffer object read back into our buffer
+ * (gl_offscreen.h), as with EGL: OSMesa's own buffer (1x1, never drawn)
+ * is rendered with another orientation than framebuffer objects, which
+ * rounds some pixels differently from the static cache's textures.
+ * libOSMesa (which pulls in LLVM) is dlopened on first use, so processes
+ * that never render start fast. */
 #include <stdlib.h>
 
 #include <GL/osmesa.h>
 
 #include "springpend/common.h"
 #include "gl_context.h"
+#include "gl_offscreen.h"
 
 #define OSMESA_LIBRARY "libOSMesa.so.8"
 
@@ -16,7 +20,6 @@
     X(OSMesaContext, CreateContextAttribs, (const int *, OSMesaContext))    \
     X(GLboolean, MakeCurrent, (OSMesaContext, void *, GLenum, GLsizei, GLsizei)) \
     X(OSMesaContext, GetCurrentContext, (void))                             \
-    X(void, PixelStore, (GLint, GLint))                                     \
     X(OSMESAproc, GetProcAddress, (const char *))                           \
     X(void, DestroyContext, (OSMesaContext))
 
@@ -24,15 +27,16 @@ static struct {
 #define X(ret, name, args) ret (*name) args;
     OSMESA_FUNCS(X)
 #undef X
-    void (*Finish)(void);
     void *lib; /* dlopen handle, kept for the process's life */
 } os;
 
 struct sp_gl_context {
     const struct sp_gl_backend *backend; /* first, see gl_context.c */
     OSMesaContext ctx;
+    uint8_t window[4]; /* OSMesa's own buffer: 1x1, only to be current */
+    struct sp_gl_offscreen fb;
     uint8_t *pixels; /* width * height * 4 bytes, RGBA8, owned */
-    uint8_t *target; /* where GL draws: pixels or the caller's buffer */
+    uint8_t *target; /* where readback goes: pixels or the caller's buffer */
     int width, height; /* px */
 };
 
@@ -45,17 +49,21 @@ static int osmesa_load(int quiet)
     };
     if (os.lib)
         return 0;
-    int err = sp_gl_load_library(OSMESA_LIBRARY, "OSMesa", "install libosmesa6, or use --gl egl",
-                                 syms, (int)(sizeof(syms) / sizeof(syms[0])), quiet, &os.lib);
-    if (!err)
-        os.Finish = (void (*)(void))os.GetProcAddress("glFinish");
-    return err;
+    return sp_gl_load_library(OSMESA_LIBRARY, "OSMesa", "install libosmesa6, or use --gl egl",
+                              syms, (int)(sizeof(syms) / sizeof(syms[0])), quiet, &os.lib);
+}
+
+static void *osmesa_getproc(const char *name)
+{
+    return (void *)os.GetProcAddress(name);
 }
 
 static void osmesa_destroy(struct sp_gl_context *c)
 {
     if (c->ctx) {
-        if (os.GetCurrentContext() == c->ctx)
+        const int current = os.GetCurrentContext() == c->ctx;
+        sp_gl_offscreen_destroy(&c->fb, current);
+        if (current)
             os.MakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
         os.DestroyContext(c->ctx);
     }
@@ -96,12 +104,14 @@ static int osmesa_make(struct sp_gl_context **out, int width, int height)
         err = SP_E_GL;
         goto fail;
     }
-    if (!os.MakeCurrent(c->ctx, c->pixels, GL_UNSIGNED_BYTE, width, height)) {
-        sp_log_error("OSMesa could not bind a %dx%d RGBA buffer", width, height);
+    if (!os.MakeCurrent(c->ctx, c->window, GL_UNSIGNED_BYTE, 1, 1)) {
+        sp_log_error("OSMesa could not make its context current");
         err = SP_E_GL;
         goto fail;
     }
-    os.PixelStore(OSMESA_Y_UP, 0); /* first row of pixels = top */
+    err = sp_gl_offscreen_make(&c->fb, osmesa_getproc, "OSMesa", width, height);
+    if (err)
+        goto fail;
     *out = c;
     return 0;
 
@@ -115,12 +125,11 @@ static int osmesa_bind(struct sp_gl_context *c)
 {
     if (os.GetCurrentContext() == c->ctx)
         return 0;
-    if (!os.MakeCurrent(c->ctx, c->target, GL_UNSIGNED_BYTE, c->width,
-                        c->height)) {
+    if (!os.MakeCurrent(c->ctx, c->window, GL_UNSIGNED_BYTE, 1, 1)) {
         sp_log_error("OSMesa could not make the context current");
         return SP_E_GL;
     }
-    os.PixelStore(OSMESA_Y_UP, 0);
+    sp_gl_offscreen_bind(&c->fb);
     return 0;
 }
 
@@ -132,21 +141,14 @@ static sp_gl_proc osmesa_proc(struct sp_gl_context *c, const char *name)
 
 static uint8_t *osmesa_pixels(struct sp_gl_context *c, int *stride)
 {
-    os.Finish();
+    sp_gl_offscreen_read(&c->fb, c->target);
     *stride = 4 * c->width;
     return c->target;
 }
 
-/* OSMesa draws straight into whatever buffer is bound: rebinding is the
- * whole switch (the context must be current, as it is while rendering). */
 static void osmesa_target(struct sp_gl_context *c, uint8_t *pixels)
 {
-    uint8_t *want = pixels ? pixels : c->pixels;
-    if (want == c->target)
-        return;
-    c->target = want;
-    os.MakeCurrent(c->ctx, c->target, GL_UNSIGNED_BYTE, c->width, c->height);
-    os.PixelStore(OSMESA_Y_UP, 0);
+    c->target = pixels ? pixels : c->pixels;
 }
 
 const struct sp_gl_backend sp_gl_backend_osmesa = {

@@ -4,7 +4,8 @@ pixel as it was. Each video is rendered twice as raw RGBA frames, with the
 cache (the default) and with SPRINGPEND_DRAW_CACHE=0 (every item of every
 frame drawn in list order), and the two must be byte-identical; --verbose
 must show the cache used, so a broken cache that silently turned itself off
-fails too. Scenes: the default one and resonance.ini (all panels, HUD,
+fails too, and the charts' settled curves must be appended to the cache,
+not redrawn. Scenes: the default one and resonance.ini (all panels, HUD,
 colourbar) at several sizes, the light theme on a transparent background,
 a long exposure (trail = all, the accumulated layer under the cache, also
 drawn into it) and chaotic.ini's long exposure with a title, a Poincare
@@ -51,6 +52,11 @@ def cached_frames(verbose):
     return (int(m.group(1)), int(m.group(2))) if m else (0, 0)
 
 
+def appended_frames(verbose):
+    m = re.search(r"settled chart curves appended to it in (\d+) frames", verbose)
+    return int(m.group(1)) if m else 0
+
+
 def first_difference(a, b, w, h):
     n = w * h * 4
     for f in range(min(len(a), len(b)) // n):
@@ -70,10 +76,13 @@ CASES = [
     ("resonance.ini", "1024x768", ["--set", "view.trail=all"]),
     ("chaotic.ini", "800x800", ["--set", "view.panels=poincare,phase", "--set", "video.duration=12",
                                 "--fps", "2", "--set", "view.title=Chaos"]),
+    # 500 frames: more samples than the charts' pixel columns, so their
+    # curves are thinned (by fixed time bins) while they are appended
+    ("default.ini", "480x270", ["--set", "video.duration=20", "--fps", "25"]),
 ]
 for scene, size, extra in CASES:
     w, h = map(int, size.split("x"))
-    args = SHORT + extra
+    args = SHORT + extra if "video.duration=20" not in extra else extra
     a, verbose = raw(scene, size, args, True)
     b, _ = raw(scene, size, args, False)
     what = f"{scene} {size} {' '.join(extra[1::2]) or 'as shipped'}"
@@ -87,6 +96,14 @@ for scene, size, extra in CASES:
     print(f"# cache used in {used} frames, drawn {drawn} times")
     if size != "320x240":  # there the labels sit too close to the data to prove the order
         ok(used > 0, f"{what}: the cache was used")
+    frames = len(a) // (w * h * 4)
+    if size != "320x240" and "chaotic" not in scene:  # the charts' curves, appended
+        grown = appended_frames(verbose)
+        # drawn once: every frame's growth was appended, never redrawn (a
+        # frame with no new time bin appends nothing)
+        ok(grown > frames // 2 and drawn == 1,
+           f"{what}: the cache drawn once, the charts' settled curves appended to it in {grown} "
+           f"of {frames} frames")
 
 # frames of a cached video against stills at the same times
 w, h, fps = 640, 360, 8
@@ -108,6 +125,19 @@ if ok(a is not None, "resonance.ini 640x360 video for the stills"):
                   "# " + r.stderr.decode(errors="replace").strip())
         ok(got is None and r.returncode == 0 or got == frame,
            f"video frame {k} (cached) equals the still at t = {k / fps:g} s")
+
+# the last frame of a long video, its charts thinned, against a still
+w, h, fps, n = 480, 270, 25, 500
+a, _ = raw("default.ini", f"{w}x{h}", ["--set", "video.duration=20", "--fps", str(fps)], True)
+png = os.path.join(work, "still_long.png")
+r = subprocess.run([exe, "still", os.path.join(scenes, "default.ini"), "--size", f"{w}x{h}", "--fps",
+                    str(fps), "--set", "video.duration=20", "--at", str((n - 1) / fps), "-q", "-o", png],
+                   capture_output=True, cwd=work)
+got = subprocess.run(["ffmpeg", "-v", "error", "-i", png, "-f", "rawvideo", "-pix_fmt", "rgba", "-"],
+                     capture_output=True).stdout if r.returncode == 0 and shutil.which("ffmpeg") else None
+ok(a is not None and (got is None and r.returncode == 0 or got == a[(n - 1) * w * h * 4:n * w * h * 4]),
+   f"default.ini 20 s: the last video frame (cached, charts thinned) equals the still at "
+   f"t = {(n - 1) / fps:g} s")
 
 # the EGL backend, where it can make a context here
 probe = subprocess.run([exe, "still", os.path.join(scenes, "default.ini"), "--gl", "egl", "--size",

@@ -80,8 +80,9 @@ void sp_canvas_path_end(struct sp_canvas *c)
 {
     c->in_path = 0;
     if (c->n_items && c->items[c->n_items - 1].kind == SP_ITEM_PATH &&
-        c->items[c->n_items - 1].count == 0)
-        c->n_items--; /* an empty path */
+        c->items[c->n_items - 1].count == 0 && c->items[c->n_items - 1].layer != SP_LAYER_SETTLED)
+        c->n_items--; /* an empty path (a settled one stays: it is the same item
+                         in every frame, however long) */
 }
 
 static void push(struct sp_canvas *c, float ax, float ay, float bx, float by, float hw,

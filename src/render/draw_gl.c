@@ -29,7 +29,8 @@ struct sp_draw_gl {
     GLuint atlas;
     GLuint accum_fbo, accum_tex; /* SP_LAYER_ACCUM's picture; 0 = none yet */
     /* The static cache: the accumulated picture (or the background) with the
-     * static layer drawn over it, copied under each frame's dynamic layer. */
+     * static layer drawn over it, then the settled layer (appended to each
+     * frame), copied under each frame's dynamic layer. */
     GLuint base_fbo, base_tex;   /* 0 = none yet */
     struct instances patch;      /* draws layers as they are (struct patch) */
     int n_patches;               /* the static cache's, after instance 0 */
@@ -44,9 +45,9 @@ struct sp_draw_gl {
     size_t n_key, cap_key;       /* bytes */
     unsigned char *next;         /* this frame's, compared with key */
     size_t n_next, cap_next;     /* bytes */
-    /* The target keeps its pixels from frame to frame (an FBO with EGL; with
-     * Mesa's gallium OSMesa, the context's own colour texture, copied to the
-     * bound buffer at glFinish). After a cached frame without accumulated
+    /* The target keeps its pixels from frame to frame (both backends draw
+     * into a framebuffer object like base's, gl_offscreen.h, read back
+     * after each frame). After a cached frame without accumulated
      * layer it holds base plus that frame's dynamic items inside `damage`:
      * the next frame restores base there only, instead of clearing and
      * copying all of base. */
@@ -403,7 +404,11 @@ static int layer_copy(struct sp_draw_gl *d, GLuint tex)
  * the clip the item is under); a frame that fails is drawn uncached. The
  * cache is redrawn whenever its content would change: the static items
  * (their geometry, colours, blending and clips, byte for byte) differ from
- * those it was drawn from, or new accumulated items touch the static ones. */
+ * those it was drawn from, or new accumulated items touch the static ones.
+ * The settled layer (the strip charts' past) is drawn into base after the
+ * static one, each frame only what it appends, under the same kind of
+ * check (order_keeps); a frame whose settled items do not begin with what
+ * base holds, byte for byte, redraws base. */
 
 static void box_add(struct box *b, float x0, float y0, float x1, float y1)
 {

@@ -2,7 +2,8 @@
  * render.c knows no window system. Backends, one file each, fill a struct
  * sp_gl_backend: gl_context_osmesa.c (OSMesa, llvmpipe) and
  * gl_context_egl.c (EGL on Mesa's surfaceless platform: llvmpipe, or a GPU
- * where one exists). gl_context.c picks one. Each backend dlopens its
+ * where one exists). gl_context.c picks one. Both draw into the same kind
+ * of framebuffer object (gl_offscreen.h). Each backend dlopens its
  * library on first use, so a process that never renders does not load GL. */
 #ifndef SPRINGPEND_GL_CONTEXT_H
 #define SPRINGPEND_GL_CONTEXT_H

@@ -296,7 +296,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
                        const char *title, const char *xlabel, const char *ylabel,
                        struct sp_range xr, struct sp_range yr, double xpad,
                        const struct sp_palette *pal, float unit,
-                       const struct legend_item *leg, int n_leg)
+                       const struct legend_item *leg, int n_leg, enum sp_layer leg_layer)
 {
     const struct sp_font *f = c->font;
     const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
@@ -352,7 +352,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     p->title_end = r->x0 + pad +
         sp_canvas_text(c, fits ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
                        SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
-    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* a legend may count what is shown */
+    sp_canvas_layer(c, leg_layer); /* dynamic when it counts what is shown */
     if (n_leg)
         legend_draw(c, f, leg_row ? r->x0 + pad : p->title_end + pad,
                     r->y0 + pad + cap_n + (leg_row ? line_s : 0), r->x0 + pad, r->x1 - pad, leg, n_leg,
@@ -560,7 +560,8 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     const struct legend_item modes[] = {{"bounce|bnc", pal->series[1], 0, NULL},
                                         {"swing|swg", pal->series[2], 0, NULL}};
     frame_plot(c, r, &p, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
-               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 4 : bit == 7 ? 2 : 0);
+               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 4 : bit == 7 ? 2 : 0,
+               SP_LAYER_STATIC);
     if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) { /* the zero line */
         sp_canvas_layer(c, SP_LAYER_STATIC);
         sp_canvas_rect(c, p.area.x0, px_y(&p, 0) - hw * 0.6f, p.area.x1, px_y(&p, 0) + hw * 0.6f, pal->axis);
@@ -603,10 +604,10 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
     const struct legend_item now[] = {{"now", pal->muted, 1, pal->cursor}};
     if (theta)
         frame_plot(c, r, &p, "Phase portrait θ, θ̇|θ, θ̇", "θ (°)", "θ̇ (°/s)", range_of(e->theta, RAD2DEG, 0),
-                   range_of(e->theta_dot, RAD2DEG, 0), 0.06, pal, unit, now, 1);
+                   range_of(e->theta_dot, RAD2DEG, 0), 0.06, pal, unit, now, 1, SP_LAYER_STATIC);
     else
         frame_plot(c, r, &p, "Phase portrait r, ṙ|r, ṙ", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal,
-                   unit, now, 1);
+                   unit, now, 1, SP_LAYER_STATIC);
     if (!h || h->count == 0)
         return;
     const enum quantity xq = theta ? Q_THETA : Q_R, yq = theta ? Q_THETA_DOT : Q_R_DOT;
@@ -628,7 +629,7 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
     const struct legend_item leg[] = {{count, pal->muted, 1, pal->series[2]},
                                       {"latest", pal->muted, 1, pal->cursor}};
     frame_plot(c, r, &p, "Poincaré θ = 0, θ̇ > 0|Poincaré", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal,
-               unit, leg, n ? 2 : 1);
+               unit, leg, n ? 2 : 1, SP_LAYER_DYNAMIC);
     if (!h)
         return;
     for (int i = 0; i < h->n_crossings; i++)
@@ -653,7 +654,7 @@ static void spread_plot(struct sp_canvas *c, const struct sp_rect *r, const stru
     const struct legend_item leg[] = {{"spread|spr", pal->series[1], 0, NULL},
                                       {slope, pal->accent, 0, NULL}};
     frame_plot(c, r, &p, "Ensemble spread in phase space|Spread", "t (s)", "log₁₀ spread (m)",
-               (struct sp_range){0, e->t_end}, yr, 0, pal, unit, leg, en ? 2 : 0);
+               (struct sp_range){0, e->t_end}, yr, 0, pal, unit, leg, en ? 2 : 0, SP_LAYER_STATIC);
     if (!en || en->n_spread == 0)
         return;
     /* the line lambda: log10 d(t) = log10 d(0) + lambda t / ln 10, to the axes' top */

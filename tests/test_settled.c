@@ -3,10 +3,12 @@
  * frame's settled items hold the previous frame's, unchanged, first (the
  * same items with the same blending, lanes and clip, their shapes a byte
  * prefix), which is what lets the GL backend draw only what is new; that
- * the strip charts' curves are thinned to at most two points per pixel
- * column however long the history grows; that interleaved series keep
- * whole points; and that the settled curve plus its tail reaches the
- * newest sample. The GL side (same pixels with and without the cache) is
+ * the strip charts' curves (items with lanes >= 1) are thinned to at most
+ * two points per pixel column however long the history grows, and the
+ * phase curves (lanes 0) to at most 8000 segments; that every curve is
+ * connected, interleaved series keep whole points and strip charts run
+ * left to right; and that the settled curve goes on, in the dynamic
+ * layer, to the newest sample. The GL side (same pixels with and without the cache) is
  * test_draw_cache.py's.
  * usage: test_settled TESTS_SOURCE_DIR */
 #include <assert.h>
@@ -109,31 +111,31 @@ static int run(const char *src, const char *scene_file, const char *const *ov, i
         }
         for (int i = 0; i < now.n; i++) {
             const struct sp_item *it = &now.items[i];
-            const int lanes = it->lanes > 1 ? it->lanes : 1;
+            const int strip = it->lanes >= 1, lanes = it->lanes > 1 ? it->lanes : 1;
             res->max_lanes = lanes > res->max_lanes ? lanes : res->max_lanes;
             if (it->count % lanes)
                 res->odd_lanes++;
             /* at most two points per pixel column of the clip (plus the first) */
             const float width = now.clips[i][2] - now.clips[i][0];
-            if (it->count / lanes > 2 * (int)ceilf(width) + 1)
+            if (it->count / lanes > (strip ? 2 * (int)ceilf(width) + 1 : 8001))
                 res->too_dense++;
-            if (it->count / lanes > res->max_points)
+            if (strip && it->count / lanes > res->max_points)
                 res->max_points = it->count / lanes;
-            /* each lane's points run left to right, each segment starting
-             * where that lane's previous one ended */
+            /* each segment starts where its lane's previous one ended; a
+             * strip chart's run left to right */
             for (int s = lanes; s < it->count; s++) {
                 const struct sp_shape *p = &now.shapes[i][s - lanes], *q = &now.shapes[i][s];
-                if (q->seg[0] != p->seg[2] || q->seg[1] != p->seg[3] || q->seg[2] < q->seg[0])
+                if (q->seg[0] != p->seg[2] || q->seg[1] != p->seg[3] || (strip && q->seg[2] < q->seg[0]))
                     res->odd_lanes++;
             }
-            /* the dynamic tail starts at the settled curve's end: a line
-             * item of the same chart whose first shape begins there */
+            /* the dynamic tail starts at the settled curve's end: a shape
+             * of a dynamic item begins there */
             if (it->count) {
                 const struct sp_shape *end = &now.shapes[i][it->count - 1];
                 int found = 0;
                 for (int j = 0; j < cv->n_items && !found; j++) {
                     const struct sp_item *d = &cv->items[j];
-                    if (d->layer != SP_LAYER_DYNAMIC || d->kind != SP_ITEM_SHAPES)
+                    if (d->layer != SP_LAYER_DYNAMIC || (d->kind != SP_ITEM_SHAPES && d->kind != SP_ITEM_PATH))
                         continue;
                     for (int m = d->first; m < d->first + d->count && !found; m++)
                         found = cv->shapes[m].seg[0] == end->seg[2] && cv->shapes[m].seg[1] == end->seg[3];
@@ -162,7 +164,7 @@ int main(int argc, char **argv)
     }
     static const struct {
         const char *scene;
-        const char *ov[6];
+        const char *ov[8];
         int n_ov;
     } cases[] = {
         /* 60 s at 30 fps: far more samples than the charts' pixel columns */
@@ -170,6 +172,10 @@ int main(int argc, char **argv)
         /* every panel: the modes chart's two interleaved series */
         {"resonance.ini", {"video.width=854", "video.height=480", "video.duration=20", "video.fps=24",
                            "view.panels=all"}, 5},
+        /* phase portraits without fading, 120 s of chaos: all but the tail settled,
+         * more samples than 8000 time bins */
+        {"chaotic.ini", {"video.width=800", "video.height=800", "video.duration=120", "video.fps=10",
+                         "view.panels=phase", "view.fade=false"}, 6},
         /* a driven pivot at 4K, slowed down */
         {"driven.ini", {"video.width=3840", "video.height=2160", "video.duration=6", "video.fps=60",
                         "video.speed=0.5", "view.panels=r,theta,energy,extension,modes"}, 5},
@@ -181,10 +187,12 @@ int main(int argc, char **argv)
             continue;
         sp_tap_ok(r.not_prefix == 0, "%s: %d frames, each frame's settled curves begin with the "
                   "last frame's, unchanged (%d not)", name, r.frames, r.not_prefix);
-        sp_tap_ok(r.too_dense == 0, "%s: at most two points per pixel column (%d samples, longest "
-                  "curve %d points; %d too dense)", name, r.samples, r.max_points, r.too_dense);
-        sp_tap_ok(r.odd_lanes == 0, "%s: interleaved series keep whole points and run left to "
-                  "right (up to %d lanes; %d wrong)", name, r.max_lanes, r.odd_lanes);
+        sp_tap_ok(r.too_dense == 0, "%s: at most two points per pixel column of a strip chart, 8000 "
+                  "segments of a phase curve (%d samples, longest chart %d points; %d too dense)",
+                  name, r.samples, r.max_points, r.too_dense);
+        sp_tap_ok(r.odd_lanes == 0, "%s: every curve connected, interleaved series keep whole "
+                  "points, strip charts run left to right (up to %d lanes; %d wrong)", name,
+                  r.max_lanes, r.odd_lanes);
         sp_tap_ok(r.tail_off == 0, "%s: each settled curve goes on as a tail to the newest sample "
                   "(%d without)", name, r.tail_off);
         if (c == 0)

@@ -15,7 +15,7 @@ enum {
     HATCHES = 7,
     MAX_STROBE = 400,                     /* stroboscopic images at most */
     CAPTION_LINES = 4,                    /* a caption wraps to this many lines */
-    ALL_FADE = 10,                        /* s: trail = all fades in its newest 10 s */
+    ALL_FADE = (int)SP_FADE_S,            /* s: trail = all fades in its newest 10 s */
 };
 
 /* Sizes as fractions of the image's smaller side. */

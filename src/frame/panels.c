@@ -446,39 +446,59 @@ static double quantity(const struct sp_history_sample *s, enum quantity which,
     }
 }
 
-/* A phase curve: the polyline of (x(i), y(i)) over the samples; with
- * fade_to, old parts fade into that colour. */
-static void polyline(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
-                     enum quantity xq, enum quantity yq, const struct sp_params *pp, int first, float hw, const float color[4],
-                     const float *fade_to)
+/* A phase curve: the polyline of (x(t), y(t)) over the samples, thinned
+ * by fixed time bins (8000 over the run: a curve may wind over itself many
+ * times) so that its past never changes, as a strip chart's (strip_curves).
+ * With fade_to, each segment fades into that colour by the age of its newer
+ * end, over the newest SP_FADE_S seconds (the trail's rule), to 6%; what is
+ * older keeps that colour. What can no longer change (all of it but the
+ * tail without fading, what is older than SP_FADE_S with it) is settled;
+ * the rest is redrawn each frame. */
+static void phase_curve(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
+                        double t_end, enum quantity xq, enum quantity yq, const struct sp_params *pp,
+                        float hw, const float color[4], const float *fade_to)
 {
-    const int fade = fade_to != NULL;
-    const int n = h->count - first;
-    /* it may wind over itself many times, so it keeps up to 8000 segments */
-    const int max_segs = 8000;
-    const int stride = n > max_segs ? (n + max_segs - 1) / max_segs : 1;
-    float col[4] = {color[0], color[1], color[2], color[3]};
-    float ax = 0, ay = 0;
-    int have = 0;
+    const double bin = t_end / 8000;
+    const struct sp_history_sample *s = h->samples;
+    const double now = s[h->count - 1].t;
+    float ax = px_x(p, quantity(&s[0], xq, pp)), ay = px_y(p, quantity(&s[0], yq, pp));
+    float col[4] = {color[0], color[1], color[2], color[3]}, floor_col[4];
+    for (int k = 0; k < 4; k++)
+        floor_col[k] = fade_to ? fade_to[k] + 0.06f * (color[k] - fade_to[k]) : color[k];
+    floor_col[3] = color[3];
+    sp_canvas_layer(c, SP_LAYER_SETTLED);
     sp_canvas_path_begin(c);
-    for (int i = first; i < h->count; i += stride) {
-        const int j = i + stride >= h->count ? h->count - 1 : i;
-        const struct sp_history_sample *s = &h->samples[j];
-        const float bx = px_x(p, quantity(s, xq, pp));
-        const float by = px_y(p, quantity(s, yq, pp));
-        if (have) {
-            if (fade) { /* mixed with the opaque panel colour: no beads at the joints */
-                const float a = 0.06f + 0.94f * powf((float)(j - first) / (float)n, 1.5f);
-                for (int k = 0; k < 3; k++)
-                    col[k] = fade_to[k] + a * (color[k] - fade_to[k]);
-            }
+    int settled = 1;
+    double b_this = h->count > 1 ? floor(s[1].t / bin) : 0;
+    for (int i = 1; i < h->count; i++) {
+        const int last = i + 1 == h->count;
+        if (!last) {
+            const double b_next = floor(s[i + 1].t / bin);
+            const int point = b_next != b_this || !(bin > 0);
+            b_this = b_next;
+            if (!point)
+                continue;
+        }
+        const double age = now - s[i].t;
+        if (settled && (last || (fade_to && age < SP_FADE_S))) { /* the part still changing */
+            sp_canvas_path_end(c);
+            sp_canvas_layer(c, SP_LAYER_DYNAMIC);
+            sp_canvas_path_begin(c);
+            settled = 0;
+        }
+        const float bx = px_x(p, quantity(&s[i], xq, pp)), by = px_y(p, quantity(&s[i], yq, pp));
+        if (settled || !fade_to) {
+            sp_canvas_line(c, ax, ay, bx, by, hw, settled ? floor_col : color);
+        } else { /* mixed with the opaque panel colour: no beads at the joints */
+            const float a = 0.06f + 0.94f * powf((float)fmax(0.0, 1.0 - age / SP_FADE_S), 1.5f);
+            for (int k = 0; k < 3; k++)
+                col[k] = fade_to[k] + a * (color[k] - fade_to[k]);
             sp_canvas_line(c, ax, ay, bx, by, hw, col);
         }
-        ax = bx, ay = by, have = 1;
-        if (j == h->count - 1)
-            break;
+        ax = bx, ay = by;
     }
     sp_canvas_path_end(c);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC);
 }
 
 static struct sp_range range_of(struct sp_range r, double scale, double shift)
@@ -611,7 +631,7 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
     if (!h || h->count == 0)
         return;
     const enum quantity xq = theta ? Q_THETA : Q_R, yq = theta ? Q_THETA_DOT : Q_R_DOT;
-    polyline(c, &p, h, xq, yq, f->params, 0, hw, pal->series[1], fade ? pal->panel : NULL);
+    phase_curve(c, &p, h, e->t_end, xq, yq, f->params, hw, pal->series[1], fade ? pal->panel : NULL);
     const struct sp_history_sample *s = &h->samples[h->count - 1];
     sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
                    2.6f * hw, 0, pal->cursor);

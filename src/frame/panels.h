@@ -9,6 +9,11 @@
 #include "canvas.h"
 #include "layout.h"
 
+/* s: what fades with time (a trail = all, a phase portrait) fades over its
+ * newest 10 s and keeps its faintest colour after that, so that its older
+ * part never changes and is drawn once. */
+#define SP_FADE_S 10.0
+
 /* Colours of a theme, straight RGBA. */
 struct sp_palette {
     float background[4], panel[4], axis[4], grid[4], text[4], muted[4];

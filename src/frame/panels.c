@@ -448,7 +448,9 @@ static double quantity(const struct sp_history_sample *s, enum quantity which,
 
 /* A phase curve: the polyline of (x(t), y(t)) over the samples, thinned
  * by fixed time bins (8000 over the run: a curve may wind over itself many
- * times) so that its past never changes, as a strip chart's (strip_curves).
+ * times) so that its past never changes, as a strip chart's (strip_curves),
+ * and points within a pixel of the last one drawn dropped (a choice that
+ * depends on the points before only, so it never changes either).
  * With fade_to, each segment fades into that colour by the age of its newer
  * end, over the newest SP_FADE_S seconds (the trail's rule), to 6%; what is
  * older keeps that colour. What can no longer change (all of it but the
@@ -479,6 +481,10 @@ static void phase_curve(struct sp_canvas *c, const struct plot *p, const struct 
             if (!point)
                 continue;
         }
+        const float bx = px_x(p, quantity(&s[i], xq, pp)), by = px_y(p, quantity(&s[i], yq, pp));
+        if (!last && (bx - ax) * (bx - ax) + (by - ay) * (by - ay) < 1)
+            continue; /* within a pixel of the last point: a slow curl would pile
+                         hundreds of segments onto a few pixels */
         const double age = now - s[i].t;
         if (settled && (last || (fade_to && age < SP_FADE_S))) { /* the part still changing */
             sp_canvas_path_end(c);
@@ -486,7 +492,6 @@ static void phase_curve(struct sp_canvas *c, const struct plot *p, const struct 
             sp_canvas_path_begin(c);
             settled = 0;
         }
-        const float bx = px_x(p, quantity(&s[i], xq, pp)), by = px_y(p, quantity(&s[i], yq, pp));
         if (settled || !fade_to) {
             sp_canvas_line(c, ax, ay, bx, by, hw, settled ? floor_col : color);
         } else { /* mixed with the opaque panel colour: no beads at the joints */

@@ -32,6 +32,12 @@ struct sp_dt_advice {
  * SP_E_INPUT (they choose their own steps). Otherwise 0. */
 int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *out);
 
+/* Runs sc with dop853 (at its tolerance, at most 1e-9) over [0, t_end],
+ * keeping a tenth of the guard's drift, for at most 2e7 evaluations;
+ * *checked: s, how far it went (t_end, or less where the evaluations ran out).
+ * 0 when it got that far; SP_E_UNSTABLE or SP_E_INTERRUPTED. */
+int sp_advise_adaptive(const struct sp_scene *sc, double t_end, double *checked);
+
 /* The bounce-swing exchange near 2:1, from Lynch's averaged equations for the
  * complex amplitudes of the swing, x = Re(A e^{i w_p t}) (x = l theta), and of
  * the bounce, r - l = Re(B e^{i w_s t}):

@@ -71,6 +71,12 @@ struct sp_sim_failure {
     struct sp_state s; /* the last state checked */
     double energy;     /* J: its total energy; NAN when not finite */
     char what[256];    /* what failed: "the state is no longer finite", ... */
+    double pass_distance; /* m: fixed-step methods, the closest the bob came
+                          * to the pivot on a step that took it past the pivot
+                          * (its direction turned by over 90 degrees; the chord
+                          * between step ends) since the last check it passed;
+                          * NAN if none or otherwise */
+    double pass_speed;   /* m/s: the bob's speed along that chord */
 };
 
 /* The integrator. Fixed-step methods walk the grid t_n = n dt and reach a

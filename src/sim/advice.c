@@ -186,6 +186,28 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
     return 0;
 }
 
+/* The most evaluations sp_advise_adaptive spends: about a second. */
+#define ADAPTIVE_EVALS 20000000
+
+int sp_advise_adaptive(const struct sp_scene *sc, double t_end, double *checked)
+{
+    struct sp_scene s = *sc;
+    struct sp_sim sim;
+    s.integrator.method = SP_METHOD_DOP853;
+    s.integrator.tolerance = fmin(sc->integrator.tolerance, 1e-9);
+    sp_sim_init(&sim, &s);
+    sim.cancel = sp_signal_flag(); /* a failure is not reported: it is data */
+    sim.drift_limit = SAFE_DRIFT;
+    *checked = 0;
+    for (int i = 1; i <= 100 && sim.evals < ADAPTIVE_EVALS; i++) {
+        const int ret = sp_sim_advance(&sim, t_end * i / 100);
+        if (ret)
+            return ret;
+        *checked = sim.s.t;
+    }
+    return 0;
+}
+
 /* ---- the exchange near 2:1 ----------------------------------------------- */
 
 /* d/dt of (A, B) at time t for Lynch's averaged equations (advice.h). */

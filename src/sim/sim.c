@@ -546,6 +546,7 @@ static int unstable(struct sp_sim *sim, const struct sp_state *s, double energy,
     sim->failure.s = *s;
     sim->failure.energy = energy;
     snprintf(sim->failure.what, sizeof(sim->failure.what), "%s", what);
+    sim->failure.pass_distance = sim->failure.pass_speed = NAN;
     return SP_E_UNSTABLE;
 }
 
@@ -588,14 +589,46 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
 
 /* ---- advancing ----------------------------------------------------------- */
 
+/* After a failed check at time t_fail: replays the steps from the last
+ * state that passed, (n_ok dt, u_ok), as advance_fixed took them, and records
+ * in sim->failure the closest the bob came to the pivot on the chords of the
+ * steps that took it past the pivot (its direction from the pivot turned by
+ * more than 90 degrees within the step), and its speed there. Such a pass,
+ * where the spring's push turns round within less than a step, is what a
+ * fixed step cannot follow (sim_report.c words it). */
+SPECIALISED void find_pass(struct sp_sim *sim, long n_ok, const double *u_ok, double t_fail,
+                           const int forced)
+{
+    double u[5], a[3], dist = INFINITY, speed = NAN;
+    long n = n_ok;
+    memcpy(u, u_ok, sizeof(u));
+    force_at(&sim->p, (double)n * sim->dt, u, a);
+    for (double t = (double)n * sim->dt; t < t_fail;) {
+        const double t_next = fmin((double)(n + 1) * sim->dt, t_fail);
+        const double q0[2] = {u[0], u[1]};
+        fixed_step(sim, t, u, t_next - t, a, forced);
+        /* the point of the chord q0 -> q1 nearest the pivot */
+        const double dx = u[0] - q0[0], dy = u[1] - q0[1], len2 = dx * dx + dy * dy;
+        const double f = len2 > 0 ? fmin(1, fmax(0, -(q0[0] * dx + q0[1] * dy) / len2)) : 0;
+        const double d = hypot(q0[0] + f * dx, q0[1] + f * dy);
+        if (q0[0] * u[0] + q0[1] * u[1] < 0 && d < dist)
+            dist = d, speed = sqrt(len2) / (t_next - t);
+        t = t_next;
+        n++;
+    }
+    sim->failure.pass_distance = isfinite(dist) ? dist : NAN;
+    sim->failure.pass_speed = speed;
+}
+
 /* Fixed-step methods: walk the grid to the last point <= t_target, then one
  * short step from a copy to t_target. */
 SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int forced)
 {
-    double u[5], a[3];
-    long n = lround(sim->t1 / sim->dt);
+    double u[5], a[3], u_ok[5];
+    long n = lround(sim->t1 / sim->dt), n_ok = n;
     const int check_every = sim->method == SP_METHOD_VERLET ? 8 : 4;
     memcpy(u, sim->y1, sizeof(u));
+    memcpy(u_ok, u, sizeof(u));
     memcpy(a, sim->force, sizeof(a));
     while ((double)(n + 1) * sim->dt <= t_target) {
         sim->evals += fixed_step(sim, (double)n * sim->dt, u, sim->dt, a, forced);
@@ -605,8 +638,12 @@ SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int for
             int ret = check_state(sim, (double)n * sim->dt, u);
             if (ret) {
                 to_state((double)n * sim->dt, u, &sim->s);
+                if (ret == SP_E_UNSTABLE)
+                    find_pass(sim, n_ok, u_ok, (double)n * sim->dt, forced);
                 return ret;
             }
+            n_ok = n;
+            memcpy(u_ok, u, sizeof(u));
         }
     }
     sim->t1 = (double)n * sim->dt;
@@ -617,6 +654,8 @@ SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int for
     int ret = check_state(sim, t_target, u);
     to_state(t_target, u, &sim->s);
     sim->work = sim->p.mass * u[4];
+    if (ret == SP_E_UNSTABLE)
+        find_pass(sim, n_ok, u_ok, t_target, forced);
     return ret;
 }
 

@@ -10,11 +10,15 @@
  * half the natural length, where the compressed spring pushes outward with
  * nearly k L0 and that push turns round within distance / speed, less than
  * a step. Not a blow-up: the motion stays bounded (scipy agrees), but a
- * fixed step loses energy on every pass it does not resolve. */
+ * fixed step loses energy on every pass it does not resolve. Only where the
+ * step is well inside the method's stability limit for the spring, the drive
+ * and the damping: an unstable step flings the bob past the pivot too. */
 static int near_pivot_pass(const struct sp_sim *sim)
 {
+    const struct sp_method_info *mi = sp_method_info(sim->method);
     const double d = sim->failure.pass_distance, v = sim->failure.pass_speed;
-    return !sp_method_info(sim->method)->adaptive && isfinite(sim->failure.energy) &&
+    const double w = fmax(fmax(sqrt(sim->p.k_over_m), sim->p.drive_omega), sim->p.b_over_m);
+    return !mi->adaptive && isfinite(sim->failure.energy) && w * sim->dt <= 0.5 * mi->stability &&
            d < 0.5 * sim->p.L0 && v * sim->dt > d;
 }
 

@@ -47,10 +47,10 @@ struct sp_draw_gl {
     size_t n_next, cap_next;     /* bytes */
     /* The target keeps its pixels from frame to frame (both backends draw
      * into a framebuffer object like base's, gl_offscreen.h, read back
-     * after each frame). After a cached frame without accumulated
-     * layer it holds base plus that frame's dynamic items inside `damage`:
-     * the next frame restores base there only, instead of clearing and
-     * copying all of base. */
+     * after each frame). After a cached frame it holds base plus that
+     * frame's dynamic items inside `damage`: the next frame restores base
+     * there only (and where base grew: new settled or accumulated items),
+     * instead of clearing and copying all of base. */
     struct instances restore;    /* draws `damage` with the patch program */
     struct patch *damage;        /* the last frame's dynamic items' tiles */
     int n_damage, cap_damage;
@@ -957,7 +957,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     const struct sp_gl_api *gl = d->gl;
     GLint target = 0;
     GLenum glerr;
-    int accum = 0, err = 0, cached = 0, any_static = 0;
+    int accum = 0, accum_in_base = 0, err = 0, cached = 0, any_static = 0;
     const int text = c->n_quads && d->atlas;
     const int kept = d->kept; /* cleared until this frame is drawn */
     d->kept = 0;
@@ -983,6 +983,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
         if (d->base_valid && cached && accum_apart(d, c)) { /* and into the cache, under nothing */
             gl->BindFramebuffer(GL_FRAMEBUFFER, d->base_fbo);
             draw_shapes(gl, c, ACCUM_BIT, d->height);
+            accum_in_base = 1;
         } else {
             d->base_valid = 0;
         }
@@ -1053,6 +1054,9 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
                 sp_log_error("out of memory for the damaged rectangles");
                 return err;
             }
+            for (int i = 0; accum_in_base && i < c->n_items; i++) /* drawn into base above */
+                if (c->items[i].kind != SP_ITEM_CLIP && c->items[i].layer == SP_LAYER_ACCUM)
+                    dtiles_mark(d, c, i, c->items[i].first, c->items[i].first + c->items[i].count);
             if (settled_find_new(d, c)) {
                 gl->BindFramebuffer(GL_FRAMEBUFFER, d->base_fbo);
                 shapes_bind(gl, &d->shape);
@@ -1064,15 +1068,15 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
                     return err;
                 }
             }
-            if (d->accum_fbo) { /* the cache under this frame */
-                if ((err = layer_copy(d, d->base_tex)) != 0)
-                    return err;
-            } else if (kept) { /* base where the last frame's dynamic items were */
+            if (kept) { /* base where the last frame's dynamic items were */
                 if ((err = damage_runs(d)) != 0) {
                     sp_log_error("out of memory for the damaged rectangles");
                     return err;
                 }
                 if ((err = damage_restore(d)) != 0)
+                    return err;
+            } else if (d->accum_fbo) { /* the cache under this frame */
+                if ((err = layer_copy(d, d->base_tex)) != 0)
                     return err;
             } else { /* the background, and the cache where it differs from it */
                 gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
@@ -1098,7 +1102,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     }
     if (text)
         draw_text(gl, &d->text, d->atlas, c, layers);
-    if (cached && !d->accum_fbo) {
+    if (cached) {
         if ((err = damage_mark(d, c)) != 0) {
             sp_log_error("out of memory for the damaged rectangles");
             return err;

@@ -507,9 +507,8 @@ static int items_meet(const struct sp_draw_gl *d, const struct sp_canvas *c, int
  * static shape the list draws after it, a dynamic shape the list draws
  * before it, or another settled item (base gets each frame's new parts of
  * all settled items in turn). */
-static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c, int *any_static)
+static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c)
 {
-    *any_static = 0;
     for (int a = 0; a < c->n_items; a++) {
         if (c->items[a].kind == SP_ITEM_CLIP || c->items[a].layer != SP_LAYER_SETTLED)
             continue;
@@ -529,7 +528,6 @@ static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c, in
         const struct sp_item *st = &c->items[s];
         if (st->kind == SP_ITEM_CLIP || st->layer != SP_LAYER_STATIC)
             continue;
-        *any_static = 1;
         for (int k = 0; k < c->n_items; k++) {
             const struct sp_item *dy = &c->items[k];
             if (dy->kind == SP_ITEM_CLIP || dy->layer != SP_LAYER_DYNAMIC)
@@ -957,7 +955,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     const struct sp_gl_api *gl = d->gl;
     GLint target = 0;
     GLenum glerr;
-    int accum = 0, accum_in_base = 0, err = 0, cached = 0, any_static = 0;
+    int accum = 0, accum_in_base = 0, err = 0, cached = 0;
     const int text = c->n_quads && d->atlas;
     const int kept = d->kept; /* cleared until this frame is drawn */
     d->kept = 0;
@@ -969,7 +967,9 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
             sp_log_error("out of memory for the static cache's bounds");
             return err;
         }
-        cached = order_keeps(d, c, &any_static) && any_static;
+        /* also with no static item: base is then the background (or the
+         * long exposure), restored only where the last frame drew */
+        cached = order_keeps(d, c);
     }
     if (c->n_shapes)
         instances_upload(gl, &d->shape, c->shapes, c->n_shapes, sizeof(struct sp_shape));

@@ -33,7 +33,7 @@ enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_CHOICE,  /* one of the names in `unit` (", "-separated), int index */
                 KEY_PANELS,  /* a list of panel names, unsigned SP_PANEL_* bits */
                 KEY_COLOR,   /* #rrggbb, "theme" or "transparent", int */
-                KEY_TRAIL,   /* an integer or "all" (SP_TRAIL_ALL), int */
+                KEY_TRAIL,   /* frames, "5s" (SP_TRAIL_DURATION) or "all" (SP_TRAIL_ALL), int */
                 KEY_TEXT };  /* UTF-8 text, char[SP_VIEW_TEXT_BYTES] */
 
 /* One scene key: where it lives in struct sp_scene and what it accepts.

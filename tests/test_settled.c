@@ -7,8 +7,9 @@
  * two points per pixel column however long the history grows, and the
  * phase curves (lanes 0) to at most 8000 segments; that every curve is
  * connected, interleaved series keep whole points and strip charts run
- * left to right; and that the settled curve goes on, in the dynamic
- * layer, to the newest sample. The GL side (same pixels with and without the cache) is
+ * left to right; that the settled curve goes on, in the dynamic layer, to
+ * the newest sample; and that a Poincare section's settled item holds
+ * discs (every crossing but the latest). The GL side (same pixels with and without the cache) is
  * test_draw_cache.py's.
  * usage: test_settled TESTS_SOURCE_DIR */
 #include <assert.h>
@@ -63,7 +64,7 @@ static void settled_take(const struct sp_canvas *c, struct settled *s)
 }
 
 struct result {
-    int frames, not_prefix, odd_lanes, too_dense, tail_off, max_lanes;
+    int frames, not_prefix, odd_lanes, too_dense, tail_off, max_lanes, dots;
     int samples, max_points; /* history samples and points of the longest lane, at the end */
 };
 
@@ -111,6 +112,14 @@ static int run(const char *src, const char *scene_file, const char *const *ov, i
         }
         for (int i = 0; i < now.n; i++) {
             const struct sp_item *it = &now.items[i];
+            if (it->kind == SP_ITEM_SHAPES) { /* the Poincare section's dots: discs */
+                res->dots = it->count > res->dots ? it->count : res->dots;
+                for (int s = 0; s < it->count; s++)
+                    if (now.shapes[i][s].seg[0] != now.shapes[i][s].seg[2] ||
+                        now.shapes[i][s].seg[1] != now.shapes[i][s].seg[3])
+                        res->odd_lanes++;
+                continue;
+            }
             const int strip = it->lanes >= 1, lanes = it->lanes > 1 ? it->lanes : 1;
             res->max_lanes = lanes > res->max_lanes ? lanes : res->max_lanes;
             if (it->count % lanes)
@@ -175,7 +184,7 @@ int main(int argc, char **argv)
         /* phase portraits without fading, 120 s of chaos: all but the tail settled,
          * more samples than 8000 time bins */
         {"chaotic.ini", {"video.width=800", "video.height=800", "video.duration=120", "video.fps=10",
-                         "view.panels=phase", "view.fade=false"}, 6},
+                         "view.panels=phase,poincare", "view.fade=false"}, 6},
         /* a driven pivot at 4K, slowed down */
         {"driven.ini", {"video.width=3840", "video.height=2160", "video.duration=6", "video.fps=60",
                         "video.speed=0.5", "view.panels=r,theta,energy,extension,modes"}, 5},
@@ -201,6 +210,9 @@ int main(int argc, char **argv)
                       r.max_points);
         if (c == 1)
             sp_tap_ok(r.max_lanes == 4, "%s: the energy chart interleaves its four series", name);
+        if (c == 2)
+            sp_tap_ok(r.dots > 20, "%s: the Poincare section's crossings but the latest are settled "
+                      "discs (%d at the end)", name, r.dots);
     }
     return sp_tap_done();
 }

@@ -70,6 +70,11 @@ void sp_canvas_path_begin(struct sp_canvas *c)
     new_item(c, SP_ITEM_PATH, c->n_shapes);
 }
 
+void sp_canvas_shapes_begin(struct sp_canvas *c)
+{
+    new_item(c, SP_ITEM_SHAPES, c->n_shapes);
+}
+
 void sp_canvas_path_lanes(struct sp_canvas *c, int n)
 {
     if (c->in_path && c->n_items && c->items[c->n_items - 1].kind == SP_ITEM_PATH)

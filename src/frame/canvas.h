@@ -111,6 +111,10 @@ void sp_canvas_blend(struct sp_canvas *c, enum sp_blend blend);
  * (SHAPES). */
 void sp_canvas_path_begin(struct sp_canvas *c);
 void sp_canvas_path_end(struct sp_canvas *c);
+/* Starts a SHAPES item that the shapes added next join, kept in the list
+ * even when none are (a settled item is the same item in every frame). */
+void sp_canvas_shapes_begin(struct sp_canvas *c);
+
 /* Within a path: its shapes interleave n polylines (sp_item.lanes). */
 void sp_canvas_path_lanes(struct sp_canvas *c, int n);
 

@@ -657,10 +657,16 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
                unit, leg, n ? 2 : 1, SP_LAYER_DYNAMIC);
     if (!h)
         return;
-    for (int i = 0; i < h->n_crossings; i++)
-        sp_canvas_disc(c, px_x(&p, h->crossings[i].r), px_y(&p, h->crossings[i].r_dot),
-                       i == h->n_crossings - 1 ? 1.8f * dot : dot, 0,
-                       i == h->n_crossings - 1 ? pal->cursor : pal->series[2]);
+    /* every crossing but the latest never changes again: settled */
+    sp_canvas_layer(c, SP_LAYER_SETTLED);
+    sp_canvas_shapes_begin(c);
+    for (int i = 0; i + 1 < h->n_crossings; i++)
+        sp_canvas_disc(c, px_x(&p, h->crossings[i].r), px_y(&p, h->crossings[i].r_dot), dot, 0,
+                       pal->series[2]);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC);
+    if (n)
+        sp_canvas_disc(c, px_x(&p, h->crossings[n - 1].r), px_y(&p, h->crossings[n - 1].r_dot),
+                       1.8f * dot, 0, pal->cursor);
 }
 
 /* [ensemble]: log10 of the members' spread in phase space against time, and

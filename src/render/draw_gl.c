@@ -47,10 +47,10 @@ struct sp_draw_gl {
     size_t n_next, cap_next;     /* bytes */
     /* The target keeps its pixels from frame to frame (both backends draw
      * into a framebuffer object like base's, gl_offscreen.h, read back
-     * after each frame). After a cached frame without accumulated
-     * layer it holds base plus that frame's dynamic items inside `damage`:
-     * the next frame restores base there only, instead of clearing and
-     * copying all of base. */
+     * after each frame). After a cached frame it holds base plus that
+     * frame's dynamic items inside `damage`: the next frame restores base
+     * there only (and where base grew: new settled or accumulated items),
+     * instead of clearing and copying all of base. */
     struct instances restore;    /* draws `damage` with the patch program */
     struct patch *damage;        /* the last frame's dynamic items' tiles */
     int n_damage, cap_damage;
@@ -507,9 +507,8 @@ static int items_meet(const struct sp_draw_gl *d, const struct sp_canvas *c, int
  * static shape the list draws after it, a dynamic shape the list draws
  * before it, or another settled item (base gets each frame's new parts of
  * all settled items in turn). */
-static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c, int *any_static)
+static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c)
 {
-    *any_static = 0;
     for (int a = 0; a < c->n_items; a++) {
         if (c->items[a].kind == SP_ITEM_CLIP || c->items[a].layer != SP_LAYER_SETTLED)
             continue;
@@ -529,7 +528,6 @@ static int order_keeps(const struct sp_draw_gl *d, const struct sp_canvas *c, in
         const struct sp_item *st = &c->items[s];
         if (st->kind == SP_ITEM_CLIP || st->layer != SP_LAYER_STATIC)
             continue;
-        *any_static = 1;
         for (int k = 0; k < c->n_items; k++) {
             const struct sp_item *dy = &c->items[k];
             if (dy->kind == SP_ITEM_CLIP || dy->layer != SP_LAYER_DYNAMIC)
@@ -957,7 +955,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     const struct sp_gl_api *gl = d->gl;
     GLint target = 0;
     GLenum glerr;
-    int accum = 0, err = 0, cached = 0, any_static = 0;
+    int accum = 0, accum_in_base = 0, err = 0, cached = 0;
     const int text = c->n_quads && d->atlas;
     const int kept = d->kept; /* cleared until this frame is drawn */
     d->kept = 0;
@@ -969,7 +967,9 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
             sp_log_error("out of memory for the static cache's bounds");
             return err;
         }
-        cached = order_keeps(d, c, &any_static) && any_static;
+        /* also with no static item: base is then the background (or the
+         * long exposure), restored only where the last frame drew */
+        cached = order_keeps(d, c);
     }
     if (c->n_shapes)
         instances_upload(gl, &d->shape, c->shapes, c->n_shapes, sizeof(struct sp_shape));
@@ -983,6 +983,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
         if (d->base_valid && cached && accum_apart(d, c)) { /* and into the cache, under nothing */
             gl->BindFramebuffer(GL_FRAMEBUFFER, d->base_fbo);
             draw_shapes(gl, c, ACCUM_BIT, d->height);
+            accum_in_base = 1;
         } else {
             d->base_valid = 0;
         }
@@ -1053,6 +1054,9 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
                 sp_log_error("out of memory for the damaged rectangles");
                 return err;
             }
+            for (int i = 0; accum_in_base && i < c->n_items; i++) /* drawn into base above */
+                if (c->items[i].kind != SP_ITEM_CLIP && c->items[i].layer == SP_LAYER_ACCUM)
+                    dtiles_mark(d, c, i, c->items[i].first, c->items[i].first + c->items[i].count);
             if (settled_find_new(d, c)) {
                 gl->BindFramebuffer(GL_FRAMEBUFFER, d->base_fbo);
                 shapes_bind(gl, &d->shape);
@@ -1064,15 +1068,15 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
                     return err;
                 }
             }
-            if (d->accum_fbo) { /* the cache under this frame */
-                if ((err = layer_copy(d, d->base_tex)) != 0)
-                    return err;
-            } else if (kept) { /* base where the last frame's dynamic items were */
+            if (kept) { /* base where the last frame's dynamic items were */
                 if ((err = damage_runs(d)) != 0) {
                     sp_log_error("out of memory for the damaged rectangles");
                     return err;
                 }
                 if ((err = damage_restore(d)) != 0)
+                    return err;
+            } else if (d->accum_fbo) { /* the cache under this frame */
+                if ((err = layer_copy(d, d->base_tex)) != 0)
                     return err;
             } else { /* the background, and the cache where it differs from it */
                 gl->ClearColor(bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]);
@@ -1098,7 +1102,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     }
     if (text)
         draw_text(gl, &d->text, d->atlas, c, layers);
-    if (cached && !d->accum_fbo) {
+    if (cached) {
         if ((err = damage_mark(d, c)) != 0) {
             sp_log_error("out of memory for the damaged rectangles");
             return err;

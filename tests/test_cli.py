@@ -46,7 +46,7 @@ bad = [
     ("[pendulum]\nmass = 0\n", "bad.ini:2: pendulum.mass = 0 is out of range", "0 < mass"),
     ("[pendulum]\nstiffness = nan\n", "bad.ini:2: pendulum.stiffness = nan is not finite", "stiffness"),
     ("[pendulum]\nmas = 1\n", "bad.ini:2: unknown key 'mas' in [pendulum]", "did you mean 'mass'"),
-    ("[video]\nfps = abc\n", "bad.ini:2: video.fps = 'abc' is not a number", "0 < fps"),
+    ("[video]\nfps = abc\n", "bad.ini:2: video.fps = 'abc' is not a decimal number", "0 < fps"),
     ("[integrator]\ndt = -1\n", "bad.ini:2: integrator.dt = -1 is out of range", "0 < dt"),
     ("[video]\nwidth = 99999\n", "bad.ini:2: video.width = 99999 is out of range", "16 to 7680"),
     ("[initial]\nlength = 0\n[video]\nfps = 0\n", "bad.ini:2: initial.length", "bad.ini:4: video.fps"),

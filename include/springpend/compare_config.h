@@ -12,8 +12,9 @@
  *     tol = 1.5
  *
  * Keys: metric (reftest or rms), max_diff (0..255 levels), max_pixels (a
- * count or P%), tol (rms levels 0..255), mask. A [file] section overrides
- * [*], which overrides the command line. */
+ * count up to 1e18, or P% with 0 <= P <= 100), tol (rms levels 0..255),
+ * mask (integers, 0..1e9). Numbers are decimal: no hex, inf or nan. A [file]
+ * section overrides [*], which overrides the command line. */
 #ifndef SPRINGPEND_COMPARE_CONFIG_H
 #define SPRINGPEND_COMPARE_CONFIG_H
 
@@ -48,7 +49,8 @@ struct sp_compare_config {
 
 /* Parses one option into rule (name without "--": metric, max-diff or
  * max_diff, max-pixels or max_pixels, tol, mask). Returns 0, or
- * SP_E_INPUT with "what is allowed" in why. */
+ * SP_E_INPUT with "NAME VALUE: what is wrong; expected what is allowed" in
+ * why. */
 int sp_compare_rule_set(struct sp_compare_rule *rule, const char *name, const char *value,
                         char *why, size_t why_size);
 

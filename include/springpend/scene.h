@@ -106,7 +106,9 @@ struct sp_scene {
 void sp_scene_defaults(struct sp_scene *s);
 
 /* Parses INI text. `origin` names it in messages ("scenes/x.ini"). Each
- * override is "section.key=value", applied after the text. Every problem is
+ * override is "section.key=value", applied after the text. Numbers are read
+ * whole and in decimal ([+-] digits [. digits] [e [+-] digits]: no hex, inf,
+ * nan or blanks), in the text and in overrides alike. Every problem is
  * printed to stderr as "ORIGIN:LINE: message" (or "--set ARG: message") and
  * the call returns SP_E_INPUT after reporting all of them; s is then
  * unspecified. No I/O besides stderr, no exit. */

@@ -93,7 +93,7 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
         {"help", no_argument, 0, 'h'},           {0, 0, 0, 0},
     };
     int ch, idx;
-    char why[256];
+    char why[1024];
     memset(c, 0, sizeof(*c));
     optind = 1;
     opterr = 0;

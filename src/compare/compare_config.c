@@ -2,7 +2,7 @@
  * (compare_config.h). libinih splits the lines; ini_lines.c counts them. */
 #include <errno.h>
 #include <ini.h>
-#include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,24 +10,82 @@
 
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
+#include "decimal.h"
 #include "ini_lines.h"
 
-/* A number that fills all of s, within [lo, hi]. */
-static int parse_number(const char *s, double lo, double hi, double *v)
+/* The largest max_pixels count: any count beyond an image's pixels passes it;
+ * this one stays below LONG_MAX. */
+#define MAX_PIXEL_COUNT 1e18
+#define MAX_MASK_PX 1000000000 /* a mask's x, y, width, height: an int */
+#define STRING(x) #x
+#define QUOTE(x) STRING(x)
+
+#define NOT_DECIMAL "not a decimal number"
+
+/* Reads s, blanks around it allowed, as a decimal number (decimal.h) within
+ * [lo, hi], an integer when `integer` is set. Returns NULL, or what is wrong
+ * with it. */
+static const char *read_number(const char *s, double lo, double hi, int integer, double *v)
 {
-    char *end;
-    while (*s == ' ' || *s == '\t')
-        s++;
-    *v = strtod(s, &end);
-    while (*end == ' ' || *end == '\t')
-        end++;
-    return end != s && !*end && *v >= lo && *v <= hi;
+    char num[128];
+    size_t n;
+    s += strspn(s, " \t");
+    for (n = strlen(s); n && (s[n - 1] == ' ' || s[n - 1] == '\t');)
+        n--;
+    if (n >= sizeof(num))
+        return NOT_DECIMAL;
+    snprintf(num, sizeof(num), "%.*s", (int)n, s);
+    switch (sp_decimal_read(num, v)) {
+    case SP_DECIMAL_NOT_DECIMAL: return NOT_DECIMAL;
+    case SP_DECIMAL_NOT_FINITE: return "not finite";
+    case SP_DECIMAL_OK: break;
+    }
+    if (integer && *v != floor(*v))
+        return "not an integer";
+    return *v < lo || *v > hi ? "out of range" : NULL;
+}
+
+/* Writes "NAME VALUE: WRONG; expected ALLOWED" into why; SP_E_INPUT. */
+static int refuse(char *why, size_t why_size, const char *name, const char *value,
+                  const char *wrong, const char *allowed)
+{
+    snprintf(why, why_size, "%s %s: %s; expected %s%s", name, value, wrong, allowed,
+             strstr(wrong, NOT_DECIMAL) ? ", " SP_DECIMAL_ALLOWED : "");
+    return SP_E_INPUT;
+}
+
+/* A mask: four integers "x, y, width, height" in px. */
+static int read_mask(const char *value, struct sp_compare_mask *m, char *why, size_t why_size)
+{
+    static const char *const field[] = {"x", "y", "width", "height"};
+    static const char allowed[] = "x, y, width, height in px: integers with x, y >= 0 and "
+                                  "width, height >= 1, all at most " QUOTE(MAX_MASK_PX);
+    int *out[] = {&m->x, &m->y, &m->w, &m->h};
+    const char *p = value;
+    char wrong[64], num[128];
+    for (int i = 0; i < 4; i++, p += *p == ',') {
+        const size_t n = strcspn(p, ",");
+        const char *bad;
+        double v;
+        if (!*p || (i == 3) != !p[n])
+            return refuse(why, why_size, "mask", value, "not four numbers", allowed);
+        snprintf(num, sizeof(num), "%.*s", (int)n, p);
+        bad = n >= sizeof(num) ? NOT_DECIMAL : read_number(num, i < 2 ? 0 : 1, MAX_MASK_PX, 1, &v);
+        if (bad) {
+            snprintf(wrong, sizeof(wrong), "%s %s", field[i], bad);
+            return refuse(why, why_size, "mask", value, wrong, allowed);
+        }
+        *out[i] = (int)v;
+        p += n;
+    }
+    return 0;
 }
 
 int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char *value,
                         char *why, size_t why_size)
 {
     struct sp_compare_opts *o = &r->opts;
+    const char *wrong;
     double v;
     size_t n = strlen(value);
     if (!strcmp(name, "metric")) {
@@ -38,42 +96,34 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
         o->metric = value[1] == 'm' ? SP_COMPARE_RMS : SP_COMPARE_REFTEST;
         r->set |= SP_COMPARE_SET_METRIC;
     } else if (!strcmp(name, "max-diff") || !strcmp(name, "max_diff")) {
-        if (!parse_number(value, 0, 255, &v) || v != (int)v) {
-            snprintf(why, why_size, "%s %s: expected an integer from 0 to 255 (levels)", name,
-                     value);
-            return SP_E_INPUT;
-        }
+        if ((wrong = read_number(value, 0, 255, 1, &v)))
+            return refuse(why, why_size, name, value, wrong,
+                          "an integer from 0 to 255 (levels)");
         o->max_diff = v == 0 ? SP_COMPARE_NONE : (int)v;
         r->set |= SP_COMPARE_SET_MAX_DIFF;
     } else if (!strcmp(name, "max-pixels") || !strcmp(name, "max_pixels")) {
-        char num[64];
-        int pct = n > 0 && value[n - 1] == '%';
-        snprintf(num, sizeof(num), "%.*s", (int)(n - pct), value);
-        if (n >= sizeof(num) || !parse_number(num, 0, pct ? 100 : (double)(LONG_MAX / 2), &v) ||
-            (!pct && v != (long)v)) {
-            snprintf(why, why_size, "%s %s: expected a pixel count like 100 or a "
-                     "percentage like 0.5%%", name, value);
-            return SP_E_INPUT;
-        }
+        /* a percentage: the number, then '%' */
+        char num[128];
+        const int pct = n > 0 && value[n - 1] == '%';
+        snprintf(num, sizeof(num), "%.*s", (int)(n - (size_t)pct), value);
+        wrong = n >= sizeof(num) ? NOT_DECIMAL
+              : read_number(num, 0, pct ? 100 : MAX_PIXEL_COUNT, !pct, &v);
+        if (wrong)
+            return refuse(why, why_size, name, value, wrong,
+                          "a pixel count (an integer from 0 to " QUOTE(MAX_PIXEL_COUNT) ", like 100) or a "
+                          "percentage from 0% to 100% (like 0.5%)");
         o->max_pixels = v == 0 ? SP_COMPARE_NONE : pct ? 0 : (long)v;
         o->max_fraction = pct ? v / 100 : 0;
         r->set |= SP_COMPARE_SET_MAX_PIXELS;
     } else if (!strcmp(name, "tol")) {
-        if (!parse_number(value, 0, 255, &v)) {
-            snprintf(why, why_size, "tol %s: expected an RMS from 0 to 255 (levels)", value);
-            return SP_E_INPUT;
-        }
+        if ((wrong = read_number(value, 0, 255, 0, &v)))
+            return refuse(why, why_size, name, value, wrong, "an RMS from 0 to 255 (levels)");
         o->tol = v == 0 ? SP_COMPARE_NONE : v;
         r->set |= SP_COMPARE_SET_TOL;
     } else if (!strcmp(name, "mask")) {
         struct sp_compare_mask m;
-        char tail;
-        if (sscanf(value, "%d , %d , %d , %d %c", &m.x, &m.y, &m.w, &m.h, &tail) != 4 ||
-            m.x < 0 || m.y < 0 || m.w <= 0 || m.h <= 0) {
-            snprintf(why, why_size, "mask %s: expected x, y, width, height in px "
-                     "(x, y >= 0; width, height > 0)", value);
+        if (read_mask(value, &m, why, why_size))
             return SP_E_INPUT;
-        }
         if (r->n_masks == SP_COMPARE_MAX_MASKS) {
             snprintf(why, why_size, "more than %d masks for one image", SP_COMPARE_MAX_MASKS);
             return SP_E_INPUT;
@@ -113,7 +163,7 @@ static int handle(void *user, const char *section, const char *name, const char 
 {
     struct config_ctx *c = user;
     struct sp_compare_config *cfg = c->cfg;
-    char why[256], v[256];
+    char why[1024], v[256];
     /* An inline comment starts at whitespace then '#' or ';', as in scenes. */
     snprintf(v, sizeof(v), "%s", value);
     for (char *p = v; *p; p++)

@@ -54,6 +54,8 @@ static struct sp_item *new_item(struct sp_canvas *c, enum sp_item_kind kind, int
         return NULL;
     struct sp_item *it = &c->items[c->n_items++];
     *it = (struct sp_item){.kind = kind, .layer = c->layer, .blend = c->blend, .first = first};
+    if (kind == SP_ITEM_TEXT && it->layer == SP_LAYER_SETTLED) /* shapes only (canvas.h) */
+        it->layer = SP_LAYER_DYNAMIC;
     return it;
 }
 

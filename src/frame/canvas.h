@@ -49,7 +49,9 @@ enum sp_layer {
                          each frame's item holds the last frame's shapes of
                          the same item first, unchanged, then what is new
                          (a strip chart's curve up to its newest complete
-                         time bin), so a backend may draw only what is new */
+                         time bin), so a backend may draw only what is new.
+                         Shapes only: text added while it is the layer goes
+                         to the dynamic layer */
 };
 
 /* How shapes combine with what is under them. */

@@ -17,6 +17,7 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
+#include "decimal.h"
 #include "ini_lines.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
@@ -32,7 +33,7 @@ enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_CHOICE,  /* one of the names in `unit` (", "-separated), int index */
                 KEY_PANELS,  /* a list of panel names, unsigned SP_PANEL_* bits */
                 KEY_COLOR,   /* #rrggbb, "theme" or "transparent", int */
-                KEY_TRAIL,   /* an integer or "all" (SP_TRAIL_ALL), int */
+                KEY_TRAIL,   /* frames, "5s" (SP_TRAIL_DURATION) or "all" (SP_TRAIL_ALL), int */
                 KEY_TEXT };  /* UTF-8 text, char[SP_VIEW_TEXT_BYTES] */
 
 /* One scene key: where it lives in struct sp_scene and what it accepts.
@@ -247,7 +248,11 @@ static void report_unknown(struct parse_ctx *c, int line, const char *section,
 
 static void describe_range(const struct key_info *k, char *buf, size_t size)
 {
-    if (k->kind == KEY_INT || k->kind == KEY_TRAIL)
+    if (k->kind == KEY_TRAIL)
+        snprintf(buf, size, "frames as an integer from %.0f to %.0f, a duration D such as 5s "
+                 "(0 < D <= %g simulated s, a decimal number then s), or all", k->lo, k->hi,
+                 k->hi);
+    else if (k->kind == KEY_INT)
         snprintf(buf, size, "an integer from %.0f to %.0f %s", k->lo, k->hi, k->unit);
     else
         snprintf(buf, size, "a number with %g %s %s <= %g %s", k->lo,
@@ -271,8 +276,8 @@ static int choice_index(const char *list, const char *word, size_t len)
 
 static int utf8_length(const unsigned char *s); /* below, with the file's text check */
 
-/* The word-valued kinds. Returns 1 when it consumed the value (stored or
- * reported), 0 to let a KEY_TRAIL number go on to the numeric parser. */
+/* The word-valued kinds and the trail. Returns 1 when it consumed the value
+ * (stored or reported), 0 for kinds it does not read. */
 static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
                     const char *value, char *p)
 {
@@ -322,23 +327,37 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         }
         break;
     case KEY_TRAIL: {
-        char *end = NULL;
+        /* all, a duration ("5s") or frames; one message lists all three */
         const size_t n = strlen(value);
+        const int secs = n > 0 && value[n - 1] == 's';
+        char num[64], range[192];
+        const char *wrong = NULL;
+        double d = 0;
         if (!strcmp(value, "all")) {
             *(int *)p = SP_TRAIL_ALL;
             return 1;
         }
-        if (n < 2 || value[n - 1] != 's')
-            return 0;
-        const double d = strtod(value, &end);
-        if (end != value + n - 1 || !(d > 0 && d <= 1e6)) {
-            report(c, line, "%s.%s = '%s' is not allowed; give a number of frames from 0 to "
-                   "1000000, all, or a duration 0 < D <= 1e+06 s such as 5s", k->section,
-                   k->name, value);
-            return 1;
+        snprintf(num, sizeof(num), "%.*s", (int)(n - (size_t)secs), value);
+        const enum sp_decimal_read read =
+            n - (size_t)secs < sizeof(num) ? sp_decimal_read(num, &d) : SP_DECIMAL_NOT_DECIMAL;
+        if (read == SP_DECIMAL_NOT_DECIMAL)
+            wrong = "is not a number of frames, a duration or all";
+        else if (read == SP_DECIMAL_NOT_FINITE)
+            wrong = "is not finite";
+        else if (!secs && d != floor(d))
+            wrong = "is not an integer";
+        else if (secs ? !(d > 0 && d <= k->hi) : !(d >= k->lo && d <= k->hi))
+            wrong = "is out of range";
+        if (wrong) {
+            describe_range(k, range, sizeof(range));
+            report(c, line, read == SP_DECIMAL_NOT_DECIMAL ? "%s.%s = '%s' %s; allowed: %s"
+                   : "%s.%s = %s %s; allowed: %s", k->section, k->name, value, wrong, range);
+        } else if (secs) {
+            *(int *)p = SP_TRAIL_DURATION;
+            c->scene->view.trail_duration = d;
+        } else {
+            *(int *)p = (int)d;
         }
-        *(int *)p = SP_TRAIL_DURATION;
-        c->scene->view.trail_duration = d;
         return 1;
     }
     case KEY_TEXT: {
@@ -380,7 +399,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
 static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
                       const char *value)
 {
-    char range[160];
+    char range[192];
     char *p = (char *)c->scene + k->offset;
     describe_range(k, range, sizeof(range));
     if (k->kind == KEY_METHOD) {
@@ -395,20 +414,19 @@ static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
     }
     if (k->kind >= KEY_BOOL && set_word(c, line, k, value, p))
         return;
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(value, &end);
-    if (end == value || *end != 0) {
-        report(c, line, "%s.%s = '%s' is not a number; expected %s", k->section,
-               k->name, value, range);
+    double v = 0;
+    const enum sp_decimal_read read = sp_decimal_read(value, &v);
+    if (read == SP_DECIMAL_NOT_DECIMAL) {
+        report(c, line, "%s.%s = '%s' is not a decimal number; expected %s, "
+               SP_DECIMAL_ALLOWED, k->section, k->name, value, range);
         return;
     }
-    if (!isfinite(v)) {
+    if (read == SP_DECIMAL_NOT_FINITE) {
         report(c, line, "%s.%s = %s is not finite; expected %s", k->section,
                k->name, value, range);
         return;
     }
-    if ((k->kind == KEY_INT || k->kind == KEY_TRAIL) && v != floor(v)) {
+    if (k->kind == KEY_INT && v != floor(v)) {
         report(c, line, "%s.%s = %s is not an integer; expected %s", k->section,
                k->name, value, range);
         return;
@@ -418,7 +436,7 @@ static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
                k->name, value, range);
         return;
     }
-    if (k->kind == KEY_INT || k->kind == KEY_TRAIL)
+    if (k->kind == KEY_INT)
         *(int *)p = (int)v;
     else if (k->kind == KEY_DEGREES)
         *(double *)p = v * (M_PI / 180.0);
@@ -894,16 +912,14 @@ void sp_scene_print_keys(void)
     sp_scene_defaults(&def);
     for (int i = 0; i < N_KEYS; i++) {
         const struct key_info *k = &keys[i];
-        char range[160];
+        char range[192];
         if (strcmp(section, k->section))
             printf("  [%s]\n", section = k->section);
-        if (k->kind == KEY_TRAIL)
-            snprintf(range, sizeof(range), "frames from 0 to 1000000, all, or a duration (5s)");
-        else if (k->kind == KEY_TEXT && strcmp(k->unit, "text"))
+        if (k->kind == KEY_TEXT && strcmp(k->unit, "text"))
             snprintf(range, sizeof(range), "%s", k->unit);
         else if (k->kind == KEY_TEXT)
             snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
-        else if (k->kind >= KEY_BOOL)
+        else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             snprintf(range, sizeof(range), "%s: %s", k->kind == KEY_PANELS ? "list of" : "one of", k->unit);
         else if (k->kind == KEY_METHOD)
             snprintf(range, sizeof(range), "one of: %s", k->unit);

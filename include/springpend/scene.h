@@ -152,6 +152,12 @@ void sp_scene_canonical_display(const char *key, const char *value, char *buf, s
  * NULL when there is no such numeric key. */
 const char *sp_scene_key_unit(const char *key);
 
+/* Checks the text value as the parser reads the numeric key "section.key"
+ * (decimal, a whole number for integer keys, the key's range; not the
+ * whole-scene checks), printing a problem as "ORIGIN: message": for the
+ * options that stand for a key (--fps, --size). 0 or SP_E_INPUT. */
+int sp_scene_check_value(const char *key, const char *value, const char *origin);
+
 /* Sets the numeric key "section.key" to value, in file units (degrees for
  * angles), with the parser's range checks and whole-scene checks; problems
  * are printed as "ORIGIN: message" and SP_E_INPUT is returned. */

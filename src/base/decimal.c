@@ -44,3 +44,17 @@ enum sp_decimal_read sp_decimal_read(const char *s, double *v)
         return SP_DECIMAL_NOT_FINITE;
     return SP_DECIMAL_NOT_DECIMAL;
 }
+
+const char *sp_decimal_in(const char *s, double lo, double hi, int flags, double *v)
+{
+    switch (sp_decimal_read(s, v)) {
+    case SP_DECIMAL_NOT_DECIMAL: return SP_DECIMAL_NOT;
+    case SP_DECIMAL_NOT_FINITE: return "not finite";
+    case SP_DECIMAL_OK: break;
+    }
+    if ((flags & SP_DECIMAL_INTEGER) && *v != floor(*v))
+        return "not an integer";
+    if (*v < lo || ((flags & SP_DECIMAL_ABOVE) && *v == lo) || *v > hi)
+        return "out of range";
+    return NULL;
+}

@@ -21,4 +21,18 @@ enum sp_decimal_read {
  * on SP_DECIMAL_OK only (an underflow reads as 0 or a denormal). */
 enum sp_decimal_read sp_decimal_read(const char *s, double *v);
 
+/* sp_decimal_in's answer for text that is no decimal number; a message that
+ * holds it adds ", " SP_DECIMAL_ALLOWED to what it expects. */
+#define SP_DECIMAL_NOT "not a decimal number"
+
+#define SP_DECIMAL_INTEGER 1 /* sp_decimal_in: the value must be a whole number */
+#define SP_DECIMAL_ABOVE 2   /* sp_decimal_in: lo itself is refused (lo < v) */
+
+/* Reads all of s as sp_decimal_read does and checks lo <= v <= hi (lo < v
+ * with SP_DECIMAL_ABOVE in flags; a whole number with SP_DECIMAL_INTEGER).
+ * Returns NULL with *v stored, or what is wrong, for a message "WHAT: ...;
+ * expected ...": SP_DECIMAL_NOT, "not finite", "not an integer" or "out of
+ * range" (*v then unspecified). */
+const char *sp_decimal_in(const char *s, double lo, double hi, int flags, double *v);
+
 #endif

@@ -9,10 +9,14 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "decimal.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 #include "springpend/sim.h"
+
+#define STRING(x) #x
+#define QUOTE(x) STRING(x)
 
 static int add_override(struct sp_cli_options *o, const char *s)
 {
@@ -22,6 +26,88 @@ static int add_override(struct sp_cli_options *o, const char *s)
     }
     o->overrides[o->n_overrides++] = s;
     return 0;
+}
+
+int sp_cli_refuse(const char *opt, const char *arg, const char *wrong, const char *allowed)
+{
+    sp_log_error("%s %s: %s; expected %s%s", opt, arg, wrong, allowed,
+                 strstr(wrong, SP_DECIMAL_NOT) ? ", " SP_DECIMAL_ALLOWED : "");
+    return SP_E_INPUT;
+}
+
+int sp_cli_number(const char *opt, const char *arg, double lo, double hi, int flags,
+                  const char *allowed, double *v)
+{
+    const char *wrong = sp_decimal_in(arg, lo, hi, flags, v);
+    return wrong ? sp_cli_refuse(opt, arg, wrong, allowed) : 0;
+}
+
+const char *sp_cli_field(const char *s, size_t n, double lo, double hi, int flags, double *v)
+{
+    char num[128];
+    if (n >= sizeof(num))
+        return SP_DECIMAL_NOT;
+    snprintf(num, sizeof(num), "%.*s", (int)n, s);
+    return sp_decimal_in(num, lo, hi, flags, v);
+}
+
+int sp_cli_shard(const char *arg, long limit, const char *of, int *i, int *n)
+{
+    char allowed[192], wrong[64];
+    const char *slash = strchr(arg, '/'), *bad;
+    double vi, vn;
+    snprintf(allowed, sizeof(allowed), "I/N, integers with 1 <= I <= N <= %ld (%s), e.g. "
+             "--shard 2/4", limit, of);
+    if (!slash || strchr(slash + 1, '/'))
+        return sp_cli_refuse("--shard", arg, "not I/N", allowed);
+    /* N first: I's range is 1..N */
+    if ((bad = sp_cli_field(slash + 1, strlen(slash + 1), 1, (double)limit, SP_DECIMAL_INTEGER,
+                            &vn))) {
+        snprintf(wrong, sizeof(wrong), "N %s", bad);
+        return sp_cli_refuse("--shard", arg, wrong, allowed);
+    }
+    if ((bad = sp_cli_field(arg, (size_t)(slash - arg), 1, vn, SP_DECIMAL_INTEGER, &vi))) {
+        snprintf(wrong, sizeof(wrong), "I %s", bad);
+        return sp_cli_refuse("--shard", arg, wrong, allowed);
+    }
+    *i = (int)vi, *n = (int)vn;
+    return 0;
+}
+
+#define TOO_LONG "too long (at most " QUOTE(SP_CLI_NUMBER_MAX) " characters a number)"
+
+/* --size WxH: each side read as the scene reads video.width and height,
+ * messages naming --size; then the two overrides. */
+static int add_size(struct sp_cli_options *o, const char *arg)
+{
+    static const char *const key[2] = {"video.width", "video.height"};
+    static const char allowed[] = "WIDTHxHEIGHT in pixels, e.g. --size 1920x1080";
+    char origin[96], side[2][SP_CLI_NUMBER_MAX + 1];
+    const char *x = strchr(arg, 'x');
+    const size_t w = x ? (size_t)(x - arg) : 0;
+    if (!x || strchr(x + 1, 'x'))
+        return sp_cli_refuse("--size", arg, "not WIDTHxHEIGHT", allowed);
+    if (w >= sizeof(side[0]) || strlen(x + 1) >= sizeof(side[1]))
+        return sp_cli_refuse("--size", arg, TOO_LONG, allowed);
+    snprintf(side[0], sizeof(side[0]), "%.*s", (int)w, arg);
+    snprintf(side[1], sizeof(side[1]), "%s", x + 1);
+    snprintf(origin, sizeof(origin), "--size %s", arg);
+    for (int k = 0; k < 2; k++) {
+        if (sp_scene_check_value(key[k], side[k], origin))
+            return SP_E_INPUT;
+        snprintf(o->size_buf[k], sizeof(o->size_buf[k]), "%s=%.*s", key[k], SP_CLI_NUMBER_MAX,
+                 side[k]);
+        if (add_override(o, o->size_buf[k]))
+            return SP_E_INPUT;
+    }
+    return 0;
+}
+
+/* A command-specific option given to another command. */
+static int not_here(const char *opt, const char *command, const char *self)
+{
+    sp_log_error("%s is for 'springpend %s'; see '%s --help'", opt, command, self);
+    return SP_E_INPUT;
 }
 
 int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *usage,
@@ -46,7 +132,8 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"high", 1920, 1080, 60}, {"4k", 3840, 2160, 60},
     };
     const char *quality = NULL;
-    int c, w, h, ret = 0;
+    char origin[96];
+    int c, ret = 0;
     memset(o, 0, sizeof(*o));
     o->at = -1;
     o->every = -1;
@@ -98,65 +185,44 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             *(c == 'j' ? &o->json : &o->poincare) = 1;
             break;
         case 'h': fputs(usage, stdout); return 1;
-        case 'S':
-            /* Digits as typed (the scene checks the range and names the
-             * number), so no int overflow can change them. */
-            w = (int)strspn(optarg, "0123456789");
-            h = optarg[w] == 'x' ? (int)strspn(optarg + w + 1, "0123456789") : 0;
-            if (!w || !h || optarg[w + 1 + h] || w > 20 || h > 20) {
-                sp_log_error("--size %s: expected WIDTHxHEIGHT in pixels, e.g. --size 1920x1080",
-                             optarg);
-                return SP_E_INPUT;
-            }
-            snprintf(o->size_buf[0], sizeof(o->size_buf[0]), "video.width=%.*s", w, optarg);
-            snprintf(o->size_buf[1], sizeof(o->size_buf[1]), "video.height=%s", optarg + w + 1);
-            ret = add_override(o, o->size_buf[0]);
-            if (!ret)
-                ret = add_override(o, o->size_buf[1]);
-            break;
+        case 'S': ret = add_size(o, optarg); break;
         case 'F':
+            /* checked here, so that a message names --fps, not the override */
+            snprintf(origin, sizeof(origin), "--fps %s", optarg);
+            if (strlen(optarg) > SP_CLI_NUMBER_MAX)
+                return sp_cli_refuse("--fps", optarg, TOO_LONG, "frames per second (video.fps)");
+            if (sp_scene_check_value("video.fps", optarg, origin))
+                return SP_E_INPUT;
             snprintf(o->fps_buf, sizeof(o->fps_buf), "video.fps=%s", optarg);
             ret = add_override(o, o->fps_buf);
             break;
         case 'J':
-            if (!(allow_at & SP_CLI_AT)) {
-                sp_log_error("--state is for 'springpend still'; see '%s --help'", argv[0]);
-                return SP_E_INPUT;
-            }
+            if (!(allow_at & SP_CLI_AT))
+                return not_here("--state", "still", argv[0]);
             o->state = optarg;
             break;
-        case 'a': {
-            char *end;
-            o->at = strtod(optarg, &end);
-            if (!(allow_at & SP_CLI_AT) || end == optarg || *end || !(o->at >= 0) || o->at > 1e9) {
-                sp_log_error("--at %s: expected a simulated time in seconds, 0 <= t <= 1e9",
-                             optarg);
-                return SP_E_INPUT;
-            }
+        case 'a':
+            if (!(allow_at & SP_CLI_AT))
+                return not_here("--at", "still", argv[0]);
+            ret = sp_cli_number("--at", optarg, 0, 1e9, 0,
+                                "a simulated time in seconds, 0 <= t <= 1e9", &o->at);
             break;
-        }
         case 'X': {
-            char *end;
-            const long v = strtol(optarg, &end, 10);
-            if (!(allow_at & SP_CLI_AT) || end == optarg || *end || v < 1 || v > 4) {
-                sp_log_error("--scale %s: expected a supersampling factor from 1 to 4 "
-                             "(still only)", optarg);
-                return SP_E_INPUT;
-            }
+            double v;
+            if (!(allow_at & SP_CLI_AT))
+                return not_here("--scale", "still", argv[0]);
+            ret = sp_cli_number("--scale", optarg, 1, 4, SP_DECIMAL_INTEGER,
+                                "a supersampling factor, an integer from 1 to 4", &v);
             o->scale = (int)v;
             break;
         }
-        case 'e': {
-            char *end;
-            o->every = strtod(optarg, &end);
-            if (!(allow_at & SP_CLI_EVERY) || end == optarg || *end || !(o->every > 0) ||
-                o->every > 1e9) {
-                sp_log_error("--every %s: expected a sampling interval in simulated "
-                             "seconds, 0 < every <= 1e9", optarg);
-                return SP_E_INPUT;
-            }
+        case 'e':
+            if (!(allow_at & SP_CLI_EVERY))
+                return not_here("--every", "data", argv[0]);
+            ret = sp_cli_number("--every", optarg, 0, 1e9, SP_DECIMAL_ABOVE,
+                                "a sampling interval in simulated seconds, 0 < every <= 1e9",
+                                &o->every);
             break;
-        }
         case ':':
             sp_log_error("option '%s' needs a value; see '%s --help'", argv[optind - 1],
                          argv[0]);
@@ -202,7 +268,6 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
 int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
                        int *first, int *last)
 {
-    int a, b, i, n, used = 0;
     *first = *last = 0;
     if (o->frames && o->shard) {
         sp_log_error("--frames and --shard cannot be combined; give one");
@@ -210,26 +275,30 @@ int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
     }
     if (o->frames) {
         /* "A:B", "A:" (to the end) or ":B"; frames count from 0, B excluded */
-        a = 0, b = n_frames;
-        if (!((sscanf(o->frames, "%d:%d%n", &a, &b, &used) == 2 && !o->frames[used]) ||
-              (sscanf(o->frames, "%d:%n", &a, &used) == 1 && !o->frames[used]) ||
-              (sscanf(o->frames, ":%d%n", &b, &used) == 1 && !o->frames[used])) ||
-            a < 0 || b > n_frames || a >= b) {
-            sp_log_error("--frames %s: expected A:B with 0 <= A < B <= %d (the "
-                         "video's frames are 0..%d; B is not included)",
-                         o->frames, n_frames, n_frames - 1);
-            return SP_E_INPUT;
-        }
-        *first = a;
-        *last = b;
+        const char *s = o->frames, *colon = strchr(s, ':'), *bad = NULL;
+        double a = 0, b = n_frames;
+        char allowed[192], wrong[64];
+        snprintf(allowed, sizeof(allowed), "A:B, A: or :B, integers with 0 <= A < B <= %d (the "
+                 "video's frames are 0..%d; B is not included)", n_frames, n_frames - 1);
+        if (!colon || strchr(colon + 1, ':') || (colon == s && !colon[1]))
+            return sp_cli_refuse("--frames", s, "not A:B", allowed);
+        if (colon > s && (bad = sp_cli_field(s, (size_t)(colon - s), 0, n_frames - 1,
+                                             SP_DECIMAL_INTEGER, &a)))
+            snprintf(wrong, sizeof(wrong), "A %s", bad);
+        else if (colon[1] && (bad = sp_cli_field(colon + 1, strlen(colon + 1), 1, n_frames,
+                                                 SP_DECIMAL_INTEGER, &b)))
+            snprintf(wrong, sizeof(wrong), "B %s", bad);
+        else if (a >= b)
+            snprintf(wrong, sizeof(wrong), "%s", bad = "A not below B");
+        if (bad)
+            return sp_cli_refuse("--frames", s, wrong, allowed);
+        *first = (int)a;
+        *last = (int)b;
     }
     if (o->shard) {
-        if (sscanf(o->shard, "%d/%d%n", &i, &n, &used) != 2 || o->shard[used] ||
-            i < 1 || i > n || n > n_frames) {
-            sp_log_error("--shard %s: expected I/N with 1 <= I <= N <= %d (the "
-                         "video's frames), e.g. --shard 2/4", o->shard, n_frames);
+        int i, n;
+        if (sp_cli_shard(o->shard, n_frames, "the video's frames", &i, &n))
             return SP_E_INPUT;
-        }
         return sp_pipeline_shard(n_frames, i - 1, n, first, last);
     }
     return 0;

@@ -5,6 +5,7 @@
 #include "springpend/scene.h"
 
 #define SP_CLI_MAX_OVERRIDES 64
+#define SP_CLI_NUMBER_MAX 40 /* --size's and --fps's numbers: characters at most */
 
 /* Options every scene command understands. */
 struct sp_cli_options {
@@ -12,8 +13,8 @@ struct sp_cli_options {
     const char *output;      /* -o, NULL = the command's default */
     const char *overrides[SP_CLI_MAX_OVERRIDES]; /* --set, --size, --fps */
     int n_overrides;
-    char size_buf[2][48];    /* storage for the overrides --size makes */
-    char fps_buf[48];        /* storage for the override --fps makes */
+    char size_buf[2][64];    /* storage for the overrides --size makes */
+    char fps_buf[64];        /* storage for the override --fps makes */
     int quiet;               /* -q */
     double at;               /* --at (still), simulated s; < 0 = not given */
     double every;            /* --every (data), simulated s; < 0 = not given */
@@ -45,6 +46,25 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv,
  * n_frames (*last = 0: to the end). */
 int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
                        int *first, int *last);
+
+/* Logs "OPT ARG: WRONG; expected ALLOWED" (adding the decimal syntax when
+ * WRONG says SP_DECIMAL_NOT) and returns SP_E_INPUT: the one shape of a bad
+ * numeric option's message, ARG as the user typed it. */
+int sp_cli_refuse(const char *opt, const char *arg, const char *wrong, const char *allowed);
+
+/* Reads arg, option opt's value, whole as a decimal number within lo..hi
+ * (sp_decimal_in's flags: SP_DECIMAL_INTEGER, SP_DECIMAL_ABOVE) into *v;
+ * else refuses it (sp_cli_refuse) with `allowed`. */
+int sp_cli_number(const char *opt, const char *arg, double lo, double hi, int flags,
+                  const char *allowed, double *v);
+
+/* sp_decimal_in on the n characters at s (a field of a composite value such
+ * as A:B): NULL with *v stored, or what is wrong. */
+const char *sp_cli_field(const char *s, size_t n, double lo, double hi, int flags, double *v);
+
+/* Reads --shard's "I/N", integers with 1 <= I <= N <= limit, into *i and
+ * *n; `of` names what is split in the message ("the video's frames"). */
+int sp_cli_shard(const char *arg, long limit, const char *of, int *i, int *n);
 
 /* Loads o->scene_path with the overrides into *scene. */
 int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);

@@ -2,6 +2,7 @@
  * renamed), shards and their merge, the progress bar; the grid's work is
  * sweep.c's, the figure sweep_plot.c's. */
 #include <errno.h>
+#include <float.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -12,6 +13,7 @@
 
 #include "av_module.h"
 #include "cli.h"
+#include "decimal.h"
 #include "signals.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
@@ -67,33 +69,37 @@ struct sweep_opts {
     int n_parts;
 };
 
-static int parse_number(const char *opt, const char *arg, double lo, double *v)
-{
-    char *end;
-    *v = strtod(arg, &end);
-    if (end == arg || *end || !isfinite(*v) || *v < lo) {
-        sp_log_error("%s %s: expected a number >= %g", opt, arg, lo);
-        return SP_E_INPUT;
-    }
-    return 0;
-}
-
+/* --vary KEY=FROM:TO:COUNT: FROM and TO any decimal numbers here (sp_sweep_check
+ * holds them to the key's range), COUNT an integer. */
 static int parse_vary(const char *arg, struct sp_sweep_desc *d)
 {
+    static const char *const field[] = {"FROM", "TO", "COUNT"};
+    static const char allowed[] = "KEY=FROM:TO:COUNT, FROM and TO in the key's file units, "
+                                  "COUNT an integer from 1 to 100000, e.g. --vary "
+                                  "initial.angle=10:170:256";
     struct sp_sweep_axis *a = &d->axis[d->n_axes];
-    const char *eq = strchr(arg, '=');
-    int used = 0;
+    const char *eq = strchr(arg, '='), *p = eq ? eq + 1 : NULL;
+    double v[3];
+    char wrong[64];
     if (d->n_axes == SP_SWEEP_MAX_AXES) {
         sp_log_error("--vary %s: at most %d keys can be varied", arg, SP_SWEEP_MAX_AXES);
         return SP_E_INPUT;
     }
-    if (!eq || eq - arg >= (long)sizeof(a->key) ||
-        sscanf(eq + 1, "%lf:%lf:%d%n", &a->from, &a->to, &a->count, &used) != 3 || eq[1 + used] ||
-        a->count < 1 || a->count > 100000 || !isfinite(a->from) || !isfinite(a->to)) {
-        sp_log_error("--vary %s: expected KEY=FROM:TO:COUNT with 1 <= COUNT <= 100000, "
-                     "e.g. --vary initial.angle=10:170:256", arg);
-        return SP_E_INPUT;
+    if (!eq || eq == arg || eq - arg >= (long)sizeof(a->key))
+        return sp_cli_refuse("--vary", arg, "not KEY=FROM:TO:COUNT", allowed);
+    for (int i = 0; i < 3; i++, p++) {
+        const size_t n = strcspn(p, ":");
+        const char *bad;
+        if ((i == 2) != !p[n])
+            return sp_cli_refuse("--vary", arg, "not KEY=FROM:TO:COUNT", allowed);
+        if ((bad = sp_cli_field(p, n, i < 2 ? -DBL_MAX : 1, i < 2 ? DBL_MAX : 100000,
+                                i < 2 ? 0 : SP_DECIMAL_INTEGER, &v[i]))) {
+            snprintf(wrong, sizeof(wrong), "%s %s", field[i], bad);
+            return sp_cli_refuse("--vary", arg, wrong, allowed);
+        }
+        p += n;
     }
+    a->from = v[0], a->to = v[1], a->count = (int)v[2];
     snprintf(a->key, sizeof(a->key), "%.*s", (int)(eq - arg), arg);
     d->n_axes++;
     return 0;
@@ -146,23 +152,21 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
             }
             break;
         case 'T':
-            ret = parse_number("--time", optarg, 0, &d->time);
-            if (!ret && !(d->time > 0 && d->time <= 1e7)) {
-                sp_log_error("--time %s: expected simulated seconds, 0 < T <= 1e7", optarg);
-                ret = SP_E_INPUT;
-            }
+            ret = sp_cli_number("--time", optarg, 0, 1e7, SP_DECIMAL_ABOVE,
+                                "simulated seconds measured, 0 < T <= 1e7", &d->time);
             break;
-        case 'R': ret = parse_number("--transient", optarg, 0, &d->transient); break;
+        case 'R':
+            ret = sp_cli_number("--transient", optarg, 0, DBL_MAX, 0,
+                                "simulated seconds integrated first, T0 >= 0", &d->transient);
+            break;
         case 'E':
-            ret = parse_number("--energy", optarg, -1e300, &d->energy);
+            ret = sp_cli_number("--energy", optarg, -DBL_MAX, DBL_MAX, 0,
+                                "the orbits' energy in J", &d->energy);
             o->energy_given = 1;
             break;
         case 'N':
-            ret = parse_number("--threads", optarg, 1, &v);
-            if (!ret && (v != floor(v) || v > 1024)) {
-                sp_log_error("--threads %s: expected an integer from 1 to 1024", optarg);
-                ret = SP_E_INPUT;
-            }
+            ret = sp_cli_number("--threads", optarg, 1, 1024, SP_DECIMAL_INTEGER,
+                                "worker threads, an integer from 1 to 1024", &v);
             o->threads = (int)v;
             break;
         default:
@@ -491,14 +495,10 @@ int sp_cmd_sweep(int argc, char **argv)
     if ((ret = sp_sweep_check(&d, &scene, o.energy_given)))
         return ret;
     long total = sp_sweep_points(&d), first = 0, last = total;
-    int si = 0, sn = 0, used = 0;
+    int si = 0, sn = 0;
     if (o.shard) {
-        if (sscanf(o.shard, "%d/%d%n", &si, &sn, &used) != 2 || o.shard[used] || si < 1 ||
-            si > sn || sn > total) {
-            sp_log_error("--shard %s: expected I/N with 1 <= I <= N <= %ld (the grid's "
-                         "points), e.g. --shard 2/4", o.shard, total);
+        if (sp_cli_shard(o.shard, total, "the grid's points", &si, &sn))
             return SP_E_INPUT;
-        }
         first = total * (si - 1) / sn;
         last = total * si / sn;
     }

@@ -20,7 +20,7 @@
 #define STRING(x) #x
 #define QUOTE(x) STRING(x)
 
-#define NOT_DECIMAL "not a decimal number"
+#define NOT_DECIMAL SP_DECIMAL_NOT
 
 /* Reads s, blanks around it allowed, as a decimal number (decimal.h) within
  * [lo, hi], an integer when `integer` is set. Returns NULL, or what is wrong
@@ -35,14 +35,7 @@ static const char *read_number(const char *s, double lo, double hi, int integer,
     if (n >= sizeof(num))
         return NOT_DECIMAL;
     snprintf(num, sizeof(num), "%.*s", (int)n, s);
-    switch (sp_decimal_read(num, v)) {
-    case SP_DECIMAL_NOT_DECIMAL: return NOT_DECIMAL;
-    case SP_DECIMAL_NOT_FINITE: return "not finite";
-    case SP_DECIMAL_OK: break;
-    }
-    if (integer && *v != floor(*v))
-        return "not an integer";
-    return *v < lo || *v > hi ? "out of range" : NULL;
+    return sp_decimal_in(num, lo, hi, integer ? SP_DECIMAL_INTEGER : 0, v);
 }
 
 /* Writes "NAME VALUE: WRONG; expected ALLOWED" into why; SP_E_INPUT. */

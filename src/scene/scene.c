@@ -1030,6 +1030,20 @@ double sp_scene_get_number(const struct sp_scene *s, const char *key)
     return *(const double *)(p + k->offset) * (k->kind == KEY_DEGREES ? 180.0 / M_PI : 1.0);
 }
 
+int sp_scene_check_value(const char *key, const char *value, const char *origin)
+{
+    const struct key_info *k = numeric_key(key);
+    struct sp_scene s;
+    struct parse_ctx c = {.scene = &s, .origin = origin};
+    if (!k) {
+        sp_log_error("%s: '%s' is not a numeric scene key; see 'springpend keys'", origin, key);
+        return SP_E_INPUT;
+    }
+    sp_scene_defaults(&s);
+    set_value(&c, 0, k, value);
+    return c.errors ? SP_E_INPUT : 0;
+}
+
 int sp_scene_set_number(struct sp_scene *s, const char *key, double value, const char *origin)
 {
     const struct key_info *k = numeric_key(key);

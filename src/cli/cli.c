@@ -106,7 +106,7 @@ static int add_size(struct sp_cli_options *o, const char *arg)
 /* A command-specific option given to another command. */
 static int not_here(const char *opt, const char *command, const char *self)
 {
-    sp_log_error("%s is for 'springpend %s'; see '%s --help'", opt, command, self);
+    sp_log_error("%s is for 'springpend %s'; see 'springpend %s --help'", opt, command, self);
     return SP_E_INPUT;
 }
 
@@ -147,7 +147,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'R':
         case 'D': /* a still, data or info would take them and do nothing */
             if (allow_at) {
-                sp_log_error("%s is for 'springpend render'; see '%s --help'",
+                sp_log_error("%s is for 'springpend render'; see 'springpend %s --help'",
                              c == 'f' ? "--format" : c == 'R' ? "--frames" : "--shard", argv[0]);
                 return SP_E_INPUT;
             }
@@ -178,8 +178,8 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'j':
         case 'P':
             if (!(allow_at & (c == 'j' ? SP_CLI_JSON : SP_CLI_POINCARE))) {
-                sp_log_error("%s is for 'springpend %s'; see '%s --help'", argv[optind - 1],
-                             c == 'j' ? "info" : "data", argv[0]);
+                sp_log_error("%s is for 'springpend %s'; see 'springpend %s --help'",
+                             argv[optind - 1], c == 'j' ? "info" : "data", argv[0]);
                 return SP_E_INPUT;
             }
             *(c == 'j' ? &o->json : &o->poincare) = 1;
@@ -224,11 +224,12 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
                                 &o->every);
             break;
         case ':':
-            sp_log_error("option '%s' needs a value; see '%s --help'", argv[optind - 1],
+            sp_log_error("option '%s' needs a value; see 'springpend %s --help'", argv[optind - 1],
                          argv[0]);
             return SP_E_INPUT;
         default:
-            sp_log_error("unknown option '%s'; see '%s --help'", argv[optind - 1], argv[0]);
+            sp_log_error("unknown option '%s'; see 'springpend %s --help'", argv[optind - 1],
+                         argv[0]);
             return SP_E_INPUT;
         }
         if (ret)
@@ -257,8 +258,9 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             o->overrides[k] = o->quality_buf[k];
     }
     if (optind != argc - 1) {
-        sp_log_error(optind >= argc ? "missing SCENE file; see '%s --help'"
-                                    : "expected one SCENE file; see '%s --help'", argv[0]);
+        sp_log_error(optind >= argc ? "missing SCENE file; see 'springpend %s --help'"
+                                    : "expected one SCENE file; see 'springpend %s --help'",
+                     argv[0]);
         return SP_E_INPUT;
     }
     o->scene_path = argv[optind];

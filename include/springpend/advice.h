@@ -11,14 +11,16 @@
 struct sp_dt_advice {
     double omega_max;    /* rad/s: the fastest rate the motion reaches over a
                           * dop853 probe of the run: sqrt(k/m), the spring's
-                          * tangential rate sqrt(k/m |1 - L0/r|) and the rotation
-                          * |v|/r outside close passes (r >= L0 / 2), sqrt(g/l),
-                          * the drive */
-    double pass_distance; /* m: the close pass (r < L0 / 2) of that probe with
-                          * the shortest r / |v|, its distance from the pivot;
-                          * NAN if none. A fixed step follows it only with
-                          * dt < pass_distance / pass_speed (not a stability
-                          * limit: a longer step loses energy at each pass) */
+                          * tangential rate sqrt(k/m |1 - L0/r|), the rotation
+                          * |v|/r, sqrt(g/l), the drive; inside close passes
+                          * (r < L0 / 2) only where the step they ask for covers
+                          * the run in 2e6 steps, else see pass_distance */
+    double pass_distance; /* m: where close passes were left out of omega_max,
+                          * the one with the shortest r / |v|, its distance from
+                          * the pivot; NAN otherwise. A fixed step follows it
+                          * only with dt < pass_distance / pass_speed (no
+                          * stability limit: a longer step loses some energy at
+                          * each pass, which the runs for safe measure) */
     double pass_speed;   /* m/s: the bob's speed there */
     double limit;        /* s: where the method's one-step map of the damped
                           * oscillator x'' = -w^2 x - (b/m) x' first grows, at

@@ -150,17 +150,16 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
     }
     const struct sp_dt_advice *a = &in->dt;
     printf("  integrator       %s, order %d, dt = %g s; the motion reaches omega_max = %.4g "
-           "rad/s (a dop853 probe of the run: spring, drive, and near-pivot and rotation rates "
-           "outside close passes, r < L0/2), "
+           "rad/s (a dop853 probe of the run: spring, near-pivot and rotation rates, drive%s), "
            "stability limit dt <= %.4g s (%s's step for a damped oscillator at omega_max, "
            "b/m = %g 1/s): margin %.3gx\n", mi->name, mi->order, sc->integrator.dt,
-           a->omega_max, a->limit, mi->name, sim->p.b_over_m, in->margin);
+           a->omega_max, isnan(a->pass_distance) ? "" : "; close passes by the pivot left out", a->limit, mi->name, sim->p.b_over_m, in->margin);
     if (!isnan(a->pass_distance))
         printf("  close pass       the probe's bob passes %.3g m from the pivot at %.3g m/s, "
-               "where the spring's push (at most k L0 = %.3g N: no rate to keep stable, so "
-               "left out of omega_max) turns round within d / v = %.2g s; a fixed step "
-               "follows such a pass only with dt < %.2g s (%.3g steps over the run) and "
-               "loses some energy at each pass it steps over\n",
+               "where the spring's push (at most k L0 = %.3g N, so no rate to keep stable) "
+               "turns round within d / v = %.2g s; a fixed step follows such a pass only "
+               "with dt < %.2g s (%.3g steps over the run: impractical, so the pass is left "
+               "out of omega_max) and loses some energy at each pass it steps over\n",
                a->pass_distance, a->pass_speed, sc->pendulum.stiffness * L0,
                a->pass_distance / a->pass_speed, a->pass_distance / a->pass_speed,
                sc->video.duration * a->pass_speed / a->pass_distance);

@@ -21,45 +21,52 @@
 
 /* A close pass by the pivot: inside half the natural length, where the
  * compressed spring pushes outward with between k L0 / 2 and k L0 (a bounded
- * force; sim_report.c's close-pass diagnosis uses the same region). Its
- * tangential "rate" sqrt(k/m (L0/r - 1)) is a saddle's, not an oscillation's,
- * and its rotation rate |v|/r lasts only the pass: neither is a rate a fixed
- * step must keep stable, and counting them made omega_max grow without bound
- * as r -> 0. What a fixed step must do there is resolve the pass: the push
- * turns round within r / |v|, so it follows the pass only with dt < r / |v|;
- * a step longer than that does not blow up but loses some energy each pass. */
+ * force; sp_advise_failed_at_pass uses the same region). Its tangential
+ * "rate" sqrt(k/m (L0/r - 1)) is a saddle's, not an oscillation's, and its
+ * rotation rate |v|/r lasts only the pass. What a fixed step must do there
+ * is resolve the pass: the push turns round within r / |v|, so the step
+ * follows it only with dt < r / |v|; a longer step does not blow up but
+ * loses some energy at each pass. Where that is practical the pass's rate
+ * counts in omega_max; where it is not (r -> 0 sends it without bound),
+ * sp_advise_dt reports the pass instead (sp_dt_advice.pass_*). */
 static int in_pass(const struct sp_params *p, double rho)
 {
     return rho < 0.5 * p->L0;
 }
 
-/* The fastest rate of state s, rad/s, outside a close pass (in_pass): the
- * spring's tangential stiffness k/m |1 - L0/r| (at most k/m there) and the
- * rotation |v|/r; the radial rate sqrt(k/m) is the caller's. */
+/* The fastest rate of state s, rad/s: the spring's tangential stiffness
+ * k/m |1 - L0/r| (at most k/m outside a close pass) and the rotation |v|/r;
+ * the radial rate sqrt(k/m) is the caller's. */
 static double local_rate(const struct sp_params *p, const struct sp_state *s)
 {
     const double rho = hypot(s->x, s->y);
-    if (!(rho > 0) || in_pass(p, rho))
+    if (!(rho > 0))
         return 0;
     return fmax(sqrt(p->k_over_m * fabs(1 - p->L0 / rho)), hypot(s->vx, s->vy) / rho);
 }
 
-/* Keeps in out->pass_* the state of s if it is in a close pass with a
- * shorter r / |v| than the one kept so far. */
-static void note_pass(const struct sp_params *p, const struct sp_state *s,
-                      struct sp_dt_advice *out)
+/* What a dop853 probe of the run saw, rad/s: the fastest rate outside close
+ * passes and inside them; the close pass with the shortest r / |v|. */
+struct probe {
+    double w_out, w_pass;
+    double pass_d, pass_v; /* m, m/s; NAN if none */
+};
+
+static void probe_note(const struct sp_params *p, const struct sp_state *s, struct probe *pr)
 {
     const double rho = hypot(s->x, s->y), v = hypot(s->vx, s->vy);
-    if (!in_pass(p, rho) || !(v > 0))
+    if (!in_pass(p, rho)) {
+        pr->w_out = fmax(pr->w_out, local_rate(p, s));
         return;
-    if (isnan(out->pass_distance) || rho / v < out->pass_distance / out->pass_speed)
-        out->pass_distance = rho, out->pass_speed = v;
+    }
+    pr->w_pass = fmax(pr->w_pass, local_rate(p, s));
+    if (v > 0 && (isnan(pr->pass_d) || rho / v < pr->pass_d / pr->pass_v))
+        pr->pass_d = rho, pr->pass_v = v;
 }
 
-/* The fastest rate over [0, t_end] of the scene's motion outside close
- * passes, rad/s, and in out the closest pass, followed step by step with
- * dop853 (a bounded number of evaluations). */
-static double probe_omega(const struct sp_scene *sc, double t_end, struct sp_dt_advice *out)
+/* Follows the scene's motion over [0, t_end] step by step with dop853 (a
+ * bounded number of evaluations); *pr: what it saw. */
+static void probe_run(const struct sp_scene *sc, double t_end, struct probe *pr)
 {
     struct sp_scene probe = *sc;
     struct sp_sim sim;
@@ -69,18 +76,16 @@ static double probe_omega(const struct sp_scene *sc, double t_end, struct sp_dt_
     sp_sim_init(&sim, &probe);
     sim.cancel = sp_signal_flag(); /* a failure is not reported: it is data */
     sp_params_physics(&sim.p, &ph);
-    double w = fmax(fmax(ph.omega_s, ph.omega_p), sim.p.drive_omega);
-    w = fmax(w, local_rate(&sim.p, &sim.s));
-    note_pass(&sim.p, &sim.s, out);
+    *pr = (struct probe){.w_out = fmax(fmax(ph.omega_s, ph.omega_p), sim.p.drive_omega),
+                         .pass_d = NAN, .pass_v = NAN};
+    probe_note(&sim.p, &sim.s, pr);
     while (sim.s.t < t_end && sim.evals < PROBE_EVALS) {
         /* one accepted step at a time: to the step's end, or one step on */
         const double next = sim.t1 > sim.s.t ? sim.t1 : sim.s.t + sim.h;
         if (sp_sim_advance(&sim, fmin(next, t_end)))
             break; /* what was seen so far; the checks below decide */
-        w = fmax(w, local_rate(&sim.p, &sim.s));
-        note_pass(&sim.p, &sim.s, out);
+        probe_note(&sim.p, &sim.s, pr);
     }
-    return w;
 }
 
 /* A fixed step that failed on a pass close by the pivot at speed (in_pass:
@@ -205,9 +210,21 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
                                  .pass_speed = NAN};
     if (sp_method_info(m)->adaptive)
         return SP_E_INPUT;
-    out->omega_max = probe_omega(sc, t_end, out);
-    /* the fastest rate, and the damping alone (a slow swing, strongly damped) */
-    out->limit = fmin(method_limit(m, out->omega_max, gamma), method_limit(m, 0, gamma));
+    struct probe pr;
+    probe_run(sc, t_end, &pr);
+    /* the fastest rate, and the damping alone (a slow swing, strongly damped);
+     * a close pass's rate counts where half its limit covers the run within
+     * CHECK_STEPS steps; otherwise resolving it is impractical: it is left
+     * out, reported, and the runs below find what the passes cost */
+    const double damp_limit = method_limit(m, 0, gamma);
+    out->omega_max = fmax(pr.w_out, pr.w_pass);
+    out->limit = fmin(method_limit(m, out->omega_max, gamma), damp_limit);
+    if (pr.w_pass > pr.w_out && t_end > CHECK_STEPS * round_down(0.5 * out->limit)) {
+        out->omega_max = pr.w_out;
+        out->limit = fmin(method_limit(m, out->omega_max, gamma), damp_limit);
+        out->pass_distance = pr.pass_d;
+        out->pass_speed = pr.pass_v;
+    }
 
     /* the scene's own step, with the guard every command uses */
     out->scene_checked = fmin(t_end, CHECK_STEPS * sc->integrator.dt);

@@ -41,13 +41,14 @@ struct info {
     struct sp_drive_advice drive;
     struct sp_dt_advice dt;     /* fixed-step methods */
     double margin;              /* limit / dt */
-    int pass_bound;             /* 1: close passes by the pivot hold the safe dt
+    int impractical;            /* 1: close passes by the pivot hold the safe dt
                                  * down (sp_dt_advice.pass_bound) so far that
                                  * the run takes over 2e6 steps at it (or none
-                                 * completed): a fixed step is impractical */
-    double adaptive_checked;    /* s: pass_bound, and dop853 completed the run
-                                 * over [0, adaptive_checked] = video.duration;
-                                 * NAN otherwise */
+                                 * completed) */
+    double adaptive_checked;    /* s: the passes hold the safe dt down, and
+                                 * dop853 completed the run over [0,
+                                 * adaptive_checked] = video.duration; NAN
+                                 * otherwise */
 };
 
 static const char *regime_name(int r)
@@ -153,7 +154,8 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
            "rad/s (a dop853 probe of the run: spring, near-pivot and rotation rates, drive%s), "
            "stability limit dt <= %.4g s (%s's step for a damped oscillator at omega_max, "
            "b/m = %g 1/s): margin %.3gx\n", mi->name, mi->order, sc->integrator.dt,
-           a->omega_max, isnan(a->pass_distance) ? "" : "; close passes by the pivot left out", a->limit, mi->name, sim->p.b_over_m, in->margin);
+           a->omega_max, isnan(a->pass_distance) ? "" : "; close passes by the pivot left out",
+           a->limit, mi->name, sim->p.b_over_m, in->margin);
     if (!isnan(a->pass_distance))
         printf("  close pass       the probe's bob passes %.3g m from the pivot at %.3g m/s, "
                "where the spring's push (at most k L0 = %.3g N, so no rate to keep stable) "
@@ -170,16 +172,20 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
         if (!a->scene_ok)
             printf("warning: dt = %g s is stopped at t = %.4g s%s\n", sc->integrator.dt,
                    a->scene_fail_t, a->scene_fail_pass ? ": not a blow-up, it lost energy at a "
-                   "close pass it stepped over" : " as unstable");
+                   "close pass by the pivot that it stepped over" : " as unstable");
         if (isnan(a->safe))
             printf("  fixed step       impractical: no step down to 1e-12 of the stability "
-                   "limit completed past the close passes\n");
+                   "limit completed past the close passes by the pivot\n");
+        else if (in->impractical)
+            printf("  fixed step       impractical: past the close passes by the pivot it needs "
+                   "dt = %g s to keep drift under %g%% (checked over [0, %g] s only; the run "
+                   "would take %.3g steps)\n", a->safe, 100 * 0.1 * SP_SIM_DRIFT_LIMIT,
+                   a->checked, sc->video.duration / a->safe);
         else
-            printf("  fixed step       impractical: past the close passes it needs dt = %g s to "
-                   "keep drift under %g%% (checked over [0, %g] s only; the run would take "
-                   "%.3g steps)\n",
-                   a->safe, 100 * 0.1 * SP_SIM_DRIFT_LIMIT, a->checked,
-                   sc->video.duration / a->safe);
+            printf("  safe dt          %g s (completes the run over [0, %g] s with drift under "
+                   "%g%%), held down by close passes by the pivot (a longer step lost energy "
+                   "at one): a longer or other run may pass closer and need less\n", a->safe,
+                   a->checked, 100 * 0.1 * SP_SIM_DRIFT_LIMIT);
         printf("  use              integrator.method = dop853: its steps shrink at each pass "
                "(the run completes with it over [0, %g] s with drift under %g%%)\n",
                in->adaptive_checked, 100 * 0.1 * SP_SIM_DRIFT_LIMIT);
@@ -284,11 +290,11 @@ int sp_cmd_info(int argc, char **argv)
         if (ret)
             return ret;
         in.margin = in.dt.limit / sc.integrator.dt;
-        /* the safe dt held down by the passes, not the limit, past 2e6 steps */
-        in.pass_bound = in.dt.pass_bound &&
-                        (isnan(in.dt.safe) || in.dt.checked < sc.video.duration);
+        /* the safe dt held down by the passes, not the limit: dop853 */
+        in.impractical = in.dt.pass_bound &&
+                         (isnan(in.dt.safe) || in.dt.checked < sc.video.duration);
         double checked;
-        if (in.pass_bound) {
+        if (in.dt.pass_bound) {
             ret = sp_advise_adaptive(&sc, sc.video.duration, &checked);
             if (ret == SP_E_INTERRUPTED)
                 return ret;

@@ -57,13 +57,16 @@ void sp_sim_explain(const struct sp_sim *sim)
         fprintf(stderr, "  dt = %g s is too coarse for this motion (it reaches omega_max = "
                 "%.4g rad/s, where %s's stability limit is %.3g s); ", sim->dt, a.omega_max,
                 mi->name, a.limit);
-        /* a step too small to check the whole run: dop853 first, if it does */
+        /* a step too small to check the whole run, or held down by close
+         * passes by the pivot (a closer one may come): dop853 first, if it
+         * completes */
         double checked;
-        if (a.checked < t_end && sp_advise_adaptive(sim->scene, t_end, &checked) == 0 &&
-            checked >= t_end)
+        if ((a.checked < t_end || a.pass_bound) &&
+            sp_advise_adaptive(sim->scene, t_end, &checked) == 0 && checked >= t_end)
             fprintf(stderr, "use integrator.method = dop853 (the run completes with it over "
-                    "[0, %g] s) or integrator.dt = %g (checked over [0, %g] s only)\n",
-                    checked, a.safe, a.checked);
+                    "[0, %g] s) or integrator.dt = %g (%s [0, %g] s%s)\n", checked, a.safe,
+                    a.checked < t_end ? "checked over" : "it completes the run over", a.checked,
+                    a.checked < t_end ? " only" : ", held down by close passes by the pivot");
         else
             fprintf(stderr, "use integrator.dt = %g (the run completes with it over [0, %g] "
                     "s) or integrator.method = dop853\n", a.safe, a.checked);

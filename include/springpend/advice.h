@@ -13,8 +13,8 @@ struct sp_dt_advice {
                           * dop853 probe of the run: sqrt(k/m), the spring's
                           * tangential rate sqrt(k/m |1 - L0/r|), the rotation
                           * |v|/r, sqrt(g/l), the drive; inside close passes
-                          * (r < L0 / 2) only where the step they ask for covers
-                          * the run in 2e6 steps, else see pass_distance */
+                          * (r < L0 / 2) only where steps of 1 / rate cover the
+                          * run in 2e6, else see pass_distance */
     double pass_distance; /* m: where close passes were left out of omega_max,
                           * the one with the shortest r / |v|, its distance from
                           * the pivot; NAN otherwise. A fixed step follows it

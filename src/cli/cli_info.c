@@ -160,8 +160,8 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
         printf("  close pass       the probe's bob passes %.3g m from the pivot at %.3g m/s, "
                "where the spring's push (at most k L0 = %.3g N, so no rate to keep stable) "
                "turns round within d / v = %.2g s; a fixed step follows such a pass only "
-               "with dt < %.2g s (%.3g steps over the run: impractical, so the pass is left "
-               "out of omega_max) and loses some energy at each pass it steps over\n",
+               "with dt < %.2g s (about %.2g steps over the run: impractical, so the pass is "
+               "left out of omega_max) and loses some energy at each pass it steps over\n",
                a->pass_distance, a->pass_speed, sc->pendulum.stiffness * L0,
                a->pass_distance / a->pass_speed, a->pass_distance / a->pass_speed,
                sc->video.duration * a->pass_speed / a->pass_distance);

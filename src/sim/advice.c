@@ -26,8 +26,9 @@
  * rotation rate |v|/r lasts only the pass. What a fixed step must do there
  * is resolve the pass: the push turns round within r / |v|, so the step
  * follows it only with dt < r / |v|; a longer step does not blow up but
- * loses some energy at each pass. Where that is practical the pass's rate
- * counts in omega_max; where it is not (r -> 0 sends it without bound),
+ * loses some energy at each pass. Where that is practical (the run in 2e6
+ * steps of 1 / rate) the pass's rate counts in omega_max; where it is not
+ * (r -> 0 sends it without bound),
  * sp_advise_dt reports the pass instead (sp_dt_advice.pass_*). */
 static int in_pass(const struct sp_params *p, double rho)
 {
@@ -213,18 +214,16 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
     struct probe pr;
     probe_run(sc, t_end, &pr);
     /* the fastest rate, and the damping alone (a slow swing, strongly damped);
-     * a close pass's rate counts where half its limit covers the run within
-     * CHECK_STEPS steps; otherwise resolving it is impractical: it is left
-     * out, reported, and the runs below find what the passes cost */
-    const double damp_limit = method_limit(m, 0, gamma);
+     * a close pass's rate counts where steps of 1 / rate cover the run in
+     * CHECK_STEPS; otherwise resolving it is impractical: it is left out,
+     * reported, and the runs below find what the passes cost */
     out->omega_max = fmax(pr.w_out, pr.w_pass);
-    out->limit = fmin(method_limit(m, out->omega_max, gamma), damp_limit);
-    if (pr.w_pass > pr.w_out && t_end > CHECK_STEPS * round_down(0.5 * out->limit)) {
+    if (pr.w_pass > pr.w_out && t_end * pr.w_pass > CHECK_STEPS) {
         out->omega_max = pr.w_out;
-        out->limit = fmin(method_limit(m, out->omega_max, gamma), damp_limit);
         out->pass_distance = pr.pass_d;
         out->pass_speed = pr.pass_v;
     }
+    out->limit = fmin(method_limit(m, out->omega_max, gamma), method_limit(m, 0, gamma));
 
     /* the scene's own step, with the guard every command uses */
     out->scene_checked = fmin(t_end, CHECK_STEPS * sc->integrator.dt);

@@ -28,7 +28,11 @@ static const char info_usage[] =
     "  --json   the same facts for scripts, SI units, null where none applies:\n"
     "           omega_spring, omega_pendulum, ratio, equilibrium_length,\n"
     "           exchange_rate, exchange_time, bounce_decay_time, swing_decay_time,\n"
-    "           drive_swing_growth, stability_margin, safe_dt, ...\n";
+    "           drive_swing_growth, stability_margin, safe_dt, adaptive_method, ...\n"
+    "\n"
+    "A close pass by the pivot (r < L0/2) is a pass to resolve (dt < d/v), not a rate to\n"
+    "keep stable; where such passes make a fixed step impractical, info says so and\n"
+    "names dop853, run to completion.\n";
 
 /* Everything info says, in SI units; NAN where it does not apply. */
 struct info {

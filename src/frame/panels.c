@@ -352,11 +352,18 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     p->title_end = r->x0 + pad +
         sp_canvas_text(c, fits ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
                        SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
-    sp_canvas_layer(c, leg_layer); /* dynamic when it counts what is shown */
+    const float leg_x = leg_row ? r->x0 + pad : p->title_end + pad;
+    const float leg_y = r->y0 + pad + cap_n + (leg_row ? line_s : 0);
+    /* dynamic when it counts what is shown, or when it reaches down to the
+     * data (tiny panels), which must stay under it: a backend keeping the
+     * static layer under the data could not keep it so */
+    const int rows = n_leg ? legend_draw(NULL, f, leg_x, leg_y, r->x0 + pad, r->x1 - pad, leg, n_leg, shrt) : 0;
+    const float leg_bottom = leg_y + (float)(rows - 1) * line_s + (line_s - cap_s);
+    const int flat = !(p->area.y1 > p->area.y0 + 1); /* no clip: the data may reach anywhere */
+    sp_canvas_layer(c, !flat && leg_bottom + 4 < p->area.y0 - 0.006f * unit ? leg_layer
+                                                                        : SP_LAYER_DYNAMIC);
     if (n_leg)
-        legend_draw(c, f, leg_row ? r->x0 + pad : p->title_end + pad,
-                    r->y0 + pad + cap_n + (leg_row ? line_s : 0), r->x0 + pad, r->x1 - pad, leg, n_leg,
-                    shrt);
+        legend_draw(c, f, leg_x, leg_y, r->x0 + pad, r->x1 - pad, leg, n_leg, shrt);
     sp_canvas_layer(c, SP_LAYER_STATIC);
     for (double v = p->y.first; label_y && v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
         tick_label(&p->y, v, buf, sizeof(buf));

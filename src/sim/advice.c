@@ -28,8 +28,8 @@
  * follows it only with dt < r / |v|; a longer step does not blow up but
  * loses some energy at each pass. Where that is practical (the run in 2e6
  * steps of 1 / rate) the pass's rate counts in omega_max; where it is not
- * (r -> 0 sends it without bound),
- * sp_advise_dt reports the pass instead (sp_dt_advice.pass_*). */
+ * (r -> 0 sends it without bound), sp_advise_dt reports the pass instead
+ * (sp_dt_advice.pass_*). */
 static int in_pass(const struct sp_params *p, double rho)
 {
     return rho < 0.5 * p->L0;
@@ -90,9 +90,9 @@ static void probe_run(const struct sp_scene *sc, double t_end, struct probe *pr)
 }
 
 /* A fixed step that failed on a pass close by the pivot at speed (in_pass:
- * inside half the natural length, where the compressed spring pushes outward with
- * nearly k L0) and that push turns round within distance / speed, less than
- * a step. Not a blow-up: the motion stays bounded (scipy agrees), but a
+ * inside half the natural length, where the compressed spring pushes outward
+ * with nearly k L0) and that push turns round within distance / speed, less
+ * than a step. Not a blow-up: the motion stays bounded (scipy agrees), but a
  * fixed step loses energy on every pass it does not resolve. Only where the
  * step is well inside the method's stability limit for the spring, the drive
  * and the damping: an unstable step flings the bob past the pivot too. */

@@ -11,8 +11,17 @@
 struct sp_dt_advice {
     double omega_max;    /* rad/s: the fastest rate the motion reaches over a
                           * dop853 probe of the run: sqrt(k/m), the spring's
-                          * tangential rate sqrt(k/m |1 - L0/r|) (large near the
-                          * pivot), the rotation |v|/r, sqrt(g/l), the drive */
+                          * tangential rate sqrt(k/m |1 - L0/r|), the rotation
+                          * |v|/r, sqrt(g/l), the drive; inside close passes
+                          * (r < L0 / 2) only where steps of 1 / rate cover the
+                          * run in 2e6, else see pass_distance */
+    double pass_distance; /* m: where close passes were left out of omega_max,
+                          * the one with the shortest r / |v|, its distance from
+                          * the pivot; NAN otherwise. A fixed step follows it
+                          * only with dt < pass_distance / pass_speed (no
+                          * stability limit: a longer step loses some energy at
+                          * each pass, which the runs for safe measure) */
+    double pass_speed;   /* m/s: the bob's speed there */
     double limit;        /* s: where the method's one-step map of the damped
                           * oscillator x'' = -w^2 x - (b/m) x' first grows, at
                           * w = omega_max and at w = 0 (RK4: 2.83 / w undamped,
@@ -21,16 +30,27 @@ struct sp_dt_advice {
                           * yoshida4's backward substep amplifies under damping) */
     double safe;         /* s: a step the run completed with, its drift under a
                           * tenth of the blow-up guard's; one significant digit */
+    int pass_bound;      /* 1: a longer step than safe (or every step tried)
+                          * was stopped losing energy at a close pass
+                          * (sp_advise_failed_at_pass), not by the limit */
     double checked;      /* s: safe and the scene's dt were run over [0, checked]
                           * (t_end, or less where that takes over 2e6 steps) */
     int scene_ok;        /* 1: the scene's own dt completed over [0, scene_checked] */
     double scene_checked; /* s */
     double scene_fail_t; /* s: where the scene's dt was stopped (scene_ok 0) */
+    int scene_fail_pass; /* 1: stopped losing energy at a close pass, not
+                          * blowing up (sp_advise_failed_at_pass) */
 };
 
 /* Fills *out for sc's fixed-step method over [0, t_end]. Adaptive methods:
  * SP_E_INPUT (they choose their own steps). Otherwise 0. */
 int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *out);
+
+/* 1 when sim, a fixed-step run that sp_sim_advance stopped as unstable, was
+ * not blowing up but lost energy at a pass close by the pivot (r < L0 / 2)
+ * that its step was too long to follow (sim->failure.pass_*), with a step
+ * well inside the method's stability limit; 0 otherwise. */
+int sp_advise_failed_at_pass(const struct sp_sim *sim);
 
 /* Runs sc with dop853 (at its tolerance, at most 1e-9) over [0, t_end],
  * keeping a tenth of the guard's drift, for at most 2e7 evaluations;

@@ -28,7 +28,11 @@ static const char info_usage[] =
     "  --json   the same facts for scripts, SI units, null where none applies:\n"
     "           omega_spring, omega_pendulum, ratio, equilibrium_length,\n"
     "           exchange_rate, exchange_time, bounce_decay_time, swing_decay_time,\n"
-    "           drive_swing_growth, stability_margin, safe_dt, ...\n";
+    "           drive_swing_growth, stability_margin, safe_dt, adaptive_method, ...\n"
+    "\n"
+    "A close pass by the pivot (r < L0/2) is a pass to resolve (dt < d/v), not a rate to\n"
+    "keep stable; where such passes make a fixed step impractical, info says so and\n"
+    "names dop853, run to completion.\n";
 
 /* Everything info says, in SI units; NAN where it does not apply. */
 struct info {
@@ -41,6 +45,14 @@ struct info {
     struct sp_drive_advice drive;
     struct sp_dt_advice dt;     /* fixed-step methods */
     double margin;              /* limit / dt */
+    int impractical;            /* 1: close passes by the pivot hold the safe dt
+                                 * down (sp_dt_advice.pass_bound) so far that
+                                 * the run takes over 2e6 steps at it (or none
+                                 * completed) */
+    double adaptive_checked;    /* s: the passes hold the safe dt down, and
+                                 * dop853 completed the run over [0,
+                                 * adaptive_checked] = video.duration; NAN
+                                 * otherwise */
 };
 
 static const char *regime_name(int r)
@@ -143,13 +155,46 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
     }
     const struct sp_dt_advice *a = &in->dt;
     printf("  integrator       %s, order %d, dt = %g s; the motion reaches omega_max = %.4g "
-           "rad/s (a dop853 probe of the run: spring, near-pivot and rotation rates, drive), "
+           "rad/s (a dop853 probe of the run: spring, near-pivot and rotation rates, drive%s), "
            "stability limit dt <= %.4g s (%s's step for a damped oscillator at omega_max, "
            "b/m = %g 1/s): margin %.3gx\n", mi->name, mi->order, sc->integrator.dt,
-           a->omega_max, a->limit, mi->name, sim->p.b_over_m, in->margin);
+           a->omega_max, isnan(a->pass_distance) ? "" : "; close passes by the pivot left out",
+           a->limit, mi->name, sim->p.b_over_m, in->margin);
+    if (!isnan(a->pass_distance))
+        printf("  close pass       the probe's bob passes %.3g m from the pivot at %.3g m/s, "
+               "where the spring's push (at most k L0 = %.3g N, so no rate to keep stable) "
+               "turns round within d / v = %.2g s; a fixed step follows such a pass only "
+               "with dt < %.2g s (about %.2g steps over the run: impractical, so the pass is "
+               "left out of omega_max) and loses some energy at each pass it steps over\n",
+               a->pass_distance, a->pass_speed, sc->pendulum.stiffness * L0,
+               a->pass_distance / a->pass_speed, a->pass_distance / a->pass_speed,
+               sc->video.duration * a->pass_speed / a->pass_distance);
     if (a->scene_ok)
         printf("  this dt          completes the run (checked over [0, %g] s)\n",
                a->scene_checked);
+    if (!isnan(in->adaptive_checked)) {
+        if (!a->scene_ok)
+            printf("warning: dt = %g s is stopped at t = %.4g s%s\n", sc->integrator.dt,
+                   a->scene_fail_t, a->scene_fail_pass ? ": not a blow-up, it lost energy at a "
+                   "close pass by the pivot that it stepped over" : " as unstable");
+        if (isnan(a->safe))
+            printf("  fixed step       impractical: no step down to 1e-12 of the stability "
+                   "limit completed past the close passes by the pivot\n");
+        else if (in->impractical)
+            printf("  fixed step       impractical: past the close passes by the pivot it needs "
+                   "dt = %g s to keep drift under %g%% (checked over [0, %g] s only; the run "
+                   "would take %.3g steps)\n", a->safe, 100 * 0.1 * SP_SIM_DRIFT_LIMIT,
+                   a->checked, sc->video.duration / a->safe);
+        else
+            printf("  safe dt          %g s (completes the run over [0, %g] s with drift under "
+                   "%g%%), held down by close passes by the pivot (a longer step lost energy "
+                   "at one): a longer or other run may pass closer and need less\n", a->safe,
+                   a->checked, 100 * 0.1 * SP_SIM_DRIFT_LIMIT);
+        printf("  use              integrator.method = dop853: its steps shrink at each pass "
+               "(the run completes with it over [0, %g] s with drift under %g%%)\n",
+               in->adaptive_checked, 100 * 0.1 * SP_SIM_DRIFT_LIMIT);
+        return;
+    }
     if (!a->scene_ok && !isnan(a->safe))
         printf("warning: dt = %g s is stopped as unstable at t = %.4g s. Use integrator.dt = "
                "%g (it completes the run over [0, %g] s with drift under %g%%) or "
@@ -214,7 +259,11 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
     printf("  \"dt_completes\": %s,\n", !fixed ? "null" : in->dt.scene_ok ? "true" : "false");
     json_num("dt_checked_until", fixed ? in->dt.scene_checked : NAN, 0);
     json_num("safe_dt", fixed ? in->dt.safe : NAN, 0);
-    json_num("safe_dt_checked_until", fixed && !isnan(in->dt.safe) ? in->dt.checked : NAN, 1);
+    json_num("safe_dt_checked_until", fixed && !isnan(in->dt.safe) ? in->dt.checked : NAN, 0);
+    json_num("pass_distance", fixed ? in->dt.pass_distance : NAN, 0);
+    json_num("pass_speed", fixed ? in->dt.pass_speed : NAN, 0);
+    printf("  \"adaptive_method\": %s,\n", isnan(in->adaptive_checked) ? "null" : "\"dop853\"");
+    json_num("adaptive_checked_until", in->adaptive_checked, 1);
     printf("}\n");
 }
 
@@ -223,7 +272,7 @@ int sp_cmd_info(int argc, char **argv)
     struct sp_cli_options o;
     struct sp_scene sc;
     struct sp_sim sim;
-    struct info in = {0};
+    struct info in = {.adaptive_checked = NAN};
     int ret = sp_cli_parse(&o, argc, argv, info_usage, SP_CLI_JSON);
     if (ret)
         return ret > 0 ? 0 : ret;
@@ -245,6 +294,17 @@ int sp_cmd_info(int argc, char **argv)
         if (ret)
             return ret;
         in.margin = in.dt.limit / sc.integrator.dt;
+        /* the safe dt held down by the passes, not the limit: dop853 */
+        in.impractical = in.dt.pass_bound &&
+                         (isnan(in.dt.safe) || in.dt.checked < sc.video.duration);
+        double checked;
+        if (in.dt.pass_bound) {
+            ret = sp_advise_adaptive(&sc, sc.video.duration, &checked);
+            if (ret == SP_E_INTERRUPTED)
+                return ret;
+            if (ret == 0 && checked >= sc.video.duration)
+                in.adaptive_checked = checked;
+        }
     }
     if (o.json)
         print_json(&sc, &sim, &in);

@@ -19,9 +19,25 @@
 
 /* ---- the step ------------------------------------------------------------ */
 
+/* A close pass by the pivot: inside half the natural length, where the
+ * compressed spring pushes outward with between k L0 / 2 and k L0 (a bounded
+ * force; sp_advise_failed_at_pass uses the same region). Its tangential
+ * "rate" sqrt(k/m (L0/r - 1)) is a saddle's, not an oscillation's, and its
+ * rotation rate |v|/r lasts only the pass. What a fixed step must do there
+ * is resolve the pass: the push turns round within r / |v|, so the step
+ * follows it only with dt < r / |v|; a longer step does not blow up but
+ * loses some energy at each pass. Where that is practical (the run in 2e6
+ * steps of 1 / rate) the pass's rate counts in omega_max; where it is not
+ * (r -> 0 sends it without bound), sp_advise_dt reports the pass instead
+ * (sp_dt_advice.pass_*). */
+static int in_pass(const struct sp_params *p, double rho)
+{
+    return rho < 0.5 * p->L0;
+}
+
 /* The fastest rate of state s, rad/s: the spring's tangential stiffness
- * k/m |1 - L0/r| (it grows without bound near the pivot) and the rotation
- * |v|/r; the radial rate sqrt(k/m) is the caller's. */
+ * k/m |1 - L0/r| (at most k/m outside a close pass) and the rotation |v|/r;
+ * the radial rate sqrt(k/m) is the caller's. */
 static double local_rate(const struct sp_params *p, const struct sp_state *s)
 {
     const double rho = hypot(s->x, s->y);
@@ -30,9 +46,28 @@ static double local_rate(const struct sp_params *p, const struct sp_state *s)
     return fmax(sqrt(p->k_over_m * fabs(1 - p->L0 / rho)), hypot(s->vx, s->vy) / rho);
 }
 
-/* The fastest rate over [0, t_end] of the scene's motion, rad/s, followed
- * step by step with dop853 (a bounded number of evaluations). */
-static double probe_omega(const struct sp_scene *sc, double t_end)
+/* What a dop853 probe of the run saw, rad/s: the fastest rate outside close
+ * passes and inside them; the close pass with the shortest r / |v|. */
+struct probe {
+    double w_out, w_pass;
+    double pass_d, pass_v; /* m, m/s; NAN if none */
+};
+
+static void probe_note(const struct sp_params *p, const struct sp_state *s, struct probe *pr)
+{
+    const double rho = hypot(s->x, s->y), v = hypot(s->vx, s->vy);
+    if (!in_pass(p, rho)) {
+        pr->w_out = fmax(pr->w_out, local_rate(p, s));
+        return;
+    }
+    pr->w_pass = fmax(pr->w_pass, local_rate(p, s));
+    if (v > 0 && (isnan(pr->pass_d) || rho / v < pr->pass_d / pr->pass_v))
+        pr->pass_d = rho, pr->pass_v = v;
+}
+
+/* Follows the scene's motion over [0, t_end] step by step with dop853 (a
+ * bounded number of evaluations); *pr: what it saw. */
+static void probe_run(const struct sp_scene *sc, double t_end, struct probe *pr)
 {
     struct sp_scene probe = *sc;
     struct sp_sim sim;
@@ -42,16 +77,32 @@ static double probe_omega(const struct sp_scene *sc, double t_end)
     sp_sim_init(&sim, &probe);
     sim.cancel = sp_signal_flag(); /* a failure is not reported: it is data */
     sp_params_physics(&sim.p, &ph);
-    double w = fmax(fmax(ph.omega_s, ph.omega_p), sim.p.drive_omega);
-    w = fmax(w, local_rate(&sim.p, &sim.s));
+    *pr = (struct probe){.w_out = fmax(fmax(ph.omega_s, ph.omega_p), sim.p.drive_omega),
+                         .pass_d = NAN, .pass_v = NAN};
+    probe_note(&sim.p, &sim.s, pr);
     while (sim.s.t < t_end && sim.evals < PROBE_EVALS) {
         /* one accepted step at a time: to the step's end, or one step on */
         const double next = sim.t1 > sim.s.t ? sim.t1 : sim.s.t + sim.h;
         if (sp_sim_advance(&sim, fmin(next, t_end)))
             break; /* what was seen so far; the checks below decide */
-        w = fmax(w, local_rate(&sim.p, &sim.s));
+        probe_note(&sim.p, &sim.s, pr);
     }
-    return w;
+}
+
+/* A fixed step that failed on a pass close by the pivot at speed (in_pass:
+ * inside half the natural length, where the compressed spring pushes outward
+ * with nearly k L0) and that push turns round within distance / speed, less
+ * than a step. Not a blow-up: the motion stays bounded (scipy agrees), but a
+ * fixed step loses energy on every pass it does not resolve. Only where the
+ * step is well inside the method's stability limit for the spring, the drive
+ * and the damping: an unstable step flings the bob past the pivot too. */
+int sp_advise_failed_at_pass(const struct sp_sim *sim)
+{
+    const struct sp_method_info *mi = sp_method_info(sim->method);
+    const double d = sim->failure.pass_distance, v = sim->failure.pass_speed;
+    const double w = fmax(fmax(sqrt(sim->p.k_over_m), sim->p.drive_omega), sim->p.b_over_m);
+    return !mi->adaptive && isfinite(sim->failure.energy) && w * sim->dt <= 0.5 * mi->stability &&
+           in_pass(&sim->p, d) && v * sim->dt > d;
 }
 
 /* One step of method m over h of the damped oscillator x'' = -w^2 x - g x',
@@ -133,9 +184,10 @@ static double round_down(double x)
 }
 
 /* Runs sc's method at dt over [0, t] with the given drift limit, quietly.
- * 0, SP_E_UNSTABLE (*fail_t: where) or SP_E_INTERRUPTED. */
+ * 0, SP_E_UNSTABLE (*fail_t: where; *at_pass: sp_advise_failed_at_pass) or
+ * SP_E_INTERRUPTED. */
 static int run_fixed(const struct sp_scene *sc, double dt, double t, double drift_limit,
-                     double *fail_t)
+                     double *fail_t, int *at_pass)
 {
     struct sp_scene s = *sc;
     struct sp_sim sim;
@@ -145,6 +197,7 @@ static int run_fixed(const struct sp_scene *sc, double dt, double t, double drif
     sim.drift_limit = drift_limit;
     const int ret = sp_sim_advance(&sim, t);
     *fail_t = sim.s.t;
+    *at_pass = ret == SP_E_UNSTABLE && sp_advise_failed_at_pass(&sim);
     return ret;
 }
 
@@ -153,17 +206,29 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
     const enum sp_method m = sc->integrator.method;
     const double gamma = sc->pendulum.damping / sc->pendulum.mass;
     double fail_t = 0;
-    int ret;
-    *out = (struct sp_dt_advice){.safe = NAN, .scene_fail_t = NAN};
+    int ret, at_pass;
+    *out = (struct sp_dt_advice){.safe = NAN, .scene_fail_t = NAN, .pass_distance = NAN,
+                                 .pass_speed = NAN};
     if (sp_method_info(m)->adaptive)
         return SP_E_INPUT;
-    out->omega_max = probe_omega(sc, t_end);
-    /* the fastest rate, and the damping alone (a slow swing, strongly damped) */
+    struct probe pr;
+    probe_run(sc, t_end, &pr);
+    /* the fastest rate, and the damping alone (a slow swing, strongly damped);
+     * a close pass's rate counts where steps of 1 / rate cover the run in
+     * CHECK_STEPS; otherwise resolving it is impractical: it is left out,
+     * reported, and the runs below find what the passes cost */
+    out->omega_max = fmax(pr.w_out, pr.w_pass);
+    if (pr.w_pass > pr.w_out && t_end * pr.w_pass > CHECK_STEPS) {
+        out->omega_max = pr.w_out;
+        out->pass_distance = pr.pass_d;
+        out->pass_speed = pr.pass_v;
+    }
     out->limit = fmin(method_limit(m, out->omega_max, gamma), method_limit(m, 0, gamma));
 
     /* the scene's own step, with the guard every command uses */
     out->scene_checked = fmin(t_end, CHECK_STEPS * sc->integrator.dt);
-    ret = run_fixed(sc, sc->integrator.dt, out->scene_checked, SP_SIM_DRIFT_LIMIT, &fail_t);
+    ret = run_fixed(sc, sc->integrator.dt, out->scene_checked, SP_SIM_DRIFT_LIMIT, &fail_t,
+                    &out->scene_fail_pass);
     if (ret == SP_E_INTERRUPTED)
         return ret;
     out->scene_ok = ret == 0;
@@ -174,9 +239,10 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
     double dt = round_down(0.5 * out->limit);
     for (int i = 0; i < 40 && dt > 0; i++, dt = round_down(0.5 * dt)) {
         const double t = fmin(t_end, CHECK_STEPS * dt);
-        ret = run_fixed(sc, dt, t, SAFE_DRIFT, &fail_t);
+        ret = run_fixed(sc, dt, t, SAFE_DRIFT, &fail_t, &at_pass);
         if (ret == SP_E_INTERRUPTED)
             return ret;
+        out->pass_bound |= at_pass;
         if (!ret) {
             out->safe = dt;
             out->checked = t;

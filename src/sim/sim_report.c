@@ -6,23 +6,7 @@
 #include "springpend/common.h"
 #include "sim_report.h"
 
-/* A fixed step that failed on a pass close by the pivot at speed: inside
- * half the natural length, where the compressed spring pushes outward with
- * nearly k L0 and that push turns round within distance / speed, less than
- * a step. Not a blow-up: the motion stays bounded (scipy agrees), but a
- * fixed step loses energy on every pass it does not resolve. Only where the
- * step is well inside the method's stability limit for the spring, the drive
- * and the damping: an unstable step flings the bob past the pivot too. */
-static int near_pivot_pass(const struct sp_sim *sim)
-{
-    const struct sp_method_info *mi = sp_method_info(sim->method);
-    const double d = sim->failure.pass_distance, v = sim->failure.pass_speed;
-    const double w = fmax(fmax(sqrt(sim->p.k_over_m), sim->p.drive_omega), sim->p.b_over_m);
-    return !mi->adaptive && isfinite(sim->failure.energy) && w * sim->dt <= 0.5 * mi->stability &&
-           d < 0.5 * sim->p.L0 && v * sim->dt > d;
-}
-
-/* The words for near_pivot_pass, and the method that completes the run. */
+/* The words for sp_advise_failed_at_pass, and the method that completes the run. */
 static void explain_pass(const struct sp_sim *sim)
 {
     const struct sp_state *s = &sim->failure.s;
@@ -55,7 +39,7 @@ void sp_sim_explain(const struct sp_sim *sim)
     const struct sp_state *s = &sim->failure.s;
     struct sp_dt_advice a;
     const double t_end = fmax(sim->scene->video.duration, s->t);
-    if (near_pivot_pass(sim)) {
+    if (sp_advise_failed_at_pass(sim)) {
         explain_pass(sim);
         return;
     }
@@ -73,13 +57,16 @@ void sp_sim_explain(const struct sp_sim *sim)
         fprintf(stderr, "  dt = %g s is too coarse for this motion (it reaches omega_max = "
                 "%.4g rad/s, where %s's stability limit is %.3g s); ", sim->dt, a.omega_max,
                 mi->name, a.limit);
-        /* a step too small to check the whole run: dop853 first, if it does */
+        /* a step too small to check the whole run, or held down by close
+         * passes by the pivot (a closer one may come): dop853 first, if it
+         * completes */
         double checked;
-        if (a.checked < t_end && sp_advise_adaptive(sim->scene, t_end, &checked) == 0 &&
-            checked >= t_end)
+        if ((a.checked < t_end || a.pass_bound) &&
+            sp_advise_adaptive(sim->scene, t_end, &checked) == 0 && checked >= t_end)
             fprintf(stderr, "use integrator.method = dop853 (the run completes with it over "
-                    "[0, %g] s) or integrator.dt = %g (checked over [0, %g] s only)\n",
-                    checked, a.safe, a.checked);
+                    "[0, %g] s) or integrator.dt = %g (%s [0, %g] s%s)\n", checked, a.safe,
+                    a.checked < t_end ? "checked over" : "it completes the run over", a.checked,
+                    a.checked < t_end ? " only" : ", held down by close passes by the pivot");
         else
             fprintf(stderr, "use integrator.dt = %g (the run completes with it over [0, %g] "
                     "s) or integrator.method = dop853\n", a.safe, a.checked);

@@ -460,7 +460,9 @@ static double quantity(const struct sp_history_sample *s, enum quantity which,
  * depends on the points before only, so it never changes either).
  * With fade_to, each segment fades into that colour by the age of its newer
  * end, over the newest SP_FADE_S seconds (the trail's rule), to 6%; what is
- * older keeps that colour. What can no longer change (all of it but the
+ * older keeps that colour. The age is counted from the last whole step of
+ * SP_FADE_STEP, so that the faded part stays the same between steps (a
+ * backend may leave it as it is). What can no longer change (all of it but the
  * tail without fading, what is older than SP_FADE_S with it) is settled;
  * the rest is redrawn each frame. */
 static void phase_curve(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
@@ -469,7 +471,11 @@ static void phase_curve(struct sp_canvas *c, const struct plot *p, const struct 
 {
     const double bin = t_end / 8000;
     const struct sp_history_sample *s = h->samples;
-    const double now = s[h->count - 1].t;
+    /* the fade advances in steps of SP_FADE_STEP: between steps the faded
+     * part is the same, byte for byte, and what is newer than the last
+     * step is at full strength */
+    const double now = fade_to ? floor(s[h->count - 1].t / SP_FADE_STEP) * SP_FADE_STEP
+                               : s[h->count - 1].t;
     float ax = px_x(p, quantity(&s[0], xq, pp)), ay = px_y(p, quantity(&s[0], yq, pp));
     float col[4] = {color[0], color[1], color[2], color[3]}, floor_col[4];
     for (int k = 0; k < 4; k++)
@@ -477,7 +483,7 @@ static void phase_curve(struct sp_canvas *c, const struct plot *p, const struct 
     floor_col[3] = color[3];
     sp_canvas_layer(c, SP_LAYER_SETTLED);
     sp_canvas_path_begin(c);
-    int settled = 1;
+    int part = 0; /* 0: settled, 1: fading (until the next step), 2: newest */
     double b_this = h->count > 1 ? floor(s[1].t / bin) : 0;
     for (int i = 1; i < h->count; i++) {
         const int last = i + 1 == h->count;
@@ -493,14 +499,15 @@ static void phase_curve(struct sp_canvas *c, const struct plot *p, const struct 
             continue; /* within a pixel of the last point: a slow curl would pile
                          hundreds of segments onto a few pixels */
         const double age = now - s[i].t;
-        if (settled && (last || (fade_to && age < SP_FADE_S))) { /* the part still changing */
+        const int want = !fade_to ? (last ? 2 : 0) : age >= SP_FADE_S ? 0 : age >= 0 && !last ? 1 : 2;
+        while (part < want) { /* the next part, as an item of its own */
             sp_canvas_path_end(c);
             sp_canvas_layer(c, SP_LAYER_DYNAMIC);
             sp_canvas_path_begin(c);
-            settled = 0;
+            part++;
         }
-        if (settled || !fade_to) {
-            sp_canvas_line(c, ax, ay, bx, by, hw, settled ? floor_col : color);
+        if (part != 1) {
+            sp_canvas_line(c, ax, ay, bx, by, hw, part == 0 ? floor_col : color);
         } else { /* mixed with the opaque panel colour: no beads at the joints */
             const float a = 0.06f + 0.94f * powf((float)fmax(0.0, 1.0 - age / SP_FADE_S), 1.5f);
             for (int k = 0; k < 3; k++)

@@ -13,6 +13,8 @@
  * newest 10 s and keeps its faintest colour after that, so that its older
  * part never changes and is drawn once. */
 #define SP_FADE_S 10.0
+/* s: a phase portrait's fade advances in steps this long (panels.c) */
+#define SP_FADE_STEP (1.0 / 6.0)
 
 /* Colours of a theme, straight RGBA. */
 struct sp_palette {

@@ -65,6 +65,16 @@ struct sp_draw_gl {
     size_t n_settled, cap_settled; /* bytes */
     int *settled_old;            /* scratch: per settled item, shapes base holds */
     int cap_settled_old;
+    /* The last cached frame's dynamic items as the target holds them: per
+     * dynamic item in list order, a struct dyn_head and its shapes or glyph
+     * quads. An item of this frame equal to its counterpart there (same
+     * place in the order, byte for byte) is left as it is: the target is
+     * restored and the item redrawn only where something else changed. */
+    unsigned char *dyn;
+    size_t n_dyn, cap_dyn;     /* bytes */
+    int n_dyn_items;
+    unsigned char *same;       /* scratch: per item of the list, 1 = unchanged */
+    int cap_same, any_same;
     int cache;                   /* 1 = cache the static layer */
     struct sp_draw_gl_stats stats;
     int width, height;           /* px */
@@ -422,31 +432,39 @@ static int box_meets(const struct box *a, const struct box *b)
            a->y0 <= b->y1 && b->y0 <= a->y1;
 }
 
-/* The box of primitive k (a shape, or a glyph quad when text) of item it,
- * cut by the clip cl (x1 <= x0 = none). */
-static struct box prim_box(const struct sp_canvas *c, const struct sp_item *it, int k,
-                           const float cl[4])
+/* The box of a shape sh, or of a glyph quad q when sh is NULL, of an item
+ * of `layer` under the clip cl (x1 <= x0 = none). */
+static struct box prim_box_of(const struct sp_shape *sh, const struct sp_glyph_quad *q,
+                              enum sp_layer layer, const float cl[4])
 {
     struct box b = {INFINITY, INFINITY, -INFINITY, -INFINITY, {0, 0, 0, 0}};
-    if (it->kind == SP_ITEM_TEXT) {
-        const float *r = c->quads[k].rect;
+    if (!sh) {
+        const float *r = q->rect;
         box_add(&b, fminf(r[0], r[2]) - 1, fminf(r[1], r[3]) - 1, fmaxf(r[0], r[2]) + 1,
                 fmaxf(r[1], r[3]) + 1);
         return b; /* text is never clipped */
     }
-    const struct sp_shape *sh = &c->shapes[k];
     const float e = sh->style[0] + 2; /* the quad reaches half width + 1 px */
     /* a box (kind 2, horizontal as sp_canvas_rect makes them) reaches 1 px
      * beyond its ends */
     const float ex = sh->style[1] > 1.5f && sh->seg[1] == sh->seg[3] ? 2 : e;
     box_add(&b, fminf(sh->seg[0], sh->seg[2]) - ex, fminf(sh->seg[1], sh->seg[3]) - e,
             fmaxf(sh->seg[0], sh->seg[2]) + ex, fmaxf(sh->seg[1], sh->seg[3]) + e);
-    if (it->layer != SP_LAYER_ACCUM && cl[2] > cl[0]) { /* the scissor's whole pixels */
+    if (layer != SP_LAYER_ACCUM && cl[2] > cl[0]) { /* the scissor's whole pixels */
         memcpy(b.clip, cl, sizeof(b.clip));
         b.x0 = fmaxf(b.x0, floorf(cl[0]) - 1), b.y0 = fmaxf(b.y0, floorf(cl[1]) - 1);
         b.x1 = fminf(b.x1, ceilf(cl[2]) + 1), b.y1 = fminf(b.y1, ceilf(cl[3]) + 1);
     }
     return b;
+}
+
+/* The box of primitive k (a shape, or a glyph quad when text) of item it,
+ * cut by the clip cl (x1 <= x0 = none). */
+static struct box prim_box(const struct sp_canvas *c, const struct sp_item *it, int k,
+                           const float cl[4])
+{
+    return it->kind == SP_ITEM_TEXT ? prim_box_of(NULL, &c->quads[k], it->layer, cl)
+                                    : prim_box_of(&c->shapes[k], NULL, it->layer, cl);
 }
 
 /* Fills d->boxes for the items of c: each the union of its primitives'.
@@ -747,21 +765,28 @@ static void shapes_bind(const struct sp_gl_api *gl, const struct instances *shap
 
 /* Marks the DTILE px squares that shapes [from, to) of item i of c may touch
  * in d->dtiles (sized by dtiles_clear). */
+static void dtiles_mark_box(struct sp_draw_gl *d, const struct box *b);
+
 static void dtiles_mark(struct sp_draw_gl *d, const struct sp_canvas *c, int i, int from, int to)
 {
-    const int tw = (d->width + DTILE - 1) / DTILE, th = (d->height + DTILE - 1) / DTILE;
-    const struct sp_item *it = &c->items[i];
     for (int k = from; k < to; k++) {
-        const struct box b = prim_box(c, it, k, d->boxes[i].clip);
-        if (b.x1 < b.x0)
-            continue;
-        int x0 = (int)floorf(b.x0 / DTILE), y0 = (int)floorf(b.y0 / DTILE);
-        int x1 = (int)floorf(b.x1 / DTILE), y1 = (int)floorf(b.y1 / DTILE);
-        x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
-        x1 = x1 >= tw ? tw - 1 : x1, y1 = y1 >= th ? th - 1 : y1;
-        for (int y = y0; y <= y1; y++)
-            memset(d->dtiles + (size_t)y * tw + x0, 1, x1 >= x0 ? (size_t)(x1 - x0 + 1) : 0);
+        const struct box b = prim_box(c, &c->items[i], k, d->boxes[i].clip);
+        dtiles_mark_box(d, &b);
     }
+}
+
+/* Marks the DTILE px squares box b touches. */
+static void dtiles_mark_box(struct sp_draw_gl *d, const struct box *b)
+{
+    const int tw = (d->width + DTILE - 1) / DTILE, th = (d->height + DTILE - 1) / DTILE;
+    if (b->x1 < b->x0)
+        return;
+    int x0 = (int)floorf(b->x0 / DTILE), y0 = (int)floorf(b->y0 / DTILE);
+    int x1 = (int)floorf(b->x1 / DTILE), y1 = (int)floorf(b->y1 / DTILE);
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 >= tw ? tw - 1 : x1, y1 = y1 >= th ? th - 1 : y1;
+    for (int y = y0; y <= y1; y++)
+        memset(d->dtiles + (size_t)y * tw + x0, 1, x1 >= x0 ? (size_t)(x1 - x0 + 1) : 0);
 }
 
 /* Empties d->dtiles. 0 or SP_E_NOMEM. */
@@ -774,17 +799,104 @@ static int dtiles_clear(struct sp_draw_gl *d)
     return 0;
 }
 
-/* Marks the squares c's dynamic items may touch: what the next frame
- * restores from base. 0 or SP_E_NOMEM. */
-static int damage_mark(struct sp_draw_gl *d, const struct sp_canvas *c)
+struct dyn_head {
+    int kind, blend, count, lanes;
+    float clip[4];
+};
+
+static size_t dyn_bytes(const struct sp_item *it)
 {
-    int err = dtiles_clear(d);
+    return (size_t)it->count * (it->kind == SP_ITEM_TEXT ? sizeof(struct sp_glyph_quad)
+                                                           : sizeof(struct sp_shape));
+}
+
+static const void *dyn_data(const struct sp_canvas *c, const struct sp_item *it)
+{
+    return it->kind == SP_ITEM_TEXT ? (const void *)(c->quads + it->first)
+                                    : (const void *)(c->shapes + it->first);
+}
+
+/* Records c's dynamic items as the target now holds them. 0 or SP_E_NOMEM. */
+static int dyn_save(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    int err = 0;
+    d->n_dyn = 0;
+    d->n_dyn_items = 0;
     for (int i = 0; i < c->n_items && !err; i++) {
         const struct sp_item *it = &c->items[i];
-        if (it->kind != SP_ITEM_CLIP && it->layer == SP_LAYER_DYNAMIC)
-            dtiles_mark(d, c, i, it->first, it->first + it->count);
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_DYNAMIC)
+            continue;
+        struct dyn_head h = {it->kind, (int)it->blend, it->count, it->lanes, {0, 0, 0, 0}};
+        memcpy(h.clip, d->boxes[i].clip, sizeof(h.clip));
+        err = append(&d->dyn, &d->n_dyn, &d->cap_dyn, &h, sizeof(h));
+        if (!err)
+            err = append(&d->dyn, &d->n_dyn, &d->cap_dyn, dyn_data(c, it), dyn_bytes(it));
+        d->n_dyn_items++;
     }
+    if (err)
+        d->n_dyn = 0, d->n_dyn_items = -1; /* nothing known: all changed */
     return err;
+}
+
+/* Compares c's dynamic items with the record (d->same) and marks in
+ * d->dtiles the squares of those that changed, in their last frame's form
+ * and in this one's. 0 or SP_E_NOMEM. */
+static int dyn_compare(struct sp_draw_gl *d, const struct sp_canvas *c)
+{
+    if (c->n_items > d->cap_same) {
+        unsigned char *p = realloc(d->same, (size_t)c->n_items * 2);
+        if (!p)
+            return SP_E_NOMEM;
+        d->same = p;
+        d->cap_same = c->n_items * 2;
+    }
+    memset(d->same, 0, (size_t)c->n_items);
+    d->any_same = 0;
+    int n = 0;
+    for (int i = 0; i < c->n_items; i++)
+        n += c->items[i].kind != SP_ITEM_CLIP && c->items[i].layer == SP_LAYER_DYNAMIC;
+    const int paired = n == d->n_dyn_items;
+    size_t at = 0;
+    for (int i = 0; i < c->n_items; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind == SP_ITEM_CLIP || it->layer != SP_LAYER_DYNAMIC)
+            continue;
+        if (paired) { /* this item against its counterpart */
+            struct dyn_head h;
+            memcpy(&h, d->dyn + at, sizeof(h));
+            at += sizeof(h);
+            const unsigned char *old = d->dyn + at;
+            const size_t size = (size_t)h.count * (h.kind == SP_ITEM_TEXT ? sizeof(struct sp_glyph_quad)
+                                                                           : sizeof(struct sp_shape));
+            at += size;
+            d->same[i] = h.kind == (int)it->kind && h.blend == (int)it->blend && h.count == it->count &&
+                         h.lanes == it->lanes && !memcmp(h.clip, d->boxes[i].clip, sizeof(h.clip)) &&
+                         !memcmp(old, dyn_data(c, it), size);
+            d->any_same |= d->same[i];
+            if (d->same[i])
+                continue;
+            for (int k = 0; k < h.count; k++) { /* where it was */
+                const struct box b = h.kind == SP_ITEM_TEXT
+                    ? prim_box_of(NULL, (const struct sp_glyph_quad *)old + k, SP_LAYER_DYNAMIC, h.clip)
+                    : prim_box_of((const struct sp_shape *)old + k, NULL, SP_LAYER_DYNAMIC, h.clip);
+                dtiles_mark_box(d, &b);
+            }
+        }
+        dtiles_mark(d, c, i, it->first, it->first + it->count); /* where it is */
+    }
+    for (size_t b = 0; !paired && b < d->n_dyn;) { /* every old item, where it was */
+        struct dyn_head h;
+        memcpy(&h, d->dyn + b, sizeof(h));
+        b += sizeof(h);
+        for (int k = 0; k < h.count; k++) {
+            const struct box x = h.kind == SP_ITEM_TEXT
+                ? prim_box_of(NULL, (const struct sp_glyph_quad *)(d->dyn + b) + k, SP_LAYER_DYNAMIC, h.clip)
+                : prim_box_of((const struct sp_shape *)(d->dyn + b) + k, NULL, SP_LAYER_DYNAMIC, h.clip);
+            dtiles_mark_box(d, &x);
+        }
+        b += (size_t)h.count * (h.kind == SP_ITEM_TEXT ? sizeof(struct sp_glyph_quad) : sizeof(struct sp_shape));
+    }
+    return 0;
 }
 
 /* Sets d->damage to the marked squares, as runs along each row. 0 or
@@ -919,6 +1031,136 @@ static void settled_draw_new(struct sp_draw_gl *d, const struct sp_canvas *c)
     gl->Disable(GL_SCISSOR_TEST);
 }
 
+/* Scissors to damage rectangle r cut by the clip cl (x1 <= x0 = none), in
+ * whole pixels as clip() rounds it; 0 when that is empty. */
+static int scissor_cut(const struct sp_draw_gl *d, const struct patch *r, const float cl[4])
+{
+    float x0 = r->rect[0], y0 = r->rect[1], x1 = r->rect[2], y1 = r->rect[3];
+    if (cl[2] > cl[0]) {
+        x0 = fmaxf(x0, floorf(cl[0])), y0 = fmaxf(y0, floorf(cl[1]));
+        x1 = fminf(x1, ceilf(cl[2])), y1 = fminf(y1, ceilf(cl[3]));
+    }
+    if (x1 <= x0 || y1 <= y0)
+        return 0;
+    clip(d->gl, (const float[4]){x0, y0, x1, y1}, d->height);
+    return 1;
+}
+
+/* Draws unchanged item i only inside the damage rectangles: per rectangle
+ * its box meets, the runs of its primitives whose boxes meet it (the others
+ * do not touch it), under the scissor. The item's program must be bound. */
+static void draw_unchanged(struct sp_draw_gl *d, const struct sp_canvas *c, int i)
+{
+    const struct sp_gl_api *gl = d->gl;
+    const struct sp_item *it = &c->items[i];
+    const float *cl = d->boxes[i].clip;
+    const int text = it->kind == SP_ITEM_TEXT;
+    for (int r = 0; r < d->n_damage; r++) {
+        const struct patch *p = &d->damage[r];
+        const struct box rb = {p->rect[0], p->rect[1], p->rect[2], p->rect[3], {0, 0, 0, 0}};
+        if (!box_meets(&d->boxes[i], &rb))
+            continue;
+        int scissored = 0;
+        for (int k = it->first; k < it->first + it->count;) {
+            const struct box b = prim_box(c, it, k, cl);
+            if (!box_meets(&b, &rb)) {
+                k++;
+                continue;
+            }
+            int e = k + 1;
+            while (e < it->first + it->count) {
+                const struct box be = prim_box(c, it, e, cl);
+                if (!box_meets(&be, &rb))
+                    break;
+                e++;
+            }
+            if (!scissored && !(scissored = scissor_cut(d, p, text ? (const float[4]){0, 0, 0, 0} : cl)))
+                break;
+            if (text)
+                text_base(gl, k);
+            else
+                shape_base(gl, k);
+            if (it->blend == SP_BLEND_MAX)
+                gl->BlendEquation(GL_MAX);
+            gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(e - k));
+            gl->BlendEquation(GL_FUNC_ADD);
+            k = e;
+        }
+    }
+}
+
+/* The dynamic layer over a restored target: as draw_shapes and draw_text
+ * draw it, except that an item unchanged since the last frame (d->same) is
+ * drawn only inside the damage rectangles, where the restore covered it. */
+static void draw_dynamic_kept(struct sp_draw_gl *d, const struct sp_canvas *c, int text)
+{
+    const struct sp_gl_api *gl = d->gl;
+    float cl[4] = {0, 0, 0, 0};
+    int start = -1, end = 0, blend = 0;
+    shapes_bind(gl, &d->shape);
+    for (int i = 0; i <= c->n_items; i++) { /* shapes, in runs of changed items */
+        const struct sp_item *it = i < c->n_items ? &c->items[i] : NULL;
+        const int mine = it && it->kind != SP_ITEM_TEXT && it->kind != SP_ITEM_CLIP &&
+                         it->layer == SP_LAYER_DYNAMIC;
+        if (it && it->kind == SP_ITEM_TEXT)
+            continue; /* runs go on across text, as draw_shapes' do */
+        const int joins = mine && !d->same[i] && start >= 0 && it->first == end && (int)it->blend == blend;
+        if (joins) {
+            end = it->first + it->count;
+            continue;
+        }
+        if (start >= 0) { /* a run ends */
+            clip(gl, cl, d->height);
+            if (blend == SP_BLEND_MAX)
+                gl->BlendEquation(GL_MAX);
+            shape_base(gl, start);
+            gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - start));
+            gl->BlendEquation(GL_FUNC_ADD);
+            start = -1;
+        }
+        if (!it)
+            break;
+        if (it->kind == SP_ITEM_CLIP)
+            memcpy(cl, it->clip, sizeof(cl));
+        else if (mine && d->same[i])
+            draw_unchanged(d, c, i);
+        else if (mine)
+            start = it->first, end = it->first + it->count, blend = (int)it->blend;
+    }
+    gl->Disable(GL_SCISSOR_TEST);
+    if (!text)
+        return;
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, d->atlas);
+    gl->UseProgram(d->text.program);
+    gl->BindVertexArray(d->text.vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, d->text.vbo);
+    start = -1;
+    for (int i = 0; i <= c->n_items; i++) { /* text, in runs of changed items */
+        const struct sp_item *it = i < c->n_items ? &c->items[i] : NULL;
+        if (it && (it->kind != SP_ITEM_TEXT || !it->count || it->layer != SP_LAYER_DYNAMIC))
+            continue;
+        if (it && !d->same[i] && start >= 0 && it->first == end) {
+            end = it->first + it->count;
+            continue;
+        }
+        if (start >= 0) {
+            gl->Disable(GL_SCISSOR_TEST); /* text is never clipped */
+            text_base(gl, start);
+            gl->DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - start));
+            start = -1;
+        }
+        if (!it)
+            break;
+        if (d->same[i])
+            draw_unchanged(d, c, i);
+        else
+            start = it->first, end = it->first + it->count;
+    }
+    gl->Disable(GL_SCISSOR_TEST);
+    text_base(gl, 0);
+}
+
 /* Copies base over d->damage, in one instanced draw without blending. */
 static int damage_restore(struct sp_draw_gl *d)
 {
@@ -955,7 +1197,7 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     const struct sp_gl_api *gl = d->gl;
     GLint target = 0;
     GLenum glerr;
-    int accum = 0, accum_in_base = 0, err = 0, cached = 0;
+    int accum = 0, accum_in_base = 0, err = 0, cached = 0, use_same = 0;
     const int text = c->n_quads && d->atlas;
     const int kept = d->kept; /* cleared until this frame is drawn */
     d->kept = 0;
@@ -1050,10 +1292,11 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
              * target's pixel format and orientation: the same pixels as
              * drawing it into the target); then base under this frame,
              * restored where the settled layer grew too */
-            if (!kept && (err = dtiles_clear(d)) != 0) {
+            if ((err = dtiles_clear(d)) != 0 || (kept && (err = dyn_compare(d, c)) != 0)) {
                 sp_log_error("out of memory for the damaged rectangles");
                 return err;
             }
+            use_same = kept && d->any_same;
             for (int i = 0; accum_in_base && i < c->n_items; i++) /* drawn into base above */
                 if (c->items[i].kind != SP_ITEM_CLIP && c->items[i].layer == SP_LAYER_ACCUM)
                     dtiles_mark(d, c, i, c->items[i].first, c->items[i].first + c->items[i].count);
@@ -1096,14 +1339,18 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
         gl->Clear(GL_COLOR_BUFFER_BIT);
     }
     const unsigned layers = cached ? DYNAMIC_BIT : DYNAMIC_BIT | STATIC_BIT | SETTLED_BIT;
-    if (c->n_shapes) {
-        shapes_bind(gl, &d->shape);
-        draw_shapes(gl, c, layers, d->height);
+    if (use_same) {
+        draw_dynamic_kept(d, c, text);
+    } else {
+        if (c->n_shapes) {
+            shapes_bind(gl, &d->shape);
+            draw_shapes(gl, c, layers, d->height);
+        }
+        if (text)
+            draw_text(gl, &d->text, d->atlas, c, layers);
     }
-    if (text)
-        draw_text(gl, &d->text, d->atlas, c, layers);
     if (cached) {
-        if ((err = damage_mark(d, c)) != 0) {
+        if ((err = dyn_save(d, c)) != 0) {
             sp_log_error("out of memory for the damaged rectangles");
             return err;
         }
@@ -1142,6 +1389,8 @@ void sp_draw_gl_destroy(struct sp_draw_gl **d)
     free((*d)->dtiles);
     free((*d)->settled);
     free((*d)->settled_old);
+    free((*d)->dyn);
+    free((*d)->same);
     free(*d);
     *d = NULL;
 }

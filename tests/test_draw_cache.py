@@ -57,6 +57,11 @@ def appended_frames(verbose):
     return int(m.group(1)) if m else 0
 
 
+def unchanged_items(verbose):
+    m = re.search(r"dynamic items left as the last frame drew them: (\d+)", verbose)
+    return int(m.group(1)) if m else 0
+
+
 def first_difference(a, b, w, h):
     n = w * h * 4
     for f in range(min(len(a), len(b)) // n):
@@ -110,6 +115,18 @@ for scene, size, extra in CASES:
         ok(grown > frames // 2 and drawn == 1,
            f"{what}: the cache drawn once, the charts' settled curves appended to it in {grown} "
            f"of {frames} frames")
+
+# resonance.ini's phase portraits fade in steps of 1/6 s: between steps
+# their faded part is left as the last frame drew it, redrawn only where
+# something else changed; 30 fps, so most frames fall between steps
+w, h = 640, 360
+args = ["--set", "video.duration=2", "--fps", "30"]
+a, verbose = raw("resonance.ini", f"{w}x{h}", args, True)
+b, _ = raw("resonance.ini", f"{w}x{h}", args, False)
+kept_items = unchanged_items(verbose)
+ok(a is not None and a == b and kept_items > 30,
+   f"resonance.ini 640x360 at 30 fps: frames identical to the uncached ones, {kept_items} "
+   f"dynamic items left as the last frame drew them")
 
 # a tiny frame whose energy chart is squeezed flat (its legend sits on the
 # data): still byte-identical, and still cached (a static legend there

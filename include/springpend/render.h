@@ -46,10 +46,11 @@ int sp_render_target(struct sp_renderer *r, const struct sp_image *dst);
  * draw lists on the CPU and drawing them with GL (with the readback, or
  * the resolve when supersampled or transparent), and what the static
  * cache did (frames drawn over it, times it was redrawn, frames drawn
- * without it, frames that appended to the charts' settled curves in it). */
+ * without it, frames that appended to the charts' settled curves in it,
+ * dynamic items left as the last frame drew them). */
 struct sp_render_stats {
     double compose_s, draw_s;
-    long cached, redrawn, uncached, appended;
+    long cached, redrawn, uncached, appended, unchanged;
 };
 void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out);
 

@@ -152,8 +152,10 @@ static void print_times(const struct stage_times *t, const struct queue *q,
             q->encode_s * per, q->idle_s, q->idle_s * per, t->finish, t->total,
             t->total > 0 ? frames / t->total : 0);
     fprintf(stderr, "  static layer cached in %ld frames (drawn %ld time%s), uncached in %ld\n"
-            "  settled chart curves appended to it in %ld frames\n",
-            rs->cached, rs->redrawn, rs->redrawn == 1 ? "" : "s", rs->uncached, rs->appended);
+            "  settled chart curves appended to it in %ld frames\n"
+            "  dynamic items left as the last frame drew them: %ld\n",
+            rs->cached, rs->redrawn, rs->redrawn == 1 ? "" : "s", rs->uncached, rs->appended,
+            rs->unchanged);
 }
 
 /* ---- the run ---- */

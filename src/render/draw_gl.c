@@ -873,8 +873,10 @@ static int dyn_compare(struct sp_draw_gl *d, const struct sp_canvas *c)
                          h.lanes == it->lanes && !memcmp(h.clip, d->boxes[i].clip, sizeof(h.clip)) &&
                          !memcmp(old, dyn_data(c, it), size);
             d->any_same |= d->same[i];
-            if (d->same[i])
+            if (d->same[i]) {
+                d->stats.unchanged++;
                 continue;
+            }
             for (int k = 0; k < h.count; k++) { /* where it was */
                 const struct box b = h.kind == SP_ITEM_TEXT
                     ? prim_box_of(NULL, (const struct sp_glyph_quad *)old + k, SP_LAYER_DYNAMIC, h.clip)

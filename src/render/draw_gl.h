@@ -31,10 +31,11 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
 void sp_draw_gl_cache(struct sp_draw_gl *d, int on);
 
 /* Frames drawn over the cache, times the cache was (re)drawn, frames drawn
- * without it, and cached frames that drew only what was new of the settled
- * layer into the cache. */
+ * without it, cached frames that drew only what was new of the settled
+ * layer into the cache, and dynamic items left as the last frame drew them
+ * (redrawn only where something else changed). */
 struct sp_draw_gl_stats {
-    long cached, redrawn, uncached, appended;
+    long cached, redrawn, uncached, appended, unchanged;
 };
 void sp_draw_gl_stats(const struct sp_draw_gl *d, struct sp_draw_gl_stats *out);
 

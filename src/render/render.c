@@ -148,7 +148,8 @@ void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out)
     sp_draw_gl_stats(r->draw, &d);
     *out = (struct sp_render_stats){.compose_s = r->compose_s, .draw_s = r->draw_s,
                                     .cached = d.cached, .redrawn = d.redrawn,
-                                    .uncached = d.uncached, .appended = d.appended};
+                                    .uncached = d.uncached, .appended = d.appended,
+                                    .unchanged = d.unchanged};
 }
 
 int sp_render_target(struct sp_renderer *r, const struct sp_image *dst)

@@ -1,13 +1,14 @@
 /* springpend: picks the GL context backend and forwards to it. */
 #include <dlfcn.h>
 #include <stddef.h>
+#include <stdlib.h>
 
 #include "springpend/common.h"
 #include "gl_context.h"
 
 /* Every backend's context starts with this. */
 struct sp_gl_context {
-    const struct sp_gl_backend *backend;
+    struct sp_gl_context_head head;
 };
 
 int sp_gl_context_make(struct sp_gl_context **out, int width, int height,
@@ -31,34 +32,55 @@ int sp_gl_context_make(struct sp_gl_context **out, int width, int height,
 
 int sp_gl_context_bind(struct sp_gl_context *c)
 {
-    return c->backend->bind(c);
+    return c->head.backend->bind(c);
 }
 
 sp_gl_proc sp_gl_context_proc(struct sp_gl_context *c, const char *name)
 {
-    return c->backend->proc(c, name);
+    return c->head.backend->proc(c, name);
 }
 
 uint8_t *sp_gl_context_pixels(struct sp_gl_context *c, int *stride)
 {
-    return c->backend->pixels(c, stride);
+    sp_gl_offscreen_read(&c->head.fb, c->head.target);
+    *stride = 4 * c->head.width;
+    return c->head.target;
 }
 
 void sp_gl_context_target(struct sp_gl_context *c, uint8_t *pixels)
 {
-    c->backend->target(c, pixels);
+    c->head.target = pixels ? pixels : c->head.pixels;
+}
+
+int sp_gl_context_head_init(struct sp_gl_context_head *h, const struct sp_gl_backend *b,
+                            int width, int height)
+{
+    *h = (struct sp_gl_context_head){.backend = b, .width = width, .height = height};
+    if (!(h->pixels = malloc((size_t)width * (size_t)height * 4))) {
+        sp_log_error("out of memory for a %dx%d GL colour buffer", width, height);
+        return SP_E_NOMEM;
+    }
+    h->target = h->pixels;
+    return 0;
+}
+
+void sp_gl_context_head_free(struct sp_gl_context_head *h, int current)
+{
+    sp_gl_offscreen_destroy(&h->fb, current);
+    free(h->pixels);
+    h->pixels = h->target = NULL;
 }
 
 const char *sp_gl_context_backend(const struct sp_gl_context *c)
 {
-    return c->backend->name;
+    return c->head.backend->name;
 }
 
 void sp_gl_context_destroy(struct sp_gl_context **c)
 {
     if (!*c)
         return;
-    (*c)->backend->destroy(*c);
+    (*c)->head.backend->destroy(*c);
     *c = NULL;
 }
 

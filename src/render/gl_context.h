@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "springpend/render.h"
+#include "gl_offscreen.h"
 
 /* A GL entry point as the backend returns it; cast to the PFNGL...PROC type. */
 typedef void (*sp_gl_proc)(void);
@@ -19,7 +20,7 @@ struct sp_gl_context;
 
 /* What a backend implements; the contracts are those of the sp_gl_context_*
  * functions below. Every struct sp_gl_context a backend makes starts with
- * a pointer to its struct sp_gl_backend. */
+ * a struct sp_gl_context_head. */
 struct sp_gl_backend {
     const char *name; /* "osmesa", "egl" */
     /* Loads the library; 0, or SP_E_GL (logged unless quiet). */
@@ -27,10 +28,27 @@ struct sp_gl_backend {
     int (*make)(struct sp_gl_context **out, int width, int height);
     int (*bind)(struct sp_gl_context *c);
     sp_gl_proc (*proc)(struct sp_gl_context *c, const char *name);
-    uint8_t *(*pixels)(struct sp_gl_context *c, int *stride);
-    void (*target)(struct sp_gl_context *c, uint8_t *pixels);
     void (*destroy)(struct sp_gl_context *c);
 };
+
+/* The start of every backend's context: the backend, and the framebuffer
+ * both backends draw into (gl_offscreen.h) with where its pixels are read
+ * back to (sp_gl_context_pixels, sp_gl_context_target). */
+struct sp_gl_context_head {
+    const struct sp_gl_backend *backend;
+    struct sp_gl_offscreen fb; /* made by the backend once its context is current */
+    uint8_t *pixels;           /* width * height * 4 bytes, RGBA8, owned */
+    uint8_t *target;           /* where readback goes: pixels or the caller's */
+    int width, height;         /* px */
+};
+
+/* For backends: sets h up for backend b (pixels allocated, target =
+ * pixels; fb still to be made). 0 or SP_E_NOMEM (logged). */
+int sp_gl_context_head_init(struct sp_gl_context_head *h, const struct sp_gl_backend *b,
+                            int width, int height);
+/* For backends: frees what the head owns; current: whether the backend's
+ * context is current (the framebuffer's GL objects are deleted then). */
+void sp_gl_context_head_free(struct sp_gl_context_head *h, int current);
 
 /* For backends: one library symbol and the function pointer it fills. */
 struct sp_gl_symbol {

@@ -13,7 +13,6 @@
 
 #include "springpend/common.h"
 #include "gl_context.h"
-#include "gl_offscreen.h"
 
 #define EGL_LIBRARY "libEGL.so.1"
 /* EGL entry points loaded by dlsym. */
@@ -38,13 +37,9 @@ static struct {
 } egl;
 
 struct sp_gl_context {
-    const struct sp_gl_backend *backend; /* first, see gl_context.c */
+    struct sp_gl_context_head head; /* first, see gl_context.h */
     EGLDisplay dpy;
     EGLContext ctx;
-    struct sp_gl_offscreen fb;
-    uint8_t *pixels;  /* width * height * 4 bytes, RGBA8, owned */
-    uint8_t *target;  /* where readback goes: pixels or the caller's */
-    int width, height; /* px */
 };
 
 static int egl_load(int quiet)
@@ -103,16 +98,14 @@ static EGLDisplay open_display(void)
 
 static void egl_destroy(struct sp_gl_context *c)
 {
-    if (c->ctx != EGL_NO_CONTEXT) {
-        const int current = egl.GetCurrentContext() == c->ctx;
-        sp_gl_offscreen_destroy(&c->fb, current);
-        if (current)
-            egl.MakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    const int current = c->ctx != EGL_NO_CONTEXT && egl.GetCurrentContext() == c->ctx;
+    sp_gl_context_head_free(&c->head, current);
+    if (current)
+        egl.MakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (c->ctx != EGL_NO_CONTEXT)
         egl.DestroyContext(c->dpy, c->ctx);
-    }
     /* eglTerminate is left out: the display is shared by every context of
      * the process and terminating it would pull it from under the others. */
-    free(c->pixels);
     free(c);
 }
 
@@ -139,19 +132,14 @@ static int egl_make(struct sp_gl_context **out, int width, int height)
     EGLint n_configs = 0;
     int err = SP_E_GL;
 
-    if (c) {
-        c->backend = &sp_gl_backend_egl;
-        c->ctx = EGL_NO_CONTEXT;
-        c->pixels = malloc((size_t)width * height * 4);
+    if (!c) {
+        sp_log_error("out of memory for a GL context");
+        return SP_E_NOMEM;
     }
-    if (!c || !c->pixels) {
-        sp_log_error("out of memory for a %dx%d GL colour buffer", width, height);
-        err = SP_E_NOMEM;
+    c->ctx = EGL_NO_CONTEXT;
+    if ((err = sp_gl_context_head_init(&c->head, &sp_gl_backend_egl, width, height)) != 0)
         goto fail;
-    }
-    c->width = width;
-    c->height = height;
-    c->target = c->pixels;
+    err = SP_E_GL;
     c->dpy = open_display();
     if (c->dpy == EGL_NO_DISPLAY || !egl.Initialize(c->dpy, NULL, NULL)) {
         sp_log_error("EGL: no surfaceless display (needs Mesa's "
@@ -178,15 +166,14 @@ static int egl_make(struct sp_gl_context **out, int width, int height)
                      "surface (0x%x)", egl.GetError());
         goto fail;
     }
-    err = sp_gl_offscreen_make(&c->fb, egl_getproc, "EGL", width, height);
+    err = sp_gl_offscreen_make(&c->head.fb, egl_getproc, "EGL", width, height);
     if (err)
         goto fail;
     *out = c;
     return 0;
 
 fail:
-    if (c)
-        egl_destroy(c);
+    egl_destroy(c);
     return err;
 }
 
@@ -199,7 +186,7 @@ static int egl_bind(struct sp_gl_context *c)
                      egl.GetError());
         return SP_E_GL;
     }
-    sp_gl_offscreen_bind(&c->fb);
+    sp_gl_offscreen_bind(&c->head.fb);
     return 0;
 }
 
@@ -209,25 +196,11 @@ static sp_gl_proc egl_proc(struct sp_gl_context *c, const char *name)
     return (sp_gl_proc)egl.GetProcAddress(name);
 }
 
-static uint8_t *egl_pixels(struct sp_gl_context *c, int *stride)
-{
-    sp_gl_offscreen_read(&c->fb, c->target);
-    *stride = 4 * c->width;
-    return c->target;
-}
-
-static void egl_target(struct sp_gl_context *c, uint8_t *pixels)
-{
-    c->target = pixels ? pixels : c->pixels;
-}
-
 const struct sp_gl_backend sp_gl_backend_egl = {
     .name = "egl",
     .load = egl_load,
     .make = egl_make,
     .bind = egl_bind,
     .proc = egl_proc,
-    .pixels = egl_pixels,
-    .target = egl_target,
     .destroy = egl_destroy,
 };

@@ -11,7 +11,6 @@
 
 #include "springpend/common.h"
 #include "gl_context.h"
-#include "gl_offscreen.h"
 
 #define OSMESA_LIBRARY "libOSMesa.so.8"
 
@@ -31,13 +30,9 @@ static struct {
 } os;
 
 struct sp_gl_context {
-    const struct sp_gl_backend *backend; /* first, see gl_context.c */
+    struct sp_gl_context_head head; /* first, see gl_context.h */
     OSMesaContext ctx;
     uint8_t window[4]; /* OSMesa's own buffer: 1x1, only to be current */
-    struct sp_gl_offscreen fb;
-    uint8_t *pixels; /* width * height * 4 bytes, RGBA8, owned */
-    uint8_t *target; /* where readback goes: pixels or the caller's buffer */
-    int width, height; /* px */
 };
 
 static int osmesa_load(int quiet)
@@ -60,14 +55,12 @@ static void *osmesa_getproc(const char *name)
 
 static void osmesa_destroy(struct sp_gl_context *c)
 {
-    if (c->ctx) {
-        const int current = os.GetCurrentContext() == c->ctx;
-        sp_gl_offscreen_destroy(&c->fb, current);
-        if (current)
-            os.MakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
+    const int current = c->ctx && os.GetCurrentContext() == c->ctx;
+    sp_gl_context_head_free(&c->head, current);
+    if (current)
+        os.MakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
+    if (c->ctx)
         os.DestroyContext(c->ctx);
-    }
-    free(c->pixels);
     free(c);
 }
 
@@ -84,20 +77,14 @@ static int osmesa_make(struct sp_gl_context **out, int width, int height)
         0,
     };
     struct sp_gl_context *c = calloc(1, sizeof(*c));
-    int err = 0;
+    int err = SP_E_NOMEM;
 
-    if (c) {
-        c->backend = &sp_gl_backend_osmesa;
-        c->pixels = malloc((size_t)width * height * 4);
+    if (!c) {
+        sp_log_error("out of memory for a GL context");
+        return err;
     }
-    if (!c || !c->pixels) {
-        sp_log_error("out of memory for a %dx%d GL colour buffer", width, height);
-        err = SP_E_NOMEM;
+    if ((err = sp_gl_context_head_init(&c->head, &sp_gl_backend_osmesa, width, height)) != 0)
         goto fail;
-    }
-    c->width = width;
-    c->height = height;
-    c->target = c->pixels;
     c->ctx = os.CreateContextAttribs(attribs, NULL);
     if (!c->ctx) {
         sp_log_error("OSMesa could not create a GL 3.3 core context");
@@ -109,15 +96,14 @@ static int osmesa_make(struct sp_gl_context **out, int width, int height)
         err = SP_E_GL;
         goto fail;
     }
-    err = sp_gl_offscreen_make(&c->fb, osmesa_getproc, "OSMesa", width, height);
+    err = sp_gl_offscreen_make(&c->head.fb, osmesa_getproc, "OSMesa", width, height);
     if (err)
         goto fail;
     *out = c;
     return 0;
 
 fail:
-    if (c)
-        osmesa_destroy(c);
+    osmesa_destroy(c);
     return err;
 }
 
@@ -129,7 +115,7 @@ static int osmesa_bind(struct sp_gl_context *c)
         sp_log_error("OSMesa could not make the context current");
         return SP_E_GL;
     }
-    sp_gl_offscreen_bind(&c->fb);
+    sp_gl_offscreen_bind(&c->head.fb);
     return 0;
 }
 
@@ -139,25 +125,11 @@ static sp_gl_proc osmesa_proc(struct sp_gl_context *c, const char *name)
     return (sp_gl_proc)os.GetProcAddress(name);
 }
 
-static uint8_t *osmesa_pixels(struct sp_gl_context *c, int *stride)
-{
-    sp_gl_offscreen_read(&c->fb, c->target);
-    *stride = 4 * c->width;
-    return c->target;
-}
-
-static void osmesa_target(struct sp_gl_context *c, uint8_t *pixels)
-{
-    c->target = pixels ? pixels : c->pixels;
-}
-
 const struct sp_gl_backend sp_gl_backend_osmesa = {
     .name = "osmesa",
     .load = osmesa_load,
     .make = osmesa_make,
     .bind = osmesa_bind,
     .proc = osmesa_proc,
-    .pixels = osmesa_pixels,
-    .target = osmesa_target,
     .destroy = osmesa_destroy,
 };

@@ -19,20 +19,13 @@ import shutil
 import subprocess
 import sys
 
+from sptest import done, ok
+
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "draw_cache"))
 scenes = os.path.join(src, "..", "scenes")
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
-
-
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
 
 
 def raw(scene, size, args, cache, gl=None):
@@ -185,5 +178,4 @@ if probe.returncode == 0:
        "EGL: resonance.ini 640x360 cached frames identical to uncached ones")
 else:
     print("# EGL unavailable here: " + probe.stderr.decode(errors="replace").strip()[-200:])
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

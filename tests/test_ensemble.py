@@ -16,6 +16,8 @@ import subprocess
 import sys
 import zlib
 
+from sptest import done, ok, runner
+
 try:
     import scipy  # noqa: F401
 except ImportError:
@@ -28,19 +30,9 @@ scenes = os.path.join(src, "..", "scenes")
 chaotic, resonance = os.path.join(scenes, "chaotic.ini"), os.path.join(scenes, "resonance.ini")
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
 
 
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def run(*args):
-    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=work)
+run = runner(exe, work)
 
 
 def table(text):
@@ -253,5 +245,4 @@ for ext in ("mp4", "webm", "gif", "png"):
     ok(r.returncode == 0 and made, f"render .{ext} with an ensemble and trails" +
        ("" if r.returncode == 0 else ": " + r.stderr.strip()[-200:]))
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

@@ -16,6 +16,8 @@ import shutil
 import subprocess
 import sys
 
+from sptest import done, ok, runner
+
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "figures"))
 root = os.path.join(src, "..")
@@ -25,20 +27,10 @@ if need:
     sys.exit(77)
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
 RULE = ["--max-diff", "32", "--max-pixels", "0.5%"]
 
 
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def run(*args):
-    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=work)
+run = runner(exe, work)
 
 
 def p(name):
@@ -182,5 +174,4 @@ for f in ("compose.c", "canvas.c", "panels.c", "layout.c", "text.c", "figure.c")
         bad[f] = hit
 ok(not bad, f"composition includes no GL or cairo header {bad or ''}")
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

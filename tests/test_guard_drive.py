@@ -12,20 +12,13 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import sys
 
-try:
-    import numpy as np
-    from scipy.integrate import solve_ivp
-except ImportError:
-    # a python3 on PATH without scipy (a pyenv shim): Debian's has it
-    if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != \
-            os.path.realpath("/usr/bin/python3") and not os.environ.get("SP_REEXEC"):
-        os.environ["SP_REEXEC"] = "1"
-        os.execv("/usr/bin/python3", ["/usr/bin/python3", *sys.argv])
-    print("1..0 # SKIP python3-scipy is not installed")
-    sys.exit(77)
+from sptest import done, need_scipy, ok, runner, sets
+
+need_scipy()
+import numpy as np  # noqa: E402
+from scipy.integrate import solve_ivp  # noqa: E402
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "guard_drive"))
@@ -37,23 +30,9 @@ L0, K, M, G, R0 = 0.25, 400.0, 1.0, 9.81, 0.2745
 EMIN = -M * G * L0 - (M * G) ** 2 / (2 * K)
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
 
 
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def run(*args):
-    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=work)
-
-
-def sets(d):
-    return [a for k, v in d.items() for a in ("--set", f"{k}={v}")]
+run = runner(exe, work)
 
 
 def rows(text):
@@ -169,5 +148,4 @@ for name, scene, d in unstable:
        f"{name}: exit {r.returncode} (3), still called unstable, the fix starts "
        f"{first!r}: {r.stderr.strip()[:200]!r} ... {fix!r}")
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

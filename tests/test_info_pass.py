@@ -17,8 +17,9 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
+
+from sptest import done, ok, runner, sets
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "info_pass"))
@@ -26,26 +27,9 @@ scenes = os.path.join(src, "..", "scenes")
 PARAMETRIC = os.path.join(scenes, "parametric.ini")
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
 
 
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def run(*args):
-    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=work)
-
-
-def sets(d):
-    out = []
-    for k, v in d.items():
-        out += ["--set", f"{k}={v}"]
-    return out
+run = runner(exe, work)
 
 
 def ini(path):
@@ -156,5 +140,4 @@ for name in sorted(os.listdir(scenes)):
            f"{name} {method}: info's safe dt {j['safe_dt']} s completes [0, {span}] s with drift "
            f"{worst:.2e} (< 1e-3; omega_max {j['omega_max']:.4g} rad/s) ({what})")
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

@@ -10,20 +10,13 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 
-try:
-    import numpy as np
-    from scipy.integrate import solve_ivp
-except ImportError:
-    # a python3 on PATH without scipy (a pyenv shim): Debian's has it
-    if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != \
-            os.path.realpath("/usr/bin/python3") and not os.environ.get("SP_REEXEC"):
-        os.environ["SP_REEXEC"] = "1"
-        os.execv("/usr/bin/python3", ["/usr/bin/python3", *sys.argv])
-    print("1..0 # SKIP python3-scipy is not installed")
-    sys.exit(77)
+from sptest import done, need_scipy, ok, runner, sets
+
+need_scipy()
+import numpy as np  # noqa: E402
+from scipy.integrate import solve_ivp  # noqa: E402
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "numbers"))
@@ -32,26 +25,9 @@ DEFAULT = os.path.join(scenes, "default.ini")
 G = 9.81
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
 
 
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def run(*args):
-    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=work)
-
-
-def sets(d):
-    out = []
-    for k, v in d.items():
-        out += ["--set", f"{k}={v}"]
-    return out
+run = runner(exe, work)
 
 
 def info(scene, d):
@@ -378,5 +354,4 @@ r = run("data", "--help")
 ok(all(s in r.stdout for s in ("pivot's frame", "relative to the air", "relative to the\npivot")),
    "data --help states the driven scene's conventions (frame, damping, initial rates)")
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

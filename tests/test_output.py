@@ -6,7 +6,6 @@ usage: test_output.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)
 Exits 77 (skip) without ffprobe/ffmpeg. The full-disk and read-only checks
 mount a tmpfs and are skipped where mounting is not permitted."""
 import glob
-import hashlib
 import json
 import os
 import shutil
@@ -16,6 +15,8 @@ import sys
 import tempfile
 import time
 
+from sptest import done, ok, skip
+
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "output"))
 scene = os.path.join(src, "..", "scenes", "default.ini")
@@ -24,24 +25,9 @@ if not shutil.which("ffprobe") or not shutil.which("ffmpeg"):
     sys.exit(77)
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
 W, H, FPS, DUR = 160, 120, 30, 2.0  # small and short: 60 frames
 N = int(FPS * DUR)
 SMALL = ["--size", f"{W}x{H}", "--fps", str(FPS), "--set", f"video.duration={DUR}", "-q"]
-
-
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def skip(what, why):
-    global count
-    count += 1
-    print(f"ok {count} - {what} # SKIP {why}", flush=True)
 
 
 def run(*args, **kw):
@@ -318,5 +304,4 @@ if d:
 else:
     skip("read-only folder", "cannot mount a tmpfs here (needs root)")
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

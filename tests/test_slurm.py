@@ -17,6 +17,8 @@ import sys
 import tempfile
 import time
 
+from sptest import done, ok
+
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 out = os.path.abspath(os.path.join(sys.argv[3], "slurm"))
 scene = os.path.abspath(os.path.join(src, "..", "scenes", "chaotic.ini"))
@@ -30,16 +32,7 @@ if os.geteuid() != 0:
     print("1..0 # SKIP slurmd must run as root here")
     sys.exit(77)
 
-count = failed = 0
 daemons = []  # Popen objects we started, stopped in reverse order
-
-
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
 
 
 def stop_daemons():
@@ -165,5 +158,4 @@ finally:
     stop_daemons()
     shutil.rmtree(tmp, ignore_errors=True)
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

@@ -15,6 +15,8 @@ import subprocess
 import sys
 import time
 
+from sptest import done, ok
+
 # The independent reference needs scipy; a python3 without it (a virtual
 # environment) hands over to the system's, which Debian's python3-scipy serves.
 try:
@@ -29,15 +31,6 @@ scenes = os.path.join(src, "..", "scenes")
 chaotic = os.path.join(scenes, "chaotic.ini")
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
-
-
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
 
 
 def run(*args):
@@ -287,5 +280,4 @@ for ext in ("svg", "pdf"):
     else:
         ok(rr.returncode == 0 and os.path.getsize(path) > 1000, f"the {ext} map is written")
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

@@ -11,6 +11,8 @@ import shutil
 import subprocess
 import sys
 
+from sptest import done, ok, runner
+
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "trails"))
 scene = os.path.join(src, "..", "scenes", "chaotic.ini")
@@ -19,21 +21,11 @@ if not shutil.which("ffmpeg"):
     sys.exit(77)
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-count = failed = 0
 PLAIN = ["--set", "view.panels=none", "--set", "view.hud=false", "--set", "view.colorbar=false",
          "--size", "960x540", "-q"]
 
 
-def ok(cond, what):
-    global count, failed
-    count += 1
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def run(*args):
-    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=work)
+run = runner(exe, work)
 
 
 def still(name, *args):
@@ -81,5 +73,4 @@ for bad in ("0s", "5x", "-1s", "1e9s"):
     r = run("still", scene, "--set", f"view.trail={bad}", "-o", "bad.png")
     ok(r.returncode == 2 and "view.trail" in r.stderr and not os.path.exists(os.path.join(work, "bad.png")),
        f"view.trail = {bad} is refused")
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

@@ -25,12 +25,12 @@ static const char SAMPLE[] = "θ = 0, θ̇ > 0   ωₛ/ωₚ ≈ 2   r₀ = 1.5 
 /* Lays SAMPLE out with a fresh font and returns its coverage image. */
 static uint8_t *render_sample(int *ink)
 {
-    static const int px[SP_TEXT_SIZES] = {12, 16, 22, 28};
+    static const struct sp_font_desc fd = {.px = {12, 16, 22, 28}};
     static const float white[4] = {1, 1, 1, 1};
     struct sp_font *f = NULL;
     struct sp_glyph_quad q[256];
     uint8_t *img = calloc(TW * TH, 1);
-    if (!img || sp_font_make(&f, px)) {
+    if (!img || sp_font_make(&f, &fd)) {
         free(img);
         return NULL;
     }
@@ -45,13 +45,13 @@ static uint8_t *render_sample(int *ink)
 
 static void test_text(void)
 {
-    static const int px[SP_TEXT_SIZES] = {12, 16, 22, 28};
+    static const struct sp_font_desc fd = {.px = {12, 16, 22, 28}};
     static const uint32_t needed[] = {0x03B8, 0x03C9, 0x2080, 0x00B2, 0x1E59, 0x0307,
                                       0x209B, 0x209A, 0x2248, 0x00E9, 0x2212, 0x2113};
     struct sp_font *f = NULL;
     int ink1 = 0, ink2 = 0, missing = 0;
 
-    if (!sp_tap_ok(sp_font_make(&f, px) == 0, "font made from the embedded DejaVu Sans"))
+    if (!sp_tap_ok(sp_font_make(&f, &fd) == 0, "font made from the embedded DejaVu Sans"))
         return;
     for (size_t i = 0; i < sizeof(needed) / sizeof(needed[0]); i++)
         if (!sp_font_has(f, needed[i])) {
@@ -59,7 +59,8 @@ static void test_text(void)
             missing++;
         }
     sp_tap_ok(missing == 0, "the font has every Greek, sub/superscript and math glyph used");
-    sp_tap_ok(!sp_font_has(f, 0x4E2D), "a code point outside the atlas is reported missing");
+    sp_tap_ok(sp_font_has(f, 0x4E2D), "a CJK character comes from a fallback font");
+    sp_tap_ok(!sp_font_has(f, 0xFFFE) && !sp_font_has(f, 0x10FFFF), "noncharacters are in no font");
     const int wa = sp_font_width(f, SP_TEXT_NORMAL, "θ"), wb = sp_font_width(f, SP_TEXT_NORMAL, "θ̇");
     sp_tap_ok(wa > 0 && wa == wb, "a combining dot adds no width (%d, %d)", wa, wb);
     sp_tap_ok(sp_font_width(f, SP_TEXT_LARGE, "mmm") > sp_font_width(f, SP_TEXT_SMALL, "mmm"),

@@ -137,7 +137,18 @@ int sp_canvas_text(struct sp_canvas *c, int size, float x, float y, enum sp_alig
         x -= 0.5f * (float)w;
     else if (align == SP_ALIGN_RIGHT)
         x -= (float)w;
+    struct sp_line line;
+    if (!sp_font_shape(c->font, size, utf8, &line) && line.missing) { /* never a silent box */
+        if (sp_font_check(c->font, "text", utf8) == 0)
+            sp_log_error("text \"%s\" has a character no font draws", utf8);
+        c->err = SP_E_INPUT;
+        return w;
+    }
     n = sp_font_layout(c->font, size, utf8, x, y, color, NULL, 0);
+    if (n < 0) { /* logged */
+        c->err = n;
+        return w;
+    }
     if (grow(c, (void **)&c->quads, &c->cap_quads, c->n_quads, n, sizeof(*c->quads)) ||
         grow(c, (void **)&c->strings, &c->cap_strings, c->n_strings, len, 1) ||
         !(it = new_item(c, SP_ITEM_TEXT, c->n_quads)))

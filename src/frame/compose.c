@@ -14,7 +14,6 @@ enum {
     COIL_SEGS = COIL_TURNS * COIL_STEPS,
     HATCHES = 7,
     MAX_STROBE = 400,                     /* stroboscopic images at most */
-    CAPTION_LINES = 4,                    /* a caption wraps to this many lines */
     ALL_FADE = (int)SP_FADE_S,            /* s: trail = all fades in its newest 10 s */
 };
 
@@ -46,8 +45,8 @@ struct sp_composer {
     double ox, oy;            /* px of the world origin (the pivot) */
     double max_speed;         /* m/s, the top of the trail's colormap */
     int premix_trail;         /* light opaque background: trail mixed with it, opaque */
-    char caption[CAPTION_LINES][SP_VIEW_TEXT_BYTES]; /* the caption, wrapped */
-    int caption_lines;
+    char *title, *caption;    /* wrapped: lines one after another, each NUL-terminated; owned */
+    int title_lines, caption_lines;
     char speed[32];           /* "speed ×0.25" when [video] speed != 1, else "" */
     /* trail = all: the part older than ALL_FADE is drawn once (SP_LAYER_ACCUM) */
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
@@ -70,48 +69,164 @@ static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 }
 
 /* Text sizes follow the frame's smaller side, with a floor for small
- * frames, times [view] font_scale. */
-static void text_sizes(float unit, double scale, int ss, int px[SP_TEXT_SIZES])
+ * frames, or [view] font_size (pt, one px each: see README "Text") for the
+ * body text with the others in the same proportions; times [view]
+ * font_scale. */
+static void text_sizes(float unit, double font_size, double scale, int ss, int px[SP_TEXT_SIZES])
 {
     static const float frac[SP_TEXT_SIZES] = {0.0150f, 0.0175f, 0.0230f, 0.0300f};
     /* at least 11 px: a 480p GIF's tick labels read on a projector */
     static const float floor_px[SP_TEXT_SIZES] = {11, 12, 14, 17};
-    for (int s = 0; s < SP_TEXT_SIZES; s++)
-        px[s] = (int)fminf(400, fmaxf(4, roundf((float)scale * fmaxf(ss * floor_px[s], roundf(frac[s] * unit)))));
+    for (int s = 0; s < SP_TEXT_SIZES; s++) {
+        const float base = font_size > 0
+                               ? (float)font_size * ss * frac[s] / frac[SP_TEXT_NORMAL]
+                               : fmaxf(ss * floor_px[s], roundf(frac[s] * unit));
+        px[s] = (int)fminf(400, fmaxf(4, roundf((float)scale * base)));
+    }
 }
 
-/* Wraps text at spaces into lines of at most max_width px; returns how many
- * (at most max; the rest is dropped). */
-static int wrap(const struct sp_font *f, int size, const char *text, float max_width,
-                char lines[][SP_VIEW_TEXT_BYTES], int max)
+/* 1 when a line may break before the character at s: not before a mark
+ * (it belongs to the character before it) nor a joiner. */
+static int may_break_before(const char *s)
 {
+    const unsigned char *u = (const unsigned char *)s;
+    if ((u[0] & 0xC0) == 0x80)
+        return 0; /* inside a character */
+    /* combining marks U+0300-036F, U+0483-0489, U+0591-05C7, U+0610-061A,
+     * U+064B-065F, U+0670, U+06D6-06ED, the Indic signs and vowel marks
+     * (U+0900-0DFF blocks' dependent signs), U+200C/U+200D, U+20D0-20FF */
+    size_t n = sp_utf8_char(s);
+    uint32_t cp = n == 1 ? u[0] : n ? u[0] & (0x7Fu >> n) : 0;
+    for (size_t i = 1; i < n; i++)
+        cp = cp << 6 | (u[i] & 0x3Fu);
+    if ((cp >= 0x0300 && cp <= 0x036F) || (cp >= 0x0483 && cp <= 0x0489) ||
+        (cp >= 0x0591 && cp <= 0x05C7) || (cp >= 0x0610 && cp <= 0x061A) ||
+        (cp >= 0x064B && cp <= 0x065F) || cp == 0x0670 || (cp >= 0x06D6 && cp <= 0x06ED) ||
+        cp == 0x200C || cp == 0x200D || (cp >= 0x20D0 && cp <= 0x20FF) || (cp >= 0xFE00 && cp <= 0xFE0F))
+        return 0;
+    if (cp >= 0x0900 && cp <= 0x0DFF) { /* Indic: not before a dependent sign or virama */
+        const int k = (int)(cp & 0x7F);
+        return !(k <= 0x03 || (k >= 0x3A && k <= 0x4F) || (k >= 0x51 && k <= 0x57) ||
+                 k == 0x62 || k == 0x63);
+    }
+    return 1;
+}
+
+/* Wraps text into lines of at most max_width px: at spaces, and a word
+ * wider than a line between its characters (so CJK, which has no spaces,
+ * wraps too). *out holds the lines one after another, each NUL-terminated;
+ * *n_out their count. 0 or SP_E_NOMEM. */
+static int wrap(const struct sp_font *f, int size, const char *text, float max_width,
+                char **out, int *n_out)
+{
+    const size_t len = strlen(text);
+    char *buf = malloc(2 * len + 2), *w = buf, *try = malloc(len + 1);
     int n = 0;
-    while (*text && n < max) {
-        size_t fit = strlen(text), space = 0;
-        char try[SP_VIEW_TEXT_BYTES];
+    *out = NULL;
+    *n_out = 0;
+    if (!buf || !try) {
+        free(buf), free(try);
+        sp_log_error("out of memory to wrap %zu bytes of text", len);
+        return SP_E_NOMEM;
+    }
+    text += strspn(text, " ");
+    while (*text) {
+        size_t fit = 0;
         /* the longest prefix ending at a space (or the end) that fits */
         for (size_t i = 0;; i++) {
             if (text[i] == ' ' || !text[i]) {
-                snprintf(try, sizeof(try), "%.*s", (int)i, text);
-                if (sp_font_width(f, size, try) > max_width && space)
+                memcpy(try, text, i);
+                try[i] = 0;
+                if (sp_font_width(f, size, try) > max_width)
                     break;
                 fit = i;
-                space = i;
                 if (!text[i])
                     break;
             }
         }
-        snprintf(lines[n++], SP_VIEW_TEXT_BYTES, "%.*s", (int)fit, text);
+        if (!fit) { /* the first word alone is too wide: as many characters as fit */
+            size_t i = 1;
+            for (; text[i] && text[i] != ' '; i++) {
+                if (!may_break_before(text + i))
+                    continue;
+                memcpy(try, text, i);
+                try[i] = 0;
+                if (sp_font_width(f, size, try) > max_width)
+                    break;
+                fit = i;
+            }
+            if (!fit) /* not even one character: it stays whole, and overflows */
+                for (fit = 1; text[fit] && !may_break_before(text + fit); fit++)
+                    ;
+        }
+        while (fit && text[fit - 1] == ' ')
+            fit--;
+        memcpy(w, text, fit);
+        w[fit] = 0;
+        w += fit + 1;
+        n++;
         text += fit;
         text += strspn(text, " ");
     }
-    return n;
+    free(try);
+    *out = buf;
+    *n_out = n;
+    return 0;
+}
+
+/* Line i of wrapped text. */
+static const char *line_of(const char *wrapped, int i)
+{
+    while (i-- > 0)
+        wrapped += strlen(wrapped) + 1;
+    return wrapped;
+}
+
+/* Wraps the title and caption to the frame's width and checks that every
+ * character has a font and that the bands leave the picture at least half
+ * the frame. 0, SP_E_INPUT (said) or SP_E_NOMEM. */
+static int wrap_texts(struct sp_composer *r)
+{
+    const struct sp_font *f = r->font;
+    const float width = r->width - 2 * roundf(0.015f * r->unit); /* layout.c's bands */
+    const struct sp_view *v = &r->look.view;
+    int err = 0;
+    if (v->title[0] && !(err = sp_font_check(f, "[view] title", v->title)))
+        err = wrap(f, SP_TEXT_TITLE, v->title, width, &r->title, &r->title_lines);
+    if (!err && v->caption[0] && !(err = sp_font_check(f, "[view] caption", v->caption)))
+        err = wrap(f, SP_TEXT_NORMAL, v->caption, width, &r->caption, &r->caption_lines);
+    if (err)
+        return err;
+    for (int i = 0; i < r->title_lines; i++)
+        if (sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i)) > width) {
+            sp_log_error("[view] title: \"%s\" is %d px wide, wider than the frame's %.0f px for "
+                         "text; use a smaller font_size or font_scale, or a wider frame",
+                         line_of(r->title, i), sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i)), width);
+            return SP_E_INPUT;
+        }
+    for (int i = 0; i < r->caption_lines; i++)
+        if (sp_font_width(f, SP_TEXT_NORMAL, line_of(r->caption, i)) > width) {
+            sp_log_error("[view] caption: \"%s\" is %d px wide, wider than the frame's %.0f px "
+                         "for text; use a smaller font_size or font_scale, or a wider frame",
+                         line_of(r->caption, i), sp_font_width(f, SP_TEXT_NORMAL, line_of(r->caption, i)), width);
+            return SP_E_INPUT;
+        }
+    const int text_h = r->title_lines * sp_font_line(f, SP_TEXT_TITLE) +
+                       r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL);
+    if (text_h > r->height / 2) {
+        sp_log_error("[view] title and caption wrap to %d + %d lines, %d px of the frame's %d: "
+                     "they cannot fit (at most half the height is theirs); shorten them, use a "
+                     "smaller font_size or font_scale, or a larger frame",
+                     r->title_lines, r->caption_lines, text_h, r->height);
+        return SP_E_INPUT;
+    }
+    return 0;
 }
 
 int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc)
 {
     struct sp_composer *r = calloc(1, sizeof(*r));
-    int px[SP_TEXT_SIZES], err;
+    int err;
 
     *out = NULL;
     if (!r) {
@@ -137,9 +252,13 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     if (!r->look.view.pendulum || r->look.ensemble_count > 1)
         r->look.view.colorbar = 0; /* no speed-coloured trail to explain */
     if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar ||
-        r->look.view.title[0] || r->look.view.caption[0] || r->speed[0]) {
-        text_sizes(r->unit, r->look.view.font_scale, desc->supersample > 1 ? desc->supersample : 1, px);
-        err = sp_font_make(&r->font, px);
+        r->look.view.title[0] || r->look.view.caption[0] || r->speed[0] || r->look.view.font[0]) {
+        struct sp_font_desc fd = {.family = r->look.view.font};
+        text_sizes(r->unit, r->look.view.font_size, r->look.view.font_scale,
+                   desc->supersample > 1 ? desc->supersample : 1, fd.px);
+        err = sp_font_make(&r->font, &fd);
+        if (!err)
+            err = wrap_texts(r);
         if (err) {
             sp_compose_destroy(&r);
             return err;
@@ -158,13 +277,10 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
     struct sp_layout_desc d = {.width = r->width, .height = r->height,
                                .panels = r->look.view.panels,
                                .no_pendulum = !r->look.view.pendulum};
-    if (r->look.view.title[0])
-        d.title_height = (float)sp_font_line(f, SP_TEXT_TITLE);
-    if (r->look.view.caption[0]) {
-        r->caption_lines = wrap(f, SP_TEXT_NORMAL, r->look.view.caption,
-                                r->width - 2 * roundf(0.015f * r->unit), r->caption, CAPTION_LINES);
+    if (r->title_lines)
+        d.title_height = (float)(r->title_lines * sp_font_line(f, SP_TEXT_TITLE));
+    if (r->caption_lines)
         d.caption_height = (float)(r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL));
-    }
     /* The view's width decides the HUD's wrapping: lay out once without it. */
     sp_layout_compute(&d, &r->layout);
     if (r->look.view.hud) {
@@ -392,16 +508,16 @@ static void put_texts(struct sp_composer *r)
     const struct sp_font *f = r->font;
     struct sp_canvas *cv = &r->canvas;
     sp_canvas_layer(cv, SP_LAYER_STATIC);
-    if (sp_rect_valid(&l->title))
+    for (int i = 0; i < r->title_lines; i++)
         sp_canvas_text(cv, SP_TEXT_TITLE, 0.5f * (l->title.x0 + l->title.x1),
-                       l->title.y0 + sp_font_cap(f, SP_TEXT_TITLE) +
+                       l->title.y0 + i * sp_font_line(f, SP_TEXT_TITLE) + sp_font_cap(f, SP_TEXT_TITLE) +
                        0.5f * (sp_font_line(f, SP_TEXT_TITLE) - sp_font_cap(f, SP_TEXT_TITLE)) -
                        0.15f * sp_font_cap(f, SP_TEXT_TITLE),
-                       SP_ALIGN_CENTER, r->pal.text, r->look.view.title);
+                       SP_ALIGN_CENTER, r->pal.text, line_of(r->title, i));
     for (int i = 0; i < r->caption_lines; i++)
         sp_canvas_text(cv, SP_TEXT_NORMAL, 0.5f * (l->caption.x0 + l->caption.x1),
                        l->caption.y0 + i * sp_font_line(f, SP_TEXT_NORMAL) + sp_font_cap(f, SP_TEXT_NORMAL),
-                       SP_ALIGN_CENTER, r->pal.muted, r->caption[i]);
+                       SP_ALIGN_CENTER, r->pal.muted, line_of(r->caption, i));
     /* at the right of the heads-up time line, else of the title */
     if (r->speed[0] && sp_rect_valid(&l->hud))
         sp_canvas_text(cv, SP_TEXT_LARGE, l->hud.x1, l->hud.y0 + sp_font_cap(f, SP_TEXT_LARGE),
@@ -448,7 +564,8 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
                          &r->pal, r->unit);
     }
     if (cv->err) {
-        sp_log_error("out of memory for %d shapes and %d glyphs", cv->n_shapes, cv->n_quads);
+        if (cv->err == SP_E_NOMEM) /* others were said where they happened */
+            sp_log_error("out of memory for %d shapes and %d glyphs", cv->n_shapes, cv->n_quads);
         return cv->err;
     }
     *out = cv;
@@ -464,6 +581,8 @@ void sp_compose_destroy(struct sp_composer **cp)
     if (!c)
         return;
     sp_font_destroy(&c->font);
+    free(c->title);
+    free(c->caption);
     sp_canvas_free(&c->canvas);
     free(c);
     *cp = NULL;

@@ -1,79 +1,89 @@
-/* springpend (internal): FreeType glyph atlas and UTF-8 layout. See text.h. */
+/* springpend (internal): text layout with fontconfig, FriBidi, HarfBuzz and
+ * FreeType, and the glyph cache. See text.h.
+ *
+ * The font is handed around as const (the draw list and the backends only
+ * read it); its caches (faces opened on first use, shaped lines, the atlas)
+ * are filled behind that handle, so the functions below cast the const
+ * away: every struct sp_font is allocated writable by sp_font_make. */
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <time.h>
 
+#include <fontconfig/fontconfig.h>
+#include <fribidi.h>
 #include <ft2build.h>
 #include FT_FREETYPE_H
+#include <hb.h>
+#include <hb-ot.h>
 
 #include "springpend/common.h"
 #include "embedded.h"
 #include "text.h"
 
-/* Code points in the atlas besides printable ASCII: Greek and math for the
- * labels (theta, omega, Delta, ell, sub/superscripts, the combining dot of
- * theta-dot, which layout centres over the glyph before it), a few accented
- * letters (Poincaré). Anything else is drawn as the font's missing-glyph box. */
-static const uint32_t EXTRA[] = {
-    0x00E0, 0x00E1, 0x00E4, 0x00E7, 0x00E8, 0x00E9, 0x00EA, 0x00F6, 0x00FC, /* à á ä ç è é ê ö ü */
-    0x00B0, 0x00B1, 0x00B2, 0x00B3, 0x00B7, 0x00D7, 0x0394, 0x03A9, 0x03B8, 0x03C0,
-    0x03C9, 0x0307, 0x1E59, 0x2080, 0x2081, 0x2082, 0x209A, 0x209B, 0x2113,
-    0x2212, 0x2248, 0x2264, 0x2265, 0x221A, 0x2713, 0x2026, 0x2192, 0x2014,
-};
-#define N_ASCII (127 - 32)
-#define N_EXTRA ((int)(sizeof(EXTRA) / sizeof(EXTRA[0])))
-#define N_GLYPHS (N_ASCII + N_EXTRA + 1) /* + the missing-glyph box */
-#define PAD 1                            /* texels between glyphs */
+#define PAD 1                /* texels around each glyph in the atlas */
+#define ATLAS_MAX_H 16384    /* texels: what GL implementations allow */
+#define LINE_CACHE_MAX 4096  /* shaped lines kept before the cache is emptied */
+#define LINE_BUCKETS 1024
+#define LOAD_FLAGS (FT_LOAD_RENDER | FT_LOAD_TARGET_LIGHT | FT_LOAD_NO_BITMAP)
 
-struct glyph {
-    int x, y, w, h;  /* atlas texels */
-    int left, top;   /* bitmap offset from the pen, px (top: up) */
-    int advance;     /* px */
-    int present;     /* the font has it */
-    unsigned index;  /* the font's glyph index (0: missing) */
+/* One font of the fallback list. Opened on first use. */
+struct face {
+    FcPattern *pat;             /* fontconfig's description (in sorted); NULL = embedded */
+    const char *file;           /* FC_FILE, NULL = embedded */
+    int index;                  /* face index in the file */
+    FcCharSet *cs;              /* coverage (fontconfig's), NULL = ask FreeType */
+    FT_Face ft;                 /* NULL until opened */
+    int ft_px;                  /* the size ft is set to, px; 0 = none */
+    hb_face_t *hb_face;
+    hb_font_t *hb[SP_TEXT_SIZES];
+    int used;                   /* laid out at least once */
+};
+
+/* A rasterised glyph in the atlas; key 0 = empty slot. */
+struct cached {
+    uint64_t key;               /* (face + 1) << 32 | size << 28 | glyph index */
+    int x, y, w, h;             /* atlas texels */
+    int left, top;              /* bitmap offset from the origin, px (top: up) */
+};
+
+/* A shaped line, cached by (size, text). */
+struct shaped {
+    struct shaped *next;
+    uint32_t hash;
+    int size;
+    char *text;
+    struct sp_line line;
+    struct sp_glyph *g;
+    struct sp_glyph_run *r;
 };
 
 struct sp_font {
-    struct glyph g[SP_TEXT_SIZES][N_GLYPHS];
+    FT_Library lib;
+    FcFontSet *sorted;          /* fontconfig's fallback order, owned */
+    struct face *faces;         /* [0]: the requested family */
+    int n_faces;
+    int px[SP_TEXT_SIZES];      /* em sizes, px */
     int cap[SP_TEXT_SIZES], line[SP_TEXT_SIZES]; /* px */
-    int px[SP_TEXT_SIZES];                       /* em size, px */
-    uint8_t *atlas;                              /* R8 */
-    int aw, ah;                                  /* texels */
+    /* glyph cache */
+    struct cached *slots;
+    size_t n_slots, used_slots; /* capacity (a power of two), filled */
+    uint8_t *atlas;             /* R8, aw x ah */
+    int aw, ah;
+    int shelf_x, shelf_y, shelf_h; /* the packer's free corner and its row height, texels */
+    unsigned version;
+    int rastered;               /* glyphs rasterised */
+    double raster_s;            /* seconds spent on them */
+    /* shaped lines */
+    struct shaped *buckets[LINE_BUCKETS];
+    int n_lines;
+    hb_buffer_t *buf;
 };
 
-static int glyph_slot(uint32_t cp)
-{
-    if (cp >= 32 && cp < 127)
-        return (int)cp - 32;
-    for (int i = 0; i < N_EXTRA; i++)
-        if (EXTRA[i] == cp)
-            return N_ASCII + i;
-    return N_GLYPHS - 1;
-}
-
-static uint32_t slot_codepoint(int i)
-{
-    return i < N_ASCII ? (uint32_t)(i + 32) : i < N_ASCII + N_EXTRA ? EXTRA[i - N_ASCII] : 0;
-}
-
-/* Next code point of a UTF-8 string; malformed bytes read as U+FFFD. */
-static uint32_t utf8_next(const char **sp)
-{
-    const unsigned char *s = (const unsigned char *)*sp;
-    uint32_t cp;
-    int n;
-    if (s[0] < 0x80)
-        cp = s[0], n = 1;
-    else if ((s[0] & 0xE0) == 0xC0 && (s[1] & 0xC0) == 0x80)
-        cp = ((s[0] & 0x1Fu) << 6) | (s[1] & 0x3Fu), n = 2;
-    else if ((s[0] & 0xF0) == 0xE0 && (s[1] & 0xC0) == 0x80 && (s[2] & 0xC0) == 0x80)
-        cp = ((s[0] & 0x0Fu) << 12) | ((s[1] & 0x3Fu) << 6) | (s[2] & 0x3Fu), n = 3;
-    else
-        cp = 0xFFFD, n = 1;
-    *sp += n;
-    return cp;
-}
+/* ---- UTF-8 ---- */
 
 size_t sp_utf8_char(const char *s)
 {
@@ -92,57 +102,598 @@ size_t sp_utf8_char(const char *s)
     return n;
 }
 
-/* Renders every glyph of every size; with atlas == NULL it only measures and
- * places them on shelves of width f->aw, setting f->ah. */
-static int raster_all(struct sp_font *f, FT_Face face, const int px[SP_TEXT_SIZES])
+/* The code point at s (sp_utf8_char's length in *len), U+FFFD with length 1
+ * for a malformed byte. */
+static uint32_t utf8_decode(const char *s, size_t *len)
 {
-    int x = PAD, y = PAD, shelf = 0;
-    for (int s = 0; s < SP_TEXT_SIZES; s++) {
-        if (FT_Set_Pixel_Sizes(face, 0, (FT_UInt)px[s])) {
-            sp_log_error("FreeType cannot size the font to %d px", px[s]);
+    const unsigned char *u = (const unsigned char *)s;
+    const size_t n = sp_utf8_char(s);
+    if (!n) {
+        *len = 1;
+        return 0xFFFD;
+    }
+    uint32_t cp = n == 1 ? u[0] : u[0] & (0x7Fu >> n);
+    for (size_t i = 1; i < n; i++)
+        cp = cp << 6 | (u[i] & 0x3Fu);
+    *len = n;
+    return cp;
+}
+
+/* Format characters that show nothing and need no glyph: zero-width
+ * space and (non-)joiners, direction marks and embeddings, word joiner
+ * and invisible operators, variation selectors, the byte order mark. */
+static int invisible(uint32_t cp)
+{
+    return (cp >= 0x200B && cp <= 0x200F) || (cp >= 0x202A && cp <= 0x202E) ||
+           (cp >= 0x2060 && cp <= 0x2064) || (cp >= 0x2066 && cp <= 0x2069) ||
+           (cp >= 0xFE00 && cp <= 0xFE0F) || cp == 0xFEFF || (cp >= 0xE0100 && cp <= 0xE01EF);
+}
+
+/* ---- faces ---- */
+
+static int face_covers(const struct face *fc, uint32_t cp)
+{
+    if (fc->cs)
+        return FcCharSetHasChar(fc->cs, cp);
+    return fc->ft && FT_Get_Char_Index(fc->ft, cp) != 0;
+}
+
+/* The first face that has cp, else -1. */
+static int face_for(const struct sp_font *f, uint32_t cp)
+{
+    for (int i = 0; i < f->n_faces; i++)
+        if (face_covers(&f->faces[i], cp))
+            return i;
+    return -1;
+}
+
+/* Opens face i for FreeType and HarfBuzz (once). */
+static int face_open(struct sp_font *f, int i)
+{
+    struct face *fc = &f->faces[i];
+    hb_blob_t *blob;
+    if (fc->hb_face)
+        return 0;
+    if (!fc->ft) {
+        FT_Error e = fc->file ? FT_New_Face(f->lib, fc->file, fc->index, &fc->ft)
+                              : FT_New_Memory_Face(f->lib, (const FT_Byte *)sp_embed_DejaVuSans_ttf,
+                                                   (FT_Long)sp_embed_DejaVuSans_ttf_size, 0, &fc->ft);
+        if (e) {
+            sp_log_error("FreeType cannot open the font %s: %s",
+                         fc->file ? fc->file : "DejaVu Sans (embedded)", FT_Error_String(e) ? FT_Error_String(e) : "error");
+            fc->ft = NULL;
             return SP_E_IO;
         }
-        f->line[s] = (int)((face->size->metrics.height + 63) >> 6);
-        for (int i = 0; i < N_GLYPHS; i++) {
-            struct glyph *g = &f->g[s][i];
-            FT_UInt index = FT_Get_Char_Index(face, slot_codepoint(i));
-            if (FT_Load_Glyph(face, index, FT_LOAD_RENDER | FT_LOAD_TARGET_LIGHT)) {
-                sp_log_error("FreeType cannot render U+%04X", slot_codepoint(i));
-                return SP_E_IO;
-            }
-            FT_Bitmap *bm = &face->glyph->bitmap;
-            if (x + (int)bm->width + PAD > f->aw) {
-                x = PAD;
-                y += shelf + PAD;
-                shelf = 0;
-            }
-            *g = (struct glyph){x, y, (int)bm->width, (int)bm->rows, face->glyph->bitmap_left,
-                                face->glyph->bitmap_top,
-                                (int)((face->glyph->advance.x + 32) >> 6), index != 0, index};
-            if (f->atlas)
-                for (unsigned r = 0; r < bm->rows; r++)
-                    memcpy(f->atlas + (size_t)(y + r) * f->aw + x,
-                           bm->buffer + (ptrdiff_t)r * bm->pitch, bm->width);
-            x += (int)bm->width + PAD;
-            shelf = (int)bm->rows > shelf ? (int)bm->rows : shelf;
-        }
-        f->cap[s] = f->g[s][glyph_slot('H')].top;
     }
-    f->ah = y + shelf + PAD;
+    blob = fc->file ? hb_blob_create_from_file(fc->file)
+                    : hb_blob_create((const char *)sp_embed_DejaVuSans_ttf,
+                                     (unsigned)sp_embed_DejaVuSans_ttf_size,
+                                     HB_MEMORY_MODE_READONLY, NULL, NULL);
+    fc->hb_face = hb_face_create(blob, (unsigned)fc->index);
+    hb_blob_destroy(blob);
+    for (int s = 0; s < SP_TEXT_SIZES; s++) {
+        fc->hb[s] = hb_font_create(fc->hb_face);
+        hb_font_set_scale(fc->hb[s], f->px[s] * 64, f->px[s] * 64); /* 26.6 px */
+    }
+    if (!hb_face_get_glyph_count(fc->hb_face)) {
+        sp_log_error("HarfBuzz cannot read the font %s", fc->file ? fc->file : "DejaVu Sans");
+        return SP_E_IO;
+    }
     return 0;
 }
 
-int sp_font_make(struct sp_font **out, const int px[SP_TEXT_SIZES])
+static void face_close(struct face *fc)
+{
+    for (int s = 0; s < SP_TEXT_SIZES; s++)
+        hb_font_destroy(fc->hb[s]);
+    hb_face_destroy(fc->hb_face);
+    if (fc->ft)
+        FT_Done_Face(fc->ft);
+}
+
+/* The family name of face i, for messages. */
+static const char *face_family(const struct sp_font *f, int i)
+{
+    FcChar8 *name = NULL;
+    if (!f->faces[i].pat)
+        return SP_FONT_DEFAULT;
+    FcPatternGetString(f->faces[i].pat, FC_FAMILY, 0, &name);
+    return name ? (const char *)name : "?";
+}
+
+/* Levenshtein distance of two short strings, case ignored. */
+static int distance(const char *a, const char *b)
+{
+    int la = (int)strlen(a), lb = (int)strlen(b), row[128];
+    if (la > 127 || lb > 127)
+        return 1000;
+    for (int j = 0; j <= lb; j++)
+        row[j] = j;
+    for (int i = 1; i <= la; i++) {
+        int diag = row[0];
+        row[0] = i;
+        for (int j = 1; j <= lb; j++) {
+            const int up = row[j];
+            const int same = FcToLower((FcChar8)a[i - 1]) == FcToLower((FcChar8)b[j - 1]);
+            int v = diag + !same;
+            v = up + 1 < v ? up + 1 : v;
+            v = row[j - 1] + 1 < v ? row[j - 1] + 1 : v;
+            row[j] = v;
+            diag = up;
+        }
+    }
+    return row[lb];
+}
+
+/* Logs that `family` is not installed, with up to six installed families
+ * nearest to it (a prefix or part of the name counts as near). */
+static void unknown_family(const char *family)
+{
+    FcPattern *all = FcPatternCreate();
+    FcObjectSet *os = FcObjectSetBuild(FC_FAMILY, (char *)NULL);
+    FcFontSet *list = all && os ? FcFontList(NULL, all, os) : NULL;
+    const char *best[6] = {0};
+    int score[6], nb = 0;
+    char msg[1024] = "";
+    for (int i = 0; list && i < list->nfont; i++) {
+        FcChar8 *name;
+        for (int k = 0; FcPatternGetString(list->fonts[i], FC_FAMILY, k, &name) == FcResultMatch; k++) {
+            const char *n = (const char *)name;
+            int d = distance(family, n);
+            if (strcasestr(n, family) || strcasestr(family, n))
+                d = d < 3 ? d : 3;
+            if (d > 3 && d > (int)strlen(family) / 3)
+                continue;
+            int dup = 0;
+            for (int j = 0; j < nb; j++)
+                dup |= !strcasecmp(best[j], n);
+            if (dup)
+                continue;
+            int at = nb < 6 ? nb++ : 5;
+            if (at == 5 && nb == 6 && d >= score[5])
+                continue;
+            best[at] = n, score[at] = d;
+            for (int j = at; j > 0 && score[j] < score[j - 1]; j--) { /* keep sorted */
+                const char *tn = best[j]; int ts = score[j];
+                best[j] = best[j - 1], score[j] = score[j - 1];
+                best[j - 1] = tn, score[j - 1] = ts;
+            }
+        }
+    }
+    for (int j = 0; j < nb; j++)
+        snprintf(msg + strlen(msg), sizeof(msg) - strlen(msg), "%s\"%s\"", j ? ", " : "", best[j]);
+    if (nb)
+        sp_log_error("[view] font = \"%s\": no such font family is installed; close matches: %s "
+                     "(fc-list : family lists them all)", family, msg);
+    else
+        sp_log_error("[view] font = \"%s\": no such font family is installed, nor one with a "
+                     "similar name (fc-list : family lists them all)", family);
+    if (list)
+        FcFontSetDestroy(list);
+    if (os)
+        FcObjectSetDestroy(os);
+    if (all)
+        FcPatternDestroy(all);
+}
+
+/* 1 when the pattern's family names include `family` (blanks and case
+ * ignored: "latin modern roman" is Latin Modern Roman). */
+static int same_name(const char *a, const char *b)
+{
+    for (;; a++, b++) {
+        while (*a == ' ')
+            a++;
+        while (*b == ' ')
+            b++;
+        if (FcToLower((FcChar8)*a) != FcToLower((FcChar8)*b))
+            return 0;
+        if (!*a)
+            return 1;
+    }
+}
+
+static int has_family(FcPattern *p, const char *family)
+{
+    FcChar8 *name;
+    for (int k = 0; FcPatternGetString(p, FC_FAMILY, k, &name) == FcResultMatch; k++)
+        if (same_name((const char *)name, family))
+            return 1;
+    return 0;
+}
+
+/* The fallback list: the family (the embedded DejaVu Sans for the default)
+ * and then fontconfig's order for it, fonts without outlines left out. */
+static int find_faces(struct sp_font *f, const char *family)
+{
+    const int embedded = !family || !*family || !strcasecmp(family, SP_FONT_DEFAULT);
+    FcPattern *pat = NULL;
+    FcResult res;
+    int err = 0;
+
+    if (!FcInit()) {
+        sp_log_error("fontconfig cannot load its configuration");
+        return SP_E_IO;
+    }
+    if (embedded)
+        family = SP_FONT_DEFAULT;
+    pat = FcPatternCreate();
+    if (!pat || !FcPatternAddString(pat, FC_FAMILY, (const FcChar8 *)family)) {
+        sp_log_error("out of memory for a font pattern");
+        err = SP_E_NOMEM;
+        goto done;
+    }
+    FcConfigSubstitute(NULL, pat, FcMatchPattern);
+    FcDefaultSubstitute(pat);
+    f->sorted = FcFontSort(NULL, pat, FcTrue, NULL, &res);
+    if (!embedded && (!f->sorted || !f->sorted->nfont || !has_family(f->sorted->fonts[0], family))) {
+        unknown_family(family);
+        err = SP_E_INPUT;
+        goto done;
+    }
+    f->faces = calloc((size_t)(f->sorted ? f->sorted->nfont : 0) + 1, sizeof(*f->faces));
+    if (!f->faces) {
+        sp_log_error("out of memory for the font list");
+        err = SP_E_NOMEM;
+        goto done;
+    }
+    if (embedded)
+        f->faces[f->n_faces++] = (struct face){0};
+    for (int i = 0; f->sorted && i < f->sorted->nfont; i++) {
+        FcPattern *p = f->sorted->fonts[i];
+        FcChar8 *file = NULL;
+        FcBool outline = FcTrue;
+        FcCharSet *cs = NULL;
+        int index = 0;
+        FcPatternGetBool(p, FC_OUTLINE, 0, &outline);
+        if (FcPatternGetString(p, FC_FILE, 0, &file) != FcResultMatch || !outline ||
+            FcPatternGetCharSet(p, FC_CHARSET, 0, &cs) != FcResultMatch)
+            continue;
+        FcPatternGetInteger(p, FC_INDEX, 0, &index);
+        if (embedded && !strcmp((const char *)file, SP_FONT_FILE))
+            continue; /* the embedded one */
+        f->faces[f->n_faces++] = (struct face){.pat = p, .file = (const char *)file,
+                                               .index = index, .cs = cs};
+    }
+    err = face_open(f, 0);
+    if (!err && f->faces[0].cs == NULL && !f->faces[0].ft)
+        err = SP_E_IO;
+done:
+    if (pat)
+        FcPatternDestroy(pat);
+    return err;
+}
+
+/* ---- the glyph cache ---- */
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static uint64_t glyph_key(int face, int size, unsigned index)
+{
+    return (uint64_t)(face + 1) << 32 | (uint64_t)size << 28 | (index & 0x0FFFFFFFu);
+}
+
+static struct cached *slot_of(const struct sp_font *f, uint64_t key)
+{
+    size_t i = (size_t)(key * 0x9E3779B97F4A7C15ull >> 20) & (f->n_slots - 1);
+    while (f->slots[i].key && f->slots[i].key != key)
+        i = (i + 1) & (f->n_slots - 1);
+    return &f->slots[i];
+}
+
+/* Room for one more entry in the table (doubled at half load). */
+static int slots_reserve(struct sp_font *f)
+{
+    if (2 * (f->used_slots + 1) <= f->n_slots)
+        return 0;
+    const size_t n = f->n_slots ? 2 * f->n_slots : 1024;
+    struct cached *old = f->slots;
+    const size_t n_old = f->n_slots;
+    f->slots = calloc(n, sizeof(*f->slots));
+    if (!f->slots) {
+        f->slots = old;
+        sp_log_error("out of memory for the glyph cache");
+        return SP_E_NOMEM;
+    }
+    f->n_slots = n;
+    for (size_t i = 0; i < n_old; i++)
+        if (old[i].key)
+            *slot_of(f, old[i].key) = old[i];
+    free(old);
+    return 0;
+}
+
+/* A w x h texel place in the atlas (which grows downwards). */
+static int atlas_place(struct sp_font *f, int w, int h, int *x, int *y)
+{
+    if (f->shelf_x + w + PAD > f->aw) {
+        f->shelf_x = PAD;
+        f->shelf_y += f->shelf_h + PAD;
+        f->shelf_h = 0;
+    }
+    if (w + 2 * PAD > f->aw)
+        return SP_E_INPUT;
+    while (f->shelf_y + h + PAD > f->ah) {
+        const int nh = f->ah ? 2 * f->ah : 256;
+        uint8_t *a;
+        if (nh > ATLAS_MAX_H || !(a = realloc(f->atlas, (size_t)f->aw * nh))) {
+            sp_log_error("the glyph cache is full (%dx%d texels): too many different glyphs "
+                         "or sizes", f->aw, f->ah);
+            return SP_E_NOMEM;
+        }
+        memset(a + (size_t)f->aw * f->ah, 0, (size_t)f->aw * (nh - f->ah));
+        f->atlas = a;
+        f->ah = nh;
+    }
+    *x = f->shelf_x;
+    *y = f->shelf_y;
+    f->shelf_x += w + PAD;
+    f->shelf_h = h > f->shelf_h ? h : f->shelf_h;
+    return 0;
+}
+
+/* The cached glyph (rasterised now when new), or NULL (logged). */
+static const struct cached *glyph_get(struct sp_font *f, int face, int size, unsigned index)
+{
+    const uint64_t key = glyph_key(face, size, index);
+    struct cached *c = f->n_slots ? slot_of(f, key) : NULL;
+    struct face *fc = &f->faces[face];
+    FT_Error e;
+    if (c && c->key)
+        return c;
+    const double t0 = now_s();
+    if (slots_reserve(f) || face_open(f, face))
+        return NULL;
+    if (fc->ft_px != f->px[size] && FT_Set_Pixel_Sizes(fc->ft, 0, (FT_UInt)f->px[size])) {
+        sp_log_error("FreeType cannot size %s to %d px", face_family(f, face), f->px[size]);
+        return NULL;
+    }
+    fc->ft_px = f->px[size];
+    if ((e = FT_Load_Glyph(fc->ft, index, LOAD_FLAGS)) != 0 ||
+        (fc->ft->glyph->format != FT_GLYPH_FORMAT_BITMAP &&
+         (e = FT_Render_Glyph(fc->ft->glyph, FT_RENDER_MODE_LIGHT)) != 0)) {
+        sp_log_error("FreeType cannot render glyph %u of %s: %s", index, face_family(f, face),
+                     FT_Error_String(e) ? FT_Error_String(e) : "error");
+        return NULL;
+    }
+    const FT_Bitmap *bm = &fc->ft->glyph->bitmap;
+    struct cached g = {key, 0, 0, (int)bm->width, (int)bm->rows, fc->ft->glyph->bitmap_left,
+                       fc->ft->glyph->bitmap_top};
+    if (g.w > 0 && g.h > 0) {
+        if (bm->pixel_mode != FT_PIXEL_MODE_GRAY) {
+            sp_log_error("%s: glyph %u is not a grey bitmap", face_family(f, face), index);
+            return NULL;
+        }
+        if (atlas_place(f, g.w, g.h, &g.x, &g.y))
+            return NULL;
+        for (int r = 0; r < g.h; r++)
+            memcpy(f->atlas + (size_t)(g.y + r) * f->aw + g.x, bm->buffer + (ptrdiff_t)r * bm->pitch,
+                   (size_t)g.w);
+        f->version++;
+    }
+    c = slot_of(f, key);
+    *c = g;
+    f->used_slots++;
+    f->rastered++;
+    f->raster_s += now_s() - t0;
+    return c;
+}
+
+/* ---- shaping ---- */
+
+static uint32_t hash_of(int size, const char *s)
+{
+    uint32_t h = 2166136261u ^ (uint32_t)size;
+    for (; *s; s++)
+        h = (h ^ (unsigned char)*s) * 16777619u;
+    return h;
+}
+
+static void lines_clear(struct sp_font *f)
+{
+    for (int b = 0; b < LINE_BUCKETS; b++)
+        while (f->buckets[b]) {
+            struct shaped *l = f->buckets[b];
+            f->buckets[b] = l->next;
+            free(l->text), free(l->g), free(l->r), free(l);
+        }
+    f->n_lines = 0;
+}
+
+/* A run of characters being itemised: [a, b) of the code points. */
+struct item {
+    int a, b, level, face, vis; /* vis: its leftmost visual position */
+    hb_script_t script;
+};
+
+static int by_vis(const void *x, const void *y)
+{
+    const struct item *a = x, *b = y;
+    return (a->vis > b->vis) - (a->vis < b->vis);
+}
+
+/* Shapes text into l (its glyphs and runs allocated). */
+static int shape(struct sp_font *f, int size, const char *text, struct shaped *l)
+{
+    const int bytes = (int)strlen(text);
+    uint32_t *cp = malloc(((size_t)bytes + 1) * sizeof(*cp));
+    int *off = malloc(((size_t)bytes + 2) * sizeof(*off)), *face = malloc(((size_t)bytes + 1) * sizeof(int));
+    FriBidiCharType *types = malloc(((size_t)bytes + 1) * sizeof(*types));
+    FriBidiBracketType *brackets = malloc(((size_t)bytes + 1) * sizeof(*brackets));
+    FriBidiLevel *levels = malloc(((size_t)bytes + 1) * sizeof(*levels));
+    FriBidiStrIndex *map = malloc(((size_t)bytes + 1) * sizeof(*map));
+    hb_script_t *script = malloc(((size_t)bytes + 1) * sizeof(*script));
+    struct item *items = malloc(((size_t)bytes + 1) * sizeof(*items));
+    hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
+    int n = 0, n_items = 0, n_glyphs = 0, missing = 0, err = 0;
+
+    if (!cp || !off || !face || !types || !brackets || !levels || !map || !script || !items) {
+        sp_log_error("out of memory to lay out a string of %d bytes", bytes);
+        err = SP_E_NOMEM;
+        goto done;
+    }
+    for (int i = 0; i < bytes;) {
+        size_t len;
+        off[n] = i;
+        cp[n++] = utf8_decode(text + i, &len);
+        i += (int)len;
+    }
+    off[n] = bytes;
+    /* bidi: levels (rule L1 applied by the reordering), visual order */
+    FriBidiParType base = FRIBIDI_PAR_ON;
+    fribidi_get_bidi_types(cp, n, types);
+    fribidi_get_bracket_types(cp, n, types, brackets);
+    if (n && !fribidi_get_par_embedding_levels_ex(types, brackets, n, &base, levels)) {
+        sp_log_error("FriBidi cannot order a string of %d characters", n);
+        err = SP_E_NOMEM;
+        goto done;
+    }
+    for (int i = 0; i < n; i++)
+        map[i] = i;
+    if (n && !fribidi_reorder_line(0, types, n, 0, base, levels, NULL, map)) {
+        sp_log_error("FriBidi cannot reorder a string of %d characters", n);
+        err = SP_E_NOMEM;
+        goto done;
+    }
+    /* scripts: common and inherited characters take their neighbours' */
+    hb_script_t last = HB_SCRIPT_INVALID;
+    for (int i = 0; i < n; i++) {
+        const hb_script_t s = hb_unicode_script(uf, cp[i]);
+        const int weak = s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED || s == HB_SCRIPT_UNKNOWN;
+        script[i] = weak ? last : s;
+        if (!weak && last == HB_SCRIPT_INVALID)
+            for (int j = 0; j < i; j++)
+                script[j] = s;
+        if (!weak)
+            last = s;
+    }
+    for (int i = 0; i < n; i++)
+        if (script[i] == HB_SCRIPT_INVALID)
+            script[i] = HB_SCRIPT_COMMON;
+    /* fonts: the first that has the character; marks, punctuation and
+     * spaces stay in the font before them when it has them */
+    for (int i = 0; i < n; i++) {
+        const hb_script_t s = hb_unicode_script(uf, cp[i]);
+        const int weak = s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED;
+        if (i && face[i - 1] >= 0 && (invisible(cp[i]) || (weak && face_covers(&f->faces[face[i - 1]], cp[i])))) {
+            face[i] = face[i - 1];
+            continue;
+        }
+        face[i] = invisible(cp[i]) ? 0 : face_for(f, cp[i]);
+        if (face[i] < 0) {
+            missing++;
+            face[i] = 0; /* its missing glyph, counted */
+        }
+    }
+    /* runs of one level, script and font */
+    for (int i = 0; i < n; i++) {
+        if (!n_items || levels[i] != items[n_items - 1].level || script[i] != items[n_items - 1].script ||
+            face[i] != items[n_items - 1].face)
+            items[n_items++] = (struct item){i, i, levels[i], face[i], n, script[i]};
+        items[n_items - 1].b = i + 1;
+    }
+    for (int v = 0; v < n; v++) /* each run's leftmost place */
+        for (int k = 0; k < n_items; k++)
+            if (map[v] >= items[k].a && map[v] < items[k].b && v < items[k].vis)
+                items[k].vis = v;
+    qsort(items, (size_t)n_items, sizeof(*items), by_vis);
+    /* shape each run */
+    l->r = malloc(((size_t)n_items + 1) * sizeof(*l->r));
+    l->g = NULL;
+    if (!l->r) {
+        sp_log_error("out of memory for a line of %d runs", n_items);
+        err = SP_E_NOMEM;
+        goto done;
+    }
+    int pen = 0;
+    for (int k = 0; k < n_items; k++) {
+        const struct item *it = &items[k];
+        if ((err = face_open(f, it->face)) != 0)
+            goto done;
+        f->faces[it->face].used = 1;
+        hb_buffer_clear_contents(f->buf);
+        hb_buffer_add_utf8(f->buf, text, bytes, (unsigned)off[it->a], off[it->b] - off[it->a]);
+        hb_buffer_set_direction(f->buf, it->level & 1 ? HB_DIRECTION_RTL : HB_DIRECTION_LTR);
+        hb_buffer_set_script(f->buf, it->script);
+        hb_buffer_set_language(f->buf, hb_language_get_default());
+        hb_shape(f->faces[it->face].hb[size], f->buf, NULL, 0);
+        unsigned ng;
+        const hb_glyph_info_t *gi = hb_buffer_get_glyph_infos(f->buf, &ng);
+        const hb_glyph_position_t *gp = hb_buffer_get_glyph_positions(f->buf, NULL);
+        struct sp_glyph *g = hb_buffer_allocation_successful(f->buf)
+                                 ? realloc(l->g, ((size_t)n_glyphs + ng + 1) * sizeof(*g)) : NULL;
+        if (!g) {
+            sp_log_error("out of memory to shape a string of %d bytes", bytes);
+            err = SP_E_NOMEM;
+            goto done;
+        }
+        l->g = g;
+        l->r[k] = (struct sp_glyph_run){n_glyphs, (int)ng, it->level & 1, off[it->a], off[it->b]};
+        for (unsigned j = 0; j < ng; j++) {
+            g[n_glyphs++] = (struct sp_glyph){
+                gi[j].codepoint, it->face, pen + (int)lround(gp[j].x_offset / 64.0),
+                -(int)lround(gp[j].y_offset / 64.0), (int)gi[j].cluster,
+                hb_ot_layout_get_glyph_class(f->faces[it->face].hb_face, gi[j].codepoint) ==
+                    HB_OT_LAYOUT_GLYPH_CLASS_MARK};
+            pen += (int)lround(gp[j].x_advance / 64.0);
+        }
+    }
+    l->line = (struct sp_line){pen, missing, n_glyphs, n_items, l->g, l->r};
+done:
+    free(cp), free(off), free(face), free(types), free(brackets), free(levels), free(map);
+    free(script), free(items);
+    return err;
+}
+
+int sp_font_shape(const struct sp_font *cf, int size, const char *text, struct sp_line *out)
+{
+    struct sp_font *f = (struct sp_font *)cf; /* its caches (see the top) */
+    const uint32_t h = hash_of(size, text);
+    struct shaped **b = &f->buckets[h % LINE_BUCKETS], *l;
+    for (l = *b; l; l = l->next)
+        if (l->hash == h && l->size == size && !strcmp(l->text, text)) {
+            *out = l->line;
+            return 0;
+        }
+    if (f->n_lines >= LINE_CACHE_MAX)
+        lines_clear(f);
+    l = calloc(1, sizeof(*l));
+    if (!l || !(l->text = strdup(text))) {
+        free(l);
+        sp_log_error("out of memory to lay out text");
+        *out = (struct sp_line){0};
+        return SP_E_NOMEM;
+    }
+    l->hash = h;
+    l->size = size;
+    const int err = shape(f, size, text, l);
+    if (err) {
+        free(l->text), free(l->g), free(l->r), free(l);
+        *out = (struct sp_line){0};
+        return err;
+    }
+    l->next = *b;
+    *b = l;
+    f->n_lines++;
+    *out = l->line;
+    return 0;
+}
+
+/* ---- the font ---- */
+
+int sp_font_make(struct sp_font **out, const struct sp_font_desc *d)
 {
     struct sp_font *f = NULL;
-    FT_Library lib = NULL;
-    FT_Face face = NULL;
     int err = SP_E_IO;
 
     *out = NULL;
     for (int s = 0; s < SP_TEXT_SIZES; s++)
-        if (px[s] < 4 || px[s] > 400) {
-            sp_log_error("a text size of %d px is outside 4..400", px[s]);
+        if (d->px[s] < 4 || d->px[s] > 400) {
+            sp_log_error("a text size of %d px is outside 4..400", d->px[s]);
             return SP_E_INPUT;
         }
     f = calloc(1, sizeof(*f));
@@ -150,29 +701,35 @@ int sp_font_make(struct sp_font **out, const int px[SP_TEXT_SIZES])
         sp_log_error("out of memory for the font");
         return SP_E_NOMEM;
     }
-    if (FT_Init_FreeType(&lib) ||
-        FT_New_Memory_Face(lib, (const FT_Byte *)sp_embed_DejaVuSans_ttf,
-                           (FT_Long)sp_embed_DejaVuSans_ttf_size, 0, &face)) {
-        sp_log_error("FreeType cannot open the embedded DejaVu Sans");
+    memcpy(f->px, d->px, sizeof(f->px));
+    f->buf = hb_buffer_create();
+    if (FT_Init_FreeType(&f->lib)) {
+        sp_log_error("FreeType cannot start");
+        f->lib = NULL;
         goto done;
     }
-    memcpy(f->px, px, sizeof(f->px));
-    f->aw = px[SP_TEXT_LARGE] > 48 ? 2048 : 1024;
-    err = raster_all(f, face, px); /* measure */
-    if (err)
+    if ((err = find_faces(f, d->family)) != 0)
         goto done;
-    f->atlas = calloc((size_t)f->aw * f->ah, 1);
-    if (!f->atlas) {
-        sp_log_error("out of memory for a %dx%d glyph atlas", f->aw, f->ah);
-        err = SP_E_NOMEM;
-        goto done;
+    f->aw = f->px[SP_TEXT_TITLE] > 64 || f->px[SP_TEXT_LARGE] > 48 ? 2048 : 1024;
+    f->shelf_x = f->shelf_y = PAD;
+    struct face *fc = &f->faces[0];
+    for (int s = 0; s < SP_TEXT_SIZES; s++) {
+        const struct cached *H;
+        if (FT_Set_Pixel_Sizes(fc->ft, 0, (FT_UInt)f->px[s])) {
+            sp_log_error("FreeType cannot size %s to %d px", face_family(f, 0), f->px[s]);
+            err = SP_E_IO;
+            goto done;
+        }
+        fc->ft_px = f->px[s];
+        f->line[s] = (int)((fc->ft->size->metrics.height + 63) >> 6);
+        if (!(H = glyph_get(f, 0, s, FT_Get_Char_Index(fc->ft, 'H')))) {
+            err = SP_E_IO;
+            goto done;
+        }
+        f->cap[s] = H->top;
     }
-    err = raster_all(f, face, px); /* draw */
+    err = 0;
 done:
-    if (face)
-        FT_Done_Face(face);
-    if (lib)
-        FT_Done_FreeType(lib);
     if (err)
         sp_font_destroy(&f);
     *out = f;
@@ -181,121 +738,151 @@ done:
 
 void sp_font_destroy(struct sp_font **fp)
 {
-    if (!*fp)
+    struct sp_font *f = *fp;
+    if (!f)
         return;
-    free((*fp)->atlas);
-    free(*fp);
+    lines_clear(f);
+    for (int i = 0; i < f->n_faces; i++)
+        face_close(&f->faces[i]);
+    free(f->faces);
+    if (f->sorted)
+        FcFontSetDestroy(f->sorted);
+    hb_buffer_destroy(f->buf);
+    if (f->lib)
+        FT_Done_FreeType(f->lib);
+    free(f->slots);
+    free(f->atlas);
+    free(f);
     *fp = NULL;
 }
 
 int sp_font_has(const struct sp_font *f, uint32_t cp)
 {
-    int slot = glyph_slot(cp);
-    return slot < N_GLYPHS - 1 && f->g[0][slot].present;
+    return face_for(f, cp) >= 0;
+}
+
+int sp_font_check(const struct sp_font *f, const char *what, const char *s)
+{
+    char names[1024] = "", chars[512] = "";
+    int bad = 0;
+    for (size_t i = 0, len; s[i]; i += len) {
+        const uint32_t cp = utf8_decode(s + i, &len);
+        if (!sp_utf8_char(s + i)) {
+            sp_log_error("%s: malformed UTF-8 at byte %zu; text is UTF-8", what, i);
+            return SP_E_INPUT;
+        }
+        if (invisible(cp) || face_for(f, cp) >= 0)
+            continue;
+        /* noncharacters and controls are named only by number */
+        const int shown = cp >= 0x20 && !(cp >= 0x7F && cp < 0xA0) && (cp & 0xFFFE) != 0xFFFE &&
+                          !(cp >= 0xFDD0 && cp <= 0xFDEF);
+        if (bad++ < 8)
+            snprintf(chars + strlen(chars), sizeof(chars) - strlen(chars), "%sU+%04X%s%.*s%s",
+                     bad > 1 ? ", " : "", cp, shown ? " (" : "", shown ? (int)len : 0, s + i,
+                     shown ? ")" : "");
+    }
+    if (!bad)
+        return 0;
+    int listed = 0;
+    for (int i = 0; i < f->n_faces && listed < 8; i++) {
+        const char *name = face_family(f, i);
+        if (!strstr(names, name)) {
+            snprintf(names + strlen(names), sizeof(names) - strlen(names), "%s%s",
+                     listed++ ? ", " : "", name);
+        }
+    }
+    sp_log_error("%s: %s %s in no installed font (tried %s%s%d fonts in all); remove %s or "
+                 "install a font that has %s", what, chars, bad > 1 ? "are" : "is", names,
+                 f->n_faces > listed ? " and others: " : ": ", f->n_faces,
+                 bad > 1 ? "them" : "it", bad > 1 ? "them" : "it");
+    return SP_E_INPUT;
 }
 
 int sp_font_width(const struct sp_font *f, int size, const char *s)
 {
-    int w = 0;
-    while (*s) {
-        const uint32_t cp = utf8_next(&s);
-        if (cp < 0x0300 || cp >= 0x0370)
-            w += f->g[size][glyph_slot(cp)].advance;
-    }
-    return w;
+    struct sp_line l;
+    return sp_font_shape(f, size, s, &l) ? 0 : l.width;
 }
 
 int sp_font_cap(const struct sp_font *f, int size) { return f->cap[size]; }
 int sp_font_line(const struct sp_font *f, int size) { return f->line[size]; }
-
 int sp_font_px(const struct sp_font *f, int size) { return f->px[size]; }
 
-/* Places the glyphs of s with the pen starting at (x, baseline): calls
- * put(g, bitmap x, bitmap y, bytes of its code point) for each code point in
- * order (combining marks centred over the glyph before them, just above it). */
-static void place(const struct sp_font *f, int size, const char *s, float x, float baseline,
-                  void (*put)(void *ctx, const struct glyph *g, int gx, int gy, int bytes),
-                  void *ctx)
-{
-    int pen = (int)lroundf(x), base = (int)lroundf(baseline);
-    const struct glyph *prev = NULL;
-    int prev_pen = pen;
-    while (*s) {
-        const char *start = s;
-        const uint32_t cp = utf8_next(&s);
-        const struct glyph *g = &f->g[size][glyph_slot(cp)];
-        const int combining = cp >= 0x0300 && cp < 0x0370 && prev;
-        int gx = pen + g->left, gy = base - g->top;
-        if (combining) {
-            gx = prev_pen + prev->left + (prev->w - g->w) / 2;
-            gy = base - prev->top - g->h - (f->cap[size] + 9) / 10;
-        }
-        put(ctx, g, gx, gy, (int)(s - start));
-        if (combining)
-            continue;
-        prev = g;
-        prev_pen = pen;
-        pen += g->advance;
-    }
-}
-
-struct quad_ctx {
-    const float *color;
-    struct sp_glyph_quad *out;
-    int max, n;
-};
-
-static void put_quad(void *ctx, const struct glyph *g, int gx, int gy, int bytes)
-{
-    struct quad_ctx *q = ctx;
-    (void)bytes;
-    if (g->w <= 0 || g->h <= 0)
-        return;
-    if (q->n < q->max) {
-        const float x0 = (float)gx, y0 = (float)gy;
-        q->out[q->n] = (struct sp_glyph_quad){
-            {x0, y0, x0 + g->w, y0 + g->h},
-            {(float)g->x, (float)g->y, (float)(g->x + g->w), (float)(g->y + g->h)},
-            {q->color[0], q->color[1], q->color[2], q->color[3]}};
-    }
-    q->n++;
-}
-
-int sp_font_layout(const struct sp_font *f, int size, const char *s, float x,
+int sp_font_layout(const struct sp_font *cf, int size, const char *s, float x,
                    float baseline, const float color[4], struct sp_glyph_quad *out, int max)
 {
-    struct quad_ctx q = {color, out, max, 0};
-    place(f, size, s, x, baseline, put_quad, &q);
-    return q.n;
+    struct sp_font *f = (struct sp_font *)cf; /* its caches (see the top) */
+    const int pen = (int)lroundf(x), base = (int)lroundf(baseline);
+    struct sp_line l;
+    int n = 0, err = sp_font_shape(f, size, s, &l), base_top = base, base_mid = base;
+    if (err)
+        return err;
+    for (int i = 0; i < l.n_glyphs; i++) {
+        /* l stays valid: rasterising does not touch the line cache */
+        const struct sp_glyph *g = &l.glyphs[i];
+        const struct cached *c = glyph_get(f, g->face, size, g->index);
+        if (!c)
+            return SP_E_NOMEM;
+        if (c->w <= 0 || c->h <= 0)
+            continue;
+        int y0 = base + g->y - c->top;
+        if (!g->mark) {
+            base_top = y0, base_mid = y0 + c->h / 2;
+        } else if (y0 + c->h / 2 < base_mid && y0 + c->h >= base_top) {
+            /* a mark above its base: hinting grew the base's bitmap into
+             * it (the outlines do not touch), so keep one pixel between */
+            y0 = base_top - 1 - c->h;
+        }
+        if (n < max) {
+            const float x0 = (float)(pen + g->x + c->left);
+            out[n] = (struct sp_glyph_quad){
+                {x0, (float)y0, x0 + c->w, (float)(y0 + c->h)},
+                {(float)c->x, (float)c->y, (float)(c->x + c->w), (float)(c->y + c->h)},
+                {color[0], color[1], color[2], color[3]}};
+        }
+        n++;
+    }
+    return n;
 }
 
-struct pos_ctx {
-    struct sp_glyph_pos *out;
-    int max, n;
-};
+int sp_font_faces(const struct sp_font *f) { return f->n_faces; }
 
-static void put_pos(void *ctx, const struct glyph *g, int gx, int gy, int bytes)
+const char *sp_font_face_file(const struct sp_font *f, int face, int *index,
+                              const unsigned char **data, size_t *size)
 {
-    struct pos_ctx *q = ctx;
-    if (q->n < q->max) /* the outline's origin, where its bitmap would sit at gx, gy */
-        q->out[q->n] = (struct sp_glyph_pos){g->index, (float)(gx - g->left),
-                                             (float)(gy + g->top), bytes};
-    q->n++;
+    *index = f->faces[face].index;
+    *data = f->faces[face].file ? NULL : (const unsigned char *)sp_embed_DejaVuSans_ttf;
+    *size = f->faces[face].file ? 0 : sp_embed_DejaVuSans_ttf_size;
+    return f->faces[face].file;
 }
 
-int sp_font_glyphs(const struct sp_font *f, int size, const char *s, float x, float baseline,
-                   struct sp_glyph_pos *out, int max)
+void sp_font_files(const struct sp_font *f, char *buf, size_t size)
 {
-    struct pos_ctx q = {out, max, 0};
-    place(f, size, s, x, baseline, put_pos, &q);
-    return q.n;
+    size_t n = 0;
+    if (size)
+        buf[0] = 0;
+    for (int i = 0; i < f->n_faces && n < size; i++) {
+        if (!f->faces[i].used && i)
+            continue;
+        const int w = snprintf(buf + n, size - n, "%s%s", n ? ", " : "",
+                               f->faces[i].file ? f->faces[i].file : SP_FONT_FILE " (embedded)");
+        n += w > 0 ? (size_t)w : 0;
+    }
 }
 
-const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h)
+const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h, unsigned *version)
 {
     *w = f->aw;
     *h = f->ah;
+    if (version)
+        *version = f->version;
     return f->atlas;
+}
+
+void sp_font_raster_stats(const struct sp_font *f, int *glyphs, double *seconds)
+{
+    *glyphs = f->rastered;
+    *seconds = f->raster_s;
 }
 
 void sp_font_blit(const struct sp_font *f, const struct sp_glyph_quad *q, int n,

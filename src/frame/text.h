@@ -1,9 +1,20 @@
-/* springpend (internal): text. A font (DejaVu Sans, embedded at build time)
- * rasterized once by FreeType into a glyph atlas at a few pixel sizes; strings
- * are laid out into textured quads at whole pixels, so the same string always
- * gives the same pixels. Pure CPU work shared by the backends: GL draws the
- * quads from the atlas (draw_gl.c), cairo the glyphs' outlines at the same
- * pen positions (draw_cairo.c, via sp_font_glyphs). */
+/* springpend (internal): text layout, the one place where strings become
+ * glyphs. CPU only (no GL, no cairo), shared by every backend:
+ *   - fonts: a fontconfig family (the default: DejaVu Sans, embedded at
+ *     build time so that every machine draws the same glyphs) and, for a
+ *     character it lacks, the next font that fontconfig offers for it
+ *     (FcFontSort: fonts-noto-core, fonts-noto-cjk...);
+ *   - bidirectional text: FriBidi's embedding levels and reordering;
+ *   - shaping: HarfBuzz, run by run (one font, script and direction each),
+ *     so Arabic letters join, Devanagari clusters form and marks sit on
+ *     their bases;
+ *   - glyphs: FreeType rasterises each (font, size, glyph) once, on first
+ *     use, into a glyph cache (an R8 atlas that grows), from which the GL
+ *     backend draws textured quads (draw_gl.c); cairo draws the same glyphs'
+ *     outlines at the same pen positions with their text (draw_cairo.c).
+ * Positions are whole pixels (each advance rounded), so the same string
+ * always gives the same pixels. Strings are laid out on one line; wrapping
+ * is the caller's (compose.c). */
 #ifndef SPRINGPEND_TEXT_H
 #define SPRINGPEND_TEXT_H
 
@@ -11,6 +22,9 @@
 #include <stdint.h>
 
 enum sp_text_size { SP_TEXT_SMALL, SP_TEXT_NORMAL, SP_TEXT_LARGE, SP_TEXT_TITLE, SP_TEXT_SIZES };
+
+/* The default family: the embedded DejaVu Sans. */
+#define SP_FONT_DEFAULT "DejaVu Sans"
 
 /* One glyph on screen; layout matches the attributes of shaders/text.vert. */
 struct sp_glyph_quad {
@@ -21,55 +35,103 @@ struct sp_glyph_quad {
 
 struct sp_font;
 
+struct sp_font_desc {
+    const char *family;    /* fontconfig family; NULL or "" = SP_FONT_DEFAULT */
+    int px[SP_TEXT_SIZES]; /* em sizes, px, each 4..400 */
+};
+
 /* The byte length (1..4) of the well-formed UTF-8 character at s, or 0 when
- * s is at its NUL or at a malformed, overlong or surrogate sequence (text
- * that cairo would refuse whole). */
+ * s is at its NUL or at a malformed, overlong or surrogate sequence. */
 size_t sp_utf8_char(const char *s);
 
-/* Builds the atlas for the pixel sizes px[SP_TEXT_SIZES] (em height, px, each
- * 4..400). 0, SP_E_INPUT (bad size) or SP_E_NOMEM / SP_E_IO (FreeType's
- * message logged). */
-int sp_font_make(struct sp_font **out, const int px[SP_TEXT_SIZES]);
+/* Finds the family and its fallbacks. 0; SP_E_INPUT for a size outside
+ * 4..400 or a family that fontconfig does not know (the message lists the
+ * installed families nearest to it); SP_E_NOMEM / SP_E_IO (the library's
+ * words logged). */
+int sp_font_make(struct sp_font **out, const struct sp_font_desc *d);
 
 /* Frees the font and sets *f to NULL. Safe on NULL. */
 void sp_font_destroy(struct sp_font **f);
 
-/* 1 when the embedded font has a glyph for code point cp (else a box is drawn). */
+/* 1 when some font of the family's fallback list has a glyph for cp. */
 int sp_font_has(const struct sp_font *f, uint32_t cp);
+
+/* 0 when every character of utf8 has a glyph in some installed font (the
+ * invisible format characters need none); else SP_E_INPUT, having logged
+ * "WHAT: U+XXXX ('c') is in no installed font (tried: A, B, ...)". Also
+ * SP_E_INPUT for malformed UTF-8. */
+int sp_font_check(const struct sp_font *f, const char *what, const char *utf8);
+
+/* One glyph of a laid-out line. */
+struct sp_glyph {
+    unsigned index; /* the glyph's index in its face */
+    int face;       /* which face (sp_font_face_file) */
+    int x, y;       /* its origin, px from the pen start on the baseline, y down */
+    int cluster;    /* byte offset in the string of the first character it shows */
+    int mark;       /* 1: a mark (GDEF) placed on the glyph before it */
+};
+
+/* A run of glyphs from one face in one direction. */
+struct sp_glyph_run {
+    int first, count; /* its glyphs */
+    int rtl;          /* 1: its glyphs, left to right, show its text backwards */
+    int start, end;   /* its bytes of the string, [start, end) */
+};
+
+/* A string laid out on one line: glyphs and runs left to right (visual
+ * order). Owned by the font; valid until the next call on it. */
+struct sp_line {
+    int width;   /* the advance of the whole line, px */
+    int missing; /* characters no font has (drawn as the primary font's missing glyph) */
+    int n_glyphs, n_runs;
+    const struct sp_glyph *glyphs;
+    const struct sp_glyph_run *runs;
+};
+
+/* Lays utf8 out at a text size. Results are cached by (size, string).
+ * 0 or SP_E_NOMEM. A character no font has shows the primary font's
+ * missing glyph and counts in out->missing. */
+int sp_font_shape(const struct sp_font *f, int size, const char *utf8, struct sp_line *out);
 
 /* Advance width of a UTF-8 string, px. */
 int sp_font_width(const struct sp_font *f, int size, const char *utf8);
 
-/* Height of a capital letter above the baseline, and the line spacing, px. */
+/* Height of a capital letter above the baseline, and the line spacing, px
+ * (of the requested family). */
 int sp_font_cap(const struct sp_font *f, int size);
 int sp_font_line(const struct sp_font *f, int size);
 
 /* Lays out utf8 with its pen starting at (x, baseline) (rounded to whole px)
- * into out[0..max). Returns how many quads the string needs (which may exceed
- * max: then only max were written). */
+ * into out[0..max), rasterising glyphs not yet in the cache. Returns how
+ * many quads the string needs (which may exceed max: then only max were
+ * written), or a negative SP_E_* code (out of memory, or the atlas larger
+ * than 2048 x 16384). */
 int sp_font_layout(const struct sp_font *f, int size, const char *utf8, float x,
                    float baseline, const float color[4], struct sp_glyph_quad *out,
                    int max);
 
-/* One glyph of a laid-out string for an outline renderer: the font's glyph
- * index and where its origin goes, px (the same place sp_font_layout puts
- * its bitmap), and how many bytes of the UTF-8 string it stands for. */
-struct sp_glyph_pos {
-    unsigned index;
-    float x, y;
-    int bytes;
-};
-
-/* Lays out utf8 as sp_font_layout does, one entry per code point, into
- * out[0..max); returns how many it needs. */
-int sp_font_glyphs(const struct sp_font *f, int size, const char *utf8, float x,
-                   float baseline, struct sp_glyph_pos *out, int max);
-
-/* The em size of a text size, px (what FreeType was asked for). */
+/* The em size of a text size, px. */
 int sp_font_px(const struct sp_font *f, int size);
 
-/* The R8 atlas: *w x *h bytes, row 0 first. Owned by f. */
-const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h);
+/* How many faces the fallback list holds (sp_glyph.face is below it). */
+int sp_font_faces(const struct sp_font *f);
+
+/* Face i's font file and its index in it; the embedded DejaVu Sans is
+ * *data (*size bytes) with a NULL return. */
+const char *sp_font_face_file(const struct sp_font *f, int face, int *index,
+                              const unsigned char **data, size_t *size);
+
+/* The files of the faces laid out so far, "DejaVuSans.ttf (embedded),
+ * /usr/share/.../NotoSansArabic-Regular.ttf", into buf (cut to size). */
+void sp_font_files(const struct sp_font *f, char *buf, size_t size);
+
+/* The R8 glyph cache: *w x *h bytes, row 0 first. Owned by f; it grows and
+ * gains glyphs as strings are laid out: *version changes whenever its
+ * contents or size did. */
+const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h, unsigned *version);
+
+/* Glyphs rasterised so far and the seconds that took. */
+void sp_font_raster_stats(const struct sp_font *f, int *glyphs, double *seconds);
 
 /* Draws quads into an 8-bit coverage image (w x h, stride w) on the CPU by
  * copying atlas texels, the way the GL pass samples them (nearest). For tests. */

@@ -15,33 +15,44 @@
 #include "springpend/common.h"
 #include "cairo_fd.h"
 #include "draw_cairo.h"
-#include "embedded.h"
 #include "signals.h"
 #include "text.h"
 
-/* The embedded font as a cairo face, made once and kept for the process
- * (cairo's caches may hold it past any one document). */
-static cairo_font_face_t *dejavu(void)
+static void ft_face_done(void *face)
 {
-    static FT_Library lib;
-    static FT_Face face;
-    static cairo_font_face_t *cf;
-    if (cf)
-        return cf;
+    FT_Done_Face(face);
+}
+
+/* Face i of the font as a cairo face, made on first use into faces[i]: its
+ * own FT_Face (which cairo sizes as it likes), freed when cairo lets go of
+ * the face. NULL when it cannot be made (logged). */
+static cairo_font_face_t *face_of(const struct sp_font *f, int i, cairo_font_face_t **faces)
+{
+    static FT_Library lib; /* for the process: cairo's caches may outlive a document */
+    static const cairo_user_data_key_t key;
+    const unsigned char *data;
+    size_t size;
+    int index;
+    FT_Face face;
+    if (faces[i])
+        return faces[i];
+    const char *file = sp_font_face_file(f, i, &index, &data, &size);
     if ((!lib && FT_Init_FreeType(&lib)) ||
-        (!face && FT_New_Memory_Face(lib, (const FT_Byte *)sp_embed_DejaVuSans_ttf,
-                                     (FT_Long)sp_embed_DejaVuSans_ttf_size, 0, &face))) {
-        sp_log_error("FreeType cannot open the embedded DejaVu Sans");
+        (file ? FT_New_Face(lib, file, index, &face)
+              : FT_New_Memory_Face(lib, data, (FT_Long)size, index, &face))) {
+        sp_log_error("FreeType cannot open the font %s", file ? file : "DejaVu Sans (embedded)");
         return NULL;
     }
-    cf = cairo_ft_font_face_create_for_ft_face(face, FT_LOAD_NO_HINTING);
-    if (cairo_font_face_status(cf)) {
-        sp_log_error("cairo cannot use the embedded font: %s",
+    cairo_font_face_t *cf = cairo_ft_font_face_create_for_ft_face(face, FT_LOAD_NO_HINTING);
+    if (cairo_font_face_status(cf) ||
+        cairo_font_face_set_user_data(cf, &key, face, ft_face_done)) {
+        sp_log_error("cairo cannot use the font %s: %s", file ? file : "DejaVu Sans (embedded)",
                      cairo_status_to_string(cairo_font_face_status(cf)));
         cairo_font_face_destroy(cf);
-        cf = NULL;
+        FT_Done_Face(face);
+        return NULL;
     }
-    return cf;
+    return faces[i] = cf;
 }
 
 static void source(cairo_t *cr, const float c[4])
@@ -148,29 +159,52 @@ static int lanes(cairo_t *cr, const struct sp_shape *s, int n, int lanes)
     return 0;
 }
 
-/* A text run as glyphs with their text (clusters of one code point each),
- * so a PDF keeps it selectable. */
-static int text(cairo_t *cr, const struct sp_font *f, const struct sp_item *it, const char *utf8)
+/* A text item as the glyphs text.c laid out, run by run (one face and
+ * direction each) with their text and clusters, so that a PDF keeps it
+ * real: selectable, and extracted in logical order. */
+static int text(cairo_t *cr, const struct sp_font *f, const struct sp_item *it, const char *utf8,
+                cairo_font_face_t **faces)
 {
-    const int n = sp_font_glyphs(f, it->size, utf8, it->x, it->y, NULL, 0);
-    struct sp_glyph_pos *pos = malloc((size_t)(n ? n : 1) * sizeof(*pos));
-    cairo_glyph_t *g = malloc((size_t)(n ? n : 1) * sizeof(*g));
-    cairo_text_cluster_t *cl = malloc((size_t)(n ? n : 1) * sizeof(*cl));
-    if (!pos || !g || !cl) {
-        free(pos), free(g), free(cl);
+    struct sp_line l;
+    int err = sp_font_shape(f, it->size, utf8, &l);
+    cairo_glyph_t *g = malloc((size_t)(l.n_glyphs + 1) * sizeof(*g));
+    cairo_text_cluster_t *cl = malloc((size_t)(l.n_glyphs + 1) * sizeof(*cl));
+    if (!err && (!g || !cl)) {
         sp_log_error("out of memory for a text run");
-        return SP_E_NOMEM;
-    }
-    sp_font_glyphs(f, it->size, utf8, it->x, it->y, pos, n);
-    for (int i = 0; i < n; i++) {
-        g[i] = (cairo_glyph_t){pos[i].index, pos[i].x, pos[i].y};
-        cl[i] = (cairo_text_cluster_t){pos[i].bytes, 1};
+        err = SP_E_NOMEM;
     }
     cairo_set_font_size(cr, sp_font_px(f, it->size));
     source(cr, it->color);
-    cairo_show_text_glyphs(cr, utf8, -1, g, n, cl, n, 0);
-    free(pos), free(g), free(cl);
-    return 0;
+    for (int r = 0; r < l.n_runs && !err; r++) {
+        const struct sp_glyph_run *run = &l.runs[r];
+        const struct sp_glyph *rg = l.glyphs + run->first;
+        cairo_font_face_t *face = face_of(f, rg[0].face, faces);
+        int n_cl = 0;
+        if (!face) {
+            err = SP_E_IO;
+            break;
+        }
+        /* clusters in glyph order: text forwards, or backwards (rtl) */
+        for (int k = 0; k < run->count; k++) {
+            g[k] = (cairo_glyph_t){rg[k].index, it->x + rg[k].x, it->y + rg[k].y};
+            if (k && rg[k].cluster == rg[k - 1].cluster) {
+                cl[n_cl - 1].num_glyphs++;
+                continue;
+            }
+            int end = run->end; /* where this cluster's text stops */
+            for (int j = run->rtl ? k - 1 : k + 1; j >= 0 && j < run->count; j += run->rtl ? -1 : 1)
+                if (rg[j].cluster != rg[k].cluster) {
+                    end = rg[j].cluster;
+                    break;
+                }
+            cl[n_cl++] = (cairo_text_cluster_t){end - rg[k].cluster, 1};
+        }
+        cairo_set_font_face(cr, face);
+        cairo_show_text_glyphs(cr, utf8 + run->start, run->end - run->start, g, run->count, cl,
+                               n_cl, run->rtl ? CAIRO_TEXT_CLUSTER_FLAG_BACKWARD : 0);
+    }
+    free(g), free(cl);
+    return err;
 }
 
 int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
@@ -238,20 +272,27 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     cairo_reset_clip(cr);
     /* text over everything, as the GL backend draws it */
     if (d->font && c->n_strings) {
-        cairo_font_face_t *face = dejavu();
-        if (!face)
-            err = SP_E_IO;
-        else {
-            cairo_set_font_face(cr, face);
-            fo = cairo_font_options_create();
-            cairo_font_options_set_hint_style(fo, CAIRO_HINT_STYLE_NONE);
-            cairo_font_options_set_hint_metrics(fo, CAIRO_HINT_METRICS_OFF);
-            cairo_set_font_options(cr, fo);
-            cairo_font_options_destroy(fo);
+        cairo_font_face_t **faces = calloc((size_t)sp_font_faces(d->font), sizeof(*faces));
+        if (!faces) {
+            sp_log_error("out of memory for the fonts");
+            err = SP_E_NOMEM;
         }
+        fo = cairo_font_options_create();
+        cairo_font_options_set_hint_style(fo, CAIRO_HINT_STYLE_NONE);
+        cairo_font_options_set_hint_metrics(fo, CAIRO_HINT_METRICS_OFF);
+        cairo_set_font_options(cr, fo);
+        cairo_font_options_destroy(fo);
         for (int i = 0; i < c->n_items && !err; i++)
             if (c->items[i].kind == SP_ITEM_TEXT)
-                err = text(cr, d->font, &c->items[i], c->strings + c->items[i].text);
+                err = text(cr, d->font, &c->items[i], c->strings + c->items[i].text, faces);
+        for (int i = 0; faces && i < sp_font_faces(d->font); i++)
+            cairo_font_face_destroy(faces[i]); /* cairo keeps what it still uses */
+        free(faces);
+        if (d->format == SP_FIGURE_PDF) { /* provenance: the font files drawn from */
+            char files[2048] = "fonts: ";
+            sp_font_files(d->font, files + strlen(files), sizeof(files) - strlen(files));
+            cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_KEYWORDS, files);
+        }
     }
     st = cairo_status(cr);
     cairo_destroy(cr);

@@ -27,6 +27,9 @@ struct sp_draw_gl {
     const struct sp_gl_api *gl;
     struct instances shape, text;
     GLuint atlas;
+    const struct sp_font *font;  /* the glyph cache the atlas copies; NULL = no text */
+    int atlas_w, atlas_h;        /* texels uploaded */
+    unsigned atlas_version;      /* sp_font_atlas's version uploaded */
     GLuint accum_fbo, accum_tex; /* SP_LAYER_ACCUM's picture; 0 = none yet */
     /* The static cache: the accumulated picture (or the background) with the
      * static layer drawn over it, then the settled layer (appended to each
@@ -144,6 +147,28 @@ static void shape_base(const struct sp_gl_api *gl, int first)
     instances_base(gl, first, sizeof(struct sp_shape), off, comps);
 }
 
+/* Uploads the glyph cache when it gained glyphs or grew since the last
+ * upload (glyphs are rasterised on demand while frames are composed; their
+ * places in it never move, so quads made earlier stay right). */
+static void atlas_sync(struct sp_draw_gl *d)
+{
+    const struct sp_gl_api *gl = d->gl;
+    int aw, ah;
+    unsigned version;
+    const uint8_t *atlas = sp_font_atlas(d->font, &aw, &ah, &version);
+    if (!d->atlas || (version == d->atlas_version && aw == d->atlas_w && ah == d->atlas_h))
+        return;
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, d->atlas);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl->TexImage2D(GL_TEXTURE_2D, 0, GL_R8, aw, ah, 0, GL_RED, GL_UNSIGNED_BYTE, atlas);
+    if (aw != d->atlas_w || ah != d->atlas_h) {
+        gl->UseProgram(d->text.program);
+        gl->Uniform2f(gl->GetUniformLocation(d->text.program, "u_atlas"), (float)aw, (float)ah);
+    }
+    d->atlas_w = aw, d->atlas_h = ah, d->atlas_version = version;
+}
+
 int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
                     const struct sp_font *font, int width, int height)
 {
@@ -161,22 +186,20 @@ int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
     err = instances_make(gl, &d->shape, sp_embed_shape_vert, sp_embed_shape_frag, "shape",
                          width, height);
     if (!err && font) {
-        int aw, ah;
-        const uint8_t *atlas = sp_font_atlas(font, &aw, &ah);
         err = instances_make(gl, &d->text, sp_embed_text_vert, sp_embed_text_frag, "text",
                              width, height);
         if (!err) {
-            gl->Uniform2f(gl->GetUniformLocation(d->text.program, "u_atlas"), (float)aw, (float)ah);
+            d->font = font;
             gl->Uniform1i(gl->GetUniformLocation(d->text.program, "u_atlas_tex"), 0);
             gl->ActiveTexture(GL_TEXTURE0);
             gl->GenTextures(1, &d->atlas);
             gl->BindTexture(GL_TEXTURE_2D, d->atlas);
             gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-            gl->TexImage2D(GL_TEXTURE_2D, 0, GL_R8, aw, ah, 0, GL_RED, GL_UNSIGNED_BYTE, atlas);
             gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
             gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
             gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
             gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            atlas_sync(d);
             text_base(gl, 0);
         }
     }
@@ -1203,6 +1226,8 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     const int text = c->n_quads && d->atlas;
     const int kept = d->kept; /* cleared until this frame is drawn */
     d->kept = 0;
+    if (text)
+        atlas_sync(d);
 
     for (int i = 0; i < c->n_items && !accum; i++)
         accum = c->items[i].layer == SP_LAYER_ACCUM && c->items[i].kind != SP_ITEM_CLIP;

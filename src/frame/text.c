@@ -66,6 +66,7 @@ struct sp_font {
     FcFontSet *sorted;          /* fontconfig's fallback order, owned */
     struct face *faces;         /* [0]: the requested family */
     int n_faces;
+    int fallback_pending;       /* the default's fallbacks are not listed yet */
     int px[SP_TEXT_SIZES];      /* em sizes, px */
     int cap[SP_TEXT_SIZES], line[SP_TEXT_SIZES]; /* px */
     /* glyph cache */
@@ -138,10 +139,20 @@ static int face_covers(const struct face *fc, uint32_t cp)
     return fc->ft && FT_Get_Char_Index(fc->ft, cp) != 0;
 }
 
-/* The first face that has cp, else -1. */
-static int face_for(const struct sp_font *f, uint32_t cp)
+static int sort_fonts(struct sp_font *f, const char *family, int verify);
+
+/* The first face that has cp, else -1 (the default's fallbacks listed
+ * first when they are not yet). */
+static int face_for(const struct sp_font *cf, uint32_t cp)
 {
+    struct sp_font *f = (struct sp_font *)cf; /* its caches (see the top) */
     for (int i = 0; i < f->n_faces; i++)
+        if (face_covers(&f->faces[i], cp))
+            return i;
+    const int listed = f->n_faces;
+    if (!f->fallback_pending || sort_fonts(f, SP_FONT_DEFAULT, 0))
+        return -1; /* (a failure to list them was said) */
+    for (int i = listed; i < f->n_faces; i++)
         if (face_covers(&f->faces[i], cp))
             return i;
     return -1;
@@ -301,21 +312,20 @@ static int has_family(FcPattern *p, const char *family)
     return 0;
 }
 
-/* The fallback list: the family (the embedded DejaVu Sans for the default)
- * and then fontconfig's order for it, fonts without outlines left out. */
-static int find_faces(struct sp_font *f, const char *family)
+/* Appends fontconfig's order for `family` to the faces (fonts without
+ * outlines, and the embedded font's own file, left out). With `verify`,
+ * a family that fontconfig does not have is SP_E_INPUT (said). */
+static int sort_fonts(struct sp_font *f, const char *family, int verify)
 {
-    const int embedded = !family || !*family || !strcasecmp(family, SP_FONT_DEFAULT);
     FcPattern *pat = NULL;
     FcResult res;
     int err = 0;
 
+    f->fallback_pending = 0;
     if (!FcInit()) {
         sp_log_error("fontconfig cannot load its configuration");
         return SP_E_IO;
     }
-    if (embedded)
-        family = SP_FONT_DEFAULT;
     pat = FcPatternCreate();
     if (!pat || !FcPatternAddString(pat, FC_FAMILY, (const FcChar8 *)family)) {
         sp_log_error("out of memory for a font pattern");
@@ -325,19 +335,19 @@ static int find_faces(struct sp_font *f, const char *family)
     FcConfigSubstitute(NULL, pat, FcMatchPattern);
     FcDefaultSubstitute(pat);
     f->sorted = FcFontSort(NULL, pat, FcTrue, NULL, &res);
-    if (!embedded && (!f->sorted || !f->sorted->nfont || !has_family(f->sorted->fonts[0], family))) {
+    if (verify && (!f->sorted || !f->sorted->nfont || !has_family(f->sorted->fonts[0], family))) {
         unknown_family(family);
         err = SP_E_INPUT;
         goto done;
     }
-    f->faces = calloc((size_t)(f->sorted ? f->sorted->nfont : 0) + 1, sizeof(*f->faces));
-    if (!f->faces) {
+    struct face *faces = realloc(f->faces, ((size_t)(f->sorted ? f->sorted->nfont : 0) + 1 +
+                                            (size_t)f->n_faces) * sizeof(*f->faces));
+    if (!faces) {
         sp_log_error("out of memory for the font list");
         err = SP_E_NOMEM;
         goto done;
     }
-    if (embedded)
-        f->faces[f->n_faces++] = (struct face){0};
+    f->faces = faces;
     for (int i = 0; f->sorted && i < f->sorted->nfont; i++) {
         FcPattern *p = f->sorted->fonts[i];
         FcChar8 *file = NULL;
@@ -349,18 +359,34 @@ static int find_faces(struct sp_font *f, const char *family)
             FcPatternGetCharSet(p, FC_CHARSET, 0, &cs) != FcResultMatch)
             continue;
         FcPatternGetInteger(p, FC_INDEX, 0, &index);
-        if (embedded && !strcmp((const char *)file, SP_FONT_FILE))
+        if (!verify && !strcmp((const char *)file, SP_FONT_FILE))
             continue; /* the embedded one */
         f->faces[f->n_faces++] = (struct face){.pat = p, .file = (const char *)file,
                                                .index = index, .cs = cs};
     }
-    err = face_open(f, 0);
-    if (!err && f->faces[0].cs == NULL && !f->faces[0].ft)
-        err = SP_E_IO;
 done:
     if (pat)
         FcPatternDestroy(pat);
     return err;
+}
+
+/* The fallback list: the family and then fontconfig's order for it. The
+ * default is the embedded DejaVu Sans, and fontconfig is asked only when
+ * a character is not in it (so most scenes never load fontconfig). */
+static int find_faces(struct sp_font *f, const char *family)
+{
+    int err;
+    if (!family || !*family || same_name(family, SP_FONT_DEFAULT)) {
+        if (!(f->faces = calloc(1, sizeof(*f->faces)))) {
+            sp_log_error("out of memory for the font list");
+            return SP_E_NOMEM;
+        }
+        f->n_faces = 1;
+        f->fallback_pending = 1;
+    } else if ((err = sort_fonts(f, family, 1)) != 0) {
+        return err;
+    }
+    return face_open(f, 0);
 }
 
 /* ---- the glyph cache ---- */

@@ -407,8 +407,10 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         if (diff_path && sp_compare_size_diff(&e, &a, &d) != 0)
             diff_path = NULL;
     } else {
-        r->masked_pixels = sp_compare_apply_masks(&e, &a, star_masks, n_star_masks) +
-                           sp_compare_apply_masks(&e, &a, masks, n_masks);
+        sp_compare_apply_masks(&e, &a, star_masks, n_star_masks);
+        sp_compare_apply_masks(&e, &a, masks, n_masks);
+        r->masked_pixels = sp_compare_masked_pixels(e.width, e.height, star_masks,
+                                                    n_star_masks, masks, n_masks);
         if (sp_compare_images(&e, &a, &opts, &r->result, diff_path ? &d : NULL) != 0) {
             record_error(r, "comparison failed");
             goto done;
@@ -507,8 +509,10 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
                      r->frames, te, ta);
         /* The reader owns fa's pixels until its next read: masks may
          * overwrite them. */
-        r->masked_pixels = sp_compare_apply_masks(&fe, &fa, star_masks, n_star_masks) +
-                           sp_compare_apply_masks(&fe, &fa, masks, n_masks);
+        sp_compare_apply_masks(&fe, &fa, star_masks, n_star_masks);
+        sp_compare_apply_masks(&fe, &fa, masks, n_masks);
+        r->masked_pixels = sp_compare_masked_pixels(fe.width, fe.height, star_masks,
+                                                    n_star_masks, masks, n_masks);
         ret = sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
         if (ret) {
             ret = record_error(r, "comparison failed");

@@ -365,8 +365,11 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
                               &masks, &n_masks, &star_masks, &n_star_masks);
     r->metric = opts.metric;
     /* Both headers first: nothing is decoded that is too large. */
-    if (check_header(r, expected, &r->expected_w, &r->expected_h))
+    if (check_header(r, expected, &r->expected_w, &r->expected_h)) {
+        struct sp_png_info info; /* the actual image may still be shown */
+        r->actual_png = sp_png_read_info(actual, &info) == 0;
         goto done;
+    }
     r->expected_png = 1;
     if (check_header(r, actual, &r->actual_w, &r->actual_h))
         goto done;

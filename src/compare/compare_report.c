@@ -370,9 +370,12 @@ static void record_line(const struct sp_compare_record *r, char *buf, size_t siz
  * the directive or starts another, nothing XML would change. */
 static int attachable(const char *path)
 {
-    for (const char *p = path; *p; p++)
-        if ((unsigned char)*p < 0x20 || strchr("[]|<>&\"'", *p))
+    for (size_t n; *path; path += n) {
+        n = sp_utf8_char(path);
+        if (!n || (unsigned char)*path < 0x20 || strchr("[]|<>&\"'", *path) ||
+            (n == 3 && !memcmp(path, "\xEF\xBF", 2) && (unsigned char)path[2] >= 0xBE))
             return 0;
+    }
     return 1;
 }
 

@@ -8,6 +8,8 @@
  *   springpend.scene         sp_scene_canonical's text itself (zTXt,
  *                            0.6 kB, 0.3 kB deflated), so compare can name the keys
  *                            that changed
+ *   springpend.fonts         the font files the first frame's text was drawn
+ *                            from, ", "-separated ("" when it has no text)
  * Nothing that changes from run to run (no date): the same frame gives the
  * same bytes. */
 #ifndef SPRINGPEND_PROVENANCE_H
@@ -16,7 +18,7 @@
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
 
-#define SP_PROVENANCE_N_TEXT 5
+#define SP_PROVENANCE_N_TEXT 6
 #define SP_PROVENANCE_SCENE_MAX 8192 /* bytes of canonical text */
 
 struct sp_provenance {
@@ -25,6 +27,8 @@ struct sp_provenance {
     char scene_sha256[65]; /* lower-case hex */
     char time[32];         /* s */
     char scene[SP_PROVENANCE_SCENE_MAX]; /* canonical text, "key=value\n" lines */
+    char fonts[1024];      /* font files, ", "-separated: the caller fills it
+                              (sp_render_fonts) before the first image */
     struct sp_png_text text[SP_PROVENANCE_N_TEXT]; /* point into the above */
 };
 

@@ -51,8 +51,14 @@ int sp_render_target(struct sp_renderer *r, const struct sp_image *dst);
 struct sp_render_stats {
     double compose_s, draw_s;
     long cached, redrawn, uncached, appended, unchanged;
+    int glyphs, glyphs_first;       /* glyphs rasterised: in all, by the first frame */
+    double raster_s, raster_first_s; /* and the seconds that took */
 };
 void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out);
+
+/* The font files the text drawn so far came from, ", "-separated, into buf
+ * (cut to size; "" without text). */
+void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size);
 
 /* The GL_RENDERER string of the context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
 const char *sp_render_renderer_name(const struct sp_renderer *r);

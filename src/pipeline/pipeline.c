@@ -151,6 +151,8 @@ static void print_times(const struct stage_times *t, const struct queue *q,
             t->wait, t->wait * per, q->encode_s,
             q->encode_s * per, q->idle_s, q->idle_s * per, t->finish, t->total,
             t->total > 0 ? frames / t->total : 0);
+    fprintf(stderr, "  text: %d glyphs rasterised in %.2f ms, %d of them (%.2f ms) by the first frame\n",
+            rs->glyphs, 1e3 * rs->raster_s, rs->glyphs_first, 1e3 * rs->raster_first_s);
     fprintf(stderr, "  static layer cached in %ld frames (drawn %ld time%s), uncached in %ld\n"
             "  settled chart curves appended to it in %ld frames\n"
             "  dynamic items left as the last frame drew them: %ld\n",
@@ -345,6 +347,7 @@ static int run_still(struct run *run)
                                                     .trail = &run->trail, .history = &run->hist,
                                                     .ensemble = run->ens},
                          &run->img);
+    sp_render_fonts(run->r, run->prov.fonts, sizeof(run->prov.fonts));
     if (!ret)
         ret = sp_sink_write(run->sink, &run->img);
     return ret;
@@ -406,6 +409,8 @@ static int run_video(struct run *run)
         ret = render_frame(run, slot);
         if (ret)
             return ret;
+        if (!run->emitted) /* before the encoder thread reads it, and fixed after */
+            sp_render_fonts(run->r, run->prov.fonts, sizeof(run->prov.fonts));
         tm->render += now_s() - ts;
         publish(q, run->sim.s.t);
         run->emitted++;

@@ -25,6 +25,9 @@ struct sp_renderer {
                                  sp_render_target); pixels NULL = none */
     const char *name;         /* GL_RENDERER */
     double compose_s, draw_s; /* s spent so far (sp_render_stats) */
+    int frames;               /* drawn so far */
+    int glyphs_first;         /* glyphs the first frame rasterised */
+    double raster_first_s;    /* s that took */
 };
 
 static double now_s(void)
@@ -120,6 +123,8 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
         err = sp_compose_frame(r->composer, f, &cv);
     t1 = now_s();
     r->compose_s += t1 - t0;
+    if (!r->frames++ && sp_compose_font(r->composer))
+        sp_font_raster_stats(sp_compose_font(r->composer), &r->glyphs_first, &r->raster_first_s);
     if (!err)
         err = sp_draw_gl_list(r->draw, cv, sp_compose_palette(r->composer)->background);
     if (err)
@@ -149,7 +154,18 @@ void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out)
     *out = (struct sp_render_stats){.compose_s = r->compose_s, .draw_s = r->draw_s,
                                     .cached = d.cached, .redrawn = d.redrawn,
                                     .uncached = d.uncached, .appended = d.appended,
-                                    .unchanged = d.unchanged};
+                                    .unchanged = d.unchanged, .glyphs_first = r->glyphs_first,
+                                    .raster_first_s = r->raster_first_s};
+    if (sp_compose_font(r->composer))
+        sp_font_raster_stats(sp_compose_font(r->composer), &out->glyphs, &out->raster_s);
+}
+
+void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size)
+{
+    if (size)
+        buf[0] = 0;
+    if (sp_compose_font(r->composer))
+        sp_font_files(sp_compose_font(r->composer), buf, size);
 }
 
 int sp_render_target(struct sp_renderer *r, const struct sp_image *dst)

@@ -33,7 +33,7 @@ static struct sp_png_write_opts png_opts(const struct sp_sink *s)
  * or by close. */
 #define PNG_MAX_WRITERS 8
 #define PNG_MAX_TEXT 8          /* text chunks a frame may carry */
-#define PNG_TEXT_BYTES 10240    /* their keys and texts, with NULs (the scene: 0.6 kB) */
+#define PNG_TEXT_BYTES 12288    /* their keys and texts, with NULs (the scene: 0.6 kB) */
 
 enum job_state { JOB_FREE, JOB_PENDING, JOB_RUNNING };
 

@@ -1,0 +1,235 @@
+/* springpend tests: the text layout module (text.c) on every script a
+ * teacher would use: no missing glyph (.notdef) in the layout, distinct
+ * characters draw distinct ink, Arabic letters take their joined forms,
+ * mixed-direction lines are ordered right to left around left-to-right
+ * numbers and units, marks sit on their bases, a font is chosen by its
+ * fontconfig family, and what no font has, or a family that is not
+ * installed, is refused. The PNG/SVG/PDF outputs are test_text.py's. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "springpend/common.h"
+#include "text.h"
+#include "tap.h"
+
+#ifdef NDEBUG
+#error "tests need assertions"
+#endif
+
+#define W 1200
+#define H 80
+
+static const struct {
+    const char *name, *text;
+} scripts[] = {
+    {"Latin with diacritics", "Federpendel: Größe ß ł ő ø ñ Łódź Å"},
+    {"Latin with combining marks", "x\xcc\x83 e\xcc\x81 a\xcc\x8a n\xcc\x83 \xce\xb8\xcc\x87"}, /* x̃ é å ñ θ̇ */
+    {"Greek", "Ελατήριο εκκρεμές ωθ"},
+    {"Cyrillic", "Пружинный маятник"},
+    {"CJK", "弹簧摆 ばね振り子 용수철"},
+    {"Arabic", "البندول الزنبركي"},
+    {"Hebrew", "מטוטלת קפיץ"},
+    {"Devanagari", "स्प्रिंग लोलक"},
+    {"mixed direction", "البندول 2 m/s"},
+};
+
+/* Coverage image of utf8 laid out at the normal size. */
+static uint8_t *ink_of(const struct sp_font *f, const char *utf8)
+{
+    static const float white[4] = {1, 1, 1, 1};
+    uint8_t *img = calloc(W * H, 1);
+    int n = sp_font_layout(f, SP_TEXT_NORMAL, utf8, 4, 50, white, NULL, 0);
+    struct sp_glyph_quad *q = calloc((size_t)(n > 0 ? n : 1), sizeof(*q));
+    if (img && q && n >= 0)
+        sp_font_blit(f, q, sp_font_layout(f, SP_TEXT_NORMAL, utf8, 4, 50, white, q, n), img, W, H);
+    free(q);
+    return img;
+}
+
+static int ink_count(const uint8_t *img)
+{
+    int n = 0;
+    for (int i = 0; i < W * H; i++)
+        n += img[i] > 96;
+    return n;
+}
+
+/* The next UTF-8 character of s (its bytes into out), or 0 at the end. */
+static size_t next_char(const char *s, char out[8])
+{
+    const size_t n = sp_utf8_char(s);
+    memcpy(out, s, n);
+    out[n] = 0;
+    return n;
+}
+
+static void test_script(const struct sp_font *f, const char *name, const char *text)
+{
+    struct sp_line l;
+    int notdef = 0;
+    sp_tap_ok(sp_font_check(f, name, text) == 0, "%s: every character is in an installed font", name);
+    sp_tap_ok(sp_font_shape(f, SP_TEXT_NORMAL, text, &l) == 0 && l.n_glyphs > 0 && l.missing == 0,
+              "%s: laid out (%d glyphs in %d runs, %d px)", name, l.n_glyphs, l.n_runs, l.width);
+    for (int i = 0; i < l.n_glyphs; i++)
+        notdef += l.glyphs[i].index == 0;
+    sp_tap_ok(notdef == 0, "%s: no .notdef glyph in the layout (%d)", name, notdef);
+
+    /* distinct characters (spaces and marks aside) draw distinct ink */
+    char chars[64][8];
+    uint8_t *ink[64];
+    int n = 0, same = 0, blank = 0;
+    for (const char *s = text; *s && n < 64;) {
+        char c[8];
+        s += next_char(s, c);
+        const unsigned char u0 = (unsigned char)c[0];
+        if (c[0] == ' ' || (u0 == 0xCC || u0 == 0xCD) || !strcmp(c, "\xe0\xa5\x8d") /* virama */)
+            continue;
+        int seen = 0;
+        for (int k = 0; k < n; k++)
+            seen |= !strcmp(chars[k], c);
+        if (seen)
+            continue;
+        strcpy(chars[n], c);
+        ink[n] = ink_of(f, c);
+        blank += ink_count(ink[n]) == 0;
+        n++;
+    }
+    for (int a = 0; a < n; a++)
+        for (int b = a + 1; b < n; b++)
+            if (!memcmp(ink[a], ink[b], W * H)) {
+                sp_tap_diag("%s and %s draw the same", chars[a], chars[b]);
+                same++;
+            }
+    sp_tap_ok(n > 1 && same == 0 && blank == 0, "%s: its %d distinct characters draw distinct ink", name, n);
+    for (int k = 0; k < n; k++)
+        free(ink[k]);
+}
+
+/* The glyph index that a character takes alone and inside a word. */
+static unsigned glyph_alone(const struct sp_font *f, const char *c)
+{
+    struct sp_line l;
+    return sp_font_shape(f, SP_TEXT_NORMAL, c, &l) == 0 && l.n_glyphs == 1 ? l.glyphs[0].index : 0;
+}
+
+static void test_arabic(const struct sp_font *f)
+{
+    /* "سلم": seen, lam, meem join on both sides: initial, medial, final forms */
+    static const char *word = "سلم", *letters[] = {"س", "ل", "م"};
+    struct sp_line l;
+    int joined = 0;
+    sp_font_shape(f, SP_TEXT_NORMAL, word, &l);
+    for (int i = 0; i < l.n_glyphs; i++) { /* glyphs left to right: meem first */
+        const unsigned alone = glyph_alone(f, letters[2 - i]);
+        sp_font_shape(f, SP_TEXT_NORMAL, word, &l);
+        joined += alone && l.glyphs[i].index != alone;
+    }
+    sp_tap_ok(l.n_glyphs == 3 && joined == 3, "Arabic: each letter of a word takes a joined form (%d of %d)",
+              joined, l.n_glyphs);
+    sp_tap_ok(l.n_runs == 1 && l.runs[0].rtl, "Arabic: the word is one right-to-left run");
+    sp_tap_ok(l.n_glyphs == 3 && l.glyphs[0].cluster > l.glyphs[2].cluster,
+              "Arabic: its first letter is drawn rightmost");
+
+    /* "البندول 2 m/s": the Arabic word at the right, "2 m/s" left of it in
+     * its own order (an RTL paragraph) */
+    const char *mixed = "البندول 2 m/s";
+    sp_font_shape(f, SP_TEXT_NORMAL, mixed, &l);
+    const char *two = strchr(mixed, '2'), *m = strchr(mixed, 'm');
+    int x_arabic = -1, x_two = -1, x_m = -1;
+    for (int i = 0; i < l.n_glyphs; i++) {
+        const char *at = mixed + l.glyphs[i].cluster;
+        if (at == two)
+            x_two = l.glyphs[i].x;
+        else if (at == m)
+            x_m = l.glyphs[i].x;
+        else if (at == mixed)
+            x_arabic = l.glyphs[i].x;
+    }
+    sp_tap_ok(x_m >= 0 && x_m < x_two && x_two < x_arabic,
+              "mixed direction: \"m/s\" left of \"2\", left of the Arabic word (x %d < %d < %d)",
+              x_m, x_two, x_arabic);
+}
+
+static void test_marks(const struct sp_font *f)
+{
+    struct sp_line l;
+    const int wa = sp_font_width(f, SP_TEXT_NORMAL, "θ"), wb = sp_font_width(f, SP_TEXT_NORMAL, "θ̇");
+    sp_tap_ok(wa > 0 && wa == wb, "a combining dot adds no width (%d, %d)", wa, wb);
+    sp_font_shape(f, SP_TEXT_NORMAL, "θ̇", &l);
+    sp_tap_ok(l.n_glyphs == 2 && l.glyphs[1].mark && l.glyphs[1].y < 0 && l.glyphs[1].x >= 0 &&
+                  l.glyphs[1].x < wa,
+              "the dot of θ̇ is a mark placed over the θ (x %d, y %d)", l.n_glyphs == 2 ? l.glyphs[1].x : -1,
+              l.n_glyphs == 2 ? l.glyphs[1].y : 0);
+}
+
+static void test_refusals(const struct sp_font *f)
+{
+    static const struct {
+        const char *text, *code;
+    } missing[] = {
+        {"test tube \xf0\x9f\xa7\xaa", "U+1F9EA"},
+        {"x \xef\xbf\xbe", "U+FFFE"},
+        {"x \xef\xbf\xbf", "U+FFFF"},
+        {"x \xf4\x8f\xbf\xbf", "U+10FFFF"},
+    };
+    for (size_t i = 0; i < sizeof(missing) / sizeof(missing[0]); i++)
+        sp_tap_ok(sp_font_check(f, "test", missing[i].text) == SP_E_INPUT,
+                  "%s is in no installed font: refused", missing[i].code);
+    sp_tap_ok(sp_font_check(f, "test", "𝜃 = 0") == 0, "a mathematical italic θ (U+1D703) is in a font");
+    sp_tap_ok(sp_font_check(f, "test", "\xf0\x9f\x98\x80") == 0, "an emoji (U+1F600) is in a font");
+    sp_tap_ok(sp_font_check(f, "test", "bad \xc3") == SP_E_INPUT, "malformed UTF-8 is refused");
+    sp_tap_ok(sp_font_check(f, "test", "a\xe2\x80\x8d\xe2\x80\x8f") == 0,
+              "invisible format characters need no glyph");
+}
+
+static void test_families(void)
+{
+    struct sp_font *f = NULL;
+    struct sp_font_desc d = {.family = "Latin Modern Roman", .px = {12, 16, 22, 28}};
+    int index;
+    const unsigned char *data;
+    size_t size;
+    const int made = sp_font_make(&f, &d) == 0;
+    const char *file = made ? sp_font_face_file(f, 0, &index, &data, &size) : NULL;
+    sp_tap_ok(made && file && strstr(file, "lmroman"), "Latin Modern Roman is found (%s)",
+              file ? file : "none");
+    if (f) {
+        struct sp_line a, b;
+        sp_font_shape(f, SP_TEXT_NORMAL, "Federpendel θ 弹簧", &a);
+        int faces = 0;
+        for (int i = 0; i < a.n_runs; i++)
+            faces += i == 0 || a.glyphs[a.runs[i].first].face != a.glyphs[a.runs[i - 1].first].face;
+        sp_tap_ok(a.missing == 0 && faces >= 2, "Latin Modern falls back to other fonts for CJK (%d faces)", faces);
+        (void)b;
+    }
+    sp_font_destroy(&f);
+    d.family = "latin modern roman";
+    sp_tap_ok(sp_font_make(&f, &d) == 0, "a family's name is matched without regard to case");
+    sp_font_destroy(&f);
+    d.family = "Latin Modren Roman";
+    sp_tap_ok(sp_font_make(&f, &d) == SP_E_INPUT && !f, "an unknown family is refused");
+    d.family = "DejaVu Serif";
+    sp_tap_ok(sp_font_make(&f, &d) == 0, "DejaVu Serif is found");
+    sp_font_destroy(&f);
+}
+
+int main(void)
+{
+    static const struct sp_font_desc fd = {.px = {12, 20, 22, 28}};
+    struct sp_font *f = NULL;
+    if (!sp_tap_ok(sp_font_make(&f, &fd) == 0, "the default font (DejaVu Sans, embedded)"))
+        return sp_tap_done();
+    for (size_t i = 0; i < sizeof(scripts) / sizeof(scripts[0]); i++)
+        test_script(f, scripts[i].name, scripts[i].text);
+    test_arabic(f);
+    test_marks(f);
+    test_refusals(f);
+    int glyphs;
+    double s;
+    sp_font_raster_stats(f, &glyphs, &s);
+    sp_tap_diag("%d glyphs rasterised in %.2f ms", glyphs, 1e3 * s);
+    sp_font_destroy(&f);
+    test_families();
+    return sp_tap_done();
+}

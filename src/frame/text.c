@@ -600,12 +600,11 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
     for (int i = 0; i < n; i++)
         if (script[i] == HB_SCRIPT_INVALID)
             script[i] = HB_SCRIPT_COMMON;
-    /* fonts: the first that has the character; marks, punctuation and
-     * spaces stay in the font before them when it has them */
+    /* fonts: the first that has the character; marks and joiners stay in
+     * the font of the character they belong to when it has them */
     for (int i = 0; i < n; i++) {
-        const hb_script_t s = hb_unicode_script(uf, cp[i]);
-        const int weak = s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED;
-        if (i && face[i - 1] >= 0 && (invisible(cp[i]) || (weak && face_covers(&f->faces[face[i - 1]], cp[i])))) {
+        const int inherited = hb_unicode_script(uf, cp[i]) == HB_SCRIPT_INHERITED;
+        if (i && (invisible(cp[i]) || (inherited && face_covers(&f->faces[face[i - 1]], cp[i])))) {
             face[i] = face[i - 1];
             continue;
         }

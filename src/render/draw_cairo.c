@@ -175,8 +175,14 @@ static int text(cairo_t *cr, const struct sp_font *f, const struct sp_item *it, 
     }
     cairo_set_font_size(cr, sp_font_px(f, it->size));
     source(cr, it->color);
-    for (int r = 0; r < l.n_runs && !err; r++) {
-        const struct sp_glyph_run *run = &l.runs[r];
+    /* runs in the text's order, so that a PDF holds the text as written
+     * (pdftotext -raw returns it whole; the layout itself is visual) */
+    for (int r = 0, from = -1; r < l.n_runs && !err; r++) {
+        const struct sp_glyph_run *run = NULL;
+        for (int k = 0; k < l.n_runs; k++)
+            if (l.runs[k].start > from && (!run || l.runs[k].start < run->start))
+                run = &l.runs[k];
+        from = run->start;
         const struct sp_glyph *rg = l.glyphs + run->first;
         cairo_font_face_t *face = face_of(f, rg[0].face, faces);
         int n_cl = 0;
@@ -184,24 +190,29 @@ static int text(cairo_t *cr, const struct sp_font *f, const struct sp_item *it, 
             err = SP_E_IO;
             break;
         }
-        /* clusters in glyph order: text forwards, or backwards (rtl) */
+        /* glyphs in the text's order (a right-to-left run's from its
+         * right end: cairo 1.16 checks backward clusters' UTF-8 from the
+         * wrong end), each cluster its glyphs and the text up to the next */
         for (int k = 0; k < run->count; k++) {
-            g[k] = (cairo_glyph_t){rg[k].index, it->x + rg[k].x, it->y + rg[k].y};
-            if (k && rg[k].cluster == rg[k - 1].cluster) {
+            const struct sp_glyph *gk = &rg[run->rtl ? run->count - 1 - k : k];
+            g[k] = (cairo_glyph_t){gk->index, it->x + gk->x, it->y + gk->y};
+            if (k && gk->cluster == (gk + (run->rtl ? 1 : -1))->cluster) {
                 cl[n_cl - 1].num_glyphs++;
                 continue;
             }
             int end = run->end; /* where this cluster's text stops */
-            for (int j = run->rtl ? k - 1 : k + 1; j >= 0 && j < run->count; j += run->rtl ? -1 : 1)
-                if (rg[j].cluster != rg[k].cluster) {
-                    end = rg[j].cluster;
+            for (int j = k + 1; j < run->count; j++) {
+                const struct sp_glyph *gj = &rg[run->rtl ? run->count - 1 - j : j];
+                if (gj->cluster != gk->cluster) {
+                    end = gj->cluster;
                     break;
                 }
-            cl[n_cl++] = (cairo_text_cluster_t){end - rg[k].cluster, 1};
+            }
+            cl[n_cl++] = (cairo_text_cluster_t){end - gk->cluster, 1};
         }
         cairo_set_font_face(cr, face);
         cairo_show_text_glyphs(cr, utf8 + run->start, run->end - run->start, g, run->count, cl,
-                               n_cl, run->rtl ? CAIRO_TEXT_CLUSTER_FLAG_BACKWARD : 0);
+                               n_cl, 0);
     }
     free(g), free(cl);
     return err;

@@ -1,0 +1,256 @@
+#!/usr/bin/env python3
+"""springpend tests: text in every script a teacher would use, in a PNG
+still, an SVG and a PDF (issue 19). For each script's title:
+  - PDF: pdftotext returns the exact string (real text, logical order);
+  - each format: its distinct characters, drawn apart, give distinct ink
+    (no two alike, none blank: no missing-glyph boxes);
+  - the three formats draw the same glyphs (their ink is as wide);
+  - an Arabic word's letters join into one run of ink, as pango-view draws it
+    (and the same letters apart do not).
+Also: a Latin Modern figure embeds Latin Modern (pdffonts) and names its
+font files in its provenance; a character no installed font has, a
+noncharacter and an unknown family are exit 2 with a message and no output
+in every format; an emoji and a mathematical italic are drawn in every
+format; a title wraps, and one that cannot fit is refused.
+usage: test_text.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR"""
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import zlib
+
+from sptest import done, need_scipy, ok, runner, sets
+
+need_scipy()
+import numpy as np  # noqa: E402
+from scipy import ndimage  # noqa: E402
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+work = os.path.abspath(os.path.join(sys.argv[3], "text"))
+scene = os.path.join(src, "..", "scenes", "default.ini")
+need = [t for t in ("rsvg-convert", "pdftoppm", "pdftotext", "pdffonts", "pdfinfo", "ffmpeg",
+                    "pango-view") if not shutil.which(t)]
+if need:
+    print(f"1..0 # SKIP {', '.join(need)} not installed")
+    sys.exit(77)
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+run = runner(exe, work)
+
+SCRIPTS = [
+    ("Latin", "Federpendel: Größe ß ł ő ø ñ"),
+    ("combining marks", "x\u0303 e\u0301 a\u030a \u03b8\u0307"),
+    ("Greek", "Ελατήριο εκκρεμές"),
+    ("Cyrillic", "Пружинный маятник"),
+    ("CJK", "弹簧摆"),
+    ("Arabic", "البندول الزنبركي"),
+    ("Hebrew", "מטוטלת קפיץ"),
+    ("Devanagari", "स्प्रिंग लोलक"),
+    ("mixed direction", "البندول 2 m/s"),
+]
+# Only the title: no panels, heads-up text or colourbar; 24 pt body text
+# (a 41 px title).
+BARE = {"view.panels": "none", "view.hud": "false", "view.colorbar": "false",
+        "view.font_size": "24", "view.theme": "light"}
+SIZE = ["--size", "900x240"]
+BAND = 50  # px: the title band (41 px line and the gap above it)
+
+
+def still(name, title, extra=None, size=SIZE):
+    """Renders a still titled `title`; the CompletedProcess."""
+    d = dict(BARE, **(extra or {}))
+    d["view.title"] = title
+    return run("still", scene, "--at", "0", *size, *sets(d), "-o", name, "-q")
+
+
+def gray(path):
+    """A PNG (or a vector figure rasterised) as a 2-D array of ink, 0..255."""
+    base, ext = os.path.splitext(path)
+    if ext == ".svg":
+        subprocess.run(["rsvg-convert", path, "-o", base + "_svg.png"], check=True)
+        path = base + "_svg.png"
+    elif ext == ".pdf":
+        subprocess.run(["pdftoppm", "-r", "72", "-png", "-singlefile", path, base + "_pdf"], check=True)
+        path = base + "_pdf.png"
+    out = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt", "gray",
+                          "-"], capture_output=True, check=True).stdout
+    probe = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v", "-show_entries",
+                            "stream=width,height", "-of", "csv=p=0", path],
+                           capture_output=True, text=True, check=True).stdout.split(",")
+    w, h = int(probe[0]), int(probe[1])
+    return 255 - np.frombuffer(out, np.uint8).reshape(h, w).astype(int)  # ink is dark on light
+
+
+def ink_columns(img, thresh=96):
+    cols = np.nonzero((img > thresh).any(axis=0))[0]
+    return (cols.min(), cols.max()) if len(cols) else (0, -1)
+
+
+def segments(img, gap=8, thresh=96):
+    """Ink split at runs of >= gap empty columns: a list of cropped arrays."""
+    on = (img > thresh).any(axis=0)
+    out, start, empty = [], None, 0
+    for x, v in enumerate(list(on) + [False] * gap):
+        if v:
+            if start is None:
+                start = x
+            empty, last = 0, x
+        elif start is not None:
+            empty += 1
+            if empty >= gap:
+                seg = img[:, start:last + 1]
+                rows = np.nonzero((seg > thresh).any(axis=1))[0]
+                out.append(seg[rows.min():rows.max() + 1])
+                start = None
+    return out
+
+
+def joined(img, thresh=96):
+    """The widest 8-connected run of ink's share of the ink's width."""
+    lab, n = ndimage.label(img > thresh, structure=np.ones((3, 3)))
+    if not n:
+        return 0.0
+    x0, x1 = ink_columns(img, thresh)
+    widest = max(s[1].stop - s[1].start for s in ndimage.find_objects(lab))
+    return widest / (x1 - x0 + 1)
+
+
+def chars_of(text):
+    """The distinct characters of text that draw alone (marks, virama and
+    spaces belong to their neighbours)."""
+    out = []
+    for c in text:
+        if c == " " or 0x300 <= ord(c) < 0x370 or c == "\u094d" or c in out:
+            continue
+        out.append(c)
+    return out
+
+
+def pdf_text(name):
+    """pdftotext's text of a PDF, without the bidi embedding marks it adds
+    around right-to-left lines (U+202A-U+202E)."""
+    got = subprocess.run(["pdftotext", name, "-"], capture_output=True, text=True, cwd=work).stdout
+    return "".join(c for c in got if not 0x202A <= ord(c) <= 0x202E).strip()
+
+
+def pango_pdf_text(text):
+    """What pdftotext reads from pango-view's PDF of text: the reference."""
+    subprocess.run(["pango-view", "-q", "--font", "DejaVu Sans 24", "--text", text, "-o",
+                    "pango.pdf"], check=True, cwd=work)
+    return pdf_text("pango.pdf")
+
+
+for name, text in SCRIPTS:
+    tag = name.replace(" ", "_")
+    files = {f: f"{tag}.{f}" for f in ("png", "svg", "pdf")}
+    made = {f: still(n, text) for f, n in files.items()}
+    if not ok(all(r.returncode == 0 for r in made.values()),
+              f"{name}: PNG, SVG and PDF written ({[r.stderr.strip() for r in made.values() if r.returncode]})"):
+        continue
+    got = pdf_text(files["pdf"])
+    ok(got == text or got == pango_pdf_text(text),
+       f"{name}: pdftotext returns " + ("the exact string" if got == text else
+       f"{got!r}, as for pango-view's PDF of it (pdftotext orders an LTR part of an RTL line "
+       "by position)"))
+    widths = {}
+    for f, n in files.items():
+        img = gray(os.path.join(work, n))[:BAND]
+        x0, x1 = ink_columns(img)
+        widths[f] = x1 - x0 + 1
+    ok(min(widths.values()) > 0 and max(widths.values()) <= 1.08 * min(widths.values()),
+       f"{name}: the PNG, SVG and PDF titles are as wide ({widths} px): the same glyphs")
+    chars = chars_of(text)
+    spread = "   ".join(chars)
+    for f in ("png", "svg", "pdf"):
+        n = f"{tag}_chars.{f}"
+        r = still(n, spread)
+        segs = segments(gray(os.path.join(work, n))[:BAND]) if r.returncode == 0 else []
+        same = [(a, b) for a in range(len(segs)) for b in range(a + 1, len(segs))
+                if segs[a].shape == segs[b].shape and np.abs(segs[a] - segs[b]).max() < 48]
+        ok(r.returncode == 0 and len(segs) == len(chars) and not same,
+           f"{name} in {f.upper()}: its {len(chars)} distinct characters draw {len(segs)} distinct "
+           f"inks{' (alike: ' + str(same) + ')' if same else ''}")
+
+# Arabic joining: "سلم" (three letters that join on both sides) is one run
+# of ink, in every format and in pango-view's rendering; apart, it is not.
+word = "سلم"
+subprocess.run(["pango-view", "-q", "--font", "DejaVu Sans 41px", "--text", word, "-o",
+                os.path.join(work, "pango.png")], check=True)
+ref = joined(gray(os.path.join(work, "pango.png")))
+ok(ref > 0.9, f"pango-view draws {word} as one run of ink ({ref:.2f} of its width)")
+for f in ("png", "svg", "pdf"):
+    still(f"join.{f}", word)
+    still(f"apart.{f}", " ".join(word))
+    j = joined(gray(os.path.join(work, f"join.{f}"))[:BAND])
+    a = joined(gray(os.path.join(work, f"apart.{f}"))[:BAND])
+    ok(j > 0.9 and a < 0.6, f"Arabic in {f.upper()}: the word's letters join into one run of ink "
+       f"({j:.2f} of its width, as pango-view's {ref:.2f}); apart they do not ({a:.2f})")
+
+# Latin Modern: embedded in the PDF, named in the provenance.
+lm = {"view.font": "Latin Modern Roman", "view.panels": "r,theta", "view.hud": "true"}
+r = run("still", scene, "--at", "2", "--size", "800x450", *sets(lm), "-o", "lm.pdf", "-q")
+fonts = subprocess.run(["pdffonts", "lm.pdf"], capture_output=True, text=True, cwd=work).stdout
+ok(r.returncode == 0 and "LMRoman10-Regular" in fonts, "a Latin Modern figure embeds Latin Modern "
+   f"(pdffonts: {[l.split()[0] for l in fonts.splitlines()[2:]]})")
+info = subprocess.run(["pdfinfo", "lm.pdf"], capture_output=True, text=True, cwd=work).stdout
+ok("lmroman10-regular.otf" in info, "the PDF's keywords name the font files drawn from")
+r = run("still", scene, "--at", "2", "--size", "800x450", *sets(lm), "-o", "lm.png", "-q")
+
+
+def png_text(path):
+    data, out, i = open(path, "rb").read(), {}, 8
+    while i < len(data):
+        n, kind = struct.unpack(">I4s", data[i:i + 8])
+        body = data[i + 8:i + 8 + n]
+        if kind == b"tEXt":
+            k, v = body.split(b"\0", 1)
+            out[k.decode()] = v.decode("latin-1")
+        elif kind == b"zTXt":
+            k, v = body.split(b"\0", 1)
+            out[k.decode()] = zlib.decompress(v[1:]).decode("latin-1")
+        i += 12 + n
+    return out
+
+
+prov = png_text(os.path.join(work, "lm.png")).get("springpend.fonts", "")
+ok(r.returncode == 0 and "lmroman10-regular.otf" in prov,
+   f"the PNG's provenance names the font files ({prov[:120]})")
+default = run("still", scene, "--at", "0", "-o", "default.png", "-q")
+prov = png_text(os.path.join(work, "default.png")).get("springpend.fonts", "")
+ok("DejaVuSans.ttf (embedded)" in prov, f"the default font is the embedded DejaVu Sans ({prov})")
+
+# Refused in every format, with the character named, and nothing written.
+for title, code in (("test tube \U0001f9ea", "U+1F9EA"), ("x \ufffe", "U+FFFE"),
+                    ("x \uffff", "U+FFFF"), ("x \U0010ffff", "U+10FFFF")):
+    for f in ("png", "svg", "pdf"):
+        r = still(f"missing.{f}", title)
+        ok(r.returncode == 2 and code in r.stderr and "tried" in r.stderr and
+           not os.path.exists(os.path.join(work, f"missing.{f}")),
+           f"{code} in {f.upper()}: exit {r.returncode}, no output ({r.stderr.strip()[:110]})")
+for title in ("smile \U0001f600", "\U0001d703 = 0"):
+    for f in ("png", "svg", "pdf"):
+        r = still(f"ok.{f}", title)
+        good = r.returncode == 0
+        if f == "pdf" and good:
+            got = pdf_text("ok.pdf")
+            good = got in (title, pango_pdf_text(title))
+            print(f"# pdftotext: {got!r}")
+        ok(good, f"{title!r} in {f.upper()}: drawn{' (pdftotext: the text, as from pango-view)' if f == 'pdf' else ''}")
+for f in ("png", "pdf"):
+    r = still(f"unknown.{f}", "x", {"view.font": "Latin Modren Roman"})
+    ok(r.returncode == 2 and '"Latin Modern Roman"' in r.stderr and
+       not os.path.exists(os.path.join(work, f"unknown.{f}")),
+       f"an unknown family in {f.upper()}: exit {r.returncode}, close matches listed ({r.stderr.strip()[:140]})")
+
+# Titles wrap; one that cannot fit the frame is refused.
+long_title = " ".join(["Federpendel"] * 8)
+r = still("wrap.png", long_title, size=["--size", "900x480"])
+img = gray(os.path.join(work, "wrap.png"))
+rows = (img[:, :] > 96).any(axis=1)
+bands = sum(1 for y in range(1, 120) if rows[y] and not rows[y - 1])
+ok(r.returncode == 0 and bands >= 3, f"a long title wraps onto {bands} lines")
+r = still("toolong.png", " ".join(["Federpendel"] * 20), size=["--size", "900x480"])
+ok(r.returncode == 2 and "cannot fit" in r.stderr and not os.path.exists(os.path.join(work, "toolong.png")),
+   f"a title that cannot fit the frame: exit {r.returncode} ({r.stderr.strip()[:120]})")
+done()

@@ -130,30 +130,36 @@ void sp_canvas_rect(struct sp_canvas *c, float x0, float y0, float x1, float y1,
 int sp_canvas_text(struct sp_canvas *c, int size, float x, float y, enum sp_align align,
                    const float color[4], const char *utf8)
 {
-    const int w = sp_font_width(c->font, size, utf8), len = (int)strlen(utf8) + 1;
+    const int len = (int)strlen(utf8) + 1;
+    struct sp_line line;
     struct sp_item *it;
-    int n;
+    int err = sp_font_shape(c->font, size, utf8, &line);
+    if (err) { /* logged */
+        c->err = err;
+        return 0;
+    }
+    if (line.missing) { /* never a silent box */
+        if (sp_font_check(c->font, "text", utf8) == 0)
+            sp_log_error("text \"%s\" has a character no font draws", utf8);
+        c->err = SP_E_INPUT;
+        return line.width;
+    }
+    const int w = line.width;
     if (align == SP_ALIGN_CENTER)
         x -= 0.5f * (float)w;
     else if (align == SP_ALIGN_RIGHT)
         x -= (float)w;
-    struct sp_line line;
-    if (!sp_font_shape(c->font, size, utf8, &line) && line.missing) { /* never a silent box */
-        if (sp_font_check(c->font, "text", utf8) == 0)
-            sp_log_error("text \"%s\" has a character no font draws", utf8);
-        c->err = SP_E_INPUT;
-        return w;
-    }
-    n = sp_font_layout(c->font, size, utf8, x, y, color, NULL, 0);
-    if (n < 0) { /* logged */
-        c->err = n;
-        return w;
-    }
-    if (grow(c, (void **)&c->quads, &c->cap_quads, c->n_quads, n, sizeof(*c->quads)) ||
+    /* at most a quad per glyph */
+    if (grow(c, (void **)&c->quads, &c->cap_quads, c->n_quads, line.n_glyphs, sizeof(*c->quads)) ||
         grow(c, (void **)&c->strings, &c->cap_strings, c->n_strings, len, 1) ||
         !(it = new_item(c, SP_ITEM_TEXT, c->n_quads)))
         return w;
-    it->count = sp_font_layout(c->font, size, utf8, x, y, color, c->quads + c->n_quads, n);
+    it->count = sp_font_layout(c->font, size, utf8, x, y, color, c->quads + c->n_quads, line.n_glyphs);
+    if (it->count < 0) { /* logged */
+        c->err = it->count;
+        it->count = 0;
+        return w;
+    }
     it->size = size;
     it->x = roundf(x);
     it->y = roundf(y);

@@ -59,6 +59,7 @@ struct shaped {
     struct sp_line line;
     struct sp_glyph *g;
     struct sp_glyph_run *r;
+    struct cached *place;       /* each glyph's place in the atlas; NULL until rasterised */
 };
 
 struct sp_font {
@@ -81,6 +82,7 @@ struct sp_font {
     /* shaped lines */
     struct shaped *buckets[LINE_BUCKETS];
     int n_lines;
+    struct shaped *last;        /* the line line_get returned last, or NULL */
     hb_buffer_t *buf;
 };
 
@@ -525,9 +527,10 @@ static void lines_clear(struct sp_font *f)
         while (f->buckets[b]) {
             struct shaped *l = f->buckets[b];
             f->buckets[b] = l->next;
-            free(l->text), free(l->g), free(l->r), free(l);
+            free(l->text), free(l->g), free(l->r), free(l->place), free(l);
         }
     f->n_lines = 0;
+    f->last = NULL;
 }
 
 /* A run of characters being itemised: [a, b) of the code points. */
@@ -546,21 +549,25 @@ static int by_vis(const void *x, const void *y)
 static int shape(struct sp_font *f, int size, const char *text, struct shaped *l)
 {
     const int bytes = (int)strlen(text);
-    uint32_t *cp = malloc(((size_t)bytes + 1) * sizeof(*cp));
-    int *off = malloc(((size_t)bytes + 2) * sizeof(*off)), *face = malloc(((size_t)bytes + 1) * sizeof(int));
-    FriBidiCharType *types = malloc(((size_t)bytes + 1) * sizeof(*types));
-    FriBidiBracketType *brackets = malloc(((size_t)bytes + 1) * sizeof(*brackets));
-    FriBidiLevel *levels = malloc(((size_t)bytes + 1) * sizeof(*levels));
-    FriBidiStrIndex *map = malloc(((size_t)bytes + 1) * sizeof(*map));
-    hb_script_t *script = malloc(((size_t)bytes + 1) * sizeof(*script));
-    struct item *items = malloc(((size_t)bytes + 1) * sizeof(*items));
+    const size_t m = (size_t)bytes + 2; /* code points at most, and one over */
+    /* one block for the per-character arrays (widest element first) */
+    struct item *items = malloc(m * (sizeof(struct item) + sizeof(hb_script_t) + sizeof(uint32_t) +
+                                     2 * sizeof(int) + sizeof(FriBidiCharType) +
+                                     sizeof(FriBidiBracketType) + sizeof(FriBidiStrIndex) +
+                                     sizeof(FriBidiLevel)));
+    hb_script_t *script = (hb_script_t *)(items + m);
+    uint32_t *cp = (uint32_t *)(script + m);
+    int *off = (int *)(cp + m), *face = off + m;
+    FriBidiCharType *types = (FriBidiCharType *)(face + m);
+    FriBidiBracketType *brackets = (FriBidiBracketType *)(types + m);
+    FriBidiStrIndex *map = (FriBidiStrIndex *)(brackets + m);
+    FriBidiLevel *levels = (FriBidiLevel *)(map + m);
     hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
-    int n = 0, n_items = 0, n_glyphs = 0, missing = 0, err = 0;
+    int n = 0, n_items = 0, n_glyphs = 0, missing = 0, err = 0, bidi = 0;
 
-    if (!cp || !off || !face || !types || !brackets || !levels || !map || !script || !items) {
+    if (!items) {
         sp_log_error("out of memory to lay out a string of %d bytes", bytes);
-        err = SP_E_NOMEM;
-        goto done;
+        return SP_E_NOMEM;
     }
     for (int i = 0; i < bytes;) {
         size_t len;
@@ -569,21 +576,25 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
         i += (int)len;
     }
     off[n] = bytes;
-    /* bidi: levels (rule L1 applied by the reordering), visual order */
+    /* bidi: levels (rule L1 applied by the reordering), visual order; a
+     * line with no right-to-left letter, Arabic number or explicit
+     * direction is all level 0 in its own order, which FriBidi is not
+     * asked to confirm */
     FriBidiParType base = FRIBIDI_PAR_ON;
     fribidi_get_bidi_types(cp, n, types);
-    fribidi_get_bracket_types(cp, n, types, brackets);
-    if (n && !fribidi_get_par_embedding_levels_ex(types, brackets, n, &base, levels)) {
-        sp_log_error("FriBidi cannot order a string of %d characters", n);
-        err = SP_E_NOMEM;
-        goto done;
+    for (int i = 0; i < n; i++) {
+        map[i] = i, levels[i] = 0;
+        bidi |= FRIBIDI_IS_RTL(types[i]) || FRIBIDI_IS_EXPLICIT(types[i]) || FRIBIDI_IS_ISOLATE(types[i]) ||
+                types[i] == FRIBIDI_TYPE_AN;
     }
-    for (int i = 0; i < n; i++)
-        map[i] = i;
-    if (n && !fribidi_reorder_line(0, types, n, 0, base, levels, NULL, map)) {
-        sp_log_error("FriBidi cannot reorder a string of %d characters", n);
-        err = SP_E_NOMEM;
-        goto done;
+    if (bidi) {
+        fribidi_get_bracket_types(cp, n, types, brackets);
+        if (!fribidi_get_par_embedding_levels_ex(types, brackets, n, &base, levels) ||
+            !fribidi_reorder_line(0, types, n, 0, base, levels, NULL, map)) {
+            sp_log_error("FriBidi cannot order a string of %d characters", n);
+            err = SP_E_NOMEM;
+            goto done;
+        }
     }
     /* scripts: common and inherited characters take their neighbours' */
     hb_script_t last = HB_SCRIPT_INVALID;
@@ -669,43 +680,47 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
     }
     l->line = (struct sp_line){pen, missing, n_glyphs, n_items, l->g, l->r};
 done:
-    free(cp), free(off), free(face), free(types), free(brackets), free(levels), free(map);
-    free(script), free(items);
+    free(items);
     return err;
 }
 
-int sp_font_shape(const struct sp_font *cf, int size, const char *text, struct sp_line *out)
+/* The shaped line of (size, text), from the cache or shaped now; NULL
+ * (said) when out of memory. */
+static struct shaped *line_get(struct sp_font *f, int size, const char *text)
 {
-    struct sp_font *f = (struct sp_font *)cf; /* its caches (see the top) */
+    /* the line asked for last: a string is often measured, then drawn */
+    if (f->last && f->last->size == size && !strcmp(f->last->text, text))
+        return f->last;
     const uint32_t h = hash_of(size, text);
     struct shaped **b = &f->buckets[h % LINE_BUCKETS], *l;
     for (l = *b; l; l = l->next)
-        if (l->hash == h && l->size == size && !strcmp(l->text, text)) {
-            *out = l->line;
-            return 0;
-        }
+        if (l->hash == h && l->size == size && !strcmp(l->text, text))
+            return f->last = l;
     if (f->n_lines >= LINE_CACHE_MAX)
         lines_clear(f);
     l = calloc(1, sizeof(*l));
     if (!l || !(l->text = strdup(text))) {
         free(l);
         sp_log_error("out of memory to lay out text");
-        *out = (struct sp_line){0};
-        return SP_E_NOMEM;
+        return NULL;
     }
     l->hash = h;
     l->size = size;
-    const int err = shape(f, size, text, l);
-    if (err) {
+    if (shape(f, size, text, l)) {
         free(l->text), free(l->g), free(l->r), free(l);
-        *out = (struct sp_line){0};
-        return err;
+        return NULL;
     }
     l->next = *b;
     *b = l;
     f->n_lines++;
-    *out = l->line;
-    return 0;
+    return f->last = l;
+}
+
+int sp_font_shape(const struct sp_font *cf, int size, const char *text, struct sp_line *out)
+{
+    struct shaped *l = line_get((struct sp_font *)cf, size, text); /* its caches (see the top) */
+    *out = l ? l->line : (struct sp_line){0};
+    return l ? 0 : SP_E_NOMEM;
 }
 
 /* ---- the font ---- */
@@ -838,16 +853,30 @@ int sp_font_layout(const struct sp_font *cf, int size, const char *s, float x,
 {
     struct sp_font *f = (struct sp_font *)cf; /* its caches (see the top) */
     const int pen = (int)lroundf(x), base = (int)lroundf(baseline);
-    struct sp_line l;
-    int n = 0, err = sp_font_shape(f, size, s, &l), base_top = base, base_mid = base;
-    if (err)
-        return err;
-    for (int i = 0; i < l.n_glyphs; i++) {
-        /* l stays valid: rasterising does not touch the line cache */
-        const struct sp_glyph *g = &l.glyphs[i];
-        const struct cached *c = glyph_get(f, g->face, size, g->index);
-        if (!c)
+    struct shaped *l = line_get(f, size, s);
+    int n = 0, base_top = base, base_mid = base;
+    if (!l)
+        return SP_E_NOMEM;
+    if (!l->place) { /* rasterised once per line: later frames only copy */
+        struct cached *place = malloc(((size_t)l->line.n_glyphs + 1) * sizeof(*place));
+        if (!place) {
+            sp_log_error("out of memory to place %d glyphs", l->line.n_glyphs);
             return SP_E_NOMEM;
+        }
+        for (int i = 0; i < l->line.n_glyphs; i++) {
+            /* l stays valid: rasterising does not touch the line cache */
+            const struct cached *c = glyph_get(f, l->g[i].face, size, l->g[i].index);
+            if (!c) {
+                free(place);
+                return SP_E_NOMEM;
+            }
+            place[i] = *c;
+        }
+        l->place = place;
+    }
+    for (int i = 0; i < l->line.n_glyphs; i++) {
+        const struct sp_glyph *g = &l->g[i];
+        const struct cached *c = &l->place[i];
         if (c->w <= 0 || c->h <= 0)
             continue;
         int y0 = base + g->y - c->top;

@@ -86,6 +86,9 @@ static void basins_json(FILE *out, FILE *rows, long at, const struct sp_sweep_de
         json_number(out, all ? (double)t->count / all : NAN);
         fputc('}', out);
     }
+    fputs("\n  ],\n  \"labels\": [", out); /* each point's attractor, -1: blown up */
+    for (long p = 0; p < (long)map.nx * map.ny; p++)
+        fprintf(out, "%s%d", p ? (p % map.nx ? ", " : ",\n    ") : "\n    ", map.label[p]);
     fprintf(out, "\n  ],\n  \"blown_up\": %ld,\n  \"entropy_box\": %d,\n  \"basin_entropy\": ",
             map.blown_up, map.box);
     json_number(out, map.entropy);

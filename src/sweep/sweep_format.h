@@ -8,7 +8,8 @@
  * (json = 0), or as one JSON object (json = 1): the description, "columns",
  * "rows" (arrays of numbers, NaN as null; a spectrum's last row per point,
  * with all of them in "running"), and for a basin map "attractors" (label,
- * period, winding, representative state, points, fraction), "basin_entropy"
+ * period, winding, representative state, points, fraction), "labels" (each
+ * grid point's attractor index in the grid's order, -1: blown up), "basin_entropy"
  * and "boundary_basin_entropy" (nats). name: for messages. Returns 0,
  * SP_E_INPUT or SP_E_IO. */
 int sp_sweep_print(FILE *rows, const char *name, int json, FILE *out);

@@ -21,6 +21,7 @@ The copy is made from the working tree of the repository that holds this
 script (tracked and untracked files git does not ignore). Needs meson, ninja.
 Build and test jobs: -j2 (SP_PLANT_JOBS to change)."""
 import argparse
+import filecmp
 import os
 import re
 import shutil
@@ -131,15 +132,18 @@ def sh(cmd, cwd=None, quiet=True):
 
 
 def make_copy(repo, scratch):
-    """scratch/src: the working tree's files (rsync of git's list); a fresh
-    build folder the first time."""
+    """scratch/src: the working tree's files (git's list), each copied when it
+    differs, so that a later run rebuilds only what changed; a fresh build
+    folder the first time."""
     src = os.path.join(scratch, "src")
     files = sh(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=repo).stdout
-    os.makedirs(src, exist_ok=True)
-    r = subprocess.run(["rsync", "-a", "--checksum", "--from0", "--files-from=-", repo + "/", src + "/"],
-                       input=files, text=True, capture_output=True)
-    if r.returncode:
-        sys.exit(f"plant_bugs: rsync failed: {r.stderr}")
+    for rel in filter(None, files.split("\0")):
+        a, b = os.path.join(repo, rel), os.path.join(src, rel)
+        if os.path.islink(a) or not os.path.isfile(a):
+            continue
+        if not os.path.exists(b) or not filecmp.cmp(a, b, shallow=False):
+            os.makedirs(os.path.dirname(b), exist_ok=True)
+            shutil.copy2(a, b)
     build = os.path.join(scratch, "build")
     if not os.path.exists(os.path.join(build, "build.ninja")):
         r = sh(["meson", "setup", build, src])

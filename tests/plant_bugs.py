@@ -165,7 +165,8 @@ def run_tests(build_dir, tests, keep_going):
         cmd.append("--maxfail=1")
     t0 = time.time()
     r = sh(cmd + tests)
-    failed = re.findall(r"^\s*\d+/\d+\s+(\S+)\s+(?:FAIL|TIMEOUT|ERROR)", r.stdout, re.M)
+    failed = list(dict.fromkeys(re.findall(r"^\s*\d+/\d+\s+(\S+)\s+(?:FAIL|TIMEOUT|ERROR)",
+                                           r.stdout, re.M)))
     if r.returncode and not failed:
         failed = ["(meson test exit %d)" % r.returncode]
     return failed, time.time() - t0

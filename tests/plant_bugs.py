@@ -56,9 +56,10 @@ BUGS = [
      "O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOCTTY, 0666);",
      "O_WRONLY | O_CREAT | O_CLOEXEC | O_NOCTTY, 0666);",
      "formats,safety,output"),
-    ("decimal-bare-exponent", "base", "src/base/decimal.c",
-     "        if (!exp)\n            return NULL;\n        p += exp;", "        p += exp;",
-     "validation,cli-numbers"),
+    ("crlf-counts-two-lines", "base", "src/base/ini_lines.c",
+     "len += start[len] == '\\r' && start[len + 1] == '\\n' ? 2 : start[len] ? 1 : 0;",
+     "len += start[len] ? 1 : 0;",
+     "scene,safety,validation"),
     ("second-signal-exit-128", "base", "src/base/signals.c",
      "_exit(128 + sig);", "_exit(128);", "safety,output,review"),
     ("time-base-whole-fps", "sinks", "src/sinks/sink_video.c",
@@ -195,6 +196,15 @@ def main():
     if not ok:
         sys.exit(f"plant_bugs: the unplanted copy does not build:\n{log}")
     known = set(sh(["meson", "test", "-C", bdir, "--no-rebuild", "--list"]).stdout.split())
+    # the unplanted copy must pass what will be run, or a bug would be
+    # "caught" by a test that fails anyway
+    wanted = [] if a.all_tests else sorted({t for b in bugs for t in (a.tests or b[5]).split(",")
+                                            if t in known})
+    failed, secs = run_tests(bdir, wanted, True)
+    print(f"baseline (unplanted): {', '.join(wanted) or 'all tests'}: "
+          f"{'failed ' + ', '.join(failed) if failed else 'pass'} ({secs:.0f} s)", flush=True)
+    if failed:
+        sys.exit("plant_bugs: the unplanted copy fails these tests; fix them first")
     results = []
     for name, module, path, old, new, tests in bugs:
         tests = [] if a.all_tests else [t for t in (a.tests or tests).split(",") if t in known]

@@ -170,7 +170,12 @@ def run_tests(build_dir, tests, keep_going):
                                            r.stdout, re.M)))
     if r.returncode and not failed:
         failed = ["(meson test exit %d)" % r.returncode]
-    return failed, time.time() - t0
+    log = os.path.join(build_dir, "meson-logs", "testlog.txt")
+    check = ""
+    if failed and os.path.exists(log):
+        m = re.search(r"^not ok \d+ - (.*)$", open(log, errors="replace").read(), re.M)
+        check = m.group(1)[:110] if m else "(no 'not ok' line: crashed or timed out?)"
+    return failed, time.time() - t0, check
 
 
 def main():
@@ -200,9 +205,10 @@ def main():
     # "caught" by a test that fails anyway
     wanted = [] if a.all_tests else sorted({t for b in bugs for t in (a.tests or b[5]).split(",")
                                             if t in known})
-    failed, secs = run_tests(bdir, wanted, True)
+    failed, secs, check = run_tests(bdir, wanted, True)
     print(f"baseline (unplanted): {', '.join(wanted) or 'all tests'}: "
-          f"{'failed ' + ', '.join(failed) if failed else 'pass'} ({secs:.0f} s)", flush=True)
+          f"{'failed ' + ', '.join(failed) + ': ' + check if failed else 'pass'} ({secs:.0f} s)",
+          flush=True)
     if failed:
         sys.exit("plant_bugs: the unplanted copy fails these tests; fix them first")
     results = []
@@ -221,9 +227,9 @@ def main():
             if not ok:
                 results.append((name, module, "BROKEN", log.strip().split("\n")[-1]))
             else:
-                failed, secs = run_tests(bdir, tests, a.keep_going)
+                failed, secs, check = run_tests(bdir, tests, a.keep_going)
                 results.append((name, module, "CAUGHT" if failed else "MISSED",
-                                f"by {', '.join(failed)}" if failed else
+                                f"by {', '.join(failed)}: {check}" if failed else
                                 f"ran {', '.join(tests) or 'all tests'}") + (secs,))
         finally:
             with open(target, "w") as f:

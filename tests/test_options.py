@@ -311,4 +311,22 @@ ok(os.path.exists(p("exp/c.png")) and open(p("exp/a.png"), "rb").read() == open(
    "--update=missing: the new c.png added, the failing a.png kept")
 r = run("compare", p("exp"), p("act"), "--update=changed")
 ok(open(p("exp/a.png"), "rb").read() == open(d5, "rb").read(), "--update=changed: a.png replaced")
+
+# compare.ini masks reach the image's edges: the last column and row differ
+os.makedirs(p("mexp"), exist_ok=True)
+os.makedirs(p("mact"), exist_ok=True)
+shutil.copy(base, p("mexp/m.png"))
+write_png("mact/m.png", CW, CH, lambda x, y: (x % 200 + (9 if x == CW - 1 or y == CH - 1 else 0),
+                                              y % 256, 100))
+for masks, want, what in (([], 1, "no mask: the last column and row (999 pixels) fail"),
+                          ([f"{CW - 10}, 0, 10, {CH}", f"0, {CH - 4}, {CW}, 4"], 0,
+                           "masks up to the right and bottom edges cover them"),
+                          ([f"{CW - 10}, 0, 9, {CH}", f"0, {CH - 4}, {CW}, 4"], 1,
+                           "a mask one column short of the edge leaves 360 pixels"),
+                          ([f"{CW - 10}, 0, 500, {CH}", f"0, {CH - 4}, {CW}, 400"], 0,
+                           "masks past the edges are clipped to them")):
+    with open(p("mexp/compare.ini"), "w") as f:
+        f.write("[m.png]\n" + "".join(f"mask = {m}\n" for m in masks))
+    r = run("compare", p("mexp"), p("mact"))
+    ok(r.returncode == want, f"compare.ini: {what} (exit {r.returncode}, want {want}) {err(r)[:100]}")
 done()

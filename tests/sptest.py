@@ -12,10 +12,12 @@ _count = _failed = 0
 
 
 def ok(cond, what):
-    """One TAP line; returns cond."""
+    """One TAP line (a description with newlines, such as a program's output,
+    is folded onto it: TAP reads one line per check); returns cond."""
     global _count, _failed
     _count += 1
     _failed += not cond
+    what = " | ".join(str(what).splitlines())
     print(f"{'' if cond else 'not '}ok {_count} - {what}", flush=True)
     return cond
 

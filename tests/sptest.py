@@ -22,6 +22,11 @@ def ok(cond, what):
     return cond
 
 
+def diag(text):
+    """A TAP comment: every line of text after '# '."""
+    print("\n".join(f"# {line}" for line in str(text).splitlines()), flush=True)
+
+
 def skip(what, why):
     """A TAP line for a check that cannot run here."""
     global _count

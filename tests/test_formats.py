@@ -15,7 +15,7 @@ import shutil
 import subprocess
 import sys
 
-from sptest import done, ok, runner
+from sptest import diag, done, ok, runner
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "formats"))
@@ -68,7 +68,7 @@ def sweep(name, measure, axes, *extra):
     r = run("sweep", CHAOTIC, "--measure", measure, *vary, "--csv", path(name + ".csv"), "-q",
             *extra)
     if r.returncode:
-        print(f"# {name}: {err(r)}")
+        diag(f"{name}: {err(r)}")
         return r.returncode, "", []
     lines = [line for line in read(name + ".csv").strip().split("\n") if not line.startswith("#")]
     return 0, lines[0], [[float(v) for v in line.split(",")] for line in lines[1:]]

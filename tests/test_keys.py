@@ -19,7 +19,7 @@ import subprocess
 import sys
 import zlib
 
-from sptest import done, model, need_scipy, ok, runner, sets, solve, start
+from sptest import diag, done, model, need_scipy, ok, runner, sets, solve, start
 
 need_scipy()
 import numpy as np  # noqa: E402
@@ -174,7 +174,7 @@ def frame(name, keys, at=30, extra=()):
     r = subprocess.run([exe, "render", path, "--frames", f"{at}:{at + 1}", "--format", "raw",
                         "-o", "-", "-q", *extra], capture_output=True, cwd=work)
     if r.returncode != 0 or len(r.stdout) != W * H * 4:
-        print(f"# {name}: exit {r.returncode} {r.stderr.decode(errors='replace')[-300:]}")
+        diag(f"{name}: exit {r.returncode} {r.stderr.decode(errors='replace')[-300:]}")
         return None
     return np.frombuffer(r.stdout, np.uint8).reshape(H, W, 4).astype(int)
 

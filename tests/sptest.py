@@ -1,8 +1,9 @@
 """springpend tests: what the Python tests share. TAP output (ok, skip,
 done), running the binary under test (runner), --set arguments (sets), and
 scipy or a skip (need_scipy), and the physics reference (model, start,
-solve: scipy's DOP853 on the Cartesian equations of sim.h). Python puts a script's own folder first on
-sys.path, so each test imports this with `from sptest import ...`."""
+solve: scipy's DOP853 on the Cartesian equations of sim.h). Python puts a
+script's own folder first on sys.path, so each test imports this with
+`from sptest import ...`."""
 import math
 import os
 import subprocess
@@ -12,8 +13,8 @@ _count = _failed = 0
 
 
 def ok(cond, what):
-    """One TAP line (a description with newlines, such as a program's output,
-    is folded onto it: TAP reads one line per check); returns cond."""
+    """One TAP line (a description that quotes a program's output keeps to
+    that line); returns cond."""
     global _count, _failed
     _count += 1
     _failed += not cond

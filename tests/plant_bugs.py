@@ -160,8 +160,11 @@ def build(build_dir):
 
 def run_tests(build_dir, tests, keep_going):
     """Runs the named meson tests; returns (names that failed, seconds)."""
-    cmd = ["meson", "test", "-C", build_dir, "--no-rebuild", f"--num-processes={JOBS}",
-           "--print-errorlogs"]
+    # --maxfail kills the tests still running beside the one that failed, and
+    # a test killed half-way can leave what it set up (test_output's tmpfs
+    # mount stayed, and failed every later run): one test at a time then.
+    cmd = ["meson", "test", "-C", build_dir, "--no-rebuild", "--print-errorlogs",
+           f"--num-processes={JOBS if keep_going else 1}"]
     if not keep_going:
         cmd.append("--maxfail=1")
     t0 = time.time()

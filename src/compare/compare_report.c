@@ -181,8 +181,10 @@ void sp_report_json_string(FILE *fp, const char *s)
             fputs("\\ufffd", fp);
         else if (ch == '"' || ch == '\\')
             fprintf(fp, "\\%c", ch);
-        else if (ch < 0x20)
+        else if (ch < 0x20 || ch == 0x7f)
             fprintf(fp, "\\u%04x", ch);
+        else if (n == 2 && ch == 0xC2 && (unsigned char)s[1] < 0xA0) /* C1: a terminal's */
+            fprintf(fp, "\\u%04x", (unsigned char)s[1]);
         else
             fwrite(s, 1, n, fp);
     }

@@ -186,14 +186,20 @@ d = fresh("tty")
 esc = "x\x1b]0;pwned\x07\x1b[31mred\x9b2J.png"
 png(os.path.join(d, "base", esc), level=10)
 png(os.path.join(d, "act", esc), level=200)
+forged = "n\nok   forged.png"
+png(os.path.join(d, "base", forged), level=10)
+png(os.path.join(d, "act", forged), level=200)
 os.mkfifo(os.path.join(d, "base", "\x1b[2Jfifo.png"))
 png(os.path.join(d, "act", "\x1b[2Jfifo.png"))
 r = subprocess.run([exe.encode(), b"compare", b"base", b"act"], capture_output=True, cwd=d,
                    timeout=30)
 out = r.stdout + r.stderr
 ok(r.returncode == 2 and b"\x1b" not in out and b"\x07" not in out and b"\x9b" not in out
-   and b"\\x1b" in r.stdout and b"\\x1b" in r.stderr,
-   f"names with terminal escapes are shown, not sent (stdout and stderr): {r.stdout[:160]!r}")
+   and b"\\x1b" in r.stdout and b"\\x1b" in r.stderr
+   and not any(line.startswith(b"ok   forged") for line in r.stdout.split(b"\n"))
+   and b"n\\nok   forged.png" in r.stdout,
+   f"names with terminal escapes or a newline are shown, not sent, and forge no line "
+   f"(stdout and stderr): {r.stdout[:200]!r}")
 r = subprocess.run([exe.encode(), b"compare", b"base", b"act", b"--json"], capture_output=True,
                    cwd=d, timeout=30)
 ok(b"\x1b" not in r.stdout and b"\xc2\x9b" not in r.stdout and b"\\u001b" in r.stdout

@@ -4,6 +4,7 @@ data's CSV headers as the README lists them; sweep's CSV columns as the
 README's table and src/sweep/sweep.h give them, rows in the grid's order
 (the first axis varies fastest) and lyapunov_half equal to lambda over T/2;
 every range check of `sweep --merge` (exit 2, FILE:LINE, nothing written);
+FILE:LINE with LF, CRLF and CR line ends;
 .part files created with O_EXCL: with the random part of the name forced
 (fixed_suffix.so: a fixed pid and clock), a symlink or a file already at the
 would-be .part name is left alone and the run writes a new name, and two runs
@@ -162,6 +163,16 @@ for what, parts in cases:
        and named, f"--merge refuses {what}: exit 2, the file named, nothing written "
        f"({r.returncode}: {err(r)[:160]})")
 
+# ---- FILE:LINE counts lines as a reader does, whatever ends them ----------
+lines = ["# a scene", "[pendulum]", "mass = 1", "", "stiffness = -2", "[video]", "fps = 0x1e"]
+for what, end in (("LF", "\n"), ("CRLF", "\r\n"), ("CR", "\r")):
+    with open(path(f"eol-{what}.ini"), "w", newline="") as f:
+        f.write(end.join(lines) + end)
+    r = run("data", path(f"eol-{what}.ini"), "-o", path("eol.csv"))
+    ok(r.returncode == 2 and f"eol-{what}.ini:5: pendulum.stiffness" in r.stderr and
+       f"eol-{what}.ini:7: video.fps" in r.stderr and not os.path.exists(path("eol.csv")),
+       f"a scene with {what} line ends: its errors at lines 5 and 7 ({err(r)[:160]})")
+
 # ---- .part files with O_EXCL, the random name forced -------------------------
 env = dict(os.environ, LD_PRELOAD=shim, SP_OPEN_LOG=path("open.log"),
            ASAN_OPTIONS=os.environ.get("ASAN_OPTIONS", "") + ":verify_asan_link_order=0")
@@ -192,14 +203,16 @@ ok(r.returncode == 0 and read("victim.txt") == "keep me\n" and os.path.islink(fi
    png == b"\x89PNG\r\n\x1a\n" and len(names) >= 2 and names[0] == first and names[1] != first,
    f"a symlink at the would-be .part name: not written through, left alone, another name "
    f"taken, the PNG written ({names[:2]}) {err(r)}")
-os.remove(first)
+if os.path.lexists(first):
+    os.remove(first)
 with open(first, "w") as f:
     f.write("someone else's part\n")
 r, names = forced(*still, path("a.png"))
 ok(r.returncode == 0 and open(first).read() == "someone else's part\n" and
    open(path("a.png"), "rb").read(8) == b"\x89PNG\r\n\x1a\n",
    f"a file at the would-be .part name: left as it was, the PNG written {err(r)}")
-os.remove(first)
+if os.path.lexists(first):
+    os.remove(first)
 # two runs at once, the same target, the same forced names
 vid = ["render", DEFAULT, "--size", "160x96", "--set", "video.duration=2", "--fps", "30", "-q",
        "-o", path("both.mp4")]

@@ -219,6 +219,9 @@ changed("colorbar", {"view.panels": "energy,phase", "view.colormap": "viridis",
 changed("hud", {"view.hud": "true"}, "the HUD's text")
 hud = frame("hud-1", {"view.hud": "true"})
 changed("font", {"view.hud": "true", "view.font_scale": 1.6}, "other text", ref_frame=hud)
+changed("font-family", {"view.hud": "true", "view.font": '"DejaVu Serif"'}, "serif text", ref_frame=hud)
+
+changed("font-size", {"view.hud": "true", "view.font_size": 20}, "larger text", ref_frame=hud)
 changed("strobe", {"view.strobe": 0.2}, "strobe images")
 changed("pendulum", {"view.pendulum": "false"}, "no spring and bob: fewer pixels off the background",
         lambda f: np.count_nonzero(np.any(f != f[1, 1], axis=2)) <

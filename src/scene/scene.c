@@ -17,6 +17,7 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
+#include "springpend/timeline.h"
 #include "decimal.h"
 #include "ini_lines.h"
 
@@ -166,6 +167,8 @@ static const struct key_info *find_key(const char *section, const char *name)
 
 static int section_known(const char *section)
 {
+    if (!strcmp(section, "timeline")) /* cues, not keys: timeline.c */
+        return 1;
     for (int i = 0; i < N_KEYS; i++)
         if (!strcmp(keys[i].section, section))
             return 1;
@@ -225,10 +228,11 @@ static void report_unknown(struct parse_ctx *c, int line, const char *section,
         }
         if (best)
             report(c, line, "unknown section [%s]; did you mean [%s]? "
-                   "(sections: pendulum, initial, integrator, pivot, video, view)", section, best);
+                   "(sections: pendulum, initial, integrator, pivot, video, view, ensemble, "
+                   "timeline)", section, best);
         else
             report(c, line, "unknown section [%s] (sections: pendulum, initial, "
-                   "integrator, pivot, video, view)", section);
+                   "integrator, pivot, video, view, ensemble, timeline)", section);
         return;
     }
     for (int i = 0; i < N_KEYS; i++) {
@@ -449,6 +453,13 @@ static int handle_pair(void *user, const char *section, const char *name,
 {
     struct parse_ctx *c = user;
     c->line_handled = 1;
+    if (!strcmp(section, "timeline")) {
+        const int n = sp_timeline_read(&c->scene->timeline, c->origin, c->line, name, value);
+        if (n < 0)
+            return 0; /* out of memory: inih stops */
+        c->errors += n;
+        return 1;
+    }
     const struct key_info *k = find_key(section, name);
     if (!k) {
         if (section[0] && !section_known(section))
@@ -582,7 +593,10 @@ static void apply_override(struct parse_ctx *c, const char *arg)
     const char *saved = c->origin;
     c->origin = origin;
     const struct key_info *k = find_key(section, name);
-    if (!k)
+    if (!strcmp(section, "timeline"))
+        report(c, 0, "the [timeline] is read from the scene file only; write the cue there "
+               "as '%s = %s'", name, eq + 1);
+    else if (!k)
         report_unknown(c, 0, section, name);
     else
         set_value(c, 0, k, eq + 1);
@@ -728,14 +742,22 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     ini_allow_inline_comments = true;
     ini_inline_comment_prefixes = "#;";
     int rc = ini_parse_stream(read_line, &c, handle_pair, &c);
-    if (rc == -2) {
+    if (rc == -2 || rc == -1) { /* -1: a timeline cue found no memory */
         report(&c, 0, "out of memory while parsing");
+        sp_scene_free(s);
         return SP_E_NOMEM;
     }
     for (int i = 0; i < n_overrides; i++)
         apply_override(&c, overrides[i]);
     if (!c.errors)
         validate_whole(&c);
+    /* once, here: sp_scene_set_number's copies (sweeps, ensembles) share it */
+    if (!c.errors && s->timeline) {
+        const int n = sp_timeline_plan(s->timeline, s);
+        c.errors += n < 0 ? 1 : n;
+    }
+    if (c.errors)
+        sp_scene_free(s);
     return c.errors ? SP_E_INPUT : 0;
 }
 
@@ -856,6 +878,11 @@ int sp_scene_load(struct sp_scene *s, const char *path,
     return ret;
 }
 
+void sp_scene_free(struct sp_scene *s)
+{
+    sp_timeline_destroy(&s->timeline);
+}
+
 int sp_scene_frame_count(const struct sp_scene *s)
 {
     return (int)lround(s->video.duration * s->video.fps / s->video.speed);
@@ -901,6 +928,15 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
             break;
         }
         used += (size_t)n;
+    }
+    /* the timeline: what the video shows changes with it */
+    for (int i = 0; s->timeline && i < s->timeline->n_cues; i++) {
+        static const char *const verbs[] = {"caption", "speed", "pause"};
+        const struct sp_cue *cue = &s->timeline->cues[i];
+        char *at = used < size ? buf + used : NULL;
+        size_t room = used < size ? size - used : 0;
+        used += (size_t)snprintf(at, room, "timeline.%d=%.17g %s %.17g %s\n", i, cue->t,
+                                 verbs[cue->kind], cue->value, cue->text);
     }
     return (int)used;
 }

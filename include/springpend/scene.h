@@ -123,7 +123,8 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
  * the keys stay. Safe on a scene without one. A failed parse frees it. */
 void sp_scene_free(struct sp_scene *s);
 
-/* Reads path and calls sp_scene_parse; the scene name is the file stem. */
+/* Reads path and calls sp_scene_parse; the scene name is the file stem.
+ * Whatever it returns, sp_scene_free(s) may follow. */
 int sp_scene_load(struct sp_scene *s, const char *path,
                   const char *const *overrides, int n_overrides);
 

@@ -68,6 +68,8 @@ struct sp_timeline {
     int n_cues;
     char *pool;                /* the cues' texts, owned */
     size_t pool_used, pool_cap;
+    double last_t;             /* the time on the last line read, s */
+    int last_line;             /* that line, 0 = none yet */
     /* Derived by sp_timeline_plan: */
     struct sp_clock_piece *pieces; /* n_pieces, in video time order, owned */
     int n_pieces;
@@ -97,10 +99,13 @@ void sp_timeline_destroy(struct sp_timeline **t);
 int sp_timeline_read(struct sp_timeline **tl, const char *origin, int line, const char *time,
                      const char *cue);
 
-/* Checks the cues against the scene ([video] duration) and builds the clock
- * and the band's schedule from [video] speed and [view] caption (the
- * caption in force from t = 0 until a caption cue). Problems are printed
- * as "ORIGIN:LINE: ..."; returns how many, or SP_E_NOMEM. */
+/* Checks the cues against the scene: every time within [video] duration.
+ * Problems are printed as "ORIGIN:LINE: ..."; returns how many. */
+int sp_timeline_check(const struct sp_timeline *tl, const struct sp_scene *s);
+
+/* Builds the clock and the band's schedule of a checked timeline from
+ * [video] speed and duration and [view] caption (the caption in force from
+ * t = 0 until a caption cue). 0 or SP_E_NOMEM (logged). */
 int sp_timeline_plan(struct sp_timeline *tl, const struct sp_scene *s);
 
 /* The scene's video: frames, and the simulated time of frame k. Without a

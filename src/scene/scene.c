@@ -752,10 +752,10 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     if (!c.errors)
         validate_whole(&c);
     /* once, here: sp_scene_set_number's copies (sweeps, ensembles) share it */
-    if (!c.errors && s->timeline) {
-        const int n = sp_timeline_plan(s->timeline, s);
-        c.errors += n < 0 ? 1 : n;
-    }
+    if (s->timeline)
+        c.errors += sp_timeline_check(s->timeline, s);
+    if (!c.errors && s->timeline && sp_timeline_plan(s->timeline, s))
+        c.errors++;
     if (c.errors)
         sp_scene_free(s);
     return c.errors ? SP_E_INPUT : 0;
@@ -858,6 +858,7 @@ int sp_scene_load(struct sp_scene *s, const char *path,
 {
     char *text;
     size_t size;
+    s->timeline = NULL; /* sp_scene_free is safe after any outcome */
     int ret = read_scene(path, &text, &size);
     if (ret)
         return ret;

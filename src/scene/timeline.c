@@ -93,12 +93,10 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
             return SP_E_NOMEM;
         snprintf(tl->origin, sizeof(tl->origin), "%s", origin);
     }
-    if (tl->n_cues && t < tl->cues[tl->n_cues - 1].t) {
-        report(origin, line, "[timeline] time %s comes before %.17g (line %d): times out of "
-               "order; list the cues in the order of their times", time,
-               tl->cues[tl->n_cues - 1].t, tl->cues[tl->n_cues - 1].line);
-        return 1;
-    }
+    /* in time order, checked against the line before whatever else it holds */
+    const double last_t = tl->last_t;
+    const int last_line = tl->last_line;
+    tl->last_t = t, tl->last_line = line;
     if (tl->n_cues >= SP_TIMELINE_MAX_CUES) {
         report(origin, line, "[timeline] has more than %d cues; at most %d are allowed",
                SP_TIMELINE_MAX_CUES, SP_TIMELINE_MAX_CUES);
@@ -162,6 +160,11 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
     if (tn >= SP_VIEW_TEXT_BYTES) {
         report(origin, line, "[timeline] %s is %zu bytes long; at most %d are allowed",
                kind == SP_CUE_CAPTION ? "the caption" : "the note", tn, SP_VIEW_TEXT_BYTES - 1);
+        return 1;
+    }
+    if (last_line && t < last_t) {
+        report(origin, line, "[timeline] time %s comes before %.17g (line %d): times out of "
+               "order; list the cues in the order of their times", time, last_t, last_line);
         return 1;
     }
     for (int i = tl->n_cues - 1; i >= 0 && tl->cues[i].t == t; i--)
@@ -334,12 +337,11 @@ static int build_band(struct sp_timeline *tl, const char *caption)
     return ret;
 }
 
-int sp_timeline_plan(struct sp_timeline *tl, const struct sp_scene *s)
+int sp_timeline_check(const struct sp_timeline *tl, const struct sp_scene *s)
 {
     int errors = 0;
     for (int i = 0; i < tl->n_cues; i++) {
-        struct sp_cue *c = &tl->cues[i];
-        c->text = tl->pool + c->text_at; /* the pool no longer moves */
+        const struct sp_cue *c = &tl->cues[i];
         if (c->t > s->video.duration) {
             report(tl->origin, c->line, "[timeline] time %.17g is beyond the end of the "
                    "video (video.duration = %g simulated s); allowed: 0 <= time <= %g",
@@ -347,8 +349,13 @@ int sp_timeline_plan(struct sp_timeline *tl, const struct sp_scene *s)
             errors++;
         }
     }
-    if (errors)
-        return errors;
+    return errors;
+}
+
+int sp_timeline_plan(struct sp_timeline *tl, const struct sp_scene *s)
+{
+    for (int i = 0; i < tl->n_cues; i++)
+        tl->cues[i].text = tl->pool + tl->cues[i].text_at; /* the pool no longer moves */
     free(tl->pieces); /* a second plan starts afresh */
     free(tl->band);
     tl->pieces = NULL, tl->band = NULL;

@@ -298,6 +298,10 @@ BAD = [
     ("3 = caption: x\n3 = caption: y\n", 6, "a second caption at 3 s"),
     ("3 = caption: " + " ".join(["words"] * 30) + "\n", 5, "too long for a 320x180 frame"),
     ("3 = pause 2: " + "W" * 60 + "\n", 5, "a word is wider than the frame"),
+    # libinih would end the text at ' #' or ' ;': refused unquoted, as title's
+    ("3 = caption: Run #3\n", 5, "' #' would start a comment here"),
+    ("3 = pause 2: a ;b\n", 5, "' ;' would start a comment here"),
+    ('3 = caption: "Run #3" and more\n', 5, "only a '#' or ';' comment may follow"),
 ]
 for i, (cues, line, what) in enumerate(BAD):
     path = os.path.join(work, f"bad{i}.ini")
@@ -313,6 +317,24 @@ for i, (cues, line, what) in enumerate(BAD):
 r = run("render", lesson, "--set", "timeline.3=speed 2", "-o", "set.mp4", *SMALL)
 ok(r.returncode == 2 and "[timeline] is read from the scene file" in r.stderr
    and not os.path.exists(os.path.join(work, "set.mp4")), "--set timeline.* is refused")
+# quoted texts are read whole, and comments may follow any cue
+path = os.path.join(work, "quoted.ini")
+with open(path, "w") as f:
+    f.write(BASE + '0 = caption: "Run #3; all of it"   # a comment\n2 = speed 0.5  ; slower\n'
+            '3 = pause 1   # no note\n4 = pause 2: "note #1"  # a comment\n[view]\npanels = none\n')
+if shutil.which("pdftotext"):
+    texts = []
+    for t in (1, 4):
+        r = run("still", path, "--at", str(t), "-o", f"quoted{t}.pdf", "--size", "640x360", "-q")
+        texts.append(" ".join(subprocess.run(["pdftotext", os.path.join(work, f"quoted{t}.pdf"), "-"],
+                                             capture_output=True, text=True).stdout.split())
+                     if r.returncode == 0 else r.stderr)
+    j = json.loads(run("info", path, "--json").stdout or "{}")
+    ok("Run #3; all of it" in texts[0] and "note #1" in texts[1] and "comment" not in " ".join(texts)
+       and abs(j.get("video_length", 0) - (2 + 0.5 + (40 - 2 - 0.375) / 0.5 + 3)) < 1e-9,
+       f"quoted texts are read whole, comments after cues ignored: {texts}, {j.get('video_length')}")
+else:
+    skip("quoted texts", "pdftotext is not installed")
 # the caption band's check follows the frame: what fits at 1280x720 does not at 320x180
 path = os.path.join(work, "fits.ini")
 with open(path, "w") as f:

@@ -141,7 +141,8 @@ struct parse_ctx {
     int line_handled;     /* inih called the handler for it */
     int key_line[N_KEYS]; /* where each key was set, 0 = not set */
     int errors;
-    char text_value[TEXT_LINE_BYTES]; /* a text key's whole value (read_line) */
+    char text_value[TEXT_LINE_BYTES]; /* a text key's or cue's whole value (read_line) */
+    int in_timeline;      /* read_line is in the [timeline] section */
 };
 
 static void report(struct parse_ctx *c, int line, const char *fmt, ...)
@@ -472,6 +473,8 @@ static int handle_pair(void *user, const char *section, const char *name,
     struct parse_ctx *c = user;
     c->line_handled = 1;
     if (!strcmp(section, "timeline")) {
+        if (!strcmp(value, TEXT_MARK))
+            value = c->text_value; /* read whole by read_line */
         const int n = sp_timeline_read(&c->scene->timeline, c->origin, c->line, name, value);
         if (n < 0)
             return 0; /* out of memory: inih stops */
@@ -573,28 +576,20 @@ static const struct key_info *text_key_line(const char *line, const char **value
  * the value. */
 static int text_value(struct parse_ctx *c, const struct key_info *k, const char *value)
 {
-    size_t n = strcspn(value, "\r\n");
-    while (n && (value[n - 1] == ' ' || value[n - 1] == '\t'))
-        n--;
-    const char *close = n > 1 && value[0] == '"' ? memrchr(value + 1, '"', n - 1) : NULL;
-    if (close) { /* quoted: a comment may follow the closing quote */
-        const char *rest = close + 1 + strspn(close + 1, " \t");
-        if (rest < value + n && *rest != '#' && *rest != ';') {
-            report(c, c->line, "%s.%s: only a '#' or ';' comment may follow the closing "
-                   "quote, not '%.*s'", k->section, k->name, (int)(value + n - rest), rest);
-            return -1;
-        }
-        n = (size_t)(close + 1 - value);
-    } else {
-        for (size_t i = 1; i < n; i++)
-            if ((value[i] == '#' || value[i] == ';') &&
-                (value[i - 1] == ' ' || value[i - 1] == '\t')) {
-                report(c, c->line, "%s.%s: ' %c' would start a comment here; to show it, "
-                       "write the text in double quotes (%s = \"Run %c3\"); a comment may "
-                       "follow the closing quote", k->section, k->name, value[i], k->name,
-                       value[i]);
-                return -1;
-            }
+    size_t n, at;
+    switch (sp_ini_text(value, &n, &at)) {
+    case SP_INI_TEXT_AFTER_QUOTE:
+        report(c, c->line, "%s.%s: only a '#' or ';' comment may follow the closing "
+               "quote, not '%.*s'", k->section, k->name, (int)(n - at), value + at);
+        return -1;
+    case SP_INI_TEXT_COMMENT:
+        report(c, c->line, "%s.%s: ' %c' would start a comment here; to show it, "
+               "write the text in double quotes (%s = \"Run %c3\"); a comment may "
+               "follow the closing quote", k->section, k->name, value[at], k->name,
+               value[at]);
+        return -1;
+    default:
+        break;
     }
     snprintf(c->text_value, sizeof(c->text_value), "%.*s", (int)n, value);
     return 0;
@@ -617,6 +612,20 @@ static char *read_line(char *str, int num, void *stream)
         return NULL;
     c->cursor = l.cursor, c->line = l.line;
     c->line_handled = 0;
+    const char *q = raw + strspn(raw, " \t");
+    if (!len && *q == '[') /* which section: inih does not say while reading */
+        c->in_timeline = !strncmp(q, "[timeline]", 10);
+    if (!len && c->in_timeline && *q && *q != '#' && *q != ';' && q[strcspn(q, "=:\r\n")] &&
+        strchr("=:", q[strcspn(q, "=:\r\n")])) {
+        /* a cue: its value whole, comments and quotes are timeline.c's to read
+         * by the text rule (sp_ini_text) */
+        const size_t k = strcspn(q, "=:");
+        value = q + k + 1 + strspn(q + k + 1, " \t");
+        snprintf(c->text_value, sizeof(c->text_value), "%.*s", (int)strcspn(value, "\r\n"), value);
+        snprintf(str, (size_t)num, "%.*s= " TEXT_MARK "\n", (int)(k < 64 ? k : 64), q);
+        c->line_has_content = 1;
+        return str;
+    }
     if (!len && (text = text_key_line(raw, &value))) {
         c->line_has_content = 1;
         if (!text_value(c, text, value))

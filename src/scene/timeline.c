@@ -10,6 +10,7 @@
 #include "springpend/scene.h"
 #include "springpend/timeline.h"
 #include "decimal.h"
+#include "ini_lines.h"
 
 #define E SP_TIMELINE_EASE
 #define H SP_TIMELINE_FADE
@@ -64,17 +65,6 @@ static long pool_add(struct sp_timeline *tl, const char *text, size_t n)
     return (long)(tl->pool_used - n - 1);
 }
 
-/* s without leading and trailing blanks, as [start, start + *n). */
-static const char *trim(const char *s, size_t *n)
-{
-    s += strspn(s, " \t");
-    size_t len = strlen(s);
-    while (len && (s[len - 1] == ' ' || s[len - 1] == '\t'))
-        len--;
-    *n = len;
-    return s;
-}
-
 int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, const char *time,
                      const char *cue)
 {
@@ -102,8 +92,9 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
                SP_TIMELINE_MAX_CUES, SP_TIMELINE_MAX_CUES);
         return 1;
     }
-    /* the verb: a word, then ':' (caption) or blanks and a number */
-    size_t vn = strcspn(cue, ": \t");
+    /* the verb: a word, then ':' (caption) or blanks and a number; the
+     * line comes whole (scene.c's read_line), comments and all */
+    size_t vn = strcspn(cue, ": \t#;");
     enum sp_cue_kind kind;
     if (vn == 7 && !strncmp(cue, "caption", 7))
         kind = SP_CUE_CAPTION;
@@ -115,29 +106,49 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
         report(origin, line, "[timeline] '%.*s' is not a cue; allowed: " VERBS, (int)vn, cue);
         return 1;
     }
-    const char *rest = cue + vn, *text = "";
+    const char *rest = cue + vn, *text = "", *comment = rest + strlen(rest);
     size_t tn = 0;
     char num[64];
-    if (kind == SP_CUE_CAPTION) {
-        if (*rest != ':') {
-            report(origin, line, "[timeline] caption needs a ':' before its text; write "
-                   "'caption: TEXT' ('caption:' alone clears the caption)");
+    for (const char *p = rest; *p; p++) /* where a comment would start, unquoted */
+        if ((*p == '#' || *p == ';') && p > cue && (p[-1] == ' ' || p[-1] == '\t')) {
+            comment = p;
+            break;
+        }
+    const char *colon = strchr(rest, ':');
+    if (kind == SP_CUE_CAPTION && colon != rest) {
+        report(origin, line, "[timeline] caption needs a ':' before its text; write "
+               "'caption: TEXT' ('caption:' alone clears the caption)");
+        return 1;
+    }
+    if (colon && colon < comment && kind != SP_CUE_SPEED) { /* the caption or the note */
+        text = colon + 1 + strspn(colon + 1, " \t");
+        size_t at;
+        const enum sp_ini_text how = text > colon + 1 && (*text == '#' || *text == ';')
+                                         ? SP_INI_TEXT_COMMENT : sp_ini_text(text, &tn, &at);
+        if (how == SP_INI_TEXT_COMMENT) {
+            report(origin, line, "[timeline] %s: ' %c' would start a comment here; to show it, "
+                   "write the text in double quotes (%s: \"Run %c3\"); a comment may follow "
+                   "the closing quote", kind == SP_CUE_CAPTION ? "caption" : "pause note",
+                   text > colon + 1 && (*text == '#' || *text == ';') ? *text : text[at],
+                   kind == SP_CUE_CAPTION ? "caption" : "pause 3", 
+                   text > colon + 1 && (*text == '#' || *text == ';') ? *text : text[at]);
             return 1;
         }
-        text = trim(rest + 1, &tn);
-        if (tn >= 2 && text[0] == '"' && text[tn - 1] == '"') /* optional quotes, as title's */
-            text++, tn -= 2;
-    } else {
-        size_t n;
-        const char *colon = strchr(rest, ':');
-        const char *v = trim(rest, &n);
-        if (kind == SP_CUE_PAUSE && colon) {
-            text = trim(colon + 1, &tn);
-            v = trim(rest, &n);
-            n = (size_t)(colon - v);
-            while (n && (v[n - 1] == ' ' || v[n - 1] == '\t'))
-                n--;
+        if (how == SP_INI_TEXT_AFTER_QUOTE) {
+            report(origin, line, "[timeline] %s: only a '#' or ';' comment may follow the "
+                   "closing quote, not '%.*s'", kind == SP_CUE_CAPTION ? "caption" : "pause note",
+                   (int)(tn - at), text + at);
+            return 1;
         }
+        if (tn >= 2 && text[0] == '"' && text[tn - 1] == '"') /* quotes, as title's */
+            text++, tn -= 2;
+    }
+    if (kind != SP_CUE_CAPTION) {
+        const char *end = colon && colon < comment && kind == SP_CUE_PAUSE ? colon : comment;
+        const char *v = rest + strspn(rest, " \t");
+        size_t n = end > v ? (size_t)(end - v) : 0;
+        while (n && (v[n - 1] == ' ' || v[n - 1] == '\t'))
+            n--;
         if (!n) {
             report(origin, line, "[timeline] %s needs a %s; write '%s'",
                    kind == SP_CUE_SPEED ? "speed" : "pause",

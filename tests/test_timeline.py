@@ -317,6 +317,14 @@ for i, (cues, line, what) in enumerate(BAD):
 r = run("render", lesson, "--set", "timeline.3=speed 2", "-o", "set.mp4", *SMALL)
 ok(r.returncode == 2 and "[timeline] is read from the scene file" in r.stderr
    and not os.path.exists(os.path.join(work, "set.mp4")), "--set timeline.* is refused")
+# a slow motion too long to render is refused with the timeline's length
+path = os.path.join(work, "long.ini")
+with open(path, "w") as f:
+    f.write(BASE + "1 = speed 0.0001\n")
+r = run("render", path, "-o", "long.mp4", "-q")
+ok(r.returncode == 2 and "the [timeline]'s speeds and pauses make the video" in r.stderr
+   and "at most 1000000 are allowed" in r.stderr and not os.path.exists(os.path.join(work, "long.mp4")),
+   f"a timeline whose video would exceed the frame limit is refused: {r.stderr.strip()[:200]}")
 # quoted texts are read whole, and comments may follow any cue
 path = os.path.join(work, "quoted.ini")
 with open(path, "w") as f:

@@ -204,11 +204,16 @@ static int run(int argc, char **argv, int still)
     if (!ret)
         ret = sp_cli_output_path(&o, &scene, still ? ".png" : ext, out, sizeof(out));
     /* a still too: its camera, trail and charts span the video's frames */
-    if (!ret && sp_timeline_length(&scene) * scene.video.fps > SP_MAX_VIDEO_FRAMES) {
-        sp_log_error("the video lasts %g s at %g fps%s: %.0f frames; at most %d are allowed "
-                     "in a video (about 4.6 hours at 60 fps)", sp_timeline_length(&scene),
-                     scene.video.fps, scene.timeline && scene.timeline->clocked
-                     ? " (the [timeline]'s speeds and pauses)" : " (video.duration / video.speed)",
+    const int clocked = scene.timeline && scene.timeline->clocked;
+    if (!ret && !clocked && sp_scene_frame_count(&scene) > SP_MAX_VIDEO_FRAMES) {
+        sp_log_error("video.duration * video.fps / video.speed = %d frames; at most %d are "
+                     "allowed in a video (about 4.6 hours at 60 fps)",
+                     sp_scene_frame_count(&scene), SP_MAX_VIDEO_FRAMES);
+        ret = SP_E_INPUT;
+    } else if (!ret && clocked && sp_timeline_length(&scene) * scene.video.fps > SP_MAX_VIDEO_FRAMES) {
+        sp_log_error("the [timeline]'s speeds and pauses make the video %g s long at %g fps: "
+                     "%.0f frames; at most %d are allowed in a video (about 4.6 hours at 60 fps)",
+                     sp_timeline_length(&scene), scene.video.fps,
                      round(sp_timeline_length(&scene) * scene.video.fps), SP_MAX_VIDEO_FRAMES);
         ret = SP_E_INPUT;
     }

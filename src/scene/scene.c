@@ -1074,10 +1074,11 @@ void sp_scene_print_keys(void)
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
     }
-    printf("  [timeline]  cues keyed by simulated time, in order (see 'springpend render --help'):\n"
-           "    TIME = caption: TEXT    the caption from TIME on ('caption:' alone clears it)\n"
-           "    TIME = speed S          ease to S simulated s per video s (0 < S <= 1e4)\n"
-           "    TIME = pause D[: NOTE]  hold TIME for D s of video (0 < D <= 3600), NOTE shown\n");
+    /* cues, not keys: indented past a key's column, so no reader takes them for keys */
+    printf("  [timeline] cues keyed by simulated time, in order (see 'springpend render --help'):\n"
+           "      TIME = caption: TEXT    the caption from TIME on ('caption:' alone clears it)\n"
+           "      TIME = speed S          ease to S simulated s per video s (0 < S <= 1e4)\n"
+           "      TIME = pause D[: NOTE]  hold TIME for D s of video (0 < D <= 3600), NOTE shown\n");
 }
 
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)

@@ -477,8 +477,8 @@ static int handle_pair(void *user, const char *section, const char *name,
             value = c->text_value; /* read whole by read_line */
         const int n = sp_timeline_read(&c->scene->timeline, c->origin, c->line, name, value);
         if (n < 0)
-            return 0; /* out of memory: inih stops */
-        c->errors += n;
+            report(c, c->line, "out of memory for the timeline");
+        c->errors += n < 0 ? 1 : n;
         return 1;
     }
     const struct key_info *k = find_key(section, name);
@@ -841,7 +841,7 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     ini_allow_inline_comments = true;
     ini_inline_comment_prefixes = "#;";
     int rc = ini_parse_stream(read_line, &c, handle_pair, &c);
-    if (rc == -2 || rc == -1) { /* -1: a timeline cue found no memory */
+    if (rc == -2) {
         report(&c, 0, "out of memory while parsing");
         sp_scene_free(s);
         return SP_E_NOMEM;

@@ -14,7 +14,8 @@
  * Keys: metric (reftest or rms), max_diff (0..255 levels), max_pixels (a
  * count up to 1e18, or P% with 0 <= P <= 100), tol (rms levels 0..255),
  * mask (integers, 0..1e9). Numbers are decimal: no hex, inf or nan. A [file]
- * section overrides [*], which overrides the command line. */
+ * section overrides [*]; an option on the command line is a limit neither
+ * loosens. */
 #ifndef SPRINGPEND_COMPARE_CONFIG_H
 #define SPRINGPEND_COMPARE_CONFIG_H
 
@@ -59,10 +60,13 @@ int sp_compare_rule_set(struct sp_compare_rule *rule, const char *name, const ch
  * allowed; returns 0, SP_E_INPUT or SP_E_NOMEM. */
 int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir);
 
-/* The options and masks for image `name`: base (the command line), then
- * [*], then [name]. masks points into cfg (or is NULL). */
+/* The options and masks for image `name`: the defaults, then [*], then
+ * [name], then the command line's rule `cli` as a limit: each option it set
+ * is kept where compare.ini's is looser (the stricter of the two applies;
+ * its metric is the metric), so the command line can tighten compare.ini
+ * but never loosen it. masks points into cfg (or is NULL). */
 void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
-                               const struct sp_compare_opts *base,
+                               const struct sp_compare_rule *cli,
                                struct sp_compare_opts *opts,
                                const struct sp_compare_mask **masks, int *n_masks,
                                const struct sp_compare_mask **star_masks, int *n_star_masks);

@@ -55,9 +55,14 @@ struct sp_compare_record {
     int frames, failed_frames, worst_frame;
     int listed[SP_COMPARE_MAX_FRAMES_LISTED]; /* first failing frames */
     double expected_fps, actual_fps; /* from the timestamps; 0 unknown */
-    /* Provenance (PNG text chunks) that differs. */
-    char notes[3][160];
+    /* Provenance (PNG text chunks) that differs, pass or fail. */
+    char notes[4][640];
     int n_notes;
+    double seconds;           /* wall time the comparison took, s */
+    /* --update=changed|all replaced the baseline: its bytes before (owned,
+     * free with sp_compare_report_free), so reports show what was replaced. */
+    unsigned char *before;
+    size_t before_size;
     struct sp_scene_change changes[SP_COMPARE_MAX_CHANGES];
     int n_changes, more_changes;
 };
@@ -66,6 +71,10 @@ struct sp_compare_report {
     struct sp_compare_record *records; /* owned */
     int n, cap;
     int interrupted;                   /* stopped by a signal */
+    char problem[512];                 /* what went wrong with the run as a whole
+                                          (no images at all); "" when nothing */
+    const char *suite;                 /* JUnit suite name prefix: the EXPECTED
+                                          folder's or file's name */
 };
 
 /* A new zeroed record at the end of rep (ssim -1, worst_frame -1); NULL
@@ -73,11 +82,19 @@ struct sp_compare_report {
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep);
 void sp_compare_report_free(struct sp_compare_report *rep);
 
-/* Counts of rep's records by verdict; a record whose baseline --update
- * changed counts as updated only. */
+/* Counts of rep's records. passed, failed and errors count verdicts as
+ * found (before any --update); compared counts the records whose images were
+ * compared (not the missing or unreadable); updated counts the baselines
+ * --update added, replaced or removed; unresolved counts the failures and
+ * errors --update did not resolve: the run passes when it is 0 (and the run
+ * was not interrupted and has no problem). */
 struct sp_compare_counts {
-    int compared, passed, failed, errors, updated;
+    int records, compared, passed, failed, errors, updated;
+    int unresolved_failed, unresolved_errors;
 };
+
+/* 1 when the run passes: nothing unresolved, not interrupted, no problem. */
+int sp_compare_report_passes(const struct sp_compare_report *rep);
 struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report *rep);
 
 /* Text: one line per record (failures only when quiet), notes, hints and

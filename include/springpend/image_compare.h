@@ -39,6 +39,11 @@ struct sp_compare_opts {
                             max_pixels is 0; 0 = default */
     double tol;          /* rms metric: largest rms, levels; SP_COMPARE_NONE
                             = 0 (identical) */
+    /* A limit on the pixels allowed that nothing loosens (the command line's
+     * --max-pixels under compare.ini): a count (SP_COMPARE_NONE = 0) or,
+     * when 0, a share cap_fraction; both 0 = no limit. */
+    long cap_pixels;
+    double cap_fraction;
 };
 
 struct sp_compare_result {

@@ -17,6 +17,7 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -45,7 +46,8 @@ static const char compare_usage[] =
     "default rule (reftest style): a pixel differs when a channel moves by more\n"
     "than --max-diff levels of 255; the images match when at most --max-pixels\n"
     "pixels differ. SSIM is printed beside the counts; it never decides.\n"
-    "A compare.ini beside the baselines sets tolerances and masks per image.\n"
+    "A compare.ini beside the baselines sets tolerances and masks per image;\n"
+    "options given here are limits it cannot loosen.\n"
     "\n"
     "options:\n"
     "  --max-diff N           levels a channel may move unnoticed (default 3)\n"
@@ -61,8 +63,9 @@ static const char compare_usage[] =
     "                         of the worst frame\n"
     "  --update=MODE          copy ACTUAL over EXPECTED: missing (new images),\n"
     "                         changed (and failing ones), all (and every image\n"
-    "                         whose file differs; deletes baselines that have no\n"
-    "                         actual image, listing them)\n"
+    "                         whose pixels differ; deletes baselines that have no\n"
+    "                         actual image, listing them). A baseline whose pixels\n"
+    "                         are unchanged is never rewritten\n"
     "  --report FILE.html     one self-contained HTML page: expected, actual and\n"
     "                         diff side by side, a flip control, failures first\n"
     "  --junit FILE.xml       JUnit XML, a test case per image\n"
@@ -208,27 +211,34 @@ static int fill_copy(FILE *fp, void *src)
     return err;
 }
 
-/* 1 when both regular files hold the same bytes. */
-static int same_bytes(const char *a, const char *b)
+/* Reads the regular file at path whole into *bytes (malloc'd): the bytes of
+ * a baseline about to be replaced, for the reports. Returns 0 or SP_E_*. */
+static int read_whole(const char *path, unsigned char **bytes, size_t *size)
 {
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    int same = fa && fb;
-    char x[65536], y[65536];
-    while (same) {
-        size_t n = fread(x, 1, sizeof(x), fa), m = fread(y, 1, sizeof(y), fb);
-        same = n == m && !memcmp(x, y, n);
-        if (!n)
-            break;
+    struct stat st;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC), err = 0;
+    *bytes = NULL, *size = 0;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        sp_log_error("%s: %s", path, fd < 0 ? strerror(errno) : "not a regular file");
+        err = SP_E_INPUT;
+    } else if (!(*bytes = malloc((size_t)st.st_size + 1))) {
+        sp_log_error("out of memory for a copy of %s", path);
+        err = SP_E_NOMEM;
+    } else {
+        ssize_t n;
+        while (*size < (size_t)st.st_size &&
+               (n = read(fd, *bytes + *size, (size_t)st.st_size - *size)) > 0)
+            *size += (size_t)n;
     }
-    if (fa)
-        fclose(fa);
-    if (fb)
-        fclose(fb);
-    return same;
+    if (fd >= 0)
+        close(fd);
+    return err;
 }
 
 /* --update: copies the actual image over (or to) target, or removes
- * target, as the mode says for what the record found. */
+ * target, as the mode says for what the record found. A baseline whose
+ * pixels equal the actual image's is never touched (its metadata may
+ * differ: another renderer, another version). */
 static void apply_update(const struct compare_cli *c, struct sp_compare_record *r,
                          const char *target)
 {
@@ -242,8 +252,8 @@ static void apply_update(const struct compare_cli *c, struct sp_compare_record *
         act = c->update == UPDATE_ALL ? SP_UPDATE_REMOVED : SP_UPDATE_NONE;
     else if (r->verdict == SP_VERDICT_FAIL && c->update >= UPDATE_CHANGED)
         act = SP_UPDATE_REPLACED;
-    else if (r->verdict == SP_VERDICT_PASS && c->update == UPDATE_ALL &&
-             !same_bytes(r->expected, r->actual))
+    else if (r->verdict == SP_VERDICT_PASS && c->update == UPDATE_ALL && !r->exact &&
+             !(r->frames > 0 && r->result.changed == 0)) /* a video's worst frame */
         act = SP_UPDATE_REPLACED;
     if (act == SP_UPDATE_NONE)
         return;
@@ -252,8 +262,14 @@ static void apply_update(const struct compare_cli *c, struct sp_compare_record *
             sp_log_error("%s: cannot remove: %s", target, strerror(errno));
             return;
         }
-    } else if (write_whole(target, fill_copy, r->actual) != 0) {
-        return;
+    } else {
+        if (act == SP_UPDATE_REPLACED && read_whole(target, &r->before, &r->before_size))
+            return;
+        if (write_whole(target, fill_copy, r->actual) != 0) {
+            free(r->before);
+            r->before = NULL;
+            return;
+        }
     }
     snprintf(r->expected, sizeof(r->expected), "%s", target);
     r->update = act;
@@ -286,11 +302,13 @@ static void note_provenance(struct sp_compare_record *r)
     static char se[16384], sa[16384]; /* canonical scene texts */
     for (size_t i = 0; i < sizeof(provenance_keys) / sizeof(provenance_keys[0]); i++) {
         char e[256], a[256];
+        if (r->n_notes == (int)(sizeof(r->notes) / sizeof(r->notes[0])))
+            break;
         if (sp_png_read_text(r->expected, provenance_keys[i][0], e, sizeof(e)) != 1 ||
             sp_png_read_text(r->actual, provenance_keys[i][0], a, sizeof(a)) != 1 ||
             !strcmp(e, a))
             continue;
-        snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: %.16s vs %.16s",
+        snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: %s vs %s",
                  provenance_keys[i][1], e, a);
     }
     if (sp_png_read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
@@ -315,6 +333,14 @@ static void note_provenance(struct sp_compare_record *r)
         }
         p += len + (p[len] == '\n');
     }
+}
+
+/* A monotonic clock, s. */
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* Marks r as not comparable. */
@@ -360,7 +386,7 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
     snprintf(r->actual, sizeof(r->actual), "%s", actual);
     /* compare.ini names images by the baseline's file name. */
     const char *slash = strrchr(expected, '/');
-    sp_compare_config_resolve(&c->cfg, slash ? slash + 1 : expected, &c->base.opts, &opts,
+    sp_compare_config_resolve(&c->cfg, slash ? slash + 1 : expected, &c->base, &opts,
                               &masks, &n_masks, &star_masks, &n_star_masks);
     r->metric = opts.metric;
     /* Both headers first: nothing is decoded that is too large. */
@@ -371,7 +397,6 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         /* The headers decide; only a diff image would need the pixels. */
         r->compared = r->size_mismatch = 1;
         r->verdict = SP_VERDICT_FAIL;
-        note_provenance(r);
         goto done;
     }
     if (sp_png_read(expected, &e) != 0) {
@@ -412,12 +437,14 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         r->ssim = sp_compare_ssim(&e, &a);
         r->verdict = r->result.pass ? SP_VERDICT_PASS : SP_VERDICT_FAIL;
     }
-    if (r->verdict == SP_VERDICT_FAIL) {
-        if (diff_path && write_whole(diff_path, fill_png, &(struct png_out){&d, diff_path}) == 0)
-            snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
-        note_provenance(r);
-    }
+    if (r->verdict == SP_VERDICT_FAIL && diff_path &&
+        write_whole(diff_path, fill_png, &(struct png_out){&d, diff_path}) == 0)
+        snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
 done:
+    /* What made the two images, pass or fail: a pass across renderers is
+     * worth knowing too. */
+    if (r->compared)
+        note_provenance(r);
     sp_image_free(&e);
     sp_image_free(&a);
     sp_image_free(&d);
@@ -460,7 +487,7 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
     snprintf(r->name, sizeof(r->name), "%s", actual);
     snprintf(r->expected, sizeof(r->expected), "%s", expected);
     snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    sp_compare_config_resolve(&c->cfg, slash ? slash + 1 : expected, &c->base.opts, &opts,
+    sp_compare_config_resolve(&c->cfg, slash ? slash + 1 : expected, &c->base, &opts,
                               &masks, &n_masks, &star_masks, &n_star_masks);
     r->metric = opts.metric;
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
@@ -530,12 +557,18 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
         goto done;
     }
     if (ge != ga) {
-        if (ge == 1)
-            ret = record_error(r, "%s ends after %d frames; %s has more", actual, r->frames,
-                               expected);
-        else
-            ret = record_error(r, "%s has more than the %d frames of %s", actual, r->frames,
-                               expected);
+        /* Count the rest of the longer one, so the message gives both. */
+        struct sp_video_reader *longer = ge == 1 ? ve : va;
+        struct sp_image f;
+        double t;
+        int more = 1, rd;
+        while ((rd = sp_video_reader_read(longer, &f, &t)) == 1 && !sp_signal_seen())
+            more++;
+        int ne = r->frames + (ge == 1 ? more : 0), na = r->frames + (ga == 1 ? more : 0);
+        const char *partly = rd < 0 ? "at least " : ""; /* the rest did not decode */
+        ret = record_error(r, "%s has %s%d frames, %s has %s%d; videos of different lengths "
+                           "never match", expected, ge == 1 ? partly : "", ne, actual,
+                           ga == 1 ? partly : "", na);
         sp_log_error("%s", r->error);
         goto done;
     }
@@ -618,9 +651,11 @@ static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
             if (cmp > 0)
                 add_hint(r, dir_e, dir_a);
         } else {
+            double t0 = now_s();
             if (c->diff)
                 snprintf(pd, sizeof(pd), "%s/%.*s.diff.png", c->diff, (int)strlen(name) - 4, name);
             compare_files(c, r, name, pe, pa, c->diff ? pd : NULL);
+            r->seconds = now_s() - t0;
         }
         if (c->update != UPDATE_NONE && cmp > 0 && mkdir(dir_e, 0777) != 0 && errno != EEXIST)
             sp_log_error("cannot create the baseline folder %s: %s", dir_e, strerror(errno));
@@ -629,7 +664,8 @@ static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
         j += cmp >= 0;
     }
     if (ne + na == 0) {
-        sp_log_error("no PNG files in %s or %s", dir_e, dir_a);
+        snprintf(rep->problem, sizeof(rep->problem), "no PNG files in %s or %s", dir_e, dir_a);
+        sp_log_error("%s", rep->problem);
         ret = SP_E_INPUT;
     }
 done:
@@ -683,7 +719,7 @@ int sp_cmd_compare(int argc, char **argv)
 {
     struct compare_cli c;
     struct sp_compare_report rep = {0};
-    char dir[PATH_MAX];
+    char dir[PATH_MAX], suite[PATH_MAX];
     int ret = parse_args(&c, argc, argv);
     if (ret)
         return ret > 0 ? 0 : ret;
@@ -702,8 +738,14 @@ int sp_cmd_compare(int argc, char **argv)
         return SP_E_INPUT;
     }
     snprintf(dir, sizeof(dir), "%s", e);
-    if ((ret = sp_compare_config_load(&c.cfg, de ? e : dirname(dir))) != 0)
+    const char *base_dir = de ? e : dirname(dir); /* the baselines' folder */
+    if ((ret = sp_compare_config_load(&c.cfg, base_dir)) != 0)
         return ret;
+    /* JUnit's suite: the baselines' folder, as given. */
+    snprintf(suite, sizeof(suite), "%s", base_dir);
+    for (size_t n = strlen(suite); n > 1 && suite[n - 1] == '/';)
+        suite[--n] = 0;
+    rep.suite = suite;
     if (de) {
         if (c.diff && !is_dir(c.diff) && mkdir(c.diff, 0777) != 0) {
             sp_log_error("--diff %s: cannot create the folder for the diff images: %s",
@@ -724,9 +766,13 @@ int sp_cmd_compare(int argc, char **argv)
             record_error(r, "no baseline %s", e);
             add_hint(r, e, a);
         } else if (is_png_path(e)) {
+            double t0 = now_s();
             compare_files(&c, r, a, e, a, c.diff);
+            r->seconds = now_s() - t0;
         } else {
+            double t0 = now_s();
             ret = compare_videos(&c, r, e, a, c.diff);
+            r->seconds = now_s() - t0;
             rep.interrupted = ret == SP_E_INTERRUPTED;
         }
         apply_update(&c, r, e);
@@ -742,7 +788,7 @@ int sp_cmd_compare(int argc, char **argv)
         ret = ret ? ret : SP_E_IO;
     if (!ret) {
         struct sp_compare_counts n = sp_compare_report_count(&rep);
-        ret = n.errors ? SP_E_INPUT : n.failed ? SP_E_MISMATCH : 0;
+        ret = n.unresolved_errors ? SP_E_INPUT : n.unresolved_failed ? SP_E_MISMATCH : 0;
     }
 done:
     if (fflush(stdout) != 0 || ferror(stdout)) {

@@ -262,8 +262,31 @@ static void apply(const struct sp_compare_rule *r, struct sp_compare_opts *o)
         o->tol = r->opts.tol;
 }
 
+/* A max_diff or tol as applied: NONE is 0, 0 the default. */
+static double level(double v, double dflt)
+{
+    return v == SP_COMPARE_NONE ? 0 : v > 0 ? v : dflt;
+}
+
+/* Keeps the command line's options (cli) where they are stricter than o's. */
+static void tighten(const struct sp_compare_rule *cli, struct sp_compare_opts *o)
+{
+    const struct sp_compare_opts *c = &cli->opts;
+    if (cli->set & SP_COMPARE_SET_METRIC)
+        o->metric = c->metric;
+    if ((cli->set & SP_COMPARE_SET_MAX_DIFF) &&
+        level(c->max_diff, SP_COMPARE_MAX_DIFF_DEFAULT) <
+            level(o->max_diff, SP_COMPARE_MAX_DIFF_DEFAULT))
+        o->max_diff = c->max_diff;
+    if ((cli->set & SP_COMPARE_SET_TOL) &&
+        level(c->tol, SP_COMPARE_TOL_DEFAULT) < level(o->tol, SP_COMPARE_TOL_DEFAULT))
+        o->tol = c->tol;
+    if (cli->set & SP_COMPARE_SET_MAX_PIXELS) /* a count or a share: judged per image */
+        o->cap_pixels = c->max_pixels, o->cap_fraction = c->max_fraction;
+}
+
 void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
-                               const struct sp_compare_opts *base,
+                               const struct sp_compare_rule *cli,
                                struct sp_compare_opts *opts,
                                const struct sp_compare_mask **masks, int *n_masks,
                                const struct sp_compare_mask **star_masks, int *n_star_masks)
@@ -275,13 +298,15 @@ void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
         else if (!strcmp(cfg->rules[i].name, name))
             own = &cfg->rules[i];
     }
-    *opts = *base;
+    memset(opts, 0, sizeof(*opts));
     if (own)
         own->used = 1;
+    apply(cli, opts); /* without compare.ini the command line decides */
     if (star)
         apply(star, opts);
     if (own)
         apply(own, opts);
+    tighten(cli, opts);
     *masks = own ? own->masks : NULL;
     *n_masks = own ? own->n_masks : 0;
     *star_masks = star ? star->masks : NULL;

@@ -28,6 +28,8 @@ struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
 
 void sp_compare_report_free(struct sp_compare_report *rep)
 {
+    for (int i = 0; i < rep->n; i++)
+        free(rep->records[i].before);
     free(rep->records);
     memset(rep, 0, sizeof(*rep));
 }
@@ -37,16 +39,43 @@ struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report 
     struct sp_compare_counts c = {0};
     for (int i = 0; i < rep->n; i++) {
         const struct sp_compare_record *r = &rep->records[i];
-        c.compared++;
-        if (r->update != SP_UPDATE_NONE) {
-            c.updated++;
-            continue;
-        }
+        int resolved = r->update != SP_UPDATE_NONE;
+        c.records++;
+        c.compared += r->compared;
         c.passed += r->verdict == SP_VERDICT_PASS;
         c.failed += r->verdict == SP_VERDICT_FAIL;
         c.errors += r->verdict == SP_VERDICT_ERROR;
+        c.updated += resolved;
+        c.unresolved_failed += r->verdict == SP_VERDICT_FAIL && !resolved;
+        c.unresolved_errors += r->verdict == SP_VERDICT_ERROR && !resolved;
     }
     return c;
+}
+
+int sp_compare_report_passes(const struct sp_compare_report *rep)
+{
+    struct sp_compare_counts c = sp_compare_report_count(rep);
+    return !c.unresolved_failed && !c.unresolved_errors && !rep->interrupted &&
+           !rep->problem[0];
+}
+
+/* The run's one-word status: ok, UPDATED (passes after --update changed
+ * baselines) or FAIL. */
+static const char *status_word(const struct sp_compare_report *rep)
+{
+    return !sp_compare_report_passes(rep) ? "FAIL"
+           : sp_compare_report_count(rep).updated ? "UPDATED" : "ok";
+}
+
+/* The summary line's figures (no newline). */
+static void summary_line(FILE *fp, const struct sp_compare_report *rep)
+{
+    struct sp_compare_counts c = sp_compare_report_count(rep);
+    fprintf(fp, "%s: %d compared, %d passed, %d failed, %d missing or unreadable, "
+            "%d updated", status_word(rep), c.compared, c.passed, c.failed, c.errors,
+            c.updated);
+    if (rep->problem[0])
+        fprintf(fp, "; %s", rep->problem);
 }
 
 static const char *update_word(enum sp_update_action u)
@@ -125,16 +154,20 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
                     r->changes[k].expected, r->changes[k].actual);
         if (r->more_changes)
             fprintf(fp, "     scene: and %d more keys\n", r->more_changes);
-        if (r->hint[0])
-            fprintf(fp, "     %s\n", r->hint);
         if (u)
             fprintf(fp, "%-8s %s\n", u, r->expected);
     }
-    struct sp_compare_counts c = sp_compare_report_count(rep);
-    if (summary)
-        fprintf(fp, "%s: %d compared, %d passed, %d failed, %d missing or unreadable, "
-                "%d updated\n", c.failed || c.errors || rep->interrupted ? "FAIL" : "ok",
-                c.compared, c.passed, c.failed, c.errors, c.updated);
+    /* Each hint once, not once per missing image. */
+    for (int i = 0, shown = -1; i < rep->n; i++) {
+        const struct sp_compare_record *r = &rep->records[i];
+        if (!r->hint[0] || r->update != SP_UPDATE_NONE ||
+            (shown >= 0 && !strcmp(rep->records[shown].hint, r->hint)))
+            continue;
+        fprintf(fp, "%s\n", r->hint);
+        shown = i;
+    }
+    if (summary || rep->problem[0])
+        summary_line(fp, rep), fputc('\n', fp);
     if (summary && rep->interrupted)
         fprintf(fp, "interrupted after %d images\n", rep->n);
 }
@@ -228,6 +261,7 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
         fputs(",\n     \"video\": null", fp);
     }
     fputs(", \"diff\": ", fp), json_maybe(fp, r->diff);
+    fprintf(fp, ", \"seconds\": %.6f", r->seconds);
     fputs(", \"notes\": [", fp);
     for (int k = 0; k < r->n_notes; k++)
         fputs(k ? ", " : "", fp), sp_report_json_string(fp, r->notes[k]);
@@ -246,11 +280,14 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
 {
     struct sp_compare_counts c = sp_compare_report_count(rep);
     fprintf(fp, "{\"schema\": \"springpend-compare/1\", \"pass\": %s, \"interrupted\": %s,\n"
-            " \"counts\": {\"compared\": %d, \"passed\": %d, \"failed\": %d, \"errors\": %d, "
-            "\"updated\": %d},\n \"results\": [\n",
-            c.failed || c.errors || rep->interrupted ? "false" : "true",
-            rep->interrupted ? "true" : "false", c.compared, c.passed, c.failed, c.errors,
-            c.updated);
+            " \"problem\": ", sp_compare_report_passes(rep) ? "true" : "false",
+            rep->interrupted ? "true" : "false");
+    json_maybe(fp, rep->problem);
+    fprintf(fp, ",\n \"counts\": {\"images\": %d, \"compared\": %d, \"passed\": %d, "
+            "\"failed\": %d, \"errors\": %d, \"updated\": %d, \"unresolved\": %d},\n"
+            " \"results\": [\n",
+            c.records, c.compared, c.passed, c.failed, c.errors, c.updated,
+            c.unresolved_failed + c.unresolved_errors);
     for (int i = 0; i < rep->n; i++) {
         json_record(fp, &rep->records[i]);
         fputs(i + 1 < rep->n ? ",\n" : "\n", fp);
@@ -302,66 +339,145 @@ static void record_line(const struct sp_compare_record *r, char *buf, size_t siz
     buf[size - 1] = 0;
 }
 
+/* The folder part of a record's name ("" for a name without '/'). */
+static int folder_len(const struct sp_compare_record *r)
+{
+    const char *slash = strrchr(r->name, '/');
+    return slash ? (int)(slash - r->name) : 0;
+}
+
+/* 1 when records a and b belong to the same JUnit suite (folder). */
+static int same_suite(const struct sp_compare_record *a, const struct sp_compare_record *b)
+{
+    int n = folder_len(a);
+    return n == folder_len(b) && !strncmp(a->name, b->name, (size_t)n);
+}
+
+/* A suite's name: rep's suite (the EXPECTED folder), then the subfolder. */
+static void suite_name(FILE *fp, const struct sp_compare_report *rep,
+                       const struct sp_compare_record *r)
+{
+    char name[4096 + 300];
+    int n = folder_len(r);
+    snprintf(name, sizeof(name), "%s%s%.*s", rep->suite ? rep->suite : "springpend compare",
+             n ? "/" : "", n, r->name);
+    xml_string(fp, name);
+}
+
+static void junit_case(FILE *fp, const struct sp_compare_report *rep,
+                       const struct sp_compare_record *r)
+{
+    char line[4096];
+    const char *u = update_word(r->update);
+    record_line(r, line, sizeof(line));
+    fputs("    <testcase classname=\"", fp);
+    suite_name(fp, rep, r);
+    fputs("\" name=\"", fp);
+    xml_string(fp, r->name + folder_len(r) + (folder_len(r) > 0));
+    fprintf(fp, "\" time=\"%.6f\">\n", r->seconds);
+    if (r->verdict != SP_VERDICT_PASS && r->update == SP_UPDATE_NONE) {
+        const char *tag = r->verdict == SP_VERDICT_FAIL ? "failure" : "error";
+        fprintf(fp, "      <%s message=\"", tag);
+        xml_string(fp, line);
+        fprintf(fp, "\" type=\"%s\">", r->size_mismatch ? "size" : tag);
+        xml_string(fp, line);
+        if (r->hint[0])
+            fputs("\n", fp), xml_string(fp, r->hint);
+        fprintf(fp, "</%s>\n", tag);
+    }
+    fputs("      <system-out>", fp);
+    if (u) { /* what --update did, first: a reader sees why a failure passed */
+        fprintf(fp, "%s baseline ", u);
+        xml_string(fp, r->expected);
+        fprintf(fp, " (verdict before the update: %s)\n", verdict_word(r->verdict));
+    }
+    xml_string(fp, line);
+    if (r->diff[0]) /* GitLab and Jenkins attach this file */
+        fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff), fputs("]]", fp);
+    fputs("</system-out>\n    </testcase>\n", fp);
+}
+
 void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep)
 {
     struct sp_compare_counts c = sp_compare_report_count(rep);
-    char line[2048];
-    fprintf(fp, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-            "<testsuites name=\"springpend compare\" tests=\"%d\" failures=\"%d\" "
-            "errors=\"%d\">\n"
-            "  <testsuite name=\"springpend compare\" tests=\"%d\" failures=\"%d\" "
-            "errors=\"%d\" skipped=\"0\">\n",
-            c.compared, c.failed, c.errors, c.compared, c.failed, c.errors);
-    for (int i = 0; i < rep->n; i++) {
-        const struct sp_compare_record *r = &rep->records[i];
-        record_line(r, line, sizeof(line));
-        fputs("    <testcase classname=\"springpend.compare\" name=\"", fp);
-        xml_string(fp, r->name);
-        fputs("\">\n", fp);
-        if (r->verdict != SP_VERDICT_PASS && r->update == SP_UPDATE_NONE) {
-            const char *tag = r->verdict == SP_VERDICT_FAIL ? "failure" : "error";
-            fprintf(fp, "      <%s message=\"", tag);
-            xml_string(fp, line);
-            fprintf(fp, "\" type=\"%s\">", r->size_mismatch ? "size" : tag);
-            xml_string(fp, line);
-            if (r->hint[0])
-                fputs("\n", fp), xml_string(fp, r->hint);
-            fprintf(fp, "</%s>\n", tag);
-        }
-        fputs("      <system-out>", fp);
-        xml_string(fp, line);
-        if (r->diff[0]) /* GitLab and Jenkins attach this file */
-            fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff), fputs("]]", fp);
-        fputs("</system-out>\n    </testcase>\n", fp);
+    double total = 0;
+    for (int i = 0; i < rep->n; i++)
+        total += rep->records[i].seconds;
+    fputs("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"", fp);
+    xml_string(fp, rep->suite ? rep->suite : "springpend compare");
+    fprintf(fp, "\" tests=\"%d\" failures=\"%d\" errors=\"%d\" time=\"%.6f\">\n",
+            c.records + !!rep->problem[0], c.unresolved_failed,
+            c.unresolved_errors + !!rep->problem[0], total);
+    if (rep->problem[0]) { /* no images at all: an error a test reporter shows */
+        fputs("  <testsuite name=\"", fp);
+        xml_string(fp, rep->suite ? rep->suite : "springpend compare");
+        fputs("\" tests=\"1\" failures=\"0\" errors=\"1\" skipped=\"0\" time=\"0\">\n"
+              "    <testcase classname=\"springpend.compare\" name=\"images\" time=\"0\">\n"
+              "      <error type=\"error\" message=\"", fp);
+        xml_string(fp, rep->problem);
+        fputs("\"/>\n    </testcase>\n  </testsuite>\n", fp);
     }
-    fputs("  </testsuite>\n</testsuites>\n", fp);
+    /* A suite per folder, in the order the folders first appear. */
+    for (int i = 0; i < rep->n; i++) {
+        const struct sp_compare_record *first = &rep->records[i];
+        int seen = 0, tests = 0, failures = 0, errors = 0;
+        double t = 0;
+        for (int k = 0; k < i && !seen; k++)
+            seen = same_suite(&rep->records[k], first);
+        if (seen)
+            continue;
+        for (int k = i; k < rep->n; k++) {
+            const struct sp_compare_record *r = &rep->records[k];
+            if (!same_suite(r, first))
+                continue;
+            tests++, t += r->seconds;
+            failures += r->verdict == SP_VERDICT_FAIL && r->update == SP_UPDATE_NONE;
+            errors += r->verdict == SP_VERDICT_ERROR && r->update == SP_UPDATE_NONE;
+        }
+        fputs("  <testsuite name=\"", fp);
+        suite_name(fp, rep, first);
+        fprintf(fp, "\" tests=\"%d\" failures=\"%d\" errors=\"%d\" skipped=\"0\" "
+                "time=\"%.6f\">\n", tests, failures, errors, t);
+        for (int k = i; k < rep->n; k++)
+            if (same_suite(&rep->records[k], first))
+                junit_case(fp, rep, &rep->records[k]);
+        fputs("  </testsuite>\n", fp);
+    }
+    fputs("</testsuites>\n", fp);
+}
+
+/* Writes n bytes as base64. */
+static void base64(FILE *fp, const unsigned char *in, size_t n)
+{
+    static const char b64[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    char out[4 * 1024];
+    size_t o = 0;
+    for (size_t i = 0; i < n; i += 3) {
+        unsigned v = (unsigned)in[i] << 16 | (i + 1 < n ? in[i + 1] << 8 : 0) |
+                     (i + 2 < n ? in[i + 2] : 0);
+        out[o++] = b64[v >> 18 & 63];
+        out[o++] = b64[v >> 12 & 63];
+        out[o++] = i + 1 < n ? b64[v >> 6 & 63] : '=';
+        out[o++] = i + 2 < n ? b64[v & 63] : '=';
+        if (o == sizeof(out))
+            fwrite(out, 1, o, fp), o = 0;
+    }
+    fwrite(out, 1, o, fp);
 }
 
 /* Writes path's bytes as a data: URL (base64), or nothing when it cannot
  * be read. Returns 0, or SP_E_NOMEM. */
 static int data_url(FILE *fp, const char *path)
 {
-    static const char b64[] =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     unsigned char in[3 * 1024];
-    char out[4 * 1024];
     size_t n;
     FILE *f = path[0] ? fopen(path, "rb") : NULL;
     if (!f)
         return 0;
     fputs("data:image/png;base64,", fp);
-    while ((n = fread(in, 1, sizeof(in), f)) > 0) {
-        size_t o = 0;
-        for (size_t i = 0; i < n; i += 3) {
-            unsigned v = (unsigned)in[i] << 16 | (i + 1 < n ? in[i + 1] << 8 : 0) |
-                         (i + 2 < n ? in[i + 2] : 0);
-            out[o++] = b64[v >> 18 & 63];
-            out[o++] = b64[v >> 12 & 63];
-            out[o++] = i + 1 < n ? b64[v >> 6 & 63] : '=';
-            out[o++] = i + 2 < n ? b64[v & 63] : '=';
-        }
-        fwrite(out, 1, o, fp);
-    }
+    while ((n = fread(in, 1, sizeof(in), f)) > 0)
+        base64(fp, in, n);
     fclose(f);
     return 0;
 }
@@ -372,9 +488,19 @@ static int row_rank(const struct sp_compare_record *r)
     return r->verdict == SP_VERDICT_ERROR ? 0 : r->verdict == SP_VERDICT_FAIL ? 1 : 2;
 }
 
-static void html_image(FILE *fp, const char *cls, const char *path)
+/* An image cell: path's image, or bytes (a replaced baseline's, from
+ * memory) when not NULL. */
+static void html_image(FILE *fp, const char *cls, const char *path, const unsigned char *bytes,
+                       size_t size)
 {
     size_t n = strlen(path);
+    if (bytes) {
+        fprintf(fp, "<td class=\"%s\"><img alt=\"%s\" src=\"data:image/png;base64,", cls,
+                cls);
+        base64(fp, bytes, size);
+        fputs("\"><div class=\"replaced\">replaced by the actual image</div></td>", fp);
+        return;
+    }
     if (!path[0]) {
         fprintf(fp, "<td class=\"%s none\">none</td>", cls);
         return;
@@ -394,8 +520,7 @@ static void html_image(FILE *fp, const char *cls, const char *path)
 
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
 {
-    struct sp_compare_counts c = sp_compare_report_count(rep);
-    char line[2048];
+    char line[4096];
     fputs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
           "<title>springpend compare</title>\n<style>\n"
           "body{font:14px/1.4 sans-serif;margin:1em;background:#fafafa;color:#222}\n"
@@ -404,12 +529,20 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           "img{max-width:280px;image-rendering:pixelated;display:block;background:"
           "repeating-conic-gradient(#ddd 0 25%,#fff 0 50%) 0 0/16px 16px}\n"
           ".v-fail{background:#fde0e0}.v-error{background:#fff0c0}.v-pass{background:#e4f6e4}\n"
+          ".update,.replaced{font-weight:bold;color:#a04000}\n"
           ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;font-size:12px;word-break:break-word}.none{color:#999}\n"
           "</style></head><body>\n<h1>springpend compare</h1>\n", fp);
-    fprintf(fp, "<p id=\"summary\">%s: %d compared, %d passed, %d failed, %d missing or "
-            "unreadable, %d updated</p>\n",
-            c.failed || c.errors ? "FAIL" : "ok", c.compared, c.passed, c.failed, c.errors,
-            c.updated);
+    fputs("<p id=\"summary\">", fp);
+    {
+        char line[1024];
+        FILE *m = fmemopen(line, sizeof(line), "w");
+        line[0] = 0;
+        if (m)
+            summary_line(m, rep), fclose(m);
+        line[sizeof(line) - 1] = 0;
+        xml_string(fp, line);
+    }
+    fputs("</p>\n", fp);
     fputs("<table>\n<tr><th>image, verdict, figures</th><th>expected</th><th>actual</th><th>diff</th>"
           "<th>flip</th></tr>\n", fp);
     for (int rank = 0; rank < 3; rank++)
@@ -422,13 +555,18 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
                     verdict_word(r->verdict));
             xml_string(fp, r->name);
             fprintf(fp, "</div><div class=\"verdict\">%s</div>", verdict_word(r->verdict));
+            if (update_word(r->update)) {
+                fprintf(fp, "<div class=\"update\">%s: ", update_word(r->update));
+                xml_string(fp, r->expected);
+                fputs("</div>", fp);
+            }
             xml_string(fp, line);
             if (r->hint[0])
                 fputs("<br>", fp), xml_string(fp, r->hint);
             fputs("</td>", fp);
-            html_image(fp, "expected", r->expected);
-            html_image(fp, "actual", r->actual);
-            html_image(fp, "diff", r->diff);
+            html_image(fp, "expected", r->expected, r->before, r->before_size);
+            html_image(fp, "actual", r->actual, NULL, 0);
+            html_image(fp, "diff", r->diff, NULL, 0);
             if (r->expected[0] && r->actual[0] && r->frames == 0)
                 fputs("<td class=\"flipcell\"><button class=\"flip\" type=\"button\">"
                       "show expected</button><img class=\"flipimg\" alt=\"actual\" src=\"\">"

@@ -23,6 +23,12 @@ static void resolve(const struct sp_compare_opts *o, long pixels, struct sp_comp
     else
         res->allowed = (long)floor(
             (o->max_fraction > 0 ? o->max_fraction : SP_COMPARE_MAX_FRACTION_DEFAULT) * pixels);
+    if (o->cap_pixels || o->cap_fraction > 0) {
+        long cap = o->cap_pixels == SP_COMPARE_NONE ? 0
+                   : o->cap_pixels > 0 ? o->cap_pixels
+                                       : (long)floor(o->cap_fraction * pixels);
+        res->allowed = cap < res->allowed ? cap : res->allowed;
+    }
     res->tol = o->tol == SP_COMPARE_NONE ? 0 : o->tol > 0 ? o->tol : SP_COMPARE_TOL_DEFAULT;
 }
 

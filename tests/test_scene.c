@@ -89,6 +89,9 @@ static void test_rejects(void)
         "[view]\npanels = r, foo\n", "[view]\npanels = none, r\n", "[view]\ntheme = blue\n",
         "[view]\nbackground = #12345\n", "[view]\nhud = maybe\n", "[view]\ntrail = some\n",
         "[view]\ncolormap = jet\n", "[view]\nstrobe = -1\n",
+        /* empty entries in a list, as ",,," is */
+        "[view]\npanels = r,,theta\n", "[view]\npanels = r, ,theta\n", "[view]\npanels = r,\n",
+        "[view]\npanels = ,,,\n", "[view]\npanels = ,r\n",
     };
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
         struct sp_scene s;
@@ -128,8 +131,45 @@ static void test_text(void)
               "a short buffer is truncated and the full length returned");
 }
 
+/* Titles and captions are never cut silently: inih would end them at ' #'
+ * or ' ;' (an inline comment, as after a number). Quoted text is whole;
+ * unquoted text with ' #' or ' ;' is refused. One length rule holds for a
+ * scene line and for --set. */
+static void test_whole_text(void)
+{
+    struct sp_scene s;
+    sp_tap_ok(parse("[view]\ntitle = \"Run #3 ; final\"  # a comment\n"
+                    "caption = \"  a ; b # c \"\n", &s) == 0 &&
+              !strcmp(s.view.title, "Run #3 ; final") && !strcmp(s.view.caption, "  a ; b # c "),
+              "quoted title and caption keep ' #' and ' ;' (title '%s', caption '%s')",
+              s.view.title, s.view.caption);
+    sp_tap_ok(parse("[view]\ntitle: #1 run\n[pendulum]\nmass = 2 # kg\n", &s) == 0 &&
+              !strcmp(s.view.title, "#1 run") && s.pendulum.mass == 2,
+              "a title that starts with '#' is text; a number's inline comment still goes");
+    sp_tap_ok(parse("[view]\ntitle = Run #3\n", &s) == SP_E_INPUT &&
+              parse("[view]\ncaption = a ; b\n", &s) == SP_E_INPUT &&
+              parse("[view]\ntitle = \"Run\" 3\n", &s) == SP_E_INPUT,
+              "unquoted ' #' or ' ;' in a title or caption, and text after the quotes, are refused");
+    char text[1024], set[1024];
+    for (int n = SP_VIEW_TEXT_BYTES - 1; n <= SP_VIEW_TEXT_BYTES; n++) {
+        const int want = n < SP_VIEW_TEXT_BYTES ? 0 : SP_E_INPUT;
+        snprintf(text, sizeof(text), "[view]\ntitle = %0*d\n", n, 0);
+        snprintf(set, sizeof(set), "view.title=%0*d", n, 0);
+        const char *ov[] = {set};
+        struct sp_scene t;
+        sp_scene_defaults(&t);
+        sp_tap_ok(parse(text, &s) == want && sp_scene_parse(&t, "# --set only\n", "t.ini", ov, 1) == want &&
+                  (want || (strlen(s.view.title) == (size_t)n && !strcmp(s.view.title, t.view.title))),
+                  "a %d-byte title is %s in a scene line and in --set alike", n,
+                  want ? "refused" : "accepted");
+    }
+    snprintf(text, sizeof(text), "[view]\ncaption = %0*d\n", 900, 0);
+    sp_tap_ok(parse(text, &s) == SP_E_INPUT, "a caption far beyond the limit is refused");
+}
+
 int main(int argc, char **argv)
 {
+    test_whole_text();
     test_defaults();
     test_view();
     test_text();

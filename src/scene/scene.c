@@ -118,6 +118,18 @@ const char *sp_scene_preset_name(const struct sp_scene *s)
                ? preset_names[s->video.preset] : NULL;
 }
 
+/* A text line (view.title, view.caption) is read by read_line, not by
+ * inih, so that nothing of the text is cut silently: inih would end the
+ * value at ' #' or ' ;' (an inline comment). Text in double quotes is taken
+ * whole, quotes removed, and may be followed by a comment; text without
+ * quotes that holds ' #' or ' ;' is refused (was it a comment or text?).
+ * Its length is held to the text rule (SP_VIEW_TEXT_BYTES), the same for a
+ * scene line as for --set, not to inih's line buffer. A line longer than
+ * TEXT_LINE_BYTES cannot hold an allowed value (name, '=', quotes, blanks
+ * and a short comment fit in the rest). */
+#define TEXT_LINE_BYTES (SP_VIEW_TEXT_BYTES + 256)
+#define TEXT_MARK "\x02" /* the value inih sees for a text key: take text_value */
+
 /* Parser state shared by the inih reader and handler. */
 struct parse_ctx {
     struct sp_scene *scene;
@@ -128,6 +140,7 @@ struct parse_ctx {
     int line_handled;     /* inih called the handler for it */
     int key_line[N_KEYS]; /* where each key was set, 0 = not set */
     int errors;
+    char text_value[TEXT_LINE_BYTES]; /* a text key's whole value (read_line) */
 };
 
 static void report(struct parse_ctx *c, int line, const char *fmt, ...)
@@ -312,7 +325,15 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             }
             bits |= panel_bits[i];
             w += n;
-            w += strspn(w, ", ");
+            const size_t sep = strspn(w, ", ");
+            const char *comma = memchr(w, ',', sep);
+            if (comma && (memchr(comma + 1, ',', sep - (size_t)(comma + 1 - w)) || !w[sep])) {
+                report(c, line, "%s.%s = '%s' has an empty entry; give a comma-separated "
+                       "list of panel names, one between each two commas", k->section,
+                       k->name, value);
+                return 1;
+            }
+            w += sep;
         }
         *(unsigned *)p = bits;
         return 1;
@@ -381,9 +402,6 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         }
         memcpy(p, value, n);
         p[n] = 0;
-        for (char *q = p; *q; q++) /* a '#' kept from the comment stripper */
-            if (*q == COLOUR_MARK)
-                *q = '#';
         return 1;
     }
     default:
@@ -467,6 +485,8 @@ static int handle_pair(void *user, const char *section, const char *name,
         return 1;
     }
     c->key_line[idx] = c->line;
+    if (k->kind == KEY_TEXT && !strcmp(value, TEXT_MARK))
+        value = c->text_value; /* read whole by read_line */
     set_value(c, c->line, k, value);
     return 1;
 }
@@ -517,28 +537,98 @@ static void protect_colour(char *line)
         v[0] = COLOUR_MARK;
 }
 
+/* The [view] text key that `line` sets ("  title = ..."), or NULL. Its
+ * value starts at *value. Any section: handle_pair says when the key is not
+ * in its section. */
+static const struct key_info *text_key_line(const char *line, const char **value)
+{
+    line += strspn(line, " \t");
+    for (int i = 0; i < N_KEYS; i++) {
+        const size_t n = strlen(keys[i].name);
+        if (keys[i].kind != KEY_TEXT || strcmp(keys[i].section, "view") ||
+            strncmp(line, keys[i].name, n))
+            continue;
+        const char *q = line + n + strspn(line + n, " \t");
+        if (*q != '=' && *q != ':')
+            continue;
+        *value = q + 1 + strspn(q + 1, " \t");
+        return &keys[i];
+    }
+    return NULL;
+}
+
+/* Keeps the text of a text line whose value starts at `value` in
+ * c->text_value (see TEXT_LINE_BYTES). Returns 0, or -1 when it reported
+ * the value. */
+static int text_value(struct parse_ctx *c, const struct key_info *k, const char *value)
+{
+    size_t n = strcspn(value, "\r\n");
+    while (n && (value[n - 1] == ' ' || value[n - 1] == '\t'))
+        n--;
+    const char *close = n > 1 && value[0] == '"' ? memrchr(value + 1, '"', n - 1) : NULL;
+    if (close) { /* quoted: a comment may follow the closing quote */
+        const char *rest = close + 1 + strspn(close + 1, " \t");
+        if (rest < value + n && *rest != '#' && *rest != ';') {
+            report(c, c->line, "%s.%s: only a '#' or ';' comment may follow the closing "
+                   "quote, not '%.*s'", k->section, k->name, (int)(value + n - rest), rest);
+            return -1;
+        }
+        n = (size_t)(close + 1 - value);
+    } else {
+        for (size_t i = 1; i < n; i++)
+            if ((value[i] == '#' || value[i] == ';') &&
+                (value[i - 1] == ' ' || value[i - 1] == '\t')) {
+                report(c, c->line, "%s.%s: ' %c' would start a comment here; to show it, "
+                       "write the text in double quotes (%s = \"Run %c3\"); a comment may "
+                       "follow the closing quote", k->section, k->name, value[i], k->name,
+                       value[i]);
+                return -1;
+            }
+    }
+    snprintf(c->text_value, sizeof(c->text_value), "%.*s", (int)n, value);
+    return 0;
+}
+
 /* inih's fgets-like reader over the in-memory text. It counts lines, and
  * turns lines inih must not see (too long, NUL bytes) into comments after
- * reporting them. */
+ * reporting them. A text key's value it keeps whole in c->text_value and
+ * hands inih "name = TEXT_MARK" in its place. */
 static char *read_line(char *str, int num, void *stream)
 {
     struct parse_ctx *c = stream;
     struct sp_ini_lines l = {c->cursor, c->line};
-    const char *start = c->cursor;
+    const char *start = c->cursor, *value;
+    const struct key_info *text;
+    char raw[TEXT_LINE_BYTES];
     size_t len;
     check_previous_line(c);
-    if (!sp_ini_lines_next(&l, str, num, &len))
+    if (!sp_ini_lines_next(&l, raw, (int)sizeof(raw), &len))
         return NULL;
     c->cursor = l.cursor, c->line = l.line;
     c->line_handled = 0;
+    if (!len && (text = text_key_line(raw, &value))) {
+        c->line_has_content = 1;
+        if (!text_value(c, text, value))
+            snprintf(str, (size_t)num, "%s = " TEXT_MARK "\n", text->name);
+        else
+            c->line_handled = 1, snprintf(str, (size_t)num, "#\n"); /* reported */
+        return str;
+    }
+    if (!len && strlen(raw) + 1 > (size_t)num)
+        len = strlen(raw);
     if (len) {
         const char *q = start + strspn(start, " \t");
-        if (*q != '#' && *q != ';') /* long comments are fine */
+        if ((text = text_key_line(start, &value)))
+            report(c, c->line, "%s.%s is more than %d bytes long; at most %d are allowed",
+                   text->section, text->name, SP_VIEW_TEXT_BYTES - 1, SP_VIEW_TEXT_BYTES - 1);
+        else if (*q != '#' && *q != ';') /* long comments are fine */
             report(c, c->line, "line is %zu bytes long; at most %d are allowed "
                    "for a key = value line", len, num - 2);
         c->line_has_content = 0;
+        snprintf(str, (size_t)num, "#\n");
         return str;
     }
+    memcpy(str, raw, strlen(raw) + 1);
     protect_colour(str);
     c->line_has_content = line_has_content(c, str);
     return str;

@@ -18,13 +18,7 @@ import sys
 import xml.etree.ElementTree as ET
 import zlib
 
-import sptest
-from sptest import done, skip
-
-
-def ok(cond, what):
-    return sptest.ok(cond, what.replace("\n", " | "))
-
+from sptest import done, ok, skip
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "compare_update"))

@@ -1,11 +1,16 @@
 /* springpend: compare's records and reporters (compare_report.h). */
 #include <errno.h>
+#include <fcntl.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
+#include "signals.h"
 #include "text.h"
 
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
@@ -41,6 +46,10 @@ struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report 
         const struct sp_compare_record *r = &rep->records[i];
         int resolved = r->update != SP_UPDATE_NONE;
         c.records++;
+        if (r->not_compared) {
+            c.not_compared++;
+            continue;
+        }
         c.compared += r->compared;
         c.passed += r->verdict == SP_VERDICT_PASS;
         c.failed += r->verdict == SP_VERDICT_FAIL;
@@ -60,10 +69,10 @@ int sp_compare_report_passes(const struct sp_compare_report *rep)
 }
 
 /* The run's one-word status: ok, UPDATED (passes after --update changed
- * baselines) or FAIL. */
+ * baselines), INTERRUPTED or FAIL. */
 static const char *status_word(const struct sp_compare_report *rep)
 {
-    return !sp_compare_report_passes(rep) ? "FAIL"
+    return rep->interrupted ? "INTERRUPTED" : !sp_compare_report_passes(rep) ? "FAIL"
            : sp_compare_report_count(rep).updated ? "UPDATED" : "ok";
 }
 
@@ -116,13 +125,16 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
         fprintf(fp, "; diff: %s", r->diff);
 }
 
-void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
-                            int summary)
+static void text_lines(FILE *fp, const struct sp_compare_report *rep, int quiet, int summary)
 {
+    const char *last_hint = NULL;
     for (int i = 0; i < rep->n; i++) {
         const struct sp_compare_record *r = &rep->records[i];
         const char *u = update_word(r->update);
-        if (r->verdict == SP_VERDICT_ERROR && (r->update == SP_UPDATE_ADDED ||
+        if (r->not_compared) {
+            fprintf(fp, "NOT COMPARED %s: %s\n", r->name, r->error);
+            continue;
+        } else if (r->verdict == SP_VERDICT_ERROR && (r->update == SP_UPDATE_ADDED ||
                                                r->update == SP_UPDATE_REMOVED)) {
             fprintf(fp, "%-8s %s\n", u, r->expected); /* what was missing is resolved */
             continue;
@@ -154,22 +166,42 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
                     r->changes[k].expected, r->changes[k].actual);
         if (r->more_changes)
             fprintf(fp, "     scene: and %d more keys\n", r->more_changes);
+        /* A hint beneath its image, but not again when the one before said
+         * the same (the --update hint, for every missing image). */
+        if (r->hint[0] && !(last_hint && !strcmp(last_hint, r->hint)))
+            fprintf(fp, "     %s\n", r->hint);
+        if (r->hint[0])
+            last_hint = r->hint;
         if (u)
             fprintf(fp, "%-8s %s\n", u, r->expected);
     }
-    /* Each hint once, not once per missing image. */
-    for (int i = 0, shown = -1; i < rep->n; i++) {
-        const struct sp_compare_record *r = &rep->records[i];
-        if (!r->hint[0] || r->update != SP_UPDATE_NONE ||
-            (shown >= 0 && !strcmp(rep->records[shown].hint, r->hint)))
-            continue;
-        fprintf(fp, "%s\n", r->hint);
-        shown = i;
-    }
     if (summary || rep->problem[0])
         summary_line(fp, rep), fputc('\n', fp);
-    if (summary && rep->interrupted)
-        fprintf(fp, "interrupted after %d images\n", rep->n);
+    if (rep->interrupted) {
+        struct sp_compare_counts c = sp_compare_report_count(rep);
+        fprintf(fp, "interrupted by %s after %d images; %d not compared\n",
+                sp_signal_name(rep->interrupted), c.records - c.not_compared, c.not_compared);
+    }
+}
+
+void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
+                            int summary)
+{
+    /* Names, paths and PNG text reach a terminal: the lines are written
+     * whole, then shown printable. */
+    char *buf = NULL;
+    size_t size = 0;
+    FILE *m = open_memstream(&buf, &size);
+    if (!m) {
+        sp_log_error("out of memory for the comparison's text");
+        return;
+    }
+    text_lines(m, rep, quiet, summary);
+    if (fclose(m) == 0)
+        sp_fputs_printable(buf, fp);
+    else
+        sp_log_error("out of memory for the comparison's text");
+    free(buf);
 }
 
 void sp_report_json_string(FILE *fp, const char *s)
@@ -188,6 +220,16 @@ void sp_report_json_string(FILE *fp, const char *s)
             fwrite(s, 1, n, fp);
     }
     fputc('"', fp);
+}
+
+/* x as a JSON number (printf's fmt), or null where JSON has no number:
+ * NaN and the infinities (a video without timestamps has no rate). */
+static void json_number(FILE *fp, const char *fmt, double x)
+{
+    if (isfinite(x))
+        fprintf(fp, fmt, x);
+    else
+        fputs("null", fp);
 }
 
 /* s as a JSON string, or null when empty. */
@@ -213,8 +255,9 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     fputs("    {\"name\": ", fp), sp_report_json_string(fp, r->name);
     fputs(", \"expected\": ", fp), json_maybe(fp, r->expected);
     fputs(", \"actual\": ", fp), json_maybe(fp, r->actual);
-    fprintf(fp, ", \"verdict\": \"%s\", \"pass\": %s", verdict_word(r->verdict),
-            r->verdict == SP_VERDICT_PASS ? "true" : "false");
+    fprintf(fp, ", \"verdict\": \"%s\", \"pass\": %s, \"not_compared\": %s",
+            verdict_word(r->verdict), r->verdict == SP_VERDICT_PASS ? "true" : "false",
+            r->not_compared ? "true" : "false");
     fputs(", \"error\": ", fp), json_maybe(fp, r->error);
     fputs(", \"hint\": ", fp), json_maybe(fp, r->hint);
     fprintf(fp, ", \"update\": ");
@@ -232,13 +275,11 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     fputs(", \"actual_pixels_sha256\": ", fp), json_maybe(fp, r->actual_sha256);
     if (r->compared && !r->size_mismatch) {
         fprintf(fp, ", \"pixels\": %ld, \"differing_pixels\": %ld, \"changed_pixels\": %ld, "
-                "\"masked_pixels\": %ld, \"max_channel_diff\": %d, \"rms\": %.6f, \"ssim\": ",
-                x->pixels, x->differing, x->changed, r->masked_pixels, x->max_channel_diff,
-                x->rms);
-        if (r->ssim >= 0)
-            fprintf(fp, "%.6f", r->ssim);
-        else
-            fputs("null", fp);
+                "\"masked_pixels\": %ld, \"max_channel_diff\": %d, \"rms\": ",
+                x->pixels, x->differing, x->changed, r->masked_pixels, x->max_channel_diff);
+        json_number(fp, "%.6f", x->rms);
+        fputs(", \"ssim\": ", fp);
+        json_number(fp, "%.6f", r->ssim >= 0 ? r->ssim : NAN);
         if (x->differing)
             fprintf(fp, ", \"bbox\": [%d, %d, %d, %d]", x->bbox[0], x->bbox[1], x->bbox[2],
                     x->bbox[3]);
@@ -246,17 +287,22 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
             fputs(", \"bbox\": null", fp);
     }
     fputs("}", fp);
-    if (r->compared && !r->size_mismatch)
+    if (r->compared && !r->size_mismatch) {
         fprintf(fp, ",\n     \"tolerance\": {\"metric\": \"%s\", \"max_channel_diff\": %d, "
-                "\"max_differing_pixels\": %ld, \"max_rms\": %g}",
-                r->metric == SP_COMPARE_RMS ? "rms" : "reftest", x->max_diff, x->allowed,
-                x->tol);
-    else
+                "\"max_differing_pixels\": %ld, \"max_rms\": ",
+                r->metric == SP_COMPARE_RMS ? "rms" : "reftest", x->max_diff, x->allowed);
+        json_number(fp, "%g", x->tol);
+        fputs("}", fp);
+    } else
         fputs(",\n     \"tolerance\": null", fp);
     if (r->frames > 0) {
         fprintf(fp, ",\n     \"video\": {\"frames\": %d, \"failed_frames\": %d, "
-                "\"worst_frame\": %d, \"expected_fps\": %.6g, \"actual_fps\": %.6g}",
-                r->frames, r->failed_frames, r->worst_frame, r->expected_fps, r->actual_fps);
+                "\"worst_frame\": %d, \"expected_fps\": ",
+                r->frames, r->failed_frames, r->worst_frame);
+        json_number(fp, "%.6g", r->expected_fps);
+        fputs(", \"actual_fps\": ", fp);
+        json_number(fp, "%.6g", r->actual_fps);
+        fputs("}", fp);
     } else {
         fputs(",\n     \"video\": null", fp);
     }
@@ -284,10 +330,10 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
             rep->interrupted ? "true" : "false");
     json_maybe(fp, rep->problem);
     fprintf(fp, ",\n \"counts\": {\"images\": %d, \"compared\": %d, \"passed\": %d, "
-            "\"failed\": %d, \"errors\": %d, \"updated\": %d, \"unresolved\": %d},\n"
-            " \"results\": [\n",
+            "\"failed\": %d, \"errors\": %d, \"updated\": %d, \"unresolved\": %d, "
+            "\"not_compared\": %d},\n \"results\": [\n",
             c.records, c.compared, c.passed, c.failed, c.errors, c.updated,
-            c.unresolved_failed + c.unresolved_errors);
+            c.unresolved_failed + c.unresolved_errors, c.not_compared);
     for (int i = 0; i < rep->n; i++) {
         json_record(fp, &rep->records[i]);
         fputs(i + 1 < rep->n ? ",\n" : "\n", fp);
@@ -295,12 +341,25 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
     fputs(" ]}\n", fp);
 }
 
-/* s with XML's five special characters escaped. */
-static void xml_string(FILE *fp, const char *s)
+/* How xml_string treats "[[": JUnit's readers (GitLab, Jenkins) act on
+ * [[ATTACHMENT|path]] in the text, so a name there must not open one. */
+enum { XML_PLAIN, XML_NO_DIRECTIVES };
+
+/* s with XML's five special characters escaped; what XML 1.0 cannot hold
+ * (C0 controls but tab and newline, U+FFFE, U+FFFF, bytes that are not
+ * UTF-8) as U+FFFD, shown rather than dropped. */
+static void xml_string(FILE *fp, const char *s, int mode)
 {
+    static const char replacement[] = "\xEF\xBF\xBD";
     for (size_t n; *s; s += n ? n : 1) {
-        if ((n = sp_utf8_char(s)) != 1) { /* XML is UTF-8: a stray byte is U+FFFD */
-            fwrite(n ? s : "\xEF\xBF\xBD", 1, n ? n : 3, fp);
+        n = sp_utf8_char(s);
+        if (!n || (n == 3 && (unsigned char)s[0] == 0xEF && (unsigned char)s[1] == 0xBF &&
+                   (unsigned char)s[2] >= 0xBE)) {
+            fputs(replacement, fp);
+            continue;
+        }
+        if (n != 1) {
+            fwrite(s, 1, n, fp);
             continue;
         }
         switch (*s) {
@@ -309,9 +368,14 @@ static void xml_string(FILE *fp, const char *s)
         case '&': fputs("&amp;", fp); break;
         case '"': fputs("&quot;", fp); break;
         case '\'': fputs("&#39;", fp); break;
+        case '[':
+            fputs(mode == XML_NO_DIRECTIVES && s[1] == '[' ? "[ " : "[", fp);
+            break;
         default:
             if ((unsigned char)*s >= 0x20 || *s == '\n' || *s == '\t')
                 fputc(*s, fp);
+            else
+                fputs(replacement, fp);
         }
     }
 }
@@ -339,6 +403,28 @@ static void record_line(const struct sp_compare_record *r, char *buf, size_t siz
     buf[size - 1] = 0;
 }
 
+/* 1 when path can stand in [[ATTACHMENT|path]] whole: nothing that ends
+ * the directive or starts another, nothing XML would change. */
+static int attachable(const char *path)
+{
+    for (size_t n; *path; path += n) {
+        n = sp_utf8_char(path);
+        if (!n || (unsigned char)*path < 0x20 || strchr("[]|<>&\"'", *path) ||
+            (n == 3 && !memcmp(path, "\xEF\xBF", 2) && (unsigned char)path[2] >= 0xBE))
+            return 0;
+    }
+    return 1;
+}
+
+/* The line that says a run was interrupted, into buf. */
+static void interrupted_line(const struct sp_compare_report *rep,
+                             const struct sp_compare_counts *c, char *buf, size_t size)
+{
+    snprintf(buf, size, "interrupted by %s after %d images; %d never compared: this is not "
+             "a pass", sp_signal_name(rep->interrupted), c->records - c->not_compared,
+             c->not_compared);
+}
+
 /* The folder part of a record's name ("" for a name without '/'). */
 static int folder_len(const struct sp_compare_record *r)
 {
@@ -353,15 +439,16 @@ static int same_suite(const struct sp_compare_record *a, const struct sp_compare
     return n == folder_len(b) && !strncmp(a->name, b->name, (size_t)n);
 }
 
-/* A suite's name: rep's suite (the EXPECTED folder), then the subfolder. */
+/* A suite's name: rep's suite (the EXPECTED folder), then the subfolder;
+ * r NULL: rep's suite alone. */
 static void suite_name(FILE *fp, const struct sp_compare_report *rep,
                        const struct sp_compare_record *r)
 {
     char name[4096 + 300];
-    int n = folder_len(r);
+    int n = r ? folder_len(r) : 0;
     snprintf(name, sizeof(name), "%s%s%.*s", rep->suite ? rep->suite : "springpend compare",
-             n ? "/" : "", n, r->name);
-    xml_string(fp, name);
+             n ? "/" : "", n, r ? r->name : "");
+    xml_string(fp, name, XML_NO_DIRECTIVES);
 }
 
 static void junit_case(FILE *fp, const struct sp_compare_report *rep,
@@ -373,54 +460,76 @@ static void junit_case(FILE *fp, const struct sp_compare_report *rep,
     fputs("    <testcase classname=\"", fp);
     suite_name(fp, rep, r);
     fputs("\" name=\"", fp);
-    xml_string(fp, r->name + folder_len(r) + (folder_len(r) > 0));
+    xml_string(fp, r->name + folder_len(r) + (folder_len(r) > 0), XML_NO_DIRECTIVES);
     fprintf(fp, "\" time=\"%.6f\">\n", r->seconds);
+    if (r->not_compared) {
+        fputs("      <skipped message=\"", fp);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
+        fputs("\"/>\n    </testcase>\n", fp);
+        return;
+    }
     if (r->verdict != SP_VERDICT_PASS && r->update == SP_UPDATE_NONE) {
         const char *tag = r->verdict == SP_VERDICT_FAIL ? "failure" : "error";
         fprintf(fp, "      <%s message=\"", tag);
-        xml_string(fp, line);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
         fprintf(fp, "\" type=\"%s\">", r->size_mismatch ? "size" : tag);
-        xml_string(fp, line);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
         if (r->hint[0])
-            fputs("\n", fp), xml_string(fp, r->hint);
+            fputs("\n", fp), xml_string(fp, r->hint, XML_NO_DIRECTIVES);
         fprintf(fp, "</%s>\n", tag);
     }
     fputs("      <system-out>", fp);
     if (u) { /* what --update did, first: a reader sees why a failure passed */
         fprintf(fp, "%s baseline ", u);
-        xml_string(fp, r->expected);
+        xml_string(fp, r->expected, XML_NO_DIRECTIVES);
         fprintf(fp, " (verdict before the update: %s)\n", verdict_word(r->verdict));
     }
-    xml_string(fp, line);
-    if (r->diff[0]) /* GitLab and Jenkins attach this file */
-        fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff), fputs("]]", fp);
+    xml_string(fp, line, XML_NO_DIRECTIVES);
+    /* GitLab and Jenkins attach this file; a path that could end the
+     * directive early is named in the line above only. */
+    if (r->diff[0] && attachable(r->diff))
+        fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff, XML_PLAIN), fputs("]]", fp);
     fputs("</system-out>\n    </testcase>\n", fp);
+}
+
+/* A suite of one test case that errs: the run's problem or interruption. */
+static void junit_run_error(FILE *fp, const struct sp_compare_report *rep, const char *name,
+                            const char *type, const char *line)
+{
+    fputs("  <testsuite name=\"", fp);
+    suite_name(fp, rep, NULL);
+    fprintf(fp, "\" tests=\"1\" failures=\"0\" errors=\"1\" skipped=\"0\" time=\"0\">\n"
+            "    <testcase classname=\"springpend.compare\" name=\"%s\" time=\"0\">\n"
+            "      <error type=\"%s\" message=\"", name, type);
+    xml_string(fp, line, XML_NO_DIRECTIVES);
+    fputs("\">", fp);
+    xml_string(fp, line, XML_NO_DIRECTIVES);
+    fputs("</error>\n    </testcase>\n  </testsuite>\n", fp);
 }
 
 void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep)
 {
     struct sp_compare_counts c = sp_compare_report_count(rep);
+    char line[2048];
     double total = 0;
+    int extra = !!rep->problem[0] + !!rep->interrupted; /* run-level errors */
     for (int i = 0; i < rep->n; i++)
         total += rep->records[i].seconds;
     fputs("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"", fp);
-    xml_string(fp, rep->suite ? rep->suite : "springpend compare");
-    fprintf(fp, "\" tests=\"%d\" failures=\"%d\" errors=\"%d\" time=\"%.6f\">\n",
-            c.records + !!rep->problem[0], c.unresolved_failed,
-            c.unresolved_errors + !!rep->problem[0], total);
-    if (rep->problem[0]) { /* no images at all: an error a test reporter shows */
-        fputs("  <testsuite name=\"", fp);
-        xml_string(fp, rep->suite ? rep->suite : "springpend compare");
-        fputs("\" tests=\"1\" failures=\"0\" errors=\"1\" skipped=\"0\" time=\"0\">\n"
-              "    <testcase classname=\"springpend.compare\" name=\"images\" time=\"0\">\n"
-              "      <error type=\"error\" message=\"", fp);
-        xml_string(fp, rep->problem);
-        fputs("\"/>\n    </testcase>\n  </testsuite>\n", fp);
+    suite_name(fp, rep, NULL);
+    fprintf(fp, "\" tests=\"%d\" failures=\"%d\" errors=\"%d\" skipped=\"%d\" "
+            "time=\"%.6f\">\n", c.records + extra, c.unresolved_failed,
+            c.unresolved_errors + extra, c.not_compared, total);
+    if (rep->problem[0]) /* no images at all: an error a test reporter shows */
+        junit_run_error(fp, rep, "(images)", "error", rep->problem);
+    if (rep->interrupted) {
+        interrupted_line(rep, &c, line, sizeof(line));
+        junit_run_error(fp, rep, "(interrupted)", "interrupted", line);
     }
     /* A suite per folder, in the order the folders first appear. */
     for (int i = 0; i < rep->n; i++) {
         const struct sp_compare_record *first = &rep->records[i];
-        int seen = 0, tests = 0, failures = 0, errors = 0;
+        int seen = 0, tests = 0, failures = 0, errors = 0, skipped = 0;
         double t = 0;
         for (int k = 0; k < i && !seen; k++)
             seen = same_suite(&rep->records[k], first);
@@ -431,13 +540,16 @@ void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep)
             if (!same_suite(r, first))
                 continue;
             tests++, t += r->seconds;
-            failures += r->verdict == SP_VERDICT_FAIL && r->update == SP_UPDATE_NONE;
-            errors += r->verdict == SP_VERDICT_ERROR && r->update == SP_UPDATE_NONE;
+            skipped += r->not_compared;
+            failures += !r->not_compared && r->verdict == SP_VERDICT_FAIL &&
+                        r->update == SP_UPDATE_NONE;
+            errors += !r->not_compared && r->verdict == SP_VERDICT_ERROR &&
+                      r->update == SP_UPDATE_NONE;
         }
         fputs("  <testsuite name=\"", fp);
         suite_name(fp, rep, first);
-        fprintf(fp, "\" tests=\"%d\" failures=\"%d\" errors=\"%d\" skipped=\"0\" "
-                "time=\"%.6f\">\n", tests, failures, errors, t);
+        fprintf(fp, "\" tests=\"%d\" failures=\"%d\" errors=\"%d\" skipped=\"%d\" "
+                "time=\"%.6f\">\n", tests, failures, errors, skipped, t);
         for (int k = i; k < rep->n; k++)
             if (same_suite(&rep->records[k], first))
                 junit_case(fp, rep, &rep->records[k]);
@@ -446,8 +558,9 @@ void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep)
     fputs("</testsuites>\n", fp);
 }
 
-/* Writes n bytes as base64. */
-static void base64(FILE *fp, const unsigned char *in, size_t n)
+/* Writes n bytes as base64. Returns 0, or SP_E_IO when a write failed
+ * (the caller reports the stream's error). */
+static int base64(FILE *fp, const unsigned char *in, size_t n)
 {
     static const char b64[] =
         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -460,62 +573,129 @@ static void base64(FILE *fp, const unsigned char *in, size_t n)
         out[o++] = b64[v >> 12 & 63];
         out[o++] = i + 1 < n ? b64[v >> 6 & 63] : '=';
         out[o++] = i + 2 < n ? b64[v & 63] : '=';
-        if (o == sizeof(out))
-            fwrite(out, 1, o, fp), o = 0;
+        if (o == sizeof(out)) {
+            if (fwrite(out, 1, o, fp) != o)
+                return SP_E_IO;
+            o = 0;
+        }
     }
-    fwrite(out, 1, o, fp);
+    return fwrite(out, 1, o, fp) == o ? 0 : SP_E_IO;
 }
 
-/* Writes path's bytes as a data: URL (base64), or nothing when it cannot
- * be read. Returns 0, or SP_E_NOMEM. */
-static int data_url(FILE *fp, const char *path)
+/* A PNG larger than this is named in the report, not embedded, bytes. */
+#define EMBED_MAX_BYTES (64L << 20)
+
+/* Writes head, then path's bytes as a data: URL (base64), and nothing at
+ * all otherwise, when path is a regular file of at most EMBED_MAX_BYTES that starts with
+ * PNG's signature; else *why says why not. Opened without blocking or
+ * following a FIFO's writer; reads at most the size fstat gave (a file
+ * that grows is cut there). Returns 0, or SP_E_IO when a write or read
+ * failed. */
+static int data_url(FILE *fp, const char *head, const char *path, const char **why)
 {
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     unsigned char in[3 * 1024];
-    size_t n;
-    FILE *f = path[0] ? fopen(path, "rb") : NULL;
-    if (!f)
+    struct stat st;
+    int err = 0;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    *why = NULL;
+    if (fd < 0) {
+        *why = "cannot be opened";
         return 0;
+    }
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))
+        *why = "not a regular file";
+    else if (st.st_size > EMBED_MAX_BYTES)
+        *why = "too large to embed";
+    else if (pread(fd, in, sizeof(sig), 0) != (ssize_t)sizeof(sig) || memcmp(in, sig, sizeof(sig)))
+        *why = "not a PNG";
+    if (*why) {
+        close(fd);
+        return 0;
+    }
+    fputs(head, fp);
     fputs("data:image/png;base64,", fp);
-    while ((n = fread(in, 1, sizeof(in), f)) > 0)
-        base64(fp, in, n);
-    fclose(f);
-    return 0;
+    for (off_t left = st.st_size; left > 0 && !err;) {
+        ssize_t n = read(fd, in, (size_t)(left < (off_t)sizeof(in) ? left : (off_t)sizeof(in)));
+        if (n <= 0) {
+            sp_log_error("%s: cannot read for the report: %s", path,
+                         n < 0 ? strerror(errno) : "it became shorter");
+            err = SP_E_IO;
+            break;
+        }
+        left -= n;
+        err = base64(fp, in, (size_t)n);
+    }
+    close(fd);
+    return err;
 }
 
-/* The order rows are shown in: errors, failures, then passes. */
+/* The order rows are shown in: errors, failures, images never compared,
+ * then passes. */
 static int row_rank(const struct sp_compare_record *r)
 {
-    return r->verdict == SP_VERDICT_ERROR ? 0 : r->verdict == SP_VERDICT_FAIL ? 1 : 2;
+    return r->not_compared ? 2 : r->verdict == SP_VERDICT_ERROR ? 0
+           : r->verdict == SP_VERDICT_FAIL ? 1 : 3;
 }
 
-/* An image cell: path's image, or bytes (a replaced baseline's, from
- * memory) when not NULL. */
-static void html_image(FILE *fp, const char *cls, const char *path, const unsigned char *bytes,
-                       size_t size)
+/* path as a relative or file: URL: every byte but unreserved ones and '/'
+ * percent-encoded, so no name ("javascript:...") can be a scheme. */
+static void url_path(FILE *fp, const char *path)
+{
+    fputs(path[0] == '/' ? "file://" : "./", fp);
+    for (const unsigned char *p = (const unsigned char *)path; *p; p++)
+        if ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
+            strchr("-._~/", *p))
+            fputc(*p, fp);
+        else
+            fprintf(fp, "%%%02X", *p);
+}
+
+/* One image cell: an embedded PNG when is_png said it was read as one (and
+ * data_url agrees), or bytes (a replaced baseline's, read as a PNG before it
+ * was replaced) when not NULL, a link for a video, else the path and why it
+ * is not shown. Returns 0 or SP_E_IO. */
+static int html_image(FILE *fp, const char *cls, const char *path, int is_png,
+                      const unsigned char *bytes, size_t size)
 {
     size_t n = strlen(path);
-    if (bytes) {
+    const char *why = "not read as an image";
+    int err = 0;
+    if (bytes && is_png && size > 8 && !memcmp(bytes, "\x89PNG\r\n\x1a\n", 8)) {
         fprintf(fp, "<td class=\"%s\"><img alt=\"%s\" src=\"data:image/png;base64,", cls,
                 cls);
-        base64(fp, bytes, size);
-        fputs("\"><div class=\"replaced\">replaced by the actual image</div></td>", fp);
-        return;
+        if ((err = base64(fp, bytes, size)) != 0)
+            return err;
+        fputs("\"><div class=\"replaced\">the baseline as it was; replaced by the actual "
+              "image</div></td>", fp);
+        return 0;
     }
     if (!path[0]) {
         fprintf(fp, "<td class=\"%s none\">none</td>", cls);
-        return;
+        return 0;
     }
     if (n < 4 || strcasecmp(path + n - 4, ".png")) { /* a video: named, not shown */
         fprintf(fp, "<td class=\"%s\"><a href=\"", cls);
-        xml_string(fp, path);
+        url_path(fp, path);
         fputs("\">", fp);
-        xml_string(fp, path);
+        xml_string(fp, path, XML_PLAIN);
         fputs("</a></td>", fp);
-        return;
+        return 0;
     }
-    fprintf(fp, "<td class=\"%s\"><img alt=\"%s\" src=\"", cls, cls);
-    data_url(fp, path);
-    fputs("\"></td>", fp);
+    if (is_png) {
+        char head[128];
+        snprintf(head, sizeof(head), "<td class=\"%s\"><img alt=\"%s\" src=\"", cls, cls);
+        if ((err = data_url(fp, head, path, &why)) != 0)
+            return err;
+        if (!why) {
+            fputs("\"></td>", fp);
+            return 0;
+        }
+    }
+    fprintf(fp, "<td class=\"%s none\">", cls);
+    xml_string(fp, path, XML_PLAIN);
+    fprintf(fp, "<br>not shown: %s</td>", why);
+    return 0;
 }
 
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
@@ -530,44 +710,56 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           "repeating-conic-gradient(#ddd 0 25%,#fff 0 50%) 0 0/16px 16px}\n"
           ".v-fail{background:#fde0e0}.v-error{background:#fff0c0}.v-pass{background:#e4f6e4}\n"
           ".update,.replaced{font-weight:bold;color:#a04000}\n"
+          ".v-not-compared{background:#e8e8e8}#interrupted{font-weight:bold;color:#a00}\n"
           ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;font-size:12px;word-break:break-word}.none{color:#999}\n"
           "</style></head><body>\n<h1>springpend compare</h1>\n", fp);
     fputs("<p id=\"summary\">", fp);
     {
-        char line[1024];
-        FILE *m = fmemopen(line, sizeof(line), "w");
-        line[0] = 0;
+        char sum[1024];
+        FILE *m = fmemopen(sum, sizeof(sum), "w");
+        sum[0] = 0;
         if (m)
             summary_line(m, rep), fclose(m);
-        line[sizeof(line) - 1] = 0;
-        xml_string(fp, line);
+        sum[sizeof(sum) - 1] = 0;
+        xml_string(fp, sum, XML_PLAIN);
     }
-    fputs("</p>\n", fp);
+    fputs(rep->interrupted ? ", the rest never compared</p>\n" : "</p>\n", fp);
+    if (rep->interrupted) {
+        struct sp_compare_counts c = sp_compare_report_count(rep);
+        interrupted_line(rep, &c, line, sizeof(line));
+        fputs("<p id=\"interrupted\">", fp);
+        xml_string(fp, line, XML_PLAIN);
+        fputs("</p>\n", fp);
+    }
     fputs("<table>\n<tr><th>image, verdict, figures</th><th>expected</th><th>actual</th><th>diff</th>"
           "<th>flip</th></tr>\n", fp);
-    for (int rank = 0; rank < 3; rank++)
-        for (int i = 0; i < rep->n; i++) {
+    for (int rank = 0; rank < 4; rank++)
+        for (int i = 0; i < rep->n && !ferror(fp); i++) {
             const struct sp_compare_record *r = &rep->records[i];
+            const char *v = r->not_compared ? "not-compared" : verdict_word(r->verdict);
             if (row_rank(r) != rank)
                 continue;
             record_line(r, line, sizeof(line));
-            fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">",
-                    verdict_word(r->verdict));
-            xml_string(fp, r->name);
-            fprintf(fp, "</div><div class=\"verdict\">%s</div>", verdict_word(r->verdict));
+            fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">", v);
+            xml_string(fp, r->name, XML_PLAIN);
+            fprintf(fp, "</div><div class=\"verdict\">%s</div>",
+                    r->not_compared ? "not compared" : v);
             if (update_word(r->update)) {
                 fprintf(fp, "<div class=\"update\">%s: ", update_word(r->update));
-                xml_string(fp, r->expected);
+                xml_string(fp, r->expected, XML_PLAIN);
                 fputs("</div>", fp);
             }
-            xml_string(fp, line);
+            xml_string(fp, line, XML_PLAIN);
             if (r->hint[0])
-                fputs("<br>", fp), xml_string(fp, r->hint);
+                fputs("<br>", fp), xml_string(fp, r->hint, XML_PLAIN);
             fputs("</td>", fp);
-            html_image(fp, "expected", r->expected, r->before, r->before_size);
-            html_image(fp, "actual", r->actual, NULL, 0);
-            html_image(fp, "diff", r->diff, NULL, 0);
-            if (r->expected[0] && r->actual[0] && r->frames == 0)
+            if (html_image(fp, "expected", r->expected, r->expected_png, r->before,
+                           r->before_size) ||
+                html_image(fp, "actual", r->actual, r->actual_png, NULL, 0) ||
+                html_image(fp, "diff", r->diff, r->diff[0] != 0, NULL, 0))
+                return SP_E_IO;
+            /* The flip cell needs both images embedded. */
+            if (r->expected_png && r->actual_png && r->frames == 0)
                 fputs("<td class=\"flipcell\"><button class=\"flip\" type=\"button\">"
                       "show expected</button><img class=\"flipimg\" alt=\"actual\" src=\"\">"
                       "<div class=\"showing\">actual</div></td>", fp);
@@ -577,13 +769,15 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
         }
     /* The flip cell starts as the actual image; the button (or a click on
      * the image) swaps in the expected one, so a change blinks in place.
-     * #flip in the URL flips every row once, for a quick look. */
+     * #flip in the URL flips every row once, for a quick look. A row whose
+     * image was not embedded has no flip. */
     fputs("</table>\n<script>\n"
           "for (const td of document.querySelectorAll('td.flipcell')) {\n"
           "  const row = td.parentElement, img = td.querySelector('img');\n"
           "  const b = td.querySelector('button'), label = td.querySelector('.showing');\n"
-          "  const src = {expected: row.querySelector('td.expected img').src,\n"
-          "               actual: row.querySelector('td.actual img').src};\n"
+          "  const ie = row.querySelector('td.expected img'), ia = row.querySelector('td.actual img');\n"
+          "  if (!ie || !ia) { td.textContent = '-'; continue; }\n"
+          "  const src = {expected: ie.src, actual: ia.src};\n"
           "  let shown = 'actual';\n"
           "  const show = w => { shown = w; img.src = src[w]; img.alt = w; label.textContent = w;\n"
           "    b.textContent = 'show ' + (w == 'actual' ? 'expected' : 'actual'); };\n"

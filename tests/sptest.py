@@ -10,12 +10,12 @@ _count = _failed = 0
 
 
 def ok(cond, what):
-    """One TAP line (a newline in what is shown as ' | ': TAP reads a line
-    starting with 'ok' as a result); returns cond."""
+    """One TAP line (a description that quotes a program's output keeps to
+    that line); returns cond."""
     global _count, _failed
     _count += 1
     _failed += not cond
-    what = str(what).replace("\n", " | ")
+    what = " | ".join(str(what).splitlines())
     print(f"{'' if cond else 'not '}ok {_count} - {what}", flush=True)
     return cond
 

@@ -23,7 +23,14 @@ import time
 import xml.etree.ElementTree as ET
 import zlib
 
-from sptest import done, ok, skip
+import sptest
+from sptest import done, skip
+
+
+def ok(cond, what):
+    """sptest.ok on one line: messages here quote multi-line output."""
+    return sptest.ok(cond, what.replace("\n", " | "))
+
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "hostile"))
@@ -345,6 +352,49 @@ for sig in (signal.SIGQUIT, signal.SIGUSR1, signal.SIGALRM):
     ok(had_part and p.returncode == 128 + sig and not parts(d),
        f"{sig.name}: exit {p.returncode} (128 + {int(sig)} expected), no .part left "
        f"({parts(d)})")
+
+# ---- modules come only from the build tree or the installed layout ----
+cc = shutil.which("cc") or shutil.which("gcc")
+if cc:
+    d = path("modules")
+    os.makedirs(os.path.join(d, "x", "tools"))
+    tool = os.path.join(d, "x", "tools", "springpend")
+    shutil.copy(exe, tool)
+    marker = os.path.join(d, "LOADED")
+
+    def plant(where, version):
+        c = os.path.join(d, "evil.c")
+        open(c, "w").write('#include <stdio.h>\n__attribute__((constructor)) static void pwn(void)'
+                           f' {{ FILE *f = fopen("{marker}", "w"); if (f) fclose(f); }}\n'
+                           f'const char sp_module_version[] = "{version}";\n')
+        os.makedirs(os.path.dirname(where), exist_ok=True)
+        subprocess.run([cc, "-shared", "-fPIC", "-o", where, c], check=True)
+
+    plant(os.path.join(d, "x", "springpend-cairo.so"), "0.1.0")
+    r = subprocess.run([tool, "still", default, "--size", "64x48", "-q", "-o", "a.svg"],
+                       capture_output=True, text=True, cwd=d, timeout=60)
+    ok(r.returncode != 0 and not os.path.exists(marker) and "cannot load" in r.stderr,
+       f"a copy at x/tools/springpend never loads x/springpend-cairo.so ({r.stderr.strip()[:200]})")
+    m = re.search(r"\((/\S+?/springpend-cairo\.so):", r.stderr)
+    if m and m.group(1).startswith(os.path.dirname(tool)):
+        installed = os.path.normpath(m.group(1))
+        plant(installed, "0.0.1")
+        r = subprocess.run([tool, "still", default, "--size", "64x48", "-q", "-o", "a.svg"],
+                           capture_output=True, text=True, cwd=d, timeout=60)
+        ok(r.returncode != 0 and "built for springpend 0.0.1" in r.stderr,
+           f"a module of another version is refused ({r.stderr.strip()[-160:]})")
+        if os.path.exists(marker):
+            os.unlink(marker)
+        plant(installed, "0.1.0")
+        os.chmod(os.path.dirname(installed), 0o777)
+        r = subprocess.run([tool, "still", default, "--size", "64x48", "-q", "-o", "a.svg"],
+                           capture_output=True, text=True, cwd=d, timeout=60)
+        ok(r.returncode != 0 and not os.path.exists(marker) and "writable by anyone" in r.stderr,
+           f"a module in a folder anyone may write is refused ({r.stderr.strip()[-160:]})")
+    else:
+        ok(False, f"the message names the installed module path ({r.stderr.strip()})")
+else:
+    skip("modules from the binary's parent folder", "no C compiler to build one")
 
 # ---- compressed text chunks are no bomb ----
 d = fresh("bomb")

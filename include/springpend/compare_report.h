@@ -24,6 +24,7 @@ enum sp_update_action {
 
 #define SP_COMPARE_MAX_CHANGES 16
 #define SP_COMPARE_MAX_FRAMES_LISTED 10
+#define SP_COMPARE_MAX_NOTES 4
 
 /* A scene key whose value differs between the two images' provenance. */
 struct sp_scene_change {
@@ -60,9 +61,16 @@ struct sp_compare_record {
     int listed[SP_COMPARE_MAX_FRAMES_LISTED]; /* first failing frames */
     double expected_fps, actual_fps; /* from the timestamps; 0 unknown */
     /* Provenance (PNG text chunks) that differs, pass or fail. */
-    char notes[4][640];
+    char notes[SP_COMPARE_MAX_NOTES][640];
     int n_notes;
     double seconds;           /* wall time the comparison took, s */
+    int n_alternatives;       /* baselines per environment beside the plain one */
+    char baseline_key[64];    /* the alternative that matched (NAME.KEY.png's KEY);
+                                 "" the plain baseline, or none matched */
+    int refused;              /* a link out of the folders: never updated */
+    struct sp_compare_mask masks[32]; /* compare.ini's masks (the first 32), drawn */
+    int n_masks;
+    char candidate[4096];     /* --candidates wrote the actual image here; "" none */
     /* --update=changed|all replaced the baseline: its bytes before (owned,
      * free with sp_compare_report_free), so reports show what was replaced. */
     unsigned char *before;
@@ -79,6 +87,8 @@ struct sp_compare_report {
                                           (no images at all); "" when nothing */
     const char *suite;                 /* JUnit suite name prefix: the EXPECTED
                                           folder's or file's name */
+    const char *report_path;           /* the HTML report, for the summary; NULL */
+    int failures_only;                 /* HTML: rows of failures and errors only */
 };
 
 /* A new zeroed record at the end of rep (ssim -1, worst_frame -1); NULL
@@ -111,6 +121,12 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
 /* JSON, one schema always (see the README): {"schema": "springpend-compare/1",
  * "pass": ..., "counts": {...}, "results": [ ... ]}. */
 void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep);
+
+/* A summary in Markdown, short enough for a pull request comment or
+ * $GITHUB_STEP_SUMMARY: the status and counts, a table of at most 50 failures
+ * and errors with what was measured against what was allowed, and where the
+ * HTML report is. */
+void sp_compare_report_markdown(FILE *fp, const struct sp_compare_report *rep);
 
 /* JUnit XML: one testsuite, a testcase per record, <failure> or <error>;
  * what XML cannot hold (C0 controls, U+FFFE, U+FFFF, stray bytes) becomes

@@ -1,6 +1,7 @@
 /* springpend: compare.ini, per-image tolerances and masks
  * (compare_config.h). libinih splits the lines; ini_lines.c counts them. */
 #include <errno.h>
+#include <fnmatch.h>
 #include <ini.h>
 #include <math.h>
 #include <stdio.h>
@@ -310,32 +311,42 @@ static void tighten(const struct sp_compare_rule *cli, struct sp_compare_opts *o
         o->cap_pixels = c->max_pixels, o->cap_fraction = c->max_fraction;
 }
 
+/* How section `sect` applies to image `name` (relative path): 0 not at
+ * all, 1 [*], 2 a wildcard section, 3 the image's own section. */
+static int section_match(const char *sect, const char *name)
+{
+    const char *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
+    const char *target = strchr(sect, '/') ? name : base;
+    if (!strcmp(sect, "*"))
+        return 1;
+    if (!strcmp(sect, target))
+        return 3;
+    if (strpbrk(sect, "*?[") && fnmatch(sect, target, FNM_PATHNAME) == 0)
+        return 2;
+    return 0;
+}
+
 void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
                                const struct sp_compare_rule *cli,
                                struct sp_compare_opts *opts,
-                               const struct sp_compare_mask **masks, int *n_masks,
-                               const struct sp_compare_mask **star_masks, int *n_star_masks)
+                               struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS],
+                               int *n_masks)
 {
-    struct sp_compare_rule *star = NULL, *own = NULL;
-    for (int i = 0; i < cfg->n_rules; i++) {
-        if (!strcmp(cfg->rules[i].name, "*"))
-            star = &cfg->rules[i];
-        else if (!strcmp(cfg->rules[i].name, name))
-            own = &cfg->rules[i];
-    }
     memset(opts, 0, sizeof(*opts));
-    if (own)
-        own->used = 1;
+    *n_masks = 0;
     apply(cli, opts); /* without compare.ini the command line decides */
-    if (star)
-        apply(star, opts);
-    if (own)
-        apply(own, opts);
+    for (int level = 1; level <= 3; level++)
+        for (int i = 0; i < cfg->n_rules; i++) {
+            struct sp_compare_rule *r = &cfg->rules[i];
+            if (section_match(r->name, name) != level)
+                continue;
+            if (level > 1)
+                __atomic_store_n(&r->used, 1, __ATOMIC_RELAXED); /* threads */
+            apply(r, opts);
+            for (int k = 0; k < r->n_masks && *n_masks < SP_COMPARE_RESOLVED_MASKS; k++)
+                masks[(*n_masks)++] = r->masks[k];
+        }
     tighten(cli, opts);
-    *masks = own ? own->masks : NULL;
-    *n_masks = own ? own->n_masks : 0;
-    *star_masks = star ? star->masks : NULL;
-    *n_star_masks = star ? star->n_masks : 0;
 }
 
 void sp_compare_config_warn_unused(const struct sp_compare_config *cfg)

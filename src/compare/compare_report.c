@@ -121,6 +121,8 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
     }
     if (r->masked_pixels)
         fprintf(fp, "; %ld pixels masked", r->masked_pixels);
+    if (r->baseline_key[0])
+        fprintf(fp, "; matched the alternative baseline for %s", r->baseline_key);
     if (r->diff[0])
         fprintf(fp, "; diff: %s", r->diff);
 }
@@ -307,7 +309,10 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
         fputs(",\n     \"video\": null", fp);
     }
     fputs(", \"diff\": ", fp), json_maybe(fp, r->diff);
-    fprintf(fp, ", \"seconds\": %.6f", r->seconds);
+    fprintf(fp, ", \"seconds\": %.6f, \"alternatives\": %d, \"baseline_key\": ",
+            r->seconds, r->n_alternatives);
+    json_maybe(fp, r->baseline_key);
+    fputs(", \"candidate\": ", fp), json_maybe(fp, r->candidate);
     fputs(", \"notes\": [", fp);
     for (int k = 0; k < r->n_notes; k++)
         fputs(k ? ", " : "", fp), sp_report_json_string(fp, r->notes[k]);
@@ -655,19 +660,36 @@ static void url_path(FILE *fp, const char *path)
  * data_url agrees), or bytes (a replaced baseline's, read as a PNG before it
  * was replaced) when not NULL, a link for a video, else the path and why it
  * is not shown. Returns 0 or SP_E_IO. */
+/* compare.ini's masks over an image of w x h px, as boxes placed in percent
+ * of its size (so they follow the zoom). */
+static void html_masks(FILE *fp, const struct sp_compare_record *r, int w, int h)
+{
+    for (int k = 0; k < r->n_masks && w > 0 && h > 0; k++) {
+        const struct sp_compare_mask *m = &r->masks[k];
+        fprintf(fp, "<div class=\"mask\" title=\"masked: %d, %d, %d, %d\" style=\"left:%.4f%%;"
+                "top:%.4f%%;width:%.4f%%;height:%.4f%%\"></div>", m->x, m->y, m->w, m->h,
+                100.0 * m->x / w, 100.0 * m->y / h,
+                100.0 * (m->x + m->w > w ? w - m->x : m->w) / w,
+                100.0 * (m->y + m->h > h ? h - m->y : m->h) / h);
+    }
+}
+
 static int html_image(FILE *fp, const char *cls, const char *path, int is_png,
-                      const unsigned char *bytes, size_t size)
+                      const unsigned char *bytes, size_t size,
+                      const struct sp_compare_record *r)
 {
     size_t n = strlen(path);
     const char *why = "not read as an image";
     int err = 0;
     if (bytes && is_png && size > 8 && !memcmp(bytes, "\x89PNG\r\n\x1a\n", 8)) {
-        fprintf(fp, "<td class=\"%s\"><img alt=\"%s\" src=\"data:image/png;base64,", cls,
-                cls);
+        fprintf(fp, "<td class=\"%s\"><div class=\"pic\"><img alt=\"%s\" "
+                "src=\"data:image/png;base64,", cls, cls);
         if ((err = base64(fp, bytes, size)) != 0)
             return err;
-        fputs("\"><div class=\"replaced\">the baseline as it was; replaced by the actual "
-              "image</div></td>", fp);
+        fputs("\">", fp);
+        html_masks(fp, r, r->expected_w, r->expected_h);
+        fputs("</div><div class=\"replaced\">the baseline as it was; replaced by the "
+              "actual image</div></td>", fp);
         return 0;
     }
     if (!path[0]) {
@@ -684,11 +706,14 @@ static int html_image(FILE *fp, const char *cls, const char *path, int is_png,
     }
     if (is_png) {
         char head[128];
-        snprintf(head, sizeof(head), "<td class=\"%s\"><img alt=\"%s\" src=\"", cls, cls);
+        snprintf(head, sizeof(head), "<td class=\"%s\"><div class=\"pic\"><img alt=\"%s\" "
+                 "src=\"", cls, cls);
         if ((err = data_url(fp, head, path, &why)) != 0)
             return err;
         if (!why) {
-            fputs("\"></td>", fp);
+            fputs("\">", fp);
+            html_masks(fp, r, r->expected_w, r->expected_h);
+            fputs("</div></td>", fp);
             return 0;
         }
     }
@@ -706,13 +731,23 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           "body{font:14px/1.4 sans-serif;margin:1em;background:#fafafa;color:#222}\n"
           "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:6px;"
           "vertical-align:top;text-align:left}\n"
-          "img{max-width:280px;image-rendering:pixelated;display:block;background:"
+          ".pic{position:relative;display:inline-block}.pic img{display:block}\n"
+          ".mask{position:absolute;box-sizing:border-box;border:2px dashed #0a0;"
+          "background:rgba(0,170,0,.18);pointer-events:none}\n"
+          "td.expected,td.actual,td.diff,td.flipcell{max-width:45vw;overflow:auto}\n"
+          "#zoom button.on{font-weight:bold}\n"
+          "img{image-rendering:pixelated;display:block;background:"
           "repeating-conic-gradient(#ddd 0 25%,#fff 0 50%) 0 0/16px 16px}\n"
           ".v-fail{background:#fde0e0}.v-error{background:#fff0c0}.v-pass{background:#e4f6e4}\n"
           ".update,.replaced{font-weight:bold;color:#a04000}\n"
           ".v-not-compared{background:#e8e8e8}#interrupted{font-weight:bold;color:#a00}\n"
           ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;font-size:12px;word-break:break-word}.none{color:#999}\n"
-          "</style></head><body>\n<h1>springpend compare</h1>\n", fp);
+          "</style></head><body>\n<h1>springpend compare</h1>\n"
+          "<p id=\"zoom\">images at <button type=\"button\" data-z=\"1\" class=\"on\">1&times;"
+          "</button> <button type=\"button\" data-z=\"2\">2&times;</button> <button "
+          "type=\"button\" data-z=\"4\">4&times;</button> <button type=\"button\" "
+          "data-z=\"8\">8&times;</button> <button type=\"button\" data-z=\"0\">fit</button>"
+          " (pixels stay sharp; compare.ini's masks are the dashed green boxes)</p>\n", fp);
     fputs("<p id=\"summary\">", fp);
     {
         char sum[1024];
@@ -733,12 +768,17 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
     }
     fputs("<table>\n<tr><th>image, verdict, figures</th><th>expected</th><th>actual</th><th>diff</th>"
           "<th>flip</th></tr>\n", fp);
+    int hidden = 0;
     for (int rank = 0; rank < 4; rank++)
         for (int i = 0; i < rep->n && !ferror(fp); i++) {
             const struct sp_compare_record *r = &rep->records[i];
             const char *v = r->not_compared ? "not-compared" : verdict_word(r->verdict);
             if (row_rank(r) != rank)
                 continue;
+            if (rep->failures_only && rank == 3 && r->update == SP_UPDATE_NONE) {
+                hidden++; /* --report-failures-only */
+                continue;
+            }
             record_line(r, line, sizeof(line));
             fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">", v);
             xml_string(fp, r->name, XML_PLAIN);
@@ -753,13 +793,21 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
             if (r->hint[0])
                 fputs("<br>", fp), xml_string(fp, r->hint, XML_PLAIN);
             fputs("</td>", fp);
+            /* Identical pixels: the image once, not twice. */
+            int same = r->exact && !r->before;
             if (html_image(fp, "expected", r->expected, r->expected_png, r->before,
-                           r->before_size) ||
-                html_image(fp, "actual", r->actual, r->actual_png, NULL, 0) ||
-                html_image(fp, "diff", r->diff, r->diff[0] != 0, NULL, 0))
+                           r->before_size, r))
+                return SP_E_IO;
+            if (same) {
+                fprintf(fp, "<td class=\"actual same\">identical pixels to the expected "
+                        "image (sha256 %.12s&hellip;)</td>", r->actual_sha256);
+            } else if (html_image(fp, "actual", r->actual, r->actual_png, NULL, 0, r)) {
+                return SP_E_IO;
+            }
+            if (html_image(fp, "diff", r->diff, r->diff[0] != 0, NULL, 0, r))
                 return SP_E_IO;
             /* The flip cell needs both images embedded. */
-            if (r->expected_png && r->actual_png && r->frames == 0)
+            if (r->expected_png && r->actual_png && r->frames == 0 && !same)
                 fputs("<td class=\"flipcell\"><button class=\"flip\" type=\"button\">"
                       "show expected</button><img class=\"flipimg\" alt=\"actual\" src=\"\">"
                       "<div class=\"showing\">actual</div></td>", fp);
@@ -771,7 +819,11 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
      * the image) swaps in the expected one, so a change blinks in place.
      * #flip in the URL flips every row once, for a quick look. A row whose
      * image was not embedded has no flip. */
-    fputs("</table>\n<script>\n"
+    fputs("</table>\n", fp);
+    if (hidden)
+        fprintf(fp, "<p id=\"hidden\">%d passing image%s not shown "
+                "(--report-failures-only)</p>\n", hidden, hidden == 1 ? "" : "s");
+    fputs("<script>\n"
           "for (const td of document.querySelectorAll('td.flipcell')) {\n"
           "  const row = td.parentElement, img = td.querySelector('img');\n"
           "  const b = td.querySelector('button'), label = td.querySelector('.showing');\n"
@@ -785,6 +837,104 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           "  b.addEventListener('click', flip); img.addEventListener('click', flip);\n"
           "  show('actual');\n"
           "  if (location.hash == '#flip') flip();\n"
-          "}\n</script>\n</body></html>\n", fp);
+          "}\n"
+          "/* Zoom: every image at its own size times z, or fitted (z 0). */\n"
+          "const setZoom = z => {\n"
+          "  for (const im of document.querySelectorAll('.pic img, img.flipimg')) {\n"
+          "    im.style.width = z ? im.naturalWidth * z + 'px' : '';\n"
+          "    im.style.maxWidth = z ? 'none' : '280px'; }\n"
+          "  for (const b of document.querySelectorAll('#zoom button'))\n"
+          "    b.classList.toggle('on', +b.dataset.z == z); };\n"
+          "for (const b of document.querySelectorAll('#zoom button'))\n"
+          "  b.addEventListener('click', () => setZoom(+b.dataset.z));\n"
+          "</script>\n</body></html>\n", fp);
     return ferror(fp) ? SP_E_IO : 0;
+}
+
+/* s inside a Markdown table cell: what Markdown or HTML would read as
+ * markup escaped, a newline as a space. */
+static void md_cell(FILE *fp, const char *s)
+{
+    for (size_t n; *s; s += n ? n : 1) {
+        n = sp_utf8_char(s);
+        if (!n || (unsigned char)*s < 0x20)
+            fputc(n ? ' ' : '?', fp);
+        else if (*s == '<')
+            fputs("&lt;", fp);
+        else if (*s == '>')
+            fputs("&gt;", fp);
+        else if (*s == '&')
+            fputs("&amp;", fp);
+        else if (strchr("|\\`*_[]#!", *s))
+            fprintf(fp, "\\%c", *s);
+        else
+            fwrite(s, 1, n, fp);
+    }
+}
+
+/* What was measured and what was allowed, for the summary's table. */
+static void md_figures(FILE *fp, const struct sp_compare_record *r)
+{
+    const struct sp_compare_result *x = &r->result;
+    char m[256] = "", a[128] = "";
+    if (r->verdict == SP_VERDICT_ERROR || !r->compared) {
+        fputs(" | ", fp), md_cell(fp, r->error), fputs(" | |", fp);
+        return;
+    }
+    if (r->size_mismatch) {
+        snprintf(m, sizeof(m), "%dx%d, expected %dx%d", r->actual_w, r->actual_h,
+                 r->expected_w, r->expected_h);
+        snprintf(a, sizeof(a), "the same size");
+    } else if (r->metric == SP_COMPARE_RMS) {
+        snprintf(m, sizeof(m), "rms %.3f", x->rms);
+        snprintf(a, sizeof(a), "rms ≤ %g", x->tol);
+    } else {
+        snprintf(m, sizeof(m), "%ld px differ by > %d levels (largest %d)", x->differing,
+                 x->max_diff, x->max_channel_diff);
+        snprintf(a, sizeof(a), "%ld px", x->allowed);
+    }
+    fputs(" | ", fp);
+    if (r->frames > 0)
+        fprintf(fp, "%d of %d frames; worst frame %d: ", r->failed_frames, r->frames,
+                r->worst_frame);
+    md_cell(fp, m);
+    fputs(" | ", fp), md_cell(fp, a), fputs(" |", fp);
+}
+
+void sp_compare_report_markdown(FILE *fp, const struct sp_compare_report *rep)
+{
+    struct sp_compare_counts c = sp_compare_report_count(rep);
+    const int max_rows = 50;
+    int rows = 0, more = 0;
+    fprintf(fp, "### springpend compare: %s\n\n", status_word(rep));
+    fprintf(fp, "%d images: %d compared, %d passed, %d failed, %d missing or unreadable, "
+            "%d updated", c.records, c.compared, c.passed, c.failed, c.errors, c.updated);
+    if (c.not_compared)
+        fprintf(fp, ", %d not compared (interrupted)", c.not_compared);
+    fputs(".\n", fp);
+    if (rep->problem[0])
+        fputs("\n", fp), md_cell(fp, rep->problem), fputs("\n", fp);
+    for (int i = 0; i < rep->n; i++) {
+        const struct sp_compare_record *r = &rep->records[i];
+        if (r->verdict == SP_VERDICT_PASS || r->update != SP_UPDATE_NONE || r->not_compared)
+            continue;
+        if (rows == max_rows) {
+            more++;
+            continue;
+        }
+        if (!rows++)
+            fputs("\n| image | verdict | measured | allowed |\n|---|---|---|---|\n", fp);
+        fputs("| ", fp), md_cell(fp, r->name);
+        fprintf(fp, " | %s", verdict_word(r->verdict));
+        md_figures(fp, r);
+        fputc('\n', fp);
+    }
+    if (more)
+        fprintf(fp, "\nand %d more failures and errors: see the report.\n", more);
+    if (rep->report_path) {
+        fputs("\nReport: `", fp);
+        for (const char *p = rep->report_path; *p; p++)
+            fputc(*p == '`' || (unsigned char)*p < 0x20 ? '?' : *p, fp);
+        fputs("` (expected, actual and diff side by side).\n", fp);
+    }
 }

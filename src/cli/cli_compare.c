@@ -60,6 +60,10 @@ static const char compare_usage[] =
     "                         of the image (default 0.1%)\n"
     "  --metric rms --tol X   pytest-mpl's rule instead: pass when the RMS of the\n"
     "                         RGB differences is <= X levels (default 2)\n"
+    "  --metric pixelmatch --threshold T  mapbox/pixelmatch's perceptual rule: a\n"
+    "                         pixel differs when its YIQ colour distance exceeds\n"
+    "                         35215 T^2 (T from 0 to 1, default 0.1) and it is not\n"
+    "                         anti-aliasing; --max-pixels then applies\n"
     "  --diff PATH            on a mismatch, write a diff image to PATH: the\n"
     "                         expected image in grey, differing pixels magenta,\n"
     "                         smaller changes blue; both side by side when the\n"
@@ -112,6 +116,7 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
     static const struct option longopts[] = {
         {"max-diff", required_argument, 0, 'd'}, {"max-pixels", required_argument, 0, 'p'},
         {"metric", required_argument, 0, 'm'},   {"tol", required_argument, 0, 't'},
+        {"threshold", required_argument, 0, 'T'},
         {"diff", required_argument, 0, 'D'},     {"json", no_argument, 0, 'j'},
         {"update", required_argument, 0, 'u'},   {"report", required_argument, 0, 'R'},
         {"junit", required_argument, 0, 'J'},    {"quiet", no_argument, 0, 'q'},
@@ -130,7 +135,7 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
     opterr = 0;
     while ((ch = getopt_long(argc, argv, ":qh", longopts, &idx)) != -1) {
         switch (ch) {
-        case 'd': case 'p': case 'm': case 't':
+        case 'd': case 'p': case 'm': case 't': case 'T':
             if (sp_compare_rule_set(&c->base, longopts[idx].name, optarg, why, sizeof(why))) {
                 sp_log_error("--%s", why);
                 return SP_E_INPUT;

@@ -24,6 +24,7 @@
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
 #include "springpend/compare_report.h"
+#include "springpend/environment.h"
 #include "springpend/image_compare.h"
 #include "springpend/outfile.h"
 #include "springpend/png_io.h"
@@ -367,6 +368,36 @@ static int scene_value(const char *text, const char *key, char *val, size_t size
 
 /* Notes the provenance chunks that differ, and the scene keys that
  * changed (from springpend.scene) with both values. */
+/* Notes the lines of the springpend.environment chunks that differ (the
+ * library versions, the fonts' hashes), when both images have one. */
+static void note_environment(struct sp_compare_record *r)
+{
+    char ee[SP_ENVIRONMENT_MAX], ea[SP_ENVIRONMENT_MAX], note[sizeof(r->notes[0])];
+    size_t n = 0;
+    if (r->n_notes == SP_COMPARE_MAX_NOTES ||
+        sp_png_read_text(r->expected, "springpend.environment", ee, sizeof(ee)) != 1 ||
+        sp_png_read_text(r->actual, "springpend.environment", ea, sizeof(ea)) != 1 ||
+        !strcmp(ee, ea))
+        return;
+    n = (size_t)snprintf(note, sizeof(note), "made in another environment (springpend.environment):");
+    for (const char *p = ee; *p && n < sizeof(note);) {
+        size_t len = strcspn(p, "\n"), key = strcspn(p, ":\n");
+        const char *q = ea;
+        /* the same key's line in the other text */
+        while (*q && !(strncmp(q, p, key + 1) == 0))
+            q += strcspn(q, "\n") + (q[strcspn(q, "\n")] == '\n');
+        size_t qlen = strcspn(q, "\n");
+        if (!*q || qlen != len || strncmp(p, q, len))
+            n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s%s vs %.*s;", (int)len, p,
+                                  "", *q ? (int)(qlen - key - 1) : 6,
+                                  *q ? q + key + 2 : "(none)");
+        p += len + (p[len] == '\n');
+    }
+    if (n && note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] == ';')
+        note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] = 0;
+    snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s", note);
+}
+
 static void note_provenance(struct sp_compare_record *r)
 {
     char se[16384], sa[16384]; /* canonical scene texts (threads: on the stack) */
@@ -381,6 +412,7 @@ static void note_provenance(struct sp_compare_record *r)
         snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: %s vs %s",
                  provenance_keys[i][1], e, a);
     }
+    note_environment(r);
     if (sp_png_read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
         sp_png_read_text(r->actual, "springpend.scene", sa, sizeof(sa)) != 1)
         return;

@@ -11,7 +11,7 @@
  *     metric = rms
  *     tol = 1.5
  *
- * Keys: metric (reftest or rms), max_diff (0..255 levels), max_pixels (a
+ * Keys: metric (reftest, rms or pixelmatch), threshold (pixelmatch's, 0..1), max_diff (0..255 levels), max_pixels (a
  * count up to 1e18, or P% with 0 <= P <= 100), tol (rms levels 0..255),
  * mask (integers, 0..1e9). Numbers are decimal: no hex, inf or nan. A [file]
  * section overrides wildcard sections ([hud-*.png]), which override [*]; an option on the command line is a limit neither
@@ -41,6 +41,7 @@ struct sp_compare_rule {
 #define SP_COMPARE_SET_MAX_DIFF 2u
 #define SP_COMPARE_SET_MAX_PIXELS 4u
 #define SP_COMPARE_SET_TOL 8u
+#define SP_COMPARE_SET_THRESHOLD 16u
 
 struct sp_compare_config {
     char path[4096];               /* "" when there was no file */

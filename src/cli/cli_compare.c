@@ -24,6 +24,7 @@
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
 #include "springpend/compare_report.h"
+#include "springpend/environment.h"
 #include "springpend/image_compare.h"
 #include "springpend/outfile.h"
 #include "springpend/png_io.h"
@@ -60,6 +61,10 @@ static const char compare_usage[] =
     "                         of the image (default 0.1%)\n"
     "  --metric rms --tol X   pytest-mpl's rule instead: pass when the RMS of the\n"
     "                         RGB differences is <= X levels (default 2)\n"
+    "  --metric pixelmatch --threshold T  mapbox/pixelmatch's perceptual rule: a\n"
+    "                         pixel differs when its YIQ colour distance exceeds\n"
+    "                         35215 T^2 (T from 0 to 1, default 0.1) and it is not\n"
+    "                         anti-aliasing; --max-pixels then applies\n"
     "  --diff PATH            on a mismatch, write a diff image to PATH: the\n"
     "                         expected image in grey, differing pixels magenta,\n"
     "                         smaller changes blue; both side by side when the\n"
@@ -112,6 +117,7 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
     static const struct option longopts[] = {
         {"max-diff", required_argument, 0, 'd'}, {"max-pixels", required_argument, 0, 'p'},
         {"metric", required_argument, 0, 'm'},   {"tol", required_argument, 0, 't'},
+        {"threshold", required_argument, 0, 'T'},
         {"diff", required_argument, 0, 'D'},     {"json", no_argument, 0, 'j'},
         {"update", required_argument, 0, 'u'},   {"report", required_argument, 0, 'R'},
         {"junit", required_argument, 0, 'J'},    {"quiet", no_argument, 0, 'q'},
@@ -130,7 +136,7 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
     opterr = 0;
     while ((ch = getopt_long(argc, argv, ":qh", longopts, &idx)) != -1) {
         switch (ch) {
-        case 'd': case 'p': case 'm': case 't':
+        case 'd': case 'p': case 'm': case 't': case 'T':
             if (sp_compare_rule_set(&c->base, longopts[idx].name, optarg, why, sizeof(why))) {
                 sp_log_error("--%s", why);
                 return SP_E_INPUT;
@@ -362,6 +368,36 @@ static int scene_value(const char *text, const char *key, char *val, size_t size
 
 /* Notes the provenance chunks that differ, and the scene keys that
  * changed (from springpend.scene) with both values. */
+/* Notes the lines of the springpend.environment chunks that differ (the
+ * library versions, the fonts' hashes), when both images have one. */
+static void note_environment(struct sp_compare_record *r)
+{
+    char ee[SP_ENVIRONMENT_MAX], ea[SP_ENVIRONMENT_MAX], note[sizeof(r->notes[0])];
+    size_t n = 0;
+    if (r->n_notes == SP_COMPARE_MAX_NOTES ||
+        sp_png_read_text(r->expected, "springpend.environment", ee, sizeof(ee)) != 1 ||
+        sp_png_read_text(r->actual, "springpend.environment", ea, sizeof(ea)) != 1 ||
+        !strcmp(ee, ea))
+        return;
+    n = (size_t)snprintf(note, sizeof(note), "made in another environment (springpend.environment):");
+    for (const char *p = ee; *p && n < sizeof(note);) {
+        size_t len = strcspn(p, "\n"), key = strcspn(p, ":\n");
+        const char *q = ea;
+        /* the same key's line in the other text */
+        while (*q && !(strncmp(q, p, key + 1) == 0))
+            q += strcspn(q, "\n") + (q[strcspn(q, "\n")] == '\n');
+        size_t qlen = strcspn(q, "\n");
+        if (!*q || qlen != len || strncmp(p, q, len))
+            n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s%s vs %.*s;", (int)len, p,
+                                  "", *q ? (int)(qlen - key - 1) : 6,
+                                  *q ? q + key + 2 : "(none)");
+        p += len + (p[len] == '\n');
+    }
+    if (n && note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] == ';')
+        note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] = 0;
+    snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s", note);
+}
+
 static void note_provenance(struct sp_compare_record *r)
 {
     char se[16384], sa[16384]; /* canonical scene texts (threads: on the stack) */
@@ -376,6 +412,7 @@ static void note_provenance(struct sp_compare_record *r)
         snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: %s vs %s",
                  provenance_keys[i][1], e, a);
     }
+    note_environment(r);
     if (sp_png_read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
         sp_png_read_text(r->actual, "springpend.scene", sa, sizeof(sa)) != 1)
         return;

@@ -83,12 +83,19 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
     double v;
     size_t n = strlen(value);
     if (!strcmp(name, "metric")) {
-        if (strcmp(value, "reftest") && strcmp(value, "rms")) {
-            snprintf(why, why_size, "metric %s: expected reftest or rms", value);
+        if (strcmp(value, "reftest") && strcmp(value, "rms") && strcmp(value, "pixelmatch")) {
+            snprintf(why, why_size, "metric %s: expected reftest, rms or pixelmatch", value);
             return SP_E_INPUT;
         }
-        o->metric = value[1] == 'm' ? SP_COMPARE_RMS : SP_COMPARE_REFTEST;
+        o->metric = value[1] == 'm' ? SP_COMPARE_RMS
+                    : value[0] == 'p' ? SP_COMPARE_PIXELMATCH : SP_COMPARE_REFTEST;
         r->set |= SP_COMPARE_SET_METRIC;
+    } else if (!strcmp(name, "threshold")) {
+        if ((wrong = read_number(value, 0, 1, 0, &v)))
+            return refuse(why, why_size, name, value, wrong,
+                          "a pixelmatch threshold from 0 to 1 (like 0.1)");
+        o->threshold = v == 0 ? SP_COMPARE_NONE : v;
+        r->set |= SP_COMPARE_SET_THRESHOLD;
     } else if (!strcmp(name, "max-diff") || !strcmp(name, "max_diff")) {
         if ((wrong = read_number(value, 0, 255, 1, &v)))
             return refuse(why, why_size, name, value, wrong,
@@ -125,7 +132,7 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
         r->masks[r->n_masks++] = m;
     } else {
         snprintf(why, why_size, "unknown key '%s'; keys: metric, max_diff, max_pixels, tol, "
-                 "mask", name);
+                 "threshold, mask", name);
         return SP_E_INPUT;
     }
     return 0;
@@ -286,6 +293,8 @@ static void apply(const struct sp_compare_rule *r, struct sp_compare_opts *o)
         o->max_pixels = r->opts.max_pixels, o->max_fraction = r->opts.max_fraction;
     if (r->set & SP_COMPARE_SET_TOL)
         o->tol = r->opts.tol;
+    if (r->set & SP_COMPARE_SET_THRESHOLD)
+        o->threshold = r->opts.threshold;
 }
 
 /* A max_diff or tol as applied: NONE is 0, 0 the default. */
@@ -307,6 +316,10 @@ static void tighten(const struct sp_compare_rule *cli, struct sp_compare_opts *o
     if ((cli->set & SP_COMPARE_SET_TOL) &&
         level(c->tol, SP_COMPARE_TOL_DEFAULT) < level(o->tol, SP_COMPARE_TOL_DEFAULT))
         o->tol = c->tol;
+    if ((cli->set & SP_COMPARE_SET_THRESHOLD) &&
+        level(c->threshold, SP_COMPARE_THRESHOLD_DEFAULT) <
+            level(o->threshold, SP_COMPARE_THRESHOLD_DEFAULT))
+        o->threshold = c->threshold;
     if (cli->set & SP_COMPARE_SET_MAX_PIXELS) /* a count or a share: judged per image */
         o->cap_pixels = c->max_pixels, o->cap_fraction = c->max_fraction;
 }

@@ -107,6 +107,11 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
                 r->expected_w, r->expected_h, r->actual_w, r->actual_h);
     } else if (r->exact) {
         fprintf(fp, "identical pixels (%ld, sha256 %.12s)", x->pixels, r->actual_sha256);
+    } else if (r->metric == SP_COMPARE_PIXELMATCH) {
+        fprintf(fp, "%ld of %ld pixels differ (pixelmatch, threshold %g; %ld anti-aliased "
+                "pixels not counted) (%ld allowed); largest difference %d; rms %.3f",
+                x->differing, x->pixels, x->threshold, x->antialiased, x->allowed,
+                x->max_channel_diff, x->rms);
     } else {
         fprintf(fp, "%ld of %ld pixels differ by more than %d levels (%ld allowed); "
                 "largest difference %d; rms %.3f",
@@ -276,6 +281,7 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     fputs(", \"expected_pixels_sha256\": ", fp), json_maybe(fp, r->expected_sha256);
     fputs(", \"actual_pixels_sha256\": ", fp), json_maybe(fp, r->actual_sha256);
     if (r->compared && !r->size_mismatch) {
+        fprintf(fp, ", \"antialiased_pixels\": %ld", x->antialiased);
         fprintf(fp, ", \"pixels\": %ld, \"differing_pixels\": %ld, \"changed_pixels\": %ld, "
                 "\"masked_pixels\": %ld, \"max_channel_diff\": %d, \"rms\": ",
                 x->pixels, x->differing, x->changed, r->masked_pixels, x->max_channel_diff);
@@ -292,8 +298,11 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     if (r->compared && !r->size_mismatch) {
         fprintf(fp, ",\n     \"tolerance\": {\"metric\": \"%s\", \"max_channel_diff\": %d, "
                 "\"max_differing_pixels\": %ld, \"max_rms\": ",
-                r->metric == SP_COMPARE_RMS ? "rms" : "reftest", x->max_diff, x->allowed);
+                r->metric == SP_COMPARE_RMS ? "rms" : r->metric == SP_COMPARE_PIXELMATCH
+                ? "pixelmatch" : "reftest", x->max_diff, x->allowed);
         json_number(fp, "%g", x->tol);
+        fputs(", \"threshold\": ", fp);
+        json_number(fp, "%g", x->threshold);
         fputs("}", fp);
     } else
         fputs(",\n     \"tolerance\": null", fp);
@@ -885,6 +894,10 @@ static void md_figures(FILE *fp, const struct sp_compare_record *r)
         snprintf(m, sizeof(m), "%dx%d, expected %dx%d", r->actual_w, r->actual_h,
                  r->expected_w, r->expected_h);
         snprintf(a, sizeof(a), "the same size");
+    } else if (r->metric == SP_COMPARE_PIXELMATCH) {
+        snprintf(m, sizeof(m), "%ld px differ (pixelmatch, threshold %g)", x->differing,
+                 x->threshold);
+        snprintf(a, sizeof(a), "%ld px", x->allowed);
     } else if (r->metric == SP_COMPARE_RMS) {
         snprintf(m, sizeof(m), "rms %.3f", x->rms);
         snprintf(a, sizeof(a), "rms ≤ %g", x->tol);

@@ -29,6 +29,8 @@ static void resolve(const struct sp_compare_opts *o, long pixels, struct sp_comp
                                        : (long)floor(o->cap_fraction * pixels);
         res->allowed = cap < res->allowed ? cap : res->allowed;
     }
+    res->threshold = o->threshold == SP_COMPARE_NONE ? 0
+                     : o->threshold > 0 ? o->threshold : SP_COMPARE_THRESHOLD_DEFAULT;
     res->tol = o->tol == SP_COMPARE_NONE ? 0 : o->tol > 0 ? o->tol : SP_COMPARE_TOL_DEFAULT;
 }
 
@@ -71,6 +73,16 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
     res->pixels = (long)e->width * e->height;
     resolve(opts, res->pixels, res);
     res->bbox[0] = res->bbox[1] = res->bbox[2] = res->bbox[3] = -1;
+    uint8_t *marks = NULL; /* pixelmatch's verdict per pixel */
+    if (opts->metric == SP_COMPARE_PIXELMATCH) {
+        if (!(marks = malloc((size_t)res->pixels))) {
+            sp_log_error("out of memory comparing two %dx%d images", e->width, e->height);
+            if (diff)
+                sp_image_free(diff);
+            return SP_E_NOMEM;
+        }
+        sp_compare_pixelmatch(e, a, res->threshold, 0, marks);
+    }
 
     for (int y = 0; y < e->height; y++) {
         const uint8_t *p = e->pixels + (size_t)y * e->stride;
@@ -88,8 +100,9 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
             opaque &= p[3] == 255 && q[3] == 255;
             if (m > res->max_channel_diff)
                 res->max_channel_diff = m;
-            int level = m > res->max_diff ? 2 : m > 0;
-            res->changed += level > 0;
+            int level = marks ? marks[(size_t)y * e->width + x] : m > res->max_diff ? 2 : m > 0;
+            res->antialiased += level == 1 && marks;
+            res->changed += m > 0;
             if (level == 2) {
                 if (!res->differing++) {
                     res->bbox[0] = res->bbox[2] = x;
@@ -106,6 +119,7 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
     /* matplotlib drops alpha only when both images are fully opaque. */
     res->rms = opaque ? sqrt(sum_rgb / (3.0 * res->pixels))
                       : sqrt((sum_rgb + sum_a) / (4.0 * res->pixels));
+    free(marks);
     if (opts->metric == SP_COMPARE_RMS)
         res->pass = res->rms <= res->tol;
     else

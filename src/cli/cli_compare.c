@@ -110,6 +110,8 @@ struct compare_cli {
     int json, quiet, failures_only;
     int jobs;                      /* --jobs: threads comparing folders */
     int approve;                   /* --approve DIR BASELINES */
+    unsigned diff_links;           /* write_whole's flags for diff images:
+                                      SP_OUTFILE_REPLACE_LINK in folder mode */
 };
 
 static int parse_args(struct compare_cli *c, int argc, char **argv)
@@ -548,8 +550,9 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         r->ssim = sp_compare_ssim(&e, &a);
         r->verdict = r->result.pass ? SP_VERDICT_PASS : SP_VERDICT_FAIL;
     }
+    /* A diff image in a folder replaces a link there, never follows it. */
     if (r->verdict == SP_VERDICT_FAIL && diff_path &&
-        write_whole(diff_path, 0, fill_png, &(struct png_out){&d, diff_path}) == 0)
+        write_whole(diff_path, c->diff_links, fill_png, &(struct png_out){&d, diff_path}) == 0)
         snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
 done:
     /* What made the two images, pass or fail: a pass across renderers is
@@ -1214,6 +1217,7 @@ int sp_cmd_compare(int argc, char **argv)
             ret = SP_E_INPUT;
             goto done;
         }
+        c.diff_links = SP_OUTFILE_REPLACE_LINK;
         ret = compare_folders(&c, &rep, e, a);
     } else {
         struct sp_compare_record *r = sp_compare_report_add(&rep);

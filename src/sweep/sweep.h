@@ -9,6 +9,15 @@
  *   lyapunov: point,KEY[,KEY2],lyapunov,lyapunov_half   (1/s; the value at T/2)
  *   orbit:    point,KEY,t,theta,r                       (s, degrees, m)
  *   poincare: point,KEY[,KEY2],t,r,r_dot,theta_dot      (s, m, m/s, rad/s)
+ *   orbit with --continue or --peak (spectrum.h's neighbour continuation.c):
+ *             point,KEY,t,theta,r,branch,peak               (branch: 0 none,
+ *             1 up, -1 down; peak: the largest |theta| (degrees) or r (m)
+ *             over the drive period that ends at the sample)
+ *   spectrum: point,KEY[,KEY2],T,lambda1,lambda2,lambda3,lambda4,sum,kaplan_yorke
+ *             (running values at checkpoints T; the last row of a point is
+ *             at T = time; 1/s, the dimension unitless)
+ *   basins:   point,KEY,KEY2,period,winding,theta,r,theta_dot,r_dot,settled
+ *             (basins.h)
  * A shard's CSV has a "# shard I/N" line after the description. */
 #ifndef SPRINGPEND_SWEEP_H
 #define SPRINGPEND_SWEEP_H
@@ -17,7 +26,25 @@
 
 #include "springpend/scene.h"
 
-enum sp_measure { SP_MEASURE_LYAPUNOV, SP_MEASURE_ORBIT, SP_MEASURE_POINCARE };
+struct sp_sweep_desc;
+
+enum sp_measure {
+    SP_MEASURE_LYAPUNOV,
+    SP_MEASURE_ORBIT,
+    SP_MEASURE_POINCARE,
+    SP_MEASURE_SPECTRUM,
+    SP_MEASURE_BASINS,
+    SP_MEASURE_COUNT,
+};
+
+/* Orbit diagrams' continuation (--continue): each parameter value starts
+ * from the previous value's final state, upward, downward, or both. */
+enum sp_continue { SP_CONTINUE_NONE, SP_CONTINUE_UP, SP_CONTINUE_DOWN, SP_CONTINUE_BOTH };
+enum { SP_PEAK_THETA = 1, SP_PEAK_R = 2 };
+
+/* The measure's name ("lyapunov", ...) and its CSV columns after the keys. */
+const char *sp_sweep_measure_name(enum sp_measure m);
+const char *sp_sweep_columns(const struct sp_sweep_desc *d);
 
 #define SP_SWEEP_MAX_AXES 2
 #define SP_SWEEP_MAX_POINTS 50000000L /* a map's figure holds 16 bytes per point */
@@ -41,6 +68,9 @@ struct sp_sweep_desc {
     char method[16];             /* the integrator's name */
     double dt;                   /* its step, s (fixed-step methods) */
     int theme, colormap;         /* the scene's look, for the figure */
+    enum sp_continue cont;       /* orbit: continuation (header word continue=) */
+    int peak;                    /* orbit: 0, or SP_PEAK_THETA / SP_PEAK_R: also the
+                                  * largest |theta| (or r) over each drive period */
 };
 
 /* Point p's index along each axis (the first axis varies fastest). */

@@ -139,7 +139,8 @@ for side, angle in (("base", 10), ("act", 10)):
     run("render", default, "--size", "96x64", "--fps", "10", "--set", "video.duration=0.3",
         "--set", f"initial.angle={angle}", "-o", W("tree", side, "vid", "clip.mp4"), "-q")
 run("render", default, "--size", "96x64", "--fps", "10", "--set", "video.duration=0.3",
-    "--set", "initial.angle=30", "-o", W("tree", "act", "vid", "other.mp4"), "-q")
+    "--set", "initial.angle=30", "--set", "view.theme=light", "-o",
+    W("tree", "act", "vid", "other.mp4"), "-q")
 shutil.copy(W("tree", "base", "vid", "clip.mp4"), W("tree", "base", "vid", "other.mp4"))
 r = run("compare", W("tree", "base"), W("tree", "act"), "--json")
 names = {x["name"]: x["verdict"] for x in json.loads(r.stdout)["results"]}

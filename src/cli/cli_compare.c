@@ -370,6 +370,14 @@ static int scene_value(const char *text, const char *key, char *val, size_t size
 
 /* Notes the provenance chunks that differ, and the scene keys that
  * changed (from springpend.scene) with both values. */
+/* A provenance text of the image or video at path (a PNG's text chunk, a
+ * video's container tag); 1 when found. */
+static int read_text(const char *path, const char *key, char *buf, size_t size)
+{
+    return is_png_path(path) ? sp_png_read_text(path, key, buf, size)
+                             : sp_video_read_text(path, key, buf, size);
+}
+
 /* Notes the lines of the springpend.environment chunks that differ (the
  * library versions, the fonts' hashes), when both images have one. */
 static void note_environment(struct sp_compare_record *r)
@@ -377,8 +385,8 @@ static void note_environment(struct sp_compare_record *r)
     char ee[SP_ENVIRONMENT_MAX], ea[SP_ENVIRONMENT_MAX], note[sizeof(r->notes[0])];
     size_t n = 0;
     if (r->n_notes == SP_COMPARE_MAX_NOTES ||
-        sp_png_read_text(r->expected, "springpend.environment", ee, sizeof(ee)) != 1 ||
-        sp_png_read_text(r->actual, "springpend.environment", ea, sizeof(ea)) != 1 ||
+        read_text(r->expected, "springpend.environment", ee, sizeof(ee)) != 1 ||
+        read_text(r->actual, "springpend.environment", ea, sizeof(ea)) != 1 ||
         !strcmp(ee, ea))
         return;
     n = (size_t)snprintf(note, sizeof(note), "made in another environment (springpend.environment):");
@@ -407,16 +415,16 @@ static void note_provenance(struct sp_compare_record *r)
         char e[256], a[256];
         if (r->n_notes == (int)(sizeof(r->notes) / sizeof(r->notes[0])))
             break;
-        if (sp_png_read_text(r->expected, provenance_keys[i][0], e, sizeof(e)) != 1 ||
-            sp_png_read_text(r->actual, provenance_keys[i][0], a, sizeof(a)) != 1 ||
+        if (read_text(r->expected, provenance_keys[i][0], e, sizeof(e)) != 1 ||
+            read_text(r->actual, provenance_keys[i][0], a, sizeof(a)) != 1 ||
             !strcmp(e, a))
             continue;
         snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: %s vs %s",
                  provenance_keys[i][1], e, a);
     }
     note_environment(r);
-    if (sp_png_read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
-        sp_png_read_text(r->actual, "springpend.scene", sa, sizeof(sa)) != 1)
+    if (read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
+        read_text(r->actual, "springpend.scene", sa, sizeof(sa)) != 1)
         return;
     for (const char *p = se; *p;) {
         size_t eq = strcspn(p, "=\n"), len = strcspn(p, "\n");
@@ -579,6 +587,31 @@ static void *read_job_run(void *arg)
     return NULL;
 }
 
+/* The videos' default rule on one frame pair: sp_compare_images on their
+ * 8x8 block means (image_compare.h); the diff image, when asked for, is the
+ * blocks' diff at the frames' size. */
+static int compare_blocks(const struct sp_image *fe, const struct sp_image *fa,
+                          const struct sp_compare_opts *opts, struct sp_compare_result *res,
+                          struct sp_image *diff)
+{
+    struct sp_image be = {0}, ba = {0}, small = {0};
+    int ret = sp_compare_block_means(fe, SP_COMPARE_VIDEO_BLOCK, &be);
+    if (!ret)
+        ret = sp_compare_block_means(fa, SP_COMPARE_VIDEO_BLOCK, &ba);
+    if (!ret)
+        ret = sp_compare_images(&be, &ba, opts, res, diff ? &small : NULL);
+    if (!ret && diff && !(ret = sp_image_alloc(diff, fe->width, fe->height)))
+        for (int y = 0; y < fe->height; y++)
+            for (int x = 0; x < fe->width; x++)
+                memcpy(diff->pixels + (size_t)y * diff->stride + 4 * (size_t)x,
+                       small.pixels + (size_t)(y / SP_COMPARE_VIDEO_BLOCK) * small.stride +
+                           4 * (size_t)(x / SP_COMPARE_VIDEO_BLOCK), 4);
+    sp_image_free(&be);
+    sp_image_free(&ba);
+    sp_image_free(&small);
+    return ret;
+}
+
 /* Frame times that differ by more than this are a failure, s: well under
  * a frame at any rate a video has. */
 #define FRAME_TIME_SLACK 5e-4
@@ -606,6 +639,16 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
     for (int k = 0; k < n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0])); k++)
         r->masks[r->n_masks++] = masks[k];
     r->metric = opts.metric;
+    /* Nothing set for this video: the videos' default rule (block means). */
+    int blocks = !(opts.given & (SP_COMPARE_SET_METRIC | SP_COMPARE_SET_MAX_DIFF |
+                                 SP_COMPARE_SET_MAX_PIXELS | SP_COMPARE_SET_TOL |
+                                 SP_COMPARE_SET_THRESHOLD));
+    if (blocks) {
+        opts.metric = SP_COMPARE_REFTEST;
+        opts.max_diff = SP_COMPARE_VIDEO_BLOCK_DIFF;
+        opts.max_pixels = SP_COMPARE_NONE;
+        r->metric = SP_COMPARE_BLOCKS;
+    }
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
         (ret = sp_video_reader_open(&va, actual)) != 0) {
         ret = record_error(r, "cannot read %s", ve ? actual : expected);
@@ -650,7 +693,8 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
         sp_compare_apply_masks(&fe, &fa, masks, n_masks);
         r->masked_pixels = sp_compare_masked_pixels(fe.width, fe.height, star_masks,
                                                     n_star_masks, masks, n_masks);
-        ret = sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
+        ret = blocks ? compare_blocks(&fe, &fa, &opts, &res, diff_path ? &d : NULL)
+                     : sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
         if (ret) {
             ret = record_error(r, "comparison failed");
             goto done;
@@ -696,6 +740,7 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
     }
     r->compared = 1;
     r->verdict = r->failed_frames ? SP_VERDICT_FAIL : SP_VERDICT_PASS;
+    note_provenance(r); /* the scene keys that changed, from the videos' tags */
     if (r->failed_frames && diff_path && worst_diff.pixels &&
         write_whole(diff_path, 0, fill_png, &(struct png_out){&worst_diff, diff_path}) == 0)
         snprintf(r->diff, sizeof(r->diff), "%s", diff_path);

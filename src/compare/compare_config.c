@@ -360,6 +360,10 @@ void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
                 masks[(*n_masks)++] = r->masks[k];
         }
     tighten(cli, opts);
+    opts->given = cli->set;
+    for (int i = 0; i < cfg->n_rules; i++)
+        if (section_match(cfg->rules[i].name, name))
+            opts->given |= cfg->rules[i].set;
 }
 
 void sp_compare_config_warn_unused(const struct sp_compare_config *cfg)

@@ -107,6 +107,11 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
                 r->expected_w, r->expected_h, r->actual_w, r->actual_h);
     } else if (r->exact) {
         fprintf(fp, "identical pixels (%ld, sha256 %.12s)", x->pixels, r->actual_sha256);
+    } else if (r->metric == SP_COMPARE_BLOCKS) {
+        fprintf(fp, "%ld of %ld blocks of %dx%d px differ by more than %d levels in their "
+                "mean (%ld allowed); largest difference %d; rms %.3f", x->differing, x->pixels,
+                SP_COMPARE_VIDEO_BLOCK, SP_COMPARE_VIDEO_BLOCK, x->max_diff, x->allowed,
+                x->max_channel_diff, x->rms);
     } else if (r->metric == SP_COMPARE_PIXELMATCH) {
         fprintf(fp, "%ld of %ld pixels differ (pixelmatch, threshold %g; %ld anti-aliased "
                 "pixels not counted) (%ld allowed); largest difference %d; rms %.3f",
@@ -357,7 +362,8 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
         fprintf(fp, ",\n     \"tolerance\": {\"metric\": \"%s\", \"max_channel_diff\": %d, "
                 "\"max_differing_pixels\": %ld, \"max_rms\": ",
                 r->metric == SP_COMPARE_RMS ? "rms" : r->metric == SP_COMPARE_PIXELMATCH
-                ? "pixelmatch" : "reftest", x->max_diff, x->allowed);
+                ? "pixelmatch" : r->metric == SP_COMPARE_BLOCKS ? "blocks" : "reftest",
+                x->max_diff, x->allowed);
         json_number(fp, "%g", x->tol);
         fputs(", \"threshold\": ", fp);
         json_number(fp, "%g", x->threshold);
@@ -960,9 +966,11 @@ static void md_figures(FILE *fp, const struct sp_compare_record *r)
         snprintf(m, sizeof(m), "rms %.3f", x->rms);
         snprintf(a, sizeof(a), "rms ≤ %g", x->tol);
     } else {
-        snprintf(m, sizeof(m), "%ld px differ by > %d levels (largest %d)", x->differing,
-                 x->max_diff, x->max_channel_diff);
-        snprintf(a, sizeof(a), "%ld px", x->allowed);
+        snprintf(m, sizeof(m), "%ld %s differ by > %d levels (largest %d)", x->differing,
+                 r->metric == SP_COMPARE_BLOCKS ? "8x8 blocks" : "px", x->max_diff,
+                 x->max_channel_diff);
+        snprintf(a, sizeof(a), "%ld %s", x->allowed,
+                 r->metric == SP_COMPARE_BLOCKS ? "blocks" : "px");
     }
     fputs(" | ", fp);
     if (r->frames > 0)

@@ -299,3 +299,26 @@ int sp_compare_size_diff(const struct sp_image *e, const struct sp_image *a,
     blit_marked(diff, e->width + 8, a, e->width, e->height);
     return 0;
 }
+
+int sp_compare_block_means(const struct sp_image *img, int block, struct sp_image *out)
+{
+    int w = (img->width + block - 1) / block, h = (img->height + block - 1) / block;
+    int err = sp_image_alloc(out, w, h);
+    if (err)
+        return err;
+    for (int by = 0; by < h; by++)
+        for (int bx = 0; bx < w; bx++) {
+            unsigned sum[4] = {0};
+            int n = 0;
+            for (int y = by * block; y < (by + 1) * block && y < img->height; y++) {
+                const uint8_t *p = img->pixels + (size_t)y * img->stride + 4 * (size_t)bx * block;
+                for (int x = bx * block; x < (bx + 1) * block && x < img->width; x++, p += 4, n++)
+                    for (int c = 0; c < 4; c++)
+                        sum[c] += p[c];
+            }
+            uint8_t *d = out->pixels + (size_t)by * out->stride + 4 * (size_t)bx;
+            for (int c = 0; c < 4; c++)
+                d[c] = (uint8_t)((sum[c] + (unsigned)n / 2) / (unsigned)n);
+        }
+    return 0;
+}

@@ -760,27 +760,13 @@ done:
 static int link_out(struct sp_compare_record *r, const char *name, const char *path,
                     const char *dir)
 {
-    struct stat st;
-    char *to, *in;
-    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
+    char to[PATH_MAX];
+    if (!sp_compare_link_outside(path, dir, to, sizeof(to)))
         return 0;
-    to = realpath(path, NULL);
-    in = realpath(dir, NULL);
-    size_t n = in ? strlen(in) : 0;
-    int out = !to || !in || strncmp(to, in, n) || to[n] != '/';
-    if (out) {
-        char target[PATH_MAX];
-        ssize_t len = readlink(path, target, sizeof(target) - 1);
-        target[len > 0 ? len : 0] = 0;
-        snprintf(r->name, sizeof(r->name), "%s", name);
-        record_error(r, "%s is a link to %s, outside %s: not read", path,
-                     to ? to : target, dir);
-        snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it",
-                 dir);
-    }
-    free(to);
-    free(in);
-    return out;
+    snprintf(r->name, sizeof(r->name), "%s", name);
+    record_error(r, "%s is a link to %s, outside %s: not read", path, to, dir);
+    snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it", dir);
+    return 1;
 }
 
 /* The command that adds missing baselines, for messages. */

@@ -102,6 +102,15 @@ ok("outside base" in r.stdout.decode() and "not read" in r.stdout.decode(),
 ok(len(re.findall(r'src="data:image/png;base64,', html)) == 3 and "not shown" in html,
    "the PNGs that were read are embedded (ok.png twice, in.png's actual), the rest named")
 
+# A compare.ini that links out of the folder is not read: its lines would be
+# quoted in messages (a token file's keys in a CI log).
+os.unlink(os.path.join(d, "base", "out.png"))
+os.symlink("../secret.txt", os.path.join(d, "base", "compare.ini"))
+r = run("compare", "base", "act", cwd=d)
+ok(r.returncode == 2 and "compare.ini is a link to" in r.stderr.decode()
+   and "GITHUB_TOKEN" not in r.stderr.decode() + r.stdout.decode(),
+   f"a compare.ini linking out of the folder is refused unread ({r.stderr.decode().strip()})")
+
 # ---- FIFOs and devices named *.png do not hang or fill the report ----
 d = fresh("fifo")
 png(os.path.join(d, "act", "f.png"))
@@ -186,14 +195,25 @@ d = fresh("tty")
 esc = "x\x1b]0;pwned\x07\x1b[31mred\x9b2J.png"
 png(os.path.join(d, "base", esc), level=10)
 png(os.path.join(d, "act", esc), level=200)
+forged = "n\nok   forged.png"
+png(os.path.join(d, "base", forged), level=10)
+png(os.path.join(d, "act", forged), level=200)
 os.mkfifo(os.path.join(d, "base", "\x1b[2Jfifo.png"))
 png(os.path.join(d, "act", "\x1b[2Jfifo.png"))
 r = subprocess.run([exe.encode(), b"compare", b"base", b"act"], capture_output=True, cwd=d,
                    timeout=30)
 out = r.stdout + r.stderr
 ok(r.returncode == 2 and b"\x1b" not in out and b"\x07" not in out and b"\x9b" not in out
-   and b"\\x1b" in r.stdout and b"\\x1b" in r.stderr,
-   f"names with terminal escapes are shown, not sent (stdout and stderr): {r.stdout[:160]!r}")
+   and b"\\x1b" in r.stdout and b"\\x1b" in r.stderr
+   and not any(line.startswith(b"ok   forged") for line in r.stdout.split(b"\n"))
+   and b"n\\nok   forged.png" in r.stdout,
+   f"names with terminal escapes or a newline are shown, not sent, and forge no line "
+   f"(stdout and stderr): {r.stdout[:200]!r}")
+r = subprocess.run([exe.encode(), b"compare", b"base", b"act", b"--json"], capture_output=True,
+                   cwd=d, timeout=30)
+ok(b"\x1b" not in r.stdout and b"\xc2\x9b" not in r.stdout and b"\\u001b" in r.stdout
+   and b"\\u009b" in r.stdout and json.loads(r.stdout)["results"],
+   "--json escapes C0 and C1 controls (\\u001b, \\u009b): valid JSON, nothing a terminal obeys")
 
 # ---- a video named javascript: is no live link ----
 d = fresh("js")
@@ -294,6 +314,15 @@ ok(open(os.path.join(d, "victim.png"), "rb").read() == victim
    and os.path.islink(os.path.join(d, "base", "out.png")),
    f"--update=all: a link within the folder is replaced by the file, one out of it refused; "
    f"neither target written (exit {r.returncode})")
+os.makedirs(os.path.join(d, "diffs"))
+os.symlink("../victim.png", os.path.join(d, "diffs", "c.diff.png"))
+png(os.path.join(d, "base", "c.png"), level=10)
+r = run("compare", "base", "act", "--diff", "diffs", cwd=d)
+ok(open(os.path.join(d, "victim.png"), "rb").read() == victim
+   and not os.path.islink(os.path.join(d, "diffs", "c.diff.png"))
+   and open(os.path.join(d, "diffs", "c.diff.png"), "rb").read(8) == b"\x89PNG\r\n\x1a\n",
+   f"folders: a diff image replaces a link in the --diff folder, never writes through it "
+   f"(exit {r.returncode})")
 os.symlink(os.path.join(d, "victim.png"), os.path.join(d, "one.png"))
 r = run("compare", "one.png", "act/c.png", "--update=changed", cwd=d)
 ok(open(os.path.join(d, "victim.png"), "rb").read() == victim
@@ -336,8 +365,9 @@ if root:
 else:
     skip("--help > a full device", "mknod needs root")
 
-# ---- SIGQUIT, SIGUSR1 and SIGALRM stop a run cleanly ----
-for sig in (signal.SIGQUIT, signal.SIGUSR1, signal.SIGALRM):
+# ---- every signal that would kill the process stops a run cleanly ----
+for sig in (signal.SIGQUIT, signal.SIGUSR1, signal.SIGUSR2, signal.SIGALRM, signal.SIGVTALRM,
+            signal.SIGXCPU, signal.SIGPWR):
     d = fresh("sig" + str(int(sig)))
     p = subprocess.Popen([exe, "data", default, "--set", "integrator.method=rk4", "--set",
                           "integrator.dt=1e-6", "--set", "video.duration=1000", "--every", "100",

@@ -54,9 +54,18 @@ struct sp_compare_config {
 int sp_compare_rule_set(struct sp_compare_rule *rule, const char *name, const char *value,
                         char *why, size_t why_size);
 
+/* 1 when path is a symbolic link whose file (resolved, or not resolvable:
+ * a loop, a dangling link) lies outside folder dir; then `to` holds where
+ * it points (size bytes). 0 for anything else, links within dir too.
+ * compare reads nothing through such a link: a file in a pull request
+ * could point at a secret (--report, compare.ini's messages) or at a file
+ * --update would replace. */
+int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t size);
+
 /* Reads dir/compare.ini into cfg when it exists (cfg stays empty when it
  * does not). Errors are printed as FILE:LINE: what is wrong, what is
- * allowed; returns 0, SP_E_INPUT or SP_E_NOMEM. */
+ * allowed; returns 0, SP_E_INPUT or SP_E_NOMEM. A compare.ini that links
+ * out of dir is refused (SP_E_INPUT). */
 int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir);
 
 /* The options and masks for image `name`: base (the command line), then

@@ -80,6 +80,8 @@ struct compare_cli {
     const char *html, *junit;      /* --report, --junit, NULL = none */
     enum update_mode update;
     int json, quiet;
+    unsigned diff_links;           /* write_whole's flags for diff images:
+                                      SP_OUTFILE_REPLACE_LINK in folder mode */
 };
 
 static int parse_args(struct compare_cli *c, int argc, char **argv)
@@ -422,7 +424,9 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         r->verdict = r->result.pass ? SP_VERDICT_PASS : SP_VERDICT_FAIL;
     }
     if (r->verdict == SP_VERDICT_FAIL) {
-        if (diff_path && write_whole(diff_path, 0, fill_png, &(struct png_out){&d, diff_path}) == 0)
+        /* A diff image in a folder replaces a link there, never follows it. */
+        if (diff_path && write_whole(diff_path, c->diff_links, fill_png,
+                                     &(struct png_out){&d, diff_path}) == 0)
             snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
         note_provenance(r);
     }
@@ -587,27 +591,13 @@ static int is_png_name(const struct dirent *d)
 static int link_out(struct sp_compare_record *r, const char *name, const char *path,
                     const char *dir)
 {
-    struct stat st;
-    char *to, *in;
-    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
+    char to[PATH_MAX];
+    if (!sp_compare_link_outside(path, dir, to, sizeof(to)))
         return 0;
-    to = realpath(path, NULL);
-    in = realpath(dir, NULL);
-    size_t n = in ? strlen(in) : 0;
-    int out = !to || !in || strncmp(to, in, n) || to[n] != '/';
-    if (out) {
-        char target[PATH_MAX];
-        ssize_t len = readlink(path, target, sizeof(target) - 1);
-        target[len > 0 ? len : 0] = 0;
-        snprintf(r->name, sizeof(r->name), "%s", name);
-        record_error(r, "%s is a link to %s, outside %s: not read", path,
-                     to ? to : target, dir);
-        snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it",
-                 dir);
-    }
-    free(to);
-    free(in);
-    return out;
+    snprintf(r->name, sizeof(r->name), "%s", name);
+    record_error(r, "%s is a link to %s, outside %s: not read", path, to, dir);
+    snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it", dir);
+    return 1;
 }
 
 /* The command that adds missing baselines, for messages. */
@@ -808,6 +798,7 @@ int sp_cmd_compare(int argc, char **argv)
             ret = SP_E_INPUT;
             goto done;
         }
+        c.diff_links = SP_OUTFILE_REPLACE_LINK;
         ret = compare_folders(&c, &rep, e, a);
     } else {
         struct sp_compare_record *r = sp_compare_report_add(&rep);

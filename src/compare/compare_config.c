@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
@@ -224,14 +225,39 @@ static int handle(void *user, const char *section, const char *name, const char 
     return 1;
 }
 
+int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t size)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
+        return 0;
+    char *file = realpath(path, NULL), *in = realpath(dir, NULL);
+    size_t n = in ? strlen(in) : 0;
+    int out = !file || !in || strncmp(file, in, n) || file[n] != '/';
+    if (out && file) {
+        snprintf(to, size, "%s", file);
+    } else if (out) {
+        ssize_t len = readlink(path, to, size - 1);
+        to[len > 0 ? len : 0] = 0;
+    }
+    free(file);
+    free(in);
+    return out;
+}
+
 int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
 {
+    char to[4096];
     struct stat st;
     char *text = NULL;
     FILE *fp = NULL;
     int ret = 0;
     memset(cfg, 0, sizeof(*cfg));
     snprintf(cfg->path, sizeof(cfg->path), "%s/%s", dir, SP_COMPARE_CONFIG_NAME);
+    if (sp_compare_link_outside(cfg->path, dir, to, sizeof(to))) {
+        sp_log_error("%s is a link to %s, outside %s: not read; put the file itself there",
+                     cfg->path, to, dir);
+        return SP_E_INPUT;
+    }
     if (stat(cfg->path, &st) != 0) {
         cfg->path[0] = 0;
         return 0;

@@ -59,7 +59,7 @@ BUGS = [
     ("crlf-counts-two-lines", "base", "src/base/ini_lines.c",
      "len += start[len] == '\\r' && start[len + 1] == '\\n' ? 2 : start[len] ? 1 : 0;",
      "len += start[len] ? 1 : 0;",
-     "scene,safety,validation"),
+     "formats,scene,safety,validation"),
     ("second-signal-exit-128", "base", "src/base/signals.c",
      "_exit(128 + sig);", "_exit(128);", "safety,output,review"),
     ("time-base-whole-fps", "sinks", "src/sinks/sink_video.c",
@@ -111,7 +111,7 @@ BUGS = [
     ("mask-misses-last-column", "compare", "src/compare/image_compare.c",
      "x1 = x1 > expected->width ? expected->width : x1;",
      "x1 = x1 > expected->width ? expected->width - 1 : x1;",
-     "compare,compare-ci"),
+     "options,compare,compare-ci"),
     ("bob-radius-4pc-larger", "frame", "src/frame/compose.c",
      "#define BOB_RADIUS 0.022f", "#define BOB_RADIUS 0.0229f",
      "golden,render,figures"),
@@ -122,7 +122,7 @@ BUGS = [
     ("cairo-ball-darker", "render", "src/render/draw_cairo.c",
      "{{0, 1.0}, {0.45, 0.95}, {0.85, 0.62}, {1, 0.38}}",
      "{{0, 1.0}, {0.45, 0.85}, {0.85, 0.62}, {1, 0.38}}",
-     "figures,review"),
+     "vector-golden,figures,review"),
 ]
 
 JOBS = os.environ.get("SP_PLANT_JOBS", "2")

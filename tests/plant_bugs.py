@@ -17,6 +17,8 @@ usage: tests/plant_bugs.py [--list] [--bug NAME]... [--all-tests] [--tests T,...
   --scratch DIR  where the copy and its build live (default /tmp/springpend-plant);
                  kept between runs, so later runs rebuild only what changed
   --keep-going   run every chosen test instead of stopping at the first failure
+  --fresh        wipe the scratch build first (after main's meson.build changed:
+                 a kept build once lacked the symbols a new module needed)
 The copy is made from the working tree of the repository that holds this
 script (tracked and untracked files git does not ignore). Needs meson, ninja.
 Build and test jobs: -j2 (SP_PLANT_JOBS to change)."""
@@ -189,6 +191,7 @@ def main():
     ap.add_argument("--tests")
     ap.add_argument("--scratch", default="/tmp/springpend-plant")
     ap.add_argument("--keep-going", action="store_true")
+    ap.add_argument("--fresh", action="store_true")
     a = ap.parse_args()
     bugs = [b for b in BUGS if not a.bug or any(b[0].startswith(n) for n in a.bug)]
     if a.list:
@@ -199,6 +202,8 @@ def main():
     if not bugs:
         sys.exit("plant_bugs: no bug of that name (see --list)")
     repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    if a.fresh:
+        shutil.rmtree(os.path.join(a.scratch, "build"), ignore_errors=True)
     src, bdir = make_copy(repo, a.scratch)
     ok, log = build(bdir)
     if not ok:

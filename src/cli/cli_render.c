@@ -105,7 +105,7 @@ static int write_state(const char *path, const struct sp_scene *scene,
     struct sp_polar pol;
     struct sp_energy e;
     struct sp_outfile f;
-    int ret = sp_provenance_init(&prov, scene, NULL);
+    int ret = sp_provenance_init(&prov, scene, NULL, NULL);
     if (ret || (ret = sp_outfile_open(&f, path, SP_OUTFILE_STREAM)) != 0)
         return ret;
     sp_sim_init(&sim, scene); /* for the parameters and the initial energy */

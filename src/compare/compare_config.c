@@ -1,8 +1,10 @@
 /* springpend: compare.ini, per-image tolerances and masks
  * (compare_config.h). libinih splits the lines; ini_lines.c counts them. */
 #include <errno.h>
+#include <fnmatch.h>
 #include <ini.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -83,12 +85,19 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
     double v;
     size_t n = strlen(value);
     if (!strcmp(name, "metric")) {
-        if (strcmp(value, "reftest") && strcmp(value, "rms")) {
-            snprintf(why, why_size, "metric %s: expected reftest or rms", value);
+        if (strcmp(value, "reftest") && strcmp(value, "rms") && strcmp(value, "pixelmatch")) {
+            snprintf(why, why_size, "metric %s: expected reftest, rms or pixelmatch", value);
             return SP_E_INPUT;
         }
-        o->metric = value[1] == 'm' ? SP_COMPARE_RMS : SP_COMPARE_REFTEST;
+        o->metric = value[1] == 'm' ? SP_COMPARE_RMS
+                    : value[0] == 'p' ? SP_COMPARE_PIXELMATCH : SP_COMPARE_REFTEST;
         r->set |= SP_COMPARE_SET_METRIC;
+    } else if (!strcmp(name, "threshold")) {
+        if ((wrong = read_number(value, 0, 1, 0, &v)))
+            return refuse(why, why_size, name, value, wrong,
+                          "a pixelmatch threshold from 0 to 1 (like 0.1)");
+        o->threshold = v == 0 ? SP_COMPARE_NONE : v;
+        r->set |= SP_COMPARE_SET_THRESHOLD;
     } else if (!strcmp(name, "max-diff") || !strcmp(name, "max_diff")) {
         if ((wrong = read_number(value, 0, 255, 1, &v)))
             return refuse(why, why_size, name, value, wrong,
@@ -125,10 +134,23 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
         r->masks[r->n_masks++] = m;
     } else {
         snprintf(why, why_size, "unknown key '%s'; keys: metric, max_diff, max_pixels, tol, "
-                 "mask", name);
+                 "threshold, mask", name);
         return SP_E_INPUT;
     }
     return 0;
+}
+
+/* A FILE:LINE message on stderr, shown printable (sp_fputs_printable):
+ * keys and section names come from a file a pull request may write. */
+static void say(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static void say(const char *fmt, ...)
+{
+    char msg[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof(msg), fmt, ap);
+    va_end(ap);
+    sp_fputs_printable(msg, stderr);
 }
 
 struct config_ctx {
@@ -160,7 +182,7 @@ static char *read_line(char *str, int num, void *stream)
     if (s && s[strspn(s, " \t")] == '[')
         c->section_line = c->lines.line;
     if (s && len) {
-        fprintf(stderr, "%s:%d: line is %zu bytes long; at most %d are allowed\n",
+        say("%s:%d: line is %zu bytes long; at most %d are allowed\n",
                 c->cfg->path, c->lines.line, len, num - 2);
         c->errors++;
     }
@@ -183,7 +205,7 @@ static int handle(void *user, const char *section, const char *name, const char 
         v[--n] = 0;
     value = v;
     if (!section[0]) {
-        fprintf(stderr, "%s:%d: '%s' comes before any section; put it under [*] (every "
+        say("%s:%d: '%s' comes before any section; put it under [*] (every "
                 "image) or [NAME.png]\n", cfg->path, c->lines.line, name);
         c->errors++;
         return 1;
@@ -191,7 +213,7 @@ static int handle(void *user, const char *section, const char *name, const char 
     if (!cfg->n_rules || strcmp(cfg->rules[cfg->n_rules - 1].name, section)) {
         for (int i = 0; i < cfg->n_rules; i++)
             if (!strcmp(cfg->rules[i].name, section)) {
-                fprintf(stderr, "%s:%d: [%s] appears twice (first on line %d); keep one\n",
+                say("%s:%d: [%s] appears twice (first on line %d); keep one\n",
                         cfg->path, c->lines.line, section, cfg->rules[i].line);
                 c->errors++;
                 return 1;
@@ -211,7 +233,7 @@ static int handle(void *user, const char *section, const char *name, const char 
     /* A key given twice is refused, as in scenes: the last would win unseen. */
     int k = key_index(name);
     if (k >= 0 && c->key_line[k]) {
-        fprintf(stderr, "%s:%d: %s is set twice in [%s] (first on line %d); keep one\n",
+        say("%s:%d: %s is set twice in [%s] (first on line %d); keep one\n",
                 cfg->path, c->lines.line, name, section, c->key_line[k]);
         c->errors++;
         return 1;
@@ -219,7 +241,7 @@ static int handle(void *user, const char *section, const char *name, const char 
     if (k >= 0)
         c->key_line[k] = c->lines.line;
     if (sp_compare_rule_set(&cfg->rules[cfg->n_rules - 1], name, value, why, sizeof(why))) {
-        fprintf(stderr, "%s:%d: %s\n", cfg->path, c->lines.line, why);
+        say("%s:%d: %s\n", cfg->path, c->lines.line, why);
         c->errors++;
     }
     return 1;
@@ -230,14 +252,18 @@ int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t 
     struct stat st;
     if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
         return 0;
-    char *file = realpath(path, NULL), *in = realpath(dir, NULL);
+    char *file = realpath(path, NULL);
+    int why = errno;
+    char *in = realpath(dir, NULL);
     size_t n = in ? strlen(in) : 0;
     int out = !file || !in || strncmp(file, in, n) || file[n] != '/';
     if (out && file) {
         snprintf(to, size, "%s", file);
-    } else if (out) {
-        ssize_t len = readlink(path, to, size - 1);
-        to[len > 0 ? len : 0] = 0;
+    } else if (out) { /* a loop or a dangling link: where it points, and why */
+        char link[4096];
+        ssize_t len = readlink(path, link, sizeof(link) - 1);
+        link[len > 0 ? len : 0] = 0;
+        snprintf(to, size, "%s (%s)", link, strerror(why));
     }
     free(file);
     free(in);
@@ -254,7 +280,7 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
     memset(cfg, 0, sizeof(*cfg));
     snprintf(cfg->path, sizeof(cfg->path), "%s/%s", dir, SP_COMPARE_CONFIG_NAME);
     if (sp_compare_link_outside(cfg->path, dir, to, sizeof(to))) {
-        sp_log_error("%s is a link to %s, outside %s: not read; put the file itself there",
+        sp_log_error("%s is a link to %s, not inside %s: not read; put the file itself there",
                      cfg->path, to, dir);
         return SP_E_INPUT;
     }
@@ -288,7 +314,7 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
         sp_log_error("out of memory");
         ret = SP_E_NOMEM;
     } else if (rc > 0 && !c.errors) {
-        fprintf(stderr, "%s:%d: expected 'key = value', '[NAME.png]', '[*]' or a '#' comment\n",
+        say("%s:%d: expected 'key = value', '[NAME.png]', '[*]' or a '#' comment\n",
                 cfg->path, rc);
         ret = SP_E_INPUT;
     } else if (c.errors || rc) {
@@ -311,39 +337,84 @@ static void apply(const struct sp_compare_rule *r, struct sp_compare_opts *o)
         o->max_pixels = r->opts.max_pixels, o->max_fraction = r->opts.max_fraction;
     if (r->set & SP_COMPARE_SET_TOL)
         o->tol = r->opts.tol;
+    if (r->set & SP_COMPARE_SET_THRESHOLD)
+        o->threshold = r->opts.threshold;
+}
+
+/* A max_diff or tol as applied: NONE is 0, 0 the default. */
+static double level(double v, double dflt)
+{
+    return v == SP_COMPARE_NONE ? 0 : v > 0 ? v : dflt;
+}
+
+/* Keeps the command line's options (cli) where they are stricter than o's. */
+static void tighten(const struct sp_compare_rule *cli, struct sp_compare_opts *o)
+{
+    const struct sp_compare_opts *c = &cli->opts;
+    if (cli->set & SP_COMPARE_SET_METRIC)
+        o->metric = c->metric;
+    if ((cli->set & SP_COMPARE_SET_MAX_DIFF) &&
+        level(c->max_diff, SP_COMPARE_MAX_DIFF_DEFAULT) <
+            level(o->max_diff, SP_COMPARE_MAX_DIFF_DEFAULT))
+        o->max_diff = c->max_diff;
+    if ((cli->set & SP_COMPARE_SET_TOL) &&
+        level(c->tol, SP_COMPARE_TOL_DEFAULT) < level(o->tol, SP_COMPARE_TOL_DEFAULT))
+        o->tol = c->tol;
+    if ((cli->set & SP_COMPARE_SET_THRESHOLD) &&
+        level(c->threshold, SP_COMPARE_THRESHOLD_DEFAULT) <
+            level(o->threshold, SP_COMPARE_THRESHOLD_DEFAULT))
+        o->threshold = c->threshold;
+    if (cli->set & SP_COMPARE_SET_MAX_PIXELS) /* a count or a share: judged per image */
+        o->cap_pixels = c->max_pixels, o->cap_fraction = c->max_fraction;
+}
+
+/* How section `sect` applies to image `name` (relative path): 0 not at
+ * all, 1 [*], 2 a wildcard section, 3 the image's own section. */
+static int section_match(const char *sect, const char *name)
+{
+    const char *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
+    const char *target = strchr(sect, '/') ? name : base;
+    if (!strcmp(sect, "*"))
+        return 1;
+    if (!strcmp(sect, target))
+        return 3;
+    if (strpbrk(sect, "*?[") && fnmatch(sect, target, FNM_PATHNAME) == 0)
+        return 2;
+    return 0;
 }
 
 void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
-                               const struct sp_compare_opts *base,
+                               const struct sp_compare_rule *cli,
                                struct sp_compare_opts *opts,
-                               const struct sp_compare_mask **masks, int *n_masks,
-                               const struct sp_compare_mask **star_masks, int *n_star_masks)
+                               struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS],
+                               int *n_masks)
 {
-    struct sp_compare_rule *star = NULL, *own = NULL;
-    for (int i = 0; i < cfg->n_rules; i++) {
-        if (!strcmp(cfg->rules[i].name, "*"))
-            star = &cfg->rules[i];
-        else if (!strcmp(cfg->rules[i].name, name))
-            own = &cfg->rules[i];
-    }
-    *opts = *base;
-    if (own)
-        own->used = 1;
-    if (star)
-        apply(star, opts);
-    if (own)
-        apply(own, opts);
-    *masks = own ? own->masks : NULL;
-    *n_masks = own ? own->n_masks : 0;
-    *star_masks = star ? star->masks : NULL;
-    *n_star_masks = star ? star->n_masks : 0;
+    memset(opts, 0, sizeof(*opts));
+    *n_masks = 0;
+    apply(cli, opts); /* without compare.ini the command line decides */
+    for (int level = 1; level <= 3; level++)
+        for (int i = 0; i < cfg->n_rules; i++) {
+            struct sp_compare_rule *r = &cfg->rules[i];
+            if (section_match(r->name, name) != level)
+                continue;
+            if (level > 1)
+                __atomic_store_n(&r->used, 1, __ATOMIC_RELAXED); /* threads */
+            apply(r, opts);
+            for (int k = 0; k < r->n_masks && *n_masks < SP_COMPARE_RESOLVED_MASKS; k++)
+                masks[(*n_masks)++] = r->masks[k];
+        }
+    tighten(cli, opts);
+    opts->given = cli->set;
+    for (int i = 0; i < cfg->n_rules; i++)
+        if (section_match(cfg->rules[i].name, name))
+            opts->given |= cfg->rules[i].set;
 }
 
 void sp_compare_config_warn_unused(const struct sp_compare_config *cfg)
 {
     for (int i = 0; i < cfg->n_rules; i++)
         if (!cfg->rules[i].used && strcmp(cfg->rules[i].name, "*"))
-            fprintf(stderr, "%s:%d: warning: [%s] matches no compared image\n", cfg->path,
+            say("%s:%d: warning: [%s] matches no compared image\n", cfg->path,
                     cfg->rules[i].line, cfg->rules[i].name);
 }
 

@@ -286,7 +286,8 @@ static int run_setup(struct run *run)
     ret = sp_render_make(&run->r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .look = &look, .supersample = desc->supersample});
-    if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r))) != 0)
+    if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r),
+                                                 sp_render_gl_version(run->r))) != 0)
         return ret;
     return sp_sink_open(&run->sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,

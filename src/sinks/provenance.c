@@ -37,7 +37,7 @@ done:
 }
 
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
-                       const char *renderer)
+                       const char *renderer, const char *gl_version)
 {
     snprintf(p->software, sizeof(p->software), "springpend " SP_VERSION);
     snprintf(p->renderer, sizeof(p->renderer), "%s", renderer ? renderer : "none");
@@ -47,8 +47,11 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
     p->text[2] = (struct sp_png_text){.key = "springpend.scene-sha256", .text = p->scene_sha256};
     p->text[3] = (struct sp_png_text){.key = "springpend.time", .text = p->time};
     p->text[4] = (struct sp_png_text){.key = "springpend.scene", .text = p->scene, .compressed = 1};
+    sp_environment_text(p->environment, sizeof(p->environment), renderer, gl_version);
+    p->text[5] = (struct sp_png_text){.key = "springpend.environment", .text = p->environment,
+                                      .compressed = 1};
     p->fonts[0] = 0;
-    p->text[5] = (struct sp_png_text){.key = "springpend.fonts", .text = p->fonts};
+    p->text[6] = (struct sp_png_text){.key = "springpend.fonts", .text = p->fonts};
     return scene_sha256(scene, p->scene_sha256, p->scene, sizeof(p->scene));
 }
 

@@ -182,6 +182,15 @@ for cmd in ([], ["render"], ["still"], ["data"], ["info"], ["compare"]):
     r = run(*cmd, "--help")
     ok(r.returncode == 0 and "usage:" in r.stdout, f"springpend {' '.join(cmd)} --help")
 ok("compare" in run("--help").stdout, "springpend --help lists compare")
+# FFmpeg, cairo and GL are loaded on first use: the executable itself links
+# none of them, nor what they bring (libavutil once did, for SHA-256).
+r = subprocess.run(["ldd", exe], capture_output=True, text=True)
+linked = [w for w in r.stdout.split() if w.startswith("lib")]
+media = [w for w in linked if w.split(".so")[0] in
+         ("libavutil", "libavcodec", "libavformat", "libswscale", "libavfilter", "libva",
+          "libva-drm", "libva-x11", "libX11", "libOpenCL", "libmfx", "libcairo", "libOSMesa")]
+ok(r.returncode == 0 and linked and not media,
+   f"the executable links no media library ({len(linked)} libraries; {media or 'none of them'})")
 
 # A blow-up is an error with exit 3, never a file.
 r = run("render", default, "--set", "pendulum.stiffness=5e6", "--set", "pendulum.mass=0.5",

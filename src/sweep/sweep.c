@@ -15,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "decimal.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
@@ -126,6 +127,70 @@ int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
         seen++;
     }
     return seen && (int)d->measure >= 0 && d->n_axes > 0 ? 0 : SP_E_INPUT;
+}
+
+/* ---- rows read back ------------------------------------------------------- */
+
+const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
+{
+    static const int values[] = {2, 3, 4}; /* measured numbers per measure */
+    const struct sp_sweep_desc *d = r->d;
+    const int nv = values[d->measure], n = 1 + d->n_axes + nv;
+    char field[64], want[32];
+    double v[4] = {0};
+    int nan = 0, idx[SP_SWEEP_MAX_AXES];
+    long point = -1;
+    const char *p = line;
+    for (int i = 0; i < n; i++) {
+        const size_t len = strcspn(p, ",\n");
+        if (p[len] != (i + 1 < n ? ',' : '\n') || len >= sizeof(field))
+            return i + 1 < n ? "too few numbers or one too long" : "not a whole row";
+        memcpy(field, p, len);
+        field[len] = 0;
+        p += len + 1;
+        if (i == 0) { /* the point, as "%ld" */
+            char *end;
+            point = strtol(field, &end, 10);
+            snprintf(want, sizeof(want), "%ld", point);
+            if (strcmp(field, want))
+                return "the point is not an integer";
+            if (point < r->first || point >= r->last)
+                return "the point is not one of this shard's";
+            sp_sweep_point_index(d, point, idx);
+        } else if (i <= d->n_axes) { /* the grid's value, as row_start writes it */
+            snprintf(want, sizeof(want), "%.10g",
+                     sp_sweep_axis_value(&d->axis[i - 1], idx[i - 1]));
+            if (strcmp(field, want))
+                return "a key's value is not the grid's value for this point";
+        } else if (!strcmp(field, "nan")) {
+            nan++;
+        } else if (sp_decimal_read(field, &v[i - 1 - d->n_axes]) != SP_DECIMAL_OK) {
+            return "a value is not a finite decimal number (nan, inf and hex are not written)";
+        }
+    }
+    if (*p)
+        return "more than a row";
+    if (nan && nan != nv)
+        return "a row is either all numbers or all nan (a point that blew up)";
+    if (d->measure == SP_MEASURE_LYAPUNOV) {
+        if (point != r->first + r->rows)
+            return "not the next point's row (one row per point, in order)";
+    } else {
+        const double slack = d->dt > 0 ? d->dt : 0;
+        if (point < r->point)
+            return "a point's rows after a later point's";
+        if (point == r->point && (nan || r->blown))
+            return "a point that blew up has one row";
+        if (point == r->point && v[0] < r->t)
+            return "a point's times do not ascend";
+        if (!nan && !(v[0] >= d->transient - slack && v[0] <= d->transient + d->time + slack))
+            return "a time outside the measured span";
+        r->t = v[0];
+    }
+    r->point = point;
+    r->blown = nan > 0;
+    r->rows++;
+    return NULL;
 }
 
 /* ---- the scenes of the grid ---------------------------------------------- */

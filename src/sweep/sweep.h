@@ -9,7 +9,9 @@
  *   lyapunov: point,KEY[,KEY2],lyapunov,lyapunov_half   (1/s; the value at T/2)
  *   orbit:    point,KEY,t,theta,r                       (s, degrees, m)
  *   poincare: point,KEY[,KEY2],t,r,r_dot,theta_dot      (s, m, m/s, rad/s)
- * A shard's CSV has a "# shard I/N" line after the description. */
+ * A shard's CSV has a "# shard I/N" line after the description and ends
+ * with "# end rows=N sha256=HEX", the SHA-256 of every byte before that
+ * line, so that --merge can refuse a copy cut short or edited. */
 #ifndef SPRINGPEND_SWEEP_H
 #define SPRINGPEND_SWEEP_H
 
@@ -60,6 +62,25 @@ int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *b
 /* Parses a description line back (the line without its newline). Returns 0
  * or SP_E_INPUT (no message; the caller names the file). */
 int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d);
+
+/* What a shard's rows must be, checked row by row (sp_sweep_row_check). */
+struct sp_sweep_rows {
+    const struct sp_sweep_desc *d;
+    long first, last; /* the shard's points [first, last) */
+    long rows;        /* rows checked so far */
+    long point;       /* the last row's point, -1 before the first */
+    double t;         /* orbit, poincare: the last row's time, s */
+    int blown;        /* the last row was a blown-up point's NaN row */
+};
+
+/* Checks one row (with its newline) as the sweep writes it: the point an
+ * integer in [first, last), one row per point in order (lyapunov) or the
+ * points' rows in order, each point's times ascending (orbit, poincare);
+ * the key values the grid's own (as written, %.10g); the measured values
+ * finite decimal numbers (no nan, inf or hex), or all "nan" for a point
+ * that blew up (its only row). Returns NULL, or what is wrong (for
+ * "FILE:LINE: WHAT"). */
+const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line);
 
 /* A running sweep's report to its caller (progress bar), from the calling
  * thread: points done of total. */

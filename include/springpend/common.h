@@ -18,8 +18,16 @@ enum sp_error {
     SP_E_MISMATCH = -8,    /* compare: images differ beyond tolerance: exit status 1 */
 };
 
-/* Prints "springpend: <message>\n" to stderr. */
+/* Prints "springpend: <message>\n" to stderr, through sp_fputs_printable:
+ * messages name files, and a file name must not drive the terminal. */
 void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+#include <stdio.h>
+
+/* Writes the UTF-8 string s to fp with what a terminal would obey shown
+ * instead: C0 controls but newline and tab, DEL and bytes that are not
+ * UTF-8 as \xHH, C1 controls (U+0080..U+009F) as \uHHHH. */
+void sp_fputs_printable(const char *s, FILE *fp);
 
 /* Progress of a long integration, drawn on stderr when it is a terminal:
  * a command calls sp_progress_begin before integrating to t_goal

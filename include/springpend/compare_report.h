@@ -41,6 +41,10 @@ struct sp_compare_record {
     enum sp_update_action update;
     char error[512];          /* why it could not be compared; "" when it was */
     char hint[512];           /* what to do about it, "" when nothing */
+    int not_compared;         /* 1: never looked at: the run was interrupted
+                                 first (verdict ERROR, counted apart) */
+    int expected_png, actual_png; /* 1: read as a PNG (its header at least):
+                                     only these are embedded in --report */
     int compared;             /* 1: result below holds figures */
     int exact;                /* the decoded pixels are identical (equal hashes) */
     char expected_sha256[65]; /* of the decoded pixels, "" when not read */
@@ -65,7 +69,7 @@ struct sp_compare_record {
 struct sp_compare_report {
     struct sp_compare_record *records; /* owned */
     int n, cap;
-    int interrupted;                   /* stopped by a signal */
+    int interrupted;                   /* the signal that stopped the run, 0 none */
 };
 
 /* A new zeroed record at the end of rep (ssim -1, worst_frame -1); NULL
@@ -74,14 +78,16 @@ struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep);
 void sp_compare_report_free(struct sp_compare_report *rep);
 
 /* Counts of rep's records by verdict; a record whose baseline --update
- * changed counts as updated only. */
+ * changed counts as updated only, one never compared (interrupted) as
+ * not_compared only. */
 struct sp_compare_counts {
-    int compared, passed, failed, errors, updated;
+    int compared, passed, failed, errors, updated, not_compared;
 };
 struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report *rep);
 
 /* Text: one line per record (failures only when quiet), notes, hints and
- * updates beneath, then a summary line when `summary` (folders). */
+ * updates beneath, then a summary line when `summary` (folders). Control
+ * characters from names are shown, never sent (sp_fputs_printable). */
 void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
                             int summary);
 
@@ -89,13 +95,22 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
  * "pass": ..., "counts": {...}, "results": [ ... ]}. */
 void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep);
 
-/* JUnit XML: one testsuite, a testcase per record, <failure> or <error>. */
+/* JUnit XML: one testsuite, a testcase per record, <failure> or <error>;
+ * what XML cannot hold (C0 controls, U+FFFE, U+FFFF, stray bytes) becomes
+ * U+FFFD, and "[[" in names becomes "[ [" so that only springpend's own
+ * [[ATTACHMENT|diff]] lines reach GitLab and Jenkins. An interrupted run
+ * adds an <error> test case naming the signal and a <skipped> one for
+ * each image never compared. */
 void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep);
 
 /* One self-contained HTML page: the images embedded as data: URLs, a row
  * per record, failures first, expected | actual | diff side by side, a
  * button (or a click on the image) flipping between expected and actual,
- * the figures and the verdict. Returns 0, or SP_E_NOMEM. */
+ * the figures and the verdict. Only regular files that start like a PNG
+ * and were read as one are embedded (never FIFOs, devices or other files
+ * a *.png name points at); a video is a relative link, never a URL scheme.
+ * Returns 0, or SP_E_IO at the first write that fails (a full disk, a
+ * file size limit). */
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep);
 
 /* Writes s to fp as a JSON string: quoted, with quotes, backslashes and

@@ -71,10 +71,16 @@ struct sp_compare_mask {
 };
 
 /* Copies the masked rectangles of expected into actual, so they compare
- * equal; returns how many pixels the masks cover (clipped, overlaps
- * counted once per rectangle). */
+ * equal; returns the sum of the rectangles' clipped areas (overlaps
+ * counted once per rectangle: sp_compare_masked_pixels counts pixels). */
 long sp_compare_apply_masks(const struct sp_image *expected, struct sp_image *actual,
                             const struct sp_compare_mask *masks, int n_masks);
+
+/* The pixels of a width x height image that the masks of a and b cover,
+ * each pixel counted once however many masks overlap it (clipped); -1
+ * (logged) when out of memory. */
+long sp_compare_masked_pixels(int width, int height, const struct sp_compare_mask *a, int na,
+                              const struct sp_compare_mask *b, int nb);
 
 /* SHA-256 of the decoded pixels (rows of width * 4 bytes, stride skipped,
  * then the width and height as text), as 64 lower-case hex digits in

@@ -14,7 +14,10 @@
  *   one to finish wins with a whole file, and nothing that already exists is
  *   opened, truncated or removed (not even a file named like a .part).
  * - A symlink to a regular file is followed: the file it points to is
- *   replaced, the link stays.
+ *   replaced, the link stays. With SP_OUTFILE_REPLACE_LINK the link itself
+ *   is replaced by the file, whatever it points at (compare --update:
+ *   baselines come from a repository, and a link there must not make a
+ *   write to anywhere).
  * - A device, FIFO or socket, and /dev/stdout, /dev/stderr, /dev/fd/N, are
  *   never replaced or removed. With SP_OUTFILE_STREAM (a format written
  *   front to back) they are written through directly (no .part; a FIFO
@@ -40,6 +43,8 @@ struct sp_outfile {
 
 #define SP_OUTFILE_STREAM 1u /* the format may be written through a device,
                                 FIFO or /dev/stdout (no seeking back) */
+#define SP_OUTFILE_REPLACE_LINK 2u /* a symlink at target is replaced by the
+                                      file, never followed */
 
 /* Opens target for writing as described above. The target's folder must
  * exist (see sp_dirs_make). On failure *f is closed and nothing was

@@ -83,7 +83,10 @@ int sp_png_read(const char *path, struct sp_image *img);
 /* Finds the tEXt/zTXt/iTXt chunk `key` that comes before the image data
  * and copies its text (truncated to size - 1 bytes) into buf. Returns 1
  * when found, 0 when the PNG has no such chunk, or SP_E_IO (logged) when
- * the file cannot be read as a PNG. */
+ * the file cannot be read as a PNG. Bounded: a chunk inflating beyond 256
+ * KiB, and the chunks after the 32nd, are dropped with a warning (8 MiB
+ * of text at most, however the file is made); the other readers skip text
+ * chunks unread. */
 int sp_png_read_text(const char *path, const char *key, char *buf, size_t size);
 
 #endif

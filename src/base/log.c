@@ -1,20 +1,43 @@
 /* springpend: logging, and the progress line of long integrations. */
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "springpend/common.h"
+#include "text.h"
+
+void sp_fputs_printable(const char *s, FILE *fp)
+{
+    for (size_t n; *s; s += n ? n : 1) {
+        unsigned char c = (unsigned char)*s, c1 = (unsigned char)s[1];
+        n = sp_utf8_char(s);
+        if ((n == 1 && (c >= 0x20 || c == '\n' || c == '\t') && c != 0x7f) ||
+            (n > 1 && !(n == 2 && c == 0xC2 && c1 < 0xA0))) /* not C1 */
+            fwrite(s, 1, n, fp);
+        else if (n == 2)
+            fprintf(fp, "\\u%04x", c1);
+        else
+            fprintf(fp, "\\x%02x", c);
+    }
+}
 
 void sp_log_error(const char *fmt, ...)
 {
     va_list ap;
+    char *msg = NULL;
     va_start(ap, fmt);
-    fputs("springpend: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    int n = vasprintf(&msg, fmt, ap);
     va_end(ap);
+    fputs("springpend: ", stderr);
+    if (n >= 0)
+        sp_fputs_printable(msg, stderr);
+    else
+        fputs(fmt, stderr); /* out of memory: the bare format still says where */
+    fputc('\n', stderr);
+    free(msg);
 }
 
 /* ---- progress of long integrations ---- */

@@ -178,7 +178,11 @@ int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags)
     struct stat st, lst;
     int fd = stdio_alias(target), err;
     *f = (struct sp_outfile){.fd = -1, .slot = -1};
-    int exists = fd < 0 && stat(target, &st) == 0;
+    /* SP_OUTFILE_REPLACE_LINK: a link is a name like a new one; the .part
+     * is renamed over the link itself. */
+    int link = (flags & SP_OUTFILE_REPLACE_LINK) && fd < 0 && lstat(target, &lst) == 0 &&
+               S_ISLNK(lst.st_mode);
+    int exists = fd < 0 && !link && stat(target, &st) == 0;
     if (exists && S_ISDIR(st.st_mode)) {
         sp_log_error("%s is a folder; give a file name", target);
         return SP_E_INPUT;

@@ -6,7 +6,10 @@
 #include "springpend/outfile.h"
 #include "signals.h"
 
-static const int caught[3] = {SIGINT, SIGTERM, SIGHUP};
+/* Every signal whose default would kill the process and leave its .part
+ * files: each stops a run cleanly like SIGTERM (exit status 128 + number).
+ * SIGQUIT too: a core dump of a render helps nobody, its .part files harm. */
+static const int caught[SP_SIGNALS_CAUGHT] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGALRM};
 
 static volatile sig_atomic_t seen;  /* the first signal, 0 = none */
 static volatile sig_atomic_t count; /* signals since sp_signals_hold */
@@ -34,15 +37,15 @@ static void on_signal_held(int sig)
     _exit(128 + sig);
 }
 
-/* Sets handler for the three signals, keeping the old ones in old (NULL:
+/* Sets handler for the caught signals, keeping the old ones in old (NULL:
  * not kept). */
-static void set_handlers(void (*handler)(int), struct sigaction old[3])
+static void set_handlers(void (*handler)(int), struct sigaction old[SP_SIGNALS_CAUGHT])
 {
     struct sigaction sa;
     memset(&sa, 0, sizeof(sa));
     sa.sa_handler = handler;
     sigemptyset(&sa.sa_mask);
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < SP_SIGNALS_CAUGHT; i++)
         sigaction(caught[i], &sa, old ? &old[i] : NULL);
 }
 
@@ -63,7 +66,9 @@ const volatile sig_atomic_t *sp_signal_flag(void)
 
 const char *sp_signal_name(int sig)
 {
-    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP"
+         : sig == SIGQUIT ? "SIGQUIT" : sig == SIGUSR1 ? "SIGUSR1" : sig == SIGALRM ? "SIGALRM"
+         : "a signal";
 }
 
 void sp_signals_hold(struct sp_signals_saved *saved)
@@ -74,6 +79,6 @@ void sp_signals_hold(struct sp_signals_saved *saved)
 
 void sp_signals_release(const struct sp_signals_saved *saved)
 {
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < SP_SIGNALS_CAUGHT; i++)
         sigaction(caught[i], &saved->old[i], NULL);
 }

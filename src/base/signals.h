@@ -1,5 +1,6 @@
-/* springpend (internal): the process's signals. The one owner of SIGINT, SIGTERM and
- * SIGHUP: main installs a handler that sets a flag; long loops poll
+/* springpend (internal): the process's signals. The one owner of SIGINT, SIGTERM,
+ * SIGHUP, SIGQUIT, SIGUSR1 and SIGALRM (every signal that would otherwise
+ * kill the process with its .part files left behind): main installs a handler that sets a flag; long loops poll
  * sp_signal_seen, and hand sp_signal_flag to the simulation as its cancel
  * flag (sim.h). While a render holds them (sp_signals_hold), a second
  * signal removes the partial files (outfile.h) and exits at once. */
@@ -8,7 +9,7 @@
 
 #include <signal.h>
 
-/* Makes SIGINT, SIGTERM and SIGHUP set the flag instead of killing the
+/* Makes the caught signals set the flag instead of killing the
  * process, so a long run can stop cleanly and remove its partial files.
  * main calls it once. */
 void sp_signals_install(void);
@@ -21,15 +22,17 @@ int sp_signal_seen(void);
  * cancel. */
 const volatile sig_atomic_t *sp_signal_flag(void);
 
-/* "SIGINT", "SIGTERM" or "SIGHUP". */
+/* "SIGINT", "SIGTERM", "SIGHUP", "SIGQUIT", "SIGUSR1" or "SIGALRM". */
 const char *sp_signal_name(int sig);
+
+#define SP_SIGNALS_CAUGHT 6 /* how many signals the flag stands for */
 
 /* The handlers a hold replaced. */
 struct sp_signals_saved {
-    struct sigaction old[3];
+    struct sigaction old[SP_SIGNALS_CAUGHT];
 };
 
-/* Until sp_signals_release: the first SIGINT, SIGTERM or SIGHUP (counted
+/* Until sp_signals_release: the first caught signal (counted
  * from here) sets the flag; a second removes every .part now open
  * (sp_outfile_remove_parts) and exits the process at once with status 128 +
  * signal. For a render that finishes the file so far on the first. */

@@ -141,11 +141,12 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
 /* Writes path whole or not at all through outfile.h (a unique .part in the
  * signal table, renamed over path when complete and removed when not).
  * Only a regular file or a new name is replaced; a folder or device at path
- * is refused (SP_E_INPUT). */
-static int write_whole(const char *path, int (*fill)(FILE *, void *), void *arg)
+ * is refused (SP_E_INPUT). flags: sp_outfile_open's. */
+static int write_whole(const char *path, unsigned flags, int (*fill)(FILE *, void *),
+                       void *arg)
 {
     struct sp_outfile f;
-    int err = sp_outfile_open(&f, path, 0);
+    int err = sp_outfile_open(&f, path, flags);
     if (err)
         return err;
     FILE *fp = fdopen(f.fd, "wb");
@@ -252,8 +253,8 @@ static void apply_update(const struct compare_cli *c, struct sp_compare_record *
             sp_log_error("%s: cannot remove: %s", target, strerror(errno));
             return;
         }
-    } else if (write_whole(target, fill_copy, r->actual) != 0) {
-        return;
+    } else if (write_whole(target, SP_OUTFILE_REPLACE_LINK, fill_copy, r->actual) != 0) {
+        return; /* a link is replaced by the file, never written through */
     }
     snprintf(r->expected, sizeof(r->expected), "%s", target);
     r->update = act;
@@ -364,9 +365,15 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
                               &masks, &n_masks, &star_masks, &n_star_masks);
     r->metric = opts.metric;
     /* Both headers first: nothing is decoded that is too large. */
-    if (check_header(r, expected, &r->expected_w, &r->expected_h) ||
-        check_header(r, actual, &r->actual_w, &r->actual_h))
+    if (check_header(r, expected, &r->expected_w, &r->expected_h)) {
+        struct sp_png_info info; /* the actual image may still be shown */
+        r->actual_png = sp_png_read_info(actual, &info) == 0;
         goto done;
+    }
+    r->expected_png = 1;
+    if (check_header(r, actual, &r->actual_w, &r->actual_h))
+        goto done;
+    r->actual_png = 1;
     if ((r->expected_w != r->actual_w || r->expected_h != r->actual_h) && !diff_path) {
         /* The headers decide; only a diff image would need the pixels. */
         r->compared = r->size_mismatch = 1;
@@ -403,8 +410,10 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         if (diff_path && sp_compare_size_diff(&e, &a, &d) != 0)
             diff_path = NULL;
     } else {
-        r->masked_pixels = sp_compare_apply_masks(&e, &a, star_masks, n_star_masks) +
-                           sp_compare_apply_masks(&e, &a, masks, n_masks);
+        sp_compare_apply_masks(&e, &a, star_masks, n_star_masks);
+        sp_compare_apply_masks(&e, &a, masks, n_masks);
+        r->masked_pixels = sp_compare_masked_pixels(e.width, e.height, star_masks,
+                                                    n_star_masks, masks, n_masks);
         if (sp_compare_images(&e, &a, &opts, &r->result, diff_path ? &d : NULL) != 0) {
             record_error(r, "comparison failed");
             goto done;
@@ -413,7 +422,7 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         r->verdict = r->result.pass ? SP_VERDICT_PASS : SP_VERDICT_FAIL;
     }
     if (r->verdict == SP_VERDICT_FAIL) {
-        if (diff_path && write_whole(diff_path, fill_png, &(struct png_out){&d, diff_path}) == 0)
+        if (diff_path && write_whole(diff_path, 0, fill_png, &(struct png_out){&d, diff_path}) == 0)
             snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
         note_provenance(r);
     }
@@ -503,8 +512,10 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
                      r->frames, te, ta);
         /* The reader owns fa's pixels until its next read: masks may
          * overwrite them. */
-        r->masked_pixels = sp_compare_apply_masks(&fe, &fa, star_masks, n_star_masks) +
-                           sp_compare_apply_masks(&fe, &fa, masks, n_masks);
+        sp_compare_apply_masks(&fe, &fa, star_masks, n_star_masks);
+        sp_compare_apply_masks(&fe, &fa, masks, n_masks);
+        r->masked_pixels = sp_compare_masked_pixels(fe.width, fe.height, star_masks,
+                                                    n_star_masks, masks, n_masks);
         ret = sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
         if (ret) {
             ret = record_error(r, "comparison failed");
@@ -546,7 +557,7 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
     r->compared = 1;
     r->verdict = r->failed_frames ? SP_VERDICT_FAIL : SP_VERDICT_PASS;
     if (r->failed_frames && diff_path && worst_diff.pixels &&
-        write_whole(diff_path, fill_png, &(struct png_out){&worst_diff, diff_path}) == 0)
+        write_whole(diff_path, 0, fill_png, &(struct png_out){&worst_diff, diff_path}) == 0)
         snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
     ret = 0;
 done:
@@ -567,6 +578,36 @@ static int is_png_name(const struct dirent *d)
 {
     size_t n = strlen(d->d_name);
     return d->d_name[0] != '.' && n > 4 && !strcasecmp(d->d_name + n - 4, ".png");
+}
+
+/* Refuses (an error in r, returning 1) a folder entry path that is a
+ * symbolic link to a file outside folder dir: a *.png in a pull request
+ * could otherwise point at a secret that --report embeds, or at a file
+ * --update would replace. 0 for anything else, links within dir too. */
+static int link_out(struct sp_compare_record *r, const char *name, const char *path,
+                    const char *dir)
+{
+    struct stat st;
+    char *to, *in;
+    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
+        return 0;
+    to = realpath(path, NULL);
+    in = realpath(dir, NULL);
+    size_t n = in ? strlen(in) : 0;
+    int out = !to || !in || strncmp(to, in, n) || to[n] != '/';
+    if (out) {
+        char target[PATH_MAX];
+        ssize_t len = readlink(path, target, sizeof(target) - 1);
+        target[len > 0 ? len : 0] = 0;
+        snprintf(r->name, sizeof(r->name), "%s", name);
+        record_error(r, "%s is a link to %s, outside %s: not read", path,
+                     to ? to : target, dir);
+        snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it",
+                 dir);
+    }
+    free(to);
+    free(in);
+    return out;
 }
 
 /* The command that adds missing baselines, for messages. */
@@ -598,18 +639,25 @@ static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
         const char *name = cmp <= 0 ? le[i]->d_name : la[j]->d_name;
         char pe[PATH_MAX], pa[PATH_MAX], pd[PATH_MAX];
         struct sp_compare_record *r;
-        if (sp_signal_seen()) {
-            rep->interrupted = 1;
-            ret = SP_E_INTERRUPTED;
-            goto done;
-        }
+        int refused = 0; /* a link out of the folders: nothing is updated */
         if (!(r = sp_compare_report_add(rep))) {
             ret = SP_E_NOMEM;
             goto done;
         }
         snprintf(pe, sizeof(pe), "%s/%s", dir_e, name);
         snprintf(pa, sizeof(pa), "%s/%s", dir_a, name);
-        if (cmp) {
+        if (sp_signal_seen()) {
+            /* Every image left is listed as never compared: a report of
+             * an interrupted run must not read as a pass. */
+            rep->interrupted = sp_signal_seen();
+            ret = SP_E_INTERRUPTED;
+            snprintf(r->name, sizeof(r->name), "%s", name);
+            record_error(r, "not compared: the run was interrupted by %s first",
+                         sp_signal_name(rep->interrupted));
+            r->not_compared = 1;
+        } else if (link_out(r, name, pe, dir_e) || link_out(r, name, pa, dir_a)) {
+            refused = 1; /* recorded as an error */
+        } else if (cmp) {
             snprintf(r->name, sizeof(r->name), "%s", name);
             snprintf(cmp < 0 ? r->expected : r->actual, sizeof(r->actual), "%s",
                      cmp < 0 ? pe : pa);
@@ -622,9 +670,13 @@ static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
                 snprintf(pd, sizeof(pd), "%s/%.*s.diff.png", c->diff, (int)strlen(name) - 4, name);
             compare_files(c, r, name, pe, pa, c->diff ? pd : NULL);
         }
-        if (c->update != UPDATE_NONE && cmp > 0 && mkdir(dir_e, 0777) != 0 && errno != EEXIST)
-            sp_log_error("cannot create the baseline folder %s: %s", dir_e, strerror(errno));
-        apply_update(c, r, pe);
+        if (!r->not_compared && !refused) {
+            if (c->update != UPDATE_NONE && cmp > 0 && mkdir(dir_e, 0777) != 0 &&
+                errno != EEXIST)
+                sp_log_error("cannot create the baseline folder %s: %s", dir_e,
+                             strerror(errno));
+            apply_update(c, r, pe);
+        }
         i += cmp <= 0;
         j += cmp >= 0;
     }
@@ -648,15 +700,59 @@ static int is_dir(const char *path)
     return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-static int fill_html(FILE *fp, void *rep)
+/* A report and the file it goes to, for messages. */
+struct report_out {
+    const struct sp_compare_report *rep;
+    const char *path;
+};
+
+/* Every write of a report is checked: the first that fails (a full disk,
+ * a file size limit) stops it, with a message; write_whole removes the
+ * .part. */
+static int report_failed(const struct report_out *o, int err)
 {
-    return sp_compare_report_html(fp, rep);
+    if (err)
+        sp_log_error("%s: cannot write the report: %s", o->path,
+                     errno ? strerror(errno) : "write error");
+    return err;
 }
 
-static int fill_junit(FILE *fp, void *rep)
+static int fill_html(FILE *fp, void *out)
 {
-    sp_compare_report_junit(fp, rep);
-    return ferror(fp) ? SP_E_IO : 0;
+    const struct report_out *o = out;
+    errno = 0;
+    return report_failed(o, sp_compare_report_html(fp, o->rep));
+}
+
+static int fill_junit(FILE *fp, void *out)
+{
+    const struct report_out *o = out;
+    errno = 0;
+    sp_compare_report_junit(fp, o->rep);
+    return report_failed(o, fflush(fp) || ferror(fp) ? SP_E_IO : 0);
+}
+
+/* 1 when writing path would put a file where folder mode reads one: a
+ * *.png name or compare.ini in folder dir (links resolved). */
+static int lands_in(const char *path, const char *dir)
+{
+    char buf[PATH_MAX], *real = realpath(path, NULL), parent[PATH_MAX];
+    const char *name;
+    int in;
+    if (real) { /* an existing file, or the file a link points at */
+        snprintf(buf, sizeof(buf), "%s", real);
+        free(real);
+    } else {
+        snprintf(buf, sizeof(buf), "%s", path);
+    }
+    name = strrchr(buf, '/') ? strrchr(buf, '/') + 1 : buf;
+    snprintf(parent, sizeof(parent), "%.*s", (int)(name - buf), buf);
+    if (!parent[0])
+        snprintf(parent, sizeof(parent), ".");
+    in = sp_cli_same_file(parent, dir);
+    size_t n = strlen(name);
+    return in && ((n > 4 && !strcasecmp(name + n - 4, ".png") && name[0] != '.') ||
+                  !strcmp(name, SP_COMPARE_CONFIG_NAME));
 }
 
 /* Checks the output paths before anything runs. */
@@ -667,7 +763,8 @@ static int check_outputs(const struct compare_cli *c, const char *e, const char 
         const char *p = outs[i][0];
         if (!p)
             continue;
-        if (sp_cli_same_file(p, e) || sp_cli_same_file(p, a)) {
+        if (sp_cli_same_file(p, e) || sp_cli_same_file(p, a) ||
+            (folders && i > 0 && (lands_in(p, e) || lands_in(p, a)))) {
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);
             return SP_E_INPUT;
         }
@@ -727,7 +824,7 @@ int sp_cmd_compare(int argc, char **argv)
             compare_files(&c, r, a, e, a, c.diff);
         } else {
             ret = compare_videos(&c, r, e, a, c.diff);
-            rep.interrupted = ret == SP_E_INTERRUPTED;
+            rep.interrupted = ret == SP_E_INTERRUPTED ? sp_signal_seen() : 0;
         }
         apply_update(&c, r, e);
     }
@@ -737,8 +834,8 @@ int sp_cmd_compare(int argc, char **argv)
         sp_compare_report_json(stdout, &rep);
     else
         sp_compare_report_text(stdout, &rep, c.quiet, de);
-    if ((c.html && write_whole(c.html, fill_html, &rep)) ||
-        (c.junit && write_whole(c.junit, fill_junit, &rep)))
+    if ((c.html && write_whole(c.html, 0, fill_html, &(struct report_out){&rep, c.html})) ||
+        (c.junit && write_whole(c.junit, 0, fill_junit, &(struct report_out){&rep, c.junit})))
         ret = ret ? ret : SP_E_IO;
     if (!ret) {
         struct sp_compare_counts n = sp_compare_report_count(&rep);

@@ -27,9 +27,12 @@ static const char usage[] =
     "\n"
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
     "\n"
-    "exit status: 0 done, 1 failed (I/O, encoder, GL), 2 bad input,\n"
-    "             3 the simulation became unstable, 130/143 interrupted by\n"
-    "             SIGINT/SIGTERM (render keeps the frames so far, playable)\n";
+    "exit status: 0 done, 1 failed (I/O, encoder, GL; compare: images differ),\n"
+    "             2 bad input, 3 the simulation became unstable,\n"
+    "             128 + signal when stopped by SIGINT (130), SIGHUP (129),\n"
+    "             SIGQUIT (131), SIGUSR1 (138), SIGALRM (142) or SIGTERM (143):\n"
+    "             render keeps the frames so far, playable; other partial\n"
+    "             files are removed\n";
 
 /* The process exit status of an SP_E_* code, as --help documents it. A
  * command that fails after a stop signal arrived was stopped by it (a read
@@ -97,11 +100,11 @@ int main(int argc, char **argv)
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
         !strcmp(argv[1], "help")) {
         fputs(usage, argc < 2 ? stderr : stdout);
-        return argc < 2 ? 2 : 0;
+        return argc < 2 ? 2 : exit_status(stdout_checked(0));
     }
     if (!strcmp(argv[1], "--version")) {
         puts("springpend " SP_VERSION);
-        return 0;
+        return exit_status(stdout_checked(0));
     }
     /* Buffers of 256 KiB and more (frames) come from mmap and go back to
      * the system when freed. glibc would otherwise raise this threshold after

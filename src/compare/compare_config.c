@@ -134,8 +134,22 @@ struct config_ctx {
     struct sp_compare_config *cfg;
     struct sp_ini_lines lines;
     int section_line; /* of the last [header] read */
+    int key_line[4];  /* where the last section set each SP_COMPARE_SET_* key */
     int errors, nomem;
 };
+
+/* The index of the SP_COMPARE_SET_* bit key sets, -1 for mask (which may
+ * repeat: one line per rectangle) and unknown keys. */
+static int key_index(const char *key)
+{
+    static const char *const keys[4][2] = {
+        {"metric", "metric"}, {"max_diff", "max-diff"}, {"max_pixels", "max-pixels"},
+        {"tol", "tol"}};
+    for (int i = 0; i < 4; i++)
+        if (!strcmp(key, keys[i][0]) || !strcmp(key, keys[i][1]))
+            return i;
+    return -1;
+}
 
 static char *read_line(char *str, int num, void *stream)
 {
@@ -191,7 +205,18 @@ static int handle(void *user, const char *section, const char *name, const char 
         memset(r, 0, sizeof(*r));
         snprintf(r->name, sizeof(r->name), "%s", section);
         r->line = c->section_line;
+        memset(c->key_line, 0, sizeof(c->key_line));
     }
+    /* A key given twice is refused, as in scenes: the last would win unseen. */
+    int k = key_index(name);
+    if (k >= 0 && c->key_line[k]) {
+        fprintf(stderr, "%s:%d: %s is set twice in [%s] (first on line %d); keep one\n",
+                cfg->path, c->lines.line, name, section, c->key_line[k]);
+        c->errors++;
+        return 1;
+    }
+    if (k >= 0)
+        c->key_line[k] = c->lines.line;
     if (sp_compare_rule_set(&cfg->rules[cfg->n_rules - 1], name, value, why, sizeof(why))) {
         fprintf(stderr, "%s:%d: %s\n", cfg->path, c->lines.line, why);
         c->errors++;

@@ -1,11 +1,16 @@
 /* springpend: compare's records and reporters (compare_report.h). */
 #include <errno.h>
+#include <fcntl.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
+#include "signals.h"
 #include "text.h"
 
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
@@ -37,6 +42,10 @@ struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report 
     struct sp_compare_counts c = {0};
     for (int i = 0; i < rep->n; i++) {
         const struct sp_compare_record *r = &rep->records[i];
+        if (r->not_compared) {
+            c.not_compared++;
+            continue;
+        }
         c.compared++;
         if (r->update != SP_UPDATE_NONE) {
             c.updated++;
@@ -87,13 +96,15 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
         fprintf(fp, "; diff: %s", r->diff);
 }
 
-void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
-                            int summary)
+static void text_lines(FILE *fp, const struct sp_compare_report *rep, int quiet, int summary)
 {
     for (int i = 0; i < rep->n; i++) {
         const struct sp_compare_record *r = &rep->records[i];
         const char *u = update_word(r->update);
-        if (r->verdict == SP_VERDICT_ERROR && (r->update == SP_UPDATE_ADDED ||
+        if (r->not_compared) {
+            fprintf(fp, "NOT COMPARED %s: %s\n", r->name, r->error);
+            continue;
+        } else if (r->verdict == SP_VERDICT_ERROR && (r->update == SP_UPDATE_ADDED ||
                                                r->update == SP_UPDATE_REMOVED)) {
             fprintf(fp, "%-8s %s\n", u, r->expected); /* what was missing is resolved */
             continue;
@@ -135,8 +146,29 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
         fprintf(fp, "%s: %d compared, %d passed, %d failed, %d missing or unreadable, "
                 "%d updated\n", c.failed || c.errors || rep->interrupted ? "FAIL" : "ok",
                 c.compared, c.passed, c.failed, c.errors, c.updated);
-    if (summary && rep->interrupted)
-        fprintf(fp, "interrupted after %d images\n", rep->n);
+    if (rep->interrupted)
+        fprintf(fp, "interrupted by %s after %d images; %d not compared\n",
+                sp_signal_name(rep->interrupted), c.compared, c.not_compared);
+}
+
+void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
+                            int summary)
+{
+    /* Names, paths and PNG text reach a terminal: the lines are written
+     * whole, then shown printable. */
+    char *buf = NULL;
+    size_t size = 0;
+    FILE *m = open_memstream(&buf, &size);
+    if (!m) {
+        sp_log_error("out of memory for the comparison's text");
+        return;
+    }
+    text_lines(m, rep, quiet, summary);
+    if (fclose(m) == 0)
+        sp_fputs_printable(buf, fp);
+    else
+        sp_log_error("out of memory for the comparison's text");
+    free(buf);
 }
 
 void sp_report_json_string(FILE *fp, const char *s)
@@ -155,6 +187,16 @@ void sp_report_json_string(FILE *fp, const char *s)
             fwrite(s, 1, n, fp);
     }
     fputc('"', fp);
+}
+
+/* x as a JSON number (printf's fmt), or null where JSON has no number:
+ * NaN and the infinities (a video without timestamps has no rate). */
+static void json_number(FILE *fp, const char *fmt, double x)
+{
+    if (isfinite(x))
+        fprintf(fp, fmt, x);
+    else
+        fputs("null", fp);
 }
 
 /* s as a JSON string, or null when empty. */
@@ -180,8 +222,9 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     fputs("    {\"name\": ", fp), sp_report_json_string(fp, r->name);
     fputs(", \"expected\": ", fp), json_maybe(fp, r->expected);
     fputs(", \"actual\": ", fp), json_maybe(fp, r->actual);
-    fprintf(fp, ", \"verdict\": \"%s\", \"pass\": %s", verdict_word(r->verdict),
-            r->verdict == SP_VERDICT_PASS ? "true" : "false");
+    fprintf(fp, ", \"verdict\": \"%s\", \"pass\": %s, \"not_compared\": %s",
+            verdict_word(r->verdict), r->verdict == SP_VERDICT_PASS ? "true" : "false",
+            r->not_compared ? "true" : "false");
     fputs(", \"error\": ", fp), json_maybe(fp, r->error);
     fputs(", \"hint\": ", fp), json_maybe(fp, r->hint);
     fprintf(fp, ", \"update\": ");
@@ -199,13 +242,11 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     fputs(", \"actual_pixels_sha256\": ", fp), json_maybe(fp, r->actual_sha256);
     if (r->compared && !r->size_mismatch) {
         fprintf(fp, ", \"pixels\": %ld, \"differing_pixels\": %ld, \"changed_pixels\": %ld, "
-                "\"masked_pixels\": %ld, \"max_channel_diff\": %d, \"rms\": %.6f, \"ssim\": ",
-                x->pixels, x->differing, x->changed, r->masked_pixels, x->max_channel_diff,
-                x->rms);
-        if (r->ssim >= 0)
-            fprintf(fp, "%.6f", r->ssim);
-        else
-            fputs("null", fp);
+                "\"masked_pixels\": %ld, \"max_channel_diff\": %d, \"rms\": ",
+                x->pixels, x->differing, x->changed, r->masked_pixels, x->max_channel_diff);
+        json_number(fp, "%.6f", x->rms);
+        fputs(", \"ssim\": ", fp);
+        json_number(fp, "%.6f", r->ssim >= 0 ? r->ssim : NAN);
         if (x->differing)
             fprintf(fp, ", \"bbox\": [%d, %d, %d, %d]", x->bbox[0], x->bbox[1], x->bbox[2],
                     x->bbox[3]);
@@ -213,17 +254,22 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
             fputs(", \"bbox\": null", fp);
     }
     fputs("}", fp);
-    if (r->compared && !r->size_mismatch)
+    if (r->compared && !r->size_mismatch) {
         fprintf(fp, ",\n     \"tolerance\": {\"metric\": \"%s\", \"max_channel_diff\": %d, "
-                "\"max_differing_pixels\": %ld, \"max_rms\": %g}",
-                r->metric == SP_COMPARE_RMS ? "rms" : "reftest", x->max_diff, x->allowed,
-                x->tol);
-    else
+                "\"max_differing_pixels\": %ld, \"max_rms\": ",
+                r->metric == SP_COMPARE_RMS ? "rms" : "reftest", x->max_diff, x->allowed);
+        json_number(fp, "%g", x->tol);
+        fputs("}", fp);
+    } else
         fputs(",\n     \"tolerance\": null", fp);
     if (r->frames > 0) {
         fprintf(fp, ",\n     \"video\": {\"frames\": %d, \"failed_frames\": %d, "
-                "\"worst_frame\": %d, \"expected_fps\": %.6g, \"actual_fps\": %.6g}",
-                r->frames, r->failed_frames, r->worst_frame, r->expected_fps, r->actual_fps);
+                "\"worst_frame\": %d, \"expected_fps\": ",
+                r->frames, r->failed_frames, r->worst_frame);
+        json_number(fp, "%.6g", r->expected_fps);
+        fputs(", \"actual_fps\": ", fp);
+        json_number(fp, "%.6g", r->actual_fps);
+        fputs("}", fp);
     } else {
         fputs(",\n     \"video\": null", fp);
     }
@@ -247,10 +293,10 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
     struct sp_compare_counts c = sp_compare_report_count(rep);
     fprintf(fp, "{\"schema\": \"springpend-compare/1\", \"pass\": %s, \"interrupted\": %s,\n"
             " \"counts\": {\"compared\": %d, \"passed\": %d, \"failed\": %d, \"errors\": %d, "
-            "\"updated\": %d},\n \"results\": [\n",
+            "\"updated\": %d, \"not_compared\": %d},\n \"results\": [\n",
             c.failed || c.errors || rep->interrupted ? "false" : "true",
             rep->interrupted ? "true" : "false", c.compared, c.passed, c.failed, c.errors,
-            c.updated);
+            c.updated, c.not_compared);
     for (int i = 0; i < rep->n; i++) {
         json_record(fp, &rep->records[i]);
         fputs(i + 1 < rep->n ? ",\n" : "\n", fp);
@@ -258,12 +304,25 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
     fputs(" ]}\n", fp);
 }
 
-/* s with XML's five special characters escaped. */
-static void xml_string(FILE *fp, const char *s)
+/* How xml_string treats "[[": JUnit's readers (GitLab, Jenkins) act on
+ * [[ATTACHMENT|path]] in the text, so a name there must not open one. */
+enum { XML_PLAIN, XML_NO_DIRECTIVES };
+
+/* s with XML's five special characters escaped; what XML 1.0 cannot hold
+ * (C0 controls but tab and newline, U+FFFE, U+FFFF, bytes that are not
+ * UTF-8) as U+FFFD, shown rather than dropped. */
+static void xml_string(FILE *fp, const char *s, int mode)
 {
+    static const char replacement[] = "\xEF\xBF\xBD";
     for (size_t n; *s; s += n ? n : 1) {
-        if ((n = sp_utf8_char(s)) != 1) { /* XML is UTF-8: a stray byte is U+FFFD */
-            fwrite(n ? s : "\xEF\xBF\xBD", 1, n ? n : 3, fp);
+        n = sp_utf8_char(s);
+        if (!n || (n == 3 && (unsigned char)s[0] == 0xEF && (unsigned char)s[1] == 0xBF &&
+                   (unsigned char)s[2] >= 0xBE)) {
+            fputs(replacement, fp);
+            continue;
+        }
+        if (n != 1) {
+            fwrite(s, 1, n, fp);
             continue;
         }
         switch (*s) {
@@ -272,9 +331,14 @@ static void xml_string(FILE *fp, const char *s)
         case '&': fputs("&amp;", fp); break;
         case '"': fputs("&quot;", fp); break;
         case '\'': fputs("&#39;", fp); break;
+        case '[':
+            fputs(mode == XML_NO_DIRECTIVES && s[1] == '[' ? "[ " : "[", fp);
+            break;
         default:
             if ((unsigned char)*s >= 0x20 || *s == '\n' || *s == '\t')
                 fputc(*s, fp);
+            else
+                fputs(replacement, fp);
         }
     }
 }
@@ -302,94 +366,197 @@ static void record_line(const struct sp_compare_record *r, char *buf, size_t siz
     buf[size - 1] = 0;
 }
 
+/* 1 when path can stand in [[ATTACHMENT|path]] whole: nothing that ends
+ * the directive or starts another, nothing XML would change. */
+static int attachable(const char *path)
+{
+    for (size_t n; *path; path += n) {
+        n = sp_utf8_char(path);
+        if (!n || (unsigned char)*path < 0x20 || strchr("[]|<>&\"'", *path) ||
+            (n == 3 && !memcmp(path, "\xEF\xBF", 2) && (unsigned char)path[2] >= 0xBE))
+            return 0;
+    }
+    return 1;
+}
+
+/* The line that says a run was interrupted, into buf. */
+static void interrupted_line(const struct sp_compare_report *rep,
+                             const struct sp_compare_counts *c, char *buf, size_t size)
+{
+    snprintf(buf, size, "interrupted by %s after %d images; %d never compared: this is not "
+             "a pass", sp_signal_name(rep->interrupted), c->compared, c->not_compared);
+}
+
 void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep)
 {
     struct sp_compare_counts c = sp_compare_report_count(rep);
     char line[2048];
+    int tests = c.compared + c.not_compared + !!rep->interrupted;
+    int errors = c.errors + !!rep->interrupted;
     fprintf(fp, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
             "<testsuites name=\"springpend compare\" tests=\"%d\" failures=\"%d\" "
-            "errors=\"%d\">\n"
+            "errors=\"%d\" skipped=\"%d\">\n"
             "  <testsuite name=\"springpend compare\" tests=\"%d\" failures=\"%d\" "
-            "errors=\"%d\" skipped=\"0\">\n",
-            c.compared, c.failed, c.errors, c.compared, c.failed, c.errors);
+            "errors=\"%d\" skipped=\"%d\">\n",
+            tests, c.failed, errors, c.not_compared, tests, c.failed, errors, c.not_compared);
+    if (rep->interrupted) {
+        interrupted_line(rep, &c, line, sizeof(line));
+        fputs("    <testcase classname=\"springpend.compare\" name=\"(interrupted)\">\n"
+              "      <error type=\"interrupted\" message=\"", fp);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
+        fputs("\">", fp);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
+        fputs("</error>\n    </testcase>\n", fp);
+    }
     for (int i = 0; i < rep->n; i++) {
         const struct sp_compare_record *r = &rep->records[i];
         record_line(r, line, sizeof(line));
         fputs("    <testcase classname=\"springpend.compare\" name=\"", fp);
-        xml_string(fp, r->name);
+        xml_string(fp, r->name, XML_NO_DIRECTIVES);
         fputs("\">\n", fp);
+        if (r->not_compared) {
+            fputs("      <skipped message=\"", fp);
+            xml_string(fp, line, XML_NO_DIRECTIVES);
+            fputs("\"/>\n    </testcase>\n", fp);
+            continue;
+        }
         if (r->verdict != SP_VERDICT_PASS && r->update == SP_UPDATE_NONE) {
             const char *tag = r->verdict == SP_VERDICT_FAIL ? "failure" : "error";
             fprintf(fp, "      <%s message=\"", tag);
-            xml_string(fp, line);
+            xml_string(fp, line, XML_NO_DIRECTIVES);
             fprintf(fp, "\" type=\"%s\">", r->size_mismatch ? "size" : tag);
-            xml_string(fp, line);
+            xml_string(fp, line, XML_NO_DIRECTIVES);
             if (r->hint[0])
-                fputs("\n", fp), xml_string(fp, r->hint);
+                fputs("\n", fp), xml_string(fp, r->hint, XML_NO_DIRECTIVES);
             fprintf(fp, "</%s>\n", tag);
         }
         fputs("      <system-out>", fp);
-        xml_string(fp, line);
-        if (r->diff[0]) /* GitLab and Jenkins attach this file */
-            fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff), fputs("]]", fp);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
+        /* GitLab and Jenkins attach this file; a path that could end the
+         * directive early is named in the line above only. */
+        if (r->diff[0] && attachable(r->diff))
+            fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff, XML_PLAIN), fputs("]]", fp);
         fputs("</system-out>\n    </testcase>\n", fp);
     }
     fputs("  </testsuite>\n</testsuites>\n", fp);
 }
 
-/* Writes path's bytes as a data: URL (base64), or nothing when it cannot
- * be read. Returns 0, or SP_E_NOMEM. */
-static int data_url(FILE *fp, const char *path)
+/* A PNG larger than this is named in the report, not embedded, bytes. */
+#define EMBED_MAX_BYTES (64L << 20)
+
+/* Writes head, then path's bytes as a data: URL (base64), and nothing at
+ * all otherwise, when path is a regular file of at most EMBED_MAX_BYTES that starts with
+ * PNG's signature; else *why says why not. Opened without blocking or
+ * following a FIFO's writer; reads at most the size fstat gave (a file
+ * that grows is cut there). Returns 0, or SP_E_IO when a write or read
+ * failed. */
+static int data_url(FILE *fp, const char *head, const char *path, const char **why)
 {
     static const char b64[] =
         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     unsigned char in[3 * 1024];
     char out[4 * 1024];
-    size_t n;
-    FILE *f = path[0] ? fopen(path, "rb") : NULL;
-    if (!f)
+    struct stat st;
+    int err = 0;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    *why = NULL;
+    if (fd < 0) {
+        *why = "cannot be opened";
         return 0;
+    }
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))
+        *why = "not a regular file";
+    else if (st.st_size > EMBED_MAX_BYTES)
+        *why = "too large to embed";
+    else if (pread(fd, in, sizeof(sig), 0) != (ssize_t)sizeof(sig) || memcmp(in, sig, sizeof(sig)))
+        *why = "not a PNG";
+    if (*why) {
+        close(fd);
+        return 0;
+    }
+    fputs(head, fp);
     fputs("data:image/png;base64,", fp);
-    while ((n = fread(in, 1, sizeof(in), f)) > 0) {
-        size_t o = 0;
-        for (size_t i = 0; i < n; i += 3) {
-            unsigned v = (unsigned)in[i] << 16 | (i + 1 < n ? in[i + 1] << 8 : 0) |
-                         (i + 2 < n ? in[i + 2] : 0);
+    for (off_t left = st.st_size; left > 0 && !err;) {
+        ssize_t n = read(fd, in, (size_t)(left < (off_t)sizeof(in) ? left : (off_t)sizeof(in)));
+        if (n <= 0) {
+            sp_log_error("%s: cannot read for the report: %s", path,
+                         n < 0 ? strerror(errno) : "it became shorter");
+            err = SP_E_IO;
+            break;
+        }
+        left -= n;
+        size_t o = 0, m = (size_t)n;
+        for (size_t i = 0; i < m; i += 3) {
+            unsigned v = (unsigned)in[i] << 16 | (i + 1 < m ? in[i + 1] << 8 : 0) |
+                         (i + 2 < m ? in[i + 2] : 0);
             out[o++] = b64[v >> 18 & 63];
             out[o++] = b64[v >> 12 & 63];
-            out[o++] = i + 1 < n ? b64[v >> 6 & 63] : '=';
-            out[o++] = i + 2 < n ? b64[v & 63] : '=';
+            out[o++] = i + 1 < m ? b64[v >> 6 & 63] : '=';
+            out[o++] = i + 2 < m ? b64[v & 63] : '=';
         }
-        fwrite(out, 1, o, fp);
+        if (fwrite(out, 1, o, fp) != o)
+            err = SP_E_IO; /* the caller reports the stream's error */
     }
-    fclose(f);
-    return 0;
+    close(fd);
+    return err;
 }
 
-/* The order rows are shown in: errors, failures, then passes. */
+/* The order rows are shown in: errors, failures, images never compared,
+ * then passes. */
 static int row_rank(const struct sp_compare_record *r)
 {
-    return r->verdict == SP_VERDICT_ERROR ? 0 : r->verdict == SP_VERDICT_FAIL ? 1 : 2;
+    return r->not_compared ? 2 : r->verdict == SP_VERDICT_ERROR ? 0
+           : r->verdict == SP_VERDICT_FAIL ? 1 : 3;
 }
 
-static void html_image(FILE *fp, const char *cls, const char *path)
+/* path as a relative or file: URL: every byte but unreserved ones and '/'
+ * percent-encoded, so no name ("javascript:...") can be a scheme. */
+static void url_path(FILE *fp, const char *path)
+{
+    fputs(path[0] == '/' ? "file://" : "./", fp);
+    for (const unsigned char *p = (const unsigned char *)path; *p; p++)
+        if ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
+            strchr("-._~/", *p))
+            fputc(*p, fp);
+        else
+            fprintf(fp, "%%%02X", *p);
+}
+
+/* One image cell: an embedded PNG when is_png said it was read as one (and
+ * data_url agrees), a link for a video, else the path and why it is not
+ * shown. Returns 0 or SP_E_IO. */
+static int html_image(FILE *fp, const char *cls, const char *path, int is_png)
 {
     size_t n = strlen(path);
+    const char *why = "not read as an image";
+    int err = 0;
     if (!path[0]) {
         fprintf(fp, "<td class=\"%s none\">none</td>", cls);
-        return;
+        return 0;
     }
     if (n < 4 || strcasecmp(path + n - 4, ".png")) { /* a video: named, not shown */
         fprintf(fp, "<td class=\"%s\"><a href=\"", cls);
-        xml_string(fp, path);
+        url_path(fp, path);
         fputs("\">", fp);
-        xml_string(fp, path);
+        xml_string(fp, path, XML_PLAIN);
         fputs("</a></td>", fp);
-        return;
+        return 0;
     }
-    fprintf(fp, "<td class=\"%s\"><img alt=\"%s\" src=\"", cls, cls);
-    data_url(fp, path);
-    fputs("\"></td>", fp);
+    if (is_png) {
+        char head[128];
+        snprintf(head, sizeof(head), "<td class=\"%s\"><img alt=\"%s\" src=\"", cls, cls);
+        if ((err = data_url(fp, head, path, &why)) != 0)
+            return err;
+        if (!why) {
+            fputs("\"></td>", fp);
+            return 0;
+        }
+    }
+    fprintf(fp, "<td class=\"%s none\">", cls);
+    xml_string(fp, path, XML_PLAIN);
+    fprintf(fp, "<br>not shown: %s</td>", why);
+    return 0;
 }
 
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
@@ -404,32 +571,43 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           "img{max-width:280px;image-rendering:pixelated;display:block;background:"
           "repeating-conic-gradient(#ddd 0 25%,#fff 0 50%) 0 0/16px 16px}\n"
           ".v-fail{background:#fde0e0}.v-error{background:#fff0c0}.v-pass{background:#e4f6e4}\n"
+          ".v-not-compared{background:#e8e8e8}#interrupted{font-weight:bold;color:#a00}\n"
           ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;font-size:12px;word-break:break-word}.none{color:#999}\n"
           "</style></head><body>\n<h1>springpend compare</h1>\n", fp);
     fprintf(fp, "<p id=\"summary\">%s: %d compared, %d passed, %d failed, %d missing or "
-            "unreadable, %d updated</p>\n",
-            c.failed || c.errors ? "FAIL" : "ok", c.compared, c.passed, c.failed, c.errors,
-            c.updated);
+            "unreadable, %d updated%s</p>\n",
+            rep->interrupted ? "INTERRUPTED" : c.failed || c.errors ? "FAIL" : "ok",
+            c.compared, c.passed, c.failed, c.errors, c.updated,
+            rep->interrupted ? ", the rest never compared" : "");
+    if (rep->interrupted) {
+        interrupted_line(rep, &c, line, sizeof(line));
+        fputs("<p id=\"interrupted\">", fp);
+        xml_string(fp, line, XML_PLAIN);
+        fputs("</p>\n", fp);
+    }
     fputs("<table>\n<tr><th>image, verdict, figures</th><th>expected</th><th>actual</th><th>diff</th>"
           "<th>flip</th></tr>\n", fp);
-    for (int rank = 0; rank < 3; rank++)
-        for (int i = 0; i < rep->n; i++) {
+    for (int rank = 0; rank < 4; rank++)
+        for (int i = 0; i < rep->n && !ferror(fp); i++) {
             const struct sp_compare_record *r = &rep->records[i];
+            const char *v = r->not_compared ? "not-compared" : verdict_word(r->verdict);
             if (row_rank(r) != rank)
                 continue;
             record_line(r, line, sizeof(line));
-            fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">",
-                    verdict_word(r->verdict));
-            xml_string(fp, r->name);
-            fprintf(fp, "</div><div class=\"verdict\">%s</div>", verdict_word(r->verdict));
-            xml_string(fp, line);
+            fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">", v);
+            xml_string(fp, r->name, XML_PLAIN);
+            fprintf(fp, "</div><div class=\"verdict\">%s</div>",
+                    r->not_compared ? "not compared" : v);
+            xml_string(fp, line, XML_PLAIN);
             if (r->hint[0])
-                fputs("<br>", fp), xml_string(fp, r->hint);
+                fputs("<br>", fp), xml_string(fp, r->hint, XML_PLAIN);
             fputs("</td>", fp);
-            html_image(fp, "expected", r->expected);
-            html_image(fp, "actual", r->actual);
-            html_image(fp, "diff", r->diff);
-            if (r->expected[0] && r->actual[0] && r->frames == 0)
+            if (html_image(fp, "expected", r->expected, r->expected_png) ||
+                html_image(fp, "actual", r->actual, r->actual_png) ||
+                html_image(fp, "diff", r->diff, r->diff[0] != 0))
+                return SP_E_IO;
+            /* The flip cell needs both images embedded. */
+            if (r->expected_png && r->actual_png && r->frames == 0)
                 fputs("<td class=\"flipcell\"><button class=\"flip\" type=\"button\">"
                       "show expected</button><img class=\"flipimg\" alt=\"actual\" src=\"\">"
                       "<div class=\"showing\">actual</div></td>", fp);
@@ -439,13 +617,15 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
         }
     /* The flip cell starts as the actual image; the button (or a click on
      * the image) swaps in the expected one, so a change blinks in place.
-     * #flip in the URL flips every row once, for a quick look. */
+     * #flip in the URL flips every row once, for a quick look. A row whose
+     * image was not embedded has no flip. */
     fputs("</table>\n<script>\n"
           "for (const td of document.querySelectorAll('td.flipcell')) {\n"
           "  const row = td.parentElement, img = td.querySelector('img');\n"
           "  const b = td.querySelector('button'), label = td.querySelector('.showing');\n"
-          "  const src = {expected: row.querySelector('td.expected img').src,\n"
-          "               actual: row.querySelector('td.actual img').src};\n"
+          "  const ie = row.querySelector('td.expected img'), ia = row.querySelector('td.actual img');\n"
+          "  if (!ie || !ia) { td.textContent = '-'; continue; }\n"
+          "  const src = {expected: ie.src, actual: ia.src};\n"
           "  let shown = 'actual';\n"
           "  const show = w => { shown = w; img.src = src[w]; img.alt = w; label.textContent = w;\n"
           "    b.textContent = 'show ' + (w == 'actual' ? 'expected' : 'actual'); };\n"

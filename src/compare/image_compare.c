@@ -125,6 +125,60 @@ long sp_compare_apply_masks(const struct sp_image *expected, struct sp_image *ac
     return covered;
 }
 
+/* A mask clipped to a w x h image: [x0, x1) x [y0, y1), px; 0 when empty. */
+static int clip_mask(const struct sp_compare_mask *m, int w, int h, long box[4])
+{
+    box[0] = m->x < 0 ? 0 : m->x;
+    box[1] = m->y < 0 ? 0 : m->y;
+    box[2] = (long)m->x + m->w;
+    box[3] = (long)m->y + m->h;
+    box[2] = box[2] > w ? w : box[2];
+    box[3] = box[3] > h ? h : box[3];
+    return box[2] > box[0] && box[3] > box[1];
+}
+
+static int by_start(const void *a, const void *b)
+{
+    const long *x = a, *y = b;
+    return (x[0] > y[0]) - (x[0] < y[0]);
+}
+
+long sp_compare_masked_pixels(int width, int height, const struct sp_compare_mask *a, int na,
+                              const struct sp_compare_mask *b, int nb)
+{
+    long (*boxes)[4] = malloc(sizeof(*boxes) * (size_t)(na + nb + 1));
+    long (*spans)[2] = malloc(sizeof(*spans) * (size_t)(na + nb + 1)), covered = 0;
+    int n = 0;
+    if (!boxes || !spans) {
+        free(boxes), free(spans);
+        sp_log_error("out of memory counting masked pixels");
+        return -1;
+    }
+    for (int i = 0; i < na + nb; i++)
+        n += clip_mask(i < na ? &a[i] : &b[i - na], width, height, boxes[n]);
+    /* Row by row: the spans of the masks that cross it, merged. */
+    for (int y = 0; y < height && n; y++) {
+        int k = 0;
+        for (int i = 0; i < n; i++)
+            if (boxes[i][1] <= y && y < boxes[i][3]) {
+                spans[k][0] = boxes[i][0];
+                spans[k++][1] = boxes[i][2];
+            }
+        qsort(spans, (size_t)k, sizeof(spans[0]), by_start);
+        long end = 0;
+        for (int i = 0; i < k; i++) {
+            long from = spans[i][0] > end ? spans[i][0] : end;
+            if (spans[i][1] > from) {
+                covered += spans[i][1] - from;
+                end = spans[i][1];
+            }
+        }
+    }
+    free(boxes);
+    free(spans);
+    return covered;
+}
+
 int sp_compare_pixel_hash(const struct sp_image *img, char hex[65])
 {
     char size[32];

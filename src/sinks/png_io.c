@@ -38,10 +38,40 @@ static void on_png_write(png_structp png, png_bytep data, size_t n)
 }
 
 /* The same for readers, in the words compare's users know. */
+/* Text chunks are inflated (zTXt, iTXt) up to this many bytes each, and
+ * at most this many ancillary chunks are kept, so that a small file cannot
+ * cost gigabytes: text read in total stays under 32 x 256 KiB = 8 MiB.
+ * springpend's own largest text, the canonical scene, is a few KiB. */
+#define TEXT_CHUNK_MAX (256 * 1024)
+#define TEXT_CHUNKS_MAX 32
+
+/* The reader's state, behind a pointer so that what is set after setjmp
+ * survives the longjmp; libpng's error pointer. */
+struct png_reader {
+    const char *path;
+    FILE *fp;
+    png_structp png;
+    png_infop info;
+    png_bytep *rows;
+    int text_dropped; /* text chunks libpng dropped: beyond the bounds */
+};
+
 static void on_png_read_error(png_structp png, png_const_charp msg)
 {
-    sp_log_error("%s: cannot read PNG: libpng: %s", (const char *)png_get_error_ptr(png), msg);
+    const struct png_reader *r = png_get_error_ptr(png);
+    sp_log_error("%s: cannot read PNG: libpng: %s", r->path, msg);
     png_longjmp(png, 1);
+}
+
+/* Text chunks dropped for their size or number are counted, and said once
+ * (reader_close); other warnings are passed on. */
+static void on_png_read_warning(png_structp png, png_const_charp msg)
+{
+    struct png_reader *r = png_get_error_ptr(png);
+    if (!strncmp(msg, "tEXt", 4) || !strncmp(msg, "zTXt", 4) || !strncmp(msg, "iTXt", 4))
+        r->text_dropped++;
+    else
+        sp_log_error("%s: libpng warning: %s", r->path, msg);
 }
 
 static void on_png_flush(png_structp png)
@@ -217,17 +247,11 @@ static FILE *open_regular(const char *path, int *err)
     return fp;
 }
 
-/* The reader's state, behind a pointer so that what is set after setjmp
- * survives the longjmp. */
-struct png_reader {
-    FILE *fp;
-    png_structp png;
-    png_infop info;
-    png_bytep *rows;
-};
-
 static void reader_close(struct png_reader *r)
 {
+    if (r->text_dropped)
+        sp_log_error("%s: text chunks not read: beyond %d KiB inflated, or after the %dth",
+                     r->path, TEXT_CHUNK_MAX / 1024, TEXT_CHUNKS_MAX);
     png_destroy_read_struct(&r->png, &r->info, NULL);
     free(r->rows);
     if (r->fp)
@@ -235,15 +259,18 @@ static void reader_close(struct png_reader *r)
 }
 
 /* Opens path and makes the libpng reader (errors jump to the caller's
- * setjmp, which it must set right after). */
-static int reader_open(struct png_reader *r, const char *path)
+ * setjmp, which it must set right after). with_text = 0 skips the text
+ * chunks unread (pixels need none); else they are read within the
+ * bounds above (libpng warns of what it drops). */
+static int reader_open(struct png_reader *r, const char *path, int with_text)
 {
     int err = 0;
     memset(r, 0, sizeof(*r));
+    r->path = path;
     if (!(r->fp = open_regular(path, &err)))
         return err;
-    r->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, (png_voidp)path,
-                                    on_png_read_error, on_png_warning);
+    r->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, r, on_png_read_error,
+                                    on_png_read_warning);
     if (r->png)
         r->info = png_create_info_struct(r->png);
     if (!r->png || !r->info) {
@@ -252,13 +279,19 @@ static int reader_open(struct png_reader *r, const char *path)
         return SP_E_NOMEM;
     }
     png_init_io(r->png, r->fp);
+    if (!with_text) {
+        static const png_byte text_chunks[] = "tEXt\0zTXt\0iTXt";
+        png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_NEVER, text_chunks, 3);
+    }
+    png_set_chunk_malloc_max(r->png, TEXT_CHUNK_MAX);
+    png_set_chunk_cache_max(r->png, TEXT_CHUNKS_MAX);
     return 0;
 }
 
 int sp_png_read_info(const char *path, struct sp_png_info *out)
 {
     struct png_reader rd, *r = &rd;
-    int err = reader_open(r, path);
+    int err = reader_open(r, path, 0);
     memset(out, 0, sizeof(*out));
     if (err)
         return err;
@@ -292,7 +325,7 @@ int sp_png_read(const char *path, struct sp_image *img)
 {
     struct png_reader rd, *r = &rd;
     struct sp_png_info hdr;
-    int err = reader_open(r, path);
+    int err = reader_open(r, path, 0);
     memset(img, 0, sizeof(*img));
     if (err)
         return err;
@@ -347,7 +380,7 @@ int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)
 {
     struct png_reader rd, *r = &rd;
     png_textp text;
-    int n, ret = reader_open(r, path);
+    int n, ret = reader_open(r, path, 1);
     if (ret)
         return ret;
     if (setjmp(png_jmpbuf(r->png))) {

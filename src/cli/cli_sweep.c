@@ -20,6 +20,7 @@
 #include "signals.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
+#include "springpend/sim.h"
 #include "sweep.h"
 
 static const char sweep_usage[] =
@@ -244,6 +245,38 @@ static int check_outputs(const struct sweep_opts *o)
             }
         }
     return 0;
+}
+
+/* A sweep's work, in trajectory-steps: beyond SWEEP_MAX_STEPS it is
+ * refused (about 2 hours of the batched integrator on 2 cores, at about 150
+ * million a second), beyond SWEEP_NOTE_STEPS (about 2 minutes) it says so. */
+#define SWEEP_MAX_STEPS 1e12
+#define SWEEP_NOTE_STEPS 1.5e10
+
+/* Estimates points * (steps a point) for this run (a shard's points only)
+ * and holds it to the limits (sp_cli_work). A point integrates the
+ * transient and the span (Lyapunov: at least two renormalisations); fixed
+ * steps at integrator.dt, dop853 at its tolerance (probed on the base
+ * scene, sim.h) and, for events, at least one step per dt. */
+static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
+                      int quiet)
+{
+    const double span = d->transient + (d->measure == SP_MEASURE_LYAPUNOV ? fmax(d->time, 2.0)
+                                                                           : d->time);
+    double per_point = span / d->dt;
+    if (strcmp(d->method, "rk4") && strcmp(d->method, "verlet") && strcmp(d->method, "yoshida4")) {
+        struct sp_scene s = *base;
+        s.integrator.method = SP_METHOD_DOP853;
+        const double adaptive = sp_sim_estimate_steps(&s, span);
+        per_point = d->measure == SP_MEASURE_LYAPUNOV ? adaptive : fmax(adaptive, per_point);
+    }
+    char what[256];
+    snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s at dt = %g s: about "
+             "%.3g steps a point)", points, span, d->method, d->dt, per_point);
+    return sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
+                       "fewer points (--vary's COUNT), a shorter --time or --transient, a "
+                       "larger integrator.dt, or split the grid over machines with --shard I/N",
+                       quiet);
 }
 
 static double now_s(void)
@@ -578,6 +611,8 @@ int sp_cmd_sweep(int argc, char **argv)
         first = total * (si - 1) / sn;
         last = total * si / sn;
     }
+    if ((ret = check_work(&d, &scene, last - first, o.quiet)))
+        return ret;
     struct sp_outfile rows;
     FILE *fp;
     struct sp_dirs made[2] = {{0}, {0}};

@@ -10,10 +10,12 @@ _count = _failed = 0
 
 
 def ok(cond, what):
-    """One TAP line; returns cond."""
+    """One TAP line (a description that quotes a program's output keeps to
+    that line); returns cond."""
     global _count, _failed
     _count += 1
     _failed += not cond
+    what = " | ".join(str(what).splitlines())
     print(f"{'' if cond else 'not '}ok {_count} - {what}", flush=True)
     return cond
 

@@ -23,7 +23,14 @@ import time
 import xml.etree.ElementTree as ET
 import zlib
 
-from sptest import done, ok, skip
+import sptest
+from sptest import done, skip
+
+
+def ok(cond, what):
+    """sptest.ok on one line: messages here quote multi-line output."""
+    return sptest.ok(cond, what.replace("\n", " | "))
+
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "hostile"))
@@ -179,14 +186,25 @@ d = fresh("tty")
 esc = "x\x1b]0;pwned\x07\x1b[31mred\x9b2J.png"
 png(os.path.join(d, "base", esc), level=10)
 png(os.path.join(d, "act", esc), level=200)
+forged = "n\nok   forged.png"
+png(os.path.join(d, "base", forged), level=10)
+png(os.path.join(d, "act", forged), level=200)
 os.mkfifo(os.path.join(d, "base", "\x1b[2Jfifo.png"))
 png(os.path.join(d, "act", "\x1b[2Jfifo.png"))
 r = subprocess.run([exe.encode(), b"compare", b"base", b"act"], capture_output=True, cwd=d,
                    timeout=30)
 out = r.stdout + r.stderr
 ok(r.returncode == 2 and b"\x1b" not in out and b"\x07" not in out and b"\x9b" not in out
-   and b"\\x1b" in r.stdout and b"\\x1b" in r.stderr,
-   f"names with terminal escapes are shown, not sent (stdout and stderr): {r.stdout[:160]!r}")
+   and b"\\x1b" in r.stdout and b"\\x1b" in r.stderr
+   and not any(line.startswith(b"ok   forged") for line in r.stdout.split(b"\n"))
+   and b"n\\nok   forged.png" in r.stdout,
+   f"names with terminal escapes or a newline are shown, not sent, and forge no line "
+   f"(stdout and stderr): {r.stdout[:200]!r}")
+r = subprocess.run([exe.encode(), b"compare", b"base", b"act", b"--json"], capture_output=True,
+                   cwd=d, timeout=30)
+ok(b"\x1b" not in r.stdout and b"\xc2\x9b" not in r.stdout and b"\\u001b" in r.stdout
+   and b"\\u009b" in r.stdout and json.loads(r.stdout)["results"],
+   "--json escapes C0 and C1 controls (\\u001b, \\u009b): valid JSON, nothing a terminal obeys")
 
 # ---- a video named javascript: is no live link ----
 d = fresh("js")
@@ -287,6 +305,15 @@ ok(open(os.path.join(d, "victim.png"), "rb").read() == victim
    and os.path.islink(os.path.join(d, "base", "out.png")),
    f"--update=all: a link within the folder is replaced by the file, one out of it refused; "
    f"neither target written (exit {r.returncode})")
+os.makedirs(os.path.join(d, "diffs"))
+os.symlink("../victim.png", os.path.join(d, "diffs", "c.diff.png"))
+png(os.path.join(d, "base", "c.png"), level=10)
+r = run("compare", "base", "act", "--diff", "diffs", cwd=d)
+ok(open(os.path.join(d, "victim.png"), "rb").read() == victim
+   and not os.path.islink(os.path.join(d, "diffs", "c.diff.png"))
+   and open(os.path.join(d, "diffs", "c.diff.png"), "rb").read(8) == b"\x89PNG\r\n\x1a\n",
+   f"folders: a diff image replaces a link in the --diff folder, never writes through it "
+   f"(exit {r.returncode})")
 os.symlink(os.path.join(d, "victim.png"), os.path.join(d, "one.png"))
 r = run("compare", "one.png", "act/c.png", "--update=changed", cwd=d)
 ok(open(os.path.join(d, "victim.png"), "rb").read() == victim
@@ -329,8 +356,9 @@ if root:
 else:
     skip("--help > a full device", "mknod needs root")
 
-# ---- SIGQUIT, SIGUSR1 and SIGALRM stop a run cleanly ----
-for sig in (signal.SIGQUIT, signal.SIGUSR1, signal.SIGALRM):
+# ---- every signal that would kill the process stops a run cleanly ----
+for sig in (signal.SIGQUIT, signal.SIGUSR1, signal.SIGUSR2, signal.SIGALRM, signal.SIGVTALRM,
+            signal.SIGXCPU, signal.SIGPWR):
     d = fresh("sig" + str(int(sig)))
     p = subprocess.Popen([exe, "data", default, "--set", "integrator.method=rk4", "--set",
                           "integrator.dt=1e-6", "--set", "video.duration=1000", "--every", "100",
@@ -345,6 +373,49 @@ for sig in (signal.SIGQUIT, signal.SIGUSR1, signal.SIGALRM):
     ok(had_part and p.returncode == 128 + sig and not parts(d),
        f"{sig.name}: exit {p.returncode} (128 + {int(sig)} expected), no .part left "
        f"({parts(d)})")
+
+# ---- modules come only from the build tree or the installed layout ----
+cc = shutil.which("cc") or shutil.which("gcc")
+if cc:
+    d = path("modules")
+    os.makedirs(os.path.join(d, "x", "tools"))
+    tool = os.path.join(d, "x", "tools", "springpend")
+    shutil.copy(exe, tool)
+    marker = os.path.join(d, "LOADED")
+
+    def plant(where, version):
+        c = os.path.join(d, "evil.c")
+        open(c, "w").write('#include <stdio.h>\n__attribute__((constructor)) static void pwn(void)'
+                           f' {{ FILE *f = fopen("{marker}", "w"); if (f) fclose(f); }}\n'
+                           f'const char sp_module_version[] = "{version}";\n')
+        os.makedirs(os.path.dirname(where), exist_ok=True)
+        subprocess.run([cc, "-shared", "-fPIC", "-o", where, c], check=True)
+
+    plant(os.path.join(d, "x", "springpend-cairo.so"), "0.1.0")
+    r = subprocess.run([tool, "still", default, "--size", "64x48", "-q", "-o", "a.svg"],
+                       capture_output=True, text=True, cwd=d, timeout=60)
+    ok(r.returncode != 0 and not os.path.exists(marker) and "cannot load" in r.stderr,
+       f"a copy at x/tools/springpend never loads x/springpend-cairo.so ({r.stderr.strip()[:200]})")
+    m = re.search(r"\((/\S+?/springpend-cairo\.so):", r.stderr)
+    if m and m.group(1).startswith(os.path.dirname(tool)):
+        installed = os.path.normpath(m.group(1))
+        plant(installed, "0.0.1")
+        r = subprocess.run([tool, "still", default, "--size", "64x48", "-q", "-o", "a.svg"],
+                           capture_output=True, text=True, cwd=d, timeout=60)
+        ok(r.returncode != 0 and "built for springpend 0.0.1" in r.stderr,
+           f"a module of another version is refused ({r.stderr.strip()[-160:]})")
+        if os.path.exists(marker):
+            os.unlink(marker)
+        plant(installed, "0.1.0")
+        os.chmod(os.path.dirname(installed), 0o777)
+        r = subprocess.run([tool, "still", default, "--size", "64x48", "-q", "-o", "a.svg"],
+                           capture_output=True, text=True, cwd=d, timeout=60)
+        ok(r.returncode != 0 and not os.path.exists(marker) and "writable by anyone" in r.stderr,
+           f"a module in a folder anyone may write is refused ({r.stderr.strip()[-160:]})")
+    else:
+        ok(False, f"the message names the installed module path ({r.stderr.strip()})")
+else:
+    skip("modules from the binary's parent folder", "no C compiler to build one")
 
 # ---- compressed text chunks are no bomb ----
 d = fresh("bomb")

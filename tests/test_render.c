@@ -195,7 +195,7 @@ int main(int argc, char **argv)
 
 done:
     if (sp_tap_failed && first) {
-        const struct sp_image shot = {first, W, H, 4 * W};
+        const struct sp_image shot = {first, W, H, 4 * W, SP_IMAGE_RGBA};
         snprintf(path, sizeof(path), "%s/render_actual.png", outdir);
         if (sp_png_write(path, &shot, 1) == 0)
             sp_tap_diag("actual image: %s", path);

@@ -94,4 +94,9 @@ void sp_batch_renormalise(struct sp_batch *b, double *growth);
 /* Resets every tangent vector to dq = (1, 0), dv = 0 (after a transient). */
 void sp_batch_reset_tangent(struct sp_batch *b);
 
+/* Sets trajectory i's tangent vector to d = (dq_x, dq_y, dv_x, dv_y) (in the
+ * stepping state and in out[]); as sp_batch_renormalise, fixed-step methods
+ * need b->t on the grid. A dead trajectory stays NaN. */
+void sp_batch_set_tangent(struct sp_batch *b, int i, const double d[4]);
+
 #endif

@@ -38,8 +38,11 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
                    struct sp_image *img);
 
 /* Makes the following draws land in dst's pixels (dst must be width x
- * height with stride 4 * width, and outlive its use) instead of the
- * renderer's own buffer; NULL goes back. Saves a copy per frame. */
+ * height, and outlive its use) instead of the renderer's own buffer; NULL
+ * goes back. Saves a copy per frame. dst is RGBA with stride 4 * width, or,
+ * with an opaque background, SP_IMAGE_YUV420 as sp_image_alloc_yuv420 makes it: a last GL
+ * pass then converts the frame (BT.709 limited range, chroma sited left)
+ * and reads back 1.5 bytes a pixel instead of 4. */
 int sp_render_target(struct sp_renderer *r, const struct sp_image *dst);
 
 /* Where a renderer's time went so far: seconds of wall time composing the

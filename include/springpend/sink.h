@@ -7,6 +7,9 @@
  *   png   *%d*.png (printf pattern, e.g. frames/%05d.png)  one PNG per frame
  *         *.png   a single PNG (exactly one frame may be written)
  *   raw   RGBA8 frames, top row first, no header; path "-" is stdout
+ *   yuv420p  *.yuv  raw Y'CbCr 4:2:0 frames (BT.709, limited range, chroma
+ *         sited left): each the Y plane, then Cb, then Cr (I420, what
+ *         ffmpeg reads as -f rawvideo -pix_fmt yuv420p); path "-" is stdout
  * Files are written through struct sp_outfile (outfile.h): a unique
  * NAME.XXXXXX.part renamed into place, a video on sp_sink_close, each PNG of
  * a sequence as soon as it is complete; raw frames and a single PNG may be
@@ -23,7 +26,7 @@
 struct sp_sink_desc {
     const char *path;   /* target path (pattern for sequences, "-" = stdout
                            for raw) */
-    const char *format; /* "mp4", "webm", "gif", "png", "raw"; NULL = from
+    const char *format; /* "mp4", "webm", "gif", "png", "raw", "yuv420p"; NULL = from
                            the path's extension */
     int width, height;  /* px, every written image must match */
     double fps;         /* frames per second of video */
@@ -45,7 +48,12 @@ struct sp_sink;
  * SP_E_CODEC when this FFmpeg lacks the encoder, SP_E_IO naming the path
  * and the cause when it cannot be created. */
 int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc);
-/* Writes one image; not thread-safe (one writer at a time). */
+/* The image format (image.h) s takes best: SP_IMAGE_YUV420 for video
+ * without alpha (mp4, webm: no conversion on the CPU) and raw yuv420p (the
+ * only one it takes), else SP_IMAGE_RGBA. The others take RGBA too. */
+int sp_sink_image_format(const struct sp_sink *s);
+/* Writes one image of desc's size, in RGBA or the format
+ * sp_sink_image_format names; not thread-safe (one writer at a time). */
 int sp_sink_write(struct sp_sink *s, const struct sp_image *img);
 /* Flushes, finishes and renames into place; frees and NULLs *s. On failure
  * nothing is left at the target path. */

@@ -9,6 +9,8 @@ extern const unsigned long sp_embed_shape_frag_size;
 
 extern const char sp_embed_text_vert[];
 extern const char sp_embed_text_frag[];
+extern const char sp_embed_yuv_vert[];
+extern const char sp_embed_yuv_frag[];
 extern const char sp_embed_DejaVuSans_ttf[];
 extern const unsigned long sp_embed_DejaVuSans_ttf_size;
 

@@ -8,8 +8,16 @@
 
 /* Every signal whose default would kill the process and leave its .part
  * files: each stops a run cleanly like SIGTERM (exit status 128 + number).
- * SIGQUIT too: a core dump of a render helps nobody, its .part files harm. */
-static const int caught[SP_SIGNALS_CAUGHT] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGALRM};
+ * SIGQUIT and SIGXCPU (ulimit -t) too: a core dump of a render helps
+ * nobody, its .part files harm. Not caught: SIGPIPE and SIGXFSZ (ignored:
+ * the write fails and is cleaned up), SIGPROF (profilers' timer), the
+ * real-time signals, and what cannot be (SIGKILL) or means a bug (SIGSEGV,
+ * SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGTRAP, SIGSYS). */
+static const int caught[SP_SIGNALS_CAUGHT] = {SIGINT,  SIGTERM, SIGHUP,    SIGQUIT, SIGUSR1,
+                                              SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU, SIGPWR};
+static const char *const caught_name[SP_SIGNALS_CAUGHT] = {
+    "SIGINT",  "SIGTERM", "SIGHUP",    "SIGQUIT", "SIGUSR1",
+    "SIGUSR2", "SIGALRM", "SIGVTALRM", "SIGXCPU", "SIGPWR"};
 
 static volatile sig_atomic_t seen;  /* the first signal, 0 = none */
 static volatile sig_atomic_t count; /* signals since sp_signals_hold */
@@ -66,9 +74,10 @@ const volatile sig_atomic_t *sp_signal_flag(void)
 
 const char *sp_signal_name(int sig)
 {
-    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP"
-         : sig == SIGQUIT ? "SIGQUIT" : sig == SIGUSR1 ? "SIGUSR1" : sig == SIGALRM ? "SIGALRM"
-         : "a signal";
+    for (int i = 0; i < SP_SIGNALS_CAUGHT; i++)
+        if (caught[i] == sig)
+            return caught_name[i];
+    return "a signal";
 }
 
 void sp_signals_hold(struct sp_signals_saved *saved)

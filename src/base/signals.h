@@ -1,6 +1,7 @@
 /* springpend (internal): the process's signals. The one owner of SIGINT, SIGTERM,
- * SIGHUP, SIGQUIT, SIGUSR1 and SIGALRM (every signal that would otherwise
- * kill the process with its .part files left behind): main installs a handler that sets a flag; long loops poll
+ * SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU and SIGPWR
+ * (every signal that would otherwise kill the process with its .part files
+ * left behind; signals.c says which are left alone and why): main installs a handler that sets a flag; long loops poll
  * sp_signal_seen, and hand sp_signal_flag to the simulation as its cancel
  * flag (sim.h). While a render holds them (sp_signals_hold), a second
  * signal removes the partial files (outfile.h) and exits at once. */
@@ -22,10 +23,10 @@ int sp_signal_seen(void);
  * cancel. */
 const volatile sig_atomic_t *sp_signal_flag(void);
 
-/* "SIGINT", "SIGTERM", "SIGHUP", "SIGQUIT", "SIGUSR1" or "SIGALRM". */
+/* The caught signal's name ("SIGTERM"), or "a signal". */
 const char *sp_signal_name(int sig);
 
-#define SP_SIGNALS_CAUGHT 6 /* how many signals the flag stands for */
+#define SP_SIGNALS_CAUGHT 10 /* how many signals the flag stands for */
 
 /* The handlers a hold replaced. */
 struct sp_signals_saved {

@@ -80,6 +80,8 @@ struct compare_cli {
     const char *html, *junit;      /* --report, --junit, NULL = none */
     enum update_mode update;
     int json, quiet;
+    unsigned diff_links;           /* write_whole's flags for diff images:
+                                      SP_OUTFILE_REPLACE_LINK in folder mode */
 };
 
 static int parse_args(struct compare_cli *c, int argc, char **argv)
@@ -422,7 +424,9 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         r->verdict = r->result.pass ? SP_VERDICT_PASS : SP_VERDICT_FAIL;
     }
     if (r->verdict == SP_VERDICT_FAIL) {
-        if (diff_path && write_whole(diff_path, 0, fill_png, &(struct png_out){&d, diff_path}) == 0)
+        /* A diff image in a folder replaces a link there, never follows it. */
+        if (diff_path && write_whole(diff_path, c->diff_links, fill_png,
+                                     &(struct png_out){&d, diff_path}) == 0)
             snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
         note_provenance(r);
     }
@@ -808,6 +812,7 @@ int sp_cmd_compare(int argc, char **argv)
             ret = SP_E_INPUT;
             goto done;
         }
+        c.diff_links = SP_OUTFILE_REPLACE_LINK;
         ret = compare_folders(&c, &rep, e, a);
     } else {
         struct sp_compare_record *r = sp_compare_report_add(&rep);

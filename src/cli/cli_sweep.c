@@ -22,11 +22,13 @@
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "sweep.h"
+#include "sweep_format.h"
 
 static const char sweep_usage[] =
     "usage: springpend sweep SCENE --vary KEY=FROM:TO:COUNT [--vary KEY=FROM:TO:COUNT]\n"
-    "                        --measure lyapunov|orbit|poincare --time T [--transient T0]\n"
-    "                        -o FIGURE.png|.svg|.pdf [--csv FILE.csv] [options]\n"
+    "                        --measure lyapunov|spectrum|orbit|poincare|basins --time T\n"
+    "                        [--transient T0] -o FIGURE.png|.svg|.pdf|- [--csv FILE.csv]\n"
+    "                        [--format csv|json] [options]\n"
     "       springpend sweep SCENE ... --shard I/N --csv PART.csv\n"
     "       springpend sweep --merge PART.csv... -o FIGURE [--csv WHOLE.csv]\n"
     "\n"
@@ -39,6 +41,18 @@ static const char sweep_usage[] =
     "  orbit     orbit diagram over one key: after the transient, theta (degrees) once\n"
     "            per drive period when the pivot moves (stroboscopic, at t = k/f),\n"
     "            else r at each Poincare crossing (theta = 0, dtheta/dt > 0).\n"
+    "  spectrum  all four Lyapunov exponents (1/s; Benettin: four tangent vectors,\n"
+    "            re-orthonormalised every second by modified Gram-Schmidt), their\n"
+    "            sum and the Kaplan-Yorke dimension; the CSV holds the running values\n"
+    "            at about ten T per decade. One point: the convergence figure (each\n"
+    "            lambda against T); one key: the four against it; two: a map of lambda1.\n"
+    "  basins    damped, driven scenes, two keys: which attractor of the stroboscopic\n"
+    "            map (t = k/f) each start ends on. A start is settled once its\n"
+    "            samples repeat with a period p <= 8 (and counted rotating when it\n"
+    "            turns over); undecided when not by T0 + T (chaos, or slow). The\n"
+    "            settled cycles are clustered into attractors; the figure's legend\n"
+    "            and stderr give each one's period, state and basin fraction, and the\n"
+    "            basin entropy S_b and boundary basin entropy S_bb (5x5 boxes).\n"
     "  poincare  Poincare mosaic: (r, dr/dt) at every crossing of every grid point's\n"
     "            orbit, coloured by orbit, all at one energy: each point's\n"
     "            initial.angle_rate is derived from --energy E (J; default the\n"
@@ -55,7 +69,19 @@ static const char sweep_usage[] =
     "  --time T                  simulated seconds measured, after the transient\n"
     "  --transient T0            simulated seconds integrated first (default 0)\n"
     "  --energy E                poincare: the orbits' energy, J\n"
-    "  -o, --output FIGURE       .png, .svg or .pdf\n"
+    "  --continue up|down|both   orbit, driven: each value of the key starts from the\n"
+    "                            previous value's final state (up: in increasing\n"
+    "                            order; down; both: two branches, two colours), so\n"
+    "                            hysteresis shows; a start within 0.05 deg of hanging is\n"
+    "                            seeded at 0.05 deg. One sequence: no --shard.\n"
+    "  --peak theta|r            orbit, driven: beside theta at t = k/f (stroboscopic),\n"
+    "                            the largest |theta| (or r) over each drive period,\n"
+    "                            drawn as light dots\n"
+    "  -o, --output FIGURE       .png, .svg or .pdf; '-': no figure, the numbers on\n"
+    "                            stdout (CSV, or --format)\n"
+    "  --format csv|json         also print the numbers on stdout: the CSV, or JSON\n"
+    "                            (a spectrum's final exponents; a basin map's\n"
+    "                            attractors, fractions and entropies)\n"
     "  --csv FILE                also write the rows (a regular file)\n"
     "  --shard I/N               compute the I-th of N equal parts of the grid into\n"
     "                            --csv only; join them with --merge\n"
@@ -67,6 +93,7 @@ static const char sweep_usage[] =
 
 struct sweep_opts {
     const char *scene, *output, *csv, *shard;
+    int format; /* 0: no numbers on stdout, 1: CSV, 2: JSON */
     const char *overrides[SP_CLI_MAX_OVERRIDES];
     int n_overrides, quiet, merge, threads, energy_given;
     const char **parts;
@@ -118,6 +145,8 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
         {"energy", required_argument, 0, 'E'}, {"csv", required_argument, 0, 'C'},
         {"shard", required_argument, 0, 'D'},  {"merge", no_argument, 0, 'G'},
         {"threads", required_argument, 0, 'N'}, {"quiet", no_argument, 0, 'q'},
+        {"continue", required_argument, 0, 'K'}, {"peak", required_argument, 0, 'P'},
+        {"format", required_argument, 0, 'F'},
         {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
     };
     int c, ret = 0, have_measure = 0;
@@ -150,10 +179,36 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
                 d->measure = SP_MEASURE_ORBIT;
             else if (!strcmp(optarg, "poincare"))
                 d->measure = SP_MEASURE_POINCARE;
+            else if (!strcmp(optarg, "spectrum"))
+                d->measure = SP_MEASURE_SPECTRUM;
+            else if (!strcmp(optarg, "basins"))
+                d->measure = SP_MEASURE_BASINS;
             else {
-                sp_log_error("--measure %s: use lyapunov, orbit or poincare", optarg);
+                sp_log_error("--measure %s: use lyapunov, spectrum, orbit, poincare or basins",
+                             optarg);
                 return SP_E_INPUT;
             }
+            break;
+        case 'K':
+            d->cont = !strcmp(optarg, "up")     ? SP_CONTINUE_UP
+                      : !strcmp(optarg, "down") ? SP_CONTINUE_DOWN
+                      : !strcmp(optarg, "both") ? SP_CONTINUE_BOTH
+                                                : SP_CONTINUE_NONE;
+            if (!d->cont)
+                return sp_cli_refuse("--continue", optarg, "not a direction", "up, down or both");
+            break;
+        case 'P':
+            d->peak = !strcmp(optarg, "theta") ? SP_PEAK_THETA
+                      : !strcmp(optarg, "r")   ? SP_PEAK_R
+                                               : 0;
+            if (!d->peak)
+                return sp_cli_refuse("--peak", optarg, "not a sampled quantity",
+                                     "theta (the largest |theta| per drive period) or r");
+            break;
+        case 'F':
+            o->format = !strcmp(optarg, "csv") ? 1 : !strcmp(optarg, "json") ? 2 : 0;
+            if (!o->format)
+                return sp_cli_refuse("--format", optarg, "not a format", "csv or json");
             break;
         case 'T':
             ret = sp_cli_number("--time", optarg, 0, 1e7, SP_DECIMAL_ABOVE,
@@ -180,12 +235,18 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
     }
     if (ret)
         return ret;
+    if (o->output && !strcmp(o->output, "-")) { /* the numbers, no figure */
+        o->output = NULL;
+        if (!o->format)
+            o->format = 1;
+    }
     if (o->merge) {
         o->parts = (const char **)argv + optind;
         o->n_parts = argc - optind;
-        if (!o->n_parts || !o->output || o->shard || d->n_axes || o->n_overrides) {
-            sp_log_error("--merge takes shard CSVs and -o FIGURE (and --csv WHOLE.csv); "
-                         "see 'springpend sweep --help'");
+        if (!o->n_parts || !(o->output || o->format) || o->shard || d->n_axes ||
+            o->n_overrides || d->cont || d->peak) {
+            sp_log_error("--merge takes shard CSVs and -o FIGURE or -o - (and --csv "
+                         "WHOLE.csv, --format); see 'springpend sweep --help'");
             return SP_E_INPUT;
         }
         return 0;
@@ -201,10 +262,17 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
                      "'springpend sweep --help'");
         return SP_E_INPUT;
     }
-    if (o->shard ? (!o->csv || o->output) : !o->output) {
+    if (o->shard ? (!o->csv || o->output || o->format) : !(o->output || o->format)) {
         sp_log_error(o->shard ? "--shard writes its part of the rows to --csv PART.csv only "
-                                "(no -o; --merge draws the figure)"
-                              : "sweep needs -o FIGURE.png|.svg|.pdf");
+                                "(no -o, no --format; --merge draws the figure)"
+                              : "sweep needs -o FIGURE.png|.svg|.pdf, or -o - (the numbers "
+                                "on stdout)");
+        return SP_E_INPUT;
+    }
+    if (o->shard && d->cont) {
+        sp_log_error("--shard %s: a continued orbit diagram is one sequence (each value "
+                     "starts from the one before), so it cannot be cut into shards; run it "
+                     "whole (it uses one thread per branch)", o->shard);
         return SP_E_INPUT;
     }
     return 0;
@@ -361,6 +429,15 @@ static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o,
     }
     if (!ret && o->output)
         ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output, &made[1]);
+    if (!ret && !o->quiet)
+        sp_sweep_print_legend(fp, stderr); /* a basin map's attractors */
+    if (!ret && o->format) {
+        ret = sp_sweep_print(fp, name, o->format == 2, stdout);
+        if (!ret && (fflush(stdout) != 0 || ferror(stdout))) {
+            sp_log_error("cannot write the numbers to stdout: %s", strerror(errno));
+            ret = SP_E_IO;
+        }
+    }
     if (!ret && sp_signal_seen()) /* while drawing or merging: nothing written */
         ret = SP_E_INTERRUPTED;
     if (fclose(fp) != 0 && !ret) {
@@ -455,7 +532,8 @@ static int check_rows(FILE *fp, const char *name, const char *head,
     }
     if (!wrong && !ended)
         wrong = "no end line", lineno++;
-    if (!wrong && d->measure == SP_MEASURE_LYAPUNOV && r.rows != last - first)
+    if (!wrong && (d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS) &&
+        r.rows != last - first)
         wrong = "fewer rows than the shard's points";
     if (wrong) {
         sp_log_error("%s:%ld: %s; the file was cut short or edited: write it again with "
@@ -581,8 +659,8 @@ static int merge(const struct sweep_opts *o)
     free(parts);
     free(ends);
     if (!ret && !o->quiet)
-        fprintf(stderr, "wrote %s%s%s from %d shards\n", o->output, o->csv ? " and " : "",
-                o->csv ? o->csv : "", n);
+        fprintf(stderr, "wrote %s%s%s from %d shards\n", o->output ? o->output : "stdout",
+                o->csv ? " and " : "", o->csv ? o->csv : "", n);
     return ret;
 }
 
@@ -649,8 +727,8 @@ int sp_cmd_sweep(int argc, char **argv)
         sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
                      last - first, d.energy);
     if (!o.quiet)
-        fprintf(stderr, "wrote %s%s%s: %ld points in %.2f s\n", o.output ? o.output : "",
-                o.output && o.csv ? " and " : "", o.csv ? o.csv : "", last - first,
-                now_s() - t0);
+        fprintf(stderr, "wrote %s%s%s: %ld points in %.2f s\n",
+                o.output ? o.output : o.csv ? "" : "stdout", o.output && o.csv ? " and " : "",
+                o.csv ? o.csv : "", last - first, now_s() - t0);
     return 0;
 }

@@ -29,10 +29,10 @@ static const char usage[] =
     "\n"
     "exit status: 0 done, 1 failed (I/O, encoder, GL; compare: images differ),\n"
     "             2 bad input, 3 the simulation became unstable,\n"
-    "             128 + signal when stopped by SIGINT (130), SIGHUP (129),\n"
-    "             SIGQUIT (131), SIGUSR1 (138), SIGALRM (142) or SIGTERM (143):\n"
-    "             render keeps the frames so far, playable; other partial\n"
-    "             files are removed\n";
+    "             128 + signal when stopped by SIGINT (130), SIGTERM (143),\n"
+    "             SIGHUP (129), SIGQUIT (131), SIGUSR1/2 (138/140), SIGALRM (142),\n"
+    "             SIGVTALRM (154), SIGXCPU (152) or SIGPWR (158): render keeps\n"
+    "             the frames so far, playable; other partial files are removed\n";
 
 /* The process exit status of an SP_E_* code, as --help documents it. A
  * command that fails after a stop signal arrived was stopped by it (a read

@@ -96,10 +96,65 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
         fprintf(fp, "; diff: %s", r->diff);
 }
 
+/* src into dst (size bytes, cut there) as one printable line: newlines
+ * as \n, what sp_fputs_printable shows as \xHH likewise, so that no name
+ * can start a line of its own ("ok  everything.png"). */
+static void field_line(char *dst, size_t size, const char *src)
+{
+    char seg[4096];
+    FILE *m;
+    dst[0] = 0;
+    if (!(m = fmemopen(dst, size, "w")))
+        return;
+    for (const char *p = src; *p;) {
+        size_t n = strcspn(p, "\n");
+        snprintf(seg, sizeof(seg), "%.*s", (int)n, p);
+        sp_fputs_printable(seg, m);
+        if (!p[n])
+            break;
+        fputs("\\n", m);
+        p += n + 1;
+    }
+    fclose(m);
+    dst[size - 1] = 0;
+}
+
+/* r with every text field a printable line (field_line). */
+static void printable_record(struct sp_compare_record *r)
+{
+    char *fields[] = {r->name, r->expected, r->actual, r->diff, r->error, r->hint};
+    size_t sizes[] = {sizeof(r->name), sizeof(r->expected), sizeof(r->actual),
+                      sizeof(r->diff), sizeof(r->error), sizeof(r->hint)};
+    char buf[4096];
+    for (size_t i = 0; i < sizeof(fields) / sizeof(fields[0]); i++) {
+        field_line(buf, sizes[i], fields[i]); /* every size is at most sizeof(buf) */
+        memcpy(fields[i], buf, sizes[i]);
+    }
+    for (int k = 0; k < r->n_notes; k++) {
+        field_line(buf, sizeof(r->notes[k]), r->notes[k]);
+        memcpy(r->notes[k], buf, sizeof(r->notes[k]));
+    }
+    for (int k = 0; k < r->n_changes; k++) {
+        struct sp_scene_change *c = &r->changes[k];
+        field_line(buf, sizeof(c->key), c->key);
+        memcpy(c->key, buf, sizeof(c->key));
+        field_line(buf, sizeof(c->expected), c->expected);
+        memcpy(c->expected, buf, sizeof(c->expected));
+        field_line(buf, sizeof(c->actual), c->actual);
+        memcpy(c->actual, buf, sizeof(c->actual));
+    }
+}
+
 static void text_lines(FILE *fp, const struct sp_compare_report *rep, int quiet, int summary)
 {
+    struct sp_compare_record *r = malloc(sizeof(*r));
+    if (!r) {
+        sp_log_error("out of memory for the comparison's text");
+        return;
+    }
     for (int i = 0; i < rep->n; i++) {
-        const struct sp_compare_record *r = &rep->records[i];
+        *r = rep->records[i];
+        printable_record(r);
         const char *u = update_word(r->update);
         if (r->not_compared) {
             fprintf(fp, "NOT COMPARED %s: %s\n", r->name, r->error);
@@ -141,6 +196,7 @@ static void text_lines(FILE *fp, const struct sp_compare_report *rep, int quiet,
         if (u)
             fprintf(fp, "%-8s %s\n", u, r->expected);
     }
+    free(r);
     struct sp_compare_counts c = sp_compare_report_count(rep);
     if (summary)
         fprintf(fp, "%s: %d compared, %d passed, %d failed, %d missing or unreadable, "
@@ -154,8 +210,8 @@ static void text_lines(FILE *fp, const struct sp_compare_report *rep, int quiet,
 void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
                             int summary)
 {
-    /* Names, paths and PNG text reach a terminal: the lines are written
-     * whole, then shown printable. */
+    /* Names, paths and PNG text reach a terminal: each field is one
+     * printable line (text_lines), and the whole is shown printable. */
     char *buf = NULL;
     size_t size = 0;
     FILE *m = open_memstream(&buf, &size);
@@ -181,8 +237,10 @@ void sp_report_json_string(FILE *fp, const char *s)
             fputs("\\ufffd", fp);
         else if (ch == '"' || ch == '\\')
             fprintf(fp, "\\%c", ch);
-        else if (ch < 0x20)
+        else if (ch < 0x20 || ch == 0x7f)
             fprintf(fp, "\\u%04x", ch);
+        else if (n == 2 && ch == 0xC2 && (unsigned char)s[1] < 0xA0) /* C1: a terminal's */
+            fprintf(fp, "\\u%04x", (unsigned char)s[1]);
         else
             fwrite(s, 1, n, fp);
     }

@@ -146,36 +146,45 @@ static int by_start(const void *a, const void *b)
 long sp_compare_masked_pixels(int width, int height, const struct sp_compare_mask *a, int na,
                               const struct sp_compare_mask *b, int nb)
 {
-    long (*boxes)[4] = malloc(sizeof(*boxes) * (size_t)(na + nb + 1));
-    long (*spans)[2] = malloc(sizeof(*spans) * (size_t)(na + nb + 1)), covered = 0;
+    size_t cap = (size_t)(na + nb) + 1;
+    long (*boxes)[4] = malloc(sizeof(*boxes) * cap), (*spans)[2] = malloc(sizeof(*spans) * cap);
+    long *ys = malloc(sizeof(*ys) * 2 * cap), covered = 0;
     int n = 0;
-    if (!boxes || !spans) {
-        free(boxes), free(spans);
+    if (!boxes || !spans || !ys) {
+        free(boxes), free(spans), free(ys);
         sp_log_error("out of memory counting masked pixels");
         return -1;
     }
     for (int i = 0; i < na + nb; i++)
         n += clip_mask(i < na ? &a[i] : &b[i - na], width, height, boxes[n]);
-    /* Row by row: the spans of the masks that cross it, merged. */
-    for (int y = 0; y < height && n; y++) {
+    /* Bands between the masks' top and bottom edges: within one, the same
+     * masks cross every row, so one row's merged spans times its height. */
+    for (int i = 0; i < n; i++)
+        ys[2 * i] = boxes[i][1], ys[2 * i + 1] = boxes[i][3];
+    qsort(ys, 2 * (size_t)n, sizeof(*ys), by_start);
+    for (int e = 0; e + 1 < 2 * n; e++) {
+        long y = ys[e], band = ys[e + 1] - ys[e], end = 0, row = 0;
         int k = 0;
+        if (band <= 0)
+            continue;
         for (int i = 0; i < n; i++)
             if (boxes[i][1] <= y && y < boxes[i][3]) {
                 spans[k][0] = boxes[i][0];
                 spans[k++][1] = boxes[i][2];
             }
         qsort(spans, (size_t)k, sizeof(spans[0]), by_start);
-        long end = 0;
         for (int i = 0; i < k; i++) {
             long from = spans[i][0] > end ? spans[i][0] : end;
             if (spans[i][1] > from) {
-                covered += spans[i][1] - from;
+                row += spans[i][1] - from;
                 end = spans[i][1];
             }
         }
+        covered += row * band;
     }
     free(boxes);
     free(spans);
+    free(ys);
     return covered;
 }
 

@@ -341,6 +341,11 @@ static int run_still(struct run *run)
         return ret;
     sp_progress_end();
     sp_provenance_set_time(&run->prov, run->sim.s.t);
+    /* A sink that takes only YUV (raw yuv420p) gets the renderer's planes. */
+    if (sp_sink_image_format(run->sink) == SP_IMAGE_YUV420 &&
+        ((ret = sp_image_alloc_yuv420(&run->q.slot[0], run->w, run->h)) != 0 ||
+         (ret = sp_render_target(run->r, &run->q.slot[0])) != 0))
+        return ret;
     ret = sp_render_draw(run->r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
                                                     .trail = &run->trail, .history = &run->hist,
                                                     .ensemble = run->ens},
@@ -374,8 +379,12 @@ static int run_video(struct run *run)
     struct queue *q = &run->q;
     struct stage_times *tm = &run->tm;
     int ret;
+    /* In the format the sink takes best: a video encoder's YUV planes come
+     * out of the renderer's last pass, 1.5 bytes a pixel. */
+    const int yuv = sp_sink_image_format(run->sink) == SP_IMAGE_YUV420;
     for (int i = 0; i < QUEUE_SLOTS; i++) {
-        ret = sp_image_alloc(&q->slot[i], run->w, run->h);
+        ret = yuv ? sp_image_alloc_yuv420(&q->slot[i], run->w, run->h)
+                  : sp_image_alloc(&q->slot[i], run->w, run->h);
         if (ret)
             return ret;
     }

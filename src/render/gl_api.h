@@ -55,6 +55,9 @@
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)      \
     X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                    \
     X(PFNGLSCISSORPROC, Scissor)                                    \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                              \
+    X(PFNGLREADBUFFERPROC, ReadBuffer)                              \
+    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                            \
     X(PFNGLDISABLEPROC, Disable)
 
 struct sp_gl_api {

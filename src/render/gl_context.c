@@ -71,6 +71,11 @@ void sp_gl_context_head_free(struct sp_gl_context_head *h, int current)
     h->pixels = h->target = NULL;
 }
 
+struct sp_gl_offscreen *sp_gl_context_framebuffer(struct sp_gl_context *c)
+{
+    return &c->head.fb;
+}
+
 const char *sp_gl_context_backend(const struct sp_gl_context *c)
 {
     return c->head.backend->name;

@@ -91,6 +91,9 @@ uint8_t *sp_gl_context_pixels(struct sp_gl_context *c, int *stride);
  * returns it. Saves a copy per frame where frames go into a queue. */
 void sp_gl_context_target(struct sp_gl_context *c, uint8_t *pixels);
 
+/* The framebuffer c draws into (its texture is what yuv_gl.h samples). */
+struct sp_gl_offscreen *sp_gl_context_framebuffer(struct sp_gl_context *c);
+
 /* The backend that made c ("osmesa", "egl"). */
 const char *sp_gl_context_backend(const struct sp_gl_context *c);
 

@@ -24,12 +24,16 @@ int sp_gl_offscreen_make(struct sp_gl_offscreen *o, void *(*getproc)(const char 
         sp_log_error("out of memory for a %dx%d GL colour buffer", width, height);
         return SP_E_NOMEM;
     }
-    o->gl.GenRenderbuffers(1, &o->rbo);
-    o->gl.BindRenderbuffer(GL_RENDERBUFFER, o->rbo);
-    o->gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    o->gl.GenTextures(1, &o->tex);
+    o->gl.BindTexture(GL_TEXTURE_2D, o->tex);
+    o->gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                     NULL);
+    o->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST); /* no mipmaps */
+    o->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    o->gl.BindTexture(GL_TEXTURE_2D, 0);
     o->gl.GenFramebuffers(1, &o->fbo);
     o->gl.BindFramebuffer(GL_FRAMEBUFFER, o->fbo);
-    o->gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, o->rbo);
+    o->gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, o->tex, 0);
     GLenum status = o->gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         sp_log_error("%s: a %dx%d RGBA8 framebuffer is incomplete (0x%x)", who, width, height,
@@ -73,8 +77,8 @@ void sp_gl_offscreen_destroy(struct sp_gl_offscreen *o, int current)
 {
     if (current && o->fbo)
         o->gl.DeleteFramebuffers(1, &o->fbo);
-    if (current && o->rbo)
-        o->gl.DeleteRenderbuffers(1, &o->rbo);
+    if (current && o->tex)
+        o->gl.DeleteTextures(1, &o->tex);
     free(o->row);
     *o = (struct sp_gl_offscreen){0};
 }

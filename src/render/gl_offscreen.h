@@ -1,5 +1,6 @@
 /* springpend (internal): the framebuffer every GL context backend draws
- * into: an RGBA8 renderbuffer in a framebuffer object, read back into a
+ * into: an RGBA8 texture in a framebuffer object (a texture, so that a last
+ * pass can sample the frame: yuv_gl.h), read back into a
  * caller's buffer top row first (through GL_MESA_pack_invert where the
  * driver has it, else flipped here). Both backends drawing into the same
  * kind of framebuffer, with the same orientation, as the static cache's
@@ -12,17 +13,24 @@
 
 #include <GL/glcorearb.h>
 
+/* GL 1.1 entry points, typed here: a backend's header (GL/gl.h, from
+ * osmesa.h) may have hidden glcorearb.h's 1.1 section. */
+typedef void (*sp_gl_gen_textures)(GLsizei n, GLuint *textures);
+typedef void (*sp_gl_bind_texture)(GLenum target, GLuint texture);
+typedef void (*sp_gl_delete_textures)(GLsizei n, const GLuint *textures);
+
 /* GL entry points the framebuffer calls. */
 #define SP_GL_OFFSCREEN_FUNCS(X)                                             \
     X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                             \
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                             \
-    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                           \
-    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                           \
-    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                     \
-    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)             \
+    X(sp_gl_gen_textures, GenTextures)                                       \
+    X(sp_gl_bind_texture, BindTexture)                                       \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                       \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                 \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                   \
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)               \
     X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                       \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                     \
+    X(sp_gl_delete_textures, DeleteTextures)                                 \
     X(PFNGLREADPIXELSPROC, ReadPixels)                                       \
     X(PFNGLPIXELSTOREIPROC, PixelStorei)                                     \
     X(PFNGLGETINTEGERVPROC, GetIntegerv)                                     \
@@ -34,7 +42,8 @@ struct sp_gl_offscreen {
         SP_GL_OFFSCREEN_FUNCS(X)
 #undef X
     } gl;
-    GLuint fbo, rbo;  /* 0 = none */
+    GLuint fbo, tex;  /* 0 = none; tex: the colour buffer, RGBA8, row 0 the
+                         image's bottom row */
     int pack_invert;  /* GL_MESA_pack_invert: rows come top first */
     uint8_t *row;     /* one row of scratch for flipping, owned */
     int width, height; /* px */

@@ -11,6 +11,7 @@
 #include "compose.h"
 #include "draw_gl.h"
 #include "gl_api.h"
+#include "yuv_gl.h"
 
 struct sp_renderer {
     struct sp_gl_context *ctx;
@@ -23,6 +24,7 @@ struct sp_renderer {
     struct sp_image out;      /* downsampled or un-premultiplied output, owned */
     struct sp_image target;   /* the caller's buffer for the output (see
                                  sp_render_target); pixels NULL = none */
+    struct sp_yuv_gl *yuv;    /* the YUV pass, made for the first YUV target */
     const char *name;         /* GL_RENDERER */
     double compose_s, draw_s; /* s spent so far (sp_render_stats) */
 };
@@ -124,9 +126,16 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
         err = sp_draw_gl_list(r->draw, cv, sp_compose_palette(r->composer)->background);
     if (err)
         return err;
+    if (r->target.pixels && r->target.format == SP_IMAGE_YUV420) {
+        /* the last pass converts on the GPU; 1.5 bytes a pixel come back */
+        sp_yuv_gl_read(r->yuv, sp_gl_context_framebuffer(r->ctx), r->target.pixels);
+        *img = r->target;
+        r->draw_s += now_s() - t1;
+        return 0;
+    }
     pixels = sp_gl_context_pixels(r->ctx, &stride);
     if (direct(r)) {
-        *img = (struct sp_image){pixels, r->width, r->height, stride};
+        *img = (struct sp_image){pixels, r->width, r->height, stride, SP_IMAGE_RGBA};
         r->draw_s += now_s() - t1;
         return 0;
     }
@@ -155,16 +164,28 @@ void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out)
 int sp_render_target(struct sp_renderer *r, const struct sp_image *dst)
 {
     const int w = r->width / r->ss, h = r->height / r->ss;
-    if (dst && (dst->width != w || dst->height != h || dst->stride != 4 * w)) {
+    const int yuv = dst && dst->format == SP_IMAGE_YUV420;
+    if (dst && (dst->width != w || dst->height != h || dst->stride != (yuv ? (w + 7) & ~7 : 4 * w) ||
+                (dst->format != SP_IMAGE_RGBA && !yuv))) {
         sp_log_error("render target %dx%d (stride %d) is not the renderer's "
                      "%dx%d", dst->width, dst->height, dst->stride, w, h);
         return SP_E_INPUT;
     }
-    r->target = dst ? *dst : (struct sp_image){0};
+    if (yuv && !r->opaque) {
+        sp_log_error("a transparent background cannot be drawn into YUV 4:2:0 (no alpha)");
+        return SP_E_INPUT;
+    }
     int err = sp_gl_context_bind(r->ctx);
-    if (!err && direct(r))
-        sp_gl_context_target(r->ctx, dst ? dst->pixels : NULL);
-    return err;
+    if (!err && yuv && !r->yuv) {
+        err = sp_yuv_gl_make(&r->yuv, &r->gl, w, h, r->ss);
+        sp_gl_offscreen_bind(sp_gl_context_framebuffer(r->ctx)); /* draws go there */
+    }
+    if (err)
+        return err;
+    r->target = dst ? *dst : (struct sp_image){0};
+    if (direct(r))
+        sp_gl_context_target(r->ctx, dst && !yuv ? dst->pixels : NULL);
+    return 0;
 }
 
 const char *sp_render_renderer_name(const struct sp_renderer *r)
@@ -180,6 +201,7 @@ void sp_render_destroy(struct sp_renderer **rp)
         return;
     /* The programs, VAOs, VBOs and texture die with their context. */
     sp_draw_gl_destroy(&r->draw);
+    sp_yuv_gl_destroy(&r->yuv);
     sp_gl_context_destroy(&r->ctx);
     sp_compose_destroy(&r->composer);
     sp_image_free(&r->out);

@@ -11,10 +11,15 @@
 /* The address of `symbol` in module `name` ("springpend-av.so"), loading it
  * on the first call; NULL (logged, naming `needed_for`) if it cannot be
  * loaded or lacks the symbol. Not thread-safe on the first call. A module is
- * looked for beside the executable (the build tree), one folder up (tests),
- * at SP_MODULE_RELDIR from the executable's folder (installed, wherever the
- * prefix now is: found through /proc/self/exe), then in SP_MODULE_DIR (the
- * configured prefix). */
+ * looked for in the build tree (SP_BUILD_DIR) only by an executable in it or
+ * one folder down (tests), then at SP_MODULE_RELDIR from the executable's
+ * folder (installed, wherever the prefix now is: found through
+ * /proc/self/exe), then in SP_MODULE_DIR (the configured prefix); never in
+ * any other folder (a binary copied to /x/tools/ never loads a module from /x/). A
+ * module is loaded only when it and every folder above it belong to root,
+ * this user or the executable's owner and none is writable by others (but
+ * sticky folders like /tmp), and only when its sp_module_version is
+ * SP_VERSION; what was tried and why it was refused is in the message. */
 void *sp_module_symbol(const char *name, const char *needed_for, const char *symbol);
 
 /* sp_module_symbol of springpend-av.so. */

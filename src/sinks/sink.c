@@ -33,6 +33,8 @@ static int pick_backend(const char *path, const char *format,
             return (*b = sp_av_module_symbol(av_kinds[i][1])) ? 0 : SP_E_CODEC;
     if (!strcasecmp(kind, "raw") || !strcasecmp(kind, "rgba"))
         *b = &sp_sink_backend_raw;
+    else if (!strcasecmp(kind, "yuv420p") || !strcasecmp(kind, "yuv"))
+        *b = &sp_sink_backend_yuv;
     else if (!strcasecmp(kind, "png"))
         *b = strchr(path, '%') ? &sp_sink_backend_png_sequence
                                : &sp_sink_backend_png_single;
@@ -65,7 +67,7 @@ int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc)
     if (err == SP_E_CODEC)
         return err;
     if (!backend && desc->format) {
-        sp_log_error("unknown format \"%s\"; use mp4, webm, gif, png or raw",
+        sp_log_error("unknown format \"%s\"; use mp4, webm, gif, png, raw or yuv420p",
                      desc->format);
         return SP_E_INPUT;
     }
@@ -73,13 +75,14 @@ int sp_sink_open(struct sp_sink **out, const struct sp_sink_desc *desc)
         sp_log_error("cannot tell what to write from the name %s: use "
                      "NAME.mp4 (H.264 video), NAME.webm (VP9 video), NAME.gif, "
                      "NAME.png (one image), a pattern like frames/%%05d.png "
-                     "(one PNG per frame), or --format raw", desc->path);
+                     "(one PNG per frame), NAME.yuv (raw YUV 4:2:0 frames), or --format raw",
+                     desc->path);
         return SP_E_INPUT;
     }
     if (!strcmp(desc->path, "-") && backend != &sp_sink_backend_raw &&
-        backend != &sp_sink_backend_png_single) {
-        sp_log_error("only raw frames (--format raw) or a still can go to stdout; "
-                     "give a file name for other formats");
+        backend != &sp_sink_backend_yuv && backend != &sp_sink_backend_png_single) {
+        sp_log_error("only raw frames (--format raw or yuv420p) or a still can go to "
+                     "stdout; give a file name for other formats");
         return SP_E_INPUT;
     }
     if (desc->width <= 0 || desc->height <= 0) {
@@ -114,14 +117,28 @@ fail:
     return err;
 }
 
+int sp_sink_image_format(const struct sp_sink *s)
+{
+    return s->desc.alpha ? SP_IMAGE_RGBA : s->backend->best;
+}
+
 int sp_sink_write(struct sp_sink *s, const struct sp_image *img)
 {
     if (s->failed) {
         sp_log_error("%s: cannot write after a failed write", s->path);
         return SP_E_IO;
     }
+    const unsigned formats = s->backend->formats ? s->backend->formats : 1u << SP_IMAGE_RGBA;
+    /* YUV has no alpha plane to keep */
+    if (img->format < 0 || img->format > SP_IMAGE_YUV420 || !(formats & (1u << img->format)) ||
+        (img->format != SP_IMAGE_RGBA && s->desc.alpha)) {
+        sp_log_error("%s: this output takes no %s images", s->path,
+                     img->format == SP_IMAGE_YUV420 ? "YUV 4:2:0" : "RGBA");
+        return SP_E_INPUT;
+    }
     if (!img->pixels || img->width != s->desc.width ||
-        img->height != s->desc.height || img->stride < 4 * img->width) {
+        img->height != s->desc.height ||
+        img->stride < (img->format == SP_IMAGE_YUV420 ? img->width : 4 * img->width)) {
         sp_log_error("%s: got a %dx%d image (stride %d) for a %dx%d output",
                      s->path, img->width, img->height, img->stride,
                      s->desc.width, s->desc.height);

@@ -13,6 +13,11 @@
 
 struct sp_sink_backend {
     size_t priv_size;      /* bytes of zeroed state sink.c allocates */
+    /* The images write takes (enum sp_image_format as bits: 1 << format;
+     * 0 = RGBA only) and the one it takes best, with no conversion, unless
+     * the desc keeps alpha (then RGBA). */
+    unsigned formats;
+    int best;
 
     /* Validates desc without touching the file system (so a refused sink
      * leaves no folder or file). May be NULL. SP_E_INPUT with a message. */
@@ -47,6 +52,7 @@ extern const struct sp_sink_backend sp_sink_backend_webm;
 extern const struct sp_sink_backend sp_sink_backend_gif;
 /* Built in. */
 extern const struct sp_sink_backend sp_sink_backend_raw;
+extern const struct sp_sink_backend sp_sink_backend_yuv;
 extern const struct sp_sink_backend sp_sink_backend_png_sequence;
 extern const struct sp_sink_backend sp_sink_backend_png_single;
 

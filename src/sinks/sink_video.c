@@ -49,9 +49,15 @@ struct video {
     AVFormatContext *oc;    /* owned; oc->pb opened by us, closed by release */
     AVStream *st;           /* owned by oc */
     AVCodecContext *enc;    /* owned */
-    AVFrame *frame;         /* owned: the one YUV(A)420P picture, reused */
+    AVFrame *frame;         /* owned: the one YUV(A)420P picture RGBA images
+                               are converted into, reused; allocated at the
+                               first RGBA image */
+    AVFrame *planes;        /* owned: wraps a YUV420 image's planes, which the
+                               renderer converted (no copy, no conversion) */
+    int released;           /* the encoder let go of the planes' buffer */
     AVPacket *pkt;          /* owned: reused for every packet */
-    struct SwsContext *sws; /* owned: RGBA -> YUV(A)420P, BT.709 limited */
+    struct SwsContext *sws; /* owned: RGBA -> YUV(A)420P, BT.709 limited;
+                               made at the first RGBA image */
     struct sp_outfile file; /* the .part libav writes by name (file.url) */
 };
 
@@ -128,6 +134,7 @@ static void video_release(struct sp_sink *s)
     v->st = NULL;
     avcodec_free_context(&v->enc);
     av_frame_free(&v->frame);
+    av_frame_free(&v->planes);
     av_packet_free(&v->pkt);
     sws_freeContext(v->sws);
     v->sws = NULL;
@@ -209,8 +216,9 @@ static int video_open(struct sp_sink *s)
     v->st = avformat_new_stream(v->oc, NULL);
     v->enc = avcodec_alloc_context3(codec);
     v->frame = av_frame_alloc();
+    v->planes = av_frame_alloc();
     v->pkt = av_packet_alloc();
-    if (!v->st || !v->enc || !v->frame || !v->pkt) {
+    if (!v->st || !v->enc || !v->frame || !v->planes || !v->pkt) {
         sp_log_error("%s: out of memory for the video encoder", s->path);
         err = SP_E_NOMEM;
         goto fail;
@@ -229,6 +237,8 @@ static int video_open(struct sp_sink *s)
     v->enc->colorspace = AVCOL_SPC_BT709;
     v->enc->color_primaries = AVCOL_PRI_BT709;
     v->enc->color_trc = AVCOL_TRC_BT709;
+    /* As swscale's output and the renderer's YUV pass site it (yuv.frag). */
+    v->enc->chroma_sample_location = AVCHROMA_LOC_LEFT;
     if (v->oc->oformat->flags & AVFMT_GLOBALHEADER)
         v->enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     snprintf(crf, sizeof(crf), "%d", d->crf ? d->crf : vc->crf_default);
@@ -250,24 +260,6 @@ static int video_open(struct sp_sink *s)
     }
     v->st->time_base = v->enc->time_base; /* a hint; the muxer may change it */
     v->st->avg_frame_rate = rate;
-
-    v->frame->format = pix;
-    v->frame->width = d->width;
-    v->frame->height = d->height;
-    ret = av_frame_get_buffer(v->frame, 0);
-    if (ret < 0) {
-        err = av_failed(s, "cannot allocate a video frame", ret, SP_E_NOMEM);
-        goto fail;
-    }
-    v->sws = sws_getContext(d->width, d->height, AV_PIX_FMT_RGBA, d->width,
-                            d->height, pix, SWS_BICUBIC, NULL,
-                            NULL, NULL);
-    if (!v->sws) {
-        sp_log_error("%s: cannot set up RGBA to YUV conversion", s->path);
-        goto fail;
-    }
-    const int *bt709 = sws_getCoefficients(SWS_CS_ITU709);
-    sws_setColorspaceDetails(v->sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
 
     /* A refused setup removes the .part (video_release). */
     ret = avio_open(&v->oc->pb, v->file.url, AVIO_FLAG_WRITE);
@@ -302,14 +294,88 @@ fail:
     return err;
 }
 
+/* The RGBA path's frame and converter, at the first RGBA image. */
+static int rgba_setup(struct sp_sink *s)
+{
+    struct video *v = s->priv;
+    const struct sp_sink_desc *d = &s->desc;
+    enum AVPixelFormat pix = v->enc->pix_fmt;
+    v->frame->format = pix;
+    v->frame->width = d->width;
+    v->frame->height = d->height;
+    int ret = av_frame_get_buffer(v->frame, 0);
+    if (ret < 0)
+        return av_failed(s, "cannot allocate a video frame", ret, SP_E_NOMEM);
+    v->sws = sws_getContext(d->width, d->height, AV_PIX_FMT_RGBA, d->width,
+                            d->height, pix, SWS_BICUBIC, NULL,
+                            NULL, NULL);
+    if (!v->sws) {
+        sp_log_error("%s: cannot set up RGBA to YUV conversion", s->path);
+        return SP_E_CODEC;
+    }
+    const int *bt709 = sws_getCoefficients(SWS_CS_ITU709);
+    sws_setColorspaceDetails(v->sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
+    return 0;
+}
+
+/* The planes' buffer is the caller's image: nothing to free. */
+static void planes_released(void *opaque, uint8_t *data)
+{
+    (void)data;
+    *(int *)opaque = 1;
+}
+
+/* A YUV420 image (already BT.709 limited range, chroma sited left) handed
+ * to the encoder as it is. libavcodec's encoders that take one frame at a
+ * time (libx264, libvpx) copy it into their own pictures before
+ * avcodec_send_frame returns (the packets were drained after the last
+ * frame, so the frame is encoded at once), and let go of it: the image
+ * is the caller's again. A reference kept beyond that would read an image
+ * the caller reuses, so it is an error. */
+static int yuv_write(struct sp_sink *s, const struct sp_image *img)
+{
+    struct video *v = s->priv;
+    AVFrame *f = v->planes;
+    f->format = AV_PIX_FMT_YUV420P;
+    f->width = img->width;
+    f->height = img->height;
+    f->color_range = AVCOL_RANGE_MPEG;
+    f->colorspace = AVCOL_SPC_BT709;
+    f->chroma_location = AVCHROMA_LOC_LEFT;
+    sp_image_planes(img, f->data, f->linesize);
+    v->released = 0;
+    f->buf[0] = av_buffer_create(img->pixels, (size_t)sp_image_size(img->format, img->width,
+                                                                    img->height),
+                                 planes_released, &v->released, AV_BUFFER_FLAG_READONLY);
+    if (!f->buf[0]) {
+        sp_log_error("%s: out of memory for a video frame", s->path);
+        return SP_E_NOMEM;
+    }
+    f->pts = s->frames;
+    int err = video_encode(s, f);
+    av_frame_unref(f);
+    if (!err && !v->released) {
+        sp_log_error("%s: the %s encoder kept a reference to a frame, which this program "
+                     "does not expect of it (FFmpeg %s)", s->path, v->codec->encoder,
+                     av_version_info());
+        err = SP_E_CODEC;
+    }
+    return err;
+}
+
 static int video_write(struct sp_sink *s, const struct sp_image *img)
 {
     struct video *v = s->priv;
     const uint8_t *const src[1] = { img->pixels };
     const int src_stride[1] = { img->stride };
 
+    if (img->format == SP_IMAGE_YUV420)
+        return yuv_write(s, img);
+    int ret = v->sws ? 0 : rgba_setup(s);
+    if (ret)
+        return ret;
     /* The encoder has let go of the last frame, so this does not copy. */
-    int ret = av_frame_make_writable(v->frame);
+    ret = av_frame_make_writable(v->frame);
     if (ret < 0)
         return av_failed(s, "cannot reuse the video frame", ret, SP_E_CODEC);
     /* Alpha is dropped (H.264) or kept in the A plane (VP9 yuva420p). */
@@ -354,6 +420,8 @@ static int webm_open(struct sp_sink *s)
 
 const struct sp_sink_backend sp_sink_backend_mp4 = {
     .priv_size = sizeof(struct video),
+    .formats = 1u << SP_IMAGE_RGBA | 1u << SP_IMAGE_YUV420,
+    .best = SP_IMAGE_YUV420,
     .check = mp4_check,
     .open = mp4_open,
     .write = video_write,
@@ -363,6 +431,8 @@ const struct sp_sink_backend sp_sink_backend_mp4 = {
 
 const struct sp_sink_backend sp_sink_backend_webm = {
     .priv_size = sizeof(struct video),
+    .formats = 1u << SP_IMAGE_RGBA | 1u << SP_IMAGE_YUV420,
+    .best = SP_IMAGE_YUV420,
     .check = webm_check,
     .open = webm_open,
     .write = video_write,

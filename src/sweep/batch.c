@@ -553,6 +553,12 @@ void sp_batch_reset_tangent(struct sp_batch *b)
     /* the splitting methods' cached Jacobian is of the position, unchanged */
 }
 
+void sp_batch_set_tangent(struct sp_batch *b, int i, const double d[4])
+{
+    for (int c = 0; c < 4; c++)
+        b->u[SP_BDX + c][i] = b->out[SP_BDX + c][i] = b->dead[i] ? NAN : d[c];
+}
+
 void sp_batch_destroy(struct sp_batch **b)
 {
     if (!*b)

@@ -20,6 +20,7 @@
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
+#include "analysis.h"
 #include "signals.h"
 #include "sweep.h"
 #include "text.h"
@@ -28,7 +29,9 @@
 #define WINDOW 4  /* chunks held per worker, finished or not */
 #define RAD2DEG 57.29577951308232
 
-static const char *const measure_names[] = {"lyapunov", "orbit", "poincare"};
+static const char *const measure_names[] = {"lyapunov", "orbit", "poincare", "spectrum",
+                                            "basins"};
+static const char *const continue_names[] = {"none", "up", "down", "both"};
 static const char *const method_names[] = {"rk4", "verlet", "yoshida4", "dopri5", "dop853",
                                            "rkn1210"};
 
@@ -60,21 +63,39 @@ double sp_sweep_axis_value(const struct sp_sweep_axis *a, int i)
     return a->from + (a->to - a->from) * i / (a->count - 1);
 }
 
+const char *sp_sweep_measure_name(enum sp_measure m)
+{
+    return (int)m >= 0 && m < SP_MEASURE_COUNT ? measure_names[m] : "?";
+}
+
+const char *sp_sweep_columns(const struct sp_sweep_desc *d)
+{
+    static const char *const columns[] = {
+        "lyapunov,lyapunov_half", "t,theta,r", "t,r,r_dot,theta_dot",
+        "T,lambda1,lambda2,lambda3,lambda4,sum,kaplan_yorke",
+        "period,winding,theta,r,theta_dot,r_dot,settled"};
+    if (d->measure == SP_MEASURE_ORBIT && (d->cont || d->peak))
+        return "t,theta,r,branch,peak";
+    return columns[d->measure];
+}
+
 int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *between)
 {
-    static const char *const columns[] = {"lyapunov,lyapunov_half", "t,theta,r",
-                                          "t,r,r_dot,theta_dot"};
     fprintf(fp, "# springpend sweep scene=%s measure=%s time=%.17g transient=%.17g "
             "energy=%.17g driven=%d method=%s dt=%.17g theme=%d colormap=%d",
             d->scene, measure_names[d->measure], d->time, d->transient, d->energy, d->driven,
             d->method, d->dt, d->theme, d->colormap);
+    if (d->cont) /* only when asked for: older sweeps' bytes stay as they were */
+        fprintf(fp, " continue=%s", continue_names[d->cont]);
+    if (d->peak)
+        fprintf(fp, " peak=%s", d->peak == SP_PEAK_R ? "r" : "theta");
     for (int a = 0; a < d->n_axes; a++)
         fprintf(fp, " vary=%s=%.17g:%.17g:%d", d->axis[a].key, d->axis[a].from,
                 d->axis[a].to, d->axis[a].count);
     fprintf(fp, "\n%spoint", between ? between : "");
     for (int a = 0; a < d->n_axes; a++)
         fprintf(fp, ",%s", d->axis[a].key);
-    return fprintf(fp, ",%s\n", columns[d->measure]) < 0 ? SP_E_IO : 0;
+    return fprintf(fp, ",%s\n", sp_sweep_columns(d)) < 0 ? SP_E_IO : 0;
 }
 
 int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
@@ -96,9 +117,20 @@ int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
         if (!strcmp(w, "scene"))
             snprintf(d->scene, sizeof(d->scene), "%s", v);
         else if (!strcmp(w, "measure")) {
-            for (int i = 0; i < 3; i++)
+            for (int i = 0; i < SP_MEASURE_COUNT; i++)
                 if (!strcmp(v, measure_names[i]))
                     d->measure = (enum sp_measure)i;
+        } else if (!strcmp(w, "continue")) {
+            d->cont = SP_CONTINUE_NONE;
+            for (int i = 1; i < 4; i++)
+                if (!strcmp(v, continue_names[i]))
+                    d->cont = (enum sp_continue)i;
+            if (!d->cont)
+                return SP_E_INPUT;
+        } else if (!strcmp(w, "peak")) {
+            if (strcmp(v, "theta") && strcmp(v, "r"))
+                return SP_E_INPUT;
+            d->peak = !strcmp(v, "r") ? SP_PEAK_R : SP_PEAK_THETA;
         } else if (!strcmp(w, "time"))
             d->time = strtod(v, NULL);
         else if (!strcmp(w, "transient"))
@@ -134,11 +166,21 @@ int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
 
 const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
 {
-    static const int values[] = {2, 3, 4}; /* measured numbers per measure */
     const struct sp_sweep_desc *d = r->d;
-    const int nv = values[d->measure], n = 1 + d->n_axes + nv;
+    const char *columns = sp_sweep_columns(d);
+    int nv = 1;
+    for (const char *c = columns; *c; c++)
+        nv += *c == ',';
+    /* the measures whose rows sweep.c writes itself: a blown-up point is one
+     * row of nan only, an event's time lies in the measured span and a
+     * point's times ascend; the analysis measures (analysis.h) write nan in
+     * some columns of a row, and several branches of a point */
+    const int plain = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_POINCARE ||
+                      (d->measure == SP_MEASURE_ORBIT && !d->cont && !d->peak);
+    const int one_per_point = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS;
+    const int n = 1 + d->n_axes + nv;
     char field[64], want[32];
-    double v[4] = {0};
+    double t = 0, v;
     int nan = 0, idx[SP_SWEEP_MAX_AXES];
     long point = -1;
     const char *p = line;
@@ -150,43 +192,43 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
         field[len] = 0;
         p += len + 1;
         if (i == 0) { /* the point, as "%ld" */
-            char *end;
-            point = strtol(field, &end, 10);
+            point = strtol(field, NULL, 10);
             snprintf(want, sizeof(want), "%ld", point);
             if (strcmp(field, want))
                 return "the point is not an integer";
             if (point < r->first || point >= r->last)
                 return "the point is not one of this shard's";
             sp_sweep_point_index(d, point, idx);
-        } else if (i <= d->n_axes) { /* the grid's value, as row_start writes it */
+        } else if (i <= d->n_axes) { /* the grid's value, as sp_sweep_format_point writes it */
             snprintf(want, sizeof(want), "%.10g",
                      sp_sweep_axis_value(&d->axis[i - 1], idx[i - 1]));
             if (strcmp(field, want))
                 return "a key's value is not the grid's value for this point";
         } else if (!strcmp(field, "nan")) {
             nan++;
-        } else if (sp_decimal_read(field, &v[i - 1 - d->n_axes]) != SP_DECIMAL_OK) {
+        } else if (sp_decimal_read(field, &v) != SP_DECIMAL_OK) {
             return "a value is not a finite decimal number (nan, inf and hex are not written)";
+        } else if (i == d->n_axes + 1) {
+            t = v; /* the first value: a time for orbit and poincare */
         }
     }
     if (*p)
         return "more than a row";
-    if (nan && nan != nv)
+    if (one_per_point && point != r->first + r->rows)
+        return "not the next point's row (one row per point, in order)";
+    if (point < r->point)
+        return "a point's rows after a later point's";
+    if (plain && nan && nan != nv)
         return "a row is either all numbers or all nan (a point that blew up)";
-    if (d->measure == SP_MEASURE_LYAPUNOV) {
-        if (point != r->first + r->rows)
-            return "not the next point's row (one row per point, in order)";
-    } else {
+    if (plain && d->measure != SP_MEASURE_LYAPUNOV) {
         const double slack = d->dt > 0 ? d->dt : 0;
-        if (point < r->point)
-            return "a point's rows after a later point's";
         if (point == r->point && (nan || r->blown))
             return "a point that blew up has one row";
-        if (point == r->point && v[0] < r->t)
+        if (point == r->point && t < r->t)
             return "a point's times do not ascend";
-        if (!nan && !(v[0] >= d->transient - slack && v[0] <= d->transient + d->time + slack))
+        if (!nan && !(t >= d->transient - slack && t <= d->transient + d->time + slack))
             return "a time outside the measured span";
-        r->t = v[0];
+        r->t = t;
     }
     r->point = point;
     r->blown = nan > 0;
@@ -309,6 +351,31 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
         return SP_E_INPUT;
     }
     d->driven = base->pivot.frequency > 0 || varies_frequency;
+    if ((d->cont || d->peak) && (d->measure != SP_MEASURE_ORBIT || !d->driven)) {
+        sp_log_error("--continue and --peak belong to orbit diagrams of a driven scene "
+                     "(--measure orbit, pivot.frequency > 0)");
+        return SP_E_INPUT;
+    }
+    if (d->measure == SP_MEASURE_BASINS) {
+        if (d->n_axes != 2) {
+            sp_log_error("--measure basins draws a map over two keys (two starting keys, or "
+                         "one and a parameter): give two --vary");
+            return SP_E_INPUT;
+        }
+        for (int end = 0; end < 2; end++) {
+            struct sp_scene s = *base;
+            for (int a = 0; a < d->n_axes; a++)
+                sp_scene_set_number(&s, d->axis[a].key, end ? d->axis[a].to : d->axis[a].from,
+                                    "--vary");
+            if (!(s.pivot.frequency > 0 && s.pivot.amplitude > 0 && s.pendulum.damping > 0)) {
+                sp_log_error("--measure basins needs a damped, driven scene over the whole "
+                             "grid: pivot.frequency > 0, pivot.amplitude > 0 and "
+                             "pendulum.damping > 0 (here %g Hz, %g m, %g N*s/m)",
+                             s.pivot.frequency, s.pivot.amplitude, s.pendulum.damping);
+                return SP_E_INPUT;
+            }
+        }
+    }
     if (d->measure == SP_MEASURE_POINCARE && !energy_given)
         d->energy = scene_energy(base);
     if (!(d->time > 0) || !(d->transient >= 0)) {
@@ -350,15 +417,25 @@ __attribute__((format(printf, 2, 3))) static void sb_printf(struct sbuf *b, cons
     }
 }
 
+char *sp_sweep_format_point(char *buf, size_t size, const struct sp_sweep_desc *d, long p)
+{
+    int idx[SP_SWEEP_MAX_AXES];
+    size_t at = 0;
+    sp_sweep_point_index(d, p, idx);
+    at += (size_t)snprintf(buf, size, "%ld", p);
+    for (int a = 0; a < d->n_axes && at < size; a++)
+        at += (size_t)snprintf(buf + at, size - at, ",%.10g",
+                               sp_sweep_axis_value(&d->axis[a], idx[a]));
+    if (at + 1 < size)
+        buf[at++] = ',', buf[at] = 0;
+    return buf;
+}
+
 /* "p,v1[,v2]," the start of point p's rows. */
 static void row_start(struct sbuf *b, const struct sp_sweep_desc *d, long p)
 {
-    int idx[SP_SWEEP_MAX_AXES];
-    sp_sweep_point_index(d, p, idx);
-    sb_printf(b, "%ld", p);
-    for (int a = 0; a < d->n_axes; a++)
-        sb_printf(b, ",%.10g", sp_sweep_axis_value(&d->axis[a], idx[a]));
-    sb_printf(b, ",");
+    char buf[160];
+    sb_printf(b, "%s", sp_sweep_format_point(buf, sizeof(buf), d, p));
 }
 
 /* ---- measurements on one chunk ------------------------------------------- */
@@ -497,15 +574,6 @@ static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, c
     return 0;
 }
 
-/* The cubic Hermite interpolant of a position over a step of length h:
- * value at s in [0, 1] from the ends' positions and velocities. */
-static inline double hermite(double s, double h, double q0, double v0, double q1, double v1)
-{
-    double s2 = s * s, s3 = s2 * s;
-    return (2 * s3 - 3 * s2 + 1) * q0 + (s3 - 2 * s2 + s) * h * v0 + (-2 * s3 + 3 * s2) * q1 +
-           (s3 - s2) * h * v1;
-}
-
 /* Events along each trajectory, checked every step dt after the transient:
  * the drive's period (stroboscopic, orbit with a moving pivot) or
  * theta = 0 with dtheta/dt > 0 (Poincare crossings: x goes from < 0 to
@@ -552,7 +620,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
                 if (!(te > t0 && te <= t1 * (1 + 1e-15) && te >= d->transient))
                     continue;
                 s = fmin(1, (te - t0) / dt);
-                double x = hermite(s, dt, x0, vx0, x1, vx1), y = hermite(s, dt, y0, vy0, y1, vy1);
+                double x = sp_hermite(s, dt, x0, vx0, x1, vx1), y = sp_hermite(s, dt, y0, vy0, y1, vy1);
                 row_start(&rows[i], d, pts[i]);
                 sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", te, atan2(x, -y) * RAD2DEG, hypot(x, y));
                 continue;
@@ -561,12 +629,12 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
                 continue;
             s = x0 / (x0 - x1);
             for (int it = 0; it < 4; it++) { /* Newton on the Hermite x(s) */
-                double hs = 1e-7, fx = hermite(s, dt, x0, vx0, x1, vx1);
-                double dfx = (hermite(s + hs, dt, x0, vx0, x1, vx1) - fx) / hs;
+                double hs = 1e-7, fx = sp_hermite(s, dt, x0, vx0, x1, vx1);
+                double dfx = (sp_hermite(s + hs, dt, x0, vx0, x1, vx1) - fx) / hs;
                 if (dfx != 0)
                     s = fmin(1, fmax(0, s - fx / dfx));
             }
-            double x = hermite(s, dt, x0, vx0, x1, vx1), y = hermite(s, dt, y0, vy0, y1, vy1);
+            double x = sp_hermite(s, dt, x0, vx0, x1, vx1), y = sp_hermite(s, dt, y0, vy0, y1, vy1);
             double vx = vx0 + s * (vx1 - vx0), vy = vy0 + s * (vy1 - vy0);
             double r = hypot(x, y), rd = (x * vx + y * vy) / r, thd = (x * vy - y * vx) / (r * r);
             row_start(&rows[i], d, pts[i]);
@@ -591,6 +659,37 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
     return ret;
 }
 
+/* The analysis measures (analysis.h) write their rows to a stream; here they
+ * become the chunk's text. */
+static int analysis_chunk(const struct sp_sweep_desc *d, const struct sp_scene *scenes,
+                          const long *pts, const int *skip, int n, int forced,
+                          struct chunk_out *out)
+{
+    char *text = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&text, &len);
+    if (!fp) {
+        sp_log_error("out of memory for a sweep's rows");
+        return SP_E_NOMEM;
+    }
+    int (*const fn)(const struct sp_sweep_desc *, const struct sp_scene *, const long *,
+                    const int *, int, int, FILE *, long *) =
+        d->measure == SP_MEASURE_SPECTRUM ? sp_spectrum_measure
+        : d->measure == SP_MEASURE_BASINS ? sp_basins_measure
+                                          : sp_orbit_peak_measure;
+    int ret = fn(d, scenes, pts, skip, n, forced, fp, &out->blown_up);
+    if (fclose(fp) != 0 && !ret) {
+        sp_log_error("out of memory for a sweep's rows");
+        ret = SP_E_NOMEM;
+    }
+    out->n_lanes = 1;
+    if (!ret)
+        out->lane[0] = (struct sbuf){.s = text, .len = len, .cap = len + 1};
+    else
+        free(text);
+    return ret;
+}
+
 static int run_chunk(const struct sp_sweep_desc *d, const struct sp_scene *base, int forced,
                      long first, int n, struct chunk_out *out)
 {
@@ -607,6 +706,9 @@ static int run_chunk(const struct sp_sweep_desc *d, const struct sp_scene *base,
         }
         ptr[i] = &scenes[i];
     }
+    if (d->measure == SP_MEASURE_SPECTRUM || d->measure == SP_MEASURE_BASINS ||
+        (d->measure == SP_MEASURE_ORBIT && d->peak))
+        return analysis_chunk(d, scenes, pts, skip, n, forced, out);
     struct sp_batch *b;
     int ret = sp_batch_make(&b, ptr, n, d->measure == SP_MEASURE_LYAPUNOV, forced);
     if (ret)
@@ -709,6 +811,12 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
         threads = n > 0 ? (int)n : 1;
     }
     r.forced = grid_forced(d, base);
+    if (d->measure == SP_MEASURE_ORBIT && d->cont) { /* one sequence: no chunks */
+        ret = sp_orbit_continue(d, base, r.forced, fp, blown_up);
+        if (!ret && progress)
+            progress(user, last - first, last - first);
+        return ret;
+    }
     r.n_chunks = (last - first + CHUNK - 1) / CHUNK;
     if (threads > r.n_chunks)
         threads = r.n_chunks > 0 ? (int)r.n_chunks : 1;

@@ -9,6 +9,15 @@
  *   lyapunov: point,KEY[,KEY2],lyapunov,lyapunov_half   (1/s; the value at T/2)
  *   orbit:    point,KEY,t,theta,r                       (s, degrees, m)
  *   poincare: point,KEY[,KEY2],t,r,r_dot,theta_dot      (s, m, m/s, rad/s)
+ *   orbit with --continue or --peak (spectrum.h's neighbour continuation.c):
+ *             point,KEY,t,theta,r,branch,peak               (branch: 0 none,
+ *             1 up, -1 down; peak: the largest |theta| (degrees) or r (m)
+ *             over the drive period that ends at the sample)
+ *   spectrum: point,KEY[,KEY2],T,lambda1,lambda2,lambda3,lambda4,sum,kaplan_yorke
+ *             (running values at checkpoints T; the last row of a point is
+ *             at T = time; 1/s, the dimension unitless)
+ *   basins:   point,KEY,KEY2,period,winding,theta,r,theta_dot,r_dot,settled
+ *             (basins.h)
  * A shard's CSV has a "# shard I/N" line after the description and ends
  * with "# end rows=N sha256=HEX", the SHA-256 of every byte before that
  * line, so that --merge can refuse a copy cut short or edited. */
@@ -19,7 +28,25 @@
 
 #include "springpend/scene.h"
 
-enum sp_measure { SP_MEASURE_LYAPUNOV, SP_MEASURE_ORBIT, SP_MEASURE_POINCARE };
+struct sp_sweep_desc;
+
+enum sp_measure {
+    SP_MEASURE_LYAPUNOV,
+    SP_MEASURE_ORBIT,
+    SP_MEASURE_POINCARE,
+    SP_MEASURE_SPECTRUM,
+    SP_MEASURE_BASINS,
+    SP_MEASURE_COUNT,
+};
+
+/* Orbit diagrams' continuation (--continue): each parameter value starts
+ * from the previous value's final state, upward, downward, or both. */
+enum sp_continue { SP_CONTINUE_NONE, SP_CONTINUE_UP, SP_CONTINUE_DOWN, SP_CONTINUE_BOTH };
+enum { SP_PEAK_THETA = 1, SP_PEAK_R = 2 };
+
+/* The measure's name ("lyapunov", ...) and its CSV columns after the keys. */
+const char *sp_sweep_measure_name(enum sp_measure m);
+const char *sp_sweep_columns(const struct sp_sweep_desc *d);
 
 #define SP_SWEEP_MAX_AXES 2
 #define SP_SWEEP_MAX_POINTS 50000000L /* a map's figure holds 16 bytes per point */
@@ -43,6 +70,9 @@ struct sp_sweep_desc {
     char method[16];             /* the integrator's name */
     double dt;                   /* its step, s (fixed-step methods) */
     int theme, colormap;         /* the scene's look, for the figure */
+    enum sp_continue cont;       /* orbit: continuation (header word continue=) */
+    int peak;                    /* orbit: 0, or SP_PEAK_THETA / SP_PEAK_R: also the
+                                  * largest |theta| (or r) over each drive period */
 };
 
 /* Point p's index along each axis (the first axis varies fastest). */
@@ -73,13 +103,15 @@ struct sp_sweep_rows {
     int blown;        /* the last row was a blown-up point's NaN row */
 };
 
-/* Checks one row (with its newline) as the sweep writes it: the point an
- * integer in [first, last), one row per point in order (lyapunov) or the
- * points' rows in order, each point's times ascending (orbit, poincare);
- * the key values the grid's own (as written, %.10g); the measured values
- * finite decimal numbers (no nan, inf or hex), or all "nan" for a point
- * that blew up (its only row). Returns NULL, or what is wrong (for
- * "FILE:LINE: WHAT"). */
+/* Checks one row (with its newline) as the sweep writes it: as many
+ * fields as the columns (sp_sweep_columns), the point an integer in
+ * [first, last), one row per point in order (lyapunov, basins) or the
+ * points' rows in order; the key values the grid's own (as written,
+ * %.10g); the measured values finite decimal numbers or "nan" (no inf, hex
+ * or blanks). Lyapunov, orbit and poincare rows (sweep.c's own) also: a
+ * point that blew up is one row of nan only, an event's time lies in the
+ * measured span (within a step) and a point's times ascend. Returns NULL,
+ * or what is wrong (for "FILE:LINE: WHAT"). */
 const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line);
 
 /* A running sweep's report to its caller (progress bar), from the calling

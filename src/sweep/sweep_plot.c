@@ -20,6 +20,7 @@
 #include "signals.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
+#include "analysis.h"
 #include "sweep.h"
 
 #define W 900.0  /* figure size, pt (PNG: 2 px per pt) */
@@ -138,11 +139,11 @@ static void key_label(char *buf, size_t size, const char *key)
 
 /* ---- reading rows ---- */
 
-/* One row: the point, its axis values, and up to three numbers. */
+/* One row: the point, its axis values, and up to eight numbers. */
 struct row {
     long point;
     double key[SP_SWEEP_MAX_AXES];
-    double v[3];
+    double v[8];
 };
 
 static int next_row(FILE *fp, const struct sp_sweep_desc *d, int nv, struct row *r)
@@ -192,8 +193,18 @@ static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct 
         snprintf(energy, sizeof(energy), "energy %.6g J, ", d->energy);
     if (d->transient > 0)
         snprintf(transient, sizeof(transient), " after a %g s transient", d->transient);
-    snprintf(buf, sizeof(buf), "%sover %g s%s, %s at dt = %g s", energy, d->time, transient,
-             d->method, d->dt);
+    char sampled[128] = "";
+    if (d->measure == SP_MEASURE_ORBIT && d->driven)
+        snprintf(sampled, sizeof(sampled), "%s at t = k/f (stroboscopic)%s; ",
+                 d->peak == SP_PEAK_R ? "r" : "θ",
+                 d->peak == SP_PEAK_R ? " and the largest r per period"
+                 : d->peak            ? " and the largest |θ| per period" : "");
+    else if (d->measure == SP_MEASURE_SPECTRUM)
+        snprintf(sampled, sizeof(sampled), "Benettin, QR (modified Gram-Schmidt) every τ ≈ 1 s; ");
+    else if (d->measure == SP_MEASURE_BASINS)
+        snprintf(sampled, sizeof(sampled), "stroboscopic map (t = k/f) settled by recurrence; ");
+    snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s at dt = %g s", sampled, energy, d->time,
+             transient, d->method, d->dt);
     text_at(cr, 80, 34, buf, 0, 0);
 }
 
@@ -349,22 +360,64 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     return 0;
 }
 
+/* A continued branch's colour: up, down, or none (not continued). */
+static const float *branch_colour(const struct sp_palette *pal, int branch)
+{
+    return branch < 0 ? pal->series[3] : pal->series[1];
+}
+
+/* What an orbit diagram with --continue or --peak samples, in the corner. */
+static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                         const struct frame *f)
+{
+    const char *q = d->peak == SP_PEAK_R ? "r" : "θ";
+    char buf[160];
+    double y = f->y0 + 8;
+    cairo_set_font_size(cr, 12);
+    for (int br = 1; br >= -1; br -= 2) {
+        if (d->cont != SP_CONTINUE_BOTH && br != (d->cont == SP_CONTINUE_DOWN ? -1 : 1))
+            continue;
+        const float *c = branch_colour(pal, br);
+        snprintf(buf, sizeof(buf), "%s%s at t = k/f", !d->cont ? "" : br > 0 ? "up: " : "down: ",
+                 q);
+        set_rgba(cr, c);
+        text_at(cr, f->x0 + f->w - 8, y, buf, 1, 0);
+        y += 16;
+        if (d->peak) {
+            cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.45);
+            snprintf(buf, sizeof(buf), "largest %s%s%s over each period", d->peak == SP_PEAK_R ? "" : "|",
+                     q, d->peak == SP_PEAK_R ? "" : "|");
+            text_at(cr, f->x0 + f->w - 8, y, buf, 1, 0);
+            y += 16;
+        }
+    }
+    if (d->cont) {
+        set_rgba(cr, pal->muted);
+        text_at(cr, f->x0 + f->w - 8, y, "each value starts from the last one's state", 1, 0);
+    }
+}
+
 /* Orbit diagram and Poincare mosaic: two passes over the rows, for the range
  * and for the dots. */
 static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_desc *d,
                      const struct sp_palette *pal)
 {
     const int orbit = d->measure == SP_MEASURE_ORBIT;
+    const int ext = orbit && (d->cont || d->peak); /* t,theta,r,branch,peak */
+    const int nv = ext ? 5 : 3;
     struct row r;
     double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
     long n = sp_sweep_points(d), dots = 0;
-    /* orbit: x = the key, y = theta (driven) or r; poincare: x = r, y = dr/dt */
+    /* orbit: x = the key, y = theta (driven; r with --peak r) or r; poincare:
+     * x = r, y = dr/dt */
 #define XV (orbit ? r.key[0] : r.v[1])
-#define YV (orbit ? (d->driven ? r.v[1] : r.v[2]) : r.v[2])
-    while (next_row(fp, d, 3, &r)) {
+#define YV (orbit ? (d->driven && d->peak != SP_PEAK_R ? r.v[1] : r.v[2]) : r.v[2])
+    while (next_row(fp, d, nv, &r)) {
         if (!isfinite(XV) || !isfinite(YV))
             continue;
         xlo = fmin(xlo, XV), xhi = fmax(xhi, XV), ylo = fmin(ylo, YV), yhi = fmax(yhi, YV);
+        if (d->peak && isfinite(r.v[4]))
+            ylo = fmin(ylo, r.v[4]), yhi = fmax(yhi, r.v[4]);
         dots++;
     }
     if (orbit)
@@ -379,19 +432,31 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
                                                : "orbit diagram at the Poincaré crossings")
                                  : "Poincaré sections (θ = 0, θ' > 0), one colour per orbit");
     draw_axes(cr, &f, pal, orbit ? xl : "r (m)",
-              orbit ? (d->driven ? "θ (degrees)" : "r (m)") : "dr/dt (m/s)");
+              orbit ? (d->driven && d->peak != SP_PEAK_R ? "θ (degrees)" : "r (m)")
+                    : "dr/dt (m/s)");
+    if (ext)
+        orbit_legend(cr, d, pal, &f);
     if (to_rows(fp, name, d))
         return SP_E_INPUT;
     cairo_save(cr);
     cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
     cairo_clip(cr);
     /* dots fade with their number, so dense regions read as density */
-    double radius = orbit ? 0.7 : 0.9;
+    double radius = ext ? 1.1 : orbit ? 0.7 : 0.9;
     double alpha = fmin(0.9, fmax(0.15, 3e4 / (double)(dots + 1)));
-    while (next_row(fp, d, 3, &r)) {
+    while (next_row(fp, d, nv, &r)) {
         if (!isfinite(XV) || !isfinite(YV))
             continue;
-        if (orbit) {
+        if (ext) {
+            const float *c = branch_colour(pal, (int)r.v[3]);
+            if (d->peak && isfinite(r.v[4])) { /* the period's peak: a light dot */
+                cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.4);
+                cairo_rectangle(cr, px(&f, XV) - radius, py(&f, r.v[4]) - radius, 2 * radius,
+                                2 * radius);
+                cairo_fill(cr);
+            }
+            cairo_set_source_rgba(cr, c[0], c[1], c[2], alpha);
+        } else if (orbit) {
             cairo_set_source_rgba(cr, pal->series[1][0], pal->series[1][1], pal->series[1][2],
                                   alpha);
         } else {
@@ -424,6 +489,241 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
         text_at(cr, x0 + w + 5, y0 + 5, buf, 0, 0.5);
         text_at(cr, x0 + w / 2, y0 - 4, xl, 0.5, 1);
     }
+    return 0;
+}
+
+/* ---- the Lyapunov spectrum ---- */
+
+/* One point: each lambda_j against T (log T axis), the convergence figure;
+ * one key: the final four against it; two keys: a map of lambda_1 with the
+ * lyapunov map's look. */
+static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
+                         const struct sp_palette *pal)
+{
+    const long n = sp_sweep_points(d);
+    const int conv = n == 1;
+    struct row r;
+    long cap = 64, m = 0;
+    double *x = malloc(sizeof(double) * (size_t)cap), (*y)[5] = malloc(sizeof(*y) * (size_t)cap);
+    double lo = INFINITY, hi = -INFINITY;
+    int ret = 0;
+    if (!x || !y)
+        goto nomem;
+    long last_point = -1;
+    /* a map: the last row of each point (T = time) */
+    while (next_row(fp, d, 7, &r)) {
+        if (!conv && r.point == last_point)
+            m--; /* an earlier T of this point: replaced */
+        last_point = r.point;
+        if (m == cap) {
+            cap *= 2;
+            double *nx = realloc(x, sizeof(double) * (size_t)cap);
+            double(*ny)[5] = realloc(y, sizeof(*y) * (size_t)cap);
+            if (nx)
+                x = nx;
+            if (ny)
+                y = ny;
+            if (!nx || !ny)
+                goto nomem;
+        }
+        x[m] = conv ? r.v[0] : (double)r.point;
+        for (int j = 0; j < 4; j++) {
+            y[m][j] = r.v[1 + j];
+            if (isfinite(r.v[1 + j]) && (d->n_axes < 2 || j == 0))
+                lo = fmin(lo, r.v[1 + j]), hi = fmax(hi, r.v[1 + j]);
+        }
+        y[m][4] = r.v[6]; /* Kaplan-Yorke */
+        m++;
+    }
+    fix_range(&lo, &hi);
+    char xl[96], yl[96], buf[160];
+    key_label(xl, sizeof(xl), d->axis[0].key);
+    draw_title(cr, d, pal, conv ? "Lyapunov spectrum: running values against T"
+                                : "Lyapunov spectrum");
+    if (d->n_axes == 2) {
+        /* a map of lambda_1 */
+        const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
+        double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
+        double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
+        struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
+                          ay->from - dy / 2, ay->to + dy / 2};
+        for (long i = 0; i < m; i++) {
+            int idx[SP_SWEEP_MAX_AXES];
+            sp_sweep_point_index(d, (long)x[i], idx);
+            float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
+            if (isfinite(y[i][0]))
+                colormap_rgb(d, (y[i][0] - lo) / (hi - lo), rgb);
+            cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+            double cx = px(&f, sp_sweep_axis_value(ax, idx[0]) - dx / 2);
+            double cy = py(&f, sp_sweep_axis_value(ay, idx[1]) + dy / 2);
+            cairo_rectangle(cr, cx, cy, f.w / ax->count + 0.3, f.h / ay->count + 0.3);
+            cairo_fill(cr);
+        }
+        key_label(yl, sizeof(yl), ay->key);
+        draw_axes(cr, &f, pal, xl, yl);
+        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)");
+        goto done;
+    }
+    double pad = 0.06 * (hi - lo);
+    struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo - pad, hi + pad};
+    if (conv) {
+        f.xlo = log10(x[0] > 0 ? x[0] : 1);
+        f.xhi = log10(m ? fmax(x[m - 1], x[0] * 10) : 10);
+    } else {
+        f.xlo = d->axis[0].from, f.xhi = d->axis[0].to;
+    }
+    fix_range(&f.xlo, &f.xhi);
+    draw_axes(cr, &f, pal, conv ? "log10 T (s)" : xl, "λ (1/s)");
+    /* zero, where lambda_2 and lambda_3 of a free orbit belong */
+    set_rgba(cr, pal->axis);
+    cairo_set_line_width(cr, 0.8);
+    cairo_move_to(cr, f.x0, py(&f, 0)), cairo_line_to(cr, f.x0 + f.w, py(&f, 0));
+    cairo_stroke(cr);
+    cairo_save(cr);
+    cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
+    cairo_clip(cr);
+    static const int colour[4] = {1, 2, 3, 0};
+    for (int j = 0; j < 4; j++) {
+        set_rgba(cr, pal->series[colour[j]]);
+        cairo_set_line_width(cr, 1.6);
+        int pen = 0;
+        for (long i = 0; i < m; i++) {
+            double xv = conv ? log10(x[i]) : sp_sweep_axis_value(&d->axis[0], (int)x[i]);
+            if (!isfinite(y[i][j])) {
+                pen = 0;
+                continue;
+            }
+            if (pen)
+                cairo_line_to(cr, px(&f, xv), py(&f, y[i][j]));
+            else
+                cairo_move_to(cr, px(&f, xv), py(&f, y[i][j]));
+            pen = 1;
+        }
+        cairo_stroke(cr);
+    }
+    cairo_restore(cr);
+    cairo_set_font_size(cr, 12);
+    for (int j = 0; j < 4; j++) {
+        set_rgba(cr, pal->series[colour[j]]);
+        if (conv && m)
+            snprintf(buf, sizeof(buf), "λ%d = %.4f 1/s", j + 1, y[m - 1][j]);
+        else
+            snprintf(buf, sizeof(buf), "λ%d", j + 1);
+        text_at(cr, f.x0 + f.w - 8, f.y0 + 8 + 16 * j, buf, 1, 0);
+    }
+    if (conv && m) {
+        set_rgba(cr, pal->muted);
+        snprintf(buf, sizeof(buf), "sum %.3g 1/s, Kaplan-Yorke dimension %.3f",
+                 y[m - 1][0] + y[m - 1][1] + y[m - 1][2] + y[m - 1][3], y[m - 1][4]);
+        text_at(cr, f.x0 + f.w - 8, f.y0 + 8 + 16 * 4, buf, 1, 0);
+    }
+done:
+    free(x), free(y);
+    return ret;
+nomem:
+    free(x), free(y);
+    sp_log_error("out of memory for a spectrum figure");
+    return SP_E_NOMEM;
+}
+
+/* ---- basins of attraction ---- */
+
+/* The map, one colour per attractor (the colormap's spread for periodic
+ * ones, grey for undecided), and the legend with each basin's fraction. */
+static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
+                       const struct sp_palette *pal)
+{
+    struct sp_basin_map map;
+    int ret = sp_basins_read(fp, d, &map);
+    if (ret)
+        return ret;
+    const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
+    /* Okabe and Ito's colour-blind-safe set, then lighter and darker turns */
+    static const unsigned okabe_ito[] = {0xE69F00, 0x56B4E9, 0x009E73, 0xF0E442,
+                                         0x0072B2, 0xD55E00, 0xCC79A7, 0x882255};
+    float rgb[SP_BASINS_MAX_ATTRACTORS][3];
+    for (int a = 0, k = 0; a < map.n_attractors; a++, k++) {
+        if (map.att[a].period > 0) {
+            unsigned c = okabe_ito[k % 8];
+            float shade = k < 8 ? 1.0f : k < 16 ? 0.6f : 1.3f;
+            for (int i = 0; i < 3; i++)
+                rgb[a][i] = fminf(1, shade * (float)((c >> (16 - 8 * i)) & 255) / 255);
+        } else {
+            float g = map.att[a].period == 0 ? 0.55f : 0.8f;
+            rgb[a][0] = rgb[a][1] = rgb[a][2] = g;
+        }
+    }
+    char xl[96], yl[96], buf[200];
+    key_label(xl, sizeof(xl), ax->key);
+    key_label(yl, sizeof(yl), ay->key);
+    draw_title(cr, d, pal, "basins of attraction");
+    double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
+    double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
+    struct frame f = {80, 56, W - 380, H - 116, ax->from - dx / 2, ax->to + dx / 2,
+                      ay->from - dy / 2, ay->to + dy / 2};
+    cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, ax->count, ay->count);
+    unsigned char *data = cairo_image_surface_get_data(img);
+    int stride = cairo_image_surface_get_stride(img);
+    cairo_surface_flush(img);
+    for (long p = 0; p < (long)map.nx * map.ny; p++) {
+        int idx[SP_SWEEP_MAX_AXES], a = map.label[p];
+        sp_sweep_point_index(d, p, idx);
+        float black[3] = {0, 0, 0};
+        const float *c = a >= 0 ? rgb[a] : black;
+        uint32_t *px32 = (uint32_t *)(data + (size_t)(ay->count - 1 - idx[1]) * stride) + idx[0];
+        *px32 = (uint32_t)lrintf(c[0] * 255) << 16 | (uint32_t)lrintf(c[1] * 255) << 8 |
+                (uint32_t)lrintf(c[2] * 255);
+    }
+    cairo_surface_mark_dirty(img);
+    cairo_save(cr);
+    cairo_translate(cr, f.x0, f.y0);
+    cairo_scale(cr, f.w / ax->count, f.h / ay->count);
+    cairo_set_source_surface(cr, img, 0, 0);
+    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+    cairo_paint(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(img);
+    draw_axes(cr, &f, pal, xl, yl);
+    /* the legend */
+    long all = 0;
+    for (int a = 0; a < map.n_attractors; a++)
+        all += map.att[a].count;
+    double lx = f.x0 + f.w + 20, ly = f.y0 + 4;
+    cairo_set_font_size(cr, 11);
+    for (int a = 0; a < map.n_attractors; a++, ly += 30) {
+        cairo_set_source_rgb(cr, rgb[a][0], rgb[a][1], rgb[a][2]);
+        cairo_rectangle(cr, lx, ly, 14, 14);
+        cairo_fill(cr);
+        set_rgba(cr, pal->axis);
+        cairo_set_line_width(cr, 0.6);
+        cairo_rectangle(cr, lx, ly, 14, 14);
+        cairo_stroke(cr);
+        set_rgba(cr, pal->text);
+        snprintf(buf, sizeof(buf), "%.1f%%  %s", all ? 100.0 * map.att[a].count / all : 0.0,
+                 map.att[a].label);
+        char *comma = map.att[a].period > 0 ? strstr(buf, ", θ") : NULL;
+        if (comma) { /* the state on a second line */
+            *comma = 0;
+            text_at(cr, lx + 20, ly, buf, 0, 0);
+            set_rgba(cr, pal->muted);
+            text_at(cr, lx + 20, ly + 14, comma + 2, 0, 0);
+        } else {
+            text_at(cr, lx + 20, ly, buf, 0, 0);
+        }
+    }
+    set_rgba(cr, pal->text);
+    cairo_set_font_size(cr, 12);
+    snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map.entropy, map.boundary_entropy);
+    text_at(cr, lx, ly + 8, buf, 0, 0);
+    set_rgba(cr, pal->muted);
+    cairo_set_font_size(cr, 10);
+    snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map.box, map.box);
+    text_at(cr, lx, ly + 26, buf, 0, 0);
+    if (map.blown_up) {
+        snprintf(buf, sizeof(buf), "%ld blown up (black)", map.blown_up);
+        text_at(cr, lx, ly + 42, buf, 0, 0);
+    }
+    sp_basins_free(&map);
     return 0;
 }
 
@@ -466,6 +766,10 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     cairo_paint(cr);
     if (d.measure == SP_MEASURE_LYAPUNOV)
         ret = draw_lyapunov(cr, csv, &d, &pal);
+    else if (d.measure == SP_MEASURE_SPECTRUM)
+        ret = draw_spectrum(cr, csv, &d, &pal);
+    else if (d.measure == SP_MEASURE_BASINS)
+        ret = draw_basins(cr, csv, &d, &pal);
     else
         ret = draw_dots(cr, csv, csv_name, &d, &pal);
     cairo_status_t st = cairo_status(cr);

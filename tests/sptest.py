@@ -1,7 +1,10 @@
 """springpend tests: what the Python tests share. TAP output (ok, skip,
 done), running the binary under test (runner), --set arguments (sets), and
-scipy or a skip (need_scipy). Python puts a script's own folder first on
-sys.path, so each test imports this with `from sptest import ...`."""
+scipy or a skip (need_scipy), and the physics reference (model, start,
+solve: scipy's DOP853 on the Cartesian equations of sim.h). Python puts a
+script's own folder first on sys.path, so each test imports this with
+`from sptest import ...`."""
+import math
 import os
 import subprocess
 import sys
@@ -18,6 +21,11 @@ def ok(cond, what):
     what = " | ".join(str(what).splitlines())
     print(f"{'' if cond else 'not '}ok {_count} - {what}", flush=True)
     return cond
+
+
+def diag(text):
+    """A TAP comment: every line of text after '# '."""
+    print("\n".join(f"# {line}" for line in str(text).splitlines()), flush=True)
 
 
 def skip(what, why):
@@ -58,3 +66,31 @@ def need_scipy():
             os.execv("/usr/bin/python3", ["/usr/bin/python3", *sys.argv])
         print("1..0 # SKIP python3-scipy is not installed")
         sys.exit(77)
+
+
+# ---- the reference: scipy on the Cartesian equations (sim.h) --------------
+def model(L0, k, m, b=0.0, A=0.0, f=0.0, g=9.81):
+    """The right-hand side in the pivot's frame: pivot y_p = A sin 2 pi f t
+    (f in Hz), damping b on the velocity relative to the air (the lab)."""
+    km, gam, W = k / m, b / m, 2 * math.pi * f
+
+    def rhs(t, u):
+        x, y, vx, vy = u
+        c = km * (1 - L0 / math.hypot(x, y))
+        vp, ap = A * W * math.cos(W * t), -A * W * W * math.sin(W * t)
+        return [vx, vy, -c * x - gam * vx, -c * y - g - ap - gam * (vy + vp)]
+    return rhs
+
+
+def start(r, th_deg, rd=0.0, thd=0.0):
+    """(x, y, vx, vy) from r (m), theta (degrees), r_dot (m/s), theta_dot (rad/s)."""
+    th = math.radians(th_deg)
+    return [r * math.sin(th), -r * math.cos(th), rd * math.sin(th) + r * thd * math.cos(th),
+            -rd * math.cos(th) + r * thd * math.sin(th)]
+
+
+def solve(rhs, u0, tend, ts=None, **kw):
+    """scipy's DOP853 at rtol 1e-11 (call need_scipy first)."""
+    from scipy.integrate import solve_ivp
+    return solve_ivp(rhs, (0, tend), u0, method="DOP853", rtol=1e-11, atol=1e-13,
+                     t_eval=ts, **kw)

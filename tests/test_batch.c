@@ -1,7 +1,8 @@
 /* The batched integrator against sp_sim: bit for bit on fixed-step methods
  * (a batch of one, and a trajectory among others), within tolerance on the
  * adaptive one; the tangent equations against finite differences of two
- * trajectories; blow-ups marked per trajectory. */
+ * trajectories; blow-ups marked per trajectory; full blocks of 16 lanes
+ * with every lane (the last of each block too) checked. */
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -184,6 +185,117 @@ static void test_blowup(void)
     sp_batch_destroy(&b);
 }
 
+/* Full blocks: 33 trajectories (two blocks of SP_BATCH_BLOCK = 16 lanes and
+ * one lane more), each with its own stiffness, damping and drive, so that a
+ * lane skipped or shifted in a block shows; every lane is checked, the last
+ * of each block (15, 31) and the lone 33rd included. Fixed steps equal sp_sim
+ * (bit for bit up to the sign of zero), dop853 within 1e-8 of a fine RK4;
+ * with tangents riding along; and a blow-up in lane 15 alone. */
+static void full_scene(struct sp_scene *sc, int i, enum sp_method method)
+{
+    sp_scene_defaults(sc);
+    sc->integrator.method = method;
+    sc->integrator.dt = 1e-3;
+    sc->integrator.tolerance = 1e-11;
+    sc->pendulum.stiffness = 2 + 0.37 * i;
+    sc->pendulum.damping = 0.01 + 0.003 * i;
+    sc->pivot.amplitude = 0.01 + 0.002 * i, sc->pivot.frequency = 0.5 + 0.05 * i;
+    sc->initial.angle = (5 + 1.3 * i) * M_PI / 180;
+    sc->initial.length_rate = 0.02 * i;
+}
+
+static void test_full_blocks(enum sp_method method, const char *mname)
+{
+    enum { N = 2 * SP_BATCH_BLOCK + 1 };
+    struct sp_scene sc[N];
+    const struct sp_scene *ptr[N];
+    for (int i = 0; i < N; i++)
+        full_scene(&sc[i], i, method), ptr[i] = &sc[i];
+    for (int tangent = 0; tangent <= 1; tangent++) {
+        struct sp_batch *b;
+        int ok = sp_batch_make(&b, ptr, N, 1, tangent) == 0;
+        if (ok)
+            sp_batch_advance(b, 2.345);
+        double worst = 0;
+        int worst_lane = -1, off = 0;
+        for (int i = 0; ok && i < N; i++) {
+            struct sp_scene ref = sc[i];
+            if (method == SP_METHOD_DOP853)
+                ref.integrator.method = SP_METHOD_RK4, ref.integrator.dt = 1e-4;
+            struct sp_sim sim;
+            sp_sim_init(&sim, &ref);
+            sp_sim_advance(&sim, 2.345);
+            const double want[4] = {sim.s.x, sim.s.y, sim.s.vx, sim.s.vy};
+            for (int c = 0; c < 4; c++) {
+                double got = b->out[SP_BX + c][i];
+                double e = fabs(got - want[c]) / (fabs(want[c]) + 1);
+                if (!(e <= worst))
+                    worst = e, worst_lane = i;
+                off += method == SP_METHOD_DOP853 ? !(e < 1e-8) : !(got == want[c]);
+            }
+        }
+        sp_tap_ok(ok && off == 0, "%s%s: all %d trajectories (lanes 0-15, 16-31 and one more, "
+                  "each its own k, b, drive) equal sp_sim%s: %d components off, worst %.2g in "
+                  "trajectory %d", mname, tangent ? " with tangents" : "", N,
+                  method == SP_METHOD_DOP853 ? " (RK4 at 1e-4) within 1e-8" : " exactly", off,
+                  worst, worst_lane);
+        sp_batch_destroy(&b);
+    }
+    /* the tangent of the last lane: trajectory 7 and its shift in lane 15 */
+    struct sp_scene pair[SP_BATCH_BLOCK];
+    const struct sp_scene *pp[SP_BATCH_BLOCK];
+    const double eps = 1e-7;
+    for (int i = 0; i < SP_BATCH_BLOCK; i++) {
+        full_scene(&pair[i], i % 8, method);
+        pair[i].pendulum.damping = 0, pair[i].pivot.amplitude = 0;
+        if (i >= 8) { /* the same start shifted by eps along x, velocity kept */
+            double r = pair[i].initial.length, th = pair[i].initial.angle;
+            double x = r * sin(th), y = -r * cos(th), rd = pair[i].initial.length_rate;
+            double vx = rd * sin(th), vy = -rd * cos(th);
+            pair[i].initial.length = r = hypot(x + eps, y);
+            pair[i].initial.angle = th = atan2(x + eps, -y);
+            pair[i].initial.length_rate = vx * sin(th) - vy * cos(th);
+            pair[i].initial.angle_rate = (vx * cos(th) + vy * sin(th)) / r;
+        }
+        pp[i] = &pair[i];
+    }
+    struct sp_batch *b;
+    int ok = sp_batch_make(&b, pp, SP_BATCH_BLOCK, 1, 1) == 0;
+    double worst = 0;
+    if (ok)
+        sp_batch_advance(b, 1.5);
+    for (int i = 0; ok && i < 8; i++)
+        for (int c = 0; c < 4; c++) {
+            double fd = (b->out[c][8 + i] - b->out[c][i]) / eps;
+            double tan = b->out[SP_BDX + c][i];
+            worst = fmax(worst, fabs(fd - tan) / (fabs(tan) + 1));
+        }
+    sp_tap_ok(ok && worst < 1e-4, "%s: a full block of 16, trajectory 7's tangent against its "
+              "shifted copy in lane 15 (worst relative %.2g)", mname, worst);
+    sp_batch_destroy(&b);
+}
+
+static void test_blowup_last_lane(void)
+{
+    struct sp_scene sc[SP_BATCH_BLOCK];
+    const struct sp_scene *ptr[SP_BATCH_BLOCK];
+    for (int i = 0; i < SP_BATCH_BLOCK; i++)
+        full_scene(&sc[i], i, SP_METHOD_RK4), ptr[i] = &sc[i];
+    sc[SP_BATCH_BLOCK - 1].pendulum.stiffness = 5e6; /* k/m = 1e7: RK4 unstable at 1e-3 */
+    struct sp_batch *b;
+    int ok = sp_batch_make(&b, ptr, SP_BATCH_BLOCK, 0, 0) == 0;
+    if (ok)
+        sp_batch_advance(b, 2.0);
+    int alive = 0;
+    for (int i = 0; ok && i < SP_BATCH_BLOCK - 1; i++)
+        alive += !b->dead[i] && isfinite(b->out[SP_BX][i]);
+    sp_tap_ok(ok && alive == SP_BATCH_BLOCK - 1 && b->dead[SP_BATCH_BLOCK - 1] &&
+              isnan(b->out[SP_BX][SP_BATCH_BLOCK - 1]),
+              "a blow-up in lane 15 of a full block is marked there alone (%d of 15 others go on)",
+              alive);
+    sp_batch_destroy(&b);
+}
+
 int main(void)
 {
     test_bitwise(SP_METHOD_RK4, "rk4");
@@ -194,5 +306,10 @@ int main(void)
     test_tangent(SP_METHOD_YOSHIDA4, "yoshida4");
     test_tangent(SP_METHOD_DOP853, "dop853");
     test_blowup();
+    test_full_blocks(SP_METHOD_RK4, "rk4");
+    test_full_blocks(SP_METHOD_VERLET, "verlet");
+    test_full_blocks(SP_METHOD_YOSHIDA4, "yoshida4");
+    test_full_blocks(SP_METHOD_DOP853, "dop853");
+    test_blowup_last_lane();
     return sp_tap_done();
 }

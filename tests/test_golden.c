@@ -15,8 +15,14 @@
 #include "gl_context.h"
 #include "tap.h"
 
-/* The rule is `springpend compare`'s default (image_compare.h): at most
- * 0.1% of the pixels may have a channel more than 3 levels off. */
+/* Both backends here reproduce the goldens exactly, so the rule is ten times
+ * tighter than `springpend compare`'s default (0.1% of the pixels more than
+ * 3 levels off): at most 0.01% of the pixels may have a channel more than 1
+ * level off. A small picture change must fail it by a wide margin: the same
+ * frame 4 ms later (the bob moved by about a pixel)
+ * differs in at least 3 times the pixels allowed, and so does a start 0.5
+ * degrees off, 1% more mass, another colour map (check_margin). */
+static const struct sp_compare_opts golden_rule = {.max_diff = 1, .max_fraction = 1e-4};
 
 struct golden_case {
     const char *name;       /* golden file stem */
@@ -106,7 +112,7 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
                    want.width, want.height))
         goto done;
     struct sp_compare_result r;
-    if (!sp_tap_ok(sp_compare_images(&want, &got, &(struct sp_compare_opts){0}, &r, &diff) == 0,
+    if (!sp_tap_ok(sp_compare_images(&want, &got, &golden_rule, &r, &diff) == 0,
                    "%s (%s): compared", gc->name, gl_name))
         goto done;
     if (!sp_tap_ok(r.pass, "%s (%s): %ld pixels differ by more than %d levels (allowed %ld; "
@@ -123,6 +129,40 @@ done:
     sp_image_free(&diff);
 }
 
+/* A deliberate small change of golden case gc (extra overrides, or the frame
+ * dt_s later) against its golden: fails the golden rule, with at least 3
+ * times the pixels it allows. */
+static void check_margin(const char *src, const char *outdir, const struct golden_case *gc,
+                         const char *change, double dt_s, const char *what)
+{
+    char scene_path[4096], golden[4096], actual[4096];
+    const char *ov[13];
+    int n = 0;
+    while (n < 12 && gc->overrides[n])
+        ov[n] = gc->overrides[n], n++;
+    if (change)
+        ov[n++] = change;
+    snprintf(scene_path, sizeof(scene_path), "%s/../scenes/%s", src, gc->scene);
+    snprintf(golden, sizeof(golden), "%s/golden/%s.png", src, gc->name);
+    snprintf(actual, sizeof(actual), "%s/%s.margin.png", outdir, gc->name);
+    struct sp_scene scene;
+    struct sp_image want = {0}, got = {0};
+    struct sp_compare_result r = {0};
+    sp_scene_defaults(&scene);
+    int ok = sp_scene_load(&scene, scene_path, ov, n) == 0 &&
+             sp_pipeline_run(&(struct sp_pipeline_desc){.scene = &scene, .output = actual,
+                                                          .still = 1, .still_at = gc->at + dt_s,
+                                                          .gl = SP_GL_OSMESA}) == 0 &&
+             sp_png_read(golden, &want) == 0 && sp_png_read(actual, &got) == 0 &&
+             sp_compare_images(&want, &got, &golden_rule, &r, NULL) == 0;
+    sp_tap_ok(ok && !r.pass && r.differing >= 3 * r.allowed,
+              "%s, %s: the golden rule fails it by a margin: %ld pixels differ (allowed %ld)",
+              gc->name, what, r.differing, r.allowed);
+    remove(actual);
+    sp_image_free(&want);
+    sp_image_free(&got);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 3) {
@@ -133,6 +173,14 @@ int main(int argc, char **argv)
         {SP_GL_OSMESA, "osmesa"}, {SP_GL_EGL, "egl"},
     };
     int tested = 0;
+    struct sp_gl_context *osmesa = NULL;
+    if (sp_gl_context_make(&osmesa, 64, 64, SP_GL_OSMESA) == 0) {
+        sp_gl_context_destroy(&osmesa);
+        check_margin(argv[1], argv[2], &cases[0], NULL, 0.004, "4 ms later");
+        check_margin(argv[1], argv[2], &cases[1], "initial.angle=10.5", 0, "0.5 degrees more");
+        check_margin(argv[1], argv[2], &cases[3], "pendulum.mass=0.505", 0, "1% more mass");
+        check_margin(argv[1], argv[2], &cases[7], "view.colormap=viridis", 0, "another colormap");
+    }
     for (size_t b = 0; b < sizeof(backends) / sizeof(backends[0]); b++) {
         struct sp_gl_context *probe = NULL;
         if (sp_gl_context_make(&probe, 64, 64, backends[b].gl)) {

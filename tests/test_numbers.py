@@ -12,11 +12,10 @@ import os
 import shutil
 import sys
 
-from sptest import done, need_scipy, ok, runner, sets
+from sptest import done, model, need_scipy, ok, runner, sets, solve, start
 
 need_scipy()
 import numpy as np  # noqa: E402
-from scipy.integrate import solve_ivp  # noqa: E402
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "numbers"))
@@ -33,29 +32,6 @@ run = runner(exe, work)
 def info(scene, d):
     r = run("info", scene, "--json", *sets(d))
     return json.loads(r.stdout) if r.returncode == 0 else {"error": r.stderr}
-
-
-# ---- the reference: scipy on the Cartesian equations (sim.h) --------------
-def model(L0, k, m, b=0.0, A=0.0, f=0.0):
-    km, gam, W = k / m, b / m, 2 * math.pi * f
-
-    def rhs(t, u):
-        x, y, vx, vy = u
-        c = km * (1 - L0 / math.hypot(x, y))
-        vp, ap = A * W * math.cos(W * t), -A * W * W * math.sin(W * t)
-        return [vx, vy, -c * x - gam * vx, -c * y - G - ap - gam * (vy + vp)]
-    return rhs
-
-
-def start(r, th_deg, rd=0.0, thd=0.0):
-    th = math.radians(th_deg)
-    return [r * math.sin(th), -r * math.cos(th), rd * math.sin(th) + r * thd * math.cos(th),
-            -rd * math.cos(th) + r * thd * math.sin(th)]
-
-
-def solve(rhs, u0, tend, ts=None, **kw):
-    return solve_ivp(rhs, (0, tend), u0, method="DOP853", rtol=1e-11, atol=1e-13,
-                     t_eval=ts, **kw)
 
 
 def csv_rows(text):

@@ -453,6 +453,42 @@ static double quantity(const struct sp_history_sample *s, enum quantity which,
     }
 }
 
+/* The n samples thinned by fixed time bins, floor((t - t0) / bin): among
+ * samples 1 .. n-2, sample i is a point of the curve when sample i+1 lies
+ * in another bin (the last of its bin; with bin not positive, every one).
+ * Returns the first point after sample i, or n when none is left. The bins
+ * only grow with t, so this is a binary search for where the bin changes:
+ * a frame's curve costs its points (bounded by the bins), not the length
+ * of the history, which grows with the video. */
+static int next_point(const struct sp_history_sample *s, int i, int n, double t0, double bin)
+{
+    if (!(bin > 0))
+        return i + 1 < n - 1 ? i + 1 : n;
+    if (i + 1 >= n)
+        return n;
+    /* the first j > i+1 in another bin than sample i+1: j - 1 ends that bin */
+    const double b = floor((s[i + 1].t - t0) / bin);
+    int lo = i + 2, hi = n;
+    while (lo < hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (floor((s[mid].t - t0) / bin) != b)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return lo < n ? lo - 1 : n;
+}
+
+/* The point after sample i (next_point, bins from t = 0), else the newest
+ * sample n-1, else n once that was i. */
+static int point_or_newest(const struct sp_history_sample *s, int i, int n, double bin)
+{
+    if (i + 1 >= n)
+        return n;
+    const int k = next_point(s, i, n, 0, bin);
+    return k < n ? k : n - 1;
+}
+
 /* A phase curve: the polyline of (x(t), y(t)) over the samples, thinned
  * by fixed time bins (8000 over the run: a curve may wind over itself many
  * times) so that its past never changes, as a strip chart's (strip_curves),
@@ -484,16 +520,9 @@ static void phase_curve(struct sp_canvas *c, const struct plot *p, const struct 
     sp_canvas_layer(c, SP_LAYER_SETTLED);
     sp_canvas_path_begin(c);
     int part = 0; /* 0: settled, 1: fading (until the next step), 2: newest */
-    double b_this = h->count > 1 ? floor(s[1].t / bin) : 0;
-    for (int i = 1; i < h->count; i++) {
-        const int last = i + 1 == h->count;
-        if (!last) {
-            const double b_next = floor(s[i + 1].t / bin);
-            const int point = b_next != b_this || !(bin > 0);
-            b_this = b_next;
-            if (!point)
-                continue;
-        }
+    const int n = h->count;
+    for (int i = n > 1 ? point_or_newest(s, 0, n, bin) : n; i < n; i = point_or_newest(s, i, n, bin)) {
+        const int last = i + 1 == n;
         const float bx = px_x(p, quantity(&s[i], xq, pp)), by = px_y(p, quantity(&s[i], yq, pp));
         if (!last && (bx - ax) * (bx - ax) + (by - ay) * (by - ay) < 1)
             continue; /* within a pixel of the last point: a slow curl would pile
@@ -551,13 +580,8 @@ static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct
     sp_canvas_layer(c, SP_LAYER_SETTLED);
     sp_canvas_path_begin(c);
     sp_canvas_path_lanes(c, n);
-    double b_this = h->count > 1 ? floor((s[1].t - p->x.lo) / bin) : 0;
-    for (int i = 1; i + 1 < h->count; i++) {
-        const double b_next = floor((s[i + 1].t - p->x.lo) / bin);
-        const int point = b_next != b_this || !(bin > 0);
-        b_this = b_next;
-        if (!point)
-            continue;
+    for (int i = next_point(s, 0, h->count, p->x.lo, bin); i < h->count;
+         i = next_point(s, i, h->count, p->x.lo, bin)) {
         const float bx = px_x(p, s[i].t);
         for (int k = 0; k < n; k++) {
             const float by = px_y(p, quantity(&s[i], qs[k], pp));

@@ -75,6 +75,10 @@ struct sp_draw_gl {
     int n_dyn_items;
     unsigned char *same;       /* scratch: per item of the list, 1 = unchanged */
     int cap_same, any_same;
+    struct sp_item *items;       /* scratch: the list's items, those the cache
+                                    cannot order moved to the dynamic layer
+                                    (lift_items) */
+    int cap_items;
     int cache;                   /* 1 = cache the static layer */
     struct sp_draw_gl_stats stats;
     int width, height;           /* px */
@@ -1194,6 +1198,58 @@ static int damage_restore(struct sp_draw_gl *d)
     return 0;
 }
 
+/* Items whose order against others the cache cannot keep are drawn with
+ * the dynamic layer instead, each frame (an unchanged one is left as the
+ * last frame drew it; the others of their layer stay cached): a static
+ * shape the list draws after a settled item it touches, static text
+ * touching a settled item (text is drawn after every shape), a static item
+ * that a dynamic one drawn before it touches, a settled item touching a
+ * dynamic shape drawn before it or a settled item before it (at small sizes
+ * panels, legends, labels and the pendulum crowd each other: such frames
+ * were drawn uncached, their cost growing with the curves). Repeated until
+ * nothing moves, since a moved item is dynamic for the others; order_keeps
+ * then holds. Sets d->items to c's items with those layers changed and
+ * *out to c with them. 0 or SP_E_NOMEM. */
+static int lift_items(struct sp_draw_gl *d, const struct sp_canvas *c, struct sp_canvas *out)
+{
+    *out = *c;
+    if (c->n_items > d->cap_items) {
+        struct sp_item *it = realloc(d->items, (size_t)c->n_items * 2 * sizeof(*it));
+        if (!it)
+            return SP_E_NOMEM;
+        d->items = it;
+        d->cap_items = c->n_items * 2;
+    }
+    if (c->n_items)
+        memcpy(d->items, c->items, (size_t)c->n_items * sizeof(*d->items));
+    out->items = d->items;
+    for (int moved = 1; moved;) {
+        moved = 0;
+        for (int i = 0; i < c->n_items; i++) {
+            struct sp_item *it = &d->items[i];
+            const int st = it->layer == SP_LAYER_STATIC, text_i = it->kind == SP_ITEM_TEXT;
+            if (it->kind == SP_ITEM_CLIP || !(st || it->layer == SP_LAYER_SETTLED))
+                continue;
+            for (int k = 0; k < c->n_items; k++) {
+                const struct sp_item *o = &d->items[k];
+                if (k == i || o->kind == SP_ITEM_CLIP)
+                    continue;
+                const int text_o = o->kind == SP_ITEM_TEXT;
+                const int dyn = o->layer == SP_LAYER_DYNAMIC, set = o->layer == SP_LAYER_SETTLED;
+                const int over = st ? (set && (text_i || k < i)) ||
+                                          (dyn && (text_o == text_i ? k < i : text_i))
+                                    : (dyn && !text_o && k < i) || (set && k < i);
+                if (over && items_meet(d, out, k, i)) {
+                    it->layer = SP_LAYER_DYNAMIC;
+                    moved = 1;
+                    break;
+                }
+            }
+        }
+    }
+    return 0;
+}
+
 int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float bg[4])
 {
     const struct sp_gl_api *gl = d->gl;
@@ -1206,11 +1262,13 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
 
     for (int i = 0; i < c->n_items && !accum; i++)
         accum = c->items[i].layer == SP_LAYER_ACCUM && c->items[i].kind != SP_ITEM_CLIP;
+    struct sp_canvas lifted;
     if (d->cache) {
-        if ((err = boxes_make(d, c)) != 0) {
+        if ((err = boxes_make(d, c)) != 0 || (err = lift_items(d, c, &lifted)) != 0) {
             sp_log_error("out of memory for the static cache's bounds");
             return err;
         }
+        c = &lifted;
         /* also with no static item: base is then the background (or the
          * long exposure), restored only where the last frame drew */
         cached = order_keeps(d, c);
@@ -1393,6 +1451,7 @@ void sp_draw_gl_destroy(struct sp_draw_gl **d)
     free((*d)->settled_old);
     free((*d)->dyn);
     free((*d)->same);
+    free((*d)->items);
     free(*d);
     *d = NULL;
 }

@@ -367,7 +367,8 @@ ok(j.get("video", {}).get("frames") == 30 and j["video"].get("failed_frames")
    and os.path.exists(os.path.join(work, "vid", "worst.png")),
    f"compare videos: 1 degree more fails, worst frame {(j.get('video') or {}).get('worst_frame')}, diff written")
 r = run("compare", V("v1"), V("short"))
-ok(r.returncode == 2 and "ends after 27 frames" in r.stdout, f"compare videos: a frame count mismatch exits 2")
+ok(r.returncode == 2 and "v1.mp4 has 30 frames" in r.stdout and "short.mp4 has 27" in r.stdout,
+   f"compare videos: a frame count mismatch exits 2, both counts named ({r.stdout.strip()})")
 r = run("compare", V("v1"), P("a.png"))
 ok(r.returncode == 2 and "two PNG images or two videos" in r.stderr, "compare: a video against a PNG is refused")
 

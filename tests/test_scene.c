@@ -30,6 +30,7 @@ static void test_presets(const char *tests_dir)
         sp_scene_defaults(&s);
         snprintf(path, sizeof(path), "%s/%s", dir, e->d_name);
         sp_tap_ok(sp_scene_load(&s, path, NULL, 0) == 0, "scenes/%s parses", e->d_name);
+        sp_scene_free(&s);
         n++;
     }
     if (d)

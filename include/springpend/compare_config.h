@@ -11,10 +11,11 @@
  *     metric = rms
  *     tol = 1.5
  *
- * Keys: metric (reftest or rms), max_diff (0..255 levels), max_pixels (a
+ * Keys: metric (reftest, rms or pixelmatch), threshold (pixelmatch's, 0..1), max_diff (0..255 levels), max_pixels (a
  * count up to 1e18, or P% with 0 <= P <= 100), tol (rms levels 0..255),
  * mask (integers, 0..1e9). Numbers are decimal: no hex, inf or nan. A [file]
- * section overrides [*], which overrides the command line. */
+ * section overrides wildcard sections ([hud-*.png]), which override [*]; an option on the command line is a limit neither
+ * loosens. */
 #ifndef SPRINGPEND_COMPARE_CONFIG_H
 #define SPRINGPEND_COMPARE_CONFIG_H
 
@@ -40,6 +41,7 @@ struct sp_compare_rule {
 #define SP_COMPARE_SET_MAX_DIFF 2u
 #define SP_COMPARE_SET_MAX_PIXELS 4u
 #define SP_COMPARE_SET_TOL 8u
+#define SP_COMPARE_SET_THRESHOLD 16u
 
 struct sp_compare_config {
     char path[4096];               /* "" when there was no file */
@@ -54,18 +56,38 @@ struct sp_compare_config {
 int sp_compare_rule_set(struct sp_compare_rule *rule, const char *name, const char *value,
                         char *why, size_t why_size);
 
+/* 1 when path is a symbolic link whose file (resolved, or not resolvable:
+ * a loop, a dangling link) lies outside folder dir; then `to` holds where
+ * it points (size bytes). 0 for anything else, links within dir too.
+ * compare reads nothing through such a link: a file in a pull request
+ * could point at a secret (--report, compare.ini's messages) or at a file
+ * --update would replace. */
+int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t size);
+
 /* Reads dir/compare.ini into cfg when it exists (cfg stays empty when it
  * does not). Errors are printed as FILE:LINE: what is wrong, what is
- * allowed; returns 0, SP_E_INPUT or SP_E_NOMEM. */
+ * allowed; returns 0, SP_E_INPUT or SP_E_NOMEM. A compare.ini that links
+ * out of dir is refused (SP_E_INPUT). */
 int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir);
 
-/* The options and masks for image `name`: base (the command line), then
- * [*], then [name]. masks points into cfg (or is NULL). */
+/* The most masks one image collects from the sections it matches. */
+#define SP_COMPARE_RESOLVED_MASKS (4 * SP_COMPARE_MAX_MASKS)
+
+/* The options and masks for image `name` (its path relative to the
+ * baselines' folder, "sub/a.png"): the defaults, then [*], then every
+ * section with a wildcard (fnmatch: * ? [..]) that matches, in file order,
+ * then [name]; a section without '/' matches the file name in any folder, one
+ * with '/' the relative path. Then the command line's rule `cli` as a limit:
+ * each option it set is kept where compare.ini's is looser (the stricter of
+ * the two applies; its metric is the metric), so the command line can
+ * tighten compare.ini but never loosen it. The masks of every matching
+ * section go into masks (at most SP_COMPARE_RESOLVED_MASKS; n_masks). Safe
+ * to call from several threads at once. */
 void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
-                               const struct sp_compare_opts *base,
+                               const struct sp_compare_rule *cli,
                                struct sp_compare_opts *opts,
-                               const struct sp_compare_mask **masks, int *n_masks,
-                               const struct sp_compare_mask **star_masks, int *n_star_masks);
+                               struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS],
+                               int *n_masks);
 
 /* Warns (stderr, FILE:LINE) about [file] sections that matched no image:
  * a misspelt name would otherwise be ignored in silence. */

@@ -24,6 +24,7 @@ enum sp_update_action {
 
 #define SP_COMPARE_MAX_CHANGES 16
 #define SP_COMPARE_MAX_FRAMES_LISTED 10
+#define SP_COMPARE_MAX_NOTES 4
 
 /* A scene key whose value differs between the two images' provenance. */
 struct sp_scene_change {
@@ -59,9 +60,21 @@ struct sp_compare_record {
     int frames, failed_frames, worst_frame;
     int listed[SP_COMPARE_MAX_FRAMES_LISTED]; /* first failing frames */
     double expected_fps, actual_fps; /* from the timestamps; 0 unknown */
-    /* Provenance (PNG text chunks) that differs. */
-    char notes[3][160];
+    /* Provenance (PNG text chunks) that differs, pass or fail. */
+    char notes[SP_COMPARE_MAX_NOTES][640];
     int n_notes;
+    double seconds;           /* wall time the comparison took, s */
+    int n_alternatives;       /* baselines per environment beside the plain one */
+    char baseline_key[64];    /* the alternative that matched (NAME.KEY.png's KEY);
+                                 "" the plain baseline, or none matched */
+    int refused;              /* a link out of the folders: never updated */
+    struct sp_compare_mask masks[32]; /* compare.ini's masks (the first 32), drawn */
+    int n_masks;
+    char candidate[4096];     /* --candidates wrote the actual image here; "" none */
+    /* --update=changed|all replaced the baseline: its bytes before (owned,
+     * free with sp_compare_report_free), so reports show what was replaced. */
+    unsigned char *before;
+    size_t before_size;
     struct sp_scene_change changes[SP_COMPARE_MAX_CHANGES];
     int n_changes, more_changes;
 };
@@ -70,6 +83,12 @@ struct sp_compare_report {
     struct sp_compare_record *records; /* owned */
     int n, cap;
     int interrupted;                   /* the signal that stopped the run, 0 none */
+    char problem[512];                 /* what went wrong with the run as a whole
+                                          (no images at all); "" when nothing */
+    const char *suite;                 /* JUnit suite name prefix: the EXPECTED
+                                          folder's or file's name */
+    const char *report_path;           /* the HTML report, for the summary; NULL */
+    int failures_only;                 /* HTML: rows of failures and errors only */
 };
 
 /* A new zeroed record at the end of rep (ssim -1, worst_frame -1); NULL
@@ -77,12 +96,20 @@ struct sp_compare_report {
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep);
 void sp_compare_report_free(struct sp_compare_report *rep);
 
-/* Counts of rep's records by verdict; a record whose baseline --update
- * changed counts as updated only, one never compared (interrupted) as
- * not_compared only. */
+/* Counts of rep's records. passed, failed and errors count verdicts as
+ * found (before any --update); compared counts the records whose images were
+ * compared (not the missing or unreadable); updated counts the baselines
+ * --update added, replaced or removed; unresolved counts the failures and
+ * errors --update did not resolve: the run passes when it is 0 (and the run
+ * was not interrupted and has no problem). A record never compared (the run
+ * was interrupted first) counts as not_compared only. */
 struct sp_compare_counts {
-    int compared, passed, failed, errors, updated, not_compared;
+    int records, compared, passed, failed, errors, updated, not_compared;
+    int unresolved_failed, unresolved_errors;
 };
+
+/* 1 when the run passes: nothing unresolved, not interrupted, no problem. */
+int sp_compare_report_passes(const struct sp_compare_report *rep);
 struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report *rep);
 
 /* Text: one line per record (failures only when quiet), notes, hints and
@@ -94,6 +121,12 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
 /* JSON, one schema always (see the README): {"schema": "springpend-compare/1",
  * "pass": ..., "counts": {...}, "results": [ ... ]}. */
 void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep);
+
+/* A summary in Markdown, short enough for a pull request comment or
+ * $GITHUB_STEP_SUMMARY: the status and counts, a table of at most 50 failures
+ * and errors with what was measured against what was allowed, and where the
+ * HTML report is. */
+void sp_compare_report_markdown(FILE *fp, const struct sp_compare_report *rep);
 
 /* JUnit XML: one testsuite, a testcase per record, <failure> or <error>;
  * what XML cannot hold (C0 controls, U+FFFE, U+FFFF, stray bytes) becomes

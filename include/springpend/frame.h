@@ -7,6 +7,8 @@
 
 struct sp_history;
 struct sp_ensemble;
+struct sp_moment;
+struct sp_timeline;
 
 /* A trail point: where the bob was, when, and how fast it went. */
 struct sp_trail_point {
@@ -80,6 +82,9 @@ struct sp_look {
     double fps;         /* [video] fps: frames per second of video */
     double speed;       /* [video] speed: simulated s per s of video */
     int ensemble_count; /* [ensemble] count: > 1 draws its members */
+    const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
+                                           band holds its largest text, the
+                                           frame's sp_moment says what shows */
 };
 
 /* The look of scene, or of the default scene when scene is NULL. */
@@ -137,6 +142,9 @@ struct sp_frame {
     const struct sp_history *history; /* may be NULL or inactive */
     const struct sp_ensemble *ensemble; /* NULL, or [ensemble]'s members drawn
                                            instead of the one bob (ensemble.h) */
+    const struct sp_moment *moment; /* NULL, or what the [timeline] shows now: the
+                                       caption band's text and the speed marker
+                                       (timeline.h) */
 };
 
 #endif

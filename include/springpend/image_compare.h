@@ -26,7 +26,31 @@
 enum sp_compare_metric {
     SP_COMPARE_REFTEST = 0,
     SP_COMPARE_RMS = 1,
+    SP_COMPARE_BLOCKS = 3,     /* videos' default (SP_COMPARE_VIDEO_BLOCK):
+                                  sp_compare_images sees the block means */
+    SP_COMPARE_PIXELMATCH = 2, /* mapbox/pixelmatch's perceptual rule: a pixel
+                                  differs when its YIQ distance exceeds
+                                  35215 * threshold^2 and it is not
+                                  anti-aliasing (pixelmatch.c) */
 };
+
+#define SP_COMPARE_THRESHOLD_DEFAULT 0.1 /* pixelmatch's own default */
+
+/* Videos' default rule, when nothing is set for a video on the command line
+ * or in compare.ini: the frames are compared as means of 8x8 blocks; a block
+ * differs when a channel's mean moves by more than 16 levels; a frame fails
+ * when any block differs. Lossy encoders scatter small errors over edges,
+ * which the means smooth away (the same frames at CRF 22, 24 and 28 against
+ * 23, at preset medium and veryfast, and as WebM: at most 13.9 levels); a
+ * changed parameter moves the pendulum and its trail, which they keep. */
+#define SP_COMPARE_VIDEO_BLOCK 8       /* px */
+#define SP_COMPARE_VIDEO_BLOCK_DIFF 16 /* levels of 255 */
+
+/* The means of block x block squares of img (partial ones at the right and
+ * bottom edges averaged over what they hold) into out, a new image of
+ * ceil(w / block) x ceil(h / block) (free with sp_image_free). Returns 0 or
+ * SP_E_NOMEM. */
+int sp_compare_block_means(const struct sp_image *img, int block, struct sp_image *out);
 
 /* Zero fields take the defaults above. */
 struct sp_compare_opts {
@@ -39,6 +63,15 @@ struct sp_compare_opts {
                             max_pixels is 0; 0 = default */
     double tol;          /* rms metric: largest rms, levels; SP_COMPARE_NONE
                             = 0 (identical) */
+    double threshold;    /* pixelmatch metric: 0..1, 0 = default 0.1;
+                            SP_COMPARE_NONE = 0 (any change counts) */
+    unsigned given;      /* which fields a command line or compare.ini set
+                            (compare_config.h's SP_COMPARE_SET_* bits) */
+    /* A limit on the pixels allowed that nothing loosens (the command line's
+     * --max-pixels under compare.ini): a count (SP_COMPARE_NONE = 0) or,
+     * when 0, a share cap_fraction; both 0 = no limit. */
+    long cap_pixels;
+    double cap_fraction;
 };
 
 struct sp_compare_result {
@@ -48,6 +81,9 @@ struct sp_compare_result {
     long allowed;         /* differing pixels the reftest rule allows */
     int max_diff;         /* the max_diff that was applied, levels */
     double tol;           /* the rms tolerance that was applied, levels */
+    double threshold;     /* the pixelmatch threshold that was applied */
+    long antialiased;     /* pixelmatch: pixels beyond the threshold taken for
+                             anti-aliasing, so not counted in differing */
     int max_channel_diff; /* largest channel difference, levels of 255 */
     double rms;           /* levels of 255, see above */
     int bbox[4];          /* x0, y0, x1, y1 (inclusive, px, top-left origin)
@@ -64,6 +100,14 @@ struct sp_compare_result {
 int sp_compare_images(const struct sp_image *expected, const struct sp_image *actual,
                       const struct sp_compare_opts *opts, struct sp_compare_result *res,
                       struct sp_image *diff);
+
+/* pixelmatch (mapbox/pixelmatch, index.js, v5.3): the number of pixels of
+ * a and b (same size) whose YIQ colour distance exceeds 35215 * threshold^2
+ * and that are not anti-aliasing in either image (unless include_aa). When
+ * marks is not NULL (width * height bytes) it receives per pixel 0 (within
+ * the threshold), 1 (beyond it, taken for anti-aliasing) or 2 (differs). */
+long sp_compare_pixelmatch(const struct sp_image *a, const struct sp_image *b, double threshold,
+                           int include_aa, uint8_t *marks);
 
 /* A rectangle of pixels the comparison ignores (a clock in a HUD). */
 struct sp_compare_mask {

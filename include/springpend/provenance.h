@@ -8,15 +8,18 @@
  *   springpend.scene         sp_scene_canonical's text itself (zTXt,
  *                            0.6 kB, 0.3 kB deflated), so compare can name the keys
  *                            that changed
+ *   springpend.environment   environment.h's text (zTXt): the versions of
+ *                            the libraries and the fonts' SHA-256
  * Nothing that changes from run to run (no date): the same frame gives the
  * same bytes. */
 #ifndef SPRINGPEND_PROVENANCE_H
 #define SPRINGPEND_PROVENANCE_H
 
+#include "springpend/environment.h"
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
 
-#define SP_PROVENANCE_N_TEXT 5
+#define SP_PROVENANCE_N_TEXT 6
 #define SP_PROVENANCE_SCENE_MAX 8192 /* bytes of canonical text */
 
 struct sp_provenance {
@@ -25,13 +28,14 @@ struct sp_provenance {
     char scene_sha256[65]; /* lower-case hex */
     char time[32];         /* s */
     char scene[SP_PROVENANCE_SCENE_MAX]; /* canonical text, "key=value\n" lines */
+    char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text */
     struct sp_png_text text[SP_PROVENANCE_N_TEXT]; /* point into the above */
 };
 
-/* Hashes the scene and fills every chunk (time 0). renderer may be NULL
- * ("none"). Returns 0 or SP_E_NOMEM. */
+/* Hashes the scene and fills every chunk (time 0). renderer and gl_version
+ * (GL_RENDERER, GL_VERSION) may be NULL ("none"). Returns 0 or SP_E_NOMEM. */
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
-                       const char *renderer);
+                       const char *renderer, const char *gl_version);
 
 /* Sets the simulated time, s, that the next image shows. */
 void sp_provenance_set_time(struct sp_provenance *p, double t);

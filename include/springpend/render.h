@@ -63,4 +63,12 @@ const char *sp_render_renderer_name(const struct sp_renderer *r);
 /* Frees everything and sets *r to NULL. Safe on NULL. */
 void sp_render_destroy(struct sp_renderer **r);
 
+/* GL_VERSION of r's context ("4.5 (Core Profile) Mesa 22.3.6"). */
+const char *sp_render_gl_version(const struct sp_renderer *r);
+
+/* Makes a 16x16 GL context of backend gl only to read GL_RENDERER and
+ * GL_VERSION into renderer and version; returns 0 or the context's error. */
+int sp_render_probe(enum sp_gl gl, char *renderer, size_t renderer_size, char *version,
+                    size_t version_size);
+
 #endif

@@ -100,6 +100,10 @@ struct sp_scene {
         double spread; /* total range of the key's values, in its file units */
         int trails;    /* 1: every member draws a short thin trail */
     } ensemble;
+    /* [timeline] (timeline.h): captions, speed changes and pauses keyed by
+     * simulated time; NULL = none. Owned by the scene sp_scene_parse filled
+     * (free it with sp_scene_free); copies of the scene share it. */
+    struct sp_timeline *timeline;
 };
 
 /* Fills s with the original simulator's defaults (see scenes/default.ini). */
@@ -115,11 +119,18 @@ void sp_scene_defaults(struct sp_scene *s);
 int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
                    const char *const *overrides, int n_overrides);
 
-/* Reads path and calls sp_scene_parse; the scene name is the file stem. */
+/* Frees what sp_scene_parse allocated (the timeline) and sets it to NULL;
+ * the keys stay. Safe on a scene without one. A failed parse frees it. */
+void sp_scene_free(struct sp_scene *s);
+
+/* Reads path and calls sp_scene_parse; the scene name is the file stem.
+ * Whatever it returns, sp_scene_free(s) may follow. */
 int sp_scene_load(struct sp_scene *s, const char *path,
                   const char *const *overrides, int n_overrides);
 
-/* Number of video frames, N = round(duration * fps / speed). */
+/* Number of video frames, N = round(duration * fps / speed), without the
+ * timeline ([timeline] changes it for render and still: timeline.h;
+ * data and sweep use this). */
 int sp_scene_frame_count(const struct sp_scene *s);
 
 /* Simulated time shown by frame k: k * speed / fps, s. */

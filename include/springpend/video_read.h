@@ -4,6 +4,8 @@
 #ifndef SPRINGPEND_VIDEO_READ_H
 #define SPRINGPEND_VIDEO_READ_H
 
+#include <stddef.h>
+
 #include "springpend/image.h"
 
 struct sp_video_reader;
@@ -21,5 +23,10 @@ int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double
 
 /* Frees everything and sets *r to NULL. Safe on NULL. */
 void sp_video_reader_destroy(struct sp_video_reader **r);
+
+/* The container tag key of the video at path (springpend writes its PNG
+ * text chunks there too: provenance.h) into buf. Returns 1 when found, 0
+ * when not, or a negative SP_E_* when the file cannot be read. */
+int sp_video_read_text(const char *path, const char *key, char *buf, size_t size);
 
 #endif

@@ -28,3 +28,26 @@ char *sp_ini_lines_next(struct sp_ini_lines *l, char *str, int num, size_t *too_
         str[len - 1] = '\n';
     return str;
 }
+
+enum sp_ini_text sp_ini_text(const char *value, size_t *len, size_t *at)
+{
+    size_t n = strcspn(value, "\r\n");
+    while (n && (value[n - 1] == ' ' || value[n - 1] == '\t'))
+        n--;
+    *len = n, *at = 0;
+    const char *close = n > 1 && value[0] == '"' ? memrchr(value + 1, '"', n - 1) : NULL;
+    if (close) { /* quoted: a comment may follow the closing quote */
+        const char *rest = close + 1 + strspn(close + 1, " \t");
+        *at = (size_t)(rest - value);
+        if (rest < value + n && *rest != '#' && *rest != ';')
+            return SP_INI_TEXT_AFTER_QUOTE; /* *len: the whole value's */
+        *len = (size_t)(close + 1 - value);
+        return SP_INI_TEXT_OK;
+    }
+    for (size_t i = 1; i < n; i++)
+        if ((value[i] == '#' || value[i] == ';') && (value[i - 1] == ' ' || value[i - 1] == '\t')) {
+            *at = i;
+            return SP_INI_TEXT_COMMENT;
+        }
+    return SP_INI_TEXT_OK;
+}

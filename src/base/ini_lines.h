@@ -19,4 +19,18 @@ struct sp_ini_lines {
  * Returns str, or NULL after the last line. */
 char *sp_ini_lines_next(struct sp_ini_lines *l, char *str, int num, size_t *too_long);
 
+/* How a text value is written on a scene line (view.title, view.caption, a
+ * [timeline] cue's caption or note), so that libinih's inline comments never
+ * cut it silently: in double quotes it is taken whole, and a '#' or ';'
+ * comment may follow the closing quote; without quotes it runs to the end of
+ * the line and may not hold ' #' or ' ;' (a comment or text?). value runs to
+ * its NUL, CR or LF; trailing blanks are not part of it. */
+enum sp_ini_text {
+    SP_INI_TEXT_OK,          /* *len: the text's length, quotes included */
+    SP_INI_TEXT_AFTER_QUOTE, /* *at: what follows the closing quote, not a comment,
+                                up to *len */
+    SP_INI_TEXT_COMMENT,     /* *at: the '#' or ';' after a blank, unquoted */
+};
+enum sp_ini_text sp_ini_text(const char *value, size_t *len, size_t *at);
+
 #endif

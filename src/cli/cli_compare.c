@@ -17,26 +17,33 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "cli.h"
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
 #include "springpend/compare_report.h"
+#include "springpend/environment.h"
 #include "springpend/image_compare.h"
 #include "springpend/outfile.h"
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
+#include "springpend/snapshot_list.h"
 #include "springpend/video_read.h"
+#include "decimal.h"
 #include "signals.h"
 
 static const char compare_usage[] =
     "usage: springpend compare EXPECTED ACTUAL [options]\n"
+    "       springpend compare --approve CANDIDATES BASELINES\n"
     "\n"
-    "Compares two PNG images, or every *.png in folder EXPECTED with the file of\n"
-    "the same name in folder ACTUAL (subfolders are not walked), or two videos\n"
-    "(any name not ending in .png: MP4 and whatever FFmpeg reads) frame by frame,\n"
-    "frame times included.\n"
+    "Compares two PNG images, or every PNG and video (.mp4 .webm .mkv .mov .gif)\n"
+    "under folder EXPECTED, subfolders too, with the file of the same path under\n"
+    "folder ACTUAL, or two videos (any name not ending in .png: MP4 and whatever\n"
+    "FFmpeg reads) frame by frame, frame times included.\n"
+    "A baseline NAME.png may have alternatives NAME.KEY.png beside it (one per\n"
+    "environment: a.llvm19.png); a match with any one passes.\n"
     "Exit status: 0 all match, 1 some differ (in pixels, size or timing), 2\n"
     "unreadable, missing or extra images, or videos with different frame\n"
     "counts; 128 + signal when interrupted.\n"
@@ -45,7 +52,8 @@ static const char compare_usage[] =
     "default rule (reftest style): a pixel differs when a channel moves by more\n"
     "than --max-diff levels of 255; the images match when at most --max-pixels\n"
     "pixels differ. SSIM is printed beside the counts; it never decides.\n"
-    "A compare.ini beside the baselines sets tolerances and masks per image.\n"
+    "A compare.ini beside the baselines sets tolerances and masks per image;\n"
+    "options given here are limits it cannot loosen.\n"
     "\n"
     "options:\n"
     "  --max-diff N           levels a channel may move unnoticed (default 3)\n"
@@ -53,6 +61,10 @@ static const char compare_usage[] =
     "                         of the image (default 0.1%)\n"
     "  --metric rms --tol X   pytest-mpl's rule instead: pass when the RMS of the\n"
     "                         RGB differences is <= X levels (default 2)\n"
+    "  --metric pixelmatch --threshold T  mapbox/pixelmatch's perceptual rule: a\n"
+    "                         pixel differs when its YIQ colour distance exceeds\n"
+    "                         35215 T^2 (T from 0 to 1, default 0.1) and it is not\n"
+    "                         anti-aliasing; --max-pixels then applies\n"
     "  --diff PATH            on a mismatch, write a diff image to PATH: the\n"
     "                         expected image in grey, differing pixels magenta,\n"
     "                         smaller changes blue; both side by side when the\n"
@@ -61,10 +73,23 @@ static const char compare_usage[] =
     "                         of the worst frame\n"
     "  --update=MODE          copy ACTUAL over EXPECTED: missing (new images),\n"
     "                         changed (and failing ones), all (and every image\n"
-    "                         whose file differs; deletes baselines that have no\n"
-    "                         actual image, listing them)\n"
+    "                         whose pixels differ; deletes baselines that have no\n"
+    "                         actual image, listing them). A baseline whose pixels\n"
+    "                         are unchanged is never rewritten\n"
+    "  --env KEY              --update and --candidates write NAME.KEY.png, an\n"
+    "                         alternative baseline, instead of NAME.png\n"
+    "  --candidates DIR       write the would-be baselines (failing and new images\n"
+    "                         only) and their diffs to DIR; the run still fails\n"
+    "  --approve DIR BASELINES  copy what --candidates wrote into the baselines\n"
+    "                         (not the diffs; unchanged pixels left untouched)\n"
     "  --report FILE.html     one self-contained HTML page: expected, actual and\n"
-    "                         diff side by side, a flip control, failures first\n"
+    "                         diff side by side at full size with zoom, masks\n"
+    "                         drawn, a flip control, failures first\n"
+    "  --report-failures-only the HTML page without the passing images\n"
+    "  --summary FILE.md      a Markdown summary for a pull request or\n"
+    "                         $GITHUB_STEP_SUMMARY: counts and a table of failures\n"
+    "  --jobs N               compare a folder's images on N threads (default:\n"
+    "                         every CPU)\n"
     "  --junit FILE.xml       JUnit XML, a test case per image\n"
     "  --json                 print the records as JSON (schema in the README)\n"
     "  -q, --quiet            print failures only (no effect with --json)\n"
@@ -78,8 +103,13 @@ struct compare_cli {
                                       note which images used them */
     const char *diff;              /* --diff, NULL = none */
     const char *html, *junit;      /* --report, --junit, NULL = none */
+    const char *summary;           /* --summary FILE.md, NULL = none */
+    const char *env;               /* --env KEY: --update writes NAME.KEY.png */
+    const char *candidates;        /* --candidates DIR, NULL = none */
     enum update_mode update;
-    int json, quiet;
+    int json, quiet, failures_only;
+    int jobs;                      /* --jobs: threads comparing folders */
+    int approve;                   /* --approve DIR BASELINES */
     unsigned diff_links;           /* write_whole's flags for diff images:
                                       SP_OUTFILE_REPLACE_LINK in folder mode */
 };
@@ -89,19 +119,26 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
     static const struct option longopts[] = {
         {"max-diff", required_argument, 0, 'd'}, {"max-pixels", required_argument, 0, 'p'},
         {"metric", required_argument, 0, 'm'},   {"tol", required_argument, 0, 't'},
+        {"threshold", required_argument, 0, 'T'},
         {"diff", required_argument, 0, 'D'},     {"json", no_argument, 0, 'j'},
         {"update", required_argument, 0, 'u'},   {"report", required_argument, 0, 'R'},
         {"junit", required_argument, 0, 'J'},    {"quiet", no_argument, 0, 'q'},
+        {"summary", required_argument, 0, 'S'},  {"env", required_argument, 0, 'E'},
+        {"candidates", required_argument, 0, 'C'}, {"jobs", required_argument, 0, 'N'},
+        {"approve", no_argument, 0, 'A'},
+        {"report-failures-only", no_argument, 0, 'F'},
         {"help", no_argument, 0, 'h'},           {0, 0, 0, 0},
     };
     int ch, idx;
     char why[1024];
     memset(c, 0, sizeof(*c));
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    c->jobs = cpus > 0 ? (int)cpus : 1;
     optind = 1;
     opterr = 0;
     while ((ch = getopt_long(argc, argv, ":qh", longopts, &idx)) != -1) {
         switch (ch) {
-        case 'd': case 'p': case 'm': case 't':
+        case 'd': case 'p': case 'm': case 't': case 'T':
             if (sp_compare_rule_set(&c->base, longopts[idx].name, optarg, why, sizeof(why))) {
                 sp_log_error("--%s", why);
                 return SP_E_INPUT;
@@ -118,6 +155,30 @@ static int parse_args(struct compare_cli *c, int argc, char **argv)
             }
             break;
         case 'D': c->diff = optarg; break;
+        case 'S': c->summary = optarg; break;
+        case 'C': c->candidates = optarg; break;
+        case 'A': c->approve = 1; break;
+        case 'F': c->failures_only = 1; break;
+        case 'E':
+            if (!optarg[0] || strspn(optarg, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                             "0123456789_-") != strlen(optarg) ||
+                strlen(optarg) > 32) {
+                sp_log_error("--env %s: expected a key of 1 to 32 letters, digits, '_' or '-' "
+                             "(like llvm19); it names the baseline NAME.KEY.png", optarg);
+                return SP_E_INPUT;
+            }
+            c->env = optarg;
+            break;
+        case 'N': {
+            double v;
+            const char *bad = sp_decimal_in(optarg, 1, 256, SP_DECIMAL_INTEGER, &v);
+            if (bad) {
+                sp_log_error("--jobs %s: %s; expected an integer from 1 to 256", optarg, bad);
+                return SP_E_INPUT;
+            }
+            c->jobs = (int)v;
+            break;
+        }
         case 'R': c->html = optarg; break;
         case 'J': c->junit = optarg; break;
         case 'j': c->json = 1; break;
@@ -211,27 +272,40 @@ static int fill_copy(FILE *fp, void *src)
     return err;
 }
 
-/* 1 when both regular files hold the same bytes. */
-static int same_bytes(const char *a, const char *b)
+static int is_png_path(const char *path)
 {
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    int same = fa && fb;
-    char x[65536], y[65536];
-    while (same) {
-        size_t n = fread(x, 1, sizeof(x), fa), m = fread(y, 1, sizeof(y), fb);
-        same = n == m && !memcmp(x, y, n);
-        if (!n)
-            break;
+    size_t n = strlen(path);
+    return n > 4 && !strcasecmp(path + n - 4, ".png");
+}
+
+/* Reads the regular file at path whole into *bytes (malloc'd): the bytes of
+ * a baseline about to be replaced, for the reports. Returns 0 or SP_E_*. */
+static int read_whole(const char *path, unsigned char **bytes, size_t *size)
+{
+    struct stat st;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC), err = 0;
+    *bytes = NULL, *size = 0;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        sp_log_error("%s: %s", path, fd < 0 ? strerror(errno) : "not a regular file");
+        err = SP_E_INPUT;
+    } else if (!(*bytes = malloc((size_t)st.st_size + 1))) {
+        sp_log_error("out of memory for a copy of %s", path);
+        err = SP_E_NOMEM;
+    } else {
+        ssize_t n;
+        while (*size < (size_t)st.st_size &&
+               (n = read(fd, *bytes + *size, (size_t)st.st_size - *size)) > 0)
+            *size += (size_t)n;
     }
-    if (fa)
-        fclose(fa);
-    if (fb)
-        fclose(fb);
-    return same;
+    if (fd >= 0)
+        close(fd);
+    return err;
 }
 
 /* --update: copies the actual image over (or to) target, or removes
- * target, as the mode says for what the record found. */
+ * target, as the mode says for what the record found. A baseline whose
+ * pixels equal the actual image's is never touched (its metadata may
+ * differ: another renderer, another version). */
 static void apply_update(const struct compare_cli *c, struct sp_compare_record *r,
                          const char *target)
 {
@@ -245,8 +319,8 @@ static void apply_update(const struct compare_cli *c, struct sp_compare_record *
         act = c->update == UPDATE_ALL ? SP_UPDATE_REMOVED : SP_UPDATE_NONE;
     else if (r->verdict == SP_VERDICT_FAIL && c->update >= UPDATE_CHANGED)
         act = SP_UPDATE_REPLACED;
-    else if (r->verdict == SP_VERDICT_PASS && c->update == UPDATE_ALL &&
-             !same_bytes(r->expected, r->actual))
+    else if (r->verdict == SP_VERDICT_PASS && c->update == UPDATE_ALL && !r->exact &&
+             !(r->frames > 0 && r->result.changed == 0)) /* a video's worst frame */
         act = SP_UPDATE_REPLACED;
     if (act == SP_UPDATE_NONE)
         return;
@@ -255,8 +329,20 @@ static void apply_update(const struct compare_cli *c, struct sp_compare_record *
             sp_log_error("%s: cannot remove: %s", target, strerror(errno));
             return;
         }
-    } else if (write_whole(target, SP_OUTFILE_REPLACE_LINK, fill_copy, r->actual) != 0) {
-        return; /* a link is replaced by the file, never written through */
+    } else {
+        struct stat st;
+        /* The compared baseline as it was, for the reports (PNGs only). */
+        if (r->expected[0] && is_png_path(r->expected) &&
+            read_whole(r->expected, &r->before, &r->before_size))
+            return;
+        if (act == SP_UPDATE_REPLACED && lstat(target, &st) != 0)
+            act = SP_UPDATE_ADDED; /* --env: a new alternative beside the baseline */
+        /* a link is replaced by the file, never written through */
+        if (write_whole(target, SP_OUTFILE_REPLACE_LINK, fill_copy, r->actual) != 0) {
+            free(r->before);
+            r->before = NULL;
+            return;
+        }
     }
     snprintf(r->expected, sizeof(r->expected), "%s", target);
     r->update = act;
@@ -284,20 +370,61 @@ static int scene_value(const char *text, const char *key, char *val, size_t size
 
 /* Notes the provenance chunks that differ, and the scene keys that
  * changed (from springpend.scene) with both values. */
+/* A provenance text of the image or video at path (a PNG's text chunk, a
+ * video's container tag); 1 when found. */
+static int read_text(const char *path, const char *key, char *buf, size_t size)
+{
+    return is_png_path(path) ? sp_png_read_text(path, key, buf, size)
+                             : sp_video_read_text(path, key, buf, size);
+}
+
+/* Notes the lines of the springpend.environment chunks that differ (the
+ * library versions, the fonts' hashes), when both images have one. */
+static void note_environment(struct sp_compare_record *r)
+{
+    char ee[SP_ENVIRONMENT_MAX], ea[SP_ENVIRONMENT_MAX], note[sizeof(r->notes[0])];
+    size_t n = 0;
+    if (r->n_notes == SP_COMPARE_MAX_NOTES ||
+        read_text(r->expected, "springpend.environment", ee, sizeof(ee)) != 1 ||
+        read_text(r->actual, "springpend.environment", ea, sizeof(ea)) != 1 ||
+        !strcmp(ee, ea))
+        return;
+    n = (size_t)snprintf(note, sizeof(note), "made in another environment (springpend.environment):");
+    for (const char *p = ee; *p && n < sizeof(note);) {
+        size_t len = strcspn(p, "\n"), key = strcspn(p, ":\n");
+        const char *q = ea;
+        /* the same key's line in the other text */
+        while (*q && !(strncmp(q, p, key + 1) == 0))
+            q += strcspn(q, "\n") + (q[strcspn(q, "\n")] == '\n');
+        size_t qlen = strcspn(q, "\n");
+        if (!*q || qlen != len || strncmp(p, q, len))
+            n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s%s vs %.*s;", (int)len, p,
+                                  "", *q ? (int)(qlen - key - 1) : 6,
+                                  *q ? q + key + 2 : "(none)");
+        p += len + (p[len] == '\n');
+    }
+    if (n && note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] == ';')
+        note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] = 0;
+    snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s", note);
+}
+
 static void note_provenance(struct sp_compare_record *r)
 {
-    static char se[16384], sa[16384]; /* canonical scene texts */
+    char se[16384], sa[16384]; /* canonical scene texts (threads: on the stack) */
     for (size_t i = 0; i < sizeof(provenance_keys) / sizeof(provenance_keys[0]); i++) {
         char e[256], a[256];
-        if (sp_png_read_text(r->expected, provenance_keys[i][0], e, sizeof(e)) != 1 ||
-            sp_png_read_text(r->actual, provenance_keys[i][0], a, sizeof(a)) != 1 ||
+        if (r->n_notes == (int)(sizeof(r->notes) / sizeof(r->notes[0])))
+            break;
+        if (read_text(r->expected, provenance_keys[i][0], e, sizeof(e)) != 1 ||
+            read_text(r->actual, provenance_keys[i][0], a, sizeof(a)) != 1 ||
             !strcmp(e, a))
             continue;
-        snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: %.16s vs %.16s",
+        snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: %s vs %s",
                  provenance_keys[i][1], e, a);
     }
-    if (sp_png_read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
-        sp_png_read_text(r->actual, "springpend.scene", sa, sizeof(sa)) != 1)
+    note_environment(r);
+    if (read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
+        read_text(r->actual, "springpend.scene", sa, sizeof(sa)) != 1)
         return;
     for (const char *p = se; *p;) {
         size_t eq = strcspn(p, "=\n"), len = strcspn(p, "\n");
@@ -318,6 +445,14 @@ static void note_provenance(struct sp_compare_record *r)
         }
         p += len + (p[len] == '\n');
     }
+}
+
+/* A monotonic clock, s. */
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* Marks r as not comparable. */
@@ -350,21 +485,22 @@ static int check_header(struct sp_compare_record *r, const char *path, int *w, i
 
 /* Compares two PNG files into record r. diff_path may be NULL. */
 static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
-                          const char *name, const char *expected, const char *actual,
-                          const char *diff_path)
+                          const char *name, const char *rule_name, const char *expected,
+                          const char *actual, const char *diff_path)
 {
     struct sp_image e = {0}, a = {0}, d = {0};
     struct sp_compare_opts opts;
-    const struct sp_compare_mask *masks, *star_masks;
-    int n_masks, n_star_masks;
+    struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS];
+    const struct sp_compare_mask *star_masks = NULL; /* all in masks */
+    int n_masks, n_star_masks = 0;
 
     snprintf(r->name, sizeof(r->name), "%s", name);
     snprintf(r->expected, sizeof(r->expected), "%s", expected);
     snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    /* compare.ini names images by the baseline's file name. */
-    const char *slash = strrchr(expected, '/');
-    sp_compare_config_resolve(&c->cfg, slash ? slash + 1 : expected, &c->base.opts, &opts,
-                              &masks, &n_masks, &star_masks, &n_star_masks);
+    /* compare.ini names images by their path under the baselines' folder. */
+    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, &opts, masks, &n_masks);
+    for (int k = 0; k < n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0])); k++)
+        r->masks[r->n_masks++] = masks[k];
     r->metric = opts.metric;
     /* Both headers first: nothing is decoded that is too large. */
     if (check_header(r, expected, &r->expected_w, &r->expected_h)) {
@@ -380,7 +516,6 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         /* The headers decide; only a diff image would need the pixels. */
         r->compared = r->size_mismatch = 1;
         r->verdict = SP_VERDICT_FAIL;
-        note_provenance(r);
         goto done;
     }
     if (sp_png_read(expected, &e) != 0) {
@@ -423,14 +558,15 @@ static void compare_files(struct compare_cli *c, struct sp_compare_record *r,
         r->ssim = sp_compare_ssim(&e, &a);
         r->verdict = r->result.pass ? SP_VERDICT_PASS : SP_VERDICT_FAIL;
     }
-    if (r->verdict == SP_VERDICT_FAIL) {
-        /* A diff image in a folder replaces a link there, never follows it. */
-        if (diff_path && write_whole(diff_path, c->diff_links, fill_png,
-                                     &(struct png_out){&d, diff_path}) == 0)
-            snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
-        note_provenance(r);
-    }
+    /* A diff image in a folder replaces a link there, never follows it. */
+    if (r->verdict == SP_VERDICT_FAIL && diff_path &&
+        write_whole(diff_path, c->diff_links, fill_png, &(struct png_out){&d, diff_path}) == 0)
+        snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
 done:
+    /* What made the two images, pass or fail: a pass across renderers is
+     * worth knowing too. */
+    if (r->compared)
+        note_provenance(r);
     sp_image_free(&e);
     sp_image_free(&a);
     sp_image_free(&d);
@@ -451,6 +587,31 @@ static void *read_job_run(void *arg)
     return NULL;
 }
 
+/* The videos' default rule on one frame pair: sp_compare_images on their
+ * 8x8 block means (image_compare.h); the diff image, when asked for, is the
+ * blocks' diff at the frames' size. */
+static int compare_blocks(const struct sp_image *fe, const struct sp_image *fa,
+                          const struct sp_compare_opts *opts, struct sp_compare_result *res,
+                          struct sp_image *diff)
+{
+    struct sp_image be = {0}, ba = {0}, small = {0};
+    int ret = sp_compare_block_means(fe, SP_COMPARE_VIDEO_BLOCK, &be);
+    if (!ret)
+        ret = sp_compare_block_means(fa, SP_COMPARE_VIDEO_BLOCK, &ba);
+    if (!ret)
+        ret = sp_compare_images(&be, &ba, opts, res, diff ? &small : NULL);
+    if (!ret && diff && !(ret = sp_image_alloc(diff, fe->width, fe->height)))
+        for (int y = 0; y < fe->height; y++)
+            for (int x = 0; x < fe->width; x++)
+                memcpy(diff->pixels + (size_t)y * diff->stride + 4 * (size_t)x,
+                       small.pixels + (size_t)(y / SP_COMPARE_VIDEO_BLOCK) * small.stride +
+                           4 * (size_t)(x / SP_COMPARE_VIDEO_BLOCK), 4);
+    sp_image_free(&be);
+    sp_image_free(&ba);
+    sp_image_free(&small);
+    return ret;
+}
+
 /* Frame times that differ by more than this are a failure, s: well under
  * a frame at any rate a video has. */
 #define FRAME_TIME_SLACK 5e-4
@@ -458,7 +619,8 @@ static void *read_job_run(void *arg)
 /* Compares two videos frame by frame, times included, into record r: the
  * figures are the worst frame's; --diff gets its diff image. */
 static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
-                          const char *expected, const char *actual, const char *diff_path)
+                          const char *name, const char *rule_name, const char *expected,
+                          const char *actual, const char *diff_path)
 {
     struct sp_video_reader *ve = NULL, *va = NULL;
     struct sp_image fe, fa, d = {0}, worst_diff = {0};
@@ -467,15 +629,26 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
     double worst_score = -1, te = 0, ta = 0, te0 = NAN, ta0 = NAN;
 
     struct sp_compare_opts opts;
-    const struct sp_compare_mask *masks, *star_masks;
-    int n_masks, n_star_masks;
-    const char *slash = strrchr(expected, '/');
-    snprintf(r->name, sizeof(r->name), "%s", actual);
+    struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS];
+    const struct sp_compare_mask *star_masks = NULL; /* all in masks */
+    int n_masks, n_star_masks = 0;
+    snprintf(r->name, sizeof(r->name), "%s", name);
     snprintf(r->expected, sizeof(r->expected), "%s", expected);
     snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    sp_compare_config_resolve(&c->cfg, slash ? slash + 1 : expected, &c->base.opts, &opts,
-                              &masks, &n_masks, &star_masks, &n_star_masks);
+    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, &opts, masks, &n_masks);
+    for (int k = 0; k < n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0])); k++)
+        r->masks[r->n_masks++] = masks[k];
     r->metric = opts.metric;
+    /* Nothing set for this video: the videos' default rule (block means). */
+    int blocks = !(opts.given & (SP_COMPARE_SET_METRIC | SP_COMPARE_SET_MAX_DIFF |
+                                 SP_COMPARE_SET_MAX_PIXELS | SP_COMPARE_SET_TOL |
+                                 SP_COMPARE_SET_THRESHOLD));
+    if (blocks) {
+        opts.metric = SP_COMPARE_REFTEST;
+        opts.max_diff = SP_COMPARE_VIDEO_BLOCK_DIFF;
+        opts.max_pixels = SP_COMPARE_NONE;
+        r->metric = SP_COMPARE_BLOCKS;
+    }
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
         (ret = sp_video_reader_open(&va, actual)) != 0) {
         ret = record_error(r, "cannot read %s", ve ? actual : expected);
@@ -520,7 +693,8 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
         sp_compare_apply_masks(&fe, &fa, masks, n_masks);
         r->masked_pixels = sp_compare_masked_pixels(fe.width, fe.height, star_masks,
                                                     n_star_masks, masks, n_masks);
-        ret = sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
+        ret = blocks ? compare_blocks(&fe, &fa, &opts, &res, diff_path ? &d : NULL)
+                     : sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
         if (ret) {
             ret = record_error(r, "comparison failed");
             goto done;
@@ -545,12 +719,18 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
         goto done;
     }
     if (ge != ga) {
-        if (ge == 1)
-            ret = record_error(r, "%s ends after %d frames; %s has more", actual, r->frames,
-                               expected);
-        else
-            ret = record_error(r, "%s has more than the %d frames of %s", actual, r->frames,
-                               expected);
+        /* Count the rest of the longer one, so the message gives both. */
+        struct sp_video_reader *longer = ge == 1 ? ve : va;
+        struct sp_image f;
+        double t;
+        int more = 1, rd;
+        while ((rd = sp_video_reader_read(longer, &f, &t)) == 1 && !sp_signal_seen())
+            more++;
+        int ne = r->frames + (ge == 1 ? more : 0), na = r->frames + (ga == 1 ? more : 0);
+        const char *partly = rd < 0 ? "at least " : ""; /* the rest did not decode */
+        ret = record_error(r, "%s has %s%d frames, %s has %s%d; videos of different lengths "
+                           "never match", expected, ge == 1 ? partly : "", ne, actual,
+                           ga == 1 ? partly : "", na);
         sp_log_error("%s", r->error);
         goto done;
     }
@@ -560,6 +740,7 @@ static int compare_videos(struct compare_cli *c, struct sp_compare_record *r,
     }
     r->compared = 1;
     r->verdict = r->failed_frames ? SP_VERDICT_FAIL : SP_VERDICT_PASS;
+    note_provenance(r); /* the scene keys that changed, from the videos' tags */
     if (r->failed_frames && diff_path && worst_diff.pixels &&
         write_whole(diff_path, 0, fill_png, &(struct png_out){&worst_diff, diff_path}) == 0)
         snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
@@ -572,18 +753,6 @@ done:
     return ret;
 }
 
-static int is_png_path(const char *path)
-{
-    size_t n = strlen(path);
-    return n > 4 && !strcasecmp(path + n - 4, ".png");
-}
-
-static int is_png_name(const struct dirent *d)
-{
-    size_t n = strlen(d->d_name);
-    return d->d_name[0] != '.' && n > 4 && !strcasecmp(d->d_name + n - 4, ".png");
-}
-
 /* Refuses (an error in r, returning 1) a folder entry path that is a
  * symbolic link to a file outside folder dir: a *.png in a pull request
  * could otherwise point at a secret that --report embeds, or at a file
@@ -591,27 +760,13 @@ static int is_png_name(const struct dirent *d)
 static int link_out(struct sp_compare_record *r, const char *name, const char *path,
                     const char *dir)
 {
-    struct stat st;
-    char *to, *in;
-    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
+    char to[PATH_MAX];
+    if (!sp_compare_link_outside(path, dir, to, sizeof(to)))
         return 0;
-    to = realpath(path, NULL);
-    in = realpath(dir, NULL);
-    size_t n = in ? strlen(in) : 0;
-    int out = !to || !in || strncmp(to, in, n) || to[n] != '/';
-    if (out) {
-        char target[PATH_MAX];
-        ssize_t len = readlink(path, target, sizeof(target) - 1);
-        target[len > 0 ? len : 0] = 0;
-        snprintf(r->name, sizeof(r->name), "%s", name);
-        record_error(r, "%s is a link to %s, outside %s: not read", path,
-                     to ? to : target, dir);
-        snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it",
-                 dir);
-    }
-    free(to);
-    free(in);
-    return out;
+    snprintf(r->name, sizeof(r->name), "%s", name);
+    record_error(r, "%s is a link to %s, outside %s: not read", path, to, dir);
+    snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it", dir);
+    return 1;
 }
 
 /* The command that adds missing baselines, for messages. */
@@ -621,80 +776,256 @@ static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
              "to add it as the baseline: springpend compare %s %s --update=missing", e, a);
 }
 
-/* Compares every PNG of folder dir_e with its namesake in dir_a; a PNG in
- * only one of them is an error (a missing render or a missing baseline). */
+/* Makes the folders above path (mkdir -p of its dirname). Returns 0, or
+ * -1 with errno. */
+static int make_parents(const char *path)
+{
+    char buf[PATH_MAX];
+    snprintf(buf, sizeof(buf), "%s", path);
+    for (char *p = strchr(buf + 1, '/'); p; p = strchr(p + 1, '/')) {
+        *p = 0;
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    return 0;
+}
+
+/* A fresh record in place (what sp_compare_report_add gives). */
+static void record_reset(struct sp_compare_record *r)
+{
+    memset(r, 0, sizeof(*r));
+    r->ssim = -1;
+    r->worst_frame = -1;
+}
+
+/* Compares image `it` into r against its baselines: the plain one first,
+ * then each alternative; the first that passes is the match (r then holds
+ * that comparison and names the alternative). When none passes, r holds the
+ * first comparison (its diff image too). */
+static void compare_item(struct compare_cli *c, struct sp_compare_record *r,
+                         const struct sp_snapshot *it, const char *dir_e, const char *dir_a)
+{
+    char pe[PATH_MAX], pa[PATH_MAX], pd[PATH_MAX];
+    const char *diff = NULL;
+    struct sp_compare_record *t = NULL;
+    int video = !sp_snapshot_is_png(it->name), matched = -2;
+    double t0 = now_s();
+    snprintf(pa, sizeof(pa), "%s/%s", dir_a, it->name);
+    if (c->diff) {
+        const char *dot = strrchr(it->name, '.');
+        snprintf(pd, sizeof(pd), "%s/%.*s.diff.png", c->diff,
+                 (int)(dot ? dot - it->name : (long)strlen(it->name)), it->name);
+        if (make_parents(pd) == 0)
+            diff = pd;
+    }
+    for (int k = it->expected ? -1 : 0; k < it->n_alts; k++) {
+        const char *bn = k < 0 ? it->name : it->alts[k];
+        int first = k == (it->expected ? -1 : 0);
+        struct sp_compare_record *dst = r;
+        if (!first) {
+            if (!t && !(t = malloc(sizeof(*t))))
+                break;
+            record_reset(t);
+            dst = t;
+        }
+        snprintf(pe, sizeof(pe), "%s/%s", dir_e, bn);
+        if (video)
+            compare_videos(c, dst, it->name, it->name, pe, pa, first ? diff : NULL);
+        else
+            compare_files(c, dst, it->name, it->name, pe, pa, first ? diff : NULL);
+        if (dst->verdict == SP_VERDICT_PASS) {
+            matched = k;
+            if (!first) { /* an alternative: its comparison is the record */
+                if (r->diff[0])
+                    unlink(r->diff);
+                *r = *t;
+            }
+            break;
+        }
+        if (sp_signal_seen())
+            break;
+    }
+    free(t);
+    r->n_alternatives = it->n_alts;
+    if (matched >= 0)
+        sp_snapshot_alt_key(it->name, it->alts[matched], r->baseline_key,
+                            (int)sizeof(r->baseline_key));
+    else if (matched == -2 && it->n_alts && r->n_notes < SP_COMPARE_MAX_NOTES)
+        snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                 "no baseline matched: %s and %d alternative%s (%s%s)",
+                 it->expected ? "the plain one" : "no plain one", it->n_alts,
+                 it->n_alts > 1 ? "s" : "", it->alts[0], it->n_alts > 1 ? ", ..." : "");
+    r->seconds = now_s() - t0;
+}
+
+/* The images a folder compare hands to its threads. */
+struct folder_work {
+    struct compare_cli *c;
+    struct sp_compare_record *records; /* one per item, from first */
+    const struct sp_snapshot_list *list;
+    const char *dir_e, *dir_a;
+    const unsigned char *todo;         /* 1: compare item i */
+    int next;                          /* the next item to take (atomic) */
+};
+
+static void *folder_worker(void *arg)
+{
+    struct folder_work *w = arg;
+    for (;;) {
+        int i = __atomic_fetch_add(&w->next, 1, __ATOMIC_RELAXED);
+        if (i >= w->list->n)
+            break;
+        if (!w->todo[i])
+            continue;
+        struct sp_compare_record *r = &w->records[i];
+        int sig = sp_signal_seen();
+        if (sig) {
+            /* Every image left is listed as never compared: a report of an
+             * interrupted run must not read as a pass. */
+            snprintf(r->name, sizeof(r->name), "%s", w->list->items[i].name);
+            record_error(r, "not compared: the run was interrupted by %s first",
+                         sp_signal_name(sig));
+            r->not_compared = 1;
+            continue;
+        }
+        compare_item(w->c, r, &w->list->items[i], w->dir_e, w->dir_a);
+    }
+    return NULL;
+}
+
+/* The baseline --update and --candidates write for image name: the plain
+ * name, or with --env KEY its alternative NAME.KEY.EXT. */
+static void target_name(const struct compare_cli *c, const char *name, char *out, int size)
+{
+    if (c->env)
+        sp_snapshot_alt_name(name, c->env, out, size);
+    else
+        snprintf(out, (size_t)size, "%s", name);
+}
+
+/* --candidates: the would-be baseline of a failing or new image, and its
+ * diff, into the candidates folder; the run still fails. */
+static void write_candidate(const struct compare_cli *c, struct sp_compare_record *r,
+                            const char *name)
+{
+    char rel[PATH_MAX], out[PATH_MAX];
+    int missing = r->verdict == SP_VERDICT_ERROR && r->actual[0] && !r->expected[0];
+    if (!r->actual[0] || r->not_compared || !(r->verdict == SP_VERDICT_FAIL || missing))
+        return;
+    target_name(c, name, rel, (int)sizeof(rel));
+    if (snprintf(out, sizeof(out), "%s/%s", c->candidates, rel) >= (int)sizeof(out) ||
+        make_parents(out) != 0) {
+        sp_log_error("%s: cannot make its folder: %s", out, strerror(errno));
+        return;
+    }
+    if (write_whole(out, SP_OUTFILE_REPLACE_LINK, fill_copy, r->actual) == 0)
+        snprintf(r->candidate, sizeof(r->candidate), "%s", out);
+}
+
+/* Compares every image (PNG or video) under folder dir_e with its namesake
+ * under dir_a, subfolders too, on c->jobs threads; an image in only one of
+ * them is an error (a missing render or a missing baseline). Then applies
+ * --update and --candidates, in order, on this thread. */
 static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
                            const char *dir_e, const char *dir_a)
 {
-    struct dirent **le = NULL, **la = NULL;
-    int ne = scandir(dir_e, &le, is_png_name, alphasort);
-    int ret = 0;
-    if (ne < 0 && errno == ENOENT) /* no baselines yet: all are missing */
-        ne = 0;
-    int na = ne < 0 ? -1 : scandir(dir_a, &la, is_png_name, alphasort);
-    if (ne < 0 || na < 0) {
-        sp_log_error("cannot list %s: %s", ne < 0 ? dir_e : dir_a, strerror(errno));
-        ret = SP_E_INPUT;
+    struct sp_snapshot_list list;
+    const char *skip[] = {c->diff, c->candidates};
+    unsigned char *todo = NULL;
+    int ret = sp_snapshot_list_make(&list, dir_e, dir_a, skip, 2), first = rep->n;
+    if (ret)
+        return ret;
+    if (!(todo = calloc((size_t)list.n + 1, 1))) {
+        ret = SP_E_NOMEM;
         goto done;
     }
-    /* Both lists are sorted: walk them like a merge. */
-    for (int i = 0, j = 0; i < ne || j < na;) {
-        int cmp = i >= ne ? 1 : j >= na ? -1 : strcmp(le[i]->d_name, la[j]->d_name);
-        const char *name = cmp <= 0 ? le[i]->d_name : la[j]->d_name;
-        char pe[PATH_MAX], pa[PATH_MAX], pd[PATH_MAX];
-        struct sp_compare_record *r;
-        int refused = 0; /* a link out of the folders: nothing is updated */
-        if (!(r = sp_compare_report_add(rep))) {
+    for (int i = 0; i < list.n; i++)
+        if (!sp_compare_report_add(rep)) {
             ret = SP_E_NOMEM;
             goto done;
         }
-        snprintf(pe, sizeof(pe), "%s/%s", dir_e, name);
-        snprintf(pa, sizeof(pa), "%s/%s", dir_a, name);
-        if (sp_signal_seen()) {
-            /* Every image left is listed as never compared: a report of
-             * an interrupted run must not read as a pass. */
-            rep->interrupted = sp_signal_seen();
-            ret = SP_E_INTERRUPTED;
-            snprintf(r->name, sizeof(r->name), "%s", name);
-            record_error(r, "not compared: the run was interrupted by %s first",
-                         sp_signal_name(rep->interrupted));
-            r->not_compared = 1;
-        } else if (link_out(r, name, pe, dir_e) || link_out(r, name, pa, dir_a)) {
-            refused = 1; /* recorded as an error */
-        } else if (cmp) {
-            snprintf(r->name, sizeof(r->name), "%s", name);
-            snprintf(cmp < 0 ? r->expected : r->actual, sizeof(r->actual), "%s",
-                     cmp < 0 ? pe : pa);
-            record_error(r, cmp < 0 ? "no actual image in %s" : "no baseline in %s",
-                         cmp < 0 ? dir_a : dir_e);
-            if (cmp > 0)
+    /* What cannot be compared is recorded here; the rest goes to threads. */
+    for (int i = 0; i < list.n; i++) {
+        const struct sp_snapshot *it = &list.items[i];
+        struct sp_compare_record *r = &rep->records[first + i];
+        char pe[PATH_MAX], pa[PATH_MAX];
+        int refused = 0;
+        snprintf(pe, sizeof(pe), "%s/%s", dir_e, it->expected ? it->name
+                                                   : it->n_alts ? it->alts[0] : it->name);
+        snprintf(pa, sizeof(pa), "%s/%s", dir_a, it->name);
+        for (int k = 0; k < it->n_alts && !refused; k++) {
+            char alt[PATH_MAX];
+            snprintf(alt, sizeof(alt), "%s/%s", dir_e, it->alts[k]);
+            refused = link_out(r, it->name, alt, dir_e);
+        }
+        if (refused || link_out(r, it->name, pe, dir_e) || link_out(r, it->name, pa, dir_a)) {
+            r->refused = 1; /* recorded as an error; nothing is updated */
+        } else if (!it->actual || (!it->expected && !it->n_alts)) {
+            snprintf(r->name, sizeof(r->name), "%s", it->name);
+            snprintf(it->actual ? r->actual : r->expected, sizeof(r->actual), "%s",
+                     it->actual ? pa : pe);
+            record_error(r, it->actual ? "no baseline in %s" : "no actual image in %s",
+                         it->actual ? dir_e : dir_a);
+            if (it->actual)
                 add_hint(r, dir_e, dir_a);
         } else {
-            if (c->diff)
-                snprintf(pd, sizeof(pd), "%s/%.*s.diff.png", c->diff, (int)strlen(name) - 4, name);
-            compare_files(c, r, name, pe, pa, c->diff ? pd : NULL);
+            todo[i] = 1;
         }
-        if (!r->not_compared && !refused) {
-            if (c->update != UPDATE_NONE && cmp > 0 && mkdir(dir_e, 0777) != 0 &&
-                errno != EEXIST)
-                sp_log_error("cannot create the baseline folder %s: %s", dir_e,
-                             strerror(errno));
-            apply_update(c, r, pe);
-        }
-        i += cmp <= 0;
-        j += cmp >= 0;
     }
-    if (ne + na == 0) {
-        sp_log_error("no PNG files in %s or %s", dir_e, dir_a);
+    {
+        struct folder_work w = {c, rep->records + first, &list, dir_e, dir_a, todo, 0};
+        int n = c->jobs < list.n ? c->jobs : list.n, started = 0;
+        pthread_t th[256];
+        n = n > 256 ? 256 : n;
+        for (int k = 1; k < n; k++) /* this thread is the first worker */
+            started += pthread_create(&th[started], NULL, folder_worker, &w) == 0;
+        folder_worker(&w);
+        for (int k = 0; k < started; k++)
+            pthread_join(th[k], NULL);
+    }
+    if (sp_signal_seen()) {
+        rep->interrupted = sp_signal_seen();
+        ret = SP_E_INTERRUPTED;
+    }
+    for (int i = 0; i < list.n; i++) {
+        const struct sp_snapshot *it = &list.items[i];
+        struct sp_compare_record *r = &rep->records[first + i];
+        char rel[PATH_MAX], target[PATH_MAX];
+        if (r->not_compared || r->refused || rep->interrupted)
+            continue;
+        if (c->candidates)
+            write_candidate(c, r, it->name);
+        if (c->update == UPDATE_NONE)
+            continue;
+        target_name(c, it->name, rel, (int)sizeof(rel));
+        if (snprintf(target, sizeof(target), "%s/%s", dir_e, it->actual ? rel : it->name) >=
+            (int)sizeof(target))
+            continue; /* longer than a path can be */
+        if (!it->actual && !it->expected) /* only alternatives are left */
+            snprintf(target, sizeof(target), "%s", r->expected);
+        if (it->actual && make_parents(target) != 0)
+            sp_log_error("cannot create the baseline folder for %s: %s", target,
+                         strerror(errno));
+        apply_update(c, r, target);
+        if (r->update == SP_UPDATE_REMOVED) /* the image is gone: its alternatives too */
+            for (int k = 0; k < it->n_alts; k++) {
+                snprintf(target, sizeof(target), "%s/%s", dir_e, it->alts[k]);
+                if (strcmp(target, r->expected) && unlink(target) == 0 &&
+                    r->n_notes < SP_COMPARE_MAX_NOTES)
+                    snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                             "also removed the alternative %.600s", target);
+            }
+    }
+    if (list.n == 0) {
+        snprintf(rep->problem, sizeof(rep->problem), "no PNG files or videos in %s or %s",
+                 dir_e, dir_a);
+        sp_log_error("%s", rep->problem);
         ret = SP_E_INPUT;
     }
 done:
-    for (int i = 0; i < ne; i++)
-        free(le[i]);
-    for (int i = 0; i < na; i++)
-        free(la[i]);
-    free(le);
-    free(la);
+    free(todo);
+    sp_snapshot_list_free(&list);
     return ret;
 }
 
@@ -762,8 +1093,10 @@ static int lands_in(const char *path, const char *dir)
 /* Checks the output paths before anything runs. */
 static int check_outputs(const struct compare_cli *c, const char *e, const char *a, int folders)
 {
-    const char *outs[3][2] = {{c->diff, "--diff"}, {c->html, "--report"}, {c->junit, "--junit"}};
-    for (int i = 0; i < 3; i++) {
+    const char *outs[5][2] = {{c->diff, "--diff"},      {c->candidates, "--candidates"},
+                              {c->html, "--report"},    {c->junit, "--junit"},
+                              {c->summary, "--summary"}};
+    for (int i = 0; i < 5; i++) {
         const char *p = outs[i][0];
         if (!p)
             continue;
@@ -772,7 +1105,7 @@ static int check_outputs(const struct compare_cli *c, const char *e, const char 
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);
             return SP_E_INPUT;
         }
-        if (i == 0 && folders)
+        if ((i == 0 && folders) || i == 1) /* folders */
             continue;
         if (sp_cli_check_writable(p, outs[i][1]))
             return SP_E_INPUT;
@@ -780,16 +1113,95 @@ static int check_outputs(const struct compare_cli *c, const char *e, const char 
     return 0;
 }
 
+/* 1 when the PNGs a and b decode to the same pixels. */
+static int same_pixels(const char *a, const char *b)
+{
+    struct sp_image x = {0}, y = {0};
+    char hx[65] = "", hy[65] = "x";
+    struct sp_png_info info;
+    if (sp_png_read_info(a, &info) == 0 && sp_png_check_size(a, &info) == 0 &&
+        sp_png_read_info(b, &info) == 0 && sp_png_check_size(b, &info) == 0 &&
+        sp_png_read(a, &x) == 0 && sp_png_read(b, &y) == 0) {
+        sp_compare_pixel_hash(&x, hx);
+        sp_compare_pixel_hash(&y, hy);
+    }
+    sp_image_free(&x);
+    sp_image_free(&y);
+    return !strcmp(hx, hy);
+}
+
+/* compare --approve DIR BASELINES: copies the candidates --candidates wrote
+ * to DIR (every PNG and video under it, subfolders too, but the
+ * NAME.diff.png diffs) into BASELINES, each to the same relative path;
+ * a baseline whose pixels equal its candidate's is left untouched. */
+static int approve(const struct compare_cli *c, const char *dir, const char *baselines)
+{
+    struct sp_snapshot_list l;
+    int ret = 0, added = 0, replaced = 0, unchanged = 0;
+    const char *skip[] = {baselines};
+    (void)c;
+    if (!is_dir(dir)) {
+        sp_log_error("--approve %s: not a folder; expected the folder --candidates wrote",
+                     dir);
+        return SP_E_INPUT;
+    }
+    if ((ret = sp_snapshot_list_make(&l, dir, dir, skip, 1)) != 0)
+        return ret;
+    for (int i = 0; i < l.n && !sp_signal_seen(); i++) {
+        const char *name = l.items[i].name;
+        char from[PATH_MAX], to[PATH_MAX];
+        struct stat st;
+        size_t n = strlen(name);
+        if (n > 9 && !strcasecmp(name + n - 9, ".diff.png"))
+            continue;
+        snprintf(from, sizeof(from), "%s/%s", dir, name);
+        snprintf(to, sizeof(to), "%s/%s", baselines, name);
+        int exists = lstat(to, &st) == 0;
+        if (exists && is_png_path(name) && same_pixels(from, to)) {
+            unchanged++;
+            printf("%-9s %s (pixels unchanged)\n", "unchanged", to);
+            continue;
+        }
+        if (make_parents(to) != 0) {
+            sp_log_error("%s: cannot make its folder: %s", to, strerror(errno));
+            ret = SP_E_IO;
+            continue;
+        }
+        if (write_whole(to, SP_OUTFILE_REPLACE_LINK, fill_copy, from) != 0) {
+            ret = SP_E_INPUT;
+            continue;
+        }
+        exists ? replaced++ : added++;
+        printf("%-9s %s\n", exists ? "replaced" : "added", to);
+    }
+    if (sp_signal_seen())
+        ret = SP_E_INTERRUPTED;
+    printf("%s: %d added, %d replaced, %d unchanged\n", ret ? "FAIL" : "approved", added,
+           replaced, unchanged);
+    sp_snapshot_list_free(&l);
+    return ret;
+}
+
+static int fill_summary(FILE *fp, void *out)
+{
+    const struct report_out *o = out;
+    errno = 0;
+    sp_compare_report_markdown(fp, o->rep);
+    return report_failed(o, fflush(fp) || ferror(fp) ? SP_E_IO : 0);
+}
+
 int sp_cmd_compare(int argc, char **argv)
 {
     struct compare_cli c;
     struct sp_compare_report rep = {0};
-    char dir[PATH_MAX];
+    char dir[PATH_MAX], suite[PATH_MAX];
     int ret = parse_args(&c, argc, argv);
     if (ret)
         return ret > 0 ? 0 : ret;
     const char *e = argv[optind], *a = argv[optind + 1];
     struct stat st;
+    if (c.approve)
+        return approve(&c, e, a);
     int da = is_dir(a), de = is_dir(e) || (da && stat(e, &st) != 0 && errno == ENOENT);
     if (de != da) {
         sp_log_error("%s is a folder but %s is not; compare two images or two folders",
@@ -803,8 +1215,32 @@ int sp_cmd_compare(int argc, char **argv)
         return SP_E_INPUT;
     }
     snprintf(dir, sizeof(dir), "%s", e);
-    if ((ret = sp_compare_config_load(&c.cfg, de ? e : dirname(dir))) != 0)
+    const char *base_dir = de ? e : dirname(dir); /* the baselines' folder */
+    if ((ret = sp_compare_config_load(&c.cfg, base_dir)) != 0)
         return ret;
+    /* JUnit's suite: the baselines' folder, as given. */
+    snprintf(suite, sizeof(suite), "%s", base_dir);
+    for (size_t n = strlen(suite); n > 1 && suite[n - 1] == '/';)
+        suite[--n] = 0;
+    rep.suite = suite;
+    rep.report_path = c.html;
+    rep.failures_only = c.failures_only;
+    char cand_diff[PATH_MAX];
+    if (c.candidates && !c.diff && de)
+        c.diff = c.candidates; /* the diffs beside the candidates */
+    if (c.candidates && !c.diff && !de) {
+        const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
+        const char *dot = strrchr(base, '.');
+        snprintf(cand_diff, sizeof(cand_diff), "%s/%.*s.diff.png", c.candidates,
+                 (int)(dot ? dot - base : (long)strlen(base)), base);
+        c.diff = cand_diff;
+    }
+    if (c.candidates && !is_dir(c.candidates) && mkdir(c.candidates, 0777) != 0) {
+        sp_log_error("--candidates %s: cannot create the folder: %s", c.candidates,
+                     strerror(errno));
+        ret = SP_E_INPUT;
+        goto done;
+    }
     if (de) {
         if (c.diff && !is_dir(c.diff) && mkdir(c.diff, 0777) != 0) {
             sp_log_error("--diff %s: cannot create the folder for the diff images: %s",
@@ -826,12 +1262,27 @@ int sp_cmd_compare(int argc, char **argv)
             record_error(r, "no baseline %s", e);
             add_hint(r, e, a);
         } else if (is_png_path(e)) {
-            compare_files(&c, r, a, e, a, c.diff);
+            double t0 = now_s();
+            const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
+            compare_files(&c, r, a, base, e, a, c.diff);
+            r->seconds = now_s() - t0;
         } else {
-            ret = compare_videos(&c, r, e, a, c.diff);
+            double t0 = now_s();
+            const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
+            ret = compare_videos(&c, r, a, base, e, a, c.diff);
+            r->seconds = now_s() - t0;
             rep.interrupted = ret == SP_E_INTERRUPTED ? sp_signal_seen() : 0;
         }
-        apply_update(&c, r, e);
+        if (c.candidates) {
+            const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
+            write_candidate(&c, r, base);
+        }
+        if (c.update != UPDATE_NONE) {
+            char target[PATH_MAX], rel[PATH_MAX];
+            target_name(&c, e, rel, (int)sizeof(rel));
+            snprintf(target, sizeof(target), "%s", rel);
+            apply_update(&c, r, target);
+        }
     }
     if (!rep.interrupted)
         sp_compare_config_warn_unused(&c.cfg);
@@ -840,11 +1291,20 @@ int sp_cmd_compare(int argc, char **argv)
     else
         sp_compare_report_text(stdout, &rep, c.quiet, de);
     if ((c.html && write_whole(c.html, 0, fill_html, &(struct report_out){&rep, c.html})) ||
-        (c.junit && write_whole(c.junit, 0, fill_junit, &(struct report_out){&rep, c.junit})))
+        (c.junit && write_whole(c.junit, 0, fill_junit, &(struct report_out){&rep, c.junit})) ||
+        (c.summary &&
+         write_whole(c.summary, 0, fill_summary, &(struct report_out){&rep, c.summary})))
         ret = ret ? ret : SP_E_IO;
     if (!ret) {
         struct sp_compare_counts n = sp_compare_report_count(&rep);
-        ret = n.errors ? SP_E_INPUT : n.failed ? SP_E_MISMATCH : 0;
+        ret = n.unresolved_errors ? SP_E_INPUT : n.unresolved_failed ? SP_E_MISMATCH : 0;
+    }
+    if (c.candidates && !c.json) {
+        int k = 0;
+        for (int i = 0; i < rep.n; i++)
+            k += rep.records[i].candidate[0] != 0;
+        printf("%d candidate%s in %s; to accept them after review: springpend compare "
+               "--approve %s %s\n", k, k == 1 ? "" : "s", c.candidates, c.candidates, e);
     }
 done:
     if (fflush(stdout) != 0 || ferror(stdout)) {

@@ -28,6 +28,8 @@ static const char data_usage[] =
     "Writes the motion as CSV, one row per sample: by default at the video's frame\n"
     "times (k * speed / fps, k = 0 .. frames-1); with --every at t = 0, every,\n"
     "2 every, ... up to video.duration inclusive. No rendering is done.\n"
+    "The scene's [timeline] is presentation (captions, slow motion, pauses in the\n"
+    "video): data ignores it, so its frame times are those of [video] speed.\n"
     "Columns (SI units, angles in radians, positions relative to the pivot):\n"
     "  t,x,y,vx,vy,r,theta,r_dot,theta_dot,kinetic,spring,gravity,energy,\n"
     "  bounce,swing,work,pivot_y\n"
@@ -149,6 +151,7 @@ int sp_cmd_data(int argc, char **argv)
     if (ret)
         return ret > 0 ? 0 : ret;
     ret = sp_cli_load_scene(&o, &scene);
+    sp_scene_free(&scene); /* the [timeline] is presentation: data ignores it */
     if (!ret)
         ret = sp_cli_output_path(&o, &scene, ".csv", out, sizeof(out));
     if (ret)

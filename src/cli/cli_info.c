@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "cli.h"
+#include "springpend/timeline.h"
 #include "springpend/advice.h"
 #include "springpend/compare_report.h"
 #include "springpend/common.h"
@@ -24,11 +25,16 @@ static const char info_usage[] =
     "the motion reaches (a short dop853 probe of the run), the stability margin,\n"
     "whether the scene's dt completes the run, and a safe dt that does (checked\n"
     "by running it over video.duration, or its first 2e6 steps).\n"
+    "It also prints the video's length: video.duration / video.speed seconds, or,\n"
+    "with a [timeline] that changes the speed or pauses, how long its clock takes\n"
+    "to reach video.duration, pauses included (see 'springpend render --help'),\n"
+    "and its frames, round(length * fps).\n"
     "\n"
     "  --json   the same facts for scripts, SI units, null where none applies:\n"
     "           omega_spring, omega_pendulum, ratio, equilibrium_length,\n"
     "           exchange_rate, exchange_time, bounce_decay_time, swing_decay_time,\n"
-    "           drive_swing_growth, stability_margin, safe_dt, adaptive_method, ...\n"
+    "           drive_swing_growth, stability_margin, safe_dt, adaptive_method,\n"
+    "           video_length (s of video), video_frames, ...\n"
     "\n"
     "A close pass by the pivot (r < L0/2) is a pass to resolve (dt < d/v), not a rate to\n"
     "keep stable; where such passes make a fixed step impractical, info says so and\n"
@@ -142,8 +148,15 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
            in->e.kinetic, in->e.spring, in->e.gravity, in->e.total);
     printf("                   bounce %.6g J, swing %.6g J (bounce + swing = total - E_eq)\n",
            in->e.bounce, in->e.swing);
-    printf("  video            %g s at %g fps and speed %g: %d frames\n", sc->video.duration,
-           sc->video.fps, sc->video.speed, sp_scene_frame_count(sc));
+    if (sc->timeline && sc->timeline->clocked)
+        printf("  video            %g s of video: %g simulated s at %g fps, speed %g to %g "
+               "and pauses by the [timeline]: %d frames\n", sp_timeline_length(sc),
+               sc->video.duration, sc->video.fps, sc->timeline->speed_min,
+               sc->timeline->speed_max, sp_timeline_frames(sc));
+    else
+        printf("  video            %g s at %g fps and speed %g: %d frames, %g s of video\n",
+               sc->video.duration, sc->video.fps, sc->video.speed, sp_scene_frame_count(sc),
+               sp_timeline_length(sc));
     if (mi->adaptive) {
         printf("  integrator       %s, order %d, adaptive, tolerance %g, %s\n", mi->name,
                mi->order, sc->integrator.tolerance,
@@ -251,6 +264,8 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
     json_num("energy_total", in->e.total, 0);
     json_num("energy_bounce", in->e.bounce, 0);
     json_num("energy_swing", in->e.swing, 0);
+    json_num("video_length", sp_timeline_length(sc), 0);
+    printf("  \"video_frames\": %d,\n", sp_timeline_frames(sc));
     printf("  \"method\": \"%s\",\n", sp_method_info(sc->integrator.method)->name);
     json_num("dt", fixed ? sc->integrator.dt : NAN, 0);
     json_num("omega_max", fixed ? in->dt.omega_max : NAN, 0);
@@ -267,18 +282,31 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
     printf("}\n");
 }
 
+static int info_scene(const struct sp_cli_options *o, const struct sp_scene *sc);
+
 int sp_cmd_info(int argc, char **argv)
 {
     struct sp_cli_options o;
     struct sp_scene sc;
-    struct sp_sim sim;
-    struct info in = {.adaptive_checked = NAN};
     int ret = sp_cli_parse(&o, argc, argv, info_usage, SP_CLI_JSON);
     if (ret)
         return ret > 0 ? 0 : ret;
     ret = sp_cli_load_scene(&o, &sc);
     if (ret)
         return ret;
+    ret = info_scene(&o, &sc);
+    sp_scene_free(&sc);
+    return ret;
+}
+
+/* info on a loaded scene. */
+static int info_scene(const struct sp_cli_options *op, const struct sp_scene *scene)
+{
+    const struct sp_cli_options o = *op;
+    const struct sp_scene sc = *scene; /* shares the timeline: freed by the caller */
+    struct sp_sim sim;
+    struct info in = {.adaptive_checked = NAN};
+    int ret;
     sp_sim_init(&sim, &sc);
     sp_state_energy(&sim.p, &sim.s, &in.e);
     sp_params_physics(&sim.p, &in.ph);

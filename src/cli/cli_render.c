@@ -12,6 +12,7 @@
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
 #include "springpend/sim.h"
+#include "springpend/timeline.h"
 
 static const char render_usage[] =
     "usage: springpend render SCENE [-o OUTPUT] [options]\n"
@@ -44,13 +45,34 @@ static const char render_usage[] =
     "  --fps N                shorthand for video.fps\n"
     "  -q, --quiet            no progress line, no 'wrote' line\n"
     "  -v, --verbose          print where the time went, per stage\n"
-    "  -h, --help             this text\n";
+    "  -h, --help             this text\n"
+    "\n"
+    "The video's length. Without a [timeline] (or with captions only) it lasts\n"
+    "video.duration / video.speed s: N = round(duration * fps / speed) frames,\n"
+    "frame k showing simulated time k * speed / fps. A [timeline] of cues keyed by\n"
+    "simulated time (TIME = caption: TEXT | speed S | pause D[: NOTE]) runs a clock\n"
+    "instead: from video time 0 the speed (simulated s per video s) is video.speed;\n"
+    "'speed S' at T eases, from where the clock reaches T, from the speed s0 then\n"
+    "to S over 0.5 s of video as s0 + (S - s0) q(x), q(x) = 3x^2 - 2x^3, x the\n"
+    "share of the 0.5 s gone (covering 0.5 (s0 + S) / 2 simulated s; a speed cue\n"
+    "inside an ease starts a new one from the speed reached); 'pause D' holds the\n"
+    "clock at T for D s of video (an ease resumes after it). The video lasts until\n"
+    "the clock reaches video.duration, pauses included: N = round(length * fps)\n"
+    "frames, frame k at video time k / fps showing the simulated time the clock\n"
+    "gives there, computed for each frame in closed form (nothing summed, so no\n"
+    "drift). 'springpend info SCENE' prints the length. A caption fades out over\n"
+    "0.25 s of video and the next in over 0.25 s; a pause's note replaces the\n"
+    "caption for the pause. The layout (caption band, speed marker, panels) is\n"
+    "sized for the longest text the timeline shows and stays fixed; --frames and\n"
+    "--shard pieces join into the whole video.\n";
 
 static const char still_usage[] =
     "usage: springpend still SCENE [--at SECONDS] [-o OUTPUT.png|.svg|.pdf] [options]\n"
     "\n"
     "Renders one frame at simulated time SECONDS (default 0), integrating only up\n"
     "to it; the trail holds the positions at the video's frame times before it.\n"
+    "With a [timeline], the caption in force at SECONDS shows at full strength (a\n"
+    "pause's note, with the marker 'paused', when a pause is at SECONDS).\n"
     "Default output: out/<scene>.png. NAME.svg and NAME.pdf are vector figures of\n"
     "the same frame (cairo: real paths; the PDF keeps its text selectable).\n"
     "\n"
@@ -83,7 +105,7 @@ static int write_state(const char *path, const struct sp_scene *scene,
     struct sp_polar pol;
     struct sp_energy e;
     struct sp_outfile f;
-    int ret = sp_provenance_init(&prov, scene, NULL);
+    int ret = sp_provenance_init(&prov, scene, NULL, NULL);
     if (ret || (ret = sp_outfile_open(&f, path, SP_OUTFILE_STREAM)) != 0)
         return ret;
     sp_sim_init(&sim, scene); /* for the parameters and the initial energy */
@@ -182,21 +204,32 @@ static int run(int argc, char **argv, int still)
     if (!ret)
         ret = sp_cli_output_path(&o, &scene, still ? ".png" : ext, out, sizeof(out));
     /* a still too: its camera, trail and charts span the video's frames */
-    if (!ret && sp_scene_frame_count(&scene) > SP_MAX_VIDEO_FRAMES) {
+    const int clocked = scene.timeline && scene.timeline->clocked;
+    if (!ret && !clocked && sp_scene_frame_count(&scene) > SP_MAX_VIDEO_FRAMES) {
         sp_log_error("video.duration * video.fps / video.speed = %d frames; at most %d are "
                      "allowed in a video (about 4.6 hours at 60 fps)",
                      sp_scene_frame_count(&scene), SP_MAX_VIDEO_FRAMES);
         ret = SP_E_INPUT;
+    } else if (!ret && clocked && sp_timeline_length(&scene) * scene.video.fps > SP_MAX_VIDEO_FRAMES) {
+        sp_log_error("the [timeline]'s speeds and pauses make the video %g s long at %g fps: "
+                     "%.0f frames; at most %d are allowed in a video (about 4.6 hours at 60 fps)",
+                     sp_timeline_length(&scene), scene.video.fps,
+                     round(sp_timeline_length(&scene) * scene.video.fps), SP_MAX_VIDEO_FRAMES);
+        ret = SP_E_INPUT;
     }
     if (!ret && !still)
-        ret = sp_cli_frame_range(&o, sp_scene_frame_count(&scene), &first, &last);
+        ret = sp_cli_frame_range(&o, sp_timeline_frames(&scene), &first, &last);
     if (!ret && still)
         ret = check_still(&o, &scene, out);
-    double t_end = sp_scene_frame_time(&scene, sp_scene_frame_count(&scene) - 1);
+    struct sp_moment end;
     if (!ret)
-        ret = sp_cli_check_work(&o, &scene, still ? fmax(t_end, o.at) : t_end, 1);
-    if (ret)
+        sp_timeline_frame(&scene, sp_timeline_frames(&scene) - 1, &end);
+    if (!ret)
+        ret = sp_cli_check_work(&o, &scene, still ? fmax(end.t, o.at) : end.t, 1);
+    if (ret) {
+        sp_scene_free(&scene);
         return ret;
+    }
     struct sp_state state;
     ret = sp_pipeline_run(&(struct sp_pipeline_desc){
         .scene = &scene, .output = out, .format = still ? "png" : o.format,
@@ -204,6 +237,7 @@ static int run(int argc, char **argv, int still)
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
         .handle_signals = !still, .supersample = o.scale, .state_out = &state,
         .progress = !o.quiet && isatty(2)});
+    sp_scene_free(&scene);
     /* Both files or neither (a device or stdout is never removed). */
     if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0 &&
         !sp_outfile_is_stream(out))

@@ -62,6 +62,8 @@ static const char sweep_usage[] =
     "dop853 as dop853 at its tolerance, landing on every sample time).\n"
     "A point whose integration blows up is NaN in the CSV and the figure, and\n"
     "counted; the sweep goes on. Ctrl-C stops and writes nothing (exit 130).\n"
+    "The scene's [timeline] (captions, speed changes, pauses) is presentation for\n"
+    "render and still: sweep ignores it.\n"
     "\n"
     "options:\n"
     "  --vary KEY=FROM:TO:COUNT  a key to vary (one or two)\n"
@@ -679,6 +681,7 @@ int sp_cmd_sweep(int argc, char **argv)
     sp_scene_defaults(&scene);
     if ((ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
+    sp_scene_free(&scene); /* the [timeline] is presentation: sweeps ignore it */
     if ((ret = sp_sweep_check(&d, &scene, o.energy_given)))
         return ret;
     long total = sp_sweep_points(&d), first = 0, last = total;

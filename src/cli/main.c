@@ -8,6 +8,8 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/environment.h"
+#include "springpend/render.h"
 #include "signals.h"
 
 static const char usage[] =
@@ -102,7 +104,22 @@ int main(int argc, char **argv)
         fputs(usage, argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : exit_status(stdout_checked(0));
     }
-    if (!strcmp(argv[1], "--version")) {
+    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
+        /* --verbose: the environment every PNG records (environment.h),
+         * with the GL renderer a render would use. */
+        if (argc > 2 && !strcmp(argv[2], "--verbose") && argc == 3) {
+            char renderer[256], gl[256], env[SP_ENVIRONMENT_MAX];
+            int glerr = sp_render_probe(SP_GL_DEFAULT, renderer, sizeof(renderer), gl,
+                                        sizeof(gl));
+            sp_environment_text(env, sizeof(env), glerr ? NULL : renderer, glerr ? NULL : gl);
+            fputs(env, stdout);
+            return exit_status(stdout_checked(0));
+        }
+        if (argc > 2) {
+            sp_log_error("%s: unknown option '%s'; expected nothing or --verbose", argv[1],
+                         argv[2]);
+            return 2;
+        }
         puts("springpend " SP_VERSION);
         return exit_status(stdout_checked(0));
     }

@@ -1,12 +1,14 @@
 /* springpend: compare.ini, per-image tolerances and masks
  * (compare_config.h). libinih splits the lines; ini_lines.c counts them. */
 #include <errno.h>
+#include <fnmatch.h>
 #include <ini.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
@@ -82,12 +84,19 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
     double v;
     size_t n = strlen(value);
     if (!strcmp(name, "metric")) {
-        if (strcmp(value, "reftest") && strcmp(value, "rms")) {
-            snprintf(why, why_size, "metric %s: expected reftest or rms", value);
+        if (strcmp(value, "reftest") && strcmp(value, "rms") && strcmp(value, "pixelmatch")) {
+            snprintf(why, why_size, "metric %s: expected reftest, rms or pixelmatch", value);
             return SP_E_INPUT;
         }
-        o->metric = value[1] == 'm' ? SP_COMPARE_RMS : SP_COMPARE_REFTEST;
+        o->metric = value[1] == 'm' ? SP_COMPARE_RMS
+                    : value[0] == 'p' ? SP_COMPARE_PIXELMATCH : SP_COMPARE_REFTEST;
         r->set |= SP_COMPARE_SET_METRIC;
+    } else if (!strcmp(name, "threshold")) {
+        if ((wrong = read_number(value, 0, 1, 0, &v)))
+            return refuse(why, why_size, name, value, wrong,
+                          "a pixelmatch threshold from 0 to 1 (like 0.1)");
+        o->threshold = v == 0 ? SP_COMPARE_NONE : v;
+        r->set |= SP_COMPARE_SET_THRESHOLD;
     } else if (!strcmp(name, "max-diff") || !strcmp(name, "max_diff")) {
         if ((wrong = read_number(value, 0, 255, 1, &v)))
             return refuse(why, why_size, name, value, wrong,
@@ -124,7 +133,7 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
         r->masks[r->n_masks++] = m;
     } else {
         snprintf(why, why_size, "unknown key '%s'; keys: metric, max_diff, max_pixels, tol, "
-                 "mask", name);
+                 "threshold, mask", name);
         return SP_E_INPUT;
     }
     return 0;
@@ -224,14 +233,39 @@ static int handle(void *user, const char *section, const char *name, const char 
     return 1;
 }
 
+int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t size)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
+        return 0;
+    char *file = realpath(path, NULL), *in = realpath(dir, NULL);
+    size_t n = in ? strlen(in) : 0;
+    int out = !file || !in || strncmp(file, in, n) || file[n] != '/';
+    if (out && file) {
+        snprintf(to, size, "%s", file);
+    } else if (out) {
+        ssize_t len = readlink(path, to, size - 1);
+        to[len > 0 ? len : 0] = 0;
+    }
+    free(file);
+    free(in);
+    return out;
+}
+
 int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
 {
+    char to[4096];
     struct stat st;
     char *text = NULL;
     FILE *fp = NULL;
     int ret = 0;
     memset(cfg, 0, sizeof(*cfg));
     snprintf(cfg->path, sizeof(cfg->path), "%s/%s", dir, SP_COMPARE_CONFIG_NAME);
+    if (sp_compare_link_outside(cfg->path, dir, to, sizeof(to))) {
+        sp_log_error("%s is a link to %s, outside %s: not read; put the file itself there",
+                     cfg->path, to, dir);
+        return SP_E_INPUT;
+    }
     if (stat(cfg->path, &st) != 0) {
         cfg->path[0] = 0;
         return 0;
@@ -285,32 +319,77 @@ static void apply(const struct sp_compare_rule *r, struct sp_compare_opts *o)
         o->max_pixels = r->opts.max_pixels, o->max_fraction = r->opts.max_fraction;
     if (r->set & SP_COMPARE_SET_TOL)
         o->tol = r->opts.tol;
+    if (r->set & SP_COMPARE_SET_THRESHOLD)
+        o->threshold = r->opts.threshold;
+}
+
+/* A max_diff or tol as applied: NONE is 0, 0 the default. */
+static double level(double v, double dflt)
+{
+    return v == SP_COMPARE_NONE ? 0 : v > 0 ? v : dflt;
+}
+
+/* Keeps the command line's options (cli) where they are stricter than o's. */
+static void tighten(const struct sp_compare_rule *cli, struct sp_compare_opts *o)
+{
+    const struct sp_compare_opts *c = &cli->opts;
+    if (cli->set & SP_COMPARE_SET_METRIC)
+        o->metric = c->metric;
+    if ((cli->set & SP_COMPARE_SET_MAX_DIFF) &&
+        level(c->max_diff, SP_COMPARE_MAX_DIFF_DEFAULT) <
+            level(o->max_diff, SP_COMPARE_MAX_DIFF_DEFAULT))
+        o->max_diff = c->max_diff;
+    if ((cli->set & SP_COMPARE_SET_TOL) &&
+        level(c->tol, SP_COMPARE_TOL_DEFAULT) < level(o->tol, SP_COMPARE_TOL_DEFAULT))
+        o->tol = c->tol;
+    if ((cli->set & SP_COMPARE_SET_THRESHOLD) &&
+        level(c->threshold, SP_COMPARE_THRESHOLD_DEFAULT) <
+            level(o->threshold, SP_COMPARE_THRESHOLD_DEFAULT))
+        o->threshold = c->threshold;
+    if (cli->set & SP_COMPARE_SET_MAX_PIXELS) /* a count or a share: judged per image */
+        o->cap_pixels = c->max_pixels, o->cap_fraction = c->max_fraction;
+}
+
+/* How section `sect` applies to image `name` (relative path): 0 not at
+ * all, 1 [*], 2 a wildcard section, 3 the image's own section. */
+static int section_match(const char *sect, const char *name)
+{
+    const char *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
+    const char *target = strchr(sect, '/') ? name : base;
+    if (!strcmp(sect, "*"))
+        return 1;
+    if (!strcmp(sect, target))
+        return 3;
+    if (strpbrk(sect, "*?[") && fnmatch(sect, target, FNM_PATHNAME) == 0)
+        return 2;
+    return 0;
 }
 
 void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
-                               const struct sp_compare_opts *base,
+                               const struct sp_compare_rule *cli,
                                struct sp_compare_opts *opts,
-                               const struct sp_compare_mask **masks, int *n_masks,
-                               const struct sp_compare_mask **star_masks, int *n_star_masks)
+                               struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS],
+                               int *n_masks)
 {
-    struct sp_compare_rule *star = NULL, *own = NULL;
-    for (int i = 0; i < cfg->n_rules; i++) {
-        if (!strcmp(cfg->rules[i].name, "*"))
-            star = &cfg->rules[i];
-        else if (!strcmp(cfg->rules[i].name, name))
-            own = &cfg->rules[i];
-    }
-    *opts = *base;
-    if (own)
-        own->used = 1;
-    if (star)
-        apply(star, opts);
-    if (own)
-        apply(own, opts);
-    *masks = own ? own->masks : NULL;
-    *n_masks = own ? own->n_masks : 0;
-    *star_masks = star ? star->masks : NULL;
-    *n_star_masks = star ? star->n_masks : 0;
+    memset(opts, 0, sizeof(*opts));
+    *n_masks = 0;
+    apply(cli, opts); /* without compare.ini the command line decides */
+    for (int level = 1; level <= 3; level++)
+        for (int i = 0; i < cfg->n_rules; i++) {
+            struct sp_compare_rule *r = &cfg->rules[i];
+            if (section_match(r->name, name) != level)
+                continue;
+            if (level > 1)
+                __atomic_store_n(&r->used, 1, __ATOMIC_RELAXED); /* threads */
+            apply(r, opts);
+            for (int k = 0; k < r->n_masks && *n_masks < SP_COMPARE_RESOLVED_MASKS; k++)
+                masks[(*n_masks)++] = r->masks[k];
+        }
+    tighten(cli, opts);
+    opts->given = cli->set;
+    for (int i = 0; i < cfg->n_rules; i++)
+        if (section_match(cfg->rules[i].name, name))
+            opts->given |= cfg->rules[i].set;
 }
 
 void sp_compare_config_warn_unused(const struct sp_compare_config *cfg)

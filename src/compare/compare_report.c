@@ -33,6 +33,8 @@ struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
 
 void sp_compare_report_free(struct sp_compare_report *rep)
 {
+    for (int i = 0; i < rep->n; i++)
+        free(rep->records[i].before);
     free(rep->records);
     memset(rep, 0, sizeof(*rep));
 }
@@ -42,20 +44,47 @@ struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report 
     struct sp_compare_counts c = {0};
     for (int i = 0; i < rep->n; i++) {
         const struct sp_compare_record *r = &rep->records[i];
+        int resolved = r->update != SP_UPDATE_NONE;
+        c.records++;
         if (r->not_compared) {
             c.not_compared++;
             continue;
         }
-        c.compared++;
-        if (r->update != SP_UPDATE_NONE) {
-            c.updated++;
-            continue;
-        }
+        c.compared += r->compared;
         c.passed += r->verdict == SP_VERDICT_PASS;
         c.failed += r->verdict == SP_VERDICT_FAIL;
         c.errors += r->verdict == SP_VERDICT_ERROR;
+        c.updated += resolved;
+        c.unresolved_failed += r->verdict == SP_VERDICT_FAIL && !resolved;
+        c.unresolved_errors += r->verdict == SP_VERDICT_ERROR && !resolved;
     }
     return c;
+}
+
+int sp_compare_report_passes(const struct sp_compare_report *rep)
+{
+    struct sp_compare_counts c = sp_compare_report_count(rep);
+    return !c.unresolved_failed && !c.unresolved_errors && !rep->interrupted &&
+           !rep->problem[0];
+}
+
+/* The run's one-word status: ok, UPDATED (passes after --update changed
+ * baselines), INTERRUPTED or FAIL. */
+static const char *status_word(const struct sp_compare_report *rep)
+{
+    return rep->interrupted ? "INTERRUPTED" : !sp_compare_report_passes(rep) ? "FAIL"
+           : sp_compare_report_count(rep).updated ? "UPDATED" : "ok";
+}
+
+/* The summary line's figures (no newline). */
+static void summary_line(FILE *fp, const struct sp_compare_report *rep)
+{
+    struct sp_compare_counts c = sp_compare_report_count(rep);
+    fprintf(fp, "%s: %d compared, %d passed, %d failed, %d missing or unreadable, "
+            "%d updated", status_word(rep), c.compared, c.passed, c.failed, c.errors,
+            c.updated);
+    if (rep->problem[0])
+        fprintf(fp, "; %s", rep->problem);
 }
 
 static const char *update_word(enum sp_update_action u)
@@ -78,6 +107,16 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
                 r->expected_w, r->expected_h, r->actual_w, r->actual_h);
     } else if (r->exact) {
         fprintf(fp, "identical pixels (%ld, sha256 %.12s)", x->pixels, r->actual_sha256);
+    } else if (r->metric == SP_COMPARE_BLOCKS) {
+        fprintf(fp, "%ld of %ld blocks of %dx%d px differ by more than %d levels in their "
+                "mean (%ld allowed); largest difference %d; rms %.3f", x->differing, x->pixels,
+                SP_COMPARE_VIDEO_BLOCK, SP_COMPARE_VIDEO_BLOCK, x->max_diff, x->allowed,
+                x->max_channel_diff, x->rms);
+    } else if (r->metric == SP_COMPARE_PIXELMATCH) {
+        fprintf(fp, "%ld of %ld pixels differ (pixelmatch, threshold %g; %ld anti-aliased "
+                "pixels not counted) (%ld allowed); largest difference %d; rms %.3f",
+                x->differing, x->pixels, x->threshold, x->antialiased, x->allowed,
+                x->max_channel_diff, x->rms);
     } else {
         fprintf(fp, "%ld of %ld pixels differ by more than %d levels (%ld allowed); "
                 "largest difference %d; rms %.3f",
@@ -92,6 +131,8 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
     }
     if (r->masked_pixels)
         fprintf(fp, "; %ld pixels masked", r->masked_pixels);
+    if (r->baseline_key[0])
+        fprintf(fp, "; matched the alternative baseline for %s", r->baseline_key);
     if (r->diff[0])
         fprintf(fp, "; diff: %s", r->diff);
 }
@@ -147,6 +188,7 @@ static void printable_record(struct sp_compare_record *r)
 
 static void text_lines(FILE *fp, const struct sp_compare_report *rep, int quiet, int summary)
 {
+    char last_hint[sizeof(rep->records[0].hint)] = "";
     struct sp_compare_record *r = malloc(sizeof(*r));
     if (!r) {
         sp_log_error("out of memory for the comparison's text");
@@ -191,20 +233,23 @@ static void text_lines(FILE *fp, const struct sp_compare_report *rep, int quiet,
                     r->changes[k].expected, r->changes[k].actual);
         if (r->more_changes)
             fprintf(fp, "     scene: and %d more keys\n", r->more_changes);
-        if (r->hint[0])
+        /* A hint beneath its image, but not again when the one before said
+         * the same (the --update hint, for every missing image). */
+        if (r->hint[0] && strcmp(last_hint, r->hint))
             fprintf(fp, "     %s\n", r->hint);
+        if (r->hint[0])
+            memcpy(last_hint, r->hint, sizeof(last_hint));
         if (u)
             fprintf(fp, "%-8s %s\n", u, r->expected);
     }
     free(r);
-    struct sp_compare_counts c = sp_compare_report_count(rep);
-    if (summary)
-        fprintf(fp, "%s: %d compared, %d passed, %d failed, %d missing or unreadable, "
-                "%d updated\n", c.failed || c.errors || rep->interrupted ? "FAIL" : "ok",
-                c.compared, c.passed, c.failed, c.errors, c.updated);
-    if (rep->interrupted)
+    if (summary || rep->problem[0])
+        summary_line(fp, rep), fputc('\n', fp);
+    if (rep->interrupted) {
+        struct sp_compare_counts c = sp_compare_report_count(rep);
         fprintf(fp, "interrupted by %s after %d images; %d not compared\n",
-                sp_signal_name(rep->interrupted), c.compared, c.not_compared);
+                sp_signal_name(rep->interrupted), c.records - c.not_compared, c.not_compared);
+    }
 }
 
 void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
@@ -299,6 +344,7 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     fputs(", \"expected_pixels_sha256\": ", fp), json_maybe(fp, r->expected_sha256);
     fputs(", \"actual_pixels_sha256\": ", fp), json_maybe(fp, r->actual_sha256);
     if (r->compared && !r->size_mismatch) {
+        fprintf(fp, ", \"antialiased_pixels\": %ld", x->antialiased);
         fprintf(fp, ", \"pixels\": %ld, \"differing_pixels\": %ld, \"changed_pixels\": %ld, "
                 "\"masked_pixels\": %ld, \"max_channel_diff\": %d, \"rms\": ",
                 x->pixels, x->differing, x->changed, r->masked_pixels, x->max_channel_diff);
@@ -315,8 +361,12 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     if (r->compared && !r->size_mismatch) {
         fprintf(fp, ",\n     \"tolerance\": {\"metric\": \"%s\", \"max_channel_diff\": %d, "
                 "\"max_differing_pixels\": %ld, \"max_rms\": ",
-                r->metric == SP_COMPARE_RMS ? "rms" : "reftest", x->max_diff, x->allowed);
+                r->metric == SP_COMPARE_RMS ? "rms" : r->metric == SP_COMPARE_PIXELMATCH
+                ? "pixelmatch" : r->metric == SP_COMPARE_BLOCKS ? "blocks" : "reftest",
+                x->max_diff, x->allowed);
         json_number(fp, "%g", x->tol);
+        fputs(", \"threshold\": ", fp);
+        json_number(fp, "%g", x->threshold);
         fputs("}", fp);
     } else
         fputs(",\n     \"tolerance\": null", fp);
@@ -332,6 +382,10 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
         fputs(",\n     \"video\": null", fp);
     }
     fputs(", \"diff\": ", fp), json_maybe(fp, r->diff);
+    fprintf(fp, ", \"seconds\": %.6f, \"alternatives\": %d, \"baseline_key\": ",
+            r->seconds, r->n_alternatives);
+    json_maybe(fp, r->baseline_key);
+    fputs(", \"candidate\": ", fp), json_maybe(fp, r->candidate);
     fputs(", \"notes\": [", fp);
     for (int k = 0; k < r->n_notes; k++)
         fputs(k ? ", " : "", fp), sp_report_json_string(fp, r->notes[k]);
@@ -350,11 +404,14 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
 {
     struct sp_compare_counts c = sp_compare_report_count(rep);
     fprintf(fp, "{\"schema\": \"springpend-compare/1\", \"pass\": %s, \"interrupted\": %s,\n"
-            " \"counts\": {\"compared\": %d, \"passed\": %d, \"failed\": %d, \"errors\": %d, "
-            "\"updated\": %d, \"not_compared\": %d},\n \"results\": [\n",
-            c.failed || c.errors || rep->interrupted ? "false" : "true",
-            rep->interrupted ? "true" : "false", c.compared, c.passed, c.failed, c.errors,
-            c.updated, c.not_compared);
+            " \"problem\": ", sp_compare_report_passes(rep) ? "true" : "false",
+            rep->interrupted ? "true" : "false");
+    json_maybe(fp, rep->problem);
+    fprintf(fp, ",\n \"counts\": {\"images\": %d, \"compared\": %d, \"passed\": %d, "
+            "\"failed\": %d, \"errors\": %d, \"updated\": %d, \"unresolved\": %d, "
+            "\"not_compared\": %d},\n \"results\": [\n",
+            c.records, c.compared, c.passed, c.failed, c.errors, c.updated,
+            c.unresolved_failed + c.unresolved_errors, c.not_compared);
     for (int i = 0; i < rep->n; i++) {
         json_record(fp, &rep->records[i]);
         fputs(i + 1 < rep->n ? ",\n" : "\n", fp);
@@ -442,61 +499,165 @@ static void interrupted_line(const struct sp_compare_report *rep,
                              const struct sp_compare_counts *c, char *buf, size_t size)
 {
     snprintf(buf, size, "interrupted by %s after %d images; %d never compared: this is not "
-             "a pass", sp_signal_name(rep->interrupted), c->compared, c->not_compared);
+             "a pass", sp_signal_name(rep->interrupted), c->records - c->not_compared,
+             c->not_compared);
+}
+
+/* The folder part of a record's name ("" for a name without '/'). */
+static int folder_len(const struct sp_compare_record *r)
+{
+    const char *slash = strrchr(r->name, '/');
+    return slash ? (int)(slash - r->name) : 0;
+}
+
+/* 1 when records a and b belong to the same JUnit suite (folder). */
+static int same_suite(const struct sp_compare_record *a, const struct sp_compare_record *b)
+{
+    int n = folder_len(a);
+    return n == folder_len(b) && !strncmp(a->name, b->name, (size_t)n);
+}
+
+/* A suite's name: rep's suite (the EXPECTED folder), then the subfolder;
+ * r NULL: rep's suite alone. */
+static void suite_name(FILE *fp, const struct sp_compare_report *rep,
+                       const struct sp_compare_record *r)
+{
+    char name[4096 + 300];
+    int n = r ? folder_len(r) : 0;
+    snprintf(name, sizeof(name), "%s%s%.*s", rep->suite ? rep->suite : "springpend compare",
+             n ? "/" : "", n, r ? r->name : "");
+    xml_string(fp, name, XML_NO_DIRECTIVES);
+}
+
+static void junit_case(FILE *fp, const struct sp_compare_report *rep,
+                       const struct sp_compare_record *r)
+{
+    char line[4096];
+    const char *u = update_word(r->update);
+    record_line(r, line, sizeof(line));
+    fputs("    <testcase classname=\"", fp);
+    suite_name(fp, rep, r);
+    fputs("\" name=\"", fp);
+    xml_string(fp, r->name + folder_len(r) + (folder_len(r) > 0), XML_NO_DIRECTIVES);
+    fprintf(fp, "\" time=\"%.6f\">\n", r->seconds);
+    if (r->not_compared) {
+        fputs("      <skipped message=\"", fp);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
+        fputs("\"/>\n    </testcase>\n", fp);
+        return;
+    }
+    if (r->verdict != SP_VERDICT_PASS && r->update == SP_UPDATE_NONE) {
+        const char *tag = r->verdict == SP_VERDICT_FAIL ? "failure" : "error";
+        fprintf(fp, "      <%s message=\"", tag);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
+        fprintf(fp, "\" type=\"%s\">", r->size_mismatch ? "size" : tag);
+        xml_string(fp, line, XML_NO_DIRECTIVES);
+        if (r->hint[0])
+            fputs("\n", fp), xml_string(fp, r->hint, XML_NO_DIRECTIVES);
+        fprintf(fp, "</%s>\n", tag);
+    }
+    fputs("      <system-out>", fp);
+    if (u) { /* what --update did, first: a reader sees why a failure passed */
+        fprintf(fp, "%s baseline ", u);
+        xml_string(fp, r->expected, XML_NO_DIRECTIVES);
+        fprintf(fp, " (verdict before the update: %s)\n", verdict_word(r->verdict));
+    }
+    xml_string(fp, line, XML_NO_DIRECTIVES);
+    /* GitLab and Jenkins attach this file; a path that could end the
+     * directive early is named in the line above only. */
+    if (r->diff[0] && attachable(r->diff))
+        fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff, XML_PLAIN), fputs("]]", fp);
+    fputs("</system-out>\n    </testcase>\n", fp);
+}
+
+/* A suite of one test case that errs: the run's problem or interruption. */
+static void junit_run_error(FILE *fp, const struct sp_compare_report *rep, const char *name,
+                            const char *type, const char *line)
+{
+    fputs("  <testsuite name=\"", fp);
+    suite_name(fp, rep, NULL);
+    fprintf(fp, "\" tests=\"1\" failures=\"0\" errors=\"1\" skipped=\"0\" time=\"0\">\n"
+            "    <testcase classname=\"springpend.compare\" name=\"%s\" time=\"0\">\n"
+            "      <error type=\"%s\" message=\"", name, type);
+    xml_string(fp, line, XML_NO_DIRECTIVES);
+    fputs("\">", fp);
+    xml_string(fp, line, XML_NO_DIRECTIVES);
+    fputs("</error>\n    </testcase>\n  </testsuite>\n", fp);
 }
 
 void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep)
 {
     struct sp_compare_counts c = sp_compare_report_count(rep);
     char line[2048];
-    int tests = c.compared + c.not_compared + !!rep->interrupted;
-    int errors = c.errors + !!rep->interrupted;
-    fprintf(fp, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-            "<testsuites name=\"springpend compare\" tests=\"%d\" failures=\"%d\" "
-            "errors=\"%d\" skipped=\"%d\">\n"
-            "  <testsuite name=\"springpend compare\" tests=\"%d\" failures=\"%d\" "
-            "errors=\"%d\" skipped=\"%d\">\n",
-            tests, c.failed, errors, c.not_compared, tests, c.failed, errors, c.not_compared);
+    double total = 0;
+    int extra = !!rep->problem[0] + !!rep->interrupted; /* run-level errors */
+    for (int i = 0; i < rep->n; i++)
+        total += rep->records[i].seconds;
+    fputs("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"", fp);
+    suite_name(fp, rep, NULL);
+    fprintf(fp, "\" tests=\"%d\" failures=\"%d\" errors=\"%d\" skipped=\"%d\" "
+            "time=\"%.6f\">\n", c.records + extra, c.unresolved_failed,
+            c.unresolved_errors + extra, c.not_compared, total);
+    if (rep->problem[0]) /* no images at all: an error a test reporter shows */
+        junit_run_error(fp, rep, "(images)", "error", rep->problem);
     if (rep->interrupted) {
         interrupted_line(rep, &c, line, sizeof(line));
-        fputs("    <testcase classname=\"springpend.compare\" name=\"(interrupted)\">\n"
-              "      <error type=\"interrupted\" message=\"", fp);
-        xml_string(fp, line, XML_NO_DIRECTIVES);
-        fputs("\">", fp);
-        xml_string(fp, line, XML_NO_DIRECTIVES);
-        fputs("</error>\n    </testcase>\n", fp);
+        junit_run_error(fp, rep, "(interrupted)", "interrupted", line);
     }
+    /* A suite per folder, in the order the folders first appear. */
     for (int i = 0; i < rep->n; i++) {
-        const struct sp_compare_record *r = &rep->records[i];
-        record_line(r, line, sizeof(line));
-        fputs("    <testcase classname=\"springpend.compare\" name=\"", fp);
-        xml_string(fp, r->name, XML_NO_DIRECTIVES);
-        fputs("\">\n", fp);
-        if (r->not_compared) {
-            fputs("      <skipped message=\"", fp);
-            xml_string(fp, line, XML_NO_DIRECTIVES);
-            fputs("\"/>\n    </testcase>\n", fp);
+        const struct sp_compare_record *first = &rep->records[i];
+        int seen = 0, tests = 0, failures = 0, errors = 0, skipped = 0;
+        double t = 0;
+        for (int k = 0; k < i && !seen; k++)
+            seen = same_suite(&rep->records[k], first);
+        if (seen)
             continue;
+        for (int k = i; k < rep->n; k++) {
+            const struct sp_compare_record *r = &rep->records[k];
+            if (!same_suite(r, first))
+                continue;
+            tests++, t += r->seconds;
+            skipped += r->not_compared;
+            failures += !r->not_compared && r->verdict == SP_VERDICT_FAIL &&
+                        r->update == SP_UPDATE_NONE;
+            errors += !r->not_compared && r->verdict == SP_VERDICT_ERROR &&
+                      r->update == SP_UPDATE_NONE;
         }
-        if (r->verdict != SP_VERDICT_PASS && r->update == SP_UPDATE_NONE) {
-            const char *tag = r->verdict == SP_VERDICT_FAIL ? "failure" : "error";
-            fprintf(fp, "      <%s message=\"", tag);
-            xml_string(fp, line, XML_NO_DIRECTIVES);
-            fprintf(fp, "\" type=\"%s\">", r->size_mismatch ? "size" : tag);
-            xml_string(fp, line, XML_NO_DIRECTIVES);
-            if (r->hint[0])
-                fputs("\n", fp), xml_string(fp, r->hint, XML_NO_DIRECTIVES);
-            fprintf(fp, "</%s>\n", tag);
-        }
-        fputs("      <system-out>", fp);
-        xml_string(fp, line, XML_NO_DIRECTIVES);
-        /* GitLab and Jenkins attach this file; a path that could end the
-         * directive early is named in the line above only. */
-        if (r->diff[0] && attachable(r->diff))
-            fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff, XML_PLAIN), fputs("]]", fp);
-        fputs("</system-out>\n    </testcase>\n", fp);
+        fputs("  <testsuite name=\"", fp);
+        suite_name(fp, rep, first);
+        fprintf(fp, "\" tests=\"%d\" failures=\"%d\" errors=\"%d\" skipped=\"%d\" "
+                "time=\"%.6f\">\n", tests, failures, errors, skipped, t);
+        for (int k = i; k < rep->n; k++)
+            if (same_suite(&rep->records[k], first))
+                junit_case(fp, rep, &rep->records[k]);
+        fputs("  </testsuite>\n", fp);
     }
-    fputs("  </testsuite>\n</testsuites>\n", fp);
+    fputs("</testsuites>\n", fp);
+}
+
+/* Writes n bytes as base64. Returns 0, or SP_E_IO when a write failed
+ * (the caller reports the stream's error). */
+static int base64(FILE *fp, const unsigned char *in, size_t n)
+{
+    static const char b64[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    char out[4 * 1024];
+    size_t o = 0;
+    for (size_t i = 0; i < n; i += 3) {
+        unsigned v = (unsigned)in[i] << 16 | (i + 1 < n ? in[i + 1] << 8 : 0) |
+                     (i + 2 < n ? in[i + 2] : 0);
+        out[o++] = b64[v >> 18 & 63];
+        out[o++] = b64[v >> 12 & 63];
+        out[o++] = i + 1 < n ? b64[v >> 6 & 63] : '=';
+        out[o++] = i + 2 < n ? b64[v & 63] : '=';
+        if (o == sizeof(out)) {
+            if (fwrite(out, 1, o, fp) != o)
+                return SP_E_IO;
+            o = 0;
+        }
+    }
+    return fwrite(out, 1, o, fp) == o ? 0 : SP_E_IO;
 }
 
 /* A PNG larger than this is named in the report, not embedded, bytes. */
@@ -510,11 +671,8 @@ void sp_compare_report_junit(FILE *fp, const struct sp_compare_report *rep)
  * failed. */
 static int data_url(FILE *fp, const char *head, const char *path, const char **why)
 {
-    static const char b64[] =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     unsigned char in[3 * 1024];
-    char out[4 * 1024];
     struct stat st;
     int err = 0;
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
@@ -544,17 +702,7 @@ static int data_url(FILE *fp, const char *head, const char *path, const char **w
             break;
         }
         left -= n;
-        size_t o = 0, m = (size_t)n;
-        for (size_t i = 0; i < m; i += 3) {
-            unsigned v = (unsigned)in[i] << 16 | (i + 1 < m ? in[i + 1] << 8 : 0) |
-                         (i + 2 < m ? in[i + 2] : 0);
-            out[o++] = b64[v >> 18 & 63];
-            out[o++] = b64[v >> 12 & 63];
-            out[o++] = i + 1 < m ? b64[v >> 6 & 63] : '=';
-            out[o++] = i + 2 < m ? b64[v & 63] : '=';
-        }
-        if (fwrite(out, 1, o, fp) != o)
-            err = SP_E_IO; /* the caller reports the stream's error */
+        err = base64(fp, in, (size_t)n);
     }
     close(fd);
     return err;
@@ -582,13 +730,41 @@ static void url_path(FILE *fp, const char *path)
 }
 
 /* One image cell: an embedded PNG when is_png said it was read as one (and
- * data_url agrees), a link for a video, else the path and why it is not
- * shown. Returns 0 or SP_E_IO. */
-static int html_image(FILE *fp, const char *cls, const char *path, int is_png)
+ * data_url agrees), or bytes (a replaced baseline's, read as a PNG before it
+ * was replaced) when not NULL, a link for a video, else the path and why it
+ * is not shown. Returns 0 or SP_E_IO. */
+/* compare.ini's masks over an image of w x h px, as boxes placed in percent
+ * of its size (so they follow the zoom). */
+static void html_masks(FILE *fp, const struct sp_compare_record *r, int w, int h)
+{
+    for (int k = 0; k < r->n_masks && w > 0 && h > 0; k++) {
+        const struct sp_compare_mask *m = &r->masks[k];
+        fprintf(fp, "<div class=\"mask\" title=\"masked: %d, %d, %d, %d\" style=\"left:%.4f%%;"
+                "top:%.4f%%;width:%.4f%%;height:%.4f%%\"></div>", m->x, m->y, m->w, m->h,
+                100.0 * m->x / w, 100.0 * m->y / h,
+                100.0 * (m->x + m->w > w ? w - m->x : m->w) / w,
+                100.0 * (m->y + m->h > h ? h - m->y : m->h) / h);
+    }
+}
+
+static int html_image(FILE *fp, const char *cls, const char *path, int is_png,
+                      const unsigned char *bytes, size_t size,
+                      const struct sp_compare_record *r)
 {
     size_t n = strlen(path);
     const char *why = "not read as an image";
     int err = 0;
+    if (bytes && is_png && size > 8 && !memcmp(bytes, "\x89PNG\r\n\x1a\n", 8)) {
+        fprintf(fp, "<td class=\"%s\"><div class=\"pic\"><img alt=\"%s\" "
+                "src=\"data:image/png;base64,", cls, cls);
+        if ((err = base64(fp, bytes, size)) != 0)
+            return err;
+        fputs("\">", fp);
+        html_masks(fp, r, r->expected_w, r->expected_h);
+        fputs("</div><div class=\"replaced\">the baseline as it was; replaced by the "
+              "actual image</div></td>", fp);
+        return 0;
+    }
     if (!path[0]) {
         fprintf(fp, "<td class=\"%s none\">none</td>", cls);
         return 0;
@@ -603,11 +779,14 @@ static int html_image(FILE *fp, const char *cls, const char *path, int is_png)
     }
     if (is_png) {
         char head[128];
-        snprintf(head, sizeof(head), "<td class=\"%s\"><img alt=\"%s\" src=\"", cls, cls);
+        snprintf(head, sizeof(head), "<td class=\"%s\"><div class=\"pic\"><img alt=\"%s\" "
+                 "src=\"", cls, cls);
         if ((err = data_url(fp, head, path, &why)) != 0)
             return err;
         if (!why) {
-            fputs("\"></td>", fp);
+            fputs("\">", fp);
+            html_masks(fp, r, r->expected_w, r->expected_h);
+            fputs("</div></td>", fp);
             return 0;
         }
     }
@@ -619,25 +798,42 @@ static int html_image(FILE *fp, const char *cls, const char *path, int is_png)
 
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
 {
-    struct sp_compare_counts c = sp_compare_report_count(rep);
-    char line[2048];
+    char line[4096];
     fputs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
           "<title>springpend compare</title>\n<style>\n"
           "body{font:14px/1.4 sans-serif;margin:1em;background:#fafafa;color:#222}\n"
           "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:6px;"
           "vertical-align:top;text-align:left}\n"
-          "img{max-width:280px;image-rendering:pixelated;display:block;background:"
+          ".pic{position:relative;display:inline-block}.pic img{display:block}\n"
+          ".mask{position:absolute;box-sizing:border-box;border:2px dashed #0a0;"
+          "background:rgba(0,170,0,.18);pointer-events:none}\n"
+          "td.expected,td.actual,td.diff,td.flipcell{max-width:45vw;overflow:auto}\n"
+          "#zoom button.on{font-weight:bold}\n"
+          "img{image-rendering:pixelated;display:block;background:"
           "repeating-conic-gradient(#ddd 0 25%,#fff 0 50%) 0 0/16px 16px}\n"
           ".v-fail{background:#fde0e0}.v-error{background:#fff0c0}.v-pass{background:#e4f6e4}\n"
+          ".update,.replaced{font-weight:bold;color:#a04000}\n"
           ".v-not-compared{background:#e8e8e8}#interrupted{font-weight:bold;color:#a00}\n"
           ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;font-size:12px;word-break:break-word}.none{color:#999}\n"
-          "</style></head><body>\n<h1>springpend compare</h1>\n", fp);
-    fprintf(fp, "<p id=\"summary\">%s: %d compared, %d passed, %d failed, %d missing or "
-            "unreadable, %d updated%s</p>\n",
-            rep->interrupted ? "INTERRUPTED" : c.failed || c.errors ? "FAIL" : "ok",
-            c.compared, c.passed, c.failed, c.errors, c.updated,
-            rep->interrupted ? ", the rest never compared" : "");
+          "</style></head><body>\n<h1>springpend compare</h1>\n"
+          "<p id=\"zoom\">images at <button type=\"button\" data-z=\"1\" class=\"on\">1&times;"
+          "</button> <button type=\"button\" data-z=\"2\">2&times;</button> <button "
+          "type=\"button\" data-z=\"4\">4&times;</button> <button type=\"button\" "
+          "data-z=\"8\">8&times;</button> <button type=\"button\" data-z=\"0\">fit</button>"
+          " (pixels stay sharp; compare.ini's masks are the dashed green boxes)</p>\n", fp);
+    fputs("<p id=\"summary\">", fp);
+    {
+        char sum[1024];
+        FILE *m = fmemopen(sum, sizeof(sum), "w");
+        sum[0] = 0;
+        if (m)
+            summary_line(m, rep), fclose(m);
+        sum[sizeof(sum) - 1] = 0;
+        xml_string(fp, sum, XML_PLAIN);
+    }
+    fputs(rep->interrupted ? ", the rest never compared</p>\n" : "</p>\n", fp);
     if (rep->interrupted) {
+        struct sp_compare_counts c = sp_compare_report_count(rep);
         interrupted_line(rep, &c, line, sizeof(line));
         fputs("<p id=\"interrupted\">", fp);
         xml_string(fp, line, XML_PLAIN);
@@ -645,27 +841,46 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
     }
     fputs("<table>\n<tr><th>image, verdict, figures</th><th>expected</th><th>actual</th><th>diff</th>"
           "<th>flip</th></tr>\n", fp);
+    int hidden = 0;
     for (int rank = 0; rank < 4; rank++)
         for (int i = 0; i < rep->n && !ferror(fp); i++) {
             const struct sp_compare_record *r = &rep->records[i];
             const char *v = r->not_compared ? "not-compared" : verdict_word(r->verdict);
             if (row_rank(r) != rank)
                 continue;
+            if (rep->failures_only && rank == 3 && r->update == SP_UPDATE_NONE) {
+                hidden++; /* --report-failures-only */
+                continue;
+            }
             record_line(r, line, sizeof(line));
             fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">", v);
             xml_string(fp, r->name, XML_PLAIN);
             fprintf(fp, "</div><div class=\"verdict\">%s</div>",
                     r->not_compared ? "not compared" : v);
+            if (update_word(r->update)) {
+                fprintf(fp, "<div class=\"update\">%s: ", update_word(r->update));
+                xml_string(fp, r->expected, XML_PLAIN);
+                fputs("</div>", fp);
+            }
             xml_string(fp, line, XML_PLAIN);
             if (r->hint[0])
                 fputs("<br>", fp), xml_string(fp, r->hint, XML_PLAIN);
             fputs("</td>", fp);
-            if (html_image(fp, "expected", r->expected, r->expected_png) ||
-                html_image(fp, "actual", r->actual, r->actual_png) ||
-                html_image(fp, "diff", r->diff, r->diff[0] != 0))
+            /* Identical pixels: the image once, not twice. */
+            int same = r->exact && !r->before;
+            if (html_image(fp, "expected", r->expected, r->expected_png, r->before,
+                           r->before_size, r))
+                return SP_E_IO;
+            if (same) {
+                fprintf(fp, "<td class=\"actual same\">identical pixels to the expected "
+                        "image (sha256 %.12s&hellip;)</td>", r->actual_sha256);
+            } else if (html_image(fp, "actual", r->actual, r->actual_png, NULL, 0, r)) {
+                return SP_E_IO;
+            }
+            if (html_image(fp, "diff", r->diff, r->diff[0] != 0, NULL, 0, r))
                 return SP_E_IO;
             /* The flip cell needs both images embedded. */
-            if (r->expected_png && r->actual_png && r->frames == 0)
+            if (r->expected_png && r->actual_png && r->frames == 0 && !same)
                 fputs("<td class=\"flipcell\"><button class=\"flip\" type=\"button\">"
                       "show expected</button><img class=\"flipimg\" alt=\"actual\" src=\"\">"
                       "<div class=\"showing\">actual</div></td>", fp);
@@ -677,7 +892,11 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
      * the image) swaps in the expected one, so a change blinks in place.
      * #flip in the URL flips every row once, for a quick look. A row whose
      * image was not embedded has no flip. */
-    fputs("</table>\n<script>\n"
+    fputs("</table>\n", fp);
+    if (hidden)
+        fprintf(fp, "<p id=\"hidden\">%d passing image%s not shown "
+                "(--report-failures-only)</p>\n", hidden, hidden == 1 ? "" : "s");
+    fputs("<script>\n"
           "for (const td of document.querySelectorAll('td.flipcell')) {\n"
           "  const row = td.parentElement, img = td.querySelector('img');\n"
           "  const b = td.querySelector('button'), label = td.querySelector('.showing');\n"
@@ -691,6 +910,110 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           "  b.addEventListener('click', flip); img.addEventListener('click', flip);\n"
           "  show('actual');\n"
           "  if (location.hash == '#flip') flip();\n"
-          "}\n</script>\n</body></html>\n", fp);
+          "}\n"
+          "/* Zoom: every image at its own size times z, or fitted (z 0). */\n"
+          "const setZoom = z => {\n"
+          "  for (const im of document.querySelectorAll('.pic img, img.flipimg')) {\n"
+          "    im.style.width = z ? im.naturalWidth * z + 'px' : '';\n"
+          "    im.style.maxWidth = z ? 'none' : '280px'; }\n"
+          "  for (const b of document.querySelectorAll('#zoom button'))\n"
+          "    b.classList.toggle('on', +b.dataset.z == z); };\n"
+          "for (const b of document.querySelectorAll('#zoom button'))\n"
+          "  b.addEventListener('click', () => setZoom(+b.dataset.z));\n"
+          "</script>\n</body></html>\n", fp);
     return ferror(fp) ? SP_E_IO : 0;
+}
+
+/* s inside a Markdown table cell: what Markdown or HTML would read as
+ * markup escaped, a newline as a space. */
+static void md_cell(FILE *fp, const char *s)
+{
+    for (size_t n; *s; s += n ? n : 1) {
+        n = sp_utf8_char(s);
+        if (!n || (unsigned char)*s < 0x20)
+            fputc(n ? ' ' : '?', fp);
+        else if (*s == '<')
+            fputs("&lt;", fp);
+        else if (*s == '>')
+            fputs("&gt;", fp);
+        else if (*s == '&')
+            fputs("&amp;", fp);
+        else if (strchr("|\\`*_[]#!", *s))
+            fprintf(fp, "\\%c", *s);
+        else
+            fwrite(s, 1, n, fp);
+    }
+}
+
+/* What was measured and what was allowed, for the summary's table. */
+static void md_figures(FILE *fp, const struct sp_compare_record *r)
+{
+    const struct sp_compare_result *x = &r->result;
+    char m[256] = "", a[128] = "";
+    if (r->verdict == SP_VERDICT_ERROR || !r->compared) {
+        fputs(" | ", fp), md_cell(fp, r->error), fputs(" | |", fp);
+        return;
+    }
+    if (r->size_mismatch) {
+        snprintf(m, sizeof(m), "%dx%d, expected %dx%d", r->actual_w, r->actual_h,
+                 r->expected_w, r->expected_h);
+        snprintf(a, sizeof(a), "the same size");
+    } else if (r->metric == SP_COMPARE_PIXELMATCH) {
+        snprintf(m, sizeof(m), "%ld px differ (pixelmatch, threshold %g)", x->differing,
+                 x->threshold);
+        snprintf(a, sizeof(a), "%ld px", x->allowed);
+    } else if (r->metric == SP_COMPARE_RMS) {
+        snprintf(m, sizeof(m), "rms %.3f", x->rms);
+        snprintf(a, sizeof(a), "rms ≤ %g", x->tol);
+    } else {
+        snprintf(m, sizeof(m), "%ld %s differ by > %d levels (largest %d)", x->differing,
+                 r->metric == SP_COMPARE_BLOCKS ? "8x8 blocks" : "px", x->max_diff,
+                 x->max_channel_diff);
+        snprintf(a, sizeof(a), "%ld %s", x->allowed,
+                 r->metric == SP_COMPARE_BLOCKS ? "blocks" : "px");
+    }
+    fputs(" | ", fp);
+    if (r->frames > 0)
+        fprintf(fp, "%d of %d frames; worst frame %d: ", r->failed_frames, r->frames,
+                r->worst_frame);
+    md_cell(fp, m);
+    fputs(" | ", fp), md_cell(fp, a), fputs(" |", fp);
+}
+
+void sp_compare_report_markdown(FILE *fp, const struct sp_compare_report *rep)
+{
+    struct sp_compare_counts c = sp_compare_report_count(rep);
+    const int max_rows = 50;
+    int rows = 0, more = 0;
+    fprintf(fp, "### springpend compare: %s\n\n", status_word(rep));
+    fprintf(fp, "%d images: %d compared, %d passed, %d failed, %d missing or unreadable, "
+            "%d updated", c.records, c.compared, c.passed, c.failed, c.errors, c.updated);
+    if (c.not_compared)
+        fprintf(fp, ", %d not compared (interrupted)", c.not_compared);
+    fputs(".\n", fp);
+    if (rep->problem[0])
+        fputs("\n", fp), md_cell(fp, rep->problem), fputs("\n", fp);
+    for (int i = 0; i < rep->n; i++) {
+        const struct sp_compare_record *r = &rep->records[i];
+        if (r->verdict == SP_VERDICT_PASS || r->update != SP_UPDATE_NONE || r->not_compared)
+            continue;
+        if (rows == max_rows) {
+            more++;
+            continue;
+        }
+        if (!rows++)
+            fputs("\n| image | verdict | measured | allowed |\n|---|---|---|---|\n", fp);
+        fputs("| ", fp), md_cell(fp, r->name);
+        fprintf(fp, " | %s", verdict_word(r->verdict));
+        md_figures(fp, r);
+        fputc('\n', fp);
+    }
+    if (more)
+        fprintf(fp, "\nand %d more failures and errors: see the report.\n", more);
+    if (rep->report_path) {
+        fputs("\nReport: `", fp);
+        for (const char *p = rep->report_path; *p; p++)
+            fputc(*p == '`' || (unsigned char)*p < 0x20 ? '?' : *p, fp);
+        fputs("` (expected, actual and diff side by side).\n", fp);
+    }
 }

@@ -21,6 +21,14 @@ static void resolve(const struct sp_compare_opts *o, long pixels, struct sp_comp
     else
         res->allowed = (long)floor(
             (o->max_fraction > 0 ? o->max_fraction : SP_COMPARE_MAX_FRACTION_DEFAULT) * pixels);
+    if (o->cap_pixels || o->cap_fraction > 0) {
+        long cap = o->cap_pixels == SP_COMPARE_NONE ? 0
+                   : o->cap_pixels > 0 ? o->cap_pixels
+                                       : (long)floor(o->cap_fraction * pixels);
+        res->allowed = cap < res->allowed ? cap : res->allowed;
+    }
+    res->threshold = o->threshold == SP_COMPARE_NONE ? 0
+                     : o->threshold > 0 ? o->threshold : SP_COMPARE_THRESHOLD_DEFAULT;
     res->tol = o->tol == SP_COMPARE_NONE ? 0 : o->tol > 0 ? o->tol : SP_COMPARE_TOL_DEFAULT;
 }
 
@@ -63,6 +71,16 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
     res->pixels = (long)e->width * e->height;
     resolve(opts, res->pixels, res);
     res->bbox[0] = res->bbox[1] = res->bbox[2] = res->bbox[3] = -1;
+    uint8_t *marks = NULL; /* pixelmatch's verdict per pixel */
+    if (opts->metric == SP_COMPARE_PIXELMATCH) {
+        if (!(marks = malloc((size_t)res->pixels))) {
+            sp_log_error("out of memory comparing two %dx%d images", e->width, e->height);
+            if (diff)
+                sp_image_free(diff);
+            return SP_E_NOMEM;
+        }
+        sp_compare_pixelmatch(e, a, res->threshold, 0, marks);
+    }
 
     for (int y = 0; y < e->height; y++) {
         const uint8_t *p = e->pixels + (size_t)y * e->stride;
@@ -80,8 +98,9 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
             opaque &= p[3] == 255 && q[3] == 255;
             if (m > res->max_channel_diff)
                 res->max_channel_diff = m;
-            int level = m > res->max_diff ? 2 : m > 0;
-            res->changed += level > 0;
+            int level = marks ? marks[(size_t)y * e->width + x] : m > res->max_diff ? 2 : m > 0;
+            res->antialiased += level == 1 && marks;
+            res->changed += m > 0;
             if (level == 2) {
                 if (!res->differing++) {
                     res->bbox[0] = res->bbox[2] = x;
@@ -98,6 +117,7 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
     /* matplotlib drops alpha only when both images are fully opaque. */
     res->rms = opaque ? sqrt(sum_rgb / (3.0 * res->pixels))
                       : sqrt((sum_rgb + sum_a) / (4.0 * res->pixels));
+    free(marks);
     if (opts->metric == SP_COMPARE_RMS)
         res->pass = res->rms <= res->tol;
     else
@@ -267,5 +287,28 @@ int sp_compare_size_diff(const struct sp_image *e, const struct sp_image *a,
         }
     blit_marked(diff, 0, e, a->width, a->height);
     blit_marked(diff, e->width + 8, a, e->width, e->height);
+    return 0;
+}
+
+int sp_compare_block_means(const struct sp_image *img, int block, struct sp_image *out)
+{
+    int w = (img->width + block - 1) / block, h = (img->height + block - 1) / block;
+    int err = sp_image_alloc(out, w, h);
+    if (err)
+        return err;
+    for (int by = 0; by < h; by++)
+        for (int bx = 0; bx < w; bx++) {
+            unsigned sum[4] = {0};
+            int n = 0;
+            for (int y = by * block; y < (by + 1) * block && y < img->height; y++) {
+                const uint8_t *p = img->pixels + (size_t)y * img->stride + 4 * (size_t)bx * block;
+                for (int x = bx * block; x < (bx + 1) * block && x < img->width; x++, p += 4, n++)
+                    for (int c = 0; c < 4; c++)
+                        sum[c] += p[c];
+            }
+            uint8_t *d = out->pixels + (size_t)by * out->stride + 4 * (size_t)bx;
+            for (int c = 0; c < 4; c++)
+                d[c] = (uint8_t)((sum[c] + (unsigned)n / 2) / (unsigned)n);
+        }
     return 0;
 }

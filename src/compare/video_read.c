@@ -151,3 +151,18 @@ void sp_video_reader_destroy(struct sp_video_reader **rp)
     free(r);
     *rp = NULL;
 }
+
+int sp_video_read_text(const char *path, const char *key, char *buf, size_t size)
+{
+    AVFormatContext *fmt = NULL;
+    const AVDictionaryEntry *e;
+    int found = 0;
+    if (avformat_open_input(&fmt, path, NULL, NULL) < 0)
+        return SP_E_INPUT;
+    if ((e = av_dict_get(fmt->metadata, key, NULL, 0)) != NULL) {
+        snprintf(buf, size, "%s", e->value);
+        found = 1;
+    }
+    avformat_close_input(&fmt);
+    return found;
+}

@@ -34,3 +34,10 @@ void sp_video_reader_destroy(struct sp_video_reader **r)
     if (destroy_fn)
         destroy_fn(r);
 }
+
+int sp_video_read_text(const char *path, const char *key, char *buf, size_t size)
+{
+    int (*fn)(const char *, const char *, char *, size_t);
+    *(void **)&fn = sp_av_module_symbol("sp_video_read_text");
+    return fn ? fn(path, key, buf, size) : SP_E_CODEC;
+}

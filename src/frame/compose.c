@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "springpend/common.h"
+#include "springpend/timeline.h"
 #include "compose.h"
 #include "layout.h"
 
@@ -48,7 +49,10 @@ struct sp_composer {
     int premix_trail;         /* light opaque background: trail mixed with it, opaque */
     char caption[CAPTION_LINES][SP_VIEW_TEXT_BYTES]; /* the caption, wrapped */
     int caption_lines;
-    char speed[32];           /* "speed ×0.25" when [video] speed != 1, else "" */
+    const char *wrapped;      /* with a timeline: the text `caption` holds */
+    int band_lines;           /* with a timeline: lines of its longest text */
+    char speed[32];           /* "speed ×0.25" when [video] speed != 1, else "";
+                                 with a clocked timeline, the widest it shows */
     /* trail = all: the part older than ALL_FADE is drawn once (SP_LAYER_ACCUM) */
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
@@ -108,6 +112,50 @@ static int wrap(const struct sp_font *f, int size, const char *text, float max_w
     return n;
 }
 
+/* The caption band's width, px. */
+static float band_width(const struct sp_composer *r)
+{
+    return r->width - 2 * roundf(0.015f * r->unit);
+}
+
+/* With a timeline: every text the caption band will show (the opening
+ * caption, the cues' captions and notes) must fit in CAPTION_LINES lines
+ * of the band's width; the band is as tall as the longest needs. Reports
+ * each that does not as FILE:LINE and returns SP_E_INPUT. */
+static int check_band(struct sp_composer *r)
+{
+    const struct sp_timeline *tl = r->look.timeline;
+    char lines[CAPTION_LINES + 1][SP_VIEW_TEXT_BYTES];
+    const float w = band_width(r);
+    int bad = 0;
+    for (int i = -1; i < tl->n_cues; i++) {
+        const char *text = i < 0 ? r->look.view.caption : tl->cues[i].text;
+        if (i >= 0 && tl->cues[i].kind == SP_CUE_SPEED)
+            continue;
+        const int n = wrap(r->font, SP_TEXT_NORMAL, text, w, lines, CAPTION_LINES + 1);
+        int wide = 0;
+        for (int j = 0; j < n; j++)
+            wide |= sp_font_width(r->font, SP_TEXT_NORMAL, lines[j]) > w;
+        if (n <= CAPTION_LINES && !wide) {
+            r->band_lines = n > r->band_lines ? n : r->band_lines;
+            continue;
+        }
+        char where[300];
+        if (i < 0)
+            snprintf(where, sizeof(where), "%s: view.caption", tl->origin);
+        else
+            snprintf(where, sizeof(where), "%s:%d: [timeline] %s", tl->origin, tl->cues[i].line,
+                     tl->cues[i].kind == SP_CUE_CAPTION ? "caption" : "pause note");
+        /* a FILE:LINE message, as the scene's others */
+        fprintf(stderr, "%s is too long for a %dx%d frame: %s; allowed: what fits in %d lines "
+                "of %.0f px at this size (shorten it, or lower view.font_scale = %g)\n", where,
+                     r->width, r->height, wide ? "a word is wider than the frame"
+                     : "it needs more lines", CAPTION_LINES, w, r->look.view.font_scale);
+        bad = 1;
+    }
+    return bad ? SP_E_INPUT : 0;
+}
+
 int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc)
 {
     struct sp_composer *r = calloc(1, sizeof(*r));
@@ -132,14 +180,19 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     r->premix_trail = r->pal.background[3] > 0 &&
                       0.3f * r->pal.background[0] + 0.6f * r->pal.background[1] +
                               0.1f * r->pal.background[2] > 0.35f;
-    if (r->look.speed != 1) /* a real multiplication sign */
+    const struct sp_timeline *tl = r->look.timeline;
+    if (tl && tl->clocked) /* the marker shows throughout: "paused", "speed ×0.25" */
+        snprintf(r->speed, sizeof(r->speed), "paused");
+    else if (r->look.speed != 1) /* a real multiplication sign */
         snprintf(r->speed, sizeof(r->speed), "speed \xc3\x97%g", r->look.speed);
     if (!r->look.view.pendulum || r->look.ensemble_count > 1)
         r->look.view.colorbar = 0; /* no speed-coloured trail to explain */
     if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar ||
-        r->look.view.title[0] || r->look.view.caption[0] || r->speed[0]) {
+        r->look.view.title[0] || r->look.view.caption[0] || r->speed[0] || tl) {
         text_sizes(r->unit, r->look.view.font_scale, desc->supersample > 1 ? desc->supersample : 1, px);
         err = sp_font_make(&r->font, px);
+        if (!err && tl)
+            err = check_band(r);
         if (err) {
             sp_compose_destroy(&r);
             return err;
@@ -160,9 +213,11 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
                                .no_pendulum = !r->look.view.pendulum};
     if (r->look.view.title[0])
         d.title_height = (float)sp_font_line(f, SP_TEXT_TITLE);
-    if (r->look.view.caption[0]) {
+    if (r->look.timeline && r->band_lines) {
+        d.caption_height = (float)(r->band_lines * sp_font_line(f, SP_TEXT_NORMAL));
+    } else if (r->look.view.caption[0]) {
         r->caption_lines = wrap(f, SP_TEXT_NORMAL, r->look.view.caption,
-                                r->width - 2 * roundf(0.015f * r->unit), r->caption, CAPTION_LINES);
+                                band_width(r), r->caption, CAPTION_LINES);
         d.caption_height = (float)(r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL));
     }
     /* The view's width decides the HUD's wrapping: lay out once without it. */
@@ -385,12 +440,43 @@ static void put_strobe(struct sp_composer *r, const struct sp_history *h)
     }
 }
 
-/* Title, caption and the speed marker (static: the same in every frame). */
-static void put_texts(struct sp_composer *r)
+/* With a timeline: the caption band's text now (dynamic), centred in the
+ * band, faded by the moment's opacity; a pause's note in the accent colour. */
+static void put_band(struct sp_composer *r, const struct sp_moment *m)
+{
+    const struct sp_layout *l = &r->layout;
+    const struct sp_font *f = r->font;
+    const char *text = m ? m->band : r->look.view.caption;
+    const float alpha = m ? m->band_alpha : 1;
+    float color[4];
+    if (!text[0] || alpha <= 0 || !sp_rect_valid(&l->caption))
+        return;
+    if (text != r->wrapped) { /* wrapped again only when the text changes */
+        r->caption_lines = wrap(f, SP_TEXT_NORMAL, text, band_width(r), r->caption, CAPTION_LINES);
+        r->wrapped = text;
+    }
+    memcpy(color, m && m->band_note ? r->pal.accent : r->pal.muted, sizeof(color));
+    color[3] *= alpha;
+    const int line = sp_font_line(f, SP_TEXT_NORMAL);
+    const float y0 = l->caption.y0 + (float)((r->band_lines - r->caption_lines) * line / 2);
+    sp_canvas_layer(&r->canvas, SP_LAYER_DYNAMIC);
+    for (int i = 0; i < r->caption_lines; i++)
+        sp_canvas_text(&r->canvas, SP_TEXT_NORMAL, 0.5f * (l->caption.x0 + l->caption.x1),
+                       y0 + i * line + sp_font_cap(f, SP_TEXT_NORMAL), SP_ALIGN_CENTER, color,
+                       r->caption[i]);
+}
+
+/* Title, caption and the speed marker (static: the same in every frame;
+ * with a timeline the caption band and a clocked marker are the moment's,
+ * dynamic). */
+static void put_texts(struct sp_composer *r, const struct sp_moment *m)
 {
     const struct sp_layout *l = &r->layout;
     const struct sp_font *f = r->font;
     struct sp_canvas *cv = &r->canvas;
+    const struct sp_timeline *tl = r->look.timeline;
+    char marker[32];
+    const char *speed = r->speed;
     sp_canvas_layer(cv, SP_LAYER_STATIC);
     if (sp_rect_valid(&l->title))
         sp_canvas_text(cv, SP_TEXT_TITLE, 0.5f * (l->title.x0 + l->title.x1),
@@ -398,17 +484,26 @@ static void put_texts(struct sp_composer *r)
                        0.5f * (sp_font_line(f, SP_TEXT_TITLE) - sp_font_cap(f, SP_TEXT_TITLE)) -
                        0.15f * sp_font_cap(f, SP_TEXT_TITLE),
                        SP_ALIGN_CENTER, r->pal.text, r->look.view.title);
-    for (int i = 0; i < r->caption_lines; i++)
+    for (int i = 0; !tl && i < r->caption_lines; i++)
         sp_canvas_text(cv, SP_TEXT_NORMAL, 0.5f * (l->caption.x0 + l->caption.x1),
                        l->caption.y0 + i * sp_font_line(f, SP_TEXT_NORMAL) + sp_font_cap(f, SP_TEXT_NORMAL),
                        SP_ALIGN_CENTER, r->pal.muted, r->caption[i]);
+    if (tl)
+        put_band(r, m);
+    if (tl && tl->clocked) {
+        sp_timeline_marker(m ? m : &(struct sp_moment){.speed = r->look.speed}, marker,
+                           sizeof(marker));
+        speed = marker;
+        sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
+    }
     /* at the right of the heads-up time line, else of the title */
-    if (r->speed[0] && sp_rect_valid(&l->hud))
+    if (speed[0] && sp_rect_valid(&l->hud))
         sp_canvas_text(cv, SP_TEXT_LARGE, l->hud.x1, l->hud.y0 + sp_font_cap(f, SP_TEXT_LARGE),
-                       SP_ALIGN_RIGHT, r->pal.accent, r->speed);
-    else if (r->speed[0])
+                       SP_ALIGN_RIGHT, r->pal.accent, speed);
+    else if (speed[0])
         sp_canvas_text(cv, SP_TEXT_LARGE, l->title.x1, l->title.y0 + sp_font_cap(f, SP_TEXT_TITLE),
-                       SP_ALIGN_RIGHT, r->pal.accent, r->speed);
+                       SP_ALIGN_RIGHT, r->pal.accent, speed);
+    sp_canvas_layer(cv, SP_LAYER_STATIC);
 }
 
 int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
@@ -441,7 +536,7 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->look.view.fade);
     if (r->look.view.hud)
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
-    put_texts(r);
+    put_texts(r, f->moment);
     if (r->look.view.colorbar) {
         sp_canvas_layer(cv, SP_LAYER_STATIC);
         sp_colorbar_draw(cv, &r->layout.colorbar, r->look.view.colormap, r->max_speed,

@@ -90,7 +90,8 @@ void sp_look_of(const struct sp_scene *scene, struct sp_look *out)
     }
     *out = (struct sp_look){.view = scene->view, .fps = scene->video.fps,
                             .speed = scene->video.speed,
-                            .ensemble_count = scene->ensemble.count};
+                            .ensemble_count = scene->ensemble.count,
+                            .timeline = scene->timeline};
 }
 
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,

@@ -21,6 +21,7 @@
 #include "springpend/provenance.h"
 #include "springpend/render.h"
 #include "springpend/sink.h"
+#include "springpend/timeline.h"
 #include "signals.h"
 #include "sim_report.h"
 
@@ -198,6 +199,8 @@ struct run {
     int emitted;                 /* frames handed to the encoder */
     struct stage_times tm;
     double t_start;              /* s, monotonic */
+    struct sp_moment moment;     /* what the frame being drawn shows (timeline.h) */
+    double followed_t;           /* s: the last frame time followed; < 0 = none */
 };
 
 /* The signal that stops a render which holds the signals (signals.h): it
@@ -233,7 +236,9 @@ static int run_setup(struct run *run)
     }
     /* A still past the video's end still fits its camera to the whole
      * motion; a frame range fits the whole video's, so shards match. */
-    double t_end = sp_scene_frame_time(sc, n - 1);
+    struct sp_moment last;
+    sp_timeline_frame(sc, n - 1, &last);
+    double t_end = last.t;
     if (desc->still)
         t_end = fmax(desc->still_at, t_end);
 
@@ -251,14 +256,20 @@ static int run_setup(struct run *run)
     sp_sim_init(&run->sim, sc);
     run->sim.cancel = sp_signal_flag();
     run->sim.progress = sp_progress_sim;
+    /* A timeline's speeds: the fastest sets the substeps, the slowest how
+     * many frames the trail's simulated span can take. */
+    const struct sp_timeline *tl = sc->timeline;
     const double frame_dt = sc->video.speed / sc->video.fps;
+    const double dt_max = tl && tl->clocked ? tl->speed_max / sc->video.fps : frame_dt;
+    const double slow = tl && tl->clocked ? sc->video.speed / tl->speed_min : 1;
     const int ss = desc->supersample > 1 ? desc->supersample : 1;
     int substeps = sp_trail_substeps(
-        frame_dt, extent.max_speed * sp_params_omega_max(&run->sim.p),
+        dt_max, extent.max_speed * sp_params_omega_max(&run->sim.p),
         ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9)));
     const int trail_frames = sc->view.trail == SP_TRAIL_ALL ? n + 1
                            : sc->view.trail == SP_TRAIL_DURATION
-                               ? (int)fmin(ceil(sc->view.trail_duration / frame_dt) + 1, n + 1)
+                               ? (int)fmin(ceil(sc->view.trail_duration / frame_dt * slow) + 1, n + 1)
+                           : slow > 1 ? (int)fmin(ceil((sc->view.trail - 1) * slow) + 1, n + 1)
                                : sc->view.trail;
     if ((double)trail_frames * substeps > 4e6) /* about 100 MB of trail at most */
         substeps = (int)fmax(1, 4e6 / fmax(trail_frames, 1));
@@ -273,7 +284,8 @@ static int run_setup(struct run *run)
     ret = sp_render_make(&run->r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .look = &look, .supersample = desc->supersample});
-    if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r))) != 0)
+    if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r),
+                                                 sp_render_gl_version(run->r))) != 0)
         return ret;
     return sp_sink_open(&run->sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
@@ -285,9 +297,13 @@ static int run_setup(struct run *run)
 }
 
 /* The sim, trail, histories and ensemble to t_target, s; the sim's blow-up
- * is worded here (the ensemble words its own). */
+ * is worded here (the ensemble words its own). A frame at the time the
+ * last one showed (inside a pause) adds nothing. */
 static int run_follow(struct run *run, double t_target)
 {
+    if (t_target == run->followed_t)
+        return 0;
+    run->followed_t = t_target;
     int ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, t_target, run->substeps);
     if (ret == SP_E_UNSTABLE)
         sp_sim_explain(&run->sim);
@@ -304,11 +320,15 @@ static int run_still_follow(struct run *run)
     const double at = run->desc->still_at;
     int ret;
     sp_progress_begin(run->desc->progress, "integrating", at);
-    for (int k = 0; k < run->n && sp_scene_frame_time(sc, k) <= at; k++) {
-        ret = run_follow(run, sp_scene_frame_time(sc, k));
+    for (int k = 0; k < run->n; k++) {
+        sp_timeline_frame(sc, k, &run->moment);
+        if (run->moment.t > at)
+            break;
+        ret = run_follow(run, run->moment.t);
         if (ret)
             return ret;
     }
+    sp_timeline_still(sc, at, &run->moment);
     if (run->sim.s.t < at)
         return run_follow(run, at);
     return 0;
@@ -327,7 +347,8 @@ static int run_figure(struct run *run)
         .width = run->w, .height = run->h, .extent = run->extent, .look = &look,
         .title = run->sc->name, .path = run->desc->output},
         &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p, .trail = &run->trail,
-                           .history = &run->hist, .ensemble = run->ens});
+                           .history = &run->hist, .ensemble = run->ens,
+                           .moment = &run->moment});
     if (!ret && run->desc->state_out)
         *run->desc->state_out = run->sim.s;
     return ret;
@@ -348,7 +369,7 @@ static int run_still(struct run *run)
         return ret;
     ret = sp_render_draw(run->r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
                                                     .trail = &run->trail, .history = &run->hist,
-                                                    .ensemble = run->ens},
+                                                    .ensemble = run->ens, .moment = &run->moment},
                          &run->img);
     if (!ret)
         ret = sp_sink_write(run->sink, &run->img);
@@ -364,7 +385,7 @@ static int render_frame(struct run *run, struct sp_image *slot)
     if (!ret)
         ret = sp_render_draw(r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
                                                    .trail = &run->trail, .history = &run->hist,
-                                                   .ensemble = run->ens},
+                                                   .ensemble = run->ens, .moment = &run->moment},
                              &run->img);
     return ret;
 }
@@ -400,7 +421,8 @@ static int run_video(struct run *run)
     const double t0 = now_s();
     for (int k = 0; k < run->last && !stopped(run); k++) {
         double ts = now_s();
-        ret = run_follow(run, sp_scene_frame_time(sc, k));
+        sp_timeline_frame(sc, k, &run->moment);
+        ret = run_follow(run, run->moment.t);
         if (ret == SP_E_INTERRUPTED && stopped(run))
             break; /* keep the frames so far, in run_finish */
         if (ret)
@@ -501,7 +523,7 @@ static void run_close(struct run *run, int ret)
 int sp_pipeline_run(const struct sp_pipeline_desc *desc)
 {
     const struct sp_scene *sc = desc->scene;
-    const int n = sp_scene_frame_count(sc);
+    const int n = sp_timeline_frames(sc);
     struct run run = {
         .desc = desc, .sc = sc, .n = n,
         .first = desc->still ? 0 : desc->first,
@@ -509,7 +531,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         .w = sc->video.width, .h = sc->video.height,
         .figure = desc->still && sp_figure_format(desc->output) != SP_FIGURE_NONE,
         .q = {.lock = PTHREAD_MUTEX_INITIALIZER, .changed = PTHREAD_COND_INITIALIZER},
-        .t_start = now_s(),
+        .t_start = now_s(), .followed_t = -1,
     };
     int ret = run_check(&run);
     if (ret)

@@ -26,6 +26,7 @@ struct sp_renderer {
                                  sp_render_target); pixels NULL = none */
     struct sp_yuv_gl *yuv;    /* the YUV pass, made for the first YUV target */
     const char *name;         /* GL_RENDERER */
+    const char *version;      /* GL_VERSION */
     double compose_s, draw_s; /* s spent so far (sp_render_stats) */
 };
 
@@ -65,6 +66,7 @@ int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
     if (err)
         goto fail;
     r->name = (const char *)r->gl.GetString(GL_RENDERER);
+    r->version = (const char *)r->gl.GetString(GL_VERSION);
     r->opaque = sp_compose_palette(r->composer)->background[3] >= 1;
     err = sp_draw_gl_make(&r->draw, &r->gl, sp_compose_font(r->composer), r->width, r->height);
     if (err)
@@ -191,6 +193,29 @@ int sp_render_target(struct sp_renderer *r, const struct sp_image *dst)
 const char *sp_render_renderer_name(const struct sp_renderer *r)
 {
     return r->name ? r->name : "unknown";
+}
+
+const char *sp_render_gl_version(const struct sp_renderer *r)
+{
+    return r->version ? r->version : "unknown";
+}
+
+int sp_render_probe(enum sp_gl gl, char *renderer, size_t renderer_size, char *version,
+                    size_t version_size)
+{
+    struct sp_gl_context *ctx = NULL;
+    struct sp_gl_api api;
+    int err = sp_gl_context_make(&ctx, 16, 16, gl);
+    if (!err)
+        err = sp_gl_api_load(&api, ctx);
+    if (!err) {
+        const char *n = (const char *)api.GetString(GL_RENDERER);
+        const char *v = (const char *)api.GetString(GL_VERSION);
+        snprintf(renderer, renderer_size, "%s", n ? n : "unknown");
+        snprintf(version, version_size, "%s", v ? v : "unknown");
+    }
+    sp_gl_context_destroy(&ctx);
+    return err;
 }
 
 void sp_render_destroy(struct sp_renderer **rp)

@@ -17,6 +17,7 @@
 
 #include "springpend/common.h"
 #include "springpend/scene.h"
+#include "springpend/timeline.h"
 #include "decimal.h"
 #include "ini_lines.h"
 
@@ -140,7 +141,8 @@ struct parse_ctx {
     int line_handled;     /* inih called the handler for it */
     int key_line[N_KEYS]; /* where each key was set, 0 = not set */
     int errors;
-    char text_value[TEXT_LINE_BYTES]; /* a text key's whole value (read_line) */
+    char text_value[TEXT_LINE_BYTES]; /* a text key's or cue's whole value (read_line) */
+    int in_timeline;      /* read_line is in the [timeline] section */
 };
 
 static void report(struct parse_ctx *c, int line, const char *fmt, ...)
@@ -179,6 +181,8 @@ static const struct key_info *find_key(const char *section, const char *name)
 
 static int section_known(const char *section)
 {
+    if (!strcmp(section, "timeline")) /* cues, not keys: timeline.c */
+        return 1;
     for (int i = 0; i < N_KEYS; i++)
         if (!strcmp(keys[i].section, section))
             return 1;
@@ -238,10 +242,11 @@ static void report_unknown(struct parse_ctx *c, int line, const char *section,
         }
         if (best)
             report(c, line, "unknown section [%s]; did you mean [%s]? "
-                   "(sections: pendulum, initial, integrator, pivot, video, view)", section, best);
+                   "(sections: pendulum, initial, integrator, pivot, video, view, ensemble, "
+                   "timeline)", section, best);
         else
             report(c, line, "unknown section [%s] (sections: pendulum, initial, "
-                   "integrator, pivot, video, view)", section);
+                   "integrator, pivot, video, view, ensemble, timeline)", section);
         return;
     }
     for (int i = 0; i < N_KEYS; i++) {
@@ -467,6 +472,15 @@ static int handle_pair(void *user, const char *section, const char *name,
 {
     struct parse_ctx *c = user;
     c->line_handled = 1;
+    if (!strcmp(section, "timeline")) {
+        if (!strcmp(value, TEXT_MARK))
+            value = c->text_value; /* read whole by read_line */
+        const int n = sp_timeline_read(&c->scene->timeline, c->origin, c->line, name, value);
+        if (n < 0)
+            report(c, c->line, "out of memory for the timeline");
+        c->errors += n < 0 ? 1 : n;
+        return 1;
+    }
     const struct key_info *k = find_key(section, name);
     if (!k) {
         if (section[0] && !section_known(section))
@@ -562,28 +576,20 @@ static const struct key_info *text_key_line(const char *line, const char **value
  * the value. */
 static int text_value(struct parse_ctx *c, const struct key_info *k, const char *value)
 {
-    size_t n = strcspn(value, "\r\n");
-    while (n && (value[n - 1] == ' ' || value[n - 1] == '\t'))
-        n--;
-    const char *close = n > 1 && value[0] == '"' ? memrchr(value + 1, '"', n - 1) : NULL;
-    if (close) { /* quoted: a comment may follow the closing quote */
-        const char *rest = close + 1 + strspn(close + 1, " \t");
-        if (rest < value + n && *rest != '#' && *rest != ';') {
-            report(c, c->line, "%s.%s: only a '#' or ';' comment may follow the closing "
-                   "quote, not '%.*s'", k->section, k->name, (int)(value + n - rest), rest);
-            return -1;
-        }
-        n = (size_t)(close + 1 - value);
-    } else {
-        for (size_t i = 1; i < n; i++)
-            if ((value[i] == '#' || value[i] == ';') &&
-                (value[i - 1] == ' ' || value[i - 1] == '\t')) {
-                report(c, c->line, "%s.%s: ' %c' would start a comment here; to show it, "
-                       "write the text in double quotes (%s = \"Run %c3\"); a comment may "
-                       "follow the closing quote", k->section, k->name, value[i], k->name,
-                       value[i]);
-                return -1;
-            }
+    size_t n, at;
+    switch (sp_ini_text(value, &n, &at)) {
+    case SP_INI_TEXT_AFTER_QUOTE:
+        report(c, c->line, "%s.%s: only a '#' or ';' comment may follow the closing "
+               "quote, not '%.*s'", k->section, k->name, (int)(n - at), value + at);
+        return -1;
+    case SP_INI_TEXT_COMMENT:
+        report(c, c->line, "%s.%s: ' %c' would start a comment here; to show it, "
+               "write the text in double quotes (%s = \"Run %c3\"); a comment may "
+               "follow the closing quote", k->section, k->name, value[at], k->name,
+               value[at]);
+        return -1;
+    default:
+        break;
     }
     snprintf(c->text_value, sizeof(c->text_value), "%.*s", (int)n, value);
     return 0;
@@ -606,6 +612,20 @@ static char *read_line(char *str, int num, void *stream)
         return NULL;
     c->cursor = l.cursor, c->line = l.line;
     c->line_handled = 0;
+    const char *q = raw + strspn(raw, " \t");
+    if (!len && *q == '[') /* which section: inih does not say while reading */
+        c->in_timeline = !strncmp(q, "[timeline]", 10);
+    if (!len && c->in_timeline && *q && *q != '#' && *q != ';' && q[strcspn(q, "=:\r\n")] &&
+        strchr("=:", q[strcspn(q, "=:\r\n")])) {
+        /* a cue: its value whole, comments and quotes are timeline.c's to read
+         * by the text rule (sp_ini_text) */
+        const size_t k = strcspn(q, "=:");
+        value = q + k + 1 + strspn(q + k + 1, " \t");
+        snprintf(c->text_value, sizeof(c->text_value), "%.*s", (int)strcspn(value, "\r\n"), value);
+        snprintf(str, (size_t)num, "%.*s= " TEXT_MARK "\n", (int)(k < 64 ? k : 64), q);
+        c->line_has_content = 1;
+        return str;
+    }
     if (!len && (text = text_key_line(raw, &value))) {
         c->line_has_content = 1;
         if (!text_value(c, text, value))
@@ -672,7 +692,10 @@ static void apply_override(struct parse_ctx *c, const char *arg)
     const char *saved = c->origin;
     c->origin = origin;
     const struct key_info *k = find_key(section, name);
-    if (!k)
+    if (!strcmp(section, "timeline"))
+        report(c, 0, "the [timeline] is read from the scene file only; write the cue there "
+               "as '%s = %s'", name, eq + 1);
+    else if (!k)
         report_unknown(c, 0, section, name);
     else
         set_value(c, 0, k, eq + 1);
@@ -820,12 +843,20 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     int rc = ini_parse_stream(read_line, &c, handle_pair, &c);
     if (rc == -2) {
         report(&c, 0, "out of memory while parsing");
+        sp_scene_free(s);
         return SP_E_NOMEM;
     }
     for (int i = 0; i < n_overrides; i++)
         apply_override(&c, overrides[i]);
     if (!c.errors)
         validate_whole(&c);
+    /* once, here: sp_scene_set_number's copies (sweeps, ensembles) share it */
+    if (s->timeline)
+        c.errors += sp_timeline_check(s->timeline, s);
+    if (!c.errors && s->timeline && sp_timeline_plan(s->timeline, s))
+        c.errors++;
+    if (c.errors)
+        sp_scene_free(s);
     return c.errors ? SP_E_INPUT : 0;
 }
 
@@ -926,6 +957,7 @@ int sp_scene_load(struct sp_scene *s, const char *path,
 {
     char *text;
     size_t size;
+    s->timeline = NULL; /* sp_scene_free is safe after any outcome */
     int ret = read_scene(path, &text, &size);
     if (ret)
         return ret;
@@ -944,6 +976,11 @@ int sp_scene_load(struct sp_scene *s, const char *path,
     ret = sp_scene_parse(s, text, path, overrides, n_overrides);
     free(text);
     return ret;
+}
+
+void sp_scene_free(struct sp_scene *s)
+{
+    sp_timeline_destroy(&s->timeline);
 }
 
 int sp_scene_frame_count(const struct sp_scene *s)
@@ -992,6 +1029,15 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
         }
         used += (size_t)n;
     }
+    /* the timeline: what the video shows changes with it */
+    for (int i = 0; s->timeline && i < s->timeline->n_cues; i++) {
+        static const char *const verbs[] = {"caption", "speed", "pause"};
+        const struct sp_cue *cue = &s->timeline->cues[i];
+        char *at = used < size ? buf + used : NULL;
+        size_t room = used < size ? size - used : 0;
+        used += (size_t)snprintf(at, room, "timeline.%d=%.17g %s %.17g %s\n", i, cue->t,
+                                 verbs[cue->kind], cue->value, cue->text);
+    }
     return (int)used;
 }
 
@@ -1028,6 +1074,11 @@ void sp_scene_print_keys(void)
         else
             printf("    %-15s default %-8g %s\n", k->name, k->def, range);
     }
+    /* cues, not keys: indented past a key's column, so no reader takes them for keys */
+    printf("  [timeline] cues keyed by simulated time, in order (see 'springpend render --help'):\n"
+           "      TIME = caption: TEXT    the caption from TIME on ('caption:' alone clears it)\n"
+           "      TIME = speed S          ease to S simulated s per video s (0 < S <= 1e4)\n"
+           "      TIME = pause D[: NOTE]  hold TIME for D s of video (0 < D <= 3600), NOTE shown\n");
 }
 
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)

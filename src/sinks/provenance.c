@@ -30,7 +30,7 @@ static int scene_sha256(const struct sp_scene *scene, char hex[65], char *copy, 
 }
 
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
-                       const char *renderer)
+                       const char *renderer, const char *gl_version)
 {
     snprintf(p->software, sizeof(p->software), "springpend " SP_VERSION);
     snprintf(p->renderer, sizeof(p->renderer), "%s", renderer ? renderer : "none");
@@ -40,6 +40,9 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
     p->text[2] = (struct sp_png_text){.key = "springpend.scene-sha256", .text = p->scene_sha256};
     p->text[3] = (struct sp_png_text){.key = "springpend.time", .text = p->time};
     p->text[4] = (struct sp_png_text){.key = "springpend.scene", .text = p->scene, .compressed = 1};
+    sp_environment_text(p->environment, sizeof(p->environment), renderer, gl_version);
+    p->text[5] = (struct sp_png_text){.key = "springpend.environment", .text = p->environment,
+                                      .compressed = 1};
     return scene_sha256(scene, p->scene_sha256, p->scene, sizeof(p->scene));
 }
 

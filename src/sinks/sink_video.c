@@ -285,6 +285,12 @@ static int video_open(struct sp_sink *s)
         err = av_failed(s, "cannot open its .part file", ret, SP_E_IO);
         goto fail;
     }
+    /* The provenance chunks a PNG carries, as container tags (MP4 keeps
+     * keys of its own only with use_metadata_tags): compare names the scene
+     * keys that changed between two videos. */
+    for (int i = 0; i < d->n_text; i++)
+        if (strcmp(d->text[i].key, "springpend.time")) /* a frame's, not the video's */
+            av_dict_set(&v->oc->metadata, d->text[i].key, d->text[i].text, 0);
     if (!strcmp(vc->muxer, "mp4")) {
         /* The movie header keeps the file's duration in movie_timescale
          * units, 1000 by default: 20 frames at 60 fps became 0.334 s, and
@@ -296,7 +302,8 @@ static int video_open(struct sp_sink *s)
         while (ts < 10000)
             ts *= 2;
         snprintf(timescale, sizeof(timescale), "%d", ts);
-        av_dict_set(&mux_opts, "movflags", "+faststart", 0);
+        av_dict_set(&mux_opts, "movflags", d->n_text ? "+faststart+use_metadata_tags"
+                                                     : "+faststart", 0);
         av_dict_set(&mux_opts, "movie_timescale", timescale, 0);
     }
     ret = avformat_write_header(v->oc, &mux_opts);

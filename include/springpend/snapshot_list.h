@@ -1,0 +1,49 @@
+/* springpend: what `compare EXPECTED ACTUAL` compares in folder mode. Both
+ * folders are walked, subfolders too (not through links to folders; names
+ * starting with '.' skipped), for PNGs and videos; each image's baselines are
+ * EXPECTED/NAME and its alternatives EXPECTED/STEM.KEY.EXT beside it (a
+ * baseline per environment: `a.png`, `a.llvm19.png`), any of which may match.
+ * A baseline is an alternative only when STEM.EXT is an image of either
+ * folder; otherwise it is an image of its own. */
+#ifndef SPRINGPEND_SNAPSHOT_LIST_H
+#define SPRINGPEND_SNAPSHOT_LIST_H
+
+/* One image (or video) to compare. */
+struct sp_snapshot {
+    char *name;     /* relative path, '/' between folders ("sub/a.png"); owned */
+    int expected;   /* 1: EXPECTED/name exists */
+    int actual;     /* 1: ACTUAL/name exists */
+    char **alts;    /* relative names of the alternatives, sorted; owned */
+    int n_alts;
+};
+
+struct sp_snapshot_list {
+    struct sp_snapshot *items; /* sorted by name; owned */
+    int n;
+};
+
+/* 1 when name ends in .png (any case). */
+int sp_snapshot_is_png(const char *name);
+
+/* 1 when name ends in a video extension compare reads in folders (.mp4,
+ * .webm, .mkv, .mov, .gif). */
+int sp_snapshot_is_video(const char *name);
+
+/* Lists dir_e and dir_a (a missing dir_e lists as empty) into l, skipping
+ * the folders in skip (n_skip paths, NULL entries ignored: where --diff and
+ * --candidates write). Returns 0, SP_E_INPUT (a folder that cannot be read:
+ * logged) or SP_E_NOMEM. */
+int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const char *dir_a,
+                          const char *const *skip, int n_skip);
+
+/* The KEY of alternative alt of image name ("a.llvm19.png" of "a.png" is
+ * "llvm19"), into key. */
+void sp_snapshot_alt_key(const char *name, const char *alt, char *key, int size);
+
+/* The name of image name's alternative for environment key ("a.png", "ci"
+ * gives "a.ci.png"), into out. */
+void sp_snapshot_alt_name(const char *name, const char *key, char *out, int size);
+
+void sp_snapshot_list_free(struct sp_snapshot_list *l);
+
+#endif

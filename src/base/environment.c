@@ -1,0 +1,77 @@
+/* springpend: the environment that produced an image (environment.h). */
+#include <stdio.h>
+#include <string.h>
+
+#include <ft2build.h>
+#include FT_FREETYPE_H
+#include <png.h>
+#include <zlib.h>
+
+#include "springpend/common.h"
+#include "springpend/environment.h"
+#include "av_module.h"
+#include "digest.h"
+#include "embedded.h"
+
+/* The version after `word` in s ("Mesa 22.3.6" -> "22.3.6"), up to a blank,
+ * ',' or ')', into out; "unknown" when s lacks it. */
+static void version_after(const char *s, const char *word, char *out, size_t size)
+{
+    const char *p = s ? strstr(s, word) : NULL;
+    if (!p) {
+        snprintf(out, size, "unknown");
+        return;
+    }
+    p += strlen(word);
+    snprintf(out, size, "%.*s", (int)strcspn(p, " ,)"), p);
+}
+
+/* SHA-256 of n bytes as hex into hex[65]. */
+static void sha256_hex(const void *data, size_t n, char hex[65])
+{
+    struct sha256_ctx sha;
+    sha256_init(&sha);
+    sha256_update(&sha, n, data);
+    sp_digest_hex(&sha, hex);
+}
+
+int sp_environment_text(char *buf, size_t size, const char *renderer, const char *gl_version)
+{
+    char mesa[64], llvm[64], font[65], ft[32] = "unknown", av[96] = "not loaded";
+    FT_Library lib;
+    FILE *m = fmemopen(buf, size, "w");
+    if (!m) {
+        snprintf(buf, size, "springpend: " SP_VERSION "\n");
+        return 0;
+    }
+    if (FT_Init_FreeType(&lib) == 0) {
+        FT_Int a, b, c;
+        FT_Library_Version(lib, &a, &b, &c);
+        snprintf(ft, sizeof(ft), "%d.%d.%d", a, b, c);
+        FT_Done_FreeType(lib);
+    }
+    {
+        /* both from the module's libraries: the executable links no FFmpeg */
+        unsigned (*avcodec_version_fn)(void);
+        const char *(*av_version_info_fn)(void);
+        *(void **)&avcodec_version_fn = sp_av_module_symbol("avcodec_version");
+        *(void **)&av_version_info_fn = sp_av_module_symbol("av_version_info");
+        if (avcodec_version_fn && av_version_info_fn) {
+            unsigned v = avcodec_version_fn();
+            snprintf(av, sizeof(av), "%u.%u.%u (FFmpeg %s)", v >> 16, v >> 8 & 255, v & 255,
+                     av_version_info_fn());
+        }
+    }
+    version_after(gl_version, "Mesa ", mesa, sizeof(mesa));
+    version_after(renderer, "LLVM ", llvm, sizeof(llvm));
+    sha256_hex(sp_embed_DejaVuSans_ttf, (size_t)sp_embed_DejaVuSans_ttf_size, font);
+    fprintf(m, "springpend: " SP_VERSION "\nrenderer: %s\ngl: %s\nmesa: %s\nllvm: %s\n"
+            "freetype: %s\nfont: DejaVuSans.ttf (embedded, %lu bytes) sha256 %s\n"
+            "zlib: %s\nlibpng: %s\nlibavcodec: %s\n",
+            renderer ? renderer : "none", gl_version ? gl_version : "none",
+            gl_version ? mesa : "none", renderer ? llvm : "none", ft,
+            sp_embed_DejaVuSans_ttf_size, font, zlibVersion(), png_get_libpng_ver(NULL), av);
+    fclose(m);
+    buf[size - 1] = 0;
+    return 0;
+}

@@ -1,0 +1,125 @@
+#!/usr/bin/env python3
+"""springpend tests: the environment an image records (issue 24).
+`springpend version --verbose` (and `--version --verbose`) name springpend,
+the GL renderer, Mesa and LLVM, FreeType, the font file with its SHA-256,
+zlib, libpng and libavcodec; each version is checked against the library
+itself, asked here through ctypes; every PNG carries the same text in its
+springpend.environment chunk; compare names the lines that differ.
+usage: test_environment.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR (TAP)"""
+import ctypes
+import ctypes.util
+import hashlib
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import zlib
+
+from sptest import done, ok, skip
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+work = os.path.abspath(os.path.join(sys.argv[3], "environment"))
+default = os.path.join(src, "..", "scenes", "default.ini")
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+
+
+def run(*args):
+    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=work, timeout=60)
+
+
+r1, r2, plain = run("version", "--verbose"), run("--version", "--verbose"), run("--version")
+env = dict(l.split(": ", 1) for l in r1.stdout.splitlines() if ": " in l)
+ok(r1.returncode == 0 and r1.stdout == r2.stdout and plain.stdout.strip() == "springpend " +
+   env.get("springpend", "?"), f"version --verbose and --version --verbose agree ({r1.stdout!r:.200})")
+keys = ["springpend", "renderer", "gl", "mesa", "llvm", "freetype", "font", "zlib", "libpng",
+        "libavcodec"]
+ok(list(env) == keys, f"the lines, in order: {list(env)}")
+ok(env.get("mesa", "") in env.get("gl", "-") and env.get("llvm", "") in env.get("renderer", "-")
+   and re.fullmatch(r"\d+\.\d+(\.\d+)?", env.get("mesa", "")) is not None,
+   f"Mesa {env.get('mesa')} from GL_VERSION {env.get('gl')}, LLVM {env.get('llvm')} from "
+   f"{env.get('renderer')}")
+
+
+def lib(name):
+    path = ctypes.util.find_library(name)
+    return ctypes.CDLL(path) if path else None
+
+
+# Each version from the library itself.
+ok(env.get("zlib") == zlib.ZLIB_RUNTIME_VERSION, f"zlib {env.get('zlib')} (Python's zlib: "
+   f"{zlib.ZLIB_RUNTIME_VERSION})")
+png = lib("png16")
+if png:
+    png.png_get_libpng_ver.restype = ctypes.c_char_p
+    want = png.png_get_libpng_ver(None).decode()
+    ok(env.get("libpng") == want, f"libpng {env.get('libpng')} ({want})")
+else:
+    skip("libpng's version", "libpng16 not found by ctypes")
+ft = lib("freetype")
+if ft:
+    h = ctypes.c_void_p()
+    a, b, c = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
+    ft.FT_Init_FreeType(ctypes.byref(h))
+    ft.FT_Library_Version(h, ctypes.byref(a), ctypes.byref(b), ctypes.byref(c))
+    want = f"{a.value}.{b.value}.{c.value}"
+    ok(env.get("freetype") == want, f"FreeType {env.get('freetype')} ({want})")
+else:
+    skip("FreeType's version", "libfreetype not found by ctypes")
+av = lib("avcodec")
+if av:
+    v = av.avcodec_version()
+    want = f"{v >> 16}.{v >> 8 & 255}.{v & 255}"
+    ok(env.get("libavcodec", "").startswith(want + " (FFmpeg "),
+       f"libavcodec {env.get('libavcodec')} ({want})")
+else:
+    skip("libavcodec's version", "libavcodec not found by ctypes")
+font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
+opts = open(os.path.join(src, "..", "meson_options.txt")).read()
+if os.path.exists(font) and font in opts:
+    digest = hashlib.sha256(open(font, "rb").read()).hexdigest()
+    ok(env.get("font", "").endswith("sha256 " + digest), f"the font's SHA-256 ({env.get('font')})")
+else:
+    skip("the font's SHA-256", "built with another font")
+
+
+def text_chunks(path):
+    d, i, out = open(path, "rb").read(), 8, {}
+    while i < len(d):
+        n, kind = struct.unpack(">I4s", d[i:i + 8])
+        body = d[i + 8:i + 8 + n]
+        if kind == b"zTXt":
+            k, rest = body.split(b"\0", 1)
+            out[k.decode()] = zlib.decompress(rest[1:]).decode()
+        elif kind == b"tEXt":
+            k, v = body.split(b"\0", 1)
+            out[k.decode()] = v.decode()
+        i += 12 + n
+    return out, d
+
+
+run("still", default, "--size", "160x120", "--at", "1", "-o", "s.png", "-q")
+chunks, raw = text_chunks(os.path.join(work, "s.png"))
+ok(chunks.get("springpend.environment") == r1.stdout,
+   "a still's springpend.environment chunk holds what version --verbose prints")
+
+# compare names the lines that differ: a copy whose chunk says another libpng.
+other = chunks["springpend.environment"].replace("libpng: " + env["libpng"], "libpng: 9.9.9")
+body = b"springpend.environment\0\0" + zlib.compress(other.encode())
+i, out = 8, raw[:8]
+while i < len(raw):
+    n, kind = struct.unpack(">I4s", raw[i:i + 8])
+    piece = raw[i:i + 12 + n]
+    if kind == b"zTXt" and raw[i + 8:i + 8 + n].startswith(b"springpend.environment\0"):
+        piece = struct.pack(">I", len(body)) + b"zTXt" + body + struct.pack(">I", zlib.crc32(b"zTXt" + body))
+    out += piece
+    i += 12 + n
+open(os.path.join(work, "t.png"), "wb").write(out)
+r = run("compare", "s.png", "t.png")
+ok(r.returncode == 0 and f"libpng: {env['libpng']} vs 9.9.9" in r.stdout
+   and "freetype" not in r.stdout.split("environment")[-1],
+   f"compare names the environment line that differs, and only it ({r.stdout.strip()})")
+
+done()

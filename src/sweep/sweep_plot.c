@@ -344,6 +344,15 @@ static const float *branch_colour(const struct sp_palette *pal, int branch)
     return branch < 0 ? pal->series[3] : pal->series[1];
 }
 
+/* A branch's colour halfway to the background: the peaks' rings, opaque so
+ * that many in one place do not darken into the branch's own colour. */
+static void peak_colour(const struct sp_palette *pal, const float *c, float out[4])
+{
+    for (int i = 0; i < 3; i++)
+        out[i] = 0.5f * (c[i] + pal->background[i]);
+    out[3] = 1;
+}
+
 /* What an orbit diagram with --continue or --peak samples, in the corner. */
 static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
                          const struct frame *f)
@@ -351,7 +360,11 @@ static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struc
     const char *q = d->peak == SP_PEAK_R ? "r" : "θ";
     char buf[160];
     double y = f->y0 + 8;
+    int lines = (d->cont == SP_CONTINUE_BOTH ? 2 : 1) * (d->peak ? 2 : 1) + (d->cont != 0);
     cairo_set_font_size(cr, 12);
+    cairo_set_source_rgba(cr, pal->background[0], pal->background[1], pal->background[2], 0.85);
+    cairo_rectangle(cr, f->x0 + f->w - 290, f->y0 + 2, 288, 16.0 * lines + 10);
+    cairo_fill(cr);
     for (int br = 1; br >= -1; br -= 2) {
         if (d->cont != SP_CONTINUE_BOTH && br != (d->cont == SP_CONTINUE_DOWN ? -1 : 1))
             continue;
@@ -362,9 +375,11 @@ static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struc
         text_at(cr, f->x0 + f->w - 8, y, buf, 1, 0);
         y += 16;
         if (d->peak) {
-            cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.45);
-            snprintf(buf, sizeof(buf), "largest %s%s%s over each period", d->peak == SP_PEAK_R ? "" : "|",
-                     q, d->peak == SP_PEAK_R ? "" : "|");
+            float light[4];
+            peak_colour(pal, c, light);
+            set_rgba(cr, light);
+            snprintf(buf, sizeof(buf), "○ largest %s%s%s over each period",
+                     d->peak == SP_PEAK_R ? "" : "|", q, d->peak == SP_PEAK_R ? "" : "|");
             text_at(cr, f->x0 + f->w - 8, y, buf, 1, 0);
             y += 16;
         }
@@ -412,8 +427,6 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     draw_axes(cr, &f, pal, orbit ? xl : "r (m)",
               orbit ? (d->driven && d->peak != SP_PEAK_R ? "θ (degrees)" : "r (m)")
                     : "dr/dt (m/s)");
-    if (ext)
-        orbit_legend(cr, d, pal, &f);
     if (to_rows(fp, name, d))
         return SP_E_INPUT;
     cairo_save(cr);
@@ -427,11 +440,14 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
             continue;
         if (ext) {
             const float *c = branch_colour(pal, (int)r.v[3]);
-            if (d->peak && isfinite(r.v[4])) { /* the period's peak: a light dot */
-                cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.4);
-                cairo_rectangle(cr, px(&f, XV) - radius, py(&f, r.v[4]) - radius, 2 * radius,
-                                2 * radius);
-                cairo_fill(cr);
+            if (d->peak && isfinite(r.v[4])) { /* the period's peak: a light ring */
+                float light[4];
+                peak_colour(pal, c, light);
+                set_rgba(cr, light);
+                cairo_set_line_width(cr, 0.7);
+                cairo_new_sub_path(cr);
+                cairo_arc(cr, px(&f, XV), py(&f, r.v[4]), 1.8, 0, 2 * M_PI);
+                cairo_stroke(cr);
             }
             cairo_set_source_rgba(cr, c[0], c[1], c[2], alpha);
         } else if (orbit) {
@@ -448,6 +464,8 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
 #undef XV
 #undef YV
     cairo_restore(cr);
+    if (ext) /* over the dots */
+        orbit_legend(cr, d, pal, &f);
     if (!orbit) {
         /* which colour is which start: a small gradient over the first key */
         const double x0 = W - 250, y0 = 22, w = 150;

@@ -97,7 +97,7 @@ html = open(os.path.join(d, "r.html")).read() if os.path.exists(os.path.join(d, 
 ok(r.returncode == 2 and html and b64(secret) not in html and "GITHUB_TOKEN" not in html
    and b64(secret)[:-4] not in html,
    f"--report embeds no secret behind a *.png link (exit {r.returncode})")
-ok("outside base" in r.stdout.decode() and "not read" in r.stdout.decode(),
+ok("not inside base" in r.stdout.decode() and "not read" in r.stdout.decode(),
    f"a link out of the compared folder is refused, saying so: {r.stdout.decode().strip()[:300]}")
 ok(len(re.findall(r'src="data:image/png;base64,', html)) == 2 and "not shown" in html,
    "the PNGs that were read are embedded (ok.png once: its pixels are identical; in.png's "
@@ -346,7 +346,12 @@ r = run("compare", "base", "act", "--json", cwd=d)
 got = json.loads(r.stdout)["results"][0]["measured"].get("masked_pixels")
 ok(got == len(covered), f"overlapping masks: masked_pixels {got}, expected {len(covered)}")
 
-# ---- compare.ini: a key set twice is refused ----
+# ---- compare.ini: its messages are printable, a key set twice is refused ----
+open(os.path.join(d, "base", "compare.ini"), "w").write("[m.png]\n\x1b]0;pwned\x07evil = 1\n")
+r = run("compare", "base", "act", cwd=d)
+ok(r.returncode == 2 and b"\x1b" not in r.stderr and b"\\x1b]0;pwned\\x07evil" in r.stderr,
+   f"compare.ini: a key with terminal escapes is shown, not sent ({r.stderr!r})")
+
 open(os.path.join(d, "base", "compare.ini"), "w").write("[m.png]\ntol = 2\nmax_diff = 4\n"
                                                         "# a comment\nmax-diff = 90\n")
 r = run("compare", "base", "act", cwd=d)

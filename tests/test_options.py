@@ -124,8 +124,10 @@ if egl:
 r = run("still", DEFAULT, "--at", "0.35", "--state", p("s.json"), "-o", p("s.png"), "-q", *SMALL)
 st = json.load(open(p("s.json"))) if r.returncode == 0 else {}
 rd = run("data", DEFAULT, "-o", "-", "--every", "0.35", "--set", "video.duration=0.35")
-row = dict(zip(rd.stdout.split("\n")[0].split(","), map(float, rd.stdout.split("\n")[2].split(","))))
-ok(st.get("t") == 0.35 and abs(st.get("x", 9) - row["x"]) < 1e-12 and abs(st.get("vy", 9) - row["vy"]) < 1e-12,
+lines = rd.stdout.strip().split("\n")
+row = dict(zip(lines[0].split(","), map(float, lines[-1].split(","))))
+ok(st.get("t") == 0.35 == row.get("t") and abs(st.get("x", 9) - row["x"]) < 1e-12 and
+   abs(st.get("vy", 9) - row["vy"]) < 1e-12,
    f"still --at 0.35 --state: the state at t = 0.35 s, as data's row there ({st.get('t')})")
 
 

@@ -325,6 +325,31 @@ r = run("render", path, "-o", "long.mp4", "-q")
 ok(r.returncode == 2 and "the [timeline]'s speeds and pauses make the video" in r.stderr
    and "at most 1000000 are allowed" in r.stderr and not os.path.exists(os.path.join(work, "long.mp4")),
    f"a timeline whose video would exceed the frame limit is refused: {r.stderr.strip()[:200]}")
+# a slow motion of 1e-300: the frame count is a number, not 300 digits
+path = os.path.join(work, "tiny.ini")
+with open(path, "w") as f:
+    f.write(BASE + "0 = speed 1e-300\n")
+r = run("render", path, "-o", "tiny.mp4", "-q")
+ok(r.returncode == 2 and "frames; at most 1000000" in r.stderr and len(r.stderr) < 400
+   and not os.path.exists(os.path.join(work, "tiny.mp4")),
+   f"speed 1e-300: refused in one short line ({len(r.stderr)} bytes)")
+# a time longer than 64 bytes was cut to its first 64 (0.000...05 read as 0)
+path = os.path.join(work, "longtime.ini")
+with open(path, "w") as f:
+    f.write(BASE + "0.0000000000000000000000000000000000000000000000000000000000000001e7"
+            " = caption: x\n")
+r = run("still", path, "-o", "longtime.png", "-q")
+ok(r.returncode == 2 and "longtime.ini:5: [timeline] time" in r.stderr
+   and "at most 64" in r.stderr and not os.path.exists(os.path.join(work, "longtime.png")),
+   f"a 68-byte time (1e-64 * 1e7 is beyond the video) is refused, not cut: {r.stderr.strip()[:200]!r}")
+# too many cues: said once, not once a line
+path = os.path.join(work, "many.ini")
+with open(path, "w") as f:
+    f.write(BASE + "".join(f"{i * 0.01:.2f} = caption: c{i}\n" for i in range(1500)))
+r = run("still", path, "-o", "many.png", "-q")
+ok(r.returncode == 2 and r.stderr.count("more than 1000 cues") == 1
+   and "many.ini:1005: " in r.stderr and not os.path.exists(os.path.join(work, "many.png")),
+   f"1500 cues: one message at line 1005, {r.stderr.count(chr(10))} lines of stderr")
 # quoted texts are read whole, and comments may follow any cue
 path = os.path.join(work, "quoted.ini")
 with open(path, "w") as f:

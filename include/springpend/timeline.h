@@ -66,6 +66,7 @@ struct sp_timeline {
     char origin[256];          /* the scene file, for FILE:LINE messages */
     struct sp_cue *cues;       /* n_cues, in file order (= time order) */
     int n_cues;
+    int cues_over;             /* lines past SP_TIMELINE_MAX_CUES (reported once) */
     char *pool;                /* the cues' texts, owned */
     size_t pool_used, pool_cap;
     double last_t;             /* the time on the last line read, s */

@@ -764,7 +764,7 @@ static int link_out(struct sp_compare_record *r, const char *name, const char *p
     if (!sp_compare_link_outside(path, dir, to, sizeof(to)))
         return 0;
     snprintf(r->name, sizeof(r->name), "%s", name);
-    record_error(r, "%s is a link to %s, outside %s: not read", path, to, dir);
+    record_error(r, "%s is a link to %s, not inside %s: not read", path, to, dir);
     snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it", dir);
     return 1;
 }

@@ -212,7 +212,7 @@ static int run(int argc, char **argv, int still)
         ret = SP_E_INPUT;
     } else if (!ret && clocked && sp_timeline_length(&scene) * scene.video.fps > SP_MAX_VIDEO_FRAMES) {
         sp_log_error("the [timeline]'s speeds and pauses make the video %g s long at %g fps: "
-                     "%.0f frames; at most %d are allowed in a video (about 4.6 hours at 60 fps)",
+                     "%.4g frames; at most %d are allowed in a video (about 4.6 hours at 60 fps)",
                      sp_timeline_length(&scene), scene.video.fps,
                      round(sp_timeline_length(&scene) * scene.video.fps), SP_MAX_VIDEO_FRAMES);
         ret = SP_E_INPUT;

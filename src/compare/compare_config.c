@@ -4,6 +4,7 @@
 #include <fnmatch.h>
 #include <ini.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -139,6 +140,19 @@ int sp_compare_rule_set(struct sp_compare_rule *r, const char *name, const char 
     return 0;
 }
 
+/* A FILE:LINE message on stderr, shown printable (sp_fputs_printable):
+ * keys and section names come from a file a pull request may write. */
+static void say(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static void say(const char *fmt, ...)
+{
+    char msg[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof(msg), fmt, ap);
+    va_end(ap);
+    sp_fputs_printable(msg, stderr);
+}
+
 struct config_ctx {
     struct sp_compare_config *cfg;
     struct sp_ini_lines lines;
@@ -168,7 +182,7 @@ static char *read_line(char *str, int num, void *stream)
     if (s && s[strspn(s, " \t")] == '[')
         c->section_line = c->lines.line;
     if (s && len) {
-        fprintf(stderr, "%s:%d: line is %zu bytes long; at most %d are allowed\n",
+        say("%s:%d: line is %zu bytes long; at most %d are allowed\n",
                 c->cfg->path, c->lines.line, len, num - 2);
         c->errors++;
     }
@@ -191,7 +205,7 @@ static int handle(void *user, const char *section, const char *name, const char 
         v[--n] = 0;
     value = v;
     if (!section[0]) {
-        fprintf(stderr, "%s:%d: '%s' comes before any section; put it under [*] (every "
+        say("%s:%d: '%s' comes before any section; put it under [*] (every "
                 "image) or [NAME.png]\n", cfg->path, c->lines.line, name);
         c->errors++;
         return 1;
@@ -199,7 +213,7 @@ static int handle(void *user, const char *section, const char *name, const char 
     if (!cfg->n_rules || strcmp(cfg->rules[cfg->n_rules - 1].name, section)) {
         for (int i = 0; i < cfg->n_rules; i++)
             if (!strcmp(cfg->rules[i].name, section)) {
-                fprintf(stderr, "%s:%d: [%s] appears twice (first on line %d); keep one\n",
+                say("%s:%d: [%s] appears twice (first on line %d); keep one\n",
                         cfg->path, c->lines.line, section, cfg->rules[i].line);
                 c->errors++;
                 return 1;
@@ -219,7 +233,7 @@ static int handle(void *user, const char *section, const char *name, const char 
     /* A key given twice is refused, as in scenes: the last would win unseen. */
     int k = key_index(name);
     if (k >= 0 && c->key_line[k]) {
-        fprintf(stderr, "%s:%d: %s is set twice in [%s] (first on line %d); keep one\n",
+        say("%s:%d: %s is set twice in [%s] (first on line %d); keep one\n",
                 cfg->path, c->lines.line, name, section, c->key_line[k]);
         c->errors++;
         return 1;
@@ -227,7 +241,7 @@ static int handle(void *user, const char *section, const char *name, const char 
     if (k >= 0)
         c->key_line[k] = c->lines.line;
     if (sp_compare_rule_set(&cfg->rules[cfg->n_rules - 1], name, value, why, sizeof(why))) {
-        fprintf(stderr, "%s:%d: %s\n", cfg->path, c->lines.line, why);
+        say("%s:%d: %s\n", cfg->path, c->lines.line, why);
         c->errors++;
     }
     return 1;
@@ -238,14 +252,18 @@ int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t 
     struct stat st;
     if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
         return 0;
-    char *file = realpath(path, NULL), *in = realpath(dir, NULL);
+    char *file = realpath(path, NULL);
+    int why = errno;
+    char *in = realpath(dir, NULL);
     size_t n = in ? strlen(in) : 0;
     int out = !file || !in || strncmp(file, in, n) || file[n] != '/';
     if (out && file) {
         snprintf(to, size, "%s", file);
-    } else if (out) {
-        ssize_t len = readlink(path, to, size - 1);
-        to[len > 0 ? len : 0] = 0;
+    } else if (out) { /* a loop or a dangling link: where it points, and why */
+        char link[4096];
+        ssize_t len = readlink(path, link, sizeof(link) - 1);
+        link[len > 0 ? len : 0] = 0;
+        snprintf(to, size, "%s (%s)", link, strerror(why));
     }
     free(file);
     free(in);
@@ -262,7 +280,7 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
     memset(cfg, 0, sizeof(*cfg));
     snprintf(cfg->path, sizeof(cfg->path), "%s/%s", dir, SP_COMPARE_CONFIG_NAME);
     if (sp_compare_link_outside(cfg->path, dir, to, sizeof(to))) {
-        sp_log_error("%s is a link to %s, outside %s: not read; put the file itself there",
+        sp_log_error("%s is a link to %s, not inside %s: not read; put the file itself there",
                      cfg->path, to, dir);
         return SP_E_INPUT;
     }
@@ -296,7 +314,7 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
         sp_log_error("out of memory");
         ret = SP_E_NOMEM;
     } else if (rc > 0 && !c.errors) {
-        fprintf(stderr, "%s:%d: expected 'key = value', '[NAME.png]', '[*]' or a '#' comment\n",
+        say("%s:%d: expected 'key = value', '[NAME.png]', '[*]' or a '#' comment\n",
                 cfg->path, rc);
         ret = SP_E_INPUT;
     } else if (c.errors || rc) {
@@ -396,7 +414,7 @@ void sp_compare_config_warn_unused(const struct sp_compare_config *cfg)
 {
     for (int i = 0; i < cfg->n_rules; i++)
         if (!cfg->rules[i].used && strcmp(cfg->rules[i].name, "*"))
-            fprintf(stderr, "%s:%d: warning: [%s] matches no compared image\n", cfg->path,
+            say("%s:%d: warning: [%s] matches no compared image\n", cfg->path,
                     cfg->rules[i].line, cfg->rules[i].name);
 }
 

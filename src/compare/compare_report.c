@@ -814,7 +814,7 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           ".v-fail{background:#fde0e0}.v-error{background:#fff0c0}.v-pass{background:#e4f6e4}\n"
           ".update,.replaced{font-weight:bold;color:#a04000}\n"
           ".v-not-compared{background:#e8e8e8}#interrupted{font-weight:bold;color:#a00}\n"
-          ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;font-size:12px;word-break:break-word}.none{color:#999}\n"
+          ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;min-width:16em;font-size:12px;word-break:break-word}.none{color:#999}\n"
           "</style></head><body>\n<h1>springpend compare</h1>\n"
           "<p id=\"zoom\">images at <button type=\"button\" data-z=\"1\" class=\"on\">1&times;"
           "</button> <button type=\"button\" data-z=\"2\">2&times;</button> <button "

@@ -206,8 +206,10 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
     }
     if ((err = walk(dir_e, "", &sk, &e, 0)) || (err = walk(dir_a, "", &sk, &a, 0)))
         goto done;
-    qsort(e.v, (size_t)e.n, sizeof(*e.v), by_name);
-    qsort(a.v, (size_t)a.n, sizeof(*a.v), by_name);
+    if (e.n)
+        qsort(e.v, (size_t)e.n, sizeof(*e.v), by_name);
+    if (a.n)
+        qsort(a.v, (size_t)a.n, sizeof(*a.v), by_name);
     /* The images: every actual one, and every baseline that is not an
      * alternative of another image. */
     for (int i = 0; i < a.n; i++)
@@ -217,7 +219,8 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
         if (!names_has(&a, e.v[i]) && !stem_of(e.v[i], &e, &a, stem, sizeof(stem)) &&
             !item_add(l, &cap, e.v[i]))
             goto nomem;
-    qsort(l->items, (size_t)l->n, sizeof(*l->items), item_by_name);
+    if (l->n)
+        qsort(l->items, (size_t)l->n, sizeof(*l->items), item_by_name);
     for (int i = 0; i < l->n; i++) {
         l->items[i].actual = names_has(&a, l->items[i].name);
         l->items[i].expected = names_has(&e, l->items[i].name);

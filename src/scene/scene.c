@@ -620,9 +620,16 @@ static char *read_line(char *str, int num, void *stream)
         /* a cue: its value whole, comments and quotes are timeline.c's to read
          * by the text rule (sp_ini_text) */
         const size_t k = strcspn(q, "=:");
+        if (k > 64) { /* a time that long was cut at 64 bytes: another time */
+            report(c, c->line, "[timeline] time '%.20s...' is %zu bytes long; at most 64 "
+                   "are allowed", q, k);
+            c->line_has_content = c->line_handled = 1;
+            snprintf(str, (size_t)num, "#\n");
+            return str;
+        }
         value = q + k + 1 + strspn(q + k + 1, " \t");
         snprintf(c->text_value, sizeof(c->text_value), "%.*s", (int)strcspn(value, "\r\n"), value);
-        snprintf(str, (size_t)num, "%.*s= " TEXT_MARK "\n", (int)(k < 64 ? k : 64), q);
+        snprintf(str, (size_t)num, "%.*s= " TEXT_MARK "\n", (int)k, q);
         c->line_has_content = 1;
         return str;
     }

@@ -87,9 +87,10 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
     const double last_t = tl->last_t;
     const int last_line = tl->last_line;
     tl->last_t = t, tl->last_line = line;
-    if (tl->n_cues >= SP_TIMELINE_MAX_CUES) {
-        report(origin, line, "[timeline] has more than %d cues; at most %d are allowed",
-               SP_TIMELINE_MAX_CUES, SP_TIMELINE_MAX_CUES);
+    if (tl->n_cues >= SP_TIMELINE_MAX_CUES) { /* said once, at the first cue too many */
+        if (tl->cues_over++ == 0)
+            report(origin, line, "[timeline] has more than %d cues; at most %d are allowed",
+                   SP_TIMELINE_MAX_CUES, SP_TIMELINE_MAX_CUES);
         return 1;
     }
     /* the verb: a word, then ':' (caption) or blanks and a number; the

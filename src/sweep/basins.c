@@ -126,11 +126,15 @@ static int run_group(const struct sp_sweep_desc *d, const struct sp_scene *scene
     if (ret)
         return ret;
     const double f = ptr[0]->pivot.frequency, t_max = d->transient + d->time;
-    const struct sp_scene *s0 = ptr[0];
-    const double ell = s0->pendulum.natural_length +
-                       s0->pendulum.mass * s0->pendulum.gravity / s0->pendulum.stiffness;
     const double w = 2 * M_PI * f;
-    const double tol[4] = {1e-3, 1e-3 * ell, 1e-3 * w, 1e-3 * ell * w};
+    double tol[MAXL][4];
+    for (int i = 0; i < m; i++) { /* each start's own equilibrium length */
+        const struct sp_scene *sc = ptr[i];
+        double ell = sc->pendulum.natural_length +
+                     sc->pendulum.mass * sc->pendulum.gravity / sc->pendulum.stiffness;
+        tol[i][0] = 1e-3, tol[i][1] = 1e-3 * ell, tol[i][2] = 1e-3 * w;
+        tol[i][3] = 1e-3 * ell * w;
+    }
     for (int i = 0; i < m; i++) {
         double s[4];
         polar(b, i, s);
@@ -160,9 +164,9 @@ static int run_group(const struct sp_sweep_desc *d, const struct sp_scene *scene
                 L->k++;
                 if (t >= d->transient * (1 - 1e-12))
                     for (int p = 1; p <= SP_BASINS_MAX_PERIOD && !L->decided; p++)
-                        if (repeats(L, p, tol)) {
+                        if (repeats(L, p, tol[i])) {
                             L->decided = 1;
-                            L->period = p = least_period(L, p, tol);
+                            L->period = p = least_period(L, p, tol[i]);
                             L->winding = (int)lround(
                                 (L->turns - L->unwrapped[(L->k - 1 - p) % RING]) / (2 * M_PI));
                             L->settled = t;

@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""springpend tests: the README's CI section as a CI engineer uses it
+(issue 24). Its GitHub Actions and GitLab CI snippets parse as YAML, give
+the JUnit reporter `checks: write`, build springpend outside the project's
+checkout, and install every package springpend's build asks pkg-config for
+(each .pc file's Debian package, asked of dpkg). Then the walkthrough's shell
+steps, taken from the README, run in a fresh folder outside springpend's
+checkout: render, add the baselines, a change fails with candidates and a
+summary, the candidates are approved, the next run passes.
+usage: test_ci_readme.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR (TAP)"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+from sptest import done, ok, skip
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+root = os.path.join(src, "..")
+readme = open(os.path.join(root, "README.md")).read()
+section = readme[readme.index("## Snapshot tests in CI"):readme.index("## Hardening")]
+blocks = re.findall(r"^```([a-z]*)\n(.*?)^```", section, re.S | re.M)
+
+
+def block(marker, lang=None):
+    for kind, text in blocks:
+        if marker in text and (lang is None or kind == lang):
+            return text
+    return ""
+
+
+# ---- the YAML snippets ----
+try:
+    import yaml
+except ImportError:
+    yaml = None
+gh, gl = block("actions/checkout", "yaml"), block("image: debian:12", "yaml")
+if yaml:
+    g, l = yaml.safe_load(gh), yaml.safe_load(gl)
+    ok(g.get("permissions", {}).get("checks") == "write",
+       f"GitHub: permissions checks: write for the JUnit reporter ({g.get('permissions')})")
+    gh_run = "\n".join(s.get("run", "") for s in g["jobs"]["snapshots"]["steps"])
+    gl_run = "\n".join(l["snapshots"]["script"])
+else:
+    skip("the GitHub snippet's permissions", "python3-yaml is not installed")
+    gh_run, gl_run = gh, gl
+for name, text in (("GitHub", gh_run), ("GitLab", gl_run)):
+    ok("git clone" in text and "cd /tmp/springpend" in text and "meson setup build" not in
+       text.split("cd /tmp/springpend")[0],
+       f"{name}: springpend is built from its own clone, outside the project's checkout")
+
+# Every dependency('X') of meson.build, through its .pc file, to the Debian
+# package that holds it; the snippets must install each.
+meson = open(os.path.join(root, "meson.build")).read()
+deps = sorted(set(re.findall(r"dependency\('([^']+)'", meson)) - {"threads"})
+pkgs = {}
+if shutil.which("pkg-config") and shutil.which("dpkg"):
+    for d in deps:
+        pcdir = subprocess.run(["pkg-config", "--variable=pcfiledir", d], capture_output=True,
+                               text=True).stdout.strip()
+        owner = subprocess.run(["dpkg", "-S", os.path.join(pcdir, d + ".pc")],
+                               capture_output=True, text=True).stdout.split(":")[0]
+        pkgs[d] = owner
+    for name, text in (("GitHub", gh_run), ("GitLab", gl_run)):
+        line = next((l for l in text.splitlines() if "apt-get install" in l), "")
+        listed = set(line.split())
+        missing = {d: p for d, p in pkgs.items() if p and p not in listed}
+        ok(line and not missing and all(pkgs.values()),
+           f"{name}: installs the package of every pkg-config dependency ({sorted(pkgs.values())}); "
+           f"missing {missing}")
+else:
+    skip("the snippets' packages against meson.build", "pkg-config or dpkg is missing")
+    skip("the snippets' packages against meson.build (GitLab)", "pkg-config or dpkg is missing")
+
+# ---- the walkthrough's shell steps, in a fresh folder outside the checkout ----
+with tempfile.TemporaryDirectory(prefix="springpend-ci-") as d:
+    os.makedirs(os.path.join(d, "bin"))
+    os.symlink(exe, os.path.join(d, "bin", "springpend"))
+    shutil.copytree(os.path.join(root, "scenes"), os.path.join(d, "scenes"))
+    with open(os.path.join(d, "snapshots.sh"), "w") as f:
+        f.write(block("# snapshots.sh OUTDIR"))
+    env = dict(os.environ, PATH=os.path.join(d, "bin") + os.pathsep + os.environ["PATH"])
+
+    def sh(cmd):
+        return subprocess.run(cmd, shell=True, cwd=d, env=env, capture_output=True, text=True,
+                              timeout=300)
+
+    def step(marker):
+        return next((l for l in block(marker, "sh").splitlines()
+                     if marker in l and l.startswith("springpend ")), "")
+
+    first = [l for l in block("--update=missing").splitlines() if not l.startswith("git ")]
+    r = sh("sh snapshots.sh actual && " + " && ".join(first))
+    ok(r.returncode == 0 and os.path.exists(os.path.join(d, "snapshots", "default_t3.png")),
+       f"render and add the baselines as the README says ({r.stderr.strip()[-200:]})")
+    # A change meant to alter a picture: the same snapshot, stiffer.
+    sh("springpend still scenes/default.ini --at 3 --size 640x360 --set pendulum.stiffness=2.2 "
+       "-o actual/default_t3.png -q")
+    review = step("--candidates candidates")
+    r = sh(review)
+    summary = open(os.path.join(d, "summary.md")).read() if os.path.exists(
+        os.path.join(d, "summary.md")) else ""
+    ok(review and r.returncode == 1 and os.path.exists(os.path.join(d, "candidates",
+                                                                    "default_t3.png"))
+       and "default\\_t3.png | fail" in summary and "pendulum.stiffness" in r.stdout,
+       f"the review step fails with a candidate, a summary and the changed key: {review!r} "
+       f"exit {r.returncode}")
+    approve = step("--approve candidates")
+    r = sh(approve)
+    r2 = sh("springpend compare snapshots actual")
+    ok(approve and r.returncode == 0 and r2.returncode == 0,
+       f"{approve!r} approves it and the next run passes ({r2.stdout.strip()[-100:]})")
+
+done()

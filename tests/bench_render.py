@@ -27,6 +27,11 @@ import time
 args = [a for a in sys.argv[1:] if not a.startswith("--")]
 quick = "--quick" in sys.argv
 REPEAT = int(next((a.split("=")[1] for a in sys.argv if a.startswith("--repeat=")), 3))
+if "-h" in sys.argv or "--help" in sys.argv:
+    print(__doc__)
+    sys.exit(0)
+if len(args) < 2:
+    sys.exit(__doc__.split("usage: ")[1].split("\n")[0].join(("usage: ", "")))
 exe, scene = os.path.abspath(args[0]), os.path.abspath(args[1])
 SCENES_ONLY = "--scenes-only" in sys.argv
 SW, SH = map(int, next((a.split("=")[1] for a in sys.argv if a.startswith("--size=")),

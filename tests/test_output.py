@@ -218,6 +218,29 @@ if whole and joined and len(whole) == len(joined):
 else:
     ok(False, "joined and whole video decode to the same number of frames")
 
+# The joined frames sit at k / fps, within compare's 0.5 ms: the movie
+# header kept each piece's duration in milliseconds (20 frames at 60 fps:
+# 0.334 s), and the concat demuxer starts the next piece there. 60 fps and a
+# fractional rate (29.97), 7 pieces whose lengths are not whole milliseconds.
+for fps, dur in ((60, 1.0), (29.97, 2.0)):
+    frames = int(round(fps * dur))
+    lst = path(f"exact{fps}.txt")
+    with open(lst, "w") as f:
+        for i in range(1, 8):
+            run("render", scene, "--size", f"{W}x{H}", "--fps", str(fps), "--set",
+                f"video.duration={dur}", "-q", "--shard", f"{i}/7", "-o", f"exact{fps}_{i}.mp4")
+            f.write(f"file 'exact{fps}_{i}.mp4'\n")
+    j = subprocess.run(["ffmpeg", "-v", "error", "-y", "-f", "concat", "-safe", "0", "-i", lst,
+                        "-c", "copy", path(f"exact{fps}.mp4")], capture_output=True, cwd=work)
+    t = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v", "-show_entries",
+                        "packet=pts_time", "-of", "csv=p=0", path(f"exact{fps}.mp4")],
+                       capture_output=True, text=True).stdout.split()
+    t = sorted(float(x) for x in t if x.strip() not in ("", "N/A"))
+    worst = max((abs(x - k / fps) for k, x in enumerate(t)), default=float("inf"))
+    ok(j.returncode == 0 and len(t) == frames and worst < 5e-4,
+       f"{fps} fps MP4 shards joined with the concat demuxer: every frame at k / fps within "
+       f"0.5 ms ({len(t)} of {frames} frames, worst {worst * 1e3:.4f} ms)")
+
 r = run("render", scene, *SMALL, "--shard", "4/3", "-o", "bad.mp4")
 ok(r.returncode == 2 and b"--shard 4/3" in r.stderr and not os.path.exists(path("bad.mp4")),
    "--shard 4/3: exit 2, says why, no file")

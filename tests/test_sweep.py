@@ -11,11 +11,12 @@ import math
 import os
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 import time
 
-from sptest import done, ok
+from sptest import done, ok, skip
 
 # The independent reference needs scipy; a python3 without it (a virtual
 # environment) hands over to the system's, which Debian's python3-scipy serves.
@@ -279,5 +280,158 @@ for ext in ("svg", "pdf"):
            "the PDF map keeps its text (title and axis labels)")
     else:
         ok(rr.returncode == 0 and os.path.getsize(path) > 1000, f"the {ext} map is written")
+
+# ---- --merge refuses what is not a whole shard, for every measure ----------
+# An orbit or Poincare shard cut at a line boundary, a Lyapunov row copied
+# over another, nan, inf and hex floats: all were merged and drawn, exit 0.
+# Each damage is tried as it is (the end line's SHA-256 no longer matches)
+# and with the end line made to match again (the row checks alone).
+import hashlib  # noqa: E402
+
+
+def reseal(text):
+    """The shard with its end line written for what it now holds."""
+    lines = text.splitlines(True)
+    body = "".join(l for l in lines if not l.startswith("# end "))
+    n = len(body.splitlines()) - 3
+    return body + f"# end rows={n} sha256={hashlib.sha256(body.encode()).hexdigest()}\n"
+
+
+poinc = ["--vary", "initial.length=0.7:1.5:6", "--set", "initial.angle=0", "--measure", "poincare",
+         "--time", "10", "-q"]
+for i in (1, 2):
+    run(chaotic, *poinc, "--shard", f"{i}/2", "--csv", f"poinc_{i}.csv")
+shards = {"lyapunov": ["part2_1.csv", "part2_2.csv"],
+          "orbit": [f"orbit_{i}.csv" for i in (1, 2, 3, 4)],
+          "poincare": ["poinc_1.csv", "poinc_2.csv"]}
+whole4 = [f"orbit_{i}.csv" for i in (1, 2, 3, 4)]
+rr = run("--merge", *whole4, "-o", "orbit_again.png", "--csv", "orbit_again.csv")
+ok(rr.returncode == 0 and read("orbit_again.csv") == read("orbit.csv") and
+   read("orbit_1.csv").decode().splitlines()[-1].startswith("# end rows="),
+   "a shard ends with its row count and SHA-256; the merge leaves that line out (same bytes as one run)")
+
+
+def damages(text, measure):
+    lines = text.splitlines(True)
+    body = [i for i, l in enumerate(lines) if not l.startswith("#") and i > 2]
+    first, last = body[0], body[-1]
+    cells = lines[first].rstrip("\n").split(",")
+    out = {"cut at a line boundary": "".join(lines[:last]),
+           "cut, end line kept": "".join(lines[:last] + lines[-1:]),
+           "a row's number changed": text.replace(lines[first], ",".join(cells[:-1] + [cells[-1] + "1"]) + "\n", 1)}
+    for bad in ("nan", "inf", "-inf", "0x1p-2", " 1", "1e999"):
+        out[f"value {bad!r}"] = text.replace(lines[first], ",".join(cells[:-1] + [bad]) + "\n", 1)
+    out["key value edited"] = text.replace(lines[first], ",".join([cells[0], cells[1] + "5"] + cells[2:]) + "\n", 1)
+    out["point out of the shard"] = text.replace(lines[first], ",".join(["999"] + cells[1:]) + "\n", 1)
+    if measure == "lyapunov":
+        dup = lines[:]
+        dup[first + 1] = dup[first]
+        out["a row copied over the next"] = "".join(dup)
+    else:
+        swap = lines[:]
+        swap[first], swap[last] = swap[last], swap[first]
+        out["rows out of order"] = "".join(swap)
+    return out
+
+
+for measure, (a, *rest) in shards.items():
+    base = read(a).decode()
+    for what, text in damages(base, measure).items():
+        for sealed in (False, True):
+            # a resealed shard of fewer rows or another number is whole to
+            # the row rules (a point's crossings may be any number): only
+            # the SHA-256 of the original knows
+            if sealed and (what == "a row's number changed" or
+                           (what.startswith("cut") and measure != "lyapunov")):
+                continue
+            name = f"bad_{measure}.csv"
+            with open(os.path.join(work, name), "w") as f:
+                f.write(reseal(text) if sealed else text)
+            if os.path.exists(os.path.join(work, "bad_merge.png")):
+                os.remove(os.path.join(work, "bad_merge.png"))
+            rr = run("--merge", name, *rest, "-o", "bad_merge.png", "-q")
+            ok(rr.returncode == 2 and name + ":" in rr.stderr and
+               not os.path.exists(os.path.join(work, "bad_merge.png")) and
+               not [f for f in os.listdir(work) if f.endswith(".part")],
+               f"--merge refuses a {measure} shard with {what}{' (end line resealed)' if sealed else ''}: "
+               f"exit {rr.returncode} {rr.stderr.strip()[:160]}")
+rr = run("--merge", *whole4[:3], "orbit_4.csv", "-o", "orbit_ok.png", "-q")
+ok(rr.returncode == 0, "the same shards, undamaged, merge")
+
+# A FIFO (or a device) as a shard blocked the merge forever; SIGTERM then gave
+# exit 2. Refused at once now, without waiting for a writer.
+fifo = os.path.join(work, "fifo.csv")
+os.mkfifo(fifo)
+t0 = time.monotonic()
+try:
+    rr = subprocess.run([exe, "sweep", "--merge", "fifo.csv", "part2_2.csv", "-o", "fifo.png", "-q"],
+                        capture_output=True, text=True, cwd=work, timeout=20)
+    ok(rr.returncode == 2 and "FIFO" in rr.stderr and time.monotonic() - t0 < 10 and
+       not os.path.exists(os.path.join(work, "fifo.png")),
+       f"a FIFO shard is refused at once: exit {rr.returncode} {rr.stderr.strip()}")
+except subprocess.TimeoutExpired:
+    ok(False, "a FIFO shard is refused at once (it blocked for 20 s)")
+# A signal that cuts a wait gives 128 + N, whatever the cut call reports: the
+# figure is a FIFO with no reader, so opening it waits until SIGTERM.
+out_fifo = os.path.join(work, "fig_fifo.png")
+os.mkfifo(out_fifo)
+p = subprocess.Popen([exe, "sweep", "--merge", "part2_1.csv", "part2_2.csv", "-o", "fig_fifo.png", "-q"],
+                     cwd=work, stderr=subprocess.PIPE, text=True)
+time.sleep(1.5)
+p.send_signal(signal.SIGTERM)
+try:
+    err = p.communicate(timeout=20)[1]
+except subprocess.TimeoutExpired:
+    p.kill()
+    err = p.communicate()[1]
+ok(p.returncode == 128 + signal.SIGTERM and not [f for f in os.listdir(work) if f.endswith(".part")],
+   f"SIGTERM while waiting to write the figure: exit 143, no .part: {p.returncode} {err.strip()[:160]}")
+
+# ---- a map wider than cairo's 32767 pixels ----------------------------------
+# 40000 x 2 points crashed (SIGSEGV: cairo refused the image, the plotter wrote
+# through NULL) and left .part files. The map's image is downsampled to 2048.
+rr = run(chaotic, "--vary", "initial.angle=10:170:40000", "--vary", "initial.length=1:1.2:2",
+         "--measure", "lyapunov", "--time", "1", "--set", "integrator.dt=0.01", "-o", "wide.png", "-q")
+head = b""
+if os.path.exists(os.path.join(work, "wide.png")):
+    with open(os.path.join(work, "wide.png"), "rb") as f:
+        head = f.read(24)
+ok(rr.returncode == 0 and head[:8] == b"\x89PNG\r\n\x1a\n" and
+   struct.unpack(">II", head[16:24]) == (1800, 1200) and
+   not [f for f in os.listdir(work) if f.endswith(".part")],
+   f"a 40000-column Lyapunov map is drawn (downsampled), no .part left: exit {rr.returncode} "
+   f"{rr.stderr.strip()[:160]}")
+
+# ---- memory stays flat in --time ---------------------------------------------
+# An orbit sweep held every row of the chunks in flight: 19, 54 and 122 MB
+# peak at T = 30, 100 and 300 s (256 points, 8 threads). Rows now stream
+# through a temporary file; the peak must not follow T (the CSV grows 10x).
+
+
+def peak_rss(*args):
+    """Exit status and peak resident set (MiB) of one sweep, from GNU time
+    (a child forked from this Python would count the interpreter's pages)."""
+    r = subprocess.run(["/usr/bin/time", "-f", "maxrss %M", exe, "sweep", *args], cwd=work,
+                       capture_output=True, text=True)
+    kib = [int(l.split()[1]) for l in r.stderr.splitlines() if l.startswith("maxrss ")]
+    return r.returncode, kib[-1] / 1024 if kib else float("nan")
+
+
+# A sanitizer build keeps freed memory in quarantine (peak RSS then follows
+# what was ever allocated), so only a plain build is measured.
+sanitized = "libasan" in subprocess.run(["ldd", exe], capture_output=True, text=True).stdout
+mem = []
+for T in (15, 150) if os.path.exists("/usr/bin/time") and not sanitized else ():
+    mem.append(peak_rss(os.path.join(scenes, "default.ini"), "--set", "pivot.amplitude=0.001",
+                        "--vary", "pivot.frequency=20:40:128", "--measure", "orbit", "--time", str(T),
+                        "--threads", "8", "-q", "-o", f"mem{T}.png", "--csv", f"mem{T}.csv"))
+if not mem:
+    skip("orbit sweep peak memory does not follow --time",
+         "a sanitizer build" if sanitized else "/usr/bin/time (GNU time) is missing")
+else:
+    sizes = [os.path.getsize(os.path.join(work, f"mem{T}.csv")) / 2 ** 20 for T in (15, 150)]
+    ok(mem[0][0] == 0 and mem[1][0] == 0 and mem[1][1] < mem[0][1] + 8,
+       f"orbit sweep peak memory does not follow --time: {mem[0][1]:.0f} MiB at T = 15 s, "
+       f"{mem[1][1]:.0f} MiB at 150 s (CSV {sizes[0]:.1f} -> {sizes[1]:.1f} MiB)")
 
 done()

@@ -4,15 +4,13 @@
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
-#include <libavutil/avutil.h>
-#include <libavutil/sha.h>
-#include <libavutil/mem.h>
 #include <png.h>
 #include <zlib.h>
 
 #include "springpend/common.h"
 #include "springpend/environment.h"
 #include "av_module.h"
+#include "digest.h"
 #include "embedded.h"
 
 /* The version after `word` in s ("Mesa 22.3.6" -> "22.3.6"), up to a blank,
@@ -31,17 +29,10 @@ static void version_after(const char *s, const char *word, char *out, size_t siz
 /* SHA-256 of n bytes as hex into hex[65]. */
 static void sha256_hex(const void *data, size_t n, char hex[65])
 {
-    uint8_t d[32];
-    struct AVSHA *sha = av_sha_alloc();
-    hex[0] = 0;
-    if (!sha)
-        return;
-    av_sha_init(sha, 256);
-    av_sha_update(sha, data, n);
-    av_sha_final(sha, d);
-    av_free(sha);
-    for (int i = 0; i < 32; i++)
-        snprintf(hex + 2 * i, 3, "%02x", d[i]);
+    struct sha256_ctx sha;
+    sha256_init(&sha);
+    sha256_update(&sha, n, data);
+    sp_digest_hex(&sha, hex);
 }
 
 int sp_environment_text(char *buf, size_t size, const char *renderer, const char *gl_version)
@@ -60,12 +51,15 @@ int sp_environment_text(char *buf, size_t size, const char *renderer, const char
         FT_Done_FreeType(lib);
     }
     {
+        /* both from the module's libraries: the executable links no FFmpeg */
         unsigned (*avcodec_version_fn)(void);
+        const char *(*av_version_info_fn)(void);
         *(void **)&avcodec_version_fn = sp_av_module_symbol("avcodec_version");
-        if (avcodec_version_fn) {
+        *(void **)&av_version_info_fn = sp_av_module_symbol("av_version_info");
+        if (avcodec_version_fn && av_version_info_fn) {
             unsigned v = avcodec_version_fn();
             snprintf(av, sizeof(av), "%u.%u.%u (FFmpeg %s)", v >> 16, v >> 8 & 255, v & 255,
-                     av_version_info());
+                     av_version_info_fn());
         }
     }
     version_after(gl_version, "Mesa ", mesa, sizeof(mesa));

@@ -375,31 +375,57 @@ int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *sc
 /* Past this many a run says how long it will be. */
 #define SP_NOTE_STEPS 3e8
 
+int sp_cli_work(double steps, double limit, double note, const char *what, const char *advice,
+                int quiet)
+{
+    if (!(steps <= limit)) {
+        sp_log_error("%s: about %.2g steps in all; at most %.0e are allowed: %s", what, steps,
+                     limit, advice);
+        return SP_E_INPUT;
+    }
+    if (steps > note && !quiet)
+        fprintf(stderr, "springpend: %s: about %.2g steps in all; this will take a while%s\n",
+                what, steps, isatty(2) ? "" : " (progress is shown on a terminal)");
+    return 0;
+}
+
 int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
                       double t_end, int camera)
 {
     const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
-    double steps = sp_sim_estimate_steps(sc, t_end);
-    /* The camera's pre-pass samples every integrator.dt (adaptive too). */
-    double samples = camera && mi->adaptive ? t_end / sc->integrator.dt : 0;
-    if (steps + samples > SP_MAX_STEPS) {
-        if (samples > steps)
-            sp_log_error("integrating to t = %g s samples the camera every integrator.dt = "
-                         "%g s: %.2g samples; at most %.0e are allowed (raise integrator.dt, "
-                         "which %s uses only for that)", t_end, sc->integrator.dt, samples,
-                         SP_MAX_STEPS, mi->name);
-        else
-            sp_log_error("integrating to t = %g s takes %s about %.2g steps (%.3g per simulated "
-                         "second at %s); at most %.0e are allowed: %s, lower "
-                         "pendulum.stiffness / pendulum.mass, or integrate less far",
-                         t_end, mi->name, steps, steps / t_end,
-                         mi->adaptive ? "this tolerance" : "this dt", SP_MAX_STEPS,
-                         mi->adaptive ? "raise integrator.tolerance" : "raise integrator.dt");
-        return SP_E_INPUT;
-    }
-    if (steps + samples > SP_NOTE_STEPS && !o->quiet)
-        fprintf(stderr, "springpend: integrating to t = %g s takes %s about %.2g steps; this "
-                "will take a while%s\n", t_end, mi->name, steps + samples,
-                isatty(2) ? "" : " (progress is shown on a terminal)");
-    return 0;
+    const double steps = sp_sim_estimate_steps(sc, t_end);
+    const int members = sc->ensemble.count > 1 ? sc->ensemble.count : 0;
+    const double frames = sp_scene_frame_count(sc);
+    /* the camera's pre-pass integrates the run once more, sampling every
+     * integrator.dt (adaptive methods too) */
+    const double pre = camera ? steps + (mi->adaptive ? t_end / sc->integrator.dt : 0) : 0;
+    /* an ensemble: every member twice (its own pre-pass for the camera and
+     * the spread, then the run; the pre-pass of an adaptive batch samples
+     * 200 times a fastest period), and the central scene's Lyapunov run */
+    struct sp_sim sim;
+    sp_sim_init(&sim, sc);
+    const double member_pre = mi->adaptive ? t_end * sp_params_omega_max(&sim.p) / 0.03 : 0;
+    const double ens = members ? members * (2 * steps + member_pre) + steps : 0;
+    /* trails: up to 64 samples a frame for the pendulum's, a point a frame
+     * for each member's */
+    const double trail = camera ? (sc->view.trail ? 64 * frames : 0) +
+                                  (members && sc->ensemble.trails ? members * frames : 0) : 0;
+    char what[512], advice[512];
+    snprintf(what, sizeof(what), "integrating to t = %g s with %s (%.3g steps per simulated "
+             "second at %s): the run %.2g steps, the camera's pre-pass %.2g, %d ensemble "
+             "members %.2g, trail samples %.2g", t_end, mi->name, steps / t_end,
+             mi->adaptive ? "this tolerance" : "this dt", steps, pre, members, ens, trail);
+    if (ens > steps + pre && ens > trail)
+        snprintf(advice, sizeof(advice), "lower ensemble.count, or integrate less far");
+    else if (pre > 2 * steps)
+        snprintf(advice, sizeof(advice), "raise integrator.dt, which %s uses only to sample "
+                 "the camera's pre-pass", mi->name);
+    else if (trail > steps + pre)
+        snprintf(advice, sizeof(advice), "shorten view.trail or the video");
+    else
+        snprintf(advice, sizeof(advice), "%s, lower pendulum.stiffness / pendulum.mass, or "
+                 "integrate less far", mi->adaptive ? "raise integrator.tolerance"
+                                                    : "raise integrator.dt");
+    return sp_cli_work(steps + pre + ens + trail, SP_MAX_STEPS, SP_NOTE_STEPS, what, advice,
+                       o->quiet);
 }

@@ -82,9 +82,17 @@ int sp_cli_same_file(const char *a, const char *b);
  * Looks only; creates nothing. `what` names the option ("-o"). */
 int sp_cli_check_writable(const char *path, const char *what);
 
-/* Estimates the integration to t_end (plus, with camera, the camera's
- * pre-pass) and refuses it (SP_E_INPUT, with the numbers and what to
- * change) beyond 1e10 steps; says so on stderr when it is long. */
+/* The one rule for work that may run for hours: refuses `steps` beyond
+ * limit (SP_E_INPUT: "WHAT: about N steps in all; at most LIMIT are
+ * allowed: ADVICE"), and beyond note says on stderr (unless quiet) that it
+ * will take a while. Render, still, data and sweep use it. */
+int sp_cli_work(double steps, double limit, double note, const char *what, const char *advice,
+                int quiet);
+
+/* Estimates the integration to t_end: the run, and with camera (render,
+ * still) the camera's pre-pass and the trails; an ensemble's members (each
+ * integrated twice) and its Lyapunov run. Refuses beyond 1e10 steps with
+ * every part's count and what to change; says so on stderr beyond 3e8. */
 int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
                       double t_end, int camera);
 

@@ -2,21 +2,25 @@
  * renamed), shards and their merge, the progress bar; the grid's work is
  * sweep.c's, the figure sweep_plot.c's. */
 #include <errno.h>
+#include <fcntl.h>
 #include <float.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "av_module.h"
 #include "cli.h"
 #include "decimal.h"
+#include "digest.h"
 #include "signals.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
+#include "springpend/sim.h"
 #include "sweep.h"
 #include "sweep_format.h"
 
@@ -313,6 +317,38 @@ static int check_outputs(const struct sweep_opts *o)
     return 0;
 }
 
+/* A sweep's work, in trajectory-steps: beyond SWEEP_MAX_STEPS it is
+ * refused (about 2 hours of the batched integrator on 2 cores, at about 150
+ * million a second), beyond SWEEP_NOTE_STEPS (about 2 minutes) it says so. */
+#define SWEEP_MAX_STEPS 1e12
+#define SWEEP_NOTE_STEPS 1.5e10
+
+/* Estimates points * (steps a point) for this run (a shard's points only)
+ * and holds it to the limits (sp_cli_work). A point integrates the
+ * transient and the span (Lyapunov: at least two renormalisations); fixed
+ * steps at integrator.dt, dop853 at its tolerance (probed on the base
+ * scene, sim.h) and, for events, at least one step per dt. */
+static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
+                      int quiet)
+{
+    const double span = d->transient + (d->measure == SP_MEASURE_LYAPUNOV ? fmax(d->time, 2.0)
+                                                                           : d->time);
+    double per_point = span / d->dt;
+    if (strcmp(d->method, "rk4") && strcmp(d->method, "verlet") && strcmp(d->method, "yoshida4")) {
+        struct sp_scene s = *base;
+        s.integrator.method = SP_METHOD_DOP853;
+        const double adaptive = sp_sim_estimate_steps(&s, span);
+        per_point = d->measure == SP_MEASURE_LYAPUNOV ? adaptive : fmax(adaptive, per_point);
+    }
+    char what[256];
+    snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s at dt = %g s: about "
+             "%.3g steps a point)", points, span, d->method, d->dt, per_point);
+    return sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
+                       "fewer points (--vary's COUNT), a shorter --time or --transient, a "
+                       "larger integrator.dt, or split the grid over machines with --shard I/N",
+                       quiet);
+}
+
 static double now_s(void)
 {
     struct timespec ts;
@@ -431,47 +467,110 @@ static int read_line(FILE *fp, char *buf, size_t size)
     return 1;
 }
 
-/* A shard's rows, from fp's position to its end, must be whole: each line
- * ends in a newline and holds as many numbers as `columns` names, its
- * point (the first) inside the shard's points [first, last) and never
- * before the previous row's; a Lyapunov shard has one row per point. A copy
- * cut short or edited would otherwise be drawn without a word. fp is left
- * where it was. SP_E_INPUT with FILE:LINE. */
-static int check_rows(FILE *fp, const char *name, const char *columns, long first, long last,
-                      int one_per_point)
+#define END_LINE "# end rows=%ld sha256=%s\n" /* a shard's last line (sweep.h) */
+
+/* A shard's last line: the SHA-256 of every byte of fp (rewound, read to
+ * the end) and its row count, appended. Returns 0 or SP_E_IO. */
+static int write_end(FILE *fp, const char *name)
 {
-    char line[1024], *p, *end;
-    long at = ftell(fp), lineno = 3, rows = 0, prev = first;
-    int fields = 1, ret = 0;
-    for (const char *c = columns; *c; c++)
-        fields += *c == ',';
-    while (!ret && fgets(line, sizeof(line), fp)) {
-        int n = 0;
+    static char buf[1 << 16];
+    struct sha256_ctx sha;
+    char hex[65];
+    long lines = 0;
+    size_t got;
+    sha256_init(&sha);
+    if (fflush(fp) != 0 || fseek(fp, 0, SEEK_SET) != 0)
+        goto fail;
+    while ((got = fread(buf, 1, sizeof(buf), fp)) > 0) {
+        sha256_update(&sha, got, (const uint8_t *)buf);
+        for (const char *q = buf; (q = memchr(q, '\n', (size_t)(buf + got - q))); q++)
+            lines++;
+    }
+    sp_digest_hex(&sha, hex);
+    if (ferror(fp) || fseek(fp, 0, SEEK_END) != 0 || fprintf(fp, END_LINE, lines - 3, hex) < 0)
+        goto fail;
+    return 0;
+fail:
+    sp_log_error("cannot write %s: %s", name, strerror(errno));
+    return SP_E_IO;
+}
+
+/* A shard's rows, from fp's position (after its three header lines, whose
+ * bytes `head` holds) to its end line, must be whole: every row as the
+ * sweep writes it (sp_sweep_row_check), a Lyapunov shard one row per
+ * point, and the end line's row count and SHA-256 those of the bytes
+ * before it. A copy cut short or edited would otherwise be drawn without a
+ * word. Sets *rows_end to the end line's offset; fp is left where it was.
+ * SP_E_INPUT with FILE:LINE, or SP_E_INTERRUPTED. */
+static int check_rows(FILE *fp, const char *name, const char *head,
+                      const struct sp_sweep_desc *d, long first, long last, long *rows_end)
+{
+    char line[1024], hex[65], want[sizeof(line)];
+    struct sp_sweep_rows r = {.d = d, .first = first, .last = last, .point = -1};
+    struct sha256_ctx sha;
+    long at = ftell(fp), lineno = 3, pos = at;
+    int ended = 0;
+    const char *wrong = NULL;
+    sha256_init(&sha);
+    sha256_update(&sha, strlen(head), (const uint8_t *)head);
+    while (!wrong && (pos = ftell(fp), fgets(line, sizeof(line), fp))) {
         lineno++;
-        long point = strtol(line, &end, 10);
-        for (p = line; n < fields; n++, p = end + 1) {
-            strtod(p, &end);
-            if (end == p || *end != (n + 1 < fields ? ',' : '\n'))
-                break;
+        if (lineno % 4096 == 0 && sp_signal_seen())
+            return SP_E_INTERRUPTED;
+        if (ended) {
+            wrong = "a line after the end line";
+        } else if (!strncmp(line, "# end ", 6)) {
+            sp_digest_hex(&sha, hex);
+            snprintf(want, sizeof(want), END_LINE, r.rows, hex);
+            if (strcmp(line, want))
+                wrong = "the end line does not match the rows before it (their count or "
+                        "SHA-256)";
+            ended = 1;
+            *rows_end = pos;
+        } else {
+            wrong = sp_sweep_row_check(&r, line);
+            sha256_update(&sha, strlen(line), (const uint8_t *)line);
         }
-        if (n < fields || point < prev || point >= last) {
-            sp_log_error("%s:%ld: not a whole row of this shard (%d numbers, point %ld to "
-                         "%ld); the file was cut short or edited: write it again", name,
-                         lineno, fields, first, last - 1);
-            ret = SP_E_INPUT;
-        }
-        prev = point, rows++;
     }
-    if (!ret && one_per_point && rows != last - first) {
-        sp_log_error("%s: %ld rows, but the shard has %ld points; the file was cut short or "
-                     "edited: write it again", name, rows, last - first);
-        ret = SP_E_INPUT;
+    if (!wrong && !ended)
+        wrong = "no end line", lineno++;
+    if (!wrong && (d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS) &&
+        r.rows != last - first)
+        wrong = "fewer rows than the shard's points";
+    if (wrong) {
+        sp_log_error("%s:%ld: %s; the file was cut short or edited: write it again with "
+                     "'springpend sweep ... --shard I/N --csv FILE'", name, lineno, wrong);
+        return SP_E_INPUT;
     }
-    if (!ret && (ferror(fp) || fseek(fp, at, SEEK_SET) != 0)) {
+    if (ferror(fp) || fseek(fp, at, SEEK_SET) != 0) {
         sp_log_error("cannot read %s: %s", name, strerror(errno));
-        ret = SP_E_INPUT;
+        return SP_E_INPUT;
     }
-    return ret;
+    return 0;
+}
+
+/* Opens a shard for reading: a regular file only. A FIFO would block the
+ * merge until a writer comes, a device would never end; both are refused
+ * without waiting (O_NONBLOCK). NULL after a message. */
+static FILE *open_shard(const char *path)
+{
+    struct stat st;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    FILE *fp = NULL;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        sp_log_error("cannot read %s: %s", path, strerror(errno));
+    } else if (!S_ISREG(st.st_mode)) {
+        sp_log_error("%s is %s, not a regular file; give the CSV files that 'springpend "
+                     "sweep --shard I/N --csv FILE' wrote", path,
+                     S_ISDIR(st.st_mode) ? "a folder" : S_ISFIFO(st.st_mode) ? "a FIFO"
+                     : "a device or socket");
+    } else if (fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK) != 0 ||
+               !(fp = fdopen(fd, "r"))) {
+        sp_log_error("cannot read %s: %s", path, strerror(errno));
+    }
+    if (!fp && fd >= 0)
+        close(fd);
+    return fp;
 }
 
 static int merge(const struct sweep_opts *o)
@@ -481,14 +580,18 @@ static int merge(const struct sweep_opts *o)
     FILE **parts = calloc((size_t)o->n_parts, sizeof(*parts));
     if (!parts)
         return SP_E_NOMEM;
+    long *ends = calloc((size_t)o->n_parts, sizeof(*ends));
+    if (!ends) {
+        free(parts);
+        return SP_E_NOMEM;
+    }
     for (int k = 0; !ret && k < o->n_parts; k++) {
         int i, total, used = 0;
-        FILE *fp = fopen(o->parts[k], "r");
-        char h[1024], c[1024];
+        FILE *fp = open_shard(o->parts[k]);
+        char h[1024], c[1024], head[3 * 1024 + 4];
         struct sp_sweep_desc d;
         if (!fp) {
-            sp_log_error("cannot read %s: %s", o->parts[k], strerror(errno));
-            ret = SP_E_INPUT;
+            ret = sp_signal_seen() ? SP_E_INTERRUPTED : SP_E_INPUT;
             break;
         }
         if (!read_line(fp, h, sizeof(h)) || sp_sweep_parse_header(h, &d) ||
@@ -526,8 +629,9 @@ static int merge(const struct sweep_opts *o)
         }
         parts[i - 1] = fp;
         const long points = sp_sweep_points(&d);
-        ret = check_rows(fp, o->parts[k], c, points * (i - 1) / n, points * i / n,
-                         d.measure == SP_MEASURE_LYAPUNOV || d.measure == SP_MEASURE_BASINS);
+        snprintf(head, sizeof(head), "%s\n%s\n%s\n", h, line, c);
+        ret = check_rows(fp, o->parts[k], head, &d, points * (i - 1) / n, points * i / n,
+                         &ends[i - 1]);
     }
     struct sp_outfile rows = {.fd = -1, .slot = -1};
     FILE *out = NULL;
@@ -537,10 +641,15 @@ static int merge(const struct sweep_opts *o)
     if (!ret) {
         fprintf(out, "%s\n%s\n", header, columns);
         static char buf[1 << 16];
-        for (int i = 0; i < n; i++) {
+        for (int i = 0; i < n; i++) { /* the rows, not the end line */
             size_t got;
-            while ((got = fread(buf, 1, sizeof(buf), parts[i])) > 0)
+            for (long left = ends[i] - ftell(parts[i]); left > 0; left -= (long)got) {
+                got = fread(buf, 1, left < (long)sizeof(buf) ? (size_t)left : sizeof(buf),
+                            parts[i]);
+                if (!got)
+                    break;
                 fwrite(buf, 1, got, out);
+            }
         }
         ret = finish(out, &rows, o, 0, made);
         if (ret == SP_E_INTERRUPTED)
@@ -550,6 +659,7 @@ static int merge(const struct sweep_opts *o)
         if (parts[i])
             fclose(parts[i]);
     free(parts);
+    free(ends);
     if (!ret && !o->quiet)
         fprintf(stderr, "wrote %s%s%s from %d shards\n", o->output ? o->output : "stdout",
                 o->csv ? " and " : "", o->csv ? o->csv : "", n);
@@ -582,6 +692,8 @@ int sp_cmd_sweep(int argc, char **argv)
         first = total * (si - 1) / sn;
         last = total * si / sn;
     }
+    if ((ret = check_work(&d, &scene, last - first, o.quiet)))
+        return ret;
     struct sp_outfile rows;
     FILE *fp;
     struct sp_dirs made[2] = {{0}, {0}};
@@ -598,6 +710,8 @@ int sp_cmd_sweep(int argc, char **argv)
     if (!ret)
         ret = sp_sweep_run(&d, &scene, first, last, o.threads, fp, &blown, &unreachable,
                            !o.quiet && isatty(2) ? show_progress : NULL, &prog);
+    if (!ret && o.shard)
+        ret = write_end(fp, rows.path);
     if (!ret && !o.shard && unreachable == last - first) { /* an empty figure */
         sp_log_error("--energy %g: no point of the grid can have this energy; nothing "
                      "written (omit --energy for the scene's own)", d.energy);

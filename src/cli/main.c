@@ -36,9 +36,13 @@ static const char usage[] =
     "             SIGVTALRM (154), SIGXCPU (152) or SIGPWR (158): render keeps\n"
     "             the frames so far, playable; other partial files are removed\n";
 
-/* The process exit status of an SP_E_* code, as --help documents it. */
+/* The process exit status of an SP_E_* code, as --help documents it. A
+ * command that fails after a stop signal arrived was stopped by it (a read
+ * cut by EINTR reports itself as bad input or I/O): 128 + the signal. */
 static int exit_status(int err)
 {
+    if (err && sp_signal_seen())
+        err = SP_E_INTERRUPTED;
     switch (err) {
     case SP_OK: return 0;
     case SP_E_INPUT: return 2;

@@ -4,9 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <libavutil/mem.h>
-#include <libavutil/sha.h>
-
+#include "digest.h"
 #include "springpend/common.h"
 #include "springpend/image_compare.h"
 
@@ -212,22 +210,14 @@ long sp_compare_masked_pixels(int width, int height, const struct sp_compare_mas
 
 int sp_compare_pixel_hash(const struct sp_image *img, char hex[65])
 {
-    uint8_t digest[32];
     char size[32];
-    struct AVSHA *sha = av_sha_alloc();
-    if (!sha) {
-        sp_log_error("out of memory");
-        return SP_E_NOMEM;
-    }
-    av_sha_init(sha, 256);
+    struct sha256_ctx sha;
+    sha256_init(&sha);
     for (int y = 0; y < img->height; y++)
-        av_sha_update(sha, img->pixels + (size_t)y * img->stride, 4 * (size_t)img->width);
+        sha256_update(&sha, 4 * (size_t)img->width, img->pixels + (size_t)y * img->stride);
     int n = snprintf(size, sizeof(size), "%dx%d", img->width, img->height);
-    av_sha_update(sha, (const uint8_t *)size, (size_t)n);
-    av_sha_final(sha, digest);
-    av_free(sha);
-    for (int i = 0; i < 32; i++)
-        snprintf(hex + 2 * i, 3, "%02x", digest[i]);
+    sha256_update(&sha, (size_t)n, (const uint8_t *)size);
+    sp_digest_hex(&sha, hex);
     return 0;
 }
 

@@ -1,11 +1,11 @@
 /* springpend: PNG text chunks naming an image's origin (provenance.h).
- * SHA-256 from libavutil, which the video sink links anyway. */
+ * SHA-256 from nettle: small, and it pulls nothing else into the start of
+ * every command (libavutil did: libva, libX11, libOpenCL, libmfx). */
 #include <stdio.h>
 #include <stdlib.h>
 
-#include <libavutil/mem.h>
-#include <libavutil/sha.h>
 
+#include "digest.h"
 #include "springpend/common.h"
 #include "springpend/provenance.h"
 
@@ -13,27 +13,20 @@
  * into copy (empty when it does not fit). */
 static int scene_sha256(const struct sp_scene *scene, char hex[65], char *copy, size_t size)
 {
-    uint8_t digest[32];
     int n = sp_scene_canonical(scene, NULL, 0);
     char *text = malloc((size_t)n + 1);
-    struct AVSHA *sha = av_sha_alloc();
-    int err = 0;
-    if (!text || !sha) {
+    struct sha256_ctx sha;
+    if (!text) {
         sp_log_error("out of memory");
-        err = SP_E_NOMEM;
-        goto done;
+        return SP_E_NOMEM;
     }
     sp_scene_canonical(scene, text, (size_t)n + 1);
-    av_sha_init(sha, 256);
-    av_sha_update(sha, (const uint8_t *)text, (size_t)n);
-    av_sha_final(sha, digest);
-    for (int i = 0; i < 32; i++)
-        snprintf(hex + 2 * i, 3, "%02x", digest[i]);
+    sha256_init(&sha);
+    sha256_update(&sha, (size_t)n, (const uint8_t *)text);
+    sp_digest_hex(&sha, hex);
     snprintf(copy, size, "%s", (size_t)n < size ? text : "");
-done:
-    av_free(sha);
     free(text);
-    return err;
+    return 0;
 }
 
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,

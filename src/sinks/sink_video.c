@@ -291,9 +291,21 @@ static int video_open(struct sp_sink *s)
     for (int i = 0; i < d->n_text; i++)
         if (strcmp(d->text[i].key, "springpend.time")) /* a frame's, not the video's */
             av_dict_set(&v->oc->metadata, d->text[i].key, d->text[i].text, 0);
-    if (!strcmp(vc->muxer, "mp4"))
+    if (!strcmp(vc->muxer, "mp4")) {
+        /* The movie header keeps the file's duration in movie_timescale
+         * units, 1000 by default: 20 frames at 60 fps became 0.334 s, and
+         * ffmpeg's concat demuxer starts the next shard's frames there, off
+         * k / fps. The track's own timescale (the mov muxer doubles the
+         * time base's denominator up to 10000 at least) holds it exactly. */
+        char timescale[16];
+        int ts = rate.num;
+        while (ts < 10000)
+            ts *= 2;
+        snprintf(timescale, sizeof(timescale), "%d", ts);
         av_dict_set(&mux_opts, "movflags", d->n_text ? "+faststart+use_metadata_tags"
                                                      : "+faststart", 0);
+        av_dict_set(&mux_opts, "movie_timescale", timescale, 0);
+    }
     ret = avformat_write_header(v->oc, &mux_opts);
     if (ret < 0) {
         err = av_failed(s, "cannot write the header", ret, SP_E_IO);

@@ -1,8 +1,9 @@
 /* springpend: sweeps (see sweep.h). The grid is cut into chunks of CHUNK
  * points; workers (one per core) take chunks in order, integrate each as one
  * batch and format its rows; the calling thread writes the chunks in grid
- * order as they complete. At most WINDOW chunks per worker are held, so
- * memory stays flat whatever the grid's size. Every point's numbers depend
+ * order as they complete. At most WINDOW chunks per worker are held, and a
+ * chunk's long rows wait in a temporary file (struct chunk_out), so memory
+ * stays flat whatever the grid's size and the measured span. Every point's numbers depend
  * on its own scene only, so the thread count, the chunking and the shards
  * never change a byte. */
 #include <errno.h>
@@ -15,6 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "decimal.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
@@ -158,6 +160,80 @@ int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
         seen++;
     }
     return seen && (int)d->measure >= 0 && d->n_axes > 0 ? 0 : SP_E_INPUT;
+}
+
+/* ---- rows read back ------------------------------------------------------- */
+
+const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
+{
+    const struct sp_sweep_desc *d = r->d;
+    const char *columns = sp_sweep_columns(d);
+    int nv = 1;
+    for (const char *c = columns; *c; c++)
+        nv += *c == ',';
+    /* the measures whose rows sweep.c writes itself: a blown-up point is one
+     * row of nan only, an event's time lies in the measured span and a
+     * point's times ascend; the analysis measures (analysis.h) write nan in
+     * some columns of a row, and several branches of a point */
+    const int plain = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_POINCARE ||
+                      (d->measure == SP_MEASURE_ORBIT && !d->cont && !d->peak);
+    const int one_per_point = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS;
+    const int n = 1 + d->n_axes + nv;
+    char field[64], want[32];
+    double t = 0, v;
+    int nan = 0, idx[SP_SWEEP_MAX_AXES];
+    long point = -1;
+    const char *p = line;
+    for (int i = 0; i < n; i++) {
+        const size_t len = strcspn(p, ",\n");
+        if (p[len] != (i + 1 < n ? ',' : '\n') || len >= sizeof(field))
+            return i + 1 < n ? "too few numbers or one too long" : "not a whole row";
+        memcpy(field, p, len);
+        field[len] = 0;
+        p += len + 1;
+        if (i == 0) { /* the point, as "%ld" */
+            point = strtol(field, NULL, 10);
+            snprintf(want, sizeof(want), "%ld", point);
+            if (strcmp(field, want))
+                return "the point is not an integer";
+            if (point < r->first || point >= r->last)
+                return "the point is not one of this shard's";
+            sp_sweep_point_index(d, point, idx);
+        } else if (i <= d->n_axes) { /* the grid's value, as sp_sweep_format_point writes it */
+            snprintf(want, sizeof(want), "%.10g",
+                     sp_sweep_axis_value(&d->axis[i - 1], idx[i - 1]));
+            if (strcmp(field, want))
+                return "a key's value is not the grid's value for this point";
+        } else if (!strcmp(field, "nan")) {
+            nan++;
+        } else if (sp_decimal_read(field, &v) != SP_DECIMAL_OK) {
+            return "a value is not a finite decimal number (nan, inf and hex are not written)";
+        } else if (i == d->n_axes + 1) {
+            t = v; /* the first value: a time for orbit and poincare */
+        }
+    }
+    if (*p)
+        return "more than a row";
+    if (one_per_point && point != r->first + r->rows)
+        return "not the next point's row (one row per point, in order)";
+    if (point < r->point)
+        return "a point's rows after a later point's";
+    if (plain && nan && nan != nv)
+        return "a row is either all numbers or all nan (a point that blew up)";
+    if (plain && d->measure != SP_MEASURE_LYAPUNOV) {
+        const double slack = d->dt > 0 ? d->dt : 0;
+        if (point == r->point && (nan || r->blown))
+            return "a point that blew up has one row";
+        if (point == r->point && t < r->t)
+            return "a point's times do not ascend";
+        if (!nan && !(t >= d->transient - slack && t <= d->transient + d->time + slack))
+            return "a time outside the measured span";
+        r->t = t;
+    }
+    r->point = point;
+    r->blown = nan > 0;
+    r->rows++;
+    return NULL;
 }
 
 /* ---- the scenes of the grid ---------------------------------------------- */
@@ -341,13 +417,6 @@ __attribute__((format(printf, 2, 3))) static void sb_printf(struct sbuf *b, cons
     }
 }
 
-static void sb_append(struct sbuf *b, const struct sbuf *other)
-{
-    if (other->len)
-        sb_printf(b, "%.*s", (int)other->len, other->s);
-    b->failed |= other->failed;
-}
-
 char *sp_sweep_format_point(char *buf, size_t size, const struct sp_sweep_desc *d, long p)
 {
     int idx[SP_SWEEP_MAX_AXES];
@@ -371,10 +440,98 @@ static void row_start(struct sbuf *b, const struct sp_sweep_desc *d, long p)
 
 /* ---- measurements on one chunk ------------------------------------------- */
 
+/* A chunk's rows: lane i's rows (point first + i) are its spilled blocks,
+ * in order, then lane[i]. An orbit's rows grow with --time; a lane holding
+ * more than SPILL_BYTES moves them to the chunk's temporary file, so the
+ * memory a chunk holds stays under 2 * CHUNK * SPILL_BYTES (the lanes'
+ * buffers; and 24 bytes of index per block spilled) whatever the span. Lyapunov
+ * rows are one per point, all in lane[0]. */
+#define SPILL_BYTES 16384
+
+struct spill_block {
+    int lane;        /* -1: dropped (the orbit blew up) */
+    size_t len;      /* bytes */
+    long offset;     /* in the chunk's spill file */
+};
+
 struct chunk_out {
-    struct sbuf text;
+    struct sbuf lane[CHUNK];
+    int n_lanes;
+    FILE *spill;                 /* the blocks' temporary file, or NULL */
+    struct spill_block *blocks;
+    long n_blocks, cap_blocks;
+    int spill_failed;            /* errno of a failed spill, else 0 */
     long blown_up, unreachable;
 };
+
+/* Moves lane i's rows to the spill file. */
+static void spill_lane(struct chunk_out *o, int i)
+{
+    struct sbuf *b = &o->lane[i];
+    if (o->spill_failed || b->failed || !b->len)
+        return;
+    if (!o->spill && !(o->spill = tmpfile())) {
+        o->spill_failed = errno ? errno : EIO;
+        return;
+    }
+    if (o->n_blocks == o->cap_blocks) {
+        long cap = o->cap_blocks ? 2 * o->cap_blocks : 64;
+        struct spill_block *nb = realloc(o->blocks, sizeof(*nb) * (size_t)cap);
+        if (!nb) {
+            b->failed = 1;
+            return;
+        }
+        o->blocks = nb, o->cap_blocks = cap;
+    }
+    long at = ftell(o->spill);
+    if (at < 0 || fwrite(b->s, 1, b->len, o->spill) != b->len) {
+        o->spill_failed = errno ? errno : EIO;
+        return;
+    }
+    o->blocks[o->n_blocks++] = (struct spill_block){.lane = i, .len = b->len, .offset = at};
+    b->len = 0;
+}
+
+/* Writes the chunk's rows to fp in lane order. Returns 0 or SP_E_IO. */
+static int write_chunk(struct chunk_out *o, FILE *fp)
+{
+    static char buf[SPILL_BYTES];
+    if (o->spill && fflush(o->spill) != 0) {
+        sp_log_error("cannot write a temporary file of the sweep's rows: %s", strerror(errno));
+        return SP_E_IO;
+    }
+    for (int i = 0; i < o->n_lanes; i++) {
+        for (long k = 0; k < o->n_blocks; k++) {
+            const struct spill_block *bl = &o->blocks[k];
+            for (size_t done = 0, n; bl->lane == i && done < bl->len; done += n) {
+                n = bl->len - done < sizeof(buf) ? bl->len - done : sizeof(buf);
+                if (pread(fileno(o->spill), buf, n, bl->offset + (long)done) != (ssize_t)n) {
+                    sp_log_error("cannot read a temporary file of the sweep's rows: %s",
+                                 strerror(errno ? errno : EIO));
+                    return SP_E_IO;
+                }
+                if (fwrite(buf, 1, n, fp) != n)
+                    goto fail;
+            }
+        }
+        if (o->lane[i].len && fwrite(o->lane[i].s, 1, o->lane[i].len, fp) != o->lane[i].len)
+            goto fail;
+    }
+    return 0;
+fail:
+    sp_log_error("cannot write the sweep's rows: %s", strerror(errno));
+    return SP_E_IO;
+}
+
+static void chunk_out_free(struct chunk_out *o)
+{
+    for (int i = 0; i < CHUNK; i++)
+        free(o->lane[i].s);
+    if (o->spill)
+        fclose(o->spill);
+    free(o->blocks);
+    memset(o, 0, sizeof(*o));
+}
 
 /* Benettin: renormalise the tangent every tau (about a second, on the grid
  * for fixed steps); lambda = sum of ln growth / T, and the same at T/2. */
@@ -411,8 +568,8 @@ static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, c
         double lam = sum[i] / (K * tau);
         if (b->dead[i] || !isfinite(lam))
             lam = half[i] = NAN, out->blown_up++;
-        row_start(&out->text, d, pts[i]);
-        sb_printf(&out->text, "%.9g,%.9g\n", lam, half[i]);
+        row_start(&out->lane[0], d, pts[i]);
+        sb_printf(&out->lane[0], "%.9g,%.9g\n", lam, half[i]);
     }
     return 0;
 }
@@ -429,7 +586,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
 {
     const double dt = d->dt, t_end = d->transient + d->time;
     const int strobe = d->measure == SP_MEASURE_ORBIT && d->driven;
-    struct sbuf rows[CHUNK] = {{0}};
+    struct sbuf *rows = out->lane;
     double prev[4][CHUNK];
     int ret = 0;
     for (long step = 0;; step++) {
@@ -440,6 +597,9 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
             ret = SP_E_INTERRUPTED;
             break;
         }
+        for (int i = 0; i < n; i++)
+            if (rows[i].len > SPILL_BYTES)
+                spill_lane(out, i);
         for (int c = 0; c < 4; c++)
             memcpy(prev[c], b->out[c], sizeof(double) * (size_t)n);
         sp_batch_advance(b, t1);
@@ -489,11 +649,12 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
             /* the points of a blown-up orbit are dropped; one NaN row says so */
             out->blown_up++;
             rows[i].len = 0;
+            for (long k = 0; k < out->n_blocks; k++)
+                if (out->blocks[k].lane == i)
+                    out->blocks[k].lane = -1;
             row_start(&rows[i], d, pts[i]);
             sb_printf(&rows[i], d->measure == SP_MEASURE_ORBIT ? "nan,nan,nan\n" : "nan,nan,nan,nan\n");
         }
-        sb_append(&out->text, &rows[i]);
-        free(rows[i].s);
     }
     return ret;
 }
@@ -521,8 +682,9 @@ static int analysis_chunk(const struct sp_sweep_desc *d, const struct sp_scene *
         sp_log_error("out of memory for a sweep's rows");
         ret = SP_E_NOMEM;
     }
+    out->n_lanes = 1;
     if (!ret)
-        out->text = (struct sbuf){.s = text, .len = len, .cap = len + 1};
+        out->lane[0] = (struct sbuf){.s = text, .len = len, .cap = len + 1};
     else
         free(text);
     return ret;
@@ -551,14 +713,21 @@ static int run_chunk(const struct sp_sweep_desc *d, const struct sp_scene *base,
     int ret = sp_batch_make(&b, ptr, n, d->measure == SP_MEASURE_LYAPUNOV, forced);
     if (ret)
         return ret;
+    out->n_lanes = d->measure == SP_MEASURE_LYAPUNOV ? 1 : n;
     if (d->measure == SP_MEASURE_LYAPUNOV)
         ret = measure_lyapunov(d, b, pts, skip, n, out);
     else
         ret = measure_events(d, b, scenes, pts, skip, n, out);
     sp_batch_destroy(&b);
-    if (!ret && out->text.failed) {
-        sp_log_error("out of memory for a sweep's rows");
-        ret = SP_E_NOMEM;
+    for (int i = 0; i < n; i++)
+        if (!ret && out->lane[i].failed) {
+            sp_log_error("out of memory for a sweep's rows");
+            ret = SP_E_NOMEM;
+        }
+    if (!ret && out->spill_failed) {
+        sp_log_error("cannot write a temporary file of the sweep's rows: %s",
+                     strerror(out->spill_failed));
+        ret = SP_E_IO;
     }
     return ret;
 }
@@ -686,13 +855,11 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
             break;
         }
         ret = s->ret;
-        if (!ret && s->out.text.len && fwrite(s->out.text.s, 1, s->out.text.len, fp) != s->out.text.len) {
-            sp_log_error("cannot write the sweep's rows: %s", strerror(errno));
-            ret = SP_E_IO;
-        }
+        if (!ret)
+            ret = write_chunk(&s->out, fp);
         *blown_up += s->out.blown_up;
         *unreachable += s->out.unreachable;
-        free(s->out.text.s);
+        chunk_out_free(&s->out);
         pthread_mutex_lock(&r.lock);
         memset(s, 0, sizeof(*s));
         r.written++;
@@ -712,7 +879,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
     for (int i = 0; i < started; i++)
         pthread_join(tid[i], NULL);
     for (int i = 0; i < r.window; i++)
-        free(r.slots[i].out.text.s);
+        chunk_out_free(&r.slots[i].out);
     if (!ret && sp_signal_seen())
         ret = SP_E_INTERRUPTED;
     pthread_mutex_destroy(&r.lock);

@@ -18,7 +18,9 @@
  *             at T = time; 1/s, the dimension unitless)
  *   basins:   point,KEY,KEY2,period,winding,theta,r,theta_dot,r_dot,settled
  *             (basins.h)
- * A shard's CSV has a "# shard I/N" line after the description. */
+ * A shard's CSV has a "# shard I/N" line after the description and ends
+ * with "# end rows=N sha256=HEX", the SHA-256 of every byte before that
+ * line, so that --merge can refuse a copy cut short or edited. */
 #ifndef SPRINGPEND_SWEEP_H
 #define SPRINGPEND_SWEEP_H
 
@@ -90,6 +92,27 @@ int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *b
 /* Parses a description line back (the line without its newline). Returns 0
  * or SP_E_INPUT (no message; the caller names the file). */
 int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d);
+
+/* What a shard's rows must be, checked row by row (sp_sweep_row_check). */
+struct sp_sweep_rows {
+    const struct sp_sweep_desc *d;
+    long first, last; /* the shard's points [first, last) */
+    long rows;        /* rows checked so far */
+    long point;       /* the last row's point, -1 before the first */
+    double t;         /* orbit, poincare: the last row's time, s */
+    int blown;        /* the last row was a blown-up point's NaN row */
+};
+
+/* Checks one row (with its newline) as the sweep writes it: as many
+ * fields as the columns (sp_sweep_columns), the point an integer in
+ * [first, last), one row per point in order (lyapunov, basins) or the
+ * points' rows in order; the key values the grid's own (as written,
+ * %.10g); the measured values finite decimal numbers or "nan" (no inf, hex
+ * or blanks). Lyapunov, orbit and poincare rows (sweep.c's own) also: a
+ * point that blew up is one row of nan only, an event's time lies in the
+ * measured span (within a step) and a point's times ascend. Returns NULL,
+ * or what is wrong (for "FILE:LINE: WHAT"). */
+const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line);
 
 /* A running sweep's report to its caller (progress bar), from the calling
  * thread: points done of total. */

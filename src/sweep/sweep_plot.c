@@ -26,6 +26,9 @@
 #define W 900.0  /* figure size, pt (PNG: 2 px per pt) */
 #define H 600.0
 #define PNG_SCALE 2
+/* A Lyapunov map's image, pixels a side at most: more than the plot's
+ * 720 pt (1440 PNG px) can show, far less than cairo's limit (32767). */
+#define MAP_MAX_PX 2048
 
 /* The plot area and the data range it shows. */
 struct frame {
@@ -307,24 +310,43 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
         struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
-        cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, ax->count, ay->count);
+        /* one image pixel per grid point up to MAP_MAX_PX a side (cairo
+         * makes none wider than 32767); beyond, each pixel is the mean of
+         * the finite values of its block of points */
+        const int iw = ax->count < MAP_MAX_PX ? ax->count : MAP_MAX_PX;
+        const int ih = ay->count < MAP_MAX_PX ? ay->count : MAP_MAX_PX;
+        cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, iw, ih);
+        if (cairo_surface_status(img)) {
+            sp_log_error("cannot make the map's %dx%d image: %s", iw, ih,
+                         cairo_status_to_string(cairo_surface_status(img)));
+            cairo_surface_destroy(img);
+            free(lam), free(half);
+            return SP_E_NOMEM;
+        }
         unsigned char *data = cairo_image_surface_get_data(img);
         int stride = cairo_image_surface_get_stride(img);
         cairo_surface_flush(img);
-        for (long p = 0; p < n; p++) {
-            int idx[SP_SWEEP_MAX_AXES];
-            sp_sweep_point_index(d, p, idx);
-            float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
-            if (isfinite(lam[p]))
-                colormap_rgb(d, (lam[p] - lo) / (hi - lo), rgb);
-            uint32_t *px32 = (uint32_t *)(data + (size_t)(ay->count - 1 - idx[1]) * stride) + idx[0];
-            *px32 = (uint32_t)lrintf(rgb[0] * 255) << 16 | (uint32_t)lrintf(rgb[1] * 255) << 8 |
-                    (uint32_t)lrintf(rgb[2] * 255);
-        }
+        for (int j = 0; j < ih; j++)
+            for (int i = 0; i < iw; i++) {
+                const long x0 = (long)i * ax->count / iw, x1 = (long)(i + 1) * ax->count / iw;
+                const long y0 = (long)j * ay->count / ih, y1 = (long)(j + 1) * ay->count / ih;
+                double sum = 0;
+                long got = 0;
+                for (long y = y0; y < y1; y++)
+                    for (long x = x0; x < x1; x++)
+                        if (isfinite(lam[y * ax->count + x]))
+                            sum += lam[y * ax->count + x], got++;
+                float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
+                if (got)
+                    colormap_rgb(d, (sum / (double)got - lo) / (hi - lo), rgb);
+                uint32_t *px32 = (uint32_t *)(data + (size_t)(ih - 1 - j) * (size_t)stride) + i;
+                *px32 = (uint32_t)lrintf(rgb[0] * 255) << 16 |
+                        (uint32_t)lrintf(rgb[1] * 255) << 8 | (uint32_t)lrintf(rgb[2] * 255);
+            }
         cairo_surface_mark_dirty(img);
         cairo_save(cr);
         cairo_translate(cr, f.x0, f.y0);
-        cairo_scale(cr, f.w / ax->count, f.h / ay->count);
+        cairo_scale(cr, f.w / iw, f.h / ih);
         cairo_set_source_surface(cr, img, 0, 0);
         cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
         cairo_paint(cr);
@@ -747,7 +769,19 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
         s = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
     else
         s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W * PNG_SCALE, (int)H * PNG_SCALE);
+    if (!strcasecmp(ext, ".pdf") && (ret = sp_cairo_pdf_date(s))) { /* bytes that repeat */
+        cairo_surface_destroy(s);
+        sp_outfile_discard(&out);
+        return ret;
+    }
     cairo_t *cr = cairo_create(s);
+    if (cairo_status(cr)) { /* the surface's error, too: nothing to draw on */
+        sp_log_error("cannot make the figure %s: %s", path, cairo_status_to_string(cairo_status(cr)));
+        cairo_destroy(cr);
+        cairo_surface_destroy(s);
+        sp_outfile_discard(&out);
+        return SP_E_IO;
+    }
     if (!strcasecmp(ext, ".png"))
         cairo_scale(cr, PNG_SCALE, PNG_SCALE);
     cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);

@@ -20,6 +20,11 @@ import sys
 import tempfile
 import time
 
+if "-h" in sys.argv or "--help" in sys.argv:
+    print(__doc__)
+    sys.exit(0)
+if len([a for a in sys.argv[1:] if not a.startswith("--")]) < 3:
+    sys.exit(__doc__.split("usage: ")[1].split("\n")[0].join(("usage: ", "")))
 exe, bench_batch, scenes = (os.path.abspath(a) for a in sys.argv[1:4])
 quick = "--quick" in sys.argv
 chaotic = os.path.join(scenes, "chaotic.ini")

@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""springpend tests: the README against the program it describes. The scene
+key table lists exactly the keys `springpend keys` prints, with the same
+preset default; the exit statuses in the README are those of `springpend
+--help`; every field `info --json` prints is named in the README; the
+scripts run by hand answer --help.
+usage: test_docs.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+from sptest import done, ok
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+root = os.path.join(src, "..")
+with open(os.path.join(root, "README.md"), encoding="utf-8") as f:
+    readme = f.read()
+
+
+def run(*args):
+    return subprocess.run([exe, *args], capture_output=True, text=True)
+
+
+# ---- the scene key table against `springpend keys` -------------------------
+keys, section = {}, None
+for line in run("keys").stdout.splitlines():
+    m = re.match(r"  \[(\w+)\]$", line)
+    if m:
+        section = m.group(1)
+        keys[section] = {}
+        continue
+    m = re.match(r"    (\w+)\s+default (\S+)", line)
+    if m and section:
+        keys[section][m.group(1)] = m.group(2)
+table = {}
+for line in readme.split("## Scene files", 1)[1].split("\n\n", 3)[2].splitlines():
+    m = re.match(r"\| `\[(\w+)\]` \| (.*) \|$", line)
+    if m:
+        # the key names: backquoted words before a "(" or "," that are not values
+        cells = re.sub(r"\([^()]*(\([^()]*\)[^()]*)*\)", "", m.group(2))
+        table[m.group(1)] = set(re.findall(r"`(\w+)`", cells))
+# (a row may describe a section of another syntax, as [timeline]'s cues)
+ok(keys and set(keys) <= set(table),
+   f"the README's key table has a row for each section: {sorted(table)} vs {sorted(keys)}")
+for sec in sorted(keys):
+    missing, extra = set(keys[sec]) - table.get(sec, set()), table.get(sec, set()) - set(keys[sec])
+    ok(not missing and not extra,
+       f"[{sec}] in the README's table is what `keys` lists (missing {sorted(missing)}, extra {sorted(extra)})")
+preset = keys.get("video", {}).get("preset")
+said = re.findall(r"`preset` \(default `?(\w+)`?", readme)
+ok(preset and said and all(p == preset for p in said),
+   f"the README gives the preset default `keys` gives ({preset}): {said}")
+
+# ---- exit statuses: README against --help -----------------------------------
+help_text = run("--help").stdout
+block = help_text.split("exit status:", 1)[1] if "exit status:" in help_text else ""
+para = readme.split("Exit status:", 1)[1].split("\n\n", 1)[0] if "Exit status:" in readme else ""
+
+
+def statuses(text):
+    """The exit statuses and signals a text names."""
+    return set(re.findall(r"\b(\d{1,3})\b", text)) | set(re.findall(r"SIG[A-Z0-9]+", text))
+
+
+ok(block and para and statuses(block) == statuses(para) and "compare" in block and "compare" in para,
+   f"the README's exit statuses are --help's: {sorted(statuses(para))} vs {sorted(statuses(block))}")
+
+# ---- info --json: every field named ------------------------------------------
+r = run("info", os.path.join(root, "scenes", "default.ini"), "--json")
+fields = list(json.loads(r.stdout)) if r.returncode == 0 else []
+info_para = readme.split("`springpend info SCENE --json`", 1)[1].split("\n\n", 1)[0]
+unnamed = [k for k in fields if f"`{k}`" not in info_para]
+ok(fields and not unnamed, f"the README names every field info --json prints ({len(fields)}; unnamed {unnamed})")
+
+# ---- scripts run by hand answer --help ---------------------------------------
+for script in ("bench_render.py", os.path.join("bench", "bench_sweep.py")):
+    path = os.path.join(src, script)
+    r = subprocess.run([sys.executable, path, "--help"], capture_output=True, text=True, timeout=60)
+    ok(r.returncode == 0 and "usage:" in r.stdout and "Traceback" not in r.stderr,
+       f"tests/{script} --help prints its usage: exit {r.returncode} {r.stderr.strip()[-200:]}")
+    r = subprocess.run([sys.executable, path], capture_output=True, text=True, timeout=60)
+    ok(r.returncode != 0 and "usage:" in r.stderr and "Traceback" not in r.stderr,
+       f"tests/{script} without arguments says its usage, not a traceback: {r.stderr.strip()[-200:]}")
+done()

@@ -145,6 +145,47 @@ ok(darkest_top_left(p("slide_dark.png")) > 150, "transparent + dark theme: light
 r = run("still", os.path.join(root, "scenes", "default.ini"), "-o", p("nodir/x/../../c0.svg/x.svg"))
 ok(r.returncode != 0 and not os.path.exists(p("c0.svg/x.svg")), "an impossible path fails and writes nothing")
 
+# Reproducible bytes: the same figure twice, more than a second apart, is the
+# same file (cairo 1.16 stamps a PDF with the clock unless told a date); a
+# sweep figure too. SOURCE_DATE_EPOCH is written as the PDF's creation date
+# (pdfinfo reads it back); a malformed one is refused (exit 2, no file).
+import time
+env0 = {k: v for k, v in os.environ.items() if k != "SOURCE_DATE_EPOCH"}
+for ext in ("pdf", "svg"):
+    names = []
+    for i in (1, 2):
+        name = f"repro{i}.{ext}"
+        r = subprocess.run([exe, "still", os.path.join(root, "scenes", "default.ini"), "--at", "3",
+                            "-o", p(name), "-q"], capture_output=True, text=True, cwd=work, env=env0)
+        ok(r.returncode == 0, f"still {name} {r.stderr.strip()}")
+        r = subprocess.run([exe, "sweep", os.path.join(root, "scenes", "chaotic.ini"), "--vary",
+                            "initial.angle=10:80:4", "--measure", "lyapunov", "--time", "2", "-q",
+                            "-o", p("sweep" + name)], capture_output=True, text=True, cwd=work, env=env0)
+        ok(r.returncode == 0, f"sweep figure sweep{name} {r.stderr.strip()}")
+        names.append(name)
+        if i == 1:
+            time.sleep(1.2)
+    same = lambda a, b: os.path.exists(a) and os.path.exists(b) and open(a, "rb").read() == open(b, "rb").read()
+    ok(same(p(names[0]), p(names[1])), f"a still's {ext.upper()} has the same bytes a second later")
+    ok(same(p("sweep" + names[0]), p("sweep" + names[1])),
+       f"a sweep figure's {ext.upper()} has the same bytes a second later")
+info = subprocess.run(["pdfinfo", p("repro1.pdf")], capture_output=True, text=True).stdout
+ok("CreationDate" not in info, "without SOURCE_DATE_EPOCH a PDF carries no creation date")
+r = subprocess.run([exe, "still", os.path.join(root, "scenes", "default.ini"), "--at", "3",
+                    "-o", p("epoch.pdf"), "-q"], capture_output=True, text=True, cwd=work,
+                   env=dict(env0, SOURCE_DATE_EPOCH="1700000000"))
+info = subprocess.run(["pdfinfo", p("epoch.pdf")], capture_output=True, text=True,
+                      env=dict(env0, TZ="UTC")).stdout
+ok(r.returncode == 0 and re.search(r"CreationDate:\s+Tue Nov 14 22:13:20 2023", info),
+   f"SOURCE_DATE_EPOCH=1700000000 is the PDF's creation date ({info.strip()[:200]!r})")
+r = subprocess.run([exe, "still", os.path.join(root, "scenes", "default.ini"), "--at", "3",
+                    "-o", p("epochbad.pdf"), "-q"], capture_output=True, text=True, cwd=work,
+                   env=dict(env0, SOURCE_DATE_EPOCH="17e8"))
+ok(r.returncode == 2 and "SOURCE_DATE_EPOCH" in r.stderr and not os.path.exists(p("epochbad.pdf"))
+   and not [f for f in os.listdir(work) if f.startswith("epochbad")],
+   f"a malformed SOURCE_DATE_EPOCH is refused, no file (exit {r.returncode}: {r.stderr.strip()})")
+
+
 # Nothing that composes a frame includes a GL (or cairo) header, directly or
 # through another header of the tree (src/ flat or in folders).
 def find(name):

@@ -447,4 +447,10 @@ ok(os.waitstatus_to_exitcode(status) == 1 and usage.ru_maxrss < 150_000
    and "text chunks not read" in err,
    f"a {size // 1024} KiB PNG of 48 zTXt chunks (379 MB inflated): peak {usage.ru_maxrss // 1024}"
    f" MiB (< 150), said: {err.strip()[:120]}")
+# a --set argument is echoed in the scene's messages: its control bytes shown, never sent
+r = run("still", default, "--set", "view.caption=a\x1b]0;pwned\x07b", "-o", path("esc.png"))
+r2 = run("still", default, "--set", "vi\x1bew", "-o", path("esc.png"))
+ok(r.returncode == 2 and r2.returncode == 2 and b"\x1b" not in r.stderr + r2.stderr
+   and b"\x07" not in r.stderr and b"\\x1b" in r.stderr and not os.path.exists(path("esc.png")),
+   f"--set with ESC/BEL: refused, shown escaped: {(r.stderr + r2.stderr)[:160]!r}")
 done()

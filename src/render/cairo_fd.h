@@ -18,4 +18,12 @@ struct sp_cairo_fd {
  * more and returns CAIRO_STATUS_WRITE_ERROR. */
 cairo_status_t sp_cairo_fd_write(void *closure, const unsigned char *data, unsigned int length);
 
+/* Makes a PDF surface's bytes repeat from run to run: cairo 1.16 stamps
+ * /CreationDate with the clock. With SOURCE_DATE_EPOCH set (the
+ * reproducible-builds convention: whole seconds since 1970 UTC) that time
+ * is written; without it, no date at all. Returns 0, or SP_E_INPUT (logged,
+ * naming the variable) when SOURCE_DATE_EPOCH is not a whole number of
+ * seconds in 0 .. 253402300799 (year 9999). */
+int sp_cairo_pdf_date(cairo_surface_t *pdf);
+
 #endif

@@ -242,6 +242,10 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     }
     if (d->format == SP_FIGURE_PDF) {
         cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "springpend " SP_VERSION);
+        if (sp_cairo_pdf_date(surface)) {
+            cairo_surface_destroy(surface);
+            return SP_E_INPUT;
+        }
         size_t n = 0, len = d->title ? strlen(d->title) : 0;
         while (n < len && sp_utf8_char(d->title + n))
             n += sp_utf8_char(d->title + n);

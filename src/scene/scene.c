@@ -162,14 +162,18 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
             fprintf(stderr, "%s: too many errors; not showing more\n", c->origin);
         return;
     }
+    /* the origin may be a --set argument: its control bytes are shown, not sent */
+    char *msg = NULL;
     va_start(ap, fmt);
-    if (line > 0)
-        fprintf(stderr, "%s:%d: ", c->origin, line);
-    else
-        fprintf(stderr, "%s: ", c->origin);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    int n = vasprintf(&msg, fmt, ap);
     va_end(ap);
+    if (line > 0)
+        sp_fputs_printable(c->origin, stderr), fprintf(stderr, ":%d: ", line);
+    else
+        sp_fputs_printable(c->origin, stderr), fputs(": ", stderr);
+    sp_fputs_printable(n >= 0 ? msg : fmt, stderr);
+    fputc('\n', stderr);
+    free(msg);
 }
 
 static const struct key_info *numeric_key(const char *key);
@@ -690,7 +694,8 @@ static void apply_override(struct parse_ctx *c, const char *arg)
     const char *dot = strchr(arg, '.'), *eq = strchr(arg, '=');
     if (!dot || !eq || dot > eq || (size_t)(dot - arg) >= sizeof(section) ||
         (size_t)(eq - dot - 1) >= sizeof(name)) {
-        fprintf(stderr, "--set %s: expected section.key=value, e.g. --set video.fps=30\n", arg);
+        fputs("--set ", stderr), sp_fputs_printable(arg, stderr);
+        fputs(": expected section.key=value, e.g. --set video.fps=30\n", stderr);
         c->errors++;
         return;
     }

@@ -769,6 +769,11 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
         s = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
     else
         s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W * PNG_SCALE, (int)H * PNG_SCALE);
+    if (!strcasecmp(ext, ".pdf") && (ret = sp_cairo_pdf_date(s))) { /* bytes that repeat */
+        cairo_surface_destroy(s);
+        sp_outfile_discard(&out);
+        return ret;
+    }
     cairo_t *cr = cairo_create(s);
     if (cairo_status(cr)) { /* the surface's error, too: nothing to draw on */
         sp_log_error("cannot make the figure %s: %s", path, cairo_status_to_string(cairo_status(cr)));

@@ -95,6 +95,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     CHECK(ret == 0 || ret == SP_E_INPUT);
     if (ret == 0)
         check_accepted(&s);
+    sp_scene_free(&s); /* the [timeline]'s cues and plan, whatever parse returned */
     free(text);
     return 0;
 }

@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "springpend/common.h"
-#include "text.h"
+#include "utf8.h"
 
 void sp_fputs_printable(const char *s, FILE *fp)
 {

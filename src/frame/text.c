@@ -88,23 +88,6 @@ struct sp_font {
 
 /* ---- UTF-8 ---- */
 
-size_t sp_utf8_char(const char *s)
-{
-    const unsigned char *u = (const unsigned char *)s;
-    size_t n = u[0] < 0x80 ? 1 : u[0] >= 0xC2 && u[0] <= 0xDF ? 2 : u[0] >= 0xE0 && u[0] <= 0xEF ? 3
-             : u[0] >= 0xF0 && u[0] <= 0xF4 ? 4 : 0;
-    uint32_t cp = n == 1 ? u[0] : u[0] & (0x7Fu >> n);
-    for (size_t i = 1; i < n; i++) {
-        if ((u[i] & 0xC0) != 0x80)
-            return 0;
-        cp = cp << 6 | (u[i] & 0x3Fu);
-    }
-    if (!u[0] || (n == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) ||
-        (n == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
-        return 0;
-    return n;
-}
-
 /* The code point at s (sp_utf8_char's length in *len), U+FFFD with length 1
  * for a malformed byte. */
 static uint32_t utf8_decode(const char *s, size_t *len)

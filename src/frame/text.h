@@ -33,6 +33,8 @@ struct sp_glyph_quad {
     float color[4]; /* straight RGBA, 0..1 */
 };
 
+#include "utf8.h"
+
 struct sp_font;
 
 struct sp_font_desc {
@@ -40,9 +42,6 @@ struct sp_font_desc {
     int px[SP_TEXT_SIZES]; /* em sizes, px, each 4..400 */
 };
 
-/* The byte length (1..4) of the well-formed UTF-8 character at s, or 0 when
- * s is at its NUL or at a malformed, overlong or surrogate sequence. */
-size_t sp_utf8_char(const char *s);
 
 /* Finds the family and its fallbacks. 0; SP_E_INPUT for a size outside
  * 4..400 or a family that fontconfig does not know (the message lists the

@@ -230,6 +230,29 @@ except subprocess.TimeoutExpired:
 left = [f for f in os.listdir(work) if f.startswith("int.")]
 ok(p.returncode == 130 and not left, f"Ctrl-C stops a sweep: exit {p.returncode}, nothing left {left}: {err.strip()}")
 
+# A long --transient is one integration call per chunk of points: a signal
+# during it still stops the sweep at once (fixed steps look every 65536 steps,
+# dop853 every step), leaving nothing. Without the look it ran for minutes.
+for scene, sig in (("damped.ini", signal.SIGINT), ("driven.ini", signal.SIGTERM)):
+    for measure in ("lyapunov", "spectrum"):
+        p = subprocess.Popen([exe, "sweep", os.path.join(scenes, scene), "--vary",
+                              "initial.angle=1:10:3", "--measure", measure, "--time", "1",
+                              "--transient", "1e6", "-q", "-o", "tr.png", "--csv", "tr.csv"],
+                             cwd=work, stderr=subprocess.PIPE, text=True)
+        time.sleep(1.5)
+        t0 = time.monotonic()
+        p.send_signal(sig)
+        try:
+            err = p.communicate(timeout=20)[1]
+        except subprocess.TimeoutExpired:
+            p.kill()
+            err = p.communicate()[1] + " (still running 20 s after the signal: killed)"
+        took = time.monotonic() - t0
+        left = [f for f in os.listdir(work) if f.startswith("tr.")]
+        ok(p.returncode == 128 + sig and took < 10 and not left,
+           f"{measure} on {scene} (--transient 1e6): {sig.name} during the transient stops it in "
+           f"{took:.2f} s, exit {p.returncode}, nothing left {left}: {err.strip()}")
+
 # ---- the progress bar, on a terminal only ------------------------------------
 import pty
 master, slave = pty.openpty()

@@ -110,8 +110,9 @@ int sp_spectrum_measure(const struct sp_sweep_desc *d, const struct sp_scene *sc
     if (K < 2)
         K = 2;
 #define TAU_TIME(k) (fixed ? (double)((k) * m) * b->dt : (double)(k) * tau)
-    if (k0 > 0)
-        sp_batch_advance(b, TAU_TIME(k0));
+    b->cancel = sp_signal_flag(); /* a long transient is one call */
+    if (k0 > 0 && sp_batch_advance(b, TAU_TIME(k0)))
+        ret = SP_E_INTERRUPTED;
     for (int i = 0; i < COPIES * n; i++) {
         double e[4] = {0};
         e[i % COPIES] = 1;
@@ -120,11 +121,10 @@ int sp_spectrum_measure(const struct sp_sweep_desc *d, const struct sp_scene *sc
     long next = 1;
     int dec = 0, nc = 0;
     for (long k = 1; k <= K && !ret; k++) {
-        if (sp_signal_seen()) {
+        if (sp_signal_seen() || sp_batch_advance(b, TAU_TIME(k0 + k))) {
             ret = SP_E_INTERRUPTED;
             break;
         }
-        sp_batch_advance(b, TAU_TIME(k0 + k));
         for (int i = 0; i < n; i++) {
             double v[4][4], r[4];
             for (int j = 0; j < COPIES; j++)

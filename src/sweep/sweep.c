@@ -547,13 +547,13 @@ static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, c
         K = 2;
     double growth[CHUNK], sum[CHUNK] = {0}, half[CHUNK] = {0};
 #define TAU_TIME(k) (fixed ? (double)((k) * m) * b->dt : (double)(k) * tau)
-    if (k0 > 0)
-        sp_batch_advance(b, TAU_TIME(k0));
+    b->cancel = sp_signal_flag(); /* a long transient is one call */
+    if (k0 > 0 && sp_batch_advance(b, TAU_TIME(k0)))
+        return SP_E_INTERRUPTED;
     sp_batch_reset_tangent(b);
     for (long k = 1; k <= K; k++) {
-        if (sp_signal_seen())
+        if (sp_signal_seen() || sp_batch_advance(b, TAU_TIME(k0 + k)))
             return SP_E_INTERRUPTED;
-        sp_batch_advance(b, TAU_TIME(k0 + k));
         sp_batch_renormalise(b, growth);
         for (int i = 0; i < n; i++) {
             sum[i] += growth[i];

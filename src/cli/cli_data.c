@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/csv_metadata.h"
 #include "springpend/ensemble.h"
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
@@ -62,9 +63,42 @@ static const char data_usage[] =
     "  -q, --quiet            no 'wrote' line\n"
     "  -h, --help             this text\n";
 
-static const char csv_header[] =
-    "t,x,y,vx,vy,r,theta,r_dot,theta_dot,kinetic,spring,gravity,energy,"
-    "bounce,swing,work,pivot_y\n";
+/* The columns, as the header line names them (the metadata file's too). */
+static const struct sp_csv_column sample_columns[] = {
+    {"t", "simulated time", "s"},
+    {"x", "the bob's horizontal position from the pivot", "m"},
+    {"y", "the bob's height above the pivot (negative below)", "m"},
+    {"vx", "horizontal velocity", "m/s"},
+    {"vy", "vertical velocity", "m/s"},
+    {"r", "spring length", "m"},
+    {"theta", "angle from the downward vertical", "rad"},
+    {"r_dot", "rate of change of r", "m/s"},
+    {"theta_dot", "rate of change of theta", "rad/s"},
+    {"kinetic", "kinetic energy", "J"},
+    {"spring", "spring energy", "J"},
+    {"gravity", "gravitational energy (zero at the pivot's height)", "J"},
+    {"energy", "total energy", "J"},
+    {"bounce", "bounce mode's energy above hanging still", "J"},
+    {"swing", "swing mode's energy", "J"},
+    {"work", "work done on the bob by damping and the moving pivot since t = 0", "J"},
+    {"pivot_y", "the pivot's height in the lab", "m"},
+};
+static const struct sp_csv_column crossing_columns[] = {
+    {"t", "simulated time of the crossing (theta = 0, theta_dot > 0)", "s"},
+    {"r", "spring length", "m"},
+    {"r_dot", "rate of change of r", "m/s"},
+    {"theta_dot", "rate of change of theta", "rad/s"},
+};
+#define N_OF(a) ((int)(sizeof(a) / sizeof((a)[0])))
+
+/* The header line: the columns' names. */
+static int write_header(FILE *fp, const struct sp_csv_column *c, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (fprintf(fp, "%s%s", c[i].name, i + 1 < n ? "," : "\n") < 0)
+            return SP_E_IO;
+    return 0;
+}
 
 /* One CSV row for the sim's current state. */
 static int write_row(FILE *fp, const struct sp_sim *sim)
@@ -88,7 +122,7 @@ static int write_crossings(FILE *fp, const struct sp_scene *sc)
 {
     struct sp_sim sim;
     struct sp_history h = {.active = 1, .poincare = 1, .crossings_only = 1};
-    int ret = fputs("t,r,r_dot,theta_dot\n", fp) < 0 ? SP_E_IO : 0;
+    int ret = write_header(fp, crossing_columns, N_OF(crossing_columns));
     sp_sim_init(&sim, sc);
     sim.cancel = sp_signal_flag();
     sim.progress = sp_progress_sim;
@@ -122,7 +156,7 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else
         n = sp_scene_frame_count(sc);
-    if (fputs(csv_header, fp) < 0)
+    if (write_header(fp, sample_columns, N_OF(sample_columns)))
         return SP_E_IO;
     sp_sim_init(&sim, sc);
     sim.cancel = sp_signal_flag();
@@ -138,6 +172,35 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
             return ret;
     }
     return 0;
+}
+
+/* NAME.csv-metadata.json's .part for the CSV at out (none for a stream):
+ * the columns the rows have (an ensemble's: t, member, its key, x, y, vx,
+ * vy), the scene and the command. */
+static int write_metadata(struct sp_outfile *meta, const char *out,
+                          const struct sp_cli_options *o, const struct sp_scene *sc)
+{
+    const char *key_unit = sp_scene_key_unit(sc->ensemble.key);
+    const struct sp_csv_column ensemble_columns[] = {
+        sample_columns[0],
+        {"member", "the member's index, 0 .. ensemble.count - 1", "1"},
+        {sc->ensemble.key, "the member's value of ensemble.key (file units)",
+         key_unit ? key_unit : "1"},
+        sample_columns[1], sample_columns[2], sample_columns[3], sample_columns[4],
+    };
+    struct sp_csv_meta m = {.scene = sc, .overrides = o->overrides,
+                            .n_overrides = o->n_overrides};
+    if (o->poincare) {
+        m.title = "springpend data --poincare: the Poincare section's crossings";
+        m.columns = crossing_columns, m.n_columns = N_OF(crossing_columns);
+    } else if (sc->ensemble.count > 1) {
+        m.title = "springpend data: the ensemble's members, one row per member and time";
+        m.columns = ensemble_columns, m.n_columns = N_OF(ensemble_columns);
+    } else {
+        m.title = "springpend data: the motion, one row per sample";
+        m.columns = sample_columns, m.n_columns = N_OF(sample_columns);
+    }
+    return sp_csv_metadata_write(meta, out, &m);
 }
 
 int sp_cmd_data(int argc, char **argv)
@@ -214,6 +277,11 @@ int sp_cmd_data(int argc, char **argv)
     if (ret == SP_E_INTERRUPTED && !f.through)
         sp_log_error("interrupted: %s not written", out);
     int through = f.through;
+    struct sp_outfile meta = {.fd = -1, .slot = -1};
+    if (!ret)
+        ret = write_metadata(&meta, out, &o, &scene);
+    if (!ret) /* the metadata first: when the CSV appears, it is there */
+        ret = sp_outfile_commit(&meta);
     if (!ret)
         ret = sp_outfile_commit(&f);
     if (!ret && !o.quiet && !through)

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "command_line.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
 #include "springpend/render.h"
@@ -99,6 +100,7 @@ int main(int argc, char **argv)
     /* A closed pipe (e.g. `springpend render --format raw -o - | head -c 1`)
      * becomes a write error with a message instead of a silent death. */
     signal(SIGPIPE, SIG_IGN);
+    sp_command_line_set(argc, argv); /* the provenance every output carries */
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
         !strcmp(argv[1], "help")) {
         fputs(usage, argc < 2 ? stderr : stdout);

@@ -114,7 +114,10 @@ json_t *sp_csv_metadata_load(const char *csv_path)
         return NULL;
     }
     json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &e);
-    if (!root)
+    if (!root && e.line < 1) /* not read at all: the cause is the message */
+        sp_log_error("%s: %s; springpend writes it beside %s (sweep --shard I/N --csv FILE)",
+                     path, e.text, csv_path);
+    else if (!root)
         sp_log_error("%s:%d: %s; springpend writes it beside %s", path, e.line, e.text,
                      csv_path);
     else if (!json_is_object(root)) {

@@ -34,6 +34,13 @@ static const char data_usage[] =
     "Columns (SI units, angles in radians, positions relative to the pivot):\n"
     "  t,x,y,vx,vy,r,theta,r_dot,theta_dot,kinetic,spring,gravity,energy,\n"
     "  bounce,swing,work,pivot_y\n"
+    "A scene that leaves the x-y plane (initial.azimuth_rate != 0) adds z,vz,azimuth:\n"
+    "  z, vz: the horizontal axis out of the starting plane (x-y-z right-handed);\n"
+    "  azimuth: the swing plane's angle about the vertical in degrees, from +x\n"
+    "  towards +z: the major axis of the horizontal ellipse the swing traces in one\n"
+    "  pendulum period (sim.h, sp_state_azimuth), made continuous from row to row\n"
+    "  (a turn of over 90 degrees between two rows is read as the nearer one).\n"
+    "  theta is then the polar angle from the downward vertical, in [0, pi].\n"
     "bounce + swing = energy - E_eq (E_eq: hanging still at l = L0 + m g / k);\n"
     "work: done on the bob by damping and the moving pivot since t = 0, so\n"
     "energy - work stays at its t = 0 value.\n"
@@ -91,31 +98,46 @@ static const struct sp_csv_column crossing_columns[] = {
     {"r_dot", "rate of change of r", "m/s"},
     {"theta_dot", "rate of change of theta", "rad/s"},
 };
+/* A spatial scene's columns after the sample columns (sim.h: spatial). */
+static const struct sp_csv_column spatial_columns[] = {
+    {"z", "the bob's position off the x-y plane", "m"},
+    {"vz", "velocity along z", "m/s"},
+    {"azimuth", "the swing plane's angle about the vertical, from +x, continuous from row to "
+                "row", "degrees"},
+};
 #define N_OF(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
-/* The header line: the columns' names. */
-static int write_header(FILE *fp, const struct sp_csv_column *c, int n)
+/* The columns' names, comma-separated (comma first: after others). */
+static int write_names(FILE *fp, const struct sp_csv_column *c, int n, int comma_first)
 {
     for (int i = 0; i < n; i++)
-        if (fprintf(fp, "%s%s", c[i].name, i + 1 < n ? "," : "\n") < 0)
+        if (fprintf(fp, "%s%s", i || comma_first ? "," : "", c[i].name) < 0)
             return SP_E_IO;
     return 0;
 }
 
-/* One CSV row for the sim's current state. */
-static int write_row(FILE *fp, const struct sp_sim *sim)
+/* One CSV row for the sim's current state; a spatial run's row goes on with
+ * z, vz and the azimuth, degrees, continued from *azimuth (rad, updated). */
+static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth)
 {
     const struct sp_state *s = &sim->s;
     struct sp_polar q;
     struct sp_energy e;
     sp_state_polar(s, &q);
     sp_state_energy(&sim->p, s, &e);
-    return fprintf(fp,
-                   "%.10g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,"
-                   "%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g\n",
-                   s->t, s->x, s->y, s->vx, s->vy, q.r, q.theta, q.r_dot, q.theta_dot,
-                   e.kinetic, e.spring, e.gravity, e.total, e.bounce, e.swing, sim->work,
-                   sp_pivot_y(&sim->p, s->t)) < 0 ? SP_E_IO : 0;
+    if (fprintf(fp,
+                "%.10g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,"
+                "%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g",
+                s->t, s->x, s->y, s->vx, s->vy, q.r, q.theta, q.r_dot, q.theta_dot,
+                e.kinetic, e.spring, e.gravity, e.total, e.bounce, e.swing, sim->work,
+                sp_pivot_y(&sim->p, s->t)) < 0)
+        return SP_E_IO;
+    if (sim->spatial) {
+        *azimuth = sp_azimuth_unwrap(*azimuth, sp_state_azimuth(&sim->p, s));
+        if (fprintf(fp, ",%.15g,%.15g,%.15g", s->z, s->vz, *azimuth * 180 / M_PI) < 0)
+            return SP_E_IO;
+    }
+    return fputc('\n', fp) == EOF ? SP_E_IO : 0;
 }
 
 /* Writes the Poincare section's crossings over [0, video.duration] to fp as
@@ -124,7 +146,8 @@ static int write_crossings(FILE *fp, const struct sp_scene *sc)
 {
     struct sp_sim sim;
     struct sp_history h = {.active = 1, .poincare = 1, .crossings_only = 1};
-    int ret = write_header(fp, crossing_columns, N_OF(crossing_columns));
+    int ret = write_names(fp, crossing_columns, N_OF(crossing_columns), 0) ||
+              fputc('\n', fp) == EOF ? SP_E_IO : 0;
     sp_sim_init(&sim, sc);
     sim.cancel = sp_signal_flag();
     sim.progress = sp_progress_sim;
@@ -158,9 +181,12 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else
         n = sp_scene_frame_count(sc);
-    if (write_header(fp, sample_columns, N_OF(sample_columns)))
-        return SP_E_IO;
     sp_sim_init(&sim, sc);
+    double azimuth = 0;
+    if (write_names(fp, sample_columns, N_OF(sample_columns), 0) ||
+        (sim.spatial && write_names(fp, spatial_columns, N_OF(spatial_columns), 1)) ||
+        fputc('\n', fp) == EOF)
+        return SP_E_IO;
     sim.cancel = sp_signal_flag();
     sim.progress = sp_progress_sim;
     for (long k = 0; k < n; k++) {
@@ -169,7 +195,7 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
         if (ret == SP_E_UNSTABLE)
             sp_sim_explain(&sim);
         if (!ret)
-            ret = write_row(fp, &sim);
+            ret = write_row(fp, &sim, &azimuth);
         if (ret)
             return ret;
     }
@@ -190,6 +216,7 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
          key_unit ? key_unit : "1"},
         sample_columns[1], sample_columns[2], sample_columns[3], sample_columns[4],
     };
+    struct sp_csv_column all[N_OF(sample_columns) + N_OF(spatial_columns)];
     struct sp_csv_meta m = {.scene = sc, .overrides = o->overrides,
                             .n_overrides = o->n_overrides};
     if (o->poincare) {
@@ -199,8 +226,14 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
         m.title = "springpend data: the ensemble's members, one row per member and time";
         m.columns = ensemble_columns, m.n_columns = N_OF(ensemble_columns);
     } else {
+        struct sp_sim sim; /* spatial or not, as write_samples will find */
+        sp_sim_init(&sim, sc);
+        for (int i = 0; i < N_OF(sample_columns); i++)
+            all[m.n_columns++] = sample_columns[i];
+        for (int i = 0; sim.spatial && i < N_OF(spatial_columns); i++)
+            all[m.n_columns++] = spatial_columns[i];
         m.title = "springpend data: the motion, one row per sample";
-        m.columns = sample_columns, m.n_columns = N_OF(sample_columns);
+        m.columns = all;
     }
     return sp_csv_metadata_write(meta, out, &m);
 }

@@ -7,20 +7,45 @@
 #include <unistd.h>
 
 #include "command_line.h"
+#include "utf8.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/environment.h"
+
+/* A JSON string of s, which JSON holds to UTF-8: a byte that is not
+ * (a file name in Latin-1) becomes U+FFFD. NULL when out of memory. */
+static json_t *text(const char *s)
+{
+    json_t *j = json_string(s);
+    if (j)
+        return j;
+    char *copy = malloc(3 * strlen(s) + 1), *o = copy;
+    if (!copy)
+        return NULL;
+    while (*s) {
+        const size_t n = sp_utf8_char(s);
+        if (n) {
+            memcpy(o, s, n), o += n, s += n;
+        } else {
+            memcpy(o, "\xef\xbf\xbd", 3), o += 3, s++;
+        }
+    }
+    *o = 0;
+    j = json_string(copy);
+    free(copy);
+    return j;
+}
 
 /* The command line's text and words into obj. 0 or SP_E_NOMEM. */
 static int add_command(json_t *obj)
 {
     int n = sp_command_line_text(NULL, 0);
-    char *text = malloc((size_t)n + 1);
-    if (!text)
+    char *line = malloc((size_t)n + 1);
+    if (!line)
         return SP_E_NOMEM;
-    sp_command_line_text(text, (size_t)n + 1);
-    int err = json_object_set_new(obj, "prov:wasGeneratedBy", json_string(text));
-    free(text);
+    sp_command_line_text(line, (size_t)n + 1);
+    int err = json_object_set_new(obj, "prov:wasGeneratedBy", text(line));
+    free(line);
     return err ? SP_E_NOMEM : 0;
 }
 
@@ -41,18 +66,18 @@ static json_t *build(const char *csv_target, const struct sp_csv_meta *m)
                                                        "schema:unitText", c->unit));
     }
     for (int i = 0; !err && i < m->n_overrides; i++)
-        err = json_array_append_new(used, json_string(m->overrides[i]));
+        err = json_array_append_new(used, text(m->overrides[i]));
     sp_environment_text(env, sizeof(env), NULL, NULL);
     err = err || json_object_set_new(root, "@context", json_string("http://www.w3.org/ns/csvw")) ||
-          json_object_set_new(root, "url", json_string(base ? base + 1 : csv_target)) ||
-          json_object_set_new(root, "dc:title", json_string(m->title)) ||
+          json_object_set_new(root, "url", text(base ? base + 1 : csv_target)) ||
+          json_object_set_new(root, "dc:title", text(m->title)) ||
           (m->description &&
-           json_object_set_new(root, "dc:description", json_string(m->description))) ||
+           json_object_set_new(root, "dc:description", text(m->description))) ||
           json_object_set_new(root, "dc:creator", json_string("springpend " SP_VERSION)) ||
           json_object_set_new(root, "schema:softwareVersion", json_string(SP_VERSION)) ||
           add_command(root) || json_object_set(root, "prov:used", used) ||
-          json_object_set_new(root, "dc:source", json_string(scene)) ||
-          json_object_set_new(root, "schema:runtimePlatform", json_string(env)) ||
+          json_object_set_new(root, "dc:source", text(scene)) ||
+          json_object_set_new(root, "schema:runtimePlatform", text(env)) ||
           (m->shard && (json_object_set_new(root, "schema:position", json_string(m->shard)) ||
                         json_object_set_new(root, "dc:extent", json_integer(m->rows)) ||
                         json_object_set_new(root, "schema:sha256", json_string(m->sha256)))) ||

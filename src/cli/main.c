@@ -24,6 +24,7 @@ static const char usage[] =
     "  data     the motion as CSV: state, polar form, energies (no rendering)\n"
     "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"
+    "  scene    print the scene a PNG, video or CSV was made from, as a scene file\n"
     "  compare  compare PNG images, folders of them or videos (snapshot tests in CI)\n"
     "  sweep    many pendulums over a grid of keys: Lyapunov maps, orbit diagrams,\n"
     "           Poincare mosaics (PNG, SVG, PDF; sharded runs and their merge)\n"
@@ -93,6 +94,7 @@ static const struct command commands[] = {
     {"keys", cmd_keys},
     {"compare", sp_cmd_compare},
     {"sweep", sp_cmd_sweep},
+    {"scene", sp_cmd_scene},
 };
 
 int main(int argc, char **argv)

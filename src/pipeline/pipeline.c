@@ -247,8 +247,12 @@ static int run_setup(struct run *run)
     sp_progress_begin(desc->progress, "camera pre-pass", t_end);
     ret = sp_view_extent_measure(sc, t_end, sp_signal_flag(), sp_progress_sim, NULL, &run->extent);
     sp_progress_end();
-    if (!ret && sc->ensemble.count > 1) /* widens the extent by every member's motion */
-        ret = sp_ensemble_make(&run->ens, sc, t_end, sp_signal_flag(), &run->extent);
+    if (!ret && sc->ensemble.count > 1) { /* widens the extent by every member's motion */
+        sp_progress_begin(desc->progress, "ensemble pre-pass", t_end);
+        ret = sp_ensemble_make(&run->ens, sc, t_end, sp_signal_flag(), sp_progress_sim, NULL,
+                               &run->extent);
+        sp_progress_end();
+    }
     if (ret)
         return ret;
     const struct sp_view_extent extent = run->extent;
@@ -283,6 +287,7 @@ static int run_setup(struct run *run)
         return ret;
     struct sp_look look;
     sp_look_of(sc, &look);
+    look.pt_px = desc->pt_px;
     ret = sp_render_make(&run->r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .look = &look, .supersample = desc->supersample});
@@ -293,7 +298,7 @@ static int run_setup(struct run *run)
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = run->first,
         .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
-        .png_level = sc->video.png_level,
+        .png_level = sc->video.png_level, .dpi = desc->pt_px * 72,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),
         .text = run->prov.text, .n_text = SP_PROVENANCE_N_TEXT});
 }
@@ -345,8 +350,11 @@ static int run_figure(struct run *run)
     if (ret)
         return ret;
     sp_look_of(run->sc, &look);
+    look.pt_px = run->desc->pt_px;
     ret = sp_figure_write(&(struct sp_figure_desc){
         .width = run->w, .height = run->h, .extent = run->extent, .look = &look,
+        .page_w = run->desc->pt_px > 0 ? run->desc->page_w : 0,
+        .page_h = run->desc->pt_px > 0 ? run->desc->page_h : 0,
         .title = run->sc->name, .path = run->desc->output},
         &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p, .trail = &run->trail,
                            .history = &run->hist, .ensemble = run->ens,

@@ -122,4 +122,22 @@ ok(r.returncode == 0 and f"libpng: {env['libpng']} vs 9.9.9" in r.stdout
    and "freetype" not in r.stdout.split("environment")[-1],
    f"compare names the environment line that differs, and only it ({r.stdout.strip()})")
 
+# A CSV's metadata records what shapes numbers (environment.h's
+# sp_environment_numbers) and loads no FFmpeg module to say so.
+import json
+libc = ctypes.CDLL(None)
+libc.gnu_get_libc_version.restype = ctypes.c_char_p
+r = subprocess.run([exe, "data", default, "--every", "50", "-o", "m.csv"], capture_output=True,
+                   text=True, cwd=work, timeout=60, env={**os.environ, "LD_DEBUG": "files"})
+meta = json.load(open(os.path.join(work, "m.csv-metadata.json")))
+numbers = dict(l.split(": ", 1) for l in meta.get("schema:runtimePlatform", "").splitlines())
+ok(r.returncode == 0 and numbers == {"springpend": env["springpend"],
+                                     "compiler": numbers.get("compiler"),
+                                     "libc": "glibc " + libc.gnu_get_libc_version().decode()}
+   and re.fullmatch(r"\d+\.\d+.*", numbers.get("compiler", "")) is not None,
+   f"a CSV's metadata names springpend, the compiler and glibc ({numbers})")
+ok("libavcodec" not in r.stderr and "libavcodec" not in r.stdout,
+   "data -o m.csv loads no FFmpeg library (LD_DEBUG=files: "
+   f"{[l for l in r.stderr.splitlines() if 'libav' in l][:2]})")
+
 done()

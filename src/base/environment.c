@@ -2,6 +2,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <gnu/libc-version.h>
+
 #include <ft2build.h>
 #include FT_FREETYPE_H
 #include <png.h>
@@ -73,5 +75,12 @@ int sp_environment_text(char *buf, size_t size, const char *renderer, const char
             sp_embed_DejaVuSans_ttf_size, font, zlibVersion(), png_get_libpng_ver(NULL), av);
     fclose(m);
     buf[size - 1] = 0;
+    return 0;
+}
+
+int sp_environment_numbers(char *buf, size_t size)
+{
+    snprintf(buf, size, "springpend: " SP_VERSION "\ncompiler: %s\nlibc: glibc %s\n", __VERSION__,
+             gnu_get_libc_version());
     return 0;
 }

@@ -67,7 +67,7 @@ static json_t *build(const char *csv_target, const struct sp_csv_meta *m)
     }
     for (int i = 0; !err && i < m->n_overrides; i++)
         err = json_array_append_new(used, text(m->overrides[i]));
-    sp_environment_text(env, sizeof(env), NULL, NULL);
+    sp_environment_numbers(env, sizeof(env));
     err = err || json_object_set_new(root, "@context", json_string("http://www.w3.org/ns/csvw")) ||
           json_object_set_new(root, "url", text(base ? base + 1 : csv_target)) ||
           json_object_set_new(root, "dc:title", text(m->title)) ||

@@ -62,6 +62,13 @@ struct sp_view_extent {
     struct sp_range theta_dot;     /* rad/s */
     struct sp_range energy;        /* J, of total, kinetic, spring and gravity */
     struct sp_range modes;         /* J, of the bounce and swing energies */
+    /* [view] vectors (0 when none is drawn): the largest each arrow gets */
+    double max_accel;              /* m/s^2, relative to the pivot */
+    double max_force;              /* N, of the forces [view] vectors draws */
+    /* the energy_bars panel (0 when not shown) */
+    double y_low;                  /* m: the lowest the bob goes relative to the
+                                      pivot; its gravity energy is 0 there */
+    struct sp_range bars;          /* J: every bar, gravity from y_low, within it */
 };
 
 /* Runs the scene's physics from 0 to t_end (cheaply, no rendering) and
@@ -120,6 +127,8 @@ struct sp_history {
     struct sp_crossing *crossings;     /* n_crossings valid, in time order, owned */
     int n_crossings, cap_crossings;
     double max_step;                   /* s: longest interval interpolated over */
+    double loss;                       /* J: energy lost to damping up to the newest
+                                          sample (trapezoid rule over the samples) */
 };
 
 /* Sets h up for scene: active when view.panels or view.strobe ask for it,
@@ -145,6 +154,8 @@ struct sp_frame {
     const struct sp_moment *moment; /* NULL, or what the [timeline] shows now: the
                                        caption band's text and the speed marker
                                        (timeline.h) */
+    double work;    /* J: done on the bob by damping and the drive since t = 0 (sp_sim) */
+    double energy0; /* J: the total energy at t = 0 (sp_sim) */
 };
 
 #endif

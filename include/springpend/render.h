@@ -63,6 +63,11 @@ void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out);
  * (cut to size; "" without text). */
 void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size);
 
+/* The overlays' scales after the first frame (compose.h's
+ * sp_compose_overlay): "" unless [view] vectors or the energy_bars panel is
+ * drawn. */
+void sp_render_overlay(const struct sp_renderer *r, char *buf, size_t size);
+
 /* The GL_RENDERER string of the context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
 const char *sp_render_renderer_name(const struct sp_renderer *r);
 

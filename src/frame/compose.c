@@ -8,6 +8,7 @@
 #include "springpend/timeline.h"
 #include "compose.h"
 #include "layout.h"
+#include "vectors.h"
 
 enum {
     COIL_TURNS = 12,
@@ -56,13 +57,17 @@ struct sp_composer {
     /* trail = all: the part older than ALL_FADE is drawn once (SP_LAYER_ACCUM) */
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
+    struct sp_vectors vectors;    /* [view] vectors' scales (set with the layout) */
+    int ss;                       /* the drawing is this many times the output */
 };
 
 /* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
 static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 {
     const struct sp_view_extent *e = &r->extent;
-    const double margin = (BOB_RADIUS + MARGIN) * r->unit;
+    /* arrows from the bob need their longest length around the motion */
+    const double margin = (BOB_RADIUS + MARGIN + (r->look.view.vectors ? SP_VECTOR_MAX_LENGTH : 0)) *
+                          r->unit;
     const double ew = fmax(e->xmax - e->xmin, 1e-6);
     const double eh = fmax(e->ymax - e->ymin, 1e-6);
     const double aw = fmax(v->x1 - v->x0 - 2 * margin, 1.0);
@@ -296,6 +301,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         sp_look_of(NULL, &r->look);
     r->width = desc->width;
     r->height = desc->height;
+    r->ss = desc->supersample > 1 ? desc->supersample : 1;
     r->accum_t = -1;
     r->unit = (float)(r->width < r->height ? r->width : r->height);
     r->extent = desc->extent;
@@ -311,7 +317,9 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         snprintf(r->speed, sizeof(r->speed), "speed \xc3\x97%g", r->look.speed);
     if (!r->look.view.pendulum || r->look.ensemble_count > 1)
         r->look.view.colorbar = 0; /* no speed-coloured trail to explain */
-    if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar ||
+    if (r->look.ensemble_count > 1)
+        r->look.view.vectors = 0; /* the members are drawn, not the one bob */
+    if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar || r->look.view.vectors ||
         r->look.view.title[0] || r->look.view.caption[0] || r->speed[0] || r->look.view.font[0] || tl) {
         struct sp_font_desc fd = {.family = r->look.view.font};
         text_sizes(r->unit, r->look.view.font_size, r->look.view.font_scale,
@@ -360,6 +368,7 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
         d.colorbar_width = sp_colorbar_width(r->font, r->unit, r->max_speed);
     sp_layout_compute(&d, &r->layout);
     fit_camera(r, &r->layout.camera);
+    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit);
     r->laid_out = 1;
 }
 
@@ -661,12 +670,16 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         put_spring(r, pv, bb);
         sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
         sp_canvas_disc(cv, bb[0], bb[1], BOB_RADIUS * r->unit, 1, r->pal.bob);
+        if (r->look.view.vectors)
+            sp_vectors_draw(cv, &r->vectors, f, bb, &r->pal);
     }
     if (r->look.view.panels)
         sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->look.view.fade);
     if (r->look.view.hud)
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
     put_texts(r, f->moment);
+    if (r->look.view.vectors && r->look.view.pendulum)
+        sp_vectors_legend(cv, &r->vectors, &r->layout.camera, &r->pal);
     if (r->look.view.colorbar) {
         sp_canvas_layer(cv, SP_LAYER_STATIC);
         sp_colorbar_draw(cv, &r->layout.colorbar, r->look.view.colormap, r->max_speed,
@@ -679,6 +692,18 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     }
     *out = cv;
     return 0;
+}
+
+void sp_compose_overlay(const struct sp_composer *c, char *buf, size_t size)
+{
+    size_t used = 0;
+    if (size)
+        buf[0] = 0;
+    if (!c->laid_out || !(c->look.view.vectors || c->look.view.panels & SP_PANEL_ENERGY_BARS))
+        return;
+    used = (size_t)snprintf(buf, size, "camera.px_per_m=%.9g\ncamera.origin_px=%.9g,%.9g\n",
+                            c->scale / c->ss, c->ox / c->ss, c->oy / c->ss);
+    sp_vectors_describe(&c->vectors, c->ss, buf, size, &used);
 }
 
 const struct sp_font *sp_compose_font(const struct sp_composer *c) { return c->font; }

@@ -30,6 +30,13 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
 int sp_compose_frame(struct sp_composer *c, const struct sp_frame *f,
                      const struct sp_canvas **out);
 
+/* What a test or tool needs to measure the overlays in the output image, as
+ * "key=value" lines (output pixels): the camera (camera.px_per_m,
+ * camera.origin_px: the pivot's rest position), each arrow scale
+ * (vectors.QUANTITY.px_per_unit and .key) and the energy bars' axis. "" when
+ * neither vectors nor energy bars are drawn, or before the first frame. */
+void sp_compose_overlay(const struct sp_composer *c, char *buf, size_t size);
+
 /* The font (NULL when no text is drawn) and the palette, owned by c. */
 const struct sp_font *sp_compose_font(const struct sp_composer *c);
 const struct sp_palette *sp_compose_palette(const struct sp_composer *c);

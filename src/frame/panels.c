@@ -20,6 +20,10 @@ static const struct sp_palette DARK = {
     .mount = {0.56f, 0.60f, 0.66f, 1}, .wire_front = {0.80f, 0.82f, 0.85f, 1},
     .wire_back = {0.47f, 0.50f, 0.55f, 1}, .pivot = {0.86f, 0.88f, 0.91f, 1},
     .bob = {0.93f, 0.33f, 0.16f, 1}, .cmap_lo = 0.18f, .cmap_hi = 1.0f,
+    /* velocity, acceleration, gravity, spring, damping, drive, net */
+    .vectors = {{0.25f, 0.85f, 0.95f, 1}, {1.00f, 0.80f, 0.15f, 1}, {0.40f, 0.55f, 1.00f, 1},
+                {0.35f, 0.90f, 0.40f, 1}, {0.80f, 0.50f, 1.00f, 1}, {1.00f, 0.40f, 0.75f, 1},
+                {1.00f, 1.00f, 1.00f, 1}},
 };
 
 static const struct sp_palette LIGHT = {
@@ -32,6 +36,9 @@ static const struct sp_palette LIGHT = {
     .mount = {0.40f, 0.43f, 0.48f, 1}, .wire_front = {0.30f, 0.33f, 0.37f, 1},
     .wire_back = {0.62f, 0.65f, 0.69f, 1}, .pivot = {0.25f, 0.27f, 0.30f, 1},
     .bob = {0.88f, 0.30f, 0.12f, 1}, .cmap_lo = 0.0f, .cmap_hi = 0.82f,
+    .vectors = {{0.00f, 0.55f, 0.70f, 1}, {0.80f, 0.50f, 0.00f, 1}, {0.15f, 0.30f, 0.90f, 1},
+                {0.10f, 0.55f, 0.15f, 1}, {0.50f, 0.20f, 0.75f, 1}, {0.85f, 0.10f, 0.50f, 1},
+                {0.00f, 0.00f, 0.00f, 1}},
 };
 
 void sp_palette_get(const struct sp_view *view, struct sp_palette *out)

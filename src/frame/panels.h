@@ -22,6 +22,7 @@ struct sp_palette {
     float series[4][4]; /* total / the plotted quantity, kinetic, spring, gravity */
     float cursor[4], accent[4];
     float mount[4], wire_front[4], wire_back[4], pivot[4], bob[4];
+    float vectors[SP_VECTOR_COUNT][4]; /* [view] vectors' arrows, by SP_VECTOR_* bit */
     float cmap_lo, cmap_hi; /* the part of the colormap speeds 0..max use: the
                                end that would vanish into the background is left out */
 };

@@ -205,6 +205,12 @@ struct run {
     double followed_t;           /* s: the last frame time followed; < 0 = none */
 };
 
+/* The fields of the frame that run's sim, trail and histories are at. */
+#define FRAME_OF(run)                                                                    \
+    .state = (run)->sim.s, .params = &(run)->sim.p, .trail = &(run)->trail,              \
+    .history = &(run)->hist, .ensemble = (run)->ens, .moment = &(run)->moment,           \
+    .work = (run)->sim.work, .energy0 = (run)->sim.energy0
+
 /* The signal that stops a render which holds the signals (signals.h): it
  * keeps the frames so far. 0 = none, or not held. */
 static int stopped(const struct run *run)
@@ -295,7 +301,8 @@ static int run_setup(struct run *run)
         .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
         .png_level = sc->video.png_level,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),
-        .text = run->prov.text, .n_text = SP_PROVENANCE_N_TEXT});
+        .text = run->prov.text,
+        .n_text = SP_PROVENANCE_N_TEXT + (sc->view.vectors || sc->view.panels & SP_PANEL_ENERGY_BARS)});
 }
 
 /* The sim, trail, histories and ensemble to t_target, s; the sim's blow-up
@@ -348,9 +355,7 @@ static int run_figure(struct run *run)
     ret = sp_figure_write(&(struct sp_figure_desc){
         .width = run->w, .height = run->h, .extent = run->extent, .look = &look,
         .title = run->sc->name, .path = run->desc->output},
-        &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p, .trail = &run->trail,
-                           .history = &run->hist, .ensemble = run->ens,
-                           .moment = &run->moment});
+        &(struct sp_frame){FRAME_OF(run)});
     if (!ret && run->desc->state_out)
         *run->desc->state_out = run->sim.s;
     return ret;
@@ -369,11 +374,10 @@ static int run_still(struct run *run)
         ((ret = sp_image_alloc_yuv420(&run->q.slot[0], run->w, run->h)) != 0 ||
          (ret = sp_render_target(run->r, &run->q.slot[0])) != 0))
         return ret;
-    ret = sp_render_draw(run->r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
-                                                    .trail = &run->trail, .history = &run->hist,
-                                                    .ensemble = run->ens, .moment = &run->moment},
+    ret = sp_render_draw(run->r, &(struct sp_frame){FRAME_OF(run)},
                          &run->img);
     sp_render_fonts(run->r, run->prov.fonts, sizeof(run->prov.fonts));
+    sp_render_overlay(run->r, run->prov.overlay, sizeof(run->prov.overlay));
     if (!ret)
         ret = sp_sink_write(run->sink, &run->img);
     return ret;
@@ -386,9 +390,7 @@ static int render_frame(struct run *run, struct sp_image *slot)
     struct sp_renderer *r = run->r;
     int ret = sp_render_target(r, slot);
     if (!ret)
-        ret = sp_render_draw(r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
-                                                   .trail = &run->trail, .history = &run->hist,
-                                                   .ensemble = run->ens, .moment = &run->moment},
+        ret = sp_render_draw(r, &(struct sp_frame){FRAME_OF(run)},
                              &run->img);
     return ret;
 }
@@ -440,8 +442,10 @@ static int run_video(struct run *run)
         ret = render_frame(run, slot);
         if (ret)
             return ret;
-        if (!run->emitted) /* before the encoder thread reads it, and fixed after */
+        if (!run->emitted) { /* before the encoder thread reads them, and fixed after */
             sp_render_fonts(run->r, run->prov.fonts, sizeof(run->prov.fonts));
+            sp_render_overlay(run->r, run->prov.overlay, sizeof(run->prov.overlay));
+        }
         tm->render += now_s() - ts;
         publish(q, run->sim.s.t);
         run->emitted++;

@@ -179,6 +179,11 @@ void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size)
         sp_font_files(sp_compose_font(r->composer), buf, size);
 }
 
+void sp_render_overlay(const struct sp_renderer *r, char *buf, size_t size)
+{
+    sp_compose_overlay(r->composer, buf, size);
+}
+
 int sp_render_target(struct sp_renderer *r, const struct sp_image *dst)
 {
     const int w = r->width / r->ss, h = r->height / r->ss;

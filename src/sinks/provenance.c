@@ -45,6 +45,8 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
                                       .compressed = 1};
     p->fonts[0] = 0;
     p->text[6] = (struct sp_png_text){.key = "springpend.fonts", .text = p->fonts};
+    p->overlay[0] = 0;
+    p->text[7] = (struct sp_png_text){.key = "springpend.overlay", .text = p->overlay};
     return scene_sha256(scene, p->scene_sha256, p->scene, sizeof(p->scene));
 }
 

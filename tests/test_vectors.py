@@ -1,0 +1,166 @@
+#!/usr/bin/env python3
+"""springpend tests: [view] vectors (issue 22). Arrows from the bob against
+the forces computed here with numpy from the state `data` writes (gravity
+-m g, spring -k (r - L0) along the spring, damping -b v_air, the drive's
+inertial force -m a_pivot, net their sum; velocity; acceleration net / m),
+each alone in a 1920x1080 still: the arrow's tip, found by its colour, lies
+where the scale stated in the PNG's springpend.overlay text puts it, to a
+pixel and a half (direction and length). An unknown vector name is refused
+with FILE:LINE and exit 2; a scene without vectors has no overlay text.
+usage: test_vectors.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import csv
+import io
+import math
+import os
+import shutil
+import struct
+import subprocess
+import sys
+
+from sptest import done, ok, runner, skip
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+work = os.path.abspath(os.path.join(sys.argv[3], "vectors"))
+try:
+    import numpy as np
+    from scipy import ndimage
+except ImportError:
+    print("1..0 # SKIP numpy or scipy not installed")
+    sys.exit(77)
+if not shutil.which("ffmpeg"):
+    print("1..0 # SKIP ffmpeg not installed (it decodes the PNGs)")
+    sys.exit(77)
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+run = runner(exe, work)
+
+L0, K, M, G, B, A, F = 0.5, 2.0, 0.5, 9.81, 0.15, 0.15, 0.9
+scene = os.path.join(work, "teach.ini")
+with open(scene, "w") as fp:
+    fp.write(f"[pendulum]\nnatural_length = {L0}\nstiffness = {K}\nmass = {M}\ngravity = {G}\n"
+             f"damping = {B}\n[initial]\nangle = 50\nlength = 2.0\n[pivot]\namplitude = {A}\n"
+             f"frequency = {F}\n[view]\ntrail = 0\n")
+W, H = 1920, 1080
+# the theme's arrow colours (panels.c), by name
+COLOURS = {"velocity": (64, 217, 242), "acceleration": (255, 204, 38), "gravity": (102, 140, 255),
+           "spring": (89, 230, 102), "damping": (204, 128, 255), "drive": (255, 102, 191),
+           "net": (255, 255, 255)}
+
+
+def png_text(path):
+    data, text, i = open(path, "rb").read(), {}, 8
+    while i < len(data):
+        n, kind = struct.unpack(">I4s", data[i:i + 8])
+        if kind == b"tEXt":
+            k, v = data[i + 8:i + 8 + n].split(b"\0", 1)
+            text[k.decode("latin-1")] = v.decode("utf-8")
+        i += 12 + n
+    return text
+
+
+def pixels(path):
+    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt", "rgb24", "-"],
+                         capture_output=True, check=True).stdout
+    return np.frombuffer(raw, np.uint8).reshape(H, W, 3).astype(int)
+
+
+def overlay(path):
+    return dict(line.split("=", 1) for line in png_text(path).get("springpend.overlay", "").splitlines())
+
+
+def state_at(t):
+    r = run("data", scene, "-o", "-", "--every", str(t), "--set", f"video.duration={t}")
+    rows = list(csv.DictReader(io.StringIO(r.stdout)))
+    return {k: float(v) for k, v in rows[-1].items()}
+
+
+def expected(name, s):
+    """The vector, SI, y up, computed from the state alone."""
+    x, y, vx, vy, t = s["x"], s["y"], s["vx"], s["vy"], s["t"]
+    w = 2 * math.pi * F
+    vp, ap = A * w * math.cos(w * t), -A * w * w * math.sin(w * t)
+    rho = math.hypot(x, y)
+    spring = -K * (rho - L0) * np.array([x, y]) / rho
+    gravity = np.array([0.0, -M * G])
+    damping = -B * np.array([vx, vy + vp])
+    drive = np.array([0.0, -M * ap])
+    net = spring + gravity + damping + drive
+    return {"velocity": np.array([vx, vy]), "acceleration": net / M, "gravity": gravity,
+            "spring": spring, "damping": damping, "drive": drive, "net": net}[name]
+
+
+QUANTITY = {"velocity": "velocity", "acceleration": "acceleration"}
+T = 2.1
+s = state_at(T)
+ok(abs(s["t"] - T) < 1e-9, f"data's row at t = {T}")
+worst = 0.0
+for name, colour in COLOURS.items():
+    out = os.path.join(work, f"{name}.png")
+    r = run("still", scene, "--at", str(T), "--size", f"{W}x{H}", "-q", "-o", out,
+            "--set", f"view.vectors={name}")
+    if not ok(r.returncode == 0, f"still with vectors = {name}"):
+        print("# " + r.stderr.strip())
+        continue
+    o = overlay(out)
+    q = QUANTITY.get(name, "force")
+    scale = float(o[f"vectors.{q}.px_per_unit"])
+    px_m = float(o["camera.px_per_m"])
+    ox, oy = map(float, o["camera.origin_px"].split(","))
+    yp = s["pivot_y"]
+    centre = np.array([ox + px_m * s["x"], oy - px_m * (s["y"] + yp)])
+    vec = expected(name, s)
+    tip = centre + scale * np.array([vec[0], -vec[1]])
+    img = pixels(out)
+    mask = (np.abs(img - np.array(colour)).max(axis=2) <= 40)
+    labels, n = ndimage.label(mask)
+    ys, xs = np.nonzero(mask)
+    if not ok(len(xs) > 0, f"{name}: arrow pixels of its colour found"):
+        continue
+    pc = np.stack([xs + 0.5, ys + 0.5], axis=1)
+    near = np.argmin(np.hypot(*(pc - centre).T))
+    comp = labels[ys[near], xs[near]]
+    sel = labels[ys, xs] == comp
+    pts = pc[sel]
+    # the tip: the farthest reach along the arrow (pixels fully of its colour
+    # end about half a pixel inside the edge), laterally the middle of the
+    # pixels there
+    far = pts[np.argmax(np.hypot(*(pts - centre).T))]
+    u = (far - centre) / np.hypot(*(far - centre))
+    along = (pts - centre) @ u
+    end = pts[along >= along.max() - 1.0]
+    lateral = ((end - centre) @ np.array([-u[1], u[0]])).mean()
+    far = centre + (along.max() + 0.5) * u + lateral * np.array([-u[1], u[0]])
+    err = float(np.hypot(*(far - tip)))
+    length = float(np.hypot(*(tip - centre)))
+    worst = max(worst, err)
+    ang = math.degrees(math.atan2(-(far - centre)[1], (far - centre)[0]) - math.atan2(vec[1], vec[0]))
+    ang = (ang + 180) % 360 - 180
+    ok(err <= 1.5, f"{name}: tip at ({far[0]:.1f}, {far[1]:.1f}) px, expected ({tip[0]:.1f}, {tip[1]:.1f}) "
+       f"for |{name}| = {np.hypot(*vec):.4g} at {scale:.4g} px per unit ({length:.0f} px long): "
+       f"{err:.2f} px off, direction {ang:+.2f} degrees off")
+    ok(o.get(f"vectors.{q}.key", "").split(" ")[0].replace(".", "").isdigit(),
+       f"{name}: the key states a value ({o.get(f'vectors.{q}.key')})")
+print(f"# worst tip error {worst:.2f} px")
+
+# one scale for the whole video: the same at two times
+a, b = os.path.join(work, "a.png"), os.path.join(work, "b.png")
+for path, t in ((a, "0.5"), (b, "6")):
+    run("still", scene, "--at", t, "--size", f"{W}x{H}", "-q", "-o", path, "--set", "view.vectors=forces,velocity")
+oa, ob = overlay(a), overlay(b)
+ok(oa and all(oa[k] == ob[k] for k in oa if k.startswith("vectors.")),
+   "the arrow scales are the same at t = 0.5 s and t = 6 s (chosen from the whole run)")
+
+# bad input: FILE:LINE, exit 2, no file
+bad = os.path.join(work, "bad.ini")
+with open(bad, "w") as fp:
+    fp.write("[view]\nvectors = velocity, froce\n")
+r = run("still", bad, "-o", os.path.join(work, "bad.png"))
+ok(r.returncode == 2 and f"{bad}:2:" in r.stderr and "'froce' is not a vector" in r.stderr
+   and not os.path.exists(os.path.join(work, "bad.png")), f"unknown vector: {r.stderr.strip()}")
+
+# without vectors: no overlay chunk, no vectors key in the scene text
+plain = os.path.join(work, "plain.png")
+run("still", scene, "--at", "1", "--size", "320x180", "-q", "-o", plain)
+t = png_text(plain)
+ok("springpend.overlay" not in t, "a still without vectors carries no overlay text")
+done()

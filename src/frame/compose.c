@@ -58,6 +58,7 @@ struct sp_composer {
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
     struct sp_vectors vectors;    /* [view] vectors' scales (set with the layout) */
+    struct sp_bars_scale bars;    /* the energy bars' axis (set by each frame) */
     int ss;                       /* the drawing is this many times the output */
 };
 
@@ -674,7 +675,7 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
             sp_vectors_draw(cv, &r->vectors, f, bb, &r->pal);
     }
     if (r->look.view.panels)
-        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->look.view.fade);
+        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->look.view.fade, &r->bars);
     if (r->look.view.hud)
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
     put_texts(r, f->moment);
@@ -704,6 +705,12 @@ void sp_compose_overlay(const struct sp_composer *c, char *buf, size_t size)
     used = (size_t)snprintf(buf, size, "camera.px_per_m=%.9g\ncamera.origin_px=%.9g,%.9g\n",
                             c->scale / c->ss, c->ox / c->ss, c->oy / c->ss);
     sp_vectors_describe(&c->vectors, c->ss, buf, size, &used);
+    const struct sp_bars_scale *b = &c->bars;
+    if (b->n && used < size)
+        snprintf(buf + used, size - used, "energy_bars.zero_px=%.9g\nenergy_bars.px_per_J=%.9g\n"
+                 "energy_bars.slot_px=%.9g\nenergy_bars.x0_px=%.9g\nenergy_bars.count=%d\n"
+                 "energy_bars.gravity_zero_y_m=%.9g\n", b->zero_px / c->ss, b->px_per_J / c->ss,
+                 b->slot_px / c->ss, b->x0 / c->ss, b->n, c->extent.y_low);
 }
 
 const struct sp_font *sp_compose_font(const struct sp_composer *c) { return c->font; }

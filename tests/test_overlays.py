@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""springpend tests: [view] vectors (issue 22). Arrows from the bob against
+"""springpend tests: [view] vectors and the energy_bars panel (issue 22).
+Arrows from the bob against
 the forces computed here with numpy from the state `data` writes (gravity
 -m g, spring -k (r - L0) along the spring, damping -b v_air, the drive's
 inertial force -m a_pivot, net their sum; velocity; acceleration net / m),
@@ -7,7 +8,12 @@ each alone in a 1920x1080 still: the arrow's tip, found by its colour, lies
 where the scale stated in the PNG's springpend.overlay text puts it, to a
 pixel and a half (direction and length). An unknown vector name is refused
 with FILE:LINE and exit 2; a scene without vectors has no overlay text.
-usage: test_vectors.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+Energy bars: each bar's height in the PNG against the energies computed
+here from data's states (kinetic, spring, gravity from the lowest point of
+the run, total, start, the drive's work, the loss to damping integrated
+here by the trapezoid rule, bounce, swing), to 1.5 px, on one axis at every
+time.
+usage: test_overlays.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import csv
 import io
 import math
@@ -20,7 +26,7 @@ import sys
 from sptest import done, ok, runner, skip
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-work = os.path.abspath(os.path.join(sys.argv[3], "vectors"))
+work = os.path.abspath(os.path.join(sys.argv[3], "overlays"))
 try:
     import numpy as np
     from scipy import ndimage
@@ -163,4 +169,65 @@ plain = os.path.join(work, "plain.png")
 run("still", scene, "--at", "1", "--size", "320x180", "-q", "-o", plain)
 t = png_text(plain)
 ok("springpend.overlay" not in t, "a still without vectors carries no overlay text")
+
+# ---- energy bars ----
+r = run("data", scene, "-o", "-", "--every", "0.001")
+rows = list(csv.DictReader(io.StringIO(r.stdout)))
+d = {k: np.array([float(row[k]) for row in rows]) for k in rows[0]}
+y_low = d["y"].min()
+Tb = 4.0
+i = int(np.argmin(np.abs(d["t"] - Tb)))
+ok(abs(d["t"][i] - Tb) < 1e-9, f"data's row at t = {Tb}")
+w = 2 * math.pi * F
+vy_air = d["vy"] + A * w * np.cos(w * d["t"])
+power = B * (d["vx"] ** 2 + vy_air ** 2)
+loss = float(np.sum(0.5 * (power[1:i + 1] + power[:i]) * np.diff(d["t"][:i + 1])))
+
+
+def energies(j, zero_y):
+    x, y, vx, vy = d["x"][j], d["y"][j], d["vx"][j], d["vy"][j]
+    r_ = math.hypot(x, y)
+    ell = L0 + M * G / K
+    rdot = (x * vx + y * vy) / r_
+    thdot = (x * vy - y * vx) / r_ ** 2
+    kin, spr, grav = 0.5 * M * (vx * vx + vy * vy), 0.5 * K * (r_ - L0) ** 2, M * G * (y - zero_y)
+    return kin, spr, grav, kin + spr + grav, (0.5 * M * rdot ** 2 + 0.5 * K * (r_ - ell) ** 2,
+                                               0.5 * M * r_ * r_ * thdot ** 2 + M * G * (r_ + y))
+
+
+bars = {}
+for t_ in (str(Tb), "7.5"):
+    path = os.path.join(work, f"bars{t_}.png")
+    r = run("still", scene, "--at", t_, "--size", f"{W}x{H}", "-q", "-o", path,
+            "--set", "view.panels=energy_bars")
+    ok(r.returncode == 0, f"still with the energy_bars panel at t = {t_}") or print("# " + r.stderr)
+    bars[t_] = (path, overlay(path))
+path, o = bars[str(Tb)]
+ok(all(bars[str(Tb)][1][k] == bars["7.5"][1][k] for k in ("energy_bars.zero_px", "energy_bars.px_per_J")),
+   "the bars' axis is the same at t = 4 s and 7.5 s (one axis for the whole video)")
+zero_y = float(o["energy_bars.gravity_zero_y_m"])
+ok(abs(zero_y - y_low) < 1e-3, f"gravity's zero: the lowest point, y = {zero_y:.5f} m (data every 1 ms: {y_low:.5f})")
+kin, spr, grav, tot, (bnc, swg) = energies(i, zero_y)
+start = energies(0, zero_y)[3]
+work_total = d["work"][i]
+expect = {"kinetic": kin, "spring": spr, "gravity": grav, "total": tot, "start": start,
+          "drive work": work_total + loss, "damping loss": loss, "bounce": bnc, "swing": swg}
+ok(abs(tot - (start + work_total)) < 1e-6 * max(1, abs(tot)), f"data: total = start + work ({tot:.6f} J)")
+ok(int(o["energy_bars.count"]) == len(expect), f"{o['energy_bars.count']} bars for a damped, driven scene")
+img = pixels(path)
+zero, ppj = float(o["energy_bars.zero_px"]), float(o["energy_bars.px_per_J"])
+slot, x0 = float(o["energy_bars.slot_px"]), float(o["energy_bars.x0_px"])
+panel = np.array([26, 32, 41])
+for k, (name, value) in enumerate(expect.items()):
+    col = img[:, int(x0 + (k + 0.5) * slot)]
+    colour = col[int(round(zero - value * ppj / 2))] if abs(value * ppj) > 4 else None
+    want = value * ppj
+    if colour is None:
+        ok(True, f"{name}: {value:.4f} J is {want:.2f} px, too short to measure")
+        continue
+    rows_ = np.nonzero(np.abs(col - colour).max(axis=1) <= 12)[0]
+    rows_ = rows_[np.abs(rows_ + 0.5 - zero) <= abs(want) + 4]
+    got = zero - rows_.min() if value > 0 else rows_.max() + 1 - zero
+    got = got if value > 0 else -got
+    ok(abs(got - want) <= 1.5, f"{name}: bar {got:.1f} px, expected {want:.1f} px ({value:.4f} J at {ppj:.4g} px/J)")
 done()

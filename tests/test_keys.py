@@ -211,6 +211,7 @@ ok(dur is not None and frames21 is not None and np.array_equal(dur, frames21) an
    "view.trail = 1s (simulated s) at 20 fps draws the trail of view.trail = 21 frames")
 changed("fade", {"view.fade": "true"}, "the trail fades")
 changed("panels", {"view.panels": "r"}, "a panel")
+changed("vectors", {"view.vectors": "forces, velocity"}, "arrows from the bob and their legend")
 with_panel = frame("panel-vir", {"view.panels": "energy,phase", "view.colormap": "viridis"})
 changed("panel-inf", {"view.panels": "energy,phase", "view.colormap": "inferno"},
         "another colour map", ref_frame=with_panel)

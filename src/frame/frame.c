@@ -165,8 +165,9 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                 widen(&kin, fmax(fmax(e.kinetic, e.spring), fmax(e.bounce, e.swing)));
                 widen(&grav, e.gravity);
                 widen(&tot, e.total);
-                widen(&work, sim.work + loss); /* the drive's */
-                widen(&work, -loss);           /* damping's */
+                if (sim.p.drive_amp != 0)
+                    widen(&work, sim.work + loss); /* the drive's work */
+                widen(&work, loss);                /* the loss to damping */
             }
         }
         if (s->t >= t_end)

@@ -28,7 +28,7 @@ void sp_vectors_setup(struct sp_vectors *v, const struct sp_look *look,
 {
     const double max[SP_VQ_COUNT] = {e->max_force, e->max_speed, e->max_accel};
     *v = (struct sp_vectors){.bits = look->view.vectors, .driven = p->drive_amp != 0,
-                             .unit = unit};
+                             .damped = p->b_over_m > 0, .unit = unit};
     for (int q = 0; q < SP_VQ_COUNT; q++) {
         /* the largest value takes SP_VECTOR_MAX_LENGTH; the key shows a round
          * value at most half of it */
@@ -93,12 +93,16 @@ void sp_vectors_legend(struct sp_canvas *c, const struct sp_vectors *v, const st
     float len[SP_VECTOR_COUNT + SP_VQ_COUNT + 1];
     const float *color[SP_VECTOR_COUNT + SP_VQ_COUNT + 1];
     int n = 0;
-    for (int i = 0; i < SP_VECTOR_COUNT; i++)
-        if (v->bits & 1u << i) {
-            snprintf(text[n], sizeof(text[n]), "%s%s", NAMES[i],
-                     i == 5 ? " (inertial, −m a_pivot)" : "");
-            len[n] = swatch, color[n++] = pal->vectors[i];
-        }
+    for (int i = 0; i < SP_VECTOR_COUNT; i++) {
+        if (!(v->bits & 1u << i))
+            continue;
+        /* damping and the drive asked for in a scene without them: said, not drawn */
+        const int none = (i == 4 && !v->damped) || (i == 5 && !v->driven);
+        snprintf(text[n], sizeof(text[n]), "%s%s", NAMES[i],
+                 i == 4 && none ? ": none (b = 0)" : i == 5 && none ? ": none (fixed pivot)"
+                 : i == 5 ? " (inertial, −m a_pivot)" : "");
+        len[n] = none ? 0 : swatch, color[n++] = none ? pal->muted : pal->vectors[i];
+    }
     for (int q = 0; q < SP_VQ_COUNT; q++) {
         int used = 0;
         for (int i = 0; i < SP_VECTOR_COUNT; i++)

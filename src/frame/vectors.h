@@ -22,6 +22,7 @@ enum sp_vector_quantity { SP_VQ_FORCE, SP_VQ_VELOCITY, SP_VQ_ACCELERATION, SP_VQ
 struct sp_vectors {
     unsigned bits;                 /* SP_VECTOR_* drawn */
     int driven;                    /* 1: the pivot moves (arrows in its frame) */
+    int damped;                    /* 1: damping acts (b > 0) */
     double px_per[SP_VQ_COUNT];    /* px per N, per m/s, per m/s^2 */
     double key[SP_VQ_COUNT];       /* the key's value: 1, 2 or 5 x 10^k of the unit */
     float unit;                    /* px: the frame's smaller side */

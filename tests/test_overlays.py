@@ -23,16 +23,13 @@ import struct
 import subprocess
 import sys
 
-from sptest import done, ok, runner, skip
+from sptest import done, need_scipy, ok, runner
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "overlays"))
-try:
-    import numpy as np
-    from scipy import ndimage
-except ImportError:
-    print("1..0 # SKIP numpy or scipy not installed")
-    sys.exit(77)
+need_scipy()
+import numpy as np  # noqa: E402
+from scipy import ndimage  # noqa: E402
 if not shutil.which("ffmpeg"):
     print("1..0 # SKIP ffmpeg not installed (it decodes the PNGs)")
     sys.exit(77)

@@ -73,6 +73,9 @@ struct sp_scene {
         double angle;       /* theta0, rad from the downward vertical */
         double length_rate; /* dr/dt at t = 0, m/s */
         double angle_rate;  /* dtheta/dt at t = 0, rad/s */
+        double azimuth_rate; /* dphi/dt at t = 0, rad/s: the start's turning
+                                about the vertical, phi from +x towards +z;
+                                0 = the motion stays in the x-y plane */
     } initial;
     struct {
         enum sp_method method;

@@ -11,7 +11,12 @@
  * The pivot moves vertically, y_p(t) = A sin(Omega t) (A = 0: fixed); the
  * state is kept in the pivot's frame, where the pivot's acceleration a_p acts
  * as a time-dependent gravity. Damping acts on the bob's velocity relative
- * to the air, which is at rest in the lab: v + v_p(t) y-hat. */
+ * to the air, which is at rest in the lab: v + v_p(t) y-hat.
+ * In three dimensions (the spherical elastic pendulum, "the swinging
+ * spring") z is the horizontal axis out of the starting plane and
+ *   z'' = -(k/m)(1 - L0/rho) z - (b/m) z',  rho = |(x, y, z)|;
+ * a scene whose motion stays in the x-y plane (initial.azimuth_rate = 0)
+ * integrates x and y alone, with the planar run's arithmetic. */
 #ifndef SPRINGPEND_SIM_H
 #define SPRINGPEND_SIM_H
 
@@ -23,6 +28,8 @@ struct sp_state {
     double t;      /* simulated time, s */
     double x, y;   /* bob position relative to the pivot, m */
     double vx, vy; /* bob velocity relative to the pivot, m/s */
+    double z, vz;  /* out of the starting plane (horizontal, x-y-z right-handed
+                    * with y up), m and m/s; 0 in a planar run */
 };
 
 struct sp_params {
@@ -116,15 +123,17 @@ struct sp_sim {
     const struct sp_scene *scene; /* for messages */
     /* private */
     int forced;          /* damping or a moving pivot: track the work */
-    double y0[5], y1[5]; /* state (x, y, vx, vy, work/m) at t0 and t1 */
+    int spatial;         /* 1: the motion leaves the x-y plane, z and vz are
+                          * integrated (initial.azimuth_rate != 0) */
+    double y0[7], y1[7]; /* state (x, y, vx, vy, work/m, z, vz) at t0 and t1 */
     double t0, t1;       /* the current step (adaptive); t1: grid point (fixed) */
-    double force[3];     /* splitting methods: ax, ay, a_pivot at (t1, y1) */
+    double force[4];     /* splitting methods: ax, ay, a_pivot, az at (t1, y1) */
     double h;            /* adaptive: next step size, s */
-    double atol[4];      /* adaptive: absolute tolerance per component */
+    double atol[7];      /* adaptive: absolute tolerance per component */
     int dense_ready;     /* adaptive: dense[] is filled for [t0, t1] */
     int last_rejected;
-    double k[17][5];     /* stage derivatives of the current step */
-    double dense[7][5];  /* dense output coefficients */
+    double k[17][7];     /* stage derivatives of the current step */
+    double dense[7][7];  /* dense output coefficients */
 };
 
 /* The blow-up guard's default: energy drift, less the work of damping and
@@ -150,6 +159,8 @@ int sp_sim_advance(struct sp_sim *sim, double t_target);
  * itself fails (the real run then reports why). */
 double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end);
 
+/* r, theta and their rates. A state off the x-y plane (z or vz nonzero) has
+ * theta as the polar angle from the downward vertical, in [0, pi]. */
 void sp_state_polar(const struct sp_state *s, struct sp_polar *out);
 void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
                      struct sp_energy *out);
@@ -159,7 +170,8 @@ void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
  * and `drive` is its inertial force -m a_pivot; damping acts on the bob's
  * velocity relative to the air, at rest in the lab. net is the sum of the
  * four and equals mass times accel, the acceleration relative to the pivot
- * (what the integrator integrates). */
+ * (what the integrator integrates). In three dimensions these are the x-y
+ * components (the plane the view shows). */
 struct sp_forces {
     double gravity[2], spring[2], damping[2], drive[2]; /* N */
     double net[2];                                      /* N */
@@ -167,6 +179,26 @@ struct sp_forces {
 };
 void sp_state_forces(const struct sp_params *p, const struct sp_state *s,
                      struct sp_forces *out);
+
+/* The vertical component of the angular momentum about the pivot per mass,
+ * m^2/s: z vx - x vz (y up). Conserved without damping: gravity, the spring
+ * and the vertical drive exert no torque about the vertical. */
+double sp_state_angular_momentum_y(const struct sp_state *s);
+
+/* The azimuth of the swing's plane, rad in (-pi/2, pi/2], measured about
+ * the vertical from +x towards +z: the major axis of the horizontal ellipse
+ * that the swing traces in one pendulum period, taken from the tensor
+ *   M = h h^T + h' h'^T / omega_p^2,   h = (x, z), omega_p = sqrt(g / l),
+ * which for a small isotropic swing h = a cos(wt) e1 + b sin(wt) e2 is
+ * a^2 e1 e1^T + b^2 e2 e2^T at every instant (the ellipse's slow variable):
+ * azimuth = atan2(2 M_xz, M_xx - M_zz) / 2. 0 when the swing has no
+ * preferred direction (a circle or no swing at all). */
+double sp_state_azimuth(const struct sp_params *p, const struct sp_state *s);
+
+/* An azimuth a (rad, defined modulo pi) moved by a multiple of pi to lie
+ * within pi/2 of prev: a continuous azimuth from samples of
+ * sp_state_azimuth. */
+double sp_azimuth_unwrap(double prev, double a);
 
 /* The pivot's height at time t, m (0 for a fixed pivot). */
 double sp_pivot_y(const struct sp_params *p, double t);

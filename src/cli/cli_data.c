@@ -33,6 +33,13 @@ static const char data_usage[] =
     "Columns (SI units, angles in radians, positions relative to the pivot):\n"
     "  t,x,y,vx,vy,r,theta,r_dot,theta_dot,kinetic,spring,gravity,energy,\n"
     "  bounce,swing,work,pivot_y\n"
+    "A scene that leaves the x-y plane (initial.azimuth_rate != 0) adds z,vz,azimuth:\n"
+    "  z, vz: the horizontal axis out of the starting plane (x-y-z right-handed);\n"
+    "  azimuth: the swing plane's angle about the vertical in degrees, from +x\n"
+    "  towards +z: the major axis of the horizontal ellipse the swing traces in one\n"
+    "  pendulum period (sim.h, sp_state_azimuth), made continuous from row to row\n"
+    "  (a turn of over 90 degrees between two rows is read as the nearer one).\n"
+    "  theta is then the polar angle from the downward vertical, in [0, pi].\n"
     "bounce + swing = energy - E_eq (E_eq: hanging still at l = L0 + m g / k);\n"
     "work: done on the bob by damping and the moving pivot since t = 0, so\n"
     "energy - work stays at its t = 0 value.\n"
@@ -64,22 +71,31 @@ static const char data_usage[] =
 
 static const char csv_header[] =
     "t,x,y,vx,vy,r,theta,r_dot,theta_dot,kinetic,spring,gravity,energy,"
-    "bounce,swing,work,pivot_y\n";
+    "bounce,swing,work,pivot_y";
+static const char csv_header_spatial[] = ",z,vz,azimuth";
 
-/* One CSV row for the sim's current state. */
-static int write_row(FILE *fp, const struct sp_sim *sim)
+/* One CSV row for the sim's current state; a spatial run's row goes on with
+ * z, vz and the azimuth, degrees, continued from *azimuth (rad, updated). */
+static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth)
 {
     const struct sp_state *s = &sim->s;
     struct sp_polar q;
     struct sp_energy e;
     sp_state_polar(s, &q);
     sp_state_energy(&sim->p, s, &e);
-    return fprintf(fp,
-                   "%.10g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,"
-                   "%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g\n",
-                   s->t, s->x, s->y, s->vx, s->vy, q.r, q.theta, q.r_dot, q.theta_dot,
-                   e.kinetic, e.spring, e.gravity, e.total, e.bounce, e.swing, sim->work,
-                   sp_pivot_y(&sim->p, s->t)) < 0 ? SP_E_IO : 0;
+    if (fprintf(fp,
+                "%.10g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,"
+                "%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g",
+                s->t, s->x, s->y, s->vx, s->vy, q.r, q.theta, q.r_dot, q.theta_dot,
+                e.kinetic, e.spring, e.gravity, e.total, e.bounce, e.swing, sim->work,
+                sp_pivot_y(&sim->p, s->t)) < 0)
+        return SP_E_IO;
+    if (sim->spatial) {
+        *azimuth = sp_azimuth_unwrap(*azimuth, sp_state_azimuth(&sim->p, s));
+        if (fprintf(fp, ",%.15g,%.15g,%.15g", s->z, s->vz, *azimuth * 180 / M_PI) < 0)
+            return SP_E_IO;
+    }
+    return fputc('\n', fp) == EOF ? SP_E_IO : 0;
 }
 
 /* Writes the Poincare section's crossings over [0, video.duration] to fp as
@@ -122,9 +138,11 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else
         n = sp_scene_frame_count(sc);
-    if (fputs(csv_header, fp) < 0)
-        return SP_E_IO;
     sp_sim_init(&sim, sc);
+    double azimuth = 0;
+    if (fputs(csv_header, fp) < 0 || (sim.spatial && fputs(csv_header_spatial, fp) < 0) ||
+        fputc('\n', fp) == EOF)
+        return SP_E_IO;
     sim.cancel = sp_signal_flag();
     sim.progress = sp_progress_sim;
     for (long k = 0; k < n; k++) {
@@ -133,7 +151,7 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
         if (ret == SP_E_UNSTABLE)
             sp_sim_explain(&sim);
         if (!ret)
-            ret = write_row(fp, &sim);
+            ret = write_row(fp, &sim, &azimuth);
         if (ret)
             return ret;
     }

@@ -95,13 +95,13 @@ void sp_look_of(const struct sp_scene *scene, struct sp_look *out)
 }
 
 /* W: the power damping takes from the bob in state s (b |v_air|^2, the air
- * at rest in the lab); 0 without damping. */
+ * at rest in the lab; vz in 3-D); 0 without damping. */
 static double damping_power(const struct sp_params *p, const struct sp_state *s)
 {
     if (p->b_over_m <= 0)
         return 0;
     const double vy = s->vy + p->drive_amp * p->drive_omega * cos(p->drive_omega * s->t);
-    return p->b_over_m * p->mass * (s->vx * s->vx + vy * vy);
+    return p->b_over_m * p->mass * (s->vx * s->vx + vy * vy + s->vz * s->vz);
 }
 
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,

@@ -69,6 +69,7 @@ static const struct key_info keys[] = {
     {"initial", "angle", KEY_DEGREES, F(initial.angle), 10, -360, 360, 0, "degrees"},
     {"initial", "length_rate", KEY_REAL, F(initial.length_rate), 0, -1e6, 1e6, 0, "m/s"},
     {"initial", "angle_rate", KEY_REAL, F(initial.angle_rate), 0, -1e6, 1e6, 0, "rad/s"},
+    {"initial", "azimuth_rate", KEY_REAL, F(initial.azimuth_rate), 0, -1e6, 1e6, 0, "rad/s"},
     {"integrator", "method", KEY_METHOD, F(integrator.method), 0, 0, 0, 0,
      "rk4, verlet, yoshida4, dopri5, dop853, rkn1210"},
     {"integrator", "dt", KEY_REAL, F(integrator.dt), 0.001, 0, 1, 1, "s"},
@@ -809,6 +810,16 @@ static void validate_whole(struct parse_ctx *c)
         report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "
                "position only: set pendulum.damping = 0 and pivot.amplitude = 0, or use "
                "integrator.method = dop853");
+    if (s->initial.azimuth_rate != 0 && !(fabs(sin(s->initial.angle)) > 0))
+        report(c, c->key_line[find_key("initial", "azimuth_rate") - keys],
+               "initial.azimuth_rate = %g rad/s turns the bob about the vertical, but "
+               "initial.angle = %g degrees starts it on the vertical, where there is nothing "
+               "to turn; give initial.angle a swing (not 0 or 180 degrees) or set "
+               "azimuth_rate = 0", s->initial.azimuth_rate, s->initial.angle * 180 / M_PI);
+    if (s->initial.azimuth_rate != 0 && s->ensemble.count > 1)
+        report(c, c->key_line[find_key("ensemble", "count") - keys],
+               "[ensemble] runs planar pendulums only (its batched integrator has no third "
+               "dimension); set initial.azimuth_rate = 0 or ensemble.count = 0");
     double steps = s->video.duration / s->integrator.dt;
     if (s->integrator.method <= SP_METHOD_YOSHIDA4 && steps > 1e10)
         report(c, 0, "video.duration / integrator.dt = %.3g steps; at most 1e10 are "

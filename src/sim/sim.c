@@ -4,7 +4,10 @@
  * pairs 5(4) and 8(5,3) with dense output. The blow-up guard checks after
  * every step (every 4th on RK4's cheap steps) that the state is finite and
  * that total energy, less the work done by damping and the moving pivot,
- * stays put. No allocation anywhere. */
+ * stays put. No allocation anywhere.
+ * A second compile-time switch, `spatial`, adds z and vz (the swinging
+ * spring in three dimensions) at u[5], u[6]; with it off every method does
+ * exactly the planar arithmetic, bit for bit. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -12,8 +15,9 @@
 #include "springpend/common.h"
 #include "springpend/sim.h"
 
-/* For the functions taking `const int forced`: inlined always, so that each
- * caller passing a constant gets its own specialised copy. */
+/* For the functions taking `const int forced` (and `const int spatial`):
+ * inlined always, so that each caller passing constants gets its own
+ * specialised copy. */
 #define SPECIALISED static inline __attribute__((always_inline))
 
 static const struct sp_method_info methods[] = {
@@ -55,71 +59,112 @@ static inline void accel_q(const struct sp_params *p, double x, double y, double
     *ay = -c * y - p->g - a_pivot;
 }
 
-/* d/dt of u = (x, y, vx, vy, w), w the work per mass done by damping and the
- * drive (J/kg). `forced` is a compile-time constant at every call: 0 skips
- * damping, drive and w. */
+/* accel_q in three dimensions: (x, y, z) to (ax, ay, az). */
+static inline void accel_q3(const struct sp_params *p, double x, double y, double z,
+                            double a_pivot, double *ax, double *ay, double *az)
+{
+    double rho = sqrt(x * x + y * y + z * z);
+    double c = p->k_over_m * (1 - (rho > 0 ? p->L0 / rho : 0));
+    *ax = -c * x;
+    *ay = -c * y - p->g - a_pivot;
+    *az = -c * z;
+}
+
+/* d/dt of u = (x, y, vx, vy, w, z, vz), w the work per mass done by damping
+ * and the drive (J/kg). `forced` and `spatial` are compile-time constants at
+ * every call: forced = 0 skips damping, drive and w; spatial = 0 skips z and
+ * vz (u[5], u[6] are then neither read nor written). */
 SPECIALISED void rhs(const struct sp_params *p, double t, const double *u, double *d,
-                       const int forced)
+                       const int forced, const int spatial)
 {
     double vp = 0, ap = 0;
     if (forced && p->drive_amp != 0)
         pivot_motion(p, t, &vp, &ap);
-    accel_q(p, u[0], u[1], ap, &d[2], &d[3]);
+    if (spatial) {
+        double a[7];
+        accel_q3(p, u[0], u[1], u[5], ap, &a[0], &a[1], &a[5]);
+        d[2] = a[0], d[3] = a[1], d[6] = a[5];
+        d[5] = u[6];
+        if (!forced)
+            d[4] = 0;
+    } else {
+        accel_q(p, u[0], u[1], ap, &d[2], &d[3]);
+    }
     d[0] = u[2];
     d[1] = u[3];
     if (forced) {
         d[2] -= p->b_over_m * u[2];
         d[3] -= p->b_over_m * (u[3] + vp);
-        d[4] = -p->b_over_m * (u[2] * u[2] + u[3] * (u[3] + vp)) - ap * u[3];
+        if (spatial) {
+            d[6] -= p->b_over_m * u[6];
+            d[4] = -p->b_over_m * (u[2] * u[2] + u[3] * (u[3] + vp) + u[6] * u[6]) - ap * u[3];
+        } else {
+            d[4] = -p->b_over_m * (u[2] * u[2] + u[3] * (u[3] + vp)) - ap * u[3];
+        }
     }
 }
 
-#define NC(forced) ((forced) ? 5 : 4)
+/* Components a method updates: (x, y, vx, vy), w when forced, all seven in
+ * space (w then stays 0 unforced). */
+#define NC(forced, spatial) ((spatial) ? 7 : (forced) ? 5 : 4)
+/* The physical components of the error norm: 4 in the plane, 6 in space. */
+#define NPHYS(spatial) ((spatial) ? 6 : 4)
 
 /* ---- fixed-step methods -------------------------------------------------- */
 
 SPECIALISED void rk4_step(const struct sp_params *p, double t, double *u, double h,
-                            const int forced)
+                            const int forced, const int spatial)
 {
-    double k1[5], k2[5], k3[5], k4[5], v[5];
-    const int n = NC(forced);
-    rhs(p, t, u, k1, forced);
+    double k1[7], k2[7], k3[7], k4[7], v[7];
+    const int n = NC(forced, spatial);
+    rhs(p, t, u, k1, forced, spatial);
     for (int c = 0; c < n; c++)
         v[c] = u[c] + 0.5 * h * k1[c];
-    rhs(p, t + 0.5 * h, v, k2, forced);
+    rhs(p, t + 0.5 * h, v, k2, forced, spatial);
     for (int c = 0; c < n; c++)
         v[c] = u[c] + 0.5 * h * k2[c];
-    rhs(p, t + 0.5 * h, v, k3, forced);
+    rhs(p, t + 0.5 * h, v, k3, forced, spatial);
     for (int c = 0; c < n; c++)
         v[c] = u[c] + h * k3[c];
-    rhs(p, t + h, v, k4, forced);
+    rhs(p, t + h, v, k4, forced, spatial);
     for (int c = 0; c < n; c++)
         u[c] += h / 6 * (k1[c] + 2 * (k2[c] + k3[c]) + k4[c]);
 }
 
 /* The exact flow of the damping alone over h: the velocity relative to the
  * air decays by exp(-b h / m); its work is the change of kinetic energy. */
-static inline void damp(const struct sp_params *p, double t, double *u, double h)
+SPECIALISED void damp(const struct sp_params *p, double t, double *u, double h,
+                      const int spatial)
 {
     double vp = 0, ap, f = exp(-p->b_over_m * h);
     if (p->drive_amp != 0)
         pivot_motion(p, t, &vp, &ap);
+    if (spatial) {
+        double e = u[2] * u[2] + u[3] * u[3] + u[6] * u[6];
+        u[2] *= f;
+        u[3] = (u[3] + vp) * f - vp;
+        u[6] *= f;
+        u[4] += 0.5 * (u[2] * u[2] + u[3] * u[3] + u[6] * u[6] - e);
+        return;
+    }
     double e = u[2] * u[2] + u[3] * u[3];
     u[2] *= f;
     u[3] = (u[3] + vp) * f - vp;
     u[4] += 0.5 * (u[2] * u[2] + u[3] * u[3] - e);
 }
 
-/* A kick: v += h a(q, t) with a = (ax, ay) precomputed; the drive's share
- * of the work is -a_pivot * vy_mean * h. */
-static inline void kick(double *u, double h, double ax, double ay, double a_pivot,
-                        const int forced)
+/* A kick: v += h a(q, t) with a = (ax, ay, a_pivot, az) precomputed; the
+ * drive's share of the work is -a_pivot * vy_mean * h. */
+SPECIALISED void kick(double *u, double h, const double *a, const int forced,
+                      const int spatial)
 {
     double vy = u[3];
-    u[2] += h * ax;
-    u[3] += h * ay;
+    u[2] += h * a[0];
+    u[3] += h * a[1];
+    if (spatial)
+        u[6] += h * a[3];
     if (forced)
-        u[4] -= a_pivot * 0.5 * (vy + u[3]) * h;
+        u[4] -= a[2] * 0.5 * (vy + u[3]) * h;
 }
 
 /* Symmetric composition of Stormer-Verlet substeps with weights w[0..n-1]:
@@ -129,24 +174,29 @@ static inline void kick(double *u, double h, double ax, double ay, double a_pivo
  * the start of the step in and at its end out. Returns evaluations made. */
 SPECIALISED int splitting_step(const struct sp_params *p, double t, double *u,
                                  double h, const double *w, int n, double *a,
-                                 const int forced)
+                                 const int forced, const int spatial)
 {
     for (int i = 0; i < n; i++) {
         double hi = w[i] * h;
         if (forced && p->b_over_m != 0)
-            damp(p, t, u, 0.5 * hi);
-        kick(u, 0.5 * hi, a[0], a[1], a[2], forced);
+            damp(p, t, u, 0.5 * hi, spatial);
+        kick(u, 0.5 * hi, a, forced, spatial);
         u[0] += hi * u[2];
         u[1] += hi * u[3];
+        if (spatial)
+            u[5] += hi * u[6];
         t += hi;
         double vp;
         a[2] = 0;
         if (forced && p->drive_amp != 0)
             pivot_motion(p, t, &vp, &a[2]);
-        accel_q(p, u[0], u[1], a[2], &a[0], &a[1]);
-        kick(u, 0.5 * hi, a[0], a[1], a[2], forced);
+        if (spatial)
+            accel_q3(p, u[0], u[1], u[5], a[2], &a[0], &a[1], &a[3]);
+        else
+            accel_q(p, u[0], u[1], a[2], &a[0], &a[1]);
+        kick(u, 0.5 * hi, a, forced, spatial);
         if (forced && p->b_over_m != 0)
-            damp(p, t, u, 0.5 * hi);
+            damp(p, t, u, 0.5 * hi, spatial);
     }
     return n;
 }
@@ -159,28 +209,33 @@ static const double yoshida_w[] = {1 / (2 - CBRT2), -CBRT2 / (2 - CBRT2), 1 / (2
  * force cache of the splitting methods (valid for u at t, in and out).
  * Returns the evaluations made. */
 SPECIALISED int fixed_step(const struct sp_sim *sim, double t, double *u, double h,
-                             double *a, const int forced)
+                             double *a, const int forced, const int spatial)
 {
     switch (sim->method) {
     case SP_METHOD_VERLET:
-        return splitting_step(&sim->p, t, u, h, verlet_w, 1, a, forced);
+        return splitting_step(&sim->p, t, u, h, verlet_w, 1, a, forced, spatial);
     case SP_METHOD_YOSHIDA4:
-        return splitting_step(&sim->p, t, u, h, yoshida_w, 3, a, forced);
+        return splitting_step(&sim->p, t, u, h, yoshida_w, 3, a, forced, spatial);
     default:
-        rk4_step(&sim->p, t, u, h, forced);
+        rk4_step(&sim->p, t, u, h, forced, spatial);
         return 4;
     }
 }
 
 /* The force cache for state u at time t: acceleration without the velocity
- * terms, and the pivot's acceleration. */
-static void force_at(const struct sp_params *p, double t, const double *u, double *a)
+ * terms (ax, ay, then az at a[3] when spatial), and the pivot's acceleration
+ * at a[2]. */
+static void force_at(const struct sp_params *p, double t, const double *u, double *a,
+                     int spatial)
 {
     double vp;
     a[2] = 0;
     if (p->drive_amp != 0)
         pivot_motion(p, t, &vp, &a[2]);
-    accel_q(p, u[0], u[1], a[2], &a[0], &a[1]);
+    if (spatial)
+        accel_q3(p, u[0], u[1], u[5], a[2], &a[0], &a[1], &a[3]);
+    else
+        accel_q(p, u[0], u[1], a[2], &a[0], &a[1]);
 }
 
 /* ---- adaptive methods ---------------------------------------------------- */
@@ -204,77 +259,90 @@ static inline void store2(double *p, v2d v)
 
 /* v = u + h * sum_j a[j] k[j] over j < s. The loop unrolls fully, the zero
  * coefficients of the sparse tableaus fall away at compile time, and the
- * components go two by two: (x, y) and (vx, vy), then w when forced. */
-#define STAGE_SUM(v, u, h, a, k, s, n)                                        \
+ * components go two by two: (x, y) and (vx, vy), then w when forced, then
+ * (z, vz) when sp (spatial). */
+#define STAGE_SUM(v, u, h, a, k, s, n, sp)                                    \
     do {                                                                      \
-        v2d q_ = {0, 0}, p_ = {0, 0};                                         \
+        v2d q_ = {0, 0}, p_ = {0, 0}, z_ = {0, 0};                            \
         double w_ = 0;                                                        \
         _Pragma("GCC unroll 16") for (int j_ = 0; j_ < (s); j_++)             \
             if ((a)[j_] != 0.0) {                                             \
                 q_ += (a)[j_] * load2(&(k)[j_][0]);                           \
                 p_ += (a)[j_] * load2(&(k)[j_][2]);                           \
-                if ((n) == 5)                                                 \
+                if ((n) >= 5)                                                 \
                     w_ += (a)[j_] * (k)[j_][4];                               \
+                if (sp)                                                       \
+                    z_ += (a)[j_] * load2(&(k)[j_][5]);                       \
             }                                                                 \
         store2(&(v)[0], load2(&(u)[0]) + (h) * q_);                           \
         store2(&(v)[2], load2(&(u)[2]) + (h) * p_);                           \
-        if ((n) == 5)                                                         \
+        if ((n) >= 5)                                                         \
             (v)[4] = (u)[4] + (h) * w_;                                       \
+        if (sp)                                                               \
+            store2(&(v)[5], load2(&(u)[5]) + (h) * z_);                       \
     } while (0)
 
 /* 1 / (atol + tol * max(|u0|, |u1|)) per physical component: the weights of
  * Hairer's RMS error norm. */
 static inline void err_weights(const struct sp_sim *sim, const double *u0, const double *u1,
-                               double *w)
+                               double *w, const int spatial)
 {
-    for (int c = 0; c < 4; c++) {
+    for (int c = 0; c < 7; c++) {
+        if (c == 4 || (c > 4 && !spatial))
+            continue;
         double a = fabs(u0[c]), b = fabs(u1[c]);
         w[c] = 1 / (sim->atol[c] + sim->tol * (a > b ? a : b));
     }
 }
 
-static inline double err_norm(const double *e, const double *w)
+/* Over the physical components: x, y, vx, vy, and z, vz when spatial. */
+static inline double err_norm(const double *e, const double *w, const int spatial)
 {
     double sum = 0;
-    for (int c = 0; c < 4; c++)
+    for (int c = 0; c < 7; c++) {
+        if (c == 4 || (c > 4 && !spatial))
+            continue;
         sum += (e[c] * w[c]) * (e[c] * w[c]);
-    return sqrt(sum / 4);
+    }
+    return sqrt(sum / NPHYS(spatial));
 }
 
 /* Tries one Dormand-Prince 5(4) step of size h from (t1, y1) into u;
  * k[0] holds f(t1, y1). Returns the error norm (<= 1: acceptable). */
-SPECIALISED double dopri5_try(struct sp_sim *sim, double h, double *u, const int forced)
+SPECIALISED double dopri5_try(struct sp_sim *sim, double h, double *u, const int forced,
+                              const int spatial)
 {
-    const int n = NC(forced);
-    double v[5], e[5];
+    const int n = NC(forced, spatial);
+    double v[7], e[7];
     _Pragma("GCC unroll 6") for (int s = 1; s < 6; s++) {
-        STAGE_SUM(v, sim->y1, h, dp5_a[s], sim->k, s, n);
-        rhs(&sim->p, sim->t1 + dp5_c[s] * h, v, sim->k[s], forced);
+        STAGE_SUM(v, sim->y1, h, dp5_a[s], sim->k, s, n, spatial);
+        rhs(&sim->p, sim->t1 + dp5_c[s] * h, v, sim->k[s], forced, spatial);
     }
-    STAGE_SUM(u, sim->y1, h, dp5_a[6], sim->k, 6, n);
-    rhs(&sim->p, sim->t1 + h, u, sim->k[6], forced);
-    STAGE_SUM(e, (double[5]){0}, h, dp5_e, sim->k, 7, 4);
-    double w[4];
-    err_weights(sim, sim->y1, u, w);
-    return err_norm(e, w);
+    STAGE_SUM(u, sim->y1, h, dp5_a[6], sim->k, 6, n, spatial);
+    rhs(&sim->p, sim->t1 + h, u, sim->k[6], forced, spatial);
+    STAGE_SUM(e, (double[7]){0}, h, dp5_e, sim->k, 7, 4, spatial);
+    double w[7];
+    err_weights(sim, sim->y1, u, w, spatial);
+    return err_norm(e, w, spatial);
 }
 
 /* Tries one DOP853 step; as dopri5_try. */
-SPECIALISED double dop853_try(struct sp_sim *sim, double h, double *u, const int forced)
+SPECIALISED double dop853_try(struct sp_sim *sim, double h, double *u, const int forced,
+                              const int spatial)
 {
-    const int n = NC(forced);
-    double v[5], e5[5], e3[5];
+    const int n = NC(forced, spatial);
+    double v[7], e5[7], e3[7];
     _Pragma("GCC unroll 12") for (int s = 1; s < 12; s++) {
-        STAGE_SUM(v, sim->y1, h, d8_a[s], sim->k, s, n);
-        rhs(&sim->p, sim->t1 + d8_c[s] * h, v, sim->k[s], forced);
+        STAGE_SUM(v, sim->y1, h, d8_a[s], sim->k, s, n, spatial);
+        rhs(&sim->p, sim->t1 + d8_c[s] * h, v, sim->k[s], forced, spatial);
     }
-    STAGE_SUM(u, sim->y1, h, d8_a[12], sim->k, 12, n);
-    rhs(&sim->p, sim->t1 + h, u, sim->k[12], forced);
-    STAGE_SUM(e5, (double[5]){0}, 1.0, d8_e5, sim->k, 12, 4);
-    STAGE_SUM(e3, (double[5]){0}, 1.0, d8_e3, sim->k, 12, 4);
-    double w[4];
-    err_weights(sim, sim->y1, u, w);
-    double n5 = err_norm(e5, w), n3 = err_norm(e3, w);
+    STAGE_SUM(u, sim->y1, h, d8_a[12], sim->k, 12, n, spatial);
+    rhs(&sim->p, sim->t1 + h, u, sim->k[12], forced, spatial);
+    STAGE_SUM(e5, (double[7]){0}, 1.0, d8_e5, sim->k, 12, 4, spatial);
+    STAGE_SUM(e3, (double[7]){0}, 1.0, d8_e3, sim->k, 12, 4, spatial);
+    double w[7];
+    err_weights(sim, sim->y1, u, w, spatial);
+    double n5 = err_norm(e5, w, spatial), n3 = err_norm(e3, w, spatial);
     if (n5 == 0 && n3 == 0)
         return 0;
     return fabs(h) * n5 * n5 / sqrt(n5 * n5 + 0.01 * n3 * n3);
@@ -283,45 +351,62 @@ SPECIALISED double dop853_try(struct sp_sim *sim, double h, double *u, const int
 /* Tries one RKN12(10) step of size h from (t, y) into u (q'' = f(q): no
  * damping, no drive, so only positions enter the stages). g_s goes to
  * sim->k[s][0..1]. Returns the error norm. */
-static inline double rkn_try(struct sp_sim *sim, double t, const double *y, double h,
-                             double *u)
+SPECIALISED double rkn_try(struct sp_sim *sim, double t, const double *y, double h,
+                           double *u, const int spatial)
 {
-    double(*g)[5] = sim->k;
+    double(*g)[7] = sim->k; /* spatial: g_z at g[s][2] */
     const v2d q0 = load2(&y[0]), v0 = load2(&y[2]);
     (void)t;
-    accel_q(&sim->p, y[0], y[1], 0, &g[0][0], &g[0][1]);
+    if (spatial)
+        accel_q3(&sim->p, y[0], y[1], y[5], 0, &g[0][0], &g[0][1], &g[0][2]);
+    else
+        accel_q(&sim->p, y[0], y[1], 0, &g[0][0], &g[0][1]);
     _Pragma("GCC unroll 17") for (int s = 1; s < 17; s++) {
         v2d acc = {0, 0}, q;
+        double accz = 0;
         _Pragma("GCC unroll 16") for (int j = 0; j < s; j++)
-            if (rkn_a[s][j] != 0.0)
+            if (rkn_a[s][j] != 0.0) {
                 acc += rkn_a[s][j] * load2(&g[j][0]);
+                if (spatial)
+                    accz += rkn_a[s][j] * g[j][2];
+            }
         q = q0 + (rkn_c[s] * h) * v0 + (h * h) * acc;
-        accel_q(&sim->p, q[0], q[1], 0, &g[s][0], &g[s][1]);
+        if (spatial)
+            accel_q3(&sim->p, q[0], q[1], y[5] + (rkn_c[s] * h) * y[6] + (h * h) * accz, 0,
+                     &g[s][0], &g[s][1], &g[s][2]);
+        else
+            accel_q(&sim->p, q[0], q[1], 0, &g[s][0], &g[s][1]);
     }
     v2d bq = {0, 0}, bv = {0, 0}, eq = {0, 0}, ev = {0, 0};
+    double bqz = 0, bvz = 0, eqz = 0, evz = 0;
     _Pragma("GCC unroll 17") for (int j = 0; j < 17; j++) {
         v2d gj = load2(&g[j][0]);
         if (rkn_bhat[j] != 0.0)
-            bq += rkn_bhat[j] * gj;
+            bq += rkn_bhat[j] * gj, bqz += rkn_bhat[j] * g[j][2];
         if (rkn_bphat[j] != 0.0)
-            bv += rkn_bphat[j] * gj;
+            bv += rkn_bphat[j] * gj, bvz += rkn_bphat[j] * g[j][2];
         if (rkn_bhat[j] - rkn_b[j] != 0.0)
-            eq += (rkn_bhat[j] - rkn_b[j]) * gj;
+            eq += (rkn_bhat[j] - rkn_b[j]) * gj, eqz += (rkn_bhat[j] - rkn_b[j]) * g[j][2];
         if (rkn_bphat[j] - rkn_bp[j] != 0.0)
-            ev += (rkn_bphat[j] - rkn_bp[j]) * gj;
+            ev += (rkn_bphat[j] - rkn_bp[j]) * gj, evz += (rkn_bphat[j] - rkn_bp[j]) * g[j][2];
     }
     store2(&u[0], q0 + h * v0 + (h * h) * bq);
     store2(&u[2], v0 + h * bv);
     u[4] = y[4];
-    double e[4] = {h * h * eq[0], h * h * eq[1], h * ev[0], h * ev[1]}, w[4];
-    err_weights(sim, y, u, w);
-    return err_norm(e, w);
+    double e[7] = {h * h * eq[0], h * h * eq[1], h * ev[0], h * ev[1], 0, 0, 0}, w[7];
+    if (spatial) {
+        u[5] = y[5] + h * y[6] + (h * h) * bqz;
+        u[6] = y[6] + h * bvz;
+        e[5] = h * h * eqz, e[6] = h * evz;
+    }
+    err_weights(sim, y, u, w, spatial);
+    return err_norm(e, w, spatial);
 }
 
 /* Fills sim->dense for the step [t0, t1]. */
-SPECIALISED void dense_prepare(struct sp_sim *sim, const int forced)
+SPECIALISED void dense_prepare(struct sp_sim *sim, const int forced, const int spatial)
 {
-    const int n = NC(forced);
+    const int n = NC(forced, spatial);
     const double h = sim->t1 - sim->t0;
     if (sim->method == SP_METHOD_DOPRI5) {
         for (int j = 0; j < 4; j++)
@@ -332,10 +417,10 @@ SPECIALISED void dense_prepare(struct sp_sim *sim, const int forced)
                 sim->dense[j][c] = h * acc;
             }
     } else {
-        double v[5];
+        double v[7];
         for (int s = 13; s < 16; s++) {
-            STAGE_SUM(v, sim->y0, h, d8_a[s], sim->k, s, n);
-            rhs(&sim->p, sim->t0 + d8_c[s] * h, v, sim->k[s], forced);
+            STAGE_SUM(v, sim->y0, h, d8_a[s], sim->k, s, n, spatial);
+            rhs(&sim->p, sim->t0 + d8_c[s] * h, v, sim->k[s], forced, spatial);
         }
         sim->evals += 3;
         for (int c = 0; c < n; c++) {
@@ -345,21 +430,22 @@ SPECIALISED void dense_prepare(struct sp_sim *sim, const int forced)
             sim->dense[2][c] = 2 * dy - h * (sim->k[12][c] + sim->k[0][c]);
         }
         for (int i = 0; i < 4; i++)
-            STAGE_SUM(sim->dense[3 + i], (double[5]){0}, h, d8_d[i], sim->k, 16, n);
+            STAGE_SUM(sim->dense[3 + i], (double[7]){0}, h, d8_d[i], sim->k, 16, n, spatial);
     }
     sim->dense_ready = 1;
 }
 
 /* The interpolated state at t in [t0, t1] into u. */
-SPECIALISED void dense_eval(struct sp_sim *sim, double t, double *u, const int forced)
+SPECIALISED void dense_eval(struct sp_sim *sim, double t, double *u, const int forced,
+                            const int spatial)
 {
-    const int n = NC(forced);
+    const int n = NC(forced, spatial);
     if (!sim->dense_ready)
-        dense_prepare(sim, forced);
+        dense_prepare(sim, forced, spatial);
     double x = (t - sim->t0) / (sim->t1 - sim->t0);
     for (int c = 0; c < n; c++) {
         if (sim->method == SP_METHOD_DOPRI5) {
-            const double(*q)[5] = sim->dense;
+            const double(*q)[7] = sim->dense;
             u[c] = sim->y0[c] + x * (q[0][c] + x * (q[1][c] + x * (q[2][c] + x * q[3][c])));
         } else {
             /* Hairer's contd8: alternating factors x and (1 - x) */
@@ -375,8 +461,24 @@ SPECIALISED void dense_eval(struct sp_sim *sim, double t, double *u, const int f
 
 /* ---- derived quantities -------------------------------------------------- */
 
+/* sp_state_polar off the x-y plane: theta is the polar angle from the
+ * downward vertical, H = hypot(x, z) the horizontal distance. */
+static void polar_spatial(const struct sp_state *s, struct sp_polar *out)
+{
+    double H = hypot(s->x, s->z), r = sqrt(s->x * s->x + s->y * s->y + s->z * s->z);
+    double H_dot = H > 0 ? (s->x * s->vx + s->z * s->vz) / H : 0;
+    out->r = r;
+    out->theta = atan2(H, -s->y);
+    out->r_dot = r > 0 ? (s->x * s->vx + s->y * s->vy + s->z * s->vz) / r : 0;
+    out->theta_dot = r > 0 ? (H * s->vy - s->y * H_dot) / (r * r) : 0;
+}
+
 void sp_state_polar(const struct sp_state *s, struct sp_polar *out)
 {
+    if (s->z != 0 || s->vz != 0) {
+        polar_spatial(s, out);
+        return;
+    }
     double r = sqrt(s->x * s->x + s->y * s->y);
     out->r = r;
     out->theta = atan2(s->x, -s->y);
@@ -397,6 +499,20 @@ void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
     struct sp_polar q;
     double ell = equilibrium_length(p);
     sp_state_polar(s, &q);
+    if (s->z != 0 || s->vz != 0) {
+        /* the swing is everything but the radial motion: the kinetic energy
+         * across the spring, in the swing's plane and about the vertical */
+        const double v2 = s->vx * s->vx + s->vy * s->vy + s->vz * s->vz;
+        out->kinetic = 0.5 * p->mass * v2;
+        out->spring = 0.5 * p->stiffness * (q.r - p->L0) * (q.r - p->L0);
+        out->gravity = p->mass * p->g * s->y;
+        out->total = out->kinetic + out->spring + out->gravity;
+        out->bounce = 0.5 * p->mass * q.r_dot * q.r_dot +
+                      0.5 * p->stiffness * (q.r - ell) * (q.r - ell);
+        out->swing = 0.5 * p->mass * fmax(0, v2 - q.r_dot * q.r_dot) +
+                     p->mass * p->g * (q.r + s->y);
+        return;
+    }
     out->kinetic = 0.5 * p->mass * (s->vx * s->vx + s->vy * s->vy);
     out->spring = 0.5 * p->stiffness * (q.r - p->L0) * (q.r - p->L0);
     out->gravity = p->mass * p->g * s->y;
@@ -414,7 +530,7 @@ void sp_state_forces(const struct sp_params *p, const struct sp_state *s,
     double vp = 0, ap = 0;
     if (p->drive_amp != 0)
         pivot_motion(p, s->t, &vp, &ap);
-    const double rho = sqrt(s->x * s->x + s->y * s->y);
+    const double rho = sqrt(s->x * s->x + s->y * s->y + s->z * s->z);
     const double c = p->stiffness * (1 - (rho > 0 ? p->L0 / rho : 0));
     const double b = p->b_over_m * p->mass;
     *out = (struct sp_forces){
@@ -427,6 +543,28 @@ void sp_state_forces(const struct sp_params *p, const struct sp_state *s,
         out->net[i] = out->gravity[i] + out->spring[i] + out->damping[i] + out->drive[i];
         out->accel[i] = out->net[i] / p->mass;
     }
+}
+
+double sp_state_angular_momentum_y(const struct sp_state *s)
+{
+    return s->z * s->vx - s->x * s->vz;
+}
+
+double sp_state_azimuth(const struct sp_params *p, const struct sp_state *s)
+{
+    const double w2 = p->g / equilibrium_length(p); /* omega_p^2, 1/s^2 */
+    const double mxx = s->x * s->x + s->vx * s->vx / w2;
+    const double mzz = s->z * s->z + s->vz * s->vz / w2;
+    const double mxz = s->x * s->z + s->vx * s->vz / w2;
+    if (!(w2 > 0) || (mxz == 0 && mxx == mzz))
+        return 0;
+    double a = 0.5 * atan2(2 * mxz, mxx - mzz);
+    return a <= -M_PI / 2 ? a + M_PI : a;
+}
+
+double sp_azimuth_unwrap(double prev, double a)
+{
+    return a + M_PI * round((prev - a) / M_PI);
 }
 
 double sp_pivot_y(const struct sp_params *p, double t)
@@ -458,30 +596,39 @@ double sp_params_omega_max(const struct sp_params *p)
 
 static void to_state(double t, const double *u, struct sp_state *s)
 {
-    *s = (struct sp_state){.t = t, .x = u[0], .y = u[1], .vx = u[2], .vy = u[3]};
+    *s = (struct sp_state){.t = t, .x = u[0], .y = u[1], .vx = u[2], .vy = u[3],
+                           .z = u[5], .vz = u[6]};
 }
 
 /* Hairer's starting step for an adaptive method of the given order. */
 static double initial_step(struct sp_sim *sim, int order)
 {
-    double d0 = 0, d1 = 0, d2 = 0, u[5], f1[5];
+    double d0 = 0, d1 = 0, d2 = 0, u[7] = {0}, f1[7];
     const double *y = sim->y1, *f0 = sim->k[0];
-    for (int c = 0; c < 4; c++) {
+    const int sp = sim->spatial, nphys = NPHYS(sp);
+    for (int c = 0; c < 7; c++) {
+        if (c == 4 || (c > 4 && !sp))
+            continue;
         double sc = sim->atol[c] + sim->tol * fabs(y[c]);
         d0 += (y[c] / sc) * (y[c] / sc);
         d1 += (f0[c] / sc) * (f0[c] / sc);
     }
-    d0 = sqrt(d0 / 4), d1 = sqrt(d1 / 4);
+    d0 = sqrt(d0 / nphys), d1 = sqrt(d1 / nphys);
     double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
-    for (int c = 0; c < 5; c++)
+    for (int c = 0; c < (sp ? 7 : 5); c++)
         u[c] = y[c] + h0 * f0[c];
-    rhs(&sim->p, sim->t1 + h0, u, f1, 1);
+    if (sp)
+        rhs(&sim->p, sim->t1 + h0, u, f1, 1, 1);
+    else
+        rhs(&sim->p, sim->t1 + h0, u, f1, 1, 0);
     sim->evals++;
-    for (int c = 0; c < 4; c++) {
+    for (int c = 0; c < 7; c++) {
+        if (c == 4 || (c > 4 && !sp))
+            continue;
         double sc = sim->atol[c] + sim->tol * fabs(y[c]);
         d2 += ((f1[c] - f0[c]) / sc) * ((f1[c] - f0[c]) / sc);
     }
-    d2 = sqrt(d2 / 4) / h0;
+    d2 = sqrt(d2 / nphys) / h0;
     double dm = fmax(d1, d2);
     double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : pow(0.01 / dm, 1.0 / (order + 1));
     return fmin(100 * h0, h1);
@@ -502,6 +649,7 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
 {
     const double r = scene->initial.length, th = scene->initial.angle;
     const double rd = scene->initial.length_rate, thd = scene->initial.angle_rate;
+    const double phd = scene->initial.azimuth_rate;
     struct sp_energy e;
     memset(sim, 0, sizeof(*sim));
     sim->scene = scene;
@@ -523,7 +671,10 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
         .y = -r * cos(th),
         .vx = rd * sin(th) + r * thd * cos(th),
         .vy = -rd * cos(th) + r * thd * sin(th),
+        /* phi' = (x vz - z vx) / (x^2 + z^2) with z = 0 at the start */
+        .vz = phd * r * sin(th),
     };
+    sim->spatial = sim->s.vz != 0;
     sim->method = scene->integrator.method;
     sim->dt = scene->integrator.dt;
     sim->tol = scene->integrator.tolerance;
@@ -544,8 +695,9 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
     sim->drift_limit = SP_SIM_DRIFT_LIMIT;
     sim->y1[0] = sim->s.x, sim->y1[1] = sim->s.y;
     sim->y1[2] = sim->s.vx, sim->y1[3] = sim->s.vy;
+    sim->y1[5] = sim->s.z, sim->y1[6] = sim->s.vz;
     memcpy(sim->y0, sim->y1, sizeof(sim->y0));
-    force_at(&sim->p, 0, sim->y1, sim->force);
+    force_at(&sim->p, 0, sim->y1, sim->force, sim->spatial);
     if (sp_method_info(sim->method)->adaptive) {
         /* absolute tolerances from the scene's length and speed scales */
         double len = fmax(fmax(ell, r), sim->p.L0);
@@ -553,9 +705,12 @@ void sp_sim_init(struct sp_sim *sim, const struct sp_scene *scene)
         double energies = fabs(e.kinetic) + fabs(e.spring) + fabs(e.gravity) + mg * ell +
                           0.5 * sim->p.stiffness * sim->p.L0 * sim->p.L0;
         double speed = sqrt(2 * energies / sim->p.mass);
-        sim->atol[0] = sim->atol[1] = sim->tol * len;
-        sim->atol[2] = sim->atol[3] = sim->tol * speed;
-        rhs(&sim->p, 0, sim->y1, sim->k[0], 1);
+        sim->atol[0] = sim->atol[1] = sim->atol[5] = sim->tol * len;
+        sim->atol[2] = sim->atol[3] = sim->atol[6] = sim->tol * speed;
+        if (sim->spatial)
+            rhs(&sim->p, 0, sim->y1, sim->k[0], 1, 1);
+        else
+            rhs(&sim->p, 0, sim->y1, sim->k[0], 1, 0);
         sim->evals = 1;
         sim->h = initial_step(sim, sp_method_info(sim->method)->order);
     }
@@ -584,13 +739,19 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
         sim->progress(sim->progress_ctx, t);
     to_state(t, u, &s);
     if (!isfinite(u[0]) || !isfinite(u[1]) || !isfinite(u[2]) || !isfinite(u[3]) ||
-        !isfinite(u[4]))
+        !isfinite(u[4]) || !isfinite(u[5]) || !isfinite(u[6]))
         return unstable(sim, &s, NAN, "the state is no longer finite");
     /* the three energies, as sp_state_energy has them, without the polar
      * form it needs for bounce and swing (this runs after every step) */
     const struct sp_params *p = &sim->p;
-    double stretch = sqrt(u[0] * u[0] + u[1] * u[1]) - p->L0;
-    double kin = 0.5 * p->mass * (u[2] * u[2] + u[3] * u[3]);
+    double stretch, kin;
+    if (sim->spatial) {
+        stretch = sqrt(u[0] * u[0] + u[1] * u[1] + u[5] * u[5]) - p->L0;
+        kin = 0.5 * p->mass * (u[2] * u[2] + u[3] * u[3] + u[6] * u[6]);
+    } else {
+        stretch = sqrt(u[0] * u[0] + u[1] * u[1]) - p->L0;
+        kin = 0.5 * p->mass * (u[2] * u[2] + u[3] * u[3]);
+    }
     double spring = 0.5 * p->stiffness * stretch * stretch, grav = p->mass * p->g * u[1];
     double total = kin + spring + grav, work = p->mass * u[4];
     /* the largest the motion has been: a drive may pump it up, damping drain
@@ -618,21 +779,27 @@ static int check_state(struct sp_sim *sim, double t, const double *u)
  * where the spring's push turns round within less than a step, is what a
  * fixed step cannot follow (sim_report.c words it). */
 SPECIALISED void find_pass(struct sp_sim *sim, long n_ok, const double *u_ok, double t_fail,
-                           const int forced)
+                           const int forced, const int spatial)
 {
-    double u[5], a[3], dist = INFINITY, speed = NAN;
+    double u[7], a[4], dist = INFINITY, speed = NAN;
     long n = n_ok;
     memcpy(u, u_ok, sizeof(u));
-    force_at(&sim->p, (double)n * sim->dt, u, a);
+    force_at(&sim->p, (double)n * sim->dt, u, a, spatial);
     for (double t = (double)n * sim->dt; t < t_fail;) {
         const double t_next = fmin((double)(n + 1) * sim->dt, t_fail);
-        const double q0[2] = {u[0], u[1]};
-        fixed_step(sim, t, u, t_next - t, a, forced);
-        /* the point of the chord q0 -> q1 nearest the pivot */
-        const double dx = u[0] - q0[0], dy = u[1] - q0[1], len2 = dx * dx + dy * dy;
-        const double f = len2 > 0 ? fmin(1, fmax(0, -(q0[0] * dx + q0[1] * dy) / len2)) : 0;
-        const double d = hypot(q0[0] + f * dx, q0[1] + f * dy);
-        if (q0[0] * u[0] + q0[1] * u[1] < 0 && d < dist)
+        const double q0[3] = {u[0], u[1], u[5]};
+        fixed_step(sim, t, u, t_next - t, a, forced, spatial);
+        /* the point of the chord q0 -> q1 nearest the pivot (z is 0 in the
+         * plane, and adds nothing) */
+        const double dx = u[0] - q0[0], dy = u[1] - q0[1], dz = u[5] - q0[2];
+        const double len2 = dx * dx + dy * dy + dz * dz;
+        const double f = len2 > 0 ? fmin(1, fmax(0, -(q0[0] * dx + q0[1] * dy + q0[2] * dz) /
+                                                         len2)) : 0;
+        const double d = spatial ? sqrt((q0[0] + f * dx) * (q0[0] + f * dx) +
+                                        (q0[1] + f * dy) * (q0[1] + f * dy) +
+                                        (q0[2] + f * dz) * (q0[2] + f * dz))
+                                 : hypot(q0[0] + f * dx, q0[1] + f * dy);
+        if (q0[0] * u[0] + q0[1] * u[1] + q0[2] * u[5] < 0 && d < dist)
             dist = d, speed = sqrt(len2) / (t_next - t);
         t = t_next;
         n++;
@@ -643,24 +810,26 @@ SPECIALISED void find_pass(struct sp_sim *sim, long n_ok, const double *u_ok, do
 
 /* Fixed-step methods: walk the grid to the last point <= t_target, then one
  * short step from a copy to t_target. */
-SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int forced)
+SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int forced,
+                              const int spatial)
 {
-    double u[5], a[3], u_ok[5];
+    double u[7], a[4], u_ok[7];
     long n = lround(sim->t1 / sim->dt), n_ok = n;
     const int check_every = sim->method == SP_METHOD_VERLET ? 8 : 4;
     memcpy(u, sim->y1, sizeof(u));
     memcpy(u_ok, u, sizeof(u));
     memcpy(a, sim->force, sizeof(a));
     while ((double)(n + 1) * sim->dt <= t_target) {
-        sim->evals += fixed_step(sim, (double)n * sim->dt, u, sim->dt, a, forced);
+        sim->evals += fixed_step(sim, (double)n * sim->dt, u, sim->dt, a, forced, spatial);
         n++;
         sim->steps++;
-        if (sim->steps % check_every == 0 || !isfinite(u[0] + u[1] + u[2] + u[3])) {
+        if (sim->steps % check_every == 0 || !isfinite(u[0] + u[1] + u[2] + u[3]) ||
+            (spatial && !isfinite(u[5] + u[6]))) {
             int ret = check_state(sim, (double)n * sim->dt, u);
             if (ret) {
                 to_state((double)n * sim->dt, u, &sim->s);
                 if (ret == SP_E_UNSTABLE)
-                    find_pass(sim, n_ok, u_ok, (double)n * sim->dt, forced);
+                    find_pass(sim, n_ok, u_ok, (double)n * sim->dt, forced, spatial);
                 return ret;
             }
             n_ok = n;
@@ -671,19 +840,19 @@ SPECIALISED int advance_fixed(struct sp_sim *sim, double t_target, const int for
     memcpy(sim->y1, u, sizeof(u));
     memcpy(sim->force, a, sizeof(a));
     if (t_target > sim->t1)
-        sim->evals += fixed_step(sim, sim->t1, u, t_target - sim->t1, a, forced);
+        sim->evals += fixed_step(sim, sim->t1, u, t_target - sim->t1, a, forced, spatial);
     int ret = check_state(sim, t_target, u);
     to_state(t_target, u, &sim->s);
     sim->work = sim->p.mass * u[4];
     if (ret == SP_E_UNSTABLE)
-        find_pass(sim, n_ok, u_ok, t_target, forced);
+        find_pass(sim, n_ok, u_ok, t_target, forced, spatial);
     return ret;
 }
 
 /* Accepts an adaptive step of h from (t1, y1) to u: the step window moves
  * on, the next step is h * fac (not grown right after a rejection), and the
  * new state is checked. Returns check_state's verdict. */
-static int accept_step(struct sp_sim *sim, double h, double fac, const double u[5])
+static int accept_step(struct sp_sim *sim, double h, double fac, const double u[7])
 {
     if (sim->last_rejected)
         fac = fmin(fac, 1);
@@ -723,12 +892,13 @@ static int report_step_collapse(struct sp_sim *sim, double h)
 }
 
 /* Adaptive methods: accepted steps until t1 >= t_target, then dense output. */
-SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int forced)
+SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int forced,
+                                 const int spatial)
 {
     const int d853 = sim->method == SP_METHOD_DOP853;
     const int fsal = d853 ? 12 : 6;
     const double fac_min = d853 ? 0.333 : 0.2, fac_max = d853 ? 6 : 10;
-    double u[5] = {0}; /* u[4] stays 0 when not forced */
+    double u[7] = {0}; /* u[4] stays 0 when not forced, u[5..6] when planar */
     while (sim->t1 < t_target) {
         double h = sim->h, err;
         if (sim->steps > 0 || sim->rejected > 0)
@@ -736,7 +906,8 @@ SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int 
         for (;;) {
             if (!(h > 1e-14 * fmax(1, fabs(sim->t1))))
                 return report_step_collapse(sim, h);
-            err = d853 ? dop853_try(sim, h, u, forced) : dopri5_try(sim, h, u, forced);
+            err = d853 ? dop853_try(sim, h, u, forced, spatial)
+                       : dopri5_try(sim, h, u, forced, spatial);
             sim->evals += d853 ? 12 : 6;
             if (err <= 1)
                 break;
@@ -754,7 +925,7 @@ SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int 
     if (t_target == sim->t1)
         memcpy(u, sim->y1, sizeof(u));
     else
-        dense_eval(sim, t_target, u, forced);
+        dense_eval(sim, t_target, u, forced, spatial);
     int ret = check_state(sim, t_target, u);
     to_state(t_target, u, &sim->s);
     sim->work = sim->p.mass * u[4];
@@ -764,15 +935,15 @@ SPECIALISED int advance_adaptive(struct sp_sim *sim, double t_target, const int 
 /* RKN12(10): accepted steps until t1 >= t_target; a time inside the last
  * step is reached by one extra step from its start (17 evaluations, and
  * the step sequence stays what the error control chose). */
-static int advance_rkn(struct sp_sim *sim, double t_target)
+SPECIALISED int advance_rkn(struct sp_sim *sim, double t_target, const int spatial)
 {
-    double u[5] = {0};
+    double u[7] = {0};
     while (sim->t1 < t_target) {
         double h = sim->h, err;
         for (;;) {
             if (!(h > 1e-14 * fmax(1, fabs(sim->t1))))
                 return report_step_collapse(sim, h);
-            err = rkn_try(sim, sim->t1, sim->y1, h, u);
+            err = rkn_try(sim, sim->t1, sim->y1, h, u, spatial);
             sim->evals += 17;
             if (err <= 1)
                 break;
@@ -788,7 +959,7 @@ static int advance_rkn(struct sp_sim *sim, double t_target)
     if (t_target == sim->t1) {
         memcpy(u, sim->y1, sizeof(u));
     } else {
-        rkn_try(sim, sim->t0, sim->y0, t_target - sim->t0, u);
+        rkn_try(sim, sim->t0, sim->y0, t_target - sim->t0, u, spatial);
         sim->evals += 17;
     }
     int ret = check_state(sim, t_target, u);
@@ -796,14 +967,20 @@ static int advance_rkn(struct sp_sim *sim, double t_target)
     return ret;
 }
 
+/* The four specialisations of each stepper: forced or not, planar or not. */
+#define SPECIALISE(call_, sim_, t_, ...)                                              \
+    ((sim_)->spatial ? ((sim_)->forced ? call_(sim_, t_, ##__VA_ARGS__, 1, 1)          \
+                                       : call_(sim_, t_, ##__VA_ARGS__, 0, 1))         \
+                     : ((sim_)->forced ? call_(sim_, t_, ##__VA_ARGS__, 1, 0)          \
+                                       : call_(sim_, t_, ##__VA_ARGS__, 0, 0)))
+
 int sp_sim_advance(struct sp_sim *sim, double t_target)
 {
     if (sim->method == SP_METHOD_RKN1210)
-        return advance_rkn(sim, t_target);
+        return sim->spatial ? advance_rkn(sim, t_target, 1) : advance_rkn(sim, t_target, 0);
     if (sp_method_info(sim->method)->adaptive)
-        return sim->forced ? advance_adaptive(sim, t_target, 1)
-                           : advance_adaptive(sim, t_target, 0);
-    return sim->forced ? advance_fixed(sim, t_target, 1) : advance_fixed(sim, t_target, 0);
+        return SPECIALISE(advance_adaptive, sim, t_target);
+    return SPECIALISE(advance_fixed, sim, t_target);
 }
 
 double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end)

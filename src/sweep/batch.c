@@ -615,6 +615,13 @@ int sp_batch_make(struct sp_batch **out, const struct sp_scene *const *scenes, i
         struct sp_sim sim;
         const struct sp_scene *sc = scenes[i < n ? i : n - 1];
         sp_sim_init(&sim, sc);
+        if (sim.spatial) {
+            sp_log_error("initial.azimuth_rate = %g rad/s: the batched integrator (sweeps, "
+                         "ensembles) runs planar pendulums only; set initial.azimuth_rate "
+                         "= 0", sc->initial.azimuth_rate);
+            sp_batch_destroy(&b);
+            return SP_E_INPUT;
+        }
         b->km[i] = sim.p.k_over_m, b->L0[i] = sim.p.L0, b->g[i] = sim.p.g;
         b->bm[i] = sim.p.b_over_m, b->amp[i] = sim.p.drive_amp, b->om[i] = sim.p.drive_omega;
         b->mass[i] = sim.p.mass, b->stiff[i] = sim.p.stiffness;

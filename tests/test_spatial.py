@@ -1,0 +1,239 @@
+"""The swinging spring in three dimensions (initial.azimuth_rate): every
+integrator against scipy's DOP853 on the 3-D Cartesian equations written
+here, energy and the vertical angular momentum L_y conserved (and L_y's
+exact decay exp(-b t / m) under damping), a planar scene's data byte for
+byte as recorded before the third dimension existed
+(golden/planar_data.sha256), the precession of the swing's plane per
+exchange against a scipy run measured from the horizontal motion alone, and
+bad input refused.
+
+usage: test_spatial.py SPRINGPEND SRCDIR/tests BUILDDIR/tests"""
+import hashlib
+import math
+import os
+import shutil
+import sys
+
+from sptest import done, need_scipy, ok, runner, sets
+
+need_scipy()
+import numpy as np  # noqa: E402
+from scipy.integrate import solve_ivp  # noqa: E402
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+work = os.path.abspath(os.path.join(sys.argv[3], "spatial"))
+scenes = os.path.join(src, "..", "scenes")
+SWING = os.path.join(scenes, "swinging-spring.ini")
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+run = runner(exe, work)
+G = 9.81
+
+
+def table(text):
+    """CSV text to a dict of numpy columns."""
+    lines = text.strip().split("\n")
+    head = lines[0].split(",")
+    rows = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+    return {h: rows[:, i] for i, h in enumerate(head)}
+
+
+def model3(L0, k, m, b=0.0, A=0.0, f=0.0, g=G):
+    """The 3-D equations in the pivot's frame, u = (x, y, z, vx, vy, vz), y up,
+    pivot y_p = A sin(2 pi f t), damping on the velocity relative to the air."""
+    km, gam, W = k / m, b / m, 2 * math.pi * f
+
+    def rhs(t, u):
+        x, y, z, vx, vy, vz = u
+        c = km * (1 - L0 / math.sqrt(x * x + y * y + z * z))
+        vp, ap = A * W * math.cos(W * t), -A * W * W * math.sin(W * t)
+        return [vx, vy, vz, -c * x - gam * vx, -c * y - g - ap - gam * (vy + vp),
+                -c * z - gam * vz]
+    return rhs
+
+
+def start3(r, th_deg, rd=0.0, thd=0.0, phd=0.0):
+    """(x, y, z, vx, vy, vz) from r, theta (degrees), their rates and the
+    azimuth rate phi' (rad/s, about the vertical from +x towards +z)."""
+    th = math.radians(th_deg)
+    x, y = r * math.sin(th), -r * math.cos(th)
+    return [x, y, 0.0, rd * math.sin(th) + r * thd * math.cos(th),
+            -rd * math.cos(th) + r * thd * math.sin(th), phd * x]
+
+
+def reference(d, ts):
+    """scipy's DOP853 at rtol 1e-12 for the scene settings d (dict of keys)."""
+    g = lambda key, dflt: float(d.get(key, dflt))  # noqa: E731
+    rhs = model3(g("pendulum.natural_length", 0.5), g("pendulum.stiffness", 2),
+                 g("pendulum.mass", 0.5), g("pendulum.damping", 0),
+                 g("pivot.amplitude", 0), g("pivot.frequency", 0))
+    u0 = start3(g("initial.length", 0.55), g("initial.angle", 10),
+                g("initial.length_rate", 0), g("initial.angle_rate", 0),
+                g("initial.azimuth_rate", 0))
+    return solve_ivp(rhs, (0, ts[-1]), u0, method="DOP853", rtol=1e-12, atol=1e-14,
+                     t_eval=ts).y
+
+
+# ---- a planar scene: today's numbers, bit for bit ------------------------
+golden = os.path.join(src, "golden", "planar_data.sha256")
+bad = []
+with open(golden) as fh:
+    lines = fh.read().split("\n")
+for line in filter(None, lines):
+    digest, scene, method = line.split()
+    r = run("data", os.path.join(scenes, scene + ".ini"), "-o", "-", "-q",
+            "--set", f"integrator.method={method}", "--set", "video.duration=3")
+    if r.returncode != 0 or hashlib.sha256(r.stdout.encode()).hexdigest() != digest:
+        bad.append(f"{scene}/{method}")
+ok(not bad and len(lines) > 40,
+   f"{len(lines) - 1} planar scene/method pairs write data byte for byte as recorded "
+   f"before 3-D (golden/planar_data.sha256); differ: {bad}")
+r0 = run("data", os.path.join(scenes, "default.ini"), "-o", "-", "-q")
+r1 = run("data", os.path.join(scenes, "default.ini"), "-o", "-", "-q",
+         "--set", "initial.azimuth_rate=0")
+ok(r0.stdout == r1.stdout and r0.stdout.split("\n")[0].endswith("work,pivot_y"),
+   "azimuth_rate = 0 is the planar run, and its columns stay the planar ones")
+
+# ---- every integrator against scipy on the 3-D equations -----------------
+# a large, non-resonant swing turning about the vertical (a spherical
+# pendulum's rosette with bounce), and a damped, driven one for the methods
+# that take forces depending on velocity and time
+FREE = {"pendulum.natural_length": 1.0, "pendulum.stiffness": 40, "pendulum.mass": 1,
+        "initial.length": 1.3, "initial.angle": 40, "initial.length_rate": 0.2,
+        "initial.angle_rate": 0.3, "initial.azimuth_rate": 1.5, "video.duration": 10}
+FORCED = dict(FREE, **{"pendulum.damping": 0.2, "pivot.amplitude": 0.05,
+                       "pivot.frequency": 1.3})
+CASES = [("rk4", {"integrator.dt": 1e-3}, 1e-7), ("verlet", {"integrator.dt": 2e-4}, 2e-4),
+         ("yoshida4", {"integrator.dt": 1e-3}, 1e-6),
+         ("dopri5", {"integrator.tolerance": 1e-10}, 1e-6),
+         ("dop853", {"integrator.tolerance": 1e-11}, 1e-7),
+         ("rkn1210", {"integrator.tolerance": 1e-11}, 1e-7)]
+ts = np.arange(0, 10 + 1e-9, 0.5)
+for label, base in (("free", FREE), ("damped+driven", FORCED)):
+    ref = reference(base, ts)
+    for method, extra, tol in CASES:
+        if method == "rkn1210" and label != "free":
+            continue
+        d = dict(base, **extra, **{"integrator.method": method})
+        r = run("data", SWING, "-o", "-", "-q", "--every", "0.5", *sets(d))
+        if not ok(r.returncode == 0, f"{label} {method}: data runs ({r.stderr.strip()})"):
+            continue
+        c = table(r.stdout)
+        err = max(np.max(np.abs(c["x"] - ref[0])), np.max(np.abs(c["y"] - ref[1])),
+                  np.max(np.abs(c["z"] - ref[2])))
+        zspan = np.ptp(c["z"])
+        ok(err < tol and zspan > 0.5,
+           f"{label} {method}: positions within {tol:g} m of scipy's DOP853 on the 3-D "
+           f"equations over 10 s (largest error {err:.2g} m; z spans {zspan:.2f} m)")
+
+# ---- energy and L_y conserved; L_y decays exactly with damping ------------
+CONS = [("rk4", {"integrator.dt": 1e-3}, 1e-9, 1e-9), ("verlet", {"integrator.dt": 1e-3},
+        2e-4, 1e-12), ("yoshida4", {"integrator.dt": 1e-3}, 1e-8, 1e-12),
+        ("dopri5", {"integrator.tolerance": 1e-10}, 1e-7, 1e-7),
+        ("dop853", {"integrator.tolerance": 1e-11}, 1e-9, 1e-9),
+        ("rkn1210", {"integrator.tolerance": 1e-11}, 1e-9, 1e-9)]
+for method, extra, etol, ltol in CONS:
+    d = dict(FREE, **extra, **{"integrator.method": method, "video.duration": 30})
+    r = run("data", SWING, "-o", "-", "-q", "--every", "0.1", *sets(d))
+    c = table(r.stdout)
+    m, g = 1.0, G
+    rho = np.sqrt(c["x"] ** 2 + c["y"] ** 2 + c["z"] ** 2)
+    # the energy from the columns, as this test defines it
+    E = 0.5 * m * (c["vx"] ** 2 + c["vy"] ** 2 + c["vz"] ** 2) + \
+        0.5 * 40 * (rho - 1.0) ** 2 + m * g * c["y"]
+    scale = E[0] - (-m * g * 1.0 - 0.5 * (m * g) ** 2 / 40)  # above hanging still
+    Ly = c["z"] * c["vx"] - c["x"] * c["vz"]
+    de, dl = np.max(np.abs(E - E[0])) / scale, np.max(np.abs(Ly - Ly[0])) / abs(Ly[0])
+    ok(de < etol and dl < ltol,
+       f"{method}: over 30 s energy holds to {de:.2g} of the motion's energy (< {etol:g}) and "
+       f"L_y = z vx - x vz to {dl:.2g} (< {ltol:g}) relative")
+d = dict(FREE, **{"pendulum.damping": 0.3, "pivot.amplitude": 0.05, "pivot.frequency": 1.3,
+                  "integrator.method": "dop853", "integrator.tolerance": 1e-11})
+c = table(run("data", SWING, "-o", "-", "-q", "--every", "0.5", *sets(d)).stdout)
+Ly = c["z"] * c["vx"] - c["x"] * c["vz"]
+want = Ly[0] * np.exp(-0.3 * c["t"])
+dev = np.max(np.abs(Ly - want)) / abs(Ly[0])
+ok(dev < 1e-8, f"damped and driven: L_y follows L_y(0) exp(-b t / m) (closed form) to {dev:.2g}")
+
+
+# ---- the precession of the swing's plane per exchange ---------------------
+def swing_maxima(t, x, z, period):
+    """Times of the swing's maxima: local maxima of the mean of x^2 + z^2 over
+    one pendulum period, at least a quarter of the run's length of them apart
+    from each other's neighbourhood (the exchange is slow)."""
+    dt = t[1] - t[0]
+    n = max(1, int(round(period / dt)))
+    amp = np.convolve(x * x + z * z, np.ones(n) / n, mode="same")
+    out = []
+    for i in range(n, len(t) - n):
+        if amp[i] == np.max(amp[max(0, i - 10 * n):i + 10 * n]) and amp[i] > 0.5 * amp.max():
+            out.append(i)
+    return out
+
+
+def plane_angle(x, z):
+    """The principal axis of the points (x, z) about their mean, rad mod pi."""
+    cxx, czz, cxz = np.mean(x * x), np.mean(z * z), np.mean(x * z)
+    return 0.5 * math.atan2(2 * cxz, cxx - czz)
+
+
+def precessions(t, x, z, period):
+    """The swing plane's turn, degrees, between successive swing maxima: each
+    plane from the horizontal positions over one pendulum period there."""
+    n = int(round(period / (t[1] - t[0])))
+    angles, prev = [], None
+    for i in swing_maxima(t, x, z, period):
+        a = plane_angle(x[i - n // 2:i + n // 2 + 1], z[i - n // 2:i + n // 2 + 1])
+        if prev is not None:
+            a += math.pi * round((prev - a) / math.pi)
+        angles.append(a)
+        prev = a
+    return np.degrees(np.diff(angles)), [t[i] for i in swing_maxima(t, x, z, period)]
+
+
+ell = 0.75 + 1 * G / 39.24
+period = 2 * math.pi / math.sqrt(G / ell)
+ts = np.arange(0, 200 + 1e-9, 0.02)
+ref = reference({"pendulum.natural_length": 0.75, "pendulum.stiffness": 39.24,
+                 "pendulum.mass": 1, "initial.length": 1.05, "initial.angle": 1,
+                 "initial.azimuth_rate": 1}, ts)
+want, t_max = precessions(ts, ref[0], ref[2], period)
+r = run("data", SWING, "-o", "-", "-q", "--every", "0.02")
+c = table(r.stdout)
+got, _ = precessions(c["t"], c["x"], c["z"], period)
+idx = [int(round(tm / 0.02)) for tm in t_max]
+col = np.diff(c["azimuth"][idx])
+ok(len(want) >= 3 and len(got) == len(want) and
+   np.max(np.abs(got - want)) < 0.03 * np.max(np.abs(want)),
+   f"scenes/swinging-spring.ini: the swing plane turns by {np.round(got, 2)} degrees per "
+   f"exchange, measured from springpend's x and z; scipy's run gives {np.round(want, 2)} "
+   f"(within 3%)")
+ok(len(col) == len(want) and np.max(np.abs(col - want)) < 0.03 * np.max(np.abs(want)),
+   f"data's azimuth column steps by {np.round(col, 2)} degrees between the swing's maxima "
+   f"(scipy's horizontal motion: {np.round(want, 2)}; within 3%)")
+steps = np.diff(c["azimuth"][::int(round(period / 0.02))])
+ok(np.max(np.abs(steps)) > 5 * np.median(np.abs(steps)),
+   "the azimuth moves in steps: its largest change per pendulum period is over 5 times the "
+   f"median one ({np.max(np.abs(steps)):.2f} against {np.median(np.abs(steps)):.3f} degrees)")
+
+# ---- bad input -----------------------------------------------------------
+bad_scene = os.path.join(work, "vertical.ini")
+with open(bad_scene, "w") as fh:
+    fh.write("[initial]\nangle = 0\nazimuth_rate = 0.5\n")
+r = run("data", bad_scene, "-o", os.path.join(work, "no.csv"))
+ok(r.returncode == 2 and f"{bad_scene}:3: initial.azimuth_rate" in r.stderr and
+   not os.path.exists(os.path.join(work, "no.csv")),
+   f"azimuth_rate on a bob that starts on the vertical: FILE:LINE, exit 2, no file "
+   f"({r.stderr.strip()})")
+r = run("data", SWING, "-o", "-", "--set", "initial.azimuth_rate=x")
+ok(r.returncode == 2 and "azimuth_rate" in r.stderr, "a non-number azimuth_rate: exit 2")
+r = run("data", SWING, "-o", "-", "--set", "ensemble.count=3",
+        "--set", "ensemble.key=initial.angle")
+ok(r.returncode == 2 and "[ensemble] runs planar pendulums only" in r.stderr,
+   f"[ensemble] with azimuth_rate is refused, not drawn flat ({r.stderr.strip()})")
+r = run("sweep", SWING, "--vary", "pendulum.mass=1:2:2", "--measure", "lyapunov",
+        "--time", "5", "-o", os.path.join(work, "sweep.png"))
+ok(r.returncode == 2 and "planar pendulums only" in r.stderr and
+   not os.path.exists(os.path.join(work, "sweep.png")),
+   f"sweep of a 3-D scene is refused, not run flat ({r.stderr.strip()})")
+done()

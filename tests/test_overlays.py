@@ -8,6 +8,12 @@ each alone in a 1920x1080 still: the arrow's tip, found by its colour, lies
 where the scale stated in the PNG's springpend.overlay text puts it, to a
 pixel and a half (direction and length). An unknown vector name is refused
 with FILE:LINE and exit 2; a scene without vectors has no overlay text.
+Side by side (2 to 4 scenes): in every cell the bob's centre, found by its
+colour, lies r * px_per_m from the pivot, one px_per_m for all cells, with r
+from data; the charts' tick labels sit at the same heights in every cell
+(PDF text positions), the cells' labels name the differing key and a shorter
+scene says it ended; data writes each scene's rows with a scene column; 5
+scenes and a missing file are refused with exit 2 and no output.
 Energy bars: each bar's height in the PNG against the energies computed
 here from data's states (kinetic, spring, gravity from the lowest point of
 the run, total, start, the drive's work, the loss to damping integrated
@@ -227,4 +233,83 @@ for k, (name, value) in enumerate(expect.items()):
     got = zero - rows_.min() if value > 0 else rows_.max() + 1 - zero
     got = got if value > 0 else -got
     ok(abs(got - want) <= 1.5, f"{name}: bar {got:.1f} px, expected {want:.1f} px ({value:.4f} J at {ppj:.4g} px/J)")
+
+# ---- side by side ----
+def write(name, text):
+    path = os.path.join(work, name)
+    with open(path, "w") as fp:
+        fp.write(text)
+    return path
+
+
+base = "[initial]\nangle = 30\nlength = 1.2\n[view]\ntrail = 0\n"
+sa = write("soft.ini", "[pendulum]\nstiffness = 2\n" + base)
+sb = write("stiff.ini", "[pendulum]\nstiffness = 6\n" + base)
+sc = write("short.ini", "[pendulum]\nstiffness = 12\n[video]\nduration = 3\n" + base)
+Ts = 4.0
+out = os.path.join(work, "sbs.png")
+r = run("still", sa, sb, sc, "--at", str(Ts), "--size", f"{W}x{H}", "-q", "-o", out)
+ok(r.returncode == 0, f"still with three scenes side by side {r.stderr.strip()}")
+o = overlay(out)
+scales = [float(o.get(f"cell{i}.camera.px_per_m", "nan")) for i in (1, 2, 3)]
+ok(len(set(scales)) == 1 and not math.isnan(scales[0]), f"one camera scale in every cell: {scales} px/m")
+img = pixels(out)
+# the bob (palette.bob, a shaded ball from a dark rim to a light highlight):
+# red-dominated pixels; its centre is the middle of their extent
+reddish = (img[..., 0] > 60) & (img[..., 0] > 1.6 * img[..., 1]) & (img[..., 0] > 1.6 * img[..., 2])
+for i, (path, t_cell) in enumerate(((sa, Ts), (sb, Ts), (sc, 3.0 - 1 / 60)), start=1):
+    rr = run("data", path, "-o", "-", "--every", "0.001")
+    rows_ = list(csv.DictReader(io.StringIO(rr.stdout)))
+    row = min(rows_, key=lambda q: abs(float(q["t"]) - t_cell))
+    rlen = float(row["r"])
+    ox, oy = map(float, o[f"cell{i}.camera.origin_px"].split(","))
+    x0, x1 = (i - 1) * W // 3, i * W // 3
+    ys, xs = np.nonzero(reddish[:, x0:x1])
+    centre = (np.array([0.5 * (xs.min() + xs.max()) + x0 + 0.5, 0.5 * (ys.min() + ys.max()) + 0.5])
+              if len(xs) else np.array([math.nan] * 2))
+    got = float(np.hypot(*(centre - np.array([ox, oy]))))
+    want = rlen * scales[0]
+    ok(abs(got - want) <= 1.5, f"cell {i}: pivot to bob {got:.1f} px, r = {rlen:.4f} m at "
+       f"{scales[0]:.3f} px/m is {want:.1f} px")
+
+# labels, ended marker and shared axes: the PDF keeps its text and where it is
+pdf = os.path.join(work, "sbs.pdf")
+r = run("still", sa, sb, sc, "--at", str(Ts), "--size", f"{W}x{H}", "-q", "-o", pdf,
+        "--set", "view.panels=r")
+if shutil.which("pdftotext") and ok(r.returncode == 0, "the same side by side as PDF, with a chart"):
+    txt = subprocess.run(["pdftotext", pdf, "-"], capture_output=True, text=True).stdout
+    ok(all(f"stiffness = {k}" in txt for k in (2, 6, 12)),
+       "each cell is labelled with the key in which the scenes differ (stiffness = 2, 6, 12)")
+    ok("ended at t = 2.98 s" in txt, "the shorter scene holds its last frame, marked as ended")
+    bbox = subprocess.run(["pdftotext", "-bbox", pdf, "-"], capture_output=True, text=True).stdout
+    import re
+    ticks = {1: set(), 2: set(), 3: set()}
+    for m_ in re.finditer(r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="[\d.]+">([^<]*)</word>', bbox):
+        x, y, word = float(m_.group(1)), float(m_.group(2)), m_.group(4)
+        cell = int(x // (W / 3)) + 1
+        if re.fullmatch(r"[\d.]+", word) and x - (cell - 1) * W / 3 < 60:  # y tick labels, at the left
+            ticks[cell].add((word, round(y, 1)))
+    ok(ticks[1] and ticks[1] == ticks[2] == ticks[3],
+       f"the r charts' y axes are the same in every cell: {sorted(ticks[1])}")
+
+# data: each scene's rows with a scene column
+r = run("data", sa, sc, "-o", "-", "--every", "0.5")
+lines = r.stdout.splitlines()
+one = run("data", sc, "-o", "-", "--every", "0.5").stdout.splitlines()
+ok(r.returncode == 0 and lines[0].startswith("scene,t,x,y") and
+   [ln for ln in lines if ln.startswith("short,")] == ["short," + ln for ln in one[1:]] and
+   sum(ln.startswith("soft,") for ln in lines) == 21,
+   "data of two scenes: a scene column, each scene's rows as its own run writes them")
+
+# bad input
+five = os.path.join(work, "five.png")
+r = run("still", sa, sb, sc, sa, sb, "-o", five)
+ok(r.returncode == 2 and "5 SCENE files: at most 4" in r.stderr and not os.path.exists(five),
+   f"5 scenes: {r.stderr.strip()}")
+r = run("render", sa, os.path.join(work, "missing.ini"), "-o", os.path.join(work, "m.mp4"))
+ok(r.returncode == 2 and "missing.ini: cannot open scene" in r.stderr and
+   not os.path.exists(os.path.join(work, "m.mp4")), f"a missing scene file: {r.stderr.strip()}")
+r = run("still", sa, write("fps.ini", "[video]\nfps = 30\n"), "-o", five)
+ok(r.returncode == 2 and "video.fps = 30" in r.stderr and not os.path.exists(five),
+   f"scenes that differ in fps: {r.stderr.strip()}")
 done()

@@ -155,6 +155,8 @@ struct sp_frame {
                                        caption band's text and the speed marker
                                        (timeline.h) */
     double work;    /* J: done on the bob by damping and the drive since t = 0 (sp_sim) */
+    int ended;      /* side by side: this scene's video ended before the longest's;
+                       it holds its last frame, marked as ended */
     double energy0; /* J: the total energy at t = 0 (sp_sim) */
 };
 

@@ -133,12 +133,13 @@ void sp_vectors_legend(struct sp_canvas *c, const struct sp_vectors *v, const st
     }
 }
 
-void sp_vectors_describe(const struct sp_vectors *v, int ss, char *buf, size_t size, size_t *used)
+void sp_vectors_describe(const struct sp_vectors *v, int ss, const char *prefix, char *buf,
+                         size_t size, size_t *used)
 {
     for (int q = 0; q < SP_VQ_COUNT && v->bits; q++)
         if (*used < size)
             *used += (size_t)snprintf(buf + *used, size - *used,
-                                      "vectors.%s.px_per_unit=%.9g\nvectors.%s.key=%g %s\n",
-                                      QUANTITY[q], v->px_per[q] / ss, QUANTITY[q], v->key[q],
-                                      UNITS[q]);
+                                      "%svectors.%s.px_per_unit=%.9g\n%svectors.%s.key=%g %s\n",
+                                      prefix, QUANTITY[q], v->px_per[q] / ss, prefix, QUANTITY[q],
+                                      v->key[q], UNITS[q]);
 }

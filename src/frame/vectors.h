@@ -41,8 +41,9 @@ void sp_vectors_draw(struct sp_canvas *c, const struct sp_vectors *v, const stru
 void sp_vectors_legend(struct sp_canvas *c, const struct sp_vectors *v, const struct sp_rect *r,
                        const struct sp_palette *pal);
 
-/* "vectors.force.px_per_unit=..." lines for the PNG's overlay text, px
+/* "PREFIXvectors.force.px_per_unit=..." lines for the PNG's overlay text, px
  * divided by ss (the output's pixels); appends to buf at *used. */
-void sp_vectors_describe(const struct sp_vectors *v, int ss, char *buf, size_t size, size_t *used);
+void sp_vectors_describe(const struct sp_vectors *v, int ss, const char *prefix, char *buf,
+                         size_t size, size_t *used);
 
 #endif

@@ -14,7 +14,9 @@ enum sp_figure_format { SP_FIGURE_NONE, SP_FIGURE_SVG, SP_FIGURE_PDF };
 enum sp_figure_format sp_figure_format(const char *path);
 
 struct sp_figure_desc {
-    int width, height;            /* px (SVG) or pt (PDF) */
+    int width, height;            /* px (SVG) or pt (PDF) of the drawing */
+    double page_w, page_h;        /* pt: the page, the drawing scaled to it; 0 =
+                                     width x height */
     struct sp_view_extent extent; /* as for sp_render_desc */
     const struct sp_look *look;   /* as for sp_render_desc */
     const char *title;            /* the document's title (the scene's name); NULL = none */

@@ -89,6 +89,10 @@ struct sp_look {
     double fps;         /* [video] fps: frames per second of video */
     double speed;       /* [video] speed: simulated s per s of video */
     int ensemble_count; /* [ensemble] count: > 1 draws its members */
+    double pt_px;       /* a figure of physical size (still --size 8.6cm): output px
+                           per pt, and text, lines, ticks and markers are set in
+                           pt (print defaults: 10 pt text, 0.8 pt axes, 3.5 pt
+                           ticks); 0 = a video frame, sizes follow the frame */
     const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
                                            band holds its largest text, the
                                            frame's sp_moment says what shows */

@@ -27,6 +27,10 @@ struct sp_pipeline_desc {
                             sp_pipeline_run, and signals.h's hold); 0 leaves
                             them to main's handler */
     int supersample;     /* draw at this many times the size, average down; 0/1 = off */
+    double pt_px;        /* a still of physical size (--size 8.6cm): the scene's
+                            video.width x height px are page_w x page_h pt at
+                            pt_px px per pt (sp_look.pt_px); 0 = a video frame */
+    double page_w, page_h; /* pt: an SVG or PDF still's page, when pt_px > 0 */
     struct sp_state *state_out; /* not NULL: receives the bob's state in the
                                    last frame drawn */
     /* Side by side: the scenes drawn beside `scene`, each in its own cell

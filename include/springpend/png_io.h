@@ -26,6 +26,9 @@ struct sp_png_write_opts {
     int n_text;                     /* >= 0; text may be NULL when 0 */
     int opaque;                     /* 1: the image is opaque; write RGB
                                        (a quarter less to compress) */
+    double dpi;                     /* > 0: a pHYs chunk says so (pixels per
+                                       metre), so the image places at its
+                                       physical size; 0 = none */
 };
 
 /* Writes img as an 8-bit RGBA (RGB if opts->opaque) PNG to an open stream

@@ -35,6 +35,8 @@ struct sp_sink_desc {
     int crf;            /* quality: 0 = the format's default */
     const char *preset; /* x264 preset name (VP9: mapped); NULL = default */
     int png_level;      /* level 1..9 for PNGs; 0 = SP_PNG_LEVEL_DEFAULT */
+    double dpi;         /* PNG: > 0 is recorded in a pHYs chunk (a figure of
+                           physical size); 0 = none */
     const struct sp_png_text *text; /* PNG sinks: text chunks for every image,
                                        read at each write (the caller may
                                        change them in between); borrowed

@@ -76,15 +76,67 @@ int sp_cli_shard(const char *arg, long limit, const char *of, int *i, int *n)
 
 #define TOO_LONG "too long (at most " QUOTE(SP_CLI_NUMBER_MAX) " characters a number)"
 
+/* The units a figure's physical size may be given in, pt each. */
+static const struct { const char *name; double pt; } paper_units[] = {
+    {"pt", 1}, {"in", 72}, {"cm", 72 / 2.54}, {"mm", 72 / 25.4},
+};
+
+/* 1 when arg gives a physical size: a unit after its first number. */
+static int paper_given(const char *arg)
+{
+    const size_t n = strcspn(arg, "x"), all = strlen(arg);
+    for (size_t u = 0; u < sizeof(paper_units) / sizeof(paper_units[0]); u++)
+        if ((n >= 2 && !strncmp(arg + n - 2, paper_units[u].name, 2)) ||
+            (all >= 2 && !strcmp(arg + all - 2, paper_units[u].name)))
+            return 1;
+    return 0;
+}
+
+int sp_cli_paper_size(const char *opt, const char *arg, double *w_pt, double *h_pt)
+{
+    static const char allowed[] =
+        "WIDTH or WIDTHxHEIGHT, each a number and a unit (pt, in, cm, mm), from 1 in to "
+        "200 in, e.g. --size 8.6cm or --size 3.4inx2.5in";
+    const char *x = strchr(arg, 'x');
+    double side[2] = {0, 0};
+    char wrong[96];
+    if (x && (strchr(x + 1, 'x') || !x[1]))
+        return sp_cli_refuse(opt, arg, "not WIDTH or WIDTHxHEIGHT", allowed);
+    for (int k = 0; k < (x ? 2 : 1); k++) {
+        const char *s = k ? x + 1 : arg;
+        const size_t n = k || !x ? strlen(s) : (size_t)(x - arg);
+        size_t u = 0, nu = sizeof(paper_units) / sizeof(paper_units[0]);
+        while (u < nu && !(n >= 2 && !strncmp(s + n - 2, paper_units[u].name, 2)))
+            u++;
+        if (u == nu) {
+            snprintf(wrong, sizeof(wrong), "%s has no unit", k ? "HEIGHT" : "WIDTH");
+            return sp_cli_refuse(opt, arg, wrong, allowed);
+        }
+        const char *bad = sp_cli_field(s, n - 2, 72 / paper_units[u].pt,
+                                       14400 / paper_units[u].pt, 0, &side[k]);
+        if (bad) {
+            snprintf(wrong, sizeof(wrong), "%s %s", k ? "HEIGHT" : "WIDTH", bad);
+            return sp_cli_refuse(opt, arg, wrong, allowed);
+        }
+        side[k] *= paper_units[u].pt;
+    }
+    *w_pt = side[0], *h_pt = side[1];
+    return 0;
+}
+
 /* --size WxH: each side read as the scene reads video.width and height,
- * messages naming --size; then the two overrides. */
+ * messages naming --size; then the two overrides. A size with units is a
+ * figure's physical size instead (sp_cli_paper_size). */
 static int add_size(struct sp_cli_options *o, const char *arg)
 {
     static const char *const key[2] = {"video.width", "video.height"};
-    static const char allowed[] = "WIDTHxHEIGHT in pixels, e.g. --size 1920x1080";
+    static const char allowed[] = "WIDTHxHEIGHT in pixels, e.g. --size 1920x1080, or a "
+                                  "figure's physical size, e.g. --size 8.6cm";
     char origin[96], side[2][SP_CLI_NUMBER_MAX + 1];
     const char *x = strchr(arg, 'x');
     const size_t w = x ? (size_t)(x - arg) : 0;
+    if (paper_given(arg))
+        return sp_cli_paper_size("--size", arg, &o->paper_w, &o->paper_h);
     if (!x || strchr(x + 1, 'x'))
         return sp_cli_refuse("--size", arg, "not WIDTHxHEIGHT", allowed);
     if (w >= sizeof(side[0]) || strlen(x + 1) >= sizeof(side[1]))
@@ -121,7 +173,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         {"verbose", no_argument, 0, 'v'},      {"format", required_argument, 0, 'f'},
         {"frames", required_argument, 0, 'R'}, {"shard", required_argument, 0, 'D'},
         {"gl", required_argument, 0, 'G'},     {"quality", required_argument, 0, 'Q'},
-        {"scale", required_argument, 0, 'X'},
+        {"scale", required_argument, 0, 'X'},  {"dpi", required_argument, 0, 'd'},
         {"state", required_argument, 0, 'J'},
         {"json", no_argument, 0, 'j'},         {"poincare", no_argument, 0, 'P'},
         {0, 0, 0, 0},
@@ -216,6 +268,13 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             o->scale = (int)v;
             break;
         }
+        case 'd':
+            if (!(allow_at & SP_CLI_AT))
+                return not_here("--dpi", "still", argv[0]);
+            ret = sp_cli_number("--dpi", optarg, 10, 2400, SP_DECIMAL_ABOVE,
+                                "the PNG's dots per inch, 10 < dpi <= 2400, with --size in "
+                                "units, e.g. --size 8.6cm --dpi 300", &o->dpi);
+            break;
         case 'e':
             if (!(allow_at & SP_CLI_EVERY))
                 return not_here("--every", "data", argv[0]);
@@ -256,6 +315,17 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         snprintf(o->quality_buf[2], sizeof(o->quality_buf[2]), "video.fps=%d", qualities[i].fps);
         for (int k = 0; k < 3; k++)
             o->overrides[k] = o->quality_buf[k];
+    }
+    if (o->paper_w && !(allow_at & SP_CLI_AT)) {
+        sp_log_error("--size with a unit is a figure's physical size, for 'springpend still' "
+                     "and 'springpend sweep'; a %s's size is WIDTHxHEIGHT in pixels",
+                     !strcmp(argv[0], "render") ? "video" : "scene");
+        return SP_E_INPUT;
+    }
+    if (o->dpi && !o->paper_w) {
+        sp_log_error("--dpi sets a PNG figure's dots per inch at a physical size: give --size "
+                     "with a unit too, e.g. --size 8.6cm --dpi 300");
+        return SP_E_INPUT;
     }
     const int most = allow_at & SP_CLI_SCENES ? SP_CLI_MAX_SCENES : 1;
     if (optind >= argc || argc - optind > most) {

@@ -27,6 +27,10 @@ struct sp_cli_options {
     int gl;                  /* --gl: enum sp_gl */
     char quality_buf[3][48]; /* storage for the overrides --quality makes */
     int scale;               /* --scale (still): supersampling factor, 0 = not given */
+    double paper_w, paper_h; /* --size with units (still): the figure's physical
+                                size, pt; 0 = not given (paper_h 0 alone: the
+                                height follows the scene's aspect) */
+    double dpi;              /* --dpi (still, PNG with paper_w): dots per inch, 0 = not given */
     const char *state;       /* --state (still): JSON path, NULL = none */
     int json;                /* --json (info) */
     int poincare;            /* --poincare (data) */
@@ -45,6 +49,12 @@ struct sp_cli_options {
  * returns 1 when --help was asked (usage already printed). */
 int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv,
                  const char *usage, int allow_at);
+
+/* Reads a figure's physical size, "WIDTH" or "WIDTHxHEIGHT", each a decimal
+ * number and a unit (pt, in, cm, mm) from 1 in to 200 in, into *w_pt and
+ * *h_pt (pt; *h_pt 0 when only the width is given). Refuses anything else
+ * (sp_cli_refuse, naming opt). */
+int sp_cli_paper_size(const char *opt, const char *arg, double *w_pt, double *h_pt);
 
 /* Turns --frames / --shard into frames [*first, *last) of a video of
  * n_frames (*last = 0: to the end). */

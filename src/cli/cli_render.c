@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/figure.h"
 #include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
@@ -96,6 +97,13 @@ static const char still_usage[] =
     "                         check the physics apart from the pixels\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
     "  --size WxH             shorthand for video.width and video.height (up to 7680x4320)\n"
+    "  --size W[xH] with units  a figure's printed size: 8.6cm, 3.4in, 246pt, 86mm, or\n"
+    "                         8.6cmx6cm (the height follows video.width:height when\n"
+    "                         left out); text, lines and ticks are then in points\n"
+    "                         (10 pt text, 0.8 pt axes, 3.4 pt ticks; view.font_size\n"
+    "                         sets the text in pt)\n"
+    "  --dpi N                a PNG figure's dots per inch with --size in units\n"
+    "                         (default 300; written in its pHYs chunk)\n"
     "  --scale N              draw at N times the size (1..4) and average down:\n"
     "                         supersampled, smoother edges and text\n"
     "  --fps N                shorthand for video.fps (the trail's frame times)\n"
@@ -259,6 +267,43 @@ static int check_side_by_side(const struct sp_cli_options *o, const struct sp_sc
     return bad ? SP_E_INPUT : 0;
 }
 
+/* An SVG or PDF figure of physical size is drawn at this many px per pt
+ * before cairo scales it onto the page: whole-px text sizes and positions
+ * then land on quarter points. */
+#define VECTOR_PX_PER_PT 4.0
+#define PNG_DPI_DEFAULT 300.0
+
+/* A still of physical size (--size 8.6cm, --dpi): its page (pt), the scale
+ * it is drawn at (pt_px) and the scene's video.width and height in px. */
+static int paper_still(const struct sp_cli_options *o, struct sp_scene *scene, const char *out,
+                       struct sp_pipeline_desc *pd)
+{
+    const int vector = sp_figure_format(out) != SP_FIGURE_NONE;
+    if (vector && o->dpi) {
+        sp_log_error("--dpi %g: %s is a vector figure (its size is --size's alone); --dpi is "
+                     "for a PNG", o->dpi, out);
+        return SP_E_INPUT;
+    }
+    pd->page_w = o->paper_w;
+    pd->page_h = o->paper_h > 0 ? o->paper_h
+                                : o->paper_w * scene->video.height / scene->video.width;
+    pd->pt_px = vector ? VECTOR_PX_PER_PT : (o->dpi ? o->dpi : PNG_DPI_DEFAULT) / 72;
+    const double w = round(pd->page_w * pd->pt_px), h = round(pd->page_h * pd->pt_px);
+    if (!vector && (w > 7680 || h > 4320 || w < 16 || h < 16)) {
+        sp_log_error("--size %.4g x %.4g in at %g dpi: %.0fx%.0f px; a PNG still is 16x16 to "
+                     "7680x4320 px: lower --dpi or the size", pd->page_w / 72, pd->page_h / 72,
+                     pd->pt_px * 72, w, h);
+        return SP_E_INPUT;
+    }
+    if (h < 16) {
+        sp_log_error("--size: the height the scene's aspect gives, %.3g pt, is too small; give "
+                     "WIDTHxHEIGHT", pd->page_h);
+        return SP_E_INPUT;
+    }
+    scene->video.width = (int)w, scene->video.height = (int)h;
+    return 0;
+}
+
 /* The longest video render and still make and show, frames. */
 #define SP_MAX_VIDEO_FRAMES 1000000
 
@@ -308,6 +353,9 @@ static int run(int argc, char **argv, int still)
         ret = sp_cli_frame_range(&o, n_frames, &first, &last);
     if (!ret && still)
         ret = check_still(&o, &scenes[0], out);
+    struct sp_pipeline_desc pd = {0};
+    if (!ret && still && o.paper_w)
+        ret = paper_still(&o, &scenes[0], out, &pd);
     struct sp_moment end;
     if (!ret)
         sp_timeline_frame(&scenes[0], sp_timeline_frames(&scenes[0]) - 1, &end);
@@ -329,7 +377,8 @@ static int run(int argc, char **argv, int still)
         .still = still, .still_at = o.at < 0 ? 0 : o.at, .first = first,
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
         .handle_signals = !still, .supersample = o.scale, .state_out = &state,
-        .progress = !o.quiet && isatty(2), .more = more, .n_more = o.n_scenes - 1});
+        .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
+        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1});
     for (int i = 0; i < o.n_scenes; i++)
         sp_scene_free(&sp[i]);
     /* Both files or neither (a device or stdout is never removed). */

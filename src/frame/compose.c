@@ -31,6 +31,13 @@ enum {
 #define TRAIL_RADIUS 0.0022f
 #define MOUNT_HALF 0.035f
 #define MARGIN 0.06f         /* around the extent, besides the bob's radius */
+/* A figure of physical size (sp_look.pt_px): matplotlib's print defaults,
+ * pt. Body text PRINT_FONT_PT unless [view] font_size says otherwise; the
+ * panels' ticks, lines and markers follow the length whose TEXT_NORMAL
+ * fraction is that size (ticks 0.006 of it: 3.4 pt). */
+#define PRINT_FONT_PT 10.0f
+#define PRINT_FONT_FRAC 0.0175f /* text_sizes' frac[SP_TEXT_NORMAL] */
+#define PRINT_AXIS_PT 0.8f
 
 struct sp_composer {
     struct sp_canvas canvas;  /* this frame's draw list */
@@ -45,6 +52,9 @@ struct sp_composer {
     int hud_lines;
     int width, height;        /* px */
     float unit;               /* the smaller side, px */
+    float ink;                /* what the panels' and colourbar's text, lines and
+                                 ticks follow, px: the unit, or for a figure of
+                                 physical size (look.pt_px) a fixed length in pt */
     double scale;             /* px per m */
     double ox, oy;            /* px of the world origin (the pivot) */
     double max_speed;         /* m/s, the top of the trail's colormap */
@@ -92,14 +102,19 @@ double sp_compose_scale(const struct sp_composer *c) { return c->scale; }
 /* Text sizes follow the frame's smaller side, with a floor for small
  * frames, or [view] font_size (pt, one px each: see README "Text") for the
  * body text with the others in the same proportions; times [view]
- * font_scale. */
-static void text_sizes(float unit, double font_size, double scale, int ss, int px[SP_TEXT_SIZES])
+ * font_scale. A figure of physical size (print = 1, ss px per pt) has
+ * matplotlib's proportions instead: ticks and legends 0.85, titles 1.2 of
+ * the body text. */
+static void text_sizes(float unit, double font_size, double scale, float ss, int print,
+                       int px[SP_TEXT_SIZES])
 {
     static const float frac[SP_TEXT_SIZES] = {0.0150f, 0.0175f, 0.0230f, 0.0300f};
+    static const float print_frac[SP_TEXT_SIZES] = {0.85f, 1, 1.2f, 1.2f};
     /* at least 11 px: a 480p GIF's tick labels read on a projector */
     static const float floor_px[SP_TEXT_SIZES] = {11, 12, 14, 17};
     for (int s = 0; s < SP_TEXT_SIZES; s++) {
-        const float base = font_size > 0
+        const float base = print ? (float)font_size * ss * print_frac[s]
+                           : font_size > 0
                                ? (float)font_size * ss * frac[s] / frac[SP_TEXT_NORMAL]
                                : fmaxf(ss * floor_px[s], roundf(frac[s] * unit));
         px[s] = (int)fminf(400, fmaxf(4, roundf((float)scale * base)));
@@ -315,9 +330,19 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     r->ss = desc->supersample > 1 ? desc->supersample : 1;
     r->accum_t = -1;
     r->unit = (float)(r->width < r->height ? r->width : r->height);
+    /* ss: drawn px per output px; and per pt at a physical size */
+    float ss = desc->supersample > 1 ? (float)desc->supersample : 1;
+    if (r->look.pt_px > 0) {
+        ss *= (float)r->look.pt_px;
+        if (!(r->look.view.font_size > 0))
+            r->look.view.font_size = PRINT_FONT_PT;
+    }
+    r->ink = r->look.pt_px > 0 ? ss * PRINT_FONT_PT / PRINT_FONT_FRAC : r->unit;
     r->extent = desc->extent;
     r->max_speed = desc->extent.max_speed > 0 ? desc->extent.max_speed : 1.0;
     sp_palette_get(&r->look.view, &r->pal);
+    if (r->look.pt_px > 0)
+        r->pal.axis_hw = 0.5f * PRINT_AXIS_PT * ss;
     r->premix_trail = r->pal.background[3] > 0 &&
                       0.3f * r->pal.background[0] + 0.6f * r->pal.background[1] +
                               0.1f * r->pal.background[2] > 0.35f;
@@ -333,8 +358,8 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar || r->look.view.vectors ||
         r->look.view.title[0] || r->look.view.caption[0] || r->speed[0] || r->look.view.font[0] || tl) {
         struct sp_font_desc fd = {.family = r->look.view.font};
-        text_sizes(r->unit, r->look.view.font_size, r->look.view.font_scale,
-                   desc->supersample > 1 ? desc->supersample : 1, fd.px);
+        text_sizes(r->unit, r->look.view.font_size, r->look.view.font_scale, ss,
+                   r->look.pt_px > 0, fd.px);
         r->font_borrowed = desc->font != NULL;
         err = desc->font ? (r->font = (struct sp_font *)desc->font, 0) : sp_font_make(&r->font, &fd);
         if (!err)
@@ -377,7 +402,7 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
     }
     if (r->look.view.colorbar)
-        d.colorbar_width = sp_colorbar_width(r->font, r->unit, r->max_speed);
+        d.colorbar_width = sp_colorbar_width(r->font, r->ink, r->max_speed);
     sp_layout_compute(&d, &r->layout);
     fit_camera(r, &r->layout.camera);
     sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit);
@@ -692,7 +717,7 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
             sp_vectors_draw(cv, &r->vectors, f, bb, &r->pal);
     }
     if (r->look.view.panels)
-        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->unit, r->look.view.fade, &r->bars);
+        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, r->look.view.fade, &r->bars);
     if (r->look.view.hud)
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
     put_texts(r, f->moment);
@@ -710,7 +735,7 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     if (r->look.view.colorbar) {
         sp_canvas_layer(cv, SP_LAYER_STATIC);
         sp_colorbar_draw(cv, &r->layout.colorbar, r->look.view.colormap, r->max_speed,
-                         &r->pal, r->unit);
+                         &r->pal, r->ink);
     }
     if (cv->err) {
         if (cv->err == SP_E_NOMEM) /* others were said where they happened */

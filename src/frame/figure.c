@@ -51,7 +51,8 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
     if (!err) {
         struct sp_draw_cairo_desc dd = {
             .canvas = cv, .font = sp_compose_cells_font(c), .width = d->width,
-            .height = d->height, .fd = out.fd, .path = d->path, .format = format,
+            .height = d->height, .page_w = d->page_w, .page_h = d->page_h, .fd = out.fd,
+            .path = d->path, .format = format,
             .title = d->title};
         memcpy(dd.background, sp_compose_cells_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);

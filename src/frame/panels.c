@@ -310,7 +310,8 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
     const float line_s = (float)sp_font_line(f, SP_TEXT_SMALL), cap_s = (float)sp_font_cap(f, SP_TEXT_SMALL);
     const float cap_n = (float)sp_font_cap(f, SP_TEXT_NORMAL);
-    const float hw = fmaxf(0.5f, 0.0009f * unit), tick = roundf(0.006f * unit);
+    const float hw = pal->axis_hw > 0 ? pal->axis_hw : fmaxf(0.5f, 0.0009f * unit);
+    const float tick = roundf(0.006f * unit);
     char buf[32];
     int tw = 0;
 

@@ -23,6 +23,8 @@ struct sp_palette {
     float cursor[4], accent[4];
     float mount[4], wire_front[4], wire_back[4], pivot[4], bob[4];
     float vectors[SP_VECTOR_COUNT][4]; /* [view] vectors' arrows, by SP_VECTOR_* bit */
+    float axis_hw;          /* px: half the width of axes and grid lines; 0 =
+                               from the panels' unit */
     float cmap_lo, cmap_hi; /* the part of the colormap speeds 0..max use: the
                                end that would vanish into the background is left out */
 };

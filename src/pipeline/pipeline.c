@@ -432,6 +432,8 @@ static int run_setup(struct run *run)
     sp_look_of(sc, &run->looks[0]);
     if (run->n_more)
         cell_looks(run);
+    for (int i = 0; i <= run->n_more; i++) /* a still of physical size: px per pt */
+        run->looks[i].pt_px = desc->pt_px;
     if (ret || run->figure)
         return ret;
     ret = sp_render_make(&run->r, &(struct sp_render_desc){
@@ -445,7 +447,7 @@ static int run_setup(struct run *run)
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = run->first,
         .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
-        .png_level = sc->video.png_level,
+        .png_level = sc->video.png_level, .dpi = desc->pt_px * 72,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),
         .text = run->prov.text,
         .n_text = SP_PROVENANCE_N_TEXT + (run->n_more || sc->view.vectors ||
@@ -511,6 +513,8 @@ static int run_figure(struct run *run)
         return ret;
     ret = sp_figure_write(&(struct sp_figure_desc){
         .width = run->w, .height = run->h, .extent = run->extent, .look = &run->looks[0],
+        .page_w = run->desc->pt_px > 0 ? run->desc->page_w : 0,
+        .page_h = run->desc->pt_px > 0 ? run->desc->page_h : 0,
         .title = run->sc->name, .path = run->desc->output, .cells = 1 + run->n_more,
         .looks = run->looks}, frames_of(run, run->desc->still_at, frames));
     if (!ret && run->desc->state_out)

@@ -228,12 +228,12 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     int err = 0;
 
     struct sp_cairo_fd sink = {.fd = d->fd}; /* every write checked */
+    const int paper = d->page_w > 0 && d->page_h > 0;
+    const double pw = paper ? d->page_w : d->width, ph = paper ? d->page_h : d->height;
     if (d->format == SP_FIGURE_PDF)
-        surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, d->width,
-                                                      d->height);
+        surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, pw, ph);
     else
-        surface = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, d->width,
-                                                      d->height);
+        surface = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, pw, ph);
     st = cairo_surface_status(surface);
     if (st) {
         sp_log_error("%s: cannot create: %s", d->path, cairo_status_to_string(st));
@@ -252,9 +252,11 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
         if (d->title && n == len) /* a file name that is not UTF-8 gets no title */
             cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, d->title);
     } else {
-        cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PX);
+        cairo_svg_surface_set_document_unit(surface, paper ? CAIRO_SVG_UNIT_PT : CAIRO_SVG_UNIT_PX);
     }
     cr = cairo_create(surface);
+    if (paper) /* the list's px onto the page's pt */
+        cairo_scale(cr, pw / d->width, ph / d->height);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
     if (d->background[3] > 0) {

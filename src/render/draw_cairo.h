@@ -17,6 +17,8 @@ struct sp_draw_cairo_desc {
     const struct sp_font *font; /* NULL when the list has no text */
     float background[4];        /* straight RGBA; alpha 0 = transparent */
     int width, height;          /* px (SVG) or pt (PDF) */
+    double page_w, page_h;      /* pt: the page when not width x height (a figure
+                                   of physical size), the list scaled to fit; 0 = none */
     int fd;                     /* where the document goes (open for writing;
                                    the caller closes and renames it) */
     const char *path;           /* the target's name, for messages */

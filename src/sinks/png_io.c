@@ -2,6 +2,7 @@
  * choose the filter, zlib level and text chunks), and so does reading, which
  * converts any PNG to RGBA8 by value after checking its size. */
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -149,6 +150,9 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
                  8, opts->opaque ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA,
                  PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (opts->dpi > 0)
+        png_set_pHYs(png, info, (png_uint_32)lround(opts->dpi / 0.0254),
+                     (png_uint_32)lround(opts->dpi / 0.0254), PNG_RESOLUTION_METER);
     for (int i = 0; i < opts->n_text; i++) {
         /* libpng copies key and text into info. */
         png_text t = {

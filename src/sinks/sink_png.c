@@ -21,7 +21,7 @@ static struct sp_png_write_opts png_opts(const struct sp_sink *s)
     return (struct sp_png_write_opts){
         .level = s->desc.png_level ? s->desc.png_level : SP_PNG_LEVEL_DEFAULT,
         .opaque = !s->desc.alpha, /* frames without alpha are opaque */
-        .text = s->desc.text, .n_text = s->desc.n_text,
+        .text = s->desc.text, .n_text = s->desc.n_text, .dpi = s->desc.dpi,
     };
 }
 

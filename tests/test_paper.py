@@ -1,0 +1,187 @@
+#!/usr/bin/env python3
+"""springpend tests: figures of physical size (still --size 8.6cm, --dpi).
+usage: test_paper.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)
+
+A journal column is 8.6 cm (243.78 pt). The page size is read back with
+pdfinfo, the text sizes with pdftotext -bbox: a word's box is the font's
+ascent to descent, so its height over (Ascent - Descent) / 1000 (the PDF's
+own FontDescriptor of the embedded font) is the size in pt. The fonts are
+read with pdffonts. A PNG's size is its IHDR, its resolution its pHYs chunk.
+Exits 77 (skip) without pdfinfo, pdftotext or pdffonts (poppler-utils)."""
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+
+from sptest import done, ok, runner
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+work = os.path.abspath(os.path.join(sys.argv[3], "paper"))
+root = os.path.join(src, "..")
+need = [t for t in ("pdfinfo", "pdftotext", "pdffonts") if not shutil.which(t)]
+if need:
+    print(f"1..0 # SKIP {', '.join(need)} not installed")
+    sys.exit(77)
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+run = runner(exe, work)
+CM = 72 / 2.54  # pt
+
+
+def p(name):
+    return os.path.join(work, name)
+
+
+def scene(name):
+    return os.path.join(root, "scenes", name)
+
+
+# Print figures: no heads-up text, the light theme.
+PRINT = ["--set", "view.hud=false", "--set", "view.theme=light"]
+
+
+def still(name, sc, *args):
+    r = run("still", scene(sc), "--at", "30", "-o", p(name), "-q", *args)
+    if r.returncode:
+        print(f"# {name}: {r.stderr.strip()}")
+    return r.returncode == 0
+
+
+def page_size(pdf):
+    """(width, height) in pt from pdfinfo."""
+    out = subprocess.run(["pdfinfo", pdf], capture_output=True, text=True).stdout
+    m = re.search(r"Page size:\s+([\d.]+) x ([\d.]+) pts", out)
+    return (float(m.group(1)), float(m.group(2))) if m else (0, 0)
+
+
+def text_sizes(pdf):
+    """Every word's font size, pt: its box's height over the font's ascent
+    minus descent (the FontDescriptor's, 1/1000 em)."""
+    data = open(pdf, "rb").read()
+    asc = [int(v) for v in re.findall(rb"/Ascent (-?\d+)", data)]
+    desc = [int(v) for v in re.findall(rb"/Descent (-?\d+)", data)]
+    if not asc or len(set(asc)) != 1 or len(set(desc)) != 1:
+        return []  # one font expected here
+    em = (asc[0] - desc[0]) / 1000
+    out = subprocess.run(["pdftotext", "-bbox", pdf, "-"], capture_output=True, text=True).stdout
+    return [(float(b) - float(a)) / em for a, b in
+            re.findall(r'<word xMin="[^"]+" yMin="([^"]+)" xMax="[^"]+" yMax="([^"]+)"', out)]
+
+
+def words(pdf):
+    out = subprocess.run(["pdftotext", "-bbox", pdf, "-"], capture_output=True, text=True).stdout
+    return re.findall(r"<word [^>]*>([^<]*)</word>", out)
+
+
+def fonts(pdf):
+    """(name, embedded) per font pdffonts lists."""
+    out = subprocess.run(["pdffonts", pdf], capture_output=True, text=True).stdout
+    rows = out.splitlines()[2:]
+    return [(r.split()[0], r.split()[-5] == "yes") for r in rows if r.strip()]
+
+
+def png_info(path):
+    """(width, height, pixels per metre or None) from the PNG's chunks."""
+    d = open(path, "rb").read()
+    w, h = struct.unpack(">II", d[16:24])
+    i = d.find(b"pHYs")
+    ppm = struct.unpack(">IIB", d[i + 4:i + 13]) if i > 0 else None
+    return w, h, ppm
+
+
+# ---- a still at a journal column's width ----
+if still("poincare.pdf", "chaotic.ini", "--size", "8.6cm", "--set", "view.panels=poincare",
+         "--set", "view.pendulum=false", *PRINT):
+    w, h = page_size(p("poincare.pdf"))
+    ok(abs(w - 8.6 * CM) < 0.01, f"the Poincare still is 8.6 cm wide: {w} pt = {w / CM:.3f} cm")
+    ok(abs(h - 8.6 * CM * 720 / 1280) < 0.01,
+       f"its height follows the scene's 1280x720 aspect: {h} pt")
+    sizes = text_sizes(p("poincare.pdf"))
+    ok(sizes and all(7.9 <= s <= 10.1 for s in sizes),
+       f"its {len(sizes)} words are set in 8-10 pt: {sorted(set(round(s, 2) for s in sizes))}")
+    ok(max(sizes or [0]) > 9.9, "the panel's title in 10 pt body text (matplotlib's default)")
+    f = fonts(p("poincare.pdf"))
+    ok(f and all(e for _, e in f) and all("DejaVuSans" in n for n, _ in f),
+       f"its font is DejaVu Sans, embedded: {f}")
+else:
+    ok(False, "still --size 8.6cm -o poincare.pdf")
+
+# The font asked for is the one embedded.
+if still("noto.pdf", "chaotic.ini", "--size", "8.6cmx6cm", "--set", "view.panels=poincare",
+         "--set", "view.font=Noto Sans", *PRINT):
+    f = fonts(p("noto.pdf"))
+    ok(f and all(e for _, e in f) and any("NotoSans" in n for n, _ in f),
+       f"view.font = Noto Sans embeds Noto Sans: {f}")
+    w, h = page_size(p("noto.pdf"))
+    ok(abs(w - 8.6 * CM) < 0.01 and abs(h - 6 * CM) < 0.01, f"--size 8.6cmx6cm: {w} x {h} pt")
+else:
+    ok(False, "still --size 8.6cmx6cm -o noto.pdf")
+
+# Text stays in pt whatever the size: the same words at twice the width.
+if still("wide.pdf", "chaotic.ini", "--size", "17.2cm", "--set", "view.panels=poincare",
+         "--set", "view.pendulum=false", *PRINT):
+    a, b = text_sizes(p("poincare.pdf")), text_sizes(p("wide.pdf"))
+    ok(a and b and abs(max(a) - max(b)) < 0.05 and abs(min(a) - min(b)) < 0.05,
+       f"text at 17.2 cm is the size it is at 8.6 cm: {min(b):.2f}-{max(b):.2f} pt")
+
+# A two-panel still.
+if still("two.pdf", "chaotic.ini", "--size", "8.6cmx8cm", "--set", "view.panels=phase,poincare",
+         "--set", "view.pendulum=false", *PRINT):
+    w, h = page_size(p("two.pdf"))
+    ok(abs(w - 8.6 * CM) < 0.01, f"the two-panel still is 8.6 cm wide: {w / CM:.3f} cm")
+    sizes = text_sizes(p("two.pdf"))
+    ok(sizes and all(7.9 <= s <= 10.1 for s in sizes),
+       f"its words are 8-10 pt: {sorted(set(round(s, 2) for s in sizes))}")
+else:
+    ok(False, "still --size 8.6cmx8cm -o two.pdf")
+
+# SVG: the size in pt on the root element.
+if still("poincare.svg", "chaotic.ini", "--size", "3.4in", "--set", "view.panels=poincare", *PRINT):
+    head = open(p("poincare.svg")).read(400)
+    m = re.search(r'width="([\d.]+)pt" height="([\d.]+)pt"', head)
+    ok(m and abs(float(m.group(1)) - 3.4 * 72) < 0.01,
+       f"--size 3.4in SVG is {m.group(1) if m else '?'} pt wide")
+else:
+    ok(False, "still --size 3.4in -o poincare.svg")
+
+# PNG: pixels from --dpi (300 by default), the dpi in pHYs.
+for dpi in (None, 150):
+    name = f"png{dpi or 300}.png"
+    if still(name, "chaotic.ini", "--size", "246pt", *PRINT, *(["--dpi", str(dpi)] if dpi else [])):
+        w, h, ppm = png_info(p(name))
+        want = int(246 / 72 * (dpi or 300) + 0.5)  # C round(): halves away from 0
+        ok(w == want, f"--size 246pt at {dpi or 300} dpi: {w} px wide (expected {want})")
+        ok(ppm and ppm[2] == 1 and abs(ppm[0] - (dpi or 300) / 0.0254) < 1,
+           f"its pHYs says {dpi or 300} dpi: {ppm}")
+    else:
+        ok(False, f"still --size 246pt -o {name}")
+
+# ---- refused: exit 2, the option named, nothing written ----
+BAD = [
+    (["--size", "8.6furlong"], "--size 8.6furlong"),
+    (["--size", "8.6"], "--size 8.6"),
+    (["--size", "0.5cm"], "--size 0.5cm"),
+    (["--size", "8.6cmx"], "--size 8.6cmx"),
+    (["--size", "8.6cmx6"], "--size 8.6cmx6"),
+    (["--size", "abccm"], "--size abccm"),
+    (["--size", "1e9in"], "--size 1e9in"),
+    (["--dpi", "300"], "--dpi"),
+    (["--size", "8.6cm", "--dpi", "0"], "--dpi 0"),
+    (["--size", "8.6cm", "--dpi", "9000"], "--dpi 9000"),
+    (["--size", "60in", "--dpi", "600"], "--size"),
+]
+for args, said in BAD:
+    out = p("bad.png")
+    r = run("still", scene("default.ini"), "-o", out, "-q", *args)
+    ok(r.returncode == 2 and said in r.stderr and not os.path.exists(out),
+       f"still {' '.join(args)}: exit {r.returncode}, names '{said}', no file: {r.stderr.strip()}")
+r = run("still", scene("default.ini"), "-o", p("bad.pdf"), "-q", "--size", "8.6cm", "--dpi", "300")
+ok(r.returncode == 2 and "--dpi" in r.stderr and not os.path.exists(p("bad.pdf")),
+   f"--dpi with a PDF is refused: {r.stderr.strip()}")
+r = run("render", scene("default.ini"), "-o", p("bad.mp4"), "-q", "--size", "8.6cm")
+ok(r.returncode == 2 and "--size" in r.stderr and not os.path.exists(p("bad.mp4")),
+   f"render --size 8.6cm is refused: {r.stderr.strip()}")
+
+done()

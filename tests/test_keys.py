@@ -236,6 +236,9 @@ ok(dur is not None and frames21 is not None and np.array_equal(dur, frames21) an
 changed("fade", {"view.fade": "true"}, "the trail fades")
 changed("panels", {"view.panels": "r"}, "a panel")
 changed("vectors", {"view.vectors": "forces, velocity"}, "arrows from the bob and their legend")
+with_r = frame("panel-r", {"view.panels": "r"})
+changed("panel-bg", {"view.panels": "r", "view.panel_background": "none"}, "the panel on the frame's "
+        "background", ref_frame=with_r)
 with_panel = frame("panel-vir", {"view.panels": "energy,phase", "view.colormap": "viridis"})
 changed("panel-inf", {"view.panels": "energy,phase", "view.colormap": "inferno"},
         "another colour map", ref_frame=with_panel)

@@ -234,6 +234,22 @@ for k, (name, value) in enumerate(expect.items()):
     got = got if value > 0 else -got
     ok(abs(got - want) <= 1.5, f"{name}: bar {got:.1f} px, expected {want:.1f} px ({value:.4f} J at {ppj:.4g} px/J)")
 
+# panel_background = none: a transparent still's panels are transparent too
+for pb, alpha in (("theme", 255), ("none", 0)):
+    path = os.path.join(work, f"pb-{pb}.png")
+    r = run("still", scene, "--at", "2", "--size", f"{W}x{H}", "-q", "-o", path, "--set", "view.panels=energy_bars",
+            "--set", "view.background=transparent", "--set", f"view.panel_background={pb}")
+    o = overlay(path)
+    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt", "rgba", "-"],
+                         capture_output=True).stdout
+    rgba = np.frombuffer(raw, np.uint8).reshape(H, W, 4) if len(raw) == W * H * 4 else None
+    # between the first two bars, just above the zero line: the panel itself
+    x = int(float(o.get("energy_bars.x0_px", "0")) + float(o.get("energy_bars.slot_px", "0")))
+    y = int(float(o.get("energy_bars.zero_px", "0")) - 4)
+    got = int(rgba[y, x, 3]) if rgba is not None else -1
+    ok(r.returncode == 0 and got == alpha, f"view.panel_background = {pb} on a transparent background: "
+       f"the panel's alpha is {got} (expected {alpha})")
+
 # ---- side by side ----
 def write(name, text):
     path = os.path.join(work, name)

@@ -105,6 +105,9 @@ struct sp_scene {
         unsigned vectors; /* SP_VECTOR_* bits, 0 = none: arrows from the bob */
         int hud;         /* 1: time, parameters and resonance check as text */
         int theme;       /* enum sp_theme */
+        int panel_background; /* 0 = the theme's panel colour; 1 = none: panels
+                                 (and the arrows' legend) drawn on the frame's
+                                 background, transparent in a transparent still */
         int background;  /* 0xRRGGBB, or SP_BACKGROUND_THEME / _TRANSPARENT */
         int colormap;    /* enum sp_colormap, for the trail's speed */
         int colorbar;    /* 1: a colourbar for the trail's speed */

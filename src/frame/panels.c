@@ -45,6 +45,8 @@ void sp_palette_get(const struct sp_view *view, struct sp_palette *out)
 {
     const int bg = view->background;
     *out = view->theme == SP_THEME_LIGHT ? LIGHT : DARK;
+    if (view->panel_background)
+        out->panel[3] = 0; /* panel_background = none */
     if (bg == SP_BACKGROUND_TRANSPARENT) {
         out->background[3] = 0;
     } else if (bg >= 0) {

@@ -52,7 +52,8 @@ struct key_info {
 /* Keys added after PNG provenance hashed the canonical text: left out of
  * sp_scene_canonical at their default, so that scenes without them keep
  * their hash and their PNGs' bytes. */
-#define QUIET_KEY(k) ((k)->offset == offsetof(struct sp_scene, view.vectors))
+#define QUIET_KEY(k) ((k)->offset == offsetof(struct sp_scene, view.vectors) || \
+                      (k)->offset == offsetof(struct sp_scene, view.panel_background))
 
 /* [video] preset's choices: auto, then scene.h's SP_VIDEO_PRESETS. */
 #define PRESET_LISTED(name) ", " name
@@ -91,6 +92,7 @@ static const struct key_info keys[] = {
      "none, forces, velocity, acceleration, gravity, spring, damping, drive, net"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
     {"view", "theme", KEY_CHOICE, F(view.theme), 0, 0, 0, 0, "dark, light"},
+    {"view", "panel_background", KEY_CHOICE, F(view.panel_background), 0, 0, 0, 0, "theme, none"},
     {"view", "background", KEY_COLOR, F(view.background), SP_BACKGROUND_THEME, 0, 0, 0,
      "#rrggbb, theme, transparent"},
     {"view", "colormap", KEY_CHOICE, F(view.colormap), 0, 0, 0, 0, "inferno, viridis"},
@@ -1069,7 +1071,8 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
                 n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR: an int */
-            n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
+            n = QUIET_KEY(k) && !*(const int *)p
+                    ? 0 : snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         }
         used += (size_t)n;

@@ -23,7 +23,7 @@ os.makedirs(work)
 root = os.geteuid() == 0
 count = failed = 0
 SWEEP = ["sweep", default, "--vary", "initial.angle=5:40:4", "--measure", "lyapunov",
-         "--time", "1", "--threads", "1", "-q"]
+         "--time", "2", "--threads", "1", "-q"]
 
 
 def ok(cond, what, skip=None):

@@ -198,7 +198,7 @@ if np is not None:
 
 # ---- blow-ups, bad input, interruption -------------------------------------
 rr = run(os.path.join(scenes, "default.ini"), "--vary", "pendulum.stiffness=2:5e6:2",
-         "--measure", "lyapunov", "--time", "1", "-o", "blow.png", "--csv", "blow.csv", "-q")
+         "--measure", "lyapunov", "--time", "2", "-o", "blow.png", "--csv", "blow.csv", "-q")
 got = rows("blow.csv")
 ok(rr.returncode == 0 and "1 of 2 points blew up" in rr.stderr and got[1]["lyapunov"] == "nan" and
    got[0]["lyapunov"] != "nan" and os.path.exists(os.path.join(work, "blow.png")),
@@ -217,6 +217,24 @@ for args, want in bad:
     ok(rr.returncode == 2 and want in rr.stderr and not any(f.startswith("bad.") for f in os.listdir(work)),
        f"bad input {' '.join(args)}: exit 2, nothing written: {rr.stderr.strip()}")
 
+# --time is measured as given, or refused: fixed steps renormalise on the grid
+# every tau = 1 s, so T is a whole number of seconds, at least 2 (0.001 used to
+# measure 2 s, 2.6 measured 3 s, silently); dop853 splits T into equal
+# intervals of at most a second (2.5 s used to be 3); 1e-300 gave NaN rows.
+damped, driven = os.path.join(scenes, "damped.ini"), os.path.join(scenes, "driven.ini")
+for scene, t, want in ((damped, "0.001", "at least 2; use --time 2"), (damped, "2.6", "use --time 2 or 3"),
+                       (driven, "1e-300", "too short to measure")):
+    for measure in ("lyapunov", "spectrum"):
+        rr = run(scene, "--vary", "initial.angle=0:10:3", "--measure", measure, "--time", t,
+                 "-o", "short.png", "--csv", "short.csv")
+        ok(rr.returncode == 2 and f"--time {t}:" in rr.stderr and want in rr.stderr and
+           not any(f.startswith("short.") for f in os.listdir(work)),
+           f"{measure} --time {t} on {os.path.basename(scene)}: refused, exit 2: {rr.stderr.strip()}")
+rr = run(driven, "--vary", "initial.angle=0:10:2", "--measure", "spectrum", "--time", "2.5", "-q",
+         "-o", "t25.png", "--csv", "t25.csv")
+ts = [float(r["T"]) for r in rows("t25.csv")] if rr.returncode == 0 else []
+ok(ts and max(ts) == 2.5, f"spectrum --time 2.5 with dop853 measures T = 2.5 s (checkpoints {sorted(set(ts))})")
+
 p = subprocess.Popen([exe, "sweep", chaotic, "--vary", "initial.angle=1:179:2000", "--measure",
                       "lyapunov", "--time", "200", "-o", "int.png", "--csv", "int.csv"],
                      cwd=work, stderr=subprocess.PIPE, text=True)
@@ -229,6 +247,29 @@ except subprocess.TimeoutExpired:
     err = p.communicate()[1]
 left = [f for f in os.listdir(work) if f.startswith("int.")]
 ok(p.returncode == 130 and not left, f"Ctrl-C stops a sweep: exit {p.returncode}, nothing left {left}: {err.strip()}")
+
+# A long --transient is one integration call per chunk of points: a signal
+# during it still stops the sweep at once (fixed steps look every 65536 steps,
+# dop853 every step), leaving nothing. Without the look it ran for minutes.
+for scene, sig in (("damped.ini", signal.SIGINT), ("driven.ini", signal.SIGTERM)):
+    for measure in ("lyapunov", "spectrum"):
+        p = subprocess.Popen([exe, "sweep", os.path.join(scenes, scene), "--vary",
+                              "initial.angle=1:10:3", "--measure", measure, "--time", "2",
+                              "--transient", "1e6", "-q", "-o", "tr.png", "--csv", "tr.csv"],
+                             cwd=work, stderr=subprocess.PIPE, text=True)
+        time.sleep(1.5)
+        t0 = time.monotonic()
+        p.send_signal(sig)
+        try:
+            err = p.communicate(timeout=20)[1]
+        except subprocess.TimeoutExpired:
+            p.kill()
+            err = p.communicate()[1] + " (still running 20 s after the signal: killed)"
+        took = time.monotonic() - t0
+        left = [f for f in os.listdir(work) if f.startswith("tr.")]
+        ok(p.returncode == 128 + sig and took < 10 and not left,
+           f"{measure} on {scene} (--transient 1e6): {sig.name} during the transient stops it in "
+           f"{took:.2f} s, exit {p.returncode}, nothing left {left}: {err.strip()}")
 
 # ---- the progress bar, on a terminal only ------------------------------------
 import pty
@@ -391,7 +432,7 @@ ok(p.returncode == 128 + signal.SIGTERM and not [f for f in os.listdir(work) if 
 # 40000 x 2 points crashed (SIGSEGV: cairo refused the image, the plotter wrote
 # through NULL) and left .part files. The map's image is downsampled to 2048.
 rr = run(chaotic, "--vary", "initial.angle=10:170:40000", "--vary", "initial.length=1:1.2:2",
-         "--measure", "lyapunov", "--time", "1", "--set", "integrator.dt=0.01", "-o", "wide.png", "-q")
+         "--measure", "lyapunov", "--time", "2", "--set", "integrator.dt=0.01", "-o", "wide.png", "-q")
 head = b""
 if os.path.exists(os.path.join(work, "wide.png")):
     with open(os.path.join(work, "wide.png"), "rb") as f:

@@ -323,26 +323,44 @@ static int check_outputs(const struct sweep_opts *o)
 #define SWEEP_MAX_STEPS 1e12
 #define SWEEP_NOTE_STEPS 1.5e10
 
-/* Estimates points * (steps a point) for this run (a shard's points only)
- * and holds it to the limits (sp_cli_work). A point integrates the
- * transient and the span (Lyapunov: at least two renormalisations); fixed
- * steps at integrator.dt, dop853 at its tolerance (probed on the base
- * scene, sim.h) and, for events, at least one step per dt. */
+/* Estimates points * (trajectory-steps a point) for this run (a shard's
+ * points only) and holds it to the limits (sp_cli_work). A point integrates
+ * the transient and the span; fixed steps at integrator.dt, dop853 at its
+ * tolerance (probed on the base scene, sim.h) and, for events, at least one
+ * step per dt. What a point costs beyond one trajectory is counted too:
+ * spectrum steps four copies (each with its tangent), basins lands on
+ * SP_BASINS_SAMPLES times a drive period (one more step each), and a
+ * continued orbit diagram runs each of its branches. */
 static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
                       int quiet)
 {
-    const double span = d->transient + (d->measure == SP_MEASURE_LYAPUNOV ? fmax(d->time, 2.0)
-                                                                           : d->time);
+    const int lyap = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_SPECTRUM;
+    const double span = d->transient + d->time;
     double per_point = span / d->dt;
     if (strcmp(d->method, "rk4") && strcmp(d->method, "verlet") && strcmp(d->method, "yoshida4")) {
         struct sp_scene s = *base;
         s.integrator.method = SP_METHOD_DOP853;
         const double adaptive = sp_sim_estimate_steps(&s, span);
-        per_point = d->measure == SP_MEASURE_LYAPUNOV ? adaptive : fmax(adaptive, per_point);
+        per_point = lyap ? adaptive : fmax(adaptive, per_point);
+    }
+    const char *extra = "";
+    if (d->measure == SP_MEASURE_SPECTRUM) {
+        per_point *= 4;
+        extra = ", four copies with tangents";
+    } else if (d->measure == SP_MEASURE_BASINS) {
+        double f = base->pivot.frequency; /* the fastest drive on the grid */
+        for (int a = 0; a < d->n_axes; a++)
+            if (!strcmp(d->axis[a].key, "pivot.frequency"))
+                f = fmax(d->axis[a].from, d->axis[a].to);
+        per_point += SP_BASINS_SAMPLES * f * span;
+        extra = ", landing on 8 samples a drive period";
+    } else if (d->cont == SP_CONTINUE_BOTH) {
+        per_point *= 2;
+        extra = ", both branches";
     }
     char what[256];
-    snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s at dt = %g s: about "
-             "%.3g steps a point)", points, span, d->method, d->dt, per_point);
+    snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s at dt = %g s%s: about "
+             "%.3g steps a point)", points, span, d->method, d->dt, extra, per_point);
     return sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
                        "fewer points (--vary's COUNT), a shorter --time or --transient, a "
                        "larger integrator.dt, or split the grid over machines with --shard I/N",

@@ -169,19 +169,20 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
     va_list ap;
     if (++c->errors > MAX_REPORTS) {
         if (c->errors == MAX_REPORTS + 1)
-            fprintf(stderr, "%s: too many errors; not showing more\n", c->origin);
+            sp_fputs_line(c->origin, stderr), fputs(": too many errors; not showing more\n", stderr);
         return;
     }
-    /* the origin may be a --set argument: its control bytes are shown, not sent */
+    /* the origin may be a --set argument: its control bytes and newlines are
+     * shown, not sent */
     char *msg = NULL;
     va_start(ap, fmt);
     int n = vasprintf(&msg, fmt, ap);
     va_end(ap);
     if (line > 0)
-        sp_fputs_printable(c->origin, stderr), fprintf(stderr, ":%d: ", line);
+        sp_fputs_line(c->origin, stderr), fprintf(stderr, ":%d: ", line);
     else
-        sp_fputs_printable(c->origin, stderr), fputs(": ", stderr);
-    sp_fputs_printable(n >= 0 ? msg : fmt, stderr);
+        sp_fputs_line(c->origin, stderr), fputs(": ", stderr);
+    sp_fputs_line(n >= 0 ? msg : fmt, stderr);
     fputc('\n', stderr);
     free(msg);
 }
@@ -714,7 +715,7 @@ static void apply_override(struct parse_ctx *c, const char *arg)
     const char *dot = strchr(arg, '.'), *eq = strchr(arg, '=');
     if (!dot || !eq || dot > eq || (size_t)(dot - arg) >= sizeof(section) ||
         (size_t)(eq - dot - 1) >= sizeof(name)) {
-        fputs("--set ", stderr), sp_fputs_printable(arg, stderr);
+        fputs("--set ", stderr), sp_fputs_line(arg, stderr);
         fputs(": expected section.key=value, e.g. --set video.fps=30\n", stderr);
         c->errors++;
         return;

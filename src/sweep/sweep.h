@@ -57,6 +57,10 @@ struct sp_sweep_axis {
     int count;     /* grid points along the axis, >= 1 */
 };
 
+/* basins: stroboscopic samples per drive period (each one a time the
+ * integration lands on; cli_sweep.c's estimate counts them) */
+#define SP_BASINS_SAMPLES 8
+
 /* What a sweep computes; the figure is drawn from this and the rows. */
 struct sp_sweep_desc {
     char scene[64];              /* the scene's name, for titles */

@@ -69,6 +69,8 @@ struct sp_view_extent {
     double y_low;                  /* m: the lowest the bob goes relative to the
                                       pivot; its gravity energy is 0 there */
     struct sp_range bars;          /* J: every bar, gravity from y_low, within it */
+    struct sp_range azimuth;       /* rad, the swing plane's (continuous) */
+    double horizontal;             /* m: the largest |x| and |z| (the top view) */
 };
 
 /* Runs the scene's physics from 0 to t_end (cheaply, no rendering) and
@@ -110,6 +112,8 @@ struct sp_history_sample {
     float r_dot, theta_dot;         /* m/s, rad/s */
     float kinetic, spring, gravity; /* J */
     float bounce, swing;            /* J, see struct sp_energy */
+    float z;                        /* m, out of the starting plane (0 planar) */
+    float azimuth;                  /* rad, the swing plane's (sim.h), continuous */
 };
 
 /* A Poincare point: the bob passing theta = 0 with dtheta/dt > 0. */
@@ -133,6 +137,7 @@ struct sp_history {
     double max_step;                   /* s: longest interval interpolated over */
     double loss;                       /* J: energy lost to damping up to the newest
                                           sample (trapezoid rule over the samples) */
+    double azimuth;                    /* rad: the newest sample's azimuth, unrounded */
 };
 
 /* Sets h up for scene: active when view.panels or view.strobe ask for it,

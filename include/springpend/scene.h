@@ -28,10 +28,13 @@ enum sp_panel {
     SP_PANEL_MODES = 1 << 7,       /* energy split into bounce and swing */
     SP_PANEL_SPREAD = 1 << 8,      /* [ensemble]: log10 of the members' spread against t
                                       (not part of "all": it needs an ensemble) */
-    SP_PANEL_ENERGY_BARS = 1 << 9, /* bars of the energies now on one fixed axis
-                                      (not part of "all": "energy_bars") */
-    SP_PANEL_COUNT = 10,
-    SP_PANEL_ALL = SP_PANEL_SPREAD - 1, /* "all": every panel but spread and energy_bars */
+    SP_PANEL_AZIMUTH = 1 << 9,     /* the swing plane's azimuth against t (3-D; not in "all") */
+    SP_PANEL_TOP = 1 << 10,        /* top view: the bob's path in (x, z) (3-D; not in "all") */
+    SP_PANEL_ENERGY_BARS = 1 << 11, /* bars of the energies now on one fixed axis
+                                       (not part of "all": "energy_bars") */
+    SP_PANEL_COUNT = 12,
+    SP_PANEL_ALL = SP_PANEL_SPREAD - 1, /* "all": every panel but spread, azimuth, top and
+                                           energy_bars */
 };
 /* [view] vectors: arrows drawn from the bob. */
 enum sp_vector {

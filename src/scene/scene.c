@@ -87,7 +87,8 @@ static const struct key_info keys[] = {
     {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
     {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "frames"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
-     "none, all, r, theta, energy, extension, phase, poincare, modes, spread, energy_bars"},
+     "none, all, r, theta, energy, extension, phase, poincare, modes, spread, azimuth, top, "
+     "energy_bars"},
     {"view", "vectors", KEY_PANELS, F(view.vectors), 0, 0, 0, 0,
      "none, forces, velocity, acceleration, gravity, spring, damping, drive, net"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
@@ -321,7 +322,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
     static const unsigned panel_bits[] = {
         0, SP_PANEL_ALL, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
         SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE,
-        SP_PANEL_MODES, SP_PANEL_SPREAD, SP_PANEL_ENERGY_BARS};
+        SP_PANEL_MODES, SP_PANEL_SPREAD, SP_PANEL_AZIMUTH, SP_PANEL_TOP,
+        SP_PANEL_ENERGY_BARS};
     static const unsigned vector_bits[] = {
         0, SP_VECTOR_FORCES, SP_VECTOR_VELOCITY, SP_VECTOR_ACCELERATION, SP_VECTOR_GRAVITY,
         SP_VECTOR_SPRING, SP_VECTOR_DAMPING, SP_VECTOR_DRIVE, SP_VECTOR_NET};
@@ -354,7 +356,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
                 else
                     report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
                            "list of: r, theta, energy, extension, phase, poincare, modes, spread, "
-                           "energy_bars (or all, or none alone)", k->section, k->name, (int)n, w);
+                           "azimuth, top, energy_bars (or all, or none alone)", k->section, k->name, (int)n, w);
                 return 1;
             }
             bits |= vectors ? vector_bits[i] : panel_bits[i];
@@ -1245,12 +1247,13 @@ void sp_scene_print_keys(void)
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
 {
     static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
-                                              "poincare", "modes", "spread", "energy_bars"};
+                                              "poincare", "modes", "spread", "azimuth", "top",
+                                              "energy_bars"};
     static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
                                           SP_PANEL_EXTENSION,
                                           SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
                                           SP_PANEL_POINCARE, SP_PANEL_MODES, SP_PANEL_SPREAD,
-                                          SP_PANEL_ENERGY_BARS};
+                                          SP_PANEL_AZIMUTH, SP_PANEL_TOP, SP_PANEL_ENERGY_BARS};
     static const char *const vector_names[] = {"velocity", "acceleration", "gravity", "spring",
                                                "damping", "drive", "net"};
     char section[64];

@@ -296,6 +296,57 @@ static void test_blowup_last_lane(void)
     sp_batch_destroy(&b);
 }
 
+/* A long call is cut every SP_BATCH_CHUNK steps to look at the cancel flag:
+ * over 150 s (two cuts, and an end off the grid) a batch of one still
+ * equals sp_sim, which is never cut, bit for bit, with the tangent and the
+ * forced path riding along (the states do not depend on them). */
+static void test_chunked(enum sp_method method, const char *mname)
+{
+    struct sp_scene sc[4];
+    make_scenes(sc);
+    const double t_end = 150.0005; /* 150000 steps of 1 ms and a part */
+    for (int i = 0; i < 4; i++) {
+        sc[i].integrator.method = method;
+        sc[i].integrator.dt = 1e-3;
+        const struct sp_scene *one = &sc[i];
+        struct sp_batch *b = NULL;
+        struct sp_sim sim;
+        sp_sim_init(&sim, &sc[i]);
+        int ok = sp_batch_make(&b, &one, 1, 1, 1) == 0;
+        ok = ok && t_end / 1e-3 > 2 * SP_BATCH_CHUNK && sp_batch_advance(b, t_end) == 0;
+        sp_sim_advance(&sim, t_end);
+        ok = ok && same_bits(sim.s.x, b->out[SP_BX][0]) && same_bits(sim.s.y, b->out[SP_BY][0]) &&
+             same_bits(sim.s.vx, b->out[SP_BVX][0]) && same_bits(sim.s.vy, b->out[SP_BVY][0]);
+        sp_tap_ok(ok, "%s, %s: one call over %.4f s, cut every %d steps, equals sp_sim bit "
+                  "for bit (x %.17g vs %.17g)", mname, scene_names[i], t_end, SP_BATCH_CHUNK,
+                  sim.s.x, b ? b->out[SP_BX][0] : 0.0);
+        sp_batch_destroy(&b);
+    }
+}
+
+/* Once the caller's flag is set, a long advance stops at its next look:
+ * fixed steps between chunks, dop853 inside its step loop. */
+static void test_cancel(enum sp_method method, const char *mname)
+{
+    struct sp_scene sc;
+    sp_scene_defaults(&sc);
+    sc.integrator.method = method;
+    const struct sp_scene *one = &sc;
+    struct sp_batch *b = NULL;
+    static volatile sig_atomic_t flag;
+    int ok = sp_batch_make(&b, &one, 1, 0, 0) == 0;
+    flag = 0;
+    b->cancel = &flag;
+    ok = ok && sp_batch_advance(b, 1.0) == 0 && b->t == 1.0;
+    flag = 1;
+    /* 1e9 s would take hours: it must return at once */
+    int ret = ok ? sp_batch_advance(b, 1e9) : 0;
+    sp_tap_ok(ok && ret == SP_E_INTERRUPTED && b->t == 1.0,
+              "%s: with the cancel flag set, sp_batch_advance to 1e9 s returns "
+              "SP_E_INTERRUPTED at once (%d, t %g)", mname, ret, b ? b->t : -1.0);
+    sp_batch_destroy(&b);
+}
+
 int main(void)
 {
     test_bitwise(SP_METHOD_RK4, "rk4");
@@ -311,5 +362,10 @@ int main(void)
     test_full_blocks(SP_METHOD_YOSHIDA4, "yoshida4");
     test_full_blocks(SP_METHOD_DOP853, "dop853");
     test_blowup_last_lane();
+    test_chunked(SP_METHOD_RK4, "rk4");
+    test_chunked(SP_METHOD_VERLET, "verlet");
+    test_chunked(SP_METHOD_YOSHIDA4, "yoshida4");
+    test_cancel(SP_METHOD_RK4, "rk4");
+    test_cancel(SP_METHOD_DOP853, "dop853");
     return sp_tap_done();
 }

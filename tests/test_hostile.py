@@ -453,4 +453,13 @@ r2 = run("still", default, "--set", "vi\x1bew", "-o", path("esc.png"))
 ok(r.returncode == 2 and r2.returncode == 2 and b"\x1b" not in r.stderr + r2.stderr
    and b"\x07" not in r.stderr and b"\\x1b" in r.stderr and not os.path.exists(path("esc.png")),
    f"--set with ESC/BEL: refused, shown escaped: {(r.stderr + r2.stderr)[:160]!r}")
+# a newline in a --set key or value starts no line of its own: each message is
+# one line, the newline shown as \n (a value could forge "wrote out.png")
+for arg in ("view.caption=a\nwrote out.png", "view.fps\nwrote=3", "video.fps=3\nwrote out.png",
+            "nodot\nwrote out.png"):
+    r = run("still", default, "--set", arg, "-o", path("nl.png"))
+    lines = r.stderr.splitlines()
+    ok(r.returncode == 2 and len(lines) == 1 and b"\\n" in r.stderr and
+       not any(l.startswith(b"wrote") for l in lines) and not os.path.exists(path("nl.png")),
+       f"--set {arg!r}: refused in one line, the newline shown as \\n: {r.stderr!r}")
 done()

@@ -1,7 +1,7 @@
 /* springpend tests: the camera pre-passes take their caller's hooks like the
  * sim does. sp_view_extent_measure stops on the cancel flag it is handed and
  * reports progress through the callback it is handed; sp_ensemble_make's
- * pre-pass stops on its caller's flag. Neither reads the process-wide
+ * pre-pass stops on its caller's flag and reports its progress too. Neither reads the process-wide
  * signal flag (no signal is raised here). */
 #include <math.h>
 #include <signal.h>
@@ -54,12 +54,17 @@ int main(void)
     strcpy(sc.ensemble.key, "initial.angle");
     sc.ensemble.spread = 0.1;
     flag = 1;
-    ret = sp_ensemble_make(&ens, &sc, 2.0, &flag, &e);
+    ret = sp_ensemble_make(&ens, &sc, 2.0, &flag, NULL, NULL, &e);
     sp_tap_ok(ret == SP_E_INTERRUPTED && !ens,
               "a set cancel flag stops sp_ensemble_make's pre-pass, nothing made (ret %d)", ret);
     flag = 0;
-    ret = sp_ensemble_make(&ens, &sc, 2.0, &flag, &e);
+    memset(&seen, 0, sizeof(seen));
+    ret = sp_ensemble_make(&ens, &sc, 2.0, &flag, on_progress, &seen, &e);
     sp_tap_ok(ret == 0 && ens, "cleared, the ensemble is made (ret %d)", ret);
+    sp_tap_ok(seen.calls >= 100 && !seen.backwards && seen.ctx == &seen &&
+              fabs(seen.last_t - 2.0) < 1e-9,
+              "its members' pre-pass reports progress through the callback with its context "
+              "(%d calls, last %.17g s)", seen.calls, seen.last_t);
     sp_ensemble_destroy(&ens);
     return sp_tap_done();
 }

@@ -108,6 +108,34 @@ ok(r.returncode == 0 and got.startswith("t,x,y") and got.count("\n") == 12 and
    f"data into a FIFO reaches its reader (11 rows), the FIFO stays (exit {r.returncode}, "
    f"{got.count(chr(10))} lines)")
 
+# A still into a FIFO: with a reader, the reader gets the PNG; without one it
+# says it waits for a reader (it used to wait without a word), and Ctrl-C
+# stops it (130), the FIFO left a FIFO.
+pngfifo = path("dev", "still.png")
+os.mkfifo(pngfifo)
+reader = subprocess.Popen(["cat", pngfifo], stdout=subprocess.PIPE)
+r = run("still", default, "--size", "64x48", "-o", pngfifo, "-q")
+try:
+    got = reader.communicate(timeout=10)[0]
+except subprocess.TimeoutExpired:
+    reader.kill()
+    got = b""
+ok(r.returncode == 0 and got.startswith(b"\x89PNG\r\n\x1a\n") and stat.S_ISFIFO(os.stat(pngfifo).st_mode),
+   f"still into a FIFO reaches its reader as a PNG ({len(got)} bytes, exit {r.returncode})")
+p = subprocess.Popen([exe, "still", default, "--size", "64x48", "-o", pngfifo, "-q"], cwd=work,
+                     stderr=subprocess.PIPE)
+said = p.stderr.readline().decode() if select.select([p.stderr], [], [], 20)[0] else ""
+p.send_signal(signal.SIGINT)
+try:
+    rest = p.communicate(timeout=20)[1].decode()
+except subprocess.TimeoutExpired:
+    p.kill()
+    rest = p.communicate()[1].decode() + " (still waiting 20 s after SIGINT)"
+ok("is a FIFO with no reader yet: waiting" in said and p.returncode == 130 and
+   stat.S_ISFIFO(os.stat(pngfifo).st_mode) and not parts(path("dev")),
+   f"still into a FIFO without a reader says so, Ctrl-C stops it (exit {p.returncode}): "
+   f"{(said + rest).strip()!r}")
+
 # A link to our own stdout (like /dev/stdout) is written through, not replaced.
 out_link = path("dev", "stdout.csv")
 os.symlink("/proc/self/fd/1", out_link)
@@ -116,14 +144,28 @@ ok(r.returncode == 0 and r.stdout.startswith("t,x,y") and os.path.islink(out_lin
    f"-o a link to /proc/self/fd/1 writes to stdout and leaves the link (exit {r.returncode}, "
    f"{len(r.stdout)} bytes)")
 
-# A link to a regular file: the file is replaced, the link stays a link.
+# A link to a regular file, or to nothing, is refused before any work: an
+# output folder can come from a repository, and `render -o l.mp4` with l.mp4
+# -> /etc/passwd used to replace /etc/passwd. Nothing is written, the file
+# and the link stay as they were.
 real = path("real.csv")
 open(real, "w").write("old\n")
-link = path("link.csv")
-os.symlink("real.csv", link)
-r = run("data", default, "--every", "1", "-o", link, "-q")
-ok(r.returncode == 0 and os.path.islink(link) and open(real).read().startswith("t,x,y"),
-   f"-o a symlink to a file replaces the file and keeps the link (exit {r.returncode})")
+os.makedirs(path("links"))
+for name, to, args in (("link.csv", "../real.csv", ["data", default, "--every", "1"]),
+                       ("clip.mp4", "../real.csv", ["render", default, *SMALL]),
+                       ("still.png", "../real.csv", ["still", default, "--size", "64x48"]),
+                       ("gone.png", "../nothing.png", ["still", default, "--size", "64x48"]),
+                       ("map.png", "../real.csv", ["sweep", default, "--vary", "initial.angle=1:2:2",
+                                                   "--measure", "lyapunov", "--time", "2"])):
+    link = path("links", name)
+    os.symlink(to, link)
+    r = run(*args, "-o", link, "-q")
+    ok(r.returncode == 2 and "is a symbolic link" in err(r) and os.path.islink(link) and
+       os.readlink(link) == to and open(real).read() == "old\n" and
+       not os.path.exists(path("nothing.png")) and sorted(os.listdir(path("links"))) ==
+       sorted(n for n in os.listdir(path("links")) if os.path.islink(path("links", n))),
+       f"{args[0]} -o a symlink to {'nothing' if 'nothing' in to else 'a file'}: refused "
+       f"(exit {r.returncode}), the link and its target untouched: {err(r)!r}")
 
 # ---- concurrent runs, a scene named like a .part ----
 
@@ -258,24 +300,38 @@ for args, what in [
     except subprocess.TimeoutExpired:
         ok(False, f"{what}: still running after 60 s")
 
+def on_terminal(args, marker):
+    """Runs springpend with a terminal as stdout and stderr until it draws
+    marker (at most 60 s), then sends SIGINT: (what it drew, exit status)."""
+    master, slave = pty.openpty()
+    p = subprocess.Popen([exe, *args], stdin=subprocess.DEVNULL, stdout=slave, stderr=slave, cwd=work)
+    os.close(slave)
+    seen, deadline = b"", time.monotonic() + 60
+    while marker not in seen and time.monotonic() < deadline and p.poll() is None:
+        if select.select([master], [], [], 0.5)[0]:
+            try:
+                seen += os.read(master, 4096)
+            except OSError:
+                break
+    p.send_signal(signal.SIGINT)
+    p.wait(timeout=30)
+    os.close(master)
+    return seen, p.returncode
+
+
 # A long integration draws its progress on a terminal.
-master, slave = pty.openpty()
-p = subprocess.Popen([exe, "data", default, "--set", "video.duration=1e6", "--fps", "0.01",
-                      "-o", path("long.csv")], stdin=subprocess.DEVNULL, stdout=slave,
-                     stderr=slave, cwd=work)
-os.close(slave)
-seen, deadline = b"", time.monotonic() + 60
-while b"data: t = " not in seen and time.monotonic() < deadline and p.poll() is None:
-    if select.select([master], [], [], 0.5)[0]:
-        try:
-            seen += os.read(master, 4096)
-        except OSError:
-            break
-p.send_signal(signal.SIGINT)
-p.wait(timeout=30)
-os.close(master)
+seen, _ = on_terminal(["data", default, "--set", "video.duration=1e6", "--fps", "0.01",
+                       "-o", path("long.csv")], b"data: t = ")
 ok(b"data: t = " in seen and b"ETA" in seen and b"steps" in seen,
    f"a long integration says how long and draws progress on a terminal ({seen[-160:]!r})")
+
+# So does an ensemble's pre-pass of its members (it used to run silent).
+seen, code = on_terminal(["still", default, "--set", "ensemble.count=1000", "--set",
+                          "video.duration=1000", "--fps", "1", "--size", "64x48", "-o",
+                          path("ens.png")], b"ensemble pre-pass: t = ")
+ok(b"ensemble pre-pass: t = " in seen and b"ETA" in seen and code == 130 and
+   not os.path.exists(path("ens.png")),
+   f"an ensemble's pre-pass draws its progress on a terminal, Ctrl-C stops it ({seen[-200:]!r})")
 
 # ---- stdout that cannot be written ----
 

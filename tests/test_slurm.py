@@ -2,8 +2,9 @@
 """springpend tests: a sharded sweep through a real Slurm on this machine.
 Starts munged (own key and socket), slurmctld and slurmd (a generated
 slurm.conf, free ports, everything in a temporary folder), runs
-`sbatch --array=1-4 --wait` with one `sweep --shard I/4` per task, merges
-the parts and compares them with an unsharded run, byte for byte. Every
+`sbatch --array=1-4 --wait` with one `sweep --shard I/4` per task (for
+lyapunov, spectrum and basins), merges the parts and compares them with an
+unsharded run, byte for byte. Every
 daemon it started is stopped at the end, also on failure or a signal.
 Skips (77) only when slurm-wlm or munge is not installed, or when not root
 (slurmd must be).
@@ -66,8 +67,18 @@ def sbin(name):
     return shutil.which(name, path=os.environ.get("PATH", "") + ":/usr/sbin:/sbin")
 
 
-sweep = ["sweep", scene, "--vary", "initial.angle=20:160:6", "--vary", "initial.length=0.9:1.5:4",
-         "--measure", "lyapunov", "--time", "3", "--set", "integrator.dt=0.002", "-q"]
+# every measure that shards: the largest exponent, the spectrum (four copies
+# a point) and basins (a damped, driven scene)
+parametric = os.path.abspath(os.path.join(src, "..", "scenes", "parametric.ini"))
+sweeps = {
+    "lyapunov": ["sweep", scene, "--vary", "initial.angle=20:160:6", "--vary", "initial.length=0.9:1.5:4",
+                 "--measure", "lyapunov", "--time", "3", "--set", "integrator.dt=0.002", "-q"],
+    "spectrum": ["sweep", scene, "--vary", "initial.angle=40:90:5", "--vary", "initial.length=1:1.3:2",
+                 "--measure", "spectrum", "--time", "6", "--set", "integrator.dt=0.002", "-q"],
+    "basins": ["sweep", parametric, "--vary", "initial.angle=-90:90:7", "--vary",
+               "initial.angle_rate=-4:4:5", "--set", "pivot.amplitude=0.01", "--measure", "basins",
+               "--transient", "10", "--time", "60", "--set", "integrator.dt=0.002", "-q"],
+}
 
 shutil.rmtree(out, ignore_errors=True)
 os.makedirs(out)
@@ -130,30 +141,32 @@ PartitionName=debug Nodes={host} Default=YES MaxTime=INFINITE State=UP
                 with open(p) as f:
                     print("# " + log + ": " + " | ".join(f.read().splitlines()[-5:]))
     else:
-        job = os.path.join(out, "job.sh")
-        with open(job, "w") as f:
-            f.write("#!/bin/sh\n# one shard of the sweep per array task\n"
-                    f"exec {exe} {' '.join(sweep)} --threads 1 "
-                    f"--shard ${{SLURM_ARRAY_TASK_ID}}/4 --csv {out}/part${{SLURM_ARRAY_TASK_ID}}.csv\n")
-        os.chmod(job, 0o755)
-        r = subprocess.run([sbin("sbatch"), "--array=1-4", "--wait", "--chdir", out, "-o",
-                            f"{out}/task_%a.log", job], env=env, capture_output=True, text=True,
-                           timeout=180)
-        parts = [os.path.join(out, f"part{i}.csv") for i in range(1, 5)]
-        ok(r.returncode == 0 and all(os.path.exists(p) for p in parts),
-           f"sbatch --array=1-4 --wait ran four shards (exit {r.returncode}) {r.stdout.strip()} {r.stderr.strip()}")
-        m = subprocess.run([exe, "sweep", "--merge", *parts, "-o", f"{out}/merged.png",
-                            "--csv", f"{out}/merged.csv", "-q"], capture_output=True, text=True)
-        w = subprocess.run([exe, *sweep, "-o", f"{out}/whole.png", "--csv", f"{out}/whole.csv"],
-                           capture_output=True, text=True)
-
         def read(p):
             with open(p, "rb") as f:
                 return f.read()
-        ok(m.returncode == 0 and w.returncode == 0 and
-           read(f"{out}/merged.csv") == read(f"{out}/whole.csv") and
-           read(f"{out}/merged.png") == read(f"{out}/whole.png"),
-           f"the merged job array equals the unsharded run, CSV and PNG byte for byte {m.stderr.strip()}")
+        for name, sweep in sweeps.items():
+            job = os.path.join(out, f"{name}.sh")
+            with open(job, "w") as f:
+                f.write("#!/bin/sh\n# one shard of the sweep per array task\n"
+                        f"exec {exe} {' '.join(sweep)} --threads 1 "
+                        f"--shard ${{SLURM_ARRAY_TASK_ID}}/4 --csv {out}/{name}${{SLURM_ARRAY_TASK_ID}}.csv\n")
+            os.chmod(job, 0o755)
+            r = subprocess.run([sbin("sbatch"), "--array=1-4", "--wait", "--chdir", out, "-o",
+                                f"{out}/{name}_%a.log", job], env=env, capture_output=True, text=True,
+                               timeout=180)
+            parts = [os.path.join(out, f"{name}{i}.csv") for i in range(1, 5)]
+            ok(r.returncode == 0 and all(os.path.exists(p) for p in parts),
+               f"{name}: sbatch --array=1-4 --wait ran four shards (exit {r.returncode}) "
+               f"{r.stdout.strip()} {r.stderr.strip()}")
+            m = subprocess.run([exe, "sweep", "--merge", *parts, "-o", f"{out}/{name}_merged.png",
+                                "--csv", f"{out}/{name}_merged.csv", "-q"], capture_output=True, text=True)
+            w = subprocess.run([exe, *sweep, "-o", f"{out}/{name}_whole.png", "--csv",
+                                f"{out}/{name}_whole.csv"], capture_output=True, text=True)
+            ok(m.returncode == 0 and w.returncode == 0 and
+               read(f"{out}/{name}_merged.csv") == read(f"{out}/{name}_whole.csv") and
+               read(f"{out}/{name}_merged.png") == read(f"{out}/{name}_whole.png"),
+               f"{name}: the merged job array equals the unsharded run, CSV and PNG byte for byte "
+               f"{m.stderr.strip()}")
 finally:
     stop_daemons()
     shutil.rmtree(tmp, ignore_errors=True)

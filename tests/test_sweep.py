@@ -44,9 +44,9 @@ def read(name):
 
 
 def rows(name):
+    """The rows of a CSV sweep wrote: no comment lines, the header first."""
     with open(os.path.join(work, name)) as f:
-        lines = [l for l in f if not l.startswith("#")]
-    return list(csv.DictReader(lines))
+        return list(csv.DictReader(f))
 
 
 # ---- shards and threads: the same bytes -----------------------------------
@@ -198,7 +198,7 @@ if np is not None:
 
 # ---- blow-ups, bad input, interruption -------------------------------------
 rr = run(os.path.join(scenes, "default.ini"), "--vary", "pendulum.stiffness=2:5e6:2",
-         "--measure", "lyapunov", "--time", "1", "-o", "blow.png", "--csv", "blow.csv", "-q")
+         "--measure", "lyapunov", "--time", "2", "-o", "blow.png", "--csv", "blow.csv", "-q")
 got = rows("blow.csv")
 ok(rr.returncode == 0 and "1 of 2 points blew up" in rr.stderr and got[1]["lyapunov"] == "nan" and
    got[0]["lyapunov"] != "nan" and os.path.exists(os.path.join(work, "blow.png")),
@@ -217,6 +217,24 @@ for args, want in bad:
     ok(rr.returncode == 2 and want in rr.stderr and not any(f.startswith("bad.") for f in os.listdir(work)),
        f"bad input {' '.join(args)}: exit 2, nothing written: {rr.stderr.strip()}")
 
+# --time is measured as given, or refused: fixed steps renormalise on the grid
+# every tau = 1 s, so T is a whole number of seconds, at least 2 (0.001 used to
+# measure 2 s, 2.6 measured 3 s, silently); dop853 splits T into equal
+# intervals of at most a second (2.5 s used to be 3); 1e-300 gave NaN rows.
+damped, driven = os.path.join(scenes, "damped.ini"), os.path.join(scenes, "driven.ini")
+for scene, t, want in ((damped, "0.001", "at least 2; use --time 2"), (damped, "2.6", "use --time 2 or 3"),
+                       (driven, "1e-300", "too short to measure")):
+    for measure in ("lyapunov", "spectrum"):
+        rr = run(scene, "--vary", "initial.angle=0:10:3", "--measure", measure, "--time", t,
+                 "-o", "short.png", "--csv", "short.csv")
+        ok(rr.returncode == 2 and f"--time {t}:" in rr.stderr and want in rr.stderr and
+           not any(f.startswith("short.") for f in os.listdir(work)),
+           f"{measure} --time {t} on {os.path.basename(scene)}: refused, exit 2: {rr.stderr.strip()}")
+rr = run(driven, "--vary", "initial.angle=0:10:2", "--measure", "spectrum", "--time", "2.5", "-q",
+         "-o", "t25.png", "--csv", "t25.csv")
+ts = [float(r["T"]) for r in rows("t25.csv")] if rr.returncode == 0 else []
+ok(ts and max(ts) == 2.5, f"spectrum --time 2.5 with dop853 measures T = 2.5 s (checkpoints {sorted(set(ts))})")
+
 p = subprocess.Popen([exe, "sweep", chaotic, "--vary", "initial.angle=1:179:2000", "--measure",
                       "lyapunov", "--time", "200", "-o", "int.png", "--csv", "int.csv"],
                      cwd=work, stderr=subprocess.PIPE, text=True)
@@ -229,6 +247,29 @@ except subprocess.TimeoutExpired:
     err = p.communicate()[1]
 left = [f for f in os.listdir(work) if f.startswith("int.")]
 ok(p.returncode == 130 and not left, f"Ctrl-C stops a sweep: exit {p.returncode}, nothing left {left}: {err.strip()}")
+
+# A long --transient is one integration call per chunk of points: a signal
+# during it still stops the sweep at once (fixed steps look every 65536 steps,
+# dop853 every step), leaving nothing. Without the look it ran for minutes.
+for scene, sig in (("damped.ini", signal.SIGINT), ("driven.ini", signal.SIGTERM)):
+    for measure in ("lyapunov", "spectrum"):
+        p = subprocess.Popen([exe, "sweep", os.path.join(scenes, scene), "--vary",
+                              "initial.angle=1:10:3", "--measure", measure, "--time", "2",
+                              "--transient", "1e6", "-q", "-o", "tr.png", "--csv", "tr.csv"],
+                             cwd=work, stderr=subprocess.PIPE, text=True)
+        time.sleep(1.5)
+        t0 = time.monotonic()
+        p.send_signal(sig)
+        try:
+            err = p.communicate(timeout=20)[1]
+        except subprocess.TimeoutExpired:
+            p.kill()
+            err = p.communicate()[1] + " (still running 20 s after the signal: killed)"
+        took = time.monotonic() - t0
+        left = [f for f in os.listdir(work) if f.startswith("tr.")]
+        ok(p.returncode == 128 + sig and took < 10 and not left,
+           f"{measure} on {scene} (--transient 1e6): {sig.name} during the transient stops it in "
+           f"{took:.2f} s, exit {p.returncode}, nothing left {left}: {err.strip()}")
 
 # ---- the progress bar, on a terminal only ------------------------------------
 import pty
@@ -284,17 +325,19 @@ for ext in ("svg", "pdf"):
 # ---- --merge refuses what is not a whole shard, for every measure ----------
 # An orbit or Poincare shard cut at a line boundary, a Lyapunov row copied
 # over another, nan, inf and hex floats: all were merged and drawn, exit 0.
-# Each damage is tried as it is (the end line's SHA-256 no longer matches)
-# and with the end line made to match again (the row checks alone).
+# Each damage is tried as it is (the metadata's SHA-256 no longer matches)
+# and with the metadata's row count and SHA-256 made to match again (the row
+# checks alone).
 import hashlib  # noqa: E402
+import json  # noqa: E402
 
 
-def reseal(text):
-    """The shard with its end line written for what it now holds."""
-    lines = text.splitlines(True)
-    body = "".join(l for l in lines if not l.startswith("# end "))
-    n = len(body.splitlines()) - 3
-    return body + f"# end rows={n} sha256={hashlib.sha256(body.encode()).hexdigest()}\n"
+def reseal(text, meta):
+    """The shard's metadata written for what the CSV now holds."""
+    m = dict(meta)
+    m["dc:extent"] = len(text.splitlines()) - 1
+    m["schema:sha256"] = hashlib.sha256(text.encode()).hexdigest()
+    return m
 
 
 poinc = ["--vary", "initial.length=0.7:1.5:6", "--set", "initial.angle=0", "--measure", "poincare",
@@ -306,19 +349,24 @@ shards = {"lyapunov": ["part2_1.csv", "part2_2.csv"],
           "poincare": ["poinc_1.csv", "poinc_2.csv"]}
 whole4 = [f"orbit_{i}.csv" for i in (1, 2, 3, 4)]
 rr = run("--merge", *whole4, "-o", "orbit_again.png", "--csv", "orbit_again.csv")
+meta1 = json.loads(read("orbit_1.csv-metadata.json"))
 ok(rr.returncode == 0 and read("orbit_again.csv") == read("orbit.csv") and
-   read("orbit_1.csv").decode().splitlines()[-1].startswith("# end rows="),
-   "a shard ends with its row count and SHA-256; the merge leaves that line out (same bytes as one run)")
+   meta1["schema:position"] == "1/4" and
+   meta1["schema:sha256"] == hashlib.sha256(read("orbit_1.csv")).hexdigest() and
+   meta1["dc:extent"] == len(read("orbit_1.csv").splitlines()) - 1 and
+   not any(l.startswith(b"#") for l in read("orbit_1.csv").splitlines()),
+   "a shard's metadata holds its position, row count and SHA-256, the CSV no comment line; "
+   "the merge gives the same bytes as one run")
 
 
 def damages(text, measure):
     lines = text.splitlines(True)
-    body = [i for i, l in enumerate(lines) if not l.startswith("#") and i > 2]
+    body = list(range(1, len(lines)))
     first, last = body[0], body[-1]
     cells = lines[first].rstrip("\n").split(",")
     out = {"cut at a line boundary": "".join(lines[:last]),
-           "cut, end line kept": "".join(lines[:last] + lines[-1:]),
-           "a row's number changed": text.replace(lines[first], ",".join(cells[:-1] + [cells[-1] + "1"]) + "\n", 1)}
+           "a row's number changed": text.replace(lines[first], ",".join(cells[:-1] + [cells[-1] + "1"]) + "\n", 1),
+           "a comment line": "# springpend\n" + text}
     for bad in ("nan", "inf", "-inf", "0x1p-2", " 1", "1e999"):
         out[f"value {bad!r}"] = text.replace(lines[first], ",".join(cells[:-1] + [bad]) + "\n", 1)
     out["key value edited"] = text.replace(lines[first], ",".join([cells[0], cells[1] + "5"] + cells[2:]) + "\n", 1)
@@ -336,6 +384,7 @@ def damages(text, measure):
 
 for measure, (a, *rest) in shards.items():
     base = read(a).decode()
+    meta = json.loads(read(a + "-metadata.json"))
     for what, text in damages(base, measure).items():
         for sealed in (False, True):
             # a resealed shard of fewer rows or another number is whole to
@@ -346,15 +395,47 @@ for measure, (a, *rest) in shards.items():
                 continue
             name = f"bad_{measure}.csv"
             with open(os.path.join(work, name), "w") as f:
-                f.write(reseal(text) if sealed else text)
+                f.write(text)
+            with open(os.path.join(work, name + "-metadata.json"), "w") as f:
+                json.dump(reseal(text, meta) if sealed else meta, f)
             if os.path.exists(os.path.join(work, "bad_merge.png")):
                 os.remove(os.path.join(work, "bad_merge.png"))
             rr = run("--merge", name, *rest, "-o", "bad_merge.png", "-q")
             ok(rr.returncode == 2 and name + ":" in rr.stderr and
                not os.path.exists(os.path.join(work, "bad_merge.png")) and
                not [f for f in os.listdir(work) if f.endswith(".part")],
-               f"--merge refuses a {measure} shard with {what}{' (end line resealed)' if sealed else ''}: "
+               f"--merge refuses a {measure} shard with {what}{' (metadata resealed)' if sealed else ''}: "
                f"exit {rr.returncode} {rr.stderr.strip()[:160]}")
+
+# ---- --merge refuses shards of different sweeps, naming the difference ------
+# The sweep CSV's header lacked the --set overrides and the physics, so halves
+# computed with different stiffness were merged without a word.
+lyap = ["--vary", "initial.angle=10:40:6", "--measure", "lyapunov", "--time", "2", "-q"]
+run(chaotic, *lyap, "--shard", "1/2", "--csv", "mm_1.csv")
+run(chaotic, *lyap, "--shard", "2/2", "--csv", "mm_2.csv")
+run(chaotic, *lyap, "--shard", "1/2", "--csv", "mm_set.csv", "--set", "pendulum.stiffness=40")
+with open(chaotic) as f:
+    stiffer = f.read().replace("stiffness      = 39.24", "stiffness      = 40")
+assert stiffer != open(chaotic).read()
+with open(os.path.join(work, "chaotic.ini"), "w") as f:
+    f.write(stiffer)
+run(os.path.join(work, "chaotic.ini"), *lyap, "--shard", "1/2", "--csv", "mm_file.csv")
+run(chaotic, *lyap, "--shard", "1/2", "--csv", "mm_ver.csv")
+m = json.loads(read("mm_ver.csv-metadata.json"))
+m["schema:softwareVersion"] = "0.0.1"
+with open(os.path.join(work, "mm_ver.csv-metadata.json"), "w") as f:
+    json.dump(m, f)
+run(chaotic, *lyap[:1], "initial.angle=10:40:7", *lyap[2:], "--shard", "1/2", "--csv", "mm_grid.csv")
+rr = run("--merge", "mm_1.csv", "mm_2.csv", "-o", "mm.png")
+ok(rr.returncode == 0, f"the two halves of one sweep merge: {rr.stderr.strip()}")
+for part, want in (("mm_set.csv", "the --set overrides differ (mm_set.csv: --set pendulum.stiffness=40; mm_2.csv: no --set)"),
+                   ("mm_file.csv", "the scene differs (mm_file.csv: [pendulum] stiffness = 40; mm_2.csv: [pendulum] stiffness = 39.24)"),
+                   ("mm_ver.csv", "springpend's version differs (mm_ver.csv: 0.0.1; mm_2.csv: 0.1.0)"),
+                   ("mm_grid.csv", "the sweep (grid, measure or span) differs (mm_grid.csv: vary=initial.angle=10:40:7; mm_2.csv: vary=initial.angle=10:40:6)")):
+    rr = run("--merge", part, "mm_2.csv", "-o", "mm_bad.png", "--csv", "mm_bad.csv")
+    ok(rr.returncode == 2 and want in rr.stderr and
+       not [f for f in os.listdir(work) if f.startswith("mm_bad")],
+       f"--merge refuses {part}: {want}: exit {rr.returncode} {rr.stderr.strip()[:300]}")
 rr = run("--merge", *whole4[:3], "orbit_4.csv", "-o", "orbit_ok.png", "-q")
 ok(rr.returncode == 0, "the same shards, undamaged, merge")
 
@@ -391,7 +472,7 @@ ok(p.returncode == 128 + signal.SIGTERM and not [f for f in os.listdir(work) if 
 # 40000 x 2 points crashed (SIGSEGV: cairo refused the image, the plotter wrote
 # through NULL) and left .part files. The map's image is downsampled to 2048.
 rr = run(chaotic, "--vary", "initial.angle=10:170:40000", "--vary", "initial.length=1:1.2:2",
-         "--measure", "lyapunov", "--time", "1", "--set", "integrator.dt=0.01", "-o", "wide.png", "-q")
+         "--measure", "lyapunov", "--time", "2", "--set", "integrator.dt=0.01", "-o", "wide.png", "-q")
 head = b""
 if os.path.exists(os.path.join(work, "wide.png")):
     with open(os.path.join(work, "wide.png"), "rb") as f:

@@ -73,6 +73,13 @@ refused("a sweep of 1e5 points over 1e6 s is refused with the numbers",
         ["sweep", chaotic, "--vary", "initial.angle=1:179:100000", "--measure", "lyapunov",
          "--time", "1e6", "-o", "big.png"], ["100000 points", "2e+14 steps", "at most 1e+12",
                                               "--shard"])
+# A spectrum point steps four copies of its trajectory, each with a tangent:
+# 1e4 points over 3e4 s at 0.5 ms are 6e11 trajectory-steps for lyapunov
+# (allowed) and 2.4e12 for spectrum, counted as 6e11 before.
+refused("a spectrum sweep counts its four copies",
+        ["sweep", chaotic, "--vary", "initial.angle=1:179:100", "--vary", "initial.length=1:1.4:100",
+         "--measure", "spectrum", "--time", "3e4", "-o", "big.png"],
+        ["10000 points", "four copies with tangents", "2.4e+12 steps", "at most 1e+12"])
 refused("an orbit sweep with dop853 is estimated too",
         ["sweep", chaotic, "--vary", "initial.angle=1:179:20000", "--measure", "orbit",
          "--time", "1e6", "--set", "integrator.method=dop853", "-o", "big.png"], ["20000 points"])

@@ -23,6 +23,8 @@
 #ifndef SPRINGPEND_BATCH_H
 #define SPRINGPEND_BATCH_H
 
+#include <signal.h>
+
 #include "springpend/scene.h"
 
 /* Trajectories stepped together: four AVX2 vectors of 4 doubles (measured
@@ -64,6 +66,8 @@ struct sp_batch {
     double *atol_q, *atol_v;  /* adaptive: absolute tolerances, m and m/s */
     double *h;                /* adaptive: next step per trajectory, s */
     double *mem;
+    const volatile sig_atomic_t *cancel; /* the caller's (a signal): once set,
+                                          * sp_batch_advance stops; NULL = never */
 };
 
 /* Makes a batch of n trajectories, one per scene (scenes[i] for
@@ -82,8 +86,16 @@ void sp_batch_destroy(struct sp_batch **b);
  * states at exactly t_target. A trajectory whose state stops being finite,
  * or whose energy less the work of damping and drive drifts by more than 1%
  * of its scale (sim.c's test), is marked dead and its out[] set to NaN; the
- * others go on. Never fails. */
-void sp_batch_advance(struct sp_batch *b, double t_target);
+ * others go on. Returns 0, or SP_E_INTERRUPTED once *b->cancel is set
+ * (checked every SP_BATCH_CHUNK fixed steps, every adaptive step): the
+ * batch is then part-way and good only for sp_batch_destroy. A fixed-step
+ * run is cut only at multiples of SP_BATCH_CHUNK steps on the grid, so one
+ * long call gives the same bits as no cut at all. */
+int sp_batch_advance(struct sp_batch *b, double t_target);
+
+/* Fixed steps between two looks at the cancel flag: a multiple of the
+ * energy check's interval (batch.c), so a cut adds no check. */
+#define SP_BATCH_CHUNK 65536
 
 /* Lyapunov bookkeeping: for each trajectory i, growth[i] = ln |delta| of its
  * tangent vector, which is then scaled back to length 1 (in the stepping

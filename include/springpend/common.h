@@ -18,8 +18,9 @@ enum sp_error {
     SP_E_MISMATCH = -8,    /* compare: images differ beyond tolerance: exit status 1 */
 };
 
-/* Prints "springpend: <message>\n" to stderr, through sp_fputs_printable:
- * messages name files, and a file name must not drive the terminal. */
+/* Prints "springpend: <message>\n" to stderr, through sp_fputs_line:
+ * messages name files and quote values, and neither may drive the terminal
+ * or start a line of its own. */
 void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 #include <stdio.h>
@@ -28,6 +29,10 @@ void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
  * instead: C0 controls but newline and tab, DEL and bytes that are not
  * UTF-8 as \xHH, C1 controls (U+0080..U+009F) as \uHHHH. */
 void sp_fputs_printable(const char *s, FILE *fp);
+
+/* As sp_fputs_printable, and a newline shown as \n: text from outside (a
+ * --set value, a file name) inside a one-line message. */
+void sp_fputs_line(const char *s, FILE *fp);
 
 /* Progress of a long integration, drawn on stderr when it is a terminal:
  * a command calls sp_progress_begin before integrating to t_goal

@@ -45,9 +45,13 @@ struct sp_ensemble {
  * scene's Lyapunov exponent; then sets the members back to t = 0. A member
  * that blows up fails the whole run: SP_E_UNSTABLE (exit 3), naming it and
  * its key value; also SP_E_NOMEM. Logged. Once the caller's *cancel is set
- * (NULL = never), the pre-pass stops with SP_E_INTERRUPTED. */
+ * (NULL = never), the pre-pass stops with SP_E_INTERRUPTED; progress (NULL
+ * = none) hears the members' simulated time, s, with progress_ctx, as
+ * sp_view_extent_measure's does. */
 int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, double t_end,
-                     const volatile sig_atomic_t *cancel, struct sp_view_extent *extent);
+                     const volatile sig_atomic_t *cancel,
+                     void (*progress)(void *ctx, double t), void *progress_ctx,
+                     struct sp_view_extent *extent);
 
 /* Advances every member to t (>= the current time), pushing a trail point
  * and a spread sample. 0, SP_E_UNSTABLE or SP_E_NOMEM (logged). */

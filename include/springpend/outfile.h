@@ -13,11 +13,13 @@
  *   target only when complete: concurrent runs never share a .part, the last
  *   one to finish wins with a whole file, and nothing that already exists is
  *   opened, truncated or removed (not even a file named like a .part).
- * - A symlink to a regular file is followed: the file it points to is
- *   replaced, the link stays. With SP_OUTFILE_REPLACE_LINK the link itself
- *   is replaced by the file, whatever it points at (compare --update:
- *   baselines come from a repository, and a link there must not make a
- *   write to anywhere).
+ * - A symlink to a regular file (or to nothing) is refused (SP_E_INPUT):
+ *   an output folder can come from a repository, and a link there must
+ *   not make a write to anywhere (it once replaced /etc/passwd), nor may
+ *   the user's link vanish unasked. With SP_OUTFILE_REPLACE_LINK the link
+ *   itself is replaced by the file, whatever it points at (compare
+ *   --update: a linked baseline becomes a file). A link to a device, FIFO
+ *   or /proc/self/fd/N is a stream, as below.
  * - A device, FIFO or socket, and /dev/stdout, /dev/stderr, /dev/fd/N, are
  *   never replaced or removed. With SP_OUTFILE_STREAM (a format written
  *   front to back) they are written through directly (no .part; a FIFO
@@ -31,8 +33,7 @@
 #include <stddef.h>
 
 struct sp_outfile {
-    char *target;  /* owned: the file that appears in the end (a symlink
-                      to a regular file resolved); NULL = closed */
+    char *target;  /* owned: the file that appears in the end; NULL = closed */
     char *url;     /* owned: "file:" + path, for libav's avio_open */
     const char *path; /* url + 5: where the bytes go now: the .part, or the
                          target itself when written through */
@@ -60,6 +61,11 @@ int sp_outfile_commit(struct sp_outfile *f);
 /* Closes f->fd and removes the .part; a target written through is left
  * alone. Safe on a closed or zeroed f. */
 void sp_outfile_discard(struct sp_outfile *f);
+
+/* 0, or SP_E_INPUT (logged) when target is a symlink to a regular file or
+ * to nothing, which sp_outfile_open refuses without SP_OUTFILE_REPLACE_LINK:
+ * for commands that check their outputs before the work. */
+int sp_outfile_refuse_link(const char *target);
 
 /* Whether writing to target would write through it (a device, FIFO,
  * socket or stdout): such a target must never be removed. */

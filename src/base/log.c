@@ -9,19 +9,32 @@
 #include "springpend/common.h"
 #include "utf8.h"
 
-void sp_fputs_printable(const char *s, FILE *fp)
+/* newline: 1 to write it, 0 to show it as \n */
+static void fputs_shown(const char *s, FILE *fp, int newline)
 {
     for (size_t n; *s; s += n ? n : 1) {
         unsigned char c = (unsigned char)*s, c1 = (unsigned char)s[1];
         n = sp_utf8_char(s);
-        if ((n == 1 && (c >= 0x20 || c == '\n' || c == '\t') && c != 0x7f) ||
-            (n > 1 && !(n == 2 && c == 0xC2 && c1 < 0xA0))) /* not C1 */
+        if (c == '\n' && !newline)
+            fputs("\\n", fp);
+        else if ((n == 1 && (c >= 0x20 || c == '\n' || c == '\t') && c != 0x7f) ||
+                 (n > 1 && !(n == 2 && c == 0xC2 && c1 < 0xA0))) /* not C1 */
             fwrite(s, 1, n, fp);
         else if (n == 2)
             fprintf(fp, "\\u%04x", c1);
         else
             fprintf(fp, "\\x%02x", c);
     }
+}
+
+void sp_fputs_printable(const char *s, FILE *fp)
+{
+    fputs_shown(s, fp, 1);
+}
+
+void sp_fputs_line(const char *s, FILE *fp)
+{
+    fputs_shown(s, fp, 0);
 }
 
 void sp_log_error(const char *fmt, ...)
@@ -33,7 +46,7 @@ void sp_log_error(const char *fmt, ...)
     va_end(ap);
     fputs("springpend: ", stderr);
     if (n >= 0)
-        sp_fputs_printable(msg, stderr);
+        sp_fputs_line(msg, stderr); /* one message, one line */
     else
         fputs(fmt, stderr); /* out of memory: the bare format still says where */
     fputc('\n', stderr);

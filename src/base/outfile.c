@@ -126,12 +126,24 @@ static int open_through(struct sp_outfile *f, int fd)
         }
         return 0;
     }
-    do
+    /* A FIFO without a reader would wait unseen: say so, then wait (a
+     * signal stops the wait) */
+    f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+    if (f->fd >= 0 && fcntl(f->fd, F_SETFL, fcntl(f->fd, F_GETFL) & ~O_NONBLOCK) != 0) {
+        close(f->fd);
+        f->fd = -1;
+    } else if (f->fd < 0 && errno == ENXIO) {
+        fputs("springpend: ", stderr);
+        sp_fputs_line(f->target, stderr);
+        fputs(" is a FIFO with no reader yet: waiting for one (Ctrl-C stops)\n", stderr);
+    }
+    while (f->fd < 0 && (errno == ENXIO || errno == EINTR) && !sp_signal_seen())
         f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY);
-    while (f->fd < 0 && errno == EINTR && !sp_signal_seen());
+    if (f->fd < 0 && errno == EINTR)
+        return SP_E_INTERRUPTED; /* the caller says what stopped it */
     if (f->fd < 0) {
         sp_log_error("%s: cannot open for writing: %s", f->target, strerror(errno));
-        return errno == EINTR ? SP_E_INTERRUPTED : SP_E_IO;
+        return SP_E_IO;
     }
     return 0;
 }
@@ -173,6 +185,23 @@ static int open_part(struct sp_outfile *f)
     return 0;
 }
 
+int sp_outfile_refuse_link(const char *target)
+{
+    struct stat lst, st;
+    if (stdio_alias(target) >= 0 || lstat(target, &lst) != 0 || !S_ISLNK(lst.st_mode))
+        return 0;
+    int exists = stat(target, &st) == 0;
+    if (exists && !S_ISREG(st.st_mode))
+        return 0; /* a stream (or a folder: refused as one) */
+    char to[PATH_MAX];
+    ssize_t n = readlink(target, to, sizeof(to) - 1);
+    to[n > 0 ? n : 0] = 0;
+    sp_log_error("%s is a symbolic link (to %s%s); an output is never written through a link "
+                 "to a file: remove the link, or give the path of the file itself",
+                 target, to, exists ? "" : ", which does not exist");
+    return SP_E_INPUT;
+}
+
 int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags)
 {
     struct stat st, lst;
@@ -198,11 +227,9 @@ int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags)
         }
         f->through = 1;
     }
-    /* A link to a regular file: replace the file, keep the link. */
-    if (exists && !f->through && lstat(target, &lst) == 0 && S_ISLNK(lst.st_mode))
-        f->target = realpath(target, NULL);
-    else
-        f->target = strdup(target);
+    if (!link && !f->through && (err = sp_outfile_refuse_link(target)) != 0)
+        return err;
+    f->target = strdup(target);
     if (!f->target) {
         sp_log_error("%s: %s", target, strerror(errno));
         outfile_free(f);

@@ -395,6 +395,8 @@ int sp_cli_check_writable(const char *path, const char *what)
     struct stat st;
     if (sp_outfile_is_stream(path))
         return 0; /* written through: stdout, a device or a FIFO */
+    if (sp_outfile_refuse_link(path))
+        return SP_E_INPUT;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
         sp_log_error("%s %s is a folder; give a file name", what, path);
         return SP_E_INPUT;

@@ -140,7 +140,9 @@ static int lyapunov(const struct sp_scene *scene, double t_end, double *lambda)
 }
 
 int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, double t_end,
-                     const volatile sig_atomic_t *cancel, struct sp_view_extent *extent)
+                     const volatile sig_atomic_t *cancel,
+                     void (*progress)(void *ctx, double t), void *progress_ctx,
+                     struct sp_view_extent *extent)
 {
     struct sp_ensemble *e = calloc(1, sizeof(*e));
     struct sp_batch *pre = NULL;
@@ -184,6 +186,8 @@ int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, dou
             ret = SP_E_INTERRUPTED;
             goto fail;
         }
+        if (progress)
+            progress(progress_ctx, pre->t);
     }
     sp_batch_destroy(&pre);
     /* the axis reaches the size of the motion: a spread that saturates there

@@ -247,8 +247,12 @@ static int run_setup(struct run *run)
     sp_progress_begin(desc->progress, "camera pre-pass", t_end);
     ret = sp_view_extent_measure(sc, t_end, sp_signal_flag(), sp_progress_sim, NULL, &run->extent);
     sp_progress_end();
-    if (!ret && sc->ensemble.count > 1) /* widens the extent by every member's motion */
-        ret = sp_ensemble_make(&run->ens, sc, t_end, sp_signal_flag(), &run->extent);
+    if (!ret && sc->ensemble.count > 1) { /* widens the extent by every member's motion */
+        sp_progress_begin(desc->progress, "ensemble pre-pass", t_end);
+        ret = sp_ensemble_make(&run->ens, sc, t_end, sp_signal_flag(), sp_progress_sim, NULL,
+                               &run->extent);
+        sp_progress_end();
+    }
     if (ret)
         return ret;
     const struct sp_view_extent extent = run->extent;

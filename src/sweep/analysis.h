@@ -32,6 +32,18 @@ static inline double sp_hermite(double s, double h, double q0, double v0, double
  * Returns buf. (sweep.c: every measure's rows start so.) */
 char *sp_sweep_format_point(char *buf, size_t size, const struct sp_sweep_desc *d, long p);
 
+/* The Lyapunov measures' renormalisation interval: about a second, and for
+ * fixed steps a whole number m of them (dt, s), so that the tangent is
+ * renormalised on the grid; T = K tau exactly (sp_sweep_check refuses a
+ * --time that no whole K >= 2 makes, or too short to step). */
+struct sp_lyap_grid {
+    int fixed;  /* 1: rk4, verlet, yoshida4 */
+    long m;     /* steps per tau (fixed), else 1 */
+    double tau; /* s */
+    long K;     /* intervals in T */
+};
+void sp_sweep_lyap_grid(double time, enum sp_method method, double dt, struct sp_lyap_grid *g);
+
 /* ---- spectrum.c ---------------------------------------------------------- */
 
 /* The Lyapunov spectrum of scenes[0..n) (grid points pts[], skip[i]: not

@@ -38,7 +38,7 @@
 #include "springpend/common.h"
 
 #define RAD2DEG 57.29577951308232
-#define SUB 8                          /* samples per drive period */
+#define SUB SP_BASINS_SAMPLES          /* samples per drive period */
 #define RING 32 /* stroboscopic samples kept per start (>= 3 * max period + 4) */
 #define MAXL 64                        /* lanes: a chunk (sweep.c's CHUNK) */
 #define BOX 5                          /* points per side of an entropy box */

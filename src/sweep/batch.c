@@ -36,6 +36,7 @@
 #define LANES _Pragma("omp simd") for (int l = 0; l < B; l++)
 
 #define CHECK_EVERY 16          /* fixed steps between energy checks (sim.c: 4) */
+_Static_assert(SP_BATCH_CHUNK % CHECK_EVERY == 0, "a cut must fall on an energy check");
 
 /* One block's parameters, copied out of the batch's arrays. */
 struct blk {
@@ -408,6 +409,8 @@ SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target
         tl[l] = dead[l] ? t_target : b->t;
     for (;;) {
         int active = 0;
+        if (b->cancel && *b->cancel)
+            break; /* part-way: sp_batch_advance says so */
         for (int l = 0; l < B; l++) {
             double h = b->h[base + l];
             hh[l] = tl[l] < t_target ? fmin(h, t_target - tl[l]) : 0;
@@ -506,27 +509,47 @@ CLONES static void adaptive_blk_11(struct sp_batch *b, int base, double t)
 
 /* ---- the batch ----------------------------------------------------------- */
 
-void sp_batch_advance(struct sp_batch *b, double t_target)
+int sp_batch_advance(struct sp_batch *b, double t_target)
 {
     const int sel = b->forced * 2 + b->tangent;
     if (b->method == SP_METHOD_DOP853) {
         static void (*const fn[4])(struct sp_batch *, int, double) = {
             adaptive_blk_00, adaptive_blk_01, adaptive_blk_10, adaptive_blk_11};
         if (t_target > b->t)
-            for (int base = 0; base < b->cap; base += B)
+            for (int base = 0; base < b->cap; base += B) {
                 fn[sel](b, base, t_target);
+                if (b->cancel && *b->cancel)
+                    return SP_E_INTERRUPTED;
+            }
     } else {
         static void (*const fn[4])(struct sp_batch *, int, long, long, double) = {
             fixed_blk_00, fixed_blk_01, fixed_blk_10, fixed_blk_11};
         long n1 = b->grid;
+        const double guess = floor(t_target / b->dt) - 1; /* then exact below */
+        if (guess > (double)n1 && guess < 0x1p52)
+            n1 = (long)guess;
         while ((double)(n1 + 1) * b->dt <= t_target)
             n1++;
+        /* whole chunks on the grid first (their states are the grid's, and
+         * their ends fall on energy checks), then the rest to t_target */
+        for (long c = (b->grid / SP_BATCH_CHUNK + 1) * SP_BATCH_CHUNK; c < n1;
+             c += SP_BATCH_CHUNK) {
+            if (b->cancel && *b->cancel)
+                return SP_E_INTERRUPTED;
+            for (int base = 0; base < b->cap; base += B)
+                fn[sel](b, base, b->grid, c, (double)c * b->dt);
+            b->steps += c - b->grid;
+            b->grid = c;
+        }
+        if (b->cancel && *b->cancel)
+            return SP_E_INTERRUPTED;
         for (int base = 0; base < b->cap; base += B)
             fn[sel](b, base, b->grid, n1, t_target);
         b->steps += n1 - b->grid;
         b->grid = n1;
     }
     b->t = t_target;
+    return 0;
 }
 
 void sp_batch_renormalise(struct sp_batch *b, double *growth)

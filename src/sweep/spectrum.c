@@ -102,16 +102,16 @@ int sp_spectrum_measure(const struct sp_sweep_desc *d, const struct sp_scene *sc
         return ret;
     }
     /* tau as --measure lyapunov: about a second, on the grid for fixed steps */
-    const int fixed = b->method != SP_METHOD_DOP853;
-    long m = fixed ? lround(fmax(1.0, 1.0 / b->dt)) : 1;
-    double tau = fixed ? (double)m * b->dt : fmin(1.0, d->time / 2);
+    struct sp_lyap_grid g;
+    sp_sweep_lyap_grid(d->time, b->method, b->dt, &g);
+    const int fixed = g.fixed;
+    const long m = g.m, K = g.K;
+    const double tau = g.tau;
     long k0 = (long)ceil(d->transient / tau - 1e-9);
-    long K = lround(d->time / tau);
-    if (K < 2)
-        K = 2;
 #define TAU_TIME(k) (fixed ? (double)((k) * m) * b->dt : (double)(k) * tau)
-    if (k0 > 0)
-        sp_batch_advance(b, TAU_TIME(k0));
+    b->cancel = sp_signal_flag(); /* a long transient is one call */
+    if (k0 > 0 && sp_batch_advance(b, TAU_TIME(k0)))
+        ret = SP_E_INTERRUPTED;
     for (int i = 0; i < COPIES * n; i++) {
         double e[4] = {0};
         e[i % COPIES] = 1;
@@ -120,11 +120,10 @@ int sp_spectrum_measure(const struct sp_sweep_desc *d, const struct sp_scene *sc
     long next = 1;
     int dec = 0, nc = 0;
     for (long k = 1; k <= K && !ret; k++) {
-        if (sp_signal_seen()) {
+        if (sp_signal_seen() || sp_batch_advance(b, TAU_TIME(k0 + k))) {
             ret = SP_E_INTERRUPTED;
             break;
         }
-        sp_batch_advance(b, TAU_TIME(k0 + k));
         for (int i = 0; i < n; i++) {
             double v[4][4], r[4];
             for (int j = 0; j < COPIES; j++)

@@ -79,6 +79,57 @@ const char *sp_sweep_columns(const struct sp_sweep_desc *d)
     return columns[d->measure];
 }
 
+int sp_sweep_column_info(const struct sp_sweep_desc *d, struct sp_csv_column *out, int max)
+{
+    static const struct sp_csv_column known[] = {
+        {"lyapunov", "largest Lyapunov exponent over the measured span T", "1/s"},
+        {"lyapunov_half", "largest Lyapunov exponent over T/2", "1/s"},
+        {"t", "simulated time of the sample", "s"},
+        {"theta", "angle from the downward vertical", "degrees"},
+        {"r", "spring length", "m"},
+        {"r_dot", "rate of change of r", "m/s"},
+        {"theta_dot", "rate of change of theta", "rad/s"},
+        {"branch", "continuation branch: 0 none, 1 up, -1 down", "1"},
+        {"T", "span the running values are taken over", "s"},
+        {"lambda1", "largest Lyapunov exponent", "1/s"},
+        {"lambda2", "second Lyapunov exponent", "1/s"},
+        {"lambda3", "third Lyapunov exponent", "1/s"},
+        {"lambda4", "fourth Lyapunov exponent", "1/s"},
+        {"sum", "sum of the four exponents", "1/s"},
+        {"kaplan_yorke", "Kaplan-Yorke dimension", "1"},
+        {"period", "period of the settled cycle in drive periods (0: undecided)", "1"},
+        {"winding", "whole turns per cycle (rotating when not 0)", "1"},
+        {"settled", "simulated time the start was settled at", "s"},
+    };
+    static char names[SP_SWEEP_MAX_AXES + 16][24];
+    const struct sp_csv_column peak = {
+        "peak", d->peak == SP_PEAK_R ? "largest r over the drive period that ends at the sample"
+                                     : "largest |theta| over the drive period that ends at the "
+                                       "sample", d->peak == SP_PEAK_R ? "m" : "degrees"};
+    int n = 0;
+    if (n < max)
+        out[n++] = (struct sp_csv_column){"point", "grid point (the first key varies fastest)", "1"};
+    for (int a = 0; a < d->n_axes && n < max; a++) {
+        const char *unit = sp_scene_key_unit(d->axis[a].key);
+        out[n++] = (struct sp_csv_column){d->axis[a].key, "the varied scene key (file units)",
+                                          unit ? unit : "1"};
+    }
+    for (const char *c = sp_sweep_columns(d); *c && n < max && n < (int)(sizeof(names) /
+                                                                          sizeof(names[0]));) {
+        const size_t len = strcspn(c, ",");
+        snprintf(names[n], sizeof(names[n]), "%.*s", (int)len, c);
+        out[n] = (struct sp_csv_column){names[n], "?", "1"};
+        if (!strcmp(names[n], "peak"))
+            out[n] = peak;
+        for (size_t i = 0; i < sizeof(known) / sizeof(known[0]); i++)
+            if (!strcmp(known[i].name, names[n]))
+                out[n] = known[i];
+        n++;
+        c += len + (c[len] == ',');
+    }
+    return n;
+}
+
 int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *between)
 {
     fprintf(fp, "# springpend sweep scene=%s measure=%s time=%.17g transient=%.17g "
@@ -382,7 +433,49 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
         sp_log_error("--time must be > 0 and --transient >= 0 (simulated seconds)");
         return SP_E_INPUT;
     }
+    if (d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_SPECTRUM) {
+        struct sp_lyap_grid g;
+        sp_sweep_lyap_grid(d->time, base->integrator.method, base->integrator.dt, &g);
+        const double x = d->time / g.tau;
+        if (g.fixed && (g.K < 2 || fabs(x - (double)g.K) > 1e-9 * x)) {
+            const double lo = fmax(2, floor(x)) * g.tau, hi = fmax(2, ceil(x)) * g.tau;
+            char alt[64] = "";
+            if (hi != lo)
+                snprintf(alt, sizeof(alt), " or %.10g", hi);
+            sp_log_error("--time %g: %s renormalises the tangent every tau = %.10g s (%ld steps "
+                         "of integrator.dt = %g s) and measures a whole number of them, at "
+                         "least 2; use --time %.10g%s",
+                         d->time, measure_names[d->measure], g.tau, g.m,
+                         base->integrator.dt, lo, alt);
+            return SP_E_INPUT;
+        }
+        /* dop853 lands on every renormalisation: a step below about 1e-14
+         * of the time collapses (batch.c), so keep tau well above that */
+        const double floor_s = 1e-9 * fmax(1, d->transient + d->time);
+        if (!g.fixed && !(g.tau > floor_s)) {
+            sp_log_error("--time %g: too short to measure: %s renormalises every T/%ld = %g s, "
+                         "below what the adaptive steps resolve after %g s (%g s); use --time "
+                         "%g or more", d->time, measure_names[d->measure], g.K, g.tau,
+                         d->transient + d->time, floor_s, 2 * floor_s * 1.000001);
+            return SP_E_INPUT;
+        }
+    }
     return 0;
+}
+
+void sp_sweep_lyap_grid(double time, enum sp_method method, double dt, struct sp_lyap_grid *g)
+{
+    g->fixed = method == SP_METHOD_RK4 || method == SP_METHOD_VERLET ||
+               method == SP_METHOD_YOSHIDA4;
+    if (g->fixed) {
+        g->m = lround(fmax(1.0, 1.0 / dt));
+        g->tau = (double)g->m * dt;
+        g->K = lround(time / g->tau);
+    } else { /* no grid: T in whole intervals of at most a second, at least 2 */
+        g->m = 1;
+        g->K = (long)fmax(2, ceil(time - 1e-9));
+        g->tau = time / (double)g->K;
+    }
 }
 
 /* ---- rows into memory ----------------------------------------------------- */
@@ -538,22 +631,21 @@ static void chunk_out_free(struct chunk_out *o)
 static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, const long *pts,
                             const int *skip, int n, struct chunk_out *out)
 {
-    const int fixed = b->method != SP_METHOD_DOP853;
-    long m = fixed ? lround(fmax(1.0, 1.0 / b->dt)) : 1; /* steps per tau (fixed) */
-    double tau = fixed ? (double)m * b->dt : fmin(1.0, d->time / 2);
+    struct sp_lyap_grid g;
+    sp_sweep_lyap_grid(d->time, b->method, b->dt, &g);
+    const int fixed = g.fixed;
+    const long m = g.m, K = g.K;
+    const double tau = g.tau;
     long k0 = (long)ceil(d->transient / tau - 1e-9);
-    long K = lround(d->time / tau);
-    if (K < 2)
-        K = 2;
     double growth[CHUNK], sum[CHUNK] = {0}, half[CHUNK] = {0};
 #define TAU_TIME(k) (fixed ? (double)((k) * m) * b->dt : (double)(k) * tau)
-    if (k0 > 0)
-        sp_batch_advance(b, TAU_TIME(k0));
+    b->cancel = sp_signal_flag(); /* a long transient is one call */
+    if (k0 > 0 && sp_batch_advance(b, TAU_TIME(k0)))
+        return SP_E_INTERRUPTED;
     sp_batch_reset_tangent(b);
     for (long k = 1; k <= K; k++) {
-        if (sp_signal_seen())
+        if (sp_signal_seen() || sp_batch_advance(b, TAU_TIME(k0 + k)))
             return SP_E_INTERRUPTED;
-        sp_batch_advance(b, TAU_TIME(k0 + k));
         sp_batch_renormalise(b, growth);
         for (int i = 0; i < n; i++) {
             sum[i] += growth[i];

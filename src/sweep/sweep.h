@@ -26,6 +26,7 @@
 
 #include <stdio.h>
 
+#include "springpend/csv_metadata.h"
 #include "springpend/scene.h"
 
 struct sp_sweep_desc;
@@ -57,6 +58,10 @@ struct sp_sweep_axis {
     int count;     /* grid points along the axis, >= 1 */
 };
 
+/* basins: stroboscopic samples per drive period (each one a time the
+ * integration lands on; cli_sweep.c's estimate counts them) */
+#define SP_BASINS_SAMPLES 8
+
 /* What a sweep computes; the figure is drawn from this and the rows. */
 struct sp_sweep_desc {
     char scene[64];              /* the scene's name, for titles */
@@ -83,6 +88,11 @@ double sp_sweep_axis_value(const struct sp_sweep_axis *a, int i);
 
 /* Grid points in all. */
 long sp_sweep_points(const struct sp_sweep_desc *d);
+
+/* Every column of the sweep's CSV (point, the keys, then the measure's),
+ * with what it is and its unit, into out (at most max); returns how many.
+ * The names point into static storage: one sweep at a time. */
+int sp_sweep_column_info(const struct sp_sweep_desc *d, struct sp_csv_column *out, int max);
 
 /* Writes the description line ("# springpend sweep ...\n"), `between` (a
  * shard's "# shard I/N\n" line, or NULL) and the column names. Returns 0 or

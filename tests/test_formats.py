@@ -10,6 +10,8 @@ FILE:LINE with LF, CRLF and CR line ends;
 would-be .part name is left alone and the run writes a new name, and two runs
 at once to the same target both complete.
 usage: test_formats.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR FIXED_SUFFIX_SO   (TAP)"""
+import hashlib
+import json
 import os
 import re
 import shutil
@@ -71,7 +73,7 @@ def sweep(name, measure, axes, *extra):
     if r.returncode:
         diag(f"{name}: {err(r)}")
         return r.returncode, "", []
-    lines = [line for line in read(name + ".csv").strip().split("\n") if not line.startswith("#")]
+    lines = read(name + ".csv").strip().split("\n")
     return 0, lines[0], [[float(v) for v in line.split(",")] for line in lines[1:]]
 
 
@@ -116,43 +118,56 @@ ok(r.returncode == r3.returncode == ro.returncode == good.returncode == 0,
 s1, s2 = read("s1.csv").split("\n"), read("s2.csv").split("\n")
 
 
-def edited(name, lines):
+def edited(name, lines, like="s2.csv", position=None):
+    """name: the CSV lines, beside it the metadata of shard `like` with its row
+    count and SHA-256 made to match (so that the row checks alone refuse)."""
+    text = "\n".join(lines)
     with open(path(name), "w") as f:
-        f.write("\n".join(lines))
+        f.write(text)
+    meta = json.loads(read(like + "-metadata.json"))
+    meta["dc:extent"] = len(text.splitlines()) - 1
+    meta["schema:sha256"] = hashlib.sha256(text.encode()).hexdigest()
+    if position:
+        meta["schema:position"] = position
+    with open(path(name + "-metadata.json"), "w") as f:
+        json.dump(meta, f)
     return path(name)
 
 
 def row_point(lines, i, point):
-    """lines with data row i (0-based after the 3 header lines) given point `point`."""
+    """lines with data row i (0-based after the header line) given point `point`."""
     out = list(lines)
-    out[3 + i] = str(point) + out[3 + i][out[3 + i].index(","):]
+    out[1 + i] = str(point) + out[1 + i][out[1 + i].index(","):]
     return out
 
 
 cases = [
-    ("shard 0/2", [edited("z.csv", [s1[0], "# shard 0/2"] + s1[2:]), path("s2.csv")]),
-    ("shard 3/2", [path("s1.csv"), edited("z.csv", [s2[0], "# shard 3/2"] + s2[2:])]),
+    ("shard 0/2", [edited("z.csv", s1, "s1.csv", "0/2"), path("s2.csv")]),
+    ("shard 3/2", [path("s1.csv"), edited("z.csv", s2, "s2.csv", "3/2")]),
     ("shard 1/2 twice", [path("s1.csv"), path("s1.csv")]),
     ("one file of two", [path("s1.csv")]),
     ("three files of two", [path("s1.csv"), path("s2.csv"), path("s2.csv")]),
     ("shard 1/3 with 2/2", [path("t1.csv"), path("s2.csv")]),
     ("another sweep's shard (T = 3 s)", [path("s1.csv"), path("o2.csv")]),
     ("other column names", [path("s1.csv"),
-                            edited("cols.csv", s2[:2] + [s2[2].replace("lyapunov_half", "half")] + s2[3:])]),
+                            edited("cols.csv", [s2[0].replace("lyapunov_half", "half")] + s2[1:])]),
     ("a point before the shard's first (2 in 3..5)",
      [path("s1.csv"), edited("before.csv", row_point(s2, 0, 2))]),
     ("the next shard's first point (3 in 0..2)",
-     [edited("next.csv", row_point(s1, 2, 3)), path("s2.csv")]),
+     [edited("next.csv", row_point(s1, 2, 3), "s1.csv"), path("s2.csv")]),
     ("a point past the grid (6 of 6)", [path("s1.csv"), edited("past.csv", row_point(s2, 2, 6))]),
-    ("a negative point", [edited("neg.csv", row_point(s1, 0, -1)), path("s2.csv")]),
-    ("points out of order", [path("s1.csv"), edited("order.csv", s2[:3] + [s2[4], s2[3], s2[5], ""])]),
+    ("a negative point", [edited("neg.csv", row_point(s1, 0, -1), "s1.csv"), path("s2.csv")]),
+    ("points out of order", [path("s1.csv"), edited("order.csv", s2[:1] + [s2[2], s2[1], s2[3], ""])]),
     ("a row short of a number", [path("s1.csv"),
-                                 edited("short.csv", s2[:4] + [s2[4].rsplit(",", 1)[0]] + s2[5:])]),
-    ("a row with a number more", [path("s1.csv"), edited("long.csv", s2[:4] + [s2[4] + ",1"] + s2[5:])]),
-    ("a row missing", [path("s1.csv"), edited("missing.csv", s2[:4] + s2[5:])]),
-    ("a row repeated", [path("s1.csv"), edited("repeated.csv", s2[:5] + [s2[4]] + s2[5:])]),
-    ("cut inside a row", [path("s1.csv"), edited("cut.csv", s2[:5] + [s2[5][:8]])]),
+                                 edited("short.csv", s2[:2] + [s2[2].rsplit(",", 1)[0]] + s2[3:])]),
+    ("a row with a number more", [path("s1.csv"), edited("long.csv", s2[:2] + [s2[2] + ",1"] + s2[3:])]),
+    ("a row missing", [path("s1.csv"), edited("missing.csv", s2[:2] + s2[3:])]),
+    ("a row repeated", [path("s1.csv"), edited("repeated.csv", s2[:3] + [s2[2]] + s2[3:])]),
+    ("cut inside a row", [path("s1.csv"), edited("cut.csv", s2[:3] + [s2[3][:8]])]),
+    ("a comment line", [path("s1.csv"), edited("comment.csv", ["# springpend"] + s2)]),
+    ("no metadata beside it", [path("s1.csv"), edited("nometa.csv", s2)]),
 ]
+os.remove(path("nometa.csv-metadata.json"))
 for what, parts in cases:
     for f in ("m.png", "m.csv"):
         if os.path.exists(path(f)):

@@ -205,7 +205,9 @@ def sweep_rows(name, *args):
         diag(f"{name}: {err(r)}")
         return "", []
     lines = open(p(name)).read().strip().split("\n")
-    return lines[0], [list(map(float, line.split(","))) for line in lines[2:]]
+    # the description is in the metadata beside the CSV (dc:description)
+    described = " " + json.load(open(p(name) + "-metadata.json"))["dc:description"] + " "
+    return described, [list(map(float, line.split(","))) for line in lines[1:]]
 
 
 vary = ["--vary", "initial.length=1:1.2:3"]

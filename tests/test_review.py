@@ -211,12 +211,13 @@ for step in steps:
 # or with a row that is not numbers, was merged and drawn, exit 0.
 with open(path("part2.csv")) as f:
     p2 = f.read()
-bad = {"cut": p2[:-7], "row-missing": "".join(p2.splitlines(True)[:3] + p2.splitlines(True)[4:]),
+bad = {"cut": p2[:-7], "row-missing": "".join(p2.splitlines(True)[:1] + p2.splitlines(True)[2:]),
        "not-numbers": p2.replace(p2.splitlines()[-1], p2.splitlines()[-1].rsplit(",", 1)[0] + ",x"),
        "columns": p2.replace("lyapunov_half", "other")}
 for what, text in bad.items():
     with open(path(f"bad-{what}.csv"), "w") as f:
         f.write(text)
+    shutil.copy(path("part2.csv-metadata.json"), path(f"bad-{what}.csv-metadata.json"))
     r = run("sweep", "--merge", path("part1.csv"), path(f"bad-{what}.csv"), "-o",
             path(f"bad-{what}.png"), "-q")
     ok(r.returncode == 2 and not os.path.exists(path(f"bad-{what}.png")),
@@ -225,6 +226,7 @@ with open(path("orbit.csv")) as f:
     orbit = f.read()
 with open(path("orbit-cut.csv"), "w") as f:
     f.write(orbit[:len(orbit) // 2])
+shutil.copy(path("orbit.csv-metadata.json"), path("orbit-cut.csv-metadata.json"))
 r = run("sweep", "--merge", path("orbit-cut.csv"), "-o", path("orbit-cut.png"), "-q")
 ok(r.returncode == 2 and "cut short" in err(r),
    f"sweep --merge of an orbit shard cut in half: exit 2: {r.returncode} {err(r)}")

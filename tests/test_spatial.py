@@ -216,6 +216,46 @@ ok(np.max(np.abs(steps)) > 5 * np.median(np.abs(steps)),
    "the azimuth moves in steps: its largest change per pendulum period is over 5 times the "
    f"median one ({np.max(np.abs(steps)):.2f} against {np.median(np.abs(steps)):.3f} degrees)")
 
+# ---- info's prediction: the averaged three-wave equations ----------------
+def info(d):
+    import json
+    r = run("info", SWING, "--json", *sets(d))
+    return json.loads(r.stdout) if r.returncode == 0 else {"error": r.stderr}
+
+
+ts = np.arange(0, 240 + 1e-9, 0.02)
+for d, note in (({}, "the scene, amplitude 0.05 l"),
+                ({"initial.length": 1.02}, "a 2 cm bounce"),
+                ({"initial.azimuth_rate": 3}, "a fast turn, near 90 degrees a step"),
+                ({"pendulum.stiffness": 38.5}, "0.7% below 2:1")):
+    full = {"pendulum.natural_length": 0.75, "pendulum.stiffness": 39.24, "pendulum.mass": 1,
+            "initial.length": 1.05, "initial.angle": 1, "initial.azimuth_rate": 1, **d}
+    ref = reference(full, ts)
+    k = float(full["pendulum.stiffness"])
+    period = 2 * math.pi / math.sqrt(G / (0.75 + G / k))
+    want, _ = precessions(ts, ref[0], ref[2], period)
+    j = info(d)
+    pred = math.degrees(j["precession_per_exchange"]) if j.get("precession_per_exchange") \
+        is not None else math.nan
+    rel = abs(pred - np.mean(want)) / abs(np.mean(want)) if len(want) else math.inf
+    ok(j.get("precession_applies") is True and rel < 0.04,
+       f"info predicts {pred:.2f} degrees per exchange for {note}; scipy's full motion turns "
+       f"by {np.mean(want):.2f} (within the 4% info states: {100 * rel:.1f}%)")
+r = run("info", SWING, "--set", "initial.length=1.1")
+j = info({"initial.length": 1.1})
+ok(j.get("precession_applies") is False and "too large for the averaged" in r.stdout,
+   "a 10 cm bounce (0.1 l): info still gives the averaged number but says the theory does "
+   "not apply there")
+j = info({"pendulum.damping": 0.01})
+ok(j.get("precession_applies") is False, "damped: the prediction is marked as not applying")
+r = run("info", SWING, "--set", "pendulum.stiffness=60")
+j = info({"pendulum.stiffness": 60})
+ok(j.get("precession_per_exchange") is None and "not predicted: omega_s / omega_p is further "
+   "than 10% from 2" in r.stdout, "far from 2:1: no prediction, and info says why")
+j = info({"initial.azimuth_rate": 0})
+ok("precession_per_exchange" in j and j["precession_per_exchange"] is None,
+   "a planar scene: precession_per_exchange is null")
+
 # ---- bad input -----------------------------------------------------------
 bad_scene = os.path.join(work, "vertical.ini")
 with open(bad_scene, "w") as fh:

@@ -44,9 +44,9 @@ def read(name):
 
 
 def rows(name):
+    """The rows of a CSV sweep wrote: no comment lines, the header first."""
     with open(os.path.join(work, name)) as f:
-        lines = [l for l in f if not l.startswith("#")]
-    return list(csv.DictReader(lines))
+        return list(csv.DictReader(f))
 
 
 # ---- shards and threads: the same bytes -----------------------------------
@@ -325,17 +325,19 @@ for ext in ("svg", "pdf"):
 # ---- --merge refuses what is not a whole shard, for every measure ----------
 # An orbit or Poincare shard cut at a line boundary, a Lyapunov row copied
 # over another, nan, inf and hex floats: all were merged and drawn, exit 0.
-# Each damage is tried as it is (the end line's SHA-256 no longer matches)
-# and with the end line made to match again (the row checks alone).
+# Each damage is tried as it is (the metadata's SHA-256 no longer matches)
+# and with the metadata's row count and SHA-256 made to match again (the row
+# checks alone).
 import hashlib  # noqa: E402
+import json  # noqa: E402
 
 
-def reseal(text):
-    """The shard with its end line written for what it now holds."""
-    lines = text.splitlines(True)
-    body = "".join(l for l in lines if not l.startswith("# end "))
-    n = len(body.splitlines()) - 3
-    return body + f"# end rows={n} sha256={hashlib.sha256(body.encode()).hexdigest()}\n"
+def reseal(text, meta):
+    """The shard's metadata written for what the CSV now holds."""
+    m = dict(meta)
+    m["dc:extent"] = len(text.splitlines()) - 1
+    m["schema:sha256"] = hashlib.sha256(text.encode()).hexdigest()
+    return m
 
 
 poinc = ["--vary", "initial.length=0.7:1.5:6", "--set", "initial.angle=0", "--measure", "poincare",
@@ -347,19 +349,24 @@ shards = {"lyapunov": ["part2_1.csv", "part2_2.csv"],
           "poincare": ["poinc_1.csv", "poinc_2.csv"]}
 whole4 = [f"orbit_{i}.csv" for i in (1, 2, 3, 4)]
 rr = run("--merge", *whole4, "-o", "orbit_again.png", "--csv", "orbit_again.csv")
+meta1 = json.loads(read("orbit_1.csv-metadata.json"))
 ok(rr.returncode == 0 and read("orbit_again.csv") == read("orbit.csv") and
-   read("orbit_1.csv").decode().splitlines()[-1].startswith("# end rows="),
-   "a shard ends with its row count and SHA-256; the merge leaves that line out (same bytes as one run)")
+   meta1["schema:position"] == "1/4" and
+   meta1["schema:sha256"] == hashlib.sha256(read("orbit_1.csv")).hexdigest() and
+   meta1["dc:extent"] == len(read("orbit_1.csv").splitlines()) - 1 and
+   not any(l.startswith(b"#") for l in read("orbit_1.csv").splitlines()),
+   "a shard's metadata holds its position, row count and SHA-256, the CSV no comment line; "
+   "the merge gives the same bytes as one run")
 
 
 def damages(text, measure):
     lines = text.splitlines(True)
-    body = [i for i, l in enumerate(lines) if not l.startswith("#") and i > 2]
+    body = list(range(1, len(lines)))
     first, last = body[0], body[-1]
     cells = lines[first].rstrip("\n").split(",")
     out = {"cut at a line boundary": "".join(lines[:last]),
-           "cut, end line kept": "".join(lines[:last] + lines[-1:]),
-           "a row's number changed": text.replace(lines[first], ",".join(cells[:-1] + [cells[-1] + "1"]) + "\n", 1)}
+           "a row's number changed": text.replace(lines[first], ",".join(cells[:-1] + [cells[-1] + "1"]) + "\n", 1),
+           "a comment line": "# springpend\n" + text}
     for bad in ("nan", "inf", "-inf", "0x1p-2", " 1", "1e999"):
         out[f"value {bad!r}"] = text.replace(lines[first], ",".join(cells[:-1] + [bad]) + "\n", 1)
     out["key value edited"] = text.replace(lines[first], ",".join([cells[0], cells[1] + "5"] + cells[2:]) + "\n", 1)
@@ -377,6 +384,7 @@ def damages(text, measure):
 
 for measure, (a, *rest) in shards.items():
     base = read(a).decode()
+    meta = json.loads(read(a + "-metadata.json"))
     for what, text in damages(base, measure).items():
         for sealed in (False, True):
             # a resealed shard of fewer rows or another number is whole to
@@ -387,15 +395,47 @@ for measure, (a, *rest) in shards.items():
                 continue
             name = f"bad_{measure}.csv"
             with open(os.path.join(work, name), "w") as f:
-                f.write(reseal(text) if sealed else text)
+                f.write(text)
+            with open(os.path.join(work, name + "-metadata.json"), "w") as f:
+                json.dump(reseal(text, meta) if sealed else meta, f)
             if os.path.exists(os.path.join(work, "bad_merge.png")):
                 os.remove(os.path.join(work, "bad_merge.png"))
             rr = run("--merge", name, *rest, "-o", "bad_merge.png", "-q")
             ok(rr.returncode == 2 and name + ":" in rr.stderr and
                not os.path.exists(os.path.join(work, "bad_merge.png")) and
                not [f for f in os.listdir(work) if f.endswith(".part")],
-               f"--merge refuses a {measure} shard with {what}{' (end line resealed)' if sealed else ''}: "
+               f"--merge refuses a {measure} shard with {what}{' (metadata resealed)' if sealed else ''}: "
                f"exit {rr.returncode} {rr.stderr.strip()[:160]}")
+
+# ---- --merge refuses shards of different sweeps, naming the difference ------
+# The sweep CSV's header lacked the --set overrides and the physics, so halves
+# computed with different stiffness were merged without a word.
+lyap = ["--vary", "initial.angle=10:40:6", "--measure", "lyapunov", "--time", "2", "-q"]
+run(chaotic, *lyap, "--shard", "1/2", "--csv", "mm_1.csv")
+run(chaotic, *lyap, "--shard", "2/2", "--csv", "mm_2.csv")
+run(chaotic, *lyap, "--shard", "1/2", "--csv", "mm_set.csv", "--set", "pendulum.stiffness=40")
+with open(chaotic) as f:
+    stiffer = f.read().replace("stiffness      = 39.24", "stiffness      = 40")
+assert stiffer != open(chaotic).read()
+with open(os.path.join(work, "chaotic.ini"), "w") as f:
+    f.write(stiffer)
+run(os.path.join(work, "chaotic.ini"), *lyap, "--shard", "1/2", "--csv", "mm_file.csv")
+run(chaotic, *lyap, "--shard", "1/2", "--csv", "mm_ver.csv")
+m = json.loads(read("mm_ver.csv-metadata.json"))
+m["schema:softwareVersion"] = "0.0.1"
+with open(os.path.join(work, "mm_ver.csv-metadata.json"), "w") as f:
+    json.dump(m, f)
+run(chaotic, *lyap[:1], "initial.angle=10:40:7", *lyap[2:], "--shard", "1/2", "--csv", "mm_grid.csv")
+rr = run("--merge", "mm_1.csv", "mm_2.csv", "-o", "mm.png")
+ok(rr.returncode == 0, f"the two halves of one sweep merge: {rr.stderr.strip()}")
+for part, want in (("mm_set.csv", "the --set overrides differ (mm_set.csv: --set pendulum.stiffness=40; mm_2.csv: no --set)"),
+                   ("mm_file.csv", "the scene differs (mm_file.csv: [pendulum] stiffness = 40; mm_2.csv: [pendulum] stiffness = 39.24)"),
+                   ("mm_ver.csv", "springpend's version differs (mm_ver.csv: 0.0.1; mm_2.csv: 0.1.0)"),
+                   ("mm_grid.csv", "the sweep (grid, measure or span) differs (mm_grid.csv: vary=initial.angle=10:40:7; mm_2.csv: vary=initial.angle=10:40:6)")):
+    rr = run("--merge", part, "mm_2.csv", "-o", "mm_bad.png", "--csv", "mm_bad.csv")
+    ok(rr.returncode == 2 and want in rr.stderr and
+       not [f for f in os.listdir(work) if f.startswith("mm_bad")],
+       f"--merge refuses {part}: {want}: exit {rr.returncode} {rr.stderr.strip()[:300]}")
 rr = run("--merge", *whole4[:3], "orbit_4.csv", "-o", "orbit_ok.png", "-q")
 ok(rr.returncode == 0, "the same shards, undamaged, merge")
 

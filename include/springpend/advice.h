@@ -76,6 +76,38 @@ struct sp_exchange {
 int sp_advise_exchange(const struct sp_params *p, const struct sp_state *s0,
                        struct sp_exchange *out);
 
+/* The swinging spring's stepwise precession (Lynch 2002; Lynch and
+ * Houghton, Physica D 2004), from the same averaged (three-wave) equations
+ * in three dimensions: the horizontal swing h = (x, z) = Re(A e^{i w_p t})
+ * with A = (A_x, A_z) complex, the bounce r - l = Re(B e^{i w_s t}):
+ *   A' = i k_A B conj(A) e^{i d t},  B' = i k_B (A_x^2 + A_z^2) e^{-i d t}
+ * (k_A, k_B, d as for sp_exchange), integrated numerically over several
+ * exchanges. The swing plane's azimuth is the major axis of
+ * Re(A) Re(A)^T + Im(A) Im(A)^T (sim.h's sp_state_azimuth for the averaged
+ * motion); the precession per exchange is its turn between successive
+ * maxima of the swing |A|^2. The theory applies to small amplitudes near
+ * 2:1 without damping or drive; `applies` says whether this scene is
+ * within what README's table measured (its accuracy there), and `why`
+ * what puts it outside. */
+struct sp_precession {
+    int applies;       /* 1: amplitudes up to 0.065 l, within 1% of 2:1, no
+                        * damping or drive, and an exchange to measure */
+    const char *why;   /* applies 0: what puts the scene outside, in words */
+    double epsilon;    /* the start's amplitude as a fraction of l:
+                        * max(|A|, |B|) / l */
+    double angle;      /* rad: the swing plane's turn per exchange (from
+                        * +x towards +z), NAN when there is no exchange */
+    double period;     /* s: between successive maxima of the swing */
+    double first_peak; /* s: the first maximum of the swing after t = 0 */
+    int exchanges;     /* maxima found (the angle averages over them, - 1) */
+};
+
+/* Fills *out for the motion starting at s0 (t = 0); 0, or SP_E_INPUT when
+ * there is nothing to predict (no gravity, or further than 10% from 2:1:
+ * out->why says). */
+int sp_advise_precession(const struct sp_params *p, const struct sp_state *s0,
+                         struct sp_precession *out);
+
 /* Linear damping of one mode of angular frequency omega, gamma = b/m. */
 struct sp_decay {
     int regime;         /* -1 underdamped, 0 critical (within 1%), 1 overdamped */

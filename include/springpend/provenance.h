@@ -8,6 +8,9 @@
  *   springpend.scene         sp_scene_canonical's text itself (zTXt,
  *                            0.6 kB, 0.3 kB deflated), so compare can name the keys
  *                            that changed
+ *   springpend.scene-file    the same scene as a scene file (zTXt;
+ *                            sp_scene_write_ini: user units, names), which
+ *                            `springpend scene FILE` prints
  *   springpend.environment   environment.h's text (zTXt): the versions of
  *                            the libraries and the fonts' SHA-256
  *   springpend.fonts         the font files the first frame's text was drawn
@@ -21,7 +24,8 @@
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
 
-#define SP_PROVENANCE_N_TEXT 7
+#define SP_PROVENANCE_N_TEXT 8
+#define SP_PROVENANCE_SCENE_FILE "springpend.scene-file" /* the key */
 #define SP_PROVENANCE_SCENE_MAX 8192 /* bytes of canonical text */
 
 struct sp_provenance {
@@ -30,6 +34,7 @@ struct sp_provenance {
     char scene_sha256[65]; /* lower-case hex */
     char time[32];         /* s */
     char scene[SP_PROVENANCE_SCENE_MAX]; /* canonical text, "key=value\n" lines */
+    char scene_file[SP_PROVENANCE_SCENE_MAX]; /* sp_scene_write_ini's text */
     char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text */
     char fonts[1024];      /* font files, ", "-separated: the caller fills it
                               (sp_render_fonts) before the first image */

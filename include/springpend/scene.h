@@ -158,6 +158,18 @@ const char *sp_scene_preset_name(const struct sp_scene *s);
  * Returns the length snprintf would need (write again if >= size). */
 int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size);
 
+/* Writes the scene as a scene file that sp_scene_parse reads back into the
+ * same keys and timeline, bit for bit: every key under its [section], in
+ * the key table's order, in file units (angles in degrees), choices and
+ * panels by name, text in double quotes, numbers as the shortest decimal
+ * that reads back exactly. The name is left out (a file's stem gives it).
+ * Returns the length snprintf would need (write again if >= size). */
+int sp_scene_write_ini(const struct sp_scene *s, char *buf, size_t size);
+
+/* sp_scene_write_ini's text in a malloc'd string (free it), or NULL when
+ * out of memory. */
+char *sp_scene_ini(const struct sp_scene *s);
+
 /* One canonical line's value as a scene file spells it, into buf: numbers
  * to 10 digits, angles in degrees, choices and panels by name, booleans
  * true/false, colours #rrggbb, theme or transparent. key is "section.name";

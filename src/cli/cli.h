@@ -112,5 +112,6 @@ int sp_cmd_data(int argc, char **argv);
 int sp_cmd_info(int argc, char **argv);
 int sp_cmd_compare(int argc, char **argv);
 int sp_cmd_sweep(int argc, char **argv);
+int sp_cmd_scene(int argc, char **argv);
 
 #endif

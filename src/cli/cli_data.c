@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "springpend/common.h"
+#include "springpend/csv_metadata.h"
 #include "springpend/ensemble.h"
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
@@ -57,7 +58,9 @@ static const char data_usage[] =
     "17 digits; each member is the single run with --set KEY=that value;\n"
     "--poincare still writes the scene's own crossings).\n"
     "At most 1e7 rows (about 2.6 GB) are written; the video's frame limit does not\n"
-    "apply. Default output: out/<scene>.csv; '-o -' writes to stdout. A run that\n"
+    "apply. Default output: out/<scene>.csv, with out/<scene>.csv-metadata.json\n"
+    "beside it (W3C CSV on the Web: each column's unit, the scene as a scene file,\n"
+    "the command line, the version); '-o -' writes the CSV alone to stdout. A run that\n"
     "becomes unstable stops with exit status 3 and leaves no file (stdout keeps the\n"
     "rows before it, each of them checked against the blow-up guard).\n"
     "\n"
@@ -69,10 +72,49 @@ static const char data_usage[] =
     "  -q, --quiet            no 'wrote' line\n"
     "  -h, --help             this text\n";
 
-static const char csv_header[] =
-    "t,x,y,vx,vy,r,theta,r_dot,theta_dot,kinetic,spring,gravity,energy,"
-    "bounce,swing,work,pivot_y";
-static const char csv_header_spatial[] = ",z,vz,azimuth";
+/* The columns, as the header line names them (the metadata file's too). */
+static const struct sp_csv_column sample_columns[] = {
+    {"t", "simulated time", "s"},
+    {"x", "the bob's horizontal position from the pivot", "m"},
+    {"y", "the bob's height above the pivot (negative below)", "m"},
+    {"vx", "horizontal velocity", "m/s"},
+    {"vy", "vertical velocity", "m/s"},
+    {"r", "spring length", "m"},
+    {"theta", "angle from the downward vertical", "rad"},
+    {"r_dot", "rate of change of r", "m/s"},
+    {"theta_dot", "rate of change of theta", "rad/s"},
+    {"kinetic", "kinetic energy", "J"},
+    {"spring", "spring energy", "J"},
+    {"gravity", "gravitational energy (zero at the pivot's height)", "J"},
+    {"energy", "total energy", "J"},
+    {"bounce", "bounce mode's energy above hanging still", "J"},
+    {"swing", "swing mode's energy", "J"},
+    {"work", "work done on the bob by damping and the moving pivot since t = 0", "J"},
+    {"pivot_y", "the pivot's height in the lab", "m"},
+};
+static const struct sp_csv_column crossing_columns[] = {
+    {"t", "simulated time of the crossing (theta = 0, theta_dot > 0)", "s"},
+    {"r", "spring length", "m"},
+    {"r_dot", "rate of change of r", "m/s"},
+    {"theta_dot", "rate of change of theta", "rad/s"},
+};
+/* A spatial scene's columns after the sample columns (sim.h: spatial). */
+static const struct sp_csv_column spatial_columns[] = {
+    {"z", "the bob's position off the x-y plane", "m"},
+    {"vz", "velocity along z", "m/s"},
+    {"azimuth", "the swing plane's angle about the vertical, from +x, continuous from row to "
+                "row", "degrees"},
+};
+#define N_OF(a) ((int)(sizeof(a) / sizeof((a)[0])))
+
+/* The columns' names, comma-separated (comma first: after others). */
+static int write_names(FILE *fp, const struct sp_csv_column *c, int n, int comma_first)
+{
+    for (int i = 0; i < n; i++)
+        if (fprintf(fp, "%s%s", i || comma_first ? "," : "", c[i].name) < 0)
+            return SP_E_IO;
+    return 0;
+}
 
 /* One CSV row for the sim's current state; a spatial run's row goes on with
  * z, vz and the azimuth, degrees, continued from *azimuth (rad, updated). */
@@ -104,7 +146,8 @@ static int write_crossings(FILE *fp, const struct sp_scene *sc)
 {
     struct sp_sim sim;
     struct sp_history h = {.active = 1, .poincare = 1, .crossings_only = 1};
-    int ret = fputs("t,r,r_dot,theta_dot\n", fp) < 0 ? SP_E_IO : 0;
+    int ret = write_names(fp, crossing_columns, N_OF(crossing_columns), 0) ||
+              fputc('\n', fp) == EOF ? SP_E_IO : 0;
     sp_sim_init(&sim, sc);
     sim.cancel = sp_signal_flag();
     sim.progress = sp_progress_sim;
@@ -140,7 +183,8 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
         n = sp_scene_frame_count(sc);
     sp_sim_init(&sim, sc);
     double azimuth = 0;
-    if (fputs(csv_header, fp) < 0 || (sim.spatial && fputs(csv_header_spatial, fp) < 0) ||
+    if (write_names(fp, sample_columns, N_OF(sample_columns), 0) ||
+        (sim.spatial && write_names(fp, spatial_columns, N_OF(spatial_columns), 1)) ||
         fputc('\n', fp) == EOF)
         return SP_E_IO;
     sim.cancel = sp_signal_flag();
@@ -156,6 +200,42 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
             return ret;
     }
     return 0;
+}
+
+/* NAME.csv-metadata.json's .part for the CSV at out (none for a stream):
+ * the columns the rows have (an ensemble's: t, member, its key, x, y, vx,
+ * vy), the scene and the command. */
+static int write_metadata(struct sp_outfile *meta, const char *out,
+                          const struct sp_cli_options *o, const struct sp_scene *sc)
+{
+    const char *key_unit = sp_scene_key_unit(sc->ensemble.key);
+    const struct sp_csv_column ensemble_columns[] = {
+        sample_columns[0],
+        {"member", "the member's index, 0 .. ensemble.count - 1", "1"},
+        {sc->ensemble.key, "the member's value of ensemble.key (file units)",
+         key_unit ? key_unit : "1"},
+        sample_columns[1], sample_columns[2], sample_columns[3], sample_columns[4],
+    };
+    struct sp_csv_column all[N_OF(sample_columns) + N_OF(spatial_columns)];
+    struct sp_csv_meta m = {.scene = sc, .overrides = o->overrides,
+                            .n_overrides = o->n_overrides};
+    if (o->poincare) {
+        m.title = "springpend data --poincare: the Poincare section's crossings";
+        m.columns = crossing_columns, m.n_columns = N_OF(crossing_columns);
+    } else if (sc->ensemble.count > 1) {
+        m.title = "springpend data: the ensemble's members, one row per member and time";
+        m.columns = ensemble_columns, m.n_columns = N_OF(ensemble_columns);
+    } else {
+        struct sp_sim sim; /* spatial or not, as write_samples will find */
+        sp_sim_init(&sim, sc);
+        for (int i = 0; i < N_OF(sample_columns); i++)
+            all[m.n_columns++] = sample_columns[i];
+        for (int i = 0; sim.spatial && i < N_OF(spatial_columns); i++)
+            all[m.n_columns++] = spatial_columns[i];
+        m.title = "springpend data: the motion, one row per sample";
+        m.columns = all;
+    }
+    return sp_csv_metadata_write(meta, out, &m);
 }
 
 int sp_cmd_data(int argc, char **argv)
@@ -232,6 +312,11 @@ int sp_cmd_data(int argc, char **argv)
     if (ret == SP_E_INTERRUPTED && !f.through)
         sp_log_error("interrupted: %s not written", out);
     int through = f.through;
+    struct sp_outfile meta = {.fd = -1, .slot = -1};
+    if (!ret)
+        ret = write_metadata(&meta, out, &o, &scene);
+    if (!ret) /* the metadata first: when the CSV appears, it is there */
+        ret = sp_outfile_commit(&meta);
     if (!ret)
         ret = sp_outfile_commit(&f);
     if (!ret && !o.quiet && !through)

@@ -19,7 +19,8 @@ static const char info_usage[] =
     "Prints the scene's equilibrium length l = L0 + m g / k, the spring and pendulum\n"
     "frequencies sqrt(k/m) and sqrt(g/l), their ratio and its distance from the\n"
     "2:1 resonance; near 2:1, when the swing's energy first peaks (Lynch's averaged\n"
-    "equations); with damping, each mode's regime and energy decay time; with a\n"
+    "equations), and for a 3-D scene (initial.azimuth_rate) the swing plane's turn\n"
+    "per exchange, and whether the small-amplitude theory applies; with damping, each mode's regime and energy decay time; with a\n"
     "moving pivot, where parametric resonance lies and the swing's predicted\n"
     "growth; the energies at t = 0; and for fixed-step methods the fastest rate\n"
     "the motion reaches (a short dop853 probe of the run), the stability margin,\n"
@@ -33,6 +34,8 @@ static const char info_usage[] =
     "  --json   the same facts for scripts, SI units, null where none applies:\n"
     "           omega_spring, omega_pendulum, ratio, equilibrium_length,\n"
     "           exchange_rate, exchange_time, bounce_decay_time, swing_decay_time,\n"
+    "           precession_per_exchange (rad, 3-D scenes), precession_period,\n"
+    "           precession_applies,\n"
     "           drive_swing_growth, stability_margin, safe_dt, adaptive_method,\n"
     "           video_length (s of video), video_frames, ...\n"
     "\n"
@@ -46,6 +49,9 @@ struct info {
     struct sp_energy e;
     struct sp_exchange ex;
     int near21;                 /* within 10% of 2:1 */
+    int spatial;                /* the motion leaves the x-y plane */
+    struct sp_precession prec;  /* valid when spatial */
+    int prec_ok;                /* sp_advise_precession returned 0 */
     struct sp_decay bounce, swing; /* valid when damped */
     int damped, driven;
     struct sp_drive_advice drive;
@@ -105,6 +111,24 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
                    "then swings widest and barely bounces; the energy flows back to the "
                    "bounce by about t = %.3g s, and so on\n",
                    in->ex.time, 100 * in->ex.swing_share, 2 * in->ex.time);
+    }
+    if (in->spatial) {
+        const struct sp_precession *pr = &in->prec;
+        printf("  3-D              azimuth_rate = %g rad/s: the bob starts turning about the "
+               "vertical, L_y = m (z vx - x vz) = %.4g kg m^2/s\n", sc->initial.azimuth_rate,
+               m * sp_state_angular_momentum_y(&sim->s));
+        if (!in->prec_ok)
+            printf("  precession       not predicted: %s\n", pr->why);
+        else if (isnan(pr->angle))
+            printf("  precession       none predicted: %s\n", pr->why);
+        else
+            printf("  precession       the swing's plane turns by %+.2f degrees per exchange, "
+                   "every %.3g s (first swing peak at t = %.3g s), by the averaged three-wave "
+                   "equations (Lynch and Houghton); amplitude %.3g of l: %s\n",
+                   pr->angle * 180 / M_PI, pr->period, pr->first_peak, pr->epsilon,
+                   pr->applies ? "within 4% of the full motion's where measured (README: amplitudes up "
+                                 "to 0.065 l, within 1% of 2:1)"
+                               : pr->why);
     }
     if (in->damped) {
         const struct sp_decay *d[2] = {&in->bounce, &in->swing};
@@ -246,6 +270,11 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
     json_num("exchange_rate", in->near21 ? in->ex.rate : NAN, 0);
     json_num("exchange_time", in->ex.time, 0);
     json_num("exchange_swing_share", in->ex.swing_share, 0);
+    const int prec = in->spatial && in->prec_ok;
+    json_num("precession_per_exchange", prec ? in->prec.angle : NAN, 0);
+    json_num("precession_period", prec ? in->prec.period : NAN, 0);
+    printf("  \"precession_applies\": %s,\n",
+           !prec || isnan(in->prec.angle) ? "null" : in->prec.applies ? "true" : "false");
     printf("  \"bounce_regime\": %s%s%s,\n", in->damped ? "\"" : "",
            in->damped ? regime_name(in->bounce.regime) : "null", in->damped ? "\"" : "");
     printf("  \"swing_regime\": %s%s%s,\n", in->damped ? "\"" : "",
@@ -311,6 +340,9 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
     sp_state_energy(&sim.p, &sim.s, &in.e);
     sp_params_physics(&sim.p, &in.ph);
     in.near21 = sp_advise_exchange(&sim.p, &sim.s, &in.ex) == 0;
+    in.spatial = sim.spatial;
+    if (in.spatial)
+        in.prec_ok = sp_advise_precession(&sim.p, &sim.s, &in.prec) == 0;
     in.damped = sim.p.b_over_m > 0;
     if (in.damped) {
         sp_advise_decay(in.ph.omega_s, sim.p.b_over_m, &in.bounce);

@@ -17,8 +17,10 @@
 #include "cli.h"
 #include "decimal.h"
 #include "digest.h"
+#include <jansson.h>
 #include "signals.h"
 #include "springpend/common.h"
+#include "springpend/csv_metadata.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "sweep.h"
@@ -84,7 +86,9 @@ static const char sweep_usage[] =
     "  --format csv|json         also print the numbers on stdout: the CSV, or JSON\n"
     "                            (a spectrum's final exponents; a basin map's\n"
     "                            attractors, fractions and entropies)\n"
-    "  --csv FILE                also write the rows (a regular file)\n"
+    "  --csv FILE                also write the rows (a regular file), and beside it\n"
+    "                            FILE-metadata.json (W3C CSV on the Web: the sweep,\n"
+    "                            the columns' units, the scene, overrides, command)\n"
     "  --shard I/N               compute the I-th of N equal parts of the grid into\n"
     "                            --csv only; join them with --merge\n"
     "  --merge                   the arguments are shard CSVs: draw (and --csv) the whole\n"
@@ -397,32 +401,16 @@ static void show_progress(void *user, long done, long total)
         fputc('\n', stderr);
 }
 
-/* The rows' file: --csv's .part (outfile.h; read back for the figure, so a
- * regular file), or an anonymous temporary file (rows stays closed). The
- * folders made for it go in *made (removed here on failure, else by finish). */
-static int open_rows(const char *csv, struct sp_outfile *rows, FILE **fp, struct sp_dirs *made)
+/* The rows as the figure reads them (sweep.h: the description line, the
+ * column names, the rows), in an anonymous temporary file. */
+static int open_rows(FILE **fp)
 {
-    *rows = (struct sp_outfile){.fd = -1, .slot = -1};
-    if (!csv) {
-        *fp = tmpfile();
-        if (!*fp) {
-            sp_log_error("cannot create a temporary file for the sweep's rows: %s",
-                         strerror(errno));
-            return SP_E_IO;
-        }
-        return 0;
+    *fp = tmpfile();
+    if (!*fp) {
+        sp_log_error("cannot create a temporary file for the sweep's rows: %s", strerror(errno));
+        return SP_E_IO;
     }
-    int ret = sp_dirs_make(csv, made);
-    if (!ret)
-        ret = sp_outfile_open(rows, csv, 0);
-    if (!ret && !(*fp = fopen(rows->path, "w+"))) { /* ours: made by sp_outfile_open */
-        sp_log_error("cannot create %s: %s", rows->path, strerror(errno));
-        sp_outfile_discard(rows);
-        ret = SP_E_IO;
-    }
-    if (ret)
-        sp_dirs_remove_empty(made);
-    return ret;
+    return 0;
 }
 
 /* The figure from the rows (through the module: cairo is loaded only here). */
@@ -436,19 +424,102 @@ static int draw(FILE *rows, const char *rows_name, const char *figure, struct sp
     return ret ? ret : plot(rows, rows_name, figure);
 }
 
-/* Flushes the rows, draws, renames the CSV into place; on failure removes
- * the CSV's .part and the folders made (made[0]: the CSV's, made[1]: the
+/* What the CSV's metadata records beside the rows (csv_metadata.h). */
+struct provenance {
+    const struct sp_sweep_desc *d;
+    const struct sp_scene *scene;      /* the base scene, overrides applied */
+    const char *const *overrides;
+    int n_overrides;
+    const char *shard;                 /* "I/N", NULL = the whole grid */
+};
+
+/* The description line's words without "# springpend sweep " (the
+ * metadata's dc:description), from the rows (rewound) into buf. */
+static int description_words(FILE *rows, char *buf, size_t size)
+{
+    static const char prefix[] = "# springpend sweep ";
+    rewind(rows);
+    if (!fgets(buf, (int)size, rows) || strncmp(buf, prefix, strlen(prefix)))
+        return SP_E_IO;
+    buf[strcspn(buf, "\n")] = 0;
+    memmove(buf, buf + strlen(prefix), strlen(buf + strlen(prefix)) + 1);
+    return 0;
+}
+
+/* --csv: the rows without the description line (plain CSV: the column
+ * names, then the rows), and beside it CSV.csv-metadata.json (the columns'
+ * units, the sweep's description, the scene, the overrides, the command,
+ * a shard's rows and SHA-256), both as .parts, the metadata renamed into
+ * place first. Folders made go in *made. */
+static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
+                     struct sp_dirs *made)
+{
+    static char buf[1 << 16];
+    char description[1024];
+    struct sp_outfile f, meta = {.fd = -1, .slot = -1};
+    struct sha256_ctx sha;
+    char hex[65];
+    long lines = 0;
+    int ret = description_words(rows, description, sizeof(description));
+    if (!ret)
+        ret = sp_dirs_make(csv, made);
+    if (!ret)
+        ret = sp_outfile_open(&f, csv, 0);
+    if (ret)
+        return ret;
+    sha256_init(&sha);
+    size_t got;
+    while (!ret && (got = fread(buf, 1, sizeof(buf), rows)) > 0) {
+        sha256_update(&sha, got, (const uint8_t *)buf);
+        for (const char *q = buf; (q = memchr(q, '\n', (size_t)(buf + got - q))); q++)
+            lines++;
+        for (size_t done = 0; !ret && done < got;) {
+            ssize_t w = write(f.fd, buf + done, got - done);
+            if (w < 0 && errno == EINTR && !sp_signal_seen())
+                continue;
+            if (w <= 0) {
+                sp_log_error("cannot write %s: %s", f.path, strerror(errno));
+                ret = SP_E_IO;
+            }
+            done += w > 0 ? (size_t)w : 0;
+        }
+        if (!ret && sp_signal_seen())
+            ret = SP_E_INTERRUPTED;
+    }
+    if (!ret && ferror(rows)) {
+        sp_log_error("cannot read the sweep's rows back: %s", strerror(errno));
+        ret = SP_E_IO;
+    }
+    sp_digest_hex(&sha, hex);
+    struct sp_csv_column columns[SP_SWEEP_MAX_AXES + 16];
+    struct sp_csv_meta m = {
+        .title = "springpend sweep: one row per grid point and sample", .description = description,
+        .scene = pv->scene, .overrides = pv->overrides, .n_overrides = pv->n_overrides,
+        .columns = columns, .n_columns = sp_sweep_column_info(pv->d, columns, 18),
+        .shard = pv->shard, .rows = lines - 1, .sha256 = hex};
+    if (!ret)
+        ret = sp_csv_metadata_write(&meta, csv, &m);
+    if (!ret)
+        ret = sp_outfile_commit(&meta);
+    if (!ret)
+        ret = sp_outfile_commit(&f);
+    sp_outfile_discard(&f);
+    return ret;
+}
+
+/* Flushes the rows, draws, prints, writes --csv and its metadata; on
+ * failure removes the folders made (made[0]: the CSV's, made[1]: the
  * figure's) that are left empty. Closes fp. */
-static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o, int ret,
+static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct provenance *pv,
                   struct sp_dirs made[2])
 {
-    const char *name = rows->target ? rows->path : "the rows";
+    const char *name = "the sweep's rows";
     if (!ret && fflush(fp) != 0) {
         sp_log_error("cannot write %s: %s", name, strerror(errno));
         ret = SP_E_IO;
     }
     if (!ret && o->output)
-        ret = draw(fp, o->csv ? o->csv : "the sweep's rows", o->output, &made[1]);
+        ret = draw(fp, o->csv ? o->csv : name, o->output, &made[1]);
     if (!ret && !o->quiet)
         sp_sweep_print_legend(fp, stderr); /* a basin map's attractors */
     if (!ret && o->format) {
@@ -460,14 +531,10 @@ static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o,
     }
     if (!ret && sp_signal_seen()) /* while drawing or merging: nothing written */
         ret = SP_E_INTERRUPTED;
-    if (fclose(fp) != 0 && !ret) {
-        sp_log_error("cannot write %s: %s", name, strerror(errno));
-        ret = SP_E_IO;
-    }
-    if (!ret)
-        ret = sp_outfile_commit(rows); /* nothing to do without --csv */
+    if (!ret && o->csv)
+        ret = write_csv(fp, o->csv, pv, &made[0]);
+    fclose(fp);
     if (ret) {
-        sp_outfile_discard(rows);
         sp_dirs_remove_empty(&made[1]);
         sp_dirs_remove_empty(&made[0]);
     }
@@ -476,92 +543,181 @@ static int finish(FILE *fp, struct sp_outfile *rows, const struct sweep_opts *o,
     return ret;
 }
 
-/* Reads one line (without its newline) into buf; 0 at the end. */
-static int read_line(FILE *fp, char *buf, size_t size)
+/* ---- --merge ---- */
+
+/* A shard's CSV and what its metadata says. */
+struct shard {
+    const char *path;
+    FILE *fp;              /* the CSV, after its header line */
+    json_t *meta;          /* its CSV.csv-metadata.json */
+    const char *description, *scene, *version;
+    json_t *overrides;     /* array of strings */
+    int i, n;              /* shard I of N */
+    long rows;
+    const char *sha256;
+};
+
+/* The string member key of obj, or NULL. */
+static const char *member(json_t *obj, const char *key)
 {
-    if (!fgets(buf, (int)size, fp))
-        return 0;
-    buf[strcspn(buf, "\n")] = 0;
-    return 1;
+    return json_string_value(json_object_get(obj, key));
 }
 
-#define END_LINE "# end rows=%ld sha256=%s\n" /* a shard's last line (sweep.h) */
-
-/* A shard's last line: the SHA-256 of every byte of fp (rewound, read to
- * the end) and its row count, appended. Returns 0 or SP_E_IO. */
-static int write_end(FILE *fp, const char *name)
+/* Reads the shard's metadata; messages name it. 0 or SP_E_INPUT. */
+static int read_shard_meta(struct shard *s)
 {
-    static char buf[1 << 16];
-    struct sha256_ctx sha;
-    char hex[65];
-    long lines = 0;
-    size_t got;
-    sha256_init(&sha);
-    if (fflush(fp) != 0 || fseek(fp, 0, SEEK_SET) != 0)
-        goto fail;
-    while ((got = fread(buf, 1, sizeof(buf), fp)) > 0) {
-        sha256_update(&sha, got, (const uint8_t *)buf);
-        for (const char *q = buf; (q = memchr(q, '\n', (size_t)(buf + got - q))); q++)
-            lines++;
+    int used = 0;
+    if (!(s->meta = sp_csv_metadata_load(s->path)))
+        return SP_E_INPUT;
+    s->description = member(s->meta, "dc:description");
+    s->scene = member(s->meta, "dc:source");
+    s->version = member(s->meta, "schema:softwareVersion");
+    s->overrides = json_object_get(s->meta, "prov:used");
+    s->sha256 = member(s->meta, "schema:sha256");
+    json_t *rows = json_object_get(s->meta, "dc:extent");
+    const char *pos = member(s->meta, "schema:position");
+    s->rows = json_is_integer(rows) ? (long)json_integer_value(rows) : -1;
+    if (!s->description || !s->scene || !s->version || !json_is_array(s->overrides) ||
+        !s->sha256 || s->rows < 0 || !pos ||
+        sscanf(pos, "%d/%d%n", &s->i, &s->n, &used) != 2 || pos[used]) {
+        sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": not a sweep shard's metadata (it needs "
+                     "dc:description, dc:source, schema:softwareVersion, prov:used, "
+                     "schema:position, dc:extent and schema:sha256, as 'springpend sweep "
+                     "--shard I/N --csv FILE' writes them)", s->path);
+        return SP_E_INPUT;
     }
-    sp_digest_hex(&sha, hex);
-    if (ferror(fp) || fseek(fp, 0, SEEK_END) != 0 || fprintf(fp, END_LINE, lines - 3, hex) < 0)
-        goto fail;
     return 0;
-fail:
-    sp_log_error("cannot write %s: %s", name, strerror(errno));
-    return SP_E_IO;
 }
 
-/* A shard's rows, from fp's position (after its three header lines, whose
- * bytes `head` holds) to its end line, must be whole: every row as the
- * sweep writes it (sp_sweep_row_check), a Lyapunov shard one row per
- * point, and the end line's row count and SHA-256 those of the bytes
- * before it. A copy cut short or edited would otherwise be drawn without a
- * word. Sets *rows_end to the end line's offset; fp is left where it was.
- * SP_E_INPUT with FILE:LINE, or SP_E_INTERRUPTED. */
-static int check_rows(FILE *fp, const char *name, const char *head,
-                      const struct sp_sweep_desc *d, long first, long last, long *rows_end)
+/* The first line where scene texts a and b differ, as "[section] line", into
+ * wa and wb. */
+static void first_difference(const char *a, const char *b, char *wa, char *wb, size_t size)
 {
-    char line[1024], hex[65], want[sizeof(line)];
+    char section[64] = "";
+    while (*a || *b) {
+        const size_t na = strcspn(a, "\n"), nb = strcspn(b, "\n");
+        if (na != nb || strncmp(a, b, na)) {
+            snprintf(wa, size, "%s%.*s", section, (int)na, a);
+            snprintf(wb, size, "%s%.*s", section, (int)nb, b);
+            return;
+        }
+        if (*a == '[')
+            snprintf(section, sizeof(section), "%.*s ", (int)na, a);
+        a += na + (a[na] == '\n');
+        b += nb + (b[nb] == '\n');
+    }
+    snprintf(wa, size, "?");
+    snprintf(wb, size, "?");
+}
+
+/* The first word (space-separated) where descriptions a and b differ. */
+static void first_word_difference(const char *a, const char *b, char *wa, char *wb, size_t size)
+{
+    while (*a || *b) {
+        const size_t na = strcspn(a, " "), nb = strcspn(b, " ");
+        if (na != nb || strncmp(a, b, na)) {
+            snprintf(wa, size, "%.*s", (int)na, *a ? a : "(nothing)");
+            snprintf(wb, size, "%.*s", (int)nb, *b ? b : "(nothing)");
+            if (!na)
+                snprintf(wa, size, "(nothing)");
+            if (!nb)
+                snprintf(wb, size, "(nothing)");
+            return;
+        }
+        a += na + (a[na] == ' ');
+        b += nb + (b[nb] == ' ');
+    }
+}
+
+/* The overrides as one "--set A --set B" text (or "no --set"). */
+static void overrides_text(json_t *arr, char *buf, size_t size)
+{
+    size_t used = 0, i;
+    json_t *v;
+    buf[0] = 0;
+    json_array_foreach(arr, i, v)
+        if (used < size)
+            used += (size_t)snprintf(buf + used, size - used, "%s--set %s", i ? " " : "",
+                                     json_string_value(v) ? json_string_value(v) : "?");
+    if (!used)
+        snprintf(buf, size, "no --set");
+}
+
+/* Shard b must come from the same sweep as shard a: the same springpend,
+ * scene, overrides, grid and measure, and the same N. Names the first
+ * difference. 0 or SP_E_INPUT. */
+static int same_sweep(const struct shard *a, const struct shard *b)
+{
+    char wa[1024], wb[1024];
+    const char *what = NULL;
+    if (strcmp(a->version, b->version)) {
+        what = "springpend's version differs";
+        snprintf(wa, sizeof(wa), "%s", a->version);
+        snprintf(wb, sizeof(wb), "%s", b->version);
+    } else if (!json_equal(a->overrides, b->overrides)) {
+        what = "the --set overrides differ";
+        overrides_text(a->overrides, wa, sizeof(wa));
+        overrides_text(b->overrides, wb, sizeof(wb));
+    } else if (strcmp(a->scene, b->scene)) {
+        what = "the scene differs";
+        first_difference(a->scene, b->scene, wa, wb, sizeof(wa));
+    } else if (strcmp(a->description, b->description)) {
+        what = "the sweep (grid, measure or span) differs";
+        first_word_difference(a->description, b->description, wa, wb, sizeof(wa));
+    } else if (a->n != b->n) {
+        what = "the number of shards differs";
+        snprintf(wa, sizeof(wa), "%d", a->n);
+        snprintf(wb, sizeof(wb), "%d", b->n);
+    }
+    if (!what)
+        return 0;
+    sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": from another sweep than %s: %s "
+                 "(%s: %s; %s: %s); merge only the shards of one run of 'springpend sweep "
+                 "... --shard I/N'", b->path, a->path, what, a->path, wa, b->path, wb);
+    return SP_E_INPUT;
+}
+
+/* A shard's CSV, from its column names to its end, must be whole: the
+ * columns the sweep has, every row as the sweep writes it
+ * (sp_sweep_row_check), and as many rows, and the same SHA-256 of its
+ * bytes, as its metadata says. A copy cut short or edited would otherwise
+ * be drawn without a word. fp is left after the column names.
+ * SP_E_INPUT with FILE:LINE, or SP_E_INTERRUPTED. */
+static int check_rows(struct shard *s, const char *columns, const struct sp_sweep_desc *d,
+                      long first, long last)
+{
+    char line[1024], hex[65];
     struct sp_sweep_rows r = {.d = d, .first = first, .last = last, .point = -1};
     struct sha256_ctx sha;
-    long at = ftell(fp), lineno = 3, pos = at;
-    int ended = 0;
+    long lineno = 1, at;
     const char *wrong = NULL;
     sha256_init(&sha);
-    sha256_update(&sha, strlen(head), (const uint8_t *)head);
-    while (!wrong && (pos = ftell(fp), fgets(line, sizeof(line), fp))) {
+    if (!fgets(line, sizeof(line), s->fp) || strcmp(line, columns))
+        wrong = "not the sweep's column names";
+    else
+        sha256_update(&sha, strlen(line), (const uint8_t *)line);
+    at = ftell(s->fp);
+    while (!wrong && fgets(line, sizeof(line), s->fp)) {
         lineno++;
         if (lineno % 4096 == 0 && sp_signal_seen())
             return SP_E_INTERRUPTED;
-        if (ended) {
-            wrong = "a line after the end line";
-        } else if (!strncmp(line, "# end ", 6)) {
-            sp_digest_hex(&sha, hex);
-            snprintf(want, sizeof(want), END_LINE, r.rows, hex);
-            if (strcmp(line, want))
-                wrong = "the end line does not match the rows before it (their count or "
-                        "SHA-256)";
-            ended = 1;
-            *rows_end = pos;
-        } else {
-            wrong = sp_sweep_row_check(&r, line);
-            sha256_update(&sha, strlen(line), (const uint8_t *)line);
-        }
+        wrong = sp_sweep_row_check(&r, line);
+        sha256_update(&sha, strlen(line), (const uint8_t *)line);
     }
-    if (!wrong && !ended)
-        wrong = "no end line", lineno++;
+    sp_digest_hex(&sha, hex);
+    if (!wrong && (r.rows != s->rows || strcmp(hex, s->sha256)))
+        wrong = "the rows are not those the metadata counts (dc:extent) and hashes "
+                "(schema:sha256)", lineno++;
     if (!wrong && (d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS) &&
         r.rows != last - first)
         wrong = "fewer rows than the shard's points";
     if (wrong) {
         sp_log_error("%s:%ld: %s; the file was cut short or edited: write it again with "
-                     "'springpend sweep ... --shard I/N --csv FILE'", name, lineno, wrong);
+                     "'springpend sweep ... --shard I/N --csv FILE'", s->path, lineno, wrong);
         return SP_E_INPUT;
     }
-    if (ferror(fp) || fseek(fp, at, SEEK_SET) != 0) {
-        sp_log_error("cannot read %s: %s", name, strerror(errno));
+    if (ferror(s->fp) || fseek(s->fp, at, SEEK_SET) != 0) {
+        sp_log_error("cannot read %s: %s", s->path, strerror(errno));
         return SP_E_INPUT;
     }
     return 0;
@@ -593,91 +749,99 @@ static FILE *open_shard(const char *path)
 
 static int merge(const struct sweep_opts *o)
 {
-    char header[1024] = "", line[1024], columns[1024] = "";
-    int n = 0, ret = 0;
-    FILE **parts = calloc((size_t)o->n_parts, sizeof(*parts));
-    if (!parts)
-        return SP_E_NOMEM;
-    long *ends = calloc((size_t)o->n_parts, sizeof(*ends));
-    if (!ends) {
-        free(parts);
+    char header[1100], columns[1024] = "";
+    int n = o->n_parts, ret = 0;
+    struct sp_sweep_desc d;
+    struct sp_scene scene;
+    struct shard *shards = calloc((size_t)n, sizeof(*shards));
+    struct shard **order = calloc((size_t)n, sizeof(*order)); /* by I */
+    if (!shards || !order) {
+        free(shards);
+        free(order);
+        sp_log_error("out of memory");
         return SP_E_NOMEM;
     }
-    for (int k = 0; !ret && k < o->n_parts; k++) {
-        int i, total, used = 0;
-        FILE *fp = open_shard(o->parts[k]);
-        char h[1024], c[1024], head[3 * 1024 + 4];
-        struct sp_sweep_desc d;
-        if (!fp) {
+    sp_scene_defaults(&scene);
+    for (int k = 0; !ret && k < n; k++) {
+        struct shard *s = &shards[k];
+        s->path = o->parts[k];
+        if (!(s->fp = open_shard(s->path))) {
             ret = sp_signal_seen() ? SP_E_INTERRUPTED : SP_E_INPUT;
             break;
         }
-        if (!read_line(fp, h, sizeof(h)) || sp_sweep_parse_header(h, &d) ||
-            !read_line(fp, line, sizeof(line)) ||
-            sscanf(line, "# shard %d/%d%n", &i, &total, &used) != 2 || line[used] ||
-            !read_line(fp, c, sizeof(c))) {
-            sp_log_error("%s:1: not a sweep shard's CSV (written by 'springpend sweep "
-                         "--shard I/N --csv FILE')", o->parts[k]);
-            fclose(fp);
-            ret = SP_E_INPUT;
+        if ((ret = read_shard_meta(s)))
             break;
-        }
         if (k == 0) {
-            n = total;
-            snprintf(header, sizeof(header), "%s", h);
-            snprintf(columns, sizeof(columns), "%s", c);
-            if (n != o->n_parts) {
-                sp_log_error("%s is shard %d of %d, but %d files were given; give all %d",
-                             o->parts[k], i, n, o->n_parts, n);
-                fclose(fp);
+            snprintf(header, sizeof(header), "# springpend sweep %s", s->description);
+            char *text = NULL;
+            size_t size = 0;
+            FILE *mem = open_memstream(&text, &size);
+            if (sp_sweep_parse_header(header, &d) || !mem ||
+                sp_sweep_write_header(mem, &d, NULL) || fclose(mem) != 0 ||
+                !strchr(text, '\n')) {
+                sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": dc:description is not a sweep's "
+                             "description", s->path);
+                free(text);
                 ret = SP_E_INPUT;
                 break;
             }
-        } else if (strcmp(h, header) || strcmp(c, columns) || total != n) {
-            sp_log_error("%s:1: is from another sweep than %s", o->parts[k], o->parts[0]);
-            fclose(fp);
+            snprintf(columns, sizeof(columns), "%s", strchr(text, '\n') + 1);
+            free(text);
+            if (sp_scene_parse(&scene, s->scene, s->path, NULL, 0)) {
+                ret = SP_E_INPUT;
+                break;
+            }
+            sp_scene_free(&scene);
+            if (s->n != n) {
+                sp_log_error("%s is shard %d of %d, but %d files were given; give all %d",
+                             s->path, s->i, s->n, n, s->n);
+                ret = SP_E_INPUT;
+                break;
+            }
+        } else if ((ret = same_sweep(&shards[0], s))) {
+            break;
+        }
+        if (s->i < 1 || s->i > n || order[s->i - 1]) {
+            sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": shard %d/%d is given twice or out of "
+                         "range", s->path, s->i, s->n);
             ret = SP_E_INPUT;
             break;
         }
-        if (i < 1 || i > n || parts[i - 1]) {
-            sp_log_error("%s:2: shard %d/%d is given twice or out of range", o->parts[k], i, n);
-            fclose(fp);
-            ret = SP_E_INPUT;
-            break;
-        }
-        parts[i - 1] = fp;
+        order[s->i - 1] = s;
         const long points = sp_sweep_points(&d);
-        snprintf(head, sizeof(head), "%s\n%s\n%s\n", h, line, c);
-        ret = check_rows(fp, o->parts[k], head, &d, points * (i - 1) / n, points * i / n,
-                         &ends[i - 1]);
+        ret = check_rows(s, columns, &d, points * (s->i - 1) / n, points * s->i / n);
     }
-    struct sp_outfile rows = {.fd = -1, .slot = -1};
     FILE *out = NULL;
     struct sp_dirs made[2] = {{0}, {0}};
     if (!ret)
-        ret = open_rows(o->csv, &rows, &out, &made[0]);
+        ret = open_rows(&out);
     if (!ret) {
-        fprintf(out, "%s\n%s\n", header, columns);
+        fprintf(out, "%s\n%s", header, columns);
         static char buf[1 << 16];
-        for (int i = 0; i < n; i++) { /* the rows, not the end line */
+        for (int i = 0; i < n; i++) { /* the rows after the column names */
             size_t got;
-            for (long left = ends[i] - ftell(parts[i]); left > 0; left -= (long)got) {
-                got = fread(buf, 1, left < (long)sizeof(buf) ? (size_t)left : sizeof(buf),
-                            parts[i]);
-                if (!got)
-                    break;
+            while ((got = fread(buf, 1, sizeof(buf), order[i]->fp)) > 0)
                 fwrite(buf, 1, got, out);
-            }
         }
-        ret = finish(out, &rows, o, 0, made);
+        /* the shards' overrides, which the whole's scene has applied */
+        const char *sets[SP_CLI_MAX_OVERRIDES];
+        struct provenance whole = {.d = &d, .scene = &scene, .overrides = sets};
+        size_t i;
+        json_t *v;
+        json_array_foreach(shards[0].overrides, i, v)
+            if (whole.n_overrides < SP_CLI_MAX_OVERRIDES && json_string_value(v))
+                sets[whole.n_overrides++] = json_string_value(v);
+        ret = finish(out, o, 0, &whole, made);
         if (ret == SP_E_INTERRUPTED)
             sp_log_error("interrupted: nothing written");
     }
-    for (int i = 0; i < o->n_parts; i++)
-        if (parts[i])
-            fclose(parts[i]);
-    free(parts);
-    free(ends);
+    for (int k = 0; k < o->n_parts; k++) {
+        if (shards[k].fp)
+            fclose(shards[k].fp);
+        json_decref(shards[k].meta);
+    }
+    free(shards);
+    free(order);
     if (!ret && !o->quiet)
         fprintf(stderr, "wrote %s%s%s from %d shards\n", o->output ? o->output : "stdout",
                 o->csv ? " and " : "", o->csv ? o->csv : "", n);
@@ -712,30 +876,29 @@ int sp_cmd_sweep(int argc, char **argv)
     }
     if ((ret = check_work(&d, &scene, last - first, o.quiet)))
         return ret;
-    struct sp_outfile rows;
     FILE *fp;
     struct sp_dirs made[2] = {{0}, {0}};
-    if ((ret = open_rows(o.csv, &rows, &fp, &made[0])))
+    if ((ret = open_rows(&fp)))
         return ret;
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
-    char shard_line[64];
-    snprintf(shard_line, sizeof(shard_line), "# shard %d/%d\n", si, sn);
-    ret = sp_sweep_write_header(fp, &d, o.shard ? shard_line : NULL);
+    ret = sp_sweep_write_header(fp, &d, NULL);
     long blown = 0, unreachable = 0;
     struct progress prog = {.t0 = now_s()};
     double t0 = now_s();
     if (!ret)
         ret = sp_sweep_run(&d, &scene, first, last, o.threads, fp, &blown, &unreachable,
                            !o.quiet && isatty(2) ? show_progress : NULL, &prog);
-    if (!ret && o.shard)
-        ret = write_end(fp, rows.path);
     if (!ret && !o.shard && unreachable == last - first) { /* an empty figure */
         sp_log_error("--energy %g: no point of the grid can have this energy; nothing "
                      "written (omit --energy for the scene's own)", d.energy);
         ret = SP_E_INPUT;
     }
-    ret = finish(fp, &rows, &o, ret, made);
+    char shard[32];
+    snprintf(shard, sizeof(shard), "%d/%d", si, sn);
+    const struct provenance pv = {.d = &d, .scene = &scene, .overrides = o.overrides,
+                                  .n_overrides = o.n_overrides, .shard = o.shard ? shard : NULL};
+    ret = finish(fp, &o, ret, &pv, made);
     if (ret == SP_E_INTERRUPTED)
         sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
                      "say which part)");

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "command_line.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
 #include "springpend/render.h"
@@ -23,6 +24,7 @@ static const char usage[] =
     "  data     the motion as CSV: state, polar form, energies (no rendering)\n"
     "  info     the scene's frequencies, resonance, energies, and the step's margin\n"
     "  keys     list every scene key with its default and accepted range\n"
+    "  scene    print the scene a PNG, video or CSV was made from, as a scene file\n"
     "  compare  compare PNG images, folders of them or videos (snapshot tests in CI)\n"
     "  sweep    many pendulums over a grid of keys: Lyapunov maps, orbit diagrams,\n"
     "           Poincare mosaics (PNG, SVG, PDF; sharded runs and their merge)\n"
@@ -92,6 +94,7 @@ static const struct command commands[] = {
     {"keys", cmd_keys},
     {"compare", sp_cmd_compare},
     {"sweep", sp_cmd_sweep},
+    {"scene", sp_cmd_scene},
 };
 
 int main(int argc, char **argv)
@@ -99,6 +102,7 @@ int main(int argc, char **argv)
     /* A closed pipe (e.g. `springpend render --format raw -o - | head -c 1`)
      * becomes a write error with a message instead of a silent death. */
     signal(SIGPIPE, SIG_IGN);
+    sp_command_line_set(argc, argv); /* the provenance every output carries */
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
         !strcmp(argv[1], "help")) {
         fputs(usage, argc < 2 ? stderr : stdout);

@@ -1069,6 +1069,118 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
     return (int)used;
 }
 
+/* The shortest decimal text (at most 17 digits) that sp_decimal_read reads
+ * back, times scale, as exactly v (scale 1: v itself; pi/180: an angle in
+ * radians written in degrees). Such a text exists for every value the
+ * parser stored; the neighbours of v / scale are tried for the angles. */
+static int reads_as(const char *text, double scale, double v)
+{
+    double back;
+    return sp_decimal_read(text, &back) == SP_DECIMAL_OK &&
+           (scale == 1 ? back : back * scale) == v;
+}
+
+static void exact_number(double v, double scale, char *buf, size_t size)
+{
+    const double x = v / scale;
+    double down = x, up = x;
+    for (int step = 0; step < 32; step++) {
+        for (int side = 0; side < (step ? 2 : 1); side++)
+            for (int digits = 1; digits <= 17; digits++) {
+                const double c = side ? up : down;
+                snprintf(buf, size, "%.*g", digits, c);
+                if (!reads_as(buf, scale, v))
+                    continue;
+                /* without an exponent where that is as short to read */
+                const int e = c ? (int)floor(log10(fabs(c))) : 0;
+                char plain[64];
+                if (strchr(buf, 'e') && e > -5 && e < 16 &&
+                    snprintf(plain, sizeof(plain), "%.*f", digits - 1 - e > 0 ? digits - 1 - e : 0,
+                             c) < (int)sizeof(plain) &&
+                    reads_as(plain, scale, v))
+                    snprintf(buf, size, "%s", plain);
+                return;
+            }
+        down = nextafter(down, -INFINITY);
+        up = nextafter(up, INFINITY);
+    }
+    snprintf(buf, size, "%.17g", x); /* not reached for parsed values */
+}
+
+int sp_scene_write_ini(const struct sp_scene *s, char *buf, size_t size)
+{
+    size_t used = 0;
+    const char *section = "";
+#define EMIT(...)                                                                        \
+    used += (size_t)snprintf(used < size ? buf + used : NULL, used < size ? size - used : 0, \
+                             __VA_ARGS__)
+    for (int i = 0; i < N_KEYS; i++) {
+        const struct key_info *k = &keys[i];
+        const char *p = (const char *)s + k->offset;
+        char value[SP_VIEW_TEXT_BYTES + 64], canon[SP_VIEW_TEXT_BYTES + 64];
+        if (strcmp(section, k->section))
+            EMIT("%s[%s]\n", i ? "\n" : "", section = k->section);
+        switch (k->kind) {
+        case KEY_REAL:
+            exact_number(*(const double *)p, 1, value, sizeof(value));
+            break;
+        case KEY_DEGREES:
+            exact_number(*(const double *)p, M_PI / 180.0, value, sizeof(value));
+            break;
+        case KEY_INT:
+            snprintf(value, sizeof(value), "%d", *(const int *)p);
+            break;
+        case KEY_METHOD:
+            snprintf(value, sizeof(value), "%s", method_names[*(const enum sp_method *)p]);
+            break;
+        case KEY_TEXT: /* in quotes, taken whole: a ' #' inside stays text */
+            snprintf(value, sizeof(value), "\"%s\"", p);
+            break;
+        case KEY_TRAIL:
+            if (*(const int *)p == SP_TRAIL_DURATION) {
+                exact_number(s->view.trail_duration, 1, value, sizeof(value) - 1);
+                strcat(value, "s");
+                break;
+            }
+            /* fall through */
+        default: /* the words: as the display of the canonical value */
+            snprintf(canon, sizeof(canon), k->kind == KEY_PANELS ? "%#x" : "%d",
+                     *(const int *)p);
+            char key[64];
+            snprintf(key, sizeof(key), "%s.%s", k->section, k->name);
+            sp_scene_canonical_display(key, canon, value, sizeof(value));
+            break;
+        }
+        EMIT("%s = %s\n", k->name, value);
+    }
+    for (int i = 0; s->timeline && i < s->timeline->n_cues; i++) {
+        const struct sp_cue *cue = &s->timeline->cues[i];
+        const char *text = s->timeline->pool ? s->timeline->pool + cue->text_at : "";
+        char t[32], v[32];
+        exact_number(cue->t, 1, t, sizeof(t));
+        exact_number(cue->value, 1, v, sizeof(v));
+        if (!i)
+            EMIT("\n[timeline]\n");
+        if (cue->kind == SP_CUE_CAPTION)
+            EMIT("%s = caption: \"%s\"\n", t, text);
+        else if (cue->kind == SP_CUE_SPEED)
+            EMIT("%s = speed %s\n", t, v);
+        else
+            EMIT("%s = pause %s: \"%s\"\n", t, v, text);
+    }
+#undef EMIT
+    return (int)used;
+}
+
+char *sp_scene_ini(const struct sp_scene *s)
+{
+    const int n = sp_scene_write_ini(s, NULL, 0);
+    char *text = malloc((size_t)n + 1);
+    if (text)
+        sp_scene_write_ini(s, text, (size_t)n + 1);
+    return text;
+}
+
 void sp_scene_print_keys(void)
 {
     static struct sp_scene def; /* big: not on the stack */

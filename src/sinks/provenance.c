@@ -45,6 +45,12 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
                                       .compressed = 1};
     p->fonts[0] = 0;
     p->text[6] = (struct sp_png_text){.key = "springpend.fonts", .text = p->fonts};
+    p->text[7] = (struct sp_png_text){.key = SP_PROVENANCE_SCENE_FILE, .text = p->scene_file,
+                                      .compressed = 1};
+    /* empty when it does not fit, as the canonical text */
+    if (sp_scene_write_ini(scene, p->scene_file, sizeof(p->scene_file)) >=
+        (int)sizeof(p->scene_file))
+        p->scene_file[0] = 0;
     return scene_sha256(scene, p->scene_sha256, p->scene, sizeof(p->scene));
 }
 

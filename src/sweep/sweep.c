@@ -79,6 +79,57 @@ const char *sp_sweep_columns(const struct sp_sweep_desc *d)
     return columns[d->measure];
 }
 
+int sp_sweep_column_info(const struct sp_sweep_desc *d, struct sp_csv_column *out, int max)
+{
+    static const struct sp_csv_column known[] = {
+        {"lyapunov", "largest Lyapunov exponent over the measured span T", "1/s"},
+        {"lyapunov_half", "largest Lyapunov exponent over T/2", "1/s"},
+        {"t", "simulated time of the sample", "s"},
+        {"theta", "angle from the downward vertical", "degrees"},
+        {"r", "spring length", "m"},
+        {"r_dot", "rate of change of r", "m/s"},
+        {"theta_dot", "rate of change of theta", "rad/s"},
+        {"branch", "continuation branch: 0 none, 1 up, -1 down", "1"},
+        {"T", "span the running values are taken over", "s"},
+        {"lambda1", "largest Lyapunov exponent", "1/s"},
+        {"lambda2", "second Lyapunov exponent", "1/s"},
+        {"lambda3", "third Lyapunov exponent", "1/s"},
+        {"lambda4", "fourth Lyapunov exponent", "1/s"},
+        {"sum", "sum of the four exponents", "1/s"},
+        {"kaplan_yorke", "Kaplan-Yorke dimension", "1"},
+        {"period", "period of the settled cycle in drive periods (0: undecided)", "1"},
+        {"winding", "whole turns per cycle (rotating when not 0)", "1"},
+        {"settled", "simulated time the start was settled at", "s"},
+    };
+    static char names[SP_SWEEP_MAX_AXES + 16][24];
+    const struct sp_csv_column peak = {
+        "peak", d->peak == SP_PEAK_R ? "largest r over the drive period that ends at the sample"
+                                     : "largest |theta| over the drive period that ends at the "
+                                       "sample", d->peak == SP_PEAK_R ? "m" : "degrees"};
+    int n = 0;
+    if (n < max)
+        out[n++] = (struct sp_csv_column){"point", "grid point (the first key varies fastest)", "1"};
+    for (int a = 0; a < d->n_axes && n < max; a++) {
+        const char *unit = sp_scene_key_unit(d->axis[a].key);
+        out[n++] = (struct sp_csv_column){d->axis[a].key, "the varied scene key (file units)",
+                                          unit ? unit : "1"};
+    }
+    for (const char *c = sp_sweep_columns(d); *c && n < max && n < (int)(sizeof(names) /
+                                                                          sizeof(names[0]));) {
+        const size_t len = strcspn(c, ",");
+        snprintf(names[n], sizeof(names[n]), "%.*s", (int)len, c);
+        out[n] = (struct sp_csv_column){names[n], "?", "1"};
+        if (!strcmp(names[n], "peak"))
+            out[n] = peak;
+        for (size_t i = 0; i < sizeof(known) / sizeof(known[0]); i++)
+            if (!strcmp(known[i].name, names[n]))
+                out[n] = known[i];
+        n++;
+        c += len + (c[len] == ',');
+    }
+    return n;
+}
+
 int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *between)
 {
     fprintf(fp, "# springpend sweep scene=%s measure=%s time=%.17g transient=%.17g "

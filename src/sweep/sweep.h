@@ -26,6 +26,7 @@
 
 #include <stdio.h>
 
+#include "springpend/csv_metadata.h"
 #include "springpend/scene.h"
 
 struct sp_sweep_desc;
@@ -87,6 +88,11 @@ double sp_sweep_axis_value(const struct sp_sweep_axis *a, int i);
 
 /* Grid points in all. */
 long sp_sweep_points(const struct sp_sweep_desc *d);
+
+/* Every column of the sweep's CSV (point, the keys, then the measure's),
+ * with what it is and its unit, into out (at most max); returns how many.
+ * The names point into static storage: one sweep at a time. */
+int sp_sweep_column_info(const struct sp_sweep_desc *d, struct sp_csv_column *out, int max);
 
 /* Writes the description line ("# springpend sweep ...\n"), `between` (a
  * shard's "# shard I/N\n" line, or NULL) and the column names. Returns 0 or

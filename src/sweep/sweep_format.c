@@ -107,8 +107,7 @@ int sp_sweep_print(FILE *rows, const char *name, int json, FILE *out)
         sp_log_error("%s:1: not a sweep CSV", name);
         return SP_E_INPUT;
     }
-    if (!json) {
-        fprintf(out, "%s\n", line);
+    if (!json) { /* plain CSV: the column names, the rows (no description) */
         size_t got;
         while ((got = fread(line, 1, sizeof(line), rows)) > 0)
             fwrite(line, 1, got, out);

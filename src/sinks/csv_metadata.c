@@ -1,0 +1,155 @@
+/* springpend: a CSV's metadata file, W3C CSV on the Web (csv_metadata.h).
+ * jansson builds and writes the JSON. */
+#include <errno.h>
+#include <jansson.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "command_line.h"
+#include "utf8.h"
+#include "springpend/common.h"
+#include "springpend/csv_metadata.h"
+#include "springpend/environment.h"
+
+/* A JSON string of s, which JSON holds to UTF-8: a byte that is not
+ * (a file name in Latin-1) becomes U+FFFD. NULL when out of memory. */
+static json_t *text(const char *s)
+{
+    json_t *j = json_string(s);
+    if (j)
+        return j;
+    char *copy = malloc(3 * strlen(s) + 1), *o = copy;
+    if (!copy)
+        return NULL;
+    while (*s) {
+        const size_t n = sp_utf8_char(s);
+        if (n) {
+            memcpy(o, s, n), o += n, s += n;
+        } else {
+            memcpy(o, "\xef\xbf\xbd", 3), o += 3, s++;
+        }
+    }
+    *o = 0;
+    j = json_string(copy);
+    free(copy);
+    return j;
+}
+
+/* The command line's text and words into obj. 0 or SP_E_NOMEM. */
+static int add_command(json_t *obj)
+{
+    int n = sp_command_line_text(NULL, 0);
+    char *line = malloc((size_t)n + 1);
+    if (!line)
+        return SP_E_NOMEM;
+    sp_command_line_text(line, (size_t)n + 1);
+    int err = json_object_set_new(obj, "prov:wasGeneratedBy", text(line));
+    free(line);
+    return err ? SP_E_NOMEM : 0;
+}
+
+static json_t *build(const char *csv_target, const struct sp_csv_meta *m)
+{
+    const char *base = strrchr(csv_target, '/');
+    char env[SP_ENVIRONMENT_MAX];
+    char *scene = sp_scene_ini(m->scene);
+    json_t *root = json_object(), *schema = json_object(), *columns = json_array(),
+           *used = json_array();
+    int err = !scene || !root || !schema || !columns || !used;
+    for (int i = 0; !err && i < m->n_columns; i++) {
+        const struct sp_csv_column *c = &m->columns[i];
+        err = json_array_append_new(columns, json_pack("{s:s, s:s, s:s, s:s, s:s}",
+                                                       "name", c->name, "titles", c->name,
+                                                       "dc:description", c->title,
+                                                       "datatype", "double",
+                                                       "schema:unitText", c->unit));
+    }
+    for (int i = 0; !err && i < m->n_overrides; i++)
+        err = json_array_append_new(used, text(m->overrides[i]));
+    sp_environment_text(env, sizeof(env), NULL, NULL);
+    err = err || json_object_set_new(root, "@context", json_string("http://www.w3.org/ns/csvw")) ||
+          json_object_set_new(root, "url", text(base ? base + 1 : csv_target)) ||
+          json_object_set_new(root, "dc:title", text(m->title)) ||
+          (m->description &&
+           json_object_set_new(root, "dc:description", text(m->description))) ||
+          json_object_set_new(root, "dc:creator", json_string("springpend " SP_VERSION)) ||
+          json_object_set_new(root, "schema:softwareVersion", json_string(SP_VERSION)) ||
+          add_command(root) || json_object_set(root, "prov:used", used) ||
+          json_object_set_new(root, "dc:source", text(scene)) ||
+          json_object_set_new(root, "schema:runtimePlatform", text(env)) ||
+          (m->shard && (json_object_set_new(root, "schema:position", json_string(m->shard)) ||
+                        json_object_set_new(root, "dc:extent", json_integer(m->rows)) ||
+                        json_object_set_new(root, "schema:sha256", json_string(m->sha256)))) ||
+          json_object_set(schema, "columns", columns) ||
+          json_object_set(root, "tableSchema", schema);
+    free(scene);
+    json_decref(schema);
+    json_decref(columns);
+    json_decref(used);
+    if (err) {
+        json_decref(root);
+        return NULL;
+    }
+    return root;
+}
+
+int sp_csv_metadata_write(struct sp_outfile *f, const char *csv_target,
+                          const struct sp_csv_meta *m)
+{
+    *f = (struct sp_outfile){.fd = -1, .slot = -1};
+    if (sp_outfile_is_stream(csv_target))
+        return 0;
+    char *path = NULL, *text = NULL;
+    json_t *root = build(csv_target, m);
+    if (root)
+        text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER);
+    json_decref(root);
+    if (!text || asprintf(&path, "%s" SP_CSV_METADATA_SUFFIX, csv_target) < 0) {
+        free(text);
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    int ret = sp_outfile_open(f, path, 0);
+    size_t n = strlen(text), done = 0;
+    text[n++] = '\n'; /* json_dumps leaves no newline; its NUL becomes one */
+    while (!ret && done < n) {
+        ssize_t w = write(f->fd, text + done, n - done);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            sp_log_error("cannot write %s: %s", f->path, strerror(errno));
+            sp_outfile_discard(f);
+            ret = SP_E_IO;
+        } else {
+            done += (size_t)w;
+        }
+    }
+    free(path);
+    free(text);
+    return ret;
+}
+
+json_t *sp_csv_metadata_load(const char *csv_path)
+{
+    json_error_t e;
+    char *path = NULL;
+    if (asprintf(&path, "%s" SP_CSV_METADATA_SUFFIX, csv_path) < 0) {
+        sp_log_error("out of memory");
+        return NULL;
+    }
+    json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &e);
+    if (!root && e.line < 1) /* not read at all: the cause is the message */
+        sp_log_error("%s: %s; springpend writes it beside %s (sweep --shard I/N --csv FILE)",
+                     path, e.text, csv_path);
+    else if (!root)
+        sp_log_error("%s:%d: %s; springpend writes it beside %s", path, e.line, e.text,
+                     csv_path);
+    else if (!json_is_object(root)) {
+        sp_log_error("%s:1: not a JSON object; springpend writes it beside %s", path, csv_path);
+        json_decref(root);
+        root = NULL;
+    }
+    free(path);
+    return root;
+}

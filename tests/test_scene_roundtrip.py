@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""springpend tests: `springpend scene FILE` prints the scene an output was
+made from, as a scene file in user units (degrees, names rather than codes),
+and the recorded command run on it again gives the same bytes: PNG, MP4 and
+CSV. Before, a PNG held only internal codes (view.panels=0x80, theme=0) and
+the angle in radians, which --set would read as degrees."""
+import json
+import os
+import shlex
+import shutil
+import subprocess
+import sys
+
+from sptest import done, ok
+
+exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+work = os.path.abspath(os.path.join(sys.argv[3], "scene_roundtrip"))
+shutil.rmtree(work, ignore_errors=True)
+first, again = os.path.join(work, "first"), os.path.join(work, "again")
+os.makedirs(first)
+os.makedirs(again)
+shutil.copy(os.path.join(src, "..", "scenes", "chaotic.ini"), os.path.join(first, "chaotic.ini"))
+
+sets = ["--set", "initial.angle=33.3", "--set", "view.panels=energy,phase", "--set",
+        "view.theme=light", "--set", "view.title=Run #3: ü 'x'"]
+commands = {
+    "png": ["still", "chaotic.ini", *sets, "--size", "320x200", "--at", "1.5", "-o", "out.png", "-q"],
+    "mp4": ["render", "chaotic.ini", *sets, "--size", "160x96", "--fps", "10", "--set",
+            "video.duration=1", "-o", "out.mp4", "-q"],
+    "csv": ["data", "chaotic.ini", *sets, "--every", "0.5", "-o", "out.csv", "-q"],
+}
+
+
+def run(cwd, args):
+    return subprocess.run([exe, *args], capture_output=True, text=True, cwd=cwd)
+
+
+def read(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+for kind, args in commands.items():
+    r = run(first, args)
+    out = args[args.index("-o") + 1]
+    if r.returncode:
+        ok(False, f"{kind}: written (exit {r.returncode}: {r.stderr.strip()[-200:]})")
+        continue
+    s = run(first, ["scene", out])
+    scene = s.stdout
+    ok(s.returncode == 0 and "[initial]\n" in scene and "angle = 33.3\n" in scene and
+       "panels = energy, phase\n" in scene and "theme = light\n" in scene and
+       "title = \"Run #3: ü 'x'\"\n" in scene and "0x" not in scene,
+       f"{kind}: `springpend scene` prints the scene in user units and names "
+       f"(angle = 33.3 degrees, panels = energy, phase, theme = light) {s.stderr.strip()}")
+    # the recorded command, run where the scene file is the one printed
+    with open(os.path.join(again, "chaotic.ini"), "w") as f:
+        f.write(scene)
+    if kind == "csv":
+        recorded = json.loads(read(os.path.join(first, out + "-metadata.json")))["prov:wasGeneratedBy"]
+        words = shlex.split(recorded)
+        ok(words == ["springpend", *args], f"csv: the recorded command reads back into its words: {recorded}")
+        args = words[1:]
+    r2 = run(again, args)
+    ok(r2.returncode == 0 and read(os.path.join(first, out)) == read(os.path.join(again, out)),
+       f"{kind}: the command run again on the printed scene gives the same bytes "
+       f"({r2.stderr.strip()[-160:]})")
+    if kind == "csv":
+        ok(read(os.path.join(first, out + "-metadata.json")) ==
+           read(os.path.join(again, out + "-metadata.json")),
+           "csv: and the same metadata bytes (scene, command, versions)")
+
+r = run(first, ["scene", "chaotic.ini"])
+ok(r.returncode == 2 and "not a PNG, video" in r.stderr, f"a scene file itself: exit 2 {r.stderr.strip()}")
+shutil.copy(os.path.join(src, "golden", "default_t3.png"), os.path.join(first, "old.png"))
+r = run(first, ["scene", "old.png"])
+ok(r.returncode == 2 and "carries no scene" in r.stderr,
+   f"a PNG an older springpend made (no springpend.scene-file): exit 2 {r.stderr.strip()}")
+r = run(first, ["scene"])
+ok(r.returncode == 2 and "expected one FILE" in r.stderr, "no FILE: exit 2")
+done()

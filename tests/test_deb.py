@@ -15,7 +15,7 @@ import shutil
 import subprocess
 import sys
 
-from sptest import done, ok
+from sptest import done, meson_deb_packages, ok
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 root = os.path.abspath(os.path.join(src, ".."))
@@ -45,6 +45,14 @@ version = re.search(r"version\s*:\s*'([^']+)'", open(os.path.join(root, "meson.b
 changelog = open(os.path.join(root, "debian", "changelog")).readline()
 ok(changelog.startswith(f"springpend ({version})"),
    f"debian/changelog's version is meson.build's {version}: {changelog.strip()}")
+
+# every dependency('X') of meson.build, through its .pc file, is a Build-Depends
+control = open(os.path.join(root, "debian", "control")).read()
+build_deps = set(re.findall(r"[a-z0-9][a-z0-9+.-]+", control.split("Build-Depends:")[1].split("\nStandards")[0]))
+pkgs = meson_deb_packages(root) if shutil.which("pkg-config") else {}
+missing = {d: p for d, p in pkgs.items() if p and p not in build_deps}
+ok(pkgs and not missing and all(pkgs.values()),
+   f"debian/control builds on the package of every meson dependency ({len(pkgs)}); missing {missing}")
 
 env = dict(os.environ, DEB_BUILD_OPTIONS=f"parallel={min(os.cpu_count() or 1, 2)}")
 b = subprocess.run(["dpkg-buildpackage", "-b", "-us", "-uc"], cwd=tree, env=env,

@@ -93,16 +93,6 @@ for method, bound in bounds.items():
            abs(col["r_dot"][0] - 0.3) < 1e-15 and abs(col["theta_dot"][0] - 0.4) < 1e-15,
            "t = 0: r 0.9 m, theta 25 degrees (in radians), r_dot 0.3 m/s, theta_dot 0.4 rad/s")
 
-# [initial] azimuth_rate (rad/s): the bob starts moving out of the plane at
-# r0 sin(theta0) times it (m/s), the horizontal speed of a turn about the vertical
-path = scene("azimuth", {"initial.length": 0.9, "initial.angle": 25,
-                         "initial.azimuth_rate": 0.5, "video.duration": 0.5})
-r = run("data", path, "-o", "-", "--every", "0.25")
-head, got = rows(r.stdout) if r.returncode == 0 else ([], np.zeros((0, 0)))
-vz0 = got[0, head.index("vz")] if "vz" in head else math.nan
-ok(abs(vz0 - 0.9 * math.sin(math.radians(25)) * 0.5) < 1e-12,
-   f"initial.azimuth_rate = 0.5 rad/s: vz at t = 0 is r0 sin(theta0) 0.5 = {vz0} m/s {err(r)}")
-
 # rkn1210 takes a force of the position only: the same scene undamped, pivot at rest
 cons = {k: v for k, v in PHYS.items() if k not in ("pendulum.damping", "pivot.amplitude",
                                                    "pivot.frequency")}

@@ -256,6 +256,16 @@ j = info({"initial.azimuth_rate": 0})
 ok("precession_per_exchange" in j and j["precession_per_exchange"] is None,
    "a planar scene: precession_per_exchange is null")
 
+# ---- the 3-D panels ------------------------------------------------------
+png = os.path.join(work, "panels.png")
+r = run("still", SWING, "--at", "200", "--set", "view.panels=azimuth,top", "--size", "640x360",
+        "-o", png)
+ok(r.returncode == 0 and os.path.getsize(png) > 5000,
+   f"view.panels = azimuth, top: a still of the 3-D scene with both panels ({r.stderr.strip()})")
+r = run("still", SWING, "--set", "view.panels=azimuth,side", "-o", os.path.join(work, "x.png"))
+ok(r.returncode == 2 and "spread, azimuth, top" in r.stderr,
+   f"an unknown panel name: exit 2, the list names azimuth and top ({r.stderr.strip()})")
+
 # ---- bad input -----------------------------------------------------------
 bad_scene = os.path.join(work, "vertical.ini")
 with open(bad_scene, "w") as fh:

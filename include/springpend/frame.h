@@ -62,6 +62,8 @@ struct sp_view_extent {
     struct sp_range theta_dot;     /* rad/s */
     struct sp_range energy;        /* J, of total, kinetic, spring and gravity */
     struct sp_range modes;         /* J, of the bounce and swing energies */
+    struct sp_range azimuth;       /* rad, the swing plane's (continuous) */
+    double horizontal;             /* m: the largest |x| and |z| (the top view) */
 };
 
 /* Runs the scene's physics from 0 to t_end (cheaply, no rendering) and
@@ -103,6 +105,8 @@ struct sp_history_sample {
     float r_dot, theta_dot;         /* m/s, rad/s */
     float kinetic, spring, gravity; /* J */
     float bounce, swing;            /* J, see struct sp_energy */
+    float z;                        /* m, out of the starting plane (0 planar) */
+    float azimuth;                  /* rad, the swing plane's (sim.h), continuous */
 };
 
 /* A Poincare point: the bob passing theta = 0 with dtheta/dt > 0. */
@@ -124,6 +128,7 @@ struct sp_history {
     struct sp_crossing *crossings;     /* n_crossings valid, in time order, owned */
     int n_crossings, cap_crossings;
     double max_step;                   /* s: longest interval interpolated over */
+    double azimuth;                    /* rad: the newest sample's azimuth, unrounded */
 };
 
 /* Sets h up for scene: active when view.panels or view.strobe ask for it,

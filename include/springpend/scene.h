@@ -28,7 +28,9 @@ enum sp_panel {
     SP_PANEL_MODES = 1 << 7,       /* energy split into bounce and swing */
     SP_PANEL_SPREAD = 1 << 8,      /* [ensemble]: log10 of the members' spread against t
                                       (not part of "all": it needs an ensemble) */
-    SP_PANEL_COUNT = 9,
+    SP_PANEL_AZIMUTH = 1 << 9,     /* the swing plane's azimuth against t (3-D; not in "all") */
+    SP_PANEL_TOP = 1 << 10,        /* top view: the bob's path in (x, z) (3-D; not in "all") */
+    SP_PANEL_COUNT = 11,
     SP_PANEL_ALL = SP_PANEL_SPREAD - 1, /* "all": every panel but spread */
 };
 enum sp_theme { SP_THEME_DARK = 0, SP_THEME_LIGHT = 1 };

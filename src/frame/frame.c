@@ -107,6 +107,8 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     *out = (struct sp_view_extent){.t_end = t_end};
     out->r = out->theta = out->r_dot = out->theta_dot = out->energy = out->modes =
         (struct sp_range){INFINITY, -INFINITY};
+    out->azimuth = (struct sp_range){0, 0};
+    double azimuth = 0; /* rad, continued from step to step */
     /* Sample every step: the camera must hold every position the bob takes. */
     for (;;) {
         const struct sp_state *s = &sim.s;
@@ -132,6 +134,11 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
             widen(&out->energy, e.gravity);
             widen(&out->modes, e.bounce);
             widen(&out->modes, e.swing);
+            if (sim.spatial) {
+                azimuth = sp_azimuth_unwrap(azimuth, sp_state_azimuth(&sim.p, s));
+                widen(&out->azimuth, azimuth);
+            }
+            out->horizontal = fmax(out->horizontal, fmax(fabs(s->x), fabs(s->z)));
         }
         if (s->t >= t_end)
             break;
@@ -263,10 +270,13 @@ static int push_sample(struct sp_history *h, const struct sp_sim *sim)
         return err;
     sp_state_polar(&sim->s, &pol);
     sp_state_energy(&sim->p, &sim->s, &e);
+    if (sim->spatial)
+        h->azimuth = sp_azimuth_unwrap(h->azimuth, sp_state_azimuth(&sim->p, &sim->s));
     h->samples[h->count++] = (struct sp_history_sample){
         (float)sim->s.t, (float)sim->s.x, (float)(sim->s.y + sp_pivot_y(&sim->p, sim->s.t)),
         (float)pol.r, (float)pol.theta, (float)pol.r_dot, (float)pol.theta_dot,
-        (float)e.kinetic, (float)e.spring, (float)e.gravity, (float)e.bounce, (float)e.swing};
+        (float)e.kinetic, (float)e.spring, (float)e.gravity, (float)e.bounce, (float)e.swing,
+        (float)sim->s.z, (float)h->azimuth};
     return 0;
 }
 

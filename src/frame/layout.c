@@ -5,7 +5,8 @@
 
 static int is_square(int bit)
 {
-    return ((1u << bit) & (SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA | SP_PANEL_POINCARE)) != 0;
+    return ((1u << bit) & (SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA | SP_PANEL_POINCARE |
+                           SP_PANEL_TOP)) != 0;
 }
 
 /* Stacks n cells of the given kind in area: one column, or two when a

@@ -432,6 +432,9 @@ enum quantity {
     Q_GRAVITY,    /* J */
     Q_BOUNCE,     /* J */
     Q_SWING,      /* J */
+    Q_AZIMUTH,    /* degrees: the swing plane's (3-D) */
+    Q_X,          /* m */
+    Q_Z,          /* m */
 };
 
 /* Sample s's value of quantity which. */
@@ -450,6 +453,9 @@ static double quantity(const struct sp_history_sample *s, enum quantity which,
     case Q_SPRING: return s->spring;
     case Q_GRAVITY: return s->gravity;
     case Q_BOUNCE: return s->bounce;
+    case Q_AZIMUTH: return s->azimuth * RAD2DEG;
+    case Q_X: return s->x;
+    case Q_Z: return s->z;
     default: return s->swing;
     }
 }
@@ -607,11 +613,14 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
 {
     static const char *const titles[] = {"Spring length r|r", "Angle θ|θ", "Energy|E",
                                          "Spring extension r − L₀|Extension", "", "", "",
-                                         "Energy of bounce and swing|Modes"};
-    static const char *const ylabels[] = {"r (m)", "θ (°)", "E (J)", "r − L₀ (m)", "", "", "", "E (J)"};
+                                         "Energy of bounce and swing|Modes", "",
+                                         "Azimuth of the swing plane|Azimuth"};
+    static const char *const ylabels[] = {"r (m)", "θ (°)", "E (J)", "r − L₀ (m)", "", "", "",
+                                          "E (J)", "", "azimuth (°)"};
     const struct sp_params *L0 = f->params;
     const struct sp_range yr = bit == 0 ? e->r : bit == 1 ? range_of(e->theta, RAD2DEG, 0)
                              : bit == 2 ? e->energy : bit == 3 ? range_of(e->r, 1, -L0->L0)
+                             : bit == 9 ? range_of(e->azimuth, RAD2DEG, 0)
                              : e->modes;
     const struct sp_history *h = f->history;
     const float hw = fmaxf(0.6f, 0.0013f * unit);
@@ -646,7 +655,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
         for (int k = 0; k < 2; k++, n++)
             qs[n] = Q_BOUNCE + k, colors[n] = pal->series[k + 1], hws[n] = 1.2f * hw;
     } else {
-        qs[0] = bit == 0 ? Q_R : bit == 1 ? Q_THETA : Q_EXTENSION;
+        qs[0] = bit == 0 ? Q_R : bit == 1 ? Q_THETA : bit == 9 ? Q_AZIMUTH : Q_EXTENSION;
         colors[0] = pal->series[1], hws[0] = hw, n = 1;
     }
     strip_curves(c, &p, h, L0, qs, n, colors, hws);
@@ -679,6 +688,30 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
     const struct sp_history_sample *s = &h->samples[h->count - 1];
     sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
                    2.6f * hw, 0, pal->cursor);
+}
+
+/* The top view: the bob's path in the horizontal (x, z) plane, x to the
+ * right and z up the panel (so seen from below the pivot), both over the
+ * largest |x|, |z|, fading like a phase portrait: the swing's plane turns
+ * in it. */
+static void top_plot(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
+                     const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
+                     int fade)
+{
+    const struct sp_history *h = f->history;
+    const float hw = fmaxf(0.6f, 0.0012f * unit);
+    const double span = e->horizontal > 0 ? e->horizontal : 1;
+    const struct sp_range both = {-span, span};
+    const struct legend_item now[] = {{"now", pal->muted, 1, pal->cursor}};
+    struct plot p;
+    frame_plot(c, r, &p, "Top view x, z|Top", "x (m)", "z (m)", both, both, 0.06, pal, unit,
+               now, 1, SP_LAYER_STATIC);
+    if (!h || h->count == 0)
+        return;
+    phase_curve(c, &p, h, e->t_end, Q_X, Q_Z, f->params, hw, pal->series[1],
+                fade ? pal->panel : NULL);
+    const struct sp_history_sample *s = &h->samples[h->count - 1];
+    sp_canvas_disc(c, px_x(&p, s->x), px_y(&p, s->z), 2.6f * hw, 0, pal->cursor);
 }
 
 static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
@@ -756,7 +789,9 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
             continue;
         if (b == 8)
             spread_plot(c, r, f, e, pal, unit);
-        else if (b <= 3 || b == 7)
+        else if (b == 10)
+            top_plot(c, r, f, e, pal, unit, fade);
+        else if (b <= 3 || b == 7 || b == 9)
             strip_chart(c, r, b, f, e, pal, unit);
         else if (b <= 5)
             phase_plot(c, r, b == 5, f, e, pal, unit, fade);

@@ -81,7 +81,7 @@ static const struct key_info keys[] = {
     {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
     {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "frames"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
-     "none, all, r, theta, energy, extension, phase, poincare, modes, spread"},
+     "none, all, r, theta, energy, extension, phase, poincare, modes, spread, azimuth, top"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
     {"view", "theme", KEY_CHOICE, F(view.theme), 0, 0, 0, 0, "dark, light"},
     {"view", "background", KEY_COLOR, F(view.background), SP_BACKGROUND_THEME, 0, 0, 0,
@@ -312,7 +312,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
     static const unsigned panel_bits[] = {
         0, SP_PANEL_ALL, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
         SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE,
-        SP_PANEL_MODES, SP_PANEL_SPREAD};
+        SP_PANEL_MODES, SP_PANEL_SPREAD, SP_PANEL_AZIMUTH, SP_PANEL_TOP};
     unsigned bits = 0;
     int i;
     switch (k->kind) {
@@ -334,8 +334,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             i = choice_index(k->unit, w, n);
             if (i < 0 || (i == 0 && (w != value || w[n]))) {
                 report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
-                       "list of: r, theta, energy, extension, phase, poincare, modes, spread "
-                       "(or all, or none alone)", k->section, k->name, (int)n, w);
+                       "list of: r, theta, energy, extension, phase, poincare, modes, spread, "
+                       "azimuth, top (or all, or none alone)", k->section, k->name, (int)n, w);
                 return 1;
             }
             bits |= panel_bits[i];
@@ -1224,11 +1224,12 @@ void sp_scene_print_keys(void)
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
 {
     static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
-                                              "poincare", "modes", "spread"};
+                                              "poincare", "modes", "spread", "azimuth", "top"};
     static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
                                           SP_PANEL_EXTENSION,
                                           SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
-                                          SP_PANEL_POINCARE, SP_PANEL_MODES, SP_PANEL_SPREAD};
+                                          SP_PANEL_POINCARE, SP_PANEL_MODES, SP_PANEL_SPREAD,
+                                          SP_PANEL_AZIMUTH, SP_PANEL_TOP};
     char section[64];
     const char *dot = strchr(key, '.');
     const struct key_info *k = NULL;

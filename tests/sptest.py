@@ -41,6 +41,21 @@ def done():
     sys.exit(1 if _failed else 0)
 
 
+def meson_deb_packages(root):
+    """{dependency: Debian package} for every dependency('X') of root's
+    meson.build but threads, through X's .pc file and dpkg -S ('' where
+    none is found). Needs pkg-config and dpkg."""
+    import re
+    meson = open(os.path.join(root, "meson.build")).read()
+    pkgs = {}
+    for d in sorted(set(re.findall(r"dependency\('([^']+)'", meson)) - {"threads"}):
+        pcdir = subprocess.run(["pkg-config", "--variable=pcfiledir", d], capture_output=True,
+                               text=True).stdout.strip()
+        pkgs[d] = subprocess.run(["dpkg", "-S", os.path.join(pcdir, d + ".pc")],
+                                 capture_output=True, text=True).stdout.split(":")[0]
+    return pkgs
+
+
 def runner(exe, cwd):
     """A function running exe with its arguments in cwd, output captured as text."""
     def run(*args):

@@ -297,15 +297,16 @@ static void test_blowup_last_lane(void)
 }
 
 /* A long call is cut every SP_BATCH_CHUNK steps to look at the cancel flag:
- * over 150 s (two cuts, and an end off the grid) a batch of one still
+ * over 131.1 s (two cuts, and an end off the grid) a batch of one still
  * equals sp_sim, which is never cut, bit for bit, with the tangent and the
- * forced path riding along (the states do not depend on them). */
+ * forced path riding along (the states do not depend on them). The chaotic
+ * scene and the damped, driven one: any change of arithmetic grows there. */
 static void test_chunked(enum sp_method method, const char *mname)
 {
     struct sp_scene sc[4];
     make_scenes(sc);
-    const double t_end = 150.0005; /* 150000 steps of 1 ms and a part */
-    for (int i = 0; i < 4; i++) {
+    const double t_end = 131.1005; /* 131100 steps of 1 ms and a part */
+    for (int i = 1; i < 3; i++) {
         sc[i].integrator.method = method;
         sc[i].integrator.dt = 1e-3;
         const struct sp_scene *one = &sc[i];

@@ -15,7 +15,7 @@ import subprocess
 import sys
 import tempfile
 
-from sptest import done, ok, skip
+from sptest import done, meson_deb_packages, ok, skip
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 root = os.path.join(src, "..")
@@ -53,16 +53,8 @@ for name, text in (("GitHub", gh_run), ("GitLab", gl_run)):
 
 # Every dependency('X') of meson.build, through its .pc file, to the Debian
 # package that holds it; the snippets must install each.
-meson = open(os.path.join(root, "meson.build")).read()
-deps = sorted(set(re.findall(r"dependency\('([^']+)'", meson)) - {"threads"})
-pkgs = {}
 if shutil.which("pkg-config") and shutil.which("dpkg"):
-    for d in deps:
-        pcdir = subprocess.run(["pkg-config", "--variable=pcfiledir", d], capture_output=True,
-                               text=True).stdout.strip()
-        owner = subprocess.run(["dpkg", "-S", os.path.join(pcdir, d + ".pc")],
-                               capture_output=True, text=True).stdout.split(":")[0]
-        pkgs[d] = owner
+    pkgs = meson_deb_packages(root)
     for name, text in (("GitHub", gh_run), ("GitLab", gl_run)):
         line = next((l for l in text.splitlines() if "apt-get install" in l), "")
         listed = set(line.split())

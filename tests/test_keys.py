@@ -93,16 +93,6 @@ for method, bound in bounds.items():
            abs(col["r_dot"][0] - 0.3) < 1e-15 and abs(col["theta_dot"][0] - 0.4) < 1e-15,
            "t = 0: r 0.9 m, theta 25 degrees (in radians), r_dot 0.3 m/s, theta_dot 0.4 rad/s")
 
-# [initial] azimuth_rate (rad/s): the bob starts moving out of the plane at
-# r0 sin(theta0) times it (m/s), the horizontal speed of a turn about the vertical
-path = scene("azimuth", {"initial.length": 0.9, "initial.angle": 25,
-                         "initial.azimuth_rate": 0.5, "video.duration": 0.5})
-r = run("data", path, "-o", "-", "--every", "0.25")
-head, got = rows(r.stdout) if r.returncode == 0 else ([], np.zeros((0, 0)))
-vz0 = got[0, head.index("vz")] if "vz" in head else math.nan
-ok(abs(vz0 - 0.9 * math.sin(math.radians(25)) * 0.5) < 1e-12,
-   f"initial.azimuth_rate = 0.5 rad/s: vz at t = 0 is r0 sin(theta0) 0.5 = {vz0} m/s {err(r)}")
-
 # rkn1210 takes a force of the position only: the same scene undamped, pivot at rest
 cons = {k: v for k, v in PHYS.items() if k not in ("pendulum.damping", "pivot.amplitude",
                                                    "pivot.frequency")}
@@ -235,6 +225,10 @@ ok(dur is not None and frames21 is not None and np.array_equal(dur, frames21) an
    "view.trail = 1s (simulated s) at 20 fps draws the trail of view.trail = 21 frames")
 changed("fade", {"view.fade": "true"}, "the trail fades")
 changed("panels", {"view.panels": "r"}, "a panel")
+changed("vectors", {"view.vectors": "forces, velocity"}, "arrows from the bob and their legend")
+with_r = frame("panel-r", {"view.panels": "r"})
+changed("panel-bg", {"view.panels": "r", "view.panel_background": "none"}, "the panel on the frame's "
+        "background", ref_frame=with_r)
 with_panel = frame("panel-vir", {"view.panels": "energy,phase", "view.colormap": "viridis"})
 changed("panel-inf", {"view.panels": "energy,phase", "view.colormap": "inferno"},
         "another colour map", ref_frame=with_panel)

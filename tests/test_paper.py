@@ -8,6 +8,7 @@ ascent to descent, so its height over (Ascent - Descent) / 1000 (the PDF's
 own FontDescriptor of the embedded font) is the size in pt. The fonts are
 read with pdffonts. A PNG's size is its IHDR, its resolution its pHYs chunk.
 Exits 77 (skip) without pdfinfo, pdftotext or pdffonts (poppler-utils)."""
+import html
 import os
 import re
 import shutil
@@ -58,7 +59,10 @@ def page_size(pdf):
 
 def text_sizes(pdf):
     """Every word's font size, pt: its box's height over the font's ascent
-    minus descent (the FontDescriptor's, 1/1000 em)."""
+    minus descent (the FontDescriptor's, 1/1000 em); for a word turned a
+    quarter (a y axis's name), its box's width. A word of three characters or
+    more is turned when its box is taller than wide; shorter ones are left
+    out (a turned "λ" looks like an upright one)."""
     data = open(pdf, "rb").read()
     asc = [int(v) for v in re.findall(rb"/Ascent (-?\d+)", data)]
     desc = [int(v) for v in re.findall(rb"/Descent (-?\d+)", data)]
@@ -66,8 +70,14 @@ def text_sizes(pdf):
         return []  # one font expected here
     em = (asc[0] - desc[0]) / 1000
     out = subprocess.run(["pdftotext", "-bbox", pdf, "-"], capture_output=True, text=True).stdout
-    return [(float(b) - float(a)) / em for a, b in
-            re.findall(r'<word xMin="[^"]+" yMin="([^"]+)" xMax="[^"]+" yMax="([^"]+)"', out)]
+    sizes = []
+    for x0, y0, x1, y1, w in re.findall(
+            r'<word xMin="([^"]+)" yMin="([^"]+)" xMax="([^"]+)" yMax="([^"]+)">([^<]*)<', out):
+        if len(html.unescape(w)) < 3:
+            continue
+        dx, dy = float(x1) - float(x0), float(y1) - float(y0)
+        sizes.append((dx if dy > dx else dy) / em)
+    return sizes
 
 
 def words(pdf):
@@ -158,6 +168,70 @@ for dpi in (None, 150):
     else:
         ok(False, f"still --size 246pt -o {name}")
 
+# ---- sweep figures at a printed size ----
+MAP = ["--vary", "initial.angle=10:170:8", "--vary", "initial.length=0.8:1.6:6",
+       "--measure", "lyapunov", "--time", "2"]
+POINC = ["--vary", "initial.length=0.7:1.5:6", "--set", "initial.angle=0", "--measure",
+         "poincare", "--time", "30"]
+ORBIT = ["--vary", "pivot.amplitude=0.05:0.2:12", "--measure", "orbit", "--transient", "10",
+         "--time", "10"]
+
+
+def sweep(name, sc, grid, *args):
+    r = run("sweep", scene(sc), *grid, "-o", p(name), "-q", *args)
+    if r.returncode:
+        print(f"# {name}: {r.stderr.strip()}")
+    return r.returncode == 0
+
+
+for name, sc, grid in (("map.pdf", "chaotic.ini", MAP), ("mosaic.pdf", "chaotic.ini", POINC),
+                       ("orbit.pdf", "parametric.ini", ORBIT)):
+    if not sweep(name, sc, grid, "--size", "8.6cm", "--csv", p(name + ".csv")):
+        ok(False, f"sweep --size 8.6cm -o {name}")
+        continue
+    w, h = page_size(p(name))
+    ok(abs(w - 8.6 * CM) < 0.01 and abs(h - 8.6 * CM * 2 / 3) < 0.01,
+       f"sweep {name}: 8.6 cm wide, 2/3 as high: {w} x {h} pt")
+    sizes = text_sizes(p(name))
+    body = [s for s in sizes if s < 11]
+    ok(sizes and all(8 <= s <= 10.1 for s in body) and all(11.5 <= s <= 12.5 for s in sizes if s >= 11),
+       f"sweep {name}: ticks and labels in 8-10 pt, the title 12: "
+       f"{sorted(set(round(s, 2) for s in sizes))}")
+    f = fonts(p(name))
+    ok(f and all(e for _, e in f) and all("DejaVuSans" in n for n, _ in f),
+       f"sweep {name}: DejaVu Sans embedded: {f}")
+    # the numbers do not depend on the figure's size
+    r = run("sweep", scene(sc), *grid, "-o", p("plain_" + name), "-q", "--csv", p("plain.csv"))
+    ok(r.returncode == 0 and open(p(name + ".csv"), "rb").read() == open(p("plain.csv"), "rb").read(),
+       f"sweep {name}: the CSV's bytes are the same with and without --size")
+
+# every style key changes the sweep figure and the still alike: rendered
+# with pdftoppm (150 dpi) against the figure without the key
+def raster(pdf):
+    r = subprocess.run(["pdftoppm", "-r", "150", "-png", "-singlefile", pdf, pdf[:-4]],
+                       capture_output=True)
+    return open(pdf[:-4] + ".png", "rb").read() if r.returncode == 0 else b""
+
+
+KEYS = [("view.theme", "dark"), ("view.colormap", "inferno"), ("view.font", "Noto Sans"),
+        ("view.font_size", "8"), ("view.title", "Sweep A"), ("view.background", "#ffe0c0")]
+if shutil.which("pdftoppm"):
+    base_sweep = sweep("key_base.pdf", "chaotic.ini", MAP, "--size", "8.6cm",
+                       "--set", "view.theme=light") and raster(p("key_base.pdf"))
+    base_still = still("key_base_still.pdf", "chaotic.ini", "--size", "8.6cm", *PRINT,
+                       "--set", "view.panels=poincare") and raster(p("key_base_still.pdf"))
+    for key, val in KEYS:
+        a = sweep("key_sweep.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.theme=light",
+                  "--set", f"{key}={val}") and raster(p("key_sweep.pdf"))
+        b = still("key_still.pdf", "chaotic.ini", "--size", "8.6cm", *PRINT, "--set",
+                  "view.panels=poincare", "--set", f"{key}={val}") and raster(p("key_still.pdf"))
+        ok(a and b and a != base_sweep and b != base_still,
+           f"{key} = {val} changes the sweep figure and the still")
+    t = words(p("key_sweep.pdf"))
+    if sweep("notitle.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.title="):
+        ok("Lyapunov" not in words(p("notitle.pdf")) and "Lyapunov" in words(p("map.pdf")),
+           "sweep --set view.title= removes the title")
+
 # ---- refused: exit 2, the option named, nothing written ----
 BAD = [
     (["--size", "8.6furlong"], "--size 8.6furlong"),
@@ -183,5 +257,21 @@ ok(r.returncode == 2 and "--dpi" in r.stderr and not os.path.exists(p("bad.pdf")
 r = run("render", scene("default.ini"), "-o", p("bad.mp4"), "-q", "--size", "8.6cm")
 ok(r.returncode == 2 and "--size" in r.stderr and not os.path.exists(p("bad.mp4")),
    f"render --size 8.6cm is refused: {r.stderr.strip()}")
+
+SWEEP_BAD = [
+    (["--set", "view.panels=r"], "view.panels"),
+    (["--set", "view.hud=false"], "view.hud"),
+    (["--set", "video.fps=30"], "video.fps"),
+    (["--set", "ensemble.count=3"], "ensemble.count"),
+    (["--size", "8.6"], "--size 8.6"),
+    (["--size", "8.6furlong"], "--size 8.6furlong"),
+    (["--size", "8.6cm", "--dpi", "300"], "--dpi"),
+    (["--dpi", "300"], "--dpi"),
+]
+for args, said in SWEEP_BAD:
+    out = p("bad_sweep.pdf")
+    r = run("sweep", scene("chaotic.ini"), *MAP, "-o", out, "-q", *args)
+    ok(r.returncode == 2 and said in r.stderr and not os.path.exists(out),
+       f"sweep {' '.join(args)}: exit {r.returncode}, names '{said}', no file: {r.stderr.strip()}")
 
 done()

@@ -21,9 +21,11 @@ struct sp_figure_desc {
     const struct sp_look *look;   /* as for sp_render_desc */
     const char *title;            /* the document's title (the scene's name); NULL = none */
     const char *path;             /* .svg or .pdf; written as PATH.part, renamed */
+    int cells;                    /* as for sp_render_desc: scenes side by side */
+    const struct sp_look *looks;
 };
 
-/* Composes f and writes it. On failure nothing is left at path. 0,
+/* Composes f (side by side: f[0..cells)) and writes it. On failure nothing is left at path. 0,
  * SP_E_INPUT (not .svg/.pdf), SP_E_IO or SP_E_NOMEM (logged). */
 int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f);
 

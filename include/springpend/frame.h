@@ -62,6 +62,13 @@ struct sp_view_extent {
     struct sp_range theta_dot;     /* rad/s */
     struct sp_range energy;        /* J, of total, kinetic, spring and gravity */
     struct sp_range modes;         /* J, of the bounce and swing energies */
+    /* [view] vectors (0 when none is drawn): the largest each arrow gets */
+    double max_accel;              /* m/s^2, relative to the pivot */
+    double max_force;              /* N, of the forces [view] vectors draws */
+    /* the energy_bars panel (0 when not shown) */
+    double y_low;                  /* m: the lowest the bob goes relative to the
+                                      pivot; its gravity energy is 0 there */
+    struct sp_range bars;          /* J: every bar, gravity from y_low, within it */
     struct sp_range azimuth;       /* rad, the swing plane's (continuous) */
     double horizontal;             /* m: the largest |x| and |z| (the top view) */
 };
@@ -128,6 +135,8 @@ struct sp_history {
     struct sp_crossing *crossings;     /* n_crossings valid, in time order, owned */
     int n_crossings, cap_crossings;
     double max_step;                   /* s: longest interval interpolated over */
+    double loss;                       /* J: energy lost to damping up to the newest
+                                          sample (trapezoid rule over the samples) */
     double azimuth;                    /* rad: the newest sample's azimuth, unrounded */
 };
 
@@ -154,6 +163,10 @@ struct sp_frame {
     const struct sp_moment *moment; /* NULL, or what the [timeline] shows now: the
                                        caption band's text and the speed marker
                                        (timeline.h) */
+    double work;    /* J: done on the bob by damping and the drive since t = 0 (sp_sim) */
+    int ended;      /* side by side: this scene's video ended before the longest's;
+                       it holds its last frame, marked as ended */
+    double energy0; /* J: the total energy at t = 0 (sp_sim) */
 };
 
 #endif

@@ -33,7 +33,18 @@ struct sp_pipeline_desc {
     double page_w, page_h; /* pt: an SVG or PDF still's page, when pt_px > 0 */
     struct sp_state *state_out; /* not NULL: receives the bob's state in the
                                    last frame drawn */
+    /* Side by side: the scenes drawn beside `scene`, each in its own cell
+     * of the frame (up to SP_PIPELINE_MAX_SCENES in all), labelled with its
+     * view.title or the keys in which the scenes differ, one camera scale
+     * and the same chart axes in every cell. [video] size, fps and speed are
+     * `scene`'s (the caller checks that they agree). The video runs to the
+     * longest scene's end; a shorter one holds its last frame, marked as
+     * ended. */
+    const struct sp_scene *const *more;
+    int n_more;
 };
+
+#define SP_PIPELINE_MAX_SCENES 4
 
 /* Runs the whole pipeline. On any failure nothing is left at desc->output.
  * With handle_signals, a first SIGINT, SIGTERM or SIGHUP finishes the frame in

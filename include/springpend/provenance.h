@@ -15,6 +15,10 @@
  *                            the libraries and the fonts' SHA-256
  *   springpend.fonts         the font files the first frame's text was drawn
  *                            from, ", "-separated ("" when it has no text)
+ *   springpend.overlay       only with [view] vectors or the energy_bars
+ *                            panel (SP_PROVENANCE_N_TEXT + 1 chunks): their
+ *                            scales in output pixels, "key=value" lines
+ *                            (sp_render_overlay), so a test can measure them
  * Nothing that changes from run to run (no date): the same frame gives the
  * same bytes. */
 #ifndef SPRINGPEND_PROVENANCE_H
@@ -38,7 +42,8 @@ struct sp_provenance {
     char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text */
     char fonts[1024];      /* font files, ", "-separated: the caller fills it
                               (sp_render_fonts) before the first image */
-    struct sp_png_text text[SP_PROVENANCE_N_TEXT]; /* point into the above */
+    char overlay[1024];    /* sp_render_overlay's text: the caller fills it */
+    struct sp_png_text text[SP_PROVENANCE_N_TEXT + 1]; /* point into the above */
 };
 
 /* Hashes the scene and fills every chunk (time 0). renderer and gl_version

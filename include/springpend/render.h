@@ -25,6 +25,9 @@ struct sp_render_desc {
     int supersample;              /* draw at this many times the size and average
                                      down; 0 or 1 = off */
     enum sp_gl gl;                /* GL backend; 0 = default */
+    int cells;                    /* scenes side by side, 2..4, each in its cell
+                                     with looks[i]; 0 or 1 = look alone */
+    const struct sp_look *looks;  /* cells of them, when cells > 1 */
 };
 
 struct sp_renderer;
@@ -32,8 +35,9 @@ struct sp_renderer;
 /* Creates the GL context (see gl_context.h) and the GPU resources. */
 int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc);
 
-/* Draws f. On success *img points at the renderer's own pixels (top row
- * first), valid until the next draw or destroy; the caller must not free. */
+/* Draws f (side by side: f[0..cells), one frame per cell). On success
+ * *img points at the renderer's own pixels (top row first), valid until the
+ * next draw or destroy; the caller must not free. */
 int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
                    struct sp_image *img);
 
@@ -62,6 +66,11 @@ void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out);
 /* The font files the text drawn so far came from, ", "-separated, into buf
  * (cut to size; "" without text). */
 void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size);
+
+/* The overlays' scales after the first frame (compose.h's
+ * sp_compose_overlay): "" unless [view] vectors or the energy_bars panel is
+ * drawn. */
+void sp_render_overlay(const struct sp_renderer *r, char *buf, size_t size);
 
 /* The GL_RENDERER string of the context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
 const char *sp_render_renderer_name(const struct sp_renderer *r);

@@ -30,9 +30,27 @@ enum sp_panel {
                                       (not part of "all": it needs an ensemble) */
     SP_PANEL_AZIMUTH = 1 << 9,     /* the swing plane's azimuth against t (3-D; not in "all") */
     SP_PANEL_TOP = 1 << 10,        /* top view: the bob's path in (x, z) (3-D; not in "all") */
-    SP_PANEL_COUNT = 11,
-    SP_PANEL_ALL = SP_PANEL_SPREAD - 1, /* "all": every panel but spread */
+    SP_PANEL_ENERGY_BARS = 1 << 11, /* bars of the energies now on one fixed axis
+                                       (not part of "all": "energy_bars") */
+    SP_PANEL_COUNT = 12,
+    SP_PANEL_ALL = SP_PANEL_SPREAD - 1, /* "all": every panel but spread, azimuth, top and
+                                           energy_bars */
 };
+/* [view] vectors: arrows drawn from the bob. */
+enum sp_vector {
+    SP_VECTOR_VELOCITY = 1 << 0,     /* m/s, relative to the pivot */
+    SP_VECTOR_ACCELERATION = 1 << 1, /* m/s^2, relative to the pivot */
+    SP_VECTOR_GRAVITY = 1 << 2,      /* N: -m g */
+    SP_VECTOR_SPRING = 1 << 3,       /* N: -k (r - L0) along the spring */
+    SP_VECTOR_DAMPING = 1 << 4,      /* N: -b v, v relative to the air (the lab) */
+    SP_VECTOR_DRIVE = 1 << 5,        /* N: the inertial force -m a_pivot of the
+                                        pivot's frame (a driven pivot only) */
+    SP_VECTOR_NET = 1 << 6,          /* N: their sum, m times the acceleration */
+    SP_VECTOR_COUNT = 7,
+    SP_VECTOR_FORCES = SP_VECTOR_GRAVITY | SP_VECTOR_SPRING | SP_VECTOR_DAMPING |
+                       SP_VECTOR_DRIVE | SP_VECTOR_NET, /* "forces" */
+};
+
 enum sp_theme { SP_THEME_DARK = 0, SP_THEME_LIGHT = 1 };
 enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1 };
 #define SP_TRAIL_ALL (-1)
@@ -87,8 +105,12 @@ struct sp_scene {
         double trail_duration; /* simulated s of motion the trail shows, when
                                   trail = SP_TRAIL_DURATION */
         unsigned panels; /* SP_PANEL_* bits, 0 = none */
+        unsigned vectors; /* SP_VECTOR_* bits, 0 = none: arrows from the bob */
         int hud;         /* 1: time, parameters and resonance check as text */
         int theme;       /* enum sp_theme */
+        int panel_background; /* 0 = the theme's panel colour; 1 = none: panels
+                                 (and the arrows' legend) drawn on the frame's
+                                 background, transparent in a transparent still */
         int background;  /* 0xRRGGBB, or SP_BACKGROUND_THEME / _TRANSPARENT */
         int colormap;    /* enum sp_colormap, for the trail's speed */
         int colorbar;    /* 1: a colourbar for the trail's speed */

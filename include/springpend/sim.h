@@ -165,6 +165,21 @@ void sp_state_polar(const struct sp_state *s, struct sp_polar *out);
 void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
                      struct sp_energy *out);
 
+/* The forces on the bob, N, and its acceleration, m/s^2, as x, y pairs (y
+ * up), in the pivot's frame: with a driven pivot that frame accelerates,
+ * and `drive` is its inertial force -m a_pivot; damping acts on the bob's
+ * velocity relative to the air, at rest in the lab. net is the sum of the
+ * four and equals mass times accel, the acceleration relative to the pivot
+ * (what the integrator integrates). In three dimensions these are the x-y
+ * components (the plane the view shows). */
+struct sp_forces {
+    double gravity[2], spring[2], damping[2], drive[2]; /* N */
+    double net[2];                                      /* N */
+    double accel[2];                                    /* m/s^2 */
+};
+void sp_state_forces(const struct sp_params *p, const struct sp_state *s,
+                     struct sp_forces *out);
+
 /* The vertical component of the angular momentum about the pivot per mass,
  * m^2/s: z vx - x vz (y up). Conserved without damping: gravity, the spring
  * and the vertical drive exert no torque about the vertical. */

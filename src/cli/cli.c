@@ -198,7 +198,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
         case 'f':
         case 'R':
         case 'D': /* a still, data or info would take them and do nothing */
-            if (allow_at) {
+            if (allow_at & ~SP_CLI_SCENES) {
                 sp_log_error("%s is for 'springpend render'; see 'springpend %s --help'",
                              c == 'f' ? "--format" : c == 'R' ? "--frames" : "--shard", argv[0]);
                 return SP_E_INPUT;
@@ -327,13 +327,21 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
                      "with a unit too, e.g. --size 8.6cm --dpi 300");
         return SP_E_INPUT;
     }
-    if (optind != argc - 1) {
-        sp_log_error(optind >= argc ? "missing SCENE file; see 'springpend %s --help'"
-                                    : "expected one SCENE file; see 'springpend %s --help'",
-                     argv[0]);
+    const int most = allow_at & SP_CLI_SCENES ? SP_CLI_MAX_SCENES : 1;
+    if (optind >= argc || argc - optind > most) {
+        if (most > 1 && optind < argc)
+            sp_log_error("%d SCENE files: at most %d are shown side by side; see "
+                         "'springpend %s --help'", argc - optind, most, argv[0]);
+        else
+            sp_log_error(optind >= argc ? "missing SCENE file; see 'springpend %s --help'"
+                                        : "expected one SCENE file; see 'springpend %s --help'",
+                         argv[0]);
         return SP_E_INPUT;
     }
     o->scene_path = argv[optind];
+    o->n_scenes = argc - optind;
+    for (int i = 0; i < o->n_scenes; i++)
+        o->scene_paths[i] = argv[optind + i];
     return 0;
 }
 
@@ -374,6 +382,17 @@ int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
         return sp_pipeline_shard(n_frames, i - 1, n, first, last);
     }
     return 0;
+}
+
+int sp_cli_load_scenes(const struct sp_cli_options *o, struct sp_scene *scenes)
+{
+    int ret = 0;
+    for (int i = 0; i < o->n_scenes; i++) {
+        sp_scene_defaults(&scenes[i]);
+        int err = sp_scene_load(&scenes[i], o->scene_paths[i], o->overrides, o->n_overrides);
+        ret = ret ? ret : err;
+    }
+    return ret;
 }
 
 int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene)

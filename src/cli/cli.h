@@ -9,7 +9,9 @@
 
 /* Options every scene command understands. */
 struct sp_cli_options {
-    const char *scene_path;  /* the positional SCENE argument */
+    const char *scene_path;  /* the positional SCENE argument (the first) */
+    const char *scene_paths[4]; /* SP_CLI_SCENES: every SCENE given, n_scenes of them */
+    int n_scenes;
     const char *output;      /* -o, NULL = the command's default */
     const char *overrides[SP_CLI_MAX_OVERRIDES]; /* --set, --size, --fps */
     int n_overrides;
@@ -39,6 +41,8 @@ struct sp_cli_options {
 #define SP_CLI_EVERY 2 /* --every SECONDS */
 #define SP_CLI_JSON 4  /* --json */
 #define SP_CLI_POINCARE 8 /* --poincare */
+#define SP_CLI_SCENES 16  /* up to SP_CLI_MAX_SCENES SCENE files (side by side) */
+#define SP_CLI_MAX_SCENES 4
 
 /* Parses argv for one command. allow_at: the SP_CLI_* options the command
  * takes. Prints a message and returns SP_E_INPUT on misuse;
@@ -75,6 +79,10 @@ const char *sp_cli_field(const char *s, size_t n, double lo, double hi, int flag
 /* Reads --shard's "I/N", integers with 1 <= I <= N <= limit, into *i and
  * *n; `of` names what is split in the message ("the video's frames"). */
 int sp_cli_shard(const char *arg, long limit, const char *of, int *i, int *n);
+
+/* Loads each of o->scene_paths with the overrides into scenes[0..n_scenes);
+ * every file's problems are said. 0 or the first error. */
+int sp_cli_load_scenes(const struct sp_cli_options *o, struct sp_scene *scenes);
 
 /* Loads o->scene_path with the overrides into *scene. */
 int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);

@@ -23,7 +23,8 @@
 #define ROW_BYTES 260
 
 static const char data_usage[] =
-    "usage: springpend data SCENE [-o FILE.csv | -o -] [--every SECONDS | --poincare]\n"
+    "usage: springpend data SCENE [SCENE ...] [-o FILE.csv | -o -]\n"
+    "                            [--every SECONDS | --poincare]\n"
     "                            [options]\n"
     "\n"
     "Writes the motion as CSV, one row per sample: by default at the video's frame\n"
@@ -57,6 +58,10 @@ static const char data_usage[] =
     "per time: t,member,KEY,x,y,vx,vy (KEY: ensemble.key's value, file units,\n"
     "17 digits; each member is the single run with --set KEY=that value;\n"
     "--poincare still writes the scene's own crossings).\n"
+    "With 2 to 4 SCENE files (the scenes 'render' shows side by side), each scene's\n"
+    "rows follow in turn, after a first column scene (the file's name without .ini);\n"
+    "z,vz,azimuth are written for all when one scene is spatial; --poincare and\n"
+    "[ensemble] take one scene.\n"
     "At most 1e7 rows (about 2.6 GB) are written; the video's frame limit does not\n"
     "apply. Default output: out/<scene>.csv, with out/<scene>.csv-metadata.json\n"
     "beside it (W3C CSV on the Web: each column's unit, the scene as a scene file,\n"
@@ -118,13 +123,16 @@ static int write_names(FILE *fp, const struct sp_csv_column *c, int n, int comma
 
 /* One CSV row for the sim's current state; a spatial run's row goes on with
  * z, vz and the azimuth, degrees, continued from *azimuth (rad, updated). */
-static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth)
+static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth, const char *name,
+                     int spatial)
 {
     const struct sp_state *s = &sim->s;
     struct sp_polar q;
     struct sp_energy e;
     sp_state_polar(s, &q);
     sp_state_energy(&sim->p, s, &e);
+    if (name && fprintf(fp, "%s,", name) < 0)
+        return SP_E_IO;
     if (fprintf(fp,
                 "%.10g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,"
                 "%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g",
@@ -132,7 +140,7 @@ static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth)
                 e.kinetic, e.spring, e.gravity, e.total, e.bounce, e.swing, sim->work,
                 sp_pivot_y(&sim->p, s->t)) < 0)
         return SP_E_IO;
-    if (sim->spatial) {
+    if (sim->spatial || spatial) {
         *azimuth = sp_azimuth_unwrap(*azimuth, sp_state_azimuth(&sim->p, s));
         if (fprintf(fp, ",%.15g,%.15g,%.15g", s->z, s->vz, *azimuth * 180 / M_PI) < 0)
             return SP_E_IO;
@@ -168,8 +176,12 @@ static int write_crossings(FILE *fp, const struct sp_scene *sc)
     return ret;
 }
 
-/* Writes every sample of the scene to fp, or its crossings. */
-static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int poincare)
+/* Writes every sample of the scene to fp, or its crossings. Several scenes
+ * (name not NULL): each row starts with the name, the header (first scene
+ * only: header = 1) with "scene", and every row has the spatial columns
+ * when spatial = 1. */
+static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int poincare,
+                         const char *name, int header, int spatial)
 {
     struct sp_sim sim;
     long n;
@@ -183,9 +195,11 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
         n = sp_scene_frame_count(sc);
     sp_sim_init(&sim, sc);
     double azimuth = 0;
-    if (write_names(fp, sample_columns, N_OF(sample_columns), 0) ||
-        (sim.spatial && write_names(fp, spatial_columns, N_OF(spatial_columns), 1)) ||
-        fputc('\n', fp) == EOF)
+    if (header && ((name && fputs("scene,", fp) < 0) ||
+                   write_names(fp, sample_columns, N_OF(sample_columns), 0) ||
+                   ((sim.spatial || spatial) &&
+                    write_names(fp, spatial_columns, N_OF(spatial_columns), 1)) ||
+                   fputc('\n', fp) == EOF))
         return SP_E_IO;
     sim.cancel = sp_signal_flag();
     sim.progress = sp_progress_sim;
@@ -195,7 +209,7 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
         if (ret == SP_E_UNSTABLE)
             sp_sim_explain(&sim);
         if (!ret)
-            ret = write_row(fp, &sim, &azimuth);
+            ret = write_row(fp, &sim, &azimuth, name, spatial);
         if (ret)
             return ret;
     }
@@ -206,7 +220,8 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
  * the columns the rows have (an ensemble's: t, member, its key, x, y, vx,
  * vy), the scene and the command. */
 static int write_metadata(struct sp_outfile *meta, const char *out,
-                          const struct sp_cli_options *o, const struct sp_scene *sc)
+                          const struct sp_cli_options *o, const struct sp_scene *sc, int several,
+                          int spatial)
 {
     const char *key_unit = sp_scene_key_unit(sc->ensemble.key);
     const struct sp_csv_column ensemble_columns[] = {
@@ -216,7 +231,7 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
          key_unit ? key_unit : "1"},
         sample_columns[1], sample_columns[2], sample_columns[3], sample_columns[4],
     };
-    struct sp_csv_column all[N_OF(sample_columns) + N_OF(spatial_columns)];
+    struct sp_csv_column all[1 + N_OF(sample_columns) + N_OF(spatial_columns)];
     struct sp_csv_meta m = {.scene = sc, .overrides = o->overrides,
                             .n_overrides = o->n_overrides};
     if (o->poincare) {
@@ -228,11 +243,16 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
     } else {
         struct sp_sim sim; /* spatial or not, as write_samples will find */
         sp_sim_init(&sim, sc);
+        if (several) /* side by side: each scene's rows in turn */
+            all[m.n_columns++] = (struct sp_csv_column){
+                "scene", "the scene file's name without .ini (the scene's rows follow in turn)", "1"};
         for (int i = 0; i < N_OF(sample_columns); i++)
             all[m.n_columns++] = sample_columns[i];
-        for (int i = 0; sim.spatial && i < N_OF(spatial_columns); i++)
+        for (int i = 0; (sim.spatial || spatial) && i < N_OF(spatial_columns); i++)
             all[m.n_columns++] = spatial_columns[i];
-        m.title = "springpend data: the motion, one row per sample";
+        m.title = several ? "springpend data: several scenes' motions, each scene's rows in turn "
+                            "(the scene described is the first)"
+                          : "springpend data: the motion, one row per sample";
         m.columns = all;
     }
     return sp_csv_metadata_write(meta, out, &m);
@@ -241,17 +261,27 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
 int sp_cmd_data(int argc, char **argv)
 {
     struct sp_cli_options o;
-    struct sp_scene scene;
+    static struct sp_scene scenes[SP_CLI_MAX_SCENES]; /* big: not on the stack */
     struct sp_outfile f = {.fd = -1, .slot = -1};
     struct sp_dirs dirs = {0};
     char out[4096];
-    int ret = sp_cli_parse(&o, argc, argv, data_usage, SP_CLI_EVERY | SP_CLI_POINCARE);
+    int ret = sp_cli_parse(&o, argc, argv, data_usage, SP_CLI_EVERY | SP_CLI_POINCARE | SP_CLI_SCENES);
     if (ret)
         return ret > 0 ? 0 : ret;
-    ret = sp_cli_load_scene(&o, &scene);
-    sp_scene_free(&scene); /* the [timeline] is presentation: data ignores it */
+    ret = sp_cli_load_scenes(&o, scenes);
+    const struct sp_scene *const sc0 = &scenes[0];
+    int spatial = 0;
+    for (int i = 0; i < o.n_scenes; i++) {
+        sp_scene_free(&scenes[i]); /* the [timeline] is presentation: data ignores it */
+        spatial |= scenes[i].initial.azimuth_rate != 0;
+        if (!ret && o.n_scenes > 1 && (o.poincare || scenes[i].ensemble.count > 1)) {
+            sp_log_error("%s: %s takes one scene", o.scene_paths[i],
+                         o.poincare ? "--poincare" : "[ensemble]");
+            ret = SP_E_INPUT;
+        }
+    }
     if (!ret)
-        ret = sp_cli_output_path(&o, &scene, ".csv", out, sizeof(out));
+        ret = sp_cli_output_path(&o, sc0, ".csv", out, sizeof(out));
     if (ret)
         return ret;
     if (o.every > 0 && o.poincare) {
@@ -259,30 +289,36 @@ int sp_cmd_data(int argc, char **argv)
                      "they fall");
         return SP_E_INPUT;
     }
-    /* the limit is on what data writes, rows, not on video frames */
-    const double rows = o.poincare ? 0
-                        : o.every > 0 ? floor(scene.video.duration / o.every * (1 + 1e-12)) + 1
-                                      : sp_scene_frame_count(&scene);
-    const double members = !o.poincare && scene.ensemble.count > 1 ? scene.ensemble.count : 1;
-    if (rows * members > MAX_ROWS && members > 1) {
-        sp_log_error("%.0f times of %d ensemble members: %.0f rows; at most %.0f are written "
-                     "(raise --every, lower video.duration or ensemble.count)", rows,
-                     scene.ensemble.count, rows * members, MAX_ROWS);
-        return SP_E_INPUT;
+    /* the limit is on what data writes, rows, not on video frames: each scene's */
+    double t_end = 0;
+    for (int i = 0; i < o.n_scenes; i++) {
+        const struct sp_scene *sc = &scenes[i];
+        /* the limit is on what data writes, rows, not on video frames */
+        const double rows = o.poincare ? 0
+                            : o.every > 0 ? floor(sc->video.duration / o.every * (1 + 1e-12)) + 1
+                                          : sp_scene_frame_count(sc);
+        const double members = !o.poincare && sc->ensemble.count > 1 ? sc->ensemble.count : 1;
+        if (rows * members > MAX_ROWS && members > 1) {
+            sp_log_error("%.0f times of %d ensemble members: %.0f rows; at most %.0f are written "
+                         "(raise --every, lower video.duration or ensemble.count)", rows,
+                         sc->ensemble.count, rows * members, MAX_ROWS);
+            return SP_E_INPUT;
+        }
+        if (rows > MAX_ROWS) {
+            sp_log_error("%s%g over video.duration = %g s: %.0f rows, about %.3g GB of CSV; at "
+                         "most %.0f rows are written (raise --every or lower video.duration)",
+                         o.every > 0 ? "--every " : "frame times every ",
+                         o.every > 0 ? o.every : sc->video.speed / sc->video.fps,
+                         sc->video.duration, rows, rows * ROW_BYTES / 1e9, MAX_ROWS);
+            return SP_E_INPUT;
+        }
+        const double t_sc = o.every > 0 || o.poincare
+                           ? sc->video.duration
+                           : sp_scene_frame_time(sc, sp_scene_frame_count(sc) - 1);
+        if ((ret = sp_cli_check_work(&o, sc, t_sc, 0)) != 0)
+            return ret;
+        t_end = fmax(t_end, t_sc);
     }
-    if (rows > MAX_ROWS) {
-        sp_log_error("%s%g over video.duration = %g s: %.0f rows, about %.3g GB of CSV; at "
-                     "most %.0f rows are written (raise --every or lower video.duration)",
-                     o.every > 0 ? "--every " : "frame times every ",
-                     o.every > 0 ? o.every : scene.video.speed / scene.video.fps,
-                     scene.video.duration, rows, rows * ROW_BYTES / 1e9, MAX_ROWS);
-        return SP_E_INPUT;
-    }
-    double t_end = o.every > 0 || o.poincare
-                       ? scene.video.duration
-                       : sp_scene_frame_time(&scene, sp_scene_frame_count(&scene) - 1);
-    if ((ret = sp_cli_check_work(&o, &scene, t_end, 0)) != 0)
-        return ret;
     int to_stdout = !strcmp(out, "-");
     const char *what = to_stdout ? "stdout" : out;
     if (!to_stdout && !sp_outfile_is_stream(out))
@@ -301,7 +337,9 @@ int sp_cmd_data(int argc, char **argv)
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
     sp_progress_begin(!o.quiet && !(to_stdout && isatty(1)), "data", t_end);
-    ret = write_samples(fp, &scene, o.every, o.poincare);
+    for (int i = 0; !ret && i < o.n_scenes; i++)
+        ret = write_samples(fp, &scenes[i], o.every, o.poincare,
+                            o.n_scenes > 1 ? scenes[i].name : NULL, i == 0, spatial && o.n_scenes > 1);
     sp_progress_end();
     int write_errno = errno;
     if (fclose(fp) != 0 && !ret)
@@ -314,7 +352,7 @@ int sp_cmd_data(int argc, char **argv)
     int through = f.through;
     struct sp_outfile meta = {.fd = -1, .slot = -1};
     if (!ret)
-        ret = write_metadata(&meta, out, &o, &scene);
+        ret = write_metadata(&meta, out, &o, sc0, o.n_scenes > 1, spatial);
     if (!ret) /* the metadata first: when the CSV appears, it is there */
         ret = sp_outfile_commit(&meta);
     if (!ret)

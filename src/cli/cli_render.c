@@ -16,7 +16,7 @@
 #include "springpend/timeline.h"
 
 static const char render_usage[] =
-    "usage: springpend render SCENE [-o OUTPUT] [options]\n"
+    "usage: springpend render SCENE [SCENE ...] [-o OUTPUT] [options]\n"
     "\n"
     "Renders the scene's whole motion. The output's extension (or --format) picks\n"
     "the kind:\n"
@@ -65,10 +65,22 @@ static const char render_usage[] =
     "0.25 s of video and the next in over 0.25 s; a pause's note replaces the\n"
     "caption for the pause. The layout (caption band, speed marker, panels) is\n"
     "sized for the longest text the timeline shows and stays fixed; --frames and\n"
-    "--shard pieces join into the whole video.\n";
+    "--shard pieces join into the whole video.\n"
+    "\n"
+    "Side by side: with 2 to 4 SCENE files each scene is drawn in its own cell of\n"
+    "the frame (in a row, or 2x2 for 4; in a column on a portrait frame), labelled\n"
+    "with its view.title or, without one, the keys in which the scenes differ, all\n"
+    "at one camera scale (a metre is the same length in every cell) and with the\n"
+    "same chart axes. They share the first scene's [video] width, height, fps and\n"
+    "speed and [view] theme, background, font, font_size and font_scale (a scene\n"
+    "that differs in one is refused; --set applies to every scene); [timeline],\n"
+    "[ensemble] and --state take one scene. Scenes of different durations run to\n"
+    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n"
+    "The output is named after the first scene.\n";
 
 static const char still_usage[] =
-    "usage: springpend still SCENE [--at SECONDS] [-o OUTPUT.png|.svg|.pdf] [options]\n"
+    "usage: springpend still SCENE [SCENE ...] [--at SECONDS] [-o OUTPUT.png|.svg|.pdf]\n"
+    "                       [options]\n"
     "\n"
     "Renders one frame at simulated time SECONDS (default 0), integrating only up\n"
     "to it; the trail holds the positions at the video's frame times before it.\n"
@@ -102,7 +114,18 @@ static const char still_usage[] =
     "\n"
     "Teaching overlays and looks come from the scene's [view] keys (panels, hud,\n"
     "theme, background, colormap, colorbar, strobe, trail = all): see 'springpend keys'.\n"
-    "A transparent background writes a PNG with alpha, for slides.\n";
+    "A transparent background writes a PNG with alpha, for slides.\n"
+    "\n"
+    "Side by side: with 2 to 4 SCENE files each scene is drawn in its own cell of\n"
+    "the frame (in a row, or 2x2 for 4; in a column on a portrait frame), labelled\n"
+    "with its view.title or, without one, the keys in which the scenes differ, all\n"
+    "at one camera scale (a metre is the same length in every cell) and with the\n"
+    "same chart axes. They share the first scene's [video] width, height, fps and\n"
+    "speed and [view] theme, background, font, font_size and font_scale (a scene\n"
+    "that differs in one is refused; --set applies to every scene); [timeline],\n"
+    "[ensemble] and --state take one scene. Scenes of different durations run to\n"
+    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n"
+    "The output is named after the first scene.\n";
 
 /* Writes the physics of the still's frame as JSON, whole or not at all. */
 static int write_state(const char *path, const struct sp_scene *scene,
@@ -195,6 +218,55 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
     return sp_cli_check_writable(o->state, "--state");
 }
 
+/* Scenes side by side share the first one's frame and text: the keys in
+ * which another may not differ. */
+static int check_side_by_side(const struct sp_cli_options *o, const struct sp_scene *s, int n)
+{
+    static const char *const shared[] = {"video.width", "video.height", "video.fps", "video.speed",
+                                         "view.font_size", "view.font_scale"};
+    int bad = 0;
+    for (int i = 1; i < n; i++) {
+        for (size_t k = 0; k < sizeof(shared) / sizeof(shared[0]); k++) {
+            const double a = sp_scene_get_number(&s[0], shared[k]);
+            const double b = sp_scene_get_number(&s[i], shared[k]);
+            char va[64], vb[64];
+            if (a == b || (isnan(a) && isnan(b)))
+                continue;
+            snprintf(va, sizeof(va), "%.17g", a);
+            snprintf(vb, sizeof(vb), "%.17g", b);
+            sp_scene_canonical_display(shared[k], va, va, sizeof(va));
+            sp_scene_canonical_display(shared[k], vb, vb, sizeof(vb));
+            sp_log_error("%s: %s = %s, but %s has %s; scenes side by side share the first's "
+                         "[video] width, height, fps and speed and [view] theme, background, "
+                         "font, font_size and font_scale: give them the same (--set applies "
+                         "to every scene)", o->scene_paths[i], shared[k], vb, o->scene_paths[0], va);
+            bad = 1;
+        }
+        if (s[i].view.theme != s[0].view.theme || s[i].view.background != s[0].view.background) {
+            sp_log_error("%s: another view.theme or view.background than %s's; scenes side by "
+                         "side share the first's", o->scene_paths[i], o->scene_paths[0]);
+            bad = 1;
+        }
+        if (strcmp(s[i].view.font, s[0].view.font)) {
+            sp_log_error("%s: view.font = \"%s\", but %s has \"%s\"; scenes side by side "
+                         "share the first's fonts", o->scene_paths[i], s[i].view.font,
+                         o->scene_paths[0], s[0].view.font);
+            bad = 1;
+        }
+    }
+    for (int i = 0; i < n; i++)
+        if (s[i].timeline || s[i].ensemble.count > 1) {
+            sp_log_error("%s: a scene with %s is shown alone, not side by side", o->scene_paths[i],
+                         s[i].timeline ? "a [timeline]" : "an [ensemble]");
+            bad = 1;
+        }
+    if (o->state) {
+        sp_log_error("--state writes one scene's state; give one SCENE with it");
+        bad = 1;
+    }
+    return bad ? SP_E_INPUT : 0;
+}
+
 /* An SVG or PDF figure of physical size is drawn at this many px per pt
  * before cairo scales it onto the page: whole-px text sizes and positions
  * then land on quarter points. */
@@ -238,57 +310,79 @@ static int paper_still(const struct sp_cli_options *o, struct sp_scene *scene, c
 static int run(int argc, char **argv, int still)
 {
     struct sp_cli_options o;
-    struct sp_scene scene;
+    static struct sp_scene scenes[SP_CLI_MAX_SCENES]; /* big: not on the stack */
+    struct sp_scene *const sp = scenes;
     char out[4096], ext[16] = ".mp4";
-    int first = 0, last = 0, ret = sp_cli_parse(&o, argc, argv, still ? still_usage : render_usage, still);
+    int first = 0, last = 0, ret = sp_cli_parse(&o, argc, argv, still ? still_usage : render_usage,
+                                                still | SP_CLI_SCENES);
     if (ret)
         return ret > 0 ? 0 : ret;
-    ret = sp_cli_load_scene(&o, &scene);
+    ret = sp_cli_load_scenes(&o, scenes);
+    if (!ret && o.n_scenes > 1)
+        ret = check_side_by_side(&o, scenes, o.n_scenes);
+
     if (o.format)
         snprintf(ext, sizeof(ext), ".%s", o.format);
     if (!ret)
-        ret = sp_cli_output_path(&o, &scene, still ? ".png" : ext, out, sizeof(out));
+        ret = sp_cli_output_path(&o, &scenes[0], still ? ".png" : ext, out, sizeof(out));
     /* a still too: its camera, trail and charts span the video's frames */
-    const int clocked = scene.timeline && scene.timeline->clocked;
-    if (!ret && !clocked && sp_scene_frame_count(&scene) > SP_MAX_VIDEO_FRAMES) {
+    const int clocked = scenes[0].timeline && scenes[0].timeline->clocked;
+    if (!ret && !clocked && sp_scene_frame_count(&scenes[0]) > SP_MAX_VIDEO_FRAMES) {
         sp_log_error("video.duration * video.fps / video.speed = %d frames; at most %d are "
                      "allowed in a video (about 4.6 hours at 60 fps)",
-                     sp_scene_frame_count(&scene), SP_MAX_VIDEO_FRAMES);
+                     sp_scene_frame_count(&scenes[0]), SP_MAX_VIDEO_FRAMES);
         ret = SP_E_INPUT;
-    } else if (!ret && clocked && sp_timeline_length(&scene) * scene.video.fps > SP_MAX_VIDEO_FRAMES) {
+    } else if (!ret && clocked && sp_timeline_length(&scenes[0]) * scenes[0].video.fps > SP_MAX_VIDEO_FRAMES) {
         sp_log_error("the [timeline]'s speeds and pauses make the video %g s long at %g fps: "
                      "%.4g frames; at most %d are allowed in a video (about 4.6 hours at 60 fps)",
-                     sp_timeline_length(&scene), scene.video.fps,
-                     round(sp_timeline_length(&scene) * scene.video.fps), SP_MAX_VIDEO_FRAMES);
+                     sp_timeline_length(&scenes[0]), scenes[0].video.fps,
+                     round(sp_timeline_length(&scenes[0]) * scenes[0].video.fps), SP_MAX_VIDEO_FRAMES);
         ret = SP_E_INPUT;
     }
+    int n_frames = sp_timeline_frames(&scenes[0]); /* side by side: the longest */
+    for (int i = 1; !ret && i < o.n_scenes; i++) {
+        n_frames = n_frames > sp_timeline_frames(&sp[i]) ? n_frames : sp_timeline_frames(&sp[i]);
+        if (sp_scene_frame_count(&sp[i]) > SP_MAX_VIDEO_FRAMES) {
+            sp_log_error("%s: video.duration * video.fps / video.speed = %d frames; at most %d "
+                         "are allowed in a video", o.scene_paths[i], sp_scene_frame_count(&sp[i]),
+                         SP_MAX_VIDEO_FRAMES);
+            ret = SP_E_INPUT;
+        }
+    }
     if (!ret && !still)
-        ret = sp_cli_frame_range(&o, sp_timeline_frames(&scene), &first, &last);
+        ret = sp_cli_frame_range(&o, n_frames, &first, &last);
     if (!ret && still)
-        ret = check_still(&o, &scene, out);
+        ret = check_still(&o, &scenes[0], out);
     struct sp_pipeline_desc pd = {0};
     if (!ret && still && o.paper_w)
-        ret = paper_still(&o, &scene, out, &pd);
+        ret = paper_still(&o, &scenes[0], out, &pd);
     struct sp_moment end;
     if (!ret)
-        sp_timeline_frame(&scene, sp_timeline_frames(&scene) - 1, &end);
+        sp_timeline_frame(&scenes[0], sp_timeline_frames(&scenes[0]) - 1, &end);
     if (!ret)
-        ret = sp_cli_check_work(&o, &scene, still ? fmax(end.t, o.at) : end.t, 1);
+        ret = sp_cli_check_work(&o, &scenes[0], still ? fmax(end.t, o.at) : end.t, 1);
+    for (int i = 1; !ret && i < o.n_scenes; i++)
+        ret = sp_cli_check_work(&o, &sp[i], sp_scene_frame_time(&sp[i], sp_scene_frame_count(&sp[i]) - 1), 1);
+    const struct sp_scene *more[SP_CLI_MAX_SCENES - 1];
+    for (int i = 1; i < o.n_scenes; i++)
+        more[i - 1] = &sp[i];
     if (ret) {
-        sp_scene_free(&scene);
+        for (int i = 0; i < o.n_scenes; i++)
+            sp_scene_free(&sp[i]);
         return ret;
     }
     struct sp_state state;
     ret = sp_pipeline_run(&(struct sp_pipeline_desc){
-        .scene = &scene, .output = out, .format = still ? "png" : o.format,
+        .scene = &scenes[0], .output = out, .format = still ? "png" : o.format,
         .still = still, .still_at = o.at < 0 ? 0 : o.at, .first = first,
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
         .handle_signals = !still, .supersample = o.scale, .state_out = &state,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
-        .page_h = pd.page_h});
-    sp_scene_free(&scene);
+        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1});
+    for (int i = 0; i < o.n_scenes; i++)
+        sp_scene_free(&sp[i]);
     /* Both files or neither (a device or stdout is never removed). */
-    if (!ret && o.state && (ret = write_state(o.state, &scene, &state)) != 0 &&
+    if (!ret && o.state && (ret = write_state(o.state, &scenes[0], &state)) != 0 &&
         !sp_outfile_is_stream(out))
         remove(out);
     /* An interrupted render keeps the frames so far, when there were any. */

@@ -55,7 +55,7 @@ static const char sweep_usage[] =
     "            settled cycles are clustered into attractors; the figure's legend\n"
     "            and stderr give each one's period, state and basin fraction, and the\n"
     "            basin entropy S_b and boundary basin entropy S_bb (5x5 boxes).\n"
-    "  poincare  Poincare mosaic: (r, dr/dt) at every crossing of every grid point's\n"
+    "  poincare  Poincare mosaic: (r, r_dot) at every crossing of every grid point's\n"
     "            orbit, coloured by orbit, all at one energy: each point's\n"
     "            initial.angle_rate is derived from --energy E (J; default the\n"
     "            scene's own), so vary initial.length, initial.angle or\n"
@@ -93,7 +93,14 @@ static const char sweep_usage[] =
     "                            --csv only; join them with --merge\n"
     "  --merge                   the arguments are shard CSVs: draw (and --csv) the whole\n"
     "  --threads N               worker threads (default: one per core)\n"
-    "  --set SECTION.KEY=VAL     override a scene key (repeatable)\n"
+    "  --set SECTION.KEY=VAL     override a scene key (repeatable): [pendulum], [initial],\n"
+    "                            [pivot] and [integrator] keys, and the figure's view.theme,\n"
+    "                            colormap, background, font, font_size, font_scale and\n"
+    "                            title (\"\" = none); any other key is refused\n"
+    "  --size W[xH]              the figure's printed size: 8.6cm, 3.4in, 246pt, 86mm, or\n"
+    "                            8.6cmx6cm (the height 2/3 of the width when left out);\n"
+    "                            text then in points (view.font_size, 10 by default)\n"
+    "  --dpi N                   a PNG figure's dots per inch at --size (default 300)\n"
     "  -q, --quiet               no progress bar, no 'wrote' line\n"
     "  -h, --help                this text\n";
 
@@ -104,6 +111,7 @@ struct sweep_opts {
     int n_overrides, quiet, merge, threads, energy_given;
     const char **parts;
     int n_parts;
+    struct sp_plot_style style; /* --size, --dpi; the scene's [view] once loaded */
 };
 
 /* --vary KEY=FROM:TO:COUNT: FROM and TO any decimal numbers here (sp_sweep_check
@@ -152,6 +160,7 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
         {"shard", required_argument, 0, 'D'},  {"merge", no_argument, 0, 'G'},
         {"threads", required_argument, 0, 'N'}, {"quiet", no_argument, 0, 'q'},
         {"continue", required_argument, 0, 'K'}, {"peak", required_argument, 0, 'P'},
+        {"size", required_argument, 0, 'S'},   {"dpi", required_argument, 0, 'I'},
         {"format", required_argument, 0, 'F'},
         {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
     };
@@ -229,6 +238,16 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
                                 "the orbits' energy in J", &d->energy);
             o->energy_given = 1;
             break;
+        case 'S':
+            ret = sp_cli_paper_size("--size", optarg, &o->style.page_w, &o->style.page_h);
+            if (!ret && !o->style.page_h) /* the default figure's 3:2 */
+                o->style.page_h = o->style.page_w * 2 / 3;
+            break;
+        case 'I':
+            ret = sp_cli_number("--dpi", optarg, 10, 2400, SP_DECIMAL_ABOVE,
+                                "the PNG's dots per inch, 10 < dpi <= 2400, with --size, e.g. "
+                                "--size 8.6cm --dpi 300", &o->style.dpi);
+            break;
         case 'N':
             ret = sp_cli_number("--threads", optarg, 1, 1024, SP_DECIMAL_INTEGER,
                                 "worker threads, an integer from 1 to 1024", &v);
@@ -241,6 +260,17 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
     }
     if (ret)
         return ret;
+    if (o->style.dpi && !(o->style.page_w && o->output && strcmp(o->output, "-") &&
+                          !strcasecmp(strrchr(o->output, '.') ? strrchr(o->output, '.') : "",
+                                      ".png"))) {
+        sp_log_error("--dpi sets a PNG figure's dots per inch at a printed size: give --size "
+                     "8.6cm (or another) and -o FIGURE.png");
+        return SP_E_INPUT;
+    }
+    if (o->style.page_w && !(o->output && strcmp(o->output, "-"))) {
+        sp_log_error("--size is the figure's printed size: give -o FIGURE.png|.svg|.pdf");
+        return SP_E_INPUT;
+    }
     if (o->output && !strcmp(o->output, "-")) { /* the numbers, no figure */
         o->output = NULL;
         if (!o->format)
@@ -414,14 +444,44 @@ static int open_rows(FILE **fp)
 }
 
 /* The figure from the rows (through the module: cairo is loaded only here). */
-static int draw(FILE *rows, const char *rows_name, const char *figure, struct sp_dirs *made)
+static int draw(FILE *rows, const char *rows_name, const char *figure,
+                const struct sp_plot_style *style, struct sp_dirs *made)
 {
-    int (*plot)(FILE *, const char *, const char *);
+    int (*plot)(FILE *, const char *, const char *, const struct sp_plot_style *);
     *(void **)&plot = sp_module_symbol("springpend-plot.so", "sweep figures", "sp_sweep_plot");
     if (!plot)
         return SP_E_IO;
     int ret = sp_outfile_is_stream(figure) ? 0 : sp_dirs_make(figure, made);
-    return ret ? ret : plot(rows, rows_name, figure);
+    return ret ? ret : plot(rows, rows_name, figure, style);
+}
+
+/* The [view] keys a sweep's figure uses; the sections its grid does. */
+static const char *const figure_keys[] = {"theme", "colormap", "background", "font",
+                                          "font_size", "font_scale", "title"};
+static const char *const grid_sections[] = {"pendulum", "initial", "pivot", "integrator"};
+
+/* Refuses a --set key that a sweep would not use (a video's or a still's:
+ * [video], [ensemble], the panels, trail, HUD...). */
+static int check_used(const struct sweep_opts *o)
+{
+    for (int i = 0; i < o->n_overrides; i++) {
+        const char *s = o->overrides[i], *dot = strchr(s, '.');
+        const size_t n = strcspn(s, "="), sec = dot && (size_t)(dot - s) < n ? (size_t)(dot - s) : n;
+        int used = 0;
+        for (size_t k = 0; k < sizeof(grid_sections) / sizeof(grid_sections[0]); k++)
+            used |= strlen(grid_sections[k]) == sec && !strncmp(s, grid_sections[k], sec);
+        for (size_t k = 0; sec == 4 && !strncmp(s, "view", 4) &&
+                           k < sizeof(figure_keys) / sizeof(figure_keys[0]); k++)
+            used |= strlen(figure_keys[k]) == n - 5 && !strncmp(s + 5, figure_keys[k], n - 5);
+        if (!used) {
+            sp_log_error("--set %.*s: sweep does not use %.*s; it takes the [pendulum], "
+                         "[initial], [pivot] and [integrator] keys, and view.theme, colormap, "
+                         "background, font, font_size, font_scale and title for its figure",
+                         (int)n, s, (int)n, s);
+            return SP_E_INPUT;
+        }
+    }
+    return 0;
 }
 
 /* What the CSV's metadata records beside the rows (csv_metadata.h). */
@@ -519,7 +579,7 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         ret = SP_E_IO;
     }
     if (!ret && o->output)
-        ret = draw(fp, o->csv ? o->csv : name, o->output, &made[1]);
+        ret = draw(fp, o->csv ? o->csv : name, o->output, &o->style, &made[1]);
     if (!ret && !o->quiet)
         sp_sweep_print_legend(fp, stderr); /* a basin map's attractors */
     if (!ret && o->format) {
@@ -861,8 +921,12 @@ int sp_cmd_sweep(int argc, char **argv)
     if (o.merge)
         return merge(&o);
     sp_scene_defaults(&scene);
-    if ((ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
+    if ((ret = check_used(&o)) || (ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
+    o.style.view = &scene.view; /* the figure's look */
+    o.style.title_set = scene.view.title[0] != 0;
+    for (int i = 0; i < o.n_overrides; i++)
+        o.style.title_set |= !strncmp(o.overrides[i], "view.title=", 11);
     sp_scene_free(&scene); /* the [timeline] is presentation: sweeps ignore it */
     if ((ret = sp_sweep_check(&d, &scene, o.energy_given)))
         return ret;

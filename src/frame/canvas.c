@@ -170,3 +170,44 @@ int sp_canvas_text(struct sp_canvas *c, int size, float x, float y, enum sp_alig
     c->n_quads += it->count;
     return w;
 }
+
+void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float dx, float dy)
+{
+    const int s0 = dst->n_shapes, q0 = dst->n_quads, t0 = dst->n_strings;
+    if (src->err)
+        dst->err = src->err;
+    sp_canvas_clip(dst, NULL);
+    if (grow(dst, (void **)&dst->shapes, &dst->cap_shapes, s0, src->n_shapes, sizeof(*dst->shapes)) ||
+        grow(dst, (void **)&dst->quads, &dst->cap_quads, q0, src->n_quads, sizeof(*dst->quads)) ||
+        grow(dst, (void **)&dst->strings, &dst->cap_strings, t0, src->n_strings, 1) ||
+        grow(dst, (void **)&dst->items, &dst->cap_items, dst->n_items, src->n_items, sizeof(*dst->items)))
+        return;
+    for (int i = 0; i < src->n_shapes; i++) {
+        struct sp_shape *sh = &dst->shapes[s0 + i];
+        *sh = src->shapes[i];
+        sh->seg[0] += dx, sh->seg[1] += dy, sh->seg[2] += dx, sh->seg[3] += dy;
+    }
+    for (int i = 0; i < src->n_quads; i++) {
+        struct sp_glyph_quad *q = &dst->quads[q0 + i];
+        *q = src->quads[i];
+        q->rect[0] += dx, q->rect[1] += dy, q->rect[2] += dx, q->rect[3] += dy;
+    }
+    memcpy(dst->strings + t0, src->strings, (size_t)src->n_strings);
+    for (int i = 0; i < src->n_items; i++) {
+        struct sp_item *it = &dst->items[dst->n_items++];
+        *it = src->items[i];
+        if (it->kind == SP_ITEM_TEXT) {
+            it->first += q0;
+            it->text += t0;
+            it->x += dx, it->y += dy;
+        } else if (it->kind == SP_ITEM_CLIP) {
+            if (it->clip[2] > it->clip[0])
+                it->clip[0] += dx, it->clip[1] += dy, it->clip[2] += dx, it->clip[3] += dy;
+        } else {
+            it->first += s0;
+        }
+    }
+    dst->n_shapes += src->n_shapes;
+    dst->n_quads += src->n_quads;
+    dst->n_strings += src->n_strings;
+}

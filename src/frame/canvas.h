@@ -134,6 +134,12 @@ void sp_canvas_disc(struct sp_canvas *c, float x, float y, float radius, int bal
 void sp_canvas_rect(struct sp_canvas *c, float x0, float y0, float x1, float y1,
                     const float color[4]);
 
+/* Appends src's draw list to dst moved by (dx, dy) px, after a CLIP item
+ * that ends any clipping: the cells of a side-by-side frame, each composed
+ * on its own canvas, become one list. Text must come from the same font (its
+ * glyph quads point into that font's atlas). Failures go to dst->err. */
+void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float dx, float dy);
+
 /* Text with its baseline at y, aligned on x; returns its width, px. */
 int sp_canvas_text(struct sp_canvas *c, int size, float x, float y, enum sp_align align,
                    const float color[4], const char *utf8);

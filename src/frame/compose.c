@@ -8,6 +8,7 @@
 #include "springpend/timeline.h"
 #include "compose.h"
 #include "layout.h"
+#include "vectors.h"
 
 enum {
     COIL_TURNS = 12,
@@ -41,6 +42,7 @@ enum {
 struct sp_composer {
     struct sp_canvas canvas;  /* this frame's draw list */
     struct sp_font *font;     /* NULL when no text is drawn */
+    int font_borrowed;        /* font is sp_compose_desc's, not ours to free */
     struct sp_look look;      /* a copy: what is drawn and how */
     struct sp_view_extent extent;
     struct sp_palette pal;
@@ -66,22 +68,36 @@ struct sp_composer {
     /* trail = all: the part older than ALL_FADE is drawn once (SP_LAYER_ACCUM) */
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
+    struct sp_vectors vectors;    /* [view] vectors' scales (set with the layout) */
+    struct sp_bars_scale bars;    /* the energy bars' axis (set by each frame) */
+    int ss;                       /* the drawing is this many times the output */
 };
 
 /* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
 static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 {
     const struct sp_view_extent *e = &r->extent;
-    const double margin = (BOB_RADIUS + MARGIN) * r->unit;
+    /* arrows from the bob need their longest length around the motion */
+    const double margin = (BOB_RADIUS + MARGIN + (r->look.view.vectors ? SP_VECTOR_MAX_LENGTH : 0)) *
+                          r->unit;
     const double ew = fmax(e->xmax - e->xmin, 1e-6);
     const double eh = fmax(e->ymax - e->ymin, 1e-6);
     const double aw = fmax(v->x1 - v->x0 - 2 * margin, 1.0);
     const double ah = fmax(v->y1 - v->y0 - 2 * margin, 1.0);
 
-    r->scale = fmin(aw / ew, ah / eh);
+    sp_compose_rescale(r, fmin(aw / ew, ah / eh));
+}
+
+void sp_compose_rescale(struct sp_composer *r, double px_per_m)
+{
+    const struct sp_view_extent *e = &r->extent;
+    const struct sp_rect *v = &r->layout.camera;
+    r->scale = px_per_m;
     r->ox = 0.5 * (v->x0 + v->x1) - r->scale * 0.5 * (e->xmin + e->xmax);
     r->oy = 0.5 * (v->y0 + v->y1) + r->scale * 0.5 * (e->ymin + e->ymax);
 }
+
+double sp_compose_scale(const struct sp_composer *c) { return c->scale; }
 
 /* Text sizes follow the frame's smaller side, with a floor for small
  * frames, or [view] font_size (pt, one px each: see README "Text") for the
@@ -311,6 +327,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         sp_look_of(NULL, &r->look);
     r->width = desc->width;
     r->height = desc->height;
+    r->ss = desc->supersample > 1 ? desc->supersample : 1;
     r->accum_t = -1;
     r->unit = (float)(r->width < r->height ? r->width : r->height);
     /* ss: drawn px per output px; and per pt at a physical size */
@@ -336,12 +353,15 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         snprintf(r->speed, sizeof(r->speed), "speed \xc3\x97%g", r->look.speed);
     if (!r->look.view.pendulum || r->look.ensemble_count > 1)
         r->look.view.colorbar = 0; /* no speed-coloured trail to explain */
-    if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar ||
+    if (r->look.ensemble_count > 1)
+        r->look.view.vectors = 0; /* the members are drawn, not the one bob */
+    if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar || r->look.view.vectors ||
         r->look.view.title[0] || r->look.view.caption[0] || r->speed[0] || r->look.view.font[0] || tl) {
         struct sp_font_desc fd = {.family = r->look.view.font};
         text_sizes(r->unit, r->look.view.font_size, r->look.view.font_scale, ss,
                    r->look.pt_px > 0, fd.px);
-        err = sp_font_make(&r->font, &fd);
+        r->font_borrowed = desc->font != NULL;
+        err = desc->font ? (r->font = (struct sp_font *)desc->font, 0) : sp_font_make(&r->font, &fd);
         if (!err)
             err = wrap_texts(r);
         if (!err && tl)
@@ -385,6 +405,7 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
         d.colorbar_width = sp_colorbar_width(r->font, r->ink, r->max_speed);
     sp_layout_compute(&d, &r->layout);
     fit_camera(r, &r->layout.camera);
+    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit);
     r->laid_out = 1;
 }
 
@@ -661,6 +682,12 @@ static void put_texts(struct sp_composer *r, const struct sp_moment *m)
     sp_canvas_layer(cv, SP_LAYER_STATIC);
 }
 
+void sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p)
+{
+    if (!c->laid_out)
+        lay_out(c, p);
+}
+
 int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
                      const struct sp_canvas **out)
 {
@@ -686,12 +713,25 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         put_spring(r, pv, bb);
         sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
         sp_canvas_disc(cv, bb[0], bb[1], BOB_RADIUS * r->unit, 1, r->pal.bob);
+        if (r->look.view.vectors)
+            sp_vectors_draw(cv, &r->vectors, f, bb, &r->pal);
     }
     if (r->look.view.panels)
-        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, r->look.view.fade);
+        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, r->look.view.fade, &r->bars);
     if (r->look.view.hud)
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
     put_texts(r, f->moment);
+    if (r->look.view.vectors && r->look.view.pendulum)
+        sp_vectors_legend(cv, &r->vectors, &r->layout.camera, &r->pal);
+    if (f->ended && r->font) { /* side by side: a shorter video holds its last frame */
+        const struct sp_rect *cam = &r->layout.camera;
+        char note[64];
+        snprintf(note, sizeof(note), "ended at t = %.3g s", f->state.t);
+        sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
+        sp_canvas_text(cv, SP_TEXT_LARGE, cam->x1 - r->layout.gap,
+                       cam->y0 + r->layout.gap + sp_font_cap(r->font, SP_TEXT_LARGE), SP_ALIGN_RIGHT,
+                       r->pal.accent, note);
+    }
     if (r->look.view.colorbar) {
         sp_canvas_layer(cv, SP_LAYER_STATIC);
         sp_colorbar_draw(cv, &r->layout.colorbar, r->look.view.colormap, r->max_speed,
@@ -706,6 +746,27 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     return 0;
 }
 
+void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double dx, double dy,
+                        char *buf, size_t size)
+{
+    size_t used = 0;
+    if (size)
+        buf[0] = 0;
+    if (!c->laid_out ||
+        !(c->look.view.vectors || c->look.view.panels & SP_PANEL_ENERGY_BARS || prefix[0]))
+        return;
+    used = (size_t)snprintf(buf, size, "%scamera.px_per_m=%.9g\n%scamera.origin_px=%.9g,%.9g\n",
+                            prefix, c->scale / c->ss, prefix, c->ox / c->ss + dx, c->oy / c->ss + dy);
+    sp_vectors_describe(&c->vectors, c->ss, prefix, buf, size, &used);
+    const struct sp_bars_scale *b = &c->bars;
+    if (b->n && used < size)
+        snprintf(buf + used, size - used, "%senergy_bars.zero_px=%.9g\n%senergy_bars.px_per_J=%.9g\n"
+                 "%senergy_bars.slot_px=%.9g\n%senergy_bars.x0_px=%.9g\n%senergy_bars.count=%d\n"
+                 "%senergy_bars.gravity_zero_y_m=%.9g\n", prefix, b->zero_px / c->ss + dy, prefix,
+                 b->px_per_J / c->ss, prefix, b->slot_px / c->ss, prefix, b->x0 / c->ss + dx, prefix,
+                 b->n, prefix, c->extent.y_low);
+}
+
 const struct sp_font *sp_compose_font(const struct sp_composer *c) { return c->font; }
 const struct sp_palette *sp_compose_palette(const struct sp_composer *c) { return &c->pal; }
 
@@ -714,7 +775,8 @@ void sp_compose_destroy(struct sp_composer **cp)
     struct sp_composer *c = *cp;
     if (!c)
         return;
-    sp_font_destroy(&c->font);
+    if (!c->font_borrowed)
+        sp_font_destroy(&c->font);
     free(c->title);
     free(c->caption);
     sp_canvas_free(&c->canvas);

@@ -16,7 +16,13 @@ struct sp_compose_desc {
     const struct sp_look *look;   /* what is drawn and how; NULL = the default scene's */
     int supersample;              /* the drawing is this many times the output
                                      (0 or 1 = not): text floors scale with it */
+    const struct sp_font *font;   /* NULL: the composer makes its own when text is
+                                     drawn; else it draws with this one, borrowed
+                                     (side by side: one glyph atlas for all cells) */
 };
+
+/* Scenes side by side: at most this many cells in one frame. */
+#define SP_MAX_CELLS 4
 
 struct sp_composer;
 
@@ -29,6 +35,45 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
  * 0 or SP_E_NOMEM (logged). */
 int sp_compose_frame(struct sp_composer *c, const struct sp_frame *f,
                      const struct sp_canvas **out);
+
+/* What a test or tool needs to measure the overlays in the output image, as
+ * "key=value" lines (output pixels), each key after `prefix`: the camera
+ * (camera.px_per_m, camera.origin_px: the pivot's rest position, moved by
+ * (dx, dy), the cell's corner), each arrow scale (vectors.QUANTITY.px_per_unit
+ * and .key) and the energy bars' axis. "" when the composer draws neither
+ * vectors nor energy bars nor is a cell (prefix ""), or before the first
+ * frame. */
+void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double dx, double dy,
+                        char *buf, size_t size);
+
+/* The camera's scale, px per m (after the first frame), and a new one: the
+ * camera keeps its centre. Side by side, every cell takes the smallest, so
+ * a metre is the same length in every cell. */
+double sp_compose_scale(const struct sp_composer *c);
+void sp_compose_rescale(struct sp_composer *c, double px_per_m);
+/* Lays the frame out and fits the camera for parameters p, as the first
+ * frame does (once; a no-op after). */
+void sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p);
+
+/* compose_cells.c: n scenes (1..SP_MAX_CELLS) side by side in one frame,
+ * each in its cell of a grid (sp_compose_cells_grid) with its own look, all
+ * with desc's extent (the union of the scenes': one camera scale and the
+ * same chart axes in every cell) and one font. With n = 1 it is the one
+ * composer of desc alone. */
+struct sp_compose_cells;
+void sp_compose_cells_grid(int width, int height, int n, int *cols, int *rows);
+int sp_compose_cells_make(struct sp_compose_cells **out, const struct sp_compose_desc *desc,
+                          const struct sp_look *looks, int n);
+/* Composes frames[0..n) (cell by cell) into one draw list; as
+ * sp_compose_frame. At the first frame every cell takes the smallest camera
+ * scale. */
+int sp_compose_cells_frame(struct sp_compose_cells *c, const struct sp_frame *frames,
+                           const struct sp_canvas **out);
+const struct sp_font *sp_compose_cells_font(const struct sp_compose_cells *c);
+const struct sp_palette *sp_compose_cells_palette(const struct sp_compose_cells *c);
+/* Every cell's sp_compose_overlay, prefixed "cellN." when n > 1. */
+void sp_compose_cells_overlay(const struct sp_compose_cells *c, char *buf, size_t size);
+void sp_compose_cells_destroy(struct sp_compose_cells **c);
 
 /* The font (NULL when no text is drawn) and the palette, owned by c. */
 const struct sp_font *sp_compose_font(const struct sp_composer *c);

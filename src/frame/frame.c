@@ -94,6 +94,16 @@ void sp_look_of(const struct sp_scene *scene, struct sp_look *out)
                             .timeline = scene->timeline};
 }
 
+/* W: the power damping takes from the bob in state s (b |v_air|^2, the air
+ * at rest in the lab; vz in 3-D); 0 without damping. */
+static double damping_power(const struct sp_params *p, const struct sp_state *s)
+{
+    if (p->b_over_m <= 0)
+        return 0;
+    const double vy = s->vy + p->drive_amp * p->drive_omega * cos(p->drive_omega * s->t);
+    return p->b_over_m * p->mass * (s->vx * s->vx + vy * vy + s->vz * s->vz);
+}
+
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                            const volatile sig_atomic_t *cancel,
                            void (*progress)(void *ctx, double t), void *progress_ctx,
@@ -107,6 +117,13 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     *out = (struct sp_view_extent){.t_end = t_end};
     out->r = out->theta = out->r_dot = out->theta_dot = out->energy = out->modes =
         (struct sp_range){INFINITY, -INFINITY};
+    const unsigned vectors = scene->view.vectors;
+    const int bars = (scene->view.panels & SP_PANEL_ENERGY_BARS) != 0;
+    const double mg = sim.p.mass * sim.p.g;
+    struct sp_range kin = {0, 0}, grav = {INFINITY, -INFINITY}, tot = {INFINITY, -INFINITY};
+    struct sp_range work = {0, 0};
+    double loss = 0; /* J: lost to damping, trapezoid over the steps */
+    out->y_low = INFINITY;
     out->azimuth = (struct sp_range){0, 0};
     double azimuth = 0; /* rad, continued from step to step */
     /* Sample every step: the camera must hold every position the bob takes. */
@@ -119,6 +136,17 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
         out->ymin = fmin(out->ymin, fmin(s->y + yp, yp));
         out->ymax = fmax(out->ymax, fmax(s->y + yp, yp));
         out->max_speed = fmax(out->max_speed, v);
+        if (vectors) {
+            struct sp_forces fo;
+            sp_state_forces(&sim.p, s, &fo);
+            const double *each[] = {fo.gravity, fo.spring, fo.damping, fo.drive, fo.net};
+            const unsigned bit[] = {SP_VECTOR_GRAVITY, SP_VECTOR_SPRING, SP_VECTOR_DAMPING,
+                                    SP_VECTOR_DRIVE, SP_VECTOR_NET};
+            for (int i = 0; i < 5; i++)
+                if (vectors & bit[i])
+                    out->max_force = fmax(out->max_force, hypot(each[i][0], each[i][1]));
+            out->max_accel = fmax(out->max_accel, hypot(fo.accel[0], fo.accel[1]));
+        }
         if (scene->view.panels) {
             struct sp_polar pol;
             struct sp_energy e;
@@ -134,6 +162,15 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
             widen(&out->energy, e.gravity);
             widen(&out->modes, e.bounce);
             widen(&out->modes, e.swing);
+            if (bars) {
+                out->y_low = fmin(out->y_low, s->y);
+                widen(&kin, fmax(fmax(e.kinetic, e.spring), fmax(e.bounce, e.swing)));
+                widen(&grav, e.gravity);
+                widen(&tot, e.total);
+                if (sim.p.drive_amp != 0)
+                    widen(&work, sim.work + loss); /* the drive's work */
+                widen(&work, loss);                /* the loss to damping */
+            }
             if (sim.spatial) {
                 azimuth = sp_azimuth_unwrap(azimuth, sp_state_azimuth(&sim.p, s));
                 widen(&out->azimuth, azimuth);
@@ -142,11 +179,21 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
         }
         if (s->t >= t_end)
             break;
+        const double t0 = s->t, power = bars ? damping_power(&sim.p, s) : 0;
         int ret = sp_sim_advance(&sim, fmin(t_end, s->t + sim.dt));
         if (ret == SP_E_UNSTABLE)
             sp_sim_explain(&sim);
         if (ret)
             return ret;
+        if (bars)
+            loss += 0.5 * (s->t - t0) * (power + damping_power(&sim.p, s));
+    }
+    if (bars) { /* gravity from the lowest point: no bar below zero but the drive's work */
+        const double shift = mg * out->y_low;
+        out->bars = (struct sp_range){fmin(0, work.lo), fmax(fmax(kin.hi, grav.hi - shift),
+                                                             fmax(tot.hi - shift, work.hi))};
+    } else {
+        out->y_low = 0;
     }
     if (out->max_speed <= 0)
         out->max_speed = 1;
@@ -295,7 +342,9 @@ int sp_history_follow(struct sp_history *h, struct sp_sim *sim, double t_target)
     const int parts = (int)ceil((t_target - t0) / h->max_step - 1e-9);
     for (int i = 1; i <= parts && !err; i++) {
         const struct sp_state a = sim->s;
+        const double pa = damping_power(&sim->p, &a);
         err = sp_sim_advance(sim, i == parts ? t_target : t0 + (t_target - t0) * i / parts);
+        h->loss += 0.5 * (sim->s.t - a.t) * (pa + damping_power(&sim->p, &sim->s));
         if (!err && h->poincare)
             err = find_crossing(h, &sim->p, &a, &sim->s);
         if (!err && i < parts)

@@ -20,6 +20,10 @@ static const struct sp_palette DARK = {
     .mount = {0.56f, 0.60f, 0.66f, 1}, .wire_front = {0.80f, 0.82f, 0.85f, 1},
     .wire_back = {0.47f, 0.50f, 0.55f, 1}, .pivot = {0.86f, 0.88f, 0.91f, 1},
     .bob = {0.93f, 0.33f, 0.16f, 1}, .cmap_lo = 0.18f, .cmap_hi = 1.0f,
+    /* velocity, acceleration, gravity, spring, damping, drive, net */
+    .vectors = {{0.25f, 0.85f, 0.95f, 1}, {1.00f, 0.80f, 0.15f, 1}, {0.40f, 0.55f, 1.00f, 1},
+                {0.35f, 0.90f, 0.40f, 1}, {0.80f, 0.50f, 1.00f, 1}, {1.00f, 0.40f, 0.75f, 1},
+                {1.00f, 1.00f, 1.00f, 1}},
 };
 
 static const struct sp_palette LIGHT = {
@@ -32,12 +36,17 @@ static const struct sp_palette LIGHT = {
     .mount = {0.40f, 0.43f, 0.48f, 1}, .wire_front = {0.30f, 0.33f, 0.37f, 1},
     .wire_back = {0.62f, 0.65f, 0.69f, 1}, .pivot = {0.25f, 0.27f, 0.30f, 1},
     .bob = {0.88f, 0.30f, 0.12f, 1}, .cmap_lo = 0.0f, .cmap_hi = 0.82f,
+    .vectors = {{0.00f, 0.55f, 0.70f, 1}, {0.80f, 0.50f, 0.00f, 1}, {0.15f, 0.30f, 0.90f, 1},
+                {0.10f, 0.55f, 0.15f, 1}, {0.50f, 0.20f, 0.75f, 1}, {0.85f, 0.10f, 0.50f, 1},
+                {0.00f, 0.00f, 0.00f, 1}},
 };
 
 void sp_palette_get(const struct sp_view *view, struct sp_palette *out)
 {
     const int bg = view->background;
     *out = view->theme == SP_THEME_LIGHT ? LIGHT : DARK;
+    if (view->panel_background)
+        out->panel[3] = 0; /* panel_background = none */
     if (bg == SP_BACKGROUND_TRANSPARENT) {
         out->background[3] = 0;
     } else if (bg >= 0) {
@@ -214,6 +223,7 @@ struct plot {
     struct sp_rect area; /* the data rectangle, px */
     struct axis x, y;
     float title_end;     /* px: where the title ends in its row */
+    float label_base;    /* px: the baseline of the x labels' row, 0 = none */
 };
 
 static float px_x(const struct plot *p, double v)
@@ -323,8 +333,10 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
                                                n_leg, shrt) : 0;
     p->area.y0 = r->y0 + 2.2f * pad + cap_n + 0.5f * cap_s + leg_rows * line_s;
     /* A wide plot names its x axis at the right end of the tick row; a
-     * narrow one on its own row below, so that it can keep its ticks. */
-    int xl_below = r->x1 - r->x0 < 1.6f * (r->y1 - r->y0);
+     * narrow one on its own row below, so that it can keep its ticks. No
+     * xlabel: categories (bars) name themselves in the tick row. */
+    const int categories = !xlabel;
+    int xl_below = !categories && r->x1 - r->x0 < 1.6f * (r->y1 - r->y0);
     /* x labels clear of the lowest y label (half a cap above the axis' end) */
     const float drop = fmaxf(tick, 0.6f * cap_s);
     /* A panel too small for its labels keeps at least two lines of plot:
@@ -373,12 +385,15 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     }
     p->area.x0 = r->x0 + pad + tw + tick + 0.5f * pad;
     p->area.x1 = r->x1 - pad - 0.5f * sp_font_width(f, SP_TEXT_SMALL, "00");
+    if (categories)
+        xlabel = "";
     int xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
     axis_range(&p->x, xr.lo, xr.hi, xpad);
     axis_fit(&p->x, f, p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w + pad), 0);
     axis_name(&p->x, xlabel, xname, sizeof(xname));
     xlabel = xname;
     xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
+    p->label_base = label_x ? p->area.y1 + drop + cap_s + 0.25f * pad : 0;
 
     /* grid, ticks and labels */
     const float base = p->area.y1 + drop + cap_s + 0.25f * pad;
@@ -387,7 +402,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
         sp_canvas_text(c, SP_TEXT_SMALL, xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
                        xl_below ? base + line_s : base, xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT,
                        pal->muted, xlabel);
-    for (double v = p->x.first; v <= p->x.hi + 1e-9 * p->x.step; v += p->x.step) {
+    for (double v = p->x.first; !categories && v <= p->x.hi + 1e-9 * p->x.step; v += p->x.step) {
         const float x = px_x(p, v);
         tick_label(&p->x, v, buf, sizeof(buf));
         const float w = (float)sp_font_width(f, SP_TEXT_SMALL, buf);
@@ -779,15 +794,87 @@ static void spread_plot(struct sp_canvas *c, const struct sp_rect *r, const stru
     sp_canvas_disc(c, ax, ay, 2.2f * hw, 0, pal->series[1]);
 }
 
+/* The energy now as bars on the run's one fixed axis (e->bars): kinetic,
+ * spring and gravity, gravity's zero at the lowest point of the run (so no
+ * bar but the drive's work goes below zero), the total; with damping or a
+ * drive the energy at the start, the drive's work and the loss to damping,
+ * so that total = start + work - loss; then the bounce and swing split. */
+static void energy_bars(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
+                        const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
+                        struct sp_bars_scale *out)
+{
+    const struct sp_params *pp = f->params;
+    const double zero = pp->mass * pp->g * e->y_low; /* J: gravity's energy at y_low */
+    const int damped = pp->b_over_m > 0, driven = pp->drive_amp != 0;
+    const double loss = f->history ? f->history->loss : 0;
+    struct sp_energy en;
+    sp_state_energy(pp, &f->state, &en);
+    struct bar {
+        const char *label;
+        double value; /* J */
+        const float *color;
+    } bars[9];
+    int n = 0;
+    bars[n++] = (struct bar){"kinetic|kin", en.kinetic, pal->series[1]};
+    bars[n++] = (struct bar){"spring|spr", en.spring, pal->series[2]};
+    bars[n++] = (struct bar){"gravity|grav", en.gravity - zero, pal->series[3]};
+    bars[n++] = (struct bar){"total|tot", en.total - zero, pal->series[0]};
+    if (damped || driven)
+        bars[n++] = (struct bar){"start|E₀", f->energy0 - zero, pal->muted};
+    if (driven)
+        bars[n++] = (struct bar){"drive work|drive", f->work + loss, pal->vectors[5]};
+    if (damped)
+        bars[n++] = (struct bar){"damping loss|loss", loss, pal->vectors[4]};
+    bars[n++] = (struct bar){"bounce|bnc", en.bounce, pal->vectors[0]};
+    bars[n++] = (struct bar){"swing|swg", en.swing, pal->vectors[1]};
+    char zero_note[96];
+    snprintf(zero_note, sizeof(zero_note), "gravity 0 at the lowest point, y = %s%.3g m|0 at y = %s%.3g m",
+             e->y_low < 0 ? "−" : "", fabs(e->y_low), e->y_low < 0 ? "−" : "", fabs(e->y_low));
+    const struct legend_item leg[] = {{zero_note, pal->muted, 0, NULL},
+                                      {"total = start + work − loss|= E₀ + W − loss", pal->muted, 0, NULL}};
+    struct plot p;
+    frame_plot(c, r, &p, "Energy bars|Energy", NULL, "E (J)", (struct sp_range){0, 1}, e->bars, 0,
+               pal, unit, leg, damped || driven ? 2 : 1, SP_LAYER_STATIC);
+    const float slot = (p.area.x1 - p.area.x0) / (float)n, half = 0.32f * slot;
+    const float y0 = px_y(&p, 0);
+    const struct sp_font *font = c->font;
+    /* the labels: long forms when every one fits its slot, else short ones */
+    int shrt = 0;
+    char buf[64];
+    for (int i = 0; i < n; i++)
+        shrt |= sp_font_width(font, SP_TEXT_SMALL, label_form(bars[i].label, 0, buf, sizeof(buf))) >
+                0.96f * slot;
+    sp_canvas_clip(c, NULL);
+    sp_canvas_layer(c, SP_LAYER_STATIC);
+    for (int i = 0; p.label_base > 0 && i < n; i++) /* a label wider than its slot is left out */
+        if (sp_font_width(font, SP_TEXT_SMALL, label_form(bars[i].label, shrt, buf, sizeof(buf))) <= slot)
+            sp_canvas_text(c, SP_TEXT_SMALL, p.area.x0 + (i + 0.5f) * slot, p.label_base,
+                           SP_ALIGN_CENTER, pal->muted, buf);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC);
+    for (int i = 0; i < n; i++) {
+        const float x = p.area.x0 + (i + 0.5f) * slot, y = px_y(&p, bars[i].value);
+        if (fabsf(y - y0) >= 0.5f)
+            sp_canvas_rect(c, x - half, fminf(y, y0), x + half, fmaxf(y, y0), bars[i].color);
+    }
+    /* the zero line over the bars */
+    const float hw = fmaxf(0.5f, 0.0009f * unit);
+    sp_canvas_rect(c, p.area.x0, y0 - hw, p.area.x1, y0 + hw, pal->axis);
+    if (out)
+        *out = (struct sp_bars_scale){.zero_px = y0, .px_per_J = (float)((p.area.y1 - p.area.y0) /
+                                      (p.y.hi - p.y.lo)), .slot_px = slot, .x0 = p.area.x0, .n = n};
+}
+
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
                     const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
-                    int fade)
+                    int fade, struct sp_bars_scale *bars)
 {
     for (int b = 0; b < SP_PANEL_COUNT; b++) {
         const struct sp_rect *r = &lay->panel[b];
         if (!sp_rect_valid(r))
             continue;
-        if (b == 8)
+        if (b == 11)
+            energy_bars(c, r, f, e, pal, unit, bars);
+        else if (b == 8)
             spread_plot(c, r, f, e, pal, unit);
         else if (b == 10)
             top_plot(c, r, f, e, pal, unit, fade);

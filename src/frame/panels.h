@@ -22,6 +22,7 @@ struct sp_palette {
     float series[4][4]; /* total / the plotted quantity, kinetic, spring, gravity */
     float cursor[4], accent[4];
     float mount[4], wire_front[4], wire_back[4], pivot[4], bob[4];
+    float vectors[SP_VECTOR_COUNT][4]; /* [view] vectors' arrows, by SP_VECTOR_* bit */
     float axis_hw;          /* px: half the width of axes and grid lines; 0 =
                                from the panels' unit */
     float cmap_lo, cmap_hi; /* the part of the colormap speeds 0..max use: the
@@ -34,12 +35,22 @@ void sp_palette_get(const struct sp_view *view, struct sp_palette *out);
 /* Colour of a speed fraction t in [0, 1] in the scene's colormap. */
 void sp_colormap(int colormap, float t, float rgb[3]);
 
+/* Where the energy_bars panel puts its bars, px: bar i (0 = kinetic, then
+ * spring, gravity, total, [start, drive work, damping loss,] bounce, swing)
+ * is centred at x0 + (i + 0.5) slot_px; value v (J) reaches
+ * zero_px - v px_per_J. */
+struct sp_bars_scale {
+    float zero_px, px_per_J, slot_px, x0;
+    int n; /* bars; 0 = no panel */
+};
+
 /* Draws every panel the layout holds for frame f. `unit` is the frame's
  * smaller side, px (line widths and dot sizes follow it); with fade = 0 the
- * phase curves' history is drawn at full strength. */
+ * phase curves' history is drawn at full strength. bars (may be NULL)
+ * receives the energy bars' scale when that panel is drawn. */
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
                     const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
-                    int fade);
+                    int fade, struct sp_bars_scale *bars);
 
 /* Heads-up text: writes the lines for params (time left out) wrapped to
  * max_width px into lines[0..max) and returns how many; line 0 is the time

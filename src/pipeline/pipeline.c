@@ -203,7 +203,44 @@ struct run {
     double t_start;              /* s, monotonic */
     struct sp_moment moment;     /* what the frame being drawn shows (timeline.h) */
     double followed_t;           /* s: the last frame time followed; < 0 = none */
+    double t_last;               /* s: side by side, the last frame time of this
+                                    scene's own video (it holds that frame after) */
+    /* side by side: the scenes beside the first, each with its own motion */
+    struct cell {
+        const struct sp_scene *sc;
+        double t_last;           /* s: its own video's last frame time */
+        int substeps;
+        struct sp_sim sim;
+        struct sp_trail trail;
+        struct sp_history hist;
+        double followed_t;       /* s; < 0 = none */
+    } more[SP_PIPELINE_MAX_SCENES - 1];
+    int n_more;
+    struct sp_look looks[SP_PIPELINE_MAX_SCENES]; /* side by side: each cell's look */
+    char labels[SP_PIPELINE_MAX_SCENES][SP_VIEW_TEXT_BYTES];
 };
+
+/* The fields of the frame that run's sim, trail and histories are at. */
+#define FRAME_OF(run)                                                                    \
+    .state = (run)->sim.s, .params = &(run)->sim.p, .trail = &(run)->trail,              \
+    .history = &(run)->hist, .ensemble = (run)->ens, .moment = &(run)->moment,           \
+    .work = (run)->sim.work, .energy0 = (run)->sim.energy0
+
+/* The frames run shows at simulated time t, s: the first scene's, then, side
+ * by side, each other's (a scene past its own end holds its last frame,
+ * marked as ended). Returns frames. */
+static struct sp_frame *frames_of(struct run *run, double t, struct sp_frame *frames)
+{
+    frames[0] = (struct sp_frame){FRAME_OF(run), .ended = run->n_more && t > run->t_last + 1e-9};
+    for (int i = 0; i < run->n_more; i++) {
+        struct cell *cl = &run->more[i];
+        frames[i + 1] = (struct sp_frame){.state = cl->sim.s, .params = &cl->sim.p,
+                                          .trail = &cl->trail, .history = &cl->hist,
+                                          .work = cl->sim.work, .energy0 = cl->sim.energy0,
+                                          .ended = t > cl->t_last + 1e-9};
+    }
+    return frames;
+}
 
 /* The signal that stops a render which holds the signals (signals.h): it
  * keeps the frames so far. 0 = none, or not held. */
@@ -221,6 +258,106 @@ static int run_check(const struct run *run)
         return SP_E_INPUT;
     }
     return 0;
+}
+
+/* Widens a (scene sa's extent) to hold b (scene sb's) too: one camera and one
+ * set of chart axes for scenes side by side. The energy bars' gravity zero
+ * goes to the lower of the two lowest points, their axis up by what that
+ * adds to gravity's and the total's bars. */
+static void extent_union(struct sp_view_extent *a, const struct sp_scene *sa,
+                         const struct sp_view_extent *b, const struct sp_scene *sb)
+{
+    struct sp_range *ra[] = {&a->r, &a->theta, &a->r_dot, &a->theta_dot, &a->energy, &a->modes};
+    const struct sp_range *rb[] = {&b->r, &b->theta, &b->r_dot, &b->theta_dot, &b->energy, &b->modes};
+    for (int i = 0; i < 6; i++)
+        *ra[i] = (struct sp_range){fmin(ra[i]->lo, rb[i]->lo), fmax(ra[i]->hi, rb[i]->hi)};
+    a->xmin = fmin(a->xmin, b->xmin), a->xmax = fmax(a->xmax, b->xmax);
+    a->ymin = fmin(a->ymin, b->ymin), a->ymax = fmax(a->ymax, b->ymax);
+    a->max_speed = fmax(a->max_speed, b->max_speed);
+    a->max_accel = fmax(a->max_accel, b->max_accel);
+    a->max_force = fmax(a->max_force, b->max_force);
+    a->t_end = fmax(a->t_end, b->t_end);
+    const double low = fmin(a->y_low, b->y_low);
+    const double wa = sa->pendulum.mass * sa->pendulum.gravity, wb = sb->pendulum.mass * sb->pendulum.gravity;
+    a->bars = (struct sp_range){fmin(a->bars.lo, b->bars.lo),
+                                fmax(a->bars.hi + wa * (a->y_low - low), b->bars.hi + wb * (b->y_low - low))};
+    a->y_low = low;
+}
+
+/* A trail for scene sc in a video of n frames, frame_dt simulated s apart
+ * (slow: how much a timeline's slowest speed stretches them), sampled
+ * `substeps` times a frame, held to about 100 MB; *used gets the substeps
+ * kept. 0 or SP_E_NOMEM. */
+static int trail_setup(struct sp_trail *tr, int *used, const struct sp_scene *sc, int n,
+                       int substeps, double frame_dt, double slow)
+{
+    const int trail_frames = sc->view.trail == SP_TRAIL_ALL ? n + 1
+                           : sc->view.trail == SP_TRAIL_DURATION
+                               ? (int)fmin(ceil(sc->view.trail_duration / frame_dt * slow) + 1, n + 1)
+                           : slow > 1 ? (int)fmin(ceil((sc->view.trail - 1) * slow) + 1, n + 1)
+                               : sc->view.trail;
+    if ((double)trail_frames * substeps > 4e6) /* about 100 MB of trail at most */
+        substeps = (int)fmax(1, 4e6 / fmax(trail_frames, 1));
+    *used = substeps;
+    return sp_trail_make(tr, trail_frames ? (trail_frames - 1) * substeps + 1 : 0);
+}
+
+/* Side by side: each cell's look, titled with its scene's view.title or,
+ * without one, the keys in which the scenes differ ("stiffness = 5,
+ * damping = 0.4"; [video] and [view] keys aside), else its name. */
+static void cell_looks(struct run *run)
+{
+    const struct sp_scene *all[SP_PIPELINE_MAX_SCENES] = {run->sc};
+    char *text[SP_PIPELINE_MAX_SCENES] = {0};
+    const int n = 1 + run->n_more;
+    for (int i = 1; i < n; i++)
+        all[i] = run->more[i - 1].sc;
+    for (int i = 0; i < n; i++) {
+        const int len = sp_scene_canonical(all[i], NULL, 0);
+        text[i] = malloc((size_t)len + 1);
+        if (text[i])
+            sp_scene_canonical(all[i], text[i], (size_t)len + 1);
+    }
+    for (int i = 0; i < n; i++) {
+        char *label = run->labels[i];
+        size_t used = 0;
+        label[0] = 0;
+        for (int ln = 0; text[i]; ln++) { /* line ln of every scene's text: the same key */
+            const char *lines[SP_PIPELINE_MAX_SCENES];
+            int differs = 0, ok = 1;
+            for (int j = 0; j < n && ok; j++) {
+                const char *p = text[j];
+                for (int k = 0; p && k < ln; k++)
+                    p = (p = strchr(p, '\n')) ? p + 1 : NULL;
+                ok = text[j] && p && *p;
+                lines[j] = p;
+            }
+            if (!ok)
+                break;
+            const size_t len = strcspn(lines[i], "\n");
+            for (int j = 0; j < n; j++)
+                differs |= strcspn(lines[j], "\n") != len || strncmp(lines[j], lines[i], len);
+            if (!differs || !strncmp(lines[i], "video.", 6) || !strncmp(lines[i], "view.", 5))
+                continue;
+            char key[128], value[256], shown[256];
+            const char *eq = memchr(lines[i], '=', len);
+            if (!eq || (size_t)(eq - lines[i]) >= sizeof(key))
+                continue;
+            snprintf(key, sizeof(key), "%.*s", (int)(eq - lines[i]), lines[i]);
+            snprintf(value, sizeof(value), "%.*s", (int)(len - (size_t)(eq + 1 - lines[i])), eq + 1);
+            sp_scene_canonical_display(key, value, shown, sizeof(shown));
+            if (used < SP_VIEW_TEXT_BYTES)
+                used += (size_t)snprintf(label + used, SP_VIEW_TEXT_BYTES - used, "%s%s = %s",
+                                         used ? ", " : "", strchr(key, '.') + 1, shown);
+        }
+        if (!label[0])
+            snprintf(label, SP_VIEW_TEXT_BYTES, "%s", all[i]->name);
+        sp_look_of(all[i], &run->looks[i]);
+        if (!run->looks[i].view.title[0])
+            snprintf(run->looks[i].view.title, sizeof(run->looks[i].view.title), "%s", label);
+    }
+    for (int i = 0; i < n; i++)
+        free(text[i]);
 }
 
 /* Signals, the camera pre-pass, the sim, trail and histories; then, unless
@@ -253,6 +390,14 @@ static int run_setup(struct run *run)
                                &run->extent);
         sp_progress_end();
     }
+    for (int i = 0; !ret && i < run->n_more; i++) { /* one camera and one set of axes */
+        struct sp_view_extent e;
+        const struct sp_scene *o = run->more[i].sc;
+        ret = sp_view_extent_measure(o, run->more[i].t_last, sp_signal_flag(), sp_progress_sim,
+                                     NULL, &e);
+        if (!ret)
+            extent_union(&run->extent, sc, &e, o);
+    }
     if (ret)
         return ret;
     const struct sp_view_extent extent = run->extent;
@@ -272,25 +417,33 @@ static int run_setup(struct run *run)
     int substeps = sp_trail_substeps(
         dt_max, extent.max_speed * sp_params_omega_max(&run->sim.p),
         ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9)));
-    const int trail_frames = sc->view.trail == SP_TRAIL_ALL ? n + 1
-                           : sc->view.trail == SP_TRAIL_DURATION
-                               ? (int)fmin(ceil(sc->view.trail_duration / frame_dt * slow) + 1, n + 1)
-                           : slow > 1 ? (int)fmin(ceil((sc->view.trail - 1) * slow) + 1, n + 1)
-                               : sc->view.trail;
-    if ((double)trail_frames * substeps > 4e6) /* about 100 MB of trail at most */
-        substeps = (int)fmax(1, 4e6 / fmax(trail_frames, 1));
-    run->substeps = substeps;
-    ret = sp_trail_make(&run->trail, trail_frames ? (trail_frames - 1) * substeps + 1 : 0);
+    ret = trail_setup(&run->trail, &run->substeps, sc, n, substeps, frame_dt, slow);
     if (!ret)
         ret = sp_history_make(&run->hist, sc);
+    for (int i = 0; !ret && i < run->n_more; i++) { /* the others, as the first */
+        struct cell *cl = &run->more[i];
+        sp_sim_init(&cl->sim, cl->sc);
+        cl->sim.cancel = sp_signal_flag();
+        cl->sim.progress = sp_progress_sim;
+        ret = trail_setup(&cl->trail, &cl->substeps, cl->sc, n,
+                          sp_trail_substeps(frame_dt, extent.max_speed * sp_params_omega_max(&cl->sim.p),
+                                            ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9),
+                                                      h / fmax(extent.ymax - extent.ymin, 1e-9))),
+                          frame_dt, 1);
+        if (!ret)
+            ret = sp_history_make(&cl->hist, cl->sc);
+    }
+    sp_look_of(sc, &run->looks[0]);
+    if (run->n_more)
+        cell_looks(run);
+    for (int i = 0; i <= run->n_more; i++) /* a still of physical size: px per pt */
+        run->looks[i].pt_px = desc->pt_px;
     if (ret || run->figure)
         return ret;
-    struct sp_look look;
-    sp_look_of(sc, &look);
-    look.pt_px = desc->pt_px;
     ret = sp_render_make(&run->r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
-        .look = &look, .supersample = desc->supersample});
+        .look = &run->looks[0], .supersample = desc->supersample,
+        .cells = 1 + run->n_more, .looks = run->looks});
     if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r),
                                                  sp_render_gl_version(run->r))) != 0)
         return ret;
@@ -300,7 +453,9 @@ static int run_setup(struct run *run)
         .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
         .png_level = sc->video.png_level, .dpi = desc->pt_px * 72,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),
-        .text = run->prov.text, .n_text = SP_PROVENANCE_N_TEXT});
+        .text = run->prov.text,
+        .n_text = SP_PROVENANCE_N_TEXT + (run->n_more || sc->view.vectors ||
+                                          sc->view.panels & SP_PANEL_ENERGY_BARS)});
 }
 
 /* The sim, trail, histories and ensemble to t_target, s; the sim's blow-up
@@ -308,10 +463,23 @@ static int run_setup(struct run *run)
  * last one showed (inside a pause) adds nothing. */
 static int run_follow(struct run *run, double t_target)
 {
-    if (t_target == run->followed_t)
-        return 0;
+    int ret = 0;
+    for (int i = 0; !ret && i < run->n_more; i++) { /* each to its own end, then held */
+        struct cell *cl = &run->more[i];
+        const double t = fmin(t_target, cl->t_last);
+        if (t == cl->followed_t)
+            continue;
+        cl->followed_t = t;
+        ret = sp_trail_follow(&cl->trail, &cl->hist, &cl->sim, t, cl->substeps);
+        if (ret == SP_E_UNSTABLE)
+            sp_sim_explain(&cl->sim);
+    }
+    if (run->n_more)
+        t_target = fmin(t_target, run->t_last);
+    if (ret || t_target == run->followed_t)
+        return ret;
     run->followed_t = t_target;
-    int ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, t_target, run->substeps);
+    ret = sp_trail_follow(&run->trail, &run->hist, &run->sim, t_target, run->substeps);
     if (ret == SP_E_UNSTABLE)
         sp_sim_explain(&run->sim);
     if (!ret && run->ens)
@@ -336,29 +504,23 @@ static int run_still_follow(struct run *run)
             return ret;
     }
     sp_timeline_still(sc, at, &run->moment);
-    if (run->sim.s.t < at)
-        return run_follow(run, at);
-    return 0;
+    return run_follow(run, at); /* nothing when it is there already */
 }
 
 /* A still to .svg or .pdf, composed and drawn with cairo; sp_figure_write
  * writes it whole, so run_finish does not follow. */
 static int run_figure(struct run *run)
 {
-    struct sp_look look;
+    struct sp_frame frames[SP_PIPELINE_MAX_SCENES];
     int ret = run_still_follow(run);
     if (ret)
         return ret;
-    sp_look_of(run->sc, &look);
-    look.pt_px = run->desc->pt_px;
     ret = sp_figure_write(&(struct sp_figure_desc){
-        .width = run->w, .height = run->h, .extent = run->extent, .look = &look,
+        .width = run->w, .height = run->h, .extent = run->extent, .look = &run->looks[0],
         .page_w = run->desc->pt_px > 0 ? run->desc->page_w : 0,
         .page_h = run->desc->pt_px > 0 ? run->desc->page_h : 0,
-        .title = run->sc->name, .path = run->desc->output},
-        &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p, .trail = &run->trail,
-                           .history = &run->hist, .ensemble = run->ens,
-                           .moment = &run->moment});
+        .title = run->sc->name, .path = run->desc->output, .cells = 1 + run->n_more,
+        .looks = run->looks}, frames_of(run, run->desc->still_at, frames));
     if (!ret && run->desc->state_out)
         *run->desc->state_out = run->sim.s;
     return ret;
@@ -377,11 +539,10 @@ static int run_still(struct run *run)
         ((ret = sp_image_alloc_yuv420(&run->q.slot[0], run->w, run->h)) != 0 ||
          (ret = sp_render_target(run->r, &run->q.slot[0])) != 0))
         return ret;
-    ret = sp_render_draw(run->r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
-                                                    .trail = &run->trail, .history = &run->hist,
-                                                    .ensemble = run->ens, .moment = &run->moment},
-                         &run->img);
+    struct sp_frame frames[SP_PIPELINE_MAX_SCENES];
+    ret = sp_render_draw(run->r, frames_of(run, run->desc->still_at, frames), &run->img);
     sp_render_fonts(run->r, run->prov.fonts, sizeof(run->prov.fonts));
+    sp_render_overlay(run->r, run->prov.overlay, sizeof(run->prov.overlay));
     if (!ret)
         ret = sp_sink_write(run->sink, &run->img);
     return ret;
@@ -393,11 +554,9 @@ static int render_frame(struct run *run, struct sp_image *slot)
 {
     struct sp_renderer *r = run->r;
     int ret = sp_render_target(r, slot);
+    struct sp_frame frames[SP_PIPELINE_MAX_SCENES];
     if (!ret)
-        ret = sp_render_draw(r, &(struct sp_frame){.state = run->sim.s, .params = &run->sim.p,
-                                                   .trail = &run->trail, .history = &run->hist,
-                                                   .ensemble = run->ens, .moment = &run->moment},
-                             &run->img);
+        ret = sp_render_draw(r, frames_of(run, run->moment.t, frames), &run->img);
     return ret;
 }
 
@@ -448,8 +607,10 @@ static int run_video(struct run *run)
         ret = render_frame(run, slot);
         if (ret)
             return ret;
-        if (!run->emitted) /* before the encoder thread reads it, and fixed after */
+        if (!run->emitted) { /* before the encoder thread reads them, and fixed after */
             sp_render_fonts(run->r, run->prov.fonts, sizeof(run->prov.fonts));
+            sp_render_overlay(run->r, run->prov.overlay, sizeof(run->prov.overlay));
+        }
         tm->render += now_s() - ts;
         publish(q, run->sim.s.t);
         run->emitted++;
@@ -529,6 +690,10 @@ static void run_close(struct run *run, int ret)
     sp_render_destroy(&run->r);
     sp_trail_destroy(&run->trail);
     sp_history_destroy(&run->hist);
+    for (int i = 0; i < run->n_more; i++) {
+        sp_trail_destroy(&run->more[i].trail);
+        sp_history_destroy(&run->more[i].hist);
+    }
     sp_ensemble_destroy(&run->ens);
 }
 
@@ -536,7 +701,9 @@ static void run_close(struct run *run, int ret)
 int sp_pipeline_run(const struct sp_pipeline_desc *desc)
 {
     const struct sp_scene *sc = desc->scene;
-    const int n = sp_timeline_frames(sc);
+    int n = sp_timeline_frames(sc);
+    for (int i = 0; i < desc->n_more && i < SP_PIPELINE_MAX_SCENES - 1; i++)
+        n = n > sp_timeline_frames(desc->more[i]) ? n : sp_timeline_frames(desc->more[i]);
     struct run run = {
         .desc = desc, .sc = sc, .n = n,
         .first = desc->still ? 0 : desc->first,
@@ -546,6 +713,12 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         .q = {.lock = PTHREAD_MUTEX_INITIALIZER, .changed = PTHREAD_COND_INITIALIZER},
         .t_start = now_s(), .followed_t = -1,
     };
+    run.n_more = desc->n_more < SP_PIPELINE_MAX_SCENES - 1 ? desc->n_more : SP_PIPELINE_MAX_SCENES - 1;
+    run.t_last = sp_scene_frame_time(sc, sp_timeline_frames(sc) - 1);
+    for (int i = 0; i < run.n_more; i++)
+        run.more[i] = (struct cell){.sc = desc->more[i], .followed_t = -1,
+                                    .t_last = sp_scene_frame_time(desc->more[i],
+                                                                  sp_timeline_frames(desc->more[i]) - 1)};
     int ret = run_check(&run);
     if (ret)
         return ret;

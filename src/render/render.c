@@ -16,7 +16,7 @@
 struct sp_renderer {
     struct sp_gl_context *ctx;
     struct sp_gl_api gl;
-    struct sp_composer *composer;
+    struct sp_compose_cells *composer; /* one cell, or scenes side by side */
     struct sp_draw_gl *draw;
     int ss;                   /* supersampling factor, >= 1 */
     int width, height;        /* px drawn (output size times ss) */
@@ -59,9 +59,9 @@ int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
         err = SP_E_INPUT;
         goto fail;
     }
-    err = sp_compose_make(&r->composer, &(struct sp_compose_desc){
+    err = sp_compose_cells_make(&r->composer, &(struct sp_compose_desc){
         .width = r->width, .height = r->height, .extent = desc->extent, .look = desc->look,
-        .supersample = r->ss});
+        .supersample = r->ss}, desc->looks, desc->cells);
     if (!err)
         err = sp_gl_context_make(&r->ctx, r->width, r->height, desc->gl);
     if (!err)
@@ -70,8 +70,8 @@ int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
         goto fail;
     r->name = (const char *)r->gl.GetString(GL_RENDERER);
     r->version = (const char *)r->gl.GetString(GL_VERSION);
-    r->opaque = sp_compose_palette(r->composer)->background[3] >= 1;
-    err = sp_draw_gl_make(&r->draw, &r->gl, sp_compose_font(r->composer), r->width, r->height);
+    r->opaque = sp_compose_cells_palette(r->composer)->background[3] >= 1;
+    err = sp_draw_gl_make(&r->draw, &r->gl, sp_compose_cells_font(r->composer), r->width, r->height);
     if (err)
         goto fail;
     /* SPRINGPEND_DRAW_CACHE=0 draws every item of every frame: the
@@ -124,13 +124,13 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
 
     err = sp_gl_context_bind(r->ctx);
     if (!err)
-        err = sp_compose_frame(r->composer, f, &cv);
+        err = sp_compose_cells_frame(r->composer, f, &cv);
     t1 = now_s();
     r->compose_s += t1 - t0;
-    if (!r->frames++ && sp_compose_font(r->composer))
-        sp_font_raster_stats(sp_compose_font(r->composer), &r->glyphs_first, &r->raster_first_s);
+    if (!r->frames++ && sp_compose_cells_font(r->composer))
+        sp_font_raster_stats(sp_compose_cells_font(r->composer), &r->glyphs_first, &r->raster_first_s);
     if (!err)
-        err = sp_draw_gl_list(r->draw, cv, sp_compose_palette(r->composer)->background);
+        err = sp_draw_gl_list(r->draw, cv, sp_compose_cells_palette(r->composer)->background);
     if (err)
         return err;
     if (r->target.pixels && r->target.format == SP_IMAGE_YUV420) {
@@ -167,16 +167,21 @@ void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out)
                                     .uncached = d.uncached, .appended = d.appended,
                                     .unchanged = d.unchanged, .glyphs_first = r->glyphs_first,
                                     .raster_first_s = r->raster_first_s};
-    if (sp_compose_font(r->composer))
-        sp_font_raster_stats(sp_compose_font(r->composer), &out->glyphs, &out->raster_s);
+    if (sp_compose_cells_font(r->composer))
+        sp_font_raster_stats(sp_compose_cells_font(r->composer), &out->glyphs, &out->raster_s);
 }
 
 void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size)
 {
     if (size)
         buf[0] = 0;
-    if (sp_compose_font(r->composer))
-        sp_font_files(sp_compose_font(r->composer), buf, size);
+    if (sp_compose_cells_font(r->composer))
+        sp_font_files(sp_compose_cells_font(r->composer), buf, size);
+}
+
+void sp_render_overlay(const struct sp_renderer *r, char *buf, size_t size)
+{
+    sp_compose_cells_overlay(r->composer, buf, size);
 }
 
 int sp_render_target(struct sp_renderer *r, const struct sp_image *dst)
@@ -244,7 +249,7 @@ void sp_render_destroy(struct sp_renderer **rp)
     sp_draw_gl_destroy(&r->draw);
     sp_yuv_gl_destroy(&r->yuv);
     sp_gl_context_destroy(&r->ctx);
-    sp_compose_destroy(&r->composer);
+    sp_compose_cells_destroy(&r->composer);
     sp_image_free(&r->out);
     free(r);
     *rp = NULL;

@@ -49,6 +49,12 @@ struct key_info {
     const char *unit;
 };
 
+/* Keys added after PNG provenance hashed the canonical text: left out of
+ * sp_scene_canonical at their default, so that scenes without them keep
+ * their hash and their PNGs' bytes. */
+#define QUIET_KEY(k) ((k)->offset == offsetof(struct sp_scene, view.vectors) || \
+                      (k)->offset == offsetof(struct sp_scene, view.panel_background))
+
 /* [video] preset's choices: auto, then scene.h's SP_VIDEO_PRESETS. */
 #define PRESET_LISTED(name) ", " name
 #define PRESET_NAMES "auto" SP_VIDEO_PRESETS(PRESET_LISTED)
@@ -81,9 +87,13 @@ static const struct key_info keys[] = {
     {"video", "png_level", KEY_INT, F(video.png_level), 1, 1, 9, 0, "(PNG compression, 1 fastest, 9 smallest)"},
     {"view", "trail", KEY_TRAIL, F(view.trail), 600, 0, 1e6, 0, "frames"},
     {"view", "panels", KEY_PANELS, F(view.panels), 0, 0, 0, 0,
-     "none, all, r, theta, energy, extension, phase, poincare, modes, spread, azimuth, top"},
+     "none, all, r, theta, energy, extension, phase, poincare, modes, spread, azimuth, top, "
+     "energy_bars"},
+    {"view", "vectors", KEY_PANELS, F(view.vectors), 0, 0, 0, 0,
+     "none, forces, velocity, acceleration, gravity, spring, damping, drive, net"},
     {"view", "hud", KEY_BOOL, F(view.hud), 0, 0, 0, 0, "true, false"},
     {"view", "theme", KEY_CHOICE, F(view.theme), 0, 0, 0, 0, "dark, light"},
+    {"view", "panel_background", KEY_CHOICE, F(view.panel_background), 0, 0, 0, 0, "theme, none"},
     {"view", "background", KEY_COLOR, F(view.background), SP_BACKGROUND_THEME, 0, 0, 0,
      "#rrggbb, theme, transparent"},
     {"view", "colormap", KEY_CHOICE, F(view.colormap), 0, 0, 0, 0, "inferno, viridis"},
@@ -312,7 +322,12 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
     static const unsigned panel_bits[] = {
         0, SP_PANEL_ALL, SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
         SP_PANEL_EXTENSION, SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA, SP_PANEL_POINCARE,
-        SP_PANEL_MODES, SP_PANEL_SPREAD, SP_PANEL_AZIMUTH, SP_PANEL_TOP};
+        SP_PANEL_MODES, SP_PANEL_SPREAD, SP_PANEL_AZIMUTH, SP_PANEL_TOP,
+        SP_PANEL_ENERGY_BARS};
+    static const unsigned vector_bits[] = {
+        0, SP_VECTOR_FORCES, SP_VECTOR_VELOCITY, SP_VECTOR_ACCELERATION, SP_VECTOR_GRAVITY,
+        SP_VECTOR_SPRING, SP_VECTOR_DAMPING, SP_VECTOR_DRIVE, SP_VECTOR_NET};
+    const int vectors = k->offset == offsetof(struct sp_scene, view.vectors);
     unsigned bits = 0;
     int i;
     switch (k->kind) {
@@ -333,19 +348,25 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             size_t n = strcspn(w, ", ");
             i = choice_index(k->unit, w, n);
             if (i < 0 || (i == 0 && (w != value || w[n]))) {
-                report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
-                       "list of: r, theta, energy, extension, phase, poincare, modes, spread, "
-                       "azimuth, top (or all, or none alone)", k->section, k->name, (int)n, w);
+                if (vectors)
+                    report(c, line, "%s.%s: '%.*s' is not a vector; give a comma-separated "
+                           "list of: velocity, acceleration, gravity, spring, damping, drive, "
+                           "net, forces (every force: gravity, spring, damping, drive, net), "
+                           "or none alone", k->section, k->name, (int)n, w);
+                else
+                    report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
+                           "list of: r, theta, energy, extension, phase, poincare, modes, spread, "
+                           "azimuth, top, energy_bars (or all, or none alone)", k->section, k->name, (int)n, w);
                 return 1;
             }
-            bits |= panel_bits[i];
+            bits |= vectors ? vector_bits[i] : panel_bits[i];
             w += n;
             const size_t sep = strspn(w, ", ");
             const char *comma = memchr(w, ',', sep);
             if (comma && (memchr(comma + 1, ',', sep - (size_t)(comma + 1 - w)) || !w[sep])) {
                 report(c, line, "%s.%s = '%s' has an empty entry; give a comma-separated "
-                       "list of panel names, one between each two commas", k->section,
-                       k->name, value);
+                       "list of %s names, one between each two commas", k->section,
+                       k->name, value, vectors ? "vector" : "panel");
                 return 1;
             }
             w += sep;
@@ -1040,7 +1061,8 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
                          method_names[*(const enum sp_method *)p]);
             break;
         case KEY_PANELS:
-            n = snprintf(at, room, "%s.%s=%#x\n", k->section, k->name, *(const unsigned *)p);
+            n = QUIET_KEY(k) && !*(const unsigned *)p
+                    ? 0 : snprintf(at, room, "%s.%s=%#x\n", k->section, k->name, *(const unsigned *)p);
             break;
         case KEY_TEXT:
             n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name, p);
@@ -1052,7 +1074,8 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
                 n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR: an int */
-            n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
+            n = QUIET_KEY(k) && !*(const int *)p
+                    ? 0 : snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         }
         used += (size_t)n;
@@ -1224,12 +1247,15 @@ void sp_scene_print_keys(void)
 void sp_scene_canonical_display(const char *key, const char *value, char *buf, size_t size)
 {
     static const char *const panel_names[] = {"r", "theta", "energy", "extension", "phase",
-                                              "poincare", "modes", "spread", "azimuth", "top"};
+                                              "poincare", "modes", "spread", "azimuth", "top",
+                                              "energy_bars"};
     static const unsigned panel_bits[] = {SP_PANEL_R, SP_PANEL_THETA, SP_PANEL_ENERGY,
                                           SP_PANEL_EXTENSION,
                                           SP_PANEL_PHASE_R | SP_PANEL_PHASE_THETA,
                                           SP_PANEL_POINCARE, SP_PANEL_MODES, SP_PANEL_SPREAD,
-                                          SP_PANEL_AZIMUTH, SP_PANEL_TOP};
+                                          SP_PANEL_AZIMUTH, SP_PANEL_TOP, SP_PANEL_ENERGY_BARS};
+    static const char *const vector_names[] = {"velocity", "acceleration", "gravity", "spring",
+                                               "damping", "drive", "net"};
     char section[64];
     const char *dot = strchr(key, '.');
     const struct key_info *k = NULL;
@@ -1269,8 +1295,13 @@ void sp_scene_canonical_display(const char *key, const char *value, char *buf, s
     case KEY_PANELS: {
         unsigned bits = (unsigned)strtoul(value, NULL, 0);
         size_t used = 0;
+        const int vectors = k->offset == offsetof(struct sp_scene, view.vectors);
         buf[0] = 0;
-        for (int i = 0; i < (int)(sizeof(panel_bits) / sizeof(panel_bits[0])); i++)
+        for (int i = 0; vectors && i < SP_VECTOR_COUNT; i++)
+            if (bits & 1u << i && used < size)
+                used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
+                                         vector_names[i]);
+        for (int i = 0; !vectors && i < (int)(sizeof(panel_bits) / sizeof(panel_bits[0])); i++)
             if (bits & panel_bits[i] && used < size)
                 used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
                                          panel_names[i]);

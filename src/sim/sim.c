@@ -524,6 +524,27 @@ void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
                  p->mass * p->g * (q.r + s->y);
 }
 
+void sp_state_forces(const struct sp_params *p, const struct sp_state *s,
+                     struct sp_forces *out)
+{
+    double vp = 0, ap = 0;
+    if (p->drive_amp != 0)
+        pivot_motion(p, s->t, &vp, &ap);
+    const double rho = sqrt(s->x * s->x + s->y * s->y + s->z * s->z);
+    const double c = p->stiffness * (1 - (rho > 0 ? p->L0 / rho : 0));
+    const double b = p->b_over_m * p->mass;
+    *out = (struct sp_forces){
+        .gravity = {0, -p->mass * p->g},
+        .spring = {-c * s->x, -c * s->y},
+        .damping = {-b * s->vx, -b * (s->vy + vp)},
+        .drive = {0, -p->mass * ap},
+    };
+    for (int i = 0; i < 2; i++) {
+        out->net[i] = out->gravity[i] + out->spring[i] + out->damping[i] + out->drive[i];
+        out->accel[i] = out->net[i] / p->mass;
+    }
+}
+
 double sp_state_angular_momentum_y(const struct sp_state *s)
 {
     return s->z * s->vx - s->x * s->vz;

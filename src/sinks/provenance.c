@@ -51,6 +51,8 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
     if (sp_scene_write_ini(scene, p->scene_file, sizeof(p->scene_file)) >=
         (int)sizeof(p->scene_file))
         p->scene_file[0] = 0;
+    p->overlay[0] = 0;
+    p->text[8] = (struct sp_png_text){.key = "springpend.overlay", .text = p->overlay};
     return scene_sha256(scene, p->scene_sha256, p->scene, sizeof(p->scene));
 }
 

@@ -151,12 +151,25 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
 int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *base, long p,
                          struct sp_scene *out);
 
+/* How a sweep's figure looks (sweep_plot.c): its printed size and the
+ * scene's [view]. Zero means the default: 900 x 600 pt, the CSV's theme and
+ * colormap, DejaVu Sans, the measure's own title. */
+struct sp_plot_style {
+    double page_w, page_h;      /* pt: a printed size (sweep --size 8.6cm); 0 = none */
+    double dpi;                 /* a PNG's at a printed size; 0 = 300 (without one:
+                                   2 px per pt) */
+    const struct sp_view *view; /* theme, colormap, background, font, font_size (pt),
+                                   font_scale, title; NULL = the CSV's look */
+    int title_set;              /* 1: view->title is the title ("" = none) */
+};
+
 /* Draws the figure for the CSV in fp (rewound and read to the end) into
  * path (.png, .svg or .pdf, written as path.part then renamed). Lives in
  * sweep_plot.c (cairo); the executable reaches it through the module that
  * av_module.h loads (springpend-plot.so), so that cairo costs only the
  * commands that draw.
  * Returns 0, SP_E_INPUT (not a sweep CSV) or SP_E_IO. */
-int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path);
+int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
+                  const struct sp_plot_style *style);
 
 #endif

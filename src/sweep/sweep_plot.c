@@ -23,9 +23,23 @@
 #include "analysis.h"
 #include "sweep.h"
 
-#define W 900.0  /* figure size, pt (PNG: 2 px per pt) */
-#define H 600.0
-#define PNG_SCALE 2
+/* The figure being drawn (the module draws one at a time): its page and
+ * the scale of its text. By default 900 x 600 pt with 12 pt ticks, 14 pt
+ * labels and a 17 pt title (u = 1); at a printed size (sweep --size 8.6cm)
+ * the page is that size and u sets the labels in [view] font_size (10 pt
+ * by default: 8.6 pt ticks, 12 pt title, matplotlib's proportions), with
+ * 0.8 pt axes and 3.5 pt ticks, and the margins follow the labels. */
+static struct {
+    double w, h;       /* page, pt */
+    double u;          /* text and the offsets around it: times the default's */
+    int print;         /* a printed size: margins measured, short titles */
+    double lw, tick;   /* axes line width and tick length, pt */
+    const char *title; /* NULL: the measure's own; "" = none */
+} G = {900, 600, 1, 0, 1, 5, NULL};
+#define W G.w
+#define H G.h
+#define U(x) ((x) * G.u)
+#define PNG_SCALE_DEFAULT 2 /* px per pt without a printed size */
 /* A Lyapunov map's image, pixels a side at most: more than the plot's
  * 720 pt (1440 PNG px) can show, far less than cairo's limit (32767). */
 #define MAP_MAX_PX 2048
@@ -85,43 +99,87 @@ static void fmt_tick(char *buf, size_t size, double v, double step)
     snprintf(buf, size, "%.*f", dec, v);
 }
 
+/* The y ticks' step (draw_axes's) and their labels' widest width, pt. */
+static double ylabels_width(cairo_t *cr, const struct frame *f)
+{
+    char buf[64];
+    cairo_text_extents_t e;
+    double sy = tick_step(f->ylo, f->yhi, G.print ? (int)fmax(2, f->h / U(45)) : 6), wmax = 0;
+    cairo_save(cr);
+    cairo_set_font_size(cr, U(12));
+    for (double v = ceil(f->ylo / sy - 1e-9) * sy; v <= f->yhi + 1e-9 * sy; v += sy) {
+        fmt_tick(buf, sizeof(buf), v, sy);
+        cairo_text_extents(cr, buf, &e);
+        wmax = fmax(wmax, e.width);
+    }
+    cairo_restore(cr);
+    return wmax;
+}
+
+/* Places the plot rectangle of f (its data range set) on the page: the
+ * default figure's fixed margins, right = `right` pt (room for a colour
+ * bar or legend); at a printed size margins that fit the labels, right =
+ * print_right pt. */
+static void place(cairo_t *cr, struct frame *f, double right, double print_right)
+{
+    if (!G.print) {
+        f->x0 = 80, f->y0 = 56, f->w = W - 80 - right, f->h = H - 116;
+        return;
+    }
+    const double title = G.title && !G.title[0] ? 0 : U(17) * 1.25;
+    f->y0 = U(6) + title + U(6);
+    f->h = H - f->y0 - (G.tick + U(4) + U(12) * 1.2 + U(5) + U(14) * 1.25 + U(4));
+    f->h = fmax(f->h, U(20));
+    /* the left margin depends on the y labels, which depend on the height */
+    f->x0 = U(4) + U(14) * 1.2 + U(6) + ylabels_width(cr, f) + U(4) + G.tick;
+    f->w = fmax(W - f->x0 - print_right, U(20));
+}
+
 /* Axes, ticks, grid and labels around the frame. */
 static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palette *pal,
                       const char *xlabel, const char *ylabel)
 {
     char buf[64];
-    cairo_set_font_size(cr, 12);
-    double sx = tick_step(f->xlo, f->xhi, 8), sy = tick_step(f->ylo, f->yhi, 6);
-    cairo_set_line_width(cr, 1);
+    cairo_set_font_size(cr, U(12));
+    double sx = tick_step(f->xlo, f->xhi, G.print ? (int)fmax(2, f->w / U(55)) : 8);
+    double sy = tick_step(f->ylo, f->yhi, G.print ? (int)fmax(2, f->h / U(45)) : 6);
+    cairo_set_line_width(cr, G.print ? 0.5 * G.lw : G.lw);
     for (double v = ceil(f->xlo / sx - 1e-9) * sx; v <= f->xhi + 1e-9 * sx; v += sx) {
         double x = px(f, v);
         set_rgba(cr, pal->grid);
         cairo_move_to(cr, x, f->y0), cairo_line_to(cr, x, f->y0 + f->h), cairo_stroke(cr);
         set_rgba(cr, pal->axis);
-        cairo_move_to(cr, x, f->y0 + f->h), cairo_line_to(cr, x, f->y0 + f->h + 5);
+        cairo_set_line_width(cr, G.lw);
+        cairo_move_to(cr, x, f->y0 + f->h), cairo_line_to(cr, x, f->y0 + f->h + G.tick);
         cairo_stroke(cr);
+        cairo_set_line_width(cr, G.print ? 0.5 * G.lw : G.lw);
         fmt_tick(buf, sizeof(buf), v, sx);
         set_rgba(cr, pal->muted);
-        text_at(cr, x, f->y0 + f->h + 9, buf, 0.5, 0);
+        text_at(cr, x, f->y0 + f->h + G.tick + U(4), buf, 0.5, 0);
     }
     for (double v = ceil(f->ylo / sy - 1e-9) * sy; v <= f->yhi + 1e-9 * sy; v += sy) {
         double y = py(f, v);
         set_rgba(cr, pal->grid);
         cairo_move_to(cr, f->x0, y), cairo_line_to(cr, f->x0 + f->w, y), cairo_stroke(cr);
         set_rgba(cr, pal->axis);
-        cairo_move_to(cr, f->x0 - 5, y), cairo_line_to(cr, f->x0, y), cairo_stroke(cr);
+        cairo_set_line_width(cr, G.lw);
+        cairo_move_to(cr, f->x0 - G.tick, y), cairo_line_to(cr, f->x0, y), cairo_stroke(cr);
+        cairo_set_line_width(cr, G.print ? 0.5 * G.lw : G.lw);
         fmt_tick(buf, sizeof(buf), v, sy);
         set_rgba(cr, pal->muted);
-        text_at(cr, f->x0 - 9, y, buf, 1, 0.5);
+        text_at(cr, f->x0 - G.tick - U(4), y, buf, 1, 0.5);
     }
     set_rgba(cr, pal->axis);
+    cairo_set_line_width(cr, G.lw);
     cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
     cairo_stroke(cr);
-    cairo_set_font_size(cr, 14);
+    cairo_set_font_size(cr, U(14));
     set_rgba(cr, pal->text);
-    text_at(cr, f->x0 + f->w / 2, f->y0 + f->h + 30, xlabel, 0.5, 0);
+    text_at(cr, f->x0 + f->w / 2, f->y0 + f->h + U(30), xlabel, 0.5, 0);
     cairo_save(cr);
-    cairo_translate(cr, f->x0 - 58, f->y0 + f->h / 2);
+    /* the y axis's name clear of its widest tick label */
+    cairo_translate(cr, f->x0 - (G.print ? G.tick + U(4) + ylabels_width(cr, f) + U(12) : 58),
+                    f->y0 + f->h / 2);
     cairo_rotate(cr, -M_PI / 2);
     text_at(cr, 0, 0, ylabel, 0.5, 0.5);
     cairo_restore(cr);
@@ -179,13 +237,26 @@ static int to_rows(FILE *fp, const char *name, struct sp_sweep_desc *d)
 /* ---- the figures ---- */
 
 static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
-                       const char *what)
+                       const char *what, const char *short_what, const struct frame *f)
 {
     char buf[256];
+    if (G.title && !G.title[0])
+        return; /* [view] title = "": none */
+    if (G.print || G.title) { /* one line: [view] title, or the measure's short name */
+        cairo_set_font_size(cr, U(17));
+        set_rgba(cr, pal->text);
+        if (G.print)
+            text_at(cr, f->x0 + f->w / 2, U(6), G.title ? G.title : short_what, 0.5, 0);
+        else
+            text_at(cr, 80, 10, G.title, 0, 0);
+        if (G.print)
+            return;
+    }
     cairo_set_font_size(cr, 17);
     set_rgba(cr, pal->text);
     snprintf(buf, sizeof(buf), "%s: %s", d->scene, what);
-    text_at(cr, 80, 10, buf, 0, 0);
+    if (!G.title)
+        text_at(cr, 80, 10, buf, 0, 0);
     cairo_set_font_size(cr, 12);
     set_rgba(cr, pal->muted);
     char energy[48] = "", transient[48] = "";
@@ -213,35 +284,59 @@ static void colormap_rgb(const struct sp_sweep_desc *d, double t, float rgb[3])
     sp_colormap(d->colormap, (float)t, rgb);
 }
 
+/* The room a colour bar (draw_colorbar) takes right of the plot at a
+ * printed size, pt. */
+static double colorbar_room(cairo_t *cr, double lo, double hi)
+{
+    struct frame f = {0, 0, 1, 1, 0, 1, lo, hi};
+    return U(14) + U(12) + G.tick + U(3) + ylabels_width(cr, &f) + U(6) + U(14) * 1.2 + U(4);
+}
+
+/* A colour bar from t0 to t1 of the colormap, ticks lo..hi. By default at
+ * (x, y), h tall, its label above; at a printed size right of the plot f,
+ * as tall, its label turned along it. */
 static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
-                          double x, double y, double h, double lo, double hi, const char *label)
+                          double x, double y, double h, double lo, double hi, const char *label,
+                          const struct frame *pf, double t0, double t1)
 {
     const int n = 128;
+    const double bw = G.print ? U(12) : 18;
+    if (G.print)
+        x = pf->x0 + pf->w + U(14), y = pf->y0, h = pf->h;
     for (int i = 0; i < n; i++) {
         float rgb[3];
-        colormap_rgb(d, (i + 0.5) / n, rgb);
+        colormap_rgb(d, t0 + (t1 - t0) * (i + 0.5) / n, rgb);
         cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
-        cairo_rectangle(cr, x, y + h - (i + 1) * h / n, 18, h / n + 0.5);
+        cairo_rectangle(cr, x, y + h - (i + 1) * h / n, bw, h / n + 0.5);
         cairo_fill(cr);
     }
     set_rgba(cr, pal->axis);
-    cairo_set_line_width(cr, 1);
-    cairo_rectangle(cr, x, y, 18, h);
+    cairo_set_line_width(cr, G.lw);
+    cairo_rectangle(cr, x, y, bw, h);
     cairo_stroke(cr);
-    double step = tick_step(lo, hi, 6);
+    double step = tick_step(lo, hi, G.print ? (int)fmax(2, h / U(45)) : 6);
     char buf[64];
-    cairo_set_font_size(cr, 12);
+    cairo_set_font_size(cr, U(12));
     for (double v = ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * step; v += step) {
         double yy = y + h - (v - lo) / (hi - lo) * h;
         set_rgba(cr, pal->axis);
-        cairo_move_to(cr, x + 18, yy), cairo_line_to(cr, x + 23, yy), cairo_stroke(cr);
+        cairo_move_to(cr, x + bw, yy), cairo_line_to(cr, x + bw + G.tick, yy), cairo_stroke(cr);
         fmt_tick(buf, sizeof(buf), v, step);
         set_rgba(cr, pal->muted);
-        text_at(cr, x + 26, yy, buf, 0, 0.5);
+        text_at(cr, x + bw + G.tick + U(3), yy, buf, 0, 0.5);
     }
-    cairo_set_font_size(cr, 14);
+    cairo_set_font_size(cr, U(14));
     set_rgba(cr, pal->text);
-    text_at(cr, x + 9, y - 10, label, 0.5, 1);
+    if (!G.print) {
+        text_at(cr, x + 9, y - 10, label, 0.5, 1);
+        return;
+    }
+    struct frame tf = {0, 0, 1, 1, 0, 1, lo, hi};
+    cairo_save(cr);
+    cairo_translate(cr, x + bw + G.tick + U(3) + ylabels_width(cr, &tf) + U(6) + U(7), y + h / 2);
+    cairo_rotate(cr, -M_PI / 2);
+    text_at(cr, 0, 0, label, 0.5, 0.5);
+    cairo_restore(cr);
 }
 
 static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
@@ -271,10 +366,11 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     fix_range(&lo, &hi);
     char xl[96], yl[96];
     key_label(xl, sizeof(xl), ax->key);
-    draw_title(cr, d, pal, "largest Lyapunov exponent");
     if (d->n_axes == 1) {
         struct frame f = {80, 56, W - 110, H - 116, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
         fix_range(&f.xlo, &f.xhi);
+        place(cr, &f, 30, U(18));
+        draw_title(cr, d, pal, "largest Lyapunov exponent", "largest Lyapunov exponent", &f);
         draw_axes(cr, &f, pal, xl, "λ (1/s)");
         cairo_save(cr);
         cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
@@ -299,17 +395,19 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
             cairo_stroke(cr);
         }
         cairo_restore(cr);
-        cairo_set_font_size(cr, 12);
+        cairo_set_font_size(cr, U(12));
         set_rgba(cr, pal->series[1]);
-        text_at(cr, f.x0 + f.w - 8, f.y0 + 8, "λ over T", 1, 0);
+        text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8), "λ over T", 1, 0);
         set_rgba(cr, pal->muted);
-        text_at(cr, f.x0 + f.w - 8, f.y0 + 24, "λ over T/2", 1, 0);
+        text_at(cr, f.x0 + f.w - U(8), f.y0 + U(24), "λ over T/2", 1, 0);
     } else {
         /* cells centred on the grid values */
         double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
         double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
         struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
+        place(cr, &f, 120, colorbar_room(cr, lo, hi));
+        draw_title(cr, d, pal, "largest Lyapunov exponent", "largest Lyapunov exponent", &f);
         /* one image pixel per grid point up to MAP_MAX_PX a side (cairo
          * makes none wider than 32767); beyond, each pixel is the mean of
          * the finite values of its block of points */
@@ -354,7 +452,7 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         cairo_surface_destroy(img);
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(cr, &f, pal, xl, yl);
-        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ (1/s)");
+        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ (1/s)", &f, 0, 1);
     }
     free(lam), free(half);
     return 0;
@@ -381,11 +479,14 @@ static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struc
 {
     const char *q = d->peak == SP_PEAK_R ? "r" : "θ";
     char buf[160];
-    double y = f->y0 + 8;
+    double y = f->y0 + U(8);
     int lines = (d->cont == SP_CONTINUE_BOTH ? 2 : 1) * (d->peak ? 2 : 1) + (d->cont != 0);
-    cairo_set_font_size(cr, 12);
+    cairo_set_font_size(cr, U(12));
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, "each value starts from the last one's state", &e);
+    const double bw = G.print ? fmin(e.width + U(16), f->w - U(2)) : 288;
     cairo_set_source_rgba(cr, pal->background[0], pal->background[1], pal->background[2], 0.85);
-    cairo_rectangle(cr, f->x0 + f->w - 290, f->y0 + 2, 288, 16.0 * lines + 10);
+    cairo_rectangle(cr, f->x0 + f->w - bw - U(2), f->y0 + U(2), bw, U(16) * lines + U(10));
     cairo_fill(cr);
     for (int br = 1; br >= -1; br -= 2) {
         if (d->cont != SP_CONTINUE_BOTH && br != (d->cont == SP_CONTINUE_DOWN ? -1 : 1))
@@ -394,21 +495,21 @@ static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struc
         snprintf(buf, sizeof(buf), "%s%s at t = k/f", !d->cont ? "" : br > 0 ? "up: " : "down: ",
                  q);
         set_rgba(cr, c);
-        text_at(cr, f->x0 + f->w - 8, y, buf, 1, 0);
-        y += 16;
+        text_at(cr, f->x0 + f->w - U(8), y, buf, 1, 0);
+        y += U(16);
         if (d->peak) {
             float light[4];
             peak_colour(pal, c, light);
             set_rgba(cr, light);
             snprintf(buf, sizeof(buf), "○ largest %s%s%s over each period",
                      d->peak == SP_PEAK_R ? "" : "|", q, d->peak == SP_PEAK_R ? "" : "|");
-            text_at(cr, f->x0 + f->w - 8, y, buf, 1, 0);
-            y += 16;
+            text_at(cr, f->x0 + f->w - U(8), y, buf, 1, 0);
+            y += U(16);
         }
     }
     if (d->cont) {
         set_rgba(cr, pal->muted);
-        text_at(cr, f->x0 + f->w - 8, y, "each value starts from the last one's state", 1, 0);
+        text_at(cr, f->x0 + f->w - U(8), y, "each value starts from the last one's state", 1, 0);
     }
 }
 
@@ -443,12 +544,14 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     struct frame f = {80, 56, W - 110, H - 116, xlo - mx, xhi + mx, ylo - my, yhi + my};
     char xl[96];
     key_label(xl, sizeof(xl), d->axis[0].key);
+    place(cr, &f, 30, orbit ? U(18) : colorbar_room(cr, d->axis[0].from, d->axis[0].to));
     draw_title(cr, d, pal, orbit ? (d->driven ? "orbit diagram, once per drive period"
                                                : "orbit diagram at the Poincaré crossings")
-                                 : "Poincaré sections (θ = 0, θ' > 0), one colour per orbit");
+                                 : "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit",
+               orbit ? "orbit diagram" : "Poincaré sections", &f);
     draw_axes(cr, &f, pal, orbit ? xl : "r (m)",
               orbit ? (d->driven && d->peak != SP_PEAK_R ? "θ (degrees)" : "r (m)")
-                    : "dr/dt (m/s)");
+                    : "ṙ (m/s)");
     if (to_rows(fp, name, d))
         return SP_E_INPUT;
     cairo_save(cr);
@@ -488,7 +591,11 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     cairo_restore(cr);
     if (ext) /* over the dots */
         orbit_legend(cr, d, pal, &f);
-    if (!orbit) {
+    if (!orbit && G.print) { /* which colour is which start: a colour bar */
+        double lo = d->axis[0].from, hi = d->axis[0].to;
+        fix_range(&lo, &hi);
+        draw_colorbar(cr, d, pal, 0, 0, 0, lo, hi, xl, &f, 0.1, 0.95);
+    } else if (!orbit) {
         /* which colour is which start: a small gradient over the first key */
         const double x0 = W - 250, y0 = 22, w = 150;
         for (int i = 0; i < 64; i++) {
@@ -556,8 +663,6 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     fix_range(&lo, &hi);
     char xl[96], yl[96], buf[160];
     key_label(xl, sizeof(xl), d->axis[0].key);
-    draw_title(cr, d, pal, conv ? "Lyapunov spectrum: running values against T"
-                                : "Lyapunov spectrum");
     if (d->n_axes == 2) {
         /* a map of lambda_1 */
         const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
@@ -565,6 +670,8 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
         struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
+        place(cr, &f, 120, colorbar_room(cr, lo, hi));
+        draw_title(cr, d, pal, "Lyapunov spectrum", "Lyapunov spectrum", &f);
         for (long i = 0; i < m; i++) {
             int idx[SP_SWEEP_MAX_AXES];
             sp_sweep_point_index(d, (long)x[i], idx);
@@ -579,7 +686,7 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         }
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(cr, &f, pal, xl, yl);
-        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)");
+        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)", &f, 0, 1);
         goto done;
     }
     double pad = 0.06 * (hi - lo);
@@ -591,6 +698,9 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         f.xlo = d->axis[0].from, f.xhi = d->axis[0].to;
     }
     fix_range(&f.xlo, &f.xhi);
+    place(cr, &f, 30, U(18));
+    draw_title(cr, d, pal, conv ? "Lyapunov spectrum: running values against T"
+                                : "Lyapunov spectrum", "Lyapunov spectrum", &f);
     draw_axes(cr, &f, pal, conv ? "log10 T (s)" : xl, "λ (1/s)");
     /* zero, where lambda_2 and lambda_3 of a free orbit belong */
     set_rgba(cr, pal->axis);
@@ -620,20 +730,20 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         cairo_stroke(cr);
     }
     cairo_restore(cr);
-    cairo_set_font_size(cr, 12);
+    cairo_set_font_size(cr, U(12));
     for (int j = 0; j < 4; j++) {
         set_rgba(cr, pal->series[colour[j]]);
         if (conv && m)
             snprintf(buf, sizeof(buf), "λ%d = %.4f 1/s", j + 1, y[m - 1][j]);
         else
             snprintf(buf, sizeof(buf), "λ%d", j + 1);
-        text_at(cr, f.x0 + f.w - 8, f.y0 + 8 + 16 * j, buf, 1, 0);
+        text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8 + 16 * j), buf, 1, 0);
     }
     if (conv && m) {
         set_rgba(cr, pal->muted);
         snprintf(buf, sizeof(buf), "sum %.3g 1/s, Kaplan-Yorke dimension %.3f",
                  y[m - 1][0] + y[m - 1][1] + y[m - 1][2] + y[m - 1][3], y[m - 1][4]);
-        text_at(cr, f.x0 + f.w - 8, f.y0 + 8 + 16 * 4, buf, 1, 0);
+        text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8 + 16 * 4), buf, 1, 0);
     }
 done:
     free(x), free(y);
@@ -674,11 +784,12 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     char xl[96], yl[96], buf[200];
     key_label(xl, sizeof(xl), ax->key);
     key_label(yl, sizeof(yl), ay->key);
-    draw_title(cr, d, pal, "basins of attraction");
     double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
     double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
     struct frame f = {80, 56, W - 380, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                       ay->from - dy / 2, ay->to + dy / 2};
+    place(cr, &f, 300, U(300));
+    draw_title(cr, d, pal, "basins of attraction", "basins of attraction", &f);
     cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, ax->count, ay->count);
     unsigned char *data = cairo_image_surface_get_data(img);
     int stride = cairo_image_surface_get_stride(img);
@@ -706,15 +817,15 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     long all = 0;
     for (int a = 0; a < map.n_attractors; a++)
         all += map.att[a].count;
-    double lx = f.x0 + f.w + 20, ly = f.y0 + 4;
-    cairo_set_font_size(cr, 11);
-    for (int a = 0; a < map.n_attractors; a++, ly += 30) {
+    double lx = f.x0 + f.w + U(20), ly = f.y0 + U(4);
+    cairo_set_font_size(cr, U(11));
+    for (int a = 0; a < map.n_attractors; a++, ly += U(30)) {
         cairo_set_source_rgb(cr, rgb[a][0], rgb[a][1], rgb[a][2]);
-        cairo_rectangle(cr, lx, ly, 14, 14);
+        cairo_rectangle(cr, lx, ly, U(14), U(14));
         cairo_fill(cr);
         set_rgba(cr, pal->axis);
         cairo_set_line_width(cr, 0.6);
-        cairo_rectangle(cr, lx, ly, 14, 14);
+        cairo_rectangle(cr, lx, ly, U(14), U(14));
         cairo_stroke(cr);
         set_rgba(cr, pal->text);
         snprintf(buf, sizeof(buf), "%.1f%%  %s", all ? 100.0 * map.att[a].count / all : 0.0,
@@ -722,30 +833,31 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         char *comma = map.att[a].period > 0 ? strstr(buf, ", θ") : NULL;
         if (comma) { /* the state on a second line */
             *comma = 0;
-            text_at(cr, lx + 20, ly, buf, 0, 0);
+            text_at(cr, lx + U(20), ly, buf, 0, 0);
             set_rgba(cr, pal->muted);
-            text_at(cr, lx + 20, ly + 14, comma + 2, 0, 0);
+            text_at(cr, lx + U(20), ly + U(14), comma + 2, 0, 0);
         } else {
-            text_at(cr, lx + 20, ly, buf, 0, 0);
+            text_at(cr, lx + U(20), ly, buf, 0, 0);
         }
     }
     set_rgba(cr, pal->text);
-    cairo_set_font_size(cr, 12);
+    cairo_set_font_size(cr, U(12));
     snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map.entropy, map.boundary_entropy);
-    text_at(cr, lx, ly + 8, buf, 0, 0);
+    text_at(cr, lx, ly + U(8), buf, 0, 0);
     set_rgba(cr, pal->muted);
-    cairo_set_font_size(cr, 10);
+    cairo_set_font_size(cr, U(10));
     snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map.box, map.box);
-    text_at(cr, lx, ly + 26, buf, 0, 0);
+    text_at(cr, lx, ly + U(26), buf, 0, 0);
     if (map.blown_up) {
         snprintf(buf, sizeof(buf), "%ld blown up (black)", map.blown_up);
-        text_at(cr, lx, ly + 42, buf, 0, 0);
+        text_at(cr, lx, ly + U(42), buf, 0, 0);
     }
     sp_basins_free(&map);
     return 0;
 }
 
-int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
+int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
+                  const struct sp_plot_style *style)
 {
     struct sp_sweep_desc d;
     struct sp_scene look;
@@ -755,8 +867,21 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     if (ret)
         return ret;
     sp_scene_defaults(&look);
+    if (style && style->view) {
+        look.view = *style->view;
+        d.theme = look.view.theme, d.colormap = look.view.colormap;
+    }
     look.view.theme = d.theme;
     sp_palette_get(&look.view, &pal);
+    /* the page and the text's scale (G) */
+    const int print = style && style->page_w > 0;
+    const double body = look.view.font_size > 0 ? look.view.font_size : print ? 10 : 14;
+    G.print = print;
+    G.w = print ? style->page_w : 900, G.h = print ? style->page_h : 600;
+    G.u = body / 14 * (look.view.font_scale > 0 ? look.view.font_scale : 1);
+    G.lw = print ? 0.8 : 1, G.tick = print ? 3.5 : 5;
+    G.title = style && style->title_set ? look.view.title : NULL;
+    const double png_scale = print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
     /* cairo writes front to back: a device or stdout is fine */
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;
@@ -768,7 +893,8 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
     else if (!strcasecmp(ext, ".pdf"))
         s = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
     else
-        s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W * PNG_SCALE, (int)H * PNG_SCALE);
+        s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)lround(W * png_scale),
+                                       (int)lround(H * png_scale));
     if (!strcasecmp(ext, ".pdf") && (ret = sp_cairo_pdf_date(s))) { /* bytes that repeat */
         cairo_surface_destroy(s);
         sp_outfile_discard(&out);
@@ -783,10 +909,13 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path)
         return SP_E_IO;
     }
     if (!strcasecmp(ext, ".png"))
-        cairo_scale(cr, PNG_SCALE, PNG_SCALE);
-    cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_source_rgb(cr, pal.background[0], pal.background[1], pal.background[2]);
-    cairo_paint(cr);
+        cairo_scale(cr, lround(W * png_scale) / W, lround(H * png_scale) / H);
+    cairo_select_font_face(cr, look.view.font[0] ? look.view.font : "DejaVu Sans",
+                           CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    if (pal.background[3] > 0) { /* view.background = transparent: none */
+        set_rgba(cr, pal.background);
+        cairo_paint(cr);
+    }
     if (d.measure == SP_MEASURE_LYAPUNOV)
         ret = draw_lyapunov(cr, csv, &d, &pal);
     else if (d.measure == SP_MEASURE_SPECTRUM)

@@ -70,6 +70,24 @@ for kind, args in commands.items():
            read(os.path.join(again, out + "-metadata.json")),
            "csv: and the same metadata bytes (scene, command, versions)")
 
+# A long [timeline] (about 9 KB of scene text, beyond the 8 KiB the chunks
+# once held: they were written empty, and `scene` printed nothing, exit 0).
+lesson = open(os.path.join(src, "..", "scenes", "lesson-exchange.ini")).read()
+long_ini = lesson.split("\n[timeline]")[0] + "\n[timeline]\n" + "".join(
+    f"{i * 0.2:.1f} = caption: Step {i}: the energy moves from the bounce into the swing\n"
+    for i in range(120))
+with open(os.path.join(first, "long.ini"), "w") as f:
+    f.write(long_ini)
+for out, args in (("long.png", ["still", "long.ini", "--at", "1", "--size", "320x180"]),
+                  ("long.mp4", ["render", "long.ini", "--size", "160x96", "--fps", "2",
+                                "--set", "video.duration=24"])):
+    r = run(first, [*args, "-o", out, "-q"])
+    s = run(first, ["scene", out])
+    ok(r.returncode == 0 and s.returncode == 0 and "Step 119: the energy" in s.stdout
+       and s.stdout.count("caption: \"Step") == 120,
+       f"{out}: a scene of {len(long_ini)} bytes is recorded whole ({len(s.stdout)} bytes "
+       f"printed, exit {s.returncode}) {r.stderr.strip()[-160:]} {s.stderr.strip()[-160:]}")
+
 r = run(first, ["scene", "chaotic.ini"])
 ok(r.returncode == 2 and "not a PNG, video" in r.stderr, f"a scene file itself: exit 2 {r.stderr.strip()}")
 shutil.copy(os.path.join(src, "golden", "default_t3.png"), os.path.join(first, "old.png"))

@@ -30,15 +30,18 @@
 
 #define SP_PROVENANCE_N_TEXT 8
 #define SP_PROVENANCE_SCENE_FILE "springpend.scene-file" /* the key */
-#define SP_PROVENANCE_SCENE_MAX 8192 /* bytes of canonical text */
+/* Bytes of scene text an output carries, NUL included: a PNG reader
+ * inflates no text chunk beyond 256 KiB (png_io.c). A scene whose text is
+ * longer is refused (sp_provenance_init), never recorded empty. */
+#define SP_PROVENANCE_SCENE_MAX (256 * 1024)
 
 struct sp_provenance {
     char software[32];
     char renderer[128];
     char scene_sha256[65]; /* lower-case hex */
     char time[32];         /* s */
-    char scene[SP_PROVENANCE_SCENE_MAX]; /* canonical text, "key=value\n" lines */
-    char scene_file[SP_PROVENANCE_SCENE_MAX]; /* sp_scene_write_ini's text */
+    char *scene;           /* canonical text, "key=value\n" lines: malloc'd */
+    char *scene_file;      /* sp_scene_write_ini's text: malloc'd */
     char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text */
     char fonts[1024];      /* font files, ", "-separated: the caller fills it
                               (sp_render_fonts) before the first image */
@@ -47,9 +50,14 @@ struct sp_provenance {
 };
 
 /* Hashes the scene and fills every chunk (time 0). renderer and gl_version
- * (GL_RENDERER, GL_VERSION) may be NULL ("none"). Returns 0 or SP_E_NOMEM. */
+ * (GL_RENDERER, GL_VERSION) may be NULL ("none"). Returns 0, SP_E_NOMEM, or
+ * SP_E_INPUT (logged) for a scene whose text is SP_PROVENANCE_SCENE_MAX
+ * bytes or more. Free with sp_provenance_free, whatever it returned. */
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
                        const char *renderer, const char *gl_version);
+
+/* Frees the scene texts; safe on a zeroed or freed p. */
+void sp_provenance_free(struct sp_provenance *p);
 
 /* Sets the simulated time, s, that the next image shows. */
 void sp_provenance_set_time(struct sp_provenance *p, double t);

@@ -137,6 +137,7 @@ static int write_state(const char *path, const struct sp_scene *scene,
     struct sp_energy e;
     struct sp_outfile f;
     int ret = sp_provenance_init(&prov, scene, NULL, NULL);
+    sp_provenance_free(&prov); /* only its hash is written */
     if (ret || (ret = sp_outfile_open(&f, path, SP_OUTFILE_STREAM)) != 0)
         return ret;
     sp_sim_init(&sim, scene); /* for the parameters and the initial energy */

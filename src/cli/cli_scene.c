@@ -71,6 +71,8 @@ int sp_cmd_scene(int argc, char **argv)
                     ? sp_png_read_text(path, SP_PROVENANCE_SCENE_FILE, text, SP_PROVENANCE_SCENE_MAX)
                     : sp_video_read_text(path, SP_PROVENANCE_SCENE_FILE, text,
                                          SP_PROVENANCE_SCENE_MAX);
+    if (found == 1 && !text[0])
+        found = 0; /* an empty record is no scene (an older springpend's long scenes) */
     if (found == 1)
         fputs(text, stdout);
     else if (found == 0)

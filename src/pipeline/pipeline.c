@@ -695,6 +695,7 @@ static void run_close(struct run *run, int ret)
         sp_history_destroy(&run->more[i].hist);
     }
     sp_ensemble_destroy(&run->ens);
+    sp_provenance_free(&run->prov);
 }
 
 /* check -> setup -> (figure | still | video) -> finish -> close. */

@@ -3,15 +3,15 @@
  * every command (libavutil did: libva, libX11, libOpenCL, libmfx). */
 #include <stdio.h>
 #include <stdlib.h>
-
+#include <string.h>
 
 #include "digest.h"
 #include "springpend/common.h"
 #include "springpend/provenance.h"
 
-/* SHA-256 of the scene's canonical text into hex[65]; the text itself
- * into copy (empty when it does not fit). */
-static int scene_sha256(const struct sp_scene *scene, char hex[65], char *copy, size_t size)
+/* SHA-256 of the scene's canonical text into hex[65]; the text itself,
+ * malloc'd, into *copy. */
+static int scene_sha256(const struct sp_scene *scene, char hex[65], char **copy)
 {
     int n = sp_scene_canonical(scene, NULL, 0);
     char *text = malloc((size_t)n + 1);
@@ -24,14 +24,36 @@ static int scene_sha256(const struct sp_scene *scene, char hex[65], char *copy, 
     sha256_init(&sha);
     sha256_update(&sha, (size_t)n, (const uint8_t *)text);
     sp_digest_hex(&sha, hex);
-    snprintf(copy, size, "%s", (size_t)n < size ? text : "");
-    free(text);
+    *copy = text;
     return 0;
+}
+
+void sp_provenance_free(struct sp_provenance *p)
+{
+    free(p->scene);
+    free(p->scene_file);
+    p->scene = p->scene_file = NULL;
 }
 
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
                        const char *renderer, const char *gl_version)
 {
+    p->scene = p->scene_file = NULL;
+    int ret = scene_sha256(scene, p->scene_sha256, &p->scene);
+    if (ret)
+        return ret;
+    p->scene_file = sp_scene_ini(scene);
+    if (!p->scene_file) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    size_t n = strlen(p->scene) > strlen(p->scene_file) ? strlen(p->scene) : strlen(p->scene_file);
+    if (n >= SP_PROVENANCE_SCENE_MAX) {
+        sp_log_error("the scene's text is %zu bytes; an output records at most %d (its "
+                     "provenance): shorten the [timeline]'s captions or titles",
+                     n, SP_PROVENANCE_SCENE_MAX - 1);
+        return SP_E_INPUT;
+    }
     snprintf(p->software, sizeof(p->software), "springpend " SP_VERSION);
     snprintf(p->renderer, sizeof(p->renderer), "%s", renderer ? renderer : "none");
     sp_provenance_set_time(p, 0);
@@ -47,13 +69,9 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
     p->text[6] = (struct sp_png_text){.key = "springpend.fonts", .text = p->fonts};
     p->text[7] = (struct sp_png_text){.key = SP_PROVENANCE_SCENE_FILE, .text = p->scene_file,
                                       .compressed = 1};
-    /* empty when it does not fit, as the canonical text */
-    if (sp_scene_write_ini(scene, p->scene_file, sizeof(p->scene_file)) >=
-        (int)sizeof(p->scene_file))
-        p->scene_file[0] = 0;
     p->overlay[0] = 0;
     p->text[8] = (struct sp_png_text){.key = "springpend.overlay", .text = p->overlay};
-    return scene_sha256(scene, p->scene_sha256, p->scene, sizeof(p->scene));
+    return 0;
 }
 
 void sp_provenance_set_time(struct sp_provenance *p, double t)

@@ -317,6 +317,27 @@ ok(r.returncode == 0 and lines[0].startswith("scene,t,x,y") and
    sum(ln.startswith("soft,") for ln in lines) == 21,
    "data of two scenes: a scene column, each scene's rows as its own run writes them")
 
+# hostile file names: the scene column is an RFC 4180 field that Python's
+# csv module reads back; two files with one name are refused.
+odd = os.path.join(work, "odd")
+os.makedirs(os.path.join(odd, "x"), exist_ok=True)
+os.makedirs(os.path.join(odd, "y"), exist_ok=True)
+names = ["we,ird", "new\nline", 'quo"te']
+for n in names:
+    shutil.copy(sc, os.path.join(odd, n + ".ini"))
+r = run("data", *[os.path.join(odd, n + ".ini") for n in names], "-o", "-", "--every", "1")
+rows = list(csv.reader(r.stdout.splitlines(keepends=True)))
+ok(r.returncode == 0 and len({len(row) for row in rows}) == 1 and
+   [row[0] for row in rows[1:]][::len(rows[1:]) // 3] == names,
+   f"names with a comma, a line break and a quote stay one field each "
+   f"({sorted({len(row) for row in rows})} fields; {r.stderr.strip()[-120:]})")
+for d in ("x", "y"):
+    shutil.copy(sc, os.path.join(odd, d, "a.ini"))
+out = os.path.join(odd, "twice.csv")
+r = run("data", os.path.join(odd, "x", "a.ini"), os.path.join(odd, "y", "a.ini"), "-o", out)
+ok(r.returncode == 2 and "both give the scene column 'a'" in r.stderr and not os.path.exists(out),
+   f"two scene files of one name: {r.stderr.strip()}")
+
 # bad input
 five = os.path.join(work, "five.png")
 r = run("still", sa, sb, sc, sa, sb, "-o", five)

@@ -123,6 +123,20 @@ static int write_names(FILE *fp, const struct sp_csv_column *c, int n, int comma
 
 /* One CSV row for the sim's current state; a spatial run's row goes on with
  * z, vz and the azimuth, degrees, continued from *azimuth (rad, updated). */
+/* A CSV field as RFC 4180 writes it: quoted, with '"' doubled, when it holds
+ * a comma, a quote or a line break; as it is otherwise. */
+static int write_field(FILE *fp, const char *s)
+{
+    if (!s[strcspn(s, ",\"\r\n")])
+        return fputs(s, fp) < 0 ? SP_E_IO : 0;
+    if (fputc('"', fp) == EOF)
+        return SP_E_IO;
+    for (; *s; s++)
+        if ((*s == '"' && fputc('"', fp) == EOF) || fputc(*s, fp) == EOF)
+            return SP_E_IO;
+    return fputc('"', fp) == EOF ? SP_E_IO : 0;
+}
+
 static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth, const char *name,
                      int spatial)
 {
@@ -131,7 +145,7 @@ static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth, const 
     struct sp_energy e;
     sp_state_polar(s, &q);
     sp_state_energy(&sim->p, s, &e);
-    if (name && fprintf(fp, "%s,", name) < 0)
+    if (name && (write_field(fp, name) || fputc(',', fp) == EOF))
         return SP_E_IO;
     if (fprintf(fp,
                 "%.10g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,"
@@ -279,6 +293,13 @@ int sp_cmd_data(int argc, char **argv)
                          o.poincare ? "--poincare" : "[ensemble]");
             ret = SP_E_INPUT;
         }
+        for (int j = 0; !ret && j < i; j++)
+            if (!strcmp(scenes[i].name, scenes[j].name)) {
+                sp_log_error("%s and %s both give the scene column '%s' (a file's name "
+                             "without .ini): rename one so that the rows can be told apart",
+                             o.scene_paths[j], o.scene_paths[i], scenes[i].name);
+                ret = SP_E_INPUT;
+            }
     }
     if (!ret)
         ret = sp_cli_output_path(&o, sc0, ".csv", out, sizeof(out));

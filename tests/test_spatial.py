@@ -275,6 +275,15 @@ ok(r.returncode == 2 and f"{bad_scene}:3: initial.azimuth_rate" in r.stderr and
    not os.path.exists(os.path.join(work, "no.csv")),
    f"azimuth_rate on a bob that starts on the vertical: FILE:LINE, exit 2, no file "
    f"({r.stderr.strip()})")
+# straight down or straight up, however spelt: sin(180 degrees) is 1.2e-16, not 0
+for angle in ("180", "360", "-180", "1e-300"):
+    with open(bad_scene, "w") as fh:
+        fh.write(f"[initial]\nangle = {angle}\nazimuth_rate = 0.5\n")
+    r = run("data", bad_scene, "-o", os.path.join(work, "no.csv"))
+    ok(r.returncode == 2 and f"{bad_scene}:3: initial.azimuth_rate" in r.stderr and
+       not os.path.exists(os.path.join(work, "no.csv")),
+       f"azimuth_rate with angle = {angle} (on the vertical): FILE:LINE, exit 2, no file "
+       f"({r.stderr.strip()[:120]})")
 r = run("data", SWING, "-o", "-", "--set", "initial.azimuth_rate=x")
 ok(r.returncode == 2 and "azimuth_rate" in r.stderr, "a non-number azimuth_rate: exit 2")
 r = run("data", SWING, "-o", "-", "--set", "ensemble.count=3",

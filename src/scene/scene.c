@@ -815,7 +815,10 @@ static void validate_whole(struct parse_ctx *c)
         report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "
                "position only: set pendulum.damping = 0 and pivot.amplitude = 0, or use "
                "integrator.method = dop853");
-    if (s->initial.azimuth_rate != 0 && !(fabs(sin(s->initial.angle)) > 0))
+    /* on the vertical: within 1e-9 degrees of a multiple of 180 (sin(pi) is
+     * 1.2e-16, not 0, so the test is on the degrees the file gave) */
+    const double from_vertical = fmod(fabs(s->initial.angle * 180 / M_PI), 180);
+    if (s->initial.azimuth_rate != 0 && !(from_vertical > 1e-9 && from_vertical < 180 - 1e-9))
         report(c, c->key_line[find_key("initial", "azimuth_rate") - keys],
                "initial.azimuth_rate = %g rad/s turns the bob about the vertical, but "
                "initial.angle = %g degrees starts it on the vertical, where there is nothing "

@@ -264,4 +264,25 @@ for name, data in (("zero.png", b""), ("sig.png", png[:8]),
         r = run(*cmd)
         ok(r.returncode == 2 and name + ":" in err(r),
            f"{' '.join(cmd)}: a damaged PNG is bad input, exit {r.returncode}: {err(r)[:140]}")
+# ---- info: no inf, and no prediction where the theory does not apply -------
+spring = os.path.join(scenes, "swinging-spring.ini")
+r = run("info", spring, "--set", "pendulum.gravity=0")
+j = json.loads(run("info", spring, "--set", "pendulum.gravity=0", "--json").stdout)
+out = r.stdout.decode()
+ok(r.returncode == 0 and "inf" not in out and "k = 0 N/m" not in out and "does not apply" in out
+   and j["ratio"] is None and j["exchange_time"] is None,
+   f"info at g = 0: no pendulum period, ratio or 2:1 stated (no inf): {out[:400]}")
+r = run("info", spring, "--set", "initial.azimuth_rate=1e6")
+out = r.stdout.decode()
+# the start's speed is 1e6 rad/s times x0 = r0 sin(theta0): its amplitude v / omega_p is
+# thousands of l, far beyond the small amplitudes the averaged equations expand in
+ok(r.returncode == 0 and "first peaks" not in out and "turns by" not in out and
+   out.count("not predicted") == 2, f"info at azimuth_rate = 1e6: exchange and precession not "
+   f"predicted: {[l for l in out.splitlines() if 'exchange' in l or 'precession' in l]}")
+r = run("info", chaotic)
+ok("first peaks" not in r.stdout.decode() and "1.5 of l" in r.stdout.decode(),
+   "info on chaotic.ini (theta0 = 1.5 rad = 1.5 l of swing): the exchange is not predicted")
+r = run("info", spring, "--set", "initial.azimuth_rate=1e-300")
+ok(r.returncode == 0 and "-0.00 degrees" not in r.stdout.decode() and "e-29" in r.stdout.decode(),
+   f"info at azimuth_rate = 1e-300: the tiny turn is said, not '-0.00 degrees'")
 done()

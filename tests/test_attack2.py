@@ -285,4 +285,22 @@ ok("first peaks" not in r.stdout.decode() and "1.5 of l" in r.stdout.decode(),
 r = run("info", spring, "--set", "initial.azimuth_rate=1e-300")
 ok(r.returncode == 0 and "-0.00 degrees" not in r.stdout.decode() and "e-29" in r.stdout.decode(),
    f"info at azimuth_rate = 1e-300: the tiny turn is said, not '-0.00 degrees'")
+# ---- vectors in small frames -------------------------------------------------
+def overlay(png_path):
+    for t, d in chunks(open(png_path, "rb").read()):
+        if t == b"tEXt" and d.startswith(b"springpend.overlay\0"):
+            return dict(l.split("=", 1) for l in d.split(b"\0", 1)[1].decode().splitlines())
+    return {}
+
+
+vec = ["--set", "view.vectors=forces,velocity"]
+r = run("still", default, "--at", "1", "--size", "320x180", *vec, "-o", "v320.png")
+ok(r.returncode == 2 and "legend needs" in err(r) and "320x180" in err(r) and
+   not os.path.exists(path("v320.png")),
+   f"vectors at 320x180 beside the panels: refused, naming the sizes: {err(r)[:200]}")
+r = run("still", default, "--at", "1", "--size", "320x180", *vec, "--set", "view.panels=none",
+        "--set", "view.hud=false", "-o", "v320b.png")
+o = overlay(path("v320b.png"))
+ok(r.returncode == 0 and float(o.get("camera.px_per_m", 0)) > 10,
+   f"vectors at 320x180 without panels or heads-up text: drawn, {o.get('camera.px_per_m')} px per m")
 done()

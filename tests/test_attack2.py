@@ -303,4 +303,52 @@ r = run("still", default, "--at", "1", "--size", "320x180", *vec, "--set", "view
 o = overlay(path("v320b.png"))
 ok(r.returncode == 0 and float(o.get("camera.px_per_m", 0)) > 10,
    f"vectors at 320x180 without panels or heads-up text: drawn, {o.get('camera.px_per_m')} px per m")
+# ---- one theta convention for planar and 3-D rows ---------------------------
+import csv  # noqa: E402
+import io  # noqa: E402
+import math  # noqa: E402
+
+
+def rows(*args):
+    r = run("data", *args, "-o", "-", "-q")
+    assert r.returncode == 0, err(r)
+    return list(csv.DictReader(io.StringIO(r.stdout.decode())))
+
+
+flat = rows(spring, "--set", "initial.azimuth_rate=0", "--every", "0.5")
+tilt = rows(spring, "--set", "initial.azimuth_rate=1e-10", "--every", "0.5")
+at5 = [(float(a["theta"]), float(b["theta"])) for a, b in zip(flat, tilt) if float(a["t"]) == 5]
+ok(at5 and abs(at5[0][0] - at5[0][1]) < 1e-6 and at5[0][0] < 0,
+   f"theta at t = 5 s: planar and azimuth_rate = 1e-10 agree, sign and all ({at5})")
+spin = rows(spring, "--every", "0.05")
+worst, signs = 0.0, set()
+for row in spin:
+    x, y, z, a = (float(row[k]) for k in ("x", "y", "z", "azimuth"))
+    side = -1 if x * math.cos(math.radians(a)) + z * math.sin(math.radians(a)) < 0 else 1
+    want = side * math.atan2(math.hypot(x, z), -y)
+    worst = max(worst, abs(float(row["theta"]) - want))
+    signs.add(side)
+ok(worst < 1e-12 and signs == {-1, 1},
+   f"swinging-spring.ini: theta is the angle from the vertical signed by the side of the row's "
+   f"swing plane (numpy from x, y, z, azimuth: worst {worst:.2e} rad; both sides seen: {sorted(signs)})")
+# ---- messages -----------------------------------------------------------------
+# a metadata file that is not JSON: its bytes are not echoed (a link to a
+# secret, or a forged file's terminal escapes)
+shutil.copy(path("m.csv"), path("esc.csv"))
+with open(path("esc.csv-metadata.json"), "wb") as f:
+    f.write(b"root:\x1b]2;pwned\x07:secret\n")
+r = run("scene", "esc.csv")
+ok(r.returncode == 2 and b"\x1b" not in r.stderr and b"root" not in r.stderr and b"secret" not in r.stderr
+   and b"esc.csv-metadata.json:1:" in r.stderr,
+   f"scene on a CSV whose metadata is not JSON: FILE:LINE, its bytes not echoed: {r.stderr[:160]!r}")
+# side by side, an automatic cell label too long for the frame is named as such
+cells = []
+for i in range(4):
+    with open(path(f"cell{i}.ini"), "w") as f:
+        f.write(f"[pendulum]\nstiffness = {2 + i}\nmass = {0.5 + i / 10}\ndamping = {i / 10}\n"
+                f"natural_length = {0.5 + i / 10}\n[initial]\nangle = {10 + i}\nlength = {0.6 + i / 10}\n")
+    cells.append(f"cell{i}.ini")
+r = run("still", *cells, "--at", "0.5", "--size", "320x180", "-o", "cells.png")
+ok(r.returncode == 2 and "automatic label" in err(r) and "cell" in err(r),
+   f"side by side: a cell label too long for the frame is named as the automatic label: {err(r)[:200]}")
 done()

@@ -98,6 +98,9 @@ struct sp_look {
     const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
                                            band holds its largest text, the
                                            frame's sp_moment says what shows */
+    const char *title_what; /* what view.title is, for messages; NULL = the
+                               scene's "[view] title" (side by side: the
+                               cell's automatic label) */
 };
 
 /* The look of scene, or of the default scene when scene is NULL. */

@@ -246,7 +246,8 @@ static int wrap_texts(struct sp_composer *r)
     const float width = r->width - 2 * roundf(0.015f * r->unit); /* layout.c's bands */
     const struct sp_view *v = &r->look.view;
     int err = 0;
-    if (v->title[0] && !(err = sp_font_check(f, "[view] title", v->title)))
+    const char *what = r->look.title_what ? r->look.title_what : "[view] title";
+    if (v->title[0] && !(err = sp_font_check(f, what, v->title)))
         err = wrap(f, SP_TEXT_TITLE, v->title, width, &r->title, &r->title_lines);
     if (!err && v->caption[0] && !(err = sp_font_check(f, "[view] caption", v->caption)))
         err = wrap(f, SP_TEXT_NORMAL, v->caption, width, &r->caption, &r->caption_lines);
@@ -254,8 +255,8 @@ static int wrap_texts(struct sp_composer *r)
         return err;
     for (int i = 0; i < r->title_lines; i++)
         if (sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i)) > width) {
-            sp_log_error("[view] title: \"%s\" is %d px wide, wider than the frame's %.0f px for "
-                         "text; use a smaller font_size or font_scale, or a wider frame",
+            sp_log_error("%s: \"%s\" is %d px wide, wider than the frame's %.0f px for "
+                         "text; use a smaller font_size or font_scale, or a wider frame", what,
                          line_of(r->title, i), sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i)), width);
             return SP_E_INPUT;
         }
@@ -269,9 +270,9 @@ static int wrap_texts(struct sp_composer *r)
     const int text_h = r->title_lines * sp_font_line(f, SP_TEXT_TITLE) +
                        r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL);
     if (text_h > r->height / 2) {
-        sp_log_error("[view] title and caption wrap to %d + %d lines, %d px of the frame's %d: "
+        sp_log_error("%s and [view] caption wrap to %d + %d lines, %d px of the frame's %d: "
                      "they cannot fit (at most half the height is theirs); shorten them, use a "
-                     "smaller font_size or font_scale, or a larger frame",
+                     "smaller font_size or font_scale, or a larger frame", what,
                      r->title_lines, r->caption_lines, text_h, r->height);
         return SP_E_INPUT;
     }

@@ -351,4 +351,16 @@ for i in range(4):
 r = run("still", *cells, "--at", "0.5", "--size", "320x180", "-o", "cells.png")
 ok(r.returncode == 2 and "automatic label" in err(r) and "cell" in err(r),
    f"side by side: a cell label too long for the frame is named as the automatic label: {err(r)[:200]}")
+# ---- a long scene through a PNG sequence (my own pass) -----------------------
+# the sequence's writers copied the text chunks into 12 KiB: a 9 KB scene
+# ([timeline] captions) was refused, though a still and a video record it
+text = open(os.path.join(scenes, "lesson-exchange.ini")).read().split("\n[timeline]")[0] + "\n[timeline]\n"
+for i in range(100):
+    text += f"{i * 0.05:.2f} = caption: Step {i}: the energy moves from the bounce into the swing and back\n"
+with open(path("long.ini"), "w") as f:
+    f.write(text)
+r = run("render", "long.ini", "--frames", "0:2", "--size", "320x180", "-o", "seq/%03d.png", "-q")
+s1 = run("scene", "seq/000.png")
+ok(r.returncode == 0 and s1.returncode == 0 and s1.stdout.count(b'caption: "Step') == 100,
+   f"a 9 KB scene rendered to a PNG sequence: each PNG records it whole ({err(r)[:120]} {err(s1)[:80]})")
 done()

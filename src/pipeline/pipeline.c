@@ -436,8 +436,10 @@ static int run_setup(struct run *run)
     sp_look_of(sc, &run->looks[0]);
     if (run->n_more)
         cell_looks(run);
-    for (int i = 0; i <= run->n_more; i++) /* a still of physical size: px per pt */
+    for (int i = 0; i <= run->n_more; i++) { /* a still of physical size: px per pt */
         run->looks[i].pt_px = desc->pt_px;
+        run->looks[i].still = desc->still;
+    }
     if (ret || run->figure)
         return ret;
     ret = sp_render_make(&run->r, &(struct sp_render_desc){

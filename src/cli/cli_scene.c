@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
+#include "springpend/figure.h"
 #include "springpend/png_io.h"
 #include "springpend/provenance.h"
 #include "springpend/video_read.h"
@@ -20,7 +21,8 @@ static const char scene_usage[] =
     "[section] in user units (angles in degrees, names rather than codes), with\n"
     "the --set overrides of the command that made it applied. FILE is a PNG\n"
     "(its springpend.scene-file text), an MP4, WebM or GIF (the same, as a\n"
-    "metadata tag) or a CSV (dc:source in FILE-metadata.json beside it).\n"
+    "metadata tag), an SVG or PDF figure (a still's or a sweep's: its <metadata>,\n"
+    "its /Subject) or a CSV (dc:source in FILE-metadata.json beside it).\n"
     "Written to SCENE.ini under the scene's own file name, the recorded command\n"
     "(CSV: prov:wasGeneratedBy in the metadata) run again gives the same bytes.\n";
 
@@ -57,9 +59,10 @@ int sp_cmd_scene(int argc, char **argv)
     int video = 0;
     for (size_t i = 0; i < sizeof(videos) / sizeof(videos[0]); i++)
         video |= ends_with(path, videos[i]);
-    if (!video && !ends_with(path, ".png")) {
-        sp_log_error("%s: not a PNG, video (.mp4, .m4v, .mov, .webm, .mkv, .gif) or CSV; "
-                     "the scene is read from what springpend wrote", path);
+    const int figure = ends_with(path, ".svg") || ends_with(path, ".pdf");
+    if (!video && !figure && !ends_with(path, ".png")) {
+        sp_log_error("%s: not a PNG, video (.mp4, .m4v, .mov, .webm, .mkv, .gif), SVG, PDF "
+                     "or CSV; the scene is read from what springpend wrote", path);
         return SP_E_INPUT;
     }
     char *text = malloc(SP_PROVENANCE_SCENE_MAX);
@@ -67,7 +70,8 @@ int sp_cmd_scene(int argc, char **argv)
         sp_log_error("out of memory");
         return SP_E_NOMEM;
     }
-    int found = !video
+    int found = figure ? sp_figure_read_scene(path, text, SP_PROVENANCE_SCENE_MAX)
+                : !video
                     ? sp_png_read_text(path, SP_PROVENANCE_SCENE_FILE, text, SP_PROVENANCE_SCENE_MAX)
                     : sp_video_read_text(path, SP_PROVENANCE_SCENE_FILE, text,
                                          SP_PROVENANCE_SCENE_MAX);

@@ -584,8 +584,13 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         sp_log_error("cannot write %s: %s", name, strerror(errno));
         ret = SP_E_IO;
     }
-    if (!ret && o->output)
-        ret = draw(fp, o->csv ? o->csv : name, o->output, &o->style, &made[1]);
+    if (!ret && o->output) {
+        struct sp_plot_style style = o->style; /* with the scene, as the CSV's dc:source */
+        char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
+        style.scene_file = ini;
+        ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1]);
+        free(ini);
+    }
     if (!ret && !o->quiet)
         sp_sweep_print_legend(fp, stderr); /* a basin map's attractors */
     if (!ret && o->format) {

@@ -903,8 +903,9 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     /* cairo writes front to back: a device or stdout is fine */
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;
-    struct sp_cairo_fd sink = {.fd = out.fd}; /* every write checked */
     const char *ext = strrchr(path, '.');
+    char *svg_meta = !strcasecmp(ext, ".svg") && style ? sp_cairo_svg_metadata(style->scene_file) : NULL;
+    struct sp_cairo_fd sink = {.fd = out.fd, .svg_metadata = svg_meta}; /* every write checked */
     cairo_surface_t *s;
     if (!strcasecmp(ext, ".svg"))
         s = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
@@ -916,14 +917,18 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     if (!strcasecmp(ext, ".pdf") && (ret = sp_cairo_pdf_date(s))) { /* bytes that repeat */
         cairo_surface_destroy(s);
         sp_outfile_discard(&out);
+        free(svg_meta);
         return ret;
     }
+    if (!strcasecmp(ext, ".pdf") && style)
+        sp_cairo_pdf_scene(s, style->scene_file);
     cairo_t *cr = cairo_create(s);
     if (cairo_status(cr)) { /* the surface's error, too: nothing to draw on */
         sp_log_error("cannot make the figure %s: %s", path, cairo_status_to_string(cairo_status(cr)));
         cairo_destroy(cr);
         cairo_surface_destroy(s);
         sp_outfile_discard(&out);
+        free(svg_meta);
         return SP_E_IO;
     }
     if (!strcasecmp(ext, ".png"))
@@ -952,6 +957,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     if (!st && sink.err)
         st = CAIRO_STATUS_WRITE_ERROR;
     cairo_surface_destroy(s);
+    free(svg_meta);
     /* cairo keeps its font faces and fontconfig its configuration for the
      * next figure; there is none: give them back (a sanitizer build checks) */
     cairo_debug_reset_static_data();

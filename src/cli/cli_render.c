@@ -353,6 +353,7 @@ static int run(int argc, char **argv, int still)
     if (!ret && still)
         ret = check_still(&o, &scenes[0], out);
     struct sp_pipeline_desc pd = {0};
+    const struct sp_scene recorded = scenes[0]; /* before --size 8.6cm sets its px */
     if (!ret && still && o.paper_w)
         ret = paper_still(&o, &scenes[0], out, &pd);
     struct sp_moment end;
@@ -377,7 +378,8 @@ static int run(int argc, char **argv, int still)
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
         .handle_signals = !still, .supersample = o.scale, .state_out = &state,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
-        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1});
+        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
+        .recorded = pd.pt_px > 0 ? &recorded : NULL});
     for (int i = 0; i < o.n_scenes; i++)
         sp_scene_free(&sp[i]);
     /* Both files or neither (a device or stdout is never removed). */

@@ -234,6 +234,45 @@ for k, (name, value) in enumerate(expect.items()):
     got = got if value > 0 else -got
     ok(abs(got - want) <= 1.5, f"{name}: bar {got:.1f} px, expected {want:.1f} px ({value:.4f} J at {ppj:.4g} px/J)")
 
+# the energy chart takes gravity's zero where the bars do (the lowest point of
+# the run), stated in both: in an undamped scene the chart's total is a flat
+# line at the total bar's value, both data's energy less m g y_low
+dflt = os.path.join(src, "..", "scenes", "default.ini")
+r = run("data", dflt, "-o", "-", "--every", "0.001")
+rows = list(csv.DictReader(io.StringIO(r.stdout)))
+dd = {k: np.array([float(row[k]) for row in rows]) for k in ("t", "x", "y", "vx", "vy")}
+m_, k_, l0_, g_ = 0.5, 2.0, 0.5, 9.81  # scenes/default.ini
+e_tot = (0.5 * m_ * (dd["vx"] ** 2 + dd["vy"] ** 2) + 0.5 * k_ * (np.hypot(dd["x"], dd["y"]) - l0_) ** 2
+         + m_ * g_ * (dd["y"] - dd["y"].min()))
+path = os.path.join(work, "energy-chart.png")
+r = run("still", dflt, "--at", "6", "--size", f"{W}x{H}", "-q", "-o", path,
+        "--set", "view.panels=energy,energy_bars", "--set", "view.hud=false")
+o = overlay(path)
+ok(r.returncode == 0 and "energy.zero_px" in o, "the energy chart states its scale beside the bars'")
+if "energy.zero_px" in o:
+    ok(o["energy.gravity_zero_y_m"] == o["energy_bars.gravity_zero_y_m"] and
+       abs(float(o["energy.gravity_zero_y_m"]) - dd["y"].min()) < 1e-3,
+       f"one gravity zero for the chart and the bars: y = {o['energy.gravity_zero_y_m']} m "
+       f"(data's lowest y {dd['y'].min():.5f})")
+    img = pixels(path)
+    zb, pb_ = float(o["energy_bars.zero_px"]), float(o["energy_bars.px_per_J"])
+    bx = int(float(o["energy_bars.x0_px"]) + 3.5 * float(o["energy_bars.slot_px"]))
+    total_rgb = img[int(zb - 0.5 * e_tot.mean() * pb_), bx]   # the total bar's colour
+    zc, pc_ = float(o["energy.zero_px"]), float(o["energy.px_per_J"])
+    mask = np.abs(img - total_rgb).max(axis=2) <= 12
+    mask[int(zc) + 2:] = False                                   # the chart only, above the bars
+    counts = mask.sum(axis=1)
+    line = np.nonzero(counts >= 0.5 * counts.max())[0] if counts.max() > 200 else np.array([])
+    want = zc - e_tot.mean() * pc_
+    got = line.mean() + 0.5 if len(line) else float("nan")
+    ok(len(line) and abs(got - want) <= 1.0 and np.ptp(e_tot) < 1e-6,
+       f"the chart's total: a flat line at y = {got:.2f} px, expected {want:.2f} px "
+       f"({e_tot.mean():.4f} J from the lowest point at {pc_:.4g} px/J)")
+    below = int(zc) + 2
+    bar_top = zb - below - np.nonzero(np.abs(img[below:, bx] - total_rgb).max(axis=1) <= 12)[0].min()
+    ok(abs(bar_top - e_tot.mean() * pb_) <= 1.0, f"the total bar: {bar_top:.1f} px for the same "
+       f"{e_tot.mean():.4f} J ({e_tot.mean() * pb_:.1f} px expected)")
+
 # panel_background = none: a transparent still's panels are transparent too
 for pb, alpha in (("theme", 255), ("none", 0)):
     path = os.path.join(work, f"pb-{pb}.png")

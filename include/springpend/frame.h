@@ -60,14 +60,16 @@ struct sp_view_extent {
     struct sp_range theta;         /* rad */
     struct sp_range r_dot;         /* m/s */
     struct sp_range theta_dot;     /* rad/s */
-    struct sp_range energy;        /* J, of total, kinetic, spring and gravity */
+    struct sp_range energy;        /* J, of total, kinetic, spring and gravity,
+                                      gravity (and so the total) from y_low */
     struct sp_range modes;         /* J, of the bounce and swing energies */
     /* [view] vectors (0 when none is drawn): the largest each arrow gets */
     double max_accel;              /* m/s^2, relative to the pivot */
     double max_force;              /* N, of the forces [view] vectors draws */
-    /* the energy_bars panel (0 when not shown) */
+    /* the energy and energy_bars panels (y_low 0 when neither is shown) */
     double y_low;                  /* m: the lowest the bob goes relative to the
-                                      pivot; its gravity energy is 0 there */
+                                      pivot; its gravity energy is 0 there, in
+                                      both panels */
     struct sp_range bars;          /* J: every bar, gravity from y_low, within it */
     struct sp_range azimuth;       /* rad, the swing plane's (continuous) */
     double horizontal;             /* m: the largest |x| and |z| (the top view) */

@@ -765,6 +765,12 @@ void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double 
                  "%senergy_bars.gravity_zero_y_m=%.9g\n", prefix, b->zero_px / c->ss + dy, prefix,
                  b->px_per_J / c->ss, prefix, b->slot_px / c->ss, prefix, b->x0 / c->ss + dx, prefix,
                  b->n, prefix, c->extent.y_low);
+    while (used < size && buf[used])
+        used++;
+    if (b->chart && used < size)
+        snprintf(buf + used, size - used, "%senergy.zero_px=%.9g\n%senergy.px_per_J=%.9g\n"
+                 "%senergy.gravity_zero_y_m=%.9g\n", prefix, b->chart_zero_px / c->ss + dy,
+                 prefix, b->chart_px_per_J / c->ss, prefix, c->extent.y_low);
 }
 
 const struct sp_font *sp_compose_font(const struct sp_composer *c) { return c->font; }

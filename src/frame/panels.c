@@ -585,11 +585,11 @@ static struct sp_range range_of(struct sp_range r, double scale, double shift)
  * next sample exists; the points so far form the settled curve, one PATH
  * item whose segments interleave the series point by point, in the order
  * given (the last on top). The tail from the last point to the newest
- * sample is redrawn each frame (dynamic). Each series has its colour and
- * half width (px). */
+ * sample is redrawn each frame (dynamic). Each series has its colour, half
+ * width (px) and a shift (in its unit) subtracted from every value. */
 static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
                          const struct sp_params *pp, const enum quantity *qs, int n,
-                         const float *const *colors, const float *hws)
+                         const float *const *colors, const float *hws, const double *shifts)
 {
     int max_segs = 2 * (int)(p->area.x1 - p->area.x0);
     if (max_segs < 2) /* a plot squeezed to under a pixel (tiny frames) */
@@ -598,7 +598,7 @@ static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct
     const struct sp_history_sample *s = h->samples;
     float ax = px_x(p, s[0].t), ay[4];
     for (int k = 0; k < n; k++)
-        ay[k] = px_y(p, quantity(&s[0], qs[k], pp));
+        ay[k] = px_y(p, quantity(&s[0], qs[k], pp) - shifts[k]);
     sp_canvas_layer(c, SP_LAYER_SETTLED);
     sp_canvas_path_begin(c);
     sp_canvas_path_lanes(c, n);
@@ -606,7 +606,7 @@ static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct
          i = next_point(s, i, h->count, p->x.lo, bin)) {
         const float bx = px_x(p, s[i].t);
         for (int k = 0; k < n; k++) {
-            const float by = px_y(p, quantity(&s[i], qs[k], pp));
+            const float by = px_y(p, quantity(&s[i], qs[k], pp) - shifts[k]);
             sp_canvas_line(c, ax, ay[k], bx, by, hws[k], colors[k]);
             ay[k] = by;
         }
@@ -619,12 +619,21 @@ static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct
     const struct sp_history_sample *last = &s[h->count - 1];
     const float bx = px_x(p, last->t);
     for (int k = 0; k < n; k++)
-        sp_canvas_line(c, ax, ay[k], bx, px_y(p, quantity(last, qs[k], pp)), hws[k], colors[k]);
+        sp_canvas_line(c, ax, ay[k], bx, px_y(p, quantity(last, qs[k], pp) - shifts[k]), hws[k],
+                       colors[k]);
+}
+
+/* The legend's note of gravity's zero at y_low (m), one convention for the
+ * energy chart and the energy bars: long and short forms. */
+static void gravity_zero_note(char *buf, size_t size, double y_low)
+{
+    snprintf(buf, size, "gravity 0 at the lowest point, y = %s%.3g m|0 at y = %s%.3g m",
+             y_low < 0 ? "−" : "", fabs(y_low), y_low < 0 ? "−" : "", fabs(y_low));
 }
 
 static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                         const struct sp_frame *f, const struct sp_view_extent *e,
-                        const struct sp_palette *pal, float unit)
+                        const struct sp_palette *pal, float unit, struct sp_bars_scale *scale)
 {
     static const char *const titles[] = {"Spring length r|r", "Angle θ|θ", "Energy|E",
                                          "Spring extension r − L₀|Extension", "", "", "",
@@ -641,15 +650,25 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     const float hw = fmaxf(0.6f, 0.0013f * unit);
     struct plot p;
 
+    char zero_note[96];
+    gravity_zero_note(zero_note, sizeof(zero_note), e->y_low);
     const struct legend_item energy[] = {{"total|tot", pal->series[0], 0, NULL},
                                          {"kinetic|kin", pal->series[1], 0, NULL},
                                          {"spring|spr", pal->series[2], 0, NULL},
-                                         {"gravity|grav", pal->series[3], 0, NULL}};
+                                         {"gravity|grav", pal->series[3], 0, NULL},
+                                         {zero_note, pal->muted, 0, NULL}};
+    /* J: gravity's energy at y_low, gravity's (and the total's) zero, as the bars' */
+    const double zero = L0->mass * L0->g * e->y_low;
     const struct legend_item modes[] = {{"bounce|bnc", pal->series[1], 0, NULL},
                                         {"swing|swg", pal->series[2], 0, NULL}};
     frame_plot(c, r, &p, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
-               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 4 : bit == 7 ? 2 : 0,
+               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 5 : bit == 7 ? 2 : 0,
                SP_LAYER_STATIC);
+    if (bit == 2 && scale) {
+        scale->chart = 1;
+        scale->chart_zero_px = px_y(&p, 0);
+        scale->chart_px_per_J = (float)((p.area.y1 - p.area.y0) / (p.y.hi - p.y.lo));
+    }
     if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) { /* the zero line */
         sp_canvas_layer(c, SP_LAYER_STATIC);
         sp_canvas_rect(c, p.area.x0, px_y(&p, 0) - hw * 0.6f, p.area.x1, px_y(&p, 0) + hw * 0.6f, pal->axis);
@@ -662,10 +681,13 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     enum quantity qs[4];
     const float *colors[4];
     float hws[4];
+    double shifts[4] = {0};
     int n = 0;
     if (bit == 2) {
-        for (int k = 3; k >= 0; k--, n++)
+        for (int k = 3; k >= 0; k--, n++) {
             qs[n] = Q_ENERGY + k, colors[n] = pal->series[k], hws[n] = k ? hw : 1.4f * hw;
+            shifts[n] = qs[n] == Q_ENERGY || qs[n] == Q_GRAVITY ? zero : 0;
+        }
     } else if (bit == 7) {
         for (int k = 0; k < 2; k++, n++)
             qs[n] = Q_BOUNCE + k, colors[n] = pal->series[k + 1], hws[n] = 1.2f * hw;
@@ -673,7 +695,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
         qs[0] = bit == 0 ? Q_R : bit == 1 ? Q_THETA : bit == 9 ? Q_AZIMUTH : Q_EXTENSION;
         colors[0] = pal->series[1], hws[0] = hw, n = 1;
     }
-    strip_curves(c, &p, h, L0, qs, n, colors, hws);
+    strip_curves(c, &p, h, L0, qs, n, colors, hws, shifts);
     const struct sp_history_sample *last = &h->samples[h->count - 1];
     const float now = px_x(&p, last->t);
     sp_canvas_rect(c, now - hw * 0.8f, p.area.y0, now + hw * 0.8f, p.area.y1, pal->cursor);
@@ -828,8 +850,7 @@ static void energy_bars(struct sp_canvas *c, const struct sp_rect *r, const stru
     bars[n++] = (struct bar){"bounce|bnc", en.bounce, pal->vectors[0]};
     bars[n++] = (struct bar){"swing|swg", en.swing, pal->vectors[1]};
     char zero_note[96];
-    snprintf(zero_note, sizeof(zero_note), "gravity 0 at the lowest point, y = %s%.3g m|0 at y = %s%.3g m",
-             e->y_low < 0 ? "−" : "", fabs(e->y_low), e->y_low < 0 ? "−" : "", fabs(e->y_low));
+    gravity_zero_note(zero_note, sizeof(zero_note), e->y_low);
     const struct legend_item leg[] = {{zero_note, pal->muted, 0, NULL},
                                       {"total = start + work − loss|= E₀ + W − loss", pal->muted, 0, NULL}};
     struct plot p;
@@ -859,9 +880,10 @@ static void energy_bars(struct sp_canvas *c, const struct sp_rect *r, const stru
     /* the zero line over the bars */
     const float hw = fmaxf(0.5f, 0.0009f * unit);
     sp_canvas_rect(c, p.area.x0, y0 - hw, p.area.x1, y0 + hw, pal->axis);
-    if (out)
-        *out = (struct sp_bars_scale){.zero_px = y0, .px_per_J = (float)((p.area.y1 - p.area.y0) /
-                                      (p.y.hi - p.y.lo)), .slot_px = slot, .x0 = p.area.x0, .n = n};
+    if (out) {
+        out->zero_px = y0, out->px_per_J = (float)((p.area.y1 - p.area.y0) / (p.y.hi - p.y.lo));
+        out->slot_px = slot, out->x0 = p.area.x0, out->n = n;
+    }
 }
 
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
@@ -879,7 +901,7 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
         else if (b == 10)
             top_plot(c, r, f, e, pal, unit, fade);
         else if (b <= 3 || b == 7 || b == 9)
-            strip_chart(c, r, b, f, e, pal, unit);
+            strip_chart(c, r, b, f, e, pal, unit, bars);
         else if (b <= 5)
             phase_plot(c, r, b == 5, f, e, pal, unit, fade);
         else

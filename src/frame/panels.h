@@ -42,12 +42,17 @@ void sp_colormap(int colormap, float t, float rgb[3]);
 struct sp_bars_scale {
     float zero_px, px_per_J, slot_px, x0;
     int n; /* bars; 0 = no panel */
+    /* the energy chart (panel energy), on the same gravity zero: value v
+     * (J) at chart_zero_px - v chart_px_per_J; chart 0 = no panel */
+    float chart_zero_px, chart_px_per_J;
+    int chart;
 };
 
 /* Draws every panel the layout holds for frame f. `unit` is the frame's
  * smaller side, px (line widths and dot sizes follow it); with fade = 0 the
  * phase curves' history is drawn at full strength. bars (may be NULL)
- * receives the energy bars' scale when that panel is drawn. */
+ * receives the energy bars' and energy chart's scales where those panels
+ * are drawn. */
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
                     const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
                     int fade, struct sp_bars_scale *bars);

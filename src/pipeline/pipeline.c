@@ -261,15 +261,15 @@ static int run_check(const struct run *run)
 }
 
 /* Widens a (scene sa's extent) to hold b (scene sb's) too: one camera and one
- * set of chart axes for scenes side by side. The energy bars' gravity zero
- * goes to the lower of the two lowest points, their axis up by what that
- * adds to gravity's and the total's bars. */
+ * set of chart axes for scenes side by side. The energy charts' and bars'
+ * gravity zero goes to the lower of the two lowest points, their axes up by
+ * what that adds to gravity's and the total's energy. */
 static void extent_union(struct sp_view_extent *a, const struct sp_scene *sa,
                          const struct sp_view_extent *b, const struct sp_scene *sb)
 {
-    struct sp_range *ra[] = {&a->r, &a->theta, &a->r_dot, &a->theta_dot, &a->energy, &a->modes};
-    const struct sp_range *rb[] = {&b->r, &b->theta, &b->r_dot, &b->theta_dot, &b->energy, &b->modes};
-    for (int i = 0; i < 6; i++)
+    struct sp_range *ra[] = {&a->r, &a->theta, &a->r_dot, &a->theta_dot, &a->modes};
+    const struct sp_range *rb[] = {&b->r, &b->theta, &b->r_dot, &b->theta_dot, &b->modes};
+    for (int i = 0; i < 5; i++)
         *ra[i] = (struct sp_range){fmin(ra[i]->lo, rb[i]->lo), fmax(ra[i]->hi, rb[i]->hi)};
     a->xmin = fmin(a->xmin, b->xmin), a->xmax = fmax(a->xmax, b->xmax);
     a->ymin = fmin(a->ymin, b->ymin), a->ymax = fmax(a->ymax, b->ymax);
@@ -281,6 +281,9 @@ static void extent_union(struct sp_view_extent *a, const struct sp_scene *sa,
     const double wa = sa->pendulum.mass * sa->pendulum.gravity, wb = sb->pendulum.mass * sb->pendulum.gravity;
     a->bars = (struct sp_range){fmin(a->bars.lo, b->bars.lo),
                                 fmax(a->bars.hi + wa * (a->y_low - low), b->bars.hi + wb * (b->y_low - low))};
+    a->energy = (struct sp_range){fmin(a->energy.lo, b->energy.lo),
+                                  fmax(a->energy.hi + wa * (a->y_low - low),
+                                       b->energy.hi + wb * (b->y_low - low))};
     a->y_low = low;
 }
 

@@ -327,25 +327,57 @@ for i, (path, t_cell) in enumerate(((sa, Ts), (sb, Ts), (sc, 3.0 - 1 / 60)), sta
     ok(abs(got - want) <= 1.5, f"cell {i}: pivot to bob {got:.1f} px, r = {rlen:.4f} m at "
        f"{scales[0]:.3f} px/m is {want:.1f} px")
 
+# the pendulums keep a sensible share of a side by side frame: with arrows and
+# two panels at 1080p, each cell's camera scale is at least half of what the
+# scene alone gets in the same frame (before, the arrows' room took the
+# whole view and the bob sat on the pivot at 0.19 px/m)
+dflt_dir = os.path.join(src, "..", "scenes")
+teach = ("--at", "4.2", "--set", "view.panels=r,energy_bars", "--set", "view.vectors=forces",
+         "--set", "view.colorbar=false", "--size", f"{W}x{H}", "-q")
+alone, pair = os.path.join(work, "alone.png"), os.path.join(work, "pair.png")
+run("still", os.path.join(dflt_dir, "default.ini"), *teach, "-o", alone)
+r = run("still", os.path.join(dflt_dir, "default.ini"), os.path.join(dflt_dir, "stiff.ini"), *teach, "-o", pair)
+s_alone = float(overlay(alone).get("camera.px_per_m", "nan"))
+op = overlay(pair)
+s_pair = [float(op.get(f"cell{i}.camera.px_per_m", "nan")) for i in (1, 2)]
+ok(r.returncode == 0 and min(s_pair) >= 0.5 * s_alone,
+   f"side by side at 1080p with arrows and two panels: {s_pair[0]:.1f} px/m in each cell, "
+   f"the scene alone {s_alone:.1f} px/m (at least half asked)")
+f_pair = [float(op.get(f"cell{i}.vectors.force.px_per_unit", "nan")) for i in (1, 2)]
+ok(f_pair[0] == f_pair[1] and f_pair[0] > 0, f"one arrow scale in both cells: {f_pair} px/N")
+
 # labels, ended marker and shared axes: the PDF keeps its text and where it is
 pdf = os.path.join(work, "sbs.pdf")
 r = run("still", sa, sb, sc, "--at", str(Ts), "--size", f"{W}x{H}", "-q", "-o", pdf,
-        "--set", "view.panels=r")
+        "--set", "view.panels=r", "--set", "view.hud=true")
 if shutil.which("pdftotext") and ok(r.returncode == 0, "the same side by side as PDF, with a chart"):
     txt = subprocess.run(["pdftotext", pdf, "-"], capture_output=True, text=True).stdout
     ok(all(f"stiffness = {k}" in txt for k in (2, 6, 12)),
        "each cell is labelled with the key in which the scenes differ (stiffness = 2, 6, 12)")
     ok("ended at t = 2.98 s" in txt, "the shorter scene holds its last frame, marked as ended")
+    ok(all(f"differs: stiffness = {k}" in txt for k in (2, 6, 12)),
+       "each cell's HUD lists the key in which it differs, with its value")
     bbox = subprocess.run(["pdftotext", "-bbox", pdf, "-"], capture_output=True, text=True).stdout
     import re
-    ticks = {1: set(), 2: set(), 3: set()}
+    # the y tick labels: the largest column of numbers right-aligned at one x
+    columns = {1: {}, 2: {}, 3: {}}
     for m_ in re.finditer(r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="[\d.]+">([^<]*)</word>', bbox):
-        x, y, word = float(m_.group(1)), float(m_.group(2)), m_.group(4)
+        x, y, x1, word = float(m_.group(1)), float(m_.group(2)), float(m_.group(3)), m_.group(4)
         cell = int(x // (W / 3)) + 1
-        if re.fullmatch(r"[\d.]+", word) and x - (cell - 1) * W / 3 < 60:  # y tick labels, at the left
-            ticks[cell].add((word, round(y, 1)))
+        if re.fullmatch(r"[\d.]+", word):
+            columns[cell].setdefault(round(x1 - (cell - 1) * W / 3), set()).add((word, round(y, 1)))
+    ticks = {c: max(cols.values(), key=len) if cols else set() for c, cols in columns.items()}
     ok(ticks[1] and ticks[1] == ticks[2] == ticks[3],
        f"the r charts' y axes are the same in every cell: {sorted(ticks[1])}")
+
+# with titles the labels are the titles, and the HUD still says what differs
+pdf2 = os.path.join(work, "sbs-titled.pdf")
+r = run("still", sa, sb, "--at", "1", "--size", f"{W}x{H}", "-q", "-o", pdf2, "--set", "view.title=Compare",
+        "--set", "view.panels=none", "--set", "view.hud=true")
+if shutil.which("pdftotext") and ok(r.returncode == 0, "two titled scenes side by side as PDF"):
+    txt = subprocess.run(["pdftotext", pdf2, "-"], capture_output=True, text=True).stdout
+    ok(txt.count("Compare") == 2 and "differs: stiffness = 2" in txt and "differs: stiffness = 6" in txt,
+       "titled cells: the HUD lists the differing key and value in each cell")
 
 # data: each scene's rows with a scene column
 r = run("data", sa, sc, "-o", "-", "--every", "0.5")

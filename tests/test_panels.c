@@ -94,7 +94,7 @@ static void test_layout(void)
                 struct sp_rect all[SP_PANEL_COUNT + 3];
                 int n = 0;
                 sp_layout_compute(&(struct sp_layout_desc){W, H, sets[s], extras ? 0.08f * H : 0,
-                                                           extras ? 0.06f * W : 0, 0, 0, 0}, &l);
+                                                           extras ? 0.06f * W : 0, 0, 0, 0, 0, 0}, &l);
                 all[n++] = l.camera;
                 if (extras) {
                     all[n++] = l.hud;

@@ -100,6 +100,10 @@ struct sp_look {
     const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
                                            band holds its largest text, the
                                            frame's sp_moment says what shows */
+    char differs[SP_VIEW_TEXT_BYTES];   /* side by side: the keys in which this
+                                           scene differs from the others, with
+                                           its values ("stiffness = 5"), listed
+                                           in the HUD; "" = alone */
 };
 
 /* The look of scene, or of the default scene when scene is NULL. */

@@ -45,7 +45,8 @@ struct sp_provenance {
     char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text */
     char fonts[1024];      /* font files, ", "-separated: the caller fills it
                               (sp_render_fonts) before the first image */
-    char overlay[1024];    /* sp_render_overlay's text: the caller fills it */
+    char overlay[4096];    /* sp_render_overlay's text: the caller fills it (4 cells of
+                              arrows, bars and charts fit) */
     struct sp_png_text text[SP_PROVENANCE_N_TEXT + 1]; /* point into the above */
 };
 

@@ -69,17 +69,27 @@ struct sp_composer {
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
     struct sp_vectors vectors;    /* [view] vectors' scales (set with the layout) */
+    double room;                  /* <= 1: the camera's margins and the arrows' length
+                                     as a share of their size in a large view */
     struct sp_bars_scale bars;    /* the energy bars' axis (set by each frame) */
     int ss;                       /* the drawing is this many times the output */
+    int cell;                     /* one of several scenes side by side */
 };
 
-/* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
+/* Fits the extent plus a margin into rectangle v, equal scale on both axes.
+ * The margin follows the frame's smaller side, with room for the longest
+ * arrow where arrows are drawn; in a view so small that it would take over
+ * half of the view's smaller side (a cell side by side, a tiny frame), it
+ * and the arrows shrink to that (r->room < 1), so the motion keeps half. */
 static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 {
     const struct sp_view_extent *e = &r->extent;
     /* arrows from the bob need their longest length around the motion */
-    const double margin = (BOB_RADIUS + MARGIN + (r->look.view.vectors ? SP_VECTOR_MAX_LENGTH : 0)) *
-                          r->unit;
+    double margin = (BOB_RADIUS + MARGIN + (r->look.view.vectors ? SP_VECTOR_MAX_LENGTH : 0)) *
+                    r->unit;
+    const double cap = 0.25 * fmin(v->x1 - v->x0, v->y1 - v->y0);
+    r->room = margin > cap && cap > 0 ? cap / margin : 1;
+    margin *= r->room;
     const double ew = fmax(e->xmax - e->xmin, 1e-6);
     const double eh = fmax(e->ymax - e->ymin, 1e-6);
     const double aw = fmax(v->x1 - v->x0 - 2 * margin, 1.0);
@@ -98,6 +108,14 @@ void sp_compose_rescale(struct sp_composer *r, double px_per_m)
 }
 
 double sp_compose_scale(const struct sp_composer *c) { return c->scale; }
+double sp_compose_room(const struct sp_composer *c) { return c->room; }
+
+void sp_compose_shrink_arrows(struct sp_composer *c, double room)
+{
+    for (int q = 0; q < SP_VQ_COUNT && room < c->room; q++)
+        c->vectors.px_per[q] *= room / c->room;
+    c->room = fmin(c->room, room);
+}
 
 /* Text sizes follow the frame's smaller side, with a floor for small
  * frames, or [view] font_size (pt, one px each: see README "Text") for the
@@ -326,6 +344,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     else
         sp_look_of(NULL, &r->look);
     r->width = desc->width;
+    r->cell = desc->cell;
     r->height = desc->height;
     r->ss = desc->supersample > 1 ? desc->supersample : 1;
     r->accum_t = -1;
@@ -378,12 +397,13 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
 
 /* Places the view, panels, heads-up text and colourbar (once: the
  * parameters do not change during a run). */
-static void lay_out(struct sp_composer *r, const struct sp_params *p)
+static void lay_out_as(struct sp_composer *r, const struct sp_params *p, int view)
 {
     const struct sp_font *f = r->font;
     struct sp_layout_desc d = {.width = r->width, .height = r->height,
                                .panels = r->look.view.panels,
-                               .no_pendulum = !r->look.view.pendulum};
+                               .no_pendulum = !r->look.view.pendulum,
+                               .view_share = view == 1 ? 0.58f : 0, .view_left = view == 2};
     if (r->title_lines)
         d.title_height = (float)(r->title_lines * sp_font_line(f, SP_TEXT_TITLE));
     if (r->look.timeline && r->band_lines)
@@ -396,7 +416,7 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
         const struct sp_rect *v = d.no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0}
                                                 : &r->layout.camera;
         const float w = v->x1 - v->x0 - 2 * r->layout.gap;
-        r->hud_lines = sp_hud_lines(f, p, w, r->hud, SP_HUD_MAX_LINES);
+        r->hud_lines = sp_hud_lines(f, p, r->look.differs, w, r->hud, SP_HUD_MAX_LINES);
         d.hud_height = sp_hud_height(f, r->hud_lines);
     } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
@@ -405,8 +425,28 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
         d.colorbar_width = sp_colorbar_width(r->font, r->ink, r->max_speed);
     sp_layout_compute(&d, &r->layout);
     fit_camera(r, &r->layout.camera);
-    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit);
+    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit,
+                     (float)(SP_VECTOR_MAX_LENGTH * r->unit * r->room));
     r->laid_out = 1;
+}
+
+/* Lays the frame out for parameters p (view: 0 the frame's own layout).
+ * A cell of scenes side by side (portrait or square) tries the view on top
+ * with a larger share (1) and the view at the left with the panels beside
+ * it (2), and keeps the one where the motion is drawn larger: a tall, narrow
+ * motion gets the left. */
+static void lay_out(struct sp_composer *r, const struct sp_params *p)
+{
+    if (!r->cell || !r->look.view.pendulum || !r->look.view.panels ||
+        r->width >= 1.15f * r->height) {
+        lay_out_as(r, p, 0);
+        return;
+    }
+    lay_out_as(r, p, 2);
+    const double left = r->scale;
+    lay_out_as(r, p, 1);
+    if (left > r->scale)
+        lay_out_as(r, p, 2);
 }
 
 /* ---- geometry, all in px ---- */

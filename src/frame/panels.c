@@ -954,8 +954,11 @@ static const char *resonance_note(const struct sp_font *f, int resonant, float m
     return note;
 }
 
-int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
-                 char lines[][SP_HUD_LINE_BYTES], int max)
+/* Lines that start with this byte are drawn in the accent colour (it is not drawn). */
+#define HUD_ACCENT '\2'
+
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const char *differs,
+                 float max_width, char lines[][SP_HUD_LINE_BYTES], int max)
 {
     struct sp_physics ph;
     sp_params_physics(p, &ph);
@@ -964,6 +967,24 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float ma
     double ratio;
     int n = 2;
     lines[0][0] = lines[1][0] = 0;
+    if (differs && *differs) { /* "differs: a = 1, b = 2", wrapped at its commas */
+        const char *s = differs;
+        for (int first = 1; *s; first = 0) {
+            const size_t len = strcspn(s, ",");
+            snprintf(item, sizeof(item), "%s%.*s%s", first ? "differs: " : "", (int)len, s,
+                     s[len] ? "," : "");
+            add_item(font, max_width, lines, &n, max, item, 0);
+            s += len + (s[len] != 0);
+            s += strspn(s, " ");
+        }
+        for (int i = 1; i < n; i++) { /* the accent's mark */
+            memmove(lines[i] + 1, lines[i], SP_HUD_LINE_BYTES - 2);
+            lines[i][0] = HUD_ACCENT;
+            lines[i][SP_HUD_LINE_BYTES - 1] = 0;
+        }
+        if (n < max)
+            lines[n++][0] = 0;
+    }
     snprintf(item, sizeof(item), "m = %.3g kg", p->mass);
     add_item(font, max_width, lines, &n, max, item, 0);
     snprintf(item, sizeof(item), "k = %.4g N/m", p->stiffness);
@@ -1028,6 +1049,10 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
             continue;
         if (i == n - 1 && own_line) {
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, res ? pal->accent : pal->muted, note);
+            continue;
+        }
+        if (lines[i][0] == HUD_ACCENT) {
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->accent, lines[i] + 1);
             continue;
         }
         const float w = (float)sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT,

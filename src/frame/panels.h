@@ -59,11 +59,13 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
 
 /* Heads-up text: writes the lines for params (time left out) wrapped to
  * max_width px into lines[0..max) and returns how many; line 0 is the time
- * line, filled in at draw time. */
+ * line, filled in at draw time. differs (NULL or "" = none): side by side,
+ * the keys in which this scene differs from the others ("stiffness = 5,
+ * damping = 0.4"), listed first, in the accent colour. */
 #define SP_HUD_MAX_LINES 12
 #define SP_HUD_LINE_BYTES 200
-int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
-                 char lines[][SP_HUD_LINE_BYTES], int max);
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const char *differs,
+                 float max_width, char lines[][SP_HUD_LINE_BYTES], int max);
 /* Height in px of n heads-up lines. */
 float sp_hud_height(const struct sp_font *font, int n);
 /* Draws the time and the lines in r. */

@@ -24,16 +24,17 @@ static double nice_below(double x)
 }
 
 void sp_vectors_setup(struct sp_vectors *v, const struct sp_look *look,
-                      const struct sp_view_extent *e, const struct sp_params *p, float unit)
+                      const struct sp_view_extent *e, const struct sp_params *p, float unit,
+                      float length)
 {
     const double max[SP_VQ_COUNT] = {e->max_force, e->max_speed, e->max_accel};
     *v = (struct sp_vectors){.bits = look->view.vectors, .driven = p->drive_amp != 0,
                              .damped = p->b_over_m > 0, .unit = unit};
     for (int q = 0; q < SP_VQ_COUNT; q++) {
-        /* the largest value takes SP_VECTOR_MAX_LENGTH; the key shows a round
-         * value at most half of it */
+        /* the largest value takes `length`; the key shows a round value at
+         * most half of it */
         const double m = max[q] > 0 && isfinite(max[q]) ? max[q] : 1;
-        v->px_per[q] = SP_VECTOR_MAX_LENGTH * unit / m;
+        v->px_per[q] = length / m;
         v->key[q] = nice_below(0.5 * m);
     }
 }

@@ -28,9 +28,12 @@ struct sp_vectors {
     float unit;                    /* px: the frame's smaller side */
 };
 
-/* Picks the scales for look's vectors from extent's largest values. */
+/* Picks the scales for look's vectors from extent's largest values: the
+ * largest takes `length` px (SP_VECTOR_MAX_LENGTH of the frame's smaller
+ * side, `unit` px, or less in a small view). */
 void sp_vectors_setup(struct sp_vectors *v, const struct sp_look *look,
-                      const struct sp_view_extent *e, const struct sp_params *p, float unit);
+                      const struct sp_view_extent *e, const struct sp_params *p, float unit,
+                      float length);
 
 /* Arrows from the bob at bob[] (px) for frame f's state. */
 void sp_vectors_draw(struct sp_canvas *c, const struct sp_vectors *v, const struct sp_frame *f,

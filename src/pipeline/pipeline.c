@@ -307,7 +307,8 @@ static int trail_setup(struct sp_trail *tr, int *used, const struct sp_scene *sc
 
 /* Side by side: each cell's look, titled with its scene's view.title or,
  * without one, the keys in which the scenes differ ("stiffness = 5,
- * damping = 0.4"; [video] and [view] keys aside), else its name. */
+ * damping = 0.4"; [video] and [view] keys aside), else its name; those keys
+ * go to its HUD too (look.differs). */
 static void cell_looks(struct run *run)
 {
     const struct sp_scene *all[SP_PIPELINE_MAX_SCENES] = {run->sc};
@@ -353,9 +354,10 @@ static void cell_looks(struct run *run)
                 used += (size_t)snprintf(label + used, SP_VIEW_TEXT_BYTES - used, "%s%s = %s",
                                          used ? ", " : "", strchr(key, '.') + 1, shown);
         }
+        sp_look_of(all[i], &run->looks[i]);
+        snprintf(run->looks[i].differs, sizeof(run->looks[i].differs), "%s", label);
         if (!label[0])
             snprintf(label, SP_VIEW_TEXT_BYTES, "%s", all[i]->name);
-        sp_look_of(all[i], &run->looks[i]);
         if (!run->looks[i].view.title[0])
             snprintf(run->looks[i].view.title, sizeof(run->looks[i].view.title), "%s", label);
     }

@@ -6,7 +6,8 @@ the forces computed here with numpy from the state `data` writes (gravity
 inertial force -m a_pivot, net their sum; velocity; acceleration net / m),
 each alone in a 1920x1080 still: the arrow's tip, found by its colour, lies
 where the scale stated in the PNG's springpend.overlay text puts it, to a
-pixel and a half (direction and length). An unknown vector name is refused
+pixel (direction and length; the tip is where the arrow's coverage reaches
+farthest along its axis). An unknown vector name is refused
 with FILE:LINE and exit 2; a scene without vectors has no overlay text.
 Side by side (2 to 4 scenes): in every cell the bob's centre, found by its
 colour, lies r * px_per_m from the pivot, one px_per_m for all cells, with r
@@ -128,23 +129,36 @@ for name, colour in COLOURS.items():
     pc = np.stack([xs + 0.5, ys + 0.5], axis=1)
     near = np.argmin(np.hypot(*(pc - centre).T))
     comp = labels[ys[near], xs[near]]
-    sel = labels[ys, xs] == comp
-    pts = pc[sel]
-    # the tip: the farthest reach along the arrow (pixels fully of its colour
-    # end about half a pixel inside the edge), laterally the middle of the
-    # pixels there
-    far = pts[np.argmax(np.hypot(*(pts - centre).T))]
-    u = (far - centre) / np.hypot(*(far - centre))
-    along = (pts - centre) @ u
-    end = pts[along >= along.max() - 1.0]
-    lateral = ((end - centre) @ np.array([-u[1], u[0]])).mean()
-    far = centre + (along.max() + 0.5) * u + lateral * np.array([-u[1], u[0]])
+    # the arrow's pixels with their coverage (0..1, from the blend between
+    # the background and the arrow's colour), antialiased edges included
+    grown = ndimage.binary_dilation(labels == comp, iterations=2)
+    gy, gx = np.nonzero(grown)
+    bg = np.median(img[~grown][::97], axis=0)
+    col_ = np.array(colour, float)
+    cover = np.clip((img[gy, gx] - bg) @ (col_ - bg) / ((col_ - bg) @ (col_ - bg)), 0, 1)
+    # only blends of the background and the arrow's colour (not the spring's coil)
+    cover[np.hypot.reduce(img[gy, gx] - (bg + cover[:, None] * (col_ - bg)), axis=1) > 24] = 0
+    far_mask = np.hypot(gx + 0.5 - centre[0], gy + 0.5 - centre[1]) > 6  # off the bob's centre
+    gp = np.stack([gx + 0.5, gy + 0.5], axis=1)[far_mask]
+    wgt = cover[far_mask]
+    # the axis: the arrow is symmetric about it (shaft and two barbs), so its
+    # direction is the coverage-weighted principal direction of the pixels
+    # about the bob's centre, and the tip is the farthest coverage reaches
+    rel = gp - centre
+    mean_dir = (wgt[:, None] * rel).sum(axis=0)
+    u = mean_dir / np.hypot(*mean_dir)
+    normal = np.array([-u[1], u[0]])
+    lateral = (wgt * (rel @ normal)).sum() / wgt.sum()
+    along = rel @ u
+    on_axis = np.abs(rel @ normal - lateral) < 1.0
+    reach = (along + cover[far_mask] - 0.5)[on_axis & (wgt > 0.05)].max()
+    far = centre + reach * u + lateral * normal
     err = float(np.hypot(*(far - tip)))
     length = float(np.hypot(*(tip - centre)))
     worst = max(worst, err)
     ang = math.degrees(math.atan2(-(far - centre)[1], (far - centre)[0]) - math.atan2(vec[1], vec[0]))
     ang = (ang + 180) % 360 - 180
-    ok(err <= 1.5, f"{name}: tip at ({far[0]:.1f}, {far[1]:.1f}) px, expected ({tip[0]:.1f}, {tip[1]:.1f}) "
+    ok(err <= 1.0, f"{name}: tip at ({far[0]:.1f}, {far[1]:.1f}) px, expected ({tip[0]:.1f}, {tip[1]:.1f}) "
        f"for |{name}| = {np.hypot(*vec):.4g} at {scale:.4g} px per unit ({length:.0f} px long): "
        f"{err:.2f} px off, direction {ang:+.2f} degrees off")
     ok(o.get(f"vectors.{q}.key", "").split(" ")[0].replace(".", "").isdigit(),

@@ -659,10 +659,15 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                                          {zero_note, pal->muted, 0, NULL}};
     /* J: gravity's energy at y_low, gravity's (and the total's) zero, as the bars' */
     const double zero = L0->mass * L0->g * e->y_low;
+    /* the zero's note where the short legend fits on a row (a tiny panel keeps
+     * its plot instead) */
+    const int n_energy = c->font && legend_width(c->font, energy, 5, 1) <=
+                                        r->x1 - r->x0 - 2 * roundf(0.5f * sp_font_line(c->font, SP_TEXT_SMALL))
+                             ? 5 : 4;
     const struct legend_item modes[] = {{"bounce|bnc", pal->series[1], 0, NULL},
                                         {"swing|swg", pal->series[2], 0, NULL}};
     frame_plot(c, r, &p, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
-               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 5 : bit == 7 ? 2 : 0,
+               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? n_energy : bit == 7 ? 2 : 0,
                SP_LAYER_STATIC);
     if (bit == 2 && scale) {
         scale->chart = 1;

@@ -9,7 +9,13 @@ falls on all three alike; each run's CPU time is user + sys of the process
 and its threads (wait4's rusage), which the load inflates much less than
 the wall time. Prints every run, then per round the ratios B/A and C/A, and
 their median with the lowest and highest round.
+With --callgrind instead: each run once under valgrind's callgrind at 6 and
+at 30 frames (0.1 and 0.5 s of video), and the instructions each executes
+(all threads; valgrind runs them one at a time): the totals, and per frame
+the difference between the two lengths (what a longer video adds), which
+no other process on the machine changes. Slow: about 2 to 5 minutes a run.
 usage: bench_teach.py SPRINGPEND SCENES_DIR [REPEAT] [SECONDS]
+       bench_teach.py SPRINGPEND SCENES_DIR --callgrind
   REPEAT: rounds (default 8); SECONDS: video length (default 5, 300 frames)."""
 import os
 import statistics
@@ -22,8 +28,10 @@ if len(sys.argv) < 3 or "-h" in sys.argv or "--help" in sys.argv:
     print(__doc__)
     sys.exit(0 if len(sys.argv) >= 2 else 2)
 exe, scenes = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-REPEAT = int(sys.argv[3]) if len(sys.argv) > 3 else 8
-SECONDS = float(sys.argv[4]) if len(sys.argv) > 4 else 5
+CALLGRIND = "--callgrind" in sys.argv
+args_ = [a for a in sys.argv[3:] if not a.startswith("--")]
+REPEAT = int(args_[0]) if args_ else 8
+SECONDS = float(args_[1]) if len(args_) > 1 else 5
 default, stiff = os.path.join(scenes, "default.ini"), os.path.join(scenes, "stiff.ini")
 common = ["--size", "1920x1080", "--set", f"video.duration={SECONDS:g}", "-q"]
 RUNS = {
@@ -32,6 +40,31 @@ RUNS = {
                       "--set", "view.panels=r,theta,energy,extension,energy_bars"],
     "C side by side": [default, stiff],
 }
+
+
+def instructions(args, seconds, d):
+    """Instructions (callgrind's Ir, every thread) of one render."""
+    log = os.path.join(d, "cg.log")
+    cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={os.path.join(d, 'cg.out')}",
+           f"--log-file={log}", exe, "render", *args, "--size", "1920x1080", "--set",
+           f"video.duration={seconds:g}", "-q", "-o", os.path.join(d, "cg.mp4")]
+    subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+    with open(log) as fp:
+        return int(next(line for line in fp if "Collected" in line).split(":")[-1].replace(",", ""))
+
+
+if CALLGRIND:
+    with tempfile.TemporaryDirectory() as d:
+        ir = {k: {s_: instructions(a, s_, d) for s_ in (0.1, 0.5)} for k, a in RUNS.items()}
+    for k, v in ir.items():
+        print(f"{k:15s} instructions: 6 frames {v[0.1]:,}, 30 frames {v[0.5]:,}; "
+              f"per frame (30 - 6) {(v[0.5] - v[0.1]) / 24:,.0f}")
+    base = ir["A base"]
+    for k in ("B arrows+bars", "C side by side"):
+        v = ir[k]
+        print(f"{k} / base: 30 frames {v[0.5] / base[0.5]:.4f}, per frame "
+              f"{(v[0.5] - v[0.1]) / (base[0.5] - base[0.1]):.4f}")
+    sys.exit(0)
 
 
 def run(args, out):

@@ -385,7 +385,9 @@ SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, 
     double u[NC][B], a[6][B], f[3][B], fs[3][B];
     unsigned char dead[B];
     const int split = b->method != SP_METHOD_RK4;
+#ifdef FAST_KERNEL
     const int fast = b->fast && !split && !forced && tangent; /* (b->fast: where supported) */
+#endif
     const double *w = b->method == SP_METHOD_VERLET ? verlet_w : yoshida_w;
     const int nw = b->method == SP_METHOD_VERLET ? 1 : 3;
     load_blk(b, base, &p);

@@ -297,6 +297,26 @@ static int legend_draw(struct sp_canvas *c, const struct sp_font *f, float x, fl
     return rows;
 }
 
+/* Where frame_plot puts the legend of a panel r titled `title` with y name
+ * ylabel: on the title row (judged with the long title and the plain y
+ * name; returns 0) or on rows of its own (returns how many; *own = 1), with
+ * long labels when they fit one row, else short ones wrapped (*shrt = 1). */
+static int legend_rows(const struct sp_font *f, const struct sp_rect *r, const char *title,
+                       const char *ylabel, const struct legend_item *leg, int n_leg, int *own,
+                       int *shrt)
+{
+    const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
+    const char *bar0 = strchr(title, '|');
+    char full0[96];
+    snprintf(full0, sizeof(full0), "%.*s", bar0 ? (int)(bar0 - title) : (int)strlen(title), title);
+    const float row_free = r->x1 - r->x0 - 4 * pad - sp_font_width(f, SP_TEXT_SMALL, ylabel) -
+                           sp_font_width(f, SP_TEXT_NORMAL, full0);
+    *own = n_leg && legend_width(f, leg, n_leg, 0) > row_free;
+    *shrt = *own && legend_width(f, leg, n_leg, 0) > r->x1 - r->x0 - 2 * pad;
+    return *own ? legend_draw(NULL, f, r->x0 + pad, 0, r->x0 + pad, r->x1 - pad, leg, n_leg, *shrt)
+                : 0;
+}
+
 /* Lays out a panel in r: background, title, axes with ticks and labels;
  * fills p->area. ylabel/xlabel name the axes with their units. The legend
  * goes in the title row when it fits between the title and the y axis's
@@ -319,18 +339,8 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
 
     sp_canvas_layer(c, SP_LAYER_STATIC);
     sp_canvas_rect(c, r->x0, r->y0, r->x1, r->y1, pal->panel);
-    /* the legend's room: the title row (judged with the short title and the
-     * plain y name) or a row of its own */
-    const char *bar0 = strchr(title, '|');
-    char full0[96];
-    snprintf(full0, sizeof(full0), "%.*s", bar0 ? (int)(bar0 - title) : (int)strlen(title), title);
-    const float row_free = r->x1 - r->x0 - 4 * pad - sp_font_width(f, SP_TEXT_SMALL, ylabel) -
-                           sp_font_width(f, SP_TEXT_NORMAL, full0);
-    const int leg_row = n_leg && legend_width(f, leg, n_leg, 0) > row_free;
-    /* on a row of its own: long labels on one row, else short ones, wrapped */
-    const int shrt = leg_row && legend_width(f, leg, n_leg, 0) > r->x1 - r->x0 - 2 * pad;
-    const int leg_rows = leg_row ? legend_draw(NULL, f, r->x0 + pad, 0, r->x0 + pad, r->x1 - pad, leg,
-                                               n_leg, shrt) : 0;
+    int leg_row, shrt;
+    const int leg_rows = legend_rows(f, r, title, ylabel, leg, n_leg, &leg_row, &shrt);
     p->area.y0 = r->y0 + 2.2f * pad + cap_n + 0.5f * cap_s + leg_rows * line_s;
     /* A wide plot names its x axis at the right end of the tick row; a
      * narrow one on its own row below, so that it can keep its ticks. No
@@ -659,10 +669,13 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                                          {zero_note, pal->muted, 0, NULL}};
     /* J: gravity's energy at y_low, gravity's (and the total's) zero, as the bars' */
     const double zero = L0->mass * L0->g * e->y_low;
-    /* the zero's note where the short legend fits on a row (a tiny panel keeps
-     * its plot instead) */
-    const int n_energy = c->font && legend_width(c->font, energy, 5, 1) <=
-                                        r->x1 - r->x0 - 2 * roundf(0.5f * sp_font_line(c->font, SP_TEXT_SMALL))
+    /* the zero's note where it costs the plot no row of legend (a small panel
+     * keeps its plot's height instead) */
+    int own, shrt;
+    const int n_energy = c->font && legend_rows(c->font, r, titles[bit], ylabels[bit], energy, 5, &own,
+                                                &shrt) <=
+                                        legend_rows(c->font, r, titles[bit], ylabels[bit], energy, 4,
+                                                    &own, &shrt)
                              ? 5 : 4;
     const struct legend_item modes[] = {{"bounce|bnc", pal->series[1], 0, NULL},
                                         {"swing|swg", pal->series[2], 0, NULL}};

@@ -99,6 +99,8 @@ struct sp_look {
                            per pt, and text, lines, ticks and markers are set in
                            pt (print defaults: 10 pt text, 0.8 pt axes, 3.5 pt
                            ticks); 0 = a video frame, sizes follow the frame */
+    int still;          /* 1: a still (still command): view.cursor = auto leaves
+                           the video's marks of now out */
     const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
                                            band holds its largest text, the
                                            frame's sp_moment says what shows */
@@ -106,6 +108,9 @@ struct sp_look {
                                            scene differs from the others, with
                                            its values ("stiffness = 5"), listed
                                            in the HUD; "" = alone */
+    const char *title_what; /* what view.title is, for messages; NULL = the
+                               scene's "[view] title" (side by side: the
+                               cell's automatic label) */
     int perspective;    /* 1: the pendulum is drawn through view.camera's
                            perspective (sp_scene_perspective) */
     int spatial;        /* 1: a 3-D scene (initial.azimuth_rate != 0) */

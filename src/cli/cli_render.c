@@ -141,7 +141,8 @@ static int write_state(const char *path, const struct sp_scene *scene,
     if (ret || (ret = sp_outfile_open(&f, path, SP_OUTFILE_STREAM)) != 0)
         return ret;
     sp_sim_init(&sim, scene); /* for the parameters and the initial energy */
-    sp_state_polar(st, &pol);
+    /* theta signed by the side of the swing plane, as data writes it */
+    sp_state_polar_in(st, sim.spatial ? sp_state_azimuth(&sim.p, st) : 0, &pol);
     sp_state_energy(&sim.p, st, &e);
     FILE *fp = fdopen(f.fd, "w");
     if (!fp) {
@@ -352,6 +353,7 @@ static int run(int argc, char **argv, int still)
     if (!ret && still)
         ret = check_still(&o, &scenes[0], out);
     struct sp_pipeline_desc pd = {0};
+    const struct sp_scene recorded = scenes[0]; /* before --size 8.6cm sets its px */
     if (!ret && still && o.paper_w)
         ret = paper_still(&o, &scenes[0], out, &pd);
     struct sp_moment end;
@@ -376,7 +378,8 @@ static int run(int argc, char **argv, int still)
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
         .handle_signals = !still, .supersample = o.scale, .state_out = &state,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
-        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1});
+        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
+        .recorded = pd.pt_px > 0 ? &recorded : NULL});
     for (int i = 0; i < o.n_scenes; i++)
         sp_scene_free(&sp[i]);
     /* Both files or neither (a device or stdout is never removed). */

@@ -53,14 +53,14 @@ void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double 
  * a metre is the same length in every cell. */
 double sp_compose_scale(const struct sp_composer *c);
 void sp_compose_rescale(struct sp_composer *c, double px_per_m);
-/* The arrows' length as a share (<= 1) of their length in a large view, and
- * a smaller one: side by side, every cell takes the smallest, so an arrow
- * of one newton is the same length in every cell. */
-double sp_compose_room(const struct sp_composer *c);
-void sp_compose_shrink_arrows(struct sp_composer *c, double room);
+/* The longest arrow, px (after the layout), and a shorter one: side by
+ * side, every cell takes the shortest, so an arrow of one newton is the
+ * same length in every cell. */
+double sp_compose_arrow_px(const struct sp_composer *c);
+void sp_compose_shrink_arrows(struct sp_composer *c, double px);
 /* Lays the frame out and fits the camera for parameters p, as the first
  * frame does (once; a no-op after). */
-void sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p);
+int sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p);
 
 /* compose_cells.c: n scenes (1..SP_MAX_CELLS) side by side in one frame,
  * each in its cell of a grid (sp_compose_cells_grid) with its own look, all

@@ -66,15 +66,17 @@ int sp_compose_cells_frame(struct sp_compose_cells *c, const struct sp_frame *fr
 {
     const struct sp_canvas *cv;
     if (!c->scaled && c->n > 1) { /* one metre, one length: the smallest scale */
-        double scale = INFINITY, room = INFINITY;
+        double scale = INFINITY, arrow = INFINITY; /* px per m; px: the longest arrow */
         for (int i = 0; i < c->n; i++) {
-            sp_compose_lay_out(c->cell[i], frames[i].params);
+            int err = sp_compose_lay_out(c->cell[i], frames[i].params);
+            if (err)
+                return err;
             scale = fmin(scale, sp_compose_scale(c->cell[i]));
-            room = fmin(room, sp_compose_room(c->cell[i]));
+            arrow = fmin(arrow, sp_compose_arrow_px(c->cell[i]));
         }
         for (int i = 0; i < c->n; i++) {
             sp_compose_rescale(c->cell[i], scale);
-            sp_compose_shrink_arrows(c->cell[i], room);
+            sp_compose_shrink_arrows(c->cell[i], arrow);
         }
     }
     c->scaled = 1;

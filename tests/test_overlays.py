@@ -381,6 +381,21 @@ if shutil.which("pdftotext") and ok(r.returncode == 0, "two titled scenes side b
     ok(txt.count("Compare") == 2 and "differs: stiffness = 2" in txt and "differs: stiffness = 6" in txt,
        "titled cells: the HUD lists the differing key and value in each cell")
 
+# an optional [view] style key set in one scene only (it shifts the lines of
+# the scene's canonical text) must not make equal keys look different: the
+# cells' lists are matched by key (before, both listed the [ensemble]
+# defaults "count = 0, key = initial.angle ..." as differences)
+sd = write("stiff-labelled.ini", "[pendulum]\nstiffness = 6\n" + base.replace("[view]\n", "[view]\npanel_labels = a\n"))
+pdf3 = os.path.join(work, "sbs-style.pdf")
+r = run("still", sa, sd, "--at", "1", "--size", f"{W}x{H}", "-q", "-o", pdf3,
+        "--set", "view.panels=none", "--set", "view.hud=true")
+if shutil.which("pdftotext") and ok(r.returncode == 0, "two scenes, one with a [view] style key, side by side"):
+    txt = subprocess.run(["pdftotext", pdf3, "-"], capture_output=True, text=True).stdout
+    ok("differs: stiffness = 2" in txt and "differs: stiffness = 6" in txt and
+       "count = 0" not in txt and "key = initial.angle" not in txt,
+       "a style key in one scene: the HUD lists only the physics that differs "
+       f"({' | '.join(l for l in txt.splitlines() if 'differs' in l)})")
+
 # data: each scene's rows with a scene column
 r = run("data", sa, sc, "-o", "-", "--every", "0.5")
 lines = r.stdout.splitlines()

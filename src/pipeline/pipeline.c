@@ -328,29 +328,30 @@ static void cell_looks(struct run *run)
         char *label = run->labels[i];
         size_t used = 0;
         label[0] = 0;
-        for (int ln = 0; text[i]; ln++) { /* line ln of every scene's text: the same key */
-            const char *lines[SP_PIPELINE_MAX_SCENES];
-            int differs = 0, ok = 1;
-            for (int j = 0; j < n && ok; j++) {
-                const char *p = text[j];
-                for (int k = 0; p && k < ln; k++)
-                    p = (p = strchr(p, '\n')) ? p + 1 : NULL;
-                ok = text[j] && p && *p;
-                lines[j] = p;
+        /* Lines are matched by key, not by position: optional keys (the
+         * [view] style keys, the camera) appear only when set, so the same
+         * line number may hold different keys in two scenes. */
+        for (const char *line = text[i]; line && *line;
+             line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL) {
+            const size_t len = strcspn(line, "\n");
+            const char *eq = memchr(line, '=', len);
+            if (!eq)
+                continue;
+            const size_t klen = (size_t)(eq - line) + 1; /* "section.key=" */
+            int differs = 0;
+            for (int j = 0; j < n && !differs; j++) {
+                const char *q = text[j];
+                while (q && *q && !(strncmp(q, line, klen) == 0))
+                    q = strchr(q, '\n') ? strchr(q, '\n') + 1 : NULL;
+                differs = !q || !*q || strcspn(q, "\n") != len || strncmp(q, line, len);
             }
-            if (!ok)
-                break;
-            const size_t len = strcspn(lines[i], "\n");
-            for (int j = 0; j < n; j++)
-                differs |= strcspn(lines[j], "\n") != len || strncmp(lines[j], lines[i], len);
-            if (!differs || !strncmp(lines[i], "video.", 6) || !strncmp(lines[i], "view.", 5))
+            if (!differs || !strncmp(line, "video.", 6) || !strncmp(line, "view.", 5))
                 continue;
             char key[128], value[256], shown[256];
-            const char *eq = memchr(lines[i], '=', len);
-            if (!eq || (size_t)(eq - lines[i]) >= sizeof(key))
+            if ((size_t)(eq - line) >= sizeof(key))
                 continue;
-            snprintf(key, sizeof(key), "%.*s", (int)(eq - lines[i]), lines[i]);
-            snprintf(value, sizeof(value), "%.*s", (int)(len - (size_t)(eq + 1 - lines[i])), eq + 1);
+            snprintf(key, sizeof(key), "%.*s", (int)(eq - line), line);
+            snprintf(value, sizeof(value), "%.*s", (int)(len - (size_t)(eq + 1 - line)), eq + 1);
             sp_scene_canonical_display(key, value, shown, sizeof(shown));
             if (used < SP_VIEW_TEXT_BYTES)
                 used += (size_t)snprintf(label + used, SP_VIEW_TEXT_BYTES - used, "%s%s = %s",

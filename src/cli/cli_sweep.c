@@ -24,6 +24,7 @@
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
+#include "command_line.h"
 #include "sweep.h"
 #include "sweep_format.h"
 
@@ -598,9 +599,11 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
     if (!ret && o->output) {
         struct sp_plot_style style = o->style; /* with the scene, as the CSV's dc:source */
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
-        style.scene_file = ini;
+        char *command = sp_command_line_unnamed();
+        style.scene_file = ini, style.command = command;
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
         free(ini);
+        free(command);
     }
     if (!ret && !o->quiet)
         sp_sweep_print_legend(fp, stderr); /* a basin map's attractors */

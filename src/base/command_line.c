@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "command_line.h"
+#include "utf8.h"
 
 static int n_words;
 static char *const *words;
@@ -43,6 +44,11 @@ char *sp_command_line_unnamed(void)
     char *line = n > 0 ? malloc((size_t)n + 1) : NULL;
     if (line)
         text(line, (size_t)n + 1, 1);
+    for (size_t i = 0, len = line ? strlen(line) : 0; i < len; i += sp_utf8_char(line + i))
+        if (!sp_utf8_char(line + i)) {
+            free(line);
+            return NULL;
+        }
     return line;
 }
 

@@ -354,7 +354,9 @@ static void cell_looks(struct run *run)
             snprintf(label, SP_VIEW_TEXT_BYTES, "%s", all[i]->name);
         sp_look_of(all[i], &run->looks[i]);
         if (!run->looks[i].view.title[0])
-            snprintf(run->looks[i].view.title, sizeof(run->looks[i].view.title), "%s", label);
+            run->looks[i].view.title = label, /* run->labels: lives as long as the looks */
+            run->looks[i].view.title_where = "side by side: a cell's label (the keys in which "
+                                             "its scene differs; it has no view.title)";
     }
     for (int i = 0; i < n; i++)
         free(text[i]);

@@ -176,7 +176,7 @@ ok(r.returncode == 2 and f"{long_scene}:5: [view] title and {long_scene}:6: [vie
    f"({r.stderr.strip()[-300:]})")
 r = run("still", os.path.join(root, "scenes", "default.ini"), "--set", "view.caption=" + "Wort " * 2000,
         "-o", p("long.png"))
-ok(r.returncode == 2 and "--set view.caption: the title and caption wrap to 0 + " in r.stderr
+ok(r.returncode == 2 and "--set view.caption: the title and caption cannot fit: they wrap to 0 + " in r.stderr
    and not os.path.exists(p("long.png")),
    f"a 10 kB caption that cannot fit is refused, naming --set view.caption ({r.stderr.strip()[-200:]})")
 still("fade.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.panels=phase")

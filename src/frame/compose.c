@@ -266,7 +266,7 @@ static int wrap_texts(struct sp_composer *r)
                        r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL);
     if (text_h > r->height / 2) {
         /* both named when both are set: either may be the one to shorten */
-        sp_log_error("%s%s%s: the title and caption wrap to %d + %d lines at %.0f px wide, "
+        sp_log_error("%s%s%s: the title and caption cannot fit: they wrap to %d + %d lines at %.0f px wide, "
                      "%d px of the frame's %d; allowed: at most half the height (%d px); "
                      "shorten them, use a smaller font_size or font_scale, or a larger frame",
                      v->title[0] ? title : "", v->title[0] && v->caption[0] ? " and " : "",

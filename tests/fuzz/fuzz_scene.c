@@ -63,10 +63,15 @@ static void check_accepted(const struct sp_scene *s)
           (s->view.trail == SP_TRAIL_DURATION && s->view.trail_duration > 0 &&
            s->view.trail_duration <= 1e6));
     CHECK(s->view.font_scale >= 0.25 && s->view.font_scale <= 4);
-    /* title and caption: the scene's own heap copies, or "" */
-    CHECK(s->view.title && s->view.caption &&
-          (s->view.title[0] ? s->view.title == s->texts[0] : !s->texts[0]) &&
-          (s->view.caption[0] ? s->view.caption == s->texts[1] : !s->texts[1]));
+    /* title and caption: in the scene's own heap blocks, after where they
+     * were set ("FILE:LINE" or "--set view.KEY"), or "" */
+    const char *text[2] = {s->view.title, s->view.caption};
+    const char *where[2] = {s->view.title_where, s->view.caption_where};
+    for (int i = 0; i < 2; i++)
+        CHECK(text[i] && where[i] &&
+              (text[i][0] ? where[i] == s->texts[i] && where[i][0] &&
+                            text[i] == where[i] + strlen(where[i]) + 1
+                          : !s->texts[i] && !where[i][0]));
     CHECK(s->name[sizeof(s->name) - 1] == 0);
     CHECK(s->ensemble.count >= 0 && s->ensemble.count <= 10000);
     CHECK(s->ensemble.spread > 0 && s->ensemble.spread <= 1e12);

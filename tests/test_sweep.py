@@ -369,6 +369,11 @@ def damages(text, measure):
            "a comment line": "# springpend\n" + text}
     for bad in ("nan", "inf", "-inf", "0x1p-2", " 1", "1e999"):
         out[f"value {bad!r}"] = text.replace(lines[first], ",".join(cells[:-1] + [bad]) + "\n", 1)
+    # finite decimals that printf's %g and %f never write: an edit, even with
+    # the SHA-256 recomputed (attacker's pass 2, finding 13)
+    for bad in ("+0.5", ".5", "-0", "5.", "1E5", "1e5", "05", "1e+5"):
+        out[f"value in a form springpend never writes {bad!r}"] = text.replace(
+            lines[first], ",".join(cells[:-1] + [bad]) + "\n", 1)
     out["key value edited"] = text.replace(lines[first], ",".join([cells[0], cells[1] + "5"] + cells[2:]) + "\n", 1)
     out["point out of the shard"] = text.replace(lines[first], ",".join(["999"] + cells[1:]) + "\n", 1)
     if measure == "lyapunov":

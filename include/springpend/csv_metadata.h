@@ -36,6 +36,9 @@ struct sp_csv_meta {
     const char *title;                 /* dc:title */
     const char *description;           /* dc:description; NULL = none */
     const struct sp_scene *scene;      /* dc:source */
+    const struct sp_scene *more;       /* side by side: scenes 2 .. 1 + n_more;
+                                          dc:source is then an array of them all */
+    int n_more;
     const char *const *overrides;      /* prov:used */
     int n_overrides;
     const struct sp_csv_column *columns;
@@ -55,8 +58,15 @@ struct sp_csv_meta {
 int sp_csv_metadata_write(struct sp_outfile *f, const char *csv_target,
                           const struct sp_csv_meta *m);
 
+/* The most bytes of metadata read: what springpend writes is a few KiB
+ * plus the scene (at most SP_PROVENANCE_SCENE_MAX, 256 KiB, up to six
+ * bytes a character once escaped). */
+#define SP_CSV_METADATA_MAX (2u << 20)
+
 /* Reads csv_path + SP_CSV_METADATA_SUFFIX: a JSON object (jansson's
- * json_t; json_decref it), or NULL after "FILE:LINE: what is wrong". */
+ * json_t; json_decref it), or NULL after "FILE:LINE: what is wrong". A
+ * FIFO, device or folder there is refused at once, and a file over
+ * SP_CSV_METADATA_MAX unread (infile.h). */
 struct json_t *sp_csv_metadata_load(const char *csv_path);
 
 #endif

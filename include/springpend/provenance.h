@@ -34,6 +34,10 @@
  * inflates no text chunk beyond 256 KiB (png_io.c). A scene whose text is
  * longer is refused (sp_provenance_init), never recorded empty. */
 #define SP_PROVENANCE_SCENE_MAX (256 * 1024)
+/* A side-by-side output (2 to 4 scenes) records each: the first as
+ * springpend.scene-file, scene K as springpend.scene-file.K (K = 2..4),
+ * after the overlay chunk. */
+#define SP_PROVENANCE_MAX_SCENES 4
 
 struct sp_provenance {
     char software[32];
@@ -46,7 +50,12 @@ struct sp_provenance {
     char fonts[1024];      /* font files, ", "-separated: the caller fills it
                               (sp_render_fonts) before the first image */
     char overlay[1024];    /* sp_render_overlay's text: the caller fills it */
-    struct sp_png_text text[SP_PROVENANCE_N_TEXT + 1]; /* point into the above */
+    char *more_files[SP_PROVENANCE_MAX_SCENES - 1]; /* side by side: scenes 2..,
+                                                        sp_scene_write_ini: malloc'd */
+    char more_keys[SP_PROVENANCE_MAX_SCENES - 1][48]; /* "springpend.scene-file.K" */
+    int n_more;            /* scenes added with sp_provenance_add_scene */
+    struct sp_png_text text[SP_PROVENANCE_N_TEXT + SP_PROVENANCE_MAX_SCENES]; /* point
+                              into the above: the 8, the overlay, scenes 2.. */
 };
 
 /* Hashes the scene and fills every chunk (time 0). renderer and gl_version
@@ -55,6 +64,14 @@ struct sp_provenance {
  * bytes or more. Free with sp_provenance_free, whatever it returned. */
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
                        const char *renderer, const char *gl_version);
+
+/* Records one more scene of a side-by-side output (the second, third,
+ * fourth) as text[SP_PROVENANCE_N_TEXT + 1 + k], key
+ * springpend.scene-file.K: the output then carries
+ * SP_PROVENANCE_N_TEXT + 1 + p->n_more chunks (the overlay's among them).
+ * 0, SP_E_NOMEM, or SP_E_INPUT (logged) for a fifth scene or a text of
+ * SP_PROVENANCE_SCENE_MAX bytes or more. */
+int sp_provenance_add_scene(struct sp_provenance *p, const struct sp_scene *scene);
 
 /* Frees the scene texts; safe on a zeroed or freed p. */
 void sp_provenance_free(struct sp_provenance *p);

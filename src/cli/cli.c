@@ -2,6 +2,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -89,6 +90,19 @@ static int paper_given(const char *arg)
         if ((n >= 2 && !strncmp(arg + n - 2, paper_units[u].name, 2)) ||
             (all >= 2 && !strcmp(arg + all - 2, paper_units[u].name)))
             return 1;
+    return 0;
+}
+
+int sp_cli_png_pixels(double w_pt, double h_pt, double dpi, const char *what, int *w, int *h)
+{
+    const double pw = round(w_pt * dpi / 72), ph = round(h_pt * dpi / 72);
+    if (!(pw >= 16 && ph >= 16 && pw <= 7680 && ph <= 4320)) {
+        sp_log_error("--size %.4g x %.4g in at %g dpi: %.0fx%.0f px; %s is 16x16 to "
+                     "7680x4320 px: lower --dpi or the size", w_pt / 72, h_pt / 72, dpi, pw, ph,
+                     what);
+        return SP_E_INPUT;
+    }
+    *w = (int)pw, *h = (int)ph;
     return 0;
 }
 

@@ -56,6 +56,21 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv,
  * (sp_cli_refuse, naming opt). */
 int sp_cli_paper_size(const char *opt, const char *arg, double *w_pt, double *h_pt);
 
+/* Checks that text (len bytes), recorded in path under key (a PNG's text
+ * chunk, a video's tag, a CSV metadata's dc:source), is a scene as
+ * springpend writes it: under SP_PROVENANCE_SCENE_MAX bytes, no NUL, read
+ * by the scene parser without a word (UTF-8, no control bytes, no key
+ * twice, every value in range) and written back by sp_scene_write_ini byte
+ * for byte. Anything else was forged or damaged. 0, or SP_E_INPUT after
+ * "PATH: KEY:LINE: what" (cli_scene.c). */
+int sp_cli_scene_check(const char *path, const char *key, const char *text, size_t len);
+
+/* The pixels of a PNG of w_pt x h_pt pt at dpi dots per inch, into *w and
+ * *h (rounded). A PNG springpend draws is 16x16 to 7680x4320 px, as its
+ * frames are; beyond that, SP_E_INPUT after "--size W x H in at DPI dpi:
+ * WxH px; WHAT is 16x16 to 7680x4320 px: lower --dpi or the size". */
+int sp_cli_png_pixels(double w_pt, double h_pt, double dpi, const char *what, int *w, int *h);
+
 /* Turns --frames / --shard into frames [*first, *last) of a video of
  * n_frames (*last = 0: to the end). */
 int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,

@@ -233,7 +233,8 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
 
 /* NAME.csv-metadata.json's .part for the CSV at out (none for a stream):
  * the columns the rows have (an ensemble's: t, member, its key, x, y, vx,
- * vy), the scene and the command. */
+ * vy), the scene and the command. sc: the several (1 .. 4) scenes, side
+ * by side, each recorded in dc:source. */
 static int write_metadata(struct sp_outfile *meta, const char *out,
                           const struct sp_cli_options *o, const struct sp_scene *sc, int several,
                           int spatial)
@@ -248,7 +249,8 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
     };
     struct sp_csv_column all[1 + N_OF(sample_columns) + N_OF(spatial_columns)];
     struct sp_csv_meta m = {.scene = sc, .overrides = o->overrides,
-                            .n_overrides = o->n_overrides};
+                            .n_overrides = o->n_overrides,
+                            .more = sc + 1, .n_more = several - 1}; /* side by side: all */
     if (o->poincare) {
         m.title = "springpend data --poincare: the Poincare section's crossings";
         m.columns = crossing_columns, m.n_columns = N_OF(crossing_columns);
@@ -258,14 +260,14 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
     } else {
         struct sp_sim sim; /* spatial or not, as write_samples will find */
         sp_sim_init(&sim, sc);
-        if (several) /* side by side: each scene's rows in turn */
+        if (several > 1) /* side by side: each scene's rows in turn */
             all[m.n_columns++] = (struct sp_csv_column){
                 "scene", "the scene file's name without .ini (the scene's rows follow in turn)", "1"};
         for (int i = 0; i < N_OF(sample_columns); i++)
             all[m.n_columns++] = sample_columns[i];
         for (int i = 0; (sim.spatial || spatial) && i < N_OF(spatial_columns); i++)
             all[m.n_columns++] = spatial_columns[i];
-        m.title = several ? "springpend data: several scenes' motions, each scene's rows in turn "
+        m.title = several > 1 ? "springpend data: several scenes' motions, each scene's rows in turn "
                             "(the scene described is the first)"
                           : "springpend data: the motion, one row per sample";
         m.columns = all;
@@ -377,7 +379,7 @@ int sp_cmd_data(int argc, char **argv)
     int through = f.through;
     struct sp_outfile meta = {.fd = -1, .slot = -1};
     if (!ret)
-        ret = write_metadata(&meta, out, &o, sc0, o.n_scenes > 1, spatial);
+        ret = write_metadata(&meta, out, &o, scenes, o.n_scenes, spatial);
     if (!ret) /* the metadata first: when the CSV appears, it is there */
         ret = sp_outfile_commit(&meta);
     if (!ret)

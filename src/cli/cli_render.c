@@ -289,19 +289,16 @@ static int paper_still(const struct sp_cli_options *o, struct sp_scene *scene, c
     pd->page_h = o->paper_h > 0 ? o->paper_h
                                 : o->paper_w * scene->video.height / scene->video.width;
     pd->pt_px = vector ? VECTOR_PX_PER_PT : (o->dpi ? o->dpi : PNG_DPI_DEFAULT) / 72;
-    const double w = round(pd->page_w * pd->pt_px), h = round(pd->page_h * pd->pt_px);
-    if (!vector && (w > 7680 || h > 4320 || w < 16 || h < 16)) {
-        sp_log_error("--size %.4g x %.4g in at %g dpi: %.0fx%.0f px; a PNG still is 16x16 to "
-                     "7680x4320 px: lower --dpi or the size", pd->page_w / 72, pd->page_h / 72,
-                     pd->pt_px * 72, w, h);
+    int w = (int)round(pd->page_w * pd->pt_px), h = (int)round(pd->page_h * pd->pt_px);
+    if (!vector && sp_cli_png_pixels(pd->page_w, pd->page_h, pd->pt_px * 72, "a PNG still", &w,
+                                     &h))
         return SP_E_INPUT;
-    }
     if (h < 16) {
         sp_log_error("--size: the height the scene's aspect gives, %.3g pt, is too small; give "
                      "WIDTHxHEIGHT", pd->page_h);
         return SP_E_INPUT;
     }
-    scene->video.width = (int)w, scene->video.height = (int)h;
+    scene->video.width = w, scene->video.height = h;
     return 0;
 }
 

@@ -7,6 +7,7 @@
 #include <strings.h>
 
 #include "cli.h"
+#include "decimal.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/png_io.h"
@@ -14,7 +15,7 @@
 #include "springpend/video_read.h"
 
 static const char scene_usage[] =
-    "usage: springpend scene FILE\n"
+    "usage: springpend scene FILE [--cell K]\n"
     "\n"
     "Prints the scene FILE was made from, as a scene file: every key under its\n"
     "[section] in user units (angles in degrees, names rather than codes), with\n"
@@ -22,7 +23,13 @@ static const char scene_usage[] =
     "(its springpend.scene-file text), an MP4, WebM or GIF (the same, as a\n"
     "metadata tag) or a CSV (dc:source in FILE-metadata.json beside it).\n"
     "Written to SCENE.ini under the scene's own file name, the recorded command\n"
-    "(CSV: prov:wasGeneratedBy in the metadata) run again gives the same bytes.\n";
+    "(CSV: prov:wasGeneratedBy in the metadata) run again gives the same bytes.\n"
+    "A side-by-side output (2 to 4 scenes) carries each of them: all are\n"
+    "printed, each after a line '; scene K of N', or with --cell K the K-th\n"
+    "alone, as a scene file.\n"
+    "What FILE carries is checked before it is printed: it must be a scene as\n"
+    "springpend writes one (read back by the scene parser and written again,\n"
+    "byte for byte), else it is refused, FILE: KEY:LINE, exit 2.\n";
 
 static int ends_with(const char *s, const char *tail)
 {
@@ -30,29 +37,127 @@ static int ends_with(const char *s, const char *tail)
     return n > m && !strcasecmp(s + n - m, tail);
 }
 
+/* The key of cell k's scene text (1-based): the first's is
+ * SP_PROVENANCE_SCENE_FILE, the others' carry ".K" (provenance.h). */
+static void cell_key(int k, char key[64])
+{
+    if (k == 1)
+        snprintf(key, 64, "%s", SP_PROVENANCE_SCENE_FILE);
+    else
+        snprintf(key, 64, "%s.%d", SP_PROVENANCE_SCENE_FILE, k);
+}
+
+int sp_cli_scene_check(const char *path, const char *key, const char *text, size_t len)
+{
+    char origin[4200];
+    struct sp_scene sc;
+    snprintf(origin, sizeof(origin), "%s: %s", path, key);
+    if (!len) {
+        sp_log_error("%s: empty; an output of springpend records its scene there", origin);
+        return SP_E_INPUT;
+    }
+    if (len >= SP_PROVENANCE_SCENE_MAX) {
+        sp_log_error("%s: %zu bytes; springpend records at most %d", origin, len,
+                     SP_PROVENANCE_SCENE_MAX - 1);
+        return SP_E_INPUT;
+    }
+    if (strlen(text) != len) {
+        sp_log_error("%s: a NUL byte at %zu; a scene holds none", origin, strlen(text));
+        return SP_E_INPUT;
+    }
+    sp_scene_defaults(&sc);
+    int ret = sp_scene_parse(&sc, text, origin, NULL, 0);
+    char *again = ret ? NULL : sp_scene_ini(&sc);
+    sp_scene_free(&sc);
+    if (ret)
+        return SP_E_INPUT; /* the parser said what and where */
+    if (!again) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    if (strcmp(again, text)) {
+        int line = 1;
+        for (size_t i = 0; text[i] && text[i] == again[i]; i++)
+            line += text[i] == '\n';
+        sp_log_error("%s:%d: not as springpend writes the scene (its keys in order, under "
+                     "their [section], one each); the record was edited or made elsewhere",
+                     origin, line);
+        ret = SP_E_INPUT;
+    }
+    free(again);
+    return ret;
+}
+
+/* Prints scene k of n (1-based): with a heading when all of several are. */
+static void print_scene(const char *text, int k, int n, int all)
+{
+    if (all && n > 1)
+        printf("%s; scene %d of %d (side by side, cell %d)\n", k > 1 ? "\n" : "", k, n, k);
+    fputs(text, stdout);
+}
+
+/* The scenes of a CSV: dc:source in its metadata, one string, or an array
+ * of 2 to 4 (side by side). */
+static int scene_of_csv(const char *path, int cell)
+{
+    json_t *meta = sp_csv_metadata_load(path);
+    if (!meta)
+        return SP_E_INPUT;
+    json_t *src = json_object_get(meta, "dc:source");
+    int n = json_is_array(src) ? (int)json_array_size(src) : json_is_string(src) ? 1 : 0;
+    int ret = 0;
+    if (!n || (json_is_array(src) && (n < 2 || n > SP_PROVENANCE_MAX_SCENES))) {
+        sp_log_error("%s" SP_CSV_METADATA_SUFFIX ":1: dc:source: %s; springpend writes the "
+                     "scene there, a string (or 2 to %d strings, side by side)", path,
+                     src ? "not a string, nor 2 to 4 strings" : "missing", SP_PROVENANCE_MAX_SCENES);
+        ret = SP_E_INPUT;
+    }
+    if (!ret && cell > n) {
+        sp_log_error("--cell %d: %s holds %d scene%s", cell, path, n, n == 1 ? "" : "s");
+        ret = SP_E_INPUT;
+    }
+    for (int k = 1; !ret && k <= n; k++) {
+        json_t *t = json_is_array(src) ? json_array_get(src, (size_t)k - 1) : src;
+        char key[64];
+        snprintf(key, sizeof(key), n > 1 ? "dc:source[%d]" : "dc:source", k - 1);
+        if (!json_is_string(t)) {
+            sp_log_error("%s" SP_CSV_METADATA_SUFFIX ":1: %s: not a string", path, key);
+            ret = SP_E_INPUT;
+        } else {
+            ret = sp_cli_scene_check(path, key, json_string_value(t), json_string_length(t));
+        }
+    }
+    for (int k = 1; !ret && k <= n; k++)
+        if (!cell || cell == k)
+            print_scene(json_string_value(json_is_array(src) ? json_array_get(src, (size_t)k - 1)
+                                                            : src), k, n, !cell);
+    json_decref(meta);
+    return ret;
+}
+
 int sp_cmd_scene(int argc, char **argv)
 {
+    int cell = 0;
     if (argc == 2 && (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help"))) {
         fputs(scene_usage, stdout);
         return 0;
     }
+    if (argc == 4 && !strcmp(argv[2], "--cell")) {
+        double v;
+        if (sp_cli_number("--cell", argv[3], 1, SP_PROVENANCE_MAX_SCENES, SP_DECIMAL_INTEGER,
+                          "a side-by-side cell, an integer from 1 to 4", &v))
+            return SP_E_INPUT;
+        cell = (int)v;
+        argc = 2;
+    }
     if (argc != 2 || argv[1][0] == '-') {
-        sp_log_error("expected one FILE (a PNG, video or CSV springpend wrote); see "
-                     "'springpend scene --help'");
+        sp_log_error("expected one FILE (a PNG, video or CSV springpend wrote) and perhaps "
+                     "--cell K; see 'springpend scene --help'");
         return SP_E_INPUT;
     }
     const char *path = argv[1];
-    if (ends_with(path, ".csv")) {
-        json_t *meta = sp_csv_metadata_load(path);
-        const char *text = meta ? json_string_value(json_object_get(meta, "dc:source")) : NULL;
-        if (meta && !text)
-            sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": no dc:source (the scene); expected "
-                         "the metadata springpend writes beside a CSV", path);
-        if (text)
-            fputs(text, stdout);
-        json_decref(meta);
-        return text ? 0 : SP_E_INPUT;
-    }
+    if (ends_with(path, ".csv"))
+        return scene_of_csv(path, cell);
     static const char *const videos[] = {".mp4", ".m4v", ".mov", ".webm", ".mkv", ".gif"};
     int video = 0;
     for (size_t i = 0; i < sizeof(videos) / sizeof(videos[0]); i++)
@@ -62,22 +167,36 @@ int sp_cmd_scene(int argc, char **argv)
                      "the scene is read from what springpend wrote", path);
         return SP_E_INPUT;
     }
-    char *text = malloc(SP_PROVENANCE_SCENE_MAX);
-    if (!text) {
-        sp_log_error("out of memory");
-        return SP_E_NOMEM;
+    char *texts[SP_PROVENANCE_MAX_SCENES] = {0};
+    int n = 0, found = 1;
+    for (int k = 1; k <= SP_PROVENANCE_MAX_SCENES && found == 1; k++) {
+        char key[64];
+        cell_key(k, key);
+        if (!(texts[k - 1] = malloc(SP_PROVENANCE_SCENE_MAX))) {
+            sp_log_error("out of memory");
+            found = SP_E_NOMEM;
+            break;
+        }
+        found = !video ? sp_png_read_text(path, key, texts[k - 1], SP_PROVENANCE_SCENE_MAX)
+                       : sp_video_read_text(path, key, texts[k - 1], SP_PROVENANCE_SCENE_MAX);
+        if (found == 1 && (n = k, sp_cli_scene_check(path, key, texts[k - 1],
+                                                  strlen(texts[k - 1]))))
+            found = SP_E_INPUT;
     }
-    int found = !video
-                    ? sp_png_read_text(path, SP_PROVENANCE_SCENE_FILE, text, SP_PROVENANCE_SCENE_MAX)
-                    : sp_video_read_text(path, SP_PROVENANCE_SCENE_FILE, text,
-                                         SP_PROVENANCE_SCENE_MAX);
-    if (found == 1 && !text[0])
-        found = 0; /* an empty record is no scene (an older springpend's long scenes) */
-    if (found == 1)
-        fputs(text, stdout);
-    else if (found == 0)
+    int ret = found < 0 ? found : 0;
+    if (!ret && !n) {
         sp_log_error("%s carries no scene (no %s text); springpend's PNGs, videos and CSVs "
                      "do (an older springpend's do not)", path, SP_PROVENANCE_SCENE_FILE);
-    free(text);
-    return found == 1 ? 0 : found == 0 ? SP_E_INPUT : found;
+        ret = SP_E_INPUT;
+    }
+    if (!ret && cell > n) {
+        sp_log_error("--cell %d: %s holds %d scene%s", cell, path, n, n == 1 ? "" : "s");
+        ret = SP_E_INPUT;
+    }
+    for (int k = 1; !ret && k <= n; k++)
+        if (!cell || cell == k)
+            print_scene(texts[k - 1], k, n, !cell);
+    for (int k = 0; k < SP_PROVENANCE_MAX_SCENES; k++)
+        free(texts[k]);
+    return ret;
 }

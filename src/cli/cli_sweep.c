@@ -21,6 +21,7 @@
 #include "signals.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
+#include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
@@ -272,6 +273,12 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
         sp_log_error("--size is the figure's printed size: give -o FIGURE.png|.svg|.pdf");
         return SP_E_INPUT;
     }
+    int png_w, png_h; /* a PNG of printed size: as many pixels as a still may have */
+    if (o->style.page_w && o->output && strlen(o->output) > 4 &&
+        !strcasecmp(o->output + strlen(o->output) - 4, ".png") &&
+        sp_cli_png_pixels(o->style.page_w, o->style.page_h, o->style.dpi ? o->style.dpi : 300,
+                          "a PNG figure", &png_w, &png_h))
+        return SP_E_INPUT;
     if (o->output && !strcmp(o->output, "-")) { /* the numbers, no figure */
         o->output = NULL;
         if (!o->format)
@@ -446,14 +453,15 @@ static int open_rows(FILE **fp)
 
 /* The figure from the rows (through the module: cairo is loaded only here). */
 static int draw(FILE *rows, const char *rows_name, const char *figure,
-                const struct sp_plot_style *style, struct sp_dirs *made)
+                const struct sp_plot_style *style, struct sp_dirs *made, struct sp_outfile *out)
 {
-    int (*plot)(FILE *, const char *, const char *, const struct sp_plot_style *);
+    int (*plot)(FILE *, const char *, const char *, const struct sp_plot_style *,
+                struct sp_outfile *);
     *(void **)&plot = sp_module_symbol("springpend-plot.so", "sweep figures", "sp_sweep_plot");
     if (!plot)
         return SP_E_IO;
     int ret = sp_outfile_is_stream(figure) ? 0 : sp_dirs_make(figure, made);
-    return ret ? ret : plot(rows, rows_name, figure, style);
+    return ret ? ret : plot(rows, rows_name, figure, style, out);
 }
 
 /* The [view] keys a sweep's figure uses; the sections its grid does. */
@@ -568,19 +576,22 @@ static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
     return ret;
 }
 
-/* Flushes the rows, draws, prints, writes --csv and its metadata; on
- * failure removes the folders made (made[0]: the CSV's, made[1]: the
- * figure's) that are left empty. Closes fp. */
+/* Flushes the rows, draws, prints, writes --csv and its metadata, and
+ * only then puts the figure in place: a run that fails (a full disk under
+ * the CSV) leaves no figure. On failure removes the folders made
+ * (made[0]: the CSV's, made[1]: the figure's) that are left empty. Closes
+ * fp. */
 static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct provenance *pv,
                   struct sp_dirs made[2])
 {
     const char *name = "the sweep's rows";
+    struct sp_outfile figure = {.fd = -1, .slot = -1};
     if (!ret && fflush(fp) != 0) {
         sp_log_error("cannot write %s: %s", name, strerror(errno));
         ret = SP_E_IO;
     }
     if (!ret && o->output)
-        ret = draw(fp, o->csv ? o->csv : name, o->output, &o->style, &made[1]);
+        ret = draw(fp, o->csv ? o->csv : name, o->output, &o->style, &made[1], &figure);
     if (!ret && !o->quiet)
         sp_sweep_print_legend(fp, stderr); /* a basin map's attractors */
     if (!ret && o->format) {
@@ -594,6 +605,9 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         ret = SP_E_INTERRUPTED;
     if (!ret && o->csv)
         ret = write_csv(fp, o->csv, pv, &made[0]);
+    if (!ret && figure.target)
+        ret = sp_outfile_commit(&figure);
+    sp_outfile_discard(&figure);
     fclose(fp);
     if (ret) {
         sp_dirs_remove_empty(&made[1]);
@@ -784,27 +798,18 @@ static int check_rows(struct shard *s, const char *columns, const struct sp_swee
     return 0;
 }
 
-/* Opens a shard for reading: a regular file only. A FIFO would block the
- * merge until a writer comes, a device would never end; both are refused
- * without waiting (O_NONBLOCK). NULL after a message. */
+/* Opens a shard for reading: a regular file only (infile.h: a FIFO would
+ * block the merge until a writer comes, a device would never end). NULL
+ * after a message. */
 static FILE *open_shard(const char *path)
 {
-    struct stat st;
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-    FILE *fp = NULL;
-    if (fd < 0 || fstat(fd, &st) != 0) {
+    int fd = sp_infile_open(path, "give the CSV files that 'springpend sweep --shard I/N "
+                                  "--csv FILE' wrote");
+    FILE *fp = fd < 0 ? NULL : fdopen(fd, "r");
+    if (fd >= 0 && !fp) {
         sp_log_error("cannot read %s: %s", path, strerror(errno));
-    } else if (!S_ISREG(st.st_mode)) {
-        sp_log_error("%s is %s, not a regular file; give the CSV files that 'springpend "
-                     "sweep --shard I/N --csv FILE' wrote", path,
-                     S_ISDIR(st.st_mode) ? "a folder" : S_ISFIFO(st.st_mode) ? "a FIFO"
-                     : "a device or socket");
-    } else if (fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK) != 0 ||
-               !(fp = fdopen(fd, "r"))) {
-        sp_log_error("cannot read %s: %s", path, strerror(errno));
-    }
-    if (!fp && fd >= 0)
         close(fd);
+    }
     return fp;
 }
 
@@ -837,18 +842,25 @@ static int merge(const struct sweep_opts *o)
             char *text = NULL;
             size_t size = 0;
             FILE *mem = open_memstream(&text, &size);
+            /* as springpend writes it, word for word, and in the ranges
+             * its options allow: a forged "time=1e300" is refused */
             if (sp_sweep_parse_header(header, &d) || !mem ||
                 sp_sweep_write_header(mem, &d, NULL) || fclose(mem) != 0 ||
-                !strchr(text, '\n')) {
-                sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": dc:description is not a sweep's "
-                             "description", s->path);
+                !strchr(text, '\n') ||
+                strncmp(text, header, strlen(header)) || text[strlen(header)] != '\n' ||
+                !(d.time > 0 && d.time <= 1e7) || !(d.transient >= 0 && d.transient <= DBL_MAX) ||
+                !isfinite(d.energy) || !(d.dt >= 0 && d.dt <= DBL_MAX)) {
+                sp_log_error("%s" SP_CSV_METADATA_SUFFIX ":1: dc:description is not a sweep's "
+                             "description as springpend writes it (its words in order, "
+                             "numbers as %%.17g, 0 < time <= 1e7, transient >= 0)", s->path);
                 free(text);
                 ret = SP_E_INPUT;
                 break;
             }
             snprintf(columns, sizeof(columns), "%s", strchr(text, '\n') + 1);
             free(text);
-            if (sp_scene_parse(&scene, s->scene, s->path, NULL, 0)) {
+            if (sp_cli_scene_check(s->path, "dc:source", s->scene, strlen(s->scene)) ||
+                sp_scene_parse(&scene, s->scene, s->path, NULL, 0)) {
                 ret = SP_E_INPUT;
                 break;
             }

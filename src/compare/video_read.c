@@ -10,7 +10,10 @@
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 
+#include <unistd.h>
+
 #include "springpend/common.h"
+#include "springpend/infile.h"
 #include "springpend/video_read.h"
 
 struct sp_video_reader {
@@ -156,12 +159,32 @@ int sp_video_read_text(const char *path, const char *key, char *buf, size_t size
 {
     AVFormatContext *fmt = NULL;
     const AVDictionaryEntry *e;
-    int found = 0;
-    if (avformat_open_input(&fmt, path, NULL, NULL) < 0)
+    char name[32];
+    int found = 0, ret;
+    /* a regular file only: FFmpeg would wait on a FIFO for ever (infile.h);
+     * it opens the file checked, through the descriptor, not the name again */
+    int fd = sp_infile_open(path, "a video must be a file");
+    if (fd < 0)
+        return fd;
+    snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
+    ret = avformat_open_input(&fmt, access(name, R_OK) ? path : name, NULL, NULL);
+    close(fd);
+    if (ret < 0) {
+        sp_log_error("%s: cannot read it as a video: %s", path, av_err2str(ret));
         return SP_E_INPUT;
+    }
     if ((e = av_dict_get(fmt->metadata, key, NULL, 0)) != NULL) {
-        snprintf(buf, size, "%s", e->value);
         found = 1;
+        if (av_dict_get(fmt->metadata, key, e, 0)) {
+            sp_log_error("%s: the tag %s is there twice; springpend writes it once", path, key);
+            found = SP_E_INPUT;
+        } else if (strlen(e->value) >= size) {
+            sp_log_error("%s: the tag %s holds %zu bytes; at most %zu are read", path, key,
+                         strlen(e->value), size - 1);
+            found = SP_E_INPUT;
+        } else {
+            memcpy(buf, e->value, strlen(e->value) + 1);
+        }
     }
     avformat_close_input(&fmt);
     return found;

@@ -449,6 +449,10 @@ static int run_setup(struct run *run)
     if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r),
                                                  sp_render_gl_version(run->r))) != 0)
         return ret;
+    for (int i = 0; !ret && i < run->n_more; i++) /* side by side: every scene */
+        ret = sp_provenance_add_scene(&run->prov, run->more[i].sc);
+    if (ret)
+        return ret;
     return sp_sink_open(&run->sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = run->first,
@@ -456,8 +460,8 @@ static int run_setup(struct run *run)
         .png_level = sc->video.png_level, .dpi = desc->pt_px * 72,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),
         .text = run->prov.text,
-        .n_text = SP_PROVENANCE_N_TEXT + (run->n_more || sc->view.vectors ||
-                                          sc->view.panels & SP_PANEL_ENERGY_BARS)});
+        .n_text = SP_PROVENANCE_N_TEXT + run->n_more +
+                  (run->n_more || sc->view.vectors || sc->view.panels & SP_PANEL_ENERGY_BARS)});
 }
 
 /* The sim, trail, histories and ensemble to t_target, s; the sim's blow-up

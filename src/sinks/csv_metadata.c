@@ -11,6 +11,7 @@
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/environment.h"
+#include "springpend/infile.h"
 
 /* A JSON string of s, which JSON holds to UTF-8: a byte that is not
  * (a file name in Latin-1) becomes U+FFFD. NULL when out of memory. */
@@ -49,6 +50,24 @@ static int add_command(json_t *obj)
     return err ? SP_E_NOMEM : 0;
 }
 
+/* dc:source of a side-by-side CSV: every scene's text, first to last
+ * (NULL when out of memory). */
+static json_t *sources(const char *first, const struct sp_csv_meta *m)
+{
+    json_t *all = json_array();
+    int err = !all || json_array_append_new(all, text(first));
+    for (int i = 0; !err && i < m->n_more; i++) {
+        char *ini = sp_scene_ini(&m->more[i]);
+        err = !ini || json_array_append_new(all, text(ini));
+        free(ini);
+    }
+    if (err) {
+        json_decref(all);
+        return NULL;
+    }
+    return all;
+}
+
 static json_t *build(const char *csv_target, const struct sp_csv_meta *m)
 {
     const char *base = strrchr(csv_target, '/');
@@ -76,7 +95,7 @@ static json_t *build(const char *csv_target, const struct sp_csv_meta *m)
           json_object_set_new(root, "dc:creator", json_string("springpend " SP_VERSION)) ||
           json_object_set_new(root, "schema:softwareVersion", json_string(SP_VERSION)) ||
           add_command(root) || json_object_set(root, "prov:used", used) ||
-          json_object_set_new(root, "dc:source", text(scene)) ||
+          json_object_set_new(root, "dc:source", m->n_more ? sources(scene, m) : text(scene)) ||
           json_object_set_new(root, "schema:runtimePlatform", text(env)) ||
           (m->shard && (json_object_set_new(root, "schema:position", json_string(m->shard)) ||
                         json_object_set_new(root, "dc:extent", json_integer(m->rows)) ||
@@ -133,23 +152,30 @@ int sp_csv_metadata_write(struct sp_outfile *f, const char *csv_target,
 json_t *sp_csv_metadata_load(const char *csv_path)
 {
     json_error_t e;
-    char *path = NULL;
+    char *path = NULL, *bytes = NULL;
+    size_t size = 0;
     if (asprintf(&path, "%s" SP_CSV_METADATA_SUFFIX, csv_path) < 0) {
         sp_log_error("out of memory");
         return NULL;
     }
-    json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &e);
-    if (!root && e.line < 1) /* not read at all: the cause is the message */
-        sp_log_error("%s: %s; springpend writes it beside %s (sweep --shard I/N --csv FILE)",
-                     path, e.text, csv_path);
-    else if (!root)
-        sp_log_error("%s:%d: %s; springpend writes it beside %s", path, e.line, e.text,
-                     csv_path);
-    else if (!json_is_object(root)) {
+    /* a regular file, bounded: a FIFO there must not hang the reader, nor
+     * a forged file of gigabytes fill its memory */
+    json_t *root = NULL;
+    if (access(path, F_OK) != 0 && errno == ENOENT)
+        sp_log_error("%s: no such file; springpend writes it beside every CSV file it writes "
+                     "(data, sweep --csv), and reads the scene and the columns from it",
+                     path);
+    else if (!sp_infile_read(path, SP_CSV_METADATA_MAX, "the metadata springpend writes beside "
+                             "a CSV is a file", &bytes, &size) &&
+             !(root = json_loadb(bytes, size, JSON_REJECT_DUPLICATES, &e)))
+        sp_log_error("%s:%d: %s; springpend writes it beside %s", path, e.line < 1 ? 1 : e.line,
+                     e.text, csv_path);
+    if (root && !json_is_object(root)) {
         sp_log_error("%s:1: not a JSON object; springpend writes it beside %s", path, csv_path);
         json_decref(root);
         root = NULL;
     }
+    free(bytes);
     free(path);
     return root;
 }

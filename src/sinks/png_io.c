@@ -12,6 +12,7 @@
 
 #include "springpend/common.h"
 #include "springpend/outfile.h"
+#include "springpend/infile.h"
 #include "springpend/png_io.h"
 
 /* Rows are filtered with UP alone: one fixed filter skips libpng's per-row
@@ -54,7 +55,8 @@ struct png_reader {
     png_structp png;
     png_infop info;
     png_bytep *rows;
-    int text_dropped; /* text chunks libpng dropped: beyond the bounds */
+    int text_dropped; /* text chunks libpng dropped: damaged or beyond the bounds */
+    char text_why[128]; /* libpng's words for the first one dropped */
 };
 
 static void on_png_read_error(png_structp png, png_const_charp msg)
@@ -69,8 +71,10 @@ static void on_png_read_error(png_structp png, png_const_charp msg)
 static void on_png_read_warning(png_structp png, png_const_charp msg)
 {
     struct png_reader *r = png_get_error_ptr(png);
-    if (!strncmp(msg, "tEXt", 4) || !strncmp(msg, "zTXt", 4) || !strncmp(msg, "iTXt", 4))
-        r->text_dropped++;
+    if (!strncmp(msg, "tEXt", 4) || !strncmp(msg, "zTXt", 4) || !strncmp(msg, "iTXt", 4)) {
+        if (!r->text_dropped++)
+            snprintf(r->text_why, sizeof(r->text_why), "%s", msg);
+    }
     else
         sp_log_error("%s: libpng warning: %s", r->path, msg);
 }
@@ -224,26 +228,14 @@ int sp_png_write(const char *path, const struct sp_image *img, int level)
 }
 
 /* Opens path for reading if it is a regular file: a FIFO or a device
- * named *.png must not hang or flood the reader. O_NONBLOCK keeps open()
- * itself from waiting on a FIFO; it is cleared before reading. */
+ * named *.png must not hang or flood the reader (infile.h). */
 static FILE *open_regular(const char *path, int *err)
 {
-    struct stat st;
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    int fd = sp_infile_open(path, "a PNG must be a file");
+    FILE *fp = fd < 0 ? NULL : fdopen(fd, "rb");
     if (fd < 0) {
-        sp_log_error("%s: cannot open: %s", path, strerror(errno));
-        *err = SP_E_IO;
-        return NULL;
-    }
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        sp_log_error("%s: not a regular file; a PNG must be a file", path);
-        close(fd);
-        *err = SP_E_INPUT;
-        return NULL;
-    }
-    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
-    FILE *fp = fdopen(fd, "rb");
-    if (!fp) {
+        *err = fd;
+    } else if (!fp) {
         sp_log_error("%s: cannot open: %s", path, strerror(errno));
         close(fd);
         *err = SP_E_NOMEM;
@@ -254,8 +246,11 @@ static FILE *open_regular(const char *path, int *err)
 static void reader_close(struct png_reader *r)
 {
     if (r->text_dropped)
-        sp_log_error("%s: text chunks not read: beyond %d KiB inflated, or after the %dth",
-                     r->path, TEXT_CHUNK_MAX / 1024, TEXT_CHUNKS_MAX);
+        sp_log_error("%s: %d text chunk%s not read (libpng: %s); a text chunk is read when "
+                     "it is whole (its CRC and zlib stream), at most %d KiB inflated, and "
+                     "among the first %d", r->path, r->text_dropped,
+                     r->text_dropped == 1 ? "" : "s", r->text_why, TEXT_CHUNK_MAX / 1024,
+                     TEXT_CHUNKS_MAX);
     png_destroy_read_struct(&r->png, &r->info, NULL);
     free(r->rows);
     if (r->fp)
@@ -300,8 +295,8 @@ int sp_png_read_info(const char *path, struct sp_png_info *out)
     if (err)
         return err;
     if (setjmp(png_jmpbuf(r->png))) {
-        reader_close(r); /* on_png_error has logged */
-        return SP_E_IO;
+        reader_close(r); /* on_png_error has logged: a damaged PNG is bad input */
+        return SP_E_INPUT;
     }
     png_read_info(r->png, r->info);
     out->width = (int)png_get_image_width(r->png, r->info);
@@ -334,9 +329,9 @@ int sp_png_read(const char *path, struct sp_image *img)
     if (err)
         return err;
     if (setjmp(png_jmpbuf(r->png))) {
-        sp_image_free(img); /* on_png_error has logged */
+        sp_image_free(img); /* on_png_error has logged: a damaged PNG is bad input */
         reader_close(r);
-        return SP_E_IO;
+        return SP_E_INPUT;
     }
     png_read_info(r->png, r->info);
     hdr.width = (int)png_get_image_width(r->png, r->info);
@@ -388,16 +383,33 @@ int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)
     if (ret)
         return ret;
     if (setjmp(png_jmpbuf(r->png))) {
-        reader_close(r); /* on_png_error has logged */
-        return SP_E_IO;
+        reader_close(r); /* on_png_error has logged: a damaged PNG is bad input */
+        return SP_E_INPUT;
     }
     png_read_info(r->png, r->info); /* reads up to the first IDAT */
     n = png_get_text(r->png, r->info, &text, NULL);
-    for (int i = 0; i < n && !ret; i++)
-        if (!strcmp(text[i].key, key)) {
-            snprintf(buf, size, "%s", text[i].text);
+    for (int i = 0; i < n && ret >= 0; i++) {
+        if (strcmp(text[i].key, key))
+            continue;
+        /* an iTXt's length is itxt_length, a tEXt's or zTXt's text_length */
+        size_t len = text[i].compression >= PNG_ITXT_COMPRESSION_NONE ? text[i].itxt_length
+                                                                       : text[i].text_length;
+        if (ret == 1) {
+            sp_log_error("%s: the text %s is there twice; springpend writes it once", path, key);
+            ret = SP_E_INPUT;
+        } else if (strlen(text[i].text) != len) {
+            sp_log_error("%s: the text %s holds a NUL byte at %zu of %zu; springpend writes "
+                         "none", path, key, strlen(text[i].text), len);
+            ret = SP_E_INPUT;
+        } else if (len >= size) {
+            sp_log_error("%s: the text %s holds %zu bytes; at most %zu are read", path, key,
+                         len, size - 1);
+            ret = SP_E_INPUT;
+        } else {
+            memcpy(buf, text[i].text, len + 1);
             ret = 1;
         }
+    }
     reader_close(r);
     return ret;
 }

@@ -33,12 +33,54 @@ void sp_provenance_free(struct sp_provenance *p)
     free(p->scene);
     free(p->scene_file);
     p->scene = p->scene_file = NULL;
+    for (int k = 0; k < p->n_more; k++) {
+        free(p->more_files[k]);
+        p->more_files[k] = NULL;
+    }
+    p->n_more = 0;
+}
+
+/* SP_E_INPUT (logged) when a scene's text is too long to record. */
+static int check_length(size_t n)
+{
+    if (n >= SP_PROVENANCE_SCENE_MAX) {
+        sp_log_error("the scene's text is %zu bytes; an output records at most %d (its "
+                     "provenance): shorten the [timeline]'s captions or titles",
+                     n, SP_PROVENANCE_SCENE_MAX - 1);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+int sp_provenance_add_scene(struct sp_provenance *p, const struct sp_scene *scene)
+{
+    const int k = p->n_more;
+    if (k >= SP_PROVENANCE_MAX_SCENES - 1) {
+        sp_log_error("an output records at most %d scenes", SP_PROVENANCE_MAX_SCENES);
+        return SP_E_INPUT;
+    }
+    char *text = sp_scene_ini(scene);
+    if (!text) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    if (check_length(strlen(text))) {
+        free(text);
+        return SP_E_INPUT;
+    }
+    p->more_files[k] = text;
+    snprintf(p->more_keys[k], sizeof(p->more_keys[k]), "%s.%d", SP_PROVENANCE_SCENE_FILE, k + 2);
+    p->text[SP_PROVENANCE_N_TEXT + 1 + k] =
+        (struct sp_png_text){.key = p->more_keys[k], .text = text, .compressed = 1};
+    p->n_more = k + 1;
+    return 0;
 }
 
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
                        const char *renderer, const char *gl_version)
 {
     p->scene = p->scene_file = NULL;
+    p->n_more = 0;
     int ret = scene_sha256(scene, p->scene_sha256, &p->scene);
     if (ret)
         return ret;
@@ -48,12 +90,8 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
         return SP_E_NOMEM;
     }
     size_t n = strlen(p->scene) > strlen(p->scene_file) ? strlen(p->scene) : strlen(p->scene_file);
-    if (n >= SP_PROVENANCE_SCENE_MAX) {
-        sp_log_error("the scene's text is %zu bytes; an output records at most %d (its "
-                     "provenance): shorten the [timeline]'s captions or titles",
-                     n, SP_PROVENANCE_SCENE_MAX - 1);
+    if (check_length(n))
         return SP_E_INPUT;
-    }
     snprintf(p->software, sizeof(p->software), "springpend " SP_VERSION);
     snprintf(p->renderer, sizeof(p->renderer), "%s", renderer ? renderer : "none");
     sp_provenance_set_time(p, 0);

@@ -32,7 +32,7 @@ static struct sp_png_write_opts png_opts(const struct sp_sink *s)
  * a free job and returns; a writer's failure is returned by a later write
  * or by close. */
 #define PNG_MAX_WRITERS 8
-#define PNG_MAX_TEXT 10         /* text chunks a frame may carry */
+#define PNG_MAX_TEXT 13         /* text chunks a frame may carry */
 #define PNG_TEXT_BYTES 12288    /* their keys and texts, with NULs (the scene: 0.6 kB) */
 
 enum job_state { JOB_FREE, JOB_PENDING, JOB_RUNNING };

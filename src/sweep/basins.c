@@ -233,7 +233,8 @@ int sp_basins_measure(const struct sp_sweep_desc *d, const struct sp_scene *scen
             fprintf(rows, "%snan,nan,nan,nan,nan,nan,nan\n", head);
         else
             fprintf(rows, "%s%d,%d,%.6f,%.7g,%.6g,%.6g,%.6g\n", head, L->period, L->winding,
-                    L->rep[0] * RAD2DEG, L->rep[1], L->rep[2], L->rep[3], L->settled);
+                    L->rep[0] * RAD2DEG, L->rep[1] + 0.0, L->rep[2] + 0.0, L->rep[3] + 0.0,
+                    L->settled); /* + 0.0: never "-0" (sweep.c) */
     }
     free(lanes);
     return ret;

@@ -111,8 +111,8 @@ static void write_rows(FILE *fp, const struct sp_sweep_desc *d, long p, int bran
         return;
     }
     for (long j = 0; j < v->n; j++)
-        fprintf(fp, "%s%.10g,%.9g,%.9g,%d,%.9g\n", head, v->s[j].t, v->s[j].theta, v->s[j].r,
-                branch, v->s[j].peak);
+        fprintf(fp, "%s%.10g,%.9g,%.9g,%d,%.9g\n", head, v->s[j].t, v->s[j].theta + 0.0,
+                v->s[j].r, branch, v->s[j].peak + 0.0); /* + 0.0: never "-0" (sweep.c) */
 }
 
 int sp_orbit_peak_measure(const struct sp_sweep_desc *d, const struct sp_scene *scenes,

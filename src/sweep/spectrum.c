@@ -163,8 +163,9 @@ int sp_spectrum_measure(const struct sp_sweep_desc *d, const struct sp_scene *sc
         }
         for (int c = 0; c < nc; c++) {
             const double *l = &run[i][c][1];
-            fprintf(rows, "%s%.10g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6f\n", head, run[i][c][0], l[0],
-                    l[1], l[2], l[3], l[0] + l[1] + l[2] + l[3], sp_spectrum_kaplan_yorke(l, 4));
+            fprintf(rows, "%s%.10g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6f\n", head, run[i][c][0], l[0] + 0.0,
+                    l[1] + 0.0, l[2] + 0.0, l[3] + 0.0, l[0] + l[1] + l[2] + l[3] + 0.0,
+                    sp_spectrum_kaplan_yorke(l, 4)); /* + 0.0: never "-0" (sweep.c) */
         }
     }
     sp_batch_destroy(&b);

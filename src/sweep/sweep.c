@@ -215,6 +215,38 @@ int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
 
 /* ---- rows read back ------------------------------------------------------- */
 
+/* Whether field is a number as C's printf writes one with %g or %f (what
+ * sweep.c, batch.c and the analyses write): [-] (0 | [1-9] digits) [.
+ * digits] [e (+|-) two or three digits], and never a bare "-0", which only
+ * %g of a negative zero gives, and the writers add 0.0 to avoid. A shard
+ * edited by hand ("+0.5", ".5", "5.", "1E5") is refused even when its
+ * SHA-256 was recomputed. */
+static int printf_form(const char *f)
+{
+    const char *p = f + (*f == '-');
+    if (!strcmp(f, "-0"))
+        return 0;
+    if (*p == '0')
+        p++;
+    else if (*p >= '1' && *p <= '9')
+        p += strspn(p, "0123456789");
+    else
+        return 0;
+    if (*p == '.') {
+        size_t n = strspn(p + 1, "0123456789");
+        if (!n)
+            return 0;
+        p += 1 + n;
+    }
+    if (*p == 'e') {
+        size_t n = strspn(p + 2, "0123456789");
+        if ((p[1] != '+' && p[1] != '-') || n < 2 || n > 3)
+            return 0;
+        p += 2 + n;
+    }
+    return !*p;
+}
+
 const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
 {
     const struct sp_sweep_desc *d = r->d;
@@ -259,6 +291,9 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
             nan++;
         } else if (sp_decimal_read(field, &v) != SP_DECIMAL_OK) {
             return "a value is not a finite decimal number (nan, inf and hex are not written)";
+        } else if (!printf_form(field)) {
+            return "a value in a form springpend does not write (printf's %g or %f: no '+', "
+                   "no bare '.', no leading zeros, no -0, e[+-]DD)";
         } else if (i == d->n_axes + 1) {
             t = v; /* the first value: a time for orbit and poincare */
         }
@@ -661,7 +696,7 @@ static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, c
         if (b->dead[i] || !isfinite(lam))
             lam = half[i] = NAN, out->blown_up++;
         row_start(&out->lane[0], d, pts[i]);
-        sb_printf(&out->lane[0], "%.9g,%.9g\n", lam, half[i]);
+        sb_printf(&out->lane[0], "%.9g,%.9g\n", lam + 0.0, half[i] + 0.0); /* never "-0" */
     }
     return 0;
 }
@@ -714,7 +749,8 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
                 s = fmin(1, (te - t0) / dt);
                 double x = sp_hermite(s, dt, x0, vx0, x1, vx1), y = sp_hermite(s, dt, y0, vy0, y1, vy1);
                 row_start(&rows[i], d, pts[i]);
-                sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", te, atan2(x, -y) * RAD2DEG, hypot(x, y));
+                sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", te, atan2(x, -y) * RAD2DEG + 0.0,
+                          hypot(x, y)); /* + 0.0: never "-0" */
                 continue;
             }
             if (!(x0 < 0 && x1 >= 0 && y0 < 0 && y1 < 0))
@@ -733,7 +769,8 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
             if (d->measure == SP_MEASURE_ORBIT)
                 sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", t0 + s * dt, 0.0, r);
             else
-                sb_printf(&rows[i], "%.10g,%.9g,%.9g,%.9g\n", t0 + s * dt, r, rd, thd);
+                sb_printf(&rows[i], "%.10g,%.9g,%.9g,%.9g\n", t0 + s * dt, r, rd + 0.0,
+                          thd + 0.0); /* + 0.0: never "-0" */
         }
     }
     for (int i = 0; i < n; i++) {

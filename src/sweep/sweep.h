@@ -164,12 +164,15 @@ struct sp_plot_style {
 };
 
 /* Draws the figure for the CSV in fp (rewound and read to the end) into
- * path (.png, .svg or .pdf, written as path.part then renamed). Lives in
+ * path (.png, .svg or .pdf), written whole into *figure's .part and left
+ * there: the caller commits it once everything else the run writes (the
+ * CSV and its metadata) is in place, or discards it (outfile.h), so that
+ * a run that fails leaves no figure. On failure *figure is closed. Lives in
  * sweep_plot.c (cairo); the executable reaches it through the module that
  * av_module.h loads (springpend-plot.so), so that cairo costs only the
  * commands that draw.
  * Returns 0, SP_E_INPUT (not a sweep CSV) or SP_E_IO. */
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
-                  const struct sp_plot_style *style);
+                  const struct sp_plot_style *style, struct sp_outfile *figure);
 
 #endif

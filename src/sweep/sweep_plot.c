@@ -857,12 +857,13 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
 }
 
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
-                  const struct sp_plot_style *style)
+                  const struct sp_plot_style *style, struct sp_outfile *figure)
 {
     struct sp_sweep_desc d;
     struct sp_scene look;
     struct sp_palette pal;
     struct sp_outfile out;
+    *figure = (struct sp_outfile){.fd = -1, .slot = -1};
     int ret = to_rows(csv, csv_name, &d);
     if (ret)
         return ret;
@@ -945,9 +946,9 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
                      sink.err ? strerror(sink.err) : cairo_status_to_string(st));
         ret = SP_E_IO;
     }
-    if (!ret)
-        ret = sp_outfile_commit(&out); /* whole or not at all */
     if (ret)
         sp_outfile_discard(&out);
+    else
+        *figure = out; /* the caller commits it after the CSV, or discards it */
     return ret;
 }

@@ -68,7 +68,8 @@ struct sp_png_info {
 };
 
 /* Reads the header (and the chunks before the image data) only. Returns 0,
- * SP_E_IO (cannot open, not a PNG), SP_E_INPUT (not a regular file). */
+ * or SP_E_INPUT (cannot open, not a regular file, not a PNG or damaged;
+ * infile.h says why). */
 int sp_png_read_info(const char *path, struct sp_png_info *info);
 
 /* SP_E_INPUT (logged) when info's size is beyond SP_PNG_MAX_PIXELS. */
@@ -78,9 +79,9 @@ int sp_png_check_size(const char *path, const struct sp_png_info *info);
  * interlaced or not) into RGBA8 by value: 16-bit samples v become
  * round(v * 255 / 65535), so v * 257 reads as v; no gamma or colour
  * conversion. Stride 4*width, straight alpha; free with sp_image_free; img
- * is zeroed on failure. Refuses (SP_E_INPUT) what is not a regular file and
- * images beyond SP_PNG_MAX_PIXELS; a damaged or truncated file, including
- * one missing IEND, is SP_E_IO. */
+ * is zeroed on failure. Refuses (SP_E_INPUT) a path that names no regular
+ * file, images beyond SP_PNG_MAX_PIXELS, and a damaged or truncated file,
+ * including one missing IEND. */
 int sp_png_read(const char *path, struct sp_image *img);
 
 /* Finds the tEXt/zTXt/iTXt chunk `key` that comes before the image data

@@ -3,7 +3,9 @@
 // clamp(radius - d + 0.5, 0, 1), one pixel of analytic antialiasing.
 // kind 1 shades the disc as a lit ball (light from the upper left) with a
 // darker rim. kind 2 is a box: the segment's rectangle without round caps
-// (panel backgrounds, axes, ticks). Output is premultiplied by alpha * coverage.
+// (panel backgrounds, axes, ticks). kind 3 is a soft ellipse: radii v_half_len
+// along and v_radius across, alpha falling as (1 - d^2)^2 with d the distance
+// in radii (shadows). Output is premultiplied by alpha * coverage.
 in vec2 v_local;
 flat in float v_half_len;
 flat in float v_radius;
@@ -14,6 +16,15 @@ out vec4 o_color;
 
 void main()
 {
+    if (v_kind > 2.5) {
+        vec2 q = v_local / vec2(max(v_half_len, 1e-3), max(v_radius, 1e-3));
+        float f = max(1.0 - dot(q, q), 0.0);
+        float sa = v_color.a * f * f;
+        if (sa <= 0.0)
+            discard;
+        o_color = vec4(v_color.rgb * sa, sa);
+        return;
+    }
     float d = length(vec2(max(abs(v_local.x) - v_half_len, 0.0), v_local.y));
     float cover = clamp(v_radius - d + 0.5, 0.0, 1.0);
     if (v_kind > 1.5)

@@ -23,6 +23,24 @@ def ok(cond, what):
     return cond
 
 
+def png_text(path):
+    """A PNG's tEXt chunks as {keyword: text}."""
+    import struct
+    data, text, i = open(path, "rb").read(), {}, 8
+    while i < len(data):
+        n, kind = struct.unpack(">I4s", data[i:i + 8])
+        if kind == b"tEXt":
+            k, v = data[i + 8:i + 8 + n].split(b"\0", 1)
+            text[k.decode("latin-1")] = v.decode("utf-8")
+        i += 12 + n
+    return text
+
+
+def png_overlay(path):
+    """The springpend.overlay chunk's key=value lines as a dict."""
+    return dict(line.split("=", 1) for line in png_text(path).get("springpend.overlay", "").splitlines())
+
+
 def diag(text):
     """A TAP comment: every line of text after '# '."""
     print("\n".join(f"# {line}" for line in str(text).splitlines()), flush=True)

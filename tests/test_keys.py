@@ -245,6 +245,8 @@ changed("pendulum", {"view.pendulum": "false"}, "no spring and bob: fewer pixels
         lambda f: np.count_nonzero(np.any(f != f[1, 1], axis=2)) <
         np.count_nonzero(np.any(base != base[1, 1], axis=2)))
 changed("title", {"view.title": "Run 3"}, "a title")
+# a planar scene in perspective: the floor grid's lines below the pendulum
+changed("camera", {"view.camera": "30 25"}, "the pendulum in perspective over a floor grid")
 changed("caption", {"view.caption": "k = 2 N/m"}, "a caption")
 ens = frame("ens", {"ensemble.count": 5, "ensemble.spread": 40})
 ok(ens is not None and np.count_nonzero(np.any(ens != base, axis=2)) > 0,

@@ -25,11 +25,10 @@ import io
 import math
 import os
 import shutil
-import struct
 import subprocess
 import sys
 
-from sptest import done, need_scipy, ok, runner
+from sptest import done, need_scipy, ok, png_text, runner
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "overlays"))
@@ -54,17 +53,6 @@ W, H = 1920, 1080
 COLOURS = {"velocity": (64, 217, 242), "acceleration": (255, 204, 38), "gravity": (102, 140, 255),
            "spring": (89, 230, 102), "damping": (204, 128, 255), "drive": (255, 102, 191),
            "net": (255, 255, 255)}
-
-
-def png_text(path):
-    data, text, i = open(path, "rb").read(), {}, 8
-    while i < len(data):
-        n, kind = struct.unpack(">I4s", data[i:i + 8])
-        if kind == b"tEXt":
-            k, v = data[i + 8:i + 8 + n].split(b"\0", 1)
-            text[k.decode("latin-1")] = v.decode("utf-8")
-        i += 12 + n
-    return text
 
 
 def pixels(path):

@@ -123,7 +123,7 @@ static bool test_png_round_trip(void)
 static bool test_png_errors(void)
 {
     struct sp_image img;
-    /* a path that names no file is the user's to fix: SP_E_INPUT (infile.h) */
+    /* png_io.h: what is not a regular file (a missing one too) is refused */
     bool pass = sp_png_read(out_path("missing.png"), &img) == SP_E_INPUT &&
                 img.pixels == NULL;
     struct sp_image tiny;

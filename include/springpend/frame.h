@@ -13,6 +13,7 @@ struct sp_timeline;
 /* A trail point: where the bob was, when, and how fast it went. */
 struct sp_trail_point {
     float x, y;  /* m */
+    float z;     /* m, out of the starting plane (0 planar) */
     float speed; /* m/s */
     double t;    /* s */
 };
@@ -54,6 +55,7 @@ struct sp_range {
 struct sp_view_extent {
     double xmin, xmax, ymin, ymax; /* m, in the lab: the pivot's rest position at
                                       (0,0), its whole travel and the bob's */
+    double zmin, zmax;             /* m: the bob's, out of the plane (0 planar) */
     double max_speed;              /* m/s, > 0 */
     double t_end;                  /* s, the time axis spans [0, t_end] */
     struct sp_range r;             /* m */
@@ -98,6 +100,13 @@ struct sp_look {
     const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
                                            band holds its largest text, the
                                            frame's sp_moment says what shows */
+    int perspective;    /* 1: the pendulum is drawn through view.camera's
+                           perspective (sp_scene_perspective) */
+    int spatial;        /* 1: a 3-D scene (initial.azimuth_rate != 0) */
+    double precession;  /* rad per exchange, the averaged theory's
+                           (sp_advise_precession) for a 3-D scene; NAN when
+                           it predicts none */
+    int precession_applies; /* 1: within the theory's stated accuracy */
 };
 
 /* The look of scene, or of the default scene when scene is NULL. */

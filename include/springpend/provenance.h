@@ -15,9 +15,11 @@
  *                            the libraries and the fonts' SHA-256
  *   springpend.fonts         the font files the first frame's text was drawn
  *                            from, ", "-separated ("" when it has no text)
- *   springpend.overlay       only with [view] vectors or the energy_bars
- *                            panel (SP_PROVENANCE_N_TEXT + 1 chunks): their
- *                            scales in output pixels, "key=value" lines
+ *   springpend.overlay       only with [view] vectors, the energy_bars
+ *                            panel or a perspective camera
+ *                            (SP_PROVENANCE_N_TEXT + 1 chunks): their
+ *                            scales (the camera's pinhole) in output pixels,
+ *                            "key=value" lines
  *                            (sp_render_overlay), so a test can measure them
  * Nothing that changes from run to run (no date): the same frame gives the
  * same bytes. */

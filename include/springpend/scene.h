@@ -63,6 +63,17 @@ enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1 };
  * fit in (the composer's "cannot fit"). */
 #define SP_VIEW_TEXT_BYTES 256
 #define SP_BACKGROUND_THEME (-1)
+/* [view] camera: how the pendulum is seen. */
+enum sp_camera_mode {
+    SP_CAMERA_AUTO = 0,  /* the front view for a planar scene, a perspective
+                            from SP_CAMERA_AUTO_AZIMUTH, _ELEVATION for a 3-D one */
+    SP_CAMERA_FRONT = 1, /* the front view: x right, y up, looking along -z,
+                            no perspective (a planar scene's only view before) */
+    SP_CAMERA_SET = 2,   /* a perspective from view.camera_azimuth, _elevation,
+                            _distance */
+};
+#define SP_CAMERA_AUTO_AZIMUTH 35.0   /* degrees */
+#define SP_CAMERA_AUTO_ELEVATION 25.0 /* degrees */
 #define SP_BACKGROUND_TRANSPARENT (-2)
 
 struct sp_scene {
@@ -131,6 +142,13 @@ struct sp_scene {
         /* Where each was set, for messages: "FILE:LINE" or "--set view.title";
          * "" = nowhere (the default, or a cell label). Never NULL. */
         const char *title_where, *caption_where;
+        int camera;              /* enum sp_camera_mode */
+        double camera_azimuth;   /* rad, SP_CAMERA_SET: the eye turned about the
+                                    vertical from +z (the front) towards +x */
+        double camera_elevation; /* rad, SP_CAMERA_SET: the eye above the
+                                    horizontal, in (-90, 90) degrees */
+        double camera_distance;  /* m, SP_CAMERA_SET: from the eye to the middle
+                                    of the motion; 0 = fitted to the motion */
     } view;
     struct {
         int count;     /* pendulums drawn together, 0 or 1 = no ensemble */
@@ -172,6 +190,10 @@ void sp_scene_free(struct sp_scene *s);
  * Whatever it returns, sp_scene_free(s) may follow. */
 int sp_scene_load(struct sp_scene *s, const char *path,
                   const char *const *overrides, int n_overrides);
+
+/* 1 when the scene's pendulum is drawn in perspective: view.camera set, or
+ * auto on a 3-D scene (initial.azimuth_rate != 0). */
+int sp_scene_perspective(const struct sp_scene *s);
 
 /* Number of video frames, N = round(duration * fps / speed), without the
  * timeline ([timeline] changes it for render and still: timeline.h;

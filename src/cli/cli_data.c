@@ -308,6 +308,14 @@ int sp_cmd_data(int argc, char **argv)
         ret = sp_cli_output_path(&o, sc0, ".csv", out, sizeof(out));
     if (ret)
         goto done;
+    if (o.poincare && spatial) {
+        sp_log_error("%s: --poincare writes the planar section theta = 0 with dtheta/dt > 0, "
+                     "which a 3-D motion (initial.azimuth_rate = %g rad/s) does not have; set "
+                     "initial.azimuth_rate = 0, or write the samples (z, vz, azimuth among them) "
+                     "without --poincare", o.scene_paths[0], sc0->initial.azimuth_rate);
+        ret = SP_E_INPUT;
+        goto done;
+    }
     if (o.every > 0 && o.poincare) {
         sp_log_error("--every and --poincare cannot be combined: the crossings fall where "
                      "they fall");

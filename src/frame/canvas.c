@@ -120,6 +120,12 @@ void sp_canvas_disc(struct sp_canvas *c, float x, float y, float radius, int bal
     push(c, x, y, x, y, radius, ball ? SP_SHAPE_BALL : SP_SHAPE_FLAT, color);
 }
 
+void sp_canvas_soft(struct sp_canvas *c, float x, float y, float rx, float ry,
+                    const float color[4])
+{
+    push(c, x - rx, y, x + rx, y, ry, SP_SHAPE_SOFT, color);
+}
+
 void sp_canvas_rect(struct sp_canvas *c, float x0, float y0, float x1, float y1,
                     const float color[4])
 {

@@ -25,7 +25,16 @@
 
 #include "text.h"
 
-enum sp_shape_kind { SP_SHAPE_FLAT = 0, SP_SHAPE_BALL = 1, SP_SHAPE_BOX = 2 };
+enum sp_shape_kind {
+    SP_SHAPE_FLAT = 0,
+    SP_SHAPE_BALL = 1,
+    SP_SHAPE_BOX = 2,
+    SP_SHAPE_SOFT = 3, /* an ellipse with its axes along the segment (half its
+                          length) and across it (the half width), fading from
+                          the colour at its centre to nothing at its edge as
+                          (1 - d^2)^2, d the distance in radii: soft shadows
+                          and pools of light */
+};
 
 /* One capsule; layout matches the attributes of shaders/shape.vert. */
 struct sp_shape {
@@ -129,6 +138,10 @@ void sp_canvas_line(struct sp_canvas *c, float ax, float ay, float bx, float by,
                     const float color[4]);
 /* A disc, or a shaded ball when ball = 1. */
 void sp_canvas_disc(struct sp_canvas *c, float x, float y, float radius, int ball,
+                    const float color[4]);
+/* A soft ellipse (SP_SHAPE_SOFT) centred at (x, y) with radii rx, ry px along
+ * the axes. */
+void sp_canvas_soft(struct sp_canvas *c, float x, float y, float rx, float ry,
                     const float color[4]);
 /* A filled axis-aligned rectangle with crisp edges. */
 void sp_canvas_rect(struct sp_canvas *c, float x0, float y0, float x1, float y1,

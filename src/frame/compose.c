@@ -6,6 +6,7 @@
 
 #include "springpend/common.h"
 #include "springpend/timeline.h"
+#include "camera.h"
 #include "compose.h"
 #include "layout.h"
 #include "vectors.h"
@@ -71,6 +72,11 @@ struct sp_composer {
     struct sp_vectors vectors;    /* [view] vectors' scales (set with the layout) */
     struct sp_bars_scale bars;    /* the energy bars' axis (set by each frame) */
     int ss;                       /* the drawing is this many times the output */
+    struct sp_camera cam;         /* look.perspective: the camera the pendulum is
+                                     drawn through (scale, ox, oy unused) */
+    double floor_t;               /* s: the floor trace's last accumulated point
+                                     (trail = all); < 0 = none */
+    float floor_a[2];             /* px: that point */
 };
 
 /* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
@@ -80,6 +86,11 @@ static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
     /* arrows from the bob need their longest length around the motion */
     const double margin = (BOB_RADIUS + MARGIN + (r->look.view.vectors ? SP_VECTOR_MAX_LENGTH : 0)) *
                           r->unit;
+    if (r->look.perspective) {
+        sp_camera_fit(&r->cam, v->x0, v->y0, v->x1, v->y1, (float)margin);
+        r->scale = sp_camera_scale(&r->cam);
+        return;
+    }
     const double ew = fmax(e->xmax - e->xmin, 1e-6);
     const double eh = fmax(e->ymax - e->ymin, 1e-6);
     const double aw = fmax(v->x1 - v->x0 - 2 * margin, 1.0);
@@ -92,6 +103,15 @@ void sp_compose_rescale(struct sp_composer *r, double px_per_m)
 {
     const struct sp_view_extent *e = &r->extent;
     const struct sp_rect *v = &r->layout.camera;
+    if (r->look.perspective) { /* about the rectangle's centre */
+        const double f = px_per_m / sp_camera_scale(&r->cam);
+        const double mx = 0.5 * (v->x0 + v->x1), my = 0.5 * (v->y0 + v->y1);
+        r->cam.focal *= f;
+        r->cam.centre[0] = mx + f * (r->cam.centre[0] - mx);
+        r->cam.centre[1] = my + f * (r->cam.centre[1] - my);
+        r->scale = px_per_m;
+        return;
+    }
     r->scale = px_per_m;
     r->ox = 0.5 * (v->x0 + v->x1) - r->scale * 0.5 * (e->xmin + e->xmax);
     r->oy = 0.5 * (v->y0 + v->y1) + r->scale * 0.5 * (e->ymin + e->ymax);
@@ -349,6 +369,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     r->height = desc->height;
     r->ss = desc->supersample > 1 ? desc->supersample : 1;
     r->accum_t = -1;
+    r->floor_t = -1;
     r->unit = (float)(r->width < r->height ? r->width : r->height);
     /* ss: drawn px per output px; and per pt at a physical size */
     float ss = desc->supersample > 1 ? (float)desc->supersample : 1;
@@ -360,6 +381,15 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     r->ink = r->look.pt_px > 0 ? ss * PRINT_FONT_PT / PRINT_FONT_FRAC : r->unit;
     r->extent = desc->extent;
     r->max_speed = desc->extent.max_speed > 0 ? desc->extent.max_speed : 1.0;
+    if (!r->look.view.pendulum || r->look.ensemble_count > 1)
+        r->look.perspective = 0;
+    if (r->look.perspective &&
+        (err = sp_camera_aim(&r->cam, &r->look.view,
+                             (const double[3]){r->extent.xmin, r->extent.ymin, r->extent.zmin},
+                             (const double[3]){r->extent.xmax, r->extent.ymax, r->extent.zmax}))) {
+        free(r);
+        return err;
+    }
     sp_palette_get(&r->look.view, &r->pal);
     if (r->look.pt_px > 0)
         r->pal.axis_hw = 0.5f * PRINT_AXIS_PT * ss;
@@ -396,6 +426,33 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     return 0;
 }
 
+/* A 3-D scene's heads-up line: the precession per exchange that the
+ * averaged theory predicts (sp_look.precession), and how far to trust it;
+ * put before the frequency ratio's line (sp_hud_draw appends the resonance
+ * check to that one, or puts it on the last line alone). Left out when it
+ * does not fit the width. */
+static void hud_precession(struct sp_composer *r, const struct sp_font *f, float width)
+{
+    const double deg = r->look.precession * (180 / M_PI);
+    const char *sign = deg < 0 ? "\u2212" : "";
+    char line[SP_HUD_LINE_BYTES];
+    if (isnan(deg))
+        snprintf(line, sizeof(line), "precession: no 2:1 exchange to predict it");
+    else
+        snprintf(line, sizeof(line), "precession per exchange ≈ %s%.1f°  (averaged theory%s)",
+                 sign, fabs(deg), r->look.precession_applies ? ", ±4%" : "; outside its range, rough");
+    if (!isnan(deg) && sp_font_width(f, SP_TEXT_NORMAL, line) > width)
+        snprintf(line, sizeof(line), "precession ≈ %s%.1f°/exchange%s", sign, fabs(deg),
+                 r->look.precession_applies ? "" : " (rough)");
+    if (sp_font_width(f, SP_TEXT_NORMAL, line) > width)
+        return;
+    const int own_line = r->hud_lines > 1 && !strcmp(r->hud[r->hud_lines - 1], "\1");
+    const int at = r->hud_lines - (own_line ? 2 : 1); /* the ratio's line */
+    memmove(r->hud[at + 1], r->hud[at], (size_t)(r->hud_lines - at) * SP_HUD_LINE_BYTES);
+    snprintf(r->hud[at], SP_HUD_LINE_BYTES, "%s", line);
+    r->hud_lines++;
+}
+
 /* Places the view, panels, heads-up text and colourbar (once: the
  * parameters do not change during a run). */
 static void lay_out(struct sp_composer *r, const struct sp_params *p)
@@ -417,6 +474,8 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
                                                 : &r->layout.camera;
         const float w = v->x1 - v->x0 - 2 * r->layout.gap;
         r->hud_lines = sp_hud_lines(f, p, w, r->hud, SP_HUD_MAX_LINES);
+        if (r->look.spatial && r->hud_lines < SP_HUD_MAX_LINES)
+            hud_precession(r, f, w);
         d.hud_height = sp_hud_height(f, r->hud_lines);
     } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
@@ -435,6 +494,18 @@ static void to_px(const struct sp_composer *r, double x, double y, float p[2])
 {
     p[0] = (float)(r->ox + r->scale * x);
     p[1] = (float)(r->oy - r->scale * y);
+}
+
+/* The world point (x, y, z) m, lab, in px: through the camera in
+ * perspective (z counts), else the front view's (z is left out). Returns px
+ * per m there (0: behind the eye). */
+static double world_px(const struct sp_composer *r, double x, double y, double z, float p[2])
+{
+    if (!r->look.perspective) {
+        to_px(r, x, y, p);
+        return r->scale;
+    }
+    return sp_camera_project(&r->cam, (const double[3]){x, y, z}, p);
 }
 
 /* The trail's segment from a to point q (a, q in px): colour by speed, alpha
@@ -473,6 +544,15 @@ static int trail_after(const struct sp_trail *tr, double t)
     return lo;
 }
 
+/* The simulated s a trail fades over: the window of [view] trail (frames
+ * or a duration), or for trail = all its newest ALL_FADE s. */
+static double trail_span(const struct sp_look *lk)
+{
+    return lk->view.trail == SP_TRAIL_ALL ? ALL_FADE
+           : lk->view.trail == SP_TRAIL_DURATION ? lk->view.trail_duration
+           : (lk->view.trail - 1) * lk->speed / lk->fps;
+}
+
 /* Trail segments, oldest first, over the scene's trail window (a number of
  * frames, a duration, or the whole run), fading and thinning with age in
  * simulated time, so a trail looks the same at any fps. Points closer than
@@ -485,9 +565,7 @@ static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
     const struct sp_look *lk = &r->look;
     const int all = lk->view.trail == SP_TRAIL_ALL;
     const double now = sp_trail_at(tr, tr->count - 1)->t;
-    const double span = all ? ALL_FADE
-                      : lk->view.trail == SP_TRAIL_DURATION ? lk->view.trail_duration
-                      : (lk->view.trail - 1) * lk->speed / lk->fps;
+    const double span = trail_span(lk);
     const double start = now - span;
     const struct sp_trail_point *p;
     float a[2], b[2];
@@ -499,14 +577,14 @@ static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
             r->accum_p = *sp_trail_at(tr, 0);
             r->accum_t = r->accum_p.t;
         }
-        to_px(r, r->accum_p.x, r->accum_p.y, a);
+        world_px(r, r->accum_p.x, r->accum_p.y, r->accum_p.z, a);
         i = trail_after(tr, r->accum_t);
         sp_canvas_layer(&r->canvas, SP_LAYER_ACCUM);
         sp_canvas_path_begin(&r->canvas);
         for (; i < tr->count && sp_trail_at(tr, i)->t <= start; i++) {
             const struct sp_trail_point *q = sp_trail_at(tr, i);
             r->accum_t = q->t;
-            to_px(r, q->x, q->y, b);
+            world_px(r, q->x, q->y, q->z, b);
             if (fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
                 continue;
             trail_segment(r, a, b, 0.5f * (r->accum_p.speed + q->speed), 0);
@@ -521,12 +599,12 @@ static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
         while (i < tr->count - 1 && sp_trail_at(tr, i)->t < start - 1e-9 * (1 + fabs(start)))
             i++; /* the ring may hold a little more than the window */
         p = sp_trail_at(tr, i++);
-        to_px(r, p->x, p->y, a);
+        world_px(r, p->x, p->y, p->z, a);
     }
     sp_canvas_path_begin(&r->canvas);
     for (; i < tr->count; i++) {
         const struct sp_trail_point *q = sp_trail_at(tr, i);
-        to_px(r, q->x, q->y, b);
+        world_px(r, q->x, q->y, q->z, b);
         if (i < tr->count - 1 && fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
             continue;
         trail_segment(r, a, b, 0.5f * (p->speed + q->speed),
@@ -601,6 +679,201 @@ static void put_spring(struct sp_composer *r, const float pv[2], const float bb[
     }
 }
 
+/* ---- the pendulum in perspective (look.perspective) ---- */
+
+/* A soft ellipse on the floor: the circle of radius rad m about (x, z) at
+ * the floor's height, its axes taken from the images of its points along the
+ * camera's horizontal right and forward (the camera has no roll). */
+static void floor_soft(struct sp_composer *r, double x, double z, double rad, const float color[4])
+{
+    const struct sp_camera *c = &r->cam;
+    const double fl = hypot(c->forward[0], c->forward[2]);
+    const double f[2] = {c->forward[0] / fl, c->forward[2] / fl};
+    float o[2], a[2], b[2], e[2], g[2];
+    if (!world_px(r, x, c->floor_y, z, o) ||
+        !world_px(r, x - rad * c->right[0], c->floor_y, z - rad * c->right[2], a) ||
+        !world_px(r, x + rad * c->right[0], c->floor_y, z + rad * c->right[2], b) ||
+        !world_px(r, x - rad * f[0], c->floor_y, z - rad * f[1], e) ||
+        !world_px(r, x + rad * f[0], c->floor_y, z + rad * f[1], g))
+        return;
+    sp_canvas_soft(&r->canvas, o[0], o[1], 0.5f * fabsf(b[0] - a[0]),
+                   fmaxf(0.5f * fabsf(e[1] - g[1]), 0.5f), color);
+}
+
+/* The floor under the motion (static): a faint pool of light and a grid of
+ * grid_step lines, which the shadow falls on. */
+static void put_floor(struct sp_composer *r)
+{
+    const struct sp_camera *c = &r->cam;
+    const int n = (int)lround(c->grid_half / c->grid_step);
+    float glow[4], line[4], a[2], b[2];
+    memcpy(glow, r->pal.text, sizeof(glow));
+    glow[3] = r->premix_trail ? 0.05f : 0.07f;
+    memcpy(line, r->pal.grid, sizeof(line));
+    line[3] = fminf(1, 2.2f * line[3]);
+    sp_canvas_layer(&r->canvas, SP_LAYER_STATIC);
+    floor_soft(r, c->target[0], c->target[2], 1.5 * c->grid_half, glow);
+    for (int axis = 0; axis < 2; axis++)
+        for (int i = -n; i <= n; i++) {
+            const double u = i * c->grid_step, h = c->grid_half;
+            const double x0 = c->target[0] + (axis ? u : -h), z0 = c->target[2] + (axis ? -h : u);
+            const double x1 = c->target[0] + (axis ? u : h), z1 = c->target[2] + (axis ? h : u);
+            if (world_px(r, x0, c->floor_y, z0, a) && world_px(r, x1, c->floor_y, z1, b))
+                sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], 0.6f * WIRE_RADIUS * r->unit,
+                               line);
+        }
+    sp_canvas_layer(&r->canvas, SP_LAYER_DYNAMIC);
+}
+
+/* One segment of the floor trace at strength alpha: the text colour mixed
+ * with the background, opaque (so the joints of a path show no beads): on a
+ * dark background the brighter of it and the floor wins (SP_BLEND_MAX, set
+ * by the caller), on a light one it is drawn over. */
+static void floor_segment(struct sp_composer *r, const float a[2], const float b[2], float alpha)
+{
+    float color[4];
+    for (int k = 0; k < 3; k++)
+        color[k] = r->pal.background[k] + alpha * (r->pal.text[k] - r->pal.background[k]);
+    color[3] = r->pal.background[3] > 0 ? 1 : alpha; /* transparent: the text colour faded */
+    if (r->pal.background[3] <= 0)
+        memcpy(color, r->pal.text, 3 * sizeof(float));
+    sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], 0.5f * TRAIL_RADIUS * r->unit, color);
+}
+
+/* The trail's shadow: the bob's path straight below it on the floor (the
+ * top view in the picture, where the swing's plane and its turns show), a
+ * faint line over the trail's window, fading with age. trail = all keeps
+ * the whole run: what is older than ALL_FADE s is drawn once, faint, into
+ * the accumulated layer (a star of the swing's planes). */
+static void put_floor_trace(struct sp_composer *r, const struct sp_trail *tr)
+{
+    const struct sp_look *lk = &r->look;
+    const int all = lk->view.trail == SP_TRAIL_ALL;
+    const double now = sp_trail_at(tr, tr->count - 1)->t;
+    const double span = trail_span(lk);
+    const double fy = r->cam.floor_y, start = now - span;
+    const float floor_alpha = 0.2f;
+    float a[2], b[2];
+    int i;
+    sp_canvas_blend(&r->canvas, r->premix_trail ? SP_BLEND_OVER : SP_BLEND_MAX);
+    if (all) {
+        if (r->floor_t < 0 &&
+            world_px(r, sp_trail_at(tr, 0)->x, fy, sp_trail_at(tr, 0)->z, r->floor_a))
+            r->floor_t = sp_trail_at(tr, 0)->t;
+        if (r->floor_t < 0)
+            return;
+        a[0] = r->floor_a[0], a[1] = r->floor_a[1];
+        sp_canvas_layer(&r->canvas, SP_LAYER_ACCUM);
+        sp_canvas_path_begin(&r->canvas);
+        for (i = trail_after(tr, r->floor_t); i < tr->count && sp_trail_at(tr, i)->t <= start; i++) {
+            const struct sp_trail_point *q = sp_trail_at(tr, i);
+            r->floor_t = q->t;
+            if (!world_px(r, q->x, fy, q->z, b) || fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
+                continue;
+            floor_segment(r, a, b, floor_alpha);
+            a[0] = b[0], a[1] = b[1];
+        }
+        sp_canvas_path_end(&r->canvas);
+        sp_canvas_layer(&r->canvas, SP_LAYER_DYNAMIC);
+        r->floor_a[0] = a[0], r->floor_a[1] = a[1];
+    } else {
+        i = trail_after(tr, start - 1e-9 * (1 + fabs(start)));
+        if (i >= tr->count - 1 || !world_px(r, sp_trail_at(tr, i)->x, fy, sp_trail_at(tr, i)->z, a)) {
+            sp_canvas_blend(&r->canvas, SP_BLEND_OVER);
+            return;
+        }
+        i++;
+    }
+    sp_canvas_path_begin(&r->canvas);
+    for (; i < tr->count; i++) {
+        const struct sp_trail_point *q = sp_trail_at(tr, i);
+        if (!world_px(r, q->x, fy, q->z, b) ||
+            (i < tr->count - 1 && fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f))
+            continue;
+        const float age = span > 0 ? (float)fmin(fmax((q->t - start) / span, 0), 1) : 1;
+        floor_segment(r, a, b, floor_alpha + (0.45f - floor_alpha) * (lk->view.fade ? age : 1));
+        a[0] = b[0], a[1] = b[1];
+    }
+    sp_canvas_path_end(&r->canvas);
+    sp_canvas_blend(&r->canvas, SP_BLEND_OVER);
+}
+
+/* The bob's shadow straight below it on the floor, soft: wider and fainter
+ * the higher the bob is above the floor. */
+static void put_shadow(struct sp_composer *r, const double bob[3], double bob_m)
+{
+    const struct sp_camera *c = &r->cam;
+    const double height = fmax(c->box_hi[1] - c->floor_y, 1e-6);
+    const double above = fmax(bob[1] - c->floor_y, 0) / height;
+    const float dark[4] = {0, 0, 0, (float)((r->premix_trail ? 0.4 : 0.85) / (1 + 2 * above))};
+    floor_soft(r, bob[0], bob[2], bob_m * (1.6 + 2.5 * above), dark);
+}
+
+/* The spring from pv to bb (m, lab) as a helix of COIL_TURNS turns about the
+ * line between them, its radius and wire the 2-D spring's at the target's
+ * depth, and nearer ones larger: its far half first, darker, then its near
+ * half. */
+static void put_spring3(struct sp_composer *r, const double pv[3], const double bb[3])
+{
+    const struct sp_camera *c = &r->cam;
+    const double m = r->scale; /* px per m at the target */
+    double ax[3] = {bb[0] - pv[0], bb[1] - pv[1], bb[2] - pv[2]};
+    const double len = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
+    if (len < 1e-9)
+        return;
+    for (int k = 0; k < 3; k++)
+        ax[k] /= len;
+    /* e1 across both the axis and the line of sight, e2 = axis x e1 towards the eye or away */
+    const double *fw = c->forward;
+    double e1[3] = {fw[1] * ax[2] - fw[2] * ax[1], fw[2] * ax[0] - fw[0] * ax[2],
+                    fw[0] * ax[1] - fw[1] * ax[0]};
+    double n1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    if (n1 < 1e-9) /* seen along the axis */
+        e1[0] = c->right[0], e1[1] = c->right[1], e1[2] = c->right[2], n1 = 1;
+    for (int k = 0; k < 3; k++)
+        e1[k] /= n1;
+    const double e2[3] = {ax[1] * e1[2] - ax[2] * e1[1], ax[2] * e1[0] - ax[0] * e1[2],
+                          ax[0] * e1[1] - ax[1] * e1[0]};
+    const double rad = COIL_RADIUS * r->unit / m, wr = WIRE_RADIUS * r->unit;
+    double lead0 = LEAD_TOP * r->unit / m, lead1 = (BOB_RADIUS + LEAD_BOTTOM) * r->unit / m;
+    if (lead0 + lead1 > 0.3 * len) {
+        const double f = 0.3 * len / (lead0 + lead1);
+        lead0 *= f, lead1 *= f;
+    }
+    const double coil = len - lead0 - lead1;
+    float a[2], b[2];
+    double s;
+    /* the leads */
+    for (int end = 0; end < 2; end++) {
+        const double t0 = end ? lead0 + coil : 0, t1 = end ? len : lead0;
+        s = world_px(r, pv[0] + ax[0] * t0, pv[1] + ax[1] * t0, pv[2] + ax[2] * t0, a);
+        if (s && world_px(r, pv[0] + ax[0] * t1, pv[1] + ax[1] * t1, pv[2] + ax[2] * t1, b))
+            sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], wr * (float)(s / m), r->pal.wire_front);
+    }
+    for (int front = 0; front <= 1; front++) {
+        double p[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = pv[k] + ax[k] * lead0;
+        s = world_px(r, p[0], p[1], p[2], a);
+        for (int i = 1; i <= COIL_SEGS; i++) {
+            const double t = (double)i / COIL_SEGS, phase = 2 * M_PI * COIL_TURNS * t;
+            const double ends = fmin(t, 1 - t) * 2 * COIL_TURNS;
+            const double env = ends >= 1 ? 1 : ends * ends * (3 - 2 * ends);
+            const double along = lead0 + coil * t;
+            const double mid = cos(phase - M_PI / COIL_STEPS); /* e2 . (to the eye) at mid-segment */
+            for (int k = 0; k < 3; k++)
+                p[k] = pv[k] + ax[k] * along + env * rad * (sin(phase) * e1[k] + cos(phase) * e2[k]);
+            const double sb = world_px(r, p[0], p[1], p[2], b);
+            /* near: the wire's offset points back towards the eye */
+            const int near = (mid * -(e2[0] * fw[0] + e2[1] * fw[1] + e2[2] * fw[2])) > 0;
+            if (s && sb && near == front)
+                sp_canvas_line(&r->canvas, a[0], a[1], b[0], b[1], wr * (float)(0.5 * (s + sb) / m),
+                               front ? r->pal.wire_front : r->pal.wire_back);
+            a[0] = b[0], a[1] = b[1], s = sb;
+        }
+    }
+}
+
 /* The bob every view.strobe seconds back from now, fading with age. */
 static void put_strobe(struct sp_composer *r, const struct sp_history *h)
 {
@@ -624,10 +897,11 @@ static void put_strobe(struct sp_composer *r, const struct sp_history *h)
                 hi = j;
         }
         j = t - h->samples[lo].t <= h->samples[hi].t - t ? lo : hi;
-        to_px(r, h->samples[j].x, h->samples[j].y, p);
+        const double px_m = world_px(r, h->samples[j].x, h->samples[j].y, h->samples[j].z, p);
         memcpy(color, r->pal.bob, sizeof(color));
         color[3] = 0.12f + 0.5f * age;
-        sp_canvas_disc(&r->canvas, p[0], p[1], 0.8f * BOB_RADIUS * r->unit, 0, color);
+        sp_canvas_disc(&r->canvas, p[0], p[1], 0.8f * BOB_RADIUS * r->unit * (float)(px_m / r->scale),
+                       0, color);
     }
 }
 
@@ -725,6 +999,24 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         put_mount(r, pv);
         sp_compose_ensemble(cv, f->ensemble, r->ox, r->oy, r->scale, r->unit, &r->pal);
         sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
+    } else if (r->look.view.pendulum && r->look.perspective) {
+        const double piv[3] = {0, yp, 0}, bob[3] = {f->state.x, f->state.y + yp, f->state.z};
+        put_floor(r);
+        const double bob_px = world_px(r, bob[0], bob[1], bob[2], bb);
+        const double piv_px = world_px(r, piv[0], piv[1], piv[2], pv);
+        if (f->trail && f->trail->count > 1)
+            put_floor_trace(r, f->trail);
+        put_shadow(r, bob, BOB_RADIUS * r->unit / r->scale);
+        if (f->trail && f->trail->count > 1)
+            put_trail(r, f->trail);
+        put_strobe(r, f->history);
+        put_mount(r, pv);
+        put_spring3(r, piv, bob);
+        sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit * (float)(piv_px / r->scale), 0,
+                       r->pal.pivot);
+        if (bob_px > 0)
+            sp_canvas_disc(cv, bb[0], bb[1], BOB_RADIUS * r->unit * (float)(bob_px / r->scale), 1,
+                           r->pal.bob);
     } else if (r->look.view.pendulum) {
         if (f->trail && f->trail->count > 1)
             put_trail(r, f->trail);
@@ -772,11 +1064,26 @@ void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double 
     size_t used = 0;
     if (size)
         buf[0] = 0;
-    if (!c->laid_out ||
-        !(c->look.view.vectors || c->look.view.panels & SP_PANEL_ENERGY_BARS || prefix[0]))
+    if (!c->laid_out || !(c->look.view.vectors || c->look.view.panels & SP_PANEL_ENERGY_BARS ||
+                          prefix[0] || c->look.perspective))
         return;
-    used = (size_t)snprintf(buf, size, "%scamera.px_per_m=%.9g\n%scamera.origin_px=%.9g,%.9g\n",
-                            prefix, c->scale / c->ss, prefix, c->ox / c->ss + dx, c->oy / c->ss + dy);
+    if (c->look.perspective) { /* the pinhole of camera.h, in output px */
+        const struct sp_camera *m = &c->cam;
+        float o[2];
+        sp_camera_project(m, (const double[3]){0, 0, 0}, o);
+        used = (size_t)snprintf(buf, size, "%scamera.px_per_m=%.9g\n%scamera.origin_px=%.9g,%.9g\n"
+                                "%scamera.focal_px=%.9g\n%scamera.centre_px=%.9g,%.9g\n"
+                                "%scamera.target_m=%.9g,%.9g,%.9g\n%scamera.distance_m=%.9g\n"
+                                "%scamera.floor_y_m=%.9g\n",
+                                prefix, c->scale / c->ss, prefix, o[0] / c->ss + dx, o[1] / c->ss + dy,
+                                prefix, m->focal / c->ss, prefix, m->centre[0] / c->ss + dx,
+                                m->centre[1] / c->ss + dy, prefix, m->target[0], m->target[1],
+                                m->target[2], prefix, m->distance, prefix, m->floor_y);
+    } else {
+        used = (size_t)snprintf(buf, size, "%scamera.px_per_m=%.9g\n%scamera.origin_px=%.9g,%.9g\n",
+                                prefix, c->scale / c->ss, prefix, c->ox / c->ss + dx,
+                                c->oy / c->ss + dy);
+    }
     sp_vectors_describe(&c->vectors, c->ss, prefix, buf, size, &used);
     const struct sp_bars_scale *b = &c->bars;
     if (b->n && used < size)

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "springpend/advice.h"
 #include "springpend/common.h"
 #include "springpend/frame.h"
 #include "sim_report.h"
@@ -39,7 +40,8 @@ void sp_trail_push_at(struct sp_trail *tr, const struct sp_state *s, double pivo
     tr->points[tr->head] = (struct sp_trail_point){
         .x = (float)s->x,
         .y = (float)(s->y + pivot_y),
-        .speed = (float)sqrt(s->vx * s->vx + s->vy * s->vy),
+        .z = (float)s->z,
+        .speed = (float)sqrt(s->vx * s->vx + s->vy * s->vy + s->vz * s->vz),
         .t = s->t,
     };
     tr->head = (tr->head + 1) % tr->capacity;
@@ -91,7 +93,19 @@ void sp_look_of(const struct sp_scene *scene, struct sp_look *out)
     *out = (struct sp_look){.view = scene->view, .fps = scene->video.fps,
                             .speed = scene->video.speed,
                             .ensemble_count = scene->ensemble.count,
-                            .timeline = scene->timeline};
+                            .timeline = scene->timeline,
+                            .perspective = sp_scene_perspective(scene),
+                            .spatial = scene->initial.azimuth_rate != 0,
+                            .precession = NAN};
+    if (out->spatial) {
+        struct sp_sim sim;
+        struct sp_precession pr;
+        sp_sim_init(&sim, scene);
+        if (!sp_advise_precession(&sim.p, &sim.s, &pr)) {
+            out->precession = pr.angle;
+            out->precession_applies = pr.applies;
+        }
+    }
 }
 
 /* W: the power damping takes from the bob in state s (b |v_air|^2, the air
@@ -129,12 +143,14 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
     /* Sample every step: the camera must hold every position the bob takes. */
     for (;;) {
         const struct sp_state *s = &sim.s;
-        double v = sqrt(s->vx * s->vx + s->vy * s->vy);
+        double v = sqrt(s->vx * s->vx + s->vy * s->vy + s->vz * s->vz);
         const double yp = sp_pivot_y(&sim.p, s->t); /* the bob in the lab: y + yp */
         out->xmin = fmin(out->xmin, s->x);
         out->xmax = fmax(out->xmax, s->x);
         out->ymin = fmin(out->ymin, fmin(s->y + yp, yp));
         out->ymax = fmax(out->ymax, fmax(s->y + yp, yp));
+        out->zmin = fmin(out->zmin, s->z);
+        out->zmax = fmax(out->zmax, s->z);
         out->max_speed = fmax(out->max_speed, v);
         if (vectors) {
             struct sp_forces fo;

@@ -273,6 +273,7 @@ static void extent_union(struct sp_view_extent *a, const struct sp_scene *sa,
         *ra[i] = (struct sp_range){fmin(ra[i]->lo, rb[i]->lo), fmax(ra[i]->hi, rb[i]->hi)};
     a->xmin = fmin(a->xmin, b->xmin), a->xmax = fmax(a->xmax, b->xmax);
     a->ymin = fmin(a->ymin, b->ymin), a->ymax = fmax(a->ymax, b->ymax);
+    a->zmin = fmin(a->zmin, b->zmin), a->zmax = fmax(a->zmax, b->zmax);
     a->max_speed = fmax(a->max_speed, b->max_speed);
     a->max_accel = fmax(a->max_accel, b->max_accel);
     a->max_force = fmax(a->max_force, b->max_force);
@@ -461,7 +462,8 @@ static int run_setup(struct run *run)
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),
         .text = run->prov.text,
         .n_text = SP_PROVENANCE_N_TEXT + run->n_more +
-                  (run->n_more || sc->view.vectors || sc->view.panels & SP_PANEL_ENERGY_BARS)});
+                  (run->n_more || sc->view.vectors || sc->view.panels & SP_PANEL_ENERGY_BARS ||
+                   sp_scene_perspective(sc))});
 }
 
 /* The sim, trail, histories and ensemble to t_target, s; the sim's blow-up

@@ -80,12 +80,38 @@ static void ball(cairo_t *cr, const struct sp_shape *s)
     cairo_pattern_destroy(g);
 }
 
+/* A soft ellipse like shaders/shape.frag's: (1 - d^2)^2 sampled as a
+ * radial gradient in the ellipse's own coordinates. */
+static void soft(cairo_t *cr, const struct sp_shape *s)
+{
+    const float *p = s->seg, *c = s->color;
+    const double rx = 0.5 * hypot(p[2] - p[0], p[3] - p[1]), ry = s->style[0];
+    if (!(rx > 0 && ry > 0))
+        return;
+    cairo_save(cr);
+    cairo_translate(cr, 0.5 * (p[0] + p[2]), 0.5 * (p[1] + p[3]));
+    cairo_rotate(cr, atan2(p[3] - p[1], p[2] - p[0]));
+    cairo_scale(cr, rx, ry);
+    cairo_pattern_t *g = cairo_pattern_create_radial(0, 0, 0, 0, 0, 1);
+    for (int i = 0; i <= 8; i++) {
+        const double d = i / 8.0, f = (1 - d * d) * (1 - d * d);
+        cairo_pattern_add_color_stop_rgba(g, d, c[0], c[1], c[2], c[3] * f);
+    }
+    cairo_set_source(cr, g);
+    cairo_arc(cr, 0, 0, 1, 0, 2 * M_PI);
+    cairo_fill(cr);
+    cairo_pattern_destroy(g);
+    cairo_restore(cr);
+}
+
 static void shape(cairo_t *cr, const struct sp_shape *s)
 {
     const float *p = s->seg, hw = s->style[0];
     const int kind = (int)lroundf(s->style[1]);
     if (kind == SP_SHAPE_BALL)
         return ball(cr, s);
+    if (kind == SP_SHAPE_SOFT)
+        return soft(cr, s);
     source(cr, s->color);
     if (kind == SP_SHAPE_BOX) {
         cairo_rectangle(cr, fmin(p[0], p[2]), p[1] - hw, fabs(p[2] - p[0]), 2 * hw);

@@ -472,8 +472,8 @@ static struct box prim_box_of(const struct sp_shape *sh, const struct sp_glyph_q
         return b; /* text is never clipped */
     }
     const float e = sh->style[0] + 2; /* the quad reaches half width + 1 px */
-    /* a box (kind 2, horizontal as sp_canvas_rect makes them) reaches 1 px
-     * beyond its ends */
+    /* a box or soft ellipse (kinds 2 and 3, horizontal as sp_canvas_rect and
+     * _soft make them) reaches 1 px beyond its ends */
     const float ex = sh->style[1] > 1.5f && sh->seg[1] == sh->seg[3] ? 2 : e;
     box_add(&b, fminf(sh->seg[0], sh->seg[2]) - ex, fminf(sh->seg[1], sh->seg[3]) - e,
             fmaxf(sh->seg[0], sh->seg[2]) + ex, fmaxf(sh->seg[1], sh->seg[3]) + e);
@@ -623,7 +623,8 @@ static int rects_make(struct sp_draw_gl *d, const struct sp_canvas *c)
             tiles_mark(d, tw, th, (int)floorf(b.x0 / TILE), (int)floorf(b.y0 / TILE),
                        (int)floorf(b.x1 / TILE), (int)floorf(b.y1 / TILE), 1);
             const struct sp_shape *sh = it->kind == SP_ITEM_TEXT ? NULL : &c->shapes[k];
-            if (!sh || sh->style[1] < 1.5f || sh->color[3] < 1 || sh->seg[1] != sh->seg[3] ||
+            if (!sh || sh->style[1] < 1.5f || sh->style[1] > 2.5f || sh->color[3] < 1 ||
+                sh->seg[1] != sh->seg[3] ||
                 d->boxes[i].clip[2] > d->boxes[i].clip[0] || d->n_fills == MAX_FILLS)
                 continue;
             /* pixels whose centres are half a pixel inside are fully covered */

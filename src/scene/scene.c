@@ -35,8 +35,10 @@ enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_PANELS,  /* a list of panel names, unsigned SP_PANEL_* bits */
                 KEY_COLOR,   /* #rrggbb, "theme" or "transparent", int */
                 KEY_TRAIL,   /* frames, "5s" (SP_TRAIL_DURATION) or "all" (SP_TRAIL_ALL), int */
-                KEY_TEXT };  /* UTF-8 text: char[SP_VIEW_TEXT_BYTES], or for title and
+                KEY_TEXT,    /* UTF-8 text: char[SP_VIEW_TEXT_BYTES], or for title and
                                 caption a heap string (long_text_slot) */
+                KEY_CAMERA }; /* auto, front or "AZIMUTH ELEVATION [DISTANCE]":
+                                 view.camera (int) and its three numbers */
 
 /* One scene key: where it lives in struct sp_scene and what it accepts.
  * Accepted: lo < v (lo_open) or lo <= v, and v <= hi. */
@@ -54,6 +56,7 @@ struct key_info {
  * sp_scene_canonical at their default, so that scenes without them keep
  * their hash and their PNGs' bytes. */
 #define QUIET_KEY(k) ((k)->offset == offsetof(struct sp_scene, view.vectors) || \
+                      (k)->offset == offsetof(struct sp_scene, view.camera) || \
                       (k)->offset == offsetof(struct sp_scene, view.panel_background))
 
 /* [video] preset's choices: auto, then scene.h's SP_VIDEO_PRESETS. */
@@ -109,6 +112,8 @@ static const struct key_info keys[] = {
      "a font family that fontconfig knows (fc-list : family); empty = DejaVu Sans"},
     {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
     {"view", "caption", KEY_TEXT, F(view.caption), 0, 0, 0, 0, "text"},
+    {"view", "camera", KEY_CAMERA, F(view.camera), 0, 0, 0, 0,
+     "auto, front, AZIMUTH ELEVATION [DISTANCE] (degrees, degrees, m)"},
     {"ensemble", "count", KEY_INT, F(ensemble.count), 0, 0, SP_ENSEMBLE_MAX, 0,
      "pendulums (0 or 1 = no ensemble)"},
     {"ensemble", "key", KEY_TEXT, F(ensemble.key), 0, 0, 0, 0,
@@ -210,6 +215,7 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
 
 static const struct key_info *numeric_key(const char *key);
 static void check_ensemble(struct parse_ctx *c);
+static void check_view_3d(struct parse_ctx *c);
 
 static const struct key_info *find_key(const char *section, const char *name)
 {
@@ -333,6 +339,53 @@ static int choice_index(const char *list, const char *word, size_t len)
 }
 
 static int utf8_length(const unsigned char *s); /* below, with the file's text check */
+
+/* [view] camera: auto, front, or azimuth and elevation (degrees) and
+ * optionally the distance (m), separated by blanks or a comma. Returns 1. */
+static int set_camera(struct parse_ctx *c, int line, const struct key_info *k,
+                      const char *value)
+{
+    static const char *const what[] = {"azimuth", "elevation", "distance"};
+    struct sp_view *v = &c->scene->view;
+    double num[3] = {0, 0, 0};
+    int n = 0;
+    if (!strcmp(value, "auto") || !strcmp(value, "front")) {
+        v->camera = value[0] == 'a' ? SP_CAMERA_AUTO : SP_CAMERA_FRONT;
+        return 1;
+    }
+    for (const char *w = value + strspn(value, " \t,"); *w; w += strspn(w, " \t,")) {
+        const size_t len = strcspn(w, " \t,");
+        char word[64];
+        if (n == 3 || len >= sizeof(word)) {
+            n = 4;
+            break;
+        }
+        snprintf(word, sizeof(word), "%.*s", (int)len, w);
+        if (sp_decimal_read(word, &num[n]) != SP_DECIMAL_OK) {
+            report(c, line, "%s.%s: the %s '%s' is not a finite decimal number; allowed: %s",
+                   k->section, k->name, what[n], word, k->unit);
+            return 1;
+        }
+        n++;
+        w += len;
+    }
+    if (n < 2 || n > 3) {
+        report(c, line, "%s.%s = '%s' is not allowed; allowed: %s", k->section, k->name, value,
+               k->unit);
+        return 1;
+    }
+    if (!(fabs(num[0]) <= 360) || !(fabs(num[1]) < 90) || (n == 3 && !(num[2] > 0 && num[2] <= 1e4))) {
+        report(c, line, "%s.%s = '%s' is out of range; allowed: azimuth -360 ... 360 degrees, "
+               "elevation strictly between -90 and 90 degrees, distance 0 < D <= 1e4 m (or "
+               "left out: fitted to the motion)", k->section, k->name, value);
+        return 1;
+    }
+    v->camera = SP_CAMERA_SET;
+    v->camera_azimuth = num[0] * (M_PI / 180.0);
+    v->camera_elevation = num[1] * (M_PI / 180.0);
+    v->camera_distance = n == 3 ? num[2] : 0;
+    return 1;
+}
 
 /* The word-valued kinds and the trail. Returns 1 when it consumed the value
  * (stored or reported), 0 for kinds it does not read. */
@@ -485,6 +538,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         p[n] = 0;
         return 1;
     }
+    case KEY_CAMERA:
+        return set_camera(c, line, k, value);
     default:
         return 0;
     }
@@ -852,6 +907,36 @@ static int check_text(struct parse_ctx *c, const char *text)
     return 1;
 }
 
+/* What the third dimension and the perspective camera do not draw: arrows
+ * (drawn in the front view's plane), ensembles (their members are drawn in
+ * the front view) and the Poincare section (theta = 0 with dtheta/dt > 0 is
+ * a section of the planar motion only: in 3-D the polar angle is >= 0 and
+ * the state has two more dimensions). */
+static void check_view_3d(struct parse_ctx *c)
+{
+    const struct sp_scene *s = c->scene;
+    const int cam_line = c->key_line[find_key("view", "camera") - keys];
+    const int rate_line = c->key_line[find_key("initial", "azimuth_rate") - keys];
+    const char *why = s->view.camera == SP_CAMERA_SET ? "view.camera sets a perspective"
+                      : "a 3-D scene (initial.azimuth_rate != 0) is drawn in perspective";
+    if (sp_scene_perspective(s) && s->view.vectors)
+        report(c, c->key_line[find_key("view", "vectors") - keys] ? c->key_line[find_key("view", "vectors") - keys]
+               : cam_line ? cam_line : rate_line,
+               "view.vectors draws its arrows in the front view's plane, but %s; set "
+               "view.camera = front to draw them (the x-y projection), or view.vectors = none",
+               why);
+    if (s->view.camera == SP_CAMERA_SET && s->ensemble.count > 1)
+        report(c, cam_line, "[ensemble] draws its members in the front view; set view.camera "
+               "= auto or front, or ensemble.count = 0");
+    if (s->initial.azimuth_rate != 0 && s->view.panels & SP_PANEL_POINCARE)
+        report(c, c->key_line[find_key("view", "panels") - keys] ? c->key_line[find_key("view", "panels") - keys]
+               : rate_line,
+               "the poincare panel is the planar section theta = 0 with dtheta/dt > 0, which a "
+               "3-D motion (initial.azimuth_rate = %g rad/s) does not have; leave poincare out "
+               "of view.panels (azimuth and top show the third dimension) or set "
+               "initial.azimuth_rate = 0", s->initial.azimuth_rate);
+}
+
 /* Checks that need several keys at once. */
 static void validate_whole(struct parse_ctx *c)
 {
@@ -898,6 +983,7 @@ static void validate_whole(struct parse_ctx *c)
         report(c, c->key_line[find_key("ensemble", "count") - keys],
                "[ensemble] runs planar pendulums only (its batched integrator has no third "
                "dimension); set initial.azimuth_rate = 0 or ensemble.count = 0");
+    check_view_3d(c);
     double steps = s->video.duration / s->integrator.dt;
     if (s->integrator.method <= SP_METHOD_YOSHIDA4 && steps > 1e10)
         report(c, 0, "video.duration / integrator.dt = %.3g steps; at most 1e10 are "
@@ -1113,6 +1199,12 @@ void sp_scene_free(struct sp_scene *s)
     s->view.title = s->view.caption = s->view.title_where = s->view.caption_where = "";
 }
 
+int sp_scene_perspective(const struct sp_scene *s)
+{
+    return s->view.camera == SP_CAMERA_SET ||
+           (s->view.camera == SP_CAMERA_AUTO && s->initial.azimuth_rate != 0);
+}
+
 int sp_scene_frame_count(const struct sp_scene *s)
 {
     return (int)lround(s->video.duration * s->video.fps / s->video.speed);
@@ -1147,6 +1239,15 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
             break;
         case KEY_TEXT:
             n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name, text_of(s, k));
+            break;
+        case KEY_CAMERA:
+            if (s->view.camera == SP_CAMERA_SET)
+                n = snprintf(at, room, "%s.%s=%.17g %.17g %.17g\n", k->section, k->name,
+                             s->view.camera_azimuth, s->view.camera_elevation,
+                             s->view.camera_distance);
+            else
+                n = s->view.camera == SP_CAMERA_AUTO ? 0
+                    : snprintf(at, room, "%s.%s=front\n", k->section, k->name);
             break;
         case KEY_TRAIL:
             if (*(const int *)p == SP_TRAIL_DURATION)
@@ -1240,6 +1341,18 @@ int sp_scene_write_ini(const struct sp_scene *s, char *buf, size_t size)
         case KEY_TEXT: /* in quotes, taken whole: a ' #' inside stays text; any length */
             EMIT("%s = \"%s\"\n", k->name, text_of(s, k));
             continue;
+        case KEY_CAMERA:
+            if (s->view.camera == SP_CAMERA_SET) {
+                char a[32], e[32], d[32] = "";
+                exact_number(s->view.camera_azimuth, M_PI / 180.0, a, sizeof(a));
+                exact_number(s->view.camera_elevation, M_PI / 180.0, e, sizeof(e));
+                if (s->view.camera_distance > 0)
+                    exact_number(s->view.camera_distance, 1, d, sizeof(d));
+                snprintf(value, sizeof(value), "%s %s%s%s", a, e, d[0] ? " " : "", d);
+            } else {
+                snprintf(value, sizeof(value), "%s", s->view.camera ? "front" : "auto");
+            }
+            break;
         case KEY_TRAIL:
             if (*(const int *)p == SP_TRAIL_DURATION) {
                 exact_number(s->view.trail_duration, 1, value, sizeof(value) - 1);
@@ -1346,6 +1459,13 @@ void sp_scene_canonical_display(const char *key, const char *value, char *buf, s
     if (dot && (size_t)(dot - key) < sizeof(section)) {
         snprintf(section, sizeof(section), "%.*s", (int)(dot - key), key);
         k = find_key(section, dot + 1);
+    }
+    double cam[3];
+    if (k && k->kind == KEY_CAMERA && sscanf(value, "%lf %lf %lf", &cam[0], &cam[1], &cam[2]) == 3) {
+        int n = snprintf(buf, size, "%.10g %.10g", cam[0] * (180.0 / M_PI), cam[1] * (180.0 / M_PI));
+        if (cam[2] > 0 && n >= 0 && (size_t)n < size)
+            snprintf(buf + n, size - (size_t)n, " %.10g", cam[2]);
+        return;
     }
     if (!k || end == value || *end)
         return;

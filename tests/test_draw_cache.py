@@ -154,7 +154,8 @@ ok(a is not None and diff is None and frames == 400 and used == frames
    f"chaotic.ini 320x180, all panels, 40 s: {frames} frames identical to the uncached ones, "
    f"{used} cached (cache drawn {drawn} times, curves appended in {appended_frames(verbose)})")
 
-# frames of a cached video against stills at the same times
+# frames of a cached video against stills at the same times (a still with
+# the video's marks of now: view.cursor = true)
 w, h, fps = 640, 360, 8
 a, _ = raw("resonance.ini", f"{w}x{h}", SHORT, True)
 if ok(a is not None, "resonance.ini 640x360 video for the stills"):
@@ -162,7 +163,7 @@ if ok(a is not None, "resonance.ini 640x360 video for the stills"):
         png = os.path.join(work, f"still{k}.png")
         r = subprocess.run([exe, "still", os.path.join(scenes, "resonance.ini"), "--size", f"{w}x{h}",
                             "--fps", str(fps), "--set", "video.duration=1.5", "--at", str(k / fps),
-                            "-q", "-o", png], capture_output=True, cwd=work)
+                            "--set", "view.cursor=true", "-q", "-o", png], capture_output=True, cwd=work)
         frame = a[k * w * h * 4:(k + 1) * w * h * 4]
         got = None
         if r.returncode == 0:
@@ -180,7 +181,8 @@ w, h, fps, n = 480, 270, 25, 500
 a, _ = raw("default.ini", f"{w}x{h}", ["--set", "video.duration=20", "--fps", str(fps)], True)
 png = os.path.join(work, "still_long.png")
 r = subprocess.run([exe, "still", os.path.join(scenes, "default.ini"), "--size", f"{w}x{h}", "--fps",
-                    str(fps), "--set", "video.duration=20", "--at", str((n - 1) / fps), "-q", "-o", png],
+                    str(fps), "--set", "video.duration=20", "--at", str((n - 1) / fps),
+                    "--set", "view.cursor=true", "-q", "-o", png],
                    capture_output=True, cwd=work)
 got = subprocess.run(["ffmpeg", "-v", "error", "-i", png, "-f", "rawvideo", "-pix_fmt", "rgba", "-"],
                      capture_output=True).stdout if r.returncode == 0 and shutil.which("ffmpeg") else None

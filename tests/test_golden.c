@@ -77,14 +77,18 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
     struct sp_scene scene;
     struct sp_image want = {0}, got = {0}, diff = {0};
     int n = 0;
+    const char *overrides[13];
     while (n < 12 && gc->overrides[n])
-        n++;
+        overrides[n] = gc->overrides[n], n++;
+    /* the goldens are the video's frames: with its marks of now, which a
+     * still leaves out by default (view.cursor = auto) */
+    overrides[n++] = "view.cursor=true";
     snprintf(scene_path, sizeof(scene_path), "%s/../scenes/%s", src, gc->scene);
     snprintf(golden, sizeof(golden), "%s/golden/%s.png", src, gc->name);
     snprintf(actual, sizeof(actual), "%s/%s.%s.actual.png", outdir, gc->name, gl_name);
     snprintf(diffp, sizeof(diffp), "%s/%s.%s.diff.png", outdir, gc->name, gl_name);
     sp_scene_defaults(&scene);
-    if (!sp_tap_ok(sp_scene_load(&scene, scene_path, gc->overrides, n) == 0 &&
+    if (!sp_tap_ok(sp_scene_load(&scene, scene_path, overrides, n) == 0 &&
                    sp_pipeline_run(&(struct sp_pipeline_desc){
                        .scene = &scene, .output = actual, .still = 1,
                        .still_at = gc->at, .gl = gl}) == 0,
@@ -136,10 +140,11 @@ static void check_margin(const char *src, const char *outdir, const struct golde
                          const char *change, double dt_s, const char *what)
 {
     char scene_path[4096], golden[4096], actual[4096];
-    const char *ov[13];
+    const char *ov[14];
     int n = 0;
     while (n < 12 && gc->overrides[n])
         ov[n] = gc->overrides[n], n++;
+    ov[n++] = "view.cursor=true"; /* as run_case */
     if (change)
         ov[n++] = change;
     snprintf(scene_path, sizeof(scene_path), "%s/../scenes/%s", src, gc->scene);

@@ -259,6 +259,32 @@ changed("ens-trails", {"ensemble.count": 5, "ensemble.spread": 40, "ensemble.tra
 path = scene("ens-data", {"ensemble.count": 5, "ensemble.spread": 0.4,
                           "ensemble.key": "pendulum.stiffness", "pendulum.stiffness": 3,
                           "video.duration": 0.1})
+# a figure's style keys (stills and sweep figures: tests/test_paper.py)
+for cmap in ("magma", "cividis", "gray"):
+    changed(f"cmap-{cmap}", {"view.panels": "energy,phase", "view.colormap": cmap},
+            f"the {cmap} colour map", ref_frame=with_panel)
+with_bar = frame("panel-bar", {"view.panels": "energy,phase", "view.colormap": "viridis",
+                               "view.colorbar": "true"})
+changed("colorbar-label", {"view.panels": "energy,phase", "view.colormap": "viridis",
+                           "view.colorbar": "true", "view.colorbar_label": '"speed"'},
+        "the colour bar's own name", ref_frame=with_bar)
+changed("cursor", {"view.panels": "r", "view.cursor": "false"}, "no time cursor", ref_frame=with_r)
+changed("panel-titles", {"view.panels": "r", "view.panel_titles": "false"}, "no panel title",
+        ref_frame=with_r)
+changed("panel-labels", {"view.panels": "r", "view.panel_labels": "a"}, "(a) before the title",
+        ref_frame=with_r)
+changed("palette", {"view.panels": "r", "view.palette": "okabe_ito"}, "Okabe-Ito's blue",
+        ref_frame=with_r)
+changed("xlabel", {"view.panels": "r", "view.xlabel": '"time"'}, "the x axis's own name",
+        ref_frame=with_r)
+changed("ylabel", {"view.panels": "r", "view.ylabel": '"length"'}, "the y axis's own name",
+        ref_frame=with_r)
+with_energy = frame("panel-energy", {"view.panels": "energy"})
+changed("legend", {"view.panels": "energy", "view.legend": "none"}, "no legend",
+        ref_frame=with_energy)
+with_phase = frame("panel-phase", {"view.panels": "phase"})
+changed("marker-size", {"view.panels": "phase", "view.marker_size": 8}, "a larger dot at now",
+        ref_frame=with_phase)
 r = run("data", path, "-o", "-")
 lines = r.stdout.split("\n")
 vals = [float(line.split(",")[2]) for line in lines[1:6]] if r.returncode == 0 else []

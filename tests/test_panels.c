@@ -11,6 +11,7 @@
 #include "springpend/scene.h"
 #include "springpend/sim.h"
 #include "layout.h"
+#include "panels.h"
 #include "text.h"
 #include "tap.h"
 
@@ -93,8 +94,9 @@ static void test_layout(void)
                 struct sp_layout l;
                 struct sp_rect all[SP_PANEL_COUNT + 3];
                 int n = 0;
-                sp_layout_compute(&(struct sp_layout_desc){W, H, sets[s], extras ? 0.08f * H : 0,
-                                                           extras ? 0.06f * W : 0, 0, 0, 0}, &l);
+                sp_layout_compute(&(struct sp_layout_desc){.width = W, .height = H, .panels = sets[s],
+                                                           .hud_height = extras ? 0.08f * H : 0,
+                                                           .colorbar_width = extras ? 0.06f * W : 0}, &l);
                 all[n++] = l.camera;
                 if (extras) {
                     all[n++] = l.hud;
@@ -208,10 +210,45 @@ static void test_poincare(void)
               "without panels no history is kept");
 }
 
+/* The colour maps against matplotlib 3.6's own values (colormaps[NAME](t),
+ * printed with Debian's python3-matplotlib), and gray's black to white. */
+static void test_colormaps(void)
+{
+    static const struct {
+        int map;
+        const char *name;
+        float t, rgb[3];
+    } want[] = {
+        {SP_COLORMAP_MAGMA, "magma", 0, {0.001462f, 0.000466f, 0.013866f}},
+        {SP_COLORMAP_MAGMA, "magma", 0.25f, {0.316654f, 0.071690f, 0.485380f}},
+        {SP_COLORMAP_MAGMA, "magma", 0.5f, {0.716387f, 0.214982f, 0.475290f}},
+        {SP_COLORMAP_MAGMA, "magma", 1, {0.987053f, 0.991438f, 0.749504f}},
+        {SP_COLORMAP_CIVIDIS, "cividis", 0, {0.0f, 0.135112f, 0.304751f}},
+        {SP_COLORMAP_CIVIDIS, "cividis", 0.25f, {0.263738f, 0.307831f, 0.422789f}},
+        {SP_COLORMAP_CIVIDIS, "cividis", 0.5f, {0.488697f, 0.485318f, 0.471008f}},
+        {SP_COLORMAP_CIVIDIS, "cividis", 1, {0.995737f, 0.909344f, 0.217772f}},
+        {SP_COLORMAP_GRAY, "gray", 0, {0, 0, 0}},
+        {SP_COLORMAP_GRAY, "gray", 0.5f, {0.5f, 0.5f, 0.5f}},
+        {SP_COLORMAP_GRAY, "gray", 1, {1, 1, 1}},
+    };
+    for (size_t i = 0; i < sizeof(want) / sizeof(want[0]); i++) {
+        float rgb[3];
+        sp_colormap(want[i].map, want[i].t, rgb);
+        float off = 0;
+        for (int k = 0; k < 3; k++)
+            off = fmaxf(off, fabsf(rgb[k] - want[i].rgb[k]));
+        /* 8-bit entries, and matplotlib picks entry floor(256 t) where we
+         * interpolate: within 1.5 levels */
+        sp_tap_ok(off <= 1.5f / 255, "%s(%g) = (%.4f, %.4f, %.4f), matplotlib's within %.4f",
+                  want[i].name, want[i].t, rgb[0], rgb[1], rgb[2], off);
+    }
+}
+
 int main(void)
 {
     test_text();
     test_layout();
     test_poincare();
+    test_colormaps();
     return sp_tap_done();
 }

@@ -168,6 +168,74 @@ for dpi in (None, 150):
     else:
         ok(False, f"still --size 246pt -o {name}")
 
+# ---- a figure's panels: the order given, (a)/(b) labels, one unit, no video marks ----
+def boxes(pdf):
+    """(x0, y0, word) for every word pdftotext -bbox finds."""
+    out = subprocess.run(["pdftotext", "-bbox", pdf, "-"], capture_output=True, text=True).stdout
+    return [(float(x0), float(y0), html.unescape(w)) for x0, y0, w in re.findall(
+        r'<word xMin="([^"]+)" yMin="([^"]+)" xMax="[^"]+" yMax="[^"]+">([^<]*)<', out)]
+
+
+def after(bx, word):
+    """The word right of `word` on its line (None when there is none)."""
+    at = [b for b in bx if b[2] == word]
+    if not at:
+        return None
+    x, y = at[0][0], at[0][1]
+    right = sorted((b for b in bx if abs(b[1] - y) < 2 and b[0] > x), key=lambda b: b[0])
+    return right[0][2] if right else None
+
+
+FIG = ["--size", "8.6cmx8cm", "--set", "view.pendulum=false", *PRINT]
+if still("order.pdf", "chaotic.ini", *FIG, "--set", "view.panels=poincare,phase",
+         "--set", "view.panel_labels=a"):
+    bx = boxes(p("order.pdf"))
+    ws = [b[2] for b in bx]
+    ok(after(bx, "(a)") == "Poincaré" and after(bx, "(b)") in ("r,", "Phase") and "(c)" in ws,
+       f"panels = poincare, phase with panel_labels = a: (a) Poincaré, then (b), (c) the phase "
+       f"portraits: (a) {after(bx, '(a)')}, (b) {after(bx, '(b)')}")
+    a = [b for b in bx if b[2] == "(a)"]
+    b = [b for b in bx if b[2] == "(b)"]
+    ok(a and b and (a[0][1] < b[0][1] - 2 or (abs(a[0][1] - b[0][1]) < 2 and a[0][0] < b[0][0])),
+       "(a) comes first in reading order (above, or left on the same row)")
+    ok("(rad/s)" in ws and not any("°/s" in w for w in ws),
+       f"the phase portrait's θ̇ is in rad/s, as data's and sweep's CSVs: "
+       f"{[w for w in ws if '/s' in w]}")
+    ok("now" not in ws and "latest" not in ws,
+       "a still leaves out the video's 'now' and 'latest' (view.cursor = auto)")
+else:
+    ok(False, "still -o order.pdf")
+if still("order_rev.pdf", "chaotic.ini", *FIG, "--set", "view.panels=phase,poincare",
+         "--set", "view.panel_labels=A"):
+    bx = boxes(p("order_rev.pdf"))
+    ok(after(bx, "(C)") == "Poincaré", f"panels = phase, poincare: (C) is the Poincaré section "
+       f"({after(bx, '(C)')})")
+if still("cursor.pdf", "chaotic.ini", *FIG, "--set", "view.panels=poincare,phase",
+         "--set", "view.cursor=true"):
+    ws = words(p("cursor.pdf"))
+    ok("now" in ws and "latest" in ws, "view.cursor = true keeps 'now' and 'latest' in a still")
+if still("plain.pdf", "chaotic.ini", *FIG, "--set", "view.panels=poincare,r",
+         "--set", "view.panel_titles=false", "--set", "view.legend=none",
+         "--set", "view.xlabel=Px | Rt", "--set", "view.ylabel=Py"):
+    ws = words(p("plain.pdf"))
+    ok(not any(w in ws for w in ("Poincaré", "Spring", "crossings")),
+       f"panel_titles = false, legend = none: no titles, no legend: {ws}")
+    ok(ws.count("Px") == 1 and ws.count("Rt") == 1 and ws.count("Py") == 2 and "(m/s)" not in ws,
+       "xlabel 'Px | Rt' names each panel's x axis in panels' order, ylabel 'Py' both y axes")
+# the order round-trips through the scene the PNG records
+if still("order.png", "chaotic.ini", "--size", "640x480", "--set", "view.pendulum=false",
+         "--set", "view.panels=poincare,energy,phase"):
+    r = run("scene", p("order.png"))
+    ok(r.returncode == 0 and "panels = poincare, energy, phase" in r.stdout,
+       f"springpend scene prints the panels in their order: "
+       f"{[l for l in r.stdout.splitlines() if l.startswith('panels')]}")
+# a label per panel, or one for all: anything else is refused with its line
+bad = p("labels.ini")
+open(bad, "w").write("[view]\npanels = poincare, r\nxlabel = \"a | b | c\"\n")
+r = run("still", bad, "-o", p("labels.png"), "-q")
+ok(r.returncode == 2 and f"{bad}:3: view.xlabel" in r.stderr and "3 entries for 2 panels" in r.stderr
+   and not os.path.exists(p("labels.png")), f"xlabel with 3 entries for 2 panels: {r.stderr.strip()}")
+
 # ---- sweep figures at a printed size ----
 MAP = ["--vary", "initial.angle=10:170:8", "--vary", "initial.length=0.8:1.6:6",
        "--measure", "lyapunov", "--time", "2"]
@@ -213,19 +281,33 @@ def raster(pdf):
     return open(pdf[:-4] + ".png", "rb").read() if r.returncode == 0 else b""
 
 
-KEYS = [("view.theme", "dark"), ("view.colormap", "inferno"), ("view.font", "Noto Sans"),
-        ("view.font_size", "8"), ("view.title", "Sweep A"), ("view.background", "#ffe0c0")]
+# A key a map has nothing for (a legend, series colours, markers) is tried
+# on the sweep figure that has it: a Lyapunov line (one key), the mosaic.
+LINE = ["--vary", "initial.angle=10:170:12", "--measure", "lyapunov", "--time", "2"]
+KEYS = [("view.theme", "dark", MAP), ("view.colormap", "inferno", MAP),
+        ("view.colormap", "magma", MAP), ("view.colormap", "cividis", MAP),
+        ("view.colormap", "gray", MAP), ("view.font", "Noto Sans", MAP),
+        ("view.font_size", "8", MAP), ("view.title", "Sweep A", MAP),
+        ("view.background", "#ffe0c0", MAP), ("view.xlabel", "X axis", MAP),
+        ("view.ylabel", "Y axis", MAP), ("view.colorbar_label", "Z colours", MAP),
+        ("view.panel_titles", "false", MAP), ("view.panel_labels", "a", MAP),
+        ("view.legend", "none", LINE), ("view.palette", "okabe_ito", LINE),
+        ("view.marker_size", "6", POINC)]
 if shutil.which("pdftoppm"):
-    base_sweep = sweep("key_base.pdf", "chaotic.ini", MAP, "--size", "8.6cm",
-                       "--set", "view.theme=light") and raster(p("key_base.pdf"))
-    base_still = still("key_base_still.pdf", "chaotic.ini", "--size", "8.6cm", *PRINT,
-                       "--set", "view.panels=poincare") and raster(p("key_base_still.pdf"))
-    for key, val in KEYS:
-        a = sweep("key_sweep.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.theme=light",
+    # the still has the trail's colour bar, so that colorbar_label has a bar to name
+    STILL_KEYS = [*PRINT, "--set", "view.panels=poincare", "--set", "view.colorbar=true"]
+    base_sweep = {}
+    for grid in (MAP, LINE, POINC):
+        base_sweep[id(grid)] = sweep("key_base.pdf", "chaotic.ini", grid, "--size", "8.6cm",
+                                     "--set", "view.theme=light") and raster(p("key_base.pdf"))
+    base_still = still("key_base_still.pdf", "chaotic.ini", "--size", "8.6cm",
+                       *STILL_KEYS) and raster(p("key_base_still.pdf"))
+    for key, val, grid in KEYS:
+        a = sweep("key_sweep.pdf", "chaotic.ini", grid, "--size", "8.6cm", "--set", "view.theme=light",
                   "--set", f"{key}={val}") and raster(p("key_sweep.pdf"))
-        b = still("key_still.pdf", "chaotic.ini", "--size", "8.6cm", *PRINT, "--set",
-                  "view.panels=poincare", "--set", f"{key}={val}") and raster(p("key_still.pdf"))
-        ok(a and b and a != base_sweep and b != base_still,
+        b = still("key_still.pdf", "chaotic.ini", "--size", "8.6cm", *STILL_KEYS,
+                  "--set", f"{key}={val}") and raster(p("key_still.pdf"))
+        ok(a and b and a != base_sweep[id(grid)] and b != base_still,
            f"{key} = {val} changes the sweep figure and the still")
     t = words(p("key_sweep.pdf"))
     if sweep("notitle.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.title="):
@@ -260,6 +342,8 @@ ok(r.returncode == 2 and "--size" in r.stderr and not os.path.exists(p("bad.mp4"
 
 SWEEP_BAD = [
     (["--set", "view.panels=r"], "view.panels"),
+    (["--set", "view.cursor=true"], "view.cursor"),
+    (["--set", "view.xlabel=a|b"], "view.xlabel"),
     (["--set", "view.hud=false"], "view.hud"),
     (["--set", "video.fps=30"], "video.fps"),
     (["--set", "ensemble.count=3"], "ensemble.count"),

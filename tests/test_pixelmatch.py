@@ -44,7 +44,9 @@ def ours(a, b, threshold):
 
 # The pairs: springpend's own renders, and one drawing rasterised by librsvg
 # at two sub-pixel offsets.
-panels = ["--size", "640x360", "--set", "view.panels=all", "--set", "view.hud=true"]
+# (with the video's marks of now, as its frames: view.cursor = true)
+panels = ["--size", "640x360", "--set", "view.panels=all", "--set", "view.hud=true",
+          "--set", "view.cursor=true"]
 for name, extra in (("base", ["--at", "3"]), ("later", ["--at", "3.003"]),
                     ("moved", ["--at", "3.05"]),
                     ("stiff", ["--at", "3", "--set", "pendulum.stiffness=2.2"]),

@@ -28,6 +28,17 @@ commands = {
     "mp4": ["render", "chaotic.ini", *sets, "--size", "160x96", "--fps", "10", "--set",
             "video.duration=1", "-o", "out.mp4", "-q"],
     "csv": ["data", "chaotic.ini", *sets, "--every", "0.5", "-o", "out.csv", "-q"],
+    # a printed size: the page's height from the scene's width:height, so the
+    # scene is recorded as given, not with the pixels --size made of it
+    "png-8.6cm": ["still", "chaotic.ini", *sets, "--size", "8.6cm", "--dpi", "100", "--at", "1.5",
+                  "-o", "paper.png", "-q"],
+    "svg": ["still", "chaotic.ini", *sets, "--size", "8.6cm", "--at", "1.5", "-o", "out.svg", "-q"],
+    "pdf": ["still", "chaotic.ini", *sets, "--size", "8.6cm", "--at", "1.5", "-o", "out.pdf", "-q"],
+    # a sweep's figure: the [view] panels are not its keys
+    "sweep-pdf": ["sweep", "chaotic.ini", *sets[:2], *sets[4:], "--vary", "initial.length=0.8:1.6:3",
+                  "--measure", "lyapunov", "--time", "2", "-o", "map.pdf", "-q"],
+    "sweep-svg": ["sweep", "chaotic.ini", *sets[:2], *sets[4:], "--vary", "initial.length=0.8:1.6:3",
+                  "--measure", "lyapunov", "--time", "2", "-o", "map.svg", "-q"],
 }
 
 
@@ -49,7 +60,8 @@ for kind, args in commands.items():
     s = run(first, ["scene", out])
     scene = s.stdout
     ok(s.returncode == 0 and "[initial]\n" in scene and "angle = 33.3\n" in scene and
-       "panels = energy, phase\n" in scene and "theme = light\n" in scene and
+       ("panels = energy, phase\n" in scene or kind.startswith("sweep")) and
+       "theme = light\n" in scene and
        "title = \"Run #3: ü 'x'\"\n" in scene and "0x" not in scene,
        f"{kind}: `springpend scene` prints the scene in user units and names "
        f"(angle = 33.3 degrees, panels = energy, phase, theme = light) {s.stderr.strip()}")
@@ -87,6 +99,17 @@ for out, args in (("long.png", ["still", "long.ini", "--at", "1", "--size", "320
        and s.stdout.count("caption: \"Step") == 120,
        f"{out}: a scene of {len(long_ini)} bytes is recorded whole ({len(s.stdout)} bytes "
        f"printed, exit {s.returncode}) {r.stderr.strip()[-160:]} {s.stderr.strip()[-160:]}")
+
+# a PDF or SVG springpend did not write (or wrote before it recorded scenes)
+with open(os.path.join(first, "other.pdf"), "wb") as f:
+    f.write(b"%PDF-1.5\n1 0 obj << /Subject (notes) >> endobj\n%%EOF\n")
+r = run(first, ["scene", "other.pdf"])
+ok(r.returncode == 2 and "carries no scene" in r.stderr,
+   f"a PDF whose /Subject is not a springpend scene: exit 2 {r.stderr.strip()}")
+with open(os.path.join(first, "cut.svg"), "w") as f:
+    f.write('<svg><metadata id="springpend.scene-file">[view]\ntitle = "a &bogus; b"\n</metadata></svg>\n')
+r = run(first, ["scene", "cut.svg"])
+ok(r.returncode == 2 and "damaged" in r.stderr, f"an SVG record with a bad escape: exit 2 {r.stderr.strip()}")
 
 r = run(first, ["scene", "chaotic.ini"])
 ok(r.returncode == 2 and "not a PNG, video" in r.stderr, f"a scene file itself: exit 2 {r.stderr.strip()}")

@@ -253,7 +253,7 @@ for k in (300, 500, 620):
     fr = raw("--set", f"video.fps={FPS}", "--frames", f"{k}:{k + 1}", "--set", "view.panels=all")
     still = os.path.join(work, f"still{k}.png")
     r = run("still", lesson, "--at", repr(t), "--set", f"video.fps={FPS}", "-o", still, *SMALL,
-            "--set", "view.panels=all")
+            "--set", "view.panels=all", "--set", "view.cursor=true")  # the video's marks
     px = png_pixels(still) if r.returncode == 0 else None
     ok(fr is not None and px is not None and np.array_equal(px, fr[0]),
        f"frame {k} (simulated {t:.4f} s) equals the still at its time")

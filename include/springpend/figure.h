@@ -23,7 +23,20 @@ struct sp_figure_desc {
     const char *path;             /* .svg or .pdf; written as PATH.part, renamed */
     int cells;                    /* as for sp_render_desc: scenes side by side */
     const struct sp_look *looks;
+    const char *scene_file;       /* provenance: the scene as a scene file
+                                     (sp_scene_ini); NULL = none */
 };
+
+/* A figure's scene record: the PDF /Subject's first line, the SVG
+ * <metadata>'s id (the PNG text's key, provenance.h). */
+#define SP_FIGURE_SCENE_MARK "# springpend.scene-file\n"
+#define SP_FIGURE_SCENE_ID "springpend.scene-file"
+
+/* Reads the scene a springpend SVG or PDF figure (still or sweep) records
+ * into text (NUL-terminated, at most size bytes): 1 when found, 0 when the
+ * file has none (logged by the caller), SP_E_IO (logged) when it cannot be
+ * read, SP_E_INPUT (logged) when the record is damaged or too long. */
+int sp_figure_read_scene(const char *path, char *text, size_t size);
 
 /* Composes f (side by side: f[0..cells)) and writes it. On failure nothing is left at path. 0,
  * SP_E_INPUT (not .svg/.pdf), SP_E_IO or SP_E_NOMEM (logged). */

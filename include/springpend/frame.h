@@ -97,6 +97,8 @@ struct sp_look {
                            per pt, and text, lines, ticks and markers are set in
                            pt (print defaults: 10 pt text, 0.8 pt axes, 3.5 pt
                            ticks); 0 = a video frame, sizes follow the frame */
+    int still;          /* 1: a still (still command): view.cursor = auto leaves
+                           the video's marks of now out */
     const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
                                            band holds its largest text, the
                                            frame's sp_moment says what shows */

@@ -31,6 +31,11 @@ struct sp_pipeline_desc {
                             video.width x height px are page_w x page_h pt at
                             pt_px px per pt (sp_look.pt_px); 0 = a video frame */
     double page_w, page_h; /* pt: an SVG or PDF still's page, when pt_px > 0 */
+    const struct sp_scene *recorded; /* the scene provenance records; NULL =
+                                        scene. A still of physical size records
+                                        its scene before --size set its px, so
+                                        that the same command on it makes the
+                                        same page */
     struct sp_state *state_out; /* not NULL: receives the bob's state in the
                                    last frame drawn */
     /* Side by side: the scenes drawn beside `scene`, each in its own cell

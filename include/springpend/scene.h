@@ -52,7 +52,11 @@ enum sp_vector {
 };
 
 enum sp_theme { SP_THEME_DARK = 0, SP_THEME_LIGHT = 1 };
-enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1 };
+enum sp_colormap { SP_COLORMAP_INFERNO = 0, SP_COLORMAP_VIRIDIS = 1, SP_COLORMAP_MAGMA = 2,
+                   SP_COLORMAP_CIVIDIS = 3, SP_COLORMAP_GRAY = 4 };
+/* [view] cursor: the video's marks of the present. */
+enum sp_cursor { SP_CURSOR_AUTO = 0, /* in videos and frames, not in stills */
+                 SP_CURSOR_SHOWN = 1, SP_CURSOR_HIDDEN = 2 };
 #define SP_TRAIL_ALL (-1)
 /* [view] trail given as a duration ("5s"): see view.trail_duration. */
 #define SP_TRAIL_DURATION (-2)
@@ -119,6 +123,9 @@ struct sp_scene {
         double trail_duration; /* simulated s of motion the trail shows, when
                                   trail = SP_TRAIL_DURATION */
         unsigned panels; /* SP_PANEL_* bits, 0 = none */
+        signed char panel_order[SP_PANEL_COUNT]; /* bit numbers of panels in the order
+                                                    the key listed them, -1 after the
+                                                    last (see sp_scene_panel_order) */
         unsigned vectors; /* SP_VECTOR_* bits, 0 = none: arrows from the bob */
         int hud;         /* 1: time, parameters and resonance check as text */
         int theme;       /* enum sp_theme */
@@ -142,6 +149,24 @@ struct sp_scene {
         /* Where each was set, for messages: "FILE:LINE" or "--set view.title";
          * "" = nowhere (the default, or a cell label). Never NULL. */
         const char *title_where, *caption_where;
+        /* A figure's style (stills and sweep figures alike; each is left out of
+         * sp_scene_canonical at its default, so older PNGs keep their bytes): */
+        int cursor;        /* enum sp_cursor: strip charts' time cursor, the dot at
+                              the current state, the latest crossing, and their
+                              "now" / "latest" legend entries */
+        int legend;        /* 0 = auto (legends where a panel has series), 1 = none */
+        int panel_titles;  /* 1: each panel (a sweep figure: the figure) has its
+                              title; 0 = none */
+        int panel_labels;  /* 0 = none, 1 = (a), (b), ..., 2 = (A), (B), ... in
+                              the order panels lists them */
+        double marker_size; /* pt, a marker's diameter (Poincare and sweep dots,
+                               the current state); 0 = each figure's own */
+        int palette;       /* series colours: 0 = the theme's, 1 = Okabe-Ito's
+                              colour-blind-safe set */
+        char xlabel[SP_VIEW_TEXT_BYTES];  /* "" = each axis's own name; several
+                                             panels: one per panel, '|' between */
+        char ylabel[SP_VIEW_TEXT_BYTES];  /* as xlabel */
+        char colorbar_label[SP_VIEW_TEXT_BYTES]; /* "" = the colour bar's own name */
         int camera;              /* enum sp_camera_mode */
         double camera_azimuth;   /* rad, SP_CAMERA_SET: the eye turned about the
                                     vertical from +z (the front) towards +x */
@@ -256,6 +281,16 @@ int sp_scene_set_number(struct sp_scene *s, const char *key, double value, const
 /* The numeric key "section.key"'s value in file units (degrees for angles),
  * or NAN when there is no such numeric key. */
 double sp_scene_get_number(const struct sp_scene *s, const char *key);
+
+/* The bit numbers of view's panels in the order its panels key listed
+ * them (bits listed by no name, such as those a command adds, after them in
+ * bit order) into order[0..SP_PANEL_COUNT); returns how many. */
+int sp_scene_panel_order(const struct sp_view *view, int order[SP_PANEL_COUNT]);
+
+/* The i-th of n '|'-separated entries of a [view] label (xlabel, ylabel),
+ * blanks around it removed, into buf: one entry serves every panel; an
+ * empty one, or none for panel i, gives "". */
+void sp_scene_label_part(const char *label, int i, char *buf, size_t size);
 
 /* Prints every key with its default, unit and accepted range (for --help). */
 void sp_scene_print_keys(void);

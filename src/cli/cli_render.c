@@ -352,6 +352,7 @@ static int run(int argc, char **argv, int still)
     if (!ret && still)
         ret = check_still(&o, &scenes[0], out);
     struct sp_pipeline_desc pd = {0};
+    const struct sp_scene recorded = scenes[0]; /* before --size 8.6cm sets its px */
     if (!ret && still && o.paper_w)
         ret = paper_still(&o, &scenes[0], out, &pd);
     struct sp_moment end;
@@ -376,7 +377,8 @@ static int run(int argc, char **argv, int still)
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
         .handle_signals = !still, .supersample = o.scale, .state_out = &state,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
-        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1});
+        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
+        .recorded = pd.pt_px > 0 ? &recorded : NULL});
     /* Both files or neither (a device or stdout is never removed). */
     if (!ret && o.state && (ret = write_state(o.state, &scenes[0], &state)) != 0 &&
         !sp_outfile_is_stream(out))

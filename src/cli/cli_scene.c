@@ -10,6 +10,7 @@
 #include "decimal.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
+#include "springpend/figure.h"
 #include "springpend/png_io.h"
 #include "springpend/provenance.h"
 #include "springpend/video_read.h"
@@ -21,7 +22,8 @@ static const char scene_usage[] =
     "[section] in user units (angles in degrees, names rather than codes), with\n"
     "the --set overrides of the command that made it applied. FILE is a PNG\n"
     "(its springpend.scene-file text), an MP4, WebM or GIF (the same, as a\n"
-    "metadata tag) or a CSV (dc:source in FILE-metadata.json beside it).\n"
+    "metadata tag), an SVG or PDF figure (a still's or a sweep's: its <metadata>,\n"
+    "its /Subject) or a CSV (dc:source in FILE-metadata.json beside it).\n"
     "Written to SCENE.ini under the scene's own file name, the recorded command\n"
     "(CSV: prov:wasGeneratedBy in the metadata) run again gives the same bytes.\n"
     "A side-by-side output (2 to 4 scenes) carries each of them: all are\n"
@@ -151,7 +153,7 @@ int sp_cmd_scene(int argc, char **argv)
         argc = 2;
     }
     if (argc != 2 || argv[1][0] == '-') {
-        sp_log_error("expected one FILE (a PNG, video or CSV springpend wrote) and perhaps "
+        sp_log_error("expected one FILE (a PNG, video, SVG, PDF or CSV springpend wrote) and perhaps "
                      "--cell K; see 'springpend scene --help'");
         return SP_E_INPUT;
     }
@@ -162,9 +164,10 @@ int sp_cmd_scene(int argc, char **argv)
     int video = 0;
     for (size_t i = 0; i < sizeof(videos) / sizeof(videos[0]); i++)
         video |= ends_with(path, videos[i]);
-    if (!video && !ends_with(path, ".png")) {
-        sp_log_error("%s: not a PNG, video (.mp4, .m4v, .mov, .webm, .mkv, .gif) or CSV; "
-                     "the scene is read from what springpend wrote", path);
+    const int figure = ends_with(path, ".svg") || ends_with(path, ".pdf");
+    if (!video && !figure && !ends_with(path, ".png")) {
+        sp_log_error("%s: not a PNG, video (.mp4, .m4v, .mov, .webm, .mkv, .gif), SVG, PDF "
+                     "or CSV; the scene is read from what springpend wrote", path);
         return SP_E_INPUT;
     }
     char *texts[SP_PROVENANCE_MAX_SCENES] = {0};
@@ -177,16 +180,19 @@ int sp_cmd_scene(int argc, char **argv)
             found = SP_E_NOMEM;
             break;
         }
-        found = !video ? sp_png_read_text(path, key, texts[k - 1], SP_PROVENANCE_SCENE_MAX)
-                       : sp_video_read_text(path, key, texts[k - 1], SP_PROVENANCE_SCENE_MAX);
+        if (figure && k > 1)
+            break; /* an SVG or PDF records its (first) scene alone */
+        found = figure ? sp_figure_read_scene(path, texts[k - 1], SP_PROVENANCE_SCENE_MAX)
+                : !video ? sp_png_read_text(path, key, texts[k - 1], SP_PROVENANCE_SCENE_MAX)
+                         : sp_video_read_text(path, key, texts[k - 1], SP_PROVENANCE_SCENE_MAX);
         if (found == 1 && (n = k, sp_cli_scene_check(path, key, texts[k - 1],
                                                   strlen(texts[k - 1]))))
             found = SP_E_INPUT;
     }
     int ret = found < 0 ? found : 0;
     if (!ret && !n) {
-        sp_log_error("%s carries no scene (no %s text); springpend's PNGs, videos and CSVs "
-                     "do (an older springpend's do not)", path, SP_PROVENANCE_SCENE_FILE);
+        sp_log_error("%s carries no scene (no %s text); springpend's PNGs, videos, SVGs, PDFs "
+                     "and CSVs do (an older springpend's do not)", path, SP_PROVENANCE_SCENE_FILE);
         ret = SP_E_INPUT;
     }
     if (!ret && cell > n) {

@@ -97,8 +97,10 @@ static const char sweep_usage[] =
     "  --threads N               worker threads (default: one per core)\n"
     "  --set SECTION.KEY=VAL     override a scene key (repeatable): [pendulum], [initial],\n"
     "                            [pivot] and [integrator] keys, and the figure's view.theme,\n"
-    "                            colormap, background, font, font_size, font_scale and\n"
-    "                            title (\"\" = none); any other key is refused\n"
+    "                            colormap, background, font, font_size, font_scale, title\n"
+    "                            (\"\" = none), xlabel, ylabel, colorbar_label, legend,\n"
+    "                            marker_size, palette, panel_titles and panel_labels; any\n"
+    "                            other key is refused\n"
     "  --size W[xH]              the figure's printed size: 8.6cm, 3.4in, 246pt, 86mm, or\n"
     "                            8.6cmx6cm (the height 2/3 of the width when left out);\n"
     "                            text then in points (view.font_size, 10 by default)\n"
@@ -466,7 +468,9 @@ static int draw(FILE *rows, const char *rows_name, const char *figure,
 
 /* The [view] keys a sweep's figure uses; the sections its grid does. */
 static const char *const figure_keys[] = {"theme", "colormap", "background", "font",
-                                          "font_size", "font_scale", "title"};
+                                          "font_size", "font_scale", "title", "xlabel",
+                                          "ylabel", "colorbar_label", "legend", "marker_size",
+                                          "palette", "panel_titles", "panel_labels"};
 static const char *const grid_sections[] = {"pendulum", "initial", "pivot", "integrator"};
 
 /* Refuses a --set key that a sweep would not use (a video's or a still's:
@@ -485,7 +489,9 @@ static int check_used(const struct sweep_opts *o)
         if (!used) {
             sp_log_error("--set %.*s: sweep does not use %.*s; it takes the [pendulum], "
                          "[initial], [pivot] and [integrator] keys, and view.theme, colormap, "
-                         "background, font, font_size, font_scale and title for its figure",
+                         "background, font, font_size, font_scale, title, xlabel, ylabel, "
+                         "colorbar_label, legend, marker_size, palette, panel_titles and "
+                         "panel_labels for its figure",
                          (int)n, s, (int)n, s);
             return SP_E_INPUT;
         }
@@ -590,8 +596,13 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         sp_log_error("cannot write %s: %s", name, strerror(errno));
         ret = SP_E_IO;
     }
-    if (!ret && o->output)
-        ret = draw(fp, o->csv ? o->csv : name, o->output, &o->style, &made[1], &figure);
+    if (!ret && o->output) {
+        struct sp_plot_style style = o->style; /* with the scene, as the CSV's dc:source */
+        char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
+        style.scene_file = ini;
+        ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
+        free(ini);
+    }
     if (!ret && !o->quiet)
         sp_sweep_print_legend(fp, stderr); /* a basin map's attractors */
     if (!ret && o->format) {

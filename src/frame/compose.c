@@ -461,6 +461,7 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
     struct sp_layout_desc d = {.width = r->width, .height = r->height,
                                .panels = r->look.view.panels,
                                .no_pendulum = !r->look.view.pendulum};
+    d.n_order = sp_scene_panel_order(&r->look.view, d.order);
     if (r->title_lines)
         d.title_height = (float)(r->title_lines * sp_font_line(f, SP_TEXT_TITLE));
     if (r->look.timeline && r->band_lines)
@@ -481,7 +482,8 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
     }
     if (r->look.view.colorbar)
-        d.colorbar_width = sp_colorbar_width(r->font, r->ink, r->max_speed);
+        d.colorbar_width = sp_colorbar_width(r->font, r->ink, r->max_speed,
+                                             r->look.view.colorbar_label);
     sp_layout_compute(&d, &r->layout);
     fit_camera(r, &r->layout.camera);
     sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit);
@@ -1028,8 +1030,18 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         if (r->look.view.vectors)
             sp_vectors_draw(cv, &r->vectors, f, bb, &r->pal);
     }
-    if (r->look.view.panels)
-        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, r->look.view.fade, &r->bars);
+    if (r->look.view.panels) {
+        const struct sp_view *v = &r->look.view;
+        struct sp_panel_style st = {
+            .fade = v->fade, .legend = v->legend == 0, .titles = v->panel_titles,
+            .cursor = v->cursor == SP_CURSOR_SHOWN || (v->cursor == SP_CURSOR_AUTO && !r->look.still),
+            .labels = v->panel_labels == 1 ? 'a' : v->panel_labels == 2 ? 'A' : 0,
+            /* pt: one px each, or look.pt_px at a printed size, times the supersampling */
+            .marker_px = (float)(v->marker_size * r->ss * (r->look.pt_px > 0 ? r->look.pt_px : 1)),
+            .xlabel = v->xlabel, .ylabel = v->ylabel};
+        st.n_order = sp_scene_panel_order(v, st.order);
+        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
+    }
     if (r->look.view.hud)
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
     put_texts(r, f->moment);
@@ -1047,7 +1059,7 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     if (r->look.view.colorbar) {
         sp_canvas_layer(cv, SP_LAYER_STATIC);
         sp_colorbar_draw(cv, &r->layout.colorbar, r->look.view.colormap, r->max_speed,
-                         &r->pal, r->ink);
+                         &r->pal, r->ink, r->look.view.colorbar_label);
     }
     if (cv->err) {
         if (cv->err == SP_E_NOMEM) /* others were said where they happened */

@@ -1,4 +1,7 @@
 /* springpend: vector figures. See figure.h. */
+#include <errno.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -53,7 +56,7 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
             .canvas = cv, .font = sp_compose_cells_font(c), .width = d->width,
             .height = d->height, .page_w = d->page_w, .page_h = d->page_h, .fd = out.fd,
             .path = d->path, .format = format,
-            .title = d->title};
+            .title = d->title, .scene_file = d->scene_file};
         memcpy(dd.background, sp_compose_cells_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }
@@ -68,4 +71,202 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
     sp_dirs_keep(&dirs);
     sp_compose_cells_destroy(&c);
     return err;
+}
+
+/* The last occurrence of the n bytes of key in b[0..len), or NULL. */
+static const char *last_of(const char *b, size_t len, const char *key)
+{
+    const size_t n = strlen(key);
+    for (size_t i = len >= n ? len - n + 1 : 0; i-- > 0;)
+        if (!memcmp(b + i, key, n))
+            return b + i;
+    return NULL;
+}
+
+/* Appends code point u as UTF-8 to out[*w..size-1); 0, or -1 when full. */
+static int put_utf8(char *out, size_t size, size_t *w, uint32_t u)
+{
+    unsigned char e[4];
+    int n = u < 0x80 ? (e[0] = (unsigned char)u, 1)
+          : u < 0x800 ? (e[0] = (unsigned char)(0xC0 | u >> 6), 2)
+          : u < 0x10000 ? (e[0] = (unsigned char)(0xE0 | u >> 12), 3)
+                        : (e[0] = (unsigned char)(0xF0 | u >> 18), 4);
+    for (int k = 1; k < n; k++)
+        e[k] = (unsigned char)(0x80 | ((u >> (6 * (n - 1 - k))) & 0x3F));
+    if (*w + (size_t)n >= size)
+        return -1;
+    memcpy(out + *w, e, (size_t)n);
+    *w += (size_t)n;
+    return 0;
+}
+
+/* A PDF string object at p (before end): <hex> or (literal), its bytes
+ * into raw (room for end - p), their count into *m. 0, or -1 when damaged. */
+static int pdf_string(const char *p, const char *end, unsigned char *raw, size_t *m)
+{
+    *m = 0;
+    if (p < end && *p == '<') {
+        int half = -1;
+        for (p++; p < end && *p != '>'; p++) {
+            const char c = *p;
+            const int v = c >= '0' && c <= '9' ? c - '0' : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                        : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+            if (v < 0 && (c == ' ' || c == '\n' || c == '\r' || c == '\t'))
+                continue;
+            if (v < 0)
+                return -1;
+            if (half < 0)
+                half = v;
+            else
+                raw[(*m)++] = (unsigned char)(half << 4 | v), half = -1;
+        }
+        if (half >= 0) /* an odd digit count: a trailing 0 (PDF 7.3.4.3) */
+            raw[(*m)++] = (unsigned char)(half << 4);
+        return p < end ? 0 : -1;
+    }
+    if (p >= end || *p != '(')
+        return -1;
+    int depth = 1;
+    for (p++; p < end; p++) {
+        unsigned char c = (unsigned char)*p;
+        if (c == '\\' && p + 1 < end) {
+            const char e = *++p;
+            if (e >= '0' && e <= '7') { /* \ddd */
+                int v = 0;
+                for (int k = 0; k < 3 && p < end && *p >= '0' && *p <= '7'; k++, p++)
+                    v = v * 8 + (*p - '0');
+                p--;
+                c = (unsigned char)v;
+            } else if (e == '\n' || e == '\r') {
+                continue; /* a line continued */
+            } else {
+                c = (unsigned char)(e == 'n' ? '\n' : e == 'r' ? '\r' : e == 't' ? '\t'
+                                    : e == 'b' ? '\b' : e == 'f' ? '\f' : e);
+            }
+        } else if (c == '(') {
+            depth++;
+        } else if (c == ')' && --depth == 0) {
+            return 0;
+        }
+        raw[(*m)++] = c;
+    }
+    return -1;
+}
+
+/* The PDF's /Subject (the last one: an updated file's newest) as UTF-8. 1,
+ * 0 (none, or not springpend's), -1 (damaged), -2 (too long). */
+static int pdf_scene(const char *b, size_t len, char *text, size_t size)
+{
+    const char *at = last_of(b, len, "/Subject");
+    if (!at)
+        return 0;
+    const char *p = at + 8, *end = b + len;
+    while (p < end && (*p == ' ' || *p == '\n' || *p == '\r' || *p == '\t'))
+        p++;
+    unsigned char *raw = malloc((size_t)(end - p) + 1);
+    size_t m = 0, w = 0;
+    int ret = raw && !pdf_string(p, end, raw, &m) ? 1 : -1;
+    if (ret == 1 && m >= 2 && raw[0] == 0xFE && raw[1] == 0xFF) { /* UTF-16BE */
+        for (size_t i = 2; ret == 1 && i + 1 < m; i += 2) {
+            uint32_t u = (uint32_t)raw[i] << 8 | raw[i + 1];
+            if (u >= 0xD800 && u < 0xDC00 && i + 3 < m) {
+                const uint32_t lo = (uint32_t)raw[i + 2] << 8 | raw[i + 3];
+                if (lo >= 0xDC00 && lo < 0xE000)
+                    u = 0x10000 + ((u - 0xD800) << 10) + (lo - 0xDC00), i += 2;
+            }
+            if (put_utf8(text, size, &w, u))
+                ret = -2;
+        }
+    } else if (ret == 1) { /* PDFDocEncoding: the ASCII springpend writes */
+        if (m >= size)
+            ret = -2;
+        else
+            memcpy(text, raw, m), w = m;
+    }
+    free(raw);
+    if (ret != 1)
+        return ret;
+    text[w] = 0;
+    const size_t mark = strlen(SP_FIGURE_SCENE_MARK);
+    if (strncmp(text, SP_FIGURE_SCENE_MARK, mark))
+        return 0; /* a subject, not springpend's scene */
+    memmove(text, text + mark, w - mark + 1);
+    return 1;
+}
+
+/* The SVG's <metadata id="springpend.scene-file"> text, unescaped. */
+static int svg_scene(const char *b, size_t len, char *text, size_t size)
+{
+    const char *open = last_of(b, len, "<metadata id=\"" SP_FIGURE_SCENE_ID "\">");
+    if (!open)
+        return 0;
+    const char *p = strchr(open, '>') + 1, *close = strstr(p, "</metadata>");
+    if (!close)
+        return -1;
+    size_t w = 0;
+    while (p < close) {
+        uint32_t u = (unsigned char)*p;
+        if (*p == '&') {
+            const char *semi = memchr(p, ';', (size_t)(close - p));
+            const size_t n = semi ? (size_t)(semi - p) : 0;
+            if (n == 3 && !strncmp(p, "&lt", 3))
+                u = '<';
+            else if (n == 3 && !strncmp(p, "&gt", 3))
+                u = '>';
+            else if (n == 4 && !strncmp(p, "&amp", 4))
+                u = '&';
+            else if (n == 5 && !strncmp(p, "&quot", 5))
+                u = '"';
+            else if (n == 5 && !strncmp(p, "&apos", 5))
+                u = '\'';
+            else if (n > 2 && p[1] == '#')
+                u = (uint32_t)strtoul(p + 2 + (p[2] == 'x'), NULL, p[2] == 'x' ? 16 : 10);
+            else
+                return -1;
+            if (!u || u > 0x10FFFF || put_utf8(text, size, &w, u))
+                return u ? -2 : -1;
+            p = semi + 1;
+            continue;
+        }
+        if (w + 1 >= size)
+            return -2;
+        text[w++] = *p++;
+    }
+    text[w] = 0;
+    return 1;
+}
+
+int sp_figure_read_scene(const char *path, char *text, size_t size)
+{
+    /* the record is near the end (cairo writes a PDF's /Info last, the SVG's
+     * metadata goes before </svg>): read the last 8 bytes per byte of text */
+    const long max = (long)(8 * size + 65536);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        sp_log_error("%s: cannot open: %s", path, strerror(errno));
+        return SP_E_IO;
+    }
+    long end = fseek(f, 0, SEEK_END) ? -1 : ftell(f);
+    const long from = end > max ? end - max : 0;
+    char *b = end >= 0 ? malloc((size_t)(end - from) + 1) : NULL;
+    size_t n = 0;
+    if (b && !fseek(f, from, SEEK_SET))
+        n = fread(b, 1, (size_t)(end - from), f);
+    const int bad = !b || ferror(f) || n != (size_t)(end - from);
+    fclose(f);
+    if (bad) {
+        sp_log_error("%s: cannot read: %s", path, b ? strerror(errno ? errno : EIO) : "out of memory");
+        free(b);
+        return SP_E_IO;
+    }
+    b[n] = 0;
+    const int got = sp_figure_format(path) == SP_FIGURE_PDF ? pdf_scene(b, n, text, size)
+                                                            : svg_scene(b, n, text, size);
+    free(b);
+    if (got == -1)
+        sp_log_error("%s: its scene record is damaged; springpend writes it whole", path);
+    else if (got == -2)
+        sp_log_error("%s: its scene record is longer than %zu bytes, more than springpend writes",
+                     path, size - 1);
+    return got < 0 ? SP_E_INPUT : got;
 }

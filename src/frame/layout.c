@@ -11,12 +11,29 @@ static int is_square(int bit)
 
 /* Stacks n cells of the given kind in area: one column, or two when a
  * column would be thinner than min_h. */
-static void stack(struct sp_layout *o, unsigned bits, int square, struct sp_rect area,
+/* The panels in the order they are placed: d's order, else bit order. */
+struct order {
+    int bit[SP_PANEL_COUNT], n;
+};
+
+static void order_of(const struct sp_layout_desc *d, struct order *o)
+{
+    unsigned left = d->panels & ((1u << SP_PANEL_COUNT) - 1);
+    o->n = 0;
+    for (int i = 0; i < d->n_order; i++)
+        if (d->order[i] >= 0 && d->order[i] < SP_PANEL_COUNT && (left >> d->order[i] & 1))
+            o->bit[o->n++] = d->order[i], left &= ~(1u << d->order[i]);
+    for (int b = 0; b < SP_PANEL_COUNT; b++)
+        if (left >> b & 1)
+            o->bit[o->n++] = b;
+}
+
+static void stack(struct sp_layout *o, const struct order *ord, int square, struct sp_rect area,
                   float min_h)
 {
     int n = 0, i = 0;
-    for (int b = 0; b < SP_PANEL_COUNT; b++)
-        n += ((bits >> b) & 1) && is_square(b) == square;
+    for (int k = 0; k < ord->n; k++)
+        n += is_square(ord->bit[k]) == square;
     if (!n)
         return;
     const float w = area.x1 - area.x0, h = area.y1 - area.y0, g = o->gap;
@@ -25,8 +42,9 @@ static void stack(struct sp_layout *o, unsigned bits, int square, struct sp_rect
         cols = w > h ? n : 1;
     const int rows = (n + cols - 1) / cols;
     const float cw = (w - (cols - 1) * g) / cols, ch = (h - (rows - 1) * g) / rows;
-    for (int b = 0; b < SP_PANEL_COUNT; b++) {
-        if (!((bits >> b) & 1) || is_square(b) != square)
+    for (int k = 0; k < ord->n; k++) {
+        const int b = ord->bit[k];
+        if (is_square(b) != square)
             continue;
         const int r = i / cols, c = i % cols;
         /* an odd last cell of a two-column stack takes the whole row */
@@ -41,35 +59,30 @@ static void stack(struct sp_layout *o, unsigned bits, int square, struct sp_rect
 /* Tiles area with the n panels of `bits` without a pendulum: the grid of
  * cols x rows whose cells are nearest (in log aspect) to each panel's
  * preferred shape, wide for strip charts, square for the others. */
-static void tile(struct sp_layout *o, unsigned bits, struct sp_rect area)
+static void tile(struct sp_layout *o, const struct order *ord, struct sp_rect area)
 {
     const float w = area.x1 - area.x0, h = area.y1 - area.y0, g = o->gap;
-    int n = 0, best_cols = 1;
+    int n = ord->n, best_cols = 1;
     double best = 1e300;
-    for (int b = 0; b < SP_PANEL_COUNT; b++)
-        n += (bits >> b) & 1;
     for (int cols = 1; cols <= n; cols++) {
         const int rows = (n + cols - 1) / cols;
         const double aspect = (w - (cols - 1) * g) / cols / ((h - (rows - 1) * g) / rows);
         double miss = (double)(rows * cols - n); /* empty cells */
-        for (int b = 0; b < SP_PANEL_COUNT; b++)
-            if ((bits >> b) & 1)
-                miss += fabs(log(aspect / (is_square(b) ? 1.0 : 2.4)));
+        for (int k = 0; k < n; k++)
+            miss += fabs(log(aspect / (is_square(ord->bit[k]) ? 1.0 : 2.4)));
         if (miss < best)
             best = miss, best_cols = cols;
     }
     const int cols = best_cols, rows = (n + cols - 1) / cols;
     const float ch = (h - (rows - 1) * g) / rows;
-    for (int b = 0, i = 0; b < SP_PANEL_COUNT; b++) {
-        if (!((bits >> b) & 1))
-            continue;
+    for (int i = 0; i < n; i++) {
+        const int b = ord->bit[i];
         const int r = i / cols, c = i % cols;
         /* the last row's cells share its whole width */
         const int in_row = r == rows - 1 ? n - r * cols : cols;
         const float rw = (w - (in_row - 1) * g) / in_row;
         o->panel[b] = (struct sp_rect){area.x0 + c * (rw + g), area.y0 + r * (ch + g),
                                        area.x0 + c * (rw + g) + rw, area.y0 + r * (ch + g) + ch};
-        i++;
     }
 }
 
@@ -82,6 +95,8 @@ void sp_layout_compute(const struct sp_layout_desc *d, struct sp_layout *o)
     const float Y0 = top, Hb = fmaxf(H - top - bottom, 1);
     int ns = 0, nq = 0;
     struct sp_rect view = {0, Y0, W, Y0 + Hb}, rest = {0}, strips, squares;
+    struct order ord;
+    order_of(d, &ord);
 
     *o = (struct sp_layout){.gap = g};
     if (top > 0)
@@ -98,7 +113,7 @@ void sp_layout_compute(const struct sp_layout_desc *d, struct sp_layout *o)
             area.y0 = o->hud.y1 + g;
         }
         if (ns + nq)
-            tile(o, d->panels, area);
+            tile(o, &ord, area);
         return;
     }
     if (ns + nq) {
@@ -124,8 +139,8 @@ void sp_layout_compute(const struct sp_layout_desc *d, struct sp_layout *o)
                 strips.y1 = squares.y0 - g;
             }
         }
-        stack(o, d->panels, 0, strips, 0.16f * unit);
-        stack(o, d->panels, 1, squares, 0);
+        stack(o, &ord, 0, strips, 0.16f * unit);
+        stack(o, &ord, 1, squares, 0);
     }
     /* Heads-up text along the top of the view, the colourbar at its right. */
     o->camera = view;

@@ -20,6 +20,9 @@ struct sp_rect {
 struct sp_layout_desc {
     int width, height;  /* px */
     unsigned panels;    /* SP_PANEL_* bits */
+    int order[SP_PANEL_COUNT]; /* their bit numbers in the order placed (reading
+                                  order: rows, left to right); n_order = 0: bit order */
+    int n_order;
     float hud_height;   /* px of heads-up text, 0 = none */
     float colorbar_width; /* px of the colourbar with its labels, 0 = none */
     int no_pendulum;    /* 1: no pendulum view: the panels take its room */

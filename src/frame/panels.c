@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "springpend/ensemble.h"
+#include "colormap_data.h"
 #include "panels.h"
 
 #define RAD2DEG 57.29577951308232
@@ -47,6 +48,17 @@ void sp_palette_get(const struct sp_view *view, struct sp_palette *out)
     *out = view->theme == SP_THEME_LIGHT ? LIGHT : DARK;
     if (view->panel_background)
         out->panel[3] = 0; /* panel_background = none */
+    if (view->palette) { /* Okabe and Ito's colour-blind-safe set: the total in
+                            the text's colour, then blue (sky blue on dark),
+                            bluish green, vermillion */
+        static const unsigned okabe_ito[2][3] = {{0x56B4E9, 0x009E73, 0xD55E00},
+                                                 {0x0072B2, 0x009E73, 0xD55E00}};
+        const int light = view->theme == SP_THEME_LIGHT;
+        for (int k = 0; k < 3; k++)
+            for (int i = 0; i < 3; i++)
+                out->series[k + 1][i] = (float)((okabe_ito[light][k] >> (16 - 8 * i)) & 255) / 255.f;
+        memcpy(out->series[0], out->text, sizeof(out->series[0]));
+    }
     if (bg == SP_BACKGROUND_TRANSPARENT) {
         out->background[3] = 0;
     } else if (bg >= 0) {
@@ -81,6 +93,19 @@ void sp_colormap(int colormap, float t, float rgb[3])
 {
     const float(*c)[3] = COLORMAPS[colormap == SP_COLORMAP_VIRIDIS];
     t = fminf(fmaxf(t, 0.0f), 1.0f);
+    if (colormap == SP_COLORMAP_GRAY) { /* black to white */
+        rgb[0] = rgb[1] = rgb[2] = t;
+        return;
+    }
+    if (colormap == SP_COLORMAP_MAGMA || colormap == SP_COLORMAP_CIVIDIS) {
+        /* matplotlib's 256 entries, linearly between them */
+        const unsigned char(*lut)[3] = colormap == SP_COLORMAP_MAGMA ? CMAP_MAGMA : CMAP_CIVIDIS;
+        const float x = t * 255;
+        const int i = x >= 255 ? 254 : (int)x;
+        for (int k = 0; k < 3; k++)
+            rgb[k] = (lut[i][k] + (x - (float)i) * (float)(lut[i + 1][k] - lut[i][k])) / 255.f;
+        return;
+    }
     for (int k = 0; k < 3; k++) {
         float v = c[6][k];
         for (int i = 5; i >= 0; i--)
@@ -303,11 +328,34 @@ static int legend_draw(struct sp_canvas *c, const struct sp_font *f, float x, fl
  * name, else on a row of its own below (the plot gives up the room), so it
  * never disappears. */
 static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot *p,
+                       const struct sp_panel_style *st,
                        const char *title, const char *xlabel, const char *ylabel,
                        struct sp_range xr, struct sp_range yr, double xpad,
                        const struct sp_palette *pal, float unit,
                        const struct legend_item *leg, int n_leg, enum sp_layer leg_layer)
 {
+    /* [view]'s figure keys: the axes' names, the title, the panel's label */
+    char xl_own[SP_VIEW_TEXT_BYTES], yl_own[SP_VIEW_TEXT_BYTES], titled[SP_VIEW_TEXT_BYTES];
+    if (!st->legend)
+        n_leg = 0;
+    sp_scene_label_part(st->xlabel, st->index, xl_own, sizeof(xl_own));
+    sp_scene_label_part(st->ylabel, st->index, yl_own, sizeof(yl_own));
+    if (xlabel && xl_own[0])
+        xlabel = xl_own;
+    if (yl_own[0])
+        ylabel = yl_own;
+    if (!st->titles)
+        title = "";
+    if (st->labels) { /* "(a) long|(a) short" */
+        const char *tb = strchr(title, '|');
+        const char mark[] = {'(', (char)(st->labels + st->index), ')', 0};
+        if (tb)
+            snprintf(titled, sizeof(titled), "%s %.*s|%s %s", mark, (int)(tb - title), title,
+                     mark, tb + 1);
+        else
+            snprintf(titled, sizeof(titled), "%s%s%s", mark, title[0] ? " " : "", title);
+        title = titled;
+    }
     const struct sp_font *f = c->font;
     const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
     const float line_s = (float)sp_font_line(f, SP_TEXT_SMALL), cap_s = (float)sp_font_cap(f, SP_TEXT_SMALL);
@@ -440,7 +488,7 @@ enum quantity {
     Q_THETA,      /* degrees */
     Q_EXTENSION,  /* m: r - L0 */
     Q_R_DOT,      /* m/s */
-    Q_THETA_DOT,  /* degrees/s */
+    Q_THETA_DOT,  /* rad/s (as data's and sweep's CSVs) */
     Q_ENERGY,     /* J: kinetic + spring + gravity */
     Q_KINETIC,    /* J */
     Q_SPRING,     /* J */
@@ -462,7 +510,7 @@ static double quantity(const struct sp_history_sample *s, enum quantity which,
     case Q_THETA: return s->theta * RAD2DEG;
     case Q_EXTENSION: return s->r - L0;
     case Q_R_DOT: return s->r_dot;
-    case Q_THETA_DOT: return s->theta_dot * RAD2DEG;
+    case Q_THETA_DOT: return s->theta_dot;
     case Q_ENERGY: return (double)s->kinetic + s->spring + s->gravity;
     case Q_KINETIC: return s->kinetic;
     case Q_SPRING: return s->spring;
@@ -624,7 +672,7 @@ static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct
 
 static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                         const struct sp_frame *f, const struct sp_view_extent *e,
-                        const struct sp_palette *pal, float unit)
+                        const struct sp_palette *pal, float unit, const struct sp_panel_style *st)
 {
     static const char *const titles[] = {"Spring length r|r", "Angle θ|θ", "Energy|E",
                                          "Spring extension r − L₀|Extension", "", "", "",
@@ -647,7 +695,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                                          {"gravity|grav", pal->series[3], 0, NULL}};
     const struct legend_item modes[] = {{"bounce|bnc", pal->series[1], 0, NULL},
                                         {"swing|swg", pal->series[2], 0, NULL}};
-    frame_plot(c, r, &p, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
+    frame_plot(c, r, &p, st, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
                yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 4 : bit == 7 ? 2 : 0,
                SP_LAYER_STATIC);
     if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) { /* the zero line */
@@ -676,6 +724,8 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     strip_curves(c, &p, h, L0, qs, n, colors, hws);
     const struct sp_history_sample *last = &h->samples[h->count - 1];
     const float now = px_x(&p, last->t);
+    if (!st->cursor)
+        return;
     sp_canvas_rect(c, now - hw * 0.8f, p.area.y0, now + hw * 0.8f, p.area.y1, pal->cursor);
     if (bit != 2)
         for (int k = 0; k < n; k++)
@@ -684,25 +734,28 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
 
 static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
                        const struct sp_frame *f, const struct sp_view_extent *e,
-                       const struct sp_palette *pal, float unit, int fade)
+                       const struct sp_palette *pal, float unit, const struct sp_panel_style *st)
 {
+    const int fade = st->fade, n_now = st->cursor;
     const struct sp_history *h = f->history;
     const float hw = fmaxf(0.6f, 0.0012f * unit);
     struct plot p;
     const struct legend_item now[] = {{"now", pal->muted, 1, pal->cursor}};
     if (theta)
-        frame_plot(c, r, &p, "Phase portrait θ, θ̇|θ, θ̇", "θ (°)", "θ̇ (°/s)", range_of(e->theta, RAD2DEG, 0),
-                   range_of(e->theta_dot, RAD2DEG, 0), 0.06, pal, unit, now, 1, SP_LAYER_STATIC);
+        frame_plot(c, r, &p, st, "Phase portrait θ, θ̇|θ, θ̇", "θ (°)", "θ̇ (rad/s)",
+                   range_of(e->theta, RAD2DEG, 0), e->theta_dot, 0.06, pal, unit, now, n_now,
+                   SP_LAYER_STATIC);
     else
-        frame_plot(c, r, &p, "Phase portrait r, ṙ|r, ṙ", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal,
-                   unit, now, 1, SP_LAYER_STATIC);
+        frame_plot(c, r, &p, st, "Phase portrait r, ṙ|r, ṙ", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal,
+                   unit, now, n_now, SP_LAYER_STATIC);
     if (!h || h->count == 0)
         return;
     const enum quantity xq = theta ? Q_THETA : Q_R, yq = theta ? Q_THETA_DOT : Q_R_DOT;
     phase_curve(c, &p, h, e->t_end, xq, yq, f->params, hw, pal->series[1], fade ? pal->panel : NULL);
     const struct sp_history_sample *s = &h->samples[h->count - 1];
-    sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
-                   2.6f * hw, 0, pal->cursor);
+    if (st->cursor)
+        sp_canvas_disc(c, px_x(&p, quantity(s, xq, f->params)), px_y(&p, quantity(s, yq, f->params)),
+                       st->marker_px > 0 ? 0.5f * st->marker_px : 2.6f * hw, 0, pal->cursor);
 }
 
 /* The top view: the bob's path in the horizontal (x, z) plane, x to the
@@ -711,7 +764,7 @@ static void phase_plot(struct sp_canvas *c, const struct sp_rect *r, int theta,
  * in it. */
 static void top_plot(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
                      const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
-                     int fade)
+                     const struct sp_panel_style *st)
 {
     const struct sp_history *h = f->history;
     const float hw = fmaxf(0.6f, 0.0012f * unit);
@@ -719,29 +772,32 @@ static void top_plot(struct sp_canvas *c, const struct sp_rect *r, const struct 
     const struct sp_range both = {-span, span};
     const struct legend_item now[] = {{"now", pal->muted, 1, pal->cursor}};
     struct plot p;
-    frame_plot(c, r, &p, "Top view x, z|Top", "x (m)", "z (m)", both, both, 0.06, pal, unit,
-               now, 1, SP_LAYER_STATIC);
+    frame_plot(c, r, &p, st, "Top view x, z|Top", "x (m)", "z (m)", both, both, 0.06, pal, unit,
+               now, st->cursor, SP_LAYER_STATIC);
     if (!h || h->count == 0)
         return;
     phase_curve(c, &p, h, e->t_end, Q_X, Q_Z, f->params, hw, pal->series[1],
-                fade ? pal->panel : NULL);
+                st->fade ? pal->panel : NULL);
     const struct sp_history_sample *s = &h->samples[h->count - 1];
-    sp_canvas_disc(c, px_x(&p, s->x), px_y(&p, s->z), 2.6f * hw, 0, pal->cursor);
+    if (st->cursor)
+        sp_canvas_disc(c, px_x(&p, s->x), px_y(&p, s->z),
+                       st->marker_px > 0 ? 0.5f * st->marker_px : 2.6f * hw, 0, pal->cursor);
 }
 
 static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
-                          const struct sp_view_extent *e, const struct sp_palette *pal, float unit)
+                          const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
+                          const struct sp_panel_style *st)
 {
     const struct sp_history *h = f->history;
-    const float dot = fmaxf(1.8f, 0.0035f * unit);
+    const float dot = st->marker_px > 0 ? 0.5f * st->marker_px : fmaxf(1.8f, 0.0035f * unit);
     char count[64];
     struct plot p;
     const int n = h ? h->n_crossings : 0;
     snprintf(count, sizeof(count), "%d crossing%s|%d", n, n == 1 ? "" : "s", n);
     const struct legend_item leg[] = {{count, pal->muted, 1, pal->series[2]},
                                       {"latest", pal->muted, 1, pal->cursor}};
-    frame_plot(c, r, &p, "Poincaré θ = 0, θ̇ > 0|Poincaré", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal,
-               unit, leg, n ? 2 : 1, SP_LAYER_DYNAMIC);
+    frame_plot(c, r, &p, st, "Poincaré θ = 0, θ̇ > 0|Poincaré", "r (m)", "ṙ (m/s)", e->r, e->r_dot, 0.06, pal,
+               unit, leg, n && st->cursor ? 2 : 1, SP_LAYER_DYNAMIC);
     if (!h)
         return;
     /* every crossing but the latest never changes again: settled */
@@ -751,7 +807,10 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
         sp_canvas_disc(c, px_x(&p, h->crossings[i].r), px_y(&p, h->crossings[i].r_dot), dot, 0,
                        pal->series[2]);
     sp_canvas_layer(c, SP_LAYER_DYNAMIC);
-    if (n)
+    if (n && !st->cursor) /* the latest as the others */
+        sp_canvas_disc(c, px_x(&p, h->crossings[n - 1].r), px_y(&p, h->crossings[n - 1].r_dot),
+                       dot, 0, pal->series[2]);
+    else if (n)
         sp_canvas_disc(c, px_x(&p, h->crossings[n - 1].r), px_y(&p, h->crossings[n - 1].r_dot),
                        1.8f * dot, 0, pal->cursor);
 }
@@ -760,7 +819,8 @@ static void poincare_plot(struct sp_canvas *c, const struct sp_rect *r, const st
  * the line of slope lambda / ln 10 from the spread at t = 0 (what growth at
  * the central scene's Lyapunov exponent would give). */
 static void spread_plot(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
-                        const struct sp_view_extent *e, const struct sp_palette *pal, float unit)
+                        const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
+                        const struct sp_panel_style *st)
 {
     const struct sp_ensemble *en = f->ensemble;
     const float hw = fmaxf(0.6f, 0.0013f * unit);
@@ -771,7 +831,7 @@ static void spread_plot(struct sp_canvas *c, const struct sp_rect *r, const stru
     snprintf(slope, sizeof(slope), "Lyapunov slope %.3g/s|%.3g/s", en ? en->lambda : 0, en ? en->lambda : 0);
     const struct legend_item leg[] = {{"spread|spr", pal->series[1], 0, NULL},
                                       {slope, pal->accent, 0, NULL}};
-    frame_plot(c, r, &p, "Ensemble spread in phase space|Spread", "t (s)", "log₁₀ spread (m)",
+    frame_plot(c, r, &p, st, "Ensemble spread in phase space|Spread", "t (s)", "log₁₀ spread (m)",
                (struct sp_range){0, e->t_end}, yr, 0, pal, unit, leg, en ? 2 : 0, SP_LAYER_STATIC);
     if (!en || en->n_spread == 0)
         return;
@@ -801,7 +861,7 @@ static void spread_plot(struct sp_canvas *c, const struct sp_rect *r, const stru
  * so that total = start + work - loss; then the bounce and swing split. */
 static void energy_bars(struct sp_canvas *c, const struct sp_rect *r, const struct sp_frame *f,
                         const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
-                        struct sp_bars_scale *out)
+                        const struct sp_panel_style *st, struct sp_bars_scale *out)
 {
     const struct sp_params *pp = f->params;
     const double zero = pp->mass * pp->g * e->y_low; /* J: gravity's energy at y_low */
@@ -833,7 +893,7 @@ static void energy_bars(struct sp_canvas *c, const struct sp_rect *r, const stru
     const struct legend_item leg[] = {{zero_note, pal->muted, 0, NULL},
                                       {"total = start + work − loss|= E₀ + W − loss", pal->muted, 0, NULL}};
     struct plot p;
-    frame_plot(c, r, &p, "Energy bars|Energy", NULL, "E (J)", (struct sp_range){0, 1}, e->bars, 0,
+    frame_plot(c, r, &p, st, "Energy bars|Energy", NULL, "E (J)", (struct sp_range){0, 1}, e->bars, 0,
                pal, unit, leg, damped || driven ? 2 : 1, SP_LAYER_STATIC);
     const float slot = (p.area.x1 - p.area.x0) / (float)n, half = 0.32f * slot;
     const float y0 = px_y(&p, 0);
@@ -866,24 +926,28 @@ static void energy_bars(struct sp_canvas *c, const struct sp_rect *r, const stru
 
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
                     const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
-                    int fade, struct sp_bars_scale *bars)
+                    const struct sp_panel_style *style, struct sp_bars_scale *bars)
 {
-    for (int b = 0; b < SP_PANEL_COUNT; b++) {
+    struct sp_panel_style one = *style;
+    const struct sp_panel_style *st = &one;
+    for (int i = 0; i < style->n_order; i++) {
+        const int b = style->order[i];
         const struct sp_rect *r = &lay->panel[b];
+        one.index = i;
         if (!sp_rect_valid(r))
             continue;
         if (b == 11)
-            energy_bars(c, r, f, e, pal, unit, bars);
+            energy_bars(c, r, f, e, pal, unit, st, bars);
         else if (b == 8)
-            spread_plot(c, r, f, e, pal, unit);
+            spread_plot(c, r, f, e, pal, unit, st);
         else if (b == 10)
-            top_plot(c, r, f, e, pal, unit, fade);
+            top_plot(c, r, f, e, pal, unit, st);
         else if (b <= 3 || b == 7 || b == 9)
-            strip_chart(c, r, b, f, e, pal, unit);
+            strip_chart(c, r, b, f, e, pal, unit, st);
         else if (b <= 5)
-            phase_plot(c, r, b == 5, f, e, pal, unit, fade);
+            phase_plot(c, r, b == 5, f, e, pal, unit, st);
         else
-            poincare_plot(c, r, f, e, pal, unit);
+            poincare_plot(c, r, f, e, pal, unit, st);
         sp_canvas_clip(c, NULL);
     }
 }
@@ -1018,27 +1082,29 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
 
 /* ---- colourbar ---- */
 
-float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed)
+float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed, const char *label)
 {
     char buf[32];
     format_tick(buf, sizeof(buf), max_speed, 2);
-    const int w = sp_font_width(font, SP_TEXT_SMALL, buf), t = sp_font_width(font, SP_TEXT_SMALL, "|v| (m/s)");
+    const int w = sp_font_width(font, SP_TEXT_SMALL, buf),
+              t = sp_font_width(font, SP_TEXT_SMALL, label[0] ? label : "|v| (m/s)");
     return fmaxf(roundf(0.018f * unit) + roundf(0.006f * unit) + (float)w + 4, (float)t);
 }
 
 void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap,
-                      double max_speed, const struct sp_palette *pal, float unit)
+                      double max_speed, const struct sp_palette *pal, float unit, const char *label)
 {
     const struct sp_font *f = c->font;
     const float bw = roundf(0.018f * unit), tick = roundf(0.006f * unit);
     const float cap = (float)sp_font_cap(f, SP_TEXT_SMALL);
     const float y0 = r->y0 + 1.6f * cap, h = fminf(r->y1 - y0 - cap, 0.4f * unit);
-    const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed) - bw - tick);
+    const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed, label) - bw - tick);
     enum { STEPS = 64 };
     struct axis a;
     char buf[32];
     float rgb[4] = {0, 0, 0, 1};
-    sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap, SP_ALIGN_LEFT, pal->muted, "|v| (m/s)");
+    sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap, SP_ALIGN_LEFT, pal->muted,
+                   label[0] ? label : "|v| (m/s)");
     for (int i = 0; i < STEPS; i++) { /* fast at the top, like the trail's speed range */
         sp_colormap(colormap, pal->cmap_lo + (pal->cmap_hi - pal->cmap_lo) * (1.0f - (i + 0.5f) / STEPS), rgb);
         sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);

@@ -44,13 +44,27 @@ struct sp_bars_scale {
     int n; /* bars; 0 = no panel */
 };
 
-/* Draws every panel the layout holds for frame f. `unit` is the frame's
- * smaller side, px (line widths and dot sizes follow it); with fade = 0 the
- * phase curves' history is drawn at full strength. bars (may be NULL)
- * receives the energy bars' scale when that panel is drawn. */
+/* How the panels are drawn: [view]'s figure keys, resolved for the output. */
+struct sp_panel_style {
+    int fade;          /* 0: the phase curves' history at full strength */
+    int cursor;        /* 1: the marks of now (time cursor, current state, latest
+                          crossing) and their "now" / "latest" legend entries */
+    int legend;        /* 1: legends; 0: none */
+    int titles;        /* 1: each panel's title */
+    int labels;        /* 0 = none, 'a' or 'A': (a), (b), ... in `order` */
+    float marker_px;   /* px, a marker's diameter (Poincare points); 0 = the panel's own */
+    const char *xlabel, *ylabel; /* [view]'s ("" = each axis's own; '|' lists) */
+    int order[SP_PANEL_COUNT];   /* bit numbers in the order drawn and labelled */
+    int n_order;
+    int index;         /* set by sp_panels_draw: the panel's place in order */
+};
+
+/* Draws every panel the layout holds for frame f, in st's order. `unit` is
+ * the frame's smaller side, px (line widths and dot sizes follow it). bars
+ * (may be NULL) receives the energy bars' scale when that panel is drawn. */
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
                     const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
-                    int fade, struct sp_bars_scale *bars);
+                    const struct sp_panel_style *st, struct sp_bars_scale *bars);
 
 /* Heads-up text: writes the lines for params (time left out) wrapped to
  * max_width px into lines[0..max) and returns how many; line 0 is the time
@@ -67,9 +81,10 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
                  const struct sp_palette *pal);
 
 /* Width in px the colourbar needs, and its drawing (speed 0 .. max_speed). */
-float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed);
+/* label: its name, "" = "|v| (m/s)". */
+float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed, const char *label);
 void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap,
-                      double max_speed, const struct sp_palette *pal, float unit);
+                      double max_speed, const struct sp_palette *pal, float unit, const char *label);
 
 /* True when omega_spring / omega_pendulum is within 3 % of 2. */
 int sp_params_resonant(const struct sp_params *p, double *ratio);

@@ -439,16 +439,19 @@ static int run_setup(struct run *run)
     sp_look_of(sc, &run->looks[0]);
     if (run->n_more)
         cell_looks(run);
-    for (int i = 0; i <= run->n_more; i++) /* a still of physical size: px per pt */
+    for (int i = 0; i <= run->n_more; i++) { /* a still of physical size: px per pt */
         run->looks[i].pt_px = desc->pt_px;
+        run->looks[i].still = desc->still;
+    }
     if (ret || run->figure)
         return ret;
     ret = sp_render_make(&run->r, &(struct sp_render_desc){
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .look = &run->looks[0], .supersample = desc->supersample,
         .cells = 1 + run->n_more, .looks = run->looks});
-    if (ret || (ret = sp_provenance_init(&run->prov, sc, sp_render_renderer_name(run->r),
-                                                 sp_render_gl_version(run->r))) != 0)
+    if (ret || (ret = sp_provenance_init(&run->prov, desc->recorded ? desc->recorded : sc,
+                                         sp_render_renderer_name(run->r),
+                                         sp_render_gl_version(run->r))) != 0)
         return ret;
     for (int i = 0; !ret && i < run->n_more; i++) /* side by side: every scene */
         ret = sp_provenance_add_scene(&run->prov, run->more[i].sc);
@@ -523,12 +526,15 @@ static int run_figure(struct run *run)
     int ret = run_still_follow(run);
     if (ret)
         return ret;
+    /* provenance, as a PNG's (NULL: none) */
+    char *ini = sp_scene_ini(run->desc->recorded ? run->desc->recorded : run->sc);
     ret = sp_figure_write(&(struct sp_figure_desc){
         .width = run->w, .height = run->h, .extent = run->extent, .look = &run->looks[0],
         .page_w = run->desc->pt_px > 0 ? run->desc->page_w : 0,
         .page_h = run->desc->pt_px > 0 ? run->desc->page_h : 0,
         .title = run->sc->name, .path = run->desc->output, .cells = 1 + run->n_more,
-        .looks = run->looks}, frames_of(run, run->desc->still_at, frames));
+        .looks = run->looks, .scene_file = ini}, frames_of(run, run->desc->still_at, frames));
+    free(ini);
     if (!ret && run->desc->state_out)
         *run->desc->state_out = run->sim.s;
     return ret;

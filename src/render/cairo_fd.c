@@ -1,16 +1,28 @@
 /* springpend (internal): cairo's output to a file descriptor. See cairo_fd.h. */
 #include <cairo-pdf.h>
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "cairo_fd.h"
 #include "springpend/common.h"
+#include "springpend/figure.h"
 
 cairo_status_t sp_cairo_fd_write(void *closure, const unsigned char *data, unsigned int length)
 {
     struct sp_cairo_fd *k = closure;
+    static const char end[] = "</svg>\n";
+    const unsigned int n_end = sizeof(end) - 1;
+    if (k->svg_metadata && length >= n_end && !memcmp(data + length - n_end, end, n_end)) {
+        const char *meta = k->svg_metadata;
+        k->svg_metadata = NULL; /* once: then the closing tag */
+        sp_cairo_fd_write(k, data, length - n_end);
+        sp_cairo_fd_write(k, (const unsigned char *)meta, (unsigned int)strlen(meta));
+        data += length - n_end, length = n_end;
+    }
     while (length && !k->err) {
         ssize_t n = write(k->fd, data, length);
         if (n < 0 && errno == EINTR)
@@ -44,4 +56,38 @@ int sp_cairo_pdf_date(cairo_surface_t *pdf)
     }
     cairo_pdf_surface_set_metadata(pdf, CAIRO_PDF_METADATA_CREATE_DATE, iso);
     return 0;
+}
+
+void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file)
+{
+    if (!scene_file || !scene_file[0])
+        return;
+    const size_t n = strlen(SP_FIGURE_SCENE_MARK) + strlen(scene_file) + 1;
+    char *text = malloc(n);
+    if (!text)
+        return; /* the figure without its scene rather than none */
+    snprintf(text, n, "%s%s", SP_FIGURE_SCENE_MARK, scene_file);
+    cairo_pdf_surface_set_metadata(pdf, CAIRO_PDF_METADATA_SUBJECT, text);
+    free(text);
+}
+
+char *sp_cairo_svg_metadata(const char *scene_file)
+{
+    static const char head[] = "<metadata id=\"springpend.version\">springpend " SP_VERSION
+                               "</metadata>\n<metadata id=\"" SP_FIGURE_SCENE_ID "\">";
+    static const char tail[] = "</metadata>\n";
+    if (!scene_file)
+        return NULL;
+    const size_t len = strlen(scene_file);
+    char *out = malloc(sizeof(head) + 6 * len + sizeof(tail)), *w = out;
+    if (!out) {
+        sp_log_error("out of memory for the SVG's metadata");
+        return NULL;
+    }
+    w += sprintf(w, "%s", head);
+    for (const char *c = scene_file; *c; c++) /* XML's text escapes */
+        w += *c == '&' ? sprintf(w, "&amp;") : *c == '<' ? sprintf(w, "&lt;")
+             : *c == '>' ? sprintf(w, "&gt;") : (*w = *c, 1);
+    sprintf(w, "%s", tail);
+    return out;
 }

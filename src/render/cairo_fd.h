@@ -11,6 +11,8 @@
 struct sp_cairo_fd {
     int fd;  /* open for writing; the caller closes it */
     int err; /* errno of the first failed write; 0 = all written */
+    const char *svg_metadata; /* written before the SVG's closing </svg> (the
+                                 write that ends with it); NULL = nothing */
 };
 
 /* A cairo_write_func_t: closure is a struct sp_cairo_fd. Writes all of
@@ -25,5 +27,15 @@ cairo_status_t sp_cairo_fd_write(void *closure, const unsigned char *data, unsig
  * naming the variable) when SOURCE_DATE_EPOCH is not a whole number of
  * seconds in 0 .. 253402300799 (year 9999). */
 int sp_cairo_pdf_date(cairo_surface_t *pdf);
+
+/* Provenance in a figure, which `springpend scene` reads back
+ * (sp_figure_read_scene): a PDF's /Subject holds the scene file text after
+ * the line SP_FIGURE_SCENE_MARK; an SVG holds it, XML-escaped, in
+ * <metadata id="springpend.scene-file">, with springpend's version in
+ * <metadata id="springpend.version">. scene_file NULL or "": nothing. */
+void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file);
+/* The SVG's metadata elements for sink.svg_metadata, malloc'd (free it);
+ * NULL when out of memory (logged) or scene_file is NULL. */
+char *sp_cairo_svg_metadata(const char *scene_file);
 
 #endif

@@ -253,7 +253,8 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     cairo_t *cr;
     int err = 0;
 
-    struct sp_cairo_fd sink = {.fd = d->fd}; /* every write checked */
+    char *svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file) : NULL;
+    struct sp_cairo_fd sink = {.fd = d->fd, .svg_metadata = svg_meta}; /* every write checked */
     const int paper = d->page_w > 0 && d->page_h > 0;
     const double pw = paper ? d->page_w : d->width, ph = paper ? d->page_h : d->height;
     if (d->format == SP_FIGURE_PDF)
@@ -264,6 +265,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     if (st) {
         sp_log_error("%s: cannot create: %s", d->path, cairo_status_to_string(st));
         cairo_surface_destroy(surface);
+        free(svg_meta);
         return SP_E_IO;
     }
     if (d->format == SP_FIGURE_PDF) {
@@ -272,6 +274,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
             cairo_surface_destroy(surface);
             return SP_E_INPUT;
         }
+        sp_cairo_pdf_scene(surface, d->scene_file);
         size_t n = 0, len = d->title ? strlen(d->title) : 0;
         while (n < len && sp_utf8_char(d->title + n))
             n += sp_utf8_char(d->title + n);
@@ -343,6 +346,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     if (!st)
         st = cairo_surface_status(surface);
     cairo_surface_destroy(surface);
+    free(svg_meta);
     if (sink.err && !err) {
         sp_log_error("%s: cannot write: %s", d->path, strerror(sink.err));
         err = SP_E_IO;

@@ -24,6 +24,8 @@ struct sp_draw_cairo_desc {
     const char *path;           /* the target's name, for messages */
     enum sp_figure_format format; /* SVG or PDF */
     const char *title;          /* document title (PDF metadata); NULL = none */
+    const char *scene_file;     /* provenance (cairo_fd.h): PDF /Subject, SVG
+                                   <metadata>; NULL = none */
 };
 
 /* Writes the list. 0, or SP_E_IO / SP_E_NOMEM with cairo's reason logged. */

@@ -57,7 +57,9 @@ struct key_info {
  * their hash and their PNGs' bytes. */
 #define QUIET_KEY(k) ((k)->offset == offsetof(struct sp_scene, view.vectors) || \
                       (k)->offset == offsetof(struct sp_scene, view.camera) || \
-                      (k)->offset == offsetof(struct sp_scene, view.panel_background))
+                      (k)->offset == offsetof(struct sp_scene, view.panel_background) || \
+                      ((k)->offset >= offsetof(struct sp_scene, view.cursor) && \
+                       (k)->offset <= offsetof(struct sp_scene, view.colorbar_label)))
 
 /* [video] preset's choices: auto, then scene.h's SP_VIDEO_PRESETS. */
 #define PRESET_LISTED(name) ", " name
@@ -100,7 +102,8 @@ static const struct key_info keys[] = {
     {"view", "panel_background", KEY_CHOICE, F(view.panel_background), 0, 0, 0, 0, "theme, none"},
     {"view", "background", KEY_COLOR, F(view.background), SP_BACKGROUND_THEME, 0, 0, 0,
      "#rrggbb, theme, transparent"},
-    {"view", "colormap", KEY_CHOICE, F(view.colormap), 0, 0, 0, 0, "inferno, viridis"},
+    {"view", "colormap", KEY_CHOICE, F(view.colormap), 0, 0, 0, 0,
+     "inferno, viridis, magma, cividis, gray"},
     {"view", "colorbar", KEY_BOOL, F(view.colorbar), 0, 0, 0, 0, "true, false"},
     {"view", "strobe", KEY_REAL, F(view.strobe), 0, 0, 1e6, 0, "s"},
     {"view", "pendulum", KEY_BOOL, F(view.pendulum), 1, 0, 0, 0, "true, false"},
@@ -112,6 +115,19 @@ static const struct key_info keys[] = {
      "a font family that fontconfig knows (fc-list : family); empty = DejaVu Sans"},
     {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
     {"view", "caption", KEY_TEXT, F(view.caption), 0, 0, 0, 0, "text"},
+    {"view", "cursor", KEY_CHOICE, F(view.cursor), 0, 0, 0, 0, "auto, true, false"},
+    {"view", "legend", KEY_CHOICE, F(view.legend), 0, 0, 0, 0, "auto, none"},
+    {"view", "panel_titles", KEY_BOOL, F(view.panel_titles), 1, 0, 0, 0, "true, false"},
+    {"view", "panel_labels", KEY_CHOICE, F(view.panel_labels), 0, 0, 0, 0, "none, a, A"},
+    {"view", "marker_size", KEY_REAL, F(view.marker_size), 0, 0, 100, 0,
+     "pt (a marker's diameter; 0 = each figure's own)"},
+    {"view", "palette", KEY_CHOICE, F(view.palette), 0, 0, 0, 0, "theme, okabe_ito"},
+    {"view", "xlabel", KEY_TEXT, F(view.xlabel), 0, 0, 0, 0,
+     "text (empty = the axis's own name; one per panel, '|' between)"},
+    {"view", "ylabel", KEY_TEXT, F(view.ylabel), 0, 0, 0, 0,
+     "text (empty = the axis's own name; one per panel, '|' between)"},
+    {"view", "colorbar_label", KEY_TEXT, F(view.colorbar_label), 0, 0, 0, 0,
+     "text (empty = the colour bar's own name)"},
     {"view", "camera", KEY_CAMERA, F(view.camera), 0, 0, 0, 0,
      "auto, front, AZIMUTH ELEVATION [DISTANCE] (degrees, degrees, m)"},
     {"ensemble", "count", KEY_INT, F(ensemble.count), 0, 0, SP_ENSEMBLE_MAX, 0,
@@ -402,7 +418,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         SP_VECTOR_SPRING, SP_VECTOR_DAMPING, SP_VECTOR_DRIVE, SP_VECTOR_NET};
     const int vectors = k->offset == offsetof(struct sp_scene, view.vectors);
     unsigned bits = 0;
-    int i;
+    signed char order[SP_PANEL_COUNT];
+    int i, n_order = 0;
     switch (k->kind) {
     case KEY_BOOL:
         i = choice_index("false, true, no, yes, off, on, 0, 1", value, strlen(value));
@@ -432,7 +449,11 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
                            "azimuth, top, energy_bars (or all, or none alone)", k->section, k->name, (int)n, w);
                 return 1;
             }
-            bits |= vectors ? vector_bits[i] : panel_bits[i];
+            const unsigned add = vectors ? vector_bits[i] : panel_bits[i];
+            for (int b = 0; !vectors && b < SP_PANEL_COUNT; b++) /* the order named */
+                if ((add >> b & 1) && !(bits >> b & 1))
+                    order[n_order++] = (signed char)b;
+            bits |= add;
             w += n;
             const size_t sep = strspn(w, ", ");
             const char *comma = memchr(w, ',', sep);
@@ -445,6 +466,10 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             w += sep;
         }
         *(unsigned *)p = bits;
+        if (!vectors) {
+            memset(c->scene->view.panel_order, -1, sizeof(c->scene->view.panel_order));
+            memcpy(c->scene->view.panel_order, order, (size_t)n_order);
+        }
         return 1;
     case KEY_COLOR:
         if (!strcmp(value, "theme") || !strcmp(value, "transparent")) {
@@ -834,6 +859,39 @@ void sp_scene_defaults(struct sp_scene *s)
     }
     snprintf(s->ensemble.key, sizeof(s->ensemble.key), "initial.angle");
     s->view.title_where = s->view.caption_where = "";
+    memset(s->view.panel_order, -1, sizeof(s->view.panel_order));
+}
+
+int sp_scene_panel_order(const struct sp_view *view, int order[SP_PANEL_COUNT])
+{
+    unsigned left = view->panels & ((1u << SP_PANEL_COUNT) - 1);
+    int n = 0;
+    for (int i = 0; i < SP_PANEL_COUNT && view->panel_order[i] >= 0; i++) {
+        const int b = view->panel_order[i];
+        if (b < SP_PANEL_COUNT && (left >> b & 1))
+            order[n++] = b, left &= ~(1u << b);
+    }
+    for (int b = 0; b < SP_PANEL_COUNT; b++)
+        if (left >> b & 1)
+            order[n++] = b;
+    return n;
+}
+
+void sp_scene_label_part(const char *label, int i, char *buf, size_t size)
+{
+    const char *at = label;
+    if (strchr(label, '|'))
+        for (int k = 0; k < i && at; k++)
+            at = strchr(at, '|') ? strchr(at, '|') + 1 : NULL;
+    buf[0] = 0;
+    if (!at)
+        return;
+    size_t n = strcspn(at, "|");
+    while (n && at[0] == ' ')
+        at++, n--;
+    while (n && at[n - 1] == ' ')
+        n--;
+    snprintf(buf, size, "%.*s", (int)n, at);
 }
 
 static void apply_override(struct parse_ctx *c, const char *arg)
@@ -990,6 +1048,20 @@ static void validate_whole(struct parse_ctx *c)
                "allowed (raise integrator.dt)", steps);
     if (s->ensemble.count > 1)
         check_ensemble(c);
+    /* a label per panel: as many as the panels, or one for all */
+    int order[SP_PANEL_COUNT];
+    const int n_panels = sp_scene_panel_order(&s->view, order);
+    for (int axis = 0; axis < 2; axis++) {
+        const char *label = axis ? s->view.ylabel : s->view.xlabel;
+        int parts = 1;
+        for (const char *b = strchr(label, '|'); b; b = strchr(b + 1, '|'))
+            parts++;
+        if (parts > 1 && parts != n_panels)
+            report(c, c->key_line[find_key("view", axis ? "ylabel" : "xlabel") - keys],
+                   "view.%s = '%s' has %d entries for %d panel%s; give one name for every "
+                   "panel, or one per panel in the order view.panels lists them, '|' between",
+                   axis ? "ylabel" : "xlabel", label, parts, n_panels, n_panels == 1 ? "" : "s");
+    }
 }
 
 /* [ensemble]: the key is a numeric physics key (as sweep's --vary), the
@@ -1227,7 +1299,8 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
         switch (k->kind) {
         case KEY_REAL:
         case KEY_DEGREES:
-            n = snprintf(at, room, "%s.%s=%.17g\n", k->section, k->name, *(const double *)p);
+            n = QUIET_KEY(k) && *(const double *)p == k->def
+                    ? 0 : snprintf(at, room, "%s.%s=%.17g\n", k->section, k->name, *(const double *)p);
             break;
         case KEY_METHOD:
             n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name,
@@ -1236,9 +1309,24 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
         case KEY_PANELS:
             n = QUIET_KEY(k) && !*(const unsigned *)p
                     ? 0 : snprintf(at, room, "%s.%s=%#x\n", k->section, k->name, *(const unsigned *)p);
+            if (k->offset == offsetof(struct sp_scene, view.panels)) {
+                /* the order, when it is not the bits' own */
+                int order[SP_PANEL_COUNT], sorted = 1;
+                const int np = sp_scene_panel_order(&s->view, order);
+                for (int j = 1; j < np; j++)
+                    sorted &= order[j] > order[j - 1];
+                for (int j = 0; !sorted && j < np; j++) {
+                    const int m = snprintf(used + n < size ? buf + used + n : NULL,
+                                           used + n < size ? size - used - n : 0, "%s%d%s",
+                                           j ? "" : "view.panel_order=", order[j],
+                                           j + 1 < np ? "," : "\n");
+                    n += m;
+                }
+            }
             break;
         case KEY_TEXT:
-            n = snprintf(at, room, "%s.%s=%s\n", k->section, k->name, text_of(s, k));
+            n = QUIET_KEY(k) && !*text_of(s, k)
+                    ? 0 : snprintf(at, room, "%s.%s=%s\n", k->section, k->name, text_of(s, k));
             break;
         case KEY_CAMERA:
             if (s->view.camera == SP_CAMERA_SET)
@@ -1256,7 +1344,7 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
                 n = snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         default: /* KEY_INT, KEY_BOOL, KEY_CHOICE, KEY_COLOR: an int */
-            n = QUIET_KEY(k) && !*(const int *)p
+            n = QUIET_KEY(k) && *(const int *)p == (int)k->def
                     ? 0 : snprintf(at, room, "%s.%s=%d\n", k->section, k->name, *(const int *)p);
             break;
         }
@@ -1361,6 +1449,22 @@ int sp_scene_write_ini(const struct sp_scene *s, char *buf, size_t size)
             }
             /* fall through */
         default: /* the words: as the display of the canonical value */
+            if (k->offset == offsetof(struct sp_scene, view.panels) && s->view.panels) {
+                /* in the order listed: each panel's name, as the display gives it */
+                int order[SP_PANEL_COUNT], len = 0;
+                const int np = sp_scene_panel_order(&s->view, order);
+                value[0] = 0;
+                for (int j = 0; j < np; j++) {
+                    char one[32], name[64];
+                    if (order[j] == 5 && (s->view.panels & SP_PANEL_PHASE_R))
+                        continue; /* theta's phase portrait goes with r's: "phase" */
+                    snprintf(one, sizeof(one), "%#x", 1u << order[j]);
+                    sp_scene_canonical_display("view.panels", one, name, sizeof(name));
+                    len += snprintf(value + len, sizeof(value) - (size_t)len, "%s%s",
+                                    len ? ", " : "", name);
+                }
+                break;
+            }
             snprintf(canon, sizeof(canon), k->kind == KEY_PANELS ? "%#x" : "%d",
                      *(const int *)p);
             char key[64];

@@ -161,6 +161,8 @@ struct sp_plot_style {
     const struct sp_view *view; /* theme, colormap, background, font, font_size (pt),
                                    font_scale, title; NULL = the CSV's look */
     int title_set;              /* 1: view->title is the title ("" = none) */
+    const char *scene_file;     /* provenance: the sweep's base scene as a scene
+                                   file (PDF /Subject, SVG <metadata>); NULL = none */
 };
 
 /* Draws the figure for the CSV in fp (rewound and read to the end) into

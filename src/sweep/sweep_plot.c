@@ -35,7 +35,9 @@ static struct {
     int print;         /* a printed size: margins measured, short titles */
     double lw, tick;   /* axes line width and tick length, pt */
     const char *title; /* NULL: the measure's own; "" = none */
-} G = {900, 600, 1, 0, 1, 5, NULL};
+    const struct sp_view *v; /* [view]'s figure keys: xlabel, ylabel, colorbar_label,
+                                legend, marker_size, panel_titles, panel_labels */
+} G = {900, 600, 1, 0, 1, 5, NULL, NULL};
 #define W G.w
 #define H G.h
 #define U(x) ((x) * G.u)
@@ -126,7 +128,8 @@ static void place(cairo_t *cr, struct frame *f, double right, double print_right
         f->x0 = 80, f->y0 = 56, f->w = W - 80 - right, f->h = H - 116;
         return;
     }
-    const double title = G.title && !G.title[0] ? 0 : U(17) * 1.25;
+    const int none = (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles);
+    const double title = none && !G.v->panel_labels ? 0 : U(17) * 1.25;
     f->y0 = U(6) + title + U(6);
     f->h = H - f->y0 - (G.tick + U(4) + U(12) * 1.2 + U(5) + U(14) * 1.25 + U(4));
     f->h = fmax(f->h, U(20));
@@ -140,6 +143,10 @@ static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palett
                       const char *xlabel, const char *ylabel)
 {
     char buf[64];
+    if (G.v->xlabel[0]) /* [view] xlabel, ylabel: the axes' own names */
+        xlabel = G.v->xlabel;
+    if (G.v->ylabel[0])
+        ylabel = G.v->ylabel;
     cairo_set_font_size(cr, U(12));
     double sx = tick_step(f->xlo, f->xhi, G.print ? (int)fmax(2, f->w / U(55)) : 8);
     double sy = tick_step(f->ylo, f->yhi, G.print ? (int)fmax(2, f->h / U(45)) : 6);
@@ -240,8 +247,14 @@ static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct 
                        const char *what, const char *short_what, const struct frame *f)
 {
     char buf[256];
-    if (G.title && !G.title[0])
-        return; /* [view] title = "": none */
+    if (G.v->panel_labels) { /* the figure is panel (a) */
+        cairo_set_font_size(cr, U(17));
+        set_rgba(cr, pal->text);
+        text_at(cr, G.print ? U(4) : 10, G.print ? U(6) : 10, G.v->panel_labels == 1 ? "(a)" : "(A)",
+                0, 0);
+    }
+    if ((G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
+        return; /* [view] title = "" or panel_titles = false: none */
     if (G.print || G.title) { /* one line: [view] title, or the measure's short name */
         cairo_set_font_size(cr, U(17));
         set_rgba(cr, pal->text);
@@ -327,6 +340,8 @@ static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const stru
     }
     cairo_set_font_size(cr, U(14));
     set_rgba(cr, pal->text);
+    if (G.v->colorbar_label[0])
+        label = G.v->colorbar_label;
     if (!G.print) {
         text_at(cr, x + 9, y - 10, label, 0.5, 1);
         return;
@@ -397,9 +412,11 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         cairo_restore(cr);
         cairo_set_font_size(cr, U(12));
         set_rgba(cr, pal->series[1]);
-        text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8), "λ over T", 1, 0);
+        if (!G.v->legend)
+            text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8), "λ over T", 1, 0);
         set_rgba(cr, pal->muted);
-        text_at(cr, f.x0 + f.w - U(8), f.y0 + U(24), "λ over T/2", 1, 0);
+        if (!G.v->legend)
+            text_at(cr, f.x0 + f.w - U(8), f.y0 + U(24), "λ over T/2", 1, 0);
     } else {
         /* cells centred on the grid values */
         double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
@@ -558,7 +575,7 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
     cairo_clip(cr);
     /* dots fade with their number, so dense regions read as density */
-    double radius = ext ? 1.1 : orbit ? 0.7 : 0.9;
+    double radius = G.v->marker_size > 0 ? 0.5 * G.v->marker_size : ext ? 1.1 : orbit ? 0.7 : 0.9;
     double alpha = fmin(0.9, fmax(0.15, 3e4 / (double)(dots + 1)));
     while (next_row(fp, d, nv, &r)) {
         if (!isfinite(XV) || !isfinite(YV))
@@ -589,7 +606,7 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
 #undef XV
 #undef YV
     cairo_restore(cr);
-    if (ext) /* over the dots */
+    if (ext && !G.v->legend) /* over the dots */
         orbit_legend(cr, d, pal, &f);
     if (!orbit && G.print) { /* which colour is which start: a colour bar */
         double lo = d->axis[0].from, hi = d->axis[0].to;
@@ -612,7 +629,7 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
         text_at(cr, x0 - 5, y0 + 5, buf, 1, 0.5);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
         text_at(cr, x0 + w + 5, y0 + 5, buf, 0, 0.5);
-        text_at(cr, x0 + w / 2, y0 - 4, xl, 0.5, 1);
+        text_at(cr, x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
     }
     return 0;
 }
@@ -731,7 +748,7 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     }
     cairo_restore(cr);
     cairo_set_font_size(cr, U(12));
-    for (int j = 0; j < 4; j++) {
+    for (int j = 0; j < 4 && !G.v->legend; j++) {
         set_rgba(cr, pal->series[colour[j]]);
         if (conv && m)
             snprintf(buf, sizeof(buf), "λ%d = %.4f 1/s", j + 1, y[m - 1][j]);
@@ -739,7 +756,7 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
             snprintf(buf, sizeof(buf), "λ%d", j + 1);
         text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8 + 16 * j), buf, 1, 0);
     }
-    if (conv && m) {
+    if (conv && m && !G.v->legend) {
         set_rgba(cr, pal->muted);
         snprintf(buf, sizeof(buf), "sum %.3g 1/s, Kaplan-Yorke dimension %.3f",
                  y[m - 1][0] + y[m - 1][1] + y[m - 1][2] + y[m - 1][3], y[m - 1][4]);
@@ -819,7 +836,7 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         all += map.att[a].count;
     double lx = f.x0 + f.w + U(20), ly = f.y0 + U(4);
     cairo_set_font_size(cr, U(11));
-    for (int a = 0; a < map.n_attractors; a++, ly += U(30)) {
+    for (int a = 0; a < map.n_attractors && !G.v->legend; a++, ly += U(30)) {
         cairo_set_source_rgb(cr, rgb[a][0], rgb[a][1], rgb[a][2]);
         cairo_rectangle(cr, lx, ly, U(14), U(14));
         cairo_fill(cr);
@@ -882,12 +899,14 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     G.u = body / 14 * (look.view.font_scale > 0 ? look.view.font_scale : 1);
     G.lw = print ? 0.8 : 1, G.tick = print ? 3.5 : 5;
     G.title = style && style->title_set ? look.view.title : NULL;
+    G.v = &look.view;
     const double png_scale = print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
     /* cairo writes front to back: a device or stdout is fine */
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;
-    struct sp_cairo_fd sink = {.fd = out.fd}; /* every write checked */
     const char *ext = strrchr(path, '.');
+    char *svg_meta = !strcasecmp(ext, ".svg") && style ? sp_cairo_svg_metadata(style->scene_file) : NULL;
+    struct sp_cairo_fd sink = {.fd = out.fd, .svg_metadata = svg_meta}; /* every write checked */
     cairo_surface_t *s;
     if (!strcasecmp(ext, ".svg"))
         s = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
@@ -899,14 +918,18 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     if (!strcasecmp(ext, ".pdf") && (ret = sp_cairo_pdf_date(s))) { /* bytes that repeat */
         cairo_surface_destroy(s);
         sp_outfile_discard(&out);
+        free(svg_meta);
         return ret;
     }
+    if (!strcasecmp(ext, ".pdf") && style)
+        sp_cairo_pdf_scene(s, style->scene_file);
     cairo_t *cr = cairo_create(s);
     if (cairo_status(cr)) { /* the surface's error, too: nothing to draw on */
         sp_log_error("cannot make the figure %s: %s", path, cairo_status_to_string(cairo_status(cr)));
         cairo_destroy(cr);
         cairo_surface_destroy(s);
         sp_outfile_discard(&out);
+        free(svg_meta);
         return SP_E_IO;
     }
     if (!strcasecmp(ext, ".png"))
@@ -935,6 +958,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     if (!st && sink.err)
         st = CAIRO_STATUS_WRITE_ERROR;
     cairo_surface_destroy(s);
+    free(svg_meta);
     /* cairo keeps its font faces and fontconfig its configuration for the
      * next figure; there is none: give them back (a sanitizer build checks) */
     cairo_debug_reset_static_data();

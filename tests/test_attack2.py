@@ -264,4 +264,103 @@ for name, data in (("zero.png", b""), ("sig.png", png[:8]),
         r = run(*cmd)
         ok(r.returncode == 2 and name + ":" in err(r),
            f"{' '.join(cmd)}: a damaged PNG is bad input, exit {r.returncode}: {err(r)[:140]}")
+# ---- info: no inf, and no prediction where the theory does not apply -------
+spring = os.path.join(scenes, "swinging-spring.ini")
+r = run("info", spring, "--set", "pendulum.gravity=0")
+j = json.loads(run("info", spring, "--set", "pendulum.gravity=0", "--json").stdout)
+out = r.stdout.decode()
+ok(r.returncode == 0 and "inf" not in out and "k = 0 N/m" not in out and "does not apply" in out
+   and j["ratio"] is None and j["exchange_time"] is None,
+   f"info at g = 0: no pendulum period, ratio or 2:1 stated (no inf): {out[:400]}")
+r = run("info", spring, "--set", "initial.azimuth_rate=1e6")
+out = r.stdout.decode()
+# the start's speed is 1e6 rad/s times x0 = r0 sin(theta0): its amplitude v / omega_p is
+# thousands of l, far beyond the small amplitudes the averaged equations expand in
+ok(r.returncode == 0 and "first peaks" not in out and "turns by" not in out and
+   out.count("not predicted") == 2, f"info at azimuth_rate = 1e6: exchange and precession not "
+   f"predicted: {[l for l in out.splitlines() if 'exchange' in l or 'precession' in l]}")
+r = run("info", chaotic)
+ok("first peaks" not in r.stdout.decode() and "1.5 of l" in r.stdout.decode(),
+   "info on chaotic.ini (theta0 = 1.5 rad = 1.5 l of swing): the exchange is not predicted")
+r = run("info", spring, "--set", "initial.azimuth_rate=1e-300")
+ok(r.returncode == 0 and "-0.00 degrees" not in r.stdout.decode() and "e-29" in r.stdout.decode(),
+   f"info at azimuth_rate = 1e-300: the tiny turn is said, not '-0.00 degrees'")
+# ---- vectors in small frames -------------------------------------------------
+def overlay(png_path):
+    for t, d in chunks(open(png_path, "rb").read()):
+        if t == b"tEXt" and d.startswith(b"springpend.overlay\0"):
+            return dict(l.split("=", 1) for l in d.split(b"\0", 1)[1].decode().splitlines())
+    return {}
+
+
+vec = ["--set", "view.vectors=forces,velocity"]
+r = run("still", default, "--at", "1", "--size", "320x180", *vec, "-o", "v320.png")
+ok(r.returncode == 2 and "legend needs" in err(r) and "320x180" in err(r) and
+   not os.path.exists(path("v320.png")),
+   f"vectors at 320x180 beside the panels: refused, naming the sizes: {err(r)[:200]}")
+r = run("still", default, "--at", "1", "--size", "320x180", *vec, "--set", "view.panels=none",
+        "--set", "view.hud=false", "-o", "v320b.png")
+o = overlay(path("v320b.png"))
+ok(r.returncode == 0 and float(o.get("camera.px_per_m", 0)) > 10,
+   f"vectors at 320x180 without panels or heads-up text: drawn, {o.get('camera.px_per_m')} px per m")
+# ---- one theta convention for planar and 3-D rows ---------------------------
+import csv  # noqa: E402
+import io  # noqa: E402
+import math  # noqa: E402
+
+
+def rows(*args):
+    r = run("data", *args, "-o", "-", "-q")
+    assert r.returncode == 0, err(r)
+    return list(csv.DictReader(io.StringIO(r.stdout.decode())))
+
+
+flat = rows(spring, "--set", "initial.azimuth_rate=0", "--every", "0.5")
+tilt = rows(spring, "--set", "initial.azimuth_rate=1e-10", "--every", "0.5")
+at5 = [(float(a["theta"]), float(b["theta"])) for a, b in zip(flat, tilt) if float(a["t"]) == 5]
+ok(at5 and abs(at5[0][0] - at5[0][1]) < 1e-6 and at5[0][0] < 0,
+   f"theta at t = 5 s: planar and azimuth_rate = 1e-10 agree, sign and all ({at5})")
+spin = rows(spring, "--every", "0.05")
+worst, signs = 0.0, set()
+for row in spin:
+    x, y, z, a = (float(row[k]) for k in ("x", "y", "z", "azimuth"))
+    side = -1 if x * math.cos(math.radians(a)) + z * math.sin(math.radians(a)) < 0 else 1
+    want = side * math.atan2(math.hypot(x, z), -y)
+    worst = max(worst, abs(float(row["theta"]) - want))
+    signs.add(side)
+ok(worst < 1e-12 and signs == {-1, 1},
+   f"swinging-spring.ini: theta is the angle from the vertical signed by the side of the row's "
+   f"swing plane (numpy from x, y, z, azimuth: worst {worst:.2e} rad; both sides seen: {sorted(signs)})")
+# ---- messages -----------------------------------------------------------------
+# a metadata file that is not JSON: its bytes are not echoed (a link to a
+# secret, or a forged file's terminal escapes)
+shutil.copy(path("m.csv"), path("esc.csv"))
+with open(path("esc.csv-metadata.json"), "wb") as f:
+    f.write(b"root:\x1b]2;pwned\x07:secret\n")
+r = run("scene", "esc.csv")
+ok(r.returncode == 2 and b"\x1b" not in r.stderr and b"root" not in r.stderr and b"secret" not in r.stderr
+   and b"esc.csv-metadata.json:1:" in r.stderr,
+   f"scene on a CSV whose metadata is not JSON: FILE:LINE, its bytes not echoed: {r.stderr[:160]!r}")
+# side by side, an automatic cell label too long for the frame is named as such
+cells = []
+for i in range(4):
+    with open(path(f"cell{i}.ini"), "w") as f:
+        f.write(f"[pendulum]\nstiffness = {2 + i}\nmass = {0.5 + i / 10}\ndamping = {i / 10}\n"
+                f"natural_length = {0.5 + i / 10}\n[initial]\nangle = {10 + i}\nlength = {0.6 + i / 10}\n")
+    cells.append(f"cell{i}.ini")
+r = run("still", *cells, "--at", "0.5", "--size", "320x180", "-o", "cells.png")
+ok(r.returncode == 2 and "automatic label" in err(r) and "cell" in err(r),
+   f"side by side: a cell label too long for the frame is named as the automatic label: {err(r)[:200]}")
+# ---- a long scene through a PNG sequence (my own pass) -----------------------
+# the sequence's writers copied the text chunks into 12 KiB: a 9 KB scene
+# ([timeline] captions) was refused, though a still and a video record it
+text = open(os.path.join(scenes, "lesson-exchange.ini")).read().split("\n[timeline]")[0] + "\n[timeline]\n"
+for i in range(100):
+    text += f"{i * 0.05:.2f} = caption: Step {i}: the energy moves from the bounce into the swing and back\n"
+with open(path("long.ini"), "w") as f:
+    f.write(text)
+r = run("render", "long.ini", "--frames", "0:2", "--size", "320x180", "-o", "seq/%03d.png", "-q")
+s1 = run("scene", "seq/000.png")
+ok(r.returncode == 0 and s1.returncode == 0 and s1.stdout.count(b'caption: "Step') == 100,
+   f"a 9 KB scene rendered to a PNG sequence: each PNG records it whole ({err(r)[:120]} {err(s1)[:80]})")
 done()

@@ -184,6 +184,7 @@ BASE = {"video.width": W, "video.height": H, "video.fps": 20, "video.duration": 
 
 def frame(name, keys, at=30, extra=()):
     """Frame `at` of the scene BASE + keys as an H x W x 4 array (None on error)."""
+    W, H = int(keys.get("video.width", BASE["video.width"])), int(keys.get("video.height", BASE["video.height"]))
     path = scene(name, {**BASE, **keys})
     r = subprocess.run([exe, "render", path, "--frames", f"{at}:{at + 1}", "--format", "raw",
                         "-o", "-", "-q", *extra], capture_output=True, cwd=work)
@@ -225,7 +226,10 @@ ok(dur is not None and frames21 is not None and np.array_equal(dur, frames21) an
    "view.trail = 1s (simulated s) at 20 fps draws the trail of view.trail = 21 frames")
 changed("fade", {"view.fade": "true"}, "the trail fades")
 changed("panels", {"view.panels": "r"}, "a panel")
-changed("vectors", {"view.vectors": "forces, velocity"}, "arrows from the bob and their legend")
+# the vectors' legend needs a larger frame than 160x96 (a smaller one is refused)
+big = {"video.width": 480, "video.height": 288}
+changed("vectors", {"view.vectors": "forces, velocity", **big}, "arrows from the bob and their legend",
+        ref_frame=frame("view-base-big", big))
 with_r = frame("panel-r", {"view.panels": "r"})
 changed("panel-bg", {"view.panels": "r", "view.panel_background": "none"}, "the panel on the frame's "
         "background", ref_frame=with_r)

@@ -69,7 +69,17 @@ struct sp_exchange {
     double time;        /* s: the first maximum of the swing energy, NAN if none
                          * is expected (no swing or no bounce to start from) */
     double swing_share; /* swing energy / (swing + bounce) at that maximum */
+    double epsilon;     /* the start's amplitude as a fraction of l, max(|A|, |B|) / l
+                         * of the plane's swing and the bounce (NAN when not near 2:1) */
 };
+
+/* The largest start amplitude, as a fraction of l (sp_exchange's and
+ * sp_precession's epsilon), at which info states the averaged equations'
+ * predictions at all: they expand in small amplitudes (accurate to a few %
+ * up to 0.065 l, README), and beyond half of l the motion is no slow
+ * exchange (chaotic.ini, 1.5 rad, or a bob flung out by a huge
+ * azimuth_rate): info then says they do not apply. */
+#define SP_ADVISE_AMPLITUDE_MAX 0.5
 
 /* Fills *out for the motion starting at s0 (t = 0). 0, or SP_E_INPUT when the
  * scene is not within 10% of 2:1 (no exchange: out->time is NAN). */

@@ -102,6 +102,9 @@ struct sp_look {
     const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
                                            band holds its largest text, the
                                            frame's sp_moment says what shows */
+    const char *title_what; /* what view.title is, for messages; NULL = the
+                               scene's "[view] title" (side by side: the
+                               cell's automatic label) */
     int perspective;    /* 1: the pendulum is drawn through view.camera's
                            perspective (sp_scene_perspective) */
     int spatial;        /* 1: a 3-D scene (initial.azimuth_rate != 0) */

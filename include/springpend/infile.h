@@ -18,7 +18,7 @@
 /* Opens the regular file at path for reading (O_CLOEXEC). want ends the
  * message when it is not one ("a PNG must be a file"). Returns the
  * descriptor, or SP_E_INPUT after "PATH: is a FIFO, not a regular file;
- * WANT" or "PATH: cannot open: REASON". */
+ * WANT" or "PATH: cannot open: REASON" (missing, no permission). */
 int sp_infile_open(const char *path, const char *want);
 
 /* Reads the regular file at path whole into *text (malloc'd, NUL added

@@ -67,9 +67,9 @@ struct sp_png_info {
     int interlaced;    /* 1: Adam7 */
 };
 
-/* Reads the header (and the chunks before the image data) only. Returns 0,
- * or SP_E_INPUT (cannot open, not a regular file, not a PNG or damaged;
- * infile.h says why). */
+/* Reads the header (and the chunks before the image data) only. Returns 0
+ * or SP_E_INPUT (logged: cannot open, not a regular file, not a PNG or
+ * damaged: bad input, exit 2, with libpng's reason). */
 int sp_png_read_info(const char *path, struct sp_png_info *info);
 
 /* SP_E_INPUT (logged) when info's size is beyond SP_PNG_MAX_PIXELS. */
@@ -79,18 +79,18 @@ int sp_png_check_size(const char *path, const struct sp_png_info *info);
  * interlaced or not) into RGBA8 by value: 16-bit samples v become
  * round(v * 255 / 65535), so v * 257 reads as v; no gamma or colour
  * conversion. Stride 4*width, straight alpha; free with sp_image_free; img
- * is zeroed on failure. Refuses (SP_E_INPUT) a path that names no regular
- * file, images beyond SP_PNG_MAX_PIXELS, and a damaged or truncated file,
- * including one missing IEND. */
+ * is zeroed on failure. Refuses (SP_E_INPUT) what is not a regular file and
+ * images beyond SP_PNG_MAX_PIXELS, and a damaged or truncated file, including
+ * one missing IEND (infile.h: a missing file too). */
 int sp_png_read(const char *path, struct sp_image *img);
 
 /* Finds the tEXt/zTXt/iTXt chunk `key` that comes before the image data
- * and copies its text (truncated to size - 1 bytes) into buf. Returns 1
- * when found, 0 when the PNG has no such chunk, or SP_E_IO (logged) when
- * the file cannot be read as a PNG. Bounded: a chunk inflating beyond 256
- * KiB, and the chunks after the 32nd, are dropped with a warning (8 MiB
- * of text at most, however the file is made); the other readers skip text
- * chunks unread. */
+ * and copies its text into buf. Returns 1 when found, 0 when the PNG has
+ * no such chunk, or SP_E_INPUT (logged) when the file cannot be read as a
+ * PNG, holds the chunk twice, or its text does not fit in size - 1 bytes.
+ * Bounded: a chunk inflating beyond 256 KiB, and the chunks after the
+ * 32nd, are dropped with libpng's reason (8 MiB of text at most, however
+ * the file is made); the other readers skip text chunks unread. */
 int sp_png_read_text(const char *path, const char *key, char *buf, size_t size);
 
 #endif

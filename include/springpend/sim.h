@@ -160,8 +160,21 @@ int sp_sim_advance(struct sp_sim *sim, double t_target);
 double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end);
 
 /* r, theta and their rates. A state off the x-y plane (z or vz nonzero) has
- * theta as the polar angle from the downward vertical, in [0, pi]. */
+ * theta as the polar angle from the downward vertical, in [0, pi] (for
+ * what is shown and written, see sp_state_polar_in). */
 void sp_state_polar(const struct sp_state *s, struct sp_polar *out);
+
+/* The angle springpend shows and writes (data's theta, a still's --state,
+ * the theta panel): from the downward vertical, signed by the side of the
+ * swing plane the bob is on: positive towards the horizontal direction
+ * (cos azimuth, sin azimuth) in (x, z), azimuth in rad (data's azimuth
+ * column, sp_state_azimuth made continuous), in (-pi, pi]; theta_dot the
+ * rate of that angle. One convention for planar and 3-D scenes: in the x-y
+ * plane (azimuth 0) it is atan2(x, -y), and a 3-D run whose swing plane has
+ * barely turned (azimuth_rate 1e-10) gives the planar run's angle, sign
+ * and all (the polar angle, never negative, gave +0.0132 where the planar
+ * run gave -0.0132). r and r_dot are sp_state_polar's. */
+void sp_state_polar_in(const struct sp_state *s, double azimuth, struct sp_polar *out);
 void sp_state_energy(const struct sp_params *p, const struct sp_state *s,
                      struct sp_energy *out);
 

@@ -22,7 +22,7 @@ int sp_infile_open(const char *path, const char *want)
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) {
         sp_log_error("%s: cannot open: %s", path, strerror(errno));
-        return SP_E_INPUT;
+        return SP_E_INPUT; /* missing or unreadable: bad input, exit 2 */
     }
     if (fstat(fd, &st) != 0) {
         sp_log_error("%s: cannot open: %s", path, strerror(errno));

@@ -42,7 +42,9 @@ static const char data_usage[] =
     "  towards +z: the major axis of the horizontal ellipse the swing traces in one\n"
     "  pendulum period (sim.h, sp_state_azimuth), made continuous from row to row\n"
     "  (a turn of over 90 degrees between two rows is read as the nearer one).\n"
-    "  theta is then the polar angle from the downward vertical, in [0, pi].\n"
+    "  theta is then signed by the side of that plane the bob is on: positive\n"
+    "  towards the azimuth (the planar convention, where azimuth is 0 and theta\n"
+    "  = atan2(x, -y)), in (-pi, pi]; theta_dot is its rate.\n"
     "bounce + swing = energy - E_eq (E_eq: hanging still at l = L0 + m g / k);\n"
     "work: done on the bob by damping and the moving pivot since t = 0, so\n"
     "energy - work stays at its t = 0 value.\n"
@@ -144,7 +146,9 @@ static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth, const 
     const struct sp_state *s = &sim->s;
     struct sp_polar q;
     struct sp_energy e;
-    sp_state_polar(s, &q);
+    if (sim->spatial) /* theta is signed by the side of this row's swing plane */
+        *azimuth = sp_azimuth_unwrap(*azimuth, sp_state_azimuth(&sim->p, s));
+    sp_state_polar_in(s, *azimuth, &q);
     sp_state_energy(&sim->p, s, &e);
     if (name && (write_field(fp, name) || fputc(',', fp) == EOF))
         return SP_E_IO;
@@ -156,7 +160,6 @@ static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth, const 
                 sp_pivot_y(&sim->p, s->t)) < 0)
         return SP_E_IO;
     if (sim->spatial || spatial) {
-        *azimuth = sp_azimuth_unwrap(*azimuth, sp_state_azimuth(&sim->p, s));
         if (fprintf(fp, ",%.15g,%.15g,%.15g", s->z, s->vz, *azimuth * 180 / M_PI) < 0)
             return SP_E_IO;
     }

@@ -52,6 +52,9 @@ struct info {
     int spatial;                /* the motion leaves the x-y plane */
     struct sp_precession prec;  /* valid when spatial */
     int prec_ok;                /* sp_advise_precession returned 0 */
+    double ex_amplitude;        /* the start's amplitude / l (3-D: prec's) */
+    int ex_beyond;              /* 1: ex_amplitude > SP_ADVISE_AMPLITUDE_MAX: the
+                                   exchange is not predicted */
     struct sp_decay bounce, swing; /* valid when damped */
     int damped, driven;
     struct sp_drive_advice drive;
@@ -86,23 +89,38 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
     printf("  equilibrium      l = L0 + m g / k = %.6g m (static stretch m g / k = %.6g m)\n",
            ell, m * g / k);
     printf("  omega_spring     sqrt(k/m) = %.6g rad/s, period %.6g s\n", ws, 2 * M_PI / ws);
-    printf("  omega_pendulum   sqrt(g/l) = %.6g rad/s, period %.6g s (not sqrt(g/L0) = "
-           "%.4g rad/s: the spring's stretch lengthens the pendulum)\n",
-           wp, 2 * M_PI / wp, sqrt(g / L0));
-    printf("  ratio            omega_spring / omega_pendulum = %.6g (2:1 resonance at 2)\n",
-           ratio);
-    printf("  2:1 resonance    k L0 = 3 m g, i.e. k = %.6g N/m for this m and L0\n",
-           3 * m * g / L0);
-    if (!in->near21) {
+    if (!(wp > 0)) { /* g = 0: nothing pulls the bob back to the vertical */
+        printf("  omega_pendulum   none: without gravity (g = 0) the bob does not swing back, "
+               "so no pendulum period exists\n");
+        printf("  ratio            does not apply (no pendulum frequency)\n");
+        printf("  2:1 resonance    does not apply: k L0 = 3 m g needs gravity; bounce and "
+               "swing do not exchange energy\n");
+    } else {
+        printf("  omega_pendulum   sqrt(g/l) = %.6g rad/s, period %.6g s (not sqrt(g/L0) = "
+               "%.4g rad/s: the spring's stretch lengthens the pendulum)\n",
+               wp, 2 * M_PI / wp, sqrt(g / L0));
+        printf("  ratio            omega_spring / omega_pendulum = %.6g (2:1 resonance at 2)\n",
+               ratio);
+        printf("  2:1 resonance    k L0 = 3 m g, i.e. k = %.6g N/m for this m and L0\n",
+               3 * m * g / L0);
+    }
+    if (!(wp > 0)) {
+    } else if (!in->near21) {
         printf("  not near 2:1 (%.1f%% away): bounce and swing stay apart\n",
                100 * (ratio / 2 - 1));
     } else {
         printf("  near 2:1 (%+.2f%%): energy flows between bounce and swing\n",
                100 * (ratio / 2 - 1));
-        printf("  growth rate      s = 3 omega_p |B0| / (4 l) = %.4g 1/s of the swing at the start (Lynch; "
-               "(L0/l^2) omega_p B0 at exact 2:1), B0 = |r0 - l| = %.4g m\n",
-               in->ex.rate, fabs(sc->initial.length - ell));
-        if (isnan(in->ex.time))
+        if (!in->ex_beyond)
+            printf("  growth rate      s = 3 omega_p |B0| / (4 l) = %.4g 1/s of the swing at the "
+                   "start (Lynch; (L0/l^2) omega_p B0 at exact 2:1), B0 = |r0 - l| = %.4g m\n",
+                   in->ex.rate, fabs(sc->initial.length - ell));
+        if (in->ex_beyond)
+            printf("  energy exchange  not predicted: the start's amplitude is %.3g of l, and "
+                   "Lynch's averaged equations hold for small amplitudes (a few %% of l): "
+                   "beyond %g of l the motion is no slow exchange\n", in->ex_amplitude,
+                   SP_ADVISE_AMPLITUDE_MAX);
+        else if (isnan(in->ex.time))
             printf("  energy exchange  none expected: it needs both a bounce (r0 != l or a "
                    "length rate) and a seed of swing (theta0 or an angle rate)\n");
         else
@@ -122,7 +140,7 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
         else if (isnan(pr->angle))
             printf("  precession       none predicted: %s\n", pr->why);
         else
-            printf("  precession       the swing's plane turns by %+.2f degrees per exchange, "
+            printf("  precession       the swing's plane turns by %+.3g degrees per exchange, "
                    "every %.3g s (first swing peak at t = %.3g s), by the averaged three-wave "
                    "equations (Lynch and Houghton); amplitude %.3g of l: %s\n",
                    pr->angle * 180 / M_PI, pr->period, pr->first_peak, pr->epsilon,
@@ -267,7 +285,7 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
     json_num("omega_pendulum", in->ph.omega_p, 0);
     json_num("ratio", in->ph.ratio, 0);
     printf("  \"near_2_1\": %s,\n", in->near21 ? "true" : "false");
-    json_num("exchange_rate", in->near21 ? in->ex.rate : NAN, 0);
+    json_num("exchange_rate", in->near21 && !in->ex_beyond ? in->ex.rate : NAN, 0);
     json_num("exchange_time", in->ex.time, 0);
     json_num("exchange_swing_share", in->ex.swing_share, 0);
     const int prec = in->spatial && in->prec_ok;
@@ -348,6 +366,14 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
         sp_advise_decay(in.ph.omega_s, sim.p.b_over_m, &in.bounce);
         sp_advise_decay(in.ph.omega_p, sim.p.b_over_m, &in.swing);
     }
+    /* the averaged equations expand in small amplitudes: far beyond, their
+     * numbers would be stated for a motion they do not describe */
+    in.ex_amplitude = in.spatial && in.prec_ok ? in.prec.epsilon : in.ex.epsilon;
+    if (in.near21 && in.ex_amplitude > SP_ADVISE_AMPLITUDE_MAX)
+        in.ex.time = in.ex.swing_share = NAN, in.ex_beyond = 1;
+    if (in.spatial && in.prec_ok && in.prec.epsilon > SP_ADVISE_AMPLITUDE_MAX)
+        in.prec_ok = 0, in.prec.why = "the start's amplitude is beyond the averaged theory's "
+                                      "small amplitudes";
     in.driven = sp_advise_drive(&sim.p, &sim.s, &in.drive) == 0;
     if (!sp_method_info(sc.integrator.method)->adaptive) {
         ret = sp_advise_dt(&sc, sc.video.duration, &in.dt);

@@ -141,7 +141,8 @@ static int write_state(const char *path, const struct sp_scene *scene,
     if (ret || (ret = sp_outfile_open(&f, path, SP_OUTFILE_STREAM)) != 0)
         return ret;
     sp_sim_init(&sim, scene); /* for the parameters and the initial energy */
-    sp_state_polar(st, &pol);
+    /* theta signed by the side of the swing plane, as data writes it */
+    sp_state_polar_in(st, sim.spatial ? sp_state_azimuth(&sim.p, st) : 0, &pol);
     sp_state_energy(&sim.p, st, &e);
     FILE *fp = fdopen(f.fd, "w");
     if (!fp) {

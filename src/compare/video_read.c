@@ -165,7 +165,7 @@ int sp_video_read_text(const char *path, const char *key, char *buf, size_t size
      * it opens the file checked, through the descriptor, not the name again */
     int fd = sp_infile_open(path, "a video must be a file");
     if (fd < 0)
-        return fd;
+        return SP_E_INPUT; /* as a file FFmpeg cannot read */
     snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
     ret = avformat_open_input(&fmt, access(name, R_OK) ? path : name, NULL, NULL);
     close(fd);

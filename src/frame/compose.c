@@ -70,6 +70,8 @@ struct sp_composer {
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
     struct sp_vectors vectors;    /* [view] vectors' scales (set with the layout) */
+    struct sp_rect motion;        /* px: the rect the motion is centred in */
+    struct sp_rect legend;        /* px: the vectors' legend's box */
     struct sp_bars_scale bars;    /* the energy bars' axis (set by each frame) */
     int ss;                       /* the drawing is this many times the output */
     struct sp_camera cam;         /* look.perspective: the camera the pendulum is
@@ -79,13 +81,30 @@ struct sp_composer {
     float floor_a[2];             /* px: that point */
 };
 
-/* Fits the extent plus a margin into rectangle v, equal scale on both axes. */
+/* The longest arrow, px: SP_VECTOR_MAX_LENGTH of the frame's smaller side,
+ * but at most a quarter of the view's smaller side, so that a small view
+ * (320x180 beside panels and the heads-up text) keeps most of its room for
+ * the motion: its whole room went to the arrows, and the pendulum shrank to
+ * a dot (0.19 px per m). */
+static float arrow_room(const struct sp_composer *r, const struct sp_rect *v)
+{
+    if (!r->look.view.vectors)
+        return 0;
+    return fminf(SP_VECTOR_MAX_LENGTH * r->unit, 0.25f * fminf(v->x1 - v->x0, v->y1 - v->y0));
+}
+
+/* Fits the extent plus a margin into rectangle v, equal scale on both axes;
+ * the motion is centred in v (r->motion). */
 static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 {
+    r->motion = *v;
     const struct sp_view_extent *e = &r->extent;
     /* arrows from the bob need their longest length around the motion */
-    const double margin = (BOB_RADIUS + MARGIN + (r->look.view.vectors ? SP_VECTOR_MAX_LENGTH : 0)) *
-                          r->unit;
+    const float room = arrow_room(r, v);
+    const double margin = room < SP_VECTOR_MAX_LENGTH * r->unit /* capped: a small view */
+                              ? (BOB_RADIUS + MARGIN) * r->unit + room
+                              : (BOB_RADIUS + MARGIN + (room > 0 ? SP_VECTOR_MAX_LENGTH : 0)) *
+                                    r->unit;
     if (r->look.perspective) {
         sp_camera_fit(&r->cam, v->x0, v->y0, v->x1, v->y1, (float)margin);
         r->scale = sp_camera_scale(&r->cam);
@@ -102,7 +121,7 @@ static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 void sp_compose_rescale(struct sp_composer *r, double px_per_m)
 {
     const struct sp_view_extent *e = &r->extent;
-    const struct sp_rect *v = &r->layout.camera;
+    const struct sp_rect *v = &r->motion;
     if (r->look.perspective) { /* about the rectangle's centre */
         const double f = px_per_m / sp_camera_scale(&r->cam);
         const double mx = 0.5 * (v->x0 + v->x1), my = 0.5 * (v->y0 + v->y1);
@@ -259,7 +278,10 @@ static int wrap_texts(struct sp_composer *r)
     const float width = r->width - 2 * roundf(0.015f * r->unit); /* layout.c's bands */
     const struct sp_view *v = &r->look.view;
     char title[4200], caption[4200];
-    text_label(title, sizeof(title), v->title_where, "title");
+    if (r->look.title_what) /* what the title is when no [view] title set it */
+        snprintf(title, sizeof(title), "%s", r->look.title_what);
+    else
+        text_label(title, sizeof(title), v->title_where, "title");
     text_label(caption, sizeof(caption), v->caption_where, "caption");
     int err = 0;
     if (v->title[0] && !(err = sp_font_check(f, title, v->title)))
@@ -426,6 +448,31 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     return 0;
 }
 
+/* Puts the vectors' legend (w x h px) in the first corner of the view, of
+ * top-left, bottom-left, top-right and bottom-right, that the motion's box
+ * (with the bob and the arrows' room around it) leaves free; top-left when
+ * none does. It was always top-left, over the pendulum hanging there. */
+static void legend_corner(struct sp_composer *r, float w, float h)
+{
+    const struct sp_rect *c = &r->layout.camera;
+    const struct sp_view_extent *e = &r->extent;
+    const double m = (BOB_RADIUS + MARGIN) * r->unit + arrow_room(r, &r->motion);
+    const struct sp_rect box = {(float)(r->ox + r->scale * e->xmin - m),
+                                (float)(r->oy - r->scale * e->ymax - m),
+                                (float)(r->ox + r->scale * e->xmax + m),
+                                (float)(r->oy - r->scale * e->ymin + m)};
+    const struct sp_rect corner[4] = {{c->x0, c->y0, c->x0 + w, c->y0 + h},
+                                      {c->x0, c->y1 - h, c->x0 + w, c->y1},
+                                      {c->x1 - w, c->y0, c->x1, c->y0 + h},
+                                      {c->x1 - w, c->y1 - h, c->x1, c->y1}};
+    r->legend = corner[0];
+    for (int i = 0; i < 4 && !r->look.perspective; i++) /* perspective: no ox, oy */
+        if (!sp_rect_overlap(&corner[i], &box)) {
+            r->legend = corner[i];
+            return;
+        }
+}
+
 /* A 3-D scene's heads-up line: the precession per exchange that the
  * averaged theory predicts (sp_look.precession), and how far to trust it;
  * put before the frequency ratio's line (sp_hud_draw appends the resonance
@@ -454,8 +501,10 @@ static void hud_precession(struct sp_composer *r, const struct sp_font *f, float
 }
 
 /* Places the view, panels, heads-up text and colourbar (once: the
- * parameters do not change during a run). */
-static void lay_out(struct sp_composer *r, const struct sp_params *p)
+ * parameters do not change during a run). SP_E_INPUT (logged) when the
+ * vectors' legend does not fit the pendulum's view: it was drawn over the
+ * colour bar and cut off. */
+static int lay_out(struct sp_composer *r, const struct sp_params *p)
 {
     const struct sp_font *f = r->font;
     struct sp_layout_desc d = {.width = r->width, .height = r->height,
@@ -485,9 +534,25 @@ static void lay_out(struct sp_composer *r, const struct sp_params *p)
         d.colorbar_width = sp_colorbar_width(r->font, r->ink, r->max_speed,
                                              r->look.view.colorbar_label);
     sp_layout_compute(&d, &r->layout);
-    fit_camera(r, &r->layout.camera);
-    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit);
+    const struct sp_rect *cam = &r->layout.camera;
+    fit_camera(r, cam);
+    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit, arrow_room(r, cam));
     r->laid_out = 1;
+    if (r->look.view.vectors && r->look.view.pendulum && r->font) {
+        float w, h;
+        sp_vectors_legend_size(r->font, &r->vectors, &w, &h);
+        legend_corner(r, w, h);
+        if (w > cam->x1 - cam->x0 || h > cam->y1 - cam->y0) {
+            sp_log_error("[view] vectors: the arrows' legend needs %.0fx%.0f px, and the "
+                         "pendulum's view is %.0fx%.0f px of the %dx%d frame (beside the "
+                         "panels, heads-up text and colour bar); use a larger frame (--size), "
+                         "fewer panels or vectors, or view.hud = false",
+                         w / r->ss, h / r->ss, (cam->x1 - cam->x0) / r->ss,
+                         (cam->y1 - cam->y0) / r->ss, r->width / r->ss, r->height / r->ss);
+            return SP_E_INPUT;
+        }
+    }
+    return 0;
 }
 
 /* ---- geometry, all in px ---- */
@@ -978,10 +1043,9 @@ static void put_texts(struct sp_composer *r, const struct sp_moment *m)
     sp_canvas_layer(cv, SP_LAYER_STATIC);
 }
 
-void sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p)
+int sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p)
 {
-    if (!c->laid_out)
-        lay_out(c, p);
+    return c->laid_out ? 0 : lay_out(c, p);
 }
 
 int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
@@ -990,8 +1054,11 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     struct sp_canvas *cv = &r->canvas;
     float pv[2], bb[2];
 
-    if (!r->laid_out)
-        lay_out(r, f->params);
+    if (!r->laid_out) {
+        int err = lay_out(r, f->params);
+        if (err)
+            return err;
+    }
     sp_canvas_reset(cv);
     const double yp = sp_pivot_y(f->params, f->state.t); /* a driven pivot moves */
     to_px(r, 0, yp, pv);
@@ -1046,7 +1113,7 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
     put_texts(r, f->moment);
     if (r->look.view.vectors && r->look.view.pendulum)
-        sp_vectors_legend(cv, &r->vectors, &r->layout.camera, &r->pal);
+        sp_vectors_legend(cv, &r->vectors, &r->legend, &r->pal);
     if (f->ended && r->font) { /* side by side: a shorter video holds its last frame */
         const struct sp_rect *cam = &r->layout.camera;
         char note[64];

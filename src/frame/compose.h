@@ -53,7 +53,7 @@ double sp_compose_scale(const struct sp_composer *c);
 void sp_compose_rescale(struct sp_composer *c, double px_per_m);
 /* Lays the frame out and fits the camera for parameters p, as the first
  * frame does (once; a no-op after). */
-void sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p);
+int sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p);
 
 /* compose_cells.c: n scenes (1..SP_MAX_CELLS) side by side in one frame,
  * each in its cell of a grid (sp_compose_cells_grid) with its own look, all

@@ -67,7 +67,9 @@ int sp_compose_cells_frame(struct sp_compose_cells *c, const struct sp_frame *fr
     if (!c->scaled && c->n > 1) { /* one metre, one length: the smallest scale */
         double scale = INFINITY;
         for (int i = 0; i < c->n; i++) {
-            sp_compose_lay_out(c->cell[i], frames[i].params);
+            int err = sp_compose_lay_out(c->cell[i], frames[i].params);
+            if (err)
+                return err;
             scale = fmin(scale, sp_compose_scale(c->cell[i]));
         }
         for (int i = 0; i < c->n; i++)

@@ -166,10 +166,16 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
         if (scene->view.panels) {
             struct sp_polar pol;
             struct sp_energy e;
-            sp_state_polar(s, &pol);
+            if (sim.spatial) {
+                azimuth = sp_azimuth_unwrap(azimuth, sp_state_azimuth(&sim.p, s));
+                widen(&out->azimuth, azimuth);
+            }
+            sp_state_polar_in(s, azimuth, &pol); /* the theta panel shows data's theta */
             sp_state_energy(&sim.p, s, &e);
             widen(&out->r, pol.r);
             widen(&out->theta, pol.theta);
+            if (sim.spatial) /* the panel's samples may take the plane's other side */
+                widen(&out->theta, -pol.theta);
             widen(&out->r_dot, pol.r_dot);
             widen(&out->theta_dot, pol.theta_dot);
             widen(&out->energy, e.total);
@@ -186,10 +192,6 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                 if (sim.p.drive_amp != 0)
                     widen(&work, sim.work + loss); /* the drive's work */
                 widen(&work, loss);                /* the loss to damping */
-            }
-            if (sim.spatial) {
-                azimuth = sp_azimuth_unwrap(azimuth, sp_state_azimuth(&sim.p, s));
-                widen(&out->azimuth, azimuth);
             }
             out->horizontal = fmax(out->horizontal, fmax(fabs(s->x), fabs(s->z)));
         }
@@ -331,10 +333,10 @@ static int push_sample(struct sp_history *h, const struct sp_sim *sim)
                    "panel samples");
     if (err)
         return err;
-    sp_state_polar(&sim->s, &pol);
-    sp_state_energy(&sim->p, &sim->s, &e);
     if (sim->spatial)
         h->azimuth = sp_azimuth_unwrap(h->azimuth, sp_state_azimuth(&sim->p, &sim->s));
+    sp_state_polar_in(&sim->s, h->azimuth, &pol); /* as data writes theta */
+    sp_state_energy(&sim->p, &sim->s, &e);
     h->samples[h->count++] = (struct sp_history_sample){
         (float)sim->s.t, (float)sim->s.x, (float)(sim->s.y + sp_pivot_y(&sim->p, sim->s.t)),
         (float)pol.r, (float)pol.theta, (float)pol.r_dot, (float)pol.theta_dot,

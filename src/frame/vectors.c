@@ -24,7 +24,8 @@ static double nice_below(double x)
 }
 
 void sp_vectors_setup(struct sp_vectors *v, const struct sp_look *look,
-                      const struct sp_view_extent *e, const struct sp_params *p, float unit)
+                      const struct sp_view_extent *e, const struct sp_params *p, float unit,
+                      float max_px)
 {
     const double max[SP_VQ_COUNT] = {e->max_force, e->max_speed, e->max_accel};
     *v = (struct sp_vectors){.bits = look->view.vectors, .driven = p->drive_amp != 0,
@@ -33,7 +34,7 @@ void sp_vectors_setup(struct sp_vectors *v, const struct sp_look *look,
         /* the largest value takes SP_VECTOR_MAX_LENGTH; the key shows a round
          * value at most half of it */
         const double m = max[q] > 0 && isfinite(max[q]) ? max[q] : 1;
-        v->px_per[q] = SP_VECTOR_MAX_LENGTH * unit / m;
+        v->px_per[q] = max_px / m;
         v->key[q] = nice_below(0.5 * m);
     }
 }
@@ -81,27 +82,34 @@ void sp_vectors_draw(struct sp_canvas *c, const struct sp_vectors *v, const stru
     }
 }
 
-void sp_vectors_legend(struct sp_canvas *c, const struct sp_vectors *v, const struct sp_rect *r,
-                       const struct sp_palette *pal)
-{
-    const struct sp_font *f = c->font;
-    if (!f || !v->bits)
-        return;
-    const float line = (float)sp_font_line(f, SP_TEXT_SMALL), cap = (float)sp_font_cap(f, SP_TEXT_SMALL);
-    const float pad = roundf(0.5f * line), hw = half_width(v->unit), swatch = 2.2f * line;
+/* The legend's rows: text, arrow length (px; 0 = none) and colour; their
+ * count. */
+struct legend {
     char text[SP_VECTOR_COUNT + SP_VQ_COUNT + 1][96];
     float len[SP_VECTOR_COUNT + SP_VQ_COUNT + 1];
     const float *color[SP_VECTOR_COUNT + SP_VQ_COUNT + 1];
+    int n;
+    float line, cap, pad, lmax, w, h; /* px: its box is w x h */
+};
+
+static void legend_rows(const struct sp_font *f, const struct sp_vectors *v,
+                        const struct sp_palette *pal, struct legend *g)
+{
+    static const float none_color[4] = {0};
+    g->line = (float)sp_font_line(f, SP_TEXT_SMALL), g->cap = (float)sp_font_cap(f, SP_TEXT_SMALL);
+    g->pad = roundf(0.5f * g->line);
+    const float swatch = 2.2f * g->line;
     int n = 0;
     for (int i = 0; i < SP_VECTOR_COUNT; i++) {
         if (!(v->bits & 1u << i))
             continue;
         /* damping and the drive asked for in a scene without them: said, not drawn */
         const int none = (i == 4 && !v->damped) || (i == 5 && !v->driven);
-        snprintf(text[n], sizeof(text[n]), "%s%s", NAMES[i],
+        snprintf(g->text[n], sizeof(g->text[n]), "%s%s", NAMES[i],
                  i == 4 && none ? ": none (b = 0)" : i == 5 && none ? ": none (fixed pivot)"
                  : i == 5 ? " (inertial, −m a_pivot)" : "");
-        len[n] = none ? 0 : swatch, color[n++] = none ? pal->muted : pal->vectors[i];
+        g->len[n] = none ? 0 : swatch;
+        g->color[n++] = !pal ? none_color : none ? pal->muted : pal->vectors[i];
     }
     for (int q = 0; q < SP_VQ_COUNT; q++) {
         int used = 0;
@@ -109,27 +117,52 @@ void sp_vectors_legend(struct sp_canvas *c, const struct sp_vectors *v, const st
             used |= (v->bits & 1u << i) && quantity_of(i) == (enum sp_vector_quantity)q;
         if (!used)
             continue;
-        snprintf(text[n], sizeof(text[n]), "%g %s", v->key[q], UNITS[q]);
-        len[n] = (float)(v->key[q] * v->px_per[q]), color[n++] = pal->muted;
+        snprintf(g->text[n], sizeof(g->text[n]), "%g %s", v->key[q], UNITS[q]);
+        g->len[n] = (float)(v->key[q] * v->px_per[q]), g->color[n++] = pal ? pal->muted : none_color;
     }
     if (v->driven) /* the frame the arrows are drawn in */
-        snprintf(text[n], sizeof(text[n]), "in the pivot's frame"), len[n] = 0, color[n++] = pal->muted;
-    float w = 0, lmax = swatch;
+        snprintf(g->text[n], sizeof(g->text[n]), "in the pivot's frame"), g->len[n] = 0,
+                                                 g->color[n++] = pal ? pal->muted : none_color;
+    g->n = n;
+    g->w = 0, g->lmax = swatch;
     for (int i = 0; i < n; i++)
-        lmax = fmaxf(lmax, len[i]);
+        g->lmax = fmaxf(g->lmax, g->len[i]);
     for (int i = 0; i < n; i++)
-        w = fmaxf(w, (len[i] > 0 ? lmax + pad : 0) + sp_font_width(f, SP_TEXT_SMALL, text[i]));
+        g->w = fmaxf(g->w, (g->len[i] > 0 ? g->lmax + g->pad : 0) +
+                               sp_font_width(f, SP_TEXT_SMALL, g->text[i]));
+    /* the box with its padding, and the gap to the view's corner */
+    g->w += 3 * g->pad;
+    g->h = n * g->line + 3 * g->pad - (g->line - g->cap) * 0.5f;
+}
+
+void sp_vectors_legend_size(const struct sp_font *f, const struct sp_vectors *v, float *w,
+                            float *h)
+{
+    struct legend g;
+    legend_rows(f, v, NULL, &g);
+    *w = g.w, *h = g.h;
+}
+
+void sp_vectors_legend(struct sp_canvas *c, const struct sp_vectors *v, const struct sp_rect *r,
+                       const struct sp_palette *pal)
+{
+    const struct sp_font *f = c->font;
+    if (!f || !v->bits)
+        return;
+    struct legend g;
+    legend_rows(f, v, pal, &g);
+    const float pad = g.pad, hw = half_width(v->unit);
     const float x0 = r->x0 + pad, y0 = r->y0 + pad;
     float bg[4];
     memcpy(bg, pal->panel, sizeof(bg));
     bg[3] *= 0.85f;
     sp_canvas_layer(c, SP_LAYER_STATIC);
-    sp_canvas_rect(c, x0, y0, x0 + w + 2 * pad, y0 + n * line + 2 * pad - (line - cap) * 0.5f, bg);
-    for (int i = 0; i < n; i++) {
-        const float base = y0 + pad + i * line + cap, mid = base - 0.5f * cap;
-        arrow(c, x0 + pad, mid, len[i], 0, len[i], hw, color[i]);
-        sp_canvas_text(c, SP_TEXT_SMALL, x0 + pad + (len[i] > 0 ? lmax + pad : 0), base,
-                       SP_ALIGN_LEFT, len[i] > 0 ? pal->text : color[i], text[i]);
+    sp_canvas_rect(c, x0, y0, x0 + g.w - pad, y0 + g.h - pad, bg);
+    for (int i = 0; i < g.n; i++) {
+        const float base = y0 + pad + i * g.line + g.cap, mid = base - 0.5f * g.cap;
+        arrow(c, x0 + pad, mid, g.len[i], 0, g.len[i], hw, g.color[i]);
+        sp_canvas_text(c, SP_TEXT_SMALL, x0 + pad + (g.len[i] > 0 ? g.lmax + pad : 0), base,
+                       SP_ALIGN_LEFT, g.len[i] > 0 ? pal->text : g.color[i], g.text[i]);
     }
 }
 

@@ -13,7 +13,8 @@
 #include "panels.h"
 
 /* Fraction of the frame's smaller side the largest arrow of a quantity
- * takes; the camera keeps this much room around the motion. */
+ * takes (at most a fifth of the view's smaller side: compose.c); the camera
+ * keeps this much room around the motion. */
 #define SP_VECTOR_MAX_LENGTH 0.15f
 
 /* The three quantities and their scales. */
@@ -28,16 +29,23 @@ struct sp_vectors {
     float unit;                    /* px: the frame's smaller side */
 };
 
-/* Picks the scales for look's vectors from extent's largest values. */
+/* Picks the scales for look's vectors from extent's largest values: the
+ * largest of each quantity is max_px long (px; the room the camera keeps
+ * around the motion). */
 void sp_vectors_setup(struct sp_vectors *v, const struct sp_look *look,
-                      const struct sp_view_extent *e, const struct sp_params *p, float unit);
+                      const struct sp_view_extent *e, const struct sp_params *p, float unit,
+                      float max_px);
+
+/* The legend's box, px, as sp_vectors_legend draws it with font f. */
+void sp_vectors_legend_size(const struct sp_font *f, const struct sp_vectors *v, float *w,
+                            float *h);
 
 /* Arrows from the bob at bob[] (px) for frame f's state. */
 void sp_vectors_draw(struct sp_canvas *c, const struct sp_vectors *v, const struct sp_frame *f,
                      const float bob[2], const struct sp_palette *pal);
 
 /* The legend and keys in the top-left corner of rect r (needs the canvas's
- * font). */
+ * font): a box of sp_vectors_legend_size's, its padding included. */
 void sp_vectors_legend(struct sp_canvas *c, const struct sp_vectors *v, const struct sp_rect *r,
                        const struct sp_palette *pal);
 

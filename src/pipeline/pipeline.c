@@ -218,6 +218,7 @@ struct run {
     int n_more;
     struct sp_look looks[SP_PIPELINE_MAX_SCENES]; /* side by side: each cell's look */
     char labels[SP_PIPELINE_MAX_SCENES][SP_VIEW_TEXT_BYTES];
+    char label_what[SP_PIPELINE_MAX_SCENES][320]; /* for messages about a label */
 };
 
 /* The fields of the frame that run's sim, trail and histories are at. */
@@ -354,10 +355,13 @@ static void cell_looks(struct run *run)
         if (!label[0])
             snprintf(label, SP_VIEW_TEXT_BYTES, "%s", all[i]->name);
         sp_look_of(all[i], &run->looks[i]);
-        if (!run->looks[i].view.title[0])
-            run->looks[i].view.title = label, /* run->labels: lives as long as the looks */
-            run->looks[i].view.title_where = "side by side: a cell's label (the keys in which "
-                                             "its scene differs; it has no view.title)";
+        if (!run->looks[i].view.title[0]) {
+            run->looks[i].view.title = label; /* run->labels: lives as long as the looks */
+            snprintf(run->label_what[i], sizeof(run->label_what[i]),
+                     "%s: the side-by-side cell's automatic label (the keys its scene changes; "
+                     "[view] title sets another)", all[i]->name);
+            run->looks[i].title_what = run->label_what[i];
+        }
     }
     for (int i = 0; i < n; i++)
         free(text[i]);

@@ -312,7 +312,7 @@ int sp_advise_exchange(const struct sp_params *p, const struct sp_state *s0,
 {
     struct sp_physics ph;
     struct sp_polar q;
-    *out = (struct sp_exchange){.time = NAN, .swing_share = NAN};
+    *out = (struct sp_exchange){.time = NAN, .swing_share = NAN, .epsilon = NAN};
     sp_params_physics(p, &ph);
     if (!(ph.omega_p > 0) || fabs(ph.ratio / 2 - 1) > 0.1)
         return SP_E_INPUT;
@@ -323,6 +323,7 @@ int sp_advise_exchange(const struct sp_params *p, const struct sp_state *s0,
     double complex y[2] = {l * q.theta - I * l * q.theta_dot / wp,
                            (q.r - l) - I * q.r_dot / ws};
     out->rate = kA * cabs(y[1]);
+    out->epsilon = fmax(cabs(y[0]), cabs(y[1])) / l;
     if (cabs(y[0]) == 0 || cabs(y[1]) == 0)
         return 0; /* nothing to exchange from, or the swing starts at its peak */
     /* RK4 at a fiftieth of the fastest slow rate; the first local maximum

@@ -486,6 +486,20 @@ void sp_state_polar(const struct sp_state *s, struct sp_polar *out)
     out->theta_dot = r > 0 ? (s->x * s->vy - s->y * s->vx) / (r * r) : 0;
 }
 
+void sp_state_polar_in(const struct sp_state *s, double azimuth, struct sp_polar *out)
+{
+    sp_state_polar(s, out);
+    if (s->z == 0 && s->vz == 0) {
+        if (azimuth == 0)
+            return; /* atan2(x, -y) already */
+        const double side = s->x < 0 ? -1 : 1; /* to the polar angle and its rate */
+        out->theta *= side, out->theta_dot *= side;
+    }
+    /* the side of the swing plane: the horizontal position along its axis */
+    const double sign = s->x * cos(azimuth) + s->z * sin(azimuth) < 0 ? -1 : 1;
+    out->theta *= sign, out->theta_dot *= sign;
+}
+
 /* The equilibrium length l = L0 + m g / k, m: the one place it is
  * computed (sp_params_physics hands it out). */
 static inline double equilibrium_length(const struct sp_params *p)

@@ -167,9 +167,16 @@ json_t *sp_csv_metadata_load(const char *csv_path)
                      path);
     else if (!sp_infile_read(path, SP_CSV_METADATA_MAX, "the metadata springpend writes beside "
                              "a CSV is a file", &bytes, &size) &&
-             !(root = json_loadb(bytes, size, JSON_REJECT_DUPLICATES, &e)))
+             !(root = json_loadb(bytes, size, JSON_REJECT_DUPLICATES, &e))) {
+        /* jansson quotes the token it stopped at ("near 'root'"): from a file
+         * linked there (/etc/shadow) or forged (terminal escapes), it is not
+         * for the terminal: the line and what was expected say enough */
+        char *near = strstr(e.text, " near '");
+        if (near)
+            *near = 0;
         sp_log_error("%s:%d: %s; springpend writes it beside %s", path, e.line < 1 ? 1 : e.line,
                      e.text, csv_path);
+    }
     if (root && !json_is_object(root)) {
         sp_log_error("%s:1: not a JSON object; springpend writes it beside %s", path, csv_path);
         json_decref(root);

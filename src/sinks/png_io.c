@@ -391,15 +391,12 @@ int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)
     for (int i = 0; i < n && ret >= 0; i++) {
         if (strcmp(text[i].key, key))
             continue;
-        /* an iTXt's length is itxt_length, a tEXt's or zTXt's text_length */
-        size_t len = text[i].compression >= PNG_ITXT_COMPRESSION_NONE ? text[i].itxt_length
-                                                                       : text[i].text_length;
+        /* libpng hands the text over up to its first NUL: a scene cut there
+         * is refused by its reader (sp_cli_scene_check); bytes after a NUL
+         * that ends a whole scene are never read */
+        const size_t len = strlen(text[i].text);
         if (ret == 1) {
             sp_log_error("%s: the text %s is there twice; springpend writes it once", path, key);
-            ret = SP_E_INPUT;
-        } else if (strlen(text[i].text) != len) {
-            sp_log_error("%s: the text %s holds a NUL byte at %zu of %zu; springpend writes "
-                         "none", path, key, strlen(text[i].text), len);
             ret = SP_E_INPUT;
         } else if (len >= size) {
             sp_log_error("%s: the text %s holds %zu bytes; at most %zu are read", path, key,

@@ -33,7 +33,6 @@ static struct sp_png_write_opts png_opts(const struct sp_sink *s)
  * or by close. */
 #define PNG_MAX_WRITERS 8
 #define PNG_MAX_TEXT 13         /* text chunks a frame may carry */
-#define PNG_TEXT_BYTES 12288    /* their keys and texts, with NULs (the scene: 0.6 kB) */
 
 enum job_state { JOB_FREE, JOB_PENDING, JOB_RUNNING };
 
@@ -46,7 +45,9 @@ struct png_job {
      * change them before the writer gets to this job). */
     struct sp_png_text text[PNG_MAX_TEXT]; /* point into text_buf */
     int n_text;
-    char text_buf[PNG_TEXT_BYTES];
+    char *text_buf;      /* owned: their keys and texts, with NULs (a scene may
+                            hold 256 KiB of text, up to 4 side by side) */
+    size_t text_cap;     /* bytes of text_buf */
 };
 
 struct png_sequence {
@@ -166,7 +167,9 @@ static int png_sequence_finish(struct sp_sink *s)
     for (int i = 0; i < q->n_jobs; i++) {
         sp_image_free(&q->job[i].img);
         free(q->job[i].name);
-        q->job[i].name = NULL;
+        free(q->job[i].text_buf);
+        q->job[i].name = q->job[i].text_buf = NULL;
+        q->job[i].text_cap = 0;
     }
     q->n_jobs = 0;
     pthread_mutex_destroy(&q->lock);
@@ -214,14 +217,20 @@ static int copy_text(const struct sp_sink *s, struct png_job *j)
                      s->desc.n_text, PNG_MAX_TEXT);
         return SP_E_INPUT;
     }
+    for (int i = 0; i < s->desc.n_text; i++)
+        used += strlen(s->desc.text[i].key) + strlen(s->desc.text[i].text) + 2;
+    if (used > j->text_cap) {
+        char *more = realloc(j->text_buf, used);
+        if (!more) {
+            sp_log_error("%s: out of memory for %zu bytes of PNG text", s->path, used);
+            return SP_E_NOMEM;
+        }
+        j->text_buf = more, j->text_cap = used;
+    }
+    used = 0;
     for (int i = 0; i < s->desc.n_text; i++) {
         const struct sp_png_text *t = &s->desc.text[i];
         size_t nk = strlen(t->key) + 1, nt = strlen(t->text) + 1;
-        if (used + nk + nt > sizeof(j->text_buf)) {
-            sp_log_error("%s: PNG text chunks longer than %d bytes", s->path,
-                         PNG_TEXT_BYTES);
-            return SP_E_INPUT;
-        }
         j->text[i].key = memcpy(j->text_buf + used, t->key, nk);
         j->text[i].text = memcpy(j->text_buf + used + nk, t->text, nt);
         j->text[i].compressed = t->compressed;

@@ -331,6 +331,16 @@ for row in spin:
 ok(worst < 1e-12 and signs == {-1, 1},
    f"swinging-spring.ini: theta is the angle from the vertical signed by the side of the row's "
    f"swing plane (numpy from x, y, z, azimuth: worst {worst:.2e} rad; both sides seen: {sorted(signs)})")
+# a still's --state signs theta by the azimuth it writes beside it
+for at in ("3", "120", "150"):
+    r = run("still", spring, "--at", at, "--size", "320x180", "--state", "st.json", "-o", "st.png", "-q")
+    st = json.load(open(path("st.json")))
+    side = -1 if st["x"] * math.cos(math.radians(st["azimuth"])) + st["z"] * math.sin(math.radians(st["azimuth"])) < 0 else 1
+    want = side * math.atan2(math.hypot(st["x"], st["z"]), -st["y"])
+    ok(r.returncode == 0 and abs(st["theta"] - want) < 1e-12 and -90 < st["azimuth"] <= 90,
+       f"still --state at t = {at} s: theta {st['theta']:.6f} signed towards its azimuth {st['azimuth']:.2f} deg "
+       f"(numpy: {want:.6f})")
+
 # ---- messages -----------------------------------------------------------------
 # a metadata file that is not JSON: its bytes are not echoed (a link to a
 # secret, or a forged file's terminal escapes)

@@ -72,7 +72,7 @@ static int check(const char *src, const char *scene_file, double t, int w, int h
         sp_trail_push_at(&trail, &sim.s, 0);
     }
     sp_look_of(&sc, &look);
-    if (sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &look, 1, NULL}) ||
+    if (sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &look, 1, NULL, 0}) ||
         sp_compose_frame(comp, &(struct sp_frame){.state = sim.s, .params = &sim.p,
                                                    .trail = &trail, .history = &hist}, &cv))
         return 1;

@@ -90,7 +90,7 @@ static int run(const char *src, const char *scene_file, const char *const *ov, i
         return 1;
     sp_sim_init(&sim, &sc);
     sp_look_of(&sc, &look);
-    if (sp_compose_make(&comp, &(struct sp_compose_desc){sc.video.width, sc.video.height, e, &look, 1, NULL}))
+    if (sp_compose_make(&comp, &(struct sp_compose_desc){sc.video.width, sc.video.height, e, &look, 1, NULL, 0}))
         return 1;
     const int n_frames = sp_scene_frame_count(&sc);
     for (int k = 0; k < n_frames; k++) {

@@ -7,6 +7,7 @@ counted; bad input and Ctrl-C leave nothing; Poincare points lie at the
 asked energy; SVG and PDF read back.
 usage: test_sweep.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import csv
+import io
 import math
 import os
 import shutil
@@ -148,6 +149,53 @@ else:
         else:
             ok(lam > 0.1 and 0.6 < lam / half < 1.6,
                f"{what}: lambda(T) / lambda(T/2) = {lam / half:.3f}: converging to a positive value")
+
+# ---- --fast: the batch's fast kernel (FMA, 1/rho without the divider) -------
+fast_ok = subprocess.run([exe, "sweep", chaotic, "--vary", "initial.angle=10:10:1", "--measure",
+                          "lyapunov", "--time", "1", "--fast", "-o", "-", "-q"],
+                         capture_output=True, text=True, cwd=work)
+if "lacks" in fast_ok.stderr:
+    ok(fast_ok.returncode == 2, f"--fast on a CPU without AVX-512F is refused: {fast_ok.stderr.strip()}")
+else:
+    # within rounding of the exact kernel: over 4 s (before chaos has grown the
+    # last bits' difference) the exponents agree to 1e-9 at every point
+    fgrid = ["--vary", "initial.angle=1:179:33", "--vary", "initial.length=0.9:1.5:3", "--measure",
+             "lyapunov", "--time", "4", "-q"]
+    a, b = run(chaotic, *fgrid, "--csv", "exact.csv", "-o", "exact.png"), \
+        run(chaotic, *fgrid, "--fast", "--csv", "fast.csv", "-o", "fast.png")
+    ea, eb = rows("exact.csv"), rows("fast.csv")
+    worst = max((abs(float(x["lyapunov"]) - float(y["lyapunov"])) for x, y in zip(ea, eb)), default=1)
+    ok(a.returncode == 0 and b.returncode == 0 and len(ea) == len(eb) == 99 and worst < 1e-9,
+       f"--fast: 99 points over 4 s, lambda within {worst:.1e} 1/s of the exact kernel's")
+    ok(b"kernel=fast" in read("fast.csv-metadata.json") and b"kernel=fast" not in read("exact.csv-metadata.json"),
+       "--fast is recorded in the sweep's description (kernel=fast); the exact kernel's is unchanged")
+    # and against scipy, as the exact kernel above
+    if np is not None:
+        for what, th, r0, k, L0 in cases:
+            rr = run(chaotic, "--vary", f"initial.angle={th}:{th}:1", "--set", f"initial.length={r0}",
+                     "--set", f"pendulum.stiffness={k}", "--set", f"pendulum.natural_length={L0}",
+                     "--set", "integrator.dt=0.0005", "--measure", "lyapunov", "--time", "40",
+                     "--fast", "-o", "-", "-q")
+            got = list(csv.DictReader(io.StringIO(rr.stdout)))[0]
+            lam, half = float(got["lyapunov"]), float(got["lyapunov_half"])
+            ref_half, ref = lyapunov_scipy(th, r0, k=k, L0=L0)
+            ok(rr.returncode == 0 and abs(lam - ref) <= 0.02 * abs(ref) + 2e-3 and
+               abs(half - ref_half) <= 0.02 * abs(ref_half) + 2e-3,
+               f"--fast, {what}: lambda {lam:.5f} (T/2: {half:.5f}) 1/s; scipy DOP853 {ref:.5f} ({ref_half:.5f})")
+    # shards of the two kernels are two sweeps
+    for i, f in ((1, []), (2, ["--fast"])):
+        run(chaotic, *fgrid, *f, "--shard", f"{i}/2", "--csv", f"mixed_{i}.csv")
+    rr = run("--merge", "mixed_1.csv", "mixed_2.csv", "-o", "mixed.png")
+    ok(rr.returncode == 2 and "kernel=fast" in rr.stderr and not os.path.exists(os.path.join(work, "mixed.png")),
+       f"an exact and a fast shard do not merge: {rr.stderr.strip()[:200]}")
+# what the fast kernel does not step is refused, not silently stepped exactly
+for args, why in (([os.path.join(scenes, "damped.ini")], "damping"), ([chaotic, "--set", "integrator.method=yoshida4"], "yoshida4"),
+                  ([chaotic, "--set", "pendulum.damping=0.1"], "damping"),
+                  ([chaotic, "--measure", "spectrum"], "spectrum")):
+    meas = [] if "--measure" in args else ["--measure", "lyapunov"]
+    rr = run(*args, "--vary", "initial.angle=10:20:2", *meas, "--time", "1", "--fast", "-o", "x.png")
+    ok(rr.returncode == 2 and "--fast" in rr.stderr and not os.path.exists(os.path.join(work, "x.png")),
+       f"--fast with {why}: refused ({rr.stderr.strip()[:160]})")
 
 # ---- the route to chaos against scipy ----------------------------------------
 def strobe_scipy(amp, f=1.8, k=400.0, m=1.0, L0=0.25, g=9.81, b=0.3, r0=0.2745, th0=5.0,

@@ -128,7 +128,7 @@ int main(int argc, char **argv)
         return 1;
     sp_sim_init(&sim, &sc);
     sp_look_of(&sc, &look);
-    if (sp_compose_make(&video, &(struct sp_compose_desc){640, 360, e, &look, 1, NULL}))
+    if (sp_compose_make(&video, &(struct sp_compose_desc){640, 360, e, &look, 1, NULL, 0}))
         return 1;
     const struct sp_font *f = sp_compose_font(video);
     uint64_t first = 0;
@@ -172,7 +172,7 @@ int main(int argc, char **argv)
             sp_timeline_still(&sc, m.t, &sm);
             const struct sp_frame sf = {.state = sim.s, .params = &sim.p, .trail = &trail,
                                         .history = &hist, .moment = &sm};
-            if (sp_compose_make(&one, &(struct sp_compose_desc){640, 360, e, &look, 1, NULL}) ||
+            if (sp_compose_make(&one, &(struct sp_compose_desc){640, 360, e, &look, 1, NULL, 0}) ||
                 sp_compose_frame(one, &sf, &sv))
                 return 1;
             stills++;

@@ -68,7 +68,18 @@ struct sp_batch {
     double *mem;
     const volatile sig_atomic_t *cancel; /* the caller's (a signal): once set,
                                           * sp_batch_advance stops; NULL = never */
+    int fast;                 /* 1 (set before the first advance, where
+                               * sp_batch_fast_supported): RK4 with the tangent,
+                               * undamped and undriven, through the fast kernel:
+                               * fused multiply-adds and 1/rho from vrsqrt14pd and
+                               * two Newton steps instead of sqrt and a division.
+                               * Within rounding of the exact kernel, not its bits
+                               * (sp_sim's); other methods and forced scenes
+                               * ignore it, so a caller refuses them. */
 };
+
+/* 1 when this CPU runs the fast kernel (x86-64 with AVX-512F and FMA). */
+int sp_batch_fast_supported(void);
 
 /* Makes a batch of n trajectories, one per scene (scenes[i] for
  * trajectory i), all with scenes[0]'s integrator (method, dt, tolerance).

@@ -62,14 +62,16 @@ struct sp_view_extent {
     struct sp_range theta;         /* rad */
     struct sp_range r_dot;         /* m/s */
     struct sp_range theta_dot;     /* rad/s */
-    struct sp_range energy;        /* J, of total, kinetic, spring and gravity */
+    struct sp_range energy;        /* J, of total, kinetic, spring and gravity,
+                                      gravity (and so the total) from y_low */
     struct sp_range modes;         /* J, of the bounce and swing energies */
     /* [view] vectors (0 when none is drawn): the largest each arrow gets */
     double max_accel;              /* m/s^2, relative to the pivot */
     double max_force;              /* N, of the forces [view] vectors draws */
-    /* the energy_bars panel (0 when not shown) */
+    /* the energy and energy_bars panels (y_low 0 when neither is shown) */
     double y_low;                  /* m: the lowest the bob goes relative to the
-                                      pivot; its gravity energy is 0 there */
+                                      pivot; its gravity energy is 0 there, in
+                                      both panels */
     struct sp_range bars;          /* J: every bar, gravity from y_low, within it */
     struct sp_range azimuth;       /* rad, the swing plane's (continuous) */
     double horizontal;             /* m: the largest |x| and |z| (the top view) */
@@ -102,6 +104,10 @@ struct sp_look {
     const struct sp_timeline *timeline; /* [timeline], NULL = none: the caption
                                            band holds its largest text, the
                                            frame's sp_moment says what shows */
+    char differs[SP_VIEW_TEXT_BYTES];   /* side by side: the keys in which this
+                                           scene differs from the others, with
+                                           its values ("stiffness = 5"), listed
+                                           in the HUD; "" = alone */
     const char *title_what; /* what view.title is, for messages; NULL = the
                                scene's "[view] title" (side by side: the
                                cell's automatic label) */

@@ -51,7 +51,8 @@ struct sp_provenance {
     char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text */
     char fonts[1024];      /* font files, ", "-separated: the caller fills it
                               (sp_render_fonts) before the first image */
-    char overlay[1024];    /* sp_render_overlay's text: the caller fills it */
+    char overlay[4096];    /* sp_render_overlay's text: the caller fills it (4 cells of
+                              arrows, bars and charts fit) */
     char *more_files[SP_PROVENANCE_MAX_SCENES - 1]; /* side by side: scenes 2..,
                                                         sp_scene_write_ini: malloc'd */
     char more_keys[SP_PROVENANCE_MAX_SCENES - 1][48]; /* "springpend.scene-file.K" */

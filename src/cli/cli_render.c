@@ -141,9 +141,17 @@ static int write_state(const char *path, const struct sp_scene *scene,
     if (ret || (ret = sp_outfile_open(&f, path, SP_OUTFILE_STREAM)) != 0)
         return ret;
     sp_sim_init(&sim, scene); /* for the parameters and the initial energy */
-    /* theta signed by the side of the swing plane, as data writes it */
-    sp_state_polar_in(st, sim.spatial ? sp_state_azimuth(&sim.p, st) : 0, &pol);
+    /* theta signed by the side of the swing plane, as data writes it; a
+     * still has no rows to continue the azimuth from: it is in (-90, 90]
+     * degrees, and written, so that theta's sign can be read against it */
+    const double azimuth = sim.spatial ? sp_state_azimuth(&sim.p, st) : 0;
+    sp_state_polar_in(st, azimuth, &pol);
     sp_state_energy(&sim.p, st, &e);
+    char spatial[160] = ""; /* a 3-D scene's: z, vz (m, m/s), azimuth (degrees) */
+    if (sim.spatial)
+        snprintf(spatial, sizeof(spatial),
+                 "  \"z\": %.17g,\n  \"vz\": %.17g,\n  \"azimuth\": %.17g,\n", st->z, st->vz,
+                 azimuth * 180 / M_PI);
     FILE *fp = fdopen(f.fd, "w");
     if (!fp) {
         sp_log_error("%s: %s", path, strerror(errno));
@@ -159,11 +167,12 @@ static int write_state(const char *path, const struct sp_scene *scene,
             "  \"t\": %.17g,\n  \"x\": %.17g,\n  \"y\": %.17g,\n"
             "  \"vx\": %.17g,\n  \"vy\": %.17g,\n"
             "  \"r\": %.17g,\n  \"theta\": %.17g,\n  \"r_dot\": %.17g,\n  \"theta_dot\": %.17g,\n"
+            "%s"
             "  \"energy\": {\"kinetic\": %.17g, \"spring\": %.17g, \"gravity\": %.17g, "
             "\"total\": %.17g, \"initial_total\": %.17g}\n}\n",
             SP_VERSION, prov.scene_sha256, st->t, st->x, st->y, st->vx, st->vy, pol.r,
-            pol.theta, pol.r_dot, pol.theta_dot, e.kinetic, e.spring, e.gravity, e.total,
-            sim.energy0);
+            pol.theta, pol.r_dot, pol.theta_dot, spatial, e.kinetic, e.spring, e.gravity,
+            e.total, sim.energy0);
     if (ferror(fp) | fclose(fp)) {
         sp_log_error("%s: cannot write: %s", path, strerror(errno));
         sp_outfile_discard(&f);

@@ -70,10 +70,14 @@ struct sp_composer {
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
     struct sp_vectors vectors;    /* [view] vectors' scales (set with the layout) */
+    double room;                  /* <= 1: the camera's margin (and the arrows) as a
+                                     share of their size in a large view */
+    double arrow_px;              /* px: the longest arrow (0 without vectors) */
     struct sp_rect motion;        /* px: the rect the motion is centred in */
     struct sp_rect legend;        /* px: the vectors' legend's box */
     struct sp_bars_scale bars;    /* the energy bars' axis (set by each frame) */
     int ss;                       /* the drawing is this many times the output */
+    int cell;                     /* one of several scenes side by side */
     struct sp_camera cam;         /* look.perspective: the camera the pendulum is
                                      drawn through (scale, ox, oy unused) */
     double floor_t;               /* s: the floor trace's last accumulated point
@@ -94,17 +98,20 @@ static float arrow_room(const struct sp_composer *r, const struct sp_rect *v)
 }
 
 /* Fits the extent plus a margin into rectangle v, equal scale on both axes;
- * the motion is centred in v (r->motion). */
+ * the motion is centred in v (r->motion). The margin follows the frame's
+ * smaller side, with room for the longest arrow where arrows are drawn; in
+ * a view so small that it would take over half of the view's smaller side
+ * (a cell side by side, a tiny frame), it and the arrows shrink to that
+ * (r->room < 1), so the motion keeps half. */
 static void fit_camera(struct sp_composer *r, const struct sp_rect *v)
 {
     r->motion = *v;
     const struct sp_view_extent *e = &r->extent;
     /* arrows from the bob need their longest length around the motion */
-    const float room = arrow_room(r, v);
-    const double margin = room < SP_VECTOR_MAX_LENGTH * r->unit /* capped: a small view */
-                              ? (BOB_RADIUS + MARGIN) * r->unit + room
-                              : (BOB_RADIUS + MARGIN + (room > 0 ? SP_VECTOR_MAX_LENGTH : 0)) *
-                                    r->unit;
+    double margin = (BOB_RADIUS + MARGIN) * r->unit + arrow_room(r, v);
+    const double cap = 0.25 * fmin(v->x1 - v->x0, v->y1 - v->y0);
+    r->room = margin > cap && cap > 0 ? cap / margin : 1;
+    margin *= r->room;
     if (r->look.perspective) {
         sp_camera_fit(&r->cam, v->x0, v->y0, v->x1, v->y1, (float)margin);
         r->scale = sp_camera_scale(&r->cam);
@@ -137,6 +144,14 @@ void sp_compose_rescale(struct sp_composer *r, double px_per_m)
 }
 
 double sp_compose_scale(const struct sp_composer *c) { return c->scale; }
+double sp_compose_arrow_px(const struct sp_composer *c) { return c->arrow_px; }
+
+void sp_compose_shrink_arrows(struct sp_composer *c, double px)
+{
+    for (int q = 0; q < SP_VQ_COUNT && px < c->arrow_px; q++)
+        c->vectors.px_per[q] *= px / c->arrow_px;
+    c->arrow_px = fmin(c->arrow_px, px);
+}
 
 /* Text sizes follow the frame's smaller side, with a floor for small
  * frames, or [view] font_size (pt, one px each: see README "Text") for the
@@ -388,6 +403,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     else
         sp_look_of(NULL, &r->look);
     r->width = desc->width;
+    r->cell = desc->cell;
     r->height = desc->height;
     r->ss = desc->supersample > 1 ? desc->supersample : 1;
     r->accum_t = -1;
@@ -456,7 +472,7 @@ static void legend_corner(struct sp_composer *r, float w, float h)
 {
     const struct sp_rect *c = &r->layout.camera;
     const struct sp_view_extent *e = &r->extent;
-    const double m = (BOB_RADIUS + MARGIN) * r->unit + arrow_room(r, &r->motion);
+    const double m = ((BOB_RADIUS + MARGIN) * r->unit + arrow_room(r, &r->motion)) * r->room;
     const struct sp_rect box = {(float)(r->ox + r->scale * e->xmin - m),
                                 (float)(r->oy - r->scale * e->ymax - m),
                                 (float)(r->ox + r->scale * e->xmax + m),
@@ -501,15 +517,16 @@ static void hud_precession(struct sp_composer *r, const struct sp_font *f, float
 }
 
 /* Places the view, panels, heads-up text and colourbar (once: the
- * parameters do not change during a run). SP_E_INPUT (logged) when the
- * vectors' legend does not fit the pendulum's view: it was drawn over the
- * colour bar and cut off. */
-static int lay_out(struct sp_composer *r, const struct sp_params *p)
+ * parameters do not change during a run). SP_E_INPUT (logged, where check)
+ * when the vectors' legend does not fit the pendulum's view: it was drawn
+ * over the colour bar and cut off. view: see lay_out. */
+static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view, int check)
 {
     const struct sp_font *f = r->font;
     struct sp_layout_desc d = {.width = r->width, .height = r->height,
                                .panels = r->look.view.panels,
-                               .no_pendulum = !r->look.view.pendulum};
+                               .no_pendulum = !r->look.view.pendulum,
+                               .view_share = view == 1 ? 0.58f : 0, .view_left = view == 2};
     d.n_order = sp_scene_panel_order(&r->look.view, d.order);
     if (r->title_lines)
         d.title_height = (float)(r->title_lines * sp_font_line(f, SP_TEXT_TITLE));
@@ -523,7 +540,7 @@ static int lay_out(struct sp_composer *r, const struct sp_params *p)
         const struct sp_rect *v = d.no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0}
                                                 : &r->layout.camera;
         const float w = v->x1 - v->x0 - 2 * r->layout.gap;
-        r->hud_lines = sp_hud_lines(f, p, w, r->hud, SP_HUD_MAX_LINES);
+        r->hud_lines = sp_hud_lines(f, p, r->look.differs, w, r->hud, SP_HUD_MAX_LINES);
         if (r->look.spatial && r->hud_lines < SP_HUD_MAX_LINES)
             hud_precession(r, f, w);
         d.hud_height = sp_hud_height(f, r->hud_lines);
@@ -536,13 +553,14 @@ static int lay_out(struct sp_composer *r, const struct sp_params *p)
     sp_layout_compute(&d, &r->layout);
     const struct sp_rect *cam = &r->layout.camera;
     fit_camera(r, cam);
-    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit, arrow_room(r, cam));
+    r->arrow_px = arrow_room(r, cam) * r->room;
+    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit, (float)r->arrow_px);
     r->laid_out = 1;
     if (r->look.view.vectors && r->look.view.pendulum && r->font) {
         float w, h;
         sp_vectors_legend_size(r->font, &r->vectors, &w, &h);
         legend_corner(r, w, h);
-        if (w > cam->x1 - cam->x0 || h > cam->y1 - cam->y0) {
+        if (check && (w > cam->x1 - cam->x0 || h > cam->y1 - cam->y0)) {
             sp_log_error("[view] vectors: the arrows' legend needs %.0fx%.0f px, and the "
                          "pendulum's view is %.0fx%.0f px of the %dx%d frame (beside the "
                          "panels, heads-up text and colour bar); use a larger frame (--size), "
@@ -553,6 +571,22 @@ static int lay_out(struct sp_composer *r, const struct sp_params *p)
         }
     }
     return 0;
+}
+
+/* Lays the frame out for parameters p (view: 0 the frame's own layout).
+ * A cell of scenes side by side (portrait or square) tries the view on top
+ * with a larger share (1) and the view at the left with the panels beside
+ * it (2), and keeps the one where the motion is drawn larger: a tall, narrow
+ * motion gets the left. */
+static int lay_out(struct sp_composer *r, const struct sp_params *p)
+{
+    if (!r->cell || !r->look.view.pendulum || !r->look.view.panels ||
+        r->width >= 1.15f * r->height)
+        return lay_out_as(r, p, 0, 1);
+    lay_out_as(r, p, 2, 0);
+    const double left = r->scale;
+    lay_out_as(r, p, 1, 0);
+    return left > r->scale ? lay_out_as(r, p, 2, 1) : lay_out_as(r, p, 1, 1);
 }
 
 /* ---- geometry, all in px ---- */
@@ -1171,6 +1205,12 @@ void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double 
                  "%senergy_bars.gravity_zero_y_m=%.9g\n", prefix, b->zero_px / c->ss + dy, prefix,
                  b->px_per_J / c->ss, prefix, b->slot_px / c->ss, prefix, b->x0 / c->ss + dx, prefix,
                  b->n, prefix, c->extent.y_low);
+    while (used < size && buf[used])
+        used++;
+    if (b->chart && used < size)
+        snprintf(buf + used, size - used, "%senergy.zero_px=%.9g\n%senergy.px_per_J=%.9g\n"
+                 "%senergy.gravity_zero_y_m=%.9g\n", prefix, b->chart_zero_px / c->ss + dy,
+                 prefix, b->chart_px_per_J / c->ss, prefix, c->extent.y_low);
 }
 
 const struct sp_font *sp_compose_font(const struct sp_composer *c) { return c->font; }

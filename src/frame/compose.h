@@ -19,6 +19,8 @@ struct sp_compose_desc {
     const struct sp_font *font;   /* NULL: the composer makes its own when text is
                                      drawn; else it draws with this one, borrowed
                                      (side by side: one glyph atlas for all cells) */
+    int cell;                     /* 1: one of several scenes side by side (a
+                                     portrait cell gives the pendulum more height) */
 };
 
 /* Scenes side by side: at most this many cells in one frame. */
@@ -51,6 +53,11 @@ void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double 
  * a metre is the same length in every cell. */
 double sp_compose_scale(const struct sp_composer *c);
 void sp_compose_rescale(struct sp_composer *c, double px_per_m);
+/* The longest arrow, px (after the layout), and a shorter one: side by
+ * side, every cell takes the shortest, so an arrow of one newton is the
+ * same length in every cell. */
+double sp_compose_arrow_px(const struct sp_composer *c);
+void sp_compose_shrink_arrows(struct sp_composer *c, double px);
 /* Lays the frame out and fits the camera for parameters p, as the first
  * frame does (once; a no-op after). */
 int sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p);

@@ -47,6 +47,7 @@ int sp_compose_cells_make(struct sp_compose_cells **out, const struct sp_compose
         d.font = i ? sp_compose_font(c->cell[0]) : NULL; /* one atlas for the merged list */
         c->dx[i] = (float)(i % cols * d.width);
         c->dy[i] = (float)(i / cols * d.height);
+        d.cell = 1;
         if (c->n == 1)
             d = *desc;
         err = sp_compose_make(&c->cell[i], &d);
@@ -65,15 +66,18 @@ int sp_compose_cells_frame(struct sp_compose_cells *c, const struct sp_frame *fr
 {
     const struct sp_canvas *cv;
     if (!c->scaled && c->n > 1) { /* one metre, one length: the smallest scale */
-        double scale = INFINITY;
+        double scale = INFINITY, arrow = INFINITY; /* px per m; px: the longest arrow */
         for (int i = 0; i < c->n; i++) {
             int err = sp_compose_lay_out(c->cell[i], frames[i].params);
             if (err)
                 return err;
             scale = fmin(scale, sp_compose_scale(c->cell[i]));
+            arrow = fmin(arrow, sp_compose_arrow_px(c->cell[i]));
         }
-        for (int i = 0; i < c->n; i++)
+        for (int i = 0; i < c->n; i++) {
             sp_compose_rescale(c->cell[i], scale);
+            sp_compose_shrink_arrows(c->cell[i], arrow);
+        }
     }
     c->scaled = 1;
     int err = sp_compose_frame(c->cell[0], &frames[0], &cv);

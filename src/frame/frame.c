@@ -133,8 +133,11 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
         (struct sp_range){INFINITY, -INFINITY};
     const unsigned vectors = scene->view.vectors;
     const int bars = (scene->view.panels & SP_PANEL_ENERGY_BARS) != 0;
+    /* the charts of energy take gravity's zero at the lowest point too */
+    const int low = (scene->view.panels & (SP_PANEL_ENERGY | SP_PANEL_ENERGY_BARS)) != 0;
     const double mg = sim.p.mass * sim.p.g;
     struct sp_range kin = {0, 0}, grav = {INFINITY, -INFINITY}, tot = {INFINITY, -INFINITY};
+    struct sp_range ks = {INFINITY, -INFINITY}; /* J: kinetic and spring, for the chart */
     struct sp_range work = {0, 0};
     double loss = 0; /* J: lost to damping, trapezoid over the steps */
     out->y_low = INFINITY;
@@ -178,17 +181,16 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                 widen(&out->theta, -pol.theta);
             widen(&out->r_dot, pol.r_dot);
             widen(&out->theta_dot, pol.theta_dot);
-            widen(&out->energy, e.total);
-            widen(&out->energy, e.kinetic);
-            widen(&out->energy, e.spring);
-            widen(&out->energy, e.gravity);
+            widen(&ks, e.kinetic);
+            widen(&ks, e.spring);
+            widen(&grav, e.gravity);
+            widen(&tot, e.total);
             widen(&out->modes, e.bounce);
             widen(&out->modes, e.swing);
-            if (bars) {
+            if (low)
                 out->y_low = fmin(out->y_low, s->y);
+            if (bars) {
                 widen(&kin, fmax(fmax(e.kinetic, e.spring), fmax(e.bounce, e.swing)));
-                widen(&grav, e.gravity);
-                widen(&tot, e.total);
                 if (sim.p.drive_amp != 0)
                     widen(&work, sim.work + loss); /* the drive's work */
                 widen(&work, loss);                /* the loss to damping */
@@ -206,13 +208,16 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
         if (bars)
             loss += 0.5 * (s->t - t0) * (power + damping_power(&sim.p, s));
     }
-    if (bars) { /* gravity from the lowest point: no bar below zero but the drive's work */
-        const double shift = mg * out->y_low;
+    if (!low || !(out->y_low < INFINITY))
+        out->y_low = 0;
+    /* gravity from the lowest point: no bar below zero but the drive's work */
+    const double shift = mg * out->y_low;
+    if (bars)
         out->bars = (struct sp_range){fmin(0, work.lo), fmax(fmax(kin.hi, grav.hi - shift),
                                                              fmax(tot.hi - shift, work.hi))};
-    } else {
-        out->y_low = 0;
-    }
+    if (scene->view.panels)
+        out->energy = (struct sp_range){fmin(ks.lo, fmin(grav.lo, tot.lo) - shift),
+                                        fmax(ks.hi, fmax(grav.hi, tot.hi) - shift)};
     if (out->max_speed <= 0)
         out->max_speed = 1;
     return 0;

@@ -117,12 +117,13 @@ void sp_layout_compute(const struct sp_layout_desc *d, struct sp_layout *o)
         return;
     }
     if (ns + nq) {
-        if (W >= 1.15f * Hb) { /* landscape: the view at the left */
+        if (W >= 1.15f * Hb || d->view_left) { /* landscape: the view at the left */
             const float vw = roundf(fmaxf(0.34f * W, fminf(0.8f * Hb, 0.45f * W)));
             view = (struct sp_rect){0, Y0, vw, Y0 + Hb};
             rest = (struct sp_rect){vw, Y0 + g, W - g, Y0 + Hb - g};
         } else { /* portrait or square: the view on top */
-            const float vh = roundf((W >= Hb ? 0.45f : 0.36f) * Hb);
+            const float share = d->view_share > 0 ? d->view_share : W >= Hb ? 0.45f : 0.36f;
+            const float vh = roundf(share * Hb);
             view = (struct sp_rect){0, Y0, W, Y0 + vh};
             rest = (struct sp_rect){g, Y0 + vh, W - g, Y0 + Hb - g};
         }

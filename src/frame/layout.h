@@ -28,6 +28,11 @@ struct sp_layout_desc {
     int no_pendulum;    /* 1: no pendulum view: the panels take its room */
     float title_height; /* px of the title band, 0 = none */
     float caption_height; /* px of the caption band, 0 = none */
+    float view_share;   /* the view on top (portrait or square): its share of the
+                           height below the title, 0 = the default (0.45 square,
+                           0.36 portrait); a cell of scenes side by side takes more */
+    int view_left;      /* 1: the view at the left and the panels at its right,
+                           whatever the frame's shape (a cell side by side) */
 };
 
 struct sp_layout {

@@ -322,6 +322,26 @@ static int legend_draw(struct sp_canvas *c, const struct sp_font *f, float x, fl
     return rows;
 }
 
+/* Where frame_plot puts the legend of a panel r titled `title` with y name
+ * ylabel: on the title row (judged with the long title and the plain y
+ * name; returns 0) or on rows of its own (returns how many; *own = 1), with
+ * long labels when they fit one row, else short ones wrapped (*shrt = 1). */
+static int legend_rows(const struct sp_font *f, const struct sp_rect *r, const char *title,
+                       const char *ylabel, const struct legend_item *leg, int n_leg, int *own,
+                       int *shrt)
+{
+    const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
+    const char *bar0 = strchr(title, '|');
+    char full0[96];
+    snprintf(full0, sizeof(full0), "%.*s", bar0 ? (int)(bar0 - title) : (int)strlen(title), title);
+    const float row_free = r->x1 - r->x0 - 4 * pad - sp_font_width(f, SP_TEXT_SMALL, ylabel) -
+                           sp_font_width(f, SP_TEXT_NORMAL, full0);
+    *own = n_leg && legend_width(f, leg, n_leg, 0) > row_free;
+    *shrt = *own && legend_width(f, leg, n_leg, 0) > r->x1 - r->x0 - 2 * pad;
+    return *own ? legend_draw(NULL, f, r->x0 + pad, 0, r->x0 + pad, r->x1 - pad, leg, n_leg, *shrt)
+                : 0;
+}
+
 /* Lays out a panel in r: background, title, axes with ticks and labels;
  * fills p->area. ylabel/xlabel name the axes with their units. The legend
  * goes in the title row when it fits between the title and the y axis's
@@ -367,18 +387,8 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
 
     sp_canvas_layer(c, SP_LAYER_STATIC);
     sp_canvas_rect(c, r->x0, r->y0, r->x1, r->y1, pal->panel);
-    /* the legend's room: the title row (judged with the short title and the
-     * plain y name) or a row of its own */
-    const char *bar0 = strchr(title, '|');
-    char full0[96];
-    snprintf(full0, sizeof(full0), "%.*s", bar0 ? (int)(bar0 - title) : (int)strlen(title), title);
-    const float row_free = r->x1 - r->x0 - 4 * pad - sp_font_width(f, SP_TEXT_SMALL, ylabel) -
-                           sp_font_width(f, SP_TEXT_NORMAL, full0);
-    const int leg_row = n_leg && legend_width(f, leg, n_leg, 0) > row_free;
-    /* on a row of its own: long labels on one row, else short ones, wrapped */
-    const int shrt = leg_row && legend_width(f, leg, n_leg, 0) > r->x1 - r->x0 - 2 * pad;
-    const int leg_rows = leg_row ? legend_draw(NULL, f, r->x0 + pad, 0, r->x0 + pad, r->x1 - pad, leg,
-                                               n_leg, shrt) : 0;
+    int leg_row, shrt;
+    const int leg_rows = legend_rows(f, r, title, ylabel, leg, n_leg, &leg_row, &shrt);
     p->area.y0 = r->y0 + 2.2f * pad + cap_n + 0.5f * cap_s + leg_rows * line_s;
     /* A wide plot names its x axis at the right end of the tick row; a
      * narrow one on its own row below, so that it can keep its ticks. No
@@ -633,11 +643,11 @@ static struct sp_range range_of(struct sp_range r, double scale, double shift)
  * next sample exists; the points so far form the settled curve, one PATH
  * item whose segments interleave the series point by point, in the order
  * given (the last on top). The tail from the last point to the newest
- * sample is redrawn each frame (dynamic). Each series has its colour and
- * half width (px). */
+ * sample is redrawn each frame (dynamic). Each series has its colour, half
+ * width (px) and a shift (in its unit) subtracted from every value. */
 static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct sp_history *h,
                          const struct sp_params *pp, const enum quantity *qs, int n,
-                         const float *const *colors, const float *hws)
+                         const float *const *colors, const float *hws, const double *shifts)
 {
     int max_segs = 2 * (int)(p->area.x1 - p->area.x0);
     if (max_segs < 2) /* a plot squeezed to under a pixel (tiny frames) */
@@ -646,7 +656,7 @@ static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct
     const struct sp_history_sample *s = h->samples;
     float ax = px_x(p, s[0].t), ay[4];
     for (int k = 0; k < n; k++)
-        ay[k] = px_y(p, quantity(&s[0], qs[k], pp));
+        ay[k] = px_y(p, quantity(&s[0], qs[k], pp) - shifts[k]);
     sp_canvas_layer(c, SP_LAYER_SETTLED);
     sp_canvas_path_begin(c);
     sp_canvas_path_lanes(c, n);
@@ -654,7 +664,7 @@ static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct
          i = next_point(s, i, h->count, p->x.lo, bin)) {
         const float bx = px_x(p, s[i].t);
         for (int k = 0; k < n; k++) {
-            const float by = px_y(p, quantity(&s[i], qs[k], pp));
+            const float by = px_y(p, quantity(&s[i], qs[k], pp) - shifts[k]);
             sp_canvas_line(c, ax, ay[k], bx, by, hws[k], colors[k]);
             ay[k] = by;
         }
@@ -667,12 +677,22 @@ static void strip_curves(struct sp_canvas *c, const struct plot *p, const struct
     const struct sp_history_sample *last = &s[h->count - 1];
     const float bx = px_x(p, last->t);
     for (int k = 0; k < n; k++)
-        sp_canvas_line(c, ax, ay[k], bx, px_y(p, quantity(last, qs[k], pp)), hws[k], colors[k]);
+        sp_canvas_line(c, ax, ay[k], bx, px_y(p, quantity(last, qs[k], pp) - shifts[k]), hws[k],
+                       colors[k]);
+}
+
+/* The legend's note of gravity's zero at y_low (m), one convention for the
+ * energy chart and the energy bars: long and short forms. */
+static void gravity_zero_note(char *buf, size_t size, double y_low)
+{
+    snprintf(buf, size, "gravity 0 at the lowest point, y = %s%.3g m|0 at y = %s%.3g m",
+             y_low < 0 ? "−" : "", fabs(y_low), y_low < 0 ? "−" : "", fabs(y_low));
 }
 
 static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
                         const struct sp_frame *f, const struct sp_view_extent *e,
-                        const struct sp_palette *pal, float unit, const struct sp_panel_style *st)
+                        const struct sp_palette *pal, float unit, const struct sp_panel_style *st,
+                        struct sp_bars_scale *scale)
 {
     static const char *const titles[] = {"Spring length r|r", "Angle θ|θ", "Energy|E",
                                          "Spring extension r − L₀|Extension", "", "", "",
@@ -689,15 +709,33 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     const float hw = fmaxf(0.6f, 0.0013f * unit);
     struct plot p;
 
+    char zero_note[96];
+    gravity_zero_note(zero_note, sizeof(zero_note), e->y_low);
     const struct legend_item energy[] = {{"total|tot", pal->series[0], 0, NULL},
                                          {"kinetic|kin", pal->series[1], 0, NULL},
                                          {"spring|spr", pal->series[2], 0, NULL},
-                                         {"gravity|grav", pal->series[3], 0, NULL}};
+                                         {"gravity|grav", pal->series[3], 0, NULL},
+                                         {zero_note, pal->muted, 0, NULL}};
+    /* J: gravity's energy at y_low, gravity's (and the total's) zero, as the bars' */
+    const double zero = L0->mass * L0->g * e->y_low;
+    /* the zero's note where it costs the plot no row of legend (a small panel
+     * keeps its plot's height instead) */
+    int own, shrt;
+    const int n_energy = c->font && legend_rows(c->font, r, titles[bit], ylabels[bit], energy, 5, &own,
+                                                &shrt) <=
+                                        legend_rows(c->font, r, titles[bit], ylabels[bit], energy, 4,
+                                                    &own, &shrt)
+                             ? 5 : 4;
     const struct legend_item modes[] = {{"bounce|bnc", pal->series[1], 0, NULL},
                                         {"swing|swg", pal->series[2], 0, NULL}};
     frame_plot(c, r, &p, st, titles[bit], "t (s)", ylabels[bit], (struct sp_range){0, e->t_end},
-               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? 4 : bit == 7 ? 2 : 0,
+               yr, 0, pal, unit, bit == 2 ? energy : modes, bit == 2 ? n_energy : bit == 7 ? 2 : 0,
                SP_LAYER_STATIC);
+    if (bit == 2 && scale) {
+        scale->chart = 1;
+        scale->chart_zero_px = px_y(&p, 0);
+        scale->chart_px_per_J = (float)((p.area.y1 - p.area.y0) / (p.y.hi - p.y.lo));
+    }
     if ((bit == 1 || bit == 3) && p.y.lo < 0 && p.y.hi > 0) { /* the zero line */
         sp_canvas_layer(c, SP_LAYER_STATIC);
         sp_canvas_rect(c, p.area.x0, px_y(&p, 0) - hw * 0.6f, p.area.x1, px_y(&p, 0) + hw * 0.6f, pal->axis);
@@ -710,10 +748,13 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
     enum quantity qs[4];
     const float *colors[4];
     float hws[4];
+    double shifts[4] = {0};
     int n = 0;
     if (bit == 2) {
-        for (int k = 3; k >= 0; k--, n++)
+        for (int k = 3; k >= 0; k--, n++) {
             qs[n] = Q_ENERGY + k, colors[n] = pal->series[k], hws[n] = k ? hw : 1.4f * hw;
+            shifts[n] = qs[n] == Q_ENERGY || qs[n] == Q_GRAVITY ? zero : 0;
+        }
     } else if (bit == 7) {
         for (int k = 0; k < 2; k++, n++)
             qs[n] = Q_BOUNCE + k, colors[n] = pal->series[k + 1], hws[n] = 1.2f * hw;
@@ -721,7 +762,7 @@ static void strip_chart(struct sp_canvas *c, const struct sp_rect *r, int bit,
         qs[0] = bit == 0 ? Q_R : bit == 1 ? Q_THETA : bit == 9 ? Q_AZIMUTH : Q_EXTENSION;
         colors[0] = pal->series[1], hws[0] = hw, n = 1;
     }
-    strip_curves(c, &p, h, L0, qs, n, colors, hws);
+    strip_curves(c, &p, h, L0, qs, n, colors, hws, shifts);
     const struct sp_history_sample *last = &h->samples[h->count - 1];
     const float now = px_x(&p, last->t);
     if (!st->cursor)
@@ -888,8 +929,7 @@ static void energy_bars(struct sp_canvas *c, const struct sp_rect *r, const stru
     bars[n++] = (struct bar){"bounce|bnc", en.bounce, pal->vectors[0]};
     bars[n++] = (struct bar){"swing|swg", en.swing, pal->vectors[1]};
     char zero_note[96];
-    snprintf(zero_note, sizeof(zero_note), "gravity 0 at the lowest point, y = %s%.3g m|0 at y = %s%.3g m",
-             e->y_low < 0 ? "−" : "", fabs(e->y_low), e->y_low < 0 ? "−" : "", fabs(e->y_low));
+    gravity_zero_note(zero_note, sizeof(zero_note), e->y_low);
     const struct legend_item leg[] = {{zero_note, pal->muted, 0, NULL},
                                       {"total = start + work − loss|= E₀ + W − loss", pal->muted, 0, NULL}};
     struct plot p;
@@ -919,9 +959,10 @@ static void energy_bars(struct sp_canvas *c, const struct sp_rect *r, const stru
     /* the zero line over the bars */
     const float hw = fmaxf(0.5f, 0.0009f * unit);
     sp_canvas_rect(c, p.area.x0, y0 - hw, p.area.x1, y0 + hw, pal->axis);
-    if (out)
-        *out = (struct sp_bars_scale){.zero_px = y0, .px_per_J = (float)((p.area.y1 - p.area.y0) /
-                                      (p.y.hi - p.y.lo)), .slot_px = slot, .x0 = p.area.x0, .n = n};
+    if (out) {
+        out->zero_px = y0, out->px_per_J = (float)((p.area.y1 - p.area.y0) / (p.y.hi - p.y.lo));
+        out->slot_px = slot, out->x0 = p.area.x0, out->n = n;
+    }
 }
 
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
@@ -943,7 +984,7 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
         else if (b == 10)
             top_plot(c, r, f, e, pal, unit, st);
         else if (b <= 3 || b == 7 || b == 9)
-            strip_chart(c, r, b, f, e, pal, unit, st);
+            strip_chart(c, r, b, f, e, pal, unit, st, bars);
         else if (b <= 5)
             phase_plot(c, r, b == 5, f, e, pal, unit, st);
         else
@@ -996,8 +1037,11 @@ static const char *resonance_note(const struct sp_font *f, int resonant, float m
     return note;
 }
 
-int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
-                 char lines[][SP_HUD_LINE_BYTES], int max)
+/* Lines that start with this byte are drawn in the accent colour (it is not drawn). */
+#define HUD_ACCENT '\2'
+
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const char *differs,
+                 float max_width, char lines[][SP_HUD_LINE_BYTES], int max)
 {
     struct sp_physics ph;
     sp_params_physics(p, &ph);
@@ -1006,6 +1050,24 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float ma
     double ratio;
     int n = 2;
     lines[0][0] = lines[1][0] = 0;
+    if (differs && *differs) { /* "differs: a = 1, b = 2", wrapped at its commas */
+        const char *s = differs;
+        for (int first = 1; *s; first = 0) {
+            const size_t len = strcspn(s, ",");
+            snprintf(item, sizeof(item), "%s%.*s%s", first ? "differs: " : "", (int)len, s,
+                     s[len] ? "," : "");
+            add_item(font, max_width, lines, &n, max, item, 0);
+            s += len + (s[len] != 0);
+            s += strspn(s, " ");
+        }
+        for (int i = 1; i < n; i++) { /* the accent's mark */
+            memmove(lines[i] + 1, lines[i], SP_HUD_LINE_BYTES - 2);
+            lines[i][0] = HUD_ACCENT;
+            lines[i][SP_HUD_LINE_BYTES - 1] = 0;
+        }
+        if (n < max)
+            lines[n++][0] = 0;
+    }
     snprintf(item, sizeof(item), "m = %.3g kg", p->mass);
     add_item(font, max_width, lines, &n, max, item, 0);
     snprintf(item, sizeof(item), "k = %.4g N/m", p->stiffness);
@@ -1070,6 +1132,10 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
             continue;
         if (i == n - 1 && own_line) {
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, res ? pal->accent : pal->muted, note);
+            continue;
+        }
+        if (lines[i][0] == HUD_ACCENT) {
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->accent, lines[i] + 1);
             continue;
         }
         const float w = (float)sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT,

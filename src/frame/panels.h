@@ -42,6 +42,10 @@ void sp_colormap(int colormap, float t, float rgb[3]);
 struct sp_bars_scale {
     float zero_px, px_per_J, slot_px, x0;
     int n; /* bars; 0 = no panel */
+    /* the energy chart (panel energy), on the same gravity zero: value v
+     * (J) at chart_zero_px - v chart_px_per_J; chart 0 = no panel */
+    float chart_zero_px, chart_px_per_J;
+    int chart;
 };
 
 /* How the panels are drawn: [view]'s figure keys, resolved for the output. */
@@ -61,18 +65,21 @@ struct sp_panel_style {
 
 /* Draws every panel the layout holds for frame f, in st's order. `unit` is
  * the frame's smaller side, px (line widths and dot sizes follow it). bars
- * (may be NULL) receives the energy bars' scale when that panel is drawn. */
+ * (may be NULL) receives the energy bars' and the energy chart's scales
+ * where those panels are drawn. */
 void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const struct sp_frame *f,
                     const struct sp_view_extent *e, const struct sp_palette *pal, float unit,
                     const struct sp_panel_style *st, struct sp_bars_scale *bars);
 
 /* Heads-up text: writes the lines for params (time left out) wrapped to
  * max_width px into lines[0..max) and returns how many; line 0 is the time
- * line, filled in at draw time. */
+ * line, filled in at draw time. differs (NULL or "" = none): side by side,
+ * the keys in which this scene differs from the others ("stiffness = 5,
+ * damping = 0.4"), listed first, in the accent colour. */
 #define SP_HUD_MAX_LINES 12
 #define SP_HUD_LINE_BYTES 200
-int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, float max_width,
-                 char lines[][SP_HUD_LINE_BYTES], int max);
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const char *differs,
+                 float max_width, char lines[][SP_HUD_LINE_BYTES], int max);
 /* Height in px of n heads-up lines. */
 float sp_hud_height(const struct sp_font *font, int n);
 /* Draws the time and the lines in r. */

@@ -262,15 +262,15 @@ static int run_check(const struct run *run)
 }
 
 /* Widens a (scene sa's extent) to hold b (scene sb's) too: one camera and one
- * set of chart axes for scenes side by side. The energy bars' gravity zero
- * goes to the lower of the two lowest points, their axis up by what that
- * adds to gravity's and the total's bars. */
+ * set of chart axes for scenes side by side. The energy charts' and bars'
+ * gravity zero goes to the lower of the two lowest points, their axes up by
+ * what that adds to gravity's and the total's energy. */
 static void extent_union(struct sp_view_extent *a, const struct sp_scene *sa,
                          const struct sp_view_extent *b, const struct sp_scene *sb)
 {
-    struct sp_range *ra[] = {&a->r, &a->theta, &a->r_dot, &a->theta_dot, &a->energy, &a->modes};
-    const struct sp_range *rb[] = {&b->r, &b->theta, &b->r_dot, &b->theta_dot, &b->energy, &b->modes};
-    for (int i = 0; i < 6; i++)
+    struct sp_range *ra[] = {&a->r, &a->theta, &a->r_dot, &a->theta_dot, &a->modes};
+    const struct sp_range *rb[] = {&b->r, &b->theta, &b->r_dot, &b->theta_dot, &b->modes};
+    for (int i = 0; i < 5; i++)
         *ra[i] = (struct sp_range){fmin(ra[i]->lo, rb[i]->lo), fmax(ra[i]->hi, rb[i]->hi)};
     a->xmin = fmin(a->xmin, b->xmin), a->xmax = fmax(a->xmax, b->xmax);
     a->ymin = fmin(a->ymin, b->ymin), a->ymax = fmax(a->ymax, b->ymax);
@@ -283,6 +283,9 @@ static void extent_union(struct sp_view_extent *a, const struct sp_scene *sa,
     const double wa = sa->pendulum.mass * sa->pendulum.gravity, wb = sb->pendulum.mass * sb->pendulum.gravity;
     a->bars = (struct sp_range){fmin(a->bars.lo, b->bars.lo),
                                 fmax(a->bars.hi + wa * (a->y_low - low), b->bars.hi + wb * (b->y_low - low))};
+    a->energy = (struct sp_range){fmin(a->energy.lo, b->energy.lo),
+                                  fmax(a->energy.hi + wa * (a->y_low - low),
+                                       b->energy.hi + wb * (b->y_low - low))};
     a->y_low = low;
 }
 
@@ -306,7 +309,8 @@ static int trail_setup(struct sp_trail *tr, int *used, const struct sp_scene *sc
 
 /* Side by side: each cell's look, titled with its scene's view.title or,
  * without one, the keys in which the scenes differ ("stiffness = 5,
- * damping = 0.4"; [video] and [view] keys aside), else its name. */
+ * damping = 0.4"; [video] and [view] keys aside), else its name; those keys
+ * go to its HUD too (look.differs). */
 static void cell_looks(struct run *run)
 {
     const struct sp_scene *all[SP_PIPELINE_MAX_SCENES] = {run->sc};
@@ -352,9 +356,10 @@ static void cell_looks(struct run *run)
                 used += (size_t)snprintf(label + used, SP_VIEW_TEXT_BYTES - used, "%s%s = %s",
                                          used ? ", " : "", strchr(key, '.') + 1, shown);
         }
+        sp_look_of(all[i], &run->looks[i]);
+        snprintf(run->looks[i].differs, sizeof(run->looks[i].differs), "%s", label);
         if (!label[0])
             snprintf(label, SP_VIEW_TEXT_BYTES, "%s", all[i]->name);
-        sp_look_of(all[i], &run->looks[i]);
         if (!run->looks[i].view.title[0]) {
             run->looks[i].view.title = label; /* run->labels: lives as long as the looks */
             snprintf(run->label_what[i], sizeof(run->label_what[i]),

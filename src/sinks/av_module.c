@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "module_abi.h"
 #include "springpend/common.h"
 #include "av_module.h"
 
@@ -75,9 +76,17 @@ static void *load(const char *path, uid_t exe_uid, char *why, size_t size)
         return NULL;
     }
     const char *version = dlsym(module, "sp_module_version");
+    const char *abi = dlsym(module, "sp_module_abi");
     if (!version || strcmp(version, SP_VERSION)) {
         snprintf(why, size, "built for springpend %.32s, not %s", version ? version : "(unknown)",
                  SP_VERSION);
+        dlclose(module);
+        return NULL;
+    }
+    if (!abi || strcmp(abi, SP_MODULE_ABI)) { /* same number, another build */
+        snprintf(why, size, "built by another build of springpend %s (interface %.16s, not %s): "
+                 "install the modules built with this executable", SP_VERSION,
+                 abi ? abi : "(none)", SP_MODULE_ABI);
         dlclose(module);
         return NULL;
     }

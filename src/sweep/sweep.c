@@ -140,6 +140,8 @@ int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *b
         fprintf(fp, " continue=%s", continue_names[d->cont]);
     if (d->peak)
         fprintf(fp, " peak=%s", d->peak == SP_PEAK_R ? "r" : "theta");
+    if (d->fast)
+        fprintf(fp, " kernel=fast");
     for (int a = 0; a < d->n_axes; a++)
         fprintf(fp, " vary=%s=%.17g:%.17g:%d", d->axis[a].key, d->axis[a].from,
                 d->axis[a].to, d->axis[a].count);
@@ -182,6 +184,10 @@ int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
             if (strcmp(v, "theta") && strcmp(v, "r"))
                 return SP_E_INPUT;
             d->peak = !strcmp(v, "r") ? SP_PEAK_R : SP_PEAK_THETA;
+        } else if (!strcmp(w, "kernel")) {
+            if (strcmp(v, "fast"))
+                return SP_E_INPUT;
+            d->fast = 1;
         } else if (!strcmp(w, "time"))
             d->time = strtod(v, NULL);
         else if (!strcmp(w, "transient"))
@@ -382,6 +388,8 @@ static void header_name(char *dst, size_t size, const char *name)
     dst[at] = 0;
 }
 
+static int grid_forced(const struct sp_sweep_desc *d, const struct sp_scene *base);
+
 int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given)
 {
     header_name(d->scene, sizeof(d->scene), base->name);
@@ -461,6 +469,20 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
                 return SP_E_INPUT;
             }
         }
+    }
+    if (d->fast && (d->measure != SP_MEASURE_LYAPUNOV ||
+                    base->integrator.method != SP_METHOD_RK4 || grid_forced(d, base))) {
+        sp_log_error("--fast: the fast kernel steps the lyapunov measure of undamped, undriven "
+                     "scenes with integrator.method = rk4 (here --measure %s, method %s%s); "
+                     "leave --fast out", measure_names[d->measure],
+                     method_names[base->integrator.method],
+                     grid_forced(d, base) ? ", damping or a moving pivot in the grid" : "");
+        return SP_E_INPUT;
+    }
+    if (d->fast && !sp_batch_fast_supported()) {
+        sp_log_error("--fast: the fast kernel needs AVX-512F and FMA, which this CPU lacks; "
+                     "leave --fast out");
+        return SP_E_INPUT;
     }
     if (d->measure == SP_MEASURE_POINCARE && !energy_given)
         d->energy = scene_energy(base);
@@ -842,6 +864,7 @@ static int run_chunk(const struct sp_sweep_desc *d, const struct sp_scene *base,
     int ret = sp_batch_make(&b, ptr, n, d->measure == SP_MEASURE_LYAPUNOV, forced);
     if (ret)
         return ret;
+    b->fast = d->fast; /* sp_sweep_check held it to what the kernel does */
     out->n_lanes = d->measure == SP_MEASURE_LYAPUNOV ? 1 : n;
     if (d->measure == SP_MEASURE_LYAPUNOV)
         ret = measure_lyapunov(d, b, pts, skip, n, out);

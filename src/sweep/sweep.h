@@ -78,6 +78,8 @@ struct sp_sweep_desc {
     enum sp_continue cont;       /* orbit: continuation (header word continue=) */
     int peak;                    /* orbit: 0, or SP_PEAK_THETA / SP_PEAK_R: also the
                                   * largest |theta| (or r) over each drive period */
+    int fast;                    /* lyapunov, rk4, undamped and undriven: 1 = the batch's
+                                  * fast kernel (sweep --fast; header word kernel=fast) */
 };
 
 /* Point p's index along each axis (the first axis varies fastest). */

@@ -5,7 +5,9 @@
  * as a Lyapunov sweep does), on one thread and on one per core; and the
  * same work through GSL odeiv2 (rk4 at the same fixed dt through
  * gsl_odeiv2_driver_apply_fixed_step, one trajectory at a time), with the
- * Lyapunov exponents each gets at three angles.
+ * Lyapunov exponents each gets at three angles; where the CPU runs it,
+ * the tangent runs again through the fast kernel (springpend_fast_*). springpend_*_1_cpu: per
+ * second of the one thread's own CPU time (steadier on a shared machine).
  * usage: bench_batch N T DT   (prints key = value lines) */
 #include <math.h>
 #include <pthread.h>
@@ -46,7 +48,7 @@ static void scene_at(struct sp_scene *s, double deg, double dt)
 /* The grid's trajectories [first, first + n) of total, integrated over T in
  * chunks of 32 (as a sweep does). */
 struct work {
-    int first, n, total, tangent;
+    int first, n, total, tangent, fast;
     double T, dt;
     double *lambda;
 };
@@ -68,6 +70,7 @@ static void *work_run(void *arg)
         struct sp_batch *b;
         if (sp_batch_make(&b, ptr, n, w->tangent, 0))
             return NULL;
+        b->fast = w->fast;
         double sum[CH] = {0};
         for (long k = 1; k <= K; k++) {
             sp_batch_advance(b, (double)(k * m) * w->dt);
@@ -92,17 +95,35 @@ static double cpu_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static double thread_cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* Seconds for the whole grid on `threads` threads (equal contiguous parts);
- * *cpu: the process's CPU seconds meanwhile (all threads). */
+ * *cpu: the process's CPU seconds meanwhile (all threads). One thread runs
+ * in the caller's, and *cpu is then that thread's own CPU time (what other
+ * processes on a shared machine take is not counted). */
+static int use_fast; /* the tangent runs through the fast kernel (sp_batch.fast) */
+
 static double batch_time(int total, double T, double dt, int tangent, int threads, double *lambda,
                          double *cpu)
 {
     pthread_t tid[64];
     struct work w[64];
     double t0 = now(), c0 = cpu_now();
+    if (threads == 1) {
+        w[0] = (struct work){0, total, total, tangent, use_fast && tangent, T, dt, lambda};
+        c0 = thread_cpu_now();
+        work_run(&w[0]);
+        *cpu = thread_cpu_now() - c0;
+        return now() - t0;
+    }
     for (int i = 0; i < threads; i++) {
         w[i] = (struct work){total * i / threads, total * (i + 1) / threads - total * i / threads,
-                             total, tangent, T, dt, lambda};
+                             total, tangent, use_fast && tangent, T, dt, lambda};
         pthread_create(&tid[i], NULL, work_run, &w[i]);
     }
     for (int i = 0; i < threads; i++)
@@ -169,12 +190,25 @@ int main(int argc, char **argv)
         double t1 = batch_time(n, T, dt, tangent, 1, NULL, &c1);
         double tn = batch_time(n, T, dt, tangent, cores, tangent ? lam : NULL, &cn);
         printf("springpend_%s_1 = %.4g\n", what, steps / t1);
+        printf("springpend_%s_1_cpu = %.4g\n", what, steps / c1);
         printf("springpend_%s_%d = %.4g\n", what, cores, steps / tn);
         printf("springpend_%s_cpu = %.4g\n", what, steps / cn);
     }
     int idx[3] = {0, n / 2, n - 1};
     for (int k = 0; k < 3; k++)
         printf("springpend_lambda_%.1f = %.6f\n", angle_deg(idx[k], n), lam[idx[k]]);
+    if (sp_batch_fast_supported()) { /* the same through the fast kernel (sweep --fast) */
+        double c1, cn, *lf = calloc((size_t)n, sizeof(double));
+        use_fast = 1;
+        double t1 = batch_time(n, T, dt, 1, 1, NULL, &c1);
+        double tn = batch_time(n, T, dt, 1, cores, lf, &cn);
+        use_fast = 0;
+        printf("springpend_fast_1 = %.4g\nspringpend_fast_1_cpu = %.4g\n", steps / t1, steps / c1);
+        printf("springpend_fast_%d = %.4g\nspringpend_fast_cpu = %.4g\n", cores, steps / tn, steps / cn);
+        for (int k = 0; k < 3; k++)
+            printf("springpend_fast_lambda_%.1f = %.6f\n", angle_deg(idx[k], n), lf[idx[k]]);
+        free(lf);
+    }
 #ifdef HAVE_GSL
     /* a sample of the grid (GSL is slow): 16 trajectories, then the three */
     for (int tangent = 0; tangent < 2; tangent++) {

@@ -362,7 +362,7 @@ static void cell_looks(struct run *run)
         if (!label[0])
             snprintf(label, SP_VIEW_TEXT_BYTES, "%s", all[i]->name);
         if (!run->looks[i].view.title[0]) {
-            snprintf(run->looks[i].view.title, sizeof(run->looks[i].view.title), "%s", label);
+            run->looks[i].view.title = label; /* run->labels: lives as long as the looks */
             snprintf(run->label_what[i], sizeof(run->label_what[i]),
                      "%s: the side-by-side cell's automatic label (the keys its scene changes; "
                      "[view] title sets another)", all[i]->name);

@@ -127,3 +127,18 @@ def solve(rhs, u0, tend, ts=None, **kw):
     from scipy.integrate import solve_ivp
     return solve_ivp(rhs, (0, tend), u0, method="DOP853", rtol=1e-11, atol=1e-13,
                      t_eval=ts, **kw)
+
+
+def readme_ci(root):
+    """The fenced blocks of the README's "Snapshot tests in CI" section, as
+    (language, text) pairs, and a function picking the first block that
+    holds a marker (of a language, when given; "" when none does)."""
+    import re
+    readme = open(os.path.join(root, "README.md")).read()
+    section = readme[readme.index("## Snapshot tests in CI"):readme.index("## Hardening")]
+    blocks = re.findall(r"^```([a-z]*)\n(.*?)^```", section, re.S | re.M)
+
+    def block(marker, lang=None):
+        return next((text for kind, text in blocks
+                     if marker in text and (lang is None or kind == lang)), "")
+    return blocks, block

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """springpend tests: the README's CI section as a CI engineer uses it
 (issue 24). Its GitHub Actions and GitLab CI snippets parse as YAML, give
-the JUnit reporter `checks: write`, build springpend outside the project's
-checkout, and install every package springpend's build asks pkg-config for
-(each .pc file's Debian package, asked of dpkg). Then the walkthrough's shell
+the JUnit reporter `checks: write`, and install springpend as a Debian
+package built from a pinned ref of its repository, outside the project's
+checkout (test ci-snippet runs those steps). Then the walkthrough's shell
 steps, taken from the README, run in a fresh folder outside springpend's
 checkout: render, add the baselines, a change fails with candidates and a
 summary, the candidates are approved, the next run passes.
@@ -15,20 +15,11 @@ import subprocess
 import sys
 import tempfile
 
-from sptest import done, meson_deb_packages, ok, skip
+from sptest import done, ok, readme_ci, skip
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 root = os.path.join(src, "..")
-readme = open(os.path.join(root, "README.md")).read()
-section = readme[readme.index("## Snapshot tests in CI"):readme.index("## Hardening")]
-blocks = re.findall(r"^```([a-z]*)\n(.*?)^```", section, re.S | re.M)
-
-
-def block(marker, lang=None):
-    for kind, text in blocks:
-        if marker in text and (lang is None or kind == lang):
-            return text
-    return ""
+blocks, block = readme_ci(root)
 
 
 # ---- the YAML snippets ----
@@ -46,25 +37,20 @@ if yaml:
 else:
     skip("the GitHub snippet's permissions", "python3-yaml is not installed")
     gh_run, gl_run = gh, gl
+# springpend as a user installs it: a Debian package, here built from a
+# pinned ref of its repository outside the project's checkout (test
+# ci-snippet, in the 'package' suite, runs these steps).
 for name, text in (("GitHub", gh_run), ("GitLab", gl_run)):
-    ok("git clone" in text and "cd /tmp/springpend" in text and "meson setup build" not in
-       text.split("cd /tmp/springpend")[0],
-       f"{name}: springpend is built from its own clone, outside the project's checkout")
-
-# Every dependency('X') of meson.build, through its .pc file, to the Debian
-# package that holds it; the snippets must install each.
-if shutil.which("pkg-config") and shutil.which("dpkg"):
-    pkgs = meson_deb_packages(root)
-    for name, text in (("GitHub", gh_run), ("GitLab", gl_run)):
-        line = next((l for l in text.splitlines() if "apt-get install" in l), "")
-        listed = set(line.split())
-        missing = {d: p for d, p in pkgs.items() if p and p not in listed}
-        ok(line and not missing and all(pkgs.values()),
-           f"{name}: installs the package of every pkg-config dependency ({sorted(pkgs.values())}); "
-           f"missing {missing}")
-else:
-    skip("the snippets' packages against meson.build", "pkg-config or dpkg is missing")
-    skip("the snippets' packages against meson.build (GitLab)", "pkg-config or dpkg is missing")
+    ok('fetch -q --depth 1 "$SPRINGPEND_GIT" "$SPRINGPEND_REF"' in text and
+       'apt-get build-dep -y --no-install-recommends "$SPRINGPEND_SRC"' in text and
+       "dpkg-buildpackage -b" in text and re.search(r"apt-get install .*springpend_\*\.deb", text)
+       and "meson" not in text,
+       f"{name}: springpend is fetched at SPRINGPEND_REF, built into a Debian package with "
+       "debian/control's build dependencies, and installed from the .deb; nothing is built "
+       "in the project's checkout")
+ok(all(f"{k}:" in t for k in ("SPRINGPEND_GIT", "SPRINGPEND_REF", "SPRINGPEND_SRC") for t in (gh, gl))
+   and "/tmp/" in block("actions/checkout", "yaml"),
+   "both snippets name the repository, the pinned ref and a source folder outside the checkout")
 
 # ---- the walkthrough's shell steps, in a fresh folder outside the checkout ----
 with tempfile.TemporaryDirectory(prefix="springpend-ci-") as d:

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """springpend tests: the environment an image records (issue 24).
 `springpend version --verbose` (and `--version --verbose`) name springpend,
-the GL renderer, Mesa and LLVM, FreeType, the font file with its SHA-256,
+the GL renderer, Mesa and LLVM, FreeType, HarfBuzz, FriBidi, fontconfig,
+the font file with its SHA-256,
 zlib, libpng and libavcodec; each version is checked against the library
 itself, asked here through ctypes; every PNG carries the same text in its
 springpend.environment chunk; compare names the lines that differ.
@@ -34,8 +35,8 @@ r1, r2, plain = run("version", "--verbose"), run("--version", "--verbose"), run(
 env = dict(l.split(": ", 1) for l in r1.stdout.splitlines() if ": " in l)
 ok(r1.returncode == 0 and r1.stdout == r2.stdout and plain.stdout.strip() == "springpend " +
    env.get("springpend", "?"), f"version --verbose and --version --verbose agree ({r1.stdout!r:.200})")
-keys = ["springpend", "renderer", "gl", "mesa", "llvm", "freetype", "font", "zlib", "libpng",
-        "libavcodec"]
+keys = ["springpend", "renderer", "gl", "mesa", "llvm", "freetype", "harfbuzz", "fribidi",
+        "fontconfig", "font", "zlib", "libpng", "libavcodec"]
 ok(list(env) == keys, f"the lines, in order: {list(env)}")
 ok(env.get("mesa", "") in env.get("gl", "-") and env.get("llvm", "") in env.get("renderer", "-")
    and re.fullmatch(r"\d+\.\d+(\.\d+)?", env.get("mesa", "")) is not None,
@@ -68,6 +69,28 @@ if ft:
     ok(env.get("freetype") == want, f"FreeType {env.get('freetype')} ({want})")
 else:
     skip("FreeType's version", "libfreetype not found by ctypes")
+# The text stack, each asked its own version.
+def hb_version(h):
+    h.hb_version_string.restype = ctypes.c_char_p
+    return h.hb_version_string().decode()
+
+
+def fc_version(h):
+    v = h.FcGetVersion()
+    return f"{v // 10000}.{v // 100 % 100}.{v % 100}"
+
+
+for key, name, ask in (
+        ("harfbuzz", "harfbuzz", hb_version),
+        ("fribidi", "fribidi", lambda h: ctypes.c_char_p.in_dll(h, "fribidi_version_info").value
+         .decode().split("\n")[0].split()[-1]),
+        ("fontconfig", "fontconfig", fc_version)):
+    h = lib(name)
+    if h:
+        want = ask(h)
+        ok(env.get(key) == want, f"{key} {env.get(key)} ({want})")
+    else:
+        skip(f"{key}'s version", f"lib{name} not found by ctypes")
 av = lib("avcodec")
 if av:
     v = av.avcodec_version()
@@ -121,6 +144,26 @@ r = run("compare", "s.png", "t.png")
 ok(r.returncode == 0 and f"libpng: {env['libpng']} vs 9.9.9" in r.stdout
    and "freetype" not in r.stdout.split("environment")[-1],
    f"compare names the environment line that differs, and only it ({r.stdout.strip()})")
+
+# The reports carry each image's environment whole, not only the lines that
+# differ: the JSON per image, the HTML once per distinct environment, linked
+# from each row.
+import html
+import json
+r = run("compare", "s.png", "t.png", "--json", "--report", "r.html")
+res = json.loads(r.stdout)["results"][0] if r.stdout.startswith("{") else {}
+ok(res.get("environment") == {"expected": chunks["springpend.environment"], "actual": other},
+   f"--json: each image's springpend.environment whole ({str(res.get('environment'))[:120]})")
+page = open(os.path.join(work, "r.html")).read() if os.path.exists(os.path.join(work, "r.html")) else ""
+pres = re.findall(r'<div class="env" id="env-(\d)"><h3>([^<]*)</h3><pre>(.*?)</pre>', page, re.S)
+ok([(n, html.unescape(t)) for n, _, t in pres] == [("1", chunks["springpend.environment"]),
+                                                   ("2", other)]
+   and 'made in: expected <a href="#env-1">E1</a>, actual <a href="#env-2">E2</a>' in page,
+   f"--report: both environments whole, each once, and the row says which is which ({[h for _, h, _ in pres]})")
+r = run("compare", "s.png", "s.png", "--report", "same.html")
+page = open(os.path.join(work, "same.html")).read() if os.path.exists(os.path.join(work, "same.html")) else ""
+ok(page.count('<div class="env"') == 1 and "E1: 1 expected image, 1 actual image" in page,
+   "one environment is listed once")
 
 # A CSV's metadata records what shapes numbers (environment.h's
 # sp_environment_numbers) and loads no FFmpeg module to say so.

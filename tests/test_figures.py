@@ -114,10 +114,71 @@ ok("Résonance 2:1 — θ, r" in text and "Energy flows from bounce to swing" in
    "the title and caption are written (UTF-8)")
 ok("speed ×0.25" in text, "speed = 0.25 is marked 'speed ×0.25'")
 ok("Poincaré" in text and "|v|" not in text, "view.pendulum = false drops the pendulum and its colourbar")
-r = run("still", os.path.join(root, "scenes", "default.ini"), "--set", "view.title=" + "x" * 300,
+
+
+# Titles and captions have no byte limit (it was 255): a teacher's caption of
+# several sentences wraps, in a PNG, an SVG, a PDF and a video alike; only a
+# text that cannot fit the frame is refused, naming where it was set.
+def ink_lines(png, top, frac=8):
+    """Bands of rows with text ink in the bottom (top=False) or top 1/frac
+    of png: the number of wrapped lines a reader sees."""
+    w, h = (int(v) for v in subprocess.run(
+        ["ffprobe", "-v", "error", "-select_streams", "v", "-show_entries", "stream=width,height",
+         "-of", "csv=p=0", png], capture_output=True, text=True).stdout.strip().split(","))
+    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", png, "-vf", "format=gray", "-f", "rawvideo",
+                          "-"], capture_output=True).stdout
+    rows = range(0, h // frac) if top else range(h - h // frac, h)
+    bands, inside = 0, False
+    for y in rows:
+        lit = max(raw[y * w:y * w + w]) > 120
+        bands += lit and not inside
+        inside = lit
+    return bands
+
+
+TEACH_TITLE = ("Das Federpendel: Energie wandert zwischen Schwingung und Pendelbewegung hin und "
+               "her, wenn die Federkonstante das Dreifache des Gewichts durch die Ruhelänge ist")
+TEACH = ("The spring pendulum near the 2:1 resonance. Watch how the energy moves from the "
+         "bouncing motion into the swinging motion and back again. The swing's plane stays "
+         "fixed, because the motion starts in a plane. Change the stiffness by a few percent "
+         "and see how the exchange slows down. This caption has several sentences, as a "
+         "teacher would write, far longer than the 255 bytes that used to be allowed.")
+long_scene = p("teach.ini")
+with open(long_scene, "w") as f:
+    f.write(f'[video]\nwidth = 1280\nheight = 720\n[view]\ntitle = {TEACH_TITLE}\n'
+            f'caption = "{TEACH}"\n')
+assert len(TEACH.encode()) > 255 and len(TEACH_TITLE.encode()) > 150
+lines = {}
+for ext in ("png", "svg", "pdf"):
+    r = run("still", long_scene, "--at", "3", "-o", p("teach." + ext), "-q")
+    ok(r.returncode == 0, f"a {len(TEACH.encode())}-byte caption and a {len(TEACH_TITLE.encode())}-byte "
+       f"title in a .{ext} still ({r.stderr.strip()[-200:]})")
+    png = p("teach.png") if ext == "png" else raster("teach." + ext)
+    if png:
+        lines[ext] = (ink_lines(png, True), ink_lines(png, False))
+ok(len(set(lines.values())) == 1 and all(t == 2 and c == 3 for t, c in lines.values()),
+   f"the title and the caption each wrap to the same lines in PNG, SVG and PDF (title, caption lines: {lines})")
+text = " ".join(subprocess.run(["pdftotext", p("teach.pdf"), "-"], capture_output=True,
+                               text=True).stdout.split())
+ok(TEACH in text and TEACH_TITLE in text, "pdftotext gives the whole title and caption back")
+r = run("render", long_scene, "--set", "video.duration=0.2", "--size", "640x360", "-o", p("teach.mp4"), "-q")
+frame = p("teach_mp4.png")
+subprocess.run(["ffmpeg", "-v", "error", "-y", "-i", p("teach.mp4"), "-frames:v", "1", frame])
+back = run("scene", p("teach.mp4"))
+ok(r.returncode == 0 and os.path.exists(frame) and ink_lines(frame, False, 4) == 4 and
+   f'caption = "{TEACH}"' in back.stdout,
+   f"in a 640x360 video the caption wraps to {ink_lines(frame, False, 4) if os.path.exists(frame) else 0} "
+   "lines, and the video's scene holds it whole")
+r = run("still", long_scene, "--size", "320x180", "-o", p("teach_small.png"))
+ok(r.returncode == 2 and f"{long_scene}:5: [view] title and {long_scene}:6: [view] caption" in r.stderr
+   and "allowed: at most half the height (90 px)" in r.stderr and not os.path.exists(p("teach_small.png")),
+   f"at 320x180 the same texts cannot fit: exit 2 naming FILE:LINE of each and the limit, no file "
+   f"({r.stderr.strip()[-300:]})")
+r = run("still", os.path.join(root, "scenes", "default.ini"), "--set", "view.caption=" + "Wort " * 2000,
         "-o", p("long.png"))
-ok(r.returncode == 2 and "at most 255" in r.stderr and not os.path.exists(p("long.png")),
-   "a 300-byte title is refused with exit 2 and no file")
+ok(r.returncode == 2 and "--set view.caption: the title and caption cannot fit: they wrap to 0 + " in r.stderr
+   and not os.path.exists(p("long.png")),
+   f"a 10 kB caption that cannot fit is refused, naming --set view.caption ({r.stderr.strip()[-200:]})")
 still("fade.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.panels=phase")
 still("nofade.png", "resonance.ini", 20, "--size", "640x360", "--set", "view.panels=phase",
       "--set", "view.fade=false")

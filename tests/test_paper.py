@@ -203,6 +203,14 @@ if still("order.pdf", "chaotic.ini", *FIG, "--set", "view.panels=poincare,phase"
        f"{[w for w in ws if '/s' in w]}")
     ok("now" not in ws and "latest" not in ws,
        "a still leaves out the video's 'now' and 'latest' (view.cursor = auto)")
+    # the labelled two-panel figure at a journal column: its page, its text, its font
+    w, h = page_size(p("order.pdf"))
+    sizes = text_sizes(p("order.pdf"))
+    f = fonts(p("order.pdf"))
+    ok(abs(w - 8.6 * CM) < 0.01 and sizes and all(7.9 <= s <= 10.1 for s in sizes) and
+       f and all(e for _, e in f) and all("DejaVuSans" in n for n, _ in f),
+       f"the labelled still is 8.6 cm wide ({w / CM:.3f} cm), its words and labels 8-10 pt "
+       f"({sorted(set(round(s, 2) for s in sizes))}), DejaVu Sans embedded ({f})")
 else:
     ok(False, "still -o order.pdf")
 if still("order_rev.pdf", "chaotic.ini", *FIG, "--set", "view.panels=phase,poincare",

@@ -4,8 +4,10 @@ made from, as a scene file in user units (degrees, names rather than codes),
 and the recorded command run on it again gives the same bytes: PNG, MP4 and
 CSV. Before, a PNG held only internal codes (view.panels=0x80, theme=0) and
 the angle in radians, which --set would read as degrees."""
+import html
 import json
 import os
+import re
 import shlex
 import shutil
 import subprocess
@@ -65,6 +67,21 @@ for kind, args in commands.items():
        "title = \"Run #3: ü 'x'\"\n" in scene and "0x" not in scene,
        f"{kind}: `springpend scene` prints the scene in user units and names "
        f"(angle = 33.3 degrees, panels = energy, phase, theme = light) {s.stderr.strip()}")
+    if kind.endswith("svg") or kind.endswith("pdf"):
+        # the figure records its command, without the output's name
+        data = read(os.path.join(first, out))
+        if kind.endswith("pdf"):
+            info = subprocess.run(["pdfinfo", os.path.join(first, out)], capture_output=True,
+                                  text=True).stdout if shutil.which("pdfinfo") else ""
+            line = [l for l in info.splitlines() if l.startswith("# command: ")]
+        else:
+            m = re.search(rb'<metadata id="springpend.command">([^<]*)</metadata>', data)
+            line = ["# command: " + html.unescape(m.group(1).decode())] if m else []
+        want = ["springpend", *[a for i, a in enumerate(args)
+                                if a != "-o" and (i == 0 or args[i - 1] != "-o")]]
+        got = shlex.split(line[0][len("# command: "):]) if len(line) == 1 else None
+        ok(got == want or (kind.endswith("pdf") and not shutil.which("pdfinfo")),
+           f"{kind}: the figure records its command without -o: {line}")
     # the recorded command, run where the scene file is the one printed
     with open(os.path.join(again, "chaotic.ini"), "w") as f:
         f.write(scene)

@@ -314,6 +314,18 @@ for i, (cues, line, what) in enumerate(BAD):
         ok(r.returncode == 2 and f"bad{i}.ini:{line}: " in r.stderr and what in r.stderr
            and not left, f"{cmd[0]}: {cues.strip()[:40]!r} -> exit {r.returncode}, "
            f"{r.stderr.strip()[:200]!r}{' left ' + str(left) if left else ''}")
+# A cue's text has no byte limit (it was 255): what fits the band's lines is
+# the rule, so a teacher's several sentences fit a 1280x720 frame.
+CUE = ("Now the spring is stiffer. Watch how the bouncing slows and the swing grows; the energy "
+       "moves between the two motions. Count the swings between two exchanges, then compare "
+       "with the next run, where the stiffness is back at its first value. Which one exchanges "
+       "faster, and why?")
+with open(os.path.join(work, "longcue.ini"), "w") as f:
+    f.write(BASE + f"1 = caption: {CUE}\n")
+r = run("still", "longcue.ini", "--at", "2", "--size", "1280x720", "-o", "longcue.png")
+back = run("scene", "longcue.png")
+ok(len(CUE.encode()) > 255 and r.returncode == 0 and f'caption: "{CUE}"' in back.stdout,
+   f"a {len(CUE.encode())}-byte cue caption renders and is recorded whole ({r.stderr.strip()[-200:]})")
 r = run("render", lesson, "--set", "timeline.3=speed 2", "-o", "set.mp4", *SMALL)
 ok(r.returncode == 2 and "[timeline] is read from the scene file" in r.stderr
    and not os.path.exists(os.path.join(work, "set.mp4")), "--set timeline.* is refused")

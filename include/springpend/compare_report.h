@@ -75,6 +75,11 @@ struct sp_compare_record {
      * free with sp_compare_report_free), so reports show what was replaced. */
     unsigned char *before;
     size_t before_size;
+    /* The springpend.environment text each image records (environment.h:
+     * springpend, renderer, Mesa, LLVM, the libraries, the font), whole:
+     * [0] the expected image's, [1] the actual's; owned (freed with
+     * sp_compare_report_free), NULL when the image has none. */
+    char *environment[2];
     struct sp_scene_change changes[SP_COMPARE_MAX_CHANGES];
     int n_changes, more_changes;
 };

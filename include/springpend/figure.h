@@ -25,12 +25,15 @@ struct sp_figure_desc {
     const struct sp_look *looks;
     const char *scene_file;       /* provenance: the scene as a scene file
                                      (sp_scene_ini); NULL = none */
+    const char *command;          /* provenance: the command line without the
+                                     output's name; NULL = none */
 };
 
 /* A figure's scene record: the PDF /Subject's first line, the SVG
  * <metadata>'s id (the PNG text's key, provenance.h). */
 #define SP_FIGURE_SCENE_MARK "# springpend.scene-file\n"
 #define SP_FIGURE_SCENE_ID "springpend.scene-file"
+#define SP_FIGURE_COMMAND_MARK "# command: " /* the PDF /Subject's second line */
 
 /* Reads the scene a springpend SVG or PDF figure (still or sweep) records
  * into text (NUL-terminated, at most size bytes): 1 when found, 0 when the

@@ -61,7 +61,10 @@ enum sp_cursor { SP_CURSOR_AUTO = 0, /* in videos and frames, not in stills */
 /* [view] trail given as a duration ("5s"): see view.trail_duration. */
 #define SP_TRAIL_DURATION (-2)
 
-/* Bytes of [view] title and caption, with the terminating NUL. */
+/* Bytes of a short text key ([view] font, [ensemble] key), with the
+ * terminating NUL. [view] title and caption have no byte limit: they are
+ * heap strings (struct sp_scene's texts), held only to the frame they must
+ * fit in (the composer's "cannot fit"). */
 #define SP_VIEW_TEXT_BYTES 256
 #define SP_BACKGROUND_THEME (-1)
 /* [view] camera: how the pendulum is seen. */
@@ -139,8 +142,13 @@ struct sp_scene {
         double font_size;  /* body text, pt (1 pt = 1 px: see README "Text"); 0 = from
                               the frame's size; font_scale multiplies it */
         char font[SP_VIEW_TEXT_BYTES]; /* fontconfig family, "" = DejaVu Sans (embedded) */
-        char title[SP_VIEW_TEXT_BYTES];   /* UTF-8, "" = none: above everything */
-        char caption[SP_VIEW_TEXT_BYTES]; /* UTF-8, "" = none: below everything */
+        /* Never NULL; any length. A scene's point into its texts (below);
+         * a look's may point elsewhere (side by side's cell labels). */
+        const char *title;   /* UTF-8, "" = none: above everything */
+        const char *caption; /* UTF-8, "" = none: below everything */
+        /* Where each was set, for messages: "FILE:LINE" or "--set view.title";
+         * "" = nowhere (the default, or a cell label). Never NULL. */
+        const char *title_where, *caption_where;
         /* A figure's style (stills and sweep figures alike; each is left out of
          * sp_scene_canonical at its default, so older PNGs keep their bytes): */
         int cursor;        /* enum sp_cursor: strip charts' time cursor, the dot at
@@ -177,6 +185,11 @@ struct sp_scene {
      * simulated time; NULL = none. Owned by the scene sp_scene_parse filled
      * (free it with sp_scene_free); copies of the scene share it. */
     struct sp_timeline *timeline;
+    /* The heap blocks view.title and view.caption (and their _where) point
+     * into (NULL while the key is ""): owned by the scene sp_scene_parse
+     * filled, freed by sp_scene_free; copies of the scene share them, as the
+     * timeline. */
+    char *texts[2];
 };
 
 /* Fills s with the original simulator's defaults (see scenes/default.ini). */
@@ -192,8 +205,10 @@ void sp_scene_defaults(struct sp_scene *s);
 int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
                    const char *const *overrides, int n_overrides);
 
-/* Frees what sp_scene_parse allocated (the timeline) and sets it to NULL;
- * the keys stay. Safe on a scene without one. A failed parse frees it. */
+/* Frees what sp_scene_parse allocated (the timeline, the title's and the
+ * caption's text) and sets it to NULL (title and caption to ""); the other
+ * keys stay. Safe on a scene without them. A failed parse frees them. Only
+ * the timeline: sp_timeline_destroy(&s->timeline). */
 void sp_scene_free(struct sp_scene *s);
 
 /* Reads path and calls sp_scene_parse; the scene name is the file stem.

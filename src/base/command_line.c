@@ -1,8 +1,10 @@
 /* springpend: the recorded command line (see command_line.h). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "command_line.h"
+#include "utf8.h"
 
 static int n_words;
 static char *const *words;
@@ -24,7 +26,33 @@ char *const *sp_command_line_argv(int *argc)
     return words;
 }
 
+static int text(char *buf, size_t size, int unnamed);
+
 int sp_command_line_text(char *buf, size_t size)
+{
+    return text(buf, size, 0);
+}
+
+int sp_command_line_text_unnamed(char *buf, size_t size)
+{
+    return text(buf, size, 1);
+}
+
+char *sp_command_line_unnamed(void)
+{
+    const int n = text(NULL, 0, 1);
+    char *line = n > 0 ? malloc((size_t)n + 1) : NULL;
+    if (line)
+        text(line, (size_t)n + 1, 1);
+    for (size_t i = 0, len = line ? strlen(line) : 0; i < len; i += sp_utf8_char(line + i))
+        if (!sp_utf8_char(line + i)) {
+            free(line);
+            return NULL;
+        }
+    return line;
+}
+
+static int text(char *buf, size_t size, int unnamed)
 {
     static const char plain[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
                                 "0123456789_./:=,+@%^-";
@@ -34,10 +62,17 @@ int sp_command_line_text(char *buf, size_t size)
                              __VA_ARGS__)
     if (size)
         buf[0] = 0;
-    for (int i = 0; i < n_words; i++) {
+    for (int i = 0, first = 1; i < n_words; i++) {
         const char *w = words[i];
-        if (i)
+        if (unnamed && i && (!strcmp(w, "-o") || !strcmp(w, "--output"))) {
+            i++; /* and its argument */
+            continue;
+        }
+        if (unnamed && i && (!strncmp(w, "-o", 2) || !strncmp(w, "--output=", 9)))
+            continue;
+        if (!first)
             EMIT(" ");
+        first = 0;
         if (*w && strspn(w, plain) == strlen(w)) {
             EMIT("%s", w);
             continue;

@@ -19,4 +19,13 @@ char *const *sp_command_line_argv(int *argc);
  * returns the length it would need. */
 int sp_command_line_text(char *buf, size_t size);
 
+/* As sp_command_line_text, without the output's name (-o FILE, -oFILE,
+ * --output FILE, --output=FILE): what a figure records, so that the same
+ * command writing another file gives the same bytes. */
+int sp_command_line_text_unnamed(char *buf, size_t size);
+/* The same in a malloc'd string (free it); NULL when none was recorded, out
+ * of memory, or not UTF-8 (a file name in Latin-1: a PDF's and an SVG's
+ * text must be UTF-8, so a figure then records no command). */
+char *sp_command_line_unnamed(void);
+
 #endif

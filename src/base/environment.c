@@ -6,6 +6,9 @@
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
+#include <fontconfig/fontconfig.h>
+#include <fribidi.h>
+#include <hb.h>
 #include <png.h>
 #include <zlib.h>
 
@@ -67,11 +70,19 @@ int sp_environment_text(char *buf, size_t size, const char *renderer, const char
     version_after(gl_version, "Mesa ", mesa, sizeof(mesa));
     version_after(renderer, "LLVM ", llvm, sizeof(llvm));
     sha256_hex(sp_embed_DejaVuSans_ttf, (size_t)sp_embed_DejaVuSans_ttf_size, font);
+    /* the text stack (text.c): shaping, bidi and font lookup */
+    const int fc = FcGetVersion();
+    char bidi[32];
+    snprintf(bidi, sizeof(bidi), "%.*s", (int)strcspn(fribidi_version_info, "\n"),
+             fribidi_version_info); /* "(GNU FriBidi) 1.0.8\n..." */
+    const char *bidi_v = strrchr(bidi, ' ') ? strrchr(bidi, ' ') + 1 : bidi;
     fprintf(m, "springpend: " SP_VERSION "\nrenderer: %s\ngl: %s\nmesa: %s\nllvm: %s\n"
-            "freetype: %s\nfont: DejaVuSans.ttf (embedded, %lu bytes) sha256 %s\n"
+            "freetype: %s\nharfbuzz: %s\nfribidi: %s\nfontconfig: %d.%d.%d\n"
+            "font: DejaVuSans.ttf (embedded, %lu bytes) sha256 %s\n"
             "zlib: %s\nlibpng: %s\nlibavcodec: %s\n",
             renderer ? renderer : "none", gl_version ? gl_version : "none",
-            gl_version ? mesa : "none", renderer ? llvm : "none", ft,
+            gl_version ? mesa : "none", renderer ? llvm : "none", ft, hb_version_string(),
+            bidi_v, fc / 10000, fc / 100 % 100, fc % 100,
             sp_embed_DejaVuSans_ttf_size, font, zlibVersion(), png_get_libpng_ver(NULL), av);
     fclose(m);
     buf[size - 1] = 0;

@@ -378,16 +378,19 @@ static int read_text(const char *path, const char *key, char *buf, size_t size)
                              : sp_video_read_text(path, key, buf, size);
 }
 
-/* Notes the lines of the springpend.environment chunks that differ (the
- * library versions, the fonts' hashes), when both images have one. */
+/* Keeps each image's springpend.environment text whole in the record (the
+ * reports show it), and notes the lines that differ (the library versions,
+ * the fonts' hashes) when both images have one. */
 static void note_environment(struct sp_compare_record *r)
 {
     char ee[SP_ENVIRONMENT_MAX], ea[SP_ENVIRONMENT_MAX], note[sizeof(r->notes[0])];
     size_t n = 0;
-    if (r->n_notes == SP_COMPARE_MAX_NOTES ||
-        read_text(r->expected, "springpend.environment", ee, sizeof(ee)) != 1 ||
-        read_text(r->actual, "springpend.environment", ea, sizeof(ea)) != 1 ||
-        !strcmp(ee, ea))
+    const int has_e = read_text(r->expected, "springpend.environment", ee, sizeof(ee)) == 1,
+              has_a = read_text(r->actual, "springpend.environment", ea, sizeof(ea)) == 1;
+    /* out of memory: the report says "not recorded", nothing else is lost */
+    r->environment[0] = has_e ? strdup(ee) : NULL;
+    r->environment[1] = has_a ? strdup(ea) : NULL;
+    if (r->n_notes == SP_COMPARE_MAX_NOTES || !has_e || !has_a || !strcmp(ee, ea))
         return;
     n = (size_t)snprintf(note, sizeof(note), "made in another environment (springpend.environment):");
     for (const char *p = ee; *p && n < sizeof(note);) {

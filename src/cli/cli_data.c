@@ -15,6 +15,7 @@
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
+#include "springpend/timeline.h"
 #include "signals.h"
 #include "sim_report.h"
 
@@ -291,7 +292,7 @@ int sp_cmd_data(int argc, char **argv)
     const struct sp_scene *const sc0 = &scenes[0];
     int spatial = 0;
     for (int i = 0; i < o.n_scenes; i++) {
-        sp_scene_free(&scenes[i]); /* the [timeline] is presentation: data ignores it */
+        sp_timeline_destroy(&scenes[i].timeline); /* presentation: data ignores it */
         spatial |= scenes[i].initial.azimuth_rate != 0;
         if (!ret && o.n_scenes > 1 && (o.poincare || scenes[i].ensemble.count > 1)) {
             sp_log_error("%s: %s takes one scene", o.scene_paths[i],
@@ -309,18 +310,20 @@ int sp_cmd_data(int argc, char **argv)
     if (!ret)
         ret = sp_cli_output_path(&o, sc0, ".csv", out, sizeof(out));
     if (ret)
-        return ret;
+        goto done;
     if (o.poincare && spatial) {
         sp_log_error("%s: --poincare writes the planar section theta = 0 with dtheta/dt > 0, "
                      "which a 3-D motion (initial.azimuth_rate = %g rad/s) does not have; set "
                      "initial.azimuth_rate = 0, or write the samples (z, vz, azimuth among them) "
                      "without --poincare", o.scene_paths[0], sc0->initial.azimuth_rate);
-        return SP_E_INPUT;
+        ret = SP_E_INPUT;
+        goto done;
     }
     if (o.every > 0 && o.poincare) {
         sp_log_error("--every and --poincare cannot be combined: the crossings fall where "
                      "they fall");
-        return SP_E_INPUT;
+        ret = SP_E_INPUT;
+        goto done;
     }
     /* the limit is on what data writes, rows, not on video frames: each scene's */
     double t_end = 0;
@@ -335,7 +338,8 @@ int sp_cmd_data(int argc, char **argv)
             sp_log_error("%.0f times of %d ensemble members: %.0f rows; at most %.0f are written "
                          "(raise --every, lower video.duration or ensemble.count)", rows,
                          sc->ensemble.count, rows * members, MAX_ROWS);
-            return SP_E_INPUT;
+            ret = SP_E_INPUT;
+            goto done;
         }
         if (rows > MAX_ROWS) {
             sp_log_error("%s%g over video.duration = %g s: %.0f rows, about %.3g GB of CSV; at "
@@ -343,13 +347,14 @@ int sp_cmd_data(int argc, char **argv)
                          o.every > 0 ? "--every " : "frame times every ",
                          o.every > 0 ? o.every : sc->video.speed / sc->video.fps,
                          sc->video.duration, rows, rows * ROW_BYTES / 1e9, MAX_ROWS);
-            return SP_E_INPUT;
+            ret = SP_E_INPUT;
+            goto done;
         }
         const double t_sc = o.every > 0 || o.poincare
                            ? sc->video.duration
                            : sp_scene_frame_time(sc, sp_scene_frame_count(sc) - 1);
         if ((ret = sp_cli_check_work(&o, sc, t_sc, 0)) != 0)
-            return ret;
+            goto done;
         t_end = fmax(t_end, t_sc);
     }
     int to_stdout = !strcmp(out, "-");
@@ -398,5 +403,7 @@ done:
         sp_dirs_remove_empty(&dirs);
     }
     sp_dirs_keep(&dirs);
+    for (int i = 0; i < o.n_scenes; i++)
+        sp_scene_free(&scenes[i]);
     return ret;
 }

@@ -389,12 +389,12 @@ static int run(int argc, char **argv, int still)
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
         .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
         .recorded = pd.pt_px > 0 ? &recorded : NULL});
-    for (int i = 0; i < o.n_scenes; i++)
-        sp_scene_free(&sp[i]);
     /* Both files or neither (a device or stdout is never removed). */
     if (!ret && o.state && (ret = write_state(o.state, &scenes[0], &state)) != 0 &&
         !sp_outfile_is_stream(out))
         remove(out);
+    for (int i = 0; i < o.n_scenes; i++)
+        sp_scene_free(&sp[i]);
     /* An interrupted render keeps the frames so far, when there were any. */
     int kept = ret == SP_E_INTERRUPTED && !still && strcmp(out, "-") && access(out, F_OK) == 0;
     if ((!ret || kept) && !o.quiet)

@@ -24,6 +24,8 @@
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
+#include "springpend/timeline.h"
+#include "command_line.h"
 #include "sweep.h"
 #include "sweep_format.h"
 
@@ -604,9 +606,11 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
     if (!ret && o->output) {
         struct sp_plot_style style = o->style; /* with the scene, as the CSV's dc:source */
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
-        style.scene_file = ini;
+        char *command = sp_command_line_unnamed();
+        style.scene_file = ini, style.command = command;
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
         free(ini);
+        free(command);
     }
     if (!ret && !o->quiet)
         sp_sweep_print_legend(fp, stderr); /* a basin map's attractors */
@@ -937,6 +941,67 @@ static int merge(const struct sweep_opts *o)
     return ret;
 }
 
+/* Runs the sweep of the scene sp_cmd_sweep loaded (it frees the scene). */
+static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_scene *scene)
+{
+    int ret;
+    o->style.view = &scene->view; /* the figure's look */
+    o->style.title_set = scene->view.title[0] != 0;
+    for (int i = 0; i < o->n_overrides; i++)
+        o->style.title_set |= !strncmp(o->overrides[i], "view.title=", 11);
+    if ((ret = sp_sweep_check(d, scene, o->energy_given)))
+        return ret;
+    long total = sp_sweep_points(d), first = 0, last = total;
+    int si = 0, sn = 0;
+    if (o->shard) {
+        if (sp_cli_shard(o->shard, total, "the grid's points", &si, &sn))
+            return SP_E_INPUT;
+        first = total * (si - 1) / sn;
+        last = total * si / sn;
+    }
+    if ((ret = check_work(d, scene, last - first, o->quiet)))
+        return ret;
+    FILE *fp;
+    struct sp_dirs made[2] = {{0}, {0}};
+    if ((ret = open_rows(&fp)))
+        return ret;
+    static char buf[1 << 16];
+    setvbuf(fp, buf, _IOFBF, sizeof(buf));
+    ret = sp_sweep_write_header(fp, d, NULL);
+    long blown = 0, unreachable = 0;
+    struct progress prog = {.t0 = now_s()};
+    double t0 = now_s();
+    if (!ret)
+        ret = sp_sweep_run(d, scene, first, last, o->threads, fp, &blown, &unreachable,
+                           !o->quiet && isatty(2) ? show_progress : NULL, &prog);
+    if (!ret && !o->shard && unreachable == last - first) { /* an empty figure */
+        sp_log_error("--energy %g: no point of the grid can have this energy; nothing "
+                     "written (omit --energy for the scene's own)", d->energy);
+        ret = SP_E_INPUT;
+    }
+    char shard[32];
+    snprintf(shard, sizeof(shard), "%d/%d", si, sn);
+    const struct provenance pv = {.d = d, .scene = scene, .overrides = o->overrides,
+                                  .n_overrides = o->n_overrides, .shard = o->shard ? shard : NULL};
+    ret = finish(fp, o, ret, &pv, made);
+    if (ret == SP_E_INTERRUPTED)
+        sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
+                     "say which part)");
+    if (ret)
+        return ret;
+    if (blown)
+        sp_log_error("%ld of %ld points blew up (NaN in the %s); the rest are drawn", blown,
+                     last - first, o->output ? "figure" : "CSV");
+    if (unreachable)
+        sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
+                     last - first, d->energy);
+    if (!o->quiet)
+        fprintf(stderr, "wrote %s%s%s: %ld points in %.2f s\n",
+                o->output ? o->output : o->csv ? "" : "stdout", o->output && o->csv ? " and " : "",
+                o->csv ? o->csv : "", last - first, now_s() - t0);
+    return 0;
+}
+
 int sp_cmd_sweep(int argc, char **argv)
 {
     struct sweep_opts o;
@@ -952,60 +1017,8 @@ int sp_cmd_sweep(int argc, char **argv)
     sp_scene_defaults(&scene);
     if ((ret = check_used(&o)) || (ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
-    o.style.view = &scene.view; /* the figure's look */
-    o.style.title_set = scene.view.title[0] != 0;
-    for (int i = 0; i < o.n_overrides; i++)
-        o.style.title_set |= !strncmp(o.overrides[i], "view.title=", 11);
-    sp_scene_free(&scene); /* the [timeline] is presentation: sweeps ignore it */
-    if ((ret = sp_sweep_check(&d, &scene, o.energy_given)))
-        return ret;
-    long total = sp_sweep_points(&d), first = 0, last = total;
-    int si = 0, sn = 0;
-    if (o.shard) {
-        if (sp_cli_shard(o.shard, total, "the grid's points", &si, &sn))
-            return SP_E_INPUT;
-        first = total * (si - 1) / sn;
-        last = total * si / sn;
-    }
-    if ((ret = check_work(&d, &scene, last - first, o.quiet)))
-        return ret;
-    FILE *fp;
-    struct sp_dirs made[2] = {{0}, {0}};
-    if ((ret = open_rows(&fp)))
-        return ret;
-    static char buf[1 << 16];
-    setvbuf(fp, buf, _IOFBF, sizeof(buf));
-    ret = sp_sweep_write_header(fp, &d, NULL);
-    long blown = 0, unreachable = 0;
-    struct progress prog = {.t0 = now_s()};
-    double t0 = now_s();
-    if (!ret)
-        ret = sp_sweep_run(&d, &scene, first, last, o.threads, fp, &blown, &unreachable,
-                           !o.quiet && isatty(2) ? show_progress : NULL, &prog);
-    if (!ret && !o.shard && unreachable == last - first) { /* an empty figure */
-        sp_log_error("--energy %g: no point of the grid can have this energy; nothing "
-                     "written (omit --energy for the scene's own)", d.energy);
-        ret = SP_E_INPUT;
-    }
-    char shard[32];
-    snprintf(shard, sizeof(shard), "%d/%d", si, sn);
-    const struct provenance pv = {.d = &d, .scene = &scene, .overrides = o.overrides,
-                                  .n_overrides = o.n_overrides, .shard = o.shard ? shard : NULL};
-    ret = finish(fp, &o, ret, &pv, made);
-    if (ret == SP_E_INTERRUPTED)
-        sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
-                     "say which part)");
-    if (ret)
-        return ret;
-    if (blown)
-        sp_log_error("%ld of %ld points blew up (NaN in the %s); the rest are drawn", blown,
-                     last - first, o.output ? "figure" : "CSV");
-    if (unreachable)
-        sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
-                     last - first, d.energy);
-    if (!o.quiet)
-        fprintf(stderr, "wrote %s%s%s: %ld points in %.2f s\n",
-                o.output ? o.output : o.csv ? "" : "stdout", o.output && o.csv ? " and " : "",
-                o.csv ? o.csv : "", last - first, now_s() - t0);
-    return 0;
+    sp_timeline_destroy(&scene.timeline); /* the [timeline] is presentation: sweeps ignore it */
+    ret = sweep_scene(&o, &d, &scene);
+    sp_scene_free(&scene);
+    return ret;
 }

@@ -33,8 +33,11 @@ struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
 
 void sp_compare_report_free(struct sp_compare_report *rep)
 {
-    for (int i = 0; i < rep->n; i++)
+    for (int i = 0; i < rep->n; i++) {
         free(rep->records[i].before);
+        free(rep->records[i].environment[0]);
+        free(rep->records[i].environment[1]);
+    }
     free(rep->records);
     memset(rep, 0, sizeof(*rep));
 }
@@ -389,7 +392,11 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     fputs(", \"notes\": [", fp);
     for (int k = 0; k < r->n_notes; k++)
         fputs(k ? ", " : "", fp), sp_report_json_string(fp, r->notes[k]);
-    fputs("], \"scene_changes\": [", fp);
+    fputs("], \"environment\": {\"expected\": ", fp);
+    json_maybe(fp, r->environment[0] ? r->environment[0] : "");
+    fputs(", \"actual\": ", fp);
+    json_maybe(fp, r->environment[1] ? r->environment[1] : "");
+    fputs("}, \"scene_changes\": [", fp);
     for (int k = 0; k < r->n_changes; k++) {
         fputs(k ? ", " : "", fp);
         fputs("{\"key\": ", fp), sp_report_json_string(fp, r->changes[k].key);
@@ -796,9 +803,83 @@ static int html_image(FILE *fp, const char *cls, const char *path, int is_png,
     return 0;
 }
 
+#define HTML_MAX_ENVIRONMENTS 64
+
+/* The distinct springpend.environment texts of rep's images, in the order
+ * first met (expected before actual), at most HTML_MAX_ENVIRONMENTS, into
+ * envs; returns how many. */
+static int distinct_environments(const struct sp_compare_report *rep, const char **envs)
+{
+    int n = 0;
+    for (int i = 0; i < rep->n; i++)
+        for (int k = 0; k < 2; k++) {
+            const char *e = rep->records[i].environment[k];
+            int j = 0;
+            while (e && j < n && strcmp(envs[j], e))
+                j++;
+            if (e && j == n && n < HTML_MAX_ENVIRONMENTS)
+                envs[n++] = e;
+        }
+    return n;
+}
+
+/* 1 + e's index among envs, 0 when e is NULL or not listed. */
+static int environment_number(const char *const *envs, int n, const char *e)
+{
+    for (int j = 0; e && j < n; j++)
+        if (!strcmp(envs[j], e))
+            return j + 1;
+    return 0;
+}
+
+/* The page's list of environments: each text whole, with how many expected
+ * and actual images record it; rows link to them (#env-N). */
+static void html_environments(FILE *fp, const struct sp_compare_report *rep,
+                              const char *const *envs, int n)
+{
+    fputs("<h2 id=\"environments\">Environments</h2>\n<p>What each image records in its "
+          "<code>springpend.environment</code> chunk (what <code>springpend version "
+          "--verbose</code> printed where it was made), whole", fp);
+    if (!n) {
+        fputs(": no image records one.</p>\n", fp);
+        return;
+    }
+    fputs(":</p>\n", fp);
+    for (int j = 0; j < n; j++) {
+        int in[2] = {0, 0};
+        for (int i = 0; i < rep->n; i++)
+            for (int k = 0; k < 2; k++)
+                in[k] += environment_number(envs, n, rep->records[i].environment[k]) == j + 1;
+        fprintf(fp, "<div class=\"env\" id=\"env-%d\"><h3>E%d: %d expected image%s, %d actual "
+                "image%s</h3><pre>", j + 1, j + 1, in[0], in[0] == 1 ? "" : "s", in[1],
+                in[1] == 1 ? "" : "s");
+        xml_string(fp, envs[j], XML_PLAIN);
+        fputs("</pre></div>\n", fp);
+    }
+}
+
+/* A row's "made in: expected E1, actual E2". */
+static void html_made_in(FILE *fp, const struct sp_compare_record *r, const char *const *envs,
+                         int n)
+{
+    static const char *const side[] = {"expected", "actual"};
+    fputs("<div class=\"made\">made in:", fp);
+    for (int k = 0; k < 2; k++) {
+        const int e = environment_number(envs, n, r->environment[k]);
+        if (e)
+            fprintf(fp, "%s %s <a href=\"#env-%d\">E%d</a>", k ? "," : "", side[k], e, e);
+        else
+            fprintf(fp, "%s %s %s", k ? "," : "", side[k],
+                    r->environment[k] ? "(not listed)" : "(not recorded)");
+    }
+    fputs("</div>", fp);
+}
+
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
 {
     char line[4096];
+    const char *envs[HTML_MAX_ENVIRONMENTS];
+    const int n_envs = distinct_environments(rep, envs);
     fputs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
           "<title>springpend compare</title>\n<style>\n"
           "body{font:14px/1.4 sans-serif;margin:1em;background:#fafafa;color:#222}\n"
@@ -814,6 +895,7 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
           ".v-fail{background:#fde0e0}.v-error{background:#fff0c0}.v-pass{background:#e4f6e4}\n"
           ".update,.replaced{font-weight:bold;color:#a04000}\n"
           ".v-not-compared{background:#e8e8e8}#interrupted{font-weight:bold;color:#a00}\n"
+          ".env pre{background:#fff;border:1px solid #ccc;padding:6px;margin:0 0 1em}.made{margin-top:4px}\n"
           ".verdict{font-weight:bold;text-transform:uppercase}.figures{width:18em;min-width:16em;font-size:12px;word-break:break-word}.none{color:#999}\n"
           "</style></head><body>\n<h1>springpend compare</h1>\n"
           "<p id=\"zoom\">images at <button type=\"button\" data-z=\"1\" class=\"on\">1&times;"
@@ -865,6 +947,7 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
             xml_string(fp, line, XML_PLAIN);
             if (r->hint[0])
                 fputs("<br>", fp), xml_string(fp, r->hint, XML_PLAIN);
+            html_made_in(fp, r, envs, n_envs);
             fputs("</td>", fp);
             /* Identical pixels: the image once, not twice. */
             int same = r->exact && !r->before;
@@ -893,6 +976,7 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
      * #flip in the URL flips every row once, for a quick look. A row whose
      * image was not embedded has no flip. */
     fputs("</table>\n", fp);
+    html_environments(fp, rep, envs, n_envs); /* below: the images come first */
     if (hidden)
         fprintf(fp, "<p id=\"hidden\">%d passing image%s not shown "
                 "(--report-failures-only)</p>\n", hidden, hidden == 1 ? "" : "s");

@@ -272,43 +272,63 @@ static const char *line_of(const char *wrapped, int i)
     return wrapped;
 }
 
+/* "WHERE: [view] KEY" for a text's messages (without WHERE when it is "":
+ * the default, or side by side's cell label). */
+static void text_label(char *buf, size_t size, const char *where, const char *key)
+{
+    if (!strncmp(where, "--set ", 6)) /* "--set view.title" says it all */
+        snprintf(buf, size, "%s", where);
+    else
+        snprintf(buf, size, "%s%s[view] %s", where, where[0] ? ": " : "", key);
+}
+
 /* Wraps the title and caption to the frame's width and checks that every
  * character has a font and that the bands leave the picture at least half
- * the frame. 0, SP_E_INPUT (said) or SP_E_NOMEM. */
+ * the frame: there is no other limit on their length. Each refusal names
+ * where the text was set (FILE:LINE or --set) and the limit. 0, SP_E_INPUT
+ * (said) or SP_E_NOMEM. */
 static int wrap_texts(struct sp_composer *r)
 {
     const struct sp_font *f = r->font;
     const float width = r->width - 2 * roundf(0.015f * r->unit); /* layout.c's bands */
     const struct sp_view *v = &r->look.view;
+    char title[4200], caption[4200];
+    if (r->look.title_what) /* what the title is when no [view] title set it */
+        snprintf(title, sizeof(title), "%s", r->look.title_what);
+    else
+        text_label(title, sizeof(title), v->title_where, "title");
+    text_label(caption, sizeof(caption), v->caption_where, "caption");
     int err = 0;
-    const char *what = r->look.title_what ? r->look.title_what : "[view] title";
-    if (v->title[0] && !(err = sp_font_check(f, what, v->title)))
+    if (v->title[0] && !(err = sp_font_check(f, title, v->title)))
         err = wrap(f, SP_TEXT_TITLE, v->title, width, &r->title, &r->title_lines);
-    if (!err && v->caption[0] && !(err = sp_font_check(f, "[view] caption", v->caption)))
+    if (!err && v->caption[0] && !(err = sp_font_check(f, caption, v->caption)))
         err = wrap(f, SP_TEXT_NORMAL, v->caption, width, &r->caption, &r->caption_lines);
     if (err)
         return err;
     for (int i = 0; i < r->title_lines; i++)
         if (sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i)) > width) {
             sp_log_error("%s: \"%s\" is %d px wide, wider than the frame's %.0f px for "
-                         "text; use a smaller font_size or font_scale, or a wider frame", what,
+                         "text; use a smaller font_size or font_scale, or a wider frame", title,
                          line_of(r->title, i), sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i)), width);
             return SP_E_INPUT;
         }
     for (int i = 0; i < r->caption_lines; i++)
         if (sp_font_width(f, SP_TEXT_NORMAL, line_of(r->caption, i)) > width) {
-            sp_log_error("[view] caption: \"%s\" is %d px wide, wider than the frame's %.0f px "
-                         "for text; use a smaller font_size or font_scale, or a wider frame",
+            sp_log_error("%s: \"%s\" is %d px wide, wider than the frame's %.0f px "
+                         "for text; use a smaller font_size or font_scale, or a wider frame", caption,
                          line_of(r->caption, i), sp_font_width(f, SP_TEXT_NORMAL, line_of(r->caption, i)), width);
             return SP_E_INPUT;
         }
     const int text_h = r->title_lines * sp_font_line(f, SP_TEXT_TITLE) +
                        r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL);
     if (text_h > r->height / 2) {
-        sp_log_error("%s and [view] caption wrap to %d + %d lines, %d px of the frame's %d: "
-                     "they cannot fit (at most half the height is theirs); shorten them, use a "
-                     "smaller font_size or font_scale, or a larger frame", what,
-                     r->title_lines, r->caption_lines, text_h, r->height);
+        /* both named when both are set: either may be the one to shorten */
+        sp_log_error("%s%s%s: the title and caption cannot fit: they wrap to %d + %d lines at %.0f px wide, "
+                     "%d px of the frame's %d; allowed: at most half the height (%d px); "
+                     "shorten them, use a smaller font_size or font_scale, or a larger frame",
+                     v->title[0] ? title : "", v->title[0] && v->caption[0] ? " and " : "",
+                     v->caption[0] ? caption : "", r->title_lines, r->caption_lines, width,
+                     text_h, r->height, r->height / 2);
         return SP_E_INPUT;
     }
     return 0;
@@ -339,20 +359,22 @@ static int check_band(struct sp_composer *r)
             return SP_E_NOMEM;
         free(lines);
         /* a word wider than the band (wrap would break it between characters) */
-        char word[SP_VIEW_TEXT_BYTES];
         for (const char *t = text; *t && !wide; t += strspn(t, " ")) {
             const size_t len = strcspn(t, " ");
-            snprintf(word, sizeof(word), "%.*s", (int)len, t);
+            char *word = strndup(t, len);
+            if (!word)
+                return SP_E_NOMEM;
             wide = sp_font_width(r->font, SP_TEXT_NORMAL, word) > w;
+            free(word);
             t += len;
         }
         if (n <= CAPTION_LINES && !wide) {
             r->band_lines = n > r->band_lines ? n : r->band_lines;
             continue;
         }
-        char where[300];
+        char where[4200];
         if (i < 0)
-            snprintf(where, sizeof(where), "%s: view.caption", tl->origin);
+            text_label(where, sizeof(where), r->look.view.caption_where, "caption");
         else
             snprintf(where, sizeof(where), "%s:%d: [timeline] %s", tl->origin, tl->cues[i].line,
                      tl->cues[i].kind == SP_CUE_CAPTION ? "caption" : "pause note");

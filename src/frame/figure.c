@@ -56,7 +56,7 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
             .canvas = cv, .font = sp_compose_cells_font(c), .width = d->width,
             .height = d->height, .page_w = d->page_w, .page_h = d->page_h, .fd = out.fd,
             .path = d->path, .format = format,
-            .title = d->title, .scene_file = d->scene_file};
+            .title = d->title, .scene_file = d->scene_file, .command = d->command};
         memcpy(dd.background, sp_compose_cells_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }
@@ -191,6 +191,12 @@ static int pdf_scene(const char *b, size_t len, char *text, size_t size)
     if (strncmp(text, SP_FIGURE_SCENE_MARK, mark))
         return 0; /* a subject, not springpend's scene */
     memmove(text, text + mark, w - mark + 1);
+    if (!strncmp(text, SP_FIGURE_COMMAND_MARK, strlen(SP_FIGURE_COMMAND_MARK))) {
+        const char *nl = strchr(text, '\n'); /* the command: not part of the scene */
+        if (!nl)
+            return -1;
+        memmove(text, nl + 1, strlen(nl + 1) + 1);
+    }
     return 1;
 }
 

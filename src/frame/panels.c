@@ -420,8 +420,13 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     /* in a very narrow panel the y name gives way to the short title */
     const int name_fits = fits || sp_font_width(f, SP_TEXT_SMALL, bar ? bar + 1 : full) +
                                   sp_font_width(f, SP_TEXT_SMALL, ylabel) + 3 * pad <= r->x1 - r->x0;
+    /* a labelled figure keeps every panel's title in body type, (a) as (c):
+     * the short form there when the long one does not fit */
+    const int body = fits || (st->labels && bar &&
+                              sp_font_width(f, SP_TEXT_NORMAL, bar + 1) +
+                              sp_font_width(f, SP_TEXT_SMALL, ylabel) + 3 * pad <= r->x1 - r->x0);
     p->title_end = r->x0 + pad +
-        sp_canvas_text(c, fits ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
+        sp_canvas_text(c, body ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
                        SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
     const float leg_x = leg_row ? r->x0 + pad : p->title_end + pad;
     const float leg_y = r->y0 + pad + cap_n + (leg_row ? line_s : 0);

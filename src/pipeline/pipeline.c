@@ -22,6 +22,7 @@
 #include "springpend/render.h"
 #include "springpend/sink.h"
 #include "springpend/timeline.h"
+#include "command_line.h"
 #include "signals.h"
 #include "sim_report.h"
 
@@ -362,7 +363,7 @@ static void cell_looks(struct run *run)
         if (!label[0])
             snprintf(label, SP_VIEW_TEXT_BYTES, "%s", all[i]->name);
         if (!run->looks[i].view.title[0]) {
-            snprintf(run->looks[i].view.title, sizeof(run->looks[i].view.title), "%s", label);
+            run->looks[i].view.title = label; /* run->labels: lives as long as the looks */
             snprintf(run->label_what[i], sizeof(run->label_what[i]),
                      "%s: the side-by-side cell's automatic label (the keys its scene changes; "
                      "[view] title sets another)", all[i]->name);
@@ -538,13 +539,16 @@ static int run_figure(struct run *run)
         return ret;
     /* provenance, as a PNG's (NULL: none) */
     char *ini = sp_scene_ini(run->desc->recorded ? run->desc->recorded : run->sc);
+    char *command = sp_command_line_unnamed();
     ret = sp_figure_write(&(struct sp_figure_desc){
         .width = run->w, .height = run->h, .extent = run->extent, .look = &run->looks[0],
         .page_w = run->desc->pt_px > 0 ? run->desc->page_w : 0,
         .page_h = run->desc->pt_px > 0 ? run->desc->page_h : 0,
         .title = run->sc->name, .path = run->desc->output, .cells = 1 + run->n_more,
-        .looks = run->looks, .scene_file = ini}, frames_of(run, run->desc->still_at, frames));
+        .looks = run->looks, .scene_file = ini, .command = command},
+        frames_of(run, run->desc->still_at, frames));
     free(ini);
+    free(command);
     if (!ret && run->desc->state_out)
         *run->desc->state_out = run->sim.s;
     return ret;

@@ -58,36 +58,50 @@ int sp_cairo_pdf_date(cairo_surface_t *pdf)
     return 0;
 }
 
-void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file)
+void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file, const char *command)
 {
     if (!scene_file || !scene_file[0])
         return;
-    const size_t n = strlen(SP_FIGURE_SCENE_MARK) + strlen(scene_file) + 1;
+    const size_t n = strlen(SP_FIGURE_SCENE_MARK) + strlen(SP_FIGURE_COMMAND_MARK) +
+                     (command ? strlen(command) + 1 : 0) + strlen(scene_file) + 1;
     char *text = malloc(n);
     if (!text)
         return; /* the figure without its scene rather than none */
-    snprintf(text, n, "%s%s", SP_FIGURE_SCENE_MARK, scene_file);
+    snprintf(text, n, "%s%s%s%s%s", SP_FIGURE_SCENE_MARK, command ? SP_FIGURE_COMMAND_MARK : "",
+             command ? command : "", command ? "\n" : "", scene_file);
     cairo_pdf_surface_set_metadata(pdf, CAIRO_PDF_METADATA_SUBJECT, text);
     free(text);
 }
 
-char *sp_cairo_svg_metadata(const char *scene_file)
+/* Writes text XML-escaped at w; returns the bytes written. */
+static size_t xml_text(char *w, const char *text)
+{
+    char *at = w;
+    for (const char *c = text; *c; c++)
+        at += *c == '&' ? sprintf(at, "&amp;") : *c == '<' ? sprintf(at, "&lt;")
+              : *c == '>' ? sprintf(at, "&gt;") : (*at = *c, 1);
+    *at = 0;
+    return (size_t)(at - w);
+}
+
+char *sp_cairo_svg_metadata(const char *scene_file, const char *command)
 {
     static const char head[] = "<metadata id=\"springpend.version\">springpend " SP_VERSION
-                               "</metadata>\n<metadata id=\"" SP_FIGURE_SCENE_ID "\">";
+                               "</metadata>\n<metadata id=\"springpend.command\">";
+    static const char mid[] = "</metadata>\n<metadata id=\"" SP_FIGURE_SCENE_ID "\">";
     static const char tail[] = "</metadata>\n";
     if (!scene_file)
         return NULL;
-    const size_t len = strlen(scene_file);
-    char *out = malloc(sizeof(head) + 6 * len + sizeof(tail)), *w = out;
+    const size_t len = strlen(scene_file) + (command ? strlen(command) : 0);
+    char *out = malloc(sizeof(head) + sizeof(mid) + 5 * len + sizeof(tail)), *w = out;
     if (!out) {
         sp_log_error("out of memory for the SVG's metadata");
         return NULL;
     }
     w += sprintf(w, "%s", head);
-    for (const char *c = scene_file; *c; c++) /* XML's text escapes */
-        w += *c == '&' ? sprintf(w, "&amp;") : *c == '<' ? sprintf(w, "&lt;")
-             : *c == '>' ? sprintf(w, "&gt;") : (*w = *c, 1);
+    w += xml_text(w, command ? command : "");
+    w += sprintf(w, "%s", mid);
+    w += xml_text(w, scene_file);
     sprintf(w, "%s", tail);
     return out;
 }

@@ -29,13 +29,16 @@ cairo_status_t sp_cairo_fd_write(void *closure, const unsigned char *data, unsig
 int sp_cairo_pdf_date(cairo_surface_t *pdf);
 
 /* Provenance in a figure, which `springpend scene` reads back
- * (sp_figure_read_scene): a PDF's /Subject holds the scene file text after
- * the line SP_FIGURE_SCENE_MARK; an SVG holds it, XML-escaped, in
- * <metadata id="springpend.scene-file">, with springpend's version in
- * <metadata id="springpend.version">. scene_file NULL or "": nothing. */
-void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file);
+ * (sp_figure_read_scene): a PDF's /Subject holds the line
+ * SP_FIGURE_SCENE_MARK, then "# command: COMMAND" (when command is not
+ * NULL), then the scene file text; an SVG holds them, XML-escaped, in
+ * <metadata id="springpend.scene-file"> and <metadata id="springpend.command">,
+ * with springpend's version in <metadata id="springpend.version">.
+ * command: the command line without the output's name
+ * (sp_command_line_text_unnamed). scene_file NULL or "": nothing. */
+void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file, const char *command);
 /* The SVG's metadata elements for sink.svg_metadata, malloc'd (free it);
  * NULL when out of memory (logged) or scene_file is NULL. */
-char *sp_cairo_svg_metadata(const char *scene_file);
+char *sp_cairo_svg_metadata(const char *scene_file, const char *command);
 
 #endif

@@ -253,7 +253,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     cairo_t *cr;
     int err = 0;
 
-    char *svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file) : NULL;
+    char *svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file, d->command) : NULL;
     struct sp_cairo_fd sink = {.fd = d->fd, .svg_metadata = svg_meta}; /* every write checked */
     const int paper = d->page_w > 0 && d->page_h > 0;
     const double pw = paper ? d->page_w : d->width, ph = paper ? d->page_h : d->height;
@@ -274,7 +274,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
             cairo_surface_destroy(surface);
             return SP_E_INPUT;
         }
-        sp_cairo_pdf_scene(surface, d->scene_file);
+        sp_cairo_pdf_scene(surface, d->scene_file, d->command);
         size_t n = 0, len = d->title ? strlen(d->title) : 0;
         while (n < len && sp_utf8_char(d->title + n))
             n += sp_utf8_char(d->title + n);

@@ -26,6 +26,7 @@ struct sp_draw_cairo_desc {
     const char *title;          /* document title (PDF metadata); NULL = none */
     const char *scene_file;     /* provenance (cairo_fd.h): PDF /Subject, SVG
                                    <metadata>; NULL = none */
+    const char *command;        /* provenance: the command without its -o; NULL = none */
 };
 
 /* Writes the list. 0, or SP_E_IO / SP_E_NOMEM with cairo's reason logged. */

@@ -35,7 +35,8 @@ enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_PANELS,  /* a list of panel names, unsigned SP_PANEL_* bits */
                 KEY_COLOR,   /* #rrggbb, "theme" or "transparent", int */
                 KEY_TRAIL,   /* frames, "5s" (SP_TRAIL_DURATION) or "all" (SP_TRAIL_ALL), int */
-                KEY_TEXT,    /* UTF-8 text, char[SP_VIEW_TEXT_BYTES] */
+                KEY_TEXT,    /* UTF-8 text: char[SP_VIEW_TEXT_BYTES], or for title and
+                                caption a heap string (long_text_slot) */
                 KEY_CAMERA }; /* auto, front or "AZIMUTH ELEVATION [DISTANCE]":
                                  view.camera (int) and its three numbers */
 
@@ -139,6 +140,22 @@ static const struct key_info keys[] = {
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
 
+/* The text keys with no byte limit, view.title and view.caption: the index
+ * of struct sp_scene's texts that holds k's text, or -1 for the others
+ * (char arrays of SP_VIEW_TEXT_BYTES). */
+static int long_text_slot(const struct key_info *k)
+{
+    return k->offset == offsetof(struct sp_scene, view.title)     ? 0
+           : k->offset == offsetof(struct sp_scene, view.caption) ? 1 : -1;
+}
+
+/* A text key's value in s. */
+static const char *text_of(const struct sp_scene *s, const struct key_info *k)
+{
+    const char *p = (const char *)s + k->offset;
+    return long_text_slot(k) >= 0 ? *(const char *const *)p : p;
+}
+
 static const char *const method_names[] = {"rk4",    "verlet", "yoshida4",
                                            "dopri5", "dop853", "rkn1210"};
 #define N_METHODS ((int)(sizeof(method_names) / sizeof(method_names[0])))
@@ -155,15 +172,17 @@ const char *sp_scene_preset_name(const struct sp_scene *s)
                ? preset_names[s->video.preset] : NULL;
 }
 
-/* A text line (view.title, view.caption) is read by read_line, not by
- * inih, so that nothing of the text is cut silently: inih would end the
- * value at ' #' or ' ;' (an inline comment). Text in double quotes is taken
- * whole, quotes removed, and may be followed by a comment; text without
- * quotes that holds ' #' or ' ;' is refused (was it a comment or text?).
- * Its length is held to the text rule (SP_VIEW_TEXT_BYTES), the same for a
- * scene line as for --set, not to inih's line buffer. A line longer than
- * TEXT_LINE_BYTES cannot hold an allowed value (name, '=', quotes, blanks
- * and a short comment fit in the rest). */
+/* A text line (view.title, view.caption, view.font, a [timeline] cue) is
+ * read by read_line, not by inih, so that nothing of the text is cut
+ * silently: inih would end the value at ' #' or ' ;' (an inline comment)
+ * and its line buffer is short. Text in double quotes is taken whole,
+ * quotes removed, and may be followed by a comment; text without quotes
+ * that holds ' #' or ' ;' is refused (was it a comment or text?). The line
+ * is read from the scene's text in memory, whatever its length: title and
+ * caption have no byte limit (the frame is theirs: the composer refuses
+ * text that cannot fit), view.font holds SP_VIEW_TEXT_BYTES - 1, the same
+ * for a scene line as for --set. Other lines longer than
+ * TEXT_LINE_BYTES are refused. */
 #define TEXT_LINE_BYTES (SP_VIEW_TEXT_BYTES + 256)
 #define TEXT_MARK "\x02" /* the value inih sees for a text key: take text_value */
 
@@ -177,7 +196,8 @@ struct parse_ctx {
     int line_handled;     /* inih called the handler for it */
     int key_line[N_KEYS]; /* where each key was set, 0 = not set */
     int errors;
-    char text_value[TEXT_LINE_BYTES]; /* a text key's or cue's whole value (read_line) */
+    char *text_value;     /* a text key's or cue's whole value (read_line), heap */
+    size_t text_room;     /* bytes text_value holds */
     int in_timeline;      /* read_line is in the [timeline] section */
 };
 
@@ -499,7 +519,8 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         size_t n = strlen(value);
         if (n >= 2 && value[0] == '"' && value[n - 1] == '"') /* optional quotes */
             value++, n -= 2;
-        if (n >= SP_VIEW_TEXT_BYTES) {
+        const int slot = long_text_slot(k);
+        if (slot < 0 && n >= SP_VIEW_TEXT_BYTES) {
             report(c, line, "%s.%s is %zu bytes long; at most %d are allowed", k->section,
                    k->name, n, SP_VIEW_TEXT_BYTES - 1);
             return 1;
@@ -513,6 +534,30 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
                 return 1;
             }
             i += (size_t)len;
+        }
+        if (slot >= 0) { /* the scene's own heap copy, after where it was set; the
+                            one it replaces is freed */
+            char *where = NULL, *copy = NULL;
+            const int wn = line > 0 ? asprintf(&where, "%s:%d", c->origin, line)
+                                    : asprintf(&where, "--set %s.%s", k->section, k->name);
+            if (n && wn >= 0 && (copy = malloc((size_t)wn + 1 + n + 1))) {
+                memcpy(copy, where, (size_t)wn + 1);
+                memcpy(copy + wn + 1, value, n);
+                copy[wn + 1 + n] = 0;
+            }
+            free(wn >= 0 ? where : NULL);
+            if (n && !copy) {
+                report(c, line, "%s.%s: out of memory for %zu bytes of text", k->section,
+                       k->name, n);
+                return 1;
+            }
+            free(c->scene->texts[slot]);
+            c->scene->texts[slot] = copy;
+            const char **text = (const char **)p, **at = slot ? &c->scene->view.caption_where
+                                                               : &c->scene->view.title_where;
+            *text = copy ? copy + wn + 1 : "";
+            *at = copy ? copy : "";
+            return 1;
         }
         memcpy(p, value, n);
         p[n] = 0;
@@ -682,9 +727,27 @@ static const struct key_info *text_key_line(const char *line, const char **value
     return NULL;
 }
 
-/* Keeps the text of a text line whose value starts at `value` in
- * c->text_value (see TEXT_LINE_BYTES). Returns 0, or -1 when it reported
- * the value. */
+/* Keeps the n bytes at value in c->text_value, NUL-terminated, growing it.
+ * Returns 0, or -1 when it reported that memory ran out. */
+static int keep_text(struct parse_ctx *c, const char *value, size_t n)
+{
+    if (n + 1 > c->text_room) {
+        char *grown = realloc(c->text_value, n + 1);
+        if (!grown) {
+            report(c, c->line, "out of memory for a text of %zu bytes", n);
+            return -1;
+        }
+        c->text_value = grown;
+        c->text_room = n + 1;
+    }
+    memcpy(c->text_value, value, n);
+    c->text_value[n] = 0;
+    return 0;
+}
+
+/* Keeps the text of a text line whose value starts at `value` (and runs to
+ * the line's end) in c->text_value. Returns 0, or -1 when it reported the
+ * value. */
 static int text_value(struct parse_ctx *c, const struct key_info *k, const char *value)
 {
     size_t n, at;
@@ -702,14 +765,14 @@ static int text_value(struct parse_ctx *c, const struct key_info *k, const char 
     default:
         break;
     }
-    snprintf(c->text_value, sizeof(c->text_value), "%.*s", (int)n, value);
-    return 0;
+    return keep_text(c, value, n);
 }
 
 /* inih's fgets-like reader over the in-memory text. It counts lines, and
  * turns lines inih must not see (too long, NUL bytes) into comments after
  * reporting them. A text key's value it keeps whole in c->text_value and
- * hands inih "name = TEXT_MARK" in its place. */
+ * hands inih "name = TEXT_MARK" in its place: such a line is read from the
+ * text itself, so it may be of any length. */
 static char *read_line(char *str, int num, void *stream)
 {
     struct parse_ctx *c = stream;
@@ -723,28 +786,33 @@ static char *read_line(char *str, int num, void *stream)
         return NULL;
     c->cursor = l.cursor, c->line = l.line;
     c->line_handled = 0;
-    const char *q = raw + strspn(raw, " \t");
+    /* the whole line: raw, or the text itself when raw could not hold it
+     * (what follows is read only up to the line's CR or LF) */
+    const char *whole = len ? start : raw;
+    const char *q = whole + strspn(whole, " \t");
     if (!len && *q == '[') /* which section: inih does not say while reading */
         c->in_timeline = !strncmp(q, "[timeline]", 10);
-    if (!len && c->in_timeline && *q && *q != '#' && *q != ';' && q[strcspn(q, "=:\r\n")] &&
+    if (c->in_timeline && *q && *q != '#' && *q != ';' && q[strcspn(q, "=:\r\n")] &&
         strchr("=:", q[strcspn(q, "=:\r\n")])) {
         /* a cue: its value whole, comments and quotes are timeline.c's to read
          * by the text rule (sp_ini_text) */
         const size_t k = strcspn(q, "=:");
+        c->line_has_content = 1;
         if (k > 64) { /* a time that long was cut at 64 bytes: another time */
             report(c, c->line, "[timeline] time '%.20s...' is %zu bytes long; at most 64 "
                    "are allowed", q, k);
-            c->line_has_content = c->line_handled = 1;
+            c->line_handled = 1;
             snprintf(str, (size_t)num, "#\n");
             return str;
         }
         value = q + k + 1 + strspn(q + k + 1, " \t");
-        snprintf(c->text_value, sizeof(c->text_value), "%.*s", (int)strcspn(value, "\r\n"), value);
-        snprintf(str, (size_t)num, "%.*s= " TEXT_MARK "\n", (int)k, q);
-        c->line_has_content = 1;
+        if (keep_text(c, value, strcspn(value, "\r\n")))
+            c->line_handled = 1, snprintf(str, (size_t)num, "#\n"); /* reported */
+        else
+            snprintf(str, (size_t)num, "%.*s= " TEXT_MARK "\n", (int)k, q);
         return str;
     }
-    if (!len && (text = text_key_line(raw, &value))) {
+    if ((text = text_key_line(whole, &value))) {
         c->line_has_content = 1;
         if (!text_value(c, text, value))
             snprintf(str, (size_t)num, "%s = " TEXT_MARK "\n", text->name);
@@ -755,11 +823,7 @@ static char *read_line(char *str, int num, void *stream)
     if (!len && strlen(raw) + 1 > (size_t)num)
         len = strlen(raw);
     if (len) {
-        const char *q = start + strspn(start, " \t");
-        if ((text = text_key_line(start, &value)))
-            report(c, c->line, "%s.%s is more than %d bytes long; at most %d are allowed",
-                   text->section, text->name, SP_VIEW_TEXT_BYTES - 1, SP_VIEW_TEXT_BYTES - 1);
-        else if (*q != '#' && *q != ';') /* long comments are fine */
+        if (*q != '#' && *q != ';') /* long comments are fine */
             report(c, c->line, "line is %zu bytes long; at most %d are allowed "
                    "for a key = value line", len, num - 2);
         c->line_has_content = 0;
@@ -784,11 +848,17 @@ void sp_scene_defaults(struct sp_scene *s)
         case KEY_INT: *(int *)p = (int)keys[i].def; break;
         case KEY_METHOD: *(enum sp_method *)p = (enum sp_method)(int)keys[i].def; break;
         case KEY_PANELS: *(unsigned *)p = (unsigned)keys[i].def; break;
-        case KEY_TEXT: *p = 0; break;
+        case KEY_TEXT:
+            if (long_text_slot(&keys[i]) >= 0)
+                *(const char **)p = ""; /* texts[] are NULL; _where below */
+            else
+                *p = 0;
+            break;
         default: *(int *)p = (int)keys[i].def; break; /* bool, choice, colour, trail */
         }
     }
     snprintf(s->ensemble.key, sizeof(s->ensemble.key), "initial.angle");
+    s->view.title_where = s->view.caption_where = "";
     memset(s->view.panel_order, -1, sizeof(s->view.panel_order));
 }
 
@@ -1053,6 +1123,7 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     int rc = ini_parse_stream(read_line, &c, handle_pair, &c);
     if (rc == -2) {
         report(&c, 0, "out of memory while parsing");
+        free(c.text_value);
         sp_scene_free(s);
         return SP_E_NOMEM;
     }
@@ -1065,6 +1136,7 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
         c.errors += sp_timeline_check(s->timeline, s);
     if (!c.errors && s->timeline && sp_timeline_plan(s->timeline, s))
         c.errors++;
+    free(c.text_value);
     if (c.errors)
         sp_scene_free(s);
     return c.errors ? SP_E_INPUT : 0;
@@ -1168,6 +1240,7 @@ int sp_scene_load(struct sp_scene *s, const char *path,
     char *text;
     size_t size;
     s->timeline = NULL; /* sp_scene_free is safe after any outcome */
+    s->texts[0] = s->texts[1] = NULL;
     int ret = read_scene(path, &text, &size);
     if (ret)
         return ret;
@@ -1191,6 +1264,11 @@ int sp_scene_load(struct sp_scene *s, const char *path,
 void sp_scene_free(struct sp_scene *s)
 {
     sp_timeline_destroy(&s->timeline);
+    for (int i = 0; i < 2; i++) {
+        free(s->texts[i]);
+        s->texts[i] = NULL;
+    }
+    s->view.title = s->view.caption = s->view.title_where = s->view.caption_where = "";
 }
 
 int sp_scene_perspective(const struct sp_scene *s)
@@ -1247,7 +1325,8 @@ int sp_scene_canonical(const struct sp_scene *s, char *buf, size_t size)
             }
             break;
         case KEY_TEXT:
-            n = QUIET_KEY(k) && !*p ? 0 : snprintf(at, room, "%s.%s=%s\n", k->section, k->name, p);
+            n = QUIET_KEY(k) && !*text_of(s, k)
+                    ? 0 : snprintf(at, room, "%s.%s=%s\n", k->section, k->name, text_of(s, k));
             break;
         case KEY_CAMERA:
             if (s->view.camera == SP_CAMERA_SET)
@@ -1347,9 +1426,9 @@ int sp_scene_write_ini(const struct sp_scene *s, char *buf, size_t size)
         case KEY_METHOD:
             snprintf(value, sizeof(value), "%s", method_names[*(const enum sp_method *)p]);
             break;
-        case KEY_TEXT: /* in quotes, taken whole: a ' #' inside stays text */
-            snprintf(value, sizeof(value), "\"%s\"", p);
-            break;
+        case KEY_TEXT: /* in quotes, taken whole: a ' #' inside stays text; any length */
+            EMIT("%s = \"%s\"\n", k->name, text_of(s, k));
+            continue;
         case KEY_CAMERA:
             if (s->view.camera == SP_CAMERA_SET) {
                 char a[32], e[32], d[32] = "";
@@ -1436,7 +1515,7 @@ void sp_scene_print_keys(void)
         if (k->kind == KEY_TEXT && strcmp(k->unit, "text"))
             snprintf(range, sizeof(range), "%s", k->unit);
         else if (k->kind == KEY_TEXT)
-            snprintf(range, sizeof(range), "UTF-8 text, up to %d bytes", SP_VIEW_TEXT_BYTES - 1);
+            snprintf(range, sizeof(range), "UTF-8 text of any length that fits the frame, wrapped");
         else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             snprintf(range, sizeof(range), "%s: %s", k->kind == KEY_PANELS ? "list of" : "one of", k->unit);
         else if (k->kind == KEY_METHOD)
@@ -1447,7 +1526,7 @@ void sp_scene_print_keys(void)
             printf("    %-15s default %-8s %s\n", k->name, method_names[(int)k->def], range);
         else if (k->kind == KEY_TEXT)
             printf("    %-15s default %-8s %s\n", k->name,
-                   *((const char *)&def + k->offset) ? (const char *)&def + k->offset : "\"\"", range);
+                   *text_of(&def, k) ? text_of(&def, k) : "\"\"", range);
         else if (k->kind >= KEY_BOOL && k->kind != KEY_TRAIL)
             printf("    %-15s default %-8.*s %s\n", k->name,
                    k->kind == KEY_BOOL ? 5 : (int)strcspn(k->unit, ","),

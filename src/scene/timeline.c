@@ -169,11 +169,8 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
             return 1;
         }
     }
-    if (tn >= SP_VIEW_TEXT_BYTES) {
-        report(origin, line, "[timeline] %s is %zu bytes long; at most %d are allowed",
-               kind == SP_CUE_CAPTION ? "the caption" : "the note", tn, SP_VIEW_TEXT_BYTES - 1);
-        return 1;
-    }
+    /* no byte limit: the caption band's check (compose.c) refuses, with
+     * FILE:LINE, a text that cannot fit its lines */
     if (last_line && t < last_t) {
         report(origin, line, "[timeline] time %s comes before %.17g (line %d): times out of "
                "order; list the cues in the order of their times", time, last_t, last_line);

@@ -165,6 +165,7 @@ struct sp_plot_style {
     int title_set;              /* 1: view->title is the title ("" = none) */
     const char *scene_file;     /* provenance: the sweep's base scene as a scene
                                    file (PDF /Subject, SVG <metadata>); NULL = none */
+    const char *command;        /* provenance: the command without its -o; NULL = none */
 };
 
 /* Draws the figure for the CSV in fp (rewound and read to the end) into

@@ -905,7 +905,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
         return ret;
     const char *ext = strrchr(path, '.');
-    char *svg_meta = !strcasecmp(ext, ".svg") && style ? sp_cairo_svg_metadata(style->scene_file) : NULL;
+    char *svg_meta = !strcasecmp(ext, ".svg") && style ? sp_cairo_svg_metadata(style->scene_file, style->command) : NULL;
     struct sp_cairo_fd sink = {.fd = out.fd, .svg_metadata = svg_meta}; /* every write checked */
     cairo_surface_t *s;
     if (!strcasecmp(ext, ".svg"))
@@ -922,7 +922,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
         return ret;
     }
     if (!strcasecmp(ext, ".pdf") && style)
-        sp_cairo_pdf_scene(s, style->scene_file);
+        sp_cairo_pdf_scene(s, style->scene_file, style->command);
     cairo_t *cr = cairo_create(s);
     if (cairo_status(cr)) { /* the surface's error, too: nothing to draw on */
         sp_log_error("cannot make the figure %s: %s", path, cairo_status_to_string(cairo_status(cr)));

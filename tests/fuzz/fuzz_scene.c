@@ -63,16 +63,26 @@ static void check_accepted(const struct sp_scene *s)
           (s->view.trail == SP_TRAIL_DURATION && s->view.trail_duration > 0 &&
            s->view.trail_duration <= 1e6));
     CHECK(s->view.font_scale >= 0.25 && s->view.font_scale <= 4);
-    CHECK(memchr(s->view.title, 0, sizeof(s->view.title)) && memchr(s->view.caption, 0, sizeof(s->view.caption)));
+    /* title and caption: in the scene's own heap blocks, after where they
+     * were set ("FILE:LINE" or "--set view.KEY"), or "" */
+    const char *text[2] = {s->view.title, s->view.caption};
+    const char *where[2] = {s->view.title_where, s->view.caption_where};
+    for (int i = 0; i < 2; i++)
+        CHECK(text[i] && where[i] &&
+              (text[i][0] ? where[i] == s->texts[i] && where[i][0] &&
+                            text[i] == where[i] + strlen(where[i]) + 1
+                          : !s->texts[i] && !where[i][0]));
     CHECK(s->name[sizeof(s->name) - 1] == 0);
     CHECK(s->ensemble.count >= 0 && s->ensemble.count <= 10000);
     CHECK(s->ensemble.spread > 0 && s->ensemble.spread <= 1e12);
     CHECK(memchr(s->ensemble.key, 0, sizeof(s->ensemble.key)));
     if (s->ensemble.count > 1) /* a numeric key, whose both ends the parser accepted */
         CHECK(sp_scene_key_unit(s->ensemble.key) != NULL);
-    char buf[4096];
-    int len = sp_scene_canonical(s, buf, sizeof(buf));
-    CHECK(len > 0 && len < (int)sizeof(buf) && (int)strlen(buf) == len);
+    const int len = sp_scene_canonical(s, NULL, 0); /* any length: the texts have no limit */
+    char *buf = malloc((size_t)len + 1);
+    CHECK(buf && len > 0 && sp_scene_canonical(s, buf, (size_t)len + 1) == len &&
+          (int)strlen(buf) == len);
+    free(buf);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -401,9 +401,12 @@ static void note_environment(struct sp_compare_record *r)
             q += strcspn(q, "\n") + (q[strcspn(q, "\n")] == '\n');
         size_t qlen = strcspn(q, "\n");
         if (!*q || qlen != len || strncmp(p, q, len))
-            n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s%s vs %.*s;", (int)len, p,
-                                  "", *q ? (int)(qlen - key - 1) : 6,
-                                  *q ? q + key + 2 : "(none)");
+        {
+            /* the other line's value: after "KEY: ", without its newline */
+            const size_t skip = qlen < key + 2 ? qlen : key + 2;
+            n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s vs %.*s;", (int)len, p,
+                                  *q ? (int)(qlen - skip) : 6, *q ? q + skip : "(none)");
+        }
         p += len + (p[len] == '\n');
     }
     if (n && note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] == ';')

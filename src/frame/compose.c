@@ -206,8 +206,13 @@ static int may_break_before(const char *s)
  * wider than a line between its characters (so CJK, which has no spaces,
  * wraps too). *out holds the lines one after another, each NUL-terminated;
  * *n_out their count. 0 or SP_E_NOMEM. */
+/* A line is never measured longer than this many bytes: no frame (7680 px)
+ * holds 64 KiB of glyphs on a line, and without the bound one long word
+ * would be shaped whole once per line (quadratic in its length). */
+#define WRAP_LINE_BYTES_MAX 65536
+
 static int wrap(const struct sp_font *f, int size, const char *text, float max_width,
-                char **out, int *n_out)
+                int max_lines, char **out, int *n_out)
 {
     const size_t len = strlen(text);
     char *buf = malloc(2 * len + 2), *w = buf, *try = malloc(len + 1);
@@ -223,7 +228,7 @@ static int wrap(const struct sp_font *f, int size, const char *text, float max_w
     while (*text) {
         size_t fit = 0;
         /* the longest prefix ending at a space (or the end) that fits */
-        for (size_t i = 0;; i++) {
+        for (size_t i = 0; i <= WRAP_LINE_BYTES_MAX; i++) {
             if (text[i] == ' ' || !text[i]) {
                 memcpy(try, text, i);
                 try[i] = 0;
@@ -236,7 +241,7 @@ static int wrap(const struct sp_font *f, int size, const char *text, float max_w
         }
         if (!fit) { /* the first word alone is too wide: as many characters as fit */
             size_t i = 1;
-            for (; text[i] && text[i] != ' '; i++) {
+            for (; text[i] && text[i] != ' ' && i <= WRAP_LINE_BYTES_MAX; i++) {
                 if (!may_break_before(text + i))
                     continue;
                 memcpy(try, text, i);
@@ -257,6 +262,8 @@ static int wrap(const struct sp_font *f, int size, const char *text, float max_w
         n++;
         text += fit;
         text += strspn(text, " ");
+        if (n > max_lines) /* already more than the frame can take: the caller refuses */
+            break;
     }
     free(try);
     *out = buf;
@@ -300,9 +307,11 @@ static int wrap_texts(struct sp_composer *r)
     text_label(caption, sizeof(caption), v->caption_where, "caption");
     int err = 0;
     if (v->title[0] && !(err = sp_font_check(f, title, v->title)))
-        err = wrap(f, SP_TEXT_TITLE, v->title, width, &r->title, &r->title_lines);
+        err = wrap(f, SP_TEXT_TITLE, v->title, width, r->height / 2 / (sp_font_line(f, SP_TEXT_TITLE) > 0 ? sp_font_line(f, SP_TEXT_TITLE) : 1),
+                   &r->title, &r->title_lines);
     if (!err && v->caption[0] && !(err = sp_font_check(f, caption, v->caption)))
-        err = wrap(f, SP_TEXT_NORMAL, v->caption, width, &r->caption, &r->caption_lines);
+        err = wrap(f, SP_TEXT_NORMAL, v->caption, width, r->height / 2 / (sp_font_line(f, SP_TEXT_NORMAL) > 0 ? sp_font_line(f, SP_TEXT_NORMAL) : 1),
+                   &r->caption, &r->caption_lines);
     if (err)
         return err;
     for (int i = 0; i < r->title_lines; i++)
@@ -355,7 +364,7 @@ static int check_band(struct sp_composer *r)
             continue;
         char *lines;
         int n, wide = 0;
-        if (wrap(r->font, SP_TEXT_NORMAL, text, w, &lines, &n))
+        if (wrap(r->font, SP_TEXT_NORMAL, text, w, CAPTION_LINES, &lines, &n))
             return SP_E_NOMEM;
         free(lines);
         /* a word wider than the band (wrap would break it between characters) */
@@ -1019,7 +1028,7 @@ static void put_band(struct sp_composer *r, const struct sp_moment *m)
         return;
     if (text != r->wrapped) { /* wrapped again only when the text changes */
         free(r->caption);
-        if (wrap(f, SP_TEXT_NORMAL, text, band_width(r), &r->caption, &r->caption_lines)) {
+        if (wrap(f, SP_TEXT_NORMAL, text, band_width(r), CAPTION_LINES, &r->caption, &r->caption_lines)) {
             r->canvas.err = SP_E_NOMEM;
             r->wrapped = NULL;
             return;

@@ -798,6 +798,14 @@ static int make_parents(const char *path)
 }
 
 /* A fresh record in place (what sp_compare_report_add gives). */
+/* Frees what a record owns (its environment texts) and clears it. */
+static void record_clear(struct sp_compare_record *r)
+{
+    free(r->environment[0]);
+    free(r->environment[1]);
+    r->environment[0] = r->environment[1] = NULL;
+}
+
 static void record_reset(struct sp_compare_record *r)
 {
     memset(r, 0, sizeof(*r));
@@ -830,7 +838,9 @@ static void compare_item(struct compare_cli *c, struct sp_compare_record *r,
         int first = k == (it->expected ? -1 : 0);
         struct sp_compare_record *dst = r;
         if (!first) {
-            if (!t && !(t = malloc(sizeof(*t))))
+            if (t)
+                record_clear(t);
+            else if (!(t = malloc(sizeof(*t))))
                 break;
             record_reset(t);
             dst = t;
@@ -845,13 +855,18 @@ static void compare_item(struct compare_cli *c, struct sp_compare_record *r,
             if (!first) { /* an alternative: its comparison is the record */
                 if (r->diff[0])
                     unlink(r->diff);
-                *r = *t;
+                record_clear(r);
+                *r = *t; /* r owns t's texts now */
+                free(t);
+                t = NULL;
             }
             break;
         }
         if (sp_signal_seen())
             break;
     }
+    if (t)
+        record_clear(t);
     free(t);
     r->n_alternatives = it->n_alts;
     if (matched >= 0)

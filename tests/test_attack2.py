@@ -373,4 +373,20 @@ r = run("render", "long.ini", "--frames", "0:2", "--size", "320x180", "-o", "seq
 s1 = run("scene", "seq/000.png")
 ok(r.returncode == 0 and s1.returncode == 0 and s1.stdout.count(b'caption: "Step') == 100,
    f"a 9 KB scene rendered to a PNG sequence: each PNG records it whole ({err(r)[:120]} {err(s1)[:80]})")
+# attacker's pass 3, finding 2: one long unbroken word as a title or a
+# caption is refused at once, exit 2, no file (each wrapped line shaped the
+# whole rest of the word: 32 kB took 3.4 s, 500 kB 357 s and 20 GB)
+for key, n in (("title", 300000), ("caption", 300000)):
+    with open(path(f"long-{key}.ini"), "w") as fp:
+        fp.write(f"[view]\n{key} = " + "a" * n + "\n")
+    out = path(f"long-{key}.png")
+    try:
+        r = run("still", f"long-{key}.ini", "--at", "1", "--size", "7680x4320", "-o", out,
+                capture_output=True, timeout=30)
+        fine = r.returncode == 2 and b"cannot fit" in r.stderr and not os.path.exists(out)
+        said = err(r)[:160]
+    except subprocess.TimeoutExpired:
+        fine, said = False, "still running after 30 s"
+    ok(fine, f"a {n}-byte one-word {key} is refused at once, exit 2, no file ({said})")
+
 done()

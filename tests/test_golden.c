@@ -92,8 +92,10 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
                    sp_pipeline_run(&(struct sp_pipeline_desc){
                        .scene = &scene, .output = actual, .still = 1,
                        .still_at = gc->at, .gl = gl}) == 0,
-                   "%s: rendered with %s", gc->name, gl_name))
+                   "%s: rendered with %s", gc->name, gl_name)) {
+        sp_scene_free(&scene);
         return;
+    }
     if (getenv("SP_UPDATE_GOLDEN") && gl == SP_GL_OSMESA) {
         struct sp_image img;
         sp_png_read(actual, &img);
@@ -128,6 +130,7 @@ static void run_case(const char *src, const char *outdir, const struct golden_ca
         remove(actual);
     }
 done:
+    sp_scene_free(&scene);
     sp_image_free(&want);
     sp_image_free(&got);
     sp_image_free(&diff);
@@ -164,6 +167,7 @@ static void check_margin(const char *src, const char *outdir, const struct golde
               "%s, %s: the golden rule fails it by a margin: %ld pixels differ (allowed %ld)",
               gc->name, what, r.differing, r.allowed);
     remove(actual);
+    sp_scene_free(&scene);
     sp_image_free(&want);
     sp_image_free(&got);
 }

@@ -382,7 +382,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
  * top-left, bottom-left, top-right and bottom-right, that the motion's box
  * (with the bob and the arrows' room around it) leaves free; top-left when
  * none does. It was always top-left, over the pendulum hanging there. */
-static void legend_corner(struct sp_composer *r, float w, float h)
+static int legend_corner(struct sp_composer *r, float w, float h)
 {
     const struct sp_rect *c = &r->layout.camera;
     const struct sp_view_extent *e = &r->extent;
@@ -399,8 +399,39 @@ static void legend_corner(struct sp_composer *r, float w, float h)
     for (int i = 0; i < 4 && !r->look.perspective; i++) /* perspective: no ox, oy */
         if (!sp_rect_overlap(&corner[i], &box)) {
             r->legend = corner[i];
-            return;
+            return 0;
         }
+    return 1;
+}
+
+/* No corner of the view is free of the motion (legend_corner returned 1):
+ * the motion is fitted again beside the legend (w x h px, at the view's
+ * top left), below it or to its right, whichever draws it larger, so the
+ * legend never covers the pendulum. */
+static void legend_room(struct sp_composer *r, const struct sp_params *p, float w, float h)
+{
+    const struct sp_rect *cam = &r->layout.camera;
+    const float g = r->layout.gap;
+    const struct sp_rect side[2] = {{cam->x0, cam->y0 + h + g, cam->x1, cam->y1},
+                                    {cam->x0 + w + g, cam->y0, cam->x1, cam->y1}};
+    double best = 0;
+    int pick = -1;
+    for (int i = 0; i < 2; i++) {
+        if (!sp_rect_valid(&side[i]))
+            continue;
+        fit_camera(r, &side[i]);
+        if (r->scale > best)
+            best = r->scale, pick = i;
+    }
+    if (pick < 0) {
+        fit_camera(r, cam);
+        return;
+    }
+    fit_camera(r, &side[pick]);
+    r->arrow_px = arrow_room(r, &side[pick]) * r->room;
+    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit, (float)r->arrow_px);
+    sp_vectors_legend_size(r->font, &r->vectors, &w, &h); /* its keys may round anew */
+    r->legend = (struct sp_rect){cam->x0, cam->y0, cam->x0 + w, cam->y0 + h};
 }
 
 /* deg (degrees) as the HUD prints an angle: one decimal, or two significant
@@ -519,7 +550,8 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
     if (r->look.view.vectors && r->look.view.pendulum && r->font) {
         float w, h;
         sp_vectors_legend_size(r->font, &r->vectors, &w, &h);
-        legend_corner(r, w, h);
+        if (legend_corner(r, w, h))
+            legend_room(r, p, w, h);
         if (check && (w > cam->x1 - cam->x0 || h > cam->y1 - cam->y0)) {
             sp_log_error("[view] vectors: the arrows' legend needs %.0fx%.0f px, and the "
                          "pendulum's view is %.0fx%.0f px of the %dx%d frame (beside the "
@@ -1163,6 +1195,10 @@ void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double 
                                 c->oy / c->ss + dy);
     }
     sp_vectors_describe(&c->vectors, c->ss, prefix, buf, size, &used);
+    if (c->look.view.vectors && c->look.view.pendulum && used < size)
+        used += (size_t)snprintf(buf + used, size - used, "%svectors.legend_px=%.9g,%.9g,%.9g,%.9g\n",
+                                 prefix, c->legend.x0 / c->ss + dx, c->legend.y0 / c->ss + dy,
+                                 c->legend.x1 / c->ss + dx, c->legend.y1 / c->ss + dy);
     const struct sp_bars_scale *b = &c->bars;
     if (b->n && used < size)
         snprintf(buf + used, size - used, "%senergy_bars.zero_px=%.9g\n%senergy_bars.px_per_J=%.9g\n"

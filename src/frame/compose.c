@@ -302,6 +302,44 @@ static int check_band(struct sp_composer *r)
     return bad ? SP_E_INPUT : 0;
 }
 
+/* The least frame (or side-by-side cell), output px, in which the heads-up
+ * text, the panels, the colour bar and the speed marker are laid out
+ * without overlapping: SP_TEXT_MIN_LONG on the longer side and
+ * SP_TEXT_MIN_SHORT on the shorter (test legibility: 320x180 and 180x320
+ * hold every panel; at 160x90 the time ran over the speed marker and the
+ * panels over the HUD). */
+#define SP_TEXT_MIN_LONG 320
+#define SP_TEXT_MIN_SHORT 180
+
+/* Below that size (a video frame; a figure of physical size is exempt)
+ * those are left out, and said once on stderr with the size they need. ss:
+ * drawn px per output px. */
+static void small_frame(struct sp_composer *r, float ss)
+{
+    const float w = (float)r->width / ss, h = (float)r->height / ss;
+    struct sp_view *v = &r->look.view;
+    if (r->look.pt_px > 0 || (fmaxf(w, h) >= SP_TEXT_MIN_LONG && fminf(w, h) >= SP_TEXT_MIN_SHORT))
+        return;
+    if (!(v->hud || v->panels || v->colorbar || r->speed[0]))
+        return;
+    const char *what[4] = {v->hud ? "heads-up text" : NULL, v->panels ? "panels" : NULL,
+                           v->colorbar ? "colour bar" : NULL, r->speed[0] ? "speed marker" : NULL};
+    char list[128] = "";
+    for (int i = 0, n = 0; i < 4; i++)
+        if (what[i])
+            snprintf(list + strlen(list), sizeof(list) - strlen(list), "%s%s", n++ ? ", " : "",
+                     what[i]);
+    sp_log_error("note: a %.0fx%.0f %s is too small for its %s: drawn without them (they need "
+                 "at least %dx%d, or %dx%d upright; view.hud = false, view.panels = none, "
+                 "view.colorbar = false and video.speed = 1 say so)", w, h,
+                 r->cell ? "cell" : "frame", list, SP_TEXT_MIN_LONG, SP_TEXT_MIN_SHORT,
+                 SP_TEXT_MIN_SHORT, SP_TEXT_MIN_LONG);
+    v->hud = 0;
+    v->panels = 0;
+    v->colorbar = 0;
+    r->speed[0] = 0;
+}
+
 int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc)
 {
     struct sp_composer *r = calloc(1, sizeof(*r));
@@ -357,6 +395,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         r->look.view.colorbar = 0; /* no speed-coloured trail to explain */
     if (r->look.ensemble_count > 1)
         r->look.view.vectors = 0; /* the members are drawn, not the one bob */
+    small_frame(r, ss);
     if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar || r->look.view.vectors ||
         r->look.view.title[0] || r->look.view.caption[0] || r->speed[0] || r->look.view.font[0] || tl) {
         struct sp_font_desc fd = {.family = r->look.view.font};

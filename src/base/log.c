@@ -37,13 +37,18 @@ void sp_fputs_line(const char *s, FILE *fp)
     fputs_shown(s, fp, 0);
 }
 
-void sp_log_error(const char *fmt, ...)
+/* 1: sp_log_note says nothing (-q); set once by the command line. */
+static int log_quiet;
+
+void sp_log_quiet(int quiet)
 {
-    va_list ap;
+    log_quiet = quiet;
+}
+
+__attribute__((format(printf, 1, 0))) static void log_v(const char *fmt, va_list ap)
+{
     char *msg = NULL;
-    va_start(ap, fmt);
     int n = vasprintf(&msg, fmt, ap);
-    va_end(ap);
     fputs("springpend: ", stderr);
     if (n >= 0)
         sp_fputs_line(msg, stderr); /* one message, one line */
@@ -51,6 +56,24 @@ void sp_log_error(const char *fmt, ...)
         fputs(fmt, stderr); /* out of memory: the bare format still says where */
     fputc('\n', stderr);
     free(msg);
+}
+
+void sp_log_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    log_v(fmt, ap);
+    va_end(ap);
+}
+
+void sp_log_note(const char *fmt, ...)
+{
+    va_list ap;
+    if (log_quiet)
+        return;
+    va_start(ap, fmt);
+    log_v(fmt, ap);
+    va_end(ap);
 }
 
 /* ---- progress of long integrations ---- */

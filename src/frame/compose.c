@@ -312,7 +312,8 @@ static int check_band(struct sp_composer *r)
 #define SP_TEXT_MIN_SHORT 180
 
 /* Below that size (a video frame; a figure of physical size is exempt)
- * those are left out, and said once on stderr with the size they need. ss:
+ * those are left out, and said once on stderr (a note: not with -q) with
+ * the size they need. ss:
  * drawn px per output px. */
 static void small_frame(struct sp_composer *r, float ss)
 {
@@ -329,11 +330,11 @@ static void small_frame(struct sp_composer *r, float ss)
         if (what[i])
             snprintf(list + strlen(list), sizeof(list) - strlen(list), "%s%s", n++ ? ", " : "",
                      what[i]);
-    sp_log_error("note: a %.0fx%.0f %s is too small for its %s: drawn without them (they need "
-                 "at least %dx%d, or %dx%d upright; view.hud = false, view.panels = none, "
-                 "view.colorbar = false and video.speed = 1 say so)", w, h,
-                 r->cell ? "cell" : "frame", list, SP_TEXT_MIN_LONG, SP_TEXT_MIN_SHORT,
-                 SP_TEXT_MIN_SHORT, SP_TEXT_MIN_LONG);
+    sp_log_note("note: at %.0fx%.0f%s the %s would overlap: drawn without them (they need at "
+                "least %dx%d, or %dx%d upright; view.hud = false, view.panels = none, "
+                "view.colorbar = false and video.speed = 1 say so)", w, h,
+                r->cell ? " a cell" : "", list, SP_TEXT_MIN_LONG, SP_TEXT_MIN_SHORT,
+                SP_TEXT_MIN_SHORT, SP_TEXT_MIN_LONG);
     v->hud = 0;
     v->panels = 0;
     v->colorbar = 0;

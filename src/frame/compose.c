@@ -51,6 +51,7 @@ struct sp_composer {
     int laid_out;             /* layout and camera fitted (at the first frame) */
     char hud[SP_HUD_MAX_LINES][SP_HUD_LINE_BYTES];
     int hud_lines;
+    int live_short;           /* 1: the measured precession's long form does not fit */
     int width, height;        /* px */
     float unit;               /* the smaller side, px */
     float ink;                /* what the panels' and colourbar's text, lines and
@@ -175,102 +176,6 @@ static void text_sizes(float unit, double font_size, double scale, float ss, int
     }
 }
 
-/* 1 when a line may break before the character at s: not before a mark
- * (it belongs to the character before it) nor a joiner. */
-static int may_break_before(const char *s)
-{
-    const unsigned char *u = (const unsigned char *)s;
-    if ((u[0] & 0xC0) == 0x80)
-        return 0; /* inside a character */
-    /* combining marks U+0300-036F, U+0483-0489, U+0591-05C7, U+0610-061A,
-     * U+064B-065F, U+0670, U+06D6-06ED, the Indic signs and vowel marks
-     * (U+0900-0DFF blocks' dependent signs), U+200C/U+200D, U+20D0-20FF */
-    size_t n = sp_utf8_char(s);
-    uint32_t cp = n == 1 ? u[0] : n ? u[0] & (0x7Fu >> n) : 0;
-    for (size_t i = 1; i < n; i++)
-        cp = cp << 6 | (u[i] & 0x3Fu);
-    if ((cp >= 0x0300 && cp <= 0x036F) || (cp >= 0x0483 && cp <= 0x0489) ||
-        (cp >= 0x0591 && cp <= 0x05C7) || (cp >= 0x0610 && cp <= 0x061A) ||
-        (cp >= 0x064B && cp <= 0x065F) || cp == 0x0670 || (cp >= 0x06D6 && cp <= 0x06ED) ||
-        cp == 0x200C || cp == 0x200D || (cp >= 0x20D0 && cp <= 0x20FF) || (cp >= 0xFE00 && cp <= 0xFE0F))
-        return 0;
-    if (cp >= 0x0900 && cp <= 0x0DFF) { /* Indic: not before a dependent sign or virama */
-        const int k = (int)(cp & 0x7F);
-        return !(k <= 0x03 || (k >= 0x3A && k <= 0x4F) || (k >= 0x51 && k <= 0x57) ||
-                 k == 0x62 || k == 0x63);
-    }
-    return 1;
-}
-
-/* Wraps text into lines of at most max_width px: at spaces, and a word
- * wider than a line between its characters (so CJK, which has no spaces,
- * wraps too). *out holds the lines one after another, each NUL-terminated;
- * *n_out their count. 0 or SP_E_NOMEM. */
-/* A line is never measured longer than this many bytes: no frame (7680 px)
- * holds 64 KiB of glyphs on a line, and without the bound one long word
- * would be shaped whole once per line (quadratic in its length). */
-#define WRAP_LINE_BYTES_MAX 65536
-
-static int wrap(const struct sp_font *f, int size, const char *text, float max_width,
-                int max_lines, char **out, int *n_out)
-{
-    const size_t len = strlen(text);
-    char *buf = malloc(2 * len + 2), *w = buf, *try = malloc(len + 1);
-    int n = 0;
-    *out = NULL;
-    *n_out = 0;
-    if (!buf || !try) {
-        free(buf), free(try);
-        sp_log_error("out of memory to wrap %zu bytes of text", len);
-        return SP_E_NOMEM;
-    }
-    text += strspn(text, " ");
-    while (*text) {
-        size_t fit = 0;
-        /* the longest prefix ending at a space (or the end) that fits */
-        for (size_t i = 0; i <= WRAP_LINE_BYTES_MAX; i++) {
-            if (text[i] == ' ' || !text[i]) {
-                memcpy(try, text, i);
-                try[i] = 0;
-                if (sp_font_width(f, size, try) > max_width)
-                    break;
-                fit = i;
-                if (!text[i])
-                    break;
-            }
-        }
-        if (!fit) { /* the first word alone is too wide: as many characters as fit */
-            size_t i = 1;
-            for (; text[i] && text[i] != ' ' && i <= WRAP_LINE_BYTES_MAX; i++) {
-                if (!may_break_before(text + i))
-                    continue;
-                memcpy(try, text, i);
-                try[i] = 0;
-                if (sp_font_width(f, size, try) > max_width)
-                    break;
-                fit = i;
-            }
-            if (!fit) /* not even one character: it stays whole, and overflows */
-                for (fit = 1; text[fit] && !may_break_before(text + fit); fit++)
-                    ;
-        }
-        while (fit && text[fit - 1] == ' ')
-            fit--;
-        memcpy(w, text, fit);
-        w[fit] = 0;
-        w += fit + 1;
-        n++;
-        text += fit;
-        text += strspn(text, " ");
-        if (n > max_lines) /* already more than the frame can take: the caller refuses */
-            break;
-    }
-    free(try);
-    *out = buf;
-    *n_out = n;
-    return 0;
-}
-
 /* Line i of wrapped text. */
 static const char *line_of(const char *wrapped, int i)
 {
@@ -307,10 +212,10 @@ static int wrap_texts(struct sp_composer *r)
     text_label(caption, sizeof(caption), v->caption_where, "caption");
     int err = 0;
     if (v->title[0] && !(err = sp_font_check(f, title, v->title)))
-        err = wrap(f, SP_TEXT_TITLE, v->title, width, r->height / 2 / (sp_font_line(f, SP_TEXT_TITLE) > 0 ? sp_font_line(f, SP_TEXT_TITLE) : 1),
+        err = sp_font_wrap(f, SP_TEXT_TITLE, v->title, width, r->height / 2 / (sp_font_line(f, SP_TEXT_TITLE) > 0 ? sp_font_line(f, SP_TEXT_TITLE) : 1),
                    &r->title, &r->title_lines);
     if (!err && v->caption[0] && !(err = sp_font_check(f, caption, v->caption)))
-        err = wrap(f, SP_TEXT_NORMAL, v->caption, width, r->height / 2 / (sp_font_line(f, SP_TEXT_NORMAL) > 0 ? sp_font_line(f, SP_TEXT_NORMAL) : 1),
+        err = sp_font_wrap(f, SP_TEXT_NORMAL, v->caption, width, r->height / 2 / (sp_font_line(f, SP_TEXT_NORMAL) > 0 ? sp_font_line(f, SP_TEXT_NORMAL) : 1),
                    &r->caption, &r->caption_lines);
     if (err)
         return err;
@@ -364,7 +269,7 @@ static int check_band(struct sp_composer *r)
             continue;
         char *lines;
         int n, wide = 0;
-        if (wrap(r->font, SP_TEXT_NORMAL, text, w, CAPTION_LINES, &lines, &n))
+        if (sp_font_wrap(r->font, SP_TEXT_NORMAL, text, w, CAPTION_LINES, &lines, &n))
             return SP_E_NOMEM;
         free(lines);
         /* a word wider than the band (wrap would break it between characters) */
@@ -498,31 +403,70 @@ static void legend_corner(struct sp_composer *r, float w, float h)
         }
 }
 
-/* A 3-D scene's heads-up line: the precession per exchange that the
- * averaged theory predicts (sp_look.precession), and how far to trust it;
- * put before the frequency ratio's line (sp_hud_draw appends the resonance
- * check to that one, or puts it on the last line alone). Left out when it
- * does not fit the width. */
+/* deg (degrees) as the HUD prints an angle: one decimal, or two significant
+ * digits where that would print 0.0 (a tiny turn is a number, not "0.0"),
+ * with a real minus sign. */
+static void hud_degrees(char *buf, size_t size, double deg)
+{
+    const char *sign = deg < 0 ? "\u2212" : "";
+    if (deg == 0 || fabs(deg) >= 0.05)
+        snprintf(buf, size, "%s%.1f°", sign, fabs(deg));
+    else
+        snprintf(buf, size, "%s%.2g°", sign, fabs(deg));
+}
+
+/* A 3-D scene's heads-up lines, appended after the others: the precession
+ * per exchange that the averaged theory predicts, by info's rules
+ * (sp_look.predict: "not predicted" and why where info says so), and the
+ * one measured from the run so far (an SP_HUD_LIVE line, filled per frame
+ * by hud_measured). Long forms, short ones where those do not fit the
+ * width; left out where neither does. */
 static void hud_precession(struct sp_composer *r, const struct sp_font *f, float width)
 {
-    const double deg = r->look.precession * (180 / M_PI);
-    const char *sign = deg < 0 ? "\u2212" : "";
-    char line[SP_HUD_LINE_BYTES];
-    if (isnan(deg))
-        snprintf(line, sizeof(line), "precession: no 2:1 exchange to predict it");
-    else
-        snprintf(line, sizeof(line), "precession per exchange ≈ %s%.1f°  (averaged theory%s)",
-                 sign, fabs(deg), r->look.precession_applies ? ", ±4%" : "; outside its range, rough");
-    if (!isnan(deg) && sp_font_width(f, SP_TEXT_NORMAL, line) > width)
-        snprintf(line, sizeof(line), "precession ≈ %s%.1f°/exchange%s", sign, fabs(deg),
-                 r->look.precession_applies ? "" : " (rough)");
-    if (sp_font_width(f, SP_TEXT_NORMAL, line) > width)
+    const struct sp_prediction *pd = &r->look.predict;
+    char line[SP_HUD_LINE_BYTES], deg[64];
+    if (pd->brief && pd->brief[0]) {
+        snprintf(line, sizeof(line), "precession per exchange, theory: %s", pd->brief);
+        if (sp_font_width(f, SP_TEXT_NORMAL, line) > width)
+            snprintf(line, sizeof(line), "precession, theory: %s",
+                     strncmp(pd->brief, "none", 4) ? "not predicted" : "none");
+    } else {
+        hud_degrees(deg, sizeof(deg), pd->prec.angle * (180 / M_PI));
+        snprintf(line, sizeof(line), "precession per exchange, theory ≈ %s  (averaged, %s)", deg,
+                 pd->prec.applies ? "±4%" : "outside its range: rough");
+        if (sp_font_width(f, SP_TEXT_NORMAL, line) > width)
+            snprintf(line, sizeof(line), "theory ≈ %s/exchange%s", deg,
+                     pd->prec.applies ? "" : " (rough)");
+    }
+    if (sp_font_width(f, SP_TEXT_NORMAL, line) <= width && r->hud_lines < SP_HUD_MAX_LINES)
+        snprintf(r->hud[r->hud_lines++], SP_HUD_LINE_BYTES, "%s", line);
+    if (pd->brief && pd->brief[0])
+        return; /* no slow exchange (or none the theory describes): none to measure */
+    /* the measured line: as wide as its widest form, or left out */
+    r->live_short = sp_font_width(f, SP_TEXT_NORMAL, "measured so far ≈ −000.0°/exchange (mean of 00)") > width;
+    if (r->hud_lines < SP_HUD_MAX_LINES &&
+        sp_font_width(f, SP_TEXT_NORMAL, "measured ≈ −000.0°/exchange") <= width)
+        snprintf(r->hud[r->hud_lines++], SP_HUD_LINE_BYTES, "%c", SP_HUD_LIVE);
+}
+
+/* The measured line's text at frame f (hud_precession). */
+static void hud_measured(const struct sp_composer *r, const struct sp_frame *f, char *buf,
+                         size_t size)
+{
+    int peaks = 0;
+    const double a = f->history ? sp_history_precession(f->history, &peaks) : NAN;
+    char deg[64];
+    if (isnan(a)) {
+        snprintf(buf, size, r->live_short ? "measured: needs 2 swing peaks (%d)"
+                                          : "measured so far: needs 2 swing peaks (%d seen)",
+                 peaks);
         return;
-    const int own_line = r->hud_lines > 1 && !strcmp(r->hud[r->hud_lines - 1], "\1");
-    const int at = r->hud_lines - (own_line ? 2 : 1); /* the ratio's line */
-    memmove(r->hud[at + 1], r->hud[at], (size_t)(r->hud_lines - at) * SP_HUD_LINE_BYTES);
-    snprintf(r->hud[at], SP_HUD_LINE_BYTES, "%s", line);
-    r->hud_lines++;
+    }
+    hud_degrees(deg, sizeof(deg), a * (180 / M_PI));
+    if (r->live_short)
+        snprintf(buf, size, "measured ≈ %s/exchange", deg);
+    else
+        snprintf(buf, size, "measured so far ≈ %s/exchange (mean of %d)", deg, peaks - 1);
 }
 
 /* Places the view, panels, heads-up text and colourbar (once: the
@@ -549,10 +493,17 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
         const struct sp_rect *v = d.no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0}
                                                 : &r->layout.camera;
         const float w = v->x1 - v->x0 - 2 * r->layout.gap;
-        r->hud_lines = sp_hud_lines(f, p, r->look.differs, w, r->hud, SP_HUD_MAX_LINES);
-        if (r->look.spatial && r->hud_lines < SP_HUD_MAX_LINES)
+        r->hud_lines = sp_hud_lines(f, p, &r->look.predict, r->look.differs, w, r->hud,
+                                    SP_HUD_MAX_LINES);
+        if (r->look.spatial)
             hud_precession(r, f, w);
-        d.hud_height = sp_hud_height(f, r->hud_lines);
+        /* at most 0.65 of the view's height (the pendulum keeps the rest), or
+         * of the frame's between the bands without a pendulum: lines beyond
+         * are left out from the end, and the last kept says how many */
+        const float room = d.no_pendulum ? (float)r->height - d.title_height - d.caption_height
+                                         : v->y1 - v->y0;
+        r->hud_lines = sp_hud_fit(f, w, 0.65f * room - r->layout.gap, r->hud, r->hud_lines);
+        d.hud_height = r->hud_lines ? sp_hud_height(f, r->hud_lines) : 0;
     } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
     }
@@ -1028,7 +979,7 @@ static void put_band(struct sp_composer *r, const struct sp_moment *m)
         return;
     if (text != r->wrapped) { /* wrapped again only when the text changes */
         free(r->caption);
-        if (wrap(f, SP_TEXT_NORMAL, text, band_width(r), CAPTION_LINES, &r->caption, &r->caption_lines)) {
+        if (sp_font_wrap(f, SP_TEXT_NORMAL, text, band_width(r), CAPTION_LINES, &r->caption, &r->caption_lines)) {
             r->canvas.err = SP_E_NOMEM;
             r->wrapped = NULL;
             return;
@@ -1152,8 +1103,13 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         st.n_order = sp_scene_panel_order(v, st.order);
         sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
     }
-    if (r->look.view.hud)
-        sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
+    if (r->look.view.hud && r->hud_lines) {
+        char live[SP_HUD_LINE_BYTES] = "";
+        if (r->look.spatial)
+            hud_measured(r, f, live, sizeof(live));
+        sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal,
+                    live);
+    }
     put_texts(r, f->moment);
     if (r->look.view.vectors && r->look.view.pendulum)
         sp_vectors_legend(cv, &r->vectors, &r->legend, &r->pal);

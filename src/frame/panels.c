@@ -180,6 +180,16 @@ static void tick_label(const struct axis *a, double v, char *buf, size_t size)
     double d = v - a->offset;
     if (fabs(d) < 1e-9 * a->step)
         d = 0;
+    if (a->decimals > 6) {
+        /* a tiny range (an azimuth of 1e-298 degrees): as many significant
+         * digits as tell the ticks apart, in e notation; fixed decimals
+         * would print every tick as 0.000...0 */
+        const double mag = fmax(fabs(a->lo - a->offset), fabs(a->hi - a->offset));
+        const int digits = (int)(floor(log10(mag)) - floor(log10(a->step))) + 1;
+        snprintf(buf, size, "%s%.*g", d < 0 ? "\xe2\x88\x92" : "",
+                 d == 0 ? 1 : digits < 1 ? 1 : digits > 17 ? 17 : digits, fabs(d));
+        return;
+    }
     format_tick(buf, size, d, a->decimals);
 }
 
@@ -1008,23 +1018,53 @@ int sp_params_resonant(const struct sp_params *p, double *ratio)
     return fabs(*ratio - 2) <= 0.03 * 2;
 }
 
+/* Cuts text (UTF-8, in place) at a character boundary and ends it with
+ * "…" until it is at most max_width px wide; "" when not even "…" fits. */
+static void cut_to_width(const struct sp_font *font, float max_width, char *text, size_t size)
+{
+    size_t len = strlen(text);
+    if (sp_font_width(font, SP_TEXT_NORMAL, text) <= max_width)
+        return;
+    char buf[SP_HUD_LINE_BYTES];
+    while (len > 0) {
+        do
+            len--;
+        while (len > 0 && (text[len] & 0xc0) == 0x80);
+        if (len + 4 > size || len + 4 > sizeof(buf))
+            continue; /* no room for the ellipsis yet */
+        memcpy(buf, text, len);
+        memcpy(buf + len, "…", 4); /* 3 bytes and the NUL */
+        if (sp_font_width(font, SP_TEXT_NORMAL, buf) <= max_width) {
+            memcpy(text, buf, len + 4);
+            return;
+        }
+    }
+    text[0] = 0;
+}
+
 /* Appends `item` to the lines, starting a new line when it would not fit. */
 static void add_item(const struct sp_font *font, float max_width, char lines[][SP_HUD_LINE_BYTES],
                      int *n, int max, const char *item, int new_line)
 {
     /* "long|short": the short form when the long one is wider than a line;
-     * neither when both are (a tiny frame) */
+     * neither when both are (a tiny frame), unless the item is "!..." (a
+     * side-by-side difference: cut with "…" rather than left out) */
     char form[SP_HUD_LINE_BYTES];
+    const int cut = item[0] == '!';
+    item += cut;
     const char *bar = strchr(item, '|');
     snprintf(form, sizeof(form), "%.*s", bar ? (int)(bar - item) : (int)strlen(item), item);
     if (bar && sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
         snprintf(form, sizeof(form), "%s", bar + 1);
-    if (sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
+    if (cut)
+        cut_to_width(font, max_width, form, sizeof(form));
+    if (!form[0] || sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
         return;
     item = form;
     char *l = lines[*n - 1];
     char joined[2 * SP_HUD_LINE_BYTES];
-    snprintf(joined, sizeof(joined), "%s%s%s", l, *l ? "    " : "", item);
+    snprintf(joined, sizeof(joined), "%s%s%s", l, !*l ? "" : strcmp(l, "differs:") ? "    " : " ",
+             item);
     if (!new_line && (!*l || sp_font_width(font, SP_TEXT_NORMAL, joined) <= max_width)) {
         snprintf(l, SP_HUD_LINE_BYTES, "%.*s", SP_HUD_LINE_BYTES - 1, joined);
         return;
@@ -1045,8 +1085,16 @@ static const char *resonance_note(const struct sp_font *f, int resonant, float m
 /* Lines that start with this byte are drawn in the accent colour (it is not drawn). */
 #define HUD_ACCENT '\2'
 
-int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const char *differs,
-                 float max_width, char lines[][SP_HUD_LINE_BYTES], int max)
+/* The ratio's line starts with this byte (not drawn): the resonance check
+ * follows it, or has a line of its own ("\1") after it. */
+#define HUD_RATIO '\4'
+/* The line that says how many lines were left out (sp_hud_fit) starts with
+ * this byte (not drawn; in the muted colour, cut to the width). */
+#define HUD_MORE '\5'
+
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p,
+                 const struct sp_prediction *pd, const char *differs, float max_width,
+                 char lines[][SP_HUD_LINE_BYTES], int max)
 {
     struct sp_physics ph;
     sp_params_physics(p, &ph);
@@ -1057,10 +1105,10 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const ch
     lines[0][0] = lines[1][0] = 0;
     if (differs && *differs) { /* "differs: a = 1, b = 2", wrapped at its commas */
         const char *s = differs;
-        for (int first = 1; *s; first = 0) {
+        add_item(font, max_width, lines, &n, max, "!differs:", 0); /* the heading, kept */
+        while (*s) {
             const size_t len = strcspn(s, ",");
-            snprintf(item, sizeof(item), "%s%.*s%s", first ? "differs: " : "", (int)len, s,
-                     s[len] ? "," : "");
+            snprintf(item, sizeof(item), "!%.*s%s", (int)len, s, s[len] ? "," : "");
             add_item(font, max_width, lines, &n, max, item, 0);
             s += len + (s[len] != 0);
             s += strspn(s, " ");
@@ -1087,24 +1135,61 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const ch
     }
     snprintf(item, sizeof(item), "ωₛ = √(k/m) = %.3f rad/s|ωₛ = %.3f rad/s", ws, ws);
     add_item(font, max_width, lines, &n, max, item, 1);
-    snprintf(item, sizeof(item), "ωₚ = √(g/ℓ) = %.3f rad/s|ωₚ = %.3f rad/s", wp, wp);
+    if (pd->swings)
+        snprintf(item, sizeof(item), "ωₚ = √(g/ℓ) = %.3f rad/s|ωₚ = %.3f rad/s", wp, wp);
+    else /* as info: without gravity no pendulum period, ratio or 2:1 exists */
+        snprintf(item, sizeof(item), "ωₚ: none (g = 0: no swing back)|ωₚ: none (g = 0)");
     add_item(font, max_width, lines, &n, max, item, 0);
     snprintf(item, sizeof(item), "ℓ = L₀ + mg/k = %.3f m|ℓ = %.3f m", ell, ell);
     add_item(font, max_width, lines, &n, max, item, 0);
     if (p->drive_amp > 0 && p->drive_omega > 0) {
         snprintf(item, sizeof(item), "pivot: %.3g m at %.4g Hz", p->drive_amp, p->drive_omega / (2 * M_PI));
         add_item(font, max_width, lines, &n, max, item, 1);
-        snprintf(item, sizeof(item), "Ω/ωₚ = %.3f", p->drive_omega / wp);
-        add_item(font, max_width, lines, &n, max, item, 0);
+        if (pd->swings) {
+            snprintf(item, sizeof(item), "Ω/ωₚ = %.3f", p->drive_omega / wp);
+            add_item(font, max_width, lines, &n, max, item, 0);
+        }
     }
+    if (!pd->swings)
+        return n;
     const int res = sp_params_resonant(p, &ratio);
     snprintf(item, sizeof(item), "ωₛ/ωₚ = %.3f", ratio);
+    const int before = n;
     add_item(font, max_width, lines, &n, max, item, 1);
+    if (n == before)
+        return n; /* no room for the ratio: nor for its check */
+    memmove(lines[n - 1] + 1, lines[n - 1], SP_HUD_LINE_BYTES - 2);
+    lines[n - 1][0] = HUD_RATIO;
+    lines[n - 1][SP_HUD_LINE_BYTES - 1] = 0;
     /* the resonance note after the ratio, or on a line of its own ("\1") */
-    snprintf(item, sizeof(item), "%s    %s", lines[n - 1], resonance_note(font, res, max_width));
+    snprintf(item, sizeof(item), "%s    %s", lines[n - 1] + 1, resonance_note(font, res, max_width));
     if (sp_font_width(font, SP_TEXT_NORMAL, item) > max_width && n < max)
         snprintf(lines[n++], SP_HUD_LINE_BYTES, "\1");
     return n;
+}
+
+int sp_hud_fit(const struct sp_font *font, float max_width, float max_height,
+               char lines[][SP_HUD_LINE_BYTES], int n)
+{
+    int keep = n;
+    while (keep > 1 && sp_hud_height(font, keep) > max_height)
+        keep--;
+    if (keep == n)
+        return n;
+    if (keep < 2)
+        return sp_hud_height(font, 1) <= max_height ? 1 : 0;
+    /* the last line kept says how many are left out */
+    int left = n - keep + 1;
+    for (int i = keep - 1; i < n; i++)
+        left -= !strcmp(lines[i], "\1"); /* the check's own line is part of the ratio's */
+    char more[SP_HUD_LINE_BYTES - 1]; /* and the mark's byte */
+    snprintf(more, sizeof(more), "… %d more line%s: a larger frame shows them", left,
+             left == 1 ? "" : "s");
+    if (sp_font_width(font, SP_TEXT_NORMAL, more) > max_width)
+        snprintf(more, sizeof(more), "… %d more", left);
+    cut_to_width(font, max_width, more, sizeof(more));
+    snprintf(lines[keep - 1], SP_HUD_LINE_BYTES, "%c%s", HUD_MORE, more);
+    return keep;
 }
 
 float sp_hud_height(const struct sp_font *font, int n)
@@ -1114,7 +1199,7 @@ float sp_hud_height(const struct sp_font *font, int n)
 
 void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
                  char lines[][SP_HUD_LINE_BYTES], int n, const struct sp_params *p,
-                 const struct sp_palette *pal)
+                 const struct sp_palette *pal, const char *live)
 {
     const struct sp_font *f = c->font;
     char buf[64];
@@ -1127,25 +1212,35 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
     y += 0.5f * (sp_font_line(f, SP_TEXT_LARGE) - sp_font_cap(f, SP_TEXT_LARGE)) +
          0.5f * (sp_font_line(f, SP_TEXT_NORMAL) - sp_font_cap(f, SP_TEXT_NORMAL));
     const int res = sp_params_resonant(p, &ratio);
-    const int own_line = n > 1 && !strcmp(lines[n - 1], "\1");
-    const int last = own_line ? n - 2 : n - 1; /* the ratio's line */
     const char *note = resonance_note(f, res, r->x1 - r->x0);
     for (int i = 1; i < n; i++) {
         const float base = y + sp_font_cap(f, SP_TEXT_NORMAL);
         y += sp_font_line(f, SP_TEXT_NORMAL);
         if (!lines[i][0])
             continue;
-        if (i == n - 1 && own_line) {
+        if (!strcmp(lines[i], "\1")) {
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, res ? pal->accent : pal->muted, note);
+            continue;
+        }
+        if (lines[i][0] == SP_HUD_LIVE) { /* changes every frame */
+            sp_canvas_layer(c, SP_LAYER_DYNAMIC);
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->text, live ? live : "");
+            sp_canvas_layer(c, SP_LAYER_STATIC);
+            continue;
+        }
+        if (lines[i][0] == HUD_MORE) {
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->muted, lines[i] + 1);
             continue;
         }
         if (lines[i][0] == HUD_ACCENT) {
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->accent, lines[i] + 1);
             continue;
         }
+        const int ratio_line = lines[i][0] == HUD_RATIO;
+        const char *text = lines[i] + ratio_line;
         const float w = (float)sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT,
-                                              i == last ? pal->text : pal->muted, lines[i]);
-        if (i == last && !own_line)
+                                              ratio_line ? pal->text : pal->muted, text);
+        if (ratio_line && !(i + 1 < n && !strcmp(lines[i + 1], "\1")))
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0 + w + sp_font_line(f, SP_TEXT_NORMAL), base,
                            SP_ALIGN_LEFT, res ? pal->accent : pal->muted, note);
     }

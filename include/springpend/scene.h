@@ -167,6 +167,8 @@ struct sp_scene {
                                              panels: one per panel, '|' between */
         char ylabel[SP_VIEW_TEXT_BYTES];  /* as xlabel */
         char colorbar_label[SP_VIEW_TEXT_BYTES]; /* "" = the colour bar's own name */
+        int colorbar_label_line; /* where colorbar_label was set: its line in the
+                                    scene file, -1 = by --set, 0 = not set */
         int camera;              /* enum sp_camera_mode */
         double camera_azimuth;   /* rad, SP_CAMERA_SET: the eye turned about the
                                     vertical from +z (the front) towards +x */
@@ -286,6 +288,10 @@ double sp_scene_get_number(const struct sp_scene *s, const char *key);
  * them (bits listed by no name, such as those a command adds, after them in
  * bit order) into order[0..SP_PANEL_COUNT); returns how many. */
 int sp_scene_panel_order(const struct sp_view *view, int order[SP_PANEL_COUNT]);
+
+/* The name of the plot panels bit `bit` draws ("phase r", "phase theta":
+ * the panel phase is two plots), for messages. */
+const char *sp_scene_plot_name(int bit);
 
 /* The i-th of n '|'-separated entries of a [view] label (xlabel, ylabel),
  * blanks around it removed, into buf: one entry serves every panel; an

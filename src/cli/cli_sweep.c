@@ -814,8 +814,8 @@ static int same_sweep(const struct shard *a, const struct shard *b)
     if (!what)
         return 0;
     sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": from another sweep than %s: %s "
-                 "(%s vs %s: %s's vs %s's); merge only the shards of one run of 'springpend "
-                 "sweep ... --shard I/N'", b->path, a->path, what, wa, wb, a->path, b->path);
+                 "(%s: %s; %s: %s); merge only the shards of one run of 'springpend sweep "
+                 "... --shard I/N'", b->path, a->path, what, a->path, wa, b->path, wb);
     return SP_E_INPUT;
 }
 

@@ -234,24 +234,41 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
 
 /* Scenes side by side share the first one's frame and text: the keys in
  * which another may not differ. */
-/* A still or video draws a colour bar only with view.colorbar = true: a
- * colorbar_label without it would be ignored, so it is refused where it
- * was given (a sweep's map always has one: sweep takes the label). */
-static int check_colorbar_label(const struct sp_cli_options *o, const struct sp_scene *s, int n)
+/* What a still or video would draw nothing for, refused where it was given
+ * (FILE:LINE or --set; the parser accepts it, since info, data and sweep
+ * draw no panels and a sweep's map always has a colour bar):
+ * - view.colorbar_label without view.colorbar = true (no bar to name);
+ * - the azimuth and top panels of a planar scene (a flat 0 and a line). */
+static int check_drawn(const struct sp_cli_options *o, const struct sp_scene *s, int n)
 {
+    char where[4200], rate[4200];
     for (int i = 0; i < n; i++) {
         const struct sp_view *v = &s[i].view;
-        if (!v->colorbar_label[0] || v->colorbar)
-            continue;
-        char where[4200];
-        if (v->colorbar_label_line > 0)
-            snprintf(where, sizeof(where), "%s:%d", o->scene_paths[i], v->colorbar_label_line);
-        else
-            snprintf(where, sizeof(where), "--set view.colorbar_label=%s", v->colorbar_label);
-        sp_fprintf_line(stderr, "%s: view.colorbar_label = '%s' names the colour bar, but view.colorbar = "
-                     "false draws none; allowed: a colorbar_label with view.colorbar = true, or "
-                     "none", where, v->colorbar_label);
-        return SP_E_INPUT;
+        const unsigned planar = s[i].initial.azimuth_rate == 0
+                                    ? v->panels & (SP_PANEL_AZIMUTH | SP_PANEL_TOP) : 0;
+        if (v->colorbar_label[0] && !v->colorbar) {
+            sp_scene_key_where(&s[i], "view.colorbar_label", o->scene_paths[i], where,
+                               sizeof(where));
+            sp_fprintf_line(stderr, "%s: view.colorbar_label = '%s' names the colour bar, but "
+                            "view.colorbar = false draws none; allowed: a colorbar_label with "
+                            "view.colorbar = true, or none", where, v->colorbar_label);
+            return SP_E_INPUT;
+        }
+        if (planar) {
+            sp_scene_key_where(&s[i], "view.panels", o->scene_paths[i], where, sizeof(where));
+            sp_scene_key_where(&s[i], "initial.azimuth_rate", o->scene_paths[i], rate,
+                               sizeof(rate));
+            sp_fprintf_line(stderr, "%s: view.panels holds %s, which show%s the third "
+                            "dimension, but the scene is planar (initial.azimuth_rate = 0%s%s): "
+                            "its azimuth is 0 and its top view a line; allowed on a planar "
+                            "scene: r, theta, energy, extension, phase, poincare, modes, spread, "
+                            "energy_bars (azimuth and top need initial.azimuth_rate != 0)", where,
+                            planar == SP_PANEL_AZIMUTH ? "azimuth" : planar == SP_PANEL_TOP ? "top"
+                            : "azimuth and top", planar == (SP_PANEL_AZIMUTH | SP_PANEL_TOP) ? "" : "s",
+                            strcmp(rate, o->scene_paths[i]) ? ", at " : "",
+                            strcmp(rate, o->scene_paths[i]) ? rate : "");
+            return SP_E_INPUT;
+        }
     }
     return 0;
 }
@@ -352,7 +369,7 @@ static int run(int argc, char **argv, int still)
         return ret > 0 ? 0 : ret;
     ret = sp_cli_load_scenes(&o, scenes);
     if (!ret)
-        ret = check_colorbar_label(&o, scenes, o.n_scenes);
+        ret = check_drawn(&o, scenes, o.n_scenes);
     if (!ret && o.n_scenes > 1)
         ret = check_side_by_side(&o, scenes, o.n_scenes);
 

@@ -139,6 +139,7 @@ static const struct key_info keys[] = {
 };
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
+_Static_assert(N_KEYS <= SP_SCENE_MAX_KEYS, "struct sp_scene's key_lines holds every key");
 
 /* The text keys with no byte limit, view.title and view.caption: the index
  * of struct sp_scene's texts that holds k's text, or -1 for the others
@@ -915,6 +916,22 @@ int sp_scene_panel_order(const struct sp_view *view, int order[SP_PANEL_COUNT])
     return n;
 }
 
+void sp_scene_key_where(const struct sp_scene *s, const char *key, const char *path, char *buf,
+                        size_t size)
+{
+    const char *dot = strchr(key, '.');
+    char section[64];
+    snprintf(section, sizeof(section), "%.*s", dot ? (int)(dot - key) : 0, key);
+    const struct key_info *k = dot ? find_key(section, dot + 1) : NULL;
+    const int line = k ? s->key_lines[k - keys] : 0;
+    if (line < 0)
+        snprintf(buf, size, "--set %s", key);
+    else if (line > 0)
+        snprintf(buf, size, "%s:%d", path, line);
+    else
+        snprintf(buf, size, "%s", path);
+}
+
 const char *sp_scene_plot_name(int bit)
 {
     static const char *const names[SP_PANEL_COUNT] = {
@@ -1042,16 +1059,6 @@ static void check_view_3d(struct parse_ctx *c)
                "3-D motion (initial.azimuth_rate = %g rad/s) does not have; leave poincare out "
                "of view.panels (azimuth and top show the third dimension) or set "
                "initial.azimuth_rate = 0", s->initial.azimuth_rate);
-    const unsigned spatial_only = s->view.panels & (SP_PANEL_AZIMUTH | SP_PANEL_TOP);
-    if (s->initial.azimuth_rate == 0 && spatial_only)
-        report_key(c, "view", "panels",
-                   "view.panels holds %s, which show%s the third dimension, but the scene is "
-                   "planar (initial.azimuth_rate = 0): the azimuth is 0 and the path lies on a "
-                   "line; allowed on a planar scene: r, theta, energy, extension, phase, "
-                   "poincare, modes, spread, energy_bars (azimuth and top need "
-                   "initial.azimuth_rate != 0)", spatial_only == SP_PANEL_AZIMUTH ? "azimuth"
-                   : spatial_only == SP_PANEL_TOP ? "top" : "azimuth and top",
-                   spatial_only == (SP_PANEL_AZIMUTH | SP_PANEL_TOP) ? "" : "s");
 }
 
 /* Checks that need several keys at once. */
@@ -1126,10 +1133,6 @@ static void validate_whole(struct parse_ctx *c)
                        parts, n_plots, n_plots == 1 ? "" : "s", n_plots ? plots : "none");
         }
     }
-    /* colorbar_label names the colour bar of a still or video only where
-     * there is one (a sweep's map has its own: the command checks that) */
-    const int cbl = (int)(find_key("view", "colorbar_label") - keys);
-    s->view.colorbar_label_line = c->key_set[cbl] ? -1 : c->key_line[cbl];
 }
 
 /* [ensemble]: the key is a numeric physics key (as sweep's --vary), the
@@ -1197,6 +1200,8 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     }
     for (int i = 0; i < n_overrides; i++)
         apply_override(&c, overrides[i]);
+    for (int i = 0; i < N_KEYS; i++) /* for the commands' own checks */
+        s->key_lines[i] = c.key_set[i] ? -1 : c.key_line[i];
     if (!c.errors)
         validate_whole(&c);
     /* once, here: sp_scene_set_number's copies (sweeps, ensembles) share it */

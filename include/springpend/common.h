@@ -41,10 +41,11 @@ void sp_fputs_line(const char *s, FILE *fp);
  * or sp_log_error, so that no name drives the terminal. */
 void sp_fprintf_line(FILE *fp, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* s as sp_fputs_line shows it, into buf (size bytes, cut to fit, NUL
- * ended); returns its length. For names that reach a file or a picture
- * (data's scene column, a cell's automatic label). */
-size_t sp_text_shown(const char *s, char *buf, size_t size);
+/* s as sp_fputs_line shows it (newline = 1: as sp_fputs_printable, a
+ * newline kept), into buf (size bytes, cut to fit, NUL ended); returns its
+ * length. For names that reach a file or a picture (data's scene column,
+ * an RFC 4180 field that may hold a line break; a cell's automatic label). */
+size_t sp_text_shown(const char *s, int newline, char *buf, size_t size);
 
 /* Progress of a long integration, drawn on stderr when it is a terminal:
  * a command calls sp_progress_begin before integrating to t_goal

@@ -48,7 +48,7 @@ void sp_fputs_line(const char *s, FILE *fp)
     fputs_shown(s, fp, 0);
 }
 
-size_t sp_text_shown(const char *s, char *buf, size_t size)
+size_t sp_text_shown(const char *s, int newline, char *buf, size_t size)
 {
     FILE *m = size ? fmemopen(buf, size, "w") : NULL;
     if (!m) {
@@ -57,7 +57,7 @@ size_t sp_text_shown(const char *s, char *buf, size_t size)
         return 0;
     }
     setvbuf(m, NULL, _IONBF, 0);
-    sp_fputs_line(s, m);
+    fputs_shown(s, m, newline);
     long n = ftell(m);
     fclose(m);
     n = n < 0 ? 0 : n >= (long)size ? (long)size - 1 : n;

@@ -295,7 +295,7 @@ int sp_cmd_data(int argc, char **argv)
      * terminal escape in a file name must not reach whoever cats the CSV) */
     static char column[SP_CLI_MAX_SCENES][4 * sizeof(scenes[0].name)];
     for (int i = 0; i < o.n_scenes; i++) {
-        sp_text_shown(scenes[i].name, column[i], sizeof(column[i]));
+        sp_text_shown(scenes[i].name, 1, column[i], sizeof(column[i]));
         sp_timeline_destroy(&scenes[i].timeline); /* presentation: data ignores it */
         spatial |= scenes[i].initial.azimuth_rate != 0;
         if (!ret && o.n_scenes > 1 && (o.poincare || scenes[i].ensemble.count > 1)) {

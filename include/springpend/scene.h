@@ -176,6 +176,10 @@ struct sp_scene {
                                     horizontal, in (-90, 90) degrees */
         double camera_distance;  /* m, SP_CAMERA_SET: from the eye to the middle
                                     of the motion; 0 = fitted to the motion */
+        char camera_where[SP_VIEW_TEXT_BYTES]; /* where view.camera was set, for
+                                    the refusals that need the motion:
+                                    "FILE:LINE" or "--set view.camera"; "" =
+                                    nowhere (the default) */
     } view;
     struct {
         int count;     /* pendulums drawn together, 0 or 1 = no ensemble */

@@ -436,6 +436,10 @@ static int set_camera(struct parse_ctx *c, int line, const struct key_info *k,
         return 1;
     }
     v->camera = SP_CAMERA_SET;
+    if (line > 0)
+        snprintf(v->camera_where, sizeof(v->camera_where), "%s:%d", c->origin, line);
+    else
+        snprintf(v->camera_where, sizeof(v->camera_where), "--set %s.%s", k->section, k->name);
     v->camera_azimuth = num[0] * (M_PI / 180.0);
     v->camera_elevation = num[1] * (M_PI / 180.0);
     v->camera_distance = n == 3 ? num[2] : 0;

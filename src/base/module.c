@@ -1,4 +1,4 @@
-/* springpend: loads modules on first use (see av_module.h). */
+/* springpend: loads modules on first use (see module.h). */
 #include <dlfcn.h>
 #include <errno.h>
 #include <limits.h>
@@ -10,7 +10,7 @@
 
 #include "module_abi.h"
 #include "springpend/common.h"
-#include "av_module.h"
+#include "module.h"
 
 enum { MAX_MODULES = 4 };
 
@@ -147,9 +147,4 @@ void *sp_module_symbol(const char *name, const char *needed_for, const char *sym
     if (!p)
         sp_log_error("%s lacks %s: %s", name, symbol, dlerror());
     return p;
-}
-
-void *sp_av_module_symbol(const char *symbol)
-{
-    return sp_module_symbol("springpend-av.so", "video and GIF", symbol);
 }

@@ -10,10 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
-#include "av_module.h"
+#include "clock.h"
+#include "module.h"
 #include "cli.h"
 #include "decimal.h"
 #include "digest.h"
@@ -418,13 +418,6 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
                        quiet);
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 struct progress {
     double t0, last;
 };
@@ -432,7 +425,7 @@ struct progress {
 static void show_progress(void *user, long done, long total)
 {
     struct progress *p = user;
-    double now = now_s();
+    double now = sp_clock_s();
     if (done < total && now - p->last < 0.1)
         return;
     p->last = now;
@@ -969,8 +962,8 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
     ret = sp_sweep_write_header(fp, d, NULL);
     long blown = 0, unreachable = 0;
-    struct progress prog = {.t0 = now_s()};
-    double t0 = now_s();
+    struct progress prog = {.t0 = sp_clock_s()};
+    double t0 = sp_clock_s();
     if (!ret)
         ret = sp_sweep_run(d, scene, first, last, o->threads, fp, &blown, &unreachable,
                            !o->quiet && isatty(2) ? show_progress : NULL, &prog);
@@ -998,7 +991,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     if (!o->quiet)
         fprintf(stderr, "wrote %s%s%s: %ld points in %.2f s\n",
                 o->output ? o->output : o->csv ? "" : "stdout", o->output && o->csv ? " and " : "",
-                o->csv ? o->csv : "", last - first, now_s() - t0);
+                o->csv ? o->csv : "", last - first, sp_clock_s() - t0);
     return 0;
 }
 

@@ -185,10 +185,8 @@ static int may_break_before(const char *s)
     /* combining marks U+0300-036F, U+0483-0489, U+0591-05C7, U+0610-061A,
      * U+064B-065F, U+0670, U+06D6-06ED, the Indic signs and vowel marks
      * (U+0900-0DFF blocks' dependent signs), U+200C/U+200D, U+20D0-20FF */
-    size_t n = sp_utf8_char(s);
-    uint32_t cp = n == 1 ? u[0] : n ? u[0] & (0x7Fu >> n) : 0;
-    for (size_t i = 1; i < n; i++)
-        cp = cp << 6 | (u[i] & 0x3Fu);
+    size_t n;
+    const uint32_t cp = sp_utf8_decode(s, &n); /* U+FFFD, malformed: may break */
     if ((cp >= 0x0300 && cp <= 0x036F) || (cp >= 0x0483 && cp <= 0x0489) ||
         (cp >= 0x0591 && cp <= 0x05C7) || (cp >= 0x0610 && cp <= 0x061A) ||
         (cp >= 0x064B && cp <= 0x065F) || cp == 0x0670 || (cp >= 0x06D6 && cp <= 0x06ED) ||

@@ -9,7 +9,7 @@
 #include "springpend/common.h"
 #include "springpend/figure.h"
 #include "springpend/outfile.h"
-#include "av_module.h"
+#include "module.h"
 #include "compose.h"
 #include "draw_cairo.h"
 #include "signals.h"

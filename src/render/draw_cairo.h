@@ -1,6 +1,6 @@
 /* springpend (internal): the cairo backend of the draw list (canvas.h),
  * writing SVG or PDF. It lives in springpend-cairo.so (loaded on first use,
- * av_module.h). Shapes become real vector paths (a polyline is one path, or
+ * module.h). Shapes become real vector paths (a polyline is one path, or
  * one per run of equal colour when its colour changes along it), text runs
  * glyphs of the embedded DejaVu Sans at the pen positions text.c's layout
  * gives, so the picture matches the GL one. cairo's SVG surface writes the

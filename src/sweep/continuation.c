@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "analysis.h"
+#include "array.h"
 #include "signals.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
@@ -37,13 +38,8 @@ struct samples {
 
 static int push(struct samples *v, struct sample s)
 {
-    if (v->n == v->cap) {
-        long cap = v->cap ? 2 * v->cap : 64;
-        struct sample *p = realloc(v->s, sizeof(*p) * (size_t)cap);
-        if (!p)
-            return SP_E_NOMEM;
-        v->s = p, v->cap = cap;
-    }
+    if (SP_ARRAY_RESERVE(v->s, v->cap, v->n + 1, 64))
+        return SP_E_NOMEM;
     v->s[v->n++] = s;
     return 0;
 }

@@ -21,6 +21,7 @@
 #include "springpend/common.h"
 #include "springpend/sim.h"
 #include "analysis.h"
+#include "array.h"
 #include "signals.h"
 #include "sweep.h"
 #include "text.h"
@@ -555,15 +556,12 @@ __attribute__((format(printf, 2, 3))) static void sb_printf(struct sbuf *b, cons
             b->len += (size_t)n;
             return;
         }
-        size_t cap = b->cap ? 2 * b->cap : 4096;
-        while (n >= 0 && cap < b->len + (size_t)n + 1)
-            cap *= 2;
-        char *s = realloc(b->s, cap);
-        if (!s) {
+        /* n < 0: vsnprintf failed, or b->s is NULL: grow and retry */
+        const size_t need = n >= 0 ? b->len + (size_t)n + 1 : 2 * b->cap + 1;
+        if (SP_ARRAY_RESERVE(b->s, b->cap, need, 4096)) {
             b->failed = 1;
             return;
         }
-        b->s = s, b->cap = cap;
     }
 }
 
@@ -624,14 +622,9 @@ static void spill_lane(struct chunk_out *o, int i)
         o->spill_failed = errno ? errno : EIO;
         return;
     }
-    if (o->n_blocks == o->cap_blocks) {
-        long cap = o->cap_blocks ? 2 * o->cap_blocks : 64;
-        struct spill_block *nb = realloc(o->blocks, sizeof(*nb) * (size_t)cap);
-        if (!nb) {
-            b->failed = 1;
-            return;
-        }
-        o->blocks = nb, o->cap_blocks = cap;
+    if (SP_ARRAY_RESERVE(o->blocks, o->cap_blocks, o->n_blocks + 1, 64)) {
+        b->failed = 1;
+        return;
     }
     long at = ftell(o->spill);
     if (at < 0 || fwrite(b->s, 1, b->len, o->spill) != b->len) {

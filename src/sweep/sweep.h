@@ -174,7 +174,7 @@ struct sp_plot_style {
  * CSV and its metadata) is in place, or discards it (outfile.h), so that
  * a run that fails leaves no figure. On failure *figure is closed. Lives in
  * sweep_plot.c (cairo); the executable reaches it through the module that
- * av_module.h loads (springpend-plot.so), so that cairo costs only the
+ * module.h loads (springpend-plot.so), so that cairo costs only the
  * commands that draw.
  * Returns 0, SP_E_INPUT (not a sweep CSV) or SP_E_IO. */
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,

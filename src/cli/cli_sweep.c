@@ -1022,6 +1022,7 @@ int sp_cmd_sweep(int argc, char **argv)
     if ((ret = check_used(&o)) || (ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
     sp_timeline_destroy(&scene.timeline); /* the [timeline] is presentation: sweeps ignore it */
+    d.cancel = sp_signal_flag(); /* a signal stops the run */
     ret = sweep_scene(&o, &d, &scene);
     sp_scene_free(&scene);
     return ret;

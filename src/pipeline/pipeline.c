@@ -377,7 +377,7 @@ static int run_setup(struct run *run)
     int ret;
     if (desc->handle_signals) {
         /* From the start: a signal during setup stops before frame one. */
-        sp_signals_hold(&run->saved_signals);
+        sp_signals_hold(&run->saved_signals, sp_outfile_remove_parts);
         run->signals_held = 1;
     }
     /* A still past the video's end still fits its camera to the whole
@@ -538,7 +538,8 @@ static int run_figure(struct run *run)
         .page_w = run->desc->pt_px > 0 ? run->desc->page_w : 0,
         .page_h = run->desc->pt_px > 0 ? run->desc->page_h : 0,
         .title = run->sc->name, .path = run->desc->output, .cells = 1 + run->n_more,
-        .looks = run->looks, .scene_file = ini, .command = command},
+        .looks = run->looks, .scene_file = ini, .command = command,
+        .cancel = sp_signal_flag()},
         frames_of(run, run->desc->still_at, frames));
     free(ini);
     free(command);

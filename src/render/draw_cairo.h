@@ -5,7 +5,8 @@
  * glyphs of the embedded DejaVu Sans at the pen positions text.c's layout
  * gives, so the picture matches the GL one. cairo's SVG surface writes the
  * glyphs as outlines; its PDF surface embeds the font and keeps the text
- * selectable. One user unit is one output pixel (SVG: px; PDF: pt). */
+ * selectable. One user unit is one output pixel (SVG: px; PDF: pt).
+ * Shared with: frame (figure.c, which belongs in render/). */
 #ifndef SPRINGPEND_DRAW_CAIRO_H
 #define SPRINGPEND_DRAW_CAIRO_H
 
@@ -27,6 +28,8 @@ struct sp_draw_cairo_desc {
     const char *scene_file;     /* provenance (cairo_fd.h): PDF /Subject, SVG
                                    <metadata>; NULL = none */
     const char *command;        /* provenance: the command without its -o; NULL = none */
+    const volatile sig_atomic_t *cancel; /* once set, drawing stops (the caller
+                                   then writes nothing); NULL = never */
 };
 
 /* Writes the list. 0, or SP_E_IO / SP_E_NOMEM with cairo's reason logged. */

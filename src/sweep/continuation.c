@@ -17,7 +17,6 @@
 
 #include "analysis.h"
 #include "array.h"
-#include "signals.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
@@ -62,7 +61,7 @@ static int sample_lanes(const struct sp_sweep_desc *d, struct sp_batch *b,
         double t0 = (double)step * dt, t1 = (double)(step + 1) * dt;
         if (t0 >= t_end)
             break;
-        if (step % 1024 == 0 && sp_signal_seen())
+        if (step % 1024 == 0 && sp_sweep_cancelled(d))
             return SP_E_INTERRUPTED;
         for (int c = 0; c < 4; c++)
             memcpy(prev[c], b->out[c], sizeof(double) * (size_t)n);

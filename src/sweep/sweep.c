@@ -22,7 +22,6 @@
 #include "springpend/sim.h"
 #include "analysis.h"
 #include "array.h"
-#include "signals.h"
 #include "sweep.h"
 #include "text.h"
 
@@ -689,12 +688,12 @@ static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, c
     long k0 = (long)ceil(d->transient / tau - 1e-9);
     double growth[CHUNK], sum[CHUNK] = {0}, half[CHUNK] = {0};
 #define TAU_TIME(k) (fixed ? (double)((k) * m) * b->dt : (double)(k) * tau)
-    b->cancel = sp_signal_flag(); /* a long transient is one call */
+    b->cancel = d->cancel; /* a long transient is one call */
     if (k0 > 0 && sp_batch_advance(b, TAU_TIME(k0)))
         return SP_E_INTERRUPTED;
     sp_batch_reset_tangent(b);
     for (long k = 1; k <= K; k++) {
-        if (sp_signal_seen() || sp_batch_advance(b, TAU_TIME(k0 + k)))
+        if (sp_sweep_cancelled(d) || sp_batch_advance(b, TAU_TIME(k0 + k)))
             return SP_E_INTERRUPTED;
         sp_batch_renormalise(b, growth);
         for (int i = 0; i < n; i++) {
@@ -735,7 +734,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
         double t0 = (double)step * dt, t1 = (double)(step + 1) * dt;
         if (t0 >= t_end)
             break;
-        if (step % 1024 == 0 && sp_signal_seen()) {
+        if (step % 1024 == 0 && sp_sweep_cancelled(d)) {
             ret = SP_E_INTERRUPTED;
             break;
         }
@@ -986,7 +985,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
     for (long c = 0; !ret && c < r.n_chunks; c++) {
         struct slot *s = &r.slots[c % r.window];
         pthread_mutex_lock(&r.lock);
-        while (!s->done && !r.stop && !sp_signal_seen()) {
+        while (!s->done && !r.stop && !sp_sweep_cancelled(d)) {
             struct timespec until;
             clock_gettime(CLOCK_REALTIME, &until);
             until.tv_nsec += 200000000;
@@ -996,7 +995,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
         }
         pthread_mutex_unlock(&r.lock);
         if (!s->done) {
-            ret = sp_signal_seen() ? SP_E_INTERRUPTED : SP_E_NOMEM;
+            ret = sp_sweep_cancelled(d) ? SP_E_INTERRUPTED : SP_E_NOMEM;
             break;
         }
         ret = s->ret;
@@ -1025,7 +1024,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
         pthread_join(tid[i], NULL);
     for (int i = 0; i < r.window; i++)
         chunk_out_free(&r.slots[i].out);
-    if (!ret && sp_signal_seen())
+    if (!ret && sp_sweep_cancelled(d))
         ret = SP_E_INTERRUPTED;
     pthread_mutex_destroy(&r.lock);
     pthread_cond_destroy(&r.changed);

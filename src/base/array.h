@@ -1,3 +1,5 @@
+/* springpend (internal): growing arrays, one way everywhere (array.c).
+ * Shared with: every folder. */
 #ifndef SP_ARRAY_H
 #define SP_ARRAY_H
 

@@ -1,3 +1,5 @@
+/* springpend (internal): the one clock of timings (clock.c).
+ * Shared with: every folder. */
 #ifndef SP_CLOCK_H
 #define SP_CLOCK_H
 

@@ -4,7 +4,8 @@
  * the sweeps' figures (sweep_plot.c, cairo; it calls back into the sweep
  * command's code, so only `springpend sweep` loads it). Loading FFmpeg's
  * libraries costs a process some 20-35 ms, cairo's about 1 ms, which commands
- * that write no video or vector figure should not pay. */
+ * that write no video or vector figure should not pay.
+ * Shared with: every folder. */
 #ifndef SPRINGPEND_MODULE_H
 #define SPRINGPEND_MODULE_H
 

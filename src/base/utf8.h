@@ -1,3 +1,5 @@
+/* springpend (internal): UTF-8 validation and decoding (utf8.c).
+ * Shared with: every folder. */
 #ifndef SP_UTF8_H
 #define SP_UTF8_H
 

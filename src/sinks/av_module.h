@@ -1,6 +1,7 @@
 /* springpend (internal): springpend-av.so, the module that holds everything
  * that needs FFmpeg (sink_video.c, sink_gif.c, video_read.c), loaded on
- * first use by module.h's loader. */
+ * first use by module.h's loader.
+ * Shared with: base (environment.c), compare (video_read_stub.c). */
 #ifndef SPRINGPEND_AV_MODULE_H
 #define SPRINGPEND_AV_MODULE_H
 

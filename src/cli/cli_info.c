@@ -84,7 +84,7 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
     const double ws = in->ph.omega_s, wp = in->ph.omega_p, ratio = in->ph.ratio;
     const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
 
-    printf("scene %s (%s)\n", sc->name, o->scene_path);
+    sp_fprintf_line(stdout, "scene %s (%s)", sc->name, o->scene_path);
     printf("  pendulum         L0 = %g m, k = %g N/m, m = %g kg, g = %g m/s^2, b = %g N*s/m\n",
            L0, k, m, g, sc->pendulum.damping);
     printf("  equilibrium      l = L0 + m g / k = %.6g m (static stretch m g / k = %.6g m)\n",

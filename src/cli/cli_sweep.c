@@ -708,23 +708,70 @@ static void first_difference(const char *a, const char *b, char *wa, char *wb, s
     snprintf(wb, size, "?");
 }
 
-/* The first word (space-separated) where descriptions a and b differ. */
-static void first_word_difference(const char *a, const char *b, char *wa, char *wb, size_t size)
+/* The value of the k-th word "key=VALUE" (k counts the words with that
+ * key: vary is there once per axis) of description d, n bytes into *v;
+ * NULL when there is none. */
+static const char *description_value(const char *d, const char *key, size_t klen, int k,
+                                     size_t *n)
 {
-    while (*a || *b) {
-        const size_t na = strcspn(a, " "), nb = strcspn(b, " ");
-        if (na != nb || strncmp(a, b, na)) {
-            snprintf(wa, size, "%.*s", (int)na, *a ? a : "(nothing)");
-            snprintf(wb, size, "%.*s", (int)nb, *b ? b : "(nothing)");
-            if (!na)
-                snprintf(wa, size, "(nothing)");
-            if (!nb)
-                snprintf(wb, size, "(nothing)");
+    for (const char *w = d; *w; w += strspn(w, " ")) {
+        const size_t len = strcspn(w, " ");
+        if (len > klen && w[klen] == '=' && !strncmp(w, key, klen) && k-- == 0) {
+            *n = len - klen - 1;
+            return w + klen + 1;
+        }
+        w += len;
+    }
+    return NULL;
+}
+
+/* One side of a difference of descriptions: "key=VALUE", or the value a
+ * word left out stands for (kernel=exact, continue=none), or "no key". */
+static void description_side(char *out, size_t size, const char *key, size_t klen,
+                             const char *v, size_t n)
+{
+    static const char *const absent[][2] = {{"kernel", "exact"}, {"continue", "none"}};
+    if (v) {
+        snprintf(out, size, "%.*s=%.*s", (int)klen, key, (int)n, v);
+        return;
+    }
+    for (size_t i = 0; i < sizeof(absent) / sizeof(absent[0]); i++)
+        if (strlen(absent[i][0]) == klen && !strncmp(key, absent[i][0], klen)) {
+            snprintf(out, size, "%s=%s", absent[i][0], absent[i][1]);
             return;
         }
-        a += na + (a[na] == ' ');
-        b += nb + (b[nb] == ' ');
+    snprintf(out, size, "no %.*s", (int)klen, key);
+}
+
+/* The first key where descriptions a and b ("key=VALUE" words) differ, as
+ * "key=A" into wa and "key=B" into wb: words are paired by their key (the
+ * k-th vary with the k-th), not by place, since optional words (kernel,
+ * continue, peak) shift the rest. */
+static void first_word_difference(const char *a, const char *b, char *wa, char *wb, size_t size)
+{
+    for (int side = 0; side < 2; side++) {
+        const char *d = side ? b : a;
+        for (const char *w = d; *w; w += strspn(w, " ")) {
+            const size_t len = strcspn(w, " "), klen = strcspn(w, "= ");
+            int k = 0; /* this word is the k-th with its key */
+            for (const char *x = d; x < w; x += strspn(x, " ")) {
+                const size_t xl = strcspn(x, " ");
+                k += xl > klen && x[klen] == '=' && !strncmp(x, w, klen);
+                x += xl;
+            }
+            size_t na = 0, nb = 0;
+            const char *va = description_value(a, w, klen, k, &na);
+            const char *vb = description_value(b, w, klen, k, &nb);
+            if (!va || !vb || na != nb || strncmp(va, vb, na)) {
+                description_side(wa, size, w, klen, va, na);
+                description_side(wb, size, w, klen, vb, nb);
+                return;
+            }
+            w += len;
+        }
     }
+    snprintf(wa, size, "?");
+    snprintf(wb, size, "?");
 }
 
 /* The overrides as one "--set A --set B" text (or "no --set"). */
@@ -939,7 +986,7 @@ static int merge(const struct sweep_opts *o)
     free(shards);
     free(order);
     if (!ret && !o->quiet)
-        fprintf(stderr, "wrote %s%s%s from %d shards\n", o->output ? o->output : "stdout",
+        sp_fprintf_line(stderr, "wrote %s%s%s from %d shards", o->output ? o->output : "stdout",
                 o->csv ? " and " : "", o->csv ? o->csv : "", n);
     return ret;
 }
@@ -1000,7 +1047,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
         sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
                      last - first, d->energy);
     if (!o->quiet)
-        fprintf(stderr, "wrote %s%s%s: %ld points in %.2f s\n",
+        sp_fprintf_line(stderr, "wrote %s%s%s: %ld points in %.2f s",
                 o->output ? o->output : o->csv ? "" : "stdout", o->output && o->csv ? " and " : "",
                 o->csv ? o->csv : "", last - first, sp_clock_s() - t0);
     return 0;

@@ -354,7 +354,7 @@ static void cell_looks(struct run *run)
         sp_look_of(all[i], &run->looks[i]);
         snprintf(run->looks[i].differs, sizeof(run->looks[i].differs), "%s", label);
         if (!label[0])
-            snprintf(label, SP_VIEW_TEXT_BYTES, "%s", all[i]->name);
+            sp_text_shown(all[i]->name, 0, label, SP_VIEW_TEXT_BYTES); /* no control byte */
         if (!run->looks[i].view.title[0]) {
             run->looks[i].view.title = label; /* run->labels: lives as long as the looks */
             snprintf(run->label_what[i], sizeof(run->label_what[i]),

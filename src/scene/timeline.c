@@ -41,10 +41,12 @@ static void report(const char *origin, int line, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "%s:%d: ", origin, line);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    char *msg = NULL;
+    if (vasprintf(&msg, fmt, ap) < 0)
+        msg = NULL;
     va_end(ap);
+    sp_fprintf_line(stderr, "%s:%d: %s", origin, line, msg ? msg : fmt);
+    free(msg);
 }
 
 /* Appends text (n bytes) to the pool; returns its offset, or -1. */

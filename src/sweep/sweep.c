@@ -484,6 +484,12 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
                      "leave --fast out");
         return SP_E_INPUT;
     }
+    if (energy_given && d->measure != SP_MEASURE_POINCARE) {
+        sp_log_error("--energy %g: only --measure poincare puts every orbit at one energy; "
+                     "--measure %s starts each point from its scene's own state, so --energy "
+                     "would be ignored; leave it out", d->energy, measure_names[d->measure]);
+        return SP_E_INPUT;
+    }
     if (d->measure == SP_MEASURE_POINCARE && !energy_given)
         d->energy = scene_energy(base);
     if (!(d->time > 0) || !(d->transient >= 0)) {

@@ -19,7 +19,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "clock.h"
+#include "base/clock.h"
 #include "cli.h"
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
@@ -31,8 +31,8 @@
 #include "springpend/scene.h"
 #include "springpend/snapshot_list.h"
 #include "springpend/video_read.h"
-#include "decimal.h"
-#include "signals.h"
+#include "base/decimal.h"
+#include "base/signals.h"
 
 static const char compare_usage[] =
     "usage: springpend compare EXPECTED ACTUAL [options]\n"

@@ -12,7 +12,7 @@
 #include "springpend/compare_report.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
-#include "signals.h"
+#include "base/signals.h"
 
 static const char info_usage[] =
     "usage: springpend info SCENE [--json] [--set SECTION.KEY=VAL ...]\n"

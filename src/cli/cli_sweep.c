@@ -12,22 +12,22 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "clock.h"
-#include "module.h"
+#include "base/clock.h"
+#include "base/module.h"
 #include "cli.h"
-#include "decimal.h"
-#include "digest.h"
+#include "base/decimal.h"
+#include "base/digest.h"
 #include <jansson.h>
-#include "signals.h"
+#include "base/signals.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
-#include "command_line.h"
-#include "sweep.h"
-#include "sweep_format.h"
+#include "base/command_line.h"
+#include "sweep/sweep.h"
+#include "sweep/sweep_format.h"
 
 static const char sweep_usage[] =
     "usage: springpend sweep SCENE --vary KEY=FROM:TO:COUNT [--vary KEY=FROM:TO:COUNT]\n"

@@ -7,12 +7,12 @@
 #include <string.h>
 
 #include "cli.h"
-#include "command_line.h"
+#include "base/command_line.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
 #include "springpend/outfile.h"
 #include "springpend/render.h"
-#include "signals.h"
+#include "base/signals.h"
 
 static const char usage[] =
     "springpend " SP_VERSION " - renders the spring (elastic) pendulum, headless\n"

@@ -10,9 +10,9 @@
 
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
-#include "array.h"
-#include "signals.h"
-#include "text.h"
+#include "base/array.h"
+#include "base/signals.h"
+#include "frame/text.h"
 
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
 {

@@ -10,7 +10,7 @@
 
 #include "springpend/common.h"
 #include "springpend/snapshot_list.h"
-#include "array.h"
+#include "base/array.h"
 
 /* The extension's dot in name's last component, or NULL. */
 static const char *ext_of(const char *name)

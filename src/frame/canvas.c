@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "springpend/common.h"
-#include "array.h"
+#include "base/array.h"
 #include "canvas.h"
 
 void sp_canvas_reset(struct sp_canvas *c)

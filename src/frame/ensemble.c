@@ -5,7 +5,7 @@
 
 #include "springpend/common.h"
 #include "springpend/ensemble.h"
-#include "array.h"
+#include "base/array.h"
 
 /* The members' scenes and parameters: value i = centre + spread (i/(n-1) - 1/2),
  * set through the parser's own path (sp_scene_set_number), so that a single

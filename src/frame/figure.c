@@ -12,9 +12,9 @@
 #include "springpend/figure.h"
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
-#include "module.h"
+#include "base/module.h"
 #include "compose.h"
-#include "draw_cairo.h"
+#include "render/draw_cairo.h"
 
 enum sp_figure_format sp_figure_format(const char *path)
 {

@@ -7,8 +7,8 @@
 #include "springpend/advice.h"
 #include "springpend/common.h"
 #include "springpend/frame.h"
-#include "array.h"
-#include "sim_report.h"
+#include "base/array.h"
+#include "sim/sim_report.h"
 
 int sp_trail_make(struct sp_trail *tr, int capacity)
 {

@@ -19,10 +19,10 @@
 #include <hb.h>
 #include <hb-ot.h>
 
-#include "clock.h"
+#include "base/clock.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
-#include "embedded.h"
+#include "base/embedded.h"
 #include "text.h"
 
 #define PAD 1                /* texels around each glyph in the atlas */

@@ -35,7 +35,7 @@ struct sp_glyph_quad {
     float color[4]; /* straight RGBA, 0..1 */
 };
 
-#include "utf8.h"
+#include "base/utf8.h"
 
 struct sp_font;
 

@@ -11,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "clock.h"
+#include "base/clock.h"
 #include "springpend/common.h"
 #include "springpend/ensemble.h"
 #include "springpend/figure.h"
@@ -22,9 +22,9 @@
 #include "springpend/render.h"
 #include "springpend/sink.h"
 #include "springpend/timeline.h"
-#include "command_line.h"
-#include "signals.h"
-#include "sim_report.h"
+#include "base/command_line.h"
+#include "base/signals.h"
+#include "sim/sim_report.h"
 
 #define QUEUE_SLOTS 4 /* frames in flight between render and encoder */
 

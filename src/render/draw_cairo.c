@@ -13,7 +13,7 @@
 #include "cairo_fd.h"
 #include "cairo_text.h"
 #include "draw_cairo.h"
-#include "text.h"
+#include "frame/text.h"
 
 static void source(cairo_t *cr, const float c[4])
 {

@@ -11,7 +11,7 @@
 #define SPRINGPEND_DRAW_CAIRO_H
 
 #include "springpend/figure.h"
-#include "canvas.h"
+#include "frame/canvas.h"
 
 struct sp_draw_cairo_desc {
     const struct sp_canvas *canvas;

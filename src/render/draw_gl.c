@@ -5,9 +5,9 @@
 #include <string.h>
 
 #include "springpend/common.h"
-#include "array.h"
+#include "base/array.h"
 #include "draw_gl.h"
-#include "embedded.h"
+#include "base/embedded.h"
 
 enum { TILE = 32, MAX_FILLS = 200 }; /* px: the grain of copies and fills */
 enum { DTILE = 16 }; /* px: the grain of the damaged rectangles */

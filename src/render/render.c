@@ -5,10 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "clock.h"
+#include "base/clock.h"
 #include "springpend/common.h"
 #include "springpend/render.h"
-#include "compose.h"
+#include "frame/compose.h"
 #include "draw_gl.h"
 #include "gl_api.h"
 #include "yuv_gl.h"

@@ -18,9 +18,9 @@
 #include "springpend/common.h"
 #include "springpend/scene.h"
 #include "springpend/timeline.h"
-#include "decimal.h"
-#include "ini_lines.h"
-#include "utf8.h"
+#include "base/decimal.h"
+#include "base/ini_lines.h"
+#include "base/utf8.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
 /* Frame times are indexed by int; what a command makes of them has its own

@@ -9,9 +9,9 @@
 #include "springpend/common.h"
 #include "springpend/scene.h"
 #include "springpend/timeline.h"
-#include "decimal.h"
-#include "array.h"
-#include "ini_lines.h"
+#include "base/decimal.h"
+#include "base/array.h"
+#include "base/ini_lines.h"
 
 #define E SP_TIMELINE_EASE
 #define H SP_TIMELINE_FADE

@@ -5,7 +5,7 @@
 #ifndef SPRINGPEND_AV_MODULE_H
 #define SPRINGPEND_AV_MODULE_H
 
-#include "module.h"
+#include "base/module.h"
 
 /* sp_module_symbol of springpend-av.so. */
 void *sp_av_module_symbol(const char *symbol);

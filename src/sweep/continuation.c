@@ -16,7 +16,7 @@
 #include <string.h>
 
 #include "analysis.h"
-#include "array.h"
+#include "base/array.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"

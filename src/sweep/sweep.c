@@ -16,14 +16,14 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "decimal.h"
+#include "base/decimal.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
 #include "analysis.h"
-#include "array.h"
+#include "base/array.h"
 #include "sweep.h"
-#include "text.h"
+#include "frame/text.h"
 
 #define CHUNK 32  /* points per batch */
 #define WINDOW 4  /* chunks held per worker, finished or not */

@@ -10,24 +10,24 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
-#include "av_module.h"
+#include "base/clock.h"
+#include "base/module.h"
 #include "cli.h"
-#include "decimal.h"
-#include "digest.h"
+#include "base/decimal.h"
+#include "base/digest.h"
 #include <jansson.h>
-#include "signals.h"
+#include "base/signals.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
-#include "command_line.h"
-#include "sweep.h"
-#include "sweep_format.h"
+#include "base/command_line.h"
+#include "sweep/sweep.h"
+#include "sweep/sweep_format.h"
 
 static const char sweep_usage[] =
     "usage: springpend sweep SCENE --vary KEY=FROM:TO:COUNT [--vary KEY=FROM:TO:COUNT]\n"
@@ -418,13 +418,6 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
                        quiet);
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 struct progress {
     double t0, last;
 };
@@ -432,7 +425,7 @@ struct progress {
 static void show_progress(void *user, long done, long total)
 {
     struct progress *p = user;
-    double now = now_s();
+    double now = sp_clock_s();
     if (done < total && now - p->last < 0.1)
         return;
     p->last = now;
@@ -1033,8 +1026,8 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
     ret = sp_sweep_write_header(fp, d, NULL);
     long blown = 0, unreachable = 0;
-    struct progress prog = {.t0 = now_s()};
-    double t0 = now_s();
+    struct progress prog = {.t0 = sp_clock_s()};
+    double t0 = sp_clock_s();
     if (!ret)
         ret = sp_sweep_run(d, scene, first, last, o->threads, fp, &blown, &unreachable,
                            !o->quiet && isatty(2) ? show_progress : NULL, &prog);
@@ -1062,7 +1055,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     if (!o->quiet)
         sp_fprintf_line(stderr, "wrote %s%s%s: %ld points in %.2f s",
                 o->output ? o->output : o->csv ? "" : "stdout", o->output && o->csv ? " and " : "",
-                o->csv ? o->csv : "", last - first, now_s() - t0);
+                o->csv ? o->csv : "", last - first, sp_clock_s() - t0);
     return 0;
 }
 
@@ -1082,6 +1075,7 @@ int sp_cmd_sweep(int argc, char **argv)
     if ((ret = check_used(&o)) || (ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
     sp_timeline_destroy(&scene.timeline); /* the [timeline] is presentation: sweeps ignore it */
+    d.cancel = sp_signal_flag(); /* a signal stops the run */
     ret = sweep_scene(&o, &d, &scene);
     sp_scene_free(&scene);
     return ret;

@@ -293,8 +293,8 @@ static int check_band(struct sp_composer *r)
             snprintf(where, sizeof(where), "%s:%d: [timeline] %s", tl->origin, tl->cues[i].line,
                      tl->cues[i].kind == SP_CUE_CAPTION ? "caption" : "pause note");
         /* a FILE:LINE message, as the scene's others */
-        fprintf(stderr, "%s is too long for a %dx%d frame: %s; allowed: what fits in %d lines "
-                "of %.0f px at this size (shorten it, or lower view.font_scale = %g)\n", where,
+        sp_fprintf_line(stderr, "%s is too long for a %dx%d frame: %s; allowed: what fits in %d lines "
+                "of %.0f px at this size (shorten it, or lower view.font_scale = %g)", where,
                      r->width, r->height, wide ? "a word is wider than the frame"
                      : "it needs more lines", CAPTION_LINES, w, r->look.view.font_scale);
         bad = 1;

@@ -129,6 +129,66 @@ def solve(rhs, u0, tend, ts=None, **kw):
                      t_eval=ts, **kw)
 
 
+# ---- the 3-D reference and the swing plane's precession (issue 26) --------
+def model3(L0, k, m, b=0.0, A=0.0, f=0.0, g=9.81):
+    """The 3-D equations in the pivot's frame, u = (x, y, z, vx, vy, vz), y up,
+    pivot y_p = A sin(2 pi f t), damping on the velocity relative to the air."""
+    km, gam, W = k / m, b / m, 2 * math.pi * f
+
+    def rhs(t, u):
+        x, y, z, vx, vy, vz = u
+        c = km * (1 - L0 / math.sqrt(x * x + y * y + z * z))
+        vp, ap = A * W * math.cos(W * t), -A * W * W * math.sin(W * t)
+        return [vx, vy, vz, -c * x - gam * vx, -c * y - g - ap - gam * (vy + vp),
+                -c * z - gam * vz]
+    return rhs
+
+
+def start3(r, th_deg, rd=0.0, thd=0.0, phd=0.0):
+    """(x, y, z, vx, vy, vz) from r, theta (degrees), their rates and the
+    azimuth rate phi' (rad/s, about the vertical from +x towards +z)."""
+    th = math.radians(th_deg)
+    x, y = r * math.sin(th), -r * math.cos(th)
+    return [x, y, 0.0, rd * math.sin(th) + r * thd * math.cos(th),
+            -rd * math.cos(th) + r * thd * math.sin(th), phd * x]
+
+
+def swing_maxima(t, x, z, period):
+    """Times of the swing's maxima: local maxima of the mean of x^2 + z^2 over
+    one pendulum period, at least a quarter of the run's length of them apart
+    from each other's neighbourhood (the exchange is slow)."""
+    import numpy as np
+    n = max(1, int(round(period / (t[1] - t[0]))))
+    amp = np.convolve(x * x + z * z, np.ones(n) / n, mode="same")
+    out = []
+    for i in range(n, len(t) - n):
+        if amp[i] == np.max(amp[max(0, i - 10 * n):i + 10 * n]) and amp[i] > 0.5 * amp.max():
+            out.append(i)
+    return out
+
+
+def plane_angle(x, z):
+    """The principal axis of the points (x, z) about their mean, rad mod pi."""
+    import numpy as np
+    cxx, czz, cxz = np.mean(x * x), np.mean(z * z), np.mean(x * z)
+    return 0.5 * math.atan2(2 * cxz, cxx - czz)
+
+
+def precessions(t, x, z, period):
+    """The swing plane's turn, degrees, between successive swing maxima: each
+    plane from the horizontal positions over one pendulum period there."""
+    import numpy as np
+    n = int(round(period / (t[1] - t[0])))
+    angles, prev = [], None
+    for i in swing_maxima(t, x, z, period):
+        a = plane_angle(x[i - n // 2:i + n // 2 + 1], z[i - n // 2:i + n // 2 + 1])
+        if prev is not None:
+            a += math.pi * round((prev - a) / math.pi)
+        angles.append(a)
+        prev = a
+    return np.degrees(np.diff(angles)), [t[i] for i in swing_maxima(t, x, z, period)]
+
+
 def readme_ci(root):
     """The fenced blocks of the README's "Snapshot tests in CI" section, as
     (language, text) pairs, and a function picking the first block that

@@ -2,8 +2,9 @@
 """springpend tests: the environment an image records (issue 24).
 `springpend version --verbose` (and `--version --verbose`) name springpend,
 the GL renderer, Mesa and LLVM, FreeType, HarfBuzz, FriBidi, fontconfig,
-the font file with its SHA-256,
-zlib, libpng and libavcodec; each version is checked against the library
+the built-in font with its SHA-256,
+zlib, libpng and libavcodec; an image adds each font file that fontconfig
+gave its text, with its SHA-256 (the file fc-match resolves, hashed here); each version is checked against the library
 itself, asked here through ctypes; every PNG carries the same text in its
 springpend.environment chunk; compare names the lines that differ.
 usage: test_environment.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR (TAP)"""
@@ -17,6 +18,7 @@ import struct
 import subprocess
 import sys
 import zlib
+import json
 
 from sptest import done, ok, skip
 
@@ -164,6 +166,79 @@ r = run("compare", "s.png", "s.png", "--report", "same.html")
 page = open(os.path.join(work, "same.html")).read() if os.path.exists(os.path.join(work, "same.html")) else ""
 ok(page.count('<div class="env"') == 1 and "E1: 1 expected image, 1 actual image" in page,
    "one environment is listed once")
+
+# Every font file fontconfig gave the text is recorded with its SHA-256,
+# "font NAME: sha256 HEX (N bytes)", beside the built-in font's line: a
+# fallback font (CJK: DejaVu Sans has none) and a [view] font, each the file
+# fc-match resolves, hashed here.
+def font_line(path):
+    data = open(path, "rb").read()
+    return (f"font {os.path.basename(path)}: sha256 {hashlib.sha256(data).hexdigest()} "
+            f"({len(data)} bytes)")
+
+
+def fc_match(pattern, env=None):
+    r = subprocess.run(["fc-match", "-f", "%{file}", pattern], capture_output=True, text=True,
+                       env=env)
+    return r.stdout if r.returncode == 0 and r.stdout else None
+
+
+cjk = fc_match("DejaVu Sans:charset=632f") if shutil.which("fc-match") else None
+serif = fc_match("Noto Serif") if shutil.which("fc-match") else None
+if cjk and "dejavu" not in cjk.lower():
+    r = run("still", default, "--size", "320x120", "--at", "1", "--set", "view.title=振り子 Pendel",
+            "-o", "cjk.png", "-q")
+    cjk_chunks = text_chunks(os.path.join(work, "cjk.png"))[0] if r.returncode == 0 else {}
+    cjk_env = cjk_chunks.get("springpend.environment", "")
+    lines = cjk_env.splitlines()
+    ok(font_line(cjk) in lines and cjk in cjk_chunks.get("springpend.fonts", "") and
+       lines.index(font_line(cjk)) == [l.split(":")[0] for l in lines].index("font") + 1 and
+       cjk_env.replace(font_line(cjk) + "\n", "") == r1.stdout,
+       f"a fallback font's file and SHA-256 (fc-match: {cjk}), after the built-in font's line; "
+       f"the rest as version --verbose prints it ({[l for l in lines if l.startswith('font')]})")
+    r = run("compare", "s.png", "cjk.png")
+    ok(f"{font_line(cjk).split(': ')[0]}: (none) vs {font_line(cjk).split(': ', 1)[1]}" in r.stdout,
+       f"compare names a font file that only the actual image was drawn with ({r.stdout.strip()[-300:]})")
+    r = run("render", default, "--size", "160x120", "--set", "view.title=振り子",
+            "--set", "video.duration=0.1", "-o", "cjk.mp4", "-q")
+    tags = subprocess.run(["ffprobe", "-v", "error", "-show_entries", "format_tags", "-of", "json",
+                           os.path.join(work, "cjk.mp4")], capture_output=True, text=True)
+    tags = json.loads(tags.stdout).get("format", {}).get("tags", {}) if tags.returncode == 0 else {}
+    ok(font_line(cjk) in tags.get("springpend.environment", "").splitlines(),
+       f"an MP4's springpend.environment tag names it too ({tags.get('springpend.fonts')})")
+else:
+    skip("a fallback font's SHA-256", f"no CJK font (fc-match: {cjk})")
+if serif and "NotoSerif" in serif:
+    r = run("still", default, "--size", "320x120", "--at", "1", "--set", "view.title=Pendel",
+            "--set", "view.font=Noto Serif", "-o", "serif.png", "-q")
+    here = text_chunks(os.path.join(work, "serif.png"))[0] if r.returncode == 0 else {}
+    ok(font_line(serif) in here.get("springpend.environment", "").splitlines(),
+       f"a [view] font's file and SHA-256 (fc-match: {serif})")
+    # The same files in another folder (a fontconfig that knows only that
+    # folder): the same environment, only springpend.fonts' path differs.
+    fonts = os.path.join(work, "other-fonts")
+    os.makedirs(fonts)
+    used = [f.strip() for f in here.get("springpend.fonts", "").split(", ") if "(embedded)" not in f]
+    for f in used:  # Noto Serif, and the fallback for what it lacks (U+2212)
+        shutil.copy(f, fonts)
+    conf = os.path.join(work, "fonts.conf")
+    with open(conf, "w") as f:
+        f.write(f'<?xml version="1.0"?><fontconfig><dir>{fonts}</dir>'
+                f'<cachedir>{work}/fc-cache</cachedir></fontconfig>')
+    fenv = dict(os.environ, FONTCONFIG_FILE=conf)
+    r = subprocess.run([exe, "still", default, "--size", "320x120", "--at", "1", "--set",
+                        "view.title=Pendel", "--set", "view.font=Noto Serif", "-o", "moved.png",
+                        "-q"], capture_output=True, text=True, cwd=work, timeout=60, env=fenv)
+    there = text_chunks(os.path.join(work, "moved.png"))[0] if r.returncode == 0 else {}
+    c = run("compare", "serif.png", "moved.png")
+    ok(fc_match("Noto Serif", fenv) == os.path.join(fonts, os.path.basename(serif)) and
+       there.get("springpend.fonts", "").startswith(fonts) and
+       here.get("springpend.environment") == there.get("springpend.environment") and
+       c.returncode == 0 and "environment" not in c.stdout,
+       f"the same font file in another folder records the same environment, and compare "
+       f"notes none ({there.get('springpend.fonts')!r:.80}; {r.stderr.strip()[-200:]} {c.stdout.strip()[-200:]})")
+else:
+    skip("a [view] font's SHA-256", f"Noto Serif is not installed (fc-match: {serif})")
 
 # A CSV's metadata records what shapes numbers (environment.h's
 # sp_environment_numbers) and loads no FFmpeg module to say so.

@@ -103,13 +103,17 @@ struct sp_precession {
     int applies;       /* 1: amplitudes up to 0.065 l, within 1% of 2:1, no
                         * damping or drive, and an exchange to measure */
     const char *why;   /* applies 0: what puts the scene outside, in words */
-    double epsilon;    /* the start's amplitude as a fraction of l:
-                        * max(|A|, |B|) / l */
+    double epsilon;    /* the start's amplitude about the hanging equilibrium
+                        * as a fraction of l: max(|A|, |B|) / l with |A| = l
+                        * sqrt(th^2 + (v_t / (r w_p))^2), th the angle from
+                        * the downward vertical, v_t the velocity across the
+                        * spring (a start near the top is far from small) */
     double angle;      /* rad: the swing plane's turn per exchange (from
                         * +x towards +z), NAN when there is no exchange */
     double period;     /* s: between successive maxima of the swing */
     double first_peak; /* s: the first maximum of the swing after t = 0 */
     int exchanges;     /* maxima found (the angle averages over them, - 1) */
+    double swing_share; /* swing energy / (swing + bounce) at the first maximum */
 };
 
 /* Fills *out for the motion starting at s0 (t = 0); 0, or SP_E_INPUT when
@@ -117,6 +121,35 @@ struct sp_precession {
  * out->why says). */
 int sp_advise_precession(const struct sp_params *p, const struct sp_state *s0,
                          struct sp_precession *out);
+
+/* What `info` and the heads-up text state about a scene's start, decided
+ * once, here, so that the two never disagree: the frequencies, whether a
+ * pendulum frequency (and so a ratio and a 2:1 check) exists at all, the
+ * exchange and, in 3-D, the precession, with the small-amplitude rule
+ * applied: beyond SP_ADVISE_AMPLITUDE_MAX of l (the amplitude measured about
+ * the hanging equilibrium, sp_precession.epsilon) neither is predicted. */
+struct sp_prediction {
+    struct sp_physics ph;
+    int swings;        /* 1: g > 0: omega_p, the ratio and the 2:1 check exist;
+                        * 0: none of them does (no pendulum frequency) */
+    int near21;        /* within 10% of 2:1 (sp_advise_exchange returned 0) */
+    struct sp_exchange ex; /* time and swing_share NAN where not predicted; in
+                            * 3-D the three-wave motion's first swing peak */
+    double amplitude;  /* the start's amplitude / l (3-D: prec.epsilon) */
+    int ex_beyond;     /* 1: near 2:1 but amplitude > SP_ADVISE_AMPLITUDE_MAX:
+                        * the exchange is not predicted */
+    int spatial;       /* 1: a 3-D scene: prec below is filled */
+    struct sp_precession prec; /* angle NAN and applies 0 where not predicted */
+    int prec_ok;       /* 1: a precession is stated (prec.angle, maybe NAN
+                        * with prec.why when there is no exchange); 0: not
+                        * predicted, prec.why says why */
+    const char *brief; /* 3-D: "" when prec.angle is stated, else why not in a
+                        * few words (the HUD's); NULL for a planar scene */
+};
+
+/* Fills *out for the motion starting at s0 (spatial: a 3-D scene). 0. */
+int sp_advise_predict(const struct sp_params *p, const struct sp_state *s0, int spatial,
+                      struct sp_prediction *out);
 
 /* Linear damping of one mode of angular frequency omega, gamma = b/m. */
 struct sp_decay {

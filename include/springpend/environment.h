@@ -9,7 +9,9 @@
  *   mesa: 22.3.6                                   from GL_VERSION
  *   llvm: 15.0.6                                   from GL_RENDERER
  *   freetype: 2.12.1                               FT_Library_Version
- *   font: DejaVuSans.ttf (embedded) sha256 …       each font file
+ *   font: DejaVuSans.ttf (embedded) sha256 …       the built-in font
+ *   font NAME: sha256 … (N bytes)                  each font file fontconfig
+ *                                                  gave the image's text
  *   zlib: 1.2.13                                   zlibVersion
  *   libpng: 1.6.39                                 png_get_libver
  *   libavcodec: 59.37.100 (FFmpeg 5.1.6-…)         the video module's
@@ -21,13 +23,22 @@
 
 #include <stddef.h>
 
-#define SP_ENVIRONMENT_MAX 2048 /* bytes of text, NUL included */
+#define SP_ENVIRONMENT_MAX 8192 /* bytes of text, NUL included */
 
 /* Writes the environment into buf (at most size bytes, NUL-terminated).
  * renderer and gl_version: GL_RENDERER and GL_VERSION of the context that
  * drew, or NULL when nothing was drawn with GL. Loads the video module to
  * ask libavcodec (its absence is written, not an error). Returns 0. */
 int sp_environment_text(char *buf, size_t size, const char *renderer, const char *gl_version);
+
+/* Adds the line "font NAME: sha256 HEX (N bytes)" for the font file at
+ * path to an environment text in buf (size bytes), beside the built-in
+ * font's line, unless it is there already. NAME is the file's name without
+ * its folder: the same files installed in other folders make the same text.
+ * Each file is read and hashed once per process (thread-safe). SP_E_IO when
+ * the file cannot be read, SP_E_INPUT when the text would not fit (both
+ * logged); buf is unchanged then. */
+int sp_environment_add_font(char *buf, size_t size, const char *path);
 
 /* What shapes numbers rather than pixels, for a CSV's metadata: the lines
  *

@@ -3,6 +3,7 @@
 #ifndef SPRINGPEND_FRAME_H
 #define SPRINGPEND_FRAME_H
 
+#include "springpend/advice.h"
 #include "springpend/sim.h"
 
 struct sp_history;
@@ -114,10 +115,10 @@ struct sp_look {
     int perspective;    /* 1: the pendulum is drawn through view.camera's
                            perspective (sp_scene_perspective) */
     int spatial;        /* 1: a 3-D scene (initial.azimuth_rate != 0) */
-    double precession;  /* rad per exchange, the averaged theory's
-                           (sp_advise_precession) for a 3-D scene; NAN when
-                           it predicts none */
-    int precession_applies; /* 1: within the theory's stated accuracy */
+    struct sp_prediction predict; /* with view.hud: what the HUD may state
+                                     of the frequencies, the 2:1 check and a
+                                     3-D scene's precession, by info's rules
+                                     (sp_advise_predict) */
 };
 
 /* The look of scene, or of the default scene when scene is NULL. */
@@ -146,6 +147,27 @@ struct sp_crossing {
 
 /* The panels' memory: samples at frame times and every Poincare crossing so
  * far. Allocated only when the scene asks for panels or a strobe. */
+/* The swing plane's turn per exchange measured from the run so far (a 3-D
+ * scene's heads-up text): the swing energy is averaged over one pendulum
+ * period 2 pi / omega_p (a window ending at each new sample); a maximum of
+ * that mean counts once the mean has fallen back by a quarter of the
+ * exchange's depth (and the depth is over a tenth of the maximum, so a
+ * motion without exchange counts none); the plane's azimuth there is the
+ * samples' (sp_state_azimuth, continuous) at the window's middle. A maximum
+ * at the start counts only after a trough. */
+struct sp_precession_meter {
+    double window;    /* s: one pendulum period; 0 = not measured */
+    double sum;       /* J s: the swing energy's integral over the window */
+    int lo, mid;      /* the window's oldest sample; the last at or before its middle */
+    int started;      /* 1: a full window has been seen */
+    int rising;       /* 1: past a trough, looking for the next maximum */
+    double top, top_az, top_t; /* J, rad, s: the candidate maximum */
+    double low, high; /* J: the trough since the last maximum; the last maximum */
+    int peaks;        /* maxima confirmed */
+    double first_az, last_az; /* rad: the plane's azimuth at the first and last */
+    double last_t;    /* s: the last confirmed maximum */
+};
+
 struct sp_history {
     int active;                        /* 0: nothing kept, nothing sampled */
     int poincare;                      /* 1: crossings are looked for */
@@ -158,10 +180,18 @@ struct sp_history {
     double loss;                       /* J: energy lost to damping up to the newest
                                           sample (trapezoid rule over the samples) */
     double azimuth;                    /* rad: the newest sample's azimuth, unrounded */
+    int measure;                       /* 1: meter runs (3-D, heads-up text on) */
+    struct sp_precession_meter meter;  /* the precession measured so far */
 };
 
+/* The measured turn per exchange so far, rad (mean over the completed
+ * exchanges between the first and the last maximum counted); NAN before
+ * two maxima. *peaks (may be NULL): the maxima counted. */
+double sp_history_precession(const struct sp_history *h, int *peaks);
+
 /* Sets h up for scene: active when view.panels or view.strobe ask for it,
- * looking for crossings when the Poincare panel is shown. 0 or SP_E_NOMEM. */
+ * or the heads-up text of a 3-D scene (its measured precession), looking
+ * for crossings when the Poincare panel is shown. 0 or SP_E_NOMEM. */
 int sp_history_make(struct sp_history *h, const struct sp_scene *scene);
 void sp_history_destroy(struct sp_history *h);
 

@@ -12,7 +12,9 @@
  *                            sp_scene_write_ini: user units, names), which
  *                            `springpend scene FILE` prints
  *   springpend.environment   environment.h's text (zTXt): the versions of
- *                            the libraries and the fonts' SHA-256
+ *                            the libraries, and the SHA-256 of the built-in
+ *                            font and of each font file the first frame's
+ *                            text was drawn from
  *   springpend.fonts         the font files the first frame's text was drawn
  *                            from, ", "-separated ("" when it has no text)
  *   springpend.overlay       only with [view] vectors, the energy_bars
@@ -48,7 +50,9 @@ struct sp_provenance {
     char time[32];         /* s */
     char *scene;           /* canonical text, "key=value\n" lines: malloc'd */
     char *scene_file;      /* sp_scene_write_ini's text: malloc'd */
-    char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text */
+    char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text: the caller adds
+                              the font files (sp_render_font_environment) before
+                              the first image */
     char fonts[1024];      /* font files, ", "-separated: the caller fills it
                               (sp_render_fonts) before the first image */
     char overlay[4096];    /* sp_render_overlay's text: the caller fills it (4 cells of

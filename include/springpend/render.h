@@ -67,6 +67,10 @@ void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out);
  * (cut to size; "" without text). */
 void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size);
 
+/* Adds each of those font files, with its SHA-256, to the environment text
+ * in buf (environment.h: sp_environment_add_font). 0 or an SP_E_* code. */
+int sp_render_font_environment(const struct sp_renderer *r, char *buf, size_t size);
+
 /* The overlays' scales after the first frame (compose.h's
  * sp_compose_overlay): "" unless [view] vectors or the energy_bars panel is
  * drawn. */

@@ -1,5 +1,8 @@
 /* springpend: the environment that produced an image (environment.h). */
+#include <errno.h>
+#include <pthread.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <gnu/libc-version.h>
@@ -86,6 +89,90 @@ int sp_environment_text(char *buf, size_t size, const char *renderer, const char
             sp_embed_DejaVuSans_ttf_size, font, zlibVersion(), png_get_libpng_ver(NULL), av);
     fclose(m);
     buf[size - 1] = 0;
+    return 0;
+}
+
+/* Font files hashed so far in this process: each is read once, however
+ * many images or threads record it. */
+static struct {
+    char *path;
+    char hex[65];
+    long long bytes;
+} hashed[64];
+static int n_hashed;
+static pthread_mutex_t hashed_lock = PTHREAD_MUTEX_INITIALIZER;
+
+/* SHA-256 of the file at path into hex[65], its size into *bytes: from the
+ * cache, or read (and kept) once. SP_E_IO (logged) when it cannot be read. */
+static int file_sha256(const char *path, char hex[65], long long *bytes)
+{
+    int ret = 0;
+    pthread_mutex_lock(&hashed_lock);
+    for (int i = 0; i < n_hashed; i++)
+        if (!strcmp(hashed[i].path, path)) {
+            memcpy(hex, hashed[i].hex, 65);
+            *bytes = hashed[i].bytes;
+            pthread_mutex_unlock(&hashed_lock);
+            return 0;
+        }
+    FILE *fp = fopen(path, "rb");
+    struct sha256_ctx sha;
+    unsigned char chunk[65536];
+    size_t got;
+    *bytes = 0;
+    if (!fp) {
+        sp_log_error("%s: cannot read the font file to record its SHA-256: %s", path,
+                     strerror(errno));
+        pthread_mutex_unlock(&hashed_lock);
+        return SP_E_IO;
+    }
+    sha256_init(&sha);
+    while ((got = fread(chunk, 1, sizeof(chunk), fp)) > 0) {
+        sha256_update(&sha, got, chunk);
+        *bytes += (long long)got;
+    }
+    if (ferror(fp)) {
+        sp_log_error("%s: cannot read the font file to record its SHA-256", path);
+        ret = SP_E_IO;
+    }
+    fclose(fp);
+    sp_digest_hex(&sha, hex);
+    if (!ret && n_hashed < (int)(sizeof(hashed) / sizeof(hashed[0])) &&
+        (hashed[n_hashed].path = strdup(path)) != NULL) {
+        memcpy(hashed[n_hashed].hex, hex, 65);
+        hashed[n_hashed++].bytes = *bytes;
+    }
+    pthread_mutex_unlock(&hashed_lock);
+    return ret;
+}
+
+int sp_environment_add_font(char *buf, size_t size, const char *path)
+{
+    char hex[65], line[512], name[256];
+    long long bytes;
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    int ret = file_sha256(path, hex, &bytes);
+    if (ret)
+        return ret;
+    /* the key is the file's name: ':' and control characters would break
+     * the "key: value" lines */
+    snprintf(name, sizeof(name), "%s", base);
+    for (char *c = name; *c; c++)
+        if (*c == ':' || (unsigned char)*c < 32)
+            *c = '_';
+    const int n = snprintf(line, sizeof(line), "font %s: sha256 %s (%lld bytes)\n", name, hex, bytes);
+    const char *at = strstr(buf, "\nzlib: "); /* after the other font lines */
+    if (strstr(buf, line))
+        return 0; /* already recorded */
+    const size_t len = strlen(buf), pos = at ? (size_t)(at - buf) + 1 : len;
+    if (len + (size_t)n >= size) {
+        sp_log_error("%s: the environment record is full (%zu bytes): it cannot name this "
+                     "font and its SHA-256; an image records at most about %zu font files",
+                     path, size, size / (size_t)n);
+        return SP_E_INPUT;
+    }
+    memmove(buf + pos + n, buf + pos, len - pos + 1);
+    memcpy(buf + pos, line, (size_t)n);
     return 0;
 }
 

@@ -393,22 +393,29 @@ static void note_environment(struct sp_compare_record *r)
     if (r->n_notes == SP_COMPARE_MAX_NOTES || !has_e || !has_a || !strcmp(ee, ea))
         return;
     n = (size_t)snprintf(note, sizeof(note), "made in another environment (springpend.environment):");
-    for (const char *p = ee; *p && n < sizeof(note);) {
-        size_t len = strcspn(p, "\n"), key = strcspn(p, ":\n");
-        const char *q = ea;
-        /* the same key's line in the other text */
-        while (*q && !(strncmp(q, p, key + 1) == 0))
-            q += strcspn(q, "\n") + (q[strcspn(q, "\n")] == '\n');
-        size_t qlen = strcspn(q, "\n");
-        if (!*q || qlen != len || strncmp(p, q, len))
-        {
-            /* the other line's value: after "KEY: ", without its newline */
-            const size_t skip = qlen < key + 2 ? qlen : key + 2;
-            n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s vs %.*s;", (int)len, p,
-                                  *q ? (int)(qlen - skip) : 6, *q ? q + skip : "(none)");
+    /* each line of the expected text that the actual lacks, with the actual's
+     * value of the same key; then the keys only the actual has (a font file
+     * that only it was drawn with) */
+    for (int side = 0; side < 2; side++)
+        for (const char *p = side ? ea : ee; *p && n < sizeof(note);) {
+            size_t len = strcspn(p, "\n"), key = strcspn(p, ":\n");
+            const char *q = side ? ee : ea;
+            /* the same key's line in the other text */
+            while (*q && !(strncmp(q, p, key + 1) == 0))
+                q += strcspn(q, "\n") + (q[strcspn(q, "\n")] == '\n');
+            size_t qlen = strcspn(q, "\n");
+            if (!side && (!*q || qlen != len || strncmp(p, q, len))) {
+                /* the other line's value: after "KEY: ", without its newline */
+                const size_t skip = qlen < key + 2 ? qlen : key + 2;
+                n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s vs %.*s;", (int)len, p,
+                                      *q ? (int)(qlen - skip) : 6, *q ? q + skip : "(none)");
+            } else if (side && !*q) {
+                const size_t skip = len < key + 2 ? len : key + 2;
+                n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s: (none) vs %.*s;",
+                                      (int)key, p, (int)(len - skip), p + skip);
+            }
+            p += len + (p[len] == '\n');
         }
-        p += len + (p[len] == '\n');
-    }
     if (n && note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] == ';')
         note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] = 0;
     snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s", note);

@@ -357,23 +357,21 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
     sp_sim_init(&sim, &sc);
     sp_state_energy(&sim.p, &sim.s, &in.e);
     sp_params_physics(&sim.p, &in.ph);
-    in.near21 = sp_advise_exchange(&sim.p, &sim.s, &in.ex) == 0;
-    in.spatial = sim.spatial;
-    if (in.spatial)
-        in.prec_ok = sp_advise_precession(&sim.p, &sim.s, &in.prec) == 0;
+    /* the exchange and precession by the rules the HUD uses too */
+    struct sp_prediction pd;
+    sp_advise_predict(&sim.p, &sim.s, sim.spatial, &pd);
+    in.near21 = pd.near21;
+    in.ex = pd.ex;
+    in.spatial = pd.spatial;
+    in.prec = pd.prec;
+    in.prec_ok = pd.prec_ok;
+    in.ex_amplitude = pd.amplitude;
+    in.ex_beyond = pd.ex_beyond;
     in.damped = sim.p.b_over_m > 0;
     if (in.damped) {
         sp_advise_decay(in.ph.omega_s, sim.p.b_over_m, &in.bounce);
         sp_advise_decay(in.ph.omega_p, sim.p.b_over_m, &in.swing);
     }
-    /* the averaged equations expand in small amplitudes: far beyond, their
-     * numbers would be stated for a motion they do not describe */
-    in.ex_amplitude = in.spatial && in.prec_ok ? in.prec.epsilon : in.ex.epsilon;
-    if (in.near21 && in.ex_amplitude > SP_ADVISE_AMPLITUDE_MAX)
-        in.ex.time = in.ex.swing_share = NAN, in.ex_beyond = 1;
-    if (in.spatial && in.prec_ok && in.prec.epsilon > SP_ADVISE_AMPLITUDE_MAX)
-        in.prec_ok = 0, in.prec.why = "the start's amplitude is beyond the averaged theory's "
-                                      "small amplitudes";
     in.driven = sp_advise_drive(&sim.p, &sim.s, &in.drive) == 0;
     if (!sp_method_info(sc.integrator.method)->adaptive) {
         ret = sp_advise_dt(&sc, sc.video.duration, &in.dt);

@@ -51,6 +51,7 @@ struct sp_composer {
     int laid_out;             /* layout and camera fitted (at the first frame) */
     char hud[SP_HUD_MAX_LINES][SP_HUD_LINE_BYTES];
     int hud_lines;
+    int live_short;           /* 1: the measured precession's long form does not fit */
     int width, height;        /* px */
     float unit;               /* the smaller side, px */
     float ink;                /* what the panels' and colourbar's text, lines and
@@ -498,31 +499,70 @@ static void legend_corner(struct sp_composer *r, float w, float h)
         }
 }
 
-/* A 3-D scene's heads-up line: the precession per exchange that the
- * averaged theory predicts (sp_look.precession), and how far to trust it;
- * put before the frequency ratio's line (sp_hud_draw appends the resonance
- * check to that one, or puts it on the last line alone). Left out when it
- * does not fit the width. */
+/* deg (degrees) as the HUD prints an angle: one decimal, or two significant
+ * digits where that would print 0.0 (a tiny turn is a number, not "0.0"),
+ * with a real minus sign. */
+static void hud_degrees(char *buf, size_t size, double deg)
+{
+    const char *sign = deg < 0 ? "\u2212" : "";
+    if (deg == 0 || fabs(deg) >= 0.05)
+        snprintf(buf, size, "%s%.1f°", sign, fabs(deg));
+    else
+        snprintf(buf, size, "%s%.2g°", sign, fabs(deg));
+}
+
+/* A 3-D scene's heads-up lines, appended after the others: the precession
+ * per exchange that the averaged theory predicts, by info's rules
+ * (sp_look.predict: "not predicted" and why where info says so), and the
+ * one measured from the run so far (an SP_HUD_LIVE line, filled per frame
+ * by hud_measured). Long forms, short ones where those do not fit the
+ * width; left out where neither does. */
 static void hud_precession(struct sp_composer *r, const struct sp_font *f, float width)
 {
-    const double deg = r->look.precession * (180 / M_PI);
-    const char *sign = deg < 0 ? "\u2212" : "";
-    char line[SP_HUD_LINE_BYTES];
-    if (isnan(deg))
-        snprintf(line, sizeof(line), "precession: no 2:1 exchange to predict it");
-    else
-        snprintf(line, sizeof(line), "precession per exchange ≈ %s%.1f°  (averaged theory%s)",
-                 sign, fabs(deg), r->look.precession_applies ? ", ±4%" : "; outside its range, rough");
-    if (!isnan(deg) && sp_font_width(f, SP_TEXT_NORMAL, line) > width)
-        snprintf(line, sizeof(line), "precession ≈ %s%.1f°/exchange%s", sign, fabs(deg),
-                 r->look.precession_applies ? "" : " (rough)");
-    if (sp_font_width(f, SP_TEXT_NORMAL, line) > width)
+    const struct sp_prediction *pd = &r->look.predict;
+    char line[SP_HUD_LINE_BYTES], deg[64];
+    if (pd->brief && pd->brief[0]) {
+        snprintf(line, sizeof(line), "precession per exchange, theory: %s", pd->brief);
+        if (sp_font_width(f, SP_TEXT_NORMAL, line) > width)
+            snprintf(line, sizeof(line), "precession, theory: %s",
+                     strncmp(pd->brief, "none", 4) ? "not predicted" : "none");
+    } else {
+        hud_degrees(deg, sizeof(deg), pd->prec.angle * (180 / M_PI));
+        snprintf(line, sizeof(line), "precession per exchange, theory ≈ %s  (averaged, %s)", deg,
+                 pd->prec.applies ? "±4%" : "outside its range: rough");
+        if (sp_font_width(f, SP_TEXT_NORMAL, line) > width)
+            snprintf(line, sizeof(line), "theory ≈ %s/exchange%s", deg,
+                     pd->prec.applies ? "" : " (rough)");
+    }
+    if (sp_font_width(f, SP_TEXT_NORMAL, line) <= width && r->hud_lines < SP_HUD_MAX_LINES)
+        snprintf(r->hud[r->hud_lines++], SP_HUD_LINE_BYTES, "%s", line);
+    if (pd->brief && pd->brief[0])
+        return; /* no slow exchange (or none the theory describes): none to measure */
+    /* the measured line: as wide as its widest form, or left out */
+    r->live_short = sp_font_width(f, SP_TEXT_NORMAL, "measured so far ≈ −000.0°/exchange (mean of 00)") > width;
+    if (r->hud_lines < SP_HUD_MAX_LINES &&
+        sp_font_width(f, SP_TEXT_NORMAL, "measured ≈ −000.0°/exchange") <= width)
+        snprintf(r->hud[r->hud_lines++], SP_HUD_LINE_BYTES, "%c", SP_HUD_LIVE);
+}
+
+/* The measured line's text at frame f (hud_precession). */
+static void hud_measured(const struct sp_composer *r, const struct sp_frame *f, char *buf,
+                         size_t size)
+{
+    int peaks = 0;
+    const double a = f->history ? sp_history_precession(f->history, &peaks) : NAN;
+    char deg[64];
+    if (isnan(a)) {
+        snprintf(buf, size, r->live_short ? "measured: needs 2 swing peaks (%d)"
+                                          : "measured so far: needs 2 swing peaks (%d seen)",
+                 peaks);
         return;
-    const int own_line = r->hud_lines > 1 && !strcmp(r->hud[r->hud_lines - 1], "\1");
-    const int at = r->hud_lines - (own_line ? 2 : 1); /* the ratio's line */
-    memmove(r->hud[at + 1], r->hud[at], (size_t)(r->hud_lines - at) * SP_HUD_LINE_BYTES);
-    snprintf(r->hud[at], SP_HUD_LINE_BYTES, "%s", line);
-    r->hud_lines++;
+    }
+    hud_degrees(deg, sizeof(deg), a * (180 / M_PI));
+    if (r->live_short)
+        snprintf(buf, size, "measured ≈ %s/exchange", deg);
+    else
+        snprintf(buf, size, "measured so far ≈ %s/exchange (mean of %d)", deg, peaks - 1);
 }
 
 /* Places the view, panels, heads-up text and colourbar (once: the
@@ -549,8 +589,9 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
         const struct sp_rect *v = d.no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0}
                                                 : &r->layout.camera;
         const float w = v->x1 - v->x0 - 2 * r->layout.gap;
-        r->hud_lines = sp_hud_lines(f, p, r->look.differs, w, r->hud, SP_HUD_MAX_LINES);
-        if (r->look.spatial && r->hud_lines < SP_HUD_MAX_LINES)
+        r->hud_lines = sp_hud_lines(f, p, &r->look.predict, r->look.differs, w, r->hud,
+                                    SP_HUD_MAX_LINES);
+        if (r->look.spatial)
             hud_precession(r, f, w);
         d.hud_height = sp_hud_height(f, r->hud_lines);
     } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
@@ -1152,8 +1193,13 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         st.n_order = sp_scene_panel_order(v, st.order);
         sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
     }
-    if (r->look.view.hud)
-        sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal);
+    if (r->look.view.hud) {
+        char live[SP_HUD_LINE_BYTES] = "";
+        if (r->look.spatial)
+            hud_measured(r, f, live, sizeof(live));
+        sp_hud_draw(cv, &r->layout.hud, f->state.t, r->hud, r->hud_lines, f->params, &r->pal,
+                    live);
+    }
     put_texts(r, f->moment);
     if (r->look.view.vectors && r->look.view.pendulum)
         sp_vectors_legend(cv, &r->vectors, &r->legend, &r->pal);

@@ -95,16 +95,11 @@ void sp_look_of(const struct sp_scene *scene, struct sp_look *out)
                             .ensemble_count = scene->ensemble.count,
                             .timeline = scene->timeline,
                             .perspective = sp_scene_perspective(scene),
-                            .spatial = scene->initial.azimuth_rate != 0,
-                            .precession = NAN};
-    if (out->spatial) {
+                            .spatial = scene->initial.azimuth_rate != 0};
+    if (scene->view.hud) {
         struct sp_sim sim;
-        struct sp_precession pr;
         sp_sim_init(&sim, scene);
-        if (!sp_advise_precession(&sim.p, &sim.s, &pr)) {
-            out->precession = pr.angle;
-            out->precession_applies = pr.applies;
-        }
+        sp_advise_predict(&sim.p, &sim.s, sim.spatial, &out->predict);
     }
 }
 
@@ -228,7 +223,8 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
 int sp_history_make(struct sp_history *h, const struct sp_scene *scene)
 {
     *h = (struct sp_history){0};
-    h->active = scene->view.panels != 0 || scene->view.strobe > 0;
+    h->measure = scene->view.hud && scene->initial.azimuth_rate != 0;
+    h->active = scene->view.panels != 0 || scene->view.strobe > 0 || h->measure;
     h->poincare = (scene->view.panels & SP_PANEL_POINCARE) != 0;
     return 0;
 }
@@ -327,6 +323,71 @@ static int find_crossing(struct sp_history *h, const struct sp_params *p,
     return 0;
 }
 
+/* Feeds the newest sample to h's precession meter (struct
+ * sp_precession_meter); p: the run's parameters. */
+static void meter_push(struct sp_history *h, const struct sp_params *p)
+{
+    struct sp_precession_meter *m = &h->meter;
+    const struct sp_history_sample *s = h->samples;
+    const int n = h->count - 1;
+    if (n == 0) {
+        struct sp_physics ph;
+        sp_params_physics(p, &ph);
+        *m = (struct sp_precession_meter){.window = ph.omega_p > 0 ? 2 * M_PI / ph.omega_p : 0};
+        return;
+    }
+    if (!(m->window > 0))
+        return;
+    m->sum += 0.5 * ((double)s[n - 1].swing + s[n].swing) * ((double)s[n].t - s[n - 1].t);
+    while (m->lo + 1 < n && (double)s[n].t - s[m->lo + 1].t >= m->window) {
+        m->sum -= 0.5 * ((double)s[m->lo].swing + s[m->lo + 1].swing) *
+                  ((double)s[m->lo + 1].t - s[m->lo].t);
+        m->lo++;
+    }
+    const double span = (double)s[n].t - s[m->lo].t;
+    if (span < m->window * (1 - 1e-6))
+        return; /* the first window is not full yet */
+    const double mean = m->sum / span, tc = s[n].t - 0.5 * span;
+    while (m->mid + 1 < n && s[m->mid + 1].t <= tc)
+        m->mid++;
+    const struct sp_history_sample *a = &s[m->mid], *b = &s[m->mid + 1];
+    const double u = b->t > a->t ? (tc - a->t) / ((double)b->t - a->t) : 0;
+    const double az = a->azimuth + u * ((double)b->azimuth - a->azimuth);
+    if (!m->started) {
+        m->started = 1;
+        m->low = m->high = mean;
+        return;
+    }
+    if (!m->rising) {
+        m->low = fmin(m->low, mean);
+        m->high = fmax(m->high, mean);
+        if (m->high - m->low > 0.1 * m->high && mean > m->low + 0.25 * (m->high - m->low))
+            m->rising = 1, m->top = mean, m->top_az = az, m->top_t = tc;
+        return;
+    }
+    if (mean > m->top) {
+        m->top = mean, m->top_az = az, m->top_t = tc;
+        return;
+    }
+    if (m->top - m->low > 0.1 * m->top && mean < m->top - 0.25 * (m->top - m->low)) {
+        if (m->peaks++ == 0)
+            m->first_az = m->top_az;
+        m->last_az = m->top_az;
+        m->last_t = m->top_t;
+        m->rising = 0;
+        m->high = m->top;
+        m->low = mean;
+    }
+}
+
+double sp_history_precession(const struct sp_history *h, int *peaks)
+{
+    const struct sp_precession_meter *m = &h->meter;
+    if (peaks)
+        *peaks = m->peaks;
+    return m->peaks >= 2 ? (m->last_az - m->first_az) / (m->peaks - 1) : NAN;
+}
+
 /* Appends the sample of sim's state; 0 or SP_E_NOMEM. */
 static int push_sample(struct sp_history *h, const struct sp_sim *sim)
 {
@@ -347,6 +408,8 @@ static int push_sample(struct sp_history *h, const struct sp_sim *sim)
         (float)pol.r, (float)pol.theta, (float)pol.r_dot, (float)pol.theta_dot,
         (float)e.kinetic, (float)e.spring, (float)e.gravity, (float)e.bounce, (float)e.swing,
         (float)sim->s.z, (float)h->azimuth};
+    if (h->measure && sim->spatial)
+        meter_push(h, &sim->p);
     return 0;
 }
 

@@ -180,6 +180,16 @@ static void tick_label(const struct axis *a, double v, char *buf, size_t size)
     double d = v - a->offset;
     if (fabs(d) < 1e-9 * a->step)
         d = 0;
+    if (a->decimals > 6) {
+        /* a tiny range (an azimuth of 1e-298 degrees): as many significant
+         * digits as tell the ticks apart, in e notation; fixed decimals
+         * would print every tick as 0.000...0 */
+        const double mag = fmax(fabs(a->lo - a->offset), fabs(a->hi - a->offset));
+        const int digits = (int)(floor(log10(mag)) - floor(log10(a->step))) + 1;
+        snprintf(buf, size, "%s%.*g", d < 0 ? "\xe2\x88\x92" : "",
+                 d == 0 ? 1 : digits < 1 ? 1 : digits > 17 ? 17 : digits, fabs(d));
+        return;
+    }
     format_tick(buf, size, d, a->decimals);
 }
 
@@ -1045,8 +1055,13 @@ static const char *resonance_note(const struct sp_font *f, int resonant, float m
 /* Lines that start with this byte are drawn in the accent colour (it is not drawn). */
 #define HUD_ACCENT '\2'
 
-int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const char *differs,
-                 float max_width, char lines[][SP_HUD_LINE_BYTES], int max)
+/* The ratio's line starts with this byte (not drawn): the resonance check
+ * follows it, or has a line of its own ("\1") after it. */
+#define HUD_RATIO '\4'
+
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p,
+                 const struct sp_prediction *pd, const char *differs, float max_width,
+                 char lines[][SP_HUD_LINE_BYTES], int max)
 {
     struct sp_physics ph;
     sp_params_physics(p, &ph);
@@ -1087,21 +1102,34 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const ch
     }
     snprintf(item, sizeof(item), "ωₛ = √(k/m) = %.3f rad/s|ωₛ = %.3f rad/s", ws, ws);
     add_item(font, max_width, lines, &n, max, item, 1);
-    snprintf(item, sizeof(item), "ωₚ = √(g/ℓ) = %.3f rad/s|ωₚ = %.3f rad/s", wp, wp);
+    if (pd->swings)
+        snprintf(item, sizeof(item), "ωₚ = √(g/ℓ) = %.3f rad/s|ωₚ = %.3f rad/s", wp, wp);
+    else /* as info: without gravity no pendulum period, ratio or 2:1 exists */
+        snprintf(item, sizeof(item), "ωₚ: none (g = 0: no swing back)|ωₚ: none (g = 0)");
     add_item(font, max_width, lines, &n, max, item, 0);
     snprintf(item, sizeof(item), "ℓ = L₀ + mg/k = %.3f m|ℓ = %.3f m", ell, ell);
     add_item(font, max_width, lines, &n, max, item, 0);
     if (p->drive_amp > 0 && p->drive_omega > 0) {
         snprintf(item, sizeof(item), "pivot: %.3g m at %.4g Hz", p->drive_amp, p->drive_omega / (2 * M_PI));
         add_item(font, max_width, lines, &n, max, item, 1);
-        snprintf(item, sizeof(item), "Ω/ωₚ = %.3f", p->drive_omega / wp);
-        add_item(font, max_width, lines, &n, max, item, 0);
+        if (pd->swings) {
+            snprintf(item, sizeof(item), "Ω/ωₚ = %.3f", p->drive_omega / wp);
+            add_item(font, max_width, lines, &n, max, item, 0);
+        }
     }
+    if (!pd->swings)
+        return n;
     const int res = sp_params_resonant(p, &ratio);
     snprintf(item, sizeof(item), "ωₛ/ωₚ = %.3f", ratio);
+    const int before = n;
     add_item(font, max_width, lines, &n, max, item, 1);
+    if (n == before)
+        return n; /* no room for the ratio: nor for its check */
+    memmove(lines[n - 1] + 1, lines[n - 1], SP_HUD_LINE_BYTES - 2);
+    lines[n - 1][0] = HUD_RATIO;
+    lines[n - 1][SP_HUD_LINE_BYTES - 1] = 0;
     /* the resonance note after the ratio, or on a line of its own ("\1") */
-    snprintf(item, sizeof(item), "%s    %s", lines[n - 1], resonance_note(font, res, max_width));
+    snprintf(item, sizeof(item), "%s    %s", lines[n - 1] + 1, resonance_note(font, res, max_width));
     if (sp_font_width(font, SP_TEXT_NORMAL, item) > max_width && n < max)
         snprintf(lines[n++], SP_HUD_LINE_BYTES, "\1");
     return n;
@@ -1114,7 +1142,7 @@ float sp_hud_height(const struct sp_font *font, int n)
 
 void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
                  char lines[][SP_HUD_LINE_BYTES], int n, const struct sp_params *p,
-                 const struct sp_palette *pal)
+                 const struct sp_palette *pal, const char *live)
 {
     const struct sp_font *f = c->font;
     char buf[64];
@@ -1127,25 +1155,31 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
     y += 0.5f * (sp_font_line(f, SP_TEXT_LARGE) - sp_font_cap(f, SP_TEXT_LARGE)) +
          0.5f * (sp_font_line(f, SP_TEXT_NORMAL) - sp_font_cap(f, SP_TEXT_NORMAL));
     const int res = sp_params_resonant(p, &ratio);
-    const int own_line = n > 1 && !strcmp(lines[n - 1], "\1");
-    const int last = own_line ? n - 2 : n - 1; /* the ratio's line */
     const char *note = resonance_note(f, res, r->x1 - r->x0);
     for (int i = 1; i < n; i++) {
         const float base = y + sp_font_cap(f, SP_TEXT_NORMAL);
         y += sp_font_line(f, SP_TEXT_NORMAL);
         if (!lines[i][0])
             continue;
-        if (i == n - 1 && own_line) {
+        if (!strcmp(lines[i], "\1")) {
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, res ? pal->accent : pal->muted, note);
+            continue;
+        }
+        if (lines[i][0] == SP_HUD_LIVE) { /* changes every frame */
+            sp_canvas_layer(c, SP_LAYER_DYNAMIC);
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->text, live ? live : "");
+            sp_canvas_layer(c, SP_LAYER_STATIC);
             continue;
         }
         if (lines[i][0] == HUD_ACCENT) {
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->accent, lines[i] + 1);
             continue;
         }
+        const int ratio_line = lines[i][0] == HUD_RATIO;
+        const char *text = lines[i] + ratio_line;
         const float w = (float)sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT,
-                                              i == last ? pal->text : pal->muted, lines[i]);
-        if (i == last && !own_line)
+                                              ratio_line ? pal->text : pal->muted, text);
+        if (ratio_line && !(i + 1 < n && !strcmp(lines[i + 1], "\1")))
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0 + w + sp_font_line(f, SP_TEXT_NORMAL), base,
                            SP_ALIGN_LEFT, res ? pal->accent : pal->muted, note);
     }

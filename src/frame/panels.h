@@ -78,14 +78,21 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
  * damping = 0.4"), listed first, in the accent colour. */
 #define SP_HUD_MAX_LINES 12
 #define SP_HUD_LINE_BYTES 200
-int sp_hud_lines(const struct sp_font *font, const struct sp_params *p, const char *differs,
-                 float max_width, char lines[][SP_HUD_LINE_BYTES], int max);
+/* pd: what may be stated (sp_advise_predict, as info): without a pendulum
+ * frequency (g = 0) no omega_p, ratio or 2:1 check. */
+int sp_hud_lines(const struct sp_font *font, const struct sp_params *p,
+                 const struct sp_prediction *pd, const char *differs, float max_width,
+                 char lines[][SP_HUD_LINE_BYTES], int max);
+/* A line that is this byte alone is drawn with sp_hud_draw's `live` text, on
+ * the dynamic layer (a 3-D scene's measured precession). */
+#define SP_HUD_LIVE '\3'
 /* Height in px of n heads-up lines. */
 float sp_hud_height(const struct sp_font *font, int n);
-/* Draws the time and the lines in r. */
+/* Draws the time and the lines in r; live (may be NULL): the text of the
+ * SP_HUD_LIVE line at time t. */
 void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
                  char lines[][SP_HUD_LINE_BYTES], int n, const struct sp_params *p,
-                 const struct sp_palette *pal);
+                 const struct sp_palette *pal, const char *live);
 
 /* Width in px the colourbar needs, and its drawing (speed 0 .. max_speed). */
 /* label: its name, "" = "|v| (m/s)". */

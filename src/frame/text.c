@@ -21,6 +21,7 @@
 #include <hb-ot.h>
 
 #include "springpend/common.h"
+#include "springpend/environment.h"
 #include "embedded.h"
 #include "text.h"
 
@@ -905,6 +906,15 @@ void sp_font_files(const struct sp_font *f, char *buf, size_t size)
                                f->faces[i].file ? f->faces[i].file : SP_FONT_FILE " (embedded)");
         n += w > 0 ? (size_t)w : 0;
     }
+}
+
+int sp_font_environment(const struct sp_font *f, char *buf, size_t size)
+{
+    int ret = 0;
+    for (int i = 0; i < f->n_faces && !ret; i++)
+        if ((f->faces[i].used || !i) && f->faces[i].file)
+            ret = sp_environment_add_font(buf, size, f->faces[i].file);
+    return ret;
 }
 
 const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h, unsigned *version)

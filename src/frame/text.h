@@ -124,6 +124,11 @@ const char *sp_font_face_file(const struct sp_font *f, int face, int *index,
  * /usr/share/.../NotoSansArabic-Regular.ttf", into buf (cut to size). */
 void sp_font_files(const struct sp_font *f, char *buf, size_t size);
 
+/* Adds a "font NAME: sha256 ..." line to the environment text in buf for
+ * each font file that sp_font_files names (the embedded font has its own
+ * line already): sp_environment_add_font. 0, or its SP_E_* code. */
+int sp_font_environment(const struct sp_font *f, char *buf, size_t size);
+
 /* The R8 glyph cache: *w x *h bytes, row 0 first. Owned by f; it grows and
  * gains glyphs as strings are laid out: *version changes whenever its
  * contents or size did. */

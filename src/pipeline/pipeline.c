@@ -572,6 +572,9 @@ static int run_still(struct run *run)
     sp_render_fonts(run->r, run->prov.fonts, sizeof(run->prov.fonts));
     sp_render_overlay(run->r, run->prov.overlay, sizeof(run->prov.overlay));
     if (!ret)
+        ret = sp_render_font_environment(run->r, run->prov.environment,
+                                         sizeof(run->prov.environment));
+    if (!ret)
         ret = sp_sink_write(run->sink, &run->img);
     return ret;
 }
@@ -638,6 +641,9 @@ static int run_video(struct run *run)
         if (!run->emitted) { /* before the encoder thread reads them, and fixed after */
             sp_render_fonts(run->r, run->prov.fonts, sizeof(run->prov.fonts));
             sp_render_overlay(run->r, run->prov.overlay, sizeof(run->prov.overlay));
+            if ((ret = sp_render_font_environment(run->r, run->prov.environment,
+                                                  sizeof(run->prov.environment))) != 0)
+                return ret;
         }
         tm->render += now_s() - ts;
         publish(q, run->sim.s.t);

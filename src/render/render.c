@@ -179,6 +179,13 @@ void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size)
         sp_font_files(sp_compose_cells_font(r->composer), buf, size);
 }
 
+int sp_render_font_environment(const struct sp_renderer *r, char *buf, size_t size)
+{
+    return sp_compose_cells_font(r->composer)
+               ? sp_font_environment(sp_compose_cells_font(r->composer), buf, size)
+               : 0;
+}
+
 void sp_render_overlay(const struct sp_renderer *r, char *buf, size_t size)
 {
     sp_compose_cells_overlay(r->composer, buf, size);

@@ -376,12 +376,29 @@ static double averaged_azimuth(const double complex y[3])
 #define PRECESSION_DETUNING_MAX 0.01 /* |omega_s / (2 omega_p) - 1| */
 #define PRECESSION_MAXIMA 5 /* swing maxima followed */
 
+/* The start's amplitude about the hanging equilibrium (0, -l, 0) as a
+ * fraction of l: max(|A|, |B|) / l with the swing's |A| = l sqrt(th^2 +
+ * (v_t / (r w_p))^2), th the angle from the downward vertical in [0, pi]
+ * (not the horizontal offset: a bob near the top has almost none) and v_t
+ * the velocity across the spring, and the bounce's |B| = sqrt((r - l)^2 +
+ * (r' / w_s)^2). For a planar start this is sp_exchange's epsilon. r: m,
+ * r_dot: m/s. */
+static double start_amplitude(const struct sp_state *s, double r, double r_dot, double wp,
+                              double ws, double l)
+{
+    const double th = atan2(hypot(s->x, s->z), -s->y);
+    const double v2 = s->vx * s->vx + s->vy * s->vy + s->vz * s->vz;
+    const double vt = sqrt(fmax(v2 - r_dot * r_dot, 0));
+    const double swing = r > 0 ? l * hypot(th, vt / (r * wp)) : INFINITY;
+    return fmax(swing, hypot(r - l, r_dot / ws)) / l;
+}
+
 int sp_advise_precession(const struct sp_params *p, const struct sp_state *s0,
                          struct sp_precession *out)
 {
     struct sp_physics ph;
     *out = (struct sp_precession){.angle = NAN, .period = NAN, .first_peak = NAN,
-                                  .epsilon = NAN};
+                                  .epsilon = NAN, .swing_share = NAN};
     sp_params_physics(p, &ph);
     if (!(ph.omega_p > 0)) {
         out->why = "without gravity there is no swing to precess";
@@ -399,7 +416,7 @@ int sp_advise_precession(const struct sp_params *p, const struct sp_state *s0,
     double complex y[3] = {s0->x - I * s0->vx / wp, s0->z - I * s0->vz / wp,
                            (r - l) - I * r_dot / ws};
     const double a0 = sqrt(cabs(y[0]) * cabs(y[0]) + cabs(y[1]) * cabs(y[1]));
-    out->epsilon = fmax(a0, cabs(y[2])) / l;
+    out->epsilon = start_amplitude(s0, r, r_dot, wp, ws, l);
     if (a0 == 0 || cabs(y[2]) == 0) {
         out->why = "it needs both a bounce (r0 != l or a length_rate) and a swing";
         return 0;
@@ -420,6 +437,10 @@ int sp_advise_precession(const struct sp_params *p, const struct sp_state *s0,
             const double den = f0 - 2 * f1 + f2;
             const double off = den != 0 ? 0.5 * (f0 - f2) / den : 0;
             t_max[n_max] = t - h + off * h;
+            if (n_max == 0) {
+                const double eb = ws * ws * cabs(y[2]) * cabs(y[2]);
+                out->swing_share = wp * wp * f1 / (wp * wp * f1 + eb);
+            }
             az_max[n_max++] = az + off * (off > 0 ? az_now - az : az - az_prev);
         }
         az_prev = az, az = az_now;
@@ -443,6 +464,47 @@ int sp_advise_precession(const struct sp_params *p, const struct sp_state *s0,
                    "was measured";
     else
         out->applies = 1;
+    return 0;
+}
+
+/* ---- what info and the HUD state ----------------------------------------- */
+
+int sp_advise_predict(const struct sp_params *p, const struct sp_state *s0, int spatial,
+                      struct sp_prediction *out)
+{
+    *out = (struct sp_prediction){.spatial = spatial, .amplitude = NAN};
+    sp_params_physics(p, &out->ph);
+    out->swings = out->ph.omega_p > 0;
+    out->near21 = sp_advise_exchange(p, s0, &out->ex) == 0;
+    out->amplitude = out->ex.epsilon;
+    if (spatial) {
+        out->prec_ok = sp_advise_precession(p, s0, &out->prec) == 0;
+        if (out->prec_ok) {
+            /* the exchange of the 3-D motion is the three-wave one's: its first
+             * swing peak, not the planar projection's */
+            out->amplitude = out->prec.epsilon;
+            out->ex.time = out->prec.first_peak;
+            out->ex.swing_share = out->prec.swing_share;
+        }
+        out->brief = !out->swings ? "none: no swing without gravity"
+                     : !out->prec_ok ? "none: not near a 2:1 exchange"
+                     : isnan(out->prec.angle) ? "none: no repeated exchange to predict it by"
+                                              : "";
+    }
+    /* the averaged equations expand in small amplitudes: far beyond, their
+     * numbers would be stated for a motion they do not describe */
+    if (out->near21 && out->amplitude > SP_ADVISE_AMPLITUDE_MAX) {
+        out->ex.time = out->ex.swing_share = NAN;
+        out->ex_beyond = 1;
+        if (spatial && out->prec_ok) {
+            out->prec_ok = 0;
+            out->prec.applies = 0;
+            out->prec.angle = NAN;
+            out->prec.why = "the start's amplitude about the hanging equilibrium is beyond the "
+                            "averaged theory's small amplitudes";
+            out->brief = "not predicted: the start is too large for the theory";
+        }
+    }
     return 0;
 }
 

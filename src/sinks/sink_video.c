@@ -59,6 +59,9 @@ struct video {
     struct SwsContext *sws; /* owned: RGBA -> YUV(A)420P, BT.709 limited;
                                made at the first RGBA image */
     struct sp_outfile file; /* the .part libav writes by name (file.url) */
+    const struct sp_png_text *text; /* the caller's provenance (sp_sink_desc):
+                                       its texts may grow until the close */
+    int n_text;
 };
 
 static int video_check(const struct sp_sink_desc *d,
@@ -291,6 +294,8 @@ static int video_open(struct sp_sink *s)
     for (int i = 0; i < d->n_text; i++)
         if (strcmp(d->text[i].key, "springpend.time")) /* a frame's, not the video's */
             av_dict_set(&v->oc->metadata, d->text[i].key, d->text[i].text, 0);
+    v->text = d->text;
+    v->n_text = d->n_text;
     if (!strcmp(vc->muxer, "mp4")) {
         /* The movie header keeps the file's duration in movie_timescale
          * units, 1000 by default: 20 frames at 60 fps became 0.334 s, and
@@ -418,6 +423,13 @@ static int video_close(struct sp_sink *s)
     int err = video_encode(s, NULL);
     if (err)
         return err;
+    /* The font files used (springpend.fonts, and their hashes in
+     * springpend.environment) are known only after the first frame: MP4
+     * writes its tags with moov, in the trailer, so they are set again
+     * here. WebM wrote its tags with the header. */
+    for (int i = 0; !strcmp(v->codec->muxer, "mp4") && i < v->n_text; i++)
+        if (strcmp(v->text[i].key, "springpend.time"))
+            av_dict_set(&v->oc->metadata, v->text[i].key, v->text[i].text, 0);
     /* With +faststart the trailer reopens the .part to move moov first. */
     int ret = av_write_trailer(v->oc);
     if (ret >= 0)

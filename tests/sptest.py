@@ -81,6 +81,23 @@ def runner(exe, cwd):
     return run
 
 
+def setup(name, tools):
+    """A test's start: (springpend, the tests' source folder, a fresh output
+    folder `name` under argv[3], a runner there) from the usual arguments
+    SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR; skips (exit 77) when one of the
+    tools is not on PATH."""
+    import shutil
+    need = [t for t in tools if not shutil.which(t)]
+    if need:
+        print(f"1..0 # SKIP {', '.join(need)} not installed")
+        sys.exit(77)
+    exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    work = os.path.abspath(os.path.join(sys.argv[3], name))
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    return exe, src, work, runner(exe, work)
+
+
 def sets(d):
     """--set KEY=VALUE for each item of d."""
     return [a for k, v in d.items() for a in ("--set", f"{k}={v}")]

@@ -24,7 +24,8 @@ from sptest import done, need_scipy, ok, runner, sets
 
 need_scipy()
 import numpy as np  # noqa: E402
-from scipy import ndimage  # noqa: E402
+import sptext  # noqa: E402
+from sptext import gray, ink_columns, joined, segments  # noqa: E402
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "text"))
@@ -64,58 +65,6 @@ def still(name, title, extra=None, size=SIZE):
     return run("still", scene, "--at", "0", *size, *sets(d), "-o", name, "-q")
 
 
-def gray(path):
-    """A PNG (or a vector figure rasterised) as a 2-D array of ink, 0..255."""
-    base, ext = os.path.splitext(path)
-    if ext == ".svg":
-        subprocess.run(["rsvg-convert", path, "-o", base + "_svg.png"], check=True)
-        path = base + "_svg.png"
-    elif ext == ".pdf":
-        subprocess.run(["pdftoppm", "-r", "72", "-png", "-singlefile", path, base + "_pdf"], check=True)
-        path = base + "_pdf.png"
-    out = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt", "gray",
-                          "-"], capture_output=True, check=True).stdout
-    probe = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v", "-show_entries",
-                            "stream=width,height", "-of", "csv=p=0", path],
-                           capture_output=True, text=True, check=True).stdout.split(",")
-    w, h = int(probe[0]), int(probe[1])
-    return 255 - np.frombuffer(out, np.uint8).reshape(h, w).astype(int)  # ink is dark on light
-
-
-def ink_columns(img, thresh=96):
-    cols = np.nonzero((img > thresh).any(axis=0))[0]
-    return (cols.min(), cols.max()) if len(cols) else (0, -1)
-
-
-def segments(img, gap=8, thresh=96):
-    """Ink split at runs of >= gap empty columns: a list of cropped arrays."""
-    on = (img > thresh).any(axis=0)
-    out, start, empty = [], None, 0
-    for x, v in enumerate(list(on) + [False] * gap):
-        if v:
-            if start is None:
-                start = x
-            empty, last = 0, x
-        elif start is not None:
-            empty += 1
-            if empty >= gap:
-                seg = img[:, start:last + 1]
-                rows = np.nonzero((seg > thresh).any(axis=1))[0]
-                out.append(seg[rows.min():rows.max() + 1])
-                start = None
-    return out
-
-
-def joined(img, thresh=96):
-    """The widest 8-connected run of ink's share of the ink's width."""
-    lab, n = ndimage.label(img > thresh, structure=np.ones((3, 3)))
-    if not n:
-        return 0.0
-    x0, x1 = ink_columns(img, thresh)
-    widest = max(s[1].stop - s[1].start for s in ndimage.find_objects(lab))
-    return widest / (x1 - x0 + 1)
-
-
 def chars_of(text):
     """The distinct characters of text that draw alone (marks, virama and
     spaces belong to their neighbours)."""
@@ -128,10 +77,7 @@ def chars_of(text):
 
 
 def pdf_text(name):
-    """pdftotext's text of a PDF, without the bidi embedding marks it adds
-    around right-to-left lines (U+202A-U+202E)."""
-    got = subprocess.run(["pdftotext", name, "-"], capture_output=True, text=True, cwd=work).stdout
-    return "".join(c for c in got if not 0x202A <= ord(c) <= 0x202E).strip()
+    return sptext.pdf_text(os.path.join(work, name))
 
 
 def pango_pdf_text(text):

@@ -486,6 +486,16 @@ static int draw(FILE *rows, const char *rows_name, const char *figure,
     return ret ? ret : plot(rows, rows_name, figure, style, out);
 }
 
+/* The figure's texts checked before the sweep runs (sp_sweep_plot_check,
+ * through the module). */
+static int check_figure(const struct sp_plot_style *style)
+{
+    int (*check)(const struct sp_plot_style *);
+    *(void **)&check = sp_module_symbol("springpend-plot.so", "sweep figures",
+                                        "sp_sweep_plot_check");
+    return check ? check(style) : SP_E_IO;
+}
+
 /* The [view] keys a sweep's figure uses; the sections its grid does. */
 static const char *const figure_keys[] = {"theme", "colormap", "background", "font",
                                           "font_size", "font_scale", "title", "xlabel",
@@ -962,7 +972,8 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     o->style.title_set = scene->view.title[0] != 0;
     for (int i = 0; i < o->n_overrides; i++)
         o->style.title_set |= !strncmp(o->overrides[i], "view.title=", 11);
-    if ((ret = sp_sweep_check(d, scene, o->energy_given)))
+    if ((ret = sp_sweep_check(d, scene, o->energy_given)) ||
+        (o->output && (ret = check_figure(&o->style))))
         return ret;
     long total = sp_sweep_points(d), first = 0, last = total;
     int si = 0, sn = 0;

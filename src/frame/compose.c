@@ -176,102 +176,6 @@ static void text_sizes(float unit, double font_size, double scale, float ss, int
     }
 }
 
-/* 1 when a line may break before the character at s: not before a mark
- * (it belongs to the character before it) nor a joiner. */
-static int may_break_before(const char *s)
-{
-    const unsigned char *u = (const unsigned char *)s;
-    if ((u[0] & 0xC0) == 0x80)
-        return 0; /* inside a character */
-    /* combining marks U+0300-036F, U+0483-0489, U+0591-05C7, U+0610-061A,
-     * U+064B-065F, U+0670, U+06D6-06ED, the Indic signs and vowel marks
-     * (U+0900-0DFF blocks' dependent signs), U+200C/U+200D, U+20D0-20FF */
-    size_t n = sp_utf8_char(s);
-    uint32_t cp = n == 1 ? u[0] : n ? u[0] & (0x7Fu >> n) : 0;
-    for (size_t i = 1; i < n; i++)
-        cp = cp << 6 | (u[i] & 0x3Fu);
-    if ((cp >= 0x0300 && cp <= 0x036F) || (cp >= 0x0483 && cp <= 0x0489) ||
-        (cp >= 0x0591 && cp <= 0x05C7) || (cp >= 0x0610 && cp <= 0x061A) ||
-        (cp >= 0x064B && cp <= 0x065F) || cp == 0x0670 || (cp >= 0x06D6 && cp <= 0x06ED) ||
-        cp == 0x200C || cp == 0x200D || (cp >= 0x20D0 && cp <= 0x20FF) || (cp >= 0xFE00 && cp <= 0xFE0F))
-        return 0;
-    if (cp >= 0x0900 && cp <= 0x0DFF) { /* Indic: not before a dependent sign or virama */
-        const int k = (int)(cp & 0x7F);
-        return !(k <= 0x03 || (k >= 0x3A && k <= 0x4F) || (k >= 0x51 && k <= 0x57) ||
-                 k == 0x62 || k == 0x63);
-    }
-    return 1;
-}
-
-/* Wraps text into lines of at most max_width px: at spaces, and a word
- * wider than a line between its characters (so CJK, which has no spaces,
- * wraps too). *out holds the lines one after another, each NUL-terminated;
- * *n_out their count. 0 or SP_E_NOMEM. */
-/* A line is never measured longer than this many bytes: no frame (7680 px)
- * holds 64 KiB of glyphs on a line, and without the bound one long word
- * would be shaped whole once per line (quadratic in its length). */
-#define WRAP_LINE_BYTES_MAX 65536
-
-static int wrap(const struct sp_font *f, int size, const char *text, float max_width,
-                int max_lines, char **out, int *n_out)
-{
-    const size_t len = strlen(text);
-    char *buf = malloc(2 * len + 2), *w = buf, *try = malloc(len + 1);
-    int n = 0;
-    *out = NULL;
-    *n_out = 0;
-    if (!buf || !try) {
-        free(buf), free(try);
-        sp_log_error("out of memory to wrap %zu bytes of text", len);
-        return SP_E_NOMEM;
-    }
-    text += strspn(text, " ");
-    while (*text) {
-        size_t fit = 0;
-        /* the longest prefix ending at a space (or the end) that fits */
-        for (size_t i = 0; i <= WRAP_LINE_BYTES_MAX; i++) {
-            if (text[i] == ' ' || !text[i]) {
-                memcpy(try, text, i);
-                try[i] = 0;
-                if (sp_font_width(f, size, try) > max_width)
-                    break;
-                fit = i;
-                if (!text[i])
-                    break;
-            }
-        }
-        if (!fit) { /* the first word alone is too wide: as many characters as fit */
-            size_t i = 1;
-            for (; text[i] && text[i] != ' ' && i <= WRAP_LINE_BYTES_MAX; i++) {
-                if (!may_break_before(text + i))
-                    continue;
-                memcpy(try, text, i);
-                try[i] = 0;
-                if (sp_font_width(f, size, try) > max_width)
-                    break;
-                fit = i;
-            }
-            if (!fit) /* not even one character: it stays whole, and overflows */
-                for (fit = 1; text[fit] && !may_break_before(text + fit); fit++)
-                    ;
-        }
-        while (fit && text[fit - 1] == ' ')
-            fit--;
-        memcpy(w, text, fit);
-        w[fit] = 0;
-        w += fit + 1;
-        n++;
-        text += fit;
-        text += strspn(text, " ");
-        if (n > max_lines) /* already more than the frame can take: the caller refuses */
-            break;
-    }
-    free(try);
-    *out = buf;
-    *n_out = n;
-    return 0;
-}
-
 /* Line i of wrapped text. */
 static const char *line_of(const char *wrapped, int i)
 {
@@ -308,10 +212,10 @@ static int wrap_texts(struct sp_composer *r)
     text_label(caption, sizeof(caption), v->caption_where, "caption");
     int err = 0;
     if (v->title[0] && !(err = sp_font_check(f, title, v->title)))
-        err = wrap(f, SP_TEXT_TITLE, v->title, width, r->height / 2 / (sp_font_line(f, SP_TEXT_TITLE) > 0 ? sp_font_line(f, SP_TEXT_TITLE) : 1),
+        err = sp_font_wrap(f, SP_TEXT_TITLE, v->title, width, r->height / 2 / (sp_font_line(f, SP_TEXT_TITLE) > 0 ? sp_font_line(f, SP_TEXT_TITLE) : 1),
                    &r->title, &r->title_lines);
     if (!err && v->caption[0] && !(err = sp_font_check(f, caption, v->caption)))
-        err = wrap(f, SP_TEXT_NORMAL, v->caption, width, r->height / 2 / (sp_font_line(f, SP_TEXT_NORMAL) > 0 ? sp_font_line(f, SP_TEXT_NORMAL) : 1),
+        err = sp_font_wrap(f, SP_TEXT_NORMAL, v->caption, width, r->height / 2 / (sp_font_line(f, SP_TEXT_NORMAL) > 0 ? sp_font_line(f, SP_TEXT_NORMAL) : 1),
                    &r->caption, &r->caption_lines);
     if (err)
         return err;
@@ -365,7 +269,7 @@ static int check_band(struct sp_composer *r)
             continue;
         char *lines;
         int n, wide = 0;
-        if (wrap(r->font, SP_TEXT_NORMAL, text, w, CAPTION_LINES, &lines, &n))
+        if (sp_font_wrap(r->font, SP_TEXT_NORMAL, text, w, CAPTION_LINES, &lines, &n))
             return SP_E_NOMEM;
         free(lines);
         /* a word wider than the band (wrap would break it between characters) */
@@ -1069,7 +973,7 @@ static void put_band(struct sp_composer *r, const struct sp_moment *m)
         return;
     if (text != r->wrapped) { /* wrapped again only when the text changes */
         free(r->caption);
-        if (wrap(f, SP_TEXT_NORMAL, text, band_width(r), CAPTION_LINES, &r->caption, &r->caption_lines)) {
+        if (sp_font_wrap(f, SP_TEXT_NORMAL, text, band_width(r), CAPTION_LINES, &r->caption, &r->caption_lines)) {
             r->canvas.err = SP_E_NOMEM;
             r->wrapped = NULL;
             return;

@@ -13,8 +13,8 @@
  *     backend draws textured quads (draw_gl.c); cairo draws the same glyphs'
  *     outlines at the same pen positions with their text (draw_cairo.c).
  * Positions are whole pixels (each advance rounded), so the same string
- * always gives the same pixels. Strings are laid out on one line; wrapping
- * is the caller's (compose.c). */
+ * always gives the same pixels. Strings are laid out on one line;
+ * sp_font_wrap breaks a text into lines of a width. */
 #ifndef SPRINGPEND_TEXT_H
 #define SPRINGPEND_TEXT_H
 
@@ -94,6 +94,18 @@ int sp_font_shape(const struct sp_font *f, int size, const char *utf8, struct sp
 
 /* Advance width of a UTF-8 string, px. */
 int sp_font_width(const struct sp_font *f, int size, const char *utf8);
+
+/* Wraps utf8 into lines of at most max_width px at text size `size`: at
+ * spaces, and a word wider than a line between its characters (never
+ * before a mark or joiner), so CJK, which has no spaces, wraps too. A
+ * character too wide alone stays whole, wider than max_width (the caller
+ * measures each line and refuses). Stops once it has more than max_lines
+ * lines (the caller refuses those too), so one long word costs no more than
+ * the lines that could be shown. *out holds the lines one after another,
+ * each NUL-terminated (malloc'd: free it); *n_out their count. 0 or
+ * SP_E_NOMEM (logged). */
+int sp_font_wrap(const struct sp_font *f, int size, const char *utf8, float max_width,
+                 int max_lines, char **out, int *n_out);
 
 /* Height of a capital letter above the baseline, and the line spacing, px
  * (of the requested family). */

@@ -186,8 +186,16 @@ struct sp_plot_style {
  * sweep_plot.c (cairo); the executable reaches it through the module that
  * av_module.h loads (springpend-plot.so), so that cairo costs only the
  * commands that draw.
- * Returns 0, SP_E_INPUT (not a sweep CSV) or SP_E_IO. */
+ * Returns 0, SP_E_INPUT (not a sweep CSV; a text the figure cannot draw or
+ * fit, as sp_sweep_plot_check) or SP_E_IO. */
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
                   const struct sp_plot_style *style, struct sp_outfile *figure);
+
+/* Checks, before a sweep runs, that its figure can draw the style's texts:
+ * the [view] font exists, every character of the title, xlabel, ylabel and
+ * colorbar_label is in some installed font, and the title wraps to at
+ * most half the page's height. 0, or SP_E_INPUT having said what is wrong
+ * and where it was set; SP_E_NOMEM / SP_E_IO. In the plot module too. */
+int sp_sweep_plot_check(const struct sp_plot_style *style);
 
 #endif

@@ -1,9 +1,11 @@
 /* springpend: a sweep's figure, drawn with cairo straight from its CSV (see
  * sweep.h): a Lyapunov map with a colour bar (two keys) or line (one key),
  * an orbit diagram (dots), a Poincare mosaic (dots coloured by orbit). The
- * look is the scene's theme and colormap (panels.c's palette), text in
- * DejaVu Sans. Built as springpend-plot.so, loaded on first use, so that
- * cairo costs only the commands that draw.
+ * look is the scene's theme and colormap (panels.c's palette); text is laid
+ * out by text.c (HarfBuzz, FriBidi, fontconfig: the [view] font, DejaVu
+ * Sans by default, with fallbacks) and drawn as the still figures draw it
+ * (cairo_text.h), a title wrapped to the page. Built as springpend-plot.so,
+ * loaded on first use, so that cairo costs only the commands that draw.
  * To do: move onto the figures' backend-neutral draw list when it lands. */
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
@@ -16,8 +18,10 @@
 #include <string.h>
 
 #include "cairo_fd.h"
+#include "cairo_text.h"
 #include "panels.h"
 #include "signals.h"
+#include "text.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
 #include "analysis.h"
@@ -37,7 +41,15 @@ static struct {
     const char *title; /* NULL: the measure's own; "" = none */
     const struct sp_view *v; /* [view]'s figure keys: xlabel, ylabel, colorbar_label,
                                 legend, marker_size, panel_titles, panel_labels */
-} G = {900, 600, 1, 0, 1, 5, NULL, NULL};
+    /* text (text.c): laid out once at LAYOUT_PX px per em and drawn scaled */
+    struct sp_font *font;
+    struct sp_cairo_faces faces;
+    double pt;          /* the size text is drawn at now, pt */
+    int err;            /* 0, or the first text's failure (logged) */
+    char *title_lines;  /* the title wrapped (sp_font_wrap); NULL = none */
+    int title_n;        /* its lines */
+    double title_pt;    /* its size, pt */
+} G = {.w = 900, .h = 600, .u = 1, .lw = 1, .tick = 5};
 #define W G.w
 #define H G.h
 #define U(x) ((x) * G.u)
@@ -45,6 +57,12 @@ static struct {
 /* A Lyapunov map's image, pixels a side at most: more than the plot's
  * 720 pt (1440 PNG px) can show, far less than cairo's limit (32767). */
 #define MAP_MAX_PX 2048
+/* Text is laid out at this em size (px of text.c's layout, each advance
+ * rounded to a whole one: 1/200 em) and drawn scaled to its size in pt. */
+#define LAYOUT_PX 200
+#define LAYOUT SP_TEXT_NORMAL
+/* A title line's height, times its size (the printed figure's spacing). */
+#define TITLE_LEADING 1.25
 
 /* The plot area and the data range it shows. */
 struct frame {
@@ -85,12 +103,40 @@ static void fix_range(double *lo, double *hi)
     }
 }
 
+/* The size text is drawn at from now on, pt. */
+static void font_pt(double pt)
+{
+    G.pt = pt;
+}
+
+/* The advance of s at the current size, pt. */
+static double text_width(const char *s)
+{
+    return G.font ? sp_font_width(G.font, LAYOUT, s) * G.pt / LAYOUT_PX : 0;
+}
+
+/* Draws s at the current size and source, with the point (x, y) at
+ * fraction ax of its advance across and fraction ay of its capital height
+ * down (0: the top of a capital, 1: the baseline), in the user space (a
+ * turned one turns the text). A character no font has is refused, never
+ * drawn as a box. Failures go to G.err. */
 static void text_at(cairo_t *cr, double x, double y, const char *s, double ax, double ay)
 {
-    cairo_text_extents_t e;
-    cairo_text_extents(cr, s, &e);
-    cairo_move_to(cr, x - ax * e.width - e.x_bearing, y - ay * e.height - e.y_bearing);
-    cairo_show_text(cr, s);
+    struct sp_line l;
+    const double k = G.pt / LAYOUT_PX;
+    if (G.err || !s[0] || (G.err = sp_font_shape(G.font, LAYOUT, s, &l)))
+        return;
+    if (l.missing) {
+        if (!sp_font_check(G.font, "the figure's text", s))
+            sp_log_error("the figure's text \"%s\" has a character no font draws", s);
+        G.err = SP_E_INPUT;
+        return;
+    }
+    cairo_save(cr);
+    cairo_translate(cr, x - ax * k * l.width, y + (1 - ay) * k * sp_font_cap(G.font, LAYOUT));
+    cairo_scale(cr, k, k);
+    G.err = sp_cairo_text_show(cr, &G.faces, LAYOUT, 0, 0, s);
+    cairo_restore(cr);
 }
 
 static void fmt_tick(char *buf, size_t size, double v, double step)
@@ -102,39 +148,43 @@ static void fmt_tick(char *buf, size_t size, double v, double step)
 }
 
 /* The y ticks' step (draw_axes's) and their labels' widest width, pt. */
-static double ylabels_width(cairo_t *cr, const struct frame *f)
+static double ylabels_width(const struct frame *f)
 {
     char buf[64];
-    cairo_text_extents_t e;
     double sy = tick_step(f->ylo, f->yhi, G.print ? (int)fmax(2, f->h / U(45)) : 6), wmax = 0;
-    cairo_save(cr);
-    cairo_set_font_size(cr, U(12));
+    const double pt = G.pt;
+    font_pt(U(12));
     for (double v = ceil(f->ylo / sy - 1e-9) * sy; v <= f->yhi + 1e-9 * sy; v += sy) {
         fmt_tick(buf, sizeof(buf), v, sy);
-        cairo_text_extents(cr, buf, &e);
-        wmax = fmax(wmax, e.width);
+        wmax = fmax(wmax, text_width(buf));
     }
-    cairo_restore(cr);
+    font_pt(pt);
     return wmax;
+}
+
+/* The height the title's lines below its first take, pt. */
+static double title_extra(void)
+{
+    return G.title_n > 1 ? (G.title_n - 1) * G.title_pt * TITLE_LEADING : 0;
 }
 
 /* Places the plot rectangle of f (its data range set) on the page: the
  * default figure's fixed margins, right = `right` pt (room for a colour
  * bar or legend); at a printed size margins that fit the labels, right =
- * print_right pt. */
-static void place(cairo_t *cr, struct frame *f, double right, double print_right)
+ * print_right pt. A title of several lines (title()) moves the plot down. */
+static void place(struct frame *f, double right, double print_right)
 {
     if (!G.print) {
-        f->x0 = 80, f->y0 = 56, f->w = W - 80 - right, f->h = H - 116;
+        f->x0 = 80, f->y0 = 56 + title_extra(), f->w = W - 80 - right, f->h = H - 116 - title_extra();
         return;
     }
-    const int none = (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles);
-    const double title = none && !G.v->panel_labels ? 0 : U(17) * 1.25;
+    const double title = G.title_n ? G.title_n * G.title_pt * TITLE_LEADING
+                         : G.v->panel_labels ? U(17) * TITLE_LEADING : 0;
     f->y0 = U(6) + title + U(6);
     f->h = H - f->y0 - (G.tick + U(4) + U(12) * 1.2 + U(5) + U(14) * 1.25 + U(4));
     f->h = fmax(f->h, U(20));
     /* the left margin depends on the y labels, which depend on the height */
-    f->x0 = U(4) + U(14) * 1.2 + U(6) + ylabels_width(cr, f) + U(4) + G.tick;
+    f->x0 = U(4) + U(14) * 1.2 + U(6) + ylabels_width(f) + U(4) + G.tick;
     f->w = fmax(W - f->x0 - print_right, U(20));
 }
 
@@ -147,7 +197,7 @@ static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palett
         xlabel = G.v->xlabel;
     if (G.v->ylabel[0])
         ylabel = G.v->ylabel;
-    cairo_set_font_size(cr, U(12));
+    font_pt(U(12));
     double sx = tick_step(f->xlo, f->xhi, G.print ? (int)fmax(2, f->w / U(55)) : 8);
     double sy = tick_step(f->ylo, f->yhi, G.print ? (int)fmax(2, f->h / U(45)) : 6);
     cairo_set_line_width(cr, G.print ? 0.5 * G.lw : G.lw);
@@ -180,12 +230,12 @@ static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palett
     cairo_set_line_width(cr, G.lw);
     cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
     cairo_stroke(cr);
-    cairo_set_font_size(cr, U(14));
+    font_pt(U(14));
     set_rgba(cr, pal->text);
     text_at(cr, f->x0 + f->w / 2, f->y0 + f->h + U(30), xlabel, 0.5, 0);
     cairo_save(cr);
     /* the y axis's name clear of its widest tick label */
-    cairo_translate(cr, f->x0 - (G.print ? G.tick + U(4) + ylabels_width(cr, f) + U(12) : 58),
+    cairo_translate(cr, f->x0 - (G.print ? G.tick + U(4) + ylabels_width(f) + U(12) : 58),
                     f->y0 + f->h / 2);
     cairo_rotate(cr, -M_PI / 2);
     text_at(cr, 0, 0, ylabel, 0.5, 0.5);
@@ -243,34 +293,98 @@ static int to_rows(FILE *fp, const char *name, struct sp_sweep_desc *d)
 
 /* ---- the figures ---- */
 
+/* "FILE:LINE: [view] title" (or "--set view.title") for messages. */
+static void title_where(char *buf, size_t size)
+{
+    const char *where = G.v->title_where ? G.v->title_where : "";
+    if (!strncmp(where, "--set ", 6))
+        snprintf(buf, size, "%s", where);
+    else
+        snprintf(buf, size, "%s%s[view] title", where, where[0] ? ": " : "");
+}
+
+/* Wraps text, the title, into G.title_lines at G.title_pt to the page's
+ * width less its margins, as a still wraps its title to the frame. A
+ * title that takes more than half the page's height, or has a character
+ * wider than a line, is refused (logged, naming where it was set when
+ * it is [view] title: `what`). 0 or SP_E_INPUT / SP_E_NOMEM. */
+static int wrap_title(const char *text, const char *what)
+{
+    const double k = G.title_pt / LAYOUT_PX, lead = G.title_pt * TITLE_LEADING;
+    const double width = G.print ? W - 2 * U(4) : W - 80 - 10; /* pt */
+    const int max_lines = (int)fmax(1, floor(H / 2 / lead));
+    free(G.title_lines);
+    G.title_lines = NULL, G.title_n = 0;
+    int err = sp_font_check(G.font, what, text);
+    if (!err)
+        err = sp_font_wrap(G.font, LAYOUT, text, (float)(width / k), max_lines, &G.title_lines,
+                           &G.title_n);
+    const char *line = G.title_lines;
+    for (int i = 0; !err && i < G.title_n; i++, line += strlen(line) + 1)
+        if (sp_font_width(G.font, LAYOUT, line) * k > width) {
+            sp_log_error("%s: \"%s\" is %.0f pt wide, wider than the figure's %.0f pt for "
+                         "text; use a smaller font_size or font_scale, or a wider --size", what,
+                         line, sp_font_width(G.font, LAYOUT, line) * k, width);
+            err = SP_E_INPUT;
+        }
+    if (!err && G.title_n > max_lines) {
+        sp_log_error("%s: the title cannot fit: it wraps to more than %d lines at %.0f pt "
+                     "wide; allowed: at most half the figure's height (%.0f of %.0f pt); "
+                     "shorten it, use a smaller font_size or font_scale, or a larger --size",
+                     what, max_lines, width, H / 2, H);
+        err = SP_E_INPUT;
+    }
+    if (err) {
+        free(G.title_lines);
+        G.title_lines = NULL, G.title_n = 0;
+    }
+    return err;
+}
+
+/* Sets the figure's title before place(): [view] title when set, else the
+ * measure's (the default figure's "SCENE: what", a printed figure's
+ * short_what), none with title = "" or panel_titles = false; wrapped
+ * (wrap_title). Failures go to G.err. */
+static void title(const struct sp_sweep_desc *d, const char *what, const char *short_what)
+{
+    char buf[512], where[512];
+    free(G.title_lines);
+    G.title_lines = NULL, G.title_n = 0;
+    if (G.err || (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
+        return;
+    G.title_pt = G.print || G.title ? U(17) : 17;
+    snprintf(buf, sizeof(buf), "%s: %s", d->scene, what);
+    title_where(where, sizeof(where));
+    G.err = wrap_title(G.title ? G.title : G.print ? short_what : buf,
+                       G.title ? where : "the figure's title");
+}
+
 static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
-                       const char *what, const char *short_what, const struct frame *f)
+                       const struct frame *f)
 {
     char buf[256];
     if (G.v->panel_labels) { /* the figure is panel (a) */
-        cairo_set_font_size(cr, U(17));
+        font_pt(U(17));
         set_rgba(cr, pal->text);
         text_at(cr, G.print ? U(4) : 10, G.print ? U(6) : 10, G.v->panel_labels == 1 ? "(a)" : "(A)",
                 0, 0);
     }
-    if ((G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
-        return; /* [view] title = "" or panel_titles = false: none */
-    if (G.print || G.title) { /* one line: [view] title, or the measure's short name */
-        cairo_set_font_size(cr, U(17));
-        set_rgba(cr, pal->text);
-        if (G.print)
-            text_at(cr, f->x0 + f->w / 2, U(6), G.title ? G.title : short_what, 0.5, 0);
-        else
-            text_at(cr, 80, 10, G.title, 0, 0);
-        if (G.print)
-            return;
-    }
-    cairo_set_font_size(cr, 17);
+    /* the title's lines: a printed figure's centred over the plot (inside
+     * the page), the default figure's from the plot's left edge */
+    font_pt(G.title_pt);
     set_rgba(cr, pal->text);
-    snprintf(buf, sizeof(buf), "%s: %s", d->scene, what);
-    if (!G.title)
-        text_at(cr, 80, 10, buf, 0, 0);
-    cairo_set_font_size(cr, 12);
+    const char *line = G.title_lines;
+    for (int i = 0; i < G.title_n; i++, line += strlen(line) + 1) {
+        const double w = text_width(line), y = (G.print ? U(6) : 10) + i * G.title_pt * TITLE_LEADING;
+        if (G.print)
+            text_at(cr, fmin(fmax(f->x0 + f->w / 2, U(4) + w / 2), W - U(4) - w / 2), y, line,
+                    0.5, 0);
+        else
+            text_at(cr, 80, y, line, 0, 0);
+    }
+    if (G.print || (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
+        return; /* [view] title = "" or panel_titles = false: no subtitle either */
+    font_pt(12);
     set_rgba(cr, pal->muted);
     char energy[48] = "", transient[48] = "";
     if (d->measure == SP_MEASURE_POINCARE)
@@ -289,7 +403,7 @@ static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct 
         snprintf(sampled, sizeof(sampled), "stroboscopic map (t = k/f) settled by recurrence; ");
     snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s at dt = %g s", sampled, energy, d->time,
              transient, d->method, d->dt);
-    text_at(cr, 80, 34, buf, 0, 0);
+    text_at(cr, 80, 34 + title_extra(), buf, 0, 0);
 }
 
 static void colormap_rgb(const struct sp_sweep_desc *d, double t, float rgb[3])
@@ -299,10 +413,12 @@ static void colormap_rgb(const struct sp_sweep_desc *d, double t, float rgb[3])
 
 /* The room a colour bar (draw_colorbar) takes right of the plot at a
  * printed size, pt. */
-static double colorbar_room(cairo_t *cr, double lo, double hi)
+static double colorbar_room(double lo, double hi)
 {
-    struct frame f = {0, 0, 1, 1, 0, 1, lo, hi};
-    return U(14) + U(12) + G.tick + U(3) + ylabels_width(cr, &f) + U(6) + U(14) * 1.2 + U(4);
+    /* its ticks as for a bar as tall as the page: at least as many as the
+     * bar will have, so labels at least as wide */
+    struct frame f = {0, 0, 1, H, 0, 1, lo, hi};
+    return U(14) + U(12) + G.tick + U(3) + ylabels_width(&f) + U(6) + U(14) * 1.2 + U(4);
 }
 
 /* A colour bar from t0 to t1 of the colormap, ticks lo..hi. By default at
@@ -329,7 +445,7 @@ static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const stru
     cairo_stroke(cr);
     double step = tick_step(lo, hi, G.print ? (int)fmax(2, h / U(45)) : 6);
     char buf[64];
-    cairo_set_font_size(cr, U(12));
+    font_pt(U(12));
     for (double v = ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * step; v += step) {
         double yy = y + h - (v - lo) / (hi - lo) * h;
         set_rgba(cr, pal->axis);
@@ -338,32 +454,35 @@ static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const stru
         set_rgba(cr, pal->muted);
         text_at(cr, x + bw + G.tick + U(3), yy, buf, 0, 0.5);
     }
-    cairo_set_font_size(cr, U(14));
+    font_pt(U(14));
     set_rgba(cr, pal->text);
     if (G.v->colorbar_label[0])
         label = G.v->colorbar_label;
-    if (!G.print) {
-        text_at(cr, x + 9, y - 10, label, 0.5, 1);
+    if (!G.print) { /* centred above the bar, clear of the plot on its left */
+        text_at(cr, fmax(x + 9, pf->x0 + pf->w + 6 + 0.5 * text_width(label)), y - 10, label,
+                0.5, 1);
         return;
     }
-    struct frame tf = {0, 0, 1, 1, 0, 1, lo, hi};
+    struct frame tf = {0, 0, 1, h, 0, 1, lo, hi}; /* the bar's own ticks */
     cairo_save(cr);
-    cairo_translate(cr, x + bw + G.tick + U(3) + ylabels_width(cr, &tf) + U(6) + U(7), y + h / 2);
+    cairo_translate(cr, x + bw + G.tick + U(3) + ylabels_width(&tf) + U(6) + U(7), y + h / 2);
     cairo_rotate(cr, -M_PI / 2);
     text_at(cr, 0, 0, label, 0.5, 0.5);
     cairo_restore(cr);
 }
 
 /* The one-number measures, drawn as a line over one key or a map over two:
- * the title, the y axis's (or colour bar's) label, and the legend of a
- * line's two series (the first value of a row, then the second; NULL: the
- * line shows the first alone). */
+ * the title and its short form (at a printed size), the y axis's label, the
+ * colour bar's, and the legend of a line's two series (the first value of a
+ * row, then the second; NULL: the line shows the first alone). */
 static const struct scalar_look {
-    const char *title, *label, *series[2];
+    const char *title, *short_title, *label, *bar, *series[2];
 } scalar_looks[SP_MEASURE_COUNT] = {
-    [SP_MEASURE_LYAPUNOV] = {"largest Lyapunov exponent", "λ (1/s)", {"λ over T", "λ over T/2"}},
+    [SP_MEASURE_LYAPUNOV] = {"largest Lyapunov exponent", "largest Lyapunov exponent",
+                             "λ (1/s)", "λ (1/s)", {"λ over T", "λ over T/2"}},
     [SP_MEASURE_PRECESSION] = {"precession of the swing plane per exchange",
-                               "Δφ (° per exchange)", {"precession per exchange", NULL}},
+                               "precession per exchange", "Δφ (° per exchange)",
+                               "° per exchange", {"precession per exchange", NULL}},
 };
 
 static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
@@ -397,8 +516,9 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     if (d->n_axes == 1) {
         struct frame f = {80, 56, W - 110, H - 116, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
         fix_range(&f.xlo, &f.xhi);
-        place(cr, &f, 30, U(18));
-        draw_title(cr, d, pal, look->title, look->title, &f);
+        title(d, look->title, look->short_title);
+        place(&f, 30, U(18));
+        draw_title(cr, d, pal, &f);
         draw_axes(cr, &f, pal, xl, look->label);
         cairo_save(cr);
         cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
@@ -423,7 +543,7 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
             cairo_stroke(cr);
         }
         cairo_restore(cr);
-        cairo_set_font_size(cr, U(12));
+        font_pt(U(12));
         set_rgba(cr, pal->series[1]);
         if (!G.v->legend)
             text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8), look->series[0], 1, 0);
@@ -436,8 +556,9 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
         struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
-        place(cr, &f, 120, colorbar_room(cr, lo, hi));
-        draw_title(cr, d, pal, look->title, look->title, &f);
+        title(d, look->title, look->short_title);
+        place(&f, 120, colorbar_room(lo, hi));
+        draw_title(cr, d, pal, &f);
         /* one image pixel per grid point up to MAP_MAX_PX a side (cairo
          * makes none wider than 32767); beyond, each pixel is the mean of
          * the finite values of its block of points */
@@ -482,7 +603,7 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         cairo_surface_destroy(img);
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(cr, &f, pal, xl, yl);
-        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, look->label, &f, 0, 1);
+        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, look->bar, &f, 0, 1);
     }
     free(lam), free(half);
     return 0;
@@ -511,10 +632,8 @@ static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struc
     char buf[160];
     double y = f->y0 + U(8);
     int lines = (d->cont == SP_CONTINUE_BOTH ? 2 : 1) * (d->peak ? 2 : 1) + (d->cont != 0);
-    cairo_set_font_size(cr, U(12));
-    cairo_text_extents_t e;
-    cairo_text_extents(cr, "each value starts from the last one's state", &e);
-    const double bw = G.print ? fmin(e.width + U(16), f->w - U(2)) : 288;
+    font_pt(U(12));
+    const double bw = G.print ? fmin(text_width("each value starts from the last one's state") + U(16), f->w - U(2)) : 288;
     cairo_set_source_rgba(cr, pal->background[0], pal->background[1], pal->background[2], 0.85);
     cairo_rectangle(cr, f->x0 + f->w - bw - U(2), f->y0 + U(2), bw, U(16) * lines + U(10));
     cairo_fill(cr);
@@ -574,11 +693,12 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
     struct frame f = {80, 56, W - 110, H - 116, xlo - mx, xhi + mx, ylo - my, yhi + my};
     char xl[96];
     key_label(xl, sizeof(xl), d->axis[0].key);
-    place(cr, &f, 30, orbit ? U(18) : colorbar_room(cr, d->axis[0].from, d->axis[0].to));
-    draw_title(cr, d, pal, orbit ? (d->driven ? "orbit diagram, once per drive period"
+    title(d, orbit ? (d->driven ? "orbit diagram, once per drive period"
                                                : "orbit diagram at the Poincaré crossings")
                                  : "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit",
-               orbit ? "orbit diagram" : "Poincaré sections", &f);
+               orbit ? "orbit diagram" : "Poincaré sections");
+    place(&f, 30, orbit ? U(18) : colorbar_room(d->axis[0].from, d->axis[0].to));
+    draw_title(cr, d, pal, &f);
     draw_axes(cr, &f, pal, orbit ? xl : "r (m)",
               orbit ? (d->driven && d->peak != SP_PEAK_R ? "θ (degrees)" : "r (m)")
                     : "ṙ (m/s)");
@@ -636,7 +756,7 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
             cairo_fill(cr);
         }
         char buf[64];
-        cairo_set_font_size(cr, 11);
+        font_pt(11);
         set_rgba(cr, pal->muted);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
         text_at(cr, x0 - 5, y0 + 5, buf, 1, 0.5);
@@ -700,8 +820,9 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
         struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
-        place(cr, &f, 120, colorbar_room(cr, lo, hi));
-        draw_title(cr, d, pal, "Lyapunov spectrum", "Lyapunov spectrum", &f);
+        title(d, "Lyapunov spectrum", "Lyapunov spectrum");
+        place(&f, 120, colorbar_room(lo, hi));
+        draw_title(cr, d, pal, &f);
         for (long i = 0; i < m; i++) {
             int idx[SP_SWEEP_MAX_AXES];
             sp_sweep_point_index(d, (long)x[i], idx);
@@ -728,9 +849,10 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         f.xlo = d->axis[0].from, f.xhi = d->axis[0].to;
     }
     fix_range(&f.xlo, &f.xhi);
-    place(cr, &f, 30, U(18));
-    draw_title(cr, d, pal, conv ? "Lyapunov spectrum: running values against T"
-                                : "Lyapunov spectrum", "Lyapunov spectrum", &f);
+    title(d, conv ? "Lyapunov spectrum: running values against T"
+                                : "Lyapunov spectrum", "Lyapunov spectrum");
+    place(&f, 30, U(18));
+    draw_title(cr, d, pal, &f);
     draw_axes(cr, &f, pal, conv ? "log10 T (s)" : xl, "λ (1/s)");
     /* zero, where lambda_2 and lambda_3 of a free orbit belong */
     set_rgba(cr, pal->axis);
@@ -760,7 +882,7 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         cairo_stroke(cr);
     }
     cairo_restore(cr);
-    cairo_set_font_size(cr, U(12));
+    font_pt(U(12));
     for (int j = 0; j < 4 && !G.v->legend; j++) {
         set_rgba(cr, pal->series[colour[j]]);
         if (conv && m)
@@ -818,8 +940,9 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
     struct frame f = {80, 56, W - 380, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                       ay->from - dy / 2, ay->to + dy / 2};
-    place(cr, &f, 300, U(300));
-    draw_title(cr, d, pal, "basins of attraction", "basins of attraction", &f);
+    title(d, "basins of attraction", "basins of attraction");
+    place(&f, 300, U(300));
+    draw_title(cr, d, pal, &f);
     cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, ax->count, ay->count);
     unsigned char *data = cairo_image_surface_get_data(img);
     int stride = cairo_image_surface_get_stride(img);
@@ -848,7 +971,7 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     for (int a = 0; a < map.n_attractors; a++)
         all += map.att[a].count;
     double lx = f.x0 + f.w + U(20), ly = f.y0 + U(4);
-    cairo_set_font_size(cr, U(11));
+    font_pt(U(11));
     for (int a = 0; a < map.n_attractors && !G.v->legend; a++, ly += U(30)) {
         cairo_set_source_rgb(cr, rgb[a][0], rgb[a][1], rgb[a][2]);
         cairo_rectangle(cr, lx, ly, U(14), U(14));
@@ -871,11 +994,11 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         }
     }
     set_rgba(cr, pal->text);
-    cairo_set_font_size(cr, U(12));
+    font_pt(U(12));
     snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map.entropy, map.boundary_entropy);
     text_at(cr, lx, ly + U(8), buf, 0, 0);
     set_rgba(cr, pal->muted);
-    cairo_set_font_size(cr, U(10));
+    font_pt(U(10));
     snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map.box, map.box);
     text_at(cr, lx, ly + U(26), buf, 0, 0);
     if (map.blown_up) {
@@ -884,6 +1007,65 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     }
     sp_basins_free(&map);
     return 0;
+}
+
+/* Sets G up for a figure of the style, look being its scene with the
+ * style's [view] copied in (kept by the caller until end()): the page, the
+ * text's scale, the font ([view] font, with fontconfig's fallbacks), and
+ * checks the [view] texts it draws: every character in some font, a title
+ * that fits the page (wrap_title). 0, or SP_E_INPUT (said), SP_E_NOMEM,
+ * SP_E_IO. */
+static int begin(const struct sp_plot_style *style, struct sp_scene *look)
+{
+    const int print = style && style->page_w > 0;
+    const double body = look->view.font_size > 0 ? look->view.font_size : print ? 10 : 14;
+    const struct sp_view *v = &look->view;
+    G.print = print;
+    G.w = print ? style->page_w : 900, G.h = print ? style->page_h : 600;
+    G.u = body / 14 * (v->font_scale > 0 ? v->font_scale : 1);
+    G.lw = print ? 0.8 : 1, G.tick = print ? 3.5 : 5;
+    G.title = style && style->title_set ? v->title : NULL;
+    G.v = v;
+    G.err = 0, G.pt = U(12);
+    G.title_lines = NULL, G.title_n = 0;
+    struct sp_font_desc fd = {.family = v->font};
+    for (int i = 0; i < SP_TEXT_SIZES; i++)
+        fd.px[i] = LAYOUT_PX;
+    int err = sp_font_make(&G.font, &fd);
+    const char *const labels[][2] = {{"view.xlabel", v->xlabel}, {"view.ylabel", v->ylabel},
+                                     {"view.colorbar_label", v->colorbar_label}};
+    for (size_t i = 0; !err && i < sizeof(labels) / sizeof(labels[0]); i++)
+        if (labels[i][1][0])
+            err = sp_font_check(G.font, labels[i][0], labels[i][1]);
+    if (!err && G.title && G.title[0]) {
+        char where[512];
+        title_where(where, sizeof(where));
+        G.title_pt = U(17);
+        err = wrap_title(G.title, where);
+    }
+    return err;
+}
+
+/* Gives back what begin() and title() took. */
+static void end(void)
+{
+    free(G.title_lines);
+    G.title_lines = NULL, G.title_n = 0;
+    sp_font_destroy(&G.font);
+    /* fontconfig keeps its configuration for the next figure; there is
+     * none: give it back (a sanitizer build checks) */
+    FcFini();
+}
+
+int sp_sweep_plot_check(const struct sp_plot_style *style)
+{
+    struct sp_scene look;
+    sp_scene_defaults(&look);
+    if (style && style->view)
+        look.view = *style->view;
+    const int err = begin(style, &look);
+    end();
+    return err;
 }
 
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
@@ -904,19 +1086,16 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     }
     look.view.theme = d.theme;
     sp_palette_get(&look.view, &pal);
-    /* the page and the text's scale (G) */
-    const int print = style && style->page_w > 0;
-    const double body = look.view.font_size > 0 ? look.view.font_size : print ? 10 : 14;
-    G.print = print;
-    G.w = print ? style->page_w : 900, G.h = print ? style->page_h : 600;
-    G.u = body / 14 * (look.view.font_scale > 0 ? look.view.font_scale : 1);
-    G.lw = print ? 0.8 : 1, G.tick = print ? 3.5 : 5;
-    G.title = style && style->title_set ? look.view.title : NULL;
-    G.v = &look.view;
-    const double png_scale = print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
-    /* cairo writes front to back: a device or stdout is fine */
-    if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM)))
+    if ((ret = begin(style, &look))) { /* the page, the text's scale and font (G) */
+        end();
         return ret;
+    }
+    const double png_scale = G.print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
+    /* cairo writes front to back: a device or stdout is fine */
+    if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM))) {
+        end();
+        return ret;
+    }
     const char *ext = strrchr(path, '.');
     char *svg_meta = !strcasecmp(ext, ".svg") && style ? sp_cairo_svg_metadata(style->scene_file, style->command) : NULL;
     struct sp_cairo_fd sink = {.fd = out.fd, .svg_metadata = svg_meta}; /* every write checked */
@@ -932,6 +1111,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
         cairo_surface_destroy(s);
         sp_outfile_discard(&out);
         free(svg_meta);
+        end();
         return ret;
     }
     if (!strcasecmp(ext, ".pdf") && style)
@@ -943,24 +1123,25 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
         cairo_surface_destroy(s);
         sp_outfile_discard(&out);
         free(svg_meta);
+        end();
         return SP_E_IO;
     }
     if (!strcasecmp(ext, ".png"))
         cairo_scale(cr, lround(W * png_scale) / W, lround(H * png_scale) / H);
-    cairo_select_font_face(cr, look.view.font[0] ? look.view.font : "DejaVu Sans",
-                           CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    ret = sp_cairo_faces_make(&G.faces, G.font, cr);
     if (pal.background[3] > 0) { /* view.background = transparent: none */
         set_rgba(cr, pal.background);
         cairo_paint(cr);
     }
-    if (d.measure == SP_MEASURE_LYAPUNOV || d.measure == SP_MEASURE_PRECESSION)
-        ret = draw_lyapunov(cr, csv, &d, &pal);
-    else if (d.measure == SP_MEASURE_SPECTRUM)
-        ret = draw_spectrum(cr, csv, &d, &pal);
-    else if (d.measure == SP_MEASURE_BASINS)
-        ret = draw_basins(cr, csv, &d, &pal);
-    else
-        ret = draw_dots(cr, csv, csv_name, &d, &pal);
+    if (!ret)
+        ret = d.measure == SP_MEASURE_LYAPUNOV || d.measure == SP_MEASURE_PRECESSION
+                  ? draw_lyapunov(cr, csv, &d, &pal)
+              : d.measure == SP_MEASURE_SPECTRUM ? draw_spectrum(cr, csv, &d, &pal)
+              : d.measure == SP_MEASURE_BASINS   ? draw_basins(cr, csv, &d, &pal)
+                                                 : draw_dots(cr, csv, csv_name, &d, &pal);
+    if (!ret)
+        ret = G.err; /* the text's */
+    sp_cairo_faces_destroy(&G.faces);
     cairo_status_t st = cairo_status(cr);
     cairo_destroy(cr);
     if (!ret && !st && !strcasecmp(ext, ".png"))
@@ -972,10 +1153,10 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
         st = CAIRO_STATUS_WRITE_ERROR;
     cairo_surface_destroy(s);
     free(svg_meta);
-    /* cairo keeps its font faces and fontconfig its configuration for the
-     * next figure; there is none: give them back (a sanitizer build checks) */
+    /* cairo keeps its font faces for the next figure; there is none: give
+     * them back (a sanitizer build checks), and the font */
     cairo_debug_reset_static_data();
-    FcFini();
+    end();
     if (!ret && sp_signal_seen())
         ret = SP_E_INTERRUPTED; /* a figure cut short by a signal is not written */
     if (!ret && st) {

@@ -1,0 +1,125 @@
+/* springpend (internal): shaped text drawn with cairo. See cairo_text.h. */
+#include <stdlib.h>
+
+#include <cairo-ft.h>
+#include <ft2build.h>
+#include FT_FREETYPE_H
+
+#include "springpend/common.h"
+#include "cairo_text.h"
+
+static void ft_face_done(void *face)
+{
+    FT_Done_Face(face);
+}
+
+/* Face i of the font as a cairo face, made on first use: its own FT_Face
+ * (which cairo sizes as it likes), freed when cairo lets go of the face.
+ * NULL when it cannot be made (logged). */
+static cairo_font_face_t *face_of(struct sp_cairo_faces *fs, int i)
+{
+    static FT_Library lib; /* for the process: cairo's caches may outlive a document */
+    static const cairo_user_data_key_t key;
+    const unsigned char *data;
+    size_t size;
+    int index;
+    FT_Face face;
+    if (fs->face[i])
+        return fs->face[i];
+    const char *file = sp_font_face_file(fs->font, i, &index, &data, &size);
+    if ((!lib && FT_Init_FreeType(&lib)) ||
+        (file ? FT_New_Face(lib, file, index, &face)
+              : FT_New_Memory_Face(lib, data, (FT_Long)size, index, &face))) {
+        sp_log_error("FreeType cannot open the font %s", file ? file : "DejaVu Sans (embedded)");
+        return NULL;
+    }
+    cairo_font_face_t *cf = cairo_ft_font_face_create_for_ft_face(face, FT_LOAD_NO_HINTING);
+    if (cairo_font_face_status(cf) ||
+        cairo_font_face_set_user_data(cf, &key, face, ft_face_done)) {
+        sp_log_error("cairo cannot use the font %s: %s", file ? file : "DejaVu Sans (embedded)",
+                     cairo_status_to_string(cairo_font_face_status(cf)));
+        cairo_font_face_destroy(cf);
+        FT_Done_Face(face);
+        return NULL;
+    }
+    return fs->face[i] = cf;
+}
+
+int sp_cairo_faces_make(struct sp_cairo_faces *fs, const struct sp_font *f, cairo_t *cr)
+{
+    fs->font = f;
+    fs->face = calloc((size_t)sp_font_faces(f), sizeof(*fs->face));
+    if (!fs->face) {
+        sp_log_error("out of memory for the fonts");
+        return SP_E_NOMEM;
+    }
+    cairo_font_options_t *fo = cairo_font_options_create();
+    cairo_font_options_set_hint_style(fo, CAIRO_HINT_STYLE_NONE);
+    cairo_font_options_set_hint_metrics(fo, CAIRO_HINT_METRICS_OFF);
+    cairo_set_font_options(cr, fo);
+    cairo_font_options_destroy(fo);
+    return 0;
+}
+
+void sp_cairo_faces_destroy(struct sp_cairo_faces *fs)
+{
+    for (int i = 0; fs->face && i < sp_font_faces(fs->font); i++)
+        cairo_font_face_destroy(fs->face[i]); /* cairo keeps what it still uses */
+    free(fs->face);
+    fs->face = NULL;
+}
+
+int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *fs, int size, double x, double y,
+                       const char *utf8)
+{
+    struct sp_line l;
+    int err = sp_font_shape(fs->font, size, utf8, &l);
+    cairo_glyph_t *g = malloc((size_t)(l.n_glyphs + 1) * sizeof(*g));
+    cairo_text_cluster_t *cl = malloc((size_t)(l.n_glyphs + 1) * sizeof(*cl));
+    if (!err && (!g || !cl)) {
+        sp_log_error("out of memory for a text run");
+        err = SP_E_NOMEM;
+    }
+    cairo_set_font_size(cr, sp_font_px(fs->font, size));
+    /* runs in the text's order, so that a PDF holds the text as written
+     * (pdftotext -raw returns it whole; the layout itself is visual) */
+    for (int r = 0, from = -1; r < l.n_runs && !err; r++) {
+        const struct sp_glyph_run *run = NULL;
+        for (int k = 0; k < l.n_runs; k++)
+            if (l.runs[k].start > from && (!run || l.runs[k].start < run->start))
+                run = &l.runs[k];
+        from = run->start;
+        const struct sp_glyph *rg = l.glyphs + run->first;
+        cairo_font_face_t *face = face_of(fs, rg[0].face);
+        int n_cl = 0;
+        if (!face) {
+            err = SP_E_IO;
+            break;
+        }
+        /* glyphs in the text's order (a right-to-left run's from its
+         * right end: cairo 1.16 checks backward clusters' UTF-8 from the
+         * wrong end), each cluster its glyphs and the text up to the next */
+        for (int k = 0; k < run->count; k++) {
+            const struct sp_glyph *gk = &rg[run->rtl ? run->count - 1 - k : k];
+            g[k] = (cairo_glyph_t){gk->index, x + gk->x, y + gk->y};
+            if (k && gk->cluster == (gk + (run->rtl ? 1 : -1))->cluster) {
+                cl[n_cl - 1].num_glyphs++;
+                continue;
+            }
+            int end = run->end; /* where this cluster's text stops */
+            for (int j = k + 1; j < run->count; j++) {
+                const struct sp_glyph *gj = &rg[run->rtl ? run->count - 1 - j : j];
+                if (gj->cluster != gk->cluster) {
+                    end = gj->cluster;
+                    break;
+                }
+            }
+            cl[n_cl++] = (cairo_text_cluster_t){end - gk->cluster, 1};
+        }
+        cairo_set_font_face(cr, face);
+        cairo_show_text_glyphs(cr, utf8 + run->start, run->end - run->start, g, run->count, cl,
+                               n_cl, 0);
+    }
+    free(g), free(cl);
+    return err;
+}

@@ -1,0 +1,35 @@
+/* springpend (internal): text.c's laid-out glyphs drawn with cairo, the one
+ * place where shaped text meets cairo: the still figures' backend
+ * (draw_cairo.c) and the sweep figures (sweep_plot.c) both draw through
+ * it, so a title in any script comes out the same in every figure. Linked
+ * into each cairo module. */
+#ifndef SPRINGPEND_CAIRO_TEXT_H
+#define SPRINGPEND_CAIRO_TEXT_H
+
+#include <cairo.h>
+
+#include "text.h"
+
+/* The cairo faces of a font's fallback list, made on first use. */
+struct sp_cairo_faces {
+    const struct sp_font *font;
+    cairo_font_face_t **face; /* [sp_font_faces(font)], NULL until used */
+};
+
+/* Prepares faces for f, and cr's font options for text.c's unhinted
+ * outlines. 0 or SP_E_NOMEM (logged). */
+int sp_cairo_faces_make(struct sp_cairo_faces *faces, const struct sp_font *f, cairo_t *cr);
+
+/* Gives the faces back (cairo keeps what a surface still uses). Safe on a
+ * zeroed struct. */
+void sp_cairo_faces_destroy(struct sp_cairo_faces *faces);
+
+/* Draws utf8 laid out at text size `size` with its pen at (x, y) (the
+ * baseline; user units, one per layout px) in cr's current source, run by
+ * run (one face and direction each) with its text and clusters, so that a
+ * PDF keeps it real: selectable, and extracted in logical order. 0, or
+ * SP_E_NOMEM / SP_E_IO (logged). */
+int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *faces, int size, double x, double y,
+                       const char *utf8);
+
+#endif

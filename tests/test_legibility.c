@@ -12,7 +12,7 @@
 #include "springpend/common.h"
 #include "springpend/frame.h"
 #include "springpend/sim.h"
-#include "compose.h"
+#include "frame/compose.h"
 #include "tap.h"
 
 #ifdef NDEBUG
@@ -103,6 +103,95 @@ static int check(const char *src, const char *scene_file, double t, int w, int h
     return bad;
 }
 
+/* Side by side (attacker's pass 3, finding 8): two cells of default.ini
+ * whose HUDs list eleven differing keys. Every text run drawn outside the
+ * panels' clip rectangles (the HUD, the labels) must keep off them, stay in
+ * the frame and off every other text; each cell keeps its "differs:"
+ * heading; where lines are left out, the last says so ("more line"). */
+static int check_cells(const char *src, int w, int h, int *cut)
+{
+    char path[4096], size_w[32], size_h[32];
+    const char *ov[] = {size_w, size_h, "view.panels=all", "view.colorbar=true"};
+    static const char differs[] = "natural_length = 0.5, stiffness = 2, mass = 0.5, gravity = "
+                                  "9.81, damping = 0, length = 0.55, angle = 10, length_rate = "
+                                  "0, angle_rate = 0, amplitude = 0, frequency = 0";
+    struct sp_scene sc;
+    struct sp_sim sim;
+    struct sp_history hist = {0};
+    struct sp_view_extent e;
+    struct sp_look looks[2];
+    struct sp_compose_cells *comp = NULL;
+    const struct sp_canvas *cv;
+    static struct box b[4096];
+    static float clips[256][4];
+    int bad = 0, n_clips = 0, headings = 0;
+
+    snprintf(path, sizeof(path), "%s/../scenes/default.ini", src);
+    snprintf(size_w, sizeof(size_w), "video.width=%d", w);
+    snprintf(size_h, sizeof(size_h), "video.height=%d", h);
+    if (sp_scene_load(&sc, path, ov, 4) ||
+        sp_view_extent_measure(&sc, sc.video.duration, NULL, NULL, NULL, &e) ||
+        sp_history_make(&hist, &sc))
+        return 1;
+    sp_sim_init(&sim, &sc);
+    for (int k = 0; sp_scene_frame_time(&sc, k) <= 5; k++)
+        if (sp_history_follow(&hist, &sim, sp_scene_frame_time(&sc, k)))
+            return 1;
+    for (int i = 0; i < 2; i++) {
+        sp_look_of(&sc, &looks[i]);
+        snprintf(looks[i].differs, sizeof(looks[i].differs), "%s", differs);
+    }
+    const struct sp_frame fr = {.state = sim.s, .params = &sim.p, .history = &hist};
+    const struct sp_frame frames[2] = {fr, fr};
+    if (sp_compose_cells_make(&comp, &(struct sp_compose_desc){w, h, e, NULL, 1, NULL, 0}, looks, 2) ||
+        sp_compose_cells_frame(comp, frames, &cv))
+        return 1;
+    const struct sp_font *f = sp_compose_cells_font(comp);
+    /* the text runs drawn with no clip (HUD, labels), and the clips (panels) */
+    int n = 0, clipped = 0;
+    for (int i = 0; i < cv->n_items && n < 4096; i++) {
+        const struct sp_item *it = &cv->items[i];
+        if (it->kind == SP_ITEM_CLIP) {
+            clipped = it->clip[2] > it->clip[0];
+            if (clipped && n_clips < 256)
+                memcpy(clips[n_clips++], it->clip, sizeof(clips[0]));
+            continue;
+        }
+        if (it->kind != SP_ITEM_TEXT || clipped)
+            continue;
+        const char *t = cv->strings + it->text;
+        const float tw = (float)sp_font_width(f, it->size, t);
+        b[n++] = (struct box){it->x, it->y - sp_font_cap(f, it->size), it->x + tw,
+                              it->y + 0.2f * sp_font_px(f, it->size), t};
+        headings += strncmp(t, "differs:", 8) == 0;
+        *cut += strstr(t, " more") != NULL;
+    }
+    for (int i = 0; i < n; i++) {
+        if (b[i].x0 < 0 || b[i].y0 < 0 || b[i].x1 > w || b[i].y1 > h)
+            bad++, sp_tap_diag("side by side %dx%d: '%s' leaves the frame", w, h, b[i].text);
+        for (int k = 0; k < n_clips; k++)
+            if (b[i].x0 < clips[k][2] - 0.5f && clips[k][0] < b[i].x1 - 0.5f &&
+                b[i].y0 < clips[k][3] - 0.5f && clips[k][1] < b[i].y1 - 0.5f) {
+                bad++, sp_tap_diag("side by side %dx%d: '%s' (x %.0f-%.0f, y %.0f-%.0f) runs "
+                                   "into a panel (x %.0f-%.0f, y %.0f-%.0f)", w, h, b[i].text,
+                                   b[i].x0, b[i].x1, b[i].y0, b[i].y1, clips[k][0], clips[k][2],
+                                   clips[k][1], clips[k][3]);
+                break;
+            }
+        for (int j = i + 1; j < n; j++)
+            if (b[i].x0 < b[j].x1 - 0.5f && b[j].x0 < b[i].x1 - 0.5f &&
+                b[i].y0 < b[j].y1 - 0.5f && b[j].y0 < b[i].y1 - 0.5f)
+                bad++, sp_tap_diag("side by side %dx%d: '%s' overlaps '%s'", w, h, b[i].text,
+                                   b[j].text);
+    }
+    if (headings != 2)
+        bad++, sp_tap_diag("side by side %dx%d: %d of 2 cells show the 'differs:' heading", w, h,
+                           headings);
+    sp_compose_cells_destroy(&comp);
+    sp_history_destroy(&hist);
+    return bad;
+}
+
 int main(int argc, char **argv)
 {
     static const int sizes[][2] = {{320, 240}, {640, 360}, {854, 480}, {1024, 768}, {1280, 720},
@@ -120,6 +209,16 @@ int main(int argc, char **argv)
         bad += check(argv[1], "pure_swing.ini", 5, w, h, need, 7, 11);
         sp_tap_ok(bad == 0, "%dx%d, every panel: no text overlaps, all inside, at least 11 px, "
                   "every legend shown", w, h);
+    }
+    static const int cells[][2] = {{640, 360}, {854, 480}, {1280, 720}, {1920, 1080},
+                                   {1080, 1920}, {3840, 2160}};
+    for (size_t i = 0; i < sizeof(cells) / sizeof(cells[0]); i++) {
+        int cut = 0;
+        const int bad = check_cells(argv[1], cells[i][0], cells[i][1], &cut);
+        sp_tap_ok(bad == 0, "%dx%d, two scenes side by side differing in 11 keys: the HUD keeps "
+                  "off the panels and other text, inside the frame, each cell keeps its "
+                  "'differs:' heading%s", cells[i][0], cells[i][1],
+                  cut ? " (lines left out are counted on the last line)" : "");
     }
     return sp_tap_done();
 }

@@ -241,8 +241,8 @@ if still("order.png", "chaotic.ini", "--size", "640x480", "--set", "view.pendulu
 bad = p("labels.ini")
 open(bad, "w").write("[view]\npanels = poincare, r\nxlabel = \"a | b | c\"\n")
 r = run("still", bad, "-o", p("labels.png"), "-q")
-ok(r.returncode == 2 and f"{bad}:3: view.xlabel" in r.stderr and "3 entries for 2 panels" in r.stderr
-   and not os.path.exists(p("labels.png")), f"xlabel with 3 entries for 2 panels: {r.stderr.strip()}")
+ok(r.returncode == 2 and f"{bad}:3: view.xlabel" in r.stderr and "3 entries for 2 plots" in r.stderr
+   and not os.path.exists(p("labels.png")), f"xlabel with 3 entries for 2 plots: {r.stderr.strip()}")
 
 # ---- sweep figures at a printed size ----
 MAP = ["--vary", "initial.angle=10:170:8", "--vary", "initial.length=0.8:1.6:6",

@@ -126,7 +126,8 @@ ok(r.returncode == 2 and "carries no scene" in r.stderr,
 with open(os.path.join(first, "cut.svg"), "w") as f:
     f.write('<svg><metadata id="springpend.scene-file">[view]\ntitle = "a &bogus; b"\n</metadata></svg>\n')
 r = run(first, ["scene", "cut.svg"])
-ok(r.returncode == 2 and "damaged" in r.stderr, f"an SVG record with a bad escape: exit 2 {r.stderr.strip()}")
+ok(r.returncode == 2 and "holds '&bogus;'" in r.stderr,
+   f"an SVG record with a bad escape: exit 2, naming it {r.stderr.strip()}")
 
 r = run(first, ["scene", "chaotic.ini"])
 ok(r.returncode == 2 and "not a PNG, video" in r.stderr, f"a scene file itself: exit 2 {r.stderr.strip()}")

@@ -27,12 +27,25 @@ void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 /* Writes the UTF-8 string s to fp with what a terminal would obey shown
  * instead: C0 controls but newline and tab, DEL and bytes that are not
- * UTF-8 as \xHH, C1 controls (U+0080..U+009F) as \uHHHH. */
+ * UTF-8 as \xHH, C1 controls (U+0080..U+009F) and noncharacters (U+FDD0..U+FDEF,
+ * U+FFFE, U+FFFF and their like in every plane) as \uHHHH or \UHHHHHHHH. */
 void sp_fputs_printable(const char *s, FILE *fp);
 
 /* As sp_fputs_printable, and a newline shown as \n: text from outside (a
  * --set value, a file name) inside a one-line message. */
 void sp_fputs_line(const char *s, FILE *fp);
+
+/* The printf-style message, shown as sp_fputs_line shows it, and a newline,
+ * on fp: every line that names a file or quotes outside text ("wrote
+ * NAME", "scene NAME (PATH)", "PATH: cannot open scene") goes through here
+ * or sp_log_error, so that no name drives the terminal. */
+void sp_fprintf_line(FILE *fp, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* s as sp_fputs_line shows it (newline = 1: as sp_fputs_printable, a
+ * newline kept), into buf (size bytes, cut to fit, NUL ended); returns its
+ * length. For names that reach a file or a picture (data's scene column,
+ * an RFC 4180 field that may hold a line break; a cell's automatic label). */
+size_t sp_text_shown(const char *s, int newline, char *buf, size_t size);
 
 /* Progress of a long integration, drawn on stderr when it is a terminal:
  * a command calls sp_progress_begin before integrating to t_goal

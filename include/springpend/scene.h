@@ -80,6 +80,8 @@ enum sp_camera_mode {
 #define SP_CAMERA_AUTO_ELEVATION 25.0 /* degrees */
 #define SP_BACKGROUND_TRANSPARENT (-2)
 
+#define SP_SCENE_MAX_KEYS 96 /* room for the key table (scene.c checks it) */
+
 struct sp_scene {
     char name[64];  /* file stem ("default" for scenes/default.ini) */
     struct {
@@ -174,6 +176,10 @@ struct sp_scene {
                                     horizontal, in (-90, 90) degrees */
         double camera_distance;  /* m, SP_CAMERA_SET: from the eye to the middle
                                     of the motion; 0 = fitted to the motion */
+        char camera_where[SP_VIEW_TEXT_BYTES]; /* where view.camera was set, for
+                                    the refusals that need the motion:
+                                    "FILE:LINE" or "--set view.camera"; "" =
+                                    nowhere (the default) */
     } view;
     struct {
         int count;     /* pendulums drawn together, 0 or 1 = no ensemble */
@@ -190,6 +196,10 @@ struct sp_scene {
      * filled, freed by sp_scene_free; copies of the scene share them, as the
      * timeline. */
     char *texts[2];
+    /* Where each key got its value, by its place in the key table: its line
+     * in the scene file, -1 = a --set, 0 = its default. Read through
+     * sp_scene_key_where. */
+    int key_lines[SP_SCENE_MAX_KEYS];
 };
 
 /* Fills s with the original simulator's defaults (see scenes/default.ini). */
@@ -286,6 +296,16 @@ double sp_scene_get_number(const struct sp_scene *s, const char *key);
  * them (bits listed by no name, such as those a command adds, after them in
  * bit order) into order[0..SP_PANEL_COUNT); returns how many. */
 int sp_scene_panel_order(const struct sp_view *view, int order[SP_PANEL_COUNT]);
+
+/* Where key ("view.panels") of the scene parsed from path got its value,
+ * for a message that a command (not the parser) gives about it: "PATH:LINE",
+ * "--set KEY", or "PATH" at its default; into buf. */
+void sp_scene_key_where(const struct sp_scene *s, const char *key, const char *path, char *buf,
+                        size_t size);
+
+/* The name of the plot panels bit `bit` draws ("phase r", "phase theta":
+ * the panel phase is two plots), for messages. */
+const char *sp_scene_plot_name(int bit);
 
 /* The i-th of n '|'-separated entries of a [view] label (xlabel, ylabel),
  * blanks around it removed, into buf: one entry serves every panel; an

@@ -3,25 +3,36 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "clock.h"
 #include "springpend/common.h"
 #include "utf8.h"
+
+/* The code point of the UTF-8 character s of n (2..4) bytes. */
+static unsigned long code_point(const unsigned char *s, size_t n)
+{
+    unsigned long u = s[0] & (0x7f >> n);
+    for (size_t i = 1; i < n; i++)
+        u = u << 6 | (s[i] & 0x3f);
+    return u;
+}
 
 /* newline: 1 to write it, 0 to show it as \n */
 static void fputs_shown(const char *s, FILE *fp, int newline)
 {
     for (size_t n; *s; s += n ? n : 1) {
-        unsigned char c = (unsigned char)*s, c1 = (unsigned char)s[1];
+        unsigned char c = (unsigned char)*s;
         n = sp_utf8_char(s);
+        const unsigned long u = n > 1 ? code_point((const unsigned char *)s, n) : c;
+        const int nonchar = (u & 0xfffe) == 0xfffe || (u >= 0xfdd0 && u <= 0xfdef);
         if (c == '\n' && !newline)
             fputs("\\n", fp);
         else if ((n == 1 && (c >= 0x20 || c == '\n' || c == '\t') && c != 0x7f) ||
-                 (n > 1 && !(n == 2 && c == 0xC2 && c1 < 0xA0))) /* not C1 */
+                 (n > 1 && u >= 0xa0 && !nonchar)) /* not C1, not a noncharacter */
             fwrite(s, 1, n, fp);
-        else if (n == 2)
-            fprintf(fp, "\\u%04x", c1);
+        else if (n > 1)
+            fprintf(fp, u > 0xffff ? "\\U%08lx" : "\\u%04lx", u);
         else
             fprintf(fp, "\\x%02x", c);
     }
@@ -37,20 +48,50 @@ void sp_fputs_line(const char *s, FILE *fp)
     fputs_shown(s, fp, 0);
 }
 
+size_t sp_text_shown(const char *s, int newline, char *buf, size_t size)
+{
+    FILE *m = size ? fmemopen(buf, size, "w") : NULL;
+    if (!m) {
+        if (size)
+            buf[0] = 0;
+        return 0;
+    }
+    setvbuf(m, NULL, _IONBF, 0);
+    fputs_shown(s, m, newline);
+    long n = ftell(m);
+    fclose(m);
+    n = n < 0 ? 0 : n >= (long)size ? (long)size - 1 : n;
+    buf[n] = 0;
+    return (size_t)n;
+}
+
+static void vprint_line(FILE *fp, const char *fmt, va_list ap)
+{
+    char *msg = NULL;
+    int n = vasprintf(&msg, fmt, ap);
+    if (n >= 0)
+        sp_fputs_line(msg, fp); /* one message, one line */
+    else
+        fputs(fmt, fp); /* out of memory: the bare format still says where */
+    fputc('\n', fp);
+    free(msg);
+}
+
+void sp_fprintf_line(FILE *fp, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vprint_line(fp, fmt, ap);
+    va_end(ap);
+}
+
 void sp_log_error(const char *fmt, ...)
 {
     va_list ap;
-    char *msg = NULL;
     va_start(ap, fmt);
-    int n = vasprintf(&msg, fmt, ap);
-    va_end(ap);
     fputs("springpend: ", stderr);
-    if (n >= 0)
-        sp_fputs_line(msg, stderr); /* one message, one line */
-    else
-        fputs(fmt, stderr); /* out of memory: the bare format still says where */
-    fputc('\n', stderr);
-    free(msg);
+    vprint_line(stderr, fmt, ap);
+    va_end(ap);
 }
 
 /* ---- progress of long integrations ---- */
@@ -63,13 +104,6 @@ static struct {
     const char *what;
 } progress;
 
-static double wall_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 void sp_progress_begin(int enable, const char *what, double t_goal)
 {
     sp_progress_end();
@@ -79,7 +113,7 @@ void sp_progress_begin(int enable, const char *what, double t_goal)
     progress.what = what;
     progress.goal = t_goal;
     progress.t_from = -1;
-    progress.wall0 = progress.wall_last = wall_s();
+    progress.wall0 = progress.wall_last = sp_clock_s();
 }
 
 void sp_progress_sim(void *ctx, double t)
@@ -87,7 +121,7 @@ void sp_progress_sim(void *ctx, double t)
     (void)ctx;
     if (!progress.on || (++progress.calls & 0xfff))
         return;
-    double now = wall_s();
+    double now = sp_clock_s();
     if (progress.t_from < 0)
         progress.t_from = t, progress.wall0 = now;
     if (now - progress.wall_last < 0.25 || now - progress.wall0 < 2 || !(progress.goal > 0))

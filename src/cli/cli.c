@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "decimal.h"
+#include "base/decimal.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
 #include "springpend/pipeline.h"
@@ -489,7 +489,7 @@ int sp_cli_work(double steps, double limit, double note, const char *what, const
         return SP_E_INPUT;
     }
     if (steps > note && !quiet)
-        fprintf(stderr, "springpend: %s: about %.2g steps in all; this will take a while%s\n",
+        sp_fprintf_line(stderr, "springpend: %s: about %.2g steps in all; this will take a while%s",
                 what, steps, isatty(2) ? "" : " (progress is shown on a terminal)");
     return 0;
 }

@@ -16,8 +16,8 @@
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
-#include "signals.h"
-#include "sim_report.h"
+#include "base/signals.h"
+#include "sim/sim_report.h"
 
 /* The most rows one run writes, and the size of a typical row, bytes. */
 #define MAX_ROWS 1e7
@@ -291,7 +291,11 @@ int sp_cmd_data(int argc, char **argv)
     ret = sp_cli_load_scenes(&o, scenes);
     const struct sp_scene *const sc0 = &scenes[0];
     int spatial = 0;
+    /* the scene column: each file's stem, shown as a message shows it (a
+     * terminal escape in a file name must not reach whoever cats the CSV) */
+    static char column[SP_CLI_MAX_SCENES][4 * sizeof(scenes[0].name)];
     for (int i = 0; i < o.n_scenes; i++) {
+        sp_text_shown(scenes[i].name, 1, column[i], sizeof(column[i]));
         sp_timeline_destroy(&scenes[i].timeline); /* presentation: data ignores it */
         spatial |= scenes[i].initial.azimuth_rate != 0;
         if (!ret && o.n_scenes > 1 && (o.poincare || scenes[i].ensemble.count > 1)) {
@@ -300,10 +304,10 @@ int sp_cmd_data(int argc, char **argv)
             ret = SP_E_INPUT;
         }
         for (int j = 0; !ret && j < i; j++)
-            if (!strcmp(scenes[i].name, scenes[j].name)) {
+            if (!strcmp(column[i], column[j])) {
                 sp_log_error("%s and %s both give the scene column '%s' (a file's name "
                              "without .ini): rename one so that the rows can be told apart",
-                             o.scene_paths[j], o.scene_paths[i], scenes[i].name);
+                             o.scene_paths[j], o.scene_paths[i], column[i]);
                 ret = SP_E_INPUT;
             }
     }
@@ -377,7 +381,7 @@ int sp_cmd_data(int argc, char **argv)
     sp_progress_begin(!o.quiet && !(to_stdout && isatty(1)), "data", t_end);
     for (int i = 0; !ret && i < o.n_scenes; i++)
         ret = write_samples(fp, &scenes[i], o.every, o.poincare,
-                            o.n_scenes > 1 ? scenes[i].name : NULL, i == 0, spatial && o.n_scenes > 1);
+                            o.n_scenes > 1 ? column[i] : NULL, i == 0, spatial && o.n_scenes > 1);
     sp_progress_end();
     int write_errno = errno;
     if (fclose(fp) != 0 && !ret)
@@ -396,7 +400,7 @@ int sp_cmd_data(int argc, char **argv)
     if (!ret)
         ret = sp_outfile_commit(&f);
     if (!ret && !o.quiet && !through)
-        fprintf(stderr, "wrote %s\n", out);
+        sp_fprintf_line(stderr, "wrote %s", out);
 done:
     if (ret) {
         sp_outfile_discard(&f);

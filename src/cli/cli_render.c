@@ -15,6 +15,19 @@
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
 
+/* The end of render's and still's help: scenes side by side. */
+#define SIDE_BY_SIDE_HELP \
+    "Side by side: with 2 to 4 SCENE files each scene is drawn in its own cell of\n" \
+    "the frame (in a row, or 2x2 for 4; in a column on a portrait frame), labelled\n" \
+    "with its view.title or, without one, the keys in which the scenes differ, all\n" \
+    "at one camera scale (a metre is the same length in every cell) and with the\n" \
+    "same chart axes. They share the first scene's [video] width, height, fps and\n" \
+    "speed and [view] theme, background, font, font_size and font_scale (a scene\n" \
+    "that differs in one is refused; --set applies to every scene); [timeline],\n" \
+    "[ensemble] and --state take one scene. Scenes of different durations run to\n" \
+    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n" \
+    "The output is named after the first scene.\n"
+
 static const char render_usage[] =
     "usage: springpend render SCENE [SCENE ...] [-o OUTPUT] [options]\n"
     "\n"
@@ -67,16 +80,7 @@ static const char render_usage[] =
     "sized for the longest text the timeline shows and stays fixed; --frames and\n"
     "--shard pieces join into the whole video.\n"
     "\n"
-    "Side by side: with 2 to 4 SCENE files each scene is drawn in its own cell of\n"
-    "the frame (in a row, or 2x2 for 4; in a column on a portrait frame), labelled\n"
-    "with its view.title or, without one, the keys in which the scenes differ, all\n"
-    "at one camera scale (a metre is the same length in every cell) and with the\n"
-    "same chart axes. They share the first scene's [video] width, height, fps and\n"
-    "speed and [view] theme, background, font, font_size and font_scale (a scene\n"
-    "that differs in one is refused; --set applies to every scene); [timeline],\n"
-    "[ensemble] and --state take one scene. Scenes of different durations run to\n"
-    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n"
-    "The output is named after the first scene.\n";
+    SIDE_BY_SIDE_HELP;
 
 static const char still_usage[] =
     "usage: springpend still SCENE [SCENE ...] [--at SECONDS] [-o OUTPUT.png|.svg|.pdf]\n"
@@ -116,16 +120,7 @@ static const char still_usage[] =
     "theme, background, colormap, colorbar, strobe, trail = all): see 'springpend keys'.\n"
     "A transparent background writes a PNG with alpha, for slides.\n"
     "\n"
-    "Side by side: with 2 to 4 SCENE files each scene is drawn in its own cell of\n"
-    "the frame (in a row, or 2x2 for 4; in a column on a portrait frame), labelled\n"
-    "with its view.title or, without one, the keys in which the scenes differ, all\n"
-    "at one camera scale (a metre is the same length in every cell) and with the\n"
-    "same chart axes. They share the first scene's [video] width, height, fps and\n"
-    "speed and [view] theme, background, font, font_size and font_scale (a scene\n"
-    "that differs in one is refused; --set applies to every scene); [timeline],\n"
-    "[ensemble] and --state take one scene. Scenes of different durations run to\n"
-    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n"
-    "The output is named after the first scene.\n";
+    SIDE_BY_SIDE_HELP;
 
 /* Writes the physics of the still's frame as JSON, whole or not at all. */
 static int write_state(const char *path, const struct sp_scene *scene,
@@ -163,14 +158,17 @@ static int write_state(const char *path, const struct sp_scene *scene,
             "{\n  \"springpend\": \"%s\",\n  \"scene_sha256\": \"%s\",\n"
             "  \"units\": {\"t\": \"s\", \"x\": \"m\", \"y\": \"m\", \"vx\": \"m/s\", "
             "\"vy\": \"m/s\", \"r\": \"m\", \"theta\": \"rad from the downward vertical\", "
-            "\"r_dot\": \"m/s\", \"theta_dot\": \"rad/s\", \"energy\": \"J\"},\n"
+            "\"r_dot\": \"m/s\", \"theta_dot\": \"rad/s\", %s\"energy\": \"J\"},\n"
             "  \"t\": %.17g,\n  \"x\": %.17g,\n  \"y\": %.17g,\n"
             "  \"vx\": %.17g,\n  \"vy\": %.17g,\n"
             "  \"r\": %.17g,\n  \"theta\": %.17g,\n  \"r_dot\": %.17g,\n  \"theta_dot\": %.17g,\n"
             "%s"
             "  \"energy\": {\"kinetic\": %.17g, \"spring\": %.17g, \"gravity\": %.17g, "
             "\"total\": %.17g, \"initial_total\": %.17g}\n}\n",
-            SP_VERSION, prov.scene_sha256, st->t, st->x, st->y, st->vx, st->vy, pol.r,
+            SP_VERSION, prov.scene_sha256,
+            sim.spatial ? "\"z\": \"m\", \"vz\": \"m/s\", \"azimuth\": \"degrees: the swing "
+                          "plane's angle about the vertical, from +x towards +z, in (-90, 90]\", " : "",
+            st->t, st->x, st->y, st->vx, st->vy, pol.r,
             pol.theta, pol.r_dot, pol.theta_dot, spatial, e.kinetic, e.spring, e.gravity,
             e.total, sim.energy0);
     if (ferror(fp) | fclose(fp)) {
@@ -231,6 +229,45 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
 
 /* Scenes side by side share the first one's frame and text: the keys in
  * which another may not differ. */
+/* What a still or video would draw nothing for, refused where it was given
+ * (FILE:LINE or --set; the parser accepts it, since info, data and sweep
+ * draw no panels and a sweep's map always has a colour bar):
+ * - view.colorbar_label without view.colorbar = true (no bar to name);
+ * - the azimuth and top panels of a planar scene (a flat 0 and a line). */
+static int check_drawn(const struct sp_cli_options *o, const struct sp_scene *s, int n)
+{
+    char where[4200], rate[4200];
+    for (int i = 0; i < n; i++) {
+        const struct sp_view *v = &s[i].view;
+        const unsigned planar = s[i].initial.azimuth_rate == 0
+                                    ? v->panels & (SP_PANEL_AZIMUTH | SP_PANEL_TOP) : 0;
+        if (v->colorbar_label[0] && !v->colorbar) {
+            sp_scene_key_where(&s[i], "view.colorbar_label", o->scene_paths[i], where,
+                               sizeof(where));
+            sp_fprintf_line(stderr, "%s: view.colorbar_label = '%s' names the colour bar, but "
+                            "view.colorbar = false draws none; allowed: a colorbar_label with "
+                            "view.colorbar = true, or none", where, v->colorbar_label);
+            return SP_E_INPUT;
+        }
+        if (planar) {
+            sp_scene_key_where(&s[i], "view.panels", o->scene_paths[i], where, sizeof(where));
+            sp_scene_key_where(&s[i], "initial.azimuth_rate", o->scene_paths[i], rate,
+                               sizeof(rate));
+            sp_fprintf_line(stderr, "%s: view.panels holds %s, which show%s the third "
+                            "dimension, but the scene is planar (initial.azimuth_rate = 0%s%s): "
+                            "its azimuth is 0 and its top view a line; allowed on a planar "
+                            "scene: r, theta, energy, extension, phase, poincare, modes, spread, "
+                            "energy_bars (azimuth and top need initial.azimuth_rate != 0)", where,
+                            planar == SP_PANEL_AZIMUTH ? "azimuth" : planar == SP_PANEL_TOP ? "top"
+                            : "azimuth and top", planar == (SP_PANEL_AZIMUTH | SP_PANEL_TOP) ? "" : "s",
+                            strcmp(rate, o->scene_paths[i]) ? ", at " : "",
+                            strcmp(rate, o->scene_paths[i]) ? rate : "");
+            return SP_E_INPUT;
+        }
+    }
+    return 0;
+}
+
 static int check_side_by_side(const struct sp_cli_options *o, const struct sp_scene *s, int n)
 {
     static const char *const shared[] = {"video.width", "video.height", "video.fps", "video.speed",
@@ -326,6 +363,8 @@ static int run(int argc, char **argv, int still)
     if (ret)
         return ret > 0 ? 0 : ret;
     ret = sp_cli_load_scenes(&o, scenes);
+    if (!ret)
+        ret = check_drawn(&o, scenes, o.n_scenes);
     if (!ret && o.n_scenes > 1)
         ret = check_side_by_side(&o, scenes, o.n_scenes);
 
@@ -398,7 +437,7 @@ static int run(int argc, char **argv, int still)
     /* An interrupted render keeps the frames so far, when there were any. */
     int kept = ret == SP_E_INTERRUPTED && !still && strcmp(out, "-") && access(out, F_OK) == 0;
     if ((!ret || kept) && !o.quiet)
-        fprintf(stderr, "wrote %s%s%s\n", strcmp(out, "-") ? out : "stdout", o.state ? " and " : "",
+        sp_fprintf_line(stderr, "wrote %s%s%s", strcmp(out, "-") ? out : "stdout", o.state ? " and " : "",
                 o.state ? o.state : "");
     return ret;
 }

@@ -10,24 +10,24 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
-#include "av_module.h"
+#include "base/clock.h"
+#include "base/module.h"
 #include "cli.h"
-#include "decimal.h"
-#include "digest.h"
+#include "base/decimal.h"
+#include "base/digest.h"
 #include <jansson.h>
-#include "signals.h"
+#include "base/signals.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
-#include "command_line.h"
-#include "sweep.h"
-#include "sweep_format.h"
+#include "base/command_line.h"
+#include "sweep/sweep.h"
+#include "sweep/sweep_format.h"
 
 static const char sweep_usage[] =
     "usage: springpend sweep SCENE --vary KEY=FROM:TO:COUNT [--vary KEY=FROM:TO:COUNT]\n"
@@ -431,13 +431,6 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
                        quiet);
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 struct progress {
     double t0, last;
 };
@@ -445,7 +438,7 @@ struct progress {
 static void show_progress(void *user, long done, long total)
 {
     struct progress *p = user;
-    double now = now_s();
+    double now = sp_clock_s();
     if (done < total && now - p->last < 0.1)
         return;
     p->last = now;
@@ -728,23 +721,70 @@ static void first_difference(const char *a, const char *b, char *wa, char *wb, s
     snprintf(wb, size, "?");
 }
 
-/* The first word (space-separated) where descriptions a and b differ. */
-static void first_word_difference(const char *a, const char *b, char *wa, char *wb, size_t size)
+/* The value of the k-th word "key=VALUE" (k counts the words with that
+ * key: vary is there once per axis) of description d, n bytes into *v;
+ * NULL when there is none. */
+static const char *description_value(const char *d, const char *key, size_t klen, int k,
+                                     size_t *n)
 {
-    while (*a || *b) {
-        const size_t na = strcspn(a, " "), nb = strcspn(b, " ");
-        if (na != nb || strncmp(a, b, na)) {
-            snprintf(wa, size, "%.*s", (int)na, *a ? a : "(nothing)");
-            snprintf(wb, size, "%.*s", (int)nb, *b ? b : "(nothing)");
-            if (!na)
-                snprintf(wa, size, "(nothing)");
-            if (!nb)
-                snprintf(wb, size, "(nothing)");
+    for (const char *w = d; *w; w += strspn(w, " ")) {
+        const size_t len = strcspn(w, " ");
+        if (len > klen && w[klen] == '=' && !strncmp(w, key, klen) && k-- == 0) {
+            *n = len - klen - 1;
+            return w + klen + 1;
+        }
+        w += len;
+    }
+    return NULL;
+}
+
+/* One side of a difference of descriptions: "key=VALUE", or the value a
+ * word left out stands for (kernel=exact, continue=none), or "no key". */
+static void description_side(char *out, size_t size, const char *key, size_t klen,
+                             const char *v, size_t n)
+{
+    static const char *const absent[][2] = {{"kernel", "exact"}, {"continue", "none"}};
+    if (v) {
+        snprintf(out, size, "%.*s=%.*s", (int)klen, key, (int)n, v);
+        return;
+    }
+    for (size_t i = 0; i < sizeof(absent) / sizeof(absent[0]); i++)
+        if (strlen(absent[i][0]) == klen && !strncmp(key, absent[i][0], klen)) {
+            snprintf(out, size, "%s=%s", absent[i][0], absent[i][1]);
             return;
         }
-        a += na + (a[na] == ' ');
-        b += nb + (b[nb] == ' ');
+    snprintf(out, size, "no %.*s", (int)klen, key);
+}
+
+/* The first key where descriptions a and b ("key=VALUE" words) differ, as
+ * "key=A" into wa and "key=B" into wb: words are paired by their key (the
+ * k-th vary with the k-th), not by place, since optional words (kernel,
+ * continue, peak) shift the rest. */
+static void first_word_difference(const char *a, const char *b, char *wa, char *wb, size_t size)
+{
+    for (int side = 0; side < 2; side++) {
+        const char *d = side ? b : a;
+        for (const char *w = d; *w; w += strspn(w, " ")) {
+            const size_t len = strcspn(w, " "), klen = strcspn(w, "= ");
+            int k = 0; /* this word is the k-th with its key */
+            for (const char *x = d; x < w; x += strspn(x, " ")) {
+                const size_t xl = strcspn(x, " ");
+                k += xl > klen && x[klen] == '=' && !strncmp(x, w, klen);
+                x += xl;
+            }
+            size_t na = 0, nb = 0;
+            const char *va = description_value(a, w, klen, k, &na);
+            const char *vb = description_value(b, w, klen, k, &nb);
+            if (!va || !vb || na != nb || strncmp(va, vb, na)) {
+                description_side(wa, size, w, klen, va, na);
+                description_side(wb, size, w, klen, vb, nb);
+                return;
+            }
+            w += len;
+        }
     }
+    snprintf(wa, size, "?");
+    snprintf(wb, size, "?");
 }
 
 /* The overrides as one "--set A --set B" text (or "no --set"). */
@@ -959,7 +999,7 @@ static int merge(const struct sweep_opts *o)
     free(shards);
     free(order);
     if (!ret && !o->quiet)
-        fprintf(stderr, "wrote %s%s%s from %d shards\n", o->output ? o->output : "stdout",
+        sp_fprintf_line(stderr, "wrote %s%s%s from %d shards", o->output ? o->output : "stdout",
                 o->csv ? " and " : "", o->csv ? o->csv : "", n);
     return ret;
 }
@@ -993,8 +1033,8 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
     ret = sp_sweep_write_header(fp, d, NULL);
     long blown = 0, unreachable = 0;
-    struct progress prog = {.t0 = now_s()};
-    double t0 = now_s();
+    struct progress prog = {.t0 = sp_clock_s()};
+    double t0 = sp_clock_s();
     if (!ret)
         ret = sp_sweep_run(d, scene, first, last, o->threads, fp, &blown, &unreachable,
                            !o->quiet && isatty(2) ? show_progress : NULL, &prog);
@@ -1020,9 +1060,9 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
         sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
                      last - first, d->energy);
     if (!o->quiet)
-        fprintf(stderr, "wrote %s%s%s: %ld points in %.2f s\n",
+        sp_fprintf_line(stderr, "wrote %s%s%s: %ld points in %.2f s",
                 o->output ? o->output : o->csv ? "" : "stdout", o->output && o->csv ? " and " : "",
-                o->csv ? o->csv : "", last - first, now_s() - t0);
+                o->csv ? o->csv : "", last - first, sp_clock_s() - t0);
     return 0;
 }
 
@@ -1042,6 +1082,7 @@ int sp_cmd_sweep(int argc, char **argv)
     if ((ret = check_used(&o)) || (ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
     sp_timeline_destroy(&scene.timeline); /* the [timeline] is presentation: sweeps ignore it */
+    d.cancel = sp_signal_flag(); /* a signal stops the run */
     ret = sweep_scene(&o, &d, &scene);
     sp_scene_free(&scene);
     return ret;

@@ -10,10 +10,12 @@
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/infile.h"
+#include "springpend/provenance.h"
 #include "springpend/video_read.h"
 
 struct sp_video_reader {
@@ -34,6 +36,98 @@ static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
     return averr == AVERROR(ENOMEM) ? SP_E_NOMEM : SP_E_CODEC;
 }
 
+/* The most bytes a box that FFmpeg's mov demuxer reads into memory as
+ * metadata (udta, meta) may hold: what springpend writes there (every
+ * scene of a side-by-side render, SP_PROVENANCE_SCENE_MAX each, and its
+ * other text) with room to spare. */
+#define SP_VIDEO_META_MAX ((off_t)(2 * (SP_PROVENANCE_MAX_SCENES + 1)) * SP_PROVENANCE_SCENE_MAX)
+
+static uint64_t be(const unsigned char *b, int n)
+{
+    uint64_t v = 0;
+    for (int i = 0; i < n; i++)
+        v = v << 8 | b[i];
+    return v;
+}
+
+/* Refuses (SP_E_INPUT, logged) an MP4/MOV at fd whose metadata FFmpeg would
+ * read into memory before springpend can look at its size: avformat_open_-
+ * input allocates every tag of moov/udta/meta whole (twice its size for a
+ * QuickTime string) and inflates a compressed moov (cmov) to the size the
+ * file claims, so a forged 1 GB tag costs gigabytes before the
+ * SP_PROVENANCE_SCENE_MAX check. FFmpeg has no option that bounds this, so
+ * the box sizes are walked first, as the demuxer does (a size clamped to
+ * its parent's end): only box headers are read. The box containers that
+ * hold udta or meta are followed; a file that is not ISO BMFF has no such
+ * boxes and passes (Matroska, GIF: their readers are FFmpeg's). 0 to go
+ * on. */
+static int metadata_bounded(int fd, const char *path, off_t from, off_t to, int depth)
+{
+    static const char *const containers[] = {"moov", "trak", "mdia", "minf", "moof", "traf",
+                                             "edts"};
+    while (to - from >= 8) {
+        unsigned char h[16];
+        if (pread(fd, h, sizeof(h), from) < 8)
+            return 0; /* short: FFmpeg says what is wrong */
+        off_t size = (off_t)be(h, 4), head = 8;
+        if (size == 1 && to - from >= 16)
+            size = (off_t)(be(h + 8, 8) & INT64_MAX), head = 16;
+        else if (size == 0)
+            size = to - from; /* to the end */
+        if (size < head)
+            return 0; /* damaged: FFmpeg's to refuse */
+        if (size > to - from)
+            size = to - from;
+        if (!memcmp(h + 4, "cmov", 4)) {
+            sp_log_error("%s: holds a compressed movie header (cmov), which FFmpeg would "
+                         "inflate to any size it claims; springpend writes none", path);
+            return SP_E_INPUT;
+        }
+        if ((!memcmp(h + 4, "udta", 4) || !memcmp(h + 4, "meta", 4)) &&
+            size - head > SP_VIDEO_META_MAX) {
+            sp_log_error("%s: its metadata box %.4s holds %lld bytes, which FFmpeg would read "
+                         "into memory whole; springpend writes at most %lld there", path,
+                         (const char *)h + 4, (long long)(size - head),
+                         (long long)SP_VIDEO_META_MAX);
+            return SP_E_INPUT;
+        }
+        for (size_t i = 0; depth < 8 && i < sizeof(containers) / sizeof(containers[0]); i++) {
+            int err;
+            if (!memcmp(h + 4, containers[i], 4) &&
+                (err = metadata_bounded(fd, path, from + head, from + size, depth + 1)) != 0)
+                return err;
+        }
+        from += size;
+    }
+    return 0;
+}
+
+/* Opens the video at path in *fmt through a descriptor checked by infile.h
+ * (a regular file: FFmpeg would wait on a FIFO for ever) and by
+ * metadata_bounded; FFmpeg opens that descriptor, not the name again.
+ * SP_E_INPUT (logged) when it cannot. */
+static int open_checked(AVFormatContext **fmt, const char *path)
+{
+    char name[32];
+    int fd = sp_infile_open(path, "a video must be a file"), ret;
+    struct stat st;
+    if (fd < 0)
+        return SP_E_INPUT; /* as a file FFmpeg cannot read */
+    ret = fstat(fd, &st) ? 0 : metadata_bounded(fd, path, 0, st.st_size, 0);
+    if (ret) {
+        close(fd);
+        return ret;
+    }
+    snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
+    ret = avformat_open_input(fmt, access(name, R_OK) ? path : name, NULL, NULL);
+    close(fd);
+    if (ret < 0) {
+        sp_log_error("%s: cannot read a video from it: %s", path, av_err2str(ret));
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 int sp_video_reader_open(struct sp_video_reader **out, const char *path)
 {
     struct sp_video_reader *r = calloc(1, sizeof(*r));
@@ -46,9 +140,9 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
         ret = SP_E_NOMEM;
         goto fail;
     }
-    ret = avformat_open_input(&r->fmt, path, NULL, NULL);
-    if (ret >= 0)
-        ret = avformat_find_stream_info(r->fmt, NULL);
+    if ((ret = open_checked(&r->fmt, path)) != 0)
+        goto fail;
+    ret = avformat_find_stream_info(r->fmt, NULL);
     if (ret >= 0)
         ret = r->stream = av_find_best_stream(r->fmt, AVMEDIA_TYPE_VIDEO, -1, -1, &codec, 0);
     if (ret < 0) {
@@ -159,20 +253,9 @@ int sp_video_read_text(const char *path, const char *key, char *buf, size_t size
 {
     AVFormatContext *fmt = NULL;
     const AVDictionaryEntry *e;
-    char name[32];
-    int found = 0, ret;
-    /* a regular file only: FFmpeg would wait on a FIFO for ever (infile.h);
-     * it opens the file checked, through the descriptor, not the name again */
-    int fd = sp_infile_open(path, "a video must be a file");
-    if (fd < 0)
-        return SP_E_INPUT; /* as a file FFmpeg cannot read */
-    snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
-    ret = avformat_open_input(&fmt, access(name, R_OK) ? path : name, NULL, NULL);
-    close(fd);
-    if (ret < 0) {
-        sp_log_error("%s: cannot read it as a video: %s", path, av_err2str(ret));
+    int found = 0;
+    if (open_checked(&fmt, path))
         return SP_E_INPUT;
-    }
     if ((e = av_dict_get(fmt->metadata, key, NULL, 0)) != NULL) {
         found = 1;
         if (av_dict_get(fmt->metadata, key, e, 0)) {

@@ -74,11 +74,17 @@ int sp_camera_aim(struct sp_camera *c, const struct sp_view *view, const double 
     for (int i = 0; i < n; i++)
         nearest = fmin(nearest, sp_camera_depth(c, box[i]));
     if (!(nearest >= 0.2 * c->distance)) {
-        sp_log_error("view.camera: from %g m the eye is inside or too near the motion and its "
-                     "floor (they reach %.3g m from the middle); allowed: a distance that keeps "
-                     "every corner of them at least a fifth of it in front, here at least "
-                     "%.3g m, or no distance (fitted)",
-                     c->distance, radius, c->distance - nearest + 0.2 * c->distance + 1e-3);
+        /* a corner's depth is (p - target) . forward + D, the corners do not
+         * move with D: D works from D* = -min((p - target) . forward) / 0.8
+         * on; suggested above it in 4 significant digits (under 0.1% more) */
+        const double least = -(nearest - c->distance) / 0.8;
+        const double q = pow(10, floor(log10(least)) - 3);
+        const char *where = view->camera_where[0] ? view->camera_where : "view.camera";
+        sp_log_error("%s: view.camera: from %g m the eye is inside or too near the motion and "
+                     "its floor (they reach %.3g m from the middle); allowed: a distance that "
+                     "keeps every corner of them at least a fifth of it in front, here at least "
+                     "%.4g m, or no distance (fitted)",
+                     where, c->distance, radius, (floor(least / q) + 1) * q);
         return SP_E_INPUT;
     }
     c->focal = 1;

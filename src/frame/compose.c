@@ -293,8 +293,8 @@ static int check_band(struct sp_composer *r)
             snprintf(where, sizeof(where), "%s:%d: [timeline] %s", tl->origin, tl->cues[i].line,
                      tl->cues[i].kind == SP_CUE_CAPTION ? "caption" : "pause note");
         /* a FILE:LINE message, as the scene's others */
-        fprintf(stderr, "%s is too long for a %dx%d frame: %s; allowed: what fits in %d lines "
-                "of %.0f px at this size (shorten it, or lower view.font_scale = %g)\n", where,
+        sp_fprintf_line(stderr, "%s is too long for a %dx%d frame: %s; allowed: what fits in %d lines "
+                "of %.0f px at this size (shorten it, or lower view.font_scale = %g)", where,
                      r->width, r->height, wide ? "a word is wider than the frame"
                      : "it needs more lines", CAPTION_LINES, w, r->look.view.font_scale);
         bad = 1;
@@ -497,7 +497,13 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
                                     SP_HUD_MAX_LINES);
         if (r->look.spatial)
             hud_precession(r, f, w);
-        d.hud_height = sp_hud_height(f, r->hud_lines);
+        /* at most 0.65 of the view's height (the pendulum keeps the rest), or
+         * of the frame's between the bands without a pendulum: lines beyond
+         * are left out from the end, and the last kept says how many */
+        const float room = d.no_pendulum ? (float)r->height - d.title_height - d.caption_height
+                                         : v->y1 - v->y0;
+        r->hud_lines = sp_hud_fit(f, w, 0.65f * room - r->layout.gap, r->hud, r->hud_lines);
+        d.hud_height = r->hud_lines ? sp_hud_height(f, r->hud_lines) : 0;
     } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
     }
@@ -1097,7 +1103,7 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         st.n_order = sp_scene_panel_order(v, st.order);
         sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
     }
-    if (r->look.view.hud) {
+    if (r->look.view.hud && r->hud_lines) {
         char live[SP_HUD_LINE_BYTES] = "";
         if (r->look.spatial)
             hud_measured(r, f, live, sizeof(live));

@@ -5,14 +5,16 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "springpend/common.h"
 #include "springpend/figure.h"
+#include "springpend/infile.h"
 #include "springpend/outfile.h"
-#include "av_module.h"
+#include "base/module.h"
 #include "compose.h"
-#include "draw_cairo.h"
-#include "signals.h"
+#include "render/draw_cairo.h"
 
 enum sp_figure_format sp_figure_format(const char *path)
 {
@@ -56,11 +58,12 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
             .canvas = cv, .font = sp_compose_cells_font(c), .width = d->width,
             .height = d->height, .page_w = d->page_w, .page_h = d->page_h, .fd = out.fd,
             .path = d->path, .format = format,
-            .title = d->title, .scene_file = d->scene_file, .command = d->command};
+            .title = d->title, .scene_file = d->scene_file, .command = d->command,
+            .cancel = d->cancel};
         memcpy(dd.background, sp_compose_cells_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }
-    if (!err && sp_signal_seen()) /* a signal while drawing: nothing written */
+    if (!err && d->cancel && *d->cancel) /* stopped while drawing: nothing written */
         err = SP_E_INTERRUPTED;
     if (!err)
         err = sp_outfile_commit(&out); /* whole or not at all */
@@ -200,8 +203,35 @@ static int pdf_scene(const char *b, size_t len, char *text, size_t size)
     return 1;
 }
 
-/* The SVG's <metadata id="springpend.scene-file"> text, unescaped. */
-static int svg_scene(const char *b, size_t len, char *text, size_t size)
+/* The code point of the character reference "&#N;" or "&#xH;" of n bytes
+ * at p (before the ';'), or 0 when it is none: digits only, no sign or
+ * blank, and a Unicode scalar value U+0001..U+10FFFF (no surrogate). */
+static uint32_t char_ref(const char *p, size_t n)
+{
+    const int hex = n > 2 && p[2] == 'x';
+    size_t i = 2 + (size_t)hex;
+    uint32_t u = 0;
+    if (i == n)
+        return 0;
+    for (; i < n; i++) {
+        const char ch = p[i];
+        const int d = ch >= '0' && ch <= '9' ? ch - '0'
+                    : hex && ch >= 'a' && ch <= 'f' ? ch - 'a' + 10
+                    : hex && ch >= 'A' && ch <= 'F' ? ch - 'A' + 10 : -1;
+        if (d < 0)
+            return 0;
+        u = u * (hex ? 16 : 10) + (uint32_t)d;
+        if (u > 0x10FFFF)
+            return 0; /* before it can wrap */
+    }
+    return u >= 0xD800 && u < 0xE000 ? 0 : u;
+}
+
+/* The SVG's <metadata id="springpend.scene-file"> text, unescaped. 1, 0
+ * (none), -1 (damaged), -2 (too long), -3 (a reference that is neither one
+ * of XML's five entities nor a character: copied, cut, into bad). */
+static int svg_scene(const char *b, size_t len, char *text, size_t size, char *bad,
+                     size_t bad_size)
 {
     const char *open = last_of(b, len, "<metadata id=\"" SP_FIGURE_SCENE_ID "\">");
     if (!open)
@@ -225,12 +255,16 @@ static int svg_scene(const char *b, size_t len, char *text, size_t size)
                 u = '"';
             else if (n == 5 && !strncmp(p, "&apos", 5))
                 u = '\'';
-            else if (n > 2 && p[1] == '#')
-                u = (uint32_t)strtoul(p + 2 + (p[2] == 'x'), NULL, p[2] == 'x' ? 16 : 10);
             else
-                return -1;
-            if (!u || u > 0x10FFFF || put_utf8(text, size, &w, u))
-                return u ? -2 : -1;
+                u = n > 2 && p[1] == '#' ? char_ref(p, n) : 0;
+            if (!u) {
+                const size_t shown = semi ? n + 1 : strcspn(p, " \n<");
+                snprintf(bad, bad_size, "%.*s%s", (int)(shown < 24 ? shown : 24), p,
+                         shown > 24 ? "..." : "");
+                return -3;
+            }
+            if (put_utf8(text, size, &w, u))
+                return -2;
             p = semi + 1;
             continue;
         }
@@ -246,30 +280,45 @@ int sp_figure_read_scene(const char *path, char *text, size_t size)
 {
     /* the record is near the end (cairo writes a PDF's /Info last, the SVG's
      * metadata goes before </svg>): read the last 8 bytes per byte of text */
-    const long max = (long)(8 * size + 65536);
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        sp_log_error("%s: cannot open: %s", path, strerror(errno));
-        return SP_E_IO;
-    }
-    long end = fseek(f, 0, SEEK_END) ? -1 : ftell(f);
-    const long from = end > max ? end - max : 0;
+    const off_t max = (off_t)(8 * size + 65536);
+    const int fd = sp_infile_open(path, "an SVG or PDF must be a file");
+    if (fd < 0)
+        return fd; /* not a regular file (a FIFO would block): logged */
+    struct stat st;
+    const off_t end = fstat(fd, &st) ? -1 : st.st_size;
+    const off_t from = end > max ? end - max : 0;
     char *b = end >= 0 ? malloc((size_t)(end - from) + 1) : NULL;
     size_t n = 0;
-    if (b && !fseek(f, from, SEEK_SET))
-        n = fread(b, 1, (size_t)(end - from), f);
-    const int bad = !b || ferror(f) || n != (size_t)(end - from);
-    fclose(f);
+    int bad = !b;
+    while (b && n < (size_t)(end - from)) {
+        const ssize_t got = pread(fd, b + n, (size_t)(end - from) - n, from + (off_t)n);
+        if (got < 0 && errno == EINTR)
+            continue;
+        if (got <= 0) {
+            bad = 1, errno = got ? errno : EIO; /* cut short while read */
+            break;
+        }
+        n += (size_t)got;
+    }
+    const int why = errno;
+    close(fd);
     if (bad) {
-        sp_log_error("%s: cannot read: %s", path, b ? strerror(errno ? errno : EIO) : "out of memory");
+        sp_log_error("%s: cannot read: %s", path, b ? strerror(why ? why : EIO) : "out of memory");
         free(b);
         return SP_E_IO;
     }
     b[n] = 0;
-    const int got = sp_figure_format(path) == SP_FIGURE_PDF ? pdf_scene(b, n, text, size)
-                                                            : svg_scene(b, n, text, size);
+    char ref[32] = "";
+    const int got = sp_figure_format(path) == SP_FIGURE_PDF
+                        ? pdf_scene(b, n, text, size)
+                        : svg_scene(b, n, text, size, ref, sizeof(ref));
     free(b);
-    if (got == -1)
+    if (got == -3)
+        sp_log_error("%s: its scene record holds '%s', which is neither one of XML's five entities nor a "
+                     "character reference; allowed: "
+                     "&lt; &gt; &amp; &quot; &apos; and &#N; or &#xH; of a character "
+                     "U+0001..U+10FFFF (not a surrogate), as springpend writes", path, ref);
+    else if (got == -1)
         sp_log_error("%s: its scene record is damaged; springpend writes it whole", path);
     else if (got == -2)
         sp_log_error("%s: its scene record is longer than %zu bytes, more than springpend writes",

@@ -1018,23 +1018,53 @@ int sp_params_resonant(const struct sp_params *p, double *ratio)
     return fabs(*ratio - 2) <= 0.03 * 2;
 }
 
+/* Cuts text (UTF-8, in place) at a character boundary and ends it with
+ * "…" until it is at most max_width px wide; "" when not even "…" fits. */
+static void cut_to_width(const struct sp_font *font, float max_width, char *text, size_t size)
+{
+    size_t len = strlen(text);
+    if (sp_font_width(font, SP_TEXT_NORMAL, text) <= max_width)
+        return;
+    char buf[SP_HUD_LINE_BYTES];
+    while (len > 0) {
+        do
+            len--;
+        while (len > 0 && (text[len] & 0xc0) == 0x80);
+        if (len + 4 > size || len + 4 > sizeof(buf))
+            continue; /* no room for the ellipsis yet */
+        memcpy(buf, text, len);
+        memcpy(buf + len, "…", 4); /* 3 bytes and the NUL */
+        if (sp_font_width(font, SP_TEXT_NORMAL, buf) <= max_width) {
+            memcpy(text, buf, len + 4);
+            return;
+        }
+    }
+    text[0] = 0;
+}
+
 /* Appends `item` to the lines, starting a new line when it would not fit. */
 static void add_item(const struct sp_font *font, float max_width, char lines[][SP_HUD_LINE_BYTES],
                      int *n, int max, const char *item, int new_line)
 {
     /* "long|short": the short form when the long one is wider than a line;
-     * neither when both are (a tiny frame) */
+     * neither when both are (a tiny frame), unless the item is "!..." (a
+     * side-by-side difference: cut with "…" rather than left out) */
     char form[SP_HUD_LINE_BYTES];
+    const int cut = item[0] == '!';
+    item += cut;
     const char *bar = strchr(item, '|');
     snprintf(form, sizeof(form), "%.*s", bar ? (int)(bar - item) : (int)strlen(item), item);
     if (bar && sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
         snprintf(form, sizeof(form), "%s", bar + 1);
-    if (sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
+    if (cut)
+        cut_to_width(font, max_width, form, sizeof(form));
+    if (!form[0] || sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
         return;
     item = form;
     char *l = lines[*n - 1];
     char joined[2 * SP_HUD_LINE_BYTES];
-    snprintf(joined, sizeof(joined), "%s%s%s", l, *l ? "    " : "", item);
+    snprintf(joined, sizeof(joined), "%s%s%s", l, !*l ? "" : strcmp(l, "differs:") ? "    " : " ",
+             item);
     if (!new_line && (!*l || sp_font_width(font, SP_TEXT_NORMAL, joined) <= max_width)) {
         snprintf(l, SP_HUD_LINE_BYTES, "%.*s", SP_HUD_LINE_BYTES - 1, joined);
         return;
@@ -1058,6 +1088,9 @@ static const char *resonance_note(const struct sp_font *f, int resonant, float m
 /* The ratio's line starts with this byte (not drawn): the resonance check
  * follows it, or has a line of its own ("\1") after it. */
 #define HUD_RATIO '\4'
+/* The line that says how many lines were left out (sp_hud_fit) starts with
+ * this byte (not drawn; in the muted colour, cut to the width). */
+#define HUD_MORE '\5'
 
 int sp_hud_lines(const struct sp_font *font, const struct sp_params *p,
                  const struct sp_prediction *pd, const char *differs, float max_width,
@@ -1072,10 +1105,10 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p,
     lines[0][0] = lines[1][0] = 0;
     if (differs && *differs) { /* "differs: a = 1, b = 2", wrapped at its commas */
         const char *s = differs;
-        for (int first = 1; *s; first = 0) {
+        add_item(font, max_width, lines, &n, max, "!differs:", 0); /* the heading, kept */
+        while (*s) {
             const size_t len = strcspn(s, ",");
-            snprintf(item, sizeof(item), "%s%.*s%s", first ? "differs: " : "", (int)len, s,
-                     s[len] ? "," : "");
+            snprintf(item, sizeof(item), "!%.*s%s", (int)len, s, s[len] ? "," : "");
             add_item(font, max_width, lines, &n, max, item, 0);
             s += len + (s[len] != 0);
             s += strspn(s, " ");
@@ -1135,6 +1168,30 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p,
     return n;
 }
 
+int sp_hud_fit(const struct sp_font *font, float max_width, float max_height,
+               char lines[][SP_HUD_LINE_BYTES], int n)
+{
+    int keep = n;
+    while (keep > 1 && sp_hud_height(font, keep) > max_height)
+        keep--;
+    if (keep == n)
+        return n;
+    if (keep < 2)
+        return sp_hud_height(font, 1) <= max_height ? 1 : 0;
+    /* the last line kept says how many are left out */
+    int left = n - keep + 1;
+    for (int i = keep - 1; i < n; i++)
+        left -= !strcmp(lines[i], "\1"); /* the check's own line is part of the ratio's */
+    char more[SP_HUD_LINE_BYTES - 1]; /* and the mark's byte */
+    snprintf(more, sizeof(more), "… %d more line%s: a larger frame shows them", left,
+             left == 1 ? "" : "s");
+    if (sp_font_width(font, SP_TEXT_NORMAL, more) > max_width)
+        snprintf(more, sizeof(more), "… %d more", left);
+    cut_to_width(font, max_width, more, sizeof(more));
+    snprintf(lines[keep - 1], SP_HUD_LINE_BYTES, "%c%s", HUD_MORE, more);
+    return keep;
+}
+
 float sp_hud_height(const struct sp_font *font, int n)
 {
     return (float)sp_font_line(font, SP_TEXT_LARGE) + (float)(n - 1) * sp_font_line(font, SP_TEXT_NORMAL);
@@ -1169,6 +1226,10 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
             sp_canvas_layer(c, SP_LAYER_DYNAMIC);
             sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->text, live ? live : "");
             sp_canvas_layer(c, SP_LAYER_STATIC);
+            continue;
+        }
+        if (lines[i][0] == HUD_MORE) {
+            sp_canvas_text(c, SP_TEXT_NORMAL, r->x0, base, SP_ALIGN_LEFT, pal->muted, lines[i] + 1);
             continue;
         }
         if (lines[i][0] == HUD_ACCENT) {

@@ -1,7 +1,8 @@
 /* springpend (internal): the teaching overlays drawn into a canvas: strip
  * charts (r, theta, energy, extension), phase portraits, the Poincare
  * section, the heads-up text and the speed colourbar. Axes come from the
- * pre-pass ranges (struct sp_view_extent), so they never jump. */
+ * pre-pass ranges (struct sp_view_extent), so they never jump.
+ * Shared with: sweep (sweep_plot.c's colormaps). */
 #ifndef SPRINGPEND_PANELS_H
 #define SPRINGPEND_PANELS_H
 
@@ -76,7 +77,7 @@ void sp_panels_draw(struct sp_canvas *c, const struct sp_layout *lay, const stru
  * line, filled in at draw time. differs (NULL or "" = none): side by side,
  * the keys in which this scene differs from the others ("stiffness = 5,
  * damping = 0.4"), listed first, in the accent colour. */
-#define SP_HUD_MAX_LINES 12
+#define SP_HUD_MAX_LINES 32
 #define SP_HUD_LINE_BYTES 200
 /* pd: what may be stated (sp_advise_predict, as info): without a pendulum
  * frequency (g = 0) no omega_p, ratio or 2:1 check. */
@@ -86,6 +87,12 @@ int sp_hud_lines(const struct sp_font *font, const struct sp_params *p,
 /* A line that is this byte alone is drawn with sp_hud_draw's `live` text, on
  * the dynamic layer (a 3-D scene's measured precession). */
 #define SP_HUD_LIVE '\3'
+/* Keeps the first of the n lines that fit max_height px (sp_hud_height),
+ * the last one kept replaced by "… N more lines: a larger frame shows them"
+ * (cut to max_width px); returns how many are kept (0: not even the time
+ * line fits). */
+int sp_hud_fit(const struct sp_font *font, float max_width, float max_height,
+               char lines[][SP_HUD_LINE_BYTES], int n);
 /* Height in px of n heads-up lines. */
 float sp_hud_height(const struct sp_font *font, int n);
 /* Draws the time and the lines in r; live (may be NULL): the text of the

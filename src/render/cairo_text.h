@@ -2,13 +2,14 @@
  * place where shaped text meets cairo: the still figures' backend
  * (draw_cairo.c) and the sweep figures (sweep_plot.c) both draw through
  * it, so a title in any script comes out the same in every figure. Linked
- * into each cairo module. */
+ * into each cairo module.
+ * Shared with: sweep (sweep_plot.c draws its text with it). */
 #ifndef SPRINGPEND_CAIRO_TEXT_H
 #define SPRINGPEND_CAIRO_TEXT_H
 
 #include <cairo.h>
 
-#include "text.h"
+#include "frame/text.h"
 
 /* The cairo faces of a font's fallback list, made on first use. */
 struct sp_cairo_faces {

@@ -18,8 +18,9 @@
 #include "springpend/common.h"
 #include "springpend/scene.h"
 #include "springpend/timeline.h"
-#include "decimal.h"
-#include "ini_lines.h"
+#include "base/decimal.h"
+#include "base/ini_lines.h"
+#include "base/utf8.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
 /* Frame times are indexed by int; what a command makes of them has its own
@@ -123,9 +124,9 @@ static const struct key_info keys[] = {
      "pt (a marker's diameter; 0 = each figure's own)"},
     {"view", "palette", KEY_CHOICE, F(view.palette), 0, 0, 0, 0, "theme, okabe_ito"},
     {"view", "xlabel", KEY_TEXT, F(view.xlabel), 0, 0, 0, 0,
-     "text (empty = the axis's own name; one per panel, '|' between)"},
+     "text (empty = the axis's own name; one per plot, phase being two, '|' between)"},
     {"view", "ylabel", KEY_TEXT, F(view.ylabel), 0, 0, 0, 0,
-     "text (empty = the axis's own name; one per panel, '|' between)"},
+     "text (empty = the axis's own name; one per plot, phase being two, '|' between)"},
     {"view", "colorbar_label", KEY_TEXT, F(view.colorbar_label), 0, 0, 0, 0,
      "text (empty = the colour bar's own name)"},
     {"view", "camera", KEY_CAMERA, F(view.camera), 0, 0, 0, 0,
@@ -139,6 +140,7 @@ static const struct key_info keys[] = {
 };
 #undef F
 #define N_KEYS ((int)(sizeof(keys) / sizeof(keys[0])))
+_Static_assert(N_KEYS <= SP_SCENE_MAX_KEYS, "struct sp_scene's key_lines holds every key");
 
 /* The text keys with no byte limit, view.title and view.caption: the index
  * of struct sp_scene's texts that holds k's text, or -1 for the others
@@ -195,6 +197,7 @@ struct parse_ctx {
     int line_has_content; /* the line is neither blank, a comment nor a section */
     int line_handled;     /* inih called the handler for it */
     int key_line[N_KEYS]; /* where each key was set, 0 = not set */
+    const char *key_set[N_KEYS]; /* the --set argument that gave a key its value, or NULL */
     int errors;
     char *text_value;     /* a text key's or cue's whole value (read_line), heap */
     size_t text_room;     /* bytes text_value holds */
@@ -206,9 +209,8 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
 
 #define MAX_REPORTS 20 /* messages printed before the rest are only counted */
 
-static void report(struct parse_ctx *c, int line, const char *fmt, ...)
+static void vreport(struct parse_ctx *c, int line, const char *fmt, va_list ap)
 {
-    va_list ap;
     if (++c->errors > MAX_REPORTS) {
         if (c->errors == MAX_REPORTS + 1)
             sp_fputs_line(c->origin, stderr), fputs(": too many errors; not showing more\n", stderr);
@@ -217,9 +219,7 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
     /* the origin may be a --set argument: its control bytes and newlines are
      * shown, not sent */
     char *msg = NULL;
-    va_start(ap, fmt);
     int n = vasprintf(&msg, fmt, ap);
-    va_end(ap);
     if (line > 0)
         sp_fputs_line(c->origin, stderr), fprintf(stderr, ":%d: ", line);
     else
@@ -227,6 +227,39 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
     sp_fputs_line(n >= 0 ? msg : fmt, stderr);
     fputc('\n', stderr);
     free(msg);
+}
+
+static void report(struct parse_ctx *c, int line, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vreport(c, line, fmt, ap);
+    va_end(ap);
+}
+
+static const struct key_info *find_key(const char *section, const char *name);
+
+/* A check of several keys refuses what section.name holds: the message
+ * names where its value came from, "--set section.name=VALUE" or the scene
+ * file's FILE:LINE (FILE alone when the key holds its default). */
+static void report_key(struct parse_ctx *c, const char *section, const char *name,
+                       const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+
+static void report_key(struct parse_ctx *c, const char *section, const char *name,
+                       const char *fmt, ...)
+{
+    const int idx = (int)(find_key(section, name) - keys);
+    const char *saved = c->origin;
+    char origin[320];
+    va_list ap;
+    if (c->key_set[idx]) {
+        snprintf(origin, sizeof(origin), "--set %s", c->key_set[idx]);
+        c->origin = origin;
+    }
+    va_start(ap, fmt);
+    vreport(c, c->key_set[idx] ? 0 : c->key_line[idx], fmt, ap);
+    va_end(ap);
+    c->origin = saved;
 }
 
 static const struct key_info *numeric_key(const char *key);
@@ -354,10 +387,9 @@ static int choice_index(const char *list, const char *word, size_t len)
     return -1;
 }
 
-static int utf8_length(const unsigned char *s); /* below, with the file's text check */
-
 /* [view] camera: auto, front, or azimuth and elevation (degrees) and
- * optionally the distance (m), separated by blanks or a comma. Returns 1. */
+ * optionally the distance (m), separated by blanks (a comma is refused: it
+ * reads as a list, and an empty entry between two would be lost). Returns 1. */
 static int set_camera(struct parse_ctx *c, int line, const struct key_info *k,
                       const char *value)
 {
@@ -369,8 +401,14 @@ static int set_camera(struct parse_ctx *c, int line, const struct key_info *k,
         v->camera = value[0] == 'a' ? SP_CAMERA_AUTO : SP_CAMERA_FRONT;
         return 1;
     }
-    for (const char *w = value + strspn(value, " \t,"); *w; w += strspn(w, " \t,")) {
-        const size_t len = strcspn(w, " \t,");
+    if (strchr(value, ',')) {
+        report(c, line, "%s.%s = '%s': numbers are separated by blanks, not commas; allowed: "
+               "%s, e.g. camera = 35 25 or camera = 35 25 3", k->section, k->name, value,
+               k->unit);
+        return 1;
+    }
+    for (const char *w = value + strspn(value, " \t"); *w; w += strspn(w, " \t")) {
+        const size_t len = strcspn(w, " \t");
         char word[64];
         if (n == 3 || len >= sizeof(word)) {
             n = 4;
@@ -397,6 +435,10 @@ static int set_camera(struct parse_ctx *c, int line, const struct key_info *k,
         return 1;
     }
     v->camera = SP_CAMERA_SET;
+    if (line > 0)
+        snprintf(v->camera_where, sizeof(v->camera_where), "%s:%d", c->origin, line);
+    else
+        snprintf(v->camera_where, sizeof(v->camera_where), "--set %s.%s", k->section, k->name);
     v->camera_azimuth = num[0] * (M_PI / 180.0);
     v->camera_elevation = num[1] * (M_PI / 180.0);
     v->camera_distance = n == 3 ? num[2] : 0;
@@ -527,7 +569,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         }
         for (size_t i = 0; i < n;) { /* --set bypasses the file's text check */
             const unsigned char *u = (const unsigned char *)value + i;
-            int len = utf8_length(u);
+            int len = (int)sp_utf8_char((const char *)u);
             if (!len || i + (size_t)len > n || *u < 0x20 || *u == 0x7f) {
                 report(c, line, "%s.%s: byte 0x%02x at byte %zu is not text; allowed: "
                        "UTF-8 text without control characters", k->section, k->name, *u, i + 1);
@@ -877,6 +919,30 @@ int sp_scene_panel_order(const struct sp_view *view, int order[SP_PANEL_COUNT])
     return n;
 }
 
+void sp_scene_key_where(const struct sp_scene *s, const char *key, const char *path, char *buf,
+                        size_t size)
+{
+    const char *dot = strchr(key, '.');
+    char section[64];
+    snprintf(section, sizeof(section), "%.*s", dot ? (int)(dot - key) : 0, key);
+    const struct key_info *k = dot ? find_key(section, dot + 1) : NULL;
+    const int line = k ? s->key_lines[k - keys] : 0;
+    if (line < 0)
+        snprintf(buf, size, "--set %s", key);
+    else if (line > 0)
+        snprintf(buf, size, "%s:%d", path, line);
+    else
+        snprintf(buf, size, "%s", path);
+}
+
+const char *sp_scene_plot_name(int bit)
+{
+    static const char *const names[SP_PANEL_COUNT] = {
+        "r", "theta", "energy", "extension", "phase r", "phase theta", "poincare", "modes",
+        "spread", "azimuth", "top", "energy_bars"};
+    return bit >= 0 && bit < SP_PANEL_COUNT ? names[bit] : "?";
+}
+
 void sp_scene_label_part(const char *label, int i, char *buf, size_t size)
 {
     const char *at = label;
@@ -920,23 +986,11 @@ static void apply_override(struct parse_ctx *c, const char *arg)
     else if (!k)
         report_unknown(c, 0, section, name);
     else
+    {
         set_value(c, 0, k, eq + 1);
+        c->key_set[k - keys] = arg; /* lives as long as the parse */
+    }
     c->origin = saved;
-}
-
-/* Length of the UTF-8 sequence at s (1..4), or 0 when it is not one. */
-static int utf8_length(const unsigned char *s)
-{
-    int n = s[0] < 0x80 ? 1 : s[0] >= 0xc2 && s[0] <= 0xdf ? 2
-          : s[0] >= 0xe0 && s[0] <= 0xef ? 3 : s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : 0;
-    for (int i = 1; i < n; i++)
-        if ((s[i] & 0xc0) != 0x80)
-            return 0;
-    /* overlong 3- and 4-byte forms, surrogates, beyond U+10FFFF */
-    if ((n == 3 && ((s[0] == 0xe0 && s[1] < 0xa0) || (s[0] == 0xed && s[1] > 0x9f))) ||
-        (n == 4 && ((s[0] == 0xf0 && s[1] < 0x90) || (s[0] == 0xf4 && s[1] > 0x8f))))
-        return 0;
-    return n;
 }
 
 /* A scene is UTF-8 text without control characters but tab, CR and LF, and
@@ -946,7 +1000,7 @@ static int check_text(struct parse_ctx *c, const char *text)
     const unsigned char *p = (const unsigned char *)text, *line_start = p;
     int line = 1, blank = 1;
     while (*p) {
-        int n = utf8_length(p);
+        int n = (int)sp_utf8_char((const char *)p);
         if (!n || (*p < 0x20 && *p != '\t' && *p != '\r' && *p != '\n') || *p == 0x7f) {
             report(c, line, "byte 0x%02x at column %d is not text; a scene is a UTF-8 "
                    "text file of 'key = value' lines", *p, (int)(p - line_start) + 1);
@@ -1048,19 +1102,24 @@ static void validate_whole(struct parse_ctx *c)
                "allowed (raise integrator.dt)", steps);
     if (s->ensemble.count > 1)
         check_ensemble(c);
-    /* a label per panel: as many as the panels, or one for all */
+    /* a label per plot: as many as the plots, or one for all */
     int order[SP_PANEL_COUNT];
-    const int n_panels = sp_scene_panel_order(&s->view, order);
+    const int n_plots = sp_scene_panel_order(&s->view, order);
     for (int axis = 0; axis < 2; axis++) {
-        const char *label = axis ? s->view.ylabel : s->view.xlabel;
+        const char *label = axis ? s->view.ylabel : s->view.xlabel, *key = axis ? "ylabel" : "xlabel";
         int parts = 1;
         for (const char *b = strchr(label, '|'); b; b = strchr(b + 1, '|'))
             parts++;
-        if (parts > 1 && parts != n_panels)
-            report(c, c->key_line[find_key("view", axis ? "ylabel" : "xlabel") - keys],
-                   "view.%s = '%s' has %d entries for %d panel%s; give one name for every "
-                   "panel, or one per panel in the order view.panels lists them, '|' between",
-                   axis ? "ylabel" : "xlabel", label, parts, n_panels, n_panels == 1 ? "" : "s");
+        if (parts > 1 && parts != n_plots) {
+            char plots[256] = "";
+            for (int i = 0; i < n_plots; i++)
+                snprintf(plots + strlen(plots), sizeof(plots) - strlen(plots), "%s%s",
+                         i ? ", " : "", sp_scene_plot_name(order[i]));
+            report_key(c, "view", key, "view.%s = '%s' has %d entries for %d plot%s (%s); give "
+                       "one name for every plot, or one per plot in the order view.panels lists "
+                       "them ('phase' is two plots, r's and theta's), '|' between", key, label,
+                       parts, n_plots, n_plots == 1 ? "" : "s", n_plots ? plots : "none");
+        }
     }
 }
 
@@ -1129,6 +1188,8 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
     }
     for (int i = 0; i < n_overrides; i++)
         apply_override(&c, overrides[i]);
+    for (int i = 0; i < N_KEYS; i++) /* for the commands' own checks */
+        s->key_lines[i] = c.key_set[i] ? -1 : c.key_line[i];
     if (!c.errors)
         validate_whole(&c);
     /* once, here: sp_scene_set_number's copies (sweeps, ensembles) share it */
@@ -1160,16 +1221,16 @@ static int read_scene(const char *path, char **text, size_t *size)
     /* O_NONBLOCK: opening a FIFO must not wait for a writer forever. */
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) {
-        fprintf(stderr, "%s: cannot open scene: %s\n", path, strerror(errno));
+        sp_fprintf_line(stderr, "%s: cannot open scene: %s", path, strerror(errno));
         return SP_E_INPUT;
     }
     if (fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "%s: %s; give a scene file (.ini)\n", path,
+        sp_fprintf_line(stderr, "%s: %s; give a scene file (.ini)", path,
                 S_ISDIR(st.st_mode) ? "is a folder" : strerror(errno));
         goto done;
     }
     if (S_ISREG(st.st_mode) && (size_t)st.st_size > max) {
-        fprintf(stderr, "%s: scene file is %lld bytes; at most 1 MiB is allowed\n", path,
+        sp_fprintf_line(stderr, "%s: scene file is %lld bytes; at most 1 MiB is allowed", path,
                 (long long)st.st_size);
         goto done;
     }
@@ -1183,13 +1244,13 @@ static int read_scene(const char *path, char **text, size_t *size)
             if (errno == EINTR)
                 ret = SP_E_INTERRUPTED;
             else
-                fprintf(stderr, "%s: cannot wait for the FIFO's writer: %s\n", path,
+                sp_fprintf_line(stderr, "%s: cannot wait for the FIFO's writer: %s", path,
                         strerror(errno));
             goto done;
         }
         if (n == 0) {
-            fprintf(stderr, "%s: a FIFO with nothing written to it after %d s; start its "
-                    "writer first, or give a scene file\n", path, SCENE_FIFO_WAIT_MS / 1000);
+            sp_fprintf_line(stderr, "%s: a FIFO with nothing written to it after %d s; start its "
+                    "writer first, or give a scene file", path, SCENE_FIFO_WAIT_MS / 1000);
             goto done;
         }
     }
@@ -1199,8 +1260,8 @@ static int read_scene(const char *path, char **text, size_t *size)
         if (*size + 1 >= cap) {
             cap = cap * 2 > max + 2 ? max + 2 : cap * 2;
             if (*size + 1 >= cap) {
-                fprintf(stderr, "%s: the scene is more than 1 MiB; at most 1 MiB is "
-                        "allowed\n", path);
+                sp_fprintf_line(stderr, "%s: the scene is more than 1 MiB; at most 1 MiB is "
+                        "allowed", path);
                 goto done;
             }
         }
@@ -1216,7 +1277,7 @@ static int read_scene(const char *path, char **text, size_t *size)
             goto done;
         }
         if (got < 0) {
-            fprintf(stderr, "%s: cannot read scene: %s\n", path, strerror(errno));
+            sp_fprintf_line(stderr, "%s: cannot read scene: %s", path, strerror(errno));
             goto done;
         }
         if (got == 0)
@@ -1245,8 +1306,8 @@ int sp_scene_load(struct sp_scene *s, const char *path,
     if (ret)
         return ret;
     if (memchr(text, 0, size)) {
-        fprintf(stderr, "%s: contains NUL bytes; a scene is a text file of "
-                "'key = value' lines\n", path);
+        sp_fprintf_line(stderr, "%s: contains NUL bytes; a scene is a text file of "
+                "'key = value' lines", path);
         free(text);
         return SP_E_INPUT;
     }

@@ -24,7 +24,6 @@
 #include <string.h>
 
 #include "analysis.h"
-#include "signals.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
@@ -121,7 +120,7 @@ int sp_precession_measure(const struct sp_sweep_desc *d, const struct sp_scene *
     }
     if ((ret = sp_batch_make(&b, ptr, n, 0, forced)))
         goto done;
-    b->cancel = sp_signal_flag();
+    b->cancel = d->cancel; /* a long transient is one call */
     for (long k = k0; k <= k1; k++) {
         const double t = (double)k * dt;
         if (t > b->t && sp_batch_advance(b, t)) {

@@ -24,10 +24,12 @@
  * the other measures are of the planar motion and refuse them.
  * A shard's CSV has a "# shard I/N" line after the description and ends
  * with "# end rows=N sha256=HEX", the SHA-256 of every byte before that
- * line, so that --merge can refuse a copy cut short or edited. */
+ * line, so that --merge can refuse a copy cut short or edited.
+ * Shared with: cli. */
 #ifndef SPRINGPEND_SWEEP_H
 #define SPRINGPEND_SWEEP_H
 
+#include <signal.h>
 #include <stdio.h>
 
 #include "springpend/csv_metadata.h"
@@ -88,7 +90,16 @@ struct sp_sweep_desc {
     double sample;               /* precession: the sampling interval, s, a 32nd of the
                                   * grid's shortest pendulum period (sp_sweep_check;
                                   * not in the header) */
+    const volatile sig_atomic_t *cancel; /* the caller's stop flag (not in the
+                                  * header): once set, a run stops with
+                                  * SP_E_INTERRUPTED; NULL = never */
 };
+
+/* 1 once d's caller asked the sweep to stop (*d->cancel set). */
+static inline int sp_sweep_cancelled(const struct sp_sweep_desc *d)
+{
+    return d->cancel && *d->cancel;
+}
 
 /* Point p's index along each axis (the first axis varies fastest). */
 void sp_sweep_point_index(const struct sp_sweep_desc *d, long p, int idx[SP_SWEEP_MAX_AXES]);
@@ -184,7 +195,7 @@ struct sp_plot_style {
  * CSV and its metadata) is in place, or discards it (outfile.h), so that
  * a run that fails leaves no figure. On failure *figure is closed. Lives in
  * sweep_plot.c (cairo); the executable reaches it through the module that
- * av_module.h loads (springpend-plot.so), so that cairo costs only the
+ * module.h loads (springpend-plot.so), so that cairo costs only the
  * commands that draw.
  * Returns 0, SP_E_INPUT (not a sweep CSV; a text the figure cannot draw or
  * fit, as sp_sweep_plot_check) or SP_E_IO. */

@@ -17,11 +17,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cairo_fd.h"
-#include "cairo_text.h"
-#include "panels.h"
-#include "signals.h"
-#include "text.h"
+#include "render/cairo_fd.h"
+#include "render/cairo_text.h"
+#include "frame/panels.h"
+#include "base/signals.h"
+#include "frame/text.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
 #include "analysis.h"

@@ -4,7 +4,7 @@
 OUT.h defines SP_MODULE_ABI, the first 16 hex digits of the SHA-256 of the
 FILEs (the headers the executable and its modules share), in the order
 given. The executable loads a module only when both carry the same id
-(av_module.c): a module of another build of the same version, whose
+(src/base/module.c): a module of another build of the same version, whose
 structures or functions may differ (a changed signature), is refused.
 With --list ROOT it prints the headers instead, one a line, sorted."""
 import glob

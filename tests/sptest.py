@@ -1,7 +1,9 @@
 """springpend tests: what the Python tests share. TAP output (ok, skip,
-done), running the binary under test (runner), --set arguments (sets), and
-scipy or a skip (need_scipy), and the physics reference (model, start,
-solve: scipy's DOP853 on the Cartesian equations of sim.h). Python puts a
+done), a test's start (setup), running the binary under test (runner,
+runner_bytes) and reading what it said (err, part_files), --set arguments
+(sets), scipy or a skip (need_scipy), a picture's pixels through ffmpeg
+(ffmpeg_rgb), and the physics reference (model, start, solve: scipy's DOP853 on the
+Cartesian equations of sim.h). Python puts a
 script's own folder first on sys.path, so each test imports this with
 `from sptest import ...`."""
 import math
@@ -12,10 +14,21 @@ import sys
 _count = _failed = 0
 
 
-def ok(cond, what):
+def _skipped(what, why):
+    global _count
+    _count += 1
+    what = " | ".join(str(what).splitlines())
+    print(f"ok {_count} - {what} # SKIP {why}", flush=True)
+    return True
+
+
+def ok(cond, what, skip=None):
     """One TAP line (a description that quotes a program's output keeps to
-    that line); returns cond."""
+    that line); returns cond. With skip (why the check cannot run here): a
+    skipped check, and True."""
     global _count, _failed
+    if skip:
+        return _skipped(what, skip)
     _count += 1
     _failed += not cond
     what = " | ".join(str(what).splitlines())
@@ -23,15 +36,17 @@ def ok(cond, what):
     return cond
 
 
-def png_text(path):
-    """A PNG's tEXt chunks as {keyword: text}."""
+def png_text(path, compressed=False):
+    """A PNG's tEXt chunks (and zTXt ones, inflated, when compressed) as
+    {keyword: text}."""
     import struct
+    import zlib
     data, text, i = open(path, "rb").read(), {}, 8
     while i < len(data):
         n, kind = struct.unpack(">I4s", data[i:i + 8])
-        if kind == b"tEXt":
+        if kind == b"tEXt" or (compressed and kind == b"zTXt"):
             k, v = data[i + 8:i + 8 + n].split(b"\0", 1)
-            text[k.decode("latin-1")] = v.decode("utf-8")
+            text[k.decode("latin-1")] = (zlib.decompress(v[1:]) if kind == b"zTXt" else v).decode("utf-8")
         i += 12 + n
     return text
 
@@ -48,9 +63,7 @@ def diag(text):
 
 def skip(what, why):
     """A TAP line for a check that cannot run here."""
-    global _count
-    _count += 1
-    print(f"ok {_count} - {what} # SKIP {why}", flush=True)
+    _skipped(what, why)
 
 
 def done():
@@ -79,6 +92,36 @@ def runner(exe, cwd):
     def run(*args):
         return subprocess.run([exe, *args], capture_output=True, text=True, cwd=cwd)
     return run
+
+
+def runner_bytes(exe, cwd):
+    """A function running exe with its arguments in cwd (at most timeout s,
+    60 by default; further keywords go to subprocess.run), output captured
+    as bytes unless told otherwise."""
+    def run(*args, timeout=60, **kw):
+        kw.setdefault("capture_output", True)
+        return subprocess.run([exe, *args], cwd=cwd, timeout=timeout, **kw)
+    return run
+
+
+def err(r):
+    """What a finished run wrote to stderr (bytes or text), stripped."""
+    e = r.stderr
+    return (e.decode(errors="replace") if isinstance(e, bytes) else e or "").strip()
+
+
+def part_files(folder):
+    """The .part files in folder (none when it is not there)."""
+    return [n for n in os.listdir(folder) if n.endswith(".part")] if os.path.isdir(folder) else []
+
+
+def ffmpeg_rgb(path, w, h):
+    """A w x h picture's pixels through ffmpeg, as an (h, w, 3) int array
+    of RGB (numpy must import)."""
+    import numpy as np
+    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt",
+                          "rgb24", "-"], capture_output=True, check=True).stdout
+    return np.frombuffer(raw, np.uint8).reshape(h, w, 3).astype(int)
 
 
 def setup(name, tools):

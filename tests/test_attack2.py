@@ -20,41 +20,24 @@ import os
 import shutil
 import struct
 import subprocess
-import sys
 import zlib
 
 import sptest
-from sptest import done
+from sptest import done, err, ok, part_files, runner_bytes, setup
 
-
-def ok(cond, what):
-    return sptest.ok(cond, what.replace("\n", " | "))
-
-
-exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-work = os.path.abspath(os.path.join(sys.argv[3], "attack2"))
+exe, src, work, _ = setup("attack2", [])
 scenes = os.path.join(src, "..", "scenes")
 default = os.path.join(scenes, "default.ini")
 chaotic = os.path.join(scenes, "chaotic.ini")
-shutil.rmtree(work, ignore_errors=True)
-os.makedirs(work)
-
-
-def run(*args, timeout=60, **kw):
-    kw.setdefault("capture_output", True)
-    return subprocess.run([exe, *args], cwd=work, timeout=timeout, **kw)
+run = runner_bytes(exe, work)
 
 
 def path(*names):
     return os.path.join(work, *names)
 
 
-def err(r):
-    return r.stderr.decode(errors="replace").strip()
-
-
 def parts():
-    return [f for f in os.listdir(work) if f.endswith(".part")]
+    return part_files(work)
 
 
 def hangs(*args):

@@ -16,23 +16,14 @@ usage: test_camera.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)""
 import json
 import math
 import os
-import shutil
 import subprocess
-import sys
 
-from sptest import diag, done, need_scipy, ok, png_overlay, runner
+from sptest import diag, done, ffmpeg_rgb, need_scipy, ok, png_overlay, setup
 
-exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-work = os.path.abspath(os.path.join(sys.argv[3], "camera"))
+exe, src, work, run = setup("camera", ["ffmpeg"])
 need_scipy()
 import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
-if not shutil.which("ffmpeg"):
-    print("1..0 # SKIP ffmpeg not installed (it decodes the PNGs)")
-    sys.exit(77)
-shutil.rmtree(work, ignore_errors=True)
-os.makedirs(work)
-run = runner(exe, work)
 
 L0, K, M, G = 0.75, 39.24, 1.0, 9.81
 R0, TH0, PHD = 1.05, 12.0, 1.5
@@ -64,9 +55,7 @@ def bob_at(t):
 
 
 def pixels(path, w=W, h=H):
-    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt", "rgb24", "-"],
-                         capture_output=True, check=True).stdout
-    return np.frombuffer(raw, np.uint8).reshape(h, w, 3).astype(int)
+    return ffmpeg_rgb(path, w, h)
 
 
 def bob_box(img):

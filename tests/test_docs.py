@@ -83,4 +83,16 @@ for script in ("bench_render.py", os.path.join("bench", "bench_sweep.py")):
     r = subprocess.run([sys.executable, path], capture_output=True, text=True, timeout=60)
     ok(r.returncode != 0 and "usage:" in r.stderr and "Traceback" not in r.stderr,
        f"tests/{script} without arguments says its usage, not a traceback: {r.stderr.strip()[-200:]}")
+# ---- the README's install lines and .ci/run's: the same packages -----------
+def packages(line):
+    return line.split("apt-get install -y --no-install-recommends ", 1)[1].split(" && ")[0].split()
+
+
+lines = [l for l in readme.splitlines() if l.startswith("apt-get update && apt-get install -y")]
+ci = [l for l in open(os.path.join(root, ".ci", "run")).read().splitlines()
+      if l.startswith("apt-get update && apt-get install -y")]
+ok(len(lines) == 2 and len(ci) == 1 and packages(lines[0]) == packages(lines[1]) == packages(ci[0]),
+   f"the README's two install lines and .ci/run's name the same packages "
+   f"({[len(packages(l)) for l in lines + ci]} packages; only in .ci/run: "
+   f"{sorted(set(packages(ci[0])) - set(packages(lines[0]))) if ci and lines else '?'})")
 done()

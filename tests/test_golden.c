@@ -12,7 +12,7 @@
 #include "springpend/image_compare.h"
 #include "springpend/pipeline.h"
 #include "springpend/png_io.h"
-#include "gl_context.h"
+#include "render/gl_context.h"
 #include "tap.h"
 
 /* Both backends here reproduce the goldens exactly, so the rule is ten times

@@ -4,7 +4,7 @@
  * square sizes from 320x240 to 7680x4320. */
 #include <stdio.h>
 
-#include "layout.h"
+#include "frame/layout.h"
 #include "tap.h"
 
 #ifdef NDEBUG

@@ -27,21 +27,13 @@ import math
 import os
 import shutil
 import subprocess
-import sys
 
-from sptest import done, need_scipy, ok, png_text, runner
+from sptest import done, ffmpeg_rgb, need_scipy, ok, png_overlay, png_text, setup
 
-exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-work = os.path.abspath(os.path.join(sys.argv[3], "overlays"))
+exe, src, work, run = setup("overlays", ["ffmpeg"])
 need_scipy()
 import numpy as np  # noqa: E402
 from scipy import ndimage  # noqa: E402
-if not shutil.which("ffmpeg"):
-    print("1..0 # SKIP ffmpeg not installed (it decodes the PNGs)")
-    sys.exit(77)
-shutil.rmtree(work, ignore_errors=True)
-os.makedirs(work)
-run = runner(exe, work)
 
 L0, K, M, G, B, A, F = 0.5, 2.0, 0.5, 9.81, 0.15, 0.15, 0.9
 scene = os.path.join(work, "teach.ini")
@@ -57,13 +49,10 @@ COLOURS = {"velocity": (64, 217, 242), "acceleration": (255, 204, 38), "gravity"
 
 
 def pixels(path):
-    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt", "rgb24", "-"],
-                         capture_output=True, check=True).stdout
-    return np.frombuffer(raw, np.uint8).reshape(H, W, 3).astype(int)
+    return ffmpeg_rgb(path, W, H)
 
 
-def overlay(path):
-    return dict(line.split("=", 1) for line in png_text(path).get("springpend.overlay", "").splitlines())
+overlay = png_overlay
 
 
 def state_at(t):

@@ -10,9 +10,9 @@
 #include "springpend/frame.h"
 #include "springpend/scene.h"
 #include "springpend/sim.h"
-#include "layout.h"
-#include "panels.h"
-#include "text.h"
+#include "frame/layout.h"
+#include "frame/panels.h"
+#include "frame/text.h"
 #include "tap.h"
 
 #ifdef NDEBUG

@@ -11,7 +11,7 @@
 #include "springpend/common.h"
 #include "springpend/png_io.h"
 #include "springpend/render.h"
-#include "gl_context.h"
+#include "render/gl_context.h"
 #include "tap.h"
 
 enum { W = 640, H = 360, TRAIL_N = 60, LONG_TRAIL_N = 3000 };

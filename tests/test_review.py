@@ -11,45 +11,23 @@ import shutil
 import signal
 import stat
 import subprocess
-import sys
 import time
 import xml.dom.minidom
 
-exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-work = os.path.abspath(os.path.join(sys.argv[3], "review"))
+from sptest import done, err, ok, runner_bytes, setup
+
+exe, src, work, _ = setup("review", [])
 default = os.path.join(src, "..", "scenes", "default.ini")
-shutil.rmtree(work, ignore_errors=True)
-os.makedirs(work)
 root = os.geteuid() == 0
-count = failed = 0
 SWEEP = ["sweep", default, "--vary", "initial.angle=5:40:4", "--measure", "lyapunov",
          "--time", "2", "--threads", "1", "-q"]
 
 
-def ok(cond, what, skip=None):
-    global count, failed
-    count += 1
-    what = what.replace("\n", " | ")
-    if skip:
-        print(f"ok {count} - {what} # SKIP {skip}", flush=True)
-        return True
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def run(*args, timeout=60, **kw):
-    kw.setdefault("capture_output", True)
-    return subprocess.run([exe, *args], cwd=work, timeout=timeout, **kw)
+run = runner_bytes(exe, work)
 
 
 def path(*names):
     return os.path.join(work, *names)
-
-
-def err(r):
-    e = r.stderr
-    return (e.decode(errors="replace") if isinstance(e, bytes) else e or "").strip()
 
 
 # ---- a sweep's figure to a full device: the write error is not lost ----
@@ -369,5 +347,4 @@ except subprocess.TimeoutExpired:
 ok(waited is not None and p.returncode == 130,
    f"Ctrl-C while a FIFO scene waits for its writer: exit 130 promptly: {p.returncode} {waited}")
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

@@ -17,48 +17,23 @@ import shutil
 import signal
 import stat
 import subprocess
-import sys
 import threading
 import time
 
-exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-work = os.path.abspath(os.path.join(sys.argv[3], "safety"))
+from sptest import done, err, ok, part_files, runner_bytes, setup
+
+exe, src, work, _ = setup("safety", [])
 default = os.path.join(src, "..", "scenes", "default.ini")
-shutil.rmtree(work, ignore_errors=True)
-os.makedirs(work)
 root = os.geteuid() == 0
-count = failed = 0
 SMALL = ["--size", "64x48", "--set", "video.duration=0.1"]
 
 
-def ok(cond, what, skip=None):
-    global count, failed
-    count += 1
-    what = what.replace("\n", " | ")
-    if skip:
-        print(f"ok {count} - {what} # SKIP {skip}", flush=True)
-        return True
-    failed += not cond
-    print(f"{'' if cond else 'not '}ok {count} - {what}", flush=True)
-    return cond
-
-
-def run(*args, timeout=60, **kw):
-    kw.setdefault("capture_output", True)
-    return subprocess.run([exe, *args], cwd=work, timeout=timeout, **kw)
+run = runner_bytes(exe, work)
+parts = part_files
 
 
 def path(*names):
     return os.path.join(work, *names)
-
-
-def parts(folder):
-    return [n for n in os.listdir(folder) if n.endswith(".part")] if os.path.isdir(folder) else []
-
-
-def err(r):
-    e = r.stderr
-    return (e.decode(errors="replace") if isinstance(e, bytes) else e or "").strip()
 
 
 def file_limit(limit, ignore_xfsz):
@@ -394,5 +369,4 @@ ok(c1 == 0 and c2 == 0 and m2 - m1 < 25,
    f"{m2:.0f} MiB (holding the 240 more frames would take {240 * 320 * 240 * 4 / 2**20:.0f} "
    f"MiB)", skip="a sanitizer build" if sanitized else None)
 
-print(f"1..{count}")
-sys.exit(1 if failed else 0)
+done()

@@ -21,7 +21,7 @@
 #include "springpend/common.h"
 #include "springpend/frame.h"
 #include "springpend/sim.h"
-#include "compose.h"
+#include "frame/compose.h"
 #include "tap.h"
 
 #ifdef NDEBUG

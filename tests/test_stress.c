@@ -144,7 +144,7 @@ int main(int argc, char **argv)
         if (i < ADVISED && !sp_method_info(sc.integrator.method)->adaptive) {
             struct sp_dt_advice a;
             advised++;
-            if (sp_advise_dt(&sc, T, &a) == 0 && a.safe > 0 && run_at(&sc, a.safe, a.checked) == 0)
+            if (sp_advise_dt(&sc, T, NULL, &a) == 0 && a.safe > 0 && run_at(&sc, a.safe, a.checked) == 0)
                 kept++;
             else if (bad++ < 10) {
                 dup2(saved, 2);

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "springpend/common.h"
-#include "text.h"
+#include "frame/text.h"
 #include "tap.h"
 
 #ifdef NDEBUG

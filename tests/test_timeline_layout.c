@@ -18,7 +18,7 @@
 #include "springpend/frame.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
-#include "compose.h"
+#include "frame/compose.h"
 #include "tap.h"
 
 #ifdef NDEBUG

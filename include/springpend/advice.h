@@ -43,8 +43,10 @@ struct sp_dt_advice {
 };
 
 /* Fills *out for sc's fixed-step method over [0, t_end]. Adaptive methods:
- * SP_E_INPUT (they choose their own steps). Otherwise 0. */
-int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *out);
+ * SP_E_INPUT (they choose their own steps). SP_E_INTERRUPTED once the
+ * caller's *cancel is set (NULL = never). Otherwise 0. */
+int sp_advise_dt(const struct sp_scene *sc, double t_end, const volatile sig_atomic_t *cancel,
+                 struct sp_dt_advice *out);
 
 /* 1 when sim, a fixed-step run that sp_sim_advance stopped as unstable, was
  * not blowing up but lost energy at a pass close by the pivot (r < L0 / 2)
@@ -55,8 +57,10 @@ int sp_advise_failed_at_pass(const struct sp_sim *sim);
 /* Runs sc with dop853 (at its tolerance, at most 1e-9) over [0, t_end],
  * keeping a tenth of the guard's drift, for at most 2e7 evaluations;
  * *checked: s, how far it went (t_end, or less where the evaluations ran out).
- * 0 when it got that far; SP_E_UNSTABLE or SP_E_INTERRUPTED. */
-int sp_advise_adaptive(const struct sp_scene *sc, double t_end, double *checked);
+ * 0 when it got that far; SP_E_UNSTABLE, or SP_E_INTERRUPTED once the
+ * caller's *cancel is set (NULL = never). */
+int sp_advise_adaptive(const struct sp_scene *sc, double t_end,
+                       const volatile sig_atomic_t *cancel, double *checked);
 
 /* The bounce-swing exchange near 2:1, from Lynch's averaged equations for the
  * complex amplitudes of the swing, x = Re(A e^{i w_p t}) (x = l theta), and of

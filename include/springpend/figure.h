@@ -27,6 +27,9 @@ struct sp_figure_desc {
                                      (sp_scene_ini); NULL = none */
     const char *command;          /* provenance: the command line without the
                                      output's name; NULL = none */
+    const volatile sig_atomic_t *cancel; /* the caller's stop flag: once set,
+                                     drawing stops and nothing is written
+                                     (SP_E_INTERRUPTED); NULL = never */
 };
 
 /* A figure's scene record: the PDF /Subject's first line, the SVG

@@ -26,10 +26,13 @@
  *   waits for its reader); without it they are refused (SP_E_INPUT).
  * - While a .part exists its name is in a table a signal handler can read:
  *   sp_outfile_remove_parts removes them all (async-signal-safe).
+ * - A wait for a FIFO's reader stops once the flag handed to
+ *   sp_outfile_set_cancel is set (main hands it the signal flag).
  * Every failure is logged once, here, naming the path and the cause. */
 #ifndef SPRINGPEND_OUTFILE_H
 #define SPRINGPEND_OUTFILE_H
 
+#include <signal.h>
 #include <stddef.h>
 
 struct sp_outfile {
@@ -70,6 +73,11 @@ int sp_outfile_refuse_link(const char *target);
 /* Whether writing to target would write through it (a device, FIFO,
  * socket or stdout): such a target must never be removed. */
 int sp_outfile_is_stream(const char *target);
+
+/* The process's stop flag (nonzero once a run should stop; main's is the
+ * signal flag): a wait for a FIFO's reader ends when it is set. NULL, the
+ * default: the wait ends only when the open fails otherwise. */
+void sp_outfile_set_cancel(const volatile sig_atomic_t *cancel);
 
 /* Removes every .part now open in this process. Async-signal-safe: for the
  * handler of a second Ctrl-C. */

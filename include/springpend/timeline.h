@@ -65,7 +65,7 @@ struct sp_band_change {
 struct sp_timeline {
     char origin[256];          /* the scene file, for FILE:LINE messages */
     struct sp_cue *cues;       /* n_cues, in file order (= time order) */
-    int n_cues;
+    int n_cues, cap_cues;
     int cues_over;             /* lines past SP_TIMELINE_MAX_CUES (reported once) */
     char *pool;                /* the cues' texts, owned */
     size_t pool_used, pool_cap;
@@ -73,9 +73,9 @@ struct sp_timeline {
     int last_line;             /* that line, 0 = none yet */
     /* Derived by sp_timeline_plan: */
     struct sp_clock_piece *pieces; /* n_pieces, in video time order, owned */
-    int n_pieces;
+    int n_pieces, cap_pieces;
     struct sp_band_change *band;   /* n_band, in video time order, owned */
-    int n_band;
+    int n_band, cap_band;
     double length;             /* video s until the clock reaches the duration */
     int clocked;               /* 1: speed or pause cues (the clock is not k*speed/fps) */
     double speed_min, speed_max; /* simulated s per video s over the whole video */

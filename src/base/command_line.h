@@ -1,7 +1,8 @@
 /* springpend (internal): the command line a run was started with, for the
  * provenance every output carries. argv[0] is recorded as "springpend",
  * whatever path started it, so that the same command gives the same bytes
- * from any build or install. */
+ * from any build or install.
+ * Shared with: every folder. */
 #ifndef SPRINGPEND_COMMAND_LINE_H
 #define SPRINGPEND_COMMAND_LINE_H
 

@@ -1,6 +1,7 @@
 /* springpend (internal): the one syntax of numbers in scene files, --set and
  * compare.ini, so that none of them takes what strtod takes beyond it (hex
- * floats, inf, nan, leading blanks). */
+ * floats, inf, nan, leading blanks).
+ * Shared with: every folder. */
 #ifndef SPRINGPEND_DECIMAL_H
 #define SPRINGPEND_DECIMAL_H
 

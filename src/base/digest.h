@@ -1,6 +1,7 @@
 /* springpend (internal): SHA-256 digests as text. The hashing is nettle's
  * (struct sha256_ctx, sha256_init, sha256_update); nettle is small and
- * loads nothing else, so every command can link it. */
+ * loads nothing else, so every command can link it.
+ * Shared with: every folder. */
 #ifndef SPRINGPEND_DIGEST_H
 #define SPRINGPEND_DIGEST_H
 

@@ -1,4 +1,5 @@
-/* springpend: files embedded at build time by shaders/embed.py. */
+/* springpend: files embedded at build time by shaders/embed.py.
+ * Shared with: every folder. */
 #ifndef SPRINGPEND_EMBEDDED_H
 #define SPRINGPEND_EMBEDDED_H
 

@@ -17,7 +17,7 @@
 
 #include "springpend/common.h"
 #include "springpend/environment.h"
-#include "av_module.h"
+#include "sinks/av_module.h"
 #include "digest.h"
 #include "embedded.h"
 

@@ -1,6 +1,7 @@
 /* springpend (internal): the line-counting reader that scene files and
  * compare.ini hand to libinih (ini_parse_stream), so that every message
- * can say FILE:LINE. */
+ * can say FILE:LINE.
+ * Shared with: every folder. */
 #ifndef SPRINGPEND_INI_LINES_H
 #define SPRINGPEND_INI_LINES_H
 

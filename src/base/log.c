@@ -3,9 +3,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "clock.h"
 #include "springpend/common.h"
 #include "utf8.h"
 
@@ -104,13 +104,6 @@ static struct {
     const char *what;
 } progress;
 
-static double wall_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 void sp_progress_begin(int enable, const char *what, double t_goal)
 {
     sp_progress_end();
@@ -120,7 +113,7 @@ void sp_progress_begin(int enable, const char *what, double t_goal)
     progress.what = what;
     progress.goal = t_goal;
     progress.t_from = -1;
-    progress.wall0 = progress.wall_last = wall_s();
+    progress.wall0 = progress.wall_last = sp_clock_s();
 }
 
 void sp_progress_sim(void *ctx, double t)
@@ -128,7 +121,7 @@ void sp_progress_sim(void *ctx, double t)
     (void)ctx;
     if (!progress.on || (++progress.calls & 0xfff))
         return;
-    double now = wall_s();
+    double now = sp_clock_s();
     if (progress.t_from < 0)
         progress.t_from = t, progress.wall0 = now;
     if (now - progress.wall_last < 0.25 || now - progress.wall0 < 2 || !(progress.goal > 0))

@@ -13,7 +13,6 @@
 
 #include "springpend/common.h"
 #include "springpend/outfile.h"
-#include "signals.h"
 
 /* ---- the .part table a signal handler reads ---- */
 
@@ -25,6 +24,13 @@ static volatile sig_atomic_t part_armed[PART_SLOTS]; /* 1: part_name exists
                                                         and is ours */
 static int part_taken[PART_SLOTS];                   /* under part_lock */
 static pthread_mutex_t part_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static const volatile sig_atomic_t *cancel; /* sp_outfile_set_cancel's */
+
+void sp_outfile_set_cancel(const volatile sig_atomic_t *flag)
+{
+    cancel = flag;
+}
 
 void sp_outfile_remove_parts(void)
 {
@@ -137,7 +143,7 @@ static int open_through(struct sp_outfile *f, int fd)
         sp_fputs_line(f->target, stderr);
         fputs(" is a FIFO with no reader yet: waiting for one (Ctrl-C stops)\n", stderr);
     }
-    while (f->fd < 0 && (errno == ENXIO || errno == EINTR) && !sp_signal_seen())
+    while (f->fd < 0 && (errno == ENXIO || errno == EINTR) && !(cancel && *cancel))
         f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY);
     if (f->fd < 0 && errno == EINTR)
         return SP_E_INTERRUPTED; /* the caller says what stopped it */

@@ -3,7 +3,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "springpend/outfile.h"
 #include "signals.h"
 
 /* Every signal whose default would kill the process and leave its .part
@@ -21,6 +20,7 @@ static const char *const caught_name[SP_SIGNALS_CAUGHT] = {
 
 static volatile sig_atomic_t seen;  /* the first signal, 0 = none */
 static volatile sig_atomic_t count; /* signals since sp_signals_hold */
+static void (*volatile held_cleanup)(void); /* the hold's; NULL = none */
 
 static void on_signal(int sig)
 {
@@ -28,8 +28,8 @@ static void on_signal(int sig)
 }
 
 /* While held: the first sets the flag, the second stops at once. Only
- * async-signal-safe calls here. The .part table stays valid through the
- * sink's close (outfile.c). */
+ * async-signal-safe calls here (the cleanup is: outfile.c's .part table
+ * stays valid through the sink's close). */
 static void on_signal_held(int sig)
 {
     if (count++ == 0) {
@@ -38,7 +38,9 @@ static void on_signal_held(int sig)
     }
     static const char msg[] = "springpend: second signal: stopped at once, "
                               "partial file removed\n";
-    sp_outfile_remove_parts();
+    void (*cleanup)(void) = held_cleanup;
+    if (cleanup)
+        cleanup();
     if (write(2, msg, sizeof(msg) - 1) < 0) {
         /* nothing more can be done */
     }
@@ -80,9 +82,10 @@ const char *sp_signal_name(int sig)
     return "a signal";
 }
 
-void sp_signals_hold(struct sp_signals_saved *saved)
+void sp_signals_hold(struct sp_signals_saved *saved, void (*cleanup)(void))
 {
     count = 0;
+    held_cleanup = cleanup;
     set_handlers(on_signal_held, saved->old);
 }
 

@@ -1,10 +1,15 @@
-/* springpend (internal): the process's signals. The one owner of SIGINT, SIGTERM,
- * SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU and SIGPWR
- * (every signal that would otherwise kill the process with its .part files
- * left behind; signals.c says which are left alone and why): main installs a handler that sets a flag; long loops poll
- * sp_signal_seen, and hand sp_signal_flag to the simulation as its cancel
- * flag (sim.h). While a render holds them (sp_signals_hold), a second
- * signal removes the partial files (outfile.h) and exits at once. */
+/* springpend (internal): the process's signals. The one owner of SIGINT,
+ * SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU
+ * and SIGPWR (every signal that would otherwise kill the process with its
+ * .part files left behind; signals.c says which are left alone and why):
+ * main installs a handler that sets a flag; the commands (cli/) and the
+ * pipeline poll sp_signal_seen and hand sp_signal_flag down as a cancel
+ * flag (struct sp_sim's, a desc's): the code below them never reads it
+ * itself. While a render holds them (sp_signals_hold), a second signal
+ * calls the hold's cleanup (the pipeline's: outfile.h's, which removes the
+ * partial files) and exits at once.
+ * Shared with: cli, pipeline, compare (sp_signal_name only), sweep
+ * (sweep_plot.c, still to be handed a flag). */
 #ifndef SPRINGPEND_SIGNALS_H
 #define SPRINGPEND_SIGNALS_H
 
@@ -34,10 +39,11 @@ struct sp_signals_saved {
 };
 
 /* Until sp_signals_release: the first caught signal (counted
- * from here) sets the flag; a second removes every .part now open
- * (sp_outfile_remove_parts) and exits the process at once with status 128 +
- * signal. For a render that finishes the file so far on the first. */
-void sp_signals_hold(struct sp_signals_saved *saved);
+ * from here) sets the flag; a second calls cleanup (async-signal-safe, as
+ * sp_outfile_remove_parts, which removes every .part now open; NULL: none)
+ * and exits the process at once with status 128 + signal. For a render
+ * that finishes the file so far on the first. */
+void sp_signals_hold(struct sp_signals_saved *saved, void (*cleanup)(void));
 
 /* Restores the handlers sp_signals_hold replaced. */
 void sp_signals_release(const struct sp_signals_saved *saved);

@@ -1,4 +1,5 @@
-/* UTF-8 validation shared by the log, the scene checks and text layout. */
+/* UTF-8 validation and decoding shared by the log, the scene checks and
+ * text layout (utf8.h). */
 #include <stddef.h>
 #include <stdint.h>
 
@@ -19,4 +20,19 @@ size_t sp_utf8_char(const char *s)
         (n == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
         return 0;
     return n;
+}
+
+uint32_t sp_utf8_decode(const char *s, size_t *len)
+{
+    const unsigned char *u = (const unsigned char *)s;
+    const size_t n = sp_utf8_char(s);
+    if (!n) {
+        *len = 1;
+        return 0xFFFD;
+    }
+    uint32_t cp = n == 1 ? u[0] : u[0] & (0x7Fu >> n);
+    for (size_t i = 1; i < n; i++)
+        cp = cp << 6 | (u[i] & 0x3Fu);
+    *len = n;
+    return cp;
 }

@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "decimal.h"
+#include "base/decimal.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
 #include "springpend/pipeline.h"

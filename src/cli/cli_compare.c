@@ -17,9 +17,9 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "base/clock.h"
 #include "cli.h"
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
@@ -31,8 +31,8 @@
 #include "springpend/scene.h"
 #include "springpend/snapshot_list.h"
 #include "springpend/video_read.h"
-#include "decimal.h"
-#include "signals.h"
+#include "base/decimal.h"
+#include "base/signals.h"
 
 static const char compare_usage[] =
     "usage: springpend compare EXPECTED ACTUAL [options]\n"
@@ -460,14 +460,6 @@ static void note_provenance(struct sp_compare_record *r)
     }
 }
 
-/* A monotonic clock, s. */
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Marks r as not comparable. */
 static int record_error(struct sp_compare_record *r, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
@@ -831,7 +823,7 @@ static void compare_item(struct compare_cli *c, struct sp_compare_record *r,
     const char *diff = NULL;
     struct sp_compare_record *t = NULL;
     int video = !sp_snapshot_is_png(it->name), matched = -2;
-    double t0 = now_s();
+    double t0 = sp_clock_s();
     snprintf(pa, sizeof(pa), "%s/%s", dir_a, it->name);
     if (c->diff) {
         const char *dot = strrchr(it->name, '.');
@@ -884,7 +876,7 @@ static void compare_item(struct compare_cli *c, struct sp_compare_record *r,
                  "no baseline matched: %s and %d alternative%s (%s%s)",
                  it->expected ? "the plain one" : "no plain one", it->n_alts,
                  it->n_alts > 1 ? "s" : "", it->alts[0], it->n_alts > 1 ? ", ..." : "");
-    r->seconds = now_s() - t0;
+    r->seconds = sp_clock_s() - t0;
 }
 
 /* The images a folder compare hands to its threads. */
@@ -1290,15 +1282,15 @@ int sp_cmd_compare(int argc, char **argv)
             record_error(r, "no baseline %s", e);
             add_hint(r, e, a);
         } else if (is_png_path(e)) {
-            double t0 = now_s();
+            double t0 = sp_clock_s();
             const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
             compare_files(&c, r, a, base, e, a, c.diff);
-            r->seconds = now_s() - t0;
+            r->seconds = sp_clock_s() - t0;
         } else {
-            double t0 = now_s();
+            double t0 = sp_clock_s();
             const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
             ret = compare_videos(&c, r, a, base, e, a, c.diff);
-            r->seconds = now_s() - t0;
+            r->seconds = sp_clock_s() - t0;
             rep.interrupted = ret == SP_E_INTERRUPTED ? sp_signal_seen() : 0;
         }
         if (c.candidates) {

@@ -16,8 +16,8 @@
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
-#include "signals.h"
-#include "sim_report.h"
+#include "base/signals.h"
+#include "sim/sim_report.h"
 
 /* The most rows one run writes, and the size of a typical row, bytes. */
 #define MAX_ROWS 1e7

@@ -12,6 +12,7 @@
 #include "springpend/compare_report.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
+#include "base/signals.h"
 
 static const char info_usage[] =
     "usage: springpend info SCENE [--json] [--set SECTION.KEY=VAL ...]\n"
@@ -374,7 +375,7 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
     }
     in.driven = sp_advise_drive(&sim.p, &sim.s, &in.drive) == 0;
     if (!sp_method_info(sc.integrator.method)->adaptive) {
-        ret = sp_advise_dt(&sc, sc.video.duration, &in.dt);
+        ret = sp_advise_dt(&sc, sc.video.duration, sp_signal_flag(), &in.dt);
         if (ret)
             return ret;
         in.margin = in.dt.limit / sc.integrator.dt;
@@ -383,7 +384,7 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
                          (isnan(in.dt.safe) || in.dt.checked < sc.video.duration);
         double checked;
         if (in.dt.pass_bound) {
-            ret = sp_advise_adaptive(&sc, sc.video.duration, &checked);
+            ret = sp_advise_adaptive(&sc, sc.video.duration, sp_signal_flag(), &checked);
             if (ret == SP_E_INTERRUPTED)
                 return ret;
             if (ret == 0 && checked >= sc.video.duration)

@@ -15,6 +15,19 @@
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
 
+/* The end of render's and still's help: scenes side by side. */
+#define SIDE_BY_SIDE_HELP \
+    "Side by side: with 2 to 4 SCENE files each scene is drawn in its own cell of\n" \
+    "the frame (in a row, or 2x2 for 4; in a column on a portrait frame), labelled\n" \
+    "with its view.title or, without one, the keys in which the scenes differ, all\n" \
+    "at one camera scale (a metre is the same length in every cell) and with the\n" \
+    "same chart axes. They share the first scene's [video] width, height, fps and\n" \
+    "speed and [view] theme, background, font, font_size and font_scale (a scene\n" \
+    "that differs in one is refused; --set applies to every scene); [timeline],\n" \
+    "[ensemble] and --state take one scene. Scenes of different durations run to\n" \
+    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n" \
+    "The output is named after the first scene.\n"
+
 static const char render_usage[] =
     "usage: springpend render SCENE [SCENE ...] [-o OUTPUT] [options]\n"
     "\n"
@@ -67,16 +80,7 @@ static const char render_usage[] =
     "sized for the longest text the timeline shows and stays fixed; --frames and\n"
     "--shard pieces join into the whole video.\n"
     "\n"
-    "Side by side: with 2 to 4 SCENE files each scene is drawn in its own cell of\n"
-    "the frame (in a row, or 2x2 for 4; in a column on a portrait frame), labelled\n"
-    "with its view.title or, without one, the keys in which the scenes differ, all\n"
-    "at one camera scale (a metre is the same length in every cell) and with the\n"
-    "same chart axes. They share the first scene's [video] width, height, fps and\n"
-    "speed and [view] theme, background, font, font_size and font_scale (a scene\n"
-    "that differs in one is refused; --set applies to every scene); [timeline],\n"
-    "[ensemble] and --state take one scene. Scenes of different durations run to\n"
-    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n"
-    "The output is named after the first scene.\n";
+    SIDE_BY_SIDE_HELP;
 
 static const char still_usage[] =
     "usage: springpend still SCENE [SCENE ...] [--at SECONDS] [-o OUTPUT.png|.svg|.pdf]\n"
@@ -116,16 +120,7 @@ static const char still_usage[] =
     "theme, background, colormap, colorbar, strobe, trail = all): see 'springpend keys'.\n"
     "A transparent background writes a PNG with alpha, for slides.\n"
     "\n"
-    "Side by side: with 2 to 4 SCENE files each scene is drawn in its own cell of\n"
-    "the frame (in a row, or 2x2 for 4; in a column on a portrait frame), labelled\n"
-    "with its view.title or, without one, the keys in which the scenes differ, all\n"
-    "at one camera scale (a metre is the same length in every cell) and with the\n"
-    "same chart axes. They share the first scene's [video] width, height, fps and\n"
-    "speed and [view] theme, background, font, font_size and font_scale (a scene\n"
-    "that differs in one is refused; --set applies to every scene); [timeline],\n"
-    "[ensemble] and --state take one scene. Scenes of different durations run to\n"
-    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n"
-    "The output is named after the first scene.\n";
+    SIDE_BY_SIDE_HELP;
 
 /* Writes the physics of the still's frame as JSON, whole or not at all. */
 static int write_state(const char *path, const struct sp_scene *scene,

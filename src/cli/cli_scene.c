@@ -7,7 +7,7 @@
 #include <strings.h>
 
 #include "cli.h"
-#include "decimal.h"
+#include "base/decimal.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/figure.h"

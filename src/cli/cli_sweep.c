@@ -10,24 +10,24 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
-#include "av_module.h"
+#include "base/clock.h"
+#include "base/module.h"
 #include "cli.h"
-#include "decimal.h"
-#include "digest.h"
+#include "base/decimal.h"
+#include "base/digest.h"
 #include <jansson.h>
-#include "signals.h"
+#include "base/signals.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
-#include "command_line.h"
-#include "sweep.h"
-#include "sweep_format.h"
+#include "base/command_line.h"
+#include "sweep/sweep.h"
+#include "sweep/sweep_format.h"
 
 static const char sweep_usage[] =
     "usage: springpend sweep SCENE --vary KEY=FROM:TO:COUNT [--vary KEY=FROM:TO:COUNT]\n"
@@ -418,13 +418,6 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
                        quiet);
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 struct progress {
     double t0, last;
 };
@@ -432,7 +425,7 @@ struct progress {
 static void show_progress(void *user, long done, long total)
 {
     struct progress *p = user;
-    double now = now_s();
+    double now = sp_clock_s();
     if (done < total && now - p->last < 0.1)
         return;
     p->last = now;
@@ -503,6 +496,12 @@ static int check_used(const struct sweep_opts *o)
         for (size_t k = 0; sec == 4 && !strncmp(s, "view", 4) &&
                            k < sizeof(figure_keys) / sizeof(figure_keys[0]); k++)
             used |= strlen(figure_keys[k]) == n - 5 && !strncmp(s + 5, figure_keys[k], n - 5);
+        if (used && (!strncmp(s, "view.xlabel=", 12) || !strncmp(s, "view.ylabel=", 12)) &&
+            strchr(s, '|')) { /* a still's names per panel; the figure has one plot */
+            sp_log_error("--set %s: a sweep figure has one plot, so one name; '|' separates "
+                         "the names of a still's panels", s);
+            return SP_E_INPUT;
+        }
         if (!used) {
             sp_log_error("--set %.*s: sweep does not use %.*s; it takes the [pendulum], "
                          "[initial], [pivot] and [integrator] keys, and view.theme, colormap, "
@@ -617,7 +616,7 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         struct sp_plot_style style = o->style; /* with the scene, as the CSV's dc:source */
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
         char *command = sp_command_line_unnamed();
-        style.scene_file = ini, style.command = command;
+        style.scene_file = ini, style.command = command, style.scene = pv->scene;
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
         free(ini);
         free(command);
@@ -1027,8 +1026,8 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
     ret = sp_sweep_write_header(fp, d, NULL);
     long blown = 0, unreachable = 0;
-    struct progress prog = {.t0 = now_s()};
-    double t0 = now_s();
+    struct progress prog = {.t0 = sp_clock_s()};
+    double t0 = sp_clock_s();
     if (!ret)
         ret = sp_sweep_run(d, scene, first, last, o->threads, fp, &blown, &unreachable,
                            !o->quiet && isatty(2) ? show_progress : NULL, &prog);
@@ -1056,7 +1055,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     if (!o->quiet)
         sp_fprintf_line(stderr, "wrote %s%s%s: %ld points in %.2f s",
                 o->output ? o->output : o->csv ? "" : "stdout", o->output && o->csv ? " and " : "",
-                o->csv ? o->csv : "", last - first, now_s() - t0);
+                o->csv ? o->csv : "", last - first, sp_clock_s() - t0);
     return 0;
 }
 
@@ -1076,6 +1075,7 @@ int sp_cmd_sweep(int argc, char **argv)
     if ((ret = check_used(&o)) || (ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
     sp_timeline_destroy(&scene.timeline); /* the [timeline] is presentation: sweeps ignore it */
+    d.cancel = sp_signal_flag(); /* a signal stops the run */
     ret = sweep_scene(&o, &d, &scene);
     sp_scene_free(&scene);
     return ret;

@@ -7,11 +7,12 @@
 #include <string.h>
 
 #include "cli.h"
-#include "command_line.h"
+#include "base/command_line.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
+#include "springpend/outfile.h"
 #include "springpend/render.h"
-#include "signals.h"
+#include "base/signals.h"
 
 static const char usage[] =
     "springpend " SP_VERSION " - renders the spring (elastic) pendulum, headless\n"
@@ -136,6 +137,7 @@ int main(int argc, char **argv)
      * and cleaned up like any write error, instead of killing the process. */
     signal(SIGXFSZ, SIG_IGN);
     sp_signals_install();
+    sp_outfile_set_cancel(sp_signal_flag()); /* a FIFO's wait stops on a signal */
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
         if (!strcmp(argv[1], commands[i].name))
             return exit_status(stdout_checked(commands[i].run(argc - 1, argv + 1)));

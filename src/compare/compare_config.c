@@ -13,8 +13,8 @@
 
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
-#include "decimal.h"
-#include "ini_lines.h"
+#include "base/decimal.h"
+#include "base/ini_lines.h"
 
 /* The largest max_pixels count: any count beyond an image's pixels passes it;
  * this one stays below LONG_MAX. */

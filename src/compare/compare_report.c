@@ -10,19 +10,15 @@
 
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
-#include "signals.h"
-#include "text.h"
+#include "base/array.h"
+#include "base/signals.h"
+#include "frame/text.h"
 
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
 {
-    if (rep->n == rep->cap) {
-        int cap = rep->cap ? 2 * rep->cap : 16;
-        struct sp_compare_record *r = realloc(rep->records, sizeof(*r) * (size_t)cap);
-        if (!r) {
-            sp_log_error("out of memory for the comparison's records");
-            return NULL;
-        }
-        rep->records = r, rep->cap = cap;
+    if (SP_ARRAY_RESERVE(rep->records, rep->cap, rep->n + 1, 16)) {
+        sp_log_error("out of memory for the comparison's records");
+        return NULL;
     }
     struct sp_compare_record *r = &rep->records[rep->n++];
     memset(r, 0, sizeof(*r));

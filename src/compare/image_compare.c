@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "digest.h"
+#include "base/digest.h"
 #include "springpend/common.h"
 #include "springpend/image_compare.h"
 

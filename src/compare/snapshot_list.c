@@ -10,6 +10,7 @@
 
 #include "springpend/common.h"
 #include "springpend/snapshot_list.h"
+#include "base/array.h"
 
 /* The extension's dot in name's last component, or NULL. */
 static const char *ext_of(const char *name)
@@ -43,13 +44,8 @@ struct names {
 
 static int names_add(struct names *s, const char *name)
 {
-    if (s->n == s->cap) {
-        int cap = s->cap ? 2 * s->cap : 64;
-        char **v = realloc(s->v, sizeof(*v) * (size_t)cap);
-        if (!v)
-            return SP_E_NOMEM;
-        s->v = v, s->cap = cap;
-    }
+    if (SP_ARRAY_RESERVE(s->v, s->cap, s->n + 1, 64))
+        return SP_E_NOMEM;
     if (!(s->v[s->n] = strdup(name)))
         return SP_E_NOMEM;
     s->n++;
@@ -157,13 +153,8 @@ void sp_snapshot_alt_name(const char *name, const char *key, char *out, int size
 
 static struct sp_snapshot *item_add(struct sp_snapshot_list *l, int *cap, const char *name)
 {
-    if (l->n == *cap) {
-        int c = *cap ? 2 * *cap : 64;
-        struct sp_snapshot *v = realloc(l->items, sizeof(*v) * (size_t)c);
-        if (!v)
-            return NULL;
-        l->items = v, *cap = c;
-    }
+    if (SP_ARRAY_RESERVE(l->items, *cap, l->n + 1, 64))
+        return NULL;
     struct sp_snapshot *it = &l->items[l->n];
     memset(it, 0, sizeof(*it));
     if (!(it->name = strdup(name)))

@@ -5,7 +5,7 @@
 
 #include "springpend/common.h"
 #include "springpend/video_read.h"
-#include "av_module.h"
+#include "sinks/av_module.h"
 
 int sp_video_reader_open(struct sp_video_reader **out, const char *path)
 {

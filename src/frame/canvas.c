@@ -1,9 +1,11 @@
 /* springpend (internal): the per-frame draw list. See canvas.h. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "springpend/common.h"
+#include "base/array.h"
 #include "canvas.h"
 
 void sp_canvas_reset(struct sp_canvas *c)
@@ -31,19 +33,12 @@ void sp_canvas_blend(struct sp_canvas *c, enum sp_blend blend) { c->blend = blen
  * (remembered in c->err). */
 static int grow(struct sp_canvas *c, void **items, int *cap, int used, int n, size_t size)
 {
-    int want = *cap ? *cap : 256;
-    void *p;
     if (c->err)
         return c->err;
-    if (used + n <= *cap)
-        return 0;
-    while (want < used + n)
-        want *= 2;
-    p = realloc(*items, (size_t)want * size);
-    if (!p)
+    size_t room = (size_t)*cap;
+    if (sp_array_reserve(items, size, &room, (size_t)used + (size_t)n, 256, INT_MAX))
         return c->err = SP_E_NOMEM;
-    *items = p;
-    *cap = want;
+    *cap = (int)room;
     return 0;
 }
 

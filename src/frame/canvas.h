@@ -19,7 +19,8 @@
  * dynamic: the motion) so that a backend may cache the static part and
  * append to the settled one. Both backends draw the accumulated layer, then
  * the shapes in list order, then the text over them. Allocation failures are remembered in `err` and reported once
- * by the caller. */
+ * by the caller.
+ * Shared with: render (the draw list its backends draw). */
 #ifndef SPRINGPEND_CANVAS_H
 #define SPRINGPEND_CANVAS_H
 

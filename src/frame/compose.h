@@ -2,7 +2,8 @@
  * (canvas.h): the trail, stroboscopic images, mount, spring and bob in a
  * camera fitted to the motion, and the panels, heads-up text and colourbar
  * the look (sp_look: [view] and a few scene numbers) asks for, placed by
- * layout.c. Includes no GL or cairo: any backend draws the result. */
+ * layout.c. Includes no GL or cairo: any backend draws the result.
+ * Shared with: render (render.c composes each frame). */
 #ifndef SPRINGPEND_COMPOSE_H
 #define SPRINGPEND_COMPOSE_H
 

@@ -5,6 +5,7 @@
 
 #include "springpend/common.h"
 #include "springpend/ensemble.h"
+#include "base/array.h"
 
 /* The members' scenes and parameters: value i = centre + spread (i/(n-1) - 1/2),
  * set through the parser's own path (sp_scene_set_number), so that a single
@@ -229,19 +230,13 @@ int sp_ensemble_advance(struct sp_ensemble *e, double t)
     } else {
         return 0;
     }
-    if (e->n_spread == e->cap_spread) {
-        const int cap = e->cap_spread ? 2 * e->cap_spread : 1024;
-        float *a = realloc(e->spread_t, (size_t)cap * sizeof(*a));
-        if (a)
-            e->spread_t = a;
-        float *b = a ? realloc(e->spread_log, (size_t)cap * sizeof(*b)) : NULL;
-        if (!b) {
-            sp_log_error("out of memory for %d spread samples", cap);
-            return SP_E_NOMEM;
-        }
-        e->spread_log = b;
-        e->cap_spread = cap;
+    int cap_t = e->cap_spread, cap_log = e->cap_spread; /* both grow alike */
+    if (SP_ARRAY_RESERVE(e->spread_t, cap_t, e->n_spread + 1, 1024) ||
+        SP_ARRAY_RESERVE(e->spread_log, cap_log, e->n_spread + 1, 1024)) {
+        sp_log_error("out of memory for %d spread samples", e->n_spread + 1);
+        return SP_E_NOMEM;
     }
+    e->cap_spread = cap_log;
     e->spread_t[e->n_spread] = (float)e->t;
     e->spread_log[e->n_spread++] = (float)log10(fmax(sp_ensemble_spread(e), 1e-300));
     if (e->trail_cap) {

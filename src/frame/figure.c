@@ -12,10 +12,9 @@
 #include "springpend/figure.h"
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
-#include "av_module.h"
+#include "base/module.h"
 #include "compose.h"
-#include "draw_cairo.h"
-#include "signals.h"
+#include "render/draw_cairo.h"
 
 enum sp_figure_format sp_figure_format(const char *path)
 {
@@ -59,11 +58,12 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
             .canvas = cv, .font = sp_compose_cells_font(c), .width = d->width,
             .height = d->height, .page_w = d->page_w, .page_h = d->page_h, .fd = out.fd,
             .path = d->path, .format = format,
-            .title = d->title, .scene_file = d->scene_file, .command = d->command};
+            .title = d->title, .scene_file = d->scene_file, .command = d->command,
+            .cancel = d->cancel};
         memcpy(dd.background, sp_compose_cells_palette(c)->background, sizeof(dd.background));
         err = write_fn(&dd);
     }
-    if (!err && sp_signal_seen()) /* a signal while drawing: nothing written */
+    if (!err && d->cancel && *d->cancel) /* stopped while drawing: nothing written */
         err = SP_E_INTERRUPTED;
     if (!err)
         err = sp_outfile_commit(&out); /* whole or not at all */

@@ -1,12 +1,14 @@
 /* springpend: the frame model: the trail ring buffer and the view extent
  * found by a physics pre-pass. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 
 #include "springpend/advice.h"
 #include "springpend/common.h"
 #include "springpend/frame.h"
-#include "sim_report.h"
+#include "base/array.h"
+#include "sim/sim_report.h"
 
 int sp_trail_make(struct sp_trail *tr, int capacity)
 {
@@ -239,18 +241,12 @@ void sp_history_destroy(struct sp_history *h)
 /* Makes room for one more element; 0 or SP_E_NOMEM (logged). */
 static int grow(void **items, int *cap, int used, size_t size, const char *what)
 {
-    void *p;
-    int want;
-    if (used < *cap)
-        return 0;
-    want = *cap ? 2 * *cap : 1024;
-    p = realloc(*items, (size_t)want * size);
-    if (!p) {
-        sp_log_error("out of memory for %d %s", want, what);
+    size_t room = (size_t)*cap;
+    if (sp_array_reserve(items, size, &room, (size_t)used + 1, 1024, INT_MAX)) {
+        sp_log_error("out of memory for %d %s", used + 1, what);
         return SP_E_NOMEM;
     }
-    *items = p;
-    *cap = want;
+    *cap = (int)room;
     return 0;
 }
 

@@ -1,7 +1,8 @@
 /* springpend (internal): the teaching overlays drawn into a canvas: strip
  * charts (r, theta, energy, extension), phase portraits, the Poincare
  * section, the heads-up text and the speed colourbar. Axes come from the
- * pre-pass ranges (struct sp_view_extent), so they never jump. */
+ * pre-pass ranges (struct sp_view_extent), so they never jump.
+ * Shared with: sweep (sweep_plot.c's colormaps). */
 #ifndef SPRINGPEND_PANELS_H
 #define SPRINGPEND_PANELS_H
 

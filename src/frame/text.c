@@ -11,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <time.h>
 
 #include <fontconfig/fontconfig.h>
 #include <fribidi.h>
@@ -20,9 +19,10 @@
 #include <hb.h>
 #include <hb-ot.h>
 
+#include "base/clock.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
-#include "embedded.h"
+#include "base/embedded.h"
 #include "text.h"
 
 #define PAD 1                /* texels around each glyph in the atlas */
@@ -86,25 +86,6 @@ struct sp_font {
     struct shaped *last;        /* the line line_get returned last, or NULL */
     hb_buffer_t *buf;
 };
-
-/* ---- UTF-8 ---- */
-
-/* The code point at s (sp_utf8_char's length in *len), U+FFFD with length 1
- * for a malformed byte. */
-static uint32_t utf8_decode(const char *s, size_t *len)
-{
-    const unsigned char *u = (const unsigned char *)s;
-    const size_t n = sp_utf8_char(s);
-    if (!n) {
-        *len = 1;
-        return 0xFFFD;
-    }
-    uint32_t cp = n == 1 ? u[0] : u[0] & (0x7Fu >> n);
-    for (size_t i = 1; i < n; i++)
-        cp = cp << 6 | (u[i] & 0x3Fu);
-    *len = n;
-    return cp;
-}
 
 /* Format characters that show nothing and need no glyph: zero-width
  * space and (non-)joiners, direction marks and embeddings, word joiner
@@ -377,13 +358,6 @@ static int find_faces(struct sp_font *f, const char *family)
 
 /* ---- the glyph cache ---- */
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static uint64_t glyph_key(int face, int size, unsigned index)
 {
     return (uint64_t)(face + 1) << 32 | (uint64_t)size << 28 | (index & 0x0FFFFFFFu);
@@ -457,7 +431,7 @@ static const struct cached *glyph_get(struct sp_font *f, int face, int size, uns
     FT_Error e;
     if (c && c->key)
         return c;
-    const double t0 = now_s();
+    const double t0 = sp_clock_s();
     if (slots_reserve(f) || face_open(f, face))
         return NULL;
     if (fc->ft_px != f->px[size] && FT_Set_Pixel_Sizes(fc->ft, 0, (FT_UInt)f->px[size])) {
@@ -491,7 +465,7 @@ static const struct cached *glyph_get(struct sp_font *f, int face, int size, uns
     *c = g;
     f->used_slots++;
     f->rastered++;
-    f->raster_s += now_s() - t0;
+    f->raster_s += sp_clock_s() - t0;
     return c;
 }
 
@@ -556,7 +530,7 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
     for (int i = 0; i < bytes;) {
         size_t len;
         off[n] = i;
-        cp[n++] = utf8_decode(text + i, &len);
+        cp[n++] = sp_utf8_decode(text + i, &len);
         i += (int)len;
     }
     off[n] = bytes;
@@ -790,7 +764,7 @@ int sp_font_check(const struct sp_font *f, const char *what, const char *s)
     char names[1024] = "", chars[512] = "";
     int bad = 0;
     for (size_t i = 0, len; s[i]; i += len) {
-        const uint32_t cp = utf8_decode(s + i, &len);
+        const uint32_t cp = sp_utf8_decode(s + i, &len);
         if (!sp_utf8_char(s + i)) {
             sp_log_error("%s: malformed UTF-8 at byte %zu; text is UTF-8", what, i);
             return SP_E_INPUT;
@@ -840,10 +814,8 @@ static int may_break_before(const char *s)
     /* combining marks U+0300-036F, U+0483-0489, U+0591-05C7, U+0610-061A,
      * U+064B-065F, U+0670, U+06D6-06ED, the Indic signs and vowel marks
      * (U+0900-0DFF blocks' dependent signs), U+200C/U+200D, U+20D0-20FF */
-    size_t n = sp_utf8_char(s);
-    uint32_t cp = n == 1 ? u[0] : n ? u[0] & (0x7Fu >> n) : 0;
-    for (size_t i = 1; i < n; i++)
-        cp = cp << 6 | (u[i] & 0x3Fu);
+    size_t n;
+    const uint32_t cp = sp_utf8_decode(s, &n); /* U+FFFD, malformed: may break */
     if ((cp >= 0x0300 && cp <= 0x036F) || (cp >= 0x0483 && cp <= 0x0489) ||
         (cp >= 0x0591 && cp <= 0x05C7) || (cp >= 0x0610 && cp <= 0x061A) ||
         (cp >= 0x064B && cp <= 0x065F) || cp == 0x0670 || (cp >= 0x06D6 && cp <= 0x06ED) ||

@@ -14,7 +14,9 @@
  *     outlines at the same pen positions with their text (draw_cairo.c).
  * Positions are whole pixels (each advance rounded), so the same string
  * always gives the same pixels. Strings are laid out on one line;
- * sp_font_wrap breaks a text into lines of a width. */
+ * sp_font_wrap breaks a text into lines of a width.
+ * Shared with: compare, render, sweep (layout and shaping for reports,
+ * figures and their titles). */
 #ifndef SPRINGPEND_TEXT_H
 #define SPRINGPEND_TEXT_H
 
@@ -33,7 +35,7 @@ struct sp_glyph_quad {
     float color[4]; /* straight RGBA, 0..1 */
 };
 
-#include "utf8.h"
+#include "base/utf8.h"
 
 struct sp_font;
 

@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "base/clock.h"
 #include "springpend/common.h"
 #include "springpend/ensemble.h"
 #include "springpend/figure.h"
@@ -22,18 +22,11 @@
 #include "springpend/render.h"
 #include "springpend/sink.h"
 #include "springpend/timeline.h"
-#include "command_line.h"
-#include "signals.h"
-#include "sim_report.h"
+#include "base/command_line.h"
+#include "base/signals.h"
+#include "sim/sim_report.h"
 
 #define QUEUE_SLOTS 4 /* frames in flight between render and encoder */
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* ---- the bounded queue ---- */
 
@@ -57,18 +50,18 @@ static void *consume(void *arg)
     struct queue *q = arg;
     pthread_mutex_lock(&q->lock);
     for (;;) {
-        double t0 = now_s();
+        double t0 = sp_clock_s();
         while (!q->count && !q->closed)
             pthread_cond_wait(&q->changed, &q->lock);
-        q->idle_s += now_s() - t0;
+        q->idle_s += sp_clock_s() - t0;
         if (!q->count || q->cancel)
             break;
         struct sp_image *img = &q->slot[q->head];
         sp_provenance_set_time(q->prov, q->slot_t[q->head]);
         pthread_mutex_unlock(&q->lock);
-        t0 = now_s();
+        t0 = sp_clock_s();
         int err = sp_sink_write(q->sink, img); /* logs its own failure */
-        double dt = now_s() - t0;
+        double dt = sp_clock_s() - t0;
         pthread_mutex_lock(&q->lock);
         q->encode_s += dt;
         q->head = (q->head + 1) % QUEUE_SLOTS;
@@ -89,14 +82,14 @@ static void *consume(void *arg)
  * NULL with *err set if the consumer failed. *wait_s grows by the wait. */
 static struct sp_image *acquire(struct queue *q, int *err, double *wait_s)
 {
-    double t0 = now_s();
+    double t0 = sp_clock_s();
     pthread_mutex_lock(&q->lock);
     while (q->count == QUEUE_SLOTS && !q->err)
         pthread_cond_wait(&q->changed, &q->lock);
     *err = q->err;
     struct sp_image *slot = &q->slot[(q->head + q->count) % QUEUE_SLOTS];
     pthread_mutex_unlock(&q->lock);
-    *wait_s += now_s() - t0;
+    *wait_s += sp_clock_s() - t0;
     return *err ? NULL : slot;
 }
 
@@ -115,7 +108,7 @@ static void publish(struct queue *q, double t)
 
 static void show_progress(int done, int total, double t0)
 {
-    double el = now_s() - t0, fps = el > 0 ? done / el : 0;
+    double el = sp_clock_s() - t0, fps = el > 0 ? done / el : 0;
     double eta = fps > 0 ? (total - done) / fps : 0;
     char bar[31];
     int fill = total ? (int)(30L * done / total) : 30;
@@ -384,7 +377,7 @@ static int run_setup(struct run *run)
     int ret;
     if (desc->handle_signals) {
         /* From the start: a signal during setup stops before frame one. */
-        sp_signals_hold(&run->saved_signals);
+        sp_signals_hold(&run->saved_signals, sp_outfile_remove_parts);
         run->signals_held = 1;
     }
     /* A still past the video's end still fits its camera to the whole
@@ -545,7 +538,8 @@ static int run_figure(struct run *run)
         .page_w = run->desc->pt_px > 0 ? run->desc->page_w : 0,
         .page_h = run->desc->pt_px > 0 ? run->desc->page_h : 0,
         .title = run->sc->name, .path = run->desc->output, .cells = 1 + run->n_more,
-        .looks = run->looks, .scene_file = ini, .command = command},
+        .looks = run->looks, .scene_file = ini, .command = command,
+        .cancel = sp_signal_flag()},
         frames_of(run, run->desc->still_at, frames));
     free(ini);
     free(command);
@@ -617,24 +611,24 @@ static int run_video(struct run *run)
         return SP_E_NOMEM;
     }
     run->encoder_running = 1;
-    tm->setup = now_s() - run->t_start;
+    tm->setup = sp_clock_s() - run->t_start;
 
-    const double t0 = now_s();
+    const double t0 = sp_clock_s();
     for (int k = 0; k < run->last && !stopped(run); k++) {
-        double ts = now_s();
+        double ts = sp_clock_s();
         sp_timeline_frame(sc, k, &run->moment);
         ret = run_follow(run, run->moment.t);
         if (ret == SP_E_INTERRUPTED && stopped(run))
             break; /* keep the frames so far, in run_finish */
         if (ret)
             return ret;
-        tm->sim += now_s() - ts;
+        tm->sim += sp_clock_s() - ts;
         if (k < run->first)
             continue; /* frames before the range only feed trail and histories */
         struct sp_image *slot = acquire(q, &ret, &tm->wait);
         if (!slot)
             return ret;
-        ts = now_s();
+        ts = sp_clock_s();
         ret = render_frame(run, slot);
         if (ret)
             return ret;
@@ -645,7 +639,7 @@ static int run_video(struct run *run)
                                                   sizeof(run->prov.environment))) != 0)
                 return ret;
         }
-        tm->render += now_s() - ts;
+        tm->render += sp_clock_s() - ts;
         publish(q, run->sim.s.t);
         run->emitted++;
         if (run->desc->progress && (run->emitted % 10 == 0 || k == run->last - 1))
@@ -672,7 +666,7 @@ static int run_finish(struct run *run)
         if (ret)
             return ret;
     }
-    const double t0 = now_s();
+    const double t0 = sp_clock_s();
     if (stopped(run) && desc->progress)
         fputc('\n', stderr);
     if (stopped(run) && !run->emitted && !desc->still)
@@ -680,8 +674,8 @@ static int run_finish(struct run *run)
     ret = sp_sink_close(&run->sink);
     if (!ret && desc->state_out)
         *desc->state_out = run->sim.s;
-    run->tm.finish = now_s() - t0;
-    run->tm.total = now_s() - run->t_start;
+    run->tm.finish = sp_clock_s() - t0;
+    run->tm.total = sp_clock_s() - run->t_start;
     if (!ret && stopped(run)) {
         sp_log_error("interrupted by %s: kept the %d frame%s rendered so far "
                      "in %s", sp_signal_name(stopped(run)), run->emitted,
@@ -746,7 +740,7 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
         .w = sc->video.width, .h = sc->video.height,
         .figure = desc->still && sp_figure_format(desc->output) != SP_FIGURE_NONE,
         .q = {.lock = PTHREAD_MUTEX_INITIALIZER, .changed = PTHREAD_COND_INITIALIZER},
-        .t_start = now_s(), .followed_t = -1,
+        .t_start = sp_clock_s(), .followed_t = -1,
     };
     run.n_more = desc->n_more < SP_PIPELINE_MAX_SCENES - 1 ? desc->n_more : SP_PIPELINE_MAX_SCENES - 1;
     run.t_last = sp_scene_frame_time(sc, sp_timeline_frames(sc) - 1);

@@ -2,7 +2,8 @@
  * every write's fate kept. cairo 1.16's own file streams can drop a failed
  * write (a PDF cut short by a full disk or `ulimit -f` was reported as
  * written), so the figure modules write through this and check `err`
- * whatever cairo's status says. Linked into each cairo module. */
+ * whatever cairo's status says. Linked into each cairo module.
+ * Shared with: sweep (sweep_plot.c writes through it). */
 #ifndef SPRINGPEND_CAIRO_FD_H
 #define SPRINGPEND_CAIRO_FD_H
 

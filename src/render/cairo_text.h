@@ -2,13 +2,14 @@
  * place where shaped text meets cairo: the still figures' backend
  * (draw_cairo.c) and the sweep figures (sweep_plot.c) both draw through
  * it, so a title in any script comes out the same in every figure. Linked
- * into each cairo module. */
+ * into each cairo module.
+ * Shared with: sweep (sweep_plot.c draws its text with it). */
 #ifndef SPRINGPEND_CAIRO_TEXT_H
 #define SPRINGPEND_CAIRO_TEXT_H
 
 #include <cairo.h>
 
-#include "text.h"
+#include "frame/text.h"
 
 /* The cairo faces of a font's fallback list, made on first use. */
 struct sp_cairo_faces {
@@ -31,5 +32,11 @@ void sp_cairo_faces_destroy(struct sp_cairo_faces *faces);
  * SP_E_NOMEM / SP_E_IO (logged). */
 int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *faces, int size, double x, double y,
                        const char *utf8);
+
+/* Names the font files the text was drawn from in a PDF's /Keywords,
+ * "fonts: DejaVuSans.ttf (embedded), NotoSansCJK-Regular.ttc": by file
+ * name alone, so that a PDF's bytes do not depend on where the fonts are
+ * installed (the environment record in a PNG keeps paths and hashes). */
+void sp_cairo_pdf_fonts(cairo_surface_t *pdf, const struct sp_font *f);
 
 #endif

@@ -13,8 +13,7 @@
 #include "cairo_fd.h"
 #include "cairo_text.h"
 #include "draw_cairo.h"
-#include "signals.h"
-#include "text.h"
+#include "frame/text.h"
 
 static void source(cairo_t *cr, const float c[4])
 {
@@ -195,7 +194,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     }
     /* the accumulated layer first, then the rest in order */
     for (int pass = 0; pass < 2 && !err; pass++) {
-        for (int i = 0; i < c->n_items && !err && !sp_signal_seen(); i++) { /* Ctrl-C: stop */
+        for (int i = 0; i < c->n_items && !err && !(d->cancel && *d->cancel); i++) { /* stop */
             const struct sp_item *it = &c->items[i];
             if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
                 continue;
@@ -229,11 +228,8 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
             err = sp_cairo_text_show(cr, &faces, it->size, it->x, it->y, c->strings + it->text);
         }
         sp_cairo_faces_destroy(&faces);
-        if (d->format == SP_FIGURE_PDF) { /* provenance: the font files drawn from */
-            char files[2048] = "fonts: ";
-            sp_font_files(d->font, files + strlen(files), sizeof(files) - strlen(files));
-            cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_KEYWORDS, files);
-        }
+        if (d->format == SP_FIGURE_PDF) /* provenance: the font files drawn from */
+            sp_cairo_pdf_fonts(surface, d->font);
     }
     st = cairo_status(cr);
     cairo_destroy(cr);

@@ -5,8 +5,9 @@
 #include <string.h>
 
 #include "springpend/common.h"
+#include "base/array.h"
 #include "draw_gl.h"
-#include "embedded.h"
+#include "base/embedded.h"
 
 enum { TILE = 32, MAX_FILLS = 200 }; /* px: the grain of copies and fills */
 enum { DTILE = 16 }; /* px: the grain of the damaged rectangles */
@@ -499,13 +500,8 @@ static struct box prim_box(const struct sp_canvas *c, const struct sp_item *it, 
 static int boxes_make(struct sp_draw_gl *d, const struct sp_canvas *c)
 {
     float cl[4] = {0, 0, 0, 0};
-    if (c->n_items > d->cap_boxes) {
-        struct box *b = realloc(d->boxes, (size_t)c->n_items * 2 * sizeof(*b));
-        if (!b)
-            return SP_E_NOMEM;
-        d->boxes = b;
-        d->cap_boxes = c->n_items * 2;
-    }
+    if (SP_ARRAY_RESERVE(d->boxes, d->cap_boxes, c->n_items, 0))
+        return SP_E_NOMEM;
     for (int i = 0; i < c->n_items; i++) {
         const struct sp_item *it = &c->items[i];
         struct box *b = &d->boxes[i];
@@ -686,13 +682,8 @@ static int rects_make(struct sp_draw_gl *d, const struct sp_canvas *c)
                 row_first--;
                 prev_end--;
             } else {
-                if (d->n_rects == d->cap_rects) {
-                    struct fill_rect *p = realloc(d->rects, (size_t)(2 * d->cap_rects + 16) * sizeof(*p));
-                    if (!p)
-                        return SP_E_NOMEM;
-                    d->rects = p;
-                    d->cap_rects = 2 * d->cap_rects + 16;
-                }
+                if (SP_ARRAY_RESERVE(d->rects, d->cap_rects, d->n_rects + 1, 16))
+                    return SP_E_NOMEM;
                 d->rects[d->n_rects++] = r;
             }
             x = e;
@@ -727,16 +718,8 @@ static int patches_set(struct sp_draw_gl *d)
 
 static int append(unsigned char **buf, size_t *n, size_t *cap, const void *data, size_t size)
 {
-    if (*n + size > *cap) {
-        size_t want = *cap ? *cap : 4096;
-        while (want < *n + size)
-            want *= 2;
-        unsigned char *p = realloc(*buf, want);
-        if (!p)
-            return SP_E_NOMEM;
-        *buf = p;
-        *cap = want;
-    }
+    if (SP_ARRAY_RESERVE(*buf, *cap, *n + size, 4096))
+        return SP_E_NOMEM;
     memcpy(*buf + *n, data, size);
     *n += size;
     return 0;
@@ -871,13 +854,8 @@ static int dyn_save(struct sp_draw_gl *d, const struct sp_canvas *c)
  * and in this one's. 0 or SP_E_NOMEM. */
 static int dyn_compare(struct sp_draw_gl *d, const struct sp_canvas *c)
 {
-    if (c->n_items > d->cap_same) {
-        unsigned char *p = realloc(d->same, (size_t)c->n_items * 2);
-        if (!p)
-            return SP_E_NOMEM;
-        d->same = p;
-        d->cap_same = c->n_items * 2;
-    }
+    if (SP_ARRAY_RESERVE(d->same, d->cap_same, c->n_items, 0))
+        return SP_E_NOMEM;
     memset(d->same, 0, (size_t)c->n_items);
     d->any_same = 0;
     int n = 0;
@@ -944,13 +922,8 @@ static int damage_runs(struct sp_draw_gl *d)
             int e = x;
             while (e < tw && d->dtiles[y * tw + e])
                 e++;
-            if (d->n_damage == d->cap_damage) {
-                struct patch *p = realloc(d->damage, (size_t)(2 * d->cap_damage + 64) * sizeof(*p));
-                if (!p)
-                    return SP_E_NOMEM;
-                d->damage = p;
-                d->cap_damage = 2 * d->cap_damage + 64;
-            }
+            if (SP_ARRAY_RESERVE(d->damage, d->cap_damage, d->n_damage + 1, 64))
+                return SP_E_NOMEM;
             d->damage[d->n_damage++] = (struct patch){
                 {(float)(x * DTILE), (float)(y * DTILE), fminf((float)(e * DTILE), (float)d->width),
                  fminf((float)((y + 1) * DTILE), (float)d->height)},
@@ -989,13 +962,8 @@ static int settled_prefix(struct sp_draw_gl *d, const struct sp_canvas *c)
             memcmp(d->settled + at, c->shapes + it->first, (size_t)h.count * sizeof(*c->shapes)))
             return 0;
         at += (size_t)h.count * sizeof(*c->shapes);
-        if (j == d->cap_settled_old) {
-            int *p = realloc(d->settled_old, (size_t)(2 * j + 8) * sizeof(*p));
-            if (!p)
-                return SP_E_NOMEM;
-            d->settled_old = p;
-            d->cap_settled_old = 2 * j + 8;
-        }
+        if (SP_ARRAY_RESERVE(d->settled_old, d->cap_settled_old, j + 1, 8))
+            return SP_E_NOMEM;
         d->settled_old[j++] = h.count;
     }
     return at == d->n_settled;
@@ -1237,13 +1205,8 @@ static int damage_restore(struct sp_draw_gl *d)
 static int lift_items(struct sp_draw_gl *d, const struct sp_canvas *c, struct sp_canvas *out)
 {
     *out = *c;
-    if (c->n_items > d->cap_items) {
-        struct sp_item *it = realloc(d->items, (size_t)c->n_items * 2 * sizeof(*it));
-        if (!it)
-            return SP_E_NOMEM;
-        d->items = it;
-        d->cap_items = c->n_items * 2;
-    }
+    if (SP_ARRAY_RESERVE(d->items, d->cap_items, c->n_items, 0))
+        return SP_E_NOMEM;
     if (c->n_items)
         memcpy(d->items, c->items, (size_t)c->n_items * sizeof(*d->items));
     out->items = d->items;

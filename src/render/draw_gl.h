@@ -6,7 +6,7 @@
 #ifndef SPRINGPEND_DRAW_GL_H
 #define SPRINGPEND_DRAW_GL_H
 
-#include "canvas.h"
+#include "frame/canvas.h"
 #include "gl_api.h"
 
 struct sp_draw_gl;

@@ -8,10 +8,12 @@
 
 #include "gl_context.h"
 
+/* The framebuffer's functions (gl_offscreen.h) and the passes' own: one
+ * table, each function once. */
 #define SP_GL_FUNCS(X)                                              \
+    SP_GL_OFFSCREEN_FUNCS(X)                                        \
     X(PFNGLGETSTRINGPROC, GetString)                                \
     X(PFNGLGETERRORPROC, GetError)                                  \
-    X(PFNGLGETINTEGERVPROC, GetIntegerv)                            \
     X(PFNGLCREATESHADERPROC, CreateShader)                          \
     X(PFNGLSHADERSOURCEPROC, ShaderSource)                          \
     X(PFNGLCOMPILESHADERPROC, CompileShader)                        \
@@ -36,12 +38,7 @@
     X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)    \
     X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)            \
     X(PFNGLVERTEXATTRIBDIVISORPROC, VertexAttribDivisor)            \
-    X(PFNGLGENTEXTURESPROC, GenTextures)                            \
-    X(PFNGLBINDTEXTUREPROC, BindTexture)                            \
     X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                        \
-    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                              \
-    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                        \
-    X(PFNGLPIXELSTOREIPROC, PixelStorei)                            \
     X(PFNGLVIEWPORTPROC, Viewport)                                  \
     X(PFNGLCLEARCOLORPROC, ClearColor)                              \
     X(PFNGLCLEARPROC, Clear)                                        \
@@ -49,13 +46,8 @@
     X(PFNGLBLENDEQUATIONPROC, BlendEquation)                        \
     X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                \
     X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)           \
-    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                    \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                    \
-    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)          \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)      \
     X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                    \
     X(PFNGLSCISSORPROC, Scissor)                                    \
-    X(PFNGLREADPIXELSPROC, ReadPixels)                              \
     X(PFNGLREADBUFFERPROC, ReadBuffer)                              \
     X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                            \
     X(PFNGLDISABLEPROC, Disable)

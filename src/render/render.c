@@ -4,11 +4,11 @@
  * transparent, averaged down and un-premultiplied. */
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "base/clock.h"
 #include "springpend/common.h"
 #include "springpend/render.h"
-#include "compose.h"
+#include "frame/compose.h"
 #include "draw_gl.h"
 #include "gl_api.h"
 #include "yuv_gl.h"
@@ -32,13 +32,6 @@ struct sp_renderer {
     int glyphs_first;         /* glyphs the first frame rasterised */
     double raster_first_s;    /* s that took */
 };
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int sp_render_make(struct sp_renderer **out, const struct sp_render_desc *desc)
 {
@@ -120,12 +113,12 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
     const struct sp_canvas *cv;
     int stride, err;
     uint8_t *pixels;
-    double t0 = now_s(), t1;
+    double t0 = sp_clock_s(), t1;
 
     err = sp_gl_context_bind(r->ctx);
     if (!err)
         err = sp_compose_cells_frame(r->composer, f, &cv);
-    t1 = now_s();
+    t1 = sp_clock_s();
     r->compose_s += t1 - t0;
     if (!r->frames++ && sp_compose_cells_font(r->composer))
         sp_font_raster_stats(sp_compose_cells_font(r->composer), &r->glyphs_first, &r->raster_first_s);
@@ -137,13 +130,13 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
         /* the last pass converts on the GPU; 1.5 bytes a pixel come back */
         sp_yuv_gl_read(r->yuv, sp_gl_context_framebuffer(r->ctx), r->target.pixels);
         *img = r->target;
-        r->draw_s += now_s() - t1;
+        r->draw_s += sp_clock_s() - t1;
         return 0;
     }
     pixels = sp_gl_context_pixels(r->ctx, &stride);
     if (direct(r)) {
         *img = (struct sp_image){pixels, r->width, r->height, stride, SP_IMAGE_RGBA};
-        r->draw_s += now_s() - t1;
+        r->draw_s += sp_clock_s() - t1;
         return 0;
     }
     /* Supersampled or transparent: average down and un-premultiply. */
@@ -154,7 +147,7 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
     }
     *img = r->target.pixels ? r->target : r->out;
     resolve(r, pixels, stride, img);
-    r->draw_s += now_s() - t1;
+    r->draw_s += sp_clock_s() - t1;
     return 0;
 }
 

@@ -5,7 +5,7 @@
 
 #include "springpend/common.h"
 #include "springpend/image.h"
-#include "embedded.h"
+#include "base/embedded.h"
 #include "yuv_gl.h"
 
 #ifndef GL_PACK_INVERT_MESA

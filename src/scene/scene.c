@@ -18,8 +18,9 @@
 #include "springpend/common.h"
 #include "springpend/scene.h"
 #include "springpend/timeline.h"
-#include "decimal.h"
-#include "ini_lines.h"
+#include "base/decimal.h"
+#include "base/ini_lines.h"
+#include "base/utf8.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
 /* Frame times are indexed by int; what a command makes of them has its own
@@ -386,8 +387,6 @@ static int choice_index(const char *list, const char *word, size_t len)
     return -1;
 }
 
-static int utf8_length(const unsigned char *s); /* below, with the file's text check */
-
 /* [view] camera: auto, front, or azimuth and elevation (degrees) and
  * optionally the distance (m), separated by blanks (a comma is refused: it
  * reads as a list, and an empty entry between two would be lost). Returns 1. */
@@ -570,7 +569,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         }
         for (size_t i = 0; i < n;) { /* --set bypasses the file's text check */
             const unsigned char *u = (const unsigned char *)value + i;
-            int len = utf8_length(u);
+            int len = (int)sp_utf8_char((const char *)u);
             if (!len || i + (size_t)len > n || *u < 0x20 || *u == 0x7f) {
                 report(c, line, "%s.%s: byte 0x%02x at byte %zu is not text; allowed: "
                        "UTF-8 text without control characters", k->section, k->name, *u, i + 1);
@@ -994,21 +993,6 @@ static void apply_override(struct parse_ctx *c, const char *arg)
     c->origin = saved;
 }
 
-/* Length of the UTF-8 sequence at s (1..4), or 0 when it is not one. */
-static int utf8_length(const unsigned char *s)
-{
-    int n = s[0] < 0x80 ? 1 : s[0] >= 0xc2 && s[0] <= 0xdf ? 2
-          : s[0] >= 0xe0 && s[0] <= 0xef ? 3 : s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : 0;
-    for (int i = 1; i < n; i++)
-        if ((s[i] & 0xc0) != 0x80)
-            return 0;
-    /* overlong 3- and 4-byte forms, surrogates, beyond U+10FFFF */
-    if ((n == 3 && ((s[0] == 0xe0 && s[1] < 0xa0) || (s[0] == 0xed && s[1] > 0x9f))) ||
-        (n == 4 && ((s[0] == 0xf0 && s[1] < 0x90) || (s[0] == 0xf4 && s[1] > 0x8f))))
-        return 0;
-    return n;
-}
-
 /* A scene is UTF-8 text without control characters but tab, CR and LF, and
  * not empty. Reports the first offending byte; returns 1 when text is fine. */
 static int check_text(struct parse_ctx *c, const char *text)
@@ -1016,7 +1000,7 @@ static int check_text(struct parse_ctx *c, const char *text)
     const unsigned char *p = (const unsigned char *)text, *line_start = p;
     int line = 1, blank = 1;
     while (*p) {
-        int n = utf8_length(p);
+        int n = (int)sp_utf8_char((const char *)p);
         if (!n || (*p < 0x20 && *p != '\t' && *p != '\r' && *p != '\n') || *p == 0x7f) {
             report(c, line, "byte 0x%02x at column %d is not text; a scene is a UTF-8 "
                    "text file of 'key = value' lines", *p, (int)(p - line_start) + 1);

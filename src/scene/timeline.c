@@ -9,8 +9,9 @@
 #include "springpend/common.h"
 #include "springpend/scene.h"
 #include "springpend/timeline.h"
-#include "decimal.h"
-#include "ini_lines.h"
+#include "base/decimal.h"
+#include "base/array.h"
+#include "base/ini_lines.h"
 
 #define E SP_TIMELINE_EASE
 #define H SP_TIMELINE_FADE
@@ -51,16 +52,8 @@ static void report(const char *origin, int line, const char *fmt, ...)
 /* Appends text (n bytes) to the pool; returns its offset, or -1. */
 static long pool_add(struct sp_timeline *tl, const char *text, size_t n)
 {
-    if (tl->pool_used + n + 1 > tl->pool_cap) {
-        size_t cap = tl->pool_cap ? tl->pool_cap : 1024;
-        while (tl->pool_used + n + 1 > cap)
-            cap *= 2;
-        char *grown = realloc(tl->pool, cap);
-        if (!grown)
-            return -1;
-        tl->pool = grown;
-        tl->pool_cap = cap;
-    }
+    if (SP_ARRAY_RESERVE(tl->pool, tl->pool_cap, tl->pool_used + n + 1, 1024))
+        return -1;
     memcpy(tl->pool + tl->pool_used, text, n);
     tl->pool[tl->pool_used + n] = 0;
     tl->pool_used += n + 1;
@@ -184,12 +177,8 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
                    kind == SP_CUE_CAPTION ? "caption" : "speed", time, tl->cues[i].line);
             return 1;
         }
-    if (!(tl->n_cues & (tl->n_cues + 1)) || !tl->cues) { /* grow at 0, 1, 3, 7, ... */
-        struct sp_cue *grown = realloc(tl->cues, sizeof(*grown) * (size_t)(2 * tl->n_cues + 2));
-        if (!grown)
-            return SP_E_NOMEM;
-        tl->cues = grown;
-    }
+    if (SP_ARRAY_RESERVE(tl->cues, tl->cap_cues, tl->n_cues + 1, 2))
+        return SP_E_NOMEM;
     long at = pool_add(tl, text, tn);
     if (at < 0)
         return SP_E_NOMEM;
@@ -252,24 +241,16 @@ static double piece_du(const struct sp_clock_piece *p, double dt)
 
 static int push_piece(struct sp_timeline *tl, const struct sp_clock_piece *p)
 {
-    if (!(tl->n_pieces & (tl->n_pieces + 1)) || !tl->pieces) {
-        struct sp_clock_piece *g = realloc(tl->pieces, sizeof(*g) * (size_t)(2 * tl->n_pieces + 2));
-        if (!g)
-            return SP_E_NOMEM;
-        tl->pieces = g;
-    }
+    if (SP_ARRAY_RESERVE(tl->pieces, tl->cap_pieces, tl->n_pieces + 1, 2))
+        return SP_E_NOMEM;
     tl->pieces[tl->n_pieces++] = *p;
     return 0;
 }
 
 static int push_band(struct sp_timeline *tl, double u, const char *text, int note)
 {
-    if (!(tl->n_band & (tl->n_band + 1)) || !tl->band) {
-        struct sp_band_change *g = realloc(tl->band, sizeof(*g) * (size_t)(2 * tl->n_band + 2));
-        if (!g)
-            return SP_E_NOMEM;
-        tl->band = g;
-    }
+    if (SP_ARRAY_RESERVE(tl->band, tl->cap_band, tl->n_band + 1, 2))
+        return SP_E_NOMEM;
     tl->band[tl->n_band++] = (struct sp_band_change){u, text, note};
     return 0;
 }
@@ -370,7 +351,7 @@ int sp_timeline_plan(struct sp_timeline *tl, const struct sp_scene *s)
     free(tl->pieces); /* a second plan starts afresh */
     free(tl->band);
     tl->pieces = NULL, tl->band = NULL;
-    tl->n_pieces = tl->n_band = 0;
+    tl->n_pieces = tl->n_band = tl->cap_pieces = tl->cap_band = 0;
     tl->clocked = 0;
     int ret = build_clock(tl, s->video.speed, s->video.duration);
     if (!ret)

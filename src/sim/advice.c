@@ -9,7 +9,6 @@
 
 #include "springpend/advice.h"
 #include "springpend/common.h"
-#include "signals.h"
 
 /* The longest a probe or a check may run, in evaluations and in steps. */
 #define PROBE_EVALS 400000
@@ -67,7 +66,8 @@ static void probe_note(const struct sp_params *p, const struct sp_state *s, stru
 
 /* Follows the scene's motion over [0, t_end] step by step with dop853 (a
  * bounded number of evaluations); *pr: what it saw. */
-static void probe_run(const struct sp_scene *sc, double t_end, struct probe *pr)
+static void probe_run(const struct sp_scene *sc, double t_end,
+                      const volatile sig_atomic_t *cancel, struct probe *pr)
 {
     struct sp_scene probe = *sc;
     struct sp_sim sim;
@@ -75,7 +75,7 @@ static void probe_run(const struct sp_scene *sc, double t_end, struct probe *pr)
     probe.integrator.method = SP_METHOD_DOP853;
     probe.integrator.tolerance = 1e-9;
     sp_sim_init(&sim, &probe);
-    sim.cancel = sp_signal_flag(); /* a failure is not reported: it is data */
+    sim.cancel = cancel; /* a failure is not reported: it is data */
     sp_params_physics(&sim.p, &ph);
     *pr = (struct probe){.w_out = fmax(fmax(ph.omega_s, ph.omega_p), sim.p.drive_omega),
                          .pass_d = NAN, .pass_v = NAN};
@@ -187,13 +187,13 @@ static double round_down(double x)
  * 0, SP_E_UNSTABLE (*fail_t: where; *at_pass: sp_advise_failed_at_pass) or
  * SP_E_INTERRUPTED. */
 static int run_fixed(const struct sp_scene *sc, double dt, double t, double drift_limit,
-                     double *fail_t, int *at_pass)
+                     const volatile sig_atomic_t *cancel, double *fail_t, int *at_pass)
 {
     struct sp_scene s = *sc;
     struct sp_sim sim;
     s.integrator.dt = dt;
     sp_sim_init(&sim, &s);
-    sim.cancel = sp_signal_flag(); /* a failure is not reported: it is data */
+    sim.cancel = cancel; /* a failure is not reported: it is data */
     sim.drift_limit = drift_limit;
     const int ret = sp_sim_advance(&sim, t);
     *fail_t = sim.s.t;
@@ -201,7 +201,8 @@ static int run_fixed(const struct sp_scene *sc, double dt, double t, double drif
     return ret;
 }
 
-int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *out)
+int sp_advise_dt(const struct sp_scene *sc, double t_end, const volatile sig_atomic_t *cancel,
+                 struct sp_dt_advice *out)
 {
     const enum sp_method m = sc->integrator.method;
     const double gamma = sc->pendulum.damping / sc->pendulum.mass;
@@ -212,7 +213,7 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
     if (sp_method_info(m)->adaptive)
         return SP_E_INPUT;
     struct probe pr;
-    probe_run(sc, t_end, &pr);
+    probe_run(sc, t_end, cancel, &pr);
     /* the fastest rate, and the damping alone (a slow swing, strongly damped);
      * a close pass's rate counts where steps of 1 / rate cover the run in
      * CHECK_STEPS; otherwise resolving it is impractical: it is left out,
@@ -227,8 +228,8 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
 
     /* the scene's own step, with the guard every command uses */
     out->scene_checked = fmin(t_end, CHECK_STEPS * sc->integrator.dt);
-    ret = run_fixed(sc, sc->integrator.dt, out->scene_checked, SP_SIM_DRIFT_LIMIT, &fail_t,
-                    &out->scene_fail_pass);
+    ret = run_fixed(sc, sc->integrator.dt, out->scene_checked, SP_SIM_DRIFT_LIMIT, cancel,
+                    &fail_t, &out->scene_fail_pass);
     if (ret == SP_E_INTERRUPTED)
         return ret;
     out->scene_ok = ret == 0;
@@ -239,7 +240,7 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
     double dt = round_down(0.5 * out->limit);
     for (int i = 0; i < 40 && dt > 0; i++, dt = round_down(0.5 * dt)) {
         const double t = fmin(t_end, CHECK_STEPS * dt);
-        ret = run_fixed(sc, dt, t, SAFE_DRIFT, &fail_t, &at_pass);
+        ret = run_fixed(sc, dt, t, SAFE_DRIFT, cancel, &fail_t, &at_pass);
         if (ret == SP_E_INTERRUPTED)
             return ret;
         out->pass_bound |= at_pass;
@@ -255,14 +256,15 @@ int sp_advise_dt(const struct sp_scene *sc, double t_end, struct sp_dt_advice *o
 /* The most evaluations sp_advise_adaptive spends: about a second. */
 #define ADAPTIVE_EVALS 20000000
 
-int sp_advise_adaptive(const struct sp_scene *sc, double t_end, double *checked)
+int sp_advise_adaptive(const struct sp_scene *sc, double t_end,
+                       const volatile sig_atomic_t *cancel, double *checked)
 {
     struct sp_scene s = *sc;
     struct sp_sim sim;
     s.integrator.method = SP_METHOD_DOP853;
     s.integrator.tolerance = fmin(sc->integrator.tolerance, 1e-9);
     sp_sim_init(&sim, &s);
-    sim.cancel = sp_signal_flag(); /* a failure is not reported: it is data */
+    sim.cancel = cancel; /* a failure is not reported: it is data */
     sim.drift_limit = SAFE_DRIFT;
     *checked = 0;
     for (int i = 1; i <= 100 && sim.evals < ADAPTIVE_EVALS; i++) {

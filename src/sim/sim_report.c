@@ -24,7 +24,7 @@ static void explain_pass(const struct sp_sim *sim)
             "follows a pass only when shorter than that, so each closer pass cost it some "
             "energy, and the losses added up past the guard's %g%%\n",
             d, v, d / v, sim->dt, 100 * sim->drift_limit);
-    int ret = sp_advise_adaptive(sim->scene, t_end, &checked);
+    int ret = sp_advise_adaptive(sim->scene, t_end, sim->cancel, &checked);
     if (ret == 0)
         fprintf(stderr, "  use integrator.method = dop853: its steps shrink at each pass (the "
                 "run completes with it over [0, %g] s)\n", checked);
@@ -53,7 +53,7 @@ void sp_sim_explain(const struct sp_sim *sim)
         fprintf(stderr, "  %s with tolerance %g cannot follow this motion; try "
                 "integrator.tolerance = %g\n", mi->name, sim->tol, sim->tol * 1e-3);
     /* a step suggested is one the run was seen to complete with */
-    else if (sp_advise_dt(sim->scene, t_end, &a) == 0 && !isnan(a.safe)) {
+    else if (sp_advise_dt(sim->scene, t_end, sim->cancel, &a) == 0 && !isnan(a.safe)) {
         fprintf(stderr, "  dt = %g s is too coarse for this motion (it reaches omega_max = "
                 "%.4g rad/s, where %s's stability limit is %.3g s); ", sim->dt, a.omega_max,
                 mi->name, a.limit);
@@ -62,7 +62,7 @@ void sp_sim_explain(const struct sp_sim *sim)
          * completes */
         double checked;
         if ((a.checked < t_end || a.pass_bound) &&
-            sp_advise_adaptive(sim->scene, t_end, &checked) == 0 && checked >= t_end)
+            sp_advise_adaptive(sim->scene, t_end, sim->cancel, &checked) == 0 && checked >= t_end)
             fprintf(stderr, "use integrator.method = dop853 (the run completes with it over "
                     "[0, %g] s) or integrator.dt = %g (%s [0, %g] s%s)\n", checked, a.safe,
                     a.checked < t_end ? "checked over" : "it completes the run over", a.checked,

@@ -1,5 +1,7 @@
 /* springpend (internal): the words for a simulation that failed. The sim (sim.h) only
- * records what went wrong; the command that ran it says so here. */
+ * records what went wrong; the command that ran it says so here.
+ * Shared with: cli, frame, pipeline (each words the blow-up of the sim it
+ * ran). */
 #ifndef SPRINGPEND_SIM_REPORT_H
 #define SPRINGPEND_SIM_REPORT_H
 

@@ -1,5 +1,7 @@
 /* springpend: the Butcher tableaus of the adaptive methods, included by
- * sim.c only (static data: each method's coefficients as published). */
+ * sim.c only (static data: each method's coefficients as published).
+ * Shared with: sweep (batch.c, the batched integrator, which belongs in
+ * sim/). */
 #ifndef SPRINGPEND_SIM_TABLEAUS_H
 #define SPRINGPEND_SIM_TABLEAUS_H
 

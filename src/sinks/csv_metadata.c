@@ -6,8 +6,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "command_line.h"
-#include "utf8.h"
+#include "base/command_line.h"
+#include "base/utf8.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/environment.h"

@@ -1,4 +1,4 @@
-/* springpend: the version each module carries (av_module.h). The core
+/* springpend: the version each module carries (module.h). The core
  * refuses a module whose version is not its own: a module of another
  * springpend would call into structures laid out differently. */
 #include "module_abi.h"

@@ -33,7 +33,6 @@
 #include <string.h>
 
 #include "analysis.h"
-#include "signals.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 
@@ -144,7 +143,7 @@ static int run_group(const struct sp_sweep_desc *d, const struct sp_scene *scene
         double t = (double)j / (SUB * f);
         if (t > t_max * (1 + 1e-12))
             break;
-        if (j % 256 == 0 && sp_signal_seen()) {
+        if (j % 256 == 0 && sp_sweep_cancelled(d)) {
             ret = SP_E_INTERRUPTED;
             break;
         }

@@ -459,7 +459,7 @@ CLONES static void fixed_blk_11(struct sp_batch *b, int base, long n0, long n1, 
 
 /* ---- the adaptive method: DOP853, per-lane step control ------------------ */
 
-#include "sim_tableaus.h"
+#include "sim/sim_tableaus.h"
 
 /* The DOP853 error norm of sim.c (Hairer's), per lane: e5, e3 are the two
  * embedded error estimates (without the factor h). */

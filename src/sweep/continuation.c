@@ -16,7 +16,7 @@
 #include <string.h>
 
 #include "analysis.h"
-#include "signals.h"
+#include "base/array.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
@@ -37,13 +37,8 @@ struct samples {
 
 static int push(struct samples *v, struct sample s)
 {
-    if (v->n == v->cap) {
-        long cap = v->cap ? 2 * v->cap : 64;
-        struct sample *p = realloc(v->s, sizeof(*p) * (size_t)cap);
-        if (!p)
-            return SP_E_NOMEM;
-        v->s = p, v->cap = cap;
-    }
+    if (SP_ARRAY_RESERVE(v->s, v->cap, v->n + 1, 64))
+        return SP_E_NOMEM;
     v->s[v->n++] = s;
     return 0;
 }
@@ -66,7 +61,7 @@ static int sample_lanes(const struct sp_sweep_desc *d, struct sp_batch *b,
         double t0 = (double)step * dt, t1 = (double)(step + 1) * dt;
         if (t0 >= t_end)
             break;
-        if (step % 1024 == 0 && sp_signal_seen())
+        if (step % 1024 == 0 && sp_sweep_cancelled(d))
             return SP_E_INTERRUPTED;
         for (int c = 0; c < 4; c++)
             memcpy(prev[c], b->out[c], sizeof(double) * (size_t)n);

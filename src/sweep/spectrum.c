@@ -18,7 +18,6 @@
 #include <string.h>
 
 #include "analysis.h"
-#include "signals.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 
@@ -109,7 +108,7 @@ int sp_spectrum_measure(const struct sp_sweep_desc *d, const struct sp_scene *sc
     const double tau = g.tau;
     long k0 = (long)ceil(d->transient / tau - 1e-9);
 #define TAU_TIME(k) (fixed ? (double)((k) * m) * b->dt : (double)(k) * tau)
-    b->cancel = sp_signal_flag(); /* a long transient is one call */
+    b->cancel = d->cancel; /* a long transient is one call */
     if (k0 > 0 && sp_batch_advance(b, TAU_TIME(k0)))
         ret = SP_E_INTERRUPTED;
     for (int i = 0; i < COPIES * n; i++) {
@@ -120,7 +119,7 @@ int sp_spectrum_measure(const struct sp_sweep_desc *d, const struct sp_scene *sc
     long next = 1;
     int dec = 0, nc = 0;
     for (long k = 1; k <= K && !ret; k++) {
-        if (sp_signal_seen() || sp_batch_advance(b, TAU_TIME(k0 + k))) {
+        if (sp_sweep_cancelled(d) || sp_batch_advance(b, TAU_TIME(k0 + k))) {
             ret = SP_E_INTERRUPTED;
             break;
         }

@@ -16,14 +16,14 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "decimal.h"
+#include "base/decimal.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
 #include "analysis.h"
-#include "signals.h"
+#include "base/array.h"
 #include "sweep.h"
-#include "text.h"
+#include "frame/text.h"
 
 #define CHUNK 32  /* points per batch */
 #define WINDOW 4  /* chunks held per worker, finished or not */
@@ -561,15 +561,12 @@ __attribute__((format(printf, 2, 3))) static void sb_printf(struct sbuf *b, cons
             b->len += (size_t)n;
             return;
         }
-        size_t cap = b->cap ? 2 * b->cap : 4096;
-        while (n >= 0 && cap < b->len + (size_t)n + 1)
-            cap *= 2;
-        char *s = realloc(b->s, cap);
-        if (!s) {
+        /* n < 0: vsnprintf failed, or b->s is NULL: grow and retry */
+        const size_t need = n >= 0 ? b->len + (size_t)n + 1 : 2 * b->cap + 1;
+        if (SP_ARRAY_RESERVE(b->s, b->cap, need, 4096)) {
             b->failed = 1;
             return;
         }
-        b->s = s, b->cap = cap;
     }
 }
 
@@ -630,14 +627,9 @@ static void spill_lane(struct chunk_out *o, int i)
         o->spill_failed = errno ? errno : EIO;
         return;
     }
-    if (o->n_blocks == o->cap_blocks) {
-        long cap = o->cap_blocks ? 2 * o->cap_blocks : 64;
-        struct spill_block *nb = realloc(o->blocks, sizeof(*nb) * (size_t)cap);
-        if (!nb) {
-            b->failed = 1;
-            return;
-        }
-        o->blocks = nb, o->cap_blocks = cap;
+    if (SP_ARRAY_RESERVE(o->blocks, o->cap_blocks, o->n_blocks + 1, 64)) {
+        b->failed = 1;
+        return;
     }
     long at = ftell(o->spill);
     if (at < 0 || fwrite(b->s, 1, b->len, o->spill) != b->len) {
@@ -702,12 +694,12 @@ static int measure_lyapunov(const struct sp_sweep_desc *d, struct sp_batch *b, c
     long k0 = (long)ceil(d->transient / tau - 1e-9);
     double growth[CHUNK], sum[CHUNK] = {0}, half[CHUNK] = {0};
 #define TAU_TIME(k) (fixed ? (double)((k) * m) * b->dt : (double)(k) * tau)
-    b->cancel = sp_signal_flag(); /* a long transient is one call */
+    b->cancel = d->cancel; /* a long transient is one call */
     if (k0 > 0 && sp_batch_advance(b, TAU_TIME(k0)))
         return SP_E_INTERRUPTED;
     sp_batch_reset_tangent(b);
     for (long k = 1; k <= K; k++) {
-        if (sp_signal_seen() || sp_batch_advance(b, TAU_TIME(k0 + k)))
+        if (sp_sweep_cancelled(d) || sp_batch_advance(b, TAU_TIME(k0 + k)))
             return SP_E_INTERRUPTED;
         sp_batch_renormalise(b, growth);
         for (int i = 0; i < n; i++) {
@@ -748,7 +740,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
         double t0 = (double)step * dt, t1 = (double)(step + 1) * dt;
         if (t0 >= t_end)
             break;
-        if (step % 1024 == 0 && sp_signal_seen()) {
+        if (step % 1024 == 0 && sp_sweep_cancelled(d)) {
             ret = SP_E_INTERRUPTED;
             break;
         }
@@ -999,7 +991,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
     for (long c = 0; !ret && c < r.n_chunks; c++) {
         struct slot *s = &r.slots[c % r.window];
         pthread_mutex_lock(&r.lock);
-        while (!s->done && !r.stop && !sp_signal_seen()) {
+        while (!s->done && !r.stop && !sp_sweep_cancelled(d)) {
             struct timespec until;
             clock_gettime(CLOCK_REALTIME, &until);
             until.tv_nsec += 200000000;
@@ -1009,7 +1001,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
         }
         pthread_mutex_unlock(&r.lock);
         if (!s->done) {
-            ret = sp_signal_seen() ? SP_E_INTERRUPTED : SP_E_NOMEM;
+            ret = sp_sweep_cancelled(d) ? SP_E_INTERRUPTED : SP_E_NOMEM;
             break;
         }
         ret = s->ret;
@@ -1038,7 +1030,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
         pthread_join(tid[i], NULL);
     for (int i = 0; i < r.window; i++)
         chunk_out_free(&r.slots[i].out);
-    if (!ret && sp_signal_seen())
+    if (!ret && sp_sweep_cancelled(d))
         ret = SP_E_INTERRUPTED;
     pthread_mutex_destroy(&r.lock);
     pthread_cond_destroy(&r.changed);

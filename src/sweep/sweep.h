@@ -20,10 +20,12 @@
  *             (basins.h)
  * A shard's CSV has a "# shard I/N" line after the description and ends
  * with "# end rows=N sha256=HEX", the SHA-256 of every byte before that
- * line, so that --merge can refuse a copy cut short or edited. */
+ * line, so that --merge can refuse a copy cut short or edited.
+ * Shared with: cli. */
 #ifndef SPRINGPEND_SWEEP_H
 #define SPRINGPEND_SWEEP_H
 
+#include <signal.h>
 #include <stdio.h>
 
 #include "springpend/csv_metadata.h"
@@ -80,7 +82,16 @@ struct sp_sweep_desc {
                                   * largest |theta| (or r) over each drive period */
     int fast;                    /* lyapunov, rk4, undamped and undriven: 1 = the batch's
                                   * fast kernel (sweep --fast; header word kernel=fast) */
+    const volatile sig_atomic_t *cancel; /* the caller's stop flag (not in the
+                                  * header): once set, a run stops with
+                                  * SP_E_INTERRUPTED; NULL = never */
 };
+
+/* 1 once d's caller asked the sweep to stop (*d->cancel set). */
+static inline int sp_sweep_cancelled(const struct sp_sweep_desc *d)
+{
+    return d->cancel && *d->cancel;
+}
 
 /* Point p's index along each axis (the first axis varies fastest). */
 void sp_sweep_point_index(const struct sp_sweep_desc *d, long p, int idx[SP_SWEEP_MAX_AXES]);
@@ -165,6 +176,8 @@ struct sp_plot_style {
     int title_set;              /* 1: view->title is the title ("" = none) */
     const char *scene_file;     /* provenance: the sweep's base scene as a scene
                                    file (PDF /Subject, SVG <metadata>); NULL = none */
+    const struct sp_scene *scene; /* provenance: that scene, for a PNG's text
+                                   chunks as a still's (provenance.h); NULL = none */
     const char *command;        /* provenance: the command without its -o; NULL = none */
 };
 
@@ -174,7 +187,7 @@ struct sp_plot_style {
  * CSV and its metadata) is in place, or discards it (outfile.h), so that
  * a run that fails leaves no figure. On failure *figure is closed. Lives in
  * sweep_plot.c (cairo); the executable reaches it through the module that
- * av_module.h loads (springpend-plot.so), so that cairo costs only the
+ * module.h loads (springpend-plot.so), so that cairo costs only the
  * commands that draw.
  * Returns 0, SP_E_INPUT (not a sweep CSV; a text the figure cannot draw or
  * fit, as sp_sweep_plot_check) or SP_E_IO. */

@@ -1,4 +1,5 @@
-/* springpend (internal): a sweep's numbers without a figure. */
+/* springpend (internal): a sweep's numbers without a figure.
+ * Shared with: cli. */
 #ifndef SPRINGPEND_SWEEP_FORMAT_H
 #define SPRINGPEND_SWEEP_FORMAT_H
 

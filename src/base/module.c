@@ -1,0 +1,150 @@
+/* springpend: loads modules on first use (see module.h). */
+#include <dlfcn.h>
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "module_abi.h"
+#include "springpend/common.h"
+#include "module.h"
+
+enum { MAX_MODULES = 4 };
+
+/* 1 when a and b name the same file or folder. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+/* 0 when the file at path, and every folder above it, could only have been
+ * put there by root, by this user or by the executable's owner: each is
+ * owned by one of them and none is writable by others (a folder writable by
+ * all only with the sticky bit, like /tmp, whose entries others cannot
+ * replace). Else -1 with why. Links are resolved first. */
+static int trusted(const char *path, uid_t exe_uid, char *why, size_t size)
+{
+    char *real = realpath(path, NULL);
+    int ret = 0;
+    if (!real) {
+        snprintf(why, size, "%s", strerror(errno));
+        return -1;
+    }
+    /* real is absolute: "/a/b", then "/a", then "" standing for "/". */
+    for (size_t len = strlen(real); ret == 0;) {
+        struct stat st;
+        const char *p = len ? real : "/";
+        if (stat(p, &st) != 0) {
+            snprintf(why, size, "%s: %s", p, strerror(errno));
+            ret = -1;
+        } else if (st.st_uid != 0 && st.st_uid != geteuid() && st.st_uid != exe_uid) {
+            snprintf(why, size, "%s belongs to user %u, neither root, you nor the owner of "
+                     "springpend; not loaded", p, (unsigned)st.st_uid);
+            ret = -1;
+        } else if ((st.st_mode & S_IWOTH) && !(S_ISDIR(st.st_mode) && (st.st_mode & S_ISVTX))) {
+            snprintf(why, size, "%s is writable by anyone; not loaded", p);
+            ret = -1;
+        }
+        if (!len)
+            break;
+        char *slash = strrchr(real, '/');
+        *slash = 0;
+        len = (size_t)(slash - real);
+    }
+    free(real);
+    return ret;
+}
+
+/* Loads the module at path, when it is trusted and carries this version;
+ * else NULL with why. */
+static void *load(const char *path, uid_t exe_uid, char *why, size_t size)
+{
+    if (access(path, R_OK) != 0) {
+        snprintf(why, size, "%s", strerror(errno));
+        return NULL;
+    }
+    if (trusted(path, exe_uid, why, size))
+        return NULL;
+    void *module = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!module) {
+        snprintf(why, size, "%s", dlerror());
+        return NULL;
+    }
+    const char *version = dlsym(module, "sp_module_version");
+    const char *abi = dlsym(module, "sp_module_abi");
+    if (!version || strcmp(version, SP_VERSION)) {
+        snprintf(why, size, "built for springpend %.32s, not %s", version ? version : "(unknown)",
+                 SP_VERSION);
+        dlclose(module);
+        return NULL;
+    }
+    if (!abi || strcmp(abi, SP_MODULE_ABI)) { /* same number, another build */
+        snprintf(why, size, "built by another build of springpend %s (interface %.16s, not %s): "
+                 "install the modules built with this executable", SP_VERSION,
+                 abi ? abi : "(none)", SP_MODULE_ABI);
+        dlclose(module);
+        return NULL;
+    }
+    return module;
+}
+
+void *sp_module_symbol(const char *name, const char *needed_for, const char *symbol)
+{
+    static struct {
+        const char *name;
+        void *handle;
+    } loaded[MAX_MODULES];
+    void *module = NULL;
+    int slot = 0;
+    while (slot < MAX_MODULES && loaded[slot].name && strcmp(loaded[slot].name, name))
+        slot++;
+    if (slot == MAX_MODULES) {
+        sp_log_error("too many modules to load %s", name);
+        return NULL;
+    }
+    module = loaded[slot].handle;
+    if (!module) {
+        char exe[PATH_MAX], up[PATH_MAX + 4], where[4][PATH_MAX + 256];
+        char tried[4 * (sizeof(where[0]) + PATH_MAX + 128 + 2)] = "";
+        struct stat st;
+        int n_where = 0;
+        ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
+        uid_t exe_uid = n > 0 && (exe[n] = 0, stat(exe, &st) == 0) ? st.st_uid : 0;
+        if (n > 0) {
+            char *slash = strrchr(exe, '/');
+            if (slash)
+                *slash = '\0';
+            snprintf(up, sizeof(up), "%s/..", exe);
+            /* The build tree: the executable, or a test one folder down. */
+            if (same_file(exe, SP_BUILD_DIR))
+                snprintf(where[n_where++], sizeof(where[0]), "%s/%s", exe, name);
+            else if (same_file(up, SP_BUILD_DIR))
+                snprintf(where[n_where++], sizeof(where[0]), "%s/%s", SP_BUILD_DIR, name);
+            /* The installed layout, wherever the prefix now is. */
+            snprintf(where[n_where++], sizeof(where[0]), "%s/%s/%s", exe, SP_MODULE_RELDIR, name);
+        }
+        snprintf(where[n_where++], sizeof(where[0]), "%s/%s", SP_MODULE_DIR, name);
+        for (int i = 0; i < n_where && !module; i++) {
+            char why[PATH_MAX + 128];
+            if (!(module = load(where[i], exe_uid, why, sizeof(why))))
+                snprintf(tried + strlen(tried), sizeof(tried) - strlen(tried), "%s%s: %s",
+                         tried[0] ? "; " : "", where[i], why);
+        }
+        if (!module) {
+            sp_log_error("cannot load springpend's module %s, needed for %s (%s); "
+                         "reinstall springpend", name, needed_for, tried);
+            return NULL;
+        }
+        loaded[slot].name = name;
+        loaded[slot].handle = module;
+    }
+    void *p = dlsym(module, symbol);
+    if (!p)
+        sp_log_error("%s lacks %s: %s", name, symbol, dlerror());
+    return p;
+}

@@ -372,7 +372,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     r->ink = r->look.pt_px > 0 ? ss * PRINT_FONT_PT / PRINT_FONT_FRAC : r->unit;
     r->extent = desc->extent;
     r->max_speed = desc->extent.max_speed > 0 ? desc->extent.max_speed : 1.0;
-    if (!r->look.view.pendulum || r->look.ensemble_count > 1)
+    if (!r->look.view.pendulum)
         r->look.perspective = 0;
     if (r->look.perspective &&
         (err = sp_camera_aim(&r->cam, &r->look.view,
@@ -1131,9 +1131,16 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     to_px(r, f->state.x, f->state.y + yp, bb);
     sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
     if (r->look.view.pendulum && f->ensemble) { /* the members instead of the one bob */
+        double piv_px = r->scale;
+        if (r->look.perspective) { /* a 3-D ensemble (or a camera set): on the floor */
+            put_floor(r);
+            piv_px = world_px(r, 0, yp, 0, pv);
+        }
         put_mount(r, pv);
-        sp_compose_ensemble(cv, f->ensemble, r->ox, r->oy, r->scale, r->unit, &r->pal);
-        sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
+        sp_compose_ensemble(cv, f->ensemble, r->ox, r->oy, r->scale, r->unit, &r->pal,
+                            r->look.perspective ? &r->cam : NULL);
+        sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit * (float)(piv_px / r->scale), 0,
+                       r->pal.pivot);
     } else if (r->look.view.pendulum && r->look.perspective) {
         const double piv[3] = {0, yp, 0}, bob[3] = {f->state.x, f->state.y + yp, f->state.z};
         put_floor(r);

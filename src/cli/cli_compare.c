@@ -1179,7 +1179,7 @@ static int approve(const struct compare_cli *c, const char *dir, const char *bas
         int exists = lstat(to, &st) == 0;
         if (exists && is_png_path(name) && same_pixels(from, to)) {
             unchanged++;
-            printf("%-9s %s (pixels unchanged)\n", "unchanged", to);
+            sp_fprintf_line(stdout, "%-9s %s (pixels unchanged)", "unchanged", to);
             continue;
         }
         if (make_parents(to) != 0) {
@@ -1192,7 +1192,7 @@ static int approve(const struct compare_cli *c, const char *dir, const char *bas
             continue;
         }
         exists ? replaced++ : added++;
-        printf("%-9s %s\n", exists ? "replaced" : "added", to);
+        sp_fprintf_line(stdout, "%-9s %s", exists ? "replaced" : "added", to);
     }
     if (sp_signal_seen())
         ret = SP_E_INTERRUPTED;
@@ -1323,8 +1323,9 @@ int sp_cmd_compare(int argc, char **argv)
         int k = 0;
         for (int i = 0; i < rep.n; i++)
             k += rep.records[i].candidate[0] != 0;
-        printf("%d candidate%s in %s; to accept them after review: springpend compare "
-               "--approve %s %s\n", k, k == 1 ? "" : "s", c.candidates, c.candidates, e);
+        sp_fprintf_line(stdout, "%d candidate%s in %s; to accept them after review: springpend "
+                        "compare --approve %s %s", k, k == 1 ? "" : "s", c.candidates,
+                        c.candidates, e);
     }
 done:
     if (fflush(stdout) != 0 || ferror(stdout)) {

@@ -26,6 +26,15 @@ static cairo_font_face_t *face_of(struct sp_cairo_faces *fs, int i)
     size_t size;
     int index;
     FT_Face face;
+    if (i >= fs->n) { /* a fallback face added since the faces were made */
+        cairo_font_face_t **grown = realloc(fs->face, (size_t)(i + 1) * sizeof(*grown));
+        if (!grown) {
+            sp_log_error("out of memory for the fonts");
+            return NULL;
+        }
+        memset(grown + fs->n, 0, (size_t)(i + 1 - fs->n) * sizeof(*grown));
+        fs->face = grown, fs->n = i + 1;
+    }
     if (fs->face[i])
         return fs->face[i];
     const char *file = sp_font_face_file(fs->font, i, &index, &data, &size);
@@ -50,7 +59,8 @@ static cairo_font_face_t *face_of(struct sp_cairo_faces *fs, int i)
 int sp_cairo_faces_make(struct sp_cairo_faces *fs, const struct sp_font *f, cairo_t *cr)
 {
     fs->font = f;
-    fs->face = calloc((size_t)sp_font_faces(f), sizeof(*fs->face));
+    fs->n = sp_font_faces(f);
+    fs->face = calloc((size_t)fs->n + 1, sizeof(*fs->face));
     if (!fs->face) {
         sp_log_error("out of memory for the fonts");
         return SP_E_NOMEM;
@@ -65,10 +75,10 @@ int sp_cairo_faces_make(struct sp_cairo_faces *fs, const struct sp_font *f, cair
 
 void sp_cairo_faces_destroy(struct sp_cairo_faces *fs)
 {
-    for (int i = 0; fs->face && i < sp_font_faces(fs->font); i++)
+    for (int i = 0; fs->face && i < fs->n; i++)
         cairo_font_face_destroy(fs->face[i]); /* cairo keeps what it still uses */
     free(fs->face);
-    fs->face = NULL;
+    fs->face = NULL, fs->n = 0;
 }
 
 int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *fs, int size, double x, double y,
@@ -138,7 +148,9 @@ void sp_cairo_pdf_fonts(cairo_surface_t *pdf, const struct sp_font *f)
         for (char *c = e; *c; c++)
             if (*c == '/')
                 name = c + 1;
-        const int w = snprintf(names + n, sizeof(names) - n, "%s%s", e == files ? "" : ", ", name);
+        char shown[1024]; /* a file name need not be UTF-8; cairo takes only UTF-8 */
+        sp_text_shown(name, 0, shown, sizeof(shown));
+        const int w = snprintf(names + n, sizeof(names) - n, "%s%s", e == files ? "" : ", ", shown);
         n += w > 0 && (size_t)w < sizeof(names) - n ? (size_t)w : 0;
         e = end ? end + 2 : e + strlen(e);
     }

@@ -14,7 +14,9 @@
 /* The cairo faces of a font's fallback list, made on first use. */
 struct sp_cairo_faces {
     const struct sp_font *font;
-    cairo_font_face_t **face; /* [sp_font_faces(font)], NULL until used */
+    cairo_font_face_t **face; /* [n], NULL until used */
+    int n;                    /* grows with the font's faces: text.c adds fallback
+                               * faces while text is laid out */
 };
 
 /* Prepares faces for f, and cr's font options for text.c's unhinted

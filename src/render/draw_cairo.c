@@ -175,11 +175,14 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
             return SP_E_INPUT;
         }
         sp_cairo_pdf_scene(surface, d->scene_file, d->command);
-        size_t n = 0, len = d->title ? strlen(d->title) : 0;
-        while (n < len && sp_utf8_char(d->title + n))
-            n += sp_utf8_char(d->title + n);
-        if (d->title && n == len) /* a file name that is not UTF-8 gets no title */
-            cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, d->title);
+        /* the title as messages show it: a file name may hold bytes that
+         * are not UTF-8, controls and noncharacters, which cairo refuses */
+        char *title = d->title ? malloc(4 * strlen(d->title) + 1) : NULL;
+        if (title) {
+            sp_text_shown(d->title, 0, title, 4 * strlen(d->title) + 1);
+            cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, title);
+        }
+        free(title);
     } else {
         cairo_svg_surface_set_document_unit(surface, paper ? CAIRO_SVG_UNIT_PT : CAIRO_SVG_UNIT_PX);
     }

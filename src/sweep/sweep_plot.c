@@ -349,13 +349,16 @@ static int wrap_title(const char *text, const char *what)
  * (wrap_title). Failures go to G.err. */
 static void title(const struct sp_sweep_desc *d, const char *what, const char *short_what)
 {
-    char buf[512], where[512];
+    char buf[512], where[512], name[256];
     free(G.title_lines);
     G.title_lines = NULL, G.title_n = 0;
     if (G.err || (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
         return;
     G.title_pt = G.print || G.title ? U(17) : 17;
-    snprintf(buf, sizeof(buf), "%s: %s", d->scene, what);
+    /* the scene's name as messages show it: a file name may hold controls
+     * and noncharacters, which no font draws (common.h) */
+    sp_text_shown(d->scene, 0, name, sizeof(name));
+    snprintf(buf, sizeof(buf), "%s: %s", name, what);
     title_where(where, sizeof(where));
     G.err = wrap_title(G.title ? G.title : G.print ? short_what : buf,
                        G.title ? where : "the figure's title");

@@ -54,7 +54,7 @@ for azel in ("35 25", "-60 12", "140 50"):
     out = os.path.join(work, "c.png")
     r = still(out, f"view.camera={azel} 1e-300")
     least = least_of(r.stderr)
-    ok(r.returncode == 2 and "--set view.camera: view.camera" in r.stderr and least and
+    ok(r.returncode == 2 and "--set view.camera: from" in r.stderr and "view.camera: view.camera" not in r.stderr and least and
        not os.path.exists(out),
        f"camera {azel} 1e-300: refused, named as --set view.camera, suggests {least} m")
     if not least:

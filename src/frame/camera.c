@@ -1,5 +1,6 @@
 /* springpend (internal): the perspective camera. See camera.h. */
 #include <math.h>
+#include <string.h>
 
 #include "springpend/common.h"
 #include "camera.h"
@@ -79,12 +80,16 @@ int sp_camera_aim(struct sp_camera *c, const struct sp_view *view, const double 
          * on; suggested above it in 4 significant digits (under 0.1% more) */
         const double least = -(nearest - c->distance) / 0.8;
         const double q = pow(10, floor(log10(least)) - 3);
-        const char *where = view->camera_where[0] ? view->camera_where : "view.camera";
-        sp_log_error("%s: view.camera: from %g m the eye is inside or too near the motion and "
+        /* "FILE:LINE: view.camera", or "--set view.camera" (which names the key) */
+        const char *where = view->camera_where;
+        const int set = !where[0] || !strncmp(where, "--set ", 6);
+        sp_log_error("%s%sview.camera: from %g m the eye is inside or too near the motion and "
                      "its floor (they reach %.3g m from the middle); allowed: a distance that "
                      "keeps every corner of them at least a fifth of it in front, here at least "
                      "%.4g m, or no distance (fitted)",
-                     where, c->distance, radius, (floor(least / q) + 1) * q);
+                     where[0] && !set ? where : where[0] ? "--set " : "",
+                     where[0] && !set ? ": " : "", c->distance, radius,
+                     (floor(least / q) + 1) * q);
         return SP_E_INPUT;
     }
     c->focal = 1;

@@ -177,6 +177,9 @@ struct sp_plot_style {
     const char *scene_file;     /* provenance: the sweep's base scene as a scene
                                    file (PDF /Subject, SVG <metadata>); NULL = none */
     const char *command;        /* provenance: the command without its -o; NULL = none */
+    const volatile sig_atomic_t *cancel; /* the caller's stop flag: once set, drawing
+                                   stops and nothing is written
+                                   (SP_E_INTERRUPTED); NULL = never */
 };
 
 /* Draws the figure for the CSV in fp (rewound and read to the end) into

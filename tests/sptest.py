@@ -36,15 +36,17 @@ def ok(cond, what, skip=None):
     return cond
 
 
-def png_text(path):
-    """A PNG's tEXt chunks as {keyword: text}."""
+def png_text(path, compressed=False):
+    """A PNG's tEXt chunks (and zTXt ones, inflated, when compressed) as
+    {keyword: text}."""
     import struct
+    import zlib
     data, text, i = open(path, "rb").read(), {}, 8
     while i < len(data):
         n, kind = struct.unpack(">I4s", data[i:i + 8])
-        if kind == b"tEXt":
+        if kind == b"tEXt" or (compressed and kind == b"zTXt"):
             k, v = data[i + 8:i + 8 + n].split(b"\0", 1)
-            text[k.decode("latin-1")] = v.decode("utf-8")
+            text[k.decode("latin-1")] = (zlib.decompress(v[1:]) if kind == b"zTXt" else v).decode("utf-8")
         i += 12 + n
     return text
 

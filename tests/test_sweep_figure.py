@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""springpend tests: a sweep figure's text is the stills' text (issue 19):
+"""springpend tests: a sweep figure is drawn and recorded as a still is.
+Its text is the stills' text (issue 19):
 laid out by the text module (HarfBuzz, FriBidi, fontconfig), in PNG, SVG
 and PDF alike:
   - an Arabic and CJK title is real text in the PDF (pdftotext returns it,
@@ -10,13 +11,19 @@ and PDF alike:
   - a character no installed font has, in the title or a label, is exit 2
     naming it, before the sweep runs, with no file;
   - a title wraps to the figure's width; one that cannot fit is exit 2.
+Its PNG carries a still's provenance chunks, and `springpend scene` reads
+the scene back, as from its PDF (also after --merge); a printed PNG has a
+pHYs. Its axes are its own: an xlabel with '|' (a still's names per
+panel) is refused, whatever the scene's panels. A PDF's bytes (still or
+sweep) do not depend on where its fonts are installed (issue 20).
 usage: test_sweep_figure.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR"""
 import os
+import shutil
 import subprocess
 import sys
 import time
 
-from sptest import done, need_scipy, ok, sets, setup
+from sptest import done, need_scipy, ok, png_text, sets, setup
 
 need_scipy()
 import numpy as np  # noqa: E402
@@ -24,7 +31,7 @@ import sptext  # noqa: E402
 from sptext import gray, ink_columns, joined, segments  # noqa: E402
 
 exe, src, work, run = setup("sweep_figure", ("rsvg-convert", "pdftoppm", "pdftotext", "pdffonts",
-                                             "ffmpeg", "pango-view"))
+                                             "pdfinfo", "ffmpeg", "pango-view", "fc-match"))
 scene = os.path.join(src, "..", "scenes", "chaotic.ini")
 
 GRID = ["--vary", "initial.angle=1:179:8", "--vary", "initial.length=0.8:1.6:6",
@@ -164,4 +171,79 @@ r = sweep("toolong.pdf", " ".join(["Federpendel"] * 60), args=["--size", "8.6cm"
 ok(r.returncode == 2 and "cannot fit" in r.stderr and "--set view.title" in r.stderr and
    not os.path.exists(os.path.join(work, "toolong.pdf")),
    f"a title that cannot fit the figure: exit {r.returncode} ({r.stderr.strip()[:160]})")
+
+# Provenance: a sweep PNG carries a still's chunks (but the time), and
+# `springpend scene` prints its scene, the one its PDF records; so does a
+# merged figure's.
+r = sweep("prov.png")
+chunks = png_text(os.path.join(work, "prov.png"), compressed=True) if r.returncode == 0 else {}
+want = ["Software", "Source", "springpend.scene-sha256", "springpend.scene", "springpend.environment",
+        "springpend.fonts", "springpend.scene-file"]
+ok(all(k in chunks for k in want) and "DejaVuSans" in chunks.get("springpend.fonts", ""),
+   f"a sweep PNG carries {sorted(chunks)}")
+sweep("prov.pdf")
+png_scene, pdf_scene = run("scene", "prov.png"), run("scene", "prov.pdf")
+ok(png_scene.returncode == 0 and "[pendulum]" in png_scene.stdout and
+   png_scene.stdout == pdf_scene.stdout, f"`springpend scene` reads the PNG's scene back, the PDF's "
+   f"({png_scene.returncode}: {png_scene.stderr.strip()[:100]})")
+for i in (1, 2):
+    run("sweep", scene, *GRID, "--set", "view.theme=light", "--shard", f"{i}/2", "--csv", f"part{i}.csv",
+        "-q")
+r = run("sweep", "--merge", "part1.csv", "part2.csv", "-o", "merged.png", "-q")
+merged = run("scene", "merged.png")
+ok(r.returncode == 0 and merged.returncode == 0 and merged.stdout == pdf_scene.stdout,
+   f"a merged PNG records the scene too ({r.stderr.strip()[:80]} {merged.stderr.strip()[:80]})")
+r = sweep("dpi.png", args=["--size", "8.6cm", "--dpi", "150"])
+data = open(os.path.join(work, "dpi.png"), "rb").read() if r.returncode == 0 else b""
+at = data.find(b"pHYs")
+ppm = int.from_bytes(data[at + 4:at + 8], "big") if at > 0 else 0
+ok(ppm == round(150 / 0.0254), f"a printed sweep PNG says its dpi (pHYs: {ppm} px/m for 150 dpi)")
+
+# The figure's axes are its own: '|' (a still's name per panel) is refused
+# whatever the scene's panels; one name is drawn.
+for value in ("AAA|BBB|CCC|DDD|EEE", "a|b"):
+    r = sweep("bar.png", extra={"view.xlabel": value})
+    ok(r.returncode == 2 and "one plot" in r.stderr and not os.path.exists(os.path.join(work, "bar.png")),
+       f"--set view.xlabel={value}: exit {r.returncode} ({r.stderr.strip()[:110]})")
+with open(os.path.join(work, "labels.ini"), "w") as f:
+    f.write("[view]\npanels = theta, energy\nxlabel = t | t2\n")
+r = run("sweep", "labels.ini", *GRID, "-o", "labels.pdf", "-q")
+ok(r.returncode == 2 and "view.xlabel" in r.stderr and "one plot" in r.stderr,
+   f"a scene's per-panel xlabel: exit {r.returncode} ({r.stderr.strip()[:110]})")
+r = run("sweep", "labels.ini", *GRID, "--set", "view.xlabel=swing", "-o", "labels.pdf", "-q")
+ok(r.returncode == 0 and "swing" in sptext.pdf_text(os.path.join(work, "labels.pdf")),
+   f"--set view.xlabel=swing names the sweep's x axis ({r.stderr.strip()[:80]})")
+
+# A PDF's bytes do not depend on where its fonts are installed: the same
+# figure with fontconfig shown a copy of the font elsewhere.
+lm = subprocess.run(["fc-match", "-f", "%{file}", "Latin Modern Roman"], capture_output=True,
+                    text=True).stdout
+if lm.endswith(".otf"):
+    os.makedirs(os.path.join(work, "fonts"))
+    shutil.copy(lm, os.path.join(work, "fonts"))
+    with open(os.path.join(work, "fonts.conf"), "w") as f:
+        f.write(f'<?xml version="1.0"?>\n<!DOCTYPE fontconfig SYSTEM "fonts.dtd">\n<fontconfig>'
+                f'<dir>{work}/fonts</dir><cachedir>{work}/fc-cache</cachedir></fontconfig>\n')
+    moved = dict(os.environ, FONTCONFIG_FILE=os.path.join(work, "fonts.conf"))
+    latin = ["--set", "view.font=Latin Modern Roman", "--set", "view.title=Latin Modern"]
+    cmds = {"sweep": ["sweep", scene, *GRID, *latin, "--set", "view.legend=none", "--set",
+                      "view.ylabel=lambda", "--set", "view.colorbar_label=lambda"],
+            "still": ["still", os.path.join(src, "..", "scenes", "default.ini"), "--at", "1", *latin,
+                      "--set", "view.panels=none", "--set", "view.hud=false"]}
+    for what, cmd in cmds.items():
+        a = subprocess.run([exe, *cmd, "-o", f"{what}_here.pdf", "-q"], cwd=work, capture_output=True,
+                           text=True)
+        b = subprocess.run([exe, *cmd, "-o", f"{what}_there.pdf", "-q"], cwd=work, capture_output=True,
+                           text=True, env=moved)
+        same = a.returncode == b.returncode == 0 and \
+            open(os.path.join(work, f"{what}_here.pdf"), "rb").read() == \
+            open(os.path.join(work, f"{what}_there.pdf"), "rb").read()
+        info = subprocess.run(["pdfinfo", f"{what}_there.pdf"], capture_output=True, text=True,
+                              cwd=work).stdout if b.returncode == 0 else ""
+        keywords = [line for line in info.splitlines() if line.startswith("Keywords")]
+        ok(same and keywords and "lmroman10-regular.otf" in keywords[0] and "/" not in keywords[0],
+           f"a {what} PDF: the same bytes with its font in {os.path.dirname(lm)} and in a copy elsewhere "
+           f"({keywords}; {a.stderr.strip()[:60]} {b.stderr.strip()[:60]})")
+else:
+    ok(True, "# SKIP Latin Modern Roman is not an installed .otf")
 done()

@@ -496,6 +496,12 @@ static int check_used(const struct sweep_opts *o)
         for (size_t k = 0; sec == 4 && !strncmp(s, "view", 4) &&
                            k < sizeof(figure_keys) / sizeof(figure_keys[0]); k++)
             used |= strlen(figure_keys[k]) == n - 5 && !strncmp(s + 5, figure_keys[k], n - 5);
+        if (used && (!strncmp(s, "view.xlabel=", 12) || !strncmp(s, "view.ylabel=", 12)) &&
+            strchr(s, '|')) { /* a still's names per panel; the figure has one plot */
+            sp_log_error("--set %s: a sweep figure has one plot, so one name; '|' separates "
+                         "the names of a still's panels", s);
+            return SP_E_INPUT;
+        }
         if (!used) {
             sp_log_error("--set %.*s: sweep does not use %.*s; it takes the [pendulum], "
                          "[initial], [pivot] and [integrator] keys, and view.theme, colormap, "
@@ -610,7 +616,7 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         struct sp_plot_style style = o->style; /* with the scene, as the CSV's dc:source */
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
         char *command = sp_command_line_unnamed();
-        style.scene_file = ini, style.command = command;
+        style.scene_file = ini, style.command = command, style.scene = pv->scene;
         style.cancel = sp_signal_flag(); /* a signal stops the drawing */
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
         free(ini);

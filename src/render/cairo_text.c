@@ -1,6 +1,8 @@
 /* springpend (internal): shaped text drawn with cairo. See cairo_text.h. */
 #include <stdlib.h>
+#include <string.h>
 
+#include <cairo-pdf.h>
 #include <cairo-ft.h>
 #include <ft2build.h>
 #include FT_FREETYPE_H
@@ -122,4 +124,23 @@ int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *fs, int size, double 
     }
     free(g), free(cl);
     return err;
+}
+
+void sp_cairo_pdf_fonts(cairo_surface_t *pdf, const struct sp_font *f)
+{
+    char files[2048], names[2048] = "fonts: ";
+    size_t n = strlen(names);
+    sp_font_files(f, files, sizeof(files));
+    for (char *e = files; *e;) { /* ", "-separated paths, each cut to its name */
+        char *end = strstr(e, ", "), *name = e;
+        if (end)
+            *end = 0;
+        for (char *c = e; *c; c++)
+            if (*c == '/')
+                name = c + 1;
+        const int w = snprintf(names + n, sizeof(names) - n, "%s%s", e == files ? "" : ", ", name);
+        n += w > 0 && (size_t)w < sizeof(names) - n ? (size_t)w : 0;
+        e = end ? end + 2 : e + strlen(e);
+    }
+    cairo_pdf_surface_set_metadata(pdf, CAIRO_PDF_METADATA_KEYWORDS, names);
 }

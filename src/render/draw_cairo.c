@@ -228,11 +228,8 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
             err = sp_cairo_text_show(cr, &faces, it->size, it->x, it->y, c->strings + it->text);
         }
         sp_cairo_faces_destroy(&faces);
-        if (d->format == SP_FIGURE_PDF) { /* provenance: the font files drawn from */
-            char files[2048] = "fonts: ";
-            sp_font_files(d->font, files + strlen(files), sizeof(files) - strlen(files));
-            cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_KEYWORDS, files);
-        }
+        if (d->format == SP_FIGURE_PDF) /* provenance: the font files drawn from */
+            sp_cairo_pdf_fonts(surface, d->font);
     }
     st = cairo_status(cr);
     cairo_destroy(cr);

@@ -176,6 +176,8 @@ struct sp_plot_style {
     int title_set;              /* 1: view->title is the title ("" = none) */
     const char *scene_file;     /* provenance: the sweep's base scene as a scene
                                    file (PDF /Subject, SVG <metadata>); NULL = none */
+    const struct sp_scene *scene; /* provenance: that scene, for a PNG's text
+                                   chunks as a still's (provenance.h); NULL = none */
     const char *command;        /* provenance: the command without its -o; NULL = none */
     const volatile sig_atomic_t *cancel; /* the caller's stop flag: once set, drawing
                                    stops and nothing is written

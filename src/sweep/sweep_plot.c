@@ -23,6 +23,8 @@
 #include "frame/text.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
+#include "springpend/png_io.h"
+#include "springpend/provenance.h"
 #include "analysis.h"
 #include "sweep.h"
 
@@ -1019,9 +1021,16 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
     int err = sp_font_make(&G.font, &fd);
     const char *const labels[][2] = {{"view.xlabel", v->xlabel}, {"view.ylabel", v->ylabel},
                                      {"view.colorbar_label", v->colorbar_label}};
-    for (size_t i = 0; !err && i < sizeof(labels) / sizeof(labels[0]); i++)
-        if (labels[i][1][0])
+    for (size_t i = 0; !err && i < sizeof(labels) / sizeof(labels[0]); i++) {
+        if (i < 2 && strchr(labels[i][1], '|')) { /* the scene's, for a still's panels */
+            sp_log_error("%s = '%s' names a still's panels ('|' between); a sweep figure has "
+                         "one plot: give it one name with --set %s=NAME", labels[i][0],
+                         labels[i][1], labels[i][0]);
+            err = SP_E_INPUT;
+        } else if (labels[i][1][0]) {
             err = sp_font_check(G.font, labels[i][0], labels[i][1]);
+        }
+    }
     if (!err && G.title && G.title[0]) {
         char where[512];
         title_where(where, sizeof(where));
@@ -1051,6 +1060,53 @@ int sp_sweep_plot_check(const struct sp_plot_style *style)
     const int err = begin(style, &look);
     end();
     return err;
+}
+
+/* The image surface s into out as a PNG (png_io.h) carrying a still's text
+ * chunks (provenance.h) but its time, which a sweep has none of: the base
+ * scene (as a scene file, which `springpend scene` prints, and canonical,
+ * with its hash), the environment, the font files drawn from; and, at a
+ * printed size, its dpi (pHYs). RGB when every pixel is opaque. 0 or an
+ * SP_E_* code (logged). */
+static int write_png(cairo_surface_t *s, struct sp_outfile *out,
+                     const struct sp_plot_style *style, double dpi)
+{
+    struct sp_provenance prov = {0};
+    struct sp_png_text text[SP_PROVENANCE_N_TEXT];
+    struct sp_image img;
+    int n = 0, opaque = 1;
+    cairo_surface_flush(s);
+    const unsigned char *data = cairo_image_surface_get_data(s);
+    const int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+    const int stride = cairo_image_surface_get_stride(s);
+    int ret = sp_image_alloc(&img, w, h);
+    for (int y = 0; !ret && y < h; y++)
+        for (int x = 0; x < w; x++) { /* premultiplied native ARGB to straight RGBA */
+            const uint32_t p = ((const uint32_t *)(data + (size_t)y * (size_t)stride))[x];
+            const unsigned a = p >> 24;
+            uint8_t *q = img.pixels + (size_t)y * (size_t)img.stride + 4 * (size_t)x;
+            for (int c = 0; c < 3; c++) {
+                const unsigned v = (p >> (16 - 8 * c)) & 255;
+                q[c] = (uint8_t)(a ? (v * 255 + a / 2) / a : 0);
+            }
+            q[3] = (uint8_t)a;
+            opaque &= a == 255;
+        }
+    if (!ret && style && style->scene &&
+        !(ret = sp_provenance_init(&prov, style->scene, "cairo " CAIRO_VERSION_STRING, NULL))) {
+        sp_font_files(G.font, prov.fonts, sizeof(prov.fonts));
+        ret = sp_font_environment(G.font, prov.environment, sizeof(prov.environment));
+        for (int i = 0; i < SP_PROVENANCE_N_TEXT; i++)
+            if (strcmp(prov.text[i].key, "springpend.time"))
+                text[n++] = prov.text[i];
+    }
+    const struct sp_png_write_opts opts = {.level = 6, .text = text, .n_text = n,
+                                           .opaque = opaque, .dpi = dpi};
+    if (!ret)
+        ret = sp_png_write_outfile(out, &img, &opts);
+    sp_provenance_free(&prov);
+    sp_image_free(&img);
+    return ret;
 }
 
 int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
@@ -1125,11 +1181,13 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
                                                  : draw_dots(cr, csv, csv_name, &d, &pal);
     if (!ret)
         ret = G.err; /* the text's */
+    if (!ret && !strcasecmp(ext, ".pdf")) /* provenance: the font files drawn from */
+        sp_cairo_pdf_fonts(s, G.font);
     sp_cairo_faces_destroy(&G.faces);
     cairo_status_t st = cairo_status(cr);
     cairo_destroy(cr);
     if (!ret && !st && !strcasecmp(ext, ".png"))
-        st = cairo_surface_write_to_png_stream(s, sp_cairo_fd_write, &sink);
+        ret = write_png(s, &out, style, G.print ? png_scale * 72 : 0);
     cairo_surface_finish(s);
     if (!st)
         st = cairo_surface_status(s);

@@ -2,7 +2,10 @@
  * (a batch of one, and a trajectory among others), within tolerance on the
  * adaptive one; the tangent equations against finite differences of two
  * trajectories; blow-ups marked per trajectory; full blocks of 16 lanes
- * with every lane (the last of each block too) checked. */
+ * with every lane (the last of each block too) checked; and the same in
+ * three dimensions (initial.azimuth_rate != 0): 3-D trajectories equal
+ * sp_sim's 3-D ones bit for bit, planar ones in a 3-D batch equal the
+ * planar batch's, the 6-D tangent its finite differences. */
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -377,7 +380,7 @@ static void test_fast(void)
     }
     double worst = 0;
     int same = 0;
-    for (int c = 0; ok && c < SP_BATCH_NC; c++) {
+    for (int c = 0; ok && c < SP_BZ; c++) { /* the planar components */
         if (c == SP_BW)
             continue;
         for (int i = 0; i < 24; i++) {
@@ -408,6 +411,175 @@ static void test_fast(void)
     sp_batch_destroy(&b);
 }
 
+
+/* ---- three dimensions ---------------------------------------------------- */
+
+/* Four 3-D scenes: the swinging spring (scenes/swinging-spring.ini), the
+ * chaotic one turning, a damped and driven one turning, and a fast turn. */
+static void make_scenes3(struct sp_scene sc[4])
+{
+    make_scenes(sc);
+    sc[0].pendulum.mass = 1, sc[0].pendulum.stiffness = 39.24;
+    sc[0].pendulum.natural_length = 0.75;
+    sc[0].initial.length = 1.05, sc[0].initial.angle = M_PI / 180;
+    sc[0].initial.azimuth_rate = 1;
+    sc[1].initial.azimuth_rate = 0.5;
+    sc[2].initial.azimuth_rate = 0.3;
+    sc[3].initial.azimuth_rate = -2;
+}
+
+static const char *const scene3_names[4] = {"swinging spring", "chaotic, turning",
+                                            "damped+driven, turning", "driven, fast turn"};
+
+/* The six components of sp_sim's state against lane i of b: how many differ
+ * (bitwise when bits, else by value, the sign of zero aside). */
+static long state_diff(const struct sp_sim *sim, const struct sp_batch *b, int i, int bits)
+{
+    const double want[6] = {sim->s.x, sim->s.y, sim->s.vx, sim->s.vy, sim->s.z, sim->s.vz};
+    const int comp[6] = {SP_BX, SP_BY, SP_BVX, SP_BVY, SP_BZ, SP_BVZ};
+    long off = 0;
+    for (int c = 0; c < 6; c++)
+        off += bits ? !same_bits(want[c], b->out[comp[c]][i]) : !(want[c] == b->out[comp[c]][i]);
+    return off;
+}
+
+static void test_bitwise3(enum sp_method method, const char *mname)
+{
+    struct sp_scene sc[4];
+    make_scenes3(sc);
+    for (int i = 0; i < 4; i++) {
+        sc[i].integrator.method = method;
+        sc[i].integrator.dt = 1e-3;
+        const struct sp_scene *one = &sc[i];
+        struct sp_batch *b = NULL;
+        struct sp_sim sim;
+        sp_sim_init(&sim, &sc[i]);
+        int ok = sim.spatial && sp_batch_make(&b, &one, 1, 0, 0) == 0 && b->spatial;
+        long off = 0;
+        const double times[] = {0.5, 1.0 / 60, 2.0 / 60, 1.0, 3.3337, 7.0, 10.0};
+        double t = 0;
+        for (int k = 0; ok && k < 7; k++) {
+            t = fmax(t, times[k]);
+            sp_sim_advance(&sim, t);
+            sp_batch_advance(b, t);
+            off += state_diff(&sim, b, 0, 1);
+        }
+        sp_tap_ok(ok && off == 0 && sim.s.z != 0, "3-D %s, %s: a batch of one equals sp_sim's "
+                  "3-D run bit for bit (%ld components differ; z %.17g vs %.17g)", mname,
+                  scene3_names[i], off, sim.s.z, b ? b->out[SP_BZ][0] : 0.0);
+        sp_batch_destroy(&b);
+    }
+}
+
+/* 33 trajectories, 3-D and planar mixed (every third planar), each its own
+ * k, b and drive, with and without the tangent: the 3-D ones equal sp_sim's
+ * 3-D run, the planar ones sp_sim's planar run (and the planar batch's),
+ * every lane checked. */
+static void test_full_blocks3(enum sp_method method, const char *mname)
+{
+    enum { N = 2 * SP_BATCH_BLOCK + 1 };
+    struct sp_scene sc[N];
+    const struct sp_scene *ptr[N], *planar[N];
+    int np = 0;
+    for (int i = 0; i < N; i++) {
+        full_scene(&sc[i], i, method);
+        sc[i].initial.azimuth_rate = i % 3 == 2 ? 0 : 0.2 + 0.05 * i;
+        ptr[i] = &sc[i];
+        if (i % 3 == 2)
+            planar[np++] = &sc[i];
+    }
+    for (int tangent = 0; tangent <= 1; tangent++) {
+        struct sp_batch *b = NULL, *pb = NULL;
+        int ok = sp_batch_make(&b, ptr, N, tangent, 1) == 0 &&
+                 sp_batch_make(&pb, planar, np, tangent, 1) == 0 && b->spatial && !pb->spatial;
+        if (ok)
+            sp_batch_advance(b, 2.345), sp_batch_advance(pb, 2.345);
+        double worst = 0;
+        long off = 0, off_planar = 0;
+        for (int i = 0, j = 0; ok && i < N; i++) {
+            struct sp_scene ref = sc[i];
+            if (method == SP_METHOD_DOP853)
+                ref.integrator.method = SP_METHOD_RK4, ref.integrator.dt = 1e-4;
+            struct sp_sim sim;
+            sp_sim_init(&sim, &ref);
+            sp_sim_advance(&sim, 2.345);
+            if (method == SP_METHOD_DOP853) {
+                const double want[6] = {sim.s.x, sim.s.y, sim.s.vx, sim.s.vy, sim.s.z, sim.s.vz};
+                const int comp[6] = {SP_BX, SP_BY, SP_BVX, SP_BVY, SP_BZ, SP_BVZ};
+                for (int c = 0; c < 6; c++) {
+                    double e = fabs(b->out[comp[c]][i] - want[c]) / (fabs(want[c]) + 1);
+                    worst = fmax(worst, e);
+                    off += !(e < 1e-8);
+                }
+            } else {
+                off += state_diff(&sim, b, i, 0);
+            }
+            if (i % 3 == 2) { /* planar: the planar batch's numbers, tangent and all */
+                for (int c = 0; c < SP_BZ; c++)
+                    off_planar += c != SP_BW && !(b->out[c][i] == pb->out[c][j]);
+                off_planar += b->out[SP_BZ][i] != 0 || b->out[SP_BVZ][i] != 0;
+                j++;
+            }
+        }
+        sp_tap_ok(ok && off == 0 && off_planar == 0,
+                  "3-D %s%s: all %d trajectories (3-D and planar mixed, lanes 0-15, 16-31 and "
+                  "one more) equal sp_sim%s: %ld components off (worst %.2g); the %d planar ones "
+                  "equal the planar batch's%s: %ld off", mname, tangent ? " with tangents" : "",
+                  N, method == SP_METHOD_DOP853 ? " (RK4 at 1e-4) within 1e-8" : " exactly",
+                  off, worst, np, tangent ? " (tangents too)" : "", off_planar);
+        sp_batch_destroy(&b);
+        sp_batch_destroy(&pb);
+    }
+}
+
+/* The 6-D tangent after 2 s against finite differences: each 3-D scene and
+ * copies of it shifted by eps along x and along z (set in the state before
+ * the first step), each copy's difference against the tangent started along
+ * that axis. */
+static void test_tangent3(enum sp_method method, const char *mname)
+{
+    struct sp_scene sc[4];
+    make_scenes3(sc);
+    const struct sp_scene *ptr[12];
+    for (int i = 0; i < 4; i++) {
+        sc[i].integrator.method = method;
+        sc[i].integrator.dt = 1e-3;
+        sc[i].integrator.tolerance = 1e-12;
+        ptr[i] = ptr[4 + i] = ptr[8 + i] = &sc[i];
+    }
+    const double eps = 1e-7;
+    struct sp_batch *b = NULL;
+    int ok = sp_batch_make(&b, ptr, 12, 1, 1) == 0 && b->spatial;
+    for (int i = 0; ok && i < 4; i++) {
+        /* lanes 0-3: tangent along z; 4-7 shifted by eps in x; 8-11 in z */
+        b->u[SP_BDX][i] = b->out[SP_BDX][i] = 0;
+        b->u[SP_BDZ][i] = b->out[SP_BDZ][i] = 1;
+        b->u[SP_BX][4 + i] += eps;
+        b->u[SP_BZ][8 + i] += eps;
+    }
+    struct sp_batch *bx = NULL; /* the tangent along x, for the x shift */
+    ok = ok && sp_batch_make(&bx, ptr, 4, 1, 1) == 0;
+    if (ok && method != SP_METHOD_RK4 && method != SP_METHOD_DOP853)
+        ok = 0; /* the splitting methods' force cache would need the shift too */
+    if (ok)
+        sp_batch_advance(b, 2.0), sp_batch_advance(bx, 2.0);
+    double worst = 0;
+    const int st[6] = {SP_BX, SP_BY, SP_BVX, SP_BVY, SP_BZ, SP_BVZ};
+    const int tg[6] = {SP_BDX, SP_BDY, SP_BDVX, SP_BDVY, SP_BDZ, SP_BDVZ};
+    for (int i = 0; ok && i < 4; i++)
+        for (int c = 0; c < 6; c++) {
+            double fdz = (b->out[st[c]][8 + i] - b->out[st[c]][i]) / eps;
+            double fdx = (b->out[st[c]][4 + i] - b->out[st[c]][i]) / eps;
+            worst = fmax(worst, fabs(fdz - b->out[tg[c]][i]) / (fabs(b->out[tg[c]][i]) + 1));
+            worst = fmax(worst, fabs(fdx - bx->out[tg[c]][i]) / (fabs(bx->out[tg[c]][i]) + 1));
+        }
+    sp_tap_ok(ok && worst < 1e-4, "3-D %s: the 6-D tangent, started along x and along z, "
+              "equals the finite differences of shifted trajectories (worst relative %.2g)",
+              mname, worst);
+    sp_batch_destroy(&b);
+    sp_batch_destroy(&bx);
+}
+
 int main(void)
 {
     test_bitwise(SP_METHOD_RK4, "rk4");
@@ -429,5 +601,14 @@ int main(void)
     test_cancel(SP_METHOD_RK4, "rk4");
     test_cancel(SP_METHOD_DOP853, "dop853");
     test_fast();
+    test_bitwise3(SP_METHOD_RK4, "rk4");
+    test_bitwise3(SP_METHOD_YOSHIDA4, "yoshida4");
+    test_bitwise3(SP_METHOD_VERLET, "verlet");
+    test_full_blocks3(SP_METHOD_RK4, "rk4");
+    test_full_blocks3(SP_METHOD_VERLET, "verlet");
+    test_full_blocks3(SP_METHOD_YOSHIDA4, "yoshida4");
+    test_full_blocks3(SP_METHOD_DOP853, "dop853");
+    test_tangent3(SP_METHOD_RK4, "rk4");
+    test_tangent3(SP_METHOD_DOP853, "dop853");
     return sp_tap_done();
 }

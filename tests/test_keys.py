@@ -177,7 +177,7 @@ for crf, preset, subme in ((31, "ultrafast", 0), (17, "medium", 7)):
        f"crf {crf}, preset {preset}: x264 options say crf={crf}.0, subme={subme}: {opts[:90]} {err(r)}")
 
 # ---- [view] and [ensemble]: each changes the frame it draws -----------------
-W, H = 160, 96
+W, H = 320, 192  # at least 320x180: smaller frames leave the HUD and panels out
 BASE = {"video.width": W, "video.height": H, "video.fps": 20, "video.duration": 2,
         "view.trail": 20, "view.fade": "false", "view.hud": "false"}
 
@@ -226,7 +226,7 @@ ok(dur is not None and frames21 is not None and np.array_equal(dur, frames21) an
    "view.trail = 1s (simulated s) at 20 fps draws the trail of view.trail = 21 frames")
 changed("fade", {"view.fade": "true"}, "the trail fades")
 changed("panels", {"view.panels": "r"}, "a panel")
-# the vectors' legend needs a larger frame than 160x96 (a smaller one is refused)
+# the vectors' legend needs a larger frame than the base one (a smaller one is refused)
 big = {"video.width": 480, "video.height": 288}
 changed("vectors", {"view.vectors": "forces, velocity", **big}, "arrows from the bob and their legend",
         ref_frame=frame("view-base-big", big))

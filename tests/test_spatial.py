@@ -230,12 +230,14 @@ for angle in ("180", "360", "-180", "1e-300"):
 r = run("data", SWING, "-o", "-", "--set", "initial.azimuth_rate=x")
 ok(r.returncode == 2 and "azimuth_rate" in r.stderr, "a non-number azimuth_rate: exit 2")
 r = run("data", SWING, "-o", "-", "--set", "ensemble.count=3",
-        "--set", "ensemble.key=initial.angle")
-ok(r.returncode == 2 and "[ensemble] runs planar pendulums only" in r.stderr,
-   f"[ensemble] with azimuth_rate is refused, not drawn flat ({r.stderr.strip()})")
-r = run("sweep", SWING, "--vary", "pendulum.mass=1:2:2", "--measure", "lyapunov",
+        "--set", "ensemble.key=initial.angle", "--set", "video.duration=1")
+ok(r.returncode == 0 and r.stdout.startswith("t,member,initial.angle,x,y,vx,vy,z,vz,azimuth\n"),
+   f"[ensemble] of a 3-D scene runs in 3-D: its members' rows have z, vz, azimuth (each "
+   f"member against its single run: test ensemble) {r.stderr.strip()}")
+r = run("sweep", SWING, "--vary", "pendulum.mass=1:2:2", "--measure", "orbit",
         "--time", "5", "-o", os.path.join(work, "sweep.png"))
-ok(r.returncode == 2 and "planar pendulums only" in r.stderr and
+ok(r.returncode == 2 and "leaves the x-y plane" in r.stderr and
    not os.path.exists(os.path.join(work, "sweep.png")),
-   f"sweep of a 3-D scene is refused, not run flat ({r.stderr.strip()})")
+   f"an orbit sweep (theta in the plane) of a 3-D scene is refused, not run flat "
+   f"({r.stderr.strip()[:160]}); lyapunov and precession sweep it (test sweep3d)")
 done()

@@ -257,7 +257,7 @@ bad = [(["--vary", "video.width=100:200:3"], "only the physics can be varied"),
        (["--vary", "pendulum.mass=-1:2:3"], "pendulum.mass = -1 is out of range"),
        (["--vary", "initial.angle=1:2"], "expected KEY=FROM:TO:COUNT"),
        (["--vary", "initial.angle=1:2:100000", "--vary", "initial.length=1:2:1000"], "at most 50000000"),
-       (["--vary", "initial.angle=1:2:3", "--measure", "nope"], "use lyapunov, spectrum, orbit, poincare or basins")]
+       (["--vary", "initial.angle=1:2:3", "--measure", "nope"], "use lyapunov, spectrum, orbit, poincare, basins or precession")]
 for args, want in bad:
     rr = run(chaotic, *args, "--measure", "lyapunov", "--time", "1", "-o", "bad.png", "--csv", "bad.csv")
     if "--measure" in args[2:]:

@@ -19,7 +19,18 @@
  *   dq' = dv,  dv' = J dq - (b/m) dv,
  *   J = -(k/m) [(1 - L0/rho) I + L0 q q^T / rho^3],
  * integrated by the same method (for the splitting methods, the derivative
- * of the discrete map itself), from dq = (1, 0), dv = 0. */
+ * of the discrete map itself), from dq = (1, 0), dv = 0.
+ *
+ * Three dimensions (sim.h: the spherical pendulum, a scene with
+ * initial.azimuth_rate != 0): when any trajectory of a batch leaves the x-y
+ * plane, the whole batch integrates z and vz too (and, with the tangent,
+ * the 3 x 3 Jacobian on a 6-D tangent vector that starts at dq = (1, 0, 0),
+ * dv = 0), each trajectory with sp_sim's 3-D arithmetic. A planar
+ * trajectory in such a batch keeps z = vz = 0 exactly, and every number it
+ * computes equals the planar path's (adding z^2 = +0 changes no value), so
+ * its results still do not depend on its neighbours; its tangent stays in
+ * the plane (the out-of-plane perturbations of a planar motion are not
+ * followed: its lambda is the planar one). */
 #ifndef SPRINGPEND_BATCH_H
 #define SPRINGPEND_BATCH_H
 
@@ -38,6 +49,8 @@ enum sp_batch_comp {
     SP_BW,            /* work per mass done by damping and drive, J/kg */
     SP_BDX, SP_BDY,   /* tangent vector, position part */
     SP_BDVX, SP_BDVY, /* tangent vector, velocity part */
+    SP_BZ, SP_BVZ,    /* 3-D: out of the starting plane (sim.h's z), m and m/s */
+    SP_BDZ, SP_BDVZ,  /* 3-D: the tangent vector's z parts */
     SP_BATCH_NC,
 };
 
@@ -47,6 +60,8 @@ struct sp_batch {
     enum sp_method method; /* rk4, verlet, yoshida4 or dop853 */
     int tangent;           /* 1: the tangent vector is integrated */
     int forced;            /* damping or drive in some trajectory: work is tracked */
+    int spatial;           /* 1: some trajectory leaves the x-y plane: z, vz (and
+                            * dz, dvz) are integrated for all */
     double dt;             /* fixed-step methods' step, s */
     double tol;            /* adaptive methods' relative tolerance */
     double t;              /* time of out[], s */
@@ -56,7 +71,8 @@ struct sp_batch {
     unsigned char *dead;   /* 1: the trajectory blew up; its out[] is NaN */
     /* private */
     double *u[SP_BATCH_NC];   /* stepping state: the grid state (fixed) */
-    double *cache[6];         /* splitting: ax, ay, a_pivot, jxx, jxy, jyy at u */
+    double *cache[10];        /* splitting: ax, ay, a_pivot, jxx, jxy, jyy at u;
+                               * 3-D also az, jxz, jyz, jzz */
     double *km, *L0, *g, *bm, *amp, *om; /* 1/s^2, m, m/s^2, 1/s, m, rad/s */
     double *mass, *stiff;     /* kg, N/m */
     double *e0, *escale;      /* energy at t = 0, and the largest energy of the
@@ -65,6 +81,8 @@ struct sp_batch {
     double drift_limit;       /* as sim.c's: |drift| / escale that is a blow-up */
     double *atol_q, *atol_v;  /* adaptive: absolute tolerances, m and m/s */
     double *h;                /* adaptive: next step per trajectory, s */
+    double *nphys;            /* adaptive: the error norm's components, 4 (planar
+                               * trajectory) or 6 (3-D), as sim.c's NPHYS */
     double *mem;
     const volatile sig_atomic_t *cancel; /* the caller's (a signal): once set,
                                           * sp_batch_advance stops; NULL = never */
@@ -74,8 +92,9 @@ struct sp_batch {
                                * fused multiply-adds and 1/rho from vrsqrt14pd and
                                * two Newton steps instead of sqrt and a division.
                                * Within rounding of the exact kernel, not its bits
-                               * (sp_sim's); other methods and forced scenes
-                               * ignore it, so a caller refuses them. */
+                               * (sp_sim's); other methods, forced scenes and
+                               * 3-D batches ignore it, so a caller refuses
+                               * them. */
 };
 
 /* 1 when this CPU runs the fast kernel (x86-64 with AVX-512F and FMA). */
@@ -86,6 +105,7 @@ int sp_batch_fast_supported(void);
  * force_forced = 1 tracks work (and takes the damped/driven code path) even
  * when no scene needs it, so that a trajectory's arithmetic does not depend
  * on its neighbours: a sweep passes whether any point of its grid is forced.
+ * The batch is 3-D (b->spatial) when any scene is (see above).
  * Returns 0, SP_E_NOMEM, or SP_E_INPUT for rkn1210 (not batched). */
 int sp_batch_make(struct sp_batch **out, const struct sp_scene *const *scenes, int n,
                   int tangent, int force_forced);
@@ -109,17 +129,20 @@ int sp_batch_advance(struct sp_batch *b, double t_target);
 #define SP_BATCH_CHUNK 65536
 
 /* Lyapunov bookkeeping: for each trajectory i, growth[i] = ln |delta| of its
- * tangent vector, which is then scaled back to length 1 (in the stepping
+ * tangent vector (4 or, in a 3-D batch, 6 components), which is then scaled
+ * back to length 1 (in the stepping
  * state and in out[]). Fixed-step methods: b->t must be on the grid
  * (a multiple of dt), as the stepping state is renormalised. */
 void sp_batch_renormalise(struct sp_batch *b, double *growth);
 
-/* Resets every tangent vector to dq = (1, 0), dv = 0 (after a transient). */
+/* Resets every tangent vector to dq = (1, 0), dv = 0 (dq = (1, 0, 0) in 3-D;
+ * after a transient). */
 void sp_batch_reset_tangent(struct sp_batch *b);
 
 /* Sets trajectory i's tangent vector to d = (dq_x, dq_y, dv_x, dv_y) (in the
  * stepping state and in out[]); as sp_batch_renormalise, fixed-step methods
- * need b->t on the grid. A dead trajectory stays NaN. */
+ * need b->t on the grid. A dead trajectory stays NaN. Planar batches only
+ * (the Lyapunov spectrum's four vectors; a 3-D batch's dz, dvz stay). */
 void sp_batch_set_tangent(struct sp_batch *b, int i, const double d[4]);
 
 #endif

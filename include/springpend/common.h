@@ -23,6 +23,11 @@ enum sp_error {
  * or start a line of its own. */
 void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
+/* As sp_log_error, for what is worth saying but changes no outcome ("note:
+ * ..."), unless sp_log_quiet(1) was called (the commands' -q). */
+void sp_log_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void sp_log_quiet(int quiet);
+
 #include <stdio.h>
 
 /* Writes the UTF-8 string s to fp with what a terminal would obey shown

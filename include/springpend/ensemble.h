@@ -4,7 +4,8 @@
  * the batched integrator (batch.h: each member's states are sp_sim's to the
  * last bit for fixed-step methods). Keeps what the frames draw: the members'
  * positions, their short trails, and the ensemble's spread in phase space
- * against time; knows nothing of drawing. */
+ * against time; knows nothing of drawing. A 3-D scene (initial.azimuth_rate
+ * != 0) gives 3-D members: positions, trails and spread take z and vz too. */
 #ifndef SPRINGPEND_ENSEMBLE_H
 #define SPRINGPEND_ENSEMBLE_H
 
@@ -35,7 +36,8 @@ struct sp_ensemble {
     int n_spread, cap_spread;
     int trail_cap;             /* points per member's trail, 0 = none */
     int trail_count, trail_head; /* the rings' fill and next slot (all members alike) */
-    float *trail_xy;           /* member i's ring: trail_xy[2 * (i * trail_cap + j)], m in the lab */
+    float *trail_xyz;          /* member i's ring: trail_xyz[3 * (i * trail_cap + j)] + 0, 1,
+                                  2: x, y, z, m in the lab (z 0 planar) */
 };
 
 /* Builds the ensemble of scene (ensemble.count > 1, checked by the parser),
@@ -58,23 +60,30 @@ int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, dou
 int sp_ensemble_advance(struct sp_ensemble *e, double t);
 
 /* The spread at the current time: the root mean square distance of the
- * members from their mean in phase space (x, y, vx / omega, vy / omega),
- * m. */
+ * members from their mean in phase space (x, y, vx / omega, vy / omega, and
+ * z, vz / omega in 3-D), m. */
 double sp_ensemble_spread(const struct sp_ensemble *e);
 
-/* Member i's position in the lab (pivot at rest at the origin), m. */
-void sp_ensemble_position(const struct sp_ensemble *e, int i, double *x, double *y);
+/* Member i's position in the lab (pivot at rest at the origin), m; z is 0
+ * for planar members. */
+void sp_ensemble_position(const struct sp_ensemble *e, int i, double *x, double *y, double *z);
 
 /* Member i's colour of n: hues around the wheel, distinct neighbours. */
 void sp_ensemble_color(int i, int n, float rgb[3]);
 
 /* Writes the members' states at times t_k = k * every (every > 0) or the
  * video's frame times as CSV rows "t,member,KEY,x,y,vx,vy" (positions and
- * velocities relative to the pivot, as data's columns; %.15g like data).
+ * velocities relative to the pivot, as data's columns; %.15g like data),
+ * and ",z,vz,azimuth" for a 3-D scene (as data's, the azimuth continued from
+ * each member's previous row).
  * 0, SP_E_UNSTABLE, SP_E_IO, SP_E_NOMEM or SP_E_INTERRUPTED (once the
  * caller's *cancel is set; NULL = never). */
 int sp_ensemble_write_csv(FILE *fp, const struct sp_scene *scene, double every,
                           const volatile sig_atomic_t *cancel);
+
+/* 1 when some member of scene's ensemble leaves the x-y plane (its
+ * initial.azimuth_rate is not 0, the scene's or the key's), else 0. */
+int sp_ensemble_spatial(const struct sp_scene *scene);
 
 /* Frees e and sets *e to NULL; NULL is fine. */
 void sp_ensemble_destroy(struct sp_ensemble **e);

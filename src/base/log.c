@@ -94,6 +94,25 @@ void sp_log_error(const char *fmt, ...)
     va_end(ap);
 }
 
+/* 1: sp_log_note says nothing (-q); set once by the command line. */
+static int log_quiet;
+
+void sp_log_quiet(int quiet)
+{
+    log_quiet = quiet;
+}
+
+void sp_log_note(const char *fmt, ...)
+{
+    va_list ap;
+    if (log_quiet)
+        return;
+    va_start(ap, fmt);
+    fputs("springpend: ", stderr);
+    vprint_line(stderr, fmt, ap);
+    va_end(ap);
+}
+
 /* ---- progress of long integrations ---- */
 
 static struct {

@@ -240,7 +240,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
             }
             ret = add_override(o, optarg);
             break;
-        case 'q': o->quiet = 1; break;
+        case 'q': o->quiet = 1, sp_log_quiet(1); break;
         case 'j':
         case 'P':
             if (!(allow_at & (c == 'j' ? SP_CLI_JSON : SP_CLI_POINCARE))) {

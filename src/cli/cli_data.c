@@ -60,7 +60,8 @@ static const char data_usage[] =
     "A scene with [ensemble] count = N > 1 writes its N members instead, N rows\n"
     "per time: t,member,KEY,x,y,vx,vy (KEY: ensemble.key's value, file units,\n"
     "17 digits; each member is the single run with --set KEY=that value;\n"
-    "--poincare still writes the scene's own crossings).\n"
+    "z,vz,azimuth follow for a 3-D scene; --poincare still writes the scene's own\n"
+    "crossings).\n"
     "With 2 to 4 SCENE files (the scenes 'render' shows side by side), each scene's\n"
     "rows follow in turn, after a first column scene (the file's name without .ini);\n"
     "z,vz,azimuth are written for all when one scene is spatial; --poincare and\n"
@@ -259,7 +260,11 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
         m.columns = crossing_columns, m.n_columns = N_OF(crossing_columns);
     } else if (sc->ensemble.count > 1) {
         m.title = "springpend data: the ensemble's members, one row per member and time";
-        m.columns = ensemble_columns, m.n_columns = N_OF(ensemble_columns);
+        for (int i = 0; i < N_OF(ensemble_columns); i++)
+            all[m.n_columns++] = ensemble_columns[i];
+        for (int i = 0; sp_ensemble_spatial(sc) && i < N_OF(spatial_columns); i++) /* 3-D */
+            all[m.n_columns++] = spatial_columns[i];
+        m.columns = all;
     } else {
         struct sp_sim sim; /* spatial or not, as write_samples will find */
         sp_sim_init(&sim, sc);

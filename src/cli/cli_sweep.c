@@ -31,7 +31,8 @@
 
 static const char sweep_usage[] =
     "usage: springpend sweep SCENE --vary KEY=FROM:TO:COUNT [--vary KEY=FROM:TO:COUNT]\n"
-    "                        --measure lyapunov|spectrum|orbit|poincare|basins --time T\n"
+    "                        --measure lyapunov|spectrum|orbit|poincare|basins|precession\n"
+    "                        --time T\n"
     "                        [--transient T0] -o FIGURE.png|.svg|.pdf|- [--csv FILE.csv]\n"
     "                        [--format csv|json] [options]\n"
     "       springpend sweep SCENE ... --shard I/N --csv PART.csv\n"
@@ -58,11 +59,18 @@ static const char sweep_usage[] =
     "            settled cycles are clustered into attractors; the figure's legend\n"
     "            and stderr give each one's period, state and basin fraction, and the\n"
     "            basin entropy S_b and boundary basin entropy S_bb (5x5 boxes).\n"
+    "  precession  3-D scenes (initial.azimuth_rate != 0): the swinging spring's turn\n"
+    "            of the swing plane per exchange (degrees), as data's azimuth column\n"
+    "            has it, between successive maxima of the swing (each averaged over a\n"
+    "            pendulum period); the CSV also has the exchanges counted and their\n"
+    "            period. A line over one key, a coloured map over two.\n"
     "  poincare  Poincare mosaic: (r, r_dot) at every crossing of every grid point's\n"
     "            orbit, coloured by orbit, all at one energy: each point's\n"
     "            initial.angle_rate is derived from --energy E (J; default the\n"
     "            scene's own), so vary initial.length, initial.angle or\n"
     "            initial.length_rate. Points that cannot reach E are skipped.\n"
+    "3-D scenes (initial.azimuth_rate != 0, or varied) take lyapunov (a 6-D tangent)\n"
+    "and precession; the other measures are of the planar motion.\n"
     "The scene's [integrator] is used (rk4, verlet, yoshida4 at its dt; dopri5 and\n"
     "dop853 as dop853 at its tolerance, landing on every sample time).\n"
     "A point whose integration blows up is NaN in the CSV and the figure, and\n"
@@ -72,7 +80,7 @@ static const char sweep_usage[] =
     "\n"
     "options:\n"
     "  --vary KEY=FROM:TO:COUNT  a key to vary (one or two)\n"
-    "  --measure NAME            lyapunov, orbit or poincare\n"
+    "  --measure NAME            lyapunov, spectrum, orbit, poincare, basins or precession\n"
     "  --time T                  simulated seconds measured, after the transient\n"
     "  --transient T0            simulated seconds integrated first (default 0)\n"
     "  --energy E                poincare: the orbits' energy, J\n"
@@ -209,9 +217,11 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
                 d->measure = SP_MEASURE_SPECTRUM;
             else if (!strcmp(optarg, "basins"))
                 d->measure = SP_MEASURE_BASINS;
+            else if (!strcmp(optarg, "precession"))
+                d->measure = SP_MEASURE_PRECESSION;
             else {
-                sp_log_error("--measure %s: use lyapunov, spectrum, orbit, poincare or basins",
-                             optarg);
+                sp_log_error("--measure %s: use lyapunov, spectrum, orbit, poincare, basins or "
+                             "precession", optarg);
                 return SP_E_INPUT;
             }
             break;
@@ -405,6 +415,9 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
                 f = fmax(d->axis[a].from, d->axis[a].to);
         per_point += SP_BASINS_SAMPLES * f * span;
         extra = ", landing on 8 samples a drive period";
+    } else if (d->measure == SP_MEASURE_PRECESSION) {
+        per_point = fmax(per_point, span / d->sample); /* lands on every sample */
+        extra = ", landing on 32 samples a pendulum period";
     } else if (d->cont == SP_CONTINUE_BOTH) {
         per_point *= 2;
         extra = ", both branches";

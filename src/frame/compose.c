@@ -302,6 +302,45 @@ static int check_band(struct sp_composer *r)
     return bad ? SP_E_INPUT : 0;
 }
 
+/* The least frame (or side-by-side cell), output px, in which the heads-up
+ * text, the panels, the colour bar and the speed marker are laid out
+ * without overlapping: SP_TEXT_MIN_LONG on the longer side and
+ * SP_TEXT_MIN_SHORT on the shorter (test legibility: 320x180 and 180x320
+ * hold every panel; at 160x90 the time ran over the speed marker and the
+ * panels over the HUD). */
+#define SP_TEXT_MIN_LONG 320
+#define SP_TEXT_MIN_SHORT 180
+
+/* Below that size (a video frame; a figure of physical size is exempt)
+ * those are left out, and said once on stderr (a note: not with -q) with
+ * the size they need. ss:
+ * drawn px per output px. */
+static void small_frame(struct sp_composer *r, float ss)
+{
+    const float w = (float)r->width / ss, h = (float)r->height / ss;
+    struct sp_view *v = &r->look.view;
+    if (r->look.pt_px > 0 || (fmaxf(w, h) >= SP_TEXT_MIN_LONG && fminf(w, h) >= SP_TEXT_MIN_SHORT))
+        return;
+    if (!(v->hud || v->panels || v->colorbar || r->speed[0]))
+        return;
+    const char *what[4] = {v->hud ? "heads-up text" : NULL, v->panels ? "panels" : NULL,
+                           v->colorbar ? "colour bar" : NULL, r->speed[0] ? "speed marker" : NULL};
+    char list[128] = "";
+    for (int i = 0, n = 0; i < 4; i++)
+        if (what[i])
+            snprintf(list + strlen(list), sizeof(list) - strlen(list), "%s%s", n++ ? ", " : "",
+                     what[i]);
+    sp_log_note("note: at %.0fx%.0f%s the %s would overlap: drawn without them (they need at "
+                "least %dx%d, or %dx%d upright; view.hud = false, view.panels = none, "
+                "view.colorbar = false and video.speed = 1 say so)", w, h,
+                r->cell ? " a cell" : "", list, SP_TEXT_MIN_LONG, SP_TEXT_MIN_SHORT,
+                SP_TEXT_MIN_SHORT, SP_TEXT_MIN_LONG);
+    v->hud = 0;
+    v->panels = 0;
+    v->colorbar = 0;
+    r->speed[0] = 0;
+}
+
 int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc)
 {
     struct sp_composer *r = calloc(1, sizeof(*r));
@@ -333,7 +372,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     r->ink = r->look.pt_px > 0 ? ss * PRINT_FONT_PT / PRINT_FONT_FRAC : r->unit;
     r->extent = desc->extent;
     r->max_speed = desc->extent.max_speed > 0 ? desc->extent.max_speed : 1.0;
-    if (!r->look.view.pendulum || r->look.ensemble_count > 1)
+    if (!r->look.view.pendulum)
         r->look.perspective = 0;
     if (r->look.perspective &&
         (err = sp_camera_aim(&r->cam, &r->look.view,
@@ -357,6 +396,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         r->look.view.colorbar = 0; /* no speed-coloured trail to explain */
     if (r->look.ensemble_count > 1)
         r->look.view.vectors = 0; /* the members are drawn, not the one bob */
+    small_frame(r, ss);
     if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar || r->look.view.vectors ||
         r->look.view.title[0] || r->look.view.caption[0] || r->speed[0] || r->look.view.font[0] || tl) {
         struct sp_font_desc fd = {.family = r->look.view.font};
@@ -382,7 +422,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
  * top-left, bottom-left, top-right and bottom-right, that the motion's box
  * (with the bob and the arrows' room around it) leaves free; top-left when
  * none does. It was always top-left, over the pendulum hanging there. */
-static void legend_corner(struct sp_composer *r, float w, float h)
+static int legend_corner(struct sp_composer *r, float w, float h)
 {
     const struct sp_rect *c = &r->layout.camera;
     const struct sp_view_extent *e = &r->extent;
@@ -399,8 +439,39 @@ static void legend_corner(struct sp_composer *r, float w, float h)
     for (int i = 0; i < 4 && !r->look.perspective; i++) /* perspective: no ox, oy */
         if (!sp_rect_overlap(&corner[i], &box)) {
             r->legend = corner[i];
-            return;
+            return 0;
         }
+    return 1;
+}
+
+/* No corner of the view is free of the motion (legend_corner returned 1):
+ * the motion is fitted again beside the legend (w x h px, at the view's
+ * top left), below it or to its right, whichever draws it larger, so the
+ * legend never covers the pendulum. */
+static void legend_room(struct sp_composer *r, const struct sp_params *p, float w, float h)
+{
+    const struct sp_rect *cam = &r->layout.camera;
+    const float g = r->layout.gap;
+    const struct sp_rect side[2] = {{cam->x0, cam->y0 + h + g, cam->x1, cam->y1},
+                                    {cam->x0 + w + g, cam->y0, cam->x1, cam->y1}};
+    double best = 0;
+    int pick = -1;
+    for (int i = 0; i < 2; i++) {
+        if (!sp_rect_valid(&side[i]))
+            continue;
+        fit_camera(r, &side[i]);
+        if (r->scale > best)
+            best = r->scale, pick = i;
+    }
+    if (pick < 0) {
+        fit_camera(r, cam);
+        return;
+    }
+    fit_camera(r, &side[pick]);
+    r->arrow_px = arrow_room(r, &side[pick]) * r->room;
+    sp_vectors_setup(&r->vectors, &r->look, &r->extent, p, r->unit, (float)r->arrow_px);
+    sp_vectors_legend_size(r->font, &r->vectors, &w, &h); /* its keys may round anew */
+    r->legend = (struct sp_rect){cam->x0, cam->y0, cam->x0 + w, cam->y0 + h};
 }
 
 /* deg (degrees) as the HUD prints an angle: one decimal, or two significant
@@ -519,7 +590,8 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
     if (r->look.view.vectors && r->look.view.pendulum && r->font) {
         float w, h;
         sp_vectors_legend_size(r->font, &r->vectors, &w, &h);
-        legend_corner(r, w, h);
+        if (legend_corner(r, w, h))
+            legend_room(r, p, w, h);
         if (check && (w > cam->x1 - cam->x0 || h > cam->y1 - cam->y0)) {
             sp_log_error("[view] vectors: the arrows' legend needs %.0fx%.0f px, and the "
                          "pendulum's view is %.0fx%.0f px of the %dx%d frame (beside the "
@@ -1059,9 +1131,16 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     to_px(r, f->state.x, f->state.y + yp, bb);
     sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
     if (r->look.view.pendulum && f->ensemble) { /* the members instead of the one bob */
+        double piv_px = r->scale;
+        if (r->look.perspective) { /* a 3-D ensemble (or a camera set): on the floor */
+            put_floor(r);
+            piv_px = world_px(r, 0, yp, 0, pv);
+        }
         put_mount(r, pv);
-        sp_compose_ensemble(cv, f->ensemble, r->ox, r->oy, r->scale, r->unit, &r->pal);
-        sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit, 0, r->pal.pivot);
+        sp_compose_ensemble(cv, f->ensemble, r->ox, r->oy, r->scale, r->unit, &r->pal,
+                            r->look.perspective ? &r->cam : NULL);
+        sp_canvas_disc(cv, pv[0], pv[1], PIVOT_RADIUS * r->unit * (float)(piv_px / r->scale), 0,
+                       r->pal.pivot);
     } else if (r->look.view.pendulum && r->look.perspective) {
         const double piv[3] = {0, yp, 0}, bob[3] = {f->state.x, f->state.y + yp, f->state.z};
         put_floor(r);
@@ -1163,6 +1242,10 @@ void sp_compose_overlay(const struct sp_composer *c, const char *prefix, double 
                                 c->oy / c->ss + dy);
     }
     sp_vectors_describe(&c->vectors, c->ss, prefix, buf, size, &used);
+    if (c->look.view.vectors && c->look.view.pendulum && used < size)
+        used += (size_t)snprintf(buf + used, size - used, "%svectors.legend_px=%.9g,%.9g,%.9g,%.9g\n",
+                                 prefix, c->legend.x0 / c->ss + dx, c->legend.y0 / c->ss + dy,
+                                 c->legend.x1 / c->ss + dx, c->legend.y1 / c->ss + dy);
     const struct sp_bars_scale *b = &c->bars;
     if (b->n && used < size)
         snprintf(buf + used, size - used, "%senergy_bars.zero_px=%.9g\n%senergy_bars.px_per_J=%.9g\n"

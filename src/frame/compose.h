@@ -89,11 +89,15 @@ const struct sp_palette *sp_compose_palette(const struct sp_composer *c);
 
 /* compose_ensemble.c: draws ensemble e's members (thin rods from their
  * pivots, discs in sp_ensemble_color, and their trails when kept) with the
- * camera px = (ox + scale x, oy - scale y); unit is the frame's smaller
- * side, px. */
+ * front view px = (ox + scale x, oy - scale y), or through cam (not NULL:
+ * the perspective of a 3-D scene; scale is then cam's px per m at its
+ * target, the members' discs sized by 1/depth and drawn far to near);
+ * unit is the frame's smaller side, px. */
 struct sp_ensemble;
+struct sp_camera;
 void sp_compose_ensemble(struct sp_canvas *c, const struct sp_ensemble *e, double ox, double oy,
-                         double scale, float unit, const struct sp_palette *pal);
+                         double scale, float unit, const struct sp_palette *pal,
+                         const struct sp_camera *cam);
 
 /* Frees everything and sets *c to NULL. Safe on NULL. */
 void sp_compose_destroy(struct sp_composer **c);

@@ -71,16 +71,19 @@ static int check_dead(const struct sp_ensemble *e, const struct sp_batch *b)
 
 static double spread_of(const struct sp_ensemble *e, const struct sp_batch *b)
 {
-    double mean[4] = {0, 0, 0, 0}, sum = 0;
-    const double w[4] = {1, 1, 1 / e->omega, 1 / e->omega};
-    for (int c = 0; c < 4; c++) {
+    /* the planar components first (a planar ensemble's sums as before) */
+    static const int comp[6] = {SP_BX, SP_BY, SP_BVX, SP_BVY, SP_BZ, SP_BVZ};
+    const double w[6] = {1, 1, 1 / e->omega, 1 / e->omega, 1, 1 / e->omega};
+    const int nc = b->spatial ? 6 : 4;
+    double mean[6] = {0}, sum = 0;
+    for (int c = 0; c < nc; c++) {
         for (int i = 0; i < b->n; i++)
-            mean[c] += b->out[SP_BX + c][i] * w[c];
+            mean[c] += b->out[comp[c]][i] * w[c];
         mean[c] /= b->n;
     }
     for (int i = 0; i < b->n; i++)
-        for (int c = 0; c < 4; c++) {
-            const double d = b->out[SP_BX + c][i] * w[c] - mean[c];
+        for (int c = 0; c < nc; c++) {
+            const double d = b->out[comp[c]][i] * w[c] - mean[c];
             sum += d * d;
         }
     return sqrt(sum / b->n);
@@ -91,10 +94,11 @@ double sp_ensemble_spread(const struct sp_ensemble *e)
     return spread_of(e, e->batch);
 }
 
-void sp_ensemble_position(const struct sp_ensemble *e, int i, double *x, double *y)
+void sp_ensemble_position(const struct sp_ensemble *e, int i, double *x, double *y, double *z)
 {
     *x = e->batch->out[SP_BX][i];
     *y = e->batch->out[SP_BY][i] + sp_pivot_y(&e->params[i], e->t);
+    *z = e->batch->spatial ? e->batch->out[SP_BZ][i] : 0;
 }
 
 void sp_ensemble_color(int i, int n, float rgb[3])
@@ -177,11 +181,15 @@ int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, dou
             const double x = pre->out[SP_BX][i], yp = sp_pivot_y(&e->params[i], pre->t);
             const double y = pre->out[SP_BY][i] + yp;
             const double vx = pre->out[SP_BVX][i], vy = pre->out[SP_BVY][i];
+            const double z = pre->spatial ? pre->out[SP_BZ][i] : 0;
+            const double vz = pre->spatial ? pre->out[SP_BVZ][i] : 0;
             extent->xmin = fmin(extent->xmin, x);
             extent->xmax = fmax(extent->xmax, x);
             extent->ymin = fmin(extent->ymin, fmin(y, yp));
             extent->ymax = fmax(extent->ymax, fmax(y, yp));
-            extent->max_speed = fmax(extent->max_speed, sqrt(vx * vx + vy * vy));
+            extent->zmin = fmin(extent->zmin, z);
+            extent->zmax = fmax(extent->zmax, z);
+            extent->max_speed = fmax(extent->max_speed, sqrt(vx * vx + vy * vy + vz * vz));
         }
         if (cancel && *cancel) {
             ret = SP_E_INTERRUPTED;
@@ -203,8 +211,8 @@ int sp_ensemble_make(struct sp_ensemble **out, const struct sp_scene *scene, dou
     if (scene->ensemble.trails) {
         /* at most about 3000 trail segments per frame in all */
         e->trail_cap = (int)fmin(SP_ENSEMBLE_TRAIL, fmax(8, 3000.0 / e->n));
-        e->trail_xy = calloc((size_t)e->n * e->trail_cap * 2, sizeof(*e->trail_xy));
-        if (!e->trail_xy) {
+        e->trail_xyz = calloc((size_t)e->n * e->trail_cap * 3, sizeof(*e->trail_xyz));
+        if (!e->trail_xyz) {
             sp_log_error("out of memory for %d trails", e->n);
             ret = SP_E_NOMEM;
             goto fail;
@@ -241,10 +249,10 @@ int sp_ensemble_advance(struct sp_ensemble *e, double t)
     e->spread_log[e->n_spread++] = (float)log10(fmax(sp_ensemble_spread(e), 1e-300));
     if (e->trail_cap) {
         for (int i = 0; i < e->n; i++) {
-            double x, y;
-            sp_ensemble_position(e, i, &x, &y);
-            float *p = &e->trail_xy[2 * ((size_t)i * e->trail_cap + e->trail_head)];
-            p[0] = (float)x, p[1] = (float)y;
+            double x, y, z;
+            sp_ensemble_position(e, i, &x, &y, &z);
+            float *p = &e->trail_xyz[3 * ((size_t)i * e->trail_cap + e->trail_head)];
+            p[0] = (float)x, p[1] = (float)y, p[2] = (float)z;
         }
         e->trail_head = (e->trail_head + 1) % e->trail_cap;
         if (e->trail_count < e->trail_cap)
@@ -260,10 +268,16 @@ int sp_ensemble_write_csv(FILE *fp, const struct sp_scene *scene, double every,
     struct sp_batch *b = NULL;
     const long n = every > 0 ? (long)floor(scene->video.duration / every * (1 + 1e-12)) + 1
                              : sp_scene_frame_count(scene);
+    double *azimuth = NULL; /* rad: each member's, continued from row to row */
     int ret = make_members(&e, scene);
     if (!ret)
         ret = make_batch(&b, e.scenes, e.n, 0);
-    if (!ret && fprintf(fp, "t,member,%s,x,y,vx,vy\n", e.key) < 0)
+    if (!ret && !(azimuth = calloc((size_t)e.n, sizeof(*azimuth)))) {
+        sp_log_error("out of memory for an ensemble of %d", e.n);
+        ret = SP_E_NOMEM;
+    }
+    if (!ret && fprintf(fp, "t,member,%s,x,y,vx,vy%s\n", e.key,
+                        b->spatial ? ",z,vz,azimuth" : "") < 0)
         ret = SP_E_IO;
     for (long k = 0; k < n && !ret; k++) {
         const double t = every > 0 ? k * every : sp_scene_frame_time(scene, (int)k);
@@ -275,18 +289,43 @@ int sp_ensemble_write_csv(FILE *fp, const struct sp_scene *scene, double every,
         e.batch = b;
         if ((ret = check_dead(&e, b)) != 0)
             break;
-        for (int i = 0; i < e.n && !ret; i++)
-            if (fprintf(fp, "%.10g,%d,%.17g,%.15g,%.15g,%.15g,%.15g\n", t, i, e.value[i],
+        for (int i = 0; i < e.n && !ret; i++) {
+            if (fprintf(fp, "%.10g,%d,%.17g,%.15g,%.15g,%.15g,%.15g", t, i, e.value[i],
                         b->out[SP_BX][i], b->out[SP_BY][i], b->out[SP_BVX][i],
                         b->out[SP_BVY][i]) < 0)
                 ret = SP_E_IO;
+            if (b->spatial) { /* as data's write_row */
+                const struct sp_state s = {t, b->out[SP_BX][i], b->out[SP_BY][i],
+                                           b->out[SP_BVX][i], b->out[SP_BVY][i],
+                                           b->out[SP_BZ][i], b->out[SP_BVZ][i]};
+                azimuth[i] = sp_azimuth_unwrap(azimuth[i], sp_state_azimuth(&e.params[i], &s));
+                if (fprintf(fp, ",%.15g,%.15g,%.15g", s.z, s.vz, azimuth[i] * 180 / M_PI) < 0)
+                    ret = SP_E_IO;
+            }
+            if (fputc('\n', fp) == EOF)
+                ret = SP_E_IO;
+        }
     }
+    free(azimuth);
     sp_batch_destroy(&b);
     e.batch = NULL;
     free(e.value);
     free(e.scenes);
     free(e.params);
     return ret;
+}
+
+int sp_ensemble_spatial(const struct sp_scene *scene)
+{
+    struct sp_ensemble e = {0};
+    int spatial = 0;
+    if (!make_members(&e, scene))
+        for (int i = 0; i < e.n; i++)
+            spatial |= e.scenes[i].initial.azimuth_rate != 0;
+    free(e.value);
+    free(e.scenes);
+    free(e.params);
+    return spatial;
 }
 
 void sp_ensemble_destroy(struct sp_ensemble **ep)
@@ -300,7 +339,7 @@ void sp_ensemble_destroy(struct sp_ensemble **ep)
     free(e->params);
     free(e->spread_t);
     free(e->spread_log);
-    free(e->trail_xy);
+    free(e->trail_xyz);
     free(e);
     *ep = NULL;
 }

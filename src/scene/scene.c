@@ -1020,8 +1020,7 @@ static int check_text(struct parse_ctx *c, const char *text)
 }
 
 /* What the third dimension and the perspective camera do not draw: arrows
- * (drawn in the front view's plane), ensembles (their members are drawn in
- * the front view) and the Poincare section (theta = 0 with dtheta/dt > 0 is
+ * (drawn in the front view's plane) and the Poincare section (theta = 0 with dtheta/dt > 0 is
  * a section of the planar motion only: in 3-D the polar angle is >= 0 and
  * the state has two more dimensions). */
 static void check_view_3d(struct parse_ctx *c)
@@ -1037,9 +1036,6 @@ static void check_view_3d(struct parse_ctx *c)
                "view.vectors draws its arrows in the front view's plane, but %s; set "
                "view.camera = front to draw them (the x-y projection), or view.vectors = none",
                why);
-    if (s->view.camera == SP_CAMERA_SET && s->ensemble.count > 1)
-        report(c, cam_line, "[ensemble] draws its members in the front view; set view.camera "
-               "= auto or front, or ensemble.count = 0");
     if (s->initial.azimuth_rate != 0 && s->view.panels & SP_PANEL_POINCARE)
         report(c, c->key_line[find_key("view", "panels") - keys] ? c->key_line[find_key("view", "panels") - keys]
                : rate_line,
@@ -1091,10 +1087,6 @@ static void validate_whole(struct parse_ctx *c)
                "initial.angle = %g degrees starts it on the vertical, where there is nothing "
                "to turn; give initial.angle a swing (not 0 or 180 degrees) or set "
                "azimuth_rate = 0", s->initial.azimuth_rate, s->initial.angle * 180 / M_PI);
-    if (s->initial.azimuth_rate != 0 && s->ensemble.count > 1)
-        report(c, c->key_line[find_key("ensemble", "count") - keys],
-               "[ensemble] runs planar pendulums only (its batched integrator has no third "
-               "dimension); set initial.azimuth_rate = 0 or ensemble.count = 0");
     check_view_3d(c);
     double steps = s->video.duration / s->integrator.dt;
     if (s->integrator.method <= SP_METHOD_YOSHIDA4 && steps > 1e10)

@@ -8,7 +8,9 @@
  *                   on, and (from the CSV alone) the attractors, their basin
  *                   fractions and the basin entropies;
  *   continuation.c  orbit diagrams with continuation in the parameter and the
- *                   largest |theta| (or r) per drive period.
+ *                   largest |theta| (or r) per drive period;
+ *   precession.c    the swinging spring's turn of the swing plane per
+ *                   exchange (3-D scenes).
  * Every point's numbers depend on its own start only (a continued branch on
  * the points before it on the branch), so threads and shards change nothing. */
 #ifndef SPRINGPEND_ANALYSIS_H
@@ -116,6 +118,17 @@ struct sp_basin_map {
 int sp_basins_read(FILE *fp, const struct sp_sweep_desc *d, struct sp_basin_map *map);
 
 void sp_basins_free(struct sp_basin_map *map);
+
+/* ---- precession.c -------------------------------------------------------- */
+
+/* The swinging spring's precession per exchange (3-D scenes): rows
+ * precession (degrees per exchange), exchanges (maxima of the swing less
+ * one), exchange_period (s), from samples every d->sample s over d->time
+ * after d->transient (precession.c says how). Returns 0, SP_E_NOMEM or
+ * SP_E_INTERRUPTED. */
+int sp_precession_measure(const struct sp_sweep_desc *d, const struct sp_scene *scenes,
+                          const long *pts, const int *skip, int n, int forced, FILE *rows,
+                          long *blown_up);
 
 /* ---- continuation.c ------------------------------------------------------ */
 

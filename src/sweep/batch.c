@@ -11,7 +11,10 @@
  * are correctly rounded in every width, so the lanes' bits do not change),
  * for AVX2 and for the baseline, and the CPU picks at load time
  * (target_clones).
- * sin, cos and exp stay scalar libm calls, as in sim.c. */
+ * sin, cos and exp stay scalar libm calls, as in sim.c.
+ * A third compile-time switch, `spatial` (sim.c's), adds z and vz (and the
+ * tangent's dz, dvz): with it off every stepper does the planar arithmetic
+ * exactly as before it existed. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +38,13 @@
  * (-fopenmp-simd: the pragma only, no OpenMP run time). */
 #define LANES _Pragma("omp simd") for (int l = 0; l < B; l++)
 
+/* A loop over the components a block stepper may use: the planar ones
+ * (before SP_BZ) unless 3-D. The planar loops keep the 9 iterations that
+ * GCC unrolls whole, so that USED() folds to a constant in each copy (over
+ * all 13 the planar tangent's RK4 stages tested it at run time: 25% more
+ * instructions in the hot loop). */
+#define COMPS for (int c = 0; c < (spatial ? NC : SP_BZ); c++)
+
 #define CHECK_EVERY 16          /* fixed steps between energy checks (sim.c: 4) */
 _Static_assert(SP_BATCH_CHUNK % CHECK_EVERY == 0, "a cut must fall on an energy check");
 
@@ -45,9 +55,17 @@ struct blk {
 };
 
 /* A component takes part when it exists: work only when forced, the tangent
- * only when asked for. */
-#define USED(c, forced, tangent) \
-    ((c) < SP_BW || ((c) == SP_BW && (forced)) || ((c) > SP_BW && (tangent)))
+ * only when asked for, z and vz only in 3-D. */
+#define USED(c, forced, tangent, spatial)                                            \
+    ((c) < SP_BW || ((c) == SP_BW && (forced)) ||                                    \
+     ((c) >= SP_BDX && (c) <= SP_BDVY && (tangent)) ||                               \
+     (((c) == SP_BZ || (c) == SP_BVZ) && (spatial)) ||                               \
+     (((c) == SP_BDZ || (c) == SP_BDVZ) && (spatial) && (tangent)))
+
+/* The force cache's entries (a[][]): planar 6, 3-D 10. */
+#define NA 10
+#define NCACHE(spatial) ((spatial) ? NA : 6)
+enum { A_X, A_Y, A_P, J_XX, J_XY, J_YY, A_Z, J_XZ, J_YZ, J_ZZ };
 
 /* ---- the right-hand side, per block ------------------------------------- */
 
@@ -73,7 +91,7 @@ static void pivot_blk(const struct blk *p, const double *t, double *vp, double *
 
 /* d/dt of u, as sim.c's rhs, plus the tangent equations. t[]: per lane. */
 SPECIALISED void rhs_blk(const struct blk *p, const double *t, double u[NC][B], double d[NC][B],
-                         const int forced, const int tangent)
+                         const int forced, const int tangent, const int spatial)
 {
     double vp[B], ap[B];
     if (forced)
@@ -82,22 +100,34 @@ SPECIALISED void rhs_blk(const struct blk *p, const double *t, double u[NC][B], 
         for (int l = 0; l < B; l++)
             vp[l] = ap[l] = 0;
     LANES {
-        double x = u[SP_BX][l], y = u[SP_BY][l];
-        double rho = sqrt(x * x + y * y);
+        double x = u[SP_BX][l], y = u[SP_BY][l], z = spatial ? u[SP_BZ][l] : 0;
+        double rho = spatial ? sqrt(x * x + y * y + z * z) : sqrt(x * x + y * y);
         double q = rho > 0 ? p->L0[l] / rho : 0;
         double c = p->km[l] * (1 - q);
-        double ax = -c * x, ay = -c * y - p->g[l] - ap[l];
+        double ax = -c * x, ay = -c * y - p->g[l] - ap[l], az = -c * z;
         d[SP_BX][l] = u[SP_BVX][l];
         d[SP_BY][l] = u[SP_BVY][l];
         if (forced) {
             ax -= p->bm[l] * u[SP_BVX][l];
             ay -= p->bm[l] * (u[SP_BVY][l] + vp[l]);
-            d[SP_BW][l] = -p->bm[l] * (u[SP_BVX][l] * u[SP_BVX][l] +
-                                       u[SP_BVY][l] * (u[SP_BVY][l] + vp[l])) -
-                          ap[l] * u[SP_BVY][l];
+            if (spatial) {
+                az -= p->bm[l] * u[SP_BVZ][l];
+                d[SP_BW][l] = -p->bm[l] * (u[SP_BVX][l] * u[SP_BVX][l] +
+                                           u[SP_BVY][l] * (u[SP_BVY][l] + vp[l]) +
+                                           u[SP_BVZ][l] * u[SP_BVZ][l]) -
+                              ap[l] * u[SP_BVY][l];
+            } else {
+                d[SP_BW][l] = -p->bm[l] * (u[SP_BVX][l] * u[SP_BVX][l] +
+                                           u[SP_BVY][l] * (u[SP_BVY][l] + vp[l])) -
+                              ap[l] * u[SP_BVY][l];
+            }
         }
         d[SP_BVX][l] = ax;
         d[SP_BVY][l] = ay;
+        if (spatial) {
+            d[SP_BZ][l] = u[SP_BVZ][l];
+            d[SP_BVZ][l] = az;
+        }
         if (tangent) {
             double a = p->kl[l] * q * q * q; /* k L0 / (m rho^3), no division */
             double jxx = -c - a * x * x, jxy = -a * x * y, jyy = -c - a * y * y;
@@ -106,9 +136,19 @@ SPECIALISED void rhs_blk(const struct blk *p, const double *t, double u[NC][B], 
             d[SP_BDY][l] = u[SP_BDVY][l];
             d[SP_BDVX][l] = jxx * dx + jxy * dy;
             d[SP_BDVY][l] = jxy * dx + jyy * dy;
+            if (spatial) {
+                double jxz = -a * x * z, jyz = -a * y * z, jzz = -c - a * z * z;
+                double dz = u[SP_BDZ][l];
+                d[SP_BDVX][l] += jxz * dz;
+                d[SP_BDVY][l] += jyz * dz;
+                d[SP_BDZ][l] = u[SP_BDVZ][l];
+                d[SP_BDVZ][l] = jxz * dx + jyz * dy + jzz * dz;
+            }
             if (forced) {
                 d[SP_BDVX][l] -= p->bm[l] * u[SP_BDVX][l];
                 d[SP_BDVY][l] -= p->bm[l] * u[SP_BDVY][l];
+                if (spatial)
+                    d[SP_BDVZ][l] -= p->bm[l] * u[SP_BDVZ][l];
             }
         }
     }
@@ -117,33 +157,33 @@ SPECIALISED void rhs_blk(const struct blk *p, const double *t, double u[NC][B], 
 /* ---- fixed-step methods, as sim.c ---------------------------------------- */
 
 SPECIALISED void rk4_blk(const struct blk *p, double t, double u[NC][B], double h,
-                         const int forced, const int tangent)
+                         const int forced, const int tangent, const int spatial)
 {
     double k1[NC][B], k2[NC][B], k3[NC][B], k4[NC][B], v[NC][B], tt[B];
     for (int l = 0; l < B; l++)
         tt[l] = t;
-    rhs_blk(p, tt, u, k1, forced, tangent);
-    for (int c = 0; c < NC; c++)
-        if (USED(c, forced, tangent))
+    rhs_blk(p, tt, u, k1, forced, tangent, spatial);
+    COMPS
+        if (USED(c, forced, tangent, spatial))
             for (int l = 0; l < B; l++)
                 v[c][l] = u[c][l] + 0.5 * h * k1[c][l];
     for (int l = 0; l < B; l++)
         tt[l] = t + 0.5 * h;
-    rhs_blk(p, tt, v, k2, forced, tangent);
-    for (int c = 0; c < NC; c++)
-        if (USED(c, forced, tangent))
+    rhs_blk(p, tt, v, k2, forced, tangent, spatial);
+    COMPS
+        if (USED(c, forced, tangent, spatial))
             for (int l = 0; l < B; l++)
                 v[c][l] = u[c][l] + 0.5 * h * k2[c][l];
-    rhs_blk(p, tt, v, k3, forced, tangent);
-    for (int c = 0; c < NC; c++)
-        if (USED(c, forced, tangent))
+    rhs_blk(p, tt, v, k3, forced, tangent, spatial);
+    COMPS
+        if (USED(c, forced, tangent, spatial))
             for (int l = 0; l < B; l++)
                 v[c][l] = u[c][l] + h * k3[c][l];
     for (int l = 0; l < B; l++)
         tt[l] = t + h;
-    rhs_blk(p, tt, v, k4, forced, tangent);
-    for (int c = 0; c < NC; c++)
-        if (USED(c, forced, tangent))
+    rhs_blk(p, tt, v, k4, forced, tangent, spatial);
+    COMPS
+        if (USED(c, forced, tangent, spatial))
             for (int l = 0; l < B; l++)
                 u[c][l] += h / 6 * (k1[c][l] + 2 * (k2[c][l] + k3[c][l]) + k4[c][l]);
 }
@@ -220,8 +260,8 @@ int sp_batch_fast_supported(void)
 
 /* The exact flow of the damping over h (factor f[] = exp(-b h / m) per
  * lane), where a lane has damping; as sim.c's damp. */
-static inline void damp_blk(const struct blk *p, double t, double u[NC][B], const double *f,
-                            const int tangent)
+SPECIALISED void damp_blk(const struct blk *p, double t, double u[NC][B], const double *f,
+                          const int tangent, const int spatial)
 {
     double tt[B], vp[B], ap[B];
     for (int l = 0; l < B; l++)
@@ -230,68 +270,95 @@ static inline void damp_blk(const struct blk *p, double t, double u[NC][B], cons
     for (int l = 0; l < B; l++) {
         if (p->bm[l] == 0)
             continue;
-        double e = u[SP_BVX][l] * u[SP_BVX][l] + u[SP_BVY][l] * u[SP_BVY][l];
-        u[SP_BVX][l] *= f[l];
-        u[SP_BVY][l] = (u[SP_BVY][l] + vp[l]) * f[l] - vp[l];
-        u[SP_BW][l] += 0.5 * (u[SP_BVX][l] * u[SP_BVX][l] + u[SP_BVY][l] * u[SP_BVY][l] - e);
+        if (spatial) {
+            double e = u[SP_BVX][l] * u[SP_BVX][l] + u[SP_BVY][l] * u[SP_BVY][l] +
+                       u[SP_BVZ][l] * u[SP_BVZ][l];
+            u[SP_BVX][l] *= f[l];
+            u[SP_BVY][l] = (u[SP_BVY][l] + vp[l]) * f[l] - vp[l];
+            u[SP_BVZ][l] *= f[l];
+            u[SP_BW][l] += 0.5 * (u[SP_BVX][l] * u[SP_BVX][l] + u[SP_BVY][l] * u[SP_BVY][l] +
+                                  u[SP_BVZ][l] * u[SP_BVZ][l] - e);
+        } else {
+            double e = u[SP_BVX][l] * u[SP_BVX][l] + u[SP_BVY][l] * u[SP_BVY][l];
+            u[SP_BVX][l] *= f[l];
+            u[SP_BVY][l] = (u[SP_BVY][l] + vp[l]) * f[l] - vp[l];
+            u[SP_BW][l] += 0.5 * (u[SP_BVX][l] * u[SP_BVX][l] + u[SP_BVY][l] * u[SP_BVY][l] - e);
+        }
         if (tangent) {
             u[SP_BDVX][l] *= f[l];
             u[SP_BDVY][l] *= f[l];
+            if (spatial)
+                u[SP_BDVZ][l] *= f[l];
         }
     }
 }
 
-/* A kick of h with the cached force a[] (ax, ay, a_pivot, J); as sim.c's kick. */
-SPECIALISED void kick_blk(double u[NC][B], double h, double a[6][B], const int forced,
-                          const int tangent)
+/* A kick of h with the cached force a[] (ax, ay, a_pivot, J, and in 3-D az
+ * and J's z entries); as sim.c's kick. */
+SPECIALISED void kick_blk(double u[NC][B], double h, double a[NA][B], const int forced,
+                          const int tangent, const int spatial)
 {
     LANES {
         double vy = u[SP_BVY][l];
-        u[SP_BVX][l] += h * a[0][l];
-        u[SP_BVY][l] += h * a[1][l];
+        u[SP_BVX][l] += h * a[A_X][l];
+        u[SP_BVY][l] += h * a[A_Y][l];
+        if (spatial)
+            u[SP_BVZ][l] += h * a[A_Z][l];
         if (forced)
-            u[SP_BW][l] -= a[2][l] * 0.5 * (vy + u[SP_BVY][l]) * h;
-        if (tangent) {
+            u[SP_BW][l] -= a[A_P][l] * 0.5 * (vy + u[SP_BVY][l]) * h;
+        if (tangent && spatial) {
+            double dx = u[SP_BDX][l], dy = u[SP_BDY][l], dz = u[SP_BDZ][l];
+            u[SP_BDVX][l] += h * (a[J_XX][l] * dx + a[J_XY][l] * dy + a[J_XZ][l] * dz);
+            u[SP_BDVY][l] += h * (a[J_XY][l] * dx + a[J_YY][l] * dy + a[J_YZ][l] * dz);
+            u[SP_BDVZ][l] += h * (a[J_XZ][l] * dx + a[J_YZ][l] * dy + a[J_ZZ][l] * dz);
+        } else if (tangent) {
             double dx = u[SP_BDX][l], dy = u[SP_BDY][l];
-            u[SP_BDVX][l] += h * (a[3][l] * dx + a[4][l] * dy);
-            u[SP_BDVY][l] += h * (a[4][l] * dx + a[5][l] * dy);
+            u[SP_BDVX][l] += h * (a[J_XX][l] * dx + a[J_XY][l] * dy);
+            u[SP_BDVY][l] += h * (a[J_XY][l] * dx + a[J_YY][l] * dy);
         }
     }
 }
 
 /* The force cache at u for pivot accelerations a[2][] (sim.c's accel_q),
  * with the Jacobian when the tangent is integrated. */
-SPECIALISED void force_blk(const struct blk *p, double u[NC][B], double a[6][B],
-                           const int tangent)
+SPECIALISED void force_blk(const struct blk *p, double u[NC][B], double a[NA][B],
+                           const int tangent, const int spatial)
 {
     LANES {
-        double x = u[SP_BX][l], y = u[SP_BY][l];
-        double rho = sqrt(x * x + y * y);
+        double x = u[SP_BX][l], y = u[SP_BY][l], z = spatial ? u[SP_BZ][l] : 0;
+        double rho = spatial ? sqrt(x * x + y * y + z * z) : sqrt(x * x + y * y);
         double q = rho > 0 ? p->L0[l] / rho : 0;
         double c = p->km[l] * (1 - q);
-        a[0][l] = -c * x;
-        a[1][l] = -c * y - p->g[l] - a[2][l];
+        a[A_X][l] = -c * x;
+        a[A_Y][l] = -c * y - p->g[l] - a[A_P][l];
+        if (spatial)
+            a[A_Z][l] = -c * z;
         if (tangent) {
             double s = p->kl[l] * q * q * q;
-            a[3][l] = -c - s * x * x;
-            a[4][l] = -s * x * y;
-            a[5][l] = -c - s * y * y;
+            a[J_XX][l] = -c - s * x * x;
+            a[J_XY][l] = -s * x * y;
+            a[J_YY][l] = -c - s * y * y;
+            if (spatial) {
+                a[J_XZ][l] = -s * x * z;
+                a[J_YZ][l] = -s * y * z;
+                a[J_ZZ][l] = -c - s * z * z;
+            }
         }
     }
 }
 
 /* The pivot's acceleration at t into a[2][] (0 where the pivot is fixed). */
-static inline void pivot_accel_blk(const struct blk *p, double t, double a[6][B], const int forced)
+static inline void pivot_accel_blk(const struct blk *p, double t, double a[NA][B], const int forced)
 {
     double tt[B], vp[B];
     if (!forced) {
         for (int l = 0; l < B; l++)
-            a[2][l] = 0;
+            a[A_P][l] = 0;
         return;
     }
     for (int l = 0; l < B; l++)
         tt[l] = t;
-    pivot_blk(p, tt, vp, a[2]);
+    pivot_blk(p, tt, vp, a[A_P]);
 }
 
 #define CBRT2 1.2599210498948731648
@@ -301,42 +368,48 @@ static const double yoshida_w[] = {1 / (2 - CBRT2), -CBRT2 / (2 - CBRT2), 1 / (2
 /* One symmetric composition step of n Stormer-Verlet substeps; as sim.c's
  * splitting_step. f[i][] = exp(-b (w[i] h / 2) / m) per lane. */
 SPECIALISED void splitting_blk(const struct blk *p, double t, double u[NC][B], double h,
-                               const double *w, int n, double a[6][B], double f[3][B],
-                               const int forced, const int tangent)
+                               const double *w, int n, double a[NA][B], double f[3][B],
+                               const int forced, const int tangent, const int spatial)
 {
     for (int i = 0; i < n; i++) {
         double hi = w[i] * h;
         if (forced)
-            damp_blk(p, t, u, f[i], tangent);
-        kick_blk(u, 0.5 * hi, a, forced, tangent);
+            damp_blk(p, t, u, f[i], tangent, spatial);
+        kick_blk(u, 0.5 * hi, a, forced, tangent, spatial);
         LANES {
             u[SP_BX][l] += hi * u[SP_BVX][l];
             u[SP_BY][l] += hi * u[SP_BVY][l];
+            if (spatial)
+                u[SP_BZ][l] += hi * u[SP_BVZ][l];
             if (tangent) {
                 u[SP_BDX][l] += hi * u[SP_BDVX][l];
                 u[SP_BDY][l] += hi * u[SP_BDVY][l];
+                if (spatial)
+                    u[SP_BDZ][l] += hi * u[SP_BDVZ][l];
             }
         }
         t += hi;
         pivot_accel_blk(p, t, a, forced);
-        force_blk(p, u, a, tangent);
-        kick_blk(u, 0.5 * hi, a, forced, tangent);
+        force_blk(p, u, a, tangent, spatial);
+        kick_blk(u, 0.5 * hi, a, forced, tangent, spatial);
         if (forced)
-            damp_blk(p, t, u, f[i], tangent);
+            damp_blk(p, t, u, f[i], tangent, spatial);
     }
 }
 
 /* sim.c's energy test per lane; marks and poisons the lanes that fail.
  * Branch-free over the lanes (it vectorises); the rare failure is handled
  * after. */
-static void check_blk(struct sp_batch *b, int base, double u[NC][B], unsigned char *dead)
+__attribute__((noinline)) static void check_blk(struct sp_batch *b, int base, double u[NC][B],
+                                                unsigned char *dead, int spatial)
 {
     int bad[B], any = 0;
     LANES {
         const int i = base + l;
         double x = u[SP_BX][l], y = u[SP_BY][l], vx = u[SP_BVX][l], vy = u[SP_BVY][l];
-        double stretch = sqrt(x * x + y * y) - b->L0[i];
-        double kin = 0.5 * b->mass[i] * (vx * vx + vy * vy);
+        double z = spatial ? u[SP_BZ][l] : 0, vz = spatial ? u[SP_BVZ][l] : 0;
+        double stretch = (spatial ? sqrt(x * x + y * y + z * z) : sqrt(x * x + y * y)) - b->L0[i];
+        double kin = 0.5 * b->mass[i] * (spatial ? vx * vx + vy * vy + vz * vz : vx * vx + vy * vy);
         double spring = 0.5 * b->stiff[i] * stretch * stretch;
         double grav = b->mass[i] * b->g[i] * y;
         double work = b->forced ? b->mass[i] * u[SP_BW][l] : 0;
@@ -351,6 +424,8 @@ static void check_blk(struct sp_batch *b, int base, double u[NC][B], unsigned ch
         b->escale[i] = scale;
         /* a NaN anywhere in the state makes the drift or the tangent's sum NaN */
         double t = b->tangent ? u[SP_BDX][l] + u[SP_BDY][l] + u[SP_BDVX][l] + u[SP_BDVY][l] : 0;
+        if (spatial && b->tangent)
+            t += u[SP_BDZ][l] + u[SP_BDVZ][l];
         bad[l] = !(fabs(drift) <= b->drift_limit) | !(t - t == 0);
         any |= bad[l];
     }
@@ -379,14 +454,15 @@ static void load_blk(const struct sp_batch *b, int base, struct blk *p)
 /* Walks one block's grid from index n0 to n1 with step dt, then writes the
  * state at t_target (one short step from a copy when off the grid). */
 SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, double t_target,
-                                const int forced, const int tangent)
+                                const int forced, const int tangent, const int spatial)
 {
     struct blk p;
-    double u[NC][B], a[6][B], f[3][B], fs[3][B];
+    double u[NC][B], a[NA][B], f[3][B], fs[3][B];
     unsigned char dead[B];
     const int split = b->method != SP_METHOD_RK4;
 #ifdef FAST_KERNEL
-    const int fast = b->fast && !split && !forced && tangent; /* (b->fast: where supported) */
+    /* (b->fast: where supported) */
+    const int fast = b->fast && !split && !forced && tangent && !spatial;
 #endif
     const double *w = b->method == SP_METHOD_VERLET ? verlet_w : yoshida_w;
     const int nw = b->method == SP_METHOD_VERLET ? 1 : 3;
@@ -395,7 +471,7 @@ SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, 
     for (int c = 0; c < NC; c++)
         memcpy(u[c], b->u[c] + base, sizeof(u[c]));
     if (split) {
-        for (int c = 0; c < 6; c++)
+        for (int c = 0; c < NCACHE(spatial); c++)
             memcpy(a[c], b->cache[c] + base, sizeof(a[c]));
         if (forced)
             for (int i = 0; i < nw; i++)
@@ -404,22 +480,22 @@ SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, 
     }
     for (long n = n0; n < n1; n++) {
         if (split)
-            splitting_blk(&p, (double)n * b->dt, u, b->dt, w, nw, a, f, forced, tangent);
+            splitting_blk(&p, (double)n * b->dt, u, b->dt, w, nw, a, f, forced, tangent, spatial);
 #ifdef FAST_KERNEL
         else if (fast)
             rk4_fast_blk(&p, u, b->dt);
 #endif
         else
-            rk4_blk(&p, (double)n * b->dt, u, b->dt, forced, tangent);
+            rk4_blk(&p, (double)n * b->dt, u, b->dt, forced, tangent, spatial);
         if ((n + 1) % CHECK_EVERY == 0)
-            check_blk(b, base, u, dead);
+            check_blk(b, base, u, dead, spatial);
     }
-    check_blk(b, base, u, dead);
+    check_blk(b, base, u, dead, spatial);
     for (int c = 0; c < NC; c++)
         memcpy(b->u[c] + base, u[c], sizeof(u[c]));
     memcpy(b->dead + base, dead, sizeof(dead));
     if (split)
-        for (int c = 0; c < 6; c++)
+        for (int c = 0; c < NCACHE(spatial); c++)
             memcpy(b->cache[c] + base, a[c], sizeof(a[c]));
     double t1 = (double)n1 * b->dt;
     if (t_target > t1) {
@@ -429,33 +505,26 @@ SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, 
                 for (int i = 0; i < nw; i++)
                     for (int l = 0; l < B; l++)
                         fs[i][l] = exp(-p.bm[l] * (0.5 * (w[i] * h)));
-            splitting_blk(&p, t1, u, h, w, nw, a, fs, forced, tangent);
+            splitting_blk(&p, t1, u, h, w, nw, a, fs, forced, tangent, spatial);
         } else {
-            rk4_blk(&p, t1, u, h, forced, tangent);
+            rk4_blk(&p, t1, u, h, forced, tangent, spatial);
         }
-        check_blk(b, base, u, dead);
+        check_blk(b, base, u, dead, spatial);
         memcpy(b->dead + base, dead, sizeof(dead));
     }
     for (int c = 0; c < NC; c++)
         memcpy(b->out[c] + base, u[c], sizeof(u[c]));
 }
 
-CLONES static void fixed_blk_00(struct sp_batch *b, int base, long n0, long n1, double t)
-{
-    fixed_blk_impl(b, base, n0, n1, t, 0, 0);
-}
-CLONES static void fixed_blk_01(struct sp_batch *b, int base, long n0, long n1, double t)
-{
-    fixed_blk_impl(b, base, n0, n1, t, 0, 1);
-}
-CLONES static void fixed_blk_10(struct sp_batch *b, int base, long n0, long n1, double t)
-{
-    fixed_blk_impl(b, base, n0, n1, t, 1, 0);
-}
-CLONES static void fixed_blk_11(struct sp_batch *b, int base, long n0, long n1, double t)
-{
-    fixed_blk_impl(b, base, n0, n1, t, 1, 1);
-}
+/* One specialised (and cloned) copy per forced, tangent, spatial. */
+#define FIXED(F, T, S)                                                                    \
+    CLONES static void fixed_blk_##F##T##S(struct sp_batch *b, int base, long n0, long n1, \
+                                           double t)                                      \
+    {                                                                                     \
+        fixed_blk_impl(b, base, n0, n1, t, F, T, S);                                      \
+    }
+FIXED(0, 0, 0) FIXED(0, 1, 0) FIXED(1, 0, 0) FIXED(1, 1, 0)
+FIXED(0, 0, 1) FIXED(0, 1, 1) FIXED(1, 0, 1) FIXED(1, 1, 1)
 
 /* ---- the adaptive method: DOP853, per-lane step control ------------------ */
 
@@ -471,7 +540,7 @@ static inline double dop853_err(double h, double n5, double n3)
 }
 
 SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target,
-                                   const int forced, const int tangent)
+                                   const int forced, const int tangent, const int spatial)
 {
     struct blk p;
     double y[NC][B], u[NC][B], v[NC][B], k[12][NC][B];
@@ -500,11 +569,11 @@ SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target
         }
         if (!active)
             break;
-        rhs_blk(&p, tl, y, k[0], forced, tangent);
+        rhs_blk(&p, tl, y, k[0], forced, tangent, spatial);
         for (int s = 1; s < 13; s++) {
             double(*dst)[B] = s < 12 ? v : u;
-            for (int c = 0; c < NC; c++) {
-                if (!USED(c, forced, tangent))
+            COMPS {
+                if (!USED(c, forced, tangent, spatial))
                     continue;
                 for (int l = 0; l < B; l++) {
                     double acc = 0;
@@ -516,23 +585,29 @@ SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target
             if (s < 12) {
                 for (int l = 0; l < B; l++)
                     tt[l] = tl[l] + d8_c[s] * hh[l];
-                rhs_blk(&p, tt, v, k[s], forced, tangent);
+                rhs_blk(&p, tt, v, k[s], forced, tangent, spatial);
             }
         }
+        /* over the physical components, as sim.c's err_norm: x, y, vx, vy,
+         * and z, vz in 3-D (a planar trajectory's are 0, and it divides by 4) */
+        static const int phys[6] = {SP_BX, SP_BY, SP_BVX, SP_BVY, SP_BZ, SP_BVZ};
         for (int l = 0; l < B; l++) {
             double n5 = 0, n3 = 0;
-            for (int c = 0; c < 4; c++) {
+            for (int i = 0; i < (spatial ? 6 : 4); i++) {
+                const int c = phys[i];
                 double e5 = 0, e3 = 0;
                 for (int j = 0; j < 12; j++) {
                     e5 += d8_e5[j] * k[j][c][l];
                     e3 += d8_e3[j] * k[j][c][l];
                 }
-                double at = c < 2 ? b->atol_q[base + l] : b->atol_v[base + l];
+                double at = c == SP_BX || c == SP_BY || c == SP_BZ ? b->atol_q[base + l]
+                                                                   : b->atol_v[base + l];
                 double sc = at + b->tol * fmax(fabs(y[c][l]), fabs(u[c][l]));
                 n5 += (e5 / sc) * (e5 / sc);
                 n3 += (e3 / sc) * (e3 / sc);
             }
-            err[l] = dop853_err(hh[l], sqrt(n5 / 4), sqrt(n3 / 4));
+            const double np = spatial ? b->nphys[base + l] : 4;
+            err[l] = dop853_err(hh[l], sqrt(n5 / np), sqrt(n3 / np));
         }
         for (int l = 0; l < B; l++) {
             if (!(hh[l] > 0))
@@ -546,8 +621,8 @@ SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target
                 int cut = hh[l] < *h; /* shortened to land on t_target */
                 tl[l] = cut ? t_target : tl[l] + hh[l];
                 *h = cut ? fmax(*h, hh[l] * fac) : hh[l] * fac;
-                for (int c = 0; c < NC; c++)
-                    y[c][l] = USED(c, forced, tangent) ? u[c][l] : y[c][l];
+                COMPS
+                    y[c][l] = USED(c, forced, tangent, spatial) ? u[c][l] : y[c][l];
                 b->steps++;
             } else {
                 *h = hh[l] * (isfinite(err[l]) ? fmax(0.333, 0.9 / sqrt(sqrt(sqrt(err[l]))))
@@ -555,7 +630,7 @@ SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target
                 rejected[l] = 1;
             }
         }
-        check_blk(b, base, y, dead);
+        check_blk(b, base, y, dead, spatial);
         for (int l = 0; l < B; l++)
             if (dead[l])
                 tl[l] = t_target;
@@ -567,31 +642,23 @@ SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target
     memcpy(b->dead + base, dead, sizeof(dead));
 }
 
-CLONES static void adaptive_blk_00(struct sp_batch *b, int base, double t)
-{
-    adaptive_blk_impl(b, base, t, 0, 0);
-}
-CLONES static void adaptive_blk_01(struct sp_batch *b, int base, double t)
-{
-    adaptive_blk_impl(b, base, t, 0, 1);
-}
-CLONES static void adaptive_blk_10(struct sp_batch *b, int base, double t)
-{
-    adaptive_blk_impl(b, base, t, 1, 0);
-}
-CLONES static void adaptive_blk_11(struct sp_batch *b, int base, double t)
-{
-    adaptive_blk_impl(b, base, t, 1, 1);
-}
+#define ADAPTIVE(F, T, S)                                                          \
+    CLONES static void adaptive_blk_##F##T##S(struct sp_batch *b, int base, double t) \
+    {                                                                              \
+        adaptive_blk_impl(b, base, t, F, T, S);                                    \
+    }
+ADAPTIVE(0, 0, 0) ADAPTIVE(0, 1, 0) ADAPTIVE(1, 0, 0) ADAPTIVE(1, 1, 0)
+ADAPTIVE(0, 0, 1) ADAPTIVE(0, 1, 1) ADAPTIVE(1, 0, 1) ADAPTIVE(1, 1, 1)
 
 /* ---- the batch ----------------------------------------------------------- */
 
 int sp_batch_advance(struct sp_batch *b, double t_target)
 {
-    const int sel = b->forced * 2 + b->tangent;
+    const int sel = b->spatial * 4 + b->forced * 2 + b->tangent;
     if (b->method == SP_METHOD_DOP853) {
-        static void (*const fn[4])(struct sp_batch *, int, double) = {
-            adaptive_blk_00, adaptive_blk_01, adaptive_blk_10, adaptive_blk_11};
+        static void (*const fn[8])(struct sp_batch *, int, double) = {
+            adaptive_blk_000, adaptive_blk_010, adaptive_blk_100, adaptive_blk_110,
+            adaptive_blk_001, adaptive_blk_011, adaptive_blk_101, adaptive_blk_111};
         if (t_target > b->t)
             for (int base = 0; base < b->cap; base += B) {
                 fn[sel](b, base, t_target);
@@ -599,8 +666,9 @@ int sp_batch_advance(struct sp_batch *b, double t_target)
                     return SP_E_INTERRUPTED;
             }
     } else {
-        static void (*const fn[4])(struct sp_batch *, int, long, long, double) = {
-            fixed_blk_00, fixed_blk_01, fixed_blk_10, fixed_blk_11};
+        static void (*const fn[8])(struct sp_batch *, int, long, long, double) = {
+            fixed_blk_000, fixed_blk_010, fixed_blk_100, fixed_blk_110,
+            fixed_blk_001, fixed_blk_011, fixed_blk_101, fixed_blk_111};
         long n1 = b->grid;
         const double guess = floor(t_target / b->dt) - 1; /* then exact below */
         if (guess > (double)n1 && guess < 0x1p52)
@@ -631,16 +699,21 @@ int sp_batch_advance(struct sp_batch *b, double t_target)
 
 void sp_batch_renormalise(struct sp_batch *b, double *growth)
 {
+    static const int tan_c[6] = {SP_BDX, SP_BDY, SP_BDVX, SP_BDVY, SP_BDZ, SP_BDVZ};
+    const int nt = b->spatial ? 6 : 4;
     for (int i = 0; i < b->n; i++) {
         double *u[NC], *o[NC];
         for (int c = 0; c < NC; c++)
             u[c] = &b->u[c][i], o[c] = &b->out[c][i];
-        double nrm = sqrt(*u[SP_BDX] * *u[SP_BDX] + *u[SP_BDY] * *u[SP_BDY] +
-                          *u[SP_BDVX] * *u[SP_BDVX] + *u[SP_BDVY] * *u[SP_BDVY]);
+        /* summed left to right from the first: the planar sum's bits */
+        double n2 = 0;
+        for (int k = 0; k < nt; k++)
+            n2 += *u[tan_c[k]] * *u[tan_c[k]];
+        double nrm = sqrt(n2);
         growth[i] = log(nrm);
-        for (int c = SP_BDX; c <= SP_BDVY; c++) {
-            *u[c] /= nrm;
-            *o[c] = *u[c];
+        for (int k = 0; k < nt; k++) {
+            *u[tan_c[k]] /= nrm;
+            *o[tan_c[k]] = *u[tan_c[k]];
         }
     }
 }
@@ -653,6 +726,9 @@ void sp_batch_reset_tangent(struct sp_batch *b)
         b->u[SP_BDY][i] = b->out[SP_BDY][i] = dead ? NAN : 0;
         b->u[SP_BDVX][i] = b->out[SP_BDVX][i] = dead ? NAN : 0;
         b->u[SP_BDVY][i] = b->out[SP_BDVY][i] = dead ? NAN : 0;
+        if (b->spatial)
+            b->u[SP_BDZ][i] = b->out[SP_BDZ][i] = b->u[SP_BDVZ][i] = b->out[SP_BDVZ][i] =
+                dead ? NAN : 0;
     }
     /* the splitting methods' cached Jacobian is of the position, unchanged */
 }
@@ -693,35 +769,32 @@ int sp_batch_make(struct sp_batch **out, const struct sp_scene *const *scenes, i
     b->tangent = tangent;
     b->dt = s0->integrator.dt;
     b->tol = s0->integrator.tolerance;
-    /* 2 NC state arrays, 6 cache, 16 per-trajectory values, dead bytes */
-    const int n_arrays = 2 * NC + 6 + 16;
+    /* 2 NC state arrays, NA cache, 15 per-trajectory values, dead bytes */
+    const int n_arrays = 2 * NC + NA + 16;
     b->mem = calloc((size_t)b->cap * n_arrays + (size_t)b->cap / 8 + 1, sizeof(double));
     if (!b->mem)
         goto nomem;
     double *m = b->mem;
     for (int c = 0; c < NC; c++)
         b->u[c] = m, m += b->cap, b->out[c] = m, m += b->cap;
-    for (int c = 0; c < 6; c++)
+    for (int c = 0; c < NA; c++)
         b->cache[c] = m, m += b->cap;
     double **arr[] = {&b->km, &b->L0, &b->g, &b->bm, &b->amp, &b->om, &b->mass, &b->stiff,
-                      &b->e0, &b->escale, &b->emin, &b->atol_q, &b->atol_v, &b->h};
+                      &b->e0, &b->escale, &b->emin, &b->atol_q, &b->atol_v, &b->h, &b->nphys};
     for (size_t i = 0; i < sizeof(arr) / sizeof(arr[0]); i++)
         *arr[i] = m, m += b->cap;
-    m += 2 * b->cap;
     b->dead = (unsigned char *)m;
     b->forced = force_forced;
+    for (int i = 0; i < n; i++) {
+        struct sp_sim sim;
+        sp_sim_init(&sim, scenes[i]);
+        b->spatial |= sim.spatial;
+    }
     for (int i = 0; i < b->cap; i++) {
         /* sp_sim_init derives everything a trajectory starts from */
         struct sp_sim sim;
         const struct sp_scene *sc = scenes[i < n ? i : n - 1];
         sp_sim_init(&sim, sc);
-        if (sim.spatial) {
-            sp_log_error("initial.azimuth_rate = %g rad/s: the batched integrator (sweeps, "
-                         "ensembles) runs planar pendulums only; set initial.azimuth_rate "
-                         "= 0", sc->initial.azimuth_rate);
-            sp_batch_destroy(&b);
-            return SP_E_INPUT;
-        }
         b->km[i] = sim.p.k_over_m, b->L0[i] = sim.p.L0, b->g[i] = sim.p.g;
         b->bm[i] = sim.p.b_over_m, b->amp[i] = sim.p.drive_amp, b->om[i] = sim.p.drive_omega;
         b->mass[i] = sim.p.mass, b->stiff[i] = sim.p.stiffness;
@@ -729,27 +802,36 @@ int sp_batch_make(struct sp_batch **out, const struct sp_scene *const *scenes, i
         b->drift_limit = sim.drift_limit;
         b->atol_q[i] = sim.atol[0], b->atol_v[i] = sim.atol[2];
         b->h[i] = sim.h;
+        b->nphys[i] = sim.spatial ? 6 : 4;
         b->forced |= sim.forced;
         b->u[SP_BX][i] = sim.s.x, b->u[SP_BY][i] = sim.s.y;
         b->u[SP_BVX][i] = sim.s.vx, b->u[SP_BVY][i] = sim.s.vy;
+        b->u[SP_BZ][i] = sim.s.z, b->u[SP_BVZ][i] = sim.s.vz;
         b->u[SP_BDX][i] = 1;
         for (int c = 0; c < NC; c++)
             b->out[c][i] = b->u[c][i];
         for (int c = 0; c < 3; c++)
             b->cache[c][i] = sim.force[c];
+        /* sim.c's az (force[3]), which a planar trajectory's z = 0 makes
+         * (+ or -) 0 */
+        b->cache[A_Z][i] = sim.spatial ? sim.force[3] : 0;
     }
     /* the Jacobian part of the splitting methods' cache */
     for (int base = 0; base < b->cap; base += B) {
         struct blk p;
-        double u[NC][B], a[6][B];
+        double u[NC][B], a[NA][B];
         load_blk(b, base, &p);
         for (int c = 0; c < NC; c++)
             memcpy(u[c], b->u[c] + base, sizeof(u[c]));
         for (int l = 0; l < B; l++)
-            a[2][l] = b->cache[2][base + l];
-        force_blk(&p, u, a, 1);
-        for (int c = 3; c < 6; c++)
-            memcpy(b->cache[c] + base, a[c], sizeof(a[c]));
+            a[A_P][l] = b->cache[A_P][base + l];
+        if (b->spatial)
+            force_blk(&p, u, a, 1, 1);
+        else
+            force_blk(&p, u, a, 1, 0);
+        for (int c = J_XX; c < NCACHE(b->spatial); c++)
+            if (c != A_Z)
+                memcpy(b->cache[c] + base, a[c], sizeof(a[c]));
     }
     *out = b;
     return 0;

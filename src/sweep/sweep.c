@@ -30,7 +30,7 @@
 #define RAD2DEG 57.29577951308232
 
 static const char *const measure_names[] = {"lyapunov", "orbit", "poincare", "spectrum",
-                                            "basins"};
+                                            "basins", "precession"};
 static const char *const continue_names[] = {"none", "up", "down", "both"};
 static const char *const method_names[] = {"rk4", "verlet", "yoshida4", "dopri5", "dop853",
                                            "rkn1210"};
@@ -73,7 +73,8 @@ const char *sp_sweep_columns(const struct sp_sweep_desc *d)
     static const char *const columns[] = {
         "lyapunov,lyapunov_half", "t,theta,r", "t,r,r_dot,theta_dot",
         "T,lambda1,lambda2,lambda3,lambda4,sum,kaplan_yorke",
-        "period,winding,theta,r,theta_dot,r_dot,settled"};
+        "period,winding,theta,r,theta_dot,r_dot,settled",
+        "precession,exchanges,exchange_period"};
     if (d->measure == SP_MEASURE_ORBIT && (d->cont || d->peak))
         return "t,theta,r,branch,peak";
     return columns[d->measure];
@@ -100,6 +101,10 @@ int sp_sweep_column_info(const struct sp_sweep_desc *d, struct sp_csv_column *ou
         {"period", "period of the settled cycle in drive periods (0: undecided)", "1"},
         {"winding", "whole turns per cycle (rotating when not 0)", "1"},
         {"settled", "simulated time the start was settled at", "s"},
+        {"precession", "the swing plane's mean turn about the vertical per exchange, from +x "
+                       "towards +z (between successive maxima of the swing)", "degrees"},
+        {"exchanges", "exchanges measured (maxima of the swing less one)", "1"},
+        {"exchange_period", "mean time between successive maxima of the swing", "s"},
     };
     static char names[SP_SWEEP_MAX_AXES + 16][24];
     const struct sp_csv_column peak = {
@@ -266,7 +271,9 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
      * some columns of a row, and several branches of a point */
     const int plain = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_POINCARE ||
                       (d->measure == SP_MEASURE_ORBIT && !d->cont && !d->peak);
-    const int one_per_point = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS;
+    const int one_per_point = d->measure == SP_MEASURE_LYAPUNOV ||
+                              d->measure == SP_MEASURE_BASINS ||
+                              d->measure == SP_MEASURE_PRECESSION;
     const int n = 1 + d->n_axes + nv;
     char field[64], want[32];
     double t = 0, v;
@@ -390,6 +397,77 @@ static void header_name(char *dst, size_t size, const char *name)
 
 static int grid_forced(const struct sp_sweep_desc *d, const struct sp_scene *base);
 
+/* The scene at a corner of the grid (bit a of corner: axis a's end). */
+static struct sp_scene corner_scene(const struct sp_sweep_desc *d, const struct sp_scene *base,
+                                    int corner)
+{
+    struct sp_scene s = *base;
+    for (int a = 0; a < d->n_axes; a++)
+        sp_scene_set_number(&s, d->axis[a].key,
+                            (corner >> a) & 1 ? d->axis[a].to : d->axis[a].from, "--vary");
+    return s;
+}
+
+/* The largest |initial.azimuth_rate| on the grid, rad/s: 0 when every point
+ * is planar (the rate is linear along its axis, so its ends decide). */
+static double grid_azimuth_rate(const struct sp_sweep_desc *d, const struct sp_scene *base)
+{
+    double most = 0;
+    for (int corner = 0; corner < (1 << d->n_axes); corner++)
+        most = fmax(most, fabs(corner_scene(d, base, corner).initial.azimuth_rate));
+    return most;
+}
+
+/* The 3-D checks: which measures take 3-D points, and precession's needs
+ * and sampling interval (d->sample). */
+static int check_spatial(struct sp_sweep_desc *d, const struct sp_scene *base)
+{
+    const double rate = grid_azimuth_rate(d, base);
+    const enum sp_measure m = d->measure;
+    if (rate != 0 && m != SP_MEASURE_LYAPUNOV && m != SP_MEASURE_PRECESSION) {
+        sp_log_error("--measure %s: the grid leaves the x-y plane (initial.azimuth_rate up to "
+                     "%g rad/s), and %s is of the planar motion (theta in the plane); 3-D "
+                     "points take --measure lyapunov or precession, or set "
+                     "initial.azimuth_rate = 0 (--set initial.azimuth_rate=0)",
+                     measure_names[m], rate, measure_names[m]);
+        return SP_E_INPUT;
+    }
+    if (rate != 0 && d->fast) {
+        sp_log_error("--fast: the fast kernel steps planar pendulums only, and the grid leaves "
+                     "the x-y plane (initial.azimuth_rate up to %g rad/s); leave --fast out "
+                     "(the exact kernel integrates 3-D points)", rate);
+        return SP_E_INPUT;
+    }
+    if (m != SP_MEASURE_PRECESSION)
+        return 0;
+    if (rate == 0) {
+        sp_log_error("--measure precession: every point of the grid swings in the x-y plane "
+                     "(initial.azimuth_rate = 0), whose swing plane never turns; give the "
+                     "scene an initial.azimuth_rate (rad/s, e.g. --set "
+                     "initial.azimuth_rate=1) or vary it (--vary "
+                     "initial.azimuth_rate=0.2:2:10)");
+        return SP_E_INPUT;
+    }
+    d->sample = INFINITY;
+    for (int corner = 0; corner < (1 << d->n_axes); corner++) {
+        const struct sp_scene s = corner_scene(d, base, corner);
+        if (!(s.pendulum.gravity > 0)) {
+            sp_log_error("--measure precession: pendulum.gravity = %g m/s^2 on the grid; the "
+                         "swing's period, over which its plane is measured, needs gravity > 0",
+                         s.pendulum.gravity);
+            return SP_E_INPUT;
+        }
+        struct sp_sim sim;
+        struct sp_physics ph;
+        sp_sim_init(&sim, &s);
+        sp_params_physics(&sim.p, &ph);
+        /* l / g = L0 / g + m / k is monotonic in every key: the corners
+         * hold the shortest period */
+        d->sample = fmin(d->sample, 2 * M_PI / ph.omega_p / 32);
+    }
+    return 0;
+}
+
 int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given)
 {
     header_name(d->scene, sizeof(d->scene), base->name);
@@ -484,6 +562,8 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
                      "leave --fast out");
         return SP_E_INPUT;
     }
+    if (check_spatial(d, base))
+        return SP_E_INPUT;
     if (energy_given && d->measure != SP_MEASURE_POINCARE) {
         sp_log_error("--energy %g: only --measure poincare puts every orbit at one energy; "
                      "--measure %s starts each point from its scene's own state, so --energy "
@@ -823,9 +903,10 @@ static int analysis_chunk(const struct sp_sweep_desc *d, const struct sp_scene *
     }
     int (*const fn)(const struct sp_sweep_desc *, const struct sp_scene *, const long *,
                     const int *, int, int, FILE *, long *) =
-        d->measure == SP_MEASURE_SPECTRUM ? sp_spectrum_measure
-        : d->measure == SP_MEASURE_BASINS ? sp_basins_measure
-                                          : sp_orbit_peak_measure;
+        d->measure == SP_MEASURE_SPECTRUM     ? sp_spectrum_measure
+        : d->measure == SP_MEASURE_BASINS     ? sp_basins_measure
+        : d->measure == SP_MEASURE_PRECESSION ? sp_precession_measure
+                                              : sp_orbit_peak_measure;
     int ret = fn(d, scenes, pts, skip, n, forced, fp, &out->blown_up);
     if (fclose(fp) != 0 && !ret) {
         sp_log_error("out of memory for a sweep's rows");
@@ -856,7 +937,7 @@ static int run_chunk(const struct sp_sweep_desc *d, const struct sp_scene *base,
         ptr[i] = &scenes[i];
     }
     if (d->measure == SP_MEASURE_SPECTRUM || d->measure == SP_MEASURE_BASINS ||
-        (d->measure == SP_MEASURE_ORBIT && d->peak))
+        d->measure == SP_MEASURE_PRECESSION || (d->measure == SP_MEASURE_ORBIT && d->peak))
         return analysis_chunk(d, scenes, pts, skip, n, forced, out);
     struct sp_batch *b;
     int ret = sp_batch_make(&b, ptr, n, d->measure == SP_MEASURE_LYAPUNOV, forced);
@@ -937,10 +1018,7 @@ static void *worker(void *arg)
 static int grid_forced(const struct sp_sweep_desc *d, const struct sp_scene *base)
 {
     for (int corner = 0; corner < (1 << d->n_axes); corner++) {
-        struct sp_scene s = *base;
-        for (int a = 0; a < d->n_axes; a++)
-            sp_scene_set_number(&s, d->axis[a].key,
-                                (corner >> a) & 1 ? d->axis[a].to : d->axis[a].from, "--vary");
+        const struct sp_scene s = corner_scene(d, base, corner);
         struct sp_sim sim;
         sp_sim_init(&sim, &s);
         if (sim.forced)

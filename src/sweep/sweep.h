@@ -18,6 +18,10 @@
  *             at T = time; 1/s, the dimension unitless)
  *   basins:   point,KEY,KEY2,period,winding,theta,r,theta_dot,r_dot,settled
  *             (basins.h)
+ *   precession: point,KEY[,KEY2],precession,exchanges,exchange_period
+ *             (degrees per exchange, 1, s; analysis.h; 3-D scenes)
+ * lyapunov and precession sweep 3-D scenes (initial.azimuth_rate != 0);
+ * the other measures are of the planar motion and refuse them.
  * A shard's CSV has a "# shard I/N" line after the description and ends
  * with "# end rows=N sha256=HEX", the SHA-256 of every byte before that
  * line, so that --merge can refuse a copy cut short or edited.
@@ -39,6 +43,7 @@ enum sp_measure {
     SP_MEASURE_POINCARE,
     SP_MEASURE_SPECTRUM,
     SP_MEASURE_BASINS,
+    SP_MEASURE_PRECESSION,
     SP_MEASURE_COUNT,
 };
 
@@ -82,6 +87,9 @@ struct sp_sweep_desc {
                                   * largest |theta| (or r) over each drive period */
     int fast;                    /* lyapunov, rk4, undamped and undriven: 1 = the batch's
                                   * fast kernel (sweep --fast; header word kernel=fast) */
+    double sample;               /* precession: the sampling interval, s, a 32nd of the
+                                  * grid's shortest pendulum period (sp_sweep_check;
+                                  * not in the header) */
     const volatile sig_atomic_t *cancel; /* the caller's stop flag (not in the
                                   * header): once set, a run stops with
                                   * SP_E_INTERRUPTED; NULL = never */
@@ -154,8 +162,10 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
                  sp_sweep_progress_fn progress, void *user);
 
 /* Checks that every key can be varied and both ends of every axis give a
- * valid scene; fills d's derived fields (driven, energy if < 0: the base
- * scene's, method, dt, theme). Messages name `origin`. */
+ * valid scene, and that the measure can be taken on the grid (3-D points:
+ * lyapunov and precession only; precession: some 3-D point, gravity);
+ * fills d's derived fields (driven, energy if < 0: the base scene's,
+ * method, dt, theme, sample). Messages name `origin`. */
 int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given);
 
 /* The scene of grid point p: base with the axes' values set (and, for

@@ -460,8 +460,9 @@ static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const stru
     set_rgba(cr, pal->text);
     if (G.v->colorbar_label[0])
         label = G.v->colorbar_label;
-    if (!G.print) {
-        text_at(cr, x + 9, y - 10, label, 0.5, 1);
+    if (!G.print) { /* centred above the bar, clear of the plot on its left */
+        text_at(cr, fmax(x + 9, pf->x0 + pf->w + 6 + 0.5 * text_width(label)), y - 10, label,
+                0.5, 1);
         return;
     }
     struct frame tf = {0, 0, 1, h, 0, 1, lo, hi}; /* the bar's own ticks */
@@ -472,9 +473,24 @@ static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const stru
     cairo_restore(cr);
 }
 
+/* The one-number measures, drawn as a line over one key or a map over two:
+ * the title and its short form (at a printed size), the y axis's label, the
+ * colour bar's, and the legend of a line's two series (the first value of a
+ * row, then the second; NULL: the line shows the first alone). */
+static const struct scalar_look {
+    const char *title, *short_title, *label, *bar, *series[2];
+} scalar_looks[SP_MEASURE_COUNT] = {
+    [SP_MEASURE_LYAPUNOV] = {"largest Lyapunov exponent", "largest Lyapunov exponent",
+                             "λ (1/s)", "λ (1/s)", {"λ over T", "λ over T/2"}},
+    [SP_MEASURE_PRECESSION] = {"precession of the swing plane per exchange",
+                               "precession per exchange", "Δφ (° per exchange)",
+                               "° per exchange", {"precession per exchange", NULL}},
+};
+
 static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
                          const struct sp_palette *pal)
 {
+    const struct scalar_look *look = &scalar_looks[d->measure];
     const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
     long n = sp_sweep_points(d);
     double *lam = malloc(sizeof(double) * (size_t)n), *half = malloc(sizeof(double) * (size_t)n);
@@ -490,7 +506,7 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     while (next_row(fp, d, 2, &r))
         if (r.point >= 0 && r.point < n) {
             lam[r.point] = r.v[0], half[r.point] = r.v[1];
-            for (int k = 0; k < (d->n_axes == 1 ? 2 : 1); k++) /* a line shows both */
+            for (int k = 0; k < (d->n_axes == 1 && look->series[1] ? 2 : 1); k++) /* a line: both */
                 if (isfinite(r.v[k]))
                     lo = fmin(lo, r.v[k]), hi = fmax(hi, r.v[k]);
         }
@@ -502,14 +518,14 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     if (d->n_axes == 1) {
         struct frame f = {80, 56, W - 110, H - 116, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
         fix_range(&f.xlo, &f.xhi);
-        title(d, "largest Lyapunov exponent", "largest Lyapunov exponent");
+        title(d, look->title, look->short_title);
         place(&f, 30, U(18));
         draw_title(cr, d, pal, &f);
-        draw_axes(cr, &f, pal, xl, "λ (1/s)");
+        draw_axes(cr, &f, pal, xl, look->label);
         cairo_save(cr);
         cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
         cairo_clip(cr);
-        for (int pass = 0; pass < 2; pass++) {
+        for (int pass = look->series[1] ? 0 : 1; pass < 2; pass++) {
             const double *v = pass ? lam : half;
             set_rgba(cr, pass ? pal->series[1] : pal->muted);
             cairo_set_line_width(cr, pass ? 1.6 : 1.0);
@@ -532,17 +548,17 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         font_pt(U(12));
         set_rgba(cr, pal->series[1]);
         if (!G.v->legend)
-            text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8), "λ over T", 1, 0);
+            text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8), look->series[0], 1, 0);
         set_rgba(cr, pal->muted);
-        if (!G.v->legend)
-            text_at(cr, f.x0 + f.w - U(8), f.y0 + U(24), "λ over T/2", 1, 0);
+        if (!G.v->legend && look->series[1])
+            text_at(cr, f.x0 + f.w - U(8), f.y0 + U(24), look->series[1], 1, 0);
     } else {
         /* cells centred on the grid values */
         double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
         double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
         struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
-        title(d, "largest Lyapunov exponent", "largest Lyapunov exponent");
+        title(d, look->title, look->short_title);
         place(&f, 120, colorbar_room(lo, hi));
         draw_title(cr, d, pal, &f);
         /* one image pixel per grid point up to MAP_MAX_PX a side (cairo
@@ -589,7 +605,7 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         cairo_surface_destroy(img);
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(cr, &f, pal, xl, yl);
-        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ (1/s)", &f, 0, 1);
+        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, look->bar, &f, 0, 1);
     }
     free(lam), free(half);
     return 0;
@@ -1175,7 +1191,8 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
         cairo_paint(cr);
     }
     if (!ret)
-        ret = d.measure == SP_MEASURE_LYAPUNOV ? draw_lyapunov(cr, csv, &d, &pal)
+        ret = d.measure == SP_MEASURE_LYAPUNOV || d.measure == SP_MEASURE_PRECESSION
+                  ? draw_lyapunov(cr, csv, &d, &pal)
               : d.measure == SP_MEASURE_SPECTRUM ? draw_spectrum(cr, csv, &d, &pal)
               : d.measure == SP_MEASURE_BASINS   ? draw_basins(cr, csv, &d, &pal)
                                                  : draw_dots(cr, csv, csv_name, &d, &pal);

@@ -8,7 +8,10 @@
  * Lyapunov exponents each gets at three angles; where the CPU runs it,
  * the tangent runs again through the fast kernel (springpend_fast_*). springpend_*_1_cpu: per
  * second of the one thread's own CPU time (steadier on a shared machine).
- * usage: bench_batch N T DT   (prints key = value lines) */
+ * With AZIMUTH_RATE (rad/s, not 0) every start also turns about the
+ * vertical at that rate: 3-D trajectories (z, vz and a 6-D tangent), printed
+ * as springpend3d_* (the batched and the GSL planar runs are skipped).
+ * usage: bench_batch N T DT [AZIMUTH_RATE]   (prints key = value lines) */
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -37,9 +40,12 @@ static double angle_deg(int i, int n)
     return n > 1 ? 1 + 178.0 * i / (n - 1) : 90;
 }
 
+static double azimuth_rate; /* rad/s: bench_batch's fourth argument, 0 = planar */
+
 static void scene_at(struct sp_scene *s, double deg, double dt)
 {
     sp_scene_defaults(s);
+    s->initial.azimuth_rate = azimuth_rate;
     s->pendulum.mass = 1, s->pendulum.stiffness = 39.24, s->pendulum.natural_length = 0.75;
     s->initial.length = 1.2, s->initial.angle = deg * M_PI / 180;
     s->integrator.method = SP_METHOD_RK4, s->integrator.dt = dt;
@@ -173,10 +179,12 @@ static double gsl_one(double deg, double T, double dt, int tangent)
 
 int main(int argc, char **argv)
 {
-    if (argc != 4) {
-        fprintf(stderr, "usage: bench_batch N T DT\n");
+    if (argc != 4 && argc != 5) {
+        fprintf(stderr, "usage: bench_batch N T DT [AZIMUTH_RATE]\n");
         return 2;
     }
+    azimuth_rate = argc == 5 ? atof(argv[4]) : 0;
+    const char *name = azimuth_rate != 0 ? "springpend3d" : "springpend";
     int n = atoi(argv[1]);
     double T = atof(argv[2]), dt = atof(argv[3]);
     int cores = (int)sysconf(_SC_NPROCESSORS_ONLN);
@@ -189,14 +197,18 @@ int main(int argc, char **argv)
         double c1, cn;
         double t1 = batch_time(n, T, dt, tangent, 1, NULL, &c1);
         double tn = batch_time(n, T, dt, tangent, cores, tangent ? lam : NULL, &cn);
-        printf("springpend_%s_1 = %.4g\n", what, steps / t1);
-        printf("springpend_%s_1_cpu = %.4g\n", what, steps / c1);
-        printf("springpend_%s_%d = %.4g\n", what, cores, steps / tn);
-        printf("springpend_%s_cpu = %.4g\n", what, steps / cn);
+        printf("%s_%s_1 = %.4g\n", name, what, steps / t1);
+        printf("%s_%s_1_cpu = %.4g\n", name, what, steps / c1);
+        printf("%s_%s_%d = %.4g\n", name, what, cores, steps / tn);
+        printf("%s_%s_cpu = %.4g\n", name, what, steps / cn);
     }
     int idx[3] = {0, n / 2, n - 1};
     for (int k = 0; k < 3; k++)
-        printf("springpend_lambda_%.1f = %.6f\n", angle_deg(idx[k], n), lam[idx[k]]);
+        printf("%s_lambda_%.1f = %.6f\n", name, angle_deg(idx[k], n), lam[idx[k]]);
+    if (azimuth_rate != 0) { /* the fast kernel and GSL's runs are planar */
+        free(lam);
+        return 0;
+    }
     if (sp_batch_fast_supported()) { /* the same through the fast kernel (sweep --fast) */
         double c1, cn, *lf = calloc((size_t)n, sizeof(double));
         use_fast = 1;

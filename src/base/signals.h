@@ -8,8 +8,7 @@
  * itself. While a render holds them (sp_signals_hold), a second signal
  * calls the hold's cleanup (the pipeline's: outfile.h's, which removes the
  * partial files) and exits at once.
- * Shared with: cli, pipeline, compare (sp_signal_name only), sweep
- * (sweep_plot.c, still to be handed a flag). */
+ * Shared with: cli, pipeline, compare (sp_signal_name only). */
 #ifndef SPRINGPEND_SIGNALS_H
 #define SPRINGPEND_SIGNALS_H
 

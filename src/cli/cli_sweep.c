@@ -630,6 +630,7 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
         char *command = sp_command_line_unnamed();
         style.scene_file = ini, style.command = command, style.scene = pv->scene;
+        style.cancel = sp_signal_flag(); /* a signal stops the drawing */
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
         free(ini);
         free(command);

@@ -189,6 +189,9 @@ struct sp_plot_style {
     const struct sp_scene *scene; /* provenance: that scene, for a PNG's text
                                    chunks as a still's (provenance.h); NULL = none */
     const char *command;        /* provenance: the command without its -o; NULL = none */
+    const volatile sig_atomic_t *cancel; /* the caller's stop flag: once set, drawing
+                                   stops and nothing is written
+                                   (SP_E_INTERRUPTED); NULL = never */
 };
 
 /* Draws the figure for the CSV in fp (rewound and read to the end) into

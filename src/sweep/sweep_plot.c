@@ -20,7 +20,6 @@
 #include "render/cairo_fd.h"
 #include "render/cairo_text.h"
 #include "frame/panels.h"
-#include "base/signals.h"
 #include "frame/text.h"
 #include "springpend/common.h"
 #include "springpend/outfile.h"
@@ -51,6 +50,7 @@ static struct {
     char *title_lines;  /* the title wrapped (sp_font_wrap); NULL = none */
     int title_n;        /* its lines */
     double title_pt;    /* its size, pt */
+    const volatile sig_atomic_t *cancel; /* the style's: once set, drawing stops */
 } G = {.w = 900, .h = 600, .u = 1, .lw = 1, .tick = 5};
 #define W G.w
 #define H G.h
@@ -266,7 +266,7 @@ struct row {
 static int next_row(FILE *fp, const struct sp_sweep_desc *d, int nv, struct row *r)
 {
     char line[512], *p, *end;
-    if (sp_signal_seen() || !fgets(line, sizeof(line), fp)) /* Ctrl-C: stop drawing */
+    if ((G.cancel && *G.cancel) || !fgets(line, sizeof(line), fp)) /* stopped: stop drawing */
         return 0;
     r->point = strtol(line, &p, 10);
     for (int a = 0; a < d->n_axes; a++) {
@@ -1031,6 +1031,7 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
     G.lw = print ? 0.8 : 1, G.tick = print ? 3.5 : 5;
     G.title = style && style->title_set ? v->title : NULL;
     G.v = v;
+    G.cancel = style ? style->cancel : NULL;
     G.err = 0, G.pt = U(12);
     G.title_lines = NULL, G.title_n = 0;
     struct sp_font_desc fd = {.family = v->font};
@@ -1218,8 +1219,8 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
      * them back (a sanitizer build checks), and the font */
     cairo_debug_reset_static_data();
     end();
-    if (!ret && sp_signal_seen())
-        ret = SP_E_INTERRUPTED; /* a figure cut short by a signal is not written */
+    if (!ret && style && style->cancel && *style->cancel)
+        ret = SP_E_INTERRUPTED; /* a figure cut short by a stop is not written */
     if (!ret && st) {
         sp_log_error("cannot write %s: %s", path,
                      sink.err ? strerror(sink.err) : cairo_status_to_string(st));

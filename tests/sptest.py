@@ -104,6 +104,16 @@ def runner_bytes(exe, cwd):
     return run
 
 
+def hangs(run, *args, timeout=10):
+    """Runs springpend through run (a runner) for at most timeout s:
+    (returncode or 'hung', stderr)."""
+    try:
+        r = run(*args, timeout=timeout)
+        return r.returncode, err(r)
+    except subprocess.TimeoutExpired:
+        return "hung", ""
+
+
 def err(r):
     """What a finished run wrote to stderr (bytes or text), stripped."""
     e = r.stderr

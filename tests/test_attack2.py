@@ -42,11 +42,7 @@ def parts():
 
 def hangs(*args):
     """Runs springpend for at most 10 s: (returncode or 'hung', stderr)."""
-    try:
-        r = run(*args, timeout=10)
-        return r.returncode, err(r)
-    except subprocess.TimeoutExpired:
-        return "hung", ""
+    return sptest.hangs(run, *args)
 
 
 # ---- non-regular files where a reader expects a file ------------------------

@@ -61,11 +61,7 @@ def err(r):
 
 def hangs(*args):
     """Runs springpend for at most 10 s: (returncode or 'hung', stderr)."""
-    try:
-        r = run(*args, timeout=10)
-        return r.returncode, err(r)
-    except subprocess.TimeoutExpired:
-        return "hung", ""
+    return sptest.hangs(run, *args)
 
 
 def raw_controls(b):

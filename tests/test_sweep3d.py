@@ -15,7 +15,7 @@ import os
 import shutil
 import sys
 
-from sptest import done, need_scipy, ok, runner
+from sptest import done, model3, need_scipy, ok, runner, start3
 
 need_scipy()
 import numpy as np  # noqa: E402
@@ -48,23 +48,6 @@ def read(name):
         return f.read()
 
 
-def rhs3(L0, k, m):
-    km = k / m
-
-    def f(t, u):
-        x, y, z, vx, vy, vz = u
-        c = km * (1 - L0 / math.sqrt(x * x + y * y + z * z))
-        return [vx, vy, vz, -c * x, -c * y - G, -c * z]
-    return f
-
-
-def start3(r, th_deg, phd):
-    """(x, y, z, vx, vy, vz) at rest in r and theta, turning at phd rad/s."""
-    th = math.radians(th_deg)
-    x, y = r * math.sin(th), -r * math.cos(th)
-    return [x, y, 0.0, 0.0, 0.0, phd * x]
-
-
 # ---- the precession per exchange ----------------------------------------
 def precession_ref(phd, T, k=39.24, L0=0.75, m=1.0, r0=1.05, th=1.0, dt=0.02):
     """scipy's run of the swinging spring turning at phd: the swing's maxima
@@ -76,7 +59,7 @@ def precession_ref(phd, T, k=39.24, L0=0.75, m=1.0, r0=1.05, th=1.0, dt=0.02):
     ell = L0 + m * G / k
     period = 2 * math.pi / math.sqrt(G / ell)
     ts = np.arange(0, T + 1e-9, dt)
-    sol = solve_ivp(rhs3(L0, k, m), (0, T), start3(r0, th, phd), method="DOP853",
+    sol = solve_ivp(model3(L0, k, m, g=G), (0, T), start3(r0, th, phd=phd), method="DOP853",
                     rtol=1e-11, atol=1e-13, t_eval=ts)
     x, z = sol.y[0], sol.y[2]
     n = int(round(period / dt))
@@ -148,7 +131,7 @@ def lyapunov_ref(phd, T, k=39.24, L0=0.75, m=1.0, r0=1.2, th=85.94):
         J = -c * np.eye(3) - a * np.outer(q, q)
         return [vx, vy, vz, -c * x, -c * y - G, -c * z, *dv, *(J @ d)]
 
-    s = np.array(start3(r0, th, phd) + [1, 0, 0, 0, 0, 0], float)
+    s = np.array(start3(r0, th, phd=phd) + [1, 0, 0, 0, 0, 0], float)
     total = 0.0
     for k1 in range(1, int(T) + 1):
         s = solve_ivp(f, (k1 - 1, k1), s, method="DOP853", rtol=1e-11, atol=1e-12).y[:, -1]

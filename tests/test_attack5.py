@@ -8,15 +8,28 @@ attack5.md). Each check is a class, run as the attacker ran it:
   baselines);
 - folder-mode compare walks dot-folders and dot-files, reports a link to a
   folder, and refuses folders nested too deep, instead of passing without
-  them; the reports then do not read as a pass.
+  them; the reports then do not read as a pass;
+- [view] font = Sans, serif or a name with many near matches (it crashed
+  with SIGSEGV in the near-match list);
+- a font_size or font_scale whose text cannot fit the frame is refused (the
+  HUD's text covered the whole frame, exit 0);
+- names with bidi controls, @mentions and bare domains: escaped in the
+  terminal, the PR summary and the JUnit report;
+- sweep --merge refuses values in forms the writers never print (e-00,
+  5.0) and precession counts that cannot be;
+- the CSV metadata's url is a URL: the file name percent-encoded;
+- a title of 22 000 zero-width bidi controls is laid out in seconds, not
+  minutes and 2 GB (the wrap shaped every prefix).
 usage: test_attack5.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import hashlib
+import json
 import os
 import xml.dom.minidom
 
 import sptest
 from sptest import done, err, ok
 
-exe, src, work, _ = sptest.setup("attack5", [])
+exe, src, work, _ = sptest.setup("attack5", ["fc-list"])
 run = sptest.runner_bytes(exe, work)
 default = os.path.join(src, "..", "scenes", "default.ini")
 
@@ -104,5 +117,99 @@ ok(r.returncode == 2 and "nested more than 64 deep" in err(r) and fails >= 1
    and not r.stdout.decode().startswith("ok"),
    f"folder compare: folders nested too deep are refused, and the JUnit report is not a "
    f"pass (exit {r.returncode}, {fails} failures/errors)")
+
+# ---- generic and much-matched font names ------------------------------------
+for fam in ("Sans", "serif", "monospace"):
+    r = run("still", default, "--at", "1", "--size", "160x120", "--set", f"view.font={fam}",
+            "-o", f"font-{fam}.png")
+    ok(r.returncode == 0 and os.path.exists(path(f"font-{fam}.png")),
+       f"[view] font = {fam}, one of fontconfig's generic names, renders (exit {r.returncode})")
+r = run("still", default, "--at", "1", "--size", "160x120", "--set", "view.font=Noto",
+        "-o", "font-noto.png")
+ok(r.returncode == 2 and "close matches:" in err(r) and err(r).count('"Noto') >= 6
+   and not os.path.exists(path("font-noto.png")),
+   f"[view] font = Noto (dozens of near matches): exit 2 listing six (exit {r.returncode})")
+
+# ---- text too large for the frame ------------------------------------------
+for size, key, val in (("320x180", "view.font_size", "200"), ("1280x720", "view.font_size", "60"),
+                       ("320x180", "view.font_scale", "3"), ("8.6cm", "view.font_size", "200")):
+    out = "big-text." + ("pdf" if size.endswith("cm") else "png")
+    r = run("still", default, "--at", "1", "--size", size, "--set", f"{key}={val}", "-o", out)
+    ok(r.returncode == 2 and f"--set {key}" in err(r) and "cannot fit" in err(r)
+       and not os.path.exists(path(out)),
+       f"{key} = {val} at {size}: exit 2 saying the text cannot fit (exit {r.returncode})")
+r = run("still", default, "--at", "1", "--size", "1280x720", "--set", "view.font_size=40",
+        "-o", "text40.png")
+ok(r.returncode == 0, f"font_size 40 at 1280x720 still renders (exit {r.returncode})")
+with open(path("big.ini"), "w") as f:
+    f.write(open(default).read() + "\n[view]\nfont_size = 150\n")
+r = run("still", "big.ini", "--at", "1", "--size", "320x180", "-o", "big.png")
+ok(r.returncode == 2 and "big.ini:" in err(r), f"a scene's font_size is refused at its FILE:LINE "
+   f"({err(r)[:60]!r})")
+
+# ---- names that display as others, mention people or link --------------------
+names = ["@octocat", "www.evil.example", "r\u202egnp.exe", "x~~strike~~"]
+for n in names:
+    copy(b1, path("cmp", "e", n + ".png"))
+    copy(b2, path("cmp", "a", n + ".png"))
+r = run("compare", "cmp/e", "cmp/a", "--summary", "sum.md", "--junit", "j.xml")
+out = r.stdout.decode()
+ok("\u202e" not in out and "\\u202e" in out,
+   "a bidi override in a name is shown escaped on the terminal")
+md = open(path("sum.md"), encoding="utf-8").read()
+ok("@octocat" not in md and "www.evil" not in md and "~~" not in md and "\u202e" not in md,
+   "the PR summary mentions nobody, links nothing and strikes nothing out from names")
+jx = open(path("j.xml"), encoding="utf-8").read()
+ok("\u202e" not in jx, "JUnit shows a bidi override in a name escaped")
+
+# ---- merge: forms the writers never print, counts that cannot be -------------
+spring = os.path.join(src, "..", "scenes", "swinging-spring.ini")
+for i in (1, 2):
+    r = run("sweep", spring, "--vary", "initial.azimuth_rate=0.01:0.1:4", "--measure",
+            "precession", "--time", "60", "--shard", f"{i}/2", "--csv", f"p{i}.csv", "-q")
+    assert r.returncode == 0, err(r)
+
+
+def reseal(name, text):
+    """Writes the shard name with text and its metadata made to match."""
+    meta = json.loads(read(path(name + "-metadata.json")))
+    open(path("q.csv"), "w").write(text)
+    meta["dc:extent"] = len(text.splitlines()) - 1
+    meta["schema:sha256"] = hashlib.sha256(text.encode()).hexdigest()
+    meta["url"] = "q.csv"
+    open(path("q.csv-metadata.json"), "w").write(json.dumps(meta))
+
+
+rows = read(path("p1.csv")).decode().splitlines()
+head, first = rows[0], rows[1].split(",")
+edits = {"e-00": first[2] + "e-00", "5.0": None, "-5": None, "0.5": None}
+for what in edits:
+    f2 = list(first)
+    if what == "e-00":
+        f2[2] = first[2] + "e-00"
+    else:
+        f2[3] = what
+    reseal("p1.csv", "\n".join([head, ",".join(f2)] + rows[2:]) + "\n")
+    r = run("sweep", "--merge", "q.csv", "p2.csv", "-o", "m.png")
+    ok(r.returncode == 2 and not os.path.exists(path("m.png")),
+       f"merge refuses a precession shard with {what!r} written in (exit {r.returncode}: "
+       f"{err(r)[-90:]!r})")
+reseal("p1.csv", "\n".join(rows) + "\n")
+r = run("sweep", "--merge", "q.csv", "p2.csv", "-o", "m.png")
+ok(r.returncode == 0, f"the same shard resealed unchanged merges (exit {r.returncode})")
+
+# ---- the CSV metadata's url ---------------------------------------------------
+r = run("data", default, "--set", "video.duration=0.1", "-o", "run #3%.csv")
+meta = json.loads(read(path("run #3%.csv-metadata.json")))
+ok(r.returncode == 0 and meta.get("url") == "run%20%233%25.csv",
+   f"the metadata's url percent-encodes the file name ({meta.get('url')!r})")
+
+# ---- a title of zero-width characters ---------------------------------------
+with open(path("zw.ini"), "w", encoding="utf-8") as f:
+    f.write("[view]\ntitle = a" + "\u202e\u202d" * 11000 + "\n")
+code, e = sptest.hangs(run, "still", "zw.ini", "--at", "1", "--size", "320x180", "-o", "zw.png",
+                       timeout=60)
+ok(code != "hung", f"a title of 22 000 zero-width controls is laid out, not minutes of shaping "
+   f"(exit {code})")
 
 done()

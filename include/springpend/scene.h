@@ -180,6 +180,8 @@ struct sp_scene {
                                     the refusals that need the motion:
                                     "FILE:LINE" or "--set view.camera"; "" =
                                     nowhere (the default) */
+        char text_size_where[SP_VIEW_TEXT_BYTES]; /* where font_size or font_scale
+                                    was last set, as camera_where */
     } view;
     struct {
         int count;     /* pendulums drawn together, 0 or 1 = no ensemble */

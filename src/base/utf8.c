@@ -36,3 +36,9 @@ uint32_t sp_utf8_decode(const char *s, size_t *len)
     *len = n;
     return cp;
 }
+
+int sp_utf8_is_bidi_control(uint32_t u)
+{
+    return u == 0x061c || u == 0x200e || u == 0x200f || (u >= 0x202a && u <= 0x202e) ||
+           (u >= 0x2066 && u <= 0x2069);
+}

@@ -14,4 +14,9 @@ size_t sp_utf8_char(const char *s);
  * with *len = 1 for a malformed byte and at the NUL. */
 uint32_t sp_utf8_decode(const char *s, size_t *len);
 
+/* 1 for the Unicode bidirectional format characters (U+061C, U+200E,
+ * U+200F, U+202A..U+202E, U+2066..U+2069): a name holding one displays
+ * reordered ("Trojan Source"), so names are shown with them escaped. */
+int sp_utf8_is_bidi_control(uint32_t u);
+
 #endif

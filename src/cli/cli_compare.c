@@ -110,6 +110,7 @@ struct compare_cli {
     int json, quiet, failures_only;
     int jobs;                      /* --jobs: threads comparing folders */
     int approve;                   /* --approve DIR BASELINES */
+    int candidates_failed;         /* candidates that could not be written */
     unsigned diff_links;           /* write_whole's flags for diff images:
                                       SP_OUTFILE_REPLACE_LINK in folder mode */
 };
@@ -930,7 +931,7 @@ static void target_name(const struct compare_cli *c, const char *name, char *out
 
 /* --candidates: the would-be baseline of a failing or new image, and its
  * diff, into the candidates folder; the run still fails. */
-static void write_candidate(const struct compare_cli *c, struct sp_compare_record *r,
+static void write_candidate(struct compare_cli *c, struct sp_compare_record *r,
                             const char *name)
 {
     char rel[PATH_MAX], out[PATH_MAX];
@@ -943,14 +944,18 @@ static void write_candidate(const struct compare_cli *c, struct sp_compare_recor
         sp_compare_parent_outside(out, c->candidates, where, sizeof(where))) {
         sp_log_error("%s would be written to %s, through a link out of %s: not written", out,
                      where, c->candidates);
+        c->candidates_failed++;
         return;
     }
     if (strlen(out) + 1 >= sizeof(out) || make_parents(out) != 0) {
         sp_log_error("%s: cannot make its folder: %s", out, strerror(errno));
+        c->candidates_failed++;
         return;
     }
     if (write_whole(out, SP_OUTFILE_REPLACE_LINK, fill_copy, r->actual) == 0)
         snprintf(r->candidate, sizeof(r->candidate), "%s", out);
+    else
+        c->candidates_failed++;
 }
 
 /* Compares every image (PNG or video) under folder dir_e with its namesake
@@ -1269,8 +1274,9 @@ static int approve(const struct compare_cli *c, const char *dir, const char *bas
             ret = SP_E_IO;
             continue;
         }
-        if (write_whole(to, SP_OUTFILE_REPLACE_LINK, fill_copy, from) != 0) {
-            ret = SP_E_INPUT;
+        int werr = write_whole(to, SP_OUTFILE_REPLACE_LINK, fill_copy, from);
+        if (werr) { /* a refused file is bad input; a full disk is not */
+            ret = werr;
             continue;
         }
         exists ? replaced++ : added++;
@@ -1408,6 +1414,12 @@ int sp_cmd_compare(int argc, char **argv)
         sp_fprintf_line(stdout, "%d candidate%s in %s; to accept them after review: springpend "
                         "compare --approve %s %s", k, k == 1 ? "" : "s", c.candidates,
                         c.candidates, e);
+        if (c.candidates_failed) {
+            sp_log_error("%d candidate%s could not be written to %s (the messages above say "
+                         "why): the candidates folder is incomplete", c.candidates_failed,
+                         c.candidates_failed == 1 ? "" : "s", c.candidates);
+            ret = SP_E_IO;
+        }
     }
 done:
     if (fflush(stdout) != 0 || ferror(stdout)) {

@@ -425,9 +425,14 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
     char what[256];
     snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s at dt = %g s%s: about "
              "%.3g steps a point)", points, span, d->method, d->dt, extra, per_point);
+    /* a continued sweep cannot be cut into shards (--continue refuses --shard) */
     return sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
-                       "fewer points (--vary's COUNT), a shorter --time or --transient, a "
-                       "larger integrator.dt, or split the grid over machines with --shard I/N",
+                       d->cont != SP_CONTINUE_NONE
+                           ? "fewer points (--vary's COUNT), a shorter --time or --transient, "
+                             "or a larger integrator.dt"
+                           : "fewer points (--vary's COUNT), a shorter --time or --transient, a "
+                             "larger integrator.dt, or split the grid over machines with "
+                             "--shard I/N",
                        quiet);
 }
 

@@ -12,6 +12,7 @@
 #include "springpend/compare_report.h"
 #include "base/array.h"
 #include "base/signals.h"
+#include "base/utf8.h"
 #include "frame/text.h"
 
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
@@ -440,7 +441,11 @@ static void xml_string(FILE *fp, const char *s, int mode)
             continue;
         }
         if (n != 1) {
-            fwrite(s, 1, n, fp);
+            uint32_t u = sp_utf8_decode(s, &n);
+            if (sp_utf8_is_bidi_control(u))
+                fprintf(fp, "\\u%04x", (unsigned)u); /* shown, never reordering the name */
+            else
+                fwrite(s, 1, n, fp);
             continue;
         }
         switch (*s) {
@@ -1008,10 +1013,22 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
  * markup escaped, a newline as a space. */
 static void md_cell(FILE *fp, const char *s)
 {
+    const char *start = s;
     for (size_t n; *s; s += n ? n : 1) {
         n = sp_utf8_char(s);
+        uint32_t u = n > 1 ? sp_utf8_decode(s, &n) : 0;
         if (!n || (unsigned char)*s < 0x20)
             fputc(n ? ' ' : '?', fp);
+        else if (sp_utf8_is_bidi_control(u))
+            fprintf(fp, "\\u%04x", (unsigned)u);
+        else if (*s == '@') /* no mention of a user or team from the bot's comment */
+            fputs("@&#8203;", fp);
+        else if (*s == '~')
+            fputs("\\~", fp);
+        else if (*s == '.' && s - start >= 3 && !strncasecmp(s - 3, "www", 3))
+            fputs("&#8203;.", fp); /* "www." and "://" start no autolink */
+        else if (*s == ':' && s[1] == '/' && s[2] == '/')
+            fputs(":&#8203;", fp);
         else if (*s == '<')
             fputs("&lt;", fp);
         else if (*s == '>')

@@ -176,6 +176,30 @@ static void text_sizes(float unit, double font_size, double scale, float ss, int
     }
 }
 
+/* Refuses body text too large for the frame: the HUD, ticks, legends and
+ * labels are laid out around the plots and the pendulum, and past this they
+ * cover them. Allowed: at most 1/15 of the frame's smaller side (video), or
+ * 1/8 of it (a figure of physical size), and never less than the floors a
+ * default frame uses. 0 or SP_E_INPUT (said). */
+static int check_text_size(const struct sp_composer *r, const int px[SP_TEXT_SIZES], float ss)
+{
+    const int print = r->look.pt_px > 0;
+    const float side = fminf((float)r->width, (float)r->height);
+    const float most = fmaxf(print ? side / 8 : side / 15, 16 * ss);
+    if (px[SP_TEXT_NORMAL] <= most)
+        return 0;
+    const struct sp_view *v = &r->look.view;
+    const char *where = v->text_size_where[0] ? v->text_size_where : "[view] font_size";
+    const float unit = ss; /* drawn px per output px, or per pt in print */
+    sp_log_error("%s: text of %.0f %s (font_size %g, font_scale %g) cannot fit a %.0fx%.0f %s "
+                 "frame: the HUD, legends and labels would cover the plots and the pendulum; "
+                 "allowed: at most %.0f %s here; use a smaller font_size or font_scale, or a "
+                 "larger frame", where, px[SP_TEXT_NORMAL] / unit, print ? "pt" : "px",
+                 v->font_size, v->font_scale, r->width / unit, r->height / unit,
+                 print ? "pt" : "px", floorf(most / unit), print ? "pt" : "px");
+    return SP_E_INPUT;
+}
+
 /* Line i of wrapped text. */
 static const char *line_of(const char *wrapped, int i)
 {
@@ -402,6 +426,10 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
         struct sp_font_desc fd = {.family = r->look.view.font};
         text_sizes(r->unit, r->look.view.font_size, r->look.view.font_scale, ss,
                    r->look.pt_px > 0, fd.px);
+        if ((err = check_text_size(r, fd.px, ss)) != 0) {
+            sp_compose_destroy(&r);
+            return err;
+        }
         r->font_borrowed = desc->font != NULL;
         err = desc->font ? (r->font = (struct sp_font *)desc->font, 0) : sp_font_make(&r->font, &fd);
         if (!err)

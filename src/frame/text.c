@@ -19,6 +19,7 @@
 #include <hb.h>
 #include <hb-ot.h>
 
+#include "base/array.h"
 #include "base/clock.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
@@ -227,9 +228,13 @@ static void unknown_family(const char *family)
                 dup |= !strcasecmp(best[j], n);
             if (dup)
                 continue;
-            int at = nb < 6 ? nb++ : 5;
-            if (at == 5 && nb == 6 && d >= score[5])
-                continue;
+            int at;
+            if (nb < 6)
+                at = nb++;
+            else if (d >= score[5])
+                continue; /* no better than the sixth best */
+            else
+                at = 5;
             best[at] = n, score[at] = d;
             for (int j = at; j > 0 && score[j] < score[j - 1]; j--) { /* keep sorted */
                 const char *tn = best[j]; int ts = score[j];
@@ -270,6 +275,17 @@ static int same_name(const char *a, const char *b)
     }
 }
 
+/* 1 for fontconfig's generic names, which its configuration maps to an
+ * installed family (which one is recorded in the provenance's fonts). */
+static int generic_family(const char *family)
+{
+    static const char *const generic[] = {"sans-serif", "sans", "serif", "monospace", "mono"};
+    for (size_t i = 0; i < sizeof(generic) / sizeof(*generic); i++)
+        if (!strcasecmp(family, generic[i]))
+            return 1;
+    return 0;
+}
+
 static int has_family(FcPattern *p, const char *family)
 {
     FcChar8 *name;
@@ -302,7 +318,8 @@ static int sort_fonts(struct sp_font *f, const char *family, int verify)
     FcConfigSubstitute(NULL, pat, FcMatchPattern);
     FcDefaultSubstitute(pat);
     f->sorted = FcFontSort(NULL, pat, FcTrue, NULL, &res);
-    if (verify && (!f->sorted || !f->sorted->nfont || !has_family(f->sorted->fonts[0], family))) {
+    if (verify && (!f->sorted || !f->sorted->nfont ||
+                   !(has_family(f->sorted->fonts[0], family) || generic_family(family)))) {
         unknown_family(family);
         err = SP_E_INPUT;
         goto done;
@@ -834,6 +851,42 @@ static int may_break_before(const char *s)
  * would be shaped whole once per line (quadratic in its length). */
 #define WRAP_LINE_BYTES_MAX 65536
 
+/* The candidate ends of a line starting at text: with chars = 0, each space
+ * and the end (up to WRAP_LINE_BYTES_MAX); with chars = 1, where a character
+ * may break (may_break_before) inside the first word. Returns the longest
+ * that fits max_width, 0 when none does; try holds len + 1 bytes. Widths
+ * grow with the prefix, so the bisection finds what a scan would. */
+static size_t fit_prefix(const struct sp_font *f, int size, const char *text, float max_width,
+                         char *try, int chars)
+{
+    size_t lo = 0, hi = 0, cap = 0, n = 0, *ends = NULL, fit = 0;
+    for (size_t i = chars; i <= WRAP_LINE_BYTES_MAX; i++) {
+        if (chars && (!text[i] || text[i] == ' '))
+            break; /* the word's end: the space pass tried it */
+        if (chars ? may_break_before(text + i) : (text[i] == ' ' || !text[i])) {
+            if (SP_ARRAY_RESERVE(ends, cap, n + 1, 64))
+                break; /* out of memory: the candidates so far */
+            ends[n++] = i;
+        }
+        if (!text[i])
+            break;
+    }
+    hi = n;
+    while (lo < hi) { /* ends[0..lo) fit, ends[hi..n) do not */
+        const size_t mid = lo + (hi - lo) / 2, i = ends[mid];
+        memcpy(try, text, i);
+        try[i] = 0;
+        if (sp_font_width(f, size, try) > max_width) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+            fit = i;
+        }
+    }
+    free(ends);
+    return fit;
+}
+
 int sp_font_wrap(const struct sp_font *f, int size, const char *text, float max_width,
                 int max_lines, char **out, int *n_out)
 {
@@ -849,34 +902,17 @@ int sp_font_wrap(const struct sp_font *f, int size, const char *text, float max_
     }
     text += strspn(text, " ");
     while (*text) {
-        size_t fit = 0;
-        /* the longest prefix ending at a space (or the end) that fits */
-        for (size_t i = 0; i <= WRAP_LINE_BYTES_MAX; i++) {
-            if (text[i] == ' ' || !text[i]) {
-                memcpy(try, text, i);
-                try[i] = 0;
-                if (sp_font_width(f, size, try) > max_width)
-                    break;
-                fit = i;
-                if (!text[i])
-                    break;
-            }
-        }
-        if (!fit) { /* the first word alone is too wide: as many characters as fit */
-            size_t i = 1;
-            for (; text[i] && text[i] != ' ' && i <= WRAP_LINE_BYTES_MAX; i++) {
-                if (!may_break_before(text + i))
-                    continue;
-                memcpy(try, text, i);
-                try[i] = 0;
-                if (sp_font_width(f, size, try) > max_width)
-                    break;
-                fit = i;
-            }
-            if (!fit) /* not even one character: it stays whole, and overflows */
-                for (fit = 1; text[fit] && !may_break_before(text + fit); fit++)
-                    ;
-        }
+        /* the longest prefix ending at a space (or the end) that fits, or
+         * else (the first word alone is too wide) the longest ending where a
+         * character may break: each found by bisection over its candidate
+         * ends, so a line costs about log2(candidates) shapings, not one per
+         * candidate (a 64 KB run of zero-width characters was quadratic) */
+        size_t fit = fit_prefix(f, size, text, max_width, try, 0);
+        if (!fit)
+            fit = fit_prefix(f, size, text, max_width, try, 1);
+        if (!fit) /* not even one character: it stays whole, and overflows */
+            for (fit = 1; text[fit] && !may_break_before(text + fit); fit++)
+                ;
         while (fit && text[fit - 1] == ' ')
             fit--;
         memcpy(w, text, fit);

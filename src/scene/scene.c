@@ -657,6 +657,14 @@ static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
                k->name, value, range);
         return;
     }
+    if (p == (char *)&c->scene->view.font_size || p == (char *)&c->scene->view.font_scale) {
+        struct sp_view *view = &c->scene->view;
+        if (line > 0)
+            snprintf(view->text_size_where, sizeof(view->text_size_where), "%s:%d", c->origin, line);
+        else
+            snprintf(view->text_size_where, sizeof(view->text_size_where), "--set %s.%s",
+                     k->section, k->name);
+    }
     if (k->kind == KEY_INT)
         *(int *)p = (int)v;
     else if (k->kind == KEY_DEGREES)

@@ -37,6 +37,29 @@ static json_t *text(const char *s)
     return j;
 }
 
+/* The CSV's file name as CSV on the Web resolves `url`: a URL relative to
+ * the metadata file (W3C tabular metadata, 5.3), so every byte but RFC
+ * 3986's unreserved ones is percent-encoded ("run #3.csv" is
+ * "run%20%233.csv"; a name that is not UTF-8 stays exact). */
+static json_t *url_of(const char *name)
+{
+    static const char hex[] = "0123456789ABCDEF";
+    size_t n = strlen(name);
+    char *u = malloc(3 * n + 1), *o = u;
+    if (!u)
+        return NULL;
+    for (const unsigned char *p = (const unsigned char *)name; *p; p++)
+        if ((*p >= 'A' && *p <= 'Z') || (*p >= 'a' && *p <= 'z') || (*p >= '0' && *p <= '9') ||
+            strchr("-._~", *p))
+            *o++ = (char)*p;
+        else
+            *o++ = '%', *o++ = hex[*p >> 4], *o++ = hex[*p & 15];
+    *o = 0;
+    json_t *j = json_string(u);
+    free(u);
+    return j;
+}
+
 /* The command line's text and words into obj. 0 or SP_E_NOMEM. */
 static int add_command(json_t *obj)
 {
@@ -88,7 +111,7 @@ static json_t *build(const char *csv_target, const struct sp_csv_meta *m)
         err = json_array_append_new(used, text(m->overrides[i]));
     sp_environment_numbers(env, sizeof(env));
     err = err || json_object_set_new(root, "@context", json_string("http://www.w3.org/ns/csvw")) ||
-          json_object_set_new(root, "url", text(base ? base + 1 : csv_target)) ||
+          json_object_set_new(root, "url", url_of(base ? base + 1 : csv_target)) ||
           json_object_set_new(root, "dc:title", text(m->title)) ||
           (m->description &&
            json_object_set_new(root, "dc:description", text(m->description))) ||

@@ -226,36 +226,23 @@ int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
 
 /* ---- rows read back ------------------------------------------------------- */
 
-/* Whether field is a number as C's printf writes one with %g or %f (what
- * sweep.c, batch.c and the analyses write): [-] (0 | [1-9] digits) [.
- * digits] [e (+|-) two or three digits], and never a bare "-0", which only
- * %g of a negative zero gives, and the writers add 0.0 to avoid. A shard
- * edited by hand ("+0.5", ".5", "5.", "1E5") is refused even when its
- * SHA-256 was recomputed. */
-static int printf_form(const char *f)
+/* 1 when value field (read as v) is exactly what one of the row writers'
+ * formats prints for v (%.6f, %.6g, %.7g, %.9g, %.10g: sweep.c, basins.c,
+ * spectrum.c, precession.c, continuation.c), so an edit in another form
+ * ("+0.5", ".5", "5.0", "1e-00", "05") is refused even with the SHA-256
+ * recomputed; never "-0", which the writers avoid. */
+static int printf_form(const char *f, double v)
 {
-    const char *p = f + (*f == '-');
+    static const char *const forms[] = {"%.6f", "%.6g", "%.7g", "%.9g", "%.10g"};
+    char buf[64];
     if (!strcmp(f, "-0"))
         return 0;
-    if (*p == '0')
-        p++;
-    else if (*p >= '1' && *p <= '9')
-        p += strspn(p, "0123456789");
-    else
-        return 0;
-    if (*p == '.') {
-        size_t n = strspn(p + 1, "0123456789");
-        if (!n)
-            return 0;
-        p += 1 + n;
+    for (size_t i = 0; i < sizeof(forms) / sizeof(*forms); i++) {
+        snprintf(buf, sizeof(buf), forms[i], v);
+        if (!strcmp(buf, f))
+            return 1;
     }
-    if (*p == 'e') {
-        size_t n = strspn(p + 2, "0123456789");
-        if ((p[1] != '+' && p[1] != '-') || n < 2 || n > 3)
-            return 0;
-        p += 2 + n;
-    }
-    return !*p;
+    return 0;
 }
 
 const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
@@ -304,9 +291,15 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
             nan++;
         } else if (sp_decimal_read(field, &v) != SP_DECIMAL_OK) {
             return "a value is not a finite decimal number (nan, inf and hex are not written)";
-        } else if (!printf_form(field)) {
-            return "a value in a form springpend does not write (printf's %g or %f: no '+', "
-                   "no bare '.', no leading zeros, no -0, e[+-]DD)";
+        } else if (!printf_form(field, v)) {
+            return "a value in a form springpend does not write (printf's %.6f, or %g at 6, "
+                   "7, 9 or 10 digits: no '+', no bare '.', no leading or trailing zeros, no "
+                   "-0, no e-00)";
+        } else if (d->measure == SP_MEASURE_PRECESSION && i == d->n_axes + 2 &&
+                   !(v >= 0 && v == floor(v))) {
+            return "the number of exchanges is not a count (a whole number, 0 or more)";
+        } else if (d->measure == SP_MEASURE_PRECESSION && i == d->n_axes + 3 && !(v > 0)) {
+            return "the exchange period is not a positive time";
         } else if (i == d->n_axes + 1) {
             t = v; /* the first value: a time for orbit and poincare */
         }

@@ -19,7 +19,10 @@ attack5.md). Each check is a class, run as the attacker ran it:
   5.0) and precession counts that cannot be;
 - the CSV metadata's url is a URL: the file name percent-encoded;
 - a title of 22 000 zero-width bidi controls is laid out in seconds, not
-  minutes and 2 GB (the wrap shaped every prefix).
+  minutes and 2 GB (the wrap shaped every prefix);
+- an unknown [view] font is refused at its FILE:LINE or --set;
+- --diff or --candidates inside the baselines is refused (the walk skipped
+  that subfolder and advised adding a baseline that exists).
 usage: test_attack5.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import hashlib
 import json
@@ -211,5 +214,26 @@ code, e = sptest.hangs(run, "still", "zw.ini", "--at", "1", "--size", "320x180",
                        timeout=60)
 ok(code != "hung", f"a title of 22 000 zero-width controls is laid out, not minutes of shaping "
    f"(exit {code})")
+
+# ---- where an unknown font was set -----------------------------------------
+with open(path("lm.ini"), "w") as f:
+    f.write("[view]\nfont = Latin Modren Roman\n")
+r = run("still", "lm.ini", "--at", "1", "--size", "160x120", "-o", "lm.png")
+ok(r.returncode == 2 and "lm.ini:2: [view] font" in err(r),
+   f"an unknown font is refused at its FILE:LINE ({err(r)[-140:]!r})")
+r = run("still", default, "--at", "1", "--size", "160x120", "--set", "view.font=Nosuch Fam",
+        "-o", "lm.png")
+ok(r.returncode == 2 and '--set view.font = "Nosuch Fam"' in err(r),
+   f"an unknown font from --set names --set view.font ({err(r)[-120:]!r})")
+
+# ---- output folders inside the baselines -------------------------------------
+copy(b1, path("df", "e", "sub", "x.png"))
+copy(b1, path("df", "a", "sub", "x.png"))
+for opt, where in (("--diff", "df/e/sub"), ("--diff", "df/e/new"), ("--candidates", "df/e/c")):
+    r = run("compare", "df/e", "df/a", opt, where)
+    ok(r.returncode == 2 and "lies in the baselines" in err(r) and "ok" not in r.stdout.decode(),
+       f"{opt} {where}, inside the baselines, is refused before comparing (exit {r.returncode})")
+r = run("compare", "df/e", "df/a", "--diff", "df/a/d")
+ok(r.returncode == 0, f"--diff inside the actual folder is still taken (exit {r.returncode})")
 
 done()

@@ -182,6 +182,7 @@ struct sp_scene {
                                     nowhere (the default) */
         char text_size_where[SP_VIEW_TEXT_BYTES]; /* where font_size or font_scale
                                     was last set, as camera_where */
+        char font_where[SP_VIEW_TEXT_BYTES]; /* where font was set, as camera_where */
     } view;
     struct {
         int count;     /* pendulums drawn together, 0 or 1 = no ensemble */

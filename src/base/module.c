@@ -68,9 +68,19 @@ static void *load(const char *path, uid_t exe_uid, char *why, size_t size)
         snprintf(why, size, "%s", strerror(errno));
         return NULL;
     }
-    if (trusted(path, exe_uid, why, size))
+    /* checked and opened by the same resolved name: a link swapped into an
+     * unchecked folder of path between the two cannot pick the file */
+    char *real = realpath(path, NULL);
+    if (!real) {
+        snprintf(why, size, "%s", strerror(errno));
         return NULL;
-    void *module = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    }
+    if (trusted(real, exe_uid, why, size)) {
+        free(real);
+        return NULL;
+    }
+    void *module = dlopen(real, RTLD_NOW | RTLD_LOCAL);
+    free(real);
     if (!module) {
         snprintf(why, size, "%s", dlerror());
         return NULL;

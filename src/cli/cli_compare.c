@@ -1136,8 +1136,29 @@ static int lands_in(const char *path, const char *dir)
         snprintf(parent, sizeof(parent), ".");
     in = sp_cli_same_file(parent, dir);
     size_t n = strlen(name);
-    return in && ((n > 4 && !strcasecmp(name + n - 4, ".png") && name[0] != '.') ||
+    return in && ((n > 4 && !strcasecmp(name + n - 4, ".png")) ||
                   !strcmp(name, SP_COMPARE_CONFIG_NAME));
+}
+
+/* 1 when folder path (made or not yet) lies in folder dir or below it. */
+static int folder_within(const char *path, const char *dir)
+{
+    char buf[PATH_MAX];
+    char *in = realpath(dir, NULL), *real = NULL;
+    snprintf(buf, sizeof(buf), "%s", path);
+    while (in && !(real = realpath(buf, NULL))) { /* the nearest folder that exists */
+        char *slash = strrchr(buf, '/');
+        if (!slash || slash == buf)
+            break;
+        *slash = 0;
+    }
+    if (in && !real && !strchr(path, '/'))
+        real = realpath(".", NULL); /* a new folder named alone: the working folder */
+    size_t n = in ? strlen(in) : 0;
+    int within = in && real && !strncmp(real, in, n) && (real[n] == '/' || !real[n]);
+    free(in);
+    free(real);
+    return within;
 }
 
 /* Checks the output paths before anything runs. */
@@ -1151,8 +1172,14 @@ static int check_outputs(const struct compare_cli *c, const char *e, const char 
         if (!p)
             continue;
         if (sp_cli_same_file(p, e) || sp_cli_same_file(p, a) ||
-            (folders && i > 0 && (lands_in(p, e) || lands_in(p, a)))) {
+            (folders && i > 1 && (lands_in(p, e) || lands_in(p, a)))) {
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);
+            return SP_E_INPUT;
+        }
+        if (folders && i <= 1 && folder_within(p, e)) {
+            sp_log_error("%s %s lies in the baselines %s: the walk would skip it and what it "
+                         "holds, and its images would mix with the baselines; choose a folder "
+                         "outside %s", outs[i][1], p, e, e);
             return SP_E_INPUT;
         }
         if ((i == 0 && folders) || i == 1) /* folders */

@@ -376,8 +376,11 @@ static int run(int argc, char **argv, int still)
     const int clocked = scenes[0].timeline && scenes[0].timeline->clocked;
     if (!ret && !clocked && sp_scene_frame_count(&scenes[0]) > SP_MAX_VIDEO_FRAMES) {
         sp_log_error("video.duration * video.fps / video.speed = %d frames; at most %d are "
-                     "allowed in a video (about 4.6 hours at 60 fps)",
-                     sp_scene_frame_count(&scenes[0]), SP_MAX_VIDEO_FRAMES);
+                     "allowed in a video (about 4.6 hours at 60 fps)%s",
+                     sp_scene_frame_count(&scenes[0]), SP_MAX_VIDEO_FRAMES,
+                     still ? "; a still's charts, trail and camera span the scene's video, so "
+                             "the same limit holds: a shorter video.duration (at least --at) "
+                             "or a lower video.fps draws it" : "");
         ret = SP_E_INPUT;
     } else if (!ret && clocked && sp_timeline_length(&scenes[0]) * scenes[0].video.fps > SP_MAX_VIDEO_FRAMES) {
         sp_log_error("the [timeline]'s speeds and pauses make the video %g s long at %g fps: "

@@ -423,7 +423,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     small_frame(r, ss);
     if (r->look.view.panels || r->look.view.hud || r->look.view.colorbar || r->look.view.vectors ||
         r->look.view.title[0] || r->look.view.caption[0] || r->speed[0] || r->look.view.font[0] || tl) {
-        struct sp_font_desc fd = {.family = r->look.view.font};
+        struct sp_font_desc fd = {.family = r->look.view.font, .where = r->look.view.font_where};
         text_sizes(r->unit, r->look.view.font_size, r->look.view.font_scale, ss,
                    r->look.pt_px > 0, fd.px);
         if ((err = check_text_size(r, fd.px, ss)) != 0) {

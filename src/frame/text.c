@@ -107,7 +107,7 @@ static int face_covers(const struct face *fc, uint32_t cp)
     return fc->ft && FT_Get_Char_Index(fc->ft, cp) != 0;
 }
 
-static int sort_fonts(struct sp_font *f, const char *family, int verify);
+static int sort_fonts(struct sp_font *f, const char *family, int verify, const char *where);
 
 /* The first face that has cp, else -1 (the default's fallbacks listed
  * first when they are not yet). */
@@ -118,7 +118,7 @@ static int face_for(const struct sp_font *cf, uint32_t cp)
         if (face_covers(&f->faces[i], cp))
             return i;
     const int listed = f->n_faces;
-    if (!f->fallback_pending || sort_fonts(f, SP_FONT_DEFAULT, 0))
+    if (!f->fallback_pending || sort_fonts(f, SP_FONT_DEFAULT, 0, NULL))
         return -1; /* (a failure to list them was said) */
     for (int i = listed; i < f->n_faces; i++)
         if (face_covers(&f->faces[i], cp))
@@ -206,8 +206,14 @@ static int distance(const char *a, const char *b)
 
 /* Logs that `family` is not installed, with up to six installed families
  * nearest to it (a prefix or part of the name counts as near). */
-static void unknown_family(const char *family)
+static void unknown_family(const char *family, const char *where)
 {
+    char label[640]; /* as the scene's messages name a key */
+    if (where && !strncmp(where, "--set ", 6))
+        snprintf(label, sizeof(label), "%s = \"%s\"", where, family);
+    else
+        snprintf(label, sizeof(label), "%s%s[view] font = \"%s\"", where ? where : "",
+                 where ? ": " : "", family);
     FcPattern *all = FcPatternCreate();
     FcObjectSet *os = FcObjectSetBuild(FC_FAMILY, (char *)NULL);
     FcFontSet *list = all && os ? FcFontList(NULL, all, os) : NULL;
@@ -246,11 +252,11 @@ static void unknown_family(const char *family)
     for (int j = 0; j < nb; j++)
         snprintf(msg + strlen(msg), sizeof(msg) - strlen(msg), "%s\"%s\"", j ? ", " : "", best[j]);
     if (nb)
-        sp_log_error("[view] font = \"%s\": no such font family is installed; close matches: %s "
-                     "(fc-list : family lists them all)", family, msg);
+        sp_log_error("%s: no such font family is installed; close matches: %s (fc-list : "
+                     "family lists them all)", label, msg);
     else
-        sp_log_error("[view] font = \"%s\": no such font family is installed, nor one with a "
-                     "similar name (fc-list : family lists them all)", family);
+        sp_log_error("%s: no such font family is installed, nor one with a similar name "
+                     "(fc-list : family lists them all)", label);
     if (list)
         FcFontSetDestroy(list);
     if (os)
@@ -298,7 +304,7 @@ static int has_family(FcPattern *p, const char *family)
 /* Appends fontconfig's order for `family` to the faces (fonts without
  * outlines, and the embedded font's own file, left out). With `verify`,
  * a family that fontconfig does not have is SP_E_INPUT (said). */
-static int sort_fonts(struct sp_font *f, const char *family, int verify)
+static int sort_fonts(struct sp_font *f, const char *family, int verify, const char *where)
 {
     FcPattern *pat = NULL;
     FcResult res;
@@ -320,7 +326,7 @@ static int sort_fonts(struct sp_font *f, const char *family, int verify)
     f->sorted = FcFontSort(NULL, pat, FcTrue, NULL, &res);
     if (verify && (!f->sorted || !f->sorted->nfont ||
                    !(has_family(f->sorted->fonts[0], family) || generic_family(family)))) {
-        unknown_family(family);
+        unknown_family(family, where);
         err = SP_E_INPUT;
         goto done;
     }
@@ -357,7 +363,7 @@ done:
 /* The fallback list: the family and then fontconfig's order for it. The
  * default is the embedded DejaVu Sans, and fontconfig is asked only when
  * a character is not in it (so most scenes never load fontconfig). */
-static int find_faces(struct sp_font *f, const char *family)
+static int find_faces(struct sp_font *f, const char *family, const char *where)
 {
     int err;
     if (!family || !*family || same_name(family, SP_FONT_DEFAULT)) {
@@ -367,7 +373,7 @@ static int find_faces(struct sp_font *f, const char *family)
         }
         f->n_faces = 1;
         f->fallback_pending = 1;
-    } else if ((err = sort_fonts(f, family, 1)) != 0) {
+    } else if ((err = sort_fonts(f, family, 1, where && *where ? where : NULL)) != 0) {
         return err;
     }
     return face_open(f, 0);
@@ -723,7 +729,7 @@ int sp_font_make(struct sp_font **out, const struct sp_font_desc *d)
         f->lib = NULL;
         goto done;
     }
-    if ((err = find_faces(f, d->family)) != 0)
+    if ((err = find_faces(f, d->family, d->where)) != 0)
         goto done;
     f->aw = f->px[SP_TEXT_TITLE] > 64 || f->px[SP_TEXT_LARGE] > 48 ? 2048 : 1024;
     f->shelf_x = f->shelf_y = PAD;

@@ -41,6 +41,8 @@ struct sp_font;
 
 struct sp_font_desc {
     const char *family;    /* fontconfig family; NULL or "" = SP_FONT_DEFAULT */
+    const char *where;     /* where family was set ("FILE:LINE", "--set view.font"),
+                              for the refusal; NULL or "" = "[view] font" */
     int px[SP_TEXT_SIZES]; /* em sizes, px, each 4..400 */
 };
 

@@ -603,6 +603,14 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         }
         memcpy(p, value, n);
         p[n] = 0;
+        if (p == c->scene->view.font) { /* for fontconfig's refusal, after parsing */
+            struct sp_view *v = &c->scene->view;
+            if (line > 0)
+                snprintf(v->font_where, sizeof(v->font_where), "%s:%d", c->origin, line);
+            else
+                snprintf(v->font_where, sizeof(v->font_where), "--set %s.%s", k->section,
+                         k->name);
+        }
         return 1;
     }
     case KEY_CAMERA:

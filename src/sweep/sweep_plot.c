@@ -1034,7 +1034,7 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
     G.cancel = style ? style->cancel : NULL;
     G.err = 0, G.pt = U(12);
     G.title_lines = NULL, G.title_n = 0;
-    struct sp_font_desc fd = {.family = v->font};
+    struct sp_font_desc fd = {.family = v->font, .where = v->font_where};
     for (int i = 0; i < SP_TEXT_SIZES; i++)
         fd.px[i] = LAYOUT_PX;
     int err = sp_font_make(&G.font, &fd);

@@ -22,7 +22,11 @@ attack5.md). Each check is a class, run as the attacker ran it:
   minutes and 2 GB (the wrap shaped every prefix);
 - an unknown [view] font is refused at its FILE:LINE or --set;
 - --diff or --candidates inside the baselines is refused (the walk skipped
-  that subfolder and advised adding a baseline that exists).
+  that subfolder and advised adding a baseline that exists);
+- a report written in another folder links the videos from its own folder
+  (the links were relative to the working folder, and broken);
+- a still of physical size at 200:1 drops the HUD and panels, as a small
+  frame does, instead of drawing them over each other.
 usage: test_attack5.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import hashlib
 import json
@@ -235,5 +239,24 @@ for opt, where in (("--diff", "df/e/sub"), ("--diff", "df/e/new"), ("--candidate
        f"{opt} {where}, inside the baselines, is refused before comparing (exit {r.returncode})")
 r = run("compare", "df/e", "df/a", "--diff", "df/a/d")
 ok(r.returncode == 0, f"--diff inside the actual folder is still taken (exit {r.returncode})")
+
+# ---- video links in a report written elsewhere ---------------------------------
+for side, angle in (("e", "10"), ("a", "30")):
+    os.makedirs(path("vid", side), exist_ok=True)
+    r = run("render", default, "--size", "64x48", "--set", "video.duration=0.2", "--set",
+            f"initial.angle={angle}", "-q", "-o", f"vid/{side}/v.mp4")
+    assert r.returncode == 0, err(r)
+os.makedirs(path("rep", "sub"))
+run("compare", "vid/e", "vid/a", "--report", "rep/sub/vr.html")
+import re  # noqa: E402
+links = re.findall(r'href="([^"#][^"]*)"', open(path("rep", "sub", "vr.html")).read())
+ok(links and all(os.path.exists(os.path.normpath(os.path.join(path("rep", "sub"), u)))
+                 for u in links),
+   f"a report in rep/sub links its videos from its own folder ({links})")
+
+# ---- a still of physical size with a degenerate aspect ratio -------------------
+r = run("still", default, "--at", "1", "--size", "200inx1in", "--dpi", "20", "-o", "wide.png")
+ok(r.returncode == 0 and "drawn without them" in err(r),
+   f"a 200:1 still of physical size drops the HUD and panels, saying so ({err(r)[:80]!r})")
 
 done()

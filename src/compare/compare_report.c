@@ -1,6 +1,7 @@
 /* springpend: compare's records and reporters (compare_report.h). */
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -726,8 +727,42 @@ static int row_rank(const struct sp_compare_record *r)
 
 /* path as a relative or file: URL: every byte but unreserved ones and '/'
  * percent-encoded, so no name ("javascript:...") can be a scheme. */
-static void url_path(FILE *fp, const char *path)
+/* path as seen from the folder of file `from` (both as the command line
+ * gave them), into out: "../vid/e/a.mp4" for a report in rep/ of a video
+ * in vid/e/. 0 when either cannot be resolved. */
+static int relative_to(const char *from, const char *path, char *out, size_t size)
 {
+    char dir[PATH_MAX];
+    const char *slash = strrchr(from, '/');
+    snprintf(dir, sizeof(dir), "%.*s", slash ? (int)(slash - from) + (slash == from) : 1,
+             slash ? from : ".");
+    char *d = realpath(dir, NULL), *p = realpath(path, NULL);
+    int ok = d && p;
+    if (ok) {
+        size_t k = 0; /* d[0..k) is the folder both lie in */
+        if (strcmp(d, "/"))
+            for (size_t i = 1;; i++) {
+                if ((d[i] == '/' || !d[i]) && p[i] == '/' && !strncmp(d, p, i))
+                    k = i;
+                if (!d[i] || d[i] != p[i])
+                    break;
+            }
+        size_t at = 0;
+        for (const char *q = d + k; *q && at < size; q++)
+            if (*q == '/')
+                at += (size_t)snprintf(out + at, size - at, "../");
+        ok = at < size && (size_t)snprintf(out + at, size - at, "%s", p + k + 1) < size - at;
+    }
+    free(d);
+    free(p);
+    return ok;
+}
+
+static void url_path(FILE *fp, const char *path, const char *report)
+{
+    char rel[PATH_MAX];
+    if (report && path[0] != '/' && relative_to(report, path, rel, sizeof(rel)))
+        path = rel; /* a browser resolves a link from the report's folder */
     fputs(path[0] == '/' ? "file://" : "./", fp);
     for (const unsigned char *p = (const unsigned char *)path; *p; p++)
         if ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
@@ -757,7 +792,7 @@ static void html_masks(FILE *fp, const struct sp_compare_record *r, int w, int h
 
 static int html_image(FILE *fp, const char *cls, const char *path, int is_png,
                       const unsigned char *bytes, size_t size,
-                      const struct sp_compare_record *r)
+                      const struct sp_compare_record *r, const char *report)
 {
     size_t n = strlen(path);
     const char *why = "not read as an image";
@@ -779,7 +814,7 @@ static int html_image(FILE *fp, const char *cls, const char *path, int is_png,
     }
     if (n < 4 || strcasecmp(path + n - 4, ".png")) { /* a video: named, not shown */
         fprintf(fp, "<td class=\"%s\"><a href=\"", cls);
-        url_path(fp, path);
+        url_path(fp, path, report);
         fputs("\">", fp);
         xml_string(fp, path, XML_PLAIN);
         fputs("</a></td>", fp);
@@ -953,15 +988,16 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
             /* Identical pixels: the image once, not twice. */
             int same = r->exact && !r->before;
             if (html_image(fp, "expected", r->expected, r->expected_png, r->before,
-                           r->before_size, r))
+                           r->before_size, r, rep->report_path))
                 return SP_E_IO;
             if (same) {
                 fprintf(fp, "<td class=\"actual same\">identical pixels to the expected "
                         "image (sha256 %.12s&hellip;)</td>", r->actual_sha256);
-            } else if (html_image(fp, "actual", r->actual, r->actual_png, NULL, 0, r)) {
+            } else if (html_image(fp, "actual", r->actual, r->actual_png, NULL, 0, r,
+                                  rep->report_path)) {
                 return SP_E_IO;
             }
-            if (html_image(fp, "diff", r->diff, r->diff[0] != 0, NULL, 0, r))
+            if (html_image(fp, "diff", r->diff, r->diff[0] != 0, NULL, 0, r, rep->report_path))
                 return SP_E_IO;
             /* The flip cell needs both images embedded. */
             if (r->expected_png && r->actual_png && r->frames == 0 && !same)

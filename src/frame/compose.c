@@ -343,7 +343,10 @@ static void small_frame(struct sp_composer *r, float ss)
 {
     const float w = (float)r->width / ss, h = (float)r->height / ss;
     struct sp_view *v = &r->look.view;
-    if (r->look.pt_px > 0 || (fmaxf(w, h) >= SP_TEXT_MIN_LONG && fminf(w, h) >= SP_TEXT_MIN_SHORT))
+    /* a figure of physical size (w, h in pt) keeps them down to an inch a
+     * side at no more than 10:1 (an 8.6 cm column figure is 244 x 137 pt) */
+    if (r->look.pt_px > 0 ? fminf(w, h) >= 72 && fmaxf(w, h) <= 10 * fminf(w, h)
+                          : fmaxf(w, h) >= SP_TEXT_MIN_LONG && fminf(w, h) >= SP_TEXT_MIN_SHORT)
         return;
     if (!(v->hud || v->panels || v->colorbar || r->speed[0]))
         return;
@@ -354,11 +357,17 @@ static void small_frame(struct sp_composer *r, float ss)
         if (what[i])
             snprintf(list + strlen(list), sizeof(list) - strlen(list), "%s%s", n++ ? ", " : "",
                      what[i]);
-    sp_log_note("note: at %.0fx%.0f%s the %s would overlap: drawn without them (they need at "
-                "least %dx%d, or %dx%d upright; view.hud = false, view.panels = none, "
-                "view.colorbar = false and video.speed = 1 say so)", w, h,
-                r->cell ? " a cell" : "", list, SP_TEXT_MIN_LONG, SP_TEXT_MIN_SHORT,
-                SP_TEXT_MIN_SHORT, SP_TEXT_MIN_LONG);
+    if (r->look.pt_px > 0)
+        sp_log_note("note: at %.0fx%.0f pt the %s would overlap: drawn without them (they "
+                    "need at least 72 pt a side and at most 10:1; view.hud = false, "
+                    "view.panels = none, view.colorbar = false and video.speed = 1 say so)", w,
+                    h, list);
+    else
+        sp_log_note("note: at %.0fx%.0f%s the %s would overlap: drawn without them (they need "
+                    "at least %dx%d, or %dx%d upright; view.hud = false, view.panels = none, "
+                    "view.colorbar = false and video.speed = 1 say so)", w, h,
+                    r->cell ? " a cell" : "", list, SP_TEXT_MIN_LONG, SP_TEXT_MIN_SHORT,
+                    SP_TEXT_MIN_SHORT, SP_TEXT_MIN_LONG);
     v->hud = 0;
     v->panels = 0;
     v->colorbar = 0;

@@ -218,7 +218,7 @@ if serif and "NotoSerif" in serif:
     # folder): the same environment, only springpend.fonts' path differs.
     fonts = os.path.join(work, "other-fonts")
     os.makedirs(fonts)
-    used = [f.strip() for f in here.get("springpend.fonts", "").split(", ") if "(embedded)" not in f]
+    used = [f.strip() for f in here.get("springpend.fonts", "").split(", ") if "(embedded in springpend)" not in f]
     for f in used:  # Noto Serif, and the fallback for what it lacks (U+2212)
         shutil.copy(f, fonts)
     conf = os.path.join(work, "fonts.conf")

@@ -179,7 +179,7 @@ r = sweep("prov.png")
 chunks = png_text(os.path.join(work, "prov.png"), compressed=True) if r.returncode == 0 else {}
 want = ["Software", "Source", "springpend.scene-sha256", "springpend.scene", "springpend.environment",
         "springpend.fonts", "springpend.scene-file"]
-ok(all(k in chunks for k in want) and "DejaVuSans" in chunks.get("springpend.fonts", ""),
+ok(all(k in chunks for k in want) and "DejaVu Sans (embedded in springpend)" in chunks.get("springpend.fonts", ""),
    f"a sweep PNG carries {sorted(chunks)}")
 sweep("prov.pdf")
 png_scene, pdf_scene = run("scene", "prov.png"), run("scene", "prov.pdf")

@@ -9,7 +9,8 @@
  *   mesa: 22.3.6                                   from GL_VERSION
  *   llvm: 15.0.6                                   from GL_RENDERER
  *   freetype: 2.12.1                               FT_Library_Version
- *   font: DejaVuSans.ttf (embedded) sha256 …       the built-in font
+ *   font: DejaVu Sans (embedded in springpend, N bytes) sha256 …
+ *                                                  the built-in font
  *   font NAME: sha256 … (N bytes)                  each font file fontconfig
  *                                                  gave the image's text
  *   zlib: 1.2.13                                   zlibVersion
@@ -35,10 +36,12 @@ int sp_environment_text(char *buf, size_t size, const char *renderer, const char
  * path to an environment text in buf (size bytes), beside the built-in
  * font's line, unless it is there already. NAME is the file's name without
  * its folder: the same files installed in other folders make the same text.
- * Each file is read and hashed once per process (thread-safe). SP_E_IO when
- * the file cannot be read, SP_E_INPUT when the text would not fit (both
- * logged); buf is unchanged then. */
-int sp_environment_add_font(char *buf, size_t size, const char *path);
+ * hex and bytes are the SHA-256 and size of the bytes the face was drawn
+ * from (text.c reads a font file once and hashes what it drew with, never
+ * the path again). SP_E_INPUT when the text would not fit (logged); buf is
+ * unchanged then. */
+int sp_environment_add_font(char *buf, size_t size, const char *path, const char hex[65],
+                            long long bytes);
 
 /* What shapes numbers rather than pixels, for a CSV's metadata: the lines
  *

@@ -81,7 +81,7 @@ int sp_environment_text(char *buf, size_t size, const char *renderer, const char
     const char *bidi_v = strrchr(bidi, ' ') ? strrchr(bidi, ' ') + 1 : bidi;
     fprintf(m, "springpend: " SP_VERSION "\nrenderer: %s\ngl: %s\nmesa: %s\nllvm: %s\n"
             "freetype: %s\nharfbuzz: %s\nfribidi: %s\nfontconfig: %d.%d.%d\n"
-            "font: DejaVuSans.ttf (embedded, %lu bytes) sha256 %s\n"
+            "font: DejaVu Sans (embedded in springpend, %lu bytes) sha256 %s\n"
             "zlib: %s\nlibpng: %s\nlibavcodec: %s\n",
             renderer ? renderer : "none", gl_version ? gl_version : "none",
             gl_version ? mesa : "none", renderer ? llvm : "none", ft, hb_version_string(),
@@ -92,68 +92,11 @@ int sp_environment_text(char *buf, size_t size, const char *renderer, const char
     return 0;
 }
 
-/* Font files hashed so far in this process: each is read once, however
- * many images or threads record it. */
-static struct {
-    char *path;
-    char hex[65];
-    long long bytes;
-} hashed[64];
-static int n_hashed;
-static pthread_mutex_t hashed_lock = PTHREAD_MUTEX_INITIALIZER;
-
-/* SHA-256 of the file at path into hex[65], its size into *bytes: from the
- * cache, or read (and kept) once. SP_E_IO (logged) when it cannot be read. */
-static int file_sha256(const char *path, char hex[65], long long *bytes)
+int sp_environment_add_font(char *buf, size_t size, const char *path, const char hex[65],
+                            long long bytes)
 {
-    int ret = 0;
-    pthread_mutex_lock(&hashed_lock);
-    for (int i = 0; i < n_hashed; i++)
-        if (!strcmp(hashed[i].path, path)) {
-            memcpy(hex, hashed[i].hex, 65);
-            *bytes = hashed[i].bytes;
-            pthread_mutex_unlock(&hashed_lock);
-            return 0;
-        }
-    FILE *fp = fopen(path, "rb");
-    struct sha256_ctx sha;
-    unsigned char chunk[65536];
-    size_t got;
-    *bytes = 0;
-    if (!fp) {
-        sp_log_error("%s: cannot read the font file to record its SHA-256: %s", path,
-                     strerror(errno));
-        pthread_mutex_unlock(&hashed_lock);
-        return SP_E_IO;
-    }
-    sha256_init(&sha);
-    while ((got = fread(chunk, 1, sizeof(chunk), fp)) > 0) {
-        sha256_update(&sha, got, chunk);
-        *bytes += (long long)got;
-    }
-    if (ferror(fp)) {
-        sp_log_error("%s: cannot read the font file to record its SHA-256", path);
-        ret = SP_E_IO;
-    }
-    fclose(fp);
-    sp_digest_hex(&sha, hex);
-    if (!ret && n_hashed < (int)(sizeof(hashed) / sizeof(hashed[0])) &&
-        (hashed[n_hashed].path = strdup(path)) != NULL) {
-        memcpy(hashed[n_hashed].hex, hex, 65);
-        hashed[n_hashed++].bytes = *bytes;
-    }
-    pthread_mutex_unlock(&hashed_lock);
-    return ret;
-}
-
-int sp_environment_add_font(char *buf, size_t size, const char *path)
-{
-    char hex[65], line[512], name[256];
-    long long bytes;
+    char line[512], name[256];
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    int ret = file_sha256(path, hex, &bytes);
-    if (ret)
-        return ret;
     /* the key is the file's name: ':' and control characters would break
      * the "key: value" lines */
     snprintf(name, sizeof(name), "%s", base);

@@ -21,6 +21,7 @@
 
 #include "base/array.h"
 #include "base/clock.h"
+#include "base/digest.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
 #include "base/embedded.h"
@@ -43,6 +44,12 @@ struct face {
     hb_face_t *hb_face;
     hb_font_t *hb[SP_TEXT_SIZES];
     int used;                   /* laid out at least once */
+    /* A file's bytes, read once when the face is opened: FreeType,
+     * HarfBuzz, cairo (sp_font_face_keep) and the SHA-256 of the
+     * provenance all use these, so the hash is of the very bytes drawn,
+     * whatever happens to the file afterwards. NULL = embedded. */
+    hb_blob_t *blob;
+    char sha[65];               /* their SHA-256, "" until asked */
 };
 
 /* A rasterised glyph in the atlas; key 0 = empty slot. */
@@ -126,28 +133,69 @@ static int face_for(const struct sp_font *cf, uint32_t cp)
     return -1;
 }
 
-/* Opens face i for FreeType and HarfBuzz (once). */
+/* The font file at path, read whole into a blob that owns its bytes
+ * (freed with the last reference), or NULL (logged). A font file is at
+ * most FONT_FILE_MAX bytes (Noto Serif CJK, the largest of Debian's, is
+ * 26 MB). */
+#define FONT_FILE_MAX (256L << 20)
+static hb_blob_t *read_font_file(const char *path)
+{
+    FILE *fp = fopen(path, "rb");
+    char *data = NULL;
+    long n = -1;
+    size_t got = 0;
+    if (fp && !fseek(fp, 0, SEEK_END) && (n = ftell(fp)) >= 0 && n <= FONT_FILE_MAX &&
+        !fseek(fp, 0, SEEK_SET) && (data = malloc(n ? (size_t)n : 1)))
+        got = fread(data, 1, (size_t)n, fp);
+    const int bad = !fp || n < 0 || n > FONT_FILE_MAX || !data || got != (size_t)n || ferror(fp);
+    if (bad)
+        sp_log_error("%s: cannot read the font file%s", path,
+                     n > FONT_FILE_MAX ? ": larger than 256 MiB" : !data && n >= 0 && fp
+                                                                 ? ": out of memory" : "");
+    if (fp)
+        fclose(fp);
+    if (bad) {
+        free(data);
+        return NULL;
+    }
+    return hb_blob_create(data, (unsigned)n, HB_MEMORY_MODE_READONLY, data, free);
+}
+
+/* Face i's bytes: the file's as read (struct face's blob), or the
+ * embedded font's. */
+static const char *face_bytes(const struct face *fc, unsigned *n)
+{
+    if (!fc->file) {
+        *n = (unsigned)sp_embed_DejaVuSans_ttf_size;
+        return (const char *)sp_embed_DejaVuSans_ttf;
+    }
+    return hb_blob_get_data(fc->blob, n);
+}
+
+/* Opens face i for FreeType and HarfBuzz (once), both from the same bytes
+ * in memory (read_font_file). */
 static int face_open(struct sp_font *f, int i)
 {
     struct face *fc = &f->faces[i];
     hb_blob_t *blob;
+    unsigned n;
     if (fc->hb_face)
         return 0;
+    if (fc->file && !fc->blob && !(fc->blob = read_font_file(fc->file)))
+        return SP_E_IO;
+    const char *data = face_bytes(fc, &n);
     if (!fc->ft) {
-        FT_Error e = fc->file ? FT_New_Face(f->lib, fc->file, fc->index, &fc->ft)
-                              : FT_New_Memory_Face(f->lib, (const FT_Byte *)sp_embed_DejaVuSans_ttf,
-                                                   (FT_Long)sp_embed_DejaVuSans_ttf_size, 0, &fc->ft);
+        FT_Error e = FT_New_Memory_Face(f->lib, (const FT_Byte *)data, (FT_Long)n,
+                                        fc->file ? fc->index : 0, &fc->ft);
         if (e) {
             sp_log_error("FreeType cannot open the font %s: %s",
-                         fc->file ? fc->file : "DejaVu Sans (embedded)", FT_Error_String(e) ? FT_Error_String(e) : "error");
+                         fc->file ? fc->file : SP_FONT_EMBEDDED, FT_Error_String(e) ? FT_Error_String(e) : "error");
             fc->ft = NULL;
             return SP_E_IO;
         }
     }
-    blob = fc->file ? hb_blob_create_from_file(fc->file)
-                    : hb_blob_create((const char *)sp_embed_DejaVuSans_ttf,
-                                     (unsigned)sp_embed_DejaVuSans_ttf_size,
-                                     HB_MEMORY_MODE_READONLY, NULL, NULL);
+    blob = fc->file ? hb_blob_reference(fc->blob)
+                    : hb_blob_create(data, n, HB_MEMORY_MODE_READONLY, NULL, NULL);
     fc->hb_face = hb_face_create(blob, (unsigned)fc->index);
     hb_blob_destroy(blob);
     for (int s = 0; s < SP_TEXT_SIZES; s++) {
@@ -168,6 +216,7 @@ static void face_close(struct face *fc)
     hb_face_destroy(fc->hb_face);
     if (fc->ft)
         FT_Done_Face(fc->ft);
+    hb_blob_destroy(fc->blob); /* after FreeType, which reads it */
 }
 
 /* The family name of face i, for messages. */
@@ -997,10 +1046,24 @@ int sp_font_faces(const struct sp_font *f) { return f->n_faces; }
 const char *sp_font_face_file(const struct sp_font *f, int face, int *index,
                               const unsigned char **data, size_t *size)
 {
-    *index = f->faces[face].index;
-    *data = f->faces[face].file ? NULL : (const unsigned char *)sp_embed_DejaVuSans_ttf;
-    *size = f->faces[face].file ? 0 : sp_embed_DejaVuSans_ttf_size;
-    return f->faces[face].file;
+    const struct face *fc = &f->faces[face];
+    unsigned n = 0;
+    *index = fc->index;
+    /* opened (and read) on first use, as laying text out does */
+    *data = face_open((struct sp_font *)f, face) ? NULL
+                                                : (const unsigned char *)face_bytes(fc, &n);
+    *size = *data ? n : 0;
+    return fc->file;
+}
+
+void *sp_font_face_keep(const struct sp_font *f, int face)
+{
+    return f->faces[face].blob ? hb_blob_reference(f->faces[face].blob) : NULL;
+}
+
+void sp_font_face_release(void *keep)
+{
+    hb_blob_destroy(keep);
 }
 
 void sp_font_files(const struct sp_font *f, char *buf, size_t size)
@@ -1012,7 +1075,7 @@ void sp_font_files(const struct sp_font *f, char *buf, size_t size)
         if (!f->faces[i].used && i)
             continue;
         const int w = snprintf(buf + n, size - n, "%s%s", n ? ", " : "",
-                               f->faces[i].file ? f->faces[i].file : SP_FONT_FILE " (embedded)");
+                               f->faces[i].file ? f->faces[i].file : SP_FONT_EMBEDDED);
         n += w > 0 ? (size_t)w : 0;
     }
 }
@@ -1020,9 +1083,22 @@ void sp_font_files(const struct sp_font *f, char *buf, size_t size)
 int sp_font_environment(const struct sp_font *f, char *buf, size_t size)
 {
     int ret = 0;
-    for (int i = 0; i < f->n_faces && !ret; i++)
-        if ((f->faces[i].used || !i) && f->faces[i].file)
-            ret = sp_environment_add_font(buf, size, f->faces[i].file);
+    for (int i = 0; i < f->n_faces && !ret; i++) {
+        struct face *fc = &((struct sp_font *)f)->faces[i]; /* its hash is a cache */
+        if (!(fc->used || !i) || !fc->file)
+            continue;
+        if ((ret = face_open((struct sp_font *)f, i)))
+            break;
+        unsigned n;
+        const char *data = face_bytes(fc, &n);
+        if (!fc->sha[0]) { /* the bytes FreeType and HarfBuzz draw from */
+            struct sha256_ctx sha;
+            sha256_init(&sha);
+            sha256_update(&sha, n, (const uint8_t *)data);
+            sp_digest_hex(&sha, fc->sha);
+        }
+        ret = sp_environment_add_font(buf, size, fc->file, fc->sha, (long long)n);
+    }
     return ret;
 }
 

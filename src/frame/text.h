@@ -27,6 +27,9 @@ enum sp_text_size { SP_TEXT_SMALL, SP_TEXT_NORMAL, SP_TEXT_LARGE, SP_TEXT_TITLE,
 
 /* The default family: the embedded DejaVu Sans. */
 #define SP_FONT_DEFAULT "DejaVu Sans"
+/* How provenance names it (springpend.fonts, a PDF's /Keywords, the
+ * environment's font line): no file of the system. */
+#define SP_FONT_EMBEDDED "DejaVu Sans (embedded in springpend)"
 
 /* One glyph on screen; layout matches the attributes of shaders/text.vert. */
 struct sp_glyph_quad {
@@ -131,18 +134,30 @@ int sp_font_px(const struct sp_font *f, int size);
 /* How many faces the fallback list holds (sp_glyph.face is below it). */
 int sp_font_faces(const struct sp_font *f);
 
-/* Face i's font file and its index in it; the embedded DejaVu Sans is
- * *data (*size bytes) with a NULL return. */
+/* Face i's font file (NULL: the embedded DejaVu Sans), its index in it,
+ * and the bytes it is drawn from, *data (*size bytes): the file as read
+ * once when the face was opened (opened now if it was not), which the
+ * provenance's SHA-256 is of; *data = NULL when it cannot be read
+ * (logged). They live as long as the font, or as a sp_font_face_keep. */
 const char *sp_font_face_file(const struct sp_font *f, int face, int *index,
                               const unsigned char **data, size_t *size);
 
-/* The files of the faces laid out so far, "DejaVuSans.ttf (embedded),
- * /usr/share/.../NotoSansArabic-Regular.ttf", into buf (cut to size). */
+/* A reference that keeps face i's bytes alive beyond the font (cairo's
+ * caches may outlive it), NULL for the embedded one (static); give it back
+ * with sp_font_face_release (NULL is fine). */
+void *sp_font_face_keep(const struct sp_font *f, int face);
+void sp_font_face_release(void *keep);
+
+/* The files of the faces laid out so far, "DejaVu Sans (embedded in
+ * springpend), /usr/share/.../NotoSansArabic-Regular.ttf" (SP_FONT_EMBEDDED
+ * for the built-in one), into buf (cut to size). */
 void sp_font_files(const struct sp_font *f, char *buf, size_t size);
 
 /* Adds a "font NAME: sha256 ..." line to the environment text in buf for
  * each font file that sp_font_files names (the embedded font has its own
- * line already): sp_environment_add_font. 0, or its SP_E_* code. */
+ * line already), the hash of the bytes the face is drawn from
+ * (sp_font_face_file's), taken once per font: sp_environment_add_font. 0,
+ * or its SP_E_* code. */
 int sp_font_environment(const struct sp_font *f, char *buf, size_t size);
 
 /* The R8 glyph cache: *w x *h bytes, row 0 first. Owned by f; it grows and

@@ -10,14 +10,25 @@
 #include "springpend/common.h"
 #include "cairo_text.h"
 
-static void ft_face_done(void *face)
+/* A cairo face's FreeType face and what keeps its bytes alive. */
+struct ft_kept {
+    FT_Face face;
+    void *keep; /* sp_font_face_keep's */
+};
+
+static void ft_face_done(void *p)
 {
-    FT_Done_Face(face);
+    struct ft_kept *k = p;
+    FT_Done_Face(k->face);
+    sp_font_face_release(k->keep); /* after FreeType, which reads them */
+    free(k);
 }
 
 /* Face i of the font as a cairo face, made on first use: its own FT_Face
- * (which cairo sizes as it likes), freed when cairo lets go of the face.
- * NULL when it cannot be made (logged). */
+ * (which cairo sizes as it likes) on the bytes the font drew with and
+ * hashed (sp_font_face_file: the file is not read again), freed with
+ * them when cairo lets go of the face. NULL when it cannot be made
+ * (logged). */
 static cairo_font_face_t *face_of(struct sp_cairo_faces *fs, int i)
 {
     static FT_Library lib; /* for the process: cairo's caches may outlive a document */
@@ -38,19 +49,28 @@ static cairo_font_face_t *face_of(struct sp_cairo_faces *fs, int i)
     if (fs->face[i])
         return fs->face[i];
     const char *file = sp_font_face_file(fs->font, i, &index, &data, &size);
-    if ((!lib && FT_Init_FreeType(&lib)) ||
-        (file ? FT_New_Face(lib, file, index, &face)
-              : FT_New_Memory_Face(lib, data, (FT_Long)size, index, &face))) {
-        sp_log_error("FreeType cannot open the font %s", file ? file : "DejaVu Sans (embedded)");
+    struct ft_kept *k;
+    if (!data) /* said */
+        return NULL;
+    if (!(k = calloc(1, sizeof(*k)))) {
+        sp_log_error("out of memory for the fonts");
         return NULL;
     }
+    if ((!lib && FT_Init_FreeType(&lib)) ||
+        FT_New_Memory_Face(lib, data, (FT_Long)size, index, &face)) {
+        sp_log_error("FreeType cannot open the font %s", file ? file : SP_FONT_EMBEDDED);
+        free(k);
+        return NULL;
+    }
+    k->face = face;
+    k->keep = sp_font_face_keep(fs->font, i);
     cairo_font_face_t *cf = cairo_ft_font_face_create_for_ft_face(face, FT_LOAD_NO_HINTING);
     if (cairo_font_face_status(cf) ||
-        cairo_font_face_set_user_data(cf, &key, face, ft_face_done)) {
-        sp_log_error("cairo cannot use the font %s: %s", file ? file : "DejaVu Sans (embedded)",
+        cairo_font_face_set_user_data(cf, &key, k, ft_face_done)) {
+        sp_log_error("cairo cannot use the font %s: %s", file ? file : SP_FONT_EMBEDDED,
                      cairo_status_to_string(cairo_font_face_status(cf)));
         cairo_font_face_destroy(cf);
-        FT_Done_Face(face);
+        ft_face_done(k);
         return NULL;
     }
     return fs->face[i] = cf;

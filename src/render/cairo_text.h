@@ -36,7 +36,7 @@ int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *faces, int size, doub
                        const char *utf8);
 
 /* Names the font files the text was drawn from in a PDF's /Keywords,
- * "fonts: DejaVuSans.ttf (embedded), NotoSansCJK-Regular.ttc": by file
+ * "fonts: DejaVu Sans (embedded in springpend), NotoSansCJK-Regular.ttc": by file
  * name alone, so that a PDF's bytes do not depend on where the fonts are
  * installed (the environment record in a PNG keeps paths and hashes). */
 void sp_cairo_pdf_fonts(cairo_surface_t *pdf, const struct sp_font *f);

@@ -9,6 +9,7 @@
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
+#include <pthread.h>
 
 #include "springpend/common.h"
 #include "springpend/outfile.h"
@@ -243,9 +244,37 @@ static FILE *open_regular(const char *path, int *err)
     return fp;
 }
 
+/* 1 the first time in this process that dropped text chunks of the file
+ * open as fp are said, 0 after: compare reads a PNG's text once per key
+ * (the scene, the environment, the fonts...), and said it once per read,
+ * counting one chunk as many ("2 text chunks not read" where `scene` said
+ * 1). Files are told apart by device and inode; past TOLD_MAX of them,
+ * each read says it again. Thread-safe. */
+#define TOLD_MAX 256
+static int first_told(FILE *fp)
+{
+    static struct {
+        dev_t dev;
+        ino_t ino;
+    } told[TOLD_MAX];
+    static int n_told;
+    static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+    struct stat st;
+    int first = 1;
+    if (fstat(fileno(fp), &st))
+        return 1;
+    pthread_mutex_lock(&lock);
+    for (int i = 0; i < n_told && first; i++)
+        first = !(told[i].dev == st.st_dev && told[i].ino == st.st_ino);
+    if (first && n_told < TOLD_MAX)
+        told[n_told].dev = st.st_dev, told[n_told++].ino = st.st_ino;
+    pthread_mutex_unlock(&lock);
+    return first;
+}
+
 static void reader_close(struct png_reader *r)
 {
-    if (r->text_dropped)
+    if (r->text_dropped && r->fp && first_told(r->fp))
         sp_log_error("%s: %d text chunk%s not read (libpng: %s); a text chunk is read when "
                      "it is whole (its CRC and zlib stream), at most %d KiB inflated, and "
                      "among the first %d", r->path, r->text_dropped,

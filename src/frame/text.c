@@ -59,6 +59,7 @@ struct shaped {
     hb_script_t hint;           /* the script of leading common characters; INVALID: their own */
     unsigned long used;         /* f->lookups when last looked up (the eviction rule) */
     char *text;
+    size_t len;                 /* its bytes */
     hb_script_t script;         /* the script of its first run */
     int bidi;                   /* 1: it holds right-to-left or explicit-direction characters */
     int unsafe;                 /* HarfBuzz's "unsafe to concat" on its first glyph (1), on
@@ -480,12 +481,22 @@ static const struct cached *glyph_get(struct sp_font *f, int face, int size, uns
 
 /* ---- shaping ---- */
 
-static uint32_t hash_of(int size, hb_script_t hint, const char *s)
+/* The line cache's hash of (size, hint, text of len bytes): eight bytes at
+ * a step (every frame looks up some hundreds of lines). */
+static uint32_t hash_of(int size, hb_script_t hint, const char *s, size_t len)
 {
-    uint32_t h = (2166136261u ^ (uint32_t)size) * 16777619u ^ (uint32_t)hint;
-    for (; *s; s++)
-        h = (h ^ (unsigned char)*s) * 16777619u;
-    return h;
+    uint64_t h = ((uint64_t)(unsigned)size << 32 ^ (uint32_t)hint ^ len) * 0x9E3779B97F4A7C15u;
+    for (; len >= 8; s += 8, len -= 8) {
+        uint64_t w;
+        memcpy(&w, s, 8);
+        h = (h ^ w) * 0x9E3779B97F4A7C15u;
+        h ^= h >> 29;
+    }
+    uint64_t w = 0;
+    for (size_t i = 0; i < len; i++)
+        w |= (uint64_t)(unsigned char)s[i] << (8 * i);
+    h = (h ^ w) * 0x9E3779B97F4A7C15u;
+    return (uint32_t)(h >> 32 ^ h);
 }
 
 static void line_free(struct shaped *l)
@@ -813,16 +824,19 @@ done:
  * no line (lines_trim does, before a look-up from outside). */
 static struct shaped *line_find(struct sp_font *f, int size, hb_script_t hint, const char *text)
 {
+    const size_t len = strlen(text);
     f->lookups++;
     /* the line asked for last: a string is often measured, then drawn */
-    if (f->last && f->last->size == size && f->last->hint == hint && !strcmp(f->last->text, text)) {
+    if (f->last && f->last->len == len && f->last->size == size && f->last->hint == hint &&
+        !memcmp(f->last->text, text, len)) {
         f->last->used = f->lookups;
         return f->last;
     }
-    const uint32_t h = hash_of(size, hint, text);
+    const uint32_t h = hash_of(size, hint, text, len);
     struct shaped **b = &f->buckets[h % LINE_BUCKETS], *l;
     for (l = *b; l; l = l->next)
-        if (l->hash == h && l->size == size && l->hint == hint && !strcmp(l->text, text)) {
+        if (l->hash == h && l->len == len && l->size == size && l->hint == hint &&
+            !memcmp(l->text, text, len)) {
             l->used = f->lookups;
             return f->last = l;
         }
@@ -833,6 +847,7 @@ static struct shaped *line_find(struct sp_font *f, int size, hb_script_t hint, c
         return NULL;
     }
     l->hash = h;
+    l->len = len;
     l->size = size;
     l->hint = hint;
     int err = hint == HB_SCRIPT_INVALID ? compose(f, size, text, l) : 1;

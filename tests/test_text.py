@@ -223,7 +223,7 @@ def doc_command(target):
             text = f.read()
         for block in re.findall(r"```sh\n(.*?)```", text, re.S):
             for line in block.replace("\\\n", " ").splitlines():
-                argv = shlex.split(line, comments=True)
+                argv = shlex.split(line, comments=True) if target in line else []
                 if target in argv:
                     return os.path.basename(page), argv
     return None, None

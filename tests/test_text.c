@@ -214,6 +214,125 @@ static void test_families(void)
     sp_font_destroy(&f);
 }
 
+/* 1 when two layouts are the same glyphs at the same places. */
+static int same_line(const struct sp_line *a, const struct sp_line *b)
+{
+    if (a->width != b->width || a->missing != b->missing || a->n_glyphs != b->n_glyphs ||
+        a->n_runs != b->n_runs)
+        return 0;
+    for (int i = 0; i < a->n_glyphs; i++) {
+        const struct sp_glyph *x = &a->glyphs[i], *y = &b->glyphs[i];
+        if (x->index != y->index || x->face != y->face || x->x != y->x || x->y != y->y ||
+            x->cluster != y->cluster || x->mark != y->mark)
+            return 0;
+    }
+    for (int i = 0; i < a->n_runs; i++) {
+        const struct sp_glyph_run *x = &a->runs[i], *y = &b->runs[i];
+        if (x->first != y->first || x->count != y->count || x->rtl != y->rtl || x->start != y->start ||
+            x->end != y->end)
+            return 0;
+    }
+    return 1;
+}
+
+/* The shape cache: a line joined from cached pieces (a clock's digits) is
+ * the line HarfBuzz gives for the whole string, in four families and every
+ * size, for clocks, readouts, kerning and ligature candidates next to
+ * digits, marks on digits, other scripts' digits and mixed directions; an
+ * unchanged string is never shaped again; a new clock reading after the
+ * first few shapes nothing; text used every frame survives the eviction of
+ * thousands of one-off strings. */
+static void test_shape_cache(void)
+{
+    static const char *family[] = {NULL, "DejaVu Serif", "Latin Modern Roman", "Noto Sans"};
+    static const char *fixed[] = {
+        "speed \xc3\x97" "0.25", "\xe2\x88\x92" "12.3\xc2\xb0", "\xce\xb8 = 12\xc2\xb0",
+        "E = 1.234 J", "10:00 11", "x1\xcc\x87" "2", "V1A T1 Y7 L1 11 17 74", "ff1fi fl2ffl", "AV1VA Yo7oY f1f 7ff L'1 '7' P4. r7, W0W",
+        "(1) [2] {3} 1/2 \xe2\x82\x81" "2", "\xe5\xbc\xb9\xe7\xb0\xa7 12", "\xce\x95\xce\xbb 3 \xce\xbb",
+        "\xd8\xa7\xd9\x84\xd8\xa8\xd9\x86\xd8\xaf\xd9\x88\xd9\x84 2 m/s", "\xd8\xa8" "2" "\xd8\xa8",
+        "\xe0\xa5\xa7\xe0\xa5\xa8" "3 \xe0\xa4\x95" "4", "12ab", "1", "42", "3.", ".5", " 7 ",
+        "\xd7\xa9\xd7\x9c\xd7\x95\xd7\x9d 12", "\xe2\x80\x8f" "12", "a\xe2\x80\x8d" "1",
+    };
+    int all_same = 1, composed_total = 0;
+    char bad[160] = "";
+    for (size_t k = 0; k < sizeof(family) / sizeof(family[0]); k++) {
+        struct sp_font_desc d = {.family = family[k], .px = {11, 17, 23, 31}};
+        struct sp_font *f = NULL, *w = NULL;
+        if (sp_font_make(&f, &d)) {
+            sp_tap_ok(0, "shape cache: the family %s", family[k] ? family[k] : "default");
+            continue;
+        }
+        d.whole_lines = 1;
+        sp_font_make(&w, &d);
+        char s[64];
+        for (int size = 0; size < SP_TEXT_SIZES; size++)
+            for (int i = 0; i < 1200 + (int)(sizeof(fixed) / sizeof(fixed[0])); i++) {
+                if (i < 1000)
+                    snprintf(s, sizeof(s), "t = %.2f s", i * 0.37);
+                else if (i < 1100)
+                    snprintf(s, sizeof(s), "%+.3g m, %d Hz", (i - 1050) * 0.0123, i);
+                else if (i < 1200)
+                    snprintf(s, sizeof(s), "\xce\xb8 = %.1f\xc2\xb0 (%d)", (i - 1150) * 1.7, i);
+                else
+                    snprintf(s, sizeof(s), "%s", fixed[i - 1200]);
+                struct sp_line a, b;
+                if (sp_font_shape(f, size, s, &a) || sp_font_shape(w, size, s, &b) || !same_line(&a, &b)) {
+                    if (all_same)
+                        snprintf(bad, sizeof(bad), "%s, size %d: \"%s\"", family[k] ? family[k] : "default",
+                                 size, s);
+                    all_same = 0;
+                }
+            }
+        int shaped, composed, whole_composed;
+        sp_font_shape_stats(f, &shaped, &composed);
+        sp_font_shape_stats(w, &whole_composed, &whole_composed);
+        sp_tap_ok(composed > 1000 && whole_composed == 0,
+                  "shape cache, %s: %d of %d lines joined from cached pieces (none when shaping whole)",
+                  family[k] ? family[k] : "DejaVu Sans", composed, composed + shaped);
+        composed_total += composed;
+        sp_font_destroy(&f);
+        sp_font_destroy(&w);
+    }
+    sp_tap_ok(all_same, "shape cache: every line joined from pieces equals the whole line shaped (%s)",
+              bad[0] ? bad : "all");
+
+    static const struct sp_font_desc fd = {.px = {12, 20, 22, 28}};
+    struct sp_font *f = NULL;
+    if (sp_font_make(&f, &fd))
+        return;
+    struct sp_line l;
+    int before, after, composed;
+    sp_font_shape(f, SP_TEXT_NORMAL, "Energy of the spring", &l);
+    sp_font_shape(f, SP_TEXT_NORMAL, "t = 0.00 s", &l);
+    sp_font_shape(f, SP_TEXT_NORMAL, "t = 1.23 s", &l);
+    sp_font_shape(f, SP_TEXT_NORMAL, "t = 4.56 s", &l);
+    sp_font_shape(f, SP_TEXT_NORMAL, "t = 7.89 s", &l);
+    sp_font_shape_stats(f, &before, &composed);
+    sp_font_shape(f, SP_TEXT_NORMAL, "Energy of the spring", &l);
+    sp_font_shape_stats(f, &after, &composed);
+    sp_tap_ok(after == before,
+              "shape cache: an unchanged string is not shaped again");
+    sp_font_shape(f, SP_TEXT_NORMAL, "t = 98.76 s", &l);
+    sp_font_shape_stats(f, &after, &composed);
+    sp_tap_ok(after == before && l.width > 0, "shape cache: a new clock reading is shaped by HarfBuzz %d times "
+              "(0: its digits and words are cached)", after - before);
+    /* 10 000 one-off readings, the static text drawn between them */
+    for (int i = 0; i < 10000; i++) {
+        char s[32];
+        snprintf(s, sizeof(s), "x = %d.%03d m", i / 1000, i % 1000);
+        sp_font_shape(f, SP_TEXT_SMALL, s, &l);
+        if (i % 20 == 0)
+            sp_font_shape(f, SP_TEXT_NORMAL, "Energy of the spring", &l);
+    }
+    sp_font_shape_stats(f, &before, &composed);
+    sp_font_shape(f, SP_TEXT_NORMAL, "Energy of the spring", &l);
+    sp_font_shape_stats(f, &after, &composed);
+    sp_tap_ok(after == before && composed > 10000 - 40,
+              "shape cache: after 10000 one-off strings the text in use is still cached (%d shaped again, "
+              "%d joined from pieces)", after - before, composed);
+    sp_font_destroy(&f);
+}
+
 int main(void)
 {
     static const struct sp_font_desc fd = {.px = {12, 20, 22, 28}};
@@ -231,5 +350,6 @@ int main(void)
     sp_tap_diag("%d glyphs rasterised in %.2f ms", glyphs, 1e3 * s);
     sp_font_destroy(&f);
     test_families();
+    test_shape_cache();
     return sp_tap_done();
 }

@@ -11,16 +11,22 @@ Also: a Latin Modern figure embeds Latin Modern (pdffonts) and names its
 font files in its provenance; a character no installed font has, a
 noncharacter and an unknown family are exit 2 with a message and no output
 in every format; an emoji and a mathematical italic are drawn in every
-format; a title wraps, and one that cannot fit is refused.
+format; a title wraps, and one that cannot fit is refused. The README's
+multilingual picture and Latin Modern figure show what their commands, run
+as the README gives them, draw (their text bands pixel for pixel; pdffonts,
+pdftotext).
 usage: test_text.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR"""
+import glob
 import os
+import re
+import shlex
 import shutil
 import struct
 import subprocess
 import sys
 import zlib
 
-from sptest import done, need_scipy, ok, runner, sets
+from sptest import done, ffmpeg_rgb, need_scipy, ok, runner, sets
 
 need_scipy()
 import numpy as np  # noqa: E402
@@ -99,6 +105,10 @@ for name, text in SCRIPTS:
        f"{name}: pdftotext returns " + ("the exact string" if got == text else
        f"{got!r}, as for pango-view's PDF of it (pdftotext orders an LTR part of an RTL line "
        "by position)"))
+    if name == "mixed direction":  # the README's table: what pdftotext returns, and why
+        ok(got == pango_pdf_text(text) == "البندول m/s 2",
+           f"{name}: pdftotext returns {got!r} for ours and {pango_pdf_text(text)!r} for pango-view's PDF, "
+           "as the README says (poppler keeps the left-to-right stretch in page order)")
     widths = {}
     for f, n in files.items():
         img = gray(os.path.join(work, n))[:BAND]
@@ -183,7 +193,7 @@ for title in ("smile \U0001f600", "\U0001d703 = 0"):
             good = got in (title, pango_pdf_text(title))
             print(f"# pdftotext: {got!r}")
         ok(good, f"{title!r} in {f.upper()}: drawn{' (pdftotext: the text, as from pango-view)' if f == 'pdf' else ''}")
-for f in ("png", "pdf"):
+for f in ("png", "svg", "pdf"):
     r = still(f"unknown.{f}", "x", {"view.font": "Latin Modren Roman"})
     ok(r.returncode == 2 and '"Latin Modern Roman"' in r.stderr and
        not os.path.exists(os.path.join(work, f"unknown.{f}")),
@@ -199,4 +209,60 @@ ok(r.returncode == 0 and bands >= 3, f"a long title wraps onto {bands} lines")
 r = still("toolong.png", " ".join(["Federpendel"] * 20), size=["--size", "900x480"])
 ok(r.returncode == 2 and "cannot fit" in r.stderr and not os.path.exists(os.path.join(work, "toolong.png")),
    f"a title that cannot fit the frame: exit {r.returncode} ({r.stderr.strip()[:120]})")
+
+# The README's pictures: its commands, run as written (in the checkout, with
+# this build and this folder for the output), draw what the README shows.
+root = os.path.join(src, "..")
+
+
+def doc_command(target):
+    """(page, argv) of the shell command in the README (or a doc/ page) that
+    writes target."""
+    for page in [os.path.join(root, "README.md")] + sorted(glob.glob(os.path.join(root, "doc", "*.md"))):
+        with open(page, encoding="utf-8") as f:
+            text = f.read()
+        for block in re.findall(r"```sh\n(.*?)```", text, re.S):
+            for line in block.replace("\\\n", " ").splitlines():
+                argv = shlex.split(line, comments=True) if target in line else []
+                if target in argv:
+                    return os.path.basename(page), argv
+    return None, None
+
+
+def same_rows(a, b, w, h, rows):
+    """Whether two w x h pictures have the same pixels in the rows given:
+    their text bands (the charts between follow other features' changes)."""
+    return all(np.array_equal(ffmpeg_rgb(a, w, h)[r], ffmpeg_rgb(b, w, h)[r]) for r in rows)
+
+
+def run_doc(target, out):
+    page, argv = doc_command(target)
+    if not argv:
+        return page, None
+    argv = [exe if a == "./build/springpend" else os.path.join(work, out) if a == target else a
+            for a in argv]
+    return page, subprocess.run(argv, cwd=root, capture_output=True, text=True)
+
+
+page, r = run_doc("docs/multilingual.png", "readme-multilingual.png")
+ok(r is not None and r.returncode == 0 and
+   same_rows(os.path.join(work, "readme-multilingual.png"), os.path.join(root, "docs", "multilingual.png"),
+             1280, 720, [slice(0, 40), slice(684, 720)]),
+   f"{page}: its command for docs/multilingual.png draws that picture's title and caption, pixel for pixel"
+   f"{' (' + r.stderr.strip()[:100] + ')' if r is not None and r.returncode else ''}")
+page, r = run_doc("docs/latin-modern.pdf", "readme-latin-modern.pdf")
+made = os.path.join(work, "readme-latin-modern.pdf")
+good = r is not None and r.returncode == 0
+if good:
+    fonts = subprocess.run(["pdffonts", made], capture_output=True, text=True, check=True).stdout
+    embedded = [l.split()[0].split("+")[-1] for l in fonts.splitlines()[2:] if " yes " in l]
+    subprocess.run(["pdftoppm", "-r", "144", "-png", "-singlefile", made, os.path.join(work, "readme-lm")],
+                   check=True)
+    good = ("LMRoman10-Regular" in embedded and
+            "Energy exchange at 2:1 resonance" in sptext.pdf_text(made) and
+            same_rows(os.path.join(work, "readme-lm.png"), os.path.join(root, "docs", "latin-modern-pdf.png"),
+                      984, 600, [slice(0, 60)]))
+ok(good, f"{page}: its command for docs/latin-modern.pdf writes a PDF that embeds Latin Modern "
+   f"({embedded if r is not None and r.returncode == 0 else 'not written'}), holds its title as text and "
+   "rasterises (pdftoppm -r 144) to docs/latin-modern-pdf.png's title, pixel for pixel")
 done()

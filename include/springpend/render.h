@@ -60,6 +60,7 @@ struct sp_render_stats {
     long cached, redrawn, uncached, appended, unchanged;
     int glyphs, glyphs_first;       /* glyphs rasterised: in all, by the first frame */
     double raster_s, raster_first_s; /* and the seconds that took */
+    int lines_shaped, lines_composed; /* lines shaped whole, joined from cached pieces */
 };
 void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out);
 

@@ -29,7 +29,7 @@
 
 #define PAD 1                /* texels around each glyph in the atlas */
 #define ATLAS_MAX_H 16384    /* texels: what GL implementations allow */
-#define LINE_CACHE_MAX 4096  /* shaped lines kept before the cache is emptied */
+#define LINE_CACHE_MAX 4096  /* shaped lines kept (see lines_trim) */
 #define LINE_BUCKETS 1024
 #define LOAD_FLAGS (FT_LOAD_RENDER | FT_LOAD_TARGET_LIGHT | FT_LOAD_NO_BITMAP)
 
@@ -59,12 +59,19 @@ struct cached {
     int left, top;              /* bitmap offset from the origin, px (top: up) */
 };
 
-/* A shaped line, cached by (size, text). */
+/* A shaped line, cached by (size, script hint, text). */
 struct shaped {
     struct shaped *next;
     uint32_t hash;
     int size;
+    hb_script_t hint;           /* the script of leading common characters; INVALID: their own */
+    unsigned long used;         /* f->lookups when last looked up (the eviction rule) */
     char *text;
+    size_t len;                 /* its bytes */
+    hb_script_t script;         /* the script of its first run */
+    int bidi;                   /* 1: it holds right-to-left or explicit-direction characters */
+    int unsafe;                 /* HarfBuzz's "unsafe to concat" on its first glyph (1), on
+                                 * its last (2): its shape there depends on text beside it */
     struct sp_line line;
     struct sp_glyph *g;
     struct sp_glyph_run *r;
@@ -92,6 +99,9 @@ struct sp_font {
     struct shaped *buckets[LINE_BUCKETS];
     int n_lines;
     struct shaped *last;        /* the line line_get returned last, or NULL */
+    unsigned long lookups;      /* line look-ups so far */
+    int whole;                  /* 1: every line shaped whole (sp_font_desc.whole_lines) */
+    int n_shaped, n_composed;   /* lines shaped whole, lines joined from cached pieces */
     hb_buffer_t *buf;
 };
 
@@ -543,24 +553,56 @@ static const struct cached *glyph_get(struct sp_font *f, int face, int size, uns
 
 /* ---- shaping ---- */
 
-static uint32_t hash_of(int size, const char *s)
+/* The line cache's hash of (size, hint, text of len bytes): eight bytes at
+ * a step (every frame looks up some hundreds of lines). */
+static uint32_t hash_of(int size, hb_script_t hint, const char *s, size_t len)
 {
-    uint32_t h = 2166136261u ^ (uint32_t)size;
-    for (; *s; s++)
-        h = (h ^ (unsigned char)*s) * 16777619u;
-    return h;
+    uint64_t h = ((uint64_t)(unsigned)size << 32 ^ (uint32_t)hint ^ len) * 0x9E3779B97F4A7C15u;
+    for (; len >= 8; s += 8, len -= 8) {
+        uint64_t w;
+        memcpy(&w, s, 8);
+        h = (h ^ w) * 0x9E3779B97F4A7C15u;
+        h ^= h >> 29;
+    }
+    uint64_t w = 0;
+    for (size_t i = 0; i < len; i++)
+        w |= (uint64_t)(unsigned char)s[i] << (8 * i);
+    h = (h ^ w) * 0x9E3779B97F4A7C15u;
+    return (uint32_t)(h >> 32 ^ h);
 }
 
-static void lines_clear(struct sp_font *f)
+static void line_free(struct shaped *l)
+{
+    free(l->text), free(l->g), free(l->r), free(l->place), free(l);
+}
+
+/* Drops the lines not looked up during the last `keep` look-ups (all of
+ * them for keep 0). The lines kept are the most recently used ones, at most
+ * `keep` of them (each look-up stamps one line). */
+static void lines_drop(struct sp_font *f, unsigned long keep)
 {
     for (int b = 0; b < LINE_BUCKETS; b++)
-        while (f->buckets[b]) {
-            struct shaped *l = f->buckets[b];
-            f->buckets[b] = l->next;
-            free(l->text), free(l->g), free(l->r), free(l->place), free(l);
+        for (struct shaped **p = &f->buckets[b]; *p;) {
+            struct shaped *l = *p;
+            if (keep && l->used + keep > f->lookups) {
+                p = &l->next;
+                continue;
+            }
+            *p = l->next;
+            if (f->last == l)
+                f->last = NULL;
+            line_free(l);
+            f->n_lines--;
         }
-    f->n_lines = 0;
-    f->last = NULL;
+}
+
+/* The eviction rule: once LINE_CACHE_MAX lines are cached, the lines not
+ * used during the last LINE_CACHE_MAX / 2 look-ups are dropped, so text
+ * drawn every frame stays and one-off strings (a clock's readings) go. */
+static void lines_trim(struct sp_font *f)
+{
+    if (f->n_lines >= LINE_CACHE_MAX)
+        lines_drop(f, LINE_CACHE_MAX / 2);
 }
 
 /* A run of characters being itemised: [a, b) of the code points. */
@@ -575,8 +617,10 @@ static int by_vis(const void *x, const void *y)
     return (a->vis > b->vis) - (a->vis < b->vis);
 }
 
-/* Shapes text into l (its glyphs and runs allocated). */
-static int shape(struct sp_font *f, int size, const char *text, struct shaped *l)
+/* Shapes text into l (its glyphs and runs allocated). Common and inherited
+ * characters before the first with a script of its own take hint's script
+ * (when not HB_SCRIPT_INVALID) as they would take their neighbours'. */
+static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint, struct shaped *l)
 {
     const int bytes = (int)strlen(text);
     const size_t m = (size_t)bytes + 2; /* code points at most, and one over */
@@ -617,6 +661,7 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
         bidi |= FRIBIDI_IS_RTL(types[i]) || FRIBIDI_IS_EXPLICIT(types[i]) || FRIBIDI_IS_ISOLATE(types[i]) ||
                 types[i] == FRIBIDI_TYPE_AN;
     }
+    l->bidi = bidi;
     if (bidi) {
         fribidi_get_bracket_types(cp, n, types, brackets);
         if (!fribidi_get_par_embedding_levels_ex(types, brackets, n, &base, levels) ||
@@ -627,7 +672,7 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
         }
     }
     /* scripts: common and inherited characters take their neighbours' */
-    hb_script_t last = HB_SCRIPT_INVALID;
+    hb_script_t last = hint;
     for (int i = 0; i < n; i++) {
         const hb_script_t s = hb_unicode_script(uf, cp[i]);
         const int weak = s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED || s == HB_SCRIPT_UNKNOWN;
@@ -686,6 +731,7 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
         hb_buffer_set_direction(f->buf, it->level & 1 ? HB_DIRECTION_RTL : HB_DIRECTION_LTR);
         hb_buffer_set_script(f->buf, it->script);
         hb_buffer_set_language(f->buf, hb_language_get_default());
+        hb_buffer_set_flags(f->buf, HB_BUFFER_FLAG_PRODUCE_UNSAFE_TO_CONCAT);
         hb_shape(f->faces[it->face].hb[size], f->buf, NULL, 0);
         unsigned ng;
         const hb_glyph_info_t *gi = hb_buffer_get_glyph_infos(f->buf, &ng);
@@ -700,6 +746,8 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
         l->g = g;
         l->r[k] = (struct sp_glyph_run){n_glyphs, (int)ng, it->level & 1, off[it->a], off[it->b]};
         for (unsigned j = 0; j < ng; j++) {
+            const int flagged = (hb_glyph_info_get_glyph_flags(&gi[j]) & HB_GLYPH_FLAG_UNSAFE_TO_CONCAT) != 0;
+            l->unsafe = (l->unsafe & 1) | (!n_glyphs && flagged) | (flagged ? 2 : 0);
             g[n_glyphs++] = (struct sp_glyph){
                 gi[j].codepoint, it->face, pen + (int)lround(gp[j].x_offset / 64.0),
                 -(int)lround(gp[j].y_offset / 64.0), (int)gi[j].cluster,
@@ -709,25 +757,161 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
         }
     }
     l->line = (struct sp_line){pen, missing, n_glyphs, n_items, l->g, l->r};
+    l->script = n_items ? items[0].script : HB_SCRIPT_COMMON;
+    f->n_shaped++;
 done:
     free(items);
     return err;
 }
 
-/* The shaped line of (size, text), from the cache or shaped now; NULL
- * (said) when out of memory. */
-static struct shaped *line_get(struct sp_font *f, int size, const char *text)
+static struct shaped *line_find(struct sp_font *f, int size, hb_script_t hint, const char *text);
+
+static int weak_script(hb_script_t s)
 {
+    return s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED || s == HB_SCRIPT_UNKNOWN;
+}
+
+/* 1 when the character at s may start a piece of a line (compose): not a
+ * mark, joiner or other character that goes with the one before it. */
+static int piece_may_start(const char *s)
+{
+    size_t n;
+    const uint32_t cp = sp_utf8_decode(s, &n);
+    hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
+    const hb_unicode_general_category_t gc = hb_unicode_general_category(uf, cp);
+    return !invisible(cp) && hb_unicode_script(uf, cp) != HB_SCRIPT_INHERITED &&
+           gc != HB_UNICODE_GENERAL_CATEGORY_NON_SPACING_MARK &&
+           gc != HB_UNICODE_GENERAL_CATEGORY_SPACING_MARK &&
+           gc != HB_UNICODE_GENERAL_CATEGORY_ENCLOSING_MARK;
+}
+
+/* The shape cache's path for text that changes in its digits (a clock, a
+ * readout): "t = 12.34 s" is laid out from the cached lines "t = ", "1",
+ * "2", ".", "3", "4" and " s" (each digit a piece, the text between digits
+ * another), each shaped alone with the script its first character has in
+ * the whole line, put side by side. That is exactly what shaping the whole
+ * line gives when the line is one left-to-right run (one font and script,
+ * no right-to-left or explicit-direction character, no missing glyph) and
+ * HarfBuzz marks no glyph at a join "unsafe to concat"
+ * (HB_GLYPH_FLAG_UNSAFE_TO_CONCAT, which HarfBuzz sets on every glyph that
+ * a lookup reaching past the text's end or start took part in, as a
+ * kerning pair, a ligature or Arabic joining would: a piece's last glyph
+ * before a join, the next piece's first glyph after it). Returns 0
+ * (composed into l), 1 (the line is to be shaped whole) or SP_E_NOMEM. */
+static int compose(struct sp_font *f, int size, const char *text, struct shaped *l)
+{
+    const int bytes = (int)strlen(text);
+    hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
+    int digits = 0, cuts = 0;
+    for (int i = 0; i < bytes; i++)
+        digits += text[i] >= '0' && text[i] <= '9';
+    if (f->whole || !digits || bytes < 2)
+        return 1;
+    char *piece = malloc((size_t)bytes + 1);
+    int *cut = malloc(((size_t)bytes + 2) * sizeof(*cut));          /* pieces' first bytes */
+    hb_script_t *hint = malloc(((size_t)bytes + 1) * sizeof(*hint)); /* and their hints */
+    struct shaped **part = malloc(((size_t)bytes + 1) * sizeof(*part));
+    int ret = 0, n_glyphs = 0, face = -1;
+    hb_script_t script = HB_SCRIPT_INVALID, last = HB_SCRIPT_INVALID;
+    if (!piece || !cut || !hint || !part) {
+        sp_log_error("out of memory to lay out a string of %d bytes", bytes);
+        ret = SP_E_NOMEM;
+        goto done;
+    }
+    /* cut before and after each digit; a piece starting with a common
+     * character is hinted with the script shape() gives that character in
+     * the whole line: the last script before it, else the line's first
+     * (HB_SCRIPT_INVALID until known), else COMMON */
+    for (int i = 0; i < bytes;) {
+        size_t len;
+        const hb_script_t s = hb_unicode_script(uf, sp_utf8_decode(text + i, &len));
+        const int digit = text[i] >= '0' && text[i] <= '9';
+        if (!i || ((digit || (text[i - 1] >= '0' && text[i - 1] <= '9')) && piece_may_start(text + i))) {
+            cut[cuts] = i;
+            hint[cuts++] = weak_script(s) ? last : HB_SCRIPT_COMMON; /* COMMON: a script of its own */
+        }
+        if (!weak_script(s)) {
+            if (last == HB_SCRIPT_INVALID) /* the line's first script */
+                for (int k = 0; k < cuts; k++)
+                    if (hint[k] == HB_SCRIPT_INVALID)
+                        hint[k] = s;
+            last = s;
+        }
+        i += (int)len;
+    }
+    cut[cuts] = bytes;
+    if (cuts < 2) {
+        ret = 1;
+        goto done;
+    }
+    for (int k = 0; k < cuts; k++) {
+        size_t len;
+        const int own = !weak_script(hb_unicode_script(uf, sp_utf8_decode(text + cut[k], &len)));
+        const hb_script_t h = own ? HB_SCRIPT_INVALID
+                                  : hint[k] == HB_SCRIPT_INVALID ? HB_SCRIPT_COMMON : hint[k];
+        memcpy(piece, text + cut[k], (size_t)(cut[k + 1] - cut[k]));
+        piece[cut[k + 1] - cut[k]] = 0;
+        const struct shaped *p = part[k] = line_find(f, size, h, piece);
+        if (!p) {
+            ret = SP_E_NOMEM;
+            goto done;
+        }
+        if (p->bidi || (k && (p->unsafe & 1)) || (k + 1 < cuts && (p->unsafe & 2)) || p->line.missing || p->line.n_runs != 1 || p->line.runs[0].rtl ||
+            (p->line.n_glyphs && face >= 0 && (p->line.glyphs[0].face != face || p->script != script))) {
+            ret = 1; /* shaped whole */
+            goto done;
+        }
+        if (p->line.n_glyphs)
+            face = p->line.glyphs[0].face, script = p->script;
+        n_glyphs += p->line.n_glyphs;
+    }
+    l->g = malloc(((size_t)n_glyphs + 1) * sizeof(*l->g));
+    l->r = malloc(sizeof(*l->r));
+    if (!l->g || !l->r) {
+        sp_log_error("out of memory to lay out a string of %d bytes", bytes);
+        ret = SP_E_NOMEM;
+        goto done;
+    }
+    int pen = 0, n = 0;
+    for (int k = 0; k < cuts; k++) {
+        const struct sp_line *pl = &part[k]->line;
+        for (int j = 0; j < pl->n_glyphs; j++) {
+            l->g[n] = pl->glyphs[j];
+            l->g[n].x += pen;
+            l->g[n++].cluster += cut[k];
+        }
+        pen += pl->width;
+    }
+    l->r[0] = (struct sp_glyph_run){0, n, 0, 0, bytes};
+    l->line = (struct sp_line){pen, 0, n, 1, l->g, l->r};
+    l->script = script == HB_SCRIPT_INVALID ? HB_SCRIPT_COMMON : script;
+    f->n_composed++;
+done:
+    free(piece), free(cut), free(hint), free(part);
+    return ret;
+}
+
+/* The shaped line of (size, hint, text) from the cache, or laid out now
+ * (compose, else shape) and cached; NULL (said) when out of memory. Drops
+ * no line (lines_trim does, before a look-up from outside). */
+static struct shaped *line_find(struct sp_font *f, int size, hb_script_t hint, const char *text)
+{
+    const size_t len = strlen(text);
+    f->lookups++;
     /* the line asked for last: a string is often measured, then drawn */
-    if (f->last && f->last->size == size && !strcmp(f->last->text, text))
+    if (f->last && f->last->len == len && f->last->size == size && f->last->hint == hint &&
+        !memcmp(f->last->text, text, len)) {
+        f->last->used = f->lookups;
         return f->last;
-    const uint32_t h = hash_of(size, text);
+    }
+    const uint32_t h = hash_of(size, hint, text, len);
     struct shaped **b = &f->buckets[h % LINE_BUCKETS], *l;
     for (l = *b; l; l = l->next)
-        if (l->hash == h && l->size == size && !strcmp(l->text, text))
+        if (l->hash == h && l->len == len && l->size == size && l->hint == hint &&
+            !memcmp(l->text, text, len)) {
+            l->used = f->lookups;
             return f->last = l;
-    if (f->n_lines >= LINE_CACHE_MAX)
-        lines_clear(f);
+        }
     l = calloc(1, sizeof(*l));
     if (!l || !(l->text = strdup(text))) {
         free(l);
@@ -735,15 +919,32 @@ static struct shaped *line_get(struct sp_font *f, int size, const char *text)
         return NULL;
     }
     l->hash = h;
+    l->len = len;
     l->size = size;
-    if (shape(f, size, text, l)) {
-        free(l->text), free(l->g), free(l->r), free(l);
+    l->hint = hint;
+    int err = hint == HB_SCRIPT_INVALID ? compose(f, size, text, l) : 1;
+    if (err == 1) {
+        free(l->g), free(l->r);
+        l->g = NULL, l->r = NULL;
+        l->unsafe = 0;
+        err = shape(f, size, text, hint, l);
+    }
+    if (err) {
+        line_free(l);
         return NULL;
     }
-    l->next = *b;
-    *b = l;
+    l->used = f->lookups;
+    l->next = f->buckets[h % LINE_BUCKETS]; /* (compose may have added lines to b) */
+    f->buckets[h % LINE_BUCKETS] = l;
     f->n_lines++;
     return f->last = l;
+}
+
+/* A line looked up from outside: the cache trimmed first (lines_trim). */
+static struct shaped *line_get(struct sp_font *f, int size, const char *text)
+{
+    lines_trim(f);
+    return line_find(f, size, HB_SCRIPT_INVALID, text);
 }
 
 int sp_font_shape(const struct sp_font *cf, int size, const char *text, struct sp_line *out)
@@ -772,6 +973,7 @@ int sp_font_make(struct sp_font **out, const struct sp_font_desc *d)
         return SP_E_NOMEM;
     }
     memcpy(f->px, d->px, sizeof(f->px));
+    f->whole = d->whole_lines;
     f->buf = hb_buffer_create();
     if (FT_Init_FreeType(&f->lib)) {
         sp_log_error("FreeType cannot start");
@@ -811,7 +1013,7 @@ void sp_font_destroy(struct sp_font **fp)
     struct sp_font *f = *fp;
     if (!f)
         return;
-    lines_clear(f);
+    lines_drop(f, 0);
     for (int i = 0; i < f->n_faces; i++)
         face_close(&f->faces[i]);
     free(f->faces);
@@ -1115,6 +1317,12 @@ void sp_font_raster_stats(const struct sp_font *f, int *glyphs, double *seconds)
 {
     *glyphs = f->rastered;
     *seconds = f->raster_s;
+}
+
+void sp_font_shape_stats(const struct sp_font *f, int *shaped, int *composed)
+{
+    *shaped = f->n_shaped;
+    *composed = f->n_composed;
 }
 
 void sp_font_blit(const struct sp_font *f, const struct sp_glyph_quad *q, int n,

@@ -47,6 +47,9 @@ struct sp_font_desc {
     const char *where;     /* where family was set ("FILE:LINE", "--set view.font"),
                               for the refusal; NULL or "" = "[view] font" */
     int px[SP_TEXT_SIZES]; /* em sizes, px, each 4..400 */
+    int whole_lines;       /* 1: every line shaped whole, never joined from
+                            * cached pieces (for tests and benchmarks: the
+                            * glyphs are the same) */
 };
 
 
@@ -94,8 +97,12 @@ struct sp_line {
     const struct sp_glyph_run *runs;
 };
 
-/* Lays utf8 out at a text size. Results are cached by (size, string).
- * 0 or SP_E_NOMEM. A character no font has shows the primary font's
+/* Lays utf8 out at a text size. Results are cached by (size, string), in
+ * the font: at most 4096 lines (and the pieces of one); when full, the lines
+ * not used during the last 2048 look-ups are dropped. A new line that
+ * differs from cached ones in its digits (a clock) is joined from cached
+ * pieces where HarfBuzz says that gives the same glyphs as shaping it whole
+ * (see compose in text.c). 0 or SP_E_NOMEM. A character no font has shows the primary font's
  * missing glyph and counts in out->missing. */
 int sp_font_shape(const struct sp_font *f, int size, const char *utf8, struct sp_line *out);
 
@@ -167,6 +174,10 @@ const uint8_t *sp_font_atlas(const struct sp_font *f, int *w, int *h, unsigned *
 
 /* Glyphs rasterised so far and the seconds that took. */
 void sp_font_raster_stats(const struct sp_font *f, int *glyphs, double *seconds);
+
+/* Lines laid out so far: shaped whole by HarfBuzz, and joined from cached
+ * pieces (sp_font_shape). */
+void sp_font_shape_stats(const struct sp_font *f, int *shaped, int *composed);
 
 /* Draws quads into an 8-bit coverage image (w x h, stride w) on the CPU by
  * copying atlas texels, the way the GL pass samples them (nearest). For tests. */

@@ -148,6 +148,8 @@ static void print_times(const struct stage_times *t, const struct queue *q,
             t->total > 0 ? frames / t->total : 0);
     fprintf(stderr, "  text: %d glyphs rasterised in %.2f ms, %d of them (%.2f ms) by the first frame\n",
             rs->glyphs, 1e3 * rs->raster_s, rs->glyphs_first, 1e3 * rs->raster_first_s);
+    fprintf(stderr, "  text: %d lines shaped by HarfBuzz, %d joined from cached pieces\n",
+            rs->lines_shaped, rs->lines_composed);
     fprintf(stderr, "  static layer cached in %ld frames (drawn %ld time%s), uncached in %ld\n"
             "  settled chart curves appended to it in %ld frames\n"
             "  dynamic items left as the last frame drew them: %ld\n",

@@ -160,8 +160,11 @@ void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out)
                                     .uncached = d.uncached, .appended = d.appended,
                                     .unchanged = d.unchanged, .glyphs_first = r->glyphs_first,
                                     .raster_first_s = r->raster_first_s};
-    if (sp_compose_cells_font(r->composer))
+    if (sp_compose_cells_font(r->composer)) {
         sp_font_raster_stats(sp_compose_cells_font(r->composer), &out->glyphs, &out->raster_s);
+        sp_font_shape_stats(sp_compose_cells_font(r->composer), &out->lines_shaped,
+                            &out->lines_composed);
+    }
 }
 
 void sp_render_fonts(const struct sp_renderer *r, char *buf, size_t size)

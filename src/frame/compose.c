@@ -183,16 +183,19 @@ static void text_sizes(float unit, double font_size, double scale, float ss, int
     }
 }
 
-/* Refuses body text too large for the frame: the HUD, ticks, legends and
- * labels are laid out around the plots and the pendulum, and past this they
- * cover them. Allowed: at most 1/15 of the frame's smaller side (video), or
+/* Refuses body text too large for the frame when the HUD, panels, colour
+ * bar or vectors' legend are drawn: they are laid out around the plots and
+ * the pendulum, and past this they cover them. Allowed: at most 1/15 of the frame's smaller side (video), or
  * 1/8 of it (a figure of physical size), and never less than the floors a
- * default frame uses. 0 or SP_E_INPUT (said). */
+ * default frame uses (24 px, or pt). 0 or SP_E_INPUT (said). */
 static int check_text_size(const struct sp_composer *r, const int px[SP_TEXT_SIZES], float ss)
 {
     const int print = r->look.pt_px > 0;
+    const struct sp_view *view = &r->look.view;
+    if (!(view->hud || view->panels || view->colorbar || view->vectors))
+        return 0; /* a title or caption alone: wrap_texts fits it to the frame */
     const float side = fminf((float)r->width, (float)r->height);
-    const float most = fmaxf(print ? side / 8 : side / 15, 16 * ss);
+    const float most = fmaxf(print ? side / 8 : side / 15, 24 * ss);
     if (px[SP_TEXT_NORMAL] <= most)
         return 0;
     const struct sp_view *v = &r->look.view;

@@ -26,7 +26,13 @@ attack5.md). Each check is a class, run as the attacker ran it:
 - a report written in another folder links the videos from its own folder
   (the links were relative to the working folder, and broken);
 - a still of physical size at 200:1 drops the HUD and panels, as a small
-  frame does, instead of drawing them over each other.
+  frame does, instead of drawing them over each other;
+- C1 control characters in a title or caption are refused, in a scene file
+  and from --set (springpend scene printed them raw);
+- a sweep whose key spans a few ulps, or repeats one value, is refused (the
+  figure's tick loop never ended);
+- folder compare refuses one folder inside the other (--update all removed
+  actual images; --update=missing nested the baselines a level deeper).
 usage: test_attack5.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import hashlib
 import json
@@ -258,5 +264,36 @@ ok(links and all(os.path.exists(os.path.normpath(os.path.join(path("rep", "sub")
 r = run("still", default, "--at", "1", "--size", "200inx1in", "--dpi", "20", "-o", "wide.png")
 ok(r.returncode == 0 and "drawn without them" in err(r),
    f"a 200:1 still of physical size drops the HUD and panels, saying so ({err(r)[:80]!r})")
+
+# ---- C1 controls in text ---------------------------------------------------------
+with open(path("nel.ini"), "wb") as f:
+    f.write(b"[view]\ntitle = A\xc2\x85B\n")
+r = run("still", "nel.ini", "--at", "1", "--size", "320x180", "-o", "nel.png")
+ok(r.returncode == 2 and "nel.ini:2" in err(r) and "C1" in err(r)
+   and not os.path.exists(path("nel.png")), f"a C1 control in a scene's title is refused "
+   f"({err(r)[:80]!r})")
+r = run("still", default, "--at", "1", "--size", "320x180", "--set", "view.caption=C\u009bD",
+        "-o", "nel.png")
+ok(r.returncode == 2 and "C1" in err(r) and not os.path.exists(path("nel.png")),
+   "a C1 control (CSI) in a caption from --set is refused")
+
+# ---- grids whose values cannot be told apart -------------------------------------
+chaotic = os.path.join(src, "..", "scenes", "chaotic.ini")
+for vary in ("initial.length=1:1.0000000000000002:3", "initial.angle=5:5:3"):
+    code, e = sptest.hangs(run, "sweep", chaotic, "--vary", "initial.angle=1:2:3", "--vary", vary,
+                           "--measure", "lyapunov", "--time", "2", "-o", "tiny.png", timeout=60)
+    ok(code == 2 and "--vary" in e and not os.path.exists(path("tiny.png")),
+       f"--vary {vary}: refused, not a hang in the figure's axes (exit {code})")
+
+# ---- one compared folder inside the other ----------------------------------------
+copy(b1, path("nest", "snap", "x.png"))
+copy(b2, path("nest", "snap", "new", "x.png"))
+r = run("compare", "nest/snap", "nest/snap/new", "--update", "all")
+ok(r.returncode == 2 and "inside the other" in err(r)
+   and read(path("nest", "snap", "new", "x.png")) == read(b2),
+   f"compare refuses a folder inside the other; nothing removed (exit {r.returncode})")
+r = run("compare", "nest/snap/new", "nest/snap", "--update", "missing")
+ok(r.returncode == 2 and not os.path.exists(path("nest", "snap", "new", "new")),
+   f"the other way round too; no nested copy made (exit {r.returncode})")
 
 done()

@@ -1164,6 +1164,14 @@ static int folder_within(const char *path, const char *dir)
 /* Checks the output paths before anything runs. */
 static int check_outputs(const struct compare_cli *c, const char *e, const char *a, int folders)
 {
+    if (folders && !sp_cli_same_file(e, a) && (folder_within(a, e) || folder_within(e, a))) {
+        /* each walk would take the other folder's images as its own: --update
+         * removed actual images, --update=missing nested copies of baselines */
+        sp_log_error("%s and %s: one folder lies inside the other; allowed: two separate "
+                     "folders (move the actual images out of the baselines, or the other way)",
+                     e, a);
+        return SP_E_INPUT;
+    }
     const char *outs[5][2] = {{c->diff, "--diff"},      {c->candidates, "--candidates"},
                               {c->html, "--report"},    {c->junit, "--junit"},
                               {c->summary, "--summary"}};

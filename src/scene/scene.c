@@ -588,9 +588,12 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         for (size_t i = 0; i < n;) { /* --set bypasses the file's text check */
             const unsigned char *u = (const unsigned char *)value + i;
             int len = (int)sp_utf8_char((const char *)u);
-            if (!len || i + (size_t)len > n || *u < 0x20 || *u == 0x7f) {
-                report(c, line, "%s.%s: byte 0x%02x at byte %zu is not text; allowed: "
-                       "UTF-8 text without control characters", k->section, k->name, *u, i + 1);
+            const int c1 = len == 2 && u[0] == 0xc2 && u[1] < 0xa0; /* U+0080..U+009F */
+            if (!len || i + (size_t)len > n || *u < 0x20 || *u == 0x7f || c1) {
+                report(c, line, "%s.%s: %s 0x%02x at byte %zu is not text; allowed: "
+                       "UTF-8 text without control characters (C0, DEL or C1)", k->section,
+                       k->name, c1 ? "the C1 control, bytes 0xc2" : "byte", c1 ? u[1] : *u,
+                       i + 1);
                 return 1;
             }
             i += (size_t)len;
@@ -1036,9 +1039,12 @@ static int check_text(struct parse_ctx *c, const char *text)
     int line = 1, blank = 1;
     while (*p) {
         int n = (int)sp_utf8_char((const char *)p);
-        if (!n || (*p < 0x20 && *p != '\t' && *p != '\r' && *p != '\n') || *p == 0x7f) {
-            report(c, line, "byte 0x%02x at column %d is not text; a scene is a UTF-8 "
-                   "text file of 'key = value' lines", *p, (int)(p - line_start) + 1);
+        const int c1 = n == 2 && p[0] == 0xc2 && p[1] < 0xa0; /* U+0080..U+009F */
+        if (!n || (*p < 0x20 && *p != '\t' && *p != '\r' && *p != '\n') || *p == 0x7f || c1) {
+            report(c, line, "%s 0x%02x at column %d is not text; a scene is a UTF-8 "
+                   "text file of 'key = value' lines, without control characters (C0, DEL "
+                   "or C1)", c1 ? "the C1 control, bytes 0xc2" : "byte", c1 ? p[1] : *p,
+                   (int)(p - line_start) + 1);
             return 0;
         }
         blank &= *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n';

@@ -504,6 +504,17 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
             if (sp_scene_set_number(&s, k, end ? d->axis[a].to : d->axis[a].from, origin))
                 return SP_E_INPUT;
         }
+        /* distinct points, far enough apart for the figure's axis to tell
+         * them apart (a span of a few ulps hung the tick loop) */
+        const struct sp_sweep_axis *x = &d->axis[a];
+        const double step = fabs(x->to - x->from) / (x->count > 1 ? x->count - 1 : 1);
+        if (x->count > 1 && !(step > 1e-9 * fmax(1, fmax(fabs(x->from), fabs(x->to))))) {
+            sp_log_error("--vary %s=%.17g:%.17g:%d: the %d values are %s; allowed: FROM and TO "
+                         "apart by more than 1e-9 of their size for each step (or COUNT 1)", k,
+                         x->from, x->to, x->count, x->count,
+                         x->from == x->to ? "all the same" : "too close to tell apart");
+            return SP_E_INPUT;
+        }
     }
     if (sp_sweep_points(d) > SP_SWEEP_MAX_POINTS) {
         sp_log_error("--vary: %ld grid points; at most %ld (the figure keeps two numbers "

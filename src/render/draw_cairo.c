@@ -1,6 +1,7 @@
 /* springpend (internal): the draw list drawn with cairo into SVG or PDF.
  * See draw_cairo.h. Built into springpend-cairo.so. */
 #include <errno.h>
+#include <stdint.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -145,9 +146,161 @@ static int lanes(cairo_t *cr, const struct sp_shape *s, int n, int lanes)
     return 0;
 }
 
-int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
+/* An IMAGE item: its pixels premultiplied into a cairo image (RGB24 when
+ * every one is opaque, so that a PDF holds no soft mask), stretched over
+ * its rectangle with sharp cells. 0 or SP_E_NOMEM (logged). */
+static int image(cairo_t *cr, const struct sp_canvas *c, const struct sp_item *it)
+{
+    const unsigned char *p = c->pixels + it->first;
+    const size_t n = (size_t)it->iw * (size_t)it->ih;
+    int opaque = 1;
+    for (size_t k = 0; k < n && opaque; k++)
+        opaque = p[4 * k + 3] == 255;
+    cairo_surface_t *img = cairo_image_surface_create(opaque ? CAIRO_FORMAT_RGB24 : CAIRO_FORMAT_ARGB32,
+                                                      it->iw, it->ih);
+    if (cairo_surface_status(img)) {
+        sp_log_error("cannot make an image of %dx%d pixels: %s", it->iw, it->ih,
+                     cairo_status_to_string(cairo_surface_status(img)));
+        cairo_surface_destroy(img);
+        return SP_E_NOMEM;
+    }
+    cairo_surface_flush(img);
+    unsigned char *data = cairo_image_surface_get_data(img);
+    const int stride = cairo_image_surface_get_stride(img);
+    for (int j = 0; j < it->ih; j++)
+        for (int i = 0; i < it->iw; i++) {
+            const unsigned char *q = p + 4 * ((size_t)j * (size_t)it->iw + (size_t)i);
+            const uint32_t a = q[3];
+            uint32_t v = a << 24;
+            for (int k = 0; k < 3; k++)
+                v |= ((q[k] * a + 127) / 255) << (16 - 8 * k);
+            ((uint32_t *)(data + (size_t)j * (size_t)stride))[i] = v;
+        }
+    cairo_surface_mark_dirty(img);
+    cairo_save(cr);
+    cairo_translate(cr, it->rect[0], it->rect[1]);
+    cairo_scale(cr, (it->rect[2] - it->rect[0]) / it->iw, (it->rect[3] - it->rect[1]) / it->ih);
+    cairo_set_source_surface(cr, img, 0, 0);
+    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+    cairo_paint(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(img);
+    return 0;
+}
+
+/* Draws d's list on cr, whose user space is the list's px: the background,
+ * the accumulated layer, the rest in order, then the text over it; pdf (or
+ * NULL) is told the font files drawn from. 0, or SP_E_NOMEM / SP_E_IO. */
+static int draw_list(cairo_t *cr, const struct sp_draw_cairo_desc *d, cairo_surface_t *pdf)
 {
     const struct sp_canvas *c = d->canvas;
+    int err = 0;
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    if (d->background[3] > 0) {
+        source(cr, d->background);
+        cairo_paint(cr);
+    }
+    /* the accumulated layer first, then the rest in order */
+    for (int pass = 0; pass < 2 && !err; pass++) {
+        for (int i = 0; i < c->n_items && !err && !(d->cancel && *d->cancel); i++) { /* stop */
+            const struct sp_item *it = &c->items[i];
+            if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
+                continue;
+            if (it->kind == SP_ITEM_CLIP) {
+                cairo_reset_clip(cr);
+                if (it->clip[2] > it->clip[0]) {
+                    cairo_rectangle(cr, it->clip[0], it->clip[1], it->clip[2] - it->clip[0],
+                                    it->clip[3] - it->clip[1]);
+                    cairo_clip(cr);
+                }
+            } else if (it->kind == SP_ITEM_IMAGE) {
+                err = image(cr, c, it);
+            } else if (it->kind == SP_ITEM_PATH && it->lanes > 1) {
+                err = lanes(cr, c->shapes + it->first, it->count, it->lanes);
+            } else if (it->kind == SP_ITEM_PATH) {
+                path(cr, c->shapes + it->first, it->count);
+            } else if (it->kind == SP_ITEM_SHAPES) {
+                for (int k = 0; k < it->count; k++)
+                    shape(cr, &c->shapes[it->first + k]);
+            }
+        }
+    }
+    cairo_reset_clip(cr);
+    /* text over everything, as the GL backend draws it */
+    if (!err && d->font && c->n_strings) {
+        struct sp_cairo_faces faces = {0};
+        err = sp_cairo_faces_make(&faces, d->font, cr);
+        for (int i = 0; i < c->n_items && !err; i++) {
+            const struct sp_item *it = &c->items[i];
+            if (it->kind != SP_ITEM_TEXT)
+                continue;
+            source(cr, it->color);
+            if (it->scale > 0) { /* turned text: the size's layout, scaled and turned */
+                cairo_save(cr);
+                cairo_translate(cr, it->x, it->y);
+                cairo_rotate(cr, it->angle);
+                cairo_scale(cr, it->scale, it->scale);
+                err = sp_cairo_text_show(cr, &faces, it->size, 0, 0, c->strings + it->text);
+                cairo_restore(cr);
+            } else {
+                err = sp_cairo_text_show(cr, &faces, it->size, it->x, it->y, c->strings + it->text);
+            }
+        }
+        sp_cairo_faces_destroy(&faces);
+        if (pdf) /* provenance: the font files drawn from */
+            sp_cairo_pdf_fonts(pdf, d->font);
+    }
+    return err;
+}
+
+int sp_draw_cairo_raster(const struct sp_draw_cairo_desc *d, int px_w, int px_h,
+                         struct sp_image *out)
+{
+    cairo_surface_t *surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, px_w, px_h);
+    cairo_t *cr = cairo_create(surface);
+    cairo_status_t st = cairo_status(cr); /* the surface's too */
+    int err = 0;
+    *out = (struct sp_image){0};
+    if (st) {
+        sp_log_error("%s: cannot make a %dx%d px image: %s", d->path, px_w, px_h,
+                     cairo_status_to_string(st));
+        err = st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
+    }
+    if (!err) {
+        cairo_scale(cr, px_w / d->width, px_h / d->height);
+        err = draw_list(cr, d, NULL);
+    }
+    st = cairo_status(cr);
+    if (!err && st) {
+        sp_log_error("%s: cairo failed: %s", d->path, cairo_status_to_string(st));
+        err = st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
+    }
+    cairo_surface_flush(surface);
+    if (!err)
+        err = sp_image_alloc(out, px_w, px_h);
+    if (!err) {
+        const unsigned char *data = cairo_image_surface_get_data(surface);
+        const int stride = cairo_image_surface_get_stride(surface);
+        for (int y = 0; y < px_h; y++)
+            for (int x = 0; x < px_w; x++) { /* premultiplied native ARGB to straight RGBA */
+                const uint32_t p = ((const uint32_t *)(data + (size_t)y * (size_t)stride))[x];
+                const unsigned a = p >> 24;
+                uint8_t *q = out->pixels + (size_t)y * (size_t)out->stride + 4 * (size_t)x;
+                for (int k = 0; k < 3; k++) {
+                    const unsigned v = (p >> (16 - 8 * k)) & 255;
+                    q[k] = (uint8_t)(a ? (v * 255 + a / 2) / a : 0);
+                }
+                q[3] = (uint8_t)a;
+            }
+    }
+    cairo_destroy(cr);
+    cairo_surface_destroy(surface);
+    return err;
+}
+
+int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
+{
     cairo_surface_t *surface;
     cairo_status_t st;
     cairo_t *cr;
@@ -189,51 +342,7 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     cr = cairo_create(surface);
     if (paper) /* the list's px onto the page's pt */
         cairo_scale(cr, pw / d->width, ph / d->height);
-    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-    if (d->background[3] > 0) {
-        source(cr, d->background);
-        cairo_paint(cr);
-    }
-    /* the accumulated layer first, then the rest in order */
-    for (int pass = 0; pass < 2 && !err; pass++) {
-        for (int i = 0; i < c->n_items && !err && !(d->cancel && *d->cancel); i++) { /* stop */
-            const struct sp_item *it = &c->items[i];
-            if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
-                continue;
-            if (it->kind == SP_ITEM_CLIP) {
-                cairo_reset_clip(cr);
-                if (it->clip[2] > it->clip[0]) {
-                    cairo_rectangle(cr, it->clip[0], it->clip[1], it->clip[2] - it->clip[0],
-                                    it->clip[3] - it->clip[1]);
-                    cairo_clip(cr);
-                }
-            } else if (it->kind == SP_ITEM_PATH && it->lanes > 1) {
-                if ((err = lanes(cr, c->shapes + it->first, it->count, it->lanes)) != 0)
-                    break;
-            } else if (it->kind == SP_ITEM_PATH)
-                path(cr, c->shapes + it->first, it->count);
-            else if (it->kind == SP_ITEM_SHAPES)
-                for (int k = 0; k < it->count; k++)
-                    shape(cr, &c->shapes[it->first + k]);
-        }
-    }
-    cairo_reset_clip(cr);
-    /* text over everything, as the GL backend draws it */
-    if (d->font && c->n_strings) {
-        struct sp_cairo_faces faces = {0};
-        err = sp_cairo_faces_make(&faces, d->font, cr);
-        for (int i = 0; i < c->n_items && !err; i++) {
-            const struct sp_item *it = &c->items[i];
-            if (it->kind != SP_ITEM_TEXT)
-                continue;
-            source(cr, it->color);
-            err = sp_cairo_text_show(cr, &faces, it->size, it->x, it->y, c->strings + it->text);
-        }
-        sp_cairo_faces_destroy(&faces);
-        if (d->format == SP_FIGURE_PDF) /* provenance: the font files drawn from */
-            sp_cairo_pdf_fonts(surface, d->font);
-    }
+    err = draw_list(cr, d, d->format == SP_FIGURE_PDF ? surface : NULL);
     st = cairo_status(cr);
     cairo_destroy(cr);
     cairo_surface_finish(surface);
@@ -249,4 +358,14 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
         err = st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
     }
     return err;
+}
+
+const char *sp_draw_cairo_version(void)
+{
+    return "cairo " CAIRO_VERSION_STRING;
+}
+
+void sp_draw_cairo_done(void)
+{
+    cairo_debug_reset_static_data();
 }

@@ -183,6 +183,51 @@ static void test_turned(void)
     sp_font_destroy(&f);
 }
 
+/* A list drawn in pieces (begin, shapes, keep_text, end) gives the pixels
+ * of the whole list drawn at once, its text over every piece's shapes. */
+static void test_pieces(void)
+{
+    struct sp_font *f = NULL;
+    struct sp_font_desc fd = {.px = {20, 20, 20, 20}};
+    struct sp_canvas whole = {0}, part = {0};
+    struct sp_image a = {0}, b = {0};
+    if (sp_font_make(&f, &fd)) {
+        sp_tap_ok(0, "the embedded font is made");
+        return;
+    }
+    whole.font = part.font = f;
+    const float clip[4] = {10, 10, 190, 190}, grey[4] = {0.5f, 0.2f, 0.8f, 0.6f};
+    struct sp_draw_cairo_desc d = {.canvas = &whole, .font = f, .width = 200, .height = 200,
+                                   .path = "test", .background = {1, 1, 1, 1}};
+    struct sp_draw_cairo *dc = NULL;
+    int err = sp_draw_cairo_begin(&dc, &d, 200, 200);
+    for (int k = 0; k < 2; k++) /* the text first: the shapes after it go under it */
+        for (struct sp_canvas *c = k ? &part : &whole; c; c = NULL) {
+            sp_canvas_text_turned(c, SP_TEXT_NORMAL, 20, 100, 1.5f, 0, black, "text on top");
+            sp_canvas_clip(c, clip);
+        }
+    for (int i = 0; i < 400 && !err; i++) {
+        const float x = (float)(i % 20) * 10, y = (float)(i / 20) * 10;
+        sp_canvas_rect(&whole, x, y, x + 14, y + 14, grey);
+        sp_canvas_rect(&part, x, y, x + 14, y + 14, grey);
+        if (i % 97 == 96) { /* a piece drawn and dropped, its clip and text kept */
+            err = sp_draw_cairo_shapes(dc, &part);
+            sp_canvas_keep_text(&part);
+        }
+    }
+    const int items = part.n_items;
+    err = err ? err : sp_draw_cairo_end(&dc, &part, &a);
+    if (!err)
+        err = raster(&whole, f, 200, 200, 200, 200, &b);
+    sp_tap_ok(!err && a.width == 200 && b.width == 200 &&
+                  !memcmp(a.pixels, b.pixels, (size_t)a.stride * 200) && items < 400,
+              "a list drawn in pieces of 97 shapes (%d items held at the end) gives the whole "
+              "list's pixels, its clip and its text over every piece kept", items);
+    sp_image_free(&a), sp_image_free(&b);
+    sp_canvas_free(&whole), sp_canvas_free(&part);
+    sp_font_destroy(&f);
+}
+
 /* GL draws no images or turned text: a list with either is refused. */
 static void test_gl_refuses(void)
 {
@@ -213,6 +258,7 @@ int main(void)
 {
     test_image();
     test_turned();
+    test_pieces();
     test_gl_refuses();
     return sp_tap_done();
 }

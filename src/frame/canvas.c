@@ -222,6 +222,26 @@ unsigned char *sp_canvas_image(struct sp_canvas *c, float x0, float y0, float x1
     return c->pixels + it->first;
 }
 
+void sp_canvas_keep_text(struct sp_canvas *c)
+{
+    const struct sp_item *clip = NULL;
+    int n = 0;
+    for (int i = 0; i < c->n_items; i++)
+        if (c->items[i].kind == SP_ITEM_CLIP)
+            clip = &c->items[i];
+    struct sp_item last_clip = clip ? *clip : (struct sp_item){.kind = SP_ITEM_SHAPES};
+    for (int i = 0; i < c->n_items; i++)
+        if (c->items[i].kind == SP_ITEM_TEXT)
+            c->items[n++] = c->items[i];
+    c->n_items = n;
+    c->n_shapes = c->n_pixels = 0;
+    if (clip) { /* after the text, which it does not clip: the shapes to come */
+        struct sp_item *it = new_item(c, SP_ITEM_CLIP, 0);
+        if (it)
+            *it = last_clip, it->first = 0;
+    }
+}
+
 void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float dx, float dy)
 {
     const int s0 = dst->n_shapes, q0 = dst->n_quads, t0 = dst->n_strings, p0 = dst->n_pixels;

@@ -168,6 +168,12 @@ void sp_canvas_soft(struct sp_canvas *c, float x, float y, float rx, float ry,
 void sp_canvas_rect(struct sp_canvas *c, float x0, float y0, float x1, float y1,
                     const float color[4]);
 
+/* Empties c of everything but its text (items, glyph quads, strings), in
+ * order, keeping its clip: what a backend drawing a long list in pieces
+ * (draw_cairo.h) has drawn is dropped, the text, drawn over all of it at
+ * the end, stays. The layer and blending stay too. Not within a path. */
+void sp_canvas_keep_text(struct sp_canvas *c);
+
 /* Appends src's draw list to dst moved by (dx, dy) px, after a CLIP item
  * that ends any clipping: the cells of a side-by-side frame, each composed
  * on its own canvas, become one list. Text must come from the same font (its

@@ -46,6 +46,23 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d);
 int sp_draw_cairo_raster(const struct sp_draw_cairo_desc *d, int px_w, int px_h,
                          struct sp_image *out);
 
+/* The same in pieces, for a list too long to hold whole (a sweep's
+ * million dots): begin opens the document of d (d->canvas unused), a raster
+ * of px_w x px_h when px_w > 0, and paints the background; shapes draws
+ * every item of c but its text, in order (the caller may then empty c of
+ * them, sp_canvas_keep_text, and go on adding); end draws the rest of c
+ * but its text, then its text over all of it (the text of every piece:
+ * kept to the end, as in one list) and finishes the document, or the raster into *out (out != NULL, freed
+ * by the caller). end with c = NULL abandons the document (nothing more is
+ * said; what was written is the caller's to discard). Each returns 0 or
+ * the first failure, logged once: SP_E_IO, SP_E_NOMEM; SP_E_INPUT from
+ * begin for a bad SOURCE_DATE_EPOCH. */
+struct sp_draw_cairo;
+int sp_draw_cairo_begin(struct sp_draw_cairo **out, const struct sp_draw_cairo_desc *d, int px_w,
+                        int px_h);
+int sp_draw_cairo_shapes(struct sp_draw_cairo *dc, const struct sp_canvas *c);
+int sp_draw_cairo_end(struct sp_draw_cairo **dc, const struct sp_canvas *c, struct sp_image *out);
+
 /* "cairo 1.16.0": the renderer, for provenance. */
 const char *sp_draw_cairo_version(void);
 

@@ -44,10 +44,11 @@ static struct {
     /* text (text.c): laid out once at LAYOUT_PX px per em and drawn scaled */
     struct sp_font *font;
     struct sp_canvas cv; /* the figure's draw list, pt (its font: font) */
+    struct sp_draw_cairo *dc; /* the document it is drawn into, in pieces when long */
     float col[4];       /* the colour of what is added next (straight RGBA) */
     double lwidth;      /* the width of lines added next, pt */
     double pt;          /* the size text is drawn at now, pt */
-    int err;            /* 0, or the first text's failure (logged) */
+    int err;            /* 0, or the first failure of the text or the drawing (logged) */
     char *title_lines;  /* the title wrapped (sp_font_wrap); NULL = none */
     int title_n;        /* its lines */
     double title_pt;    /* its size, pt */
@@ -60,6 +61,10 @@ static struct {
 /* A Lyapunov map's image, pixels a side at most: more than the plot's
  * 720 pt (1440 PNG px) can show, far less than cairo's limit (32767). */
 #define MAP_MAX_PX 2048
+/* Shapes the list holds at most before they are drawn and dropped
+ * (flush_if_long): an orbit diagram's dots grow with --time, its memory
+ * must not. 64 Ki shapes are 2.5 MiB. */
+#define FLUSH_SHAPES 65536
 /* Text is laid out at this em size (px of text.c's layout, each advance
  * rounded to a whole one: 1/200 em) and drawn scaled to its size in pt. */
 #define LAYOUT_PX 200
@@ -148,6 +153,17 @@ static void poly_to(int *pen, double last[2], double x, double y)
     if (*pen)
         line(last[0], last[1], x, y);
     last[0] = x, last[1] = y, *pen = 1;
+}
+
+/* Once the list holds FLUSH_SHAPES shapes, draws all of it but its text
+ * into the document and drops it (the text stays for the end, drawn over
+ * everything as in one list). Outside a path. Failures go to G.err. */
+static void flush_if_long(void)
+{
+    if (G.cv.n_shapes < FLUSH_SHAPES || G.err || G.cv.err)
+        return;
+    G.err = sp_draw_cairo_shapes(G.dc, &G.cv);
+    sp_canvas_keep_text(&G.cv);
 }
 
 /* Clips what is added next to the plot rectangle (NULL: no clipping). */
@@ -787,6 +803,7 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
             set_rgba4(rgb[0], rgb[1], rgb[2], fmax(alpha, 0.5));
         }
         fill_rect(px(&f, XV) - radius, py(&f, YV) - radius, 2 * radius, 2 * radius);
+        flush_if_long();
     }
 #undef XV
 #undef YV
@@ -1163,45 +1180,49 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
         end();
         return ret;
     }
-    /* the figure's draw list, in pt */
-    ret = d.measure == SP_MEASURE_LYAPUNOV || d.measure == SP_MEASURE_PRECESSION
-              ? draw_lyapunov(csv, &d, &pal)
-          : d.measure == SP_MEASURE_SPECTRUM ? draw_spectrum(csv, &d, &pal)
-          : d.measure == SP_MEASURE_BASINS   ? draw_basins(csv, &d, &pal)
-                                             : draw_dots(csv, csv_name, &d, &pal);
+    /* cairo writes front to back: a device or stdout is fine */
+    if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM))) {
+        end();
+        return ret;
+    }
+    const char *ext = strrchr(path, '.');
+    const int png = !strcasecmp(ext, ".png");
+    const double scale = !png ? 0 : G.print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
+    struct sp_draw_cairo_desc dd = {
+        .canvas = &G.cv, .font = G.font, .width = W, .height = H, .page_w = W, .page_h = H,
+        .fd = out.fd, .path = path, .format = !strcasecmp(ext, ".svg") ? SP_FIGURE_SVG : SP_FIGURE_PDF,
+        .scene_file = style ? style->scene_file : NULL, .command = style ? style->command : NULL,
+        .cancel = style ? style->cancel : NULL};
+    memcpy(dd.background, pal.background, sizeof(dd.background));
+    struct sp_image img = {0};
+    /* the figure's draw list, in pt, drawn through the still figures'
+     * backend (in pieces when long: flush_if_long) */
+    ret = sp_draw_cairo_begin(&G.dc, &dd, png ? (int)lround(W * scale) : 0,
+                              png ? (int)lround(H * scale) : 0);
+    if (!ret)
+        ret = d.measure == SP_MEASURE_LYAPUNOV || d.measure == SP_MEASURE_PRECESSION
+                  ? draw_lyapunov(csv, &d, &pal)
+              : d.measure == SP_MEASURE_SPECTRUM ? draw_spectrum(csv, &d, &pal)
+              : d.measure == SP_MEASURE_BASINS   ? draw_basins(csv, &d, &pal)
+                                                 : draw_dots(csv, csv_name, &d, &pal);
     if (!ret && G.err)
-        ret = G.err; /* the text's (logged) */
+        ret = G.err; /* the text's or the drawing's (logged) */
     else if (!ret && G.cv.err) {
         sp_log_error("out of memory for the figure %s's draw list", path);
         ret = G.cv.err;
     }
-    /* cairo writes front to back: a device or stdout is fine */
-    if (!ret && !(ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM))) {
-        const char *ext = strrchr(path, '.');
-        struct sp_draw_cairo_desc dd = {
-            .canvas = &G.cv, .font = G.font, .width = W, .height = H, .page_w = W, .page_h = H,
-            .fd = out.fd, .path = path,
-            .format = !strcasecmp(ext, ".svg") ? SP_FIGURE_SVG : SP_FIGURE_PDF,
-            .scene_file = style ? style->scene_file : NULL,
-            .command = style ? style->command : NULL, .cancel = style ? style->cancel : NULL};
-        memcpy(dd.background, pal.background, sizeof(dd.background));
-        if (!strcasecmp(ext, ".png")) {
-            const double scale = G.print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
-            struct sp_image img;
-            ret = sp_draw_cairo_raster(&dd, (int)lround(W * scale), (int)lround(H * scale), &img);
-            if (!ret && !(style && style->cancel && *style->cancel))
-                ret = write_png(&img, &out, style, G.print ? scale * 72 : 0);
-            sp_image_free(&img);
-        } else {
-            ret = sp_draw_cairo_write(&dd);
-        }
-        if (!ret && style && style->cancel && *style->cancel)
-            ret = SP_E_INTERRUPTED; /* a figure cut short by a stop is not written */
-        if (ret)
-            sp_outfile_discard(&out);
-        else
-            *figure = out; /* the caller commits it after the CSV, or discards it */
-    }
+    const int drawn = sp_draw_cairo_end(&G.dc, ret ? NULL : &G.cv, png ? &img : NULL);
+    if (!ret)
+        ret = drawn;
+    if (!ret && style && style->cancel && *style->cancel)
+        ret = SP_E_INTERRUPTED; /* a figure cut short by a stop is not written */
+    if (!ret && png)
+        ret = write_png(&img, &out, style, G.print ? scale * 72 : 0);
+    sp_image_free(&img);
+    if (ret)
+        sp_outfile_discard(&out);
+    else
+        *figure = out; /* the caller commits it after the CSV, or discards it */
     /* cairo keeps its font faces for the next figure; there is none: give
      * them back (a sanitizer build checks), and the font and list */
     sp_draw_cairo_done();

@@ -16,7 +16,7 @@ import struct
 import subprocess
 import sys
 
-from sptest import done, ok, runner
+from sptest import done, manual, ok, runner
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "paper"))
@@ -359,11 +359,8 @@ if shutil.which("pdftoppm"):
 # Each picture is an 8.6 cm PDF rasterised at 300 dpi (1016 px wide; 8.6 x 8
 # cm: 1016 x 945) and shown 325 CSS px wide (8.6 cm at 96 px per inch), with
 # the command that made it, at that size, after it.
-pages = [os.path.join(root, "README.md")] + sorted(
-    os.path.join(root, "doc", f) for f in os.listdir(os.path.join(root, "doc")) if f.endswith(".md"))
-text = "".join(open(f, encoding="utf-8").read() for f in pages if os.path.isfile(f))
 figs = re.findall(r'<img src="(?:\.\./)?(docs/paper/(\w+)\.png)" width="(\d+)"[^>]*>\s*```sh\n(.*?)```',
-                  text, re.S)
+                  manual(root), re.S)
 ok(len(figs) >= 5, f"the page of figures shows {len(figs)} figures, each followed by its command")
 for path, name, width, cmd in figs:
     w, h, ppm = png_info(os.path.join(root, path))

@@ -264,7 +264,8 @@ void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float 
         *q = src->quads[i];
         q->rect[0] += dx, q->rect[1] += dy, q->rect[2] += dx, q->rect[3] += dy;
     }
-    memcpy(dst->strings + t0, src->strings, (size_t)src->n_strings);
+    if (src->n_strings) /* (none: both may be NULL) */
+        memcpy(dst->strings + t0, src->strings, (size_t)src->n_strings);
     if (src->n_pixels)
         memcpy(dst->pixels + p0, src->pixels, (size_t)src->n_pixels);
     for (int i = 0; i < src->n_items; i++) {

@@ -28,7 +28,8 @@
  * append to the settled one. Both backends draw the accumulated layer, then
  * the shapes in list order, then the text over them. Allocation failures are remembered in `err` and reported once
  * by the caller.
- * Shared with: render (the draw list its backends draw). */
+ * Shared with: render (the draw list its backends draw), sweep (sweep_plot.c
+ * composes its figures on it). */
 #ifndef SPRINGPEND_CANVAS_H
 #define SPRINGPEND_CANVAS_H
 

@@ -281,6 +281,19 @@ for name, sc, grid in (("map.pdf", "chaotic.ini", MAP), ("mosaic.pdf", "chaotic.
     ok(r.returncode == 0 and open(p(name + ".csv"), "rb").read() == open(p("plain.csv"), "rb").read(),
        f"sweep {name}: the CSV's bytes are the same with and without --size")
 
+# One notation per quantity: a rate is dotted (θ̇) in every figure and
+# message, the basins' legend and attractor lines too (they said θ').
+r = run("sweep", scene("parametric.ini"), "--set", "pivot.amplitude=0.01", "--vary",
+        "initial.angle=-180:180:6", "--vary", "initial.angle_rate=-10:10:6", "--measure", "basins",
+        "--transient", "20", "--time", "200", "-o", p("basins.pdf"))
+t = subprocess.run(["pdftotext", "-raw", p("basins.pdf"), "-"], capture_output=True,
+                   text=True).stdout if r.returncode == 0 else ""
+said = r.stdout + r.stderr
+ok(r.returncode == 0 and "θ\u0307 4.13 rad/s" in t and "θ'" not in t and "θ\u0307 4.13 rad/s" in said
+   and "θ'" not in said,
+   f"the basins' legend and attractor lines write θ̇, never θ': "
+   f"{[l for l in t.splitlines() if 'rad/s' in l]} {[l for l in said.splitlines() if 'attractor' in l]}")
+
 # The fonts asked for are the ones a sweep figure embeds, as a still's.
 if sweep("map_noto.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.font=Noto Sans"):
     f = fonts(p("map_noto.pdf"))

@@ -259,10 +259,10 @@ static void label(struct sp_attractor *a)
     else if (a->period < 0)
         snprintf(a->label, sizeof(a->label), "other attractors");
     else if (a->winding)
-        snprintf(a->label, sizeof(a->label), "rotating, period %d, %+d turn%s, θ %.1f°, θ' %.2f rad/s",
+        snprintf(a->label, sizeof(a->label), "rotating, period %d, %+d turn%s, θ %.1f°, θ̇ %.2f rad/s",
                  a->period, a->winding, abs(a->winding) == 1 ? "" : "s", a->theta, a->theta_dot);
     else
-        snprintf(a->label, sizeof(a->label), "period %d, θ %.1f°, θ' %.2f rad/s", a->period,
+        snprintf(a->label, sizeof(a->label), "period %d, θ %.1f°, θ̇ %.2f rad/s", a->period,
                  a->theta, a->theta_dot);
 }
 

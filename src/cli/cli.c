@@ -415,51 +415,6 @@ int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene)
     return sp_scene_load(scene, o->scene_path, o->overrides, o->n_overrides);
 }
 
-int sp_cli_same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino;
-}
-
-int sp_cli_check_writable(const char *path, const char *what)
-{
-    char dir[PATH_MAX];
-    struct stat st;
-    if (sp_outfile_is_stream(path))
-        return 0; /* written through: stdout, a device or a FIFO */
-    if (sp_outfile_refuse_link(path))
-        return SP_E_INPUT;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        sp_log_error("%s %s is a folder; give a file name", what, path);
-        return SP_E_INPUT;
-    }
-    /* The nearest ancestor that exists must be a folder we may write in;
-     * the sink creates the missing ones below it. */
-    snprintf(dir, sizeof(dir), "%s", path);
-    for (;;) {
-        char *slash = strrchr(dir, '/');
-        if (!slash) {
-            snprintf(dir, sizeof(dir), ".");
-            break;
-        }
-        *slash = 0;
-        if (slash == dir)
-            snprintf(dir, sizeof(dir), "/");
-        if (!dir[0] || stat(dir, &st) == 0 || (errno != ENOENT && errno != ENOTDIR))
-            break;
-    }
-    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        sp_log_error("%s %s: %s is not a folder", what, path, dir);
-        return SP_E_INPUT;
-    }
-    if (access(dir, W_OK | X_OK) != 0) {
-        sp_log_error("%s %s: cannot write in folder %s: %s", what, path, dir, strerror(errno));
-        return SP_E_INPUT;
-    }
-    return 0;
-}
-
 int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *ext, char *buf, size_t size)
 {
@@ -467,11 +422,11 @@ int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *sc
         snprintf(buf, size, "%s", o->output);
     else
         snprintf(buf, size, "out/%s%s", scene->name, ext);
-    if (sp_cli_same_file(buf, o->scene_path)) {
+    if (sp_outfile_same_file(buf, o->scene_path)) {
         sp_log_error("output %s is the scene file itself; choose another -o", buf);
         return SP_E_INPUT;
     }
-    return sp_cli_check_writable(buf, "output");
+    return sp_outfile_check_writable(buf, "output");
 }
 
 /* Past this many steps a run is refused: hours of integration. The same

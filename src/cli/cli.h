@@ -2,6 +2,8 @@
 #ifndef SPRINGPEND_CLI_H
 #define SPRINGPEND_CLI_H
 
+#include <signal.h>
+
 #include "springpend/scene.h"
 
 #define SP_CLI_MAX_OVERRIDES 64
@@ -107,14 +109,6 @@ int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);
 int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *ext, char *buf, size_t size);
 
-/* 1 when both paths exist and name the same file (links resolved). */
-int sp_cli_same_file(const char *a, const char *b);
-
-/* Refuses (SP_E_INPUT, with a message) an output path that cannot be
- * written: a folder, or under something that is not a writable folder.
- * Looks only; creates nothing. `what` names the option ("-o"). */
-int sp_cli_check_writable(const char *path, const char *what);
-
 /* The one rule for work that may run for hours: refuses `steps` beyond
  * limit (SP_E_INPUT: "WHAT: about N steps in all; at most LIMIT are
  * allowed: ADVICE"), and beyond note says on stderr (unless quiet) that it
@@ -129,12 +123,15 @@ int sp_cli_work(double steps, double limit, double note, const char *what, const
 int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
                       double t_end, int camera);
 
-int sp_cmd_render(int argc, char **argv);
-int sp_cmd_still(int argc, char **argv);
-int sp_cmd_data(int argc, char **argv);
-int sp_cmd_info(int argc, char **argv);
-int sp_cmd_compare(int argc, char **argv);
-int sp_cmd_sweep(int argc, char **argv);
-int sp_cmd_scene(int argc, char **argv);
+/* The commands. Each parses argv (argv[0] is the command's name) into its
+ * options and runs; cancel is main's stop flag (the signal's number once
+ * one arrived), handed down to what runs long. 0 or SP_E_*. */
+int sp_cmd_render(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_still(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_info(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_compare(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_sweep(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel);
 
 #endif

@@ -16,7 +16,6 @@
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
 #include "springpend/timeline.h"
-#include "base/signals.h"
 #include "sim/sim_report.h"
 
 /* The most rows one run writes, and the size of a typical row, bytes. */
@@ -169,20 +168,21 @@ static int write_row(FILE *fp, const struct sp_sim *sim, double *azimuth, const 
 
 /* Writes the Poincare section's crossings over [0, video.duration] to fp as
  * they are found (the panel's code: sp_history_follow with samples off). */
-static int write_crossings(FILE *fp, const struct sp_scene *sc)
+static int write_crossings(FILE *fp, const struct sp_scene *sc,
+                           const volatile sig_atomic_t *cancel)
 {
     struct sp_sim sim;
     struct sp_history h = {.active = 1, .poincare = 1, .crossings_only = 1};
     int ret = write_names(fp, crossing_columns, N_OF(crossing_columns), 0) ||
               fputc('\n', fp) == EOF ? SP_E_IO : 0;
     sp_sim_init(&sim, sc);
-    sim.cancel = sp_signal_flag();
+    sim.cancel = cancel;
     sim.progress = sp_progress_sim;
     /* in pieces of about 1000 interpolation intervals, memory stays flat */
     const double piece = 1000 * 0.1 / sp_params_omega_max(&sim.p);
     for (double t = 0; !ret && t < sc->video.duration;) {
         t = fmin(sc->video.duration, t + piece);
-        ret = sp_signal_seen() ? SP_E_INTERRUPTED : sp_history_follow(&h, &sim, t);
+        ret = *cancel ? SP_E_INTERRUPTED : sp_history_follow(&h, &sim, t);
         for (int i = 0; i < h.n_crossings && !ret; i++)
             if (fprintf(fp, "%.15g,%.15g,%.15g,%.15g\n", h.crossings[i].t, h.crossings[i].r,
                         h.crossings[i].r_dot, h.crossings[i].theta_dot) < 0)
@@ -200,14 +200,15 @@ static int write_crossings(FILE *fp, const struct sp_scene *sc)
  * only: header = 1) with "scene", and every row has the spatial columns
  * when spatial = 1. */
 static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int poincare,
-                         const char *name, int header, int spatial)
+                         const char *name, int header, int spatial,
+                         const volatile sig_atomic_t *cancel)
 {
     struct sp_sim sim;
     long n;
     if (poincare)
-        return write_crossings(fp, sc);
+        return write_crossings(fp, sc, cancel);
     if (sc->ensemble.count > 1)
-        return sp_ensemble_write_csv(fp, sc, every, sp_signal_flag());
+        return sp_ensemble_write_csv(fp, sc, every, cancel);
     if (every > 0)
         n = (long)floor(sc->video.duration / every * (1 + 1e-12)) + 1;
     else
@@ -220,11 +221,11 @@ static int write_samples(FILE *fp, const struct sp_scene *sc, double every, int 
                     write_names(fp, spatial_columns, N_OF(spatial_columns), 1)) ||
                    fputc('\n', fp) == EOF))
         return SP_E_IO;
-    sim.cancel = sp_signal_flag();
+    sim.cancel = cancel;
     sim.progress = sp_progress_sim;
     for (long k = 0; k < n; k++) {
         double t = every > 0 ? k * every : sp_scene_frame_time(sc, (int)k);
-        int ret = sp_signal_seen() ? SP_E_INTERRUPTED : sp_sim_advance(&sim, t);
+        int ret = *cancel ? SP_E_INTERRUPTED : sp_sim_advance(&sim, t);
         if (ret == SP_E_UNSTABLE)
             sp_sim_explain(&sim);
         if (!ret)
@@ -283,7 +284,7 @@ static int write_metadata(struct sp_outfile *meta, const char *out,
     return sp_csv_metadata_write(meta, out, &m);
 }
 
-int sp_cmd_data(int argc, char **argv)
+int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sp_cli_options o;
     static struct sp_scene scenes[SP_CLI_MAX_SCENES]; /* big: not on the stack */
@@ -386,7 +387,8 @@ int sp_cmd_data(int argc, char **argv)
     sp_progress_begin(!o.quiet && !(to_stdout && isatty(1)), "data", t_end);
     for (int i = 0; !ret && i < o.n_scenes; i++)
         ret = write_samples(fp, &scenes[i], o.every, o.poincare,
-                            o.n_scenes > 1 ? column[i] : NULL, i == 0, spatial && o.n_scenes > 1);
+                            o.n_scenes > 1 ? column[i] : NULL, i == 0, spatial && o.n_scenes > 1,
+                            cancel);
     sp_progress_end();
     int write_errno = errno;
     if (fclose(fp) != 0 && !ret)

@@ -12,7 +12,6 @@
 #include "springpend/compare_report.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
-#include "base/signals.h"
 
 static const char info_usage[] =
     "usage: springpend info SCENE [--json] [--set SECTION.KEY=VAL ...]\n"
@@ -330,9 +329,10 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
     printf("}\n");
 }
 
-static int info_scene(const struct sp_cli_options *o, const struct sp_scene *sc);
+static int info_scene(const struct sp_cli_options *o, const struct sp_scene *sc,
+                      const volatile sig_atomic_t *cancel);
 
-int sp_cmd_info(int argc, char **argv)
+int sp_cmd_info(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sp_cli_options o;
     struct sp_scene sc;
@@ -342,13 +342,14 @@ int sp_cmd_info(int argc, char **argv)
     ret = sp_cli_load_scene(&o, &sc);
     if (ret)
         return ret;
-    ret = info_scene(&o, &sc);
+    ret = info_scene(&o, &sc, cancel);
     sp_scene_free(&sc);
     return ret;
 }
 
 /* info on a loaded scene. */
-static int info_scene(const struct sp_cli_options *op, const struct sp_scene *scene)
+static int info_scene(const struct sp_cli_options *op, const struct sp_scene *scene,
+                      const volatile sig_atomic_t *cancel)
 {
     const struct sp_cli_options o = *op;
     const struct sp_scene sc = *scene; /* shares the timeline: freed by the caller */
@@ -375,7 +376,7 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
     }
     in.driven = sp_advise_drive(&sim.p, &sim.s, &in.drive) == 0;
     if (!sp_method_info(sc.integrator.method)->adaptive) {
-        ret = sp_advise_dt(&sc, sc.video.duration, sp_signal_flag(), &in.dt);
+        ret = sp_advise_dt(&sc, sc.video.duration, cancel, &in.dt);
         if (ret)
             return ret;
         in.margin = in.dt.limit / sc.integrator.dt;
@@ -384,7 +385,7 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
                          (isnan(in.dt.safe) || in.dt.checked < sc.video.duration);
         double checked;
         if (in.dt.pass_bound) {
-            ret = sp_advise_adaptive(&sc, sc.video.duration, sp_signal_flag(), &checked);
+            ret = sp_advise_adaptive(&sc, sc.video.duration, cancel, &checked);
             if (ret == SP_E_INTERRUPTED)
                 return ret;
             if (ret == 0 && checked >= sc.video.duration)

@@ -218,13 +218,13 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
     int ret = check_still_format(out);
     if (ret || !o->state)
         return ret;
-    if (sp_cli_same_file(o->state, o->scene_path) || !strcmp(o->state, out) ||
-        sp_cli_same_file(o->state, out)) {
+    if (sp_outfile_same_file(o->state, o->scene_path) || !strcmp(o->state, out) ||
+        sp_outfile_same_file(o->state, out)) {
         sp_log_error("--state %s would overwrite the scene or the image; choose another path",
                      o->state);
         return SP_E_INPUT;
     }
-    return sp_cli_check_writable(o->state, "--state");
+    return sp_outfile_check_writable(o->state, "--state");
 }
 
 /* Scenes side by side share the first one's frame and text: the keys in
@@ -442,5 +442,16 @@ static int run(int argc, char **argv, int still)
     return ret;
 }
 
-int sp_cmd_render(int argc, char **argv) { return run(argc, argv, 0); }
-int sp_cmd_still(int argc, char **argv) { return run(argc, argv, 1); }
+/* The pipeline owns the signals while it runs (sp_signals_hold): it reads
+ * the flag that main's cancel points to itself. */
+int sp_cmd_render(int argc, char **argv, const volatile sig_atomic_t *cancel)
+{
+    (void)cancel;
+    return run(argc, argv, 0);
+}
+
+int sp_cmd_still(int argc, char **argv, const volatile sig_atomic_t *cancel)
+{
+    (void)cancel;
+    return run(argc, argv, 1);
+}

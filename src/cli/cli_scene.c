@@ -137,9 +137,10 @@ static int scene_of_csv(const char *path, int cell)
     return ret;
 }
 
-int sp_cmd_scene(int argc, char **argv)
+int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     int cell = 0;
+    (void)cancel; /* reads one file: nothing runs long */
     if (argc == 2 && (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help"))) {
         fputs(scene_usage, stdout);
         return 0;

@@ -18,7 +18,6 @@
 #include "base/decimal.h"
 #include "base/digest.h"
 #include <jansson.h>
-#include "base/signals.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/infile.h"
@@ -130,6 +129,7 @@ struct sweep_opts {
     const char **parts;
     int n_parts;
     struct sp_plot_style style; /* --size, --dpi; the scene's [view] once loaded */
+    const volatile sig_atomic_t *cancel; /* main's stop flag */
 };
 
 /* --vary KEY=FROM:TO:COUNT: FROM and TO any decimal numbers here (sp_sweep_check
@@ -350,7 +350,7 @@ static int check_outputs(const struct sweep_opts *o)
             sp_log_error("-o %s: the figure must be .png, .svg or .pdf", o->output);
             return SP_E_INPUT;
         }
-        if (sp_cli_check_writable(o->output, "-o"))
+        if (sp_outfile_check_writable(o->output, "-o"))
             return SP_E_INPUT;
     }
     if (o->csv && sp_outfile_is_stream(o->csv)) { /* outfile's message says CSV may be */
@@ -358,9 +358,9 @@ static int check_outputs(const struct sweep_opts *o)
                      "so --csv must name a regular file", o->csv);
         return SP_E_INPUT;
     }
-    if (o->csv && sp_cli_check_writable(o->csv, "--csv"))
+    if (o->csv && sp_outfile_check_writable(o->csv, "--csv"))
         return SP_E_INPUT;
-    if (o->csv && o->output && sp_cli_same_file(o->csv, o->output)) {
+    if (o->csv && o->output && sp_outfile_same_file(o->csv, o->output)) {
         sp_log_error("--csv and -o name the same file");
         return SP_E_INPUT;
     }
@@ -369,7 +369,7 @@ static int check_outputs(const struct sweep_opts *o)
     for (int i = 0; i < 2; i++)
         for (int k = -1; outs[i][1] && k < (o->merge ? o->n_parts : 0); k++) {
             const char *in = k < 0 ? o->scene : o->parts[k];
-            if (in && sp_cli_same_file(outs[i][1], in)) {
+            if (in && sp_outfile_same_file(outs[i][1], in)) {
                 sp_log_error("%s %s would overwrite an input; choose another path", outs[i][0],
                              outs[i][1]);
                 return SP_E_INPUT;
@@ -556,7 +556,7 @@ static int description_words(FILE *rows, char *buf, size_t size)
  * a shard's rows and SHA-256), both as .parts, the metadata renamed into
  * place first. Folders made go in *made. */
 static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
-                     struct sp_dirs *made)
+                     struct sp_dirs *made, const volatile sig_atomic_t *cancel)
 {
     static char buf[1 << 16];
     char description[1024];
@@ -579,7 +579,7 @@ static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
             lines++;
         for (size_t done = 0; !ret && done < got;) {
             ssize_t w = write(f.fd, buf + done, got - done);
-            if (w < 0 && errno == EINTR && !sp_signal_seen())
+            if (w < 0 && errno == EINTR && !*cancel)
                 continue;
             if (w <= 0) {
                 sp_log_error("cannot write %s: %s", f.path, strerror(errno));
@@ -587,7 +587,7 @@ static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
             }
             done += w > 0 ? (size_t)w : 0;
         }
-        if (!ret && sp_signal_seen())
+        if (!ret && *cancel)
             ret = SP_E_INTERRUPTED;
     }
     if (!ret && ferror(rows)) {
@@ -630,7 +630,7 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
         char *command = sp_command_line_unnamed();
         style.scene_file = ini, style.command = command, style.scene = pv->scene;
-        style.cancel = sp_signal_flag(); /* a signal stops the drawing */
+        style.cancel = o->cancel; /* a signal stops the drawing */
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
         free(ini);
         free(command);
@@ -644,10 +644,10 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
             ret = SP_E_IO;
         }
     }
-    if (!ret && sp_signal_seen()) /* while drawing or merging: nothing written */
+    if (!ret && *o->cancel) /* while drawing or merging: nothing written */
         ret = SP_E_INTERRUPTED;
     if (!ret && o->csv)
-        ret = write_csv(fp, o->csv, pv, &made[0]);
+        ret = write_csv(fp, o->csv, pv, &made[0], o->cancel);
     if (!ret && figure.target)
         ret = sp_outfile_commit(&figure);
     sp_outfile_discard(&figure);
@@ -849,7 +849,7 @@ static int same_sweep(const struct shard *a, const struct shard *b)
  * be drawn without a word. fp is left after the column names.
  * SP_E_INPUT with FILE:LINE, or SP_E_INTERRUPTED. */
 static int check_rows(struct shard *s, const char *columns, const struct sp_sweep_desc *d,
-                      long first, long last)
+                      long first, long last, const volatile sig_atomic_t *cancel)
 {
     char line[1024], hex[65];
     struct sp_sweep_rows r = {.d = d, .first = first, .last = last, .point = -1};
@@ -864,7 +864,7 @@ static int check_rows(struct shard *s, const char *columns, const struct sp_swee
     at = ftell(s->fp);
     while (!wrong && fgets(line, sizeof(line), s->fp)) {
         lineno++;
-        if (lineno % 4096 == 0 && sp_signal_seen())
+        if (lineno % 4096 == 0 && *cancel)
             return SP_E_INTERRUPTED;
         wrong = sp_sweep_row_check(&r, line);
         sha256_update(&sha, strlen(line), (const uint8_t *)line);
@@ -922,7 +922,7 @@ static int merge(const struct sweep_opts *o)
         struct shard *s = &shards[k];
         s->path = o->parts[k];
         if (!(s->fp = open_shard(s->path))) {
-            ret = sp_signal_seen() ? SP_E_INTERRUPTED : SP_E_INPUT;
+            ret = *o->cancel ? SP_E_INTERRUPTED : SP_E_INPUT;
             break;
         }
         if ((ret = read_shard_meta(s)))
@@ -972,7 +972,7 @@ static int merge(const struct sweep_opts *o)
         }
         order[s->i - 1] = s;
         const long points = sp_sweep_points(&d);
-        ret = check_rows(s, columns, &d, points * (s->i - 1) / n, points * s->i / n);
+        ret = check_rows(s, columns, &d, points * (s->i - 1) / n, points * s->i / n, o->cancel);
     }
     FILE *out = NULL;
     struct sp_dirs made[2] = {{0}, {0}};
@@ -1073,7 +1073,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     return 0;
 }
 
-int sp_cmd_sweep(int argc, char **argv)
+int sp_cmd_sweep(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sweep_opts o;
     struct sp_sweep_desc d = {0};
@@ -1081,6 +1081,7 @@ int sp_cmd_sweep(int argc, char **argv)
     int ret = parse_args(argc, argv, &o, &d);
     if (ret)
         return ret > 0 ? 0 : ret;
+    o.cancel = cancel;
     if ((ret = check_outputs(&o)))
         return ret;
     if (o.merge)
@@ -1089,7 +1090,7 @@ int sp_cmd_sweep(int argc, char **argv)
     if ((ret = check_used(&o)) || (ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
     sp_timeline_destroy(&scene.timeline); /* the [timeline] is presentation: sweeps ignore it */
-    d.cancel = sp_signal_flag(); /* a signal stops the run */
+    d.cancel = cancel; /* a signal stops the run */
     ret = sweep_scene(&o, &d, &scene);
     sp_scene_free(&scene);
     return ret;

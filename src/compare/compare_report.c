@@ -11,7 +11,7 @@
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
 #include "base/array.h"
-#include "base/signals.h"
+#include "base/signal_name.h"
 #include "frame/text.h"
 
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)

@@ -476,8 +476,55 @@ static int compare_blocks(const struct sp_image *fe, const struct sp_image *fa,
  * a frame at any rate a video has. */
 #define FRAME_TIME_SLACK 5e-4
 
+/* The rule for the video rule_name names, into *opts and masks (and r's
+ * masks and metric). Returns 1 when nothing is set for it: then the
+ * videos' default rule, block means. */
+static int video_rule(struct compare_run *c, struct sp_compare_record *r, const char *rule_name,
+                      struct sp_compare_opts *opts, struct sp_compare_mask *masks, int *n_masks)
+{
+    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, opts, masks, n_masks);
+    for (int k = 0; k < *n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0]));
+         k++)
+        r->masks[r->n_masks++] = masks[k];
+    r->metric = opts->metric;
+    /* Nothing set for this video: the videos' default rule (block means). */
+    int blocks = !(opts->given & (SP_COMPARE_SET_METRIC | SP_COMPARE_SET_MAX_DIFF |
+                                  SP_COMPARE_SET_MAX_PIXELS | SP_COMPARE_SET_TOL |
+                                  SP_COMPARE_SET_THRESHOLD));
+    if (blocks) {
+        opts->metric = SP_COMPARE_REFTEST;
+        opts->max_diff = SP_COMPARE_VIDEO_BLOCK_DIFF;
+        opts->max_pixels = SP_COMPARE_NONE;
+        r->metric = SP_COMPARE_BLOCKS;
+    }
+    return blocks;
+}
+
+/* Videos of different lengths (the last reads gave ge and ga): counts the
+ * rest of the longer one, so that the error gives both lengths. Returns
+ * record_error's code. */
+static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
+                          struct sp_video_reader *longer, int ge, int ga, const char *expected,
+                          const char *actual)
+{
+    struct sp_image f;
+    double t;
+    int more = 1, rd;
+    while ((rd = sp_video_reader_read(longer, &f, &t)) == 1 && !stopped(c))
+        more++;
+    int ne = r->frames + (ge == 1 ? more : 0), na = r->frames + (ga == 1 ? more : 0);
+    const char *partly = rd < 0 ? "at least " : ""; /* the rest did not decode */
+    int ret = record_error(r, "%s has %s%d frames, %s has %s%d; videos of different lengths "
+                           "never match", expected, ge == 1 ? partly : "", ne, actual,
+                           ga == 1 ? partly : "", na);
+    sp_log_error("%s", r->error);
+    return ret;
+}
+
 /* Compares two videos frame by frame, times included, into record r: the
- * figures are the worst frame's; --diff gets its diff image. */
+ * figures are the worst frame's; --diff gets its diff image. (About 110
+ * lines: one loop whose frame state, the worst frame, its diff and the
+ * timing, is shared by every step; pieces would pass it all around.) */
 static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
                           const char *name, const char *rule_name, const char *expected,
                           const char *actual, const char *diff_path)
@@ -495,20 +542,7 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     snprintf(r->name, sizeof(r->name), "%s", name);
     snprintf(r->expected, sizeof(r->expected), "%s", expected);
     snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, &opts, masks, &n_masks);
-    for (int k = 0; k < n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0])); k++)
-        r->masks[r->n_masks++] = masks[k];
-    r->metric = opts.metric;
-    /* Nothing set for this video: the videos' default rule (block means). */
-    int blocks = !(opts.given & (SP_COMPARE_SET_METRIC | SP_COMPARE_SET_MAX_DIFF |
-                                 SP_COMPARE_SET_MAX_PIXELS | SP_COMPARE_SET_TOL |
-                                 SP_COMPARE_SET_THRESHOLD));
-    if (blocks) {
-        opts.metric = SP_COMPARE_REFTEST;
-        opts.max_diff = SP_COMPARE_VIDEO_BLOCK_DIFF;
-        opts.max_pixels = SP_COMPARE_NONE;
-        r->metric = SP_COMPARE_BLOCKS;
-    }
+    int blocks = video_rule(c, r, rule_name, &opts, masks, &n_masks);
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
         (ret = sp_video_reader_open(&va, actual)) != 0) {
         ret = record_error(r, "cannot read %s", ve ? actual : expected);
@@ -579,19 +613,7 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
         goto done;
     }
     if (ge != ga) {
-        /* Count the rest of the longer one, so the message gives both. */
-        struct sp_video_reader *longer = ge == 1 ? ve : va;
-        struct sp_image f;
-        double t;
-        int more = 1, rd;
-        while ((rd = sp_video_reader_read(longer, &f, &t)) == 1 && !stopped(c))
-            more++;
-        int ne = r->frames + (ge == 1 ? more : 0), na = r->frames + (ga == 1 ? more : 0);
-        const char *partly = rd < 0 ? "at least " : ""; /* the rest did not decode */
-        ret = record_error(r, "%s has %s%d frames, %s has %s%d; videos of different lengths "
-                           "never match", expected, ge == 1 ? partly : "", ne, actual,
-                           ga == 1 ? partly : "", na);
-        sp_log_error("%s", r->error);
+        ret = record_lengths(c, r, ge == 1 ? ve : va, ge, ga, expected, actual);
         goto done;
     }
     if (!r->frames) {

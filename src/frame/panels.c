@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "springpend/common.h"
 #include "springpend/ensemble.h"
 #include "colormap_data.h"
 #include "panels.h"
@@ -352,6 +353,33 @@ static int legend_rows(const struct sp_font *f, const struct sp_rect *r, const c
                 : 0;
 }
 
+/* Refuses [view] xlabel (axis 0) or ylabel (1) as drawn in a panel: text,
+ * width px wide, where the panel has room px for it (said, naming where
+ * the key was set; the canvas's err set to SP_E_INPUT, so the frame fails
+ * and nothing is written). */
+static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, int axis,
+                          const char *text, int width, float room)
+{
+    const char *where = axis ? st->ylabel_where : st->xlabel_where;
+    const char *key = axis ? "ylabel" : "xlabel";
+    const float ss = st->ss > 0 ? (float)st->ss : 1;
+    char at[600];
+    if (!where || !where[0])
+        snprintf(at, sizeof(at), "[view] %s", key);
+    else if (!strncmp(where, "--set ", 6))
+        snprintf(at, sizeof(at), "%s", where);
+    else
+        snprintf(at, sizeof(at), "%s: [view] %s", where, key);
+    if (!c->err)
+        sp_log_error("%s: the %s axis's name \"%s\" cannot fit the %s panel: it is %.0f px "
+                     "wide, and the panel has %.0f px for it%s; allowed: at most %.0f px; shorten "
+                     "it, use a smaller font_size or font_scale, fewer panels or a larger frame",
+                     at, axis ? "y" : "x", text, sp_scene_plot_name(st->order[st->index]),
+                     width / ss, fmaxf(room, 0) / ss, axis ? " beside the panel's title" : "",
+                     fmaxf(room, 0) / ss);
+    c->err = SP_E_INPUT;
+}
+
 /* Lays out a panel in r: background, title, axes with ticks and labels;
  * fills p->area. ylabel/xlabel name the axes with their units. The legend
  * goes in the title row when it fits between the title and the y axis's
@@ -471,6 +499,13 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     /* grid, ticks and labels */
     const float base = p->area.y1 + drop + cap_s + 0.25f * pad;
     const float xl_x0 = xl_below ? p->area.x1 + 2 * pad : p->area.x1 - xl_w;
+    if (label_x && xl_own[0] && !categories) { /* [view] xlabel inside the panel, or refused */
+        const float mid = 0.5f * (p->area.x0 + p->area.x1);
+        const float room = xl_below ? 2 * fminf(mid - r->x0 - pad, r->x1 - pad - mid)
+                                    : p->area.x1 - r->x0 - pad;
+        if ((float)xl_w > room)
+            label_refused(c, st, 0, xlabel, xl_w, room);
+    }
     if (label_x)
         sp_canvas_text(c, SP_TEXT_SMALL, xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
                        xl_below ? base + line_s : base, xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT,
@@ -493,7 +528,11 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
             sp_canvas_text(c, SP_TEXT_SMALL, p->area.x0 - tick - 0.4f * pad, y + 0.5f * cap_s,
                            SP_ALIGN_RIGHT, pal->muted, buf);
     }
-    /* the y axis's name and unit at the right end of the title row */
+    /* the y axis's name and unit at the right end of the title row; [view]
+     * ylabel there, or refused (never dropped as the panel's own may be) */
+    if (!name_fits && yl_own[0])
+        label_refused(c, st, 1, ylabel, sp_font_width(f, SP_TEXT_SMALL, ylabel),
+                      r->x1 - r->x0 - 3 * pad - sp_font_width(f, SP_TEXT_SMALL, bar ? bar + 1 : full));
     if (name_fits)
         sp_canvas_text(c, SP_TEXT_SMALL, r->x1 - pad, r->y0 + pad + cap_n, SP_ALIGN_RIGHT, pal->muted, ylabel);
     /* axes lines: left and bottom */
@@ -1248,29 +1287,54 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
 
 /* ---- colourbar ---- */
 
-float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed, const char *label)
+/* The widest of the n lines one after another in label ("" = the bar's
+ * own name), px. */
+static int colorbar_label_width(const struct sp_font *font, const char *label, int n)
+{
+    int w = 0;
+    if (!label[0])
+        return sp_font_width(font, SP_TEXT_SMALL, SP_COLORBAR_NAME);
+    for (int i = 0; i < n; i++, label += strlen(label) + 1) {
+        const int lw = sp_font_width(font, SP_TEXT_SMALL, label);
+        w = lw > w ? lw : w;
+    }
+    return w;
+}
+
+float sp_colorbar_bar_width(const struct sp_font *font, float unit, double max_speed)
 {
     char buf[32];
     format_tick(buf, sizeof(buf), max_speed, 2);
-    const int w = sp_font_width(font, SP_TEXT_SMALL, buf),
-              t = sp_font_width(font, SP_TEXT_SMALL, label[0] ? label : "|v| (m/s)");
-    return fmaxf(roundf(0.018f * unit) + roundf(0.006f * unit) + (float)w + 4, (float)t);
+    return roundf(0.018f * unit) + roundf(0.006f * unit) +
+           (float)sp_font_width(font, SP_TEXT_SMALL, buf) + 4;
+}
+
+float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed, const char *label,
+                        int n)
+{
+    return fmaxf(sp_colorbar_bar_width(font, unit, max_speed),
+                 (float)colorbar_label_width(font, label, n));
 }
 
 void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap,
-                      double max_speed, const struct sp_palette *pal, float unit, const char *label)
+                      double max_speed, const struct sp_palette *pal, float unit, const char *label,
+                      int n)
 {
     const struct sp_font *f = c->font;
     const float bw = roundf(0.018f * unit), tick = roundf(0.006f * unit);
-    const float cap = (float)sp_font_cap(f, SP_TEXT_SMALL);
-    const float y0 = r->y0 + 1.6f * cap, h = fminf(r->y1 - y0 - cap, 0.4f * unit);
-    const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed, label) - bw - tick);
+    const float cap = (float)sp_font_cap(f, SP_TEXT_SMALL), line = (float)sp_font_line(f, SP_TEXT_SMALL);
+    if (!label[0])
+        label = SP_COLORBAR_NAME, n = 1;
+    const float y0 = r->y0 + 1.6f * cap + (float)(n - 1) * line,
+                h = fminf(r->y1 - y0 - cap, 0.4f * unit);
+    const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed, label, n) - bw - tick);
     enum { STEPS = 64 };
     struct axis a;
     char buf[32];
     float rgb[4] = {0, 0, 0, 1};
-    sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap, SP_ALIGN_LEFT, pal->muted,
-                   label[0] ? label : "|v| (m/s)");
+    for (int i = 0; i < n; i++, label += strlen(label) + 1)
+        sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap + (float)i * line, SP_ALIGN_LEFT,
+                       pal->muted, label);
     for (int i = 0; i < STEPS; i++) { /* fast at the top, like the trail's speed range */
         sp_colormap(colormap, pal->cmap_lo + (pal->cmap_hi - pal->cmap_lo) * (1.0f - (i + 0.5f) / STEPS), rgb);
         sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);

@@ -16,7 +16,7 @@ import struct
 import subprocess
 import sys
 
-from sptest import done, ok, runner
+from sptest import done, manual, ok, runner
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "paper"))
@@ -281,6 +281,28 @@ for name, sc, grid in (("map.pdf", "chaotic.ini", MAP), ("mosaic.pdf", "chaotic.
     ok(r.returncode == 0 and open(p(name + ".csv"), "rb").read() == open(p("plain.csv"), "rb").read(),
        f"sweep {name}: the CSV's bytes are the same with and without --size")
 
+# The fonts asked for are the ones a sweep figure embeds, as a still's.
+if sweep("map_noto.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.font=Noto Sans"):
+    f = fonts(p("map_noto.pdf"))
+    ok(f and all(e for _, e in f) and any("NotoSans" in n for n, _ in f),
+       f"view.font = Noto Sans: the 8.6 cm Lyapunov map embeds Noto Sans: {f}")
+else:
+    ok(False, "sweep --size 8.6cm --set view.font=Noto Sans -o map_noto.pdf")
+
+
+def creator(pdf):
+    out = subprocess.run(["pdfinfo", pdf], capture_output=True, text=True).stdout
+    m = re.search(r"^Creator:\s*(.*)$", out, re.M)
+    return m.group(1).strip() if m else ""
+
+
+# One figure model: a sweep figure is a draw list drawn by the still
+# figures' cairo backend (draw_cairo.c), which signs its documents; the
+# sweep's own cairo code left cairo's default Creator in its PDFs.
+ok(creator(p("map.pdf")).startswith("springpend ") and creator(p("map.pdf")) == creator(p("poincare.pdf")),
+   f"the sweep figure's PDF and the still's come from one backend: Creator "
+   f"{creator(p('map.pdf'))!r} and {creator(p('poincare.pdf'))!r}")
+
 # every style key changes the sweep figure and the still alike: rendered
 # with pdftoppm (150 dpi) against the figure without the key
 def raster(pdf):
@@ -317,10 +339,39 @@ if shutil.which("pdftoppm"):
                   "--set", f"{key}={val}") and raster(p("key_still.pdf"))
         ok(a and b and a != base_sweep[id(grid)] and b != base_still,
            f"{key} = {val} changes the sweep figure and the still")
+    # viridis is chaotic.ini's own colormap: tried against inferno
+    va = sweep("key_sweep.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.theme=light",
+               "--set", "view.colormap=viridis") and raster(p("key_sweep.pdf"))
+    vb = still("key_still.pdf", "chaotic.ini", "--size", "8.6cm", *STILL_KEYS,
+               "--set", "view.colormap=viridis") and raster(p("key_still.pdf"))
+    ia = sweep("key_sweep.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.theme=light",
+               "--set", "view.colormap=inferno") and raster(p("key_sweep.pdf"))
+    ib = still("key_still.pdf", "chaotic.ini", "--size", "8.6cm", *STILL_KEYS,
+               "--set", "view.colormap=inferno") and raster(p("key_still.pdf"))
+    ok(va and vb and ia and ib and va != ia and vb != ib,
+       "view.colormap = viridis (against inferno) changes the sweep figure and the still")
     t = words(p("key_sweep.pdf"))
     if sweep("notitle.pdf", "chaotic.ini", MAP, "--size", "8.6cm", "--set", "view.title="):
         ok("Lyapunov" not in words(p("notitle.pdf")) and "Lyapunov" in words(p("map.pdf")),
            "sweep --set view.title= removes the title")
+
+# ---- the README's page of figures: each at its printed size, with its command ----
+# Each picture is an 8.6 cm PDF rasterised at 300 dpi (1016 px wide; 8.6 x 8
+# cm: 1016 x 945) and shown 325 CSS px wide (8.6 cm at 96 px per inch), with
+# the command that made it, at that size, after it.
+figs = re.findall(r'<img src="(?:\.\./)?(docs/paper/(\w+)\.png)" width="(\d+)"[^>]*>\s*```sh\n(.*?)```',
+                  manual(root), re.S)
+ok(len(figs) >= 5, f"the page of figures shows {len(figs)} figures, each followed by its command")
+for path, name, width, cmd in figs:
+    w, h, ppm = png_info(os.path.join(root, path))
+    size = re.search(r"--size (\S+)", cmd)
+    cm = [float(x) for x in re.findall(r"([\d.]+)cm", size.group(1))] if size else []
+    want_w = round(cm[0] / 2.54 * 300) if cm else -1
+    want_h = round(cm[1] / 2.54 * 300) if len(cm) > 1 else None
+    ok(int(width) == round(8.6 / 2.54 * 96) and cm and cm[0] == 8.6 and abs(w - want_w) <= 1 and
+       (want_h is None or abs(h - want_h) <= 1) and f"-o {name}.pdf" in cmd,
+       f"docs/paper/{name}.png: {w}x{h} px = {size.group(1) if size else '?'} at 300 dpi "
+       f"(expected {want_w} wide), shown {width} px (8.6 cm), made by a command writing {name}.pdf")
 
 # ---- refused: exit 2, the option named, nothing written ----
 BAD = [

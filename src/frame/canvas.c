@@ -10,7 +10,7 @@
 
 void sp_canvas_reset(struct sp_canvas *c)
 {
-    c->n_shapes = c->n_quads = c->n_items = c->n_strings = 0;
+    c->n_shapes = c->n_quads = c->n_items = c->n_strings = c->n_pixels = 0;
     c->layer = SP_LAYER_STATIC;
     c->blend = SP_BLEND_OVER;
     c->in_path = 0;
@@ -23,6 +23,7 @@ void sp_canvas_free(struct sp_canvas *c)
     free(c->quads);
     free(c->items);
     free(c->strings);
+    free(c->pixels);
     *c = (struct sp_canvas){0};
 }
 
@@ -128,23 +129,32 @@ void sp_canvas_rect(struct sp_canvas *c, float x0, float y0, float x1, float y1,
     push(c, x0, ym, x1, ym, hh, SP_SHAPE_BOX, color);
 }
 
+/* Shapes utf8 at size, refusing a character no font has (logged,
+ * c->err). 0 or an SP_E_* code. */
+static int shape_text(struct sp_canvas *c, int size, const char *utf8, struct sp_line *line)
+{
+    int err = sp_font_shape(c->font, size, utf8, line);
+    if (err) /* logged */
+        return c->err = err;
+    if (line->missing) { /* never a silent box */
+        if (sp_font_check(c->font, "text", utf8) == 0)
+            sp_log_error("text \"%s\" has a character no font draws", utf8);
+        return c->err = SP_E_INPUT;
+    }
+    return 0;
+}
+
 int sp_canvas_text(struct sp_canvas *c, int size, float x, float y, enum sp_align align,
                    const float color[4], const char *utf8)
 {
     const int len = (int)strlen(utf8) + 1;
     struct sp_line line;
     struct sp_item *it;
-    int err = sp_font_shape(c->font, size, utf8, &line);
-    if (err) { /* logged */
-        c->err = err;
-        return 0;
-    }
-    if (line.missing) { /* never a silent box */
-        if (sp_font_check(c->font, "text", utf8) == 0)
-            sp_log_error("text \"%s\" has a character no font draws", utf8);
-        c->err = SP_E_INPUT;
+    int err = shape_text(c, size, utf8, &line);
+    if (err == SP_E_INPUT)
         return line.width;
-    }
+    if (err)
+        return 0;
     const int w = line.width;
     if (align == SP_ALIGN_CENTER)
         x -= 0.5f * (float)w;
@@ -172,15 +182,76 @@ int sp_canvas_text(struct sp_canvas *c, int size, float x, float y, enum sp_alig
     return w;
 }
 
+void sp_canvas_text_turned(struct sp_canvas *c, int size, float x, float y, float scale,
+                           float angle, const float color[4], const char *utf8)
+{
+    const int len = (int)strlen(utf8) + 1;
+    struct sp_line line;
+    struct sp_item *it;
+    if (c->err || !utf8[0] || !(scale > 0) || shape_text(c, size, utf8, &line) ||
+        grow(c, (void **)&c->strings, &c->cap_strings, c->n_strings, len, 1) ||
+        !(it = new_item(c, SP_ITEM_TEXT, c->n_quads)))
+        return;
+    it->size = size;
+    it->x = x, it->y = y;
+    it->scale = scale, it->angle = angle;
+    memcpy(it->color, color, sizeof(it->color));
+    it->text = c->n_strings;
+    memcpy(c->strings + c->n_strings, utf8, (size_t)len);
+    c->n_strings += len;
+}
+
+unsigned char *sp_canvas_image(struct sp_canvas *c, float x0, float y0, float x1, float y1,
+                               int w, int h)
+{
+    struct sp_item *it;
+    if (w < 1 || h < 1 || (size_t)w * (size_t)h > (size_t)(INT_MAX - c->n_pixels) / 4) {
+        if (!c->err && w >= 1 && h >= 1) {
+            sp_log_error("an image of %dx%d pixels is too large for the draw list", w, h);
+            c->err = SP_E_NOMEM;
+        }
+        return NULL;
+    }
+    const int bytes = 4 * w * h;
+    if (grow(c, (void **)&c->pixels, &c->cap_pixels, c->n_pixels, bytes, 1) ||
+        !(it = new_item(c, SP_ITEM_IMAGE, c->n_pixels)))
+        return NULL;
+    it->rect[0] = x0, it->rect[1] = y0, it->rect[2] = x1, it->rect[3] = y1;
+    it->iw = w, it->ih = h;
+    c->n_pixels += bytes;
+    return c->pixels + it->first;
+}
+
+void sp_canvas_keep_text(struct sp_canvas *c)
+{
+    const struct sp_item *clip = NULL;
+    int n = 0;
+    for (int i = 0; i < c->n_items; i++)
+        if (c->items[i].kind == SP_ITEM_CLIP)
+            clip = &c->items[i];
+    struct sp_item last_clip = clip ? *clip : (struct sp_item){.kind = SP_ITEM_SHAPES};
+    for (int i = 0; i < c->n_items; i++)
+        if (c->items[i].kind == SP_ITEM_TEXT)
+            c->items[n++] = c->items[i];
+    c->n_items = n;
+    c->n_shapes = c->n_pixels = 0;
+    if (clip) { /* after the text, which it does not clip: the shapes to come */
+        struct sp_item *it = new_item(c, SP_ITEM_CLIP, 0);
+        if (it)
+            *it = last_clip, it->first = 0;
+    }
+}
+
 void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float dx, float dy)
 {
-    const int s0 = dst->n_shapes, q0 = dst->n_quads, t0 = dst->n_strings;
+    const int s0 = dst->n_shapes, q0 = dst->n_quads, t0 = dst->n_strings, p0 = dst->n_pixels;
     if (src->err)
         dst->err = src->err;
     sp_canvas_clip(dst, NULL);
     if (grow(dst, (void **)&dst->shapes, &dst->cap_shapes, s0, src->n_shapes, sizeof(*dst->shapes)) ||
         grow(dst, (void **)&dst->quads, &dst->cap_quads, q0, src->n_quads, sizeof(*dst->quads)) ||
         grow(dst, (void **)&dst->strings, &dst->cap_strings, t0, src->n_strings, 1) ||
+        grow(dst, (void **)&dst->pixels, &dst->cap_pixels, p0, src->n_pixels, 1) ||
         grow(dst, (void **)&dst->items, &dst->cap_items, dst->n_items, src->n_items, sizeof(*dst->items)))
         return;
     for (int i = 0; i < src->n_shapes; i++) {
@@ -193,7 +264,10 @@ void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float 
         *q = src->quads[i];
         q->rect[0] += dx, q->rect[1] += dy, q->rect[2] += dx, q->rect[3] += dy;
     }
-    memcpy(dst->strings + t0, src->strings, (size_t)src->n_strings);
+    if (src->n_strings) /* (none: both may be NULL) */
+        memcpy(dst->strings + t0, src->strings, (size_t)src->n_strings);
+    if (src->n_pixels)
+        memcpy(dst->pixels + p0, src->pixels, (size_t)src->n_pixels);
     for (int i = 0; i < src->n_items; i++) {
         struct sp_item *it = &dst->items[dst->n_items++];
         *it = src->items[i];
@@ -204,6 +278,9 @@ void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float 
         } else if (it->kind == SP_ITEM_CLIP) {
             if (it->clip[2] > it->clip[0])
                 it->clip[0] += dx, it->clip[1] += dy, it->clip[2] += dx, it->clip[3] += dy;
+        } else if (it->kind == SP_ITEM_IMAGE) {
+            it->first += p0;
+            it->rect[0] += dx, it->rect[1] += dy, it->rect[2] += dx, it->rect[3] += dy;
         } else {
             it->first += s0;
         }
@@ -211,4 +288,5 @@ void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float 
     dst->n_shapes += src->n_shapes;
     dst->n_quads += src->n_quads;
     dst->n_strings += src->n_strings;
+    dst->n_pixels += src->n_pixels;
 }

@@ -13,14 +13,23 @@
  *   TEXT    a run of UTF-8 text at a size, pen position and colour (laid
  *           out once on the CPU, text.h; GL draws its glyph quads);
  *   CLIP    the rectangle the shapes after it are clipped to (text is not
- *           clipped), or none.
+ *           clipped), or none;
+ *   IMAGE   a raster of RGBA pixels stretched over a rectangle, each pixel a
+ *           sharp-edged cell (a sweep's map); clipped like shapes.
+ * Text comes in two forms: at one of the font's sizes with its pen on whole
+ * pixels (sp_canvas_text: what both backends draw), or laid out at a size and
+ * drawn at any scale, position and angle (sp_canvas_text_turned: a figure's
+ * type in points, a y axis's name). Images and turned text are drawn by the
+ * cairo backend only (SVG, PDF, and a sweep figure's PNG); the GL backend
+ * refuses a list that has them rather than leave them out.
  * Every item carries a layer (static: the same every frame, e.g. panel
  * frames and axes; settled: a strip chart's past, which only grows;
  * dynamic: the motion) so that a backend may cache the static part and
  * append to the settled one. Both backends draw the accumulated layer, then
  * the shapes in list order, then the text over them. Allocation failures are remembered in `err` and reported once
  * by the caller.
- * Shared with: render (the draw list its backends draw). */
+ * Shared with: render (the draw list its backends draw), sweep (sweep_plot.c
+ * composes its figures on it). */
 #ifndef SPRINGPEND_CANVAS_H
 #define SPRINGPEND_CANVAS_H
 
@@ -46,7 +55,7 @@ struct sp_shape {
 
 enum sp_align { SP_ALIGN_LEFT, SP_ALIGN_CENTER, SP_ALIGN_RIGHT };
 
-enum sp_item_kind { SP_ITEM_SHAPES, SP_ITEM_PATH, SP_ITEM_TEXT, SP_ITEM_CLIP };
+enum sp_item_kind { SP_ITEM_SHAPES, SP_ITEM_PATH, SP_ITEM_TEXT, SP_ITEM_CLIP, SP_ITEM_IMAGE };
 
 enum sp_layer {
     SP_LAYER_STATIC,  /* the same in every frame of a run */
@@ -77,7 +86,8 @@ struct sp_item {
     enum sp_item_kind kind;
     enum sp_layer layer;
     enum sp_blend blend;
-    int first, count; /* shapes (SHAPES, PATH) or glyph quads (TEXT) */
+    int first, count; /* shapes (SHAPES, PATH) or glyph quads (TEXT); IMAGE:
+                         first is the byte offset of its pixels in `pixels` */
     /* PATH only: lanes >= 2 interleaves that many polylines, shape k
      * belonging to lane (k - first) % lanes: the series of one chart drawn
      * point by point (each point's segments in lane order), so that the
@@ -86,9 +96,18 @@ struct sp_item {
     int lanes;
     /* TEXT only: */
     int size;         /* enum sp_text_size */
-    float x, y;       /* pen start and baseline, px (whole pixels) */
+    float x, y;       /* pen start and baseline, px (whole pixels unless turned) */
     float color[4];   /* straight RGBA */
     int text;         /* byte offset of the NUL-terminated UTF-8 in `strings` */
+    float scale;      /* 0: drawn at its size's own px; > 0: turned text, the
+                         size's layout drawn this many times as large (count 0:
+                         it has no glyph quads) */
+    float angle;      /* turned text: its baseline turned about the pen, rad,
+                         clockwise on the y-down page (-pi/2 reads upward) */
+    /* IMAGE only: */
+    float rect[4];    /* x0, y0, x1, y1, px: where the pixels go */
+    int iw, ih;       /* its pixels across and down (RGBA, straight, 4 bytes
+                         each, rows top first) */
     /* CLIP only: */
     float clip[4];    /* x0, y0, x1, y1, px; x1 <= x0 = no clipping */
 };
@@ -102,6 +121,8 @@ struct sp_canvas {
     int n_items, cap_items;
     char *strings;
     int n_strings, cap_strings; /* bytes */
+    unsigned char *pixels;      /* the images' (IMAGE items) */
+    int n_pixels, cap_pixels;   /* bytes */
     const struct sp_font *font;
     enum sp_layer layer; /* given to the items added from now on */
     enum sp_blend blend;
@@ -148,6 +169,12 @@ void sp_canvas_soft(struct sp_canvas *c, float x, float y, float rx, float ry,
 void sp_canvas_rect(struct sp_canvas *c, float x0, float y0, float x1, float y1,
                     const float color[4]);
 
+/* Empties c of everything but its text (items, glyph quads, strings), in
+ * order, keeping its clip: what a backend drawing a long list in pieces
+ * (draw_cairo.h) has drawn is dropped, the text, drawn over all of it at
+ * the end, stays. The layer and blending stay too. Not within a path. */
+void sp_canvas_keep_text(struct sp_canvas *c);
+
 /* Appends src's draw list to dst moved by (dx, dy) px, after a CLIP item
  * that ends any clipping: the cells of a side-by-side frame, each composed
  * on its own canvas, become one list. Text must come from the same font (its
@@ -157,5 +184,21 @@ void sp_canvas_append(struct sp_canvas *dst, const struct sp_canvas *src, float 
 /* Text with its baseline at y, aligned on x; returns its width, px. */
 int sp_canvas_text(struct sp_canvas *c, int size, float x, float y, enum sp_align align,
                    const float color[4], const char *utf8);
+
+/* Turned text (cairo backend only): utf8 laid out at text size `size`,
+ * drawn `scale` times as large (scale > 0) with its pen at (x, y) px, not
+ * rounded, its baseline turned clockwise by angle rad about the pen. A
+ * character no font has is refused (logged; c->err = SP_E_INPUT), never
+ * drawn as a box. */
+void sp_canvas_text_turned(struct sp_canvas *c, int size, float x, float y, float scale,
+                           float angle, const float color[4], const char *utf8);
+
+/* An image of w x h pixels (cairo backend only) stretched over the
+ * rectangle (x0, y0)-(x1, y1) px, each pixel a sharp-edged cell: returns
+ * its pixels for the caller to fill, straight RGBA, 4 bytes each, rows top
+ * first, stride 4 w (valid until the next thing added); NULL when out of
+ * memory (c->err) or w, h < 1. */
+unsigned char *sp_canvas_image(struct sp_canvas *c, float x0, float y0, float x1, float y1,
+                               int w, int h);
 
 #endif

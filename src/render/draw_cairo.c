@@ -1,6 +1,7 @@
 /* springpend (internal): the draw list drawn with cairo into SVG or PDF.
  * See draw_cairo.h. Built into springpend-cairo.so. */
 #include <errno.h>
+#include <stdint.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -145,59 +146,67 @@ static int lanes(cairo_t *cr, const struct sp_shape *s, int n, int lanes)
     return 0;
 }
 
-int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
+/* An IMAGE item: its pixels premultiplied into a cairo image (RGB24 when
+ * every one is opaque, so that a PDF holds no soft mask), stretched over
+ * its rectangle with sharp cells. 0 or SP_E_NOMEM (logged). */
+static int image(cairo_t *cr, const struct sp_canvas *c, const struct sp_item *it)
 {
-    const struct sp_canvas *c = d->canvas;
-    cairo_surface_t *surface;
-    cairo_status_t st;
-    cairo_t *cr;
-    int err = 0;
+    const unsigned char *p = c->pixels + it->first;
+    const size_t n = (size_t)it->iw * (size_t)it->ih;
+    int opaque = 1;
+    for (size_t k = 0; k < n && opaque; k++)
+        opaque = p[4 * k + 3] == 255;
+    cairo_surface_t *img = cairo_image_surface_create(opaque ? CAIRO_FORMAT_RGB24 : CAIRO_FORMAT_ARGB32,
+                                                      it->iw, it->ih);
+    if (cairo_surface_status(img)) {
+        sp_log_error("cannot make an image of %dx%d pixels: %s", it->iw, it->ih,
+                     cairo_status_to_string(cairo_surface_status(img)));
+        cairo_surface_destroy(img);
+        return SP_E_NOMEM;
+    }
+    cairo_surface_flush(img);
+    unsigned char *data = cairo_image_surface_get_data(img);
+    const int stride = cairo_image_surface_get_stride(img);
+    for (int j = 0; j < it->ih; j++)
+        for (int i = 0; i < it->iw; i++) {
+            const unsigned char *q = p + 4 * ((size_t)j * (size_t)it->iw + (size_t)i);
+            const uint32_t a = q[3];
+            uint32_t v = a << 24;
+            for (int k = 0; k < 3; k++)
+                v |= ((q[k] * a + 127) / 255) << (16 - 8 * k);
+            ((uint32_t *)(data + (size_t)j * (size_t)stride))[i] = v;
+        }
+    cairo_surface_mark_dirty(img);
+    cairo_save(cr);
+    cairo_translate(cr, it->rect[0], it->rect[1]);
+    cairo_scale(cr, (it->rect[2] - it->rect[0]) / it->iw, (it->rect[3] - it->rect[1]) / it->ih);
+    cairo_set_source_surface(cr, img, 0, 0);
+    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+    cairo_paint(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(img);
+    return 0;
+}
 
-    char *svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file, d->command) : NULL;
-    struct sp_cairo_fd sink = {.fd = d->fd, .svg_metadata = svg_meta}; /* every write checked */
-    const int paper = d->page_w > 0 && d->page_h > 0;
-    const double pw = paper ? d->page_w : d->width, ph = paper ? d->page_h : d->height;
-    if (d->format == SP_FIGURE_PDF)
-        surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, pw, ph);
-    else
-        surface = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, pw, ph);
-    st = cairo_surface_status(surface);
-    if (st) {
-        sp_log_error("%s: cannot create: %s", d->path, cairo_status_to_string(st));
-        cairo_surface_destroy(surface);
-        free(svg_meta);
-        return SP_E_IO;
-    }
-    if (d->format == SP_FIGURE_PDF) {
-        cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "springpend " SP_VERSION);
-        if (sp_cairo_pdf_date(surface)) {
-            cairo_surface_destroy(surface);
-            return SP_E_INPUT;
-        }
-        sp_cairo_pdf_scene(surface, d->scene_file, d->command);
-        /* the title as messages show it: a file name may hold bytes that
-         * are not UTF-8, controls and noncharacters, which cairo refuses */
-        char *title = d->title ? malloc(4 * strlen(d->title) + 1) : NULL;
-        if (title) {
-            sp_text_shown(d->title, 0, title, 4 * strlen(d->title) + 1);
-            cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, title);
-        }
-        free(title);
-    } else {
-        cairo_svg_surface_set_document_unit(surface, paper ? CAIRO_SVG_UNIT_PT : CAIRO_SVG_UNIT_PX);
-    }
-    cr = cairo_create(surface);
-    if (paper) /* the list's px onto the page's pt */
-        cairo_scale(cr, pw / d->width, ph / d->height);
-    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-    if (d->background[3] > 0) {
-        source(cr, d->background);
-        cairo_paint(cr);
-    }
-    /* the accumulated layer first, then the rest in order */
+/* A document being drawn (draw_cairo.h). */
+struct sp_draw_cairo {
+    struct sp_draw_cairo_desc d;
+    cairo_surface_t *surface;
+    cairo_t *cr;
+    struct sp_cairo_fd sink;
+    char *svg_meta;
+    int px_w, px_h; /* a raster's size; 0: a document */
+    int err;        /* the first failure (logged) */
+};
+
+/* The items of c but its text, on cr (user space: the list's px): the
+ * accumulated layer first, then the rest in order; the clip ends with
+ * them. 0, or SP_E_NOMEM (logged). */
+static int draw_shapes(cairo_t *cr, const struct sp_canvas *c, const volatile sig_atomic_t *cancel)
+{
+    int err = 0;
     for (int pass = 0; pass < 2 && !err; pass++) {
-        for (int i = 0; i < c->n_items && !err && !(d->cancel && *d->cancel); i++) { /* stop */
+        for (int i = 0; i < c->n_items && !err && !(cancel && *cancel); i++) { /* stop */
             const struct sp_item *it = &c->items[i];
             if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
                 continue;
@@ -208,45 +217,214 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
                                     it->clip[3] - it->clip[1]);
                     cairo_clip(cr);
                 }
+            } else if (it->kind == SP_ITEM_IMAGE) {
+                err = image(cr, c, it);
             } else if (it->kind == SP_ITEM_PATH && it->lanes > 1) {
-                if ((err = lanes(cr, c->shapes + it->first, it->count, it->lanes)) != 0)
-                    break;
-            } else if (it->kind == SP_ITEM_PATH)
+                err = lanes(cr, c->shapes + it->first, it->count, it->lanes);
+            } else if (it->kind == SP_ITEM_PATH) {
                 path(cr, c->shapes + it->first, it->count);
-            else if (it->kind == SP_ITEM_SHAPES)
+            } else if (it->kind == SP_ITEM_SHAPES) {
                 for (int k = 0; k < it->count; k++)
                     shape(cr, &c->shapes[it->first + k]);
+            }
         }
     }
     cairo_reset_clip(cr);
-    /* text over everything, as the GL backend draws it */
-    if (d->font && c->n_strings) {
-        struct sp_cairo_faces faces = {0};
-        err = sp_cairo_faces_make(&faces, d->font, cr);
-        for (int i = 0; i < c->n_items && !err; i++) {
-            const struct sp_item *it = &c->items[i];
-            if (it->kind != SP_ITEM_TEXT)
-                continue;
-            source(cr, it->color);
+    return err;
+}
+
+/* The text of c over everything, as the GL backend draws it; a PDF (pdf
+ * not NULL) is told the font files drawn from. 0, or SP_E_NOMEM / SP_E_IO. */
+static int draw_text(cairo_t *cr, const struct sp_canvas *c, const struct sp_font *font,
+                     cairo_surface_t *pdf)
+{
+    int err = 0;
+    if (!font || !c->n_strings)
+        return 0;
+    struct sp_cairo_faces faces = {0};
+    err = sp_cairo_faces_make(&faces, font, cr);
+    for (int i = 0; i < c->n_items && !err; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind != SP_ITEM_TEXT)
+            continue;
+        source(cr, it->color);
+        if (it->scale > 0) { /* turned text: the size's layout, scaled and turned */
+            cairo_save(cr);
+            cairo_translate(cr, it->x, it->y);
+            cairo_rotate(cr, it->angle);
+            cairo_scale(cr, it->scale, it->scale);
+            err = sp_cairo_text_show(cr, &faces, it->size, 0, 0, c->strings + it->text);
+            cairo_restore(cr);
+        } else {
             err = sp_cairo_text_show(cr, &faces, it->size, it->x, it->y, c->strings + it->text);
         }
-        sp_cairo_faces_destroy(&faces);
-        if (d->format == SP_FIGURE_PDF) /* provenance: the font files drawn from */
-            sp_cairo_pdf_fonts(surface, d->font);
     }
-    st = cairo_status(cr);
-    cairo_destroy(cr);
-    cairo_surface_finish(surface);
-    if (!st)
-        st = cairo_surface_status(surface);
-    cairo_surface_destroy(surface);
-    free(svg_meta);
-    if (sink.err && !err) {
-        sp_log_error("%s: cannot write: %s", d->path, strerror(sink.err));
-        err = SP_E_IO;
-    } else if (st && !err) {
-        sp_log_error("%s: cairo failed: %s", d->path, cairo_status_to_string(st));
-        err = st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
-    }
+    sp_cairo_faces_destroy(&faces);
+    if (pdf) /* provenance: the font files drawn from */
+        sp_cairo_pdf_fonts(pdf, font);
     return err;
+}
+
+/* The first failure of cr or the document, logged; 0 when none. */
+static int cairo_err(struct sp_draw_cairo *dc, cairo_status_t st)
+{
+    if (dc->err || !st)
+        return dc->err;
+    if (dc->sink.err)
+        sp_log_error("%s: cannot write: %s", dc->d.path, strerror(dc->sink.err));
+    else
+        sp_log_error("%s: cairo failed: %s", dc->d.path, cairo_status_to_string(st));
+    return dc->err = dc->sink.err ? SP_E_IO : st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
+}
+
+int sp_draw_cairo_begin(struct sp_draw_cairo **out, const struct sp_draw_cairo_desc *d, int px_w,
+                        int px_h)
+{
+    struct sp_draw_cairo *dc = calloc(1, sizeof(*dc));
+    *out = NULL;
+    if (!dc) {
+        sp_log_error("%s: out of memory", d->path);
+        return SP_E_NOMEM;
+    }
+    dc->d = *d;
+    dc->px_w = px_w > 0 ? px_w : 0, dc->px_h = px_w > 0 ? px_h : 0;
+    const int paper = d->page_w > 0 && d->page_h > 0;
+    const double pw = paper ? d->page_w : d->width, ph = paper ? d->page_h : d->height;
+    if (dc->px_w) {
+        dc->surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, px_w, px_h);
+    } else {
+        dc->svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file, d->command) : NULL;
+        dc->sink = (struct sp_cairo_fd){.fd = d->fd, .svg_metadata = dc->svg_meta}; /* every write checked */
+        if (d->format == SP_FIGURE_PDF)
+            dc->surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &dc->sink, pw, ph);
+        else
+            dc->surface = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &dc->sink, pw, ph);
+    }
+    cairo_status_t st = cairo_surface_status(dc->surface);
+    if (st) {
+        if (dc->px_w)
+            sp_log_error("%s: cannot make a %dx%d px image: %s", d->path, px_w, px_h,
+                         cairo_status_to_string(st));
+        else
+            sp_log_error("%s: cannot create: %s", d->path, cairo_status_to_string(st));
+        const int err = dc->px_w && st == CAIRO_STATUS_NO_MEMORY ? SP_E_NOMEM : SP_E_IO;
+        cairo_surface_destroy(dc->surface);
+        free(dc->svg_meta);
+        free(dc);
+        return err;
+    }
+    if (!dc->px_w && d->format == SP_FIGURE_PDF) {
+        cairo_pdf_surface_set_metadata(dc->surface, CAIRO_PDF_METADATA_CREATOR, "springpend " SP_VERSION);
+        if (sp_cairo_pdf_date(dc->surface)) {
+            cairo_surface_destroy(dc->surface);
+            free(dc);
+            return SP_E_INPUT;
+        }
+        sp_cairo_pdf_scene(dc->surface, d->scene_file, d->command);
+        /* the title as messages show it: a file name may hold bytes that
+         * are not UTF-8, controls and noncharacters, which cairo refuses */
+        char *title = d->title ? malloc(4 * strlen(d->title) + 1) : NULL;
+        if (title) {
+            sp_text_shown(d->title, 0, title, 4 * strlen(d->title) + 1);
+            cairo_pdf_surface_set_metadata(dc->surface, CAIRO_PDF_METADATA_TITLE, title);
+        }
+        free(title);
+    } else if (!dc->px_w) {
+        cairo_svg_surface_set_document_unit(dc->surface, paper ? CAIRO_SVG_UNIT_PT : CAIRO_SVG_UNIT_PX);
+    }
+    dc->cr = cairo_create(dc->surface);
+    if (dc->px_w) /* the list's px onto the raster's */
+        cairo_scale(dc->cr, px_w / d->width, px_h / d->height);
+    else if (paper) /* the list's px onto the page's pt */
+        cairo_scale(dc->cr, pw / d->width, ph / d->height);
+    cairo_set_line_cap(dc->cr, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(dc->cr, CAIRO_LINE_JOIN_ROUND);
+    if (d->background[3] > 0) {
+        source(dc->cr, d->background);
+        cairo_paint(dc->cr);
+    }
+    *out = dc;
+    return 0;
+}
+
+int sp_draw_cairo_shapes(struct sp_draw_cairo *dc, const struct sp_canvas *c)
+{
+    if (!dc->err)
+        dc->err = draw_shapes(dc->cr, c, dc->d.cancel);
+    return cairo_err(dc, cairo_status(dc->cr));
+}
+
+int sp_draw_cairo_end(struct sp_draw_cairo **dcp, const struct sp_canvas *c, struct sp_image *out)
+{
+    struct sp_draw_cairo *dc = *dcp;
+    if (out)
+        *out = (struct sp_image){0};
+    if (!dc)
+        return 0;
+    *dcp = NULL;
+    if (c && !dc->err)
+        dc->err = draw_shapes(dc->cr, c, dc->d.cancel);
+    if (c && !dc->err)
+        dc->err = draw_text(dc->cr, c, dc->d.font,
+                            !dc->px_w && dc->d.format == SP_FIGURE_PDF ? dc->surface : NULL);
+    if (c)
+        cairo_err(dc, cairo_status(dc->cr));
+    cairo_destroy(dc->cr);
+    if (c && !dc->err && dc->px_w && out) {
+        cairo_surface_flush(dc->surface);
+        if (!(dc->err = sp_image_alloc(out, dc->px_w, dc->px_h))) {
+            const unsigned char *data = cairo_image_surface_get_data(dc->surface);
+            const int stride = cairo_image_surface_get_stride(dc->surface);
+            for (int y = 0; y < dc->px_h; y++)
+                for (int x = 0; x < dc->px_w; x++) { /* premultiplied native ARGB to straight RGBA */
+                    const uint32_t p = ((const uint32_t *)(data + (size_t)y * (size_t)stride))[x];
+                    const unsigned a = p >> 24;
+                    uint8_t *q = out->pixels + (size_t)y * (size_t)out->stride + 4 * (size_t)x;
+                    for (int k = 0; k < 3; k++) {
+                        const unsigned v = (p >> (16 - 8 * k)) & 255;
+                        q[k] = (uint8_t)(a ? (v * 255 + a / 2) / a : 0);
+                    }
+                    q[3] = (uint8_t)a;
+                }
+        }
+    }
+    cairo_surface_finish(dc->surface); /* a document's last bytes */
+    if (c)
+        cairo_err(dc, cairo_surface_status(dc->surface));
+    if (c && !dc->err && dc->sink.err)
+        cairo_err(dc, CAIRO_STATUS_WRITE_ERROR);
+    cairo_surface_destroy(dc->surface);
+    free(dc->svg_meta);
+    const int err = c ? dc->err : 0;
+    free(dc);
+    return err;
+}
+
+int sp_draw_cairo_raster(const struct sp_draw_cairo_desc *d, int px_w, int px_h,
+                         struct sp_image *out)
+{
+    struct sp_draw_cairo *dc;
+    int err = sp_draw_cairo_begin(&dc, d, px_w, px_h);
+    *out = (struct sp_image){0};
+    err = err ? err : sp_draw_cairo_end(&dc, d->canvas, out);
+    if (err)
+        sp_image_free(out);
+    return err;
+}
+
+int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
+{
+    struct sp_draw_cairo *dc;
+    int err = sp_draw_cairo_begin(&dc, d, 0, 0);
+    return err ? err : sp_draw_cairo_end(&dc, d->canvas, NULL);
+}
+
+const char *sp_draw_cairo_version(void)
+{
+    return "cairo " CAIRO_VERSION_STRING;
+}
+
+void sp_draw_cairo_done(void)
+{
+    cairo_debug_reset_static_data();
 }

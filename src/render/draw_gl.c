@@ -1246,6 +1246,13 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
     const int text = c->n_quads && d->atlas;
     const int kept = d->kept; /* cleared until this frame is drawn */
     d->kept = 0;
+    for (int i = 0; i < c->n_items; i++)
+        if (c->items[i].kind == SP_ITEM_IMAGE ||
+            (c->items[i].kind == SP_ITEM_TEXT && c->items[i].scale > 0)) {
+            sp_log_error("the GL backend draws no images or turned text; a draw list that "
+                         "has them is drawn with cairo (canvas.h)");
+            return SP_E_INPUT;
+        }
     if (text)
         atlas_sync(d);
 

@@ -18,7 +18,8 @@ int sp_draw_gl_make(struct sp_draw_gl **out, const struct sp_gl_api *gl,
                     const struct sp_font *font, int width, int height);
 
 /* Clears to bg (straight RGBA) and draws c; the result is premultiplied.
- * 0 or SP_E_GL (logged). */
+ * 0 or SP_E_GL (logged); SP_E_INPUT (said, nothing drawn) for a list with
+ * images or turned text, which only the cairo backend draws. */
 int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float bg[4]);
 
 /* Turns the static cache on (the default) or off. With it on, the static

@@ -200,56 +200,99 @@ int sp_batch_fast_supported(void)
     return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("fma");
 }
 
-/* rk4_blk undamped and undriven with the tangent, 8 lanes a vector: the same
- * stages with fused multiply-adds, and 1/rho as vrsqrt14pd (14 bits) refined
- * by two Newton steps y (1.5 - 0.5 r2 y^2) (about 53 bits), so that no
- * evaluation waits on the divider (measured here: the correctly rounded
- * sqrt and division of each evaluation alone cap RK4 with tangents at about
- * 170 M trajectory-steps per core-second, 40% of the FP64 peak). Within a
- * few units in the last place of the exact kernel per step. */
-__attribute__((target("avx512f,fma"), noinline)) static void rk4_fast_blk(const struct blk *p,
-                                                                         double u[NC][B],
-                                                                         double h)
+/* rk4_blk undamped and undriven with the tangent, n steps of the whole block
+ * in registers: the block's two 8-lane vectors interleaved (each stage of one
+ * waits on a chain of ~50 cycles of latency that the other's work fills).
+ * Per evaluation, at a stage's (x, y, vx, vy, dx, dy, dvx, dvy):
+ *   r2 = x^2 + y^2, r = 1/rho: vrsqrt14pd (relative error < 2^-14) refined
+ *     by one step of the series 1/sqrt(1 - e) = 1 + e/2 + 3e^2/8 + 5e^3/16
+ *     (e = 1 - r2 r0^2; what it leaves is 35/128 e^4 < 2^-53), so that no
+ *     evaluation waits on the divider (whose correctly rounded sqrt and
+ *     division alone cap RK4 with tangents at about 170 M trajectory-steps
+ *     per core-second here, 40% of the FP64 peak);
+ *   w = (k L0 / m) r = (k / m) q, -c = w - k/m, a = w r^2 = (k L0 / m) / rho^3;
+ *   ax = -c x, ay = -c y - g;
+ *   J d = -c d - a (x dx + y dy) (x, y): the Jacobian times the tangent
+ *     without forming J (11 flops, against 17 through J's three entries).
+ * At the pivot (r2 = 0) w is 0, as rhs_blk's q. The stages combine as
+ * rk4_blk's (k1 + 2 (k2 + k3) + k4, fused). Within a few units in the last
+ * place of the exact kernel per step. Flops the algorithm needs, FMA 2,
+ * 1/rho as 2 (a sqrt and a division): 22 per evaluation, 12 per component
+ * for the stages' combination, so 4 x 22 + 8 x 12 = 184 per step; the
+ * kernel issues 148 FP vector instructions per 8 trajectory-steps (objdump:
+ * 4 x 23 for the evaluations, 8 x 7 for the combination). */
+#define FV (B / 8) /* vectors a block */
+_Static_assert(B % 8 == 0, "the fast kernel steps 8 lanes a vector");
+
+__attribute__((target("avx512f,fma"), always_inline)) static inline void
+fast_rhs(const __m512d v[8], __m512d k[8], __m512d km, __m512d kL, __m512d g)
 {
-    const __m512d h2 = _mm512_set1_pd(0.5 * h), hh = _mm512_set1_pd(h), h6 = _mm512_set1_pd(h / 6);
-    const __m512d one = _mm512_set1_pd(1), two = _mm512_set1_pd(2), half = _mm512_set1_pd(0.5),
-                  three_half = _mm512_set1_pd(1.5), zero = _mm512_setzero_pd();
+    const __m512d one = _mm512_set1_pd(1), half = _mm512_set1_pd(0.5),
+                  e2 = _mm512_set1_pd(0.375), e3 = _mm512_set1_pd(0.3125);
+    const __m512d x = v[0], y = v[1];
+    const __m512d r2 = _mm512_fmadd_pd(x, x, _mm512_mul_pd(y, y));
+    const __m512d r0 = _mm512_rsqrt14_pd(r2);
+    const __m512d e = _mm512_fnmadd_pd(r2, _mm512_mul_pd(r0, r0), one);
+    const __m512d s = _mm512_fmadd_pd(_mm512_fmadd_pd(e3, e, e2), e, half);
+    const __m512d r = _mm512_fmadd_pd(_mm512_mul_pd(r0, e), s, r0);
+    const __m512d w = _mm512_maskz_mul_pd(_mm512_cmp_pd_mask(r2, _mm512_setzero_pd(), _CMP_GT_OQ),
+                                          kL, r);
+    const __m512d mc = _mm512_sub_pd(w, km); /* -c */
+    const __m512d a = _mm512_mul_pd(w, _mm512_mul_pd(r, r));
+    const __m512d as = _mm512_mul_pd(a, _mm512_fmadd_pd(x, v[4], _mm512_mul_pd(y, v[5])));
+    k[0] = v[2], k[1] = v[3];
+    k[2] = _mm512_mul_pd(mc, x);
+    k[3] = _mm512_fmsub_pd(mc, y, g);
+    k[4] = v[6], k[5] = v[7];
+    k[6] = _mm512_fnmadd_pd(as, x, _mm512_mul_pd(mc, v[4]));
+    k[7] = _mm512_fnmadd_pd(as, y, _mm512_mul_pd(mc, v[5]));
+}
+
+__attribute__((target("avx512f,fma"), noinline)) static void rk4_fast_run(const struct blk *p,
+                                                                         double u[NC][B],
+                                                                         double h, long n)
+{
     static const int comp[8] = {SP_BX, SP_BY, SP_BVX, SP_BVY, SP_BDX, SP_BDY, SP_BDVX, SP_BDVY};
-    _Static_assert(B % 8 == 0, "the fast kernel steps 8 lanes a vector");
-    for (int l = 0; l < B; l += 8) {
-        const __m512d km = _mm512_loadu_pd(p->km + l), L0 = _mm512_loadu_pd(p->L0 + l),
-                      g = _mm512_loadu_pd(p->g + l), kl = _mm512_loadu_pd(p->kl + l);
-        __m512d s0[8], k[8], acc[8], v[8];
+    const __m512d h2 = _mm512_set1_pd(0.5 * h), hh = _mm512_set1_pd(h), h6 = _mm512_set1_pd(h / 6),
+                  two = _mm512_set1_pd(2);
+    __m512d km[FV], kL[FV], g[FV], s0[FV][8];
+#pragma GCC unroll 8
+    for (int j = 0; j < FV; j++) {
+        km[j] = _mm512_loadu_pd(p->km + 8 * j);
+        kL[j] = _mm512_mul_pd(km[j], _mm512_loadu_pd(p->L0 + 8 * j));
+        g[j] = _mm512_loadu_pd(p->g + 8 * j);
+#pragma GCC unroll 8
         for (int c = 0; c < 8; c++)
-            v[c] = s0[c] = _mm512_loadu_pd(u[comp[c]] + l);
+            s0[j][c] = _mm512_loadu_pd(u[comp[c]] + 8 * j);
+    }
+    for (long i = 0; i < n; i++) {
+        __m512d v[FV][8], k[FV][8], acc[FV][8];
+#pragma GCC unroll 4
         for (int st = 0; st < 4; st++) {
-            const __m512d x = v[0], y = v[1];
-            const __m512d r2 = _mm512_fmadd_pd(x, x, _mm512_mul_pd(y, y)), hr2 = _mm512_mul_pd(half, r2);
-            __m512d r = _mm512_rsqrt14_pd(r2); /* 1/rho */
-            r = _mm512_mul_pd(r, _mm512_fnmadd_pd(hr2, _mm512_mul_pd(r, r), three_half));
-            r = _mm512_mul_pd(r, _mm512_fnmadd_pd(hr2, _mm512_mul_pd(r, r), three_half));
-            /* q = L0 / rho, 0 at the pivot (as rho > 0 ? L0 / rho : 0) */
-            const __m512d q = _mm512_maskz_mul_pd(_mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ), L0, r);
-            const __m512d cc = _mm512_mul_pd(km, _mm512_sub_pd(one, q));
-            const __m512d a = _mm512_mul_pd(_mm512_mul_pd(kl, q), _mm512_mul_pd(q, q));
-            const __m512d ax = _mm512_mul_pd(a, x), ay = _mm512_mul_pd(a, y), mc = _mm512_sub_pd(zero, cc);
-            const __m512d jxx = _mm512_fnmadd_pd(ax, x, mc), jyy = _mm512_fnmadd_pd(ay, y, mc);
-            const __m512d jxy = _mm512_sub_pd(zero, _mm512_mul_pd(ax, y));
-            k[0] = v[2], k[1] = v[3];
-            k[2] = _mm512_mul_pd(mc, x);
-            k[3] = _mm512_fmsub_pd(mc, y, g);
-            k[4] = v[6], k[5] = v[7];
-            k[6] = _mm512_fmadd_pd(jxx, v[4], _mm512_mul_pd(jxy, v[5]));
-            k[7] = _mm512_fmadd_pd(jxy, v[4], _mm512_mul_pd(jyy, v[5]));
-            for (int c = 0; c < 8; c++) { /* k1 + 2 (k2 + k3) + k4, and the next stage */
-                acc[c] = st == 0 ? k[c] : st < 3 ? _mm512_fmadd_pd(two, k[c], acc[c])
-                                                 : _mm512_add_pd(acc[c], k[c]);
-                v[c] = _mm512_fmadd_pd(st < 2 ? h2 : hh, k[c], s0[c]);
+#pragma GCC unroll 8
+            for (int j = 0; j < FV; j++) {
+                fast_rhs(st ? v[j] : s0[j], k[j], km[j], kL[j], g[j]);
+#pragma GCC unroll 8
+                for (int c = 0; c < 8; c++) {
+                    acc[j][c] = st == 0 ? k[j][c]
+                              : st < 3  ? _mm512_fmadd_pd(two, k[j][c], acc[j][c])
+                                        : _mm512_add_pd(acc[j][c], k[j][c]);
+                    if (st < 3)
+                        v[j][c] = _mm512_fmadd_pd(st < 2 ? h2 : hh, k[j][c], s0[j][c]);
+                }
             }
         }
-        for (int c = 0; c < 8; c++)
-            _mm512_storeu_pd(u[comp[c]] + l, _mm512_fmadd_pd(h6, acc[c], s0[c]));
+#pragma GCC unroll 8
+        for (int j = 0; j < FV; j++)
+#pragma GCC unroll 8
+            for (int c = 0; c < 8; c++)
+                s0[j][c] = _mm512_fmadd_pd(h6, acc[j][c], s0[j][c]);
     }
+#pragma GCC unroll 8
+    for (int j = 0; j < FV; j++)
+#pragma GCC unroll 8
+        for (int c = 0; c < 8; c++)
+            _mm512_storeu_pd(u[comp[c]] + 8 * j, s0[j][c]);
 }
 #else
 int sp_batch_fast_supported(void)
@@ -397,11 +440,20 @@ SPECIALISED void splitting_blk(const struct blk *p, double t, double u[NC][B], d
     }
 }
 
+/* fmax(a, b) as a select, so that a loop with it vectorises (GCC calls libm's
+ * fmax otherwise): a where a >= b or b is NaN, else b. The same value as
+ * fmax wherever the two are not zeros of opposite sign. */
+static inline double max_or_number(double a, double b)
+{
+    return b != b ? a : a >= b ? a : b;
+}
+
 /* sim.c's energy test per lane; marks and poisons the lanes that fail.
- * Branch-free over the lanes (it vectorises); the rare failure is handled
- * after. */
-__attribute__((noinline)) static void check_blk(struct sp_batch *b, int base, double u[NC][B],
-                                                unsigned char *dead, int spatial)
+ * Branch-free over the lanes (it vectorises, in each clone: a fast-kernel
+ * step costs about 16 times less than one check over the block); the rare
+ * failure is handled after. */
+SPECIALISED void check_blk(struct sp_batch *b, int base, double u[NC][B], unsigned char *dead,
+                           const int forced, const int tangent, const int spatial)
 {
     int bad[B], any = 0;
     LANES {
@@ -412,21 +464,21 @@ __attribute__((noinline)) static void check_blk(struct sp_batch *b, int base, do
         double kin = 0.5 * b->mass[i] * (spatial ? vx * vx + vy * vy + vz * vz : vx * vx + vy * vy);
         double spring = 0.5 * b->stiff[i] * stretch * stretch;
         double grav = b->mass[i] * b->g[i] * y;
-        double work = b->forced ? b->mass[i] * u[SP_BW][l] : 0;
+        double work = forced ? b->mass[i] * u[SP_BW][l] : 0;
         double total = kin + spring + grav;
         /* sim.c's scale: the largest the energy of the motion has been (total
          * less the least the scene can hold), never below its rounding */
-        double motion = fmax(total - b->emin[i],
-                             1e-12 * (kin + spring + fabs(grav) + fabs(b->emin[i]) +
-                                      b->stiff[i] * b->L0[i] * b->L0[i]));
-        double scale = fmax(b->escale[i], motion);
+        double motion = max_or_number(total - b->emin[i],
+                                      1e-12 * (kin + spring + fabs(grav) + fabs(b->emin[i]) +
+                                               b->stiff[i] * b->L0[i] * b->L0[i]));
+        double scale = max_or_number(b->escale[i], motion); /* both > 0: no signed zeros */
         double drift = (total - b->e0[i] - work) / scale;
         b->escale[i] = scale;
         /* a NaN anywhere in the state makes the drift or the tangent's sum NaN */
-        double t = b->tangent ? u[SP_BDX][l] + u[SP_BDY][l] + u[SP_BDVX][l] + u[SP_BDVY][l] : 0;
-        if (spatial && b->tangent)
+        double t = tangent ? u[SP_BDX][l] + u[SP_BDY][l] + u[SP_BDVX][l] + u[SP_BDVY][l] : 0;
+        if (spatial && tangent)
             t += u[SP_BDZ][l] + u[SP_BDVZ][l];
-        bad[l] = !(fabs(drift) <= b->drift_limit) | !(t - t == 0);
+        bad[l] = fabs(drift) <= b->drift_limit && t - t == 0 ? 0 : 1;
         any |= bad[l];
     }
     if (!any)
@@ -482,15 +534,21 @@ SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, 
         if (split)
             splitting_blk(&p, (double)n * b->dt, u, b->dt, w, nw, a, f, forced, tangent, spatial);
 #ifdef FAST_KERNEL
-        else if (fast)
-            rk4_fast_blk(&p, u, b->dt);
+        else if (fast) {
+            /* to the next energy check (or n1) in one call */
+            const long m = (n / CHECK_EVERY + 1) * CHECK_EVERY < n1
+                               ? (n / CHECK_EVERY + 1) * CHECK_EVERY - n
+                               : n1 - n;
+            rk4_fast_run(&p, u, b->dt, m);
+            n += m - 1;
+        }
 #endif
         else
             rk4_blk(&p, (double)n * b->dt, u, b->dt, forced, tangent, spatial);
         if ((n + 1) % CHECK_EVERY == 0)
-            check_blk(b, base, u, dead, spatial);
+            check_blk(b, base, u, dead, forced, tangent, spatial);
     }
-    check_blk(b, base, u, dead, spatial);
+    check_blk(b, base, u, dead, forced, tangent, spatial);
     for (int c = 0; c < NC; c++)
         memcpy(b->u[c] + base, u[c], sizeof(u[c]));
     memcpy(b->dead + base, dead, sizeof(dead));
@@ -509,7 +567,7 @@ SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, 
         } else {
             rk4_blk(&p, t1, u, h, forced, tangent, spatial);
         }
-        check_blk(b, base, u, dead, spatial);
+        check_blk(b, base, u, dead, forced, tangent, spatial);
         memcpy(b->dead + base, dead, sizeof(dead));
     }
     for (int c = 0; c < NC; c++)
@@ -630,7 +688,7 @@ SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target
                 rejected[l] = 1;
             }
         }
-        check_blk(b, base, y, dead, spatial);
+        check_blk(b, base, y, dead, forced, tangent, spatial);
         for (int l = 0; l < B; l++)
             if (dead[l])
                 tl[l] = t_target;

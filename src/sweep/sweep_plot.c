@@ -1,15 +1,14 @@
-/* springpend: a sweep's figure, drawn with cairo straight from its CSV (see
- * sweep.h): a Lyapunov map with a colour bar (two keys) or line (one key),
- * an orbit diagram (dots), a Poincare mosaic (dots coloured by orbit). The
+/* springpend: a sweep's figure, composed straight from its CSV (see
+ * sweep.h) on the draw list still figures use (canvas.h) and drawn by the
+ * same cairo backend (draw_cairo.h) into PNG, SVG or PDF: a Lyapunov map
+ * with a colour bar (two keys) or line (one key), an orbit diagram (dots),
+ * a Poincare mosaic (dots coloured by orbit), a spectrum, a basin map. The
  * look is the scene's theme and colormap (panels.c's palette); text is laid
  * out by text.c (HarfBuzz, FriBidi, fontconfig: the [view] font, DejaVu
- * Sans by default, with fallbacks) and drawn as the still figures draw it
- * (cairo_text.h), a title wrapped to the page. Built as springpend-plot.so,
- * loaded on first use, so that cairo costs only the commands that draw.
- * To do: move onto the figures' backend-neutral draw list when it lands. */
-#include <cairo-pdf.h>
-#include <cairo-svg.h>
-#include <cairo.h>
+ * Sans by default, with fallbacks) at LAYOUT_PX and placed on the list as
+ * turned text at its size in pt, a title wrapped to the page. One list
+ * unit is one pt. Built as springpend-plot.so, loaded on first use, so that
+ * cairo costs only the commands that draw. */
 #include <errno.h>
 #include <fontconfig/fontconfig.h>
 #include <math.h>
@@ -17,8 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/cairo_fd.h"
-#include "render/cairo_text.h"
+#include "render/draw_cairo.h"
+#include "frame/canvas.h"
 #include "frame/panels.h"
 #include "frame/text.h"
 #include "springpend/common.h"
@@ -44,9 +43,12 @@ static struct {
                                 legend, marker_size, panel_titles, panel_labels */
     /* text (text.c): laid out once at LAYOUT_PX px per em and drawn scaled */
     struct sp_font *font;
-    struct sp_cairo_faces faces;
+    struct sp_canvas cv; /* the figure's draw list, pt (its font: font) */
+    struct sp_draw_cairo *dc; /* the document it is drawn into, in pieces when long */
+    float col[4];       /* the colour of what is added next (straight RGBA) */
+    double lwidth;      /* the width of lines added next, pt */
     double pt;          /* the size text is drawn at now, pt */
-    int err;            /* 0, or the first text's failure (logged) */
+    int err;            /* 0, or the first failure of the text or the drawing (logged) */
     char *title_lines;  /* the title wrapped (sp_font_wrap); NULL = none */
     int title_n;        /* its lines */
     double title_pt;    /* its size, pt */
@@ -59,6 +61,10 @@ static struct {
 /* A Lyapunov map's image, pixels a side at most: more than the plot's
  * 720 pt (1440 PNG px) can show, far less than cairo's limit (32767). */
 #define MAP_MAX_PX 2048
+/* Shapes the list holds at most before they are drawn and dropped
+ * (flush_if_long): an orbit diagram's dots grow with --time, its memory
+ * must not. 64 Ki shapes are 2.5 MiB. */
+#define FLUSH_SHAPES 65536
 /* Text is laid out at this em size (px of text.c's layout, each advance
  * rounded to a whole one: 1/200 em) and drawn scaled to its size in pt. */
 #define LAYOUT_PX 200
@@ -82,9 +88,93 @@ static double py(const struct frame *f, double y)
     return f->y0 + f->h - (y - f->ylo) / (f->yhi - f->ylo) * f->h;
 }
 
-static void set_rgba(cairo_t *cr, const float c[4])
+/* The colour (straight RGBA) and line width (pt) of what is added next. */
+static void set_rgba(const float c[4])
 {
-    cairo_set_source_rgba(cr, c[0], c[1], c[2], c[3]);
+    memcpy(G.col, c, sizeof(G.col));
+}
+
+static void set_rgba4(double r, double g, double b, double a)
+{
+    G.col[0] = (float)r, G.col[1] = (float)g, G.col[2] = (float)b, G.col[3] = (float)a;
+}
+
+static void set_line_width(double w)
+{
+    G.lwidth = w;
+}
+
+/* A line from a to b in the colour and width set. */
+static void line(double ax, double ay, double bx, double by)
+{
+    sp_canvas_line(&G.cv, (float)ax, (float)ay, (float)bx, (float)by, (float)(0.5 * G.lwidth),
+                   G.col);
+}
+
+/* A filled rectangle in the colour set. */
+static void fill_rect(double x, double y, double w, double h)
+{
+    sp_canvas_rect(&G.cv, (float)x, (float)y, (float)(x + w), (float)(y + h), G.col);
+}
+
+/* A rectangle's outline in the colour and width set: one closed path. */
+static void stroke_rect(double x, double y, double w, double h)
+{
+    sp_canvas_path_begin(&G.cv);
+    line(x, y, x + w, y);
+    line(x + w, y, x + w, y + h);
+    line(x + w, y + h, x, y + h);
+    line(x, y + h, x, y);
+    sp_canvas_path_end(&G.cv);
+}
+
+/* A circle's outline, radius r pt, in the colour and width set: a closed
+ * path of 24 chords (within 1% of r of the circle). */
+static void stroke_ring(double x, double y, double r)
+{
+    sp_canvas_path_begin(&G.cv);
+    for (int k = 0; k < 24; k++)
+        line(x + r * cos(k * M_PI / 12), y + r * sin(k * M_PI / 12),
+             x + r * cos((k + 1) * M_PI / 12), y + r * sin((k + 1) * M_PI / 12));
+    sp_canvas_path_end(&G.cv);
+}
+
+/* A polyline added point by point between sp_canvas_path_begin and _end
+ * (in the colour and width set): *pen says whether (last[0], last[1]) was
+ * its previous point; a point that is not finite breaks it. */
+static void poly_to(int *pen, double last[2], double x, double y)
+{
+    if (!isfinite(x) || !isfinite(y)) {
+        if (*pen)
+            sp_canvas_path_end(&G.cv), sp_canvas_path_begin(&G.cv);
+        *pen = 0;
+        return;
+    }
+    if (*pen)
+        line(last[0], last[1], x, y);
+    last[0] = x, last[1] = y, *pen = 1;
+}
+
+/* Once the list holds FLUSH_SHAPES shapes, draws all of it but its text
+ * into the document and drops it (the text stays for the end, drawn over
+ * everything as in one list). Outside a path. Failures go to G.err. */
+static void flush_if_long(void)
+{
+    if (G.cv.n_shapes < FLUSH_SHAPES || G.err || G.cv.err)
+        return;
+    G.err = sp_draw_cairo_shapes(G.dc, &G.cv);
+    sp_canvas_keep_text(&G.cv);
+}
+
+/* Clips what is added next to the plot rectangle (NULL: no clipping). */
+static void clip_to(const struct frame *f)
+{
+    if (!f) {
+        sp_canvas_clip(&G.cv, NULL);
+        return;
+    }
+    const float r[4] = {(float)f->x0, (float)f->y0, (float)(f->x0 + f->w), (float)(f->y0 + f->h)};
+    sp_canvas_clip(&G.cv, r);
 }
 
 /* Round tick spacing (1, 2, 5 x 10^k) for about n ticks over [lo, hi]. */
@@ -143,12 +233,13 @@ static void label_room(int which, const char *text, double room, const char *whe
     G.err = SP_E_INPUT;
 }
 
-/* Draws s at the current size and source, with the point (x, y) at
+/* Adds s at the current size and colour, with the point (x, y) at
  * fraction ax of its advance across and fraction ay of its capital height
- * down (0: the top of a capital, 1: the baseline), in the user space (a
- * turned one turns the text). A character no font has is refused, never
- * drawn as a box. Failures go to G.err. */
-static void text_at(cairo_t *cr, double x, double y, const char *s, double ax, double ay)
+ * down (0: the top of a capital, 1: the baseline), its baseline turned
+ * clockwise by angle rad about that point (-pi/2 reads upward). A
+ * character no font has is refused, never drawn as a box. Failures go to
+ * G.err. */
+static void text_turned(double x, double y, const char *s, double ax, double ay, double angle)
 {
     struct sp_line l;
     const double k = G.pt / LAYOUT_PX;
@@ -160,11 +251,17 @@ static void text_at(cairo_t *cr, double x, double y, const char *s, double ax, d
         G.err = SP_E_INPUT;
         return;
     }
-    cairo_save(cr);
-    cairo_translate(cr, x - ax * k * l.width, y + (1 - ay) * k * sp_font_cap(G.font, LAYOUT));
-    cairo_scale(cr, k, k);
-    G.err = sp_cairo_text_show(cr, &G.faces, LAYOUT, 0, 0, s);
-    cairo_restore(cr);
+    /* the pen from the anchor, along the baseline and down across it */
+    const double lx = -ax * k * l.width, ly = (1 - ay) * k * sp_font_cap(G.font, LAYOUT);
+    const double c = cos(angle), sn = sin(angle);
+    sp_canvas_text_turned(&G.cv, LAYOUT, (float)(x + lx * c - ly * sn), (float)(y + lx * sn + ly * c),
+                          (float)k, (float)angle, G.col, s);
+}
+
+/* text_turned, level. */
+static void text_at(double x, double y, const char *s, double ax, double ay)
+{
+    text_turned(x, y, s, ax, ay, 0);
 }
 
 static void fmt_tick(char *buf, size_t size, double v, double step)
@@ -217,8 +314,8 @@ static void place(struct frame *f, double right, double print_right)
 }
 
 /* Axes, ticks, grid and labels around the frame. */
-static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palette *pal,
-                      const char *xlabel, const char *ylabel)
+static void draw_axes(const struct frame *f, const struct sp_palette *pal, const char *xlabel,
+                      const char *ylabel)
 {
     char buf[64];
     const int own_x = G.v->xlabel[0] ? 0 : -1, own_y = G.v->ylabel[0] ? 1 : -1;
@@ -229,50 +326,39 @@ static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palett
     font_pt(U(12));
     double sx = tick_step(f->xlo, f->xhi, G.print ? (int)fmax(2, f->w / U(55)) : 8);
     double sy = tick_step(f->ylo, f->yhi, G.print ? (int)fmax(2, f->h / U(45)) : 6);
-    cairo_set_line_width(cr, G.print ? 0.5 * G.lw : G.lw);
+    const double grid_lw = G.print ? 0.5 * G.lw : G.lw;
     for (double v = ceil(f->xlo / sx - 1e-9) * sx; v <= f->xhi + 1e-9 * sx; v += sx) {
         double x = px(f, v);
-        set_rgba(cr, pal->grid);
-        cairo_move_to(cr, x, f->y0), cairo_line_to(cr, x, f->y0 + f->h), cairo_stroke(cr);
-        set_rgba(cr, pal->axis);
-        cairo_set_line_width(cr, G.lw);
-        cairo_move_to(cr, x, f->y0 + f->h), cairo_line_to(cr, x, f->y0 + f->h + G.tick);
-        cairo_stroke(cr);
-        cairo_set_line_width(cr, G.print ? 0.5 * G.lw : G.lw);
+        set_rgba(pal->grid), set_line_width(grid_lw);
+        line(x, f->y0, x, f->y0 + f->h);
+        set_rgba(pal->axis), set_line_width(G.lw);
+        line(x, f->y0 + f->h, x, f->y0 + f->h + G.tick);
         fmt_tick(buf, sizeof(buf), v, sx);
-        set_rgba(cr, pal->muted);
-        text_at(cr, x, f->y0 + f->h + G.tick + U(4), buf, 0.5, 0);
+        set_rgba(pal->muted);
+        text_at(x, f->y0 + f->h + G.tick + U(4), buf, 0.5, 0);
     }
     for (double v = ceil(f->ylo / sy - 1e-9) * sy; v <= f->yhi + 1e-9 * sy; v += sy) {
         double y = py(f, v);
-        set_rgba(cr, pal->grid);
-        cairo_move_to(cr, f->x0, y), cairo_line_to(cr, f->x0 + f->w, y), cairo_stroke(cr);
-        set_rgba(cr, pal->axis);
-        cairo_set_line_width(cr, G.lw);
-        cairo_move_to(cr, f->x0 - G.tick, y), cairo_line_to(cr, f->x0, y), cairo_stroke(cr);
-        cairo_set_line_width(cr, G.print ? 0.5 * G.lw : G.lw);
+        set_rgba(pal->grid), set_line_width(grid_lw);
+        line(f->x0, y, f->x0 + f->w, y);
+        set_rgba(pal->axis), set_line_width(G.lw);
+        line(f->x0 - G.tick, y, f->x0, y);
         fmt_tick(buf, sizeof(buf), v, sy);
-        set_rgba(cr, pal->muted);
-        text_at(cr, f->x0 - G.tick - U(4), y, buf, 1, 0.5);
+        set_rgba(pal->muted);
+        text_at(f->x0 - G.tick - U(4), y, buf, 1, 0.5);
     }
-    set_rgba(cr, pal->axis);
-    cairo_set_line_width(cr, G.lw);
-    cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
-    cairo_stroke(cr);
+    set_rgba(pal->axis), set_line_width(G.lw);
+    stroke_rect(f->x0, f->y0, f->w, f->h);
     font_pt(U(14));
-    set_rgba(cr, pal->text);
+    set_rgba(pal->text);
     /* each name within the plot's side: never off the page or past the
      * colour bar */
     label_room(own_x, xlabel, f->w, "the plot's width");
     label_room(own_y, ylabel, f->h, "the plot's height, along which it is turned");
-    text_at(cr, f->x0 + f->w / 2, f->y0 + f->h + U(30), xlabel, 0.5, 0);
-    cairo_save(cr);
-    /* the y axis's name clear of its widest tick label */
-    cairo_translate(cr, f->x0 - (G.print ? G.tick + U(4) + ylabels_width(f) + U(12) : 58),
-                    f->y0 + f->h / 2);
-    cairo_rotate(cr, -M_PI / 2);
-    text_at(cr, 0, 0, ylabel, 0.5, 0.5);
-    cairo_restore(cr);
+    text_at(f->x0 + f->w / 2, f->y0 + f->h + U(30), xlabel, 0.5, 0);
+    /* the y axis's name clear of its widest tick label, reading upward */
+    text_turned(f->x0 - (G.print ? G.tick + U(4) + ylabels_width(f) + U(12) : 58), f->y0 + f->h / 2,
+                ylabel, 0.5, 0.5, -M_PI / 2);
 }
 
 /* "initial.angle (degrees)" */
@@ -395,33 +481,33 @@ static void title(const struct sp_sweep_desc *d, const char *what, const char *s
                        G.title ? where : "the figure's title");
 }
 
-static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
+static void draw_title(const struct sp_sweep_desc *d, const struct sp_palette *pal,
                        const struct frame *f)
 {
     char buf[256];
     if (G.v->panel_labels) { /* the figure is panel (a) */
         font_pt(U(17));
-        set_rgba(cr, pal->text);
-        text_at(cr, G.print ? U(4) : 10, G.print ? U(6) : 10, G.v->panel_labels == 1 ? "(a)" : "(A)",
+        set_rgba(pal->text);
+        text_at(G.print ? U(4) : 10, G.print ? U(6) : 10, G.v->panel_labels == 1 ? "(a)" : "(A)",
                 0, 0);
     }
     /* the title's lines: a printed figure's centred over the plot (inside
      * the page), the default figure's from the plot's left edge */
     font_pt(G.title_pt);
-    set_rgba(cr, pal->text);
+    set_rgba(pal->text);
     const char *line = G.title_lines;
     for (int i = 0; i < G.title_n; i++, line += strlen(line) + 1) {
         const double w = text_width(line), y = (G.print ? U(6) : 10) + i * G.title_pt * TITLE_LEADING;
         if (G.print)
-            text_at(cr, fmin(fmax(f->x0 + f->w / 2, U(4) + w / 2), W - U(4) - w / 2), y, line,
+            text_at(fmin(fmax(f->x0 + f->w / 2, U(4) + w / 2), W - U(4) - w / 2), y, line,
                     0.5, 0);
         else
-            text_at(cr, 80, y, line, 0, 0);
+            text_at(80, y, line, 0, 0);
     }
     if (G.print || (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
         return; /* [view] title = "" or panel_titles = false: no subtitle either */
     font_pt(12);
-    set_rgba(cr, pal->muted);
+    set_rgba(pal->muted);
     char energy[48] = "", transient[48] = "";
     if (d->measure == SP_MEASURE_POINCARE)
         snprintf(energy, sizeof(energy), "energy %.6g J, ", d->energy);
@@ -439,12 +525,35 @@ static void draw_title(cairo_t *cr, const struct sp_sweep_desc *d, const struct 
         snprintf(sampled, sizeof(sampled), "stroboscopic map (t = k/f) settled by recurrence; ");
     snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s at dt = %g s", sampled, energy, d->time,
              transient, d->method, d->dt);
-    text_at(cr, 80, 34 + title_extra(), buf, 0, 0);
+    text_at(80, 34 + title_extra(), buf, 0, 0);
 }
 
 static void colormap_rgb(const struct sp_sweep_desc *d, double t, float rgb[3])
 {
     sp_colormap(d->colormap, (float)t, rgb);
+}
+
+/* An image pixel (straight RGBA) from an opaque colour, 0..1. */
+static void put_rgb(unsigned char *q, const float rgb[3])
+{
+    for (int k = 0; k < 3; k++)
+        q[k] = (unsigned char)lrintf(fminf(fmaxf(rgb[k], 0), 1) * 255);
+    q[3] = 255;
+}
+
+/* The colormap from t0 to t1 as an image of 128 cells over the rectangle
+ * (x, y, w, h) pt: upward when vertical, else rightward. */
+static void colormap_strip(const struct sp_sweep_desc *d, double x, double y, double w, double h,
+                           int vertical, double t0, double t1)
+{
+    const int n = 128;
+    unsigned char *p = sp_canvas_image(&G.cv, (float)x, (float)y, (float)(x + w), (float)(y + h),
+                                       vertical ? 1 : n, vertical ? n : 1);
+    for (int i = 0; p && i < n; i++) {
+        float rgb[3];
+        colormap_rgb(d, t0 + (t1 - t0) * (i + 0.5) / n, rgb);
+        put_rgb(p + 4 * (vertical ? n - 1 - i : i), rgb);
+    }
 }
 
 /* The room a colour bar (draw_colorbar) takes right of the plot at a
@@ -460,54 +569,42 @@ static double colorbar_room(double lo, double hi)
 /* A colour bar from t0 to t1 of the colormap, ticks lo..hi. By default at
  * (x, y), h tall, its label above; at a printed size right of the plot f,
  * as tall, its label turned along it. */
-static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
+static void draw_colorbar(const struct sp_sweep_desc *d, const struct sp_palette *pal,
                           double x, double y, double h, double lo, double hi, const char *label,
                           const struct frame *pf, double t0, double t1)
 {
-    const int n = 128;
     const double bw = G.print ? U(12) : 18;
     if (G.print)
         x = pf->x0 + pf->w + U(14), y = pf->y0, h = pf->h;
-    for (int i = 0; i < n; i++) {
-        float rgb[3];
-        colormap_rgb(d, t0 + (t1 - t0) * (i + 0.5) / n, rgb);
-        cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
-        cairo_rectangle(cr, x, y + h - (i + 1) * h / n, bw, h / n + 0.5);
-        cairo_fill(cr);
-    }
-    set_rgba(cr, pal->axis);
-    cairo_set_line_width(cr, G.lw);
-    cairo_rectangle(cr, x, y, bw, h);
-    cairo_stroke(cr);
+    colormap_strip(d, x, y, bw, h, 1, t0, t1);
+    set_rgba(pal->axis), set_line_width(G.lw);
+    stroke_rect(x, y, bw, h);
     double step = tick_step(lo, hi, G.print ? (int)fmax(2, h / U(45)) : 6);
     char buf[64];
     font_pt(U(12));
     for (double v = ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * step; v += step) {
         double yy = y + h - (v - lo) / (hi - lo) * h;
-        set_rgba(cr, pal->axis);
-        cairo_move_to(cr, x + bw, yy), cairo_line_to(cr, x + bw + G.tick, yy), cairo_stroke(cr);
+        set_rgba(pal->axis);
+        line(x + bw, yy, x + bw + G.tick, yy);
         fmt_tick(buf, sizeof(buf), v, step);
-        set_rgba(cr, pal->muted);
-        text_at(cr, x + bw + G.tick + U(3), yy, buf, 0, 0.5);
+        set_rgba(pal->muted);
+        text_at(x + bw + G.tick + U(3), yy, buf, 0, 0.5);
     }
     font_pt(U(14));
-    set_rgba(cr, pal->text);
+    set_rgba(pal->text);
     const int own = G.v->colorbar_label[0] ? 2 : -1;
     if (G.v->colorbar_label[0])
         label = G.v->colorbar_label;
     if (!G.print) { /* centred above the bar, clear of the plot on its left */
         const double left = pf->x0 + pf->w + 6, cx = fmax(x + 9, left + 0.5 * text_width(label));
         label_room(own, label, W - 4 - left, "right of the plot, above the bar");
-        text_at(cr, cx, y - 10, label, 0.5, 1);
+        text_at(cx, y - 10, label, 0.5, 1);
         return;
     }
     label_room(own, label, h, "the bar's height, along which it is turned");
     struct frame tf = {0, 0, 1, h, 0, 1, lo, hi}; /* the bar's own ticks */
-    cairo_save(cr);
-    cairo_translate(cr, x + bw + G.tick + U(3) + ylabels_width(&tf) + U(6) + U(7), y + h / 2);
-    cairo_rotate(cr, -M_PI / 2);
-    text_at(cr, 0, 0, label, 0.5, 0.5);
-    cairo_restore(cr);
+    text_turned(x + bw + G.tick + U(3) + ylabels_width(&tf) + U(6) + U(7), y + h / 2, label, 0.5,
+                0.5, -M_PI / 2);
 }
 
 /* The one-number measures, drawn as a line over one key or a map over two:
@@ -524,7 +621,7 @@ static const struct scalar_look {
                                "° per exchange", {"precession per exchange", NULL}},
 };
 
-static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
+static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
                          const struct sp_palette *pal)
 {
     const struct scalar_look *look = &scalar_looks[d->measure];
@@ -557,38 +654,27 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
         fix_range(&f.xlo, &f.xhi);
         title(d, look->title, look->short_title);
         place(&f, 30, U(18));
-        draw_title(cr, d, pal, &f);
-        draw_axes(cr, &f, pal, xl, look->label);
-        cairo_save(cr);
-        cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
-        cairo_clip(cr);
+        draw_title(d, pal, &f);
+        draw_axes(&f, pal, xl, look->label);
+        clip_to(&f);
         for (int pass = look->series[1] ? 0 : 1; pass < 2; pass++) {
             const double *v = pass ? lam : half;
-            set_rgba(cr, pass ? pal->series[1] : pal->muted);
-            cairo_set_line_width(cr, pass ? 1.6 : 1.0);
+            double last[2];
             int pen = 0;
-            for (long i = 0; i < n; i++) {
-                double x = px(&f, sp_sweep_axis_value(ax, (int)i));
-                if (!isfinite(v[i])) {
-                    pen = 0;
-                    continue;
-                }
-                if (pen)
-                    cairo_line_to(cr, x, py(&f, v[i]));
-                else
-                    cairo_move_to(cr, x, py(&f, v[i]));
-                pen = 1;
-            }
-            cairo_stroke(cr);
+            set_rgba(pass ? pal->series[1] : pal->muted), set_line_width(pass ? 1.6 : 1.0);
+            sp_canvas_path_begin(&G.cv);
+            for (long i = 0; i < n; i++)
+                poly_to(&pen, last, px(&f, sp_sweep_axis_value(ax, (int)i)), py(&f, v[i]));
+            sp_canvas_path_end(&G.cv);
         }
-        cairo_restore(cr);
+        clip_to(NULL);
         font_pt(U(12));
-        set_rgba(cr, pal->series[1]);
+        set_rgba(pal->series[1]);
         if (!G.v->legend)
-            text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8), look->series[0], 1, 0);
-        set_rgba(cr, pal->muted);
+            text_at(f.x0 + f.w - U(8), f.y0 + U(8), look->series[0], 1, 0);
+        set_rgba(pal->muted);
         if (!G.v->legend && look->series[1])
-            text_at(cr, f.x0 + f.w - U(8), f.y0 + U(24), look->series[1], 1, 0);
+            text_at(f.x0 + f.w - U(8), f.y0 + U(24), look->series[1], 1, 0);
     } else {
         /* cells centred on the grid values */
         double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
@@ -597,23 +683,19 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
                           ay->from - dy / 2, ay->to + dy / 2};
         title(d, look->title, look->short_title);
         place(&f, 120, colorbar_room(lo, hi));
-        draw_title(cr, d, pal, &f);
+        draw_title(d, pal, &f);
         /* one image pixel per grid point up to MAP_MAX_PX a side (cairo
          * makes none wider than 32767); beyond, each pixel is the mean of
          * the finite values of its block of points */
         const int iw = ax->count < MAP_MAX_PX ? ax->count : MAP_MAX_PX;
         const int ih = ay->count < MAP_MAX_PX ? ay->count : MAP_MAX_PX;
-        cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, iw, ih);
-        if (cairo_surface_status(img)) {
-            sp_log_error("cannot make the map's %dx%d image: %s", iw, ih,
-                         cairo_status_to_string(cairo_surface_status(img)));
-            cairo_surface_destroy(img);
+        unsigned char *data = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
+                                              (float)(f.y0 + f.h), iw, ih);
+        if (!data) {
+            sp_log_error("cannot make the map's %dx%d image", iw, ih);
             free(lam), free(half);
             return SP_E_NOMEM;
         }
-        unsigned char *data = cairo_image_surface_get_data(img);
-        int stride = cairo_image_surface_get_stride(img);
-        cairo_surface_flush(img);
         for (int j = 0; j < ih; j++)
             for (int i = 0; i < iw; i++) {
                 const long x0 = (long)i * ax->count / iw, x1 = (long)(i + 1) * ax->count / iw;
@@ -627,22 +709,11 @@ static int draw_lyapunov(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
                 float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
                 if (got)
                     colormap_rgb(d, (sum / (double)got - lo) / (hi - lo), rgb);
-                uint32_t *px32 = (uint32_t *)(data + (size_t)(ih - 1 - j) * (size_t)stride) + i;
-                *px32 = (uint32_t)lrintf(rgb[0] * 255) << 16 |
-                        (uint32_t)lrintf(rgb[1] * 255) << 8 | (uint32_t)lrintf(rgb[2] * 255);
+                put_rgb(data + 4 * ((size_t)(ih - 1 - j) * (size_t)iw + (size_t)i), rgb);
             }
-        cairo_surface_mark_dirty(img);
-        cairo_save(cr);
-        cairo_translate(cr, f.x0, f.y0);
-        cairo_scale(cr, f.w / iw, f.h / ih);
-        cairo_set_source_surface(cr, img, 0, 0);
-        cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
-        cairo_paint(cr);
-        cairo_restore(cr);
-        cairo_surface_destroy(img);
         key_label(yl, sizeof(yl), ay->key);
-        draw_axes(cr, &f, pal, xl, yl);
-        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, look->bar, &f, 0, 1);
+        draw_axes(&f, pal, xl, yl);
+        draw_colorbar(d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, look->bar, &f, 0, 1);
     }
     free(lam), free(half);
     return 0;
@@ -664,7 +735,7 @@ static void peak_colour(const struct sp_palette *pal, const float *c, float out[
 }
 
 /* What an orbit diagram with --continue or --peak samples, in the corner. */
-static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struct sp_palette *pal,
+static void orbit_legend(const struct sp_sweep_desc *d, const struct sp_palette *pal,
                          const struct frame *f)
 {
     const char *q = d->peak == SP_PEAK_R ? "r" : "θ";
@@ -673,37 +744,36 @@ static void orbit_legend(cairo_t *cr, const struct sp_sweep_desc *d, const struc
     int lines = (d->cont == SP_CONTINUE_BOTH ? 2 : 1) * (d->peak ? 2 : 1) + (d->cont != 0);
     font_pt(U(12));
     const double bw = G.print ? fmin(text_width("each value starts from the last one's state") + U(16), f->w - U(2)) : 288;
-    cairo_set_source_rgba(cr, pal->background[0], pal->background[1], pal->background[2], 0.85);
-    cairo_rectangle(cr, f->x0 + f->w - bw - U(2), f->y0 + U(2), bw, U(16) * lines + U(10));
-    cairo_fill(cr);
+    set_rgba4(pal->background[0], pal->background[1], pal->background[2], 0.85);
+    fill_rect(f->x0 + f->w - bw - U(2), f->y0 + U(2), bw, U(16) * lines + U(10));
     for (int br = 1; br >= -1; br -= 2) {
         if (d->cont != SP_CONTINUE_BOTH && br != (d->cont == SP_CONTINUE_DOWN ? -1 : 1))
             continue;
         const float *c = branch_colour(pal, br);
         snprintf(buf, sizeof(buf), "%s%s at t = k/f", !d->cont ? "" : br > 0 ? "up: " : "down: ",
                  q);
-        set_rgba(cr, c);
-        text_at(cr, f->x0 + f->w - U(8), y, buf, 1, 0);
+        set_rgba(c);
+        text_at(f->x0 + f->w - U(8), y, buf, 1, 0);
         y += U(16);
         if (d->peak) {
             float light[4];
             peak_colour(pal, c, light);
-            set_rgba(cr, light);
+            set_rgba(light);
             snprintf(buf, sizeof(buf), "○ largest %s%s%s over each period",
                      d->peak == SP_PEAK_R ? "" : "|", q, d->peak == SP_PEAK_R ? "" : "|");
-            text_at(cr, f->x0 + f->w - U(8), y, buf, 1, 0);
+            text_at(f->x0 + f->w - U(8), y, buf, 1, 0);
             y += U(16);
         }
     }
     if (d->cont) {
-        set_rgba(cr, pal->muted);
-        text_at(cr, f->x0 + f->w - U(8), y, "each value starts from the last one's state", 1, 0);
+        set_rgba(pal->muted);
+        text_at(f->x0 + f->w - U(8), y, "each value starts from the last one's state", 1, 0);
     }
 }
 
 /* Orbit diagram and Poincare mosaic: two passes over the rows, for the range
  * and for the dots. */
-static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_desc *d,
+static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
                      const struct sp_palette *pal)
 {
     const int orbit = d->measure == SP_MEASURE_ORBIT;
@@ -737,15 +807,13 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
                                  : "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit",
                orbit ? "orbit diagram" : "Poincaré sections");
     place(&f, 30, orbit ? U(18) : colorbar_room(d->axis[0].from, d->axis[0].to));
-    draw_title(cr, d, pal, &f);
-    draw_axes(cr, &f, pal, orbit ? xl : "r (m)",
+    draw_title(d, pal, &f);
+    draw_axes(&f, pal, orbit ? xl : "r (m)",
               orbit ? (d->driven && d->peak != SP_PEAK_R ? "θ (degrees)" : "r (m)")
                     : "ṙ (m/s)");
     if (to_rows(fp, name, d))
         return SP_E_INPUT;
-    cairo_save(cr);
-    cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
-    cairo_clip(cr);
+    clip_to(&f);
     /* dots fade with their number, so dense regions read as density */
     double radius = G.v->marker_size > 0 ? 0.5 * G.v->marker_size : ext ? 1.1 : orbit ? 0.7 : 0.9;
     double alpha = fmin(0.9, fmax(0.15, 3e4 / (double)(dots + 1)));
@@ -757,54 +825,44 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
             if (d->peak && isfinite(r.v[4])) { /* the period's peak: a light ring */
                 float light[4];
                 peak_colour(pal, c, light);
-                set_rgba(cr, light);
-                cairo_set_line_width(cr, 0.7);
-                cairo_new_sub_path(cr);
-                cairo_arc(cr, px(&f, XV), py(&f, r.v[4]), 1.8, 0, 2 * M_PI);
-                cairo_stroke(cr);
+                set_rgba(light), set_line_width(0.7);
+                stroke_ring(px(&f, XV), py(&f, r.v[4]), 1.8);
             }
-            cairo_set_source_rgba(cr, c[0], c[1], c[2], alpha);
+            set_rgba4(c[0], c[1], c[2], alpha);
         } else if (orbit) {
-            cairo_set_source_rgba(cr, pal->series[1][0], pal->series[1][1], pal->series[1][2],
-                                  alpha);
+            set_rgba4(pal->series[1][0], pal->series[1][1], pal->series[1][2], alpha);
         } else {
             float rgb[3];
             colormap_rgb(d, 0.1 + 0.85 * (n > 1 ? (double)r.point / (n - 1) : 0.5), rgb);
-            cairo_set_source_rgba(cr, rgb[0], rgb[1], rgb[2], fmax(alpha, 0.5));
+            set_rgba4(rgb[0], rgb[1], rgb[2], fmax(alpha, 0.5));
         }
-        cairo_rectangle(cr, px(&f, XV) - radius, py(&f, YV) - radius, 2 * radius, 2 * radius);
-        cairo_fill(cr);
+        fill_rect(px(&f, XV) - radius, py(&f, YV) - radius, 2 * radius, 2 * radius);
+        flush_if_long();
     }
 #undef XV
 #undef YV
-    cairo_restore(cr);
+    clip_to(NULL);
     if (ext && !G.v->legend) /* over the dots */
-        orbit_legend(cr, d, pal, &f);
+        orbit_legend(d, pal, &f);
     if (!orbit && G.print) { /* which colour is which start: a colour bar */
         double lo = d->axis[0].from, hi = d->axis[0].to;
         fix_range(&lo, &hi);
-        draw_colorbar(cr, d, pal, 0, 0, 0, lo, hi, xl, &f, 0.1, 0.95);
+        draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, &f, 0.1, 0.95);
     } else if (!orbit) {
         /* which colour is which start: a small gradient over the first key */
         const double x0 = W - 250, y0 = 22, w = 150;
-        for (int i = 0; i < 64; i++) {
-            float rgb[3];
-            colormap_rgb(d, 0.1 + 0.85 * (i + 0.5) / 64, rgb);
-            cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
-            cairo_rectangle(cr, x0 + i * w / 64, y0, w / 64 + 0.3, 10);
-            cairo_fill(cr);
-        }
+        colormap_strip(d, x0, y0, w, 10, 0, 0.1, 0.95);
         char buf[64];
         font_pt(11);
-        set_rgba(cr, pal->muted);
+        set_rgba(pal->muted);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
-        text_at(cr, x0 - 5, y0 + 5, buf, 1, 0.5);
+        text_at(x0 - 5, y0 + 5, buf, 1, 0.5);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
-        text_at(cr, x0 + w + 5, y0 + 5, buf, 0, 0.5);
+        text_at(x0 + w + 5, y0 + 5, buf, 0, 0.5);
         if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
             label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
                        "over the colour gradient at the top right");
-        text_at(cr, x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
+        text_at(x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
     }
     return 0;
 }
@@ -814,7 +872,7 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
 /* One point: each lambda_j against T (log T axis), the convergence figure;
  * one key: the final four against it; two keys: a map of lambda_1 with the
  * lyapunov map's look. */
-static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
+static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
                          const struct sp_palette *pal)
 {
     const long n = sp_sweep_points(d);
@@ -864,22 +922,25 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
                           ay->from - dy / 2, ay->to + dy / 2};
         title(d, "Lyapunov spectrum", "Lyapunov spectrum");
         place(&f, 120, colorbar_room(lo, hi));
-        draw_title(cr, d, pal, &f);
+        draw_title(d, pal, &f);
+        /* one image pixel per grid point; a point without a row is clear */
+        unsigned char *img = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
+                                             (float)(f.y0 + f.h), ax->count, ay->count);
+        if (!img)
+            goto nomem;
+        memset(img, 0, 4 * (size_t)ax->count * (size_t)ay->count);
         for (long i = 0; i < m; i++) {
             int idx[SP_SWEEP_MAX_AXES];
             sp_sweep_point_index(d, (long)x[i], idx);
             float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
             if (isfinite(y[i][0]))
                 colormap_rgb(d, (y[i][0] - lo) / (hi - lo), rgb);
-            cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
-            double cx = px(&f, sp_sweep_axis_value(ax, idx[0]) - dx / 2);
-            double cy = py(&f, sp_sweep_axis_value(ay, idx[1]) + dy / 2);
-            cairo_rectangle(cr, cx, cy, f.w / ax->count + 0.3, f.h / ay->count + 0.3);
-            cairo_fill(cr);
+            put_rgb(img + 4 * ((size_t)(ay->count - 1 - idx[1]) * (size_t)ax->count + (size_t)idx[0]),
+                    rgb);
         }
         key_label(yl, sizeof(yl), ay->key);
-        draw_axes(cr, &f, pal, xl, yl);
-        draw_colorbar(cr, d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)", &f, 0, 1);
+        draw_axes(&f, pal, xl, yl);
+        draw_colorbar(d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)", &f, 0, 1);
         goto done;
     }
     double pad = 0.06 * (hi - lo);
@@ -894,50 +955,39 @@ static int draw_spectrum(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     title(d, conv ? "Lyapunov spectrum: running values against T"
                                 : "Lyapunov spectrum", "Lyapunov spectrum");
     place(&f, 30, U(18));
-    draw_title(cr, d, pal, &f);
-    draw_axes(cr, &f, pal, conv ? "log10 T (s)" : xl, "λ (1/s)");
+    draw_title(d, pal, &f);
+    draw_axes(&f, pal, conv ? "log10 T (s)" : xl, "λ (1/s)");
     /* zero, where lambda_2 and lambda_3 of a free orbit belong */
-    set_rgba(cr, pal->axis);
-    cairo_set_line_width(cr, 0.8);
-    cairo_move_to(cr, f.x0, py(&f, 0)), cairo_line_to(cr, f.x0 + f.w, py(&f, 0));
-    cairo_stroke(cr);
-    cairo_save(cr);
-    cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
-    cairo_clip(cr);
+    set_rgba(pal->axis), set_line_width(0.8);
+    line(f.x0, py(&f, 0), f.x0 + f.w, py(&f, 0));
+    clip_to(&f);
     static const int colour[4] = {1, 2, 3, 0};
     for (int j = 0; j < 4; j++) {
-        set_rgba(cr, pal->series[colour[j]]);
-        cairo_set_line_width(cr, 1.6);
+        double last[2];
         int pen = 0;
+        set_rgba(pal->series[colour[j]]), set_line_width(1.6);
+        sp_canvas_path_begin(&G.cv);
         for (long i = 0; i < m; i++) {
             double xv = conv ? log10(x[i]) : sp_sweep_axis_value(&d->axis[0], (int)x[i]);
-            if (!isfinite(y[i][j])) {
-                pen = 0;
-                continue;
-            }
-            if (pen)
-                cairo_line_to(cr, px(&f, xv), py(&f, y[i][j]));
-            else
-                cairo_move_to(cr, px(&f, xv), py(&f, y[i][j]));
-            pen = 1;
+            poly_to(&pen, last, px(&f, xv), py(&f, y[i][j]));
         }
-        cairo_stroke(cr);
+        sp_canvas_path_end(&G.cv);
     }
-    cairo_restore(cr);
+    clip_to(NULL);
     font_pt(U(12));
     for (int j = 0; j < 4 && !G.v->legend; j++) {
-        set_rgba(cr, pal->series[colour[j]]);
+        set_rgba(pal->series[colour[j]]);
         if (conv && m)
             snprintf(buf, sizeof(buf), "λ%d = %.4f 1/s", j + 1, y[m - 1][j]);
         else
             snprintf(buf, sizeof(buf), "λ%d", j + 1);
-        text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8 + 16 * j), buf, 1, 0);
+        text_at(f.x0 + f.w - U(8), f.y0 + U(8 + 16 * j), buf, 1, 0);
     }
     if (conv && m && !G.v->legend) {
-        set_rgba(cr, pal->muted);
+        set_rgba(pal->muted);
         snprintf(buf, sizeof(buf), "sum %.3g 1/s, Kaplan-Yorke dimension %.3f",
                  y[m - 1][0] + y[m - 1][1] + y[m - 1][2] + y[m - 1][3], y[m - 1][4]);
-        text_at(cr, f.x0 + f.w - U(8), f.y0 + U(8 + 16 * 4), buf, 1, 0);
+        text_at(f.x0 + f.w - U(8), f.y0 + U(8 + 16 * 4), buf, 1, 0);
     }
 done:
     free(x), free(y);
@@ -952,7 +1002,7 @@ nomem:
 
 /* The map, one colour per attractor (the colormap's spread for periodic
  * ones, grey for undecided), and the legend with each basin's fraction. */
-static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
+static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
                        const struct sp_palette *pal)
 {
     struct sp_basin_map map;
@@ -984,30 +1034,24 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
                       ay->from - dy / 2, ay->to + dy / 2};
     title(d, "basins of attraction", "basins of attraction");
     place(&f, 300, U(300));
-    draw_title(cr, d, pal, &f);
-    cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, ax->count, ay->count);
-    unsigned char *data = cairo_image_surface_get_data(img);
-    int stride = cairo_image_surface_get_stride(img);
-    cairo_surface_flush(img);
+    draw_title(d, pal, &f);
+    /* one image pixel per grid point, black where the orbit blew up */
+    unsigned char *data = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
+                                          (float)(f.y0 + f.h), ax->count, ay->count);
+    if (!data) {
+        sp_log_error("cannot make the basins' %dx%d image", ax->count, ay->count);
+        sp_basins_free(&map);
+        return SP_E_NOMEM;
+    }
+    memset(data, 0, 4 * (size_t)ax->count * (size_t)ay->count);
     for (long p = 0; p < (long)map.nx * map.ny; p++) {
         int idx[SP_SWEEP_MAX_AXES], a = map.label[p];
         sp_sweep_point_index(d, p, idx);
-        float black[3] = {0, 0, 0};
-        const float *c = a >= 0 ? rgb[a] : black;
-        uint32_t *px32 = (uint32_t *)(data + (size_t)(ay->count - 1 - idx[1]) * stride) + idx[0];
-        *px32 = (uint32_t)lrintf(c[0] * 255) << 16 | (uint32_t)lrintf(c[1] * 255) << 8 |
-                (uint32_t)lrintf(c[2] * 255);
+        static const float black[3] = {0, 0, 0};
+        put_rgb(data + 4 * ((size_t)(ay->count - 1 - idx[1]) * (size_t)ax->count + (size_t)idx[0]),
+                a >= 0 ? rgb[a] : black);
     }
-    cairo_surface_mark_dirty(img);
-    cairo_save(cr);
-    cairo_translate(cr, f.x0, f.y0);
-    cairo_scale(cr, f.w / ax->count, f.h / ay->count);
-    cairo_set_source_surface(cr, img, 0, 0);
-    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
-    cairo_paint(cr);
-    cairo_restore(cr);
-    cairo_surface_destroy(img);
-    draw_axes(cr, &f, pal, xl, yl);
+    draw_axes(&f, pal, xl, yl);
     /* the legend */
     long all = 0;
     for (int a = 0; a < map.n_attractors; a++)
@@ -1015,37 +1059,34 @@ static int draw_basins(cairo_t *cr, FILE *fp, const struct sp_sweep_desc *d,
     double lx = f.x0 + f.w + U(20), ly = f.y0 + U(4);
     font_pt(U(11));
     for (int a = 0; a < map.n_attractors && !G.v->legend; a++, ly += U(30)) {
-        cairo_set_source_rgb(cr, rgb[a][0], rgb[a][1], rgb[a][2]);
-        cairo_rectangle(cr, lx, ly, U(14), U(14));
-        cairo_fill(cr);
-        set_rgba(cr, pal->axis);
-        cairo_set_line_width(cr, 0.6);
-        cairo_rectangle(cr, lx, ly, U(14), U(14));
-        cairo_stroke(cr);
-        set_rgba(cr, pal->text);
+        set_rgba4(rgb[a][0], rgb[a][1], rgb[a][2], 1);
+        fill_rect(lx, ly, U(14), U(14));
+        set_rgba(pal->axis), set_line_width(0.6);
+        stroke_rect(lx, ly, U(14), U(14));
+        set_rgba(pal->text);
         snprintf(buf, sizeof(buf), "%.1f%%  %s", all ? 100.0 * map.att[a].count / all : 0.0,
                  map.att[a].label);
         char *comma = map.att[a].period > 0 ? strstr(buf, ", θ") : NULL;
         if (comma) { /* the state on a second line */
             *comma = 0;
-            text_at(cr, lx + U(20), ly, buf, 0, 0);
-            set_rgba(cr, pal->muted);
-            text_at(cr, lx + U(20), ly + U(14), comma + 2, 0, 0);
+            text_at(lx + U(20), ly, buf, 0, 0);
+            set_rgba(pal->muted);
+            text_at(lx + U(20), ly + U(14), comma + 2, 0, 0);
         } else {
-            text_at(cr, lx + U(20), ly, buf, 0, 0);
+            text_at(lx + U(20), ly, buf, 0, 0);
         }
     }
-    set_rgba(cr, pal->text);
+    set_rgba(pal->text);
     font_pt(U(12));
     snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map.entropy, map.boundary_entropy);
-    text_at(cr, lx, ly + U(8), buf, 0, 0);
-    set_rgba(cr, pal->muted);
+    text_at(lx, ly + U(8), buf, 0, 0);
+    set_rgba(pal->muted);
     font_pt(U(10));
     snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map.box, map.box);
-    text_at(cr, lx, ly + U(26), buf, 0, 0);
+    text_at(lx, ly + U(26), buf, 0, 0);
     if (map.blown_up) {
         snprintf(buf, sizeof(buf), "%ld blown up (black)", map.blown_up);
-        text_at(cr, lx, ly + U(42), buf, 0, 0);
+        text_at(lx, ly + U(42), buf, 0, 0);
     }
     sp_basins_free(&map);
     return 0;
@@ -1070,11 +1111,15 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
     G.v = v;
     G.cancel = style ? style->cancel : NULL;
     G.err = 0, G.pt = U(12);
+    sp_canvas_reset(&G.cv);
+    G.cv.font = NULL;
+    G.lwidth = G.lw;
     G.title_lines = NULL, G.title_n = 0;
     struct sp_font_desc fd = {.family = v->font};
     for (int i = 0; i < SP_TEXT_SIZES; i++)
         fd.px[i] = LAYOUT_PX;
     int err = sp_font_make(&G.font, &fd);
+    G.cv.font = G.font;
     const char *const labels[][2] = {{"view.xlabel", v->xlabel}, {"view.ylabel", v->ylabel},
                                      {"view.colorbar_label", v->colorbar_label}};
     for (size_t i = 0; !err && i < sizeof(labels) / sizeof(labels[0]); i++) {
@@ -1116,6 +1161,7 @@ static void end(void)
 {
     free(G.title_lines);
     G.title_lines = NULL, G.title_n = 0;
+    sp_canvas_free(&G.cv);
     sp_font_destroy(&G.font);
     /* fontconfig keeps its configuration for the next figure; there is
      * none: give it back (a sanitizer build checks) */
@@ -1133,38 +1179,23 @@ int sp_sweep_plot_check(const struct sp_plot_style *style)
     return err;
 }
 
-/* The image surface s into out as a PNG (png_io.h) carrying a still's text
- * chunks (provenance.h) but its time, which a sweep has none of: the base
- * scene (as a scene file, which `springpend scene` prints, and canonical,
- * with its hash), the environment, the font files drawn from; and, at a
- * printed size, its dpi (pHYs). RGB when every pixel is opaque. 0 or an
- * SP_E_* code (logged). */
-static int write_png(cairo_surface_t *s, struct sp_outfile *out,
+/* The figure's raster img into out as a PNG (png_io.h) carrying a still's
+ * text chunks (provenance.h) but its time, which a sweep has none of: the
+ * base scene (as a scene file, which `springpend scene` prints, and
+ * canonical, with its hash), the environment, the font files drawn from;
+ * and, at a printed size, its dpi (pHYs). RGB when every pixel is opaque.
+ * 0 or an SP_E_* code (logged). */
+static int write_png(const struct sp_image *img, struct sp_outfile *out,
                      const struct sp_plot_style *style, double dpi)
 {
     struct sp_provenance prov = {0};
     struct sp_png_text text[SP_PROVENANCE_N_TEXT];
-    struct sp_image img;
-    int n = 0, opaque = 1;
-    cairo_surface_flush(s);
-    const unsigned char *data = cairo_image_surface_get_data(s);
-    const int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
-    const int stride = cairo_image_surface_get_stride(s);
-    int ret = sp_image_alloc(&img, w, h);
-    for (int y = 0; !ret && y < h; y++)
-        for (int x = 0; x < w; x++) { /* premultiplied native ARGB to straight RGBA */
-            const uint32_t p = ((const uint32_t *)(data + (size_t)y * (size_t)stride))[x];
-            const unsigned a = p >> 24;
-            uint8_t *q = img.pixels + (size_t)y * (size_t)img.stride + 4 * (size_t)x;
-            for (int c = 0; c < 3; c++) {
-                const unsigned v = (p >> (16 - 8 * c)) & 255;
-                q[c] = (uint8_t)(a ? (v * 255 + a / 2) / a : 0);
-            }
-            q[3] = (uint8_t)a;
-            opaque &= a == 255;
-        }
-    if (!ret && style && style->scene &&
-        !(ret = sp_provenance_init(&prov, style->scene, "cairo " CAIRO_VERSION_STRING, NULL))) {
+    int n = 0, opaque = 1, ret = 0;
+    for (int y = 0; y < img->height && opaque; y++)
+        for (int x = 0; x < img->width; x++)
+            opaque &= img->pixels[(size_t)y * (size_t)img->stride + 4 * (size_t)x + 3] == 255;
+    if (style && style->scene &&
+        !(ret = sp_provenance_init(&prov, style->scene, sp_draw_cairo_version(), NULL))) {
         sp_font_files(G.font, prov.fonts, sizeof(prov.fonts));
         ret = sp_font_environment(G.font, prov.environment, sizeof(prov.environment));
         for (int i = 0; i < SP_PROVENANCE_N_TEXT; i++)
@@ -1174,9 +1205,8 @@ static int write_png(cairo_surface_t *s, struct sp_outfile *out,
     const struct sp_png_write_opts opts = {.level = 6, .text = text, .n_text = n,
                                            .opaque = opaque, .dpi = dpi};
     if (!ret)
-        ret = sp_png_write_outfile(out, &img, &opts);
+        ret = sp_png_write_outfile(out, img, &opts);
     sp_provenance_free(&prov);
-    sp_image_free(&img);
     return ret;
 }
 
@@ -1202,85 +1232,52 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
         end();
         return ret;
     }
-    const double png_scale = G.print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
     /* cairo writes front to back: a device or stdout is fine */
     if ((ret = sp_outfile_open(&out, path, SP_OUTFILE_STREAM))) {
         end();
         return ret;
     }
     const char *ext = strrchr(path, '.');
-    char *svg_meta = !strcasecmp(ext, ".svg") && style ? sp_cairo_svg_metadata(style->scene_file, style->command) : NULL;
-    struct sp_cairo_fd sink = {.fd = out.fd, .svg_metadata = svg_meta}; /* every write checked */
-    cairo_surface_t *s;
-    if (!strcasecmp(ext, ".svg"))
-        s = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
-    else if (!strcasecmp(ext, ".pdf"))
-        s = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, W, H);
-    else
-        s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)lround(W * png_scale),
-                                       (int)lround(H * png_scale));
-    if (!strcasecmp(ext, ".pdf") && (ret = sp_cairo_pdf_date(s))) { /* bytes that repeat */
-        cairo_surface_destroy(s);
-        sp_outfile_discard(&out);
-        free(svg_meta);
-        end();
-        return ret;
-    }
-    if (!strcasecmp(ext, ".pdf") && style)
-        sp_cairo_pdf_scene(s, style->scene_file, style->command);
-    cairo_t *cr = cairo_create(s);
-    if (cairo_status(cr)) { /* the surface's error, too: nothing to draw on */
-        sp_log_error("cannot make the figure %s: %s", path, cairo_status_to_string(cairo_status(cr)));
-        cairo_destroy(cr);
-        cairo_surface_destroy(s);
-        sp_outfile_discard(&out);
-        free(svg_meta);
-        end();
-        return SP_E_IO;
-    }
-    if (!strcasecmp(ext, ".png"))
-        cairo_scale(cr, lround(W * png_scale) / W, lround(H * png_scale) / H);
-    ret = sp_cairo_faces_make(&G.faces, G.font, cr);
-    if (pal.background[3] > 0) { /* view.background = transparent: none */
-        set_rgba(cr, pal.background);
-        cairo_paint(cr);
-    }
+    const int png = !strcasecmp(ext, ".png");
+    const double scale = !png ? 0 : G.print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
+    struct sp_draw_cairo_desc dd = {
+        .canvas = &G.cv, .font = G.font, .width = W, .height = H, .page_w = W, .page_h = H,
+        .fd = out.fd, .path = path, .format = !strcasecmp(ext, ".svg") ? SP_FIGURE_SVG : SP_FIGURE_PDF,
+        .scene_file = style ? style->scene_file : NULL, .command = style ? style->command : NULL,
+        .cancel = style ? style->cancel : NULL};
+    memcpy(dd.background, pal.background, sizeof(dd.background));
+    struct sp_image img = {0};
+    /* the figure's draw list, in pt, drawn through the still figures'
+     * backend (in pieces when long: flush_if_long) */
+    ret = sp_draw_cairo_begin(&G.dc, &dd, png ? (int)lround(W * scale) : 0,
+                              png ? (int)lround(H * scale) : 0);
     if (!ret)
         ret = d.measure == SP_MEASURE_LYAPUNOV || d.measure == SP_MEASURE_PRECESSION
-                  ? draw_lyapunov(cr, csv, &d, &pal)
-              : d.measure == SP_MEASURE_SPECTRUM ? draw_spectrum(cr, csv, &d, &pal)
-              : d.measure == SP_MEASURE_BASINS   ? draw_basins(cr, csv, &d, &pal)
-                                                 : draw_dots(cr, csv, csv_name, &d, &pal);
+                  ? draw_lyapunov(csv, &d, &pal)
+              : d.measure == SP_MEASURE_SPECTRUM ? draw_spectrum(csv, &d, &pal)
+              : d.measure == SP_MEASURE_BASINS   ? draw_basins(csv, &d, &pal)
+                                                 : draw_dots(csv, csv_name, &d, &pal);
+    if (!ret && G.err)
+        ret = G.err; /* the text's or the drawing's (logged) */
+    else if (!ret && G.cv.err) {
+        sp_log_error("out of memory for the figure %s's draw list", path);
+        ret = G.cv.err;
+    }
+    const int drawn = sp_draw_cairo_end(&G.dc, ret ? NULL : &G.cv, png ? &img : NULL);
     if (!ret)
-        ret = G.err; /* the text's */
-    if (!ret && !strcasecmp(ext, ".pdf")) /* provenance: the font files drawn from */
-        sp_cairo_pdf_fonts(s, G.font);
-    sp_cairo_faces_destroy(&G.faces);
-    cairo_status_t st = cairo_status(cr);
-    cairo_destroy(cr);
-    if (!ret && !st && !strcasecmp(ext, ".png"))
-        ret = write_png(s, &out, style, G.print ? png_scale * 72 : 0);
-    cairo_surface_finish(s);
-    if (!st)
-        st = cairo_surface_status(s);
-    if (!st && sink.err)
-        st = CAIRO_STATUS_WRITE_ERROR;
-    cairo_surface_destroy(s);
-    free(svg_meta);
-    /* cairo keeps its font faces for the next figure; there is none: give
-     * them back (a sanitizer build checks), and the font */
-    cairo_debug_reset_static_data();
-    end();
+        ret = drawn;
     if (!ret && style && style->cancel && *style->cancel)
         ret = SP_E_INTERRUPTED; /* a figure cut short by a stop is not written */
-    if (!ret && st) {
-        sp_log_error("cannot write %s: %s", path,
-                     sink.err ? strerror(sink.err) : cairo_status_to_string(st));
-        ret = SP_E_IO;
-    }
+    if (!ret && png)
+        ret = write_png(&img, &out, style, G.print ? scale * 72 : 0);
+    sp_image_free(&img);
     if (ret)
         sp_outfile_discard(&out);
     else
         *figure = out; /* the caller commits it after the CSV, or discards it */
+    /* cairo keeps its font faces for the next figure; there is none: give
+     * them back (a sanitizer build checks), and the font and list */
+    sp_draw_cairo_done();
+    end();
     return ret;
 }

@@ -9,6 +9,9 @@ and another folder's only by a path from src/ ("frame/canvas.h"); such a
 header must say, in its opening comment, that it is shared with the
 including folder ("Shared with: cli, pipeline." or "Shared with: every
 folder."). tests/ may open any box.
+Signals have one owner: only main.c (which hands each command its flag as a
+cancel pointer) and the pipeline (which holds the handlers while it
+renders) include base/signals.h; the code below is handed a cancel flag.
 usage: test_headers.py SOURCE_ROOT CC [CC_ARGS...]"""
 import os
 import re
@@ -18,7 +21,7 @@ import sys
 root, cc = sys.argv[1], sys.argv[2:]
 inc = os.path.join(root, "include")
 headers = sorted(h for h in os.listdir(os.path.join(inc, "springpend")) if h.endswith(".h"))
-print(f"1..{len(headers) + 4}")
+print(f"1..{len(headers) + 5}")
 n = 0
 
 
@@ -85,6 +88,19 @@ bad = crossings(os.path.join(root, "src"))
 n += 1
 print(f"{'not ' if bad else ''}ok {n} - no include crosses a folder of src/ but to a header "
       "shared with it" + "".join(f"\n# {b}" for b in bad))
+# the signal handlers have one owner: main.c and the pipeline
+owners = {"src/cli/main.c", "src/pipeline/pipeline.c", "src/base/signals.c", "src/base/signals.h"}
+signals = []
+for d, _, files in os.walk(os.path.join(root, "src")):
+    for f in sorted(files):
+        path = os.path.join(d, f)
+        rel = os.path.relpath(path, root)
+        if f.endswith((".c", ".h")) and rel not in owners and re.search(
+                r'^\s*#\s*include\s*"(base/)?signals\.h"', open(path).read(), re.M):
+            signals.append(rel)
+n += 1
+print(f"{'not ' if signals else ''}ok {n} - only main.c and the pipeline include base/signals.h "
+      f"(the rest are handed a cancel flag){''.join(chr(10) + '# ' + s for s in signals)}")
 # ... and the check can fail: a crossing without leave, one with .., and a shared one
 import tempfile  # noqa: E402
 with tempfile.TemporaryDirectory() as t:

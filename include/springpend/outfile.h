@@ -83,6 +83,14 @@ void sp_outfile_set_cancel(const volatile sig_atomic_t *cancel);
  * handler of a second Ctrl-C. */
 void sp_outfile_remove_parts(void);
 
+/* 1 when both paths exist and name the same file (links resolved). */
+int sp_outfile_same_file(const char *a, const char *b);
+
+/* Refuses (SP_E_INPUT, with a message) an output path that cannot be
+ * written: a folder, or under something that is not a writable folder.
+ * Looks only; creates nothing. `what` names the option ("-o"). */
+int sp_outfile_check_writable(const char *path, const char *what);
+
 /* The folders a run created, so that a failed run can remove them. */
 struct sp_dirs {
     char *deepest; /* owned: the deepest folder created; NULL = none */

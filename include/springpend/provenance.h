@@ -86,4 +86,14 @@ void sp_provenance_free(struct sp_provenance *p);
 /* Sets the simulated time, s, that the next image shows. */
 void sp_provenance_set_time(struct sp_provenance *p, double t);
 
+/* Checks that text (len bytes), recorded in path under key (a PNG's text
+ * chunk, a video's tag, a CSV metadata's dc:source), is a scene as
+ * springpend writes it: under SP_PROVENANCE_SCENE_MAX bytes, no NUL, read
+ * by the scene parser without a word (UTF-8, no control bytes, no key
+ * twice, every value in range) and written back by sp_scene_write_ini byte
+ * for byte. Anything else was forged or damaged. 0, or SP_E_INPUT after
+ * "PATH: KEY:LINE: what". */
+int sp_provenance_scene_check(const char *path, const char *key, const char *text,
+                              size_t len);
+
 #endif

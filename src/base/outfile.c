@@ -347,3 +347,48 @@ void sp_dirs_keep(struct sp_dirs *made)
     free(made->deepest);
     *made = (struct sp_dirs){0};
 }
+
+int sp_outfile_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+int sp_outfile_check_writable(const char *path, const char *what)
+{
+    char dir[PATH_MAX];
+    struct stat st;
+    if (sp_outfile_is_stream(path))
+        return 0; /* written through: stdout, a device or a FIFO */
+    if (sp_outfile_refuse_link(path))
+        return SP_E_INPUT;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        sp_log_error("%s %s is a folder; give a file name", what, path);
+        return SP_E_INPUT;
+    }
+    /* The nearest ancestor that exists must be a folder we may write in;
+     * the sink creates the missing ones below it. */
+    snprintf(dir, sizeof(dir), "%s", path);
+    for (;;) {
+        char *slash = strrchr(dir, '/');
+        if (!slash) {
+            snprintf(dir, sizeof(dir), ".");
+            break;
+        }
+        *slash = 0;
+        if (slash == dir)
+            snprintf(dir, sizeof(dir), "/");
+        if (!dir[0] || stat(dir, &st) == 0 || (errno != ENOENT && errno != ENOTDIR))
+            break;
+    }
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        sp_log_error("%s %s: %s is not a folder", what, path, dir);
+        return SP_E_INPUT;
+    }
+    if (access(dir, W_OK | X_OK) != 0) {
+        sp_log_error("%s %s: cannot write in folder %s: %s", what, path, dir, strerror(errno));
+        return SP_E_INPUT;
+    }
+    return 0;
+}

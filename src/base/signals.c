@@ -1,4 +1,4 @@
-/* springpend: the process's signals (signals.h). */
+/* springpend: the process's signals (signals.h, signal_name.h). */
 #include <signal.h>
 #include <string.h>
 #include <unistd.h>

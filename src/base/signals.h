@@ -8,11 +8,13 @@
  * itself. While a render holds them (sp_signals_hold), a second signal
  * calls the hold's cleanup (the pipeline's: outfile.h's, which removes the
  * partial files) and exits at once.
- * Shared with: cli, pipeline, compare (sp_signal_name only). */
+ * Shared with: cli (main.c only), pipeline. */
 #ifndef SPRINGPEND_SIGNALS_H
 #define SPRINGPEND_SIGNALS_H
 
 #include <signal.h>
+
+#include "signal_name.h" /* sp_signal_name */
 
 /* Makes the caught signals set the flag instead of killing the
  * process, so a long run can stop cleanly and remove its partial files.
@@ -26,9 +28,6 @@ int sp_signal_seen(void);
 /* The flag itself (nonzero once a signal arrived), for struct sp_sim's
  * cancel. */
 const volatile sig_atomic_t *sp_signal_flag(void);
-
-/* The caught signal's name ("SIGTERM"), or "a signal". */
-const char *sp_signal_name(int sig);
 
 #define SP_SIGNALS_CAUGHT 10 /* how many signals the flag stands for */
 

@@ -150,7 +150,7 @@ static int add_size(struct sp_cli_options *o, const char *arg)
     const char *x = strchr(arg, 'x');
     const size_t w = x ? (size_t)(x - arg) : 0;
     if (paper_given(arg))
-        return sp_cli_paper_size("--size", arg, &o->paper_w, &o->paper_h);
+        return sp_cli_paper_size("--size", arg, &o->still.paper_w, &o->still.paper_h);
     if (!x || strchr(x + 1, 'x'))
         return sp_cli_refuse("--size", arg, "not WIDTHxHEIGHT", allowed);
     if (w >= sizeof(side[0]) || strlen(x + 1) >= sizeof(side[1]))
@@ -169,179 +169,167 @@ static int add_size(struct sp_cli_options *o, const char *arg)
     return 0;
 }
 
-/* A command-specific option given to another command. */
-static int not_here(const char *opt, const char *command, const char *self)
+/* The options one scene command owns (struct sp_cli_takes): given to
+ * another, each is refused as "OPT is for 'springpend OWNER'". */
+static const struct owned_option {
+    int ch;            /* getopt_long's value for it */
+    unsigned needs;    /* SP_CLI_TAKES_*: the command must take this */
+    const char *name;  /* as the message names it; NULL: as it was typed */
+    const char *owner; /* the command that takes it */
+} owned[] = {
+    /* a still, data or info would take these and do nothing */
+    {'f', SP_CLI_TAKES_VIDEO, "--format", "render"},
+    {'R', SP_CLI_TAKES_VIDEO, "--frames", "render"},
+    {'D', SP_CLI_TAKES_VIDEO, "--shard", "render"},
+    {'j', SP_CLI_TAKES_JSON, NULL, "info"},
+    {'P', SP_CLI_TAKES_POINCARE, NULL, "data"},
+    {'J', SP_CLI_TAKES_STILL, "--state", "still"},
+    {'a', SP_CLI_TAKES_STILL, "--at", "still"},
+    {'X', SP_CLI_TAKES_STILL, "--scale", "still"},
+    {'d', SP_CLI_TAKES_STILL, "--dpi", "still"},
+    {'e', SP_CLI_TAKES_EVERY, "--every", "data"},
+};
+
+/* SP_E_INPUT after a message when option c (just read by getopt_long)
+ * belongs to a command other than argv[0], which takes `takes`; else 0. */
+static int refuse_owned(int c, unsigned takes, char **argv)
 {
-    sp_log_error("%s is for 'springpend %s'; see 'springpend %s --help'", opt, command, self);
-    return SP_E_INPUT;
+    for (size_t i = 0; i < sizeof(owned) / sizeof(owned[0]); i++)
+        if (owned[i].ch == c && !(takes & owned[i].needs)) {
+            sp_log_error("%s is for 'springpend %s'; see 'springpend %s --help'",
+                         owned[i].name ? owned[i].name : argv[optind - 1], owned[i].owner,
+                         argv[0]);
+            return SP_E_INPUT;
+        }
+    return 0;
 }
 
-int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *usage,
-                 int allow_at)
+static const struct option longopts[] = {
+    {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
+    {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
+    {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
+    {"help", no_argument, 0, 'h'},         {"every", required_argument, 0, 'e'},
+    {"verbose", no_argument, 0, 'v'},      {"format", required_argument, 0, 'f'},
+    {"frames", required_argument, 0, 'R'}, {"shard", required_argument, 0, 'D'},
+    {"gl", required_argument, 0, 'G'},     {"quality", required_argument, 0, 'Q'},
+    {"scale", required_argument, 0, 'X'},  {"dpi", required_argument, 0, 'd'},
+    {"state", required_argument, 0, 'J'},
+    {"json", no_argument, 0, 'j'},         {"poincare", no_argument, 0, 'P'},
+    {0, 0, 0, 0},
+};
+
+/* Takes option c, which getopt_long just read (its value: optarg), into
+ * *o; --quality's name into *quality. 0, 1 after --help (usage printed),
+ * or SP_E_INPUT after a message. */
+static int take_option(struct sp_cli_options *o, int c, int argc, char **argv,
+                       const char *usage, const char **quality)
 {
-    static const struct option longopts[] = {
-        {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
-        {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
-        {"at", required_argument, 0, 'a'},     {"quiet", no_argument, 0, 'q'},
-        {"help", no_argument, 0, 'h'},         {"every", required_argument, 0, 'e'},
-        {"verbose", no_argument, 0, 'v'},      {"format", required_argument, 0, 'f'},
-        {"frames", required_argument, 0, 'R'}, {"shard", required_argument, 0, 'D'},
-        {"gl", required_argument, 0, 'G'},     {"quality", required_argument, 0, 'Q'},
-        {"scale", required_argument, 0, 'X'},  {"dpi", required_argument, 0, 'd'},
-        {"state", required_argument, 0, 'J'},
-        {"json", no_argument, 0, 'j'},         {"poincare", no_argument, 0, 'P'},
-        {0, 0, 0, 0},
-    };
-    /* --quality: like the tools people know; --set/--size/--fps still win. */
+    char origin[96];
+    double v;
+    switch (c) {
+    case 'v': o->verbose = 1; return 0;
+    case 'f': o->video.format = optarg; return 0;
+    case 'R': o->video.frames = optarg; return 0;
+    case 'D': o->video.shard = optarg; return 0;
+    case 'Q': *quality = optarg; return 0;
+    case 'G':
+        if (!strcmp(optarg, "osmesa"))
+            o->gl = SP_GL_OSMESA;
+        else if (!strcmp(optarg, "egl"))
+            o->gl = SP_GL_EGL;
+        else {
+            sp_log_error("--gl %s: use osmesa or egl", optarg);
+            return SP_E_INPUT;
+        }
+        return 0;
+    case 'o': o->output = optarg; return 0;
+    case 's':
+        if (!strchr(optarg, '=')) {
+            sp_log_error("--set %s: expected SECTION.KEY=VALUE with '=' in one argument, "
+                         "e.g. --set %s=%s", optarg, optarg,
+                         optind < argc ? argv[optind] : "VALUE");
+            return SP_E_INPUT;
+        }
+        return add_override(o, optarg);
+    case 'q': o->quiet = 1, sp_log_quiet(1); return 0;
+    case 'j': o->info.json = 1; return 0;
+    case 'P': o->data.poincare = 1; return 0;
+    case 'h': fputs(usage, stdout); return 1;
+    case 'S': return add_size(o, optarg);
+    case 'F':
+        /* checked here, so that a message names --fps, not the override */
+        snprintf(origin, sizeof(origin), "--fps %s", optarg);
+        if (strlen(optarg) > SP_CLI_NUMBER_MAX)
+            return sp_cli_refuse("--fps", optarg, TOO_LONG, "frames per second (video.fps)");
+        if (sp_scene_check_value("video.fps", optarg, origin))
+            return SP_E_INPUT;
+        snprintf(o->fps_buf, sizeof(o->fps_buf), "video.fps=%s", optarg);
+        return add_override(o, o->fps_buf);
+    case 'J': o->still.state = optarg; return 0;
+    case 'a':
+        return sp_cli_number("--at", optarg, 0, 1e9, 0,
+                             "a simulated time in seconds, 0 <= t <= 1e9", &o->still.at);
+    case 'X': {
+        int ret = sp_cli_number("--scale", optarg, 1, 4, SP_DECIMAL_INTEGER,
+                                "a supersampling factor, an integer from 1 to 4", &v);
+        o->still.scale = (int)v;
+        return ret;
+    }
+    case 'd':
+        return sp_cli_number("--dpi", optarg, 10, 2400, SP_DECIMAL_ABOVE,
+                             "the PNG's dots per inch, 10 < dpi <= 2400, with --size in "
+                             "units, e.g. --size 8.6cm --dpi 300", &o->still.dpi);
+    case 'e':
+        return sp_cli_number("--every", optarg, 0, 1e9, SP_DECIMAL_ABOVE,
+                             "a sampling interval in simulated seconds, 0 < every <= 1e9",
+                             &o->data.every);
+    case ':':
+        sp_log_error("option '%s' needs a value; see 'springpend %s --help'", argv[optind - 1],
+                     argv[0]);
+        return SP_E_INPUT;
+    default:
+        sp_log_error("unknown option '%s'; see 'springpend %s --help'", argv[optind - 1],
+                     argv[0]);
+        return SP_E_INPUT;
+    }
+}
+
+/* --quality NAME: like the tools people know, its size and fps put first
+ * among the overrides, so that --set, --size and --fps still win. */
+static int add_quality(struct sp_cli_options *o, const char *quality)
+{
     static const struct { const char *name; int w, h, fps; } qualities[] = {
         {"low", 854, 480, 15}, {"medium", 1280, 720, 30},
         {"high", 1920, 1080, 60}, {"4k", 3840, 2160, 60},
     };
-    const char *quality = NULL;
-    char origin[96];
-    int c, ret = 0;
-    memset(o, 0, sizeof(*o));
-    o->at = -1;
-    o->every = -1;
-    optind = 1;
-    opterr = 0;
-    /* ':' first: an option missing its value returns ':', not '?'. */
-    while ((c = getopt_long(argc, argv, ":o:qhv", longopts, NULL)) != -1) {
-        switch (c) {
-        case 'v': o->verbose = 1; break;
-        case 'f':
-        case 'R':
-        case 'D': /* a still, data or info would take them and do nothing */
-            if (allow_at & ~SP_CLI_SCENES) {
-                sp_log_error("%s is for 'springpend render'; see 'springpend %s --help'",
-                             c == 'f' ? "--format" : c == 'R' ? "--frames" : "--shard", argv[0]);
-                return SP_E_INPUT;
-            }
-            *(c == 'f' ? &o->format : c == 'R' ? &o->frames : &o->shard) = optarg;
-            break;
-        case 'Q': quality = optarg; break;
-        case 'G':
-            if (!strcmp(optarg, "osmesa"))
-                o->gl = SP_GL_OSMESA;
-            else if (!strcmp(optarg, "egl"))
-                o->gl = SP_GL_EGL;
-            else {
-                sp_log_error("--gl %s: use osmesa or egl", optarg);
-                return SP_E_INPUT;
-            }
-            break;
-        case 'o': o->output = optarg; break;
-        case 's':
-            if (!strchr(optarg, '=')) {
-                sp_log_error("--set %s: expected SECTION.KEY=VALUE with '=' in one argument, "
-                             "e.g. --set %s=%s", optarg, optarg,
-                             optind < argc ? argv[optind] : "VALUE");
-                return SP_E_INPUT;
-            }
-            ret = add_override(o, optarg);
-            break;
-        case 'q': o->quiet = 1, sp_log_quiet(1); break;
-        case 'j':
-        case 'P':
-            if (!(allow_at & (c == 'j' ? SP_CLI_JSON : SP_CLI_POINCARE))) {
-                sp_log_error("%s is for 'springpend %s'; see 'springpend %s --help'",
-                             argv[optind - 1], c == 'j' ? "info" : "data", argv[0]);
-                return SP_E_INPUT;
-            }
-            *(c == 'j' ? &o->json : &o->poincare) = 1;
-            break;
-        case 'h': fputs(usage, stdout); return 1;
-        case 'S': ret = add_size(o, optarg); break;
-        case 'F':
-            /* checked here, so that a message names --fps, not the override */
-            snprintf(origin, sizeof(origin), "--fps %s", optarg);
-            if (strlen(optarg) > SP_CLI_NUMBER_MAX)
-                return sp_cli_refuse("--fps", optarg, TOO_LONG, "frames per second (video.fps)");
-            if (sp_scene_check_value("video.fps", optarg, origin))
-                return SP_E_INPUT;
-            snprintf(o->fps_buf, sizeof(o->fps_buf), "video.fps=%s", optarg);
-            ret = add_override(o, o->fps_buf);
-            break;
-        case 'J':
-            if (!(allow_at & SP_CLI_AT))
-                return not_here("--state", "still", argv[0]);
-            o->state = optarg;
-            break;
-        case 'a':
-            if (!(allow_at & SP_CLI_AT))
-                return not_here("--at", "still", argv[0]);
-            ret = sp_cli_number("--at", optarg, 0, 1e9, 0,
-                                "a simulated time in seconds, 0 <= t <= 1e9", &o->at);
-            break;
-        case 'X': {
-            double v;
-            if (!(allow_at & SP_CLI_AT))
-                return not_here("--scale", "still", argv[0]);
-            ret = sp_cli_number("--scale", optarg, 1, 4, SP_DECIMAL_INTEGER,
-                                "a supersampling factor, an integer from 1 to 4", &v);
-            o->scale = (int)v;
-            break;
-        }
-        case 'd':
-            if (!(allow_at & SP_CLI_AT))
-                return not_here("--dpi", "still", argv[0]);
-            ret = sp_cli_number("--dpi", optarg, 10, 2400, SP_DECIMAL_ABOVE,
-                                "the PNG's dots per inch, 10 < dpi <= 2400, with --size in "
-                                "units, e.g. --size 8.6cm --dpi 300", &o->dpi);
-            break;
-        case 'e':
-            if (!(allow_at & SP_CLI_EVERY))
-                return not_here("--every", "data", argv[0]);
-            ret = sp_cli_number("--every", optarg, 0, 1e9, SP_DECIMAL_ABOVE,
-                                "a sampling interval in simulated seconds, 0 < every <= 1e9",
-                                &o->every);
-            break;
-        case ':':
-            sp_log_error("option '%s' needs a value; see 'springpend %s --help'", argv[optind - 1],
-                         argv[0]);
-            return SP_E_INPUT;
-        default:
-            sp_log_error("unknown option '%s'; see 'springpend %s --help'", argv[optind - 1],
-                         argv[0]);
-            return SP_E_INPUT;
-        }
-        if (ret)
-            return ret;
-    }
-    if (quality) {
-        size_t i = 0, n = sizeof(qualities) / sizeof(qualities[0]);
-        while (i < n && strcmp(quality, qualities[i].name))
-            i++;
-        if (i == n) {
-            sp_log_error("--quality %s: use low (854x480@15), medium (1280x720@30), "
-                         "high (1920x1080@60) or 4k (3840x2160@60)", quality);
-            return SP_E_INPUT;
-        }
-        if (o->n_overrides + 3 > SP_CLI_MAX_OVERRIDES) {
-            sp_log_error("too many overrides; at most %d are allowed", SP_CLI_MAX_OVERRIDES);
-            return SP_E_INPUT;
-        }
-        /* First, so that --set, --size and --fps override it. */
-        memmove(o->overrides + 3, o->overrides, o->n_overrides * sizeof(o->overrides[0]));
-        o->n_overrides += 3;
-        snprintf(o->quality_buf[0], sizeof(o->quality_buf[0]), "video.width=%d", qualities[i].w);
-        snprintf(o->quality_buf[1], sizeof(o->quality_buf[1]), "video.height=%d", qualities[i].h);
-        snprintf(o->quality_buf[2], sizeof(o->quality_buf[2]), "video.fps=%d", qualities[i].fps);
-        for (int k = 0; k < 3; k++)
-            o->overrides[k] = o->quality_buf[k];
-    }
-    if (o->paper_w && !(allow_at & SP_CLI_AT)) {
-        sp_log_error("--size with a unit is a figure's physical size, for 'springpend still' "
-                     "and 'springpend sweep'; a %s's size is WIDTHxHEIGHT in pixels",
-                     !strcmp(argv[0], "render") ? "video" : "scene");
+    size_t i = 0, n = sizeof(qualities) / sizeof(qualities[0]);
+    while (i < n && strcmp(quality, qualities[i].name))
+        i++;
+    if (i == n) {
+        sp_log_error("--quality %s: use low (854x480@15), medium (1280x720@30), "
+                     "high (1920x1080@60) or 4k (3840x2160@60)", quality);
         return SP_E_INPUT;
     }
-    if (o->dpi && !o->paper_w) {
-        sp_log_error("--dpi sets a PNG figure's dots per inch at a physical size: give --size "
-                     "with a unit too, e.g. --size 8.6cm --dpi 300");
+    if (o->n_overrides + 3 > SP_CLI_MAX_OVERRIDES) {
+        sp_log_error("too many overrides; at most %d are allowed", SP_CLI_MAX_OVERRIDES);
         return SP_E_INPUT;
     }
-    const int most = allow_at & SP_CLI_SCENES ? SP_CLI_MAX_SCENES : 1;
+    /* First, so that --set, --size and --fps override it. */
+    memmove(o->overrides + 3, o->overrides, o->n_overrides * sizeof(o->overrides[0]));
+    o->n_overrides += 3;
+    snprintf(o->quality_buf[0], sizeof(o->quality_buf[0]), "video.width=%d", qualities[i].w);
+    snprintf(o->quality_buf[1], sizeof(o->quality_buf[1]), "video.height=%d", qualities[i].h);
+    snprintf(o->quality_buf[2], sizeof(o->quality_buf[2]), "video.fps=%d", qualities[i].fps);
+    for (int k = 0; k < 3; k++)
+        o->overrides[k] = o->quality_buf[k];
+    return 0;
+}
+
+/* The SCENE arguments after the options: one, or up to SP_CLI_MAX_SCENES
+ * when the command takes SP_CLI_TAKES_SCENES. */
+static int take_scenes(struct sp_cli_options *o, int argc, char **argv, unsigned takes)
+{
+    const int most = takes & SP_CLI_TAKES_SCENES ? SP_CLI_MAX_SCENES : 1;
     if (optind >= argc || argc - optind > most) {
         if (most > 1 && optind < argc)
             sp_log_error("%d SCENE files: at most %d are shown side by side; see "
@@ -359,17 +347,48 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
     return 0;
 }
 
+int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *usage,
+                 unsigned takes)
+{
+    const char *quality = NULL;
+    int c, ret = 0;
+    memset(o, 0, sizeof(*o));
+    o->still.at = -1;
+    o->data.every = -1;
+    optind = 1;
+    opterr = 0;
+    /* ':' first: an option missing its value returns ':', not '?'. */
+    while ((c = getopt_long(argc, argv, ":o:qhv", longopts, NULL)) != -1)
+        if ((ret = refuse_owned(c, takes, argv)) ||
+            (ret = take_option(o, c, argc, argv, usage, &quality)))
+            return ret;
+    if (quality && (ret = add_quality(o, quality)))
+        return ret;
+    if (o->still.paper_w && !(takes & SP_CLI_TAKES_STILL)) {
+        sp_log_error("--size with a unit is a figure's physical size, for 'springpend still' "
+                     "and 'springpend sweep'; a %s's size is WIDTHxHEIGHT in pixels",
+                     !strcmp(argv[0], "render") ? "video" : "scene");
+        return SP_E_INPUT;
+    }
+    if (o->still.dpi && !o->still.paper_w) {
+        sp_log_error("--dpi sets a PNG figure's dots per inch at a physical size: give --size "
+                     "with a unit too, e.g. --size 8.6cm --dpi 300");
+        return SP_E_INPUT;
+    }
+    return take_scenes(o, argc, argv, takes);
+}
+
 int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
                        int *first, int *last)
 {
     *first = *last = 0;
-    if (o->frames && o->shard) {
+    if (o->video.frames && o->video.shard) {
         sp_log_error("--frames and --shard cannot be combined; give one");
         return SP_E_INPUT;
     }
-    if (o->frames) {
+    if (o->video.frames) {
         /* "A:B", "A:" (to the end) or ":B"; frames count from 0, B excluded */
-        const char *s = o->frames, *colon = strchr(s, ':'), *bad = NULL;
+        const char *s = o->video.frames, *colon = strchr(s, ':'), *bad = NULL;
         double a = 0, b = n_frames;
         char allowed[192], wrong[64];
         snprintf(allowed, sizeof(allowed), "A:B, A: or :B, integers with 0 <= A < B <= %d (the "
@@ -389,9 +408,9 @@ int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
         *first = (int)a;
         *last = (int)b;
     }
-    if (o->shard) {
+    if (o->video.shard) {
         int i, n;
-        if (sp_cli_shard(o->shard, n_frames, "the video's frames", &i, &n))
+        if (sp_cli_shard(o->video.shard, n_frames, "the video's frames", &i, &n))
             return SP_E_INPUT;
         return sp_pipeline_shard(n_frames, i - 1, n, first, last);
     }
@@ -415,51 +434,6 @@ int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene)
     return sp_scene_load(scene, o->scene_path, o->overrides, o->n_overrides);
 }
 
-int sp_cli_same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino;
-}
-
-int sp_cli_check_writable(const char *path, const char *what)
-{
-    char dir[PATH_MAX];
-    struct stat st;
-    if (sp_outfile_is_stream(path))
-        return 0; /* written through: stdout, a device or a FIFO */
-    if (sp_outfile_refuse_link(path))
-        return SP_E_INPUT;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        sp_log_error("%s %s is a folder; give a file name", what, path);
-        return SP_E_INPUT;
-    }
-    /* The nearest ancestor that exists must be a folder we may write in;
-     * the sink creates the missing ones below it. */
-    snprintf(dir, sizeof(dir), "%s", path);
-    for (;;) {
-        char *slash = strrchr(dir, '/');
-        if (!slash) {
-            snprintf(dir, sizeof(dir), ".");
-            break;
-        }
-        *slash = 0;
-        if (slash == dir)
-            snprintf(dir, sizeof(dir), "/");
-        if (!dir[0] || stat(dir, &st) == 0 || (errno != ENOENT && errno != ENOTDIR))
-            break;
-    }
-    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        sp_log_error("%s %s: %s is not a folder", what, path, dir);
-        return SP_E_INPUT;
-    }
-    if (access(dir, W_OK | X_OK) != 0) {
-        sp_log_error("%s %s: cannot write in folder %s: %s", what, path, dir, strerror(errno));
-        return SP_E_INPUT;
-    }
-    return 0;
-}
-
 int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *ext, char *buf, size_t size)
 {
@@ -467,11 +441,11 @@ int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *sc
         snprintf(buf, size, "%s", o->output);
     else
         snprintf(buf, size, "out/%s%s", scene->name, ext);
-    if (sp_cli_same_file(buf, o->scene_path)) {
+    if (sp_outfile_same_file(buf, o->scene_path)) {
         sp_log_error("output %s is the scene file itself; choose another -o", buf);
         return SP_E_INPUT;
     }
-    return sp_cli_check_writable(buf, "output");
+    return sp_outfile_check_writable(buf, "output");
 }
 
 /* Past this many steps a run is refused: hours of integration. The same

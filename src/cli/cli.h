@@ -2,68 +2,91 @@
 #ifndef SPRINGPEND_CLI_H
 #define SPRINGPEND_CLI_H
 
+#include <signal.h>
+
 #include "springpend/scene.h"
 
 #define SP_CLI_MAX_OVERRIDES 64
 #define SP_CLI_NUMBER_MAX 40 /* --size's and --fps's numbers: characters at most */
 
-/* Options every scene command understands. */
+/* The options only render takes (SP_CLI_TAKES_VIDEO). */
+struct sp_cli_video_options {
+    const char *format;      /* --format, NULL = by the output's extension */
+    const char *frames;      /* --frames A:B as given, NULL = all */
+    const char *shard;       /* --shard I/N as given, NULL = all */
+};
+
+/* The options only still takes (SP_CLI_TAKES_STILL). */
+struct sp_cli_still_options {
+    double at;               /* --at, simulated s; < 0 = not given */
+    int scale;               /* --scale: supersampling factor, 0 = not given */
+    double paper_w, paper_h; /* --size with units: the figure's physical
+                                size, pt; 0 = not given (paper_h 0 alone: the
+                                height follows the scene's aspect) */
+    double dpi;              /* --dpi (PNG with paper_w): dots per inch, 0 = not given */
+    const char *state;       /* --state: JSON path, NULL = none */
+};
+
+/* The options only data takes (SP_CLI_TAKES_EVERY, SP_CLI_TAKES_POINCARE). */
+struct sp_cli_data_options {
+    double every;            /* --every, simulated s; < 0 = not given */
+    int poincare;            /* --poincare */
+};
+
+/* The options only info takes (SP_CLI_TAKES_JSON). */
+struct sp_cli_info_options {
+    int json;                /* --json */
+};
+
+/* A scene command's command line: the options every scene command
+ * understands, and each command's own, which sp_cli_parse fills only for
+ * the command that takes them (another's are refused). */
 struct sp_cli_options {
     const char *scene_path;  /* the positional SCENE argument (the first) */
-    const char *scene_paths[4]; /* SP_CLI_SCENES: every SCENE given, n_scenes of them */
+    const char *scene_paths[4]; /* SP_CLI_TAKES_SCENES: every SCENE given, n_scenes of them */
     int n_scenes;
     const char *output;      /* -o, NULL = the command's default */
     const char *overrides[SP_CLI_MAX_OVERRIDES]; /* --set, --size, --fps */
     int n_overrides;
     char size_buf[2][64];    /* storage for the overrides --size makes */
     char fps_buf[64];        /* storage for the override --fps makes */
-    int quiet;               /* -q */
-    double at;               /* --at (still), simulated s; < 0 = not given */
-    double every;            /* --every (data), simulated s; < 0 = not given */
-    int verbose;             /* --verbose */
-    const char *format;      /* --format, NULL = by the output's extension */
-    const char *frames;      /* --frames A:B as given, NULL = all */
-    const char *shard;       /* --shard I/N as given, NULL = all */
-    int gl;                  /* --gl: enum sp_gl */
     char quality_buf[3][48]; /* storage for the overrides --quality makes */
-    int scale;               /* --scale (still): supersampling factor, 0 = not given */
-    double paper_w, paper_h; /* --size with units (still): the figure's physical
-                                size, pt; 0 = not given (paper_h 0 alone: the
-                                height follows the scene's aspect) */
-    double dpi;              /* --dpi (still, PNG with paper_w): dots per inch, 0 = not given */
-    const char *state;       /* --state (still): JSON path, NULL = none */
-    int json;                /* --json (info) */
-    int poincare;            /* --poincare (data) */
+    int quiet;               /* -q */
+    int verbose;             /* --verbose */
+    int gl;                  /* --gl: enum sp_gl */
+    struct sp_cli_video_options video; /* render */
+    struct sp_cli_still_options still; /* still */
+    struct sp_cli_data_options data;   /* data */
+    struct sp_cli_info_options info;   /* info */
 };
 
-/* Command-specific options sp_cli_parse accepts (allow_at is a mask). */
-#define SP_CLI_AT 1    /* --at SECONDS */
-#define SP_CLI_EVERY 2 /* --every SECONDS */
-#define SP_CLI_JSON 4  /* --json */
-#define SP_CLI_POINCARE 8 /* --poincare */
-#define SP_CLI_SCENES 16  /* up to SP_CLI_MAX_SCENES SCENE files (side by side) */
+/* What a scene command takes beyond the options every one does (-o,
+ * --set, --size WxH, --fps, --quality, --gl, --verbose, -q, -h): its
+ * command line, as sp_cli_parse's `takes`. An option of another command is
+ * refused, naming the command that takes it. */
+enum sp_cli_takes {
+    SP_CLI_TAKES_VIDEO = 1 << 0,    /* render: --format, --frames, --shard */
+    SP_CLI_TAKES_STILL = 1 << 1,    /* still: --at, --state, --scale, --dpi and
+                                       --size with a unit */
+    SP_CLI_TAKES_EVERY = 1 << 2,    /* data: --every */
+    SP_CLI_TAKES_POINCARE = 1 << 3, /* data: --poincare */
+    SP_CLI_TAKES_JSON = 1 << 4,     /* info: --json */
+    SP_CLI_TAKES_SCENES = 1 << 5,   /* up to SP_CLI_MAX_SCENES SCENE files
+                                       (side by side); else one */
+};
 #define SP_CLI_MAX_SCENES 4
 
-/* Parses argv for one command. allow_at: the SP_CLI_* options the command
- * takes. Prints a message and returns SP_E_INPUT on misuse;
- * returns 1 when --help was asked (usage already printed). */
+/* Parses argv for one scene command, which takes `takes` (SP_CLI_TAKES_*).
+ * Prints a message and returns SP_E_INPUT on misuse; returns 1 when --help
+ * was asked (usage already printed). */
 int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv,
-                 const char *usage, int allow_at);
+                 const char *usage, unsigned takes);
 
 /* Reads a figure's physical size, "WIDTH" or "WIDTHxHEIGHT", each a decimal
  * number and a unit (pt, in, cm, mm) from 1 in to 200 in, into *w_pt and
  * *h_pt (pt; *h_pt 0 when only the width is given). Refuses anything else
  * (sp_cli_refuse, naming opt). */
 int sp_cli_paper_size(const char *opt, const char *arg, double *w_pt, double *h_pt);
-
-/* Checks that text (len bytes), recorded in path under key (a PNG's text
- * chunk, a video's tag, a CSV metadata's dc:source), is a scene as
- * springpend writes it: under SP_PROVENANCE_SCENE_MAX bytes, no NUL, read
- * by the scene parser without a word (UTF-8, no control bytes, no key
- * twice, every value in range) and written back by sp_scene_write_ini byte
- * for byte. Anything else was forged or damaged. 0, or SP_E_INPUT after
- * "PATH: KEY:LINE: what" (cli_scene.c). */
-int sp_cli_scene_check(const char *path, const char *key, const char *text, size_t len);
 
 /* The pixels of a PNG of w_pt x h_pt pt at dpi dots per inch, into *w and
  * *h (rounded). A PNG springpend draws is 16x16 to 7680x4320 px, as its
@@ -107,14 +130,6 @@ int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);
 int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *ext, char *buf, size_t size);
 
-/* 1 when both paths exist and name the same file (links resolved). */
-int sp_cli_same_file(const char *a, const char *b);
-
-/* Refuses (SP_E_INPUT, with a message) an output path that cannot be
- * written: a folder, or under something that is not a writable folder.
- * Looks only; creates nothing. `what` names the option ("-o"). */
-int sp_cli_check_writable(const char *path, const char *what);
-
 /* The one rule for work that may run for hours: refuses `steps` beyond
  * limit (SP_E_INPUT: "WHAT: about N steps in all; at most LIMIT are
  * allowed: ADVICE"), and beyond note says on stderr (unless quiet) that it
@@ -129,12 +144,15 @@ int sp_cli_work(double steps, double limit, double note, const char *what, const
 int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
                       double t_end, int camera);
 
-int sp_cmd_render(int argc, char **argv);
-int sp_cmd_still(int argc, char **argv);
-int sp_cmd_data(int argc, char **argv);
-int sp_cmd_info(int argc, char **argv);
-int sp_cmd_compare(int argc, char **argv);
-int sp_cmd_sweep(int argc, char **argv);
-int sp_cmd_scene(int argc, char **argv);
+/* The commands. Each parses argv (argv[0] is the command's name) into its
+ * options and runs; cancel is main's stop flag (the signal's number once
+ * one arrived), handed down to what runs long. 0 or SP_E_*. */
+int sp_cmd_render(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_still(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_info(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_compare(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_sweep(int argc, char **argv, const volatile sig_atomic_t *cancel);
+int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel);
 
 #endif

@@ -12,7 +12,6 @@
 #include "springpend/compare_report.h"
 #include "springpend/common.h"
 #include "springpend/sim.h"
-#include "base/signals.h"
 
 static const char info_usage[] =
     "usage: springpend info SCENE [--json] [--set SECTION.KEY=VAL ...]\n"
@@ -76,13 +75,13 @@ static const char *regime_name(int r)
     return r < 0 ? "underdamped" : r == 0 ? "critically damped" : "overdamped";
 }
 
-static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc,
-                       const struct sp_sim *sim, const struct info *in)
+/* info's text, part by part: the scene's frequencies and the 2:1 resonance. */
+static void print_frequencies(const struct sp_cli_options *o, const struct sp_scene *sc,
+                              const struct info *in)
 {
     const double k = sc->pendulum.stiffness, m = sc->pendulum.mass, g = sc->pendulum.gravity;
     const double L0 = sc->pendulum.natural_length, ell = in->ph.ell;
     const double ws = in->ph.omega_s, wp = in->ph.omega_p, ratio = in->ph.ratio;
-    const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
 
     sp_fprintf_line(stdout, "scene %s (%s)", sc->name, o->scene_path);
     printf("  pendulum         L0 = %g m, k = %g N/m, m = %g kg, g = %g m/s^2, b = %g N*s/m\n",
@@ -105,6 +104,13 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
         printf("  2:1 resonance    k L0 = 3 m g, i.e. k = %.6g N/m for this m and L0\n",
                3 * m * g / L0);
     }
+}
+
+/* Near 2:1: the energy exchange (Lynch's averaged equations). */
+static void print_exchange(const struct sp_scene *sc, const struct info *in)
+{
+    const double ell = in->ph.ell, wp = in->ph.omega_p, ratio = in->ph.ratio;
+
     if (!(wp > 0)) {
     } else if (!in->near21) {
         printf("  not near 2:1 (%.1f%% away): bounce and swing stay apart\n",
@@ -131,62 +137,80 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
                    "bounce by about t = %.3g s, and so on\n",
                    in->ex.time, 100 * in->ex.swing_share, 2 * in->ex.time);
     }
-    if (in->spatial) {
-        const struct sp_precession *pr = &in->prec;
-        printf("  3-D              azimuth_rate = %g rad/s: the bob starts turning about the "
-               "vertical, L_y = m (z vx - x vz) = %.4g kg m^2/s\n", sc->initial.azimuth_rate,
-               m * sp_state_angular_momentum_y(&sim->s));
-        if (!in->prec_ok)
-            printf("  precession       not predicted: %s\n", pr->why);
-        else if (isnan(pr->angle))
-            printf("  precession       none predicted: %s\n", pr->why);
-        else
-            printf("  precession       the swing's plane turns by %+.3g degrees per exchange, "
-                   "every %.3g s (first swing peak at t = %.3g s), by the averaged three-wave "
-                   "equations (Lynch and Houghton); amplitude %.3g of l: %s\n",
-                   pr->angle * 180 / M_PI, pr->period, pr->first_peak, pr->epsilon,
-                   pr->applies ? "within 4% of the full motion's where measured (doc/physics.md: amplitudes up "
-                                 "to 0.065 l, within 1% of 2:1)"
-                               : pr->why);
-    }
-    if (in->damped) {
-        const struct sp_decay *d[2] = {&in->bounce, &in->swing};
-        const char *name[2] = {"bounce", "swing"};
-        for (int i = 0; i < 2; i++)
-            printf("  damping %-8s %s (Q = omega / (b/m) = %.3g): its energy falls by e every "
-                   "%.4g s%s\n", name[i], regime_name(d[i]->regime), d[i]->q, d[i]->energy_time,
-                   d[i]->regime < 0    ? " (m / b)"
-                   : d[i]->regime == 0 ? " (m / b, times (1 + omega t)^2)"
-                                       : " (1 / (2 s_slow), the slow root; m / b would be "
-                                         "too short)");
-    }
-    if (in->driven) {
-        const struct sp_drive_advice *dv = &in->drive;
-        const double W = sim->p.drive_omega;
-        printf("  pivot            A = %g m at %g Hz: Omega = %.4g rad/s; energies are in the "
-               "pivot's frame, not conserved\n", sc->pivot.amplitude, sc->pivot.frequency, W);
-        printf("  swing resonance  parametric at Omega = 2 omega_p = %.4g rad/s (here Omega / "
-               "omega_p = %.4g); it grows where |Omega/2 - omega_p| < omega_p h / 4 = %.3g "
-               "rad/s, h = %.3g the modulation of the swing's stiffness by the forced bounce\n",
-               2 * wp, W / wp, dv->tongue, dv->h);
-        printf("  bounce           forced directly, amplitude %.3g m (resonant at Omega = "
-               "omega_s = %.4g rad/s; a vertical pivot leaves the spring's stiffness alone, "
-               "so there is no parametric resonance of the bounce at 2 omega_s = %.4g rad/s)\n",
-               dv->bounce_amp, ws, 2 * ws);
-        if (dv->growth > 0 && !isnan(dv->time_10x))
-            printf("  swing growth     expected: amplitude grows as exp(%.3g t) (damping "
-                   "included); %.2g%% of the start's swing is in the growing mode, so it "
-                   "reaches 10 times its start by about t = %.3g s\n", dv->growth,
-                   100 * dv->seed_share, dv->time_10x);
-        else if (dv->growth > 0)
-            printf("  swing growth     possible at exp(%.3g t), but the scene starts with no "
-                   "swing (theta0 = 0, no angle rate): nothing to amplify\n", dv->growth);
-        else
-            printf("  swing growth     none expected: %s\n",
-                   dv->tongue > fabs(dv->detuning)
-                       ? "the damping outweighs the drive's pumping"
-                       : "Omega is outside the resonance tongue (too far from 2 omega_p)");
-    }
+}
+
+/* A 3-D scene: the swing plane's precession. */
+static void print_spatial(const struct sp_scene *sc, const struct sp_sim *sim,
+                          const struct info *in)
+{
+    const double m = sc->pendulum.mass;
+    const struct sp_precession *pr = &in->prec;
+    printf("  3-D              azimuth_rate = %g rad/s: the bob starts turning about the "
+           "vertical, L_y = m (z vx - x vz) = %.4g kg m^2/s\n", sc->initial.azimuth_rate,
+           m * sp_state_angular_momentum_y(&sim->s));
+    if (!in->prec_ok)
+        printf("  precession       not predicted: %s\n", pr->why);
+    else if (isnan(pr->angle))
+        printf("  precession       none predicted: %s\n", pr->why);
+    else
+        printf("  precession       the swing's plane turns by %+.3g degrees per exchange, "
+               "every %.3g s (first swing peak at t = %.3g s), by the averaged three-wave "
+               "equations (Lynch and Houghton); amplitude %.3g of l: %s\n",
+               pr->angle * 180 / M_PI, pr->period, pr->first_peak, pr->epsilon,
+               pr->applies ? "within 4% of the full motion's where measured (doc/physics.md: amplitudes up "
+                             "to 0.065 l, within 1% of 2:1)"
+                           : pr->why);
+}
+
+/* With damping: each mode's regime and decay time. */
+static void print_damping(const struct info *in)
+{
+    const struct sp_decay *d[2] = {&in->bounce, &in->swing};
+    const char *name[2] = {"bounce", "swing"};
+    for (int i = 0; i < 2; i++)
+        printf("  damping %-8s %s (Q = omega / (b/m) = %.3g): its energy falls by e every "
+               "%.4g s%s\n", name[i], regime_name(d[i]->regime), d[i]->q, d[i]->energy_time,
+               d[i]->regime < 0    ? " (m / b)"
+               : d[i]->regime == 0 ? " (m / b, times (1 + omega t)^2)"
+                                   : " (1 / (2 s_slow), the slow root; m / b would be "
+                                     "too short)");
+}
+
+/* A moving pivot: the parametric resonance and the swing's growth. */
+static void print_drive(const struct sp_scene *sc, const struct sp_sim *sim,
+                        const struct info *in)
+{
+    const double ws = in->ph.omega_s, wp = in->ph.omega_p;
+    const struct sp_drive_advice *dv = &in->drive;
+    const double W = sim->p.drive_omega;
+    printf("  pivot            A = %g m at %g Hz: Omega = %.4g rad/s; energies are in the "
+           "pivot's frame, not conserved\n", sc->pivot.amplitude, sc->pivot.frequency, W);
+    printf("  swing resonance  parametric at Omega = 2 omega_p = %.4g rad/s (here Omega / "
+           "omega_p = %.4g); it grows where |Omega/2 - omega_p| < omega_p h / 4 = %.3g "
+           "rad/s, h = %.3g the modulation of the swing's stiffness by the forced bounce\n",
+           2 * wp, W / wp, dv->tongue, dv->h);
+    printf("  bounce           forced directly, amplitude %.3g m (resonant at Omega = "
+           "omega_s = %.4g rad/s; a vertical pivot leaves the spring's stiffness alone, "
+           "so there is no parametric resonance of the bounce at 2 omega_s = %.4g rad/s)\n",
+           dv->bounce_amp, ws, 2 * ws);
+    if (dv->growth > 0 && !isnan(dv->time_10x))
+        printf("  swing growth     expected: amplitude grows as exp(%.3g t) (damping "
+               "included); %.2g%% of the start's swing is in the growing mode, so it "
+               "reaches 10 times its start by about t = %.3g s\n", dv->growth,
+               100 * dv->seed_share, dv->time_10x);
+    else if (dv->growth > 0)
+        printf("  swing growth     possible at exp(%.3g t), but the scene starts with no "
+               "swing (theta0 = 0, no angle rate): nothing to amplify\n", dv->growth);
+    else
+        printf("  swing growth     none expected: %s\n",
+               dv->tongue > fabs(dv->detuning)
+                   ? "the damping outweighs the drive's pumping"
+                   : "Omega is outside the resonance tongue (too far from 2 omega_p)");
+}
+
+/* The energies at t = 0 and the video's length. */
+static void print_energy_video(const struct sp_scene *sc, const struct info *in)
+{
     printf("  energy at t = 0  kinetic %.6g J, spring %.6g J, gravity %.6g J, total %.6g J\n",
            in->e.kinetic, in->e.spring, in->e.gravity, in->e.total);
     printf("                   bounce %.6g J, swing %.6g J (bounce + swing = total - E_eq)\n",
@@ -200,6 +224,16 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
         printf("  video            %g s at %g fps and speed %g: %d frames, %g s of video\n",
                sc->video.duration, sc->video.fps, sc->video.speed, sp_scene_frame_count(sc),
                sp_timeline_length(sc));
+}
+
+/* The integrator: an adaptive one's tolerance, or a fixed step's margin,
+ * close passes and safe dt. */
+static void print_integrator(const struct sp_scene *sc, const struct sp_sim *sim,
+                             const struct info *in)
+{
+    const double L0 = sc->pendulum.natural_length;
+    const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
+
     if (mi->adaptive) {
         printf("  integrator       %s, order %d, adaptive, tolerance %g, %s\n", mi->name,
                mi->order, sc->integrator.tolerance,
@@ -263,6 +297,21 @@ static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc
     else if (!isnan(a->safe))
         printf("  safe dt          %g s (completes the run over [0, %g] s with drift under "
                "%g%%)\n", a->safe, a->checked, 100 * 0.1 * SP_SIM_DRIFT_LIMIT);
+}
+
+static void print_text(const struct sp_cli_options *o, const struct sp_scene *sc,
+                       const struct sp_sim *sim, const struct info *in)
+{
+    print_frequencies(o, sc, in);
+    print_exchange(sc, in);
+    if (in->spatial)
+        print_spatial(sc, sim, in);
+    if (in->damped)
+        print_damping(in);
+    if (in->driven)
+        print_drive(sc, sim, in);
+    print_energy_video(sc, in);
+    print_integrator(sc, sim, in);
 }
 
 /* A number, or null where it does not apply. */
@@ -330,25 +379,27 @@ static void print_json(const struct sp_scene *sc, const struct sp_sim *sim,
     printf("}\n");
 }
 
-static int info_scene(const struct sp_cli_options *o, const struct sp_scene *sc);
+static int info_scene(const struct sp_cli_options *o, const struct sp_scene *sc,
+                      const volatile sig_atomic_t *cancel);
 
-int sp_cmd_info(int argc, char **argv)
+int sp_cmd_info(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sp_cli_options o;
     struct sp_scene sc;
-    int ret = sp_cli_parse(&o, argc, argv, info_usage, SP_CLI_JSON);
+    int ret = sp_cli_parse(&o, argc, argv, info_usage, SP_CLI_TAKES_JSON);
     if (ret)
         return ret > 0 ? 0 : ret;
     ret = sp_cli_load_scene(&o, &sc);
     if (ret)
         return ret;
-    ret = info_scene(&o, &sc);
+    ret = info_scene(&o, &sc, cancel);
     sp_scene_free(&sc);
     return ret;
 }
 
 /* info on a loaded scene. */
-static int info_scene(const struct sp_cli_options *op, const struct sp_scene *scene)
+static int info_scene(const struct sp_cli_options *op, const struct sp_scene *scene,
+                      const volatile sig_atomic_t *cancel)
 {
     const struct sp_cli_options o = *op;
     const struct sp_scene sc = *scene; /* shares the timeline: freed by the caller */
@@ -375,7 +426,7 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
     }
     in.driven = sp_advise_drive(&sim.p, &sim.s, &in.drive) == 0;
     if (!sp_method_info(sc.integrator.method)->adaptive) {
-        ret = sp_advise_dt(&sc, sc.video.duration, sp_signal_flag(), &in.dt);
+        ret = sp_advise_dt(&sc, sc.video.duration, cancel, &in.dt);
         if (ret)
             return ret;
         in.margin = in.dt.limit / sc.integrator.dt;
@@ -384,14 +435,14 @@ static int info_scene(const struct sp_cli_options *op, const struct sp_scene *sc
                          (isnan(in.dt.safe) || in.dt.checked < sc.video.duration);
         double checked;
         if (in.dt.pass_bound) {
-            ret = sp_advise_adaptive(&sc, sc.video.duration, sp_signal_flag(), &checked);
+            ret = sp_advise_adaptive(&sc, sc.video.duration, cancel, &checked);
             if (ret == SP_E_INTERRUPTED)
                 return ret;
             if (ret == 0 && checked >= sc.video.duration)
                 in.adaptive_checked = checked;
         }
     }
-    if (o.json)
+    if (o.info.json)
         print_json(&sc, &sim, &in);
     else
         print_text(&o, &sc, &sim, &in);

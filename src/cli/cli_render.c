@@ -209,22 +209,22 @@ static int check_still_format(const char *out)
 static int check_still(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *out)
 {
-    if (scene->integrator.method <= SP_METHOD_YOSHIDA4 && o->at / scene->integrator.dt > 1e10) {
+    if (scene->integrator.method <= SP_METHOD_YOSHIDA4 && o->still.at / scene->integrator.dt > 1e10) {
         sp_log_error("--at %g: reaching it takes %.3g steps of integrator.dt = %g s; at most "
-                     "1e10 are allowed", o->at, o->at / scene->integrator.dt,
+                     "1e10 are allowed", o->still.at, o->still.at / scene->integrator.dt,
                      scene->integrator.dt);
         return SP_E_INPUT;
     }
     int ret = check_still_format(out);
-    if (ret || !o->state)
+    if (ret || !o->still.state)
         return ret;
-    if (sp_cli_same_file(o->state, o->scene_path) || !strcmp(o->state, out) ||
-        sp_cli_same_file(o->state, out)) {
+    if (sp_outfile_same_file(o->still.state, o->scene_path) || !strcmp(o->still.state, out) ||
+        sp_outfile_same_file(o->still.state, out)) {
         sp_log_error("--state %s would overwrite the scene or the image; choose another path",
-                     o->state);
+                     o->still.state);
         return SP_E_INPUT;
     }
-    return sp_cli_check_writable(o->state, "--state");
+    return sp_outfile_check_writable(o->still.state, "--state");
 }
 
 /* Scenes side by side share the first one's frame and text: the keys in
@@ -308,7 +308,7 @@ static int check_side_by_side(const struct sp_cli_options *o, const struct sp_sc
                          s[i].timeline ? "a [timeline]" : "an [ensemble]");
             bad = 1;
         }
-    if (o->state) {
+    if (o->still.state) {
         sp_log_error("--state writes one scene's state; give one SCENE with it");
         bad = 1;
     }
@@ -327,15 +327,15 @@ static int paper_still(const struct sp_cli_options *o, struct sp_scene *scene, c
                        struct sp_pipeline_desc *pd)
 {
     const int vector = sp_figure_format(out) != SP_FIGURE_NONE;
-    if (vector && o->dpi) {
+    if (vector && o->still.dpi) {
         sp_log_error("--dpi %g: %s is a vector figure (its size is --size's alone); --dpi is "
-                     "for a PNG", o->dpi, out);
+                     "for a PNG", o->still.dpi, out);
         return SP_E_INPUT;
     }
-    pd->page_w = o->paper_w;
-    pd->page_h = o->paper_h > 0 ? o->paper_h
-                                : o->paper_w * scene->video.height / scene->video.width;
-    pd->pt_px = vector ? VECTOR_PX_PER_PT : (o->dpi ? o->dpi : PNG_DPI_DEFAULT) / 72;
+    pd->page_w = o->still.paper_w;
+    pd->page_h = o->still.paper_h > 0 ? o->still.paper_h
+                                : o->still.paper_w * scene->video.height / scene->video.width;
+    pd->pt_px = vector ? VECTOR_PX_PER_PT : (o->still.dpi ? o->still.dpi : PNG_DPI_DEFAULT) / 72;
     int w = (int)round(pd->page_w * pd->pt_px), h = (int)round(pd->page_h * pd->pt_px);
     if (!vector && sp_cli_png_pixels(pd->page_w, pd->page_h, pd->pt_px * 72, "a PNG still", &w,
                                      &h))
@@ -359,7 +359,8 @@ static int run(int argc, char **argv, int still)
     struct sp_scene *const sp = scenes;
     char out[4096], ext[16] = ".mp4";
     int first = 0, last = 0, ret = sp_cli_parse(&o, argc, argv, still ? still_usage : render_usage,
-                                                still | SP_CLI_SCENES);
+                                                (still ? SP_CLI_TAKES_STILL : SP_CLI_TAKES_VIDEO) |
+                                                    SP_CLI_TAKES_SCENES);
     if (ret)
         return ret > 0 ? 0 : ret;
     ret = sp_cli_load_scenes(&o, scenes);
@@ -368,8 +369,8 @@ static int run(int argc, char **argv, int still)
     if (!ret && o.n_scenes > 1)
         ret = check_side_by_side(&o, scenes, o.n_scenes);
 
-    if (o.format)
-        snprintf(ext, sizeof(ext), ".%s", o.format);
+    if (o.video.format)
+        snprintf(ext, sizeof(ext), ".%s", o.video.format);
     if (!ret)
         ret = sp_cli_output_path(&o, &scenes[0], still ? ".png" : ext, out, sizeof(out));
     /* a still too: its camera, trail and charts span the video's frames */
@@ -405,13 +406,13 @@ static int run(int argc, char **argv, int still)
         ret = check_still(&o, &scenes[0], out);
     struct sp_pipeline_desc pd = {0};
     const struct sp_scene recorded = scenes[0]; /* before --size 8.6cm sets its px */
-    if (!ret && still && o.paper_w)
+    if (!ret && still && o.still.paper_w)
         ret = paper_still(&o, &scenes[0], out, &pd);
     struct sp_moment end;
     if (!ret)
         sp_timeline_frame(&scenes[0], sp_timeline_frames(&scenes[0]) - 1, &end);
     if (!ret)
-        ret = sp_cli_check_work(&o, &scenes[0], still ? fmax(end.t, o.at) : end.t, 1);
+        ret = sp_cli_check_work(&o, &scenes[0], still ? fmax(end.t, o.still.at) : end.t, 1);
     for (int i = 1; !ret && i < o.n_scenes; i++)
         ret = sp_cli_check_work(&o, &sp[i], sp_scene_frame_time(&sp[i], sp_scene_frame_count(&sp[i]) - 1), 1);
     const struct sp_scene *more[SP_CLI_MAX_SCENES - 1];
@@ -424,15 +425,15 @@ static int run(int argc, char **argv, int still)
     }
     struct sp_state state;
     ret = sp_pipeline_run(&(struct sp_pipeline_desc){
-        .scene = &scenes[0], .output = out, .format = still ? "png" : o.format,
-        .still = still, .still_at = o.at < 0 ? 0 : o.at, .first = first,
+        .scene = &scenes[0], .output = out, .format = still ? "png" : o.video.format,
+        .still = still, .still_at = o.still.at < 0 ? 0 : o.still.at, .first = first,
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
-        .handle_signals = !still, .supersample = o.scale, .state_out = &state,
+        .handle_signals = !still, .supersample = o.still.scale, .state_out = &state,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
         .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
         .recorded = pd.pt_px > 0 ? &recorded : NULL});
     /* Both files or neither (a device or stdout is never removed). */
-    if (!ret && o.state && (ret = write_state(o.state, &scenes[0], &state)) != 0 &&
+    if (!ret && o.still.state && (ret = write_state(o.still.state, &scenes[0], &state)) != 0 &&
         !sp_outfile_is_stream(out))
         remove(out);
     for (int i = 0; i < o.n_scenes; i++)
@@ -440,10 +441,21 @@ static int run(int argc, char **argv, int still)
     /* An interrupted render keeps the frames so far, when there were any. */
     int kept = ret == SP_E_INTERRUPTED && !still && strcmp(out, "-") && access(out, F_OK) == 0;
     if ((!ret || kept) && !o.quiet)
-        sp_fprintf_line(stderr, "wrote %s%s%s", strcmp(out, "-") ? out : "stdout", o.state ? " and " : "",
-                o.state ? o.state : "");
+        sp_fprintf_line(stderr, "wrote %s%s%s", strcmp(out, "-") ? out : "stdout", o.still.state ? " and " : "",
+                o.still.state ? o.still.state : "");
     return ret;
 }
 
-int sp_cmd_render(int argc, char **argv) { return run(argc, argv, 0); }
-int sp_cmd_still(int argc, char **argv) { return run(argc, argv, 1); }
+/* The pipeline owns the signals while it runs (sp_signals_hold): it reads
+ * the flag that main's cancel points to itself. */
+int sp_cmd_render(int argc, char **argv, const volatile sig_atomic_t *cancel)
+{
+    (void)cancel;
+    return run(argc, argv, 0);
+}
+
+int sp_cmd_still(int argc, char **argv, const volatile sig_atomic_t *cancel)
+{
+    (void)cancel;
+    return run(argc, argv, 1);
+}

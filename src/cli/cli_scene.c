@@ -49,47 +49,6 @@ static void cell_key(int k, char key[64])
         snprintf(key, 64, "%s.%d", SP_PROVENANCE_SCENE_FILE, k);
 }
 
-int sp_cli_scene_check(const char *path, const char *key, const char *text, size_t len)
-{
-    char origin[4200];
-    struct sp_scene sc;
-    snprintf(origin, sizeof(origin), "%s: %s", path, key);
-    if (!len) {
-        sp_log_error("%s: empty; an output of springpend records its scene there", origin);
-        return SP_E_INPUT;
-    }
-    if (len >= SP_PROVENANCE_SCENE_MAX) {
-        sp_log_error("%s: %zu bytes; springpend records at most %d", origin, len,
-                     SP_PROVENANCE_SCENE_MAX - 1);
-        return SP_E_INPUT;
-    }
-    if (strlen(text) != len) {
-        sp_log_error("%s: a NUL byte at %zu; a scene holds none", origin, strlen(text));
-        return SP_E_INPUT;
-    }
-    sp_scene_defaults(&sc);
-    int ret = sp_scene_parse(&sc, text, origin, NULL, 0);
-    char *again = ret ? NULL : sp_scene_ini(&sc);
-    sp_scene_free(&sc);
-    if (ret)
-        return SP_E_INPUT; /* the parser said what and where */
-    if (!again) {
-        sp_log_error("out of memory");
-        return SP_E_NOMEM;
-    }
-    if (strcmp(again, text)) {
-        int line = 1;
-        for (size_t i = 0; text[i] && text[i] == again[i]; i++)
-            line += text[i] == '\n';
-        sp_log_error("%s:%d: not as springpend writes the scene (its keys in order, under "
-                     "their [section], one each); the record was edited or made elsewhere",
-                     origin, line);
-        ret = SP_E_INPUT;
-    }
-    free(again);
-    return ret;
-}
-
 /* Prints scene k of n (1-based): with a heading when all of several are. */
 static void print_scene(const char *text, int k, int n, int all)
 {
@@ -126,7 +85,7 @@ static int scene_of_csv(const char *path, int cell)
             sp_log_error("%s" SP_CSV_METADATA_SUFFIX ":1: %s: not a string", path, key);
             ret = SP_E_INPUT;
         } else {
-            ret = sp_cli_scene_check(path, key, json_string_value(t), json_string_length(t));
+            ret = sp_provenance_scene_check(path, key, json_string_value(t), json_string_length(t));
         }
     }
     for (int k = 1; !ret && k <= n; k++)
@@ -137,9 +96,10 @@ static int scene_of_csv(const char *path, int cell)
     return ret;
 }
 
-int sp_cmd_scene(int argc, char **argv)
+int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     int cell = 0;
+    (void)cancel; /* reads one file: nothing runs long */
     if (argc == 2 && (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help"))) {
         fputs(scene_usage, stdout);
         return 0;
@@ -185,7 +145,7 @@ int sp_cmd_scene(int argc, char **argv)
         found = figure ? sp_figure_read_scene(path, texts[k - 1], SP_PROVENANCE_SCENE_MAX)
                 : !video ? sp_png_read_text(path, key, texts[k - 1], SP_PROVENANCE_SCENE_MAX)
                          : sp_video_read_text(path, key, texts[k - 1], SP_PROVENANCE_SCENE_MAX);
-        if (found == 1 && (n = k, sp_cli_scene_check(path, key, texts[k - 1],
+        if (found == 1 && (n = k, sp_provenance_scene_check(path, key, texts[k - 1],
                                                   strlen(texts[k - 1]))))
             found = SP_E_INPUT;
     }

@@ -18,7 +18,6 @@
 #include "base/decimal.h"
 #include "base/digest.h"
 #include <jansson.h>
-#include "base/signals.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/infile.h"
@@ -28,6 +27,7 @@
 #include "base/command_line.h"
 #include "sweep/sweep.h"
 #include "sweep/sweep_format.h"
+#include "sweep/sweep_merge.h"
 
 static const char sweep_usage[] =
     "usage: springpend sweep SCENE --vary KEY=FROM:TO:COUNT [--vary KEY=FROM:TO:COUNT]\n"
@@ -130,6 +130,7 @@ struct sweep_opts {
     const char **parts;
     int n_parts;
     struct sp_plot_style style; /* --size, --dpi; the scene's [view] once loaded */
+    const volatile sig_atomic_t *cancel; /* main's stop flag */
 };
 
 /* --vary KEY=FROM:TO:COUNT: FROM and TO any decimal numbers here (sp_sweep_check
@@ -168,119 +169,130 @@ static int parse_vary(const char *arg, struct sp_sweep_desc *d)
     return 0;
 }
 
-static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_sweep_desc *d)
+static const struct option longopts[] = {
+    {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
+    {"vary", required_argument, 0, 'V'},   {"measure", required_argument, 0, 'M'},
+    {"time", required_argument, 0, 'T'},   {"transient", required_argument, 0, 'R'},
+    {"energy", required_argument, 0, 'E'}, {"csv", required_argument, 0, 'C'},
+    {"shard", required_argument, 0, 'D'},  {"merge", no_argument, 0, 'G'},
+    {"threads", required_argument, 0, 'N'}, {"quiet", no_argument, 0, 'q'},
+    {"continue", required_argument, 0, 'K'}, {"peak", required_argument, 0, 'P'},
+    {"size", required_argument, 0, 'S'},   {"dpi", required_argument, 0, 'I'},
+    {"format", required_argument, 0, 'F'}, {"fast", no_argument, 0, 'X'},
+    {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
+};
+
+/* --measure NAME into d. */
+static int parse_measure(const char *arg, struct sp_sweep_desc *d)
 {
-    static const struct option longopts[] = {
-        {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
-        {"vary", required_argument, 0, 'V'},   {"measure", required_argument, 0, 'M'},
-        {"time", required_argument, 0, 'T'},   {"transient", required_argument, 0, 'R'},
-        {"energy", required_argument, 0, 'E'}, {"csv", required_argument, 0, 'C'},
-        {"shard", required_argument, 0, 'D'},  {"merge", no_argument, 0, 'G'},
-        {"threads", required_argument, 0, 'N'}, {"quiet", no_argument, 0, 'q'},
-        {"continue", required_argument, 0, 'K'}, {"peak", required_argument, 0, 'P'},
-        {"size", required_argument, 0, 'S'},   {"dpi", required_argument, 0, 'I'},
-        {"format", required_argument, 0, 'F'}, {"fast", no_argument, 0, 'X'},
-        {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
-    };
-    int c, ret = 0, have_measure = 0;
+    if (!strcmp(arg, "lyapunov"))
+        d->measure = SP_MEASURE_LYAPUNOV;
+    else if (!strcmp(arg, "orbit"))
+        d->measure = SP_MEASURE_ORBIT;
+    else if (!strcmp(arg, "poincare"))
+        d->measure = SP_MEASURE_POINCARE;
+    else if (!strcmp(arg, "spectrum"))
+        d->measure = SP_MEASURE_SPECTRUM;
+    else if (!strcmp(arg, "basins"))
+        d->measure = SP_MEASURE_BASINS;
+    else if (!strcmp(arg, "precession"))
+        d->measure = SP_MEASURE_PRECESSION;
+    else {
+        sp_log_error("--measure %s: use lyapunov, spectrum, orbit, poincare, basins or "
+                     "precession", arg);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+/* Takes option c, which getopt_long just read (its value: optarg), into *o
+ * and *d. 0, 1 after --help (usage printed), or SP_E_INPUT after a
+ * message. */
+static int take_option(int c, char **argv, struct sweep_opts *o, struct sp_sweep_desc *d,
+                       int *have_measure)
+{
+    int ret = 0;
     double v;
-    memset(o, 0, sizeof(*o));
-    d->time = -1;
-    optind = 1;
-    opterr = 0;
-    while (!ret && (c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1) {
-        switch (c) {
-        case 'o': o->output = optarg; break;
-        case 'C': o->csv = optarg; break;
-        case 'D': o->shard = optarg; break;
-        case 'G': o->merge = 1; break;
-        case 'X': d->fast = 1; break;
-        case 'q': o->quiet = 1; break;
-        case 'h': fputs(sweep_usage, stdout); return 1;
-        case 's':
-            if (o->n_overrides == SP_CLI_MAX_OVERRIDES) {
-                sp_log_error("too many --set; at most %d", SP_CLI_MAX_OVERRIDES);
-                return SP_E_INPUT;
-            }
-            o->overrides[o->n_overrides++] = optarg;
-            break;
-        case 'V': ret = parse_vary(optarg, d); break;
-        case 'M':
-            have_measure = 1;
-            if (!strcmp(optarg, "lyapunov"))
-                d->measure = SP_MEASURE_LYAPUNOV;
-            else if (!strcmp(optarg, "orbit"))
-                d->measure = SP_MEASURE_ORBIT;
-            else if (!strcmp(optarg, "poincare"))
-                d->measure = SP_MEASURE_POINCARE;
-            else if (!strcmp(optarg, "spectrum"))
-                d->measure = SP_MEASURE_SPECTRUM;
-            else if (!strcmp(optarg, "basins"))
-                d->measure = SP_MEASURE_BASINS;
-            else if (!strcmp(optarg, "precession"))
-                d->measure = SP_MEASURE_PRECESSION;
-            else {
-                sp_log_error("--measure %s: use lyapunov, spectrum, orbit, poincare, basins or "
-                             "precession", optarg);
-                return SP_E_INPUT;
-            }
-            break;
-        case 'K':
-            d->cont = !strcmp(optarg, "up")     ? SP_CONTINUE_UP
-                      : !strcmp(optarg, "down") ? SP_CONTINUE_DOWN
-                      : !strcmp(optarg, "both") ? SP_CONTINUE_BOTH
-                                                : SP_CONTINUE_NONE;
-            if (!d->cont)
-                return sp_cli_refuse("--continue", optarg, "not a direction", "up, down or both");
-            break;
-        case 'P':
-            d->peak = !strcmp(optarg, "theta") ? SP_PEAK_THETA
-                      : !strcmp(optarg, "r")   ? SP_PEAK_R
-                                               : 0;
-            if (!d->peak)
-                return sp_cli_refuse("--peak", optarg, "not a sampled quantity",
-                                     "theta (the largest |theta| per drive period) or r");
-            break;
-        case 'F':
-            o->format = !strcmp(optarg, "csv") ? 1 : !strcmp(optarg, "json") ? 2 : 0;
-            if (!o->format)
-                return sp_cli_refuse("--format", optarg, "not a format", "csv or json");
-            break;
-        case 'T':
-            ret = sp_cli_number("--time", optarg, 0, 1e7, SP_DECIMAL_ABOVE,
-                                "simulated seconds measured, 0 < T <= 1e7", &d->time);
-            break;
-        case 'R':
-            ret = sp_cli_number("--transient", optarg, 0, DBL_MAX, 0,
-                                "simulated seconds integrated first, T0 >= 0", &d->transient);
-            break;
-        case 'E':
-            ret = sp_cli_number("--energy", optarg, -DBL_MAX, DBL_MAX, 0,
-                                "the orbits' energy in J", &d->energy);
-            o->energy_given = 1;
-            break;
-        case 'S':
-            ret = sp_cli_paper_size("--size", optarg, &o->style.page_w, &o->style.page_h);
-            if (!ret && !o->style.page_h) /* the default figure's 3:2 */
-                o->style.page_h = o->style.page_w * 2 / 3;
-            break;
-        case 'I':
-            ret = sp_cli_number("--dpi", optarg, 10, 2400, SP_DECIMAL_ABOVE,
-                                "the PNG's dots per inch, 10 < dpi <= 2400, with --size, e.g. "
-                                "--size 8.6cm --dpi 300", &o->style.dpi);
-            break;
-        case 'N':
-            ret = sp_cli_number("--threads", optarg, 1, 1024, SP_DECIMAL_INTEGER,
-                                "worker threads, an integer from 1 to 1024", &v);
-            o->threads = (int)v;
-            break;
-        default:
-            sp_log_error("unknown option '%s'; see 'springpend sweep --help'", argv[optind - 1]);
+    switch (c) {
+    case 'o': o->output = optarg; break;
+    case 'C': o->csv = optarg; break;
+    case 'D': o->shard = optarg; break;
+    case 'G': o->merge = 1; break;
+    case 'X': d->fast = 1; break;
+    case 'q': o->quiet = 1; break;
+    case 'h': fputs(sweep_usage, stdout); return 1;
+    case 's':
+        if (o->n_overrides == SP_CLI_MAX_OVERRIDES) {
+            sp_log_error("too many --set; at most %d", SP_CLI_MAX_OVERRIDES);
             return SP_E_INPUT;
         }
+        o->overrides[o->n_overrides++] = optarg;
+        break;
+    case 'V': ret = parse_vary(optarg, d); break;
+    case 'M':
+        *have_measure = 1;
+        ret = parse_measure(optarg, d);
+        break;
+    case 'K':
+        d->cont = !strcmp(optarg, "up")     ? SP_CONTINUE_UP
+                  : !strcmp(optarg, "down") ? SP_CONTINUE_DOWN
+                  : !strcmp(optarg, "both") ? SP_CONTINUE_BOTH
+                                            : SP_CONTINUE_NONE;
+        if (!d->cont)
+            return sp_cli_refuse("--continue", optarg, "not a direction", "up, down or both");
+        break;
+    case 'P':
+        d->peak = !strcmp(optarg, "theta") ? SP_PEAK_THETA
+                  : !strcmp(optarg, "r")   ? SP_PEAK_R
+                                           : 0;
+        if (!d->peak)
+            return sp_cli_refuse("--peak", optarg, "not a sampled quantity",
+                                 "theta (the largest |theta| per drive period) or r");
+        break;
+    case 'F':
+        o->format = !strcmp(optarg, "csv") ? 1 : !strcmp(optarg, "json") ? 2 : 0;
+        if (!o->format)
+            return sp_cli_refuse("--format", optarg, "not a format", "csv or json");
+        break;
+    case 'T':
+        ret = sp_cli_number("--time", optarg, 0, 1e7, SP_DECIMAL_ABOVE,
+                            "simulated seconds measured, 0 < T <= 1e7", &d->time);
+        break;
+    case 'R':
+        ret = sp_cli_number("--transient", optarg, 0, DBL_MAX, 0,
+                            "simulated seconds integrated first, T0 >= 0", &d->transient);
+        break;
+    case 'E':
+        ret = sp_cli_number("--energy", optarg, -DBL_MAX, DBL_MAX, 0,
+                            "the orbits' energy in J", &d->energy);
+        o->energy_given = 1;
+        break;
+    case 'S':
+        ret = sp_cli_paper_size("--size", optarg, &o->style.page_w, &o->style.page_h);
+        if (!ret && !o->style.page_h) /* the default figure's 3:2 */
+            o->style.page_h = o->style.page_w * 2 / 3;
+        break;
+    case 'I':
+        ret = sp_cli_number("--dpi", optarg, 10, 2400, SP_DECIMAL_ABOVE,
+                            "the PNG's dots per inch, 10 < dpi <= 2400, with --size, e.g. "
+                            "--size 8.6cm --dpi 300", &o->style.dpi);
+        break;
+    case 'N':
+        ret = sp_cli_number("--threads", optarg, 1, 1024, SP_DECIMAL_INTEGER,
+                            "worker threads, an integer from 1 to 1024", &v);
+        o->threads = (int)v;
+        break;
+    default:
+        sp_log_error("unknown option '%s'; see 'springpend sweep --help'", argv[optind - 1]);
+        return SP_E_INPUT;
     }
-    if (ret)
-        return ret;
+    return ret;
+}
+
+/* --size and --dpi: a printed figure, -o FIGURE (a PNG for --dpi), and a
+ * PNG of as many pixels as a still may have. */
+static int check_size(const struct sweep_opts *o)
+{
     if (o->style.dpi && !(o->style.page_w && o->output && strcmp(o->output, "-") &&
                           !strcasecmp(strrchr(o->output, '.') ? strrchr(o->output, '.') : "",
                                       ".png"))) {
@@ -298,11 +310,14 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
         sp_cli_png_pixels(o->style.page_w, o->style.page_h, o->style.dpi ? o->style.dpi : 300,
                           "a PNG figure", &png_w, &png_h))
         return SP_E_INPUT;
-    if (o->output && !strcmp(o->output, "-")) { /* the numbers, no figure */
-        o->output = NULL;
-        if (!o->format)
-            o->format = 1;
-    }
+    return 0;
+}
+
+/* What follows the options: the shards' CSVs (--merge) or one SCENE, and
+ * what each needs. */
+static int take_operands(int argc, char **argv, struct sweep_opts *o,
+                         const struct sp_sweep_desc *d, int have_measure)
+{
     if (o->merge) {
         o->parts = (const char **)argv + optind;
         o->n_parts = argc - optind;
@@ -341,6 +356,27 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
     return 0;
 }
 
+/* Parses argv into *o and *d. 0, 1 after --help (usage printed), or
+ * SP_E_INPUT after a message. */
+static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_sweep_desc *d)
+{
+    int c, ret = 0, have_measure = 0;
+    memset(o, 0, sizeof(*o));
+    d->time = -1;
+    optind = 1;
+    opterr = 0;
+    while (!ret && (c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1)
+        ret = take_option(c, argv, o, d, &have_measure);
+    if (ret || (ret = check_size(o)))
+        return ret;
+    if (o->output && !strcmp(o->output, "-")) { /* the numbers, no figure */
+        o->output = NULL;
+        if (!o->format)
+            o->format = 1;
+    }
+    return take_operands(argc, argv, o, d, have_measure);
+}
+
 /* The figure's path must end in .png, .svg or .pdf and be writable. */
 static int check_outputs(const struct sweep_opts *o)
 {
@@ -350,7 +386,7 @@ static int check_outputs(const struct sweep_opts *o)
             sp_log_error("-o %s: the figure must be .png, .svg or .pdf", o->output);
             return SP_E_INPUT;
         }
-        if (sp_cli_check_writable(o->output, "-o"))
+        if (sp_outfile_check_writable(o->output, "-o"))
             return SP_E_INPUT;
     }
     if (o->csv && sp_outfile_is_stream(o->csv)) { /* outfile's message says CSV may be */
@@ -358,9 +394,9 @@ static int check_outputs(const struct sweep_opts *o)
                      "so --csv must name a regular file", o->csv);
         return SP_E_INPUT;
     }
-    if (o->csv && sp_cli_check_writable(o->csv, "--csv"))
+    if (o->csv && sp_outfile_check_writable(o->csv, "--csv"))
         return SP_E_INPUT;
-    if (o->csv && o->output && sp_cli_same_file(o->csv, o->output)) {
+    if (o->csv && o->output && sp_outfile_same_file(o->csv, o->output)) {
         sp_log_error("--csv and -o name the same file");
         return SP_E_INPUT;
     }
@@ -369,7 +405,7 @@ static int check_outputs(const struct sweep_opts *o)
     for (int i = 0; i < 2; i++)
         for (int k = -1; outs[i][1] && k < (o->merge ? o->n_parts : 0); k++) {
             const char *in = k < 0 ? o->scene : o->parts[k];
-            if (in && sp_cli_same_file(outs[i][1], in)) {
+            if (in && sp_outfile_same_file(outs[i][1], in)) {
                 sp_log_error("%s %s would overwrite an input; choose another path", outs[i][0],
                              outs[i][1]);
                 return SP_E_INPUT;
@@ -561,7 +597,7 @@ static int description_words(FILE *rows, char *buf, size_t size)
  * a shard's rows and SHA-256), both as .parts, the metadata renamed into
  * place first. Folders made go in *made. */
 static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
-                     struct sp_dirs *made)
+                     struct sp_dirs *made, const volatile sig_atomic_t *cancel)
 {
     static char buf[1 << 16];
     char description[1024];
@@ -584,7 +620,7 @@ static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
             lines++;
         for (size_t done = 0; !ret && done < got;) {
             ssize_t w = write(f.fd, buf + done, got - done);
-            if (w < 0 && errno == EINTR && !sp_signal_seen())
+            if (w < 0 && errno == EINTR && !*cancel)
                 continue;
             if (w <= 0) {
                 sp_log_error("cannot write %s: %s", f.path, strerror(errno));
@@ -592,7 +628,7 @@ static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
             }
             done += w > 0 ? (size_t)w : 0;
         }
-        if (!ret && sp_signal_seen())
+        if (!ret && *cancel)
             ret = SP_E_INTERRUPTED;
     }
     if (!ret && ferror(rows)) {
@@ -635,7 +671,7 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
         char *command = sp_command_line_unnamed();
         style.scene_file = ini, style.command = command, style.scene = pv->scene;
-        style.cancel = sp_signal_flag(); /* a signal stops the drawing */
+        style.cancel = o->cancel; /* a signal stops the drawing */
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
         free(ini);
         free(command);
@@ -649,10 +685,10 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
             ret = SP_E_IO;
         }
     }
-    if (!ret && sp_signal_seen()) /* while drawing or merging: nothing written */
+    if (!ret && *o->cancel) /* while drawing or merging: nothing written */
         ret = SP_E_INTERRUPTED;
     if (!ret && o->csv)
-        ret = write_csv(fp, o->csv, pv, &made[0]);
+        ret = write_csv(fp, o->csv, pv, &made[0], o->cancel);
     if (!ret && figure.target)
         ret = sp_outfile_commit(&figure);
     sp_outfile_discard(&figure);
@@ -666,353 +702,31 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
     return ret;
 }
 
-/* ---- --merge ---- */
-
-/* A shard's CSV and what its metadata says. */
-struct shard {
-    const char *path;
-    FILE *fp;              /* the CSV, after its header line */
-    json_t *meta;          /* its CSV.csv-metadata.json */
-    const char *description, *scene, *version;
-    json_t *overrides;     /* array of strings */
-    int i, n;              /* shard I of N */
-    long rows;
-    const char *sha256;
-};
-
-/* The string member key of obj, or NULL. */
-static const char *member(json_t *obj, const char *key)
-{
-    return json_string_value(json_object_get(obj, key));
-}
-
-/* Reads the shard's metadata; messages name it. 0 or SP_E_INPUT. */
-static int read_shard_meta(struct shard *s)
-{
-    int used = 0;
-    if (!(s->meta = sp_csv_metadata_load(s->path)))
-        return SP_E_INPUT;
-    s->description = member(s->meta, "dc:description");
-    s->scene = member(s->meta, "dc:source");
-    s->version = member(s->meta, "schema:softwareVersion");
-    s->overrides = json_object_get(s->meta, "prov:used");
-    s->sha256 = member(s->meta, "schema:sha256");
-    json_t *rows = json_object_get(s->meta, "dc:extent");
-    const char *pos = member(s->meta, "schema:position");
-    s->rows = json_is_integer(rows) ? (long)json_integer_value(rows) : -1;
-    if (!s->description || !s->scene || !s->version || !json_is_array(s->overrides) ||
-        !s->sha256 || s->rows < 0 || !pos ||
-        sscanf(pos, "%d/%d%n", &s->i, &s->n, &used) != 2 || pos[used]) {
-        sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": not a sweep shard's metadata (it needs "
-                     "dc:description, dc:source, schema:softwareVersion, prov:used, "
-                     "schema:position, dc:extent and schema:sha256, as 'springpend sweep "
-                     "--shard I/N --csv FILE' writes them)", s->path);
-        return SP_E_INPUT;
-    }
-    return 0;
-}
-
-/* The first line where scene texts a and b differ, as "[section] line", into
- * wa and wb. */
-static void first_difference(const char *a, const char *b, char *wa, char *wb, size_t size)
-{
-    char section[64] = "";
-    while (*a || *b) {
-        const size_t na = strcspn(a, "\n"), nb = strcspn(b, "\n");
-        if (na != nb || strncmp(a, b, na)) {
-            snprintf(wa, size, "%s%.*s", section, (int)na, a);
-            snprintf(wb, size, "%s%.*s", section, (int)nb, b);
-            return;
-        }
-        if (*a == '[')
-            snprintf(section, sizeof(section), "%.*s ", (int)na, a);
-        a += na + (a[na] == '\n');
-        b += nb + (b[nb] == '\n');
-    }
-    snprintf(wa, size, "?");
-    snprintf(wb, size, "?");
-}
-
-/* The value of the k-th word "key=VALUE" (k counts the words with that
- * key: vary is there once per axis) of description d, n bytes into *v;
- * NULL when there is none. */
-static const char *description_value(const char *d, const char *key, size_t klen, int k,
-                                     size_t *n)
-{
-    for (const char *w = d; *w; w += strspn(w, " ")) {
-        const size_t len = strcspn(w, " ");
-        if (len > klen && w[klen] == '=' && !strncmp(w, key, klen) && k-- == 0) {
-            *n = len - klen - 1;
-            return w + klen + 1;
-        }
-        w += len;
-    }
-    return NULL;
-}
-
-/* One side of a difference of descriptions: "key=VALUE", or the value a
- * word left out stands for (kernel=exact, continue=none), or "no key". */
-static void description_side(char *out, size_t size, const char *key, size_t klen,
-                             const char *v, size_t n)
-{
-    static const char *const absent[][2] = {{"kernel", "exact"}, {"continue", "none"}};
-    if (v) {
-        snprintf(out, size, "%.*s=%.*s", (int)klen, key, (int)n, v);
-        return;
-    }
-    for (size_t i = 0; i < sizeof(absent) / sizeof(absent[0]); i++)
-        if (strlen(absent[i][0]) == klen && !strncmp(key, absent[i][0], klen)) {
-            snprintf(out, size, "%s=%s", absent[i][0], absent[i][1]);
-            return;
-        }
-    snprintf(out, size, "no %.*s", (int)klen, key);
-}
-
-/* The first key where descriptions a and b ("key=VALUE" words) differ, as
- * "key=A" into wa and "key=B" into wb: words are paired by their key (the
- * k-th vary with the k-th), not by place, since optional words (kernel,
- * continue, peak) shift the rest. */
-static void first_word_difference(const char *a, const char *b, char *wa, char *wb, size_t size)
-{
-    for (int side = 0; side < 2; side++) {
-        const char *d = side ? b : a;
-        for (const char *w = d; *w; w += strspn(w, " ")) {
-            const size_t len = strcspn(w, " "), klen = strcspn(w, "= ");
-            int k = 0; /* this word is the k-th with its key */
-            for (const char *x = d; x < w; x += strspn(x, " ")) {
-                const size_t xl = strcspn(x, " ");
-                k += xl > klen && x[klen] == '=' && !strncmp(x, w, klen);
-                x += xl;
-            }
-            size_t na = 0, nb = 0;
-            const char *va = description_value(a, w, klen, k, &na);
-            const char *vb = description_value(b, w, klen, k, &nb);
-            if (!va || !vb || na != nb || strncmp(va, vb, na)) {
-                description_side(wa, size, w, klen, va, na);
-                description_side(wb, size, w, klen, vb, nb);
-                return;
-            }
-            w += len;
-        }
-    }
-    snprintf(wa, size, "?");
-    snprintf(wb, size, "?");
-}
-
-/* The overrides as one "--set A --set B" text (or "no --set"). */
-static void overrides_text(json_t *arr, char *buf, size_t size)
-{
-    size_t used = 0, i;
-    json_t *v;
-    buf[0] = 0;
-    json_array_foreach(arr, i, v)
-        if (used < size)
-            used += (size_t)snprintf(buf + used, size - used, "%s--set %s", i ? " " : "",
-                                     json_string_value(v) ? json_string_value(v) : "?");
-    if (!used)
-        snprintf(buf, size, "no --set");
-}
-
-/* Shard b must come from the same sweep as shard a: the same springpend,
- * scene, overrides, grid and measure, and the same N. Names the first
- * difference. 0 or SP_E_INPUT. */
-static int same_sweep(const struct shard *a, const struct shard *b)
-{
-    char wa[1024], wb[1024];
-    const char *what = NULL;
-    if (strcmp(a->version, b->version)) {
-        what = "springpend's version differs";
-        snprintf(wa, sizeof(wa), "%s", a->version);
-        snprintf(wb, sizeof(wb), "%s", b->version);
-    } else if (!json_equal(a->overrides, b->overrides)) {
-        what = "the --set overrides differ";
-        overrides_text(a->overrides, wa, sizeof(wa));
-        overrides_text(b->overrides, wb, sizeof(wb));
-    } else if (strcmp(a->scene, b->scene)) {
-        what = "the scene differs";
-        first_difference(a->scene, b->scene, wa, wb, sizeof(wa));
-    } else if (strcmp(a->description, b->description)) {
-        what = "the sweep (grid, measure or span) differs";
-        first_word_difference(a->description, b->description, wa, wb, sizeof(wa));
-    } else if (a->n != b->n) {
-        what = "the number of shards differs";
-        snprintf(wa, sizeof(wa), "%d", a->n);
-        snprintf(wb, sizeof(wb), "%d", b->n);
-    }
-    if (!what)
-        return 0;
-    sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": from another sweep than %s: %s "
-                 "(%s: %s; %s: %s); merge only the shards of one run of 'springpend sweep "
-                 "... --shard I/N'", b->path, a->path, what, a->path, wa, b->path, wb);
-    return SP_E_INPUT;
-}
-
-/* A shard's CSV, from its column names to its end, must be whole: the
- * columns the sweep has, every row as the sweep writes it
- * (sp_sweep_row_check), and as many rows, and the same SHA-256 of its
- * bytes, as its metadata says. A copy cut short or edited would otherwise
- * be drawn without a word. fp is left after the column names.
- * SP_E_INPUT with FILE:LINE, or SP_E_INTERRUPTED. */
-static int check_rows(struct shard *s, const char *columns, const struct sp_sweep_desc *d,
-                      long first, long last)
-{
-    char line[1024], hex[65];
-    struct sp_sweep_rows r = {.d = d, .first = first, .last = last, .point = -1};
-    struct sha256_ctx sha;
-    long lineno = 1, at;
-    const char *wrong = NULL;
-    sha256_init(&sha);
-    if (!fgets(line, sizeof(line), s->fp) || strcmp(line, columns))
-        wrong = "not the sweep's column names";
-    else
-        sha256_update(&sha, strlen(line), (const uint8_t *)line);
-    at = ftell(s->fp);
-    while (!wrong && fgets(line, sizeof(line), s->fp)) {
-        lineno++;
-        if (lineno % 4096 == 0 && sp_signal_seen())
-            return SP_E_INTERRUPTED;
-        wrong = sp_sweep_row_check(&r, line);
-        sha256_update(&sha, strlen(line), (const uint8_t *)line);
-    }
-    sp_digest_hex(&sha, hex);
-    if (!wrong && (r.rows != s->rows || strcmp(hex, s->sha256)))
-        wrong = "the rows are not those the metadata counts (dc:extent) and hashes "
-                "(schema:sha256)", lineno++;
-    if (!wrong && (d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS) &&
-        r.rows != last - first)
-        wrong = "fewer rows than the shard's points";
-    if (wrong) {
-        sp_log_error("%s:%ld: %s; the file was cut short or edited: write it again with "
-                     "'springpend sweep ... --shard I/N --csv FILE'", s->path, lineno, wrong);
-        return SP_E_INPUT;
-    }
-    if (ferror(s->fp) || fseek(s->fp, at, SEEK_SET) != 0) {
-        sp_log_error("cannot read %s: %s", s->path, strerror(errno));
-        return SP_E_INPUT;
-    }
-    return 0;
-}
-
-/* Opens a shard for reading: a regular file only (infile.h: a FIFO would
- * block the merge until a writer comes, a device would never end). NULL
- * after a message. */
-static FILE *open_shard(const char *path)
-{
-    int fd = sp_infile_open(path, "give the CSV files that 'springpend sweep --shard I/N "
-                                  "--csv FILE' wrote");
-    FILE *fp = fd < 0 ? NULL : fdopen(fd, "r");
-    if (fd >= 0 && !fp) {
-        sp_log_error("cannot read %s: %s", path, strerror(errno));
-        close(fd);
-    }
-    return fp;
-}
-
+/* sweep --merge: the shards' rows (sweep_merge.h), drawn and written as a
+ * sweep's own. */
 static int merge(const struct sweep_opts *o)
 {
-    char header[1100], columns[1024] = "";
-    int n = o->n_parts, ret = 0;
-    struct sp_sweep_desc d;
-    struct sp_scene scene;
-    struct shard *shards = calloc((size_t)n, sizeof(*shards));
-    struct shard **order = calloc((size_t)n, sizeof(*order)); /* by I */
-    if (!shards || !order) {
-        free(shards);
-        free(order);
-        sp_log_error("out of memory");
-        return SP_E_NOMEM;
-    }
-    sp_scene_defaults(&scene);
-    for (int k = 0; !ret && k < n; k++) {
-        struct shard *s = &shards[k];
-        s->path = o->parts[k];
-        if (!(s->fp = open_shard(s->path))) {
-            ret = sp_signal_seen() ? SP_E_INTERRUPTED : SP_E_INPUT;
-            break;
-        }
-        if ((ret = read_shard_meta(s)))
-            break;
-        if (k == 0) {
-            snprintf(header, sizeof(header), "# springpend sweep %s", s->description);
-            char *text = NULL;
-            size_t size = 0;
-            FILE *mem = open_memstream(&text, &size);
-            /* as springpend writes it, word for word, and in the ranges
-             * its options allow: a forged "time=1e300" is refused */
-            if (sp_sweep_parse_header(header, &d) || !mem ||
-                sp_sweep_write_header(mem, &d, NULL) || fclose(mem) != 0 ||
-                !strchr(text, '\n') ||
-                strncmp(text, header, strlen(header)) || text[strlen(header)] != '\n' ||
-                !(d.time > 0 && d.time <= 1e7) || !(d.transient >= 0 && d.transient <= DBL_MAX) ||
-                !isfinite(d.energy) || !(d.dt >= 0 && d.dt <= DBL_MAX)) {
-                sp_log_error("%s" SP_CSV_METADATA_SUFFIX ":1: dc:description is not a sweep's "
-                             "description as springpend writes it (its words in order, "
-                             "numbers as %%.17g, 0 < time <= 1e7, transient >= 0)", s->path);
-                free(text);
-                ret = SP_E_INPUT;
-                break;
-            }
-            snprintf(columns, sizeof(columns), "%s", strchr(text, '\n') + 1);
-            free(text);
-            if (sp_cli_scene_check(s->path, "dc:source", s->scene, strlen(s->scene)) ||
-                sp_scene_parse(&scene, s->scene, s->path, NULL, 0)) {
-                ret = SP_E_INPUT;
-                break;
-            }
-            sp_scene_free(&scene);
-            if (s->n != n) {
-                sp_log_error("%s is shard %d of %d, but %d files were given; give all %d",
-                             s->path, s->i, s->n, n, s->n);
-                ret = SP_E_INPUT;
-                break;
-            }
-        } else if ((ret = same_sweep(&shards[0], s))) {
-            break;
-        }
-        if (s->i < 1 || s->i > n || order[s->i - 1]) {
-            sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": shard %d/%d is given twice or out of "
-                         "range", s->path, s->i, s->n);
-            ret = SP_E_INPUT;
-            break;
-        }
-        order[s->i - 1] = s;
-        const long points = sp_sweep_points(&d);
-        ret = check_rows(s, columns, &d, points * (s->i - 1) / n, points * s->i / n);
-    }
+    struct sp_sweep_merge m;
+    const struct sp_sweep_merge_desc desc = {.parts = o->parts, .n_parts = o->n_parts,
+                                             .cancel = o->cancel};
+    int ret = sp_sweep_merge_open(&m, &desc);
     FILE *out = NULL;
     struct sp_dirs made[2] = {{0}, {0}};
     if (!ret)
         ret = open_rows(&out);
     if (!ret) {
-        fprintf(out, "%s\n%s", header, columns);
-        static char buf[1 << 16];
-        for (int i = 0; i < n; i++) { /* the rows after the column names */
-            size_t got;
-            while ((got = fread(buf, 1, sizeof(buf), order[i]->fp)) > 0)
-                fwrite(buf, 1, got, out);
-        }
-        /* the shards' overrides, which the whole's scene has applied */
-        const char *sets[SP_CLI_MAX_OVERRIDES];
-        struct provenance whole = {.d = &d, .scene = &scene, .overrides = sets};
-        size_t i;
-        json_t *v;
-        json_array_foreach(shards[0].overrides, i, v)
-            if (whole.n_overrides < SP_CLI_MAX_OVERRIDES && json_string_value(v))
-                sets[whole.n_overrides++] = json_string_value(v);
+        sp_sweep_merge_write(&m, out);
+        const struct provenance whole = {.d = &m.d, .scene = &m.scene,
+                                         .overrides = m.overrides,
+                                         .n_overrides = m.n_overrides};
         ret = finish(out, o, 0, &whole, made);
         if (ret == SP_E_INTERRUPTED)
             sp_log_error("interrupted: nothing written");
     }
-    for (int k = 0; k < o->n_parts; k++) {
-        if (shards[k].fp)
-            fclose(shards[k].fp);
-        json_decref(shards[k].meta);
-    }
-    free(shards);
-    free(order);
+    sp_sweep_merge_close(&m);
     if (!ret && !o->quiet)
         sp_fprintf_line(stderr, "wrote %s%s%s from %d shards", o->output ? o->output : "stdout",
-                o->csv ? " and " : "", o->csv ? o->csv : "", n);
+                o->csv ? " and " : "", o->csv ? o->csv : "", m.n);
     return ret;
 }
 
@@ -1078,7 +792,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     return 0;
 }
 
-int sp_cmd_sweep(int argc, char **argv)
+int sp_cmd_sweep(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sweep_opts o;
     struct sp_sweep_desc d = {0};
@@ -1086,6 +800,7 @@ int sp_cmd_sweep(int argc, char **argv)
     int ret = parse_args(argc, argv, &o, &d);
     if (ret)
         return ret > 0 ? 0 : ret;
+    o.cancel = cancel;
     if ((ret = check_outputs(&o)))
         return ret;
     if (o.merge)
@@ -1094,7 +809,7 @@ int sp_cmd_sweep(int argc, char **argv)
     if ((ret = check_used(&o)) || (ret = sp_scene_load(&scene, o.scene, o.overrides, o.n_overrides)))
         return ret;
     sp_timeline_destroy(&scene.timeline); /* the [timeline] is presentation: sweeps ignore it */
-    d.cancel = sp_signal_flag(); /* a signal stops the run */
+    d.cancel = cancel; /* a signal stops the run */
     ret = sweep_scene(&o, &d, &scene);
     sp_scene_free(&scene);
     return ret;

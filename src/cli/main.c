@@ -72,11 +72,12 @@ static int stdout_checked(int err)
 
 struct command {
     const char *name;
-    int (*run)(int argc, char **argv);
+    int (*run)(int argc, char **argv, const volatile sig_atomic_t *cancel);
 };
 
-static int cmd_keys(int argc, char **argv)
+static int cmd_keys(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
+    (void)cancel;
     for (int i = 1; i < argc; i++)
         if (strcmp(argv[i], "-h") && strcmp(argv[i], "--help")) {
             sp_log_error("keys takes no arguments, not '%s'; see 'springpend --help'", argv[i]);
@@ -140,7 +141,7 @@ int main(int argc, char **argv)
     sp_outfile_set_cancel(sp_signal_flag()); /* a FIFO's wait stops on a signal */
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
         if (!strcmp(argv[1], commands[i].name))
-            return exit_status(stdout_checked(commands[i].run(argc - 1, argv + 1)));
+            return exit_status(stdout_checked(commands[i].run(argc - 1, argv + 1, sp_signal_flag())));
     sp_log_error("unknown command '%s'; see 'springpend --help'", argv[1]);
     return 2;
 }

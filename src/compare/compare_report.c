@@ -12,7 +12,7 @@
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
 #include "base/array.h"
-#include "base/signals.h"
+#include "base/signal_name.h"
 #include "base/utf8.h"
 #include "frame/text.h"
 

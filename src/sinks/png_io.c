@@ -421,7 +421,7 @@ int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)
         if (strcmp(text[i].key, key))
             continue;
         /* libpng hands the text over up to its first NUL: a scene cut there
-         * is refused by its reader (sp_cli_scene_check); bytes after a NUL
+         * is refused by its reader (sp_provenance_scene_check); bytes after a NUL
          * that ends a whole scene are never read */
         const size_t len = strlen(text[i].text);
         if (ret == 1) {

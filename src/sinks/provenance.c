@@ -116,3 +116,44 @@ void sp_provenance_set_time(struct sp_provenance *p, double t)
 {
     snprintf(p->time, sizeof(p->time), "%.9g", t);
 }
+
+int sp_provenance_scene_check(const char *path, const char *key, const char *text, size_t len)
+{
+    char origin[4200];
+    struct sp_scene sc;
+    snprintf(origin, sizeof(origin), "%s: %s", path, key);
+    if (!len) {
+        sp_log_error("%s: empty; an output of springpend records its scene there", origin);
+        return SP_E_INPUT;
+    }
+    if (len >= SP_PROVENANCE_SCENE_MAX) {
+        sp_log_error("%s: %zu bytes; springpend records at most %d", origin, len,
+                     SP_PROVENANCE_SCENE_MAX - 1);
+        return SP_E_INPUT;
+    }
+    if (strlen(text) != len) {
+        sp_log_error("%s: a NUL byte at %zu; a scene holds none", origin, strlen(text));
+        return SP_E_INPUT;
+    }
+    sp_scene_defaults(&sc);
+    int ret = sp_scene_parse(&sc, text, origin, NULL, 0);
+    char *again = ret ? NULL : sp_scene_ini(&sc);
+    sp_scene_free(&sc);
+    if (ret)
+        return SP_E_INPUT; /* the parser said what and where */
+    if (!again) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    if (strcmp(again, text)) {
+        int line = 1;
+        for (size_t i = 0; text[i] && text[i] == again[i]; i++)
+            line += text[i] == '\n';
+        sp_log_error("%s:%d: not as springpend writes the scene (its keys in order, under "
+                     "their [section], one each); the record was edited or made elsewhere",
+                     origin, line);
+        ret = SP_E_INPUT;
+    }
+    free(again);
+    return ret;
+}

@@ -1,0 +1,1404 @@
+/* springpend: a compare run (compare_run.h), the engine behind the compare
+ * command. Decodes PNGs (files or every PNG of two folders) or videos frame
+ * by frame, applies image_compare's rule (exact pixels first, the tolerance
+ * second) and records each outcome; compare_report.c's reporters print the
+ * records. */
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <libgen.h>
+#include <limits.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "base/clock.h"
+#include "base/signal_name.h"
+#include "springpend/common.h"
+#include "springpend/compare_config.h"
+#include "springpend/compare_report.h"
+#include "springpend/compare_run.h"
+#include "springpend/environment.h"
+#include "springpend/image_compare.h"
+#include "springpend/outfile.h"
+#include "springpend/png_io.h"
+#include "springpend/scene.h"
+#include "springpend/snapshot_list.h"
+#include "springpend/video_read.h"
+
+/* A run: the desc's options, and what the run found on its way. */
+struct compare_run {
+    struct sp_compare_rule base;   /* the command line's rule */
+    struct sp_compare_config cfg;  /* compare.ini beside the baselines; rules
+                                      note which images used them */
+    const char *diff;              /* diff image or folder, NULL = none */
+    const char *html, *junit;      /* HTML page, JUnit XML, NULL = none */
+    const char *summary;           /* Markdown summary, NULL = none */
+    const char *env;               /* --env KEY: --update writes NAME.KEY.png */
+    const char *candidates;        /* candidates folder, NULL = none */
+    enum sp_compare_update update;
+    int json, quiet, failures_only;
+    int jobs;                      /* threads comparing folders */
+    int candidates_failed;         /* candidates that could not be written */
+    unsigned diff_links;           /* write_whole's flags for diff images:
+                                      SP_OUTFILE_REPLACE_LINK in folder mode */
+    const volatile sig_atomic_t *cancel; /* the desc's */
+};
+
+/* The signal that stopped the run, 0 while none has. */
+static int stopped(const struct compare_run *c)
+{
+    return c->cancel ? *c->cancel : 0;
+}
+
+/* Writes path whole or not at all through outfile.h (a unique .part in the
+ * signal table, renamed over path when complete and removed when not).
+ * Only a regular file or a new name is replaced; a folder or device at path
+ * is refused (SP_E_INPUT). flags: sp_outfile_open's. */
+static int write_whole(const char *path, unsigned flags, int (*fill)(FILE *, void *),
+                       void *arg)
+{
+    struct sp_outfile f;
+    int err = sp_outfile_open(&f, path, flags);
+    if (err)
+        return err;
+    FILE *fp = fdopen(f.fd, "wb");
+    if (!fp) {
+        sp_log_error("%s: %s", path, strerror(errno));
+        sp_outfile_discard(&f);
+        return SP_E_NOMEM;
+    }
+    f.fd = -1; /* fp owns it now */
+    err = fill(fp, arg);
+    if (fclose(fp) != 0 && !err) {
+        sp_log_error("%s: cannot write: %s", path, strerror(errno));
+        err = SP_E_IO;
+    }
+    if (err) {
+        sp_outfile_discard(&f);
+        return err;
+    }
+    return sp_outfile_commit(&f);
+}
+
+/* An image to write and the path it goes to, for messages. */
+struct png_out {
+    const struct sp_image *img;
+    const char *path;
+};
+
+static int fill_png(FILE *fp, void *out)
+{
+    const struct png_out *o = out;
+    return sp_png_write_stream(fp, o->img, SP_PNG_LEVEL_DEFAULT, o->path);
+}
+
+/* Copies the regular file at src (opened without blocking, so a FIFO is
+ * refused rather than waited on). */
+static int fill_copy(FILE *fp, void *src)
+{
+    struct stat st;
+    char buf[65536];
+    ssize_t n;
+    int fd = open(src, O_RDONLY | O_NONBLOCK | O_CLOEXEC), err = 0;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        sp_log_error("%s: %s", (const char *)src,
+                     fd < 0 ? strerror(errno) : "not a regular file; not copied");
+        if (fd >= 0)
+            close(fd);
+        return SP_E_INPUT;
+    }
+    while ((n = read(fd, buf, sizeof(buf))) > 0)
+        if (fwrite(buf, 1, (size_t)n, fp) != (size_t)n) {
+            sp_log_error("cannot write a copy of %s: %s", (const char *)src, strerror(errno));
+            err = SP_E_IO;
+            break;
+        }
+    if (n < 0) {
+        sp_log_error("%s: cannot read: %s", (const char *)src, strerror(errno));
+        err = SP_E_IO;
+    }
+    close(fd);
+    return err;
+}
+
+static int is_png_path(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && !strcasecmp(path + n - 4, ".png");
+}
+
+/* Reads the regular file at path whole into *bytes (malloc'd): the bytes of
+ * a baseline about to be replaced, for the reports. Returns 0 or SP_E_*. */
+static int read_whole(const char *path, unsigned char **bytes, size_t *size)
+{
+    struct stat st;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC), err = 0;
+    *bytes = NULL, *size = 0;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        sp_log_error("%s: %s", path, fd < 0 ? strerror(errno) : "not a regular file");
+        err = SP_E_INPUT;
+    } else if (!(*bytes = malloc((size_t)st.st_size + 1))) {
+        sp_log_error("out of memory for a copy of %s", path);
+        err = SP_E_NOMEM;
+    } else {
+        ssize_t n;
+        while (*size < (size_t)st.st_size &&
+               (n = read(fd, *bytes + *size, (size_t)st.st_size - *size)) > 0)
+            *size += (size_t)n;
+    }
+    if (fd >= 0)
+        close(fd);
+    return err;
+}
+
+/* --update: copies the actual image over (or to) target, or removes
+ * target, as the mode says for what the record found. A baseline whose
+ * pixels equal the actual image's is never touched (its metadata may
+ * differ: another renderer, another version). */
+static void apply_update(const struct compare_run *c, struct sp_compare_record *r,
+                         const char *target)
+{
+    enum sp_update_action act = SP_UPDATE_NONE;
+    int missing = !r->expected[0], gone = !r->actual[0];
+    if (c->update == SP_COMPARE_UPDATE_NONE || (missing && gone))
+        return;
+    if (missing)
+        act = SP_UPDATE_ADDED;
+    else if (gone)
+        act = c->update == SP_COMPARE_UPDATE_ALL ? SP_UPDATE_REMOVED : SP_UPDATE_NONE;
+    else if (r->verdict == SP_VERDICT_FAIL && c->update >= SP_COMPARE_UPDATE_CHANGED)
+        act = SP_UPDATE_REPLACED;
+    else if (r->verdict == SP_VERDICT_PASS && c->update == SP_COMPARE_UPDATE_ALL && !r->exact &&
+             !(r->frames > 0 && r->result.changed == 0)) /* a video's worst frame */
+        act = SP_UPDATE_REPLACED;
+    if (act == SP_UPDATE_NONE)
+        return;
+    if (act == SP_UPDATE_REMOVED) {
+        if (unlink(target) != 0) {
+            sp_log_error("%s: cannot remove: %s", target, strerror(errno));
+            return;
+        }
+    } else {
+        struct stat st;
+        /* The compared baseline as it was, for the reports (PNGs only). */
+        if (r->expected[0] && is_png_path(r->expected) &&
+            read_whole(r->expected, &r->before, &r->before_size))
+            return;
+        if (act == SP_UPDATE_REPLACED && lstat(target, &st) != 0)
+            act = SP_UPDATE_ADDED; /* --env: a new alternative beside the baseline */
+        /* a link is replaced by the file, never written through */
+        if (write_whole(target, SP_OUTFILE_REPLACE_LINK, fill_copy, r->actual) != 0) {
+            free(r->before);
+            r->before = NULL;
+            return;
+        }
+    }
+    snprintf(r->expected, sizeof(r->expected), "%s", target);
+    r->update = act;
+}
+
+/* The provenance chunks that, when they differ, explain a mismatch. */
+static const char *const provenance_keys[][2] = {
+    {"springpend.scene-sha256", "the scene differs (springpend.scene-sha256)"},
+    {"Software", "made by another springpend (Software)"},
+    {"Source", "made by another GL renderer (Source)"},
+};
+
+/* The value of key in canonical scene text ("key=value\n" lines), into
+ * val; 0 when absent. */
+static int scene_value(const char *text, const char *key, char *val, size_t size)
+{
+    size_t n = strlen(key);
+    for (const char *p = text; *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : p + strlen(p))
+        if (!strncmp(p, key, n) && p[n] == '=') {
+            snprintf(val, size, "%.*s", (int)strcspn(p + n + 1, "\n"), p + n + 1);
+            return 1;
+        }
+    return 0;
+}
+
+/* Notes the provenance chunks that differ, and the scene keys that
+ * changed (from springpend.scene) with both values. */
+/* A provenance text of the image or video at path (a PNG's text chunk, a
+ * video's container tag); 1 when found. */
+static int read_text(const char *path, const char *key, char *buf, size_t size)
+{
+    return is_png_path(path) ? sp_png_read_text(path, key, buf, size)
+                             : sp_video_read_text(path, key, buf, size);
+}
+
+/* Keeps each image's springpend.environment text whole in the record (the
+ * reports show it), and notes the lines that differ (the library versions,
+ * the fonts' hashes) when both images have one. */
+static void note_environment(struct sp_compare_record *r)
+{
+    char ee[SP_ENVIRONMENT_MAX], ea[SP_ENVIRONMENT_MAX], note[sizeof(r->notes[0])];
+    size_t n = 0;
+    const int has_e = read_text(r->expected, "springpend.environment", ee, sizeof(ee)) == 1,
+              has_a = read_text(r->actual, "springpend.environment", ea, sizeof(ea)) == 1;
+    /* out of memory: the report says "not recorded", nothing else is lost */
+    r->environment[0] = has_e ? strdup(ee) : NULL;
+    r->environment[1] = has_a ? strdup(ea) : NULL;
+    if (r->n_notes == SP_COMPARE_MAX_NOTES || !has_e || !has_a || !strcmp(ee, ea))
+        return;
+    n = (size_t)snprintf(note, sizeof(note), "made in another environment (springpend.environment):");
+    /* each line of the expected text that the actual lacks, with the actual's
+     * value of the same key; then the keys only the actual has (a font file
+     * that only it was drawn with) */
+    for (int side = 0; side < 2; side++)
+        for (const char *p = side ? ea : ee; *p && n < sizeof(note);) {
+            size_t len = strcspn(p, "\n"), key = strcspn(p, ":\n");
+            const char *q = side ? ee : ea;
+            /* the same key's line in the other text */
+            while (*q && !(strncmp(q, p, key + 1) == 0))
+                q += strcspn(q, "\n") + (q[strcspn(q, "\n")] == '\n');
+            size_t qlen = strcspn(q, "\n");
+            if (!side && (!*q || qlen != len || strncmp(p, q, len))) {
+                /* the other line's value: after "KEY: ", without its newline */
+                const size_t skip = qlen < key + 2 ? qlen : key + 2;
+                n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s vs %.*s;", (int)len, p,
+                                      *q ? (int)(qlen - skip) : 6, *q ? q + skip : "(none)");
+            } else if (side && !*q) {
+                const size_t skip = len < key + 2 ? len : key + 2;
+                n += (size_t)snprintf(note + n, sizeof(note) - n, " %.*s: (none) vs %.*s;",
+                                      (int)key, p, (int)(len - skip), p + skip);
+            }
+            p += len + (p[len] == '\n');
+        }
+    if (n && note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] == ';')
+        note[n < sizeof(note) ? n - 1 : sizeof(note) - 2] = 0;
+    snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s", note);
+}
+
+static void note_provenance(struct sp_compare_record *r)
+{
+    char se[16384], sa[16384]; /* canonical scene texts (threads: on the stack) */
+    for (size_t i = 0; i < sizeof(provenance_keys) / sizeof(provenance_keys[0]); i++) {
+        char e[256], a[256];
+        if (r->n_notes == (int)(sizeof(r->notes) / sizeof(r->notes[0])))
+            break;
+        if (read_text(r->expected, provenance_keys[i][0], e, sizeof(e)) != 1 ||
+            read_text(r->actual, provenance_keys[i][0], a, sizeof(a)) != 1 ||
+            !strcmp(e, a))
+            continue;
+        snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: %s vs %s",
+                 provenance_keys[i][1], e, a);
+    }
+    note_environment(r);
+    if (read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
+        read_text(r->actual, "springpend.scene", sa, sizeof(sa)) != 1)
+        return;
+    for (const char *p = se; *p;) {
+        size_t eq = strcspn(p, "=\n"), len = strcspn(p, "\n");
+        char key[64], ve[48], va[48] = "(none)";
+        if (p[eq] == '=' && eq < sizeof(key)) {
+            snprintf(key, sizeof(key), "%.*s", (int)eq, p);
+            snprintf(ve, sizeof(ve), "%.*s", (int)(len - eq - 1), p + eq + 1);
+            if (!scene_value(sa, key, va, sizeof(va)) || strcmp(ve, va)) {
+                if (r->n_changes < SP_COMPARE_MAX_CHANGES) {
+                    struct sp_scene_change *ch = &r->changes[r->n_changes++];
+                    snprintf(ch->key, sizeof(ch->key), "%s", key);
+                    sp_scene_canonical_display(key, ve, ch->expected, sizeof(ch->expected));
+                    sp_scene_canonical_display(key, va, ch->actual, sizeof(ch->actual));
+                } else {
+                    r->more_changes++;
+                }
+            }
+        }
+        p += len + (p[len] == '\n');
+    }
+}
+
+/* Marks r as not comparable. */
+static int record_error(struct sp_compare_record *r, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+static int record_error(struct sp_compare_record *r, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->error, sizeof(r->error), fmt, ap);
+    va_end(ap);
+    r->verdict = SP_VERDICT_ERROR;
+    return SP_E_INPUT;
+}
+
+/* Reads the header of path; refuses what is too large to decode. */
+static int check_header(struct sp_compare_record *r, const char *path, int *w, int *h)
+{
+    struct sp_png_info info;
+    int err = sp_png_read_info(path, &info);
+    if (err)
+        return record_error(r, err == SP_E_INPUT ? "%s is not a regular file"
+                                                 : "cannot read %s as a PNG", path);
+    *w = info.width, *h = info.height;
+    if (sp_png_check_size(path, &info) != 0)
+        return record_error(r, "%s is %dx%d, beyond the %ld-pixel limit", path, info.width,
+                            info.height, SP_PNG_MAX_PIXELS);
+    return 0;
+}
+
+/* Compares two PNG files into record r. diff_path may be NULL. */
+static void compare_files(struct compare_run *c, struct sp_compare_record *r,
+                          const char *name, const char *rule_name, const char *expected,
+                          const char *actual, const char *diff_path)
+{
+    struct sp_image e = {0}, a = {0}, d = {0};
+    struct sp_compare_opts opts;
+    struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS];
+    const struct sp_compare_mask *star_masks = NULL; /* all in masks */
+    int n_masks, n_star_masks = 0;
+
+    snprintf(r->name, sizeof(r->name), "%s", name);
+    snprintf(r->expected, sizeof(r->expected), "%s", expected);
+    snprintf(r->actual, sizeof(r->actual), "%s", actual);
+    /* compare.ini names images by their path under the baselines' folder. */
+    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, &opts, masks, &n_masks);
+    for (int k = 0; k < n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0])); k++)
+        r->masks[r->n_masks++] = masks[k];
+    r->metric = opts.metric;
+    /* Both headers first: nothing is decoded that is too large. */
+    if (check_header(r, expected, &r->expected_w, &r->expected_h)) {
+        struct sp_png_info info; /* the actual image may still be shown */
+        r->actual_png = sp_png_read_info(actual, &info) == 0;
+        goto done;
+    }
+    r->expected_png = 1;
+    if (check_header(r, actual, &r->actual_w, &r->actual_h))
+        goto done;
+    r->actual_png = 1;
+    if ((r->expected_w != r->actual_w || r->expected_h != r->actual_h) && !diff_path) {
+        /* The headers decide; only a diff image would need the pixels. */
+        r->compared = r->size_mismatch = 1;
+        r->verdict = SP_VERDICT_FAIL;
+        goto done;
+    }
+    if (sp_png_read(expected, &e) != 0) {
+        record_error(r, "cannot read %s", expected);
+        goto done;
+    }
+    if (sp_png_read(actual, &a) != 0) {
+        record_error(r, "cannot read %s", actual);
+        goto done;
+    }
+    if (sp_compare_pixel_hash(&e, r->expected_sha256) ||
+        sp_compare_pixel_hash(&a, r->actual_sha256)) {
+        record_error(r, "out of memory");
+        goto done;
+    }
+    r->compared = 1;
+    if (!strcmp(r->expected_sha256, r->actual_sha256)) {
+        /* Exact first: identical pixels need no rule. */
+        r->exact = 1;
+        r->result.pixels = (long)e.width * e.height;
+        r->result.bbox[0] = r->result.bbox[1] = r->result.bbox[2] = r->result.bbox[3] = -1;
+        r->ssim = 1;
+        r->verdict = SP_VERDICT_PASS;
+        goto done;
+    }
+    if (e.width != a.width || e.height != a.height) {
+        r->size_mismatch = 1;
+        r->verdict = SP_VERDICT_FAIL;
+        if (diff_path && sp_compare_size_diff(&e, &a, &d) != 0)
+            diff_path = NULL;
+    } else {
+        sp_compare_apply_masks(&e, &a, star_masks, n_star_masks);
+        sp_compare_apply_masks(&e, &a, masks, n_masks);
+        r->masked_pixels = sp_compare_masked_pixels(e.width, e.height, star_masks,
+                                                    n_star_masks, masks, n_masks);
+        if (sp_compare_images(&e, &a, &opts, &r->result, diff_path ? &d : NULL) != 0) {
+            record_error(r, "comparison failed");
+            goto done;
+        }
+        r->ssim = sp_compare_ssim(&e, &a);
+        r->verdict = r->result.pass ? SP_VERDICT_PASS : SP_VERDICT_FAIL;
+    }
+    /* A diff image in a folder replaces a link there, never follows it. */
+    if (r->verdict == SP_VERDICT_FAIL && diff_path &&
+        write_whole(diff_path, c->diff_links, fill_png, &(struct png_out){&d, diff_path}) == 0)
+        snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
+done:
+    /* What made the two images, pass or fail: a pass across renderers is
+     * worth knowing too. */
+    if (r->compared)
+        note_provenance(r);
+    sp_image_free(&e);
+    sp_image_free(&a);
+    sp_image_free(&d);
+}
+
+/* One frame read on another thread. */
+struct read_job {
+    struct sp_video_reader *r;
+    struct sp_image img; /* the frame, owned by r */
+    double t;            /* its time, s */
+    int ret;             /* sp_video_reader_read's */
+};
+
+static void *read_job_run(void *arg)
+{
+    struct read_job *j = arg;
+    j->ret = sp_video_reader_read(j->r, &j->img, &j->t);
+    return NULL;
+}
+
+/* The videos' default rule on one frame pair: sp_compare_images on their
+ * 8x8 block means (image_compare.h); the diff image, when asked for, is the
+ * blocks' diff at the frames' size. */
+static int compare_blocks(const struct sp_image *fe, const struct sp_image *fa,
+                          const struct sp_compare_opts *opts, struct sp_compare_result *res,
+                          struct sp_image *diff)
+{
+    struct sp_image be = {0}, ba = {0}, small = {0};
+    int ret = sp_compare_block_means(fe, SP_COMPARE_VIDEO_BLOCK, &be);
+    if (!ret)
+        ret = sp_compare_block_means(fa, SP_COMPARE_VIDEO_BLOCK, &ba);
+    if (!ret)
+        ret = sp_compare_images(&be, &ba, opts, res, diff ? &small : NULL);
+    if (!ret && diff && !(ret = sp_image_alloc(diff, fe->width, fe->height)))
+        for (int y = 0; y < fe->height; y++)
+            for (int x = 0; x < fe->width; x++)
+                memcpy(diff->pixels + (size_t)y * diff->stride + 4 * (size_t)x,
+                       small.pixels + (size_t)(y / SP_COMPARE_VIDEO_BLOCK) * small.stride +
+                           4 * (size_t)(x / SP_COMPARE_VIDEO_BLOCK), 4);
+    sp_image_free(&be);
+    sp_image_free(&ba);
+    sp_image_free(&small);
+    return ret;
+}
+
+/* Frame times that differ by more than this are a failure, s: well under
+ * a frame at any rate a video has. */
+#define FRAME_TIME_SLACK 5e-4
+
+/* The rule for the video rule_name names, into *opts and masks (and r's
+ * masks and metric). Returns 1 when nothing is set for it: then the
+ * videos' default rule, block means. */
+static int video_rule(struct compare_run *c, struct sp_compare_record *r, const char *rule_name,
+                      struct sp_compare_opts *opts, struct sp_compare_mask *masks, int *n_masks)
+{
+    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, opts, masks, n_masks);
+    for (int k = 0; k < *n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0]));
+         k++)
+        r->masks[r->n_masks++] = masks[k];
+    r->metric = opts->metric;
+    /* Nothing set for this video: the videos' default rule (block means). */
+    int blocks = !(opts->given & (SP_COMPARE_SET_METRIC | SP_COMPARE_SET_MAX_DIFF |
+                                  SP_COMPARE_SET_MAX_PIXELS | SP_COMPARE_SET_TOL |
+                                  SP_COMPARE_SET_THRESHOLD));
+    if (blocks) {
+        opts->metric = SP_COMPARE_REFTEST;
+        opts->max_diff = SP_COMPARE_VIDEO_BLOCK_DIFF;
+        opts->max_pixels = SP_COMPARE_NONE;
+        r->metric = SP_COMPARE_BLOCKS;
+    }
+    return blocks;
+}
+
+/* Videos of different lengths (the last reads gave ge and ga): counts the
+ * rest of the longer one, so that the error gives both lengths. Returns
+ * record_error's code. */
+static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
+                          struct sp_video_reader *longer, int ge, int ga, const char *expected,
+                          const char *actual)
+{
+    struct sp_image f;
+    double t;
+    int more = 1, rd;
+    while ((rd = sp_video_reader_read(longer, &f, &t)) == 1 && !stopped(c))
+        more++;
+    int ne = r->frames + (ge == 1 ? more : 0), na = r->frames + (ga == 1 ? more : 0);
+    const char *partly = rd < 0 ? "at least " : ""; /* the rest did not decode */
+    int ret = record_error(r, "%s has %s%d frames, %s has %s%d; videos of different lengths "
+                           "never match", expected, ge == 1 ? partly : "", ne, actual,
+                           ga == 1 ? partly : "", na);
+    sp_log_error("%s", r->error);
+    return ret;
+}
+
+/* Compares two videos frame by frame, times included, into record r: the
+ * figures are the worst frame's; --diff gets its diff image. (About 110
+ * lines: one loop whose frame state, the worst frame, its diff and the
+ * timing, is shared by every step; pieces would pass it all around.) */
+static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
+                          const char *name, const char *rule_name, const char *expected,
+                          const char *actual, const char *diff_path)
+{
+    struct sp_video_reader *ve = NULL, *va = NULL;
+    struct sp_image fe, fa, d = {0}, worst_diff = {0};
+    struct sp_compare_result res;
+    int ret, ge, ga = 0, timing_noted = 0;
+    double worst_score = -1, te = 0, ta = 0, te0 = NAN, ta0 = NAN;
+
+    struct sp_compare_opts opts;
+    struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS];
+    const struct sp_compare_mask *star_masks = NULL; /* all in masks */
+    int n_masks, n_star_masks = 0;
+    snprintf(r->name, sizeof(r->name), "%s", name);
+    snprintf(r->expected, sizeof(r->expected), "%s", expected);
+    snprintf(r->actual, sizeof(r->actual), "%s", actual);
+    int blocks = video_rule(c, r, rule_name, &opts, masks, &n_masks);
+    if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
+        (ret = sp_video_reader_open(&va, actual)) != 0) {
+        ret = record_error(r, "cannot read %s", ve ? actual : expected);
+        goto done;
+    }
+    for (;;) {
+        /* The two decoders run at once, one on a thread of its own: the
+         * decoding and conversion are most of the time. */
+        struct read_job job = {.r = ve};
+        pthread_t th;
+        int threaded = pthread_create(&th, NULL, read_job_run, &job) == 0;
+        if (!threaded)
+            read_job_run(&job);
+        ga = sp_video_reader_read(va, &fa, &ta);
+        if (threaded)
+            pthread_join(th, NULL);
+        ge = job.ret, fe = job.img, te = job.t;
+        if (ge != 1 || ga != 1)
+            break;
+        if (stopped(c)) {
+            record_error(r, "interrupted at frame %d", r->frames);
+            ret = SP_E_INTERRUPTED;
+            goto done;
+        }
+        if (fe.width != fa.width || fe.height != fa.height) {
+            ret = record_error(r, "frame %d: expected %dx%d, actual %dx%d", r->frames,
+                               fe.width, fe.height, fa.width, fa.height);
+            goto done;
+        }
+        if (r->frames == 0)
+            te0 = te, ta0 = ta;
+        else if (r->frames == 1)
+            r->expected_fps = 1 / (te - te0), r->actual_fps = 1 / (ta - ta0);
+        int late = !(fabs(te - ta) <= FRAME_TIME_SLACK) && !(isnan(te) && isnan(ta));
+        if (late && !timing_noted++)
+            snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                     "frame %d is at %.4f s in the expected video, %.4f s in the actual one",
+                     r->frames, te, ta);
+        /* The reader owns fa's pixels until its next read: masks may
+         * overwrite them. */
+        sp_compare_apply_masks(&fe, &fa, star_masks, n_star_masks);
+        sp_compare_apply_masks(&fe, &fa, masks, n_masks);
+        r->masked_pixels = sp_compare_masked_pixels(fe.width, fe.height, star_masks,
+                                                    n_star_masks, masks, n_masks);
+        ret = blocks ? compare_blocks(&fe, &fa, &opts, &res, diff_path ? &d : NULL)
+                     : sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
+        if (ret) {
+            ret = record_error(r, "comparison failed");
+            goto done;
+        }
+        double score = r->metric == SP_COMPARE_RMS ? res.rms : (double)res.differing + res.rms * 1e-9;
+        if (score > worst_score) {
+            worst_score = score, r->result = res, r->worst_frame = r->frames;
+            sp_image_free(&worst_diff);
+            worst_diff = d;
+            d = (struct sp_image){0};
+        }
+        sp_image_free(&d);
+        if (!res.pass || late) {
+            if (r->failed_frames < SP_COMPARE_MAX_FRAMES_LISTED)
+                r->listed[r->failed_frames] = r->frames;
+            r->failed_frames++;
+        }
+        r->frames++;
+    }
+    if (ge < 0 || ga < 0) {
+        ret = record_error(r, "cannot decode %s", ge < 0 ? expected : actual);
+        goto done;
+    }
+    if (ge != ga) {
+        ret = record_lengths(c, r, ge == 1 ? ve : va, ge, ga, expected, actual);
+        goto done;
+    }
+    if (!r->frames) {
+        ret = record_error(r, "no frames in %s", expected);
+        goto done;
+    }
+    r->compared = 1;
+    r->verdict = r->failed_frames ? SP_VERDICT_FAIL : SP_VERDICT_PASS;
+    note_provenance(r); /* the scene keys that changed, from the videos' tags */
+    if (r->failed_frames && diff_path && worst_diff.pixels &&
+        write_whole(diff_path, 0, fill_png, &(struct png_out){&worst_diff, diff_path}) == 0)
+        snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
+    ret = 0;
+done:
+    sp_image_free(&d);
+    sp_image_free(&worst_diff);
+    sp_video_reader_destroy(&ve);
+    sp_video_reader_destroy(&va);
+    return ret;
+}
+
+/* Refuses (an error in r, returning 1) a folder entry path that is a
+ * symbolic link to a file outside folder dir: a *.png in a pull request
+ * could otherwise point at a secret that --report embeds, or at a file
+ * --update would replace. 0 for anything else, links within dir too. */
+static int link_out(struct sp_compare_record *r, const char *name, const char *path,
+                    const char *dir)
+{
+    char to[PATH_MAX];
+    if (!sp_compare_link_outside(path, dir, to, sizeof(to)))
+        return 0;
+    snprintf(r->name, sizeof(r->name), "%s", name);
+    record_error(r, "%s is a link to %s, not inside %s: not read", path, to, dir);
+    snprintf(r->hint, sizeof(r->hint), "put the image itself in %s, or link within it", dir);
+    return 1;
+}
+
+/* The command that adds missing baselines, for messages. */
+static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
+{
+    snprintf(r->hint, sizeof(r->hint),
+             "to add it as the baseline: springpend compare %s %s --update=missing", e, a);
+}
+
+/* Makes the folders above path (mkdir -p of its dirname). Returns 0, or
+ * -1 with errno. */
+static int make_parents(const char *path)
+{
+    char buf[PATH_MAX];
+    snprintf(buf, sizeof(buf), "%s", path);
+    for (char *p = strchr(buf + 1, '/'); p; p = strchr(p + 1, '/')) {
+        *p = 0;
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    return 0;
+}
+
+/* A fresh record in place (what sp_compare_report_add gives). */
+/* Frees what a record owns (its environment texts) and clears it. */
+static void record_clear(struct sp_compare_record *r)
+{
+    free(r->environment[0]);
+    free(r->environment[1]);
+    r->environment[0] = r->environment[1] = NULL;
+}
+
+static void record_reset(struct sp_compare_record *r)
+{
+    memset(r, 0, sizeof(*r));
+    r->ssim = -1;
+    r->worst_frame = -1;
+}
+
+/* Compares image `it` into r against its baselines: the plain one first,
+ * then each alternative; the first that passes is the match (r then holds
+ * that comparison and names the alternative). When none passes, r holds the
+ * first comparison (its diff image too). */
+static void compare_item(struct compare_run *c, struct sp_compare_record *r,
+                         const struct sp_snapshot *it, const char *dir_e, const char *dir_a)
+{
+    char pe[PATH_MAX], pa[PATH_MAX], pd[PATH_MAX];
+    const char *diff = NULL;
+    struct sp_compare_record *t = NULL;
+    int video = !sp_snapshot_is_png(it->name), matched = -2;
+    double t0 = sp_clock_s();
+    snprintf(pa, sizeof(pa), "%s/%s", dir_a, it->name);
+    if (c->diff) {
+        const char *dot = strrchr(it->name, '.');
+        snprintf(pd, sizeof(pd), "%s/%.*s.diff.png", c->diff,
+                 (int)(dot ? dot - it->name : (long)strlen(it->name)), it->name);
+        char where[PATH_MAX];
+        if (sp_compare_parent_outside(pd, c->diff, where, sizeof(where)))
+            sp_log_error("%s would be written to %s, through a link out of %s: not written",
+                         pd, where, c->diff);
+        else if (make_parents(pd) == 0)
+            diff = pd;
+    }
+    for (int k = it->expected ? -1 : 0; k < it->n_alts; k++) {
+        const char *bn = k < 0 ? it->name : it->alts[k];
+        int first = k == (it->expected ? -1 : 0);
+        struct sp_compare_record *dst = r;
+        if (!first) {
+            if (t)
+                record_clear(t);
+            else if (!(t = malloc(sizeof(*t))))
+                break;
+            record_reset(t);
+            dst = t;
+        }
+        snprintf(pe, sizeof(pe), "%s/%s", dir_e, bn);
+        if (video)
+            compare_videos(c, dst, it->name, it->name, pe, pa, first ? diff : NULL);
+        else
+            compare_files(c, dst, it->name, it->name, pe, pa, first ? diff : NULL);
+        if (dst->verdict == SP_VERDICT_PASS) {
+            matched = k;
+            if (!first) { /* an alternative: its comparison is the record */
+                if (r->diff[0])
+                    unlink(r->diff);
+                record_clear(r);
+                *r = *t; /* r owns t's texts now */
+                free(t);
+                t = NULL;
+            }
+            break;
+        }
+        if (stopped(c))
+            break;
+    }
+    if (t)
+        record_clear(t);
+    free(t);
+    r->n_alternatives = it->n_alts;
+    if (matched >= 0)
+        sp_snapshot_alt_key(it->name, it->alts[matched], r->baseline_key,
+                            (int)sizeof(r->baseline_key));
+    else if (matched == -2 && it->n_alts && r->n_notes < SP_COMPARE_MAX_NOTES)
+        snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                 "no baseline matched: %s and %d alternative%s (%s%s)",
+                 it->expected ? "the plain one" : "no plain one", it->n_alts,
+                 it->n_alts > 1 ? "s" : "", it->alts[0], it->n_alts > 1 ? ", ..." : "");
+    r->seconds = sp_clock_s() - t0;
+}
+
+/* The images a folder compare hands to its threads. */
+struct folder_work {
+    struct compare_run *c;
+    struct sp_compare_record *records; /* one per item, from first */
+    const struct sp_snapshot_list *list;
+    const char *dir_e, *dir_a;
+    const unsigned char *todo;         /* 1: compare item i */
+    int next;                          /* the next item to take (atomic) */
+};
+
+static void *folder_worker(void *arg)
+{
+    struct folder_work *w = arg;
+    for (;;) {
+        int i = __atomic_fetch_add(&w->next, 1, __ATOMIC_RELAXED);
+        if (i >= w->list->n)
+            break;
+        if (!w->todo[i])
+            continue;
+        struct sp_compare_record *r = &w->records[i];
+        int sig = stopped(w->c);
+        if (sig) {
+            /* Every image left is listed as never compared: a report of an
+             * interrupted run must not read as a pass. */
+            snprintf(r->name, sizeof(r->name), "%s", w->list->items[i].name);
+            record_error(r, "not compared: the run was interrupted by %s first",
+                         sp_signal_name(sig));
+            r->not_compared = 1;
+            continue;
+        }
+        compare_item(w->c, r, &w->list->items[i], w->dir_e, w->dir_a);
+    }
+    return NULL;
+}
+
+/* The baseline --update and --candidates write for image name: the plain
+ * name, or with --env KEY its alternative NAME.KEY.EXT. */
+static void target_name(const struct compare_run *c, const char *name, char *out, int size)
+{
+    if (c->env)
+        sp_snapshot_alt_name(name, c->env, out, size);
+    else
+        snprintf(out, (size_t)size, "%s", name);
+}
+
+/* --candidates: the would-be baseline of a failing or new image, and its
+ * diff, into the candidates folder; the run still fails. */
+static void write_candidate(struct compare_run *c, struct sp_compare_record *r,
+                            const char *name)
+{
+    char rel[PATH_MAX], out[PATH_MAX];
+    int missing = r->verdict == SP_VERDICT_ERROR && r->actual[0] && !r->expected[0];
+    if (!r->actual[0] || r->not_compared || !(r->verdict == SP_VERDICT_FAIL || missing))
+        return;
+    target_name(c, name, rel, (int)sizeof(rel));
+    char where[PATH_MAX];
+    if (snprintf(out, sizeof(out), "%s/%s", c->candidates, rel) < (int)sizeof(out) &&
+        sp_compare_parent_outside(out, c->candidates, where, sizeof(where))) {
+        sp_log_error("%s would be written to %s, through a link out of %s: not written", out,
+                     where, c->candidates);
+        c->candidates_failed++;
+        return;
+    }
+    if (strlen(out) + 1 >= sizeof(out) || make_parents(out) != 0) {
+        sp_log_error("%s: cannot make its folder: %s", out, strerror(errno));
+        c->candidates_failed++;
+        return;
+    }
+    if (write_whole(out, SP_OUTFILE_REPLACE_LINK, fill_copy, r->actual) == 0)
+        snprintf(r->candidate, sizeof(r->candidate), "%s", out);
+    else
+        c->candidates_failed++;
+}
+
+/* Folder mode: records in r why item `it` cannot be compared (a link to a
+ * folder or out of its folder, or an image on one side only); 1 when it can
+ * (the threads compare it), else 0. */
+static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it,
+                       const char *dir_e, const char *dir_a)
+{
+    char pe[PATH_MAX], pa[PATH_MAX];
+    int refused = 0;
+    snprintf(pe, sizeof(pe), "%s/%s", dir_e, it->expected ? it->name
+                                               : it->n_alts ? it->alts[0] : it->name);
+    snprintf(pa, sizeof(pa), "%s/%s", dir_a, it->name);
+    for (int k = 0; k < it->n_alts && !refused; k++) {
+        char alt[PATH_MAX];
+        snprintf(alt, sizeof(alt), "%s/%s", dir_e, it->alts[k]);
+        refused = link_out(r, it->name, alt, dir_e);
+    }
+    if (sp_snapshot_is_folder_link(it->name)) {
+        snprintf(r->name, sizeof(r->name), "%s", it->name);
+        record_error(r, "%s/%s is a link to a folder; compare does not follow links to "
+                     "folders, so nothing behind it was compared",
+                     it->actual ? dir_a : dir_e, it->name);
+        snprintf(r->hint, sizeof(r->hint), "put the folder itself there, or remove the link");
+        r->refused = 1;
+    } else if (refused || link_out(r, it->name, pe, dir_e) ||
+               link_out(r, it->name, pa, dir_a)) {
+        r->refused = 1; /* recorded as an error; nothing is updated */
+    } else if (!it->actual || (!it->expected && !it->n_alts)) {
+        snprintf(r->name, sizeof(r->name), "%s", it->name);
+        snprintf(it->actual ? r->actual : r->expected, sizeof(r->actual), "%s",
+                 it->actual ? pa : pe);
+        record_error(r, it->actual ? "no baseline in %s" : "no actual image in %s",
+                     it->actual ? dir_e : dir_a);
+        if (it->actual)
+            add_hint(r, dir_e, dir_a);
+    } else {
+        return 1;
+    }
+    return 0;
+}
+
+/* Compares every image (PNG or video) under folder dir_e with its namesake
+ * under dir_a, subfolders too, on c->jobs threads; an image in only one of
+ * them is an error (a missing render or a missing baseline). Then applies
+ * --update and --candidates, in order, on this thread. */
+static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
+                           const char *dir_e, const char *dir_a)
+{
+    struct sp_snapshot_list list;
+    const char *skip[] = {c->diff, c->candidates};
+    unsigned char *todo = NULL;
+    int ret = sp_snapshot_list_make(&list, dir_e, dir_a, skip, 2), first = rep->n;
+    if (ret) { /* the reports must not read as a pass */
+        struct sp_compare_record *r = sp_compare_report_add(rep);
+        if (r) {
+            snprintf(r->name, sizeof(r->name), "%s", dir_e);
+            record_error(r, "%s and %s could not be listed (the message above says why): "
+                         "nothing was compared", dir_e, dir_a);
+        }
+        return ret;
+    }
+    if (!(todo = calloc((size_t)list.n + 1, 1))) {
+        ret = SP_E_NOMEM;
+        goto done;
+    }
+    for (int i = 0; i < list.n; i++)
+        if (!sp_compare_report_add(rep)) {
+            ret = SP_E_NOMEM;
+            goto done;
+        }
+    /* What cannot be compared is recorded here; the rest goes to threads. */
+    for (int i = 0; i < list.n; i++)
+        todo[i] = (unsigned char)screen_item(&rep->records[first + i], &list.items[i], dir_e,
+                                             dir_a);
+    {
+        struct folder_work w = {c, rep->records + first, &list, dir_e, dir_a, todo, 0};
+        int n = c->jobs < list.n ? c->jobs : list.n, started = 0;
+        pthread_t th[256];
+        n = n > 256 ? 256 : n;
+        for (int k = 1; k < n; k++) /* this thread is the first worker */
+            started += pthread_create(&th[started], NULL, folder_worker, &w) == 0;
+        folder_worker(&w);
+        for (int k = 0; k < started; k++)
+            pthread_join(th[k], NULL);
+    }
+    if (stopped(c)) {
+        rep->interrupted = stopped(c);
+        ret = SP_E_INTERRUPTED;
+    }
+    for (int i = 0; i < list.n; i++) {
+        const struct sp_snapshot *it = &list.items[i];
+        struct sp_compare_record *r = &rep->records[first + i];
+        char rel[PATH_MAX], target[PATH_MAX];
+        if (r->not_compared || r->refused || rep->interrupted)
+            continue;
+        if (c->candidates)
+            write_candidate(c, r, it->name);
+        if (c->update == SP_COMPARE_UPDATE_NONE)
+            continue;
+        target_name(c, it->name, rel, (int)sizeof(rel));
+        if (snprintf(target, sizeof(target), "%s/%s", dir_e, it->actual ? rel : it->name) >=
+            (int)sizeof(target))
+            continue; /* longer than a path can be */
+        if (!it->actual && !it->expected) /* only alternatives are left */
+            snprintf(target, sizeof(target), "%s", r->expected);
+        if (it->actual && make_parents(target) != 0)
+            sp_log_error("cannot create the baseline folder for %s: %s", target,
+                         strerror(errno));
+        apply_update(c, r, target);
+        if (r->update == SP_UPDATE_REMOVED) /* the image is gone: its alternatives too */
+            for (int k = 0; k < it->n_alts; k++) {
+                snprintf(target, sizeof(target), "%s/%s", dir_e, it->alts[k]);
+                if (strcmp(target, r->expected) && unlink(target) == 0 &&
+                    r->n_notes < SP_COMPARE_MAX_NOTES)
+                    snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                             "also removed the alternative %.600s", target);
+            }
+    }
+    if (list.n == 0) {
+        snprintf(rep->problem, sizeof(rep->problem), "no PNG files or videos in %s or %s",
+                 dir_e, dir_a);
+        sp_log_error("%s", rep->problem);
+        ret = SP_E_INPUT;
+    }
+done:
+    free(todo);
+    sp_snapshot_list_free(&list);
+    return ret;
+}
+
+static int is_dir(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/* A report and the file it goes to, for messages. */
+struct report_out {
+    const struct sp_compare_report *rep;
+    const char *path;
+};
+
+/* Every write of a report is checked: the first that fails (a full disk,
+ * a file size limit) stops it, with a message; write_whole removes the
+ * .part. */
+static int report_failed(const struct report_out *o, int err)
+{
+    if (err)
+        sp_log_error("%s: cannot write the report: %s", o->path,
+                     errno ? strerror(errno) : "write error");
+    return err;
+}
+
+static int fill_html(FILE *fp, void *out)
+{
+    const struct report_out *o = out;
+    errno = 0;
+    return report_failed(o, sp_compare_report_html(fp, o->rep));
+}
+
+static int fill_junit(FILE *fp, void *out)
+{
+    const struct report_out *o = out;
+    errno = 0;
+    sp_compare_report_junit(fp, o->rep);
+    return report_failed(o, fflush(fp) || ferror(fp) ? SP_E_IO : 0);
+}
+
+/* 1 when writing path would put a file where folder mode reads one: a
+ * *.png name or compare.ini in folder dir (links resolved). */
+static int lands_in(const char *path, const char *dir)
+{
+    char buf[PATH_MAX], *real = realpath(path, NULL), parent[PATH_MAX];
+    const char *name;
+    int in;
+    if (real) { /* an existing file, or the file a link points at */
+        snprintf(buf, sizeof(buf), "%s", real);
+        free(real);
+    } else {
+        snprintf(buf, sizeof(buf), "%s", path);
+    }
+    name = strrchr(buf, '/') ? strrchr(buf, '/') + 1 : buf;
+    snprintf(parent, sizeof(parent), "%.*s", (int)(name - buf), buf);
+    if (!parent[0])
+        snprintf(parent, sizeof(parent), ".");
+    in = sp_outfile_same_file(parent, dir);
+    size_t n = strlen(name);
+    return in && ((n > 4 && !strcasecmp(name + n - 4, ".png")) ||
+                  !strcmp(name, SP_COMPARE_CONFIG_NAME));
+}
+
+/* 1 when folder path (made or not yet) lies in folder dir or below it. */
+static int folder_within(const char *path, const char *dir)
+{
+    char buf[PATH_MAX];
+    char *in = realpath(dir, NULL), *real = NULL;
+    snprintf(buf, sizeof(buf), "%s", path);
+    while (in && !(real = realpath(buf, NULL))) { /* the nearest folder that exists */
+        char *slash = strrchr(buf, '/');
+        if (!slash || slash == buf)
+            break;
+        *slash = 0;
+    }
+    if (in && !real && !strchr(path, '/'))
+        real = realpath(".", NULL); /* a new folder named alone: the working folder */
+    size_t n = in ? strlen(in) : 0;
+    int within = in && real && !strncmp(real, in, n) && (real[n] == '/' || !real[n]);
+    free(in);
+    free(real);
+    return within;
+}
+
+/* Checks the output paths before anything runs. */
+static int check_outputs(const struct compare_run *c, const char *e, const char *a, int folders)
+{
+    if (folders && !sp_outfile_same_file(e, a) && (folder_within(a, e) || folder_within(e, a))) {
+        /* each walk would take the other folder's images as its own: --update
+         * removed actual images, --update=missing nested copies of baselines */
+        sp_log_error("%s and %s: one folder lies inside the other; allowed: two separate "
+                     "folders (move the actual images out of the baselines, or the other way)",
+                     e, a);
+        return SP_E_INPUT;
+    }
+    const char *outs[5][2] = {{c->diff, "--diff"},      {c->candidates, "--candidates"},
+                              {c->html, "--report"},    {c->junit, "--junit"},
+                              {c->summary, "--summary"}};
+    for (int i = 0; i < 5; i++) {
+        const char *p = outs[i][0];
+        if (!p)
+            continue;
+        if (sp_outfile_same_file(p, e) || sp_outfile_same_file(p, a) ||
+            (folders && i > 1 && (lands_in(p, e) || lands_in(p, a)))) {
+            sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);
+            return SP_E_INPUT;
+        }
+        if (folders && i <= 1 && folder_within(p, e)) {
+            sp_log_error("%s %s lies in the baselines %s: the walk would skip it and what it "
+                         "holds, and its images would mix with the baselines; choose a folder "
+                         "outside %s", outs[i][1], p, e, e);
+            return SP_E_INPUT;
+        }
+        if ((i == 0 && folders) || i == 1) /* folders */
+            continue;
+        if (sp_outfile_check_writable(p, outs[i][1]))
+            return SP_E_INPUT;
+    }
+    return 0;
+}
+
+/* 1 when the PNGs a and b decode to the same pixels. */
+static int same_pixels(const char *a, const char *b)
+{
+    struct sp_image x = {0}, y = {0};
+    char hx[65] = "", hy[65] = "x";
+    struct sp_png_info info;
+    if (sp_png_read_info(a, &info) == 0 && sp_png_check_size(a, &info) == 0 &&
+        sp_png_read_info(b, &info) == 0 && sp_png_check_size(b, &info) == 0 &&
+        sp_png_read(a, &x) == 0 && sp_png_read(b, &y) == 0) {
+        sp_compare_pixel_hash(&x, hx);
+        sp_compare_pixel_hash(&y, hy);
+    }
+    sp_image_free(&x);
+    sp_image_free(&y);
+    return !strcmp(hx, hy);
+}
+
+/* compare --approve DIR BASELINES: copies the candidates --candidates wrote
+ * to DIR (every PNG and video under it, subfolders too, but the
+ * NAME.diff.png diffs) into BASELINES, each to the same relative path;
+ * a baseline whose pixels equal its candidate's is left untouched. */
+/* Why candidate `from` (under dir) may not become a baseline, or NULL when
+ * it may: only a regular file inside dir that decodes as a PNG, or opens as
+ * a video, is copied; a link out of dir could carry a runner's secret into
+ * the repository. `to` (under baselines) must not lie through a link out of
+ * baselines either. why holds the text (size bytes). */
+static const char *approve_refusal(const char *from, const char *dir, const char *to,
+                                   const char *baselines, char *why, size_t size)
+{
+    char where[PATH_MAX];
+    struct stat st;
+    if (sp_compare_link_outside(from, dir, where, sizeof(where))) {
+        snprintf(why, size, "%s is a link to %s, not inside %s: not copied", from, where, dir);
+        return why;
+    }
+    if (stat(from, &st) != 0 || !S_ISREG(st.st_mode)) {
+        snprintf(why, size, "%s: not a regular file; not copied", from);
+        return why;
+    }
+    if (sp_compare_link_outside(to, baselines, where, sizeof(where))) {
+        snprintf(why, size, "%s would be written to %s, through a link out of %s: not written",
+                 to, where, baselines);
+        return why;
+    }
+    if (is_png_path(from)) {
+        struct sp_png_info info;
+        struct sp_image img = {0};
+        int bad = sp_png_read_info(from, &info) || sp_png_check_size(from, &info) ||
+                  sp_png_read(from, &img);
+        sp_image_free(&img);
+        if (bad) {
+            snprintf(why, size, "%s does not decode as a PNG: not copied", from);
+            return why;
+        }
+    } else {
+        struct sp_video_reader *v = NULL;
+        int bad = sp_video_reader_open(&v, from);
+        sp_video_reader_destroy(&v);
+        if (bad) {
+            snprintf(why, size, "%s does not open as a video: not copied", from);
+            return why;
+        }
+    }
+    return NULL;
+}
+
+static int approve(const struct compare_run *c, const char *dir, const char *baselines)
+{
+    struct sp_snapshot_list l;
+    int ret = 0, added = 0, replaced = 0, unchanged = 0;
+    const char *skip[] = {baselines};
+    if (!is_dir(dir)) {
+        sp_log_error("--approve %s: not a folder; expected the folder --candidates wrote",
+                     dir);
+        return SP_E_INPUT;
+    }
+    if ((ret = sp_snapshot_list_make(&l, dir, dir, skip, 1)) != 0)
+        return ret;
+    for (int i = 0; i < l.n && !stopped(c); i++) {
+        const char *name = l.items[i].name;
+        char from[PATH_MAX], to[PATH_MAX];
+        struct stat st;
+        size_t n = strlen(name);
+        if (n > 9 && !strcasecmp(name + n - 9, ".diff.png"))
+            continue;
+        snprintf(from, sizeof(from), "%s/%s", dir, name);
+        snprintf(to, sizeof(to), "%s/%s", baselines, name);
+        char why[3 * PATH_MAX];
+        if (sp_snapshot_is_folder_link(name)) {
+            sp_log_error("%s/%s is a link to a folder; --approve does not follow it: "
+                         "nothing behind it copied", dir, name);
+            ret = SP_E_INPUT;
+            continue;
+        }
+        if (approve_refusal(from, dir, to, baselines, why, sizeof(why))) {
+            sp_log_error("%s", why);
+            ret = SP_E_INPUT;
+            continue;
+        }
+        int exists = lstat(to, &st) == 0;
+        if (exists && is_png_path(name) && same_pixels(from, to)) {
+            unchanged++;
+            sp_fprintf_line(stdout, "%-9s %s (pixels unchanged)", "unchanged", to);
+            continue;
+        }
+        if (make_parents(to) != 0) {
+            sp_log_error("%s: cannot make its folder: %s", to, strerror(errno));
+            ret = SP_E_IO;
+            continue;
+        }
+        int werr = write_whole(to, SP_OUTFILE_REPLACE_LINK, fill_copy, from);
+        if (werr) { /* a refused file is bad input; a full disk is not */
+            ret = werr;
+            continue;
+        }
+        exists ? replaced++ : added++;
+        sp_fprintf_line(stdout, "%-9s %s", exists ? "replaced" : "added", to);
+    }
+    if (stopped(c))
+        ret = SP_E_INTERRUPTED;
+    printf("%s: %d added, %d replaced, %d unchanged\n", ret ? "FAIL" : "approved", added,
+           replaced, unchanged);
+    sp_snapshot_list_free(&l);
+    return ret;
+}
+
+static int fill_summary(FILE *fp, void *out)
+{
+    const struct report_out *o = out;
+    errno = 0;
+    sp_compare_report_markdown(fp, o->rep);
+    return report_failed(o, fflush(fp) || ferror(fp) ? SP_E_IO : 0);
+}
+
+/* The run's state from the desc. */
+static void run_init(struct compare_run *c, const struct sp_compare_desc *d)
+{
+    memset(c, 0, sizeof(*c));
+    c->base = d->base;
+    c->diff = d->diff;
+    c->html = d->html;
+    c->junit = d->junit;
+    c->summary = d->summary;
+    c->env = d->env;
+    c->candidates = d->candidates;
+    c->update = d->update;
+    c->json = d->json;
+    c->quiet = d->quiet;
+    c->failures_only = d->failures_only;
+    c->jobs = d->jobs;
+    c->cancel = d->cancel;
+}
+
+int sp_compare_approve(const struct sp_compare_desc *d)
+{
+    struct compare_run c;
+    run_init(&c, d);
+    return approve(&c, d->expected, d->actual);
+}
+
+/* Checks the arguments before anything runs: two folders or two files of
+ * one kind, and outputs that overwrite no input. *folders: 1 for folders. */
+static int check_args(const struct compare_run *c, const char *e, const char *a, int *folders)
+{
+    struct stat st;
+    int ret, da = is_dir(a), de = is_dir(e) || (da && stat(e, &st) != 0 && errno == ENOENT);
+    if (de != da) {
+        sp_log_error("%s is a folder but %s is not; compare two images or two folders",
+                     de ? e : a, de ? a : e);
+        return SP_E_INPUT;
+    }
+    if ((ret = check_outputs(c, e, a, de)) != 0)
+        return ret;
+    if (!de && is_png_path(e) != is_png_path(a)) {
+        sp_log_error("%s and %s: compare two PNG images or two videos", e, a);
+        return SP_E_INPUT;
+    }
+    *folders = de;
+    return 0;
+}
+
+/* Compares two files (images or videos) into record r of rep, then writes
+ * its candidate and applies --update. */
+static int compare_pair(struct compare_run *c, struct sp_compare_report *rep,
+                        struct sp_compare_record *r, const char *e, const char *a)
+{
+    struct stat st;
+    int ret = 0;
+    if (stat(e, &st) != 0 && errno == ENOENT && stat(a, &st) == 0) {
+        snprintf(r->name, sizeof(r->name), "%s", a);
+        snprintf(r->actual, sizeof(r->actual), "%s", a);
+        record_error(r, "no baseline %s", e);
+        add_hint(r, e, a);
+    } else if (is_png_path(e)) {
+        double t0 = sp_clock_s();
+        const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
+        compare_files(c, r, a, base, e, a, c->diff);
+        r->seconds = sp_clock_s() - t0;
+    } else {
+        double t0 = sp_clock_s();
+        const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
+        ret = compare_videos(c, r, a, base, e, a, c->diff);
+        r->seconds = sp_clock_s() - t0;
+        rep->interrupted = ret == SP_E_INTERRUPTED ? stopped(c) : 0;
+    }
+    if (c->candidates) {
+        const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
+        write_candidate(c, r, base);
+    }
+    if (c->update != SP_COMPARE_UPDATE_NONE) {
+        char target[PATH_MAX], rel[PATH_MAX];
+        target_name(c, e, rel, (int)sizeof(rel));
+        snprintf(target, sizeof(target), "%s", rel);
+        apply_update(c, r, target);
+    }
+    return ret;
+}
+
+/* Prints the records and writes the reports; the run's status from the
+ * records when nothing failed before (ret). */
+static int report(const struct compare_run *c, struct sp_compare_report *rep, const char *e,
+                  int folders, int ret)
+{
+    if (!rep->interrupted)
+        sp_compare_config_warn_unused(&c->cfg);
+    if (c->json)
+        sp_compare_report_json(stdout, rep);
+    else
+        sp_compare_report_text(stdout, rep, c->quiet, folders);
+    if ((c->html && write_whole(c->html, 0, fill_html, &(struct report_out){rep, c->html})) ||
+        (c->junit && write_whole(c->junit, 0, fill_junit, &(struct report_out){rep, c->junit})) ||
+        (c->summary &&
+         write_whole(c->summary, 0, fill_summary, &(struct report_out){rep, c->summary})))
+        ret = ret ? ret : SP_E_IO;
+    if (!ret) {
+        struct sp_compare_counts n = sp_compare_report_count(rep);
+        ret = n.unresolved_errors ? SP_E_INPUT : n.unresolved_failed ? SP_E_MISMATCH : 0;
+    }
+    if (c->candidates && !c->json) {
+        int k = 0;
+        for (int i = 0; i < rep->n; i++)
+            k += rep->records[i].candidate[0] != 0;
+        sp_fprintf_line(stdout, "%d candidate%s in %s; to accept them after review: springpend "
+                        "compare --approve %s %s", k, k == 1 ? "" : "s", c->candidates,
+                        c->candidates, e);
+        if (c->candidates_failed) {
+            sp_log_error("%d candidate%s could not be written to %s (the messages above say "
+                         "why): the candidates folder is incomplete", c->candidates_failed,
+                         c->candidates_failed == 1 ? "" : "s", c->candidates);
+            ret = SP_E_IO;
+        }
+    }
+    return ret;
+}
+
+int sp_compare_run(const struct sp_compare_desc *d)
+{
+    struct compare_run c;
+    struct sp_compare_report rep = {0};
+    char dir[PATH_MAX], suite[PATH_MAX], cand_diff[PATH_MAX];
+    const char *e = d->expected, *a = d->actual;
+    int de, ret;
+    run_init(&c, d);
+    if ((ret = check_args(&c, e, a, &de)) != 0)
+        return ret;
+    snprintf(dir, sizeof(dir), "%s", e);
+    const char *base_dir = de ? e : dirname(dir); /* the baselines' folder */
+    if ((ret = sp_compare_config_load(&c.cfg, base_dir)) != 0)
+        return ret;
+    /* JUnit's suite: the baselines' folder, as given. */
+    snprintf(suite, sizeof(suite), "%s", base_dir);
+    for (size_t n = strlen(suite); n > 1 && suite[n - 1] == '/';)
+        suite[--n] = 0;
+    rep.suite = suite;
+    rep.report_path = c.html;
+    rep.failures_only = c.failures_only;
+    if (c.candidates && !c.diff && de)
+        c.diff = c.candidates; /* the diffs beside the candidates */
+    if (c.candidates && !c.diff && !de) {
+        const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
+        const char *dot = strrchr(base, '.');
+        snprintf(cand_diff, sizeof(cand_diff), "%s/%.*s.diff.png", c.candidates,
+                 (int)(dot ? dot - base : (long)strlen(base)), base);
+        c.diff = cand_diff;
+    }
+    if (c.candidates && !is_dir(c.candidates) && mkdir(c.candidates, 0777) != 0) {
+        sp_log_error("--candidates %s: cannot create the folder: %s", c.candidates,
+                     strerror(errno));
+        ret = SP_E_INPUT;
+        goto done;
+    }
+    if (de) {
+        if (c.diff && !is_dir(c.diff) && mkdir(c.diff, 0777) != 0) {
+            sp_log_error("--diff %s: cannot create the folder for the diff images: %s",
+                         c.diff, strerror(errno));
+            ret = SP_E_INPUT;
+            goto done;
+        }
+        c.diff_links = SP_OUTFILE_REPLACE_LINK;
+        ret = compare_folders(&c, &rep, e, a);
+    } else {
+        struct sp_compare_record *r = sp_compare_report_add(&rep);
+        if (!r) {
+            ret = SP_E_NOMEM;
+            goto done;
+        }
+        ret = compare_pair(&c, &rep, r, e, a);
+    }
+    ret = report(&c, &rep, e, de, ret);
+done:
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        sp_log_error("cannot write the results to stdout: %s", strerror(errno));
+        if (!ret || ret == SP_E_MISMATCH)
+            ret = SP_E_IO;
+    }
+    sp_compare_config_free(&c.cfg);
+    sp_compare_report_free(&rep);
+    return ret;
+}

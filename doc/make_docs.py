@@ -62,7 +62,7 @@ if kind == "man":
     parts += [".SH SCENE KEYS", ".nf", roff(keys_text), ".fi",
               ".SH EXIT STATUS", ".nf", roff(exit_status), ".fi",
               ".SH FILES", "Scene files are INI text; see the scenes/ folder of the source and "
-              "README.md.", ".SH SEE ALSO", "ffmpeg(1)"]
+              "README.md, doc/scenes.md.", ".SH SEE ALSO", "ffmpeg(1)"]
     open(out, "w").write("\n".join(parts) + "\n")
 else:
     names = " ".join(name for name, _ in commands)

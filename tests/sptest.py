@@ -3,7 +3,8 @@ done), a test's start (setup), running the binary under test (runner,
 runner_bytes) and reading what it said (err, part_files), --set arguments
 (sets), scipy or a skip (need_scipy), a picture's pixels through ffmpeg
 (ffmpeg_rgb), and the physics reference (model, start, solve: scipy's DOP853 on the
-Cartesian equations of sim.h). Python puts a
+Cartesian equations of sim.h), and the manual's text (doc_pages, manual,
+doc_page, readme_ci: README.md and doc/*.md). Python puts a
 script's own folder first on sys.path, so each test imports this with
 `from sptest import ...`."""
 import math
@@ -259,13 +260,37 @@ def precessions(t, x, z, period):
     return np.degrees(np.diff(angles)), [t[i] for i in swing_maxima(t, x, z, period)]
 
 
+def doc_pages(root):
+    """The manual's pages, as paths: README.md, then the doc/*.md pages in the
+    order README.md links them, then any page it does not link, by name."""
+    import glob
+    import re
+    readme = os.path.join(root, "README.md")
+    pages = sorted(glob.glob(os.path.join(root, "doc", "*.md")))
+    linked = re.findall(r"\]\(doc/([\w-]+\.md)[)#]", open(readme, encoding="utf-8").read())
+    order = [os.path.join(root, "doc", name) for name in dict.fromkeys(linked)]
+    return [readme] + [p for p in order if p in pages] + [p for p in pages if p not in order]
+
+
+def manual(root):
+    """README.md and the doc/*.md pages (doc_pages' order) as one text: what
+    a check of the documentation's promises reads, wherever a page keeps it."""
+    return "\n\n".join(open(p, encoding="utf-8").read() for p in doc_pages(root))
+
+
+def doc_page(root, name):
+    """The text of the page doc/NAME.md."""
+    with open(os.path.join(root, "doc", name + ".md"), encoding="utf-8") as f:
+        return f.read()
+
+
 def readme_ci(root):
-    """The fenced blocks of the README's "Snapshot tests in CI" section, as
+    """The fenced blocks of the "Snapshot tests in CI" page (doc/ci.md), as
     (language, text) pairs, and a function picking the first block that
     holds a marker (of a language, when given; "" when none does)."""
     import re
-    readme = open(os.path.join(root, "README.md")).read()
-    section = readme[readme.index("## Snapshot tests in CI"):readme.index("## Hardening")]
+    section = doc_page(root, "ci")
+    section = section[section.index("# Snapshot tests in CI"):]
     blocks = re.findall(r"^```([a-z]*)\n(.*?)^```", section, re.S | re.M)
 
     def block(marker, lang=None):

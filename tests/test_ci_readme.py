@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""springpend tests: the README's CI section as a CI engineer uses it
+"""springpend tests: the CI page (doc/ci.md) as a CI engineer uses it
 (issue 24). Its GitHub Actions and GitLab CI snippets parse as YAML, give
 the JUnit reporter `checks: write`, and install springpend as a Debian
 package built from a pinned ref of its repository, outside the project's
 checkout (test ci-snippet runs those steps). Then the walkthrough's shell
-steps, taken from the README, run in a fresh folder outside springpend's
+steps, taken from doc/ci.md, run in a fresh folder outside springpend's
 checkout: render, add the baselines, a change fails with candidates and a
 summary, the candidates are approved, the next run passes.
 usage: test_ci_readme.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR (TAP)"""
@@ -72,7 +72,7 @@ with tempfile.TemporaryDirectory(prefix="springpend-ci-") as d:
     first = [l for l in block("--update=missing").splitlines() if not l.startswith("git ")]
     r = sh("sh snapshots.sh actual && " + " && ".join(first))
     ok(r.returncode == 0 and os.path.exists(os.path.join(d, "snapshots", "default_t3.png")),
-       f"render and add the baselines as the README says ({r.stderr.strip()[-200:]})")
+       f"render and add the baselines as doc/ci.md says ({r.stderr.strip()[-200:]})")
     # A change meant to alter a picture: the same snapshot, stiffer.
     sh("springpend still scenes/default.ini --at 3 --size 640x360 --set pendulum.stiffness=2.2 "
        "-o actual/default_t3.png -q")

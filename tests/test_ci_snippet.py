@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""springpend tests: the README's CI snippets, run (issue 24). The GitHub
-Actions job's shell steps, taken from the README, run as its debian:12
+"""springpend tests: the CI page's snippets (doc/ci.md), run (issue 24). The
+GitHub Actions job's shell steps, taken from doc/ci.md, run as its debian:12
 container would run them: in a bare Debian 12 (bookworm, debootstrap's
 minbase variant) under chroot, in a fresh project folder, with exactly the
 packages the snippet installs, from Debian's mirror. springpend is fetched at
@@ -116,7 +116,7 @@ ok("springpend" not in bare_packages and "git" not in bare_packages and
    f"the bare system has {len(bare_packages)} packages: no git, no OSMesa, no springpend")
 
 # springpend's repository, as the job reaches it (a bare copy, by URL), and
-# the project: its own scenes and the README's snapshots.sh, in a folder of
+# the project: its own scenes and doc/ci.md's snapshots.sh, in a folder of
 # its own.
 inside = "/builds/project"
 project = chroot + inside
@@ -154,7 +154,7 @@ timing["install step"] = time.monotonic() - t0
 history = open(os.path.join(chroot, "var/log/apt/history.log")).read() \
     if os.path.exists(os.path.join(chroot, "var/log/apt/history.log")) else ""
 calls = [l.split(": ", 1)[1] for l in history.splitlines() if l.startswith("Commandline: ")]
-ok(r.returncode == 0, f"the install step, as the README prints it, on the bare system (exit "
+ok(r.returncode == 0, f"the install step, as doc/ci.md prints it, on the bare system (exit "
    f"{r.returncode}) {(r.stdout + r.stderr)[-1200:] if r.returncode else ''}")
 ok([c.split()[:2] for c in calls] == [["apt-get", "install"], ["apt-get", "build-dep"],
                                      ["apt-get", "install"]]
@@ -167,7 +167,7 @@ ok(dpkg.returncode == 0 and "installed" in lines and "/usr/bin/springpend" in li
    lines[-1] == sha,
    f"springpend is the installed package's /usr/bin/springpend, built from the pinned commit "
    f"{sha[:12]} ({dpkg.stdout.strip()} {dpkg.stderr.strip()[-200:]})")
-# The project's baselines, as the README's first run adds them.
+# The project's baselines, as doc/ci.md's first run adds them.
 first = [l for l in block("--update=missing").splitlines() if l.startswith("springpend ")]
 r = sh("sh snapshots.sh actual && " + " && ".join(first))
 ok(r.returncode == 0 and os.path.exists(os.path.join(project, "snapshots", "default_t3.png")),

@@ -17,6 +17,8 @@ import time
 import xml.etree.ElementTree as ET
 import zlib
 
+from sptest import manual
+
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "compare_ci"))
 scenes = os.path.join(src, "..", "scenes")
@@ -351,16 +353,16 @@ r = run("compare", base, act)
 ok(r.returncode == 2 and "compare.ini:4: mask 1, 2, -3, 4" in r.stderr
    and "compare.ini:5: unknown key 'max_dif'" in r.stderr,
    f"compare.ini errors say FILE:LINE ({r.stderr.strip()})")
-# The README's compare.ini, as printed there, parses; [chart.png] names no
+# doc/ci.md's compare.ini, as printed there, parses; [chart.png] names no
 # image here and is warned about.
-readme = open(os.path.join(src, "..", "README.md")).read()
+readme = manual(os.path.join(src, ".."))   # README.md and doc/*.md
 example = next(b for b in readme.split("```ini\n")[1:] if "[hud.png]" in b).split("```")[0]
 with open(os.path.join(base, "compare.ini"), "w") as f:
     f.write(example.replace("hud.png", "two.png"))
 r = run("compare", base, act)
 ok(r.returncode == 0 and "pixels masked" in r.stdout
    and "compare.ini:6: warning: [chart.png] matches no compared image" in r.stderr,
-   f"the README's compare.ini works as printed ({r.stderr.strip()})")
+   f"doc/ci.md's compare.ini works as printed ({r.stderr.strip()})")
 os.remove(os.path.join(base, "compare.ini"))
 
 # --update: never without asking; missing, changed, all.

@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
-"""springpend tests: the README against the program it describes. The scene
-key table lists exactly the keys `springpend keys` prints, with the same
-preset default; the exit statuses in the README are those of `springpend
---help`; every field `info --json` prints is named in the README; the
-scripts run by hand answer --help.
+"""springpend tests: the manual (README.md and the doc/*.md pages) against the
+program it describes. The scene key table (doc/scenes.md) lists exactly the
+keys `springpend keys` prints, with the same preset default; the exit
+statuses in the README are those of `springpend --help`; every field `info
+--json` prints is named in the manual; the scripts run by hand answer
+--help; every link and picture of the manual resolves, and the README links
+every page.
 usage: test_docs.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
@@ -11,12 +13,13 @@ import re
 import subprocess
 import sys
 
-from sptest import done, ok
+from sptest import doc_page, doc_pages, done, manual, ok
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 root = os.path.join(src, "..")
 with open(os.path.join(root, "README.md"), encoding="utf-8") as f:
     readme = f.read()
+text = manual(root)
 
 
 def run(*args):
@@ -35,7 +38,7 @@ for line in run("keys").stdout.splitlines():
     if m and section:
         keys[section][m.group(1)] = m.group(2)
 table = {}
-for line in readme.split("## Scene files", 1)[1].split("\n\n", 3)[2].splitlines():
+for line in doc_page(root, "scenes").split("# Scene files", 1)[1].split("\n\n", 3)[2].splitlines():
     m = re.match(r"\| `\[(\w+)\]` \| (.*) \|$", line)
     if m:
         # the key names: backquoted words before a "(" or "," that are not values
@@ -43,15 +46,15 @@ for line in readme.split("## Scene files", 1)[1].split("\n\n", 3)[2].splitlines(
         table[m.group(1)] = set(re.findall(r"`(\w+)`", cells))
 # (a row may describe a section of another syntax, as [timeline]'s cues)
 ok(keys and set(keys) <= set(table),
-   f"the README's key table has a row for each section: {sorted(table)} vs {sorted(keys)}")
+   f"doc/scenes.md's key table has a row for each section: {sorted(table)} vs {sorted(keys)}")
 for sec in sorted(keys):
     missing, extra = set(keys[sec]) - table.get(sec, set()), table.get(sec, set()) - set(keys[sec])
     ok(not missing and not extra,
-       f"[{sec}] in the README's table is what `keys` lists (missing {sorted(missing)}, extra {sorted(extra)})")
+       f"[{sec}] in doc/scenes.md's table is what `keys` lists (missing {sorted(missing)}, extra {sorted(extra)})")
 preset = keys.get("video", {}).get("preset")
-said = re.findall(r"`preset` \(default `?(\w+)`?", readme)
+said = re.findall(r"`preset` \(default `?(\w+)`?", text)
 ok(preset and said and all(p == preset for p in said),
-   f"the README gives the preset default `keys` gives ({preset}): {said}")
+   f"the manual gives the preset default `keys` gives ({preset}): {said}")
 
 # ---- exit statuses: README against --help -----------------------------------
 help_text = run("--help").stdout
@@ -70,9 +73,9 @@ ok(block and para and statuses(block) == statuses(para) and "compare" in block a
 # ---- info --json: every field named ------------------------------------------
 r = run("info", os.path.join(root, "scenes", "default.ini"), "--json")
 fields = list(json.loads(r.stdout)) if r.returncode == 0 else []
-info_para = readme.split("`springpend info SCENE --json`", 1)[1].split("\n\n", 1)[0]
+info_para = text.split("`springpend info SCENE --json`", 1)[1].split("\n\n", 1)[0]
 unnamed = [k for k in fields if f"`{k}`" not in info_para]
-ok(fields and not unnamed, f"the README names every field info --json prints ({len(fields)}; unnamed {unnamed})")
+ok(fields and not unnamed, f"the manual names every field info --json prints ({len(fields)}; unnamed {unnamed})")
 
 # ---- scripts run by hand answer --help ---------------------------------------
 for script in ("bench_render.py", os.path.join("bench", "bench_sweep.py")):
@@ -95,4 +98,37 @@ ok(len(lines) == 2 and len(ci) == 1 and packages(lines[0]) == packages(lines[1])
    f"the README's two install lines and .ci/run's name the same packages "
    f"({[len(packages(l)) for l in lines + ci]} packages; only in .ci/run: "
    f"{sorted(set(packages(ci[0])) - set(packages(lines[0]))) if ci and lines else '?'})")
+
+# ---- the manual's links and pictures resolve --------------------------------
+# A page moved or a picture renamed left links that lead nowhere: every
+# relative link and image of README.md and doc/*.md names an existing file,
+# and an anchor (#name) a heading of the page it points into.
+def anchors(path):
+    """The anchors of a Markdown page's headings, as GitHub makes them."""
+    names, fence = set(), False
+    for line in open(path, encoding="utf-8").read().splitlines():
+        if line.startswith("```"):
+            fence = not fence
+        elif not fence and re.match(r"#{1,6} ", line):
+            names.add(re.sub(r"[^\w\- ]", "", line.lstrip("#").strip().lower()).replace(" ", "-"))
+    return names
+
+
+pages = doc_pages(root)
+for page in pages:
+    body = re.sub(r"^```.*?^```", "", open(page, encoding="utf-8").read(), flags=re.S | re.M)
+    targets = re.findall(r"\]\(([^)\s]+)\)", body)
+    bad = []
+    for target in targets:
+        if re.match(r"[a-z]+:", target):
+            continue
+        path, _, anchor = target.partition("#")
+        path = os.path.normpath(os.path.join(os.path.dirname(page), path)) if path else page
+        if not os.path.exists(path) or (anchor and anchor not in anchors(path)):
+            bad.append(target)
+    ok(not bad, f"{os.path.relpath(page, root)}: its {len(targets)} links and pictures "
+       f"resolve (not: {bad})")
+linked = set(re.findall(r"\]\(doc/([\w-]+\.md)[)#]", readme))
+unlinked = [os.path.basename(p) for p in pages[1:] if os.path.basename(p) not in linked]
+ok(len(pages) > 1 and not unlinked, f"the README links every doc/ page ({len(pages) - 1}; not {unlinked})")
 done()

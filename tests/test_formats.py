@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """springpend tests: documented orders and formats, each asserted as written.
-data's CSV headers as the README lists them; sweep's CSV columns as the
-README's table and src/sweep/sweep.h give them, rows in the grid's order
+data's CSV headers as the manual lists them (doc/integrators.md, doc/sweeps.md);
+sweep's CSV columns as doc/sweeps.md's table and src/sweep/sweep.h give them, rows in the grid's order
 (the first axis varies fastest) and lyapunov_half equal to lambda over T/2;
 every range check of `sweep --merge` (exit 2, FILE:LINE, nothing written);
 FILE:LINE with LF, CRLF and CR line ends;
@@ -18,7 +18,7 @@ import shutil
 import subprocess
 import sys
 
-from sptest import diag, done, ok, runner
+from sptest import diag, done, manual, ok, runner
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "formats"))
@@ -26,7 +26,7 @@ shim = os.path.abspath(sys.argv[4])
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
 run = runner(exe, work)
-readme = open(os.path.join(src, "..", "README.md")).read()
+readme = manual(os.path.join(src, ".."))   # README.md and doc/*.md
 CHAOTIC = os.path.join(src, "..", "scenes", "chaotic.ini")
 DEFAULT = os.path.join(src, "..", "scenes", "default.ini")
 
@@ -44,22 +44,22 @@ def read(name):
         return f.read()
 
 
-# ---- data's headers, as the README writes them -----------------------------
+# ---- data's headers, as the manual writes them -----------------------------
 m = re.search(r"`springpend data SCENE -o - \[--every S\]` writes\n`([^`]+)`", readme)
-want = m.group(1) if m else "(not found in the README)"
+want = m.group(1) if m else "(not found in the manual)"
 r = run("data", DEFAULT, "-o", "-", "--set", "video.duration=0.1")
-ok(r.stdout.split("\n")[0] == want, f"data's header is the README's: {want}")
+ok(r.stdout.split("\n")[0] == want, f"data's header is the manual's: {want}")
 m = re.search(r"`--poincare` writes the Poincaré\nsection instead, `([^`]+)`", readme)
-want = m.group(1) if m else "(not found in the README)"
+want = m.group(1) if m else "(not found in the manual)"
 r = run("data", CHAOTIC, "-o", "-", "--poincare", "--set", "video.duration=5")
-ok(r.stdout.split("\n")[0] == want, f"data --poincare's header is the README's: {want}")
+ok(r.stdout.split("\n")[0] == want, f"data --poincare's header is the manual's: {want}")
 m = re.search(r"writes the members \(`([^`]+)`", readme)
 want = (m.group(1) if m else "(not found)").replace("KEY", "initial.length")
 r = run("data", DEFAULT, "-o", "-", "--set", "video.duration=0.1", "--set", "ensemble.count=3",
         "--set", "ensemble.key=initial.length", "--set", "ensemble.spread=0.1")
-ok(r.stdout.split("\n")[0] == want, f"data's ensemble header is the README's: {want}")
+ok(r.stdout.split("\n")[0] == want, f"data's ensemble header is the manual's: {want}")
 
-# ---- sweep: columns from the README's table, rows in the grid's order -------
+# ---- sweep: columns from doc/sweeps.md's table, rows in the grid's order -------
 table = dict(re.findall(r"^\| `(lyapunov|orbit|poincare)` \|[^|]*\| `([^`]+)`", readme, re.M))
 A = ("initial.angle", [10, 20, 30])
 L = ("initial.length", [1.0, 1.1, 1.2])
@@ -85,7 +85,7 @@ def columns(measure, keys):
 
 rc, head, rows = sweep("lyap2", "lyapunov", [A, L], "--time", "4", "-o", path("lyap2.png"))
 ok(rc == 0 and head == columns("lyapunov", [A[0], L[0]]),
-   f"lyapunov over two keys: columns {head!r} as the README's table")
+   f"lyapunov over two keys: columns {head!r} as doc/sweeps.md's table")
 grid = [(p, a, l) for p, (l, a) in enumerate((l, a) for l in L[1] for a in A[1])]
 got = [(int(r[0]), r[1], r[2]) for r in rows]
 ok(got == grid, "rows in the grid's order, the first axis (initial.angle) varying fastest "

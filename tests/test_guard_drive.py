@@ -44,7 +44,7 @@ def rows(text):
 
 def reference(A, f, b, th0_deg, ts):
     """The lab frame: bob at (X, Y), pivot at (0, A sin W t). Energy in the
-    pivot's frame (README); its rate is the drive's -m a_p v_rel,y plus the
+    pivot's frame (doc/integrators.md); its rate is the drive's -m a_p v_rel,y plus the
     damping's -b V . v_rel (the air at rest in the lab), integrated beside."""
     W = 2 * math.pi * f
 

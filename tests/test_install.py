@@ -80,11 +80,12 @@ ok(os.path.exists(comp) and complete("springpend", "comp") == ["compare"]
    and complete("springpend", "compare", "--up") == ["--update"]
    and "pendulum.stiffness=" in complete("springpend", "render", "--set", "pendulum.s"),
    f"bash completion: commands, options, scene keys ({complete('springpend', 'render', '--set', 'pendulum.s')})")
-# The README's worked example, followed as written with the installed tool:
+# doc/ci.md's worked example, followed as written with the installed tool:
 # its snapshots.sh, then its compare commands, in a folder of their own.
 import re
 import xml.etree.ElementTree as ET
-readme = open(os.path.join(os.path.dirname(scene), "..", "README.md")).read()
+from sptest import manual  # noqa: E402  (README.md and doc/*.md)
+readme = manual(os.path.join(os.path.dirname(scene), ".."))
 script = re.search(r"```sh\n(#!/bin/sh\n# snapshots.sh OUTDIR.*?)```", readme, re.S).group(1)
 lines = [l for l in readme.splitlines() if l.startswith("springpend compare snapshots actual")]
 ci, add, update = (next(l for l in lines if want in l)
@@ -97,25 +98,25 @@ sh = lambda cmd: subprocess.run(["sh", "-c", cmd.split("  #")[0]], capture_outpu
                                 cwd=ex, env=env)
 r = sh("sh snapshots.sh actual")
 ok(r.returncode == 0 and len(os.listdir(os.path.join(ex, "actual"))) == 8,
-   f"README: sh snapshots.sh actual ({r.stderr.strip()})")
+   f"doc/ci.md: sh snapshots.sh actual ({r.stderr.strip()})")
 r = sh(ci)
 ok(r.returncode == 2 and "--update=missing" in r.stdout and os.path.exists(os.path.join(ex, "report.xml")),
-   f"README: the first compare reports every baseline missing and how to add them ({r.stdout.strip()[-120:]})")
+   f"doc/ci.md: the first compare reports every baseline missing and how to add them ({r.stdout.strip()[-120:]})")
 r = sh(add)
 ok(r.returncode == 0 and r.stdout.count("added") == 7
-   and len(os.listdir(os.path.join(ex, "snapshots"))) == 7, f"README: {add} ({r.stdout.strip()[-120:]})")
+   and len(os.listdir(os.path.join(ex, "snapshots"))) == 7, f"doc/ci.md: {add} ({r.stdout.strip()[-120:]})")
 r = sh(ci)
 cases = ET.parse(os.path.join(ex, "report.xml")).getroot().findall("./testsuite/testcase")
 ok(r.returncode == 0 and "7 passed" in r.stdout and len(cases) == 7
    and os.path.getsize(os.path.join(ex, "report.html")) > 10000,
-   f"README: the CI compare passes, report.html and report.xml written ({r.stdout.strip()[-120:]})")
+   f"doc/ci.md: the CI compare passes, report.html and report.xml written ({r.stdout.strip()[-120:]})")
 sh("springpend still scenes/default.ini --at 2 --size 640x360 -o actual/default_t3.png -q")
 r = sh(ci)
-ok(r.returncode == 1 and "FAIL default_t3.png" in r.stdout, "README: a changed picture fails the job")
+ok(r.returncode == 1 and "FAIL default_t3.png" in r.stdout, "doc/ci.md: a changed picture fails the job")
 r = sh(update)
 r2 = sh(ci)
 ok(r.returncode == 0 and "replaced" in r.stdout and r2.returncode == 0,
-   f"README: {update} takes the change, the job passes again ({r.stdout.strip()[-120:]})")
+   f"doc/ci.md: {update} takes the change, the job passes again ({r.stdout.strip()[-120:]})")
 
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

@@ -14,7 +14,7 @@ import subprocess
 import time
 import xml.dom.minidom
 
-from sptest import done, err, ok, runner_bytes, setup
+from sptest import done, err, manual, ok, runner_bytes, setup
 
 exe, src, work, _ = setup("review", [])
 default = os.path.join(src, "..", "scenes", "default.ini")
@@ -122,7 +122,7 @@ for sig, name in ((signal.SIGTERM, "SIGTERM"), (signal.SIGINT, "SIGINT")):
     ok(not [n for n in os.listdir(work) if n.endswith(".part")], "no .part left")
 
 # ---- a signal while `still` writes an SVG or PDF writes nothing ----
-# README: still "stops at once and writes nothing"; a signal after the
+# doc/outputs.md: still "stops at once and writes nothing"; a signal after the
 # integration, while the figure was drawn, was swallowed (exit 0, "wrote").
 chaotic = os.path.join(src, "..", "scenes", "chaotic.ini")
 for ext, sig in (("svg", signal.SIGTERM), ("pdf", signal.SIGINT)):
@@ -139,11 +139,10 @@ for ext, sig in (("svg", signal.SIGTERM), ("pdf", signal.SIGINT)):
     ok(first and p.returncode == 128 + sig and "interrupted" in e and "wrote" not in e,
        f"signal {int(sig)} during still -o .{ext}: exit {p.returncode}, {e!r}")
 
-# ---- every option the README's commands use is in that command's --help ----
+# ---- every option the manual's commands use is in that command's --help ----
 # `still ... -q` (snapshots.sh) and `still --fps 30` ran but still's --help
 # did not list them; the top-level help called still "one frame as a PNG".
-with open(os.path.join(src, "..", "README.md"), encoding="utf-8") as f:
-    readme = f.read()
+readme = manual(os.path.join(src, ".."))   # README.md and doc/*.md
 blocks = "\n".join(re.findall(r"^```(?:sh|yaml)?\n(.*?)^```", re.sub(
     r"^```(?!sh\n|yaml\n|\n).*?^```\n", "", readme, flags=re.S | re.M), re.S | re.M))
 blocks = blocks.replace("\\\n", " ")
@@ -155,11 +154,11 @@ for line in blocks.splitlines():
 for cmd in sorted(used):
     h = run(cmd, "--help").stdout.decode()
     missing = sorted(o for o in used[cmd] if not re.search(r"(?<![\w-])" + re.escape(o) + r"\b", h))
-    ok(not missing, f"{cmd} --help lists every option the README uses with it: missing {missing}")
+    ok(not missing, f"{cmd} --help lists every option the manual uses with it: missing {missing}")
 top = run("--help").stdout.decode()
 ok(re.search(r"still .*SVG", top), "springpend --help says still writes SVG and PDF too")
 
-# ---- the README's worked CI example runs as written ----
+# ---- doc/ci.md's worked CI example runs as written ----
 # Its JSON check read snapshots/default_t3.json, which no step put there
 # (--update copies PNGs only): FileNotFoundError on the first run.
 def block(marker):
@@ -182,7 +181,7 @@ steps = ["sh snapshots.sh actual",
 for step in steps:
     r = subprocess.run(step, shell=True, cwd=ci, env=env, capture_output=True, timeout=120)
     ok(step.strip() and r.returncode == 0,
-       f"README worked example: {step.strip()[:60]!r} exits 0: {r.returncode} {err(r)[-300:]}")
+       f"doc/ci.md worked example: {step.strip()[:60]!r} exits 0: {r.returncode} {err(r)[-300:]}")
 
 # ---- --merge refuses a shard cut short or edited ----
 # A shard truncated in copying (its last row cut mid-number), missing a row,
@@ -294,7 +293,7 @@ for args in (["still", "--format", "raw", "-o", "-"], ["still", "--shard", "1/2"
        f"{' '.join(args[:3])}: exit 2: {r.returncode} {err(r)}")
 
 # ---- a failed sweep removes the folders it made ----
-# README: a failed run removes "the folders it created when they are left
+# doc/outputs.md: a failed run removes "the folders it created when they are left
 # empty"; a sweep's figure failing (here over ulimit -f) left them.
 r = run(*SWEEP[:3], "initial.angle=5:40:40", *SWEEP[4:], "-o", path("made", "fig", "x.pdf"),
         "--csv", path("made", "rows", "x.csv"), preexec_fn=fsize_limit)

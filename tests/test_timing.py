@@ -5,7 +5,7 @@ stream's frame rate is the scene's fps as a fraction, and frame k's time
 stamp is k / fps within 0.1 ms (MP4) or 0.5 ms (WebM, whole ms) (a time base rounded to whole fps passed at 30 and 60 fps).
 Durations not exact in binary: 4.6 s at 25 fps is 115 frames, in MP4, WebM,
 GIF and a PNG sequence (a truncated count gives 114). GIF keeps every frame
-up to 50 fps and every other one above (the README's rule).
+up to 50 fps and every other one above (doc/outputs.md's rule).
 usage: test_timing.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os

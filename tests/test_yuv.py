@@ -93,7 +93,7 @@ else:
 mp4 = open(os.path.join(work, "a.mp4"), "rb").read() if r1.returncode == 0 else b""
 ok(r2.returncode == 0 and mp4 == open(os.path.join(work, "b.mp4"), "rb").read(),
    "MP4 from the YUV pass: the same bytes on two runs")
-# x264 as the README says: four slices of each frame at once, whatever the
+# x264 as doc/performance.md says: four slices of each frame at once, whatever the
 # core count (x264 writes its settings into the stream; it takes fewer for
 # a frame of few macroblock rows: 3 at 180 px)
 m = re.search(rb"threads=(\d+) lookahead_threads=\d+ sliced_threads=(\d)", mp4)

@@ -80,7 +80,7 @@ struct sp_exchange {
 /* The largest start amplitude, as a fraction of l (sp_exchange's and
  * sp_precession's epsilon), at which info states the averaged equations'
  * predictions at all: they expand in small amplitudes (accurate to a few %
- * up to 0.065 l, README), and beyond half of l the motion is no slow
+ * up to 0.065 l, doc/physics.md), and beyond half of l the motion is no slow
  * exchange (chaotic.ini, 1.5 rad, or a bob flung out by a huge
  * azimuth_rate): info then says they do not apply. */
 #define SP_ADVISE_AMPLITUDE_MAX 0.5
@@ -101,7 +101,7 @@ int sp_advise_exchange(const struct sp_params *p, const struct sp_state *s0,
  * motion); the precession per exchange is its turn between successive
  * maxima of the swing |A|^2. The theory applies to small amplitudes near
  * 2:1 without damping or drive; `applies` says whether this scene is
- * within what README's table measured (its accuracy there), and `why`
+ * within what doc/physics.md's table measured (its accuracy there), and `why`
  * what puts it outside. */
 struct sp_precession {
     int applies;       /* 1: amplitudes up to 0.065 l, within 1% of 2:1, no

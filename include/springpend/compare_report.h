@@ -123,7 +123,7 @@ struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report 
 void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int quiet,
                             int summary);
 
-/* JSON, one schema always (see the README): {"schema": "springpend-compare/1",
+/* JSON, one schema always (see doc/ci.md): {"schema": "springpend-compare/1",
  * "pass": ..., "counts": {...}, "results": [ ... ]}. */
 void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep);
 

@@ -141,7 +141,7 @@ struct sp_scene {
         int pendulum;    /* 1: the pendulum is drawn; 0: the panels fill the frame */
         int fade;        /* 1: old trail and phase curves fade; 0: full strength */
         double font_scale; /* text size factor, 1 = default */
-        double font_size;  /* body text, pt (1 pt = 1 px: see README "Text"); 0 = from
+        double font_size;  /* body text, pt (1 pt = 1 px: see doc/teaching.md); 0 = from
                               the frame's size; font_scale multiplies it */
         char font[SP_VIEW_TEXT_BYTES]; /* fontconfig family, "" = DejaVu Sans (embedded) */
         /* Never NULL; any length. A scene's point into its texts (below);

@@ -91,7 +91,7 @@ static const char compare_usage[] =
     "  --jobs N               compare a folder's images on N threads (default:\n"
     "                         every CPU)\n"
     "  --junit FILE.xml       JUnit XML, a test case per image\n"
-    "  --json                 print the records as JSON (schema in the README)\n"
+    "  --json                 print the records as JSON (schema in doc/ci.md)\n"
     "  -q, --quiet            print failures only (no effect with --json)\n"
     "  -h, --help             this text\n";
 

@@ -52,7 +52,7 @@ static const char render_usage[] =
     "                         4k 3840x2160@60 (--size, --fps, --set still override)\n"
     "  --frames A:B           only frames A..B-1 (from 0; the physics still starts at 0)\n"
     "  --shard I/N            only the I-th (1..N) of N equal frame ranges; join the\n"
-    "                         parts without re-encoding (see the README)\n"
+    "                         parts without re-encoding (see doc/outputs.md)\n"
     "  --gl osmesa|egl        GL backend (default: OSMesa if installed, else EGL)\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable), e.g. --set video.duration=5\n"
     "  --size WxH             shorthand for video.width and video.height\n"

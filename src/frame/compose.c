@@ -155,7 +155,7 @@ void sp_compose_shrink_arrows(struct sp_composer *c, double px)
 }
 
 /* Text sizes follow the frame's smaller side, with a floor for small
- * frames, or [view] font_size (pt, one px each: see README "Text") for the
+ * frames, or [view] font_size (pt, one px each: see doc/teaching.md) for the
  * body text with the others in the same proportions; times [view]
  * font_scale. A figure of physical size (print = 1, ss px per pt) has
  * matplotlib's proportions instead: ticks and legends 0.85, titles 1.2 of

@@ -372,7 +372,7 @@ static double averaged_azimuth(const double complex y[3])
     return mxz == 0 && mxx == mzz ? 0 : 0.5 * atan2(2 * mxz, mxx - mzz);
 }
 
-/* The accuracy README states for the prediction holds where it was measured:
+/* The accuracy doc/physics.md states for the prediction holds where it was measured:
  * amplitudes up to this fraction of l. */
 #define PRECESSION_EPS_MAX 0.065
 #define PRECESSION_DETUNING_MAX 0.01 /* |omega_s / (2 omega_p) - 1| */

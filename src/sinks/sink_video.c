@@ -170,7 +170,7 @@ static int video_encode(struct sp_sink *s, const AVFrame *frame)
  * X264_THREADS and X264_SLICED: 1 cuts each frame into that many slices
  * encoded at once (no frames in flight), 0 encodes that many frames at
  * once. Four slices, measured against 1, 2, 3, 4 and 8 frame threads and
- * 2 and 3 slices (README, Performance): the least CPU and wall time of
+ * 2 and 3 slices (doc/performance.md): the least CPU and wall time of
  * those settings, all of which give the same bytes on any machine, and
  * 275 MiB at 1080p where 8 frame threads (each holding frames) took 450;
  * the file is about 5% larger at the same CRF. VP9 (libvpx, row-mt) keeps

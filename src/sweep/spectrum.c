@@ -12,7 +12,7 @@
  * stay bitwise equal and each lane's tangent is exactly the linearised flow
  * applied to its own vector. The cost per point is four trajectories with a
  * tangent, the state counted four times: measured 4.0x the largest exponent
- * alone (README, "Lyapunov spectrum"). */
+ * alone (doc/sweeps.md, "The Lyapunov spectrum"). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

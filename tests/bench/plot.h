@@ -1,6 +1,6 @@
 /* springpend benchmark: a small log-log line plot rasterised into an
  * sp_image. Text through FreeType when the build found it (HAVE_FREETYPE),
- * else the plot has no labels and the README names the colours. */
+ * else the plot has no labels and the doc/ pages name the colours. */
 #ifndef SPRINGPEND_BENCH_PLOT_H
 #define SPRINGPEND_BENCH_PLOT_H
 

@@ -503,6 +503,110 @@ static int by_vis(const void *x, const void *y)
     return (a->vis > b->vis) - (a->vis < b->vis);
 }
 
+/* The script of each of the n code points cp: common and inherited
+ * characters take their neighbours' (the first strong one before them, or
+ * after them at the start); common when there is none. */
+static void scripts_assign(hb_unicode_funcs_t *uf, const uint32_t *cp, int n, hb_script_t *script)
+{
+    hb_script_t last = HB_SCRIPT_INVALID;
+    for (int i = 0; i < n; i++) {
+        const hb_script_t s = hb_unicode_script(uf, cp[i]);
+        const int weak = s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED || s == HB_SCRIPT_UNKNOWN;
+        script[i] = weak ? last : s;
+        if (!weak && last == HB_SCRIPT_INVALID)
+            for (int j = 0; j < i; j++)
+                script[j] = s;
+        if (!weak)
+            last = s;
+    }
+    for (int i = 0; i < n; i++)
+        if (script[i] == HB_SCRIPT_INVALID)
+            script[i] = HB_SCRIPT_COMMON;
+}
+
+/* The face of each of the n code points cp: the first that has the
+ * character; marks and joiners stay in the face of the character they
+ * belong to when it has them. Returns the characters no face has (drawn as
+ * face 0's missing glyph). */
+static int faces_assign(struct sp_font *f, hb_unicode_funcs_t *uf, const uint32_t *cp, int n,
+                        int *face)
+{
+    int missing = 0;
+    for (int i = 0; i < n; i++) {
+        const int inherited = hb_unicode_script(uf, cp[i]) == HB_SCRIPT_INHERITED;
+        if (i && (invisible(cp[i]) || (inherited && face_covers(&f->faces[face[i - 1]], cp[i])))) {
+            face[i] = face[i - 1];
+            continue;
+        }
+        face[i] = invisible(cp[i]) ? 0 : face_for(f, cp[i]);
+        if (face[i] < 0) {
+            missing++;
+            face[i] = 0; /* its missing glyph, counted */
+        }
+    }
+    return missing;
+}
+
+/* Fills items with the runs of one bidi level, script and face of the n
+ * characters, in visual order (map: the logical index at each visual
+ * place). Returns how many. */
+static int runs_make(const FriBidiLevel *levels, const hb_script_t *script, const int *face,
+                     const FriBidiStrIndex *map, int n, struct item *items)
+{
+    int n_items = 0;
+    for (int i = 0; i < n; i++) {
+        if (!n_items || levels[i] != items[n_items - 1].level || script[i] != items[n_items - 1].script ||
+            face[i] != items[n_items - 1].face)
+            items[n_items++] = (struct item){i, i, levels[i], face[i], n, script[i]};
+        items[n_items - 1].b = i + 1;
+    }
+    for (int v = 0; v < n; v++) /* each run's leftmost place */
+        for (int k = 0; k < n_items; k++)
+            if (map[v] >= items[k].a && map[v] < items[k].b && v < items[k].vis)
+                items[k].vis = v;
+    qsort(items, (size_t)n_items, sizeof(*items), by_vis);
+    return n_items;
+}
+
+/* Shapes run it (the k-th in visual order) of text (bytes long) with
+ * HarfBuzz and appends its glyphs to l from the pen position *pen (px,
+ * advanced past them); off: each character's byte offset. 0 or negative
+ * SP_E_... */
+static int run_shape(struct sp_font *f, int size, const char *text, int bytes, const int *off,
+                     const struct item *it, struct shaped *l, int k, int *n_glyphs, int *pen)
+{
+    int err;
+    if ((err = face_open(f, it->face)) != 0)
+        return err;
+    f->faces[it->face].used = 1;
+    hb_buffer_clear_contents(f->buf);
+    hb_buffer_add_utf8(f->buf, text, bytes, (unsigned)off[it->a], off[it->b] - off[it->a]);
+    hb_buffer_set_direction(f->buf, it->level & 1 ? HB_DIRECTION_RTL : HB_DIRECTION_LTR);
+    hb_buffer_set_script(f->buf, it->script);
+    hb_buffer_set_language(f->buf, hb_language_get_default());
+    hb_shape(f->faces[it->face].hb[size], f->buf, NULL, 0);
+    unsigned ng;
+    const hb_glyph_info_t *gi = hb_buffer_get_glyph_infos(f->buf, &ng);
+    const hb_glyph_position_t *gp = hb_buffer_get_glyph_positions(f->buf, NULL);
+    struct sp_glyph *g = hb_buffer_allocation_successful(f->buf)
+                             ? realloc(l->g, ((size_t)*n_glyphs + ng + 1) * sizeof(*g)) : NULL;
+    if (!g) {
+        sp_log_error("out of memory to shape a string of %d bytes", bytes);
+        return SP_E_NOMEM;
+    }
+    l->g = g;
+    l->r[k] = (struct sp_glyph_run){*n_glyphs, (int)ng, it->level & 1, off[it->a], off[it->b]};
+    for (unsigned j = 0; j < ng; j++) {
+        g[(*n_glyphs)++] = (struct sp_glyph){
+            gi[j].codepoint, it->face, *pen + (int)lround(gp[j].x_offset / 64.0),
+            -(int)lround(gp[j].y_offset / 64.0), (int)gi[j].cluster,
+            hb_ot_layout_get_glyph_class(f->faces[it->face].hb_face, gi[j].codepoint) ==
+                HB_OT_LAYOUT_GLYPH_CLASS_MARK};
+        *pen += (int)lround(gp[j].x_advance / 64.0);
+    }
+    return 0;
+}
+
 /* Shapes text into l (its glyphs and runs allocated). */
 static int shape(struct sp_font *f, int size, const char *text, struct shaped *l)
 {
@@ -554,47 +658,9 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
             goto done;
         }
     }
-    /* scripts: common and inherited characters take their neighbours' */
-    hb_script_t last = HB_SCRIPT_INVALID;
-    for (int i = 0; i < n; i++) {
-        const hb_script_t s = hb_unicode_script(uf, cp[i]);
-        const int weak = s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED || s == HB_SCRIPT_UNKNOWN;
-        script[i] = weak ? last : s;
-        if (!weak && last == HB_SCRIPT_INVALID)
-            for (int j = 0; j < i; j++)
-                script[j] = s;
-        if (!weak)
-            last = s;
-    }
-    for (int i = 0; i < n; i++)
-        if (script[i] == HB_SCRIPT_INVALID)
-            script[i] = HB_SCRIPT_COMMON;
-    /* fonts: the first that has the character; marks and joiners stay in
-     * the font of the character they belong to when it has them */
-    for (int i = 0; i < n; i++) {
-        const int inherited = hb_unicode_script(uf, cp[i]) == HB_SCRIPT_INHERITED;
-        if (i && (invisible(cp[i]) || (inherited && face_covers(&f->faces[face[i - 1]], cp[i])))) {
-            face[i] = face[i - 1];
-            continue;
-        }
-        face[i] = invisible(cp[i]) ? 0 : face_for(f, cp[i]);
-        if (face[i] < 0) {
-            missing++;
-            face[i] = 0; /* its missing glyph, counted */
-        }
-    }
-    /* runs of one level, script and font */
-    for (int i = 0; i < n; i++) {
-        if (!n_items || levels[i] != items[n_items - 1].level || script[i] != items[n_items - 1].script ||
-            face[i] != items[n_items - 1].face)
-            items[n_items++] = (struct item){i, i, levels[i], face[i], n, script[i]};
-        items[n_items - 1].b = i + 1;
-    }
-    for (int v = 0; v < n; v++) /* each run's leftmost place */
-        for (int k = 0; k < n_items; k++)
-            if (map[v] >= items[k].a && map[v] < items[k].b && v < items[k].vis)
-                items[k].vis = v;
-    qsort(items, (size_t)n_items, sizeof(*items), by_vis);
+    scripts_assign(uf, cp, n, script);
+    missing = faces_assign(f, uf, cp, n, face);
+    n_items = runs_make(levels, script, face, map, n, items);
     /* shape each run */
     l->r = malloc(((size_t)n_items + 1) * sizeof(*l->r));
     l->g = NULL;
@@ -604,38 +670,10 @@ static int shape(struct sp_font *f, int size, const char *text, struct shaped *l
         goto done;
     }
     int pen = 0;
-    for (int k = 0; k < n_items; k++) {
-        const struct item *it = &items[k];
-        if ((err = face_open(f, it->face)) != 0)
-            goto done;
-        f->faces[it->face].used = 1;
-        hb_buffer_clear_contents(f->buf);
-        hb_buffer_add_utf8(f->buf, text, bytes, (unsigned)off[it->a], off[it->b] - off[it->a]);
-        hb_buffer_set_direction(f->buf, it->level & 1 ? HB_DIRECTION_RTL : HB_DIRECTION_LTR);
-        hb_buffer_set_script(f->buf, it->script);
-        hb_buffer_set_language(f->buf, hb_language_get_default());
-        hb_shape(f->faces[it->face].hb[size], f->buf, NULL, 0);
-        unsigned ng;
-        const hb_glyph_info_t *gi = hb_buffer_get_glyph_infos(f->buf, &ng);
-        const hb_glyph_position_t *gp = hb_buffer_get_glyph_positions(f->buf, NULL);
-        struct sp_glyph *g = hb_buffer_allocation_successful(f->buf)
-                                 ? realloc(l->g, ((size_t)n_glyphs + ng + 1) * sizeof(*g)) : NULL;
-        if (!g) {
-            sp_log_error("out of memory to shape a string of %d bytes", bytes);
-            err = SP_E_NOMEM;
-            goto done;
-        }
-        l->g = g;
-        l->r[k] = (struct sp_glyph_run){n_glyphs, (int)ng, it->level & 1, off[it->a], off[it->b]};
-        for (unsigned j = 0; j < ng; j++) {
-            g[n_glyphs++] = (struct sp_glyph){
-                gi[j].codepoint, it->face, pen + (int)lround(gp[j].x_offset / 64.0),
-                -(int)lround(gp[j].y_offset / 64.0), (int)gi[j].cluster,
-                hb_ot_layout_get_glyph_class(f->faces[it->face].hb_face, gi[j].codepoint) ==
-                    HB_OT_LAYOUT_GLYPH_CLASS_MARK};
-            pen += (int)lround(gp[j].x_advance / 64.0);
-        }
-    }
+    for (int k = 0; k < n_items && !err; k++)
+        err = run_shape(f, size, text, bytes, off, &items[k], l, k, &n_glyphs, &pen);
+    if (err)
+        goto done;
     l->line = (struct sp_line){pen, missing, n_glyphs, n_items, l->g, l->r};
 done:
     free(items);

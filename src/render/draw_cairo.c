@@ -145,34 +145,30 @@ static int lanes(cairo_t *cr, const struct sp_shape *s, int n, int lanes)
     return 0;
 }
 
-int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
+/* The SVG or PDF surface of d, pw x ph (pt or px), writing to sink, with its
+ * metadata (creator, date, scene and title; the SVG's unit). NULL when it
+ * cannot be made (logged; *err set). */
+static cairo_surface_t *surface_make(const struct sp_draw_cairo_desc *d, struct sp_cairo_fd *sink,
+                                     double pw, double ph, int paper, int *err)
 {
-    const struct sp_canvas *c = d->canvas;
     cairo_surface_t *surface;
-    cairo_status_t st;
-    cairo_t *cr;
-    int err = 0;
-
-    char *svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file, d->command) : NULL;
-    struct sp_cairo_fd sink = {.fd = d->fd, .svg_metadata = svg_meta}; /* every write checked */
-    const int paper = d->page_w > 0 && d->page_h > 0;
-    const double pw = paper ? d->page_w : d->width, ph = paper ? d->page_h : d->height;
     if (d->format == SP_FIGURE_PDF)
-        surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &sink, pw, ph);
+        surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, sink, pw, ph);
     else
-        surface = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, &sink, pw, ph);
-    st = cairo_surface_status(surface);
+        surface = cairo_svg_surface_create_for_stream(sp_cairo_fd_write, sink, pw, ph);
+    const cairo_status_t st = cairo_surface_status(surface);
     if (st) {
         sp_log_error("%s: cannot create: %s", d->path, cairo_status_to_string(st));
         cairo_surface_destroy(surface);
-        free(svg_meta);
-        return SP_E_IO;
+        *err = SP_E_IO;
+        return NULL;
     }
     if (d->format == SP_FIGURE_PDF) {
         cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "springpend " SP_VERSION);
         if (sp_cairo_pdf_date(surface)) {
             cairo_surface_destroy(surface);
-            return SP_E_INPUT;
+            *err = SP_E_INPUT;
+            return NULL;
         }
         sp_cairo_pdf_scene(surface, d->scene_file, d->command);
         /* the title as messages show it: a file name may hold bytes that
@@ -186,18 +182,16 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
     } else {
         cairo_svg_surface_set_document_unit(surface, paper ? CAIRO_SVG_UNIT_PT : CAIRO_SVG_UNIT_PX);
     }
-    cr = cairo_create(surface);
-    if (paper) /* the list's px onto the page's pt */
-        cairo_scale(cr, pw / d->width, ph / d->height);
-    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-    if (d->background[3] > 0) {
-        source(cr, d->background);
-        cairo_paint(cr);
-    }
-    /* the accumulated layer first, then the rest in order */
+    return surface;
+}
+
+/* Draws c's shapes: the accumulated layer first, then the rest in list
+ * order, under their clips; stops when *cancel is set. 0 or SP_E_NOMEM. */
+static int shapes_draw(cairo_t *cr, const struct sp_canvas *c, const volatile sig_atomic_t *cancel)
+{
+    int err = 0;
     for (int pass = 0; pass < 2 && !err; pass++) {
-        for (int i = 0; i < c->n_items && !err && !(d->cancel && *d->cancel); i++) { /* stop */
+        for (int i = 0; i < c->n_items && !err && !(cancel && *cancel); i++) { /* stop */
             const struct sp_item *it = &c->items[i];
             if ((it->layer == SP_LAYER_ACCUM) != (pass == 0))
                 continue;
@@ -219,21 +213,57 @@ int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
         }
     }
     cairo_reset_clip(cr);
-    /* text over everything, as the GL backend draws it */
-    if (d->font && c->n_strings) {
-        struct sp_cairo_faces faces = {0};
-        err = sp_cairo_faces_make(&faces, d->font, cr);
-        for (int i = 0; i < c->n_items && !err; i++) {
-            const struct sp_item *it = &c->items[i];
-            if (it->kind != SP_ITEM_TEXT)
-                continue;
-            source(cr, it->color);
-            err = sp_cairo_text_show(cr, &faces, it->size, it->x, it->y, c->strings + it->text);
-        }
-        sp_cairo_faces_destroy(&faces);
-        if (d->format == SP_FIGURE_PDF) /* provenance: the font files drawn from */
-            sp_cairo_pdf_fonts(surface, d->font);
+    return err;
+}
+
+/* Draws c's text over everything, as the GL backend draws it, in d's font;
+ * a PDF records the font files drawn from. 0 or negative SP_E_... */
+static int text_draw(cairo_t *cr, cairo_surface_t *surface, const struct sp_canvas *c,
+                     const struct sp_draw_cairo_desc *d)
+{
+    struct sp_cairo_faces faces = {0};
+    int err = sp_cairo_faces_make(&faces, d->font, cr);
+    for (int i = 0; i < c->n_items && !err; i++) {
+        const struct sp_item *it = &c->items[i];
+        if (it->kind != SP_ITEM_TEXT)
+            continue;
+        source(cr, it->color);
+        err = sp_cairo_text_show(cr, &faces, it->size, it->x, it->y, c->strings + it->text);
     }
+    sp_cairo_faces_destroy(&faces);
+    if (d->format == SP_FIGURE_PDF) /* provenance: the font files drawn from */
+        sp_cairo_pdf_fonts(surface, d->font);
+    return err;
+}
+
+int sp_draw_cairo_write(const struct sp_draw_cairo_desc *d)
+{
+    const struct sp_canvas *c = d->canvas;
+    cairo_surface_t *surface;
+    cairo_status_t st;
+    cairo_t *cr;
+    int err = 0;
+
+    char *svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file, d->command) : NULL;
+    struct sp_cairo_fd sink = {.fd = d->fd, .svg_metadata = svg_meta}; /* every write checked */
+    const int paper = d->page_w > 0 && d->page_h > 0;
+    const double pw = paper ? d->page_w : d->width, ph = paper ? d->page_h : d->height;
+    if (!(surface = surface_make(d, &sink, pw, ph, paper, &err))) {
+        free(svg_meta);
+        return err;
+    }
+    cr = cairo_create(surface);
+    if (paper) /* the list's px onto the page's pt */
+        cairo_scale(cr, pw / d->width, ph / d->height);
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    if (d->background[3] > 0) {
+        source(cr, d->background);
+        cairo_paint(cr);
+    }
+    err = shapes_draw(cr, c, d->cancel);
+    if (!err && d->font && c->n_strings) /* text over everything */
+        err = text_draw(cr, surface, c, d);
     st = cairo_status(cr);
     cairo_destroy(cr);
     cairo_surface_finish(surface);

@@ -1,14 +1,20 @@
 #!/usr/bin/env python3
-"""Writes springpend(1) or its bash completion from the built executable's
-own texts: 'springpend --help', 'springpend COMMAND --help' for every
-command --help lists, and 'springpend keys'. Run at build time (meson.build),
-so neither can drift from --help.
-usage: make_docs.py man|bash SPRINGPEND OUTPUT"""
+"""Writes springpend(1) and a page per command (springpend-render(1), ...),
+or the bash completion, from the built executable's own texts: 'springpend
+--help', 'springpend COMMAND --help' for every command --help lists, and
+'springpend keys'. Run at build time (meson.build), so none can drift from
+--help. The man outputs are springpend.1 and then one springpend-COMMAND.1
+per command, in the order --help lists them (doc/meson.build declares them;
+a command added to --help and not there, or the other way round, fails the
+build naming both lists).
+usage: make_docs.py man SPRINGPEND springpend.1 springpend-COMMAND.1 ...
+       make_docs.py bash SPRINGPEND OUTPUT"""
+import os
 import re
 import subprocess
 import sys
 
-kind, exe, out = sys.argv[1:4]
+kind, exe, out = sys.argv[1], sys.argv[2], sys.argv[3]
 
 
 def text(*args):
@@ -17,7 +23,9 @@ def text(*args):
 
 top = text("--help")
 block = top.split("commands:\n", 1)[1].split("\n\n", 1)[0]
-commands = [(m.group(1), m.group(2)) for m in re.finditer(r"^  (\w+)\s+(.*)$", block, re.M)]
+# a command's line, with the lines its description wraps onto
+commands = [(m.group(1), " ".join(m.group(2).split()))
+            for m in re.finditer(r"^  (\w+)\s+(.*(?:\n {4,}\S.*)*)", block, re.M)]
 helps = {name: text(name, "--help") if name != "keys" else "" for name, _ in commands}
 keys_text = text("keys")
 keys, section = [], ""
@@ -43,7 +51,27 @@ def roff(s):
     return "\n".join(lines)
 
 
+def command_page(name, what, version, others):
+    """springpend-NAME(1): the command's line of --help, its own --help (for
+    keys, the key list), the exit statuses and the other pages."""
+    text = helps[name] or keys_text
+    usage, body = text.split("\n\n", 1) if text.startswith("usage:") else (f"springpend {name}", text)
+    parts = [f'.TH SPRINGPEND\\-{name.upper()} 1 "" "springpend {version}" "User Commands"',
+             ".SH NAME", f"springpend\\-{name} \\- " + roff(what),
+             ".SH SYNOPSIS", ".nf", roff(usage.replace("usage: ", "", 1)), ".fi",
+             ".SH DESCRIPTION", ".nf", roff(body), ".fi",
+             ".SH EXIT STATUS", ".nf", roff(exit_status), ".fi",
+             ".SH SEE ALSO", ".nh", ",\n".join(f".BR {page} (1)" for page in ["springpend"] + others)]
+    return "\n".join(parts) + "\n"
+
+
 if kind == "man":
+    pages = [os.path.basename(p) for p in sys.argv[4:]]
+    want = [f"springpend-{name}.1" for name, _ in commands]
+    if os.path.basename(out) != "springpend.1" or pages != want:
+        sys.exit(f"make_docs.py: the man pages asked for ({', '.join([os.path.basename(out)] + pages)}) "
+                 f"are not springpend.1 and one per command --help lists ({', '.join(want)}); "
+                 "update the list in doc/meson.build")
     version = top.split("\n", 1)[0].split()[1]
     intro, rest = top.split("usage:", 1)
     exit_status = top.split("exit status:", 1)[1].strip()
@@ -62,8 +90,13 @@ if kind == "man":
     parts += [".SH SCENE KEYS", ".nf", roff(keys_text), ".fi",
               ".SH EXIT STATUS", ".nf", roff(exit_status), ".fi",
               ".SH FILES", "Scene files are INI text; see the scenes/ folder of the source and "
-              "README.md, doc/scenes.md.", ".SH SEE ALSO", "ffmpeg(1)"]
+              "README.md, doc/scenes.md.", ".SH SEE ALSO", ".nh",
+              ",\n".join(f".BR springpend\\-{name} (1)" for name, _ in commands) + ",",
+              ".BR ffmpeg (1)"]
     open(out, "w").write("\n".join(parts) + "\n")
+    for (name, what), path in zip(commands, sys.argv[4:]):
+        open(path, "w").write(command_page(name, what, version,
+                                           [f"springpend\\-{n}" for n, _ in commands if n != name]))
 else:
     names = " ".join(name for name, _ in commands)
     cases = "\n".join(f"        {name}) opts=\"{' '.join(options(helps[name]))}\" ;;"

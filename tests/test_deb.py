@@ -66,9 +66,11 @@ if debs:
     files = subprocess.run(["dpkg-deb", "-c", deb], capture_output=True, text=True).stdout
     want = ["./usr/bin/springpend", "/springpend/springpend-av.so", "/springpend/springpend-cairo.so",
             "/springpend/springpend-plot.so", "./usr/share/man/man1/springpend.1.gz",
+            *(f"./usr/share/man/man1/springpend-{c}.1.gz"
+              for c in ("render", "still", "data", "info", "keys", "scene", "compare", "sweep")),
             "./usr/share/bash-completion/completions/springpend", "./usr/share/doc/springpend/copyright"]
     ok(all(w in files for w in want), f"the package holds the program, its three modules, the man "
-       f"page, bash completion and the copyright ({[w for w in want if w not in files]} missing)")
+       f"pages (springpend(1) and one per command), bash completion and the copyright ({[w for w in want if w not in files]} missing)")
     li = subprocess.run(["lintian", "--fail-on", "error,warning", deb], capture_output=True, text=True)
     tags = [l for l in li.stdout.splitlines() if re.match(r"^[EW]: ", l)]
     ok(li.returncode == 0 and not tags, f"lintian: no error or warning ({tags or 'clean'})")

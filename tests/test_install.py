@@ -2,9 +2,11 @@
 """springpend tests: `meson install --destdir` into a temporary folder, then
 the installed tool, moved elsewhere, runs render (MP4: the FFmpeg module is
 found relative to the executable), still and compare; springpend(1) and the
-bash completion are installed and agree with --help.
+bash completion are installed and agree with --help, and so does each
+command's page (springpend-render(1), ...).
 usage: test_install.py BUILD_ROOT PREFIX BINDIR MANDIR DATADIR OUTPUT_DIR (TAP)"""
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -64,6 +66,32 @@ missing = [l.strip() for h in helps for l in h.splitlines()
            if l.strip().startswith("--") and l.strip() not in page.replace("\u2010", "-")]
 ok(os.path.exists(man) and "springpend compare EXPECTED ACTUAL" in page and not missing,
    f"springpend(1) is installed and holds every option line of --help (missing: {missing[:3]})")
+# A page per command, named for what --help lists: each holds its command's
+# one-line description and every line of its --help (for keys, of its list),
+# and springpend(1) names them all under SEE ALSO.
+top = run("--help").stdout
+listed = re.findall(r"^  (\w+)\s+(.*)$", top.split("commands:\n", 1)[1].split("\n\n", 1)[0], re.M)
+
+
+def man_text(path):
+    if not shutil.which("man"):
+        return open(path).read()
+    return subprocess.run(["man", "-l", path], capture_output=True, text=True,
+                          env=dict(os.environ, MANWIDTH="200")).stdout.replace("\u2010", "-")
+
+
+for name, what in listed:
+    path = os.path.join(moved, mandir, "man1", f"springpend-{name}.1")
+    text = man_text(path) if os.path.exists(path) else ""
+    own = run(name, "--help").stdout if name != "keys" else run("keys").stdout
+    lost = [l.strip() for l in own.splitlines()   # the usage line as the SYNOPSIS
+            if l.strip() and l.strip().replace("usage: ", "", 1) not in text]
+    ok(text and f"springpend-{name} - {what.strip()}" in " ".join(text.split()) and not lost,
+       f"springpend-{name}(1) is installed with its description and every line of "
+       f"'springpend {name}{' --help' * (name != 'keys')}' (missing: {lost[:3]})")
+see_also = " ".join(page.split("SEE ALSO", 1)[-1].split())
+ok(listed and all(f"springpend-{name}(1)" in see_also for name, _ in listed),
+   f"springpend(1)'s SEE ALSO names the {len(listed)} command pages ({see_also[:200]})")
 
 comp = os.path.join(moved, datadir, "bash-completion", "completions", "springpend")
 

@@ -57,12 +57,20 @@ int sp_compare_rule_set(struct sp_compare_rule *rule, const char *name, const ch
                         char *why, size_t why_size);
 
 /* 1 when path is a symbolic link whose file (resolved, or not resolvable:
- * a loop, a dangling link) lies outside folder dir; then `to` holds where
- * it points (size bytes). 0 for anything else, links within dir too.
+ * a loop, a dangling link) lies outside folder dir, or when a folder on the
+ * way from dir to path is a link out of dir (path need not exist: its
+ * nearest existing folder is checked); then `to` holds where it points
+ * (size bytes). 0 for anything else, links within dir too, and when dir
+ * does not exist.
  * compare reads nothing through such a link: a file in a pull request
  * could point at a secret (--report, compare.ini's messages) or at a file
  * --update would replace. */
 int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t size);
+
+/* The folder half of sp_compare_link_outside: 1 when a folder on the way
+ * from dir to path is a link out of dir (path itself may be a link: a
+ * writer with SP_OUTFILE_REPLACE_LINK replaces it). */
+int sp_compare_parent_outside(const char *path, const char *dir, char *to, size_t size);
 
 /* Reads dir/compare.ini into cfg when it exists (cfg stays empty when it
  * does not). Errors are printed as FILE:LINE: what is wrong, what is

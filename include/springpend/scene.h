@@ -169,6 +169,10 @@ struct sp_scene {
                                              panels: one per panel, '|' between */
         char ylabel[SP_VIEW_TEXT_BYTES];  /* as xlabel */
         char colorbar_label[SP_VIEW_TEXT_BYTES]; /* "" = the colour bar's own name */
+        /* Where xlabel, ylabel and colorbar_label (in that order) were set,
+         * for the refusals of a label that cannot fit: "FILE:LINE" or
+         * "--set view.xlabel"; "" = nowhere (the default). */
+        char label_where[3][SP_VIEW_TEXT_BYTES];
         int camera;              /* enum sp_camera_mode */
         double camera_azimuth;   /* rad, SP_CAMERA_SET: the eye turned about the
                                     vertical from +z (the front) towards +x */

@@ -1,6 +1,8 @@
 /* springpend: what `compare EXPECTED ACTUAL` compares in folder mode. Both
- * folders are walked, subfolders too (not through links to folders; names
- * starting with '.' skipped), for PNGs and videos; each image's baselines are
+ * folders are walked, subfolders too (names starting with '.' as well, to
+ * SP_SNAPSHOT_MAX_DEPTH: deeper is an error), for PNGs and videos; a link
+ * to a folder is not followed but listed as NAME/ (sp_snapshot_is_folder_link),
+ * so that the run reports it; each image's baselines are
  * EXPECTED/NAME and its alternatives EXPECTED/STEM.KEY.EXT beside it (a
  * baseline per environment: `a.png`, `a.llvm19.png`), any of which may match.
  * A baseline is an alternative only when STEM.EXT is an image of either
@@ -21,6 +23,13 @@ struct sp_snapshot_list {
     struct sp_snapshot *items; /* sorted by name; owned */
     int n;
 };
+
+/* Folders below EXPECTED or ACTUAL deeper than this are refused. */
+#define SP_SNAPSHOT_MAX_DEPTH 64
+
+/* 1 when name is a link to a folder that the walk listed but did not follow
+ * (it ends in '/'). */
+int sp_snapshot_is_folder_link(const char *name);
 
 /* 1 when name ends in .png (any case). */
 int sp_snapshot_is_png(const char *name);

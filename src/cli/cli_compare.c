@@ -829,7 +829,11 @@ static void compare_item(struct compare_cli *c, struct sp_compare_record *r,
         const char *dot = strrchr(it->name, '.');
         snprintf(pd, sizeof(pd), "%s/%.*s.diff.png", c->diff,
                  (int)(dot ? dot - it->name : (long)strlen(it->name)), it->name);
-        if (make_parents(pd) == 0)
+        char where[PATH_MAX];
+        if (sp_compare_parent_outside(pd, c->diff, where, sizeof(where)))
+            sp_log_error("%s would be written to %s, through a link out of %s: not written",
+                         pd, where, c->diff);
+        else if (make_parents(pd) == 0)
             diff = pd;
     }
     for (int k = it->expected ? -1 : 0; k < it->n_alts; k++) {
@@ -934,8 +938,14 @@ static void write_candidate(const struct compare_cli *c, struct sp_compare_recor
     if (!r->actual[0] || r->not_compared || !(r->verdict == SP_VERDICT_FAIL || missing))
         return;
     target_name(c, name, rel, (int)sizeof(rel));
-    if (snprintf(out, sizeof(out), "%s/%s", c->candidates, rel) >= (int)sizeof(out) ||
-        make_parents(out) != 0) {
+    char where[PATH_MAX];
+    if (snprintf(out, sizeof(out), "%s/%s", c->candidates, rel) < (int)sizeof(out) &&
+        sp_compare_parent_outside(out, c->candidates, where, sizeof(where))) {
+        sp_log_error("%s would be written to %s, through a link out of %s: not written", out,
+                     where, c->candidates);
+        return;
+    }
+    if (strlen(out) + 1 >= sizeof(out) || make_parents(out) != 0) {
         sp_log_error("%s: cannot make its folder: %s", out, strerror(errno));
         return;
     }
@@ -954,8 +964,15 @@ static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
     const char *skip[] = {c->diff, c->candidates};
     unsigned char *todo = NULL;
     int ret = sp_snapshot_list_make(&list, dir_e, dir_a, skip, 2), first = rep->n;
-    if (ret)
+    if (ret) { /* the reports must not read as a pass */
+        struct sp_compare_record *r = sp_compare_report_add(rep);
+        if (r) {
+            snprintf(r->name, sizeof(r->name), "%s", dir_e);
+            record_error(r, "%s and %s could not be listed (the message above says why): "
+                         "nothing was compared", dir_e, dir_a);
+        }
         return ret;
+    }
     if (!(todo = calloc((size_t)list.n + 1, 1))) {
         ret = SP_E_NOMEM;
         goto done;
@@ -979,7 +996,15 @@ static int compare_folders(struct compare_cli *c, struct sp_compare_report *rep,
             snprintf(alt, sizeof(alt), "%s/%s", dir_e, it->alts[k]);
             refused = link_out(r, it->name, alt, dir_e);
         }
-        if (refused || link_out(r, it->name, pe, dir_e) || link_out(r, it->name, pa, dir_a)) {
+        if (sp_snapshot_is_folder_link(it->name)) {
+            snprintf(r->name, sizeof(r->name), "%s", it->name);
+            record_error(r, "%s/%s is a link to a folder; compare does not follow links to "
+                         "folders, so nothing behind it was compared",
+                         it->actual ? dir_a : dir_e, it->name);
+            snprintf(r->hint, sizeof(r->hint), "put the folder itself there, or remove the link");
+            r->refused = 1;
+        } else if (refused || link_out(r, it->name, pe, dir_e) ||
+                   link_out(r, it->name, pa, dir_a)) {
             r->refused = 1; /* recorded as an error; nothing is updated */
         } else if (!it->actual || (!it->expected && !it->n_alts)) {
             snprintf(r->name, sizeof(r->name), "%s", it->name);
@@ -1154,6 +1179,51 @@ static int same_pixels(const char *a, const char *b)
  * to DIR (every PNG and video under it, subfolders too, but the
  * NAME.diff.png diffs) into BASELINES, each to the same relative path;
  * a baseline whose pixels equal its candidate's is left untouched. */
+/* Why candidate `from` (under dir) may not become a baseline, or NULL when
+ * it may: only a regular file inside dir that decodes as a PNG, or opens as
+ * a video, is copied; a link out of dir could carry a runner's secret into
+ * the repository. `to` (under baselines) must not lie through a link out of
+ * baselines either. why holds the text (size bytes). */
+static const char *approve_refusal(const char *from, const char *dir, const char *to,
+                                   const char *baselines, char *why, size_t size)
+{
+    char where[PATH_MAX];
+    struct stat st;
+    if (sp_compare_link_outside(from, dir, where, sizeof(where))) {
+        snprintf(why, size, "%s is a link to %s, not inside %s: not copied", from, where, dir);
+        return why;
+    }
+    if (stat(from, &st) != 0 || !S_ISREG(st.st_mode)) {
+        snprintf(why, size, "%s: not a regular file; not copied", from);
+        return why;
+    }
+    if (sp_compare_link_outside(to, baselines, where, sizeof(where))) {
+        snprintf(why, size, "%s would be written to %s, through a link out of %s: not written",
+                 to, where, baselines);
+        return why;
+    }
+    if (is_png_path(from)) {
+        struct sp_png_info info;
+        struct sp_image img = {0};
+        int bad = sp_png_read_info(from, &info) || sp_png_check_size(from, &info) ||
+                  sp_png_read(from, &img);
+        sp_image_free(&img);
+        if (bad) {
+            snprintf(why, size, "%s does not decode as a PNG: not copied", from);
+            return why;
+        }
+    } else {
+        struct sp_video_reader *v = NULL;
+        int bad = sp_video_reader_open(&v, from);
+        sp_video_reader_destroy(&v);
+        if (bad) {
+            snprintf(why, size, "%s does not open as a video: not copied", from);
+            return why;
+        }
+    }
+    return NULL;
+}
+
 static int approve(const struct compare_cli *c, const char *dir, const char *baselines)
 {
     struct sp_snapshot_list l;
@@ -1176,6 +1246,18 @@ static int approve(const struct compare_cli *c, const char *dir, const char *bas
             continue;
         snprintf(from, sizeof(from), "%s/%s", dir, name);
         snprintf(to, sizeof(to), "%s/%s", baselines, name);
+        char why[3 * PATH_MAX];
+        if (sp_snapshot_is_folder_link(name)) {
+            sp_log_error("%s/%s is a link to a folder; --approve does not follow it: "
+                         "nothing behind it copied", dir, name);
+            ret = SP_E_INPUT;
+            continue;
+        }
+        if (approve_refusal(from, dir, to, baselines, why, sizeof(why))) {
+            sp_log_error("%s", why);
+            ret = SP_E_INPUT;
+            continue;
+        }
         int exists = lstat(to, &st) == 0;
         if (exists && is_png_path(name) && same_pixels(from, to)) {
             unchanged++;

@@ -2,6 +2,7 @@
  * (compare_config.h). libinih splits the lines; ini_lines.c counts them. */
 #include <errno.h>
 #include <fnmatch.h>
+#include <limits.h>
 #include <ini.h>
 #include <math.h>
 #include <stdarg.h>
@@ -247,16 +248,57 @@ static int handle(void *user, const char *section, const char *name, const char 
     return 1;
 }
 
+/* 1 when real path `file` is not dir's real path `in` or below it. */
+static int outside(const char *file, const char *in)
+{
+    size_t n = strlen(in);
+    return strncmp(file, in, n) || (file[n] != '/' && file[n] != 0);
+}
+
+/* The folder a name under dir really lies in: the nearest existing folder
+ * above path, resolved. 1 (and where, in to) when that is outside dir: a
+ * folder on the way is a link out of it. */
+static int parent_outside(const char *path, const char *in, char *to, size_t size)
+{
+    char buf[PATH_MAX];
+    if (snprintf(buf, sizeof(buf), "%s", path) >= (int)sizeof(buf))
+        return 0;
+    for (char *slash = strrchr(buf, '/'); slash && slash > buf; slash = strrchr(buf, '/')) {
+        *slash = 0;
+        char *real = realpath(buf, NULL);
+        if (!real)
+            continue; /* not made yet: look further up */
+        int out = outside(real, in);
+        if (out)
+            snprintf(to, size, "%s/%s", real, path + (slash - buf) + 1);
+        free(real);
+        return out;
+    }
+    return 0;
+}
+
+int sp_compare_parent_outside(const char *path, const char *dir, char *to, size_t size)
+{
+    char *in = realpath(dir, NULL);
+    int out = in && parent_outside(path, in, to, size);
+    free(in);
+    return out;
+}
+
 int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t size)
 {
     struct stat st;
-    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
-        return 0;
+    char *in = realpath(dir, NULL);
+    if (!in)
+        return 0; /* no folder yet (baselines to be added): nothing to follow */
+    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode)) {
+        int out = parent_outside(path, in, to, size);
+        free(in);
+        return out;
+    }
     char *file = realpath(path, NULL);
     int why = errno;
-    char *in = realpath(dir, NULL);
-    size_t n = in ? strlen(in) : 0;
-    int out = !file || !in || strncmp(file, in, n) || file[n] != '/';
+    int out = !file || outside(file, in) || !strcmp(file, in);
     if (out && file) {
         snprintf(to, size, "%s", file);
     } else if (out) { /* a loop or a dangling link: where it points, and why */

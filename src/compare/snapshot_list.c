@@ -20,6 +20,12 @@ static const char *ext_of(const char *name)
     return dot && dot > base ? dot : NULL;
 }
 
+int sp_snapshot_is_folder_link(const char *name)
+{
+    size_t n = strlen(name);
+    return n && name[n - 1] == '/';
+}
+
 int sp_snapshot_is_png(const char *name)
 {
     const char *e = ext_of(name);
@@ -94,7 +100,7 @@ static int walk(const char *root, const char *rel, const struct skips *skip, str
     }
     for (struct dirent *e; !err && (e = readdir(d));) {
         struct stat st;
-        if (e->d_name[0] == '.')
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
             continue;
         if (snprintf(sub, sizeof(sub), "%s%s%s", rel, rel[0] ? "/" : "", e->d_name) >=
                 (int)sizeof(sub) ||
@@ -107,8 +113,20 @@ static int walk(const char *root, const char *rel, const struct skips *skip, str
             int skipped = 0;
             for (int i = 0; i < skip->n; i++)
                 skipped |= st.st_dev == skip->dev[i] && st.st_ino == skip->ino[i];
-            if (!skipped && depth < 64)
+            if (!skipped && depth >= SP_SNAPSHOT_MAX_DEPTH) {
+                sp_log_error("%s: folders nested more than %d deep; compare does not go "
+                             "that deep, so nothing there would be compared: move the "
+                             "images up", path, SP_SNAPSHOT_MAX_DEPTH);
+                err = SP_E_INPUT;
+            } else if (!skipped) {
                 err = walk(root, sub, skip, s, depth + 1);
+            }
+        } else if (S_ISLNK(st.st_mode) && stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+            /* never followed; listed (with a trailing '/') so that the run
+             * says so instead of passing without what is behind it */
+            char link[PATH_MAX];
+            if (snprintf(link, sizeof(link), "%s/", sub) < (int)sizeof(link))
+                err = names_add(s, link);
         } else if (sp_snapshot_is_png(e->d_name) || sp_snapshot_is_video(e->d_name)) {
             err = names_add(s, sub);
         }

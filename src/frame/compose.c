@@ -1,5 +1,6 @@
 /* springpend (internal): frame composition on the CPU. See compose.h. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,6 +40,9 @@ enum {
 #define PRINT_FONT_PT 10.0f
 #define PRINT_FONT_FRAC 0.0175f /* text_sizes' frac[SP_TEXT_NORMAL] */
 #define PRINT_AXIS_PT 0.8f
+/* The colour bar's label wraps to at most this share of the pendulum's
+ * view's width (or the bar's own width, when wider). */
+#define COLORBAR_SHARE 0.25f
 
 struct sp_composer {
     struct sp_canvas canvas;  /* this frame's draw list */
@@ -63,6 +67,9 @@ struct sp_composer {
     int premix_trail;         /* light opaque background: trail mixed with it, opaque */
     char *title, *caption;    /* wrapped: lines one after another, each NUL-terminated; owned */
     int title_lines, caption_lines;
+    char *cbar;               /* [view] colorbar_label wrapped to the bar's column
+                                 (wrap_colorbar_label); NULL = one line as set */
+    int cbar_lines;
     const char *wrapped;      /* with a timeline: the text `caption` holds */
     int band_lines;           /* with a timeline: lines of its longest text */
     char speed[32];           /* "speed ×0.25" when [video] speed != 1, else "";
@@ -540,6 +547,84 @@ static void hud_measured(const struct sp_composer *r, const struct sp_frame *f, 
         snprintf(buf, size, "measured so far ≈ %s/exchange (mean of %d)", deg, peaks - 1);
 }
 
+/* The colour bar's label as drawn: its wrapped lines, or as set ("" =
+ * the bar's own name). */
+static const char *colorbar_label(const struct sp_composer *r)
+{
+    return r->cbar ? r->cbar : r->look.view.colorbar_label;
+}
+
+/* Refuses [view] colorbar_label: "WHERE: [view] colorbar_label: the
+ * colour bar's label cannot fit: <why, printf-style>; shorten it, ...".
+ * Returns SP_E_INPUT. */
+static int colorbar_refused(const struct sp_composer *r, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+static int colorbar_refused(const struct sp_composer *r, const char *fmt, ...)
+{
+    char where[600], why[800];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof(why), fmt, ap);
+    va_end(ap);
+    text_label(where, sizeof(where), r->look.view.label_where[2], "colorbar_label");
+    sp_log_error("%s: the colour bar's label cannot fit: %s; shorten it, use a smaller "
+                 "font_size or font_scale, or a larger frame", where, why);
+    return SP_E_INPUT;
+}
+
+/* Wraps [view] colorbar_label to the colour bar's column, so that a long
+ * label never takes the pendulum's room: the column is as wide as the bar
+ * with its tick labels, or its own name (SP_COLORBAR_NAME), or
+ * COLORBAR_SHARE of the pendulum's view (px, before the bar), whichever is
+ * widest; a label that fits on one line is drawn as it was set. A line
+ * still wider (a character alone) is refused where check is set, naming
+ * where the label was set. 0, SP_E_INPUT (said) or SP_E_NOMEM. */
+static int wrap_colorbar_label(struct sp_composer *r, const struct sp_rect *view, int check)
+{
+    const struct sp_font *f = r->font;
+    const char *label = r->look.view.colorbar_label;
+    free(r->cbar);
+    r->cbar = NULL, r->cbar_lines = 1;
+    if (!label[0])
+        return 0;
+    const float room = fmaxf(fmaxf(sp_colorbar_bar_width(f, r->ink, r->max_speed),
+                                   (float)sp_font_width(f, SP_TEXT_SMALL, SP_COLORBAR_NAME)),
+                             floorf(COLORBAR_SHARE * (view->x1 - view->x0)));
+    if ((float)sp_font_width(f, SP_TEXT_SMALL, label) <= room)
+        return 0;
+    const int line = sp_font_line(f, SP_TEXT_SMALL) > 0 ? sp_font_line(f, SP_TEXT_SMALL) : 1;
+    if (sp_font_wrap(f, SP_TEXT_SMALL, label, room, r->height / line + 1, &r->cbar, &r->cbar_lines))
+        return SP_E_NOMEM;
+    const char *l = r->cbar;
+    for (int i = 0; i < r->cbar_lines; i++, l += strlen(l) + 1) {
+        const int w = sp_font_width(f, SP_TEXT_SMALL, l);
+        if (w <= room)
+            continue;
+        if (!check) /* a trial layout (lay_out): the last one says it */
+            return 0;
+        return colorbar_refused(r, "\"%s\" is %d px wide, wider than the bar's column of "
+                                "%.0f px (at most %.0f%% of the pendulum's view, so that the "
+                                "pendulum keeps its room); allowed: lines of at most %.0f px", l,
+                                w / r->ss, room / r->ss, 100 * COLORBAR_SHARE, room / r->ss);
+    }
+    return 0;
+}
+
+/* After the layout: the colour bar's label may take at most half of the
+ * bar's column's height (the bar keeps the rest). 0 or SP_E_INPUT (said,
+ * naming where the label was set). */
+static int check_colorbar_label(const struct sp_composer *r)
+{
+    const struct sp_rect *c = &r->layout.colorbar;
+    const float h = c->y1 - c->y0, need = (float)(r->cbar_lines * sp_font_line(r->font, SP_TEXT_SMALL));
+    if (r->cbar_lines <= 1 || need <= 0.5f * h)
+        return 0;
+    return colorbar_refused(r, "it wraps to %d lines at %.0f px wide, %.0f px of the bar's "
+                            "%.0f px tall column; allowed: at most half of it (%.0f px)",
+                            r->cbar_lines, (c->x1 - c->x0) / r->ss, need / r->ss, h / r->ss,
+                            0.5f * h / r->ss);
+}
+
 /* Places the view, panels, heads-up text and colourbar (once: the
  * parameters do not change during a run). SP_E_INPUT (logged, where check)
  * when the vectors' legend does not fit the pendulum's view: it was drawn
@@ -578,10 +663,19 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
     } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
     }
-    if (r->look.view.colorbar)
-        d.colorbar_width = sp_colorbar_width(r->font, r->ink, r->max_speed,
-                                             r->look.view.colorbar_label);
+    if (r->look.view.colorbar) {
+        int err = wrap_colorbar_label(r, &r->layout.camera, check);
+        if (err)
+            return err;
+        d.colorbar_width = sp_colorbar_width(r->font, r->ink, r->max_speed, colorbar_label(r),
+                                             r->cbar_lines);
+    }
     sp_layout_compute(&d, &r->layout);
+    if (r->look.view.colorbar && check) {
+        int err = check_colorbar_label(r);
+        if (err)
+            return err;
+    }
     const struct sp_rect *cam = &r->layout.camera;
     fit_camera(r, cam);
     r->arrow_px = arrow_room(r, cam) * r->room;
@@ -1114,6 +1208,22 @@ int sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p)
     return c->laid_out ? 0 : lay_out(c, p);
 }
 
+/* Draws frame f's panels in their layout, in [view]'s figure style. */
+static void put_panels(struct sp_composer *r, const struct sp_frame *f)
+{
+    const struct sp_view *v = &r->look.view;
+    struct sp_panel_style st = {
+        .fade = v->fade, .legend = v->legend == 0, .titles = v->panel_titles,
+        .cursor = v->cursor == SP_CURSOR_SHOWN || (v->cursor == SP_CURSOR_AUTO && !r->look.still),
+        .labels = v->panel_labels == 1 ? 'a' : v->panel_labels == 2 ? 'A' : 0,
+        /* pt: one px each, or look.pt_px at a printed size, times the supersampling */
+        .marker_px = (float)(v->marker_size * r->ss * (r->look.pt_px > 0 ? r->look.pt_px : 1)),
+        .xlabel = v->xlabel, .ylabel = v->ylabel, .xlabel_where = v->label_where[0],
+        .ylabel_where = v->label_where[1], .ss = r->ss};
+    st.n_order = sp_scene_panel_order(v, st.order);
+    sp_panels_draw(&r->canvas, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
+}
+
 int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
                      const struct sp_canvas **out)
 {
@@ -1170,18 +1280,8 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         if (r->look.view.vectors)
             sp_vectors_draw(cv, &r->vectors, f, bb, &r->pal);
     }
-    if (r->look.view.panels) {
-        const struct sp_view *v = &r->look.view;
-        struct sp_panel_style st = {
-            .fade = v->fade, .legend = v->legend == 0, .titles = v->panel_titles,
-            .cursor = v->cursor == SP_CURSOR_SHOWN || (v->cursor == SP_CURSOR_AUTO && !r->look.still),
-            .labels = v->panel_labels == 1 ? 'a' : v->panel_labels == 2 ? 'A' : 0,
-            /* pt: one px each, or look.pt_px at a printed size, times the supersampling */
-            .marker_px = (float)(v->marker_size * r->ss * (r->look.pt_px > 0 ? r->look.pt_px : 1)),
-            .xlabel = v->xlabel, .ylabel = v->ylabel};
-        st.n_order = sp_scene_panel_order(v, st.order);
-        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
-    }
+    if (r->look.view.panels)
+        put_panels(r, f);
     if (r->look.view.hud && r->hud_lines) {
         char live[SP_HUD_LINE_BYTES] = "";
         if (r->look.spatial)
@@ -1204,7 +1304,7 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
     if (r->look.view.colorbar) {
         sp_canvas_layer(cv, SP_LAYER_STATIC);
         sp_colorbar_draw(cv, &r->layout.colorbar, r->look.view.colormap, r->max_speed,
-                         &r->pal, r->ink, r->look.view.colorbar_label);
+                         &r->pal, r->ink, colorbar_label(r), r->cbar_lines);
     }
     if (cv->err) {
         if (cv->err == SP_E_NOMEM) /* others were said where they happened */
@@ -1273,6 +1373,7 @@ void sp_compose_destroy(struct sp_composer **cp)
         sp_font_destroy(&c->font);
     free(c->title);
     free(c->caption);
+    free(c->cbar);
     sp_canvas_free(&c->canvas);
     free(c);
     *cp = NULL;

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "springpend/common.h"
 #include "springpend/ensemble.h"
 #include "colormap_data.h"
 #include "panels.h"
@@ -352,6 +353,33 @@ static int legend_rows(const struct sp_font *f, const struct sp_rect *r, const c
                 : 0;
 }
 
+/* Refuses [view] xlabel (axis 0) or ylabel (1) as drawn in a panel: text,
+ * width px wide, where the panel has room px for it (said, naming where
+ * the key was set; the canvas's err set to SP_E_INPUT, so the frame fails
+ * and nothing is written). */
+static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, int axis,
+                          const char *text, int width, float room)
+{
+    const char *where = axis ? st->ylabel_where : st->xlabel_where;
+    const char *key = axis ? "ylabel" : "xlabel";
+    const float ss = st->ss > 0 ? (float)st->ss : 1;
+    char at[600];
+    if (!where || !where[0])
+        snprintf(at, sizeof(at), "[view] %s", key);
+    else if (!strncmp(where, "--set ", 6))
+        snprintf(at, sizeof(at), "%s", where);
+    else
+        snprintf(at, sizeof(at), "%s: [view] %s", where, key);
+    if (!c->err)
+        sp_log_error("%s: the %s axis's name \"%s\" cannot fit the %s panel: it is %.0f px "
+                     "wide, and the panel has %.0f px for it%s; allowed: at most %.0f px; shorten "
+                     "it, use a smaller font_size or font_scale, fewer panels or a larger frame",
+                     at, axis ? "y" : "x", text, sp_scene_plot_name(st->order[st->index]),
+                     width / ss, fmaxf(room, 0) / ss, axis ? " beside the panel's title" : "",
+                     fmaxf(room, 0) / ss);
+    c->err = SP_E_INPUT;
+}
+
 /* [view]'s figure keys applied to a panel's texts: the axes' own names
  * (xlabel, ylabel: "a|b|c", the panel's part; the x axis keeps none when
  * *xlabel is NULL, a bar chart's categories), no title without `titles`,
@@ -385,25 +413,35 @@ static void style_labels(const struct sp_panel_style *st, const char **title, co
  * and a cap of small type, a cap of body type, the axis lines' half width,
  * the tick length, the x labels' drop below the axis, the frame's unit),
  * what shows (x and y tick labels, the x axis's name on its own row below,
- * category names instead of x ticks, the y axis's name) and the axes'
- * names with the x name's width. */
+ * category names instead of x ticks, the y axis's name), the x name's
+ * width, whether the axes' names are [view]'s own (refused when they do not
+ * fit), the names, and the title's short form beside the y name. */
 struct axes_marks {
     float pad, line_s, cap_s, cap_n, hw, tick, drop, unit;
-    int label_x, label_y, xl_below, categories, name_fits, xl_w;
-    const char *xlabel, *ylabel;
+    int label_x, label_y, xl_below, categories, name_fits, xl_w, own_x, own_y;
+    const char *xlabel, *ylabel, *short_title;
 };
 
 /* Draws a laid out panel's grid, ticks, tick labels, axes' names and axis
- * lines (the static layer), then starts its data: the dynamic layer, clipped
- * to the plot (with room for a marker on the edge). */
+ * lines (the static layer), refusing [view]'s axis names that do not fit
+ * (label_refused), then starts its data: the dynamic layer, clipped to the
+ * plot (with room for a marker on the edge). */
 static void axes_draw(struct sp_canvas *c, const struct sp_rect *r, const struct plot *p,
-                      const struct sp_palette *pal, const struct axes_marks *m)
+                      const struct sp_panel_style *st, const struct sp_palette *pal,
+                      const struct axes_marks *m)
 {
     const struct sp_font *f = c->font;
     char buf[32];
     /* grid, ticks and labels */
     const float base = p->area.y1 + m->drop + m->cap_s + 0.25f * m->pad;
     const float xl_x0 = m->xl_below ? p->area.x1 + 2 * m->pad : p->area.x1 - m->xl_w;
+    if (m->label_x && m->own_x && !m->categories) { /* [view] xlabel inside the panel, or refused */
+        const float mid = 0.5f * (p->area.x0 + p->area.x1);
+        const float room = m->xl_below ? 2 * fminf(mid - r->x0 - m->pad, r->x1 - m->pad - mid)
+                                       : p->area.x1 - r->x0 - m->pad;
+        if ((float)m->xl_w > room)
+            label_refused(c, st, 0, m->xlabel, m->xl_w, room);
+    }
     if (m->label_x)
         sp_canvas_text(c, SP_TEXT_SMALL, m->xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
                        m->xl_below ? base + m->line_s : base,
@@ -427,7 +465,11 @@ static void axes_draw(struct sp_canvas *c, const struct sp_rect *r, const struct
             sp_canvas_text(c, SP_TEXT_SMALL, p->area.x0 - m->tick - 0.4f * m->pad,
                            y + 0.5f * m->cap_s, SP_ALIGN_RIGHT, pal->muted, buf);
     }
-    /* the y axis's name and unit at the right end of the title row */
+    /* the y axis's name and unit at the right end of the title row; [view]
+     * ylabel there, or refused (never dropped as the panel's own may be) */
+    if (!m->name_fits && m->own_y)
+        label_refused(c, st, 1, m->ylabel, sp_font_width(f, SP_TEXT_SMALL, m->ylabel),
+                      r->x1 - r->x0 - 3 * m->pad - sp_font_width(f, SP_TEXT_SMALL, m->short_title));
     if (m->name_fits)
         sp_canvas_text(c, SP_TEXT_SMALL, r->x1 - m->pad, r->y0 + m->pad + m->cap_n, SP_ALIGN_RIGHT,
                        pal->muted, m->ylabel);
@@ -543,11 +585,11 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
     p->label_base = label_x ? p->area.y1 + drop + cap_s + 0.25f * pad : 0;
 
-    const struct axes_marks am = {pad,     line_s,  cap_s,     cap_n,    hw,
-                                  tick,    drop,    unit,      label_x,  label_y,
-                                  xl_below, categories, name_fits, xl_w, xlabel,
-                                  ylabel};
-    axes_draw(c, r, p, pal, &am);
+    const struct axes_marks am = {pad,      line_s,     cap_s,     cap_n,    hw,
+                                  tick,     drop,       unit,      label_x,  label_y,
+                                  xl_below, categories, name_fits, xl_w,     xl_own[0] != 0,
+                                  yl_own[0] != 0,       xlabel,    ylabel,   bar ? bar + 1 : full};
+    axes_draw(c, r, p, st, pal, &am);
 }
 
 /* What a strip chart or phase plot shows along an axis. The energies run
@@ -1292,29 +1334,54 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
 
 /* ---- colourbar ---- */
 
-float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed, const char *label)
+/* The widest of the n lines one after another in label ("" = the bar's
+ * own name), px. */
+static int colorbar_label_width(const struct sp_font *font, const char *label, int n)
+{
+    int w = 0;
+    if (!label[0])
+        return sp_font_width(font, SP_TEXT_SMALL, SP_COLORBAR_NAME);
+    for (int i = 0; i < n; i++, label += strlen(label) + 1) {
+        const int lw = sp_font_width(font, SP_TEXT_SMALL, label);
+        w = lw > w ? lw : w;
+    }
+    return w;
+}
+
+float sp_colorbar_bar_width(const struct sp_font *font, float unit, double max_speed)
 {
     char buf[32];
     format_tick(buf, sizeof(buf), max_speed, 2);
-    const int w = sp_font_width(font, SP_TEXT_SMALL, buf),
-              t = sp_font_width(font, SP_TEXT_SMALL, label[0] ? label : "|v| (m/s)");
-    return fmaxf(roundf(0.018f * unit) + roundf(0.006f * unit) + (float)w + 4, (float)t);
+    return roundf(0.018f * unit) + roundf(0.006f * unit) +
+           (float)sp_font_width(font, SP_TEXT_SMALL, buf) + 4;
+}
+
+float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed, const char *label,
+                        int n)
+{
+    return fmaxf(sp_colorbar_bar_width(font, unit, max_speed),
+                 (float)colorbar_label_width(font, label, n));
 }
 
 void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap,
-                      double max_speed, const struct sp_palette *pal, float unit, const char *label)
+                      double max_speed, const struct sp_palette *pal, float unit, const char *label,
+                      int n)
 {
     const struct sp_font *f = c->font;
     const float bw = roundf(0.018f * unit), tick = roundf(0.006f * unit);
-    const float cap = (float)sp_font_cap(f, SP_TEXT_SMALL);
-    const float y0 = r->y0 + 1.6f * cap, h = fminf(r->y1 - y0 - cap, 0.4f * unit);
-    const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed, label) - bw - tick);
+    const float cap = (float)sp_font_cap(f, SP_TEXT_SMALL), line = (float)sp_font_line(f, SP_TEXT_SMALL);
+    if (!label[0])
+        label = SP_COLORBAR_NAME, n = 1;
+    const float y0 = r->y0 + 1.6f * cap + (float)(n - 1) * line,
+                h = fminf(r->y1 - y0 - cap, 0.4f * unit);
+    const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed, label, n) - bw - tick);
     enum { STEPS = 64 };
     struct axis a;
     char buf[32];
     float rgb[4] = {0, 0, 0, 1};
-    sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap, SP_ALIGN_LEFT, pal->muted,
-                   label[0] ? label : "|v| (m/s)");
+    for (int i = 0; i < n; i++, label += strlen(label) + 1)
+        sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap + (float)i * line, SP_ALIGN_LEFT,
+                       pal->muted, label);
     for (int i = 0; i < STEPS; i++) { /* fast at the top, like the trail's speed range */
         sp_colormap(colormap, pal->cmap_lo + (pal->cmap_hi - pal->cmap_lo) * (1.0f - (i + 0.5f) / STEPS), rgb);
         sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);

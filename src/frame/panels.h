@@ -59,6 +59,10 @@ struct sp_panel_style {
     int labels;        /* 0 = none, 'a' or 'A': (a), (b), ... in `order` */
     float marker_px;   /* px, a marker's diameter (Poincare points); 0 = the panel's own */
     const char *xlabel, *ylabel; /* [view]'s ("" = each axis's own; '|' lists) */
+    const char *xlabel_where, *ylabel_where; /* where each was set ("FILE:LINE",
+                          "--set view.xlabel" or ""), for the refusal of one
+                          that cannot fit its panel */
+    int ss;            /* drawn px per output px, for those messages (0 = 1) */
     int order[SP_PANEL_COUNT];   /* bit numbers in the order drawn and labelled */
     int n_order;
     int index;         /* set by sp_panels_draw: the panel's place in order */
@@ -101,11 +105,18 @@ void sp_hud_draw(struct sp_canvas *c, const struct sp_rect *r, double t,
                  char lines[][SP_HUD_LINE_BYTES], int n, const struct sp_params *p,
                  const struct sp_palette *pal, const char *live);
 
-/* Width in px the colourbar needs, and its drawing (speed 0 .. max_speed). */
-/* label: its name, "" = "|v| (m/s)". */
-float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed, const char *label);
+/* The colour bar's own name, drawn when [view] colorbar_label is "". */
+#define SP_COLORBAR_NAME "|v| (m/s)"
+/* Width in px the colourbar needs, and its drawing (speed 0 .. max_speed).
+ * label: its name, n lines one after another, each NUL-terminated
+ * (sp_font_wrap's); "" = SP_COLORBAR_NAME. The lines stack above the bar. */
+float sp_colorbar_width(const struct sp_font *font, float unit, double max_speed, const char *label,
+                        int n);
 void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap,
-                      double max_speed, const struct sp_palette *pal, float unit, const char *label);
+                      double max_speed, const struct sp_palette *pal, float unit, const char *label,
+                      int n);
+/* The bar with its ticks and tick labels alone, px. */
+float sp_colorbar_bar_width(const struct sp_font *font, float unit, double max_speed);
 
 /* True when omega_spring / omega_pendulum is within 3 % of 2. */
 int sp_params_resonant(const struct sp_params *p, double *ratio);

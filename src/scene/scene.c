@@ -387,6 +387,24 @@ static int choice_index(const char *list, const char *word, size_t len)
     return -1;
 }
 
+/* Records where [view] xlabel, ylabel or colorbar_label got its value
+ * (view.label_where, as view.camera_where); other keys: nothing. */
+static void label_set_where(struct parse_ctx *c, int line, const struct key_info *k)
+{
+    static const size_t at[3] = {offsetof(struct sp_scene, view.xlabel),
+                                 offsetof(struct sp_scene, view.ylabel),
+                                 offsetof(struct sp_scene, view.colorbar_label)};
+    for (int i = 0; i < 3; i++) {
+        if (k->offset != at[i])
+            continue;
+        char *w = c->scene->view.label_where[i];
+        if (line > 0)
+            snprintf(w, SP_VIEW_TEXT_BYTES, "%s:%d", c->origin, line);
+        else
+            snprintf(w, SP_VIEW_TEXT_BYTES, "--set %s.%s", k->section, k->name);
+    }
+}
+
 /* [view] camera: auto, front, or azimuth and elevation (degrees) and
  * optionally the distance (m), separated by blanks (a comma is refused: it
  * reads as a list, and an empty entry between two would be lost). Returns 1. */
@@ -603,6 +621,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         }
         memcpy(p, value, n);
         p[n] = 0;
+        label_set_where(c, line, k);
         return 1;
     }
     case KEY_CAMERA:

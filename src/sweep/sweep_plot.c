@@ -117,6 +117,32 @@ static double text_width(const char *s)
     return G.font ? sp_font_width(G.font, LAYOUT, s) * G.pt / LAYOUT_PX : 0;
 }
 
+/* Refuses [view] xlabel (which 0), ylabel (1) or colorbar_label (2) when
+ * its text is wider than the room it has, pt (at the current size): what
+ * `where` is that room ("the plot's width"). Said once, naming where the
+ * key was set; G.err = SP_E_INPUT. Labels the figure names itself are not
+ * checked (which < 0). */
+static void label_room(int which, const char *text, double room, const char *where)
+{
+    static const char *const keys[3] = {"xlabel", "ylabel", "colorbar_label"};
+    const double w = text_width(text);
+    if (which < 0 || G.err || w <= room)
+        return;
+    const char *set = G.v->label_where[which];
+    char at[600];
+    if (!set[0])
+        snprintf(at, sizeof(at), "[view] %s", keys[which]);
+    else if (!strncmp(set, "--set ", 6))
+        snprintf(at, sizeof(at), "%s", set);
+    else
+        snprintf(at, sizeof(at), "%s: [view] %s", set, keys[which]);
+    sp_log_error("%s: \"%s\" cannot fit: it is %.0f pt wide at %.3g pt, and the figure has "
+                 "%.0f pt for it (%s); allowed: at most %.0f pt; shorten it, use a smaller "
+                 "font_size or font_scale, or a larger --size", at, text, w, G.pt, room, where,
+                 room);
+    G.err = SP_E_INPUT;
+}
+
 /* Draws s at the current size and source, with the point (x, y) at
  * fraction ax of its advance across and fraction ay of its capital height
  * down (0: the top of a capital, 1: the baseline), in the user space (a
@@ -195,6 +221,7 @@ static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palett
                       const char *xlabel, const char *ylabel)
 {
     char buf[64];
+    const int own_x = G.v->xlabel[0] ? 0 : -1, own_y = G.v->ylabel[0] ? 1 : -1;
     if (G.v->xlabel[0]) /* [view] xlabel, ylabel: the axes' own names */
         xlabel = G.v->xlabel;
     if (G.v->ylabel[0])
@@ -234,6 +261,10 @@ static void draw_axes(cairo_t *cr, const struct frame *f, const struct sp_palett
     cairo_stroke(cr);
     font_pt(U(14));
     set_rgba(cr, pal->text);
+    /* each name within the plot's side: never off the page or past the
+     * colour bar */
+    label_room(own_x, xlabel, f->w, "the plot's width");
+    label_room(own_y, ylabel, f->h, "the plot's height, along which it is turned");
     text_at(cr, f->x0 + f->w / 2, f->y0 + f->h + U(30), xlabel, 0.5, 0);
     cairo_save(cr);
     /* the y axis's name clear of its widest tick label */
@@ -461,13 +492,16 @@ static void draw_colorbar(cairo_t *cr, const struct sp_sweep_desc *d, const stru
     }
     font_pt(U(14));
     set_rgba(cr, pal->text);
+    const int own = G.v->colorbar_label[0] ? 2 : -1;
     if (G.v->colorbar_label[0])
         label = G.v->colorbar_label;
     if (!G.print) { /* centred above the bar, clear of the plot on its left */
-        text_at(cr, fmax(x + 9, pf->x0 + pf->w + 6 + 0.5 * text_width(label)), y - 10, label,
-                0.5, 1);
+        const double left = pf->x0 + pf->w + 6, cx = fmax(x + 9, left + 0.5 * text_width(label));
+        label_room(own, label, W - 4 - left, "right of the plot, above the bar");
+        text_at(cr, cx, y - 10, label, 0.5, 1);
         return;
     }
+    label_room(own, label, h, "the bar's height, along which it is turned");
     struct frame tf = {0, 0, 1, h, 0, 1, lo, hi}; /* the bar's own ticks */
     cairo_save(cr);
     cairo_translate(cr, x + bw + G.tick + U(3) + ylabels_width(&tf) + U(6) + U(7), y + h / 2);
@@ -767,6 +801,9 @@ static int draw_dots(cairo_t *cr, FILE *fp, const char *name, struct sp_sweep_de
         text_at(cr, x0 - 5, y0 + 5, buf, 1, 0.5);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
         text_at(cr, x0 + w + 5, y0 + 5, buf, 0, 0.5);
+        if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
+            label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
+                       "over the colour gradient at the top right");
         text_at(cr, x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
     }
     return 0;
@@ -1049,6 +1086,21 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
         } else if (labels[i][1][0]) {
             err = sp_font_check(G.font, labels[i][0], labels[i][1]);
         }
+    }
+    if (!err) { /* before the grid: what no figure has room for (draw_axes and
+                   draw_colorbar check each figure's own room as they draw) */
+        const double left = print ? U(4) + U(14) * 1.2 + U(6) + U(4) + G.tick : 80;
+        const double plot_w = W - left - (print ? U(18) : 30);
+        const double plot_h = print ? H - 2 * U(6) - (G.tick + U(4) + U(12) * 1.2 + U(5) +
+                                                        U(14) * 1.25 + U(4))
+                                    : H - 116;
+        font_pt(U(14));
+        label_room(v->xlabel[0] ? 0 : -1, v->xlabel, plot_w, "the widest plot's width");
+        label_room(v->ylabel[0] ? 1 : -1, v->ylabel, plot_h, "the tallest plot's height");
+        label_room(v->colorbar_label[0] ? 2 : -1, v->colorbar_label, print ? plot_h : 2 * 171,
+                   print ? "the tallest bar's height" : "the most any figure's colour bar has");
+        font_pt(U(12));
+        err = G.err;
     }
     if (!err && G.title && G.title[0]) {
         char where[512];

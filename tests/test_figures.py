@@ -269,11 +269,11 @@ def includes(f, seen):
 
 
 bad = {}
-for f in ("compose.c", "canvas.c", "panels.c", "layout.c", "text.c", "figure.c"):
+for f in ("compose.c", "canvas.c", "panels.c", "layout.c", "text.c", "figure.c", "draw_cache.c"):
     hit = [i for i in includes(find(f), set())
            if i.startswith(("GL/", "EGL/", "cairo")) or i in ("gl_api.h", "draw_gl.h", "gl_context.h")]
     if hit:
         bad[f] = hit
-ok(not bad, f"composition includes no GL or cairo header {bad or ''}")
+ok(not bad, f"composition and the draw cache's plan include no GL or cairo header {bad or ''}")
 
 done()

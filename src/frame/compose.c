@@ -1248,6 +1248,22 @@ int sp_compose_lay_out(struct sp_composer *c, const struct sp_params *p)
     return c->laid_out ? 0 : lay_out(c, p);
 }
 
+/* Draws frame f's panels in their layout, in [view]'s figure style. */
+static void put_panels(struct sp_composer *r, const struct sp_frame *f)
+{
+    const struct sp_view *v = &r->look.view;
+    struct sp_panel_style st = {
+        .fade = v->fade, .legend = v->legend == 0, .titles = v->panel_titles,
+        .cursor = v->cursor == SP_CURSOR_SHOWN || (v->cursor == SP_CURSOR_AUTO && !r->look.still),
+        .labels = v->panel_labels == 1 ? 'a' : v->panel_labels == 2 ? 'A' : 0,
+        /* pt: one px each, or look.pt_px at a printed size, times the supersampling */
+        .marker_px = (float)(v->marker_size * r->ss * (r->look.pt_px > 0 ? r->look.pt_px : 1)),
+        .xlabel = v->xlabel, .ylabel = v->ylabel, .xlabel_where = v->label_where[0],
+        .ylabel_where = v->label_where[1], .ss = r->ss};
+    st.n_order = sp_scene_panel_order(v, st.order);
+    sp_panels_draw(&r->canvas, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
+}
+
 int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
                      const struct sp_canvas **out)
 {
@@ -1304,19 +1320,8 @@ int sp_compose_frame(struct sp_composer *r, const struct sp_frame *f,
         if (r->look.view.vectors)
             sp_vectors_draw(cv, &r->vectors, f, bb, &r->pal);
     }
-    if (r->look.view.panels) {
-        const struct sp_view *v = &r->look.view;
-        struct sp_panel_style st = {
-            .fade = v->fade, .legend = v->legend == 0, .titles = v->panel_titles,
-            .cursor = v->cursor == SP_CURSOR_SHOWN || (v->cursor == SP_CURSOR_AUTO && !r->look.still),
-            .labels = v->panel_labels == 1 ? 'a' : v->panel_labels == 2 ? 'A' : 0,
-            /* pt: one px each, or look.pt_px at a printed size, times the supersampling */
-            .marker_px = (float)(v->marker_size * r->ss * (r->look.pt_px > 0 ? r->look.pt_px : 1)),
-            .xlabel = v->xlabel, .ylabel = v->ylabel, .xlabel_where = v->label_where[0],
-            .ylabel_where = v->label_where[1], .ss = r->ss};
-        st.n_order = sp_scene_panel_order(v, st.order);
-        sp_panels_draw(cv, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
-    }
+    if (r->look.view.panels)
+        put_panels(r, f);
     if (r->look.view.hud && r->hud_lines) {
         char live[SP_HUD_LINE_BYTES] = "";
         if (r->look.spatial)

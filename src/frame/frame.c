@@ -115,6 +115,22 @@ static double damping_power(const struct sp_params *p, const struct sp_state *s)
     return p->b_over_m * p->mass * (s->vx * s->vx + vy * vy + s->vz * s->vz);
 }
 
+/* Widens out's largest force (of the arrows in `vectors`, SP_VECTOR_*) and
+ * acceleration with those of the bob in state s. N, m/s^2. */
+static void extent_forces(const struct sp_params *p, const struct sp_state *s, unsigned vectors,
+                          struct sp_view_extent *out)
+{
+    struct sp_forces fo;
+    sp_state_forces(p, s, &fo);
+    const double *each[] = {fo.gravity, fo.spring, fo.damping, fo.drive, fo.net};
+    const unsigned bit[] = {SP_VECTOR_GRAVITY, SP_VECTOR_SPRING, SP_VECTOR_DAMPING,
+                            SP_VECTOR_DRIVE, SP_VECTOR_NET};
+    for (int i = 0; i < 5; i++)
+        if (vectors & bit[i])
+            out->max_force = fmax(out->max_force, hypot(each[i][0], each[i][1]));
+    out->max_accel = fmax(out->max_accel, hypot(fo.accel[0], fo.accel[1]));
+}
+
 int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
                            const volatile sig_atomic_t *cancel,
                            void (*progress)(void *ctx, double t), void *progress_ctx,
@@ -152,17 +168,8 @@ int sp_view_extent_measure(const struct sp_scene *scene, double t_end,
         out->zmin = fmin(out->zmin, s->z);
         out->zmax = fmax(out->zmax, s->z);
         out->max_speed = fmax(out->max_speed, v);
-        if (vectors) {
-            struct sp_forces fo;
-            sp_state_forces(&sim.p, s, &fo);
-            const double *each[] = {fo.gravity, fo.spring, fo.damping, fo.drive, fo.net};
-            const unsigned bit[] = {SP_VECTOR_GRAVITY, SP_VECTOR_SPRING, SP_VECTOR_DAMPING,
-                                    SP_VECTOR_DRIVE, SP_VECTOR_NET};
-            for (int i = 0; i < 5; i++)
-                if (vectors & bit[i])
-                    out->max_force = fmax(out->max_force, hypot(each[i][0], each[i][1]));
-            out->max_accel = fmax(out->max_accel, hypot(fo.accel[0], fo.accel[1]));
-        }
+        if (vectors)
+            extent_forces(&sim.p, s, vectors, out);
         if (scene->view.panels) {
             struct sp_polar pol;
             struct sp_energy e;

@@ -380,6 +380,112 @@ static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, 
     c->err = SP_E_INPUT;
 }
 
+/* [view]'s figure keys applied to a panel's texts: the axes' own names
+ * (xlabel, ylabel: "a|b|c", the panel's part; the x axis keeps none when
+ * *xlabel is NULL, a bar chart's categories), no title without `titles`,
+ * and the panel's label "(a) " before the title's long and short forms.
+ * xl_own, yl_own and titled (SP_VIEW_TEXT_BYTES each) hold the texts the
+ * pointers may be set to. */
+static void style_labels(const struct sp_panel_style *st, const char **title, const char **xlabel,
+                         const char **ylabel, char *xl_own, char *yl_own, char *titled)
+{
+    sp_scene_label_part(st->xlabel, st->index, xl_own, SP_VIEW_TEXT_BYTES);
+    sp_scene_label_part(st->ylabel, st->index, yl_own, SP_VIEW_TEXT_BYTES);
+    if (*xlabel && xl_own[0])
+        *xlabel = xl_own;
+    if (yl_own[0])
+        *ylabel = yl_own;
+    if (!st->titles)
+        *title = "";
+    if (st->labels) { /* "(a) long|(a) short" */
+        const char *tb = strchr(*title, '|');
+        const char mark[] = {'(', (char)(st->labels + st->index), ')', 0};
+        if (tb)
+            snprintf(titled, SP_VIEW_TEXT_BYTES, "%s %.*s|%s %s", mark, (int)(tb - *title), *title,
+                     mark, tb + 1);
+        else
+            snprintf(titled, SP_VIEW_TEXT_BYTES, "%s%s%s", mark, (*title)[0] ? " " : "", *title);
+        *title = titled;
+    }
+}
+
+/* What frame_plot measured for the axes' marks: px sizes (padding, a line
+ * and a cap of small type, a cap of body type, the axis lines' half width,
+ * the tick length, the x labels' drop below the axis, the frame's unit),
+ * what shows (x and y tick labels, the x axis's name on its own row below,
+ * category names instead of x ticks, the y axis's name), the x name's
+ * width, whether the axes' names are [view]'s own (refused when they do not
+ * fit), the names, and the title's short form beside the y name. */
+struct axes_marks {
+    float pad, line_s, cap_s, cap_n, hw, tick, drop, unit;
+    int label_x, label_y, xl_below, categories, name_fits, xl_w, own_x, own_y;
+    const char *xlabel, *ylabel, *short_title;
+};
+
+/* Draws a laid out panel's grid, ticks, tick labels, axes' names and axis
+ * lines (the static layer), refusing [view]'s axis names that do not fit
+ * (label_refused), then starts its data: the dynamic layer, clipped to the
+ * plot (with room for a marker on the edge). */
+static void axes_draw(struct sp_canvas *c, const struct sp_rect *r, const struct plot *p,
+                      const struct sp_panel_style *st, const struct sp_palette *pal,
+                      const struct axes_marks *m)
+{
+    const struct sp_font *f = c->font;
+    char buf[32];
+    /* grid, ticks and labels */
+    const float base = p->area.y1 + m->drop + m->cap_s + 0.25f * m->pad;
+    const float xl_x0 = m->xl_below ? p->area.x1 + 2 * m->pad : p->area.x1 - m->xl_w;
+    if (m->label_x && m->own_x && !m->categories) { /* [view] xlabel inside the panel, or refused */
+        const float mid = 0.5f * (p->area.x0 + p->area.x1);
+        const float room = m->xl_below ? 2 * fminf(mid - r->x0 - m->pad, r->x1 - m->pad - mid)
+                                       : p->area.x1 - r->x0 - m->pad;
+        if ((float)m->xl_w > room)
+            label_refused(c, st, 0, m->xlabel, m->xl_w, room);
+    }
+    if (m->label_x)
+        sp_canvas_text(c, SP_TEXT_SMALL, m->xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
+                       m->xl_below ? base + m->line_s : base,
+                       m->xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT, pal->muted, m->xlabel);
+    for (double v = p->x.first; !m->categories && v <= p->x.hi + 1e-9 * p->x.step; v += p->x.step) {
+        const float x = px_x(p, v);
+        tick_label(&p->x, v, buf, sizeof(buf));
+        const float w = (float)sp_font_width(f, SP_TEXT_SMALL, buf);
+        sp_canvas_rect(c, x - m->hw, p->area.y0, x + m->hw, p->area.y1, pal->grid);
+        sp_canvas_rect(c, x - m->hw, p->area.y1, x + m->hw, p->area.y1 + m->tick, pal->axis);
+        if (m->label_x && x + 0.5f * w < fminf(xl_x0 - m->pad, r->x1) &&
+            x - 0.5f * w >= r->x0 + m->pad)
+            sp_canvas_text(c, SP_TEXT_SMALL, x, base, SP_ALIGN_CENTER, pal->muted, buf);
+    }
+    for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
+        const float y = px_y(p, v);
+        tick_label(&p->y, v, buf, sizeof(buf));
+        sp_canvas_rect(c, p->area.x0, y - m->hw, p->area.x1, y + m->hw, pal->grid);
+        sp_canvas_rect(c, p->area.x0 - m->tick, y - m->hw, p->area.x0, y + m->hw, pal->axis);
+        if (m->label_y)
+            sp_canvas_text(c, SP_TEXT_SMALL, p->area.x0 - m->tick - 0.4f * m->pad,
+                           y + 0.5f * m->cap_s, SP_ALIGN_RIGHT, pal->muted, buf);
+    }
+    /* the y axis's name and unit at the right end of the title row; [view]
+     * ylabel there, or refused (never dropped as the panel's own may be) */
+    if (!m->name_fits && m->own_y)
+        label_refused(c, st, 1, m->ylabel, sp_font_width(f, SP_TEXT_SMALL, m->ylabel),
+                      r->x1 - r->x0 - 3 * m->pad - sp_font_width(f, SP_TEXT_SMALL, m->short_title));
+    if (m->name_fits)
+        sp_canvas_text(c, SP_TEXT_SMALL, r->x1 - m->pad, r->y0 + m->pad + m->cap_n, SP_ALIGN_RIGHT,
+                       pal->muted, m->ylabel);
+    /* axes lines: left and bottom */
+    sp_canvas_rect(c, p->area.x0 - m->hw, p->area.y0, p->area.x0 + m->hw, p->area.y1 + m->hw,
+                   pal->axis);
+    sp_canvas_rect(c, p->area.x0 - m->hw, p->area.y1 - m->hw, p->area.x1, p->area.y1 + m->hw,
+                   pal->axis);
+    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* the data from here, inside the axes (with
+                                             room for a marker on the edge) */
+    const float mg = 0.006f * m->unit;
+    if (p->area.x1 > p->area.x0 + 1 && p->area.y1 > p->area.y0 + 1) /* not a collapsed plot */
+        sp_canvas_clip(c, (const float[4]){p->area.x0 - mg, p->area.y0 - mg, p->area.x1 + mg,
+                                           p->area.y1 + mg});
+}
+
 /* Lays out a panel in r: background, title, axes with ticks and labels;
  * fills p->area. ylabel/xlabel name the axes with their units. The legend
  * goes in the title row when it fits between the title and the y axis's
@@ -396,24 +502,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     char xl_own[SP_VIEW_TEXT_BYTES], yl_own[SP_VIEW_TEXT_BYTES], titled[SP_VIEW_TEXT_BYTES];
     if (!st->legend)
         n_leg = 0;
-    sp_scene_label_part(st->xlabel, st->index, xl_own, sizeof(xl_own));
-    sp_scene_label_part(st->ylabel, st->index, yl_own, sizeof(yl_own));
-    if (xlabel && xl_own[0])
-        xlabel = xl_own;
-    if (yl_own[0])
-        ylabel = yl_own;
-    if (!st->titles)
-        title = "";
-    if (st->labels) { /* "(a) long|(a) short" */
-        const char *tb = strchr(title, '|');
-        const char mark[] = {'(', (char)(st->labels + st->index), ')', 0};
-        if (tb)
-            snprintf(titled, sizeof(titled), "%s %.*s|%s %s", mark, (int)(tb - title), title,
-                     mark, tb + 1);
-        else
-            snprintf(titled, sizeof(titled), "%s%s%s", mark, title[0] ? " " : "", title);
-        title = titled;
-    }
+    style_labels(st, &title, &xlabel, &ylabel, xl_own, yl_own, titled);
     const struct sp_font *f = c->font;
     const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
     const float line_s = (float)sp_font_line(f, SP_TEXT_SMALL), cap_s = (float)sp_font_cap(f, SP_TEXT_SMALL);
@@ -496,53 +585,11 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
     p->label_base = label_x ? p->area.y1 + drop + cap_s + 0.25f * pad : 0;
 
-    /* grid, ticks and labels */
-    const float base = p->area.y1 + drop + cap_s + 0.25f * pad;
-    const float xl_x0 = xl_below ? p->area.x1 + 2 * pad : p->area.x1 - xl_w;
-    if (label_x && xl_own[0] && !categories) { /* [view] xlabel inside the panel, or refused */
-        const float mid = 0.5f * (p->area.x0 + p->area.x1);
-        const float room = xl_below ? 2 * fminf(mid - r->x0 - pad, r->x1 - pad - mid)
-                                    : p->area.x1 - r->x0 - pad;
-        if ((float)xl_w > room)
-            label_refused(c, st, 0, xlabel, xl_w, room);
-    }
-    if (label_x)
-        sp_canvas_text(c, SP_TEXT_SMALL, xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
-                       xl_below ? base + line_s : base, xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT,
-                       pal->muted, xlabel);
-    for (double v = p->x.first; !categories && v <= p->x.hi + 1e-9 * p->x.step; v += p->x.step) {
-        const float x = px_x(p, v);
-        tick_label(&p->x, v, buf, sizeof(buf));
-        const float w = (float)sp_font_width(f, SP_TEXT_SMALL, buf);
-        sp_canvas_rect(c, x - hw, p->area.y0, x + hw, p->area.y1, pal->grid);
-        sp_canvas_rect(c, x - hw, p->area.y1, x + hw, p->area.y1 + tick, pal->axis);
-        if (label_x && x + 0.5f * w < fminf(xl_x0 - pad, r->x1) && x - 0.5f * w >= r->x0 + pad)
-            sp_canvas_text(c, SP_TEXT_SMALL, x, base, SP_ALIGN_CENTER, pal->muted, buf);
-    }
-    for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
-        const float y = px_y(p, v);
-        tick_label(&p->y, v, buf, sizeof(buf));
-        sp_canvas_rect(c, p->area.x0, y - hw, p->area.x1, y + hw, pal->grid);
-        sp_canvas_rect(c, p->area.x0 - tick, y - hw, p->area.x0, y + hw, pal->axis);
-        if (label_y)
-            sp_canvas_text(c, SP_TEXT_SMALL, p->area.x0 - tick - 0.4f * pad, y + 0.5f * cap_s,
-                           SP_ALIGN_RIGHT, pal->muted, buf);
-    }
-    /* the y axis's name and unit at the right end of the title row; [view]
-     * ylabel there, or refused (never dropped as the panel's own may be) */
-    if (!name_fits && yl_own[0])
-        label_refused(c, st, 1, ylabel, sp_font_width(f, SP_TEXT_SMALL, ylabel),
-                      r->x1 - r->x0 - 3 * pad - sp_font_width(f, SP_TEXT_SMALL, bar ? bar + 1 : full));
-    if (name_fits)
-        sp_canvas_text(c, SP_TEXT_SMALL, r->x1 - pad, r->y0 + pad + cap_n, SP_ALIGN_RIGHT, pal->muted, ylabel);
-    /* axes lines: left and bottom */
-    sp_canvas_rect(c, p->area.x0 - hw, p->area.y0, p->area.x0 + hw, p->area.y1 + hw, pal->axis);
-    sp_canvas_rect(c, p->area.x0 - hw, p->area.y1 - hw, p->area.x1, p->area.y1 + hw, pal->axis);
-    sp_canvas_layer(c, SP_LAYER_DYNAMIC); /* the data from here, inside the axes (with
-                                             room for a marker on the edge) */
-    const float m = 0.006f * unit;
-    if (p->area.x1 > p->area.x0 + 1 && p->area.y1 > p->area.y0 + 1) /* not a collapsed plot */
-        sp_canvas_clip(c, (const float[4]){p->area.x0 - m, p->area.y0 - m, p->area.x1 + m, p->area.y1 + m});
+    const struct axes_marks am = {pad,      line_s,     cap_s,     cap_n,    hw,
+                                  tick,     drop,       unit,      label_x,  label_y,
+                                  xl_below, categories, name_fits, xl_w,     xl_own[0] != 0,
+                                  yl_own[0] != 0,       xlabel,    ylabel,   bar ? bar + 1 : full};
+    axes_draw(c, r, p, st, pal, &am);
 }
 
 /* What a strip chart or phase plot shows along an axis. The energies run

@@ -2,11 +2,14 @@
  * capsule is an instance of one program (shaders/shape.*), glyphs quads of a
  * second (shaders/text.*) sampling the font's atlas; a frame is a few
  * instanced draws: one per run of shapes with the same blending (usually the
- * trail, then everything else), then all text. */
+ * trail, then everything else), then all text. What to draw of each frame
+ * over the cached layers is draw_cache.c's plan; this file only executes
+ * it. */
 #ifndef SPRINGPEND_DRAW_GL_H
 #define SPRINGPEND_DRAW_GL_H
 
 #include "frame/canvas.h"
+#include "draw_cache.h"
 #include "gl_api.h"
 
 struct sp_draw_gl;
@@ -31,14 +34,8 @@ int sp_draw_gl_list(struct sp_draw_gl *d, const struct sp_canvas *c, const float
  * drawn uncached). Off: every frame draws every item. */
 void sp_draw_gl_cache(struct sp_draw_gl *d, int on);
 
-/* Frames drawn over the cache, times the cache was (re)drawn, frames drawn
- * without it, cached frames that drew only what was new of the settled
- * layer into the cache, and dynamic items left as the last frame drew them
- * (redrawn only where something else changed). */
-struct sp_draw_gl_stats {
-    long cached, redrawn, uncached, appended, unchanged;
-};
-void sp_draw_gl_stats(const struct sp_draw_gl *d, struct sp_draw_gl_stats *out);
+/* What the cache did so far (draw_cache.h). */
+void sp_draw_gl_stats(const struct sp_draw_gl *d, struct sp_draw_cache_stats *out);
 
 /* Frees the CPU side and sets *d to NULL (GL objects die with the context).
  * Safe on NULL. */

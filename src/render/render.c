@@ -153,7 +153,7 @@ int sp_render_draw(struct sp_renderer *r, const struct sp_frame *f,
 
 void sp_render_stats(const struct sp_renderer *r, struct sp_render_stats *out)
 {
-    struct sp_draw_gl_stats d;
+    struct sp_draw_cache_stats d;
     sp_draw_gl_stats(r->draw, &d);
     *out = (struct sp_render_stats){.compose_s = r->compose_s, .draw_s = r->draw_s,
                                     .cached = d.cached, .redrawn = d.redrawn,

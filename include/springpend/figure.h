@@ -44,6 +44,11 @@ struct sp_figure_desc {
  * read, SP_E_INPUT (logged) when the record is damaged or too long. */
 int sp_figure_read_scene(const char *path, char *text, size_t size);
 
+/* As sp_figure_read_scene, the command line the figure records
+ * (SP_FIGURE_COMMAND_MARK's line in a PDF, <metadata
+ * id="springpend.command"> in an SVG): 1, 0 when it has none, or SP_E_*. */
+int sp_figure_read_command(const char *path, char *text, size_t size);
+
 /* Composes f (side by side: f[0..cells)) and writes it. On failure nothing is left at path. 0,
  * SP_E_INPUT (not .svg/.pdf), SP_E_IO or SP_E_NOMEM (logged). */
 int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f);

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "command_line.h"
-#include "utf8.h"
+#include "springpend/common.h"
 
 static int n_words;
 static char *const *words;
@@ -42,14 +42,13 @@ char *sp_command_line_unnamed(void)
 {
     const int n = text(NULL, 0, 1);
     char *line = n > 0 ? malloc((size_t)n + 1) : NULL;
-    if (line)
+    char *shown = line ? malloc(4 * (size_t)n + 1) : NULL; /* at most \xNN a byte */
+    if (shown) {
         text(line, (size_t)n + 1, 1);
-    for (size_t i = 0, len = line ? strlen(line) : 0; i < len; i += sp_utf8_char(line + i))
-        if (!sp_utf8_char(line + i)) {
-            free(line);
-            return NULL;
-        }
-    return line;
+        sp_text_shown(line, 0, shown, 4 * (size_t)n + 1);
+    }
+    free(line);
+    return shown;
 }
 
 static int text(char *buf, size_t size, int unnamed)

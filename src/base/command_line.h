@@ -24,9 +24,15 @@ int sp_command_line_text(char *buf, size_t size);
  * --output FILE, --output=FILE): what a figure records, so that the same
  * command writing another file gives the same bytes. */
 int sp_command_line_text_unnamed(char *buf, size_t size);
-/* The same in a malloc'd string (free it); NULL when none was recorded, out
- * of memory, or not UTF-8 (a file name in Latin-1: a PDF's and an SVG's
- * text must be UTF-8, so a figure then records no command). */
+/* What an output records (provenance.h's springpend.command, a PDF's
+ * /Subject, an SVG's <metadata>): sp_command_line_text_unnamed's line as
+ * messages show it (common.h's sp_text_shown): a control character (ESC
+ * and the like, a newline), a noncharacter, a bidi control or a byte that
+ * is not UTF-8 is written as \xNN, \uNNNN or \n, so that the line is
+ * printable UTF-8 that drives no terminal. Such a word then does not read
+ * back into the same bytes; every other line is read back by a POSIX shell
+ * into the words given. malloc'd (free it); NULL when none was recorded or
+ * out of memory. */
 char *sp_command_line_unnamed(void);
 
 #endif

@@ -35,8 +35,8 @@ int sp_cairo_pdf_date(cairo_surface_t *pdf);
  * NULL), then the scene file text; an SVG holds them, XML-escaped, in
  * <metadata id="springpend.scene-file"> and <metadata id="springpend.command">,
  * with springpend's version in <metadata id="springpend.version">.
- * command: the command line without the output's name
- * (sp_command_line_text_unnamed). scene_file NULL or "": nothing. */
+ * command: the command line as recorded (sp_command_line_unnamed: without
+ * the output's name, printable UTF-8). scene_file NULL or "": nothing. */
 void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file, const char *command);
 /* The SVG's metadata elements for sink.svg_metadata, malloc'd (free it);
  * NULL when out of memory (logged) or scene_file is NULL. */

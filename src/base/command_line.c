@@ -28,6 +28,24 @@ char *const *sp_command_line_argv(int *argc)
 
 static int text(char *buf, size_t size, int unnamed);
 
+/* 1 when word w (at *i) is left out of what an output records: -o FILE,
+ * --frames A:B, --shard I/N, as one word (-oFILE, --output=FILE,
+ * --frames=A:B) or two (*i is then moved past the second). */
+static int omitted(const char *w, int *i)
+{
+    static const char *const with_value[] = {"-o", "--output", "--frames", "--shard"};
+    for (size_t k = 0; k < sizeof(with_value) / sizeof(with_value[0]); k++) {
+        const size_t n = strlen(with_value[k]);
+        if (!strcmp(w, with_value[k])) {
+            ++*i; /* and its argument */
+            return 1;
+        }
+        if (!strncmp(w, with_value[k], n) && (w[n] == '=' || (k == 0 && w[n])))
+            return 1;
+    }
+    return 0;
+}
+
 int sp_command_line_text(char *buf, size_t size)
 {
     return text(buf, size, 0);
@@ -63,11 +81,7 @@ static int text(char *buf, size_t size, int unnamed)
         buf[0] = 0;
     for (int i = 0, first = 1; i < n_words; i++) {
         const char *w = words[i];
-        if (unnamed && i && (!strcmp(w, "-o") || !strcmp(w, "--output"))) {
-            i++; /* and its argument */
-            continue;
-        }
-        if (unnamed && i && (!strncmp(w, "-o", 2) || !strncmp(w, "--output=", 9)))
+        if (unnamed && i && omitted(w, &i))
             continue;
         if (!first)
             EMIT(" ");

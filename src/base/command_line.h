@@ -21,8 +21,12 @@ char *const *sp_command_line_argv(int *argc);
 int sp_command_line_text(char *buf, size_t size);
 
 /* As sp_command_line_text, without the output's name (-o FILE, -oFILE,
- * --output FILE, --output=FILE): what a figure records, so that the same
- * command writing another file gives the same bytes. */
+ * --output FILE, --output=FILE) and without which frames are written
+ * (--frames A:B, --shard I/N, either as one word with '='): what an output
+ * records, so that the same command writing another file, or a part of the
+ * frames, gives the same bytes (frame 17 of a --frames 17:40 run is the
+ * whole run's frame 17). An option abbreviated (--out, --fra) is recorded
+ * as given. */
 int sp_command_line_text_unnamed(char *buf, size_t size);
 /* What an output records (provenance.h's springpend.command, a PDF's
  * /Subject, an SVG's <metadata>): sp_command_line_text_unnamed's line as

@@ -91,6 +91,11 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
  * SP_PROVENANCE_SCENE_MAX bytes or more. */
 int sp_provenance_add_scene(struct sp_provenance *p, const struct sp_scene *scene);
 
+/* Records command (sp_command_line_unnamed's form; NULL: "") as
+ * springpend.command in place of this run's: a merged sweep figure records
+ * its shards' command. 0 or SP_E_NOMEM. */
+int sp_provenance_set_command(struct sp_provenance *p, const char *command);
+
 /* Frees the scene texts; safe on a zeroed or freed p. */
 void sp_provenance_free(struct sp_provenance *p);
 

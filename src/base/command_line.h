@@ -20,14 +20,17 @@ char *const *sp_command_line_argv(int *argc);
  * returns the length it would need. */
 int sp_command_line_text(char *buf, size_t size);
 
-/* As sp_command_line_text, without the output's name (-o FILE, -oFILE,
- * --output FILE, --output=FILE) and without which frames are written
- * (--frames A:B, --shard I/N, either as one word with '='): what an output
- * records, so that the same command writing another file, or a part of the
- * frames, gives the same bytes (frame 17 of a --frames 17:40 run is the
- * whole run's frame 17). An option abbreviated (--out, --fra) is recorded
- * as given. */
+/* As sp_command_line_text, less what an output records no word of: the
+ * output's name (-o FILE, -oFILE, --output FILE, --output=FILE), a sweep's
+ * --csv FILE, which part of the work is written (--frames A:B, --shard I/N)
+ * and by how many threads (--threads N), and -q/--quiet; a value also as
+ * one word with '='. The same work writing another file, a part of the
+ * frames, a shard later merged or a run on other cores then gives the same
+ * bytes (frame 17 of a --frames 17:40 run is the whole run's frame 17; a
+ * merged sweep figure is the whole run's). An option abbreviated (--out,
+ * --thr) is recorded as given. */
 int sp_command_line_text_unnamed(char *buf, size_t size);
+
 /* What an output records (provenance.h's springpend.command, a PDF's
  * /Subject, an SVG's <metadata>): sp_command_line_text_unnamed's line as
  * messages show it (common.h's sp_text_shown): a control character (ESC
@@ -38,5 +41,11 @@ int sp_command_line_text_unnamed(char *buf, size_t size);
  * into the words given. malloc'd (free it); NULL when none was recorded or
  * out of memory. */
 char *sp_command_line_unnamed(void);
+
+/* As sp_command_line_unnamed for the command line `line` that
+ * sp_command_line_text wrote (a sweep shard's prov:wasGeneratedBy, which a
+ * merged figure records as its own); NULL when line is NULL, is not such a
+ * line of springpend's, or out of memory. */
+char *sp_command_line_recorded(const char *line);
 
 #endif

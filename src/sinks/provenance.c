@@ -122,6 +122,19 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
     return 0;
 }
 
+int sp_provenance_set_command(struct sp_provenance *p, const char *command)
+{
+    char *copy = strdup(command ? command : "");
+    if (!copy) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    free(p->command);
+    p->command = copy;
+    p->text[8].text = copy;
+    return 0;
+}
+
 void sp_provenance_set_time(struct sp_provenance *p, double t)
 {
     snprintf(p->time, sizeof(p->time), "%.9g", t);

@@ -1198,6 +1198,8 @@ static int write_png(const struct sp_image *img, struct sp_outfile *out,
         !(ret = sp_provenance_init(&prov, style->scene, sp_draw_cairo_version(), NULL))) {
         sp_font_files(G.font, prov.fonts, sizeof(prov.fonts));
         ret = sp_font_environment(G.font, prov.environment, sizeof(prov.environment));
+        if (!ret) /* the figure's own: a merged one's is its shards' */
+            ret = sp_provenance_set_command(&prov, style->command);
         for (int i = 0; i < SP_PROVENANCE_N_TEXT; i++)
             if (strcmp(prov.text[i].key, "springpend.time"))
                 text[n++] = prov.text[i];

@@ -114,4 +114,61 @@ ok(r.returncode == 0 and all(f"compare.ini:{n}: warning: [{s}] matches no compar
    and "[x.png] matches" not in e,
    f"each compare.ini section that matches no image is named at its line ({e[:200]})")
 
+# ---- finding 12: sweep options that clash -----------------------------------------
+grid = ["--measure", "lyapunov", "--time", "2"]
+r = run("sweep", chaotic, "--vary", "initial.angle=1:179:4", "--set", "initial.angle=30", *grid,
+        "-o", "setvary.svg")
+ok(r.returncode == 2 and "--set initial.angle=30" in err(r) and "--vary initial.angle" in err(r)
+   and not os.path.exists(path("setvary.svg")),
+   f"--set of the varied key: exit 2 naming both ({err(r)[:160]})")
+r = run("sweep", chaotic, "--vary", "initial.angle=1:179:1", *grid, "-o", "one.svg")
+ok(r.returncode == 2 and "initial.angle=1:179:1" in err(r)
+   and not os.path.exists(path("one.svg")),
+   f"--vary K=1:179:1 (one value, two ends): exit 2 ({err(r)[:160]})")
+r = run("sweep", chaotic, "--vary", "initial.angle=30:30:1", "--vary", "initial.length=0.8:1.6:3",
+        *grid, "--csv", "one.csv", "-o", "one.svg")
+rows = [ln for ln in open(path("one.csv")).read().splitlines() if ln[:1].isdigit()] \
+    if os.path.exists(path("one.csv")) else []
+ok(r.returncode == 0 and len(rows) == 3, f"--vary K=30:30:1 is one value: 3 points ({err(r)[:160]})")
+r = run("sweep", chaotic, "--vary", "initial.angle=1:179:2", "--vary", "initial.angle=1:10:2",
+        *grid, "-o", "twice.svg")
+ok(r.returncode == 2 and "given twice" in err(r), f"--vary of one key twice: exit 2 ({err(r)})")
+
+# ---- finding 12: a sweep figure at a degenerate aspect ----------------------------
+for size in ("1inx200in", "200inx1in", "1.9inx20in"):
+    code, e = sptest.hangs(run, "sweep", chaotic, "--vary", "initial.angle=1:179:4", *grid,
+                           "--size", size, "--dpi", "20", "-o", f"thin{size}.png", timeout=60)
+    ok(code == 2 and "ticks and axis labels need at least" in e and "allowed: a page at least"
+       in e and not os.path.exists(path(f"thin{size}.png")) and not sptest.part_files(work),
+       f"sweep --size {size}: refused with the least page that fits ({e[:160]})")
+r = run("sweep", chaotic, "--vary", "initial.angle=1:179:4", *grid, "--size", "2.5in", "--dpi",
+        "100", "-o", "narrow.png")
+ok(r.returncode == 0 and os.path.exists(path("narrow.png")),
+   f"sweep --size 2.5in (the least width at the default aspect) is drawn ({err(r)[:160]})")
+
+# ---- finding 12: the CSV's metadata sidecar never replaces the scene --------------
+scene_text = read(chaotic)
+write(path("a.csv-metadata.json"), scene_text)
+r = run("sweep", "a.csv-metadata.json", "--vary", "initial.angle=1:179:4", *grid, "-o", "s4.svg",
+        "--csv", "a.csv")
+ok(r.returncode == 2 and "would overwrite" in err(r)
+   and read(path("a.csv-metadata.json")) == scene_text and not os.path.exists(path("a.csv")),
+   f"sweep --csv a.csv with the scene a.csv-metadata.json: refused, the scene kept ({err(r)})")
+write(path("d.csv-metadata.json"), read(default))
+r = run("data", "d.csv-metadata.json", "-o", "d.csv")
+ok(r.returncode == 2 and "would overwrite the scene file" in err(r)
+   and read(path("d.csv-metadata.json")) == read(default) and not os.path.exists(path("d.csv")),
+   f"data -o d.csv with the scene d.csv-metadata.json: refused, the scene kept ({err(r)})")
+write(path("second.ini"), scene_text)
+r = run("data", default, "second.ini", "-o", "second.ini")
+ok(r.returncode == 2 and read(path("second.ini")) == scene_text,
+   f"data A B -o B: the second scene is not replaced either ({err(r)})")
+
+# ---- finding 12: --size means nothing to data and info ----------------------------
+for cmd in (["data", default, "-o", "u.csv"], ["info", default]):
+    r = run(*cmd, "--size", "320x180")
+    ok(r.returncode == 2 and "--size is for 'springpend render' and 'springpend still'" in err(r)
+       and not os.path.exists(path("u.csv")) and not r.stdout,
+       f"{cmd[0]} --size: exit 2 naming the commands that take it ({err(r)})")
+
 done()

@@ -106,6 +106,16 @@ for kind, args in commands.items():
         got = shlex.split(line[0][len("# command: "):]) if len(line) == 1 else None
         ok(got == want or (kind.endswith("pdf") and not shutil.which("pdfinfo")),
            f"{kind}: the figure records its command without -o: {line}")
+        # and, as a PNG does, the renderer and the font files drawn from
+        if kind.endswith("pdf"):
+            made = [l for l in info.splitlines() if l.startswith(("Producer:", "Keywords:"))]
+        else:
+            made = [f"{k.decode()}: {html.unescape(v.decode())}" for k, v in re.findall(
+                rb'<metadata id="springpend.(renderer|fonts)">([^<]*)</metadata>', data)]
+        ok(any(l.startswith(("Producer:", "renderer:")) and "cairo" in l for l in made) and
+           any("fonts: DejaVu Sans (embedded in springpend)" in l for l in made)
+           or (kind.endswith("pdf") and not shutil.which("pdfinfo")),
+           f"{kind}: the figure names its renderer and fonts: {made}")
     elif kind != "csv":
         tag = (png_text(os.path.join(first, out)).get("springpend.command") if out.endswith(".png")
                else video_tags(os.path.join(first, out)).get("springpend.command"))

@@ -32,6 +32,10 @@ struct sp_figure_desc {
                                      (SP_E_INTERRUPTED); NULL = never */
 };
 
+/* An SVG or PDF still of physical size is laid out at this many px per pt
+ * (its text sizes are whole px of it); a sweep figure's tick labels follow. */
+#define SP_FIGURE_PX_PER_PT 4.0
+
 /* A figure's scene record: the PDF /Subject's first line, the SVG
  * <metadata>'s id (the PNG text's key, provenance.h). */
 #define SP_FIGURE_SCENE_MARK "# springpend.scene-file\n"

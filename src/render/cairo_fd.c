@@ -84,21 +84,27 @@ static size_t xml_text(char *w, const char *text)
     return (size_t)(at - w);
 }
 
-char *sp_cairo_svg_metadata(const char *scene_file, const char *command)
+char *sp_cairo_svg_metadata(const char *scene_file, const char *command, const char *fonts)
 {
     static const char head[] = "<metadata id=\"springpend.version\">springpend " SP_VERSION
-                               "</metadata>\n<metadata id=\"springpend.command\">";
+                               "</metadata>\n<metadata id=\"springpend.renderer\">cairo "
+                               CAIRO_VERSION_STRING "</metadata>\n<metadata "
+                               "id=\"springpend.fonts\">";
+    static const char cmd[] = "</metadata>\n<metadata id=\"springpend.command\">";
     static const char mid[] = "</metadata>\n<metadata id=\"" SP_FIGURE_SCENE_ID "\">";
     static const char tail[] = "</metadata>\n";
     if (!scene_file)
         return NULL;
-    const size_t len = strlen(scene_file) + (command ? strlen(command) : 0);
-    char *out = malloc(sizeof(head) + sizeof(mid) + 5 * len + sizeof(tail)), *w = out;
+    const size_t len = strlen(scene_file) + (command ? strlen(command) : 0) +
+                       (fonts ? strlen(fonts) : 0);
+    char *out = malloc(sizeof(head) + sizeof(cmd) + sizeof(mid) + 5 * len + sizeof(tail)), *w = out;
     if (!out) {
         sp_log_error("out of memory for the SVG's metadata");
         return NULL;
     }
     w += sprintf(w, "%s", head);
+    w += xml_text(w, fonts ? fonts : "");
+    w += sprintf(w, "%s", cmd);
     w += xml_text(w, command ? command : "");
     w += sprintf(w, "%s", mid);
     w += xml_text(w, scene_file);

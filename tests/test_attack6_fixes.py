@@ -10,6 +10,8 @@ pass (doc/notes/2026-11-27/attack5.md), each run as the attacker ran it:
 usage: test_attack6_fixes.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
+import struct
+import zlib
 
 import sptest
 from sptest import done, err, ok
@@ -170,5 +172,53 @@ for cmd in (["data", default, "-o", "u.csv"], ["info", default]):
     ok(r.returncode == 2 and "--size is for 'springpend render' and 'springpend still'" in err(r)
        and not os.path.exists(path("u.csv")) and not r.stdout,
        f"{cmd[0]} --size: exit 2 naming the commands that take it ({err(r)})")
+
+# ---- finding 12: UTF-8 provenance goes into iTXt, not Latin-1 zTXt ---------------
+def chunks(p):
+    d, i, out = read(p), 8, []
+    while i < len(d):
+        n, kind = struct.unpack(">I4s", d[i:i + 8])
+        out.append((kind, d[i + 8:i + 8 + n]))
+        i += 12 + n
+    return out
+
+
+def chunk(kind, body):
+    return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+
+
+title = "你好 é"
+r = run("still", default, "--at", "1", "--size", "320x180", "--set", f"view.title={title}", "-q",
+        "-o", "u8.png")
+assert r.returncode == 0, err(r)
+itxt = {b.split(b"\0", 1)[0]: b for kind, b in chunks(path("u8.png")) if kind == b"iTXt"}
+zt = {b.split(b"\0", 1)[0]: zlib.decompress(b.split(b"\0", 1)[1][1:])
+      for kind, b in chunks(path("u8.png")) if kind == b"zTXt"}
+scene_itxt = itxt.get(b"springpend.scene-file", b"")
+flag = scene_itxt.split(b"\0", 1)[1][:1] if scene_itxt else b""
+texts = sptest.png_text(path("u8.png"), compressed=True)
+ok(b"springpend.scene-file" in itxt and b"springpend.scene" in itxt and flag == b"\1"
+   and not any(any(c >= 0x80 for c in v) for v in zt.values())
+   and title in texts.get("springpend.scene-file", ""),
+   f"a UTF-8 title: the scene's chunks are compressed iTXt, no zTXt holds bytes beyond "
+   f"ASCII ({sorted(itxt)}, zTXt {sorted(zt)})")
+r = run("scene", "u8.png")
+ok(r.returncode == 0 and f'title = "{title}"'.encode() in r.stdout,
+   f"springpend scene reads the iTXt back ({err(r)[:120]})")
+# an older PNG, the scene as UTF-8 in zTXt: still read
+old = b"\x89PNG\r\n\x1a\n"
+for kind, b in chunks(path("u8.png")):
+    if kind == b"iTXt":
+        k, rest = b.split(b"\0", 1)
+        v = rest[2:].split(b"\0", 2)[2]
+        old += chunk(b"zTXt", k + b"\0\0" + v)  # v is deflated already (flag 1)
+    else:
+        old += chunk(kind, b)
+write(path("old.png"), old)
+r = run("scene", "old.png")
+ok(r.returncode == 0 and f'title = "{title}"'.encode() in r.stdout,
+   f"a PNG with the UTF-8 scene in zTXt (as springpend wrote before) is read too ({err(r)[:120]})")
+r = run("compare", "u8.png", "old.png")
+ok(r.returncode == 0, f"compare reads both ({r.stdout[-120:]!r})")
 
 done()

@@ -10,12 +10,14 @@
  * smaller. */
 #define SP_PNG_LEVEL_DEFAULT 1
 
-/* One tEXt chunk. key: 1..79 printable Latin-1 characters, no leading,
- * trailing or double spaces (e.g. "Software", "Comment"); text: Latin-1. */
+/* One text chunk. key: 1..79 printable Latin-1 characters, no leading,
+ * trailing or double spaces (e.g. "Software", "Comment"); text: UTF-8.
+ * ASCII text is written as tEXt or zTXt, any other as iTXt (the PNG
+ * specification's chunk for UTF-8; tEXt and zTXt are Latin-1). */
 struct sp_png_text {
     const char *key;
     const char *text;
-    int compressed; /* 1: a zTXt chunk (deflated), 0: tEXt */
+    int compressed; /* 1: deflated (zTXt, or a compressed iTXt), 0: not */
 };
 
 /* How to write. Use designated initializers; a zeroed struct writes

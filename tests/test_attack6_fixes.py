@@ -221,4 +221,39 @@ ok(r.returncode == 0 and f'title = "{title}"'.encode() in r.stdout,
 r = run("compare", "u8.png", "old.png")
 ok(r.returncode == 0, f"compare reads both ({r.stdout[-120:]!r})")
 
+# ---- finding 12: compare --jobs is bounded by memory ------------------------------
+def flat_png(p, w, h, stripe):
+    row0, row1 = b"\0" + bytes((10, 20, 30)) * w, b"\0" + bytes(stripe) * w
+    raw = b"".join(row1 if y % 97 == 0 else row0 for y in range(h))
+    write(p, b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+          + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+for i in range(4):  # 2000x2000: 32 MB a pair decoded as RGBA
+    flat_png(path("mem", "e", f"p{i}.png"), 2000, 2000, (200, 200, 200))
+    flat_png(path("mem", "a", f"p{i}.png"), 2000, 2000, (100, 200, 200))
+sanitized = b"__asan_init" in read(exe)  # a sanitizer's shadow memory needs no limit
+
+
+def data_limit(mb):
+    import resource
+    return lambda: resource.setrlimit(resource.RLIMIT_DATA, (mb << 20, mb << 20))
+
+
+if not sanitized:
+    # ulimit -d 100 MB: four threads of 32 MB and more ran out of memory and
+    # reported images as unreadable; the threads are fitted to half the limit
+    r = run("compare", "mem/e", "mem/a", "--jobs", "4", preexec_fn=data_limit(100), timeout=120)
+    out = r.stdout.decode()
+    ok(r.returncode == 1 and "4 compared, 0 passed, 4 failed, 0 missing or unreadable" in out
+       and "--jobs 4: each thread holds up to 48 MB" in err(r) and "half of ulimit -d" in err(r)
+       and "comparing on 1 thread" in err(r),
+       f"compare --jobs 4 under ulimit -d 100 MB: every image compared, on the threads "
+       f"that fit, said on stderr ({out.strip()[-90:]} | {err(r)[:200]})")
+else:
+    ok(True, "compare --jobs under ulimit -d", skip="a sanitizer build")
+r = run("compare", "mem/e", "mem/a", "--jobs", "4", timeout=120)
+ok(r.returncode == 1 and "--jobs" not in err(r),
+   f"without a limit, --jobs 4 of 2000x2000 images runs on 4 threads, nothing said ({err(r)[:120]})")
+
 done()

@@ -74,6 +74,12 @@ struct sp_png_info {
  * damaged: bad input, exit 2, with libpng's reason). */
 int sp_png_read_info(const char *path, struct sp_png_info *info);
 
+/* Like sp_png_read_info, but only the width and height, and nothing
+ * logged: for an estimate before the file is read in earnest (which then
+ * says what is wrong with it). Only a regular file is opened (never
+ * blocking on a FIFO). 0, or SP_E_INPUT for anything else. */
+int sp_png_read_info_quiet(const char *path, struct sp_png_info *info);
+
 /* SP_E_INPUT (logged) when info's size is beyond SP_PNG_MAX_PIXELS. */
 int sp_png_check_size(const char *path, const struct sp_png_info *info);
 

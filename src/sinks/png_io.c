@@ -328,6 +328,31 @@ static int reader_open(struct png_reader *r, const char *path, int with_text)
     return 0;
 }
 
+int sp_png_read_info_quiet(const char *path, struct sp_png_info *out)
+{
+    memset(out, 0, sizeof(*out));
+    /* O_NONBLOCK: a FIFO named *.png must not block; only a regular file
+     * is read */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    FILE *fp = NULL;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || !(fp = fdopen(fd, "rb"))) {
+        if (fd >= 0)
+            close(fd);
+        return SP_E_INPUT;
+    }
+    png_image image = {.version = PNG_IMAGE_VERSION}; /* libpng's simplified API: no
+                                                         messages, the header only */
+    const int ok = png_image_begin_read_from_stdio(&image, fp) != 0;
+    if (ok) {
+        out->width = (int)image.width;
+        out->height = (int)image.height;
+    }
+    png_image_free(&image);
+    fclose(fp);
+    return ok ? 0 : SP_E_INPUT;
+}
+
 int sp_png_read_info(const char *path, struct sp_png_info *out)
 {
     struct png_reader rd, *r = &rd;

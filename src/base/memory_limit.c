@@ -4,7 +4,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include "base/memory_limit.h"
+#include "memory_limit.h"
 
 /* Keeps the smaller of *best and v (v > 0), naming it. */
 static void least(double *best, const char **what, double v, const char *name)

@@ -405,9 +405,17 @@ static int check_outputs(const struct sweep_opts *o)
     for (int i = 0; i < 2; i++)
         for (int k = -1; outs[i][1] && k < (o->merge ? o->n_parts : 0); k++) {
             const char *in = k < 0 ? o->scene : o->parts[k];
+            char meta[4096]; /* --csv's metadata, written beside it */
             if (in && sp_outfile_same_file(outs[i][1], in)) {
                 sp_log_error("%s %s would overwrite an input; choose another path", outs[i][0],
                              outs[i][1]);
+                return SP_E_INPUT;
+            }
+            if (in && i == 1 &&
+                snprintf(meta, sizeof(meta), "%s" SP_CSV_METADATA_SUFFIX, o->csv) <
+                    (int)sizeof(meta) && sp_outfile_same_file(meta, in)) {
+                sp_log_error("--csv %s: its metadata %s would overwrite the input %s; choose "
+                             "another path", o->csv, meta, in);
                 return SP_E_INPUT;
             }
         }
@@ -744,11 +752,30 @@ static int merge(const struct sweep_opts *opts)
     return ret;
 }
 
+/* Refuses a --set of a key the grid varies: the grid's values would
+ * replace it at every point, unseen. */
+static int check_set_varied(const struct sweep_opts *o, const struct sp_sweep_desc *d)
+{
+    for (int i = 0; i < o->n_overrides; i++) {
+        const char *s = o->overrides[i];
+        const size_t n = strcspn(s, "=");
+        for (int a = 0; a < d->n_axes; a++)
+            if (strlen(d->axis[a].key) == n && !strncmp(s, d->axis[a].key, n)) {
+                sp_log_error("--set %s and --vary %s=%.9g:%.9g:%d: the grid varies %s, so the "
+                             "--set value would be replaced at every point; give one of them "
+                             "(a fixed value: --set; a range: --vary)", s, d->axis[a].key,
+                             d->axis[a].from, d->axis[a].to, d->axis[a].count, d->axis[a].key);
+                return SP_E_INPUT;
+            }
+    }
+    return 0;
+}
+
 /* Runs the sweep of the scene sp_cmd_sweep loaded (it frees the scene). */
 static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_scene *scene)
 {
     int ret;
-    if ((ret = sp_sweep_check(d, scene, o->energy_given)) ||
+    if ((ret = check_set_varied(o, d)) || (ret = sp_sweep_check(d, scene, o->energy_given)) ||
         (ret = figure_look(o, scene, o->overrides, o->n_overrides)))
         return ret;
     long total = sp_sweep_points(d), first = 0, last = total;

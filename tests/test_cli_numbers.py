@@ -167,8 +167,10 @@ for cmd, out in (("still", ["-o", "out.png"]), ("info", [])):
             ("--size", "0x20x24", "", "not WIDTHxHEIGHT"),
             ("--size", "32", "", "not WIDTHxHEIGHT"),
             ("--size", "32x99999", "video.height = 99999", "is out of range")]:
+        if cmd == "info" and opt == "--size":
+            continue  # info draws no frame: --size is refused there (test_attack6_fixes.py)
         args = [cmd, scene, *SHORT, opt, value, *out]
-        if opt == "--fps":
+        if opt == "--fps" and cmd == "still":
             args[2:2] = ["--size", "32x24"]
         r, made = run(*args)
         prefix = f"{opt} {value}: {key} " if key else f"springpend: {opt} {value}: "
@@ -178,10 +180,13 @@ for cmd, out in (("still", ["-o", "out.png"]), ("info", [])):
         if why:
             wrong.append(f"{cmd} {opt} {value!r}: {why}")
     for opt, value in (("--fps", "30"), ("--fps", "2.5e1"), ("--size", "32x24"), ("--size", "3.2e1x24.0")):
-        r, made = run(cmd, scene, *SHORT, *(["--size", "32x24"] if opt == "--fps" else []), opt, value, *out)
+        if cmd == "info" and opt == "--size":
+            continue
+        r, made = run(cmd, scene, *SHORT, *(["--size", "32x24"] if opt == "--fps" and cmd == "still"
+                                            else []), opt, value, *out)
         if r.returncode != 0 or (cmd == "still" and not made):
             wrong.append(f"{cmd} {opt} {value} refused: {r.stderr.strip()!r}")
-ok(not wrong, "still and info --fps 0x1e, --size 32.5x24 and other junk: one line naming --fps or --size "
+ok(not wrong, "still and info --fps 0x1e, still --size 32.5x24 and other junk: one line naming --fps or --size "
    "as typed (not --set), the key's range, exit 2, no file; --fps 2.5e1 and --size 3.2e1x24.0 accepted",
    "\n".join(wrong))
 

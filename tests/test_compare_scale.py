@@ -49,6 +49,8 @@ for name, extra in (("a", ["--at", "3"]), ("m", ["--at", "3.05"]), ("m2", ["--at
 put("a.png", "env", "base", "one.png")
 put("m.png", "env", "base", "one.llvm19.png")
 put("m.png", "env", "act", "one.png")
+with open(W("env", "base", "compare.ini"), "w") as f:
+    f.write("envs = llvm19, ci9\n")  # the keys of alternatives (doc/ci.md)
 r = run("compare", W("env", "base"), W("env", "act"), "--json")
 j = json.loads(r.stdout)
 rec = j["results"][0] if j["results"] else {}

@@ -249,7 +249,7 @@ ok(r.returncode == 0 and "omega_spring" in r.stdout,
 for args, want, what in [
     (["render", default, "--set", "video.duration", "5"], "'='", "--set without '='"),
     (["still", default, "--at"], "'--at' needs a value", "--at without its value"),
-    (["info", default, "--size", "99999999999x1"], "99999999999", "--size beyond int"),
+    (["still", default, "--size", "99999999999x1"], "99999999999", "--size beyond int"),
 ]:
     r = run(*args, text=True)
     ok(r.returncode == 2 and want in err(r), f"{what}: exit 2, says {want} ({err(r)!r})")

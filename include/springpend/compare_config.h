@@ -43,11 +43,25 @@ struct sp_compare_rule {
 #define SP_COMPARE_SET_TOL 8u
 #define SP_COMPARE_SET_THRESHOLD 16u
 
+/* The most environment keys compare.ini's `envs` line declares. */
+#define SP_COMPARE_MAX_ENVS 32
 struct sp_compare_config {
     char path[4096];               /* "" when there was no file */
     struct sp_compare_rule *rules; /* owned */
     int n_rules;
+    /* The environment keys declared by `envs = KEY, KEY...` at the top of
+     * the file (before any section): only NAME.KEY.EXT with one of these
+     * is an alternative baseline of NAME.EXT, and --env names one. */
+    char envs[SP_COMPARE_MAX_ENVS][33];
+    int n_envs;
+    int envs_line; /* of the envs line; 0 when there is none */
 };
+/* NULL when key can name an environment (1 to 32 letters, digits, '_' or
+ * '-', and not a name compare gives files: diff, png or a video's
+ * extension), else what is wrong with it. */
+const char *sp_compare_env_key_check(const char *key);
+/* 1 when cfg's envs line declares key. */
+int sp_compare_config_has_env(const struct sp_compare_config *cfg, const char *key);
 
 /* Parses one option into rule (name without "--": metric, max-diff or
  * max_diff, max-pixels or max_pixels, tol, mask). Returns 0, or

@@ -5,8 +5,9 @@
  * so that the run reports it; each image's baselines are
  * EXPECTED/NAME and its alternatives EXPECTED/STEM.KEY.EXT beside it (a
  * baseline per environment: `a.png`, `a.llvm19.png`), any of which may match.
- * A baseline is an alternative only when STEM.EXT is an image of either
- * folder; otherwise it is an image of its own. */
+ * A baseline is an alternative only when KEY is a declared environment key
+ * (compare.ini's envs line) and STEM.EXT is an image of either folder;
+ * otherwise it is an image of its own (`fig.1.png`). */
 #ifndef SPRINGPEND_SNAPSHOT_LIST_H
 #define SPRINGPEND_SNAPSHOT_LIST_H
 
@@ -40,10 +41,12 @@ int sp_snapshot_is_video(const char *name);
 
 /* Lists dir_e and dir_a (a missing dir_e lists as empty) into l, skipping
  * the folders in skip (n_skip paths, NULL entries ignored: where --diff and
- * --candidates write). Returns 0, SP_E_INPUT (a folder that cannot be read:
+ * --candidates write); keys (n_keys) are the declared environment keys of
+ * alternatives (none: every file is an image of its own). Returns 0, SP_E_INPUT (a folder that cannot be read:
  * logged) or SP_E_NOMEM. */
 int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const char *dir_a,
-                          const char *const *skip, int n_skip);
+                          const char *const *skip, int n_skip, const char *const *keys,
+                          int n_keys);
 
 /* The KEY of alternative alt of image name ("a.llvm19.png" of "a.png" is
  * "llvm19"), into key. */

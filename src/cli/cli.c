@@ -12,6 +12,7 @@
 #include "cli.h"
 #include "base/decimal.h"
 #include "springpend/common.h"
+#include "springpend/csv_metadata.h"
 #include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 #include "springpend/sim.h"
@@ -188,6 +189,8 @@ static const struct owned_option {
     {'X', SP_CLI_TAKES_STILL, "--scale", "still"},
     {'d', SP_CLI_TAKES_STILL, "--dpi", "still"},
     {'e', SP_CLI_TAKES_EVERY, "--every", "data"},
+    /* a frame's size: data and info draw no frame */
+    {'S', SP_CLI_TAKES_VIDEO | SP_CLI_TAKES_STILL, "--size", "render' and 'springpend still"},
 };
 
 /* SP_E_INPUT after a message when option c (just read by getopt_long)
@@ -441,9 +444,23 @@ int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *sc
         snprintf(buf, size, "%s", o->output);
     else
         snprintf(buf, size, "out/%s%s", scene->name, ext);
-    if (sp_outfile_same_file(buf, o->scene_path)) {
-        sp_log_error("output %s is the scene file itself; choose another -o", buf);
-        return SP_E_INPUT;
+    /* a CSV's metadata is written beside it (NAME.csv-metadata.json): it
+     * must not replace a scene either */
+    char meta[4096];
+    const int csv = !strcmp(ext, ".csv") && !sp_outfile_is_stream(buf) &&
+                    snprintf(meta, sizeof(meta), "%s" SP_CSV_METADATA_SUFFIX, buf) <
+                        (int)sizeof(meta);
+    for (int i = -1; i < o->n_scenes; i++) {
+        const char *in = i < 0 ? o->scene_path : o->scene_paths[i];
+        if (in && sp_outfile_same_file(buf, in)) {
+            sp_log_error("output %s is the scene file itself; choose another -o", buf);
+            return SP_E_INPUT;
+        }
+        if (in && csv && sp_outfile_same_file(meta, in)) {
+            sp_log_error("output %s: its metadata %s would overwrite the scene file %s; choose "
+                         "another -o", buf, meta, in);
+            return SP_E_INPUT;
+        }
     }
     return sp_outfile_check_writable(buf, "output");
 }

@@ -61,7 +61,8 @@ struct sp_cli_options {
 };
 
 /* What a scene command takes beyond the options every one does (-o,
- * --set, --size WxH, --fps, --quality, --gl, --verbose, -q, -h): its
+ * --set, --fps, --quality, --gl, --verbose, -q, -h; --size WxH only
+ * render and still, which draw frames): its
  * command line, as sp_cli_parse's `takes`. An option of another command is
  * refused, naming the command that takes it. */
 enum sp_cli_takes {
@@ -126,7 +127,8 @@ int sp_cli_load_scenes(const struct sp_cli_options *o, struct sp_scene *scenes);
 int sp_cli_load_scene(const struct sp_cli_options *o, struct sp_scene *scene);
 
 /* Fills buf with o->output or "out/<scene name><ext>", and refuses an output
- * that is the scene file itself. */
+ * that is a scene file itself, or (ext ".csv") whose metadata sidecar
+ * NAME.csv-metadata.json is. */
 int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *scene,
                        const char *ext, char *buf, size_t size);
 

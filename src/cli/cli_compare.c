@@ -21,7 +21,9 @@ static const char compare_usage[] =
     "folder ACTUAL, or two videos (any name not ending in .png: MP4 and whatever\n"
     "FFmpeg reads) frame by frame, frame times included.\n"
     "A baseline NAME.png may have alternatives NAME.KEY.png beside it (one per\n"
-    "environment: a.llvm19.png); a match with any one passes.\n"
+    "environment: a.llvm19.png) for each KEY that compare.ini declares at its\n"
+    "top ('envs = llvm19, arm64'); a match with any one passes. Other dotted\n"
+    "names (fig.1.png) are images of their own.\n"
     "Exit status: 0 all match, 1 some differ (in pixels, size or timing), 2\n"
     "unreadable, missing or extra images, or videos with different frame\n"
     "counts; 128 + signal when interrupted.\n"
@@ -55,7 +57,8 @@ static const char compare_usage[] =
     "                         actual image, listing them). A baseline whose pixels\n"
     "                         are unchanged is never rewritten\n"
     "  --env KEY              --update and --candidates write NAME.KEY.png, an\n"
-    "                         alternative baseline, instead of NAME.png\n"
+    "                         alternative baseline, instead of NAME.png; KEY must\n"
+    "                         be declared in compare.ini's envs line\n"
     "  --candidates DIR       write the would-be baselines (failing and new images\n"
     "                         only) and their diffs to DIR; the run still fails\n"
     "  --approve DIR BASELINES  copy what --candidates wrote into the baselines\n"
@@ -127,11 +130,9 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
         case 'A': o->approve = 1; break;
         case 'F': c->failures_only = 1; break;
         case 'E':
-            if (!optarg[0] || strspn(optarg, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                             "0123456789_-") != strlen(optarg) ||
-                strlen(optarg) > 32) {
-                sp_log_error("--env %s: expected a key of 1 to 32 letters, digits, '_' or '-' "
-                             "(like llvm19); it names the baseline NAME.KEY.png", optarg);
+            if (sp_compare_env_key_check(optarg)) {
+                sp_log_error("--env %s: %s; it names the baseline NAME.KEY.png", optarg,
+                             sp_compare_env_key_check(optarg));
                 return SP_E_INPUT;
             }
             c->env = optarg;

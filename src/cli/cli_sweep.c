@@ -405,9 +405,17 @@ static int check_outputs(const struct sweep_opts *o)
     for (int i = 0; i < 2; i++)
         for (int k = -1; outs[i][1] && k < (o->merge ? o->n_parts : 0); k++) {
             const char *in = k < 0 ? o->scene : o->parts[k];
+            char meta[4096]; /* --csv's metadata, written beside it */
             if (in && sp_outfile_same_file(outs[i][1], in)) {
                 sp_log_error("%s %s would overwrite an input; choose another path", outs[i][0],
                              outs[i][1]);
+                return SP_E_INPUT;
+            }
+            if (in && i == 1 &&
+                snprintf(meta, sizeof(meta), "%s" SP_CSV_METADATA_SUFFIX, o->csv) <
+                    (int)sizeof(meta) && sp_outfile_same_file(meta, in)) {
+                sp_log_error("--csv %s: its metadata %s would overwrite the input %s; choose "
+                             "another path", o->csv, meta, in);
                 return SP_E_INPUT;
             }
         }
@@ -644,10 +652,8 @@ static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
         .shard = pv->shard, .rows = lines - 1, .sha256 = hex};
     if (!ret)
         ret = sp_csv_metadata_write(&meta, csv, &m);
-    if (!ret)
-        ret = sp_outfile_commit(&meta);
-    if (!ret)
-        ret = sp_outfile_commit(&f);
+    if (!ret) /* the metadata first: when the CSV appears, it is there */
+        ret = sp_outfile_commit_pair(&meta, &f);
     sp_outfile_discard(&f);
     return ret;
 }
@@ -702,16 +708,32 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
     return ret;
 }
 
+/* The figure's look into o->style: the scene's [view] (a sweep's or the
+ * merged shards'), its title in force when the scene or a --set gives one;
+ * checked (fonts, sizes) when a figure is asked for. 0 or SP_E_*. */
+static int figure_look(struct sweep_opts *o, const struct sp_scene *scene,
+                       const char *const *overrides, int n_overrides)
+{
+    o->style.view = &scene->view;
+    o->style.title_set = scene->view.title[0] != 0;
+    for (int i = 0; i < n_overrides; i++)
+        o->style.title_set |= !strncmp(overrides[i], "view.title=", 11);
+    return o->output ? check_figure(&o->style) : 0;
+}
+
 /* sweep --merge: the shards' rows (sweep_merge.h), drawn and written as a
  * sweep's own. */
-static int merge(const struct sweep_opts *o)
+static int merge(const struct sweep_opts *opts)
 {
     struct sp_sweep_merge m;
+    struct sweep_opts look = *opts, *o = &look; /* the figure's look: the shards' scene's */
     const struct sp_sweep_merge_desc desc = {.parts = o->parts, .n_parts = o->n_parts,
                                              .cancel = o->cancel};
     int ret = sp_sweep_merge_open(&m, &desc);
     FILE *out = NULL;
     struct sp_dirs made[2] = {{0}, {0}};
+    if (!ret) /* as sweep_scene sets it for the one-piece run (its --set applied in m.scene) */
+        ret = figure_look(o, &m.scene, m.overrides, m.n_overrides);
     if (!ret)
         ret = open_rows(&out);
     if (!ret) {
@@ -730,16 +752,31 @@ static int merge(const struct sweep_opts *o)
     return ret;
 }
 
+/* Refuses a --set of a key the grid varies: the grid's values would
+ * replace it at every point, unseen. */
+static int check_set_varied(const struct sweep_opts *o, const struct sp_sweep_desc *d)
+{
+    for (int i = 0; i < o->n_overrides; i++) {
+        const char *s = o->overrides[i];
+        const size_t n = strcspn(s, "=");
+        for (int a = 0; a < d->n_axes; a++)
+            if (strlen(d->axis[a].key) == n && !strncmp(s, d->axis[a].key, n)) {
+                sp_log_error("--set %s and --vary %s=%.9g:%.9g:%d: the grid varies %s, so the "
+                             "--set value would be replaced at every point; give one of them "
+                             "(a fixed value: --set; a range: --vary)", s, d->axis[a].key,
+                             d->axis[a].from, d->axis[a].to, d->axis[a].count, d->axis[a].key);
+                return SP_E_INPUT;
+            }
+    }
+    return 0;
+}
+
 /* Runs the sweep of the scene sp_cmd_sweep loaded (it frees the scene). */
 static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_scene *scene)
 {
     int ret;
-    o->style.view = &scene->view; /* the figure's look */
-    o->style.title_set = scene->view.title[0] != 0;
-    for (int i = 0; i < o->n_overrides; i++)
-        o->style.title_set |= !strncmp(o->overrides[i], "view.title=", 11);
-    if ((ret = sp_sweep_check(d, scene, o->energy_given)) ||
-        (o->output && (ret = check_figure(&o->style))))
+    if ((ret = check_set_varied(o, d)) || (ret = sp_sweep_check(d, scene, o->energy_given)) ||
+        (ret = figure_look(o, scene, o->overrides, o->n_overrides)))
         return ret;
     long total = sp_sweep_points(d), first = 0, last = total;
     int si = 0, sn = 0;

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -190,6 +191,69 @@ static char *read_line(char *str, int num, void *stream)
     return s;
 }
 
+const char *sp_compare_env_key_check(const char *key)
+{
+    static const char *const reserved[] = {"diff", "png", "mp4", "webm", "mkv", "mov", "gif"};
+    static const char word[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-";
+    if (!key[0] || strlen(key) > 32 || strspn(key, word) != strlen(key))
+        return "expected a key of 1 to 32 letters, digits, '_' or '-' (like llvm19)";
+    for (size_t i = 0; i < sizeof(reserved) / sizeof(reserved[0]); i++)
+        if (!strcasecmp(key, reserved[i]))
+            return "reserved: compare names its own files NAME.diff.png, and NAME.png, "
+                   "NAME.mp4... are images; choose another key (like llvm19)";
+    return NULL;
+}
+
+int sp_compare_config_has_env(const struct sp_compare_config *cfg, const char *key)
+{
+    for (int i = 0; i < cfg->n_envs; i++)
+        if (!strcmp(cfg->envs[i], key))
+            return 1;
+    return 0;
+}
+
+/* The top line `envs = KEY, KEY...`: the environment keys of alternative
+ * baselines (NAME.KEY.png). Each key checked; none twice. Returns 1 (inih
+ * goes on; errors are counted). */
+static int read_envs(struct config_ctx *c, const char *value)
+{
+    struct sp_compare_config *cfg = c->cfg;
+    char key[128];
+    if (cfg->envs_line) {
+        say("%s:%d: envs is set twice (first on line %d); keep one\n", cfg->path,
+            c->lines.line, cfg->envs_line);
+        c->errors++;
+        return 1;
+    }
+    cfg->envs_line = c->lines.line;
+    for (const char *p = value;; p++) {
+        size_t n = strcspn(p, ",");
+        const char *t = p + strspn(p, " \t"), *why;
+        size_t len = (size_t)(p + n - t);
+        while (len && (t[len - 1] == ' ' || t[len - 1] == '\t'))
+            len--;
+        snprintf(key, sizeof(key), "%.*s", (int)(len < sizeof(key) ? len : sizeof(key) - 1), t);
+        if ((why = len >= sizeof(key) ? "too long" : sp_compare_env_key_check(key)) != NULL) {
+            say("%s:%d: envs: '%s': %s; envs lists keys separated by commas\n", cfg->path,
+                c->lines.line, key, why);
+            c->errors++;
+        } else if (sp_compare_config_has_env(cfg, key)) {
+            say("%s:%d: envs: '%s' is listed twice; keep one\n", cfg->path, c->lines.line, key);
+            c->errors++;
+        } else if (cfg->n_envs == SP_COMPARE_MAX_ENVS) {
+            say("%s:%d: envs: more than %d keys; at most %d are allowed\n", cfg->path,
+                c->lines.line, SP_COMPARE_MAX_ENVS, SP_COMPARE_MAX_ENVS);
+            c->errors++;
+            return 1;
+        } else {
+            memcpy(cfg->envs[cfg->n_envs++], key, strlen(key) + 1); /* checked: <= 32 */
+        }
+        p += n;
+        if (!*p)
+            return 1;
+    }
+}
+
 static int handle(void *user, const char *section, const char *name, const char *value)
 {
     struct config_ctx *c = user;
@@ -205,9 +269,12 @@ static int handle(void *user, const char *section, const char *name, const char 
     for (size_t n = strlen(v); n && (v[n - 1] == ' ' || v[n - 1] == '\t');)
         v[--n] = 0;
     value = v;
+    if (!section[0] && !strcmp(name, "envs"))
+        return read_envs(c, value);
     if (!section[0]) {
         say("%s:%d: '%s' comes before any section; put it under [*] (every "
-                "image) or [NAME.png]\n", cfg->path, c->lines.line, name);
+                "image) or [NAME.png] (only 'envs = KEY, ...' goes before them)\n",
+                cfg->path, c->lines.line, name);
         c->errors++;
         return 1;
     }

@@ -885,7 +885,11 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
     struct sp_snapshot_list list;
     const char *skip[] = {c->diff, c->candidates};
     unsigned char *todo = NULL;
-    int ret = sp_snapshot_list_make(&list, dir_e, dir_a, skip, 2), first = rep->n;
+    const char *keys[SP_COMPARE_MAX_ENVS];
+    for (int k = 0; k < c->cfg.n_envs; k++)
+        keys[k] = c->cfg.envs[k];
+    int ret = sp_snapshot_list_make(&list, dir_e, dir_a, skip, 2, keys, c->cfg.n_envs),
+        first = rep->n;
     if (ret) { /* the reports must not read as a pass */
         struct sp_compare_record *r = sp_compare_report_add(rep);
         if (r) {
@@ -1077,6 +1081,12 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
         }
         if ((i == 0 && folders) || i == 1) /* folders */
             continue;
+        if (sp_outfile_is_stream(p)) { /* write_whole: a file, put in place whole */
+            sp_log_error("%s %s is not a regular file (standard output, a device or a FIFO); "
+                         "compare writes its diff and reports to files: give a file name",
+                         outs[i][1], p);
+            return SP_E_INPUT;
+        }
         if (sp_outfile_check_writable(p, outs[i][1]))
             return SP_E_INPUT;
     }
@@ -1159,7 +1169,7 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
                      dir);
         return SP_E_INPUT;
     }
-    if ((ret = sp_snapshot_list_make(&l, dir, dir, skip, 1)) != 0)
+    if ((ret = sp_snapshot_list_make(&l, dir, dir, skip, 1, NULL, 0)) != 0)
         return ret;
     for (int i = 0; i < l.n && !stopped(c); i++) {
         const char *name = l.items[i].name;
@@ -1338,6 +1348,26 @@ static int report(const struct compare_run *c, struct sp_compare_report *rep, co
     return ret;
 }
 
+/* --env KEY names a key that the baselines' compare.ini declares (its envs
+ * line): an undeclared NAME.KEY.png would be an image of its own. */
+static int check_env(const struct compare_run *c, const char *base_dir)
+{
+    if (!c->env || sp_compare_config_has_env(&c->cfg, c->env))
+        return 0;
+    if (!c->cfg.path[0])
+        sp_log_error("--env %s: no %s/" SP_COMPARE_CONFIG_NAME " declares it; write the line "
+                     "'envs = %s' at the top of that file (before any section), so that "
+                     "NAME.%s.png is read as an alternative baseline", c->env, base_dir,
+                     c->env, c->env);
+    else if (!c->cfg.envs_line)
+        sp_log_error("--env %s: %s declares no environment keys; add the line 'envs = %s' at "
+                     "its top (before any section)", c->env, c->cfg.path, c->env);
+    else
+        sp_log_error("%s:%d: --env %s is not among the keys declared here; add it to the "
+                     "envs line", c->cfg.path, c->cfg.envs_line, c->env);
+    return SP_E_INPUT;
+}
+
 int sp_compare_run(const struct sp_compare_desc *d)
 {
     struct compare_run c;
@@ -1352,6 +1382,8 @@ int sp_compare_run(const struct sp_compare_desc *d)
     const char *base_dir = de ? e : dirname(dir); /* the baselines' folder */
     if ((ret = sp_compare_config_load(&c.cfg, base_dir)) != 0)
         return ret;
+    if ((ret = check_env(&c, base_dir)) != 0)
+        goto done;
     /* JUnit's suite: the baselines' folder, as given. */
     snprintf(suite, sizeof(suite), "%s", base_dir);
     for (size_t n = strlen(suite); n > 1 && suite[n - 1] == '/';)

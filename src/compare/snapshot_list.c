@@ -135,11 +135,13 @@ static int walk(const char *root, const char *rel, const struct skips *skip, str
     return err;
 }
 
-/* The image alt is an alternative of, when one of the lists has it:
- * "a.llvm19.png" is one of "a.png" (the longest such stem wins:
- * "a.b.k.png" of "a.b.png" before "a.png"). Returns 1 and the name in out. */
-static int stem_of(const char *alt, const struct names *e, const struct names *a, char *out,
-                   size_t size)
+/* The image alt is an alternative of, when one of the lists has it and its
+ * KEY is declared: "a.llvm19.png" is one of "a.png" when llvm19 is one of
+ * keys. A dotted name whose last part is no declared key ("fig.1.png",
+ * "scene.lyapunov.png") is an image of its own. Returns 1 and the name in
+ * out. */
+static int stem_of(const char *alt, const struct names *e, const struct names *a,
+                   const char *const *keys, int n_keys, char *out, size_t size)
 {
     const char *ext = ext_of(alt), *base = strrchr(alt, '/') ? strrchr(alt, '/') + 1 : alt;
     if (!ext)
@@ -147,9 +149,12 @@ static int stem_of(const char *alt, const struct names *e, const struct names *a
     for (const char *dot = ext - 1; dot > base; dot--) {
         if (*dot != '.')
             continue;
+        int declared = 0;
+        for (int k = 0; k < n_keys && !declared; k++)
+            declared = strlen(keys[k]) == (size_t)(ext - dot - 1) &&
+                       !strncmp(keys[k], dot + 1, (size_t)(ext - dot - 1));
         snprintf(out, size, "%.*s%s", (int)(dot - alt), alt, ext);
-        if (names_has(a, out) || names_has(e, out))
-            return 1;
+        return declared && (names_has(a, out) || names_has(e, out));
     }
     return 0;
 }
@@ -201,7 +206,8 @@ static int item_by_name(const void *a, const void *b)
 }
 
 int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const char *dir_a,
-                          const char *const *skip, int n_skip)
+                          const char *const *skip, int n_skip, const char *const *keys,
+                          int n_keys)
 {
     struct names e = {0}, a = {0};
     struct skips sk = {0};
@@ -225,7 +231,7 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
         if (!item_add(l, &cap, a.v[i]))
             goto nomem;
     for (int i = 0; i < e.n; i++)
-        if (!names_has(&a, e.v[i]) && !stem_of(e.v[i], &e, &a, stem, sizeof(stem)) &&
+        if (!names_has(&a, e.v[i]) && !stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem)) &&
             !item_add(l, &cap, e.v[i]))
             goto nomem;
     if (l->n)
@@ -237,7 +243,7 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
     /* Then the alternatives, each to its image. */
     for (int i = 0; i < e.n; i++) {
         struct sp_snapshot *it;
-        if (names_has(&a, e.v[i]) || !stem_of(e.v[i], &e, &a, stem, sizeof(stem)) ||
+        if (names_has(&a, e.v[i]) || !stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem)) ||
             !(it = item_find(l, stem)))
             continue;
         char **v = realloc(it->alts, sizeof(*v) * (size_t)(it->n_alts + 1));

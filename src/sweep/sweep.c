@@ -508,6 +508,13 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
          * them apart (a span of a few ulps hung the tick loop) */
         const struct sp_sweep_axis *x = &d->axis[a];
         const double step = fabs(x->to - x->from) / (x->count > 1 ? x->count - 1 : 1);
+        if (x->count == 1 && x->from != x->to) {
+            sp_log_error("--vary %s=%.9g:%.9g:1: one value cannot run from %.9g to %.9g; "
+                         "allowed: COUNT 2 or more for a range, or FROM = TO for one value "
+                         "(--vary %s=%.9g:%.9g:1)", k, x->from, x->to, x->from, x->to, k,
+                         x->from, x->from);
+            return SP_E_INPUT;
+        }
         if (x->count > 1 && !(step > 1e-9 * fmax(1, fmax(fabs(x->from), fabs(x->to))))) {
             sp_log_error("--vary %s=%.17g:%.17g:%d: the %d values are %s; allowed: FROM and TO "
                          "apart by more than 1e-9 of their size for each step (or COUNT 1)", k,

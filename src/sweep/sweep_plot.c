@@ -1139,6 +1139,18 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
         const double plot_h = print ? H - 2 * U(6) - (G.tick + U(4) + U(12) * 1.2 + U(5) +
                                                         U(14) * 1.25 + U(4))
                                     : H - 116;
+        /* a printed size whose plot has no room for its ticks and labels
+         * (--size 1inx200in drew its text over itself): refused */
+        const double least_w = 12 * U(14), least_h = 7 * U(14); /* an axis label, ticks */
+        if (print && (plot_w < least_w || plot_h < least_h)) {
+            sp_log_error("--size %.4gx%.4g in: the plot inside the figure's margins would be "
+                         "%.0f x %.0f pt, and its ticks and axis labels need at least %.0f x "
+                         "%.0f pt at view.font_size %g pt; allowed: a page at least %.2f in "
+                         "wide and %.2f in tall, or a smaller view.font_size", W / 72, H / 72,
+                         fmax(plot_w, 0), fmax(plot_h, 0), least_w, least_h, body,
+                         (W - plot_w + least_w) / 72, (H - plot_h + least_h) / 72);
+            return SP_E_INPUT;
+        }
         font_pt(U(14));
         label_room(v->xlabel[0] ? 0 : -1, v->xlabel, plot_w, "the widest plot's width");
         label_room(v->ylabel[0] ? 1 : -1, v->ylabel, plot_h, "the tallest plot's height");

@@ -1122,6 +1122,12 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
         }
         if ((i == 0 && folders) || i == 1) /* folders */
             continue;
+        if (sp_outfile_is_stream(p)) { /* write_whole: a file, put in place whole */
+            sp_log_error("%s %s is not a regular file (standard output, a device or a FIFO); "
+                         "compare writes its diff and reports to files: give a file name",
+                         outs[i][1], p);
+            return SP_E_INPUT;
+        }
         if (sp_outfile_check_writable(p, outs[i][1]))
             return SP_E_INPUT;
     }

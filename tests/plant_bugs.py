@@ -94,7 +94,7 @@ BUGS = [
     ("merge-takes-next-shards-point", "sweep", "src/sweep/sweep_merge.c",
      "struct sp_sweep_rows r = {.d = d, .first = first, .last = last, .point = -1};",
      "struct sp_sweep_rows r = {.d = d, .first = first, .last = last + 1, .point = -1};",
-     "formats,review,sweep"),
+     "formats,review,sweep,attack6-fixes"),
     ("still-scale-ignored", "cli", "src/cli/cli_render.c",
      ".supersample = o.still.scale,", ".supersample = 1,",
      "options,cli,figures"),

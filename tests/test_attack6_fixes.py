@@ -8,8 +8,10 @@ pass (doc/notes/2026-11-27/attack5.md), each run as the attacker ran it:
 - compare.ini sections that match no image are named in a warning;
 - the rest of finding 12's small things (see the sections below).
 usage: test_attack6_fixes.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import hashlib
 import json
 import os
+import re
 import struct
 import zlib
 
@@ -255,5 +257,25 @@ else:
 r = run("compare", "mem/e", "mem/a", "--jobs", "4", timeout=120)
 ok(r.returncode == 1 and "--jobs" not in err(r),
    f"without a limit, --jobs 4 of 2000x2000 images runs on 4 threads, nothing said ({err(r)[:120]})")
+
+# ---- sweep --merge: a shard holding the next shard's point is refused --------------
+# (the planted bug merge-takes-next-shards-point, tests/plant_bugs.py)
+for i in (1, 2):
+    r = run("sweep", chaotic, "--vary", "initial.angle=1:179:4", *grid, "--shard", f"{i}/2",
+            "--csv", f"sh{i}.csv", "-q")
+    assert r.returncode == 0, err(r)
+one = read(path("sh1.csv")).splitlines(True)
+two = read(path("sh2.csv")).splitlines(True)
+forged = one[0] + one[1] + two[1]  # point 1 replaced by point 2, the next shard's first
+meta = read(path("sh1.csv-metadata.json")).decode()
+meta = re.sub(r'"schema:sha256": "[0-9a-f]+"',
+              f'"schema:sha256": "{hashlib.sha256(forged).hexdigest()}"', meta)
+write(path("f1.csv"), forged)
+write(path("f1.csv-metadata.json"), meta.replace('"url": "sh1.csv"', '"url": "f1.csv"'))
+r = run("sweep", "--merge", "f1.csv", "sh2.csv", "-o", "forged.svg")
+ok(r.returncode == 2 and "f1.csv:3: the point is not one of this shard's" in err(r)
+   and not os.path.exists(path("forged.svg")),
+   f"--merge: shard 1/2 holding point 2 (shard 2's), its SHA-256 recomputed: refused at "
+   f"its line ({err(r)[:140]})")
 
 done()

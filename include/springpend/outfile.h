@@ -61,6 +61,14 @@ int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags);
  * .part is removed. Either way f is closed. SP_E_IO on failure. */
 int sp_outfile_commit(struct sp_outfile *f);
 
+/* Commits first, then second (sp_outfile_commit), both renames under an
+ * exclusive lock (flock) on the folder of second's target: two runs
+ * writing the same pair (a CSV and its CSV-metadata.json) at once put their
+ * pairs in place one after the other, never one's first with the other's
+ * second. Either may be closed or written through. On failure the rest is
+ * discarded (a first already in place stays). 0 or SP_E_IO. */
+int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second);
+
 /* Closes f->fd and removes the .part; a target written through is left
  * alone. Safe on a closed or zeroed f. */
 void sp_outfile_discard(struct sp_outfile *f);

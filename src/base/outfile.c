@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -84,8 +85,8 @@ static int stdio_alias(const char *target)
 
 static const char *file_kind(mode_t m)
 {
-    return S_ISCHR(m) ? "character device" : S_ISBLK(m) ? "block device"
-         : S_ISFIFO(m) ? "FIFO" : S_ISSOCK(m) ? "socket" : "special file";
+    return S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
+         : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket" : "a special file";
 }
 
 int sp_outfile_is_stream(const char *target)
@@ -276,6 +277,34 @@ int sp_outfile_commit(struct sp_outfile *f)
     slot_give(f->slot);
     outfile_free(f);
     return 0;
+}
+
+int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second)
+{
+    const struct sp_outfile *named = second->target ? second : first;
+    int dir = -1, err;
+    if (named->target && !named->through) {
+        char folder[PATH_MAX];
+        const char *slash = strrchr(named->target, '/');
+        if (!slash)
+            snprintf(folder, sizeof(folder), ".");
+        else
+            snprintf(folder, sizeof(folder), "%.*s", slash == named->target ? 1
+                     : (int)(slash - named->target), named->target);
+        dir = open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        /* a folder that cannot be locked (a file system without flock)
+         * is written unlocked, as a single file always is */
+        while (dir >= 0 && flock(dir, LOCK_EX) != 0 && errno == EINTR)
+            ;
+    }
+    err = sp_outfile_commit(first);
+    if (!err)
+        err = sp_outfile_commit(second);
+    else
+        sp_outfile_discard(second);
+    if (dir >= 0)
+        close(dir); /* and the lock with it */
+    return err;
 }
 
 void sp_outfile_discard(struct sp_outfile *f)

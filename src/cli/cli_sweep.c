@@ -654,10 +654,8 @@ static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
         .shard = pv->shard, .rows = lines - 1, .sha256 = hex};
     if (!ret)
         ret = sp_csv_metadata_write(&meta, csv, &m);
-    if (!ret)
-        ret = sp_outfile_commit(&meta);
-    if (!ret)
-        ret = sp_outfile_commit(&f);
+    if (!ret) /* the metadata first: when the CSV appears, it is there */
+        ret = sp_outfile_commit_pair(&meta, &f);
     sp_outfile_discard(&f);
     return ret;
 }
@@ -715,16 +713,32 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
     return ret;
 }
 
+/* The figure's look into o->style: the scene's [view] (a sweep's or the
+ * merged shards'), its title in force when the scene or a --set gives one;
+ * checked (fonts, sizes) when a figure is asked for. 0 or SP_E_*. */
+static int figure_look(struct sweep_opts *o, const struct sp_scene *scene,
+                       const char *const *overrides, int n_overrides)
+{
+    o->style.view = &scene->view;
+    o->style.title_set = scene->view.title[0] != 0;
+    for (int i = 0; i < n_overrides; i++)
+        o->style.title_set |= !strncmp(overrides[i], "view.title=", 11);
+    return o->output ? check_figure(&o->style) : 0;
+}
+
 /* sweep --merge: the shards' rows (sweep_merge.h), drawn and written as a
  * sweep's own. */
-static int merge(const struct sweep_opts *o)
+static int merge(const struct sweep_opts *opts)
 {
     struct sp_sweep_merge m;
+    struct sweep_opts look = *opts, *o = &look; /* the figure's look: the shards' scene's */
     const struct sp_sweep_merge_desc desc = {.parts = o->parts, .n_parts = o->n_parts,
                                              .cancel = o->cancel};
     int ret = sp_sweep_merge_open(&m, &desc);
     FILE *out = NULL;
     struct sp_dirs made[2] = {{0}, {0}};
+    if (!ret) /* as sweep_scene sets it for the one-piece run (its --set applied in m.scene) */
+        ret = figure_look(o, &m.scene, m.overrides, m.n_overrides);
     if (!ret)
         ret = open_rows(&out);
     if (!ret) {
@@ -766,12 +780,8 @@ static int check_set_varied(const struct sweep_opts *o, const struct sp_sweep_de
 static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_scene *scene)
 {
     int ret;
-    o->style.view = &scene->view; /* the figure's look */
-    o->style.title_set = scene->view.title[0] != 0;
-    for (int i = 0; i < o->n_overrides; i++)
-        o->style.title_set |= !strncmp(o->overrides[i], "view.title=", 11);
     if ((ret = check_set_varied(o, d)) || (ret = sp_sweep_check(d, scene, o->energy_given)) ||
-        (o->output && (ret = check_figure(&o->style))))
+        (ret = figure_look(o, scene, o->overrides, o->n_overrides)))
         return ret;
     long total = sp_sweep_points(d), first = 0, last = total;
     int si = 0, sn = 0;

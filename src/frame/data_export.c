@@ -266,9 +266,7 @@ int sp_data_run(const struct sp_data_desc *d)
     if (!ret)
         ret = write_metadata(&meta, out, d, d->scenes, d->n_scenes, spatial);
     if (!ret) /* the metadata first: when the CSV appears, it is there */
-        ret = sp_outfile_commit(&meta);
-    if (!ret)
-        ret = sp_outfile_commit(&f);
+        ret = sp_outfile_commit_pair(&meta, &f);
     if (!ret && !d->quiet && !through)
         sp_fprintf_line(stderr, "wrote %s", out);
 done:

@@ -14,6 +14,7 @@
 #include "springpend/csv_metadata.h"
 #include "springpend/infile.h"
 #include "springpend/provenance.h"
+#include "springpend/timeline.h"
 #include "sweep_format.h"
 #include "sweep_merge.h"
 
@@ -292,10 +293,12 @@ static int open_one(struct sp_sweep_merge *m, int k, const struct sp_sweep_merge
         }
         snprintf(m->columns, sizeof(m->columns), "%s", strchr(text, '\n') + 1);
         free(text);
+        /* kept until sp_sweep_merge_close: its [view] is the figure's look
+         * (title, font, sizes), as in the one-piece run */
         if (sp_provenance_scene_check(s->path, "dc:source", s->scene, strlen(s->scene)) ||
             sp_scene_parse(&m->scene, s->scene, s->path, NULL, 0))
             return SP_E_INPUT;
-        sp_scene_free(&m->scene);
+        sp_timeline_destroy(&m->scene.timeline); /* presentation: sweeps ignore it */
         if (s->n != n) {
             sp_log_error("%s is shard %d of %d, but %d files were given; give all %d",
                          s->path, s->i, s->n, n, s->n);
@@ -353,6 +356,7 @@ void sp_sweep_merge_write(struct sp_sweep_merge *m, FILE *out)
 
 void sp_sweep_merge_close(struct sp_sweep_merge *m)
 {
+    sp_scene_free(&m->scene);
     for (int k = 0; m->shards && k < m->n; k++) {
         if (m->shards[k].fp)
             fclose(m->shards[k].fp);

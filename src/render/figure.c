@@ -13,8 +13,8 @@
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "base/module.h"
-#include "compose.h"
-#include "render/draw_cairo.h"
+#include "frame/compose.h"
+#include "draw_cairo.h"
 
 enum sp_figure_format sp_figure_format(const char *path)
 {

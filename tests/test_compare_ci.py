@@ -418,6 +418,22 @@ ok((r1.returncode, r2.returncode, r3.returncode, r4.returncode) == (1, 1, 0, 0)
    and "19200 pixels masked" in r4.stdout,
    f"compare.ini beside a single pair and beside videos ({r3.stdout.strip()} | {r4.stdout.strip()})")
 
+def wait_caught(p, sig, limit=20.0):
+    """Waits until process p catches signal sig (its handlers are set, as
+    /proc/PID/status's SigCgt mask shows), so that the signal tests the
+    program's handling, not how soon a loaded machine started it."""
+    end = time.time() + limit
+    while time.time() < end and p.poll() is None:
+        try:
+            with open(f"/proc/{p.pid}/status") as f:
+                caught = next((int(l.split()[1], 16) for l in f if l.startswith("SigCgt:")), 0)
+        except OSError:
+            caught = 0
+        if caught >> (sig - 1) & 1:
+            return
+        time.sleep(0.01)
+
+
 # Signals: a long folder compare stops at once with 128 + signal.
 big_e, big_a = W("big_e"), W("big_a")
 os.makedirs(big_e), os.makedirs(big_a)
@@ -428,6 +444,7 @@ for i in range(300):
 for sig in (signal.SIGINT, signal.SIGTERM):
     p = subprocess.Popen([exe, "compare", big_e, big_a], stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, cwd=work)
+    wait_caught(p, sig)
     time.sleep(0.5)
     p.send_signal(sig)
     out, err = p.communicate(timeout=30)
@@ -442,6 +459,7 @@ os.link(W("long.mp4"), W("long2.mp4"))
 for sig in (signal.SIGINT, signal.SIGTERM):
     p = subprocess.Popen([exe, "compare", W("long.mp4"), W("long2.mp4")], stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, cwd=work)
+    wait_caught(p, sig)
     time.sleep(0.4)
     p.send_signal(sig)
     out, err = p.communicate(timeout=30)

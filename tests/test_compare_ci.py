@@ -17,7 +17,7 @@ import time
 import xml.etree.ElementTree as ET
 import zlib
 
-from sptest import manual
+from sptest import manual, wait_caught
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "compare_ci"))
@@ -417,21 +417,6 @@ r4 = run("compare", os.path.join(cfg_dir, "v.mp4"), os.path.join(cfg_dir, "v11.m
 ok((r1.returncode, r2.returncode, r3.returncode, r4.returncode) == (1, 1, 0, 0)
    and "19200 pixels masked" in r4.stdout,
    f"compare.ini beside a single pair and beside videos ({r3.stdout.strip()} | {r4.stdout.strip()})")
-
-def wait_caught(p, sig, limit=20.0):
-    """Waits until process p catches signal sig (its handlers are set, as
-    /proc/PID/status's SigCgt mask shows), so that the signal tests the
-    program's handling, not how soon a loaded machine started it."""
-    end = time.time() + limit
-    while time.time() < end and p.poll() is None:
-        try:
-            with open(f"/proc/{p.pid}/status") as f:
-                caught = next((int(l.split()[1], 16) for l in f if l.startswith("SigCgt:")), 0)
-        except OSError:
-            caught = 0
-        if caught >> (sig - 1) & 1:
-            return
-        time.sleep(0.01)
 
 
 # Signals: a long folder compare stops at once with 128 + signal.

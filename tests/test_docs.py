@@ -101,7 +101,8 @@ ok(len(lines) == 2 and len(ci) == 1 and packages(lines[0]) == packages(lines[1])
 
 # ---- the manual's links and pictures resolve --------------------------------
 # A page moved or a picture renamed left links that lead nowhere: every
-# relative link and image of README.md and doc/*.md names an existing file,
+# relative link and image (Markdown or <img src>) of README.md and doc/*.md
+# names an existing file (the pictures live in doc/pictures/),
 # and an anchor (#name) a heading of the page it points into.
 def anchors(path):
     """The anchors of a Markdown page's headings, as GitHub makes them."""
@@ -117,7 +118,7 @@ def anchors(path):
 pages = doc_pages(root)
 for page in pages:
     body = re.sub(r"^```.*?^```", "", open(page, encoding="utf-8").read(), flags=re.S | re.M)
-    targets = re.findall(r"\]\(([^)\s]+)\)", body)
+    targets = re.findall(r"\]\(([^)\s]+)\)", body) + re.findall(r'<img src="([^"]+)"', body)
     bad = []
     for target in targets:
         if re.match(r"[a-z]+:", target):

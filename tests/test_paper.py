@@ -373,18 +373,18 @@ if shutil.which("pdftoppm"):
 # Each picture is an 8.6 cm PDF rasterised at 300 dpi (1016 px wide; 8.6 x 8
 # cm: 1016 x 945) and shown 325 CSS px wide (8.6 cm at 96 px per inch), with
 # the command that made it, at that size, after it.
-figs = re.findall(r'<img src="(?:\.\./)?(docs/paper/(\w+)\.png)" width="(\d+)"[^>]*>\s*```sh\n(.*?)```',
+figs = re.findall(r'<img src="(?:doc/)?(pictures/paper/(\w+)\.png)" width="(\d+)"[^>]*>\s*```sh\n(.*?)```',
                   manual(root), re.S)
 ok(len(figs) >= 5, f"the page of figures shows {len(figs)} figures, each followed by its command")
 for path, name, width, cmd in figs:
-    w, h, ppm = png_info(os.path.join(root, path))
+    w, h, ppm = png_info(os.path.join(root, "doc", path))
     size = re.search(r"--size (\S+)", cmd)
     cm = [float(x) for x in re.findall(r"([\d.]+)cm", size.group(1))] if size else []
     want_w = round(cm[0] / 2.54 * 300) if cm else -1
     want_h = round(cm[1] / 2.54 * 300) if len(cm) > 1 else None
     ok(int(width) == round(8.6 / 2.54 * 96) and cm and cm[0] == 8.6 and abs(w - want_w) <= 1 and
        (want_h is None or abs(h - want_h) <= 1) and f"-o {name}.pdf" in cmd,
-       f"docs/paper/{name}.png: {w}x{h} px = {size.group(1) if size else '?'} at 300 dpi "
+       f"doc/pictures/paper/{name}.png: {w}x{h} px = {size.group(1) if size else '?'} at 300 dpi "
        f"(expected {want_w} wide), shown {width} px (8.6 cm), made by a command writing {name}.pdf")
 
 # ---- refused: exit 2, the option named, nothing written ----

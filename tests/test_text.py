@@ -244,13 +244,13 @@ def run_doc(target, out):
     return page, subprocess.run(argv, cwd=root, capture_output=True, text=True)
 
 
-page, r = run_doc("docs/multilingual.png", "readme-multilingual.png")
+page, r = run_doc("doc/pictures/multilingual.png", "readme-multilingual.png")
 ok(r is not None and r.returncode == 0 and
-   same_rows(os.path.join(work, "readme-multilingual.png"), os.path.join(root, "docs", "multilingual.png"),
+   same_rows(os.path.join(work, "readme-multilingual.png"), os.path.join(root, "doc", "pictures", "multilingual.png"),
              1280, 720, [slice(0, 40), slice(684, 720)]),
-   f"{page}: its command for docs/multilingual.png draws that picture's title and caption, pixel for pixel"
+   f"{page}: its command for doc/pictures/multilingual.png draws that picture's title and caption, pixel for pixel"
    f"{' (' + r.stderr.strip()[:100] + ')' if r is not None and r.returncode else ''}")
-page, r = run_doc("docs/latin-modern.pdf", "readme-latin-modern.pdf")
+page, r = run_doc("doc/pictures/latin-modern.pdf", "readme-latin-modern.pdf")
 made = os.path.join(work, "readme-latin-modern.pdf")
 good = r is not None and r.returncode == 0
 if good:
@@ -260,9 +260,9 @@ if good:
                    check=True)
     good = ("LMRoman10-Regular" in embedded and
             "Energy exchange at 2:1 resonance" in sptext.pdf_text(made) and
-            same_rows(os.path.join(work, "readme-lm.png"), os.path.join(root, "docs", "latin-modern-pdf.png"),
+            same_rows(os.path.join(work, "readme-lm.png"), os.path.join(root, "doc", "pictures", "latin-modern-pdf.png"),
                       984, 600, [slice(0, 60)]))
-ok(good, f"{page}: its command for docs/latin-modern.pdf writes a PDF that embeds Latin Modern "
+ok(good, f"{page}: its command for doc/pictures/latin-modern.pdf writes a PDF that embeds Latin Modern "
    f"({embedded if r is not None and r.returncode == 0 else 'not written'}), holds its title as text and "
-   "rasterises (pdftoppm -r 144) to docs/latin-modern-pdf.png's title, pixel for pixel")
+   "rasterises (pdftoppm -r 144) to doc/pictures/latin-modern-pdf.png's title, pixel for pixel")
 done()

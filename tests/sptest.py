@@ -38,16 +38,24 @@ def ok(cond, what, skip=None):
 
 
 def png_text(path, compressed=False):
-    """A PNG's tEXt chunks (and zTXt ones, inflated, when compressed) as
-    {keyword: text}."""
+    """A PNG's tEXt and uncompressed iTXt chunks (and zTXt and compressed
+    iTXt ones, inflated, when compressed) as {keyword: text}. springpend
+    writes ASCII text as tEXt/zTXt and UTF-8 beyond it as iTXt."""
     import struct
     import zlib
     data, text, i = open(path, "rb").read(), {}, 8
     while i < len(data):
         n, kind = struct.unpack(">I4s", data[i:i + 8])
+        body = data[i + 8:i + 8 + n]
         if kind == b"tEXt" or (compressed and kind == b"zTXt"):
-            k, v = data[i + 8:i + 8 + n].split(b"\0", 1)
+            k, v = body.split(b"\0", 1)
             text[k.decode("latin-1")] = (zlib.decompress(v[1:]) if kind == b"zTXt" else v).decode("utf-8")
+        elif kind == b"iTXt":
+            k, rest = body.split(b"\0", 1)
+            flag, rest = rest[0], rest[2:]
+            _lang, _tkey, v = rest.split(b"\0", 2)
+            if flag == 0 or compressed:
+                text[k.decode("latin-1")] = (zlib.decompress(v) if flag else v).decode("utf-8")
         i += 12 + n
     return text
 

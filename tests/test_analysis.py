@@ -223,19 +223,34 @@ for what, (sc, grid) in grids.items():
 
 
 # ---- basins of a bistable case against scipy ------------------------------------
-def settle_scipy(p, th0, thd0, T=120.0):
-    """Integrates a start (lab frame) and says where it ends: 'hanging' when the
-    swing's largest |theta| over the last 4 drive periods is below 1 degree,
-    'swing' when it is a regular swing below 90 degrees, else 'other'."""
-    q = dict(p, th0=th0, thd0=thd0)
-    w = 2 * math.pi * q["f"]
-    t_end = math.floor(T * q["f"]) / q["f"]
-    sol = solve_ivp(rhs_factory(q, 0), (0, t_end), start(q), method="DOP853", rtol=1e-9,
-                    atol=1e-11, dense_output=True)
-    ts = np.linspace(t_end - 4 / q["f"], t_end, 400)
-    x, y = sol.sol(ts)[0], sol.sol(ts)[1] - q["A"] * np.sin(w * ts)
-    peak = np.max(np.abs(np.degrees(np.arctan2(x, -y))))
-    return "hanging" if peak < 1 else "swing" if peak < 90 else "other"
+def settle_scipy(p, starts, T=120.0):
+    """Integrates each (theta0 deg, theta rate rad/s) start (lab frame) and says
+    where it ends: 'hanging' when the swing's largest |theta| over the last 4
+    drive periods is below 1 degree, 'swing' when it is a regular swing below
+    90 degrees, else 'other'. All starts are one system of 4N equations, so
+    numpy evaluates them together; the tolerances are divided by sqrt(4N),
+    as scipy's error norm is the RMS over all components, so that each start
+    is held to at least the tolerance it would have alone."""
+    n = len(starts)
+    km, L0, g, bm, A = p["k"] / p["m"], p["L0"], p["g"], p["b"] / p["m"], p["A"]
+    w = 2 * math.pi * p["f"]
+
+    def rhs(t, s):
+        x, y, vx, vy = s.reshape(4, n)
+        dy = y - A * math.sin(w * t)
+        c = km * (1 - L0 / np.hypot(x, dy))
+        return np.concatenate([vx, vy, -c * x - bm * vx, -c * dy - g - bm * vy])
+
+    s0 = np.array([start(dict(p, th0=a, thd0=b)) for a, b in starts]).T.ravel()
+    t_end = math.floor(T * p["f"]) / p["f"]
+    k = math.sqrt(4 * n)
+    sol = solve_ivp(rhs, (0, t_end), s0, method="DOP853", rtol=1e-9 / k, atol=1e-11 / k,
+                    dense_output=True)
+    ts = np.linspace(t_end - 4 / p["f"], t_end, 400)
+    q = sol.sol(ts).reshape(4, n, len(ts))
+    x, y = q[0], q[1] - A * np.sin(w * ts)
+    peak = np.max(np.abs(np.degrees(np.arctan2(x, -y))), axis=1)
+    return ["hanging" if v < 1 else "swing" if v < 90 else "other" for v in peak]
 
 
 BIST = dict(PARAMETRIC, A=0.01)
@@ -255,10 +270,8 @@ for a in atts:
                          "swing" if a["period"] == 2 and a["winding"] == 0 else "other")
 ok(sorted(names.values()) == ["hanging", "swing"],
    f"parametric.ini at 10 mm: two attractors, {[a['label'] for a in atts]}")
-ours, ref = [], []
-for row, label in zip(j["rows"], j.get("labels", [])):
-    ours.append(names.get(label, "other"))
-    ref.append(settle_scipy(BIST, row[1], row[2]))
+ours = [names.get(label, "other") for label in j.get("labels", [])]
+ref = settle_scipy(BIST, [(row[1], row[2]) for row in j["rows"]][:len(ours)]) if ours else []
 agree = sum(a == b for a, b in zip(ours, ref)) / max(1, len(ref))
 f_ours = ours.count("hanging") / max(1, len(ours))
 f_ref = ref.count("hanging") / max(1, len(ref))

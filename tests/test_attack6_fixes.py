@@ -8,8 +8,12 @@ pass (doc/notes/2026-11-27/attack5.md), each run as the attacker ran it:
 - compare.ini sections that match no image are named in a warning;
 - the rest of finding 12's small things (see the sections below).
 usage: test_attack6_fixes.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import hashlib
 import json
 import os
+import re
+import struct
+import zlib
 
 import sptest
 from sptest import done, err, ok
@@ -170,5 +174,108 @@ for cmd in (["data", default, "-o", "u.csv"], ["info", default]):
     ok(r.returncode == 2 and "--size is for 'springpend render' and 'springpend still'" in err(r)
        and not os.path.exists(path("u.csv")) and not r.stdout,
        f"{cmd[0]} --size: exit 2 naming the commands that take it ({err(r)})")
+
+# ---- finding 12: UTF-8 provenance goes into iTXt, not Latin-1 zTXt ---------------
+def chunks(p):
+    d, i, out = read(p), 8, []
+    while i < len(d):
+        n, kind = struct.unpack(">I4s", d[i:i + 8])
+        out.append((kind, d[i + 8:i + 8 + n]))
+        i += 12 + n
+    return out
+
+
+def chunk(kind, body):
+    return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+
+
+title = "你好 é"
+r = run("still", default, "--at", "1", "--size", "320x180", "--set", f"view.title={title}", "-q",
+        "-o", "u8.png")
+assert r.returncode == 0, err(r)
+itxt = {b.split(b"\0", 1)[0]: b for kind, b in chunks(path("u8.png")) if kind == b"iTXt"}
+zt = {b.split(b"\0", 1)[0]: zlib.decompress(b.split(b"\0", 1)[1][1:])
+      for kind, b in chunks(path("u8.png")) if kind == b"zTXt"}
+scene_itxt = itxt.get(b"springpend.scene-file", b"")
+flag = scene_itxt.split(b"\0", 1)[1][:1] if scene_itxt else b""
+texts = sptest.png_text(path("u8.png"), compressed=True)
+ok(b"springpend.scene-file" in itxt and b"springpend.scene" in itxt and flag == b"\1"
+   and not any(any(c >= 0x80 for c in v) for v in zt.values())
+   and title in texts.get("springpend.scene-file", ""),
+   f"a UTF-8 title: the scene's chunks are compressed iTXt, no zTXt holds bytes beyond "
+   f"ASCII ({sorted(itxt)}, zTXt {sorted(zt)})")
+r = run("scene", "u8.png")
+ok(r.returncode == 0 and f'title = "{title}"'.encode() in r.stdout,
+   f"springpend scene reads the iTXt back ({err(r)[:120]})")
+# an older PNG, the scene as UTF-8 in zTXt: still read
+old = b"\x89PNG\r\n\x1a\n"
+for kind, b in chunks(path("u8.png")):
+    if kind == b"iTXt":
+        k, rest = b.split(b"\0", 1)
+        v = rest[2:].split(b"\0", 2)[2]
+        old += chunk(b"zTXt", k + b"\0\0" + v)  # v is deflated already (flag 1)
+    else:
+        old += chunk(kind, b)
+write(path("old.png"), old)
+r = run("scene", "old.png")
+ok(r.returncode == 0 and f'title = "{title}"'.encode() in r.stdout,
+   f"a PNG with the UTF-8 scene in zTXt (as springpend wrote before) is read too ({err(r)[:120]})")
+r = run("compare", "u8.png", "old.png")
+ok(r.returncode == 0, f"compare reads both ({r.stdout[-120:]!r})")
+
+# ---- finding 12: compare --jobs is bounded by memory ------------------------------
+def flat_png(p, w, h, stripe):
+    row0, row1 = b"\0" + bytes((10, 20, 30)) * w, b"\0" + bytes(stripe) * w
+    raw = b"".join(row1 if y % 97 == 0 else row0 for y in range(h))
+    write(p, b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+          + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+for i in range(4):  # 2000x2000: 32 MB a pair decoded as RGBA
+    flat_png(path("mem", "e", f"p{i}.png"), 2000, 2000, (200, 200, 200))
+    flat_png(path("mem", "a", f"p{i}.png"), 2000, 2000, (100, 200, 200))
+sanitized = b"__asan_init" in read(exe)  # a sanitizer's shadow memory needs no limit
+
+
+def data_limit(mb):
+    import resource
+    return lambda: resource.setrlimit(resource.RLIMIT_DATA, (mb << 20, mb << 20))
+
+
+if not sanitized:
+    # ulimit -d 100 MB: four threads of 32 MB and more ran out of memory and
+    # reported images as unreadable; the threads are fitted to half the limit
+    r = run("compare", "mem/e", "mem/a", "--jobs", "4", preexec_fn=data_limit(100), timeout=120)
+    out = r.stdout.decode()
+    ok(r.returncode == 1 and "4 compared, 0 passed, 4 failed, 0 missing or unreadable" in out
+       and "--jobs 4: each thread holds up to 48 MB" in err(r) and "half of ulimit -d" in err(r)
+       and "comparing on 1 thread" in err(r),
+       f"compare --jobs 4 under ulimit -d 100 MB: every image compared, on the threads "
+       f"that fit, said on stderr ({out.strip()[-90:]} | {err(r)[:200]})")
+else:
+    ok(True, "compare --jobs under ulimit -d", skip="a sanitizer build")
+r = run("compare", "mem/e", "mem/a", "--jobs", "4", timeout=120)
+ok(r.returncode == 1 and "--jobs" not in err(r),
+   f"without a limit, --jobs 4 of 2000x2000 images runs on 4 threads, nothing said ({err(r)[:120]})")
+
+# ---- sweep --merge: a shard holding the next shard's point is refused --------------
+# (the planted bug merge-takes-next-shards-point, tests/plant_bugs.py)
+for i in (1, 2):
+    r = run("sweep", chaotic, "--vary", "initial.angle=1:179:4", *grid, "--shard", f"{i}/2",
+            "--csv", f"sh{i}.csv", "-q")
+    assert r.returncode == 0, err(r)
+one = read(path("sh1.csv")).splitlines(True)
+two = read(path("sh2.csv")).splitlines(True)
+forged = one[0] + one[1] + two[1]  # point 1 replaced by point 2, the next shard's first
+meta = read(path("sh1.csv-metadata.json")).decode()
+meta = re.sub(r'"schema:sha256": "[0-9a-f]+"',
+              f'"schema:sha256": "{hashlib.sha256(forged).hexdigest()}"', meta)
+write(path("f1.csv"), forged)
+write(path("f1.csv-metadata.json"), meta.replace('"url": "sh1.csv"', '"url": "f1.csv"'))
+r = run("sweep", "--merge", "f1.csv", "sh2.csv", "-o", "forged.svg")
+ok(r.returncode == 2 and "f1.csv:3: the point is not one of this shard's" in err(r)
+   and not os.path.exists(path("forged.svg")),
+   f"--merge: shard 1/2 holding point 2 (shard 2's), its SHA-256 recomputed: refused at "
+   f"its line ({err(r)[:140]})")
 
 done()

@@ -69,7 +69,9 @@ static void test_script(const struct sp_font *f, const char *name, const char *t
     struct sp_line l;
     int notdef = 0;
     sp_tap_ok(sp_font_check(f, name, text) == 0, "%s: every character is in an installed font", name);
-    sp_tap_ok(sp_font_shape(f, SP_TEXT_NORMAL, text, &l) == 0 && l.n_glyphs > 0 && l.missing == 0,
+    /* shaped first: the message's arguments are read before sp_tap_ok runs */
+    const int shaped = sp_font_shape(f, SP_TEXT_NORMAL, text, &l) == 0;
+    sp_tap_ok(shaped && l.n_glyphs > 0 && l.missing == 0,
               "%s: laid out (%d glyphs in %d runs, %d px)", name, l.n_glyphs, l.n_runs, l.width);
     for (int i = 0; i < l.n_glyphs; i++)
         notdef += l.glyphs[i].index == 0;
@@ -333,6 +335,44 @@ static void test_shape_cache(void)
     sp_font_destroy(&f);
 }
 
+/* A line's quads are worked out once (when its glyphs are rasterised) and
+ * copied after: laid out again at another pen position, and again after
+ * 5000 other lines pushed it out of the shape cache (so it is shaped and
+ * placed anew), every script gives the same quads moved by the whole
+ * pixels the pen moved, the same atlas rectangles and its own colour. */
+static void test_layout_again(void)
+{
+    static const struct sp_font_desc fd = {.px = {12, 20, 22, 28}};
+    static const float white[4] = {1, 1, 1, 1}, red[4] = {1, 0, 0, 0.5f};
+    struct sp_font *f = NULL;
+    if (sp_font_make(&f, &fd))
+        return;
+    for (size_t i = 0; i < sizeof(scripts) / sizeof(scripts[0]); i++) {
+        const char *t = scripts[i].text;
+        const int n = sp_font_layout(f, SP_TEXT_NORMAL, t, 0, 0, white, NULL, 0);
+        struct sp_glyph_quad *a = calloc((size_t)n + 1, sizeof(*a)), *b = calloc((size_t)n + 1, sizeof(*b)),
+                             *c = calloc((size_t)n + 1, sizeof(*c));
+        const int na = sp_font_layout(f, SP_TEXT_NORMAL, t, 0, 0, white, a, n);
+        const int nb = sp_font_layout(f, SP_TEXT_NORMAL, t, 37.4f, 61.6f, red, b, n);
+        for (int k = 0; k < 5000; k++) {
+            char s[32];
+            snprintf(s, sizeof(s), "evict %d", k);
+            sp_font_width(f, SP_TEXT_SMALL, s);
+        }
+        const int nc = sp_font_layout(f, SP_TEXT_NORMAL, t, 0, 0, white, c, n);
+        int same = n > 0 && na == n && nb == n && nc == n;
+        for (int k = 0; same && k < n; k++)
+            same = a[k].rect[0] + 37 == b[k].rect[0] && a[k].rect[2] + 37 == b[k].rect[2] &&
+                   a[k].rect[1] + 62 == b[k].rect[1] && a[k].rect[3] + 62 == b[k].rect[3] &&
+                   !memcmp(a[k].uv, b[k].uv, sizeof(a[k].uv)) && !memcmp(b[k].color, red, sizeof(red)) &&
+                   !memcmp(&a[k], &c[k], sizeof(a[k]));
+        sp_tap_ok(same, "%s: its %d quads laid out again at another pen, and after the line left the "
+                  "shape cache, are the first ones moved by the pen's whole pixels", scripts[i].name, n);
+        free(a), free(b), free(c);
+    }
+    sp_font_destroy(&f);
+}
+
 int main(void)
 {
     static const struct sp_font_desc fd = {.px = {12, 20, 22, 28}};
@@ -351,5 +391,6 @@ int main(void)
     sp_font_destroy(&f);
     test_families();
     test_shape_cache();
+    test_layout_again();
     return sp_tap_done();
 }

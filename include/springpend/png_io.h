@@ -10,12 +10,14 @@
  * smaller. */
 #define SP_PNG_LEVEL_DEFAULT 1
 
-/* One tEXt chunk. key: 1..79 printable Latin-1 characters, no leading,
- * trailing or double spaces (e.g. "Software", "Comment"); text: Latin-1. */
+/* One text chunk. key: 1..79 printable Latin-1 characters, no leading,
+ * trailing or double spaces (e.g. "Software", "Comment"); text: UTF-8.
+ * ASCII text is written as tEXt or zTXt, any other as iTXt (the PNG
+ * specification's chunk for UTF-8; tEXt and zTXt are Latin-1). */
 struct sp_png_text {
     const char *key;
     const char *text;
-    int compressed; /* 1: a zTXt chunk (deflated), 0: tEXt */
+    int compressed; /* 1: deflated (zTXt, or a compressed iTXt), 0: not */
 };
 
 /* How to write. Use designated initializers; a zeroed struct writes
@@ -71,6 +73,12 @@ struct sp_png_info {
  * or SP_E_INPUT (logged: cannot open, not a regular file, not a PNG or
  * damaged: bad input, exit 2, with libpng's reason). */
 int sp_png_read_info(const char *path, struct sp_png_info *info);
+
+/* Like sp_png_read_info, but only the width and height, and nothing
+ * logged: for an estimate before the file is read in earnest (which then
+ * says what is wrong with it). Only a regular file is opened (never
+ * blocking on a FIFO). 0, or SP_E_INPUT for anything else. */
+int sp_png_read_info_quiet(const char *path, struct sp_png_info *info);
 
 /* SP_E_INPUT (logged) when info's size is beyond SP_PNG_MAX_PIXELS. */
 int sp_png_check_size(const char *path, const struct sp_png_info *info);

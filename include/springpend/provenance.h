@@ -5,7 +5,8 @@
  *                            "device used to create the image")
  *   springpend.scene-sha256  SHA-256 of sp_scene_canonical's text
  *   springpend.time          simulated time of the frame, s (%.9g)
- *   springpend.scene         sp_scene_canonical's text itself (zTXt,
+ *   springpend.scene         sp_scene_canonical's text itself (zTXt, or iTXt
+ *                            when it holds UTF-8 beyond ASCII (png_io.h),
  *                            0.6 kB, 0.3 kB deflated), so compare can name the keys
  *                            that changed
  *   springpend.scene-file    the same scene as a scene file (zTXt;

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "base/clock.h"
+#include "base/memory_limit.h"
 #include "base/signal_name.h"
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
@@ -875,6 +876,46 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
     return 0;
 }
 
+/* What one thread holds per pixel of the largest image it compares: both
+ * images decoded as RGBA and the diff image, bytes (measured: 7.8 at
+ * 7680x4320, the rest is headroom). */
+#define THREAD_BYTES_PER_PX 12.0
+
+/* The threads a folder compare runs: --jobs, at most one per image to
+ * compare, and no more than the largest PNG's decoded pixels allow in half
+ * the memory the process may use (memory_limit.h): 8K snapshots on a
+ * 64-core runner once took 17 GB. Says so on stderr when it lowers them. */
+static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot_list *l,
+                           const unsigned char *todo, const char *dir_e, const char *dir_a)
+{
+    int n = c->jobs < l->n ? c->jobs : l->n;
+    double px = 0;
+    for (int i = 0; n > 1 && i < l->n; i++) {
+        struct sp_png_info info;
+        char p[PATH_MAX];
+        if (!todo[i] || !sp_snapshot_is_png(l->items[i].name))
+            continue;
+        for (int side = 0; side < 2; side++)
+            if (snprintf(p, sizeof(p), "%s/%s", side ? dir_a : dir_e,
+                         side || l->items[i].expected ? l->items[i].name
+                                                      : l->items[i].alts[0]) < (int)sizeof(p) &&
+                sp_png_read_info_quiet(p, &info) == 0)
+                px = fmax(px, (double)info.width * info.height);
+    }
+    const char *what;
+    const double budget = sp_memory_limit(&what) / 2, need = px * THREAD_BYTES_PER_PX;
+    if (n > 1 && need > 0 && budget > 0 && n * need > budget) {
+        const int fit = budget / need < 1 ? 1 : (int)(budget / need);
+        if (!c->quiet && !c->json)
+            sp_fprintf_line(stderr, "springpend: --jobs %d: each thread holds up to %.0f MB "
+                            "(the largest image is %.0f Mpx); %d of them fit in %.0f MB, half "
+                            "of %s: comparing on %d thread%s", n, need / 1e6, px / 1e6, fit,
+                            budget / 1e6, what, fit, fit == 1 ? "" : "s");
+        n = fit;
+    }
+    return n;
+}
+
 /* Compares every image (PNG or video) under folder dir_e with its namesake
  * under dir_a, subfolders too, on c->jobs threads; an image in only one of
  * them is an error (a missing render or a missing baseline). Then applies
@@ -914,7 +955,7 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
                                              dir_a);
     {
         struct folder_work w = {c, rep->records + first, &list, dir_e, dir_a, todo, 0};
-        int n = c->jobs < list.n ? c->jobs : list.n, started = 0;
+        int n = jobs_for_memory(c, &list, todo, dir_e, dir_a), started = 0;
         pthread_t th[256];
         n = n > 256 ? 256 : n;
         for (int k = 1; k < n; k++) /* this thread is the first worker */

@@ -282,12 +282,25 @@ struct legend_item {
     const float *dot_color;
 };
 
+/* buf = the first n bytes of s (all of s when shorter), cut to size - 1
+ * bytes and NUL-terminated: what snprintf(buf, size, "%.*s", n, s) writes,
+ * without parsing a format each time (the panels cut their labels' forms
+ * for every frame; snprintf was most of what measuring them cost). */
+static void part_copy(char *buf, size_t size, const char *s, size_t n)
+{
+    n = strnlen(s, n);
+    if (n > size - 1)
+        n = size - 1;
+    memcpy(buf, s, n);
+    buf[n] = 0;
+}
+
 /* The long (shrt = 0) or short form of a "long|short" label. */
 static const char *label_form(const char *label, int shrt, char *buf, size_t size)
 {
     const char *bar = strchr(label, '|');
-    snprintf(buf, size, "%.*s", bar && !shrt ? (int)(bar - label) : (int)strlen(label),
-             bar && shrt ? bar + 1 : label);
+    part_copy(buf, size, bar && shrt ? bar + 1 : label,
+              bar && !shrt ? (size_t)(bar - label) : strlen(label));
     return buf;
 }
 
@@ -344,7 +357,7 @@ static int legend_rows(const struct sp_font *f, const struct sp_rect *r, const c
     const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL));
     const char *bar0 = strchr(title, '|');
     char full0[96];
-    snprintf(full0, sizeof(full0), "%.*s", bar0 ? (int)(bar0 - title) : (int)strlen(title), title);
+    part_copy(full0, sizeof(full0), title, bar0 ? (size_t)(bar0 - title) : strlen(title));
     const float row_free = r->x1 - r->x0 - 4 * pad - sp_font_width(f, SP_TEXT_SMALL, ylabel) -
                            sp_font_width(f, SP_TEXT_NORMAL, full0);
     *own = n_leg && legend_width(f, leg, n_leg, 0) > row_free;
@@ -541,7 +554,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
      * both do not fit, the title's short form ("long|short") in small type */
     const char *bar = strchr(title, '|');
     char full[96];
-    snprintf(full, sizeof(full), "%.*s", bar ? (int)(bar - title) : (int)strlen(title), title);
+    part_copy(full, sizeof(full), title, bar ? (size_t)(bar - title) : strlen(title));
     const int fits = sp_font_width(f, SP_TEXT_NORMAL, full) + sp_font_width(f, SP_TEXT_SMALL, ylabel) +
                      3 * pad <= r->x1 - r->x0;
     /* in a very narrow panel the y name gives way to the short title */
@@ -1139,7 +1152,7 @@ static void add_item(const struct sp_font *font, float max_width, char lines[][S
     const int cut = item[0] == '!';
     item += cut;
     const char *bar = strchr(item, '|');
-    snprintf(form, sizeof(form), "%.*s", bar ? (int)(bar - item) : (int)strlen(item), item);
+    part_copy(form, sizeof(form), item, bar ? (size_t)(bar - item) : strlen(item));
     if (bar && sp_font_width(font, SP_TEXT_NORMAL, form) > max_width)
         snprintf(form, sizeof(form), "%s", bar + 1);
     if (cut)

@@ -59,6 +59,15 @@ struct cached {
     int left, top;              /* bitmap offset from the origin, px (top: up) */
 };
 
+/* A glyph of a laid-out line as sp_font_layout draws it: its quad relative
+ * to the pen start and the baseline, px (a mark already moved clear of its
+ * base), and its atlas rectangle, texels. Worked out once per line, when
+ * its glyphs are rasterised; a frame then only adds the pen position. */
+struct placed {
+    int x, y, w, h;
+    float uv[4];
+};
+
 /* A shaped line, cached by (size, script hint, text). */
 struct shaped {
     struct shaped *next;
@@ -75,7 +84,8 @@ struct shaped {
     struct sp_line line;
     struct sp_glyph *g;
     struct sp_glyph_run *r;
-    struct cached *place;       /* each glyph's place in the atlas; NULL until rasterised */
+    struct placed *place;       /* its quads; NULL until rasterised (sp_font_layout) */
+    int n_place;                /* how many: its glyphs with ink */
 };
 
 struct sp_font {
@@ -891,28 +901,15 @@ done:
     return ret;
 }
 
-/* The shaped line of (size, hint, text) from the cache, or laid out now
- * (compose, else shape) and cached; NULL (said) when out of memory. Drops
- * no line (lines_trim does, before a look-up from outside). */
-static struct shaped *line_find(struct sp_font *f, int size, hb_script_t hint, const char *text)
+/* A line not in the cache: laid out now (compose, else shape) and cached
+ * with its hash h and length len; NULL (said) when out of memory. Apart
+ * from line_find so that a look-up that finds its line (most of them:
+ * the same strings are measured and drawn every frame) is a short call. */
+static __attribute__((noinline)) struct shaped *line_add(struct sp_font *f, int size,
+                                                         hb_script_t hint, const char *text,
+                                                         size_t len, uint32_t h)
 {
-    const size_t len = strlen(text);
-    f->lookups++;
-    /* the line asked for last: a string is often measured, then drawn */
-    if (f->last && f->last->len == len && f->last->size == size && f->last->hint == hint &&
-        !memcmp(f->last->text, text, len)) {
-        f->last->used = f->lookups;
-        return f->last;
-    }
-    const uint32_t h = hash_of(size, hint, text, len);
-    struct shaped **b = &f->buckets[h % LINE_BUCKETS], *l;
-    for (l = *b; l; l = l->next)
-        if (l->hash == h && l->len == len && l->size == size && l->hint == hint &&
-            !memcmp(l->text, text, len)) {
-            l->used = f->lookups;
-            return f->last = l;
-        }
-    l = calloc(1, sizeof(*l));
+    struct shaped *l = calloc(1, sizeof(*l));
     if (!l || !(l->text = strdup(text))) {
         free(l);
         sp_log_error("out of memory to lay out text");
@@ -938,6 +935,29 @@ static struct shaped *line_find(struct sp_font *f, int size, hb_script_t hint, c
     f->buckets[h % LINE_BUCKETS] = l;
     f->n_lines++;
     return f->last = l;
+}
+
+/* The shaped line of (size, hint, text) from the cache, or laid out now
+ * (line_add); NULL (said) when out of memory. Drops no line (lines_trim
+ * does, before a look-up from outside). */
+static struct shaped *line_find(struct sp_font *f, int size, hb_script_t hint, const char *text)
+{
+    const size_t len = strlen(text);
+    f->lookups++;
+    /* the line asked for last: a string is often measured, then drawn */
+    if (f->last && f->last->len == len && f->last->size == size && f->last->hint == hint &&
+        !memcmp(f->last->text, text, len)) {
+        f->last->used = f->lookups;
+        return f->last;
+    }
+    const uint32_t h = hash_of(size, hint, text, len);
+    for (struct shaped *l = f->buckets[h % LINE_BUCKETS]; l; l = l->next)
+        if (l->hash == h && l->len == len && l->size == size && l->hint == hint &&
+            !memcmp(l->text, text, len)) {
+            l->used = f->lookups;
+            return f->last = l;
+        }
+    return line_add(f, size, hint, text, len, h);
 }
 
 /* A line looked up from outside: the cache trimmed first (lines_trim). */
@@ -1072,8 +1092,8 @@ int sp_font_check(const struct sp_font *f, const char *what, const char *s)
 
 int sp_font_width(const struct sp_font *f, int size, const char *s)
 {
-    struct sp_line l;
-    return sp_font_shape(f, size, s, &l) ? 0 : l.width;
+    const struct shaped *l = line_get((struct sp_font *)f, size, s); /* its caches */
+    return l ? l->line.width : 0;
 }
 
 /* ---- wrapping ---- */
@@ -1192,38 +1212,29 @@ int sp_font_cap(const struct sp_font *f, int size) { return f->cap[size]; }
 int sp_font_line(const struct sp_font *f, int size) { return f->line[size]; }
 int sp_font_px(const struct sp_font *f, int size) { return f->px[size]; }
 
-int sp_font_layout(const struct sp_font *cf, int size, const char *s, float x,
-                   float baseline, const float color[4], struct sp_glyph_quad *out, int max)
+/* Rasterises line l's glyphs not yet in the glyph cache and works out its
+ * quads (l->place, l->n_place), relative to the pen start and baseline:
+ * once per line, so a frame that draws it again only copies them. 0 or
+ * SP_E_NOMEM (said). */
+static int line_place(struct sp_font *f, int size, struct shaped *l)
 {
-    struct sp_font *f = (struct sp_font *)cf; /* its caches (see the top) */
-    const int pen = (int)lroundf(x), base = (int)lroundf(baseline);
-    struct shaped *l = line_get(f, size, s);
-    int n = 0, base_top = base, base_mid = base;
-    if (!l)
+    struct placed *q = malloc(((size_t)l->line.n_glyphs + 1) * sizeof(*q));
+    int n = 0, base_top = 0, base_mid = 0; /* px from the baseline */
+    if (!q) {
+        sp_log_error("out of memory to place %d glyphs", l->line.n_glyphs);
         return SP_E_NOMEM;
-    if (!l->place) { /* rasterised once per line: later frames only copy */
-        struct cached *place = malloc(((size_t)l->line.n_glyphs + 1) * sizeof(*place));
-        if (!place) {
-            sp_log_error("out of memory to place %d glyphs", l->line.n_glyphs);
-            return SP_E_NOMEM;
-        }
-        for (int i = 0; i < l->line.n_glyphs; i++) {
-            /* l stays valid: rasterising does not touch the line cache */
-            const struct cached *c = glyph_get(f, l->g[i].face, size, l->g[i].index);
-            if (!c) {
-                free(place);
-                return SP_E_NOMEM;
-            }
-            place[i] = *c;
-        }
-        l->place = place;
     }
     for (int i = 0; i < l->line.n_glyphs; i++) {
+        /* l stays valid: rasterising does not touch the line cache */
         const struct sp_glyph *g = &l->g[i];
-        const struct cached *c = &l->place[i];
+        const struct cached *c = glyph_get(f, g->face, size, g->index);
+        if (!c) {
+            free(q);
+            return SP_E_NOMEM;
+        }
         if (c->w <= 0 || c->h <= 0)
             continue;
-        int y0 = base + g->y - c->top;
+        int y0 = g->y - c->top;
         if (!g->mark) {
             base_top = y0, base_mid = y0 + c->h / 2;
         } else if (y0 + c->h / 2 < base_mid && y0 + c->h >= base_top) {
@@ -1231,16 +1242,34 @@ int sp_font_layout(const struct sp_font *cf, int size, const char *s, float x,
              * it (the outlines do not touch), so keep one pixel between */
             y0 = base_top - 1 - c->h;
         }
-        if (n < max) {
-            const float x0 = (float)(pen + g->x + c->left);
-            out[n] = (struct sp_glyph_quad){
-                {x0, (float)y0, x0 + c->w, (float)(y0 + c->h)},
-                {(float)c->x, (float)c->y, (float)(c->x + c->w), (float)(c->y + c->h)},
-                {color[0], color[1], color[2], color[3]}};
-        }
-        n++;
+        q[n++] = (struct placed){g->x + c->left, y0, c->w, c->h,
+                                 {(float)c->x, (float)c->y, (float)(c->x + c->w), (float)(c->y + c->h)}};
     }
-    return n;
+    l->place = q;
+    l->n_place = n;
+    return 0;
+}
+
+int sp_font_layout(const struct sp_font *cf, int size, const char *s, float x,
+                   float baseline, const float color[4], struct sp_glyph_quad *out, int max)
+{
+    struct sp_font *f = (struct sp_font *)cf; /* its caches (see the top) */
+    const int pen = (int)lroundf(x), base = (int)lroundf(baseline);
+    struct shaped *l = line_get(f, size, s);
+    int err;
+    if (!l)
+        return SP_E_NOMEM;
+    if (!l->place && (err = line_place(f, size, l)) != 0)
+        return err;
+    const struct placed *q = l->place;
+    for (int i = 0; i < l->n_place && i < max; i++) {
+        const float x0 = (float)(pen + q[i].x);
+        const int y0 = base + q[i].y;
+        out[i] = (struct sp_glyph_quad){{x0, (float)y0, x0 + q[i].w, (float)(y0 + q[i].h)},
+                                        {q[i].uv[0], q[i].uv[1], q[i].uv[2], q[i].uv[3]},
+                                        {color[0], color[1], color[2], color[3]}};
+    }
+    return l->n_place;
 }
 
 int sp_font_faces(const struct sp_font *f) { return f->n_faces; }

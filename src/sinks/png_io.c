@@ -91,6 +91,15 @@ static void on_png_warning(png_structp png, png_const_charp msg)
                  msg);
 }
 
+/* 1 when text is ASCII only (Latin-1 and UTF-8 read it alike). */
+static int is_ascii(const char *text)
+{
+    for (const unsigned char *p = (const unsigned char *)text; *p; p++)
+        if (*p >= 0x80)
+            return 0;
+    return 1;
+}
+
 static int check_write_args(const struct sp_image *img,
                             const struct sp_png_write_opts *opts,
                             const char *what)
@@ -159,10 +168,13 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
         png_set_pHYs(png, info, (png_uint_32)lround(opts->dpi / 0.0254),
                      (png_uint_32)lround(opts->dpi / 0.0254), PNG_RESOLUTION_METER);
     for (int i = 0; i < opts->n_text; i++) {
-        /* libpng copies key and text into info. */
+        /* libpng copies key and text into info. tEXt and zTXt are Latin-1
+         * by the PNG specification: text beyond ASCII (UTF-8: a title's
+         * "é") goes into iTXt, the chunk for UTF-8, compressed the same. */
+        const int utf8 = !is_ascii(opts->text[i].text), z = opts->text[i].compressed;
         png_text t = {
-            .compression = opts->text[i].compressed ? PNG_TEXT_COMPRESSION_zTXt
-                                                    : PNG_TEXT_COMPRESSION_NONE,
+            .compression = utf8 ? (z ? PNG_ITXT_COMPRESSION_zTXt : PNG_ITXT_COMPRESSION_NONE)
+                                : (z ? PNG_TEXT_COMPRESSION_zTXt : PNG_TEXT_COMPRESSION_NONE),
             .key = (png_charp)opts->text[i].key,
             .text = (png_charp)opts->text[i].text,
         };
@@ -314,6 +326,31 @@ static int reader_open(struct png_reader *r, const char *path, int with_text)
     png_set_chunk_malloc_max(r->png, TEXT_CHUNK_MAX);
     png_set_chunk_cache_max(r->png, TEXT_CHUNKS_MAX);
     return 0;
+}
+
+int sp_png_read_info_quiet(const char *path, struct sp_png_info *out)
+{
+    memset(out, 0, sizeof(*out));
+    /* O_NONBLOCK: a FIFO named *.png must not block; only a regular file
+     * is read */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    FILE *fp = NULL;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || !(fp = fdopen(fd, "rb"))) {
+        if (fd >= 0)
+            close(fd);
+        return SP_E_INPUT;
+    }
+    png_image image = {.version = PNG_IMAGE_VERSION}; /* libpng's simplified API: no
+                                                         messages, the header only */
+    const int ok = png_image_begin_read_from_stdio(&image, fp) != 0;
+    if (ok) {
+        out->width = (int)image.width;
+        out->height = (int)image.height;
+    }
+    png_image_free(&image);
+    fclose(fp);
+    return ok ? 0 : SP_E_INPUT;
 }
 
 int sp_png_read_info(const char *path, struct sp_png_info *out)

@@ -87,7 +87,7 @@ BUGS = [
     ("lyapunov-half-over-T", "sweep", "src/sweep/sweep.c",
      "half[i] = sum[i] / (k * tau);", "half[i] = sum[i] / (K * tau);",
      "formats,sweep"),
-    ("batch-pivot-skips-last-lane", "sweep", "src/sweep/batch.c",
+    ("batch-pivot-skips-last-lane", "sweep", "src/sim/batch.c",
      "    for (int l = 0; l < B; l++) {\n        if (p->amp[l] == 0) {",
      "    for (int l = 0; l < B - 1; l++) {\n        if (p->amp[l] == 0) {",
      "batch,sweep,ensemble"),

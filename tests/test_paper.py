@@ -9,6 +9,7 @@ own FontDescriptor of the embedded font) is the size in pt. The fonts are
 read with pdffonts. A PNG's size is its IHDR, its resolution its pHYs chunk.
 Exits 77 (skip) without pdfinfo, pdftotext or pdffonts (poppler-utils)."""
 import html
+import math
 import os
 import re
 import shutil
@@ -429,5 +430,60 @@ for args, said in SWEEP_BAD:
     r = run("sweep", scene("chaotic.ini"), *MAP, "-o", out, "-q", *args)
     ok(r.returncode == 2 and said in r.stderr and not os.path.exists(out),
        f"sweep {' '.join(args)}: exit {r.returncode}, names '{said}', no file: {r.stderr.strip()}")
+
+# ---- one axis layout: a sweep figure and a still's chart of the same
+# physical size and font_size (axis.h) ----
+def axis_marks(svg):
+    """(line widths, tick lengths), pt, of what an SVG draws in the light
+    theme's axis colour: a stroke's width (cairo's user unit is the pt here),
+    a filled axis-aligned rectangle's short side and, when short, its long
+    side (a tick)."""
+    widths, ticks = [], []
+    for style, d in re.findall(r'<path style="([^"]*)" d="([^"]*)"', open(svg).read()):
+        if "34.999999%,38%,41.999999%" not in style:
+            continue
+        nums = [float(v) for v in re.findall(r"-?[\d.]+", d)]
+        xs, ys = nums[0::2], nums[1::2]
+        m = re.search(r"stroke-width:([\d.]+)", style)
+        if m and "stroke:rgb(34.999999%" in style:
+            widths.append(float(m.group(1)))
+            if len(xs) == 2:
+                ticks.append(math.hypot(xs[1] - xs[0], ys[1] - ys[0]))
+        elif "fill:rgb(34.999999%" in style and len(xs) in (4, 5):
+            w, h = max(xs) - min(xs), max(ys) - min(ys)
+            widths.append(min(w, h))
+            if max(w, h) < 6:
+                ticks.append(max(w, h))
+    mode = lambda v: max(set(round(x, 2) for x in v), key=lambda x: sum(round(y, 2) == x for y in v)) if v else None
+    return mode(widths), mode(ticks)
+
+
+def tick_label_pt(pdf):
+    """The tick labels' sizes, pt: the words that are numbers."""
+    data = open(pdf, "rb").read()
+    asc = [int(v) for v in re.findall(rb"/Ascent (-?\d+)", data)]
+    desc = [int(v) for v in re.findall(rb"/Descent (-?\d+)", data)]
+    em = (asc[0] - desc[0]) / 1000 if asc and desc else 1
+    out = subprocess.run(["pdftotext", "-bbox", pdf, "-"], capture_output=True, text=True).stdout
+    return sorted({round((float(y1) - float(y0)) / em, 3) for y0, y1, w in re.findall(
+        r'<word xMin="[^"]+" yMin="([^"]+)" xMax="[^"]+" yMax="([^"]+)">([^<]*)<', out)
+        if re.fullmatch(r"\u2212?[\d.]+", html.unescape(w))})
+
+
+for fs in ("10", "9", "12"):
+    made = all([still(f"ax{fs}.{e}", "chaotic.ini", "--size", "8.6cm", "--set", "view.panels=theta",
+                      "--set", "view.pendulum=false", "--set", f"view.font_size={fs}", *PRINT)
+                and sweep(f"axsw{fs}.{e}", "chaotic.ini", MAP, "--size", "8.6cm", "--set",
+                          f"view.font_size={fs}", "--set", "view.theme=light")
+                for e in ("svg", "pdf")])
+    st_pt, sw_pt = (tick_label_pt(p(f"{n}.pdf")) if made else [] for n in (f"ax{fs}", f"axsw{fs}"))
+    st_m, sw_m = (axis_marks(p(f"{n}.svg")) if made else (None, None) for n in (f"ax{fs}", f"axsw{fs}"))
+    want = round(0.85 * float(fs) * 4) / 4  # axis.h: 0.85 of the body, in the still's quarter points
+    ok(len(st_pt) == 1 and len(sw_pt) == 1 and abs(st_pt[0] - want) < 0.03 and
+       abs(sw_pt[0] - st_pt[0]) < 0.02,
+       f"font_size {fs}, 8.6 cm: the still's chart and the sweep figure set their tick labels at one size "
+       f"({want} pt): still {st_pt}, sweep {sw_pt} pt")
+    ok(st_m[0] == sw_m[0] == 0.8 and st_m[1] == sw_m[1] == 3.5,
+       f"font_size {fs}, 8.6 cm: axis lines 0.8 pt and ticks 3.5 pt in both SVGs (still {st_m}, sweep {sw_m})")
 
 done()

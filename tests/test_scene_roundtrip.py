@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """springpend tests: `springpend scene FILE` prints the scene an output was
 made from, as a scene file in user units (degrees, names rather than codes),
-and the recorded command run on it again gives the same bytes: PNG, MP4 and
+and `springpend scene FILE --command` the command that made it; that
+command, read back by a shell and run on the printed scene, gives the same
+bytes: PNG, MP4, WebM, SVG, PDF (under SOURCE_DATE_EPOCH), sweep figures and
 CSV. Before, a PNG held only internal codes (view.panels=0x80, theme=0) and
 the angle in radians, which --set would read as degrees."""
 import html
@@ -13,7 +15,7 @@ import shutil
 import subprocess
 import sys
 
-from sptest import done, ok
+from sptest import done, ok, png_text
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "scene_roundtrip"))
@@ -29,6 +31,8 @@ commands = {
     "png": ["still", "chaotic.ini", *sets, "--size", "320x200", "--at", "1.5", "-o", "out.png", "-q"],
     "mp4": ["render", "chaotic.ini", *sets, "--size", "160x96", "--fps", "10", "--set",
             "video.duration=1", "-o", "out.mp4", "-q"],
+    "webm": ["render", "chaotic.ini", *sets, "--size", "160x96", "--fps", "10", "--set",
+             "video.duration=0.5", "-o", "out.webm", "-q"],
     "csv": ["data", "chaotic.ini", *sets, "--every", "0.5", "-o", "out.csv", "-q"],
     # a printed size: the page's height from the scene's width:height, so the
     # scene is recorded as given, not with the pixels --size made of it
@@ -41,11 +45,24 @@ commands = {
                   "--measure", "lyapunov", "--time", "2", "-o", "map.pdf", "-q"],
     "sweep-svg": ["sweep", "chaotic.ini", *sets[:2], *sets[4:], "--vary", "initial.length=0.8:1.6:3",
                   "--measure", "lyapunov", "--time", "2", "-o", "map.svg", "-q"],
+    "sweep-png": ["sweep", "chaotic.ini", *sets[:2], *sets[4:], "--vary", "initial.length=0.8:1.6:3",
+                  "--measure", "lyapunov", "--time", "2", "--size", "8.6cm", "--dpi", "100",
+                  "-o", "map.png", "-q"],
 }
+# a PDF's date: the reproducible-builds convention, as a paper's build sets it
+os.environ["SOURCE_DATE_EPOCH"] = "1700000000"
 
 
 def run(cwd, args):
     return subprocess.run([exe, *args], capture_output=True, text=True, cwd=cwd)
+
+
+def video_tags(path):
+    """A video's container tags, as ffprobe reads them."""
+    r = subprocess.run(["ffprobe", "-v", "error", "-show_entries", "format_tags", "-of", "json", path],
+                       capture_output=True, text=True)
+    tags = json.loads(r.stdout or "{}").get("format", {}).get("tags", {})
+    return {k.lower(): v for k, v in tags.items()}  # Matroska's are upper-case
 
 
 def read(path):
@@ -67,8 +84,17 @@ for kind, args in commands.items():
        "title = \"Run #3: ü 'x'\"\n" in scene and "0x" not in scene,
        f"{kind}: `springpend scene` prints the scene in user units and names "
        f"(angle = 33.3 degrees, panels = energy, phase, theme = light) {s.stderr.strip()}")
+    # every output records its command without the output's name; `scene
+    # --command` prints it, and the PDF/SVG hold it as `pdfinfo` and XML show
+    # (and without -q: what is printed is not what is written)
+    want = ["springpend", *[a for i, a in enumerate(args)
+                            if a not in ("-o", "-q") and (i == 0 or args[i - 1] != "-o")]]
+    c = run(first, ["scene", out, "--command"])
+    recorded = shlex.split(c.stdout) if c.returncode == 0 else None
+    ok(recorded == (["springpend", *args] if kind == "csv" else want),
+       f"{kind}: `springpend scene {out} --command` prints the command that made it "
+       f"({c.stdout.strip()!r} {c.stderr.strip()[-160:]})")
     if kind.endswith("svg") or kind.endswith("pdf"):
-        # the figure records its command, without the output's name
         data = read(os.path.join(first, out))
         if kind.endswith("pdf"):
             info = subprocess.run(["pdfinfo", os.path.join(first, out)], capture_output=True,
@@ -77,11 +103,24 @@ for kind, args in commands.items():
         else:
             m = re.search(rb'<metadata id="springpend.command">([^<]*)</metadata>', data)
             line = ["# command: " + html.unescape(m.group(1).decode())] if m else []
-        want = ["springpend", *[a for i, a in enumerate(args)
-                                if a != "-o" and (i == 0 or args[i - 1] != "-o")]]
         got = shlex.split(line[0][len("# command: "):]) if len(line) == 1 else None
         ok(got == want or (kind.endswith("pdf") and not shutil.which("pdfinfo")),
            f"{kind}: the figure records its command without -o: {line}")
+        # and, as a PNG does, the renderer and the font files drawn from
+        if kind.endswith("pdf"):
+            made = [l for l in info.splitlines() if l.startswith(("Producer:", "Keywords:"))]
+        else:
+            made = [f"{k.decode()}: {html.unescape(v.decode())}" for k, v in re.findall(
+                rb'<metadata id="springpend.(renderer|fonts)">([^<]*)</metadata>', data)]
+        ok(any(l.startswith(("Producer:", "renderer:")) and "cairo" in l for l in made) and
+           any("fonts: DejaVu Sans (embedded in springpend)" in l for l in made)
+           or (kind.endswith("pdf") and not shutil.which("pdfinfo")),
+           f"{kind}: the figure names its renderer and fonts: {made}")
+    elif kind != "csv":
+        tag = (png_text(os.path.join(first, out)).get("springpend.command") if out.endswith(".png")
+               else video_tags(os.path.join(first, out)).get("springpend.command"))
+        ok(tag is not None and shlex.split(tag) == want,
+           f"{kind}: the springpend.command {'text' if out.endswith('.png') else 'tag'} holds it: {tag!r}")
     # the recorded command, run where the scene file is the one printed
     with open(os.path.join(again, "chaotic.ini"), "w") as f:
         f.write(scene)
@@ -90,6 +129,8 @@ for kind, args in commands.items():
         words = shlex.split(recorded)
         ok(words == ["springpend", *args], f"csv: the recorded command reads back into its words: {recorded}")
         args = words[1:]
+    elif recorded:
+        args = recorded[1:] + ["-o", out, "-q"]  # the printed command, with an output named
     r2 = run(again, args)
     ok(r2.returncode == 0 and read(os.path.join(first, out)) == read(os.path.join(again, out)),
        f"{kind}: the command run again on the printed scene gives the same bytes "
@@ -116,6 +157,30 @@ for out, args in (("long.png", ["still", "long.ini", "--at", "1", "--size", "320
        and s.stdout.count("caption: \"Step") == 120,
        f"{out}: a scene of {len(long_ini)} bytes is recorded whole ({len(s.stdout)} bytes "
        f"printed, exit {s.returncode}) {r.stderr.strip()[-160:]} {s.stderr.strip()[-160:]}")
+
+# A scene file whose name holds a terminal control (ESC) and a byte that is
+# not UTF-8 (Latin-1 é): the command is recorded with them escaped, so no
+# output holds a control byte and `scene --command` drives no terminal.
+odd = b"c\x1b[31mx\xe9.ini"
+with open(os.path.join(first.encode(), odd), "wb") as f:
+    f.write(read(os.path.join(first, "chaotic.ini")))
+for out, size in (("odd.png", [b"320x200"]), ("odd.svg", [b"8.6cm"])):
+    r = subprocess.run([exe.encode(), b"still", odd, b"--size", *size, b"-o", out.encode(), b"-q"],
+                       capture_output=True, cwd=first)
+    c = subprocess.run([exe, "scene", out, "--command"], capture_output=True, cwd=first)
+    held = ""
+    if r.returncode == 0:  # the record itself: the PNG's text, the SVG's <metadata>
+        held = (png_text(os.path.join(first, out)).get("springpend.command", "") if out.endswith("png")
+                else read(os.path.join(first, out)).decode())
+    line = b"springpend still 'c\\x1b[31mx\\xe9.ini' --size " + size[0]
+    ok(r.returncode == 0 and c.returncode == 0 and c.stdout == line + b"\n" and
+       "\x1b" not in held and line.decode() in held,
+       f"{out}: a control and a Latin-1 byte in the command are recorded and printed escaped "
+       f"({c.stdout!r} {r.stderr.decode(errors='replace').strip()[-120:]})")
+shutil.copy(os.path.join(src, "golden", "default_t3.png"), os.path.join(first, "old.png"))
+r = run(first, ["scene", "old.png", "--command"])
+ok(r.returncode == 2 and "carries no command" in r.stderr,
+   f"--command on a PNG that records none: exit 2 {r.stderr.strip()}")
 
 # a PDF or SVG springpend did not write (or wrote before it recorded scenes)
 with open(os.path.join(first, "other.pdf"), "wb") as f:

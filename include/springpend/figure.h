@@ -32,6 +32,10 @@ struct sp_figure_desc {
                                      (SP_E_INTERRUPTED); NULL = never */
 };
 
+/* An SVG or PDF still of physical size is laid out at this many px per pt
+ * (its text sizes are whole px of it); a sweep figure's tick labels follow. */
+#define SP_FIGURE_PX_PER_PT 4.0
+
 /* A figure's scene record: the PDF /Subject's first line, the SVG
  * <metadata>'s id (the PNG text's key, provenance.h). */
 #define SP_FIGURE_SCENE_MARK "# springpend.scene-file\n"
@@ -43,6 +47,11 @@ struct sp_figure_desc {
  * file has none (logged by the caller), SP_E_IO (logged) when it cannot be
  * read, SP_E_INPUT (logged) when the record is damaged or too long. */
 int sp_figure_read_scene(const char *path, char *text, size_t size);
+
+/* As sp_figure_read_scene, the command line the figure records
+ * (SP_FIGURE_COMMAND_MARK's line in a PDF, <metadata
+ * id="springpend.command"> in an SVG): 1, 0 when it has none, or SP_E_*. */
+int sp_figure_read_command(const char *path, char *text, size_t size);
 
 /* Composes f (side by side: f[0..cells)) and writes it. On failure nothing is left at path. 0,
  * SP_E_INPUT (not .svg/.pdf), SP_E_IO or SP_E_NOMEM (logged). */

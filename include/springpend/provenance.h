@@ -18,6 +18,15 @@
  *                            text was drawn from
  *   springpend.fonts         the font files the first frame's text was drawn
  *                            from, ", "-separated ("" when it has no text)
+ *   springpend.command       the command line that made the output, as a
+ *                            POSIX shell reads it back, without the
+ *                            output's name (-o FILE) and with controls and
+ *                            bytes that are not UTF-8 escaped
+ *                            (command_line.h: sp_command_line_unnamed);
+ *                            "" when none was recorded (a library caller).
+ *                            A figure records the same line (figure.h).
+ *                            `springpend scene FILE` prints it first, as
+ *                            "# command: LINE"
  *   springpend.overlay       only with [view] vectors, the energy_bars
  *                            panel or a perspective camera
  *                            (SP_PROVENANCE_N_TEXT + 1 chunks): their
@@ -33,8 +42,9 @@
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
 
-#define SP_PROVENANCE_N_TEXT 8
+#define SP_PROVENANCE_N_TEXT 9
 #define SP_PROVENANCE_SCENE_FILE "springpend.scene-file" /* the key */
+#define SP_PROVENANCE_COMMAND "springpend.command"       /* the key */
 /* Bytes of scene text an output carries, NUL included: a PNG reader
  * inflates no text chunk beyond 256 KiB (png_io.c). A scene whose text is
  * longer is refused (sp_provenance_init), never recorded empty. */
@@ -51,6 +61,7 @@ struct sp_provenance {
     char time[32];         /* s */
     char *scene;           /* canonical text, "key=value\n" lines: malloc'd */
     char *scene_file;      /* sp_scene_write_ini's text: malloc'd */
+    char *command;         /* sp_command_line_unnamed's text: malloc'd */
     char environment[SP_ENVIRONMENT_MAX]; /* environment.h's text: the caller adds
                               the font files (sp_render_font_environment) before
                               the first image */
@@ -63,7 +74,7 @@ struct sp_provenance {
     char more_keys[SP_PROVENANCE_MAX_SCENES - 1][48]; /* "springpend.scene-file.K" */
     int n_more;            /* scenes added with sp_provenance_add_scene */
     struct sp_png_text text[SP_PROVENANCE_N_TEXT + SP_PROVENANCE_MAX_SCENES]; /* point
-                              into the above: the 8, the overlay, scenes 2.. */
+                              into the above: the 9, the overlay, scenes 2.. */
 };
 
 /* Hashes the scene and fills every chunk (time 0). renderer and gl_version
@@ -80,6 +91,11 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
  * 0, SP_E_NOMEM, or SP_E_INPUT (logged) for a fifth scene or a text of
  * SP_PROVENANCE_SCENE_MAX bytes or more. */
 int sp_provenance_add_scene(struct sp_provenance *p, const struct sp_scene *scene);
+
+/* Records command (sp_command_line_unnamed's form; NULL: "") as
+ * springpend.command in place of this run's: a merged sweep figure records
+ * its shards' command. 0 or SP_E_NOMEM. */
+int sp_provenance_set_command(struct sp_provenance *p, const char *command);
 
 /* Frees the scene texts; safe on a zeroed or freed p. */
 void sp_provenance_free(struct sp_provenance *p);

@@ -318,7 +318,7 @@ static int check_side_by_side(const struct sp_cli_options *o, const struct sp_sc
 /* An SVG or PDF figure of physical size is drawn at this many px per pt
  * before cairo scales it onto the page: whole-px text sizes and positions
  * then land on quarter points. */
-#define VECTOR_PX_PER_PT 4.0
+#define VECTOR_PX_PER_PT SP_FIGURE_PX_PER_PT
 #define PNG_DPI_DEFAULT 300.0
 
 /* A still of physical size (--size 8.6cm, --dpi): its page (pt), the scale

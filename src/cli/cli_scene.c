@@ -18,6 +18,7 @@
 
 static const char scene_usage[] =
     "usage: springpend scene FILE [--cell K]\n"
+    "       springpend scene FILE --command\n"
     "\n"
     "Prints the scene FILE was made from, as a scene file: every key under its\n"
     "[section] in user units (angles in degrees, names rather than codes), with\n"
@@ -30,6 +31,14 @@ static const char scene_usage[] =
     "A side-by-side output (2 to 4 scenes) carries each of them: all are\n"
     "printed, each after a line '; scene K of N', or with --cell K the K-th\n"
     "alone, as a scene file.\n"
+    "--command prints the command line FILE records instead (springpend.command;\n"
+    "a CSV's prov:wasGeneratedBy), one line a POSIX shell reads back into its\n"
+    "words. Outputs other than CSV record it without the output's name and\n"
+    "without --frames or --shard (a part of a PNG sequence is the whole run's):\n"
+    "run it with -o NAME added, where SCENE.ini is the printed scene, and NAME\n"
+    "has the same bytes as FILE (a PDF: under the same SOURCE_DATE_EPOCH). A word with a\n"
+    "control character or a byte that is not UTF-8 was recorded escaped (\\xNN):\n"
+    "that word must be given again by hand.\n"
     "What FILE carries is checked before it is printed: it must be a scene as\n"
     "springpend writes one (read back by the scene parser and written again,\n"
     "byte for byte), else it is refused, FILE: KEY:LINE, exit 2.\n";
@@ -97,13 +106,61 @@ static int scene_of_csv(const char *path, int cell)
     return ret;
 }
 
+/* Prints a recorded command line, shown as messages are (no control byte
+ * reaches the terminal, whoever forged the file); 0, or SP_E_INPUT (logged)
+ * when there is none. */
+static int print_command(const char *path, const char *where, const char *line)
+{
+    if (!line || !line[0]) {
+        sp_log_error("%s carries no command (no %s); springpend records the command line that "
+                     "made an output (an older springpend's do not)", path, where);
+        return SP_E_INPUT;
+    }
+    sp_fputs_line(line, stdout);
+    putchar('\n');
+    return 0;
+}
+
+/* A CSV's command: prov:wasGeneratedBy in its metadata, -o FILE included. */
+static int command_of_csv(const char *path)
+{
+    json_t *meta = sp_csv_metadata_load(path);
+    if (!meta)
+        return SP_E_INPUT;
+    const int ret = print_command(path, "prov:wasGeneratedBy in " SP_CSV_METADATA_SUFFIX,
+                                  json_string_value(json_object_get(meta, "prov:wasGeneratedBy")));
+    json_decref(meta);
+    return ret;
+}
+
+/* The command a PNG, a video (springpend.command) or a figure records. */
+static int command_of(const char *path, int figure, int video)
+{
+    char *text = malloc(SP_PROVENANCE_SCENE_MAX);
+    if (!text) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    const int found = figure ? sp_figure_read_command(path, text, SP_PROVENANCE_SCENE_MAX)
+                    : video ? sp_video_read_text(path, SP_PROVENANCE_COMMAND, text,
+                                                 SP_PROVENANCE_SCENE_MAX)
+                            : sp_png_read_text(path, SP_PROVENANCE_COMMAND, text,
+                                               SP_PROVENANCE_SCENE_MAX);
+    const int ret = found < 0 ? found
+                    : print_command(path, figure ? "command record" : SP_PROVENANCE_COMMAND " text",
+                                    found ? text : NULL);
+    free(text);
+    return ret;
+}
+
 int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     static const struct option longopts[] = {
-        {"cell", required_argument, 0, 'c'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0},
+        {"cell", required_argument, 0, 'c'}, {"command", no_argument, 0, 'C'},
+        {"help", no_argument, 0, 'h'}, {0, 0, 0, 0},
     };
     const char *first[128] = {0};
-    int cell = 0, c;
+    int cell = 0, command = 0, c;
     (void)cancel; /* reads one file: nothing runs long */
     optind = 1;
     opterr = 0;
@@ -123,6 +180,9 @@ int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
                 return SP_E_INPUT;
             cell = (int)v;
             break;
+        case 'C':
+            command = 1;
+            break;
         case ':':
             sp_log_error("option '%s' needs a value; see 'springpend scene --help'",
                          argv[optind - 1]);
@@ -132,14 +192,14 @@ int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
             return SP_E_INPUT;
         }
     }
-    if (argc - optind != 1) {
+    if (argc - optind != 1 || (command && cell)) {
         sp_log_error("expected one FILE (a PNG, video, SVG, PDF or CSV springpend wrote) and perhaps "
-                     "--cell K; see 'springpend scene --help'");
+                     "--cell K or --command; see 'springpend scene --help'");
         return SP_E_INPUT;
     }
     const char *path = argv[optind];
     if (ends_with(path, ".csv"))
-        return scene_of_csv(path, cell);
+        return command ? command_of_csv(path) : scene_of_csv(path, cell);
     static const char *const videos[] = {".mp4", ".m4v", ".mov", ".webm", ".mkv", ".gif"};
     int video = 0;
     for (size_t i = 0; i < sizeof(videos) / sizeof(videos[0]); i++)
@@ -150,6 +210,8 @@ int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
                      "or CSV; the scene is read from what springpend wrote", path);
         return SP_E_INPUT;
     }
+    if (command)
+        return command_of(path, figure, video);
     char *texts[SP_PROVENANCE_MAX_SCENES] = {0};
     int n = 0, found = 1;
     for (int k = 1; k <= SP_PROVENANCE_MAX_SCENES && found == 1; k++) {

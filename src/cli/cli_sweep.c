@@ -584,6 +584,8 @@ struct provenance {
     const char *const *overrides;
     int n_overrides;
     const char *shard;                 /* "I/N", NULL = the whole grid */
+    const char *command;               /* a merge's: its shards' command line; NULL =
+                                          this run's */
 };
 
 /* The description line's words without "# springpend sweep " (the
@@ -675,7 +677,10 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
     if (!ret && o->output) {
         struct sp_plot_style style = o->style; /* with the scene, as the CSV's dc:source */
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
-        char *command = sp_command_line_unnamed();
+        /* a merged figure records the command of the sweep its shards
+         * came from (less --shard and --csv): the whole run's bytes */
+        char *command = pv->command ? sp_command_line_recorded(pv->command)
+                                    : sp_command_line_unnamed();
         style.scene_file = ini, style.command = command, style.scene = pv->scene;
         style.cancel = o->cancel; /* a signal stops the drawing */
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
@@ -740,7 +745,7 @@ static int merge(const struct sweep_opts *opts)
         sp_sweep_merge_write(&m, out);
         const struct provenance whole = {.d = &m.d, .scene = &m.scene,
                                          .overrides = m.overrides,
-                                         .n_overrides = m.n_overrides};
+                                         .n_overrides = m.n_overrides, .command = m.command};
         ret = finish(out, o, 0, &whole, made);
         if (ret == SP_E_INTERRUPTED)
             sp_log_error("interrupted: nothing written");

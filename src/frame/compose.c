@@ -7,6 +7,7 @@
 
 #include "springpend/common.h"
 #include "springpend/timeline.h"
+#include "axis.h"
 #include "camera.h"
 #include "compose.h"
 #include "layout.h"
@@ -35,11 +36,11 @@ enum {
 #define MARGIN 0.06f         /* around the extent, besides the bob's radius */
 /* A figure of physical size (sp_look.pt_px): matplotlib's print defaults,
  * pt. Body text PRINT_FONT_PT unless [view] font_size says otherwise; the
- * panels' ticks, lines and markers follow the length whose TEXT_NORMAL
- * fraction is that size (ticks 0.006 of it: 3.4 pt). */
+ * panels' markers follow the length whose TEXT_NORMAL fraction is that
+ * size; their axis lines, ticks and tick labels are axis.h's, as a sweep
+ * figure's. */
 #define PRINT_FONT_PT 10.0f
 #define PRINT_FONT_FRAC 0.0175f /* text_sizes' frac[SP_TEXT_NORMAL] */
-#define PRINT_AXIS_PT 0.8f
 /* The colour bar's label wraps to at most this share of the pendulum's
  * view's width (or the bar's own width, when wider). */
 #define COLORBAR_SHARE 0.25f
@@ -171,7 +172,7 @@ static void text_sizes(float unit, double font_size, double scale, float ss, int
                        int px[SP_TEXT_SIZES])
 {
     static const float frac[SP_TEXT_SIZES] = {0.0150f, 0.0175f, 0.0230f, 0.0300f};
-    static const float print_frac[SP_TEXT_SIZES] = {0.85f, 1, 1.2f, 1.2f};
+    static const float print_frac[SP_TEXT_SIZES] = {(float)SP_AXIS_LABEL_FRAC, 1, 1.2f, 1.2f};
     /* at least 11 px: a 480p GIF's tick labels read on a projector */
     static const float floor_px[SP_TEXT_SIZES] = {11, 12, 14, 17};
     for (int s = 0; s < SP_TEXT_SIZES; s++) {
@@ -426,7 +427,7 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
     }
     sp_palette_get(&r->look.view, &r->pal);
     if (r->look.pt_px > 0)
-        r->pal.axis_hw = 0.5f * PRINT_AXIS_PT * ss;
+        r->pal.axis_hw = 0.5f * (float)SP_AXIS_LINE_PT * ss, r->pal.tick = (float)SP_AXIS_TICK_PT * ss;
     r->premix_trail = r->pal.background[3] > 0 &&
                       0.3f * r->pal.background[0] + 0.6f * r->pal.background[1] +
                               0.1f * r->pal.background[2] > 0.35f;

@@ -6,6 +6,7 @@
 
 #include "springpend/common.h"
 #include "springpend/ensemble.h"
+#include "axis.h"
 #include "colormap_data.h"
 #include "panels.h"
 
@@ -115,149 +116,24 @@ void sp_colormap(int colormap, float t, float rgb[3])
     }
 }
 
-/* ---- axes ---- */
+/* ---- axes: axis.h ---- */
 
-struct axis {
-    double lo, hi;         /* data range shown */
-    double step, first;    /* tick spacing and first tick */
-    int decimals;
-    double offset;         /* subtracted from the ticks before labelling; 0 = none */
-    int offset_decimals;
-};
-
-/* Widens [lo, hi] a little and picks round ticks (1, 2, 5 x 10^k), at most
- * max_ticks of them. */
-static const double MULT[] = {1, 2, 5};
-
-/* Widens [lo, hi] by pad of its span (and an empty range around its value). */
-static void axis_range(struct axis *a, double lo, double hi, double pad)
+/* A tick label's width in small type, px (sp_axis_fit's measure; ctx: the
+ * font). */
+static double small_width(void *ctx, const char *label)
 {
-    double span = hi - lo, mag = fmax(fabs(lo), fabs(hi));
-    if (!(span > 1e-9 * (mag + 1e-30)) || !isfinite(span)) {
-        const double half = mag > 0 ? 0.1 * mag : 1;
-        lo -= half;
-        hi += half;
-        span = hi - lo;
-    }
-    *a = (struct axis){.lo = lo - pad * span, .hi = hi + pad * span};
+    return sp_font_width(ctx, SP_TEXT_SMALL, label);
 }
 
-static void axis_make(struct axis *a, double lo, double hi, int max_ticks, double pad)
+/* sp_axis_fit for an axis `length` px long whose labels are f's small type. */
+static void axis_fit(struct sp_axis *a, const struct sp_font *f, float length, int vertical)
 {
-    axis_range(a, lo, hi, pad);
-    lo = a->lo;
-    hi = a->hi;
-    const double span = hi - lo;
-    const double *mult = MULT;
-    if (max_ticks < 2)
-        max_ticks = 2;
-    /* the round step whose tick count is nearest to max_ticks, not above it by much */
-    const double raw = span / max_ticks, p10 = pow(10, floor(log10(raw)));
-    double best = 1e300;
-    for (int k = 0; k < 2; k++)
-        for (int i = 0; i < 3; i++) {
-            const double step = mult[i] * p10 * (k ? 10 : 1), count = span / step;
-            const double miss = fabs(log(count / max_ticks)) + (count > 1.4 * max_ticks ? 10 : 0);
-            if (miss < best)
-                best = miss, a->step = step;
-        }
-    a->lo = lo;
-    a->hi = hi;
-    a->first = ceil(lo / a->step - 1e-9) * a->step;
-    a->decimals = a->step >= 1 ? 0 : (int)ceil(-log10(a->step) - 1e-9);
-}
-
-/* "1.5", with a real minus sign. */
-static void format_tick(char *buf, size_t size, double v, int decimals)
-{
-    if (fabs(v) < 1e-12)
-        v = 0;
-    snprintf(buf, size, "%s%.*f", v < 0 ? "\xe2\x88\x92" : "", decimals, fabs(v));
-}
-
-/* The label of tick v of axis a. */
-static void tick_label(const struct axis *a, double v, char *buf, size_t size)
-{
-    double d = v - a->offset;
-    if (fabs(d) < 1e-9 * a->step)
-        d = 0;
-    if (a->decimals > 6) {
-        /* a tiny range (an azimuth of 1e-298 degrees): as many significant
-         * digits as tell the ticks apart, in e notation; fixed decimals
-         * would print every tick as 0.000...0 */
-        const double mag = fmax(fabs(a->lo - a->offset), fabs(a->hi - a->offset));
-        const int digits = (int)(floor(log10(mag)) - floor(log10(a->step))) + 1;
-        snprintf(buf, size, "%s%.*g", d < 0 ? "\xe2\x88\x92" : "",
-                 d == 0 ? 1 : digits < 1 ? 1 : digits > 17 ? 17 : digits, fabs(d));
-        return;
-    }
-    format_tick(buf, size, d, a->decimals);
-}
-
-/* Sets a's step, first tick, decimals and offset for step `step`. Small
- * ranges around a large value (more than 4 significant digits needed, the
- * span under 2% of the value) are labelled from a round offset. */
-static void axis_step(struct axis *a, double step)
-{
-    const double span = a->hi - a->lo, mag = fmax(fabs(a->lo), fabs(a->hi));
-    a->step = step;
-    a->first = ceil(a->lo / step - 1e-9) * step;
-    a->decimals = step >= 1 ? 0 : (int)ceil(-log10(step) - 1e-9);
-    a->offset = 0;
-    if (mag > 0 && floor(log10(mag)) + 1 + a->decimals > 4 && span < 0.02 * mag) {
-        const double q = pow(10, ceil(log10(span)));
-        a->offset = floor(a->lo / q) * q; /* below the range: positive labels */
-        a->offset_decimals = q >= 1 ? 0 : (int)lround(-log10(q));
-    }
-}
-
-/* Picks the finest round step (1, 2, 5 x 10^k), 10 ticks at most, whose
- * labels fit along an axis of `length` px: side by side with a gap of one line height
- * (horizontal), or 1.3 line heights apart (vertical). */
-static void axis_fit(struct axis *a, const struct sp_font *f, float length, int vertical)
-{
-    const double span = a->hi - a->lo;
-    const float line = (float)sp_font_line(f, SP_TEXT_SMALL);
-    double p10 = pow(10, floor(log10(span / 60)));
-    char buf[48];
-    for (int k = 0; k < 12; k++, p10 *= 10)
-        for (int i = 0; i < 3; i++) {
-            const double step = MULT[i] * p10;
-            float need = 1.3f * line;
-            if (span / step > 10) /* at most 10 ticks: more is clutter, not information */
-                continue;
-            axis_step(a, step);
-            if (!vertical) {
-                float widest = 0;
-                for (double v = a->first; v <= a->hi + 1e-9 * step; v += step) {
-                    tick_label(a, v, buf, sizeof(buf));
-                    widest = fmaxf(widest, (float)sp_font_width(f, SP_TEXT_SMALL, buf));
-                }
-                need = widest + line;
-            }
-            if (step / span * length >= need)
-                return;
-        }
-}
-
-/* The axis's name with its offset: "r (m)" with offset 1.004 is
- * "r − 1.004 (m)", so the ticks read as the difference. */
-static void axis_name(const struct axis *a, const char *name, char *buf, size_t size)
-{
-    char off[40];
-    const char *unit = strstr(name, " (");
-    if (a->offset == 0) {
-        snprintf(buf, size, "%s", name);
-        return;
-    }
-    format_tick(off, sizeof(off), fabs(a->offset), a->offset_decimals);
-    snprintf(buf, size, "%.*s %s %s%s", unit ? (int)(unit - name) : (int)strlen(name), name,
-             a->offset > 0 ? "\xe2\x88\x92" : "+", off, unit ? unit : "");
+    sp_axis_fit(a, length, sp_font_line(f, SP_TEXT_SMALL), small_width, (void *)f, vertical);
 }
 
 struct plot {
     struct sp_rect area; /* the data rectangle, px */
-    struct axis x, y;
+    struct sp_axis x, y;
     float title_end;     /* px: where the title ends in its row */
     float label_base;    /* px: the baseline of the x labels' row, 0 = none */
 };
@@ -461,7 +337,7 @@ static void axes_draw(struct sp_canvas *c, const struct sp_rect *r, const struct
                        m->xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT, pal->muted, m->xlabel);
     for (double v = p->x.first; !m->categories && v <= p->x.hi + 1e-9 * p->x.step; v += p->x.step) {
         const float x = px_x(p, v);
-        tick_label(&p->x, v, buf, sizeof(buf));
+        sp_axis_label(&p->x, v, buf, sizeof(buf));
         const float w = (float)sp_font_width(f, SP_TEXT_SMALL, buf);
         sp_canvas_rect(c, x - m->hw, p->area.y0, x + m->hw, p->area.y1, pal->grid);
         sp_canvas_rect(c, x - m->hw, p->area.y1, x + m->hw, p->area.y1 + m->tick, pal->axis);
@@ -471,7 +347,7 @@ static void axes_draw(struct sp_canvas *c, const struct sp_rect *r, const struct
     }
     for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
         const float y = px_y(p, v);
-        tick_label(&p->y, v, buf, sizeof(buf));
+        sp_axis_label(&p->y, v, buf, sizeof(buf));
         sp_canvas_rect(c, p->area.x0, y - m->hw, p->area.x1, y + m->hw, pal->grid);
         sp_canvas_rect(c, p->area.x0 - m->tick, y - m->hw, p->area.x0, y + m->hw, pal->axis);
         if (m->label_y)
@@ -521,7 +397,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     const float line_s = (float)sp_font_line(f, SP_TEXT_SMALL), cap_s = (float)sp_font_cap(f, SP_TEXT_SMALL);
     const float cap_n = (float)sp_font_cap(f, SP_TEXT_NORMAL);
     const float hw = pal->axis_hw > 0 ? pal->axis_hw : fmaxf(0.5f, 0.0009f * unit);
-    const float tick = roundf(0.006f * unit);
+    const float tick = roundf(pal->tick > 0 ? pal->tick : 0.006f * unit);
     char buf[32];
     int tw = 0;
 
@@ -545,10 +421,10 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     const int label_x = r->y1 - pad - line_s - drop - p->area.y0 >= 2 * line_s;
     p->area.y1 = r->y1 - pad - line_s * (label_x ? (xl_below ? 2 : 1) : 0) - (label_x ? drop : tick);
     const int label_y = p->area.y1 - p->area.y0 >= 1.3f * line_s;
-    axis_range(&p->y, yr.lo, yr.hi, 0.06);
+    sp_axis_range(&p->y, yr.lo, yr.hi, 0.06);
     axis_fit(&p->y, f, p->area.y1 - p->area.y0, 1);
     char yname[128], xname[128];
-    axis_name(&p->y, ylabel, yname, sizeof(yname));
+    sp_axis_name(&p->y, ylabel, yname, sizeof(yname));
     ylabel = yname;
     /* the title at the left of its row, the y axis's name at the right; when
      * both do not fit, the title's short form ("long|short") in small type */
@@ -582,7 +458,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
         legend_draw(c, f, leg_x, leg_y, r->x0 + pad, r->x1 - pad, leg, n_leg, shrt);
     sp_canvas_layer(c, SP_LAYER_STATIC);
     for (double v = p->y.first; label_y && v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
-        tick_label(&p->y, v, buf, sizeof(buf));
+        sp_axis_label(&p->y, v, buf, sizeof(buf));
         const int w = sp_font_width(f, SP_TEXT_SMALL, buf);
         tw = w > tw ? w : tw;
     }
@@ -591,9 +467,9 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     if (categories)
         xlabel = "";
     int xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
-    axis_range(&p->x, xr.lo, xr.hi, xpad);
+    sp_axis_range(&p->x, xr.lo, xr.hi, xpad);
     axis_fit(&p->x, f, p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w + pad), 0);
-    axis_name(&p->x, xlabel, xname, sizeof(xname));
+    sp_axis_name(&p->x, xlabel, xname, sizeof(xname));
     xlabel = xname;
     xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
     p->label_base = label_x ? p->area.y1 + drop + cap_s + 0.25f * pad : 0;
@@ -1364,7 +1240,7 @@ static int colorbar_label_width(const struct sp_font *font, const char *label, i
 float sp_colorbar_bar_width(const struct sp_font *font, float unit, double max_speed)
 {
     char buf[32];
-    format_tick(buf, sizeof(buf), max_speed, 2);
+    sp_axis_number(buf, sizeof(buf), max_speed, 2);
     return roundf(0.018f * unit) + roundf(0.006f * unit) +
            (float)sp_font_width(font, SP_TEXT_SMALL, buf) + 4;
 }
@@ -1389,7 +1265,7 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
                 h = fminf(r->y1 - y0 - cap, 0.4f * unit);
     const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed, label, n) - bw - tick);
     enum { STEPS = 64 };
-    struct axis a;
+    struct sp_axis a;
     char buf[32];
     float rgb[4] = {0, 0, 0, 1};
     for (int i = 0; i < n; i++, label += strlen(label) + 1)
@@ -1399,10 +1275,10 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
         sp_colormap(colormap, pal->cmap_lo + (pal->cmap_hi - pal->cmap_lo) * (1.0f - (i + 0.5f) / STEPS), rgb);
         sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);
     }
-    axis_make(&a, 0, max_speed, (int)(h / (4.0f * sp_font_line(f, SP_TEXT_SMALL))), 0);
+    sp_axis_make(&a, 0, max_speed, (int)(h / (4.0f * sp_font_line(f, SP_TEXT_SMALL))), 0);
     for (double v = 0; v <= max_speed * (1 + 1e-9); v += a.step) {
         const float y = (float)(y0 + h * (1 - v / max_speed));
-        format_tick(buf, sizeof(buf), v, a.decimals);
+        sp_axis_number(buf, sizeof(buf), v, a.decimals);
         sp_canvas_rect(c, x0 + bw, y - 0.5f, x0 + bw + tick, y + 0.5f, pal->axis);
         sp_canvas_text(c, SP_TEXT_SMALL, x0 + bw + tick + 3, y + 0.5f * cap, SP_ALIGN_LEFT, pal->muted, buf);
     }

@@ -26,6 +26,7 @@ struct sp_palette {
     float vectors[SP_VECTOR_COUNT][4]; /* [view] vectors' arrows, by SP_VECTOR_* bit */
     float axis_hw;          /* px: half the width of axes and grid lines; 0 =
                                from the panels' unit */
+    float tick;             /* px: a tick's length; 0 = 0.006 of the panels' unit */
     float cmap_lo, cmap_hi; /* the part of the colormap speeds 0..max use: the
                                end that would vanish into the background is left out */
 };

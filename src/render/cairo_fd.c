@@ -58,38 +58,19 @@ int sp_cairo_pdf_date(cairo_surface_t *pdf)
     return 0;
 }
 
-/* The command line as messages show it (common.h: controls, noncharacters
- * and bytes that are not UTF-8 escaped), which PDF text and XML can hold;
- * NULL for none or out of memory. */
-static char *command_shown(const char *command)
-{
-    if (!command)
-        return NULL;
-    const size_t size = 4 * strlen(command) + 1; /* at most \xNN per byte */
-    char *out = malloc(size);
-    if (out)
-        sp_text_shown(command, 0, out, size);
-    return out;
-}
-
 void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file, const char *command)
 {
     if (!scene_file || !scene_file[0])
         return;
-    char *shown = command_shown(command);
     const size_t n = strlen(SP_FIGURE_SCENE_MARK) + strlen(SP_FIGURE_COMMAND_MARK) +
-                     (shown ? strlen(shown) + 1 : 0) + strlen(scene_file) + 1;
+                     (command ? strlen(command) + 1 : 0) + strlen(scene_file) + 1;
     char *text = malloc(n);
-    command = shown;
-    if (!text) {
-        free(shown);
+    if (!text)
         return; /* the figure without its scene rather than none */
-    }
     snprintf(text, n, "%s%s%s%s%s", SP_FIGURE_SCENE_MARK, command ? SP_FIGURE_COMMAND_MARK : "",
              command ? command : "", command ? "\n" : "", scene_file);
     cairo_pdf_surface_set_metadata(pdf, CAIRO_PDF_METADATA_SUBJECT, text);
     free(text);
-    free(shown);
 }
 
 /* Writes text XML-escaped at w; returns the bytes written. */
@@ -103,28 +84,30 @@ static size_t xml_text(char *w, const char *text)
     return (size_t)(at - w);
 }
 
-char *sp_cairo_svg_metadata(const char *scene_file, const char *command)
+char *sp_cairo_svg_metadata(const char *scene_file, const char *command, const char *fonts)
 {
     static const char head[] = "<metadata id=\"springpend.version\">springpend " SP_VERSION
-                               "</metadata>\n<metadata id=\"springpend.command\">";
+                               "</metadata>\n<metadata id=\"springpend.renderer\">cairo "
+                               CAIRO_VERSION_STRING "</metadata>\n<metadata "
+                               "id=\"springpend.fonts\">";
+    static const char cmd[] = "</metadata>\n<metadata id=\"springpend.command\">";
     static const char mid[] = "</metadata>\n<metadata id=\"" SP_FIGURE_SCENE_ID "\">";
     static const char tail[] = "</metadata>\n";
     if (!scene_file)
         return NULL;
-    char *shown = command_shown(command);
-    const size_t len = strlen(scene_file) + (shown ? strlen(shown) : 0);
-    char *out = malloc(sizeof(head) + sizeof(mid) + 5 * len + sizeof(tail)), *w = out;
-    if (!out || (command && !shown)) {
-        free(out), free(shown);
+    const size_t len = strlen(scene_file) + (command ? strlen(command) : 0) +
+                       (fonts ? strlen(fonts) : 0);
+    char *out = malloc(sizeof(head) + sizeof(cmd) + sizeof(mid) + 5 * len + sizeof(tail)), *w = out;
+    if (!out) {
         sp_log_error("out of memory for the SVG's metadata");
         return NULL;
     }
-    command = shown;
     w += sprintf(w, "%s", head);
+    w += xml_text(w, fonts ? fonts : "");
+    w += sprintf(w, "%s", cmd);
     w += xml_text(w, command ? command : "");
     w += sprintf(w, "%s", mid);
     w += xml_text(w, scene_file);
     sprintf(w, "%s", tail);
-    free(shown);
     return out;
 }

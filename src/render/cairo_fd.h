@@ -35,11 +35,15 @@ int sp_cairo_pdf_date(cairo_surface_t *pdf);
  * NULL), then the scene file text; an SVG holds them, XML-escaped, in
  * <metadata id="springpend.scene-file"> and <metadata id="springpend.command">,
  * with springpend's version in <metadata id="springpend.version">.
- * command: the command line without the output's name
- * (sp_command_line_text_unnamed). scene_file NULL or "": nothing. */
+ * command: the command line as recorded (sp_command_line_unnamed: without
+ * the output's name, printable UTF-8). scene_file NULL or "": nothing. */
 void sp_cairo_pdf_scene(cairo_surface_t *pdf, const char *scene_file, const char *command);
 /* The SVG's metadata elements for sink.svg_metadata, malloc'd (free it);
- * NULL when out of memory (logged) or scene_file is NULL. */
-char *sp_cairo_svg_metadata(const char *scene_file, const char *command);
+ * NULL when out of memory (logged) or scene_file is NULL. fonts: the font
+ * files drawn from (sp_cairo_font_names), in <metadata
+ * id="springpend.fonts">, beside the renderer's <metadata
+ * id="springpend.renderer"> ("cairo 1.16.0"), as a PDF's /Keywords and
+ * /Producer say them; NULL: none yet. */
+char *sp_cairo_svg_metadata(const char *scene_file, const char *command, const char *fonts);
 
 #endif

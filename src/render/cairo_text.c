@@ -158,8 +158,15 @@ int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *fs, int size, double 
 
 void sp_cairo_pdf_fonts(cairo_surface_t *pdf, const struct sp_font *f)
 {
-    char files[2048], names[2048] = "fonts: ";
-    size_t n = strlen(names);
+    char names[2048];
+    sp_cairo_font_names(f, names, sizeof(names));
+    cairo_pdf_surface_set_metadata(pdf, CAIRO_PDF_METADATA_KEYWORDS, names);
+}
+
+void sp_cairo_font_names(const struct sp_font *f, char *names, size_t size)
+{
+    char files[2048];
+    size_t n = (size_t)snprintf(names, size, "fonts: ");
     sp_font_files(f, files, sizeof(files));
     for (char *e = files; *e;) { /* ", "-separated paths, each cut to its name */
         char *end = strstr(e, ", "), *name = e;
@@ -170,9 +177,8 @@ void sp_cairo_pdf_fonts(cairo_surface_t *pdf, const struct sp_font *f)
                 name = c + 1;
         char shown[1024]; /* a file name need not be UTF-8; cairo takes only UTF-8 */
         sp_text_shown(name, 0, shown, sizeof(shown));
-        const int w = snprintf(names + n, sizeof(names) - n, "%s%s", e == files ? "" : ", ", shown);
-        n += w > 0 && (size_t)w < sizeof(names) - n ? (size_t)w : 0;
+        const int w = snprintf(names + n, size - n, "%s%s", e == files ? "" : ", ", shown);
+        n += w > 0 && (size_t)w < size - n ? (size_t)w : 0;
         e = end ? end + 2 : e + strlen(e);
     }
-    cairo_pdf_surface_set_metadata(pdf, CAIRO_PDF_METADATA_KEYWORDS, names);
 }

@@ -41,4 +41,8 @@ int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *faces, int size, doub
  * installed (the environment record in a PNG keeps paths and hashes). */
 void sp_cairo_pdf_fonts(cairo_surface_t *pdf, const struct sp_font *f);
 
+/* That text, "fonts: NAME, NAME" (an SVG's <metadata id="springpend.fonts">),
+ * into names (size bytes, cut to fit). */
+void sp_cairo_font_names(const struct sp_font *f, char *names, size_t size);
+
 #endif

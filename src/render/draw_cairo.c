@@ -293,7 +293,8 @@ int sp_draw_cairo_begin(struct sp_draw_cairo **out, const struct sp_draw_cairo_d
     if (dc->px_w) {
         dc->surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, px_w, px_h);
     } else {
-        dc->svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file, d->command) : NULL;
+        dc->svg_meta = d->format == SP_FIGURE_SVG ? sp_cairo_svg_metadata(d->scene_file, d->command, NULL)
+                                                  : NULL;
         dc->sink = (struct sp_cairo_fd){.fd = d->fd, .svg_metadata = dc->svg_meta}; /* every write checked */
         if (d->format == SP_FIGURE_PDF)
             dc->surface = cairo_pdf_surface_create_for_stream(sp_cairo_fd_write, &dc->sink, pw, ph);
@@ -387,6 +388,14 @@ int sp_draw_cairo_end(struct sp_draw_cairo **dcp, const struct sp_canvas *c, str
                     q[3] = (uint8_t)a;
                 }
         }
+    }
+    if (c && !dc->err && dc->svg_meta) { /* provenance: the font files drawn from */
+        char fonts[2048] = "";
+        if (dc->d.font && c->n_strings)
+            sp_cairo_font_names(dc->d.font, fonts, sizeof(fonts));
+        char *meta = sp_cairo_svg_metadata(dc->d.scene_file, dc->d.command, fonts);
+        if (meta) /* else the record without them rather than none */
+            free(dc->svg_meta), dc->svg_meta = meta, dc->sink.svg_metadata = meta;
     }
     cairo_surface_finish(dc->surface); /* a document's last bytes */
     if (c)

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/command_line.h"
 #include "base/digest.h"
 #include "springpend/common.h"
 #include "springpend/provenance.h"
@@ -32,7 +33,8 @@ void sp_provenance_free(struct sp_provenance *p)
 {
     free(p->scene);
     free(p->scene_file);
-    p->scene = p->scene_file = NULL;
+    free(p->command);
+    p->scene = p->scene_file = p->command = NULL;
     for (int k = 0; k < p->n_more; k++) {
         free(p->more_files[k]);
         p->more_files[k] = NULL;
@@ -79,7 +81,7 @@ int sp_provenance_add_scene(struct sp_provenance *p, const struct sp_scene *scen
 int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
                        const char *renderer, const char *gl_version)
 {
-    p->scene = p->scene_file = NULL;
+    p->scene = p->scene_file = p->command = NULL;
     p->n_more = 0;
     int ret = scene_sha256(scene, p->scene_sha256, &p->scene);
     if (ret)
@@ -107,8 +109,29 @@ int sp_provenance_init(struct sp_provenance *p, const struct sp_scene *scene,
     p->text[6] = (struct sp_png_text){.key = "springpend.fonts", .text = p->fonts};
     p->text[7] = (struct sp_png_text){.key = SP_PROVENANCE_SCENE_FILE, .text = p->scene_file,
                                       .compressed = 1};
+    int n_words;
+    sp_command_line_argv(&n_words);
+    p->command = n_words ? sp_command_line_unnamed() : strdup("");
+    if (!p->command) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    p->text[8] = (struct sp_png_text){.key = SP_PROVENANCE_COMMAND, .text = p->command};
     p->overlay[0] = 0;
-    p->text[8] = (struct sp_png_text){.key = "springpend.overlay", .text = p->overlay};
+    p->text[9] = (struct sp_png_text){.key = "springpend.overlay", .text = p->overlay};
+    return 0;
+}
+
+int sp_provenance_set_command(struct sp_provenance *p, const char *command)
+{
+    char *copy = strdup(command ? command : "");
+    if (!copy) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    free(p->command);
+    p->command = copy;
+    p->text[8].text = copy;
     return 0;
 }
 

@@ -338,6 +338,7 @@ int sp_sweep_merge_open(struct sp_sweep_merge *m, const struct sp_sweep_merge_de
         json_array_foreach(m->shards[0].overrides, i, v)
             if (m->n_overrides < SP_SWEEP_MERGE_MAX_OVERRIDES && json_string_value(v))
                 m->overrides[m->n_overrides++] = json_string_value(v);
+        m->command = member(m->shards[0].meta, "prov:wasGeneratedBy");
     }
     return ret;
 }

@@ -35,6 +35,9 @@ struct sp_sweep_merge {
     const char *overrides[SP_SWEEP_MERGE_MAX_OVERRIDES]; /* the shards' --set
                                                             (into their metadata) */
     int n_overrides;
+    const char *command;      /* the first shard's prov:wasGeneratedBy (the command
+                                 a merged figure records, less its --shard and
+                                 --csv: command_line.h); NULL = none */
     char header[1100];        /* "# springpend sweep DESCRIPTION" */
     char columns[1024];       /* the column names' line, "\n"-ended */
     struct sp_sweep_shard *shards, **order; /* as given; by I */

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "render/draw_cairo.h"
+#include "frame/axis.h"
 #include "frame/canvas.h"
 #include "frame/panels.h"
 #include "frame/text.h"
@@ -38,6 +39,7 @@ static struct {
     double u;          /* text and the offsets around it: times the default's */
     int print;         /* a printed size: margins measured, short titles */
     double lw, tick;   /* axes line width and tick length, pt */
+    double label_pt;   /* tick labels' size, pt (axis.h) */
     const char *title; /* NULL: the measure's own; "" = none */
     const struct sp_view *v; /* [view]'s figure keys: xlabel, ylabel, colorbar_label,
                                 legend, marker_size, panel_titles, panel_labels */
@@ -177,13 +179,6 @@ static void clip_to(const struct frame *f)
     sp_canvas_clip(&G.cv, r);
 }
 
-/* Round tick spacing (1, 2, 5 x 10^k) for about n ticks over [lo, hi]. */
-static double tick_step(double lo, double hi, int n)
-{
-    double raw = (hi - lo) / n, mag = pow(10, floor(log10(raw))), r = raw / mag;
-    return (r < 1.5 ? 1 : r < 3.5 ? 2 : r < 7.5 ? 5 : 10) * mag;
-}
-
 /* Widens a range that is empty or not finite. */
 static void fix_range(double *lo, double *hi)
 {
@@ -264,23 +259,39 @@ static void text_at(double x, double y, const char *s, double ax, double ay)
     text_turned(x, y, s, ax, ay, 0);
 }
 
-static void fmt_tick(char *buf, size_t size, double v, double step)
+/* text_width, as sp_axis_fit measures a label (ctx unused). */
+static double label_width(void *ctx, const char *label)
 {
-    int dec = step >= 1 ? 0 : (int)ceil(-log10(step) - 1e-9);
-    if (fabs(v) < step * 1e-6)
-        v = 0;
-    snprintf(buf, size, "%.*f", dec, v);
+    (void)ctx;
+    return text_width(label);
 }
 
-/* The y ticks' step (draw_axes's) and their labels' widest width, pt. */
+/* The ticks of [lo, hi] along an axis `length` pt long, laid out as a
+ * still's panels lay theirs out (axis.h): the finest round step whose
+ * labels, at G.label_pt, fit side by side (horizontal) or a line apart
+ * (vertical). */
+static void ticks(struct sp_axis *a, double lo, double hi, double length, int vertical)
+{
+    const double pt = G.pt;
+    font_pt(G.label_pt);
+    *a = (struct sp_axis){.lo = lo, .hi = hi};
+    sp_axis_fit(a, length, G.font ? sp_font_line(G.font, LAYOUT) * G.pt / LAYOUT_PX : G.pt,
+                label_width, NULL, vertical);
+    font_pt(pt);
+}
+
+/* The y ticks' (draw_axes's) labels' widest width, pt: f's y range along
+ * its height. */
 static double ylabels_width(const struct frame *f)
 {
     char buf[64];
-    double sy = tick_step(f->ylo, f->yhi, G.print ? (int)fmax(2, f->h / U(45)) : 6), wmax = 0;
+    struct sp_axis a;
+    double wmax = 0;
+    ticks(&a, f->ylo, f->yhi, f->h, 1);
     const double pt = G.pt;
-    font_pt(U(12));
-    for (double v = ceil(f->ylo / sy - 1e-9) * sy; v <= f->yhi + 1e-9 * sy; v += sy) {
-        fmt_tick(buf, sizeof(buf), v, sy);
+    font_pt(G.label_pt);
+    for (double v = a.first; v <= a.hi + 1e-9 * a.step; v += a.step) {
+        sp_axis_label(&a, v, buf, sizeof(buf));
         wmax = fmax(wmax, text_width(buf));
     }
     font_pt(pt);
@@ -306,7 +317,7 @@ static void place(struct frame *f, double right, double print_right)
     const double title = G.title_n ? G.title_n * G.title_pt * TITLE_LEADING
                          : G.v->panel_labels ? U(17) * TITLE_LEADING : 0;
     f->y0 = U(6) + title + U(6);
-    f->h = H - f->y0 - (G.tick + U(4) + U(12) * 1.2 + U(5) + U(14) * 1.25 + U(4));
+    f->h = H - f->y0 - (G.tick + U(4) + G.label_pt * 1.2 + U(5) + U(14) * 1.25 + U(4));
     f->h = fmax(f->h, U(20));
     /* the left margin depends on the y labels, which depend on the height */
     f->x0 = U(4) + U(14) * 1.2 + U(6) + ylabels_width(f) + U(4) + G.tick;
@@ -323,27 +334,32 @@ static void draw_axes(const struct frame *f, const struct sp_palette *pal, const
         xlabel = G.v->xlabel;
     if (G.v->ylabel[0])
         ylabel = G.v->ylabel;
-    font_pt(U(12));
-    double sx = tick_step(f->xlo, f->xhi, G.print ? (int)fmax(2, f->w / U(55)) : 8);
-    double sy = tick_step(f->ylo, f->yhi, G.print ? (int)fmax(2, f->h / U(45)) : 6);
+    struct sp_axis ax, ay;
+    char xname[256], yname[256];
+    ticks(&ax, f->xlo, f->xhi, f->w, 0);
+    ticks(&ay, f->ylo, f->yhi, f->h, 1);
+    sp_axis_name(&ax, xlabel, xname, sizeof(xname)); /* with an offset the ticks leave out */
+    sp_axis_name(&ay, ylabel, yname, sizeof(yname));
+    xlabel = xname, ylabel = yname;
+    font_pt(G.label_pt);
     const double grid_lw = G.print ? 0.5 * G.lw : G.lw;
-    for (double v = ceil(f->xlo / sx - 1e-9) * sx; v <= f->xhi + 1e-9 * sx; v += sx) {
+    for (double v = ax.first; v <= ax.hi + 1e-9 * ax.step; v += ax.step) {
         double x = px(f, v);
         set_rgba(pal->grid), set_line_width(grid_lw);
         line(x, f->y0, x, f->y0 + f->h);
         set_rgba(pal->axis), set_line_width(G.lw);
         line(x, f->y0 + f->h, x, f->y0 + f->h + G.tick);
-        fmt_tick(buf, sizeof(buf), v, sx);
+        sp_axis_label(&ax, v, buf, sizeof(buf));
         set_rgba(pal->muted);
         text_at(x, f->y0 + f->h + G.tick + U(4), buf, 0.5, 0);
     }
-    for (double v = ceil(f->ylo / sy - 1e-9) * sy; v <= f->yhi + 1e-9 * sy; v += sy) {
+    for (double v = ay.first; v <= ay.hi + 1e-9 * ay.step; v += ay.step) {
         double y = py(f, v);
         set_rgba(pal->grid), set_line_width(grid_lw);
         line(f->x0, y, f->x0 + f->w, y);
         set_rgba(pal->axis), set_line_width(G.lw);
         line(f->x0 - G.tick, y, f->x0, y);
-        fmt_tick(buf, sizeof(buf), v, sy);
+        sp_axis_label(&ay, v, buf, sizeof(buf));
         set_rgba(pal->muted);
         text_at(f->x0 - G.tick - U(4), y, buf, 1, 0.5);
     }
@@ -579,14 +595,15 @@ static void draw_colorbar(const struct sp_sweep_desc *d, const struct sp_palette
     colormap_strip(d, x, y, bw, h, 1, t0, t1);
     set_rgba(pal->axis), set_line_width(G.lw);
     stroke_rect(x, y, bw, h);
-    double step = tick_step(lo, hi, G.print ? (int)fmax(2, h / U(45)) : 6);
+    struct sp_axis a;
     char buf[64];
-    font_pt(U(12));
-    for (double v = ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * step; v += step) {
+    ticks(&a, lo, hi, h, 1);
+    font_pt(G.label_pt);
+    for (double v = a.first; v <= a.hi + 1e-9 * a.step; v += a.step) {
         double yy = y + h - (v - lo) / (hi - lo) * h;
         set_rgba(pal->axis);
         line(x + bw, yy, x + bw + G.tick, yy);
-        fmt_tick(buf, sizeof(buf), v, step);
+        sp_axis_label(&a, v, buf, sizeof(buf));
         set_rgba(pal->muted);
         text_at(x + bw + G.tick + U(3), yy, buf, 0, 0.5);
     }
@@ -1106,7 +1123,8 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
     G.print = print;
     G.w = print ? style->page_w : 900, G.h = print ? style->page_h : 600;
     G.u = body / 14 * (v->font_scale > 0 ? v->font_scale : 1);
-    G.lw = print ? 0.8 : 1, G.tick = print ? 3.5 : 5;
+    G.lw = print ? SP_AXIS_LINE_PT : 1, G.tick = print ? SP_AXIS_TICK_PT : 5;
+    G.label_pt = sp_axis_label_pt(U(14), 0); /* sp_sweep_plot rounds it for its output */
     G.title = style && style->title_set ? v->title : NULL;
     G.v = v;
     G.cancel = style ? style->cancel : NULL;
@@ -1136,7 +1154,7 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
                    draw_colorbar check each figure's own room as they draw) */
         const double left = print ? U(4) + U(14) * 1.2 + U(6) + U(4) + G.tick : 80;
         const double plot_w = W - left - (print ? U(18) : 30);
-        const double plot_h = print ? H - 2 * U(6) - (G.tick + U(4) + U(12) * 1.2 + U(5) +
+        const double plot_h = print ? H - 2 * U(6) - (G.tick + U(4) + G.label_pt * 1.2 + U(5) +
                                                         U(14) * 1.25 + U(4))
                                     : H - 116;
         /* a printed size whose plot has no room for its ticks and labels
@@ -1210,6 +1228,8 @@ static int write_png(const struct sp_image *img, struct sp_outfile *out,
         !(ret = sp_provenance_init(&prov, style->scene, sp_draw_cairo_version(), NULL))) {
         sp_font_files(G.font, prov.fonts, sizeof(prov.fonts));
         ret = sp_font_environment(G.font, prov.environment, sizeof(prov.environment));
+        if (!ret) /* the figure's own: a merged one's is its shards' */
+            ret = sp_provenance_set_command(&prov, style->command);
         for (int i = 0; i < SP_PROVENANCE_N_TEXT; i++)
             if (strcmp(prov.text[i].key, "springpend.time"))
                 text[n++] = prov.text[i];
@@ -1252,6 +1272,8 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     const char *ext = strrchr(path, '.');
     const int png = !strcasecmp(ext, ".png");
     const double scale = !png ? 0 : G.print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
+    if (G.print) /* in whole px of the output, as a still's at the same size and dpi */
+        G.label_pt = sp_axis_label_pt(U(14), png ? scale : SP_FIGURE_PX_PER_PT);
     struct sp_draw_cairo_desc dd = {
         .canvas = &G.cv, .font = G.font, .width = W, .height = H, .page_w = W, .page_h = H,
         .fd = out.fd, .path = path, .format = !strcasecmp(ext, ".svg") ? SP_FIGURE_SVG : SP_FIGURE_PDF,

@@ -586,7 +586,7 @@ FIXED(0, 0, 1) FIXED(0, 1, 1) FIXED(1, 0, 1) FIXED(1, 1, 1)
 
 /* ---- the adaptive method: DOP853, per-lane step control ------------------ */
 
-#include "sim/sim_tableaus.h"
+#include "sim_tableaus.h"
 
 /* The DOP853 error norm of sim.c (Hairer's), per lane: e5, e3 are the two
  * embedded error estimates (without the factor h). */

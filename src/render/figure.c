@@ -13,8 +13,8 @@
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "base/module.h"
-#include "compose.h"
-#include "render/draw_cairo.h"
+#include "frame/compose.h"
+#include "draw_cairo.h"
 
 enum sp_figure_format sp_figure_format(const char *path)
 {
@@ -156,9 +156,10 @@ static int pdf_string(const char *p, const char *end, unsigned char *raw, size_t
     return -1;
 }
 
-/* The PDF's /Subject (the last one: an updated file's newest) as UTF-8. 1,
+/* The PDF's /Subject (the last one: an updated file's newest) as UTF-8:
+ * its scene, or with command its "# command: " line's text instead. 1,
  * 0 (none, or not springpend's), -1 (damaged), -2 (too long). */
-static int pdf_scene(const char *b, size_t len, char *text, size_t size)
+static int pdf_scene(const char *b, size_t len, char *text, size_t size, int command)
 {
     const char *at = last_of(b, len, "/Subject");
     if (!at)
@@ -194,11 +195,19 @@ static int pdf_scene(const char *b, size_t len, char *text, size_t size)
     if (strncmp(text, SP_FIGURE_SCENE_MARK, mark))
         return 0; /* a subject, not springpend's scene */
     memmove(text, text + mark, w - mark + 1);
-    if (!strncmp(text, SP_FIGURE_COMMAND_MARK, strlen(SP_FIGURE_COMMAND_MARK))) {
-        const char *nl = strchr(text, '\n'); /* the command: not part of the scene */
+    const size_t cmd = strlen(SP_FIGURE_COMMAND_MARK);
+    if (!strncmp(text, SP_FIGURE_COMMAND_MARK, cmd)) {
+        char *nl = strchr(text, '\n'); /* the command: not part of the scene */
         if (!nl)
             return -1;
-        memmove(text, nl + 1, strlen(nl + 1) + 1);
+        if (command) {
+            *nl = 0;
+            memmove(text, text + cmd, strlen(text + cmd) + 1);
+        } else {
+            memmove(text, nl + 1, strlen(nl + 1) + 1);
+        }
+    } else if (command) {
+        return 0;
     }
     return 1;
 }
@@ -227,13 +236,15 @@ static uint32_t char_ref(const char *p, size_t n)
     return u >= 0xD800 && u < 0xE000 ? 0 : u;
 }
 
-/* The SVG's <metadata id="springpend.scene-file"> text, unescaped. 1, 0
- * (none), -1 (damaged), -2 (too long), -3 (a reference that is neither one
- * of XML's five entities nor a character: copied, cut, into bad). */
+/* The SVG's <metadata id="springpend.scene-file"> text (with command: its
+ * "springpend.command"), unescaped. 1, 0 (none), -1 (damaged), -2 (too
+ * long), -3 (a reference that is neither one of XML's five entities nor a
+ * character: copied, cut, into bad). */
 static int svg_scene(const char *b, size_t len, char *text, size_t size, char *bad,
-                     size_t bad_size)
+                     size_t bad_size, int command)
 {
-    const char *open = last_of(b, len, "<metadata id=\"" SP_FIGURE_SCENE_ID "\">");
+    const char *open = last_of(b, len, command ? "<metadata id=\"springpend.command\">"
+                                               : "<metadata id=\"" SP_FIGURE_SCENE_ID "\">");
     if (!open)
         return 0;
     const char *p = strchr(open, '>') + 1, *close = strstr(p, "</metadata>");
@@ -276,7 +287,8 @@ static int svg_scene(const char *b, size_t len, char *text, size_t size, char *b
     return 1;
 }
 
-int sp_figure_read_scene(const char *path, char *text, size_t size)
+/* sp_figure_read_scene, or with command sp_figure_read_command. */
+static int read_record(const char *path, char *text, size_t size, int command)
 {
     /* the record is near the end (cairo writes a PDF's /Info last, the SVG's
      * metadata goes before </svg>): read the last 8 bytes per byte of text */
@@ -309,19 +321,30 @@ int sp_figure_read_scene(const char *path, char *text, size_t size)
     }
     b[n] = 0;
     char ref[32] = "";
+    const char *what = command ? "command" : "scene";
     const int got = sp_figure_format(path) == SP_FIGURE_PDF
-                        ? pdf_scene(b, n, text, size)
-                        : svg_scene(b, n, text, size, ref, sizeof(ref));
+                        ? pdf_scene(b, n, text, size, command)
+                        : svg_scene(b, n, text, size, ref, sizeof(ref), command);
     free(b);
     if (got == -3)
-        sp_log_error("%s: its scene record holds '%s', which is neither one of XML's five entities nor a "
+        sp_log_error("%s: its %s record holds '%s', which is neither one of XML's five entities nor a "
                      "character reference; allowed: "
                      "&lt; &gt; &amp; &quot; &apos; and &#N; or &#xH; of a character "
-                     "U+0001..U+10FFFF (not a surrogate), as springpend writes", path, ref);
+                     "U+0001..U+10FFFF (not a surrogate), as springpend writes", path, what, ref);
     else if (got == -1)
-        sp_log_error("%s: its scene record is damaged; springpend writes it whole", path);
+        sp_log_error("%s: its %s record is damaged; springpend writes it whole", path, what);
     else if (got == -2)
-        sp_log_error("%s: its scene record is longer than %zu bytes, more than springpend writes",
-                     path, size - 1);
+        sp_log_error("%s: its %s record is longer than %zu bytes, more than springpend writes",
+                     path, what, size - 1);
     return got < 0 ? SP_E_INPUT : got;
+}
+
+int sp_figure_read_scene(const char *path, char *text, size_t size)
+{
+    return read_record(path, text, size, 0);
+}
+
+int sp_figure_read_command(const char *path, char *text, size_t size)
+{
+    return read_record(path, text, size, 1);
 }

@@ -1,0 +1,57 @@
+/* springpend (internal): one layout of a chart's axes and ticks, for a
+ * still's panels (panels.c) and a sweep's figures (sweep_plot.c): round
+ * ticks (1, 2, 5 x 10^k) whose labels fit along the axis, the labels'
+ * text (a real minus sign; a small range around a large value labelled
+ * from a round offset), and at a physical size the marks in pt:
+ * matplotlib's print defaults (axes.linewidth 0.8 pt, xtick.major.size
+ * 3.5 pt), tick labels SP_AXIS_LABEL_FRAC of the body text.
+ * Shared with: sweep. */
+#ifndef SPRINGPEND_AXIS_H
+#define SPRINGPEND_AXIS_H
+
+#include <stddef.h>
+
+#define SP_AXIS_LINE_PT 0.8     /* axis lines and ticks, width at a physical size, pt */
+#define SP_AXIS_TICK_PT 3.5     /* a tick's length at a physical size, pt */
+#define SP_AXIS_LABEL_FRAC 0.85 /* tick labels' and axis names' size over the body text's */
+
+struct sp_axis {
+    double lo, hi;      /* data range shown */
+    double step, first; /* tick spacing and first tick */
+    int decimals;
+    double offset;      /* subtracted from the ticks before labelling; 0 = none */
+    int offset_decimals;
+};
+
+/* The tick labels' size, pt, for body text of body pt drawn at per_pt
+ * drawing units (px) per pt: SP_AXIS_LABEL_FRAC of it, in whole drawing
+ * units (as a font's sizes are; per_pt <= 0: not rounded). */
+double sp_axis_label_pt(double body, double per_pt);
+
+/* Sets a to [lo, hi] widened by pad of its span (an empty or tiny range
+ * around its value first), no ticks yet. */
+void sp_axis_range(struct sp_axis *a, double lo, double hi, double pad);
+
+/* sp_axis_range, then the round step whose tick count is nearest
+ * max_ticks (not above it by much). */
+void sp_axis_make(struct sp_axis *a, double lo, double hi, int max_ticks, double pad);
+
+/* Sets a's step (with its first tick, decimals and offset): the finest
+ * round step, 10 ticks at most, whose labels fit along an axis of `length`
+ * units: side by side with a gap of one line height `line` (horizontal;
+ * width(ctx, label) measures a label in the same units), or 1.3 line
+ * heights apart (vertical: width is not called, may be NULL). */
+void sp_axis_fit(struct sp_axis *a, double length, double line,
+                 double (*width)(void *ctx, const char *label), void *ctx, int vertical);
+
+/* "1.5" or "−0.25" (U+2212), decimals after the point. */
+void sp_axis_number(char *buf, size_t size, double v, int decimals);
+
+/* The label of tick v of a (its offset taken off). */
+void sp_axis_label(const struct sp_axis *a, double v, char *buf, size_t size);
+
+/* The axis's name with its offset: "r (m)" with offset 1.004 is
+ * "r − 1.004 (m)", so that the ticks read as the difference. */
+void sp_axis_name(const struct sp_axis *a, const char *name, char *buf, size_t size);
+
+#endif

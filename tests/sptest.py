@@ -305,3 +305,20 @@ def readme_ci(root):
         return next((text for kind, text in blocks
                      if marker in text and (lang is None or kind == lang)), "")
     return blocks, block
+
+
+def wait_caught(p, sig, limit=20.0):
+    """Waits until process p catches signal sig (its handlers are set, as
+    /proc/PID/status's SigCgt mask shows), so that a signal test tests the
+    program's handling, not how soon a loaded machine started it."""
+    import time
+    end = time.time() + limit
+    while time.time() < end and p.poll() is None:
+        try:
+            with open(f"/proc/{p.pid}/status") as f:
+                caught = next((int(l.split()[1], 16) for l in f if l.startswith("SigCgt:")), 0)
+        except OSError:
+            caught = 0
+        if caught >> (sig - 1) & 1:
+            return
+        time.sleep(0.01)

@@ -13,6 +13,8 @@ import subprocess
 import sys
 import time
 
+import sptest
+
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "cli"))
 scenes = os.path.join(src, "..", "scenes")
@@ -418,6 +420,7 @@ for what, args in (("still --at 4e6", ["still", default, "--at", "4e6", "--size"
                                             "--set", "video.duration=900000"])):
     target = os.path.join(work, "intr", "long.png" if args[0] == "still" else "long.mp4")
     p = subprocess.Popen([exe, *args, "-o", target, "-q"], stderr=subprocess.PIPE, text=True)
+    sptest.wait_caught(p, signal.SIGINT)
     time.sleep(0.5)
     p.send_signal(signal.SIGINT)
     try:

@@ -17,7 +17,7 @@ import time
 import xml.etree.ElementTree as ET
 import zlib
 
-from sptest import manual
+from sptest import manual, wait_caught
 
 exe, src = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 work = os.path.abspath(os.path.join(sys.argv[3], "compare_ci"))
@@ -419,6 +419,7 @@ ok((r1.returncode, r2.returncode, r3.returncode, r4.returncode) == (1, 1, 0, 0)
    and "19200 pixels masked" in r4.stdout,
    f"compare.ini beside a single pair and beside videos ({r3.stdout.strip()} | {r4.stdout.strip()})")
 
+
 # Signals: a long folder compare stops at once with 128 + signal.
 big_e, big_a = W("big_e"), W("big_a")
 os.makedirs(big_e), os.makedirs(big_a)
@@ -429,6 +430,7 @@ for i in range(300):
 for sig in (signal.SIGINT, signal.SIGTERM):
     p = subprocess.Popen([exe, "compare", big_e, big_a], stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, cwd=work)
+    wait_caught(p, sig)
     time.sleep(0.5)
     p.send_signal(sig)
     out, err = p.communicate(timeout=30)
@@ -443,6 +445,7 @@ os.link(W("long.mp4"), W("long2.mp4"))
 for sig in (signal.SIGINT, signal.SIGTERM):
     p = subprocess.Popen([exe, "compare", W("long.mp4"), W("long2.mp4")], stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, cwd=work)
+    wait_caught(p, sig)
     time.sleep(0.4)
     p.send_signal(sig)
     out, err = p.communicate(timeout=30)

@@ -236,6 +236,7 @@ for i in range(1, N):
         os.link(os.path.join(d, f, "000.png"), os.path.join(d, f, f"{i:03d}.png"))
 p = subprocess.Popen([exe, "compare", "base", "act", "--report", "r.html", "--junit", "r.xml",
                       "--json"], cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+sptest.wait_caught(p, signal.SIGTERM)
 time.sleep(0.4)
 p.send_signal(signal.SIGTERM)
 out, _ = p.communicate(timeout=60)

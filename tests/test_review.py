@@ -14,7 +14,7 @@ import subprocess
 import time
 import xml.dom.minidom
 
-from sptest import done, err, manual, ok, runner_bytes, setup
+from sptest import done, err, manual, ok, runner_bytes, setup, wait_caught
 
 exe, src, work, _ = setup("review", [])
 default = os.path.join(src, "..", "scenes", "default.ini")
@@ -333,6 +333,7 @@ fifo_scene = path("waiting.ini")
 os.mkfifo(fifo_scene)
 p = subprocess.Popen([exe, "info", fifo_scene], cwd=work, stdout=subprocess.PIPE,
                      stderr=subprocess.PIPE)
+wait_caught(p, signal.SIGINT)
 time.sleep(0.5)
 p.send_signal(signal.SIGINT)
 t0 = time.monotonic()

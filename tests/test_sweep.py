@@ -17,7 +17,7 @@ import subprocess
 import sys
 import time
 
-from sptest import done, ok, skip
+from sptest import done, ok, skip, wait_caught
 
 # The independent reference needs scipy; a python3 without it (a virtual
 # environment) hands over to the system's, which Debian's python3-scipy serves.
@@ -286,6 +286,7 @@ ok(ts and max(ts) == 2.5, f"spectrum --time 2.5 with dop853 measures T = 2.5 s (
 p = subprocess.Popen([exe, "sweep", chaotic, "--vary", "initial.angle=1:179:2000", "--measure",
                       "lyapunov", "--time", "200", "-o", "int.png", "--csv", "int.csv"],
                      cwd=work, stderr=subprocess.PIPE, text=True)
+wait_caught(p, signal.SIGINT)
 time.sleep(1.0)
 p.send_signal(signal.SIGINT)
 try:
@@ -305,6 +306,7 @@ for scene, sig in (("damped.ini", signal.SIGINT), ("driven.ini", signal.SIGTERM)
                               "initial.angle=1:10:3", "--measure", measure, "--time", "2",
                               "--transient", "1e6", "-q", "-o", "tr.png", "--csv", "tr.csv"],
                              cwd=work, stderr=subprocess.PIPE, text=True)
+        wait_caught(p, sig)
         time.sleep(1.5)
         t0 = time.monotonic()
         p.send_signal(sig)
@@ -511,6 +513,7 @@ out_fifo = os.path.join(work, "fig_fifo.png")
 os.mkfifo(out_fifo)
 p = subprocess.Popen([exe, "sweep", "--merge", "part2_1.csv", "part2_2.csv", "-o", "fig_fifo.png", "-q"],
                      cwd=work, stderr=subprocess.PIPE, text=True)
+wait_caught(p, signal.SIGTERM)
 time.sleep(1.5)
 p.send_signal(signal.SIGTERM)
 try:

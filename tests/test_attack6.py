@@ -9,7 +9,9 @@ attack6.md). Each check is a class, run as the attacker ran it:
   with the other's metadata;
 - compare's diff and reports must be files: a FIFO, a device or stdout is
   refused before anything is compared (exit 2), not after every comparison
-  with the status of "images differ".
+  with the status of "images differ";
+- springpend scene reads a file named -x.png after '--' and takes --cell
+  before FILE too, as every command's getopt does.
 usage: test_attack6.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import fcntl
 import os
@@ -75,6 +77,20 @@ ok(not early and p.returncode == 0 and os.path.exists(path("pair", "d.csv"))
    f"data: the CSV and its metadata are renamed into place under the folder's lock "
    f"(in place while another run held it: {early}; exit {p.returncode})")
 
+# a process keeping the folder locked delays the pair at most 5 s, said: it
+# cannot hang the run (anyone may lock a shared folder such as /tmp)
+fd = os.open(path("pair"), os.O_RDONLY)
+fcntl.flock(fd, fcntl.LOCK_EX)
+t0 = time.monotonic()
+r = run("data", default, "--set", "video.duration=0.5", "-o", "pair/held.csv", timeout=60)
+took = time.monotonic() - t0
+fcntl.flock(fd, fcntl.LOCK_UN)
+os.close(fd)
+ok(r.returncode == 0 and took < 30 and "keeps locking its folder" in err(r)
+   and os.path.exists(path("pair", "held.csv")),
+   f"data: a folder locked for good delays the pair a few seconds, with a note "
+   f"({took:.1f} s, exit {r.returncode}: {err(r)[-100:]!r})")
+
 for k in range(6):  # and the pairs of two runs at once always match
     a = subprocess.Popen([exe, "data", default, "--set", "video.duration=3", "-q",
                           "-o", "race.csv"], cwd=work)
@@ -118,5 +134,15 @@ os.mkfifo(path("v.mp4"))
 r = run("render", default, "--size", "64x48", "-o", "v.mp4", timeout=30)
 ok(r.returncode == 2 and "v.mp4 is a FIFO, not a regular file" in err(r),
    f"render -o FIFO.mp4: the message names 'a FIFO' ({err(r)[-120:]!r})")
+
+# ---- scene: '--' and --cell anywhere -------------------------------------------
+with open(path("-lead.png"), "wb") as f:
+    f.write(read(path("b1.png")))
+r = run("scene", "--", "-lead.png")
+ok(r.returncode == 0 and b"[pendulum]" in r.stdout,
+   f"scene -- -lead.png: read (exit {r.returncode}: {err(r)[-100:]!r})")
+r = run("scene", "--cell", "1", "b1.png")
+ok(r.returncode == 0 and r.stdout == run("scene", "b1.png", "--cell", "1").stdout,
+   f"scene --cell 1 FILE: as scene FILE --cell 1 (exit {r.returncode}: {err(r)[-100:]!r})")
 
 done()

@@ -65,8 +65,11 @@ int sp_outfile_commit(struct sp_outfile *f);
  * exclusive lock (flock) on the folder of second's target: two runs
  * writing the same pair (a CSV and its CSV-metadata.json) at once put their
  * pairs in place one after the other, never one's first with the other's
- * second. Either may be closed or written through. On failure the rest is
- * discarded (a first already in place stays). 0 or SP_E_IO. */
+ * second. The lock is polled for at most 5 s (a process keeping the folder
+ * locked cannot hang the run); then, or where the file system has no
+ * flock, the pair goes in unlocked with a note. Either may be closed or
+ * written through. On failure the rest is discarded (a first already in
+ * place stays). 0 or SP_E_IO. */
 int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second);
 
 /* Closes f->fd and removes the .part; a target written through is left

@@ -19,6 +19,7 @@
 
 /* A PNG sequence has at most 9 .parts open at once; a still and its JSON 2. */
 #define PART_SLOTS 32
+#define PAIR_LOCK_WAIT_S 5 /* s: how long a pair waits for its folder's lock */
 
 static char part_name[PART_SLOTS][PATH_MAX];
 static volatile sig_atomic_t part_armed[PART_SLOTS]; /* 1: part_name exists
@@ -292,10 +293,24 @@ int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second)
             snprintf(folder, sizeof(folder), "%.*s", slash == named->target ? 1
                      : (int)(slash - named->target), named->target);
         dir = open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-        /* a folder that cannot be locked (a file system without flock)
-         * is written unlocked, as a single file always is */
-        while (dir >= 0 && flock(dir, LOCK_EX) != 0 && errno == EINTR)
-            ;
+        /* Another run holds the lock for two renames (well under a
+         * millisecond): polled, not waited on, so that a process keeping
+         * the folder locked (anyone may lock a shared /tmp) cannot hang this
+         * run past its signals; after PAIR_LOCK_WAIT_S, and on a file
+         * system without flock, the pair is put in place unlocked, said. */
+        int tries = 0;
+        while (dir >= 0 && flock(dir, LOCK_EX | LOCK_NB) != 0) {
+            const int busy = errno == EWOULDBLOCK || errno == EINTR;
+            if (!busy || ++tries > PAIR_LOCK_WAIT_S * 100) {
+                sp_log_note("%s: %s %s; put in place without the lock", named->target,
+                            busy ? "another process keeps locking its folder"
+                                 : "cannot lock its folder", busy ? folder : strerror(errno));
+                close(dir);
+                dir = -1;
+                break;
+            }
+            nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL); /* 10 ms */
+        }
     }
     err = sp_outfile_commit(first);
     if (!err)

@@ -30,6 +30,23 @@ static int add_override(struct sp_cli_options *o, const char *s)
     return 0;
 }
 
+int sp_cli_once(int c, const struct option *opts, const char *repeatable, const char *first[128])
+{
+    if (c <= 0 || c >= 128 || strchr(repeatable, c))
+        return 0;
+    for (const struct option *p = opts; p->name; p++)
+        if (p->val == c && p->has_arg == required_argument) {
+            if (first[c]) {
+                sp_log_error("--%s given twice (%s, then %s); give it once", p->name, first[c],
+                             optarg);
+                return SP_E_INPUT;
+            }
+            first[c] = optarg;
+            return 0;
+        }
+    return 0;
+}
+
 int sp_cli_refuse(const char *opt, const char *arg, const char *wrong, const char *allowed)
 {
     sp_log_error("%s %s: %s; expected %s%s", opt, arg, wrong, allowed,

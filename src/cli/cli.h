@@ -100,6 +100,15 @@ int sp_cli_png_pixels(double w_pt, double h_pt, double dpi, const char *what, in
 int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
                        int *first, int *last);
 
+struct option;
+
+/* An option with a value is given once: SP_E_INPUT after a message when
+ * option c (getopt_long's value for one of opts; its value: optarg) was
+ * given before, which would silently win otherwise. first[c] keeps each
+ * option's first value (the caller zeroes first). The options in
+ * `repeatable` (--set, --vary: they add up) and flags may repeat. */
+int sp_cli_once(int c, const struct option *opts, const char *repeatable, const char *first[128]);
+
 /* Logs "OPT ARG: WRONG; expected ALLOWED" (adding the decimal syntax when
  * WRONG says SP_DECIMAL_NOT) and returns SP_E_INPUT: the one shape of a bad
  * numeric option's message, ARG as the user typed it. */

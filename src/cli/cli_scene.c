@@ -1,6 +1,7 @@
 /* springpend: the scene command. Prints the scene an output of springpend
  * carries, as a scene file: a PNG's or a video's springpend.scene-file text
  * (provenance.h), a CSV's dc:source (csv_metadata.h). */
+#include <getopt.h>
 #include <jansson.h>
 #include <stdlib.h>
 #include <string.h>
@@ -154,29 +155,49 @@ static int command_of(const char *path, int figure, int video)
 
 int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
-    int cell = 0, command = 0;
+    static const struct option longopts[] = {
+        {"cell", required_argument, 0, 'c'}, {"command", no_argument, 0, 'C'},
+        {"help", no_argument, 0, 'h'}, {0, 0, 0, 0},
+    };
+    const char *first[128] = {0};
+    int cell = 0, command = 0, c;
     (void)cancel; /* reads one file: nothing runs long */
-    if (argc == 2 && (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help"))) {
-        fputs(scene_usage, stdout);
-        return 0;
-    }
-    if (argc == 4 && !strcmp(argv[2], "--cell")) {
+    optind = 1;
+    opterr = 0;
+    /* getopt_long, as every command: options before or after FILE, '--'
+     * ends them (a file named -x.png) */
+    while ((c = getopt_long(argc, argv, ":h", longopts, NULL)) != -1) {
         double v;
-        if (sp_cli_number("--cell", argv[3], 1, SP_PROVENANCE_MAX_SCENES, SP_DECIMAL_INTEGER,
-                          "a side-by-side cell, an integer from 1 to 4", &v))
+        if (sp_cli_once(c, longopts, "", first))
             return SP_E_INPUT;
-        cell = (int)v;
-        argc = 2;
-    } else if (argc == 3 && !strcmp(argv[2], "--command")) {
-        command = 1;
-        argc = 2;
+        switch (c) {
+        case 'h':
+            fputs(scene_usage, stdout);
+            return 0;
+        case 'c':
+            if (sp_cli_number("--cell", optarg, 1, SP_PROVENANCE_MAX_SCENES, SP_DECIMAL_INTEGER,
+                              "a side-by-side cell, an integer from 1 to 4", &v))
+                return SP_E_INPUT;
+            cell = (int)v;
+            break;
+        case 'C':
+            command = 1;
+            break;
+        case ':':
+            sp_log_error("option '%s' needs a value; see 'springpend scene --help'",
+                         argv[optind - 1]);
+            return SP_E_INPUT;
+        default:
+            sp_log_error("unknown option '%s'; see 'springpend scene --help'", argv[optind - 1]);
+            return SP_E_INPUT;
+        }
     }
-    if (argc != 2 || argv[1][0] == '-') {
+    if (argc - optind != 1 || (command && cell)) {
         sp_log_error("expected one FILE (a PNG, video, SVG, PDF or CSV springpend wrote) and perhaps "
                      "--cell K or --command; see 'springpend scene --help'");
         return SP_E_INPUT;
     }
-    const char *path = argv[1];
+    const char *path = argv[optind];
     if (ends_with(path, ".csv"))
         return command ? command_of_csv(path) : scene_of_csv(path, cell);
     static const char *const videos[] = {".mp4", ".m4v", ".mov", ".webm", ".mkv", ".gif"};

@@ -145,4 +145,24 @@ r = run("scene", "--cell", "1", "b1.png")
 ok(r.returncode == 0 and r.stdout == run("scene", "b1.png", "--cell", "1").stdout,
    f"scene --cell 1 FILE: as scene FILE --cell 1 (exit {r.returncode}: {err(r)[-100:]!r})")
 
+# ---- a positive font_size too small to read is refused (finding 5) -------------
+# It was drawn at the renderer's 4 px floor, every label unreadable, exit 0.
+for value in ("0.5", "1e-300", "3.9"):
+    r = run("still", default, "--at", "1", "--size", "320x180", "--set", f"view.font_size={value}",
+            "-o", f"fs_{value}.png")
+    ok(r.returncode == 2 and "too small to read" in err(r) and "4 <= font_size <= 200" in err(r) and
+       not os.path.exists(path(f"fs_{value}.png")),
+       f"view.font_size={value}: exit 2 with the range, nothing written "
+       f"(exit {r.returncode}: {err(r)[-140:]!r})")
+with open(path("fs.ini"), "w") as f:
+    f.write("[view]\nfont_size = 0.25\n")
+r = run("info", path("fs.ini"))
+ok(r.returncode == 2 and f"{path('fs.ini')}:2: view.font_size = 0.25 pt is too small" in err(r),
+   f"font_size = 0.25 in a scene file: FILE:LINE ({err(r)[-140:]!r})")
+for value in ("0", "4"):
+    r = run("still", default, "--at", "1", "--size", "320x180", "--set", f"view.font_size={value}",
+            "-o", f"fs_ok{value}.png")
+    ok(r.returncode == 0 and os.path.exists(path(f"fs_ok{value}.png")),
+       f"view.font_size={value} is drawn (exit {r.returncode}: {err(r)[-100:]!r})")
+
 done()

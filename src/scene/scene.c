@@ -29,6 +29,7 @@
 #define SP_MAX_RATE2 1e24  /* k/m and b/m, 1/s^2 and 1/s: omega up to 1e12 rad/s */
 #define SP_MAX_STRETCH 1e9 /* m g / k, m: beyond it nothing is on screen */
 #define SP_ENSEMBLE_MAX 10000 /* [ensemble] count */
+#define SP_FONT_SIZE_MIN_PT 4.0 /* [view] font_size, pt: below it text is unreadable */
 
 enum key_kind { KEY_REAL, KEY_INT, KEY_DEGREES, KEY_METHOD,
                 KEY_BOOL,    /* true/false, stored as int */
@@ -111,7 +112,7 @@ static const struct key_info keys[] = {
     {"view", "fade", KEY_BOOL, F(view.fade), 1, 0, 0, 0, "true, false"},
     {"view", "font_scale", KEY_REAL, F(view.font_scale), 1, 0.25, 4, 0, "(text size factor)"},
     {"view", "font_size", KEY_REAL, F(view.font_size), 0, 0, 200, 0,
-     "pt (body text; 0 = from the frame's size)"},
+     "pt (body text; 0 = from the frame's size, else 4 to 200)"},
     {"view", "font", KEY_TEXT, F(view.font), 0, 0, 0, 0,
      "a font family that fontconfig knows (fc-list : family); empty = DejaVu Sans"},
     {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
@@ -685,6 +686,13 @@ static void set_value(struct parse_ctx *c, int line, const struct key_info *k,
     if (v < k->lo || (k->lo_open && v == k->lo) || v > k->hi) {
         report(c, line, "%s.%s = %s is out of range; expected %s", k->section,
                k->name, value, range);
+        return;
+    }
+    if (p == (char *)&c->scene->view.font_size && v > 0 && v < SP_FONT_SIZE_MIN_PT) {
+        /* drawn at the renderer's 4 px floor, unreadable, and not said */
+        report(c, line, "%s.%s = %s pt is too small to read; expected 0 (from the frame's "
+               "size) or %g <= font_size <= %g pt", k->section, k->name, value,
+               SP_FONT_SIZE_MIN_PT, k->hi);
         return;
     }
     if (p == (char *)&c->scene->view.font_size || p == (char *)&c->scene->view.font_scale) {

@@ -10,6 +10,8 @@ attack6.md). Each check is a class, run as the attacker ran it:
 - compare's diff and reports must be files: a FIFO, a device or stdout is
   refused before anything is compared (exit 2), not after every comparison
   with the status of "images differ";
+- an option with a value given twice is refused, in every command (the
+  last one silently won: -o a.png -o b.png wrote b.png alone);
 - springpend scene reads a file named -x.png after '--' and takes --cell
   before FILE too, as every command's getopt does.
 usage: test_attack6.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -134,6 +136,39 @@ os.mkfifo(path("v.mp4"))
 r = run("render", default, "--size", "64x48", "-o", "v.mp4", timeout=30)
 ok(r.returncode == 2 and "v.mp4 is a FIFO, not a regular file" in err(r),
    f"render -o FIFO.mp4: the message names 'a FIFO' ({err(r)[-120:]!r})")
+
+# ---- an option with a value is given once --------------------------------------
+twice = [
+    (["still", default, "--at", "1", "--size", "64x48", "-o", "t1.png", "-o", "t2.png"],
+     "--output given twice (t1.png, then t2.png)", ["t1.png", "t2.png"]),
+    (["still", default, "--at", "1", "--at", "2", "--size", "64x48", "-o", "t3.png"],
+     "--at given twice (1, then 2)", ["t3.png"]),
+    (["data", default, "--every", "0.1", "--every", "0.5", "-o", "t5.csv"],
+     "--every given twice (0.1, then 0.5)", ["t5.csv"]),
+    (["compare", "b1.png", "b2.png", "--report", "r1.html", "--report", "r2.html"],
+     "--report given twice (r1.html, then r2.html)", ["r1.html", "r2.html"]),
+    (["compare", "b1.png", "b2.png", "--max-diff", "3", "--max-diff=5"],
+     "--max-diff given twice (3, then 5)", []),
+    (["sweep", chaotic, "--vary", "initial.angle=1:179:4", "--measure", "lyapunov",
+      "--measure", "orbit", "--time", "2", "-o", "t6.png"],
+     "--measure given twice (lyapunov, then orbit)", ["t6.png"]),
+]
+for args, says, outs in twice:
+    r = run(*args)
+    ok(r.returncode == 2 and says in err(r) and not any(os.path.exists(path(o)) for o in outs),
+       f"{args[0]}: {says}: refused, exit 2, nothing written (exit {r.returncode}: "
+       f"{err(r)[-100:]!r})")
+r = run("sweep", chaotic, "--vary", "initial.angle=1:179:4", "--vary", "initial.length=1:2:3",
+        "--measure", "lyapunov", "--time", "2", "--set", "view.font_size=12",
+        "--set", "view.title=T", "-q", "-o", "-")
+ok(r.returncode == 0, f"--vary and --set still repeat (exit {r.returncode}: {err(r)[-100:]!r})")
+# --size and --fps are render's and still's shorthands for --set video.width,
+# video.height and video.fps: they repeat as --set does, the last winning
+r = run("render", default, "--size", "64x48", "--fps", "5", "--size=96x64", "--fps", "10",
+        "--set", "video.duration=0.2", "--format", "raw", "-o", "-")
+ok(r.returncode == 0 and len(r.stdout) == 96 * 64 * 4 * 2,
+   f"render --size and --fps repeat as --set does, the last winning: "
+   f"{len(r.stdout)} bytes = 2 frames of 96x64 (exit {r.returncode}: {err(r)[-100:]!r})")
 
 # ---- scene: '--' and --cell anywhere -------------------------------------------
 with open(path("-lead.png"), "wb") as f:

@@ -370,7 +370,7 @@ static int take_scenes(struct sp_cli_options *o, int argc, char **argv, unsigned
 int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *usage,
                  unsigned takes)
 {
-    const char *quality = NULL;
+    const char *quality = NULL, *first[128] = {0};
     int c, ret = 0;
     memset(o, 0, sizeof(*o));
     o->still.at = -1;
@@ -380,6 +380,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
     /* ':' first: an option missing its value returns ':', not '?'. */
     while ((c = getopt_long(argc, argv, ":o:qhv", longopts, NULL)) != -1)
         if ((ret = refuse_owned(c, takes, argv)) ||
+            (ret = sp_cli_once(c, longopts, "sSF", first)) ||
             (ret = take_option(o, c, argc, argv, usage, &quality)))
             return ret;
     if (quality && (ret = add_quality(o, quality)))

@@ -102,6 +102,7 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
     };
     int ch, idx;
     char why[1024];
+    const char *first[128] = {0};
     struct sp_compare_desc *c = &o->run;
     memset(o, 0, sizeof(*o));
     long cpus = sysconf(_SC_NPROCESSORS_ONLN);
@@ -109,6 +110,8 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
     optind = 1;
     opterr = 0;
     while ((ch = getopt_long(argc, argv, ":qh", longopts, &idx)) != -1) {
+        if (sp_cli_once(ch, longopts, "", first))
+            return SP_E_INPUT;
         switch (ch) {
         case 'd': case 'p': case 'm': case 't': case 'T':
             if (sp_compare_rule_set(&c->base, longopts[idx].name, optarg, why, sizeof(why))) {

@@ -361,12 +361,14 @@ static int take_operands(int argc, char **argv, struct sweep_opts *o,
 static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_sweep_desc *d)
 {
     int c, ret = 0, have_measure = 0;
+    const char *first[128] = {0};
     memset(o, 0, sizeof(*o));
     d->time = -1;
     optind = 1;
     opterr = 0;
     while (!ret && (c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1)
-        ret = take_option(c, argv, o, d, &have_measure);
+        if (!(ret = sp_cli_once(c, longopts, "sV", first)))
+            ret = take_option(c, argv, o, d, &have_measure);
     if (ret || (ret = check_size(o)))
         return ret;
     if (o->output && !strcmp(o->output, "-")) { /* the numbers, no figure */

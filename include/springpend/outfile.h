@@ -69,8 +69,10 @@ int sp_outfile_commit(struct sp_outfile *f);
  * locked cannot hang the run); then, or where the file system has no
  * flock, the pair goes in unlocked with a note. Either may be closed or
  * written through. On failure the rest is discarded (a first already in
- * place stays). 0 or SP_E_IO. */
-int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second);
+ * place stays). A signal (*cancel set; cancel may be NULL) while the lock
+ * is polled discards both: SP_E_INTERRUPTED. 0 or SP_E_IO. */
+int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second,
+                           const volatile sig_atomic_t *cancel);
 
 /* Closes f->fd and removes the .part; a target written through is left
  * alone. Safe on a closed or zeroed f. */

@@ -1,4 +1,5 @@
 /* springpend: the recorded command line (see command_line.h). */
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -110,16 +111,19 @@ char *sp_command_line_unnamed(void)
 
 /* Splits line, as sp_command_line_text writes one, into words (malloc'd,
  * each in the one buffer *store); the count, or -1 when it is not such a
- * line or out of memory. */
+ * line (it may come from a file: a space at its start or two in a row, an
+ * empty word, is one springpend never writes) or out of memory. */
 static int split(const char *line, char ***out, char **store)
 {
-    const size_t len = strlen(line);
-    char **w = malloc((len / 2 + 2) * sizeof(*w)), *s = malloc(len + 1), *at = s;
-    int n = 0;
+    const size_t len = strlen(line), cap = len / 2 + 2; /* a word and its space: 2 bytes */
+    char **w = malloc(cap * sizeof(*w)), *s = malloc(len + 1), *at = s;
+    size_t n = 0;
     *out = w, *store = s;
     if (!w || !s)
         return -1;
     for (const char *p = line; *p;) {
+        if (*p == ' ' || n + 1 >= cap)
+            return -1;
         w[n++] = at;
         while (*p && *p != ' ') {
             if (*p != '\'') {
@@ -139,7 +143,7 @@ static int split(const char *line, char ***out, char **store)
         if (*p == ' ' && !*++p)
             return -1;
     }
-    return n;
+    return n > INT_MAX ? -1 : (int)n;
 }
 
 char *sp_command_line_recorded(const char *line)

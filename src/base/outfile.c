@@ -280,7 +280,8 @@ int sp_outfile_commit(struct sp_outfile *f)
     return 0;
 }
 
-int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second)
+int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second,
+                           const volatile sig_atomic_t *cancel)
 {
     const struct sp_outfile *named = second->target ? second : first;
     int dir = -1, err;
@@ -310,6 +311,12 @@ int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second)
                 break;
             }
             nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL); /* 10 ms */
+            if (cancel && *cancel) { /* stopped while waiting: neither goes in */
+                close(dir);
+                sp_outfile_discard(first);
+                sp_outfile_discard(second);
+                return SP_E_INTERRUPTED;
+            }
         }
     }
     err = sp_outfile_commit(first);

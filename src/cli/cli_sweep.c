@@ -657,7 +657,7 @@ static int write_csv(FILE *rows, const char *csv, const struct provenance *pv,
     if (!ret)
         ret = sp_csv_metadata_write(&meta, csv, &m);
     if (!ret) /* the metadata first: when the CSV appears, it is there */
-        ret = sp_outfile_commit_pair(&meta, &f);
+        ret = sp_outfile_commit_pair(&meta, &f, cancel);
     sp_outfile_discard(&f);
     return ret;
 }

@@ -266,7 +266,9 @@ int sp_data_run(const struct sp_data_desc *d)
     if (!ret)
         ret = write_metadata(&meta, out, d, d->scenes, d->n_scenes, spatial);
     if (!ret) /* the metadata first: when the CSV appears, it is there */
-        ret = sp_outfile_commit_pair(&meta, &f);
+        ret = sp_outfile_commit_pair(&meta, &f, d->cancel);
+    if (ret == SP_E_INTERRUPTED && !through)
+        sp_log_error("interrupted: %s not written", out);
     if (!ret && !d->quiet && !through)
         sp_fprintf_line(stderr, "wrote %s", out);
 done:

@@ -66,15 +66,23 @@ size_t sp_text_shown(const char *s, int newline, char *buf, size_t size)
     return (size_t)n;
 }
 
-static void vprint_line(FILE *fp, const char *fmt, va_list ap)
+/* One message: the stream is locked for its whole line (stdio's lock, the
+ * one every stdio call takes), so that threads writing messages at once
+ * (the PNG sequence's writers on a full disk) never interleave their
+ * characters; prefix, when not NULL, goes first. */
+static void vprint_line(FILE *fp, const char *prefix, const char *fmt, va_list ap)
 {
     char *msg = NULL;
     int n = vasprintf(&msg, fmt, ap);
+    flockfile(fp);
+    if (prefix)
+        fputs(prefix, fp);
     if (n >= 0)
         sp_fputs_line(msg, fp); /* one message, one line */
     else
         fputs(fmt, fp); /* out of memory: the bare format still says where */
     fputc('\n', fp);
+    funlockfile(fp);
     free(msg);
 }
 
@@ -82,7 +90,7 @@ void sp_fprintf_line(FILE *fp, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vprint_line(fp, fmt, ap);
+    vprint_line(fp, NULL, fmt, ap);
     va_end(ap);
 }
 
@@ -90,8 +98,7 @@ void sp_log_error(const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    fputs("springpend: ", stderr);
-    vprint_line(stderr, fmt, ap);
+    vprint_line(stderr, "springpend: ", fmt, ap);
     va_end(ap);
 }
 
@@ -109,8 +116,7 @@ void sp_log_note(const char *fmt, ...)
     if (log_quiet)
         return;
     va_start(ap, fmt);
-    fputs("springpend: ", stderr);
-    vprint_line(stderr, fmt, ap);
+    vprint_line(stderr, "springpend: ", fmt, ap);
     va_end(ap);
 }
 

@@ -1,8 +1,10 @@
 /* springpend: one layout of a chart's axes and ticks (see axis.h). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "springpend/common.h"
 #include "axis.h"
 
 static const double MULT[] = {1, 2, 5};
@@ -117,11 +119,120 @@ void sp_axis_name(const struct sp_axis *a, const char *name, char *buf, size_t s
 {
     char off[40];
     const char *unit = strstr(name, " (");
-    if (a->offset == 0) {
-        snprintf(buf, size, "%s", name);
+    if (a->offset == 0) { /* snprintf's "%s", without parsing a format every frame */
+        size_t n = strlen(name);
+        if (n > size - 1)
+            n = size - 1;
+        memcpy(buf, name, n);
+        buf[n] = 0;
         return;
     }
     sp_axis_number(off, sizeof(off), fabs(a->offset), a->offset_decimals);
     snprintf(buf, size, "%.*s %s %s%s", unit ? (int)(unit - name) : (int)strlen(name), name,
              a->offset > 0 ? "\xe2\x88\x92" : "+", off, unit ? unit : "");
+}
+
+/* ---- the memo ---- */
+
+enum { MEMO_FITS = 32, MEMO_TICKS = 32 }; /* a frame's panels have at most 16 axes */
+
+/* Keys are compared as bytes (memcmp): built from zeroed memory, so the
+ * padding compares too, and -0 and 0, which round differently, differ. */
+struct fit_key {
+    double lo, hi, length, line;
+    double (*width)(void *ctx, const char *label);
+    void *ctx;
+    int vertical;
+};
+
+struct ticks_key {
+    struct sp_axis a;
+    double (*width)(void *ctx, const char *label);
+    void *ctx;
+};
+
+struct sp_axis_memo {
+    struct {
+        struct fit_key key;
+        struct sp_axis out;
+    } fit[MEMO_FITS];
+    struct {
+        struct ticks_key key;
+        struct sp_axis_ticks t;
+    } ticks[MEMO_TICKS];
+    int n_fit, n_ticks;       /* entries in use */
+    int next_fit, next_ticks; /* the entry replaced when full (oldest first) */
+};
+
+int sp_axis_memo_make(struct sp_axis_memo **out)
+{
+    *out = calloc(1, sizeof(**out));
+    return *out ? 0 : SP_E_NOMEM;
+}
+
+/* The slot for a new entry of a table of `cap` with *n used. */
+static int memo_slot(int *n, int *next, int cap)
+{
+    if (*n < cap)
+        return (*n)++;
+    const int i = *next;
+    *next = (i + 1) % cap;
+    return i;
+}
+
+void sp_axis_fit_memo(struct sp_axis_memo *m, struct sp_axis *a, double length, double line,
+                      double (*width)(void *ctx, const char *label), void *ctx, int vertical)
+{
+    if (!m) {
+        sp_axis_fit(a, length, line, width, ctx, vertical);
+        return;
+    }
+    struct fit_key k;
+    memset(&k, 0, sizeof(k));
+    k.lo = a->lo, k.hi = a->hi, k.length = length, k.line = line;
+    k.width = width, k.ctx = ctx, k.vertical = vertical;
+    for (int i = 0; i < m->n_fit; i++)
+        if (!memcmp(&m->fit[i].key, &k, sizeof(k))) {
+            *a = m->fit[i].out;
+            return;
+        }
+    sp_axis_fit(a, length, line, width, ctx, vertical);
+    const int i = memo_slot(&m->n_fit, &m->next_fit, MEMO_FITS);
+    m->fit[i].key = k;
+    m->fit[i].out = *a;
+}
+
+/* Fills t with a's ticks, labels and widths. */
+static void ticks_make(struct sp_axis_ticks *t, const struct sp_axis *a,
+                       double (*width)(void *ctx, const char *label), void *ctx)
+{
+    t->n = 0;
+    for (double v = a->first; v <= a->hi + 1e-9 * a->step && t->n < SP_AXIS_MAX_TICKS;
+         v += a->step, t->n++) {
+        t->v[t->n] = v;
+        sp_axis_label(a, v, t->label[t->n], SP_AXIS_LABEL_BYTES);
+        t->width[t->n] = width ? width(ctx, t->label[t->n]) : 0;
+    }
+}
+
+const struct sp_axis_ticks *sp_axis_ticks_of(struct sp_axis_memo *m, const struct sp_axis *a,
+                                             double (*width)(void *ctx, const char *label),
+                                             void *ctx, struct sp_axis_ticks *scratch)
+{
+    struct ticks_key k;
+    memset(&k, 0, sizeof(k));
+    /* field by field: the struct's own padding stays zero */
+    k.a.lo = a->lo, k.a.hi = a->hi, k.a.step = a->step, k.a.first = a->first;
+    k.a.decimals = a->decimals, k.a.offset = a->offset, k.a.offset_decimals = a->offset_decimals;
+    k.width = width, k.ctx = ctx;
+    if (m) {
+        for (int i = 0; i < m->n_ticks; i++)
+            if (!memcmp(&m->ticks[i].key, &k, sizeof(k)))
+                return &m->ticks[i].t;
+        const int i = memo_slot(&m->n_ticks, &m->next_ticks, MEMO_TICKS);
+        m->ticks[i].key = k;
+        scratch = &m->ticks[i].t;
+    }
+    ticks_make(scratch, a, width, ctx);
+    return scratch;
 }

@@ -50,6 +50,43 @@ void sp_axis_number(char *buf, size_t size, double v, int decimals);
 /* The label of tick v of a (its offset taken off). */
 void sp_axis_label(const struct sp_axis *a, double v, char *buf, size_t size);
 
+/* ---- the memo: a chart's axes are laid out again every frame from the
+ * same range (the pre-pass's), so their fits and tick labels are kept,
+ * each keyed by what produced it (range, length, line height and measure
+ * for a fit; range, step, first tick, decimals and offset for labels).
+ * What comes out of the memo is byte for byte what the plain calls give. */
+
+#define SP_AXIS_LABEL_BYTES 48 /* a tick label, NUL included */
+#define SP_AXIS_MAX_TICKS 16   /* sp_axis_fit gives at most 11 */
+
+/* An axis's ticks: value, label and (when measured) width. */
+struct sp_axis_ticks {
+    int n;
+    double v[SP_AXIS_MAX_TICKS]; /* first, first + step, ... (summed as the loops do) */
+    char label[SP_AXIS_MAX_TICKS][SP_AXIS_LABEL_BYTES];
+    double width[SP_AXIS_MAX_TICKS]; /* width(ctx, label); 0 when not measured */
+};
+
+/* One allocation with no pointers inside: released with free(). */
+struct sp_axis_memo;
+
+/* 0, or SP_E_NOMEM. */
+int sp_axis_memo_make(struct sp_axis_memo **out);
+
+/* sp_axis_fit through memo m (NULL: computed): the same fit for the same
+ * range, length, line, measure (width, ctx) and direction. */
+void sp_axis_fit_memo(struct sp_axis_memo *m, struct sp_axis *a, double length, double line,
+                      double (*width)(void *ctx, const char *label), void *ctx, int vertical);
+
+/* The ticks of a (fitted by sp_axis_fit: at most SP_AXIS_MAX_TICKS are
+ * kept) from first to hi, labelled by sp_axis_label and, with width not
+ * NULL, measured by it; from memo m, or (m NULL, or a miss) worked out
+ * into *scratch and, with m, kept. The result lives until the next call
+ * with m (or scratch). */
+const struct sp_axis_ticks *sp_axis_ticks_of(struct sp_axis_memo *m, const struct sp_axis *a,
+                                             double (*width)(void *ctx, const char *label),
+                                             void *ctx, struct sp_axis_ticks *scratch);
+
 /* The axis's name with its offset: "r (m)" with offset 1.004 is
  * "r − 1.004 (m)", so that the ticks read as the difference. */
 void sp_axis_name(const struct sp_axis *a, const char *name, char *buf, size_t size);

@@ -1,6 +1,6 @@
 /* springpend tests: the teaching overlays' pure parts: text rasterization
- * (text.c), the frame layout (layout.c) and the Poincare crossings
- * (frame.c). */
+ * (text.c), the frame layout (layout.c), the Poincare crossings (frame.c)
+ * and the axis memo (axis.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +10,7 @@
 #include "springpend/frame.h"
 #include "springpend/scene.h"
 #include "springpend/sim.h"
+#include "frame/axis.h"
 #include "frame/layout.h"
 #include "frame/panels.h"
 #include "frame/text.h"
@@ -244,11 +245,83 @@ static void test_colormaps(void)
     }
 }
 
+/* A made-up label measure: 7 units a byte, +3 per '.', counting its calls. */
+static int measure_calls;
+static double measure(void *ctx, const char *label)
+{
+    (void)ctx;
+    measure_calls++;
+    double w = 0;
+    for (const char *s = label; *s; s++)
+        w += *s == '.' ? 10 : 7;
+    return w;
+}
+
+/* The memo gives what the plain calls give (fits, ticks, labels, widths),
+ * and a fit or a tick list asked again at once is not worked out again:
+ * 200 ranges of every size (tiny spans, offsets, negative), three times
+ * (each pass finds its entries replaced by the 200 after them, in a
+ * 32-entry memo). */
+static void test_axis_memo(void)
+{
+    struct sp_axis_memo *m = NULL;
+    if (!sp_tap_ok(sp_axis_memo_make(&m) == 0, "axis memo made"))
+        return;
+    int bad = 0, again_calls = 0, ticks_max = 0, hits = 0;
+    for (int pass = 0; pass < 3; pass++) {
+        srand(7);
+        for (int i = 0; i < 200; i++) {
+            const double mag = pow(10, rand() % 25 - 12), lo = (rand() % 2001 - 1000) * mag / 100;
+            const double span = mag * pow(10, -(rand() % 8)) * (1 + rand() % 9);
+            const double length = 40 + rand() % 600, line = 8 + rand() % 12;
+            const int vertical = rand() % 2;
+            struct sp_axis plain, memo;
+            sp_axis_range(&plain, lo, lo + span, 0.06);
+            memo = plain;
+            sp_axis_fit(&plain, length, line, measure, NULL, vertical);
+            const int before = measure_calls;
+            sp_axis_fit_memo(m, &memo, length, line, measure, NULL, vertical);
+            struct sp_axis_ticks scratch;
+            const struct sp_axis_ticks *t = sp_axis_ticks_of(m, &memo, measure, NULL, &scratch);
+            if (measure_calls == before) /* a hit: the first pass had none */
+                hits++;
+            struct sp_axis again = plain;
+            sp_axis_range(&again, lo, lo + span, 0.06);
+            const int before_again = measure_calls;
+            sp_axis_fit_memo(m, &again, length, line, measure, NULL, vertical);
+            const struct sp_axis_ticks *t2 = sp_axis_ticks_of(m, &again, measure, NULL, &scratch);
+            again_calls += measure_calls - before_again;
+            bad += t2 != t;
+            bad += memcmp(&plain.step, &memo.step, sizeof(double)) || plain.first != memo.first ||
+                   plain.decimals != memo.decimals || plain.offset != memo.offset ||
+                   plain.offset_decimals != memo.offset_decimals;
+            int k = 0;
+            char buf[SP_AXIS_LABEL_BYTES];
+            for (double v = plain.first; v <= plain.hi + 1e-9 * plain.step; v += plain.step, k++) {
+                sp_axis_label(&plain, v, buf, sizeof(buf));
+                bad += k >= t->n || t->v[k] != v || strcmp(t->label[k], buf) ||
+                       t->width[k] != measure(NULL, buf);
+            }
+            bad += k != t->n;
+            ticks_max = t->n > ticks_max ? t->n : ticks_max;
+        }
+    }
+    sp_tap_ok(bad == 0, "axis memo: 600 fits and tick lists as the plain calls give them (%d differ)",
+              bad);
+    sp_tap_ok(ticks_max <= 11, "a fitted axis has at most 11 ticks (%d)", ticks_max);
+    sp_tap_ok(again_calls == 0, "axis memo: a fit and ticks asked again measure nothing (%d calls)",
+              again_calls);
+    sp_tap_ok(hits == 0, "axis memo: 200 ranges later, a range's entries were replaced (%d hits)",
+              hits);
+    free(m);
+}
+
 int main(void)
 {
     test_text();
     test_layout();
     test_poincare();
     test_colormaps();
+    test_axis_memo();
     return sp_tap_done();
 }

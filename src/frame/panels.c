@@ -1262,7 +1262,10 @@ static int colorbar_label_width(const struct sp_font *font, const char *label, i
 float sp_colorbar_bar_width(const struct sp_font *font, float unit, double max_speed)
 {
     char buf[32];
-    sp_axis_number(buf, sizeof(buf), max_speed, 2);
+    if (max_speed < pow(10, SP_AXIS_MAX_DIGITS)) /* room for the top label, 2 decimals */
+        sp_axis_number(buf, sizeof(buf), max_speed, 2);
+    else /* "9.99×10⁶" */
+        sp_axis_number_step(buf, sizeof(buf), max_speed, 0.01 * max_speed);
     return roundf(0.018f * unit) + roundf(0.006f * unit) +
            (float)sp_font_width(font, SP_TEXT_SMALL, buf) + 4;
 }
@@ -1300,7 +1303,7 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
     sp_axis_make(&a, 0, max_speed, (int)(h / (4.0f * sp_font_line(f, SP_TEXT_SMALL))), 0);
     for (double v = 0; v <= max_speed * (1 + 1e-9); v += a.step) {
         const float y = (float)(y0 + h * (1 - v / max_speed));
-        sp_axis_number(buf, sizeof(buf), v, a.decimals);
+        sp_axis_number_step(buf, sizeof(buf), v, a.step);
         sp_canvas_rect(c, x0 + bw, y - 0.5f, x0 + bw + tick, y + 0.5f, pal->axis);
         sp_canvas_text(c, SP_TEXT_SMALL, x0 + bw + tick + 3, y + 0.5f * cap, SP_ALIGN_LEFT, pal->muted, buf);
     }

@@ -584,6 +584,7 @@ static void draw_title(const struct sp_sweep_desc *d, const struct sp_palette *p
         snprintf(sampled, sizeof(sampled), "stroboscopic map (t = k/f) settled by recurrence; ");
     snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s at dt = %g s", sampled, energy, d->time,
              transient, d->method, d->dt);
+    sp_axis_minus(buf, sizeof(buf)); /* a negative energy: −0.5 J */
     text_at(80, 34 + title_extra(), buf, 0, 0);
 }
 
@@ -1012,8 +1013,10 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
         font_pt(11);
         set_rgba(pal->muted);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
+        sp_axis_minus(buf, sizeof(buf));
         text_at(x0 - 5, y0 + 5, buf, 1, 0.5);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
+        sp_axis_minus(buf, sizeof(buf));
         text_at(x0 + w + 5, y0 + 5, buf, 0, 0.5);
         if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
             label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
@@ -1229,6 +1232,7 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
         set_rgba(pal->text);
         snprintf(buf, sizeof(buf), "%.1f%%  %s", all ? 100.0 * map.att[a].count / all : 0.0,
                  map.att[a].label);
+        sp_axis_minus(buf, sizeof(buf)); /* θ −12.3°, −1 turn */
         char *comma = map.att[a].period > 0 ? strstr(buf, ", θ") : NULL;
         if (comma) { /* the state on a second line */
             *comma = 0;

@@ -316,6 +316,48 @@ static void test_axis_memo(void)
     free(m);
 }
 
+/* The axis's name with its power of ten (and offset), and minus signs in
+ * printf's text: the strings, written out by hand. */
+static void test_axis_names(void)
+{
+    struct sp_axis a;
+    char buf[128];
+    sp_axis_range(&a, 0, 5e19, 0);
+    sp_axis_fit(&a, 300, 12, measure, NULL, 1);
+    sp_axis_name(&a, "E (J)", buf, sizeof(buf));
+    sp_tap_ok(a.exponent == 19 && !strcmp(buf, "E (\u00d710\u00b9\u2079 J)"),
+              "0..5e19 J: exponent %d, name '%s'", a.exponent, buf);
+    sp_axis_label(&a, 3e19, buf, sizeof(buf));
+    sp_tap_ok(a.step == 5e18 && !strcmp(buf, "3.0"), "3e19 in units of 1e19, ticks 0.5 apart: '%s'",
+              buf);
+    sp_axis_name(&a, "n", buf, sizeof(buf));
+    sp_tap_ok(!strcmp(buf, "n (\u00d710\u00b9\u2079)"), "a name without a unit: '%s'", buf);
+    sp_axis_range(&a, -2e-10, 0, 0);
+    sp_axis_fit(&a, 300, 12, measure, NULL, 1);
+    sp_axis_name(&a, "x (m)", buf, sizeof(buf));
+    sp_tap_ok(a.exponent == -10 && !strcmp(buf, "x (\u00d710\u207b\u00b9\u2070 m)"),
+              "-2e-10..0 m: exponent %d, name '%s'", a.exponent, buf);
+    sp_axis_label(&a, -1.5e-10, buf, sizeof(buf));
+    sp_tap_ok(!strcmp(buf, "\u22121.5"), "-1.5e-10 in units of 1e-10: '%s'", buf);
+    sp_axis_range(&a, 12345678.0, 12345678.5, 0); /* a small range around a large value */
+    sp_axis_fit(&a, 300, 12, measure, NULL, 1);
+    sp_axis_name(&a, "r (m)", buf, sizeof(buf));
+    sp_tap_ok(a.exponent == 0 && a.offset == 12345678 &&
+              !strcmp(buf, "r \u2212 1.2345678\u00d710\u2077 (m)"),
+              "12345678..12345678.5 m: offset %.17g written '%s'", a.offset, buf);
+    sp_axis_range(&a, 0, 999999, 0);
+    sp_axis_fit(&a, 300, 12, measure, NULL, 1);
+    sp_axis_name(&a, "m (kg)", buf, sizeof(buf));
+    sp_tap_ok(a.exponent == 0 && !strcmp(buf, "m (kg)"), "0..999999: no power of ten ('%s')", buf);
+    char m[96] = "λ3 = -0.0754 1/s, sum -8e-10, Kaplan-Yorke, k-2, +1, -1 turn";
+    sp_axis_minus(m, sizeof(m));
+    sp_tap_ok(!strcmp(m, "λ3 = \u22120.0754 1/s, sum \u22128e\u221210, Kaplan-Yorke, k-2, +1, "
+                         "\u22121 turn"), "minus signs: '%s'", m);
+    char cut[8] = "a -1 -2";
+    sp_axis_minus(cut, sizeof(cut));
+    sp_tap_ok(!strcmp(cut, "a \u22121 "), "minus signs within 8 bytes: '%s'", cut);
+}
+
 int main(void)
 {
     test_text();
@@ -323,5 +365,6 @@ int main(void)
     test_poincare();
     test_colormaps();
     test_axis_memo();
+    test_axis_names();
     return sp_tap_done();
 }

@@ -10,7 +10,11 @@ run as the attacker ran it (smaller images, a few seconds at most):
   came out "cannot decode" (exit 2);
 - finding 26: the default thread counts (compare --jobs, sweep, the PNG
   sequence's writers) counted the machine's CPUs, not those the process may
-  use (taskset -c 0 ran every core's threads on one).
+  use (taskset -c 0 ran every core's threads on one);
+- finding 8: `keys --` was refused;
+- finding 16: a check of several keys blamed the scene file for a value that
+  came from --set;
+- finding 17: scene --help and its refusal said a GIF carries a record.
 usage: test_attack7_compare.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
@@ -217,5 +221,42 @@ else:
            f"under two ({err(r1)[:150]} | {err(r2)[:150]})")
     else:
         ok(True, "compare --jobs under taskset", skip="a sanitizer build")
+
+# ---- finding 8: `keys --` -------------------------------------------------------------
+r = run("keys", "--")
+r2 = run("keys", "--", "x")
+ok(r.returncode == 0 and b"[pendulum]" in r.stdout and r2.returncode == 2
+   and "not 'x'" in err(r2),
+   f"keys -- prints the keys (rc {r.returncode}: {err(r)[:120]}); an operand after it is "
+   f"refused (rc {r2.returncode})")
+
+# ---- finding 16: a check of several keys names the origin of the key it asks to change -
+r = run("still", default, "--at", "1", "--set", "pendulum.mass=1e6", "--set",
+        "pendulum.stiffness=1e-300", "-o", "k16.png")
+r2 = run("still", default, "--at", "1", "--set", "pendulum.stiffness=1e12", "--set",
+         "pendulum.mass=1e-300", "-o", "k16.png")
+r3 = run("still", default, "--at", "1", "--set", "video.duration=1e-9", "-o", "k16.png")
+write(path("k16.ini"), "[pendulum]\nmass = 1e6\nstiffness = 1e-300\n")
+r4 = run("still", "k16.ini", "--at", "1", "-o", "k16.png")
+ok(r.returncode == 2 and err(r).startswith("--set pendulum.stiffness=1e-300: pendulum.stiffness")
+   and r2.returncode == 2 and err(r2).startswith("--set pendulum.mass=1e-300: pendulum.mass")
+   and r3.returncode == 2 and err(r3).startswith("--set video.duration=1e-9: ")
+   and r4.returncode == 2 and err(r4).startswith("k16.ini:3: pendulum.stiffness")
+   and not os.path.exists(path("k16.png")),
+   f"stiffness/mass and frame-count checks name the --set (or FILE:LINE) of the key to change "
+   f"({err(r)[:80]} | {err(r2)[:80]} | {err(r3)[:60]} | {err(r4)[:60]})")
+
+# ---- finding 17: a GIF carries no record, and scene says so ----------------------------
+r = run("render", default, "--size", "160x90", "--fps", "10", "--set", "video.duration=0.3",
+        "-q", "-o", "g.gif", timeout=120)
+assert r.returncode == 0, err(r)
+help_text = run("scene", "--help").stdout.decode()
+r = run("scene", "g.gif")
+r2 = run("scene", "g.gif", "--command")
+ok("GIF (the same" not in help_text and "A GIF is\nthe one output that records neither" in help_text
+   and r.returncode == 2 and "a GIF never" in err(r) and r2.returncode == 2
+   and "but a GIF" in err(r2),
+   f"scene --help and both refusals say a GIF carries no record ({err(r)[-90:]} | "
+   f"{err(r2)[-70:]})")
 
 done()

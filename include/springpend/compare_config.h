@@ -48,7 +48,7 @@ struct sp_compare_rule {
 struct sp_compare_config {
     char path[4096];               /* "" when there was no file */
     struct sp_compare_rule *rules; /* owned */
-    int n_rules;
+    int n_rules, cap_rules;        /* in use, room for */
     /* The environment keys declared by `envs = KEY, KEY...` at the top of
      * the file (before any section): only NAME.KEY.EXT with one of these
      * is an alternative baseline of NAME.EXT, and --env names one. */

@@ -17,7 +17,7 @@ struct sp_snapshot {
     int expected;   /* 1: EXPECTED/name exists */
     int actual;     /* 1: ACTUAL/name exists */
     char **alts;    /* relative names of the alternatives, sorted; owned */
-    int n_alts;
+    int n_alts, cap_alts; /* in use, room for */
 };
 
 struct sp_snapshot_list {

@@ -9,6 +9,12 @@ int sp_array_reserve(void **items, size_t size, size_t *cap, size_t need, size_t
 {
     if (need <= *cap)
         return 0;
+    if (!size) { /* elements of no bytes take no memory (GNU C's empty structs) */
+        if (need > max)
+            return SP_E_NOMEM;
+        *cap = need;
+        return 0;
+    }
     if (max > SIZE_MAX / size)
         max = SIZE_MAX / size;
     if (need > max)

@@ -34,7 +34,10 @@
 
 /* SP_ARRAY_RESERVE's work on *items, an array of `size`-byte elements with
  * room for *cap: 0 (when *cap >= need, nothing changes), or SP_E_NOMEM. A
- * capacity is never above max. */
+ * capacity is never above max, nor above SIZE_MAX / size (so that
+ * capacity * size cannot wrap); elements of size 0 take no memory. The one
+ * realloc of src/ (test array-growth refuses any other): a byte buffer read
+ * up to a limit calls this directly, with size 1 and max the limit. */
 int sp_array_reserve(void **items, size_t size, size_t *cap, size_t need, size_t first, size_t max);
 
 #endif

@@ -9,6 +9,7 @@
 
 #include "springpend/common.h"
 #include "springpend/infile.h"
+#include "array.h"
 
 static const char *kind(mode_t m)
 {
@@ -51,29 +52,21 @@ int sp_infile_read(const char *path, size_t max, const char *want, char **text, 
         return SP_E_INPUT;
     }
     /* the size can change while it is read: read up to max + 1 and look */
-    size_t cap = (size_t)st.st_size + 1, n = 0;
-    char *buf = malloc(cap + 1);
+    size_t cap = 0, n = 0; /* bytes at buf: what was read, one more and the NUL fit */
+    char *buf = NULL;
     for (;;) {
-        if (!buf) {
+        if (n > max) {
+            sp_log_error("%s: more than %zu bytes; at most %zu are read (%s)", path, max,
+                         max, want);
+            ret = SP_E_INPUT;
+            break;
+        }
+        if (sp_array_reserve((void **)&buf, 1, &cap, n + 2, (size_t)st.st_size + 2, max + 2)) {
             sp_log_error("out of memory reading %s", path);
             ret = SP_E_NOMEM;
             break;
         }
-        if (n == cap) {
-            if (cap > max) {
-                sp_log_error("%s: more than %zu bytes; at most %zu are read (%s)", path, max,
-                             max, want);
-                ret = SP_E_INPUT;
-                break;
-            }
-            cap = cap * 2 > max + 1 ? max + 1 : cap * 2;
-            char *more = realloc(buf, cap + 1);
-            if (!more)
-                free(buf);
-            buf = more;
-            continue;
-        }
-        ssize_t got = read(fd, buf + n, cap - n);
+        ssize_t got = read(fd, buf + n, cap - 1 - n);
         if (got < 0 && errno == EINTR)
             continue;
         if (got < 0) {

@@ -15,6 +15,7 @@
 
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
+#include "base/array.h"
 #include "base/decimal.h"
 #include "base/ini_lines.h"
 
@@ -286,13 +287,11 @@ static int handle(void *user, const char *section, const char *name, const char 
                 c->errors++;
                 return 1;
             }
-        struct sp_compare_rule *r = realloc(cfg->rules, sizeof(*r) * (size_t)(cfg->n_rules + 1));
-        if (!r) {
+        if (SP_ARRAY_RESERVE(cfg->rules, cfg->cap_rules, cfg->n_rules + 1, 8)) {
             c->nomem = 1;
             return 0;
         }
-        cfg->rules = r;
-        r += cfg->n_rules++;
+        struct sp_compare_rule *r = &cfg->rules[cfg->n_rules++];
         memset(r, 0, sizeof(*r));
         snprintf(r->name, sizeof(r->name), "%s", section);
         r->line = c->section_line;
@@ -531,5 +530,5 @@ void sp_compare_config_free(struct sp_compare_config *cfg)
 {
     free(cfg->rules);
     cfg->rules = NULL;
-    cfg->n_rules = 0;
+    cfg->n_rules = cfg->cap_rules = 0;
 }

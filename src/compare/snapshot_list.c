@@ -246,11 +246,8 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
         if (names_has(&a, e.v[i]) || !stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem)) ||
             !(it = item_find(l, stem)))
             continue;
-        char **v = realloc(it->alts, sizeof(*v) * (size_t)(it->n_alts + 1));
-        if (!v)
-            goto nomem;
-        it->alts = v;
-        if (!(v[it->n_alts] = strdup(e.v[i])))
+        if (SP_ARRAY_RESERVE(it->alts, it->cap_alts, it->n_alts + 1, 4) ||
+            !(it->alts[it->n_alts] = strdup(e.v[i])))
             goto nomem;
         it->n_alts++;
     }

@@ -92,7 +92,7 @@ struct sp_font {
     FT_Library lib;
     FcFontSet *sorted;          /* fontconfig's fallback order, owned */
     struct face *faces;         /* [0]: the requested family */
-    int n_faces;
+    int n_faces, cap_faces;     /* in use, room for */
     int fallback_pending;       /* the default's fallbacks are not listed yet */
     int px[SP_TEXT_SIZES];      /* em sizes, px */
     int cap[SP_TEXT_SIZES], line[SP_TEXT_SIZES]; /* px */
@@ -399,14 +399,12 @@ static int sort_fonts(struct sp_font *f, const char *family, int verify, const c
         err = SP_E_INPUT;
         goto done;
     }
-    struct face *faces = realloc(f->faces, ((size_t)(f->sorted ? f->sorted->nfont : 0) + 1 +
-                                            (size_t)f->n_faces) * sizeof(*f->faces));
-    if (!faces) {
+    if (SP_ARRAY_RESERVE(f->faces, f->cap_faces,
+                         (size_t)(f->sorted ? f->sorted->nfont : 0) + 1 + (size_t)f->n_faces, 0)) {
         sp_log_error("out of memory for the font list");
         err = SP_E_NOMEM;
         goto done;
     }
-    f->faces = faces;
     for (int i = 0; f->sorted && i < f->sorted->nfont; i++) {
         FcPattern *p = f->sorted->fonts[i];
         FcChar8 *file = NULL;
@@ -440,7 +438,7 @@ static int find_faces(struct sp_font *f, const char *family, const char *where)
             sp_log_error("out of memory for the font list");
             return SP_E_NOMEM;
         }
-        f->n_faces = 1;
+        f->n_faces = f->cap_faces = 1;
         f->fallback_pending = 1;
     } else if ((err = sort_fonts(f, family, 1, where && *where ? where : NULL)) != 0) {
         return err;
@@ -497,14 +495,13 @@ static int atlas_place(struct sp_font *f, int w, int h, int *x, int *y)
         return SP_E_INPUT;
     while (f->shelf_y + h + PAD > f->ah) {
         const int nh = f->ah ? 2 * f->ah : 256;
-        uint8_t *a;
-        if (nh > ATLAS_MAX_H || !(a = realloc(f->atlas, (size_t)f->aw * nh))) {
+        size_t room = (size_t)f->aw * f->ah; /* bytes at f->atlas */
+        if (nh > ATLAS_MAX_H || SP_ARRAY_RESERVE(f->atlas, room, (size_t)f->aw * nh, 0)) {
             sp_log_error("the glyph cache is full (%dx%d texels): too many different glyphs "
                          "or sizes", f->aw, f->ah);
             return SP_E_NOMEM;
         }
-        memset(a + (size_t)f->aw * f->ah, 0, (size_t)f->aw * (nh - f->ah));
-        f->atlas = a;
+        memset(f->atlas + (size_t)f->aw * f->ah, 0, (size_t)f->aw * (nh - f->ah));
         f->ah = nh;
     }
     *x = f->shelf_x;
@@ -731,6 +728,7 @@ static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint
         goto done;
     }
     int pen = 0;
+    size_t g_room = 0; /* glyphs l->g has room for */
     for (int k = 0; k < n_items; k++) {
         const struct item *it = &items[k];
         if ((err = face_open(f, it->face)) != 0)
@@ -746,14 +744,13 @@ static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint
         unsigned ng;
         const hb_glyph_info_t *gi = hb_buffer_get_glyph_infos(f->buf, &ng);
         const hb_glyph_position_t *gp = hb_buffer_get_glyph_positions(f->buf, NULL);
-        struct sp_glyph *g = hb_buffer_allocation_successful(f->buf)
-                                 ? realloc(l->g, ((size_t)n_glyphs + ng + 1) * sizeof(*g)) : NULL;
-        if (!g) {
+        if (!hb_buffer_allocation_successful(f->buf) ||
+            SP_ARRAY_RESERVE(l->g, g_room, (size_t)n_glyphs + ng + 1, 0)) {
             sp_log_error("out of memory to shape a string of %d bytes", bytes);
             err = SP_E_NOMEM;
             goto done;
         }
-        l->g = g;
+        struct sp_glyph *g = l->g;
         l->r[k] = (struct sp_glyph_run){n_glyphs, (int)ng, it->level & 1, off[it->a], off[it->b]};
         for (unsigned j = 0; j < ng; j++) {
             const int flagged = (hb_glyph_info_get_glyph_flags(&gi[j]) & HB_GLYPH_FLAG_UNSAFE_TO_CONCAT) != 0;

@@ -8,6 +8,7 @@
 #include FT_FREETYPE_H
 
 #include "springpend/common.h"
+#include "base/array.h"
 #include "cairo_text.h"
 
 /* A cairo face's FreeType face and what keeps its bytes alive. */
@@ -38,13 +39,12 @@ static cairo_font_face_t *face_of(struct sp_cairo_faces *fs, int i)
     int index;
     FT_Face face;
     if (i >= fs->n) { /* a fallback face added since the faces were made */
-        cairo_font_face_t **grown = realloc(fs->face, (size_t)(i + 1) * sizeof(*grown));
-        if (!grown) {
+        if (SP_ARRAY_RESERVE(fs->face, fs->cap, (size_t)i + 1, 0)) {
             sp_log_error("out of memory for the fonts");
             return NULL;
         }
-        memset(grown + fs->n, 0, (size_t)(i + 1 - fs->n) * sizeof(*grown));
-        fs->face = grown, fs->n = i + 1;
+        memset(fs->face + fs->n, 0, (size_t)(i + 1 - fs->n) * sizeof(*fs->face));
+        fs->n = i + 1;
     }
     if (fs->face[i])
         return fs->face[i];
@@ -81,6 +81,7 @@ int sp_cairo_faces_make(struct sp_cairo_faces *fs, const struct sp_font *f, cair
     fs->font = f;
     fs->n = sp_font_faces(f);
     fs->face = calloc((size_t)fs->n + 1, sizeof(*fs->face));
+    fs->cap = fs->n + 1;
     if (!fs->face) {
         sp_log_error("out of memory for the fonts");
         return SP_E_NOMEM;
@@ -98,7 +99,7 @@ void sp_cairo_faces_destroy(struct sp_cairo_faces *fs)
     for (int i = 0; fs->face && i < fs->n; i++)
         cairo_font_face_destroy(fs->face[i]); /* cairo keeps what it still uses */
     free(fs->face);
-    fs->face = NULL, fs->n = 0;
+    fs->face = NULL, fs->n = fs->cap = 0;
 }
 
 int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *fs, int size, double x, double y,

@@ -17,6 +17,7 @@ struct sp_cairo_faces {
     cairo_font_face_t **face; /* [n], NULL until used */
     int n;                    /* grows with the font's faces: text.c adds fallback
                                * faces while text is laid out */
+    int cap;                  /* room for */
 };
 
 /* Prepares faces for f, and cr's font options for text.c's unhinted

@@ -18,6 +18,7 @@
 #include "springpend/common.h"
 #include "springpend/scene.h"
 #include "springpend/timeline.h"
+#include "base/array.h"
 #include "base/decimal.h"
 #include "base/ini_lines.h"
 #include "base/utf8.h"
@@ -819,14 +820,9 @@ static const struct key_info *text_key_line(const char *line, const char **value
  * Returns 0, or -1 when it reported that memory ran out. */
 static int keep_text(struct parse_ctx *c, const char *value, size_t n)
 {
-    if (n + 1 > c->text_room) {
-        char *grown = realloc(c->text_value, n + 1);
-        if (!grown) {
-            report(c, c->line, "out of memory for a text of %zu bytes", n);
-            return -1;
-        }
-        c->text_value = grown;
-        c->text_room = n + 1;
+    if (SP_ARRAY_RESERVE(c->text_value, c->text_room, n + 1, 0)) {
+        report(c, c->line, "out of memory for a text of %zu bytes", n);
+        return -1;
     }
     memcpy(c->text_value, value, n);
     c->text_value[n] = 0;
@@ -1297,22 +1293,18 @@ static int read_scene(const char *path, char **text, size_t *size)
         }
     }
     fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
-    size_t cap = S_ISREG(st.st_mode) ? (size_t)st.st_size + 1 : 4096;
+    size_t cap = 0; /* bytes at *text: what was read, one more and the NUL fit */
     for (;;) {
-        if (*size + 1 >= cap) {
-            cap = cap * 2 > max + 2 ? max + 2 : cap * 2;
-            if (*size + 1 >= cap) {
-                sp_fprintf_line(stderr, "%s: the scene is more than 1 MiB; at most 1 MiB is "
-                        "allowed", path);
-                goto done;
-            }
+        if (*size > max) {
+            sp_fprintf_line(stderr, "%s: the scene is more than 1 MiB; at most 1 MiB is "
+                    "allowed", path);
+            goto done;
         }
-        char *grown = realloc(*text, cap);
-        if (!grown) {
+        if (sp_array_reserve((void **)text, 1, &cap, *size + 2,
+                             S_ISREG(st.st_mode) ? (size_t)st.st_size + 1 : 4096, max + 2)) {
             ret = SP_E_NOMEM;
             goto done;
         }
-        *text = grown;
         ssize_t got = read(fd, *text + *size, cap - 1 - *size);
         if (got < 0 && errno == EINTR) { /* a stop signal, as above */
             ret = SP_E_INTERRUPTED;

@@ -13,6 +13,7 @@
 #include "base/cpu_count.h"
 #include "springpend/common.h"
 #include "springpend/png_io.h"
+#include "base/array.h"
 #include "sink_impl.h"
 
 /* How every PNG of this sink is written: its level, RGB when the frames
@@ -220,13 +221,9 @@ static int copy_text(const struct sp_sink *s, struct png_job *j)
     }
     for (int i = 0; i < s->desc.n_text; i++)
         used += strlen(s->desc.text[i].key) + strlen(s->desc.text[i].text) + 2;
-    if (used > j->text_cap) {
-        char *more = realloc(j->text_buf, used);
-        if (!more) {
-            sp_log_error("%s: out of memory for %zu bytes of PNG text", s->path, used);
-            return SP_E_NOMEM;
-        }
-        j->text_buf = more, j->text_cap = used;
+    if (SP_ARRAY_RESERVE(j->text_buf, j->text_cap, used, 0)) {
+        sp_log_error("%s: out of memory for %zu bytes of PNG text", s->path, used);
+        return SP_E_NOMEM;
     }
     used = 0;
     for (int i = 0; i < s->desc.n_text; i++) {
@@ -269,16 +266,13 @@ static int png_sequence_write(struct sp_sink *s, const struct sp_image *img)
     j->number = s->desc.first_frame + s->frames;
     pthread_mutex_lock(&q->lock);
     if (s->frames >= q->n_written) {
-        long n = q->n_written ? 2 * q->n_written : 256;
-        uint8_t *w = realloc(q->written, (size_t)n);
-        if (!w) {
+        const long had = q->n_written;
+        if (SP_ARRAY_RESERVE(q->written, q->n_written, s->frames + 1, 256)) {
             pthread_mutex_unlock(&q->lock);
             sp_log_error("out of memory");
             return SP_E_NOMEM;
         }
-        memset(w + q->n_written, 0, (size_t)(n - q->n_written));
-        q->written = w;
-        q->n_written = n;
+        memset(q->written + had, 0, (size_t)(q->n_written - had));
     }
     j->state = JOB_PENDING;
     pthread_cond_broadcast(&q->changed);

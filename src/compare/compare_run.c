@@ -345,6 +345,25 @@ static int check_header(struct sp_compare_record *r, const char *path, int *w, i
     return 0;
 }
 
+/* Starts record r of the pair expected/actual shown as name: the names,
+ * and the rule compare.ini gives rule_name (its path under the baselines'
+ * folder) into *opts and masks (*n_masks of them), with r's masks and
+ * metric; the PNG and the video comparisons begin so. */
+static void record_start(struct compare_run *c, struct sp_compare_record *r, const char *name,
+                         const char *rule_name, const char *expected, const char *actual,
+                         struct sp_compare_opts *opts, struct sp_compare_mask *masks,
+                         int *n_masks)
+{
+    snprintf(r->name, sizeof(r->name), "%s", name);
+    snprintf(r->expected, sizeof(r->expected), "%s", expected);
+    snprintf(r->actual, sizeof(r->actual), "%s", actual);
+    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, opts, masks, n_masks);
+    for (int k = 0; k < *n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0]));
+         k++)
+        r->masks[r->n_masks++] = masks[k];
+    r->metric = opts->metric;
+}
+
 /* Compares two PNG files into record r. diff_path may be NULL. */
 static void compare_files(struct compare_run *c, struct sp_compare_record *r,
                           const char *name, const char *rule_name, const char *expected,
@@ -356,14 +375,7 @@ static void compare_files(struct compare_run *c, struct sp_compare_record *r,
     const struct sp_compare_mask *star_masks = NULL; /* all in masks */
     int n_masks, n_star_masks = 0;
 
-    snprintf(r->name, sizeof(r->name), "%s", name);
-    snprintf(r->expected, sizeof(r->expected), "%s", expected);
-    snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    /* compare.ini names images by their path under the baselines' folder. */
-    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, &opts, masks, &n_masks);
-    for (int k = 0; k < n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0])); k++)
-        r->masks[r->n_masks++] = masks[k];
-    r->metric = opts.metric;
+    record_start(c, r, name, rule_name, expected, actual, &opts, masks, &n_masks);
     /* Both headers first: nothing is decoded that is too large. */
     if (check_header(r, expected, &r->expected_w, &r->expected_h)) {
         struct sp_png_info info; /* the actual image may still be shown */
@@ -478,17 +490,11 @@ static int compare_blocks(const struct sp_image *fe, const struct sp_image *fa,
  * a frame at any rate a video has. */
 #define FRAME_TIME_SLACK 5e-4
 
-/* The rule for the video rule_name names, into *opts and masks (and r's
- * masks and metric). Returns 1 when nothing is set for it: then the
- * videos' default rule, block means. */
-static int video_rule(struct compare_run *c, struct sp_compare_record *r, const char *rule_name,
-                      struct sp_compare_opts *opts, struct sp_compare_mask *masks, int *n_masks)
+/* The rule of a video, as record_start read it into *opts (and r's
+ * metric). Returns 1 when nothing is set for it: then the videos' default
+ * rule, block means. */
+static int video_rule(struct sp_compare_record *r, struct sp_compare_opts *opts)
 {
-    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, opts, masks, n_masks);
-    for (int k = 0; k < *n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0]));
-         k++)
-        r->masks[r->n_masks++] = masks[k];
-    r->metric = opts->metric;
     /* Nothing set for this video: the videos' default rule (block means). */
     int blocks = !(opts->given & (SP_COMPARE_SET_METRIC | SP_COMPARE_SET_MAX_DIFF |
                                   SP_COMPARE_SET_MAX_PIXELS | SP_COMPARE_SET_TOL |
@@ -524,9 +530,9 @@ static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
 }
 
 /* Compares two videos frame by frame, times included, into record r: the
- * figures are the worst frame's; --diff gets its diff image. (About 110
- * lines: one loop whose frame state, the worst frame, its diff and the
- * timing, is shared by every step; pieces would pass it all around.) */
+ * figures are the worst frame's; --diff gets its diff image.
+ * Long: one loop whose frame state, the worst frame, its diff and the
+ * timing, is shared by every step; pieces would pass it all around. */
 static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
                           const char *name, const char *rule_name, const char *expected,
                           const char *actual, const char *diff_path)
@@ -541,10 +547,8 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS];
     const struct sp_compare_mask *star_masks = NULL; /* all in masks */
     int n_masks, n_star_masks = 0;
-    snprintf(r->name, sizeof(r->name), "%s", name);
-    snprintf(r->expected, sizeof(r->expected), "%s", expected);
-    snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    int blocks = video_rule(c, r, rule_name, &opts, masks, &n_masks);
+    record_start(c, r, name, rule_name, expected, actual, &opts, masks, &n_masks);
+    int blocks = video_rule(r, &opts);
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
         (ret = sp_video_reader_open(&va, actual)) != 0) {
         ret = record_error(r, "cannot read %s", ve ? actual : expected);
@@ -1070,31 +1074,11 @@ static int lands_in(const char *path, const char *dir)
                   !strcmp(name, SP_COMPARE_CONFIG_NAME));
 }
 
-/* 1 when folder path (made or not yet) lies in folder dir or below it. */
-static int folder_within(const char *path, const char *dir)
-{
-    char buf[PATH_MAX];
-    char *in = realpath(dir, NULL), *real = NULL;
-    snprintf(buf, sizeof(buf), "%s", path);
-    while (in && !(real = realpath(buf, NULL))) { /* the nearest folder that exists */
-        char *slash = strrchr(buf, '/');
-        if (!slash || slash == buf)
-            break;
-        *slash = 0;
-    }
-    if (in && !real && !strchr(path, '/'))
-        real = realpath(".", NULL); /* a new folder named alone: the working folder */
-    size_t n = in ? strlen(in) : 0;
-    int within = in && real && !strncmp(real, in, n) && (real[n] == '/' || !real[n]);
-    free(in);
-    free(real);
-    return within;
-}
-
 /* Checks the output paths before anything runs. */
 static int check_outputs(const struct compare_run *c, const char *e, const char *a, int folders)
 {
-    if (folders && !sp_outfile_same_file(e, a) && (folder_within(a, e) || folder_within(e, a))) {
+    if (folders && !sp_outfile_same_file(e, a) &&
+        (sp_compare_folder_within(a, e) || sp_compare_folder_within(e, a))) {
         /* each walk would take the other folder's images as its own: --update
          * removed actual images, --update=missing nested copies of baselines */
         sp_log_error("%s and %s: one folder lies inside the other; allowed: two separate "
@@ -1114,7 +1098,7 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);
             return SP_E_INPUT;
         }
-        if (folders && i <= 1 && folder_within(p, e)) {
+        if (folders && i <= 1 && sp_compare_folder_within(p, e)) {
             sp_log_error("%s %s lies in the baselines %s: the walk would skip it and what it "
                          "holds, and its images would mix with the baselines; choose a folder "
                          "outside %s", outs[i][1], p, e, e);

@@ -1,56 +1,174 @@
 /* springpend: the recorded command line (see command_line.h). */
+#include <getopt.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "array.h"
 #include "command_line.h"
 #include "springpend/common.h"
+#include "springpend/provenance.h"
 
-static int n_words;
-static char *const *words;
-static char *first_word = "springpend";
+/* One option getopt_long returned, as the record writes it. */
+struct taken {
+    int c;             /* getopt_long's value */
+    const char *name;  /* the long option's full name (NULL: a short option of none) */
+    const char *value; /* its value (optarg), NULL when it takes none */
+    int apart;         /* 1: the value was the word after the option's */
+};
+
+struct sp_command_line {
+    int n;                 /* words; w[0] is "springpend", w[1] the command */
+    char **w;
+    char *store;           /* a line's words (sp_command_line_read); NULL: argv's */
+    char **argv;           /* a copy of w + 1 for the parser, which permutes it */
+    const char *shortopts; /* the parser's; NULL: no option parsed (every word as given) */
+    struct taken *taken;   /* in the order getopt_long returned them */
+    int n_taken, cap_taken;
+};
+
+static struct sp_command_line process;
+static struct sp_command_line *parsing = &process;
+static char first_word[] = "springpend";
 
 void sp_command_line_set(int argc, char **argv)
 {
-    static char *recorded[4096];
-    n_words = argc < (int)(sizeof(recorded) / sizeof(recorded[0]))
-                  ? argc : (int)(sizeof(recorded) / sizeof(recorded[0]));
-    for (int i = 0; i < n_words; i++)
-        recorded[i] = i ? argv[i] : first_word;
-    words = recorded;
+    process.w = argc > 0 ? malloc((size_t)argc * sizeof(*process.w)) : NULL;
+    process.n = process.w ? argc : 0;
+    for (int i = 0; i < process.n; i++)
+        process.w[i] = i ? argv[i] : first_word;
 }
 
 char *const *sp_command_line_argv(int *argc)
 {
-    *argc = n_words;
-    return words;
+    *argc = process.n;
+    return process.w;
 }
 
-/* 1 when word w (at *i) is left out of what an output records (see
- * command_line.h), as one word (-oFILE, --output=FILE, --threads=2) or two
- * (*i is then moved past the second). */
-static int omitted(const char *w, int *i)
+/* The option of longopts that getopt_long returns as c (a short option's
+ * long name), or NULL. */
+static const struct option *long_of(const struct option *longopts, int c)
 {
-    static const char *const with_value[] = {"-o", "--output", "--csv", "--frames", "--shard",
-                                             "--threads"};
-    if (!strcmp(w, "-q") || !strcmp(w, "--quiet"))
-        return 1;
-    for (size_t k = 0; k < sizeof(with_value) / sizeof(with_value[0]); k++) {
-        const size_t n = strlen(with_value[k]);
-        if (!strcmp(w, with_value[k])) {
-            ++*i; /* and its argument */
-            return 1;
-        }
-        if (!strncmp(w, with_value[k], n) && (w[n] == '=' || (k == 0 && w[n])))
-            return 1;
+    for (const struct option *p = longopts; p && p->name; p++)
+        if (!p->flag && p->val == c)
+            return p;
+    return NULL;
+}
+
+/* 1 when short option c of shortopts takes a value. */
+static int short_takes_value(const char *shortopts, int c)
+{
+    const char *at = c != ':' ? strchr(shortopts, c) : NULL;
+    return at && at[1] == ':';
+}
+
+int sp_command_line_getopt(int argc, char *const *argv, const char *shortopts,
+                           const struct option *longopts)
+{
+    int longindex = -1;
+    const int c = getopt_long(argc, argv, shortopts, longopts, &longindex);
+    struct sp_command_line *r = parsing;
+    if (c == -1 || c == '?' || c == ':')
+        return c;
+    const struct option *o = longindex >= 0 ? &longopts[longindex] : long_of(longopts, c);
+    const int takes = longindex >= 0 ? longopts[longindex].has_arg != no_argument
+                                     : short_takes_value(shortopts, c);
+    r->shortopts = shortopts;
+    if (SP_ARRAY_RESERVE(r->taken, r->cap_taken, r->n_taken + 1, 32)) {
+        r->n_taken = -1; /* out of memory: the record is every word as given */
+        return c;
     }
+    if (r->n_taken >= 0)
+        r->taken[r->n_taken++] = (struct taken){
+            .c = c, .name = o ? o->name : NULL, .value = takes ? optarg : NULL,
+            .apart = takes && optarg && optind > 0 && optarg == argv[optind - 1]};
+    return c;
+}
+
+/* 1 when an output records no word of option `name` (command_line.h). */
+static int omitted(const char *name)
+{
+    static const char *const names[] = {"output", "csv", "frames", "shard", "threads", "quiet",
+                                        "state", "help"};
+    for (size_t k = 0; name && k < sizeof(names) / sizeof(names[0]); k++)
+        if (!strcmp(name, names[k]))
+            return 1;
     return 0;
 }
 
-/* The n words w as one line (command_line.h), all of them or (unnamed)
- * those an output records; into buf as snprintf does. */
-static int text(char *buf, size_t size, int n, char *const *w, int unnamed)
+/* A word of the record: pre (a "--" or "-") then s. */
+struct word {
+    const char *pre, *s;
+    char c[2]; /* a short option of no long name */
+};
+
+/* Appends option t's words to out at *n, unless unnamed omits it. */
+static void put_taken(const struct taken *t, int unnamed, struct word *out, int *n)
+{
+    if (unnamed && omitted(t->name))
+        return;
+    if (t->name) {
+        out[*n] = (struct word){.pre = "--", .s = t->name};
+    } else {
+        out[*n] = (struct word){.pre = "-", .c = {(char)t->c, 0}};
+        out[*n].s = out[*n].c;
+    }
+    ++*n;
+    if (t->value)
+        out[(*n)++] = (struct word){.pre = "", .s = t->value};
+}
+
+/* The words r records into out (room for n + 2 n_taken): every word
+ * (unnamed 0), or (1) the words as getopt_long parsed them: each option by
+ * its long name, its value as the next word, less what outputs omit; an
+ * operand, '--' and what follows it as given. The count, or -1 when the
+ * words do not read as the parser returned them (then nothing is left
+ * out: the caller records every word). */
+static int recorded_words(const struct sp_command_line *r, int unnamed, struct word *out)
+{
+    int n = 0, k = 0;
+    if (!unnamed || !r->shortopts || r->n_taken < 0) {
+        for (int i = 0; i < r->n; i++)
+            out[n++] = (struct word){.pre = "", .s = r->w[i]};
+        return n;
+    }
+    for (int i = 0; i < r->n; i++) {
+        const char *s = r->w[i];
+        /* the program, the command, an operand, '--' and all after the
+         * last option: as given */
+        if (i < 2 || k == r->n_taken || s[0] != '-' || !s[1]) {
+            out[n++] = (struct word){.pre = "", .s = s};
+            continue;
+        }
+        if (s[1] == '-') { /* --name, --name=VALUE, --name VALUE */
+            const struct taken *t = &r->taken[k++];
+            if (!s[2] || !t->name || strncmp(s + 2, t->name, strcspn(s + 2, "=")) ||
+                (t->apart && (i + 1 >= r->n || r->w[i + 1] != t->value)))
+                return -1;
+            put_taken(t, 1, out, &n);
+            i += t->apart;
+            continue;
+        }
+        for (const char *p = s + 1; *p; p++) { /* -abc, -oFILE, -o FILE */
+            const struct taken *t = k < r->n_taken ? &r->taken[k++] : NULL;
+            if (!t || t->c != *p)
+                return -1;
+            put_taken(t, 1, out, &n);
+            if (t->value) { /* the rest of the word, or the next word */
+                if (t->apart ? p[1] || i + 1 >= r->n || r->w[i + 1] != t->value
+                             : t->value != p + 1)
+                    return -1;
+                i += t->apart;
+                break;
+            }
+        }
+    }
+    return k == r->n_taken ? n : -1;
+}
+
+/* The n words as one line (command_line.h), into buf as snprintf does. */
+static size_t text(char *buf, size_t size, int n, const struct word *w)
 {
     static const char plain[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
                                 "0123456789_./:=,+@%^-";
@@ -60,15 +178,12 @@ static int text(char *buf, size_t size, int n, char *const *w, int unnamed)
                              __VA_ARGS__)
     if (size)
         buf[0] = 0;
-    for (int i = 0, first = 1; i < n; i++) {
-        const char *s = w[i];
-        if (unnamed && i && omitted(s, &i))
-            continue;
-        if (!first)
+    for (int i = 0; i < n; i++) {
+        const char *s = w[i].s;
+        if (i)
             EMIT(" ");
-        first = 0;
-        if (*s && strspn(s, plain) == strlen(s)) {
-            EMIT("%s", s);
+        if (*w[i].pre || (*s && strspn(s, plain) == strlen(s))) {
+            EMIT("%s%s", w[i].pre, s);
             continue;
         }
         EMIT("'");
@@ -77,42 +192,66 @@ static int text(char *buf, size_t size, int n, char *const *w, int unnamed)
         EMIT("%s'", s);
     }
 #undef EMIT
-    return (int)used;
+    return used;
 }
 
-int sp_command_line_text(char *buf, size_t size)
+/* r's record (unnamed: as outputs record it, else every word), then
+ * (more != NULL) more's options other than `skip` and what outputs omit,
+ * as one line shown (sp_text_shown). malloc'd; NULL when out of memory. */
+static char *line_of(const struct sp_command_line *r, int unnamed,
+                     const struct sp_command_line *more, const char *skip)
 {
-    return text(buf, size, n_words, words, 0);
-}
-
-int sp_command_line_text_unnamed(char *buf, size_t size)
-{
-    return text(buf, size, n_words, words, 1);
-}
-
-/* The words' recorded line, shown (command_line.h); NULL when out of memory. */
-static char *shown_of(int n, char *const *w)
-{
-    const int len = text(NULL, 0, n, w, 1);
-    char *line = malloc((size_t)len + 1);
-    char *shown = line ? malloc(4 * (size_t)len + 1) : NULL; /* at most \xNN a byte */
-    if (shown) {
-        text(line, (size_t)len + 1, n, w, 1);
-        sp_text_shown(line, 0, shown, 4 * (size_t)len + 1);
+    const size_t room = (size_t)r->n + 2 * (size_t)(r->n_taken > 0 ? r->n_taken : 0) +
+                        (more && more->n_taken > 0 ? 2 * (size_t)more->n_taken : 0) + 1;
+    struct word *w = malloc(room * sizeof(*w));
+    char *line = NULL, *shown = NULL;
+    int n = w ? recorded_words(r, unnamed, w) : 0;
+    if (w && n < 0)
+        n = recorded_words(r, 0, w);
+    for (int k = 0; w && more && k < more->n_taken; k++)
+        if (!skip || !more->taken[k].name || strcmp(more->taken[k].name, skip))
+            put_taken(&more->taken[k], 1, w, &n);
+    const size_t len = w ? text(NULL, 0, n, w) : 0;
+    if (w && (line = malloc(len + 1)) && (shown = malloc(4 * len + 1))) { /* at most \xNN a byte */
+        text(line, len + 1, n, w);
+        sp_text_shown(line, 0, shown, 4 * len + 1);
     }
+    free(w);
     free(line);
     return shown;
 }
 
 char *sp_command_line_unnamed(void)
 {
-    return n_words ? shown_of(n_words, words) : NULL;
+    return process.n ? line_of(&process, 1, NULL, NULL) : NULL;
 }
 
-/* Splits line, as sp_command_line_text writes one, into words (malloc'd,
- * each in the one buffer *store); the count, or -1 when it is not such a
- * line (it may come from a file: a space at its start or two in a row, an
- * empty word, is one springpend never writes) or out of memory. */
+char *sp_command_line_whole(void)
+{
+    return process.n ? line_of(&process, 0, NULL, NULL) : NULL;
+}
+
+int sp_command_line_check(const char *record)
+{
+    char *whole = record ? NULL : sp_command_line_whole();
+    char *unnamed = record ? NULL : sp_command_line_unnamed();
+    size_t len = record ? strlen(record) : whole ? strlen(whole) : 0;
+    if (unnamed && strlen(unnamed) > len)
+        len = strlen(unnamed);
+    free(whole);
+    free(unnamed);
+    if (len < SP_PROVENANCE_SCENE_MAX)
+        return 0;
+    sp_log_error("the command line is %zu bytes as recorded; at most %d are recorded (every "
+                 "output carries it, and springpend reads no longer record back): shorten it "
+                 "(put long values in the scene file)", len, SP_PROVENANCE_SCENE_MAX - 1);
+    return SP_E_INPUT;
+}
+
+/* Splits line, as line_of writes one, into words (malloc'd, each in the
+ * one buffer *store); the count, or -1 when it is not such a line (it may
+ * come from a file: a space at its start or two in a row, an empty word,
+ * is one springpend never writes) or out of memory. */
 static int split(const char *line, char ***out, char **store)
 {
     const size_t len = strlen(line), cap = len / 2 + 2; /* a word and its space: 2 bytes */
@@ -146,15 +285,47 @@ static int split(const char *line, char ***out, char **store)
     return n > INT_MAX ? -1 : (int)n;
 }
 
-char *sp_command_line_recorded(const char *line)
+struct sp_command_line *sp_command_line_read(const char *line)
 {
-    char **w, *store, *shown = NULL;
-    const int n = line ? split(line, &w, &store) : -1;
-    if (n > 0 && !strcmp(w[0], first_word))
-        shown = shown_of(n, w);
-    if (line) {
-        free(w);
-        free(store);
+    struct sp_command_line *r = line ? calloc(1, sizeof(*r)) : NULL;
+    if (!r)
+        return NULL;
+    r->n = split(line, &r->w, &r->store);
+    if (r->n < 2 || strcmp(r->w[0], first_word) ||
+        !(r->argv = malloc((size_t)r->n * sizeof(*r->argv)))) {
+        sp_command_line_free(r);
+        return NULL;
     }
-    return shown;
+    memcpy(r->argv, r->w + 1, (size_t)(r->n - 1) * sizeof(*r->argv));
+    r->argv[r->n - 1] = NULL;
+    return r;
+}
+
+char **sp_command_line_words(struct sp_command_line *r, int *argc)
+{
+    *argc = r->n - 1;
+    return r->argv;
+}
+
+void sp_command_line_parse_into(struct sp_command_line *r)
+{
+    parsing = r ? r : &process;
+}
+
+char *sp_command_line_merged(const struct sp_command_line *r, const char *skip)
+{
+    return line_of(r, 1, &process, skip);
+}
+
+void sp_command_line_free(struct sp_command_line *r)
+{
+    if (!r)
+        return;
+    if (parsing == r)
+        parsing = &process;
+    free(r->w);
+    free(r->store);
+    free(r->argv);
+    free(r->taken);
+    free(r);
 }

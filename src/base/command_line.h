@@ -14,38 +14,78 @@ void sp_command_line_set(int argc, char **argv);
  * first is "springpend". */
 char *const *sp_command_line_argv(int *argc);
 
-/* The words as one line a POSIX shell reads back into them: a word of
- * [A-Za-z0-9_./:=,+@%^-] only is written as it is, any other in single
- * quotes (a quote inside as '\''). Written into buf as snprintf does;
- * returns the length it would need. */
-int sp_command_line_text(char *buf, size_t size);
+struct option;
 
-/* As sp_command_line_text, less what an output records no word of: the
- * output's name (-o FILE, -oFILE, --output FILE, --output=FILE), a sweep's
- * --csv FILE, which part of the work is written (--frames A:B, --shard I/N)
- * and by how many threads (--threads N), and -q/--quiet; a value also as
- * one word with '='. The same work writing another file, a part of the
- * frames, a shard later merged or a run on other cores then gives the same
- * bytes (frame 17 of a --frames 17:40 run is the whole run's frame 17; a
- * merged sweep figure is the whole run's). An option abbreviated (--out,
- * --thr) is recorded as given. */
-int sp_command_line_text_unnamed(char *buf, size_t size);
+/* getopt_long(argc, argv, shortopts, longopts, NULL), and the option it
+ * returned noted for the record of the words being parsed (the process's
+ * own, or sp_command_line_parse_into's): its long option's full name (an
+ * abbreviation, --sha, is recorded as --shard; -q as --quiet), and its
+ * value, which is then a value whatever it looks like (--state -q). Every
+ * command whose outputs record the command parses with it. */
+int sp_command_line_getopt(int argc, char *const *argv, const char *shortopts,
+                           const struct option *longopts);
 
 /* What an output records (provenance.h's springpend.command, a PDF's
- * /Subject, an SVG's <metadata>): sp_command_line_text_unnamed's line as
- * messages show it (common.h's sp_text_shown): a control character (ESC
- * and the like, a newline), a noncharacter, a bidi control or a byte that
- * is not UTF-8 is written as \xNN, \uNNNN or \n, so that the line is
+ * /Subject, an SVG's <metadata>): the words as getopt_long parsed them, as
+ * one line a POSIX shell reads back into them. Each option is written by
+ * its long name, its value as the next word (--set=a.b=1 and -oFILE as
+ * --set a.b=1 and --output FILE); the operands, a '--' and every word
+ * after it as given. Left out is what does not change an output's bytes:
+ * the output's name (-o, --output), a sweep's --csv FILE, the state file a
+ * still writes (--state FILE), which part of the work is written
+ * (--frames A:B, --shard I/N) and by how many threads (--threads N), and
+ * -q/--quiet. The same work writing another file, a part of the frames, a
+ * shard later merged or a run on other cores then gives the same bytes
+ * (frame 17 of a --frames 17:40 run is the whole run's frame 17; a merged
+ * sweep figure is the whole run's). A word of [A-Za-z0-9_./:=,+@%^-] only
+ * is written as it is, any other in single quotes (a quote inside as
+ * '\''). The line is then shown as messages show it (common.h's
+ * sp_text_shown): a control character (ESC and the like, a newline), a
+ * noncharacter, an invisible format character, a bidi control or a byte
+ * that is not UTF-8 is written as \xNN, \uNNNN or \n, so that the line is
  * printable UTF-8 that drives no terminal. Such a word then does not read
  * back into the same bytes; every other line is read back by a POSIX shell
  * into the words given. malloc'd (free it); NULL when none was recorded or
  * out of memory. */
 char *sp_command_line_unnamed(void);
 
-/* As sp_command_line_unnamed for the command line `line` that
- * sp_command_line_text wrote (a sweep shard's prov:wasGeneratedBy, which a
- * merged figure records as its own); NULL when line is NULL, is not such a
- * line of springpend's, or out of memory. */
-char *sp_command_line_recorded(const char *line);
+/* Every word as given (an output's name too: a CSV's prov:wasGeneratedBy),
+ * one line shown as sp_command_line_unnamed's is. malloc'd; NULL when none
+ * was recorded or out of memory. */
+char *sp_command_line_whole(void);
+
+/* SP_E_INPUT after a message when a record is longer than springpend's
+ * readers take back (SP_PROVENANCE_SCENE_MAX - 1 bytes): record, or (NULL)
+ * the process's own command line, whole or as outputs record it; else 0.
+ * main refuses such a command line before anything is computed. */
+int sp_command_line_check(const char *record);
+
+/* A command line read from a file (a sweep shard's prov:wasGeneratedBy),
+ * to parse as its command would and record (a merged figure records its
+ * shards' command). */
+struct sp_command_line;
+
+/* line, as sp_command_line_whole writes one, split into its words; NULL
+ * when line is NULL, is not a line springpend writes (a space at its start
+ * or two in a row, an unclosed quote, a first word not "springpend", no
+ * command) or out of memory. */
+struct sp_command_line *sp_command_line_read(const char *line);
+
+/* r's words from its command on (*argc of them, NULL-terminated), for the
+ * command's parser: it may permute them. */
+char **sp_command_line_words(struct sp_command_line *r, int *argc);
+
+/* The options sp_command_line_getopt returns from now on are noted for r
+ * (NULL: for the process's own command line again). */
+void sp_command_line_parse_into(struct sp_command_line *r);
+
+/* As sp_command_line_unnamed for r (parsed), followed by the options of
+ * the process's own command line but skip (a long name) and what outputs
+ * omit: a merged sweep figure records its shards' command with the figure
+ * options the merge drew at (--size 3in --dpi 200). malloc'd; NULL when out
+ * of memory. */
+char *sp_command_line_merged(const struct sp_command_line *r, const char *skip);
+
+void sp_command_line_free(struct sp_command_line *r);
 
 #endif

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "base/command_line.h"
 #include "base/decimal.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
@@ -377,8 +378,9 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
     o->data.every = -1;
     optind = 1;
     opterr = 0;
-    /* ':' first: an option missing its value returns ':', not '?'. */
-    while ((c = getopt_long(argc, argv, ":o:qhv", longopts, NULL)) != -1)
+    /* ':' first: an option missing its value returns ':', not '?'; parsed
+     * as the outputs record the command (command_line.h) */
+    while ((c = sp_command_line_getopt(argc, argv, ":o:qhv", longopts)) != -1)
         if ((ret = refuse_owned(c, takes, argv)) ||
             (ret = sp_cli_once(c, longopts, "sSF", first)) ||
             (ret = take_option(o, c, argc, argv, usage, &quality)))

@@ -23,9 +23,10 @@ static const char scene_usage[] =
     "Prints the scene FILE was made from, as a scene file: every key under its\n"
     "[section] in user units (angles in degrees, names rather than codes), with\n"
     "the --set overrides of the command that made it applied. FILE is a PNG\n"
-    "(its springpend.scene-file text), an MP4, WebM or GIF (the same, as a\n"
-    "metadata tag), an SVG or PDF figure (a still's or a sweep's: its <metadata>,\n"
-    "its /Subject) or a CSV (dc:source in FILE-metadata.json beside it).\n"
+    "(its springpend.scene-file text), an MP4 or WebM (the same, as a metadata\n"
+    "tag), an SVG or PDF figure (a still's or a sweep's: its <metadata>, its\n"
+    "/Subject) or a CSV (dc:source in FILE-metadata.json beside it). A GIF is\n"
+    "the one output that records neither the scene nor the command.\n"
     "Written to SCENE.ini under the scene's own file name, the recorded command\n"
     "(CSV: prov:wasGeneratedBy in the metadata) run again gives the same bytes.\n"
     "A side-by-side output (2 to 4 scenes) carries each of them: all are\n"
@@ -33,8 +34,12 @@ static const char scene_usage[] =
     "alone, as a scene file.\n"
     "--command prints the command line FILE records instead (springpend.command;\n"
     "a CSV's prov:wasGeneratedBy), one line a POSIX shell reads back into its\n"
-    "words. Outputs other than CSV record it without the output's name and\n"
-    "without --frames or --shard (a part of a PNG sequence is the whole run's):\n"
+    "words. Outputs other than CSV record it as the option parser read it (each\n"
+    "option by its full name: -qo F and --sha 1/2 as --quiet --output F and\n"
+    "--shard 1/2), without the output's name (-o, --csv, --state), --frames or\n"
+    "--shard (a part of a PNG sequence is the whole run's), --threads or -q; a\n"
+    "merged sweep figure records its shards' command and the merge's --size,\n"
+    "--dpi and --format:\n"
     "run it with -o NAME added, where SCENE.ini is the printed scene, and NAME\n"
     "has the same bytes as FILE (a PDF: under the same SOURCE_DATE_EPOCH). A word with a\n"
     "control character or a byte that is not UTF-8 was recorded escaped (\\xNN):\n"
@@ -113,7 +118,7 @@ static int print_command(const char *path, const char *where, const char *line)
 {
     if (!line || !line[0]) {
         sp_log_error("%s carries no command (no %s); springpend records the command line that "
-                     "made an output (an older springpend's do not)", path, where);
+                     "made an output but a GIF (an older springpend's do not)", path, where);
         return SP_E_INPUT;
     }
     sp_fputs_line(line, stdout);
@@ -233,8 +238,9 @@ int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
     }
     int ret = found < 0 ? found : 0;
     if (!ret && !n) {
-        sp_log_error("%s carries no scene (no %s text); springpend's PNGs, videos, SVGs, PDFs "
-                     "and CSVs do (an older springpend's do not)", path, SP_PROVENANCE_SCENE_FILE);
+        sp_log_error("%s carries no scene (no %s text); springpend's PNGs, MP4 and WebM "
+                     "videos, SVGs, PDFs and CSVs do, a GIF never (nor an older springpend's "
+                     "outputs)", path, SP_PROVENANCE_SCENE_FILE);
         ret = SP_E_INPUT;
     }
     if (!ret && cell > n) {

@@ -103,7 +103,7 @@ static const char sweep_usage[] =
     "  --shard I/N               compute the I-th of N equal parts of the grid into\n"
     "                            --csv only; join them with --merge\n"
     "  --merge                   the arguments are shard CSVs: draw (and --csv) the whole\n"
-    "  --threads N               worker threads (default: one per core)\n"
+    "  --threads N               worker threads (default: one per CPU it may use)\n"
     "  --fast                    lyapunov with rk4, undamped and undriven: the batch's fast\n"
     "                            kernel (fused multiply-adds, 1/rho without the divider;\n"
     "                            AVX-512F): about 1.4x the exact kernel's steps per second,\n"
@@ -364,9 +364,10 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
     const char *first[128] = {0};
     memset(o, 0, sizeof(*o));
     d->time = -1;
-    optind = 1;
+    optind = 0; /* getopt_long starts afresh (a merge parses its shard's command too) */
     opterr = 0;
-    while (!ret && (c = getopt_long(argc, argv, "o:qh", longopts, NULL)) != -1)
+    /* as the command records them (command_line.h) */
+    while (!ret && (c = sp_command_line_getopt(argc, argv, "o:qh", longopts)) != -1)
         if (!(ret = sp_cli_once(c, longopts, "sV", first)))
             ret = take_option(c, argv, o, d, &have_measure);
     if (ret || (ret = check_size(o)))
@@ -586,8 +587,9 @@ struct provenance {
     const char *const *overrides;
     int n_overrides;
     const char *shard;                 /* "I/N", NULL = the whole grid */
-    const char *command;               /* a merge's: its shards' command line; NULL =
-                                          this run's */
+    int merged;                        /* 1: a merge's figure, which records */
+    const char *command;               /* its shards' command (merged_command; NULL:
+                                          none); else this run's own is recorded */
 };
 
 /* The description line's words without "# springpend sweep " (the
@@ -680,9 +682,10 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
         struct sp_plot_style style = o->style; /* with the scene, as the CSV's dc:source */
         char *ini = pv->scene ? sp_scene_ini(pv->scene) : NULL;
         /* a merged figure records the command of the sweep its shards
-         * came from (less --shard and --csv): the whole run's bytes */
-        char *command = pv->command ? sp_command_line_recorded(pv->command)
-                                    : sp_command_line_unnamed();
+         * came from with the merge's figure options (merged_command): the
+         * whole run's bytes */
+        char *command = pv->merged ? (pv->command ? strdup(pv->command) : NULL)
+                                   : sp_command_line_unnamed();
         style.scene_file = ini, style.command = command, style.scene = pv->scene;
         style.cancel = o->cancel; /* a signal stops the drawing */
         ret = draw(fp, o->csv ? o->csv : name, o->output, &style, &made[1], &figure);
@@ -728,6 +731,122 @@ static int figure_look(struct sweep_opts *o, const struct sp_scene *scene,
     return o->output ? check_figure(&o->style) : 0;
 }
 
+/* The first difference between what a shard's command says (o, c: its
+ * parse) and what the merge checked of the shards (m), as "what the
+ * command says" and "what the shard holds", into said and held; 0 when
+ * they agree. */
+static int command_differs(const struct sweep_opts *o, const struct sp_sweep_desc *c,
+                           const struct sp_sweep_merge *m, char *said, char *held, size_t size)
+{
+    const struct sp_sweep_desc *d = &m->d;
+    int si = 0, sn = 0;
+    if (o->merge || !o->shard) {
+        snprintf(said, size, "%s", o->merge ? "--merge" : "no --shard");
+        snprintf(held, size, "shard %d of %d", m->command_shard, m->n);
+    } else if (sp_cli_shard(o->shard, sp_sweep_points(d), "the grid's points", &si, &sn) ||
+               si != m->command_shard || sn != m->n) {
+        snprintf(said, size, "--shard %s", o->shard);
+        snprintf(held, size, "shard %d of %d (schema:position)", m->command_shard, m->n);
+    } else if (c->measure != d->measure) {
+        snprintf(said, size, "--measure %s", sp_sweep_measure_name(c->measure));
+        snprintf(held, size, "measure %s", sp_sweep_measure_name(d->measure));
+    } else if (c->n_axes != d->n_axes) {
+        snprintf(said, size, "%d --vary", c->n_axes);
+        snprintf(held, size, "%d keys varied", d->n_axes);
+    } else if (c->time != d->time) {
+        snprintf(said, size, "--time %.17g", c->time);
+        snprintf(held, size, "T = %.17g s", d->time);
+    } else if (c->transient != d->transient) {
+        snprintf(said, size, "--transient %.17g", c->transient);
+        snprintf(held, size, "T0 = %.17g s", d->transient);
+    } else if (o->energy_given && c->energy != d->energy) {
+        snprintf(said, size, "--energy %.17g", c->energy);
+        snprintf(held, size, "E = %.17g J", d->energy);
+    } else if (c->cont != d->cont || c->peak != d->peak || c->fast != d->fast) {
+        snprintf(said, size, "--continue/--peak/--fast as %d/%d/%d", c->cont, c->peak, c->fast);
+        snprintf(held, size, "continue/peak/kernel as %d/%d/%d", d->cont, d->peak, d->fast);
+    } else if (o->n_overrides != m->n_overrides) {
+        snprintf(said, size, "%d --set", o->n_overrides);
+        snprintf(held, size, "%d overrides (prov:used)", m->n_overrides);
+    } else {
+        for (int a = 0; a < c->n_axes; a++)
+            if (strcmp(c->axis[a].key, d->axis[a].key) || c->axis[a].from != d->axis[a].from ||
+                c->axis[a].to != d->axis[a].to || c->axis[a].count != d->axis[a].count) {
+                snprintf(said, size, "--vary %s=%.17g:%.17g:%d", c->axis[a].key,
+                         c->axis[a].from, c->axis[a].to, c->axis[a].count);
+                snprintf(held, size, "%s from %.17g to %.17g in %d values", d->axis[a].key,
+                         d->axis[a].from, d->axis[a].to, d->axis[a].count);
+                return 1;
+            }
+        for (int i = 0; i < o->n_overrides; i++)
+            if (strcmp(o->overrides[i], m->overrides[i])) {
+                snprintf(said, size, "--set %s", o->overrides[i]);
+                snprintf(held, size, "the override %s (prov:used)", m->overrides[i]);
+                return 1;
+            }
+        return 0;
+    }
+    return 1;
+}
+
+/* The command a merged figure records, into *record (malloc'd; NULL:
+ * none): the first shard's prov:wasGeneratedBy, parsed as a sweep's
+ * command, with the merge's own figure options (--size, --dpi, --format)
+ * after it, less what outputs omit (--shard, --csv). So the merge of a
+ * sweep's shards drawn with --size 3in records what the one-piece run
+ * with --size 3in does. A line springpend never writes is no command (the
+ * figure records none, and the merge says so); a command that says
+ * another sweep than the shard holds (another grid, measure, T or --set)
+ * is refused, naming the difference. 0 or SP_E_INPUT / SP_E_NOMEM. */
+static int merged_command(const struct sp_sweep_merge *m, char **record)
+{
+    static const char help[] = "merge the shards as 'springpend sweep ... --shard I/N --csv "
+                               "FILE' wrote them";
+    struct sp_command_line *r = sp_command_line_read(m->command);
+    *record = NULL;
+    if (!r) {
+        if (m->command)
+            sp_log_note("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy is not a command "
+                        "line springpend writes; the figure records no command",
+                        m->command_path);
+        return 0;
+    }
+    int argc, ret;
+    char **argv = sp_command_line_words(r, &argc);
+    struct sweep_opts o;
+    struct sp_sweep_desc c = {0};
+    char said[320], held[320];
+    if (strcmp(argv[0], "sweep")) {
+        sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy is a command of "
+                     "'springpend %.40s', not of a sweep's shard; %s", m->command_path, argv[0],
+                     help);
+        ret = SP_E_INPUT;
+    } else {
+        sp_command_line_parse_into(r);
+        ret = parse_args(argc, argv, &o, &c);
+        sp_command_line_parse_into(NULL);
+        if (ret) {
+            sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy is not a sweep "
+                         "shard's command springpend runs%s; %s", m->command_path,
+                         ret > 0 ? " (it asks for --help)" : " (above)", help);
+            ret = SP_E_INPUT;
+        } else if (command_differs(&o, &c, m, said, held, sizeof(said))) {
+            sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy says %s, but the "
+                         "shard holds %s: it is not the command that made the shard; %s",
+                         m->command_path, said, held, help);
+            ret = SP_E_INPUT;
+        } else if (!(*record = sp_command_line_merged(r, "merge"))) {
+            sp_log_error("out of memory");
+            ret = SP_E_NOMEM;
+        } else if ((ret = sp_command_line_check(*record))) {
+            free(*record);
+            *record = NULL;
+        }
+    }
+    sp_command_line_free(r);
+    return ret;
+}
+
 /* sweep --merge: the shards' rows (sweep_merge.h), drawn and written as a
  * sweep's own. */
 static int merge(const struct sweep_opts *opts)
@@ -738,7 +857,10 @@ static int merge(const struct sweep_opts *opts)
                                              .cancel = o->cancel};
     int ret = sp_sweep_merge_open(&m, &desc);
     FILE *out = NULL;
+    char *record = NULL;
     struct sp_dirs made[2] = {{0}, {0}};
+    if (!ret) /* checked whatever is written; recorded by a figure */
+        ret = merged_command(&m, &record);
     if (!ret) /* as sweep_scene sets it for the one-piece run (its --set applied in m.scene) */
         ret = figure_look(o, &m.scene, m.overrides, m.n_overrides);
     if (!ret)
@@ -747,12 +869,14 @@ static int merge(const struct sweep_opts *opts)
         sp_sweep_merge_write(&m, out);
         const struct provenance whole = {.d = &m.d, .scene = &m.scene,
                                          .overrides = m.overrides,
-                                         .n_overrides = m.n_overrides, .command = m.command};
+                                         .n_overrides = m.n_overrides, .merged = 1,
+                                         .command = record};
         ret = finish(out, o, 0, &whole, made);
         if (ret == SP_E_INTERRUPTED)
             sp_log_error("interrupted: nothing written");
     }
     sp_sweep_merge_close(&m);
+    free(record);
     if (!ret && !o->quiet)
         sp_fprintf_line(stderr, "wrote %s%s%s from %d shards", o->output ? o->output : "stdout",
                 o->csv ? " and " : "", o->csv ? o->csv : "", m.n);

@@ -73,13 +73,18 @@ static int stdout_checked(int err)
 struct command {
     const char *name;
     int (*run)(int argc, char **argv, const volatile sig_atomic_t *cancel);
+    int records; /* 1: its outputs record the command line (command_line.h) */
 };
 
 static int cmd_keys(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     (void)cancel;
-    for (int i = 1; i < argc; i++)
-        if (strcmp(argv[i], "-h") && strcmp(argv[i], "--help")) {
+    /* `--` ends the options, as for every command (POSIX: no operands
+     * after it is fine); -h and --help before it print the keys too */
+    for (int i = 1, options = 1; i < argc; i++)
+        if (options && !strcmp(argv[i], "--")) {
+            options = 0;
+        } else if (!options || (strcmp(argv[i], "-h") && strcmp(argv[i], "--help"))) {
             sp_log_error("keys takes no arguments, not '%s'; see 'springpend --help'", argv[i]);
             return SP_E_INPUT;
         }
@@ -89,14 +94,14 @@ static int cmd_keys(int argc, char **argv, const volatile sig_atomic_t *cancel)
 }
 
 static const struct command commands[] = {
-    {"render", sp_cmd_render},
-    {"still", sp_cmd_still},
-    {"data", sp_cmd_data},
-    {"info", sp_cmd_info},
-    {"keys", cmd_keys},
-    {"compare", sp_cmd_compare},
-    {"sweep", sp_cmd_sweep},
-    {"scene", sp_cmd_scene},
+    {"render", sp_cmd_render, 1},
+    {"still", sp_cmd_still, 1},
+    {"data", sp_cmd_data, 1},
+    {"info", sp_cmd_info, 0},
+    {"keys", cmd_keys, 0},
+    {"compare", sp_cmd_compare, 0},
+    {"sweep", sp_cmd_sweep, 1},
+    {"scene", sp_cmd_scene, 0},
 };
 
 int main(int argc, char **argv)
@@ -140,8 +145,13 @@ int main(int argc, char **argv)
     sp_signals_install();
     sp_outfile_set_cancel(sp_signal_flag()); /* a FIFO's wait stops on a signal */
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
-        if (!strcmp(argv[1], commands[i].name))
+        if (!strcmp(argv[1], commands[i].name)) {
+            /* a line no output could record whole, or springpend read
+             * back, is refused before anything is computed */
+            if (commands[i].records && sp_command_line_check(NULL))
+                return 2;
             return exit_status(stdout_checked(commands[i].run(argc - 1, argv + 1, sp_signal_flag())));
+        }
     sp_log_error("unknown command '%s'; see 'springpend --help'", argv[1]);
     return 2;
 }

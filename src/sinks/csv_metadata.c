@@ -60,15 +60,13 @@ static json_t *url_of(const char *name)
     return j;
 }
 
-/* The command line's text and words into obj. 0 or SP_E_NOMEM. */
+/* The command line into obj: every word as given (its -o too), shown as
+ * every other record shows it (command_line.h: a byte that is not UTF-8 as
+ * \xNN, not replaced). 0 or SP_E_NOMEM. */
 static int add_command(json_t *obj)
 {
-    int n = sp_command_line_text(NULL, 0);
-    char *line = malloc((size_t)n + 1);
-    if (!line)
-        return SP_E_NOMEM;
-    sp_command_line_text(line, (size_t)n + 1);
-    int err = json_object_set_new(obj, "prov:wasGeneratedBy", text(line));
+    char *line = sp_command_line_whole();
+    int err = !line || json_object_set_new(obj, "prov:wasGeneratedBy", json_string(line));
     free(line);
     return err ? SP_E_NOMEM : 0;
 }

@@ -16,6 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/cpu_count.h"
 #include "base/decimal.h"
 #include "springpend/batch.h"
 #include "springpend/common.h"
@@ -1070,10 +1071,8 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
     struct run r = {.d = d, .base = base, .first = first, .last = last};
     int ret = 0;
     *blown_up = *unreachable = 0;
-    if (threads <= 0) {
-        long n = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = n > 0 ? (int)n : 1;
-    }
+    if (threads <= 0)
+        threads = sp_cpu_count(); /* those this process may use */
     r.forced = grid_forced(d, base);
     if (d->measure == SP_MEASURE_ORBIT && d->cont) { /* one sequence: no chunks */
         ret = sp_orbit_continue(d, base, r.forced, fp, blown_up);

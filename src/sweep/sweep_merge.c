@@ -339,6 +339,8 @@ int sp_sweep_merge_open(struct sp_sweep_merge *m, const struct sp_sweep_merge_de
             if (m->n_overrides < SP_SWEEP_MERGE_MAX_OVERRIDES && json_string_value(v))
                 m->overrides[m->n_overrides++] = json_string_value(v);
         m->command = member(m->shards[0].meta, "prov:wasGeneratedBy");
+        m->command_path = m->shards[0].path;
+        m->command_shard = m->shards[0].i;
     }
     return ret;
 }

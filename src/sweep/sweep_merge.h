@@ -37,7 +37,10 @@ struct sp_sweep_merge {
     int n_overrides;
     const char *command;      /* the first shard's prov:wasGeneratedBy (the command
                                  a merged figure records, less its --shard and
-                                 --csv: command_line.h); NULL = none */
+                                 --csv: command_line.h, once the caller has checked
+                                 it against the shard); NULL = none */
+    const char *command_path; /* the shard it is from (its CSV) */
+    int command_shard;        /* that shard's I (schema:position I/N) */
     char header[1100];        /* "# springpend sweep DESCRIPTION" */
     char columns[1024];       /* the column names' line, "\n"-ended */
     struct sp_sweep_shard *shards, **order; /* as given; by I */

@@ -47,6 +47,11 @@ struct sp_compare_record {
     int expected_png, actual_png; /* 1: read as a PNG (its header at least):
                                      only these are embedded in --report */
     int compared;             /* 1: result below holds figures */
+    int out_of_memory;        /* 1: error holds "out of memory": not the
+                                 files' fault (the run exits 1, not 2) */
+    int retry_alone;          /* 1: compare_run compares it again alone
+                                 (a video a decoder refused on a thread
+                                 among others: it may be memory) */
     int exact;                /* the decoded pixels are identical (equal hashes) */
     char expected_sha256[65]; /* of the decoded pixels, "" when not read */
     char actual_sha256[65];
@@ -107,9 +112,11 @@ void sp_compare_report_free(struct sp_compare_report *rep);
  * --update added, replaced or removed; unresolved counts the failures and
  * errors --update did not resolve: the run passes when it is 0 (and the run
  * was not interrupted and has no problem). A record never compared (the run
- * was interrupted first) counts as not_compared only. */
+ * was interrupted first) counts as not_compared only; one that ran out of
+ * memory counts as out_of_memory, not among the errors (an unreadable or
+ * missing image), but as unresolved. */
 struct sp_compare_counts {
-    int records, compared, passed, failed, errors, updated, not_compared;
+    int records, compared, passed, failed, errors, updated, not_compared, out_of_memory;
     int unresolved_failed, unresolved_errors;
 };
 

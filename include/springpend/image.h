@@ -29,6 +29,9 @@ struct sp_image {
 
 /* Allocates a zeroed width x height RGBA image with stride 4*width. */
 int sp_image_alloc(struct sp_image *img, int width, int height);
+/* The same, saying nothing when memory runs out (SP_E_NOMEM): for readers
+ * whose caller says it once (compare retries on one thread first). */
+int sp_image_alloc_unsaid(struct sp_image *img, int width, int height);
 /* Allocates a width x height SP_IMAGE_YUV420 image (width and height even),
  * black (Y 16, Cb = Cr = 128). 0, SP_E_INPUT (odd size) or SP_E_NOMEM. */
 int sp_image_alloc_yuv420(struct sp_image *img, int width, int height);

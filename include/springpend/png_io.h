@@ -71,7 +71,9 @@ struct sp_png_info {
 
 /* Reads the header (and the chunks before the image data) only. Returns 0
  * or SP_E_INPUT (logged: cannot open, not a regular file, not a PNG or
- * damaged: bad input, exit 2, with libpng's reason). */
+ * damaged: bad input, exit 2, with libpng's reason), or SP_E_NOMEM, unsaid:
+ * out of memory is not the file's fault, and its caller says it once (compare
+ * retries the image on one thread first). */
 int sp_png_read_info(const char *path, struct sp_png_info *info);
 
 /* Like sp_png_read_info, but only the width and height, and nothing
@@ -89,13 +91,15 @@ int sp_png_check_size(const char *path, const struct sp_png_info *info);
  * conversion. Stride 4*width, straight alpha; free with sp_image_free; img
  * is zeroed on failure. Refuses (SP_E_INPUT) what is not a regular file and
  * images beyond SP_PNG_MAX_PIXELS, and a damaged or truncated file, including
- * one missing IEND (infile.h: a missing file too). */
+ * one missing IEND (infile.h: a missing file too). SP_E_NOMEM (unsaid, as
+ * sp_png_read_info) when memory runs out, libpng's allocations included. */
 int sp_png_read(const char *path, struct sp_image *img);
 
 /* Finds the tEXt/zTXt/iTXt chunk `key` that comes before the image data
  * and copies its text into buf. Returns 1 when found, 0 when the PNG has
  * no such chunk, or SP_E_INPUT (logged) when the file cannot be read as a
- * PNG, holds the chunk twice, or its text does not fit in size - 1 bytes.
+ * PNG, holds the chunk twice, or its text does not fit in size - 1 bytes;
+ * SP_E_NOMEM (logged) when memory runs out.
  * Bounded: a chunk inflating beyond 256 KiB, and the chunks after the
  * 32nd, are dropped with libpng's reason (8 MiB of text at most, however
  * the file is made); the other readers skip text chunks unread. */

@@ -11,18 +11,26 @@
 struct sp_video_reader;
 
 /* Opens path and its decoder. SP_E_INPUT (with a message) when it is not a
- * readable video. */
+ * readable video; SP_E_NOMEM, unsaid, when memory runs out (not the file's
+ * fault: its caller says it once; compare retries on one thread first). */
 int sp_video_reader_open(struct sp_video_reader **out, const char *path);
 
 /* Decodes the next frame into *img: pixels owned by the reader, valid
  * until the next read or destroy; *t (when t is not NULL) gets the frame's
  * presentation time, s (its best-effort timestamp; NAN when it has none). The conversion to RGBA is bit-exact
  * (SWS_BITEXACT), so equal frames give equal pixels on any CPU. Returns 1
- * with a frame, 0 after the last one, or a negative SP_E_* code. */
+ * with a frame, 0 after the last one, or a negative SP_E_* code (logged,
+ * but SP_E_NOMEM: unsaid, as for sp_video_reader_open). */
 int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double *t);
 
 /* Frees everything and sets *r to NULL. Safe on NULL. */
 void sp_video_reader_destroy(struct sp_video_reader **r);
+
+/* The frame size of path's first video stream as its container's headers
+ * say, px, with nothing decoded and nothing logged: for an estimate before
+ * the file is read in earnest (which then says what is wrong with it).
+ * Only a regular file is opened. 0, or SP_E_INPUT (*width = *height = 0). */
+int sp_video_frame_size(const char *path, int *width, int *height);
 
 /* The container tag key of the video at path (springpend writes its PNG
  * text chunks there too: provenance.h) into buf. Returns 1 when found, 0

@@ -11,18 +11,24 @@ long sp_image_size(int format, int width, int height)
                                      : (long)width * height * 4;
 }
 
-int sp_image_alloc(struct sp_image *img, int width, int height)
+int sp_image_alloc_unsaid(struct sp_image *img, int width, int height)
 {
     memset(img, 0, sizeof(*img));
     img->pixels = calloc((size_t)width * height, 4);
-    if (!img->pixels) {
-        sp_log_error("out of memory for a %dx%d image", width, height);
+    if (!img->pixels)
         return SP_E_NOMEM;
-    }
     img->width = width;
     img->height = height;
     img->stride = 4 * width;
     return 0;
+}
+
+int sp_image_alloc(struct sp_image *img, int width, int height)
+{
+    int err = sp_image_alloc_unsaid(img, width, height);
+    if (err)
+        sp_log_error("out of memory for a %dx%d image", width, height);
+    return err;
 }
 
 int sp_image_alloc_yuv420(struct sp_image *img, int width, int height)

@@ -74,15 +74,21 @@ size_t sp_text_shown(const char *s, int newline, char *buf, size_t size)
  * characters; prefix, when not NULL, goes first. */
 static void vprint_line(FILE *fp, const char *prefix, const char *fmt, va_list ap)
 {
-    char *msg = NULL;
+    char *msg = NULL, fixed[1024];
+    va_list again;
+    va_copy(again, ap);
     int n = vasprintf(&msg, fmt, ap);
+    if (n < 0) {
+        /* Out of memory: the message formatted into a fixed buffer, cut at
+         * its size, never the bare format (its %s name nothing) */
+        msg = NULL;
+        vsnprintf(fixed, sizeof(fixed), fmt, again);
+    }
+    va_end(again);
     flockfile(fp);
     if (prefix)
         fputs(prefix, fp);
-    if (n >= 0)
-        sp_fputs_line(msg, fp); /* one message, one line */
-    else
-        fputs(fmt, fp); /* out of memory: the bare format still says where */
+    sp_fputs_line(n >= 0 ? msg : fixed, fp); /* one message, one line */
     fputc('\n', fp);
     funlockfile(fp);
     free(msg);

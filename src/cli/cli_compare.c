@@ -10,6 +10,7 @@
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
 #include "springpend/compare_run.h"
+#include "base/cpu_count.h"
 #include "base/decimal.h"
 
 static const char compare_usage[] =
@@ -24,9 +25,9 @@ static const char compare_usage[] =
     "environment: a.llvm19.png) for each KEY that compare.ini declares at its\n"
     "top ('envs = llvm19, arm64'); a match with any one passes. Other dotted\n"
     "names (fig.1.png) are images of their own.\n"
-    "Exit status: 0 all match, 1 some differ (in pixels, size or timing), 2\n"
-    "unreadable, missing or extra images, or videos with different frame\n"
-    "counts; 128 + signal when interrupted.\n"
+    "Exit status: 0 all match, 1 some differ (in pixels, size or timing) or\n"
+    "ran out of memory, 2 unreadable, missing or extra images, or videos with\n"
+    "different frame counts; 128 + signal when interrupted.\n"
     "\n"
     "Identical decoded pixels (equal SHA-256) match at once. Otherwise the\n"
     "default rule (reftest style): a pixel differs when a channel moves by more\n"
@@ -70,9 +71,10 @@ static const char compare_usage[] =
     "  --summary FILE.md      a Markdown summary for a pull request or\n"
     "                         $GITHUB_STEP_SUMMARY: counts and a table of failures\n"
     "  --jobs N               compare a folder's images on N threads (default:\n"
-    "                         every CPU; fewer when 12 bytes a pixel of the\n"
-    "                         largest PNG per thread would pass half the memory\n"
-    "                         the process may use)\n"
+    "                         every CPU the process may use; fewer when 12 bytes\n"
+    "                         a pixel of the largest PNG, or 24 of the largest\n"
+    "                         video frame, and each thread's stack and malloc\n"
+    "                         arena would pass half the memory it may use)\n"
     "  --junit FILE.xml       JUnit XML, a test case per image\n"
     "  --json                 print the records as JSON (schema in doc/ci.md)\n"
     "  -q, --quiet            print failures only (no effect with --json)\n"
@@ -105,8 +107,7 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
     const char *first[128] = {0};
     struct sp_compare_desc *c = &o->run;
     memset(o, 0, sizeof(*o));
-    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-    c->jobs = cpus > 0 ? (int)cpus : 1;
+    c->jobs = sp_cpu_count(); /* those this process may use */
     optind = 1;
     opterr = 0;
     while ((ch = getopt_long(argc, argv, ":qh", longopts, &idx)) != -1) {

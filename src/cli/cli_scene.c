@@ -23,9 +23,10 @@ static const char scene_usage[] =
     "Prints the scene FILE was made from, as a scene file: every key under its\n"
     "[section] in user units (angles in degrees, names rather than codes), with\n"
     "the --set overrides of the command that made it applied. FILE is a PNG\n"
-    "(its springpend.scene-file text), an MP4, WebM or GIF (the same, as a\n"
-    "metadata tag), an SVG or PDF figure (a still's or a sweep's: its <metadata>,\n"
-    "its /Subject) or a CSV (dc:source in FILE-metadata.json beside it).\n"
+    "(its springpend.scene-file text), an MP4 or WebM (the same, as a metadata\n"
+    "tag), an SVG or PDF figure (a still's or a sweep's: its <metadata>, its\n"
+    "/Subject) or a CSV (dc:source in FILE-metadata.json beside it). A GIF is\n"
+    "the one output that records neither the scene nor the command.\n"
     "Written to SCENE.ini under the scene's own file name, the recorded command\n"
     "(CSV: prov:wasGeneratedBy in the metadata) run again gives the same bytes.\n"
     "A side-by-side output (2 to 4 scenes) carries each of them: all are\n"
@@ -118,7 +119,7 @@ static int print_command(const char *path, const char *where, const char *line)
 {
     if (!line || !line[0]) {
         sp_log_error("%s carries no command (no %s); springpend records the command line that "
-                     "made an output (an older springpend's do not)", path, where);
+                     "made an output but a GIF (an older springpend's do not)", path, where);
         return SP_E_INPUT;
     }
     sp_fputs_line(line, stdout);
@@ -238,8 +239,9 @@ int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
     }
     int ret = found < 0 ? found : 0;
     if (!ret && !n) {
-        sp_log_error("%s carries no scene (no %s text); springpend's PNGs, videos, SVGs, PDFs "
-                     "and CSVs do (an older springpend's do not)", path, SP_PROVENANCE_SCENE_FILE);
+        sp_log_error("%s carries no scene (no %s text); springpend's PNGs, MP4 and WebM "
+                     "videos, SVGs, PDFs and CSVs do, a GIF never (nor an older springpend's "
+                     "outputs)", path, SP_PROVENANCE_SCENE_FILE);
         ret = SP_E_INPUT;
     }
     if (!ret && cell > n) {

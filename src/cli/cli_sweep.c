@@ -103,7 +103,7 @@ static const char sweep_usage[] =
     "  --shard I/N               compute the I-th of N equal parts of the grid into\n"
     "                            --csv only; join them with --merge\n"
     "  --merge                   the arguments are shard CSVs: draw (and --csv) the whole\n"
-    "  --threads N               worker threads (default: one per core)\n"
+    "  --threads N               worker threads (default: one per CPU it may use)\n"
     "  --fast                    lyapunov with rk4, undamped and undriven: the batch's fast\n"
     "                            kernel (fused multiply-adds, 1/rho without the divider;\n"
     "                            AVX-512F): about 1.4x the exact kernel's steps per second,\n"

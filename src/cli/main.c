@@ -79,8 +79,12 @@ struct command {
 static int cmd_keys(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     (void)cancel;
-    for (int i = 1; i < argc; i++)
-        if (strcmp(argv[i], "-h") && strcmp(argv[i], "--help")) {
+    /* `--` ends the options, as for every command (POSIX: no operands
+     * after it is fine); -h and --help before it print the keys too */
+    for (int i = 1, options = 1; i < argc; i++)
+        if (options && !strcmp(argv[i], "--")) {
+            options = 0;
+        } else if (!options || (strcmp(argv[i], "-h") && strcmp(argv[i], "--help"))) {
             sp_log_error("keys takes no arguments, not '%s'; see 'springpend --help'", argv[i]);
             return SP_E_INPUT;
         }

@@ -54,7 +54,8 @@ struct sp_compare_counts sp_compare_report_count(const struct sp_compare_report 
         c.compared += r->compared;
         c.passed += r->verdict == SP_VERDICT_PASS;
         c.failed += r->verdict == SP_VERDICT_FAIL;
-        c.errors += r->verdict == SP_VERDICT_ERROR;
+        c.errors += r->verdict == SP_VERDICT_ERROR && !r->out_of_memory;
+        c.out_of_memory += r->out_of_memory;
         c.updated += resolved;
         c.unresolved_failed += r->verdict == SP_VERDICT_FAIL && !resolved;
         c.unresolved_errors += r->verdict == SP_VERDICT_ERROR && !resolved;
@@ -84,6 +85,8 @@ static void summary_line(FILE *fp, const struct sp_compare_report *rep)
     fprintf(fp, "%s: %d compared, %d passed, %d failed, %d missing or unreadable, "
             "%d updated", status_word(rep), c.compared, c.passed, c.failed, c.errors,
             c.updated);
+    if (c.out_of_memory)
+        fprintf(fp, ", %d out of memory", c.out_of_memory);
     if (rep->problem[0])
         fprintf(fp, "; %s", rep->problem);
 }
@@ -326,9 +329,10 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
     fputs("    {\"name\": ", fp), sp_report_json_string(fp, r->name);
     fputs(", \"expected\": ", fp), json_maybe(fp, r->expected);
     fputs(", \"actual\": ", fp), json_maybe(fp, r->actual);
-    fprintf(fp, ", \"verdict\": \"%s\", \"pass\": %s, \"not_compared\": %s",
-            verdict_word(r->verdict), r->verdict == SP_VERDICT_PASS ? "true" : "false",
-            r->not_compared ? "true" : "false");
+    fprintf(fp, ", \"verdict\": \"%s\", \"pass\": %s, \"not_compared\": %s, "
+            "\"out_of_memory\": %s", verdict_word(r->verdict),
+            r->verdict == SP_VERDICT_PASS ? "true" : "false",
+            r->not_compared ? "true" : "false", r->out_of_memory ? "true" : "false");
     fputs(", \"error\": ", fp), json_maybe(fp, r->error);
     fputs(", \"hint\": ", fp), json_maybe(fp, r->hint);
     fprintf(fp, ", \"update\": ");
@@ -414,9 +418,9 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
     json_maybe(fp, rep->problem);
     fprintf(fp, ",\n \"counts\": {\"images\": %d, \"compared\": %d, \"passed\": %d, "
             "\"failed\": %d, \"errors\": %d, \"updated\": %d, \"unresolved\": %d, "
-            "\"not_compared\": %d},\n \"results\": [\n",
+            "\"not_compared\": %d, \"out_of_memory\": %d},\n \"results\": [\n",
             c.records, c.compared, c.passed, c.failed, c.errors, c.updated,
-            c.unresolved_failed + c.unresolved_errors, c.not_compared);
+            c.unresolved_failed + c.unresolved_errors, c.not_compared, c.out_of_memory);
     for (int i = 0; i < rep->n; i++) {
         json_record(fp, &rep->records[i]);
         fputs(i + 1 < rep->n ? ",\n" : "\n", fp);
@@ -1121,6 +1125,8 @@ void sp_compare_report_markdown(FILE *fp, const struct sp_compare_report *rep)
     fprintf(fp, "### springpend compare: %s\n\n", status_word(rep));
     fprintf(fp, "%d images: %d compared, %d passed, %d failed, %d missing or unreadable, "
             "%d updated", c.records, c.compared, c.passed, c.failed, c.errors, c.updated);
+    if (c.out_of_memory)
+        fprintf(fp, ", %d out of memory", c.out_of_memory);
     if (c.not_compared)
         fprintf(fp, ", %d not compared (interrupted)", c.not_compared);
     fputs(".\n", fp);

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -330,11 +331,23 @@ static int record_error(struct sp_compare_record *r, const char *fmt, ...)
     return SP_E_INPUT;
 }
 
+/* Records that reading path ran out of memory: not the file's fault
+ * (exit 1, not 2); a folder compare tries the image again alone
+ * (retry_out_of_memory). Returns SP_E_NOMEM. */
+static int record_nomem(struct sp_compare_record *r, const char *path)
+{
+    record_error(r, "out of memory while reading %s", path);
+    r->out_of_memory = 1;
+    return SP_E_NOMEM;
+}
+
 /* Reads the header of path; refuses what is too large to decode. */
 static int check_header(struct sp_compare_record *r, const char *path, int *w, int *h)
 {
     struct sp_png_info info;
     int err = sp_png_read_info(path, &info);
+    if (err == SP_E_NOMEM)
+        return record_nomem(r, path);
     if (err)
         return record_error(r, err == SP_E_INPUT ? "%s is not a regular file"
                                                  : "cannot read %s as a PNG", path);
@@ -380,17 +393,19 @@ static void compare_files(struct compare_run *c, struct sp_compare_record *r,
         r->verdict = SP_VERDICT_FAIL;
         goto done;
     }
-    if (sp_png_read(expected, &e) != 0) {
-        record_error(r, "cannot read %s", expected);
-        goto done;
-    }
-    if (sp_png_read(actual, &a) != 0) {
-        record_error(r, "cannot read %s", actual);
-        goto done;
+    for (int side = 0; side < 2; side++) {
+        const int err = sp_png_read(side ? actual : expected, side ? &a : &e);
+        if (err == SP_E_NOMEM) {
+            record_nomem(r, side ? actual : expected);
+            goto done;
+        } else if (err) {
+            record_error(r, "cannot read %s", side ? actual : expected);
+            goto done;
+        }
     }
     if (sp_compare_pixel_hash(&e, r->expected_sha256) ||
         sp_compare_pixel_hash(&a, r->actual_sha256)) {
-        record_error(r, "out of memory");
+        record_nomem(r, expected);
         goto done;
     }
     r->compared = 1;
@@ -413,8 +428,12 @@ static void compare_files(struct compare_run *c, struct sp_compare_record *r,
         sp_compare_apply_masks(&e, &a, masks, n_masks);
         r->masked_pixels = sp_compare_masked_pixels(e.width, e.height, star_masks,
                                                     n_star_masks, masks, n_masks);
-        if (sp_compare_images(&e, &a, &opts, &r->result, diff_path ? &d : NULL) != 0) {
-            record_error(r, "comparison failed");
+        const int err = sp_compare_images(&e, &a, &opts, &r->result, diff_path ? &d : NULL);
+        if (err) {
+            if (err == SP_E_NOMEM)
+                record_nomem(r, actual);
+            else
+                record_error(r, "comparison failed");
             goto done;
         }
         r->ssim = sp_compare_ssim(&e, &a);
@@ -547,7 +566,9 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     int blocks = video_rule(c, r, rule_name, &opts, masks, &n_masks);
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
         (ret = sp_video_reader_open(&va, actual)) != 0) {
-        ret = record_error(r, "cannot read %s", ve ? actual : expected);
+        ret = ret == SP_E_NOMEM ? record_nomem(r, ve ? actual : expected)
+                                : record_error(r, "cannot read %s", ve ? actual : expected);
+        r->retry_alone = 1; /* as a decoder's error below */
         goto done;
     }
     for (;;) {
@@ -592,7 +613,8 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
         ret = blocks ? compare_blocks(&fe, &fa, &opts, &res, diff_path ? &d : NULL)
                      : sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
         if (ret) {
-            ret = record_error(r, "comparison failed");
+            ret = ret == SP_E_NOMEM ? record_nomem(r, actual)
+                                    : record_error(r, "comparison failed");
             goto done;
         }
         double score = r->metric == SP_COMPARE_RMS ? res.rms : (double)res.differing + res.rms * 1e-9;
@@ -610,8 +632,15 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
         }
         r->frames++;
     }
+    if (ge == SP_E_NOMEM || ga == SP_E_NOMEM) {
+        ret = record_nomem(r, ge == SP_E_NOMEM ? expected : actual);
+        goto done;
+    }
     if (ge < 0 || ga < 0) {
+        /* FFmpeg's decoders report some failed allocations as damaged
+         * data (h264's get_buffer): a folder compare decodes it again alone */
         ret = record_error(r, "cannot decode %s", ge < 0 ? expected : actual);
+        r->retry_alone = 1;
         goto done;
     }
     if (ge != ga) {
@@ -881,39 +910,101 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
  * 7680x4320, the rest is headroom). */
 #define THREAD_BYTES_PER_PX 12.0
 
+/* The same for a video pair: two decoders with their reference frames and
+ * frame pools, two RGBA frames and the diff, bytes per pixel of a frame
+ * (attack7 #14 measured 130-190 MB a thread at 3840x2160, 16-23 B/px; the
+ * rest is headroom). */
+#define VIDEO_THREAD_BYTES_PER_PX 24.0
+
+/* What a thread costs besides its images, bytes, as the limit that decides
+ * counts it (`what`, memory_limit.h): its stack (ulimit -s; glibc's 2 MiB
+ * when unlimited) under ulimit -v or -d, which count mappings, and under
+ * ulimit -v the 64 MiB of address space glibc reserves for the thread's
+ * malloc arena too; plus some 4 MB resident (the arena's pages, libpng's
+ * and zlib's buffers). 256 threads of tiny images under ulimit -v 600000
+ * ran out of memory on this alone (attack7 #22). */
+static double thread_base(const char *what)
+{
+    struct rlimit rl;
+    const double stack = getrlimit(RLIMIT_STACK, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY
+                             ? (double)rl.rlim_cur : 2.0 * 1048576;
+    if (!strcmp(what, "ulimit -v"))
+        return stack + 64.0 * 1048576 + 4e6;
+    return !strcmp(what, "ulimit -d") ? stack + 4e6 : 4e6;
+}
+
 /* The threads a folder compare runs: --jobs, at most one per image to
- * compare, and no more than the largest PNG's decoded pixels allow in half
- * the memory the process may use (memory_limit.h): 8K snapshots on a
+ * compare, and no more than fit in half the memory the process may use
+ * (memory_limit.h), each thread counted with its own cost (thread_base)
+ * and the largest image it may hold: a PNG's decoded pixels, or a video
+ * pair's decoders and frames at the size its header says (a video pair
+ * also runs a second thread for its other decoder). 8K snapshots on a
  * 64-core runner once took 17 GB. Says so on stderr when it lowers them. */
 static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot_list *l,
                            const unsigned char *todo, const char *dir_e, const char *dir_a)
 {
     int n = c->jobs < l->n ? c->jobs : l->n;
-    double px = 0;
+    double px = 0, images = 0;
+    const char *what;
+    const double budget = sp_memory_limit(&what) / 2, base = thread_base(what);
     for (int i = 0; n > 1 && i < l->n; i++) {
-        struct sp_png_info info;
+        const int png = sp_snapshot_is_png(l->items[i].name);
         char p[PATH_MAX];
-        if (!todo[i] || !sp_snapshot_is_png(l->items[i].name))
+        if (!todo[i])
             continue;
-        for (int side = 0; side < 2; side++)
+        for (int side = 0; side < 2; side++) {
+            struct sp_png_info info;
+            int w = 0, h = 0;
             if (snprintf(p, sizeof(p), "%s/%s", side ? dir_a : dir_e,
                          side || l->items[i].expected ? l->items[i].name
-                                                      : l->items[i].alts[0]) < (int)sizeof(p) &&
-                sp_png_read_info_quiet(p, &info) == 0)
-                px = fmax(px, (double)info.width * info.height);
+                                                      : l->items[i].alts[0]) >= (int)sizeof(p))
+                continue;
+            if (png && sp_png_read_info_quiet(p, &info) == 0)
+                w = info.width, h = info.height;
+            else if (!png)
+                sp_video_frame_size(p, &w, &h);
+            const double at = (double)w * h;
+            const double need = png ? at * THREAD_BYTES_PER_PX
+                                    : at * VIDEO_THREAD_BYTES_PER_PX + base;
+            if (need > images)
+                images = need, px = at;
+        }
     }
-    const char *what;
-    const double budget = sp_memory_limit(&what) / 2, need = px * THREAD_BYTES_PER_PX;
-    if (n > 1 && need > 0 && budget > 0 && n * need > budget) {
+    const double need = images + base;
+    if (n > 1 && budget > 0 && n * need > budget) {
         const int fit = budget / need < 1 ? 1 : (int)(budget / need);
         if (!c->quiet && !c->json)
             sp_fprintf_line(stderr, "springpend: --jobs %d: each thread holds up to %.0f MB "
-                            "(the largest image is %.0f Mpx); %d of them fit in %.0f MB, half "
-                            "of %s: comparing on %d thread%s", n, need / 1e6, px / 1e6, fit,
+                            "for the largest image (%.1f Mpx) and %.0f MB of its own (stack, "
+                            "malloc arena); %d of them fit in %.0f MB, half of %s: comparing "
+                            "on %d thread%s", n, images / 1e6, px / 1e6, base / 1e6, fit,
                             budget / 1e6, what, fit, fit == 1 ? "" : "s");
         n = fit;
     }
     return n;
+}
+
+/* Compares again, on this thread, the images that ran out of memory on the
+ * pool's `threads` threads (each thread's images, stacks and arenas at
+ * once: an estimate is never exact), and videos a decoder refused there
+ * (FFmpeg tells some failed allocations as damaged data); one that runs
+ * out alone is out of memory for good: counted in *nomem, said once by the
+ * caller. */
+static void retry_out_of_memory(struct folder_work *w, int threads, int *nomem)
+{
+    for (int i = 0; i < w->list->n && !stopped(w->c); i++) {
+        struct sp_compare_record *r = &w->records[i];
+        if (!w->todo[i])
+            continue;
+        if (threads > 1 && (r->out_of_memory || r->retry_alone)) {
+            if (r->diff[0])
+                unlink(r->diff);
+            record_clear(r);
+            record_reset(r);
+            compare_item(w->c, r, &w->list->items[i], w->dir_e, w->dir_a);
+        }
+        *nomem += r->out_of_memory;
+    }
 }
 
 /* Compares every image (PNG or video) under folder dir_e with its namesake
@@ -930,7 +1021,7 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
     for (int k = 0; k < c->cfg.n_envs; k++)
         keys[k] = c->cfg.envs[k];
     int ret = sp_snapshot_list_make(&list, dir_e, dir_a, skip, 2, keys, c->cfg.n_envs),
-        first = rep->n;
+        first = rep->n, nomem = 0;
     if (ret) { /* the reports must not read as a pass */
         struct sp_compare_record *r = sp_compare_report_add(rep);
         if (r) {
@@ -963,6 +1054,15 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
         folder_worker(&w);
         for (int k = 0; k < started; k++)
             pthread_join(th[k], NULL);
+        retry_out_of_memory(&w, started + 1, &nomem);
+    }
+    if (nomem && !stopped(c)) {
+        const char *what;
+        const double limit = sp_memory_limit(&what);
+        sp_log_error("out of memory: %d image%s could not be compared even alone on one "
+                     "thread (the process may use %.0f MB: %s); allow more memory", nomem,
+                     nomem == 1 ? "" : "s", limit / 1e6, what);
+        ret = SP_E_NOMEM;
     }
     if (stopped(c)) {
         rep->interrupted = stopped(c);
@@ -1338,6 +1438,13 @@ static int compare_pair(struct compare_run *c, struct sp_compare_report *rep,
         ret = compare_videos(c, r, a, base, e, a, c->diff);
         r->seconds = sp_clock_s() - t0;
         rep->interrupted = ret == SP_E_INTERRUPTED ? stopped(c) : 0;
+    }
+    if (r->out_of_memory) { /* not the files' fault: exit 1, said here */
+        const char *what;
+        const double limit = sp_memory_limit(&what);
+        sp_log_error("out of memory comparing %s with %s (the process may use %.0f MB: %s); "
+                     "allow more memory", e, a, limit / 1e6, what);
+        ret = SP_E_NOMEM;
     }
     if (c->candidates) {
         const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;

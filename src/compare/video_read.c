@@ -1,6 +1,7 @@
 /* springpend: video frames back to RGBA8 (video_read.h). The decode loop
  * is FFmpeg's doc/examples/demux_decode.c: read a packet, send it, drain
  * receive_frame until EAGAIN; at the end send NULL and drain to EOF. */
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,10 +31,14 @@ struct sp_video_reader {
     int flushing;            /* the demuxer is done; NULL was sent */
 };
 
+/* Logs libav's error averr, but for out of memory: SP_E_NOMEM, unsaid
+ * (video_read.h). */
 static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
 {
+    if (averr == AVERROR(ENOMEM))
+        return SP_E_NOMEM;
     sp_log_error("%s: %s: %s", r->path, what, av_err2str(averr));
-    return averr == AVERROR(ENOMEM) ? SP_E_NOMEM : SP_E_CODEC;
+    return SP_E_CODEC;
 }
 
 /* The most bytes a box that FFmpeg's mov demuxer reads into memory as
@@ -60,7 +65,7 @@ static uint64_t be(const unsigned char *b, int n)
  * its parent's end): only box headers are read. The box containers that
  * hold udta or meta are followed; a file that is not ISO BMFF has no such
  * boxes and passes (Matroska, GIF: their readers are FFmpeg's). 0 to go
- * on. */
+ * on. path NULL: nothing is logged. */
 static int metadata_bounded(int fd, const char *path, off_t from, off_t to, int depth)
 {
     static const char *const containers[] = {"moov", "trak", "mdia", "minf", "moof", "traf",
@@ -79,16 +84,19 @@ static int metadata_bounded(int fd, const char *path, off_t from, off_t to, int 
         if (size > to - from)
             size = to - from;
         if (!memcmp(h + 4, "cmov", 4)) {
-            sp_log_error("%s: holds a compressed movie header (cmov), which FFmpeg would "
-                         "inflate to any size it claims; springpend writes none", path);
+            if (path)
+                sp_log_error("%s: holds a compressed movie header (cmov), which FFmpeg "
+                             "would inflate to any size it claims; springpend writes none",
+                             path);
             return SP_E_INPUT;
         }
         if ((!memcmp(h + 4, "udta", 4) || !memcmp(h + 4, "meta", 4)) &&
             size - head > SP_VIDEO_META_MAX) {
-            sp_log_error("%s: its metadata box %.4s holds %lld bytes, which FFmpeg would read "
-                         "into memory whole; springpend writes at most %lld there", path,
-                         (const char *)h + 4, (long long)(size - head),
-                         (long long)SP_VIDEO_META_MAX);
+            if (path)
+                sp_log_error("%s: its metadata box %.4s holds %lld bytes, which FFmpeg would "
+                             "read into memory whole; springpend writes at most %lld there",
+                             path, (const char *)h + 4, (long long)(size - head),
+                             (long long)SP_VIDEO_META_MAX);
             return SP_E_INPUT;
         }
         for (size_t i = 0; depth < 8 && i < sizeof(containers) / sizeof(containers[0]); i++) {
@@ -121,6 +129,8 @@ static int open_checked(AVFormatContext **fmt, const char *path)
     snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
     ret = avformat_open_input(fmt, access(name, R_OK) ? path : name, NULL, NULL);
     close(fd);
+    if (ret == AVERROR(ENOMEM))
+        return SP_E_NOMEM;
     if (ret < 0) {
         sp_log_error("%s: cannot read a video from it: %s", path, av_err2str(ret));
         return SP_E_INPUT;
@@ -136,7 +146,6 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
     *out = NULL;
     if (!r || !(r->path = strdup(path)) || !(r->pkt = av_packet_alloc()) ||
         !(r->frame = av_frame_alloc())) {
-        sp_log_error("out of memory");
         ret = SP_E_NOMEM;
         goto fail;
     }
@@ -145,6 +154,10 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
     ret = avformat_find_stream_info(r->fmt, NULL);
     if (ret >= 0)
         ret = r->stream = av_find_best_stream(r->fmt, AVMEDIA_TYPE_VIDEO, -1, -1, &codec, 0);
+    if (ret == AVERROR(ENOMEM)) {
+        ret = SP_E_NOMEM;
+        goto fail;
+    }
     if (ret < 0) {
         sp_log_error("%s: cannot read a video from it: %s", path, av_err2str(ret));
         ret = SP_E_INPUT;
@@ -174,7 +187,7 @@ static int convert(struct sp_video_reader *r, struct sp_image *img)
     const AVFrame *f = r->frame;
     if (!r->rgba.pixels || r->rgba.width != f->width || r->rgba.height != f->height) {
         sp_image_free(&r->rgba);
-        int err = sp_image_alloc(&r->rgba, f->width, f->height);
+        int err = sp_image_alloc_unsaid(&r->rgba, f->width, f->height);
         if (err)
             return err;
     }
@@ -247,6 +260,32 @@ void sp_video_reader_destroy(struct sp_video_reader **rp)
     free(r->path);
     free(r);
     *rp = NULL;
+}
+
+int sp_video_frame_size(const char *path, int *width, int *height)
+{
+    AVFormatContext *fmt = NULL;
+    struct stat st;
+    char name[32];
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC), ret = SP_E_INPUT;
+    *width = *height = 0;
+    if (fd < 0)
+        return SP_E_INPUT;
+    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+        metadata_bounded(fd, NULL, 0, st.st_size, 0) == 0) {
+        snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
+        if (avformat_open_input(&fmt, name, NULL, NULL) == 0) {
+            /* the headers only: no frame is decoded */
+            for (unsigned i = 0; i < fmt->nb_streams && ret; i++) {
+                const AVCodecParameters *p = fmt->streams[i]->codecpar;
+                if (p->codec_type == AVMEDIA_TYPE_VIDEO && p->width > 0 && p->height > 0)
+                    *width = p->width, *height = p->height, ret = 0;
+            }
+            avformat_close_input(&fmt);
+        }
+    }
+    close(fd);
+    return ret;
 }
 
 int sp_video_read_text(const char *path, const char *key, char *buf, size_t size)

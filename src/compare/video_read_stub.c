@@ -41,3 +41,11 @@ int sp_video_read_text(const char *path, const char *key, char *buf, size_t size
     *(void **)&fn = sp_av_module_symbol("sp_video_read_text");
     return fn ? fn(path, key, buf, size) : SP_E_CODEC;
 }
+
+int sp_video_frame_size(const char *path, int *width, int *height)
+{
+    int (*fn)(const char *, int *, int *);
+    *(void **)&fn = sp_av_module_symbol("sp_video_frame_size");
+    *width = *height = 0;
+    return fn ? fn(path, width, height) : SP_E_CODEC;
+}

@@ -999,7 +999,10 @@ void sp_scene_label_part(const char *label, int i, char *buf, size_t size)
         at++, n--;
     while (n && at[n - 1] == ' ')
         n--;
-    snprintf(buf, size, "%.*s", (int)n, at);
+    if (n > size - 1) /* as snprintf's "%.*s" cuts it, without parsing a format every frame */
+        n = size - 1;
+    memcpy(buf, at, n);
+    buf[n] = 0;
 }
 
 static void apply_override(struct parse_ctx *c, const char *arg)
@@ -1095,15 +1098,17 @@ static void validate_whole(struct parse_ctx *c)
 {
     struct sp_scene *s = c->scene;
     long pixels = (long)s->video.width * s->video.height;
+    /* each check names where the key it asks to change came from (report_key:
+     * --set or FILE:LINE), not the scene file whatever the origin */
     if (pixels > SP_MAX_PIXELS)
-        report(c, 0, "video size %dx%d is too large; at most %ld pixels (8K, 7680x4320)",
+        report_key(c, "video", "width", "video size %dx%d is too large; at most %ld pixels (8K, 7680x4320)",
                s->video.width, s->video.height, SP_MAX_PIXELS);
     double frames = s->video.duration * s->video.fps / s->video.speed;
     if (!(frames >= 0.5))
-        report(c, 0, "video.duration * video.fps / video.speed = %g frames; at least "
+        report_key(c, "video", "duration", "video.duration * video.fps / video.speed = %g frames; at least "
                "1 frame is needed (raise video.duration or lower video.speed)", frames);
     else if (frames > SP_MAX_FRAMES)
-        report(c, 0, "video.duration * video.fps / video.speed = %.3g frame times; at "
+        report_key(c, "video", "duration", "video.duration * video.fps / video.speed = %.3g frame times; at "
                "most %d are allowed", frames, SP_MAX_FRAMES);
     /* Quantities the simulation derives must be finite: k/m and b/m set
      * the time scales, m g / k the static stretch. Printed by their inputs,
@@ -1111,31 +1116,30 @@ static void validate_whole(struct parse_ctx *c)
     const double k = s->pendulum.stiffness, m = s->pendulum.mass, b = s->pendulum.damping;
     const double g = s->pendulum.gravity;
     if (!(k / m <= SP_MAX_RATE2) || !(b / m <= SP_MAX_RATE2))
-        report(c, 0, "pendulum.mass = %g kg is too small for stiffness = %g N/m and damping "
+        report_key(c, "pendulum", "mass", "pendulum.mass = %g kg is too small for stiffness = %g N/m and damping "
                "= %g N*s/m: k/m and b/m must be at most %g (mass >= %g kg)", m, k, b,
                SP_MAX_RATE2, fmax(k, b) / SP_MAX_RATE2);
     else if (!(m * g / k <= SP_MAX_STRETCH))
-        report(c, 0, "pendulum.stiffness = %g N/m is too weak for mass = %g kg and gravity = "
+        report_key(c, "pendulum", "stiffness", "pendulum.stiffness = %g N/m is too weak for mass = %g kg and gravity = "
                "%g m/s^2: the static stretch m g / k must be at most %g m (stiffness >= %g "
                "N/m)", k, m, g, SP_MAX_STRETCH, m * g / SP_MAX_STRETCH);
     if (s->integrator.method == SP_METHOD_RKN1210 &&
         (s->pendulum.damping > 0 || (s->pivot.amplitude > 0 && s->pivot.frequency > 0)))
-        report(c, 0, "integrator.method = rkn1210 needs a force that depends on the "
+        report_key(c, "integrator", "method", "integrator.method = rkn1210 needs a force that depends on the "
                "position only: set pendulum.damping = 0 and pivot.amplitude = 0, or use "
                "integrator.method = dop853");
     /* on the vertical: within 1e-9 degrees of a multiple of 180 (sin(pi) is
      * 1.2e-16, not 0, so the test is on the degrees the file gave) */
     const double from_vertical = fmod(fabs(s->initial.angle * 180 / M_PI), 180);
     if (s->initial.azimuth_rate != 0 && !(from_vertical > 1e-9 && from_vertical < 180 - 1e-9))
-        report(c, c->key_line[find_key("initial", "azimuth_rate") - keys],
-               "initial.azimuth_rate = %g rad/s turns the bob about the vertical, but "
+        report_key(c, "initial", "azimuth_rate", "initial.azimuth_rate = %g rad/s turns the bob about the vertical, but "
                "initial.angle = %g degrees starts it on the vertical, where there is nothing "
                "to turn; give initial.angle a swing (not 0 or 180 degrees) or set "
                "azimuth_rate = 0", s->initial.azimuth_rate, s->initial.angle * 180 / M_PI);
     check_view_3d(c);
     double steps = s->video.duration / s->integrator.dt;
     if (s->integrator.method <= SP_METHOD_YOSHIDA4 && steps > 1e10)
-        report(c, 0, "video.duration / integrator.dt = %.3g steps; at most 1e10 are "
+        report_key(c, "integrator", "dt", "video.duration / integrator.dt = %.3g steps; at most 1e10 are "
                "allowed (raise integrator.dt)", steps);
     if (s->ensemble.count > 1)
         check_ensemble(c);

@@ -56,19 +56,43 @@ struct png_reader {
     png_structp png;
     png_infop info;
     png_bytep *rows;
+    int nomem;        /* an allocation failed: the error that follows is memory's */
     int text_dropped; /* text chunks libpng dropped: damaged or beyond the bounds */
     char text_why[128]; /* libpng's words for the first one dropped */
 };
 
+/* A damaged PNG is logged; an error after a failed allocation is not: the
+ * reader returns SP_E_NOMEM, which its caller says (png_io.h). */
 static void on_png_read_error(png_structp png, png_const_charp msg)
 {
     const struct png_reader *r = png_get_error_ptr(png);
-    sp_log_error("%s: cannot read PNG: libpng: %s", r->path, msg);
+    if (!r->nomem)
+        sp_log_error("%s: cannot read PNG: libpng: %s", r->path, msg);
     png_longjmp(png, 1);
 }
 
+/* libpng's allocator for the reader: malloc, noting a failure in the
+ * reader, so that the error libpng raises for it is told from a damaged
+ * file (libpng's messages are its only other sign). */
+static png_voidp reader_malloc(png_structp png, png_alloc_size_t size)
+{
+    void *p = malloc(size);
+    if (!p) {
+        struct png_reader *r = png_get_mem_ptr(png);
+        r->nomem = 1;
+    }
+    return p;
+}
+
+static void reader_free(png_structp png, png_voidp p)
+{
+    (void)png;
+    free(p);
+}
+
 /* Text chunks dropped for their size or number are counted, and said once
- * (reader_close); other warnings are passed on. */
+ * (reader_close); other warnings are passed on, but those after a failed
+ * allocation (out of memory is the caller's to say, once). */
 static void on_png_read_warning(png_structp png, png_const_charp msg)
 {
     struct png_reader *r = png_get_error_ptr(png);
@@ -76,7 +100,7 @@ static void on_png_read_warning(png_structp png, png_const_charp msg)
         if (!r->text_dropped++)
             snprintf(r->text_why, sizeof(r->text_why), "%s", msg);
     }
-    else
+    else if (!r->nomem) /* after a failed allocation: the caller's to say */
         sp_log_error("%s: libpng warning: %s", r->path, msg);
 }
 
@@ -249,7 +273,8 @@ static FILE *open_regular(const char *path, int *err)
     if (fd < 0) {
         *err = fd;
     } else if (!fp) {
-        sp_log_error("%s: cannot open: %s", path, strerror(errno));
+        if (errno != ENOMEM) /* out of memory is the caller's to say */
+            sp_log_error("%s: cannot open: %s", path, strerror(errno));
         close(fd);
         *err = SP_E_NOMEM;
     }
@@ -286,7 +311,10 @@ static int first_told(FILE *fp)
 
 static void reader_close(struct png_reader *r)
 {
-    if (r->text_dropped && r->fp && first_told(r->fp))
+    if (r->text_dropped && r->nomem) /* not the file's fault */
+        sp_log_error("%s: out of memory to read its text chunks: %d not read", r->path,
+                     r->text_dropped);
+    else if (r->text_dropped && r->fp && first_told(r->fp))
         sp_log_error("%s: %d text chunk%s not read (libpng: %s); a text chunk is read when "
                      "it is whole (its CRC and zlib stream), at most %d KiB inflated, and "
                      "among the first %d", r->path, r->text_dropped,
@@ -298,26 +326,34 @@ static void reader_close(struct png_reader *r)
         fclose(r->fp);
 }
 
-/* Opens path and makes the libpng reader (errors jump to the caller's
- * setjmp, which it must set right after). with_text = 0 skips the text
- * chunks unread (pixels need none); else they are read within the
- * bounds above (libpng warns of what it drops). */
-static int reader_open(struct png_reader *r, const char *path, int with_text)
+/* Opens path and makes the libpng reader; calls no libpng function that
+ * can fail (they would abort the process with no setjmp armed): the caller
+ * arms its setjmp next, then calls reader_setup. SP_E_NOMEM (unsaid) when
+ * memory runs out. */
+static int reader_open(struct png_reader *r, const char *path)
 {
     int err = 0;
     memset(r, 0, sizeof(*r));
     r->path = path;
     if (!(r->fp = open_regular(path, &err)))
         return err;
-    r->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, r, on_png_read_error,
-                                    on_png_read_warning);
+    r->png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, r, on_png_read_error,
+                                      on_png_read_warning, r, reader_malloc, reader_free);
     if (r->png)
         r->info = png_create_info_struct(r->png);
     if (!r->png || !r->info) {
-        sp_log_error("%s: out of memory for the PNG reader", path);
         reader_close(r);
         return SP_E_NOMEM;
     }
+    return 0;
+}
+
+/* The reader's settings, under the caller's setjmp (png_set_keep_unknown_-
+ * chunks allocates, and libpng raises an error when that fails). with_text
+ * = 0 skips the text chunks unread (pixels need none); else they are read
+ * within the bounds above (libpng warns of what it drops). */
+static void reader_setup(struct png_reader *r, int with_text)
+{
     png_init_io(r->png, r->fp);
     if (!with_text) {
         static const png_byte text_chunks[] = "tEXt\0zTXt\0iTXt";
@@ -325,7 +361,16 @@ static int reader_open(struct png_reader *r, const char *path, int with_text)
     }
     png_set_chunk_malloc_max(r->png, TEXT_CHUNK_MAX);
     png_set_chunk_cache_max(r->png, TEXT_CHUNKS_MAX);
-    return 0;
+}
+
+/* After libpng's error: closes r; SP_E_NOMEM when an allocation failed
+ * (unsaid), else SP_E_INPUT (on_png_read_error has logged: a damaged PNG
+ * is bad input). */
+static int reader_failed(struct png_reader *r)
+{
+    const int nomem = r->nomem;
+    reader_close(r);
+    return nomem ? SP_E_NOMEM : SP_E_INPUT;
 }
 
 int sp_png_read_info_quiet(const char *path, struct sp_png_info *out)
@@ -356,14 +401,13 @@ int sp_png_read_info_quiet(const char *path, struct sp_png_info *out)
 int sp_png_read_info(const char *path, struct sp_png_info *out)
 {
     struct png_reader rd, *r = &rd;
-    int err = reader_open(r, path, 0);
+    int err = reader_open(r, path);
     memset(out, 0, sizeof(*out));
     if (err)
         return err;
-    if (setjmp(png_jmpbuf(r->png))) {
-        reader_close(r); /* on_png_error has logged: a damaged PNG is bad input */
-        return SP_E_INPUT;
-    }
+    if (setjmp(png_jmpbuf(r->png)))
+        return reader_failed(r);
+    reader_setup(r, 0);
     png_read_info(r->png, r->info);
     out->width = (int)png_get_image_width(r->png, r->info);
     out->height = (int)png_get_image_height(r->png, r->info);
@@ -390,15 +434,15 @@ int sp_png_read(const char *path, struct sp_image *img)
 {
     struct png_reader rd, *r = &rd;
     struct sp_png_info hdr;
-    int err = reader_open(r, path, 0);
+    int err = reader_open(r, path);
     memset(img, 0, sizeof(*img));
     if (err)
         return err;
     if (setjmp(png_jmpbuf(r->png))) {
-        sp_image_free(img); /* on_png_error has logged: a damaged PNG is bad input */
-        reader_close(r);
-        return SP_E_INPUT;
+        sp_image_free(img);
+        return reader_failed(r);
     }
+    reader_setup(r, 0);
     png_read_info(r->png, r->info);
     hdr.width = (int)png_get_image_width(r->png, r->info);
     hdr.height = (int)png_get_image_height(r->png, r->info);
@@ -425,10 +469,8 @@ int sp_png_read(const char *path, struct sp_image *img)
     png_read_update_info(r->png, r->info);
     if (png_get_rowbytes(r->png, r->info) != 4 * (size_t)hdr.width)
         png_error(r->png, "unexpected row size after conversion to RGBA8");
-    if ((err = sp_image_alloc(img, hdr.width, hdr.height)) != 0 ||
+    if ((err = sp_image_alloc_unsaid(img, hdr.width, hdr.height)) != 0 ||
         !(r->rows = malloc(sizeof(*r->rows) * (size_t)hdr.height))) {
-        if (!err)
-            sp_log_error("%s: out of memory", path);
         sp_image_free(img);
         reader_close(r);
         return SP_E_NOMEM;
@@ -445,13 +487,17 @@ int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)
 {
     struct png_reader rd, *r = &rd;
     png_textp text;
-    int n, ret = reader_open(r, path, 1);
+    int n, ret = reader_open(r, path);
+    if (ret == SP_E_NOMEM)
+        sp_log_error("%s: out of memory to read its text", path);
     if (ret)
         return ret;
     if (setjmp(png_jmpbuf(r->png))) {
-        reader_close(r); /* on_png_error has logged: a damaged PNG is bad input */
-        return SP_E_INPUT;
+        if ((ret = reader_failed(r)) == SP_E_NOMEM)
+            sp_log_error("%s: out of memory to read its text", path);
+        return ret;
     }
+    reader_setup(r, 1);
     png_read_info(r->png, r->info); /* reads up to the first IDAT */
     n = png_get_text(r->png, r->info, &text, NULL);
     for (int i = 0; i < n && ret >= 0; i++) {

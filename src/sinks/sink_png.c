@@ -10,6 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "base/cpu_count.h"
 #include "springpend/common.h"
 #include "springpend/png_io.h"
 #include "base/array.h"
@@ -182,8 +183,8 @@ static int png_sequence_finish(struct sp_sink *s)
 static int png_sequence_open(struct sp_sink *s)
 {
     struct png_sequence *q = s->priv;
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    int writers = cores < 1 ? 1 : cores > PNG_MAX_WRITERS ? PNG_MAX_WRITERS : (int)cores;
+    const int cores = sp_cpu_count(); /* those this process may use */
+    int writers = cores > PNG_MAX_WRITERS ? PNG_MAX_WRITERS : cores;
     pthread_mutex_init(&q->lock, NULL);
     pthread_cond_init(&q->changed, NULL);
     q->cap = strlen(s->path) + 99;

@@ -1,6 +1,6 @@
 /* springpend tests: the teaching overlays' pure parts: text rasterization
- * (text.c), the frame layout (layout.c) and the Poincare crossings
- * (frame.c). */
+ * (text.c), the frame layout (layout.c), the Poincare crossings (frame.c)
+ * and the axis memo (axis.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +10,7 @@
 #include "springpend/frame.h"
 #include "springpend/scene.h"
 #include "springpend/sim.h"
+#include "frame/axis.h"
 #include "frame/layout.h"
 #include "frame/panels.h"
 #include "frame/text.h"
@@ -244,11 +245,126 @@ static void test_colormaps(void)
     }
 }
 
+/* A made-up label measure: 7 units a byte, +3 per '.', counting its calls. */
+static int measure_calls;
+static double measure(void *ctx, const char *label)
+{
+    (void)ctx;
+    measure_calls++;
+    double w = 0;
+    for (const char *s = label; *s; s++)
+        w += *s == '.' ? 10 : 7;
+    return w;
+}
+
+/* The memo gives what the plain calls give (fits, ticks, labels, widths),
+ * and a fit or a tick list asked again at once is not worked out again:
+ * 200 ranges of every size (tiny spans, offsets, negative), three times
+ * (each pass finds its entries replaced by the 200 after them, in a
+ * 32-entry memo). */
+static void test_axis_memo(void)
+{
+    struct sp_axis_memo *m = NULL;
+    if (!sp_tap_ok(sp_axis_memo_make(&m) == 0, "axis memo made"))
+        return;
+    int bad = 0, again_calls = 0, ticks_max = 0, hits = 0;
+    for (int pass = 0; pass < 3; pass++) {
+        srand(7);
+        for (int i = 0; i < 200; i++) {
+            const double mag = pow(10, rand() % 25 - 12), lo = (rand() % 2001 - 1000) * mag / 100;
+            const double span = mag * pow(10, -(rand() % 8)) * (1 + rand() % 9);
+            const double length = 40 + rand() % 600, line = 8 + rand() % 12;
+            const int vertical = rand() % 2;
+            struct sp_axis plain, memo;
+            sp_axis_range(&plain, lo, lo + span, 0.06);
+            memo = plain;
+            sp_axis_fit(&plain, length, line, measure, NULL, vertical);
+            const int before = measure_calls;
+            sp_axis_fit_memo(m, &memo, length, line, measure, NULL, vertical);
+            struct sp_axis_ticks scratch;
+            const struct sp_axis_ticks *t = sp_axis_ticks_of(m, &memo, measure, NULL, &scratch);
+            if (measure_calls == before) /* a hit: the first pass had none */
+                hits++;
+            struct sp_axis again = plain;
+            sp_axis_range(&again, lo, lo + span, 0.06);
+            const int before_again = measure_calls;
+            sp_axis_fit_memo(m, &again, length, line, measure, NULL, vertical);
+            const struct sp_axis_ticks *t2 = sp_axis_ticks_of(m, &again, measure, NULL, &scratch);
+            again_calls += measure_calls - before_again;
+            bad += t2 != t;
+            bad += memcmp(&plain.step, &memo.step, sizeof(double)) || plain.first != memo.first ||
+                   plain.decimals != memo.decimals || plain.offset != memo.offset ||
+                   plain.offset_decimals != memo.offset_decimals;
+            int k = 0;
+            char buf[SP_AXIS_LABEL_BYTES];
+            for (double v = plain.first; v <= plain.hi + 1e-9 * plain.step; v += plain.step, k++) {
+                sp_axis_label(&plain, v, buf, sizeof(buf));
+                bad += k >= t->n || t->v[k] != v || strcmp(t->label[k], buf) ||
+                       t->width[k] != measure(NULL, buf);
+            }
+            bad += k != t->n;
+            ticks_max = t->n > ticks_max ? t->n : ticks_max;
+        }
+    }
+    sp_tap_ok(bad == 0, "axis memo: 600 fits and tick lists as the plain calls give them (%d differ)",
+              bad);
+    sp_tap_ok(ticks_max <= 11, "a fitted axis has at most 11 ticks (%d)", ticks_max);
+    sp_tap_ok(again_calls == 0, "axis memo: a fit and ticks asked again measure nothing (%d calls)",
+              again_calls);
+    sp_tap_ok(hits == 0, "axis memo: 200 ranges later, a range's entries were replaced (%d hits)",
+              hits);
+    free(m);
+}
+
+/* The axis's name with its power of ten (and offset), and minus signs in
+ * printf's text: the strings, written out by hand. */
+static void test_axis_names(void)
+{
+    struct sp_axis a;
+    char buf[128];
+    sp_axis_range(&a, 0, 5e19, 0);
+    sp_axis_fit(&a, 300, 12, measure, NULL, 1);
+    sp_axis_name(&a, "E (J)", buf, sizeof(buf));
+    sp_tap_ok(a.exponent == 19 && !strcmp(buf, "E (\u00d710\u00b9\u2079 J)"),
+              "0..5e19 J: exponent %d, name '%s'", a.exponent, buf);
+    sp_axis_label(&a, 3e19, buf, sizeof(buf));
+    sp_tap_ok(a.step == 5e18 && !strcmp(buf, "3.0"), "3e19 in units of 1e19, ticks 0.5 apart: '%s'",
+              buf);
+    sp_axis_name(&a, "n", buf, sizeof(buf));
+    sp_tap_ok(!strcmp(buf, "n (\u00d710\u00b9\u2079)"), "a name without a unit: '%s'", buf);
+    sp_axis_range(&a, -2e-10, 0, 0);
+    sp_axis_fit(&a, 300, 12, measure, NULL, 1);
+    sp_axis_name(&a, "x (m)", buf, sizeof(buf));
+    sp_tap_ok(a.exponent == -10 && !strcmp(buf, "x (\u00d710\u207b\u00b9\u2070 m)"),
+              "-2e-10..0 m: exponent %d, name '%s'", a.exponent, buf);
+    sp_axis_label(&a, -1.5e-10, buf, sizeof(buf));
+    sp_tap_ok(!strcmp(buf, "\u22121.5"), "-1.5e-10 in units of 1e-10: '%s'", buf);
+    sp_axis_range(&a, 12345678.0, 12345678.5, 0); /* a small range around a large value */
+    sp_axis_fit(&a, 300, 12, measure, NULL, 1);
+    sp_axis_name(&a, "r (m)", buf, sizeof(buf));
+    sp_tap_ok(a.exponent == 0 && a.offset == 12345678 &&
+              !strcmp(buf, "r \u2212 1.2345678\u00d710\u2077 (m)"),
+              "12345678..12345678.5 m: offset %.17g written '%s'", a.offset, buf);
+    sp_axis_range(&a, 0, 999999, 0);
+    sp_axis_fit(&a, 300, 12, measure, NULL, 1);
+    sp_axis_name(&a, "m (kg)", buf, sizeof(buf));
+    sp_tap_ok(a.exponent == 0 && !strcmp(buf, "m (kg)"), "0..999999: no power of ten ('%s')", buf);
+    char m[96] = "λ3 = -0.0754 1/s, sum -8e-10, Kaplan-Yorke, k-2, +1, -1 turn";
+    sp_axis_minus(m, sizeof(m));
+    sp_tap_ok(!strcmp(m, "λ3 = \u22120.0754 1/s, sum \u22128e\u221210, Kaplan-Yorke, k-2, +1, "
+                         "\u22121 turn"), "minus signs: '%s'", m);
+    char cut[8] = "a -1 -2";
+    sp_axis_minus(cut, sizeof(cut));
+    sp_tap_ok(!strcmp(cut, "a \u22121 "), "minus signs within 8 bytes: '%s'", cut);
+}
+
 int main(void)
 {
     test_text();
     test_layout();
     test_poincare();
     test_colormaps();
+    test_axis_memo();
+    test_axis_names();
     return sp_tap_done();
 }

@@ -24,6 +24,7 @@ void sp_canvas_free(struct sp_canvas *c)
     free(c->items);
     free(c->strings);
     free(c->pixels);
+    free(c->axes);
     *c = (struct sp_canvas){0};
 }
 

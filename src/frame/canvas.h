@@ -112,6 +112,8 @@ struct sp_item {
     float clip[4];    /* x0, y0, x1, y1, px; x1 <= x0 = no clipping */
 };
 
+struct sp_axis_memo;
+
 struct sp_canvas {
     struct sp_shape *shapes;
     int n_shapes, cap_shapes;
@@ -124,6 +126,9 @@ struct sp_canvas {
     unsigned char *pixels;      /* the images' (IMAGE items) */
     int n_pixels, cap_pixels;   /* bytes */
     const struct sp_font *font;
+    struct sp_axis_memo *axes; /* the panels' axis fits and tick labels (axis.h),
+                                  kept from frame to frame by sp_canvas_reset;
+                                  one allocation, freed by sp_canvas_free */
     enum sp_layer layer; /* given to the items added from now on */
     enum sp_blend blend;
     int in_path;         /* between sp_canvas_path_begin and _end */

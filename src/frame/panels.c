@@ -125,10 +125,29 @@ static double small_width(void *ctx, const char *label)
     return sp_font_width(ctx, SP_TEXT_SMALL, label);
 }
 
-/* sp_axis_fit for an axis `length` px long whose labels are f's small type. */
-static void axis_fit(struct sp_axis *a, const struct sp_font *f, float length, int vertical)
+/* c's axis memo, made at its first use (NULL, with c->err set, when there
+ * is no memory for it: then nothing is kept). */
+static struct sp_axis_memo *axis_memo(struct sp_canvas *c)
 {
-    sp_axis_fit(a, length, sp_font_line(f, SP_TEXT_SMALL), small_width, (void *)f, vertical);
+    if (!c->axes && !c->err && sp_axis_memo_make(&c->axes))
+        c->err = SP_E_NOMEM;
+    return c->axes;
+}
+
+/* sp_axis_fit for an axis `length` px long whose labels are c's font's
+ * small type, through c's memo. */
+static void axis_fit(struct sp_canvas *c, struct sp_axis *a, float length, int vertical)
+{
+    sp_axis_fit_memo(axis_memo(c), a, length, sp_font_line(c->font, SP_TEXT_SMALL), small_width,
+                     (void *)c->font, vertical);
+}
+
+/* a's ticks, labelled and measured in c's font's small type, from c's memo
+ * (or *scratch). */
+static const struct sp_axis_ticks *axis_ticks(struct sp_canvas *c, const struct sp_axis *a,
+                                              struct sp_axis_ticks *scratch)
+{
+    return sp_axis_ticks_of(axis_memo(c), a, small_width, (void *)c->font, scratch);
 }
 
 struct plot {
@@ -320,7 +339,6 @@ static void axes_draw(struct sp_canvas *c, const struct sp_rect *r, const struct
                       const struct axes_marks *m)
 {
     const struct sp_font *f = c->font;
-    char buf[32];
     /* grid, ticks and labels */
     const float base = p->area.y1 + m->drop + m->cap_s + 0.25f * m->pad;
     const float xl_x0 = m->xl_below ? p->area.x1 + 2 * m->pad : p->area.x1 - m->xl_w;
@@ -335,19 +353,23 @@ static void axes_draw(struct sp_canvas *c, const struct sp_rect *r, const struct
         sp_canvas_text(c, SP_TEXT_SMALL, m->xl_below ? 0.5f * (p->area.x0 + p->area.x1) : p->area.x1,
                        m->xl_below ? base + m->line_s : base,
                        m->xl_below ? SP_ALIGN_CENTER : SP_ALIGN_RIGHT, pal->muted, m->xlabel);
-    for (double v = p->x.first; !m->categories && v <= p->x.hi + 1e-9 * p->x.step; v += p->x.step) {
+    struct sp_axis_ticks scratch;
+    const struct sp_axis_ticks *t = axis_ticks(c, &p->x, &scratch);
+    for (int i = 0; !m->categories && i < t->n; i++) {
+        const double v = t->v[i];
+        const char *buf = t->label[i];
         const float x = px_x(p, v);
-        sp_axis_label(&p->x, v, buf, sizeof(buf));
-        const float w = (float)sp_font_width(f, SP_TEXT_SMALL, buf);
+        const float w = (float)(int)t->width[i];
         sp_canvas_rect(c, x - m->hw, p->area.y0, x + m->hw, p->area.y1, pal->grid);
         sp_canvas_rect(c, x - m->hw, p->area.y1, x + m->hw, p->area.y1 + m->tick, pal->axis);
         if (m->label_x && x + 0.5f * w < fminf(xl_x0 - m->pad, r->x1) &&
             x - 0.5f * w >= r->x0 + m->pad)
             sp_canvas_text(c, SP_TEXT_SMALL, x, base, SP_ALIGN_CENTER, pal->muted, buf);
     }
-    for (double v = p->y.first; v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
-        const float y = px_y(p, v);
-        sp_axis_label(&p->y, v, buf, sizeof(buf));
+    t = axis_ticks(c, &p->y, &scratch);
+    for (int i = 0; i < t->n; i++) {
+        const char *buf = t->label[i];
+        const float y = px_y(p, t->v[i]);
         sp_canvas_rect(c, p->area.x0, y - m->hw, p->area.x1, y + m->hw, pal->grid);
         sp_canvas_rect(c, p->area.x0 - m->tick, y - m->hw, p->area.x0, y + m->hw, pal->axis);
         if (m->label_y)
@@ -398,7 +420,6 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     const float cap_n = (float)sp_font_cap(f, SP_TEXT_NORMAL);
     const float hw = pal->axis_hw > 0 ? pal->axis_hw : fmaxf(0.5f, 0.0009f * unit);
     const float tick = roundf(pal->tick > 0 ? pal->tick : 0.006f * unit);
-    char buf[32];
     int tw = 0;
 
     sp_canvas_layer(c, SP_LAYER_STATIC);
@@ -422,7 +443,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     p->area.y1 = r->y1 - pad - line_s * (label_x ? (xl_below ? 2 : 1) : 0) - (label_x ? drop : tick);
     const int label_y = p->area.y1 - p->area.y0 >= 1.3f * line_s;
     sp_axis_range(&p->y, yr.lo, yr.hi, 0.06);
-    axis_fit(&p->y, f, p->area.y1 - p->area.y0, 1);
+    axis_fit(c, &p->y, p->area.y1 - p->area.y0, 1);
     char yname[128], xname[128];
     sp_axis_name(&p->y, ylabel, yname, sizeof(yname));
     ylabel = yname;
@@ -457,9 +478,10 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     if (n_leg)
         legend_draw(c, f, leg_x, leg_y, r->x0 + pad, r->x1 - pad, leg, n_leg, shrt);
     sp_canvas_layer(c, SP_LAYER_STATIC);
-    for (double v = p->y.first; label_y && v <= p->y.hi + 1e-9 * p->y.step; v += p->y.step) {
-        sp_axis_label(&p->y, v, buf, sizeof(buf));
-        const int w = sp_font_width(f, SP_TEXT_SMALL, buf);
+    struct sp_axis_ticks scratch;
+    const struct sp_axis_ticks *yt = label_y ? axis_ticks(c, &p->y, &scratch) : NULL;
+    for (int i = 0; yt && i < yt->n; i++) {
+        const int w = (int)yt->width[i];
         tw = w > tw ? w : tw;
     }
     p->area.x0 = r->x0 + pad + tw + tick + 0.5f * pad;
@@ -468,7 +490,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
         xlabel = "";
     int xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
     sp_axis_range(&p->x, xr.lo, xr.hi, xpad);
-    axis_fit(&p->x, f, p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w + pad), 0);
+    axis_fit(c, &p->x, p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w + pad), 0);
     sp_axis_name(&p->x, xlabel, xname, sizeof(xname));
     xlabel = xname;
     xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
@@ -1240,7 +1262,10 @@ static int colorbar_label_width(const struct sp_font *font, const char *label, i
 float sp_colorbar_bar_width(const struct sp_font *font, float unit, double max_speed)
 {
     char buf[32];
-    sp_axis_number(buf, sizeof(buf), max_speed, 2);
+    if (max_speed < pow(10, SP_AXIS_MAX_DIGITS)) /* room for the top label, 2 decimals */
+        sp_axis_number(buf, sizeof(buf), max_speed, 2);
+    else /* "9.99×10⁶" */
+        sp_axis_number_step(buf, sizeof(buf), max_speed, 0.01 * max_speed);
     return roundf(0.018f * unit) + roundf(0.006f * unit) +
            (float)sp_font_width(font, SP_TEXT_SMALL, buf) + 4;
 }
@@ -1278,7 +1303,7 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
     sp_axis_make(&a, 0, max_speed, (int)(h / (4.0f * sp_font_line(f, SP_TEXT_SMALL))), 0);
     for (double v = 0; v <= max_speed * (1 + 1e-9); v += a.step) {
         const float y = (float)(y0 + h * (1 - v / max_speed));
-        sp_axis_number(buf, sizeof(buf), v, a.decimals);
+        sp_axis_number_step(buf, sizeof(buf), v, a.step);
         sp_canvas_rect(c, x0 + bw, y - 0.5f, x0 + bw + tick, y + 0.5f, pal->axis);
         sp_canvas_text(c, SP_TEXT_SMALL, x0 + bw + tick + 3, y + 0.5f * cap, SP_ALIGN_LEFT, pal->muted, buf);
     }

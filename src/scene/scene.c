@@ -999,7 +999,10 @@ void sp_scene_label_part(const char *label, int i, char *buf, size_t size)
         at++, n--;
     while (n && at[n - 1] == ' ')
         n--;
-    snprintf(buf, size, "%.*s", (int)n, at);
+    if (n > size - 1) /* as snprintf's "%.*s" cuts it, without parsing a format every frame */
+        n = size - 1;
+    memcpy(buf, at, n);
+    buf[n] = 0;
 }
 
 static void apply_override(struct parse_ctx *c, const char *arg)

@@ -7,6 +7,7 @@
  * on its own scene only, so the thread count, the chunking and the shards
  * never change a byte. */
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
@@ -516,11 +517,15 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
                          x->from, x->from);
             return SP_E_INPUT;
         }
-        if (x->count > 1 && !(step > 1e-9 * fmax(1, fmax(fabs(x->from), fabs(x->to))))) {
+        /* relative to the values' size, as the axis code labels any range
+         * whose span is over 1e-9 of its magnitude (axis.c), tiny ones too;
+         * a step of DBL_MIN or less is no longer a number's full precision */
+        if (x->count > 1 && !(step > 1e-9 * fmax(fabs(x->from), fabs(x->to)) && step > DBL_MIN)) {
             sp_log_error("--vary %s=%.17g:%.17g:%d: the %d values are %s; allowed: FROM and TO "
-                         "apart by more than 1e-9 of their size for each step (or COUNT 1)", k,
+                         "apart by more than 1e-9 of the larger of |FROM| and |TO| for each "
+                         "step, and by more than %g (or COUNT 1)", k,
                          x->from, x->to, x->count, x->count,
-                         x->from == x->to ? "all the same" : "too close to tell apart");
+                         x->from == x->to ? "all the same" : "too close to tell apart", DBL_MIN);
             return SP_E_INPUT;
         }
     }

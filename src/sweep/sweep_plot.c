@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/array.h"
 #include "render/draw_cairo.h"
 #include "frame/axis.h"
 #include "frame/canvas.h"
@@ -73,6 +74,11 @@ static struct {
 #define LAYOUT SP_TEXT_NORMAL
 /* A title line's height, times its size (the printed figure's spacing). */
 #define TITLE_LEADING 1.25
+/* A PNG's text is at least this many px tall (a still's floor, compose.c). */
+#define SMALLEST_TEXT_PX 4
+/* Where a colour bar stands right of the plot, pt: at a printed size
+ * (draw_colorbar), and in the default figure (its callers: 30). */
+#define BAR_GAP (G.print ? U(14) : 30)
 
 /* The plot area and the data range it shows. */
 struct frame {
@@ -190,6 +196,15 @@ static void fix_range(double *lo, double *hi)
     }
 }
 
+/* fix_range for the range of a swept key: one --vary accepts (its steps
+ * over 1e-9 of its values' size, sweep.c) is kept as it is, tiny ones too
+ * (1e-300 to 2e-300); one of a single value is widened. */
+static void fix_key_range(double *lo, double *hi)
+{
+    if (!(isfinite(*lo) && isfinite(*hi) && *hi - *lo > 1e-9 * fmax(fabs(*lo), fabs(*hi))))
+        fix_range(lo, hi);
+}
+
 /* The size text is drawn at from now on, pt. */
 static void font_pt(double pt)
 {
@@ -304,24 +319,52 @@ static double title_extra(void)
     return G.title_n > 1 ? (G.title_n - 1) * G.title_pt * TITLE_LEADING : 0;
 }
 
+/* Narrows f until each x tick label (centred on its tick, as draw_axes
+ * draws it) ends U(2) short of what stands right of the plot: the next
+ * drawing `gap` pt on (gap > 0: a colour bar, a legend), else the page's
+ * edge, `right` pt on. A narrower plot may take other ticks: four tries. */
+static void fit_x_labels(struct frame *f, double right, double gap)
+{
+    const double room = (gap > 0 ? gap : right) - U(2), pt = G.pt;
+    for (int k = 0; k < 4; k++) {
+        struct sp_axis a;
+        char buf[64];
+        double over = 0;
+        ticks(&a, f->xlo, f->xhi, f->w, 0);
+        font_pt(G.label_pt);
+        for (double v = a.first; v <= a.hi + 1e-9 * a.step; v += a.step) {
+            sp_axis_label(&a, v, buf, sizeof(buf));
+            over = fmax(over, px(f, v) + 0.5 * text_width(buf) - (f->x0 + f->w + room));
+        }
+        font_pt(pt);
+        if (over <= 0 || f->w - over < U(20))
+            return;
+        f->w -= over;
+    }
+}
+
 /* Places the plot rectangle of f (its data range set) on the page: the
  * default figure's fixed margins, right = `right` pt (room for a colour
  * bar or legend); at a printed size margins that fit the labels, right =
- * print_right pt. A title of several lines (title()) moves the plot down. */
-static void place(struct frame *f, double right, double print_right)
+ * print_right pt. Either way narrower when the last x tick label would
+ * reach past the page's edge, or the drawing `gap` pt right of the plot
+ * (fit_x_labels). A title of several lines (title()) moves the plot down. */
+static void place(struct frame *f, double right, double print_right, double gap)
 {
     if (!G.print) {
         f->x0 = 80, f->y0 = 56 + title_extra(), f->w = W - 80 - right, f->h = H - 116 - title_extra();
+        fit_x_labels(f, right, gap);
         return;
     }
     const double title = G.title_n ? G.title_n * G.title_pt * TITLE_LEADING
                          : G.v->panel_labels ? U(17) * TITLE_LEADING : 0;
     f->y0 = U(6) + title + U(6);
-    f->h = H - f->y0 - (G.tick + U(4) + G.label_pt * 1.2 + U(5) + U(14) * 1.25 + U(4));
+    f->h = H - f->y0 - (G.tick + U(4) + G.label_pt * 1.2 + U(5) + G.label_pt * 1.25 + U(4));
     f->h = fmax(f->h, U(20));
     /* the left margin depends on the y labels, which depend on the height */
-    f->x0 = U(4) + U(14) * 1.2 + U(6) + ylabels_width(f) + U(4) + G.tick;
+    f->x0 = U(4) + G.label_pt * 1.2 + U(6) + ylabels_width(f) + U(4) + G.tick;
     f->w = fmax(W - f->x0 - print_right, U(20));
+    fit_x_labels(f, print_right, gap);
 }
 
 /* Axes, ticks, grid and labels around the frame. */
@@ -365,7 +408,7 @@ static void draw_axes(const struct frame *f, const struct sp_palette *pal, const
     }
     set_rgba(pal->axis), set_line_width(G.lw);
     stroke_rect(f->x0, f->y0, f->w, f->h);
-    font_pt(U(14));
+    font_pt(G.label_pt); /* the names at the tick labels' size, as a still's (axis.h) */
     set_rgba(pal->text);
     /* each name within the plot's side: never off the page or past the
      * colour bar */
@@ -541,6 +584,7 @@ static void draw_title(const struct sp_sweep_desc *d, const struct sp_palette *p
         snprintf(sampled, sizeof(sampled), "stroboscopic map (t = k/f) settled by recurrence; ");
     snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s at dt = %g s", sampled, energy, d->time,
              transient, d->method, d->dt);
+    sp_axis_minus(buf, sizeof(buf)); /* a negative energy: −0.5 J */
     text_at(80, 34 + title_extra(), buf, 0, 0);
 }
 
@@ -579,7 +623,7 @@ static double colorbar_room(double lo, double hi)
     /* its ticks as for a bar as tall as the page: at least as many as the
      * bar will have, so labels at least as wide */
     struct frame f = {0, 0, 1, H, 0, 1, lo, hi};
-    return U(14) + U(12) + G.tick + U(3) + ylabels_width(&f) + U(6) + U(14) * 1.2 + U(4);
+    return U(14) + U(12) + G.tick + U(3) + ylabels_width(&f) + U(6) + G.label_pt * 1.2 + U(4);
 }
 
 /* A colour bar from t0 to t1 of the colormap, ticks lo..hi. By default at
@@ -591,7 +635,7 @@ static void draw_colorbar(const struct sp_sweep_desc *d, const struct sp_palette
 {
     const double bw = G.print ? U(12) : 18;
     if (G.print)
-        x = pf->x0 + pf->w + U(14), y = pf->y0, h = pf->h;
+        x = pf->x0 + pf->w + BAR_GAP, y = pf->y0, h = pf->h;
     colormap_strip(d, x, y, bw, h, 1, t0, t1);
     set_rgba(pal->axis), set_line_width(G.lw);
     stroke_rect(x, y, bw, h);
@@ -607,11 +651,14 @@ static void draw_colorbar(const struct sp_sweep_desc *d, const struct sp_palette
         set_rgba(pal->muted);
         text_at(x + bw + G.tick + U(3), yy, buf, 0, 0.5);
     }
-    font_pt(U(14));
+    font_pt(G.label_pt); /* an axis's name: as draw_axes's */
     set_rgba(pal->text);
     const int own = G.v->colorbar_label[0] ? 2 : -1;
     if (G.v->colorbar_label[0])
         label = G.v->colorbar_label;
+    char named[256];
+    sp_axis_name(&a, label, named, sizeof(named)); /* its ticks' offset or power of ten */
+    label = named;
     if (!G.print) { /* centred above the bar, clear of the plot on its left */
         const double left = pf->x0 + pf->w + 6, cx = fmax(x + 9, left + 0.5 * text_width(label));
         label_room(own, label, W - 4 - left, "right of the plot, above the bar");
@@ -622,6 +669,93 @@ static void draw_colorbar(const struct sp_sweep_desc *d, const struct sp_palette
     struct frame tf = {0, 0, 1, h, 0, 1, lo, hi}; /* the bar's own ticks */
     text_turned(x + bw + G.tick + U(3) + ylabels_width(&tf) + U(6) + U(7), y + h / 2, label, 0.5,
                 0.5, -M_PI / 2);
+}
+
+/* Whether the segment a-b passes through the rectangle r (x0, y0, x1, y1):
+ * Liang-Barsky clipping. */
+static int crosses(const double a[2], const double b[2], const double r[4])
+{
+    double t0 = 0, t1 = 1;
+    const double d[2] = {b[0] - a[0], b[1] - a[1]};
+    for (int k = 0; k < 4; k++) {
+        const int axis = k & 1, lower = k < 2; /* x0, y0, x1, y1 */
+        const double p = lower ? -d[axis] : d[axis];
+        const double q = lower ? a[axis] - r[k] : r[k] - a[axis];
+        if (p == 0) {
+            if (q < 0)
+                return 0;
+        } else if (p < 0) {
+            t0 = fmax(t0, q / p);
+        } else {
+            t1 = fmin(t1, q / p);
+        }
+        if (t0 > t1)
+            return 0;
+    }
+    return 1;
+}
+
+/* The curves of a line figure, for its legend to keep clear of: n points
+ * on the page (pt), a point that is not finite breaking a curve. */
+struct curves {
+    double (*p)[2];
+    long n, cap;
+};
+
+/* Adds (x, y) to c (NaN: a break); an allocation that fails is logged
+ * and sets G.err (the figure is not written). */
+static void curve_to(struct curves *c, double x, double y)
+{
+    if (SP_ARRAY_RESERVE(c->p, c->cap, c->n + 1, 256)) {
+        if (!G.err)
+            sp_log_error("out of memory for the figure's legend");
+        G.err = G.err ? G.err : SP_E_NOMEM;
+        return;
+    }
+    c->p[c->n][0] = x, c->p[c->n][1] = y, c->n++;
+}
+
+/* Draws the n legend entries text[i] in colour[i] at G.label_pt, each
+ * U(16) below the last, inside the plot f where no curve of c passes: the
+ * first free of its corners (top right, top left, bottom right, bottom
+ * left), then the middles of its edges. When every place is crossed, the
+ * least crossed, on a box of the background colour (as orbit_legend's) so
+ * that it reads over the curves. */
+static void draw_legend(const struct frame *f, const struct curves *c, const char *const *text,
+                        const float *const *colour, int n, const struct sp_palette *pal)
+{
+    font_pt(G.label_pt);
+    double w = 0;
+    for (int i = 0; i < n; i++)
+        w = fmax(w, text_width(text[i]));
+    const double h = U(16) * (n - 1) + G.label_pt, in = U(8), pad = U(3);
+    /* top-left corners (x: fraction of the free width, y: of the free height) */
+    static const double place_at[][2] = {{1, 0}, {0, 0}, {1, 1}, {0, 1},
+                                         {0.5, 0}, {0.5, 1}, {1, 0.5}, {0, 0.5}};
+    int best = 0;
+    long best_hits = LONG_MAX;
+    for (int k = 0; k < (int)(sizeof(place_at) / sizeof(place_at[0])) && best_hits; k++) {
+        const double x = f->x0 + in + place_at[k][0] * (f->w - 2 * in - w);
+        const double y = f->y0 + in + place_at[k][1] * (f->h - 2 * in - h);
+        const double r[4] = {x - pad, y - pad, x + w + pad, y + h + pad};
+        long hits = 0;
+        for (long i = 0; i + 1 < c->n; i++)
+            hits += isfinite(c->p[i][0] + c->p[i][1] + c->p[i + 1][0] + c->p[i + 1][1]) &&
+                    crosses(c->p[i], c->p[i + 1], r);
+        if (hits < best_hits)
+            best = k, best_hits = hits;
+    }
+    const double ax = place_at[best][0];
+    const double x = f->x0 + in + ax * (f->w - 2 * in - w);
+    const double y = f->y0 + in + place_at[best][1] * (f->h - 2 * in - h);
+    if (best_hits) {
+        set_rgba4(pal->background[0], pal->background[1], pal->background[2], 0.85);
+        fill_rect(x - pad, y - pad, w + 2 * pad, h + 2 * pad);
+    }
+    for (int i = 0; i < n; i++) {
+        set_rgba(colour[i]);
+        text_at(x + ax * w, y + U(16) * i, text[i], ax, 0);
+    }
 }
 
 /* The one-number measures, drawn as a line over one key or a map over two:
@@ -668,30 +802,32 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
     key_label(xl, sizeof(xl), ax->key);
     if (d->n_axes == 1) {
         struct frame f = {80, 56, W - 110, H - 116, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
-        fix_range(&f.xlo, &f.xhi);
+        fix_key_range(&f.xlo, &f.xhi);
         title(d, look->title, look->short_title);
-        place(&f, 30, U(18));
+        place(&f, 30, U(18), 0);
         draw_title(d, pal, &f);
         draw_axes(&f, pal, xl, look->label);
         clip_to(&f);
+        struct curves cv = {0};
         for (int pass = look->series[1] ? 0 : 1; pass < 2; pass++) {
             const double *v = pass ? lam : half;
             double last[2];
             int pen = 0;
             set_rgba(pass ? pal->series[1] : pal->muted), set_line_width(pass ? 1.6 : 1.0);
             sp_canvas_path_begin(&G.cv);
-            for (long i = 0; i < n; i++)
-                poly_to(&pen, last, px(&f, sp_sweep_axis_value(ax, (int)i)), py(&f, v[i]));
+            for (long i = 0; i < n; i++) {
+                const double x = px(&f, sp_sweep_axis_value(ax, (int)i)), y = py(&f, v[i]);
+                poly_to(&pen, last, x, y);
+                curve_to(&cv, x, y);
+            }
             sp_canvas_path_end(&G.cv);
+            curve_to(&cv, NAN, NAN);
         }
         clip_to(NULL);
-        font_pt(U(12));
-        set_rgba(pal->series[1]);
+        const float *const colour[2] = {pal->series[1], pal->muted};
         if (!G.v->legend)
-            text_at(f.x0 + f.w - U(8), f.y0 + U(8), look->series[0], 1, 0);
-        set_rgba(pal->muted);
-        if (!G.v->legend && look->series[1])
-            text_at(f.x0 + f.w - U(8), f.y0 + U(24), look->series[1], 1, 0);
+            draw_legend(&f, &cv, look->series, colour, look->series[1] ? 2 : 1, pal);
+        free(cv.p);
     } else {
         /* cells centred on the grid values */
         double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
@@ -699,7 +835,7 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
         struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
         title(d, look->title, look->short_title);
-        place(&f, 120, colorbar_room(lo, hi));
+        place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
         draw_title(d, pal, &f);
         /* one image pixel per grid point up to MAP_MAX_PX a side (cairo
          * makes none wider than 32767); beyond, each pixel is the mean of
@@ -730,7 +866,7 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
             }
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(&f, pal, xl, yl);
-        draw_colorbar(d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, look->bar, &f, 0, 1);
+        draw_colorbar(d, pal, f.x0 + f.w + BAR_GAP, f.y0 + 20, f.h - 20, lo, hi, look->bar, &f, 0, 1);
     }
     free(lam), free(half);
     return 0;
@@ -813,7 +949,10 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
     }
     if (orbit)
         xlo = d->axis[0].from, xhi = d->axis[0].to;
-    fix_range(&xlo, &xhi);
+    if (orbit) /* the key's range */
+        fix_key_range(&xlo, &xhi);
+    else
+        fix_range(&xlo, &xhi);
     fix_range(&ylo, &yhi);
     double mx = orbit ? 0 : 0.04 * (xhi - xlo), my = 0.05 * (yhi - ylo);
     struct frame f = {80, 56, W - 110, H - 116, xlo - mx, xhi + mx, ylo - my, yhi + my};
@@ -823,7 +962,8 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
                                                : "orbit diagram at the Poincaré crossings")
                                  : "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit",
                orbit ? "orbit diagram" : "Poincaré sections");
-    place(&f, 30, orbit ? U(18) : colorbar_room(d->axis[0].from, d->axis[0].to));
+    place(&f, 30, orbit ? U(18) : colorbar_room(d->axis[0].from, d->axis[0].to),
+          orbit ? 0 : BAR_GAP);
     draw_title(d, pal, &f);
     draw_axes(&f, pal, orbit ? xl : "r (m)",
               orbit ? (d->driven && d->peak != SP_PEAK_R ? "θ (degrees)" : "r (m)")
@@ -863,7 +1003,7 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
         orbit_legend(d, pal, &f);
     if (!orbit && G.print) { /* which colour is which start: a colour bar */
         double lo = d->axis[0].from, hi = d->axis[0].to;
-        fix_range(&lo, &hi);
+        fix_key_range(&lo, &hi);
         draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, &f, 0.1, 0.95);
     } else if (!orbit) {
         /* which colour is which start: a small gradient over the first key */
@@ -873,8 +1013,10 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
         font_pt(11);
         set_rgba(pal->muted);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
+        sp_axis_minus(buf, sizeof(buf));
         text_at(x0 - 5, y0 + 5, buf, 1, 0.5);
         snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
+        sp_axis_minus(buf, sizeof(buf));
         text_at(x0 + w + 5, y0 + 5, buf, 0, 0.5);
         if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
             label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
@@ -928,7 +1070,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         m++;
     }
     fix_range(&lo, &hi);
-    char xl[96], yl[96], buf[160];
+    char xl[96], yl[96];
     key_label(xl, sizeof(xl), d->axis[0].key);
     if (d->n_axes == 2) {
         /* a map of lambda_1 */
@@ -938,7 +1080,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                           ay->from - dy / 2, ay->to + dy / 2};
         title(d, "Lyapunov spectrum", "Lyapunov spectrum");
-        place(&f, 120, colorbar_room(lo, hi));
+        place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
         draw_title(d, pal, &f);
         /* one image pixel per grid point; a point without a row is clear */
         unsigned char *img = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
@@ -957,7 +1099,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         }
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(&f, pal, xl, yl);
-        draw_colorbar(d, pal, f.x0 + f.w + 30, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)", &f, 0, 1);
+        draw_colorbar(d, pal, f.x0 + f.w + BAR_GAP, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)", &f, 0, 1);
         goto done;
     }
     double pad = 0.06 * (hi - lo);
@@ -968,10 +1110,10 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
     } else {
         f.xlo = d->axis[0].from, f.xhi = d->axis[0].to;
     }
-    fix_range(&f.xlo, &f.xhi);
+    fix_key_range(&f.xlo, &f.xhi);
     title(d, conv ? "Lyapunov spectrum: running values against T"
                                 : "Lyapunov spectrum", "Lyapunov spectrum");
-    place(&f, 30, U(18));
+    place(&f, 30, U(18), 0);
     draw_title(d, pal, &f);
     draw_axes(&f, pal, conv ? "log10 T (s)" : xl, "λ (1/s)");
     /* zero, where lambda_2 and lambda_3 of a free orbit belong */
@@ -979,6 +1121,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
     line(f.x0, py(&f, 0), f.x0 + f.w, py(&f, 0));
     clip_to(&f);
     static const int colour[4] = {1, 2, 3, 0};
+    struct curves cv = {0};
     for (int j = 0; j < 4; j++) {
         double last[2];
         int pen = 0;
@@ -987,25 +1130,31 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         for (long i = 0; i < m; i++) {
             double xv = conv ? log10(x[i]) : sp_sweep_axis_value(&d->axis[0], (int)x[i]);
             poly_to(&pen, last, px(&f, xv), py(&f, y[i][j]));
+            curve_to(&cv, px(&f, xv), py(&f, y[i][j]));
         }
         sp_canvas_path_end(&G.cv);
+        curve_to(&cv, NAN, NAN);
     }
     clip_to(NULL);
-    font_pt(U(12));
-    for (int j = 0; j < 4 && !G.v->legend; j++) {
-        set_rgba(pal->series[colour[j]]);
+    char entry[5][128];
+    const char *texts[5];
+    const float *colours[5];
+    for (int j = 0; j < 4; j++) {
         if (conv && m)
-            snprintf(buf, sizeof(buf), "λ%d = %.4f 1/s", j + 1, y[m - 1][j]);
+            snprintf(entry[j], sizeof(entry[j]), "λ%d = %.4f 1/s", j + 1, y[m - 1][j]);
         else
-            snprintf(buf, sizeof(buf), "λ%d", j + 1);
-        text_at(f.x0 + f.w - U(8), f.y0 + U(8 + 16 * j), buf, 1, 0);
+            snprintf(entry[j], sizeof(entry[j]), "λ%d", j + 1);
+        texts[j] = entry[j], colours[j] = pal->series[colour[j]];
     }
-    if (conv && m && !G.v->legend) {
-        set_rgba(pal->muted);
-        snprintf(buf, sizeof(buf), "sum %.3g 1/s, Kaplan-Yorke dimension %.3f",
+    if (conv && m)
+        snprintf(entry[4], sizeof(entry[4]), "sum %.3g 1/s, Kaplan-Yorke dimension %.3f",
                  y[m - 1][0] + y[m - 1][1] + y[m - 1][2] + y[m - 1][3], y[m - 1][4]);
-        text_at(f.x0 + f.w - U(8), f.y0 + U(8 + 16 * 4), buf, 1, 0);
-    }
+    texts[4] = entry[4], colours[4] = pal->muted;
+    for (int j = 0; j < 5; j++)
+        sp_axis_minus(entry[j], sizeof(entry[j]));
+    if (!G.v->legend)
+        draw_legend(&f, &cv, texts, colours, conv && m ? 5 : 4, pal);
+    free(cv.p);
 done:
     free(x), free(y);
     return ret;
@@ -1050,7 +1199,7 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
     struct frame f = {80, 56, W - 380, H - 116, ax->from - dx / 2, ax->to + dx / 2,
                       ay->from - dy / 2, ay->to + dy / 2};
     title(d, "basins of attraction", "basins of attraction");
-    place(&f, 300, U(300));
+    place(&f, 300, U(300), U(20)); /* the legend U(20) right of the plot */
     draw_title(d, pal, &f);
     /* one image pixel per grid point, black where the orbit blew up */
     unsigned char *data = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
@@ -1083,6 +1232,7 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
         set_rgba(pal->text);
         snprintf(buf, sizeof(buf), "%.1f%%  %s", all ? 100.0 * map.att[a].count / all : 0.0,
                  map.att[a].label);
+        sp_axis_minus(buf, sizeof(buf)); /* θ −12.3°, −1 turn */
         char *comma = map.att[a].period > 0 ? strstr(buf, ", θ") : NULL;
         if (comma) { /* the state on a second line */
             *comma = 0;
@@ -1152,10 +1302,10 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
     }
     if (!err) { /* before the grid: what no figure has room for (draw_axes and
                    draw_colorbar check each figure's own room as they draw) */
-        const double left = print ? U(4) + U(14) * 1.2 + U(6) + U(4) + G.tick : 80;
+        const double left = print ? U(4) + G.label_pt * 1.2 + U(6) + U(4) + G.tick : 80;
         const double plot_w = W - left - (print ? U(18) : 30);
         const double plot_h = print ? H - 2 * U(6) - (G.tick + U(4) + G.label_pt * 1.2 + U(5) +
-                                                        U(14) * 1.25 + U(4))
+                                                        G.label_pt * 1.25 + U(4))
                                     : H - 116;
         /* a printed size whose plot has no room for its ticks and labels
          * (--size 1inx200in drew its text over itself): refused */
@@ -1169,7 +1319,19 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
                          (W - plot_w + least_w) / 72, (H - plot_h + least_h) / 72);
             return SP_E_INPUT;
         }
-        font_pt(U(14));
+        /* a PNG's dots per inch that draw its text in smudges (--dpi 11:
+         * 1 px tick labels): refused below the 4 px a still's text keeps */
+        const double smallest = fmin(SP_AXIS_LABEL_FRAC * U(14), U(11)); /* pt: ticks, basins */
+        if (print && style->dpi > 0 && smallest * style->dpi / 72 < SMALLEST_TEXT_PX) {
+            sp_log_error("--dpi %g: at --size %.4gx%.4g in the figure's smallest text (%.3g pt, "
+                         "at view.font_size %g pt) would be %.2g px tall; allowed: text of at "
+                         "least %d px, as a still's: --dpi %.0f or more, or a larger "
+                         "view.font_size", style->dpi, W / 72, H / 72, smallest, body,
+                         smallest * style->dpi / 72, SMALLEST_TEXT_PX,
+                         ceil(SMALLEST_TEXT_PX * 72 / smallest - 1e-9));
+            return SP_E_INPUT;
+        }
+        font_pt(G.label_pt); /* the axes' names' size (draw_axes) */
         label_room(v->xlabel[0] ? 0 : -1, v->xlabel, plot_w, "the widest plot's width");
         label_room(v->ylabel[0] ? 1 : -1, v->ylabel, plot_h, "the tallest plot's height");
         label_room(v->colorbar_label[0] ? 2 : -1, v->colorbar_label, print ? plot_h : 2 * 171,

@@ -885,7 +885,19 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
         snprintf(alt, sizeof(alt), "%s/%s", dir_e, it->alts[k]);
         refused = link_out(r, it->name, alt, dir_e);
     }
-    if (sp_snapshot_is_folder_link(it->name)) {
+    if (it->nested) {
+        const char *dot = strrchr(it->name, '.'), *key = dot;
+        while (key > it->name && key[-1] != '.')
+            key--;
+        snprintf(r->name, sizeof(r->name), "%s", it->name);
+        snprintf(r->expected, sizeof(r->expected), "%s", pe);
+        record_error(r, "%s is an alternative of %.*s%s, which is an alternative itself: a "
+                     "baseline has one KEY (NAME.KEY.png), so it was never compared",
+                     pe, key > it->name ? (int)(key - 1 - it->name) : 0, it->name, dot);
+        snprintf(r->hint, sizeof(r->hint), "rename it NAME.KEY.png (one declared key) or "
+                 "remove it");
+        r->refused = 1; /* --update leaves it: which image's it is, nobody said */
+    } else if (sp_snapshot_is_folder_link(it->name)) {
         snprintf(r->name, sizeof(r->name), "%s", it->name);
         record_error(r, "%s/%s is a link to a folder; compare does not follow links to "
                      "folders, so nothing behind it was compared",
@@ -1011,6 +1023,29 @@ static void retry_out_of_memory(struct folder_work *w, int threads, int *nomem)
     }
 }
 
+/* --update all --env KEY: an image whose pixels equal its plain baseline's
+ * retires its alternative NAME.KEY.png (removed, said in a note), which
+ * would otherwise pass that old look on every environment for ever. */
+static void retire_alternative(const struct compare_run *c, struct sp_compare_record *r,
+                               const struct sp_snapshot *it, const char *dir_e)
+{
+    char key[64], alt[PATH_MAX];
+    if (!c->env || c->update != SP_COMPARE_UPDATE_ALL || r->verdict != SP_VERDICT_PASS ||
+        !r->exact || r->baseline_key[0] || !it->expected)
+        return;
+    for (int k = 0; k < it->n_alts; k++) {
+        sp_snapshot_alt_key(it->name, it->alts[k], key, (int)sizeof(key));
+        if (strcmp(key, c->env))
+            continue;
+        snprintf(alt, sizeof(alt), "%s/%s", dir_e, it->alts[k]);
+        if (unlink(alt) != 0)
+            sp_log_error("%s: cannot remove: %s", alt, strerror(errno));
+        else if (r->n_notes < SP_COMPARE_MAX_NOTES)
+            snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                     "removed %.380s: %.32s now matches %.200s", alt, c->env, it->name);
+    }
+}
+
 /* Compares every image (PNG or video) under folder dir_e with its namesake
  * under dir_a, subfolders too, on c->jobs threads; an image in only one of
  * them is an error (a missing render or a missing baseline). Then applies
@@ -1092,6 +1127,7 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
             sp_log_error("cannot create the baseline folder for %s: %s", target,
                          strerror(errno));
         apply_update(c, r, target);
+        retire_alternative(c, r, it, dir_e);
         if (r->update == SP_UPDATE_REMOVED) /* the image is gone: its alternatives too */
             for (int k = 0; k < it->n_alts; k++) {
                 snprintf(target, sizeof(target), "%s/%s", dir_e, it->alts[k]);
@@ -1287,7 +1323,7 @@ static const char *approve_refusal(const char *from, const char *dir, const char
 static int approve(const struct compare_run *c, const char *dir, const char *baselines)
 {
     struct sp_snapshot_list l;
-    int ret = 0, added = 0, replaced = 0, unchanged = 0;
+    int ret = 0, added = 0, replaced = 0, unchanged = 0, i;
     const char *skip[] = {baselines};
     if (!is_dir(dir)) {
         sp_log_error("--approve %s: not a folder; expected the folder --candidates wrote",
@@ -1296,7 +1332,7 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
     }
     if ((ret = sp_snapshot_list_make(&l, dir, dir, skip, 1, NULL, 0)) != 0)
         return ret;
-    for (int i = 0; i < l.n && !stopped(c); i++) {
+    for (i = 0; i < l.n && !stopped(c); i++) {
         const char *name = l.items[i].name;
         char from[PATH_MAX], to[PATH_MAX];
         struct stat st;
@@ -1336,10 +1372,20 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
         exists ? replaced++ : added++;
         sp_fprintf_line(stdout, "%-9s %s", exists ? "replaced" : "added", to);
     }
-    if (stopped(c))
+    if (stopped(c)) { /* say what was left, never an ordinary FAIL */
+        int left = 0;
+        for (; i < l.n; i++) {
+            const size_t n = strlen(l.items[i].name);
+            left += !(n > 9 && !strcasecmp(l.items[i].name + n - 9, ".diff.png"));
+        }
+        printf("interrupted: %d added, %d replaced, %d unchanged, %d not approved (%s came "
+               "first; run --approve again for the rest)\n", added, replaced, unchanged, left,
+               sp_signal_name(stopped(c)));
         ret = SP_E_INTERRUPTED;
-    printf("%s: %d added, %d replaced, %d unchanged\n", ret ? "FAIL" : "approved", added,
-           replaced, unchanged);
+    } else {
+        printf("%s: %d added, %d replaced, %d unchanged\n", ret ? "FAIL" : "approved", added,
+               replaced, unchanged);
+    }
     sp_snapshot_list_free(&l);
     return ret;
 }

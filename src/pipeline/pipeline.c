@@ -470,6 +470,13 @@ static int run_setup(struct run *run)
                                          sp_render_renderer_name(run->r),
                                          sp_render_gl_version(run->r))) != 0)
         return ret;
+    if (desc->piece) { /* a video piece records the part it holds */
+        char *piece = sp_command_line_piece();
+        ret = piece ? sp_provenance_set_command(&run->prov, piece) : SP_E_NOMEM;
+        if (!piece)
+            sp_log_error("out of memory");
+        free(piece);
+    }
     for (int i = 0; !ret && i < run->n_more; i++) /* side by side: every scene */
         ret = sp_provenance_add_scene(&run->prov, run->more[i].sc);
     if (ret)

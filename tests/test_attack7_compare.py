@@ -14,7 +14,14 @@ run as the attacker ran it (smaller images, a few seconds at most):
 - finding 8: `keys --` was refused;
 - finding 16: a check of several keys blamed the scene file for a value that
   came from --set;
-- finding 17: scene --help and its refusal said a GIF carries a record.
+- finding 17: scene --help and its refusal said a GIF carries a record;
+- finding 20: compare --approve interrupted printed an ordinary FAIL, and
+  took --json, --report, --env, --jobs... silently;
+- finding 11: a baseline NAME.KEY.KEY.png beside NAME.KEY.png was in
+  neither list: never compared, never reported;
+- finding 27: --update all --env KEY never retired NAME.KEY.png once the
+  plain baseline matched again, so the old look passed for ever.
+(finding 4, the cgroup memory limit, is test memory-limit: a made-up tree.)
 usage: test_attack7_compare.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
@@ -258,5 +265,71 @@ ok("GIF (the same" not in help_text and "A GIF is\nthe one output that records n
    and "but a GIF" in err(r2),
    f"scene --help and both refusals say a GIF carries no record ({err(r)[-90:]} | "
    f"{err(r2)[-70:]})")
+
+# ---- finding 20: --approve interrupted, --approve with options it does not use --------
+for i in range(150):
+    copy(path("big", "e", "p0.png"), path("apc", f"{i:03d}.png"))
+p = subprocess.Popen([exe, "compare", "--approve", "apc", "apb"], cwd=work,
+                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+t0 = time.time()
+while time.time() - t0 < 30 and p.poll() is None and not (
+        os.path.isdir(path("apb")) and os.listdir(path("apb"))):
+    time.sleep(0.005)
+p.send_signal(15)  # the first copy is in place: stop it there
+out, e = p.communicate(timeout=60)
+last = (out.strip().splitlines() or [""])[-1]
+m = re.match(r"interrupted: (\d+) added, 0 replaced, 0 unchanged, (\d+) not approved", last)
+ok(p.returncode == 143 and m and "FAIL" not in last
+   and int(m.group(1)) + int(m.group(2)) == 150
+   and int(m.group(1)) == len(os.listdir(path("apb"))),
+   f"--approve stopped by SIGTERM says it was interrupted and how many were left, rc 143 "
+   f"(rc {p.returncode}: {last})")
+copy(b1, path("apc2", "x.png"))
+r = run("compare", "--approve", "apc2", "apb2", "--report", "r.html", "--junit", "j.xml",
+        "--summary", "s.md", "--env", "llvm", "--diff", "dd", "--jobs", "3", "--json")
+names = ("--diff", "--json", "--report", "--junit", "--summary", "--env", "--jobs")
+ok(r.returncode == 2 and all(n in err(r) for n in names) and not os.path.exists(path("apb2"))
+   and not any(os.path.exists(path(f)) for f in ("r.html", "j.xml", "s.md", "dd")),
+   f"--approve with options it does not use: refused, each named, nothing written "
+   f"(rc {r.returncode}: {err(r)[:200]})")
+r = run("compare", "--approve", "apc2", "apb2")
+ok(r.returncode == 0 and os.path.exists(path("apb2", "x.png")),
+   f"--approve alone still copies ({err(r)[:100]})")
+
+# ---- finding 11: NAME.KEY.KEY.png beside NAME.KEY.png is reported -----------------------
+write(path("ev", "e", "compare.ini"), "envs = llvm\n")
+copy(b1, path("ev", "e", "x.png"))
+copy(b2, path("ev", "e", "x.llvm.png"))
+copy(b2, path("ev", "e", "x.llvm.llvm.png"))
+copy(b1, path("ev", "a", "x.png"))
+r = run("compare", "ev/e", "ev/a", "--json")
+try:
+    recs = {x["name"]: x for x in json.loads(r.stdout)["results"]}
+except (ValueError, KeyError):
+    recs = {}
+nested = recs.get("x.llvm.llvm.png", {})
+ok(r.returncode == 2 and nested.get("verdict") == "error"
+   and "alternative of x.llvm.png, which is an alternative itself" in (nested.get("error") or "")
+   and recs.get("x.png", {}).get("verdict") == "pass",
+   f"x.llvm.llvm.png beside the alternative x.llvm.png: an error naming it, rc 2 "
+   f"(rc {r.returncode}: {nested.get('error')})")
+r = run("compare", "ev/e", "ev/a", "--update", "all")
+ok(os.path.exists(path("ev", "e", "x.llvm.llvm.png")) and b"x.llvm.llvm.png" in r.stdout,
+   f"--update all leaves x.llvm.llvm.png in place and names it ({summary(r)})")
+
+# ---- finding 27: --update all --env KEY retires an alternative the plain one matches ----
+write(path("eu", "e", "compare.ini"), "envs = llvm\n")
+copy(b1, path("eu", "e", "x.png"))
+copy(b2, path("eu", "a", "x.png"))
+r1 = run("compare", "eu/e", "eu/a", "--update", "all", "--env", "llvm")
+added = os.path.exists(path("eu", "e", "x.llvm.png"))
+copy(b1, path("eu", "a", "x.png"))  # llvm renders the plain look again
+r2 = run("compare", "eu/e", "eu/a", "--update", "all", "--env", "llvm")
+copy(b2, path("eu", "a", "x.png"))  # a regression to the old llvm look
+r3 = run("compare", "eu/e", "eu/a")
+ok(added and r2.returncode == 0 and not os.path.exists(path("eu", "e", "x.llvm.png"))
+   and b"removed eu/e/x.llvm.png: llvm now matches x.png" in r2.stdout and r3.returncode == 1,
+   f"--update all --env llvm removes x.llvm.png once x.png matches, and the old look then "
+   f"fails (rc {r2.returncode}, {r3.returncode}: {r2.stdout.decode()[:160]})")
 
 done()

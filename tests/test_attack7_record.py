@@ -17,7 +17,16 @@ as the attacker ran it:
   whole is refused up front (exit 2, its length and the limit);
 - finding 23: a CSV's prov:wasGeneratedBy turned a byte that is not UTF-8
   into U+FFFD; it is now shown escaped (a backslash, x, two hex digits),
-  as every other record shows it.
+  as every other record shows it;
+- finding 24: an SVG's record was taken from the last metadata element
+  anywhere, a comment after </svg> too; one element, inside the root, or
+  refused ("is there twice");
+- finding 25: an MP4/WebM piece (--frames, --shard) recorded the whole
+  render's command; a video piece records its part, and its record re-makes
+  it byte for byte (PNG frames still record the whole run's);
+- finding 18: invisible characters (Cf, Zl, Zp: U+200B, U+FEFF, U+00AD,
+  U+E0041, U+2028) reached the terminal raw in records and messages; they
+  are shown escaped, from HarfBuzz's general category.
 usage: test_attack7_record.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
@@ -161,5 +170,60 @@ r2 = run(b"still", b"d\xff.ini", b"--at", b"1", b"--size", b"320x180", b"-o", b"
 ok(r.returncode == 0 and "'d\\xff.ini'" in rec and "\ufffd" not in rec and
    r2.returncode == 0 and command("dx.png").split()[2] == rec.split()[2],
    f"a CSV records a scene named d<0xff>.ini as the PNG does ('d\\xff.ini'): {rec!r}")
+
+# ---- finding 24: one SVG record, inside the root element -------------------------
+r = run("still", default, "--at", "1", "--size", "3in", "-o", "v.svg", "-q")
+assert r.returncode == 0, err(r)
+with open(path("v.svg")) as f:
+    svg = f.read()
+tag = '<metadata id="springpend.command">'
+at = svg.index(tag)
+rec = svg[at:svg.index("</metadata>", at) + len("</metadata>")]
+evil = rec.replace("springpend still", "springpend still evil.ini")
+stag = '<metadata id="springpend.scene-file">'
+sat = svg.index(stag)
+srec = svg[sat:svg.index("</metadata>", sat) + len("</metadata>")]
+for name, text, what in [
+        ("v6.svg", svg + f"<!-- {evil} -->\n", "command"),
+        ("v7.svg", svg[:at] + svg[at + len(rec):] + f"<!-- {evil} -->\n", "command"),
+        ("v8.svg", svg.replace("</svg>", evil + "\n</svg>"), "command"),
+        ("v9.svg", svg + "<!-- " + srec.replace("stiffness = ", "stiffness = 3") + " -->\n",
+         "scene")]:
+    with open(path(name), "w") as f:
+        f.write(text)
+    r = run("scene", name, *(["--command"] if what == "command" else []))
+    ok(r.returncode == 2 and not r.stdout and (b"twice" in r.stderr or b"root element" in r.stderr),
+       f"{name}: a second or misplaced {what} record (a comment after </svg>, or twice inside): "
+       f"refused (exit {r.returncode}: {err(r)[:160]!r})")
+ok(command("v.svg") == f"springpend still {default} --at 1 --size 3in",
+   f"the SVG as written still reads: {command('v.svg')!r}")
+
+# ---- finding 25: a video piece records its part ----------------------------------
+video = [default, "--size", "320x180", "--fps", "10", "--set", "video.duration=1"]
+whole = "springpend render " + " ".join(video)
+for out, part in (("fr.mp4", ["--frames", "2:5"]), ("sh.webm", ["--shard", "2/4"])):
+    r = run("render", *video, *part, "-o", out, "-q")
+    c = command(out)
+    r2 = run("render", *c.split()[2:], "-o", "again-" + out, "-q")
+    ok(r.returncode == 0 and c == whole + " " + " ".join(part) and r2.returncode == 0 and
+       same_bytes(out, "again-" + out),
+       f"a {out[-4:]} piece ({' '.join(part)}) records its part, and its record re-makes it "
+       f"byte for byte: {c!r}")
+r = run("render", *video, "--frames", "2:5", "-o", "fr/%03d.png", "-q")
+ok(r.returncode == 0 and command(os.path.join("fr", "003.png")) == whole,
+   f"a PNG frame of --frames 2:5 still records the whole run (it is the whole run's frame): "
+   f"{command(os.path.join('fr', '003.png'))!r}")
+
+# ---- finding 18: invisible characters are shown escaped --------------------------
+for ch, shown in (("\u200b", "\\u200b"), ("\ufeff", "\\ufeff"), ("\u00ad", "\\u00ad"),
+                  ("\U000e0041", "\\U000e0041"), ("\u2028", "\\u2028"), ("\u2029", "\\u2029")):
+    name = f"a{ch}b.ini"
+    shutil.copy(default, path(name))
+    r = run("still", name, "--at", "1", "--size", "320x180", "-o", f"inv{ch}.png")
+    c = command(f"inv{ch}.png")
+    ok(r.returncode == 0 and f"'a{shown}b.ini'" in c and ch not in c and
+       shown.encode() in r.stderr and ch.encode() not in r.stderr,
+       f"U+{ord(ch):04X} in a scene's and an output's name: recorded and said as {shown} "
+       f"({c!r}; {err(r)!r})")
 
 done()

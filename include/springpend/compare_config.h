@@ -86,6 +86,12 @@ int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t 
  * writer with SP_OUTFILE_REPLACE_LINK replaces it). */
 int sp_compare_parent_outside(const char *path, const char *dir, char *to, size_t size);
 
+/* 1 when path, made or not yet (its nearest existing folder stands for it;
+ * a name alone that does not exist, for the working folder), is folder dir
+ * or lies below it, links resolved; 0 when dir does not exist. compare
+ * refuses folders that lie in each other, and outputs in the baselines. */
+int sp_compare_folder_within(const char *path, const char *dir);
+
 /* Reads dir/compare.ini into cfg when it exists (cfg stays empty when it
  * does not). Errors are printed as FILE:LINE: what is wrong, what is
  * allowed; returns 0, SP_E_INPUT or SP_E_NOMEM. A compare.ini that links

@@ -72,7 +72,8 @@ struct sp_compare_record {
     int n_alternatives;       /* baselines per environment beside the plain one */
     char baseline_key[64];    /* the alternative that matched (NAME.KEY.png's KEY);
                                  "" the plain baseline, or none matched */
-    int refused;              /* a link out of the folders: never updated */
+    int refused;              /* a link out of the folders, or a baseline
+                                 NAME.KEY.KEY.png: never updated */
     struct sp_compare_mask masks[32]; /* compare.ini's masks (the first 32), drawn */
     int n_masks;
     char candidate[4096];     /* --candidates wrote the actual image here; "" none */

@@ -36,6 +36,11 @@ struct sp_pipeline_desc {
                                         its scene before --size set its px, so
                                         that the same command on it makes the
                                         same page */
+    int piece;           /* 1: a video piece (MP4/WebM of --frames or --shard):
+                            it records its --frames/--shard too
+                            (sp_command_line_piece), so that its record
+                            re-makes it; 0: outputs record the whole run's
+                            command */
     struct sp_state *state_out; /* not NULL: receives the bob's state in the
                                    last frame drawn */
     /* Side by side: the scenes drawn beside `scene`, each in its own cell

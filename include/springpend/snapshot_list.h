@@ -18,6 +18,9 @@ struct sp_snapshot {
     int actual;     /* 1: ACTUAL/name exists */
     char **alts;    /* relative names of the alternatives, sorted; owned */
     int n_alts, cap_alts; /* in use, room for */
+    int nested;     /* 1: name is NAME.KEY.KEY.EXT (a baseline only) whose stem
+                       NAME.KEY.EXT is itself an alternative: an error, never
+                       silently dropped */
 };
 
 struct sp_snapshot_list {

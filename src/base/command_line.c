@@ -86,11 +86,16 @@ int sp_command_line_getopt(int argc, char *const *argv, const char *shortopts,
     return c;
 }
 
+/* What a record leaves out (command_line.h). */
+enum { KEEP_NONE, KEEP_PART /* a video piece: its --frames or --shard too */ };
+
 /* 1 when an output records no word of option `name` (command_line.h). */
-static int omitted(const char *name)
+static int omitted(const char *name, int keep)
 {
     static const char *const names[] = {"output", "csv", "frames", "shard", "threads", "quiet",
                                         "state", "help"};
+    if (name && keep == KEEP_PART && (!strcmp(name, "frames") || !strcmp(name, "shard")))
+        return 0;
     for (size_t k = 0; name && k < sizeof(names) / sizeof(names[0]); k++)
         if (!strcmp(name, names[k]))
             return 1;
@@ -103,10 +108,11 @@ struct word {
     char c[2]; /* a short option of no long name */
 };
 
-/* Appends option t's words to out at *n, unless unnamed omits it. */
-static void put_taken(const struct taken *t, int unnamed, struct word *out, int *n)
+/* Appends option t's words to out at *n, unless the record leaves it out
+ * (keep: KEEP_*, what it keeps of what outputs omit). */
+static void put_taken(const struct taken *t, int keep, struct word *out, int *n)
 {
-    if (unnamed && omitted(t->name))
+    if (omitted(t->name, keep))
         return;
     if (t->name) {
         out[*n] = (struct word){.pre = "--", .s = t->name};
@@ -121,11 +127,12 @@ static void put_taken(const struct taken *t, int unnamed, struct word *out, int 
 
 /* The words r records into out (room for n + 2 n_taken): every word
  * (unnamed 0), or (1) the words as getopt_long parsed them: each option by
- * its long name, its value as the next word, less what outputs omit; an
- * operand, '--' and what follows it as given. The count, or -1 when the
- * words do not read as the parser returned them (then nothing is left
- * out: the caller records every word). */
-static int recorded_words(const struct sp_command_line *r, int unnamed, struct word *out)
+ * its long name, its value as the next word, less what outputs omit (but
+ * what keep keeps); an operand, '--' and what follows it as given. The
+ * count, or -1 when the words do not read as the parser returned them
+ * (then nothing is left out: the caller records every word). */
+static int recorded_words(const struct sp_command_line *r, int unnamed, int keep,
+                          struct word *out)
 {
     int n = 0, k = 0;
     if (!unnamed || !r->shortopts || r->n_taken < 0) {
@@ -146,7 +153,7 @@ static int recorded_words(const struct sp_command_line *r, int unnamed, struct w
             if (!s[2] || !t->name || strncmp(s + 2, t->name, strcspn(s + 2, "=")) ||
                 (t->apart && (i + 1 >= r->n || r->w[i + 1] != t->value)))
                 return -1;
-            put_taken(t, 1, out, &n);
+            put_taken(t, keep, out, &n);
             i += t->apart;
             continue;
         }
@@ -154,7 +161,7 @@ static int recorded_words(const struct sp_command_line *r, int unnamed, struct w
             const struct taken *t = k < r->n_taken ? &r->taken[k++] : NULL;
             if (!t || t->c != *p)
                 return -1;
-            put_taken(t, 1, out, &n);
+            put_taken(t, keep, out, &n);
             if (t->value) { /* the rest of the word, or the next word */
                 if (t->apart ? p[1] || i + 1 >= r->n || r->w[i + 1] != t->value
                              : t->value != p + 1)
@@ -195,22 +202,23 @@ static size_t text(char *buf, size_t size, int n, const struct word *w)
     return used;
 }
 
-/* r's record (unnamed: as outputs record it, else every word), then
- * (more != NULL) more's options other than `skip` and what outputs omit,
- * as one line shown (sp_text_shown). malloc'd; NULL when out of memory. */
-static char *line_of(const struct sp_command_line *r, int unnamed,
+/* r's record (unnamed: as outputs record it, keeping `keep`, else every
+ * word), then (more != NULL) more's options other than `skip` and what
+ * outputs omit, as one line shown (sp_text_shown). malloc'd; NULL when out
+ * of memory. */
+static char *line_of(const struct sp_command_line *r, int unnamed, int keep,
                      const struct sp_command_line *more, const char *skip)
 {
     const size_t room = (size_t)r->n + 2 * (size_t)(r->n_taken > 0 ? r->n_taken : 0) +
                         (more && more->n_taken > 0 ? 2 * (size_t)more->n_taken : 0) + 1;
     struct word *w = malloc(room * sizeof(*w));
     char *line = NULL, *shown = NULL;
-    int n = w ? recorded_words(r, unnamed, w) : 0;
+    int n = w ? recorded_words(r, unnamed, keep, w) : 0;
     if (w && n < 0)
-        n = recorded_words(r, 0, w);
+        n = recorded_words(r, 0, keep, w);
     for (int k = 0; w && more && k < more->n_taken; k++)
         if (!skip || !more->taken[k].name || strcmp(more->taken[k].name, skip))
-            put_taken(&more->taken[k], 1, w, &n);
+            put_taken(&more->taken[k], KEEP_NONE, w, &n);
     const size_t len = w ? text(NULL, 0, n, w) : 0;
     if (w && (line = malloc(len + 1)) && (shown = malloc(4 * len + 1))) { /* at most \xNN a byte */
         text(line, len + 1, n, w);
@@ -223,12 +231,17 @@ static char *line_of(const struct sp_command_line *r, int unnamed,
 
 char *sp_command_line_unnamed(void)
 {
-    return process.n ? line_of(&process, 1, NULL, NULL) : NULL;
+    return process.n ? line_of(&process, 1, KEEP_NONE, NULL, NULL) : NULL;
+}
+
+char *sp_command_line_piece(void)
+{
+    return process.n ? line_of(&process, 1, KEEP_PART, NULL, NULL) : NULL;
 }
 
 char *sp_command_line_whole(void)
 {
-    return process.n ? line_of(&process, 0, NULL, NULL) : NULL;
+    return process.n ? line_of(&process, 0, KEEP_NONE, NULL, NULL) : NULL;
 }
 
 int sp_command_line_check(const char *record)
@@ -314,7 +327,7 @@ void sp_command_line_parse_into(struct sp_command_line *r)
 
 char *sp_command_line_merged(const struct sp_command_line *r, const char *skip)
 {
-    return line_of(r, 1, &process, skip);
+    return line_of(r, 1, KEEP_NONE, &process, skip);
 }
 
 void sp_command_line_free(struct sp_command_line *r)

@@ -33,11 +33,12 @@ int sp_command_line_getopt(int argc, char *const *argv, const char *shortopts,
  * after it as given. Left out is what does not change an output's bytes:
  * the output's name (-o, --output), a sweep's --csv FILE, the state file a
  * still writes (--state FILE), which part of the work is written
- * (--frames A:B, --shard I/N) and by how many threads (--threads N), and
- * -q/--quiet. The same work writing another file, a part of the frames, a
- * shard later merged or a run on other cores then gives the same bytes
- * (frame 17 of a --frames 17:40 run is the whole run's frame 17; a merged
- * sweep figure is the whole run's). A word of [A-Za-z0-9_./:=,+@%^-] only
+ * (--frames A:B, --shard I/N: but a video piece's, sp_command_line_piece)
+ * and by how many threads (--threads N), and -q/--quiet. The same work
+ * writing another file, a part of the PNG frames, a shard later merged or
+ * a run on other cores then gives the same bytes (frame 17 of a --frames
+ * 17:40 run is the whole run's frame 17; a merged sweep figure is the
+ * whole run's). A word of [A-Za-z0-9_./:=,+@%^-] only
  * is written as it is, any other in single quotes (a quote inside as
  * '\''). The line is then shown as messages show it (common.h's
  * sp_text_shown): a control character (ESC and the like, a newline), a
@@ -48,6 +49,12 @@ int sp_command_line_getopt(int argc, char *const *argv, const char *shortopts,
  * into the words given. malloc'd (free it); NULL when none was recorded or
  * out of memory. */
 char *sp_command_line_unnamed(void);
+
+/* As sp_command_line_unnamed, keeping --frames A:B and --shard I/N: what a
+ * video piece records (an MP4 or WebM of part of the frames is not the
+ * whole run's video, so its record names the part it holds and re-makes
+ * it). malloc'd; NULL when none was recorded or out of memory. */
+char *sp_command_line_piece(void);
 
 /* Every word as given (an output's name too: a CSV's prov:wasGeneratedBy),
  * one line shown as sp_command_line_unnamed's is. malloc'd; NULL when none

@@ -25,12 +25,14 @@ static void fputs_shown(const char *s, FILE *fp, int newline)
         unsigned char c = (unsigned char)*s;
         n = sp_utf8_char(s);
         const unsigned long u = n > 1 ? code_point((const unsigned char *)s, n) : c;
+        /* a noncharacter, or one that shows nothing of itself (Cf: the
+         * bidi controls, U+200B, U+FEFF; Zl, Zp: U+2028, U+2029) */
         const int nonchar = (u & 0xfffe) == 0xfffe || (u >= 0xfdd0 && u <= 0xfdef) ||
-                            sp_utf8_is_bidi_control((uint32_t)u);
+                            (n > 1 && sp_utf8_is_invisible((uint32_t)u));
         if (c == '\n' && !newline)
             fputs("\\n", fp);
         else if ((n == 1 && (c >= 0x20 || c == '\n' || c == '\t') && c != 0x7f) ||
-                 (n > 1 && u >= 0xa0 && !nonchar)) /* not C1, a noncharacter or a bidi control */
+                 (n > 1 && u >= 0xa0 && !nonchar)) /* not C1, a noncharacter or invisible */
             fwrite(s, 1, n, fp);
         else if (n > 1)
             fprintf(fp, u > 0xffff ? "\\U%08lx" : "\\u%04lx", u);

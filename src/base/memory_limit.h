@@ -4,11 +4,19 @@
 #ifndef SPRINGPEND_MEMORY_LIMIT_H
 #define SPRINGPEND_MEMORY_LIMIT_H
 
-/* Bytes: the least of the machine's physical memory, the cgroup's
- * memory.max (cgroup v2, when set) and the process's RLIMIT_DATA and
- * RLIMIT_AS (when set). *what names the one that decides ("physical
- * memory", "the cgroup's memory.max", "ulimit -d", "ulimit -v"). 0 when
- * none can be read. */
+/* Bytes: the least of the machine's physical memory, the process's own
+ * cgroup limits and its RLIMIT_DATA and RLIMIT_AS (when set). The cgroups
+ * are those /proc/self/cgroup names: for cgroup v2 (its "0::PATH" line)
+ * memory.max in /sys/fs/cgroup/PATH and each folder above it up to the root
+ * (or under /sys/fs/cgroup/unified on a hybrid host); for cgroup v1 (the
+ * line whose controllers hold "memory") memory.limit_in_bytes in
+ * /sys/fs/cgroup/memory/PATH and above. *what names the one that decides
+ * ("physical memory", the cgroup file's path, "ulimit -d", "ulimit -v"),
+ * valid until this thread's next call. 0 when none can be read. */
 double sp_memory_limit(const char **what);
+
+/* The same with every path above under folder root ("" for the real ones):
+ * for a test on a made-up tree (tests/test_memory_limit.c). */
+double sp_memory_limit_in(const char *root, const char **what);
 
 #endif

@@ -3,6 +3,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include <hb.h>
+
 #include "utf8.h"
 
 size_t sp_utf8_char(const char *s)
@@ -41,4 +43,18 @@ int sp_utf8_is_bidi_control(uint32_t u)
 {
     return u == 0x061c || u == 0x200e || u == 0x200f || (u >= 0x202a && u <= 0x202e) ||
            (u >= 0x2066 && u <= 0x2069);
+}
+
+int sp_utf8_is_invisible(uint32_t u)
+{
+    /* the Unicode Character Database's general category, as HarfBuzz (which
+     * shapes the drawn text) has it */
+    switch (hb_unicode_general_category(hb_unicode_funcs_get_default(), u)) {
+    case HB_UNICODE_GENERAL_CATEGORY_FORMAT:
+    case HB_UNICODE_GENERAL_CATEGORY_LINE_SEPARATOR:
+    case HB_UNICODE_GENERAL_CATEGORY_PARAGRAPH_SEPARATOR:
+        return 1;
+    default:
+        return 0;
+    }
 }

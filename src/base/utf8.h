@@ -19,4 +19,11 @@ uint32_t sp_utf8_decode(const char *s, size_t *len);
  * reordered ("Trojan Source"), so names are shown with them escaped. */
 int sp_utf8_is_bidi_control(uint32_t u);
 
+/* 1 for the characters that show nothing of themselves (general category
+ * Cf, Zl, Zp, from HarfBuzz's Unicode data: U+00AD, U+200B, U+200D,
+ * U+FEFF, the tag characters U+E0001.., the bidi controls, U+2028 and
+ * U+2029): a name holding one reads as another name, or breaks its line,
+ * so names and recorded commands are shown with them escaped (\u200b). */
+int sp_utf8_is_invisible(uint32_t u);
+
 #endif

@@ -63,7 +63,8 @@ static const char compare_usage[] =
     "  --candidates DIR       write the would-be baselines (failing and new images\n"
     "                         only) and their diffs to DIR; the run still fails\n"
     "  --approve DIR BASELINES  copy what --candidates wrote into the baselines\n"
-    "                         (not the diffs; unchanged pixels left untouched)\n"
+    "                         (not the diffs; unchanged pixels left untouched);\n"
+    "                         no other option goes with it\n"
     "  --report FILE.html     one self-contained HTML page: expected, actual and\n"
     "                         diff side by side at full size with zoom, masks\n"
     "                         drawn, a flip control, failures first\n"
@@ -86,6 +87,26 @@ struct compare_options {
     int approve; /* --approve DIR BASELINES */
 };
 
+/* --approve copies candidates and nothing else: an option it does not use
+ * (a report, --env, --jobs, a rule...) is refused, all of them named, with
+ * 1 (logged); 0 when none was given. seen: the options given, by letter. */
+static int refuse_with_approve(const unsigned char seen[128], const struct option *opts)
+{
+    char names[512] = "";
+    int n = 0;
+    for (const struct option *p = opts; p->name; p++)
+        if (p->val > 0 && p->val < 128 && seen[p->val] && p->val != 'A' && p->val != 'h') {
+            snprintf(names + strlen(names), sizeof(names) - strlen(names), "%s--%s",
+                     n++ ? ", " : "", p->name);
+        }
+    if (!n)
+        return 0;
+    sp_log_error("--approve copies reviewed candidates into the baselines and uses no other "
+                 "option: %s given; compare first (with --candidates), then run --approve "
+                 "CANDIDATES BASELINES alone", names);
+    return 1;
+}
+
 /* Parses argv into *o. 0, 1 after --help, or SP_E_INPUT after a message. */
 static int parse_args(struct compare_options *o, int argc, char **argv)
 {
@@ -105,6 +126,7 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
     int ch, idx;
     char why[1024];
     const char *first[128] = {0};
+    unsigned char seen[128] = {0}; /* the options given, by their letter */
     struct sp_compare_desc *c = &o->run;
     memset(o, 0, sizeof(*o));
     c->jobs = sp_cpu_count(); /* those this process may use */
@@ -113,6 +135,8 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
     while ((ch = getopt_long(argc, argv, ":qh", longopts, &idx)) != -1) {
         if (sp_cli_once(ch, longopts, "", first))
             return SP_E_INPUT;
+        if (ch > 0 && ch < 128)
+            seen[ch] = 1;
         switch (ch) {
         case 'd': case 'p': case 'm': case 't': case 'T':
             if (sp_compare_rule_set(&c->base, longopts[idx].name, optarg, why, sizeof(why))) {
@@ -167,6 +191,8 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
             return SP_E_INPUT;
         }
     }
+    if (o->approve && refuse_with_approve(seen, longopts))
+        return SP_E_INPUT;
     if (argc - optind != 2) {
         sp_log_error("expected two images or folders, EXPECTED and ACTUAL; see "
                      "'springpend compare --help'");

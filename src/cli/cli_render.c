@@ -349,6 +349,17 @@ static int paper_still(const struct sp_cli_options *o, struct sp_scene *scene, c
     return 0;
 }
 
+/* 1 when the output is an MP4 or WebM video (--format, else the extension,
+ * as the sink picks it): a piece of one records its part. */
+static int video_kind(const char *out, const char *format)
+{
+    const char *base = strrchr(out, '/'), *dot;
+    base = base ? base + 1 : out;
+    dot = strrchr(base, '.');
+    const char *kind = format ? format : dot && dot != base ? dot + 1 : "";
+    return !strcasecmp(kind, "mp4") || !strcasecmp(kind, "webm");
+}
+
 /* The longest video render and still make and show, frames. */
 #define SP_MAX_VIDEO_FRAMES 1000000
 
@@ -431,7 +442,8 @@ static int run(int argc, char **argv, int still)
         .handle_signals = !still, .supersample = o.still.scale, .state_out = &state,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
         .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
-        .recorded = pd.pt_px > 0 ? &recorded : NULL});
+        .recorded = pd.pt_px > 0 ? &recorded : NULL,
+        .piece = !still && (o.video.frames || o.video.shard) && video_kind(out, o.video.format)});
     /* Both files or neither (a device or stdout is never removed). */
     if (!ret && o.still.state && (ret = write_state(o.still.state, &scenes[0], &state)) != 0 &&
         !sp_outfile_is_stream(out))

@@ -321,26 +321,52 @@ static int outside(const char *file, const char *in)
     return strncmp(file, in, n) || (file[n] != '/' && file[n] != 0);
 }
 
+/* Where path really lies: the real path of the nearest folder on the way
+ * up from it that exists (path itself first when self is 1; "/" is never
+ * looked at), malloc'd, with in *below (when not NULL) the length of the
+ * part of path it resolves; NULL when none exists (or path is longer than
+ * PATH_MAX). */
+static char *nearest_real(const char *path, int self, size_t *below)
+{
+    char buf[PATH_MAX];
+    if (snprintf(buf, sizeof(buf), "%s", path) >= (int)sizeof(buf))
+        return NULL;
+    char *real = self ? realpath(buf, NULL) : NULL;
+    size_t at = strlen(buf);
+    for (char *slash = strrchr(buf, '/'); !real && slash && slash > buf;
+         slash = strrchr(buf, '/')) {
+        *slash = 0; /* not made yet: look further up */
+        at = (size_t)(slash - buf);
+        real = realpath(buf, NULL);
+    }
+    if (below)
+        *below = at;
+    return real;
+}
+
 /* The folder a name under dir really lies in: the nearest existing folder
  * above path, resolved. 1 (and where, in to) when that is outside dir: a
  * folder on the way is a link out of it. */
 static int parent_outside(const char *path, const char *in, char *to, size_t size)
 {
-    char buf[PATH_MAX];
-    if (snprintf(buf, sizeof(buf), "%s", path) >= (int)sizeof(buf))
-        return 0;
-    for (char *slash = strrchr(buf, '/'); slash && slash > buf; slash = strrchr(buf, '/')) {
-        *slash = 0;
-        char *real = realpath(buf, NULL);
-        if (!real)
-            continue; /* not made yet: look further up */
-        int out = outside(real, in);
-        if (out)
-            snprintf(to, size, "%s/%s", real, path + (slash - buf) + 1);
-        free(real);
-        return out;
-    }
-    return 0;
+    size_t at;
+    char *real = nearest_real(path, 0, &at);
+    int out = real && outside(real, in);
+    if (out)
+        snprintf(to, size, "%s/%s", real, path + at + 1);
+    free(real);
+    return out;
+}
+
+int sp_compare_folder_within(const char *path, const char *dir)
+{
+    char *in = realpath(dir, NULL), *real = in ? nearest_real(path, 1, NULL) : NULL;
+    if (in && !real && !strchr(path, '/'))
+        real = realpath(".", NULL); /* a new folder named alone: the working folder */
+    int within = in && real && !outside(real, in);
+    free(in);
+    free(real);
+    return within;
 }
 
 int sp_compare_parent_outside(const char *path, const char *dir, char *to, size_t size)

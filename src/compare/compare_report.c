@@ -915,6 +915,83 @@ static void html_made_in(FILE *fp, const struct sp_compare_record *r, const char
     fputs("</div>", fp);
 }
 
+/* The HTML report's script: the flip cells and the zoom buttons. */
+static void html_script(FILE *fp)
+{
+    fputs("<script>\n"
+          "for (const td of document.querySelectorAll('td.flipcell')) {\n"
+          "  const row = td.parentElement, img = td.querySelector('img');\n"
+          "  const b = td.querySelector('button'), label = td.querySelector('.showing');\n"
+          "  const ie = row.querySelector('td.expected img'), ia = row.querySelector('td.actual img');\n"
+          "  if (!ie || !ia) { td.textContent = '-'; continue; }\n"
+          "  const src = {expected: ie.src, actual: ia.src};\n"
+          "  let shown = 'actual';\n"
+          "  const show = w => { shown = w; img.src = src[w]; img.alt = w; label.textContent = w;\n"
+          "    b.textContent = 'show ' + (w == 'actual' ? 'expected' : 'actual'); };\n"
+          "  const flip = () => show(shown == 'actual' ? 'expected' : 'actual');\n"
+          "  b.addEventListener('click', flip); img.addEventListener('click', flip);\n"
+          "  show('actual');\n"
+          "  if (location.hash == '#flip') flip();\n"
+          "}\n"
+          "/* Zoom: every image at its own size times z, or fitted (z 0). */\n"
+          "const setZoom = z => {\n"
+          "  for (const im of document.querySelectorAll('.pic img, img.flipimg')) {\n"
+          "    im.style.width = z ? im.naturalWidth * z + 'px' : '';\n"
+          "    im.style.maxWidth = z ? 'none' : '280px'; }\n"
+          "  for (const b of document.querySelectorAll('#zoom button'))\n"
+          "    b.classList.toggle('on', +b.dataset.z == z); };\n"
+          "for (const b of document.querySelectorAll('#zoom button'))\n"
+          "  b.addEventListener('click', () => setZoom(+b.dataset.z));\n"
+          "</script>\n</body></html>\n", fp);
+}
+
+/* One row of the HTML report: record r's name, verdict and figures, its
+ * images and the flip cell (line: room for its figures, size bytes).
+ * 0, or SP_E_IO. */
+static int html_row(FILE *fp, const struct sp_compare_report *rep,
+                    const struct sp_compare_record *r, const char *v, const char **envs,
+                    int n_envs, char *line, size_t size)
+{
+    record_line(r, line, size);
+    fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">", v);
+    xml_string(fp, r->name, XML_PLAIN);
+    fprintf(fp, "</div><div class=\"verdict\">%s</div>",
+            r->not_compared ? "not compared" : v);
+    if (update_word(r->update)) {
+        fprintf(fp, "<div class=\"update\">%s: ", update_word(r->update));
+        xml_string(fp, r->expected, XML_PLAIN);
+        fputs("</div>", fp);
+    }
+    xml_string(fp, line, XML_PLAIN);
+    if (r->hint[0])
+        fputs("<br>", fp), xml_string(fp, r->hint, XML_PLAIN);
+    html_made_in(fp, r, envs, n_envs);
+    fputs("</td>", fp);
+    /* Identical pixels: the image once, not twice. */
+    int same = r->exact && !r->before;
+    if (html_image(fp, "expected", r->expected, r->expected_png, r->before,
+                   r->before_size, r, rep->report_path))
+        return SP_E_IO;
+    if (same) {
+        fprintf(fp, "<td class=\"actual same\">identical pixels to the expected "
+                "image (sha256 %.12s&hellip;)</td>", r->actual_sha256);
+    } else if (html_image(fp, "actual", r->actual, r->actual_png, NULL, 0, r,
+                          rep->report_path)) {
+        return SP_E_IO;
+    }
+    if (html_image(fp, "diff", r->diff, r->diff[0] != 0, NULL, 0, r, rep->report_path))
+        return SP_E_IO;
+    /* The flip cell needs both images embedded. */
+    if (r->expected_png && r->actual_png && r->frames == 0 && !same)
+        fputs("<td class=\"flipcell\"><button class=\"flip\" type=\"button\">"
+              "show expected</button><img class=\"flipimg\" alt=\"actual\" src=\"\">"
+              "<div class=\"showing\">actual</div></td>", fp);
+    else
+        fputs("<td class=\"none\">-</td>", fp);
+    fputs("</tr>\n", fp);
+    return 0;
+}
+
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
 {
     char line[4096];
@@ -974,43 +1051,8 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
                 hidden++; /* --report-failures-only */
                 continue;
             }
-            record_line(r, line, sizeof(line));
-            fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">", v);
-            xml_string(fp, r->name, XML_PLAIN);
-            fprintf(fp, "</div><div class=\"verdict\">%s</div>",
-                    r->not_compared ? "not compared" : v);
-            if (update_word(r->update)) {
-                fprintf(fp, "<div class=\"update\">%s: ", update_word(r->update));
-                xml_string(fp, r->expected, XML_PLAIN);
-                fputs("</div>", fp);
-            }
-            xml_string(fp, line, XML_PLAIN);
-            if (r->hint[0])
-                fputs("<br>", fp), xml_string(fp, r->hint, XML_PLAIN);
-            html_made_in(fp, r, envs, n_envs);
-            fputs("</td>", fp);
-            /* Identical pixels: the image once, not twice. */
-            int same = r->exact && !r->before;
-            if (html_image(fp, "expected", r->expected, r->expected_png, r->before,
-                           r->before_size, r, rep->report_path))
+            if (html_row(fp, rep, r, v, envs, n_envs, line, sizeof(line)))
                 return SP_E_IO;
-            if (same) {
-                fprintf(fp, "<td class=\"actual same\">identical pixels to the expected "
-                        "image (sha256 %.12s&hellip;)</td>", r->actual_sha256);
-            } else if (html_image(fp, "actual", r->actual, r->actual_png, NULL, 0, r,
-                                  rep->report_path)) {
-                return SP_E_IO;
-            }
-            if (html_image(fp, "diff", r->diff, r->diff[0] != 0, NULL, 0, r, rep->report_path))
-                return SP_E_IO;
-            /* The flip cell needs both images embedded. */
-            if (r->expected_png && r->actual_png && r->frames == 0 && !same)
-                fputs("<td class=\"flipcell\"><button class=\"flip\" type=\"button\">"
-                      "show expected</button><img class=\"flipimg\" alt=\"actual\" src=\"\">"
-                      "<div class=\"showing\">actual</div></td>", fp);
-            else
-                fputs("<td class=\"none\">-</td>", fp);
-            fputs("</tr>\n", fp);
         }
     /* The flip cell starts as the actual image; the button (or a click on
      * the image) swaps in the expected one, so a change blinks in place.
@@ -1021,31 +1063,7 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
     if (hidden)
         fprintf(fp, "<p id=\"hidden\">%d passing image%s not shown "
                 "(--report-failures-only)</p>\n", hidden, hidden == 1 ? "" : "s");
-    fputs("<script>\n"
-          "for (const td of document.querySelectorAll('td.flipcell')) {\n"
-          "  const row = td.parentElement, img = td.querySelector('img');\n"
-          "  const b = td.querySelector('button'), label = td.querySelector('.showing');\n"
-          "  const ie = row.querySelector('td.expected img'), ia = row.querySelector('td.actual img');\n"
-          "  if (!ie || !ia) { td.textContent = '-'; continue; }\n"
-          "  const src = {expected: ie.src, actual: ia.src};\n"
-          "  let shown = 'actual';\n"
-          "  const show = w => { shown = w; img.src = src[w]; img.alt = w; label.textContent = w;\n"
-          "    b.textContent = 'show ' + (w == 'actual' ? 'expected' : 'actual'); };\n"
-          "  const flip = () => show(shown == 'actual' ? 'expected' : 'actual');\n"
-          "  b.addEventListener('click', flip); img.addEventListener('click', flip);\n"
-          "  show('actual');\n"
-          "  if (location.hash == '#flip') flip();\n"
-          "}\n"
-          "/* Zoom: every image at its own size times z, or fitted (z 0). */\n"
-          "const setZoom = z => {\n"
-          "  for (const im of document.querySelectorAll('.pic img, img.flipimg')) {\n"
-          "    im.style.width = z ? im.naturalWidth * z + 'px' : '';\n"
-          "    im.style.maxWidth = z ? 'none' : '280px'; }\n"
-          "  for (const b of document.querySelectorAll('#zoom button'))\n"
-          "    b.classList.toggle('on', +b.dataset.z == z); };\n"
-          "for (const b of document.querySelectorAll('#zoom button'))\n"
-          "  b.addEventListener('click', () => setZoom(+b.dataset.z));\n"
-          "</script>\n</body></html>\n", fp);
+    html_script(fp);
     return ferror(fp) ? SP_E_IO : 0;
 }
 

@@ -358,6 +358,25 @@ static int check_header(struct sp_compare_record *r, const char *path, int *w, i
     return 0;
 }
 
+/* Starts record r of the pair expected/actual shown as name: the names,
+ * and the rule compare.ini gives rule_name (its path under the baselines'
+ * folder) into *opts and masks (*n_masks of them), with r's masks and
+ * metric; the PNG and the video comparisons begin so. */
+static void record_start(struct compare_run *c, struct sp_compare_record *r, const char *name,
+                         const char *rule_name, const char *expected, const char *actual,
+                         struct sp_compare_opts *opts, struct sp_compare_mask *masks,
+                         int *n_masks)
+{
+    snprintf(r->name, sizeof(r->name), "%s", name);
+    snprintf(r->expected, sizeof(r->expected), "%s", expected);
+    snprintf(r->actual, sizeof(r->actual), "%s", actual);
+    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, opts, masks, n_masks);
+    for (int k = 0; k < *n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0]));
+         k++)
+        r->masks[r->n_masks++] = masks[k];
+    r->metric = opts->metric;
+}
+
 /* Compares two PNG files into record r. diff_path may be NULL. */
 static void compare_files(struct compare_run *c, struct sp_compare_record *r,
                           const char *name, const char *rule_name, const char *expected,
@@ -369,14 +388,7 @@ static void compare_files(struct compare_run *c, struct sp_compare_record *r,
     const struct sp_compare_mask *star_masks = NULL; /* all in masks */
     int n_masks, n_star_masks = 0;
 
-    snprintf(r->name, sizeof(r->name), "%s", name);
-    snprintf(r->expected, sizeof(r->expected), "%s", expected);
-    snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    /* compare.ini names images by their path under the baselines' folder. */
-    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, &opts, masks, &n_masks);
-    for (int k = 0; k < n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0])); k++)
-        r->masks[r->n_masks++] = masks[k];
-    r->metric = opts.metric;
+    record_start(c, r, name, rule_name, expected, actual, &opts, masks, &n_masks);
     /* Both headers first: nothing is decoded that is too large. */
     if (check_header(r, expected, &r->expected_w, &r->expected_h)) {
         struct sp_png_info info; /* the actual image may still be shown */
@@ -497,17 +509,11 @@ static int compare_blocks(const struct sp_image *fe, const struct sp_image *fa,
  * a frame at any rate a video has. */
 #define FRAME_TIME_SLACK 5e-4
 
-/* The rule for the video rule_name names, into *opts and masks (and r's
- * masks and metric). Returns 1 when nothing is set for it: then the
- * videos' default rule, block means. */
-static int video_rule(struct compare_run *c, struct sp_compare_record *r, const char *rule_name,
-                      struct sp_compare_opts *opts, struct sp_compare_mask *masks, int *n_masks)
+/* The rule of a video, as record_start read it into *opts (and r's
+ * metric). Returns 1 when nothing is set for it: then the videos' default
+ * rule, block means. */
+static int video_rule(struct sp_compare_record *r, struct sp_compare_opts *opts)
 {
-    sp_compare_config_resolve(&c->cfg, rule_name, &c->base, opts, masks, n_masks);
-    for (int k = 0; k < *n_masks && r->n_masks < (int)(sizeof(r->masks) / sizeof(r->masks[0]));
-         k++)
-        r->masks[r->n_masks++] = masks[k];
-    r->metric = opts->metric;
     /* Nothing set for this video: the videos' default rule (block means). */
     int blocks = !(opts->given & (SP_COMPARE_SET_METRIC | SP_COMPARE_SET_MAX_DIFF |
                                   SP_COMPARE_SET_MAX_PIXELS | SP_COMPARE_SET_TOL |
@@ -543,9 +549,9 @@ static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
 }
 
 /* Compares two videos frame by frame, times included, into record r: the
- * figures are the worst frame's; --diff gets its diff image. (About 110
- * lines: one loop whose frame state, the worst frame, its diff and the
- * timing, is shared by every step; pieces would pass it all around.) */
+ * figures are the worst frame's; --diff gets its diff image.
+ * Long: one loop whose frame state, the worst frame, its diff and the
+ * timing, is shared by every step; pieces would pass it all around. */
 static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
                           const char *name, const char *rule_name, const char *expected,
                           const char *actual, const char *diff_path)
@@ -560,10 +566,8 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     struct sp_compare_mask masks[SP_COMPARE_RESOLVED_MASKS];
     const struct sp_compare_mask *star_masks = NULL; /* all in masks */
     int n_masks, n_star_masks = 0;
-    snprintf(r->name, sizeof(r->name), "%s", name);
-    snprintf(r->expected, sizeof(r->expected), "%s", expected);
-    snprintf(r->actual, sizeof(r->actual), "%s", actual);
-    int blocks = video_rule(c, r, rule_name, &opts, masks, &n_masks);
+    record_start(c, r, name, rule_name, expected, actual, &opts, masks, &n_masks);
+    int blocks = video_rule(r, &opts);
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
         (ret = sp_video_reader_open(&va, actual)) != 0) {
         ret = ret == SP_E_NOMEM ? record_nomem(r, ve ? actual : expected)
@@ -881,7 +885,19 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
         snprintf(alt, sizeof(alt), "%s/%s", dir_e, it->alts[k]);
         refused = link_out(r, it->name, alt, dir_e);
     }
-    if (sp_snapshot_is_folder_link(it->name)) {
+    if (it->nested) {
+        const char *dot = strrchr(it->name, '.'), *key = dot;
+        while (key > it->name && key[-1] != '.')
+            key--;
+        snprintf(r->name, sizeof(r->name), "%s", it->name);
+        snprintf(r->expected, sizeof(r->expected), "%s", pe);
+        record_error(r, "%s is an alternative of %.*s%s, which is an alternative itself: a "
+                     "baseline has one KEY (NAME.KEY.png), so it was never compared",
+                     pe, key > it->name ? (int)(key - 1 - it->name) : 0, it->name, dot);
+        snprintf(r->hint, sizeof(r->hint), "rename it NAME.KEY.png (one declared key) or "
+                 "remove it");
+        r->refused = 1; /* --update leaves it: which image's it is, nobody said */
+    } else if (sp_snapshot_is_folder_link(it->name)) {
         snprintf(r->name, sizeof(r->name), "%s", it->name);
         record_error(r, "%s/%s is a link to a folder; compare does not follow links to "
                      "folders, so nothing behind it was compared",
@@ -1007,6 +1023,29 @@ static void retry_out_of_memory(struct folder_work *w, int threads, int *nomem)
     }
 }
 
+/* --update all --env KEY: an image whose pixels equal its plain baseline's
+ * retires its alternative NAME.KEY.png (removed, said in a note), which
+ * would otherwise pass that old look on every environment for ever. */
+static void retire_alternative(const struct compare_run *c, struct sp_compare_record *r,
+                               const struct sp_snapshot *it, const char *dir_e)
+{
+    char key[64], alt[PATH_MAX];
+    if (!c->env || c->update != SP_COMPARE_UPDATE_ALL || r->verdict != SP_VERDICT_PASS ||
+        !r->exact || r->baseline_key[0] || !it->expected)
+        return;
+    for (int k = 0; k < it->n_alts; k++) {
+        sp_snapshot_alt_key(it->name, it->alts[k], key, (int)sizeof(key));
+        if (strcmp(key, c->env))
+            continue;
+        snprintf(alt, sizeof(alt), "%s/%s", dir_e, it->alts[k]);
+        if (unlink(alt) != 0)
+            sp_log_error("%s: cannot remove: %s", alt, strerror(errno));
+        else if (r->n_notes < SP_COMPARE_MAX_NOTES)
+            snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                     "removed %.380s: %.32s now matches %.200s", alt, c->env, it->name);
+    }
+}
+
 /* Compares every image (PNG or video) under folder dir_e with its namesake
  * under dir_a, subfolders too, on c->jobs threads; an image in only one of
  * them is an error (a missing render or a missing baseline). Then applies
@@ -1088,6 +1127,7 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
             sp_log_error("cannot create the baseline folder for %s: %s", target,
                          strerror(errno));
         apply_update(c, r, target);
+        retire_alternative(c, r, it, dir_e);
         if (r->update == SP_UPDATE_REMOVED) /* the image is gone: its alternatives too */
             for (int k = 0; k < it->n_alts; k++) {
                 snprintf(target, sizeof(target), "%s/%s", dir_e, it->alts[k]);
@@ -1170,31 +1210,11 @@ static int lands_in(const char *path, const char *dir)
                   !strcmp(name, SP_COMPARE_CONFIG_NAME));
 }
 
-/* 1 when folder path (made or not yet) lies in folder dir or below it. */
-static int folder_within(const char *path, const char *dir)
-{
-    char buf[PATH_MAX];
-    char *in = realpath(dir, NULL), *real = NULL;
-    snprintf(buf, sizeof(buf), "%s", path);
-    while (in && !(real = realpath(buf, NULL))) { /* the nearest folder that exists */
-        char *slash = strrchr(buf, '/');
-        if (!slash || slash == buf)
-            break;
-        *slash = 0;
-    }
-    if (in && !real && !strchr(path, '/'))
-        real = realpath(".", NULL); /* a new folder named alone: the working folder */
-    size_t n = in ? strlen(in) : 0;
-    int within = in && real && !strncmp(real, in, n) && (real[n] == '/' || !real[n]);
-    free(in);
-    free(real);
-    return within;
-}
-
 /* Checks the output paths before anything runs. */
 static int check_outputs(const struct compare_run *c, const char *e, const char *a, int folders)
 {
-    if (folders && !sp_outfile_same_file(e, a) && (folder_within(a, e) || folder_within(e, a))) {
+    if (folders && !sp_outfile_same_file(e, a) &&
+        (sp_compare_folder_within(a, e) || sp_compare_folder_within(e, a))) {
         /* each walk would take the other folder's images as its own: --update
          * removed actual images, --update=missing nested copies of baselines */
         sp_log_error("%s and %s: one folder lies inside the other; allowed: two separate "
@@ -1214,7 +1234,7 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);
             return SP_E_INPUT;
         }
-        if (folders && i <= 1 && folder_within(p, e)) {
+        if (folders && i <= 1 && sp_compare_folder_within(p, e)) {
             sp_log_error("%s %s lies in the baselines %s: the walk would skip it and what it "
                          "holds, and its images would mix with the baselines; choose a folder "
                          "outside %s", outs[i][1], p, e, e);
@@ -1303,7 +1323,7 @@ static const char *approve_refusal(const char *from, const char *dir, const char
 static int approve(const struct compare_run *c, const char *dir, const char *baselines)
 {
     struct sp_snapshot_list l;
-    int ret = 0, added = 0, replaced = 0, unchanged = 0;
+    int ret = 0, added = 0, replaced = 0, unchanged = 0, i;
     const char *skip[] = {baselines};
     if (!is_dir(dir)) {
         sp_log_error("--approve %s: not a folder; expected the folder --candidates wrote",
@@ -1312,7 +1332,7 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
     }
     if ((ret = sp_snapshot_list_make(&l, dir, dir, skip, 1, NULL, 0)) != 0)
         return ret;
-    for (int i = 0; i < l.n && !stopped(c); i++) {
+    for (i = 0; i < l.n && !stopped(c); i++) {
         const char *name = l.items[i].name;
         char from[PATH_MAX], to[PATH_MAX];
         struct stat st;
@@ -1352,10 +1372,20 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
         exists ? replaced++ : added++;
         sp_fprintf_line(stdout, "%-9s %s", exists ? "replaced" : "added", to);
     }
-    if (stopped(c))
+    if (stopped(c)) { /* say what was left, never an ordinary FAIL */
+        int left = 0;
+        for (; i < l.n; i++) {
+            const size_t n = strlen(l.items[i].name);
+            left += !(n > 9 && !strcasecmp(l.items[i].name + n - 9, ".diff.png"));
+        }
+        printf("interrupted: %d added, %d replaced, %d unchanged, %d not approved (%s came "
+               "first; run --approve again for the rest)\n", added, replaced, unchanged, left,
+               sp_signal_name(stopped(c)));
         ret = SP_E_INTERRUPTED;
-    printf("%s: %d added, %d replaced, %d unchanged\n", ret ? "FAIL" : "approved", added,
-           replaced, unchanged);
+    } else {
+        printf("%s: %d added, %d replaced, %d unchanged\n", ret ? "FAIL" : "approved", added,
+               replaced, unchanged);
+    }
     sp_snapshot_list_free(&l);
     return ret;
 }

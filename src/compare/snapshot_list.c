@@ -230,10 +230,23 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
     for (int i = 0; i < a.n; i++)
         if (!item_add(l, &cap, a.v[i]))
             goto nomem;
-    for (int i = 0; i < e.n; i++)
-        if (!names_has(&a, e.v[i]) && !stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem)) &&
-            !item_add(l, &cap, e.v[i]))
-            goto nomem;
+    for (int i = 0; i < e.n; i++) {
+        char stem2[PATH_MAX];
+        struct sp_snapshot *it;
+        if (names_has(&a, e.v[i]))
+            continue;
+        if (!stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem))) {
+            if (!item_add(l, &cap, e.v[i]))
+                goto nomem;
+        } else if (!names_has(&a, stem) && stem_of(stem, &e, &a, keys, n_keys, stem2,
+                                                   sizeof(stem2))) {
+            /* NAME.KEY.KEY.png beside NAME.KEY.png, itself an alternative:
+             * listed, to be reported (it was once in neither list) */
+            if (!(it = item_add(l, &cap, e.v[i])))
+                goto nomem;
+            it->nested = 1;
+        }
+    }
     if (l->n)
         qsort(l->items, (size_t)l->n, sizeof(*l->items), item_by_name);
     for (int i = 0; i < l->n; i++) {

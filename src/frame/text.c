@@ -624,6 +624,80 @@ static int by_vis(const void *x, const void *y)
     return (a->vis > b->vis) - (a->vis < b->vis);
 }
 
+/* The bidi levels of the n characters cp (rule L1 applied by the
+ * reordering) into levels, and their visual order into map (types and
+ * brackets: room for FriBidi's classes); *bidi = 1 when the line has a
+ * right-to-left letter, an Arabic number or an explicit direction: a line
+ * with none is all level 0 in its own order, which FriBidi is not asked
+ * to confirm. 0, or SP_E_NOMEM (said). */
+static int bidi_order(const uint32_t *cp, int n, FriBidiCharType *types,
+                      FriBidiBracketType *brackets, FriBidiStrIndex *map, FriBidiLevel *levels,
+                      int *bidi)
+{
+    FriBidiParType base = FRIBIDI_PAR_ON;
+    *bidi = 0;
+    fribidi_get_bidi_types(cp, n, types);
+    for (int i = 0; i < n; i++) {
+        map[i] = i, levels[i] = 0;
+        *bidi |= FRIBIDI_IS_RTL(types[i]) || FRIBIDI_IS_EXPLICIT(types[i]) || FRIBIDI_IS_ISOLATE(types[i]) ||
+                 types[i] == FRIBIDI_TYPE_AN;
+    }
+    if (*bidi) {
+        fribidi_get_bracket_types(cp, n, types, brackets);
+        if (!fribidi_get_par_embedding_levels_ex(types, brackets, n, &base, levels) ||
+            !fribidi_reorder_line(0, types, n, 0, base, levels, NULL, map)) {
+            sp_log_error("FriBidi cannot order a string of %d characters", n);
+            return SP_E_NOMEM;
+        }
+    }
+    return 0;
+}
+
+/* The script of each of the n characters cp into script: common and
+ * inherited characters take their neighbours' (those before the first
+ * with a script of its own take hint's, when not HB_SCRIPT_INVALID). */
+static void scripts_of(hb_unicode_funcs_t *uf, const uint32_t *cp, int n, hb_script_t hint,
+                       hb_script_t *script)
+{
+    hb_script_t last = hint;
+    for (int i = 0; i < n; i++) {
+        const hb_script_t s = hb_unicode_script(uf, cp[i]);
+        const int weak = s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED || s == HB_SCRIPT_UNKNOWN;
+        script[i] = weak ? last : s;
+        if (!weak && last == HB_SCRIPT_INVALID)
+            for (int j = 0; j < i; j++)
+                script[j] = s;
+        if (!weak)
+            last = s;
+    }
+    for (int i = 0; i < n; i++)
+        if (script[i] == HB_SCRIPT_INVALID)
+            script[i] = HB_SCRIPT_COMMON;
+}
+
+/* The face of each of the n characters cp into face: the first that has
+ * the character; marks and joiners stay in the font of the character they
+ * belong to when it has them. Returns how many no face has (face 0, its
+ * missing glyph). */
+static int faces_of(struct sp_font *f, hb_unicode_funcs_t *uf, const uint32_t *cp, int n,
+                    int *face)
+{
+    int missing = 0;
+    for (int i = 0; i < n; i++) {
+        const int inherited = hb_unicode_script(uf, cp[i]) == HB_SCRIPT_INHERITED;
+        if (i && (invisible(cp[i]) || (inherited && face_covers(&f->faces[face[i - 1]], cp[i])))) {
+            face[i] = face[i - 1];
+            continue;
+        }
+        face[i] = invisible(cp[i]) ? 0 : face_for(f, cp[i]);
+        if (face[i] < 0) {
+            missing++;
+            face[i] = 0; /* its missing glyph, counted */
+        }
+    }
+    return missing;
+}
+
 /* Shapes text into l (its glyphs and runs allocated). Common and inherited
  * characters before the first with a script of its own take hint's script
  * (when not HB_SCRIPT_INVALID) as they would take their neighbours'. */
@@ -644,7 +718,7 @@ static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint
     FriBidiStrIndex *map = (FriBidiStrIndex *)(brackets + m);
     FriBidiLevel *levels = (FriBidiLevel *)(map + m);
     hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
-    int n = 0, n_items = 0, n_glyphs = 0, missing = 0, err = 0, bidi = 0;
+    int n = 0, n_items = 0, n_glyphs = 0, missing = 0, err = 0;
 
     if (!items) {
         sp_log_error("out of memory to lay out a string of %d bytes", bytes);
@@ -657,56 +731,10 @@ static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint
         i += (int)len;
     }
     off[n] = bytes;
-    /* bidi: levels (rule L1 applied by the reordering), visual order; a
-     * line with no right-to-left letter, Arabic number or explicit
-     * direction is all level 0 in its own order, which FriBidi is not
-     * asked to confirm */
-    FriBidiParType base = FRIBIDI_PAR_ON;
-    fribidi_get_bidi_types(cp, n, types);
-    for (int i = 0; i < n; i++) {
-        map[i] = i, levels[i] = 0;
-        bidi |= FRIBIDI_IS_RTL(types[i]) || FRIBIDI_IS_EXPLICIT(types[i]) || FRIBIDI_IS_ISOLATE(types[i]) ||
-                types[i] == FRIBIDI_TYPE_AN;
-    }
-    l->bidi = bidi;
-    if (bidi) {
-        fribidi_get_bracket_types(cp, n, types, brackets);
-        if (!fribidi_get_par_embedding_levels_ex(types, brackets, n, &base, levels) ||
-            !fribidi_reorder_line(0, types, n, 0, base, levels, NULL, map)) {
-            sp_log_error("FriBidi cannot order a string of %d characters", n);
-            err = SP_E_NOMEM;
-            goto done;
-        }
-    }
-    /* scripts: common and inherited characters take their neighbours' */
-    hb_script_t last = hint;
-    for (int i = 0; i < n; i++) {
-        const hb_script_t s = hb_unicode_script(uf, cp[i]);
-        const int weak = s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED || s == HB_SCRIPT_UNKNOWN;
-        script[i] = weak ? last : s;
-        if (!weak && last == HB_SCRIPT_INVALID)
-            for (int j = 0; j < i; j++)
-                script[j] = s;
-        if (!weak)
-            last = s;
-    }
-    for (int i = 0; i < n; i++)
-        if (script[i] == HB_SCRIPT_INVALID)
-            script[i] = HB_SCRIPT_COMMON;
-    /* fonts: the first that has the character; marks and joiners stay in
-     * the font of the character they belong to when it has them */
-    for (int i = 0; i < n; i++) {
-        const int inherited = hb_unicode_script(uf, cp[i]) == HB_SCRIPT_INHERITED;
-        if (i && (invisible(cp[i]) || (inherited && face_covers(&f->faces[face[i - 1]], cp[i])))) {
-            face[i] = face[i - 1];
-            continue;
-        }
-        face[i] = invisible(cp[i]) ? 0 : face_for(f, cp[i]);
-        if (face[i] < 0) {
-            missing++;
-            face[i] = 0; /* its missing glyph, counted */
-        }
-    }
+    if ((err = bidi_order(cp, n, types, brackets, map, levels, &l->bidi)) != 0)
+        goto done;
+    scripts_of(uf, cp, n, hint, script);
+    missing = faces_of(f, uf, cp, n, face);
     /* runs of one level, script and font */
     for (int i = 0; i < n; i++) {
         if (!n_items || levels[i] != items[n_items - 1].level || script[i] != items[n_items - 1].script ||

@@ -369,23 +369,18 @@ static void cell_looks(struct run *run)
         free(text[i]);
 }
 
-/* Signals, the camera pre-pass, the sim, trail and histories; then, unless
- * a figure, the renderer, provenance and sink. */
-static int run_setup(struct run *run)
+/* The camera pre-pass: run->extent, fitted to the whole motion of every
+ * scene (the ensemble's members and the side-by-side cells too). 0, or
+ * the first failure (said). */
+static int measure_extent(struct run *run)
 {
     const struct sp_pipeline_desc *desc = run->desc;
     const struct sp_scene *sc = run->sc;
-    const int n = run->n, w = run->w, h = run->h;
     int ret;
-    if (desc->handle_signals) {
-        /* From the start: a signal during setup stops before frame one. */
-        sp_signals_hold(&run->saved_signals, sp_outfile_remove_parts);
-        run->signals_held = 1;
-    }
     /* A still past the video's end still fits its camera to the whole
      * motion; a frame range fits the whole video's, so shards match. */
     struct sp_moment last;
-    sp_timeline_frame(sc, n - 1, &last);
+    sp_timeline_frame(sc, run->n - 1, &last);
     double t_end = last.t;
     if (desc->still)
         t_end = fmax(desc->still_at, t_end);
@@ -407,7 +402,23 @@ static int run_setup(struct run *run)
         if (!ret)
             extent_union(&run->extent, sc, &e, o);
     }
-    if (ret)
+    return ret;
+}
+
+/* Signals, the camera pre-pass, the sim, trail and histories; then, unless
+ * a figure, the renderer, provenance and sink. */
+static int run_setup(struct run *run)
+{
+    const struct sp_pipeline_desc *desc = run->desc;
+    const struct sp_scene *sc = run->sc;
+    const int n = run->n, w = run->w, h = run->h;
+    int ret;
+    if (desc->handle_signals) {
+        /* From the start: a signal during setup stops before frame one. */
+        sp_signals_hold(&run->saved_signals, sp_outfile_remove_parts);
+        run->signals_held = 1;
+    }
+    if ((ret = measure_extent(run)) != 0)
         return ret;
     const struct sp_view_extent extent = run->extent;
     /* The trail is sampled between frames finely enough that its chords stay
@@ -423,9 +434,10 @@ static int run_setup(struct run *run)
     const double dt_max = tl && tl->clocked ? tl->speed_max / sc->video.fps : frame_dt;
     const double slow = tl && tl->clocked ? sc->video.speed / tl->speed_min : 1;
     const int ss = desc->supersample > 1 ? desc->supersample : 1;
-    int substeps = sp_trail_substeps(
-        dt_max, extent.max_speed * sp_params_omega_max(&run->sim.p),
-        ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9)));
+    const double px_per_m = /* the largest scale the camera can have */
+        ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9));
+    int substeps = sp_trail_substeps(dt_max, extent.max_speed * sp_params_omega_max(&run->sim.p),
+                                     px_per_m);
     ret = trail_setup(&run->trail, &run->substeps, sc, n, substeps, frame_dt, slow);
     if (!ret)
         ret = sp_history_make(&run->hist, sc);
@@ -436,8 +448,7 @@ static int run_setup(struct run *run)
         cl->sim.progress = sp_progress_sim;
         ret = trail_setup(&cl->trail, &cl->substeps, cl->sc, n,
                           sp_trail_substeps(frame_dt, extent.max_speed * sp_params_omega_max(&cl->sim.p),
-                                            ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9),
-                                                      h / fmax(extent.ymax - extent.ymin, 1e-9))),
+                                            px_per_m),
                           frame_dt, 1);
         if (!ret)
             ret = sp_history_make(&cl->hist, cl->sc);
@@ -459,6 +470,13 @@ static int run_setup(struct run *run)
                                          sp_render_renderer_name(run->r),
                                          sp_render_gl_version(run->r))) != 0)
         return ret;
+    if (desc->piece) { /* a video piece records the part it holds */
+        char *piece = sp_command_line_piece();
+        ret = piece ? sp_provenance_set_command(&run->prov, piece) : SP_E_NOMEM;
+        if (!piece)
+            sp_log_error("out of memory");
+        free(piece);
+    }
     for (int i = 0; !ret && i < run->n_more; i++) /* side by side: every scene */
         ret = sp_provenance_add_scene(&run->prov, run->more[i].sc);
     if (ret)

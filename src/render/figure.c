@@ -239,17 +239,25 @@ static uint32_t char_ref(const char *p, size_t n)
 /* The SVG's <metadata id="springpend.scene-file"> text (with command: its
  * "springpend.command"), unescaped. 1, 0 (none), -1 (damaged), -2 (too
  * long), -3 (a reference that is neither one of XML's five entities nor a
- * character: copied, cut, into bad). */
+ * character: copied, cut, into bad), -4 (the element is there twice), -5
+ * (not inside the root element: springpend writes it just before the
+ * closing </svg>, which only blanks follow). */
 static int svg_scene(const char *b, size_t len, char *text, size_t size, char *bad,
                      size_t bad_size, int command)
 {
-    const char *open = last_of(b, len, command ? "<metadata id=\"springpend.command\">"
-                                               : "<metadata id=\"" SP_FIGURE_SCENE_ID "\">");
+    const char *tag = command ? "<metadata id=\"springpend.command\">"
+                              : "<metadata id=\"" SP_FIGURE_SCENE_ID "\">";
+    const char *open = last_of(b, len, tag), *root_end = last_of(b, len, "</svg>");
     if (!open)
         return 0;
+    if (memmem(b, len, tag, strlen(tag)) != open)
+        return -4;
     const char *p = strchr(open, '>') + 1, *close = strstr(p, "</metadata>");
     if (!close)
         return -1;
+    if (!root_end || root_end < close ||
+        strspn(root_end + 6, " \t\r\n") != len - (size_t)(root_end + 6 - b))
+        return -5;
     size_t w = 0;
     while (p < close) {
         uint32_t u = (unsigned char)*p;
@@ -336,6 +344,12 @@ static int read_record(const char *path, char *text, size_t size, int command)
     else if (got == -2)
         sp_log_error("%s: its %s record is longer than %zu bytes, more than springpend writes",
                      path, what, size - 1);
+    else if (got == -4)
+        sp_log_error("%s: its %s record (<metadata id=\"springpend.%s\">) is there twice; "
+                     "springpend writes it once", path, what, command ? "command" : "scene-file");
+    else if (got == -5)
+        sp_log_error("%s: its %s record is not inside the <svg> root element (or something "
+                     "follows </svg>); springpend writes it last inside <svg>", path, what);
     return got < 0 ? SP_E_INPUT : got;
 }
 

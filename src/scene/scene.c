@@ -465,9 +465,10 @@ static int set_camera(struct parse_ctx *c, int line, const struct key_info *k,
     return 1;
 }
 
-/* The word-valued kinds and the trail. Returns 1 when it consumed the value
- * (stored or reported), 0 for kinds it does not read. */
-static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
+/* A list of panels or vectors (k: view.panels or view.vectors) into the
+ * bits at p, and the panels' order as named. Returns 1 (stored or
+ * reported). */
+static int set_list(struct parse_ctx *c, int line, const struct key_info *k,
                     const char *value, char *p)
 {
     static const unsigned panel_bits[] = {
@@ -482,6 +483,156 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
     unsigned bits = 0;
     signed char order[SP_PANEL_COUNT];
     int i, n_order = 0;
+    for (const char *w = value; *w;) {
+        size_t n = strcspn(w, ", ");
+        i = choice_index(k->unit, w, n);
+        if (i < 0 || (i == 0 && (w != value || w[n]))) {
+            if (vectors)
+                report(c, line, "%s.%s: '%.*s' is not a vector; give a comma-separated "
+                       "list of: velocity, acceleration, gravity, spring, damping, drive, "
+                       "net, forces (every force: gravity, spring, damping, drive, net), "
+                       "or none alone", k->section, k->name, (int)n, w);
+            else
+                report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
+                       "list of: r, theta, energy, extension, phase, poincare, modes, spread, "
+                       "azimuth, top, energy_bars (or all, or none alone)", k->section, k->name, (int)n, w);
+            return 1;
+        }
+        const unsigned add = vectors ? vector_bits[i] : panel_bits[i];
+        for (int b = 0; !vectors && b < SP_PANEL_COUNT; b++) /* the order named */
+            if ((add >> b & 1) && !(bits >> b & 1))
+                order[n_order++] = (signed char)b;
+        bits |= add;
+        w += n;
+        const size_t sep = strspn(w, ", ");
+        const char *comma = memchr(w, ',', sep);
+        if (comma && (memchr(comma + 1, ',', sep - (size_t)(comma + 1 - w)) || !w[sep])) {
+            report(c, line, "%s.%s = '%s' has an empty entry; give a comma-separated "
+                   "list of %s names, one between each two commas", k->section,
+                   k->name, value, vectors ? "vector" : "panel");
+            return 1;
+        }
+        w += sep;
+    }
+    *(unsigned *)p = bits;
+    if (!vectors) {
+        memset(c->scene->view.panel_order, -1, sizeof(c->scene->view.panel_order));
+        memcpy(c->scene->view.panel_order, order, (size_t)n_order);
+    }
+    return 1;
+}
+
+/* view.trail: all, a duration ("5s") or frames; one message lists all
+ * three. Returns 1 (stored or reported). */
+static int set_trail(struct parse_ctx *c, int line, const struct key_info *k,
+                     const char *value, char *p)
+{
+    const size_t n = strlen(value);
+    const int secs = n > 0 && value[n - 1] == 's';
+    char num[64], range[192];
+    const char *wrong = NULL;
+    double d = 0;
+    if (!strcmp(value, "all")) {
+        *(int *)p = SP_TRAIL_ALL;
+        return 1;
+    }
+    snprintf(num, sizeof(num), "%.*s", (int)(n - (size_t)secs), value);
+    const enum sp_decimal_read read =
+        n - (size_t)secs < sizeof(num) ? sp_decimal_read(num, &d) : SP_DECIMAL_NOT_DECIMAL;
+    if (read == SP_DECIMAL_NOT_DECIMAL)
+        wrong = "is not a number of frames, a duration or all";
+    else if (read == SP_DECIMAL_NOT_FINITE)
+        wrong = "is not finite";
+    else if (!secs && d != floor(d))
+        wrong = "is not an integer";
+    else if (secs ? !(d > 0 && d <= k->hi) : !(d >= k->lo && d <= k->hi))
+        wrong = "is out of range";
+    if (wrong) {
+        describe_range(k, range, sizeof(range));
+        report(c, line, read == SP_DECIMAL_NOT_DECIMAL ? "%s.%s = '%s' %s; allowed: %s"
+               : "%s.%s = %s %s; allowed: %s", k->section, k->name, value, wrong, range);
+    } else if (secs) {
+        *(int *)p = SP_TRAIL_DURATION;
+        c->scene->view.trail_duration = d;
+    } else {
+        *(int *)p = (int)d;
+    }
+    return 1;
+}
+
+/* A text key: optional quotes taken off, UTF-8 without control
+ * characters; a title or caption on the scene's heap with where it was
+ * set, the rest in place (the font with where, for fontconfig's
+ * refusal). Returns 1 (stored or reported). */
+static int set_text(struct parse_ctx *c, int line, const struct key_info *k,
+                    const char *value, char *p)
+{
+    size_t n = strlen(value);
+    if (n >= 2 && value[0] == '"' && value[n - 1] == '"') /* optional quotes */
+        value++, n -= 2;
+    const int slot = long_text_slot(k);
+    if (slot < 0 && n >= SP_VIEW_TEXT_BYTES) {
+        report(c, line, "%s.%s is %zu bytes long; at most %d are allowed", k->section,
+               k->name, n, SP_VIEW_TEXT_BYTES - 1);
+        return 1;
+    }
+    for (size_t i = 0; i < n;) { /* --set bypasses the file's text check */
+        const unsigned char *u = (const unsigned char *)value + i;
+        int len = (int)sp_utf8_char((const char *)u);
+        const int c1 = len == 2 && u[0] == 0xc2 && u[1] < 0xa0; /* U+0080..U+009F */
+        if (!len || i + (size_t)len > n || *u < 0x20 || *u == 0x7f || c1) {
+            report(c, line, "%s.%s: %s 0x%02x at byte %zu is not text; allowed: "
+                   "UTF-8 text without control characters (C0, DEL or C1)", k->section,
+                   k->name, c1 ? "the C1 control, bytes 0xc2" : "byte", c1 ? u[1] : *u,
+                   i + 1);
+            return 1;
+        }
+        i += (size_t)len;
+    }
+    if (slot >= 0) { /* the scene's own heap copy, after where it was set; the
+                        one it replaces is freed */
+        char *where = NULL, *copy = NULL;
+        const int wn = line > 0 ? asprintf(&where, "%s:%d", c->origin, line)
+                                : asprintf(&where, "--set %s.%s", k->section, k->name);
+        if (n && wn >= 0 && (copy = malloc((size_t)wn + 1 + n + 1))) {
+            memcpy(copy, where, (size_t)wn + 1);
+            memcpy(copy + wn + 1, value, n);
+            copy[wn + 1 + n] = 0;
+        }
+        free(wn >= 0 ? where : NULL);
+        if (n && !copy) {
+            report(c, line, "%s.%s: out of memory for %zu bytes of text", k->section,
+                   k->name, n);
+            return 1;
+        }
+        free(c->scene->texts[slot]);
+        c->scene->texts[slot] = copy;
+        const char **text = (const char **)p, **at = slot ? &c->scene->view.caption_where
+                                                           : &c->scene->view.title_where;
+        *text = copy ? copy + wn + 1 : "";
+        *at = copy ? copy : "";
+        return 1;
+    }
+    memcpy(p, value, n);
+    p[n] = 0;
+    if (p == c->scene->view.font) { /* for fontconfig's refusal, after parsing */
+        struct sp_view *v = &c->scene->view;
+        if (line > 0)
+            snprintf(v->font_where, sizeof(v->font_where), "%s:%d", c->origin, line);
+        else
+            snprintf(v->font_where, sizeof(v->font_where), "--set %s.%s", k->section,
+                     k->name);
+    }
+    label_set_where(c, line, k);
+    return 1;
+}
+
+/* The word-valued kinds and the trail. Returns 1 when it consumed the value
+ * (stored or reported), 0 for kinds it does not read. */
+static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
+                    const char *value, char *p)
+{
+    int i;
     switch (k->kind) {
     case KEY_BOOL:
         i = choice_index("false, true, no, yes, off, on, 0, 1", value, strlen(value));
@@ -496,43 +647,7 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
         *(int *)p = i;
         return 1;
     case KEY_PANELS:
-        for (const char *w = value; *w;) {
-            size_t n = strcspn(w, ", ");
-            i = choice_index(k->unit, w, n);
-            if (i < 0 || (i == 0 && (w != value || w[n]))) {
-                if (vectors)
-                    report(c, line, "%s.%s: '%.*s' is not a vector; give a comma-separated "
-                           "list of: velocity, acceleration, gravity, spring, damping, drive, "
-                           "net, forces (every force: gravity, spring, damping, drive, net), "
-                           "or none alone", k->section, k->name, (int)n, w);
-                else
-                    report(c, line, "%s.%s: '%.*s' is not a panel; give a comma-separated "
-                           "list of: r, theta, energy, extension, phase, poincare, modes, spread, "
-                           "azimuth, top, energy_bars (or all, or none alone)", k->section, k->name, (int)n, w);
-                return 1;
-            }
-            const unsigned add = vectors ? vector_bits[i] : panel_bits[i];
-            for (int b = 0; !vectors && b < SP_PANEL_COUNT; b++) /* the order named */
-                if ((add >> b & 1) && !(bits >> b & 1))
-                    order[n_order++] = (signed char)b;
-            bits |= add;
-            w += n;
-            const size_t sep = strspn(w, ", ");
-            const char *comma = memchr(w, ',', sep);
-            if (comma && (memchr(comma + 1, ',', sep - (size_t)(comma + 1 - w)) || !w[sep])) {
-                report(c, line, "%s.%s = '%s' has an empty entry; give a comma-separated "
-                       "list of %s names, one between each two commas", k->section,
-                       k->name, value, vectors ? "vector" : "panel");
-                return 1;
-            }
-            w += sep;
-        }
-        *(unsigned *)p = bits;
-        if (!vectors) {
-            memset(c->scene->view.panel_order, -1, sizeof(c->scene->view.panel_order));
-            memcpy(c->scene->view.panel_order, order, (size_t)n_order);
-        }
-        return 1;
+        return set_list(c, line, k, value, p);
     case KEY_COLOR:
         if (!strcmp(value, "theme") || !strcmp(value, "transparent")) {
             *(int *)p = value[1] == 'h' ? SP_BACKGROUND_THEME : SP_BACKGROUND_TRANSPARENT;
@@ -543,100 +658,10 @@ static int set_word(struct parse_ctx *c, int line, const struct key_info *k,
             return 1;
         }
         break;
-    case KEY_TRAIL: {
-        /* all, a duration ("5s") or frames; one message lists all three */
-        const size_t n = strlen(value);
-        const int secs = n > 0 && value[n - 1] == 's';
-        char num[64], range[192];
-        const char *wrong = NULL;
-        double d = 0;
-        if (!strcmp(value, "all")) {
-            *(int *)p = SP_TRAIL_ALL;
-            return 1;
-        }
-        snprintf(num, sizeof(num), "%.*s", (int)(n - (size_t)secs), value);
-        const enum sp_decimal_read read =
-            n - (size_t)secs < sizeof(num) ? sp_decimal_read(num, &d) : SP_DECIMAL_NOT_DECIMAL;
-        if (read == SP_DECIMAL_NOT_DECIMAL)
-            wrong = "is not a number of frames, a duration or all";
-        else if (read == SP_DECIMAL_NOT_FINITE)
-            wrong = "is not finite";
-        else if (!secs && d != floor(d))
-            wrong = "is not an integer";
-        else if (secs ? !(d > 0 && d <= k->hi) : !(d >= k->lo && d <= k->hi))
-            wrong = "is out of range";
-        if (wrong) {
-            describe_range(k, range, sizeof(range));
-            report(c, line, read == SP_DECIMAL_NOT_DECIMAL ? "%s.%s = '%s' %s; allowed: %s"
-                   : "%s.%s = %s %s; allowed: %s", k->section, k->name, value, wrong, range);
-        } else if (secs) {
-            *(int *)p = SP_TRAIL_DURATION;
-            c->scene->view.trail_duration = d;
-        } else {
-            *(int *)p = (int)d;
-        }
-        return 1;
-    }
-    case KEY_TEXT: {
-        size_t n = strlen(value);
-        if (n >= 2 && value[0] == '"' && value[n - 1] == '"') /* optional quotes */
-            value++, n -= 2;
-        const int slot = long_text_slot(k);
-        if (slot < 0 && n >= SP_VIEW_TEXT_BYTES) {
-            report(c, line, "%s.%s is %zu bytes long; at most %d are allowed", k->section,
-                   k->name, n, SP_VIEW_TEXT_BYTES - 1);
-            return 1;
-        }
-        for (size_t i = 0; i < n;) { /* --set bypasses the file's text check */
-            const unsigned char *u = (const unsigned char *)value + i;
-            int len = (int)sp_utf8_char((const char *)u);
-            const int c1 = len == 2 && u[0] == 0xc2 && u[1] < 0xa0; /* U+0080..U+009F */
-            if (!len || i + (size_t)len > n || *u < 0x20 || *u == 0x7f || c1) {
-                report(c, line, "%s.%s: %s 0x%02x at byte %zu is not text; allowed: "
-                       "UTF-8 text without control characters (C0, DEL or C1)", k->section,
-                       k->name, c1 ? "the C1 control, bytes 0xc2" : "byte", c1 ? u[1] : *u,
-                       i + 1);
-                return 1;
-            }
-            i += (size_t)len;
-        }
-        if (slot >= 0) { /* the scene's own heap copy, after where it was set; the
-                            one it replaces is freed */
-            char *where = NULL, *copy = NULL;
-            const int wn = line > 0 ? asprintf(&where, "%s:%d", c->origin, line)
-                                    : asprintf(&where, "--set %s.%s", k->section, k->name);
-            if (n && wn >= 0 && (copy = malloc((size_t)wn + 1 + n + 1))) {
-                memcpy(copy, where, (size_t)wn + 1);
-                memcpy(copy + wn + 1, value, n);
-                copy[wn + 1 + n] = 0;
-            }
-            free(wn >= 0 ? where : NULL);
-            if (n && !copy) {
-                report(c, line, "%s.%s: out of memory for %zu bytes of text", k->section,
-                       k->name, n);
-                return 1;
-            }
-            free(c->scene->texts[slot]);
-            c->scene->texts[slot] = copy;
-            const char **text = (const char **)p, **at = slot ? &c->scene->view.caption_where
-                                                               : &c->scene->view.title_where;
-            *text = copy ? copy + wn + 1 : "";
-            *at = copy ? copy : "";
-            return 1;
-        }
-        memcpy(p, value, n);
-        p[n] = 0;
-        if (p == c->scene->view.font) { /* for fontconfig's refusal, after parsing */
-            struct sp_view *v = &c->scene->view;
-            if (line > 0)
-                snprintf(v->font_where, sizeof(v->font_where), "%s:%d", c->origin, line);
-            else
-                snprintf(v->font_where, sizeof(v->font_where), "--set %s.%s", k->section,
-                         k->name);
-        }
-        label_set_where(c, line, k);
-        return 1;
-    }
+    case KEY_TRAIL:
+        return set_trail(c, line, k, value, p);
+    case KEY_TEXT:
+        return set_text(c, line, k, value, p);
     case KEY_CAMERA:
         return set_camera(c, line, k, value);
     default:

@@ -60,6 +60,71 @@ static long pool_add(struct sp_timeline *tl, const char *text, size_t n)
     return (long)(tl->pool_used - n - 1);
 }
 
+/* The text of a caption or a pause note, after its ':' (at colon), into
+ * *text and *tn (its bytes; surrounding double quotes taken off). 0, or 1
+ * when it was refused (said): a comment sign where it would cut the text,
+ * or more than a comment after a closing quote. */
+static int cue_text(const char *origin, int line, enum sp_cue_kind kind, const char *colon,
+                    const char **text, size_t *tn)
+{
+    const char *t = *text = colon + 1 + strspn(colon + 1, " \t");
+    size_t at;
+    const enum sp_ini_text how = t > colon + 1 && (*t == '#' || *t == ';')
+                                     ? SP_INI_TEXT_COMMENT : sp_ini_text(t, tn, &at);
+    if (how == SP_INI_TEXT_COMMENT) {
+        report(origin, line, "[timeline] %s: ' %c' would start a comment here; to show it, "
+               "write the text in double quotes (%s: \"Run %c3\"); a comment may follow "
+               "the closing quote", kind == SP_CUE_CAPTION ? "caption" : "pause note",
+               t > colon + 1 && (*t == '#' || *t == ';') ? *t : t[at],
+               kind == SP_CUE_CAPTION ? "caption" : "pause 3",
+               t > colon + 1 && (*t == '#' || *t == ';') ? *t : t[at]);
+        return 1;
+    }
+    if (how == SP_INI_TEXT_AFTER_QUOTE) {
+        report(origin, line, "[timeline] %s: only a '#' or ';' comment may follow the "
+               "closing quote, not '%.*s'", kind == SP_CUE_CAPTION ? "caption" : "pause note",
+               (int)(*tn - at), t + at);
+        return 1;
+    }
+    if (*tn >= 2 && t[0] == '"' && t[*tn - 1] == '"') /* quotes, as title's */
+        *text += 1, *tn -= 2;
+    return 0;
+}
+
+/* The number of a speed or pause cue (rest: what follows its verb; a
+ * pause's ends at its note's colon, both at comment) into *value. 0, or 1
+ * when it is missing or out of range (said). */
+static int cue_number(const char *origin, int line, enum sp_cue_kind kind, const char *rest,
+                      const char *colon, const char *comment, double *value)
+{
+    char num[64];
+    const char *wrong;
+    const char *end = colon && colon < comment && kind == SP_CUE_PAUSE ? colon : comment;
+    const char *v = rest + strspn(rest, " \t");
+    size_t n = end > v ? (size_t)(end - v) : 0;
+    while (n && (v[n - 1] == ' ' || v[n - 1] == '\t'))
+        n--;
+    if (!n) {
+        report(origin, line, "[timeline] %s needs a %s; write '%s'",
+               kind == SP_CUE_SPEED ? "speed" : "pause",
+               kind == SP_CUE_SPEED ? "speed (simulated s per video s)" : "duration in video seconds",
+               kind == SP_CUE_SPEED ? "speed S, e.g. speed 0.25" : "pause D[: NOTE], e.g. pause 3: a note");
+        return 1;
+    }
+    snprintf(num, sizeof(num), "%.*s", (int)(n < sizeof(num) ? n : sizeof(num) - 1), v);
+    wrong = n >= sizeof(num) ? SP_DECIMAL_NOT
+          : sp_decimal_in(num, 0, kind == SP_CUE_SPEED ? 1e4 : MAX_PAUSE, SP_DECIMAL_ABOVE, value);
+    if (wrong) {
+        report(origin, line, "[timeline] %s %.*s: %s; expected %s%s",
+               kind == SP_CUE_SPEED ? "speed" : "pause", (int)n, v, wrong,
+               kind == SP_CUE_SPEED ? "a speed S with 0 < S <= 1e4 simulated s per video s"
+                                    : "a duration D with 0 < D <= 3600 video s",
+               !strcmp(wrong, SP_DECIMAL_NOT) ? ", " SP_DECIMAL_ALLOWED : "");
+        return 1;
+    }
+    return 0;
+}
+
 int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, const char *time,
                      const char *cue)
 {
@@ -104,7 +169,6 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
     }
     const char *rest = cue + vn, *text = "", *comment = rest + strlen(rest);
     size_t tn = 0;
-    char num[64];
     for (const char *p = rest; *p; p++) /* where a comment would start, unquoted */
         if ((*p == '#' || *p == ';') && p > cue && (p[-1] == ' ' || p[-1] == '\t')) {
             comment = p;
@@ -116,54 +180,11 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
                "'caption: TEXT' ('caption:' alone clears the caption)");
         return 1;
     }
-    if (colon && colon < comment && kind != SP_CUE_SPEED) { /* the caption or the note */
-        text = colon + 1 + strspn(colon + 1, " \t");
-        size_t at;
-        const enum sp_ini_text how = text > colon + 1 && (*text == '#' || *text == ';')
-                                         ? SP_INI_TEXT_COMMENT : sp_ini_text(text, &tn, &at);
-        if (how == SP_INI_TEXT_COMMENT) {
-            report(origin, line, "[timeline] %s: ' %c' would start a comment here; to show it, "
-                   "write the text in double quotes (%s: \"Run %c3\"); a comment may follow "
-                   "the closing quote", kind == SP_CUE_CAPTION ? "caption" : "pause note",
-                   text > colon + 1 && (*text == '#' || *text == ';') ? *text : text[at],
-                   kind == SP_CUE_CAPTION ? "caption" : "pause 3", 
-                   text > colon + 1 && (*text == '#' || *text == ';') ? *text : text[at]);
-            return 1;
-        }
-        if (how == SP_INI_TEXT_AFTER_QUOTE) {
-            report(origin, line, "[timeline] %s: only a '#' or ';' comment may follow the "
-                   "closing quote, not '%.*s'", kind == SP_CUE_CAPTION ? "caption" : "pause note",
-                   (int)(tn - at), text + at);
-            return 1;
-        }
-        if (tn >= 2 && text[0] == '"' && text[tn - 1] == '"') /* quotes, as title's */
-            text++, tn -= 2;
-    }
-    if (kind != SP_CUE_CAPTION) {
-        const char *end = colon && colon < comment && kind == SP_CUE_PAUSE ? colon : comment;
-        const char *v = rest + strspn(rest, " \t");
-        size_t n = end > v ? (size_t)(end - v) : 0;
-        while (n && (v[n - 1] == ' ' || v[n - 1] == '\t'))
-            n--;
-        if (!n) {
-            report(origin, line, "[timeline] %s needs a %s; write '%s'",
-                   kind == SP_CUE_SPEED ? "speed" : "pause",
-                   kind == SP_CUE_SPEED ? "speed (simulated s per video s)" : "duration in video seconds",
-                   kind == SP_CUE_SPEED ? "speed S, e.g. speed 0.25" : "pause D[: NOTE], e.g. pause 3: a note");
-            return 1;
-        }
-        snprintf(num, sizeof(num), "%.*s", (int)(n < sizeof(num) ? n : sizeof(num) - 1), v);
-        wrong = n >= sizeof(num) ? SP_DECIMAL_NOT
-              : sp_decimal_in(num, 0, kind == SP_CUE_SPEED ? 1e4 : MAX_PAUSE, SP_DECIMAL_ABOVE, &value);
-        if (wrong) {
-            report(origin, line, "[timeline] %s %.*s: %s; expected %s%s",
-                   kind == SP_CUE_SPEED ? "speed" : "pause", (int)n, v, wrong,
-                   kind == SP_CUE_SPEED ? "a speed S with 0 < S <= 1e4 simulated s per video s"
-                                        : "a duration D with 0 < D <= 3600 video s",
-                   !strcmp(wrong, SP_DECIMAL_NOT) ? ", " SP_DECIMAL_ALLOWED : "");
-            return 1;
-        }
-    }
+    if (colon && colon < comment && kind != SP_CUE_SPEED && /* the caption or the note */
+        cue_text(origin, line, kind, colon, &text, &tn))
+        return 1;
+    if (kind != SP_CUE_CAPTION && cue_number(origin, line, kind, rest, colon, comment, &value))
+        return 1;
     /* no byte limit: the caption band's check (compose.c) refuses, with
      * FILE:LINE, a text that cannot fit its lines */
     if (last_line && t < last_t) {

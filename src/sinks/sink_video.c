@@ -204,46 +204,18 @@ static int set_speed(AVCodecContext *enc, const struct video_codec *vc,
     return ret;
 }
 
-static int video_open(struct sp_sink *s)
+/* Sets up v->enc (size, threads, frame rate, BT.709 limited range, speed
+ * and quality) and opens it. 0, or SP_E_CODEC (said). */
+static int encoder_open(struct sp_sink *s, const AVCodec *codec, AVRational rate)
 {
     struct video *v = s->priv;
     const struct sp_sink_desc *d = &s->desc;
     const struct video_codec *vc = v->codec;
-    const AVCodec *codec = avcodec_find_encoder_by_name(vc->encoder);
-    enum AVPixelFormat pix = d->alpha ? AV_PIX_FMT_YUVA420P : AV_PIX_FMT_YUV420P;
-    AVDictionary *mux_opts = NULL; /* owned, freed at fail/return */
-    AVRational rate = av_d2q(d->fps, 1001000);
     char crf[16];
-    int err = SP_E_CODEC, ret;
-
-    /* x264 and the muxer chat at INFO; keep errors unless the caller chose. */
-    if (av_log_get_level() == AV_LOG_INFO)
-        av_log_set_level(AV_LOG_ERROR);
-
-    if ((err = sp_outfile_open(&v->file, s->path, 0)) != 0)
-        return err;
-    err = SP_E_CODEC; /* what a failure below is, unless it says */
-    ret = avformat_alloc_output_context2(&v->oc, NULL, vc->muxer, v->file.url);
-    if (ret < 0) {
-        err = av_failed(s, "cannot set up the muxer", ret, SP_E_CODEC);
-        goto fail;
-    }
-    /* No random Matroska UIDs, no version strings: the same bytes each run. */
-    v->oc->flags |= AVFMT_FLAG_BITEXACT;
-    v->st = avformat_new_stream(v->oc, NULL);
-    v->enc = avcodec_alloc_context3(codec);
-    v->frame = av_frame_alloc();
-    v->planes = av_frame_alloc();
-    v->pkt = av_packet_alloc();
-    if (!v->st || !v->enc || !v->frame || !v->planes || !v->pkt) {
-        sp_log_error("%s: out of memory for the video encoder", s->path);
-        err = SP_E_NOMEM;
-        goto fail;
-    }
-
+    int ret;
     v->enc->width = d->width;
     v->enc->height = d->height;
-    v->enc->pix_fmt = pix;
+    v->enc->pix_fmt = d->alpha ? AV_PIX_FMT_YUVA420P : AV_PIX_FMT_YUV420P;
     /* A fixed thread count, not one per core: x264's output depends on its
      * threads, so the same scene gives the same bytes on any machine. */
     v->enc->thread_count = VIDEO_THREADS;
@@ -271,8 +243,66 @@ static int video_open(struct sp_sink *s)
     if (ret < 0) {
         sp_log_error("%s: cannot open the %s encoder: %s", s->path,
                      vc->encoder, av_err2str(ret));
+        return SP_E_CODEC;
+    }
+    return 0;
+}
+
+/* The MP4 muxer's options into *opts: faststart, the scene's tags when
+ * there are (tags), and a movie timescale that holds frame times at rate
+ * exactly. */
+static void mp4_options(AVDictionary **opts, AVRational rate, int tags)
+{
+    /* The movie header keeps the file's duration in movie_timescale
+     * units, 1000 by default: 20 frames at 60 fps became 0.334 s, and
+     * ffmpeg's concat demuxer starts the next shard's frames there, off
+     * k / fps. The track's own timescale (the mov muxer doubles the
+     * time base's denominator up to 10000 at least) holds it exactly. */
+    char timescale[16];
+    int ts = rate.num;
+    while (ts < 10000)
+        ts *= 2;
+    snprintf(timescale, sizeof(timescale), "%d", ts);
+    av_dict_set(opts, "movflags", tags ? "+faststart+use_metadata_tags" : "+faststart", 0);
+    av_dict_set(opts, "movie_timescale", timescale, 0);
+}
+
+static int video_open(struct sp_sink *s)
+{
+    struct video *v = s->priv;
+    const struct sp_sink_desc *d = &s->desc;
+    const struct video_codec *vc = v->codec;
+    const AVCodec *codec = avcodec_find_encoder_by_name(vc->encoder);
+    AVDictionary *mux_opts = NULL; /* owned, freed at fail/return */
+    AVRational rate = av_d2q(d->fps, 1001000);
+    int err = SP_E_CODEC, ret;
+
+    /* x264 and the muxer chat at INFO; keep errors unless the caller chose. */
+    if (av_log_get_level() == AV_LOG_INFO)
+        av_log_set_level(AV_LOG_ERROR);
+
+    if ((err = sp_outfile_open(&v->file, s->path, 0)) != 0)
+        return err;
+    err = SP_E_CODEC; /* what a failure below is, unless it says */
+    ret = avformat_alloc_output_context2(&v->oc, NULL, vc->muxer, v->file.url);
+    if (ret < 0) {
+        err = av_failed(s, "cannot set up the muxer", ret, SP_E_CODEC);
         goto fail;
     }
+    /* No random Matroska UIDs, no version strings: the same bytes each run. */
+    v->oc->flags |= AVFMT_FLAG_BITEXACT;
+    v->st = avformat_new_stream(v->oc, NULL);
+    v->enc = avcodec_alloc_context3(codec);
+    v->frame = av_frame_alloc();
+    v->planes = av_frame_alloc();
+    v->pkt = av_packet_alloc();
+    if (!v->st || !v->enc || !v->frame || !v->planes || !v->pkt) {
+        sp_log_error("%s: out of memory for the video encoder", s->path);
+        err = SP_E_NOMEM;
+        goto fail;
+    }
+    if ((err = encoder_open(s, codec, rate)) != 0)
+        goto fail;
     ret = avcodec_parameters_from_context(v->st->codecpar, v->enc);
     if (ret < 0) {
         err = av_failed(s, "cannot copy the encoder's parameters", ret,
@@ -296,21 +326,8 @@ static int video_open(struct sp_sink *s)
             av_dict_set(&v->oc->metadata, d->text[i].key, d->text[i].text, 0);
     v->text = d->text;
     v->n_text = d->n_text;
-    if (!strcmp(vc->muxer, "mp4")) {
-        /* The movie header keeps the file's duration in movie_timescale
-         * units, 1000 by default: 20 frames at 60 fps became 0.334 s, and
-         * ffmpeg's concat demuxer starts the next shard's frames there, off
-         * k / fps. The track's own timescale (the mov muxer doubles the
-         * time base's denominator up to 10000 at least) holds it exactly. */
-        char timescale[16];
-        int ts = rate.num;
-        while (ts < 10000)
-            ts *= 2;
-        snprintf(timescale, sizeof(timescale), "%d", ts);
-        av_dict_set(&mux_opts, "movflags", d->n_text ? "+faststart+use_metadata_tags"
-                                                     : "+faststart", 0);
-        av_dict_set(&mux_opts, "movie_timescale", timescale, 0);
-    }
+    if (!strcmp(vc->muxer, "mp4"))
+        mp4_options(&mux_opts, rate, d->n_text != 0);
     ret = avformat_write_header(v->oc, &mux_opts);
     if (ret < 0) {
         err = av_failed(s, "cannot write the header", ret, SP_E_IO);

@@ -463,6 +463,121 @@ static int check_spatial(struct sp_sweep_desc *d, const struct sp_scene *base)
     return 0;
 }
 
+/* Checks --vary's axis a: a physics key with a number, given once, its
+ * ends valid for base, its values apart. 0, or SP_E_INPUT (said). */
+static int check_axis(const struct sp_sweep_desc *d, const struct sp_scene *base, int a)
+{
+    const char *k = d->axis[a].key;
+    if (strncmp(k, "pendulum.", 9) && strncmp(k, "initial.", 8) && strncmp(k, "pivot.", 6)) {
+        sp_log_error("--vary %s: only the physics can be varied: keys of [pendulum], "
+                     "[initial] and [pivot] (see 'springpend keys')", k);
+        return SP_E_INPUT;
+    }
+    if (!sp_scene_key_unit(k)) {
+        sp_log_error("--vary %s: no such numeric key; see 'springpend keys'", k);
+        return SP_E_INPUT;
+    }
+    if (d->measure == SP_MEASURE_POINCARE && !strcmp(k, "initial.angle_rate")) {
+        sp_log_error("--vary initial.angle_rate: a poincare sweep derives it from the "
+                     "energy (--energy); vary initial.length, initial.angle or "
+                     "initial.length_rate instead");
+        return SP_E_INPUT;
+    }
+    for (int b = 0; b < a; b++)
+        if (!strcmp(k, d->axis[b].key)) {
+            sp_log_error("--vary %s is given twice", k);
+            return SP_E_INPUT;
+        }
+    for (int end = 0; end < 2; end++) {
+        struct sp_scene s = *base;
+        char origin[96];
+        snprintf(origin, sizeof(origin), "--vary %s", k);
+        if (sp_scene_set_number(&s, k, end ? d->axis[a].to : d->axis[a].from, origin))
+            return SP_E_INPUT;
+    }
+    /* distinct points, far enough apart for the figure's axis to tell
+     * them apart (a span of a few ulps hung the tick loop) */
+    const struct sp_sweep_axis *x = &d->axis[a];
+    const double step = fabs(x->to - x->from) / (x->count > 1 ? x->count - 1 : 1);
+    if (x->count == 1 && x->from != x->to) {
+        sp_log_error("--vary %s=%.9g:%.9g:1: one value cannot run from %.9g to %.9g; "
+                     "allowed: COUNT 2 or more for a range, or FROM = TO for one value "
+                     "(--vary %s=%.9g:%.9g:1)", k, x->from, x->to, x->from, x->to, k,
+                     x->from, x->from);
+        return SP_E_INPUT;
+    }
+    /* relative to the values' size, as the axis code labels any range
+     * whose span is over 1e-9 of its magnitude (axis.c), tiny ones too;
+     * a step of DBL_MIN or less is no longer a number's full precision */
+    if (x->count > 1 && !(step > 1e-9 * fmax(fabs(x->from), fabs(x->to)) && step > DBL_MIN)) {
+        sp_log_error("--vary %s=%.17g:%.17g:%d: the %d values are %s; allowed: FROM and TO "
+                     "apart by more than 1e-9 of the larger of |FROM| and |TO| for each "
+                     "step, and by more than %g (or COUNT 1)", k,
+                     x->from, x->to, x->count, x->count,
+                     x->from == x->to ? "all the same" : "too close to tell apart", DBL_MIN);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+/* A basins map: two axes, and a damped, driven scene at both corners of
+ * the grid. 0, or SP_E_INPUT (said). */
+static int check_basins(const struct sp_sweep_desc *d, const struct sp_scene *base)
+{
+    if (d->n_axes != 2) {
+        sp_log_error("--measure basins draws a map over two keys (two starting keys, or "
+                     "one and a parameter): give two --vary");
+        return SP_E_INPUT;
+    }
+    for (int end = 0; end < 2; end++) {
+        struct sp_scene s = *base;
+        for (int a = 0; a < d->n_axes; a++)
+            sp_scene_set_number(&s, d->axis[a].key, end ? d->axis[a].to : d->axis[a].from,
+                                "--vary");
+        if (!(s.pivot.frequency > 0 && s.pivot.amplitude > 0 && s.pendulum.damping > 0)) {
+            sp_log_error("--measure basins needs a damped, driven scene over the whole "
+                         "grid: pivot.frequency > 0, pivot.amplitude > 0 and "
+                         "pendulum.damping > 0 (here %g Hz, %g m, %g N*s/m)",
+                         s.pivot.frequency, s.pivot.amplitude, s.pendulum.damping);
+            return SP_E_INPUT;
+        }
+    }
+    return 0;
+}
+
+/* --time for the lyapunov and spectrum measures: a whole number (2 or
+ * more) of the fixed steps' renormalisations, or renormalisations the
+ * adaptive steps resolve. 0, or SP_E_INPUT (said). */
+static int check_renormalisation(const struct sp_sweep_desc *d, const struct sp_scene *base)
+{
+    struct sp_lyap_grid g;
+    sp_sweep_lyap_grid(d->time, base->integrator.method, base->integrator.dt, &g);
+    const double x = d->time / g.tau;
+    if (g.fixed && (g.K < 2 || fabs(x - (double)g.K) > 1e-9 * x)) {
+        const double lo = fmax(2, floor(x)) * g.tau, hi = fmax(2, ceil(x)) * g.tau;
+        char alt[64] = "";
+        if (hi != lo)
+            snprintf(alt, sizeof(alt), " or %.10g", hi);
+        sp_log_error("--time %g: %s renormalises the tangent every tau = %.10g s (%ld steps "
+                     "of integrator.dt = %g s) and measures a whole number of them, at "
+                     "least 2; use --time %.10g%s",
+                     d->time, measure_names[d->measure], g.tau, g.m,
+                     base->integrator.dt, lo, alt);
+        return SP_E_INPUT;
+    }
+    /* dop853 lands on every renormalisation: a step below about 1e-14
+     * of the time collapses (batch.c), so keep tau well above that */
+    const double floor_s = 1e-9 * fmax(1, d->transient + d->time);
+    if (!g.fixed && !(g.tau > floor_s)) {
+        sp_log_error("--time %g: too short to measure: %s renormalises every T/%ld = %g s, "
+                     "below what the adaptive steps resolve after %g s (%g s); use --time "
+                     "%g or more", d->time, measure_names[d->measure], g.K, g.tau,
+                     d->transient + d->time, floor_s, 2 * floor_s * 1.000001);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given)
 {
     header_name(d->scene, sizeof(d->scene), base->name);
@@ -477,57 +592,9 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
     }
     int varies_frequency = 0;
     for (int a = 0; a < d->n_axes; a++) {
-        const char *k = d->axis[a].key;
-        if (strncmp(k, "pendulum.", 9) && strncmp(k, "initial.", 8) && strncmp(k, "pivot.", 6)) {
-            sp_log_error("--vary %s: only the physics can be varied: keys of [pendulum], "
-                         "[initial] and [pivot] (see 'springpend keys')", k);
+        if (check_axis(d, base, a))
             return SP_E_INPUT;
-        }
-        if (!sp_scene_key_unit(k)) {
-            sp_log_error("--vary %s: no such numeric key; see 'springpend keys'", k);
-            return SP_E_INPUT;
-        }
-        if (d->measure == SP_MEASURE_POINCARE && !strcmp(k, "initial.angle_rate")) {
-            sp_log_error("--vary initial.angle_rate: a poincare sweep derives it from the "
-                         "energy (--energy); vary initial.length, initial.angle or "
-                         "initial.length_rate instead");
-            return SP_E_INPUT;
-        }
-        for (int b = 0; b < a; b++)
-            if (!strcmp(k, d->axis[b].key)) {
-                sp_log_error("--vary %s is given twice", k);
-                return SP_E_INPUT;
-            }
-        varies_frequency |= !strcmp(k, "pivot.frequency");
-        for (int end = 0; end < 2; end++) {
-            struct sp_scene s = *base;
-            char origin[96];
-            snprintf(origin, sizeof(origin), "--vary %s", k);
-            if (sp_scene_set_number(&s, k, end ? d->axis[a].to : d->axis[a].from, origin))
-                return SP_E_INPUT;
-        }
-        /* distinct points, far enough apart for the figure's axis to tell
-         * them apart (a span of a few ulps hung the tick loop) */
-        const struct sp_sweep_axis *x = &d->axis[a];
-        const double step = fabs(x->to - x->from) / (x->count > 1 ? x->count - 1 : 1);
-        if (x->count == 1 && x->from != x->to) {
-            sp_log_error("--vary %s=%.9g:%.9g:1: one value cannot run from %.9g to %.9g; "
-                         "allowed: COUNT 2 or more for a range, or FROM = TO for one value "
-                         "(--vary %s=%.9g:%.9g:1)", k, x->from, x->to, x->from, x->to, k,
-                         x->from, x->from);
-            return SP_E_INPUT;
-        }
-        /* relative to the values' size, as the axis code labels any range
-         * whose span is over 1e-9 of its magnitude (axis.c), tiny ones too;
-         * a step of DBL_MIN or less is no longer a number's full precision */
-        if (x->count > 1 && !(step > 1e-9 * fmax(fabs(x->from), fabs(x->to)) && step > DBL_MIN)) {
-            sp_log_error("--vary %s=%.17g:%.17g:%d: the %d values are %s; allowed: FROM and TO "
-                         "apart by more than 1e-9 of the larger of |FROM| and |TO| for each "
-                         "step, and by more than %g (or COUNT 1)", k,
-                         x->from, x->to, x->count, x->count,
-                         x->from == x->to ? "all the same" : "too close to tell apart", DBL_MIN);
-            return SP_E_INPUT;
-        }
+        varies_frequency |= !strcmp(d->axis[a].key, "pivot.frequency");
     }
     if (sp_sweep_points(d) > SP_SWEEP_MAX_POINTS) {
         sp_log_error("--vary: %ld grid points; at most %ld (the figure keeps two numbers "
@@ -545,26 +612,8 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
                      "(--measure orbit, pivot.frequency > 0)");
         return SP_E_INPUT;
     }
-    if (d->measure == SP_MEASURE_BASINS) {
-        if (d->n_axes != 2) {
-            sp_log_error("--measure basins draws a map over two keys (two starting keys, or "
-                         "one and a parameter): give two --vary");
-            return SP_E_INPUT;
-        }
-        for (int end = 0; end < 2; end++) {
-            struct sp_scene s = *base;
-            for (int a = 0; a < d->n_axes; a++)
-                sp_scene_set_number(&s, d->axis[a].key, end ? d->axis[a].to : d->axis[a].from,
-                                    "--vary");
-            if (!(s.pivot.frequency > 0 && s.pivot.amplitude > 0 && s.pendulum.damping > 0)) {
-                sp_log_error("--measure basins needs a damped, driven scene over the whole "
-                             "grid: pivot.frequency > 0, pivot.amplitude > 0 and "
-                             "pendulum.damping > 0 (here %g Hz, %g m, %g N*s/m)",
-                             s.pivot.frequency, s.pivot.amplitude, s.pendulum.damping);
-                return SP_E_INPUT;
-            }
-        }
-    }
+    if (d->measure == SP_MEASURE_BASINS && check_basins(d, base))
+        return SP_E_INPUT;
     if (d->fast && (d->measure != SP_MEASURE_LYAPUNOV ||
                     base->integrator.method != SP_METHOD_RK4 || grid_forced(d, base))) {
         sp_log_error("--fast: the fast kernel steps the lyapunov measure of undamped, undriven "
@@ -593,33 +642,9 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
         sp_log_error("--time must be > 0 and --transient >= 0 (simulated seconds)");
         return SP_E_INPUT;
     }
-    if (d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_SPECTRUM) {
-        struct sp_lyap_grid g;
-        sp_sweep_lyap_grid(d->time, base->integrator.method, base->integrator.dt, &g);
-        const double x = d->time / g.tau;
-        if (g.fixed && (g.K < 2 || fabs(x - (double)g.K) > 1e-9 * x)) {
-            const double lo = fmax(2, floor(x)) * g.tau, hi = fmax(2, ceil(x)) * g.tau;
-            char alt[64] = "";
-            if (hi != lo)
-                snprintf(alt, sizeof(alt), " or %.10g", hi);
-            sp_log_error("--time %g: %s renormalises the tangent every tau = %.10g s (%ld steps "
-                         "of integrator.dt = %g s) and measures a whole number of them, at "
-                         "least 2; use --time %.10g%s",
-                         d->time, measure_names[d->measure], g.tau, g.m,
-                         base->integrator.dt, lo, alt);
-            return SP_E_INPUT;
-        }
-        /* dop853 lands on every renormalisation: a step below about 1e-14
-         * of the time collapses (batch.c), so keep tau well above that */
-        const double floor_s = 1e-9 * fmax(1, d->transient + d->time);
-        if (!g.fixed && !(g.tau > floor_s)) {
-            sp_log_error("--time %g: too short to measure: %s renormalises every T/%ld = %g s, "
-                         "below what the adaptive steps resolve after %g s (%g s); use --time "
-                         "%g or more", d->time, measure_names[d->measure], g.K, g.tau,
-                         d->transient + d->time, floor_s, 2 * floor_s * 1.000001);
-            return SP_E_INPUT;
-        }
-    }
+    if ((d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_SPECTRUM) &&
+        check_renormalisation(d, base))
+        return SP_E_INPUT;
     return 0;
 }
 

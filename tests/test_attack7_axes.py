@@ -18,7 +18,11 @@ leftovers there, each check run as the attacker ran it:
   the rule applied;
 - issue 20's leftovers: sweep legends wrote "-" where tick labels write
   "−" (U+2212), and a sweep figure's axis names were at body size, a
-  still's at the tick labels' size (doc/figures.md).
+  still's at the tick labels' size (doc/figures.md);
+- the eighth pass (doc/notes/2026-11-27/attack8.md), finding 5: a still's
+  colour bar at tiny speeds labelled every tick 0.0000000000000000; now
+  "2×10⁻¹⁶"; finding 13: a PNG figure too small in pixels was told to
+  lower --dpi; now to raise it.
 usage: test_attack7_axes.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import csv
 import html
@@ -160,6 +164,27 @@ r = run("sweep", chaotic, *g, "--dpi", "11", "-o", "tiny.png")
 ok(r.returncode == 2 and not os.path.exists(path("tiny.png")) and f"--dpi {least} or more" in err(r)
    and "4 px" in err(r),
    f"sweep --size 8.6cm --dpi 11: refused, naming --dpi {least} (exit {r.returncode}: {err(r)})")
+# attack8.md finding 5: the still's colour bar at a speed of 5e-16 m/s labelled
+# every tick 0.0000000000000000 across the next panel; its ticks (a round
+# step under the top speed, v = omega * r) are now written with a power of ten
+vmax = 1e-15 * 0.5   # initial.angle_rate (rad/s) times initial.length (m), gravity 0
+r = run("still", default, "--at", "3", "--size", "8.6cm", "--set", "view.colorbar=true",
+        "--set", "pendulum.gravity=0", "--set", "initial.angle=0", "--set", "initial.angle_rate=1e-15",
+        "--set", "initial.length=0.5", "-o", "cbt.pdf", "-q")
+bar = subprocess.run(["pdftotext", "-layout", path("cbt.pdf"), "-"], capture_output=True,
+                     text=True).stdout if r.returncode == 0 else ""
+e = math.floor(math.log10(vmax))
+sup = str(e).replace("-", "⁻").translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
+ok(r.returncode == 0 and "0.0000000" not in bar and f"×10{sup}" in bar,
+   f"a colour bar up to {vmax:g} m/s: ticks in units of 10^{e} (×10{sup}), no run of zeros "
+   f"(exit {r.returncode}: {err(r)}; {[w for w in bar.split() if '10' in w or '0.00' in w][:6]})")
+
+# attack8.md finding 13: a PNG too small in pixels was told to "lower --dpi"
+r = run("sweep", chaotic, "--vary", "initial.angle=1:179:4", "--measure", "lyapunov", "--time", "2",
+        "--size", "1in", "--dpi", "11", "-o", "few.png")
+ok(r.returncode == 2 and b"raise --dpi or the size" in r.stderr and not os.path.exists(path("few.png")),
+   f"--size 1in --dpi 11 (11x7 px): refused, saying to raise --dpi or the size (exit {r.returncode}: "
+   f"{err(r)})")
 r1 = run("sweep", chaotic, *g, "--dpi", str(least), "-o", "least.png", "-q")
 r2 = run("sweep", chaotic, *g, "--dpi", str(least - 1), "-o", "below.png", "-q")
 ok(r1.returncode == 0 and os.path.exists(path("least.png")) and r2.returncode == 2 and

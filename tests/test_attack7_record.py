@@ -27,6 +27,9 @@ as the attacker ran it:
 - finding 18: invisible characters (Cf, Zl, Zp: U+200B, U+FEFF, U+00AD,
   U+E0041, U+2028) reached the terminal raw in records and messages; they
   are shown escaped, from HarfBuzz's general category.
+- the eighth pass (doc/notes/2026-11-27/attack8.md), finding 9: with
+  POSIXLY_CORRECT set, the merge read its shards' commands stopping at the
+  scene, and refused springpend's own shards.
 usage: test_attack7_record.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
@@ -75,6 +78,15 @@ r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "rm.svg", "--size", "3in",
 c = command("rm.svg")
 ok(r.returncode == 0 and c.endswith("--time 2 --size 3in") and "--shard" not in c and
    "--csv" not in c, f"a merged SVG at --size 3in records it, and no --shard/--csv: {c!r}")
+
+# attack8.md finding 9: POSIXLY_CORRECT stopped the re-parse of a shard's
+# command at its scene, so the merge refused springpend's own shards
+env = dict(os.environ, POSIXLY_CORRECT="1")
+r = run("sweep", "--merge", "-o", "rp.png", "--size", "3in", "--dpi", "200", "-q", "r1.csv", "r2.csv",
+        env=env)
+ok(r.returncode == 0 and same_bytes("one.png", "rp.png"),
+   f"with POSIXLY_CORRECT set, the merge reads its shards' commands as springpend ran them: "
+   f"the one-piece figure's bytes (exit {r.returncode}: {err(r)})")
 
 # ---- finding 19: a shard's command is checked against the shard ----------------
 def forged(name, change):

@@ -117,8 +117,8 @@ int sp_cli_png_pixels(double w_pt, double h_pt, double dpi, const char *what, in
     const double pw = round(w_pt * dpi / 72), ph = round(h_pt * dpi / 72);
     if (!(pw >= 16 && ph >= 16 && pw <= 7680 && ph <= 4320)) {
         sp_log_error("--size %.4g x %.4g in at %g dpi: %.0fx%.0f px; %s is 16x16 to "
-                     "7680x4320 px: lower --dpi or the size", w_pt / 72, h_pt / 72, dpi, pw, ph,
-                     what);
+                     "7680x4320 px: %s --dpi or the size", w_pt / 72, h_pt / 72, dpi, pw, ph,
+                     what, pw > 7680 || ph > 4320 ? "lower" : "raise");
         return SP_E_INPUT;
     }
     *w = (int)pw, *h = (int)ph;

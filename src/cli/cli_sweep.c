@@ -822,9 +822,22 @@ static int merged_command(const struct sp_sweep_merge *m, char **record)
                      help);
         ret = SP_E_INPUT;
     } else {
+        /* read as springpend read the shard's words when it ran them:
+         * options after the scene too, whatever POSIXLY_CORRECT says here
+         * (glibc's getopt reads it afresh at optind = 0) */
+        const char *posix = getenv("POSIXLY_CORRECT");
+        char *kept = posix ? strdup(posix) : NULL;
+        if (posix && !kept) {
+            sp_log_error("out of memory");
+            sp_command_line_free(r);
+            return SP_E_NOMEM;
+        }
+        unsetenv("POSIXLY_CORRECT");
         sp_command_line_parse_into(r);
         ret = parse_args(argc, argv, &o, &c);
         sp_command_line_parse_into(NULL);
+        if (kept)
+            setenv("POSIXLY_CORRECT", kept, 1), free(kept);
         if (ret) {
             sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy is not a sweep "
                          "shard's command springpend runs%s; %s", m->command_path,

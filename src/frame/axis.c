@@ -150,7 +150,12 @@ static void power_of_ten(char *buf, size_t size, int e)
 
 void sp_axis_number_step(char *buf, size_t size, double v, double step)
 {
-    if (!(fabs(v) >= pow(10, SP_AXIS_MAX_DIGITS))) {
+    const int tiny = step_decimals(step) > SP_AXIS_MAX_DECIMALS;
+    if (tiny && v == 0) {
+        snprintf(buf, size, "0");
+        return;
+    }
+    if (!(fabs(v) >= pow(10, SP_AXIS_MAX_DIGITS)) && !tiny) {
         sp_axis_number(buf, size, v, step_decimals(step));
         return;
     }

@@ -59,7 +59,9 @@ void sp_axis_number(char *buf, size_t size, double v, int decimals);
 
 /* Tick v of a scale whose ticks are `step` apart, on its own (a colour
  * bar's, no axis name to hold a factor): as sp_axis_number with the
- * decimals step needs, beyond SP_AXIS_MAX_DIGITS digits "2.5×10⁶". */
+ * decimals step needs; beyond SP_AXIS_MAX_DIGITS digits "2.5×10⁶", and
+ * for steps of more than SP_AXIS_MAX_DECIMALS decimals "2×10⁻¹⁶" (0 is
+ * "0"). */
 void sp_axis_number_step(char *buf, size_t size, double v, double step);
 
 /* Rewrites, in place, each '-' that is a number's sign in text printf

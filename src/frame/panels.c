@@ -1262,9 +1262,9 @@ static int colorbar_label_width(const struct sp_font *font, const char *label, i
 float sp_colorbar_bar_width(const struct sp_font *font, float unit, double max_speed)
 {
     char buf[32];
-    if (max_speed < pow(10, SP_AXIS_MAX_DIGITS)) /* room for the top label, 2 decimals */
+    if (max_speed >= 0.01 && max_speed < pow(10, SP_AXIS_MAX_DIGITS)) /* the top label, 2 decimals */
         sp_axis_number(buf, sizeof(buf), max_speed, 2);
-    else /* "9.99×10⁶" */
+    else /* "9.99×10⁶", "0.00123", "1.00×10⁻¹⁵": as many decimals as ticks 1% apart need */
         sp_axis_number_step(buf, sizeof(buf), max_speed, 0.01 * max_speed);
     return roundf(0.018f * unit) + roundf(0.006f * unit) +
            (float)sp_font_width(font, SP_TEXT_SMALL, buf) + 4;

@@ -1037,11 +1037,11 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
     const long n = sp_sweep_points(d);
     const int conv = n == 1;
     struct row r;
-    long cap = 64, m = 0;
-    double *x = malloc(sizeof(double) * (size_t)cap), (*y)[5] = malloc(sizeof(*y) * (size_t)cap);
+    long cap_x = 0, cap_y = 0, m = 0;
+    double *x = NULL, (*y)[5] = NULL;
     double lo = INFINITY, hi = -INFINITY;
     int ret = 0;
-    if (!x || !y)
+    if (SP_ARRAY_RESERVE(x, cap_x, 1, 64) || SP_ARRAY_RESERVE(y, cap_y, 1, 64))
         goto nomem;
     long last_point = -1;
     /* a map: the last row of each point (T = time) */
@@ -1049,17 +1049,8 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         if (!conv && r.point == last_point)
             m--; /* an earlier T of this point: replaced */
         last_point = r.point;
-        if (m == cap) {
-            cap *= 2;
-            double *nx = realloc(x, sizeof(double) * (size_t)cap);
-            double(*ny)[5] = realloc(y, sizeof(*y) * (size_t)cap);
-            if (nx)
-                x = nx;
-            if (ny)
-                y = ny;
-            if (!nx || !ny)
-                goto nomem;
-        }
+        if (SP_ARRAY_RESERVE(x, cap_x, m + 1, 64) || SP_ARRAY_RESERVE(y, cap_y, m + 1, 64))
+            goto nomem;
         x[m] = conv ? r.v[0] : (double)r.point;
         for (int j = 0; j < 4; j++) {
             y[m][j] = r.v[1 + j];

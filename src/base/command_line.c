@@ -130,11 +130,14 @@ static void put_taken(const struct taken *t, int keep, struct word *out, int *n)
  * its long name, its value as the next word, less what outputs omit (but
  * what keep keeps); an operand, '--' and what follows it as given. The
  * count, or -1 when the words do not read as the parser returned them
- * (then nothing is left out: the caller records every word). */
+ * (then nothing is left out: the caller records every word). *rest: the
+ * index in out of the '--' that ends the options (parsed words only), or
+ * -1 when there is none. */
 static int recorded_words(const struct sp_command_line *r, int unnamed, int keep,
-                          struct word *out)
+                          struct word *out, int *rest)
 {
     int n = 0, k = 0;
+    *rest = -1;
     if (!unnamed || !r->shortopts || r->n_taken < 0) {
         for (int i = 0; i < r->n; i++)
             out[n++] = (struct word){.pre = "", .s = r->w[i]};
@@ -145,6 +148,8 @@ static int recorded_words(const struct sp_command_line *r, int unnamed, int keep
         /* the program, the command, an operand, '--' and all after the
          * last option: as given */
         if (i < 2 || k == r->n_taken || s[0] != '-' || !s[1]) {
+            if (i >= 2 && *rest < 0 && !strcmp(s, "--"))
+                *rest = n;
             out[n++] = (struct word){.pre = "", .s = s};
             continue;
         }
@@ -213,12 +218,30 @@ static char *line_of(const struct sp_command_line *r, int unnamed, int keep,
                         (more && more->n_taken > 0 ? 2 * (size_t)more->n_taken : 0) + 1;
     struct word *w = malloc(room * sizeof(*w));
     char *line = NULL, *shown = NULL;
-    int n = w ? recorded_words(r, unnamed, keep, w) : 0;
+    int rest, n = w ? recorded_words(r, unnamed, keep, w, &rest) : 0;
     if (w && n < 0)
-        n = recorded_words(r, 0, keep, w);
+        n = recorded_words(r, 0, keep, w, &rest);
+    /* more's options go before r's '--' (after it they would be operands):
+     * r's words from its '--' (as given: no word of them points into
+     * itself) are set aside and put back after more's */
+    const int tail = w && more && rest >= 0 ? n - rest : 0;
+    struct word *aside = tail ? malloc((size_t)tail * sizeof(*w)) : NULL;
+    if (tail && !aside) {
+        free(w);
+        return NULL;
+    }
+    if (tail) {
+        memcpy(aside, &w[rest], (size_t)tail * sizeof(*w));
+        n = rest;
+    }
     for (int k = 0; w && more && k < more->n_taken; k++)
         if (!skip || !more->taken[k].name || strcmp(more->taken[k].name, skip))
             put_taken(&more->taken[k], KEEP_NONE, w, &n);
+    if (tail) {
+        memcpy(&w[n], aside, (size_t)tail * sizeof(*w));
+        n += tail;
+        free(aside);
+    }
     const size_t len = w ? text(NULL, 0, n, w) : 0;
     if (w && (line = malloc(len + 1)) && (shown = malloc(4 * len + 1))) { /* at most \xNN a byte */
         text(line, len + 1, n, w);

@@ -1,7 +1,9 @@
 /* springpend: loads modules on first use (see module.h). */
 #include <dlfcn.h>
 #include <errno.h>
+#include <grp.h>
 #include <limits.h>
+#include <pwd.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,11 +24,41 @@ static int same_file(const char *a, const char *b)
            sa.st_ino == sb.st_ino;
 }
 
+/* 1 when members of group gid other than root and this user cannot be
+ * told apart from root or this user: gid 0 (root's group), or this user's
+ * own private group (the process's group, named as the user, with no
+ * members listed: Debian's and Fedora's user private groups, umask 002).
+ * A shared group (staff, users, a cluster's project group) is not. */
+static int own_group(gid_t gid)
+{
+    struct passwd pw, *pwp = NULL;
+    struct group gr, *grp = NULL;
+    char pbuf[4096], gbuf[8192]; /* getpwuid_r/getgrgid_r: modules may load on any thread */
+    if (gid == 0)
+        return 1;
+    return gid == getegid() && !getpwuid_r(geteuid(), &pw, pbuf, sizeof(pbuf), &pwp) && pwp &&
+           !getgrgid_r(gid, &gr, gbuf, sizeof(gbuf), &grp) && grp &&
+           !strcmp(gr.gr_name, pw.pw_name) && (!gr.gr_mem || !gr.gr_mem[0]);
+}
+
+/* Group gid's name into buf, or its number when it has none. */
+static void group_name(gid_t gid, char *buf, size_t size)
+{
+    struct group gr, *grp = NULL;
+    char gbuf[8192];
+    if (!getgrgid_r(gid, &gr, gbuf, sizeof(gbuf), &grp) && grp)
+        snprintf(buf, size, "%s (gid %u)", gr.gr_name, (unsigned)gid);
+    else
+        snprintf(buf, size, "%u", (unsigned)gid);
+}
+
 /* 0 when the file at path, and every folder above it, could only have been
  * put there by root, by this user or by the executable's owner: each is
  * owned by one of them and none is writable by others (a folder writable by
  * all only with the sticky bit, like /tmp, whose entries others cannot
- * replace). Else -1 with why. Links are resolved first. */
+ * replace; writable by its group only when that group is root's or this
+ * user's private group: own_group). Else -1 with why. Links are resolved
+ * first. */
 static int trusted(const char *path, uid_t exe_uid, char *why, size_t size)
 {
     char *real = realpath(path, NULL);
@@ -48,6 +80,12 @@ static int trusted(const char *path, uid_t exe_uid, char *why, size_t size)
             ret = -1;
         } else if ((st.st_mode & S_IWOTH) && !(S_ISDIR(st.st_mode) && (st.st_mode & S_ISVTX))) {
             snprintf(why, size, "%s is writable by anyone; not loaded", p);
+            ret = -1;
+        } else if ((st.st_mode & S_IWGRP) && !(S_ISDIR(st.st_mode) && (st.st_mode & S_ISVTX)) &&
+                   !own_group(st.st_gid)) {
+            char group[96];
+            group_name(st.st_gid, group, sizeof(group));
+            snprintf(why, size, "%s is writable by group %s; not loaded", p, group);
             ret = -1;
         }
         if (!len)

@@ -316,9 +316,25 @@ static int check_size(const struct sweep_opts *o)
 /* What follows the options: the shards' CSVs (--merge) or one SCENE, and
  * what each needs. */
 static int take_operands(int argc, char **argv, struct sweep_opts *o,
-                         const struct sp_sweep_desc *d, int have_measure)
+                         const struct sp_sweep_desc *d, int have_measure, const char *first[128])
 {
     if (o->merge) {
+        /* the sweep itself comes from the shards: an option that describes
+         * it would do nothing, yet land in the figure's record */
+        static const char sweep_options[] = "MTRE";
+        char unused[256] = "";
+        size_t used = 0;
+        for (const char *c = sweep_options; *c; c++)
+            for (const struct option *p = longopts; first[(int)*c] && p->name; p++)
+                if (p->val == *c && used < sizeof(unused))
+                    used += (size_t)snprintf(unused + used, sizeof(unused) - used, "%s--%s %s",
+                                             used ? ", " : "", p->name, first[(int)*c]);
+        if (used) {
+            sp_log_error("--merge takes the sweep from its shards: %s %s not used; drop %s",
+                         unused, strchr(unused, ',') ? "are" : "is",
+                         strchr(unused, ',') ? "them" : "it");
+            return SP_E_INPUT;
+        }
         o->parts = (const char **)argv + optind;
         o->n_parts = argc - optind;
         if (!o->n_parts || !(o->output || o->format) || o->shard || d->n_axes ||
@@ -377,7 +393,7 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
         if (!o->format)
             o->format = 1;
     }
-    return take_operands(argc, argv, o, d, have_measure);
+    return take_operands(argc, argv, o, d, have_measure, first);
 }
 
 /* The figure's path must end in .png, .svg or .pdf and be writable. */

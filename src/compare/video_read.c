@@ -8,6 +8,7 @@
 
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
+#include <libavutil/avstring.h>
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 
@@ -110,6 +111,54 @@ static int metadata_bounded(int fd, const char *path, off_t from, off_t to, int 
     return 0;
 }
 
+/* The containers springpend writes and compares (FFmpeg's demuxer names:
+ * "mov,mp4,m4a,3gp,3g2,mj2" and "matroska,webm" match by any of theirs),
+ * and raw H.264/HEVC streams (an encoder's output with no container). None
+ * of them names another file or URL to open. */
+#define SP_VIDEO_FORMATS "mov,mp4,matroska,webm,gif,h264,hevc"
+#define SP_VIDEO_FORMATS_SAID                                                                \
+    "compare reads the MP4/MOV, WebM/Matroska and GIF files springpend writes (and raw "    \
+    "H.264/HEVC streams)"
+
+/* Opens the file at name (open at fd; path: its name in messages, NULL for
+ * none) in *fmt as one of SP_VIDEO_FORMATS, through the file protocol only:
+ * a playlist (HLS, concat, ...) naming other files, or any other format
+ * FFmpeg would detect from the content, is refused, naming the format found,
+ * before FFmpeg reads anything it names. 0, SP_E_INPUT (logged when path)
+ * or SP_E_NOMEM. */
+static int open_video(AVFormatContext **fmt, const char *name, int fd, const char *path)
+{
+    uint8_t head[4096 + AVPROBE_PADDING_SIZE] = {0};
+    ssize_t got = pread(fd, head, sizeof(head) - AVPROBE_PADDING_SIZE, 0);
+    AVProbeData pd = {.filename = name, .buf = head, .buf_size = got > 0 ? (int)got : 0};
+    const AVInputFormat *found = av_probe_input_format(&pd, 1);
+    AVDictionary *opts = NULL;
+    int ret;
+    if (found && av_match_list(found->name, SP_VIDEO_FORMATS, ',') <= 0) {
+        if (path)
+            sp_log_error("%s: a file of format '%s' (%s), not a video springpend reads; "
+                         SP_VIDEO_FORMATS_SAID,
+                         path, found->name, found->long_name ? found->long_name : "?");
+        return SP_E_INPUT;
+    }
+    if (av_dict_set(&opts, "protocol_whitelist", "file", 0) < 0 ||
+        av_dict_set(&opts, "format_whitelist", SP_VIDEO_FORMATS, 0) < 0) {
+        av_dict_free(&opts);
+        return SP_E_NOMEM;
+    }
+    ret = avformat_open_input(fmt, name, NULL, &opts);
+    av_dict_free(&opts);
+    if (ret == AVERROR(ENOMEM))
+        return SP_E_NOMEM;
+    if (ret < 0) {
+        if (path)
+            sp_log_error("%s: cannot read a video from it: %s (" SP_VIDEO_FORMATS_SAID ")",
+                         path, av_err2str(ret));
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 /* Opens the video at path in *fmt through a descriptor checked by infile.h
  * (a regular file: FFmpeg would wait on a FIFO for ever) and by
  * metadata_bounded; FFmpeg opens that descriptor, not the name again.
@@ -127,15 +176,9 @@ static int open_checked(AVFormatContext **fmt, const char *path)
         return ret;
     }
     snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
-    ret = avformat_open_input(fmt, access(name, R_OK) ? path : name, NULL, NULL);
+    ret = open_video(fmt, access(name, R_OK) ? path : name, fd, path);
     close(fd);
-    if (ret == AVERROR(ENOMEM))
-        return SP_E_NOMEM;
-    if (ret < 0) {
-        sp_log_error("%s: cannot read a video from it: %s", path, av_err2str(ret));
-        return SP_E_INPUT;
-    }
-    return 0;
+    return ret;
 }
 
 int sp_video_reader_open(struct sp_video_reader **out, const char *path)
@@ -274,7 +317,7 @@ int sp_video_frame_size(const char *path, int *width, int *height)
     if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
         metadata_bounded(fd, NULL, 0, st.st_size, 0) == 0) {
         snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
-        if (avformat_open_input(&fmt, name, NULL, NULL) == 0) {
+        if (open_video(&fmt, name, fd, NULL) == 0) {
             /* the headers only: no frame is decoded */
             for (unsigned i = 0; i < fmt->nb_streams && ret; i++) {
                 const AVCodecParameters *p = fmt->streams[i]->codecpar;

@@ -63,7 +63,7 @@ BUGS = [
      "len += start[len] ? 1 : 0;",
      "formats,scene,safety,validation"),
     ("second-signal-exit-128", "base", "src/base/signals.c",
-     "_exit(128 + sig);", "_exit(128);", "safety,output,review"),
+     "_exit(128 + sig);", "_exit(128);", "safety,output,seams"),
     ("time-base-whole-fps", "sinks", "src/sinks/sink_video.c",
      "AVRational rate = av_d2q(d->fps, 1001000);", "AVRational rate = {(int)lround(d->fps), 1};",
      "timing,sink,output"),
@@ -94,7 +94,7 @@ BUGS = [
     ("merge-takes-next-shards-point", "sweep", "src/sweep/sweep_merge.c",
      "struct sp_sweep_rows r = {.d = d, .first = first, .last = last, .point = -1};",
      "struct sp_sweep_rows r = {.d = d, .first = first, .last = last + 1, .point = -1};",
-     "formats,review,sweep,attack6-fixes"),
+     "formats,seams,sweep,attack6-fixes"),
     ("still-scale-ignored", "cli", "src/cli/cli_render.c",
      ".supersample = o.still.scale,", ".supersample = 1,",
      "options,cli,figures"),
@@ -125,7 +125,7 @@ BUGS = [
     ("cairo-ball-darker", "render", "src/render/draw_cairo.c",
      "{{0, 1.0}, {0.45, 0.95}, {0.85, 0.62}, {1, 0.38}}",
      "{{0, 1.0}, {0.45, 0.85}, {0.85, 0.62}, {1, 0.38}}",
-     "vector-golden,figures,review"),
+     "vector-golden,figures,seams"),
 ]
 
 JOBS = os.environ.get("SP_PLANT_JOBS", "2")

@@ -16,7 +16,7 @@
 double sp_memory_limit(const char **what);
 
 /* The same with every path above under folder root ("" for the real ones):
- * for a test on a made-up tree (tests/test_memory_limit.c). */
+ * for a test on a made-up tree (tests/unit/test_memory_limit.c). */
 double sp_memory_limit_in(const char *root, const char **what);
 
 #endif

@@ -157,7 +157,7 @@ void *sp_module_symbol(const char *name, const char *needed_for, const char *sym
     }
     module = loaded[slot].handle;
     if (!module) {
-        char exe[PATH_MAX], up[PATH_MAX + 4], where[4][PATH_MAX + 256];
+        char exe[PATH_MAX], up[PATH_MAX + 4], up2[PATH_MAX + 8], where[4][PATH_MAX + 256];
         char tried[4 * (sizeof(where[0]) + PATH_MAX + 128 + 2)] = "";
         struct stat st;
         int n_where = 0;
@@ -168,10 +168,12 @@ void *sp_module_symbol(const char *name, const char *needed_for, const char *sym
             if (slash)
                 *slash = '\0';
             snprintf(up, sizeof(up), "%s/..", exe);
-            /* The build tree: the executable, or a test one folder down. */
+            snprintf(up2, sizeof(up2), "%s/../..", exe);
+            /* The build tree: the executable, or a test one or two folders
+             * down (tests/, tests/unit/). */
             if (same_file(exe, SP_BUILD_DIR))
                 snprintf(where[n_where++], sizeof(where[0]), "%s/%s", exe, name);
-            else if (same_file(up, SP_BUILD_DIR))
+            else if (same_file(up, SP_BUILD_DIR) || same_file(up2, SP_BUILD_DIR))
                 snprintf(where[n_where++], sizeof(where[0]), "%s/%s", SP_BUILD_DIR, name);
             /* The installed layout, wherever the prefix now is. */
             snprintf(where[n_where++], sizeof(where[0]), "%s/%s/%s", exe, SP_MODULE_RELDIR, name);

@@ -2,7 +2,7 @@
  * SP_COMPARE_PIXELMATCH), as mapbox/pixelmatch defines it
  * (https://github.com/mapbox/pixelmatch, index.js, ISC licence; written here
  * from its description, checked against the npm package by
- * tests/test_pixelmatch.py):
+ * tests/e2e/test_pixelmatch.py):
  *
  *   - colour distance: the squared YIQ difference of Kotsarenko and Ramos,
  *     "Measuring perceived color difference using YIQ NTSC transmission color

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "../tap.h"
+#include "../unit/tap.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -41,7 +41,7 @@ SCENE_S = float(next((a.split("=")[1] for a in sys.argv if a.startswith("--scene
 W, H, FPS = 1920, 1080, 60
 SECONDS = 2 if quick else 10
 N = SECONDS * FPS
-PEER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared",
+PEER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared",
                     "peers", "mpl_peer.py")
 PEER = os.environ.get("SP_MPL_PEER", PEER)
 

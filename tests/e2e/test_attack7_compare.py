@@ -197,11 +197,17 @@ if not shutil.which("taskset") or len(allowed) < 2:
         ok(True, f"{what} under taskset -c 0", skip="taskset missing or a single CPU")
 else:
     two = f"{allowed[0]},{allowed[1]}"
-    # main: 3 threads (2 workers) on the one CPU allowed
+    # main: 3 threads (2 workers) on the one CPU allowed; T = 100 s, about 0.2 s of
+    # work, so that the 10 ms samples see every worker
     sweep = ["sweep", chaotic, "--vary", "initial.angle=1:179:16", "--vary",
-             "initial.length=0.8:1.2:8", "--measure", "lyapunov", "--time", "5", "-q",
+             "initial.length=0.8:1.2:8", "--measure", "lyapunov", "--time", "100", "-q",
              "-o", "-"]
     (r1, t1), (r2, t2) = most_tasks(sweep, str(allowed[0])), most_tasks(sweep, two)
+    for _ in range(3):  # sampled: on a loaded machine a 10 ms sample can miss a worker
+        if t1 < t2:
+            break
+        r2, t = most_tasks(sweep, two)
+        t2 = max(t2, t)
     ok(r1 == 0 and r2 == 0 and t1 < t2,
        f"sweep under taskset -c {allowed[0]} runs fewer workers than under taskset -c {two} "
        f"(most threads at once: {t1} and {t2})")
@@ -210,6 +216,12 @@ else:
     (r1, t1) = most_tasks(seq, str(allowed[0]))
     shutil.rmtree(path("sq"), ignore_errors=True)
     (r2, t2) = most_tasks(seq, two)
+    for _ in range(3):
+        if t1 < t2:
+            break
+        shutil.rmtree(path("sq"), ignore_errors=True)
+        r2, t = most_tasks(seq, two)
+        t2 = max(t2, t)
     ok(r1 == 0 and r2 == 0 and t1 < t2,
        f"a PNG sequence under taskset -c {allowed[0]} runs fewer writers than under taskset -c "
        f"{two} (most threads at once: {t1} and {t2})")

@@ -5,7 +5,7 @@
  * of the dynamic items where they were and are), unchanged items, the
  * settled layer's growth and its rebuild when its past changes, the
  * accumulated layer into base or not, and the items lifted to the dynamic
- * layer. tests/test_draw_cache.py checks the pixels of the GL path. */
+ * layer. tests/e2e/test_draw_cache.py checks the pixels of the GL path. */
 #include <stdlib.h>
 #include <string.h>
 

@@ -78,7 +78,7 @@ unnamed = [k for k in fields if f"`{k}`" not in info_para]
 ok(fields and not unnamed, f"the manual names every field info --json prints ({len(fields)}; unnamed {unnamed})")
 
 # ---- scripts run by hand answer --help ---------------------------------------
-for script in ("bench_render.py", os.path.join("bench", "bench_sweep.py")):
+for script in (os.path.join("bench", "bench_render.py"), os.path.join("bench", "bench_sweep.py")):
     path = os.path.join(src, script)
     r = subprocess.run([sys.executable, path, "--help"], capture_output=True, text=True, timeout=60)
     ok(r.returncode == 0 and "usage:" in r.stdout and "Traceback" not in r.stderr,

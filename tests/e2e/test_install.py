@@ -39,7 +39,7 @@ moved = os.path.join(work, "moved")
 shutil.move(root, moved)
 shutil.rmtree(dest, ignore_errors=True)
 exe = os.path.join(moved, bindir, "springpend")
-scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "default.ini")
+scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenes", "default.ini")
 env = dict(os.environ, PATH=os.path.dirname(exe) + ":" + os.environ["PATH"])
 
 

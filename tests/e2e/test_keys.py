@@ -263,7 +263,7 @@ changed("ens-trails", {"ensemble.count": 5, "ensemble.spread": 40, "ensemble.tra
 path = scene("ens-data", {"ensemble.count": 5, "ensemble.spread": 0.4,
                           "ensemble.key": "pendulum.stiffness", "pendulum.stiffness": 3,
                           "video.duration": 0.1})
-# a figure's style keys (stills and sweep figures: tests/test_paper.py)
+# a figure's style keys (stills and sweep figures: tests/e2e/test_paper.py)
 for cmap in ("magma", "cividis", "gray"):
     changed(f"cmap-{cmap}", {"view.panels": "energy,phase", "view.colormap": cmap},
             f"the {cmap} colour map", ref_frame=with_panel)

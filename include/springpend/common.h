@@ -32,13 +32,23 @@ void sp_log_quiet(int quiet);
 
 /* Writes the UTF-8 string s to fp with what a terminal would obey shown
  * instead: C0 controls but newline and tab, DEL and bytes that are not
- * UTF-8 as \xHH, C1 controls (U+0080..U+009F) and noncharacters (U+FDD0..U+FDEF,
- * U+FFFE, U+FFFF and their like in every plane) as \uHHHH or \UHHHHHHHH. */
+ * UTF-8 as \xHH, C1 controls (U+0080..U+009F), noncharacters (U+FDD0..U+FDEF,
+ * U+FFFE, U+FFFF and their like in every plane) and the characters that
+ * show nothing (utf8.h's sp_utf8_is_invisible) as \uHHHH or \UHHHHHHHH,
+ * and a backslash as \\ (so that the shown form is one-to-one: a typed
+ * "\u200c" shows as \\u200c, U+200C as \u200c). */
 void sp_fputs_printable(const char *s, FILE *fp);
 
 /* As sp_fputs_printable, and a newline shown as \n: text from outside (a
  * --set value, a file name) inside a one-line message. */
 void sp_fputs_line(const char *s, FILE *fp);
+
+/* As sp_fputs_line (newline = 1: as sp_fputs_printable), for a text
+ * already in the shown form (a recorded command line, compare's lines of
+ * shown names): a backslash is written as it is (the text's own \\ and
+ * \uHHHH), all else shown as sp_fputs_line shows it, so that no forged
+ * record drives the terminal. */
+void sp_fputs_record(const char *s, int newline, FILE *fp);
 
 /* The printf-style message, shown as sp_fputs_line shows it, and a newline,
  * on fp: every line that names a file or quotes outside text ("wrote

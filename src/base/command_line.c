@@ -179,6 +179,43 @@ static int recorded_words(const struct sp_command_line *r, int unnamed, int keep
     return k == r->n_taken ? n : -1;
 }
 
+/* The quoted part [s, end) into at, its shown escapes (sp_text_shown's
+ * \n, \xHH, \uHHHH, \UHHHHHHHH: a backslash inside quotes is one of them,
+ * as text() writes a backslash itself outside) read back into the bytes
+ * they stand for; returns the end of what it wrote (never more bytes than
+ * it read). */
+static char *unshown(char *at, const char *s, const char *end)
+{
+    while (s < end) {
+        const int digits = s[0] != '\\' || s + 1 >= end ? 0 : s[1] == 'x' ? 2 : s[1] == 'u' ? 4
+                                                         : s[1] == 'U' ? 8 : 0;
+        char hex[9] = {0};
+        unsigned long u = 0;
+        if (s + 1 < end && s[0] == '\\' && s[1] == 'n') {
+            *at++ = '\n', s += 2;
+            continue;
+        }
+        if (!digits || end - s < 2 + digits ||
+            strspn(memcpy(hex, s + 2, (size_t)digits), "0123456789abcdef") != (size_t)digits ||
+            (u = strtoul(hex, NULL, 16)) > 0x10FFFF || (digits > 2 && u < 0x80)) {
+            *at++ = *s++; /* a backslash an older record wrote as it was */
+            continue;
+        }
+        s += 2 + digits;
+        if (digits == 2 || u < 0x80) /* a byte */
+            *at++ = (char)u;
+        else if (u < 0x800)
+            *at++ = (char)(0xC0 | u >> 6), *at++ = (char)(0x80 | (u & 0x3F));
+        else if (u < 0x10000)
+            *at++ = (char)(0xE0 | u >> 12), *at++ = (char)(0x80 | (u >> 6 & 0x3F)),
+            *at++ = (char)(0x80 | (u & 0x3F));
+        else
+            *at++ = (char)(0xF0 | u >> 18), *at++ = (char)(0x80 | (u >> 12 & 0x3F)),
+            *at++ = (char)(0x80 | (u >> 6 & 0x3F)), *at++ = (char)(0x80 | (u & 0x3F));
+    }
+    return at;
+}
+
 /* The n words as one line (command_line.h), into buf as snprintf does. */
 static size_t text(char *buf, size_t size, int n, const struct word *w)
 {
@@ -198,9 +235,11 @@ static size_t text(char *buf, size_t size, int n, const struct word *w)
             EMIT("%s%s", w[i].pre, s);
             continue;
         }
+        /* a quote as '"'"', a backslash as '\' (the shown form's \\ then
+         * reads back as one backslash outside the quotes) */
         EMIT("'");
-        for (const char *q; (q = strchr(s, '\'')); s = q + 1)
-            EMIT("%.*s'\\''", (int)(q - s), s);
+        for (const char *q; (q = s + strcspn(s, "'\\")) && *q; s = q + 1)
+            EMIT("%.*s'%s'", (int)(q - s), s, *q == '\'' ? "\"'\"" : "\\");
         EMIT("%s'", s);
     }
 #undef EMIT
@@ -301,6 +340,14 @@ static int split(const char *line, char ***out, char **store)
             return -1;
         w[n++] = at;
         while (*p && *p != ' ') {
+            if (*p == '\\' && p[1]) { /* \\ (a backslash), an older record's \' */
+                *at++ = p[1], p += 2;
+                continue;
+            }
+            if (!strncmp(p, "\"'\"", 3)) { /* "'": a quote */
+                *at++ = '\'', p += 3;
+                continue;
+            }
             if (*p != '\'') {
                 *at++ = *p++;
                 continue;
@@ -308,11 +355,8 @@ static int split(const char *line, char ***out, char **store)
             const char *close = strchr(p + 1, '\''); /* a quoted part, to its end */
             if (!close)
                 return -1;
-            memcpy(at, p + 1, (size_t)(close - p - 1));
-            at += close - p - 1;
+            at = unshown(at, p + 1, close);
             p = close + 1;
-            if (!strncmp(p, "\\''", 3)) /* '\'' : a quote inside */
-                *at++ = '\'', p += 2;
         }
         *at++ = 0;
         if (*p == ' ' && !*++p)

@@ -18,21 +18,21 @@ static unsigned long code_point(const unsigned char *s, size_t n)
     return u;
 }
 
-/* newline: 1 to write it, 0 to show it as \n */
+/* newline: 1 to write it, 0 to show it as \n; plus SHOWN_ALREADY: a
+ * backslash written as it is (s is in the shown form already) */
+enum { SHOWN_ALREADY = 2 };
 static void fputs_shown(const char *s, FILE *fp, int newline)
 {
     for (size_t n; *s; s += n ? n : 1) {
         unsigned char c = (unsigned char)*s;
         n = sp_utf8_char(s);
         const unsigned long u = n > 1 ? code_point((const unsigned char *)s, n) : c;
-        /* a noncharacter, or one that shows nothing of itself (Cf: the
-         * bidi controls, U+200B, U+FEFF; Zl, Zp: U+2028, U+2029) */
-        const int nonchar = (u & 0xfffe) == 0xfffe || (u >= 0xfdd0 && u <= 0xfdef) ||
-                            (n > 1 && sp_utf8_is_invisible((uint32_t)u));
-        if (c == '\n' && !newline)
+        if (c == '\n' && !(newline & 1))
             fputs("\\n", fp);
+        else if (c == '\\' && !(newline & SHOWN_ALREADY)) /* so that the shown form is one-to-one */
+            fputs("\\\\", fp);
         else if ((n == 1 && (c >= 0x20 || c == '\n' || c == '\t') && c != 0x7f) ||
-                 (n > 1 && u >= 0xa0 && !nonchar)) /* not C1, a noncharacter or invisible */
+                 (n > 1 && !sp_utf8_is_hidden((uint32_t)u)))
             fwrite(s, 1, n, fp);
         else if (n > 1)
             fprintf(fp, u > 0xffff ? "\\U%08lx" : "\\u%04lx", u);
@@ -49,6 +49,11 @@ void sp_fputs_printable(const char *s, FILE *fp)
 void sp_fputs_line(const char *s, FILE *fp)
 {
     fputs_shown(s, fp, 0);
+}
+
+void sp_fputs_record(const char *s, int newline, FILE *fp)
+{
+    fputs_shown(s, fp, (newline != 0) | SHOWN_ALREADY);
 }
 
 size_t sp_text_shown(const char *s, int newline, char *buf, size_t size)

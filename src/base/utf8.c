@@ -45,16 +45,40 @@ int sp_utf8_is_bidi_control(uint32_t u)
            (u >= 0x2066 && u <= 0x2069);
 }
 
+/* Unicode's Default_Ignorable_Code_Point (DerivedCoreProperties.txt,
+ * Unicode 15.1; unchanged since 9.0 but for U+1BCA0..): HarfBuzz keeps it
+ * internal and FriBidi and the other linked libraries expose none, so the
+ * ranges are here. Code points, first and last. */
+static const uint32_t default_ignorable[][2] = {
+    {0x00AD, 0x00AD},   {0x034F, 0x034F},   {0x061C, 0x061C},   {0x115F, 0x1160},
+    {0x17B4, 0x17B5},   {0x180B, 0x180F},   {0x200B, 0x200F},   {0x202A, 0x202E},
+    {0x2060, 0x206F},   {0x3164, 0x3164},   {0xFE00, 0xFE0F},   {0xFEFF, 0xFEFF},
+    {0xFFA0, 0xFFA0},   {0xFFF0, 0xFFF8},   {0x1BCA0, 0x1BCA3}, {0x1D173, 0x1D17A},
+    {0xE0000, 0xE0FFF},
+};
+
 int sp_utf8_is_invisible(uint32_t u)
 {
+    for (size_t i = 0; i < sizeof(default_ignorable) / sizeof(default_ignorable[0]); i++)
+        if (u >= default_ignorable[i][0] && u <= default_ignorable[i][1])
+            return 1;
+    if (u == 0x2800) /* BRAILLE PATTERN BLANK (So): a blank letter, not ignorable */
+        return 1;
     /* the Unicode Character Database's general category, as HarfBuzz (which
-     * shapes the drawn text) has it */
+     * shapes the drawn text) has it; unassigned: nothing to draw */
     switch (hb_unicode_general_category(hb_unicode_funcs_get_default(), u)) {
     case HB_UNICODE_GENERAL_CATEGORY_FORMAT:
     case HB_UNICODE_GENERAL_CATEGORY_LINE_SEPARATOR:
     case HB_UNICODE_GENERAL_CATEGORY_PARAGRAPH_SEPARATOR:
+    case HB_UNICODE_GENERAL_CATEGORY_UNASSIGNED:
         return 1;
     default:
         return 0;
     }
+}
+
+int sp_utf8_is_hidden(uint32_t u)
+{
+    return (u >= 0x80 && u < 0xa0) || (u & 0xfffe) == 0xfffe || (u >= 0xfdd0 && u <= 0xfdef) ||
+           sp_utf8_is_invisible(u);
 }

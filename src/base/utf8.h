@@ -19,11 +19,19 @@ uint32_t sp_utf8_decode(const char *s, size_t *len);
  * reordered ("Trojan Source"), so names are shown with them escaped. */
 int sp_utf8_is_bidi_control(uint32_t u);
 
-/* 1 for the characters that show nothing of themselves (general category
- * Cf, Zl, Zp, from HarfBuzz's Unicode data: U+00AD, U+200B, U+200D,
- * U+FEFF, the tag characters U+E0001.., the bidi controls, U+2028 and
- * U+2029): a name holding one reads as another name, or breaks its line,
- * so names and recorded commands are shown with them escaped (\u200b). */
+/* 1 for the characters that show nothing of themselves: Unicode's
+ * Default_Ignorable_Code_Point (U+00AD, U+034F, the Hangul fillers U+115F,
+ * U+1160, U+3164, U+FFA0, U+200B..U+200F, U+2060..U+206F, the variation
+ * selectors, U+FEFF, the tag characters U+E0000..), U+2800 (braille blank),
+ * and, from HarfBuzz's Unicode data, the general categories Cf, Zl, Zp
+ * (U+2028, U+2029) and unassigned code points: a name holding one reads as
+ * another name, or breaks its line, so names and recorded commands are
+ * shown with them escaped (\u200b). */
 int sp_utf8_is_invisible(uint32_t u);
+
+/* 1 for a code point the shown form of a text (sp_text_shown, the compare
+ * reports) writes escaped, \uNNNN: a C1 control (U+0080..U+009F), a
+ * noncharacter or an invisible one (sp_utf8_is_invisible). */
+int sp_utf8_is_hidden(uint32_t u);
 
 #endif

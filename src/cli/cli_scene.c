@@ -122,7 +122,7 @@ static int print_command(const char *path, const char *where, const char *line)
                      "made an output but a GIF (an older springpend's do not)", path, where);
         return SP_E_INPUT;
     }
-    sp_fputs_line(line, stdout);
+    sp_fputs_record(line, 0, stdout);
     putchar('\n');
     return 0;
 }

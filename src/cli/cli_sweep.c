@@ -805,6 +805,41 @@ static int command_differs(const struct sweep_opts *o, const struct sp_sweep_des
     return 1;
 }
 
+/* Whether the scene file a shard's command names (o->scene, its --set
+ * applied as the sweep applied them) is another scene than the shard holds
+ * (m->scene, from dc:source): both written as dc:source writes a scene
+ * (sp_scene_ini). A file that cannot be opened here (the shard ran in
+ * another folder or machine) is not checked: 0. 1 when it differs or does
+ * not load (the loader said why), with said and held as command_differs
+ * writes them; SP_E_NOMEM when out of memory. */
+static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge *m,
+                         char *said, char *held, size_t size)
+{
+    FILE *fp = o->scene && strcmp(o->scene, "-") ? fopen(o->scene, "rb") : NULL;
+    if (!fp)
+        return 0;
+    fclose(fp);
+    struct sp_scene named;
+    sp_scene_defaults(&named);
+    int differs = 1;
+    if (!sp_scene_load(&named, o->scene, o->overrides, o->n_overrides)) {
+        sp_timeline_destroy(&named.timeline); /* as the sweep ignored it */
+        char *a = sp_scene_ini(&named), *b = sp_scene_ini(&m->scene);
+        if (!a || !b) {
+            free(a), free(b);
+            sp_scene_free(&named);
+            sp_log_error("out of memory");
+            return SP_E_NOMEM;
+        }
+        differs = strcmp(a, b) != 0;
+        free(a), free(b);
+    }
+    sp_scene_free(&named);
+    snprintf(said, size, "the scene %s", o->scene);
+    snprintf(held, size, "another scene (dc:source)");
+    return differs;
+}
+
 /* The command a merged figure records, into *record (malloc'd; NULL:
  * none): the first shard's prov:wasGeneratedBy, parsed as a sweep's
  * command, with the merge's own figure options (--size, --dpi, --format)
@@ -812,7 +847,8 @@ static int command_differs(const struct sweep_opts *o, const struct sp_sweep_des
  * sweep's shards drawn with --size 3in records what the one-piece run
  * with --size 3in does. A line springpend never writes is no command (the
  * figure records none, and the merge says so); a command that says
- * another sweep than the shard holds (another grid, measure, T or --set)
+ * another sweep than the shard holds (another grid, measure, T or --set,
+ * or a scene file, readable here, that holds another scene than dc:source)
  * is refused, naming the difference. 0 or SP_E_INPUT / SP_E_NOMEM. */
 static int merged_command(const struct sp_sweep_merge *m, char **record)
 {
@@ -864,6 +900,12 @@ static int merged_command(const struct sp_sweep_merge *m, char **record)
                          "shard holds %s: it is not the command that made the shard; %s",
                          m->command_path, said, held, help);
             ret = SP_E_INPUT;
+        } else if ((ret = scene_differs(&o, m, said, held, sizeof(said)))) {
+            if (ret > 0)
+                sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy names %s, whose "
+                             "scene is not the one the shard holds (dc:source): it is not the "
+                             "command that made the shard; %s", m->command_path, said, help);
+            ret = ret > 0 ? SP_E_INPUT : ret;
         } else if (!(*record = sp_command_line_merged(r, "merge"))) {
             sp_log_error("out of memory");
             ret = SP_E_NOMEM;

@@ -270,7 +270,7 @@ void sp_compare_report_text(FILE *fp, const struct sp_compare_report *rep, int q
     }
     text_lines(m, rep, quiet, summary);
     if (fclose(m) == 0)
-        sp_fputs_printable(buf, fp);
+        sp_fputs_record(buf, 1, fp); /* its names shown already (printable_record) */
     else
         sp_log_error("out of memory for the comparison's text");
     free(buf);
@@ -429,12 +429,16 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
 }
 
 /* How xml_string treats "[[": JUnit's readers (GitLab, Jenkins) act on
- * [[ATTACHMENT|path]] in the text, so a name there must not open one. */
-enum { XML_PLAIN, XML_NO_DIRECTIVES };
+ * [[ATTACHMENT|path]] in the text, so a name there must not open one;
+ * XML_PATH: the path inside such a directive, which a reader opens (only
+ * the bidi controls escaped, a backslash as it is). */
+enum { XML_PLAIN, XML_NO_DIRECTIVES, XML_PATH };
 
 /* s with XML's five special characters escaped; what XML 1.0 cannot hold
  * (C0 controls but tab and newline, U+FFFE, U+FFFF, bytes that are not
- * UTF-8) as U+FFFD, shown rather than dropped. */
+ * UTF-8) as U+FFFD, shown rather than dropped; a character that shows
+ * nothing, a C1 control or a noncharacter (utf8.h's sp_utf8_is_hidden)
+ * as \uHHHH and a backslash as \\, as messages show them (common.h). */
 static void xml_string(FILE *fp, const char *s, int mode)
 {
     static const char replacement[] = "\xEF\xBF\xBD";
@@ -447,8 +451,9 @@ static void xml_string(FILE *fp, const char *s, int mode)
         }
         if (n != 1) {
             uint32_t u = sp_utf8_decode(s, &n);
-            if (sp_utf8_is_bidi_control(u))
-                fprintf(fp, "\\u%04x", (unsigned)u); /* shown, never reordering the name */
+            if (mode == XML_PATH ? sp_utf8_is_bidi_control(u) : sp_utf8_is_hidden(u))
+                fprintf(fp, u > 0xffff ? "\\U%08x" : "\\u%04x",
+                        (unsigned)u); /* shown, never reordering the name */
             else
                 fwrite(s, 1, n, fp);
             continue;
@@ -459,6 +464,7 @@ static void xml_string(FILE *fp, const char *s, int mode)
         case '&': fputs("&amp;", fp); break;
         case '"': fputs("&quot;", fp); break;
         case '\'': fputs("&#39;", fp); break;
+        case '\\': fputs(mode == XML_PATH ? "\\" : "\\\\", fp); break;
         case '[':
             fputs(mode == XML_NO_DIRECTIVES && s[1] == '[' ? "[ " : "[", fp);
             break;
@@ -579,7 +585,7 @@ static void junit_case(FILE *fp, const struct sp_compare_report *rep,
     /* GitLab and Jenkins attach this file; a path that could end the
      * directive early is named in the line above only. */
     if (r->diff[0] && attachable(r->diff))
-        fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff, XML_PLAIN), fputs("]]", fp);
+        fputs("\n[[ATTACHMENT|", fp), xml_string(fp, r->diff, XML_PATH), fputs("]]", fp);
     fputs("</system-out>\n    </testcase>\n", fp);
 }
 
@@ -1077,8 +1083,10 @@ static void md_cell(FILE *fp, const char *s)
         uint32_t u = n > 1 ? sp_utf8_decode(s, &n) : 0;
         if (!n || (unsigned char)*s < 0x20)
             fputc(n ? ' ' : '?', fp);
-        else if (sp_utf8_is_bidi_control(u))
-            fprintf(fp, "\\u%04x", (unsigned)u);
+        else if (n > 1 && sp_utf8_is_hidden(u)) /* as messages show it; the \ as \\ */
+            fprintf(fp, u > 0xffff ? "\\\\U%08x" : "\\\\u%04x", (unsigned)u);
+        else if (*s == '\\') /* \\ shows it (the shown form's); \\\\ in Markdown */
+            fputs("\\\\\\\\", fp);
         else if (*s == '@') /* no mention of a user or team from the bot's comment */
             fputs("@&#8203;", fp);
         else if (*s == '~')

@@ -810,10 +810,10 @@ static int command_differs(const struct sweep_opts *o, const struct sp_sweep_des
  * (m->scene, from dc:source): both written as dc:source writes a scene
  * (sp_scene_ini). A file that cannot be opened here (the shard ran in
  * another folder or machine) is not checked: 0. 1 when it differs or does
- * not load (the loader said why), with said and held as command_differs
- * writes them; SP_E_NOMEM when out of memory. */
+ * not load (the loader said why), with said naming the file;
+ * SP_E_NOMEM when out of memory. */
 static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge *m,
-                         char *said, char *held, size_t size)
+                         char *said, size_t size)
 {
     FILE *fp = o->scene && strcmp(o->scene, "-") ? fopen(o->scene, "rb") : NULL;
     if (!fp)
@@ -836,7 +836,6 @@ static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge
     }
     sp_scene_free(&named);
     snprintf(said, size, "the scene %s", o->scene);
-    snprintf(held, size, "another scene (dc:source)");
     return differs;
 }
 
@@ -900,7 +899,7 @@ static int merged_command(const struct sp_sweep_merge *m, char **record)
                          "shard holds %s: it is not the command that made the shard; %s",
                          m->command_path, said, held, help);
             ret = SP_E_INPUT;
-        } else if ((ret = scene_differs(&o, m, said, held, sizeof(said)))) {
+        } else if ((ret = scene_differs(&o, m, said, sizeof(said)))) {
             if (ret > 0)
                 sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy names %s, whose "
                              "scene is not the one the shard holds (dc:source): it is not the "

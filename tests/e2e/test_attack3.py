@@ -138,14 +138,16 @@ def idat(p):
     return out
 
 
-# the automatic cell label draws the name as the message shows it: the same
-# pixels as a scene whose file is named with the escaped text itself (it drew
-# the control characters as glyphs)
+# the automatic cell label draws the name as the message shows it (it drew
+# the control characters as glyphs). It was checked as the same pixels as a
+# scene whose file is named with the escaped text itself; since the eighth
+# pass (attack8.md finding 12) the shown form is one-to-one (that file's
+# backslashes show as \\), so the two labels now differ, as intended
 r1 = run("still", default, NASTY + ".ini", "--at", "1", "--size", "640x360", "-o", "lab1.png")
 r2 = run("still", default, SHOWN + ".ini", "--at", "1", "--size", "640x360", "-o", "lab2.png")
-ok(r1.returncode == 0 and r2.returncode == 0 and idat(path("lab1.png")) == idat(path("lab2.png")),
-   f"side-by-side cell label of a name with control characters: drawn escaped, the same "
-   f"pixels as the escaped name's ({err(r1)[:100]}; {err(r2)[:100]})")
+ok(r1.returncode == 0 and r2.returncode == 0 and idat(path("lab1.png")) != idat(path("lab2.png")),
+   f"side-by-side cell label of a name with control characters: drawn escaped, other "
+   f"pixels than the name that is the escaped text's ({err(r1)[:100]}; {err(r2)[:100]})")
 
 # ---- 11: xlabel/ylabel per plot, and the refusal's origin --------------------
 r = run("still", chaotic, "--at", "3", "--size", "640x360", "--set", "view.xlabel=A|B|C|D",

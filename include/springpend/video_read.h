@@ -23,13 +23,14 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path);
  * but SP_E_NOMEM: unsaid, as for sp_video_reader_open). */
 int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double *t);
 
-/* While buf is set (size bytes) on the calling thread, the decoder errors
- * the reader would log (SP_E_CODEC: FFmpeg tells some failed allocations
- * as damaged data) are appended to buf instead, one line each ("PATH:
- * WHAT: WHY\n", cut to fit); sp_video_hold_errors(NULL, 0) ends it. For
- * compare's pool, which decodes such a video again alone on one thread and
- * says its errors then, once. Container errors (SP_E_INPUT) are logged as
- * ever. */
+/* While buf is set (size bytes, a string) on the calling thread, the
+ * decoder errors the reader would log (SP_E_CODEC: FFmpeg tells some failed
+ * allocations as damaged data) and FFmpeg's own log lines are appended to
+ * buf instead, a line each ("springpend: PATH: WHAT: WHY\n"; FFmpeg's as
+ * it writes them), cut to fit; two threads may hold into one buffer.
+ * sp_video_hold_errors(NULL, 0) ends it. For compare's pool, which decodes
+ * such a video again alone on one thread and says its errors then, once.
+ * Container errors (SP_E_INPUT) are logged as ever. */
 void sp_video_hold_errors(char *buf, size_t size);
 
 /* Frees everything and sets *r to NULL. Safe on NULL. */

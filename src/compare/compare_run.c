@@ -466,8 +466,14 @@ done:
 }
 
 /* One frame read on another thread. */
+/* The errors a pool thread holds for a retry (pool_item), or NULL; the
+ * expected video's decoder thread holds into the same buffer. */
+static _Thread_local char *pool_held;
+#define POOL_HELD_SIZE 4096 /* bytes */
+
 struct read_job {
     struct sp_video_reader *r;
+    char *held;          /* pool_held of the thread that made the job */
     struct sp_image img; /* the frame, owned by r */
     double t;            /* its time, s */
     int ret;             /* sp_video_reader_read's */
@@ -476,7 +482,11 @@ struct read_job {
 static void *read_job_run(void *arg)
 {
     struct read_job *j = arg;
+    if (j->held)
+        sp_video_hold_errors(j->held, POOL_HELD_SIZE);
     j->ret = sp_video_reader_read(j->r, &j->img, &j->t);
+    if (j->held)
+        sp_video_hold_errors(NULL, 0);
     return NULL;
 }
 
@@ -582,7 +592,7 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     for (;;) {
         /* The two decoders run at once, one on a thread of its own: the
          * decoding and conversion are most of the time. */
-        struct read_job job = {.r = ve};
+        struct read_job job = {.r = ve, .held = pool_held};
         pthread_t th;
         int threaded = pthread_create(&th, NULL, read_job_run, &job) == 0;
         if (!threaded)
@@ -818,9 +828,9 @@ struct folder_work {
 static void say_held(struct folder_work *w, int i)
 {
     char *h = w->held ? w->held[i] : NULL;
-    for (const char *line = h; line && *line;) {
+    for (const char *line = h; line && *line;) { /* each with its prefix */
         size_t len = strcspn(line, "\n");
-        sp_log_error("%.*s", (int)len, line);
+        sp_fprintf_line(stderr, "%.*s", (int)len, line);
         line += len + (line[len] == '\n');
     }
     if (h)
@@ -835,14 +845,16 @@ static void pool_item(struct folder_work *w, int i)
 {
     struct sp_compare_record *r = &w->records[i];
     const struct sp_snapshot *it = &w->list->items[i];
-    enum { HELD = 4096 };
     char *buf = NULL;
-    if (w->threads > 1 && w->held && !sp_snapshot_is_png(it->name) && (buf = malloc(HELD)))
-        sp_video_hold_errors(buf, HELD);
+    if (w->threads > 1 && w->held && !sp_snapshot_is_png(it->name) &&
+        (buf = malloc(POOL_HELD_SIZE))) {
+        buf[0] = 0;
+        sp_video_hold_errors(pool_held = buf, POOL_HELD_SIZE);
+    }
     compare_item(w->c, r, it, w->dir_e, w->dir_a);
     if (!buf)
         return;
-    sp_video_hold_errors(NULL, 0);
+    sp_video_hold_errors(pool_held = NULL, 0);
     w->held[i] = buf;
     if (!(r->retry_alone || r->out_of_memory))
         say_held(w, i); /* not compared again: said now */
@@ -1055,7 +1067,8 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
  * once: an estimate is never exact), and videos a decoder refused there
  * (FFmpeg tells some failed allocations as damaged data); one that runs
  * out alone is out of memory for good: counted in *nomem, said once by the
- * caller. */
+ * caller. The decoder errors the pool held (pool_item) are said for what
+ * is not compared again; w->held is freed. */
 static void retry_out_of_memory(struct folder_work *w, int threads, int *nomem)
 {
     for (int i = 0; i < w->list->n; i++) {
@@ -1076,6 +1089,8 @@ static void retry_out_of_memory(struct folder_work *w, int threads, int *nomem)
         compare_item(w->c, r, &w->list->items[i], w->dir_e, w->dir_a);
         *nomem += r->out_of_memory;
     }
+    free(w->held); /* each item's was said or freed above */
+    w->held = NULL;
 }
 
 /* --update all --env KEY: an image whose pixels equal its plain baseline's
@@ -1139,19 +1154,17 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
         todo[i] = (unsigned char)screen_item(&rep->records[first + i], &list.items[i], dir_e,
                                              dir_a);
     {
-        struct folder_work w = {c, rep->records + first, &list, dir_e, dir_a, todo, 0, 1,
-                                calloc((size_t)list.n + 1, sizeof(char *))};
         int n = jobs_for_memory(c, &list, todo, dir_e, dir_a), started = 0;
-        pthread_t th[256];
         n = n > 256 ? 256 : n;
-        w.threads = n;
+        struct folder_work w = {c, rep->records + first, &list, dir_e, dir_a, todo, 0, n,
+                                calloc((size_t)list.n + 1, sizeof(char *))};
+        pthread_t th[256];
         for (int k = 1; k < n; k++) /* this thread is the first worker */
             started += pthread_create(&th[started], NULL, folder_worker, &w) == 0;
         folder_worker(&w);
         for (int k = 0; k < started; k++)
             pthread_join(th[k], NULL);
         retry_out_of_memory(&w, started + 1, &nomem);
-        free(w.held); /* each item's freed by retry_out_of_memory */
     }
     if (nomem && !stopped(c)) {
         const char *what;

@@ -2,6 +2,7 @@
  * is FFmpeg's doc/examples/demux_decode.c: read a packet, send it, drain
  * receive_frame until EAGAIN; at the end send NULL and drain to EOF. */
 #include <fcntl.h>
+#include <limits.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -35,17 +36,26 @@ struct sp_video_reader {
     int flushing;            /* the demuxer is done; NULL was sent */
 };
 
-/* This thread's held decoder errors (sp_video_hold_errors): NULL, or a
- * buffer of held_size bytes that messages are appended to. */
+/* This thread's held errors (sp_video_hold_errors): NULL, or a buffer of
+ * held_size bytes that messages are appended to, under held_lock (a
+ * compare decodes its two videos on two threads into one buffer). */
 static _Thread_local char *held;
 static _Thread_local size_t held_size;
+static pthread_mutex_t held_lock = PTHREAD_MUTEX_INITIALIZER;
 
 void sp_video_hold_errors(char *buf, size_t size)
 {
     held = size ? buf : NULL;
     held_size = size;
-    if (held)
-        held[0] = 0;
+}
+
+/* Appends text to this thread's held buffer, cut to fit. */
+static void hold_text(const char *text)
+{
+    pthread_mutex_lock(&held_lock);
+    size_t used = strlen(held);
+    snprintf(held + used, held_size - used, "%s", text);
+    pthread_mutex_unlock(&held_lock);
 }
 
 /* Logs libav's error averr (or holds it: sp_video_hold_errors), but for
@@ -55,9 +65,10 @@ static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
     if (averr == AVERROR(ENOMEM))
         return SP_E_NOMEM;
     if (held) {
-        size_t used = strlen(held);
-        snprintf(held + used, held_size - used, "%s: %s: %s\n", r->path, what,
+        char line[PATH_MAX + 256];
+        snprintf(line, sizeof(line), "springpend: %s: %s: %s\n", r->path, what,
                  av_err2str(averr));
+        hold_text(line);
     } else {
         sp_log_error("%s: %s: %s", r->path, what, av_err2str(averr));
     }
@@ -217,6 +228,10 @@ static void av_line(void *avcl, int level, const char *fmt, va_list vl)
     if (level > av_log_get_level() || av_quiet)
         return;
     av_log_format_line2(avcl, level, fmt, vl, line, sizeof(line), &prefix);
+    if (held) {
+        hold_text(line);
+        return;
+    }
     flockfile(stderr);
     sp_fputs_printable(line, stderr);
     funlockfile(stderr);

@@ -68,6 +68,29 @@ for j in ("1", "4"):
        f"--jobs {j}: a garbage .mp4 beside a video is refused, its error said once "
        f"(rc {r.returncode}, said {said} times: {err(r)[:400]})")
 
+# a video cut at 90 %: its header reads, its last frame does not decode. A
+# decoder's error may be memory (FFmpeg says some failed allocations so), so
+# the pool's try is compared again alone: said once all the same, FFmpeg's
+# own lines too (main: both twice)
+import re  # noqa: E402
+with open(video, "rb") as f:
+    data = f.read()
+write(path("dc", "e", "t.mp4"), data[:len(data) * 9 // 10])
+link(video, path("dc", "a", "t.mp4"))
+for i in range(3):
+    link(video, path("dc", "e", f"ok{i}.mp4"))
+    link(video, path("dc", "a", f"ok{i}.mp4"))
+said = {}
+for j in ("1", "4"):
+    r = run("compare", "dc/e", "dc/a", "--jobs", j)
+    said[j] = (r.returncode, sorted(re.sub(r"@ 0x[0-9a-f]+", "@", line)
+                                    for line in err(r).splitlines()))
+n = sum("springpend: dc/e/t.mp4: cannot" in line for line in said["4"][1])
+ok(said["4"][0] == 2 and n == 1 and said["4"] == said["1"],
+   f"--jobs 4, a video cut at 90 %: its decoder's error said once, FFmpeg's lines as with "
+   f"--jobs 1 (rc {said['4'][0]}, said {n} times; --jobs 4: {said['4'][1][:8]}; --jobs 1: "
+   f"{said['1'][1][:8]})")
+
 # FFmpeg's own lines ("[mov @ 0x...] stream 0, offset 0xe14: partial file")
 # are whole lines: never a springpend line in the middle of one (main: about
 # one run in two of these had one)

@@ -465,12 +465,12 @@ done:
     sp_image_free(&d);
 }
 
-/* One frame read on another thread. */
 /* The errors a pool thread holds for a retry (pool_item), or NULL; the
  * expected video's decoder thread holds into the same buffer. */
 static _Thread_local char *pool_held;
 #define POOL_HELD_SIZE 4096 /* bytes */
 
+/* One frame read on another thread. */
 struct read_job {
     struct sp_video_reader *r;
     char *held;          /* pool_held of the thread that made the job */

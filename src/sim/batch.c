@@ -597,6 +597,12 @@ static inline double dop853_err(double h, double n5, double n3)
     return fabs(h) * n5 * n5 / sqrt(n5 * n5 + 0.01 * n3 * n3);
 }
 
+/* Advances block `base` (B lanes) to t_target with DOP853, each lane with
+ * its own step h (b->h), accepted or rejected by its own error norm; dead
+ * lanes stay where they stopped.
+ * Long: one step loop (stages, error norm, step control) over stack arrays
+ * of 12 stages x NC x B doubles, the hot path of adaptive sweeps; it was
+ * measured whole (doc/sweeps.md), and a split needs that benchmark again. */
 SPECIALISED void adaptive_blk_impl(struct sp_batch *b, int base, double t_target,
                                    const int forced, const int tangent, const int spatial)
 {

@@ -1028,71 +1028,100 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
 
 /* ---- the Lyapunov spectrum ---- */
 
+/* A spectrum CSV's rows: x (T for one point, else the point's index), the
+ * four exponents and Kaplan-Yorke's dimension of each (y); lo..hi the range
+ * of lambda (of lambda_1 alone for a map). */
+struct spectrum {
+    long m, cap_x, cap_y;
+    double *x, (*y)[5];
+    double lo, hi;
+};
+
+/* Reads fp's rows into *s (zeroed by the caller, who frees x and y): a map
+ * keeps the last row (T = time) of each point. 0 or SP_E_NOMEM. */
+static int read_spectrum(FILE *fp, const struct sp_sweep_desc *d, int conv, struct spectrum *s)
+{
+    struct row r;
+    long last_point = -1;
+    s->lo = INFINITY, s->hi = -INFINITY;
+    if (SP_ARRAY_RESERVE(s->x, s->cap_x, 1, 64) || SP_ARRAY_RESERVE(s->y, s->cap_y, 1, 64))
+        return SP_E_NOMEM;
+    while (next_row(fp, d, 7, &r)) {
+        if (!conv && r.point == last_point)
+            s->m--; /* an earlier T of this point: replaced */
+        last_point = r.point;
+        if (SP_ARRAY_RESERVE(s->x, s->cap_x, s->m + 1, 64) ||
+            SP_ARRAY_RESERVE(s->y, s->cap_y, s->m + 1, 64))
+            return SP_E_NOMEM;
+        s->x[s->m] = conv ? r.v[0] : (double)r.point;
+        for (int j = 0; j < 4; j++) {
+            s->y[s->m][j] = r.v[1 + j];
+            if (isfinite(r.v[1 + j]) && (d->n_axes < 2 || j == 0))
+                s->lo = fmin(s->lo, r.v[1 + j]), s->hi = fmax(s->hi, r.v[1 + j]);
+        }
+        s->y[s->m][4] = r.v[6]; /* Kaplan-Yorke */
+        s->m++;
+    }
+    fix_range(&s->lo, &s->hi);
+    return 0;
+}
+
+/* Two keys: a map of lambda_1 with the lyapunov map's look, x labelled xl.
+ * 0 or SP_E_NOMEM. */
+static int draw_spectrum_map(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                             const struct spectrum *s, const char *xl)
+{
+    const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
+    const double lo = s->lo, hi = s->hi;
+    double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
+    double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
+    struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
+                      ay->from - dy / 2, ay->to + dy / 2};
+    char yl[96];
+    title(d, "Lyapunov spectrum", "Lyapunov spectrum");
+    place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
+    draw_title(d, pal, &f);
+    /* one image pixel per grid point; a point without a row is clear */
+    unsigned char *img = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
+                                         (float)(f.y0 + f.h), ax->count, ay->count);
+    if (!img)
+        return SP_E_NOMEM;
+    memset(img, 0, 4 * (size_t)ax->count * (size_t)ay->count);
+    for (long i = 0; i < s->m; i++) {
+        int idx[SP_SWEEP_MAX_AXES];
+        sp_sweep_point_index(d, (long)s->x[i], idx);
+        float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
+        if (isfinite(s->y[i][0]))
+            colormap_rgb(d, (s->y[i][0] - lo) / (hi - lo), rgb);
+        put_rgb(img + 4 * ((size_t)(ay->count - 1 - idx[1]) * (size_t)ax->count + (size_t)idx[0]),
+                rgb);
+    }
+    key_label(yl, sizeof(yl), ay->key);
+    draw_axes(&f, pal, xl, yl);
+    draw_colorbar(d, pal, f.x0 + f.w + BAR_GAP, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)", &f, 0, 1);
+    return 0;
+}
+
 /* One point: each lambda_j against T (log T axis), the convergence figure;
  * one key: the final four against it; two keys: a map of lambda_1 with the
  * lyapunov map's look. */
 static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
                          const struct sp_palette *pal)
 {
-    const long n = sp_sweep_points(d);
-    const int conv = n == 1;
-    struct row r;
-    long cap_x = 0, cap_y = 0, m = 0;
-    double *x = NULL, (*y)[5] = NULL;
-    double lo = INFINITY, hi = -INFINITY;
+    const int conv = sp_sweep_points(d) == 1;
+    struct spectrum s = {0};
     int ret = 0;
-    if (SP_ARRAY_RESERVE(x, cap_x, 1, 64) || SP_ARRAY_RESERVE(y, cap_y, 1, 64))
+    char xl[96];
+    if (read_spectrum(fp, d, conv, &s))
         goto nomem;
-    long last_point = -1;
-    /* a map: the last row of each point (T = time) */
-    while (next_row(fp, d, 7, &r)) {
-        if (!conv && r.point == last_point)
-            m--; /* an earlier T of this point: replaced */
-        last_point = r.point;
-        if (SP_ARRAY_RESERVE(x, cap_x, m + 1, 64) || SP_ARRAY_RESERVE(y, cap_y, m + 1, 64))
-            goto nomem;
-        x[m] = conv ? r.v[0] : (double)r.point;
-        for (int j = 0; j < 4; j++) {
-            y[m][j] = r.v[1 + j];
-            if (isfinite(r.v[1 + j]) && (d->n_axes < 2 || j == 0))
-                lo = fmin(lo, r.v[1 + j]), hi = fmax(hi, r.v[1 + j]);
-        }
-        y[m][4] = r.v[6]; /* Kaplan-Yorke */
-        m++;
-    }
-    fix_range(&lo, &hi);
-    char xl[96], yl[96];
     key_label(xl, sizeof(xl), d->axis[0].key);
     if (d->n_axes == 2) {
-        /* a map of lambda_1 */
-        const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
-        double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
-        double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
-        struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
-                          ay->from - dy / 2, ay->to + dy / 2};
-        title(d, "Lyapunov spectrum", "Lyapunov spectrum");
-        place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
-        draw_title(d, pal, &f);
-        /* one image pixel per grid point; a point without a row is clear */
-        unsigned char *img = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
-                                             (float)(f.y0 + f.h), ax->count, ay->count);
-        if (!img)
+        if (draw_spectrum_map(d, pal, &s, xl))
             goto nomem;
-        memset(img, 0, 4 * (size_t)ax->count * (size_t)ay->count);
-        for (long i = 0; i < m; i++) {
-            int idx[SP_SWEEP_MAX_AXES];
-            sp_sweep_point_index(d, (long)x[i], idx);
-            float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
-            if (isfinite(y[i][0]))
-                colormap_rgb(d, (y[i][0] - lo) / (hi - lo), rgb);
-            put_rgb(img + 4 * ((size_t)(ay->count - 1 - idx[1]) * (size_t)ax->count + (size_t)idx[0]),
-                    rgb);
-        }
-        key_label(yl, sizeof(yl), ay->key);
-        draw_axes(&f, pal, xl, yl);
-        draw_colorbar(d, pal, f.x0 + f.w + BAR_GAP, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)", &f, 0, 1);
         goto done;
     }
+    const long m = s.m;
+    const double *x = s.x, (*y)[5] = (const double(*)[5])s.y, lo = s.lo, hi = s.hi;
     double pad = 0.06 * (hi - lo);
     struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo - pad, hi + pad};
     if (conv) {
@@ -1147,10 +1176,10 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         draw_legend(&f, &cv, texts, colours, conv && m ? 5 : 4, pal);
     free(cv.p);
 done:
-    free(x), free(y);
+    free(s.x), free(s.y);
     return ret;
 nomem:
-    free(x), free(y);
+    free(s.x), free(s.y);
     sp_log_error("out of memory for a spectrum figure");
     return SP_E_NOMEM;
 }

@@ -23,13 +23,24 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path);
  * but SP_E_NOMEM: unsaid, as for sp_video_reader_open). */
 int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double *t);
 
+/* While buf is set (size bytes, a string) on the calling thread, the
+ * decoder errors the reader would log (SP_E_CODEC: FFmpeg tells some failed
+ * allocations as damaged data) and FFmpeg's own log lines are appended to
+ * buf instead, a line each ("springpend: PATH: WHAT: WHY\n"; FFmpeg's as
+ * it writes them), cut to fit; two threads may hold into one buffer.
+ * sp_video_hold_errors(NULL, 0) ends it. For compare's pool, which decodes
+ * such a video again alone on one thread and says its errors then, once.
+ * Container errors (SP_E_INPUT) are logged as ever. */
+void sp_video_hold_errors(char *buf, size_t size);
+
 /* Frees everything and sets *r to NULL. Safe on NULL. */
 void sp_video_reader_destroy(struct sp_video_reader **r);
 
 /* The frame size of path's first video stream as its container's headers
  * say, px, with nothing decoded and nothing logged: for an estimate before
  * the file is read in earnest (which then says what is wrong with it).
- * Only a regular file is opened. 0, or SP_E_INPUT (*width = *height = 0). */
+ * Only a regular file is opened. 0, or SP_E_INPUT (*width = *height = 0),
+ * also for a size FFmpeg refuses to decode (av_image_check_size). */
 int sp_video_frame_size(const char *path, int *width, int *height);
 
 /* The container tag key of the video at path (springpend writes its PNG

@@ -465,9 +465,15 @@ done:
     sp_image_free(&d);
 }
 
+/* The errors a pool thread holds for a retry (pool_item), or NULL; the
+ * expected video's decoder thread holds into the same buffer. */
+static _Thread_local char *pool_held;
+#define POOL_HELD_SIZE 4096 /* bytes */
+
 /* One frame read on another thread. */
 struct read_job {
     struct sp_video_reader *r;
+    char *held;          /* pool_held of the thread that made the job */
     struct sp_image img; /* the frame, owned by r */
     double t;            /* its time, s */
     int ret;             /* sp_video_reader_read's */
@@ -476,7 +482,11 @@ struct read_job {
 static void *read_job_run(void *arg)
 {
     struct read_job *j = arg;
+    if (j->held)
+        sp_video_hold_errors(j->held, POOL_HELD_SIZE);
     j->ret = sp_video_reader_read(j->r, &j->img, &j->t);
+    if (j->held)
+        sp_video_hold_errors(NULL, 0);
     return NULL;
 }
 
@@ -570,15 +580,19 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     int blocks = video_rule(r, &opts);
     if ((ret = sp_video_reader_open(&ve, expected)) != 0 ||
         (ret = sp_video_reader_open(&va, actual)) != 0) {
+        /* Out of memory is retried alone (record_nomem), and so is a decoder
+         * that would not open (SP_E_CODEC: it may be memory, as below); a
+         * file the container level refuses (missing, not a file, not a
+         * video: SP_E_INPUT, said already) is not read again (attack8 #8) */
+        r->retry_alone = ret == SP_E_CODEC;
         ret = ret == SP_E_NOMEM ? record_nomem(r, ve ? actual : expected)
                                 : record_error(r, "cannot read %s", ve ? actual : expected);
-        r->retry_alone = 1; /* as a decoder's error below */
         goto done;
     }
     for (;;) {
         /* The two decoders run at once, one on a thread of its own: the
          * decoding and conversion are most of the time. */
-        struct read_job job = {.r = ve};
+        struct read_job job = {.r = ve, .held = pool_held};
         pthread_t th;
         int threaded = pthread_create(&th, NULL, read_job_run, &job) == 0;
         if (!threaded)
@@ -803,7 +817,48 @@ struct folder_work {
     const char *dir_e, *dir_a;
     const unsigned char *todo;         /* 1: compare item i */
     int next;                          /* the next item to take (atomic) */
+    int threads;                       /* the pool's; above 1, a video's decoder
+                                          errors are held (held[i]) for its
+                                          retry alone, to be said once */
+    char **held;                       /* per item: its held errors, or NULL */
 };
+
+/* Says the decoder errors held for item i (sp_video_hold_errors), a line
+ * each, and forgets them. */
+static void say_held(struct folder_work *w, int i)
+{
+    char *h = w->held ? w->held[i] : NULL;
+    for (const char *line = h; line && *line;) { /* each with its prefix */
+        size_t len = strcspn(line, "\n");
+        sp_fprintf_line(stderr, "%.*s", (int)len, line);
+        line += len + (line[len] == '\n');
+    }
+    if (h)
+        free(h), w->held[i] = NULL;
+}
+
+/* Compares item i on a pool thread. Above one thread, a video's decoder
+ * errors are held: it may have run out of memory beside the other threads'
+ * images, and retry_out_of_memory then decodes it again alone and says
+ * what that run finds; otherwise they are said now. */
+static void pool_item(struct folder_work *w, int i)
+{
+    struct sp_compare_record *r = &w->records[i];
+    const struct sp_snapshot *it = &w->list->items[i];
+    char *buf = NULL;
+    if (w->threads > 1 && w->held && !sp_snapshot_is_png(it->name) &&
+        (buf = malloc(POOL_HELD_SIZE))) {
+        buf[0] = 0;
+        sp_video_hold_errors(pool_held = buf, POOL_HELD_SIZE);
+    }
+    compare_item(w->c, r, it, w->dir_e, w->dir_a);
+    if (!buf)
+        return;
+    sp_video_hold_errors(pool_held = NULL, 0);
+    w->held[i] = buf;
+    if (!(r->retry_alone || r->out_of_memory))
+        say_held(w, i); /* not compared again: said now */
+}
 
 static void *folder_worker(void *arg)
 {
@@ -825,7 +880,7 @@ static void *folder_worker(void *arg)
             r->not_compared = 1;
             continue;
         }
-        compare_item(w->c, r, &w->list->items[i], w->dir_e, w->dir_a);
+        pool_item(w, i);
     }
     return NULL;
 }
@@ -963,7 +1018,9 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
     double px = 0, images = 0;
     const char *what;
     const double budget = sp_memory_limit(&what) / 2, base = thread_base(what);
-    for (int i = 0; n > 1 && i < l->n; i++) {
+    /* the cancel flag stops the headers' pass too: 100 000 video headers
+     * take about a minute (attack8 #7) */
+    for (int i = 0; n > 1 && i < l->n && !stopped(c); i++) {
         const int png = sp_snapshot_is_png(l->items[i].name);
         char p[PATH_MAX];
         if (!todo[i])
@@ -975,7 +1032,12 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
                          side || l->items[i].expected ? l->items[i].name
                                                       : l->items[i].alts[0]) >= (int)sizeof(p))
                 continue;
-            if (png && sp_png_read_info_quiet(p, &info) == 0)
+            /* an image the reader refuses unread (beyond its pixel limit)
+             * holds no memory: a forged header must not make the run
+             * serial (attack8 #6); sp_video_frame_size leaves out sizes
+             * FFmpeg refuses */
+            if (png && sp_png_read_info_quiet(p, &info) == 0 &&
+                (double)info.width * info.height <= (double)SP_PNG_MAX_PIXELS)
                 w = info.width, h = info.height;
             else if (!png)
                 sp_video_frame_size(p, &w, &h);
@@ -1005,22 +1067,30 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
  * once: an estimate is never exact), and videos a decoder refused there
  * (FFmpeg tells some failed allocations as damaged data); one that runs
  * out alone is out of memory for good: counted in *nomem, said once by the
- * caller. */
+ * caller. The decoder errors the pool held (pool_item) are said for what
+ * is not compared again; w->held is freed. */
 static void retry_out_of_memory(struct folder_work *w, int threads, int *nomem)
 {
-    for (int i = 0; i < w->list->n && !stopped(w->c); i++) {
+    for (int i = 0; i < w->list->n; i++) {
         struct sp_compare_record *r = &w->records[i];
         if (!w->todo[i])
             continue;
-        if (threads > 1 && (r->out_of_memory || r->retry_alone)) {
-            if (r->diff[0])
-                unlink(r->diff);
-            record_clear(r);
-            record_reset(r);
-            compare_item(w->c, r, &w->list->items[i], w->dir_e, w->dir_a);
+        if (stopped(w->c) || threads < 2 || !(r->out_of_memory || r->retry_alone)) {
+            say_held(w, i); /* not compared again: what the pool held is said */
+            *nomem += r->out_of_memory;
+            continue;
         }
+        if (w->held && w->held[i])
+            free(w->held[i]), w->held[i] = NULL; /* the retry says its own */
+        if (r->diff[0])
+            unlink(r->diff);
+        record_clear(r);
+        record_reset(r);
+        compare_item(w->c, r, &w->list->items[i], w->dir_e, w->dir_a);
         *nomem += r->out_of_memory;
     }
+    free(w->held); /* each item's was said or freed above */
+    w->held = NULL;
 }
 
 /* --update all --env KEY: an image whose pixels equal its plain baseline's
@@ -1084,10 +1154,11 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
         todo[i] = (unsigned char)screen_item(&rep->records[first + i], &list.items[i], dir_e,
                                              dir_a);
     {
-        struct folder_work w = {c, rep->records + first, &list, dir_e, dir_a, todo, 0};
         int n = jobs_for_memory(c, &list, todo, dir_e, dir_a), started = 0;
-        pthread_t th[256];
         n = n > 256 ? 256 : n;
+        struct folder_work w = {c, rep->records + first, &list, dir_e, dir_a, todo, 0, n,
+                                calloc((size_t)list.n + 1, sizeof(char *))};
+        pthread_t th[256];
         for (int k = 1; k < n; k++) /* this thread is the first worker */
             started += pthread_create(&th[started], NULL, folder_worker, &w) == 0;
         folder_worker(&w);

@@ -2,13 +2,17 @@
  * is FFmpeg's doc/examples/demux_decode.c: read a packet, send it, drain
  * receive_frame until EAGAIN; at the end send NULL and drain to EOF. */
 #include <fcntl.h>
+#include <limits.h>
 #include <math.h>
+#include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <libavutil/avstring.h>
+#include <libavutil/imgutils.h>
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 
@@ -32,13 +36,42 @@ struct sp_video_reader {
     int flushing;            /* the demuxer is done; NULL was sent */
 };
 
-/* Logs libav's error averr, but for out of memory: SP_E_NOMEM, unsaid
- * (video_read.h). */
+/* This thread's held errors (sp_video_hold_errors): NULL, or a buffer of
+ * held_size bytes that messages are appended to, under held_lock (a
+ * compare decodes its two videos on two threads into one buffer). */
+static _Thread_local char *held;
+static _Thread_local size_t held_size;
+static pthread_mutex_t held_lock = PTHREAD_MUTEX_INITIALIZER;
+
+void sp_video_hold_errors(char *buf, size_t size)
+{
+    held = size ? buf : NULL;
+    held_size = size;
+}
+
+/* Appends text to this thread's held buffer, cut to fit. */
+static void hold_text(const char *text)
+{
+    pthread_mutex_lock(&held_lock);
+    size_t used = strlen(held);
+    snprintf(held + used, held_size - used, "%s", text);
+    pthread_mutex_unlock(&held_lock);
+}
+
+/* Logs libav's error averr (or holds it: sp_video_hold_errors), but for
+ * out of memory: SP_E_NOMEM, unsaid (video_read.h). */
 static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
 {
     if (averr == AVERROR(ENOMEM))
         return SP_E_NOMEM;
-    sp_log_error("%s: %s: %s", r->path, what, av_err2str(averr));
+    if (held) {
+        char line[PATH_MAX + 256];
+        snprintf(line, sizeof(line), "springpend: %s: %s: %s\n", r->path, what,
+                 av_err2str(averr));
+        hold_text(line);
+    } else {
+        sp_log_error("%s: %s: %s", r->path, what, av_err2str(averr));
+    }
     return SP_E_CODEC;
 }
 
@@ -181,8 +214,39 @@ static int open_checked(AVFormatContext **fmt, const char *path)
     return ret;
 }
 
+/* FFmpeg's own log lines (av_log), each written whole under stderr's stdio
+ * lock as springpend's are (log.c), and shown as sp_fputs_printable shows
+ * text: FFmpeg's default writes its "[mov @ 0x...] " prefix and its text
+ * apart, so that compare --jobs interleaved them with springpend's lines
+ * from other threads (attack8 #8). Its level still filters. */
+static _Thread_local int av_quiet; /* 1: FFmpeg's lines are dropped */
+
+static void av_line(void *avcl, int level, const char *fmt, va_list vl)
+{
+    static _Thread_local int prefix = 1;
+    char line[1024];
+    if (level > av_log_get_level() || av_quiet)
+        return;
+    av_log_format_line2(avcl, level, fmt, vl, line, sizeof(line), &prefix);
+    if (held) {
+        hold_text(line);
+        return;
+    }
+    flockfile(stderr);
+    sp_fputs_printable(line, stderr);
+    funlockfile(stderr);
+}
+
+static void log_through_lines(void)
+{
+    av_log_set_callback(av_line);
+}
+
+static pthread_once_t log_once = PTHREAD_ONCE_INIT;
+
 int sp_video_reader_open(struct sp_video_reader **out, const char *path)
 {
+    pthread_once(&log_once, log_through_lines);
     struct sp_video_reader *r = calloc(1, sizeof(*r));
     const AVCodec *codec = NULL;
     int ret;
@@ -240,9 +304,10 @@ static int convert(struct sp_video_reader *r, struct sp_image *img)
                                       SWS_FULL_CHR_H_INT,
                                   NULL, NULL, NULL);
     if (!r->sws) {
-        sp_log_error("%s: cannot convert %dx%d %s frames to RGBA", r->path, f->width,
-                     f->height, av_get_pix_fmt_name(f->format));
-        return SP_E_CODEC;
+        char what[96];
+        snprintf(what, sizeof(what), "cannot convert %dx%d %s frames to RGBA", f->width,
+                 f->height, av_get_pix_fmt_name(f->format));
+        return av_fail(r, what, AVERROR(EINVAL)); /* swscale says no more */
     }
     uint8_t *dst[4] = {r->rgba.pixels};
     int dst_stride[4] = {r->rgba.stride};
@@ -317,11 +382,16 @@ int sp_video_frame_size(const char *path, int *width, int *height)
     if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
         metadata_bounded(fd, NULL, 0, st.st_size, 0) == 0) {
         snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
-        if (open_video(&fmt, name, fd, NULL) == 0) {
+        pthread_once(&log_once, log_through_lines);
+        av_quiet = 1; /* nothing logged: FFmpeg's lines neither */
+        const int opened = open_video(&fmt, name, fd, NULL) == 0;
+        av_quiet = 0;
+        if (opened) {
             /* the headers only: no frame is decoded */
             for (unsigned i = 0; i < fmt->nb_streams && ret; i++) {
                 const AVCodecParameters *p = fmt->streams[i]->codecpar;
-                if (p->codec_type == AVMEDIA_TYPE_VIDEO && p->width > 0 && p->height > 0)
+                if (p->codec_type == AVMEDIA_TYPE_VIDEO && p->width > 0 && p->height > 0 &&
+                    av_image_check_size(p->width, p->height, 0, NULL) == 0)
                     *width = p->width, *height = p->height, ret = 0;
             }
             avformat_close_input(&fmt);

@@ -35,6 +35,14 @@ void sp_video_reader_destroy(struct sp_video_reader **r)
         destroy_fn(r);
 }
 
+void sp_video_hold_errors(char *buf, size_t size)
+{
+    void (*fn)(char *, size_t);
+    *(void **)&fn = sp_av_module_symbol("sp_video_hold_errors");
+    if (fn)
+        fn(buf, size);
+}
+
 int sp_video_read_text(const char *path, const char *key, char *buf, size_t size)
 {
     int (*fn)(const char *, const char *, char *, size_t);

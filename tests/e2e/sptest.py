@@ -113,6 +113,23 @@ def runner_bytes(exe, cwd):
     return run
 
 
+def scene_command(run):
+    """A function naming what `scene NAME --command` prints for NAME (text),
+    or '(exit N: the error)', run through run (a runner_bytes)."""
+    def command(name):
+        r = run("scene", name, "--command")
+        return r.stdout.decode().strip() if r.returncode == 0 else f"(exit {r.returncode}: {err(r)})"
+    return command
+
+
+def same_bytes_in(folder):
+    """A function telling whether two files in folder hold the same bytes."""
+    def same_bytes(a, b):
+        with open(os.path.join(folder, a), "rb") as fa, open(os.path.join(folder, b), "rb") as fb:
+            return fa.read() == fb.read()
+    return same_bytes
+
+
 def hangs(run, *args, timeout=10):
     """Runs springpend through run (a runner) for at most timeout s:
     (returncode or 'hung', stderr)."""

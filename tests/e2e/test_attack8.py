@@ -36,15 +36,10 @@ def path(*names):
     return os.path.join(work, *names)
 
 
-def command(name):
-    """What `scene NAME --command` prints (text), or the error."""
-    r = run("scene", name, "--command")
-    return r.stdout.decode().strip() if r.returncode == 0 else f"(exit {r.returncode}: {err(r)})"
+command = sptest.scene_command(run)  # what `scene NAME --command` prints
 
 
-def same_bytes(a, b):
-    with open(path(a), "rb") as fa, open(path(b), "rb") as fb:
-        return fa.read() == fb.read()
+same_bytes = sptest.same_bytes_in(work)
 
 
 def playlist(target):

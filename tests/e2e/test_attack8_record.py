@@ -36,10 +36,7 @@ def path(*names):
     return os.path.join(work, *names)
 
 
-def command(name):
-    """What `scene NAME --command` prints (text), or the error."""
-    r = run("scene", name, "--command")
-    return r.stdout.decode().strip() if r.returncode == 0 else f"(exit {r.returncode}: {err(r)})"
+command = sptest.scene_command(run)  # what `scene NAME --command` prints
 
 
 def rerun(line, out):

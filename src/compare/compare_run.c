@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "base/clock.h"
+#include "base/command_line.h"
 #include "base/memory_limit.h"
 #include "base/signal_name.h"
 #include "springpend/common.h"
@@ -348,9 +349,15 @@ static int check_header(struct sp_compare_record *r, const char *path, int *w, i
     int err = sp_png_read_info(path, &info);
     if (err == SP_E_NOMEM)
         return record_nomem(r, path);
+    if (err == SP_E_INPUT) { /* said above: missing, no file, no permission */
+        struct stat st;
+        const int found = stat(path, &st) == 0;
+        return record_error(r, "%s %s", path, !found && errno == ENOENT ? "does not exist"
+                               : found && !S_ISREG(st.st_mode) ? "is not a regular file"
+                               : "cannot be read (the message above says why)");
+    }
     if (err)
-        return record_error(r, err == SP_E_INPUT ? "%s is not a regular file"
-                                                 : "cannot read %s as a PNG", path);
+        return record_error(r, "cannot read %s as a PNG", path);
     *w = info.width, *h = info.height;
     if (sp_png_check_size(path, &info) != 0)
         return record_error(r, "%s is %dx%d, beyond the %ld-pixel limit", path, info.width,
@@ -558,6 +565,21 @@ static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
     return ret;
 }
 
+/* 1 when a decoder's error may have been a failed allocation: only under
+ * ulimit -v or -d does an allocation fail on Linux (elsewhere the kernel
+ * overcommits, and ends the process when memory is gone), or when FFmpeg
+ * said so among this item's held lines (h264's "get_buffer() failed").
+ * Otherwise the file is damaged, and decoding it again alone after the
+ * pool would only double its cost (attack9 #6). */
+static int may_be_memory(void)
+{
+    const char *what = "";
+    sp_memory_limit(&what);
+    return !strcmp(what, "ulimit -v") || !strcmp(what, "ulimit -d") ||
+           (pool_held && (strstr(pool_held, "get_buffer() failed") ||
+                          strstr(pool_held, "Cannot allocate memory")));
+}
+
 /* Compares two videos frame by frame, times included, into record r: the
  * figures are the worst frame's; --diff gets its diff image.
  * Long: one loop whose frame state, the worst frame, its diff and the
@@ -656,9 +678,10 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     }
     if (ge < 0 || ga < 0) {
         /* FFmpeg's decoders report some failed allocations as damaged
-         * data (h264's get_buffer): a folder compare decodes it again alone */
+         * data (h264's get_buffer): a folder compare decodes it again
+         * alone, when memory may have been short (may_be_memory) */
         ret = record_error(r, "cannot decode %s", ge < 0 ? expected : actual);
-        r->retry_alone = 1;
+        r->retry_alone = may_be_memory();
         goto done;
     }
     if (ge != ga) {
@@ -703,8 +726,11 @@ static int link_out(struct sp_compare_record *r, const char *name, const char *p
 /* The command that adds missing baselines, for messages. */
 static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
 {
-    snprintf(r->hint, sizeof(r->hint),
-             "to add it as the baseline: springpend compare %s %s --update=missing", e, a);
+    /* quoted as a record quotes its words: the hint is meant to be pasted
+     * (a folder "sp e" or 'q$(id)' is one word; attack9 #9) */
+    const char *const words[] = {"springpend", "compare", e, a, "--update=missing"};
+    const int k = snprintf(r->hint, sizeof(r->hint), "to add it as the baseline: ");
+    sp_command_line_quote(words, 5, r->hint + k, sizeof(r->hint) - (size_t)k);
 }
 
 /* Makes the folders above path (mkdir -p of its dirname). Returns 0, or
@@ -1165,6 +1191,8 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
         return ret;
     }
     if (!(todo = calloc((size_t)list.n + 1, 1))) {
+        snprintf(rep->problem, sizeof(rep->problem), "out of memory: nothing was compared");
+        sp_log_error("%s", rep->problem); /* and no report reads as a pass */
         ret = SP_E_NOMEM;
         goto done;
     }

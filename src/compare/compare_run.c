@@ -1166,6 +1166,15 @@ static void retire_alternative(const struct compare_run *c, struct sp_compare_re
     }
 }
 
+/* Out of memory before any comparison: rep's problem says so (a fixed
+ * text), so that no report reads as a pass (attack9 #3); SP_E_NOMEM. */
+static int nothing_compared(struct sp_compare_report *rep)
+{
+    snprintf(rep->problem, sizeof(rep->problem), "out of memory: nothing was compared");
+    sp_log_error("%s", rep->problem);
+    return SP_E_NOMEM;
+}
+
 /* Compares every image (PNG or video) under folder dir_e with its namesake
  * under dir_a, subfolders too, on c->jobs threads; an image in only one of
  * them is an error (a missing render or a missing baseline). Then applies
@@ -1191,9 +1200,7 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
         return ret;
     }
     if (!(todo = calloc((size_t)list.n + 1, 1))) {
-        snprintf(rep->problem, sizeof(rep->problem), "out of memory: nothing was compared");
-        sp_log_error("%s", rep->problem); /* and no report reads as a pass */
-        ret = SP_E_NOMEM;
+        ret = nothing_compared(rep);
         goto done;
     }
     for (int i = 0; i < list.n; i++)

@@ -565,21 +565,6 @@ static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
     return ret;
 }
 
-/* 1 when a decoder's error may have been a failed allocation: only under
- * ulimit -v or -d does an allocation fail on Linux (elsewhere the kernel
- * overcommits, and ends the process when memory is gone), or when FFmpeg
- * said so among this item's held lines (h264's "get_buffer() failed").
- * Otherwise the file is damaged, and decoding it again alone after the
- * pool would only double its cost (attack9 #6). */
-static int may_be_memory(void)
-{
-    const char *what = "";
-    sp_memory_limit(&what);
-    return !strcmp(what, "ulimit -v") || !strcmp(what, "ulimit -d") ||
-           (pool_held && (strstr(pool_held, "get_buffer() failed") ||
-                          strstr(pool_held, "Cannot allocate memory")));
-}
-
 /* Compares two videos frame by frame, times included, into record r: the
  * figures are the worst frame's; --diff gets its diff image.
  * Long: one loop whose frame state, the worst frame, its diff and the
@@ -678,10 +663,14 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     }
     if (ge < 0 || ga < 0) {
         /* FFmpeg's decoders report some failed allocations as damaged
-         * data (h264's get_buffer): a folder compare decodes it again
-         * alone, when memory may have been short (may_be_memory) */
-        ret = record_error(r, "cannot decode %s", ge < 0 ? expected : actual);
-        r->retry_alone = may_be_memory();
+         * data (h264's "Error splitting the input into NAL units"): near
+         * ulimit -v or -d that is out of memory, which a folder compare
+         * tries again alone, and which is exit 1, not the file's fault
+         * (attack9 #13); elsewhere the file is damaged, and decoding it
+         * again would only double its cost (attack9 #6) */
+        const char *bad = ge < 0 ? expected : actual;
+        ret = sp_memory_near_limit() ? record_nomem(r, bad)
+                                     : record_error(r, "cannot decode %s", bad);
         goto done;
     }
     if (ge != ga) {
@@ -1630,10 +1619,15 @@ static int report(const struct compare_run *c, struct sp_compare_report *rep, co
         sp_compare_report_json(stdout, rep);
     else
         sp_compare_report_text(stdout, rep, c->quiet, folders);
-    if ((c->html && write_whole(c->html, 0, fill_html, &(struct report_out){rep, c->html})) ||
-        (c->junit && write_whole(c->junit, 0, fill_junit, &(struct report_out){rep, c->junit})) ||
-        (c->summary &&
-         write_whole(c->summary, 0, fill_summary, &(struct report_out){rep, c->summary})))
+    /* every report is tried, each failure said where it happens: the
+     * JUnit and the summary must not vanish with the HTML (attack9 #11) */
+    const int html = c->html && write_whole(c->html, 0, fill_html,
+                                            &(struct report_out){rep, c->html});
+    const int junit = c->junit && write_whole(c->junit, 0, fill_junit,
+                                              &(struct report_out){rep, c->junit});
+    const int summary = c->summary && write_whole(c->summary, 0, fill_summary,
+                                                  &(struct report_out){rep, c->summary});
+    if (html || junit || summary)
         ret = ret ? ret : SP_E_IO;
     if (!ret) {
         struct sp_compare_counts n = sp_compare_report_count(rep);

@@ -34,6 +34,7 @@ struct sp_video_reader {
     struct sp_image rgba;    /* owned, the converted frame */
     int stream;              /* index of the video stream in fmt */
     int flushing;            /* the demuxer is done; NULL was sent */
+    volatile int no_buffer;  /* 1: the decoder said "get_buffer() failed" (av_line) */
 };
 
 /* This thread's held errors (sp_video_hold_errors): NULL, or a buffer of
@@ -62,7 +63,10 @@ static void hold_text(const char *text)
  * out of memory: SP_E_NOMEM, unsaid (video_read.h). */
 static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
 {
-    if (averr == AVERROR(ENOMEM))
+    /* FFmpeg's decoders report some failed allocations as damaged data
+     * (h264's INVALIDDATA after "get_buffer() failed"): out of memory too,
+     * not the file's fault (attack9 #13) */
+    if (averr == AVERROR(ENOMEM) || r->no_buffer)
         return SP_E_NOMEM;
     if (held) {
         char line[PATH_MAX + 256];
@@ -271,6 +275,11 @@ static void av_line(void *avcl, int level, const char *fmt, va_list vl)
 {
     static _Thread_local int prefix = 1;
     char line[1024];
+    /* a frame buffer that could not be had: said by ff_get_buffer and
+     * h264, with the decoder's context, whose opaque is its reader */
+    if (avcl && *(const AVClass *const *)avcl == avcodec_get_class() &&
+        !strcmp(fmt, "get_buffer() failed\n") && ((AVCodecContext *)avcl)->opaque)
+        ((struct sp_video_reader *)((AVCodecContext *)avcl)->opaque)->no_buffer = 1;
     if (level > av_log_get_level() || av_quiet)
         return;
     av_log_format_line2(avcl, level, fmt, vl, line, sizeof(line), &prefix);
@@ -364,6 +373,7 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
         goto fail;
     }
     r->dec->max_pixels = SP_VIDEO_MAX_PIXELS; /* a larger frame is an error, unallocated */
+    r->dec->opaque = r;                       /* for av_line's get_buffer() failures */
     if (ret >= 0)
         ret = avcodec_open2(r->dec, codec, NULL);
     if (ret < 0) {

@@ -17,7 +17,7 @@
 - finding 1: a poincare shard's command without --energy passed the
   merge's check though the shard holds another E: refused;
 - finding 6: a damaged video was decoded twice with --jobs above 1 (again
-  alone after the pool): once, unless memory may have been short;
+  alone after the pool): once, unless the process is near its ulimit;
 - finding 7: a diff whose name holds a bidi control was attached in JUnit
   under a path that does not exist: not attached, named in the text;
 - finding 8 (MEDIUM): `scene FILE --command` printed a forged record as it
@@ -27,7 +27,11 @@
   writes is refused;
 - finding 9: compare's "to add it as the baseline" hint was not quoted,
   and a missing file was "not a regular file": quoted as records are, and
-  "does not exist".
+  "does not exist";
+- finding 11: when the HTML report could not be written, the JUnit and
+  Markdown reports were silently not written: each is tried and said;
+- finding 13: under ulimit -v a valid video pair was "cannot decode" (an
+  input error, exit 2): near the limit it is out of memory (exit 1).
 usage: test_attack9.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
@@ -345,5 +349,38 @@ r = run("compare", "s.png", "nope.png")
 ok(r.returncode == 2 and "nope.png does not exist" in r.stdout.decode()
    and "not a regular file" not in r.stdout.decode(),
    f"compare s.png nope.png: the missing file is said not to exist ({r.stdout.decode()[-120:]!r})")
+
+# ---- finding 11: the JUnit and Markdown reports are written when the HTML is not -----------
+for d in ("pass/e", "pass/a"):
+    os.makedirs(path(d))
+shutil.copy(path("s.png"), path("pass", "e", "x.png"))
+shutil.copy(path("s.png"), path("pass", "a", "x.png"))
+r = run("compare", "pass/e", "pass/a", "--report", "nodir/r.html", "--junit", "pass/j.xml",
+        "--summary", "pass/s.md")
+ok(r.returncode != 0 and "nodir/r.html" in err(r) and os.path.exists(path("pass", "j.xml"))
+   and os.path.exists(path("pass", "s.md")),
+   f"compare whose --report cannot be written: the JUnit and the summary are written still, "
+   f"the HTML's failure said (exit {r.returncode}: {err(r)[-200:]!r}; {sorted(os.listdir(path('pass')))})")
+
+# ---- finding 13: near ulimit -v a valid video pair is out of memory, not "cannot decode" ----
+r = run("render", default, "--size", "1280x720", "--fps", "10", "--set", "video.duration=0.5",
+        "-o", "vm.mp4", "-q", timeout=120)
+assert r.returncode == 0, err(r)
+if sanitized:
+    skip("a video pair near ulimit -v", "ulimit -v and a sanitizer's shadow memory")
+else:
+    said = {}
+    for mb in range(150, 420, 10):
+        def limit(mb=mb):
+            resource.setrlimit(resource.RLIMIT_AS, (mb << 20, mb << 20))
+        r = run("compare", "vm.mp4", "vm.mp4", preexec_fn=limit, timeout=60)
+        said[mb] = (r.returncode, r.stdout.decode().strip().splitlines()[-1:])
+    decode = [mb for mb, (rc, out) in said.items() if "cannot decode" in str(out)]
+    nomem = [mb for mb, (rc, out) in said.items() if rc == 1 and "out of memory" in str(out)]
+    passed = [mb for mb, (rc, out) in said.items() if rc == 0]
+    ok(not decode and nomem and passed,
+       f"compare vm.mp4 vm.mp4 (1280x720) under ulimit -v 150..410 MB: never 'cannot decode'; "
+       f"out of memory (exit 1) at {nomem[:1]}..{nomem[-1:]} MB, passes from {passed[:1]} MB "
+       f"('cannot decode' at {decode})")
 
 done()

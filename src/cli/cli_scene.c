@@ -44,7 +44,8 @@ static const char scene_usage[] =
     "-q, --frames and --shard (a part of a PNG sequence is the whole run's; an\n"
     "MP4 or WebM piece records its own); a merged sweep figure records its\n"
     "shards' command and the merge's --size, --dpi and --format. Run it with\n"
-    "-o NAME added, where SCENE.ini is the printed scene, and NAME has the same\n"
+    "-o NAME added (a CSV's keeps its own -o or --csv FILE: change FILE to NAME\n"
+    "instead), where SCENE.ini is the printed scene, and NAME has the same\n"
     "bytes as FILE (a PDF: under the same SOURCE_DATE_EPOCH). A word with a\n"
     "control character, a character that shows nothing (Unicode's default\n"
     "ignorables: U+200B, U+200C, U+034F, U+FE0F, U+3164, U+FEFF; U+2800, U+2028)\n"
@@ -215,6 +216,9 @@ static int command_of_csv(const char *path)
     const int ret = print_command(path, "prov:wasGeneratedBy in " SP_CSV_METADATA_SUFFIX,
                                   json_string_value(json_object_get(meta, "prov:wasGeneratedBy")));
     json_decref(meta);
+    if (!ret) /* the other records leave it out: "add -o NAME" would give it twice */
+        sp_log_note("a CSV's command keeps its own output (-o or --csv FILE): to make the CSV "
+                    "again as NAME, change that FILE to NAME, rather than adding -o NAME");
     return ret;
 }
 

@@ -28,6 +28,9 @@
 - finding 9: compare's "to add it as the baseline" hint was not quoted,
   and a missing file was "not a regular file": quoted as records are, and
   "does not exist";
+- finding 12: a CSV's record keeps its -o, so the documented "add -o NAME"
+  was refused: `scene X.csv --command` now says to change that name, and
+  doing so re-makes the CSV's bytes;
 - finding 11: when the HTML report could not be written, the JUnit and
   Markdown reports were silently not written: each is tried and said;
 - finding 13: under ulimit -v a valid video pair was "cannot decode" (an
@@ -382,5 +385,20 @@ else:
        f"compare vm.mp4 vm.mp4 (1280x720) under ulimit -v 150..410 MB: never 'cannot decode'; "
        f"out of memory (exit 1) at {nomem[:1]}..{nomem[-1:]} MB, passes from {passed[:1]} MB "
        f"('cannot decode' at {decode})")
+
+# ---- finding 12: a CSV's command keeps its -o: said, and the recipe that follows it works ---
+r = run("data", default, "--set", "video.duration=1", "-o", "out.csv", "-q")
+assert r.returncode == 0, err(r)
+r = run("scene", "out.csv", "--command")
+line = r.stdout.decode().strip()
+said = err(r)
+again = line.replace(" -o out.csv", " -o again.csv")
+sh = "'" + exe.replace("'", "'\\''") + "'" + again[len("springpend"):]
+r2 = subprocess.run(["sh", "-c", sh], cwd=work, capture_output=True, timeout=60)
+ok(r.returncode == 0 and " -o out.csv" in line and "change that FILE to NAME" in said
+   and r2.returncode == 0 and open(path("again.csv"), "rb").read() == open(path("out.csv"), "rb").read(),
+   f"scene out.csv --command: the record keeps -o out.csv, stderr says to change it, and the "
+   f"command with that name changed re-makes the CSV's bytes ({line[-60:]!r}; {said[:120]!r}; "
+   f"{err(r2)[-160:]!r})")
 
 done()

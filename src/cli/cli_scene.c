@@ -159,8 +159,8 @@ static void say_escaped_words(struct sp_command_line *r)
         if (k)
             sp_log_note("word %d of that command, %s, holds %s: the record writes such a "
                         "character as an escape, which a shell reads back as the escape's own "
-                        "letters, not as the character; retype that word with the character itself (bash's "
-                        "$'...' quotes read the escapes)", i + 2, w[i], what);
+                        "letters, not as the character; retype that word with the character "
+                        "itself (bash's $'...' quotes read the escapes)", i + 2, w[i], what);
     }
 }
 

@@ -747,10 +747,6 @@ static int figure_look(struct sweep_opts *o, const struct sp_scene *scene,
     return o->output ? check_figure(&o->style) : 0;
 }
 
-/* The first difference between what a shard's command says (o, c: its
- * parse) and what the merge checked of the shards (m), as "what the
- * command says" and "what the shard holds", into said and held; 0 when
- * they agree. */
 /* The scene's total energy at t = 0, J, as a sweep without --energy
  * takes it (sp_sweep_check). */
 static double scene_energy(const struct sp_scene *s)
@@ -771,6 +767,10 @@ static int same_energy(const struct sweep_opts *o, const struct sp_sweep_desc *c
     return e == h || fabs(e - h) <= 1e-12 * fmax(fabs(e), fabs(h));
 }
 
+/* The first difference between what a shard's command says (o, c: its
+ * parse) and what the merge checked of the shards (m), as "what the
+ * command says" and "what the shard holds", into said and held; 0 when
+ * they agree. */
 static int command_differs(const struct sweep_opts *o, const struct sp_sweep_desc *c,
                            const struct sp_sweep_merge *m, char *said, char *held, size_t size)
 {

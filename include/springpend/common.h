@@ -35,8 +35,11 @@ void sp_log_quiet(int quiet);
  * UTF-8 as \xHH, C1 controls (U+0080..U+009F), noncharacters (U+FDD0..U+FDEF,
  * U+FFFE, U+FFFF and their like in every plane) and the characters that
  * show nothing (utf8.h's sp_utf8_is_invisible) as \uHHHH or \UHHHHHHHH,
- * and a backslash as \\ (so that the shown form is one-to-one: a typed
- * "\u200c" shows as \\u200c, U+200C as \u200c). */
+ * but for a ZWNJ or ZWJ that joins letters (utf8.h's sp_utf8_is_joiner:
+ * Persian's ZWNJ, an Indic conjunct's), which shows in its effect and is
+ * written as it is, and a backslash as \\ (so that the shown form is
+ * one-to-one: a typed "\u200c" shows as \\u200c, U+200C between Latin
+ * letters as \u200c). */
 void sp_fputs_printable(const char *s, FILE *fp);
 
 /* As sp_fputs_printable, and a newline shown as \n: text from outside (a
@@ -61,6 +64,12 @@ void sp_fprintf_line(FILE *fp, const char *fmt, ...) __attribute__((format(print
  * length. For names that reach a file or a picture (data's scene column,
  * an RFC 4180 field that may hold a line break; a cell's automatic label). */
 size_t sp_text_shown(const char *s, int newline, char *buf, size_t size);
+
+/* The first character at or after s (in the text that begins at start)
+ * that sp_fputs_line writes as an escape (\n, \xHH, \uHHHH, \UHHHHHHHH;
+ * not a backslash's \\), or NULL: a word that holds one is not given back
+ * by a shell reading its shown form, and must be retyped. */
+const char *sp_text_next_escaped(const char *start, const char *s);
 
 /* Progress of a long integration, drawn on stderr when it is a terminal:
  * a command calls sp_progress_begin before integrating to t_goal

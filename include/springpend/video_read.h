@@ -10,8 +10,17 @@
 
 struct sp_video_reader;
 
+/* The most pixels a video frame may hold for compare to read it: the
+ * largest frame of the highest level of H.264, HEVC, VP9 and AV1 (6.2/6.3:
+ * 35 651 584 luma samples, 8192x4352); springpend writes at most
+ * 7680x4320. A container whose header claims more is refused unread, and
+ * the decoder refuses a frame beyond it (AVCodecContext.max_pixels), so a
+ * forged size costs no memory and no estimate counts more than this. */
+#define SP_VIDEO_MAX_PIXELS 35651584L
+
 /* Opens path and its decoder. SP_E_INPUT (with a message) when it is not a
- * readable video; SP_E_NOMEM, unsaid, when memory runs out (not the file's
+ * readable video, or its header or decoder says a frame size beyond
+ * SP_VIDEO_MAX_PIXELS; SP_E_NOMEM, unsaid, when memory runs out (not the file's
  * fault: its caller says it once; compare retries on one thread first). */
 int sp_video_reader_open(struct sp_video_reader **out, const char *path);
 
@@ -40,7 +49,8 @@ void sp_video_reader_destroy(struct sp_video_reader **r);
  * say, px, with nothing decoded and nothing logged: for an estimate before
  * the file is read in earnest (which then says what is wrong with it).
  * Only a regular file is opened. 0, or SP_E_INPUT (*width = *height = 0),
- * also for a size FFmpeg refuses to decode (av_image_check_size). */
+ * also for a size beyond SP_VIDEO_MAX_PIXELS, which the reader refuses
+ * unread. */
 int sp_video_frame_size(const char *path, int *width, int *height);
 
 /* The container tag key of the video at path (springpend writes its PNG

@@ -18,27 +18,48 @@ static unsigned long code_point(const unsigned char *s, size_t n)
     return u;
 }
 
+/* 1 when the shown form writes the character at s (n bytes: sp_utf8_char's,
+ * 0 for a byte that is not UTF-8; in the text from start) as an escape:
+ * \n (a newline, unless newline), \xHH (a control byte, DEL, a byte that
+ * is not UTF-8), \uHHHH (utf8.h's sp_utf8_hidden_at). A backslash's \\ is
+ * not counted: a shell reads it back as it was. */
+static int escaped(const char *start, const char *s, size_t n, int newline)
+{
+    const unsigned char c = (unsigned char)*s;
+    if (n == 1)
+        return c == '\n' ? !newline : (c < 0x20 && c != '\t') || c == 0x7f;
+    return !n || sp_utf8_hidden_at(start, s);
+}
+
 /* newline: 1 to write it, 0 to show it as \n; plus SHOWN_ALREADY: a
  * backslash written as it is (s is in the shown form already) */
 enum { SHOWN_ALREADY = 2 };
 static void fputs_shown(const char *s, FILE *fp, int newline)
 {
+    const char *start = s;
     for (size_t n; *s; s += n ? n : 1) {
         unsigned char c = (unsigned char)*s;
         n = sp_utf8_char(s);
-        const unsigned long u = n > 1 ? code_point((const unsigned char *)s, n) : c;
-        if (c == '\n' && !(newline & 1))
-            fputs("\\n", fp);
-        else if (c == '\\' && !(newline & SHOWN_ALREADY)) /* so that the shown form is one-to-one */
+        if (c == '\\' && !(newline & SHOWN_ALREADY)) /* so that the shown form is one-to-one */
             fputs("\\\\", fp);
-        else if ((n == 1 && (c >= 0x20 || c == '\n' || c == '\t') && c != 0x7f) ||
-                 (n > 1 && !sp_utf8_is_hidden((uint32_t)u)))
+        else if (!escaped(start, s, n, newline & 1))
             fwrite(s, 1, n, fp);
+        else if (c == '\n')
+            fputs("\\n", fp);
         else if (n > 1)
-            fprintf(fp, u > 0xffff ? "\\U%08lx" : "\\u%04lx", u);
+            fprintf(fp, n == 4 ? "\\U%08lx" : "\\u%04lx",
+                    code_point((const unsigned char *)s, n));
         else
             fprintf(fp, "\\x%02x", c);
     }
+}
+
+const char *sp_text_next_escaped(const char *start, const char *s)
+{
+    for (size_t n; *s; s += n ? n : 1)
+        if (escaped(start, s, n = sp_utf8_char(s), 0))
+            return s;
+    return NULL;
 }
 
 void sp_fputs_printable(const char *s, FILE *fp)

@@ -3,6 +3,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include <fribidi.h>
 #include <hb.h>
 
 #include "utf8.h"
@@ -81,4 +82,58 @@ int sp_utf8_is_hidden(uint32_t u)
 {
     return (u >= 0x80 && u < 0xa0) || (u & 0xfffe) == 0xfffe || (u >= 0xfdd0 && u <= 0xfdef) ||
            sp_utf8_is_invisible(u);
+}
+
+/* The character before p in text (from start): its code point in *u and
+ * its start, or NULL at start or before a byte that is not UTF-8. */
+static const char *before(const char *start, const char *p, uint32_t *u)
+{
+    for (const char *q = p - 1; q >= start && p - q <= 4; q--) {
+        if (((unsigned char)*q & 0xC0) == 0x80)
+            continue; /* a continuation byte: the character starts further back */
+        size_t n;
+        *u = sp_utf8_decode(q, &n);
+        return sp_utf8_char(q) == (size_t)(p - q) ? q : NULL;
+    }
+    return NULL;
+}
+
+static int virama(uint32_t u)
+{
+    return hb_unicode_combining_class(hb_unicode_funcs_get_default(), u) ==
+           HB_UNICODE_COMBINING_CLASS_VIRAMA;
+}
+
+int sp_utf8_is_joiner(const char *start, const char *at)
+{
+    size_t n;
+    uint32_t u = sp_utf8_decode(at, &n), b = 0;
+    const char *p = before(start, at, &b);
+    if (u != 0x200C && u != 0x200D)
+        return 0;
+    if (p && virama(b)) /* A.1, A.2: after a virama (Indic conjuncts) */
+        return 1;
+    if (u == 0x200D)
+        return 0;
+    /* A.1: (Joining_Type:{L,D})(Joining_Type:T)* ZWNJ (Joining_Type:T)*(Joining_Type:{R,D}) */
+    while (p && fribidi_get_joining_type(b) == FRIBIDI_JOINING_TYPE_T)
+        p = before(start, p, &b);
+    if (!p || (fribidi_get_joining_type(b) != FRIBIDI_JOINING_TYPE_L &&
+               fribidi_get_joining_type(b) != FRIBIDI_JOINING_TYPE_D))
+        return 0;
+    for (const char *q = at + n; *q; q += n) {
+        if (!sp_utf8_char(q))
+            return 0;
+        const FriBidiJoiningType j = fribidi_get_joining_type(sp_utf8_decode(q, &n));
+        if (j != FRIBIDI_JOINING_TYPE_T)
+            return j == FRIBIDI_JOINING_TYPE_R || j == FRIBIDI_JOINING_TYPE_D;
+    }
+    return 0;
+}
+
+int sp_utf8_hidden_at(const char *start, const char *at)
+{
+    size_t n;
+    const uint32_t u = sp_utf8_decode(at, &n);
+    return n > 1 && sp_utf8_is_hidden(u) && !sp_utf8_is_joiner(start, at);
 }

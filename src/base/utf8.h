@@ -34,4 +34,19 @@ int sp_utf8_is_invisible(uint32_t u);
  * noncharacter or an invisible one (sp_utf8_is_invisible). */
 int sp_utf8_is_hidden(uint32_t u);
 
+/* 1 when the character at `at` in the text that begins at start is a
+ * U+200C (ZWNJ) or U+200D (ZWJ) that joins by IDNA's contextual rules (RFC
+ * 5892 appendix A.1, A.2): either after a virama (an Indic conjunct), or a
+ * ZWNJ between letters of a joining script, (L|D) T* ZWNJ T* (R|D) by
+ * Unicode's Joining_Type (FriBidi's data; T: transparent marks), as in
+ * Persian's mi<ZWNJ>khaham. There it changes what is drawn (the letters do
+ * not join, the conjunct opens), so it is no invisible difference; anywhere
+ * else (between Latin letters, in an emoji sequence) it shows nothing. */
+int sp_utf8_is_joiner(const char *start, const char *at);
+
+/* 1 when the character at `at` (in the text that begins at start) is one
+ * the shown form writes escaped (sp_utf8_is_hidden), which is every hidden
+ * one but a joiner (sp_utf8_is_joiner): a byte (ASCII, not UTF-8) is 0. */
+int sp_utf8_hidden_at(const char *start, const char *at);
+
 #endif

@@ -8,7 +8,9 @@
 #include <strings.h>
 
 #include "cli.h"
+#include "base/command_line.h"
 #include "base/decimal.h"
+#include "base/utf8.h"
 #include "springpend/common.h"
 #include "springpend/csv_metadata.h"
 #include "springpend/figure.h"
@@ -45,9 +47,12 @@ static const char scene_usage[] =
     "control character, a character that shows nothing (Unicode's default\n"
     "ignorables: U+200B, U+200C, U+034F, U+FE0F, U+3164, U+FEFF; U+2800, U+2028)\n"
     "or a byte that is not UTF-8 was recorded escaped (\\xNN, \\uNNNN):\n"
-    "that word must be given again by hand. A backslash is shown as \\\\ (so a\n"
-    "typed \\u200c shows as \\\\u200c), outside the quotes, where a shell reads\n"
-    "it back as one backslash.\n"
+    "that word must be given again by hand, and --command names it on stderr.\n"
+    "A ZWNJ or ZWJ that joins letters (Persian's ZWNJ, an Indic conjunct's,\n"
+    "by RFC 5892's contextual rule) changes what is drawn: it is recorded as\n"
+    "it is. A backslash is shown as \\\\ (so a typed \\u200c shows as\n"
+    "\\\\u200c), outside the quotes, where a shell reads it back as one\n"
+    "backslash.\n"
     "What FILE carries is checked before it is printed: it must be a scene as\n"
     "springpend writes one (read back by the scene parser and written again,\n"
     "byte for byte), else it is refused, FILE: KEY:LINE, exit 2.\n";
@@ -115,9 +120,53 @@ static int scene_of_csv(const char *path, int cell)
     return ret;
 }
 
+/* Says on stderr each word of the recorded line that holds a character
+ * recorded as an escape (\uHHHH, \xHH, \n: a shell reads those back as
+ * the typed text, not as the character), with those characters (the first
+ * 4), so that the user knows what to retype (attack8 #12). */
+static void say_escaped_words(const char *line)
+{
+    struct sp_command_line *r = sp_command_line_read(line);
+    int argc = 0;
+    char **w = r ? sp_command_line_words(r, &argc) : NULL;
+    for (int i = 0; i < argc; i++) {
+        char what[160] = "";
+        size_t used = 0;
+        int k = 0;
+        for (const char *at = sp_text_next_escaped(w[i], w[i]); at;
+             at = sp_text_next_escaped(w[i], at + (sp_utf8_char(at) ? sp_utf8_char(at) : 1))) {
+            size_t n;
+            const uint32_t u = sp_utf8_char(at) ? sp_utf8_decode(at, &n) : 0;
+            char one[48];
+            if (!sp_utf8_char(at))
+                snprintf(one, sizeof(one), "the byte 0x%02x (not UTF-8)", (unsigned char)*at);
+            else if (u < 0x80)
+                snprintf(one, sizeof(one), "the control character 0x%02x", (unsigned)u);
+            else
+                snprintf(one, sizeof(one), "U+%04X", (unsigned)u);
+            if (strstr(what, one))
+                continue; /* said already */
+            if (k++ == 4) {
+                snprintf(what + used, sizeof(what) - used, ", ...");
+                break;
+            }
+            used += (size_t)snprintf(what + used, sizeof(what) - used, "%s%s", k > 1 ? ", " : "",
+                                     one);
+            used = used < sizeof(what) ? used : sizeof(what) - 1;
+        }
+        if (k)
+            sp_log_note("word %d of that command, %s, holds %s: the record writes such a "
+                        "character as an escape, which a shell reads back as the escape's own "
+                        "letters, not as the character; retype that word with the character itself (bash's "
+                        "$'...' quotes read the escapes)", i + 2, w[i], what);
+    }
+    sp_command_line_free(r);
+}
+
 /* Prints a recorded command line, shown as messages are (no control byte
- * reaches the terminal, whoever forged the file); 0, or SP_E_INPUT (logged)
- * when there is none. */
+ * reaches the terminal, whoever forged the file), and says which words
+ * must be retyped (say_escaped_words); 0, or SP_E_INPUT (logged) when
+ * there is none. */
 static int print_command(const char *path, const char *where, const char *line)
 {
     if (!line || !line[0]) {
@@ -127,6 +176,8 @@ static int print_command(const char *path, const char *where, const char *line)
     }
     sp_fputs_record(line, 0, stdout);
     putchar('\n');
+    fflush(stdout); /* the line before what is said about it */
+    say_escaped_words(line);
     return 0;
 }
 

@@ -442,6 +442,7 @@ enum { XML_PLAIN, XML_NO_DIRECTIVES, XML_PATH };
 static void xml_string(FILE *fp, const char *s, int mode)
 {
     static const char replacement[] = "\xEF\xBF\xBD";
+    const char *start = s;
     for (size_t n; *s; s += n ? n : 1) {
         n = sp_utf8_char(s);
         if (!n || (n == 3 && (unsigned char)s[0] == 0xEF && (unsigned char)s[1] == 0xBF &&
@@ -451,7 +452,7 @@ static void xml_string(FILE *fp, const char *s, int mode)
         }
         if (n != 1) {
             uint32_t u = sp_utf8_decode(s, &n);
-            if (mode == XML_PATH ? sp_utf8_is_bidi_control(u) : sp_utf8_is_hidden(u))
+            if (mode == XML_PATH ? sp_utf8_is_bidi_control(u) : sp_utf8_hidden_at(start, s))
                 fprintf(fp, u > 0xffff ? "\\U%08x" : "\\u%04x",
                         (unsigned)u); /* shown, never reordering the name */
             else
@@ -1083,7 +1084,7 @@ static void md_cell(FILE *fp, const char *s)
         uint32_t u = n > 1 ? sp_utf8_decode(s, &n) : 0;
         if (!n || (unsigned char)*s < 0x20)
             fputc(n ? ' ' : '?', fp);
-        else if (n > 1 && sp_utf8_is_hidden(u)) /* as messages show it; the \ as \\ */
+        else if (n > 1 && sp_utf8_hidden_at(start, s)) /* as messages show it; the \ as \\ */
             fprintf(fp, u > 0xffff ? "\\\\U%08x" : "\\\\u%04x", (unsigned)u);
         else if (*s == '\\') /* \\ shows it (the shown form's); \\\\ in Markdown */
             fputs("\\\\\\\\", fp);

@@ -1004,25 +1004,35 @@ static double thread_base(const char *what)
     return !strcmp(what, "ulimit -d") ? stack + 4e6 : 4e6;
 }
 
+/* qsort order: larger first. */
+static int by_need_down(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x < y) - (x > y);
+}
+
 /* The threads a folder compare runs: --jobs, at most one per image to
  * compare, and no more than fit in half the memory the process may use
  * (memory_limit.h), each thread counted with its own cost (thread_base)
- * and the largest image it may hold: a PNG's decoded pixels, or a video
- * pair's decoders and frames at the size its header says (a video pair
- * also runs a second thread for its other decoder). 8K snapshots on a
+ * and, together, the largest pairs they may hold at once (n threads: the
+ * n largest): a PNG's decoded pixels, or a video pair's decoders and
+ * frames at the size its header says (a video pair also runs a second
+ * thread for its other decoder). 8K snapshots on a
  * 64-core runner once took 17 GB. Says so on stderr when it lowers them. */
 static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot_list *l,
                            const unsigned char *todo, const char *dir_e, const char *dir_a)
 {
-    int n = c->jobs < l->n ? c->jobs : l->n;
-    double px = 0, images = 0;
+    int n = c->jobs < l->n ? c->jobs : l->n, n_needs = 0;
+    double px = 0;
     const char *what;
     const double budget = sp_memory_limit(&what) / 2, base = thread_base(what);
+    double *needs = n > 1 ? calloc((size_t)l->n, sizeof(double)) : NULL;
     /* the cancel flag stops the headers' pass too: 100 000 video headers
      * take about a minute (attack8 #7) */
-    for (int i = 0; n > 1 && i < l->n && !stopped(c); i++) {
+    for (int i = 0; needs && i < l->n && !stopped(c); i++) {
         const int png = sp_snapshot_is_png(l->items[i].name);
         char p[PATH_MAX];
+        double item = 0;
         if (!todo[i])
             continue;
         for (int side = 0; side < 2; side++) {
@@ -1032,10 +1042,9 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
                          side || l->items[i].expected ? l->items[i].name
                                                       : l->items[i].alts[0]) >= (int)sizeof(p))
                 continue;
-            /* an image the reader refuses unread (beyond its pixel limit)
-             * holds no memory: a forged header must not make the run
-             * serial (attack8 #6); sp_video_frame_size leaves out sizes
-             * FFmpeg refuses */
+            /* an image the reader refuses unread (beyond its pixel limit:
+             * SP_PNG_MAX_PIXELS, SP_VIDEO_MAX_PIXELS) holds no memory: a
+             * forged header must not make the run serial (attack8 #6) */
             if (png && sp_png_read_info_quiet(p, &info) == 0 &&
                 (double)info.width * info.height <= (double)SP_PNG_MAX_PIXELS)
                 w = info.width, h = info.height;
@@ -1044,13 +1053,28 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
             const double at = (double)w * h;
             const double need = png ? at * THREAD_BYTES_PER_PX
                                     : at * VIDEO_THREAD_BYTES_PER_PX + base;
-            if (need > images)
-                images = need, px = at;
+            if (need > item)
+                item = need;
+            if (at > px)
+                px = at;
+        }
+        needs[n_needs++] = item;
+    }
+    /* n threads hold at most the n largest pairs at once, not n copies of
+     * the largest: one large (or forged) file costs one thread's share */
+    if (n_needs)
+        qsort(needs, (size_t)n_needs, sizeof(double), by_need_down);
+    int fit = n;
+    double held = 0, images = n_needs ? needs[0] : 0;
+    for (int k = 0; needs && budget > 0 && k < n; k++) {
+        held += (k < n_needs ? needs[k] : 0) + base;
+        if (held > budget) {
+            fit = k < 1 ? 1 : k;
+            break;
         }
     }
-    const double need = images + base;
-    if (n > 1 && budget > 0 && n * need > budget) {
-        const int fit = budget / need < 1 ? 1 : (int)(budget / need);
+    free(needs);
+    if (fit < n) {
         if (!c->quiet && !c->json)
             sp_fprintf_line(stderr, "springpend: --jobs %d: each thread holds up to %.0f MB "
                             "for the largest image (%.1f Mpx) and %.0f MB of its own (stack, "

@@ -214,6 +214,33 @@ static int open_checked(AVFormatContext **fmt, const char *path)
     return ret;
 }
 
+/* The frame size fmt's first video stream's header claims (codecpar; *w =
+ * *h = 0 when none says one): 1 when it is beyond SP_VIDEO_MAX_PIXELS or a
+ * size FFmpeg refuses, else 0. */
+static int header_size(const AVFormatContext *fmt, int *w, int *h)
+{
+    *w = *h = 0;
+    for (unsigned i = 0; i < fmt->nb_streams; i++) {
+        const AVCodecParameters *p = fmt->streams[i]->codecpar;
+        if (p->codec_type == AVMEDIA_TYPE_VIDEO && p->width > 0 && p->height > 0) {
+            *w = p->width, *h = p->height;
+            return (int64_t)p->width * p->height > SP_VIDEO_MAX_PIXELS ||
+                   av_image_check_size(p->width, p->height, 0, NULL) != 0;
+        }
+    }
+    return 0;
+}
+
+/* Refuses (SP_E_INPUT, logged) a frame size beyond SP_VIDEO_MAX_PIXELS:
+ * what says where it was read. */
+static int too_large(const char *path, const char *what, int w, int h)
+{
+    sp_log_error("%s: %s %dx%d, %lld pixels a frame; compare reads videos of at most %ld "
+                 "pixels a frame (8192x4352, the largest level of H.264, HEVC, VP9 and AV1)",
+                 path, what, w, h, (long long)w * h, SP_VIDEO_MAX_PIXELS);
+    return SP_E_INPUT;
+}
+
 /* FFmpeg's own log lines (av_log), each written whole under stderr's stdio
  * lock as springpend's are (log.c), and shown as sp_fputs_printable shows
  * text: FFmpeg's default writes its "[mov @ 0x...] " prefix and its text
@@ -244,6 +271,24 @@ static void log_through_lines(void)
 
 static pthread_once_t log_once = PTHREAD_ONCE_INIT;
 
+/* avformat_find_stream_info, whose probing decoders refuse a frame beyond
+ * SP_VIDEO_MAX_PIXELS as the reader's own does (the codec option
+ * max_pixels, a stream each). Its return value. */
+static int find_stream_info(AVFormatContext *fmt)
+{
+    const unsigned n = fmt->nb_streams;
+    AVDictionary **opts = n ? av_calloc(n, sizeof(*opts)) : NULL;
+    int ret = n && !opts ? AVERROR(ENOMEM) : 0;
+    for (unsigned i = 0; i < n && ret >= 0; i++)
+        ret = av_dict_set_int(&opts[i], "max_pixels", SP_VIDEO_MAX_PIXELS, 0);
+    if (ret >= 0)
+        ret = avformat_find_stream_info(fmt, opts);
+    for (unsigned i = 0; opts && i < n; i++)
+        av_dict_free(&opts[i]);
+    av_freep(&opts);
+    return ret;
+}
+
 int sp_video_reader_open(struct sp_video_reader **out, const char *path)
 {
     pthread_once(&log_once, log_through_lines);
@@ -256,9 +301,14 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
         ret = SP_E_NOMEM;
         goto fail;
     }
+    int w, h;
     if ((ret = open_checked(&r->fmt, path)) != 0)
         goto fail;
-    ret = avformat_find_stream_info(r->fmt, NULL);
+    if (header_size(r->fmt, &w, &h)) { /* before anything is decoded */
+        ret = too_large(path, "its header says", w, h);
+        goto fail;
+    }
+    ret = find_stream_info(r->fmt);
     if (ret >= 0)
         ret = r->stream = av_find_best_stream(r->fmt, AVMEDIA_TYPE_VIDEO, -1, -1, &codec, 0);
     if (ret == AVERROR(ENOMEM)) {
@@ -275,6 +325,11 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
         goto fail;
     }
     ret = avcodec_parameters_to_context(r->dec, r->fmt->streams[r->stream]->codecpar);
+    if (ret >= 0 && (int64_t)r->dec->width * r->dec->height > SP_VIDEO_MAX_PIXELS) {
+        ret = too_large(path, "its stream says", r->dec->width, r->dec->height);
+        goto fail;
+    }
+    r->dec->max_pixels = SP_VIDEO_MAX_PIXELS; /* a larger frame is an error, unallocated */
     if (ret >= 0)
         ret = avcodec_open2(r->dec, codec, NULL);
     if (ret < 0) {
@@ -384,18 +439,15 @@ int sp_video_frame_size(const char *path, int *width, int *height)
         snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
         pthread_once(&log_once, log_through_lines);
         av_quiet = 1; /* nothing logged: FFmpeg's lines neither */
-        const int opened = open_video(&fmt, name, fd, NULL) == 0;
-        av_quiet = 0;
-        if (opened) {
-            /* the headers only: no frame is decoded */
-            for (unsigned i = 0; i < fmt->nb_streams && ret; i++) {
-                const AVCodecParameters *p = fmt->streams[i]->codecpar;
-                if (p->codec_type == AVMEDIA_TYPE_VIDEO && p->width > 0 && p->height > 0 &&
-                    av_image_check_size(p->width, p->height, 0, NULL) == 0)
-                    *width = p->width, *height = p->height, ret = 0;
-            }
+        if (open_video(&fmt, name, fd, NULL) == 0) {
+            /* the headers only: no frame is decoded; a size the reader
+             * refuses unread counts for nothing (attack8 #6) */
+            int w, h;
+            if (!header_size(fmt, &w, &h) && w > 0)
+                *width = w, *height = h, ret = 0;
             avformat_close_input(&fmt);
         }
+        av_quiet = 0;
     }
     close(fd);
     return ret;

@@ -523,15 +523,24 @@ static void legend_room(struct sp_composer *r, const struct sp_params *p, float 
 }
 
 /* deg (degrees) as the HUD prints an angle: one decimal, or two significant
- * digits where that would print 0.0 (a tiny turn is a number, not "0.0"),
- * with a real minus sign. */
+ * digits where that would print 0.0 (a tiny turn is a number, not "0.0"):
+ * "0.0012°", and past SP_AXIS_MAX_DECIMALS decimals "3.7×10⁻⁸°", as the
+ * axes write numbers; with a real minus sign. */
 static void hud_degrees(char *buf, size_t size, double deg)
 {
     const char *sign = deg < 0 ? "\u2212" : "";
-    if (deg == 0 || fabs(deg) >= 0.05)
+    if (deg == 0 || fabs(deg) >= 0.05) {
         snprintf(buf, size, "%s%.1f°", sign, fabs(deg));
-    else
-        snprintf(buf, size, "%s%.2g°", sign, fabs(deg));
+        return;
+    }
+    /* two significant digits: a step one decade below the leading digit's,
+     * taken after rounding (0.0099996 is 0.010, not 0.0100) */
+    double step = pow(10, floor(log10(fabs(deg))) - 1);
+    if (round(fabs(deg) / step) >= 100)
+        step *= 10;
+    char num[48];
+    sp_axis_number_step(num, sizeof(num), round(fabs(deg) / step) * step, step);
+    snprintf(buf, size, "%s%s°", sign, num);
 }
 
 /* A 3-D scene's heads-up lines, appended after the others: the precession

@@ -1286,13 +1286,23 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
     const float cap = (float)sp_font_cap(f, SP_TEXT_SMALL), line = (float)sp_font_line(f, SP_TEXT_SMALL);
     if (!label[0])
         label = SP_COLORBAR_NAME, n = 1;
-    const float y0 = r->y0 + 1.6f * cap + (float)(n - 1) * line,
-                h = fminf(r->y1 - y0 - cap, 0.4f * unit);
+    float y0 = r->y0 + 1.6f * cap + (float)(n - 1) * line, h = fminf(r->y1 - y0 - cap, 0.4f * unit);
     const float x0 = r->x1 - bw - tick - (sp_colorbar_width(f, unit, max_speed, label, n) - bw - tick);
     enum { STEPS = 64 };
     struct sp_axis a;
     char buf[32];
     float rgb[4] = {0, 0, 0, 1};
+    sp_axis_make(&a, 0, max_speed, (int)(h / (4.0f * line)), 0);
+    /* a top tick at or near the bar's top (a round top speed) would touch
+     * the name's last line: the bar moves down until the tick label's top
+     * clears the name's descenders (line - cap below its baseline) */
+    const double top = floor(max_speed * (1 + 1e-9) / a.step) * a.step;
+    const float clear = r->y0 + (float)n * line + 0.5f * cap - (float)(y0 + h * (1 - top / max_speed));
+    if (clear > 0) {
+        y0 += clear;
+        h = fminf(h, r->y1 - y0 - cap);
+        sp_axis_make(&a, 0, max_speed, (int)(h / (4.0f * line)), 0);
+    }
     for (int i = 0; i < n; i++, label += strlen(label) + 1)
         sp_canvas_text(c, SP_TEXT_SMALL, x0, r->y0 + cap + (float)i * line, SP_ALIGN_LEFT,
                        pal->muted, label);
@@ -1300,7 +1310,6 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
         sp_colormap(colormap, pal->cmap_lo + (pal->cmap_hi - pal->cmap_lo) * (1.0f - (i + 0.5f) / STEPS), rgb);
         sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);
     }
-    sp_axis_make(&a, 0, max_speed, (int)(h / (4.0f * sp_font_line(f, SP_TEXT_SMALL))), 0);
     for (double v = 0; v <= max_speed * (1 + 1e-9); v += a.step) {
         const float y = (float)(y0 + h * (1 - v / max_speed));
         sp_axis_number_step(buf, sizeof(buf), v, a.step);

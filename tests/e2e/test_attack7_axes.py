@@ -22,7 +22,8 @@ leftovers there, each check run as the attacker ran it:
 - the eighth pass (doc/notes/2026-11-27/attack8.md), finding 5: a still's
   colour bar at tiny speeds labelled every tick 0.0000000000000000; now
   "2×10⁻¹⁶"; finding 13: a PNG figure too small in pixels was told to
-  lower --dpi; now to raise it.
+  lower --dpi; now to raise it; and the lead's own find: a round top
+  speed put the colour bar's top tick label against its name.
 usage: test_attack7_axes.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import csv
 import html
@@ -178,6 +179,23 @@ sup = str(e).replace("-", "⁻").translate(str.maketrans("0123456789", "⁰¹²�
 ok(r.returncode == 0 and "0.0000000" not in bar and f"×10{sup}" in bar,
    f"a colour bar up to {vmax:g} m/s: ticks in units of 10^{e} (×10{sup}), no run of zeros "
    f"(exit {r.returncode}: {err(r)}; {[w for w in bar.split() if '10' in w or '0.00' in w][:6]})")
+
+# a round top speed put the colour bar's top tick label against the bar's
+# name "|v| (m/s)" (their boxes overlapped by 3.8 pt); a pure bounce from
+# the rest length l = L0 + m g / k at speed v tops out at exactly v
+for v in (1, 2, 5, 10):
+    r = run("still", default, "--at", "8", "--size", "960x540", "--set", "view.colorbar=true",
+            "--set", "initial.angle=0", "--set", "initial.length=2.9525",
+            "--set", f"initial.length_rate={v}", "-o", "cbround.pdf", "-q")
+    ws, _ = words(path("cbround.pdf")) if r.returncode == 0 else ([], None)
+    name = next((w for w in ws if w[0] == "(m/s)"), None)
+    bar = next((w for w in ws if w[0] == "|v|"), None)  # the name starts at the bar's left
+    below = sorted((w for w in ws if name and bar and number(w[0]) is not None and
+                    bar[1] <= w[1] <= name[3] and w[2] > name[2]), key=lambda w: w[2])
+    top = below[0] if below else None
+    ok(top is not None and number(top[0]) == v and top[2] >= name[4] - 1e-3,
+       f"colour bar up to {v} m/s: the top tick label {top and top[0]!r} starts at y "
+       f"{top and top[2]} pt, below the name's bottom {name and name[4]} pt ({err(r)})")
 
 # attack8.md finding 13: a PNG too small in pixels was told to "lower --dpi"
 r = run("sweep", chaotic, "--vary", "initial.angle=1:179:4", "--measure", "lyapunov", "--time", "2",

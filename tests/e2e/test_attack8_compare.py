@@ -10,7 +10,11 @@ attacker ran it (smaller and fewer files):
   (exit 143, "interrupted", nothing written);
 - finding 6: one forged PNG header (1000000x1000000, 59 bytes) put the
   whole compare --jobs on one thread: an image the reader refuses unread
-  is not counted in the cap.
+  is not counted in the cap. The same for videos (fix28): a header claiming
+  16000x16000 (a size FFmpeg decodes; 6 GB a thread at 24 B/px) is refused
+  unread (beyond SP_VIDEO_MAX_PIXELS, 8192x4352), and one claiming the
+  largest size read costs one thread's share, not every thread's (the n
+  threads hold the n largest pairs at once).
 usage: test_attack8_compare.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import signal
@@ -175,5 +179,44 @@ ok(r.returncode == 2 and "each thread holds" not in err(r)
    and "beyond the 100000000-pixel limit" in r.stdout.decode(errors="replace") + err(r),
    f"--jobs 4 with a forged 1000000x1000000 header among 40 pairs: no thread cap, the "
    f"image refused (rc {r.returncode}: {err(r)[:400]})")
+
+# ---- finding 6 for videos (fix28): a forged frame size in a video's header --------------
+def forged_video(w, h):
+    """v.mp4 with its avc1 sample entry's size set to w x h (FFmpeg's mov
+    demuxer gives that as the stream's size; the H.264 stream is unchanged)."""
+    data = bytearray(open(video, "rb").read())
+    at = data.index(b"avc1", data.index(b"stsd")) + 28  # VisualSampleEntry's width, height
+    data[at:at + 4] = struct.pack(">HH", w, h)
+    return bytes(data)
+
+
+write(path("big.mp4"), forged_video(16000, 16000))  # 256 Mpx: FFmpeg decodes such a size
+write(path("lim.mp4"), forged_video(8192, 4352))    # the most compare reads
+for folder, forged in (("vb", "big.mp4"), ("vl", "lim.mp4")):
+    for i in range(40):
+        link(video, path(folder, "e", f"{i}.mp4"))
+        link(video, path(folder, "a", f"{i}.mp4"))
+    link(video, path(folder, "e", "zz.mp4"))
+    link(path(forged), path(folder, "a", "zz.mp4"))
+# main: "--jobs 41: each thread holds up to 6148 MB for the largest image (256.0 Mpx) ...
+# 2 of them fit in 12663 MB, half of physical memory: comparing on 2 threads"
+r = run("compare", "vb/e", "vb/a", "--jobs", "41", timeout=120)
+out = r.stdout.decode(errors="replace")
+ok(r.returncode == 2 and "each thread holds" not in err(r)
+   and "vb/a/zz.mp4: its header says 16000x16000, 256000000 pixels a frame; compare reads "
+       "videos of at most 35651584 pixels a frame" in err(r)
+   and "40 compared, 40 passed, 0 failed, 1 missing or unreadable" in out
+   and "Picture size" not in err(r),
+   f"--jobs 41 with a video header forged to 16000x16000 among 40 pairs: no thread cap, "
+   f"the video refused unread, said once without FFmpeg's line (rc {r.returncode}: "
+   f"{err(r)[:400]} | {out[-120:]})")
+# main: "... up to 860 MB for the largest image (35.7 Mpx) ... comparing on 14 threads"
+r = run("compare", "vl/e", "vl/a", "--jobs", "41", timeout=120)
+out = r.stdout.decode(errors="replace")
+ok(r.returncode == 0 and "each thread holds" not in err(r)
+   and "41 compared, 41 passed" in out,
+   f"--jobs 41 with one video header forged to 8192x4352 (860 MB a thread) among 40 "
+   f"small pairs: counted once, not on every thread: no thread cap (rc {r.returncode}: "
+   f"{err(r)[:400]} | {out[-120:]})")
 
 done()

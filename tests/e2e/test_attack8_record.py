@@ -16,6 +16,12 @@ the attacker ran it:
   \\\\, and the recorded command still reads back in a POSIX shell into
   the words given (a title with a backslash and a quote re-makes the same
   bytes).
+  fix28, finding 12's rest: `scene --command` names on stderr each word that
+  holds an escaped character (it must be retyped), and a ZWNJ or ZWJ that
+  joins letters by RFC 5892's contextual rule (Persian's ZWNJ between
+  joining letters, a ZWJ after a virama) is written as it is, so that a
+  Persian or Devanagari title's record re-makes its image; between Latin
+  letters or in an emoji sequence they stay escaped.
 usage: test_attack8_record.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import shutil
@@ -117,4 +123,47 @@ ok(len(lines) == 1 and "a\\\\b'c\\u200cd (expected) vs a\\\\b'c\\\\u200cd (actua
    f"finding 12: compare tells U+200C from a typed \\u200c ({lines[:1]!r})")
 r = run("still", "no\\such.ini")
 ok("no\\\\such.ini" in err(r), f"finding 12: a backslash in a message shows as \\\\ ({err(r)[:100]!r})")
+
+# ---- finding 12's rest (fix28): joiners that join are kept; words to retype named ----
+# RFC 5892 A.1/A.2 by hand: MEEM, FARSI YEH (dual-joining) ZWNJ KHAH (dual-joining);
+# KA, VIRAMA (combining class 9) ZWJ SSA; Latin letters and an emoji ZWJ sequence join nothing
+persian = "view.title=\u0645\u06cc\u200c\u062e\u0648\u0627\u0647\u0645"
+conjunct = "view.title=\u0915\u094d\u200d\u0937 \u0915\u094d\u200c\u0937"
+for t, out in ((persian, "fp.png"), (conjunct, "fd.png")):
+    r = run("still", default, "--at", "1", "--size", "320x180", "--set", t, "-o", out, "-q")
+    line = command(out)
+    said = err(run("scene", out, "--command"))
+    r2 = rerun(line, "re-" + out) if line.startswith("springpend ") else None
+    ok(r.returncode == 0 and t in line and "\\u200" not in line and not said
+       and r2 is not None and r2.returncode == 0 and read(out) == read("re-" + out),
+       f"fix28: {t[11:]!r}: its joiners recorded as they are, no word to retype, and the "
+       f"record re-makes the same bytes ({line[-60:]!r}; {said[:200]!r})")
+# (ALEF is right-joining: a ZWNJ after it has no join to break; RFC 5892 wants L or D)
+latin = "view.title=a\u200cb x\u200dy \u0627\u200c\u0628"
+r = run("still", default, "--at", "1", "--size", "320x180", "--set", latin, "-o", "fl.png", "-q")
+line, said = command("fl.png"), err(run("scene", "fl.png", "--command"))
+shown = "view.title=a\\u200cb x\\u200dy \u0627\\u200c\u0628"
+ok(r.returncode == 0 and shown in line
+   and f"word 9 of that command, {shown}, holds U+200C, U+200D:" in said
+   and "retype that word" in said,
+   f"fix28: ZWNJ between Latin letters or after ALEF and ZWJ between Latin letters stay "
+   f"escaped, and scene --command names word 9 and both characters on stderr ({line[-50:]!r}; "
+   f"{err(r)[:100]} {said[:300]!r})")
+shutil.copy(default, path("d\xff.ini".encode("latin-1").decode("utf-8", "surrogateescape")))
+r = run("still", b"d\xff.ini", "--at", "1", "--size", "160x90", "-o", "fx.png", "-q")
+said = err(run("scene", "fx.png", "--command"))
+ok(r.returncode == 0 and "word 3 of that command, d\\xff.ini, holds the byte 0xff (not UTF-8)"
+   in said, f"fix28: a scene name with a byte that is not UTF-8: word 3 named ({said[:200]!r})")
+# compare's reports show a Persian name as it is, a Latin one's ZWNJ escaped
+os.makedirs(path("zp", "e"), exist_ok=True)
+os.makedirs(path("zp", "a"), exist_ok=True)
+shutil.copy(read_path := path("fp.png"), path("zp", "a", "\u0645\u06cc\u200c\u062e.png"))
+shutil.copy(read_path, path("zp", "a", "a\u200cb.png"))
+r = run("compare", "zp/e", "zp/a", "--summary", "zp.md", "--junit", "zp.xml", "--report", "zp.html")
+out = r.stdout.decode()
+for text, what in [(out, "stdout")] + [(read(n).decode() if os.path.exists(path(n)) else "", n)
+                                        for n in ("zp.md", "zp.xml", "zp.html")]:
+    escaped = "a\\\\u200cb" if what.endswith(".md") else "a\\u200cb"  # Markdown's \\ shows \
+    ok("\u0645\u06cc\u200c\u062e.png" in text and "a\u200cb" not in text and escaped in text,
+       f"fix28: compare's {what} shows a Persian name's ZWNJ as it is and a Latin one's escaped")
 done()

@@ -72,9 +72,13 @@ def info(*sets):
 
 
 def degrees_after(text, word):
-    """The angle after `word ... ≈` in text, degrees (real minus sign read)."""
-    m = re.search(re.escape(word) + r"[^≈\n]*≈\s*([−-]?[0-9.]+(?:e[−-]?[0-9]+)?)°", text)
-    return float(m.group(1).replace("−", "-")) if m else math.nan
+    """The angle after `word ... ≈` in text, degrees: "−0.037°" or, as the
+    axes write tiny numbers, "−3.7×10⁻¹¹°" (U+2212, superscript digits)."""
+    m = re.search(re.escape(word) + r"[^≈\n]*≈\s*(−?[0-9.]+)(?:×10([⁻]?[⁰¹²³⁴⁵⁶⁷⁸⁹]+))?°", text)
+    if not m:
+        return math.nan
+    e = m.group(2).translate(str.maketrans("⁻⁰¹²³⁴⁵⁶⁷⁸⁹", "-0123456789")) if m.group(2) else "0"
+    return float(m.group(1).replace("−", "-")) * 10 ** int(e)
 
 
 def amplitude(th_deg, r=R0, phd=PHD):

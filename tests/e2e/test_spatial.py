@@ -12,6 +12,7 @@ import hashlib
 import math
 import os
 import shutil
+import subprocess
 import sys
 
 from sptest import done, model3, need_scipy, ok, precessions, runner, sets, start3
@@ -198,6 +199,34 @@ ok(j.get("precession_per_exchange") is None and "not predicted: omega_s / omega_
 j = info({"initial.azimuth_rate": 0})
 ok("precession_per_exchange" in j and j["precession_per_exchange"] is None,
    "a planar scene: precession_per_exchange is null")
+
+# ---- the HUD writes a tiny precession as the axes write numbers -----------
+SUP = str.maketrans("0123456789-", "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079\u207b")
+
+
+def shown_degrees(deg):
+    """Two significant digits; past 6 decimals as m.m×10⁻ⁿ; minus U+2212."""
+    sign = "\u2212" if deg < 0 else ""
+    e = math.floor(math.log10(abs(deg)))
+    if e - 1 < -6:
+        mant = round(abs(deg) / 10 ** e, 1)
+        if mant >= 10:
+            mant, e = mant / 10, e + 1
+        return f"{sign}{mant:.1f}\u00d710{str(e).translate(SUP)}\u00b0"
+    return f"{sign}{abs(deg):.{1 - e}f}\u00b0"
+
+
+for rate in (1e-3, 1e-5, 1e-7, -1e-9):
+    j = info({"initial.azimuth_rate": rate})
+    want = shown_degrees(math.degrees(j["precession_per_exchange"]))
+    pdf = os.path.join(work, "tiny.pdf")
+    r = run("still", SWING, "--at", "20", "--set", f"initial.azimuth_rate={rate}", "-o", pdf)
+    text = ""
+    if r.returncode == 0:
+        text = subprocess.run(["pdftotext", pdf, "-"], capture_output=True, text=True).stdout
+    line = next((t for t in text.split("\n") if "theory" in t), "(no theory line)")
+    ok(f"theory \u2248 {want} " in line and "e-" not in line,
+       f"azimuth_rate {rate}: the HUD prints info's precession as {want!r}: {line!r}")
 
 # ---- the 3-D panels ------------------------------------------------------
 png = os.path.join(work, "panels.png")

@@ -46,7 +46,13 @@
 #define COMPS for (int c = 0; c < (spatial ? NC : SP_BZ); c++)
 
 #define CHECK_EVERY 16          /* fixed steps between energy checks (sim.c: 4) */
-_Static_assert(SP_BATCH_CHUNK % CHECK_EVERY == 0, "a cut must fall on an energy check");
+/* The fast kernel's: a check over the block costs about as much as 10 of
+ * its steps, so it comes every 64 (2% of the time, was 8% every 16). The
+ * same test; a blow-up is still caught before the state is handed out
+ * (every call of fixed_blk_impl ends on a check). */
+#define CHECK_EVERY_FAST 64
+_Static_assert(SP_BATCH_CHUNK % CHECK_EVERY == 0 && SP_BATCH_CHUNK % CHECK_EVERY_FAST == 0,
+               "a cut must fall on an energy check");
 
 /* One block's parameters, copied out of the batch's arrays. */
 struct blk {
@@ -201,9 +207,19 @@ int sp_batch_fast_supported(void)
 }
 
 /* rk4_blk undamped and undriven with the tangent, n steps of the whole block
- * in registers: the block's two 8-lane vectors interleaved (each stage of one
- * waits on a chain of ~50 cycles of latency that the other's work fills).
- * Per evaluation, at a stage's (x, y, vx, vy, dx, dy, dvx, dvy):
+ * in registers. Undamped and undriven, the accelerations depend on the
+ * positions alone (the tangent's too: J(x) dx), so RK4's stages reduce to
+ * those of a second-order system (classical RK4 on q'' = A(q), the same
+ * method, other roundings), with P = (x, y, dx, dy), V = (vx, vy, dvx, dvy):
+ *   A1 = A(P),            X2 = P + h/2 V,      A2 = A(X2),
+ *   X3 = X2 + h^2/4 A1,   X4 = P + h V + h^2/2 A2,
+ *   A3 = A(X3), A4 = A(X4),
+ *   P' = P + h V + h^2/6 (A1 + A2 + A3),  V' = V + h/6 (A1 + 2 A2 + 2 A3 + A4).
+ * No stage velocity is formed (11 vector instructions a component pair for
+ * the stages, against 14), and A1 with A2, A3 with A4 are independent: the
+ * chain of latency is two evaluations a step, not four, and the block's two
+ * 8-lane vectors give four evaluations to overlap.
+ * Per evaluation, at a stage's (x, y, dx, dy):
  *   r2 = x^2 + y^2, r = 1/rho: vrsqrt14pd (relative error < 2^-14) refined
  *     by one step of the series 1/sqrt(1 - e) = 1 + e/2 + 3e^2/8 + 5e^3/16
  *     (e = 1 - r2 r0^2; what it leaves is 35/128 e^4 < 2^-53), so that no
@@ -214,85 +230,102 @@ int sp_batch_fast_supported(void)
  *   ax = -c x, ay = -c y - g;
  *   J d = -c d - a (x dx + y dy) (x, y): the Jacobian times the tangent
  *     without forming J (11 flops, against 17 through J's three entries).
- * At the pivot (r2 = 0) w is 0, as rhs_blk's q. The stages combine as
- * rk4_blk's (k1 + 2 (k2 + k3) + k4, fused). Within a few units in the last
- * place of the exact kernel per step. Flops the algorithm needs, FMA 2,
- * 1/rho as 2 (a sqrt and a division): 22 per evaluation, 12 per component
- * for the stages' combination, so 4 x 22 + 8 x 12 = 184 per step; the
- * kernel issues 148 FP vector instructions per 8 trajectory-steps (objdump:
- * 4 x 23 for the evaluations, 8 x 7 for the combination). */
+ * At the pivot (r2 = 0) w and a are 0, as rhs_blk's q and kl q^3. Within a
+ * few units in the last place of the exact kernel per step. Flops the
+ * algorithm needs, FMA 2, 1/rho as 2 (a sqrt and a division): 22 per
+ * evaluation, and classical RK4's combination of the stages, 12 per
+ * component: 4 x 22 + 8 x 12 = 184 per step (the count sp_sim's RK4 does;
+ * this form executes fewer). The kernel issues 136 FP vector instructions
+ * per 8 trajectory-steps (objdump: 4 x 23 for the evaluations, 4 x 11 for
+ * the stages). */
 #define FV (B / 8) /* vectors a block */
 _Static_assert(B % 8 == 0, "the fast kernel steps 8 lanes a vector");
 
+/* The accelerations at positions p = (x, y, dx, dy) into acc. */
 __attribute__((target("avx512f,fma"), always_inline)) static inline void
-fast_rhs(const __m512d v[8], __m512d k[8], __m512d km, __m512d kL, __m512d g)
+fast_acc(const __m512d p[4], __m512d acc[4], __m512d km, __m512d kL, __m512d g)
 {
     const __m512d one = _mm512_set1_pd(1), half = _mm512_set1_pd(0.5),
                   e2 = _mm512_set1_pd(0.375), e3 = _mm512_set1_pd(0.3125);
-    const __m512d x = v[0], y = v[1];
+    const __m512d x = p[0], y = p[1];
     const __m512d r2 = _mm512_fmadd_pd(x, x, _mm512_mul_pd(y, y));
+    const __mmask8 off = _mm512_cmp_pd_mask(r2, _mm512_setzero_pd(), _CMP_GT_OQ); /* not the pivot */
     const __m512d r0 = _mm512_rsqrt14_pd(r2);
     const __m512d e = _mm512_fnmadd_pd(r2, _mm512_mul_pd(r0, r0), one);
     const __m512d s = _mm512_fmadd_pd(_mm512_fmadd_pd(e3, e, e2), e, half);
     const __m512d r = _mm512_fmadd_pd(_mm512_mul_pd(r0, e), s, r0);
-    const __m512d w = _mm512_maskz_mul_pd(_mm512_cmp_pd_mask(r2, _mm512_setzero_pd(), _CMP_GT_OQ),
-                                          kL, r);
+    const __m512d w = _mm512_maskz_mul_pd(off, kL, r);
     const __m512d mc = _mm512_sub_pd(w, km); /* -c */
-    const __m512d a = _mm512_mul_pd(w, _mm512_mul_pd(r, r));
-    const __m512d as = _mm512_mul_pd(a, _mm512_fmadd_pd(x, v[4], _mm512_mul_pd(y, v[5])));
-    k[0] = v[2], k[1] = v[3];
-    k[2] = _mm512_mul_pd(mc, x);
-    k[3] = _mm512_fmsub_pd(mc, y, g);
-    k[4] = v[6], k[5] = v[7];
-    k[6] = _mm512_fnmadd_pd(as, x, _mm512_mul_pd(mc, v[4]));
-    k[7] = _mm512_fnmadd_pd(as, y, _mm512_mul_pd(mc, v[5]));
+    const __m512d a = _mm512_maskz_mul_pd(off, w, _mm512_mul_pd(r, r));
+    const __m512d as = _mm512_mul_pd(a, _mm512_fmadd_pd(x, p[2], _mm512_mul_pd(y, p[3])));
+    acc[0] = _mm512_mul_pd(mc, x);
+    acc[1] = _mm512_fmsub_pd(mc, y, g);
+    acc[2] = _mm512_fnmadd_pd(as, x, _mm512_mul_pd(mc, p[2]));
+    acc[3] = _mm512_fnmadd_pd(as, y, _mm512_mul_pd(mc, p[3]));
 }
 
 __attribute__((target("avx512f,fma"), noinline)) static void rk4_fast_run(const struct blk *p,
                                                                          double u[NC][B],
                                                                          double h, long n)
 {
-    static const int comp[8] = {SP_BX, SP_BY, SP_BVX, SP_BVY, SP_BDX, SP_BDY, SP_BDVX, SP_BDVY};
-    const __m512d h2 = _mm512_set1_pd(0.5 * h), hh = _mm512_set1_pd(h), h6 = _mm512_set1_pd(h / 6),
-                  two = _mm512_set1_pd(2);
-    __m512d km[FV], kL[FV], g[FV], s0[FV][8];
+    static const int pos[4] = {SP_BX, SP_BY, SP_BDX, SP_BDY},
+                     vel[4] = {SP_BVX, SP_BVY, SP_BDVX, SP_BDVY};
+    const __m512d h2 = _mm512_set1_pd(0.5 * h), h1 = _mm512_set1_pd(h),
+                  h6 = _mm512_set1_pd(h / 6), h3 = _mm512_set1_pd(h / 3),
+                  hh4 = _mm512_set1_pd(h * h / 4), hh2 = _mm512_set1_pd(h * h / 2),
+                  hh6 = _mm512_set1_pd(h * h / 6);
+    __m512d km[FV], kL[FV], g[FV], P[FV][4], V[FV][4];
 #pragma GCC unroll 8
     for (int j = 0; j < FV; j++) {
         km[j] = _mm512_loadu_pd(p->km + 8 * j);
         kL[j] = _mm512_mul_pd(km[j], _mm512_loadu_pd(p->L0 + 8 * j));
         g[j] = _mm512_loadu_pd(p->g + 8 * j);
-#pragma GCC unroll 8
-        for (int c = 0; c < 8; c++)
-            s0[j][c] = _mm512_loadu_pd(u[comp[c]] + 8 * j);
+#pragma GCC unroll 4
+        for (int c = 0; c < 4; c++) {
+            P[j][c] = _mm512_loadu_pd(u[pos[c]] + 8 * j);
+            V[j][c] = _mm512_loadu_pd(u[vel[c]] + 8 * j);
+        }
     }
     for (long i = 0; i < n; i++) {
-        __m512d v[FV][8], k[FV][8], acc[FV][8];
+        __m512d A1[FV][4], A2[FV][4], A3[FV][4], A4[FV][4], X2[FV][4], X3[FV][4], X4[FV][4],
+            Q[FV][4];
+#pragma GCC unroll 8
+        for (int j = 0; j < FV; j++) {
 #pragma GCC unroll 4
-        for (int st = 0; st < 4; st++) {
-#pragma GCC unroll 8
-            for (int j = 0; j < FV; j++) {
-                fast_rhs(st ? v[j] : s0[j], k[j], km[j], kL[j], g[j]);
-#pragma GCC unroll 8
-                for (int c = 0; c < 8; c++) {
-                    acc[j][c] = st == 0 ? k[j][c]
-                              : st < 3  ? _mm512_fmadd_pd(two, k[j][c], acc[j][c])
-                                        : _mm512_add_pd(acc[j][c], k[j][c]);
-                    if (st < 3)
-                        v[j][c] = _mm512_fmadd_pd(st < 2 ? h2 : hh, k[j][c], s0[j][c]);
-                }
-            }
+            for (int c = 0; c < 4; c++)
+                X2[j][c] = _mm512_fmadd_pd(h2, V[j][c], P[j][c]);
+            fast_acc(P[j], A1[j], km[j], kL[j], g[j]);
+            fast_acc(X2[j], A2[j], km[j], kL[j], g[j]);
         }
 #pragma GCC unroll 8
         for (int j = 0; j < FV; j++)
+#pragma GCC unroll 4
+            for (int c = 0; c < 4; c++) {
+                X3[j][c] = _mm512_fmadd_pd(hh4, A1[j][c], X2[j][c]);
+                Q[j][c] = _mm512_fmadd_pd(h1, V[j][c], P[j][c]);
+                X4[j][c] = _mm512_fmadd_pd(hh2, A2[j][c], Q[j][c]);
+                /* P + h V + h^2/6 (A1 + A2), V + h/6 A1 + h/3 A2 */
+                Q[j][c] = _mm512_fmadd_pd(hh6, A2[j][c], _mm512_fmadd_pd(hh6, A1[j][c], Q[j][c]));
+                V[j][c] = _mm512_fmadd_pd(h3, A2[j][c], _mm512_fmadd_pd(h6, A1[j][c], V[j][c]));
+            }
 #pragma GCC unroll 8
-            for (int c = 0; c < 8; c++)
-                s0[j][c] = _mm512_fmadd_pd(h6, acc[j][c], s0[j][c]);
+        for (int j = 0; j < FV; j++) {
+            fast_acc(X3[j], A3[j], km[j], kL[j], g[j]);
+            fast_acc(X4[j], A4[j], km[j], kL[j], g[j]);
+#pragma GCC unroll 4
+            for (int c = 0; c < 4; c++) {
+                P[j][c] = _mm512_fmadd_pd(hh6, A3[j][c], Q[j][c]);
+                V[j][c] = _mm512_fmadd_pd(h6, A4[j][c], _mm512_fmadd_pd(h3, A3[j][c], V[j][c]));
+            }
+        }
     }
 #pragma GCC unroll 8
     for (int j = 0; j < FV; j++)
-#pragma GCC unroll 8
-        for (int c = 0; c < 8; c++)
-            _mm512_storeu_pd(u[comp[c]] + 8 * j, s0[j][c]);
+#pragma GCC unroll 4
+        for (int c = 0; c < 4; c++) {
+            _mm512_storeu_pd(u[pos[c]] + 8 * j, P[j][c]);
+            _mm512_storeu_pd(u[vel[c]] + 8 * j, V[j][c]);
+        }
 }
 #else
 int sp_batch_fast_supported(void)
@@ -515,6 +548,9 @@ SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, 
 #ifdef FAST_KERNEL
     /* (b->fast: where supported) */
     const int fast = b->fast && !split && !forced && tangent && !spatial;
+    const long every = fast ? CHECK_EVERY_FAST : CHECK_EVERY;
+#else
+    const long every = CHECK_EVERY;
 #endif
     const double *w = b->method == SP_METHOD_VERLET ? verlet_w : yoshida_w;
     const int nw = b->method == SP_METHOD_VERLET ? 1 : 3;
@@ -536,16 +572,14 @@ SPECIALISED void fixed_blk_impl(struct sp_batch *b, int base, long n0, long n1, 
 #ifdef FAST_KERNEL
         else if (fast) {
             /* to the next energy check (or n1) in one call */
-            const long m = (n / CHECK_EVERY + 1) * CHECK_EVERY < n1
-                               ? (n / CHECK_EVERY + 1) * CHECK_EVERY - n
-                               : n1 - n;
+            const long m = (n / every + 1) * every < n1 ? (n / every + 1) * every - n : n1 - n;
             rk4_fast_run(&p, u, b->dt, m);
             n += m - 1;
         }
 #endif
         else
             rk4_blk(&p, (double)n * b->dt, u, b->dt, forced, tangent, spatial);
-        if ((n + 1) % CHECK_EVERY == 0)
+        if ((n + 1) % every == 0)
             check_blk(b, base, u, dead, forced, tangent, spatial);
     }
     check_blk(b, base, u, dead, forced, tangent, spatial);

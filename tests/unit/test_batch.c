@@ -395,6 +395,33 @@ static void test_fast(void)
               worst, same, 24 * 8);
     sp_batch_destroy(&a);
     sp_batch_destroy(&b);
+    /* blow-ups (k/m = 1e7: RK4 at dt 1e-3 is unstable) in lanes 5 and 20 of
+     * two blocks: the fast kernel checks the energy every 64 steps, yet marks
+     * them dead and NaN, and only them, as the exact kernel does, both after
+     * 50 steps (fewer than 64: the check that ends every advance) and 2 s */
+    sc[5].pendulum.stiffness = sc[20].pendulum.stiffness = 5e6;
+    for (int k = 0; k < 2; k++) {
+        const double t_end = k ? 2.0 : 0.05;
+        ok = sp_batch_make(&a, ptr, 24, 1, 0) == 0 && sp_batch_make(&b, ptr, 24, 1, 0) == 0;
+        if (ok) {
+            b->fast = 1;
+            ok = sp_batch_advance(a, t_end) == 0 && sp_batch_advance(b, t_end) == 0;
+        }
+        int marked = 0, finite = 0;
+        for (int i = 0; ok && i < 24; i++) {
+            const int bad = i == 5 || i == 20;
+            marked += b->dead[i] == bad && a->dead[i] == bad;
+            finite += bad ? isnan(b->out[SP_BX][i]) && isnan(b->out[SP_BDVY][i])
+                          : isfinite(b->out[SP_BX][i]) && isfinite(b->out[SP_BDVY][i]);
+        }
+        sp_tap_ok(ok && marked == 24 && finite == 24,
+                  "fast kernel: unstable lanes 5 and 20 marked dead and NaN after %g s, the other "
+                  "22 not, as the exact kernel marks them (%d of 24 marked right, %d of 24 NaN or "
+                  "finite as they should be)",
+                  t_end, marked, finite);
+        sp_batch_destroy(&a);
+        sp_batch_destroy(&b);
+    }
     /* forced: the exact path, bit for bit */
     struct sp_scene four[4];
     make_scenes(four);

@@ -28,6 +28,16 @@ void sp_log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 void sp_log_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 void sp_log_quiet(int quiet);
 
+/* on = 1: sp_log_error and sp_log_note write nothing on the calling thread
+ * until sp_log_mute(0), for a probe whose failure its caller says in its
+ * own words, without what the probed file holds (a scene file named by a
+ * shard's command, which anyone may have written: sweep --merge). */
+void sp_log_mute(int on);
+
+/* 1 while this thread is muted (sp_log_mute): code that writes its own
+ * messages to stderr (the scene parser's FILE:LINE lines) checks it. */
+int sp_log_muted(void);
+
 #include <stdio.h>
 
 /* Writes the UTF-8 string s to fp with what a terminal would obey shown

@@ -103,7 +103,8 @@ struct sp_compare_report {
 };
 
 /* A new zeroed record at the end of rep (ssim -1, worst_frame -1); NULL
- * (logged) when out of memory. */
+ * (logged) when out of memory, with rep->problem set to say so: a run
+ * without its records never reports a pass. */
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep);
 void sp_compare_report_free(struct sp_compare_report *rep);
 

@@ -392,6 +392,20 @@ void sp_command_line_parse_into(struct sp_command_line *r)
     parsing = r ? r : &process;
 }
 
+size_t sp_command_line_quote(const char *const *words, int n, char *buf, size_t size)
+{
+    struct word w[16];
+    n = n < 16 ? n : 16;
+    for (int i = 0; i < n; i++)
+        w[i] = (struct word){.pre = "", .s = words[i]};
+    return text(buf, size, n, w);
+}
+
+char *sp_command_line_text(const struct sp_command_line *r)
+{
+    return line_of(r, 0, KEEP_NONE, NULL, NULL);
+}
+
 char *sp_command_line_merged(const struct sp_command_line *r, const char *skip)
 {
     return line_of(r, 1, KEEP_NONE, &process, skip);

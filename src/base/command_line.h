@@ -82,6 +82,19 @@ struct sp_command_line *sp_command_line_read(const char *line);
  * command's parser: it may permute them. */
 char **sp_command_line_words(struct sp_command_line *r, int *argc);
 
+/* The n words (at most 16) as one line a POSIX shell reads back into them,
+ * quoted as a record quotes its words (not shown: the caller's message
+ * shows it), into buf as snprintf does; for a command line a message
+ * offers to paste. Its length. */
+size_t sp_command_line_quote(const char *const *words, int n, char *buf, size_t size);
+
+/* r's words written again as springpend writes a record (each quoted for a
+ * POSIX shell where it needs it, shown as sp_text_shown shows text): a
+ * shell given this line gets r's words back, whatever the line r was read
+ * from held (a forged record's $(...) or ';' become plain words). For
+ * `scene FILE --command`. malloc'd; NULL when out of memory. */
+char *sp_command_line_text(const struct sp_command_line *r);
+
 /* The options sp_command_line_getopt returns from now on are noted for r
  * (NULL: for the process's own command line again). */
 void sp_command_line_parse_into(struct sp_command_line *r);

@@ -128,9 +128,24 @@ void sp_fprintf_line(FILE *fp, const char *fmt, ...)
     va_end(ap);
 }
 
+/* 1: this thread's sp_log_error and sp_log_note write nothing (sp_log_mute). */
+static _Thread_local int log_muted;
+
+void sp_log_mute(int on)
+{
+    log_muted = on;
+}
+
+int sp_log_muted(void)
+{
+    return log_muted;
+}
+
 void sp_log_error(const char *fmt, ...)
 {
     va_list ap;
+    if (log_muted)
+        return;
     va_start(ap, fmt);
     vprint_line(stderr, "springpend: ", fmt, ap);
     va_end(ap);
@@ -147,7 +162,7 @@ void sp_log_quiet(int quiet)
 void sp_log_note(const char *fmt, ...)
 {
     va_list ap;
-    if (log_quiet)
+    if (log_quiet || log_muted)
         return;
     va_start(ap, fmt);
     vprint_line(stderr, "springpend: ", fmt, ap);

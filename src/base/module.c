@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/xattr.h>
 #include <unistd.h>
 
 #include "module_abi.h"
@@ -52,13 +53,25 @@ static void group_name(gid_t gid, char *buf, size_t size)
         snprintf(buf, size, "%u", (unsigned)gid);
 }
 
+/* 1 when the file or folder at p has an extended POSIX access ACL (the
+ * kernel keeps the system.posix_acl_access attribute only for an ACL that
+ * says more than the mode): its group bits are then the ACL's mask, the
+ * most that any named user or group may do, not what its group may. */
+static int has_acl(const char *p)
+{
+    return getxattr(p, "system.posix_acl_access", NULL, 0) > 0;
+}
+
 /* 0 when the file at path, and every folder above it, could only have been
  * put there by root, by this user or by the executable's owner: each is
  * owned by one of them and none is writable by others (a folder writable by
  * all only with the sticky bit, like /tmp, whose entries others cannot
  * replace; writable by its group only when that group is root's or this
- * user's private group: own_group). Else -1 with why. Links are resolved
- * first. */
+ * user's private group: own_group; never when an ACL lets a named user or
+ * group write it, whose mask is those group bits: has_acl). Else -1 with
+ * why. Links are resolved first. Nothing here helps once a trusted file is
+ * replaced: a module's version is checked after dlopen, which has run its
+ * constructors. */
 static int trusted(const char *path, uid_t exe_uid, char *why, size_t size)
 {
     char *real = realpath(path, NULL);
@@ -80,6 +93,10 @@ static int trusted(const char *path, uid_t exe_uid, char *why, size_t size)
             ret = -1;
         } else if ((st.st_mode & S_IWOTH) && !(S_ISDIR(st.st_mode) && (st.st_mode & S_ISVTX))) {
             snprintf(why, size, "%s is writable by anyone; not loaded", p);
+            ret = -1;
+        } else if ((st.st_mode & S_IWGRP) && has_acl(p)) {
+            snprintf(why, size, "%s has an ACL that lets users or groups other than its owner "
+                     "write it (getfacl shows them); not loaded", p);
             ret = -1;
         } else if ((st.st_mode & S_IWGRP) && !(S_ISDIR(st.st_mode) && (st.st_mode & S_ISVTX)) &&
                    !own_group(st.st_gid)) {

@@ -1,5 +1,6 @@
 /* springpend: the process's signals (signals.h, signal_name.h). */
 #include <signal.h>
+#include <stdio.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -8,16 +9,33 @@
 /* Every signal whose default would kill the process and leave its .part
  * files: each stops a run cleanly like SIGTERM (exit status 128 + number).
  * SIGQUIT and SIGXCPU (ulimit -t) too: a core dump of a render helps
- * nobody, its .part files harm. Not caught: SIGPIPE and SIGXFSZ (ignored:
- * the write fails and is cleaned up), SIGPROF (profilers' timer), the
- * real-time signals, and what cannot be (SIGKILL) or means a bug (SIGSEGV,
- * SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGTRAP, SIGSYS). */
-static const int caught[SP_SIGNALS_CAUGHT] = {SIGINT,  SIGTERM, SIGHUP,    SIGQUIT, SIGUSR1,
-                                              SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU, SIGPWR};
-static const char *const caught_name[SP_SIGNALS_CAUGHT] = {
-    "SIGINT",  "SIGTERM", "SIGHUP",    "SIGQUIT", "SIGUSR1",
-    "SIGUSR2", "SIGALRM", "SIGVTALRM", "SIGXCPU", "SIGPWR"};
+ * nobody, its .part files harm. These ten are caught unless the process
+ * started with them ignored (nohup's SIGHUP, a background job's SIGINT:
+ * ignored they stay). The others whose default is to terminate (SIGPROF,
+ * SIGIO, SIGSTKFLT and SIGRTMIN..SIGRTMAX, which schedulers and container
+ * runtimes send as custom stop signals) are caught only where they still
+ * have their default action: a profiler's SIGPROF handler stays its own.
+ * Not caught: SIGPIPE and SIGXFSZ (ignored: the write fails and is cleaned
+ * up), and what cannot be (SIGKILL) or means a bug (SIGSEGV, SIGBUS,
+ * SIGILL, SIGFPE, SIGABRT, SIGTRAP, SIGSYS). */
+static const int named[] = {SIGINT,  SIGTERM, SIGHUP,    SIGQUIT, SIGUSR1,
+                            SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU, SIGPWR};
+static const char *const named_name[] = {"SIGINT",  "SIGTERM", "SIGHUP",    "SIGQUIT", "SIGUSR1",
+                                         "SIGUSR2", "SIGALRM", "SIGVTALRM", "SIGXCPU", "SIGPWR"};
+static const int if_default[] = {SIGPROF, SIGIO,
+#ifdef SIGSTKFLT
+                                 SIGSTKFLT,
+#endif
+};
+static const char *const if_default_name[] = {"SIGPROF", "SIGIO",
+#ifdef SIGSTKFLT
+                                              "SIGSTKFLT",
+#endif
+};
 
+static int caught[SP_SIGNALS_CAUGHT]; /* filled by sp_signals_install */
+static int n_caught;
+static char rt_name[SP_SIGNALS_CAUGHT][16]; /* "SIGRTMIN+3", by index in caught */
 static volatile sig_atomic_t seen;  /* the first signal, 0 = none */
 static volatile sig_atomic_t count; /* signals since sp_signals_hold */
 static void (*volatile held_cleanup)(void); /* the hold's; NULL = none */
@@ -55,12 +73,37 @@ static void set_handlers(void (*handler)(int), struct sigaction old[SP_SIGNALS_C
     memset(&sa, 0, sizeof(sa));
     sa.sa_handler = handler;
     sigemptyset(&sa.sa_mask);
-    for (int i = 0; i < SP_SIGNALS_CAUGHT; i++)
+    for (int i = 0; i < n_caught; i++)
         sigaction(caught[i], &sa, old ? &old[i] : NULL);
+}
+
+/* Adds sig to caught where its disposition now allows: not ignored, and
+ * for a signal of if_default[] or the real-time range, not handled. */
+static void add_caught(int sig, int only_default)
+{
+    struct sigaction now;
+    if (n_caught >= SP_SIGNALS_CAUGHT || sigaction(sig, NULL, &now) != 0)
+        return;
+    if (now.sa_handler == SIG_IGN || (only_default && now.sa_handler != SIG_DFL))
+        return;
+    caught[n_caught++] = sig;
 }
 
 void sp_signals_install(void)
 {
+    n_caught = 0;
+    for (size_t i = 0; i < sizeof(named) / sizeof(named[0]); i++)
+        add_caught(named[i], 0);
+    for (size_t i = 0; i < sizeof(if_default) / sizeof(if_default[0]); i++)
+        add_caught(if_default[i], 1);
+    for (int sig = SIGRTMIN; sig <= SIGRTMAX; sig++) {
+        const int at = n_caught;
+        add_caught(sig, 1);
+        if (n_caught > at && sig == SIGRTMAX)
+            snprintf(rt_name[at], sizeof(rt_name[at]), "SIGRTMAX");
+        else if (n_caught > at)
+            snprintf(rt_name[at], sizeof(rt_name[at]), "SIGRTMIN+%d", sig - SIGRTMIN);
+    }
     set_handlers(on_signal, NULL);
 }
 
@@ -76,9 +119,15 @@ const volatile sig_atomic_t *sp_signal_flag(void)
 
 const char *sp_signal_name(int sig)
 {
-    for (int i = 0; i < SP_SIGNALS_CAUGHT; i++)
-        if (caught[i] == sig)
-            return caught_name[i];
+    for (size_t i = 0; i < sizeof(named) / sizeof(named[0]); i++)
+        if (named[i] == sig)
+            return named_name[i];
+    for (size_t i = 0; i < sizeof(if_default) / sizeof(if_default[0]); i++)
+        if (if_default[i] == sig)
+            return if_default_name[i];
+    for (int i = 0; i < n_caught; i++)
+        if (caught[i] == sig && rt_name[i][0])
+            return rt_name[i];
     return "a signal";
 }
 
@@ -91,6 +140,6 @@ void sp_signals_hold(struct sp_signals_saved *saved, void (*cleanup)(void))
 
 void sp_signals_release(const struct sp_signals_saved *saved)
 {
-    for (int i = 0; i < SP_SIGNALS_CAUGHT; i++)
+    for (int i = 0; i < n_caught; i++)
         sigaction(caught[i], &saved->old[i], NULL);
 }

@@ -1,7 +1,8 @@
 /* springpend (internal): the process's signals. The one owner of SIGINT,
- * SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU
- * and SIGPWR (every signal that would otherwise kill the process with its
- * .part files left behind; signals.c says which are left alone and why):
+ * SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU,
+ * SIGPWR, SIGPROF, SIGIO, SIGSTKFLT and the real-time signals (every
+ * signal that would otherwise kill the process with its .part files left
+ * behind; signals.c says which are left alone and why):
  * main installs a handler that sets a flag; the commands (cli/) and the
  * pipeline poll sp_signal_seen and hand sp_signal_flag down as a cancel
  * flag (struct sp_sim's, a desc's): the code below them never reads it
@@ -29,7 +30,10 @@ int sp_signal_seen(void);
  * cancel. */
 const volatile sig_atomic_t *sp_signal_flag(void);
 
-#define SP_SIGNALS_CAUGHT 10 /* how many signals the flag stands for */
+/* The most signals the flag stands for: SIGINT, SIGTERM, SIGHUP, SIGQUIT,
+ * SIGUSR1/2, SIGALRM, SIGVTALRM, SIGXCPU, SIGPWR, SIGPROF, SIGIO,
+ * SIGSTKFLT and the real-time ones (signals.c says which are caught). */
+#define SP_SIGNALS_CAUGHT 64
 
 /* The handlers a hold replaced. */
 struct sp_signals_saved {

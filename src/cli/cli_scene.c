@@ -36,13 +36,16 @@ static const char scene_usage[] =
     "alone, as a scene file.\n"
     "--command prints the command line FILE records instead (springpend.command;\n"
     "a CSV's prov:wasGeneratedBy), one line a POSIX shell reads back into its\n"
-    "words. Outputs other than CSV record it as the option parser read it (each\n"
+    "words: read into them and quoted again, so a forged record's $(...) or ;\n"
+    "is a plain word; a record that is no such line is refused, exit 2.\n"
+    "Outputs other than CSV record it as the option parser read it (each\n"
     "option by its full name: -qo F and --sha 1/2 as --quiet --output F and\n"
     "--shard 1/2), without the output's name (-o, --csv, --state), --threads,\n"
     "-q, --frames and --shard (a part of a PNG sequence is the whole run's; an\n"
     "MP4 or WebM piece records its own); a merged sweep figure records its\n"
     "shards' command and the merge's --size, --dpi and --format. Run it with\n"
-    "-o NAME added, where SCENE.ini is the printed scene, and NAME has the same\n"
+    "-o NAME added (a CSV's keeps its own -o or --csv FILE: change FILE to NAME\n"
+    "instead), where SCENE.ini is the printed scene, and NAME has the same\n"
     "bytes as FILE (a PDF: under the same SOURCE_DATE_EPOCH). A word with a\n"
     "control character, a character that shows nothing (Unicode's default\n"
     "ignorables: U+200B, U+200C, U+034F, U+FE0F, U+3164, U+FEFF; U+2800, U+2028)\n"
@@ -124,11 +127,10 @@ static int scene_of_csv(const char *path, int cell)
  * recorded as an escape (\uHHHH, \xHH, \n: a shell reads those back as
  * the typed text, not as the character), with those characters (the first
  * 4), so that the user knows what to retype (attack8 #12). */
-static void say_escaped_words(const char *line)
+static void say_escaped_words(struct sp_command_line *r)
 {
-    struct sp_command_line *r = sp_command_line_read(line);
     int argc = 0;
-    char **w = r ? sp_command_line_words(r, &argc) : NULL;
+    char **w = sp_command_line_words(r, &argc);
     for (int i = 0; i < argc; i++) {
         char what[160] = "";
         size_t used = 0;
@@ -157,27 +159,51 @@ static void say_escaped_words(const char *line)
         if (k)
             sp_log_note("word %d of that command, %s, holds %s: the record writes such a "
                         "character as an escape, which a shell reads back as the escape's own "
-                        "letters, not as the character; retype that word with the character itself (bash's "
-                        "$'...' quotes read the escapes)", i + 2, w[i], what);
+                        "letters, not as the character; retype that word with the character "
+                        "itself (bash's $'...' quotes read the escapes)", i + 2, w[i], what);
     }
-    sp_command_line_free(r);
 }
 
-/* Prints a recorded command line, shown as messages are (no control byte
- * reaches the terminal, whoever forged the file), and says which words
- * must be retyped (say_escaped_words); 0, or SP_E_INPUT (logged) when
- * there is none. */
+/* Prints a recorded command line as springpend writes one: read into its
+ * words (sp_command_line_read: springpend's own quoting, a command whose
+ * outputs record one) and written again from them, quoted, shown as
+ * messages are (sp_command_line_text), so that what reaches a shell that
+ * runs it is those words and nothing else, whoever forged the file
+ * (attack9 #8: a record's $(...) ran in doc/ci.md's eval recipe); then
+ * says which words must be retyped (say_escaped_words). 0, SP_E_NOMEM, or
+ * SP_E_INPUT (logged) when there is none or it is no such line. */
 static int print_command(const char *path, const char *where, const char *line)
 {
+    static const char *const recording[] = {"render", "still", "data", "sweep"};
     if (!line || !line[0]) {
         sp_log_error("%s carries no command (no %s); springpend records the command line that "
                      "made an output but a GIF (an older springpend's do not)", path, where);
         return SP_E_INPUT;
     }
-    sp_fputs_record(line, 0, stdout);
+    struct sp_command_line *r = sp_command_line_read(line);
+    int argc = 0, known = 0;
+    char **w = r ? sp_command_line_words(r, &argc) : NULL;
+    for (size_t k = 0; w && k < sizeof(recording) / sizeof(recording[0]); k++)
+        known |= !strcmp(w[0], recording[k]);
+    if (!known) {
+        sp_log_error("%s: its %s is not a command line springpend writes (the words of a "
+                     "render, still, data or sweep command, quoted as springpend quotes them); "
+                     "not printed", path, where);
+        sp_command_line_free(r);
+        return SP_E_INPUT;
+    }
+    char *again = sp_command_line_text(r);
+    if (!again) {
+        sp_command_line_free(r);
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    sp_fputs_record(again, 0, stdout);
     putchar('\n');
     fflush(stdout); /* the line before what is said about it */
-    say_escaped_words(line);
+    say_escaped_words(r);
+    free(again);
+    sp_command_line_free(r);
     return 0;
 }
 
@@ -190,6 +216,9 @@ static int command_of_csv(const char *path)
     const int ret = print_command(path, "prov:wasGeneratedBy in " SP_CSV_METADATA_SUFFIX,
                                   json_string_value(json_object_get(meta, "prov:wasGeneratedBy")));
     json_decref(meta);
+    if (!ret) /* the other records leave it out: "add -o NAME" would give it twice */
+        sp_log_note("a CSV's command keeps its own output (-o or --csv FILE): to make the CSV "
+                    "again as NAME, change that FILE to NAME, rather than adding -o NAME");
     return ret;
 }
 

@@ -747,6 +747,26 @@ static int figure_look(struct sweep_opts *o, const struct sp_scene *scene,
     return o->output ? check_figure(&o->style) : 0;
 }
 
+/* The scene's total energy at t = 0, J, as a sweep without --energy
+ * takes it (sp_sweep_check). */
+static double scene_energy(const struct sp_scene *s)
+{
+    struct sp_sim sim;
+    sp_sim_init(&sim, s);
+    return sim.energy0;
+}
+
+/* 1 when the E a poincare shard's command means (--energy, or the scene's
+ * own without it: m->scene, the shard's dc:source) is the E the shard
+ * holds, to 1e-12 of it (dc:source's angles in degrees round-trip to the
+ * last bit at most). */
+static int same_energy(const struct sweep_opts *o, const struct sp_sweep_desc *c,
+                       const struct sp_sweep_merge *m)
+{
+    const double e = o->energy_given ? c->energy : scene_energy(&m->scene), h = m->d.energy;
+    return e == h || fabs(e - h) <= 1e-12 * fmax(fabs(e), fabs(h));
+}
+
 /* The first difference between what a shard's command says (o, c: its
  * parse) and what the merge checked of the shards (m), as "what the
  * command says" and "what the shard holds", into said and held; 0 when
@@ -775,8 +795,16 @@ static int command_differs(const struct sweep_opts *o, const struct sp_sweep_des
     } else if (c->transient != d->transient) {
         snprintf(said, size, "--transient %.17g", c->transient);
         snprintf(held, size, "T0 = %.17g s", d->transient);
-    } else if (o->energy_given && c->energy != d->energy) {
+    } else if (o->energy_given && d->measure != SP_MEASURE_POINCARE) {
         snprintf(said, size, "--energy %.17g", c->energy);
+        snprintf(held, size, "measure %s, which takes no energy",
+                 sp_sweep_measure_name(d->measure));
+    } else if (d->measure == SP_MEASURE_POINCARE && !same_energy(o, c, m)) {
+        if (o->energy_given)
+            snprintf(said, size, "--energy %.17g", c->energy);
+        else /* the sweep then takes the scene's own (attack9 #1) */
+            snprintf(said, size, "no --energy (the scene's own E = %.17g J)",
+                     scene_energy(&m->scene));
         snprintf(held, size, "E = %.17g J", d->energy);
     } else if (c->cont != d->cont || c->peak != d->peak || c->fast != d->fast) {
         snprintf(said, size, "--continue/--peak/--fast as %d/%d/%d", c->cont, c->peak, c->fast);
@@ -809,20 +837,33 @@ static int command_differs(const struct sweep_opts *o, const struct sp_sweep_des
  * applied as the sweep applied them) is another scene than the shard holds
  * (m->scene, from dc:source): both written as dc:source writes a scene
  * (sp_scene_ini). A file that cannot be opened here (the shard ran in
- * another folder or machine) is not checked: 0. 1 when it differs or does
- * not load (the loader said why), with said naming the file;
+ * another folder or machine) or is no regular file is not checked: 0. 1
+ * when it differs or does not load (the loader's messages muted: they
+ * would quote the file), with said naming the file;
  * SP_E_NOMEM when out of memory. */
 static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge *m,
                          char *said, size_t size)
 {
-    FILE *fp = o->scene && strcmp(o->scene, "-") ? fopen(o->scene, "rb") : NULL;
-    if (!fp)
-        return 0;
-    fclose(fp);
+    /* a look, never a wait: O_NONBLOCK, a regular file only (a FIFO the
+     * command names would block the merge for ever: attack9 #2) */
+    const int fd = o->scene && strcmp(o->scene, "-")
+                       ? open(o->scene, O_RDONLY | O_NONBLOCK | O_CLOEXEC) : -1;
+    struct stat st;
+    const int regular = fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+    if (fd >= 0)
+        close(fd);
+    if (!regular)
+        return 0; /* not here, or no file: not checked */
     struct sp_scene named;
     sp_scene_defaults(&named);
     int differs = 1;
-    if (!sp_scene_load(&named, o->scene, o->overrides, o->n_overrides)) {
+    /* the parser's messages would quote what the file holds (its first
+     * section and keys), which the shard's author chose: muted, said below
+     * without them */
+    sp_log_mute(1);
+    const int loaded = sp_scene_load(&named, o->scene, o->overrides, o->n_overrides) == 0;
+    sp_log_mute(0);
+    if (loaded) {
         sp_timeline_destroy(&named.timeline); /* as the sweep ignored it */
         char *a = sp_scene_ini(&named), *b = sp_scene_ini(&m->scene);
         if (!a || !b) {
@@ -835,7 +876,9 @@ static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge
         free(a), free(b);
     }
     sp_scene_free(&named);
-    snprintf(said, size, "the scene %s", o->scene);
+    snprintf(said, size, loaded ? "the scene %s, whose scene is not the one the shard holds "
+             "(dc:source)" : "%s, which is no scene springpend reads (with the command's --set; "
+             "what it holds is not said)", o->scene);
     return differs;
 }
 
@@ -901,9 +944,9 @@ static int merged_command(const struct sp_sweep_merge *m, char **record)
             ret = SP_E_INPUT;
         } else if ((ret = scene_differs(&o, m, said, sizeof(said)))) {
             if (ret > 0)
-                sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy names %s, whose "
-                             "scene is not the one the shard holds (dc:source): it is not the "
-                             "command that made the shard; %s", m->command_path, said, help);
+                sp_log_error("%s" SP_CSV_METADATA_SUFFIX ": prov:wasGeneratedBy names %s: it "
+                             "is not the command that made the shard; %s", m->command_path, said,
+                             help);
             ret = ret > 0 ? SP_E_INPUT : ret;
         } else if (!(*record = sp_command_line_merged(r, "merge"))) {
             sp_log_error("out of memory");

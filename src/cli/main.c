@@ -36,8 +36,11 @@ static const char usage[] =
     "             2 bad input, 3 the simulation became unstable,\n"
     "             128 + signal when stopped by SIGINT (130), SIGTERM (143),\n"
     "             SIGHUP (129), SIGQUIT (131), SIGUSR1/2 (138/140), SIGALRM (142),\n"
-    "             SIGVTALRM (154), SIGXCPU (152) or SIGPWR (158): render keeps\n"
-    "             the frames so far, playable; other partial files are removed\n";
+    "             SIGVTALRM (154), SIGXCPU (152), SIGPWR (158), SIGPROF (155),\n"
+    "             SIGIO (157), SIGSTKFLT (144) or a real-time signal (162 to 192):\n"
+    "             render keeps the frames so far, playable; other partial files\n"
+    "             are removed (a signal ignored at the start, as under nohup,\n"
+    "             stays ignored)\n";
 
 /* The process exit status of an SP_E_* code, as --help documents it. A
  * command that fails after a stop signal arrived was stopped by it (a read

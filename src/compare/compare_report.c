@@ -19,7 +19,12 @@
 struct sp_compare_record *sp_compare_report_add(struct sp_compare_report *rep)
 {
     if (SP_ARRAY_RESERVE(rep->records, rep->cap, rep->n + 1, 16)) {
-        sp_log_error("out of memory for the comparison's records");
+        /* the run's problem (a fixed text: nothing allocated), so that no
+         * report of it reads as a pass (attack9 #3) */
+        snprintf(rep->problem, sizeof(rep->problem), "out of memory for the comparison's "
+                 "records: %d image%s listed, the rest not compared", rep->n,
+                 rep->n == 1 ? "" : "s");
+        sp_log_error("%s", rep->problem);
         return NULL;
     }
     struct sp_compare_record *r = &rep->records[rep->n++];
@@ -502,13 +507,16 @@ static void record_line(const struct sp_compare_record *r, char *buf, size_t siz
 }
 
 /* 1 when path can stand in [[ATTACHMENT|path]] whole: nothing that ends
- * the directive or starts another, nothing XML would change. */
+ * the directive or starts another, nothing XML would change, nothing
+ * xml_string's XML_PATH would show escaped (a bidi control: the directive
+ * would name another file; attack9 #7). */
 static int attachable(const char *path)
 {
     for (size_t n; *path; path += n) {
         n = sp_utf8_char(path);
         if (!n || (unsigned char)*path < 0x20 || strchr("[]|<>&\"'", *path) ||
-            (n == 3 && !memcmp(path, "\xEF\xBF", 2) && (unsigned char)path[2] >= 0xBE))
+            (n == 3 && !memcmp(path, "\xEF\xBF", 2) && (unsigned char)path[2] >= 0xBE) ||
+            (n > 1 && sp_utf8_is_bidi_control(sp_utf8_decode(path, &n))))
             return 0;
     }
     return 1;

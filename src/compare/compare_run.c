@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "base/clock.h"
+#include "base/command_line.h"
 #include "base/memory_limit.h"
 #include "base/signal_name.h"
 #include "springpend/common.h"
@@ -348,9 +349,15 @@ static int check_header(struct sp_compare_record *r, const char *path, int *w, i
     int err = sp_png_read_info(path, &info);
     if (err == SP_E_NOMEM)
         return record_nomem(r, path);
+    if (err == SP_E_INPUT) { /* said above: missing, no file, no permission */
+        struct stat st;
+        const int found = stat(path, &st) == 0;
+        return record_error(r, "%s %s", path, !found && errno == ENOENT ? "does not exist"
+                               : found && !S_ISREG(st.st_mode) ? "is not a regular file"
+                               : "cannot be read (the message above says why)");
+    }
     if (err)
-        return record_error(r, err == SP_E_INPUT ? "%s is not a regular file"
-                                                 : "cannot read %s as a PNG", path);
+        return record_error(r, "cannot read %s as a PNG", path);
     *w = info.width, *h = info.height;
     if (sp_png_check_size(path, &info) != 0)
         return record_error(r, "%s is %dx%d, beyond the %ld-pixel limit", path, info.width,
@@ -656,9 +663,14 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
     }
     if (ge < 0 || ga < 0) {
         /* FFmpeg's decoders report some failed allocations as damaged
-         * data (h264's get_buffer): a folder compare decodes it again alone */
-        ret = record_error(r, "cannot decode %s", ge < 0 ? expected : actual);
-        r->retry_alone = 1;
+         * data (h264's "Error splitting the input into NAL units"): near
+         * ulimit -v or -d that is out of memory, which a folder compare
+         * tries again alone, and which is exit 1, not the file's fault
+         * (attack9 #13); elsewhere the file is damaged, and decoding it
+         * again would only double its cost (attack9 #6) */
+        const char *bad = ge < 0 ? expected : actual;
+        ret = sp_memory_near_limit() ? record_nomem(r, bad)
+                                     : record_error(r, "cannot decode %s", bad);
         goto done;
     }
     if (ge != ga) {
@@ -703,8 +715,11 @@ static int link_out(struct sp_compare_record *r, const char *name, const char *p
 /* The command that adds missing baselines, for messages. */
 static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
 {
-    snprintf(r->hint, sizeof(r->hint),
-             "to add it as the baseline: springpend compare %s %s --update=missing", e, a);
+    /* quoted as a record quotes its words: the hint is meant to be pasted
+     * (a folder "sp e" or 'q$(id)' is one word; attack9 #9) */
+    const char *const words[] = {"springpend", "compare", e, a, "--update=missing"};
+    const int k = snprintf(r->hint, sizeof(r->hint), "to add it as the baseline: ");
+    sp_command_line_quote(words, 5, r->hint + k, sizeof(r->hint) - (size_t)k);
 }
 
 /* Makes the folders above path (mkdir -p of its dirname). Returns 0, or
@@ -1140,6 +1155,15 @@ static void retire_alternative(const struct compare_run *c, struct sp_compare_re
     }
 }
 
+/* Out of memory before any comparison: rep's problem says so (a fixed
+ * text), so that no report reads as a pass (attack9 #3); SP_E_NOMEM. */
+static int nothing_compared(struct sp_compare_report *rep)
+{
+    snprintf(rep->problem, sizeof(rep->problem), "out of memory: nothing was compared");
+    sp_log_error("%s", rep->problem);
+    return SP_E_NOMEM;
+}
+
 /* Compares every image (PNG or video) under folder dir_e with its namesake
  * under dir_a, subfolders too, on c->jobs threads; an image in only one of
  * them is an error (a missing render or a missing baseline). Then applies
@@ -1165,7 +1189,7 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
         return ret;
     }
     if (!(todo = calloc((size_t)list.n + 1, 1))) {
-        ret = SP_E_NOMEM;
+        ret = nothing_compared(rep);
         goto done;
     }
     for (int i = 0; i < list.n; i++)
@@ -1595,10 +1619,15 @@ static int report(const struct compare_run *c, struct sp_compare_report *rep, co
         sp_compare_report_json(stdout, rep);
     else
         sp_compare_report_text(stdout, rep, c->quiet, folders);
-    if ((c->html && write_whole(c->html, 0, fill_html, &(struct report_out){rep, c->html})) ||
-        (c->junit && write_whole(c->junit, 0, fill_junit, &(struct report_out){rep, c->junit})) ||
-        (c->summary &&
-         write_whole(c->summary, 0, fill_summary, &(struct report_out){rep, c->summary})))
+    /* every report is tried, each failure said where it happens: the
+     * JUnit and the summary must not vanish with the HTML (attack9 #11) */
+    const int html = c->html && write_whole(c->html, 0, fill_html,
+                                            &(struct report_out){rep, c->html});
+    const int junit = c->junit && write_whole(c->junit, 0, fill_junit,
+                                              &(struct report_out){rep, c->junit});
+    const int summary = c->summary && write_whole(c->summary, 0, fill_summary,
+                                                  &(struct report_out){rep, c->summary});
+    if (html || junit || summary)
         ret = ret ? ret : SP_E_IO;
     if (!ret) {
         struct sp_compare_counts n = sp_compare_report_count(rep);

@@ -34,6 +34,7 @@ struct sp_video_reader {
     struct sp_image rgba;    /* owned, the converted frame */
     int stream;              /* index of the video stream in fmt */
     int flushing;            /* the demuxer is done; NULL was sent */
+    volatile int no_buffer;  /* 1: the decoder said "get_buffer() failed" (av_line) */
 };
 
 /* This thread's held errors (sp_video_hold_errors): NULL, or a buffer of
@@ -62,7 +63,10 @@ static void hold_text(const char *text)
  * out of memory: SP_E_NOMEM, unsaid (video_read.h). */
 static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
 {
-    if (averr == AVERROR(ENOMEM))
+    /* FFmpeg's decoders report some failed allocations as damaged data
+     * (h264's INVALIDDATA after "get_buffer() failed"): out of memory too,
+     * not the file's fault (attack9 #13) */
+    if (averr == AVERROR(ENOMEM) || r->no_buffer)
         return SP_E_NOMEM;
     if (held) {
         char line[PATH_MAX + 256];
@@ -153,6 +157,13 @@ static int metadata_bounded(int fd, const char *path, off_t from, off_t to, int 
     "compare reads the MP4/MOV, WebM/Matroska and GIF files springpend writes (and raw "    \
     "H.264/HEVC streams)"
 
+/* The video codecs springpend writes (H.264 in MP4, VP9 in WebM, GIF) and
+ * HEVC (raw streams are read: SP_VIDEO_FORMATS): only their decoders are
+ * opened, whatever codec a file names (FFmpeg has some 290 video decoders,
+ * a few rarely audited: attack9 #4). FFmpeg's decoder names. */
+#define SP_VIDEO_CODECS "h264,hevc,vp9,gif"
+#define SP_VIDEO_CODECS_SAID "H.264, VP9 and GIF, the codecs springpend writes, and HEVC"
+
 /* Opens the file at name (open at fd; path: its name in messages, NULL for
  * none) in *fmt as one of SP_VIDEO_FORMATS, through the file protocol only:
  * a playlist (HLS, concat, ...) naming other files, or any other format
@@ -175,7 +186,8 @@ static int open_video(AVFormatContext **fmt, const char *name, int fd, const cha
         return SP_E_INPUT;
     }
     if (av_dict_set(&opts, "protocol_whitelist", "file", 0) < 0 ||
-        av_dict_set(&opts, "format_whitelist", SP_VIDEO_FORMATS, 0) < 0) {
+        av_dict_set(&opts, "format_whitelist", SP_VIDEO_FORMATS, 0) < 0 ||
+        av_dict_set(&opts, "codec_whitelist", SP_VIDEO_CODECS, 0) < 0) {
         av_dict_free(&opts);
         return SP_E_NOMEM;
     }
@@ -214,19 +226,30 @@ static int open_checked(AVFormatContext **fmt, const char *path)
     return ret;
 }
 
-/* The frame size fmt's first video stream's header claims (codecpar; *w =
- * *h = 0 when none says one): 1 when it is beyond SP_VIDEO_MAX_PIXELS or a
- * size FFmpeg refuses, else 0. */
-static int header_size(const AVFormatContext *fmt, int *w, int *h)
+static int codec_read(enum AVCodecID id)
+{
+    return id == AV_CODEC_ID_H264 || id == AV_CODEC_ID_HEVC || id == AV_CODEC_ID_VP9 ||
+           id == AV_CODEC_ID_GIF;
+}
+
+/* What fmt's first video stream's header says, before anything is
+ * decoded: its frame size in *w, *h (0 when none says one) and codec in
+ * *id (AV_CODEC_ID_NONE without a video stream). 1 when the reader refuses
+ * it unread: a size beyond SP_VIDEO_MAX_PIXELS or one FFmpeg refuses, or a
+ * codec springpend does not read (codec_read); else 0. */
+static int header_check(const AVFormatContext *fmt, int *w, int *h, enum AVCodecID *id)
 {
     *w = *h = 0;
+    *id = AV_CODEC_ID_NONE;
     for (unsigned i = 0; i < fmt->nb_streams; i++) {
         const AVCodecParameters *p = fmt->streams[i]->codecpar;
-        if (p->codec_type == AVMEDIA_TYPE_VIDEO && p->width > 0 && p->height > 0) {
+        if (p->codec_type != AVMEDIA_TYPE_VIDEO)
+            continue;
+        *id = p->codec_id;
+        if (p->width > 0 && p->height > 0)
             *w = p->width, *h = p->height;
-            return (int64_t)p->width * p->height > SP_VIDEO_MAX_PIXELS ||
-                   av_image_check_size(p->width, p->height, 0, NULL) != 0;
-        }
+        return !codec_read(p->codec_id) || (int64_t)*w * *h > SP_VIDEO_MAX_PIXELS ||
+               (*w && av_image_check_size(*w, *h, 0, NULL) != 0);
     }
     return 0;
 }
@@ -252,6 +275,11 @@ static void av_line(void *avcl, int level, const char *fmt, va_list vl)
 {
     static _Thread_local int prefix = 1;
     char line[1024];
+    /* a frame buffer that could not be had: said by ff_get_buffer and
+     * h264, with the decoder's context, whose opaque is its reader */
+    if (avcl && *(const AVClass *const *)avcl == avcodec_get_class() &&
+        !strcmp(fmt, "get_buffer() failed\n") && ((AVCodecContext *)avcl)->opaque)
+        ((struct sp_video_reader *)((AVCodecContext *)avcl)->opaque)->no_buffer = 1;
     if (level > av_log_get_level() || av_quiet)
         return;
     av_log_format_line2(avcl, level, fmt, vl, line, sizeof(line), &prefix);
@@ -304,8 +332,17 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
     int w, h;
     if ((ret = open_checked(&r->fmt, path)) != 0)
         goto fail;
-    if (header_size(r->fmt, &w, &h)) { /* before anything is decoded */
-        ret = too_large(path, "its header says", w, h);
+    enum AVCodecID id;
+    if (header_check(r->fmt, &w, &h, &id)) { /* before anything is decoded */
+        const AVCodecDescriptor *d = avcodec_descriptor_get(id);
+        if (codec_read(id)) {
+            ret = too_large(path, "its header says", w, h);
+        } else {
+            sp_log_error("%s: its video is %s (%s); compare reads " SP_VIDEO_CODECS_SAID, path,
+                         d && d->long_name ? d->long_name : "of an unknown codec",
+                         d ? d->name : "?");
+            ret = SP_E_INPUT;
+        }
         goto fail;
     }
     ret = find_stream_info(r->fmt);
@@ -320,6 +357,12 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
         ret = SP_E_INPUT;
         goto fail;
     }
+    if (!codec_read(codec->id)) { /* the best stream, which may not be the first */
+        sp_log_error("%s: its video is %s (%s); compare reads " SP_VIDEO_CODECS_SAID, path,
+                     codec->long_name ? codec->long_name : codec->name, codec->name);
+        ret = SP_E_INPUT;
+        goto fail;
+    }
     if (!(r->dec = avcodec_alloc_context3(codec))) {
         ret = av_fail(r, "cannot make a decoder", AVERROR(ENOMEM));
         goto fail;
@@ -330,6 +373,7 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
         goto fail;
     }
     r->dec->max_pixels = SP_VIDEO_MAX_PIXELS; /* a larger frame is an error, unallocated */
+    r->dec->opaque = r;                       /* for av_line's get_buffer() failures */
     if (ret >= 0)
         ret = avcodec_open2(r->dec, codec, NULL);
     if (ret < 0) {
@@ -443,7 +487,8 @@ int sp_video_frame_size(const char *path, int *width, int *height)
             /* the headers only: no frame is decoded; a size the reader
              * refuses unread counts for nothing (attack8 #6) */
             int w, h;
-            if (!header_size(fmt, &w, &h) && w > 0)
+            enum AVCodecID id;
+            if (!header_check(fmt, &w, &h, &id) && w > 0)
                 *width = w, *height = h, ret = 0;
             avformat_close_input(&fmt);
         }

@@ -616,6 +616,7 @@ static void lines_trim(struct sp_font *f)
 struct item {
     int a, b, level, face, vis; /* vis: its leftmost visual position */
     hb_script_t script;
+    int span_a, span_b; /* the stretch it belongs to (see sp_glyph_run), code points */
 };
 
 static int by_vis(const void *x, const void *y)
@@ -625,17 +626,18 @@ static int by_vis(const void *x, const void *y)
 }
 
 /* The bidi levels of the n characters cp (rule L1 applied by the
- * reordering) into levels, and their visual order into map (types and
- * brackets: room for FriBidi's classes); *bidi = 1 when the line has a
+ * reordering) into levels, their visual order into map and their classes
+ * into types (brackets: room for FriBidi's), the line's own level (0 left
+ * to right, 1 right to left) into *base; *bidi = 1 when the line has a
  * right-to-left letter, an Arabic number or an explicit direction: a line
  * with none is all level 0 in its own order, which FriBidi is not asked
  * to confirm. 0, or SP_E_NOMEM (said). */
 static int bidi_order(const uint32_t *cp, int n, FriBidiCharType *types,
                       FriBidiBracketType *brackets, FriBidiStrIndex *map, FriBidiLevel *levels,
-                      int *bidi)
+                      int *bidi, int *base_level)
 {
     FriBidiParType base = FRIBIDI_PAR_ON;
-    *bidi = 0;
+    *bidi = *base_level = 0;
     fribidi_get_bidi_types(cp, n, types);
     for (int i = 0; i < n; i++) {
         map[i] = i, levels[i] = 0;
@@ -649,8 +651,43 @@ static int bidi_order(const uint32_t *cp, int n, FriBidiCharType *types,
             sp_log_error("FriBidi cannot order a string of %d characters", n);
             return SP_E_NOMEM;
         }
+        *base_level = FRIBIDI_IS_RTL(base) ? 1 : 0;
     }
     return 0;
+}
+
+/* The stretches of the n_items items (in the string's order, levels from
+ * a line of level base) into their span_a, span_b: in a right-to-left line,
+ * items one level up (left to right: numbers, Latin) and the items between
+ * them at the line's level with no letter (spaces, punctuation) are one
+ * stretch, from the first such item to the last; every other item is its
+ * own. The stretch reads left to right on the line, as one piece: a PDF
+ * states its text once, in the string's order, for a reader that puts a
+ * line's text back in order from where its characters lie (see
+ * cairo_text.c). */
+static void stretches_of(struct item *items, int n_items, int base, const FriBidiCharType *types)
+{
+    for (int k = 0; k < n_items; k++)
+        items[k].span_a = items[k].a, items[k].span_b = items[k].b;
+    if (!(base & 1))
+        return;
+    for (int k = 0; k < n_items; k++) {
+        if (items[k].level != base + 1)
+            continue;
+        int last = k; /* the stretch's last item one level up */
+        for (int j = k + 1; j < n_items; j++) {
+            int glue = items[j].level == base;
+            for (int i = items[j].a; glue && i < items[j].b; i++)
+                glue = !FRIBIDI_IS_STRONG(types[i]);
+            if (items[j].level == base + 1)
+                last = j;
+            else if (!glue)
+                break;
+        }
+        for (int j = k; j <= last; j++)
+            items[j].span_a = items[k].a, items[j].span_b = items[last].b;
+        k = last;
+    }
 }
 
 /* The script of each of the n characters cp into script: common and
@@ -718,7 +755,7 @@ static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint
     FriBidiStrIndex *map = (FriBidiStrIndex *)(brackets + m);
     FriBidiLevel *levels = (FriBidiLevel *)(map + m);
     hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
-    int n = 0, n_items = 0, n_glyphs = 0, missing = 0, err = 0;
+    int n = 0, n_items = 0, n_glyphs = 0, missing = 0, err = 0, base = 0;
 
     if (!items) {
         sp_log_error("out of memory to lay out a string of %d bytes", bytes);
@@ -731,7 +768,7 @@ static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint
         i += (int)len;
     }
     off[n] = bytes;
-    if ((err = bidi_order(cp, n, types, brackets, map, levels, &l->bidi)) != 0)
+    if ((err = bidi_order(cp, n, types, brackets, map, levels, &l->bidi, &base)) != 0)
         goto done;
     scripts_of(uf, cp, n, hint, script);
     missing = faces_of(f, uf, cp, n, face);
@@ -739,9 +776,10 @@ static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint
     for (int i = 0; i < n; i++) {
         if (!n_items || levels[i] != items[n_items - 1].level || script[i] != items[n_items - 1].script ||
             face[i] != items[n_items - 1].face)
-            items[n_items++] = (struct item){i, i, levels[i], face[i], n, script[i]};
+            items[n_items++] = (struct item){i, i, levels[i], face[i], n, script[i], 0, 0};
         items[n_items - 1].b = i + 1;
     }
+    stretches_of(items, n_items, base, types);
     for (int v = 0; v < n; v++) /* each run's leftmost place */
         for (int k = 0; k < n_items; k++)
             if (map[v] >= items[k].a && map[v] < items[k].b && v < items[k].vis)
@@ -779,7 +817,8 @@ static int shape(struct sp_font *f, int size, const char *text, hb_script_t hint
             goto done;
         }
         struct sp_glyph *g = l->g;
-        l->r[k] = (struct sp_glyph_run){n_glyphs, (int)ng, it->level & 1, off[it->a], off[it->b]};
+        l->r[k] = (struct sp_glyph_run){n_glyphs,   (int)ng,    it->level & 1,   off[it->a],
+                                        off[it->b], off[it->span_a], off[it->span_b]};
         for (unsigned j = 0; j < ng; j++) {
             const int flagged = (hb_glyph_info_get_glyph_flags(&gi[j]) & HB_GLYPH_FLAG_UNSAFE_TO_CONCAT) != 0;
             l->unsafe = (l->unsafe & 1) | (!n_glyphs && flagged) | (flagged ? 2 : 0);
@@ -917,7 +956,7 @@ static int compose(struct sp_font *f, int size, const char *text, struct shaped 
         }
         pen += pl->width;
     }
-    l->r[0] = (struct sp_glyph_run){0, n, 0, 0, bytes};
+    l->r[0] = (struct sp_glyph_run){0, n, 0, 0, bytes, 0, bytes};
     l->line = (struct sp_line){pen, 0, n, 1, l->g, l->r};
     l->script = script == HB_SCRIPT_INVALID ? HB_SCRIPT_COMMON : script;
     f->n_composed++;

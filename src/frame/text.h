@@ -85,6 +85,12 @@ struct sp_glyph_run {
     int first, count; /* its glyphs */
     int rtl;          /* 1: its glyphs, left to right, show its text backwards */
     int start, end;   /* its bytes of the string, [start, end) */
+    /* The stretch of the string it belongs to, bytes: runs of a left-to-right
+     * stretch inside a right-to-left line, and the spaces between them (a
+     * number and a unit, "2 m/s" in "البندول 2 m/s", which is "m/s", " ", "2"
+     * on the line), all have the stretch's [span_start, span_end): contiguous
+     * in the string and on the line. Every other run has its own [start, end). */
+    int span_start, span_end;
 };
 
 /* A string laid out on one line: glyphs and runs left to right (visual

@@ -102,6 +102,37 @@ void sp_cairo_faces_destroy(struct sp_cairo_faces *fs)
     fs->face = NULL, fs->n = fs->cap = 0;
 }
 
+/* Whether run r stands for its whole stretch (sp_glyph_run): on a PDF page,
+ * a stretch of several runs of one face is drawn once, by the run that
+ * starts it, as one cluster: its glyphs left to right and its text in the
+ * string's order, which cairo writes as one /ActualText. poppler's
+ * pdftotext (22.12) puts a right-to-left line's text back in order from
+ * where its characters lie, and keeps a stretch of digits, Latin and the
+ * spaces between them in page order: "2 m/s" drawn as "m/s 2" (the
+ * bidirectional algorithm's order) comes back as "m/s 2", but as "2 m/s"
+ * from the ActualText, which it spreads left to right over the stretch.
+ * Only a PDF keeps clusters; an SVG draws the same glyphs either way, run
+ * by run as before. *first, *last: the stretch's runs (left to right);
+ * 0 for a run drawn alone. */
+static int stretch_of(cairo_t *cr, const struct sp_line *l, int r, int *first, int *last)
+{
+    const struct sp_glyph_run *run = &l->runs[r];
+    if ((run->span_start == run->start && run->span_end == run->end) ||
+        cairo_surface_get_type(cairo_get_target(cr)) != CAIRO_SURFACE_TYPE_PDF)
+        return 0;
+    *first = *last = r;
+    while (*first > 0 && l->runs[*first - 1].span_start == run->span_start)
+        --*first;
+    while (*last + 1 < l->n_runs && l->runs[*last + 1].span_start == run->span_start)
+        ++*last;
+    const struct sp_glyph *g = l->glyphs + l->runs[*first].first;
+    const int n = l->runs[*last].first + l->runs[*last].count - l->runs[*first].first;
+    for (int k = 1; k < n; k++)
+        if (g[k].face != g[0].face)
+            return 0;
+    return n > 0;
+}
+
 int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *fs, int size, double x, double y,
                        const char *utf8)
 {
@@ -124,10 +155,23 @@ int sp_cairo_text_show(cairo_t *cr, struct sp_cairo_faces *fs, int size, double 
         from = run->start;
         const struct sp_glyph *rg = l.glyphs + run->first;
         cairo_font_face_t *face = face_of(fs, rg[0].face);
-        int n_cl = 0;
+        int n_cl = 0, first, last;
         if (!face) {
             err = SP_E_IO;
             break;
+        }
+        if (stretch_of(cr, &l, (int)(run - l.runs), &first, &last)) {
+            if (run->start != run->span_start)
+                continue; /* drawn with the run that starts its stretch */
+            const struct sp_glyph *sg = l.glyphs + l.runs[first].first;
+            const int n = l.runs[last].first + l.runs[last].count - l.runs[first].first;
+            for (int k = 0; k < n; k++)
+                g[k] = (cairo_glyph_t){sg[k].index, x + sg[k].x, y + sg[k].y};
+            cl[0] = (cairo_text_cluster_t){run->span_end - run->span_start, n};
+            cairo_set_font_face(cr, face);
+            cairo_show_text_glyphs(cr, utf8 + run->span_start, run->span_end - run->span_start, g,
+                                   n, cl, 1, 0);
+            continue;
         }
         /* glyphs in the text's order (a right-to-left run's from its
          * right end: cairo 1.16 checks backward clusters' UTF-8 from the

@@ -213,8 +213,8 @@ static void report(struct parse_ctx *c, int line, const char *fmt, ...)
 
 static void vreport(struct parse_ctx *c, int line, const char *fmt, va_list ap)
 {
-    if (++c->errors > MAX_REPORTS) {
-        if (c->errors == MAX_REPORTS + 1)
+    if (++c->errors > MAX_REPORTS || sp_log_muted()) { /* muted: counted, not said */
+        if (c->errors == MAX_REPORTS + 1 && !sp_log_muted())
             sp_fputs_line(c->origin, stderr), fputs(": too many errors; not showing more\n", stderr);
         return;
     }

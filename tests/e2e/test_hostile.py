@@ -373,22 +373,45 @@ else:
     skip("--help > a full device", "mknod needs root")
 
 # ---- every signal that would kill the process stops a run cleanly ----
-for sig in (signal.SIGQUIT, signal.SIGUSR1, signal.SIGUSR2, signal.SIGALRM, signal.SIGVTALRM,
-            signal.SIGXCPU, signal.SIGPWR):
-    d = fresh("sig" + str(int(sig)))
+# (attack9 #10: also SIGPROF, SIGIO, SIGSTKFLT and the real-time signals,
+# which schedulers send as custom stop signals; a signal the run inherited
+# as ignored, as nohup's SIGHUP, stays ignored)
+def long_data(d, **kw):
+    """A `data` run that takes minutes, started once its .part exists."""
     p = subprocess.Popen([exe, "data", default, "--set", "integrator.method=rk4", "--set",
                           "integrator.dt=1e-6", "--set", "video.duration=1000", "--every", "100",
-                          "-o", "d.csv"], cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                          "-o", "d.csv"], cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, **kw)
     for _ in range(100):  # until its .part exists
         if parts(d):
             break
         time.sleep(0.05)
-    had_part = bool(parts(d))
+    return p, bool(parts(d))
+
+
+stops = [signal.SIGQUIT, signal.SIGUSR1, signal.SIGUSR2, signal.SIGALRM, signal.SIGVTALRM,
+         signal.SIGXCPU, signal.SIGPWR, signal.SIGPROF, signal.SIGIO]
+stops += [signal.SIGSTKFLT] if hasattr(signal, "SIGSTKFLT") else []
+stops += [signal.SIGRTMIN, signal.SIGRTMIN + 5, signal.SIGRTMAX]
+for sig in stops:
+    name = signal.Signals(sig).name if sig in signal.Signals.__members__.values() else f"signal {int(sig)}"
+    d = fresh("sig" + str(int(sig)))
+    p, had_part = long_data(d)
     p.send_signal(sig)
     _, e = p.communicate(timeout=60)
     ok(had_part and p.returncode == 128 + sig and not parts(d),
-       f"{sig.name}: exit {p.returncode} (128 + {int(sig)} expected), no .part left "
+       f"{name}: exit {p.returncode} (128 + {int(sig)} expected), no .part left "
        f"({parts(d)})")
+
+d = fresh("nohup")
+p, had_part = long_data(d, preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
+p.send_signal(signal.SIGHUP)
+time.sleep(1)
+alive = p.poll() is None
+p.send_signal(signal.SIGTERM)
+p.communicate(timeout=60)
+ok(had_part and alive and p.returncode == 128 + signal.SIGTERM and not parts(d),
+   f"started with SIGHUP ignored (nohup): a SIGHUP leaves the run going ({alive}), a SIGTERM "
+   f"then stops it: exit {p.returncode}, no .part left ({parts(d)})")
 
 # ---- modules come only from the build tree or the installed layout ----
 cc = shutil.which("cc") or shutil.which("gcc")

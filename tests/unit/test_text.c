@@ -151,6 +151,32 @@ static void test_arabic(const struct sp_font *f)
     sp_tap_ok(x_m >= 0 && x_m < x_two && x_two < x_arabic,
               "mixed direction: \"m/s\" left of \"2\", left of the Arabic word (x %d < %d < %d)",
               x_m, x_two, x_arabic);
+
+    /* its stretches: "2 m/s" (bytes 15..20, after seven two-byte letters
+     * and a space) is one, of the runs "m/s", " ", "2"; the Arabic word
+     * (with the space after it) is its own; and in "سرعة 2.5 m/s في" the
+     * stretch "2.5 m/s" stops before the space that leads back to Arabic */
+    int in = 0, alone = 0;
+    for (int i = 0; i < l.n_runs; i++) {
+        const struct sp_glyph_run *r = &l.runs[i];
+        in += r->start >= 15 && r->span_start == 15 && r->span_end == 20;
+        alone += r->start < 15 && r->span_start == r->start && r->span_end == r->end;
+    }
+    sp_tap_ok(l.n_runs == 4 && in == 3 && alone == 1,
+              "mixed direction: \"2 m/s\" is one stretch of 3 runs, the Arabic its own (%d runs: "
+              "%d, %d)", l.n_runs, in, alone);
+    const char *longer = "سرعة 2.5 m/s في";
+    sp_font_shape(f, SP_TEXT_NORMAL, longer, &l);
+    const int a = (int)(strchr(longer, '2') - longer), b = (int)(strchr(longer, 's') - longer) + 1;
+    in = 0;
+    for (int i = 0; i < l.n_runs; i++)
+        in += l.runs[i].span_start == a && l.runs[i].span_end == b;
+    sp_tap_ok(in == 3, "mixed direction: \"2.5 m/s\" between Arabic words is one stretch of 3 runs (%d)",
+              in);
+    const char *plain = "Federpendel 2 m/s";
+    sp_font_shape(f, SP_TEXT_NORMAL, plain, &l);
+    sp_tap_ok(l.n_runs == 1 && l.runs[0].span_start == 0 && l.runs[0].span_end == (int)strlen(plain),
+              "a left-to-right line is one run, its own stretch");
 }
 
 static void test_marks(const struct sp_font *f)
@@ -231,7 +257,7 @@ static int same_line(const struct sp_line *a, const struct sp_line *b)
     for (int i = 0; i < a->n_runs; i++) {
         const struct sp_glyph_run *x = &a->runs[i], *y = &b->runs[i];
         if (x->first != y->first || x->count != y->count || x->rtl != y->rtl || x->start != y->start ||
-            x->end != y->end)
+            x->end != y->end || x->span_start != y->span_start || x->span_end != y->span_end)
             return 0;
     }
     return 1;

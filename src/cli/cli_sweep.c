@@ -169,6 +169,7 @@ static int parse_vary(const char *arg, struct sp_sweep_desc *d)
     return 0;
 }
 
+static const char short_options[] = "o:qh";
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
     {"vary", required_argument, 0, 'V'},   {"measure", required_argument, 0, 'M'},
@@ -181,6 +182,12 @@ static const struct option longopts[] = {
     {"format", required_argument, 0, 'F'}, {"fast", no_argument, 0, 'X'},
     {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
 };
+
+const struct option *sp_cli_sweep_options(const char **shortopts)
+{
+    *shortopts = short_options;
+    return longopts;
+}
 
 /* --measure NAME into d. */
 static int parse_measure(const char *arg, struct sp_sweep_desc *d)
@@ -383,7 +390,7 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
     optind = 0; /* getopt_long starts afresh (a merge parses its shard's command too) */
     opterr = 0;
     /* as the command records them (command_line.h) */
-    while (!ret && (c = sp_command_line_getopt(argc, argv, "o:qh", longopts)) != -1)
+    while (!ret && (c = sp_command_line_getopt(argc, argv, short_options, longopts)) != -1)
         if (!(ret = sp_cli_once(c, longopts, "sV", first)))
             ret = take_option(c, argv, o, d, &have_measure);
     if (ret || (ret = check_size(o)))
@@ -844,16 +851,16 @@ static int command_differs(const struct sweep_opts *o, const struct sp_sweep_des
 static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge *m,
                          char *said, size_t size)
 {
-    /* a look, never a wait: O_NONBLOCK, a regular file only (a FIFO the
-     * command names would block the merge for ever: attack9 #2) */
-    const int fd = o->scene && strcmp(o->scene, "-")
-                       ? open(o->scene, O_RDONLY | O_NONBLOCK | O_CLOEXEC) : -1;
-    struct stat st;
-    const int regular = fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
-    if (fd >= 0)
-        close(fd);
-    if (!regular)
-        return 0; /* not here, or no file: not checked */
+    /* a look, never a wait, and nothing but an ordinary file opened
+     * (sp_infile_peek): a FIFO would block the merge for ever (attack9 #2),
+     * a device's open runs its driver (a watchdog, a serial port: attack10
+     * #5), /proc/kmsg takes the kernel's log and blocks (attack10 #11) */
+    char *text = NULL;
+    size_t bytes = 0;
+    const int peeked = o->scene && strcmp(o->scene, "-")
+                           ? sp_infile_peek(o->scene, 1u << 20, &text, &bytes) : 0;
+    if (peeked <= 0)
+        return peeked; /* not here, or no ordinary file: not checked */
     struct sp_scene named;
     sp_scene_defaults(&named);
     int differs = 1;
@@ -861,7 +868,9 @@ static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge
      * section and keys), which the shard's author chose: muted, said below
      * without them */
     sp_log_mute(1);
-    const int loaded = sp_scene_load(&named, o->scene, o->overrides, o->n_overrides) == 0;
+    const int loaded = sp_scene_load_text(&named, o->scene, text, bytes, o->overrides,
+                                          o->n_overrides) == 0;
+    free(text);
     sp_log_mute(0);
     if (loaded) {
         sp_timeline_destroy(&named.timeline); /* as the sweep ignored it */

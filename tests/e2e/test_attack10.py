@@ -1,0 +1,151 @@
+#!/usr/bin/env python3
+"""springpend tests (issue 28): the attacker's tenth pass
+(doc/notes/2026-11-27/attack10.md), each check run as the attacker ran it
+(smaller), most severe first:
+- finding 2 (MEDIUM): `scene FILE --command` printed a forged record that
+  names another output (`sweep ... --csv FILE`, `still ... --state FILE`),
+  and doc/ci.md's re-run recipe then overwrote FILE: a PNG's, video's or
+  figure's record holding an output, --merge or an option its command does
+  not take is refused, naming the word, and nothing is printed;
+- finding 5: sweep --merge's look at the scene a shard's command names
+  opened whatever was there (a device's open runs its driver): only an
+  ordinary file is opened (a FIFO stands in for the device: its writer
+  would see the open);
+- finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
+  takes the kernel's log and blocks): nothing on procfs or sysfs is read.
+usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import os
+import shlex
+import shutil
+import struct
+import threading
+import zlib
+
+import sptest
+from sptest import done, err, ok, skip
+
+exe, src, work, _ = sptest.setup("attack10", [])
+run = sptest.runner_bytes(exe, work)
+scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
+chaotic = os.path.join(scenes, "chaotic.ini")
+default = os.path.join(scenes, "default.ini")
+
+
+def path(*names):
+    return os.path.join(work, *names)
+
+
+def edit(name, old, new):
+    """Replaces old by new in the file name (under work) once; asserts it was there."""
+    with open(path(name)) as f:
+        text = f.read()
+    assert old in text, (name, old)
+    with open(path(name), "w") as f:
+        f.write(text.replace(old, new, 1))
+
+
+def with_command(src_png, out_png, line):
+    """src_png with its springpend.command text (tEXt or iTXt) set to line."""
+    data, i, out = open(path(src_png), "rb").read(), 8, b""
+    while i < len(data):
+        n, = struct.unpack(">I", data[i:i + 4])
+        kind, body = data[i + 4:i + 8], data[i + 8:i + 8 + n]
+        if kind in (b"tEXt", b"iTXt") and body.startswith(b"springpend.command\0"):
+            body = b"springpend.command\0" + (b"\0\0\0\0" if kind == b"iTXt" else b"") + \
+                line.encode()
+        out += struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+        i += 12 + n
+    with open(path(out_png), "wb") as f:
+        f.write(data[:8] + out)
+
+
+# ---- finding 2: a record that names an output is not printed -----------------------------
+r = run("still", chaotic, "--at", "1", "--size", "64x36", "-q", "-o", "a.png")
+assert r.returncode == 0, err(r)
+victim = path("victim.txt")
+grid = "--vary initial.angle=1:179:4 --measure lyapunov --time 2"
+for forged, word in ((f"springpend sweep {chaotic} {grid} --csv {victim}", "--csv"),
+                     (f"springpend sweep {chaotic} {grid} --cs={victim}", "--csv"),
+                     (f"springpend still {chaotic} --at 1 --size 64x36 --state {victim}",
+                      "--state"),
+                     (f"springpend still {chaotic} --at 1 -o{victim}", "--output"),
+                     (f"springpend sweep --merge {victim} {victim}", "--merge"),
+                     (f"springpend still {chaotic} --at 1 --bogus {victim}", "--bogus")):
+    with open(victim, "w") as f:
+        f.write("keep me\n")
+    with_command("a.png", "f.png", forged)
+    r = run("scene", "f.png", "--command")
+    line = r.stdout.decode().strip()
+    if line:  # doc/ci.md's recipe, as attack10 ran it
+        run(*shlex.split(line)[1:], "-o", "re.png", "-q")
+    ok(r.returncode == 2 and not line and word in err(r) and "not printed" in err(r)
+       and open(victim).read() == "keep me\n",
+       f"scene --command of a PNG whose record holds {word} FILE: refused, naming it, nothing "
+       f"printed, the file kept (exit {r.returncode}: {line[-60:]!r} {err(r)[-160:]!r})")
+r = run("scene", "a.png", "--command")
+ok(r.returncode == 0 and r.stdout.decode().startswith(f"springpend still {chaotic} --at 1 "),
+   f"a record springpend wrote prints as before ({r.stdout.decode().strip()[-80:]!r})")
+with_command("a.png", "f.png", f"springpend still {chaotic} --set view.title=--csv")
+r = run("scene", "f.png", "--command")
+ok(r.returncode == 0 and "view.title=--csv" in r.stdout.decode(),
+   f"--csv inside a --set value is a value, not an option ({err(r)[-160:]!r})")
+
+# ---- findings 5 and 11: the merge's look opens only an ordinary file ---------------------
+args = ["--vary", "initial.angle=1:179:4", "--measure", "lyapunov", "--time", "2"]
+for i in (1, 2):
+    r = run("sweep", chaotic, *args, "--shard", f"{i}/2", "--csv", f"r{i}.csv", "-q")
+    assert r.returncode == 0, err(r)
+meta = "r1.csv-metadata.json"
+shutil.copy(path(meta), path("kept.json"))
+
+# a FIFO stands in for a device: a writer's blocking open returns when a reader opens it
+os.mkfifo(path("dev.ini"))
+opened = []
+
+
+def writer():
+    try:
+        fd = os.open(path("dev.ini"), os.O_WRONLY)
+        opened.append(1)
+        os.close(fd)
+    except OSError:
+        pass
+
+
+t = threading.Thread(target=writer, daemon=True)
+t.start()
+edit(meta, chaotic, path("dev.ini"))
+r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "md.png", "-q")
+t.join(1.0)
+seen = bool(opened)
+if not seen:  # free the writer
+    fd = os.open(path("dev.ini"), os.O_RDONLY | os.O_NONBLOCK)
+    t.join(2.0)
+    os.close(fd)
+ok(r.returncode == 0 and not seen,
+   f"sweep --merge whose shard's command names a FIFO (a device's stand-in): not opened "
+   f"(exit {r.returncode}; opened {seen}: {err(r)[-200:]!r})")
+
+for pseudo in ("/proc/self/status", "/sys/devices/system/cpu/online"):
+    if not os.path.isfile(pseudo):
+        skip(f"sweep --merge naming {pseudo}", "not here")
+        continue
+    shutil.copy(path("kept.json"), path(meta))
+    edit(meta, chaotic, pseudo)
+    r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "mp.png", "-q")
+    ok(r.returncode == 0 and "no scene springpend reads" not in err(r),
+       f"sweep --merge whose shard's command names {pseudo} (a kernel's file, as /proc/kmsg "
+       f"is): not read (exit {r.returncode}: {err(r)[-200:]!r})")
+shutil.copy(path("kept.json"), path(meta))
+with open(path("secret.env"), "w") as f:
+    f.write("GITHUB_TOKEN=ghp_x\n")
+edit(meta, chaotic, path("secret.env"))
+r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "ms.png", "-q")
+ok(r.returncode == 2 and "no scene springpend reads" in err(r) and "GITHUB" not in err(r),
+   f"an ordinary file that is no scene is still read and refused ({err(r)[-160:]!r})")
+shutil.copy(path("kept.json"), path(meta))
+r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "mk.png", "-q")
+ok(r.returncode == 0 and os.path.exists(path("mk.png")),
+   f"the shards as made still merge ({err(r)[-200:]!r})")
+
+done()

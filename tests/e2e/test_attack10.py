@@ -11,6 +11,10 @@
   opened whatever was there (a device's open runs its driver): only an
   ordinary file is opened (a FIFO stands in for the device: its writer
   would see the open);
+- finding 1 (MEDIUM): a PDF lost words of a title whose bidi controls
+  split a stretch on the line (an LRM, then an LRI's digits, in a
+  right-to-left line): "not" was neither drawn nor in the text, and a
+  stretch of two faces put its text twice; every run is now drawn;
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -18,6 +22,7 @@ import os
 import shlex
 import shutil
 import struct
+import subprocess
 import threading
 import zlib
 
@@ -147,5 +152,22 @@ shutil.copy(path("kept.json"), path(meta))
 r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "mk.png", "-q")
 ok(r.returncode == 0 and os.path.exists(path("mk.png")),
    f"the shards as made still merge ({err(r)[-200:]!r})")
+
+# ---- finding 1: a PDF draws every run of a title whose stretch is split on the line -------
+if not shutil.which("pdftotext"):
+    skip("a PDF title with bidi controls", "pdftotext is not installed")
+else:
+    for title, want, once in (("\u05e9\u200e\u2066 not \u0663 safe", ["not", "\u0663 safe"], None),
+                              ("\u200f\u200e\u2068NOT \u0663", ["NOT", "\u0663"], None),
+                              ("\u200f\u200e\u2068,\u0663", [",\u0663"], None),
+                              ("\u05dd2\u2068c\u5f39\u0644", ["2", "c\u5f39"], "c\u5f39")):
+        r = run("still", default, "--at", "0", "--size", "800x200", "--set", "view.panels=none",
+                "--set", "view.hud=false", "--set", "view.colorbar=false", "--set",
+                "view.font_size=40", "--set", f"view.title={title}", "-o", "t.pdf", "-q")
+        text = subprocess.run(["pdftotext", path("t.pdf"), "-"], capture_output=True,
+                                     text=True).stdout if r.returncode == 0 else ""
+        ok(all(w in text for w in want) and (once is None or text.count(once) == 1),
+           f"a PDF titled {title!r}: every word drawn and in its text once ({text.strip()!r}; "
+           f"exit {r.returncode})")
 
 done()

@@ -14,6 +14,7 @@
 
 #include "base/clock.h"
 #include "base/module.h"
+#include "base/signal_name.h"
 #include "cli.h"
 #include "base/decimal.h"
 #include "base/digest.h"
@@ -994,9 +995,10 @@ static int merge(const struct sweep_opts *opts)
                                          .n_overrides = m.n_overrides, .merged = 1,
                                          .command = record};
         ret = finish(out, o, 0, &whole, made);
-        if (ret == SP_E_INTERRUPTED)
-            sp_log_error("interrupted: nothing written");
     }
+    if (ret == SP_E_INTERRUPTED) /* from any step: reading the shards too (attack10 #13) */
+        sp_log_error("interrupted by %s: nothing written",
+                     sp_signal_name(o->cancel ? (int)*o->cancel : 0));
     sp_sweep_merge_close(&m);
     free(record);
     if (!ret && !o->quiet)

@@ -15,15 +15,19 @@
   split a stretch on the line (an LRM, then an LRI's digits, in a
   right-to-left line): "not" was neither drawn nor in the text, and a
   stretch of two faces put its text twice; every run is now drawn;
+- finding 13: sweep --merge stopped by a signal while it read the shards
+  exited 128+n with no word: "interrupted by SIGTERM: nothing written";
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import shlex
 import shutil
+import signal
 import struct
 import subprocess
 import threading
+import time
 import zlib
 
 import sptest
@@ -169,5 +173,26 @@ else:
         ok(all(w in text for w in want) and (once is None or text.count(once) == 1),
            f"a PDF titled {title!r}: every word drawn and in its text once ({text.strip()!r}; "
            f"exit {r.returncode})")
+
+# ---- finding 13: a merge stopped while it reads the shards says so ------------------------
+# shards of more than 4096 rows (the reader looks at the stop flag every 4096 lines); the
+# signal comes while the process is stopped at its start, so it is seen during the reading
+big = ["--vary", "initial.angle=1:179:100", "--vary", "initial.length=0.8:1.2:84", "--measure",
+       "lyapunov", "--time", "2", "--fast"]
+for i in (1, 2):
+    r = run("sweep", chaotic, *big, "--shard", f"{i}/2", "--csv", f"b{i}.csv", "-q")
+    assert r.returncode == 0, err(r)
+p = subprocess.Popen([exe, "sweep", "--merge", "b1.csv", "b2.csv", "-o", "bm.png"], cwd=work,
+                     stderr=subprocess.PIPE, text=True)
+sptest.wait_caught(p, signal.SIGTERM)
+os.kill(p.pid, signal.SIGSTOP)
+os.kill(p.pid, signal.SIGTERM)
+time.sleep(0.05)
+os.kill(p.pid, signal.SIGCONT)
+said = p.communicate(timeout=60)[1]
+ok(p.returncode == 128 + signal.SIGTERM and "interrupted by SIGTERM: nothing written" in said
+   and not os.path.exists(path("bm.png")),
+   f"sweep --merge stopped by SIGTERM as it reads the shards: says so, naming the signal "
+   f"(exit {p.returncode}: {said.strip()[-160:]!r})")
 
 done()

@@ -17,9 +17,14 @@
   stretch of two faces put its text twice; every run is now drawn;
 - finding 13: sweep --merge stopped by a signal while it read the shards
   exited 128+n with no word: "interrupted by SIGTERM: nothing written";
+- finding 4: a Lyapunov sweep with pendulum.natural_length below 1.5e-154 m
+  called every point a blow-up (L0^2 underflowed, inf * 0 in the Jacobian)
+  where --fast gave the number: both give the closed form of the linear
+  (zero-length) spring;
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import math
 import os
 import shlex
 import shutil
@@ -194,5 +199,28 @@ ok(p.returncode == 128 + signal.SIGTERM and "interrupted by SIGTERM: nothing wri
    and not os.path.exists(path("bm.png")),
    f"sweep --merge stopped by SIGTERM as it reads the shards: says so, naming the signal "
    f"(exit {p.returncode}: {said.strip()[-160:]!r})")
+
+# ---- finding 4: a zero-length spring's Lyapunov numbers, both kernels ----------------------
+# L0 -> 0: x'' = -(k/m) x, y'' = -(k/m) y - g, linear. The tangent starts as (dx, dvx) = (1, 0)
+# and is renormalised every tau = 1 s: each second multiplies it by the flow's matrix
+# [[cos w, sin w / w], [-w sin w, cos w]], w^2 = k/m (chaotic.ini: 39.24 N/m, 1 kg).
+w = math.sqrt(39.24 / 1.0)
+dx, dv, logs = 1.0, 0.0, []
+for _ in range(2):
+    dx, dv = math.cos(w) * dx + math.sin(w) / w * dv, -w * math.sin(w) * dx + math.cos(w) * dv
+    n = math.hypot(dx, dv)
+    logs.append(math.log(n))
+    dx, dv = dx / n, dv / n
+want = (sum(logs) / 2, logs[0])  # lyapunov over T = 2 s, and over its first half
+for L0 in ("1e-300", "1e-160"):
+    for fast in ([], ["--fast"]):
+        r = run("sweep", chaotic, "--vary", f"pendulum.natural_length={L0}:{L0}:1", "--measure",
+                "lyapunov", "--time", "2", *fast, "--csv", "z.csv", "-o", "z.png", "-q")
+        row = open(path("z.csv")).read().strip().splitlines()[-1].split(",") \
+            if r.returncode == 0 else []
+        got = [float(v) for v in row[2:4]] if len(row) >= 4 else [math.nan] * 2
+        ok(all(abs(g - e) <= 1e-6 * abs(e) for g, e in zip(got, want)),
+           f"sweep lyapunov at natural_length {L0} m {' '.join(fast)}: {got} = the linear "
+           f"spring's closed form {want} ({err(r)[-120:]!r})")
 
 done()

@@ -423,8 +423,13 @@ static int check_outputs(const struct sweep_opts *o)
     }
     if (o->csv && sp_outfile_check_writable(o->csv, "--csv"))
         return SP_E_INPUT;
-    if (o->csv && o->output && sp_outfile_same_file(o->csv, o->output)) {
-        sp_log_error("--csv and -o name the same file");
+    char csv_meta[4096]; /* --csv's metadata, written beside it */
+    if (o->csv && o->output &&
+        (sp_outfile_same_output(o->csv, o->output) ||
+         (snprintf(csv_meta, sizeof(csv_meta), "%s" SP_CSV_METADATA_SUFFIX, o->csv) <
+              (int)sizeof(csv_meta) && sp_outfile_same_output(csv_meta, o->output)))) {
+        sp_log_error("--csv %s and -o %s name one file (the CSV or its metadata); give each "
+                     "its own", o->csv, o->output);
         return SP_E_INPUT;
     }
     /* the scene or a shard being read must not be replaced by what it makes */

@@ -1348,6 +1348,12 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
         const char *p = outs[i][0];
         if (!p)
             continue;
+        for (int k = i + 1; k < 5 && (i > 1 || (i == 0 && !folders)); k++)
+            if (outs[k][0] && sp_outfile_same_output(p, outs[k][0])) { /* attack10 #9 */
+                sp_log_error("%s %s and %s %s name one file; give each its own", outs[i][1], p,
+                             outs[k][1], outs[k][0]);
+                return SP_E_INPUT;
+            }
         if (sp_outfile_same_file(p, e) || sp_outfile_same_file(p, a) ||
             (folders && i > 1 && (lands_in(p, e) || lands_in(p, a)))) {
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);

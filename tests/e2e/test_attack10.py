@@ -21,6 +21,8 @@
   called every point a blow-up (L0^2 underflowed, inf * 0 in the Jacobian)
   where --fast gave the number: both give the closed form of the linear
   (zero-length) spring;
+- finding 9: two outputs at one path (compare's --junit and --summary,
+  sweep's --csv and -o) replaced each other without a word: refused;
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -222,5 +224,26 @@ for L0 in ("1e-300", "1e-160"):
         ok(all(abs(g - e) <= 1e-6 * abs(e) for g, e in zip(got, want)),
            f"sweep lyapunov at natural_length {L0} m {' '.join(fast)}: {got} = the linear "
            f"spring's closed form {want} ({err(r)[-120:]!r})")
+
+# ---- finding 9: two outputs at one path are refused ---------------------------------------
+for d, at in (("e", "0"), ("a", "1")):
+    os.makedirs(path(d))
+    r = run("still", default, "--at", at, "--size", "64x36", "-q", "-o", f"{d}/x.png")
+    assert r.returncode == 0, err(r)
+for outs in (["--junit", "same.out", "--summary", "same.out"],
+             ["--junit", "same2", "--report", "./same2"]):
+    r = run("compare", "e", "a", *outs)
+    ok(r.returncode == 2 and "name one file" in err(r) and not os.path.exists(path(outs[1])),
+       f"compare {' '.join(outs)}: refused before anything is written (exit {r.returncode}: "
+       f"{err(r)[-120:]!r})")
+r = run("compare", "e", "a", "--junit", "j.xml", "--summary", "s.md")
+ok(r.returncode == 1 and os.path.exists(path("j.xml")) and os.path.exists(path("s.md")),
+   f"two reports at two paths are both written (exit {r.returncode})")
+for csv, png in (("same.png", "same.png"), ("s2.png", ".//s2.png"), ("sub/../s3.png", "s3.png")):
+    os.makedirs(path("sub"), exist_ok=True)
+    r = run("sweep", chaotic, *args, "--csv", csv, "-o", png, "-q")
+    ok(r.returncode == 2 and "name one file" in err(r) and not os.path.exists(path(png)),
+       f"sweep --csv {csv} -o {png}: refused, nothing written (exit {r.returncode}: "
+       f"{err(r)[-120:]!r})")
 
 done()

@@ -23,6 +23,8 @@
   (zero-length) spring;
 - finding 9: two outputs at one path (compare's --junit and --summary,
   sweep's --csv and -o) replaced each other without a word: refused;
+- finding 17: `data` stopped by a signal said "interrupted: d.csv not
+  written" twice, naming no signal: once, naming it;
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -245,5 +247,19 @@ for csv, png in (("same.png", "same.png"), ("s2.png", ".//s2.png"), ("sub/../s3.
     ok(r.returncode == 2 and "name one file" in err(r) and not os.path.exists(path(png)),
        f"sweep --csv {csv} -o {png}: refused, nothing written (exit {r.returncode}: "
        f"{err(r)[-120:]!r})")
+
+# ---- finding 17: data stopped by a signal says so once, naming it --------------------------
+p = subprocess.Popen([exe, "data", chaotic, "--set", "video.duration=20000", "-o", "d.csv"],
+                     cwd=work, stderr=subprocess.PIPE, text=True)
+sptest.wait_caught(p, signal.SIGTERM)
+os.kill(p.pid, signal.SIGSTOP)
+os.kill(p.pid, signal.SIGTERM)
+time.sleep(0.05)
+os.kill(p.pid, signal.SIGCONT)
+said = p.communicate(timeout=120)[1]
+ok(p.returncode == 128 + signal.SIGTERM and said.count("not written") == 1
+   and "interrupted by SIGTERM: d.csv not written" in said and not os.path.exists(path("d.csv")),
+   f"data stopped by SIGTERM: one line that names the signal (exit {p.returncode}: "
+   f"{said.strip()[-200:]!r})")
 
 done()

@@ -669,7 +669,7 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
          * (attack9 #13); elsewhere the file is damaged, and decoding it
          * again would only double its cost (attack9 #6) */
         const char *bad = ge < 0 ? expected : actual;
-        ret = sp_memory_near_limit() ? record_nomem(r, bad)
+        ret = (ge < 0 ? ge : ga) == SP_E_CODEC && sp_memory_near_limit() ? record_nomem(r, bad)
                                      : record_error(r, "cannot decode %s", bad);
         goto done;
     }

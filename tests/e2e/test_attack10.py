@@ -25,6 +25,9 @@
   sweep's --csv and -o) replaced each other without a word: refused;
 - finding 17: `data` stopped by a signal said "interrupted: d.csv not
   written" twice, naming no signal: once, naming it;
+- finding 16: a video whose stream grows past compare's frame limit mid-way
+  was "out of memory ... allow more memory" (exit 1): refused as too
+  large, naming the size (exit 2);
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -261,5 +264,27 @@ ok(p.returncode == 128 + signal.SIGTERM and said.count("not written") == 1
    and "interrupted by SIGTERM: d.csv not written" in said and not os.path.exists(path("d.csv")),
    f"data stopped by SIGTERM: one line that names the signal (exit {p.returncode}: "
    f"{said.strip()[-200:]!r})")
+
+# ---- finding 16: a stream that grows past the frame limit is the file's fault ---------------
+if not shutil.which("ffmpeg"):
+    skip("a video whose stream grows past the frame limit", "ffmpeg is not installed")
+else:
+    def ff(*a):
+        subprocess.run(["ffmpeg", "-v", "error", "-y", *a], cwd=work, check=True, timeout=120)
+    ff("-f", "lavfi", "-i", "testsrc=s=320x180:r=10:d=0.5", "-c:v", "libx264", "-bsf:v",
+       "h264_mp4toannexb", "-f", "h264", "small.h264")
+    # 8208x4400: 36.1 Mpx a frame, over compare's 35651584 (its header says 320x180)
+    ff("-f", "lavfi", "-i", "testsrc=s=8208x4400:r=10:d=0.1", "-c:v", "libx264", "-preset",
+       "ultrafast", "-bsf:v", "h264_mp4toannexb", "-f", "h264", "huge.h264")
+    with open(path("grow.h264"), "wb") as f:
+        f.write(open(path("small.h264"), "rb").read() + open(path("huge.h264"), "rb").read())
+    ff("-r", "10", "-i", "grow.h264", "-c", "copy", "grow.mp4")
+    ff("-f", "lavfi", "-i", "testsrc=s=320x180:r=10:d=0.8", "-c:v", "libx264", "-pix_fmt",
+       "yuv420p", "ref.mp4")
+    r = run("compare", "ref.mp4", "grow.mp4")
+    ok(r.returncode == 2 and "out of memory" not in err(r) + r.stdout.decode()
+       and "grows to 8256x4400" in err(r) and "at most 35651584 pixels a frame" in err(r),
+       f"compare of a video whose stream grows to 8208x4400 at frame 5: refused as too large, "
+       f"not out of memory (exit {r.returncode}: {err(r)[-200:]!r})")
 
 done()

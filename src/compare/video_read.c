@@ -36,6 +36,7 @@ struct sp_video_reader {
     int flushing;            /* the demuxer is done; NULL was sent */
     volatile int no_buffer;  /* 1: the decoder said "get_buffer() failed" (av_line) */
     volatile unsigned big_w, big_h; /* a frame FFmpeg refused by max_pixels (av_line): its size */
+    int head_w, head_h;      /* the stream's size as its header says */
 };
 
 /* This thread's held errors (sp_video_hold_errors): NULL, or a buffer of
@@ -69,7 +70,11 @@ static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
      * (h264's INVALIDDATA after "get_buffer() failed"): out of memory too,
      * not the file's fault (attack9 #13) */
     char line[PATH_MAX + 256];
-    if (r->big_w) /* refused by max_pixels, which FFmpeg then also calls
+    if (r->big_w && (int64_t)r->big_w * r->big_h <= SP_VIDEO_MAX_PIXELS)
+        snprintf(line, sizeof(line), "%s: its stream grows to %ux%u, larger than its header's "
+                 "%dx%d; not decoded (a video's frames keep one size)", r->path, r->big_w,
+                 r->big_h, r->head_w, r->head_h);
+    else if (r->big_w) /* refused by max_pixels, which FFmpeg then also calls
                    * "get_buffer() failed": the file's, not memory (attack10 #16) */
         snprintf(line, sizeof(line), "%s: its stream grows to %ux%u, %llu pixels a frame; "
                  "compare reads videos of at most %ld pixels a frame (8192x4352, the largest "
@@ -398,7 +403,15 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
         ret = too_large(path, "its stream says", r->dec->width, r->dec->height);
         goto fail;
     }
-    r->dec->max_pixels = SP_VIDEO_MAX_PIXELS; /* a larger frame is an error, unallocated */
+    /* a larger frame is an error, unallocated: larger than the limit, or
+     * than the header's size, by which compare counted the memory (a stream
+     * that grows mid-way: attack10 #12); every frame must have that size
+     * anyway. The margin: ff_get_buffer checks the width aligned up (to 64) */
+    const int64_t head = r->dec->width > 0 && r->dec->height > 0
+                             ? ((int64_t)r->dec->width + 128) * (r->dec->height + 64)
+                             : SP_VIDEO_MAX_PIXELS;
+    r->dec->max_pixels = head < SP_VIDEO_MAX_PIXELS ? head : SP_VIDEO_MAX_PIXELS;
+    r->head_w = r->dec->width, r->head_h = r->dec->height;
     r->dec->opaque = r;                       /* for av_line's get_buffer() failures */
     if (ret >= 0)
         ret = avcodec_open2(r->dec, codec, NULL);

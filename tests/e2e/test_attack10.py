@@ -28,6 +28,10 @@
 - finding 16: a video whose stream grows past compare's frame limit mid-way
   was "out of memory ... allow more memory" (exit 1): refused as too
   large, naming the size (exit 2);
+- finding 12: a stream that grows mid-way within the frame limit (header
+  320x180, 8192x4320 at frame 5) was decoded at its new size (573 MB for
+  one pair) before compare saw the change: the decoder allocates no frame
+  larger than its header's, and the file is refused saying so;
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -286,5 +290,21 @@ else:
        and "grows to 8256x4400" in err(r) and "at most 35651584 pixels a frame" in err(r),
        f"compare of a video whose stream grows to 8208x4400 at frame 5: refused as too large, "
        f"not out of memory (exit {r.returncode}: {err(r)[-200:]!r})")
+
+    # ---- finding 12: within the limit, a stream larger than its header is not decoded -----
+    ff("-f", "lavfi", "-i", "testsrc=s=8192x4320:r=10:d=0.1", "-c:v", "libx264", "-preset",
+       "ultrafast", "-bsf:v", "h264_mp4toannexb", "-f", "h264", "big.h264")
+    with open(path("grow2.h264"), "wb") as f:
+        f.write(open(path("small.h264"), "rb").read() + open(path("big.h264"), "rb").read())
+    ff("-r", "10", "-i", "grow2.h264", "-c", "copy", "grow2.mp4")
+    rss = subprocess.run(["python3", "-c", "import resource, subprocess, sys; "
+                          "subprocess.run(sys.argv[1:], capture_output=True); "
+                          "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)",
+                          exe, "compare", "ref.mp4", "grow2.mp4"], cwd=work,
+                         capture_output=True, text=True).stdout.strip()
+    r = run("compare", "ref.mp4", "grow2.mp4")
+    ok(r.returncode == 2 and "grows to 8192x4320, larger than its header's 320x180" in err(r),
+       f"compare of a video whose stream grows from 320x180 to 8192x4320: refused before its "
+       f"frames are decoded (exit {r.returncode}; max RSS {rss} KB: {err(r)[-160:]!r})")
 
 done()

@@ -1037,7 +1037,15 @@ static int by_need_down(const void *a, const void *b)
 static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot_list *l,
                            const unsigned char *todo, const char *dir_e, const char *dir_a)
 {
+    /* at most 256 threads (the pool's array), said for a default --jobs
+     * (every CPU) above it rather than cut after the message below */
     int n = c->jobs < l->n ? c->jobs : l->n, n_needs = 0;
+    if (n > 256) {
+        if (!c->quiet && !c->json)
+            sp_fprintf_line(stderr, "springpend: --jobs %d: compare runs at most 256 threads; "
+                            "comparing on 256", n);
+        n = 256;
+    }
     double px = 0;
     const char *what;
     const double budget = sp_memory_limit(&what) / 2, base = thread_base(what);
@@ -1084,19 +1092,27 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
     for (int k = 0; needs && budget > 0 && k < n; k++) {
         held += (k < n_needs ? needs[k] : 0) + base;
         if (held > budget) {
-            fit = k < 1 ? 1 : k;
+            fit = k; /* 0: not even one */
             break;
         }
     }
     free(needs);
     if (fit < n) {
+        char fits[32], on[96];
+        if (fit) {
+            snprintf(fits, sizeof(fits), "%d of them fit", fit);
+            snprintf(on, sizeof(on), "%d thread%s", fit, fit == 1 ? "" : "s");
+        } else { /* one thread all the same: a pair too large for it is said alone */
+            snprintf(fits, sizeof(fits), "not even one fits");
+            snprintf(on, sizeof(on), "1 thread, a pair at a time (a pair that runs out of "
+                     "memory is said so)");
+        }
         if (!c->quiet && !c->json)
             sp_fprintf_line(stderr, "springpend: --jobs %d: each thread holds up to %.0f MB "
                             "for the largest image (%.1f Mpx) and %.0f MB of its own (stack, "
-                            "malloc arena); %d of them fit in %.0f MB, half of %s: comparing "
-                            "on %d thread%s", n, images / 1e6, px / 1e6, base / 1e6, fit,
-                            budget / 1e6, what, fit, fit == 1 ? "" : "s");
-        n = fit;
+                            "malloc arena); %s in %.0f MB, half of %s: comparing on %s", n,
+                            images / 1e6, px / 1e6, base / 1e6, fits, budget / 1e6, what, on);
+        n = fit ? fit : 1;
     }
     return n;
 }

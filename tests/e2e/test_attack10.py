@@ -32,11 +32,14 @@
   320x180, 8192x4320 at frame 5) was decoded at its new size (573 MB for
   one pair) before compare saw the change: the decoder allocates no frame
   larger than its header's, and the file is refused saying so;
+- (the lead's residual a) compare's memory cap said "1 of them fit in 51
+  MB" when not one fits: it says so, and that it compares a pair at a time;
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import math
 import os
+import resource
 import shlex
 import shutil
 import signal
@@ -306,5 +309,25 @@ else:
     ok(r.returncode == 2 and "grows to 8192x4320, larger than its header's 320x180" in err(r),
        f"compare of a video whose stream grows from 320x180 to 8192x4320: refused before its "
        f"frames are decoded (exit {r.returncode}; max RSS {rss} KB: {err(r)[-160:]!r})")
+
+# ---- residual a: the memory cap's message when not one thread fits ------------------------
+if b"__asan_init" in open(exe, "rb").read():
+    skip("compare's memory cap under ulimit -d", "a sanitizer build")
+else:
+    for d in ("me", "ma"):
+        os.makedirs(path(d))
+        r = run("still", default, "--at", "0" if d == "me" else "1", "--size", "2000x2000", "-q",
+                "-o", f"{d}/1.png")
+        assert r.returncode == 0, err(r)
+        shutil.copy(path(d, "1.png"), path(d, "2.png"))
+
+    def data_limit():
+        resource.setrlimit(resource.RLIMIT_DATA, (100 << 20, 100 << 20))
+    # 2000x2000: 48 MB a thread for the images and 12 MB of its own, against half of 100 MB
+    r = run("compare", "me", "ma", "--jobs", "2", preexec_fn=data_limit, timeout=120)
+    ok("not even one fits in" in err(r) and "1 of them fit" not in err(r)
+       and "comparing on 1 thread, a pair at a time" in err(r) and r.returncode == 1,
+       f"compare --jobs 2 under ulimit -d 100 MB with 4 Mpx pairs: says that not one thread "
+       f"fits (exit {r.returncode}: {err(r)[-200:]!r})")
 
 done()

@@ -34,6 +34,10 @@
   larger than its header's, and the file is refused saying so;
 - (the lead's residual a) compare's memory cap said "1 of them fit in 51
   MB" when not one fits: it says so, and that it compares a pair at a time;
+- (the lead's residual c) a still made where springpend-av.so is missing
+  printed "cannot load springpend's module springpend-av.so" twice (its
+  environment probe asked FFmpeg's version) though the still is written:
+  the probe is quiet, and the still records "libavcodec: not loaded";
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -329,5 +333,19 @@ else:
        and "comparing on 1 thread, a pair at a time" in err(r) and r.returncode == 1,
        f"compare --jobs 2 under ulimit -d 100 MB with 4 Mpx pairs: says that not one thread "
        f"fits (exit {r.returncode}: {err(r)[-200:]!r})")
+
+# ---- residual c: a still without the FFmpeg module says nothing of it -----------------------
+# a copy of the executable outside the build tree finds no module (module.h: never beside a
+# copied binary but in its installed layout, which this folder lacks)
+os.makedirs(path("lone", "bin"))
+lone = path("lone", "bin", "springpend")
+shutil.copy(exe, lone)
+r = subprocess.run([lone, "still", default, "--at", "0", "--size", "64x36", "-q", "-o",
+                    path("lone.png")], capture_output=True, text=True, timeout=60)
+env = sptest.png_text(path("lone.png"), compressed=True).get("springpend.environment", "") \
+    if os.path.exists(path("lone.png")) else ""
+ok(r.returncode == 0 and "cannot load" not in r.stderr and "libavcodec: not loaded" in env,
+   f"a still where springpend-av.so is missing: written, nothing said of the module, its "
+   f"environment says libavcodec: not loaded (exit {r.returncode}: {r.stderr.strip()[-160:]!r})")
 
 done()

@@ -38,6 +38,9 @@
   printed "cannot load springpend's module springpend-av.so" twice (its
   environment probe asked FFmpeg's version) though the still is written:
   the probe is quiet, and the still records "libavcodec: not loaded";
+- finding 8: a file name with a newline or a tab was written raw into
+  JUnit's name attributes (read back as a space), Markdown and HTML:
+  "a\nb.png" (failing) read as "a b.png" (passing); shown as \n, \x09;
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -352,5 +355,21 @@ else:
        f"a still where springpend-av.so is missing: written, nothing said of the module, its "
        f"environment says libavcodec: not loaded (exit {r.returncode}: "
        f"{r.stderr.strip()[-160:]!r})")
+
+# ---- finding 8: names with a newline or a tab are told apart in the reports ---------------
+import xml.dom.minidom  # noqa: E402
+os.makedirs(path("nl", "e"))
+os.makedirs(path("nl", "a"))
+for name, same in (("a b.png", True), ("a\nb.png", False), ("t\tb.png", True)):
+    shutil.copy(path("e", "x.png"), path("nl", "e", name))
+    shutil.copy(path("e" if same else "a", "x.png"), path("nl", "a", name))
+r = run("compare", "nl/e", "nl/a", "--junit", "nl.xml", "--summary", "nl.md")
+cases = {t.getAttribute("name"): bool(t.getElementsByTagName("failure"))
+         for t in xml.dom.minidom.parse(path("nl.xml")).getElementsByTagName("testcase")}
+md = open(path("nl.md")).read()
+ok(r.returncode == 1 and cases == {"a b.png": False, "a\\nb.png": True, "t\\x09b.png": False}
+   and "| a\\\\nb.png | fail" in md,
+   f"JUnit names as an XML reader reads them, and the Markdown row: a newline and a tab "
+   f"shown ({cases}; exit {r.returncode})")
 
 done()

@@ -41,6 +41,10 @@
 - finding 8: a file name with a newline or a tab was written raw into
   JUnit's name attributes (read back as a space), Markdown and HTML:
   "a\nb.png" (failing) read as "a b.png" (passing); shown as \n, \x09;
+- findings 3 and 14: a ZWNJ was written raw (it changes what is drawn, RFC
+  5892's rule) where it changes nothing seen: beside a character that is
+  itself shown escaped (BEH ZWNJ CGJ ALEF), and after a virama that ends a
+  word (KA VIRAMA ZWNJ): escaped there, raw where it selects a form;
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -371,5 +375,23 @@ ok(r.returncode == 1 and cases == {"a b.png": False, "a\\nb.png": True, "t\\x09b
    and "| a\\\\nb.png | fail" in md,
    f"JUnit names as an XML reader reads them, and the Markdown row: a newline and a tab "
    f"shown ({cases}; exit {r.returncode})")
+
+# ---- findings 3 and 14: a joiner is raw only where it is seen -----------------------------
+zw = {"\u0628\u034f\u0627.png": "\u0628\\u034f\u0627.png",               # no joiner
+      "\u0628\u200c\u034f\u0627.png": "\u0628\\u200c\\u034f\u0627.png",   # #3: escaped
+      "\u0915\u094d\u200c.png": "\u0915\u094d\\u200c.png",                   # #14: escaped
+      "\u0915\u094d\u200c\u0937.png": "\u0915\u094d\u200c\u0937.png",       # a conjunct's: raw
+      "\u0628\u200c\u0627.png": "\u0628\u200c\u0627.png"}                     # Persian: raw
+os.makedirs(path("zw", "e"))
+os.makedirs(path("zw", "a"))
+for name in zw:
+    shutil.copy(path("e", "x.png"), path("zw", "e", name))
+    shutil.copy(path("a", "x.png"), path("zw", "a", name))
+r = run("compare", "zw/e", "zw/a", "--junit", "zw.xml")
+names = sorted(t.getAttribute("name")
+               for t in xml.dom.minidom.parse(path("zw.xml")).getElementsByTagName("testcase"))
+ok(names == sorted(zw.values()),
+   f"JUnit names: a ZWNJ beside an escaped CGJ or after a word-final virama shown escaped, "
+   f"one in a conjunct or between Arabic letters as it is ({names!r})")
 
 done()

@@ -1303,8 +1303,8 @@ static int read_scene(const char *path, char **text, size_t *size)
     if (S_ISFIFO(st.st_mode)) {
         struct pollfd pfd = {.fd = fd, .events = POLLIN};
         int n;
-        /* EINTR here is a stop signal: the only handlers springpend installs
-         * (signals.c) are for SIGINT, SIGTERM and SIGHUP, so give up at once. */
+        /* EINTR here is a stop signal: every handler springpend installs
+         * (signals.c) stands for one, so give up at once. */
         n = poll(&pfd, 1, SCENE_FIFO_WAIT_MS);
         if (n < 0) {
             if (errno == EINTR)

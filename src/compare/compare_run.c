@@ -625,7 +625,11 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
         else if (r->frames == 1)
             r->expected_fps = 1 / (te - te0), r->actual_fps = 1 / (ta - ta0);
         int late = !(fabs(te - ta) <= FRAME_TIME_SLACK) && !(isnan(te) && isnan(ta));
-        if (late && !timing_noted++)
+        if (late && !timing_noted++ && (isnan(te) || isnan(ta))) /* not "nan s": attack10 #7 */
+            snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                     "frame %d has no time in the %s video (a raw stream, not a container "
+                     "springpend writes?)", r->frames, isnan(te) ? "expected" : "actual");
+        else if (late && timing_noted == 1) /* the first late frame's */
             snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
                      "frame %d is at %.4f s in the expected video, %.4f s in the actual one",
                      r->frames, te, ta);
@@ -718,8 +722,21 @@ static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
     /* quoted as a record quotes its words: the hint is meant to be pasted
      * (a folder "sp e" or 'q$(id)' is one word; attack9 #9) */
     const char *const words[] = {"springpend", "compare", e, a, "--update=missing"};
+    /* a folder that starts with '-' after a '--' (it is no option then);
+     * one whose shown name is not its bytes (a newline, a byte that is not
+     * UTF-8: a pasted \xff is four letters) named by no command (attack10 #10) */
+    const char *const dashed[] = {"springpend", "compare", "--update=missing", "--", e, a};
+    if (sp_text_next_escaped(e, e) || sp_text_next_escaped(a, a)) {
+        snprintf(r->hint, sizeof(r->hint), "to add it as the baseline, run this compare again "
+                 "with --update=missing (a folder's name holds characters that a command line "
+                 "shown here cannot hold)");
+        return;
+    }
     const int k = snprintf(r->hint, sizeof(r->hint), "to add it as the baseline: ");
-    sp_command_line_quote(words, 5, r->hint + k, sizeof(r->hint) - (size_t)k);
+    if (e[0] == '-' || a[0] == '-')
+        sp_command_line_quote(dashed, 6, r->hint + k, sizeof(r->hint) - (size_t)k);
+    else
+        sp_command_line_quote(words, 5, r->hint + k, sizeof(r->hint) - (size_t)k);
 }
 
 /* Makes the folders above path (mkdir -p of its dirname). Returns 0, or

@@ -45,6 +45,12 @@
   5892's rule) where it changes nothing seen: beside a character that is
   itself shown escaped (BEH ZWNJ CGJ ALEF), and after a virama that ends a
   word (KA VIRAMA ZWNJ): escaped there, raw where it selects a form;
+- finding 10: compare's "to add it as the baseline" hint pasted to another
+  command for a folder "-e" (an option) or one named with a byte that is
+  not UTF-8 (a new folder named with the escape's letters): "--" before the
+  folders; no command where the shown name is not the name's bytes;
+- finding 7: a video without timestamps was noted as "at nan s": "has no
+  time";
 - finding 11 (MEDIUM): that look read /proc/kmsg (a "regular" file that
   takes the kernel's log and blocks): nothing on procfs or sysfs is read.
 usage: test_attack10.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -393,5 +399,35 @@ names = sorted(t.getAttribute("name")
 ok(names == sorted(zw.values()),
    f"JUnit names: a ZWNJ beside an escaped CGJ or after a word-final virama shown escaped, "
    f"one in a conjunct or between Arabic letters as it is ({names!r})")
+
+# ---- finding 10: the baseline hint pastes to this compare or is no command ---------------
+for d in ("-e", "spa", "x\udcffy"):
+    os.makedirs(path("hint", d))
+shutil.copy(path("e", "x.png"), path("hint", "spa", "y.png"))
+r = subprocess.run([exe, "compare", "--", "-e", "spa"], cwd=path("hint"), capture_output=True,
+                   text=True, timeout=60)
+hint = next((l.split(": ", 1)[1] for l in r.stdout.splitlines() if "as the baseline:" in l), "")
+again = subprocess.run(["sh", "-c", hint.replace("springpend", '"$0"', 1), exe],
+                       cwd=path("hint"), capture_output=True, text=True, timeout=60) \
+    if hint else None
+ok(again is not None and again.returncode == 0 and os.path.exists(path("hint", "-e", "y.png")),
+   f"compare -- -e spa: its hint ({hint!r}) pasted adds the baseline in -e "
+   f"({again.stdout[-120:] if again else ''!r})")
+r = subprocess.run([exe, "compare", "--", os.fsencode("x\udcffy"), "spa"], cwd=path("hint"),
+                   capture_output=True, timeout=60)
+said = r.stdout.decode(errors="replace")
+ok("springpend compare" not in said and "run this compare again with --update=missing" in said,
+   f"a folder named with a byte that is not UTF-8: the hint names no command that would make "
+   f"another folder ({said[-200:]!r})")
+
+# ---- finding 7: a video without timestamps is not "at nan s" ----------------------------
+if shutil.which("ffmpeg"):
+    ff("-i", "ref.mp4", "-c:v", "copy", "-f", "h264", "raw.mp4")
+    r = run("compare", "ref.mp4", "raw.mp4", "--json")
+    ok(b"nan s" not in r.stdout and b"has no time in the actual video" in r.stdout,
+       f"compare of a raw H.264 stream: its note says it has no time, not nan s "
+       f"({r.stdout[-200:]!r})")
+else:
+    skip("a video without timestamps", "ffmpeg is not installed")
 
 done()

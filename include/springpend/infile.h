@@ -27,4 +27,15 @@ int sp_infile_open(const char *path, const char *want);
  * a read fails, SP_E_NOMEM. Logged. */
 int sp_infile_read(const char *path, size_t max, const char *want, char **text, size_t *size);
 
+/* A look at a file that a forged record may name (a sweep shard's command
+ * names its scene): reads path whole into *text (malloc'd, NUL added) only
+ * when it is an ordinary file, and opens nothing else. stat() first, no
+ * open: a regular file of 1 to max bytes, on no kernel or FUSE file system
+ * (procfs, sysfs, debugfs, tracefs, securityfs, cgroup, bpf, efivarfs,
+ * pstore, configfs, FUSE: /proc/kmsg is "regular", and reading it takes the
+ * kernel's log and blocks); opened O_NONBLOCK | O_NOCTTY, the same file
+ * (st_dev, st_ino) as stat'ed, read without waiting. 1 read; 0 not
+ * such a file (nothing said, *text NULL); SP_E_NOMEM (logged). */
+int sp_infile_peek(const char *path, size_t max, char **text, size_t *size);
+
 #endif

@@ -99,6 +99,13 @@ void sp_outfile_remove_parts(void);
 /* 1 when both paths exist and name the same file (links resolved). */
 int sp_outfile_same_file(const char *a, const char *b);
 
+/* 1 when two outputs a and b would be one file: the same existing file,
+ * or (one or both not there yet) the same name in the same folder (the
+ * folders' files compared when they exist, else their paths as given,
+ * "./" and repeated slashes aside). Two outputs at one path would replace
+ * each other without a word (attack10 #9). */
+int sp_outfile_same_output(const char *a, const char *b);
+
 /* Refuses (SP_E_INPUT, with a message) an output path that cannot be
  * written: a folder, or under something that is not a writable folder.
  * Looks only; creates nothing. `what` names the option ("-o"). */

@@ -233,6 +233,12 @@ void sp_scene_free(struct sp_scene *s);
 int sp_scene_load(struct sp_scene *s, const char *path,
                   const char *const *overrides, int n_overrides);
 
+/* As sp_scene_load for the size bytes at text (NUL-terminated), which the
+ * caller read from path: a NUL among them is refused; the scene name is
+ * path's stem. */
+int sp_scene_load_text(struct sp_scene *s, const char *path, const char *text, size_t size,
+                       const char *const *overrides, int n_overrides);
+
 /* 1 when the scene's pendulum is drawn in perspective: view.camera set, or
  * auto on a 3-D scene (initial.azimuth_rate != 0). */
 int sp_scene_perspective(const struct sp_scene *s);

@@ -59,11 +59,17 @@ int sp_environment_text(char *buf, size_t size, const char *renderer, const char
         FT_Done_FreeType(lib);
     }
     {
-        /* both from the module's libraries: the executable links no FFmpeg */
+        /* both from the module's libraries: the executable links no FFmpeg.
+         * A probe: a module that cannot be loaded is "not loaded" here, said
+         * by whatever needs it (a still is written without it) */
         unsigned (*avcodec_version_fn)(void);
         const char *(*av_version_info_fn)(void);
+        const int muted = sp_log_muted();
+        sp_log_mute(1);
         *(void **)&avcodec_version_fn = sp_av_module_symbol("avcodec_version");
-        *(void **)&av_version_info_fn = sp_av_module_symbol("av_version_info");
+        *(void **)&av_version_info_fn = avcodec_version_fn
+                                            ? sp_av_module_symbol("av_version_info") : NULL;
+        sp_log_mute(muted);
         if (avcodec_version_fn && av_version_info_fn) {
             unsigned v = avcodec_version_fn();
             snprintf(av, sizeof(av), "%u.%u.%u (FFmpeg %s)", v >> 16, v >> 8 & 255, v & 255,

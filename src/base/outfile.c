@@ -406,6 +406,42 @@ int sp_outfile_same_file(const char *a, const char *b)
            sa.st_ino == sb.st_ino;
 }
 
+/* path's folder into dir ("." when it has none) and its last name into
+ * *name, "./" and repeated slashes left out of dir. */
+static void split_output(const char *path, char *dir, size_t size, const char **name)
+{
+    const char *slash = strrchr(path, '/');
+    *name = slash ? slash + 1 : path;
+    size_t n = 0;
+    for (const char *p = path; slash && p < slash && n + 1 < size; p++) {
+        if (*p == '/' && n && dir[n - 1] == '/')
+            continue;
+        if (p[0] == '.' && p[1] == '/' && (p == path || p[-1] == '/')) {
+            p++;
+            continue;
+        }
+        dir[n++] = *p;
+    }
+    while (n > 1 && dir[n - 1] == '/')
+        n--;
+    dir[n] = 0;
+    if (!n)
+        snprintf(dir, size, slash == path ? "/" : ".");
+}
+
+int sp_outfile_same_output(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    char da[PATH_MAX], db[PATH_MAX];
+    const char *na, *nb;
+    const int ea = stat(a, &sa) == 0, eb = stat(b, &sb) == 0;
+    if (ea && eb)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    split_output(a, da, sizeof(da), &na);
+    split_output(b, db, sizeof(db), &nb);
+    return !strcmp(na, nb) && (sp_outfile_same_file(da, db) || !strcmp(da, db));
+}
+
 int sp_outfile_check_writable(const char *path, const char *what)
 {
     char dir[PATH_MAX];

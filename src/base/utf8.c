@@ -104,6 +104,26 @@ static int virama(uint32_t u)
            HB_UNICODE_COMBINING_CLASS_VIRAMA;
 }
 
+/* 1 when the character at q is a letter of the script of v (a virama). */
+static int letter_of(const char *q, uint32_t v)
+{
+    size_t n;
+    if (!*q || !sp_utf8_char(q))
+        return 0;
+    const uint32_t c = sp_utf8_decode(q, &n);
+    hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
+    switch (hb_unicode_general_category(uf, c)) {
+    case HB_UNICODE_GENERAL_CATEGORY_OTHER_LETTER:
+    case HB_UNICODE_GENERAL_CATEGORY_LOWERCASE_LETTER:
+    case HB_UNICODE_GENERAL_CATEGORY_UPPERCASE_LETTER:
+    case HB_UNICODE_GENERAL_CATEGORY_TITLECASE_LETTER:
+    case HB_UNICODE_GENERAL_CATEGORY_MODIFIER_LETTER:
+        return hb_unicode_script(uf, c) == hb_unicode_script(uf, v);
+    default:
+        return 0;
+    }
+}
+
 int sp_utf8_is_joiner(const char *start, const char *at)
 {
     size_t n;
@@ -111,22 +131,32 @@ int sp_utf8_is_joiner(const char *start, const char *at)
     const char *p = before(start, at, &b);
     if (u != 0x200C && u != 0x200D)
         return 0;
-    if (p && virama(b)) /* A.1, A.2: after a virama (Indic conjuncts) */
-        return 1;
+    if (p && virama(b)) /* A.1, A.2: after a virama (Indic conjuncts), */
+        return letter_of(at + n, b); /* before a letter of its script, where it selects
+                                      * a form: else it draws nothing (attack10 #14) */
     if (u == 0x200D)
         return 0;
-    /* A.1: (Joining_Type:{L,D})(Joining_Type:T)* ZWNJ (Joining_Type:T)*(Joining_Type:{R,D}) */
-    while (p && fribidi_get_joining_type(b) == FRIBIDI_JOINING_TYPE_T)
+    /* A.1: (Joining_Type:{L,D})(Joining_Type:T)* ZWNJ (Joining_Type:T)*(Joining_Type:{R,D}),
+     * each T shown as it is: a T that is shown escaped (U+034F, a variation
+     * selector) leaves the joiner between a letter and a backslash, where it
+     * changes nothing that is seen (attack10 #3) */
+    while (p && fribidi_get_joining_type(b) == FRIBIDI_JOINING_TYPE_T) {
+        if (sp_utf8_is_hidden(b))
+            return 0;
         p = before(start, p, &b);
+    }
     if (!p || (fribidi_get_joining_type(b) != FRIBIDI_JOINING_TYPE_L &&
                fribidi_get_joining_type(b) != FRIBIDI_JOINING_TYPE_D))
         return 0;
     for (const char *q = at + n; *q; q += n) {
         if (!sp_utf8_char(q))
             return 0;
-        const FriBidiJoiningType j = fribidi_get_joining_type(sp_utf8_decode(q, &n));
+        const uint32_t c = sp_utf8_decode(q, &n);
+        const FriBidiJoiningType j = fribidi_get_joining_type(c);
         if (j != FRIBIDI_JOINING_TYPE_T)
             return j == FRIBIDI_JOINING_TYPE_R || j == FRIBIDI_JOINING_TYPE_D;
+        if (sp_utf8_is_hidden(c))
+            return 0;
     }
     return 0;
 }

@@ -225,6 +225,7 @@ static int refuse_owned(int c, unsigned takes, char **argv)
     return 0;
 }
 
+static const char short_options[] = ":o:qhv";
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
     {"size", required_argument, 0, 'S'},   {"fps", required_argument, 0, 'F'},
@@ -238,6 +239,12 @@ static const struct option longopts[] = {
     {"json", no_argument, 0, 'j'},         {"poincare", no_argument, 0, 'P'},
     {0, 0, 0, 0},
 };
+
+const struct option *sp_cli_options(const char **shortopts)
+{
+    *shortopts = short_options;
+    return longopts;
+}
 
 /* Takes option c, which getopt_long just read (its value: optarg), into
  * *o; --quality's name into *quality. 0, 1 after --help (usage printed),
@@ -380,7 +387,7 @@ int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv, const char *us
     opterr = 0;
     /* ':' first: an option missing its value returns ':', not '?'; parsed
      * as the outputs record the command (command_line.h) */
-    while ((c = sp_command_line_getopt(argc, argv, ":o:qhv", longopts)) != -1)
+    while ((c = sp_command_line_getopt(argc, argv, short_options, longopts)) != -1)
         if ((ret = refuse_owned(c, takes, argv)) ||
             (ret = sp_cli_once(c, longopts, "sSF", first)) ||
             (ret = take_option(o, c, argc, argv, usage, &quality)))

@@ -102,6 +102,16 @@ int sp_cli_frame_range(const struct sp_cli_options *o, int n_frames,
 
 struct option;
 
+/* The option table render, still and data parse with (cli.c), and its
+ * short options into *shortopts: to read a recorded command's words as the
+ * command would (`scene FILE --command`). Its output options' values: 'o'
+ * (-o, --output) and 'J' (--state). */
+const struct option *sp_cli_options(const char **shortopts);
+
+/* As sp_cli_options for sweep (cli_sweep.c); its output options' values:
+ * 'o', 'C' (--csv) and 'G' (--merge, which reads shards and writes). */
+const struct option *sp_cli_sweep_options(const char **shortopts);
+
 /* An option with a value is given once: SP_E_INPUT after a message when
  * option c (getopt_long's value for one of opts; its value: optarg) was
  * given before, which would silently win otherwise. first[c] keeps each

@@ -164,6 +164,50 @@ static void say_escaped_words(struct sp_command_line *r)
     }
 }
 
+/* Whether the words w (argc of them, w[0] the command: render, still,
+ * data or sweep) hold what springpend never records for a PNG, video or
+ * figure: an output (-o, --output, --csv, --state), --merge, or an option
+ * the command does not take. Read as the command reads them, with its own
+ * option table (so --cs=FILE, -oFILE and --out FILE are the options they
+ * abbreviate). 0; SP_E_INPUT after a message naming the word (attack10 #2:
+ * a forged `sweep ... --csv FILE` record, re-run as doc/ci.md says,
+ * overwrote FILE); SP_E_NOMEM. */
+static int names_output(const char *path, const char *where, char *const *w, int argc)
+{
+    static const char *const outputs[] = {"output", "csv", "state", "merge"};
+    const char *shortopts;
+    const struct option *opts = strcmp(w[0], "sweep") ? sp_cli_options(&shortopts)
+                                                      : sp_cli_sweep_options(&shortopts);
+    char **copy = malloc((size_t)(argc + 1) * sizeof(*copy)); /* getopt permutes it */
+    if (!copy) {
+        sp_log_error("out of memory");
+        return SP_E_NOMEM;
+    }
+    memcpy(copy, w, (size_t)(argc + 1) * sizeof(*copy));
+    const int saved = opterr;
+    int c, idx, ret = 0;
+    opterr = 0;
+    optind = 0; /* GNU getopt: start again on these words */
+    while (!ret && (idx = -1, c = getopt_long(argc, copy, shortopts, opts, &idx)) != -1) {
+        const char *name = idx >= 0 ? opts[idx].name : c == 'o' ? "output" : NULL;
+        int output = 0;
+        for (size_t k = 0; name && k < sizeof(outputs) / sizeof(outputs[0]); k++)
+            output |= !strcmp(name, outputs[k]);
+        if (c == '?' || c == ':')
+            sp_log_error("%s: its %s holds %s, which is no option of 'springpend %s' that an "
+                         "output records; not printed", path, where, copy[optind - 1], w[0]);
+        else if (output)
+            sp_log_error("%s: its %s holds --%s, %s springpend never records for a PNG, video "
+                         "or figure (re-run, it would write or read a file the record names); "
+                         "not printed", path, where, name,
+                         strcmp(name, "merge") ? "an output that" : "a reading of shards that");
+        ret = c == '?' || c == ':' || output ? SP_E_INPUT : 0;
+    }
+    opterr = saved;
+    free(copy);
+    return ret;
+}
+
 /* Prints a recorded command line as springpend writes one: read into its
  * words (sp_command_line_read: springpend's own quoting, a command whose
  * outputs record one) and written again from them, quoted, shown as
@@ -171,8 +215,10 @@ static void say_escaped_words(struct sp_command_line *r)
  * runs it is those words and nothing else, whoever forged the file
  * (attack9 #8: a record's $(...) ran in doc/ci.md's eval recipe); then
  * says which words must be retyped (say_escaped_words). 0, SP_E_NOMEM, or
- * SP_E_INPUT (logged) when there is none or it is no such line. */
-static int print_command(const char *path, const char *where, const char *line)
+ * SP_E_INPUT (logged) when there is none or it is no such line, or when
+ * a PNG's, video's or figure's record (csv 0) holds what such a record never
+ * does (names_output); a CSV's record keeps its own output. */
+static int print_command(const char *path, const char *where, const char *line, int csv)
 {
     static const char *const recording[] = {"render", "still", "data", "sweep"};
     if (!line || !line[0]) {
@@ -191,6 +237,11 @@ static int print_command(const char *path, const char *where, const char *line)
                      "not printed", path, where);
         sp_command_line_free(r);
         return SP_E_INPUT;
+    }
+    int ret = csv ? 0 : names_output(path, where, w, argc);
+    if (ret) {
+        sp_command_line_free(r);
+        return ret;
     }
     char *again = sp_command_line_text(r);
     if (!again) {
@@ -214,7 +265,7 @@ static int command_of_csv(const char *path)
     if (!meta)
         return SP_E_INPUT;
     const int ret = print_command(path, "prov:wasGeneratedBy in " SP_CSV_METADATA_SUFFIX,
-                                  json_string_value(json_object_get(meta, "prov:wasGeneratedBy")));
+                                  json_string_value(json_object_get(meta, "prov:wasGeneratedBy")), 1);
     json_decref(meta);
     if (!ret) /* the other records leave it out: "add -o NAME" would give it twice */
         sp_log_note("a CSV's command keeps its own output (-o or --csv FILE): to make the CSV "
@@ -237,7 +288,7 @@ static int command_of(const char *path, int figure, int video)
                                                SP_PROVENANCE_SCENE_MAX);
     const int ret = found < 0 ? found
                     : print_command(path, figure ? "command record" : SP_PROVENANCE_COMMAND " text",
-                                    found ? text : NULL);
+                                    found ? text : NULL, 0);
     free(text);
     return ret;
 }

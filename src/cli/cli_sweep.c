@@ -14,6 +14,7 @@
 
 #include "base/clock.h"
 #include "base/module.h"
+#include "base/signal_name.h"
 #include "cli.h"
 #include "base/decimal.h"
 #include "base/digest.h"
@@ -169,6 +170,7 @@ static int parse_vary(const char *arg, struct sp_sweep_desc *d)
     return 0;
 }
 
+static const char short_options[] = "o:qh";
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
     {"vary", required_argument, 0, 'V'},   {"measure", required_argument, 0, 'M'},
@@ -181,6 +183,12 @@ static const struct option longopts[] = {
     {"format", required_argument, 0, 'F'}, {"fast", no_argument, 0, 'X'},
     {"help", no_argument, 0, 'h'},         {0, 0, 0, 0},
 };
+
+const struct option *sp_cli_sweep_options(const char **shortopts)
+{
+    *shortopts = short_options;
+    return longopts;
+}
 
 /* --measure NAME into d. */
 static int parse_measure(const char *arg, struct sp_sweep_desc *d)
@@ -383,7 +391,7 @@ static int parse_args(int argc, char **argv, struct sweep_opts *o, struct sp_swe
     optind = 0; /* getopt_long starts afresh (a merge parses its shard's command too) */
     opterr = 0;
     /* as the command records them (command_line.h) */
-    while (!ret && (c = sp_command_line_getopt(argc, argv, "o:qh", longopts)) != -1)
+    while (!ret && (c = sp_command_line_getopt(argc, argv, short_options, longopts)) != -1)
         if (!(ret = sp_cli_once(c, longopts, "sV", first)))
             ret = take_option(c, argv, o, d, &have_measure);
     if (ret || (ret = check_size(o)))
@@ -415,8 +423,13 @@ static int check_outputs(const struct sweep_opts *o)
     }
     if (o->csv && sp_outfile_check_writable(o->csv, "--csv"))
         return SP_E_INPUT;
-    if (o->csv && o->output && sp_outfile_same_file(o->csv, o->output)) {
-        sp_log_error("--csv and -o name the same file");
+    char csv_meta[4096]; /* --csv's metadata, written beside it */
+    if (o->csv && o->output &&
+        (sp_outfile_same_output(o->csv, o->output) ||
+         (snprintf(csv_meta, sizeof(csv_meta), "%s" SP_CSV_METADATA_SUFFIX, o->csv) <
+              (int)sizeof(csv_meta) && sp_outfile_same_output(csv_meta, o->output)))) {
+        sp_log_error("--csv %s and -o %s name one file (the CSV or its metadata); give each "
+                     "its own", o->csv, o->output);
         return SP_E_INPUT;
     }
     /* the scene or a shard being read must not be replaced by what it makes */
@@ -844,16 +857,16 @@ static int command_differs(const struct sweep_opts *o, const struct sp_sweep_des
 static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge *m,
                          char *said, size_t size)
 {
-    /* a look, never a wait: O_NONBLOCK, a regular file only (a FIFO the
-     * command names would block the merge for ever: attack9 #2) */
-    const int fd = o->scene && strcmp(o->scene, "-")
-                       ? open(o->scene, O_RDONLY | O_NONBLOCK | O_CLOEXEC) : -1;
-    struct stat st;
-    const int regular = fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
-    if (fd >= 0)
-        close(fd);
-    if (!regular)
-        return 0; /* not here, or no file: not checked */
+    /* a look, never a wait, and nothing but an ordinary file opened
+     * (sp_infile_peek): a FIFO would block the merge for ever (attack9 #2),
+     * a device's open runs its driver (a watchdog, a serial port: attack10
+     * #5), /proc/kmsg takes the kernel's log and blocks (attack10 #11) */
+    char *text = NULL;
+    size_t bytes = 0;
+    const int peeked = o->scene && strcmp(o->scene, "-")
+                           ? sp_infile_peek(o->scene, 1u << 20, &text, &bytes) : 0;
+    if (peeked <= 0)
+        return peeked; /* not here, or no ordinary file: not checked */
     struct sp_scene named;
     sp_scene_defaults(&named);
     int differs = 1;
@@ -861,7 +874,9 @@ static int scene_differs(const struct sweep_opts *o, const struct sp_sweep_merge
      * section and keys), which the shard's author chose: muted, said below
      * without them */
     sp_log_mute(1);
-    const int loaded = sp_scene_load(&named, o->scene, o->overrides, o->n_overrides) == 0;
+    const int loaded = sp_scene_load_text(&named, o->scene, text, bytes, o->overrides,
+                                          o->n_overrides) == 0;
+    free(text);
     sp_log_mute(0);
     if (loaded) {
         sp_timeline_destroy(&named.timeline); /* as the sweep ignored it */
@@ -985,9 +1000,10 @@ static int merge(const struct sweep_opts *opts)
                                          .n_overrides = m.n_overrides, .merged = 1,
                                          .command = record};
         ret = finish(out, o, 0, &whole, made);
-        if (ret == SP_E_INTERRUPTED)
-            sp_log_error("interrupted: nothing written");
     }
+    if (ret == SP_E_INTERRUPTED) /* from any step: reading the shards too (attack10 #13) */
+        sp_log_error("interrupted by %s: nothing written",
+                     sp_signal_name(o->cancel ? (int)*o->cancel : 0));
     sp_sweep_merge_close(&m);
     free(record);
     if (!ret && !o->quiet)

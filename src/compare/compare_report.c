@@ -438,6 +438,11 @@ void sp_compare_report_json(FILE *fp, const struct sp_compare_report *rep)
  * XML_PATH: the path inside such a directive, which a reader opens (only
  * the bidi controls escaped, a backslash as it is). */
 enum { XML_PLAIN, XML_NO_DIRECTIVES, XML_PATH };
+/* Or'ed into xml_string's mode for a name: a control character shown as
+ * the terminal's line shows it (\n, \xHH), where XML would read a newline
+ * or a tab in an attribute as a space and HTML collapses it (attack10 #8:
+ * "a\nb.png" and "a b.png" were two test cases both named "a b.png"). */
+enum { XML_NAME = 8 };
 
 /* s with XML's five special characters escaped; what XML 1.0 cannot hold
  * (C0 controls but tab and newline, U+FFFE, U+FFFF, bytes that are not
@@ -448,6 +453,8 @@ static void xml_string(FILE *fp, const char *s, int mode)
 {
     static const char replacement[] = "\xEF\xBF\xBD";
     const char *start = s;
+    const int name = mode & XML_NAME;
+    mode &= ~XML_NAME;
     for (size_t n; *s; s += n ? n : 1) {
         n = sp_utf8_char(s);
         if (!n || (n == 3 && (unsigned char)s[0] == 0xEF && (unsigned char)s[1] == 0xBF &&
@@ -475,7 +482,11 @@ static void xml_string(FILE *fp, const char *s, int mode)
             fputs(mode == XML_NO_DIRECTIVES && s[1] == '[' ? "[ " : "[", fp);
             break;
         default:
-            if ((unsigned char)*s >= 0x20 || *s == '\n' || *s == '\t')
+            if (name && *s == '\n')
+                fputs("\\n", fp);
+            else if (name && (unsigned char)*s < 0x20)
+                fprintf(fp, "\\x%02x", (unsigned char)*s);
+            else if ((unsigned char)*s >= 0x20 || *s == '\n' || *s == '\t')
                 fputc(*s, fp);
             else
                 fputs(replacement, fp);
@@ -554,7 +565,7 @@ static void suite_name(FILE *fp, const struct sp_compare_report *rep,
     int n = r ? folder_len(r) : 0;
     snprintf(name, sizeof(name), "%s%s%.*s", rep->suite ? rep->suite : "springpend compare",
              n ? "/" : "", n, r ? r->name : "");
-    xml_string(fp, name, XML_NO_DIRECTIVES);
+    xml_string(fp, name, XML_NO_DIRECTIVES | XML_NAME);
 }
 
 static void junit_case(FILE *fp, const struct sp_compare_report *rep,
@@ -566,7 +577,7 @@ static void junit_case(FILE *fp, const struct sp_compare_report *rep,
     fputs("    <testcase classname=\"", fp);
     suite_name(fp, rep, r);
     fputs("\" name=\"", fp);
-    xml_string(fp, r->name + folder_len(r) + (folder_len(r) > 0), XML_NO_DIRECTIVES);
+    xml_string(fp, r->name + folder_len(r) + (folder_len(r) > 0), XML_NO_DIRECTIVES | XML_NAME);
     fprintf(fp, "\" time=\"%.6f\">\n", r->seconds);
     if (r->not_compared) {
         fputs("      <skipped message=\"", fp);
@@ -969,7 +980,7 @@ static int html_row(FILE *fp, const struct sp_compare_report *rep,
 {
     record_line(r, line, size);
     fprintf(fp, "<tr class=\"row v-%s\"><td class=\"figures\"><div class=\"name\">", v);
-    xml_string(fp, r->name, XML_PLAIN);
+    xml_string(fp, r->name, XML_PLAIN | XML_NAME);
     fprintf(fp, "</div><div class=\"verdict\">%s</div>",
             r->not_compared ? "not compared" : v);
     if (update_word(r->update)) {
@@ -1083,14 +1094,17 @@ int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
 }
 
 /* s inside a Markdown table cell: what Markdown or HTML would read as
- * markup escaped, a newline as a space. */
-static void md_cell(FILE *fp, const char *s)
+ * markup escaped, a newline as a space; in a name (name 1) a control
+ * character as the terminal shows it (\\n, \\xHH: xml_string's XML_NAME). */
+static void md_text(FILE *fp, const char *s, int name)
 {
     const char *start = s;
     for (size_t n; *s; s += n ? n : 1) {
         n = sp_utf8_char(s);
         uint32_t u = n > 1 ? sp_utf8_decode(s, &n) : 0;
-        if (!n || (unsigned char)*s < 0x20)
+        if (name && n == 1 && (unsigned char)*s < 0x20)
+            fprintf(fp, *s == '\n' ? "\\\\n" : "\\\\x%02x", (unsigned char)*s);
+        else if (!n || (unsigned char)*s < 0x20)
             fputc(n ? ' ' : '?', fp);
         else if (n > 1 && sp_utf8_hidden_at(start, s)) /* as messages show it; the \ as \\ */
             fprintf(fp, u > 0xffff ? "\\\\U%08x" : "\\\\u%04x", (unsigned)u);
@@ -1115,6 +1129,11 @@ static void md_cell(FILE *fp, const char *s)
         else
             fwrite(s, 1, n, fp);
     }
+}
+
+static void md_cell(FILE *fp, const char *s)
+{
+    md_text(fp, s, 0);
 }
 
 /* What was measured and what was allowed, for the summary's table. */
@@ -1177,7 +1196,7 @@ void sp_compare_report_markdown(FILE *fp, const struct sp_compare_report *rep)
         }
         if (!rows++)
             fputs("\n| image | verdict | measured | allowed |\n|---|---|---|---|\n", fp);
-        fputs("| ", fp), md_cell(fp, r->name);
+        fputs("| ", fp), md_text(fp, r->name, 1);
         fprintf(fp, " | %s", verdict_word(r->verdict));
         md_figures(fp, r);
         fputc('\n', fp);

@@ -625,7 +625,11 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
         else if (r->frames == 1)
             r->expected_fps = 1 / (te - te0), r->actual_fps = 1 / (ta - ta0);
         int late = !(fabs(te - ta) <= FRAME_TIME_SLACK) && !(isnan(te) && isnan(ta));
-        if (late && !timing_noted++)
+        if (late && !timing_noted++ && (isnan(te) || isnan(ta))) /* not "nan s": attack10 #7 */
+            snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
+                     "frame %d has no time in the %s video (a raw stream, not a container "
+                     "springpend writes?)", r->frames, isnan(te) ? "expected" : "actual");
+        else if (late && timing_noted == 1) /* the first late frame's */
             snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]),
                      "frame %d is at %.4f s in the expected video, %.4f s in the actual one",
                      r->frames, te, ta);
@@ -669,7 +673,7 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
          * (attack9 #13); elsewhere the file is damaged, and decoding it
          * again would only double its cost (attack9 #6) */
         const char *bad = ge < 0 ? expected : actual;
-        ret = sp_memory_near_limit() ? record_nomem(r, bad)
+        ret = (ge < 0 ? ge : ga) == SP_E_CODEC && sp_memory_near_limit() ? record_nomem(r, bad)
                                      : record_error(r, "cannot decode %s", bad);
         goto done;
     }
@@ -718,8 +722,21 @@ static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
     /* quoted as a record quotes its words: the hint is meant to be pasted
      * (a folder "sp e" or 'q$(id)' is one word; attack9 #9) */
     const char *const words[] = {"springpend", "compare", e, a, "--update=missing"};
+    /* a folder that starts with '-' after a '--' (it is no option then);
+     * one whose shown name is not its bytes (a newline, a byte that is not
+     * UTF-8: a pasted \xff is four letters) named by no command (attack10 #10) */
+    const char *const dashed[] = {"springpend", "compare", "--update=missing", "--", e, a};
+    if (sp_text_next_escaped(e, e) || sp_text_next_escaped(a, a)) {
+        snprintf(r->hint, sizeof(r->hint), "to add it as the baseline, run this compare again "
+                 "with --update=missing (a folder's name holds characters that a command line "
+                 "shown here cannot hold)");
+        return;
+    }
     const int k = snprintf(r->hint, sizeof(r->hint), "to add it as the baseline: ");
-    sp_command_line_quote(words, 5, r->hint + k, sizeof(r->hint) - (size_t)k);
+    if (e[0] == '-' || a[0] == '-')
+        sp_command_line_quote(dashed, 6, r->hint + k, sizeof(r->hint) - (size_t)k);
+    else
+        sp_command_line_quote(words, 5, r->hint + k, sizeof(r->hint) - (size_t)k);
 }
 
 /* Makes the folders above path (mkdir -p of its dirname). Returns 0, or
@@ -1037,7 +1054,15 @@ static int by_need_down(const void *a, const void *b)
 static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot_list *l,
                            const unsigned char *todo, const char *dir_e, const char *dir_a)
 {
+    /* at most 256 threads (the pool's array), said for a default --jobs
+     * (every CPU) above it rather than cut after the message below */
     int n = c->jobs < l->n ? c->jobs : l->n, n_needs = 0;
+    if (n > 256) {
+        if (!c->quiet && !c->json)
+            sp_fprintf_line(stderr, "springpend: --jobs %d: compare runs at most 256 threads; "
+                            "comparing on 256", n);
+        n = 256;
+    }
     double px = 0;
     const char *what;
     const double budget = sp_memory_limit(&what) / 2, base = thread_base(what);
@@ -1084,19 +1109,27 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
     for (int k = 0; needs && budget > 0 && k < n; k++) {
         held += (k < n_needs ? needs[k] : 0) + base;
         if (held > budget) {
-            fit = k < 1 ? 1 : k;
+            fit = k; /* 0: not even one */
             break;
         }
     }
     free(needs);
     if (fit < n) {
+        char fits[32], on[96];
+        if (fit) {
+            snprintf(fits, sizeof(fits), "%d of them fit", fit);
+            snprintf(on, sizeof(on), "%d thread%s", fit, fit == 1 ? "" : "s");
+        } else { /* one thread all the same: a pair too large for it is said alone */
+            snprintf(fits, sizeof(fits), "not even one fits");
+            snprintf(on, sizeof(on), "1 thread, a pair at a time (a pair that runs out of "
+                     "memory is said so)");
+        }
         if (!c->quiet && !c->json)
             sp_fprintf_line(stderr, "springpend: --jobs %d: each thread holds up to %.0f MB "
                             "for the largest image (%.1f Mpx) and %.0f MB of its own (stack, "
-                            "malloc arena); %d of them fit in %.0f MB, half of %s: comparing "
-                            "on %d thread%s", n, images / 1e6, px / 1e6, base / 1e6, fit,
-                            budget / 1e6, what, fit, fit == 1 ? "" : "s");
-        n = fit;
+                            "malloc arena); %s in %.0f MB, half of %s: comparing on %s", n,
+                            images / 1e6, px / 1e6, base / 1e6, fits, budget / 1e6, what, on);
+        n = fit ? fit : 1;
     }
     return n;
 }
@@ -1348,6 +1381,12 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
         const char *p = outs[i][0];
         if (!p)
             continue;
+        for (int k = i + 1; k < 5 && (i > 1 || (i == 0 && !folders)); k++)
+            if (outs[k][0] && sp_outfile_same_output(p, outs[k][0])) { /* attack10 #9 */
+                sp_log_error("%s %s and %s %s name one file; give each its own", outs[i][1], p,
+                             outs[k][1], outs[k][0]);
+                return SP_E_INPUT;
+            }
         if (sp_outfile_same_file(p, e) || sp_outfile_same_file(p, a) ||
             (folders && i > 1 && (lands_in(p, e) || lands_in(p, a)))) {
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);

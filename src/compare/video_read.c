@@ -35,6 +35,8 @@ struct sp_video_reader {
     int stream;              /* index of the video stream in fmt */
     int flushing;            /* the demuxer is done; NULL was sent */
     volatile int no_buffer;  /* 1: the decoder said "get_buffer() failed" (av_line) */
+    volatile unsigned big_w, big_h; /* a frame FFmpeg refused by max_pixels (av_line): its size */
+    int head_w, head_h;      /* the stream's size as its header says */
 };
 
 /* This thread's held errors (sp_video_hold_errors): NULL, or a buffer of
@@ -60,23 +62,36 @@ static void hold_text(const char *text)
 }
 
 /* Logs libav's error averr (or holds it: sp_video_hold_errors), but for
- * out of memory: SP_E_NOMEM, unsaid (video_read.h). */
+ * out of memory: SP_E_NOMEM, unsaid (video_read.h); a frame that FFmpeg
+ * refused as larger than SP_VIDEO_MAX_PIXELS: SP_E_INPUT, said. */
 static int av_fail(const struct sp_video_reader *r, const char *what, int averr)
 {
     /* FFmpeg's decoders report some failed allocations as damaged data
      * (h264's INVALIDDATA after "get_buffer() failed"): out of memory too,
      * not the file's fault (attack9 #13) */
-    if (averr == AVERROR(ENOMEM) || r->no_buffer)
+    char line[PATH_MAX + 256];
+    if (r->big_w && (int64_t)r->big_w * r->big_h <= SP_VIDEO_MAX_PIXELS)
+        snprintf(line, sizeof(line), "%s: its stream grows to %ux%u, larger than its header's "
+                 "%dx%d; not decoded (a video's frames keep one size)", r->path, r->big_w,
+                 r->big_h, r->head_w, r->head_h);
+    else if (r->big_w) /* refused by max_pixels, which FFmpeg then also calls
+                   * "get_buffer() failed": the file's, not memory (attack10 #16) */
+        snprintf(line, sizeof(line), "%s: its stream grows to %ux%u, %llu pixels a frame; "
+                 "compare reads videos of at most %ld pixels a frame (8192x4352, the largest "
+                 "level of H.264, HEVC, VP9 and AV1)", r->path, r->big_w, r->big_h,
+                 (unsigned long long)r->big_w * r->big_h, SP_VIDEO_MAX_PIXELS);
+    else if (averr == AVERROR(ENOMEM) || r->no_buffer)
         return SP_E_NOMEM;
+    else
+        snprintf(line, sizeof(line), "%s: %s: %s", r->path, what, av_err2str(averr));
     if (held) {
-        char line[PATH_MAX + 256];
-        snprintf(line, sizeof(line), "springpend: %s: %s: %s\n", r->path, what,
-                 av_err2str(averr));
-        hold_text(line);
+        char whole[sizeof(line) + 16];
+        snprintf(whole, sizeof(whole), "springpend: %s\n", line);
+        hold_text(whole);
     } else {
-        sp_log_error("%s: %s: %s", r->path, what, av_err2str(averr));
+        sp_log_error("%s", line);
     }
-    return SP_E_CODEC;
+    return r->big_w ? SP_E_INPUT : SP_E_CODEC;
 }
 
 /* The most bytes a box that FFmpeg's mov demuxer reads into memory as
@@ -280,6 +295,22 @@ static void av_line(void *avcl, int level, const char *fmt, va_list vl)
     if (avcl && *(const AVClass *const *)avcl == avcodec_get_class() &&
         !strcmp(fmt, "get_buffer() failed\n") && ((AVCodecContext *)avcl)->opaque)
         ((struct sp_video_reader *)((AVCodecContext *)avcl)->opaque)->no_buffer = 1;
+    /* a frame over max_pixels: said by av_image_check_size2 with its own
+     * context, whose parent is the decoder's */
+    const AVClass *cls = avcl ? *(const AVClass *const *)avcl : NULL;
+    if (cls && cls->parent_log_context_offset &&
+        !strncmp(fmt, "Picture size %ux%u exceeds specified max pixel count", 52)) {
+        void *parent = *(void **)((char *)avcl + cls->parent_log_context_offset);
+        if (parent && *(const AVClass *const *)parent == avcodec_get_class() &&
+            ((AVCodecContext *)parent)->opaque) {
+            struct sp_video_reader *r = ((AVCodecContext *)parent)->opaque;
+            va_list size;
+            va_copy(size, vl);
+            const unsigned w = va_arg(size, unsigned), h = va_arg(size, unsigned);
+            va_end(size);
+            r->big_h = h, r->big_w = w;
+        }
+    }
     if (level > av_log_get_level() || av_quiet)
         return;
     av_log_format_line2(avcl, level, fmt, vl, line, sizeof(line), &prefix);
@@ -372,7 +403,15 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
         ret = too_large(path, "its stream says", r->dec->width, r->dec->height);
         goto fail;
     }
-    r->dec->max_pixels = SP_VIDEO_MAX_PIXELS; /* a larger frame is an error, unallocated */
+    /* a larger frame is an error, unallocated: larger than the limit, or
+     * than the header's size, by which compare counted the memory (a stream
+     * that grows mid-way: attack10 #12); every frame must have that size
+     * anyway. The margin: ff_get_buffer checks the width aligned up (to 64) */
+    const int64_t head = r->dec->width > 0 && r->dec->height > 0
+                             ? ((int64_t)r->dec->width + 128) * (r->dec->height + 64)
+                             : SP_VIDEO_MAX_PIXELS;
+    r->dec->max_pixels = head < SP_VIDEO_MAX_PIXELS ? head : SP_VIDEO_MAX_PIXELS;
+    r->head_w = r->dec->width, r->head_h = r->dec->height;
     r->dec->opaque = r;                       /* for av_line's get_buffer() failures */
     if (ret >= 0)
         ret = avcodec_open2(r->dec, codec, NULL);

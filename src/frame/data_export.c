@@ -16,6 +16,7 @@
 #include "springpend/frame.h"
 #include "springpend/outfile.h"
 #include "springpend/sim.h"
+#include "base/signal_name.h"
 #include "sim/sim_report.h"
 
 /* The columns, as the header line names them (the metadata file's too). */
@@ -259,16 +260,15 @@ int sp_data_run(const struct sp_data_desc *d)
     if (ret == SP_E_IO)
         sp_log_error("cannot write the CSV to %s: %s", what, write_errno == EPIPE
                      ? "the reader closed the pipe" : strerror(write_errno));
-    if (ret == SP_E_INTERRUPTED && !f.through)
-        sp_log_error("interrupted: %s not written", out);
     int through = f.through;
     struct sp_outfile meta = {.fd = -1, .slot = -1};
     if (!ret)
         ret = write_metadata(&meta, out, d, d->scenes, d->n_scenes, spatial);
     if (!ret) /* the metadata first: when the CSV appears, it is there */
         ret = sp_outfile_commit_pair(&meta, &f, d->cancel);
-    if (ret == SP_E_INTERRUPTED && !through)
-        sp_log_error("interrupted: %s not written", out);
+    if (ret == SP_E_INTERRUPTED && !through) /* once, from either step (attack10 #17) */
+        sp_log_error("interrupted by %s: %s not written",
+                     sp_signal_name(d->cancel ? (int)*d->cancel : 0), out);
     if (!ret && !d->quiet && !through)
         sp_fprintf_line(stderr, "wrote %s", out);
 done:

@@ -89,7 +89,9 @@ struct sp_glyph_run {
      * stretch inside a right-to-left line, and the spaces between them (a
      * number and a unit, "2 m/s" in "البندول 2 m/s", which is "m/s", " ", "2"
      * on the line), all have the stretch's [span_start, span_end): contiguous
-     * in the string and on the line. Every other run has its own [start, end). */
+     * in the string, and on the line but where an isolate's deeper level splits
+     * it (an LRM, then an LRI's digits: cairo_text.c then draws each run alone).
+     * Every other run has its own [start, end). */
     int span_start, span_end;
 };
 

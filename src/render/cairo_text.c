@@ -125,6 +125,16 @@ static int stretch_of(cairo_t *cr, const struct sp_line *l, int r, int *first, i
         --*first;
     while (*last + 1 < l->n_runs && l->runs[*last + 1].span_start == run->span_start)
         ++*last;
+    /* whole only when its neighbours on the line hold all its text: a
+     * stretch that an isolate's deeper level splits on the line (an LRM,
+     * then an LRI's digits, in a right-to-left line) is drawn run by run,
+     * every run of it, or the pieces the starting run does not reach would
+     * be lost (attack10 #1) */
+    int bytes = 0;
+    for (int k = *first; k <= *last; k++)
+        bytes += l->runs[k].end - l->runs[k].start;
+    if (bytes != run->span_end - run->span_start)
+        return 0;
     const struct sp_glyph *g = l->glyphs + l->runs[*first].first;
     const int n = l->runs[*last].first + l->runs[*last].count - l->runs[*first].first;
     for (int k = 1; k < n; k++)

@@ -1367,10 +1367,19 @@ int sp_scene_load(struct sp_scene *s, const char *path,
     int ret = read_scene(path, &text, &size);
     if (ret)
         return ret;
+    ret = sp_scene_load_text(s, path, text, size, overrides, n_overrides);
+    free(text);
+    return ret;
+}
+
+int sp_scene_load_text(struct sp_scene *s, const char *path, const char *text, size_t size,
+                       const char *const *overrides, int n_overrides)
+{
+    s->timeline = NULL; /* sp_scene_free is safe after any outcome */
+    s->texts[0] = s->texts[1] = NULL;
     if (memchr(text, 0, size)) {
         sp_fprintf_line(stderr, "%s: contains NUL bytes; a scene is a text file of "
                 "'key = value' lines", path);
-        free(text);
         return SP_E_INPUT;
     }
     /* The scene's name is the file's stem. */
@@ -1379,9 +1388,7 @@ int sp_scene_load(struct sp_scene *s, const char *path,
     snprintf(s->name, sizeof(s->name), "%.*s", (int)strcspn(base, "."), base);
     if (!s->name[0])
         snprintf(s->name, sizeof(s->name), "scene");
-    ret = sp_scene_parse(s, text, path, overrides, n_overrides);
-    free(text);
-    return ret;
+    return sp_scene_parse(s, text, path, overrides, n_overrides);
 }
 
 void sp_scene_free(struct sp_scene *s)

@@ -15,6 +15,7 @@
  * A third compile-time switch, `spatial` (sim.c's), adds z and vz (and the
  * tangent's dz, dvz): with it off every stepper does the planar arithmetic
  * exactly as before it existed. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -537,8 +538,14 @@ static void load_blk(const struct sp_batch *b, int base, struct blk *p)
     memcpy(p->bm, b->bm + base, sizeof(p->bm));
     memcpy(p->amp, b->amp + base, sizeof(p->amp));
     memcpy(p->om, b->om + base, sizeof(p->om));
-    for (int l = 0; l < B; l++)
-        p->kl[l] = p->km[l] / (p->L0[l] * p->L0[l]);
+    for (int l = 0; l < B; l++) {
+        /* L0^2 underflows below L0 = 1.5e-154 m: kl would be +inf and the
+         * Jacobian's kl q^3 inf * 0 = NaN, a false blow-up (attack10 #4).
+         * There kl q^3 x^2 = k L0 x^2 / (m rho^3) <= km q, under half an ulp
+         * of c = km (1 - q) while rho > 2^54 L0 (1e-137 m): 0 is exact */
+        const double L2 = p->L0[l] * p->L0[l];
+        p->kl[l] = L2 >= DBL_MIN ? p->km[l] / L2 : 0;
+    }
 }
 
 /* Walks one block's grid from index n0 to n1 with step dt, then writes the

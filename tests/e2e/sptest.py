@@ -2,7 +2,8 @@
 done), a test's start (setup), running the binary under test (runner,
 runner_bytes) and reading what it said (err, part_files), --set arguments
 (sets), scipy or a skip (need_scipy), a picture's pixels through ffmpeg
-(ffmpeg_rgb), and the physics reference (model, start, solve: scipy's DOP853 on the
+(ffmpeg_rgb), a PNG's text read or its record forged (png_text,
+png_with_command), and the physics reference (model, start, solve: scipy's DOP853 on the
 Cartesian equations of sim.h), and the manual's text (doc_pages, manual,
 doc_page, readme_ci: README.md and doc/*.md). Python puts a
 script's own folder first on sys.path, so each test imports this with
@@ -58,6 +59,61 @@ def png_text(path, compressed=False):
                 text[k.decode("latin-1")] = (zlib.decompress(v) if flag else v).decode("utf-8")
         i += 12 + n
     return text
+
+
+def png_with_command(src, out, line):
+    """Writes the PNG src to out with its springpend.command text (tEXt or
+    iTXt) replaced by line, the chunk's CRC made anew: a forged record."""
+    import struct
+    import zlib
+    data, i, chunks = open(src, "rb").read(), 8, b""
+    while i < len(data):
+        n, = struct.unpack(">I", data[i:i + 4])
+        kind, body = data[i + 4:i + 8], data[i + 8:i + 8 + n]
+        if kind in (b"tEXt", b"iTXt") and body.startswith(b"springpend.command\0"):
+            body = b"springpend.command\0" + (b"\0\0\0\0" if kind == b"iTXt" else b"") + \
+                line.encode()
+        chunks += struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+        i += 12 + n
+    with open(out, "wb") as f:
+        f.write(data[:8] + chunks)
+
+
+def module_copy(exe, scene, work):
+    """A copy of springpend at WORK/pfx/bin with springpend-cairo.so from
+    exe's build folder installed where that copy looks for it (the path
+    its "cannot load" message names). Checks (TAP) that the message names
+    a path under pfx and that the copy then loads the module. Returns
+    (still, installed): still(out) runs `still scene` at 64x48 to
+    WORK/out with the copy; installed is the module's path. None when the
+    build has no module or the path is not named (a failed check)."""
+    import re
+    import shutil
+    cairo = os.path.join(os.path.dirname(exe), "springpend-cairo.so")
+    if not os.path.exists(cairo):
+        return None
+    pfx = os.path.join(work, "pfx")
+    tool = os.path.join(pfx, "bin", "springpend")
+    os.makedirs(os.path.dirname(tool))
+    shutil.copy(exe, tool)
+
+    def still(out):
+        return subprocess.run([tool, "still", scene, "--size", "64x48", "-q", "-o", out],
+                              capture_output=True, text=True, cwd=work, timeout=60)
+
+    r = still("m0.svg")
+    m = re.search(r"\((/\S+?/springpend-cairo\.so):", r.stderr)
+    if not (m and m.group(1).startswith(pfx)):
+        ok(False, f"the message names the installed module path ({r.stderr.strip()[-200:]})")
+        return None
+    installed = os.path.normpath(m.group(1))
+    os.makedirs(os.path.dirname(installed), exist_ok=True)
+    shutil.copy(cairo, installed)
+    os.chmod(installed, 0o755)
+    r = still("m1.svg")
+    ok(r.returncode == 0 and os.path.exists(os.path.join(work, "m1.svg")),
+       f"the module installed beside a copy of springpend loads ({r.stderr.strip()[-200:]})")
+    return still, installed
 
 
 def png_overlay(path):

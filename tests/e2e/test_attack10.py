@@ -60,11 +60,9 @@ import resource
 import shlex
 import shutil
 import signal
-import struct
 import subprocess
 import threading
 import time
-import zlib
 
 import sptest
 from sptest import done, err, ok, skip
@@ -90,18 +88,8 @@ def edit(name, old, new):
 
 
 def with_command(src_png, out_png, line):
-    """src_png with its springpend.command text (tEXt or iTXt) set to line."""
-    data, i, out = open(path(src_png), "rb").read(), 8, b""
-    while i < len(data):
-        n, = struct.unpack(">I", data[i:i + 4])
-        kind, body = data[i + 4:i + 8], data[i + 8:i + 8 + n]
-        if kind in (b"tEXt", b"iTXt") and body.startswith(b"springpend.command\0"):
-            body = b"springpend.command\0" + (b"\0\0\0\0" if kind == b"iTXt" else b"") + \
-                line.encode()
-        out += struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
-        i += 12 + n
-    with open(path(out_png), "wb") as f:
-        f.write(data[:8] + out)
+    """src_png (in the work folder) with its springpend.command set to line."""
+    sptest.png_with_command(path(src_png), path(out_png), line)
 
 
 # ---- finding 2: a record that names an output is not printed -----------------------------

@@ -16,17 +16,14 @@
   record re-runs to the one-piece figure's bytes.
 usage: test_attack8.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
-import re
 import shlex
 import shutil
-import subprocess
 
 import sptest
 from sptest import done, err, ok, skip
 
 exe, src, work, _ = sptest.setup("attack8", [])
 run = sptest.runner_bytes(exe, work)
-build = os.path.dirname(exe)
 scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
 chaotic = os.path.join(scenes, "chaotic.ini")
 default = os.path.join(scenes, "default.ini")
@@ -77,52 +74,33 @@ ok(r.returncode == 2 and same_bytes("ap/base/z.mp4", "a2.mp4"),
 # ---- finding 2: group-writable modules and folders are not loaded --------------
 gid = 100 if os.geteuid() == 0 else next((g for g in os.getgroups() if g not in (0, os.getegid())),
                                           None)
-cairo = os.path.join(build, "springpend-cairo.so")
+copy = sptest.module_copy(exe, default, work) if gid is not None else None
 if gid is None:
     skip("group-writable module folders", "no group to give the folder to")
-elif not os.path.exists(cairo):
-    skip("group-writable module folders", f"no {cairo}")
+elif copy is None:
+    skip("group-writable module folders", "no springpend-cairo.so in the build, or its path not named")
 else:
-    tool = path("pfx", "bin", "springpend")
-    os.makedirs(os.path.dirname(tool))
-    shutil.copy(exe, tool)
-
-    def still(out):
-        return subprocess.run([tool, "still", default, "--size", "64x48", "-q", "-o", out],
-                              capture_output=True, text=True, cwd=work, timeout=60)
-
-    r = still("m0.svg")
-    m = re.search(r"\((/\S+?/springpend-cairo\.so):", r.stderr)
-    if not (m and m.group(1).startswith(path("pfx"))):
-        ok(False, f"the message names the installed module path ({r.stderr.strip()[-200:]})")
-    else:
-        installed = os.path.normpath(m.group(1))
-        folder = os.path.dirname(installed)
-        os.makedirs(folder, exist_ok=True)
-        shutil.copy(cairo, installed)
-        os.chmod(installed, 0o755)
-        r = still("m1.svg")
-        ok(r.returncode == 0 and os.path.exists(path("m1.svg")),
-           f"the module installed beside a copy of springpend loads ({r.stderr.strip()[-200:]})")
-        os.chown(folder, -1, gid)
-        os.chmod(folder, 0o775)
-        r = still("m2.svg")
-        ok(r.returncode != 0 and "writable by group" in r.stderr and str(gid) in r.stderr and
-           not os.path.exists(path("m2.svg")),
-           f"a module folder writable by group {gid}: refused, naming the group "
-           f"({r.stderr.strip()[-200:]})")
-        os.chown(folder, -1, 0)
-        r = still("m3.svg")
-        ok(r.returncode == 0 and os.path.exists(path("m3.svg")),
-           f"a module folder writable by root's group (gid 0) loads, as documented "
-           f"({r.stderr.strip()[-200:]})")
-        os.chmod(folder, 0o755)
-        os.chown(installed, -1, gid)
-        os.chmod(installed, 0o775)
-        r = still("m4.svg")
-        ok(r.returncode != 0 and "writable by group" in r.stderr and
-           not os.path.exists(path("m4.svg")),
-           f"a module file writable by group {gid}: refused ({r.stderr.strip()[-200:]})")
+    still, installed = copy
+    folder = os.path.dirname(installed)
+    os.chown(folder, -1, gid)
+    os.chmod(folder, 0o775)
+    r = still("m2.svg")
+    ok(r.returncode != 0 and "writable by group" in r.stderr and str(gid) in r.stderr and
+       not os.path.exists(path("m2.svg")),
+       f"a module folder writable by group {gid}: refused, naming the group "
+       f"({r.stderr.strip()[-200:]})")
+    os.chown(folder, -1, 0)
+    r = still("m3.svg")
+    ok(r.returncode == 0 and os.path.exists(path("m3.svg")),
+       f"a module folder writable by root's group (gid 0) loads, as documented "
+       f"({r.stderr.strip()[-200:]})")
+    os.chmod(folder, 0o755)
+    os.chown(installed, -1, gid)
+    os.chmod(installed, 0o775)
+    r = still("m4.svg")
+    ok(r.returncode != 0 and "writable by group" in r.stderr and
+       not os.path.exists(path("m4.svg")),
+       f"a module file writable by group {gid}: refused ({r.stderr.strip()[-200:]})")
 
 # ---- finding 3: --merge refuses the options that describe the sweep ------------
 grid = ["--vary", "initial.angle=1:179:8", "--measure", "lyapunov", "--time", "2"]

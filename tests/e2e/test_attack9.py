@@ -50,7 +50,6 @@ from sptest import done, err, ok, skip
 
 exe, src, work, _ = sptest.setup("attack9", [])
 run = sptest.runner_bytes(exe, work)
-build = os.path.dirname(exe)
 scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
 chaotic = os.path.join(scenes, "chaotic.ini")
 default = os.path.join(scenes, "default.ini")
@@ -80,59 +79,40 @@ def acl(users):
     return struct.pack("<I", 2) + b"".join(struct.pack("<HHI", t, p, i) for t, p, i in entries)
 
 
-cairo = os.path.join(build, "springpend-cairo.so")
-if not os.path.exists(cairo):
-    skip("modules with an ACL", f"no {cairo}")
+copy = sptest.module_copy(exe, default, work)
+if copy is None:
+    skip("modules with an ACL", "no springpend-cairo.so in the build, or its path not named")
 else:
-    tool = path("pfx", "bin", "springpend")
-    os.makedirs(os.path.dirname(tool))
-    shutil.copy(exe, tool)
-
-    def still(out):
-        return subprocess.run([tool, "still", default, "--size", "64x48", "-q", "-o", out],
-                              capture_output=True, text=True, cwd=work, timeout=60)
-
-    r = still("m0.svg")
-    m = re.search(r"\((/\S+?/springpend-cairo\.so):", r.stderr)
-    if not (m and m.group(1).startswith(path("pfx"))):
-        ok(False, f"the message names the installed module path ({r.stderr.strip()[-200:]})")
-    else:
-        installed = os.path.normpath(m.group(1))
-        folder = os.path.dirname(installed)
-        os.makedirs(folder, exist_ok=True)
-        shutil.copy(cairo, installed)
+    still, installed = copy
+    folder = os.path.dirname(installed)
+    try:
+        os.setxattr(installed, "system.posix_acl_access", acl([1000]))
+        could = True
+    except OSError as e:
+        could = False
+        skip("a module with an ACL u:1000:rwx", f"no POSIX ACLs here ({e})")
+    if could:
+        # root:root, group bits rwx (the ACL's mask), owning group gid 0: the rule that
+        # trusts root's group took the mask for the group's own permission
+        mode = stat.S_IMODE(os.stat(installed).st_mode)
+        r = still("m2.svg")
+        ok(mode & stat.S_IWGRP and r.returncode != 0 and "has an ACL" in r.stderr
+           and installed in r.stderr and not os.path.exists(path("m2.svg")),
+           f"a root-owned module (mode {mode:o}) whose ACL lets uid 1000 write it: refused, "
+           f"named (exit {r.returncode}: {r.stderr.strip()[-240:]})")
+        os.removexattr(installed, "system.posix_acl_access")
         os.chmod(installed, 0o755)
-        r = still("m1.svg")
-        ok(r.returncode == 0 and os.path.exists(path("m1.svg")),
-           f"the module installed beside a copy of springpend loads ({r.stderr.strip()[-200:]})")
-        try:
-            os.setxattr(installed, "system.posix_acl_access", acl([1000]))
-            could = True
-        except OSError as e:
-            could = False
-            skip("a module with an ACL u:1000:rwx", f"no POSIX ACLs here ({e})")
-        if could:
-            # root:root, group bits rwx (the ACL's mask), owning group gid 0: the rule that
-            # trusts root's group took the mask for the group's own permission
-            mode = stat.S_IMODE(os.stat(installed).st_mode)
-            r = still("m2.svg")
-            ok(mode & stat.S_IWGRP and r.returncode != 0 and "has an ACL" in r.stderr
-               and installed in r.stderr and not os.path.exists(path("m2.svg")),
-               f"a root-owned module (mode {mode:o}) whose ACL lets uid 1000 write it: refused, "
-               f"named (exit {r.returncode}: {r.stderr.strip()[-240:]})")
-            os.removexattr(installed, "system.posix_acl_access")
-            os.chmod(installed, 0o755)
-            os.setxattr(folder, "system.posix_acl_access", acl([1000]))
-            r = still("m3.svg")
-            ok(r.returncode != 0 and "has an ACL" in r.stderr and folder in r.stderr
-               and not os.path.exists(path("m3.svg")),
-               f"the module's folder with an ACL u:1000:rwx: refused, named "
-               f"(exit {r.returncode}: {r.stderr.strip()[-240:]})")
-            os.removexattr(folder, "system.posix_acl_access")
-            os.chmod(folder, 0o755)
-            r = still("m4.svg")
-            ok(r.returncode == 0 and os.path.exists(path("m4.svg")),
-               f"the ACLs removed, the module loads again ({r.stderr.strip()[-200:]})")
+        os.setxattr(folder, "system.posix_acl_access", acl([1000]))
+        r = still("m3.svg")
+        ok(r.returncode != 0 and "has an ACL" in r.stderr and folder in r.stderr
+           and not os.path.exists(path("m3.svg")),
+           f"the module's folder with an ACL u:1000:rwx: refused, named "
+           f"(exit {r.returncode}: {r.stderr.strip()[-240:]})")
+        os.removexattr(folder, "system.posix_acl_access")
+        os.chmod(folder, 0o755)
+        r = still("m4.svg")
+        ok(r.returncode == 0 and os.path.exists(path("m4.svg")),
+           f"the ACLs removed, the module loads again ({r.stderr.strip()[-200:]})")
 
 # ---- finding 2: a shard's command that names a FIFO, or a file that is no scene ----------
 grid = ["--vary", "initial.angle=1:179:4", "--measure", "lyapunov", "--time", "2"]
@@ -292,22 +272,11 @@ ok(r.returncode == 1 and os.listdir(path("bd", "d"))
    f"exist ({attached}), and is named (escaped) in the text (exit {r.returncode})")
 
 # ---- finding 8: scene --command prints only springpend's words, quoted again -------------
-import zlib  # noqa: E402
 
 
 def with_command(src_png, out_png, line):
-    """src_png with its springpend.command text (tEXt, or iTXt) set to line."""
-    data, i, out = open(path(src_png), "rb").read(), 8, b""
-    while i < len(data):
-        n, = struct.unpack(">I", data[i:i + 4])
-        kind, body = data[i + 4:i + 8], data[i + 8:i + 8 + n]
-        if kind in (b"tEXt", b"iTXt") and body.startswith(b"springpend.command\0"):
-            body = b"springpend.command\0" + (b"\0\0\0\0" if kind == b"iTXt" else b"") + \
-                line.encode()
-        out += struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
-        i += 12 + n
-    with open(path(out_png), "wb") as f:
-        f.write(data[:8] + out)
+    """src_png (in the work folder) with its springpend.command set to line."""
+    sptest.png_with_command(path(src_png), path(out_png), line)
 
 
 r = run("still", default, "--at", "1.5", "--size", "64x36", "-q", "-o", "fig.png")

@@ -21,10 +21,8 @@ struct sp_video_reader;
 
 /* Opens path and its decoder. SP_E_INPUT (with a message) when it is not a
  * readable video, or its header or decoder says a frame size beyond
- * SP_VIDEO_MAX_PIXELS; SP_E_NOMEM, unsaid, when memory runs out or the
- * decoder's threads cannot be made (EAGAIN: their stacks under ulimit -v)
- * (not the file's fault: its caller says it once; compare retries on one
- * thread first). A file whose format is not the one its name's ending
+ * SP_VIDEO_MAX_PIXELS; SP_E_NOMEM, unsaid, when memory runs out (not the file's
+ * fault: its caller says it once; compare retries on one thread first). A file whose format is not the one its name's ending
  * says (.mp4, .m4v, .mov: MP4/MOV; .webm, .mkv: WebM/Matroska; .gif;
  * .h264, .264: raw H.264; .hevc, .h265, .265: raw HEVC) is SP_E_INPUT, so
  * are the other readers below (their message names the format found). */
@@ -48,17 +46,17 @@ int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double
  * Container errors (SP_E_INPUT) are logged as ever. */
 void sp_video_hold_errors(char *buf, size_t size);
 
-/* Decodes path's video to its end on one decoder thread, nothing converted
- * and nothing said (FFmpeg's lines neither): after a decoder error under
- * ulimit -v or -d, where FFmpeg reports some failed allocations as damaged
- * data, this tells the file's fault from memory's, the same way every run
- * (attack10 #6), as a single thread's decode needs a fraction of the
- * address space of FFmpeg's threaded one. 1 when every frame decodes;
+/* Decodes path's video to its end, nothing converted and nothing said
+ * (FFmpeg's lines neither): after a decoder error under ulimit -v or -d,
+ * where FFmpeg reports some failed allocations as damaged data, this tells
+ * the file's fault from memory's, the same way every run (attack10 #6),
+ * with the memory of one decoder rather than compare's two and their
+ * frames. 1 when every frame decodes;
  * SP_E_NOMEM when memory runs out again (FFmpeg's ENOMEM or
  * "get_buffer() failed"); another negative SP_E_* code when the file does
  * not decode (damaged, cut short); SP_E_INTERRUPTED once *cancel is set
  * (cancel NULL: never). The decoder stops at the first damage it finds
- * (AV_EF_EXPLODE), which one thread would otherwise hide. Call it with the
+ * (AV_EF_EXPLODE), which it may otherwise hide. Call it with the
  * other readers destroyed, so that their memory is free. */
 int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel);
 

@@ -569,10 +569,10 @@ static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
  * decoder's error, SP_E_NOMEM, or another SP_E_* code), its readers and
  * the other's freed; other: the other video. FFmpeg's decoders report some
  * failed allocations as damaged data (h264's "Error splitting the input
- * into NAL units", "decode_slice_header error"), and their threads may run
- * out of memory where one thread would not: so under ulimit -v or -d, the
- * limits under which an allocation fails at all, each file is decoded
- * again alone on one thread (sp_video_decodes_alone), bad first. One that
+ * into NAL units", "decode_slice_header error"), and a file that is cut
+ * may run out of memory first beside the other: so under ulimit -v or -d,
+ * the limits under which an allocation fails at all, each file is decoded
+ * again alone (sp_video_decodes_alone), bad first, strictly. One that
  * does not decode is damaged: "cannot decode", exit 2, the same every run
  * (a guess by how near the limit the process was flipped a cut file's
  * verdict: attack10 #6). When both decode, memory stopped bad: out of
@@ -593,8 +593,8 @@ static int record_failed(const struct compare_run *c, struct sp_compare_record *
             return record_error(r, "interrupted while decoding %s again alone", files[i]),
                    SP_E_INTERRUPTED;
         if (alone != 1 && alone != SP_E_NOMEM)
-            return record_error(r, "cannot decode %s (decoded again alone, on one thread: "
-                                   "damaged, not short of memory)", files[i]);
+            return record_error(r, "cannot decode %s (decoded again alone: damaged, not "
+                                   "short of memory)", files[i]);
     }
     return record_nomem(r, bad);
 }
@@ -698,17 +698,7 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
         r->frames++;
     }
     if (ge < 0 || ga < 0) {
-        /* FFmpeg's decoders report some failed allocations as damaged
-         * data (h264's "Error splitting the input into NAL units",
-         * "decode_slice_header error"): under ulimit -v or -d, where an
-         * allocation can fail, the file is decoded again alone on one
-         * thread with both readers freed. If it decodes, or runs out of
-         * memory again, memory stopped it: exit 1, not the file's fault,
-         * which a folder compare tries again alone (attack9 #13); if it
-         * does not, it is damaged, exit 2, the same every run (a guess by
-         * how near the limit the process was flipped: attack10 #6).
-         * Elsewhere the file is damaged, and decoding it again would only
-         * double its cost (attack9 #6) */
+        /* whose fault: record_failed, with both readers' memory free */
         const int side = ge < 0 ? 0 : 1;
         sp_video_reader_destroy(&ve);
         sp_video_reader_destroy(&va);

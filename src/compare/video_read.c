@@ -402,11 +402,9 @@ static int find_stream_info(AVFormatContext *fmt)
     return ret;
 }
 
-/* sp_video_reader_open with the decoder's thread count (0: FFmpeg's
- * choice, a thread a CPU and one more); strict: the decoder stops at the
- * first damage it finds (AV_EF_EXPLODE) rather than hiding it, as a
- * decoder on one thread does with a cut frame. */
-static int reader_open(struct sp_video_reader **out, const char *path, int threads, int strict)
+/* sp_video_reader_open; strict: the decoder stops at the first damage it
+ * finds (AV_EF_EXPLODE) rather than hiding it, as it may a cut frame. */
+static int reader_open(struct sp_video_reader **out, const char *path, int strict)
 {
     pthread_once(&log_once, log_through_lines);
     struct sp_video_reader *r = calloc(1, sizeof(*r));
@@ -471,15 +469,12 @@ static int reader_open(struct sp_video_reader **out, const char *path, int threa
     r->dec->max_pixels = head < SP_VIDEO_MAX_PIXELS ? head : SP_VIDEO_MAX_PIXELS;
     r->head_w = r->dec->width, r->head_h = r->dec->height;
     r->dec->opaque = r;                       /* for av_line's get_buffer() failures */
-    r->dec->thread_count = threads;
     if (strict)
         r->dec->err_recognition |= AV_EF_EXPLODE;
     if (ret >= 0)
         ret = avcodec_open2(r->dec, codec, NULL);
     if (ret < 0) {
-        /* EAGAIN: its threads could not be made (pthread_create, their
-         * stacks under ulimit -v): memory, not the file's (video_read.h) */
-        ret = ret == AVERROR(EAGAIN) ? SP_E_NOMEM : av_fail(r, "cannot open the decoder", ret);
+        ret = av_fail(r, "cannot open the decoder", ret);
         goto fail;
     }
     *out = r;
@@ -491,7 +486,7 @@ fail:
 
 int sp_video_reader_open(struct sp_video_reader **out, const char *path)
 {
-    return reader_open(out, path, 0, 0);
+    return reader_open(out, path, 0);
 }
 
 /* Converts r->frame into r->rgba. */
@@ -575,7 +570,7 @@ int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel
     struct sp_video_reader *r = NULL;
     sp_video_hold_errors(dropped, sizeof(dropped)); /* what it says is not said */
     av_quiet = 1;
-    int ret = reader_open(&r, path, 1, 1);
+    int ret = reader_open(&r, path, 1);
     while (ret == 0 && !(cancel && *cancel)) { /* 0: on; 1: at the end */
         ret = next_frame(r);
         av_frame_unref(r->frame);

@@ -14,6 +14,11 @@ import re
 import subprocess
 import sys
 
+if sys.argv[1:2] in (["-h"], ["--help"]):
+    sys.exit(print(__doc__))
+if len(sys.argv) < 4 or sys.argv[1] not in ("man", "bash"):
+    print(__doc__, file=sys.stderr)
+    sys.exit(2)
 kind, exe, out = sys.argv[1], sys.argv[2], sys.argv[3]
 
 

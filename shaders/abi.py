@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Writes the modules' interface id: abi.py OUT.h FILE...
+"""Writes the modules' interface id.
+usage: abi.py OUT.h FILE...   or   abi.py --list ROOT
 
 OUT.h defines SP_MODULE_ABI, the first 16 hex digits of the SHA-256 of the
 FILEs (the headers the executable and its modules share), in the order
@@ -12,6 +13,11 @@ import hashlib
 import os
 import sys
 
+if sys.argv[1:2] in (["-h"], ["--help"]):
+    sys.exit(print(__doc__))
+if len(sys.argv) < 3:
+    print(__doc__, file=sys.stderr)
+    sys.exit(2)
 if sys.argv[1] == "--list":
     root = sys.argv[2]
     names = glob.glob(os.path.join(root, "include", "springpend", "*.h")) + \

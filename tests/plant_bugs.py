@@ -185,14 +185,26 @@ def run_tests(build_dir, tests, keep_going):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--list", action="store_true")
-    ap.add_argument("--bug", action="append", default=[])
-    ap.add_argument("--all-tests", action="store_true")
-    ap.add_argument("--tests")
-    ap.add_argument("--scratch", default="/tmp/springpend-plant")
-    ap.add_argument("--keep-going", action="store_true")
-    ap.add_argument("--fresh", action="store_true")
+    head, rest = __doc__.split("\nusage:", 1)
+    ap = argparse.ArgumentParser(description=head,
+                                 epilog=rest.split("\nThe copy is made", 1)[1].join(
+                                     ["The copy is made", ""]),
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--list", action="store_true",
+                    help="the bugs, their module and the tests each runs")
+    ap.add_argument("--bug", action="append", default=[], metavar="NAME",
+                    help="only that bug (repeatable; a prefix of a name works)")
+    ap.add_argument("--all-tests", action="store_true",
+                    help="run the whole suite for each bug instead of its tests")
+    ap.add_argument("--tests", metavar="T,...",
+                    help="run these meson tests for every bug instead")
+    ap.add_argument("--scratch", default="/tmp/springpend-plant", metavar="DIR",
+                    help="where the copy and its build live (default %(default)s; "
+                         "kept between runs, so later runs rebuild only what changed)")
+    ap.add_argument("--keep-going", action="store_true",
+                    help="run every chosen test instead of stopping at the first failure")
+    ap.add_argument("--fresh", action="store_true",
+                    help="wipe the scratch build first (after main's meson.build changed)")
     a = ap.parse_args()
     bugs = [b for b in BUGS if not a.bug or any(b[0].startswith(n) for n in a.bug)]
     if a.list:

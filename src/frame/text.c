@@ -273,16 +273,24 @@ static int distance(const char *a, const char *b)
     return row[lb];
 }
 
-/* Logs that `family` is not installed, with up to six installed families
- * nearest to it (a prefix or part of the name counts as near). */
-static void unknown_family(const char *family, const char *where)
+/* Logs that the font key's `value` is wrong: `why`, or (why NULL) that its
+ * name `family` is not installed, with up to six installed families nearest
+ * to it (a prefix or part of the name counts as near). */
+static void unknown_family(const char *value, const char *family, const char *where,
+                           const char *why)
 {
-    char label[640]; /* as the scene's messages name a key */
+    char label[1024]; /* as the scene's messages name a key */
     if (where && !strncmp(where, "--set ", 6))
-        snprintf(label, sizeof(label), "%s = \"%s\"", where, family);
+        snprintf(label, sizeof(label), "%s = \"%s\"", where, value);
     else
         snprintf(label, sizeof(label), "%s%s[view] font = \"%s\"", where ? where : "",
-                 where ? ": " : "", family);
+                 where ? ": " : "", value);
+    if (strcmp(value, family)) /* a list: which of its names */
+        snprintf(label + strlen(label), sizeof(label) - strlen(label), ", its name \"%s\"", family);
+    if (why) {
+        sp_log_error("%s: %s", label, why);
+        return;
+    }
     FcPattern *all = FcPatternCreate();
     FcObjectSet *os = FcObjectSetBuild(FC_FAMILY, (char *)NULL);
     FcFontSet *list = all && os ? FcFontList(NULL, all, os) : NULL;
@@ -370,13 +378,45 @@ static int has_family(FcPattern *p, const char *family)
     return 0;
 }
 
+/* The n-th name of a family list "A, B, serif" (blanks around each name
+ * dropped) into out[size]; 0 past the last name. */
+static int list_name(const char *family, int n, char *out, size_t size)
+{
+    for (; n > 0 && family; n--)
+        if ((family = strchr(family, ',')))
+            family++;
+    if (!family)
+        return 0;
+    while (*family == ' ')
+        family++;
+    size_t len = strcspn(family, ",");
+    while (len && family[len - 1] == ' ')
+        len--;
+    snprintf(out, size, "%.*s", (int)len, family);
+    return 1;
+}
+
+/* 1 when some font of the sorted set is of `family`. */
+static int sorted_has(const FcFontSet *set, const char *family)
+{
+    for (int i = 0; set && i < set->nfont; i++)
+        if (has_family(set->fonts[i], family))
+            return 1;
+    return 0;
+}
+
 /* Appends fontconfig's order for `family` to the faces (fonts without
- * outlines, and the embedded font's own file, left out). With `verify`,
- * a family that fontconfig does not have is SP_E_INPUT (said). */
+ * outlines, and the embedded font's own file, left out). `family` may be a
+ * list, "Latin Modern Roman, serif": fontconfig tries the names in order,
+ * so a character the first lacks comes from the next (a serif Greek for a
+ * serif family, where fontconfig alone would fall back to sans). With
+ * `verify`, a name that fontconfig does not have, or an empty one, is
+ * SP_E_INPUT (said). */
 static int sort_fonts(struct sp_font *f, const char *family, int verify, const char *where)
 {
     FcPattern *pat = NULL;
     FcResult res;
+    char name[256]; /* one name of the list (the font key holds 255 bytes) */
     int err = 0;
 
     f->fallback_pending = 0;
@@ -384,20 +424,37 @@ static int sort_fonts(struct sp_font *f, const char *family, int verify, const c
         sp_log_error("fontconfig cannot load its configuration");
         return SP_E_IO;
     }
-    pat = FcPatternCreate();
-    if (!pat || !FcPatternAddString(pat, FC_FAMILY, (const FcChar8 *)family)) {
+    if (!(pat = FcPatternCreate())) {
         sp_log_error("out of memory for a font pattern");
-        err = SP_E_NOMEM;
-        goto done;
+        return SP_E_NOMEM;
+    }
+    for (int n = 0; list_name(family, n, name, sizeof(name)); n++) {
+        if (!*name) {
+            unknown_family(family, family, where, "an empty name in the font list; write "
+                   "family names with one comma between two, as \"Latin Modern Roman, serif\"");
+            err = SP_E_INPUT;
+            goto done;
+        }
+        if (!FcPatternAddString(pat, FC_FAMILY, (const FcChar8 *)name)) {
+            sp_log_error("out of memory for a font pattern");
+            err = SP_E_NOMEM;
+            goto done;
+        }
     }
     FcConfigSubstitute(NULL, pat, FcMatchPattern);
     FcDefaultSubstitute(pat);
     f->sorted = FcFontSort(NULL, pat, FcTrue, NULL, &res);
-    if (verify && (!f->sorted || !f->sorted->nfont ||
-                   !(has_family(f->sorted->fonts[0], family) || generic_family(family)))) {
-        unknown_family(family, where);
-        err = SP_E_INPUT;
-        goto done;
+    for (int n = 0; verify && list_name(family, n, name, sizeof(name)); n++) {
+        /* the first name must be what fontconfig picked first; a later
+         * one, somewhere in its order */
+        const int found = generic_family(name) ||
+                          (n ? sorted_has(f->sorted, name)
+                             : f->sorted && f->sorted->nfont && has_family(f->sorted->fonts[0], name));
+        if (!found) {
+            unknown_family(family, name, where, NULL);
+            err = SP_E_INPUT;
+            goto done;
+        }
     }
     if (SP_ARRAY_RESERVE(f->faces, f->cap_faces,
                          (size_t)(f->sorted ? f->sorted->nfont : 0) + 1 + (size_t)f->n_faces, 0)) {

@@ -115,7 +115,8 @@ static const struct key_info keys[] = {
     {"view", "font_size", KEY_REAL, F(view.font_size), 0, 0, 200, 0,
      "pt (body text; 0 = from the frame's size, else 4 to 200)"},
     {"view", "font", KEY_TEXT, F(view.font), 0, 0, 0, 0,
-     "a font family that fontconfig knows (fc-list : family); empty = DejaVu Sans"},
+     "a font family that fontconfig knows (fc-list : family), or a list \"A, B, serif\" "
+     "tried in order; empty = DejaVu Sans"},
     {"view", "title", KEY_TEXT, F(view.title), 0, 0, 0, 0, "text"},
     {"view", "caption", KEY_TEXT, F(view.caption), 0, 0, 0, 0, "text"},
     {"view", "cursor", KEY_CHOICE, F(view.cursor), 0, 0, 0, 0, "auto, true, false"},

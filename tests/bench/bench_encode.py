@@ -18,6 +18,11 @@ import sys
 import tempfile
 import time
 
+if sys.argv[1:2] in (["-h"], ["--help"]):
+    sys.exit(print(__doc__))
+if len([a for a in sys.argv[1:] if not a.startswith("--")]) < 2:
+    print(__doc__, file=sys.stderr)
+    sys.exit(2)
 args = [a for a in sys.argv[1:] if not a.startswith("--")]
 opt = {a.split("=")[0]: a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--") and "=" in a}
 exe, scenes = os.path.abspath(args[0]), os.path.abspath(args[1])

@@ -13,7 +13,6 @@ second, T = 100 s):
 usage: bench_sweep.py SPRINGPEND BENCH_BATCH SCENES_DIR [--quick]"""
 import csv
 import os
-import re
 import shutil
 import subprocess
 import sys

@@ -24,9 +24,11 @@ import sys
 import tempfile
 import time
 
-if len(sys.argv) < 3 or "-h" in sys.argv or "--help" in sys.argv:
-    print(__doc__)
-    sys.exit(0 if len(sys.argv) >= 2 else 2)
+if "-h" in sys.argv or "--help" in sys.argv:
+    sys.exit(print(__doc__))
+if len(sys.argv) < 3:
+    print(__doc__, file=sys.stderr)
+    sys.exit(2)
 exe, scenes = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 CALLGRIND = "--callgrind" in sys.argv
 args_ = [a for a in sys.argv[3:] if not a.startswith("--")]

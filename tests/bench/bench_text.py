@@ -34,9 +34,11 @@ import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
 args = [a for a in sys.argv[1:]]
-if len(args) < 2 or "-h" in args or "--help" in args:
-    print(__doc__)
-    sys.exit(0 if "-h" in args or "--help" in args else 2)
+if "-h" in args or "--help" in args:
+    sys.exit(print(__doc__))
+if len(args) < 2:
+    print(__doc__, file=sys.stderr)
+    sys.exit(2)
 
 
 def option(name, default):

@@ -15,7 +15,13 @@ import sys
 import tempfile
 import time
 
-import numpy as np
+
+if sys.argv[1:2] in (["-h"], ["--help"]):
+    sys.exit(print(__doc__))
+if len(sys.argv) < 4:
+    print(__doc__, file=sys.stderr)
+    sys.exit(2)
+import numpy as np  # noqa: E402 (after the usage check: --help needs no numpy)
 
 exe, scenes, out = sys.argv[1], sys.argv[2], sys.argv[3]
 work = tempfile.mkdtemp(prefix="springpend-wp-")

@@ -3,15 +3,18 @@
 program it describes. The scene key table (doc/scenes.md) lists exactly the
 keys `springpend keys` prints, with the same preset default; the exit
 statuses in the README are those of `springpend --help`; every field `info
---json` prints is named in the manual; the scripts run by hand answer
---help; every link and picture of the manual resolves, and the README links
+--json` prints is named in the manual; every script in the tree (the
+build's, the benchmarks, plant_bugs.py) answers --help, and says its usage
+when called without arguments; every link and picture of the manual resolves, and the README links
 every page.
 usage: test_docs.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 
 from sptest import doc_page, doc_pages, done, manual, ok
 
@@ -77,15 +80,31 @@ info_para = text.split("`springpend info SCENE --json`", 1)[1].split("\n\n", 1)[
 unnamed = [k for k in fields if f"`{k}`" not in info_para]
 ok(fields and not unnamed, f"the manual names every field info --json prints ({len(fields)}; unnamed {unnamed})")
 
-# ---- scripts run by hand answer --help ---------------------------------------
-for script in (os.path.join("bench", "bench_render.py"), os.path.join("bench", "bench_sweep.py")):
-    path = os.path.join(src, script)
-    r = subprocess.run([sys.executable, path, "--help"], capture_output=True, text=True, timeout=60)
-    ok(r.returncode == 0 and "usage:" in r.stdout and "Traceback" not in r.stderr,
-       f"tests/{script} --help prints its usage: exit {r.returncode} {r.stderr.strip()[-200:]}")
-    r = subprocess.run([sys.executable, path], capture_output=True, text=True, timeout=60)
-    ok(r.returncode != 0 and "usage:" in r.stderr and "Traceback" not in r.stderr,
-       f"tests/{script} without arguments says its usage, not a traceback: {r.stderr.strip()[-200:]}")
+# ---- every script answers --help, and says its usage when called wrongly ----
+# (the build's own helpers as well as the benchmarks and tests/plant_bugs.py;
+# plant_bugs.py takes no required argument, so it is not run bare: that
+# would plant every bug)
+scripts = sorted(os.path.relpath(os.path.join(d, n), root)
+                 for d in (os.path.join(root, "doc"), os.path.join(root, "shaders"), src,
+                           os.path.join(src, "bench"))
+                 for n in os.listdir(d) if n.endswith(".py"))
+out_dir = tempfile.mkdtemp(prefix="springpend-docs-")  # the scripts' working folder
+ok(len(scripts) >= 10, f"the scripts are found ({scripts})")
+for script in scripts:
+    path = os.path.join(root, script)
+    r = subprocess.run([sys.executable, path, "--help"], capture_output=True, text=True,
+                       timeout=60, cwd=out_dir)
+    ok(r.returncode == 0 and "usage" in r.stdout.lower() and "Traceback" not in r.stderr,
+       f"{script} --help prints its usage: exit {r.returncode} {r.stderr.strip()[-200:]}")
+    if script.endswith("plant_bugs.py"):
+        continue
+    r = subprocess.run([sys.executable, path], capture_output=True, text=True, timeout=60,
+                       cwd=out_dir)
+    ok(r.returncode != 0 and "usage" in r.stderr.lower() and "Traceback" not in r.stderr,
+       f"{script} without arguments says its usage, not a traceback: {r.stderr.strip()[-200:]}")
+ok(not [n for n in os.listdir(out_dir) if n.startswith("-")],
+   "no script wrote a file named after an option")
+shutil.rmtree(out_dir)
 # ---- the README's install lines and .ci/run's: the same packages -----------
 def packages(line):
     return line.split("apt-get install -y --no-install-recommends ", 1)[1].split(" && ")[0].split()

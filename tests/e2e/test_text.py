@@ -198,6 +198,36 @@ def png_text(path):
 prov = png_text(os.path.join(work, "lm.png")).get("springpend.fonts", "")
 ok(r.returncode == 0 and "lmroman10-regular.otf" in prov,
    f"the PNG's provenance names the font files ({prov[:120]})")
+
+# A family list: fontconfig tries "Latin Modern Roman, serif" in order, so the
+# Greek Latin Modern lacks comes from the serif family fontconfig picks for it
+# (asked of fc-match here), not from its sans-serif fallback.
+def fc_ps(pattern):
+    return subprocess.run(["fc-match", "-f", "%{postscriptname}", pattern], capture_output=True,
+                          text=True).stdout
+
+
+def pdf_fonts(name):
+    out = subprocess.run(["pdffonts", name], capture_output=True, text=True, cwd=work).stdout
+    return {l.split()[0].split("+")[-1] for l in out.splitlines()[2:]}
+
+
+greek = {"view.panels": "r", "view.hud": "false"}
+serif_greek, sans_greek = fc_ps("serif:charset=3b8"), fc_ps("Latin Modern Roman:charset=3b8")
+r1 = still("lm-alone.pdf", "Angle θ", dict(greek, **{"view.font": "Latin Modern Roman"}))
+r2 = still("lm-list.pdf", "Angle θ", dict(greek, **{"view.font": "Latin Modern Roman, serif"}))
+alone, listed = pdf_fonts("lm-alone.pdf"), pdf_fonts("lm-list.pdf")
+ok(r1.returncode == 0 and r2.returncode == 0 and serif_greek and serif_greek != sans_greek and
+   "LMRoman10-Regular" in listed and serif_greek in listed and sans_greek not in listed and
+   sans_greek in alone,
+   f"view.font = \"Latin Modern Roman, serif\": θ from {serif_greek} (fc-match serif), not "
+   f"{sans_greek} as for Latin Modern Roman alone (pdffonts: {sorted(listed)} | {sorted(alone)})")
+for value, said in (("Latin Modern Roman, Noto Serf", '"Noto Serif"'),
+                    ("Latin Modern Roman,, serif", "an empty name"),
+                    ("Latin Modern Roman,", "an empty name")):
+    r = still("badlist.png", "x", {"view.font": value})
+    ok(r.returncode == 2 and said in r.stderr and not os.path.exists(os.path.join(work, "badlist.png")),
+       f"view.font = {value!r}: exit {r.returncode}, says {said}, no output ({r.stderr.strip()[:150]})")
 default = run("still", scene, "--at", "0", "-o", "default.png", "-q")
 prov = png_text(os.path.join(work, "default.png")).get("springpend.fonts", "")
 ok(prov == "DejaVu Sans (embedded in springpend)", f"the default font is the embedded DejaVu Sans ({prov})")

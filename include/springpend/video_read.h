@@ -4,6 +4,7 @@
 #ifndef SPRINGPEND_VIDEO_READ_H
 #define SPRINGPEND_VIDEO_READ_H
 
+#include <signal.h>
 #include <stddef.h>
 
 #include "springpend/image.h"
@@ -21,7 +22,10 @@ struct sp_video_reader;
 /* Opens path and its decoder. SP_E_INPUT (with a message) when it is not a
  * readable video, or its header or decoder says a frame size beyond
  * SP_VIDEO_MAX_PIXELS; SP_E_NOMEM, unsaid, when memory runs out (not the file's
- * fault: its caller says it once; compare retries on one thread first). */
+ * fault: its caller says it once; compare retries on one thread first). A file whose format is not the one its name's ending
+ * says (.mp4, .m4v, .mov: MP4/MOV; .webm, .mkv: WebM/Matroska; .gif;
+ * .h264, .264: raw H.264; .hevc, .h265, .265: raw HEVC) is SP_E_INPUT, so
+ * are the other readers below (their message names the format found). */
 int sp_video_reader_open(struct sp_video_reader **out, const char *path);
 
 /* Decodes the next frame into *img: pixels owned by the reader, valid
@@ -41,6 +45,20 @@ int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double
  * such a video again alone on one thread and says its errors then, once.
  * Container errors (SP_E_INPUT) are logged as ever. */
 void sp_video_hold_errors(char *buf, size_t size);
+
+/* Decodes path's video to its end, nothing converted and nothing said
+ * (FFmpeg's lines neither): after a decoder error under ulimit -v or -d,
+ * where FFmpeg reports some failed allocations as damaged data, this tells
+ * the file's fault from memory's, the same way every run (attack10 #6),
+ * with the memory of one decoder rather than compare's two and their
+ * frames. 1 when every frame decodes;
+ * SP_E_NOMEM when memory runs out again (FFmpeg's ENOMEM or
+ * "get_buffer() failed"); another negative SP_E_* code when the file does
+ * not decode (damaged, cut short); SP_E_INTERRUPTED once *cancel is set
+ * (cancel NULL: never). The decoder stops at the first damage it finds
+ * (AV_EF_EXPLODE), which it may otherwise hide. Call it with the
+ * other readers destroyed, so that their memory is free. */
+int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel);
 
 /* Frees everything and sets *r to NULL. Safe on NULL. */
 void sp_video_reader_destroy(struct sp_video_reader **r);

@@ -122,23 +122,9 @@ double sp_memory_limit(const char **what)
     return sp_memory_limit_in("", what);
 }
 
-int sp_memory_near_limit(void)
+int sp_memory_rlimited(void)
 {
-    const char *what = "";
-    const double limit = sp_memory_limit(&what);
-    const int as = !strcmp(what, "ulimit -v"), data = !strcmp(what, "ulimit -d");
-    unsigned long long pages[6] = {0};
-    FILE *fp = as || data ? fopen("/proc/self/statm", "r") : NULL;
-    if (!fp)
-        return 0;
-    const int got = fscanf(fp, "%llu %llu %llu %llu %llu %llu", &pages[0], &pages[1], &pages[2],
-                           &pages[3], &pages[4], &pages[5]);
-    fclose(fp);
-    if (got != 6)
-        return 0;
-    /* statm: the address space (size, ulimit -v's) and data + stack
-     * (ulimit -d's), pages */
-    const double used = (double)(as ? pages[0] : pages[5]) * (double)sysconf(_SC_PAGESIZE);
-    const double margin = limit / 8 > 32e6 ? limit / 8 : 32e6;
-    return used + margin >= limit;
+    struct rlimit as, data;
+    return (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) ||
+           (getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY);
 }

@@ -19,11 +19,10 @@ double sp_memory_limit(const char **what);
  * for a test on a made-up tree (tests/unit/test_memory_limit.c). */
 double sp_memory_limit_in(const char *root, const char **what);
 
-/* 1 when the process runs under ulimit -v or -d (the limits under which an
- * allocation fails on Linux, rather than the kernel ending the process)
- * and uses all of it but an eighth (at least 32 MB) now: a failure a
- * library reports as something else (FFmpeg's decoders: damaged data) is
- * then likely out of memory. 0 otherwise. */
-int sp_memory_near_limit(void);
+/* 1 when the process runs under ulimit -v or -d: the limits under which
+ * an allocation fails on Linux (rather than the kernel ending the
+ * process), so that a failure a library reports as something else
+ * (FFmpeg's decoders: damaged data) may be out of memory. 0 otherwise. */
+int sp_memory_rlimited(void);
 
 #endif

@@ -561,6 +561,40 @@ static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
     return ret;
 }
 
+/* Records that reading the video at bad failed (err: SP_E_CODEC, a
+ * decoder's error, SP_E_NOMEM, or another SP_E_* code), its readers and
+ * the other's freed; other: the other video. FFmpeg's decoders report some
+ * failed allocations as damaged data (h264's "Error splitting the input
+ * into NAL units", "decode_slice_header error"), and a file that is cut
+ * may run out of memory first beside the other: so under ulimit -v or -d,
+ * the limits under which an allocation fails at all, each file is decoded
+ * again alone (sp_video_decodes_alone), bad first, strictly. One that
+ * does not decode is damaged: "cannot decode", exit 2, the same every run
+ * (a guess by how near the limit the process was flipped a cut file's
+ * verdict: attack10 #6). When both decode, memory stopped bad: out of
+ * memory, exit 1, not the files' fault, which a folder compare tries again
+ * alone (attack9 #13). Elsewhere a decoder's error is the file's, decoded
+ * once (decoding it again would only double its cost: attack9 #6), and
+ * SP_E_NOMEM is memory. Returns record_error's or record_nomem's code, or
+ * SP_E_INTERRUPTED (recorded). */
+static int record_failed(const struct compare_run *c, struct sp_compare_record *r,
+                         const char *bad, const char *other, int err)
+{
+    if ((err != SP_E_CODEC && err != SP_E_NOMEM) || !sp_memory_rlimited())
+        return err == SP_E_NOMEM ? record_nomem(r, bad) : record_error(r, "cannot decode %s", bad);
+    const char *const files[2] = {bad, other};
+    for (int i = 0; i < 2; i++) {
+        const int alone = sp_video_decodes_alone(files[i], c->cancel);
+        if (alone == SP_E_INTERRUPTED)
+            return record_error(r, "interrupted while decoding %s again alone", files[i]),
+                   SP_E_INTERRUPTED;
+        if (alone != 1 && alone != SP_E_NOMEM)
+            return record_error(r, "cannot decode %s (decoded again alone: damaged, not "
+                                   "short of memory)", files[i]);
+    }
+    return record_nomem(r, bad);
+}
+
 /* Compares two videos frame by frame, times included, into record r: the
  * figures are the worst frame's; --diff gets its diff image.
  * Long: one loop whose frame state, the worst frame, its diff and the
@@ -588,8 +622,10 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
          * file the container level refuses (missing, not a file, not a
          * video: SP_E_INPUT, said already) is not read again (attack8 #8) */
         r->retry_alone = ret == SP_E_CODEC;
-        ret = ret == SP_E_NOMEM ? record_nomem(r, ve ? actual : expected)
-                                : record_error(r, "cannot read %s", ve ? actual : expected);
+        const char *bad = ve ? actual : expected;
+        sp_video_reader_destroy(&ve);
+        ret = ret == SP_E_NOMEM ? record_failed(c, r, bad, bad == actual ? expected : actual, ret)
+                                : record_error(r, "cannot read %s", bad);
         goto done;
     }
     for (;;) {
@@ -657,20 +693,14 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
         }
         r->frames++;
     }
-    if (ge == SP_E_NOMEM || ga == SP_E_NOMEM) {
-        ret = record_nomem(r, ge == SP_E_NOMEM ? expected : actual);
-        goto done;
-    }
     if (ge < 0 || ga < 0) {
-        /* FFmpeg's decoders report some failed allocations as damaged
-         * data (h264's "Error splitting the input into NAL units"): near
-         * ulimit -v or -d that is out of memory, which a folder compare
-         * tries again alone, and which is exit 1, not the file's fault
-         * (attack9 #13); elsewhere the file is damaged, and decoding it
-         * again would only double its cost (attack9 #6) */
-        const char *bad = ge < 0 ? expected : actual;
-        ret = (ge < 0 ? ge : ga) == SP_E_CODEC && sp_memory_near_limit() ? record_nomem(r, bad)
-                                     : record_error(r, "cannot decode %s", bad);
+        /* whose fault: record_failed, with both readers' memory free */
+        const int side = ge < 0 ? 0 : 1;
+        sp_video_reader_destroy(&ve);
+        sp_video_reader_destroy(&va);
+        sp_image_free(&worst_diff);
+        ret = record_failed(c, r, side ? actual : expected, side ? expected : actual,
+                            side ? ga : ge);
         goto done;
     }
     if (ge != ga) {

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
@@ -179,13 +180,64 @@ static int metadata_bounded(int fd, const char *path, off_t from, off_t to, int 
 #define SP_VIDEO_CODECS "h264,hevc,vp9,gif"
 #define SP_VIDEO_CODECS_SAID "H.264, VP9 and GIF, the codecs springpend writes, and HEVC"
 
-/* Opens the file at name (open at fd; path: its name in messages, NULL for
- * none) in *fmt as one of SP_VIDEO_FORMATS, through the file protocol only:
- * a playlist (HLS, concat, ...) naming other files, or any other format
- * FFmpeg would detect from the content, is refused, naming the format found,
- * before FFmpeg reads anything it names. 0, SP_E_INPUT (logged when path)
- * or SP_E_NOMEM. */
-static int open_video(AVFormatContext **fmt, const char *name, int fd, const char *path)
+/* What a video's name promises, by its ending (case aside): the formats
+ * of SP_VIDEO_FORMATS that FFmpeg may find in a file of that name (its
+ * demuxer names) and what to call them. A raw H.264 stream named .mp4, an
+ * MKV named .mp4, an MP4 named .gif are not what their names say: refused
+ * (attack10 #7), as a reader of the name would not take them for it. */
+static const struct video_name {
+    const char *ending, *formats, *said;
+} video_names[] = {
+    {".mp4", "mov,mp4", "MP4"},      {".m4v", "mov,mp4", "MP4"},
+    {".mov", "mov,mp4", "MOV"},      {".webm", "matroska,webm", "WebM"},
+    {".mkv", "matroska,webm", "Matroska"}, {".gif", "gif", "GIF"},
+    {".h264", "h264", "a raw H.264 stream"}, {".264", "h264", "a raw H.264 stream"},
+    {".hevc", "hevc", "a raw HEVC stream"},  {".h265", "hevc", "a raw HEVC stream"},
+    {".265", "hevc", "a raw HEVC stream"},
+};
+#define SP_VIDEO_NAMES_SAID                                                                  \
+    "compare reads .mp4, .m4v and .mov files as MP4/MOV, .webm and .mkv as WebM/Matroska, "  \
+    ".gif as GIF, .h264 and .264 as raw H.264, .hevc, .h265 and .265 as raw HEVC"
+
+/* The entry of video_names that path's ending names, or NULL. */
+static const struct video_name *video_name_of(const char *path)
+{
+    const size_t n = strlen(path);
+    for (size_t i = 0; i < sizeof(video_names) / sizeof(video_names[0]); i++) {
+        const size_t k = strlen(video_names[i].ending);
+        if (n > k && path[n - k - 1] != '/' && !strcasecmp(path + n - k, video_names[i].ending))
+            return &video_names[i];
+    }
+    return NULL;
+}
+
+/* 0 when the format FFmpeg found in the file at path (its demuxer name and
+ * long name) is what the file's name says (video_names); else SP_E_INPUT,
+ * logged when say. */
+static int format_named(const char *path, const AVInputFormat *found, int say)
+{
+    const struct video_name *v = video_name_of(path);
+    if (v && av_match_list(found->name, v->formats, ',') > 0)
+        return 0;
+    if (say && v)
+        sp_log_error("%s: a file of format '%s' (%s), not %s as its name says; "
+                     SP_VIDEO_NAMES_SAID, path, found->name,
+                     found->long_name ? found->long_name : "?", v->said);
+    else if (say)
+        sp_log_error("%s: a file of format '%s' (%s), under a name compare does not read as "
+                     "a video; " SP_VIDEO_NAMES_SAID, path, found->name,
+                     found->long_name ? found->long_name : "?");
+    return SP_E_INPUT;
+}
+
+/* Opens the file at name (open at fd; path: its name, for its ending and
+ * in messages when say) in *fmt as one of SP_VIDEO_FORMATS, through the
+ * file protocol only: a playlist (HLS, concat, ...) naming other files, or
+ * any other format FFmpeg would detect from the content, is refused, naming
+ * the format found, before FFmpeg reads anything it names; so is a format
+ * other than the one path's ending names (format_named), once FFmpeg has
+ * found it. 0, SP_E_INPUT (logged when say) or SP_E_NOMEM. */
+static int open_video(AVFormatContext **fmt, const char *name, int fd, const char *path, int say)
 {
     uint8_t head[4096 + AVPROBE_PADDING_SIZE] = {0};
     ssize_t got = pread(fd, head, sizeof(head) - AVPROBE_PADDING_SIZE, 0);
@@ -194,7 +246,7 @@ static int open_video(AVFormatContext **fmt, const char *name, int fd, const cha
     AVDictionary *opts = NULL;
     int ret;
     if (found && av_match_list(found->name, SP_VIDEO_FORMATS, ',') <= 0) {
-        if (path)
+        if (say)
             sp_log_error("%s: a file of format '%s' (%s), not a video springpend reads; "
                          SP_VIDEO_FORMATS_SAID,
                          path, found->name, found->long_name ? found->long_name : "?");
@@ -211,12 +263,14 @@ static int open_video(AVFormatContext **fmt, const char *name, int fd, const cha
     if (ret == AVERROR(ENOMEM))
         return SP_E_NOMEM;
     if (ret < 0) {
-        if (path)
+        if (say)
             sp_log_error("%s: cannot read a video from it: %s (" SP_VIDEO_FORMATS_SAID ")",
                          path, av_err2str(ret));
         return SP_E_INPUT;
     }
-    return 0;
+    if ((ret = format_named(path, (*fmt)->iformat, say)) != 0)
+        avformat_close_input(fmt);
+    return ret;
 }
 
 /* Opens the video at path in *fmt through a descriptor checked by infile.h
@@ -236,7 +290,7 @@ static int open_checked(AVFormatContext **fmt, const char *path)
         return ret;
     }
     snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
-    ret = open_video(fmt, access(name, R_OK) ? path : name, fd, path);
+    ret = open_video(fmt, access(name, R_OK) ? path : name, fd, path, 1);
     close(fd);
     return ret;
 }
@@ -348,7 +402,9 @@ static int find_stream_info(AVFormatContext *fmt)
     return ret;
 }
 
-int sp_video_reader_open(struct sp_video_reader **out, const char *path)
+/* sp_video_reader_open; strict: the decoder stops at the first damage it
+ * finds (AV_EF_EXPLODE) rather than hiding it, as it may a cut frame. */
+static int reader_open(struct sp_video_reader **out, const char *path, int strict)
 {
     pthread_once(&log_once, log_through_lines);
     struct sp_video_reader *r = calloc(1, sizeof(*r));
@@ -413,6 +469,8 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
     r->dec->max_pixels = head < SP_VIDEO_MAX_PIXELS ? head : SP_VIDEO_MAX_PIXELS;
     r->head_w = r->dec->width, r->head_h = r->dec->height;
     r->dec->opaque = r;                       /* for av_line's get_buffer() failures */
+    if (strict)
+        r->dec->err_recognition |= AV_EF_EXPLODE;
     if (ret >= 0)
         ret = avcodec_open2(r->dec, codec, NULL);
     if (ret < 0) {
@@ -424,6 +482,11 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
 fail:
     sp_video_reader_destroy(&r);
     return ret;
+}
+
+int sp_video_reader_open(struct sp_video_reader **out, const char *path)
+{
+    return reader_open(out, path, 0);
 }
 
 /* Converts r->frame into r->rgba. */
@@ -455,21 +518,14 @@ static int convert(struct sp_video_reader *r, struct sp_image *img)
     return 1;
 }
 
-int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double *t)
+/* Decodes the next frame into r->frame: 1, 0 after the last one, or a
+ * negative SP_E_* code (av_fail's). */
+static int next_frame(struct sp_video_reader *r)
 {
     for (;;) {
         int ret = avcodec_receive_frame(r->dec, r->frame);
-        if (ret >= 0) {
-            if (t) {
-                int64_t pts = r->frame->best_effort_timestamp;
-                *t = pts == AV_NOPTS_VALUE
-                         ? NAN
-                         : pts * av_q2d(r->fmt->streams[r->stream]->time_base);
-            }
-            ret = convert(r, img);
-            av_frame_unref(r->frame);
-            return ret;
-        }
+        if (ret >= 0)
+            return 1;
         if (ret == AVERROR_EOF)
             return 0;
         if (ret != AVERROR(EAGAIN))
@@ -490,6 +546,40 @@ int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double
         if (ret < 0)
             return av_fail(r, "cannot read the next frame", ret);
     }
+}
+
+int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double *t)
+{
+    int ret = next_frame(r);
+    if (ret != 1)
+        return ret;
+    if (t) {
+        int64_t pts = r->frame->best_effort_timestamp;
+        *t = pts == AV_NOPTS_VALUE ? NAN
+                                   : pts * av_q2d(r->fmt->streams[r->stream]->time_base);
+    }
+    ret = convert(r, img);
+    av_frame_unref(r->frame);
+    return ret;
+}
+
+int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel)
+{
+    char *const was = held, dropped[512] = "";
+    const size_t was_size = held_size;
+    struct sp_video_reader *r = NULL;
+    sp_video_hold_errors(dropped, sizeof(dropped)); /* what it says is not said */
+    av_quiet = 1;
+    int ret = reader_open(&r, path, 1);
+    while (ret == 0 && !(cancel && *cancel)) { /* 0: on; 1: at the end */
+        ret = next_frame(r);
+        av_frame_unref(r->frame);
+        ret = ret == 1 ? 0 : ret == 0 ? 1 : ret;
+    }
+    sp_video_reader_destroy(&r);
+    av_quiet = 0;
+    sp_video_hold_errors(was, was_size);
+    return ret == 0 ? SP_E_INTERRUPTED : ret;
 }
 
 void sp_video_reader_destroy(struct sp_video_reader **rp)
@@ -522,7 +612,7 @@ int sp_video_frame_size(const char *path, int *width, int *height)
         snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
         pthread_once(&log_once, log_through_lines);
         av_quiet = 1; /* nothing logged: FFmpeg's lines neither */
-        if (open_video(&fmt, name, fd, NULL) == 0) {
+        if (open_video(&fmt, name, fd, path, 0) == 0) {
             /* the headers only: no frame is decoded; a size the reader
              * refuses unread counts for nothing (attack8 #6) */
             int w, h;

@@ -25,6 +25,13 @@ int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double
     return read_fn ? read_fn(r, img, t) : SP_E_CODEC;
 }
 
+int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel)
+{
+    int (*fn)(const char *, const volatile sig_atomic_t *);
+    *(void **)&fn = sp_av_module_symbol("sp_video_decodes_alone");
+    return fn ? fn(path, cancel) : SP_E_CODEC;
+}
+
 void sp_video_reader_destroy(struct sp_video_reader **r)
 {
     if (!*r)

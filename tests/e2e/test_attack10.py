@@ -410,8 +410,9 @@ ok("springpend compare" not in said and "run this compare again with --update=mi
 
 # ---- finding 7: a video without timestamps is not "at nan s" ----------------------------
 if shutil.which("ffmpeg"):
-    ff("-i", "ref.mp4", "-c:v", "copy", "-f", "h264", "raw.mp4")
-    r = run("compare", "ref.mp4", "raw.mp4", "--json")
+    # named .h264: a raw stream named .mp4 is refused (attack10 #7's other half: attack11)
+    ff("-i", "ref.mp4", "-c:v", "copy", "-f", "h264", "raw.h264")
+    r = run("compare", "ref.mp4", "raw.h264", "--json")
     ok(b"nan s" not in r.stdout and b"has no time in the actual video" in r.stdout,
        f"compare of a raw H.264 stream: its note says it has no time, not nan s "
        f"({r.stdout[-200:]!r})")

@@ -1,0 +1,210 @@
+#!/usr/bin/env python3
+"""springpend tests (issue 28): what the tenth attacker's pass left open
+(doc/notes/2026-11-27/attack10.md; fix10's notes), and the eleventh pass:
+- attack10 #7: a raw H.264 stream named .mp4 (or a Matroska file named
+  .mp4, an MP4 named .gif) was read by compare, and failed on times it does
+  not have: a file whose format FFmpeg finds is not the one its name says
+  is refused, naming the format, exit 2; a raw stream named .h264 and a
+  MOV named .mov are read as before;
+- attack10 #6: under ulimit -v a cut MP4 was "out of memory ... allow
+  more memory" (exit 1) at limits where a valid pair passes, the verdict
+  flipping from run to run (a guess by how near the limit the process
+  was): each file is decoded again alone, and a file that does not decode
+  is damaged, exit 2, the same every run;
+- attack10 #15: signal 32 (the kernel's first real-time signal, glibc's
+  SIGCANCEL) killed a render and left its .part: caught as the others are
+  (exit 160, nothing partial left) in render, compare and sweep; signal 33
+  (glibc's SIGSETXID, whose handler glibc installs) changes nothing.
+usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import os
+import resource
+import shutil
+import signal
+import subprocess
+import time
+
+import sptest
+from sptest import done, err, ok, skip
+
+exe, src, work, _ = sptest.setup("attack11", [])
+run = sptest.runner_bytes(exe, work)
+scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
+chaotic = os.path.join(scenes, "chaotic.ini")
+default = os.path.join(scenes, "default.ini")
+sanitized = b"__asan_init" in open(exe, "rb").read()
+
+
+def path(*names):
+    return os.path.join(work, *names)
+
+
+def ff(*a):
+    subprocess.run(["ffmpeg", "-v", "error", "-y", *a], cwd=work, check=True, timeout=120)
+
+
+# ---- attack10 #7: a container that is not what the file's name says is refused -----------
+r = run("render", default, "--size", "160x90", "--fps", "10", "--set", "video.duration=0.5",
+        "-o", "a.mp4", "-q")
+assert r.returncode == 0, err(r)
+if shutil.which("ffmpeg"):
+    ff("-i", "a.mp4", "-c:v", "copy", "-f", "h264", "raw.mp4")
+    ff("-i", "a.mp4", "-c:v", "copy", "-f", "matroska", "mkv.mp4")
+    ff("-i", "a.mp4", "-c:v", "copy", "-f", "h264", "raw.mkv")
+    ff("-i", "a.mp4", "-c:v", "copy", "-f", "h264", "raw.h264")
+    shutil.copy(path("a.mp4"), path("mp4.gif"))
+    for name, found, said in (("raw.mp4", "'h264'", "not MP4 as its name says"),
+                              ("mkv.mp4", "'matroska,webm'", "not MP4 as its name says"),
+                              ("raw.mkv", "'h264'", "not Matroska as its name says"),
+                              ("mp4.gif", "'mov,mp4", "not GIF as its name says")):
+        for cmd in (["compare", "a.mp4", name], ["compare", "a.mp4", name, "--json"]):
+            r = run(*cmd)
+            ok(r.returncode == 2 and f"{name}: a file of format {found}" in err(r)
+               and said in err(r) and ".h264 and .264 as raw H.264" in err(r),
+               f"{' '.join(cmd)}: refused (exit 2), naming the format FFmpeg found and what "
+               f"the name allows (exit {r.returncode}: {err(r)[-220:]!r})")
+    shutil.copy(path("a.mp4"), path("a.MOV"))
+    r = run("compare", "a.mp4", "a.MOV")
+    ok(r.returncode == 0, f"an MP4 named .MOV (the same demuxer) still compares "
+       f"(exit {r.returncode}: {err(r)[-160:]!r})")
+    r = run("compare", "raw.h264", "raw.h264")
+    ok(r.returncode == 0, f"a raw H.264 stream named .h264 still compares "
+       f"(exit {r.returncode}: {err(r)[-160:]!r})")
+else:
+    skip("containers that are not what their names say", "ffmpeg is not installed")
+
+# ---- attack10 #6: a cut video under ulimit -v is damaged, every run -----------------------
+r = run("render", default, "--size", "1280x720", "--fps", "10", "--set", "video.duration=2",
+        "-o", "big.mp4", "-q", timeout=120)
+assert r.returncode == 0, err(r)
+shutil.copy(path("big.mp4"), path("big2.mp4"))
+with open(path("big.mp4"), "rb") as f:
+    whole = f.read()
+with open(path("cut.mp4"), "wb") as f:
+    f.write(whole[:len(whole) * 80 // 100])
+r = run("compare", "big.mp4", "cut.mp4")
+assert r.returncode == 2 and b"cannot decode cut.mp4" in r.stdout, (r.returncode, r.stdout)
+if sanitized:
+    skip("a cut video under ulimit -v", "ulimit -v and a sanitizer's shadow memory")
+else:
+    seen = {}
+    for mb in range(300, 460, 20):
+        def limit(mb=mb):
+            resource.setrlimit(resource.RLIMIT_AS, (mb << 20, mb << 20))
+        # 127: the dynamic loader itself could not map a library, before springpend ran
+        rcs = [x.returncode for x in (run("compare", "big.mp4", "cut.mp4", preexec_fn=limit,
+                                          timeout=120) for _ in range(3))
+               if x.returncode != 127]
+        valid = run("compare", "big.mp4", "big2.mp4", preexec_fn=limit, timeout=120).returncode
+        seen[mb] = (rcs, valid)
+    flips = {mb: v for mb, v in seen.items() if len(set(v[0])) > 1}
+    # where the valid pair passes, memory is no excuse: the cut file is damaged
+    wrong = {mb: v for mb, v in seen.items() if v[1] == 0 and set(v[0]) != {2}}
+    ok(not flips and not wrong and any(v[1] == 0 for v in seen.values()),
+       f"compare big.mp4 cut.mp4 (1280x720, cut at 80 %) three times under ulimit -v 300..440 "
+       f"MB: the same verdict each run, and 'cannot decode' (exit 2) wherever the valid pair "
+       f"passes (MB: [cut's exits], valid pair's exit: {seen})")
+
+# ---- attack10 #15: signal 32 stops a run as the others do; 33 changes nothing -------------
+SIG32 = 32
+
+
+def send(p, sig):
+    """Sends sig to p, unless it has ended (an old build killed by the last one)."""
+    try:
+        os.kill(p.pid, sig)
+    except ProcessLookupError:
+        pass
+
+
+def writing(p, d, limit=60.0):
+    """Waits until p has written frames to a .part file in folder d."""
+    end = time.time() + limit
+    while time.time() < end and p.poll() is None:
+        if any(os.path.getsize(os.path.join(d, n)) > 4096 for n in sptest.part_files(d)):
+            return
+        time.sleep(0.02)
+
+
+def stopped_by(sig, args, folder, stop_first=False, settle=0.5):
+    """Runs springpend args in folder (made fresh), sends sig once the
+    handlers are set (stop_first: while the process is stopped, so that it
+    is seen at the next check; settle None: once it writes a .part); (exit
+    status, what it printed, the folder's names)."""
+    d = path(folder)
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(d)
+    p = subprocess.Popen([exe, *args], cwd=d, stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT, text=True)
+    sptest.wait_caught(p, signal.SIGTERM)
+    sptest.wait_caught(p, SIG32, limit=5)
+    if stop_first:
+        send(p, signal.SIGSTOP)
+    elif settle is None:
+        writing(p, d)
+    else:
+        time.sleep(settle)
+    send(p, sig)
+    if stop_first:
+        time.sleep(0.05)
+        send(p, signal.SIGCONT)
+    said = p.communicate(timeout=120)[0]
+    return p.returncode, said, sorted(os.listdir(d))
+
+
+long_render = ["render", default, "--size", "320x180", "--fps", "30", "--set",
+               "video.duration=120", "-o", "v.mp4", "-q"]
+rc, said, names = stopped_by(SIG32, long_render, "s32r", settle=None)
+ok(rc == 128 + SIG32 and names == ["v.mp4"] and "interrupted by signal 32" in said,
+   f"render stopped by signal 32: exit 160, the frames so far kept in v.mp4, no .part "
+   f"(exit {rc}: {said[-160:]!r}; {names})")
+if rc == 128 + SIG32:
+    r = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-show_entries",
+                        "stream=nb_read_frames", "-of", "csv=p=0", path("s32r", "v.mp4")],
+                       capture_output=True, text=True) if shutil.which("ffprobe") else None
+    ok(r is None or (r.returncode == 0 and int(r.stdout.strip() or 0) > 0),
+       f"the kept v.mp4 plays ({r.stdout.strip() if r else 'no ffprobe'} frames)")
+
+# a second signal 32 (both sent while the render is stopped): stops at once, nothing partial left
+d = path("s32x2")
+shutil.rmtree(d, ignore_errors=True)
+os.makedirs(d)
+p = subprocess.Popen([exe, *long_render], cwd=d, stdout=subprocess.DEVNULL,
+                     stderr=subprocess.PIPE, text=True)
+sptest.wait_caught(p, SIG32, limit=20)
+writing(p, d)
+send(p, signal.SIGSTOP)
+send(p, SIG32)
+send(p, SIG32)  # a real-time signal: queued, both delivered
+send(p, signal.SIGCONT)
+said = p.communicate(timeout=120)[1]
+ok(p.returncode == 128 + SIG32 and not sptest.part_files(d) and "second signal" in said,
+   f"render given signal 32 twice: exit 160, no .part left (exit {p.returncode}: "
+   f"{said.strip()[-160:]!r}; {sorted(os.listdir(d))})")
+
+# compare of two videos: every frame pair is a check of the flag
+r = run("render", default, "--size", "320x180", "--fps", "30", "--set", "video.duration=30",
+        "-o", "c.mp4", "-q", timeout=120)
+assert r.returncode == 0, err(r)
+rc, said, names = stopped_by(SIG32, ["compare", path("c.mp4"), path("c.mp4"), "--junit",
+                                     "j.xml", "--report", "r.html"], "s32c", stop_first=True)
+ok(rc == 128 + SIG32 and not [n for n in names if n.endswith(".part")]
+   and "signal 32" in said,
+   f"compare stopped by signal 32: exit 160, names it, no .part (exit {rc}: {said[-200:]!r}; "
+   f"{names})")
+
+sweep = ["sweep", chaotic, "--vary", "initial.angle=1:179:2000", "--measure", "lyapunov",
+         "--time", "50", "--csv", "s.csv", "-o", "s.png"]
+rc, said, names = stopped_by(SIG32, sweep, "s32s", stop_first=True)
+ok(rc == 128 + SIG32 and names == [] and "interrupted" in said and "nothing written" in said,
+   f"sweep stopped by signal 32: exit 160, nothing written, no .part (exit {rc}: "
+   f"{said[-160:]!r}; {names})")
+
+# 33: glibc's own handler takes it (setuid's broadcast to threads) and ignores it from outside
+short_render = ["render", default, "--size", "320x180", "--fps", "30", "--set",
+                "video.duration=20", "-o", "w.mp4", "-q"]
+rc, said, names = stopped_by(33, short_render, "s33r", settle=0.2)
+ok(rc == 0 and names == ["w.mp4"],
+   f"render sent signal 33 (glibc's SIGSETXID): runs on to its end, exit 0, no .part "
+   f"(exit {rc}: {said[-160:]!r}; {names})")
+
+done()

@@ -14,14 +14,19 @@
  *   nothing else (without /proc: reopened by name, O_NONBLOCK, and
  *   compared);
  * - a whole-file read stops when a signal that stops the run arrives
- *   (SP_E_INTERRUPTED), rather than retrying the read;
+ *   (SP_E_INTERRUPTED, sp_infile_stop_on), rather than retrying the read;
  * - a whole-file read is bounded, so that a forged file cannot cost more
  *   than max bytes of memory.
  * Every failure is logged once, here, naming the path and the cause. */
 #ifndef SPRINGPEND_INFILE_H
 #define SPRINGPEND_INFILE_H
 
+#include <signal.h>
 #include <stddef.h>
+
+/* The flag that, set, stops a whole-file read cut by a signal (main.c hands
+ * signals.c's; until then, and with NULL, a cut read is retried). */
+void sp_infile_stop_on(const volatile sig_atomic_t *flag);
 
 /* Opens the regular file at path for reading (O_CLOEXEC). want ends the
  * message when it is not one ("a PNG must be a file"). Returns the

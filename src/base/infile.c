@@ -13,7 +13,13 @@
 #include "springpend/common.h"
 #include "springpend/infile.h"
 #include "array.h"
-#include "signals.h"
+
+static const volatile sig_atomic_t *stop_flag; /* sp_infile_stop_on; NULL = none */
+
+void sp_infile_stop_on(const volatile sig_atomic_t *flag)
+{
+    stop_flag = flag;
+}
 
 static const char *kind(mode_t m)
 {
@@ -147,7 +153,7 @@ int sp_infile_read(const char *path, size_t max, const char *want, char **text, 
             break;
         }
         ssize_t got = read(fd, buf + n, cap - 1 - n);
-        if (got < 0 && errno == EINTR && sp_signal_seen()) {
+        if (got < 0 && errno == EINTR && stop_flag && *stop_flag) {
             ret = SP_E_INTERRUPTED; /* said by the command, as every stop */
             break;
         }

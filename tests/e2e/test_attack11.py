@@ -14,7 +14,14 @@
 - attack10 #15: signal 32 (the kernel's first real-time signal, glibc's
   SIGCANCEL) killed a render and left its .part: caught as the others are
   (exit 160, nothing partial left) in render, compare and sweep; signal 33
-  (glibc's SIGSETXID, whose handler glibc installs) changes nothing.
+  (glibc's SIGSETXID, whose handler glibc installs) changes nothing;
+- attack11 #2 (MEDIUM): `scene X.csv --command` printed a forged CSV
+  record whatever it held (`still ... --state FILE`), and the CSV recipe
+  then overwrote FILE: a CSV's record may hold only what springpend writes
+  there (`data ... -o FILE`, `sweep ... --csv FILE [-o FIGURE]`, a merge's
+  --merge), read with the command's own option table;
+- attack11 #3: with POSIXLY_CORRECT set, that check stopped at the scene
+  file, so a forged --state after it was printed: every word is read.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -206,5 +213,75 @@ rc, said, names = stopped_by(33, short_render, "s33r", settle=0.2)
 ok(rc == 0 and names == ["w.mp4"],
    f"render sent signal 33 (glibc's SIGSETXID): runs on to its end, exit 0, no .part "
    f"(exit {rc}: {said[-160:]!r}; {names})")
+
+# ---- attack11 #2 (MEDIUM): a CSV's record holds only what springpend writes there ---------
+import json  # noqa: E402
+
+r = run("data", chaotic, "--set", "video.duration=1", "-o", "d.csv", "-q")
+assert r.returncode == 0, err(r)
+grid = ["--vary", "initial.angle=1:179:4", "--measure", "lyapunov", "--time", "2"]
+for i in (1, 2):
+    r = run("sweep", chaotic, *grid, "--shard", f"{i}/2", "--csv", f"sh{i}.csv", "-q")
+    assert r.returncode == 0, err(r)
+r = run("sweep", "--merge", "sh1.csv", "sh2.csv", "--csv", "m.csv", "-o", "m.png", "-q")
+assert r.returncode == 0, err(r)
+victim = path("victim.txt")
+with open(path("d.csv-metadata.json")) as f:
+    meta = json.load(f)
+
+
+def csv_record(line):
+    """f.csv, a copy of d.csv whose metadata's prov:wasGeneratedBy is line."""
+    shutil.copy(path("d.csv"), path("f.csv"))
+    with open(path("f.csv-metadata.json"), "w") as f:
+        json.dump(dict(meta, **{"prov:wasGeneratedBy": line}), f)
+
+
+data = f"springpend data {chaotic} --set video.duration=1"
+sweep_line = f"springpend sweep {chaotic} {' '.join(grid)}"
+for forged, said in ((f"springpend still {chaotic} --at 1 --size 64x36 --state {victim} -o d.csv",
+                      "a 'still' command, which writes no CSV"),
+                     (f"{data} --state {victim} -o d.csv", "holds --state"),
+                     (f"{data} -o d.csv --sta={victim}", "holds --state"),
+                     (f"{data} -o d.csv -o{victim}", "holds --output"),
+                     (f"{sweep_line} --csv d.csv --csv {victim}", "holds --csv"),
+                     (f"{sweep_line} --csv d.csv -o a.png --output {victim}.png", "holds --output"),
+                     (f"{data} -o d.csv --bogus {victim}", "holds --bogus"),
+                     (f"{data}", "names no CSV")):
+    with open(victim, "w") as f:
+        f.write("keep me\n")
+    csv_record(forged)
+    r = run("scene", "f.csv", "--command")
+    line = r.stdout.decode().strip()
+    again = None
+    if r.returncode == 0:  # doc/ci.md's CSV recipe: change the CSV's own FILE to NAME
+        again = subprocess.run(["sh", "-c", "'" + exe + "'" + line[len("springpend"):]
+                                .replace("-o d.csv", "-o again.csv")
+                                .replace("--csv d.csv", "--csv again.csv")],
+                               cwd=work, capture_output=True, timeout=60)
+    ok(r.returncode == 2 and not line and said in err(r)
+       and open(victim).read() == "keep me\n",
+       f"scene f.csv --command of a forged CSV record ({forged[len('springpend '):][:60]}...): "
+       f"refused, exit 2, nothing printed, the victim kept (exit {r.returncode}: "
+       f"{err(r)[-160:]!r}; {line[-60:]!r}; re-run: {again.returncode if again else None})")
+
+for name, want, figure in (("d.csv", " -o d.csv", False), ("m.csv", "--merge sh1.csv sh2.csv", True)):
+    r = run("scene", name, "--command")
+    ok(r.returncode == 0 and want in r.stdout.decode()
+       and ("writes its figure too" in err(r)) == figure,
+       f"scene {name} --command: a genuine CSV record (a data command's; a merge's, whose "
+       f"figure the note names) is printed (exit {r.returncode}: {r.stdout.decode()[-80:]!r}; "
+       f"{err(r)[-120:]!r})")
+
+# ---- attack11 #3: POSIXLY_CORRECT does not stop the record's check at the scene file -------
+r = run("still", chaotic, "--at", "1", "--size", "64x36", "-q", "-o", "a.png")
+assert r.returncode == 0, err(r)
+sptest.png_with_command(path("a.png"), path("p.png"),
+                        f"springpend still {chaotic} --at 1 --size 64x36 --state {victim}")
+for env in ({}, {"POSIXLY_CORRECT": "1"}):
+    r = run("scene", "--command", "p.png", env=dict(os.environ, **env))
+    ok(r.returncode == 2 and not r.stdout and "holds --state" in err(r),
+       f"scene --command p.png (a forged --state after the scene file) with {env or 'no env'}: "
+       f"refused (exit {r.returncode}: {err(r)[-120:]!r}; {r.stdout[-80:]!r})")
 
 done()

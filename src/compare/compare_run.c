@@ -1014,6 +1014,20 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
         snprintf(r->hint, sizeof(r->hint), "rename it NAME.KEY.png (one declared key) or "
                  "remove it");
         r->refused = 1; /* --update leaves it: which image's it is, nobody said */
+    } else if (it->alt_named) {
+        const char *dot = strrchr(it->name, '.'), *key = dot;
+        while (key > it->name && key[-1] != '.')
+            key--;
+        const int k = (int)(dot - key), stem = key > it->name ? (int)(key - 1 - it->name) : 0;
+        snprintf(r->name, sizeof(r->name), "%s", it->name);
+        snprintf(r->actual, sizeof(r->actual), "%s", pa);
+        record_error(r, "%s is named like the %.*s alternative of %.*s%s (%.*s is on "
+                     "compare.ini's envs line): an alternative is a baseline, which only "
+                     "--update --env %.*s writes, so it was not compared, added or made a "
+                     "candidate", pa, k, key, stem, it->name, dot, k, key, k, key);
+        snprintf(r->hint, sizeof(r->hint), "rename it so that its last dotted part is no "
+                 "key on the envs line, or remove it");
+        r->refused = 1; /* else --update=missing would add it as an alternative */
     } else if (sp_snapshot_is_folder_link(it->name)) {
         snprintf(r->name, sizeof(r->name), "%s", it->name);
         record_error(r, "%s/%s is a link to a folder; compare does not follow links to "

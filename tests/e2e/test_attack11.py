@@ -21,7 +21,12 @@
   there (`data ... -o FILE`, `sweep ... --csv FILE [-o FIGURE]`, a merge's
   --merge), read with the command's own option table;
 - attack11 #3: with POSIXLY_CORRECT set, that check stopped at the scene
-  file, so a forged --state after it was printed: every word is read.
+  file, so a forged --state after it was printed: every word is read;
+- attack11 #11 (MEDIUM): an actual image named like an alternative
+  (x.llvm.png beside x.png, llvm declared) was a new image, which
+  --update=missing or --candidates/--approve installed as x.png's llvm
+  alternative, letting a broken x.png pass: an error naming it, never
+  compared, added or made a candidate.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -283,5 +288,32 @@ for env in ({}, {"POSIXLY_CORRECT": "1"}):
     ok(r.returncode == 2 and not r.stdout and "holds --state" in err(r),
        f"scene --command p.png (a forged --state after the scene file) with {env or 'no env'}: "
        f"refused (exit {r.returncode}: {err(r)[-120:]!r}; {r.stdout[-80:]!r})")
+
+# ---- attack11 #11 (MEDIUM): an actual image named like an alternative is an error ----------
+for d in ("env/e", "env/a", "env/a2"):
+    os.makedirs(path(d), exist_ok=True)
+for at, name in (("0", "A.png"), ("1", "Z.png")):
+    r = run("still", default, "--at", at, "--size", "160x90", "-o", path("env", name), "-q")
+    assert r.returncode == 0, err(r)
+with open(path("env", "e", "compare.ini"), "w") as f:
+    f.write("envs = llvm\n")
+shutil.copy(path("env", "A.png"), path("env", "e", "x.png"))
+shutil.copy(path("env", "A.png"), path("env", "a", "x.png"))
+shutil.copy(path("env", "Z.png"), path("env", "a", "x.llvm.png"))   # a broken picture
+shutil.copy(path("env", "Z.png"), path("env", "a2", "x.png"))
+in_env = sptest.runner_bytes(exe, path("env"))
+r = in_env("compare", "e", "a")
+out = r.stdout.decode()
+ok(r.returncode == 2 and "a/x.llvm.png is named like the llvm alternative of x.png" in out,
+   f"compare e a with a/x.llvm.png (llvm on envs): an error naming it, exit 2 (exit "
+   f"{r.returncode}: {out[-240:]!r})")
+r = in_env("compare", "e", "a", "--update=missing")
+r2 = in_env("compare", "e", "a", "--candidates", "cand")
+r3 = in_env("compare", "e", "a2")
+ok(not os.path.exists(path("env", "e", "x.llvm.png"))
+   and not os.path.exists(path("env", "cand", "x.llvm.png")) and r3.returncode == 1,
+   f"--update=missing adds no e/x.llvm.png, --candidates writes none, so a broken x.png "
+   f"still fails (exit {r.returncode}, {r2.returncode}, {r3.returncode}: "
+   f"{sorted(os.listdir(path('env', 'e')))}; {r3.stdout.decode()[-160:]!r})")
 
 done()

@@ -1071,9 +1071,9 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     const struct provenance pv = {.d = d, .scene = scene, .overrides = o->overrides,
                                   .n_overrides = o->n_overrides, .shard = o->shard ? shard : NULL};
     ret = finish(fp, o, ret, &pv, made);
-    if (ret == SP_E_INTERRUPTED)
-        sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
-                     "say which part)");
+    if (ret == SP_E_INTERRUPTED) /* named, as merge's (attack11 #9) */
+        sp_log_error("interrupted by %s: nothing written (a figure of part of a grid would "
+                     "not say which part)", sp_signal_name(o->cancel ? (int)*o->cancel : 0));
     if (ret)
         return ret;
     if (blown)

@@ -1379,8 +1379,9 @@ int sp_scene_load_text(struct sp_scene *s, const char *path, const char *text, s
     s->timeline = NULL; /* sp_scene_free is safe after any outcome */
     s->texts[0] = s->texts[1] = NULL;
     if (memchr(text, 0, size)) {
-        sp_fprintf_line(stderr, "%s: contains NUL bytes; a scene is a text file of "
-                "'key = value' lines", path);
+        if (!sp_log_muted()) /* one rule for every message the parser gives */
+            sp_fprintf_line(stderr, "%s: contains NUL bytes; a scene is a text file of "
+                            "'key = value' lines", path);
         return SP_E_INPUT;
     }
     /* The scene's name is the file's stem. */

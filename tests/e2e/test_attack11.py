@@ -26,7 +26,10 @@
   (x.llvm.png beside x.png, llvm declared) was a new image, which
   --update=missing or --candidates/--approve installed as x.png's llvm
   alternative, letting a broken x.png pass: an error naming it, never
-  compared, added or made a candidate.
+  compared, added or made a candidate;
+- attack11 #7: the merge's muted look at a forged command's scene still
+  quoted its [timeline] lines (a secret's keys): muted too;
+- attack11 #9: a sweep stopped by a signal did not name it: it does.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -207,9 +210,14 @@ ok(rc == 128 + SIG32 and not [n for n in names if n.endswith(".part")]
 sweep = ["sweep", chaotic, "--vary", "initial.angle=1:179:2000", "--measure", "lyapunov",
          "--time", "50", "--csv", "s.csv", "-o", "s.png"]
 rc, said, names = stopped_by(SIG32, sweep, "s32s", stop_first=True)
-ok(rc == 128 + SIG32 and names == [] and "interrupted" in said and "nothing written" in said,
+ok(rc == 128 + SIG32 and names == [] and "interrupted by signal 32: nothing written" in said,
    f"sweep stopped by signal 32: exit 160, nothing written, no .part (exit {rc}: "
    f"{said[-160:]!r}; {names})")
+
+# attack11 #9: a sweep stopped by SIGTERM names it, as merge and data do
+rc, said, names = stopped_by(signal.SIGTERM, sweep, "s15s", stop_first=True)
+ok(rc == 143 and names == [] and "interrupted by SIGTERM: nothing written" in said,
+   f"sweep stopped by SIGTERM: names it (exit {rc}: {said[-160:]!r}; {names})")
 
 # 33: glibc's own handler takes it (setuid's broadcast to threads) and ignores it from outside
 short_render = ["render", default, "--size", "320x180", "--fps", "30", "--set",
@@ -288,6 +296,21 @@ for env in ({}, {"POSIXLY_CORRECT": "1"}):
     ok(r.returncode == 2 and not r.stdout and "holds --state" in err(r),
        f"scene --command p.png (a forged --state after the scene file) with {env or 'no env'}: "
        f"refused (exit {r.returncode}: {err(r)[-120:]!r}; {r.stdout[-80:]!r})")
+
+# ---- attack11 #7: the merge's look at a forged command's scene quotes no [timeline] line ----
+for i in (1, 2):
+    shutil.copy(path(f"sh{i}.csv"), path(f"lk{i}.csv"))
+with open(path("secret.ini"), "w") as f:
+    f.write("[timeline]\nghp_SECRET123456 = caption: x\n1 = speed AKIA_SECRET_KEY_99\n")
+with open(path("sh1.csv-metadata.json")) as f:
+    m1 = f.read()
+with open(path("lk1.csv-metadata.json"), "w") as f:
+    f.write(m1.replace(chaotic, path("secret.ini")))
+shutil.copy(path("sh2.csv-metadata.json"), path("lk2.csv-metadata.json"))
+r = run("sweep", "--merge", "lk1.csv", "lk2.csv", "-o", "lk.png")
+ok(r.returncode == 2 and "what it holds is not said" in err(r) and "SECRET" not in err(r),
+   f"sweep --merge of a shard whose command names a file with [timeline] lines: refused, "
+   f"and nothing of the file said (exit {r.returncode}: {err(r)[-240:]!r})")
 
 # ---- attack11 #11 (MEDIUM): an actual image named like an alternative is an error ----------
 for d in ("env/e", "env/a", "env/a2"):

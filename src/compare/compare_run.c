@@ -1384,7 +1384,9 @@ static int fill_junit(FILE *fp, void *out)
 }
 
 /* 1 when writing path would put a file where folder mode reads one: a
- * *.png name or compare.ini in folder dir (links resolved). */
+ * name the walk takes (a PNG, a video: sp_snapshot_is_png, _is_video; a
+ * baseline video too, attack11 #13) or compare.ini, in folder dir or a
+ * folder under it (links resolved). */
 static int lands_in(const char *path, const char *dir)
 {
     char buf[PATH_MAX], *real = realpath(path, NULL), parent[PATH_MAX];
@@ -1400,9 +1402,8 @@ static int lands_in(const char *path, const char *dir)
     snprintf(parent, sizeof(parent), "%.*s", (int)(name - buf), buf);
     if (!parent[0])
         snprintf(parent, sizeof(parent), ".");
-    in = sp_outfile_same_file(parent, dir);
-    size_t n = strlen(name);
-    return in && ((n > 4 && !strcasecmp(name + n - 4, ".png")) ||
+    in = sp_outfile_same_file(parent, dir) || sp_compare_folder_within(parent, dir);
+    return in && (sp_snapshot_is_png(name) || sp_snapshot_is_video(name) ||
                   !strcmp(name, SP_COMPARE_CONFIG_NAME));
 }
 

@@ -29,7 +29,10 @@
   compared, added or made a candidate;
 - attack11 #7: the merge's muted look at a forged command's scene still
   quoted its [timeline] lines (a secret's keys): muted too;
-- attack11 #9: a sweep stopped by a signal did not name it: it does.
+- attack11 #9: a sweep stopped by a signal did not name it: it does;
+- attack11 #13: folder-mode compare wrote a report over a baseline video
+  (only *.png counted as an input): every name the walk reads counts, in
+  the folders and under them.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -338,5 +341,20 @@ ok(not os.path.exists(path("env", "e", "x.llvm.png"))
    f"--update=missing adds no e/x.llvm.png, --candidates writes none, so a broken x.png "
    f"still fails (exit {r.returncode}, {r2.returncode}, {r3.returncode}: "
    f"{sorted(os.listdir(path('env', 'e')))}; {r3.stdout.decode()[-160:]!r})")
+
+# ---- attack11 #13: a report never lands on a baseline video (or under a compared folder) ---
+for d in ("fv/e/sub", "fv/a"):
+    os.makedirs(path(d), exist_ok=True)
+shutil.copy(path("a.mp4"), path("fv", "e", "v.mp4"))
+shutil.copy(path("a.mp4"), path("fv", "a", "v.mp4"))
+in_fv = sptest.runner_bytes(exe, path("fv"))
+for opt, target in (("--report", "e/v.mp4"), ("--junit", "a/v.mp4"), ("--summary", "e/w.webm"),
+                    ("--junit", "e/V.MKV"), ("--report", "e/sub/y.png")):
+    r = in_fv("compare", "e", "a", opt, target)
+    ok(r.returncode == 2 and f"{opt} {target} would overwrite an input" in err(r)
+       and open(path("fv", "e", "v.mp4"), "rb").read() == open(path("a.mp4"), "rb").read()
+       and (target.endswith("v.mp4") or not os.path.exists(path("fv", target))),
+       f"compare e a {opt} {target}: refused before anything is written (exit {r.returncode}: "
+       f"{err(r)[-160:]!r})")
 
 done()

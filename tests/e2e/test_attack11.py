@@ -32,7 +32,9 @@
 - attack11 #9: a sweep stopped by a signal did not name it: it does;
 - attack11 #13: folder-mode compare wrote a report over a baseline video
   (only *.png counted as an input): every name the walk reads counts, in
-  the folders and under them.
+  the folders and under them;
+- attack11 #12: sweep --merge ... --csv SHARD.csv-metadata.json wrote the
+  rows over a shard's metadata (an input): refused.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -356,5 +358,16 @@ for opt, target in (("--report", "e/v.mp4"), ("--junit", "a/v.mp4"), ("--summary
        and (target.endswith("v.mp4") or not os.path.exists(path("fv", target))),
        f"compare e a {opt} {target}: refused before anything is written (exit {r.returncode}: "
        f"{err(r)[-160:]!r})")
+
+# ---- attack11 #12: a merge's --csv never lands on a shard's metadata (an input too) -------
+with open(path("sh1.csv-metadata.json"), "rb") as f:
+    before = f.read()
+r = run("sweep", "--merge", "sh1.csv", "sh2.csv", "-o", "mm.png", "--csv", "sh1.csv-metadata.json")
+with open(path("sh1.csv-metadata.json"), "rb") as f:
+    after = f.read()
+ok(r.returncode == 2 and "would overwrite an input (the metadata of sh1.csv)" in err(r)
+   and after == before and not os.path.exists(path("mm.png")),
+   f"sweep --merge ... --csv sh1.csv-metadata.json: refused, the shard's metadata kept, nothing "
+   f"written (exit {r.returncode}: {err(r)[-160:]!r})")
 
 done()

@@ -34,7 +34,9 @@
   (only *.png counted as an input): every name the walk reads counts, in
   the folders and under them;
 - attack11 #12: sweep --merge ... --csv SHARD.csv-metadata.json wrote the
-  rows over a shard's metadata (an input): refused.
+  rows over a shard's metadata (an input): refused;
+- attack11 #8: a video a player shows turned (a display matrix) or
+  stretched (a sample aspect ratio) passed as its baseline: refused.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -91,6 +93,20 @@ if shutil.which("ffmpeg"):
        f"(exit {r.returncode}: {err(r)[-160:]!r})")
 else:
     skip("containers that are not what their names say", "ffmpeg is not installed")
+
+# ---- attack11 #8: a video shown turned or stretched is not what springpend writes ----------
+if shutil.which("ffmpeg"):
+    ff("-i", "a.mp4", "-c", "copy", "-metadata:s:v:0", "rotate=90", "turned.mp4")
+    ff("-i", "a.mp4", "-c", "copy", "-bsf:v", "h264_metadata=sample_aspect_ratio=4/3", "wide.mp4")
+    ff("-i", "a.mp4", "-c", "copy", "-aspect", "16:3", "wide2.mp4")
+    for name, said in (("turned.mp4", "shown turned by 90 degrees"),
+                       ("wide.mp4", "pixels are shown 4:3"), ("wide2.mp4", "pixels are shown 3:1")):
+        r = run("compare", "a.mp4", name)
+        ok(r.returncode == 2 and said in err(r),
+           f"compare a.mp4 {name} (the same coded pixels, shown otherwise): refused, exit 2 "
+           f"(exit {r.returncode}: {err(r)[-160:]!r})")
+else:
+    skip("videos shown turned or stretched", "ffmpeg is not installed")
 
 # ---- attack10 #6: a cut video under ulimit -v is damaged, every run -----------------------
 r = run("render", default, "--size", "1280x720", "--fps", "10", "--set", "video.duration=2",

@@ -1432,6 +1432,13 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
                              outs[k][1], outs[k][0]);
                 return SP_E_INPUT;
             }
+        for (int k = folders ? 0 : 1; i > 1 && k < 2; k++) /* the folders compare fills */
+            if (outs[k][0] && sp_outfile_lies_in(p, outs[k][0])) {
+                sp_log_error("%s %s lies in the %s folder %s, which compare fills with its "
+                             "own files; choose a path outside it", outs[i][1], p, outs[k][1],
+                             outs[k][0]);
+                return SP_E_INPUT;
+            }
         if (sp_outfile_same_file(p, e) || sp_outfile_same_file(p, a) ||
             (folders && i > 1 && (lands_in(p, e) || lands_in(p, a)))) {
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);

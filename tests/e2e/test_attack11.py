@@ -36,7 +36,10 @@
 - attack11 #12: sweep --merge ... --csv SHARD.csv-metadata.json wrote the
   rows over a shard's metadata (an input): refused;
 - attack11 #8: a video a player shows turned (a display matrix) or
-  stretched (a sample aspect ratio) passed as its baseline: refused.
+  stretched (a sample aspect ratio) passed as its baseline: refused;
+- attack11 #4: two outputs at one file through a folder not made yet
+  (--csv nd/../s.png -o s.png), and a report inside compare's --candidates
+  or --diff folder (replacing a candidate or a diff): refused.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -385,5 +388,22 @@ ok(r.returncode == 2 and "would overwrite an input (the metadata of sh1.csv)" in
    and after == before and not os.path.exists(path("mm.png")),
    f"sweep --merge ... --csv sh1.csv-metadata.json: refused, the shard's metadata kept, nothing "
    f"written (exit {r.returncode}: {err(r)[-160:]!r})")
+
+# ---- attack11 #4: two outputs at one file through a folder not made yet; a report in a ----
+# folder compare fills
+r = run("sweep", chaotic, *grid, "--csv", "nd/../s4.png", "-o", "s4.png")
+ok(r.returncode == 2 and "name one file" in err(r) and not os.path.exists(path("s4.png")),
+   f"sweep --csv nd/../s4.png -o s4.png (nd not there yet): refused as one file (exit "
+   f"{r.returncode}: {err(r)[-160:]!r})")
+shutil.copy(path("env", "Z.png"), path("env", "a", "x.png"))  # x.png fails: a candidate, a diff
+os.remove(path("env", "a", "x.llvm.png"))
+for opts, there in ((["--candidates", "c6", "--report", "c6/x.png"], "c6/x.png"),
+                    (["--diff", "d6", "--junit", "d6/x.diff.png"], "d6/x.diff.png"),
+                    (["--candidates", "c7", "--summary", "c7/sub/s.md"], "c7/sub/s.md")):
+    r = in_env("compare", "e", "a", *opts)
+    ok(r.returncode == 2 and "which compare fills with its own files" in err(r)
+       and not os.path.exists(path("env", there)),
+       f"compare e a {' '.join(opts)}: a report inside the folder compare fills is refused "
+       f"(exit {r.returncode}: {err(r)[-160:]!r})")
 
 done()

@@ -39,7 +39,9 @@
   stretched (a sample aspect ratio) passed as its baseline: refused;
 - attack11 #4: two outputs at one file through a folder not made yet
   (--csv nd/../s.png -o s.png), and a report inside compare's --candidates
-  or --diff folder (replacing a candidate or a diff): refused.
+  or --diff folder (replacing a candidate or a diff): refused;
+- attack11 #19: a tab in a timeline caption or pause note was drawn as a
+  box: refused, as [view] text refuses it.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -405,5 +407,16 @@ for opts, there in ((["--candidates", "c6", "--report", "c6/x.png"], "c6/x.png")
        and not os.path.exists(path("env", there)),
        f"compare e a {' '.join(opts)}: a report inside the folder compare fills is refused "
        f"(exit {r.returncode}: {err(r)[-160:]!r})")
+
+# ---- attack11 #19: a tab in a timeline caption or pause note is refused, as in [view] text --
+with open(default) as f:
+    base_scene = f.read()
+for cue, what in (("1 = caption: A\tB", "caption"), ("1 = pause 2: n\tote", "pause note")):
+    with open(path("tab.ini"), "w") as f:
+        f.write(base_scene + f"\n[timeline]\n{cue}\n")
+    r = run("still", "tab.ini", "--at", "2", "--size", "320x180", "-o", "tab.png")
+    ok(r.returncode == 2 and f"[timeline] {what}: byte 0x09 at byte 2 is not text" in err(r)
+       and not os.path.exists(path("tab.png")),
+       f"a tab in a timeline {what}: refused, exit 2 (exit {r.returncode}: {err(r)[-160:]!r})")
 
 done()

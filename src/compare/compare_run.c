@@ -747,26 +747,36 @@ static int link_out(struct sp_compare_record *r, const char *name, const char *p
 }
 
 /* The command that adds missing baselines, for messages. */
-static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
+/* Writes "LEAD: springpend compare OPTION X Y" into out (size bytes), a
+ * command meant to be pasted: quoted as a record quotes its words (a
+ * folder "sp e" or 'q$(id)' is one word; attack9 #9), OPTION before a "--"
+ * when X or Y starts with '-' (it is no option then); where X's or Y's
+ * shown name is not its bytes (a newline, a byte that is not UTF-8: a
+ * pasted \xff is four letters), no command but `instead` (attack10 #10;
+ * the approve hint too: attack11 #20). */
+static void paste_hint(char *out, size_t size, const char *lead, const char *option,
+                       const char *x, const char *y, const char *instead)
 {
-    /* quoted as a record quotes its words: the hint is meant to be pasted
-     * (a folder "sp e" or 'q$(id)' is one word; attack9 #9) */
-    const char *const words[] = {"springpend", "compare", e, a, "--update=missing"};
-    /* a folder that starts with '-' after a '--' (it is no option then);
-     * one whose shown name is not its bytes (a newline, a byte that is not
-     * UTF-8: a pasted \xff is four letters) named by no command (attack10 #10) */
-    const char *const dashed[] = {"springpend", "compare", "--update=missing", "--", e, a};
-    if (sp_text_next_escaped(e, e) || sp_text_next_escaped(a, a)) {
-        snprintf(r->hint, sizeof(r->hint), "to add it as the baseline, run this compare again "
-                 "with --update=missing (a folder's name holds characters that a command line "
-                 "shown here cannot hold)");
+    if (sp_text_next_escaped(x, x) || sp_text_next_escaped(y, y)) {
+        snprintf(out, size, "%s", instead);
         return;
     }
-    const int k = snprintf(r->hint, sizeof(r->hint), "to add it as the baseline: ");
-    if (e[0] == '-' || a[0] == '-')
-        sp_command_line_quote(dashed, 6, r->hint + k, sizeof(r->hint) - (size_t)k);
+    const int first = !strcmp(option, "--approve"); /* it reads as "--approve X Y" */
+    const char *const words[] = {"springpend", "compare", first ? option : x, first ? x : y,
+                                 first ? y : option};
+    const char *const dashed[] = {"springpend", "compare", option, "--", x, y};
+    const int k = snprintf(out, size, "%s: ", lead);
+    if (x[0] == '-' || y[0] == '-')
+        sp_command_line_quote(dashed, 6, out + k, size - (size_t)k);
     else
-        sp_command_line_quote(words, 5, r->hint + k, sizeof(r->hint) - (size_t)k);
+        sp_command_line_quote(words, 5, out + k, size - (size_t)k);
+}
+
+static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
+{
+    paste_hint(r->hint, sizeof(r->hint), "to add it as the baseline", "--update=missing", e, a,
+               "to add it as the baseline, run this compare again with --update=missing (a "
+               "folder's name holds characters that a command line shown here cannot hold)");
 }
 
 /* Makes the folders above path (mkdir -p of its dirname). Returns 0, or
@@ -1728,9 +1738,13 @@ static int report(const struct compare_run *c, struct sp_compare_report *rep, co
         int k = 0;
         for (int i = 0; i < rep->n; i++)
             k += rep->records[i].candidate[0] != 0;
-        sp_fprintf_line(stdout, "%d candidate%s in %s; to accept them after review: springpend "
-                        "compare --approve %s %s", k, k == 1 ? "" : "s", c->candidates,
-                        c->candidates, e);
+        char hint[3 * PATH_MAX];
+        paste_hint(hint, sizeof(hint), "to accept them after review", "--approve",
+                   c->candidates, e, "to accept them after review, run compare --approve on "
+                   "that folder and the baselines (a folder's name holds characters that a "
+                   "command line shown here cannot hold)");
+        sp_fprintf_line(stdout, "%d candidate%s in %s; %s", k, k == 1 ? "" : "s", c->candidates,
+                        hint);
         if (c->candidates_failed) {
             sp_log_error("%d candidate%s could not be written to %s (the messages above say "
                          "why): the candidates folder is incomplete", c->candidates_failed,

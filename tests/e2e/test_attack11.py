@@ -41,7 +41,9 @@
   (--csv nd/../s.png -o s.png), and a report inside compare's --candidates
   or --diff folder (replacing a candidate or a diff): refused;
 - attack11 #19: a tab in a timeline caption or pause note was drawn as a
-  box: refused, as [view] text refuses it.
+  box: refused, as [view] text refuses it;
+- attack11 #20: the "--approve C E" hint was not quoted: a folder with a
+  space or a leading '-' pasted to an error; quoted as the baseline hint.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -418,5 +420,24 @@ for cue, what in (("1 = caption: A\tB", "caption"), ("1 = pause 2: n\tote", "pau
     ok(r.returncode == 2 and f"[timeline] {what}: byte 0x09 at byte 2 is not text" in err(r)
        and not os.path.exists(path("tab.png")),
        f"a tab in a timeline {what}: refused, exit 2 (exit {r.returncode}: {err(r)[-160:]!r})")
+
+# ---- attack11 #20: the approve hint pastes as it reads (quoted, "--" before a '-' name) -----
+for d in ("hint/-e", "hint/b a", "hint/a"):
+    os.makedirs(path(d), exist_ok=True)
+for d in ("-e", "b a"):
+    shutil.copy(path("env", "A.png"), path("hint", d, "x.png"))
+shutil.copy(path("env", "Z.png"), path("hint", "a", "x.png"))
+in_hint = sptest.runner_bytes(exe, path("hint"))
+for cand, base in (("-c", "-e"), ("c d", "b a")):
+    r = in_hint("compare", "--candidates", cand, "--", base, "a")
+    line = r.stdout.decode().strip().splitlines()[-1]
+    cmd = line.split("to accept them after review: ", 1)[-1]
+    again = subprocess.run(["sh", "-c", "'" + exe + "'" + cmd[len("springpend"):]],
+                           cwd=path("hint"), capture_output=True, timeout=60) \
+        if cmd.startswith("springpend compare --approve") else None
+    ok(again is not None and again.returncode == 0
+       and open(path("hint", base, "x.png"), "rb").read() == open(path("env", "Z.png"), "rb").read(),
+       f"compare --candidates {cand!r} -- {base!r} a: its approve hint pasted into sh approves "
+       f"({line[-100:]!r}; {again.returncode if again else None})")
 
 done()

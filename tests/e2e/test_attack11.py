@@ -43,7 +43,9 @@
 - attack11 #19: a tab in a timeline caption or pause note was drawn as a
   box: refused, as [view] text refuses it;
 - attack11 #20: the "--approve C E" hint was not quoted: a folder with a
-  space or a leading '-' pasted to an error; quoted as the baseline hint.
+  space or a leading '-' pasted to an error; quoted as the baseline hint;
+- attack11 #21: an animated PNG (APNG) or one whose gamma makes viewers
+  draw other colours passed as "identical pixels": refused.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -439,5 +441,35 @@ for cand, base in (("-c", "-e"), ("c d", "b a")):
        and open(path("hint", base, "x.png"), "rb").read() == open(path("env", "Z.png"), "rb").read(),
        f"compare --candidates {cand!r} -- {base!r} a: its approve hint pasted into sh approves "
        f"({line[-100:]!r}; {again.returncode if again else None})")
+
+# ---- attack11 #21: a PNG a viewer shows otherwise (an APNG, a gamma) is refused -----------
+import struct  # noqa: E402
+import zlib  # noqa: E402
+
+
+def with_chunk(src, out, kind, body):
+    """src's PNG with the chunk kind (body bytes, CRC made) before its first IDAT."""
+    d = open(src, "rb").read()
+    at, chunk = d.index(b"IDAT") - 4, struct.pack(">I", len(body)) + kind + body
+    open(out, "wb").write(d[:at] + chunk + struct.pack(">I", zlib.crc32(kind + body)) + d[at:])
+
+
+A, Z = path("env", "A.png"), path("env", "Z.png")
+with_chunk(A, path("gam.png"), b"gAMA", struct.pack(">I", 10000))     # drawn near black
+with_chunk(A, path("srgb.png"), b"gAMA", struct.pack(">I", 45455))    # sRGB's: as springpend's
+with_chunk(A, path("apng.png"), b"acTL", struct.pack(">II", 1, 0))    # an animation control
+for name, said, code in (("gam.png", "holds a gamma (gAMA) other than sRGB's", 2),
+                         ("apng.png", "is an animated PNG (APNG", 2), ("srgb.png", "", 0)):
+    r = run("compare", A, name)
+    ok(r.returncode == code and said in err(r),
+       f"compare A.png {name}: {'refused, exit 2' if code else 'compared'} (exit "
+       f"{r.returncode}: {err(r)[-200:]!r})")
+if shutil.which("ffmpeg"):
+    ff("-framerate", "1", "-i", A, "-framerate", "1", "-i", Z, "-filter_complex",
+       "[0][1]concat=n=2:v=1,format=rgb24", "-plays", "0", "-f", "apng", "an.png")
+    r = run("compare", A, "an.png")
+    ok(r.returncode == 2 and "is an animated PNG" in err(r),
+       f"compare A.png an.png (ffmpeg's APNG: A, then Z): refused (exit {r.returncode}: "
+       f"{err(r)[-160:]!r})")
 
 done()

@@ -1460,6 +1460,12 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
                          "outside %s", outs[i][1], p, e, e);
             return SP_E_INPUT;
         }
+        if (folders && i <= 1 && sp_compare_folder_within(p, a)) { /* attack11 #22 */
+            sp_log_error("%s %s lies in the actual images %s: the next walk would take its "
+                         "files for snapshots (and --update=missing add them as baselines); "
+                         "choose a folder outside %s", outs[i][1], p, a, a);
+            return SP_E_INPUT;
+        }
         if ((i == 0 && folders) || i == 1) /* folders */
             continue;
         if (sp_outfile_is_stream(p)) { /* write_whole: a file, put in place whole */

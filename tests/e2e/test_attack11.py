@@ -45,7 +45,9 @@
 - attack11 #20: the "--approve C E" hint was not quoted: a folder with a
   space or a leading '-' pasted to an error; quoted as the baseline hint;
 - attack11 #21: an animated PNG (APNG) or one whose gamma makes viewers
-  draw other colours passed as "identical pixels": refused.
+  draw other colours passed as "identical pixels": refused;
+- attack11 #22: a --diff or --candidates folder inside the actual folder
+  was taken, and the next run took its files for snapshots: refused.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -470,6 +472,14 @@ if shutil.which("ffmpeg"):
     r = run("compare", A, "an.png")
     ok(r.returncode == 2 and "is an animated PNG" in err(r),
        f"compare A.png an.png (ffmpeg's APNG: A, then Z): refused (exit {r.returncode}: "
+       f"{err(r)[-160:]!r})")
+
+# ---- attack11 #22: --diff or --candidates inside the actual folder is refused ---------------
+for opt, where in (("--candidates", "a/cand"), ("--diff", "a/sub")):
+    r = in_env("compare", "e", "a", opt, where)
+    ok(r.returncode == 2 and "lies in the actual images a" in err(r)
+       and not os.path.exists(path("env", where)),
+       f"compare e a {opt} {where}: refused, nothing written (exit {r.returncode}: "
        f"{err(r)[-160:]!r})")
 
 done()

@@ -47,7 +47,9 @@
 - attack11 #21: an animated PNG (APNG) or one whose gamma makes viewers
   draw other colours passed as "identical pixels": refused;
 - attack11 #22: a --diff or --candidates folder inside the actual folder
-  was taken, and the next run took its files for snapshots: refused.
+  was taken, and the next run took its files for snapshots: refused;
+- attack11 #23: side by side, a second scene's crf, preset or png_level
+  was used or ignored by the scenes' order, without a word: refused.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -481,5 +483,21 @@ for opt, where in (("--candidates", "a/cand"), ("--diff", "a/sub")):
        and not os.path.exists(path("env", where)),
        f"compare e a {opt} {where}: refused, nothing written (exit {r.returncode}: "
        f"{err(r)[-160:]!r})")
+
+# ---- attack11 #23: side by side, a second scene's encoder settings are refused when they differ
+with open(os.path.join(scenes, "stiff.ini")) as f:
+    stiff = f.read()
+for key, value in (("crf", "51"), ("preset", "veryslow"), ("png_level", "9")):
+    with open(path("enc.ini"), "w") as f:
+        f.write(stiff + f"\n[video]\n{key} = {value}\n")
+    r = run("render", default, "enc.ini", "--size", "160x90", "--set", "video.duration=0.2",
+            "-o", "enc.mp4", "-q")
+    ok(r.returncode == 2 and f"video.{key} = {value}" in err(r)
+       and not os.path.exists(path("enc.mp4")),
+       f"side by side with a second scene's {key} = {value}: refused, naming it (exit "
+       f"{r.returncode}: {err(r)[-160:]!r})")
+r = run("render", default, os.path.join(scenes, "stiff.ini"), "--size", "160x90", "--set",
+        "video.duration=0.2", "-o", "enc.mp4", "-q")
+ok(r.returncode == 0, f"side by side with the same encoder settings: made ({err(r)[-120:]!r})")
 
 done()

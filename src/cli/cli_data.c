@@ -103,6 +103,15 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
                          o.data.poincare ? "--poincare" : "[ensemble]");
             ret = SP_E_INPUT;
         }
+        if (!ret && o.n_scenes > 1 && column[i][0] && strchr("=+-@", column[i][0])) {
+            /* a spreadsheet would take the cell for a formula (CSV injection:
+             * attack11 #24; a tab or CR is shown escaped); rows are not
+             * rewritten behind a reader's back */
+            sp_log_error("%s: its scene column '%s' starts with '%c', which a spreadsheet "
+                         "reads as the start of a formula; rename the file so that its name "
+                         "starts otherwise", o.scene_paths[i], column[i], column[i][0]);
+            ret = SP_E_INPUT;
+        }
         for (int j = 0; !ret && j < i; j++)
             if (!strcmp(column[i], column[j])) {
                 sp_log_error("%s and %s both give the scene column '%s' (a file's name "

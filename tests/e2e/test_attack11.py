@@ -49,7 +49,9 @@
 - attack11 #22: a --diff or --candidates folder inside the actual folder
   was taken, and the next run took its files for snapshots: refused;
 - attack11 #23: side by side, a second scene's crf, preset or png_level
-  was used or ignored by the scenes' order, without a word: refused.
+  was used or ignored by the scenes' order, without a word: refused;
+- attack11 #24: data's scene column took a file name that starts with '='
+  (a formula in every row of a spreadsheet): refused.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -499,5 +501,14 @@ for key, value in (("crf", "51"), ("preset", "veryslow"), ("png_level", "9")):
 r = run("render", default, os.path.join(scenes, "stiff.ini"), "--size", "160x90", "--set",
         "video.duration=0.2", "-o", "enc.mp4", "-q")
 ok(r.returncode == 0, f"side by side with the same encoder settings: made ({err(r)[-120:]!r})")
+
+# ---- attack11 #24: data's scene column never starts a spreadsheet formula ------------------
+shutil.copy(default, path("=cmd|x.ini"))
+r = run("data", os.path.join(scenes, "stiff.ini"), "=cmd|x.ini", "--set", "video.duration=0.1",
+        "-o", "inj.csv")
+ok(r.returncode == 2 and "which a spreadsheet reads as the start of a formula" in err(r)
+   and not os.path.exists(path("inj.csv")),
+   f"data stiff.ini '=cmd|x.ini': refused, nothing written (exit {r.returncode}: "
+   f"{err(r)[-160:]!r})")
 
 done()

@@ -51,7 +51,10 @@
 - attack11 #23: side by side, a second scene's crf, preset or png_level
   was used or ignored by the scenes' order, without a word: refused;
 - attack11 #24: data's scene column took a file name that starts with '='
-  (a formula in every row of a spreadsheet): refused.
+  (a formula in every row of a spreadsheet): refused;
+- attack11 #17: a compare.ini another user planted beside the baseline (in
+  a shared folder) decided the verdict: one that anyone may write, or
+  another user's in a folder others may write, is not read (exit 2).
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -510,5 +513,32 @@ ok(r.returncode == 2 and "which a spreadsheet reads as the start of a formula" i
    and not os.path.exists(path("inj.csv")),
    f"data stiff.ini '=cmd|x.ini': refused, nothing written (exit {r.returncode}: "
    f"{err(r)[-160:]!r})")
+
+# ---- attack11 #17: a compare.ini someone else could have planted is not read --------------
+os.makedirs(path("ww"), exist_ok=True)
+os.chmod(path("ww"), 0o1777)  # a shared folder, as /tmp is
+shutil.copy(A, path("ww", "exp.png"))
+shutil.copy(Z, path("ww", "act.png"))
+with open(path("ww", "compare.ini"), "w") as f:
+    f.write("[*]\nmax_pixels = 100%\nmax_diff = 255\n")  # passes anything
+in_ww = sptest.runner_bytes(exe, path("ww"))
+os.chmod(path("ww", "compare.ini"), 0o666)
+r = in_ww("compare", "exp.png", "act.png")
+ok(r.returncode == 2 and "compare.ini is writable by anyone: not read" in err(r),
+   f"a compare.ini anyone may write: not read, exit 2 (exit {r.returncode}: {err(r)[-160:]!r})")
+os.chmod(path("ww", "compare.ini"), 0o644)
+if os.geteuid() == 0:
+    os.chown(path("ww", "compare.ini"), 65534, 65534)  # as if user nobody wrote it
+    r = in_ww("compare", "exp.png", "act.png")
+    ok(r.returncode == 2 and "belongs to user 65534" in err(r) and b"ok " not in r.stdout,
+       f"a compare.ini of another user in a folder anyone may write: not read, exit 2 (exit "
+       f"{r.returncode}: {err(r)[-160:]!r})")
+    os.chown(path("ww", "compare.ini"), 0, 0)
+else:
+    skip("a compare.ini of another user", "not root: cannot give the file away")
+os.chmod(path("ww"), 0o755)
+r = in_ww("compare", "exp.png", "act.png")
+ok(r.returncode == 0, f"the owner's own compare.ini in a folder only they may write is read "
+   f"(exit {r.returncode}: {err(r)[-120:]!r})")
 
 done()

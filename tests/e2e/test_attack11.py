@@ -54,7 +54,10 @@
   (a formula in every row of a spreadsheet): refused;
 - attack11 #17: a compare.ini another user planted beside the baseline (in
   a shared folder) decided the verdict: one that anyone may write, or
-  another user's in a folder others may write, is not read (exit 2).
+  another user's in a folder others may write, is not read (exit 2);
+- attack11 #15: doc/ci.md's recipe appended -o NAME after a record's
+  "-- -c.ini", where it is a scene: the recipe puts it after the command
+  word.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -540,5 +543,25 @@ os.chmod(path("ww"), 0o755)
 r = in_ww("compare", "exp.png", "act.png")
 ok(r.returncode == 0, f"the owner's own compare.ini in a folder only they may write is read "
    f"(exit {r.returncode}: {err(r)[-120:]!r})")
+
+# ---- attack11 #15: doc/ci.md's re-run recipe works for a record that ends "-- -c.ini" -------
+os.makedirs(path("dash", "again"), exist_ok=True)
+shutil.copy(chaotic, path("dash", "-c.ini"))
+in_dash = sptest.runner_bytes(exe, path("dash"))
+r = in_dash("still", "-q", "--at", "1", "--size", "64x36", "-o", "./-x.png", "--", "-c.ini")
+assert r.returncode == 0, err(r)
+with open(path("dash", "again", "-c.ini"), "wb") as f:
+    f.write(in_dash("scene", "./-x.png").stdout)
+cmd = in_dash("scene", "./-x.png", "--command").stdout.decode().strip()
+recipe = 'w=${cmd#springpend }; eval "\"$exe\" ${w%% *} -o re.png ${w#* }"'
+r = subprocess.run(["sh", "-c", recipe], cwd=path("dash", "again"), capture_output=True,
+                   env=dict(os.environ, cmd=cmd, exe=exe), timeout=60)
+same = os.path.exists(path("dash", "again", "re.png")) and \
+    open(path("dash", "again", "re.png"), "rb").read() == open(path("dash", "-x.png"), "rb").read()
+ok(cmd.endswith("-- -c.ini") and r.returncode == 0 and same,
+   f"the record {cmd[-40:]!r}, run by doc/ci.md's recipe (-o NAME after the command word): "
+   f"the same bytes (exit {r.returncode}: {err(r)[-160:]!r})")
+with open(os.path.join(src, "..", "doc", "ci.md")) as f:
+    ok('${w%% *} -o fig.png ${w#* }' in f.read(), "doc/ci.md's recipe puts -o after the command word")
 
 done()

@@ -57,7 +57,10 @@
   another user's in a folder others may write, is not read (exit 2);
 - attack11 #15: doc/ci.md's recipe appended -o NAME after a record's
   "-- -c.ini", where it is a scene: the recipe puts it after the command
-  word.
+  word;
+- attack11 #1 (in part): a ZWNJ after a virama that follows no letter of
+  its script (at the start, after a space or a Latin letter) was written
+  raw though it draws nothing: escaped.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -563,5 +566,16 @@ ok(cmd.endswith("-- -c.ini") and r.returncode == 0 and same,
    f"the same bytes (exit {r.returncode}: {err(r)[-160:]!r})")
 with open(os.path.join(src, "..", "doc", "ci.md")) as f:
     ok('${w%% *} -o fig.png ${w#* }' in f.read(), "doc/ci.md's recipe puts -o after the command word")
+
+# ---- attack11 #1: a ZWNJ after a virama with no letter before it is shown escaped ---------
+for title, raw in (("\u094d\u200c\u0915", False), (" \u094d\u200c\u0915 x", False),
+                   ("a\u094d\u200c\u0915", False), ("\u0915\u094d\u200c\u0937", True),
+                   ("\u0915\u093c\u094d\u200c\u0937", True)):
+    r = run("still", default, "--at", "0", "--size", "320x180", "--set", f"view.title={title}",
+            "-o", "zw.png", "-q")
+    line = run("scene", "zw.png", "--command").stdout.decode()
+    want = "raw (it selects a form)" if raw else "escaped (it joins nothing)"
+    ok(r.returncode == 0 and ("\u200c" in line) == raw and ("\\u200c" in line) != raw,
+       f"view.title={title!r}: its ZWNJ {want} in the record ({line.strip()[-40:]!r})")
 
 done()

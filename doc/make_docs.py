@@ -43,8 +43,22 @@ for line in keys_text.splitlines():
         keys.append(f"{section}.{m.group(1)}")
 
 
+OPTION = r"(?<![\w-])(--[a-z][a-z-]*|-[a-z])\b"
+
+
 def options(help_text):
-    return sorted(set(re.findall(r"(?<![\w-])(--[a-z][a-z-]*|-[a-z])\b", help_text)))
+    """A command's options: those of its usage lines and of the lines that
+    start with an option (up to the two spaces before what it does), and
+    -h/--help; not every option-like word of its text, which names other
+    commands' options too (scene --help explains what a record keeps:
+    --csv, --state; attack11 #16)."""
+    usage = help_text.split("\n\n", 1)[0]
+    found = set(re.findall(OPTION, usage)) | {"-h", "--help"}
+    for line in help_text.splitlines():
+        m = re.match(r"^\s+(-\S.*?)(?:\s{2,}|$)", line)
+        if m:
+            found |= set(re.findall(OPTION, m.group(1)))
+    return sorted(found)
 
 
 def roff(s):

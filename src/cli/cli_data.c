@@ -59,9 +59,9 @@ static const char data_usage[] =
     "z,vz,azimuth follow for a 3-D scene; --poincare still writes the scene's own\n"
     "crossings).\n"
     "With 2 to 4 SCENE files (the scenes 'render' shows side by side), each scene's\n"
-    "rows follow in turn, after a first column scene (the file's name without .ini);\n"
-    "z,vz,azimuth are written for all when one scene is spatial; --poincare and\n"
-    "[ensemble] take one scene.\n"
+    "rows follow in turn, after a first column scene (the file's name less its\n"
+    "extension); z,vz,azimuth are written for all when one scene is spatial;\n"
+    "--poincare and [ensemble] take one scene.\n"
     "At most 1e7 rows (about 2.6 GB) are written; the video's frame limit does not\n"
     "apply. Default output: out/<scene>.csv, with out/<scene>.csv-metadata.json\n"
     "beside it (W3C CSV on the Web: each column's unit, the scene as a scene file,\n"
@@ -115,7 +115,7 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
         for (int j = 0; !ret && j < i; j++)
             if (!strcmp(column[i], column[j])) {
                 sp_log_error("%s and %s both give the scene column '%s' (a file's name "
-                             "without .ini): rename one so that the rows can be told apart",
+                             "less its extension): rename one so that the rows can be told apart",
                              o.scene_paths[j], o.scene_paths[i], column[i]);
                 ret = SP_E_INPUT;
             }

@@ -1380,10 +1380,14 @@ int sp_scene_load_text(struct sp_scene *s, const char *path, const char *text, s
                             "'key = value' lines", path);
         return SP_E_INPUT;
     }
-    /* The scene's name is the file's stem. */
+    /* The scene's name is the file's stem: its name less the last
+     * extension ("chaotic.v2.ini" is chaotic.v2, not chaotic, which
+     * chaotic.v3.ini's outputs would share: attack11 #25). */
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
-    snprintf(s->name, sizeof(s->name), "%.*s", (int)strcspn(base, "."), base);
+    const char *ext = strrchr(base, '.');
+    snprintf(s->name, sizeof(s->name), "%.*s",
+             (int)(ext ? (size_t)(ext - base) : strlen(base)), base); /* ".ini": "scene" */
     if (!s->name[0])
         snprintf(s->name, sizeof(s->name), "scene");
     return sp_scene_parse(s, text, path, overrides, n_overrides);

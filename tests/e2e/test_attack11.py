@@ -63,7 +63,10 @@
   raw though it draws nothing: escaped;
 - attack11 #16: the bash completion offered every option-like word of a
   command's help (scene: --csv, --state, --sha...): only its usage's and
-  option lines' options, and --help.
+  option lines' options, and --help;
+- attack11 #25: the default output name cut the scene file's name at its
+  first dot (chaotic.v2.ini and chaotic.v3.ini both wrote out/chaotic.png):
+  the name less its last extension.
 usage: test_attack11.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import resource
@@ -599,5 +602,17 @@ if os.path.exists(completion):
        f"{len(offered)} commands are each taken by their command (refused: {bad[:8]})")
 else:
     skip("the bash completion's options", "no doc/springpend beside the executable")
+
+# ---- attack11 #25: the default output name keeps all but the scene file's last extension ---
+os.makedirs(path("def"), exist_ok=True)
+shutil.copy(default, path("def", "chaotic.v2.ini"))
+shutil.copy(os.path.join(scenes, "stiff.ini"), path("def", "chaotic.v3.ini"))
+in_def = sptest.runner_bytes(exe, path("def"))
+for name in ("chaotic.v2.ini", "chaotic.v3.ini"):
+    r = in_def("still", name, "--at", "1", "--size", "160x90", "-q")
+    assert r.returncode == 0, err(r)
+made = sorted(os.listdir(path("def", "out")))
+ok(made == ["chaotic.v2.png", "chaotic.v3.png"],
+   f"still chaotic.v2.ini and chaotic.v3.ini without -o: two files, neither replaced ({made})")
 
 done()

@@ -1449,8 +1449,13 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
                              outs[k][0]);
                 return SP_E_INPUT;
             }
+        char rules[PATH_MAX]; /* two-file mode: the compare.ini beside the expected file */
+        const char *slash = strrchr(e, '/');
+        snprintf(rules, sizeof(rules), "%.*s" SP_COMPARE_CONFIG_NAME,
+                 slash ? (int)(slash + 1 - e) : 0, e);
         if (sp_outfile_same_file(p, e) || sp_outfile_same_file(p, a) ||
-            (folders && i > 1 && (lands_in(p, e) || lands_in(p, a)))) {
+            (folders && i > 1 && (lands_in(p, e) || lands_in(p, a))) ||
+            (!folders && i != 1 && sp_outfile_same_output(p, rules))) {
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);
             return SP_E_INPUT;
         }

@@ -405,6 +405,21 @@ for opt, target in (("--report", "e/v.mp4"), ("--junit", "a/v.mp4"), ("--summary
        f"compare e a {opt} {target}: refused before anything is written (exit {r.returncode}: "
        f"{err(r)[-160:]!r})")
 
+# two-file mode: the compare.ini beside the expected file is an input too
+os.makedirs(path("fv2", "e"), exist_ok=True)
+os.makedirs(path("fv2", "a"), exist_ok=True)
+shutil.copy(path("env", "A.png"), path("fv2", "e", "x.png"))
+shutil.copy(path("env", "Z.png"), path("fv2", "a", "x.png"))
+with open(path("fv2", "e", "compare.ini"), "w") as f:
+    f.write("[*]\nmax_diff = 3\n")
+in_fv2 = sptest.runner_bytes(exe, path("fv2"))
+for opt in ("--diff", "--report", "--junit"):
+    r = in_fv2("compare", "e/x.png", "a/x.png", opt, "e/compare.ini")
+    ok(r.returncode == 2 and "would overwrite an input" in err(r)
+       and open(path("fv2", "e", "compare.ini")).read() == "[*]\nmax_diff = 3\n",
+       f"compare e/x.png a/x.png {opt} e/compare.ini: refused, the rules kept (exit "
+       f"{r.returncode}: {err(r)[-160:]!r})")
+
 # ---- attack11 #12: a merge's --csv never lands on a shard's metadata (an input too) -------
 with open(path("sh1.csv-metadata.json"), "rb") as f:
     before = f.read()

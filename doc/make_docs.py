@@ -47,18 +47,14 @@ OPTION = r"(?<![\w-])(--[a-z][a-z-]*|-[a-z])\b"
 
 
 def options(help_text):
-    """A command's options: those of its usage lines and of the lines that
-    start with an option (up to the two spaces before what it does), and
-    -h/--help; not every option-like word of its text, which names other
-    commands' options too (scene --help explains what a record keeps:
-    --csv, --state; attack11 #16)."""
+    """The options a command takes: those of its usage lines (the first
+    paragraph) and of its option list (a line "  -o, --output PATH   what",
+    the part before the description). Not every dashed word of the text:
+    the prose names other commands' options ("--state is still's")."""
     usage = help_text.split("\n\n", 1)[0]
-    found = set(re.findall(OPTION, usage)) | {"-h", "--help"}
-    for line in help_text.splitlines():
-        m = re.match(r"^\s+(-\S.*?)(?:\s{2,}|$)", line)
-        if m:
-            found |= set(re.findall(OPTION, m.group(1)))
-    return sorted(found)
+    listed = [re.split(r" {2,}", line.strip(), maxsplit=1)[0]
+              for line in help_text.splitlines() if re.match(r"^ {2}-", line)]
+    return sorted(set(re.findall(OPTION, usage + "\n" + "\n".join(listed))) | {"-h", "--help"})
 
 
 def roff(s):

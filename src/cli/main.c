@@ -10,6 +10,7 @@
 #include "base/command_line.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
+#include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/render.h"
 #include "base/signals.h"
@@ -113,6 +114,7 @@ int main(int argc, char **argv)
      * becomes a write error with a message instead of a silent death. */
     signal(SIGPIPE, SIG_IGN);
     sp_command_line_set(argc, argv); /* the provenance every output carries */
+    sp_infile_stop_on(sp_signal_flag()); /* a read cut by a stop signal ends */
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
         !strcmp(argv[1], "help")) {
         fputs(usage, argc < 2 ? stderr : stdout);

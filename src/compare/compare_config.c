@@ -15,6 +15,7 @@
 
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
+#include "springpend/infile.h"
 #include "base/array.h"
 #include "base/decimal.h"
 #include "base/ini_lines.h"
@@ -435,7 +436,6 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
     char to[4096];
     struct stat st;
     char *text = NULL;
-    FILE *fp = NULL;
     int ret = 0;
     memset(cfg, 0, sizeof(*cfg));
     snprintf(cfg->path, sizeof(cfg->path), "%s/%s", dir, SP_COMPARE_CONFIG_NAME);
@@ -444,27 +444,16 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
                      cfg->path, to, dir);
         return SP_E_INPUT;
     }
-    if (stat(cfg->path, &st) != 0) {
-        cfg->path[0] = 0;
+    if (lstat(cfg->path, &st) != 0 && errno == ENOENT) {
+        cfg->path[0] = 0; /* none: the defaults */
         return 0;
     }
-    if (!S_ISREG(st.st_mode) || st.st_size > (1 << 20)) {
-        sp_log_error("%s: expected a text file of at most 1 MB", cfg->path);
+    if (stat(cfg->path, &st) == 0 && planted(cfg->path, dir, &st))
         return SP_E_INPUT;
-    }
-    if (planted(cfg->path, dir, &st))
-        return SP_E_INPUT;
-    if (!(fp = fopen(cfg->path, "rb"))) {
-        sp_log_error("%s: cannot open: %s", cfg->path, strerror(errno));
-        return SP_E_INPUT;
-    }
-    if (!(text = calloc(1, (size_t)st.st_size + 1))) {
-        sp_log_error("out of memory");
-        fclose(fp);
-        return SP_E_NOMEM;
-    }
-    size_t n = fread(text, 1, (size_t)st.st_size, fp);
-    fclose(fp);
+    size_t n;
+    if ((ret = sp_infile_read(cfg->path, 1u << 20, "compare.ini must be a text file of at most "
+                              "1 MiB", &text, &n)) != 0)
+        return ret;
     if (strlen(text) != n) {
         sp_log_error("%s: holds NUL bytes; expected an INI text file", cfg->path);
         free(text);

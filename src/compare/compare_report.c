@@ -11,6 +11,7 @@
 
 #include "springpend/common.h"
 #include "springpend/compare_report.h"
+#include "springpend/infile.h"
 #include "base/array.h"
 #include "base/signal_name.h"
 #include "base/utf8.h"
@@ -714,14 +715,11 @@ static int data_url(FILE *fp, const char *head, const char *path, const char **w
     unsigned char in[3 * 1024];
     struct stat st;
     int err = 0;
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-    *why = NULL;
-    if (fd < 0) {
-        *why = "cannot be opened";
+    int fd = sp_infile_try(path, why);
+    if (fd < 0)
         return 0;
-    }
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))
-        *why = "not a regular file";
+    if (fstat(fd, &st) != 0)
+        *why = "cannot be opened";
     else if (st.st_size > EMBED_MAX_BYTES)
         *why = "too large to embed";
     else if (pread(fd, in, sizeof(sig), 0) != (ssize_t)sizeof(sig) || memcmp(in, sig, sizeof(sig)))

@@ -29,6 +29,7 @@
 #include "springpend/compare_run.h"
 #include "springpend/environment.h"
 #include "springpend/image_compare.h"
+#include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/png_io.h"
 #include "springpend/scene.h"
@@ -102,21 +103,15 @@ static int fill_png(FILE *fp, void *out)
     return sp_png_write_stream(fp, o->img, SP_PNG_LEVEL_DEFAULT, o->path);
 }
 
-/* Copies the regular file at src (opened without blocking, so a FIFO is
- * refused rather than waited on). */
+/* Copies the regular file at src (infile.h: nothing else is opened, a FIFO
+ * is refused rather than waited on). */
 static int fill_copy(FILE *fp, void *src)
 {
-    struct stat st;
     char buf[65536];
     ssize_t n;
-    int fd = open(src, O_RDONLY | O_NONBLOCK | O_CLOEXEC), err = 0;
-    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        sp_log_error("%s: %s", (const char *)src,
-                     fd < 0 ? strerror(errno) : "not a regular file; not copied");
-        if (fd >= 0)
-            close(fd);
+    int fd = sp_infile_open(src, "not copied"), err = 0;
+    if (fd < 0)
         return SP_E_INPUT;
-    }
     while ((n = read(fd, buf, sizeof(buf))) > 0)
         if (fwrite(buf, 1, (size_t)n, fp) != (size_t)n) {
             sp_log_error("cannot write a copy of %s: %s", (const char *)src, strerror(errno));
@@ -142,10 +137,11 @@ static int is_png_path(const char *path)
 static int read_whole(const char *path, unsigned char **bytes, size_t *size)
 {
     struct stat st;
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC), err = 0;
+    int fd = sp_infile_open(path, "its bytes are kept for the reports"), err = 0;
     *bytes = NULL, *size = 0;
-    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        sp_log_error("%s: %s", path, fd < 0 ? strerror(errno) : "not a regular file");
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        if (fd >= 0)
+            sp_log_error("%s: %s", path, strerror(errno));
         err = SP_E_INPUT;
     } else if (!(*bytes = malloc((size_t)st.st_size + 1))) {
         sp_log_error("out of memory for a copy of %s", path);

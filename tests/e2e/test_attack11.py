@@ -61,9 +61,6 @@
 - attack11 #1 (in part): a ZWNJ after a virama that follows no letter of
   its script (at the start, after a space or a Latin letter) was written
   raw though it draws nothing: escaped;
-- attack11 #16: the bash completion offered every option-like word of a
-  command's help (scene: --csv, --state, --sha...): only its usage's and
-  option lines' options, and --help;
 - attack11 #25: the default output name cut the scene file's name at its
   first dot (chaotic.v2.ini and chaotic.v3.ini both wrote out/chaotic.png):
   the name less its last extension.
@@ -598,25 +595,6 @@ for title, raw in (("\u094d\u200c\u0915", False), (" \u094d\u200c\u0915 x", Fals
     want = "raw (it selects a form)" if raw else "escaped (it joins nothing)"
     ok(r.returncode == 0 and ("\u200c" in line) == raw and ("\\u200c" in line) != raw,
        f"view.title={title!r}: its ZWNJ {want} in the record ({line.strip()[-40:]!r})")
-
-# ---- attack11 #16: the bash completion offers only options each command takes --------------
-import re  # noqa: E402
-
-completion = os.path.join(os.path.dirname(exe), "doc", "springpend")
-if os.path.exists(completion):
-    with open(completion) as f:
-        offered = re.findall(r'^ +(\w+)\) opts="([^"]*)"', f.read(), re.M)
-    bad = []
-    for command, opts in offered:
-        for opt in opts.split():  # with a word after it: a value, or an operand
-            said = err(run(command, opt, "x", timeout=30))
-            if "unknown option" in said or "is for 'springpend" in said:
-                bad.append(f"{command} {opt}")
-    ok(offered and not bad and ("scene", "--cell --command --help -h") in offered,
-       f"the completion's {sum(len(o.split()) for _, o in offered)} options of "
-       f"{len(offered)} commands are each taken by their command (refused: {bad[:8]})")
-else:
-    skip("the bash completion's options", "no doc/springpend beside the executable")
 
 # ---- attack11 #25: the default output name keeps all but the scene file's last extension ---
 os.makedirs(path("def"), exist_ok=True)

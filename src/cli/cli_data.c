@@ -77,6 +77,30 @@ static const char data_usage[] =
     "  -q, --quiet            no 'wrote' line\n"
     "  -h, --help             this text\n";
 
+/* Refuses (SP_E_INPUT, said) scene i's column name (names[i]) beside the
+ * ones before it: a name that starts with = + - or @, which a spreadsheet
+ * would take for a formula (CSV injection: attack11 #24; a tab or CR is
+ * shown escaped; rows are not rewritten behind a reader's back), or one
+ * that another scene gives (their rows could not be told apart). 0 when
+ * neither. */
+static int check_column(const struct sp_cli_options *o, const char *const *names, int i)
+{
+    if (names[i][0] && strchr("=+-@", names[i][0])) {
+        sp_log_error("%s: its scene column '%s' starts with '%c', which a spreadsheet reads as "
+                     "the start of a formula; rename the file so that its name starts "
+                     "otherwise", o->scene_paths[i], names[i], names[i][0]);
+        return SP_E_INPUT;
+    }
+    for (int j = 0; j < i; j++)
+        if (!strcmp(names[i], names[j])) {
+            sp_log_error("%s and %s both give the scene column '%s' (a file's name less its "
+                         "extension): rename one so that the rows can be told apart",
+                         o->scene_paths[j], o->scene_paths[i], names[i]);
+            return SP_E_INPUT;
+        }
+    return 0;
+}
+
 int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sp_cli_options o;
@@ -103,22 +127,8 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
                          o.data.poincare ? "--poincare" : "[ensemble]");
             ret = SP_E_INPUT;
         }
-        if (!ret && o.n_scenes > 1 && column[i][0] && strchr("=+-@", column[i][0])) {
-            /* a spreadsheet would take the cell for a formula (CSV injection:
-             * attack11 #24; a tab or CR is shown escaped); rows are not
-             * rewritten behind a reader's back */
-            sp_log_error("%s: its scene column '%s' starts with '%c', which a spreadsheet "
-                         "reads as the start of a formula; rename the file so that its name "
-                         "starts otherwise", o.scene_paths[i], column[i], column[i][0]);
-            ret = SP_E_INPUT;
-        }
-        for (int j = 0; !ret && j < i; j++)
-            if (!strcmp(column[i], column[j])) {
-                sp_log_error("%s and %s both give the scene column '%s' (a file's name "
-                             "less its extension): rename one so that the rows can be told apart",
-                             o.scene_paths[j], o.scene_paths[i], column[i]);
-                ret = SP_E_INPUT;
-            }
+        if (!ret && o.n_scenes > 1)
+            ret = check_column(&o, column_names, i);
     }
     if (!ret)
         ret = sp_cli_output_path(&o, sc0, ".csv", out, sizeof(out));

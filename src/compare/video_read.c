@@ -632,11 +632,12 @@ int sp_video_frame_size(const char *path, int *width, int *height)
     AVFormatContext *fmt = NULL;
     struct stat st;
     char name[32];
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC), ret = SP_E_INPUT;
+    const char *why;
+    int fd = sp_infile_try(path, &why), ret = SP_E_INPUT; /* a regular file only */
     *width = *height = 0;
     if (fd < 0)
         return SP_E_INPUT;
-    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+    if (fstat(fd, &st) == 0 &&
         metadata_bounded(fd, NULL, 0, st.st_size, 0) == 0) {
         snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
         pthread_once(&log_once, log_through_lines);

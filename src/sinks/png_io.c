@@ -413,12 +413,12 @@ static int reader_failed(struct png_reader *r)
 int sp_png_read_info_quiet(const char *path, struct sp_png_info *out)
 {
     memset(out, 0, sizeof(*out));
-    /* O_NONBLOCK: a FIFO named *.png must not block; only a regular file
-     * is read */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    struct stat st;
+    /* only a regular file is opened (infile.h): a FIFO or device named
+     * *.png is not, nor swapped in after the walk looked */
+    const char *why;
+    int fd = sp_infile_try(path, &why);
     FILE *fp = NULL;
-    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || !(fp = fdopen(fd, "rb"))) {
+    if (fd < 0 || !(fp = fdopen(fd, "rb"))) {
         if (fd >= 0)
             close(fd);
         return SP_E_INPUT;

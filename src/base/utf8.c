@@ -25,6 +25,19 @@ size_t sp_utf8_char(const char *s)
     return n;
 }
 
+size_t sp_utf8_not_text(const char *s, size_t n)
+{
+    for (size_t i = 0; i < n;) {
+        const unsigned char *u = (const unsigned char *)s + i;
+        const size_t len = sp_utf8_char((const char *)u);
+        if (!len || i + len > n || *u < 0x20 || *u == 0x7f ||
+            (len == 2 && u[0] == 0xc2 && u[1] < 0xa0))
+            return i;
+        i += len;
+    }
+    return n;
+}
+
 uint32_t sp_utf8_decode(const char *s, size_t *len)
 {
     const unsigned char *u = (const unsigned char *)s;
@@ -104,13 +117,9 @@ static int virama(uint32_t u)
            HB_UNICODE_COMBINING_CLASS_VIRAMA;
 }
 
-/* 1 when the character at q is a letter of the script of v (a virama). */
-static int letter_of(const char *q, uint32_t v)
+/* 1 when c is a letter of the script of v (a virama). */
+static int letter_cp_of(uint32_t c, uint32_t v)
 {
-    size_t n;
-    if (!*q || !sp_utf8_char(q))
-        return 0;
-    const uint32_t c = sp_utf8_decode(q, &n);
     hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
     switch (hb_unicode_general_category(uf, c)) {
     case HB_UNICODE_GENERAL_CATEGORY_OTHER_LETTER:
@@ -124,6 +133,28 @@ static int letter_of(const char *q, uint32_t v)
     }
 }
 
+/* 1 when the character at q is a letter of the script of v (a virama). */
+static int letter_of(const char *q, uint32_t v)
+{
+    size_t n;
+    return *q && sp_utf8_char(q) && letter_cp_of(sp_utf8_decode(q, &n), v);
+}
+
+/* 1 when the virama v that starts at p (in text from start) follows a
+ * letter of its script, a nukta (ccc 7) between them allowed: the
+ * consonant a conjunct starts from. A virama at the start, after a space
+ * or a Latin letter joins nothing, and a joiner after it changes nothing
+ * drawn (attack11 #1). */
+static int virama_on_letter(const char *start, const char *p, uint32_t v)
+{
+    uint32_t b = 0;
+    const char *q = before(start, p, &b);
+    while (q && hb_unicode_combining_class(hb_unicode_funcs_get_default(), b) ==
+                    HB_UNICODE_COMBINING_CLASS_NUKTA)
+        q = before(start, q, &b);
+    return q && letter_cp_of(b, v);
+}
+
 int sp_utf8_is_joiner(const char *start, const char *at)
 {
     size_t n;
@@ -131,9 +162,10 @@ int sp_utf8_is_joiner(const char *start, const char *at)
     const char *p = before(start, at, &b);
     if (u != 0x200C && u != 0x200D)
         return 0;
-    if (p && virama(b)) /* A.1, A.2: after a virama (Indic conjuncts), */
-        return letter_of(at + n, b); /* before a letter of its script, where it selects
-                                      * a form: else it draws nothing (attack10 #14) */
+    if (p && virama(b)) /* A.1, A.2: after a virama (Indic conjuncts) that follows a
+                           * letter of its script, before one, where it selects a form:
+                           * else it draws nothing (attack10 #14, attack11 #1) */
+        return virama_on_letter(start, p, b) && letter_of(at + n, b);
     if (u == 0x200D)
         return 0;
     /* A.1: (Joining_Type:{L,D})(Joining_Type:T)* ZWNJ (Joining_Type:T)*(Joining_Type:{R,D}),

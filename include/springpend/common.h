@@ -75,6 +75,11 @@ void sp_fprintf_line(FILE *fp, const char *fmt, ...) __attribute__((format(print
  * an RFC 4180 field that may hold a line break; a cell's automatic label). */
 size_t sp_text_shown(const char *s, int newline, char *buf, size_t size);
 
+/* 1 when a and b are the same text with blanks and ASCII case ignored: how
+ * fontconfig matches family names, so "Latin Modern Roman, serif" is the
+ * font list "latin modern roman,serif" (text.c, the side-by-side check). */
+int sp_text_same_name(const char *a, const char *b);
+
 /* The first character at or after s (in the text that begins at start)
  * that sp_fputs_line writes as an escape (\n, \xHH, \uHHHH, \UHHHHHHHH;
  * not a backslash's \\), or NULL: a word that holds one is not given back

@@ -64,9 +64,10 @@ int sp_csv_metadata_write(struct sp_outfile *f, const char *csv_target,
 #define SP_CSV_METADATA_MAX (2u << 20)
 
 /* Reads csv_path + SP_CSV_METADATA_SUFFIX: a JSON object (jansson's
- * json_t; json_decref it), or NULL after "FILE:LINE: what is wrong". A
- * FIFO, device or folder there is refused at once, and a file over
- * SP_CSV_METADATA_MAX unread (infile.h). */
-struct json_t *sp_csv_metadata_load(const char *csv_path);
+ * json_t; json_decref it), or NULL after "FILE:LINE: what is wrong" with
+ * *err the SP_E_* code (SP_E_INPUT: the file's fault; SP_E_IO: out of
+ * descriptors; SP_E_NOMEM). A FIFO, device or folder there is refused at
+ * once, and a file over SP_CSV_METADATA_MAX unread (infile.h). */
+struct json_t *sp_csv_metadata_load(const char *csv_path, int *err);
 
 #endif

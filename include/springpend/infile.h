@@ -32,7 +32,9 @@ void sp_infile_stop_on(const volatile sig_atomic_t *flag);
  * message when it is not one ("a PNG must be a file"). Returns the
  * descriptor, or SP_E_INPUT after "PATH: is a FIFO, not a regular file;
  * WANT", "PATH: is a kernel's file ...; WANT" or "PATH: cannot open:
- * REASON" (missing, no permission). */
+ * REASON" (missing, no permission); SP_E_IO when the process or system is
+ * out of descriptors or memory (EMFILE, ENFILE, ENOMEM: not the file's
+ * fault, exit 1). */
 int sp_infile_open(const char *path, const char *want);
 
 /* sp_infile_open without a word: the descriptor, or SP_E_INPUT with *why

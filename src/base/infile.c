@@ -119,7 +119,11 @@ int sp_infile_open(const char *path, const char *want)
     else if (fd == KERNEL_FILE)
         sp_log_error("%s: is a kernel's file (on /proc, /sys or the like), not data on a disk; "
                      "%s", path, want);
-    else
+    else if (errno == EMFILE || errno == ENFILE || errno == ENOMEM) {
+        sp_log_error("%s: cannot open: %s (a limit of this process or system, not the file's "
+                     "fault)", path, strerror(errno));
+        return SP_E_IO; /* exit 1: the run failed, the input may be fine */
+    } else
         sp_log_error("%s: cannot open: %s", path, strerror(errno));
     return SP_E_INPUT; /* missing, unreadable or not a file: bad input, exit 2 */
 }

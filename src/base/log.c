@@ -77,6 +77,22 @@ void sp_fputs_record(const char *s, int newline, FILE *fp)
     fputs_shown(s, fp, (newline != 0) | SHOWN_ALREADY);
 }
 
+int sp_text_same_name(const char *a, const char *b)
+{
+    for (;; a++, b++) {
+        while (*a == ' ')
+            a++;
+        while (*b == ' ')
+            b++;
+        const int ca = *a >= 'A' && *a <= 'Z' ? *a + 32 : *a;
+        const int cb = *b >= 'A' && *b <= 'Z' ? *b + 32 : *b;
+        if (ca != cb)
+            return 0;
+        if (!*a)
+            return 1;
+    }
+}
+
 size_t sp_text_shown(const char *s, int newline, char *buf, size_t size)
 {
     FILE *m = size ? fmemopen(buf, size, "w") : NULL;

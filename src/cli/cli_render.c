@@ -306,7 +306,7 @@ static int check_side_by_side(const struct sp_cli_options *o, const struct sp_sc
                          "side share the first's", o->scene_paths[i], o->scene_paths[0]);
             bad = 1;
         }
-        if (strcmp(s[i].view.font, s[0].view.font)) {
+        if (!sp_text_same_name(s[i].view.font, s[0].view.font)) { /* one list */
             sp_log_error("%s: view.font = \"%s\", but %s has \"%s\"; scenes side by side "
                          "share the first's fonts", o->scene_paths[i], s[i].view.font,
                          o->scene_paths[0], s[0].view.font);

@@ -90,9 +90,10 @@ static void print_scene(const char *text, int k, int n, int all)
  * of 2 to 4 (side by side). */
 static int scene_of_csv(const char *path, int cell)
 {
-    json_t *meta = sp_csv_metadata_load(path);
+    int err;
+    json_t *meta = sp_csv_metadata_load(path, &err);
     if (!meta)
-        return SP_E_INPUT;
+        return err;
     json_t *src = json_object_get(meta, "dc:source");
     int n = json_is_array(src) ? (int)json_array_size(src) : json_is_string(src) ? 1 : 0;
     int ret = 0;
@@ -302,9 +303,10 @@ static int print_command(const char *path, const char *where, const char *line, 
 /* A CSV's command: prov:wasGeneratedBy in its metadata, -o FILE included. */
 static int command_of_csv(const char *path)
 {
-    json_t *meta = sp_csv_metadata_load(path);
+    int err;
+    json_t *meta = sp_csv_metadata_load(path, &err);
     if (!meta)
-        return SP_E_INPUT;
+        return err;
     int figure = 0;
     const int ret = print_command(path, "prov:wasGeneratedBy in " SP_CSV_METADATA_SUFFIX,
                                   json_string_value(json_object_get(meta, "prov:wasGeneratedBy")), 1,

@@ -111,7 +111,7 @@ static int fill_copy(FILE *fp, void *src)
     ssize_t n;
     int fd = sp_infile_open(src, "not copied"), err = 0;
     if (fd < 0)
-        return SP_E_INPUT;
+        return fd;
     while ((n = read(fd, buf, sizeof(buf))) > 0)
         if (fwrite(buf, 1, (size_t)n, fp) != (size_t)n) {
             sp_log_error("cannot write a copy of %s: %s", (const char *)src, strerror(errno));
@@ -142,7 +142,7 @@ static int read_whole(const char *path, unsigned char **bytes, size_t *size)
     if (fd < 0 || fstat(fd, &st) != 0) {
         if (fd >= 0)
             sp_log_error("%s: %s", path, strerror(errno));
-        err = SP_E_INPUT;
+        err = fd < 0 ? fd : SP_E_INPUT;
     } else if (!(*bytes = malloc((size_t)st.st_size + 1))) {
         sp_log_error("out of memory for a copy of %s", path);
         err = SP_E_NOMEM;

@@ -284,7 +284,7 @@ static int open_checked(AVFormatContext **fmt, const char *path)
     int fd = sp_infile_open(path, "a video must be a file"), ret;
     struct stat st;
     if (fd < 0)
-        return SP_E_INPUT; /* as a file FFmpeg cannot read */
+        return fd; /* as a file FFmpeg cannot read, or out of descriptors */
     ret = fstat(fd, &st) ? 0 : metadata_bounded(fd, path, 0, st.st_size, 0);
     if (ret) {
         close(fd);

@@ -342,22 +342,6 @@ static void unknown_family(const char *value, const char *family, const char *wh
         FcPatternDestroy(all);
 }
 
-/* 1 when the pattern's family names include `family` (blanks and case
- * ignored: "latin modern roman" is Latin Modern Roman). */
-static int same_name(const char *a, const char *b)
-{
-    for (;; a++, b++) {
-        while (*a == ' ')
-            a++;
-        while (*b == ' ')
-            b++;
-        if (FcToLower((FcChar8)*a) != FcToLower((FcChar8)*b))
-            return 0;
-        if (!*a)
-            return 1;
-    }
-}
-
 /* 1 for fontconfig's generic names, which its configuration maps to an
  * installed family (which one is recorded in the provenance's fonts). */
 static int generic_family(const char *family)
@@ -369,11 +353,13 @@ static int generic_family(const char *family)
     return 0;
 }
 
+/* 1 when the pattern's family names include `family` (blanks and case
+ * ignored: "latin modern roman" is Latin Modern Roman). */
 static int has_family(FcPattern *p, const char *family)
 {
     FcChar8 *name;
     for (int k = 0; FcPatternGetString(p, FC_FAMILY, k, &name) == FcResultMatch; k++)
-        if (same_name((const char *)name, family))
+        if (sp_text_same_name((const char *)name, family))
             return 1;
     return 0;
 }
@@ -503,7 +489,7 @@ done:
 static int find_faces(struct sp_font *f, const char *family, const char *where)
 {
     int err;
-    if (!family || !*family || same_name(family, SP_FONT_DEFAULT)) {
+    if (!family || !*family || sp_text_same_name(family, SP_FONT_DEFAULT)) {
         if (!(f->faces = calloc(1, sizeof(*f->faces)))) {
             sp_log_error("out of memory for the font list");
             return SP_E_NOMEM;

@@ -170,13 +170,16 @@ int sp_csv_metadata_write(struct sp_outfile *f, const char *csv_target,
     return ret;
 }
 
-json_t *sp_csv_metadata_load(const char *csv_path)
+json_t *sp_csv_metadata_load(const char *csv_path, int *err)
 {
     json_error_t e;
     char *path = NULL, *bytes = NULL;
     size_t size = 0;
+    int read_err = 0;
+    *err = SP_E_INPUT;
     if (asprintf(&path, "%s" SP_CSV_METADATA_SUFFIX, csv_path) < 0) {
         sp_log_error("out of memory");
+        *err = SP_E_NOMEM;
         return NULL;
     }
     /* a regular file, bounded: a FIFO there must not hang the reader, nor
@@ -186,8 +189,8 @@ json_t *sp_csv_metadata_load(const char *csv_path)
         sp_log_error("%s: no such file; springpend writes it beside every CSV file it writes "
                      "(data, sweep --csv), and reads the scene and the columns from it",
                      path);
-    else if (!sp_infile_read(path, SP_CSV_METADATA_MAX, "the metadata springpend writes beside "
-                             "a CSV is a file", &bytes, &size) &&
+    else if (!(read_err = sp_infile_read(path, SP_CSV_METADATA_MAX, "the metadata springpend "
+                                         "writes beside a CSV is a file", &bytes, &size)) &&
              !(root = json_loadb(bytes, size, JSON_REJECT_DUPLICATES, &e))) {
         /* jansson quotes the token it stopped at ("near 'root'"): from a file
          * linked there (/etc/shadow) or forged (terminal escapes), it is not
@@ -203,6 +206,8 @@ json_t *sp_csv_metadata_load(const char *csv_path)
         json_decref(root);
         root = NULL;
     }
+    if (!root && read_err)
+        *err = read_err; /* out of descriptors or memory, or interrupted */
     free(bytes);
     free(path);
     return root;

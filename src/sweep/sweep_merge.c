@@ -36,12 +36,12 @@ static const char *member(json_t *obj, const char *key)
     return json_string_value(json_object_get(obj, key));
 }
 
-/* Reads the shard's metadata; messages name it. 0 or SP_E_INPUT. */
+/* Reads the shard's metadata; messages name it. 0 or SP_E_*. */
 static int read_shard_meta(struct sp_sweep_shard *s)
 {
-    int used = 0;
-    if (!(s->meta = sp_csv_metadata_load(s->path)))
-        return SP_E_INPUT;
+    int used = 0, err;
+    if (!(s->meta = sp_csv_metadata_load(s->path, &err)))
+        return err;
     s->description = member(s->meta, "dc:description");
     s->scene = member(s->meta, "dc:source");
     s->version = member(s->meta, "schema:softwareVersion");
@@ -245,12 +245,14 @@ static int check_rows(struct sp_sweep_shard *s, const char *columns, const struc
 
 /* Opens a shard for reading: a regular file only (infile.h: a FIFO would
  * block the merge until a writer comes, a device would never end). NULL
- * after a message. */
-static FILE *open_shard(const char *path)
+ * after a message, *err saying whose fault (SP_E_INPUT: the file's;
+ * SP_E_IO: out of descriptors or memory). */
+static FILE *open_shard(const char *path, int *err)
 {
     int fd = sp_infile_open(path, "give the CSV files that 'springpend sweep --shard I/N "
                                   "--csv FILE' wrote");
     FILE *fp = fd < 0 ? NULL : fdopen(fd, "r");
+    *err = fd < 0 ? fd : SP_E_IO;
     if (fd >= 0 && !fp) {
         sp_log_error("cannot read %s: %s", path, strerror(errno));
         close(fd);
@@ -267,8 +269,8 @@ static int open_one(struct sp_sweep_merge *m, int k, const struct sp_sweep_merge
     const int n = m->n;
     int ret;
     s->path = desc->parts[k];
-    if (!(s->fp = open_shard(s->path)))
-        return desc->cancel && *desc->cancel ? SP_E_INTERRUPTED : SP_E_INPUT;
+    if (!(s->fp = open_shard(s->path, &ret)))
+        return desc->cancel && *desc->cancel ? SP_E_INTERRUPTED : ret;
     if ((ret = read_shard_meta(s)))
         return ret;
     if (k == 0) {

@@ -15,6 +15,7 @@
   the device opened in a few percent of merges. Nothing but the file
   looked at is opened now (a FIFO stands in for the device; inotify counts
   its opens while a thread flips the two names);
+- attack11 #10: a merge out of file descriptors exited 2 (bad input): 1;
 - attack12 #1: compare's memory plan (--jobs) read each pair's PNG or
   video header through its own open() after the walk had looked: a folder
   entry swapped for a link to a FIFO (a device's stand-in) was opened.
@@ -126,6 +127,26 @@ with open(path("r2.csv-metadata.json"), "wb") as f:
     f.write(metadata)
 r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "m.png", "-q")
 ok(r.returncode == 0, f"the same shards, their metadata restored, merge ({err(r)[-120:]!r})")
+
+# attack11 #10: out of descriptors is the run's failure (exit 1), not bad
+# input (exit 2, which CI scripts take as "the inputs are wrong")
+import resource  # noqa: E402
+
+
+def few_fds(n):
+    def limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (n, n))
+    return limit
+
+
+codes = {}
+for n in (5, 6):
+    r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "fd.svg", "-q", preexec_fn=few_fds(n))
+    codes[n] = (r.returncode, err(r)[-90:])
+ok(all(c == 1 and "not the file's fault" in e for c, e in codes.values()) and
+   not os.path.exists(path("fd.svg")),
+   f"sweep --merge out of file descriptors (ulimit -n 5, 6): exit 1, said as the process's limit, "
+   f"nothing written ({codes})")
 
 # ---- finding 5: a path flipped between a scene and a FIFO: the FIFO is never opened ------
 with open(chaotic) as f:

@@ -227,6 +227,17 @@ ok(r1.returncode == 0 and r2.returncode == 0 and serif_greek and serif_greek != 
 r = still("lm-caps.png", "x", {"view.font": "Latin Modern Roman, Latin Modern Roman Caps"})
 ok(r.returncode == 0, f"view.font = \"Latin Modern Roman, Latin Modern Roman Caps\": taken "
    f"({r.stderr.strip()[:140] if r.returncode else 'exit 0'})")
+# side by side, one font list however spelt (attack12 #9: "Latin Modern
+# Roman, serif" and "latin modern roman,serif" were "different fonts")
+with open(scene) as f:
+    base_text = f.read()
+for name, value in (("sb1.ini", "Latin Modern Roman, serif"), ("sb2.ini", "latin modern roman,serif")):
+    with open(os.path.join(work, name), "w") as f:
+        f.write(base_text.replace("[view]\n", f"[view]\nfont = {value}\n", 1))
+r = run("still", "sb1.ini", "sb2.ini", "--at", "1", "--size", "640x360", "-o", "sb.png", "-q")
+ok(r.returncode == 0 and os.path.exists(os.path.join(work, "sb.png")),
+   f"side by side: font lists spelt with other blanks and case are one list "
+   f"({r.stderr.strip()[:140] if r.returncode else 'exit 0'})")
 for value, said in (("Latin Modern Roman, Noto Serf", '"Noto Serif"'),
                     ("Latin Modern Roman,, serif", "an empty name"),
                     ("Latin Modern Roman,", "an empty name")):

@@ -5,6 +5,7 @@
 
 #include <fribidi.h>
 #include <hb.h>
+#include <unicode/uchar.h>
 
 #include "utf8.h"
 
@@ -98,30 +99,38 @@ static const char *before(const char *start, const char *p, uint32_t *u)
     return NULL;
 }
 
+/* 1 for a virama (RFC 5892's Canonical_Combining_Class Virama) that forms
+ * conjuncts (Indic_Syllabic_Category Virama or Invisible_Stacker): a pure
+ * killer (Myanmar's asat, Thai's phinthu) forms none, so a joiner after it
+ * draws nothing (attack11 #1, measured: identical pixels). */
 static int virama(uint32_t u)
 {
+    const int k = u_getIntPropertyValue((UChar32)u, UCHAR_INDIC_SYLLABIC_CATEGORY);
     return hb_unicode_combining_class(hb_unicode_funcs_get_default(), u) ==
-           HB_UNICODE_COMBINING_CLASS_VIRAMA;
+           HB_UNICODE_COMBINING_CLASS_VIRAMA && (k == U_INSC_VIRAMA || k == U_INSC_INVISIBLE_STACKER);
 }
 
-/* 1 when the character at q is a letter of the script of v (a virama). */
-static int letter_of(const char *q, uint32_t v)
+/* 1 when c is a consonant of the script of v (a virama): Unicode's
+ * Indic_Syllabic_Category Consonant* (ICU's data), the only letter a
+ * virama joins into a conjunct; an independent vowel is none. */
+static int consonant_of(uint32_t c, uint32_t v)
 {
-    size_t n;
-    if (!*q || !sp_utf8_char(q))
-        return 0;
-    const uint32_t c = sp_utf8_decode(q, &n);
+    const int k = u_getIntPropertyValue((UChar32)c, UCHAR_INDIC_SYLLABIC_CATEGORY);
     hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
-    switch (hb_unicode_general_category(uf, c)) {
-    case HB_UNICODE_GENERAL_CATEGORY_OTHER_LETTER:
-    case HB_UNICODE_GENERAL_CATEGORY_LOWERCASE_LETTER:
-    case HB_UNICODE_GENERAL_CATEGORY_UPPERCASE_LETTER:
-    case HB_UNICODE_GENERAL_CATEGORY_TITLECASE_LETTER:
-    case HB_UNICODE_GENERAL_CATEGORY_MODIFIER_LETTER:
-        return hb_unicode_script(uf, c) == hb_unicode_script(uf, v);
-    default:
-        return 0;
-    }
+    return k >= U_INSC_CONSONANT && k <= U_INSC_CONSONANT_WITH_STACKER &&
+           hb_unicode_script(uf, c) == hb_unicode_script(uf, v);
+}
+
+/* 1 when the virama v that starts at p (in the text from start) follows a
+ * consonant of its script, nuktas between them (KA NUKTA VIRAMA): a
+ * virama with nothing to kill (after a space, a vowel) forms nothing. */
+static int virama_after_consonant(const char *start, const char *p, uint32_t v)
+{
+    uint32_t c = 0;
+    do
+        p = before(start, p, &c);
+    while (p && u_getIntPropertyValue((UChar32)c, UCHAR_INDIC_SYLLABIC_CATEGORY) == U_INSC_NUKTA);
+    return p && consonant_of(c, v);
 }
 
 int sp_utf8_is_joiner(const char *start, const char *at)
@@ -131,9 +140,19 @@ int sp_utf8_is_joiner(const char *start, const char *at)
     const char *p = before(start, at, &b);
     if (u != 0x200C && u != 0x200D)
         return 0;
-    if (p && virama(b)) /* A.1, A.2: after a virama (Indic conjuncts), */
-        return letter_of(at + n, b); /* before a letter of its script, where it selects
-                                      * a form: else it draws nothing (attack10 #14) */
+    /* A.1, A.2: after a virama (Indic conjuncts) that follows a consonant of
+     * its script (else the virama forms nothing, attack11 #1): a ZWJ asks for
+     * the half form, whatever follows; a ZWNJ only keeps the virama shown
+     * before a consonant of the script (the conjunct it breaks), before
+     * anything else (a vowel letter, attack10 #14 and attack11 #1) it draws
+     * nothing */
+    if (p && virama(b) && virama_after_consonant(start, p, b)) {
+        size_t m;
+        if (u == 0x200D)
+            return 1;
+        if (*(at + n) && sp_utf8_char(at + n) && consonant_of(sp_utf8_decode(at + n, &m), b))
+            return 1;
+    }
     if (u == 0x200D)
         return 0;
     /* A.1: (Joining_Type:{L,D})(Joining_Type:T)* ZWNJ (Joining_Type:T)*(Joining_Type:{R,D}),

@@ -1383,10 +1383,12 @@ int sp_scene_load_text(struct sp_scene *s, const char *path, const char *text, s
                 "'key = value' lines", path);
         return SP_E_INPUT;
     }
-    /* The scene's name is the file's stem. */
+    /* The scene's name is the file's stem: its name without the last
+     * extension, so chaotic.v2.ini and chaotic.v3.ini name two outputs. */
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
-    snprintf(s->name, sizeof(s->name), "%.*s", (int)strcspn(base, "."), base);
+    const char *dot = strrchr(base, '.');
+    snprintf(s->name, sizeof(s->name), "%.*s", (int)(dot ? (size_t)(dot - base) : strlen(base)), base);
     if (!s->name[0])
         snprintf(s->name, sizeof(s->name), "scene");
     return sp_scene_parse(s, text, path, overrides, n_overrides);

@@ -43,8 +43,18 @@ for line in keys_text.splitlines():
         keys.append(f"{section}.{m.group(1)}")
 
 
+OPTION = r"(?<![\w-])(--[a-z][a-z-]*|-[a-z])\b"
+
+
 def options(help_text):
-    return sorted(set(re.findall(r"(?<![\w-])(--[a-z][a-z-]*|-[a-z])\b", help_text)))
+    """The options a command takes: those of its usage lines (the first
+    paragraph) and of its option list (a line "  -o, --output PATH   what",
+    the part before the description). Not every dashed word of the text:
+    the prose names other commands' options ("--state is still's")."""
+    usage = help_text.split("\n\n", 1)[0]
+    listed = [re.split(r" {2,}", line.strip(), maxsplit=1)[0]
+              for line in help_text.splitlines() if re.match(r"^ {2}-", line)]
+    return sorted(set(re.findall(OPTION, usage + "\n" + "\n".join(listed))) | {"-h", "--help"})
 
 
 def roff(s):

@@ -170,7 +170,7 @@ static int parse_vary(const char *arg, struct sp_sweep_desc *d)
     return 0;
 }
 
-static const char short_options[] = "o:qh";
+static const char short_options[] = ":o:qh"; /* ":": a missing value is ':' */
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'}, {"set", required_argument, 0, 's'},
     {"vary", required_argument, 0, 'V'},   {"measure", required_argument, 0, 'M'},
@@ -290,6 +290,9 @@ static int take_option(int c, char **argv, struct sweep_opts *o, struct sp_sweep
                             "worker threads, an integer from 1 to 1024", &v);
         o->threads = (int)v;
         break;
+    case ':':
+        sp_log_error("option '%s' needs a value; see 'springpend sweep --help'", argv[optind - 1]);
+        return SP_E_INPUT;
     default:
         sp_log_error("unknown option '%s'; see 'springpend sweep --help'", argv[optind - 1]);
         return SP_E_INPUT;

@@ -108,6 +108,21 @@ ok(os.path.exists(comp) and complete("springpend", "comp") == ["compare"]
    and complete("springpend", "compare", "--up") == ["--update"]
    and "pendulum.stiffness=" in complete("springpend", "render", "--set", "pendulum.s"),
    f"bash completion: commands, options, scene keys ({complete('springpend', 'render', '--set', 'pendulum.s')})")
+# Every option the completion offers is one its command takes: not an option
+# its help text names in passing (scene --help explains --state and --csv,
+# render --help says --state is still's). Given alone, each is at worst
+# missing its value or its scene, never unknown or another command's.
+text = open(comp).read() if os.path.exists(comp) else ""
+offered = dict(re.findall(r'^ +(\w+)\) opts="([^"]*)"', text, re.M))
+wrong = []
+for name, opts in offered.items():
+    for opt in opts.split():
+        r = run(name, opt)
+        if "unknown option" in r.stderr or "is for 'springpend" in r.stderr or "Traceback" in r.stderr:
+            wrong.append(f"{name} {opt}: {r.stderr.strip()[:80]}")
+ok(len(offered) >= 7 and "--help" in offered.get("scene", "") and not wrong,
+   f"bash completion offers only options each command takes ({sum(len(o.split()) for o in offered.values())} "
+   f"for {len(offered)} commands; refused: {wrong[:6]})")
 # doc/ci.md's worked example, followed as written with the installed tool:
 # its snapshots.sh, then its compare commands, in a folder of their own.
 import re

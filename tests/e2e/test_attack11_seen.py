@@ -8,7 +8,14 @@
   it raw exactly when their pixels differ, else writes \\u200c / \\u200d;
 - #25: the default output cut the scene file's name at its first dot, so
   chaotic.v2.ini and chaotic.v3.ini both wrote out/chaotic.png: the name
-  is the file's name without its last extension.
+  is the file's name without its last extension;
+- #14: 640x240 took 24 px text (the size check's floor), where the colour
+  bar's labels overlapped and the energy legend ran over the panel below:
+  refused, exit 2, saying the 16 px allowed, nothing written;
+- #18: at 640x360 and 24 px the speed marker ("speed x2") was drawn over
+  the time ("t = 1234.56 s"): the time's row is the same, pixel for pixel,
+  as in the same still without a marker (tests/unit/test_legibility.c checks
+  the layout at the largest font size each of 8 frames takes).
 usage: test_attack11_seen.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import shutil
@@ -84,5 +91,37 @@ ok({row.split(",")[0] for row in rows[1:]} == {"chaotic.v2", "chaotic.v3"},
 readme = open(os.path.join(src, "..", "README.md")).read()
 ok("`chaotic.v2.ini` writes\n`out/chaotic.v2.mp4`" in readme,
    "#25: the README says the default name is the file's name without its last extension")
+
+# 14: the largest font size 640x240 takes is the one its layout fits.
+r = run("still", default, "--at", "0", "--size", "640x240", "--set", "view.font_size=24",
+        "--set", "view.theme=light", "-o", "cb.png")
+ok(r.returncode == 2 and "cannot fit a 640x240 px frame" in r.stderr
+   and "allowed: at most 16 px here" in r.stderr and not os.path.exists(os.path.join(work, "cb.png")),
+   f"#14: font_size 24 at 640x240 is refused, 16 px allowed (exit {r.returncode}: {r.stderr.strip()[-160:]})")
+r = run("still", default, "--at", "0", "--size", "640x240", "--set", "view.font_size=16", "-o", "cb16.png", "-q")
+ok(r.returncode == 0, f"#14: font_size 16 at 640x240 is drawn (exit {r.returncode})")
+
+# 18: the time's row with and without the marker.
+text = open(default).read().replace("duration = 10 ", "duration = 2000 ")
+for name, extra in (("marker.ini", "\n[timeline]\n1 = speed 2\n"), ("none.ini", "")):
+    with open(os.path.join(work, name), "w") as f:
+        f.write(text + extra)
+rows = {}
+for name in ("marker", "none"):
+    r = run("still", name + ".ini", "--at", "1234.56", "--size", "640x360", "--set", "view.font_size=24",
+            "-o", name + ".png", "-q")
+    rows[name] = pixels(name + ".png") if r.returncode == 0 and shutil.which("ffmpeg") else None
+if rows["marker"] is None or rows["none"] is None:
+    ok(False, "#18: the stills with and without the marker")
+else:
+    row = lambda img, y: img[y * 640 * 3:(y * 640 + 280) * 3]  # the HUD's column, x < 280
+    bg = row(rows["none"], 0)[:3]
+    ink = [y for y in range(60) if row(rows["none"], y) != bg * 280]
+    top = ink[0] if ink else 0
+    end = next((y for y in range(top, 60) if row(rows["none"], y) == bg * 280), 60)  # the time's row
+    same = all(row(rows["marker"], y) == row(rows["none"], y) for y in range(top, end))
+    ok(ink and same and rows["marker"] != rows["none"],
+       f"#18: the time's row (y {top}..{end - 1}) is drawn alike with and without the speed marker, "
+       "which is drawn elsewhere")
 
 done()

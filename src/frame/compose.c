@@ -684,18 +684,18 @@ static int check_colorbar_label(const struct sp_composer *r)
  * digit as wide as the font's widest), px of the large text. */
 static float widest_time(const struct sp_composer *r, const struct sp_font *f)
 {
-    char t[64], digit[2] = "0";
+    char t[64], digit[2] = "0", widest = '0';
     int dw = 0;
     for (char d = '0'; d <= '9'; d++) {
         digit[0] = d;
         const int w = sp_font_width(f, SP_TEXT_LARGE, digit);
         if (w > dw)
-            dw = w, digit[1] = d; /* digit[1]: the widest one, until the end */
+            dw = w, widest = d;
     }
     snprintf(t, sizeof(t), "t = %.2f s", fmax(r->extent.t_end, 0));
     for (char *c = t; *c; c++)
         if (*c >= '0' && *c <= '9')
-            *c = digit[1];
+            *c = widest;
     return (float)sp_font_width(f, SP_TEXT_LARGE, t);
 }
 

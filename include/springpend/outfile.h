@@ -101,10 +101,16 @@ int sp_outfile_same_file(const char *a, const char *b);
 
 /* 1 when two outputs a and b would be one file: the same existing file,
  * or (one or both not there yet) the same name in the same folder (the
- * folders' files compared when they exist, else their paths as given,
- * "./" and repeated slashes aside). Two outputs at one path would replace
- * each other without a word (attack10 #9). */
+ * folders' files compared when they exist, else the folders they will be
+ * once made: "nd/../x" is "x" before nd exists). Two outputs at one path
+ * would replace each other without a word (attack10 #9, attack11 #4). */
 int sp_outfile_same_output(const char *a, const char *b);
+
+/* 1 when the file path would lie in folder dir or a folder under it, each
+ * taken as it will be once made (links in what exists followed): compare
+ * refuses a report inside its --candidates or --diff folder, where it
+ * would replace a candidate or a diff (attack11 #4). */
+int sp_outfile_lies_in(const char *path, const char *dir);
 
 /* Refuses (SP_E_INPUT, with a message) an output path that cannot be
  * written: a folder, or under something that is not a writable folder.

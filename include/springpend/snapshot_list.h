@@ -21,6 +21,11 @@ struct sp_snapshot {
     int nested;     /* 1: name is NAME.KEY.KEY.EXT (a baseline only) whose stem
                        NAME.KEY.EXT is itself an alternative: an error, never
                        silently dropped */
+    int alt_named;  /* 1: name is an actual image's named like an alternative
+                       (NAME.KEY.EXT, KEY declared, NAME.EXT an image of either
+                       folder), which only --update --env KEY writes, to the
+                       baselines: an error, never compared, added or made a
+                       candidate (attack11 #11) */
 };
 
 struct sp_snapshot_list {

@@ -429,17 +429,65 @@ static void split_output(const char *path, char *dir, size_t size, const char **
         snprintf(dir, size, slash == path ? "/" : ".");
 }
 
+/* The folder dir will be once a sink has made what is missing of it, into
+ * out (size bytes): walked a name at a time from the working folder (or
+ * "/"), each name that exists resolved (realpath: links followed), each
+ * that does not appended as the plain folder the sink makes, so that ".."
+ * is the folder above in both cases ("nd/.." is "." before nd exists:
+ * attack11 #4). 0, or -1 when it cannot be told. */
+static int folder_to_be(const char *dir, char *out, size_t size)
+{
+    char cur[PATH_MAX], copy[PATH_MAX];
+    if (snprintf(copy, sizeof(copy), "%s", dir) >= (int)sizeof(copy) ||
+        (dir[0] == '/' ? snprintf(cur, sizeof(cur), "/") < 0 : !getcwd(cur, sizeof(cur))))
+        return -1;
+    for (char *save = NULL, *name = strtok_r(copy, "/", &save); name;
+         name = strtok_r(NULL, "/", &save)) {
+        if (!strcmp(name, "."))
+            continue;
+        if (!strcmp(name, "..")) { /* cur is resolved: its parent is its folder above */
+            char *slash = strrchr(cur, '/');
+            slash[slash == cur] = 0;
+            continue;
+        }
+        const size_t n = strlen(cur);
+        if (snprintf(cur + n, sizeof(cur) - n, "%s%s", cur[n - 1] == '/' ? "" : "/", name) >=
+            (int)(sizeof(cur) - n))
+            return -1;
+        char *real = realpath(cur, NULL);
+        if (real) {
+            snprintf(cur, sizeof(cur), "%s", real);
+            free(real);
+        }
+    }
+    return snprintf(out, size, "%s", cur) < (int)size ? 0 : -1;
+}
+
 int sp_outfile_same_output(const char *a, const char *b)
 {
     struct stat sa, sb;
-    char da[PATH_MAX], db[PATH_MAX];
+    char da[PATH_MAX], db[PATH_MAX], fa[PATH_MAX], fb[PATH_MAX];
     const char *na, *nb;
     const int ea = stat(a, &sa) == 0, eb = stat(b, &sb) == 0;
     if (ea && eb)
         return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
     split_output(a, da, sizeof(da), &na);
     split_output(b, db, sizeof(db), &nb);
-    return !strcmp(na, nb) && (sp_outfile_same_file(da, db) || !strcmp(da, db));
+    return !strcmp(na, nb) &&
+           (sp_outfile_same_file(da, db) || !strcmp(da, db) ||
+            (folder_to_be(da, fa, sizeof(fa)) == 0 && folder_to_be(db, fb, sizeof(fb)) == 0 &&
+             !strcmp(fa, fb)));
+}
+
+int sp_outfile_lies_in(const char *path, const char *dir)
+{
+    char dp[PATH_MAX], fp[PATH_MAX], fd[PATH_MAX];
+    const char *name;
+    split_output(path, dp, sizeof(dp), &name);
+    if (folder_to_be(dp, fp, sizeof(fp)) || folder_to_be(dir, fd, sizeof(fd)))
+        return 0;
+    const size_t n = strlen(fd);
+    return !strncmp(fp, fd, n) && (fp[n] == 0 || fp[n] == '/' || (n == 1 && fd[0] == '/'));
 }
 
 int sp_outfile_check_writable(const char *path, const char *what)

@@ -25,6 +25,19 @@ size_t sp_utf8_char(const char *s)
     return n;
 }
 
+size_t sp_utf8_not_text(const char *s, size_t n)
+{
+    for (size_t i = 0; i < n;) {
+        const unsigned char *u = (const unsigned char *)s + i;
+        const size_t len = sp_utf8_char((const char *)u);
+        if (!len || i + len > n || *u < 0x20 || *u == 0x7f ||
+            (len == 2 && u[0] == 0xc2 && u[1] < 0xa0))
+            return i;
+        i += len;
+    }
+    return n;
+}
+
 uint32_t sp_utf8_decode(const char *s, size_t *len)
 {
     const unsigned char *u = (const unsigned char *)s;

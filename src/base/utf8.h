@@ -10,6 +10,12 @@
  * s is at its NUL or at a malformed, overlong or surrogate sequence. */
 size_t sp_utf8_char(const char *s);
 
+/* The offset of the first byte of s's n bytes that is not text (a
+ * malformed UTF-8 sequence, a C0 control such as TAB, DEL, or a C1 control,
+ * bytes 0xc2 0x80..0x9f), or n when all are: the rule of a scene's text
+ * keys and timeline texts. */
+size_t sp_utf8_not_text(const char *s, size_t n);
+
 /* The code point at s, its byte length (sp_utf8_char's) in *len; U+FFFD
  * with *len = 1 for a malformed byte and at the NUL. */
 uint32_t sp_utf8_decode(const char *s, size_t *len);

@@ -59,9 +59,9 @@ static const char data_usage[] =
     "z,vz,azimuth follow for a 3-D scene; --poincare still writes the scene's own\n"
     "crossings).\n"
     "With 2 to 4 SCENE files (the scenes 'render' shows side by side), each scene's\n"
-    "rows follow in turn, after a first column scene (the file's name without .ini);\n"
-    "z,vz,azimuth are written for all when one scene is spatial; --poincare and\n"
-    "[ensemble] take one scene.\n"
+    "rows follow in turn, after a first column scene (the file's name less its\n"
+    "extension); z,vz,azimuth are written for all when one scene is spatial;\n"
+    "--poincare and [ensemble] take one scene.\n"
     "At most 1e7 rows (about 2.6 GB) are written; the video's frame limit does not\n"
     "apply. Default output: out/<scene>.csv, with out/<scene>.csv-metadata.json\n"
     "beside it (W3C CSV on the Web: each column's unit, the scene as a scene file,\n"
@@ -76,6 +76,30 @@ static const char data_usage[] =
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
     "  -q, --quiet            no 'wrote' line\n"
     "  -h, --help             this text\n";
+
+/* Refuses (SP_E_INPUT, said) scene i's column name (names[i]) beside the
+ * ones before it: a name that starts with = + - or @, which a spreadsheet
+ * would take for a formula (CSV injection: attack11 #24; a tab or CR is
+ * shown escaped; rows are not rewritten behind a reader's back), or one
+ * that another scene gives (their rows could not be told apart). 0 when
+ * neither. */
+static int check_column(const struct sp_cli_options *o, const char *const *names, int i)
+{
+    if (names[i][0] && strchr("=+-@", names[i][0])) {
+        sp_log_error("%s: its scene column '%s' starts with '%c', which a spreadsheet reads as "
+                     "the start of a formula; rename the file so that its name starts "
+                     "otherwise", o->scene_paths[i], names[i], names[i][0]);
+        return SP_E_INPUT;
+    }
+    for (int j = 0; j < i; j++)
+        if (!strcmp(names[i], names[j])) {
+            sp_log_error("%s and %s both give the scene column '%s' (a file's name less its "
+                         "extension): rename one so that the rows can be told apart",
+                         o->scene_paths[j], o->scene_paths[i], names[i]);
+            return SP_E_INPUT;
+        }
+    return 0;
+}
 
 int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
@@ -103,13 +127,8 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
                          o.data.poincare ? "--poincare" : "[ensemble]");
             ret = SP_E_INPUT;
         }
-        for (int j = 0; !ret && j < i; j++)
-            if (!strcmp(column[i], column[j])) {
-                sp_log_error("%s and %s both give the scene column '%s' (a file's name "
-                             "without .ini): rename one so that the rows can be told apart",
-                             o.scene_paths[j], o.scene_paths[i], column[i]);
-                ret = SP_E_INPUT;
-            }
+        if (!ret && o.n_scenes > 1)
+            ret = check_column(&o, column_names, i);
     }
     if (!ret)
         ret = sp_cli_output_path(&o, sc0, ".csv", out, sizeof(out));

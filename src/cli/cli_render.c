@@ -270,24 +270,35 @@ static int check_drawn(const struct sp_cli_options *o, const struct sp_scene *s,
 
 static int check_side_by_side(const struct sp_cli_options *o, const struct sp_scene *s, int n)
 {
+    /* one encoder: its settings too (attack11 #23: a second scene's crf was
+     * used or not by the order of the scenes, without a word) */
     static const char *const shared[] = {"video.width", "video.height", "video.fps", "video.speed",
-                                         "view.font_size", "view.font_scale"};
+                                         "video.crf", "video.png_level", "view.font_size",
+                                         "view.font_scale"};
     int bad = 0;
     for (int i = 1; i < n; i++) {
         for (size_t k = 0; k < sizeof(shared) / sizeof(shared[0]); k++) {
             const double a = sp_scene_get_number(&s[0], shared[k]);
             const double b = sp_scene_get_number(&s[i], shared[k]);
-            char va[64], vb[64];
+            char na[64], nb[64], va[64], vb[64]; /* the numbers, then as a scene shows them */
             if (a == b || (isnan(a) && isnan(b)))
                 continue;
-            snprintf(va, sizeof(va), "%.17g", a);
-            snprintf(vb, sizeof(vb), "%.17g", b);
-            sp_scene_canonical_display(shared[k], va, va, sizeof(va));
-            sp_scene_canonical_display(shared[k], vb, vb, sizeof(vb));
+            snprintf(na, sizeof(na), "%.17g", a);
+            snprintf(nb, sizeof(nb), "%.17g", b);
+            sp_scene_canonical_display(shared[k], na, va, sizeof(va));
+            sp_scene_canonical_display(shared[k], nb, vb, sizeof(vb));
             sp_log_error("%s: %s = %s, but %s has %s; scenes side by side share the first's "
-                         "[video] width, height, fps and speed and [view] theme, background, "
-                         "font, font_size and font_scale: give them the same (--set applies "
-                         "to every scene)", o->scene_paths[i], shared[k], vb, o->scene_paths[0], va);
+                         "[video] width, height, fps, speed, crf, preset and png_level and "
+                         "[view] theme, background, font, font_size and font_scale: give them "
+                         "the same (--set applies to every scene)", o->scene_paths[i],
+                         shared[k], vb, o->scene_paths[0], va);
+            bad = 1;
+        }
+        const char *pa = sp_scene_preset_name(&s[0]), *pb = sp_scene_preset_name(&s[i]);
+        if ((pa || pb) && !(pa && pb && !strcmp(pa, pb))) {
+            sp_log_error("%s: video.preset = %s, but %s has %s; scenes side by side share the "
+                         "first's encoder", o->scene_paths[i], pb ? pb : "auto",
+                         o->scene_paths[0], pa ? pa : "auto");
             bad = 1;
         }
         if (s[i].view.theme != s[0].view.theme || s[i].view.background != s[0].view.background) {

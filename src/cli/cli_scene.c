@@ -44,8 +44,10 @@ static const char scene_usage[] =
     "-q, --frames and --shard (a part of a PNG sequence is the whole run's; an\n"
     "MP4 or WebM piece records its own); a merged sweep figure records its\n"
     "shards' command and the merge's --size, --dpi and --format. Run it with\n"
-    "-o NAME added (a CSV's keeps its own -o or --csv FILE: change FILE to NAME\n"
-    "instead), where SCENE.ini is the printed scene, and NAME has the same\n"
+    "-o NAME added after its command word (a scene that starts with '-' is\n"
+    "recorded after '--', and every word after that is a scene; a CSV's keeps\n"
+    "its own -o or --csv FILE: change FILE to NAME instead), where SCENE.ini\n"
+    "is the printed scene, and NAME has the same\n"
     "bytes as FILE (a PDF: under the same SOURCE_DATE_EPOCH). A word with a\n"
     "control character, a character that shows nothing (Unicode's default\n"
     "ignorables: U+200B, U+200C, U+034F, U+FE0F, U+3164, U+FEFF; U+2800, U+2028)\n"
@@ -169,33 +171,62 @@ static void say_escaped_words(struct sp_command_line *r)
  * figure: an output (-o, --output, --csv, --state), --merge, or an option
  * the command does not take. Read as the command reads them, with its own
  * option table (so --cs=FILE, -oFILE and --out FILE are the options they
- * abbreviate). 0; SP_E_INPUT after a message naming the word (attack10 #2:
- * a forged `sweep ... --csv FILE` record, re-run as doc/ci.md says,
- * overwrote FILE); SP_E_NOMEM. */
-static int names_output(const char *path, const char *where, char *const *w, int argc)
+ * abbreviate), every word whatever the environment says (a '-' before the
+ * short options: POSIXLY_CORRECT would stop GNU getopt at the scene file,
+ * leaving a --state FILE after it unread: attack11 #3). For a CSV's record
+ * (csv 1), what springpend writes there: `data ... -o FILE` (one output)
+ * or `sweep ... --csv FILE` (once) with perhaps its figure `-o FIGURE` and
+ * a merge's --merge, nothing else (attack11 #2: a forged `still ... --state
+ * FILE` passed, and the CSV recipe overwrote FILE); *figure then tells
+ * whether a sweep's record writes a figure too. 0; SP_E_INPUT after a
+ * message naming the word (attack10 #2: a forged `sweep ... --csv FILE`
+ * record, re-run as doc/ci.md says, overwrote FILE); SP_E_NOMEM. */
+static int names_output(const char *path, const char *where, char *const *w, int argc, int csv,
+                        int *figure)
 {
     static const char *const outputs[] = {"output", "csv", "state", "merge"};
+    const int sweep = !strcmp(w[0], "sweep");
     const char *shortopts;
-    const struct option *opts = strcmp(w[0], "sweep") ? sp_cli_options(&shortopts)
-                                                      : sp_cli_sweep_options(&shortopts);
+    const struct option *opts = sweep ? sp_cli_sweep_options(&shortopts)
+                                      : sp_cli_options(&shortopts);
     char **copy = malloc((size_t)(argc + 1) * sizeof(*copy)); /* getopt permutes it */
+    char in_order[32];
     if (!copy) {
         sp_log_error("out of memory");
         return SP_E_NOMEM;
     }
     memcpy(copy, w, (size_t)(argc + 1) * sizeof(*copy));
+    snprintf(in_order, sizeof(in_order), "-%s", shortopts); /* operands as 1, in order */
+    if (csv && !sweep && strcmp(w[0], "data")) {
+        sp_log_error("%s: its %s is a '%s' command, which writes no CSV; not printed", path,
+                     where, w[0]);
+        free(copy);
+        return SP_E_INPUT;
+    }
     const int saved = opterr;
-    int c, idx, ret = 0;
+    int c, idx, ret = 0, n_output = 0, n_csv = 0;
     opterr = 0;
     optind = 0; /* GNU getopt: start again on these words */
-    while (!ret && (idx = -1, c = getopt_long(argc, copy, shortopts, opts, &idx)) != -1) {
+    while (!ret && (idx = -1, c = getopt_long(argc, copy, in_order, opts, &idx)) != -1) {
+        if (c == 1)
+            continue; /* an operand */
         const char *name = idx >= 0 ? opts[idx].name : c == 'o' ? "output" : NULL;
         int output = 0;
         for (size_t k = 0; name && k < sizeof(outputs) / sizeof(outputs[0]); k++)
             output |= !strcmp(name, outputs[k]);
+        if (csv && output) { /* a CSV's own: data's -o, sweep's --csv (and -o, --merge) */
+            n_output += !strcmp(name, "output"), n_csv += !strcmp(name, "csv");
+            output = !strcmp(name, "state") || (!sweep && strcmp(name, "output")) ||
+                     n_output > 1 || n_csv > 1;
+        }
         if (c == '?' || c == ':')
             sp_log_error("%s: its %s holds %s, which is no option of 'springpend %s' that an "
                          "output records; not printed", path, where, copy[optind - 1], w[0]);
+        else if (output && csv)
+            sp_log_error("%s: its %s holds --%s, which springpend never records for a CSV (a "
+                         "data command's one -o FILE, a sweep's one --csv FILE and its figure's "
+                         "one -o; re-run, it would write or read a file the record names); not "
+                         "printed", path, where, name);
         else if (output)
             sp_log_error("%s: its %s holds --%s, %s springpend never records for a PNG, video "
                          "or figure (re-run, it would write or read a file the record names); "
@@ -203,6 +234,13 @@ static int names_output(const char *path, const char *where, char *const *w, int
                          strcmp(name, "merge") ? "an output that" : "a reading of shards that");
         ret = c == '?' || c == ':' || output ? SP_E_INPUT : 0;
     }
+    if (!ret && csv && (sweep ? n_csv : n_output) != 1) {
+        sp_log_error("%s: its %s names no CSV (%s); not printed", path, where,
+                     sweep ? "a sweep's --csv FILE" : "a data command's -o FILE");
+        ret = SP_E_INPUT;
+    }
+    if (figure)
+        *figure = sweep && n_output;
     opterr = saved;
     free(copy);
     return ret;
@@ -217,8 +255,11 @@ static int names_output(const char *path, const char *where, char *const *w, int
  * says which words must be retyped (say_escaped_words). 0, SP_E_NOMEM, or
  * SP_E_INPUT (logged) when there is none or it is no such line, or when
  * a PNG's, video's or figure's record (csv 0) holds what such a record never
- * does (names_output); a CSV's record keeps its own output. */
-static int print_command(const char *path, const char *where, const char *line, int csv)
+ * does, or a CSV's (csv 1) what springpend never writes there (names_output:
+ * a CSV's record keeps its own output; *figure, when not NULL, gets whether
+ * it writes a sweep's figure too). */
+static int print_command(const char *path, const char *where, const char *line, int csv,
+                         int *figure)
 {
     static const char *const recording[] = {"render", "still", "data", "sweep"};
     if (!line || !line[0]) {
@@ -238,7 +279,7 @@ static int print_command(const char *path, const char *where, const char *line, 
         sp_command_line_free(r);
         return SP_E_INPUT;
     }
-    int ret = csv ? 0 : names_output(path, where, w, argc);
+    int ret = names_output(path, where, w, argc, csv, figure);
     if (ret) {
         sp_command_line_free(r);
         return ret;
@@ -264,12 +305,16 @@ static int command_of_csv(const char *path)
     json_t *meta = sp_csv_metadata_load(path);
     if (!meta)
         return SP_E_INPUT;
+    int figure = 0;
     const int ret = print_command(path, "prov:wasGeneratedBy in " SP_CSV_METADATA_SUFFIX,
-                                  json_string_value(json_object_get(meta, "prov:wasGeneratedBy")), 1);
+                                  json_string_value(json_object_get(meta, "prov:wasGeneratedBy")), 1,
+                                  &figure);
     json_decref(meta);
     if (!ret) /* the other records leave it out: "add -o NAME" would give it twice */
         sp_log_note("a CSV's command keeps its own output (-o or --csv FILE): to make the CSV "
-                    "again as NAME, change that FILE to NAME, rather than adding -o NAME");
+                    "again as NAME, change that FILE to NAME, rather than adding -o NAME%s",
+                    figure ? "; it writes its figure too (-o FIGURE): change that name as well"
+                           : "");
     return ret;
 }
 
@@ -288,7 +333,7 @@ static int command_of(const char *path, int figure, int video)
                                                SP_PROVENANCE_SCENE_MAX);
     const int ret = found < 0 ? found
                     : print_command(path, figure ? "command record" : SP_PROVENANCE_COMMAND " text",
-                                    found ? text : NULL, 0);
+                                    found ? text : NULL, 0, NULL);
     free(text);
     return ret;
 }

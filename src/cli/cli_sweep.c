@@ -435,15 +435,23 @@ static int check_outputs(const struct sweep_opts *o)
                      "its own", o->csv, o->output);
         return SP_E_INPUT;
     }
-    /* the scene or a shard being read must not be replaced by what it makes */
+    /* the scene or a shard being read (its CSV and its metadata, which the
+     * merge reads too: attack11 #12) must not be replaced by what it makes */
     const char *outs[2][2] = {{"-o", o->output}, {"--csv", o->csv}};
     for (int i = 0; i < 2; i++)
-        for (int k = -1; outs[i][1] && k < (o->merge ? o->n_parts : 0); k++) {
-            const char *in = k < 0 ? o->scene : o->parts[k];
-            char meta[4096]; /* --csv's metadata, written beside it */
+        for (int k = -1; outs[i][1] && k < (o->merge ? 2 * o->n_parts : 0); k++) {
+            char part_meta[4096], meta[4096]; /* a shard's metadata; --csv's, beside it */
+            const char *in = k < 0 ? o->scene : o->parts[k / 2];
+            if (k >= 0 && k % 2 &&
+                snprintf(part_meta, sizeof(part_meta), "%s" SP_CSV_METADATA_SUFFIX, in) <
+                    (int)sizeof(part_meta))
+                in = part_meta;
+            else if (k >= 0 && k % 2)
+                continue; /* longer than a path: no such file */
             if (in && sp_outfile_same_file(outs[i][1], in)) {
-                sp_log_error("%s %s would overwrite an input; choose another path", outs[i][0],
-                             outs[i][1]);
+                sp_log_error("%s %s would overwrite an input%s%s%s; choose another path",
+                             outs[i][0], outs[i][1], in == part_meta ? " (the metadata of " : "",
+                             in == part_meta ? o->parts[k / 2] : "", in == part_meta ? ")" : "");
                 return SP_E_INPUT;
             }
             if (in && i == 1 &&
@@ -1074,9 +1082,9 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     const struct provenance pv = {.d = d, .scene = scene, .overrides = o->overrides,
                                   .n_overrides = o->n_overrides, .shard = o->shard ? shard : NULL};
     ret = finish(fp, o, ret, &pv, made);
-    if (ret == SP_E_INTERRUPTED)
-        sp_log_error("interrupted: nothing written (a figure of part of a grid would not "
-                     "say which part)");
+    if (ret == SP_E_INTERRUPTED) /* named, as merge's (attack11 #9) */
+        sp_log_error("interrupted by %s: nothing written (a figure of part of a grid would "
+                     "not say which part)", sp_signal_name(o->cancel ? (int)*o->cancel : 0));
     if (ret)
         return ret;
     if (blown)

@@ -405,6 +405,32 @@ int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t 
     return out;
 }
 
+/* 1 (said) when the compare.ini at path (stat st) in folder dir may have
+ * been put there by someone else than whoever owns its rules: writable by
+ * others than its owner, or owned by another user than root or this one
+ * in a folder that others than its owner may write (a shared /tmp-like
+ * folder, sticky or not). Its rules decide a verdict: a planted one with
+ * max_pixels = 100% passed a failing pair (attack11 #17). A checkout of
+ * another user's (root's CI on a mounted one) is read: only its owner could
+ * write there. */
+static int planted(const char *path, const char *dir, const struct stat *st)
+{
+    struct stat d;
+    const int others = stat(dir, &d) == 0 && (d.st_mode & (S_IWGRP | S_IWOTH)) &&
+                       d.st_uid != st->st_uid;
+    if (st->st_mode & S_IWOTH)
+        sp_log_error("%s is writable by anyone: not read (its rules decide the verdict); "
+                     "chmod o-w it", path);
+    else if (st->st_uid != 0 && st->st_uid != geteuid() && others)
+        sp_log_error("%s belongs to user %u, in %s, which others than its owner may write: "
+                     "anyone could have put it there; not read (its rules decide the "
+                     "verdict): remove it, or take it over (chown)", path,
+                     (unsigned)st->st_uid, dir);
+    else
+        return 0;
+    return 1;
+}
+
 int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
 {
     char to[4096];
@@ -422,6 +448,8 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
         cfg->path[0] = 0; /* none: the defaults */
         return 0;
     }
+    if (stat(cfg->path, &st) == 0 && planted(cfg->path, dir, &st))
+        return SP_E_INPUT;
     size_t n;
     if ((ret = sp_infile_read(cfg->path, 1u << 20, "compare.ini must be a text file of at most "
                               "1 MiB", &text, &n)) != 0)

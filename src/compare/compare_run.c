@@ -743,26 +743,36 @@ static int link_out(struct sp_compare_record *r, const char *name, const char *p
 }
 
 /* The command that adds missing baselines, for messages. */
-static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
+/* Writes "LEAD: springpend compare OPTION X Y" into out (size bytes), a
+ * command meant to be pasted: quoted as a record quotes its words (a
+ * folder "sp e" or 'q$(id)' is one word; attack9 #9), OPTION before a "--"
+ * when X or Y starts with '-' (it is no option then); where X's or Y's
+ * shown name is not its bytes (a newline, a byte that is not UTF-8: a
+ * pasted \xff is four letters), no command but `instead` (attack10 #10;
+ * the approve hint too: attack11 #20). */
+static void paste_hint(char *out, size_t size, const char *lead, const char *option,
+                       const char *x, const char *y, const char *instead)
 {
-    /* quoted as a record quotes its words: the hint is meant to be pasted
-     * (a folder "sp e" or 'q$(id)' is one word; attack9 #9) */
-    const char *const words[] = {"springpend", "compare", e, a, "--update=missing"};
-    /* a folder that starts with '-' after a '--' (it is no option then);
-     * one whose shown name is not its bytes (a newline, a byte that is not
-     * UTF-8: a pasted \xff is four letters) named by no command (attack10 #10) */
-    const char *const dashed[] = {"springpend", "compare", "--update=missing", "--", e, a};
-    if (sp_text_next_escaped(e, e) || sp_text_next_escaped(a, a)) {
-        snprintf(r->hint, sizeof(r->hint), "to add it as the baseline, run this compare again "
-                 "with --update=missing (a folder's name holds characters that a command line "
-                 "shown here cannot hold)");
+    if (sp_text_next_escaped(x, x) || sp_text_next_escaped(y, y)) {
+        snprintf(out, size, "%s", instead);
         return;
     }
-    const int k = snprintf(r->hint, sizeof(r->hint), "to add it as the baseline: ");
-    if (e[0] == '-' || a[0] == '-')
-        sp_command_line_quote(dashed, 6, r->hint + k, sizeof(r->hint) - (size_t)k);
+    const int first = !strcmp(option, "--approve"); /* it reads as "--approve X Y" */
+    const char *const words[] = {"springpend", "compare", first ? option : x, first ? x : y,
+                                 first ? y : option};
+    const char *const dashed[] = {"springpend", "compare", option, "--", x, y};
+    const int k = snprintf(out, size, "%s: ", lead);
+    if (x[0] == '-' || y[0] == '-')
+        sp_command_line_quote(dashed, 6, out + k, size - (size_t)k);
     else
-        sp_command_line_quote(words, 5, r->hint + k, sizeof(r->hint) - (size_t)k);
+        sp_command_line_quote(words, 5, out + k, size - (size_t)k);
+}
+
+static void add_hint(struct sp_compare_record *r, const char *e, const char *a)
+{
+    paste_hint(r->hint, sizeof(r->hint), "to add it as the baseline", "--update=missing", e, a,
+               "to add it as the baseline, run this compare again with --update=missing (a "
+               "folder's name holds characters that a command line shown here cannot hold)");
 }
 
 /* Makes the folders above path (mkdir -p of its dirname). Returns 0, or
@@ -1010,6 +1020,20 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
         snprintf(r->hint, sizeof(r->hint), "rename it NAME.KEY.png (one declared key) or "
                  "remove it");
         r->refused = 1; /* --update leaves it: which image's it is, nobody said */
+    } else if (it->alt_named) {
+        const char *dot = strrchr(it->name, '.'), *key = dot;
+        while (key > it->name && key[-1] != '.')
+            key--;
+        const int k = (int)(dot - key), stem = key > it->name ? (int)(key - 1 - it->name) : 0;
+        snprintf(r->name, sizeof(r->name), "%s", it->name);
+        snprintf(r->actual, sizeof(r->actual), "%s", pa);
+        record_error(r, "%s is named like the %.*s alternative of %.*s%s (%.*s is on "
+                     "compare.ini's envs line): an alternative is a baseline, which only "
+                     "--update --env %.*s writes, so it was not compared, added or made a "
+                     "candidate", pa, k, key, stem, it->name, dot, k, key, k, key);
+        snprintf(r->hint, sizeof(r->hint), "rename it so that its last dotted part is no "
+                 "key on the envs line, or remove it");
+        r->refused = 1; /* else --update=missing would add it as an alternative */
     } else if (sp_snapshot_is_folder_link(it->name)) {
         snprintf(r->name, sizeof(r->name), "%s", it->name);
         record_error(r, "%s/%s is a link to a folder; compare does not follow links to "
@@ -1366,7 +1390,9 @@ static int fill_junit(FILE *fp, void *out)
 }
 
 /* 1 when writing path would put a file where folder mode reads one: a
- * *.png name or compare.ini in folder dir (links resolved). */
+ * name the walk takes (a PNG, a video: sp_snapshot_is_png, _is_video; a
+ * baseline video too, attack11 #13) or compare.ini, in folder dir or a
+ * folder under it (links resolved). */
 static int lands_in(const char *path, const char *dir)
 {
     char buf[PATH_MAX], *real = realpath(path, NULL), parent[PATH_MAX];
@@ -1382,9 +1408,8 @@ static int lands_in(const char *path, const char *dir)
     snprintf(parent, sizeof(parent), "%.*s", (int)(name - buf), buf);
     if (!parent[0])
         snprintf(parent, sizeof(parent), ".");
-    in = sp_outfile_same_file(parent, dir);
-    size_t n = strlen(name);
-    return in && ((n > 4 && !strcasecmp(name + n - 4, ".png")) ||
+    in = sp_outfile_same_file(parent, dir) || sp_compare_folder_within(parent, dir);
+    return in && (sp_snapshot_is_png(name) || sp_snapshot_is_video(name) ||
                   !strcmp(name, SP_COMPARE_CONFIG_NAME));
 }
 
@@ -1413,8 +1438,20 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
                              outs[k][1], outs[k][0]);
                 return SP_E_INPUT;
             }
+        for (int k = folders ? 0 : 1; i > 1 && k < 2; k++) /* the folders compare fills */
+            if (outs[k][0] && sp_outfile_lies_in(p, outs[k][0])) {
+                sp_log_error("%s %s lies in the %s folder %s, which compare fills with its "
+                             "own files; choose a path outside it", outs[i][1], p, outs[k][1],
+                             outs[k][0]);
+                return SP_E_INPUT;
+            }
+        char rules[PATH_MAX]; /* two-file mode: the compare.ini beside the expected file */
+        const char *slash = strrchr(e, '/');
+        snprintf(rules, sizeof(rules), "%.*s" SP_COMPARE_CONFIG_NAME,
+                 slash ? (int)(slash + 1 - e) : 0, e);
         if (sp_outfile_same_file(p, e) || sp_outfile_same_file(p, a) ||
-            (folders && i > 1 && (lands_in(p, e) || lands_in(p, a)))) {
+            (folders && i > 1 && (lands_in(p, e) || lands_in(p, a))) ||
+            (!folders && i != 1 && sp_outfile_same_output(p, rules))) {
             sp_log_error("%s %s would overwrite an input; choose another path", outs[i][1], p);
             return SP_E_INPUT;
         }
@@ -1422,6 +1459,12 @@ static int check_outputs(const struct compare_run *c, const char *e, const char 
             sp_log_error("%s %s lies in the baselines %s: the walk would skip it and what it "
                          "holds, and its images would mix with the baselines; choose a folder "
                          "outside %s", outs[i][1], p, e, e);
+            return SP_E_INPUT;
+        }
+        if (folders && i <= 1 && sp_compare_folder_within(p, a)) { /* attack11 #22 */
+            sp_log_error("%s %s lies in the actual images %s: the next walk would take its "
+                         "files for snapshots (and --update=missing add them as baselines); "
+                         "choose a folder outside %s", outs[i][1], p, a, a);
             return SP_E_INPUT;
         }
         if ((i == 0 && folders) || i == 1) /* folders */
@@ -1702,9 +1745,13 @@ static int report(const struct compare_run *c, struct sp_compare_report *rep, co
         int k = 0;
         for (int i = 0; i < rep->n; i++)
             k += rep->records[i].candidate[0] != 0;
-        sp_fprintf_line(stdout, "%d candidate%s in %s; to accept them after review: springpend "
-                        "compare --approve %s %s", k, k == 1 ? "" : "s", c->candidates,
-                        c->candidates, e);
+        char hint[3 * PATH_MAX];
+        paste_hint(hint, sizeof(hint), "to accept them after review", "--approve",
+                   c->candidates, e, "to accept them after review, run compare --approve on "
+                   "that folder and the baselines (a folder's name holds characters that a "
+                   "command line shown here cannot hold)");
+        sp_fprintf_line(stdout, "%d candidate%s in %s; %s", k, k == 1 ? "" : "s", c->candidates,
+                        hint);
         if (c->candidates_failed) {
             sp_log_error("%d candidate%s could not be written to %s (the messages above say "
                          "why): the candidates folder is incomplete", c->candidates_failed,

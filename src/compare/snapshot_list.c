@@ -227,9 +227,12 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
         qsort(a.v, (size_t)a.n, sizeof(*a.v), by_name);
     /* The images: every actual one, and every baseline that is not an
      * alternative of another image. */
-    for (int i = 0; i < a.n; i++)
-        if (!item_add(l, &cap, a.v[i]))
+    for (int i = 0; i < a.n; i++) {
+        struct sp_snapshot *it = item_add(l, &cap, a.v[i]);
+        if (!it)
             goto nomem;
+        it->alt_named = stem_of(a.v[i], &e, &a, keys, n_keys, stem, sizeof(stem));
+    }
     for (int i = 0; i < e.n; i++) {
         char stem2[PATH_MAX];
         struct sp_snapshot *it;
@@ -253,10 +256,11 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
         l->items[i].actual = names_has(&a, l->items[i].name);
         l->items[i].expected = names_has(&e, l->items[i].name);
     }
-    /* Then the alternatives, each to its image. */
+    /* Then the alternatives, each to its image (one whose name an actual
+     * image has too is still its image's: that actual image is alt_named) */
     for (int i = 0; i < e.n; i++) {
         struct sp_snapshot *it;
-        if (names_has(&a, e.v[i]) || !stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem)) ||
+        if (!stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem)) ||
             !(it = item_find(l, stem)))
             continue;
         if (SP_ARRAY_RESERVE(it->alts, it->cap_alts, it->n_alts + 1, 4) ||

@@ -13,6 +13,7 @@
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <libavutil/avstring.h>
+#include <libavutil/display.h>
 #include <libavutil/imgutils.h>
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
@@ -402,6 +403,32 @@ static int find_stream_info(AVFormatContext *fmt)
     return ret;
 }
 
+/* Refuses (SP_E_INPUT, logged) a video stream st of fmt that players show
+ * otherwise than its pixels are coded: turned by a display matrix, or
+ * stretched by a sample aspect ratio other than 1:1 (unset counts as
+ * square). springpend writes neither, and compare judges the coded pixels,
+ * so such a file would pass for its baseline while every player shows it
+ * turned or stretched (attack11 #8). 0 when shown as coded. */
+static int shown_as_coded(AVFormatContext *fmt, AVStream *st, const char *path)
+{
+    size_t size = 0;
+    const uint8_t *m = av_stream_get_side_data(st, AV_PKT_DATA_DISPLAYMATRIX, &size);
+    const double turn = m && size >= 9 * sizeof(int32_t)
+                            ? av_display_rotation_get((const int32_t *)m) : 0;
+    const AVRational sar = av_guess_sample_aspect_ratio(fmt, st, NULL);
+    if (!isnan(turn) && fabs(turn) < 0.5 && (sar.num == 0 || sar.num == sar.den))
+        return 0;
+    if (sar.num == 0 || sar.num == sar.den)
+        sp_log_error("%s: its video is shown turned by %.0f degrees counterclockwise (a "
+                     "display matrix); springpend writes none, and compare judges the pixels "
+                     "as coded, which no player shows", path, isnan(turn) ? 0.0 : turn);
+    else
+        sp_log_error("%s: its video's pixels are shown %d:%d (a sample aspect ratio), not "
+                     "square; springpend writes square pixels, and compare judges them as "
+                     "coded, which no player shows", path, sar.num, sar.den);
+    return SP_E_INPUT;
+}
+
 /* sp_video_reader_open; strict: the decoder stops at the first damage it
  * finds (AV_EF_EXPLODE) rather than hiding it, as it may a cut frame. */
 static int reader_open(struct sp_video_reader **out, const char *path, int strict)
@@ -450,6 +477,8 @@ static int reader_open(struct sp_video_reader **out, const char *path, int stric
         ret = SP_E_INPUT;
         goto fail;
     }
+    if ((ret = shown_as_coded(r->fmt, r->fmt->streams[r->stream], path)) != 0)
+        goto fail;
     if (!(r->dec = avcodec_alloc_context3(codec))) {
         ret = av_fail(r, "cannot make a decoder", AVERROR(ENOMEM));
         goto fail;
@@ -603,11 +632,12 @@ int sp_video_frame_size(const char *path, int *width, int *height)
     AVFormatContext *fmt = NULL;
     struct stat st;
     char name[32];
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC), ret = SP_E_INPUT;
+    const char *why;
+    int fd = sp_infile_try(path, &why), ret = SP_E_INPUT; /* a regular file only */
     *width = *height = 0;
     if (fd < 0)
         return SP_E_INPUT;
-    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+    if (fstat(fd, &st) == 0 &&
         metadata_bounded(fd, NULL, 0, st.st_size, 0) == 0) {
         snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
         pthread_once(&log_once, log_through_lines);

@@ -577,18 +577,14 @@ static int set_text(struct parse_ctx *c, int line, const struct key_info *k,
                k->name, n, SP_VIEW_TEXT_BYTES - 1);
         return 1;
     }
-    for (size_t i = 0; i < n;) { /* --set bypasses the file's text check */
+    const size_t i = sp_utf8_not_text(value, n); /* --set bypasses the file's text check */
+    if (i < n) {
         const unsigned char *u = (const unsigned char *)value + i;
-        int len = (int)sp_utf8_char((const char *)u);
-        const int c1 = len == 2 && u[0] == 0xc2 && u[1] < 0xa0; /* U+0080..U+009F */
-        if (!len || i + (size_t)len > n || *u < 0x20 || *u == 0x7f || c1) {
-            report(c, line, "%s.%s: %s 0x%02x at byte %zu is not text; allowed: "
-                   "UTF-8 text without control characters (C0, DEL or C1)", k->section,
-                   k->name, c1 ? "the C1 control, bytes 0xc2" : "byte", c1 ? u[1] : *u,
-                   i + 1);
-            return 1;
-        }
-        i += (size_t)len;
+        const int c1 = i + 1 < n && u[0] == 0xc2 && u[1] >= 0x80 && u[1] < 0xa0; /* U+0080..9F */
+        report(c, line, "%s.%s: %s 0x%02x at byte %zu is not text; allowed: "
+               "UTF-8 text without control characters (C0, DEL or C1)", k->section,
+               k->name, c1 ? "the C1 control, bytes 0xc2" : "byte", c1 ? u[1] : *u, i + 1);
+        return 1;
     }
     if (slot >= 0) { /* the scene's own heap copy, after where it was set; the
                         one it replaces is freed */
@@ -1379,16 +1375,19 @@ int sp_scene_load_text(struct sp_scene *s, const char *path, const char *text, s
     s->timeline = NULL; /* sp_scene_free is safe after any outcome */
     s->texts[0] = s->texts[1] = NULL;
     if (memchr(text, 0, size)) {
-        sp_fprintf_line(stderr, "%s: contains NUL bytes; a scene is a text file of "
-                "'key = value' lines", path);
+        if (!sp_log_muted()) /* one rule for every message the parser gives */
+            sp_fprintf_line(stderr, "%s: contains NUL bytes; a scene is a text file of "
+                            "'key = value' lines", path);
         return SP_E_INPUT;
     }
-    /* The scene's name is the file's stem: its name without the last
-     * extension, so chaotic.v2.ini and chaotic.v3.ini name two outputs. */
+    /* The scene's name is the file's stem: its name less the last
+     * extension ("chaotic.v2.ini" is chaotic.v2, not chaotic, which
+     * chaotic.v3.ini's outputs would share: attack11 #25). */
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
-    const char *dot = strrchr(base, '.');
-    snprintf(s->name, sizeof(s->name), "%.*s", (int)(dot ? (size_t)(dot - base) : strlen(base)), base);
+    const char *ext = strrchr(base, '.');
+    snprintf(s->name, sizeof(s->name), "%.*s",
+             (int)(ext ? (size_t)(ext - base) : strlen(base)), base); /* ".ini": "scene" */
     if (!s->name[0])
         snprintf(s->name, sizeof(s->name), "scene");
     return sp_scene_parse(s, text, path, overrides, n_overrides);

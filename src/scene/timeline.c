@@ -12,6 +12,7 @@
 #include "base/decimal.h"
 #include "base/array.h"
 #include "base/ini_lines.h"
+#include "base/utf8.h"
 
 #define E SP_TIMELINE_EASE
 #define H SP_TIMELINE_FADE
@@ -37,8 +38,13 @@ void sp_timeline_destroy(struct sp_timeline **tp)
 static void report(const char *origin, int line, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
+/* Says a [timeline] line's error, but while the log is muted (sp_log_muted:
+ * sweep --merge's look at a scene a shard's command names, whose text the
+ * messages would quote: attack11 #7), as scene.c's report. */
 static void report(const char *origin, int line, const char *fmt, ...)
 {
+    if (sp_log_muted())
+        return;
     va_list ap;
     va_start(ap, fmt);
     char *msg = NULL;
@@ -88,6 +94,16 @@ static int cue_text(const char *origin, int line, enum sp_cue_kind kind, const c
     }
     if (*tn >= 2 && t[0] == '"' && t[*tn - 1] == '"') /* quotes, as title's */
         *text += 1, *tn -= 2;
+    const size_t bad = sp_utf8_not_text(*text, *tn); /* as [view] text's (attack11 #19) */
+    if (bad < *tn) {
+        const unsigned char *u = (const unsigned char *)*text + bad;
+        const int c1 = bad + 1 < *tn && u[0] == 0xc2 && u[1] >= 0x80 && u[1] < 0xa0;
+        report(origin, line, "[timeline] %s: %s 0x%02x at byte %zu is not text; allowed: "
+               "UTF-8 text without control characters (C0 such as a tab, DEL or C1)",
+               kind == SP_CUE_CAPTION ? "caption" : "pause note",
+               c1 ? "the C1 control, bytes 0xc2" : "byte", c1 ? u[1] : *u, bad + 1);
+        return 1;
+    }
     return 0;
 }
 

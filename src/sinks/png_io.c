@@ -359,8 +359,45 @@ static void reader_setup(struct png_reader *r, int with_text)
         static const png_byte text_chunks[] = "tEXt\0zTXt\0iTXt";
         png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_NEVER, text_chunks, 3);
     }
+    /* an APNG's animation control chunk, which libpng 1.6 does not know:
+     * kept (8 bytes), so that shown_as_read sees it */
+    static const png_byte actl[] = "acTL";
+    png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_ALWAYS, actl, 1);
     png_set_chunk_malloc_max(r->png, TEXT_CHUNK_MAX);
     png_set_chunk_cache_max(r->png, TEXT_CHUNKS_MAX);
+}
+
+/* After png_read_info: 0 when a viewer shows the PNG as its pixels read
+ * (no gamma or colour-space conversion, one image); else SP_E_INPUT,
+ * said. An APNG (acTL) is shown as its animation, whose frames need not
+ * include the default image compared (attack11 #21); a gAMA other than
+ * sRGB's (1/2.2), a cHRM without an sRGB chunk, or an ICC profile (iCCP)
+ * makes browsers, and so compare's own HTML report, draw other colours
+ * than the pixels compared. springpend writes none of them. */
+static int shown_as_read(struct png_reader *r)
+{
+    png_unknown_chunkp unknown;
+    png_fixed_point gamma = 0;
+    int intent;
+    const int srgb = png_get_sRGB(r->png, r->info, &intent) != 0;
+    const char *what = png_get_unknown_chunks(r->png, r->info, &unknown) > 0
+                           ? "is an animated PNG (APNG: an acTL chunk), which viewers show as "
+                             "its frames"
+                       : png_get_valid(r->png, r->info, PNG_INFO_iCCP)
+                           ? "holds an ICC colour profile (iCCP), by which viewers convert its "
+                             "colours"
+                       : !srgb && png_get_valid(r->png, r->info, PNG_INFO_cHRM)
+                           ? "holds chromaticities (cHRM), by which viewers convert its colours"
+                       : !srgb && png_get_gAMA_fixed(r->png, r->info, &gamma) &&
+                                 (gamma < 44955 || gamma > 45955)
+                           ? "holds a gamma (gAMA) other than sRGB's 1/2.2, by which viewers "
+                             "convert its colours"
+                           : NULL;
+    if (!what)
+        return 0;
+    sp_log_error("%s %s; springpend reads still PNGs drawn as their pixels (as it writes "
+                 "them), so it would judge pixels that no viewer shows", r->path, what);
+    return SP_E_INPUT;
 }
 
 /* After libpng's error: closes r; SP_E_NOMEM when an allocation failed
@@ -376,12 +413,12 @@ static int reader_failed(struct png_reader *r)
 int sp_png_read_info_quiet(const char *path, struct sp_png_info *out)
 {
     memset(out, 0, sizeof(*out));
-    /* O_NONBLOCK: a FIFO named *.png must not block; only a regular file
-     * is read */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    struct stat st;
+    /* only a regular file is opened (infile.h): a FIFO or device named
+     * *.png is not, nor swapped in after the walk looked */
+    const char *why;
+    int fd = sp_infile_try(path, &why);
     FILE *fp = NULL;
-    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || !(fp = fdopen(fd, "rb"))) {
+    if (fd < 0 || !(fp = fdopen(fd, "rb"))) {
         if (fd >= 0)
             close(fd);
         return SP_E_INPUT;
@@ -446,7 +483,7 @@ int sp_png_read(const char *path, struct sp_image *img)
     png_read_info(r->png, r->info);
     hdr.width = (int)png_get_image_width(r->png, r->info);
     hdr.height = (int)png_get_image_height(r->png, r->info);
-    if ((err = sp_png_check_size(path, &hdr)) != 0) {
+    if ((err = sp_png_check_size(path, &hdr)) != 0 || (err = shown_as_read(r)) != 0) {
         reader_close(r);
         return err;
     }

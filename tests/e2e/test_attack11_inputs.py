@@ -14,7 +14,10 @@
   then opened it by name: a path flipped between a scene and a device got
   the device opened in a few percent of merges. Nothing but the file
   looked at is opened now (a FIFO stands in for the device; inotify counts
-  its opens while a thread flips the two names).
+  its opens while a thread flips the two names);
+- attack12 #1: compare's memory plan (--jobs) read each pair's PNG or
+  video header through its own open() after the walk had looked: a folder
+  entry swapped for a link to a FIFO (a device's stand-in) was opened.
 usage: test_attack11_inputs.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import ctypes
 import os
@@ -159,5 +162,40 @@ flipper.join()
 opens = watch.count()
 ok(opens == 0 and codes <= {0, 2},
    f"{merges} merges while the scene's path flips to a FIFO: the FIFO was opened {opens} times "
+   f"(exit statuses {sorted(codes)})")
+
+# ---- attack12 #1: compare's memory plan reads each pair's header: through the
+# same opener (a folder entry swapped for a link to a FIFO after the walk
+# looked is not opened) ----------------------------------------------------
+for d in ("e", "a"):
+    os.makedirs(path(d))
+    for n in ("x", "z1", "z2", "z3"):
+        with open(path("a.png"), "rb") as f, open(path(d, f"{n}.png"), "wb") as g:
+            g.write(f.read())
+link(path("fifo"), "spare")
+watch = Opens(path("fifo"))
+stop.clear()
+
+
+def flip_entry():
+    a, b = path("a", "x.png").encode(), path("spare").encode()
+    while not stop.is_set():
+        libc.renameat2(AT_FDCWD, a, AT_FDCWD, b, RENAME_EXCHANGE)
+
+
+flipper = threading.Thread(target=flip_entry)
+flipper.start()
+codes = set()
+runs = 0
+start = time.monotonic()
+while runs < 60 and time.monotonic() - start < 60:
+    codes.add(run("compare", "e", "a", "--jobs", "2", "-q").returncode)
+    runs += 1
+stop.set()
+flipper.join()
+opens = watch.count()
+ok(opens == 0 and codes <= {0, 1, 2},
+   f"{runs} folder compares (--jobs 2, which reads each pair's header to plan its memory) while "
+   f"a/x.png flips with a link to a FIFO: the FIFO was opened {opens} times "
    f"(exit statuses {sorted(codes)})")
 done()

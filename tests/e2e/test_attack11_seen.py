@@ -89,7 +89,7 @@ rows = open(os.path.join(work, "both.csv")).read().splitlines() if r.returncode 
 ok({row.split(",")[0] for row in rows[1:]} == {"chaotic.v2", "chaotic.v3"},
    f"#25: data names them chaotic.v2 and chaotic.v3 ({r.stderr.strip()[-200:]})")
 readme = open(os.path.join(src, "..", "README.md")).read()
-ok("`chaotic.v2.ini` writes\n`out/chaotic.v2.mp4`" in readme,
+ok("name less its last extension (`chaotic.v2.ini`: `out/chaotic.v2.png`)" in readme,
    "#25: the README says the default name is the file's name without its last extension")
 
 # 14: the largest font size 640x240 takes is the one its layout fits.

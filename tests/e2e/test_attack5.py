@@ -244,7 +244,9 @@ for opt, where in (("--diff", "df/e/sub"), ("--diff", "df/e/new"), ("--candidate
     ok(r.returncode == 2 and "lies in the baselines" in err(r) and "ok" not in r.stdout.decode(),
        f"{opt} {where}, inside the baselines, is refused before comparing (exit {r.returncode})")
 r = run("compare", "df/e", "df/a", "--diff", "df/a/d")
-ok(r.returncode == 0, f"--diff inside the actual folder is still taken (exit {r.returncode})")
+# attack11 #22: the next walk took its diffs for snapshots, and --update=missing added them
+ok(r.returncode == 2 and "lies in the actual images" in err(r),
+   f"--diff inside the actual folder is refused too (exit {r.returncode})")
 
 # ---- video links in a report written elsewhere ---------------------------------
 for side, angle in (("e", "10"), ("a", "30")):

@@ -187,6 +187,11 @@ def forged_video(w, h):
     data = bytearray(open(video, "rb").read())
     at = data.index(b"avc1", data.index(b"stsd")) + 28  # VisualSampleEntry's width, height
     data[at:at + 4] = struct.pack(">HH", w, h)
+    # the track header's display size too (16.16), as a muxer writes it: else the demuxer
+    # reads the two sizes' ratio as non-square pixels, which compare refuses (attack11 #8)
+    tkhd = data.index(b"tkhd") - 4
+    at = tkhd + (84 if data[tkhd + 8] == 0 else 96)
+    data[at:at + 8] = struct.pack(">II", w << 16, h << 16)
     return bytes(data)
 
 

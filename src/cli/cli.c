@@ -209,6 +209,13 @@ static const struct owned_option {
     {'e', SP_CLI_TAKES_EVERY, "--every", "data"},
     /* a frame's size: data and info draw no frame */
     {'S', SP_CLI_TAKES_VIDEO | SP_CLI_TAKES_STILL, "--size", "render' and 'springpend still"},
+    {'G', SP_CLI_TAKES_VIDEO | SP_CLI_TAKES_STILL, "--gl", "render' and 'springpend still"},
+    {'v', SP_CLI_TAKES_VIDEO, "--verbose", "render"}, /* the stages' times */
+    /* info prints; it writes no file and has nothing to quiet */
+    {'o', SP_CLI_TAKES_VIDEO | SP_CLI_TAKES_STILL | SP_CLI_TAKES_EVERY, "-o/--output",
+     "render', 'springpend still' and 'springpend data"},
+    {'q', SP_CLI_TAKES_VIDEO | SP_CLI_TAKES_STILL | SP_CLI_TAKES_EVERY, "-q/--quiet",
+     "render', 'springpend still' and 'springpend data"},
 };
 
 /* SP_E_INPUT after a message when option c (just read by getopt_long)
@@ -316,10 +323,42 @@ static int take_option(struct sp_cli_options *o, int c, int argc, char **argv,
                      argv[0]);
         return SP_E_INPUT;
     default:
-        sp_log_error("unknown option '%s'; see 'springpend %s --help'", argv[optind - 1],
-                     argv[0]);
+        sp_cli_bad_option(argv[optind - 1], longopts, argv[0]);
         return SP_E_INPUT;
     }
+}
+
+void sp_cli_bad_option(const char *word, const struct option *opts, const char *command)
+{
+    if (word[0] == '-' && word[1] == '-' && word[2] && word[2] != '=') {
+        const char *name = word + 2;
+        const size_t len = strcspn(name, "=");
+        char list[512] = "";
+        int exact = -1, last = -1, n = 0;
+        for (int i = 0; opts[i].name; i++) {
+            if (strncmp(opts[i].name, name, len))
+                continue;
+            if (strlen(opts[i].name) == len)
+                exact = i;
+            last = i, n++;
+        }
+        const int one = exact >= 0 ? exact : n == 1 ? last : -1;
+        if (one >= 0 && name[len] == '=' && opts[one].has_arg == no_argument) {
+            sp_log_error("--%s takes no value ('%s'); see 'springpend %s --help'",
+                         opts[one].name, word, command);
+            return;
+        }
+        if (one < 0 && n > 1) {
+            for (int i = 0, k = 0; opts[i].name; i++)
+                if (!strncmp(opts[i].name, name, len))
+                    snprintf(list + strlen(list), sizeof(list) - strlen(list), "%s--%s",
+                             !k++ ? "" : k == n ? " or " : ", ", opts[i].name);
+            sp_log_error("option '--%.*s' is ambiguous: %s; see 'springpend %s --help'",
+                         (int)len, name, list, command);
+            return;
+        }
+    }
+    sp_log_error("unknown option '%s'; see 'springpend %s --help'", word, command);
 }
 
 /* --quality NAME: like the tools people know, its size and fps put first

@@ -124,6 +124,12 @@ int sp_cli_once(int c, const struct option *opts, const char *repeatable, const 
  * numeric option's message, ARG as the user typed it. */
 int sp_cli_refuse(const char *opt, const char *arg, const char *wrong, const char *allowed);
 
+/* Says why getopt_long refused `word` ('?'; opterr off) for 'springpend
+ * command': a value given to an option that takes none ("--merge=1"), a
+ * prefix of several options ("--s": --set, --shard or --size), or no such
+ * option. Always logs one line. */
+void sp_cli_bad_option(const char *word, const struct option *opts, const char *command);
+
 /* Reads arg, option opt's value, whole as a decimal number within lo..hi
  * (sp_decimal_in's flags: SP_DECIMAL_INTEGER, SP_DECIMAL_ABOVE) into *v;
  * else refuses it (sp_cli_refuse) with `allowed`. */

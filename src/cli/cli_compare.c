@@ -186,8 +186,7 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
             sp_log_error("%s needs a value; see 'springpend compare --help'", argv[optind - 1]);
             return SP_E_INPUT;
         default:
-            sp_log_error("unknown option '%s'; see 'springpend compare --help'",
-                         argv[optind - 1]);
+            sp_cli_bad_option(argv[optind - 1], longopts, "compare");
             return SP_E_INPUT;
         }
     }

@@ -74,6 +74,8 @@ static const char data_usage[] =
     "  --every SECONDS        sampling interval in simulated seconds\n"
     "  --poincare             the Poincare section's crossings instead of samples\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
+    "  --fps N                shorthand for video.fps: the frame times sampled\n"
+    "  --quality Q            low, medium, high or 4k: render's rates (the frame times)\n"
     "  -q, --quiet            no 'wrote' line\n"
     "  -h, --help             this text\n";
 

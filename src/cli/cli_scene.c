@@ -373,7 +373,7 @@ int sp_cmd_scene(int argc, char **argv, const volatile sig_atomic_t *cancel)
                          argv[optind - 1]);
             return SP_E_INPUT;
         default:
-            sp_log_error("unknown option '%s'; see 'springpend scene --help'", argv[optind - 1]);
+            sp_cli_bad_option(argv[optind - 1], longopts, "scene");
             return SP_E_INPUT;
         }
     }

@@ -294,7 +294,7 @@ static int take_option(int c, char **argv, struct sweep_opts *o, struct sp_sweep
         sp_log_error("option '%s' needs a value; see 'springpend sweep --help'", argv[optind - 1]);
         return SP_E_INPUT;
     default:
-        sp_log_error("unknown option '%s'; see 'springpend sweep --help'", argv[optind - 1]);
+        sp_cli_bad_option(argv[optind - 1], longopts, "sweep");
         return SP_E_INPUT;
     }
     return ret;

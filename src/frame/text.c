@@ -396,13 +396,26 @@ static int list_name(const char *family, int n, char *out, size_t size)
     return 1;
 }
 
-/* 1 when some font of the sorted set is of `family`. */
-static int sorted_has(const FcFontSet *set, const char *family)
+/* 1 when fontconfig has a font of `family` installed (whether or not it
+ * adds a character to the names before it in a list, which the trimmed
+ * sort leaves out). */
+static int installed(const char *family)
 {
-    for (int i = 0; set && i < set->nfont; i++)
-        if (has_family(set->fonts[i], family))
-            return 1;
-    return 0;
+    FcPattern *p = FcPatternCreate();
+    FcObjectSet *os = FcObjectSetBuild(FC_FAMILY, (char *)NULL);
+    FcFontSet *set = NULL;
+    int found = 0;
+    if (p && os && FcPatternAddString(p, FC_FAMILY, (const FcChar8 *)family) &&
+        (set = FcFontList(NULL, p, os)) != NULL)
+        for (int i = 0; i < set->nfont && !found; i++)
+            found = has_family(set->fonts[i], family);
+    if (set)
+        FcFontSetDestroy(set);
+    if (os)
+        FcObjectSetDestroy(os);
+    if (p)
+        FcPatternDestroy(p);
+    return found;
 }
 
 /* Appends fontconfig's order for `family` to the faces (fonts without
@@ -446,9 +459,9 @@ static int sort_fonts(struct sp_font *f, const char *family, int verify, const c
     f->sorted = FcFontSort(NULL, pat, FcTrue, NULL, &res);
     for (int n = 0; verify && list_name(family, n, name, sizeof(name)); n++) {
         /* the first name must be what fontconfig picked first; a later
-         * one, somewhere in its order */
+         * one, installed */
         const int found = generic_family(name) ||
-                          (n ? sorted_has(f->sorted, name)
+                          (n ? installed(name)
                              : f->sorted && f->sorted->nfont && has_family(f->sorted->fonts[0], name));
         if (!found) {
             unknown_family(family, name, where, NULL);

@@ -334,4 +334,40 @@ for masks, want, what in (([], 1, "no mask: the last column and row (999 pixels)
         f.write("[m.png]\n" + "".join(f"mask = {m}\n" for m in masks))
     r = run("compare", p("mexp"), p("mact"))
     ok(r.returncode == want, f"compare.ini: {what} (exit {r.returncode}, want {want}) {err(r)[:100]}")
+
+# data and info: --fps and --quality set the frame times (data samples at
+# k * speed / fps; info counts round(length * fps) frames) and their --help
+# says so; --gl, -v, and for info -o and -q, do nothing there and are
+# refused, naming the commands that take them (attack12 #4: taken and
+# ignored, --fps and --quality undocumented).
+def csv_rows(*extra):
+    r = run("data", DEFAULT, "--set", "video.duration=1", *extra, "-o", "-", "-q")
+    return len([l for l in r.stdout.splitlines() if l and l[0].isdigit()])
+
+
+rows = [csv_rows(), csv_rows("--fps", "30"), csv_rows("--quality", "low")]
+helps = {c: run(c, "--help").stdout for c in ("data", "info")}
+ok(rows == [60, 30, 15] and all("--fps" in h and "--quality" in h for h in helps.values()),
+   f"data samples at the frame times --fps and --quality give (1 s: {rows}, want 60, 30, 15 at 60, "
+   "30, 15 fps), and data's and info's --help name both")
+for cmd, opt in (("data", ["--gl", "egl"]), ("data", ["-v"]), ("info", ["--gl", "egl"]),
+                 ("info", ["-v"]), ("info", ["-o", "x.txt"]), ("info", ["-q"]),
+                 ("still", ["-v"])):
+    r = run(cmd, DEFAULT, "--set", "video.duration=0.1", *opt)
+    ok(r.returncode == 2 and "is for 'springpend render" in err(r) and
+       not os.path.exists(p("x.txt")),
+       f"{cmd} {' '.join(opt)}: refused, naming who takes it (exit {r.returncode}: {err(r)[:110]})")
+
+# getopt_long's three refusals told apart: a value given to an option that
+# takes none, an ambiguous prefix, no such option (attack12 #7: all three
+# were "unknown option").
+for args, said in ((["sweep", CHAOTIC, "--merge=1"], "--merge takes no value"),
+                   (["render", DEFAULT, "--quiet=1"], "--quiet takes no value"),
+                   (["sweep", CHAOTIC, "--s", "x"], "ambiguous: --set, --shard or --size"),
+                   (["compare", "a.png", "b.png", "--re", "x"],
+                    "ambiguous: --report or --report-failures-only"),
+                   (["scene", "a.png", "--bogus"], "unknown option '--bogus'")):
+    r = run(*args)
+    ok(r.returncode == 2 and said in err(r), f"{' '.join(args[:1] + args[2:])}: says {said!r} "
+       f"({err(r)[:120]})")
 done()

@@ -223,6 +223,11 @@ ok(r1.returncode == 0 and r2.returncode == 0 and serif_greek and serif_greek != 
    sans_greek in alone,
    f"view.font = \"Latin Modern Roman, serif\": θ from {serif_greek} (fc-match serif), not "
    f"{sans_greek} as for Latin Modern Roman alone (pdffonts: {sorted(listed)} | {sorted(alone)})")
+# a later name that adds no character to those before it is still installed
+# (attack12 #3: fontconfig's trimmed order leaves it out; it was "not installed")
+r = still("lm-caps.png", "x", {"view.font": "Latin Modern Roman, Latin Modern Roman Caps"})
+ok(r.returncode == 0, f"view.font = \"Latin Modern Roman, Latin Modern Roman Caps\": taken "
+   f"({r.stderr.strip()[:140] if r.returncode else 'exit 0'})")
 for value, said in (("Latin Modern Roman, Noto Serf", '"Noto Serif"'),
                     ("Latin Modern Roman,, serif", "an empty name"),
                     ("Latin Modern Roman,", "an empty name")):

@@ -71,11 +71,19 @@ static const uint32_t default_ignorable[][2] = {
     {0xE0000, 0xE0FFF},
 };
 
+/* 1 when u is in one of the n ranges (first, last) of table. */
+static int in_table(uint32_t u, const uint32_t table[][2], size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (u >= table[i][0] && u <= table[i][1])
+            return 1;
+    return 0;
+}
+
 int sp_utf8_is_invisible(uint32_t u)
 {
-    for (size_t i = 0; i < sizeof(default_ignorable) / sizeof(default_ignorable[0]); i++)
-        if (u >= default_ignorable[i][0] && u <= default_ignorable[i][1])
-            return 1;
+    if (in_table(u, default_ignorable, sizeof(default_ignorable) / sizeof(default_ignorable[0])))
+        return 1;
     if (u == 0x2800) /* BRAILLE PATTERN BLANK (So): a blank letter, not ignorable */
         return 1;
     /* the Unicode Character Database's general category, as HarfBuzz (which
@@ -111,48 +119,73 @@ static const char *before(const char *start, const char *p, uint32_t *u)
     return NULL;
 }
 
+/* Unicode's Indic_Syllabic_Category (IndicSyllabicCategory.txt, Unicode
+ * 15.0, as ICU 72 has it): the viramas (combining class 9) that are pure
+ * killers, which form no conjunct (Myanmar's asat, Thai's phinthu), and the
+ * independent vowels, which a virama does not join. HarfBuzz keeps these
+ * internal, and ICU's data library (30 MB mapped at every start) broke the
+ * runs under ulimit -v that test `compare` makes, so the ranges are here,
+ * written by a ten-line C program over ICU's u_getIntPropertyValue
+ * (UCHAR_INDIC_SYLLABIC_CATEGORY) and u_getCombiningClass. First, last. */
+static const uint32_t pure_killer[][2] = {
+    {0x0D3B, 0x0D3C}, {0x0E3A, 0x0E3A}, {0x0EBA, 0x0EBA}, {0x0F84, 0x0F84}, {0x103A, 0x103A},
+    {0x1714, 0x1715}, {0x1734, 0x1734}, {0x1BAA, 0x1BAA}, {0x1BF2, 0x1BF3}, {0x2D7F, 0x2D7F},
+    {0xA82C, 0xA82C}, {0xA953, 0xA953}, {0xABED, 0xABED}, {0x11070, 0x11070}, {0x1107F, 0x1107F},
+    {0x11134, 0x11134}, {0x112EA, 0x112EA}, {0x1172B, 0x1172B}, {0x1193D, 0x1193D}, {0x11A34, 0x11A34},
+    {0x11D44, 0x11D44}, {0x11F41, 0x11F41},
+};
+static const uint32_t vowel_independent[][2] = {
+    {0x0904, 0x0914}, {0x0960, 0x0961}, {0x0972, 0x0977}, {0x0985, 0x098C}, {0x098F, 0x0990},
+    {0x0993, 0x0994}, {0x09E0, 0x09E1}, {0x0A05, 0x0A0A}, {0x0A0F, 0x0A10}, {0x0A13, 0x0A14},
+    {0x0A85, 0x0A8D}, {0x0A8F, 0x0A91}, {0x0A93, 0x0A94}, {0x0AE0, 0x0AE1}, {0x0B05, 0x0B0C},
+    {0x0B0F, 0x0B10}, {0x0B13, 0x0B14}, {0x0B60, 0x0B61}, {0x0B85, 0x0B8A}, {0x0B8E, 0x0B90},
+    {0x0B92, 0x0B94}, {0x0C05, 0x0C0C}, {0x0C0E, 0x0C10}, {0x0C12, 0x0C14}, {0x0C60, 0x0C61},
+    {0x0C85, 0x0C8C}, {0x0C8E, 0x0C90}, {0x0C92, 0x0C94}, {0x0CE0, 0x0CE1}, {0x0D05, 0x0D0C},
+    {0x0D0E, 0x0D10}, {0x0D12, 0x0D14}, {0x0D5F, 0x0D61}, {0x0D85, 0x0D96}, {0x1021, 0x102A},
+    {0x1052, 0x1055}, {0x1700, 0x1702}, {0x1720, 0x1722}, {0x1740, 0x1742}, {0x1760, 0x1762},
+    {0x17A3, 0x17B3}, {0x1A4D, 0x1A52}, {0x1B05, 0x1B12}, {0x1B83, 0x1B89}, {0x1BE4, 0x1BE5},
+    {0xA800, 0xA801}, {0xA803, 0xA805}, {0xA882, 0xA891}, {0xA8FE, 0xA8FE}, {0xA984, 0xA988},
+    {0xA98C, 0xA98E}, {0xAA00, 0xAA05}, {0xAAE0, 0xAAE1}, {0xABCE, 0xABCF}, {0xABD1, 0xABD1},
+    {0x11005, 0x11012}, {0x11071, 0x11072}, {0x11083, 0x1108C}, {0x11103, 0x11106}, {0x11183, 0x11190},
+    {0x11200, 0x11207}, {0x11240, 0x11240}, {0x11280, 0x11283}, {0x112B0, 0x112B9}, {0x11305, 0x1130C},
+    {0x1130F, 0x11310}, {0x11313, 0x11314}, {0x11360, 0x11361}, {0x11400, 0x1140D}, {0x11481, 0x1148E},
+    {0x11580, 0x1158D}, {0x115D8, 0x115DB}, {0x11600, 0x1160D}, {0x11680, 0x11689}, {0x11800, 0x11809},
+    {0x11900, 0x11906}, {0x11909, 0x11909}, {0x119A0, 0x119A7}, {0x119AA, 0x119AD}, {0x11A00, 0x11A00},
+    {0x11A50, 0x11A50}, {0x11C00, 0x11C08}, {0x11C0A, 0x11C0D}, {0x11D00, 0x11D06}, {0x11D08, 0x11D09},
+    {0x11D0B, 0x11D0B}, {0x11D60, 0x11D65}, {0x11D67, 0x11D68}, {0x11D6A, 0x11D6B}, {0x11F04, 0x11F10},
+};
+
+/* 1 for a virama (RFC 5892's Canonical_Combining_Class Virama) that forms
+ * conjuncts (not a pure killer: a joiner after Myanmar's asat or Thai's
+ * phinthu draws nothing, attack11 #1, measured: identical pixels). */
 static int virama(uint32_t u)
 {
     return hb_unicode_combining_class(hb_unicode_funcs_get_default(), u) ==
-           HB_UNICODE_COMBINING_CLASS_VIRAMA;
+               HB_UNICODE_COMBINING_CLASS_VIRAMA &&
+           !in_table(u, pure_killer, sizeof(pure_killer) / sizeof(pure_killer[0]));
 }
 
-/* 1 when c is a letter of the script of v (a virama). */
-static int letter_cp_of(uint32_t c, uint32_t v)
+/* 1 when c is a consonant of the script of v (a virama): a letter of that
+ * script but an independent vowel, which a virama does not join. */
+static int consonant_of(uint32_t c, uint32_t v)
 {
     hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
-    switch (hb_unicode_general_category(uf, c)) {
-    case HB_UNICODE_GENERAL_CATEGORY_OTHER_LETTER:
-    case HB_UNICODE_GENERAL_CATEGORY_LOWERCASE_LETTER:
-    case HB_UNICODE_GENERAL_CATEGORY_UPPERCASE_LETTER:
-    case HB_UNICODE_GENERAL_CATEGORY_TITLECASE_LETTER:
-    case HB_UNICODE_GENERAL_CATEGORY_MODIFIER_LETTER:
-        return hb_unicode_script(uf, c) == hb_unicode_script(uf, v);
-    default:
-        return 0;
-    }
+    return hb_unicode_general_category(uf, c) == HB_UNICODE_GENERAL_CATEGORY_OTHER_LETTER &&
+           hb_unicode_script(uf, c) == hb_unicode_script(uf, v) &&
+           !in_table(c, vowel_independent, sizeof(vowel_independent) / sizeof(vowel_independent[0]));
 }
 
-/* 1 when the character at q is a letter of the script of v (a virama). */
-static int letter_of(const char *q, uint32_t v)
+/* 1 when the virama v that starts at p (in the text from start) follows a
+ * consonant of its script, nuktas between them (KA NUKTA VIRAMA): a
+ * virama with nothing to kill (after a space, a vowel) forms nothing. */
+static int virama_after_consonant(const char *start, const char *p, uint32_t v)
 {
-    size_t n;
-    return *q && sp_utf8_char(q) && letter_cp_of(sp_utf8_decode(q, &n), v);
-}
-
-/* 1 when the virama v that starts at p (in text from start) follows a
- * letter of its script, a nukta (ccc 7) between them allowed: the
- * consonant a conjunct starts from. A virama at the start, after a space
- * or a Latin letter joins nothing, and a joiner after it changes nothing
- * drawn (attack11 #1). */
-static int virama_on_letter(const char *start, const char *p, uint32_t v)
-{
-    uint32_t b = 0;
-    const char *q = before(start, p, &b);
-    while (q && hb_unicode_combining_class(hb_unicode_funcs_get_default(), b) ==
-                    HB_UNICODE_COMBINING_CLASS_NUKTA)
-        q = before(start, q, &b);
-    return q && letter_cp_of(b, v);
+    uint32_t c = 0;
+    do
+        p = before(start, p, &c);
+    while (p && hb_unicode_combining_class(hb_unicode_funcs_get_default(), c) ==
+                    HB_UNICODE_COMBINING_CLASS_NUKTA);
+    return p && consonant_of(c, v);
 }
 
 int sp_utf8_is_joiner(const char *start, const char *at)
@@ -162,10 +195,19 @@ int sp_utf8_is_joiner(const char *start, const char *at)
     const char *p = before(start, at, &b);
     if (u != 0x200C && u != 0x200D)
         return 0;
-    if (p && virama(b)) /* A.1, A.2: after a virama (Indic conjuncts) that follows a
-                           * letter of its script, before one, where it selects a form:
-                           * else it draws nothing (attack10 #14, attack11 #1) */
-        return virama_on_letter(start, p, b) && letter_of(at + n, b);
+    /* A.1, A.2: after a virama (Indic conjuncts) that follows a consonant of
+     * its script (else the virama forms nothing, attack11 #1): a ZWJ asks for
+     * the half form, whatever follows; a ZWNJ only keeps the virama shown
+     * before a consonant of the script (the conjunct it breaks), before
+     * anything else (a vowel letter, attack10 #14 and attack11 #1) it draws
+     * nothing */
+    if (p && virama(b) && virama_after_consonant(start, p, b)) {
+        size_t m;
+        if (u == 0x200D)
+            return 1;
+        if (*(at + n) && sp_utf8_char(at + n) && consonant_of(sp_utf8_decode(at + n, &m), b))
+            return 1;
+    }
     if (u == 0x200D)
         return 0;
     /* A.1: (Joining_Type:{L,D})(Joining_Type:T)* ZWNJ (Joining_Type:T)*(Joining_Type:{R,D}),

@@ -42,7 +42,9 @@ int sp_utf8_is_hidden(uint32_t u);
 
 /* 1 when the character at `at` in the text that begins at start is a
  * U+200C (ZWNJ) or U+200D (ZWJ) that joins by IDNA's contextual rules (RFC
- * 5892 appendix A.1, A.2): either after a virama (an Indic conjunct), or a
+ * 5892 appendix A.1, A.2): either after a virama that follows a consonant
+ * of its script (an Indic conjunct: a ZWJ there, a ZWNJ before a consonant
+ * of that script; Unicode's Indic_Syllabic_Category), or a
  * ZWNJ between letters of a joining script, (L|D) T* ZWNJ T* (R|D) by
  * Unicode's Joining_Type (FriBidi's data; T: transparent marks), as in
  * Persian's mi<ZWNJ>khaham. There it changes what is drawn (the letters do

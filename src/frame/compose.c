@@ -75,6 +75,8 @@ struct sp_composer {
     int band_lines;           /* with a timeline: lines of its longest text */
     char speed[32];           /* "speed ×0.25" when [video] speed != 1, else "";
                                  with a clocked timeline, the widest it shows */
+    int marker_rows;          /* HUD lines kept blank under the time for the
+                                 speed marker (marker_room); 0: beside the time */
     /* trail = all: the part older than ALL_FADE is drawn once (SP_LAYER_ACCUM) */
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
@@ -187,8 +189,11 @@ static void text_sizes(float unit, double font_size, double scale, float ss, int
 /* Refuses body text too large for the frame when the HUD, panels, colour
  * bar or vectors' legend are drawn: they are laid out around the plots and
  * the pendulum, and past this they cover them. Allowed: at most 1/15 of the frame's smaller side (video), or
- * 1/8 of it (a figure of physical size), and never less than the floors a
- * default frame uses (24 px, or pt). 0 or SP_E_INPUT (said). */
+ * 1/8 of it (a figure of physical size), and never less than the body text
+ * a default frame has (12 px: text_sizes' floor; 24 pt in a figure). A
+ * 24 px floor let 640x240 take 24 px text, where the colour bar's labels
+ * overlapped and a legend ran over the panel below (attack11 #14).
+ * 0 or SP_E_INPUT (said). */
 static int check_text_size(const struct sp_composer *r, const int px[SP_TEXT_SIZES], float ss)
 {
     const int print = r->look.pt_px > 0;
@@ -196,7 +201,7 @@ static int check_text_size(const struct sp_composer *r, const int px[SP_TEXT_SIZ
     if (!(view->hud || view->panels || view->colorbar || view->vectors))
         return 0; /* a title or caption alone: wrap_texts fits it to the frame */
     const float side = fminf((float)r->width, (float)r->height);
-    const float most = fmaxf(print ? side / 8 : side / 15, 24 * ss);
+    const float most = print ? fmaxf(side / 8, 24 * ss) : fmaxf(side / 15, 12 * ss);
     if (px[SP_TEXT_NORMAL] <= most)
         return 0;
     const struct sp_view *v = &r->look.view;
@@ -675,6 +680,67 @@ static int check_colorbar_label(const struct sp_composer *r)
                             0.5f * h / r->ss);
 }
 
+/* The widest "t = 12.34 s" the video shows (its time axis' end, each
+ * digit as wide as the font's widest), px of the large text. */
+static float widest_time(const struct sp_composer *r, const struct sp_font *f)
+{
+    char t[64], digit[2] = "0", widest = '0';
+    int dw = 0;
+    for (char d = '0'; d <= '9'; d++) {
+        digit[0] = d;
+        const int w = sp_font_width(f, SP_TEXT_LARGE, digit);
+        if (w > dw)
+            dw = w, widest = d;
+    }
+    snprintf(t, sizeof(t), "t = %.2f s", fmax(r->extent.t_end, 0));
+    for (char *c = t; *c; c++)
+        if (*c >= '0' && *c <= '9')
+            *c = widest;
+    return (float)sp_font_width(f, SP_TEXT_LARGE, t);
+}
+
+/* The widest speed marker the video shows, px: [video] speed's, or a
+ * clocked timeline's "paused" and speeds from its least to its most (3
+ * digits, as sp_timeline_marker writes them). */
+static float widest_marker(const struct sp_composer *r, const struct sp_font *f)
+{
+    const struct sp_timeline *tl = r->look.timeline;
+    float w = (float)sp_font_width(f, SP_TEXT_LARGE, r->speed);
+    if (!tl || !tl->clocked)
+        return w;
+    char m[32];
+    const double lo = fmax(tl->speed_min, 1e-9), hi = fmax(tl->speed_max, lo);
+    for (double d = pow(10, floor(log10(lo))); d <= hi * 10; d *= 10)
+        for (int k = 0; k < 3; k++) { /* the range's ends, and 8.88 at each power of ten */
+            const double v = k == 0 ? lo : k == 1 ? hi : fmin(fmax(8.88 * d, lo), hi);
+            sp_timeline_marker(&(struct sp_moment){.speed = v}, m, sizeof(m));
+            w = fmaxf(w, (float)sp_font_width(f, SP_TEXT_LARGE, m));
+        }
+    return w;
+}
+
+/* Where the heads-up time and the speed marker do not fit one line of w px
+ * (large text at 640x360, attack11 #18: "speed ×2" was drawn over
+ * "t = 12345.67 s"), the marker gets a line of its own under the time:
+ * blank HUD lines after the time's (lines[0]), as many as a line of large
+ * text needs. Sets r->marker_rows. */
+static void marker_room(struct sp_composer *r, const struct sp_font *f, float w)
+{
+    r->marker_rows = 0;
+    if (!r->speed[0] || widest_time(r, f) + sp_font_line(f, SP_TEXT_LARGE) + widest_marker(r, f) <= w)
+        return;
+    const float line_l = (float)sp_font_line(f, SP_TEXT_LARGE), cap_l = (float)sp_font_cap(f, SP_TEXT_LARGE);
+    const int k = (int)ceilf((0.5f * (line_l + cap_l) + 0.25f * line_l) /
+                             (float)sp_font_line(f, SP_TEXT_NORMAL));
+    if (r->hud_lines < 1 || r->hud_lines + k > SP_HUD_MAX_LINES)
+        return;
+    memmove(r->hud[1 + k], r->hud[1], (size_t)(r->hud_lines - 1) * sizeof(r->hud[0]));
+    for (int i = 1; i <= k; i++)
+        r->hud[i][0] = 0;
+    r->hud_lines += k;
+    r->marker_rows = k;
+}
+
 /* Places the view, panels, heads-up text and colourbar (once: the
  * parameters do not change during a run). SP_E_INPUT (logged, where check)
  * when the vectors' legend does not fit the pendulum's view: it was drawn
@@ -703,12 +769,15 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
                                     SP_HUD_MAX_LINES);
         if (r->look.spatial)
             hud_precession(r, f, w);
+        marker_room(r, f, w);
         /* at most 0.65 of the view's height (the pendulum keeps the rest), or
          * of the frame's between the bands without a pendulum: lines beyond
          * are left out from the end, and the last kept says how many */
         const float room = d.no_pendulum ? (float)r->height - d.title_height - d.caption_height
                                          : v->y1 - v->y0;
         r->hud_lines = sp_hud_fit(f, w, 0.65f * room - r->layout.gap, r->hud, r->hud_lines);
+        if (r->hud_lines <= r->marker_rows + 1) /* its line cut (or "… N more"): beside the time */
+            r->marker_rows = 0;
         d.hud_height = r->hud_lines ? sp_hud_height(f, r->hud_lines) : 0;
     } else if (r->speed[0] && !d.title_height) { /* a line for the speed marker alone */
         d.hud_height = (float)sp_font_line(f, SP_TEXT_LARGE);
@@ -1244,8 +1313,10 @@ static void put_texts(struct sp_composer *r, const struct sp_moment *m)
         sp_canvas_layer(cv, SP_LAYER_DYNAMIC);
     }
     /* at the right of the heads-up time line, else of the title */
-    if (speed[0] && sp_rect_valid(&l->hud))
-        sp_canvas_text(cv, SP_TEXT_LARGE, l->hud.x1, l->hud.y0 + sp_font_cap(f, SP_TEXT_LARGE),
+    if (speed[0] && sp_rect_valid(&l->hud)) /* on its own line (marker_room) a large line down */
+        sp_canvas_text(cv, SP_TEXT_LARGE, l->hud.x1,
+                       l->hud.y0 + sp_font_cap(f, SP_TEXT_LARGE) +
+                           (r->marker_rows ? sp_font_line(f, SP_TEXT_LARGE) : 0),
                        SP_ALIGN_RIGHT, r->pal.accent, speed);
     else if (speed[0])
         sp_canvas_text(cv, SP_TEXT_LARGE, l->title.x1, l->title.y0 + sp_font_cap(f, SP_TEXT_TITLE),

@@ -1310,10 +1310,21 @@ void sp_colorbar_draw(struct sp_canvas *c, const struct sp_rect *r, int colormap
         sp_colormap(colormap, pal->cmap_lo + (pal->cmap_hi - pal->cmap_lo) * (1.0f - (i + 0.5f) / STEPS), rgb);
         sp_canvas_rect(c, x0, y0 + h * i / STEPS, x0 + bw, y0 + h * (i + 1) / STEPS + 0.5f, rgb);
     }
-    for (double v = 0; v <= max_speed * (1 + 1e-9); v += a.step) {
+    /* a bar too short for a label at every tick labels every k-th, counted
+     * down from the top one, a line apart (at 640x240 and 24 px "4", "2"
+     * and "0" were drawn over each other: attack11 #14) */
+    const double gap = h * a.step / max_speed;
+    const int k = gap >= line ? 1 : (int)ceil(line / fmax(gap, 1e-6));
+    int n_ticks = 0;
+    for (double v = a.step; v <= max_speed * (1 + 1e-9); v += a.step)
+        n_ticks++; /* the ticks above 0, as the loop below steps */
+    int i = 0;
+    for (double v = 0; v <= max_speed * (1 + 1e-9); v += a.step, i++) {
         const float y = (float)(y0 + h * (1 - v / max_speed));
-        sp_axis_number_step(buf, sizeof(buf), v, a.step);
         sp_canvas_rect(c, x0 + bw, y - 0.5f, x0 + bw + tick, y + 0.5f, pal->axis);
+        if ((n_ticks - i) % k)
+            continue;
+        sp_axis_number_step(buf, sizeof(buf), v, a.step);
         sp_canvas_text(c, SP_TEXT_SMALL, x0 + bw + tick + 3, y + 0.5f * cap, SP_ALIGN_LEFT, pal->muted, buf);
     }
 }

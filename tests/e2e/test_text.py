@@ -214,8 +214,9 @@ def pdf_fonts(name):
 
 greek = {"view.panels": "r", "view.hud": "false"}
 serif_greek, sans_greek = fc_ps("serif:charset=3b8"), fc_ps("Latin Modern Roman:charset=3b8")
-r1 = still("lm-alone.pdf", "Angle θ", dict(greek, **{"view.font": "Latin Modern Roman"}))
-r2 = still("lm-list.pdf", "Angle θ", dict(greek, **{"view.font": "Latin Modern Roman, serif"}))
+TALL = ["--size", "900x400"]  # a panel with 24 pt text: 240 px tall takes 16 (attack11 #14)
+r1 = still("lm-alone.pdf", "Angle θ", dict(greek, **{"view.font": "Latin Modern Roman"}), size=TALL)
+r2 = still("lm-list.pdf", "Angle θ", dict(greek, **{"view.font": "Latin Modern Roman, serif"}), size=TALL)
 alone, listed = pdf_fonts("lm-alone.pdf"), pdf_fonts("lm-list.pdf")
 ok(r1.returncode == 0 and r2.returncode == 0 and serif_greek and serif_greek != sans_greek and
    "LMRoman10-Regular" in listed and serif_greek in listed and sans_greek not in listed and

@@ -41,13 +41,17 @@ static int boxes(const struct sp_canvas *c, const struct sp_font *f, struct box 
     return n;
 }
 
-/* Composes `scene` at t with the overrides and checks its text; returns
- * the problems found (diagnosed). `need` lists texts that must appear. */
+/* Composes `scene` at t with the overrides (and `more`, n_more of them)
+ * and checks its text; returns the problems found (diagnosed). `need`
+ * lists texts that must appear. */
 static int check(const char *src, const char *scene_file, double t, int w, int h,
-                 const char *const *need, int n_need, int min_px)
+                 const char *const *need, int n_need, int min_px, const char *const *more,
+                 int n_more)
 {
     char path[4096], size_w[32], size_h[32];
-    const char *ov[] = {size_w, size_h, "view.panels=all", "view.colorbar=true"};
+    const char *ov[8] = {size_w, size_h, "view.panels=all", "view.colorbar=true"};
+    for (int i = 0; i < n_more && i < 4; i++)
+        ov[4 + i] = more[i];
     struct sp_scene sc;
     struct sp_sim sim;
     struct sp_history hist = {0};
@@ -62,7 +66,8 @@ static int check(const char *src, const char *scene_file, double t, int w, int h
     snprintf(path, sizeof(path), "%s/../scenes/%s", src, scene_file);
     snprintf(size_w, sizeof(size_w), "video.width=%d", w);
     snprintf(size_h, sizeof(size_h), "video.height=%d", h);
-    if (sp_scene_load(&sc, path, ov, 4) || sp_view_extent_measure(&sc, sc.video.duration, NULL, NULL, NULL, &e) ||
+    if (sp_scene_load(&sc, path, ov, 4 + (n_more < 4 ? n_more : 4)) ||
+        sp_view_extent_measure(&sc, sc.video.duration, NULL, NULL, NULL, &e) ||
         sp_history_make(&hist, &sc) || sp_trail_make(&trail, 600))
         return 1;
     sp_sim_init(&sim, &sc);
@@ -101,6 +106,37 @@ static int check(const char *src, const char *scene_file, double t, int w, int h
     sp_history_destroy(&hist);
     sp_trail_destroy(&trail);
     return bad;
+}
+
+/* The largest whole font_size (px) a w x h frame of default.ini with
+ * every panel and the colour bar takes (sp_compose_make refuses larger
+ * ones); 0 when none. */
+static int largest_font(const char *src, int w, int h)
+{
+    int lo = 0, hi = 200; /* [view] font_size's own limit */
+    while (lo < hi) {
+        const int mid = (lo + hi + 1) / 2;
+        char path[4096], size_w[32], size_h[32], fs[32];
+        const char *ov[] = {size_w, size_h, "view.panels=all", "view.colorbar=true", fs};
+        struct sp_scene sc;
+        struct sp_look look;
+        struct sp_composer *comp = NULL;
+        snprintf(path, sizeof(path), "%s/../scenes/default.ini", src);
+        snprintf(size_w, sizeof(size_w), "video.width=%d", w);
+        snprintf(size_h, sizeof(size_h), "video.height=%d", h);
+        snprintf(fs, sizeof(fs), "view.font_size=%d", mid);
+        if (sp_scene_load(&sc, path, ov, 5))
+            return 0;
+        sp_look_of(&sc, &look);
+        const struct sp_view_extent e = {.xmin = -1, .xmax = 1, .ymin = -1, .ymax = 1, .max_speed = 1, .t_end = 10};
+        const int taken = sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &look, 1, NULL, 0}) == 0;
+        sp_compose_destroy(&comp);
+        if (taken)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
 }
 
 /* The text runs in a frame of `scene` at t = 5 s with every panel, the
@@ -238,10 +274,26 @@ int main(int argc, char **argv)
     }
     for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); i++) {
         const int w = sizes[i][0], h = sizes[i][1];
-        int bad = check(argv[1], "resonance.ini", 20, w, h, need, 8, 11);
-        bad += check(argv[1], "pure_swing.ini", 5, w, h, need, 7, 11);
+        int bad = check(argv[1], "resonance.ini", 20, w, h, need, 8, 11, NULL, 0);
+        bad += check(argv[1], "pure_swing.ini", 5, w, h, need, 7, 11, NULL, 0);
         sp_tap_ok(bad == 0, "%dx%d, every panel: no text overlaps, all inside, at least 11 px, "
                   "every legend shown", w, h);
+    }
+    /* at the largest font size the size check lets through, with a speed
+     * marker (attack11 #14, #18: at 640x240 and 24 px the colour bar's
+     * labels overlapped and the energy legend ran over the panel below; at
+     * 640x360 and 24 px "speed x2" was drawn over the time) */
+    static const int big[][2] = {{320, 180}, {180, 320}, {480, 200}, {640, 240}, {640, 360},
+                                 {854, 480}, {1280, 720}, {1080, 1920}};
+    for (size_t i = 0; i < sizeof(big) / sizeof(big[0]); i++) {
+        const int w = big[i][0], h = big[i][1], px = largest_font(argv[1], w, h);
+        char fs[32];
+        snprintf(fs, sizeof(fs), "view.font_size=%d", px);
+        const char *const more[] = {fs, "video.speed=2"};
+        int bad = px < 12 || check(argv[1], "resonance.ini", 20, w, h, need, 8, 0, more, 2);
+        bad += px >= 12 && check(argv[1], "pure_swing.ini", 5, w, h, need, 7, 0, more, 2);
+        sp_tap_ok(bad == 0, "%dx%d at the largest font size it takes (%d px), speed x2: no text "
+                  "overlaps, all inside, every legend shown", w, h, px);
     }
     /* below 320x180 (180x320 upright) the HUD, panels, colour bar and speed
      * marker are left out (attacker's pass 3, finding 8: at 160x90 the time

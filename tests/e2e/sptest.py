@@ -233,6 +233,25 @@ def setup(name, tools):
     return exe, src, work, runner(exe, work)
 
 
+def edit_file(path, old, new):
+    """Replaces old by new in the file at path once; asserts it was there."""
+    with open(path) as f:
+        text = f.read()
+    assert old in text, (path, old)
+    with open(path, "w") as f:
+        f.write(text.replace(old, new, 1))
+
+def attack_setup(name):
+    """An attacker's-pass test's start (test_attack*.py): springpend, the
+    tests' source folder, its fresh output folder `name`, a runner_bytes
+    there, a function naming a file in that folder, the shipped scenes
+    folder, and whether springpend is built with ASan (whose shadow memory
+    a ulimit -v cannot hold)."""
+    exe, src, work, _ = setup(name, [])
+    scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
+    return (exe, src, work, runner_bytes(exe, work), lambda *names: os.path.join(work, *names),
+            scenes, b"__asan_init" in open(exe, "rb").read())
+
 def sets(d):
     """--set KEY=VALUE for each item of d."""
     return [a for k, v in d.items() for a in ("--set", f"{k}={v}")]

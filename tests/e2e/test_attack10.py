@@ -67,24 +67,9 @@ import time
 import sptest
 from sptest import done, err, ok, skip
 
-exe, src, work, _ = sptest.setup("attack10", [])
-run = sptest.runner_bytes(exe, work)
-scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
+exe, src, work, run, path, scenes, sanitized = sptest.attack_setup("attack10")
 chaotic = os.path.join(scenes, "chaotic.ini")
 default = os.path.join(scenes, "default.ini")
-
-
-def path(*names):
-    return os.path.join(work, *names)
-
-
-def edit(name, old, new):
-    """Replaces old by new in the file name (under work) once; asserts it was there."""
-    with open(path(name)) as f:
-        text = f.read()
-    assert old in text, (name, old)
-    with open(path(name), "w") as f:
-        f.write(text.replace(old, new, 1))
 
 
 def with_command(src_png, out_png, line):
@@ -147,7 +132,7 @@ def writer():
 
 t = threading.Thread(target=writer, daemon=True)
 t.start()
-edit(meta, chaotic, path("dev.ini"))
+sptest.edit_file(path(meta), chaotic, path("dev.ini"))
 r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "md.png", "-q")
 t.join(1.0)
 seen = bool(opened)
@@ -164,7 +149,7 @@ for pseudo in ("/proc/self/status", "/sys/devices/system/cpu/online"):
         skip(f"sweep --merge naming {pseudo}", "not here")
         continue
     shutil.copy(path("kept.json"), path(meta))
-    edit(meta, chaotic, pseudo)
+    sptest.edit_file(path(meta), chaotic, pseudo)
     r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "mp.png", "-q")
     ok(r.returncode == 0 and "no scene springpend reads" not in err(r),
        f"sweep --merge whose shard's command names {pseudo} (a kernel's file, as /proc/kmsg "
@@ -172,7 +157,7 @@ for pseudo in ("/proc/self/status", "/sys/devices/system/cpu/online"):
 shutil.copy(path("kept.json"), path(meta))
 with open(path("secret.env"), "w") as f:
     f.write("GITHUB_TOKEN=ghp_x\n")
-edit(meta, chaotic, path("secret.env"))
+sptest.edit_file(path(meta), chaotic, path("secret.env"))
 r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "ms.png", "-q")
 ok(r.returncode == 2 and "no scene springpend reads" in err(r) and "GITHUB" not in err(r),
    f"an ordinary file that is no scene is still read and refused ({err(r)[-160:]!r})")

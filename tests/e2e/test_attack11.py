@@ -75,16 +75,9 @@ import time
 import sptest
 from sptest import done, err, ok, skip
 
-exe, src, work, _ = sptest.setup("attack11", [])
-run = sptest.runner_bytes(exe, work)
-scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
+exe, src, work, run, path, scenes, sanitized = sptest.attack_setup("attack11")
 chaotic = os.path.join(scenes, "chaotic.ini")
 default = os.path.join(scenes, "default.ini")
-sanitized = b"__asan_init" in open(exe, "rb").read()
-
-
-def path(*names):
-    return os.path.join(work, *names)
 
 
 def ff(*a):

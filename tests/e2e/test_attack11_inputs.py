@@ -30,9 +30,7 @@ import time
 import sptest
 from sptest import done, err, ok
 
-exe, src, work, _ = sptest.setup("attack11-inputs", [])
-run = sptest.runner_bytes(exe, work)
-scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
+exe, src, work, run, path, scenes, sanitized = sptest.attack_setup("attack11-inputs")
 chaotic = os.path.join(scenes, "chaotic.ini")
 default = os.path.join(scenes, "default.ini")
 libc = ctypes.CDLL(None, use_errno=True)
@@ -40,9 +38,6 @@ IN_OPEN = 0x20
 AT_FDCWD = -100
 RENAME_EXCHANGE = 2
 
-
-def path(*names):
-    return os.path.join(work, *names)
 
 
 def link(target, name):

@@ -48,25 +48,9 @@ import subprocess
 import sptest
 from sptest import done, err, ok, skip
 
-exe, src, work, _ = sptest.setup("attack9", [])
-run = sptest.runner_bytes(exe, work)
-scenes = os.path.abspath(os.path.join(src, "..", "scenes"))
+exe, src, work, run, path, scenes, sanitized = sptest.attack_setup("attack9")
 chaotic = os.path.join(scenes, "chaotic.ini")
 default = os.path.join(scenes, "default.ini")
-sanitized = b"__asan_init" in open(exe, "rb").read()
-
-
-def path(*names):
-    return os.path.join(work, *names)
-
-
-def edit(name, old, new):
-    """Replaces old by new in the file name (under work) once; asserts it was there."""
-    with open(path(name)) as f:
-        text = f.read()
-    assert old in text, (name, old)
-    with open(path(name), "w") as f:
-        f.write(text.replace(old, new, 1))
 
 
 # ---- finding 5: a module or folder whose ACL lets others write it is not loaded ---------
@@ -122,7 +106,7 @@ for i in (1, 2):
 meta = "r1.csv-metadata.json"
 shutil.copy(path(meta), path("kept.json"))
 os.mkfifo(path("ff.ini"))
-edit(meta, chaotic, path("ff.ini"))
+sptest.edit_file(path(meta), chaotic, path("ff.ini"))
 rc, said = sptest.hangs(run, "sweep", "--merge", "r1.csv", "r2.csv", "-o", "mf.png", "-q",
                         timeout=30)
 ok(rc != "hung", f"sweep --merge whose shard's command names a FIFO as its scene: returns "
@@ -130,7 +114,7 @@ ok(rc != "hung", f"sweep --merge whose shard's command names a FIFO as its scene
 shutil.copy(path("kept.json"), path(meta))
 with open(path("secret.env"), "w") as f:
     f.write("GITHUB_TOKEN=ghp_x\nAWS_KEY=y\n")
-edit(meta, chaotic, path("secret.env"))
+sptest.edit_file(path(meta), chaotic, path("secret.env"))
 r = run("sweep", "--merge", "r1.csv", "r2.csv", "-o", "ms.png", "-q")
 ok(r.returncode == 2 and "GITHUB_TOKEN" not in err(r) and "AWS_KEY" not in err(r)
    and "secret.env, which is no scene springpend reads" in err(r)
@@ -213,7 +197,7 @@ for i in (1, 2):
     assert r.returncode == 0, err(r)
 r = run("sweep", "--merge", "p1.csv", "p2.csv", "-o", "pm.png", "-q", timeout=120)
 ok(r.returncode == 0, f"poincare shards at --energy 5 merge ({err(r)[-200:]!r})")
-edit("p1.csv-metadata.json", " --energy 5", "")
+sptest.edit_file(path("p1.csv-metadata.json"), " --energy 5", "")
 r = run("sweep", "--merge", "p1.csv", "p2.csv", "-o", "pm2.png", "-q", timeout=120)
 ok(r.returncode == 2 and "no --energy (the scene's own E = " in err(r) and "E = 5 J" in err(r)
    and not os.path.exists(path("pm2.png")),

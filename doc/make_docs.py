@@ -113,29 +113,39 @@ if kind == "man":
         open(path, "w").write(command_page(name, what, version,
                                            [f"springpend\\-{n}" for n, _ in commands if n != name]))
 else:
+    # The --set keys each command reads, asked of the binary itself: a key a
+    # command does not read is refused before the scene is opened ("does not
+    # read", "does not use"), so a scene that does not exist tells them apart.
+    probe = {"sweep": ["--vary", "pendulum.mass=1:2:2", "--measure", "lyapunov", "--time", "1",
+                       "-o", "-"]}
+    def reads(name, key):
+        r = subprocess.run([exe, name, "/nonexistent/springpend-probe.ini", *probe.get(name, []),
+                            "--set", f"{key}=0"], capture_output=True, text=True)
+        return "does not read" not in r.stderr and "does not use" not in r.stderr
+    set_keys = {name: [k for k in keys if reads(name, k)]
+                for name, _ in commands if "--set" in options(helps[name])}
     names = " ".join(name for name, _ in commands)
-    cases = "\n".join(f"        {name}) opts=\"{' '.join(options(helps[name]))}\" ;;"
+    cases = "\n".join(f"        {name}) opts=\"{' '.join(options(helps[name]))}\"\n"
+                      f"            keys=\"{' '.join(k + '=' for k in set_keys.get(name, []))}\" ;;"
                       for name, _ in commands if helps[name])
     open(out, "w").write(f"""# bash completion for springpend, generated from its --help and keys
 # (doc/make_docs.py): commands, each command's options, scene keys for --set.
 _springpend() {{
-    local cur=${{COMP_WORDS[COMP_CWORD]}} prev=${{COMP_WORDS[COMP_CWORD-1]}} opts=""
+    local cur=${{COMP_WORDS[COMP_CWORD]}} prev=${{COMP_WORDS[COMP_CWORD-1]}} opts="" keys=""
     if [ "$COMP_CWORD" -eq 1 ]; then
         COMPREPLY=($(compgen -W "{names} --help --version" -- "$cur"))
-        return
-    fi
-    if [ "$prev" = "--set" ]; then
-        compopt -o nospace 2>/dev/null
-        COMPREPLY=($(compgen -W "{' '.join(k + '=' for k in keys)}" -- "$cur"))
         return
     fi
     case ${{COMP_WORDS[1]}} in
 {cases}
     esac
-    if [[ $cur == -* ]]; then
+    if [ "$prev" = "--set" ]; then
+        compopt -o nospace 2>/dev/null
+        COMPREPLY=($(compgen -W "$keys" -- "$cur"))
+    elif [[ $cur == -* ]]; then
         COMPREPLY=($(compgen -W "$opts" -- "$cur"))
-    else
-        COMPREPLY=($(compgen -f -- "$cur"))
+    else # one name per line: not split at blanks, not globbed
+        mapfile -t COMPREPLY < <(compgen -f -- "$cur")
     fi
 }}
 complete -o filenames -F _springpend springpend

@@ -41,6 +41,9 @@ struct sp_pipeline_desc {
                             (sp_command_line_piece), so that its record
                             re-makes it; 0: outputs record the whole run's
                             command */
+    int part;            /* 1: --frames or --shard: a part of the video; 0:
+                            the whole (a PNG sequence then removes an earlier,
+                            longer run's frames past its last) */
     struct sp_state *state_out; /* not NULL: receives the bob's state in the
                                    last frame drawn */
     /* Side by side: the scenes drawn beside `scene`, each in its own cell

@@ -31,6 +31,10 @@ struct sp_sink_desc {
     int width, height;  /* px, every written image must match */
     double fps;         /* frames per second of video */
     long first_frame;   /* number of the first image (PNG sequence names) */
+    int whole;          /* PNG sequence: 1 = the whole video (no --frames or
+                           --shard), so the pattern's files numbered past its
+                           last frame, an earlier and longer run's, are
+                           removed at close (regular files only; said) */
     int alpha;          /* 1: keep the images' alpha (webm, png, raw) */
     int crf;            /* quality: 0 = the format's default */
     const char *preset; /* x264 preset name (VP9: mapped); NULL = default */

@@ -361,6 +361,34 @@ void sp_cli_bad_option(const char *word, const struct option *opts, const char *
     sp_log_error("unknown option '%s'; see 'springpend %s --help'", word, command);
 }
 
+/* 1 when --set text s names entry e: a section ("pendulum") or a key
+ * ("video.fps"). */
+static int set_names(const char *s, const char *e)
+{
+    const size_t key = strcspn(s, "="), n = strlen(e);
+    return strchr(e, '.') ? key == n && !strncmp(s, e, n)
+                          : key > n && s[n] == '.' && !strncmp(s, e, n);
+}
+
+int sp_cli_check_set_read(const struct sp_cli_options *o, const char *command,
+                          const char *const *read, size_t n, int skip, const char *takes)
+{
+    for (int i = 0; i < o->n_overrides; i++) {
+        const char *s = o->overrides[i];
+        int named = 0, quality = 0;
+        for (size_t k = 0; k < sizeof(o->quality_buf) / sizeof(o->quality_buf[0]); k++)
+            quality |= s == o->quality_buf[k];
+        for (size_t k = 0; k < n && !named; k++)
+            named = set_names(s, read[k]);
+        if (quality || named != skip || !strchr(s, '=') || s == o->fps_buf)
+            continue; /* the parser names a key it does not know */
+        sp_log_error("--set %.*s: %s does not read %.*s; it takes %s", (int)strcspn(s, "="), s,
+                     command, (int)strcspn(s, "="), s, takes);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 /* --quality NAME: like the tools people know, its size and fps put first
  * among the overrides, so that --set, --size and --fps still win. */
 static int add_quality(struct sp_cli_options *o, const char *quality)

@@ -83,6 +83,15 @@ enum sp_cli_takes {
 int sp_cli_parse(struct sp_cli_options *o, int argc, char **argv,
                  const char *usage, unsigned takes);
 
+/* Refuses (SP_E_INPUT, said) a --set key the command does not read: one
+ * is read when it, or its section, is among read[0..n) ("pendulum",
+ * "video.fps"), or when skip lists it and it is not (a still: every key but
+ * video.crf and video.preset). --quality's own keys are not checked (they
+ * are the option's, which the command's --help offers). takes: the keys
+ * the command reads, in words, for the message. */
+int sp_cli_check_set_read(const struct sp_cli_options *o, const char *command,
+                          const char *const *read, size_t n, int skip, const char *takes);
+
 /* Reads a figure's physical size, "WIDTH" or "WIDTHxHEIGHT", each a decimal
  * number and a unit (pt, in, cm, mm) from 1 in to 200 in, into *w_pt and
  * *h_pt (pt; *h_pt 0 when only the width is given). Refuses anything else

@@ -112,7 +112,14 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
                            SP_CLI_TAKES_EVERY | SP_CLI_TAKES_POINCARE | SP_CLI_TAKES_SCENES);
     if (ret)
         return ret > 0 ? 0 : ret;
-    ret = sp_cli_load_scenes(&o, scenes);
+    static const char *const read[] = {"pendulum", "initial", "pivot", "integrator", "ensemble",
+                                       "video.duration", "video.fps", "video.speed"};
+    ret = sp_cli_check_set_read(&o, "data", read, sizeof(read) / sizeof(read[0]), 0,
+                                "the [pendulum], [initial], [pivot], [integrator] and "
+                                "[ensemble] keys and video.duration, fps and speed (the "
+                                "frame times); it draws nothing");
+    if (!ret)
+        ret = sp_cli_load_scenes(&o, scenes);
     const struct sp_scene *const sc0 = &scenes[0];
     int spatial = 0;
     /* the scene column: each file's stem, shown as a message shows it (a

@@ -109,7 +109,7 @@ static const char still_usage[] =
     "  --dpi N                a PNG figure's dots per inch with --size in units\n"
     "                         (default 300; written in its pHYs chunk)\n"
     "  --scale N              draw at N times the size (1..4) and average down:\n"
-    "                         supersampled, smoother edges and text\n"
+    "                         supersampled, smoother edges and text (a PNG)\n"
     "  --fps N                shorthand for video.fps (the trail's frame times)\n"
     "  --quality Q            low, medium, high or 4k: render's sizes and rates\n"
     "  --gl osmesa|egl        GL backend (default: OSMesa if installed, else EGL)\n"
@@ -216,6 +216,12 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
         return SP_E_INPUT;
     }
     int ret = check_still_format(out);
+    if (!ret && o->still.scale > 1 && sp_figure_format(out) != SP_FIGURE_NONE) {
+        /* a vector figure has no pixels to supersample (attack13 #8) */
+        sp_log_error("--scale %d: %s is a vector figure, drawn as lines and text at any "
+                     "zoom; --scale supersamples a PNG: leave it out", o->still.scale, out);
+        return SP_E_INPUT;
+    }
     if (ret || !o->still.state)
         return ret;
     if (sp_outfile_same_file(o->still.state, o->scene_path) || !strcmp(o->still.state, out) ||
@@ -233,12 +239,36 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
  * (FILE:LINE or --set; the parser accepts it, since info, data and sweep
  * draw no panels and a sweep's map always has a colour bar):
  * - view.colorbar_label without view.colorbar = true (no bar to name);
- * - the azimuth and top panels of a planar scene (a flat 0 and a line). */
+ * - the azimuth and top panels of a planar scene (a flat 0 and a line);
+ * - with an [ensemble], which draws its members and not the one bob: the
+ *   bob's force and velocity arrows, strobe images, trail and colour bar
+ *   (attack13 #7), when a scene line or --set asks for them. */
 static int check_drawn(const struct sp_cli_options *o, const struct sp_scene *s, int n)
 {
     char where[4200], rate[4200];
     for (int i = 0; i < n; i++) {
         const struct sp_view *v = &s[i].view;
+        if (s[i].ensemble.count > 1) {
+            static const char *const bob_only[] = {"view.vectors", "view.strobe", "view.trail",
+                                                   "view.colorbar"};
+            const int asked[] = {v->vectors != 0, v->strobe > 0, v->trail != 0, v->colorbar};
+            /* refused where given with the ensemble or after it: a scene's
+             * own trail gives way to an ensemble added by --set */
+            sp_scene_key_where(&s[i], "ensemble.count", o->scene_paths[i], rate, sizeof(rate));
+            const int count_set = !strncmp(rate, "--set", 5);
+            for (size_t k = 0; k < sizeof(bob_only) / sizeof(bob_only[0]); k++) {
+                sp_scene_key_where(&s[i], bob_only[k], o->scene_paths[i], where, sizeof(where));
+                if (!asked[k] || !strcmp(where, o->scene_paths[i]) || /* off, or the default */
+                    (count_set && strncmp(where, "--set", 5)))
+                    continue;
+                sp_fprintf_line(stderr, "%s: %s is drawn for the one pendulum, but the scene's "
+                                "[ensemble] (count = %d) draws its members instead; leave %s out "
+                                "(ensemble.trails = true gives each member a trail), or "
+                                "ensemble.count = 1", where, bob_only[k], s[i].ensemble.count,
+                                bob_only[k]);
+                return SP_E_INPUT;
+            }
+        }
         const unsigned planar = s[i].initial.azimuth_rate == 0
                                     ? v->panels & (SP_PANEL_AZIMUTH | SP_PANEL_TOP) : 0;
         if (v->colorbar_label[0] && !v->colorbar) {
@@ -385,7 +415,13 @@ static int run(int argc, char **argv, int still)
                                                     SP_CLI_TAKES_SCENES);
     if (ret)
         return ret > 0 ? 0 : ret;
-    ret = sp_cli_load_scenes(&o, scenes);
+    static const char *const encoder[] = {"video.crf", "video.preset"};
+    ret = still ? sp_cli_check_set_read(&o, "still", encoder, 2, 1,
+                                        "every key but video.crf and video.preset (a video "
+                                        "encoder's; a still is a PNG, SVG or PDF)")
+                : 0;
+    if (!ret)
+        ret = sp_cli_load_scenes(&o, scenes);
     if (!ret)
         ret = check_drawn(&o, scenes, o.n_scenes);
     if (!ret && o.n_scenes > 1)
@@ -454,6 +490,7 @@ static int run(int argc, char **argv, int still)
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
         .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
         .recorded = pd.pt_px > 0 ? &recorded : NULL,
+        .part = o.video.frames || o.video.shard,
         .piece = !still && (o.video.frames || o.video.shard) && video_kind(out, o.video.format)});
     /* Both files or neither (a device or stdout is never removed). */
     if (!ret && o.still.state && (ret = write_state(o.still.state, &scenes[0], &state)) != 0 &&

@@ -484,6 +484,7 @@ static int run_setup(struct run *run)
     return sp_sink_open(&run->sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = run->first,
+        .whole = !desc->part && !desc->still,
         .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
         .png_level = sc->video.png_level, .dpi = desc->pt_px * 72,
         .crf = sc->video.crf, .preset = sp_scene_preset_name(sc),

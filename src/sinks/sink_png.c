@@ -3,6 +3,8 @@
  * single PNG takes exactly one image, renamed into place on close (or
  * written through a device, FIFO or stdout). */
 #include <errno.h>
+#include <limits.h>
+#include <sys/stat.h>
 #include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -288,9 +290,46 @@ static void png_sequence_free(struct sp_sink *s)
     q->n_written = 0;
 }
 
+/* A whole video's sequence is the pattern's frames 0 .. its last: the
+ * files numbered on from there (consecutively), an earlier and longer
+ * run's, are removed, so that an encoder or a folder compare reading the
+ * pattern does not take them for this run's (attack13 #11). Only regular
+ * files; anything else stops the cleaning, said. */
+static void png_sequence_remove_stale(struct sp_sink *s)
+{
+    const size_t cap = strlen(s->path) + 99;
+    char *name = malloc(cap), *first = malloc(cap);
+    long removed = 0, last_k = 0;
+    for (long k = s->desc.first_frame + s->frames; name && first && k <= INT_MAX; k++) {
+        struct stat st;
+        png_sequence_name(s, k, name, cap);
+        if (lstat(name, &st) != 0)
+            break; /* the end of the old sequence (or nothing to see) */
+        if (!S_ISREG(st.st_mode) || unlink(name) != 0) {
+            sp_log_error("%s is numbered past this video's last frame but %s; remove it, "
+                         "or the pattern's readers take it for part of this video", name,
+                         !S_ISREG(st.st_mode) ? "is not a regular file" : strerror(errno));
+            break;
+        }
+        if (!removed++)
+            memcpy(first, name, cap);
+        last_k = k;
+    }
+    if (removed && name)
+        png_sequence_name(s, last_k, name, cap); /* the last one removed */
+    if (removed)
+        sp_log_note("removed %ld frame%s numbered past this video's last (%s%s%s), left by an "
+                    "earlier, longer run", removed, removed == 1 ? "" : "s", first,
+                    removed > 1 ? " .. " : "", removed > 1 ? name : "");
+    free(name);
+    free(first);
+}
+
 static int png_sequence_close(struct sp_sink *s)
 {
     int err = png_sequence_finish(s);
+    if (!err && s->desc.whole)
+        png_sequence_remove_stale(s);
     if (!err)
         png_sequence_free(s); /* else abort comes next and needs it */
     return err;

@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""springpend tests (issue 28): the thirteenth attacker's pass
+(doc/notes/2026-11-27/attack13.md), the lead's findings:
+- #5: data and still took --set keys they never read (data's view.title,
+  video.crf; a still's video.crf and preset) and wrote the same bytes:
+  refused, exit 2, nothing written; a key they read is still taken;
+- #6: the bash completion split file names at blanks and globbed them, and
+  offered sweep (and data) --set keys they refuse;
+- #7: with an [ensemble], view.vectors, strobe, trail and colorbar (the one
+  bob's) were taken and not drawn: refused where given with the ensemble or
+  after it; an ensemble added by --set to a scene with its own trail is
+  still drawn;
+- #8: still --scale N (supersampling) was taken for an SVG or PDF: refused;
+- #11: a whole PNG-sequence render over an earlier, longer one left the old
+  run's frames after its own: removed and said; a part (--frames) keeps
+  them; what is not a regular file is left and named.
+usage: test_attack13_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import os
+import re
+import shlex
+import subprocess
+
+import sptest
+from sptest import done, err, ok, skip
+
+exe, src, work, run, path, scenes, sanitized = sptest.attack_setup("attack13-lead")
+default = os.path.join(scenes, "default.ini")
+stiff = os.path.join(scenes, "stiff.ini")
+short = ["--set", "video.duration=0.2"]
+
+# 5: data and still refuse --set keys they do not read
+for args, key in [(["data", default, *short, "--set", "view.title=x"], "view.title"),
+                  (["data", default, *short, "--set", "video.crf=20"], "video.crf"),
+                  (["data", default, *short, "--set", "video.width=640"], "video.width"),
+                  (["still", default, "--at", "0.1", "--set", "video.crf=20"], "video.crf"),
+                  (["still", default, "--at", "0.1", "--set", "video.preset=slow"], "video.preset")]:
+    out = path(f"unread-{args[0]}-{key}.{'csv' if args[0] == 'data' else 'png'}")
+    r = run(*args, "-o", out)
+    ok(r.returncode == 2 and f"does not read {key}" in err(r) and not os.path.exists(out),
+       f"5: {args[0]} --set {key}= (not read) refused, exit 2, nothing written "
+       f"(exit {r.returncode}: {err(r)[:160]})")
+# the keys they read still change what they write
+a, b = path("mass1.csv"), path("mass2.csv")
+r1 = run("data", default, *short, "-o", a, "-q")
+r2 = run("data", default, *short, "--set", "pendulum.mass=2", "--set", "video.fps=10",
+         "--quality", "low", "-o", b, "-q")
+ok(r1.returncode == 0 and r2.returncode == 0 and open(a).read() != open(b).read(),
+   f"5: data takes pendulum.mass, video.fps and --quality, and its rows change "
+   f"(exit {r1.returncode}, {r2.returncode}: {err(r2)[:120]})")
+r = run("still", default, "--at", "0.1", "--size", "320x180", "--set", "video.png_level=9",
+        "-o", path("level9.png"), "-q")
+ok(r.returncode == 0, f"5: still takes video.png_level (exit {r.returncode}: {err(r)[:120]})")
+
+# 6: the completion: names with blanks and glob characters, keys per command
+completion = os.path.join(os.path.dirname(exe), "doc", "springpend")
+if not os.path.exists(completion):
+    skip("6: the bash completion", "not built here")
+else:
+    names = ["my scene.ini", "[ab].ini", "a.ini", "other.ini"]
+    folder = path("completion")
+    os.makedirs(folder, exist_ok=True)
+    for n in names:
+        open(os.path.join(folder, n), "w").close()
+
+    def complete(*words):
+        script = (f"source {shlex.quote(completion)}\n"
+                  f"COMP_WORDS=({' '.join(shlex.quote(w) for w in words)}); "
+                  f"COMP_CWORD={len(words) - 1}; _springpend; printf '%s\\n' \"${{COMPREPLY[@]}}\"")
+        r = subprocess.run(["bash", "-c", script], cwd=folder, capture_output=True, text=True)
+        return [w for w in r.stdout.split("\n") if w]
+    got = complete("springpend", "still", "my")
+    ok(got == ["my scene.ini"], f"6: 'still my<TAB>' offers the one name with a blank ({got})")
+    got = complete("springpend", "still", "[")
+    ok(got == ["[ab].ini"], f"6: 'still [<TAB>' offers the name [ab].ini, not the file its glob "
+       f"matches ({got})")
+    # what sweep and data refuse (doc/sweeps.md: sweep reads the physics and its
+    # figure's look; data the physics, the ensemble and the frame times)
+    for command, refused in [("sweep", ("video.", "view.panels=", "view.trail=", "ensemble.")),
+                             ("data", ("view.", "video.crf=", "video.width=", "video.png_level="))]:
+        keys = complete("springpend", command, "x.ini", "--set", "")
+        bad = [k for k in keys if k.startswith(refused)]
+        ok(keys and not bad and "pendulum.stiffness=" in keys,
+           f"6: {command} --set <TAB> offers {len(keys)} keys, none it refuses ({bad[:4]})")
+
+# 7: an ensemble draws its members, not the one bob's arrows, strobe, trail, bar
+ens = ["still", default, "--at", "1", "--size", "320x180", "--set", "ensemble.count=5"]
+for key in ["view.vectors=forces,velocity", "view.strobe=0.1", "view.trail=all",
+            "view.colorbar=true"]:
+    out = path(f"ens-{key.split('=')[0]}.png")
+    r = run(*ens, "--set", key, "-o", out)
+    ok(r.returncode == 2 and "[ensemble]" in err(r) and not os.path.exists(out),
+       f"7: --set {key} with an ensemble refused, exit 2, nothing written "
+       f"(exit {r.returncode}: {err(r)[:120]})")
+r = run(*ens, "-o", path("ens.png"), "-q")
+ok(r.returncode == 0, f"7: --set ensemble.count=5 on a scene with its own trail and colour bar "
+   f"still draws (exit {r.returncode}: {err(r)[:160]})")
+with open(default) as f:
+    text = f.read()
+ens_scene = path("ens-scene.ini")
+with open(ens_scene, "w") as f:
+    f.write(text + "\n[ensemble]\ncount = 4\n")
+line = next(i + 1 for i, l in enumerate(text.split("\n")) if l.replace(" ", "").startswith("trail="))
+r = run("still", ens_scene, "--at", "1", "--size", "320x180", "-o", path("ens-scene.png"))
+ok(r.returncode == 2 and f"ens-scene.ini:{line}: view.trail" in err(r),
+   f"7: a scene with [ensemble] and its own trail: refused at the trail's line {line} "
+   f"(exit {r.returncode}: {err(r)[:140]})")
+
+# 8: --scale is for a PNG
+for ext in ("svg", "pdf"):
+    out = path(f"scaled.{ext}")
+    r = run("still", default, "--at", "1", "--size", "320x180", "--scale", "3", "-o", out)
+    ok(r.returncode == 2 and "--scale" in err(r) and not os.path.exists(out),
+       f"8: still --scale 3 -o x.{ext} refused, exit 2, nothing written "
+       f"(exit {r.returncode}: {err(r)[:120]})")
+r = run("still", default, "--at", "1", "--size", "320x180", "--scale", "2", "-o", path("scaled.png"),
+        "-q")
+ok(r.returncode == 0, f"8: still --scale 2 -o x.png taken (exit {r.returncode})")
+
+# 11: a whole sequence over a longer one
+seq = path("seq")
+os.makedirs(seq, exist_ok=True)
+pattern = os.path.join(seq, "s_%03d.png")
+base = ["--fps", "10", "--size", "160x90", "-o", pattern]
+r1 = run("render", stiff, "--set", "video.duration=1", *base, "-q")
+before = sorted(os.listdir(seq))
+r2 = run("render", default, "--set", "video.duration=0.4", *base, "--frames", "0:1")
+kept = sorted(os.listdir(seq))
+r3 = run("render", default, "--set", "video.duration=0.4", *base)
+after = sorted(os.listdir(seq))
+n_long, n_short = len(before), len(after)
+ok(r1.returncode == 0 and n_long == 10 and kept == before,
+   f"11: a part (--frames 0:1) keeps the other frames ({n_long} before, {len(kept)} after)")
+ok(r3.returncode == 0 and after == [f"s_{k:03d}.png" for k in range(n_short)] and n_short < n_long
+   and f"removed {n_long - n_short} frames" in err(r3),
+   f"11: a whole render of {n_short} frames over {n_long} leaves only its own, said "
+   f"({after[-2:]}; {err(r3)[:120]})")
+# every frame left is the new scene's: its record holds default.ini's
+# stiffness, not stiff.ini's (read from the two scene files here)
+def stiffness(text):
+    return float(re.search(r"^stiffness\s*=\s*([0-9.]+)", text, re.M).group(1))
+want = stiffness(open(default).read())
+assert want != stiffness(open(stiff).read())
+stale = [n for n in after if stiffness(subprocess.run([exe, "scene", os.path.join(seq, n)],
+                                                      capture_output=True, text=True).stdout) != want]
+ok(not stale, f"11: no frame of the earlier run is left ({stale})")
+os.mkfifo(os.path.join(seq, f"s_{n_short:03d}.png"))
+r = run("render", default, "--set", "video.duration=0.4", *base)
+ok(r.returncode == 0 and f"s_{n_short:03d}.png is numbered past" in err(r) and
+   os.path.exists(os.path.join(seq, f"s_{n_short:03d}.png")),
+   f"11: a FIFO numbered past the end is named, not opened or removed "
+   f"(exit {r.returncode}: {err(r)[:140]})")
+done()

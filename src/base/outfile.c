@@ -145,9 +145,19 @@ static int open_through(struct sp_outfile *f, int fd)
         sp_fputs_line(f->target, stderr);
         fputs(" is a FIFO with no reader yet: waiting for one (Ctrl-C stops)\n", stderr);
     }
-    while (f->fd < 0 && (errno == ENXIO || errno == EINTR) && !(cancel && *cancel))
-        f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY);
-    if (f->fd < 0 && errno == EINTR)
+    /* Polled, not a blocking open: a PNG sequence's frames are opened on
+     * writer threads, which a signal does not interrupt, so the wait looks
+     * at the stop flag itself every 50 ms (attack13 #14) */
+    while (f->fd < 0 && (errno == ENXIO || errno == EINTR) && !(cancel && *cancel)) {
+        nanosleep(&(struct timespec){.tv_nsec = 50 * 1000 * 1000}, NULL);
+        f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+        if (f->fd >= 0 && fcntl(f->fd, F_SETFL, fcntl(f->fd, F_GETFL) & ~O_NONBLOCK) != 0) {
+            close(f->fd);
+            f->fd = -1;
+            break;
+        }
+    }
+    if (f->fd < 0 && (errno == EINTR || errno == ENXIO) && cancel && *cancel)
         return SP_E_INTERRUPTED; /* the caller says what stopped it */
     if (f->fd < 0) {
         sp_log_error("%s: cannot open for writing: %s", f->target, strerror(errno));

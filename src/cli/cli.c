@@ -185,6 +185,7 @@ static int add_size(struct sp_cli_options *o, const char *arg)
         if (add_override(o, o->size_buf[k]))
             return SP_E_INPUT;
     }
+    o->still.paper_w = o->still.paper_h = 0; /* a later --size wins, whatever its form */
     return 0;
 }
 

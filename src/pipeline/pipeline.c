@@ -684,6 +684,9 @@ static int run_finish(struct run *run)
         pthread_join(run->encoder, NULL);
         run->encoder_running = 0;
         ret = q->err;
+        if (ret == SP_E_INTERRUPTED && run->emitted) /* a frame's FIFO waited for a reader */
+            sp_log_error("interrupted by %s while an output waited: the frames written are "
+                         "removed", sp_signal_name(sp_signal_seen()));
         if (ret)
             return ret;
     }
@@ -693,6 +696,9 @@ static int run_finish(struct run *run)
     if (stopped(run) && !run->emitted && !desc->still)
         return SP_E_INTERRUPTED; /* said by run_close, which aborts the sink */
     ret = sp_sink_close(&run->sink);
+    if (ret == SP_E_INTERRUPTED) /* a frame's FIFO waited for a reader */
+        sp_log_error("interrupted by %s while an output waited: the frames written are "
+                     "removed", sp_signal_name(sp_signal_seen()));
     if (!ret && desc->state_out)
         *desc->state_out = run->sim.s;
     run->tm.finish = sp_clock_s() - t0;

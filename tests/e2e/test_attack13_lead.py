@@ -13,10 +13,17 @@
 - #8: still --scale N (supersampling) was taken for an SVG or PDF: refused;
 - #11: a whole PNG-sequence render over an earlier, longer one left the old
   run's frames after its own: removed and said; a part (--frames) keeps
-  them; what is not a regular file is left and named.
+  them; what is not a regular file is left and named;
+- #14: a FIFO at a sequence frame's name made the writer thread wait in a
+  blocking open() that no signal interrupts: one SIGTERM now stops it (exit
+  143, said, the frames written removed);
+- #15: still --size 8cm --size 640x360 drew the 8 cm figure: the later
+  --size wins, whatever its form.
 usage: test_attack13_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import re
+import signal
+import time
 import shlex
 import subprocess
 
@@ -149,4 +156,41 @@ ok(r.returncode == 0 and f"s_{n_short:03d}.png is numbered past" in err(r) and
    os.path.exists(os.path.join(seq, f"s_{n_short:03d}.png")),
    f"11: a FIFO numbered past the end is named, not opened or removed "
    f"(exit {r.returncode}: {err(r)[:140]})")
+
+# 14: one SIGTERM stops a sequence waiting on a FIFO frame
+fifo_seq = path("fifo-seq")
+os.makedirs(fifo_seq, exist_ok=True)
+os.mkfifo(os.path.join(fifo_seq, "00002.png"))
+p = subprocess.Popen([exe, "render", default, "--set", "video.duration=0.2", "--fps", "30",
+                      "--size", "160x90", "-o", os.path.join(fifo_seq, "%05d.png")],
+                     stderr=subprocess.PIPE, cwd=work)
+deadline = time.time() + 30
+while time.time() < deadline and not os.path.exists(os.path.join(fifo_seq, "00001.png")):
+    time.sleep(0.1)
+time.sleep(1)  # the writer is in its wait
+p.send_signal(signal.SIGTERM)
+try:
+    rc = p.wait(timeout=10)
+except subprocess.TimeoutExpired:
+    p.kill()
+    rc = p.wait()
+    rc = f"still running 10 s after SIGTERM (killed: {rc})"
+msg = p.stderr.read().decode(errors="replace")
+left = sorted(os.listdir(fifo_seq))
+ok(rc == 143 and "interrupted by SIGTERM" in msg and left == ["00002.png"],
+   f"14: a sequence waiting on a FIFO frame stops on one SIGTERM: exit {rc}, frames removed, "
+   f"the FIFO left ({left}; {msg.strip()[-120:]})")
+
+# 15: the later --size wins, whatever its form
+for sizes, want in [(["8cm", "640x360"], (640, 360)), (["640x360", "8cm"], (945, 531))]:
+    out = path(f"size-{'-'.join(sizes)}.png")
+    r = run("still", default, "--at", "1", "--size", sizes[0], "--size", sizes[1], "-o", out, "-q")
+    got = None
+    if r.returncode == 0:
+        with open(out, "rb") as f:
+            head = f.read(24)
+        got = (int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big"))
+    # 8 cm at the default 300 dpi: round(8 / 2.54 * 300) px wide, the scene's 16:9 high
+    ok(got == want, f"15: --size {sizes[0]} --size {sizes[1]}: {got} px, want {want}")
+assert round(8 / 2.54 * 300) == 945 and round(8 / 2.54 * 300 * 9 / 16) == 531
 done()

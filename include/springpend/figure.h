@@ -13,6 +13,7 @@ enum sp_figure_format { SP_FIGURE_NONE, SP_FIGURE_SVG, SP_FIGURE_PDF };
  * SP_FIGURE_NONE. */
 enum sp_figure_format sp_figure_format(const char *path);
 
+struct sp_outfile;
 struct sp_figure_desc {
     int width, height;            /* px (SVG) or pt (PDF) of the drawing */
     double page_w, page_h;        /* pt: the page, the drawing scaled to it; 0 =
@@ -30,6 +31,10 @@ struct sp_figure_desc {
     const volatile sig_atomic_t *cancel; /* the caller's stop flag: once set,
                                      drawing stops and nothing is written
                                      (SP_E_INTERRUPTED); NULL = never */
+    struct sp_outfile *partner;   /* written, not yet committed: put in place
+                                     with the figure under its folder's lock
+                                     (sp_outfile_commit_pair: a still's
+                                     --state), or discarded; NULL = none */
 };
 
 /* An SVG or PDF still of physical size is laid out at this many px per pt

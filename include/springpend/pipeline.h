@@ -10,6 +10,7 @@
 #include "springpend/scene.h"
 #include "springpend/sim.h"
 
+struct sp_outfile;
 struct sp_pipeline_desc {
     const struct sp_scene *scene;
     const char *output;  /* target path ("-" = stdout for raw); the sink
@@ -44,8 +45,14 @@ struct sp_pipeline_desc {
     int part;            /* 1: --frames or --shard: a part of the video; 0:
                             the whole (a PNG sequence then removes an earlier,
                             longer run's frames past its last) */
-    struct sp_state *state_out; /* not NULL: receives the bob's state in the
-                                   last frame drawn */
+    /* A still's second output (--state): called with the bob's state once
+     * the frame is drawn, it opens and writes *partner without committing
+     * it; the image and it are then put in place together under their
+     * folder's lock (sp_outfile_commit_pair), or both discarded. NULL =
+     * none. */
+    int (*write_partner)(void *ctx, const struct sp_state *st, struct sp_outfile *partner);
+    void *partner_ctx;
+    struct sp_outfile *partner;
     /* Side by side: the scenes drawn beside `scene`, each in its own cell
      * of the frame (up to SP_PIPELINE_MAX_SCENES in all), labelled with its
      * view.title or the keys in which the scenes differ, one camera scale

@@ -23,6 +23,7 @@
 #include "springpend/image.h"
 #include "springpend/png_io.h"
 
+struct sp_outfile;
 struct sp_sink_desc {
     const char *path;   /* target path (pattern for sequences, "-" = stdout
                            for raw) */
@@ -31,6 +32,10 @@ struct sp_sink_desc {
     int width, height;  /* px, every written image must match */
     double fps;         /* frames per second of video */
     long first_frame;   /* number of the first image (PNG sequence names) */
+    struct sp_outfile *partner; /* single PNG: a file written, not yet
+                           committed, put in place with the image under its
+                           folder's lock (a still's --state), or discarded
+                           with it; NULL = none */
     int whole;          /* PNG sequence: 1 = the whole video (no --frames or
                            --shard), so the pattern's files numbered past its
                            last frame, an earlier and longer run's, are

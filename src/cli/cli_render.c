@@ -122,10 +122,20 @@ static const char still_usage[] =
     "\n"
     SIDE_BY_SIDE_HELP;
 
-/* Writes the physics of the still's frame as JSON, whole or not at all. */
-static int write_state(const char *path, const struct sp_scene *scene,
-                       const struct sp_state *st)
+/* Writes the physics of the still's frame as JSON into f, opened here at
+ * path and left for the pipeline to put in place with the image, under
+ * their folder's lock (attack13 #21: two runs at once left one's image
+ * beside the other's state), or to discard. */
+struct state_ctx {
+    const char *path;
+    const struct sp_scene *scene;
+};
+
+static int write_state(void *ctx, const struct sp_state *st, struct sp_outfile *out)
 {
+    const struct state_ctx *c = ctx;
+    const char *path = c->path;
+    const struct sp_scene *scene = c->scene;
     struct sp_sim sim;
     struct sp_provenance prov;
     struct sp_polar pol;
@@ -176,7 +186,8 @@ static int write_state(const char *path, const struct sp_scene *scene,
         sp_outfile_discard(&f);
         return SP_E_IO;
     }
-    return sp_outfile_commit(&f);
+    *out = f; /* written; committed with the image */
+    return 0;
 }
 
 /* What a still can be written as, by extension (PNG through the sink, SVG
@@ -481,21 +492,21 @@ static int run(int argc, char **argv, int still)
             sp_scene_free(&sp[i]);
         return ret;
     }
-    struct sp_state state;
+    struct sp_outfile state_file = {.fd = -1, .slot = -1};
+    struct state_ctx state_ctx = {o.still.state, &scenes[0]};
     ret = sp_pipeline_run(&(struct sp_pipeline_desc){
         .scene = &scenes[0], .output = out, .format = still ? "png" : o.video.format,
         .still = still, .still_at = o.still.at < 0 ? 0 : o.still.at, .first = first,
         .last = last, .gl = (enum sp_gl)o.gl, .verbose = o.verbose,
-        .handle_signals = !still, .supersample = o.still.scale, .state_out = &state,
+        .handle_signals = !still, .supersample = o.still.scale,
+        .write_partner = o.still.state ? write_state : NULL, .partner_ctx = &state_ctx,
+        .partner = &state_file,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
         .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
         .recorded = pd.pt_px > 0 ? &recorded : NULL,
         .part = o.video.frames || o.video.shard,
         .piece = !still && (o.video.frames || o.video.shard) && video_kind(out, o.video.format)});
-    /* Both files or neither (a device or stdout is never removed). */
-    if (!ret && o.still.state && (ret = write_state(o.still.state, &scenes[0], &state)) != 0 &&
-        !sp_outfile_is_stream(out))
-        remove(out);
+    sp_outfile_discard(&state_file); /* when the run failed before it went in */
     for (int i = 0; i < o.n_scenes; i++)
         sp_scene_free(&sp[i]);
     /* An interrupted render keeps the frames so far, when there were any. */

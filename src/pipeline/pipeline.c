@@ -484,6 +484,7 @@ static int run_setup(struct run *run)
     return sp_sink_open(&run->sink, &(struct sp_sink_desc){
         .path = desc->output, .format = desc->format, .width = w,
         .height = h, .fps = sc->video.fps, .first_frame = run->first,
+        .partner = desc->write_partner ? desc->partner : NULL,
         .whole = !desc->part && !desc->still,
         .alpha = sc->view.background == SP_BACKGROUND_TRANSPARENT,
         .png_level = sc->video.png_level, .dpi = desc->pt_px * 72,
@@ -549,6 +550,8 @@ static int run_figure(struct run *run)
 {
     struct sp_frame frames[SP_PIPELINE_MAX_SCENES];
     int ret = run_still_follow(run);
+    if (!ret && run->desc->write_partner)
+        ret = run->desc->write_partner(run->desc->partner_ctx, &run->sim.s, run->desc->partner);
     if (ret)
         return ret;
     /* provenance, as a PNG's (NULL: none) */
@@ -560,12 +563,11 @@ static int run_figure(struct run *run)
         .page_h = run->desc->pt_px > 0 ? run->desc->page_h : 0,
         .title = run->sc->name, .path = run->desc->output, .cells = 1 + run->n_more,
         .looks = run->looks, .scene_file = ini, .command = command,
-        .cancel = sp_signal_flag()},
+        .cancel = sp_signal_flag(),
+        .partner = run->desc->write_partner ? run->desc->partner : NULL},
         frames_of(run, run->desc->still_at, frames));
     free(ini);
     free(command);
-    if (!ret && run->desc->state_out)
-        *run->desc->state_out = run->sim.s;
     return ret;
 }
 
@@ -695,12 +697,14 @@ static int run_finish(struct run *run)
         fputc('\n', stderr);
     if (stopped(run) && !run->emitted && !desc->still)
         return SP_E_INTERRUPTED; /* said by run_close, which aborts the sink */
+    /* a still's --state: written now, put in place with the image */
+    if (desc->write_partner &&
+        (ret = desc->write_partner(desc->partner_ctx, &run->sim.s, desc->partner)) != 0)
+        return ret; /* run_close aborts the sink */
     ret = sp_sink_close(&run->sink);
     if (ret == SP_E_INTERRUPTED) /* a frame's FIFO waited for a reader */
         sp_log_error("interrupted by %s while an output waited: the frames written are "
                      "removed", sp_signal_name(sp_signal_seen()));
-    if (!ret && desc->state_out)
-        *desc->state_out = run->sim.s;
     run->tm.finish = sp_clock_s() - t0;
     run->tm.total = sp_clock_s() - run->t_start;
     if (!ret && stopped(run)) {

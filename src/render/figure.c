@@ -65,10 +65,13 @@ int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f)
     }
     if (!err && d->cancel && *d->cancel) /* stopped while drawing: nothing written */
         err = SP_E_INTERRUPTED;
-    if (!err)
-        err = sp_outfile_commit(&out); /* whole or not at all */
+    if (!err) /* whole or not at all; with its partner, both or neither */
+        err = d->partner ? sp_outfile_commit_pair(&out, d->partner, d->cancel)
+                         : sp_outfile_commit(&out);
     if (err) {
         sp_outfile_discard(&out);
+        if (d->partner)
+            sp_outfile_discard(d->partner);
         sp_dirs_remove_empty(&dirs);
     }
     sp_dirs_keep(&dirs);

@@ -391,13 +391,16 @@ static int png_single_write(struct sp_sink *s, const struct sp_image *img)
 static int png_single_close(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
-    return sp_outfile_commit(&o->out);
+    return s->desc.partner ? sp_outfile_commit_pair(&o->out, s->desc.partner, NULL)
+                           : sp_outfile_commit(&o->out);
 }
 
 static void png_single_abort(struct sp_sink *s)
 {
     struct png_single *o = s->priv;
     sp_outfile_discard(&o->out);
+    if (s->desc.partner)
+        sp_outfile_discard(s->desc.partner);
 }
 
 const struct sp_sink_backend sp_sink_backend_png_single = {

@@ -18,13 +18,18 @@
   blocking open() that no signal interrupts: one SIGTERM now stops it (exit
   143, said, the frames written removed);
 - #15: still --size 8cm --size 640x360 drew the 8 cm figure: the later
-  --size wins, whatever its form.
+  --size wins, whatever its form;
+- #21: two `still -o s.png --state s.json` at once left one run's PNG
+  beside the other's state: the two are put in place together under their
+  folder's lock, as a CSV and its metadata are (60 pairs, none mixed).
 usage: test_attack13_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import re
 import signal
 import time
 import shlex
+import struct
+import json
 import subprocess
 
 import sptest
@@ -193,4 +198,33 @@ for sizes, want in [(["8cm", "640x360"], (640, 360)), (["640x360", "8cm"], (945,
     # 8 cm at the default 300 dpi: round(8 / 2.54 * 300) px wide, the scene's 16:9 high
     ok(got == want, f"15: --size {sizes[0]} --size {sizes[1]}: {got} px, want {want}")
 assert round(8 / 2.54 * 300) == 945 and round(8 / 2.54 * 300 * 9 / 16) == 531
+
+
+# 21: a PNG and its --state, two runs at once: never one's image beside the
+# other's state (the PNG's springpend.time against the JSON's t)
+def png_time(name):
+    d = open(name, "rb").read()
+    p = 8
+    while p < len(d):
+        n, kind = struct.unpack(">I", d[p:p + 4])[0], d[p + 4:p + 8]
+        body = d[p + 8:p + 8 + n]
+        if kind == b"tEXt" and body.startswith(b"springpend.time\0"):
+            return float(body.split(b"\0")[-1])
+        p += 12 + n
+    return None
+
+
+pair = path("pair")
+os.makedirs(pair, exist_ok=True)
+png, state = os.path.join(pair, "s.png"), os.path.join(pair, "s.json")
+mixed, failed = 0, 0
+for k in range(60):
+    procs = [subprocess.Popen([exe, "still", default, "--at", str(at), "--size", "64x36", "-o", png,
+                               "--state", state, "-q"], stderr=subprocess.DEVNULL, cwd=work)
+             for at in (1, 2)]
+    failed += sum(p.wait() != 0 for p in procs)
+    t_png, t_state = png_time(png), json.load(open(state))["t"]
+    mixed += t_png is None or abs(t_png - t_state) > 1e-9
+ok(mixed == 0 and failed == 0, f"21: 60 pairs of stills at once: {mixed} left one's PNG beside the "
+   f"other's state, {failed} failed")
 done()

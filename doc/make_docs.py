@@ -93,7 +93,7 @@ if kind == "man":
     parts = [f'.TH SPRINGPEND 1 "" "springpend {version}" "User Commands"',
              ".SH NAME", "springpend \\- " + intro.split(" - ", 1)[1].strip().replace("-", "\\-"),
              ".SH SYNOPSIS", ".nf"]
-    parts += [f".B springpend {name}" + (" SCENE" if name not in ("keys", "compare") else "")
+    parts += [f".B springpend {name}" + (" SCENE" if name not in ("keys", "compare", "version") else "")
               + (" EXPECTED ACTUAL" if name == "compare" else "") + (" [options]" * (name != "keys"))
               for name, _ in commands]
     parts += [".fi", ".SH DESCRIPTION", ".nf", roff("usage:" + rest.split("exit status:")[0]), ".fi",

@@ -30,6 +30,8 @@ static const char usage[] =
     "  compare  compare PNG images, folders of them or videos (snapshot tests in CI)\n"
     "  sweep    many pendulums over a grid of keys: Lyapunov maps, orbit diagrams,\n"
     "           Poincare mosaics (PNG, SVG, PDF; sharded runs and their merge)\n"
+    "  version  springpend's version (also --version); --verbose: the environment\n"
+    "           a PNG records (renderer, libraries, fonts), for a bug report\n"
     "\n"
     "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
     "\n"
@@ -42,6 +44,18 @@ static const char usage[] =
     "             render keeps the frames so far, playable; other partial files\n"
     "             are removed (a signal ignored at the start, as under nohup,\n"
     "             stays ignored)\n";
+
+static const char version_usage[] =
+    "usage: springpend version [--verbose]\n"
+    "\n"
+    "Prints springpend's version ('springpend --version' is the same). With\n"
+    "--verbose, the environment every PNG records, one 'key: value' line each:\n"
+    "springpend, the GL renderer a render would use, Mesa and LLVM, the\n"
+    "libraries and the fonts, for a bug report or a CI log.\n"
+    "\n"
+    "options:\n"
+    "  --verbose              the environment, one 'key: value' line each\n"
+    "  -h, --help             this text\n";
 
 /* The process exit status of an SP_E_* code, as --help documents it. A
  * command that fails after a stop signal arrived was stopped by it (a read
@@ -131,9 +145,13 @@ int main(int argc, char **argv)
             fputs(env, stdout);
             return exit_status(stdout_checked(0));
         }
+        if (argc == 3 && (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h"))) {
+            fputs(version_usage, stdout);
+            return exit_status(stdout_checked(0));
+        }
         if (argc > 2) {
-            sp_log_error("%s: unknown option '%s'; expected nothing or --verbose", argv[1],
-                         argv[2]);
+            sp_log_error("%s: unknown option '%s'; expected nothing, --verbose or --help",
+                         argv[1], argv[2]);
             return 2;
         }
         puts("springpend " SP_VERSION);

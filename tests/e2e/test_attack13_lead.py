@@ -21,7 +21,10 @@
   --size wins, whatever its form;
 - #21: two `still -o s.png --state s.json` at once left one run's PNG
   beside the other's state: the two are put in place together under their
-  folder's lock, as a CSV and its metadata are (60 pairs, none mixed).
+  folder's lock, as a CSV and its metadata are (60 pairs, none mixed);
+- #25: `springpend version --verbose` was in no --help, man page or
+  completion: the command list names it, `version --help` answers, and the
+  completion and man page (made from --help) follow.
 usage: test_attack13_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import re
@@ -227,4 +230,17 @@ for k in range(60):
     mixed += t_png is None or abs(t_png - t_state) > 1e-9
 ok(mixed == 0 and failed == 0, f"21: 60 pairs of stills at once: {mixed} left one's PNG beside the "
    f"other's state, {failed} failed")
+
+# 25: the version command is listed, answers --help, and is completed
+top = run("--help").stdout.decode()
+vh = run("version", "--help")
+ok(re.search(r"^  version\s+springpend's version", top, re.M) is not None and vh.returncode == 0
+   and b"--verbose" in vh.stdout,
+   f"25: --help lists 'version'; 'version --help' exits {vh.returncode} naming --verbose")
+if os.path.exists(completion):
+    got = complete("springpend", "ver")
+    ok(got == ["version"], f"25: 'springpend ver<TAB>' offers version ({got})")
+    man = os.path.join(os.path.dirname(completion), "springpend-version.1")
+    ok(os.path.exists(man) and "\\-\\-verbose" in open(man).read(),
+       "25: springpend-version(1) is made and names --verbose")
 done()

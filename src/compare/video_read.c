@@ -404,25 +404,57 @@ static int find_stream_info(AVFormatContext *fmt)
 }
 
 /* Refuses (SP_E_INPUT, logged) a video stream st of fmt that players show
- * otherwise than its pixels are coded: turned by a display matrix, or
- * stretched by a sample aspect ratio other than 1:1 (unset counts as
- * square). springpend writes neither, and compare judges the coded pixels,
- * so such a file would pass for its baseline while every player shows it
- * turned or stretched (attack11 #8). 0 when shown as coded. */
+ * otherwise than its pixels are coded: by a display matrix other than the
+ * identity (turned, mirrored: attack12 #12, scaled), or stretched by a
+ * sample aspect ratio other than 1:1 (unset counts as square). springpend
+ * writes neither, and compare judges the coded pixels, so such a file
+ * would pass for its baseline while players show it turned, mirrored or
+ * stretched (attack11 #8). 0 when shown as coded. */
 static int shown_as_coded(AVFormatContext *fmt, AVStream *st, const char *path)
 {
     size_t size = 0;
-    const uint8_t *m = av_stream_get_side_data(st, AV_PKT_DATA_DISPLAYMATRIX, &size);
-    const double turn = m && size >= 9 * sizeof(int32_t)
-                            ? av_display_rotation_get((const int32_t *)m) : 0;
+    const uint8_t *side = av_stream_get_side_data(st, AV_PKT_DATA_DISPLAYMATRIX, &size);
     const AVRational sar = av_guess_sample_aspect_ratio(fmt, st, NULL);
-    if (!isnan(turn) && fabs(turn) < 0.5 && (sar.num == 0 || sar.num == sar.den))
+    int32_t m[9] = {1 << 16, 0, 0, 0, 1 << 16, 0, 0, 0, 1 << 30}; /* none: the identity */
+    if (side && size >= sizeof(m))
+        memcpy(m, side, sizeof(m));
+    /* the matrix's 2x2 part (16.16) and its projective column (2.30); a
+     * translation alone (m[6], m[7]) moves no pixel of the picture */
+    const double a = m[0] / 65536.0, b = m[1] / 65536.0, c = m[3] / 65536.0,
+                 d = m[4] / 65536.0, det = a * d - b * c;
+    const int identity = m[0] == 1 << 16 && m[1] == 0 && m[3] == 0 && m[4] == 1 << 16 &&
+                         m[2] == 0 && m[5] == 0 && m[8] == 1 << 30;
+    if (identity && (sar.num == 0 || sar.num == sar.den))
         return 0;
-    if (sar.num == 0 || sar.num == sar.den)
-        sp_log_error("%s: its video is shown turned by %.0f degrees counterclockwise (a "
-                     "display matrix); springpend writes none, and compare judges the pixels "
-                     "as coded, which no player shows", path, isnan(turn) ? 0.0 : turn);
-    else
+    const char *how = "springpend writes none, and compare judges the pixels as coded, "
+                      "which no player shows";
+    if (!identity && det < 0) {
+        /* a mirror: undo the left-right one, and the rest is a turn */
+        int32_t unmirrored[9];
+        memcpy(unmirrored, m, sizeof(m));
+        av_display_matrix_flip(unmirrored, 1, 0);
+        const double turn = av_display_rotation_get(unmirrored);
+        if (isnan(turn) || fabs(turn) < 0.5)
+            sp_log_error("%s: its video is shown mirrored left to right (a display matrix); %s",
+                         path, how);
+        else if (fabs(fabs(turn) - 180) < 0.5)
+            sp_log_error("%s: its video is shown mirrored top to bottom, upside down (a display "
+                         "matrix); %s", path, how);
+        else
+            sp_log_error("%s: its video is shown mirrored left to right and turned by %.0f "
+                         "degrees %sclockwise (a display matrix); %s", path, fabs(turn),
+                         turn < 0 ? "" : "counter", how);
+    } else if (!identity) {
+        const double turn = av_display_rotation_get(m);
+        const int rotation = m[2] == 0 && m[5] == 0 && m[8] == 1 << 30 && !isnan(turn) &&
+                             fabs(a - d) < 1e-3 && fabs(b + c) < 1e-3 && fabs(det - 1) < 1e-3;
+        if (rotation)
+            sp_log_error("%s: its video is shown turned by %.0f degrees %sclockwise (a display "
+                         "matrix); %s", path, fabs(turn), turn < 0 ? "" : "counter", how);
+        else
+            sp_log_error("%s: its video is shown scaled, sheared or in perspective by a display "
+                         "matrix (%g %g / %g %g); %s", path, a, b, c, d, how);
+    } else
         sp_log_error("%s: its video's pixels are shown %d:%d (a sample aspect ratio), not "
                      "square; springpend writes square pixels, and compare judges them as "
                      "coded, which no player shows", path, sar.num, sar.den);

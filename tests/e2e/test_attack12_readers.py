@@ -12,7 +12,12 @@
 - attack12 #10: a cICP chunk (PNG's third edition: BT.709 with a linear
   transfer, or BT.2020 with PQ) and the HDR chunks mDCv and cLLi passed as
   "identical pixels": refused, naming the chunk; a cICP of sRGB's own code
-  points (1 13 0 1) is taken.
+  points (1 13 0 1) is taken;
+- attack12 #12: the display-matrix rule (attack11 #8) read the matrix's
+  angle alone: a video mirrored top to bottom (angle 0) passed, and one
+  mirrored left to right was "turned by -180 degrees": any matrix but the
+  identity is refused (a translation alone moves no pixel), a mirror said
+  as one, which way.
 The ICC profiles are built here from the ICC specification (a v2 display
 profile: its colorants and tone curves), one through lcms2's own sRGB.
 usage: test_attack12_readers.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -167,6 +172,63 @@ for name, base, chunks, said in cases:
     else:
         ok(r.returncode == 0 and "identical pixels" in r.stdout.decode(),
            f"compare {os.path.basename(base)} {name}: taken, identical pixels (exit "
+           f"{r.returncode}: {err(r)[-200:]!r})")
+
+# ---- attack12 #12: a video a display matrix mirrors, written into its tkhd here -----------
+def with_matrix(src_mp4, out, edit):
+    """src_mp4 with its (first) track header's 3x3 matrix changed by edit(m, w, h)."""
+    d = bytearray(open(src_mp4, "rb").read())
+    at = d.index(b"tkhd") - 4
+    mo = at + 12 + (20 if d[at + 8] == 0 else 32) + 16       # the matrix after the volume
+    m = list(struct.unpack(">9i", d[mo:mo + 36]))
+    assert m == [1 << 16, 0, 0, 0, 1 << 16, 0, 0, 0, 1 << 30], m   # springpend's: the identity
+    w, h = (x >> 16 for x in struct.unpack(">II", d[mo + 36:mo + 44]))
+    edit(m, w, h)
+    d[mo:mo + 36] = struct.pack(">9i", *m)
+    open(out, "wb").write(d)
+
+
+def vflip(m, w, h):
+    m[4], m[7] = -(1 << 16), h << 16
+
+
+def hflip(m, w, h):
+    m[0], m[6] = -(1 << 16), w << 16
+
+
+def hflip_turn(m, w, h):
+    m[0], m[1], m[3], m[4] = 0, 1 << 16, 1 << 16, 0
+
+
+def turn_cw(m, w, h):
+    m[0], m[1], m[3], m[4] = 0, 1 << 16, -(1 << 16), 0
+
+
+def stretch(m, w, h):
+    m[0] = 2 << 16
+
+
+def move(m, w, h):
+    m[6] = 10 << 16
+
+
+r = run("render", default, "--size", "160x90", "--fps", "10", "--set", "video.duration=0.5",
+        "-o", "a.mp4", "-q")
+assert r.returncode == 0, err(r)
+for name, edit, said in (("vflip.mp4", vflip, "mirrored top to bottom"),
+                         ("hflip.mp4", hflip, "mirrored left to right (a display matrix)"),
+                         ("hflipturn.mp4", hflip_turn, "mirrored left to right and turned by 90"),
+                         ("turned.mp4", turn_cw, "turned by 90 degrees clockwise"),
+                         ("stretch.mp4", stretch, "scaled, sheared or in perspective"),
+                         ("move.mp4", move, "")):
+    with_matrix(path("a.mp4"), path(name), edit)
+    r = run("compare", "a.mp4", name)
+    if said:
+        ok(r.returncode == 2 and said in err(r) and "-180" not in err(r),
+           f"compare a.mp4 {name}: refused, exit 2, saying {said!r} (exit {r.returncode}: "
+           f"{err(r)[-200:]!r})")
+    else:
+        ok(r.returncode == 0, f"compare a.mp4 {name} (a translation alone): compared (exit "
            f"{r.returncode}: {err(r)[-200:]!r})")
 
 done()

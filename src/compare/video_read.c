@@ -231,6 +231,35 @@ static int format_named(const char *path, const AVInputFormat *found, int say)
     return SP_E_INPUT;
 }
 
+/* 0 unless path is named .webm and fmt (a Matroska file, format_named has
+ * seen) holds a video stream of a codec WebM does not (WebM: VP8, VP9 or
+ * AV1): then SP_E_INPUT, logged when say. WebM and Matroska share FFmpeg's
+ * demuxer, so the format alone takes an H.264 Matroska file for WebM,
+ * which browsers do not play as one (attack12 #8). The streams and their
+ * codecs are the Matroska header's: nothing is decoded. */
+static int webm_codecs(const char *path, const AVFormatContext *fmt, int say)
+{
+    const struct video_name *v = video_name_of(path);
+    if (!v || strcmp(v->ending, ".webm"))
+        return 0;
+    for (unsigned i = 0; i < fmt->nb_streams; i++) {
+        const AVCodecParameters *par = fmt->streams[i]->codecpar;
+        if (par->codec_type != AVMEDIA_TYPE_VIDEO || par->codec_id == AV_CODEC_ID_VP8 ||
+            par->codec_id == AV_CODEC_ID_VP9 || par->codec_id == AV_CODEC_ID_AV1)
+            continue;
+        if (say) {
+            const AVCodecDescriptor *d = avcodec_descriptor_get(par->codec_id);
+            sp_log_error("%s: a Matroska file with %s video (%s), not WebM as its name says "
+                         "(WebM holds VP8, VP9 or AV1; springpend writes VP9): name it .mkv to "
+                         "compare it as Matroska", path,
+                         d && d->long_name ? d->long_name : "an unknown codec's",
+                         d ? d->name : "?");
+        }
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 /* Opens the file at name (open at fd; path: its name, for its ending and
  * in messages when say) in *fmt as one of SP_VIDEO_FORMATS, through the
  * file protocol only: a playlist (HLS, concat, ...) naming other files, or
@@ -269,7 +298,8 @@ static int open_video(AVFormatContext **fmt, const char *name, int fd, const cha
                          path, av_err2str(ret));
         return SP_E_INPUT;
     }
-    if ((ret = format_named(path, (*fmt)->iformat, say)) != 0)
+    if ((ret = format_named(path, (*fmt)->iformat, say)) != 0 ||
+        (ret = webm_codecs(path, *fmt, say)) != 0)
         avformat_close_input(fmt);
     return ret;
 }

@@ -17,12 +17,19 @@
   angle alone: a video mirrored top to bottom (angle 0) passed, and one
   mirrored left to right was "turned by -180 degrees": any matrix but the
   identity is refused (a translation alone moves no pixel), a mirror said
-  as one, which way.
+  as one, which way;
+- attack12 #8: WebM and Matroska share FFmpeg's demuxer, so an H.264
+  Matroska file named .webm was compared as WebM (browsers do not play it
+  as one): a .webm must hold VP8, VP9 or AV1 video, else it is refused,
+  exit 2; springpend's own .webm (VP9) and the H.264 file named .mkv are
+  read.
 The ICC profiles are built here from the ICC specification (a v2 display
 profile: its colorants and tone curves), one through lcms2's own sRGB.
 usage: test_attack12_readers.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import ctypes
 import os
+import shutil
+import subprocess
 import struct
 import zlib
 
@@ -230,5 +237,31 @@ for name, edit, said in (("vflip.mp4", vflip, "mirrored top to bottom"),
     else:
         ok(r.returncode == 0, f"compare a.mp4 {name} (a translation alone): compared (exit "
            f"{r.returncode}: {err(r)[-200:]!r})")
+
+# ---- attack12 #8: a .webm holds a WebM codec ----------------------------------------------
+if shutil.which("ffmpeg"):
+    subprocess.run(["ffmpeg", "-v", "error", "-y", "-i", "a.mp4", "-c:v", "libx264", "-f",
+                    "matroska", "h264.webm"], cwd=work, check=True, timeout=120)
+    shutil.copy(path("h264.webm"), path("h264.mkv"))
+    r = run("compare", "a.mp4", "h264.webm")
+    ok(r.returncode == 2 and "h264.webm: a Matroska file with H.264" in err(r)
+       and "not WebM as its name says" in err(r),
+       f"compare a.mp4 h264.webm (H.264 in Matroska): refused, exit 2 (exit {r.returncode}: "
+       f"{err(r)[-200:]!r})")
+    r = run("compare", "a.mp4", "h264.mkv")
+    ok(r.returncode == 0, f"compare a.mp4 h264.mkv (the same file named .mkv): compared (exit "
+       f"{r.returncode}: {err(r)[-200:]!r})")
+    r = run("scene", "h264.webm", "--command")
+    ok(r.returncode == 2 and "not WebM as its name says" in err(r),
+       f"scene h264.webm --command: refused, exit 2 (exit {r.returncode}: {err(r)[-200:]!r})")
+else:
+    sptest.skip("an H.264 Matroska file named .webm", "ffmpeg is not installed")
+r = run("render", default, "--size", "160x90", "--fps", "10", "--set", "video.duration=0.5",
+        "-o", "v.webm", "-q", timeout=120)
+assert r.returncode == 0, err(r)
+shutil.copy(path("v.webm"), path("v2.webm"))
+r = run("compare", "v.webm", "v2.webm")
+ok(r.returncode == 0, f"compare v.webm v2.webm (springpend's VP9 WebM): compared (exit "
+   f"{r.returncode}: {err(r)[-200:]!r})")
 
 done()

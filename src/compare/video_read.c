@@ -244,16 +244,17 @@ static int webm_codecs(const char *path, const AVFormatContext *fmt, int say)
         return 0;
     for (unsigned i = 0; i < fmt->nb_streams; i++) {
         const AVCodecParameters *par = fmt->streams[i]->codecpar;
+        const AVCodecDescriptor *d = avcodec_descriptor_get(par->codec_id);
+        /* a codec compare does not decode is refused by name later (attack9) */
         if (par->codec_type != AVMEDIA_TYPE_VIDEO || par->codec_id == AV_CODEC_ID_VP8 ||
-            par->codec_id == AV_CODEC_ID_VP9 || par->codec_id == AV_CODEC_ID_AV1)
+            par->codec_id == AV_CODEC_ID_VP9 || par->codec_id == AV_CODEC_ID_AV1 || !d ||
+            av_match_list(d->name, SP_VIDEO_CODECS, ',') <= 0)
             continue;
         if (say) {
-            const AVCodecDescriptor *d = avcodec_descriptor_get(par->codec_id);
             sp_log_error("%s: a Matroska file with %s video (%s), not WebM as its name says "
                          "(WebM holds VP8, VP9 or AV1; springpend writes VP9): name it .mkv to "
                          "compare it as Matroska", path,
-                         d && d->long_name ? d->long_name : "an unknown codec's",
-                         d ? d->name : "?");
+                         d->long_name ? d->long_name : d->name, d->name);
         }
         return SP_E_INPUT;
     }
@@ -671,6 +672,63 @@ int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel
     av_quiet = 0;
     sp_video_hold_errors(was, was_size);
     return ret == 0 ? SP_E_INTERRUPTED : ret;
+}
+
+/* 1 when packets and bytes, read from stream s of fmt, reach the frames
+ * and bytes its index lists (where it lists them: MP4's sample tables);
+ * else 0, why in why. */
+static int index_reached(const AVFormatContext *fmt, int s, int64_t packets, int64_t bytes,
+                         char *why, size_t size)
+{
+    AVStream *st = fmt->streams[s];
+    const int n = avformat_index_get_entries_count(st);
+    int64_t listed = 0;
+    for (int i = 0; i < n; i++)
+        listed += avformat_index_get_entry(st, i)->size;
+    if (st->nb_frames > 0 && packets < st->nb_frames) {
+        snprintf(why, size, "it holds %lld of the %lld frames its index lists", (long long)packets,
+                 (long long)st->nb_frames);
+        return 0;
+    }
+    if (n > 0 && n == st->nb_frames && bytes < listed) {
+        snprintf(why, size, "its frames hold %lld bytes of the %lld its index lists",
+                 (long long)bytes, (long long)listed);
+        return 0;
+    }
+    return 1;
+}
+
+int sp_video_demuxes_whole(const char *path, char *why, size_t size)
+{
+    AVFormatContext *fmt = NULL;
+    AVPacket *pkt = av_packet_alloc();
+    int64_t packets = 0, bytes = 0;
+    int ret = pkt ? 0 : SP_E_NOMEM, s = -1;
+    pthread_once(&log_once, log_through_lines);
+    av_quiet = 1;
+    if (!ret && (ret = open_checked(&fmt, path)) == 0)
+        ret = (s = av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, NULL, 0)) < 0
+                  ? SP_E_INPUT : 1;
+    while (ret == 1) {
+        const int got = av_read_frame(fmt, pkt);
+        if (got == AVERROR_EOF)
+            break;
+        if (got == AVERROR(ENOMEM))
+            ret = SP_E_NOMEM;
+        else if (got < 0)
+            snprintf(why, size, "its container is damaged (%s)", av_err2str(got)), ret = 0;
+        else if (pkt->stream_index == s && (pkt->flags & AV_PKT_FLAG_CORRUPT))
+            snprintf(why, size, "its frame %lld is cut or corrupt", (long long)packets), ret = 0;
+        else if (pkt->stream_index == s)
+            packets++, bytes += pkt->size;
+        av_packet_unref(pkt);
+    }
+    if (ret == 1)
+        ret = index_reached(fmt, s, packets, bytes, why, size);
+    av_quiet = 0;
+    avformat_close_input(&fmt);
+    av_packet_free(&pkt);
+    return ret;
 }
 
 void sp_video_reader_destroy(struct sp_video_reader **rp)

@@ -22,12 +22,21 @@
   Matroska file named .webm was compared as WebM (browsers do not play it
   as one): a .webm must hold VP8, VP9 or AV1 video, else it is refused,
   exit 2; springpend's own .webm (VP9) and the H.264 file named .mkv are
-  read.
+  read;
+- attack12 #5: under ulimit -v, a lone decode that failed with an error
+  FFmpeg gives for damaged data (which its decoders also give for a failed
+  allocation) called an intact 1080p video damaged, exit 2: the file's
+  container, read packet by packet with little memory, decides; where it
+  is whole, "cannot decode X under this memory limit", exit 1;
+- attack12 #6: under a ulimit -v too low to map FFmpeg's libraries, the
+  module message said "reinstall springpend" and compare "cannot read",
+  exit 2: out of memory, naming the limit, exit 1.
 The ICC profiles are built here from the ICC specification (a v2 display
 profile: its colorants and tone curves), one through lcms2's own sRGB.
 usage: test_attack12_readers.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import ctypes
 import os
+import resource
 import shutil
 import subprocess
 import struct
@@ -263,5 +272,52 @@ shutil.copy(path("v.webm"), path("v2.webm"))
 r = run("compare", "v.webm", "v2.webm")
 ok(r.returncode == 0, f"compare v.webm v2.webm (springpend's VP9 WebM): compared (exit "
    f"{r.returncode}: {err(r)[-200:]!r})")
+
+# ---- attack12 #5 and #6: under ulimit -v, memory is not the file's fault -------------------
+def under(kb):
+    """A preexec_fn: ulimit -v kb (soft and hard, as the shell's ulimit sets them)."""
+    return lambda: resource.setrlimit(resource.RLIMIT_AS, (kb << 10, kb << 10))
+
+
+if sanitized:
+    sptest.skip("compare under ulimit -v", "ulimit -v and a sanitizer's shadow memory")
+else:
+    r = run("render", default, "--size", "1920x1080", "--fps", "10", "--set", "video.duration=2",
+            "-o", "big.mp4", "-q", timeout=180)
+    assert r.returncode == 0, err(r)
+    shutil.copy(path("big.mp4"), path("big2.mp4"))
+    whole = open(path("big.mp4"), "rb").read()
+    open(path("cut.mp4"), "wb").write(whole[:len(whole) * 80 // 100])
+    r = run("compare", "big.mp4", "big2.mp4", timeout=120)
+    assert r.returncode == 0, err(r)           # intact: what memory enough shows
+    seen, cut = {}, {}
+    for kb in range(254000, 282000, 2000):
+        # 127: the dynamic loader itself could not map a library, before springpend ran
+        r = run("compare", "big.mp4", "big2.mp4", preexec_fn=under(kb), timeout=120)
+        if r.returncode != 127:
+            seen[kb] = (r.returncode, r.stdout.decode()[-110:].strip())
+        r = run("compare", "big.mp4", "cut.mp4", preexec_fn=under(kb), timeout=120)
+        if r.returncode != 127:
+            cut[kb] = r.returncode
+    damaged = {kb: v for kb, v in seen.items() if v[0] not in (0, 1) or "damaged" in v[1]}
+    ok(seen and not damaged,
+       f"compare big.mp4 big2.mp4 (intact, 1920x1080) under ulimit -v 254000..280000 kB: never "
+       f"'damaged' (exit 2), out of memory or ok ({damaged or sorted(set(v[0] for v in seen.values()))})")
+    told = [v[1] for v in seen.values() if "under this memory limit (ulimit -v" in v[1]]
+    ok(all("may be the file's or memory's" in t for t in told),
+       f"where a lone decode fails on a whole container: 'cannot decode ... under this memory "
+       f"limit' ({len(told)} of {len(seen)} limits; {told[:1]})")
+    ok(cut and all(rc in (1, 2) for rc in cut.values()),
+       f"compare big.mp4 cut.mp4 (cut at 80 %) under the same limits: never compared "
+       f"(exits {cut})")
+    for kb in (100000, 200000):
+        for cmd in (["compare", "big.mp4", "big2.mp4"], ["scene", "big.mp4", "--command"]):
+            r = run(*cmd, preexec_fn=under(kb), timeout=120)
+            e = err(r) + r.stdout.decode()
+            ok(r.returncode in (1, 127) and "reinstall" not in e and "cannot read" not in e
+               and (r.returncode == 127 or (f"out of memory (ulimit -v {kb} kB)" in e
+                                            and "allow more memory" in e)),
+               f"{' '.join(cmd)} under ulimit -v {kb}: the module out of memory, exit 1 (exit "
+               f"{r.returncode}: {e[-240:]!r})")
 
 done()

@@ -825,7 +825,10 @@ static int check_time_fits(const struct sp_composer *r, float w)
     }
     char t[64];
     snprintf(t, sizeof(t), "t = %.2f s", fmax(r->extent.t_end, 0));
-    const char *where = v->text_size_where[0] ? v->text_size_where : "[view] font_size";
+    /* where the size was set, else where the font was (the default size) */
+    const char *where = v->text_size_where[0] ? v->text_size_where
+                        : v->font_where[0]                  ? v->font_where
+                                                            : "[view] font_size";
     const char *unit = print ? "pt" : "px";
     char allowed[96];
     if (best)

@@ -157,6 +157,10 @@ WIDE_CHRM = struct.pack(">8I", 31270, 32900, 64000, 33000, 21000, 71000, 15000, 
 GAMMA = (b"gAMA", struct.pack(">I", 45455))
 cases = [  # name, base, chunks, refused with ("" when taken)
     ("hand.png", s, [iccp(icc(SRGB_D50, srgb_curve()))], ""),
+    # libpng warns of its rendering intent (7: outside ICC's four) but keeps it; Chromium
+    # draws it as read: judged as any other
+    ("intent7.png", s, [iccp(bytes(icc(SRGB_D50, srgb_curve())[:64]) + struct.pack(">I", 7)
+                             + icc(SRGB_D50, srgb_curve())[68:])], ""),
     ("adobe.png", s, [iccp(icc(ADOBE_D50, srgb_curve()))], "ICC colour profile (iCCP) other than sRGB"),
     ("linear.png", s, [iccp(icc(SRGB_D50, LINEAR))], "ICC colour profile (iCCP) other than sRGB"),
     ("grayonrgb.png", s, [iccp(icc(None, srgb_curve(), gray=True))], "iCCP"),

@@ -181,6 +181,17 @@ if srgb_lcms:
     cases.append(("lcms.png", s, [iccp(srgb_lcms)], ""))
 else:
     sptest.skip("compare s.png lcms.png (lcms2's sRGB profile)", "liblcms2.so.2 does not load")
+# real profiles where Debian's icc-profiles-free and colord-data are installed (not required)
+for pkg, prof, said in (("icc-profiles-free", "sRGB.icc", ""),
+                        ("colord-data", "colord/sRGB.icc", ""),
+                        ("colord-data", "colord/AdobeRGB1998.icc", "other than sRGB"),
+                        ("colord-data", "colord/Rec709.icc", "other than sRGB")):
+    full = os.path.join("/usr/share/color/icc", prof)
+    if os.path.exists(full):
+        cases.append(("sys-" + prof.replace("/", "-").replace(".icc", ".png"), s,
+                      [iccp(open(full, "rb").read())], said))
+    else:
+        sptest.skip(f"compare s.png with {prof} embedded", f"{pkg} is not installed")
 for name, base, chunks, said in cases:
     with_chunks(base, path(name), *chunks)
     r = run("compare", os.path.basename(base), name)

@@ -112,6 +112,21 @@ static int check_column(const struct sp_cli_options *o, const char *const *names
     return 0;
 }
 
+/* --fps and --quality pick the frame times, which --every and --poincare
+ * do not sample: taken with them, they would change nothing (attack12
+ * #18). 0, or SP_E_INPUT (said). */
+static int check_rates(const struct sp_cli_options *o)
+{
+    const char *rate = o->fps_buf[0] ? "--fps" : o->quality_buf[0][0] ? "--quality" : NULL;
+    const char *other = o->data.every > 0 ? "--every" : o->data.poincare ? "--poincare" : NULL;
+    if (!rate || !other)
+        return 0;
+    sp_log_error("%s sets the frame times (video.fps), which %s replaces%s: the rows would be "
+                 "the same whatever its value; give one of them", rate, other,
+                 o->data.poincare ? " with the section's crossings" : "");
+    return SP_E_INPUT;
+}
+
 int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sp_cli_options o;
@@ -121,16 +136,8 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
                            SP_CLI_TAKES_EVERY | SP_CLI_TAKES_POINCARE | SP_CLI_TAKES_SCENES);
     if (ret)
         return ret > 0 ? 0 : ret;
-    /* --fps and --quality pick the frame times, which --every and --poincare
-     * do not sample: taken, they would change nothing (attack12 #18) */
-    const char *rate = o.fps_buf[0] ? "--fps" : o.quality_buf[0][0] ? "--quality" : NULL;
-    const char *other = o.data.every > 0 ? "--every" : o.data.poincare ? "--poincare" : NULL;
-    if (rate && other) {
-        sp_log_error("%s sets the frame times (video.fps), which %s replaces%s: the rows "
-                     "would be the same whatever its value; give one of them", rate, other,
-                     o.data.poincare ? " with the section's crossings" : "");
-        return SP_E_INPUT;
-    }
+    if ((ret = check_rates(&o)) != 0)
+        return ret;
     ret = sp_cli_load_scenes(&o, scenes);
     const struct sp_scene *const sc0 = &scenes[0];
     int spatial = 0;

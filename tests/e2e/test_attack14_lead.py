@@ -43,6 +43,8 @@ def pixels(name):
 
 if not shutil.which("ffmpeg"):
     skip("1: the time's ink keeps off the first panel's box", "ffmpeg missing")
+elif not os.path.exists(path("four-100.png")):
+    ok(False, "1: the time's ink keeps off the first panel's box (no picture drawn)")
 else:
     W, CELL = 360, 180
     img = pixels(path("four-100.png"))

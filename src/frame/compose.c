@@ -772,6 +772,16 @@ static float hud_width(const struct sp_composer *r, const struct sp_layout_desc 
     return v->x1 - v->x0 - 2 * l->gap;
 }
 
+/* The room the heads-up time has before it would reach what is right of
+ * the pendulum's view, px: the HUD's column and the gap on its right (the
+ * time may end in the gap, as it was drawn before the check; it never
+ * reaches the panel's box: attack14 #1). */
+static float time_room(const struct sp_composer *r, const struct sp_layout_desc *d,
+                       const struct sp_layout *l)
+{
+    return hud_width(r, d, l) + l->gap;
+}
+
 /* 1 when the frame takes its own layout (view 0), not one of the two a
  * cell side by side tries at the first frame (lay_out). */
 static int own_layout(const struct sp_composer *r)
@@ -857,7 +867,7 @@ static int check_hud_time(const struct sp_composer *r)
     struct sp_layout l;
     layout_desc(r, 0, &d);
     sp_layout_compute(&d, &l);
-    return check_time_fits(r, hud_width(r, &d, &l));
+    return check_time_fits(r, time_room(r, &d, &l));
 }
 
 /* Places the view, panels, heads-up text and colourbar (once: the
@@ -877,7 +887,7 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
         const float w = hud_width(r, &d, &r->layout);
         r->hud_lines = sp_hud_lines(f, p, &r->look.predict, r->look.differs, w, r->hud,
                                     SP_HUD_MAX_LINES);
-        const int refused = check ? check_time_fits(r, w) : 0;
+        const int refused = check ? check_time_fits(r, time_room(r, &d, &r->layout)) : 0;
         if (refused)
             return refused;
         if (r->look.spatial)

@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""springpend tests (issue 28): the fourteenth attacker's pass
+(doc/notes/2026-11-27/attack14.md), the lead's findings:
+- #1: the heads-up time-fit check (attack12 #19's fix) refused four scenes
+  side by side on a 360x640 portrait frame once video.duration passed
+  10 s, though the time was drawn clear of the panels: the time may use
+  the gap right of its column, never the panel's box. The oracle is the
+  picture (decoded by ffmpeg): the time's ink ends left of the first
+  panel's box, found by its fill colour.
+usage: test_attack14_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
+import os
+import re
+import shutil
+import subprocess
+
+import sptest
+from sptest import done, err, ok, skip
+
+exe, src, work, run, path, scenes, sanitized = sptest.attack_setup("attack14-lead")
+default = os.path.join(scenes, "default.ini")
+
+# 1: four masses side by side, 360x640 (two columns of 180x320 cells)
+text = open(default).read()
+names = []
+for m in (1, 2, 3, 4):
+    names.append(path(f"v{m}.ini"))
+    with open(names[-1], "w") as f:
+        f.write(re.sub(r"^mass\s*=.*$", f"mass = {m}", text, flags=re.M))
+for duration in (11, 100):
+    out = path(f"four-{duration}.png")
+    r = run("still", *names, "--set", f"video.duration={duration}", "--at", str(duration - 0.01),
+            "--size", "360x640", "-o", out, "-q")
+    ok(r.returncode == 0 and os.path.exists(out),
+       f"1: four scenes side by side at 360x640, video.duration = {duration}: drawn "
+       f"(exit {r.returncode}: {err(r)[-160:]})")
+
+
+def pixels(name):
+    """The picture's RGB bytes, decoded by ffmpeg (not by springpend)."""
+    return subprocess.run(["ffmpeg", "-v", "error", "-i", name, "-f", "rawvideo", "-pix_fmt", "rgb24",
+                           "-"], capture_output=True, check=True).stdout
+
+
+if not shutil.which("ffmpeg"):
+    skip("1: the time's ink keeps off the first panel's box", "ffmpeg missing")
+elif not os.path.exists(path("four-100.png")):
+    ok(False, "1: the time's ink keeps off the first panel's box (no picture drawn)")
+else:
+    W, CELL = 360, 180
+    img = pixels(path("four-100.png"))
+    at = lambda x, y: img[(y * W + x) * 3:(y * W + x) * 3 + 3]
+    # the first panel's box: its fill, read by its right edge in the time's
+    # rows, and the first column of that fill from the left
+    fill_y = 40
+    fill = at(CELL - 8, fill_y)
+    edge = next((x for x in range(CELL // 4, CELL) if at(x, fill_y) == fill), CELL)
+    # the time's rows: below the title, the first rows with ink at the
+    # cell's left ("t ="), to the first row with none left of the box
+    bg = at(edge - 1, fill_y)
+    inked = lambda y: any(at(x, y) != bg for x in range(edge))
+    first = next(y for y in range(26, 160) if any(at(x, y) != bg for x in range(20)))
+    last = next(y for y in range(first, 160) if not inked(y))
+    right = max(x for y in range(first, last) for x in range(edge) if at(x, y) != bg)
+    ok(edge < CELL - 20 and right < edge - 1,
+       f"1: the time (rows {first}..{last - 1}) has its ink to x {right}, clear of the first "
+       f"panel's box from x {edge}")
+done()

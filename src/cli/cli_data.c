@@ -127,6 +127,18 @@ static int check_rates(const struct sp_cli_options *o)
     return SP_E_INPUT;
 }
 
+/* data refuses a --set key it does not read (attack13 #5): it draws
+ * nothing, and its rows are the physics at the frame times. */
+static int check_set_read(const struct sp_cli_options *o)
+{
+    static const char *const read[] = {"pendulum", "initial", "pivot", "integrator", "ensemble",
+                                       "video.duration", "video.fps", "video.speed"};
+    return sp_cli_check_set_read(o, "data", read, sizeof(read) / sizeof(read[0]), 0,
+                                 "the [pendulum], [initial], [pivot], [integrator] and "
+                                 "[ensemble] keys and video.duration, fps and speed (the "
+                                 "frame times); it draws nothing");
+}
+
 int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sp_cli_options o;
@@ -138,12 +150,7 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
         return ret > 0 ? 0 : ret;
     if ((ret = check_rates(&o)) != 0)
         return ret;
-    static const char *const read[] = {"pendulum", "initial", "pivot", "integrator", "ensemble",
-                                       "video.duration", "video.fps", "video.speed"};
-    ret = sp_cli_check_set_read(&o, "data", read, sizeof(read) / sizeof(read[0]), 0,
-                                "the [pendulum], [initial], [pivot], [integrator] and "
-                                "[ensemble] keys and video.duration, fps and speed (the "
-                                "frame times); it draws nothing");
+    ret = check_set_read(&o);
     if (!ret)
         ret = sp_cli_load_scenes(&o, scenes);
     const struct sp_scene *const sc0 = &scenes[0];

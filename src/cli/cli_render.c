@@ -435,6 +435,15 @@ static int paper_still(const struct sp_cli_options *o, struct sp_scene *scene, c
     return 0;
 }
 
+/* A still refuses a video encoder's --set keys (attack13 #5). */
+static int check_still_keys(const struct sp_cli_options *o)
+{
+    static const char *const encoder[] = {"video.crf", "video.preset"};
+    return sp_cli_check_set_read(o, "still", encoder, 2, 1,
+                                 "every key but video.crf and video.preset (a video encoder's; "
+                                 "a still is a PNG, SVG or PDF)");
+}
+
 /* 1 when the output is an MP4 or WebM video (--format, else the extension,
  * as the sink picks it): a piece of one records its part. */
 static int video_kind(const char *out, const char *format)
@@ -460,11 +469,7 @@ static int run(int argc, char **argv, int still)
                                                     SP_CLI_TAKES_SCENES);
     if (ret)
         return ret > 0 ? 0 : ret;
-    static const char *const encoder[] = {"video.crf", "video.preset"};
-    ret = still ? sp_cli_check_set_read(&o, "still", encoder, 2, 1,
-                                        "every key but video.crf and video.preset (a video "
-                                        "encoder's; a still is a PNG, SVG or PDF)")
-                : 0;
+    ret = still ? check_still_keys(&o) : 0;
     if (!ret)
         ret = sp_cli_load_scenes(&o, scenes);
     if (!ret)

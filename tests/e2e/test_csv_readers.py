@@ -10,6 +10,7 @@ import csv
 import io
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -125,8 +126,13 @@ for name, args in kinds.items():
 # ---- the recorded scene runs again to the same bytes --------------------------
 # The scene is written in user units (the angle in degrees, names not codes):
 # `data` on it, with the recorded command's options, gives the same CSV.
-args = ["data", CHAOTIC, "--every", "0.25", "--set", "initial.angle=33.3", "--set",
-        "view.panels=energy,phase", "--set", "view.title=a 'b' # c ü", "-o", "rt.csv", "-q"]
+# (data reads no [view] key, so the scene file holds them: a --set of one is refused)
+with open(CHAOTIC) as f:
+    viewed = re.sub(r"^panels\s*=.*$", "panels = energy, phase\ntitle = \"a 'b' # c ü\"",
+                    f.read(), flags=re.M)
+with open(os.path.join(work, "viewed.ini"), "w") as f:
+    f.write(viewed)
+args = ["data", "viewed.ini", "--every", "0.25", "--set", "initial.angle=33.3", "-o", "rt.csv", "-q"]
 r = run(*args)
 meta = json.load(open(os.path.join(work, "rt.csv-metadata.json")))
 scene = meta["dc:source"]
@@ -140,7 +146,7 @@ r2 = run("data", "recorded.ini", "--every", "0.25", "-o", "rt2.csv", "-q")
 ok(r.returncode == 0 and r2.returncode == 0 and
    open(os.path.join(work, "rt.csv"), "rb").read() == open(os.path.join(work, "rt2.csv"), "rb").read(),
    "data on the recorded scene gives the same CSV bytes")
-ok(meta["prov:used"] == ["initial.angle=33.3", "view.panels=energy,phase", "view.title=a 'b' # c ü"],
+ok(meta["prov:used"] == ["initial.angle=33.3"],
    f"prov:used lists the overrides in order: {meta['prov:used']}")
 
 # ---- stdout: the CSV only; a failed run leaves neither file -------------------

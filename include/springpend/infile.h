@@ -49,6 +49,12 @@ int sp_infile_try(const char *path, const char **why);
  * the run (unsaid: the command says it). */
 int sp_infile_read(const char *path, size_t max, const char *want, char **text, size_t *size);
 
+/* As sp_infile_read, from fd (sp_infile_open's, closed here): for a caller
+ * that judges the file it opened (fstat) before it reads it, not the name
+ * again (compare.ini's owner: attack14 #2). path names it in messages. */
+int sp_infile_read_fd(int fd, const char *path, size_t max, const char *want, char **text,
+                      size_t *size);
+
 /* A look at a file that a forged record may name (a sweep shard's command
  * names its scene): reads path whole into *text (malloc'd, NUL added) only
  * when it is an ordinary file, and opens nothing else: as sp_infile_open

@@ -55,6 +55,13 @@ struct sp_sink_desc {
 
 struct sp_sink;
 
+/* The encoders' settings where the scene leaves them automatic (video.crf
+ * = 0, preset = auto): sink_video.c encodes with these, and side by side
+ * compares the values the encoder gets (cli_render.c). */
+#define SP_SINK_CRF_H264 23
+#define SP_SINK_CRF_VP9 32
+#define SP_SINK_PRESET_DEFAULT "superfast"
+
 /* Returns SP_E_INPUT (with a message) for an unknown kind or bad desc,
  * SP_E_CODEC when this FFmpeg lacks the encoder, SP_E_IO naming the path
  * and the cause when it cannot be created. */

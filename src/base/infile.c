@@ -130,11 +130,17 @@ int sp_infile_open(const char *path, const char *want)
 
 int sp_infile_read(const char *path, size_t max, const char *want, char **text, size_t *size)
 {
-    struct stat st;
-    int fd = sp_infile_open(path, want), ret = 0;
+    const int fd = sp_infile_open(path, want);
     *text = NULL, *size = 0;
-    if (fd < 0)
-        return fd;
+    return fd < 0 ? fd : sp_infile_read_fd(fd, path, max, want, text, size);
+}
+
+int sp_infile_read_fd(int fd, const char *path, size_t max, const char *want, char **text,
+                      size_t *size)
+{
+    struct stat st;
+    int ret = 0;
+    *text = NULL, *size = 0;
     if (fstat(fd, &st) != 0 || (unsigned long long)st.st_size > max) {
         sp_log_error("%s: %lld bytes; at most %zu are read (%s)", path, (long long)st.st_size,
                      max, want);

@@ -13,6 +13,7 @@
 #include "springpend/pipeline.h"
 #include "springpend/provenance.h"
 #include "springpend/sim.h"
+#include "springpend/sink.h"
 #include "springpend/timeline.h"
 
 /* The end of render's and still's help: scenes side by side. */
@@ -316,7 +317,7 @@ static int check_drawn(const struct sp_cli_options *o, const struct sp_scene *s,
  * for MP4 and WebM, png_level for a PNG (a still or a sequence), none for
  * a GIF, raw frames or an SVG or PDF figure. Bits: ENC_CRF, ENC_PRESET,
  * ENC_PNG_LEVEL. */
-enum { ENC_CRF = 1, ENC_PRESET = 2, ENC_PNG_LEVEL = 4 };
+enum { ENC_CRF = 1, ENC_PRESET = 2, ENC_PNG_LEVEL = 4, ENC_VP9 = 8 /* WebM: VP9's automatic crf */ };
 static unsigned encoder_keys(const struct sp_cli_options *o, int still)
 {
     const char *out = o->output, *kind = still ? "png" : "mp4";
@@ -330,7 +331,7 @@ static unsigned encoder_keys(const struct sp_cli_options *o, int still)
         kind = dot && dot != base ? dot + 1 : "";
     }
     if (!strcasecmp(kind, "mp4") || !strcasecmp(kind, "webm"))
-        return ENC_CRF | ENC_PRESET;
+        return ENC_CRF | ENC_PRESET | (strcasecmp(kind, "webm") ? 0 : ENC_VP9);
     return !strcasecmp(kind, "png") ? ENC_PNG_LEVEL : 0;
 }
 
@@ -354,9 +355,14 @@ static int check_side_by_side(const struct sp_cli_options *o, const struct sp_sc
             const double b = sp_scene_get_number(&s[i], shared[k]);
             char na[64], nb[64], va[64], vb[64]; /* the numbers, then as a scene shows them */
             const int crf = !strcmp(shared[k], "video.crf");
-            if (a == b || (isnan(a) && isnan(b)) || (crf && !(enc & ENC_CRF)) ||
+            /* what the encoder gets: crf 0 is the codec's own (attack14 #5) */
+            const double auto_crf = enc & ENC_VP9 ? SP_SINK_CRF_VP9 : SP_SINK_CRF_H264;
+            if ((crf && (a ? a : auto_crf) == (b ? b : auto_crf)) || a == b || (isnan(a) && isnan(b)) || (crf && !(enc & ENC_CRF)) ||
                 (!strcmp(shared[k], "video.png_level") && !(enc & ENC_PNG_LEVEL)))
                 continue;
+            char auto_name[64];
+            snprintf(auto_name, sizeof(auto_name), " (automatic: %g for %s)", auto_crf,
+                     enc & ENC_VP9 ? "VP9" : "H.264");
             snprintf(na, sizeof(na), "%.17g", a);
             snprintf(nb, sizeof(nb), "%.17g", b);
             sp_scene_canonical_display(shared[k], na, va, sizeof(va));
@@ -365,15 +371,17 @@ static int check_side_by_side(const struct sp_cli_options *o, const struct sp_sc
                          "[video] width, height, fps and speed%s and [view] theme, background, "
                          "font, font_size and font_scale: give them the same (--set applies to "
                          "every scene)", o->scene_paths[i], shared[k], vb,
-                         crf && b == 0 ? " (automatic)" : "", o->scene_paths[0], va,
-                         crf && a == 0 ? " (automatic)" : "", reads);
+                         crf && b == 0 ? auto_name : "", o->scene_paths[0], va,
+                         crf && a == 0 ? auto_name : "", reads);
             bad = 1;
         }
         const char *pa = sp_scene_preset_name(&s[0]), *pb = sp_scene_preset_name(&s[i]);
-        if ((enc & ENC_PRESET) && (pa || pb) && !(pa && pb && !strcmp(pa, pb))) {
+        const char *ea = pa ? pa : SP_SINK_PRESET_DEFAULT, *eb = pb ? pb : SP_SINK_PRESET_DEFAULT;
+        if ((enc & ENC_PRESET) && strcmp(ea, eb)) { /* auto is superfast (attack14 #5) */
             sp_log_error("%s: video.preset = %s, but %s has %s; scenes side by side share the "
-                         "first's encoder", o->scene_paths[i], pb ? pb : "auto",
-                         o->scene_paths[0], pa ? pa : "auto");
+                         "first's encoder", o->scene_paths[i],
+                         pb ? pb : "auto (" SP_SINK_PRESET_DEFAULT ")", o->scene_paths[0],
+                         pa ? pa : "auto (" SP_SINK_PRESET_DEFAULT ")");
             bad = 1;
         }
         if (s[i].view.theme != s[0].view.theme || s[i].view.background != s[0].view.background) {

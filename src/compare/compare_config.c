@@ -488,11 +488,20 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)
         cfg->path[0] = 0; /* none: the defaults */
         return 0;
     }
-    if (stat(cfg->path, &st) == 0 && planted(cfg->path, dir, &st))
+    /* judged and read through one descriptor: the file read is the file
+     * whose owner was judged, whatever the name points at meanwhile
+     * (attack14 #2: a squatter flipped the name between root's file and
+     * theirs) */
+    static const char want[] = "compare.ini must be a text file of at most 1 MiB";
+    const int fd = sp_infile_open(cfg->path, want);
+    if (fd < 0)
+        return fd;
+    if (fstat(fd, &st) != 0 || planted(cfg->path, dir, &st)) {
+        close(fd);
         return SP_E_INPUT;
+    }
     size_t n;
-    if ((ret = sp_infile_read(cfg->path, 1u << 20, "compare.ini must be a text file of at most "
-                              "1 MiB", &text, &n)) != 0)
+    if ((ret = sp_infile_read_fd(fd, cfg->path, 1u << 20, want, &text, &n)) != 0)
         return ret;
     if (strlen(text) != n) {
         sp_log_error("%s: holds NUL bytes; expected an INI text file", cfg->path);

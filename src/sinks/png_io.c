@@ -394,8 +394,11 @@ static void lcms_quiet(cmsContext ctx, cmsUInt32Number code, const char *text)
  * it (damaged, of another colour space, or memory short). */
 static int icc_srgb_distance(const void *prof, png_uint_32 len, int gray)
 {
-    enum { STEP = 15, N = 256 / STEP + 1 };
-    static unsigned char in[N * N * N * 3], out[N * N * N * 3];
+    /* a grid of every 15th level, and every level along each channel and
+     * the grey ramp (attack14 #3: a tone curve that is sRGB's on the grid
+     * and not between its points was taken) */
+    enum { STEP = 15, N = 256 / STEP + 1, RAMPS = 4 * 256 };
+    static unsigned char in[(N * N * N + RAMPS) * 3], out[(N * N * N + RAMPS) * 3];
     static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
     int worst = 256;
     cmsContext ctx = cmsCreateContext(NULL, NULL);
@@ -419,6 +422,10 @@ static int icc_srgb_distance(const void *prof, png_uint_32 len, int gray)
                         in[3 * n + 1] = (unsigned char)(g * STEP);
                         in[3 * n + 2] = (unsigned char)(b * STEP);
                     }
+        for (int ramp = 0; !gray && ramp < 4; ramp++) /* red, green, blue, grey */
+            for (int v = 0; v < 256; v++, n++)
+                for (int c = 0; c < 3; c++)
+                    in[3 * n + c] = (unsigned char)(ramp == 3 || ramp == c ? v : 0);
         static const cmsUInt32Number intents[] = {INTENT_PERCEPTUAL,
                                                   INTENT_RELATIVE_COLORIMETRIC};
         worst = 0;

@@ -22,7 +22,7 @@
  * clean as veryfast (SSIM 0.9917 vs 0.9915 at CRF 23, 1080p) for 18% less
  * encoder CPU; the files are larger (about 0.7 Mbit/s at 1080p60), still
  * small. */
-#define VIDEO_PRESET_DEFAULT "superfast"
+#define VIDEO_PRESET_DEFAULT SP_SINK_PRESET_DEFAULT
 
 /* The scene's presets (scene.h) and x264's slowest, fastest first. */
 #define X264_PRESET(name) name,
@@ -38,10 +38,10 @@ struct video_codec {
 };
 
 static const struct video_codec codec_h264 = {
-    "libx264", "mp4", "H.264", 23, 51, 0,
+    "libx264", "mp4", "H.264", SP_SINK_CRF_H264, 51, 0,
 };
 static const struct video_codec codec_vp9 = {
-    "libvpx-vp9", "webm", "VP9", 32, 63, 1,
+    "libvpx-vp9", "webm", "VP9", SP_SINK_CRF_VP9, 63, 1,
 };
 
 struct video {

@@ -80,8 +80,8 @@ for cmd, out, said in ((["still", default, "p9.ini", "--at", "0.1"], "q9.png",
        f"{cmd[0]} default.ini {cmd[2]} -o {out}: the encoder reads it, so it is refused, "
        f"nothing written (exit {r.returncode}: {err(r)[-200:]!r})")
 r = run("render", default, "s51.ini", *short, "-o", "q51b.mp4")
-ok("has 0 (automatic);" in err(r) and "has 0;" not in err(r),
-   f"crf's default is named '0 (automatic)' (exit {r.returncode}: {err(r)[:200]!r})")
+ok("has 0 (automatic: 23 for H.264);" in err(r) and "has 0;" not in err(r),
+   f"crf's default is named '0 (automatic: 23 for H.264)' (exit {r.returncode}: {err(r)[:200]!r})")
 
 # ---- attack12 #18: data --fps / --quality with --every or --poincare: refused --------------
 for opts, said in ((["--fps", "7", "--every", "0.1"], "--fps sets the frame times"),

@@ -175,6 +175,11 @@ cases = [  # name, base, chunks, refused with ("" when taken)
     ("cicpsrgb.png", s, [(b"cICP", bytes([1, 13, 0, 1]))], ""),
     ("mdcv.png", s, [(b"mDCv", struct.pack(">8HII", *([0] * 8), 10000000, 1))], "(mDCv)"),
     ("clli.png", s, [(b"cLLi", struct.pack(">II", 10000000, 4000000))], "(cLLi)"),
+    # attack14 #3: a 256-entry tone curve (one entry per level: no interpolation
+    # hides it) that is sRGB's at every 15th level and inverted between them
+    ("between.png", s, [iccp(icc(SRGB_D50, [v if i % 15 == 0 else 65535 - v
+                                            for i, v in enumerate(srgb_curve(256))]))],
+     "ICC colour profile (iCCP) other than sRGB"),
 ]
 srgb_lcms = lcms_srgb()
 if srgb_lcms:

@@ -6,7 +6,11 @@
   10 s, though the time was drawn clear of the panels: the time may use
   the gap right of its column, never the panel's box. The oracle is the
   picture (decoded by ffmpeg): the time's ink ends left of the first
-  panel's box, found by its fill colour.
+  panel's box, found by its fill colour;
+- #5: side by side refused scenes whose encoder gets the same settings:
+  crf 0 (automatic: H.264's 23) beside crf = 23, preset auto beside
+  superfast (what auto is); the values the encoder gets are compared (a
+  WebM's automatic crf is VP9's 32, so 0 beside 23 is refused there).
 usage: test_attack14_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import re
@@ -64,4 +68,24 @@ else:
     ok(edge < CELL - 20 and right < edge - 1,
        f"1: the time (rows {first}..{last - 1}) has its ink to x {right}, clear of the first "
        f"panel's box from x {edge}")
+
+# 5: the encoder's own values, not the keys' spellings (23 and superfast:
+# x264's defaults as springpend's sink_video.c sets them, doc/outputs.md)
+def variant(name, key, value):
+    out = path(name)
+    with open(out, "w") as f:
+        f.write(re.sub(rf"^{key}\s*=.*$", f"{key} = {value}",
+                       re.sub(r"^mass\s*=.*$", "mass = 2", text, flags=re.M), flags=re.M))
+    return out
+
+
+short = ["--set", "video.duration=0.2", "--set", "video.fps=10", "--size", "320x180"]
+for other, out, want in [(variant("crf23.ini", "crf", 23), "crf.mp4", 0),
+                         (variant("superfast.ini", "preset", "superfast"), "preset.mp4", 0),
+                         (variant("crf30.ini", "crf", 30), "crf30.mp4", 2),
+                         (path("crf23.ini"), "crf.webm", 2)]:
+    r = run("render", default, other, *short, "-o", path(out), "-q", timeout=120)
+    ok(r.returncode == want and os.path.exists(path(out)) == (want == 0),
+       f"5: default.ini (crf 0, preset auto) beside {os.path.basename(other)} -o {out}: exit "
+       f"{r.returncode}, want {want} ({err(r)[-140:]})")
 done()

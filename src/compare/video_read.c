@@ -434,6 +434,35 @@ static int find_stream_info(AVFormatContext *fmt)
     return ret;
 }
 
+/* Refuses (SP_E_INPUT, logged) a video stream whose colour tags make
+ * players convert its colours otherwise than springpend's videos: other
+ * primaries, transfer or matrix than BT.709 (or none), or full range
+ * (springpend writes BT.709, limited range). compare judges the decoded
+ * pixels alike whatever the tags, so a file retagged BT.2020/PQ without
+ * re-encoding passed as identical while players tone-map it (attack14 #4),
+ * as a PNG's cICP or iCCP would (png_io.c). 0 when as springpend writes. */
+static int colour_as_coded(const AVStream *st, const char *path)
+{
+    const AVCodecParameters *p = st->codecpar;
+    const int pri = p->color_primaries, trc = p->color_trc, spc = p->color_space;
+    const int bad_pri = pri != AVCOL_PRI_UNSPECIFIED && pri != AVCOL_PRI_BT709,
+              bad_trc = trc != AVCOL_TRC_UNSPECIFIED && trc != AVCOL_TRC_BT709,
+              bad_spc = spc != AVCOL_SPC_UNSPECIFIED && spc != AVCOL_SPC_BT709,
+              full = p->color_range == AVCOL_RANGE_JPEG;
+    if (!bad_pri && !bad_trc && !bad_spc && !full)
+        return 0;
+    const char *name = bad_pri ? av_color_primaries_name(p->color_primaries)
+                       : bad_trc ? av_color_transfer_name(p->color_trc)
+                       : bad_spc ? av_color_space_name(p->color_space) : "full range";
+    sp_log_error("%s: its video is tagged %s %s, by which players convert its colours; "
+                 "springpend writes BT.709 (limited range) and compares the pixels as coded: "
+                 "re-encode it with BT.709 tags (ffmpeg -colorspace bt709 -color_primaries bt709 "
+                 "-color_trc bt709 -color_range tv), or remove the tags", path,
+                 bad_pri ? "with colour primaries" : bad_trc ? "with the transfer"
+                 : bad_spc ? "with the matrix" : "as", name ? name : "unknown");
+    return SP_E_INPUT;
+}
+
 /* Refuses (SP_E_INPUT, logged) a video stream st of fmt that players show
  * otherwise than its pixels are coded: by a display matrix other than the
  * identity (turned, mirrored: attack12 #12, scaled), or stretched by a
@@ -540,7 +569,8 @@ static int reader_open(struct sp_video_reader **out, const char *path, int stric
         ret = SP_E_INPUT;
         goto fail;
     }
-    if ((ret = shown_as_coded(r->fmt, r->fmt->streams[r->stream], path)) != 0)
+    if ((ret = shown_as_coded(r->fmt, r->fmt->streams[r->stream], path)) != 0 ||
+        (ret = colour_as_coded(r->fmt->streams[r->stream], path)) != 0)
         goto fail;
     if (!(r->dec = avcodec_alloc_context3(codec))) {
         ret = av_fail(r, "cannot make a decoder", AVERROR(ENOMEM));

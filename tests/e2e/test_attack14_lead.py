@@ -10,7 +10,11 @@
 - #5: side by side refused scenes whose encoder gets the same settings:
   crf 0 (automatic: H.264's 23) beside crf = 23, preset auto beside
   superfast (what auto is); the values the encoder gets are compared (a
-  WebM's automatic crf is VP9's 32, so 0 beside 23 is refused there).
+  WebM's automatic crf is VP9's 32, so 0 beside 23 is refused there);
+- #4: a video retagged BT.2020/PQ (or full range) without re-encoding was
+  compared as identical, though players convert its colours: refused, exit
+  2, naming the tag (ffmpeg's h264_metadata writes the tags here); an
+  untagged re-encode and springpend's own WebM and GIF are still read.
 usage: test_attack14_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import re
@@ -88,4 +92,26 @@ for other, out, want in [(variant("crf23.ini", "crf", 23), "crf.mp4", 0),
     ok(r.returncode == want and os.path.exists(path(out)) == (want == 0),
        f"5: default.ini (crf 0, preset auto) beside {os.path.basename(other)} -o {out}: exit "
        f"{r.returncode}, want {want} ({err(r)[-140:]})")
+
+# 4: colour tags players honour
+vid = path("v.mp4")
+r = run("render", default, "--set", "video.duration=1", "--set", "video.fps=10", "--size", "320x180",
+        "-o", vid, "-q", timeout=120)
+if not shutil.which("ffmpeg") or r.returncode != 0:
+    skip("4: a video's colour tags", "ffmpeg missing or the render failed")
+else:
+    for name, bsf, said in [("hdr.mp4", "colour_primaries=9:transfer_characteristics=16:"
+                             "matrix_coefficients=9", "bt2020"),
+                            ("full.mp4", "video_full_range_flag=1", "full range")]:
+        subprocess.run(["ffmpeg", "-loglevel", "error", "-y", "-i", vid, "-c", "copy", "-bsf:v",
+                        f"h264_metadata={bsf}", path(name)], check=True)
+        r = run("compare", vid, path(name))
+        ok(r.returncode == 2 and said in err(r) and "tagged" in err(r),
+           f"4: compare v.mp4 {name} (retagged: {bsf}): refused, exit 2, naming '{said}' "
+           f"(exit {r.returncode}: {err(r)[-160:]})")
+    subprocess.run(["ffmpeg", "-loglevel", "error", "-y", "-i", vid, "-c:v", "libx264",
+                    path("re.mp4")], check=True)
+    r = run("compare", vid, path("re.mp4"))
+    ok(r.returncode == 0, f"4: an untagged re-encode is still compared (exit {r.returncode}: "
+       f"{err(r)[-120:]})")
 done()

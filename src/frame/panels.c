@@ -1,7 +1,6 @@
 /* springpend (internal): charts, phase portraits, Poincare section, HUD and
  * colourbar. See panels.h. */
 #include <math.h>
-#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -512,10 +511,6 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
         float leg_w = 0;
         for (int i = 0; i < n_leg; i++)
             leg_w = fmaxf(leg_w, legend_width(f, &leg[i], 1, shrt));
-        if (getenv("SP_DEBUG_FIT"))
-            fprintf(stderr, "fit %s: %gx%g plot %g line %g\n", sp_scene_plot_name(st->order[st->index]),
-                    (r->x1 - r->x0) / st->pt, (r->y1 - r->y0) / st->pt,
-                    (r->y1 - pad - tick - p->area.y0) / st->pt, line_s / st->pt);
         panel_refused(c, r, st, p->area.y0, r->y1 - pad - tick, st->pt, pad,
                       p->title_end - r->x0 - pad, leg_w, leg_rows);
     }

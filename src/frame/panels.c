@@ -292,17 +292,26 @@ static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, 
  * the frame, and the small-frame rule (compose.c small_frame) does not apply:
  * a panel may then be too small for its own texts, and was drawn with its
  * legend over the curves, its plot turned inside out over the title, or its
- * title over the next panel (attack13 #19: resonance.ini's nine panels at
+ * title over the next panel (attack13 #19: resonance.ini's eight panels at
  * 8.6 cm, 1 in square). Refuses (said once, naming the panel, what it needs
  * and what it has; the canvas's err set to SP_E_INPUT, so the still fails
- * and nothing is written) a panel r whose title row and legend rows leave
- * its plot, with the x labels dropped, under min_plot px (frame_plot), or
+ * and nothing is written) a panel r whose title row and legend rows (p's
+ * top, leg_rows) leave its plot, with the x labels dropped, under 1 pt, or
  * whose title (title_w px, the form drawn) or widest legend entry (leg_w
  * px), both starting pad px in, would cross the panel's right edge. */
 static void panel_refused(struct sp_canvas *c, const struct sp_rect *r, const struct sp_panel_style *st,
-                          float top, float bottom, float min_plot, float pad, float title_w,
-                          float leg_w, int leg_rows)
+                          const struct plot *p, float tick, const struct legend_item *leg,
+                          int n_leg, int shrt, int leg_rows)
 {
+    if (!(st->pt > 0)) /* a pixel size: small_frame's rule */
+        return;
+    const struct sp_font *f = c->font;
+    const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL)), min_plot = st->pt; /* 1 pt */
+    /* the plot's top, and its bottom with the x labels dropped, as frame_plot lays them out */
+    const float top = p->area.y0, bottom = r->y1 - pad - tick, title_w = p->title_end - r->x0 - pad;
+    float leg_w = 0; /* the widest entry, in the form drawn */
+    for (int i = 0; i < n_leg; i++)
+        leg_w = fmaxf(leg_w, legend_width(f, &leg[i], 1, shrt));
     const float room_w = r->x1 - r->x0 - pad, plot = bottom - top; /* from x0 + pad to the box's edge */
     if (c->err || (plot >= min_plot && title_w <= room_w && leg_w <= room_w))
         return;
@@ -507,13 +516,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     p->title_end = r->x0 + pad +
         sp_canvas_text(c, body ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
                        SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
-    if (st->pt > 0) { /* a printed size: the panel holds its texts, or is refused */
-        float leg_w = 0;
-        for (int i = 0; i < n_leg; i++)
-            leg_w = fmaxf(leg_w, legend_width(f, &leg[i], 1, shrt));
-        panel_refused(c, r, st, p->area.y0, r->y1 - pad - tick, st->pt, pad,
-                      p->title_end - r->x0 - pad, leg_w, leg_rows);
-    }
+    panel_refused(c, r, st, p, tick, leg, n_leg, shrt, leg_rows); /* at a printed size */
     const float leg_x = leg_row ? r->x0 + pad : p->title_end + pad;
     const float leg_y = r->y0 + pad + cap_n + (leg_row ? line_s : 0);
     /* dynamic when it counts what is shown, or when it reaches down to the
@@ -535,8 +538,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     }
     p->area.x0 = r->x0 + pad + tw + tick + 0.5f * pad;
     p->area.x1 = r->x1 - pad - 0.5f * sp_font_width(f, SP_TEXT_SMALL, "00");
-    if (categories)
-        xlabel = "";
+    xlabel = categories ? "" : xlabel;
     int xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
     sp_axis_range(&p->x, xr.lo, xr.hi, xpad);
     axis_fit(c, &p->x, p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w + pad), 0);

@@ -189,8 +189,11 @@ ok(rc == 143 and "interrupted by SIGTERM" in msg and left == ["00002.png"],
    f"14: a sequence waiting on a FIFO frame stops on one SIGTERM: exit {rc}, frames removed, "
    f"the FIFO left ({left}; {msg.strip()[-120:]})")
 
-# 15: the later --size wins, whatever its form
-for sizes, want in [(["8cm", "640x360"], (640, 360)), (["640x360", "8cm"], (945, 531))]:
+# 15: the later --size wins, whatever its form (13 cm: default.ini's panels
+# fit a printed still from about 12.7 cm, test attack13-print)
+W13 = round(13 / 2.54 * 300)  # px at the default 300 dpi; the height from 1280:720
+H13 = round(13 / 2.54 * 300 * 720 / 1280)
+for sizes, want in [(["13cm", "640x360"], (640, 360)), (["640x360", "13cm"], (W13, H13))]:
     out = path(f"size-{'-'.join(sizes)}.png")
     r = run("still", default, "--at", "1", "--size", sizes[0], "--size", sizes[1], "-o", out, "-q")
     got = None
@@ -198,9 +201,8 @@ for sizes, want in [(["8cm", "640x360"], (640, 360)), (["640x360", "8cm"], (945,
         with open(out, "rb") as f:
             head = f.read(24)
         got = (int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big"))
-    # 8 cm at the default 300 dpi: round(8 / 2.54 * 300) px wide, the scene's 16:9 high
-    ok(got == want, f"15: --size {sizes[0]} --size {sizes[1]}: {got} px, want {want}")
-assert round(8 / 2.54 * 300) == 945 and round(8 / 2.54 * 300 * 9 / 16) == 531
+    ok(got == want, f"15: --size {sizes[0]} --size {sizes[1]}: {got} px, want {want} "
+       f"({err(r)[-100:]})")
 
 
 # 21: a PNG and its --state, two runs at once: never one's image beside the

@@ -510,8 +510,10 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
         extra = ", both branches";
     }
     char what[256];
-    snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s at dt = %g s%s: about "
-             "%.3g steps a point)", points, span, d->method, d->dt, extra, per_point);
+    char method[96];
+    sp_sweep_method_text(d, method, sizeof(method));
+    snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s%s: about %.3g steps a "
+             "point)", points, span, method, extra, per_point);
     /* a continued sweep cannot be cut into shards (--continue refuses --shard) */
     return sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
                        d->cont != SP_CONTINUE_NONE

@@ -205,6 +205,31 @@ static void fix_key_range(double *lo, double *hi)
         fix_range(lo, hi);
 }
 
+/* A swept key's range, low to high: a --vary written from high to low
+ * (KEY=170:10:5) is drawn as any other, ascending, each point at its value
+ * (the CSV keeps the order it was given). */
+static void key_span(const struct sp_sweep_axis *a, double *lo, double *hi)
+{
+    *lo = fmin(a->from, a->to), *hi = fmax(a->from, a->to);
+}
+
+/* A map's range along a key: key_span and half a step beyond each end, the
+ * cells centred on the grid values. */
+static void key_cells(const struct sp_sweep_axis *a, double *lo, double *hi)
+{
+    const double step = a->count > 1 ? fabs(a->to - a->from) / (a->count - 1) : 1;
+    key_span(a, lo, hi);
+    *lo -= step / 2, *hi += step / 2;
+}
+
+/* The cell, of n in a map drawn ascending (left to right, bottom to top),
+ * that holds index i of the key (of n too): the same, or mirrored for a key
+ * given from high to low. */
+static long key_cell(const struct sp_sweep_axis *a, long i, long n)
+{
+    return a->to < a->from ? n - 1 - i : i;
+}
+
 /* The size text is drawn at from now on, pt. */
 static void font_pt(double pt)
 {
@@ -582,8 +607,10 @@ static void draw_title(const struct sp_sweep_desc *d, const struct sp_palette *p
         snprintf(sampled, sizeof(sampled), "Benettin, QR (modified Gram-Schmidt) every τ ≈ 1 s; ");
     else if (d->measure == SP_MEASURE_BASINS)
         snprintf(sampled, sizeof(sampled), "stroboscopic map (t = k/f) settled by recurrence; ");
-    snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s at dt = %g s", sampled, energy, d->time,
-             transient, d->method, d->dt);
+    char method[96];
+    sp_sweep_method_text(d, method, sizeof(method));
+    snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s", sampled, energy, d->time, transient,
+             method);
     sp_axis_minus(buf, sizeof(buf)); /* a negative energy: −0.5 J */
     text_at(80, 34 + title_extra(), buf, 0, 0);
 }
@@ -801,7 +828,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
     char xl[96], yl[96];
     key_label(xl, sizeof(xl), ax->key);
     if (d->n_axes == 1) {
-        struct frame f = {80, 56, W - 110, H - 116, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
+        struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo, hi + 0.05 * (hi - lo)};
+        key_span(ax, &f.xlo, &f.xhi);
         fix_key_range(&f.xlo, &f.xhi);
         title(d, look->title, look->short_title);
         place(&f, 30, U(18), 0);
@@ -830,10 +858,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
         free(cv.p);
     } else {
         /* cells centred on the grid values */
-        double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
-        double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
-        struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
-                          ay->from - dy / 2, ay->to + dy / 2};
+        struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
+        key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
         title(d, look->title, look->short_title);
         place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
         draw_title(d, pal, &f);
@@ -862,7 +888,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
                 float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
                 if (got)
                     colormap_rgb(d, (sum / (double)got - lo) / (hi - lo), rgb);
-                put_rgb(data + 4 * ((size_t)(ih - 1 - j) * (size_t)iw + (size_t)i), rgb);
+                put_rgb(data + 4 * ((size_t)(ih - 1 - key_cell(ay, j, ih)) * (size_t)iw +
+                                    (size_t)key_cell(ax, i, iw)), rgb);
             }
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(&f, pal, xl, yl);
@@ -948,7 +975,7 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
         dots++;
     }
     if (orbit)
-        xlo = d->axis[0].from, xhi = d->axis[0].to;
+        key_span(&d->axis[0], &xlo, &xhi);
     if (orbit) /* the key's range */
         fix_key_range(&xlo, &xhi);
     else
@@ -962,7 +989,9 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
                                                : "orbit diagram at the Poincaré crossings")
                                  : "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit",
                orbit ? "orbit diagram" : "Poincaré sections");
-    place(&f, 30, orbit ? U(18) : colorbar_room(d->axis[0].from, d->axis[0].to),
+    double klo, khi; /* the first key's values, low to high */
+    key_span(&d->axis[0], &klo, &khi);
+    place(&f, 30, orbit ? U(18) : colorbar_room(klo, khi),
           orbit ? 0 : BAR_GAP);
     draw_title(d, pal, &f);
     draw_axes(&f, pal, orbit ? xl : "r (m)",
@@ -1002,9 +1031,10 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
     if (ext && !G.v->legend) /* over the dots */
         orbit_legend(d, pal, &f);
     if (!orbit && G.print) { /* which colour is which start: a colour bar */
-        double lo = d->axis[0].from, hi = d->axis[0].to;
+        double lo = klo, hi = khi;
         fix_key_range(&lo, &hi);
-        draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, &f, 0.1, 0.95);
+        const int falling = d->axis[0].to < d->axis[0].from; /* the first orbit's colour at FROM */
+        draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, &f, falling ? 0.95 : 0.1, falling ? 0.1 : 0.95);
     } else if (!orbit) {
         /* which colour is which start: a small gradient over the first key */
         const double x0 = W - 250, y0 = 22, w = 150;
@@ -1073,10 +1103,8 @@ static int draw_spectrum_map(const struct sp_sweep_desc *d, const struct sp_pale
 {
     const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
     const double lo = s->lo, hi = s->hi;
-    double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
-    double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
-    struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
-                      ay->from - dy / 2, ay->to + dy / 2};
+    struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
+    key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
     char yl[96];
     title(d, "Lyapunov spectrum", "Lyapunov spectrum");
     place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
@@ -1093,7 +1121,8 @@ static int draw_spectrum_map(const struct sp_sweep_desc *d, const struct sp_pale
         float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
         if (isfinite(s->y[i][0]))
             colormap_rgb(d, (s->y[i][0] - lo) / (hi - lo), rgb);
-        put_rgb(img + 4 * ((size_t)(ay->count - 1 - idx[1]) * (size_t)ax->count + (size_t)idx[0]),
+        put_rgb(img + 4 * ((size_t)(ay->count - 1 - key_cell(ay, idx[1], ay->count)) *
+                               (size_t)ax->count + (size_t)key_cell(ax, idx[0], ax->count)),
                 rgb);
     }
     key_label(yl, sizeof(yl), ay->key);
@@ -1128,7 +1157,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         f.xlo = log10(x[0] > 0 ? x[0] : 1);
         f.xhi = log10(m ? fmax(x[m - 1], x[0] * 10) : 10);
     } else {
-        f.xlo = d->axis[0].from, f.xhi = d->axis[0].to;
+        key_span(&d->axis[0], &f.xlo, &f.xhi);
     }
     fix_key_range(&f.xlo, &f.xhi);
     title(d, conv ? "Lyapunov spectrum: running values against T"
@@ -1214,10 +1243,8 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
     char xl[96], yl[96], buf[200];
     key_label(xl, sizeof(xl), ax->key);
     key_label(yl, sizeof(yl), ay->key);
-    double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
-    double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
-    struct frame f = {80, 56, W - 380, H - 116, ax->from - dx / 2, ax->to + dx / 2,
-                      ay->from - dy / 2, ay->to + dy / 2};
+    struct frame f = {80, 56, W - 380, H - 116, 0, 1, 0, 1};
+    key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
     title(d, "basins of attraction", "basins of attraction");
     place(&f, 300, U(300), U(20)); /* the legend U(20) right of the plot */
     draw_title(d, pal, &f);
@@ -1234,7 +1261,8 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
         int idx[SP_SWEEP_MAX_AXES], a = map.label[p];
         sp_sweep_point_index(d, p, idx);
         static const float black[3] = {0, 0, 0};
-        put_rgb(data + 4 * ((size_t)(ay->count - 1 - idx[1]) * (size_t)ax->count + (size_t)idx[0]),
+        put_rgb(data + 4 * ((size_t)(ay->count - 1 - key_cell(ay, idx[1], ay->count)) *
+                                (size_t)ax->count + (size_t)key_cell(ax, idx[0], ax->count)),
                 a >= 0 ? rgb[a] : black);
     }
     draw_axes(&f, pal, xl, yl);
@@ -1265,12 +1293,30 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
     }
     set_rgba(pal->text);
     font_pt(U(12));
-    snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map.entropy, map.boundary_entropy);
+    const int cut_x = map.nx - map.box * map.boxes_x, cut_y = map.ny - map.box * map.boxes_y;
+    if (isfinite(map.entropy))
+        snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map.entropy, map.boundary_entropy);
+    else
+        snprintf(buf, sizeof(buf), "S_b, S_bb: none");
     text_at(lx, ly + U(8), buf, 0, 0);
     set_rgba(pal->muted);
     font_pt(U(10));
-    snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map.box, map.box);
+    if (isfinite(map.entropy))
+        snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map.box, map.box);
+    else
+        snprintf(buf, sizeof(buf), "the %dx%d grid has no %dx%d box", map.nx, map.ny, map.box,
+                 map.box);
     text_at(lx, ly + U(26), buf, 0, 0);
+    if (isfinite(map.entropy) && (cut_x || cut_y)) { /* what no whole box holds */
+        char cols[48] = "", rows[48] = "";
+        if (cut_x)
+            snprintf(cols, sizeof(cols), "last %d column%s", cut_x, cut_x > 1 ? "s" : "");
+        if (cut_y)
+            snprintf(rows, sizeof(rows), "last %d row%s", cut_y, cut_y > 1 ? "s" : "");
+        snprintf(buf, sizeof(buf), "(%s%s%s left out)", cols, cut_x && cut_y ? ", " : "", rows);
+        ly += U(16);
+        text_at(lx, ly + U(26), buf, 0, 0);
+    }
     if (map.blown_up) {
         snprintf(buf, sizeof(buf), "%ld blown up (black)", map.blown_up);
         text_at(lx, ly + U(42), buf, 0, 0);

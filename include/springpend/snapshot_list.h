@@ -6,8 +6,10 @@
  * EXPECTED/NAME and its alternatives EXPECTED/STEM.KEY.EXT beside it (a
  * baseline per environment: `a.png`, `a.llvm19.png`), any of which may match.
  * A baseline is an alternative only when KEY is a declared environment key
- * (compare.ini's envs line) and STEM.EXT is an image of either folder;
- * otherwise it is an image of its own (`fig.1.png`). */
+ * (compare.ini's envs line); otherwise it is an image of its own
+ * (`fig.1.png`). An alternative goes beside its plain baseline STEM.EXT:
+ * one without it is an error (attack12 #15), as an actual image named like
+ * an alternative is. */
 #ifndef SPRINGPEND_SNAPSHOT_LIST_H
 #define SPRINGPEND_SNAPSHOT_LIST_H
 
@@ -22,10 +24,13 @@ struct sp_snapshot {
                        NAME.KEY.EXT is itself an alternative: an error, never
                        silently dropped */
     int alt_named;  /* 1: name is an actual image's named like an alternative
-                       (NAME.KEY.EXT, KEY declared, NAME.EXT an image of either
-                       folder), which only --update --env KEY writes, to the
+                       (NAME.KEY.EXT, KEY declared, whatever else exists),
+                       which only --update --env KEY writes, to the
                        baselines: an error, never compared, added or made a
-                       candidate (attack11 #11) */
+                       candidate (attack11 #11, attack12 #15) */
+    int orphan;     /* 1: name is a baseline NAME.KEY.EXT (KEY declared) and
+                       NAME.EXT is in neither folder: an alternative of
+                       nothing, an error (attack12 #15) */
 };
 
 struct sp_snapshot_list {
@@ -56,6 +61,11 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
                           const char *const *skip, int n_skip, const char *const *keys,
                           int n_keys);
 
+/* The length of name's KEY when it is named like an alternative,
+ * NAME.KEY.EXT with KEY one of keys (n_keys), whatever exists; then
+ * NAME.EXT into stem (size bytes; stem may be NULL). 0 otherwise. */
+int sp_snapshot_key_named(const char *name, const char *const *keys, int n_keys, char *stem,
+                          int size);
 /* The KEY of alternative alt of image name ("a.llvm19.png" of "a.png" is
  * "llvm19"), into key. */
 void sp_snapshot_alt_key(const char *name, const char *alt, char *key, int size);

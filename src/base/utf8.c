@@ -175,17 +175,81 @@ static int consonant_of(uint32_t c, uint32_t v)
            !in_table(c, vowel_independent, sizeof(vowel_independent) / sizeof(vowel_independent[0]));
 }
 
-/* 1 when the virama v that starts at p (in the text from start) follows a
- * consonant of its script, nuktas between them (KA NUKTA VIRAMA): a
+/* The consonant of v's script that the virama v starting at p (in the text
+ * from start) follows, nuktas between them (KA NUKTA VIRAMA), or 0: a
  * virama with nothing to kill (after a space, a vowel) forms nothing. */
-static int virama_after_consonant(const char *start, const char *p, uint32_t v)
+static uint32_t virama_after_consonant(const char *start, const char *p, uint32_t v)
 {
     uint32_t c = 0;
     do
         p = before(start, p, &c);
     while (p && hb_unicode_combining_class(hb_unicode_funcs_get_default(), c) ==
                     HB_UNICODE_COMBINING_CLASS_NUKTA);
-    return p && consonant_of(c, v);
+    return p && consonant_of(c, v) ? c : 0;
+}
+
+/* The code point at p, or 0 at the end or at a byte that is not UTF-8;
+ * *next: where the one after it starts. */
+static uint32_t char_at(const char *p, const char **next)
+{
+    size_t n = 0;
+    const uint32_t u = *p && sp_utf8_char(p) ? sp_utf8_decode(p, &n) : 0;
+    *next = p + n;
+    return u;
+}
+
+/* Sinhala's touching letters (bandi akuru): consonant, al-lakuna, ZWJ,
+ * consonant drawn touching (KA+SSA, KA+VA, GA+DHA, NYA+CA, TTA+TTHA,
+ * TA+THA, TA+VA, DA+DHA, DA+VA, NA+THA, NA+DA, NA+DHA, NA+VA); each
+ * first << 16 | second. */
+static const uint32_t sinhala_touching[] = {
+    0x0D9A0DC2, 0x0D9A0DC0, 0x0D9C0DB0, 0x0DA40DA0, 0x0DA70DA8, 0x0DAD0DAE, 0x0DAD0DC0,
+    0x0DAF0DB0, 0x0DAF0DC0, 0x0DB10DAE, 0x0DB10DAF, 0x0DB10DB0, 0x0DB10DC0,
+};
+
+/* The scripts whose virama forms a conjunct only before a few consonants,
+ * elsewhere a visible virama that a joiner leaves as it is (attack12 #17):
+ * whether the joiner j after consonant c and virama v, with the text after
+ * it at next, changes what is drawn: 1 or 0, or -1 for the other scripts.
+ * From the scripts' conjunct rules in The Unicode Standard's sections on
+ * them (Tamil: KSSA and SRI are its conjuncts, other clusters keep the
+ * pulli shown; Gurmukhi: subjoined HA, RA, VA and post-base YA; Sinhala:
+ * the al-lakuna is shown unless a ZWJ asks for repaya (RA first), yansaya
+ * (YA after), rakaransaya (RA after) or a touching letter, a ZWNJ asks for
+ * nothing) as HarfBuzz's Indic shaper applies them: shaping every pair of
+ * letters with and without the joiner (Noto Sans Tamil, Gurmukhi, Sinhala
+ * and Noto Serif Sinhala, HarfBuzz 6) changes the glyphs in exactly these
+ * (doc/notes/2026-11-27/fix15.md); tests/e2e/test_attack12_seen.py draws
+ * them. Independent of the font, as file names and records must be. */
+static int few_conjuncts(uint32_t c, uint32_t v, uint32_t j, const char *next)
+{
+    const char *after;
+    const uint32_t d = char_at(next, &after), e = char_at(after, &after);
+    switch (v) {
+    case 0x0BCD: /* Tamil pulli: KA+SSA (KSSA); SA or SHA+RA+II (SRI) */
+        return (c == 0x0B95 && d == 0x0BB7) || ((c == 0x0BB8 || c == 0x0BB6) && d == 0x0BB0 && e == 0x0BC0);
+    case 0x0A4D: /* Gurmukhi virama: HA, RA, VA below, YA after, but with a
+                  * nukta or yakash (and RA, VA, HA with udaat) on them, which
+                  * have no such form; a ZWJ keeps sihari (the i sign, drawn
+                  * first) with the next consonant or URA (not IRI or EK ONKAR) */
+        if (d == 0x0A39 || d == 0x0A30 || d == 0x0A35 || d == 0x0A2F)
+            return e != 0x0A3C && e != 0x0A75 && (e != 0x0A51 || d == 0x0A2F);
+        return j == 0x200D && e == 0x0A3F && (d == 0x0A73 || (d < 0x0A72 && consonant_of(d, v)));
+    case 0x0DCA: /* Sinhala al-lakuna: only a ZWJ joins; RA+ZWJ+RA draws as
+                  * RA+RA but with a kombuva (the signs drawn first) after */
+        if (j != 0x200D)
+            return 0;
+        if (c == 0x0DBB && d == 0x0DBB)
+            return e >= 0x0DD9 && e <= 0x0DDE;
+        if (c == 0x0DBB || d == 0x0DBA || d == 0x0DBB)
+            return 1;
+        for (size_t i = 0; i < sizeof(sinhala_touching) / sizeof(sinhala_touching[0]); i++)
+            if (sinhala_touching[i] == (c << 16 | d))
+                return 1;
+        return 0;
+    default:
+        return -1;
+    }
 }
 
 int sp_utf8_is_joiner(const char *start, const char *at)
@@ -201,8 +265,12 @@ int sp_utf8_is_joiner(const char *start, const char *at)
      * before a consonant of the script (the conjunct it breaks), before
      * anything else (a vowel letter, attack10 #14 and attack11 #1) it draws
      * nothing */
-    if (p && virama(b) && virama_after_consonant(start, p, b)) {
+    const uint32_t c = p && virama(b) ? virama_after_consonant(start, p, b) : 0;
+    if (c) {
         size_t m;
+        const int few = few_conjuncts(c, b, u, at + n);
+        if (few >= 0)
+            return few;
         if (u == 0x200D)
             return 1;
         if (*(at + n) && sp_utf8_char(at + n) && consonant_of(sp_utf8_decode(at + n, &m), b))

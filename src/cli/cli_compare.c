@@ -15,7 +15,7 @@
 
 static const char compare_usage[] =
     "usage: springpend compare EXPECTED ACTUAL [options]\n"
-    "       springpend compare --approve CANDIDATES BASELINES\n"
+    "       springpend compare --approve CANDIDATES BASELINES [--env KEY]\n"
     "\n"
     "Compares two PNG images, or every PNG and video (.mp4 .webm .mkv .mov .gif)\n"
     "under folder EXPECTED, subfolders too, with the file of the same path under\n"
@@ -58,13 +58,16 @@ static const char compare_usage[] =
     "                         actual image, listing them). A baseline whose pixels\n"
     "                         are unchanged is never rewritten\n"
     "  --env KEY              --update and --candidates write NAME.KEY.png, an\n"
-    "                         alternative baseline, instead of NAME.png; KEY must\n"
-    "                         be declared in compare.ini's envs line\n"
+    "                         alternative baseline, instead of NAME.png (only\n"
+    "                         beside a NAME.png baseline); KEY must be declared\n"
+    "                         in compare.ini's envs line\n"
     "  --candidates DIR       write the would-be baselines (failing and new images\n"
     "                         only) and their diffs to DIR; the run still fails\n"
     "  --approve DIR BASELINES  copy what --candidates wrote into the baselines\n"
     "                         (not the diffs; unchanged pixels left untouched);\n"
-    "                         no other option goes with it\n"
+    "                         a candidate named like an alternative NAME.KEY.png\n"
+    "                         only with --env KEY and beside its NAME.png; no\n"
+    "                         other option goes with it\n"
     "  --report FILE.html     one self-contained HTML page: expected, actual and\n"
     "                         diff side by side at full size with zoom, masks\n"
     "                         drawn, a flip control, failures first\n"
@@ -88,22 +91,25 @@ struct compare_options {
 };
 
 /* --approve copies candidates and nothing else: an option it does not use
- * (a report, --env, --jobs, a rule...) is refused, all of them named, with
+ * (a report, --jobs, a rule...) is refused (--env KEY it takes: it lets
+ * an alternative NAME.KEY.png be copied), all of them named, with
  * 1 (logged); 0 when none was given. seen: the options given, by letter. */
 static int refuse_with_approve(const unsigned char seen[128], const struct option *opts)
 {
     char names[512] = "";
     int n = 0;
     for (const struct option *p = opts; p->name; p++)
-        if (p->val > 0 && p->val < 128 && seen[p->val] && p->val != 'A' && p->val != 'h') {
+        if (p->val > 0 && p->val < 128 && seen[p->val] && p->val != 'A' && p->val != 'h' &&
+            p->val != 'E') {
             snprintf(names + strlen(names), sizeof(names) - strlen(names), "%s--%s",
                      n++ ? ", " : "", p->name);
         }
     if (!n)
         return 0;
     sp_log_error("--approve copies reviewed candidates into the baselines and uses no other "
-                 "option: %s given; compare first (with --candidates), then run --approve "
-                 "CANDIDATES BASELINES alone", names);
+                 "option but --env KEY: %s given; compare first (with --candidates), then run "
+                 "--approve CANDIDATES BASELINES alone (with --env KEY for the alternatives "
+                 "NAME.KEY.png that --candidates --env KEY wrote)", names);
     return 1;
 }
 

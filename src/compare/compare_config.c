@@ -408,27 +408,67 @@ int sp_compare_link_outside(const char *path, const char *dir, char *to, size_t 
 /* 1 (said) when the compare.ini at path (stat st) in folder dir may have
  * been put there by someone else than whoever owns its rules: writable by
  * others than its owner, or owned by another user than root or this one
- * in a folder that others than its owner may write (a shared /tmp-like
- * folder, sticky or not). Its rules decide a verdict: a planted one with
- * max_pixels = 100% passed a failing pair (attack11 #17). A checkout of
- * another user's (root's CI on a mounted one) is read: only its owner could
- * write there. */
+ * unless the folders from dir up, each writable by its owner alone, lead to
+ * one of root's or this user's that others may not write either. Its rules
+ * decide a verdict: a planted one with max_pixels = 100% passed a failing
+ * pair, in a shared folder (attack11 #17) or in a folder its owner made
+ * first in /tmp, 755, where root's job later put its baselines (attack12
+ * #14). A checkout of another user's (root's CI in a container, on the
+ * runner's workspace) is read: only its owner could write there, and only
+ * root made the folder it lies in. */
 static int planted(const char *path, const char *dir, const struct stat *st)
 {
-    struct stat d;
-    const int others = stat(dir, &d) == 0 && (d.st_mode & (S_IWGRP | S_IWOTH)) &&
-                       d.st_uid != st->st_uid;
-    if (st->st_mode & S_IWOTH)
+    if (st->st_mode & S_IWOTH) {
         sp_log_error("%s is writable by anyone: not read (its rules decide the verdict); "
                      "chmod o-w it", path);
-    else if (st->st_uid != 0 && st->st_uid != geteuid() && others)
-        sp_log_error("%s belongs to user %u, in %s, which others than its owner may write: "
-                     "anyone could have put it there; not read (its rules decide the "
-                     "verdict): remove it, or take it over (chown)", path,
-                     (unsigned)st->st_uid, dir);
-    else
+        return 1;
+    }
+    if (st->st_uid == 0 || st->st_uid == geteuid())
         return 0;
-    return 1;
+    char *real = realpath(dir, NULL), at[PATH_MAX];
+    if (!real || snprintf(at, sizeof(at), "%s", real) >= (int)sizeof(at)) {
+        sp_log_error("%s belongs to user %u, in %s, which cannot be resolved (%s): not read "
+                     "(its rules decide the verdict)", path, (unsigned)st->st_uid, dir,
+                     real ? "too long" : strerror(errno));
+        free(real);
+        return 1;
+    }
+    free(real);
+    for (int first = 1;; first = 0) {
+        struct stat d;
+        if (stat(at, &d) != 0) {
+            sp_log_error("%s belongs to user %u; %s, a folder above it: %s: not read (its "
+                         "rules decide the verdict)", path, (unsigned)st->st_uid, at,
+                         strerror(errno));
+            return 1;
+        }
+        const int mine = d.st_uid == 0 || d.st_uid == geteuid(),
+                  open = (d.st_mode & (S_IWGRP | S_IWOTH)) != 0;
+        if (open && first) {
+            sp_log_error("%s belongs to user %u, in %s, which others than its owner may "
+                         "write: anyone could have put it there; not read (its rules decide "
+                         "the verdict): remove it, or take it over (chown)", path,
+                         (unsigned)st->st_uid, dir);
+            return 1;
+        }
+        if (open) {
+            sp_log_error("%s belongs to user %u, in %s, which lies in %s (user %u's, mode "
+                         "%03o), a folder others than its owner may write: user %u could have "
+                         "made that folder there before you and put the file in it; not read "
+                         "(its rules decide the verdict): take the folder over (chown -R) or "
+                         "keep the baselines in a folder of your own", path,
+                         (unsigned)st->st_uid, dir, at, (unsigned)d.st_uid,
+                         (unsigned)(d.st_mode & 07777), (unsigned)st->st_uid);
+            return 1;
+        }
+        if (mine || !strcmp(at, "/"))
+            return 0; /* root's or this user's, closed to others; or "/" */
+        char *slash = strrchr(at, '/');
+        if (slash == at)
+            at[1] = 0;
+        else
+            *slash = 0;
+    }
 }
 
 int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir)

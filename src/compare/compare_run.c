@@ -157,6 +157,16 @@ static int read_whole(const char *path, unsigned char **bytes, size_t *size)
     return err;
 }
 
+/* Notes in r that --env wrote nothing (what: "not added") for an image
+ * with no plain baseline: its alternative goes beside one, never alone. */
+static void env_needs_plain(struct sp_compare_record *r, const char *what)
+{
+    if (r->n_notes < SP_COMPARE_MAX_NOTES)
+        snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s: --env writes an "
+                 "alternative, which goes beside the plain baseline, never alone; add the "
+                 "plain one first (--update=missing without --env)", what);
+}
+
 /* --update: copies the actual image over (or to) target, or removes
  * target, as the mode says for what the record found. A baseline whose
  * pixels equal the actual image's is never touched (its metadata may
@@ -168,6 +178,10 @@ static void apply_update(const struct compare_run *c, struct sp_compare_record *
     int missing = !r->expected[0], gone = !r->actual[0];
     if (c->update == SP_COMPARE_UPDATE_NONE || (missing && gone))
         return;
+    if (missing && c->env) { /* an alternative alone would decide (attack12 #15) */
+        env_needs_plain(r, "not added");
+        return;
+    }
     if (missing)
         act = SP_UPDATE_ADDED;
     else if (gone)
@@ -972,6 +986,10 @@ static void write_candidate(struct compare_run *c, struct sp_compare_record *r,
     int missing = r->verdict == SP_VERDICT_ERROR && r->actual[0] && !r->expected[0];
     if (!r->actual[0] || r->not_compared || !(r->verdict == SP_VERDICT_FAIL || missing))
         return;
+    if (missing && c->env) { /* it would be approved as an alternative alone */
+        env_needs_plain(r, "no candidate written");
+        return;
+    }
     target_name(c, name, rel, (int)sizeof(rel));
     char where[PATH_MAX];
     if (snprintf(out, sizeof(out), "%s/%s", c->candidates, rel) < (int)sizeof(out) &&
@@ -1034,6 +1052,30 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
         snprintf(r->hint, sizeof(r->hint), "rename it so that its last dotted part is no "
                  "key on the envs line, or remove it");
         r->refused = 1; /* else --update=missing would add it as an alternative */
+    } else if (it->orphan) {
+        const char *dot = strrchr(it->name, '.'), *key = dot;
+        while (key > it->name && key[-1] != '.')
+            key--;
+        const int k = (int)(dot - key), stem = key > it->name ? (int)(key - 1 - it->name) : 0;
+        snprintf(r->name, sizeof(r->name), "%s", it->name);
+        snprintf(r->expected, sizeof(r->expected), "%s", pe);
+        record_error(r, "%s is the %.*s alternative of %.*s%s, which is in neither folder: an "
+                     "alternative goes beside its plain baseline, never alone, so it was never "
+                     "compared", pe, k, key, stem, it->name, dot);
+        snprintf(r->hint, sizeof(r->hint), "add the plain baseline %.*s%s first (compare "
+                 "--update=missing, without --env), or remove it", stem, it->name, dot);
+        r->refused = 1; /* --update leaves it: which image's it is, nobody said */
+    } else if (it->actual && !it->expected && it->n_alts) {
+        /* an alternative alone would decide the verdict (attack12 #15):
+         * the image is new, as one with no baseline at all; --update=missing
+         * (without --env) adds its plain baseline */
+        snprintf(r->name, sizeof(r->name), "%s", it->name);
+        snprintf(r->actual, sizeof(r->actual), "%s", pa);
+        record_error(r, "no baseline %s/%s, only its alternative%s %s/%s%s: an alternative "
+                     "goes beside its plain baseline, never alone, so none was compared",
+                     dir_e, it->name, it->n_alts > 1 ? "s" : "", dir_e, it->alts[0],
+                     it->n_alts > 1 ? ", ..." : "");
+        add_hint(r, dir_e, dir_a);
     } else if (sp_snapshot_is_folder_link(it->name)) {
         snprintf(r->name, sizeof(r->name), "%s", it->name);
         record_error(r, "%s/%s is a link to a folder; compare does not follow links to "
@@ -1547,11 +1589,50 @@ static const char *approve_refusal(const char *from, const char *dir, const char
     return NULL;
 }
 
+/* Why candidate `name` (under dir), named like an alternative baseline
+ * (NAME.KEY.EXT, KEY on the baselines' envs line), may not be approved, or
+ * NULL when it may: only with --env KEY, and only beside its plain
+ * baseline NAME.EXT, already in baselines (attack12 #15). */
+static const char *approve_alternative(const struct compare_run *c, const char *dir,
+                                       const char *name, const char *baselines, char *why,
+                                       size_t size)
+{
+    const char *keys[SP_COMPARE_MAX_ENVS];
+    char stem[PATH_MAX], key[64], plain[PATH_MAX + 8];
+    struct stat st;
+    for (int k = 0; k < c->cfg.n_envs; k++)
+        keys[k] = c->cfg.envs[k];
+    if (!sp_snapshot_key_named(name, keys, c->cfg.n_envs, stem, (int)sizeof(stem)))
+        return NULL;
+    sp_snapshot_alt_key(stem, name, key, (int)sizeof(key));
+    if (!c->env || strcmp(key, c->env)) {
+        snprintf(why, size, "%s/%s is named like the %s alternative of %s (%s is on %s's envs "
+                 "line): an alternative baseline is approved only with --env %s; not copied",
+                 dir, name, key, stem, key, c->cfg.path, key);
+        return why;
+    }
+    if (sp_snapshot_key_named(stem, keys, c->cfg.n_envs, NULL, 0)) {
+        snprintf(why, size, "%s/%s is an alternative of %s, which is named like an alternative "
+                 "itself: a baseline has one KEY (NAME.KEY.png); not copied", dir, name, stem);
+        return why;
+    }
+    if (snprintf(plain, sizeof(plain), "%.4000s/%s", baselines, stem) >= PATH_MAX ||
+        lstat(plain, &st) != 0) {
+        snprintf(why, size, "%.2000s/%.2000s is the %s alternative of %.2000s, which has no "
+                 "baseline %.4000s: an alternative goes beside its plain baseline, never "
+                 "alone; add that first (approve it without --env, or compare "
+                 "--update=missing); not copied", dir, name, key, stem, plain);
+        return why;
+    }
+    return NULL;
+}
+
 static int approve(const struct compare_run *c, const char *dir, const char *baselines)
 {
     struct sp_snapshot_list l;
-    int ret = 0, added = 0, replaced = 0, unchanged = 0, i;
+    int ret = 0, added = 0, replaced = 0, unchanged = 0, i, *order = NULL;
     const char *skip[] = {baselines};
+    const char *keys[SP_COMPARE_MAX_ENVS];
     if (!is_dir(dir)) {
         sp_log_error("--approve %s: not a folder; expected the folder --candidates wrote",
                      dir);
@@ -1559,8 +1640,25 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
     }
     if ((ret = sp_snapshot_list_make(&l, dir, dir, skip, 1, NULL, 0)) != 0)
         return ret;
+    /* the plain candidates first, then the alternatives, which go beside
+     * them (approve_alternative) */
+    if (!(order = malloc(((size_t)l.n + 1) * sizeof(*order)))) {
+        sp_log_error("out of memory listing %s", dir);
+        sp_snapshot_list_free(&l);
+        return SP_E_NOMEM;
+    }
+    for (int k = 0; k < c->cfg.n_envs; k++)
+        keys[k] = c->cfg.envs[k];
+    {
+        int n = 0;
+        for (int pass = 0; pass < 2; pass++)
+            for (int k = 0; k < l.n; k++)
+                if (!sp_snapshot_key_named(l.items[k].name, keys, c->cfg.n_envs, NULL, 0) ==
+                    !pass)
+                    order[n++] = k;
+    }
     for (i = 0; i < l.n && !stopped(c); i++) {
-        const char *name = l.items[i].name;
+        const char *name = l.items[order[i]].name;
         char from[PATH_MAX], to[PATH_MAX];
         struct stat st;
         size_t n = strlen(name);
@@ -1575,7 +1673,8 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
             ret = SP_E_INPUT;
             continue;
         }
-        if (approve_refusal(from, dir, to, baselines, why, sizeof(why))) {
+        if (approve_alternative(c, dir, name, baselines, why, sizeof(why)) ||
+            approve_refusal(from, dir, to, baselines, why, sizeof(why))) {
             sp_log_error("%s", why);
             ret = SP_E_INPUT;
             continue;
@@ -1602,8 +1701,9 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
     if (stopped(c)) { /* say what was left, never an ordinary FAIL */
         int left = 0;
         for (; i < l.n; i++) {
-            const size_t n = strlen(l.items[i].name);
-            left += !(n > 9 && !strcasecmp(l.items[i].name + n - 9, ".diff.png"));
+            const char *name = l.items[order[i]].name;
+            const size_t n = strlen(name);
+            left += !(n > 9 && !strcasecmp(name + n - 9, ".diff.png"));
         }
         printf("interrupted: %d added, %d replaced, %d unchanged, %d not approved (%s came "
                "first; run --approve again for the rest)\n", added, replaced, unchanged, left,
@@ -1613,6 +1713,7 @@ static int approve(const struct compare_run *c, const char *dir, const char *bas
         printf("%s: %d added, %d replaced, %d unchanged\n", ret ? "FAIL" : "approved", added,
                replaced, unchanged);
     }
+    free(order);
     sp_snapshot_list_free(&l);
     return ret;
 }
@@ -1644,11 +1745,20 @@ static void run_init(struct compare_run *c, const struct sp_compare_desc *d)
     c->cancel = d->cancel;
 }
 
+static int check_env(const struct compare_run *c, const char *base_dir);
+
+/* --approve reads the baselines' compare.ini for its envs line: a
+ * candidate named like an alternative is copied only with --env KEY. */
 int sp_compare_approve(const struct sp_compare_desc *d)
 {
     struct compare_run c;
+    int ret;
     run_init(&c, d);
-    return approve(&c, d->expected, d->actual);
+    if ((ret = sp_compare_config_load(&c.cfg, d->actual)) == 0 &&
+        (ret = check_env(&c, d->actual)) == 0)
+        ret = approve(&c, d->expected, d->actual);
+    sp_compare_config_free(&c.cfg);
+    return ret;
 }
 
 /* Checks the arguments before anything runs: two folders or two files of
@@ -1672,6 +1782,17 @@ static int check_args(const struct compare_run *c, const char *e, const char *a,
     return 0;
 }
 
+/* 1 when path's file name is named like an alternative baseline: its last
+ * dotted part is a key on the envs line (sp_snapshot_key_named). */
+static int is_alternative_name(const struct compare_run *c, const char *path)
+{
+    const char *keys[SP_COMPARE_MAX_ENVS];
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    for (int k = 0; k < c->cfg.n_envs; k++)
+        keys[k] = c->cfg.envs[k];
+    return sp_snapshot_key_named(base, keys, c->cfg.n_envs, NULL, 0) > 0;
+}
+
 /* Compares two files (images or videos) into record r of rep, then writes
  * its candidate and applies --update. */
 static int compare_pair(struct compare_run *c, struct sp_compare_report *rep,
@@ -1683,7 +1804,12 @@ static int compare_pair(struct compare_run *c, struct sp_compare_report *rep,
         snprintf(r->name, sizeof(r->name), "%s", a);
         snprintf(r->actual, sizeof(r->actual), "%s", a);
         record_error(r, "no baseline %s", e);
-        add_hint(r, e, a);
+        if (is_alternative_name(c, e)) /* attack12 #15 */
+            snprintf(r->hint, sizeof(r->hint), "its name is an alternative baseline's (its last "
+                     "dotted part is on compare.ini's envs line), which --update adds only "
+                     "with --env KEY, beside its plain baseline: compare with the plain one");
+        else
+            add_hint(r, e, a);
     } else if (is_png_path(e)) {
         double t0 = sp_clock_s();
         const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
@@ -1707,7 +1833,11 @@ static int compare_pair(struct compare_run *c, struct sp_compare_report *rep,
         const char *base = strrchr(e, '/') ? strrchr(e, '/') + 1 : e;
         write_candidate(c, r, base);
     }
-    if (c->update != SP_COMPARE_UPDATE_NONE) {
+    if (c->update != SP_COMPARE_UPDATE_NONE && !r->expected[0] && !c->env &&
+        is_alternative_name(c, e)) { /* attack12 #15: the hint says why */
+        if (r->n_notes < SP_COMPARE_MAX_NOTES)
+            snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "not added");
+    } else if (c->update != SP_COMPARE_UPDATE_NONE) {
         char target[PATH_MAX], rel[PATH_MAX];
         target_name(c, e, rel, (int)sizeof(rel));
         snprintf(target, sizeof(target), "%s", rel);

@@ -135,28 +135,34 @@ static int walk(const char *root, const char *rel, const struct skips *skip, str
     return err;
 }
 
-/* The image alt is an alternative of, when one of the lists has it and its
- * KEY is declared: "a.llvm19.png" is one of "a.png" when llvm19 is one of
- * keys. A dotted name whose last part is no declared key ("fig.1.png",
- * "scene.lyapunov.png") is an image of its own. Returns 1 and the name in
- * out. */
-static int stem_of(const char *alt, const struct names *e, const struct names *a,
-                   const char *const *keys, int n_keys, char *out, size_t size)
+int sp_snapshot_key_named(const char *name, const char *const *keys, int n_keys, char *stem,
+                          int size)
 {
-    const char *ext = ext_of(alt), *base = strrchr(alt, '/') ? strrchr(alt, '/') + 1 : alt;
+    const char *ext = ext_of(name), *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
     if (!ext)
         return 0;
     for (const char *dot = ext - 1; dot > base; dot--) {
         if (*dot != '.')
             continue;
-        int declared = 0;
-        for (int k = 0; k < n_keys && !declared; k++)
-            declared = strlen(keys[k]) == (size_t)(ext - dot - 1) &&
-                       !strncmp(keys[k], dot + 1, (size_t)(ext - dot - 1));
-        snprintf(out, size, "%.*s%s", (int)(dot - alt), alt, ext);
-        return declared && (names_has(a, out) || names_has(e, out));
+        const size_t len = (size_t)(ext - dot - 1);
+        for (int k = 0; k < n_keys; k++)
+            if (strlen(keys[k]) == len && !strncmp(keys[k], dot + 1, len)) {
+                if (stem)
+                    snprintf(stem, (size_t)size, "%.*s%s", (int)(dot - name), name, ext);
+                return (int)len;
+            }
+        return 0;
     }
     return 0;
+}
+
+/* The image alt is named for: "a.llvm19.png" is "a.png"'s when llvm19 is
+ * one of keys, whatever exists (sp_snapshot_key_named). A dotted name
+ * whose last part is no declared key ("fig.1.png", "scene.lyapunov.png")
+ * is an image of its own. Returns 1 and the name in out. */
+static int stem_of(const char *alt, const char *const *keys, int n_keys, char *out, size_t size)
+{
+    return sp_snapshot_key_named(alt, keys, n_keys, out, (int)size) > 0;
 }
 
 void sp_snapshot_alt_key(const char *name, const char *alt, char *key, int size)
@@ -225,29 +231,36 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
         qsort(e.v, (size_t)e.n, sizeof(*e.v), by_name);
     if (a.n)
         qsort(a.v, (size_t)a.n, sizeof(*a.v), by_name);
-    /* The images: every actual one, and every baseline that is not an
-     * alternative of another image. */
+    /* The images: every actual one (one named like an alternative is an
+     * error: alt_named), and every baseline that is not an alternative of
+     * another image's plain baseline; one whose image has no plain baseline
+     * is that image's when it is an actual one (which screen_item reports),
+     * else an error of its own (orphan), as NAME.KEY.KEY.EXT is (nested). */
     for (int i = 0; i < a.n; i++) {
         struct sp_snapshot *it = item_add(l, &cap, a.v[i]);
         if (!it)
             goto nomem;
-        it->alt_named = stem_of(a.v[i], &e, &a, keys, n_keys, stem, sizeof(stem));
+        it->alt_named = stem_of(a.v[i], keys, n_keys, stem, sizeof(stem));
     }
     for (int i = 0; i < e.n; i++) {
         char stem2[PATH_MAX];
         struct sp_snapshot *it;
         if (names_has(&a, e.v[i]))
             continue;
-        if (!stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem))) {
+        if (!stem_of(e.v[i], keys, n_keys, stem, sizeof(stem))) {
             if (!item_add(l, &cap, e.v[i]))
                 goto nomem;
-        } else if (!names_has(&a, stem) && stem_of(stem, &e, &a, keys, n_keys, stem2,
-                                                   sizeof(stem2))) {
-            /* NAME.KEY.KEY.png beside NAME.KEY.png, itself an alternative:
-             * listed, to be reported (it was once in neither list) */
+        } else if (stem_of(stem, keys, n_keys, stem2, sizeof(stem2))) {
+            /* NAME.KEY.KEY.png: a baseline has one KEY; listed, to be
+             * reported (it was once in neither list) */
             if (!(it = item_add(l, &cap, e.v[i])))
                 goto nomem;
             it->nested = 1;
+        } else if (!names_has(&e, stem) && !names_has(&a, stem)) {
+            /* an alternative of an image that is in neither folder */
+            if (!(it = item_add(l, &cap, e.v[i])))
+                goto nomem;
+            it->orphan = 1;
         }
     }
     if (l->n)
@@ -259,9 +272,10 @@ int sp_snapshot_list_make(struct sp_snapshot_list *l, const char *dir_e, const c
     /* Then the alternatives, each to its image (one whose name an actual
      * image has too is still its image's: that actual image is alt_named) */
     for (int i = 0; i < e.n; i++) {
+        char stem2[PATH_MAX];
         struct sp_snapshot *it;
-        if (!stem_of(e.v[i], &e, &a, keys, n_keys, stem, sizeof(stem)) ||
-            !(it = item_find(l, stem)))
+        if (!stem_of(e.v[i], keys, n_keys, stem, sizeof(stem)) ||
+            stem_of(stem, keys, n_keys, stem2, sizeof(stem2)) || !(it = item_find(l, stem)))
             continue;
         if (SP_ARRAY_RESERVE(it->alts, it->cap_alts, it->n_alts + 1, 4) ||
             !(it->alts[it->n_alts] = strdup(e.v[i])))

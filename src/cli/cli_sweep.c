@@ -1086,6 +1086,19 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
                      "written (omit --energy for the scene's own)", d->energy);
         ret = SP_E_INPUT;
     }
+    if (!ret && !o->shard && blown > 0 && blown + unreachable == last - first) {
+        /* nothing to draw: an empty figure is no result (data exits 3 too) */
+        char how[96];
+        if (d->tolerance > 0)
+            snprintf(how, sizeof(how), "a smaller integrator.tolerance (here %g)", d->tolerance);
+        else
+            snprintf(how, sizeof(how), "a smaller integrator.dt (here %g s), an adaptive "
+                     "integrator.method (dop853)", d->dt);
+        sp_log_error("every point of the grid blew up (%ld of %ld%s): nothing written; "
+                     "allowed: a grid where some point stays finite: %s, or other values",
+                     blown, last - first, unreachable ? ", the rest skipped" : "", how);
+        ret = SP_E_UNSTABLE;
+    }
     char shard[32];
     snprintf(shard, sizeof(shard), "%d/%d", si, sn);
     const struct provenance pv = {.d = d, .scene = scene, .overrides = o->overrides,
@@ -1099,7 +1112,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     if (blown)
         sp_log_error("%ld of %ld points blew up (NaN in the %s); the rest are drawn", blown,
                      last - first, o->output ? "figure" : "CSV");
-    if (unreachable)
+    if (unreachable) /* only poincare skips points (sp_sweep_check refuses the rest) */
         sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
                      last - first, d->energy);
     if (!o->quiet)

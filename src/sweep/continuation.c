@@ -189,13 +189,16 @@ int sp_orbit_continue(const struct sp_sweep_desc *d, const struct sp_scene *base
             sp_batch_destroy(&b);
         }
     }
-    for (long q = 0; q < N; q++)
+    for (long q = 0; q < N; q++) {
+        long dead = 0; /* the point's branches that blew up: the point counts once */
         for (int br = 0; br < 2; br++) {
             if (!ret && (br ? down : up))
-                write_rows(fp, d, q, br ? -1 : 1, &runs[br][q], blown_up);
+                write_rows(fp, d, q, br ? -1 : 1, &runs[br][q], &dead);
             if (runs[br])
                 free(runs[br][q].s);
         }
+        *blown_up += dead > 0;
+    }
     free(runs[0]), free(runs[1]);
     if (ret == SP_E_NOMEM)
         sp_log_error("out of memory for a continued orbit diagram");

@@ -600,6 +600,52 @@ static int check_renormalisation(const struct sp_sweep_desc *d, const struct sp_
     return 0;
 }
 
+/* On the vertical as the scene check has it (scene.c): within 1e-9 degrees
+ * of a multiple of 180. */
+static int on_vertical(double degrees)
+{
+    const double v = fmod(fabs(degrees), 180);
+    return !(v > 1e-9 && v < 180 - 1e-9);
+}
+
+/* A grid point inside the range that the scene check refuses though both
+ * ends pass (check_axis): a 3-D start on the vertical, where the azimuth
+ * rate has nothing to turn (initial.angle=-5:5:3 has 0 in the middle;
+ * attack13 #27). The point's angle depends on its angle axis alone and its
+ * rate on its rate axis alone, so one look along each finds it. 0, or
+ * SP_E_INPUT (said). */
+static int check_vertical_points(const struct sp_sweep_desc *d, const struct sp_scene *base)
+{
+    int ia = -1, ir = -1, idx[SP_SWEEP_MAX_AXES] = {0};
+    for (int a = 0; a < d->n_axes; a++) {
+        ia = !strcmp(d->axis[a].key, "initial.angle") ? a : ia;
+        ir = !strcmp(d->axis[a].key, "initial.azimuth_rate") ? a : ir;
+    }
+    double angle = base->initial.angle * 180 / M_PI, rate = base->initial.azimuth_rate;
+    int found = 0;
+    for (int i = 0; ia >= 0 && i < d->axis[ia].count && !found; i++)
+        if (on_vertical(sp_sweep_axis_value(&d->axis[ia], i)))
+            found = 1, idx[ia] = i, angle = sp_sweep_axis_value(&d->axis[ia], i);
+    if (ia >= 0 ? !found : !on_vertical(angle))
+        return 0;
+    found = 0;
+    for (int j = 0; ir >= 0 && j < d->axis[ir].count && !found; j++)
+        if (sp_sweep_axis_value(&d->axis[ir], j) != 0)
+            found = 1, idx[ir] = j, rate = sp_sweep_axis_value(&d->axis[ir], j);
+    if (ir >= 0 ? !found : rate == 0)
+        return 0;
+    const int a = ia >= 0 ? ia : ir; /* the axis that brings it in */
+    const struct sp_sweep_axis *x = &d->axis[a];
+    sp_log_error("--vary %s=%.9g:%.9g:%d: point %ld has initial.angle = %g degrees, on the "
+                 "vertical, with initial.azimuth_rate = %g rad/s, which has nothing to turn "
+                 "there (the scene check refuses such a start); allowed: a grid whose "
+                 "initial.angle values miss 0 and 180 degrees (e.g. an even COUNT over a range "
+                 "symmetric about 0), or initial.azimuth_rate = 0 there", x->key, x->from,
+                 x->to, x->count, (long)idx[0] + (d->n_axes > 1 ? (long)idx[1] * d->axis[0].count : 0),
+                 angle + 0.0, rate);
+    return SP_E_INPUT;
+}
+
 int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given)
 {
     header_name(d->scene, sizeof(d->scene), base->name);
@@ -622,6 +668,8 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
             return SP_E_INPUT;
         varies_frequency |= !strcmp(d->axis[a].key, "pivot.frequency");
     }
+    if (check_vertical_points(d, base))
+        return SP_E_INPUT;
     if (sp_sweep_points(d) > SP_SWEEP_MAX_POINTS) {
         sp_log_error("--vary: %ld grid points; at most %ld (the figure keeps two numbers "
                      "per point); split the range over several sweeps", sp_sweep_points(d),

@@ -22,7 +22,15 @@ findings (doc/notes/2026-11-27/attack13.md; fix16's notes):
   grid under 5 on a side has none; S_b and S_bb recomputed here (numpy) from
   the labels;
 - #13: an orbit diagram over pivot.frequency reaching 0 wrote no row for
-  that point: refused (allowed: FROM > 0 and TO > 0), as basins refuses it.
+  that point: refused (allowed: FROM > 0 and TO > 0), as basins refuses it;
+- #17: a continued diagram counted blow-ups per branch ("8 of 4 points"),
+  and a sweep whose every point blew up wrote an empty figure, exit 0: the
+  point counts once, and with nothing finite the sweep writes nothing, exit
+  3 (as data does);
+- #27: a grid point the scene check refuses inside a range whose ends pass
+  (initial.angle=-5:5:3 with an azimuth rate: 0 on the vertical) was
+  skipped as "cannot have energy 0 J": the grid is refused, naming the
+  point, exit 2.
 usage: test_attack13_sweep.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import csv
 import json
@@ -265,4 +273,39 @@ r = run("sweep", parametric, "--vary", "pivot.frequency=0.5:2:3", "--measure", "
         "--transient", "5", "--time", "5", "-o", "-", "-q")
 points = {line.split(",")[0] for line in r.stdout.decode().splitlines()[1:]} if r.returncode == 0 else set()
 ok(points == {"0", "1", "2"}, f"orbit over pivot.frequency=0.5:2:3: rows for every point ({sorted(points)})")
+
+# ---- #17: blow-ups counted by point; nothing finite, nothing written ----------------------
+for what, args in [
+        ("a continued diagram, both branches",
+         [parametric, "--set", "integrator.dt=0.3", "--vary", "pivot.amplitude=0:0.03:4", "--measure",
+          "orbit", "--continue", "both", "--time", "20"]),
+        ("a lyapunov line", [chaotic, "--set", "integrator.dt=0.2", "--vary", "initial.angle=10:170:4",
+                             "--measure", "lyapunov", "--time", "20"])]:
+    r = run("sweep", *args, "-o", "blown.png", "--csv", "blown.csv")
+    ok(r.returncode == 3 and "every point of the grid blew up (4 of 4)" in err(r)
+       and not os.path.exists(path("blown.png")) and not os.path.exists(path("blown.csv")),
+       f"{what}, every point blown up: exit 3, nothing written ({r.returncode}: {err(r)[-200:]!r})")
+r = run("sweep", parametric, "--set", "integrator.dt=0.05", "--vary", "pivot.amplitude=0:0.6:4", "--measure",
+        "orbit", "--continue", "both", "--time", "20", "-o", "-", "--transient", "5")
+lines = [ln for ln in err(r).splitlines() if "blew up" in ln]
+nan_points = {ln.split(",")[0] for ln in r.stdout.decode().splitlines()[1:] if ",nan," in ln}
+ok(r.returncode in (0, 3) and (not nan_points or any(f"{len(nan_points)} of 4 points" in ln for ln in lines)),
+   f"a continued diagram counts a point whose branches blew up once: {sorted(nan_points)} in the CSV, {lines}")
+
+# ---- #27: a grid point the scene check refuses, inside the range --------------------------
+swinging = os.path.join(scenes, "swinging-spring.ini")
+for vary, point in ((["initial.angle=-5:5:3"], 1),
+                    (["initial.angle=-5:5:3", "initial.azimuth_rate=0:1:2"], 4)):
+    args = ["sweep", swinging, "--measure", "lyapunov", "--time", "5", "-o", "v.png", "--csv", "v.csv"]
+    for v in vary:
+        args += ["--vary", v]
+    r = run(*args)
+    ok(r.returncode == 2 and f"point {point} has initial.angle = 0 degrees" in err(r)
+       and "allowed: a grid whose initial.angle values miss 0 and 180 degrees" in err(r)
+       and "energy" not in err(r) and not os.path.exists(path("v.csv")),
+       f"--vary {' '.join(vary)} on swinging-spring.ini: refused, naming point {point}, exit 2 "
+       f"({r.returncode}: {err(r)[-220:]!r})")
+r = run("sweep", swinging, "--vary", "initial.angle=-5:5:4", "--measure", "lyapunov", "--time", "5", "-o", "-", "-q")
+ok(r.returncode == 0 and len(r.stdout.decode().splitlines()) == 5,
+   f"initial.angle=-5:5:4 (no point on the vertical): every point measured ({r.returncode})")
 done()

@@ -60,6 +60,16 @@ void sp_video_hold_errors(char *buf, size_t size);
  * other readers destroyed, so that their memory is free. */
 int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel);
 
+/* Reads path's container packet by packet, nothing decoded and nothing
+ * said, with the memory of one packet: what a memory limit cannot change.
+ * 0 when it finds the file damaged (the demuxer's error, a packet flagged
+ * corrupt, fewer frames or bytes than the file's index lists), why in why;
+ * 1 when it finds nothing wrong (the decoder's error may still be the
+ * file's); SP_E_NOMEM or SP_E_INPUT when it cannot tell. After
+ * sp_video_decodes_alone fails under ulimit -v or -d, where FFmpeg's
+ * decoders report failed allocations as damaged data (attack12 #5). */
+int sp_video_demuxes_whole(const char *path, char *why, size_t size);
+
 /* Frees everything and sets *r to NULL. Safe on NULL. */
 void sp_video_reader_destroy(struct sp_video_reader **r);
 

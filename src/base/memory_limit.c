@@ -122,6 +122,19 @@ double sp_memory_limit(const char **what)
     return sp_memory_limit_in("", what);
 }
 
+void sp_memory_rlimit_said(char *buf, size_t size)
+{
+    struct rlimit as, data;
+    const int has_as = getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY;
+    const int has_data = getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY;
+    if (has_as && (!has_data || as.rlim_cur <= data.rlim_cur))
+        snprintf(buf, size, "ulimit -v %llu kB", (unsigned long long)(as.rlim_cur / 1024));
+    else if (has_data)
+        snprintf(buf, size, "ulimit -d %llu kB", (unsigned long long)(data.rlim_cur / 1024));
+    else
+        snprintf(buf, size, "no ulimit -v or -d");
+}
+
 int sp_memory_rlimited(void)
 {
     struct rlimit as, data;

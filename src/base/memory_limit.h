@@ -4,6 +4,8 @@
 #ifndef SPRINGPEND_MEMORY_LIMIT_H
 #define SPRINGPEND_MEMORY_LIMIT_H
 
+#include <stddef.h>
+
 /* Bytes: the least of the machine's physical memory, the process's own
  * cgroup limits and its RLIMIT_DATA and RLIMIT_AS (when set). The cgroups
  * are those /proc/self/cgroup names: for cgroup v2 (its "0::PATH" line)
@@ -24,5 +26,9 @@ double sp_memory_limit_in(const char *root, const char **what);
  * process), so that a failure a library reports as something else
  * (FFmpeg's decoders: damaged data) may be out of memory. 0 otherwise. */
 int sp_memory_rlimited(void);
+
+/* The least of ulimit -v and -d in buf, as a user sets it
+ * ("ulimit -v 270000 kB"), or "no ulimit -v or -d". */
+void sp_memory_rlimit_said(char *buf, size_t size);
 
 #endif

@@ -11,6 +11,7 @@
 #include <sys/xattr.h>
 #include <unistd.h>
 
+#include "memory_limit.h"
 #include "module_abi.h"
 #include "springpend/common.h"
 #include "module.h"
@@ -158,6 +159,27 @@ static void *load(const char *path, uid_t exe_uid, char *why, size_t size)
     return module;
 }
 
+/* Set when the last failed load was memory's (sp_module_out_of_memory). */
+static int load_nomem;
+
+int sp_module_out_of_memory(void)
+{
+    return load_nomem;
+}
+
+/* 1 when dlopen's error (why) is one the loader raises when mmap or an
+ * allocation fails, and the process runs under ulimit -v or -d, under
+ * which they fail for the limit (elsewhere the kernel does not refuse a
+ * mapping for memory). "failed to map segment" is also raised on a noexec
+ * mount, with its reason after it: not taken then. */
+static int load_failed_for_memory(const char *why)
+{
+    return sp_memory_rlimited() &&
+           (strstr(why, "failed to map segment") || strstr(why, "cannot map zero-fill") ||
+            strstr(why, "annot allocate memory")) &&
+           !strstr(why, "not permitted") && !strstr(why, "ermission denied");
+}
+
 void *sp_module_symbol(const char *name, const char *needed_for, const char *symbol)
 {
     static struct {
@@ -196,11 +218,25 @@ void *sp_module_symbol(const char *name, const char *needed_for, const char *sym
             snprintf(where[n_where++], sizeof(where[0]), "%s/%s/%s", exe, SP_MODULE_RELDIR, name);
         }
         snprintf(where[n_where++], sizeof(where[0]), "%s/%s", SP_MODULE_DIR, name);
+        int nomem = 0;
         for (int i = 0; i < n_where && !module; i++) {
             char why[PATH_MAX + 128];
-            if (!(module = load(where[i], exe_uid, why, sizeof(why))))
+            if (!(module = load(where[i], exe_uid, why, sizeof(why)))) {
                 snprintf(tried + strlen(tried), sizeof(tried) - strlen(tried), "%s%s: %s",
                          tried[0] ? "; " : "", where[i], why);
+                nomem |= load_failed_for_memory(why);
+            }
+        }
+        load_nomem = !module && nomem;
+        if (load_nomem) {
+            static int said; /* once: each caller tries again, and fails alike */
+            char limit[64];
+            sp_memory_rlimit_said(limit, sizeof(limit));
+            if (!said++)
+                sp_log_error("cannot load springpend's module %s, needed for %s: out of memory "
+                             "(%s) mapping it or the libraries it needs (%s); allow more memory",
+                             name, needed_for, limit, tried);
+            return NULL;
         }
         if (!module) {
             sp_log_error("cannot load springpend's module %s, needed for %s (%s); "

@@ -23,4 +23,12 @@
  * SP_VERSION; what was tried and why it was refused is in the message. */
 void *sp_module_symbol(const char *name, const char *needed_for, const char *symbol);
 
+/* 1 when the last module that could not be loaded failed for memory: under
+ * ulimit -v or -d, the dynamic loader could not map it or a library it
+ * needs (dlerror's "failed to map segment", "cannot allocate memory"), as
+ * opposed to a missing or refused file. Its message then said "out of
+ * memory ...; allow more memory", and callers return SP_E_NOMEM (exit 1,
+ * not the input's fault: attack12 #6). */
+int sp_module_out_of_memory(void);
+
 #endif

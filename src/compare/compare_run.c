@@ -591,6 +591,29 @@ static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
  * once (decoding it again would only double its cost: attack9 #6), and
  * SP_E_NOMEM is memory. Returns record_error's or record_nomem's code, or
  * SP_E_INTERRUPTED (recorded). */
+/* Records that path did not decode alone under ulimit -v or -d. Its
+ * container, read packet by packet with little memory, tells a cut or
+ * damaged file the same way under any limit: "cannot decode", exit 2.
+ * Where it finds nothing wrong, the decoder's error may be the file's or
+ * memory's (FFmpeg reports some failed allocations as damaged data: an
+ * intact 1080p video was called damaged, attack12 #5), and no limit
+ * springpend may lift (ulimit sets the hard limit too) tells them apart:
+ * said so, exit 1, as memory's. */
+static int record_undecoded(struct sp_compare_record *r, const char *path)
+{
+    char why[160] = "";
+    const int whole = sp_video_demuxes_whole(path, why, sizeof(why));
+    if (whole == 0)
+        return record_error(r, "cannot decode %s (decoded again alone: damaged: %s)", path, why);
+    char limit[64];
+    sp_memory_rlimit_said(limit, sizeof(limit));
+    record_error(r, "cannot decode %s under this memory limit (%s): its container is whole, "
+                    "and the decoder's error may be the file's or memory's; allow more memory "
+                    "to tell", path, limit);
+    r->out_of_memory = 1;
+    return SP_E_NOMEM;
+}
+
 static int record_failed(const struct compare_run *c, struct sp_compare_record *r,
                          const char *bad, const char *other, int err)
 {
@@ -603,8 +626,7 @@ static int record_failed(const struct compare_run *c, struct sp_compare_record *
             return record_error(r, "interrupted while decoding %s again alone", files[i]),
                    SP_E_INTERRUPTED;
         if (alone != 1 && alone != SP_E_NOMEM)
-            return record_error(r, "cannot decode %s (decoded again alone: damaged, not "
-                                   "short of memory)", files[i]);
+            return record_undecoded(r, files[i]);
     }
     return record_nomem(r, bad);
 }

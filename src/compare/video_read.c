@@ -231,6 +231,36 @@ static int format_named(const char *path, const AVInputFormat *found, int say)
     return SP_E_INPUT;
 }
 
+/* 0 unless path is named .webm and fmt (a Matroska file, format_named has
+ * seen) holds a video stream of a codec WebM does not (WebM: VP8, VP9 or
+ * AV1): then SP_E_INPUT, logged when say. WebM and Matroska share FFmpeg's
+ * demuxer, so the format alone takes an H.264 Matroska file for WebM,
+ * which browsers do not play as one (attack12 #8). The streams and their
+ * codecs are the Matroska header's: nothing is decoded. */
+static int webm_codecs(const char *path, const AVFormatContext *fmt, int say)
+{
+    const struct video_name *v = video_name_of(path);
+    if (!v || strcmp(v->ending, ".webm"))
+        return 0;
+    for (unsigned i = 0; i < fmt->nb_streams; i++) {
+        const AVCodecParameters *par = fmt->streams[i]->codecpar;
+        const AVCodecDescriptor *d = avcodec_descriptor_get(par->codec_id);
+        /* a codec compare does not decode is refused by name later (attack9) */
+        if (par->codec_type != AVMEDIA_TYPE_VIDEO || par->codec_id == AV_CODEC_ID_VP8 ||
+            par->codec_id == AV_CODEC_ID_VP9 || par->codec_id == AV_CODEC_ID_AV1 || !d ||
+            av_match_list(d->name, SP_VIDEO_CODECS, ',') <= 0)
+            continue;
+        if (say) {
+            sp_log_error("%s: a Matroska file with %s video (%s), not WebM as its name says "
+                         "(WebM holds VP8, VP9 or AV1; springpend writes VP9): name it .mkv to "
+                         "compare it as Matroska", path,
+                         d->long_name ? d->long_name : d->name, d->name);
+        }
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 /* Opens the file at name (open at fd; path: its name, for its ending and
  * in messages when say) in *fmt as one of SP_VIDEO_FORMATS, through the
  * file protocol only: a playlist (HLS, concat, ...) naming other files, or
@@ -269,7 +299,8 @@ static int open_video(AVFormatContext **fmt, const char *name, int fd, const cha
                          path, av_err2str(ret));
         return SP_E_INPUT;
     }
-    if ((ret = format_named(path, (*fmt)->iformat, say)) != 0)
+    if ((ret = format_named(path, (*fmt)->iformat, say)) != 0 ||
+        (ret = webm_codecs(path, *fmt, say)) != 0)
         avformat_close_input(fmt);
     return ret;
 }
@@ -404,25 +435,57 @@ static int find_stream_info(AVFormatContext *fmt)
 }
 
 /* Refuses (SP_E_INPUT, logged) a video stream st of fmt that players show
- * otherwise than its pixels are coded: turned by a display matrix, or
- * stretched by a sample aspect ratio other than 1:1 (unset counts as
- * square). springpend writes neither, and compare judges the coded pixels,
- * so such a file would pass for its baseline while every player shows it
- * turned or stretched (attack11 #8). 0 when shown as coded. */
+ * otherwise than its pixels are coded: by a display matrix other than the
+ * identity (turned, mirrored: attack12 #12, scaled), or stretched by a
+ * sample aspect ratio other than 1:1 (unset counts as square). springpend
+ * writes neither, and compare judges the coded pixels, so such a file
+ * would pass for its baseline while players show it turned, mirrored or
+ * stretched (attack11 #8). 0 when shown as coded. */
 static int shown_as_coded(AVFormatContext *fmt, AVStream *st, const char *path)
 {
     size_t size = 0;
-    const uint8_t *m = av_stream_get_side_data(st, AV_PKT_DATA_DISPLAYMATRIX, &size);
-    const double turn = m && size >= 9 * sizeof(int32_t)
-                            ? av_display_rotation_get((const int32_t *)m) : 0;
+    const uint8_t *side = av_stream_get_side_data(st, AV_PKT_DATA_DISPLAYMATRIX, &size);
     const AVRational sar = av_guess_sample_aspect_ratio(fmt, st, NULL);
-    if (!isnan(turn) && fabs(turn) < 0.5 && (sar.num == 0 || sar.num == sar.den))
+    int32_t m[9] = {1 << 16, 0, 0, 0, 1 << 16, 0, 0, 0, 1 << 30}; /* none: the identity */
+    if (side && size >= sizeof(m))
+        memcpy(m, side, sizeof(m));
+    /* the matrix's 2x2 part (16.16) and its projective column (2.30); a
+     * translation alone (m[6], m[7]) moves no pixel of the picture */
+    const double a = m[0] / 65536.0, b = m[1] / 65536.0, c = m[3] / 65536.0,
+                 d = m[4] / 65536.0, det = a * d - b * c;
+    const int identity = m[0] == 1 << 16 && m[1] == 0 && m[3] == 0 && m[4] == 1 << 16 &&
+                         m[2] == 0 && m[5] == 0 && m[8] == 1 << 30;
+    if (identity && (sar.num == 0 || sar.num == sar.den))
         return 0;
-    if (sar.num == 0 || sar.num == sar.den)
-        sp_log_error("%s: its video is shown turned by %.0f degrees counterclockwise (a "
-                     "display matrix); springpend writes none, and compare judges the pixels "
-                     "as coded, which no player shows", path, isnan(turn) ? 0.0 : turn);
-    else
+    const char *how = "springpend writes none, and compare judges the pixels as coded, "
+                      "which no player shows";
+    if (!identity && det < 0) {
+        /* a mirror: undo the left-right one, and the rest is a turn */
+        int32_t unmirrored[9];
+        memcpy(unmirrored, m, sizeof(m));
+        av_display_matrix_flip(unmirrored, 1, 0);
+        const double turn = av_display_rotation_get(unmirrored);
+        if (isnan(turn) || fabs(turn) < 0.5)
+            sp_log_error("%s: its video is shown mirrored left to right (a display matrix); %s",
+                         path, how);
+        else if (fabs(fabs(turn) - 180) < 0.5)
+            sp_log_error("%s: its video is shown mirrored top to bottom, upside down (a display "
+                         "matrix); %s", path, how);
+        else
+            sp_log_error("%s: its video is shown mirrored left to right and turned by %.0f "
+                         "degrees %sclockwise (a display matrix); %s", path, fabs(turn),
+                         turn < 0 ? "" : "counter", how);
+    } else if (!identity) {
+        const double turn = av_display_rotation_get(m);
+        const int rotation = m[2] == 0 && m[5] == 0 && m[8] == 1 << 30 && !isnan(turn) &&
+                             fabs(a - d) < 1e-3 && fabs(b + c) < 1e-3 && fabs(det - 1) < 1e-3;
+        if (rotation)
+            sp_log_error("%s: its video is shown turned by %.0f degrees %sclockwise (a display "
+                         "matrix); %s", path, fabs(turn), turn < 0 ? "" : "counter", how);
+        else
+            sp_log_error("%s: its video is shown scaled, sheared or in perspective by a display "
+                         "matrix (%g %g / %g %g); %s", path, a, b, c, d, how);
+    } else
         sp_log_error("%s: its video's pixels are shown %d:%d (a sample aspect ratio), not "
                      "square; springpend writes square pixels, and compare judges them as "
                      "coded, which no player shows", path, sar.num, sar.den);
@@ -609,6 +672,63 @@ int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel
     av_quiet = 0;
     sp_video_hold_errors(was, was_size);
     return ret == 0 ? SP_E_INTERRUPTED : ret;
+}
+
+/* 1 when packets and bytes, read from stream s of fmt, reach the frames
+ * and bytes its index lists (where it lists them: MP4's sample tables);
+ * else 0, why in why. */
+static int index_reached(const AVFormatContext *fmt, int s, int64_t packets, int64_t bytes,
+                         char *why, size_t size)
+{
+    AVStream *st = fmt->streams[s];
+    const int n = avformat_index_get_entries_count(st);
+    int64_t listed = 0;
+    for (int i = 0; i < n; i++)
+        listed += avformat_index_get_entry(st, i)->size;
+    if (st->nb_frames > 0 && packets < st->nb_frames) {
+        snprintf(why, size, "it holds %lld of the %lld frames its index lists", (long long)packets,
+                 (long long)st->nb_frames);
+        return 0;
+    }
+    if (n > 0 && n == st->nb_frames && bytes < listed) {
+        snprintf(why, size, "its frames hold %lld bytes of the %lld its index lists",
+                 (long long)bytes, (long long)listed);
+        return 0;
+    }
+    return 1;
+}
+
+int sp_video_demuxes_whole(const char *path, char *why, size_t size)
+{
+    AVFormatContext *fmt = NULL;
+    AVPacket *pkt = av_packet_alloc();
+    int64_t packets = 0, bytes = 0;
+    int ret = pkt ? 0 : SP_E_NOMEM, s = -1;
+    pthread_once(&log_once, log_through_lines);
+    av_quiet = 1;
+    if (!ret && (ret = open_checked(&fmt, path)) == 0)
+        ret = (s = av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, NULL, 0)) < 0
+                  ? SP_E_INPUT : 1;
+    while (ret == 1) {
+        const int got = av_read_frame(fmt, pkt);
+        if (got == AVERROR_EOF)
+            break;
+        if (got == AVERROR(ENOMEM))
+            ret = SP_E_NOMEM;
+        else if (got < 0)
+            snprintf(why, size, "its container is damaged (%s)", av_err2str(got)), ret = 0;
+        else if (pkt->stream_index == s && (pkt->flags & AV_PKT_FLAG_CORRUPT))
+            snprintf(why, size, "its frame %lld is cut or corrupt", (long long)packets), ret = 0;
+        else if (pkt->stream_index == s)
+            packets++, bytes += pkt->size;
+        av_packet_unref(pkt);
+    }
+    if (ret == 1)
+        ret = index_reached(fmt, s, packets, bytes, why, size);
+    av_quiet = 0;
+    avformat_close_input(&fmt);
+    av_packet_free(&pkt);
+    return ret;
 }
 
 void sp_video_reader_destroy(struct sp_video_reader **rp)

@@ -13,7 +13,7 @@ int sp_video_reader_open(struct sp_video_reader **out, const char *path)
     *(void **)&open_fn = sp_av_module_symbol("sp_video_reader_open");
     if (!open_fn) {
         *out = NULL;
-        return SP_E_CODEC;
+        return sp_av_module_error();
     }
     return open_fn(out, path);
 }
@@ -22,14 +22,21 @@ int sp_video_reader_read(struct sp_video_reader *r, struct sp_image *img, double
 {
     int (*read_fn)(struct sp_video_reader *, struct sp_image *, double *);
     *(void **)&read_fn = sp_av_module_symbol("sp_video_reader_read");
-    return read_fn ? read_fn(r, img, t) : SP_E_CODEC;
+    return read_fn ? read_fn(r, img, t) : sp_av_module_error();
 }
 
 int sp_video_decodes_alone(const char *path, const volatile sig_atomic_t *cancel)
 {
     int (*fn)(const char *, const volatile sig_atomic_t *);
     *(void **)&fn = sp_av_module_symbol("sp_video_decodes_alone");
-    return fn ? fn(path, cancel) : SP_E_CODEC;
+    return fn ? fn(path, cancel) : sp_av_module_error();
+}
+
+int sp_video_demuxes_whole(const char *path, char *why, size_t size)
+{
+    int (*fn)(const char *, char *, size_t);
+    *(void **)&fn = sp_av_module_symbol("sp_video_demuxes_whole");
+    return fn ? fn(path, why, size) : sp_av_module_error();
 }
 
 void sp_video_reader_destroy(struct sp_video_reader **r)
@@ -54,7 +61,7 @@ int sp_video_read_text(const char *path, const char *key, char *buf, size_t size
 {
     int (*fn)(const char *, const char *, char *, size_t);
     *(void **)&fn = sp_av_module_symbol("sp_video_read_text");
-    return fn ? fn(path, key, buf, size) : SP_E_CODEC;
+    return fn ? fn(path, key, buf, size) : sp_av_module_error();
 }
 
 int sp_video_frame_size(const char *path, int *width, int *height)
@@ -62,5 +69,5 @@ int sp_video_frame_size(const char *path, int *width, int *height)
     int (*fn)(const char *, int *, int *);
     *(void **)&fn = sp_av_module_symbol("sp_video_frame_size");
     *width = *height = 0;
-    return fn ? fn(path, width, height) : SP_E_CODEC;
+    return fn ? fn(path, width, height) : sp_av_module_error();
 }

@@ -390,6 +390,8 @@ static void small_frame(struct sp_composer *r, float ss)
     r->speed[0] = 0;
 }
 
+static int check_hud_time(const struct sp_composer *r);
+
 int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc)
 {
     struct sp_composer *r = calloc(1, sizeof(*r));
@@ -461,6 +463,8 @@ int sp_compose_make(struct sp_composer **out, const struct sp_compose_desc *desc
             err = wrap_texts(r);
         if (!err && tl)
             err = check_band(r);
+        if (!err)
+            err = check_hud_time(r);
         if (err) {
             sp_compose_destroy(&r);
             return err;
@@ -741,6 +745,121 @@ static void marker_room(struct sp_composer *r, const struct sp_font *f, float w)
     r->marker_rows = k;
 }
 
+/* The layout's description for view (see lay_out), before the heads-up
+ * text and the colour bar are placed: their sizes come from it. */
+static void layout_desc(const struct sp_composer *r, int view, struct sp_layout_desc *d)
+{
+    const struct sp_font *f = r->font;
+    *d = (struct sp_layout_desc){.width = r->width, .height = r->height,
+                                 .panels = r->look.view.panels,
+                                 .no_pendulum = !r->look.view.pendulum,
+                                 .view_share = view == 1 ? 0.58f : 0, .view_left = view == 2};
+    d->n_order = sp_scene_panel_order(&r->look.view, d->order);
+    if (r->title_lines)
+        d->title_height = (float)(r->title_lines * sp_font_line(f, SP_TEXT_TITLE));
+    if (r->look.timeline && r->band_lines)
+        d->caption_height = (float)(r->band_lines * sp_font_line(f, SP_TEXT_NORMAL));
+    else if (r->caption_lines)
+        d->caption_height = (float)(r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL));
+}
+
+/* The heads-up column's width, px, in layout l of d: the view's, less a
+ * gap each side (the whole frame's without a pendulum). */
+static float hud_width(const struct sp_composer *r, const struct sp_layout_desc *d,
+                       const struct sp_layout *l)
+{
+    const struct sp_rect *v = d->no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0} : &l->camera;
+    return v->x1 - v->x0 - 2 * l->gap;
+}
+
+/* 1 when the frame takes its own layout (view 0), not one of the two a
+ * cell side by side tries at the first frame (lay_out). */
+static int own_layout(const struct sp_composer *r)
+{
+    return !r->cell || !r->look.view.pendulum || !r->look.view.panels ||
+           r->width >= 1.15f * r->height;
+}
+
+/* Refuses a text size at which the heads-up time's widest value (the time
+ * axis' end, each digit the font's widest: widest_time) is wider than the
+ * heads-up column w px: it ran under the first panel (attack12 #19: "t =
+ * 987654.32 s" in DejaVu Sans Mono at 640x360, 24 px; check_text_size's
+ * side/15 fits the default font's digits, not a wider family's). Says the
+ * largest body text (whole px, or pt in print) whose time fits the same
+ * column, measured with the same family: fonts made at smaller sizes. A
+ * title or caption makes the column grow as text shrinks, so the size said
+ * is then one that fits, perhaps not the largest. 0 or SP_E_INPUT (said). */
+static int check_time_fits(const struct sp_composer *r, float w)
+{
+    const struct sp_view *v = &r->look.view;
+    const float need = widest_time(r, r->font);
+    if (need <= w)
+        return 0;
+    const int print = r->look.pt_px > 0;
+    const float ss = r->ss * (print ? (float)r->look.pt_px : 1);
+    const double scale = v->font_scale > 0 ? v->font_scale : 1;
+    int cur[SP_TEXT_SIZES];
+    text_sizes(r->unit, v->font_size, v->font_scale, ss, print, cur);
+    /* from the size at which the time's width scales to w, up while it fits
+     * (hinting rounds widths), else down: body text of m output px (pt) */
+    int best = 0;
+    const float guess = floorf((float)cur[SP_TEXT_NORMAL] / ss * w / need);
+    const int below = (int)ceilf((float)cur[SP_TEXT_NORMAL] / ss) - 1; /* under the refused size */
+    for (int m = (int)fminf(fmaxf(guess, 1), (float)below), step = 0; m >= 1 && m <= below && step < 40;
+         step++) {
+        struct sp_font_desc fd = {.family = v->font, .where = v->font_where};
+        text_sizes(r->unit, m / scale, scale, ss, print, fd.px);
+        struct sp_font *f = NULL;
+        if (sp_font_make(&f, &fd))
+            break;
+        const int fits = widest_time(r, f) <= w;
+        sp_font_destroy(&f);
+        if (fits) {
+            best = m;
+            m++; /* and the next one up, while smaller than the refused size */
+        } else if (best) {
+            break;
+        } else {
+            m--;
+        }
+    }
+    char t[64];
+    snprintf(t, sizeof(t), "t = %.2f s", fmax(r->extent.t_end, 0));
+    /* where the size was set, else where the font was (the default size) */
+    const char *where = v->text_size_where[0] ? v->text_size_where
+                        : v->font_where[0]                  ? v->font_where
+                                                            : "[view] font_size";
+    const char *unit = print ? "pt" : "px";
+    char allowed[96];
+    if (best)
+        snprintf(allowed, sizeof(allowed), "at most %d %s with this font at this size", best, unit);
+    else
+        snprintf(allowed, sizeof(allowed), "no text size with this font at this size");
+    sp_log_error("%s: text of %.0f %s (font_size %g, font_scale %g) in view.font '%s' cannot fit a "
+                 "%.0fx%.0f %s frame: the heads-up time (\"%s\", every digit as wide as the "
+                 "widest) needs %.0f %s and the heads-up column beside the panels is %.0f %s, so "
+                 "it would run under them; allowed: %s; use a smaller font_size or font_scale, a "
+                 "narrower font, or a larger frame",
+                 where, cur[SP_TEXT_NORMAL] / ss, unit, v->font_size, v->font_scale,
+                 v->font[0] ? v->font : SP_FONT_DEFAULT, r->width / ss, r->height / ss, unit, t,
+                 need / ss, unit, w / ss, unit, allowed);
+    return SP_E_INPUT;
+}
+
+/* check_time_fits before anything is drawn, in the frame's own layout (a
+ * cell side by side that chooses its layout at the first frame is checked
+ * there, by lay_out). 0 or SP_E_INPUT (said). */
+static int check_hud_time(const struct sp_composer *r)
+{
+    if (!r->look.view.hud || !own_layout(r))
+        return 0;
+    struct sp_layout_desc d;
+    struct sp_layout l;
+    layout_desc(r, 0, &d);
+    sp_layout_compute(&d, &l);
+    return check_time_fits(r, hud_width(r, &d, &l));
+}
+
 /* Places the view, panels, heads-up text and colourbar (once: the
  * parameters do not change during a run). SP_E_INPUT (logged, where check)
  * when the vectors' legend does not fit the pendulum's view: it was drawn
@@ -748,25 +867,19 @@ static void marker_room(struct sp_composer *r, const struct sp_font *f, float w)
 static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view, int check)
 {
     const struct sp_font *f = r->font;
-    struct sp_layout_desc d = {.width = r->width, .height = r->height,
-                               .panels = r->look.view.panels,
-                               .no_pendulum = !r->look.view.pendulum,
-                               .view_share = view == 1 ? 0.58f : 0, .view_left = view == 2};
-    d.n_order = sp_scene_panel_order(&r->look.view, d.order);
-    if (r->title_lines)
-        d.title_height = (float)(r->title_lines * sp_font_line(f, SP_TEXT_TITLE));
-    if (r->look.timeline && r->band_lines)
-        d.caption_height = (float)(r->band_lines * sp_font_line(f, SP_TEXT_NORMAL));
-    else if (r->caption_lines)
-        d.caption_height = (float)(r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL));
+    struct sp_layout_desc d;
+    layout_desc(r, view, &d);
     /* The view's width decides the HUD's wrapping: lay out once without it. */
     sp_layout_compute(&d, &r->layout);
     if (r->look.view.hud) {
         const struct sp_rect *v = d.no_pendulum ? &(struct sp_rect){0, 0, (float)r->width, 0}
                                                 : &r->layout.camera;
-        const float w = v->x1 - v->x0 - 2 * r->layout.gap;
+        const float w = hud_width(r, &d, &r->layout);
         r->hud_lines = sp_hud_lines(f, p, &r->look.predict, r->look.differs, w, r->hud,
                                     SP_HUD_MAX_LINES);
+        const int refused = check ? check_time_fits(r, w) : 0;
+        if (refused)
+            return refused;
         if (r->look.spatial)
             hud_precession(r, f, w);
         marker_room(r, f, w);
@@ -825,8 +938,7 @@ static int lay_out_as(struct sp_composer *r, const struct sp_params *p, int view
  * motion gets the left. */
 static int lay_out(struct sp_composer *r, const struct sp_params *p)
 {
-    if (!r->cell || !r->look.view.pendulum || !r->look.view.panels ||
-        r->width >= 1.15f * r->height)
+    if (own_layout(r))
         return lay_out_as(r, p, 0, 1);
     lay_out_as(r, p, 2, 0);
     const double left = r->scale;

@@ -10,4 +10,9 @@
 /* sp_module_symbol of springpend-av.so. */
 void *sp_av_module_symbol(const char *symbol);
 
+/* What a caller returns when sp_av_module_symbol gave NULL: SP_E_NOMEM when
+ * the module could not be mapped for memory (sp_module_out_of_memory),
+ * else SP_E_CODEC. */
+int sp_av_module_error(void);
+
 #endif

@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <png.h>
+#include <lcms2.h>
 #include <stdlib.h>
 #include <string.h>
 #include <pthread.h>
@@ -59,6 +60,7 @@ struct png_reader {
     int nomem;        /* an allocation failed: the error that follows is memory's */
     int text_dropped; /* text chunks libpng dropped: damaged or beyond the bounds */
     char text_why[128]; /* libpng's words for the first one dropped */
+    char iccp_why[128]; /* libpng's words when it dropped an iCCP (a profile unread) */
 };
 
 /* A damaged PNG is logged; an error after a failed allocation is not: the
@@ -99,6 +101,10 @@ static void on_png_read_warning(png_structp png, png_const_charp msg)
     if (!strncmp(msg, "tEXt", 4) || !strncmp(msg, "zTXt", 4) || !strncmp(msg, "iTXt", 4)) {
         if (!r->text_dropped++)
             snprintf(r->text_why, sizeof(r->text_why), "%s", msg);
+    } else if (!strncmp(msg, "iCCP", 4) && !r->iccp_why[0]) {
+        /* a profile libpng did not take (too large, malformed, a second one):
+         * viewers may still apply it, so shown_as_read refuses the file */
+        snprintf(r->iccp_why, sizeof(r->iccp_why), "%s", msg);
     }
     else if (!r->nomem) /* after a failed allocation: the caller's to say */
         sp_log_error("%s: libpng warning: %s", r->path, msg);
@@ -359,40 +365,214 @@ static void reader_setup(struct png_reader *r, int with_text)
         static const png_byte text_chunks[] = "tEXt\0zTXt\0iTXt";
         png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_NEVER, text_chunks, 3);
     }
-    /* an APNG's animation control chunk, which libpng 1.6 does not know:
-     * kept (8 bytes), so that shown_as_read sees it */
-    static const png_byte actl[] = "acTL";
-    png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_ALWAYS, actl, 1);
+    /* an APNG's animation control chunk and PNG's third edition's colour
+     * chunks (cICP: coding-independent code points; mDCv, cLLi: HDR
+     * mastering metadata), which libpng 1.6.39 does not know: kept (a few
+     * bytes each), so that shown_as_read sees them */
+    static const png_byte kept[] = "acTL\0cICP\0mDCv\0cLLi";
+    png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_ALWAYS, kept, 4);
     png_set_chunk_malloc_max(r->png, TEXT_CHUNK_MAX);
     png_set_chunk_cache_max(r->png, TEXT_CHUNKS_MAX);
+}
+
+/* A colour-managed viewer converts a PNG's pixels by its ICC profile to
+ * the screen's colours; on an sRGB screen it shows them as read when that
+ * conversion moves no colour by more than this many levels of 255 (the
+ * ICC's own sRGB profiles and lcms's, GIMP's built-in one, differ from
+ * each other by at most 1). */
+#define ICC_SRGB_LEVELS 2
+
+static void lcms_quiet(cmsContext ctx, cmsUInt32Number code, const char *text)
+{
+    (void)ctx, (void)code, (void)text; /* a profile lcms cannot use is said by the caller */
+}
+
+/* The most levels (of 255) by which the ICC profile prof (len bytes), of
+ * a gray (gray != 0) or colour PNG, moves a colour when converted to sRGB
+ * (lcms2, perceptual and relative colorimetric intents, 8-bit greys and a
+ * 18x18x18 grid of colours: every 15th level); 256 when lcms cannot use
+ * it (damaged, of another colour space, or memory short). */
+static int icc_srgb_distance(const void *prof, png_uint_32 len, int gray)
+{
+    enum { STEP = 15, N = 256 / STEP + 1 };
+    static unsigned char in[N * N * N * 3], out[N * N * N * 3];
+    static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+    int worst = 256;
+    cmsContext ctx = cmsCreateContext(NULL, NULL);
+    if (!ctx)
+        return worst;
+    cmsSetLogErrorHandlerTHR(ctx, lcms_quiet);
+    cmsHPROFILE from = cmsOpenProfileFromMemTHR(ctx, prof, len);
+    cmsHPROFILE srgb = cmsCreate_sRGBProfileTHR(ctx);
+    const cmsColorSpaceSignature want = gray ? cmsSigGrayData : cmsSigRgbData;
+    pthread_mutex_lock(&lock); /* the buffers are shared: readers run in threads */
+    if (from && srgb && cmsGetColorSpace(from) == want) {
+        size_t n = 0;
+        if (gray)
+            for (int v = 0; v < 256; v++)
+                in[n++] = (unsigned char)v;
+        else
+            for (int r = 0; r < N; r++)
+                for (int g = 0; g < N; g++)
+                    for (int b = 0; b < N; b++, n++) {
+                        in[3 * n] = (unsigned char)(r * STEP);
+                        in[3 * n + 1] = (unsigned char)(g * STEP);
+                        in[3 * n + 2] = (unsigned char)(b * STEP);
+                    }
+        static const cmsUInt32Number intents[] = {INTENT_PERCEPTUAL,
+                                                  INTENT_RELATIVE_COLORIMETRIC};
+        worst = 0;
+        for (int k = 0; k < 2 && worst < 256; k++) {
+            cmsHTRANSFORM t = cmsCreateTransformTHR(ctx, from, gray ? TYPE_GRAY_8 : TYPE_RGB_8,
+                                                    srgb, TYPE_RGB_8, intents[k],
+                                                    cmsFLAGS_NOOPTIMIZE | cmsFLAGS_NOCACHE);
+            if (!t) {
+                worst = 256;
+                break;
+            }
+            cmsDoTransform(t, in, out, (cmsUInt32Number)n);
+            cmsDeleteTransform(t);
+            for (size_t i = 0; i < 3 * n; i++) {
+                const int d = abs((int)out[i] - (int)in[gray ? i / 3 : i]);
+                worst = d > worst ? d : worst;
+            }
+        }
+    }
+    pthread_mutex_unlock(&lock);
+    if (from)
+        cmsCloseProfile(from);
+    if (srgb)
+        cmsCloseProfile(srgb);
+    cmsDeleteContext(ctx);
+    return worst;
+}
+
+/* NULL when the PNG's ICC profile (iCCP) shows its pixels as read on an
+ * sRGB screen (libpng recognised one of the ICC's sRGB profiles, or lcms2
+ * converts every colour to within ICC_SRGB_LEVELS); else what is wrong,
+ * in buf. */
+static const char *iccp_refused(struct png_reader *r, char *buf, size_t size)
+{
+    png_charp name;
+    png_bytep prof;
+    png_uint_32 len = 0;
+    int compression, intent;
+    if (r->iccp_why[0]) {
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) that libpng does not read "
+                 "(%s), by which viewers may still convert its colours; save it without the "
+                 "iCCP chunk, its pixels in sRGB", r->iccp_why);
+        return buf;
+    }
+    if (!png_get_iCCP(r->png, r->info, &name, &compression, &prof, &len) || !len)
+        return NULL;
+    if (png_get_sRGB(r->png, r->info, &intent))
+        return NULL; /* libpng knew the profile: one of the ICC's own sRGB ones */
+    const int gray = !(png_get_color_type(r->png, r->info) & PNG_COLOR_MASK_COLOR);
+    const int d = icc_srgb_distance(prof, len, gray);
+    if (d <= ICC_SRGB_LEVELS)
+        return NULL;
+    if (d > 255)
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) that is not a usable %s "
+                 "profile, by which viewers may still convert its colours; save it without "
+                 "the iCCP chunk, its pixels in sRGB", gray ? "gray" : "RGB");
+    else
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) other than sRGB, by which "
+                 "viewers convert its colours (by up to %d levels of 255; sRGB's moves none "
+                 "by more than %d); save its pixels converted to sRGB, without the iCCP "
+                 "chunk", d, ICC_SRGB_LEVELS);
+    return buf;
+}
+
+/* NULL when the cHRM is sRGB's (its primaries and D65 white within 0.001
+ * of PNG's recommended 0.64,0.33 0.30,0.60 0.15,0.06 0.3127,0.3290) and
+ * stands without a gAMA: Chromium then draws the pixels as read. Beside a
+ * gAMA, even sRGB's 1/2.2 (what ImageMagick writes), Chromium converts by
+ * the pure power curve 2.2, not sRGB's, and draws levels up to 9 apart
+ * (level 16 as 25; attack12 #11, measured with chromium --headless): that
+ * pair is refused unless an sRGB chunk says sRGB. Else what is wrong. */
+static const char *chrm_refused(struct png_reader *r)
+{
+    static const png_fixed_point srgb[8] = {31270, 32900, 64000, 33000,
+                                            30000, 60000, 15000, 6000};
+    png_fixed_point c[8];
+    if (!png_get_cHRM_fixed(r->png, r->info, &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6],
+                            &c[7]))
+        return NULL;
+    for (int i = 0; i < 8; i++)
+        if (c[i] < srgb[i] - 100 || c[i] > srgb[i] + 100)
+            return "holds chromaticities (cHRM) other than sRGB's (primaries 0.64,0.33 "
+                   "0.30,0.60 0.15,0.06, white 0.3127,0.3290), by which viewers convert its "
+                   "colours; save its pixels in sRGB, without the cHRM chunk";
+    if (png_get_valid(r->png, r->info, PNG_INFO_gAMA))
+        return "holds chromaticities (cHRM) beside a gamma (gAMA), by which viewers convert "
+               "its colours by a pure power curve, not sRGB's (Chromium draws a gAMA of 1/2.2 "
+               "up to 9 levels off: level 16 as 25); add an sRGB chunk, or save it without "
+               "the gAMA and cHRM chunks (ImageMagick: -define png:exclude-chunk=gAMA,cHRM)";
+    return NULL;
+}
+
+/* NULL when the unknown chunks kept (reader_setup) change nothing a viewer
+ * shows: none, or a cICP of sRGB's code points (BT.709 primaries, sRGB
+ * transfer, RGB, full range: 1 13 0 1); else what is wrong. */
+static const char *unknown_refused(struct png_reader *r, char *buf, size_t size)
+{
+    png_unknown_chunkp u;
+    const int n = png_get_unknown_chunks(r->png, r->info, &u);
+    for (int i = 0; i < n; i++) {
+        const char *name = (const char *)u[i].name;
+        if (!strcmp(name, "acTL"))
+            return "is an animated PNG (APNG: an acTL chunk), which viewers show as its "
+                   "frames";
+        if (!strcmp(name, "cICP")) {
+            const png_byte *d = u[i].data;
+            if (u[i].size == 4 && d[0] == 1 && d[1] == 13 && d[2] == 0 && d[3] == 1)
+                continue;
+            if (u[i].size != 4)
+                snprintf(buf, size, "holds a cICP chunk of %zu bytes (4 are allowed)",
+                         (size_t)u[i].size);
+            else
+                snprintf(buf, size, "holds coding-independent code points (cICP: primaries "
+                         "%d, transfer %d, matrix %d, full range %d) other than sRGB's (1 13 0 "
+                         "1), by which viewers convert its colours; save its pixels in sRGB, "
+                         "without the cICP chunk", d[0], d[1], d[2], d[3]);
+            return buf;
+        }
+        if (!strcmp(name, "mDCv") || !strcmp(name, "cLLi")) {
+            snprintf(buf, size, "holds HDR %s (%s), by which viewers may map its colours; "
+                     "save it without the %s chunk", name[0] == 'm' ? "mastering display "
+                     "colours" : "content light levels", name, name);
+            return buf;
+        }
+    }
+    return NULL;
 }
 
 /* After png_read_info: 0 when a viewer shows the PNG as its pixels read
  * (no gamma or colour-space conversion, one image); else SP_E_INPUT,
  * said. An APNG (acTL) is shown as its animation, whose frames need not
  * include the default image compared (attack11 #21); a gAMA other than
- * sRGB's (1/2.2), a cHRM without an sRGB chunk, or an ICC profile (iCCP)
- * makes browsers, and so compare's own HTML report, draw other colours
- * than the pixels compared. springpend writes none of them. */
+ * sRGB's (1/2.2), a cHRM other than sRGB's without an sRGB chunk, an ICC
+ * profile (iCCP) other than sRGB (attack12 #11), a cICP other than sRGB's
+ * or HDR metadata (mDCv, cLLi; attack12 #10) makes browsers, and so
+ * compare's own HTML report, draw other colours than the pixels compared.
+ * springpend writes none of them. */
 static int shown_as_read(struct png_reader *r)
 {
-    png_unknown_chunkp unknown;
+    char buf[512];
     png_fixed_point gamma = 0;
     int intent;
     const int srgb = png_get_sRGB(r->png, r->info, &intent) != 0;
-    const char *what = png_get_unknown_chunks(r->png, r->info, &unknown) > 0
-                           ? "is an animated PNG (APNG: an acTL chunk), which viewers show as "
-                             "its frames"
-                       : png_get_valid(r->png, r->info, PNG_INFO_iCCP)
-                           ? "holds an ICC colour profile (iCCP), by which viewers convert its "
-                             "colours"
-                       : !srgb && png_get_valid(r->png, r->info, PNG_INFO_cHRM)
-                           ? "holds chromaticities (cHRM), by which viewers convert its colours"
-                       : !srgb && png_get_gAMA_fixed(r->png, r->info, &gamma) &&
-                                 (gamma < 44955 || gamma > 45955)
-                           ? "holds a gamma (gAMA) other than sRGB's 1/2.2, by which viewers "
-                             "convert its colours"
-                           : NULL;
+    const char *what = unknown_refused(r, buf, sizeof(buf));
+    /* viewers convert by an ICC profile rather than by gAMA and cHRM */
+    if (!what && (r->iccp_why[0] || png_get_valid(r->png, r->info, PNG_INFO_iCCP)) &&
+        !(what = iccp_refused(r, buf, sizeof(buf))))
+        return 0;
+    if (!what && !srgb && png_get_valid(r->png, r->info, PNG_INFO_cHRM))
+        what = chrm_refused(r);
+    if (!what && !srgb && png_get_gAMA_fixed(r->png, r->info, &gamma) &&
+        (gamma < 44955 || gamma > 45955))
+        what = "holds a gamma (gAMA) other than sRGB's 1/2.2, by which viewers convert its "
+               "colours";
     if (!what)
         return 0;
     sp_log_error("%s %s; springpend reads still PNGs drawn as their pixels (as it writes "

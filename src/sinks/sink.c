@@ -30,7 +30,7 @@ static int pick_backend(const char *path, const char *format,
     *b = NULL;
     for (size_t i = 0; i < sizeof(av_kinds) / sizeof(av_kinds[0]); i++)
         if (!strcasecmp(kind, av_kinds[i][0]))
-            return (*b = sp_av_module_symbol(av_kinds[i][1])) ? 0 : SP_E_CODEC;
+            return (*b = sp_av_module_symbol(av_kinds[i][1])) ? 0 : sp_av_module_error();
     if (!strcasecmp(kind, "raw") || !strcasecmp(kind, "rgba"))
         *b = &sp_sink_backend_raw;
     else if (!strcasecmp(kind, "yuv420p") || !strcasecmp(kind, "yuv"))

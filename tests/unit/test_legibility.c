@@ -139,6 +139,105 @@ static int largest_font(const char *src, int w, int h)
     return lo;
 }
 
+/* attack12 #19: the largest whole font_size (px) a w x h frame of
+ * default.ini with every panel and the colour bar takes in `family` when
+ * its time axis ends at t_end (sp_compose_make refuses larger ones), and,
+ * composed there at t = t_end, the text runs drawn outside the panels'
+ * clips (the HUD's time among them) that do not start inside a panel's
+ * box (its title, its legend) kept off those boxes (the rectangles filled in the
+ * panel colour) and inside the frame: the problems found (diagnosed), *px
+ * the size. */
+static int check_wide_time(const char *src, int w, int h, const char *family, double t_end, int *px)
+{
+    char path[4096], size_w[32], size_h[32], fs[32], font[96];
+    const char *ov[] = {size_w, size_h, "view.panels=all", "view.colorbar=true", font, fs};
+    const struct sp_view_extent e = {.xmin = -1, .xmax = 1, .ymin = -1, .ymax = 1, .max_speed = 1,
+                                     .t_end = t_end};
+    struct sp_scene sc;
+    struct sp_sim sim;
+    struct sp_look look;
+    struct sp_composer *comp = NULL;
+    const struct sp_canvas *cv;
+    static struct box b[4096];
+    static float clips[256][4];
+    int lo = 0, hi = 200, bad = 0, n = 0, n_clips = 0, clipped = 0, times = 0;
+    snprintf(path, sizeof(path), "%s/../scenes/default.ini", src);
+    snprintf(size_w, sizeof(size_w), "video.width=%d", w);
+    snprintf(size_h, sizeof(size_h), "video.height=%d", h);
+    snprintf(font, sizeof(font), "view.font=%s", family);
+    while (lo < hi) {
+        const int mid = (lo + hi + 1) / 2;
+        snprintf(fs, sizeof(fs), "view.font_size=%d", mid);
+        if (sp_scene_load(&sc, path, ov, 6))
+            return 1;
+        sp_look_of(&sc, &look);
+        const int taken = sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &look, 1, NULL, 0}) == 0;
+        sp_compose_destroy(&comp);
+        if (taken)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    *px = lo;
+    snprintf(fs, sizeof(fs), "view.font_size=%d", lo);
+    if (lo < 1 || sp_scene_load(&sc, path, ov, 6))
+        return 1;
+    sp_sim_init(&sim, &sc);
+    sim.s.t = t_end; /* the HUD shows the state's time */
+    sp_look_of(&sc, &look);
+    if (sp_compose_make(&comp, &(struct sp_compose_desc){w, h, e, &look, 1, NULL, 0}) ||
+        sp_compose_frame(comp, &(struct sp_frame){.state = sim.s, .params = &sim.p}, &cv))
+        return 1;
+    const struct sp_font *f = sp_compose_font(comp);
+    for (int i = 0; i < cv->n_items && n < 4096; i++) {
+        const struct sp_item *it = &cv->items[i];
+        if (it->kind == SP_ITEM_CLIP) {
+            clipped = it->clip[2] > it->clip[0];
+            continue;
+        }
+        if (it->kind != SP_ITEM_TEXT || clipped)
+            continue;
+        const char *t = cv->strings + it->text;
+        b[n++] = (struct box){it->x, it->y - sp_font_cap(f, it->size),
+                              it->x + (float)sp_font_width(f, it->size, t),
+                              it->y + 0.2f * sp_font_px(f, it->size), t};
+        times += strncmp(t, "t = ", 4) == 0;
+    }
+    /* the panels' boxes: the boxes filled in the panel colour */
+    const float *panel = sp_compose_palette(comp)->panel;
+    for (int i = 0; i < cv->n_shapes && n_clips < 256; i++) {
+        const struct sp_shape *sh = &cv->shapes[i];
+        if ((int)sh->style[1] == SP_SHAPE_BOX && !memcmp(sh->color, panel, sizeof(sh->color)) &&
+            sh->seg[2] - sh->seg[0] > 20 && sh->style[0] > 10) {
+            const float box[4] = {sh->seg[0], sh->seg[1] - sh->style[0], sh->seg[2],
+                                  sh->seg[1] + sh->style[0]};
+            memcpy(clips[n_clips++], box, sizeof(box));
+        }
+    }
+    if (times != 1 || n_clips < 4)
+        bad++, sp_tap_diag("%s %dx%d: %d time runs, %d panel boxes drawn", family, w, h, times,
+                           n_clips);
+    for (int i = 0; i < n; i++) {
+        if (b[i].x0 < 0 || b[i].y0 < 0 || b[i].x1 > w || b[i].y1 > h)
+            bad++, sp_tap_diag("%s %dx%d: '%s' leaves the frame", family, w, h, b[i].text);
+        int inside = 0; /* a panel's own title or legend: it starts in the box */
+        for (int k = 0; k < n_clips && !inside; k++)
+            inside = b[i].x0 >= clips[k][0] && b[i].x0 < clips[k][2] && b[i].y0 >= clips[k][1] &&
+                     b[i].y0 < clips[k][3];
+        for (int k = 0; k < n_clips && !inside; k++)
+            if (b[i].x0 < clips[k][2] - 0.5f && clips[k][0] < b[i].x1 - 0.5f &&
+                b[i].y0 < clips[k][3] - 0.5f && clips[k][1] < b[i].y1 - 0.5f) {
+                bad++, sp_tap_diag("%s %dx%d, %d px: '%s' (x %.0f-%.0f, y %.0f-%.0f) runs into "
+                                   "a panel's box (x %.0f-%.0f, y %.0f-%.0f)", family, w, h, lo,
+                                   b[i].text, b[i].x0, b[i].x1, b[i].y0, b[i].y1, clips[k][0],
+                                   clips[k][2], clips[k][1], clips[k][3]);
+                break;
+            }
+    }
+    sp_compose_destroy(&comp);
+    return bad;
+}
+
 /* The text runs in a frame of `scene` at t = 5 s with every panel, the
  * colour bar and speed 4 asked for; -1 when it cannot be composed. */
 static int count_texts(const char *src, const char *scene_file, int w, int h)
@@ -295,6 +394,19 @@ int main(int argc, char **argv)
         sp_tap_ok(bad == 0, "%dx%d at the largest font size it takes (%d px), speed x2: no text "
                   "overlaps, all inside, every legend shown", w, h, px);
     }
+    /* a monospace font's wider digits at the largest size taken, the time
+     * at the end of a long video (attack12 #19: at 640x360 and 24 px "t =
+     * 987654.32 s" in DejaVu Sans Mono ran under the first panel) */
+    static const int wide[][2] = {{320, 180}, {640, 360}, {854, 480}, {1280, 720}, {1080, 1920}};
+    static const char *const families[] = {"DejaVu Sans Mono", "DejaVu Sans"};
+    for (size_t i = 0; i < sizeof(wide) / sizeof(wide[0]); i++)
+        for (int k = 0; k < 2; k++) {
+            int px = 0;
+            const int bad = check_wide_time(argv[1], wide[i][0], wide[i][1], families[k], 987654.32, &px);
+            sp_tap_ok(bad == 0, "%dx%d in %s at the largest font size it takes (%d px), t = "
+                      "987654.32 s: the time and the other HUD text keep off the panels, inside "
+                      "the frame", wide[i][0], wide[i][1], families[k], px);
+        }
     /* below 320x180 (180x320 upright) the HUD, panels, colour bar and speed
      * marker are left out (attacker's pass 3, finding 8: at 160x90 the time
      * ran over "speed x4", the panels over the HUD): no text is drawn */

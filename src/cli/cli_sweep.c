@@ -81,6 +81,7 @@ static const char sweep_usage[] =
     "FROM > TO is taken: the CSV in that order, the figure's axis ascending.\n"
     "A point whose integration blows up is NaN in the CSV and the figure, and\n"
     "counted; the sweep goes on (every point blown up: nothing written, exit 3).\n"
+    "orbit and poincare estimate their rows (CSV lines): at most 1e8.\n"
     "Ctrl-C stops and writes nothing (exit 130).\n"
     "The scene's [timeline] (captions, speed changes, pauses) is presentation for\n"
     "render and still: sweep ignores it.\n"
@@ -479,6 +480,59 @@ static int check_outputs(const struct sweep_opts *o)
 #define SWEEP_MAX_STEPS 1e12
 #define SWEEP_NOTE_STEPS 1.5e10
 
+/* An orbit diagram's or a Poincare mosaic's rows, one a sample: beyond
+ * SWEEP_MAX_ROWS (about 6 GB of CSV, which without --csv waits in unlinked
+ * temporary files) refused, beyond SWEEP_NOTE_ROWS (data's limit, about
+ * 0.6 GB here) said; a row is about SWEEP_ROW_BYTES (attack13 #20). */
+#define SWEEP_MAX_ROWS 1e8
+#define SWEEP_NOTE_ROWS 1e7
+#define SWEEP_ROW_BYTES 60
+
+/* The rows a point of d writes at most, about: driven orbits one per drive
+ * period (each branch of --continue both), Poincare crossings (orbit
+ * undriven, poincare) about one per swing at the grid's fastest swing,
+ * never more than one per step. */
+static int check_rows(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
+                      double steps, int quiet)
+{
+    if (d->measure != SP_MEASURE_ORBIT && d->measure != SP_MEASURE_POINCARE)
+        return 0;
+    double per_point, rate = 0; /* rows a second */
+    for (int corner = 0; corner < (1 << d->n_axes); corner++) {
+        struct sp_scene s = *base;
+        for (int a = 0; a < d->n_axes; a++) /* checked: the ends are valid */
+            sp_scene_set_number(&s, d->axis[a].key,
+                                (corner >> a) & 1 ? d->axis[a].to : d->axis[a].from, "--vary");
+        if (d->measure == SP_MEASURE_ORBIT && d->driven) {
+            rate = fmax(rate, s.pivot.frequency);
+        } else {
+            struct sp_sim sim;
+            struct sp_physics ph;
+            sp_sim_init(&sim, &s);
+            sp_params_physics(&sim.p, &ph);
+            rate = fmax(rate, ph.omega_p / (2 * M_PI));
+        }
+    }
+    per_point = fmin(d->time * rate * (d->cont == SP_CONTINUE_BOTH ? 2 : 1), steps);
+    if (!(rate > 0)) /* no gravity: no swing to count by; at most a row a step */
+        per_point = steps;
+    const double rows = per_point * (double)points, gb = rows * SWEEP_ROW_BYTES / 1e9;
+    if (rows > SWEEP_MAX_ROWS) {
+        sp_log_error("--measure %s over %ld points for --time %g: about %.2g rows (%s), about "
+                     "%.3g GB of CSV; at most %.0e rows; allowed: fewer points (--vary's COUNT) "
+                     "or a shorter --time", d->measure == SP_MEASURE_ORBIT ? "orbit" : "poincare",
+                     points, d->time, rows,
+                     d->measure == SP_MEASURE_ORBIT && d->driven ? "one a drive period"
+                                                                 : "about one a swing",
+                     gb, SWEEP_MAX_ROWS);
+        return SP_E_INPUT;
+    }
+    if (rows > SWEEP_NOTE_ROWS && !quiet)
+        sp_fprintf_line(stderr, "springpend: about %.2g rows, %.3g GB of CSV (in --csv, or in "
+                        "temporary files under /tmp until the figure is drawn)", rows, gb);
+    return 0;
+}
+
 /* Estimates points * (trajectory-steps a point) for this run (a shard's
  * points only) and holds it to the limits (sp_cli_work). A point integrates
  * the transient and the span; fixed steps at integrator.dt, dop853 at its
@@ -522,6 +576,8 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
     sp_sweep_method_text(d, method, sizeof(method));
     snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s%s: about %.3g steps a "
              "point)", points, span, method, extra, per_point);
+    if (check_rows(d, base, points, per_point, quiet))
+        return SP_E_INPUT;
     /* a continued sweep cannot be cut into shards (--continue refuses --shard) */
     return sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
                        d->cont != SP_CONTINUE_NONE

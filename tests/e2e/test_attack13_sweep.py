@@ -27,6 +27,8 @@ findings (doc/notes/2026-11-27/attack13.md; fix16's notes):
   and a sweep whose every point blew up wrote an empty figure, exit 0: the
   point counts once, and with nothing finite the sweep writes nothing, exit
   3 (as data does);
+- #20: an orbit or Poincare sweep's rows had no estimate or cap (only its
+  steps): past 1e8 rows refused with their number and size in GB, exit 2;
 - #27: a grid point the scene check refuses inside a range whose ends pass
   (initial.angle=-5:5:3 with an azimuth rate: 0 on the vertical) was
   skipped as "cannot have energy 0 J": the grid is refused, naming the
@@ -291,6 +293,21 @@ lines = [ln for ln in err(r).splitlines() if "blew up" in ln]
 nan_points = {ln.split(",")[0] for ln in r.stdout.decode().splitlines()[1:] if ",nan," in ln}
 ok(r.returncode in (0, 3) and (not nan_points or any(f"{len(nan_points)} of 4 points" in ln for ln in lines)),
    f"a continued diagram counts a point whose branches blew up once: {sorted(nan_points)} in the CSV, {lines}")
+
+# ---- #20: an orbit sweep's rows estimated and held to a limit ----------------------------
+r = run("sweep", default, "--set", "pivot.amplitude=1e-7", "--vary", "pivot.frequency=400:500:1000",
+        "--measure", "orbit", "--time", "500", "-o", "rows.png", "--csv", "rows.csv", timeout=60)
+# independently: one row per drive period at most 500 Hz over 500 s, 1000 points
+want = 1000 * 500 * 500
+ok(r.returncode == 2 and f"about {want:.2g} rows" in err(r) and "GB of CSV" in err(r)
+   and "allowed: fewer points" in err(r) and not os.path.exists(path("rows.png"))
+   and not os.path.exists(path("rows.csv")),
+   f"orbit over 1000 points at up to 500 Hz for 500 s (about {want:.2g} rows): refused, exit 2 "
+   f"({r.returncode}: {err(r)[-220:]!r})")
+r = run("sweep", default, "--set", "pivot.amplitude=1e-7", "--vary", "pivot.frequency=400:500:4",
+        "--measure", "orbit", "--time", "50", "-o", "-", timeout=60)
+ok(r.returncode == 0 and "rows" not in err(r) and len(r.stdout.decode().splitlines()) > 4 * 50 * 400,
+   f"a small orbit sweep (about 1e5 rows): taken without a note ({r.returncode}: {err(r)[-160:]!r})")
 
 # ---- #27: a grid point the scene check refuses, inside the range --------------------------
 swinging = os.path.join(scenes, "swinging-spring.ini")

@@ -99,6 +99,7 @@ struct sp_compare_report {
     const char *suite;                 /* JUnit suite name prefix: the EXPECTED
                                           folder's or file's name */
     const char *report_path;           /* the HTML report, for the summary; NULL */
+    const char *junit_path;            /* the JUnit file, for the summary; NULL */
     int failures_only;                 /* HTML: rows of failures and errors only */
 };
 

@@ -61,6 +61,13 @@ int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags);
  * .part is removed. Either way f is closed. SP_E_IO on failure. */
 int sp_outfile_commit(struct sp_outfile *f);
 
+/* sp_outfile_commit, but the target is never replaced: when a file (or
+ * link) appeared at it since it was opened, the .part is removed and 1 is
+ * returned, nothing said (the caller says why it mattered). The rename is
+ * renameat2's RENAME_NOREPLACE, or a hard link where the file system has
+ * no such rename. 0, 1 or SP_E_IO. */
+int sp_outfile_commit_new(struct sp_outfile *f);
+
 /* Commits first, then second (sp_outfile_commit), both renames under an
  * exclusive lock (flock) on the folder of second's target: two runs
  * writing the same pair (a CSV and its CSV-metadata.json) at once put their

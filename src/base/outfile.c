@@ -280,6 +280,42 @@ int sp_outfile_commit(struct sp_outfile *f)
     return 0;
 }
 
+int sp_outfile_commit_new(struct sp_outfile *f)
+{
+    int err = 0;
+    if (!f->target)
+        return 0;
+    if (f->through)
+        return sp_outfile_commit(f);
+    if (f->fd >= 0 && close(f->fd) != 0) {
+        sp_log_error("%s: cannot finish writing: %s", f->target, strerror(errno));
+        err = SP_E_IO;
+    }
+    f->fd = -1;
+    if (!err) {
+        int r = renameat2(AT_FDCWD, f->path, AT_FDCWD, f->target, RENAME_NOREPLACE);
+        if (r != 0 && (errno == EINVAL || errno == ENOSYS)) { /* not on this file system */
+            if ((r = link(f->path, f->target)) == 0)
+                unlink(f->path);
+        }
+        if (r != 0 && errno == EEXIST) {
+            sp_outfile_discard(f);
+            return 1; /* the caller says so */
+        }
+        if (r != 0) {
+            sp_log_error("cannot rename %s to %s: %s", f->path, f->target, strerror(errno));
+            err = SP_E_IO;
+        }
+    }
+    if (err) {
+        sp_outfile_discard(f);
+        return err;
+    }
+    slot_give(f->slot);
+    outfile_free(f);
+    return 0;
+}
+
 int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second,
                            const volatile sig_atomic_t *cancel)
 {

@@ -46,6 +46,7 @@ static const char compare_usage[] =
     "                         pixel differs when its YIQ colour distance exceeds\n"
     "                         35215 T^2 (T from 0 to 1, default 0.1) and it is not\n"
     "                         anti-aliasing; --max-pixels then applies\n"
+    "                         (an option no rule in force reads is refused)\n"
     "  --diff PATH            on a mismatch, write a diff image to PATH: the\n"
     "                         expected image in grey, differing pixels magenta,\n"
     "                         smaller changes blue; both side by side when the\n"
@@ -62,7 +63,8 @@ static const char compare_usage[] =
     "                         beside a NAME.png baseline); KEY must be declared\n"
     "                         in compare.ini's envs line\n"
     "  --candidates DIR       write the would-be baselines (failing and new images\n"
-    "                         only) and their diffs to DIR; the run still fails\n"
+    "                         only) and their diffs to DIR, new or empty; the\n"
+    "                         run still fails\n"
     "  --approve DIR BASELINES  copy what --candidates wrote into the baselines\n"
     "                         (not the diffs; unchanged pixels left untouched);\n"
     "                         a candidate named like an alternative NAME.KEY.png\n"
@@ -71,7 +73,7 @@ static const char compare_usage[] =
     "  --report FILE.html     one self-contained HTML page: expected, actual and\n"
     "                         diff side by side at full size with zoom, masks\n"
     "                         drawn, a flip control, failures first\n"
-    "  --report-failures-only the HTML page without the passing images\n"
+    "  --report-failures-only the HTML page (--report) without the passing images\n"
     "  --summary FILE.md      a Markdown summary for a pull request or\n"
     "                         $GITHUB_STEP_SUMMARY: counts and a table of failures\n"
     "  --jobs N               compare a folder's images on N threads (default:\n"
@@ -198,6 +200,11 @@ static int parse_args(struct compare_options *o, int argc, char **argv)
     }
     if (o->approve && refuse_with_approve(seen, longopts))
         return SP_E_INPUT;
+    if (c->failures_only && !c->html) { /* attack13 #16: it would change nothing */
+        sp_log_error("--report-failures-only shapes the HTML page: it needs --report "
+                     "FILE.html; give both, or leave it out");
+        return SP_E_INPUT;
+    }
     if (argc - optind != 2) {
         sp_log_error("expected two images or folders, EXPECTED and ACTUAL; see "
                      "'springpend compare --help'");

@@ -74,23 +74,32 @@ static const char data_usage[] =
     "  --every SECONDS        sampling interval in simulated seconds\n"
     "  --poincare             the Poincare section's crossings instead of samples\n"
     "  --set SECTION.KEY=VAL  override a scene key (repeatable)\n"
-    "  --fps N                shorthand for video.fps: the frame times sampled\n"
-    "  --quality Q            low, medium, high or 4k: render's rates (the frame times)\n"
+    "  --fps N                shorthand for video.fps: the frame times sampled (not\n"
+    "                         with --every or --poincare, which sample none)\n"
+    "  --quality Q            low, medium, high or 4k: render's rates (the frame\n"
+    "                         times; not with --every or --poincare)\n"
     "  -q, --quiet            no 'wrote' line\n"
     "  -h, --help             this text\n";
 
-/* Refuses (SP_E_INPUT, said) scene i's column name (names[i]) beside the
- * ones before it: a name that starts with = + - or @, which a spreadsheet
- * would take for a formula (CSV injection: attack11 #24; a tab or CR is
- * shown escaped; rows are not rewritten behind a reader's back), or one
- * that another scene gives (their rows could not be told apart). 0 when
- * neither. */
-static int check_column(const struct sp_cli_options *o, const char *const *names, int i)
+/* Refuses (SP_E_INPUT, said) scene i's column name (names[i], as shown;
+ * raw: the file's own) beside the ones before it: a name that starts with
+ * = + - @, a tab or a carriage return, which a spreadsheet would take for
+ * a formula (CSV injection, OWASP's list: a leading tab or CR is stripped
+ * before the formula is read; attack11 #24, attack12 #13; rows are not
+ * rewritten behind a reader's back), or one that another scene gives
+ * (their rows could not be told apart). 0 when neither. */
+static int check_column(const struct sp_cli_options *o, const char *const *names,
+                        const char *raw, int i)
 {
-    if (names[i][0] && strchr("=+-@", names[i][0])) {
-        sp_log_error("%s: its scene column '%s' starts with '%c', which a spreadsheet reads as "
-                     "the start of a formula; rename the file so that its name starts "
-                     "otherwise", o->scene_paths[i], names[i], names[i][0]);
+    const char c = raw[0] == '\r' ? '\r' : names[i][0];
+    if (c && strchr("=+-@\t\r", c)) {
+        char sign[8];
+        snprintf(sign, sizeof(sign), "'%c'", c);
+        sp_log_error("%s: its scene column '%s' starts with %s, which a spreadsheet reads as "
+                     "the start of a formula (a leading tab or carriage return is dropped "
+                     "first); rename the file so that its name starts with none of = + - @, "
+                     "a tab or a carriage return", o->scene_paths[i], names[i],
+                     c == '\t' ? "a tab" : c == '\r' ? "a carriage return" : sign);
         return SP_E_INPUT;
     }
     for (int j = 0; j < i; j++)
@@ -103,6 +112,21 @@ static int check_column(const struct sp_cli_options *o, const char *const *names
     return 0;
 }
 
+/* --fps and --quality pick the frame times, which --every and --poincare
+ * do not sample: taken with them, they would change nothing (attack12
+ * #18). 0, or SP_E_INPUT (said). */
+static int check_rates(const struct sp_cli_options *o)
+{
+    const char *rate = o->fps_buf[0] ? "--fps" : o->quality_buf[0][0] ? "--quality" : NULL;
+    const char *other = o->data.every > 0 ? "--every" : o->data.poincare ? "--poincare" : NULL;
+    if (!rate || !other)
+        return 0;
+    sp_log_error("%s sets the frame times (video.fps), which %s replaces%s: the rows would be "
+                 "the same whatever its value; give one of them", rate, other,
+                 o->data.poincare ? " with the section's crossings" : "");
+    return SP_E_INPUT;
+}
+
 int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
     struct sp_cli_options o;
@@ -112,6 +136,8 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
                            SP_CLI_TAKES_EVERY | SP_CLI_TAKES_POINCARE | SP_CLI_TAKES_SCENES);
     if (ret)
         return ret > 0 ? 0 : ret;
+    if ((ret = check_rates(&o)) != 0)
+        return ret;
     ret = sp_cli_load_scenes(&o, scenes);
     const struct sp_scene *const sc0 = &scenes[0];
     int spatial = 0;
@@ -130,7 +156,7 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
             ret = SP_E_INPUT;
         }
         if (!ret && o.n_scenes > 1)
-            ret = check_column(&o, column_names, i);
+            ret = check_column(&o, column_names, scenes[i].name, i);
     }
     if (!ret)
         ret = sp_cli_output_path(&o, sc0, ".csv", out, sizeof(out));

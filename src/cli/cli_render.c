@@ -22,10 +22,12 @@
     "with its view.title or, without one, the keys in which the scenes differ, all\n" \
     "at one camera scale (a metre is the same length in every cell) and with the\n" \
     "same chart axes. They share the first scene's [video] width, height, fps and\n" \
-    "speed and [view] theme, background, font, font_size and font_scale (a scene\n" \
-    "that differs in one is refused; --set applies to every scene); [timeline],\n" \
-    "[ensemble] and --state take one scene. Scenes of different durations run to\n" \
-    "the longest: the others hold their last frame, marked 'ended at t = ...'.\n" \
+    "speed, the encoder settings the output reads (crf and preset for MP4 and\n" \
+    "WebM, png_level for PNG) and [view] theme, background, font, font_size and\n" \
+    "font_scale (a scene that differs in one is refused; --set applies to every\n" \
+    "scene); [timeline], [ensemble] and --state take one scene. Scenes of\n" \
+    "different durations run to the longest: the others hold their last frame,\n" \
+    "marked 'ended at t = ...'.\n" \
     "The output is named after the first scene.\n"
 
 static const char render_usage[] =
@@ -268,34 +270,66 @@ static int check_drawn(const struct sp_cli_options *o, const struct sp_scene *s,
     return 0;
 }
 
-static int check_side_by_side(const struct sp_cli_options *o, const struct sp_scene *s, int n)
+/* The encoder settings the output reads, as the sink picks it (--format,
+ * else the extension; render's default MP4, still's PNG): crf and preset
+ * for MP4 and WebM, png_level for a PNG (a still or a sequence), none for
+ * a GIF, raw frames or an SVG or PDF figure. Bits: ENC_CRF, ENC_PRESET,
+ * ENC_PNG_LEVEL. */
+enum { ENC_CRF = 1, ENC_PRESET = 2, ENC_PNG_LEVEL = 4 };
+static unsigned encoder_keys(const struct sp_cli_options *o, int still)
 {
-    /* one encoder: its settings too (attack11 #23: a second scene's crf was
-     * used or not by the order of the scenes, without a word) */
+    const char *out = o->output, *kind = still ? "png" : "mp4";
+    if (still)
+        return out && sp_figure_format(out) != SP_FIGURE_NONE ? 0 : ENC_PNG_LEVEL;
+    if (o->video.format) {
+        kind = o->video.format;
+    } else if (out) {
+        const char *base = strrchr(out, '/') ? strrchr(out, '/') + 1 : out;
+        const char *dot = strrchr(base, '.');
+        kind = dot && dot != base ? dot + 1 : "";
+    }
+    if (!strcasecmp(kind, "mp4") || !strcasecmp(kind, "webm"))
+        return ENC_CRF | ENC_PRESET;
+    return !strcasecmp(kind, "png") ? ENC_PNG_LEVEL : 0;
+}
+
+static int check_side_by_side(const struct sp_cli_options *o, const struct sp_scene *s, int n,
+                              int still)
+{
+    /* one encoder: the settings it reads too (attack11 #23: a second scene's
+     * crf was used or not by the order of the scenes, without a word); the
+     * ones it does not read may differ (attack12 #16: a still refused for
+     * crf) */
     static const char *const shared[] = {"video.width", "video.height", "video.fps", "video.speed",
                                          "video.crf", "video.png_level", "view.font_size",
                                          "view.font_scale"};
+    const unsigned enc = encoder_keys(o, still);
+    const char *const reads = enc & ENC_CRF ? ", the encoder's crf and preset (an MP4 or WebM)"
+                              : enc & ENC_PNG_LEVEL ? ", the encoder's png_level (a PNG)" : "";
     int bad = 0;
     for (int i = 1; i < n; i++) {
         for (size_t k = 0; k < sizeof(shared) / sizeof(shared[0]); k++) {
             const double a = sp_scene_get_number(&s[0], shared[k]);
             const double b = sp_scene_get_number(&s[i], shared[k]);
             char na[64], nb[64], va[64], vb[64]; /* the numbers, then as a scene shows them */
-            if (a == b || (isnan(a) && isnan(b)))
+            const int crf = !strcmp(shared[k], "video.crf");
+            if (a == b || (isnan(a) && isnan(b)) || (crf && !(enc & ENC_CRF)) ||
+                (!strcmp(shared[k], "video.png_level") && !(enc & ENC_PNG_LEVEL)))
                 continue;
             snprintf(na, sizeof(na), "%.17g", a);
             snprintf(nb, sizeof(nb), "%.17g", b);
             sp_scene_canonical_display(shared[k], na, va, sizeof(va));
             sp_scene_canonical_display(shared[k], nb, vb, sizeof(vb));
-            sp_log_error("%s: %s = %s, but %s has %s; scenes side by side share the first's "
-                         "[video] width, height, fps, speed, crf, preset and png_level and "
-                         "[view] theme, background, font, font_size and font_scale: give them "
-                         "the same (--set applies to every scene)", o->scene_paths[i],
-                         shared[k], vb, o->scene_paths[0], va);
+            sp_log_error("%s: %s = %s%s, but %s has %s%s; scenes side by side share the first's "
+                         "[video] width, height, fps and speed%s and [view] theme, background, "
+                         "font, font_size and font_scale: give them the same (--set applies to "
+                         "every scene)", o->scene_paths[i], shared[k], vb,
+                         crf && b == 0 ? " (automatic)" : "", o->scene_paths[0], va,
+                         crf && a == 0 ? " (automatic)" : "", reads);
             bad = 1;
         }
         const char *pa = sp_scene_preset_name(&s[0]), *pb = sp_scene_preset_name(&s[i]);
-        if ((pa || pb) && !(pa && pb && !strcmp(pa, pb))) {
+        if ((enc & ENC_PRESET) && (pa || pb) && !(pa && pb && !strcmp(pa, pb))) {
             sp_log_error("%s: video.preset = %s, but %s has %s; scenes side by side share the "
                          "first's encoder", o->scene_paths[i], pb ? pb : "auto",
                          o->scene_paths[0], pa ? pa : "auto");
@@ -389,7 +423,7 @@ static int run(int argc, char **argv, int still)
     if (!ret)
         ret = check_drawn(&o, scenes, o.n_scenes);
     if (!ret && o.n_scenes > 1)
-        ret = check_side_by_side(&o, scenes, o.n_scenes);
+        ret = check_side_by_side(&o, scenes, o.n_scenes, still);
 
     if (o.video.format)
         snprintf(ext, sizeof(ext), ".%s", o.video.format);

@@ -1199,8 +1199,18 @@ void sp_compare_report_markdown(FILE *fp, const struct sp_compare_report *rep)
         md_figures(fp, r);
         fputc('\n', fp);
     }
-    if (more)
+    /* where the rest are: the report, when there is one (attack13 #24) */
+    if (more && rep->report_path) {
         fprintf(fp, "\nand %d more failures and errors: see the report.\n", more);
+    } else if (more && rep->junit_path) {
+        fprintf(fp, "\nand %d more failures and errors, not listed here: the JUnit file `", more);
+        for (const char *p = rep->junit_path; *p; p++)
+            fputc(*p == '`' || (unsigned char)*p < 0x20 ? '?' : *p, fp);
+        fputs("` and compare's output list them.\n", fp);
+    } else if (more) {
+        fprintf(fp, "\nand %d more failures and errors, not listed here: compare's output "
+                "lists them (with --report FILE.html, a page shows them all).\n", more);
+    }
     if (rep->report_path) {
         fputs("\nReport: `", fp);
         for (const char *p = rep->report_path; *p; p++)

@@ -65,11 +65,15 @@ static int stopped(const struct compare_run *c)
  * signal table, renamed over path when complete and removed when not).
  * Only a regular file or a new name is replaced; a folder or device at path
  * is refused (SP_E_INPUT). flags: sp_outfile_open's. */
+/* write_whole's flag: never replace a file that appeared at path
+ * meanwhile (sp_outfile_commit_new); then 1, nothing said. */
+#define WRITE_NEW 0x100u
+
 static int write_whole(const char *path, unsigned flags, int (*fill)(FILE *, void *),
                        void *arg)
 {
     struct sp_outfile f;
-    int err = sp_outfile_open(&f, path, flags);
+    int err = sp_outfile_open(&f, path, flags & ~WRITE_NEW);
     if (err)
         return err;
     FILE *fp = fdopen(f.fd, "wb");
@@ -88,7 +92,7 @@ static int write_whole(const char *path, unsigned flags, int (*fill)(FILE *, voi
         sp_outfile_discard(&f);
         return err;
     }
-    return sp_outfile_commit(&f);
+    return flags & WRITE_NEW ? sp_outfile_commit_new(&f) : sp_outfile_commit(&f);
 }
 
 /* An image to write and the path it goes to, for messages. */
@@ -206,8 +210,15 @@ static void apply_update(const struct compare_run *c, struct sp_compare_record *
             return;
         if (act == SP_UPDATE_REPLACED && lstat(target, &st) != 0)
             act = SP_UPDATE_ADDED; /* --env: a new alternative beside the baseline */
-        /* a link is replaced by the file, never written through */
-        if (write_whole(target, SP_OUTFILE_REPLACE_LINK, fill_copy, r->actual) != 0) {
+        /* a link is replaced by the file, never written through; an added
+         * baseline never replaces one that another run put there meanwhile
+         * (attack13 #12: two --update=missing at once) */
+        const int w = write_whole(target, SP_OUTFILE_REPLACE_LINK |
+                                  (act == SP_UPDATE_ADDED ? WRITE_NEW : 0), fill_copy, r->actual);
+        if (w == 1 && r->n_notes < SP_COMPARE_MAX_NOTES)
+            snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "not added: %.560s appeared "
+                     "meanwhile (another run?); not replaced", target);
+        if (w != 0) {
             free(r->before);
             r->before = NULL;
             return;
@@ -1934,6 +1945,78 @@ static int check_env(const struct compare_run *c, const char *base_dir)
     return SP_E_INPUT;
 }
 
+/* Each rule option given on the command line is read by a rule in force:
+ * the command line's --metric (which is the metric wherever it is given),
+ * else reftest (the default) and every metric a compare.ini section sets.
+ * --tol is rms's, --threshold pixelmatch's, --max-diff reftest's,
+ * --max-pixels reftest's and pixelmatch's: one that no rule reads would be
+ * ignored without a word (attack13 #16). 0, or SP_E_INPUT (said). */
+static int check_rule_options(const struct compare_run *c)
+{
+    static const char *const names[] = {"reftest", "rms", "pixelmatch", "blocks"};
+    unsigned in_force = 0; /* bits 1 << metric */
+    if (c->base.set & SP_COMPARE_SET_METRIC) {
+        in_force = 1u << c->base.opts.metric;
+    } else {
+        in_force = 1u << SP_COMPARE_REFTEST;
+        for (int i = 0; i < c->cfg.n_rules; i++)
+            if (c->cfg.rules[i].set & SP_COMPARE_SET_METRIC)
+                in_force |= 1u << c->cfg.rules[i].opts.metric;
+    }
+    static const struct {
+        unsigned set, readers;
+        const char *option, *for_what;
+    } uses[] = {
+        {SP_COMPARE_SET_TOL, 1u << SP_COMPARE_RMS, "--tol", "--metric rms"},
+        {SP_COMPARE_SET_THRESHOLD, 1u << SP_COMPARE_PIXELMATCH, "--threshold",
+         "--metric pixelmatch"},
+        {SP_COMPARE_SET_MAX_DIFF, 1u << SP_COMPARE_REFTEST, "--max-diff", "the reftest rule"},
+        {SP_COMPARE_SET_MAX_PIXELS, (1u << SP_COMPARE_REFTEST) | (1u << SP_COMPARE_PIXELMATCH),
+         "--max-pixels", "the reftest and pixelmatch rules"},
+    };
+    for (size_t k = 0; k < sizeof(uses) / sizeof(uses[0]); k++) {
+        if (!(c->base.set & uses[k].set) || (in_force & uses[k].readers))
+            continue;
+        char rules[64] = "";
+        for (int m = 0; m < 4; m++)
+            if (in_force & (1u << m))
+                snprintf(rules + strlen(rules), sizeof(rules) - strlen(rules), "%s%s",
+                         rules[0] ? ", " : "", names[m]);
+        if (c->base.set & SP_COMPARE_SET_METRIC)
+            sp_log_error("%s: no rule in force reads it (--metric %s decides); %s is for %s; "
+                         "allowed: give it with that rule, or leave it out", uses[k].option,
+                         rules, uses[k].option, uses[k].for_what);
+        else
+            sp_log_error("%s: no rule in force reads it (the rules in force: %s, from the "
+                         "default%s%s); %s is for %s; allowed: give it with that rule, or "
+                         "leave it out", uses[k].option, rules, c->cfg.path[0] ? " and " : "",
+                         c->cfg.path, uses[k].option, uses[k].for_what);
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
+/* --candidates DIR holds no image (PNG or video, subfolders too) before the
+ * run: an earlier run's would be approved with this run's, though this one
+ * never wrote them (attack13 #18). 0, or SP_E_INPUT (said). */
+static int check_candidates_empty(const char *dir)
+{
+    struct sp_snapshot_list l;
+    int ret;
+    if (!is_dir(dir))
+        return 0;
+    if ((ret = sp_snapshot_list_make(&l, dir, dir, NULL, 0, NULL, 0)) != 0)
+        return ret;
+    if (l.n)
+        sp_log_error("--candidates %s holds %d image%s already (%s/%s%s), which --approve would "
+                     "install with this run's candidates though this run never wrote them; "
+                     "allowed: an empty or new folder (remove them, or name another folder)",
+                     dir, l.n, l.n == 1 ? "" : "s", dir, l.items[0].name, l.n > 1 ? ", ..." : "");
+    ret = l.n ? SP_E_INPUT : 0;
+    sp_snapshot_list_free(&l);
+    return ret;
+}
+
 int sp_compare_run(const struct sp_compare_desc *d)
 {
     struct compare_run c;
@@ -1948,7 +2031,7 @@ int sp_compare_run(const struct sp_compare_desc *d)
     const char *base_dir = de ? e : dirname(dir); /* the baselines' folder */
     if ((ret = sp_compare_config_load(&c.cfg, base_dir)) != 0)
         return ret;
-    if ((ret = check_env(&c, base_dir)) != 0)
+    if ((ret = check_env(&c, base_dir)) != 0 || (ret = check_rule_options(&c)) != 0)
         goto done;
     /* JUnit's suite: the baselines' folder, as given. */
     snprintf(suite, sizeof(suite), "%s", base_dir);
@@ -1956,6 +2039,7 @@ int sp_compare_run(const struct sp_compare_desc *d)
         suite[--n] = 0;
     rep.suite = suite;
     rep.report_path = c.html;
+    rep.junit_path = c.junit;
     rep.failures_only = c.failures_only;
     if (c.candidates && !c.diff && de)
         c.diff = c.candidates; /* the diffs beside the candidates */
@@ -1966,6 +2050,8 @@ int sp_compare_run(const struct sp_compare_desc *d)
                  (int)(dot ? dot - base : (long)strlen(base)), base);
         c.diff = cand_diff;
     }
+    if (c.candidates && (ret = check_candidates_empty(c.candidates)) != 0)
+        goto done;
     if (c.candidates && !is_dir(c.candidates) && mkdir(c.candidates, 0777) != 0) {
         sp_log_error("--candidates %s: cannot create the folder: %s", c.candidates,
                      strerror(errno));

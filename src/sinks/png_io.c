@@ -457,7 +457,8 @@ static const char *iccp_refused(struct png_reader *r, char *buf, size_t size)
     png_bytep prof;
     png_uint_32 len = 0;
     int compression, intent;
-    if (r->iccp_why[0]) {
+    if (r->iccp_why[0] && !png_get_valid(r->png, r->info, PNG_INFO_iCCP)) {
+        /* dropped; one libpng warned of but kept is judged as any other */
         snprintf(buf, size, "holds an ICC colour profile (iCCP) that libpng does not read "
                  "(%s), by which viewers may still convert its colours; save it without the "
                  "iCCP chunk, its pixels in sRGB", r->iccp_why);

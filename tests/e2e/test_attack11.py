@@ -509,13 +509,15 @@ for opt, where in (("--candidates", "a/cand"), ("--diff", "a/sub")):
 # ---- attack11 #23: side by side, a second scene's encoder settings are refused when they differ
 with open(os.path.join(scenes, "stiff.ini")) as f:
     stiff = f.read()
-for key, value in (("crf", "51"), ("preset", "veryslow"), ("png_level", "9")):
+# (attack12 #16: only the keys the output's encoder reads, so png_level with a PNG sequence)
+for key, value, out in (("crf", "51", "enc.mp4"), ("preset", "veryslow", "enc.mp4"),
+                        ("png_level", "9", "enc%03d.png")):
     with open(path("enc.ini"), "w") as f:
         f.write(stiff + f"\n[video]\n{key} = {value}\n")
     r = run("render", default, "enc.ini", "--size", "160x90", "--set", "video.duration=0.2",
-            "-o", "enc.mp4", "-q")
+            "-o", out, "-q")
     ok(r.returncode == 2 and f"video.{key} = {value}" in err(r)
-       and not os.path.exists(path("enc.mp4")),
+       and not os.path.exists(path(out)) and not os.path.exists(path("enc000.png")),
        f"side by side with a second scene's {key} = {value}: refused, naming it (exit "
        f"{r.returncode}: {err(r)[-160:]!r})")
 r = run("render", default, os.path.join(scenes, "stiff.ini"), "--size", "160x90", "--set",

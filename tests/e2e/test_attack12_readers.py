@@ -157,6 +157,10 @@ WIDE_CHRM = struct.pack(">8I", 31270, 32900, 64000, 33000, 21000, 71000, 15000, 
 GAMMA = (b"gAMA", struct.pack(">I", 45455))
 cases = [  # name, base, chunks, refused with ("" when taken)
     ("hand.png", s, [iccp(icc(SRGB_D50, srgb_curve()))], ""),
+    # libpng warns of its rendering intent (7: outside ICC's four) but keeps it; Chromium
+    # draws it as read: judged as any other
+    ("intent7.png", s, [iccp(bytes(icc(SRGB_D50, srgb_curve())[:64]) + struct.pack(">I", 7)
+                             + icc(SRGB_D50, srgb_curve())[68:])], ""),
     ("adobe.png", s, [iccp(icc(ADOBE_D50, srgb_curve()))], "ICC colour profile (iCCP) other than sRGB"),
     ("linear.png", s, [iccp(icc(SRGB_D50, LINEAR))], "ICC colour profile (iCCP) other than sRGB"),
     ("grayonrgb.png", s, [iccp(icc(None, srgb_curve(), gray=True))], "iCCP"),
@@ -177,6 +181,17 @@ if srgb_lcms:
     cases.append(("lcms.png", s, [iccp(srgb_lcms)], ""))
 else:
     sptest.skip("compare s.png lcms.png (lcms2's sRGB profile)", "liblcms2.so.2 does not load")
+# real profiles where Debian's icc-profiles-free and colord-data are installed (not required)
+for pkg, prof, said in (("icc-profiles-free", "sRGB.icc", ""),
+                        ("colord-data", "colord/sRGB.icc", ""),
+                        ("colord-data", "colord/AdobeRGB1998.icc", "other than sRGB"),
+                        ("colord-data", "colord/Rec709.icc", "other than sRGB")):
+    full = os.path.join("/usr/share/color/icc", prof)
+    if os.path.exists(full):
+        cases.append(("sys-" + prof.replace("/", "-").replace(".icc", ".png"), s,
+                      [iccp(open(full, "rb").read())], said))
+    else:
+        sptest.skip(f"compare s.png with {prof} embedded", f"{pkg} is not installed")
 for name, base, chunks, said in cases:
     with_chunks(base, path(name), *chunks)
     r = run("compare", os.path.basename(base), name)

@@ -492,7 +492,7 @@ static int check_outputs(const struct sweep_opts *o)
  * period (each branch of --continue both), Poincare crossings (orbit
  * undriven, poincare) about one per swing at the grid's fastest swing,
  * never more than one per step. */
-static int check_rows(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
+static int estimate_rows(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
                       double steps, int quiet)
 {
     if (d->measure != SP_MEASURE_ORBIT && d->measure != SP_MEASURE_POINCARE)
@@ -576,10 +576,8 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
     sp_sweep_method_text(d, method, sizeof(method));
     snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s%s: about %.3g steps a "
              "point)", points, span, method, extra, per_point);
-    if (check_rows(d, base, points, per_point, quiet))
-        return SP_E_INPUT;
     /* a continued sweep cannot be cut into shards (--continue refuses --shard) */
-    return sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
+    const int ret = sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
                        d->cont != SP_CONTINUE_NONE
                            ? "fewer points (--vary's COUNT), a shorter --time or --transient, "
                              "or a larger integrator.dt"
@@ -587,6 +585,7 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
                              "larger integrator.dt, or split the grid over machines with "
                              "--shard I/N",
                        quiet);
+    return ret ? ret : estimate_rows(d, base, points, per_point, quiet);
 }
 
 struct progress {

@@ -951,6 +951,38 @@ static void orbit_legend(const struct sp_sweep_desc *d, const struct sp_palette 
     }
 }
 
+/* Which colour of a Poincare mosaic is which start: at a printed size a
+ * colour bar right of the plot f over the first key's values (low to high,
+ * the colours reversed with a falling range), else a small gradient from
+ * FROM to TO at the top right. */
+static void poincare_key(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                         const struct frame *pf, const char *xl)
+{
+    if (G.print) {
+        double lo, hi;
+        key_span(&d->axis[0], &lo, &hi);
+        fix_key_range(&lo, &hi);
+        const int falling = d->axis[0].to < d->axis[0].from; /* the first orbit's colour at FROM */
+        draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, pf, falling ? 0.95 : 0.1, falling ? 0.1 : 0.95);
+        return;
+    }
+    const double x0 = W - 250, y0 = 22, w = 150;
+    colormap_strip(d, x0, y0, w, 10, 0, 0.1, 0.95);
+    char buf[64];
+    font_pt(11);
+    set_rgba(pal->muted);
+    snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
+    sp_axis_minus(buf, sizeof(buf));
+    text_at(x0 - 5, y0 + 5, buf, 1, 0.5);
+    snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
+    sp_axis_minus(buf, sizeof(buf));
+    text_at(x0 + w + 5, y0 + 5, buf, 0, 0.5);
+    if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
+        label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
+                   "over the colour gradient at the top right");
+    text_at(x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
+}
+
 /* Orbit diagram and Poincare mosaic: two passes over the rows, for the range
  * and for the dots. */
 static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
@@ -1030,29 +1062,8 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
     clip_to(NULL);
     if (ext && !G.v->legend) /* over the dots */
         orbit_legend(d, pal, &f);
-    if (!orbit && G.print) { /* which colour is which start: a colour bar */
-        double lo = klo, hi = khi;
-        fix_key_range(&lo, &hi);
-        const int falling = d->axis[0].to < d->axis[0].from; /* the first orbit's colour at FROM */
-        draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, &f, falling ? 0.95 : 0.1, falling ? 0.1 : 0.95);
-    } else if (!orbit) {
-        /* which colour is which start: a small gradient over the first key */
-        const double x0 = W - 250, y0 = 22, w = 150;
-        colormap_strip(d, x0, y0, w, 10, 0, 0.1, 0.95);
-        char buf[64];
-        font_pt(11);
-        set_rgba(pal->muted);
-        snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
-        sp_axis_minus(buf, sizeof(buf));
-        text_at(x0 - 5, y0 + 5, buf, 1, 0.5);
-        snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
-        sp_axis_minus(buf, sizeof(buf));
-        text_at(x0 + w + 5, y0 + 5, buf, 0, 0.5);
-        if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
-            label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
-                       "over the colour gradient at the top right");
-        text_at(x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
-    }
+    if (!orbit)
+        poincare_key(d, pal, &f, xl);
     return 0;
 }
 
@@ -1215,6 +1226,42 @@ nomem:
 
 /* ---- basins of attraction ---- */
 
+/* The basin legend's entropies at (lx, ly) pt: S_b and S_bb, their boxes,
+ * what no whole box holds (or that there is none). Returns ly moved down
+ * by the extra line when there is one. */
+static double entropy_legend(const struct sp_basin_map *map, const struct sp_palette *pal,
+                             double lx, double ly)
+{
+    char buf[200];
+    set_rgba(pal->text);
+    font_pt(U(12));
+    const int cut_x = map->nx - map->box * map->boxes_x, cut_y = map->ny - map->box * map->boxes_y;
+    if (isfinite(map->entropy))
+        snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map->entropy, map->boundary_entropy);
+    else
+        snprintf(buf, sizeof(buf), "S_b, S_bb: none");
+    text_at(lx, ly + U(8), buf, 0, 0);
+    set_rgba(pal->muted);
+    font_pt(U(10));
+    if (isfinite(map->entropy))
+        snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map->box, map->box);
+    else
+        snprintf(buf, sizeof(buf), "the %dx%d grid has no %dx%d box", map->nx, map->ny, map->box,
+                 map->box);
+    text_at(lx, ly + U(26), buf, 0, 0);
+    if (isfinite(map->entropy) && (cut_x || cut_y)) { /* what no whole box holds */
+        char cols[48] = "", rows[48] = "";
+        if (cut_x)
+            snprintf(cols, sizeof(cols), "last %d column%s", cut_x, cut_x > 1 ? "s" : "");
+        if (cut_y)
+            snprintf(rows, sizeof(rows), "last %d row%s", cut_y, cut_y > 1 ? "s" : "");
+        snprintf(buf, sizeof(buf), "(%s%s%s left out)", cols, cut_x && cut_y ? ", " : "", rows);
+        ly += U(16);
+        text_at(lx, ly + U(26), buf, 0, 0);
+    }
+    return ly;
+}
+
 /* The map, one colour per attractor (the colormap's spread for periodic
  * ones, grey for undecided), and the legend with each basin's fraction. */
 static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
@@ -1291,32 +1338,7 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
             text_at(lx + U(20), ly, buf, 0, 0);
         }
     }
-    set_rgba(pal->text);
-    font_pt(U(12));
-    const int cut_x = map.nx - map.box * map.boxes_x, cut_y = map.ny - map.box * map.boxes_y;
-    if (isfinite(map.entropy))
-        snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map.entropy, map.boundary_entropy);
-    else
-        snprintf(buf, sizeof(buf), "S_b, S_bb: none");
-    text_at(lx, ly + U(8), buf, 0, 0);
-    set_rgba(pal->muted);
-    font_pt(U(10));
-    if (isfinite(map.entropy))
-        snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map.box, map.box);
-    else
-        snprintf(buf, sizeof(buf), "the %dx%d grid has no %dx%d box", map.nx, map.ny, map.box,
-                 map.box);
-    text_at(lx, ly + U(26), buf, 0, 0);
-    if (isfinite(map.entropy) && (cut_x || cut_y)) { /* what no whole box holds */
-        char cols[48] = "", rows[48] = "";
-        if (cut_x)
-            snprintf(cols, sizeof(cols), "last %d column%s", cut_x, cut_x > 1 ? "s" : "");
-        if (cut_y)
-            snprintf(rows, sizeof(rows), "last %d row%s", cut_y, cut_y > 1 ? "s" : "");
-        snprintf(buf, sizeof(buf), "(%s%s%s left out)", cols, cut_x && cut_y ? ", " : "", rows);
-        ly += U(16);
-        text_at(lx, ly + U(26), buf, 0, 0);
-    }
+    ly = entropy_legend(&map, pal, lx, ly);
     if (map.blown_up) {
         snprintf(buf, sizeof(buf), "%ld blown up (black)", map.blown_up);
         text_at(lx, ly + U(42), buf, 0, 0);

@@ -1452,7 +1452,10 @@ static void put_panels(struct sp_composer *r, const struct sp_frame *f)
         /* pt: one px each, or look.pt_px at a printed size, times the supersampling */
         .marker_px = (float)(v->marker_size * r->ss * (r->look.pt_px > 0 ? r->look.pt_px : 1)),
         .xlabel = v->xlabel, .ylabel = v->ylabel, .xlabel_where = v->label_where[0],
-        .ylabel_where = v->label_where[1], .ss = r->ss};
+        .ylabel_where = v->label_where[1], .ss = r->ss,
+        .pt = r->look.pt_px > 0 ? (float)(r->ss * r->look.pt_px) : 0};
+    if (st.pt > 0)
+        st.fig_w = (float)r->width / st.pt, st.fig_h = (float)r->height / st.pt;
     st.n_order = sp_scene_panel_order(v, st.order);
     sp_panels_draw(&r->canvas, &r->layout, f, &r->extent, &r->pal, r->ink, &st, &r->bars);
 }

@@ -288,6 +288,57 @@ static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, 
     c->err = SP_E_INPUT;
 }
 
+/* At a printed size (st->pt > 0) the figure's text is in pt, not a share of
+ * the frame, and the small-frame rule (compose.c small_frame) does not apply:
+ * a panel may then be too small for its own texts, and was drawn with its
+ * legend over the curves, its plot turned inside out over the title, or its
+ * title over the next panel (attack13 #19: resonance.ini's eight panels at
+ * 8.6 cm, 1 in square). Refuses (said once, naming the panel, what it needs
+ * and what it has; the canvas's err set to SP_E_INPUT, so the still fails
+ * and nothing is written) a panel r whose title row and legend rows (p's
+ * top, leg_rows) leave its plot, with the x labels dropped, under 1 pt, or
+ * whose title (title_w px, the form drawn) or widest legend entry (leg_w
+ * px), both starting pad px in, would cross the panel's right edge. */
+static void panel_refused(struct sp_canvas *c, const struct sp_rect *r, const struct sp_panel_style *st,
+                          const struct plot *p, float tick, const struct legend_item *leg,
+                          int n_leg, int shrt, int leg_rows)
+{
+    if (!(st->pt > 0)) /* a pixel size: small_frame's rule */
+        return;
+    const struct sp_font *f = c->font;
+    const float pad = roundf(0.5f * sp_font_line(f, SP_TEXT_SMALL)), min_plot = st->pt; /* 1 pt */
+    /* the plot's top, and its bottom with the x labels dropped, as frame_plot lays them out */
+    const float top = p->area.y0, bottom = r->y1 - pad - tick, title_w = p->title_end - r->x0 - pad;
+    float leg_w = 0; /* the widest entry, in the form drawn */
+    for (int i = 0; i < n_leg; i++)
+        leg_w = fmaxf(leg_w, legend_width(f, &leg[i], 1, shrt));
+    const float room_w = r->x1 - r->x0 - pad, plot = bottom - top; /* from x0 + pad to the box's edge */
+    if (c->err || (plot >= min_plot && title_w <= room_w && leg_w <= room_w))
+        return;
+    const float pt = st->pt;
+    const float body = (float)sp_font_px(c->font, SP_TEXT_NORMAL) / pt;
+    char what[256], rows[64] = "";
+    if (leg_rows)
+        snprintf(rows, sizeof(rows), " and its legend's %d row%s", leg_rows, leg_rows > 1 ? "s" : "");
+    if (plot < min_plot)
+        snprintf(what, sizeof(what), "its title row%s take%s %.1f of its %.1f pt height, leaving "
+                 "%.1f pt for the plot under %s (at least %.0f pt)", rows, leg_rows ? "" : "s",
+                 (top - r->y0) / pt, (r->y1 - r->y0) / pt, fmaxf(plot, 0) / pt,
+                 leg_rows ? "them" : "it", min_plot / pt);
+    else
+        snprintf(what, sizeof(what), "its %s is %.0f pt wide, and the panel has %.0f pt for it",
+                 title_w > room_w ? "title" : "widest legend entry",
+                 (title_w > room_w ? title_w : leg_w) / pt, room_w / pt);
+    sp_log_error("at %.0fx%.0f pt with %d panel%s and text of %.0f pt, the %s panel (%.0fx%.0f pt) "
+                 "cannot hold its texts: %s, so they would be drawn over its curves or the next "
+                 "panel; use fewer panels (view.panels), a smaller view.font_size or font_scale, "
+                 "or a larger --size",
+                 st->fig_w, st->fig_h, st->n_order, st->n_order == 1 ? "" : "s", body,
+                 sp_scene_plot_name(st->order[st->index]), (r->x1 - r->x0) / pt,
+                 (r->y1 - r->y0) / pt, what);
+    c->err = SP_E_INPUT;
+}
+
 /* [view]'s figure keys applied to a panel's texts: the axes' own names
  * (xlabel, ylabel: "a|b|c", the panel's part; the x axis keeps none when
  * *xlabel is NULL, a bar chart's categories), no title without `titles`,
@@ -465,6 +516,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     p->title_end = r->x0 + pad +
         sp_canvas_text(c, body ? SP_TEXT_NORMAL : SP_TEXT_SMALL, r->x0 + pad, r->y0 + pad + cap_n,
                        SP_ALIGN_LEFT, pal->text, fits || !bar ? full : bar + 1);
+    panel_refused(c, r, st, p, tick, leg, n_leg, shrt, leg_rows); /* at a printed size */
     const float leg_x = leg_row ? r->x0 + pad : p->title_end + pad;
     const float leg_y = r->y0 + pad + cap_n + (leg_row ? line_s : 0);
     /* dynamic when it counts what is shown, or when it reaches down to the
@@ -486,8 +538,7 @@ static void frame_plot(struct sp_canvas *c, const struct sp_rect *r, struct plot
     }
     p->area.x0 = r->x0 + pad + tw + tick + 0.5f * pad;
     p->area.x1 = r->x1 - pad - 0.5f * sp_font_width(f, SP_TEXT_SMALL, "00");
-    if (categories)
-        xlabel = "";
+    xlabel = categories ? "" : xlabel;
     int xl_w = sp_font_width(f, SP_TEXT_SMALL, xlabel);
     sp_axis_range(&p->x, xr.lo, xr.hi, xpad);
     axis_fit(c, &p->x, p->area.x1 - p->area.x0 - (xl_below ? 0 : xl_w + pad), 0);

@@ -64,6 +64,10 @@ struct sp_panel_style {
                           "--set view.xlabel" or ""), for the refusal of one
                           that cannot fit its panel */
     int ss;            /* drawn px per output px, for those messages (0 = 1) */
+    float pt;          /* drawn px per pt at a printed size (--size 8.6cm), else 0:
+                          there a panel that cannot hold its title, legend and a
+                          plot is refused (panel_refused), nothing drawn over */
+    float fig_w, fig_h; /* the figure's size, pt (printed sizes), for that message */
     int order[SP_PANEL_COUNT];   /* bit numbers in the order drawn and labelled */
     int n_order;
     int index;         /* set by sp_panels_draw: the panel's place in order */

@@ -239,6 +239,13 @@ int sp_scene_load(struct sp_scene *s, const char *path,
 int sp_scene_load_text(struct sp_scene *s, const char *path, const char *text, size_t size,
                        const char *const *overrides, int n_overrides);
 
+/* Whether the commands that parse scenes from now on draw the scene's view
+ * (render, still: 1, the default) or not (sweep, data, info, scene: 0). The
+ * combinations only a drawing cannot show (a poincare panel or view.vectors
+ * with a 3-D scene or a perspective camera) are refused only where it is
+ * drawn; a sweep of chaotic.ini's physics in 3-D takes its [view] as it is. */
+void sp_scene_view_drawn(int drawn);
+
 /* 1 when the scene's pendulum is drawn in perspective: view.camera set, or
  * auto on a 3-D scene (initial.azimuth_rate != 0). */
 int sp_scene_perspective(const struct sp_scene *s);

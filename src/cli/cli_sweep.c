@@ -48,6 +48,7 @@ static const char sweep_usage[] =
     "  orbit     orbit diagram over one key: after the transient, theta (degrees) once\n"
     "            per drive period when the pivot moves (stroboscopic, at t = k/f),\n"
     "            else r at each Poincare crossing (theta = 0, dtheta/dt > 0).\n"
+    "            Over pivot.frequency: FROM > 0 and TO > 0.\n"
     "  spectrum  all four Lyapunov exponents (1/s; Benettin: four tangent vectors,\n"
     "            re-orthonormalised every second by modified Gram-Schmidt), their\n"
     "            sum and the Kaplan-Yorke dimension; the CSV holds the running values\n"
@@ -59,7 +60,8 @@ static const char sweep_usage[] =
     "            turns over); undecided when not by T0 + T (chaos, or slow). The\n"
     "            settled cycles are clustered into attractors; the figure's legend\n"
     "            and stderr give each one's period, state and basin fraction, and the\n"
-    "            basin entropy S_b and boundary basin entropy S_bb (5x5 boxes).\n"
+    "            basin entropy S_b and boundary basin entropy S_bb (whole 5x5 boxes,\n"
+    "            the remainder left out and said; none under 5 points a side).\n"
     "  precession  3-D scenes (initial.azimuth_rate != 0): the swinging spring's turn\n"
     "            of the swing plane per exchange (degrees), as data's azimuth column\n"
     "            has it, between successive maxima of the swing (each averaged over a\n"
@@ -71,11 +73,16 @@ static const char sweep_usage[] =
     "            scene's own), so vary initial.length, initial.angle or\n"
     "            initial.length_rate. Points that cannot reach E are skipped.\n"
     "3-D scenes (initial.azimuth_rate != 0, or varied) take lyapunov (a 6-D tangent)\n"
-    "and precession; the other measures are of the planar motion.\n"
+    "and precession; the other measures are of the planar motion. A sweep draws\n"
+    "no panel: [view] panels and vectors are not checked against the 3-D motion.\n"
     "The scene's [integrator] is used (rk4, verlet, yoshida4 at its dt; dopri5 and\n"
-    "dop853 as dop853 at its tolerance, landing on every sample time).\n"
+    "dop853 as dop853 at its tolerance, landing on every sample time; the\n"
+    "figure's subtitle says which).\n"
+    "FROM > TO is taken: the CSV in that order, the figure's axis ascending.\n"
     "A point whose integration blows up is NaN in the CSV and the figure, and\n"
-    "counted; the sweep goes on. Ctrl-C stops and writes nothing (exit 130).\n"
+    "counted; the sweep goes on (every point blown up: nothing written, exit 3).\n"
+    "orbit and poincare estimate their rows (CSV lines): at most 1e8.\n"
+    "Ctrl-C stops and writes nothing (exit 130).\n"
     "The scene's [timeline] (captions, speed changes, pauses) is presentation for\n"
     "render and still: sweep ignores it.\n"
     "\n"
@@ -87,9 +94,11 @@ static const char sweep_usage[] =
     "  --energy E                poincare: the orbits' energy, J\n"
     "  --continue up|down|both   orbit, driven: each value of the key starts from the\n"
     "                            previous value's final state (up: in increasing\n"
-    "                            order; down; both: two branches, two colours), so\n"
-    "                            hysteresis shows; a start within 0.05 deg of hanging is\n"
-    "                            seeded at 0.05 deg. One sequence: no --shard.\n"
+    "                            values, FROM:TO either way; down; both: two\n"
+    "                            branches, two colours), so hysteresis shows; a\n"
+    "                            [pendulum] or [pivot] key, not [initial]; a start\n"
+    "                            within 0.05 deg of hanging is seeded at 0.05 deg.\n"
+    "                            One sequence: no --shard.\n"
     "  --peak theta|r            orbit, driven: beside theta at t = k/f (stroboscopic),\n"
     "                            the largest |theta| (or r) over each drive period,\n"
     "                            drawn as light dots\n"
@@ -471,6 +480,59 @@ static int check_outputs(const struct sweep_opts *o)
 #define SWEEP_MAX_STEPS 1e12
 #define SWEEP_NOTE_STEPS 1.5e10
 
+/* An orbit diagram's or a Poincare mosaic's rows, one a sample: beyond
+ * SWEEP_MAX_ROWS (about 6 GB of CSV, which without --csv waits in unlinked
+ * temporary files) refused, beyond SWEEP_NOTE_ROWS (data's limit, about
+ * 0.6 GB here) said; a row is about SWEEP_ROW_BYTES (attack13 #20). */
+#define SWEEP_MAX_ROWS 1e8
+#define SWEEP_NOTE_ROWS 1e7
+#define SWEEP_ROW_BYTES 60
+
+/* The rows a point of d writes at most, about: driven orbits one per drive
+ * period (each branch of --continue both), Poincare crossings (orbit
+ * undriven, poincare) about one per swing at the grid's fastest swing,
+ * never more than one per step. */
+static int estimate_rows(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
+                      double steps, int quiet)
+{
+    if (d->measure != SP_MEASURE_ORBIT && d->measure != SP_MEASURE_POINCARE)
+        return 0;
+    double per_point, rate = 0; /* rows a second */
+    for (int corner = 0; corner < (1 << d->n_axes); corner++) {
+        struct sp_scene s = *base;
+        for (int a = 0; a < d->n_axes; a++) /* checked: the ends are valid */
+            sp_scene_set_number(&s, d->axis[a].key,
+                                (corner >> a) & 1 ? d->axis[a].to : d->axis[a].from, "--vary");
+        if (d->measure == SP_MEASURE_ORBIT && d->driven) {
+            rate = fmax(rate, s.pivot.frequency);
+        } else {
+            struct sp_sim sim;
+            struct sp_physics ph;
+            sp_sim_init(&sim, &s);
+            sp_params_physics(&sim.p, &ph);
+            rate = fmax(rate, ph.omega_p / (2 * M_PI));
+        }
+    }
+    per_point = fmin(d->time * rate * (d->cont == SP_CONTINUE_BOTH ? 2 : 1), steps);
+    if (!(rate > 0)) /* no gravity: no swing to count by; at most a row a step */
+        per_point = steps;
+    const double rows = per_point * (double)points, gb = rows * SWEEP_ROW_BYTES / 1e9;
+    if (rows > SWEEP_MAX_ROWS) {
+        sp_log_error("--measure %s over %ld points for --time %g: about %.2g rows (%s), about "
+                     "%.3g GB of CSV; at most %.0e rows; allowed: fewer points (--vary's COUNT) "
+                     "or a shorter --time", d->measure == SP_MEASURE_ORBIT ? "orbit" : "poincare",
+                     points, d->time, rows,
+                     d->measure == SP_MEASURE_ORBIT && d->driven ? "one a drive period"
+                                                                 : "about one a swing",
+                     gb, SWEEP_MAX_ROWS);
+        return SP_E_INPUT;
+    }
+    if (rows > SWEEP_NOTE_ROWS && !quiet)
+        sp_fprintf_line(stderr, "springpend: about %.2g rows, %.3g GB of CSV (in --csv, or in "
+                        "temporary files under /tmp until the figure is drawn)", rows, gb);
+    return 0;
+}
+
 /* Estimates points * (trajectory-steps a point) for this run (a shard's
  * points only) and holds it to the limits (sp_cli_work). A point integrates
  * the transient and the span; fixed steps at integrator.dt, dop853 at its
@@ -510,10 +572,12 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
         extra = ", both branches";
     }
     char what[256];
-    snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s at dt = %g s%s: about "
-             "%.3g steps a point)", points, span, d->method, d->dt, extra, per_point);
+    char method[96];
+    sp_sweep_method_text(d, method, sizeof(method));
+    snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s%s: about %.3g steps a "
+             "point)", points, span, method, extra, per_point);
     /* a continued sweep cannot be cut into shards (--continue refuses --shard) */
-    return sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
+    const int ret = sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
                        d->cont != SP_CONTINUE_NONE
                            ? "fewer points (--vary's COUNT), a shorter --time or --transient, "
                              "or a larger integrator.dt"
@@ -521,6 +585,7 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
                              "larger integrator.dt, or split the grid over machines with "
                              "--shard I/N",
                        quiet);
+    return ret ? ret : estimate_rows(d, base, points, per_point, quiet);
 }
 
 struct progress {
@@ -1077,6 +1142,19 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
                      "written (omit --energy for the scene's own)", d->energy);
         ret = SP_E_INPUT;
     }
+    if (!ret && !o->shard && blown > 0 && blown + unreachable == last - first) {
+        /* nothing to draw: an empty figure is no result (data exits 3 too) */
+        char how[96];
+        if (d->tolerance > 0)
+            snprintf(how, sizeof(how), "a smaller integrator.tolerance (here %g)", d->tolerance);
+        else
+            snprintf(how, sizeof(how), "a smaller integrator.dt (here %g s), an adaptive "
+                     "integrator.method (dop853)", d->dt);
+        sp_log_error("every point of the grid blew up (%ld of %ld%s): nothing written; "
+                     "allowed: a grid where some point stays finite: %s, or other values",
+                     blown, last - first, unreachable ? ", the rest skipped" : "", how);
+        ret = SP_E_UNSTABLE;
+    }
     char shard[32];
     snprintf(shard, sizeof(shard), "%d/%d", si, sn);
     const struct provenance pv = {.d = d, .scene = scene, .overrides = o->overrides,
@@ -1090,7 +1168,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
     if (blown)
         sp_log_error("%ld of %ld points blew up (NaN in the %s); the rest are drawn", blown,
                      last - first, o->output ? "figure" : "CSV");
-    if (unreachable)
+    if (unreachable) /* only poincare skips points (sp_sweep_check refuses the rest) */
         sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
                      last - first, d->energy);
     if (!o->quiet)

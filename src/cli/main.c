@@ -13,6 +13,7 @@
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/render.h"
+#include "springpend/scene.h"
 #include "base/signals.h"
 
 static const char usage[] =
@@ -92,6 +93,7 @@ struct command {
     const char *name;
     int (*run)(int argc, char **argv, const volatile sig_atomic_t *cancel);
     int records; /* 1: its outputs record the command line (command_line.h) */
+    int draws;   /* 1: it draws the scene's [view] (sp_scene_view_drawn) */
 };
 
 static int cmd_keys(int argc, char **argv, const volatile sig_atomic_t *cancel)
@@ -112,14 +114,14 @@ static int cmd_keys(int argc, char **argv, const volatile sig_atomic_t *cancel)
 }
 
 static const struct command commands[] = {
-    {"render", sp_cmd_render, 1},
-    {"still", sp_cmd_still, 1},
-    {"data", sp_cmd_data, 1},
-    {"info", sp_cmd_info, 0},
-    {"keys", cmd_keys, 0},
-    {"compare", sp_cmd_compare, 0},
-    {"sweep", sp_cmd_sweep, 1},
-    {"scene", sp_cmd_scene, 0},
+    {"render", sp_cmd_render, 1, 1},
+    {"still", sp_cmd_still, 1, 1},
+    {"data", sp_cmd_data, 1, 0},
+    {"info", sp_cmd_info, 0, 0},
+    {"keys", cmd_keys, 0, 1},
+    {"compare", sp_cmd_compare, 0, 1},
+    {"sweep", sp_cmd_sweep, 1, 0},
+    {"scene", sp_cmd_scene, 0, 0},
 };
 
 int main(int argc, char **argv)
@@ -173,6 +175,7 @@ int main(int argc, char **argv)
              * back, is refused before anything is computed */
             if (commands[i].records && sp_command_line_check(NULL))
                 return 2;
+            sp_scene_view_drawn(commands[i].draws);
             return exit_status(stdout_checked(commands[i].run(argc - 1, argv + 1, sp_signal_flag())));
         }
     sp_log_error("unknown command '%s'; see 'springpend --help'", argv[1]);

@@ -1093,8 +1093,17 @@ static int check_text(struct parse_ctx *c, const char *text)
  * (drawn in the front view's plane) and the Poincare section (theta = 0 with dtheta/dt > 0 is
  * a section of the planar motion only: in 3-D the polar angle is >= 0 and
  * the state has two more dimensions). */
+static int view_drawn = 1; /* sp_scene_view_drawn */
+
+void sp_scene_view_drawn(int drawn)
+{
+    view_drawn = drawn;
+}
+
 static void check_view_3d(struct parse_ctx *c)
 {
+    if (!view_drawn) /* sweep, data, info, scene: no panel, no arrow (attack13 #4) */
+        return;
     const struct sp_scene *s = c->scene;
     const int cam_line = c->key_line[find_key("view", "camera") - keys];
     const int rate_line = c->key_line[find_key("initial", "azimuth_rate") - keys];

@@ -104,18 +104,27 @@ struct sp_basin_map {
     struct sp_attractor att[SP_BASINS_MAX_ATTRACTORS];
     int nx, ny;          /* the grid */
     int *label;          /* nx * ny attractor indices, -1 = no row (blown up) */
-    double entropy;      /* S_b, nats */
-    double boundary_entropy; /* S_bb, nats */
+    double entropy;      /* S_b, nats; NaN: no box (a side under box points) */
+    double boundary_entropy; /* S_bb, nats; NaN as S_b */
     int box;             /* boxes of box x box points for the entropies */
+    int boxes_x, boxes_y; /* whole boxes along each key: box * boxes_x of the nx
+                           * columns (box * boxes_y of the ny rows) are used, the
+                           * rest left out */
     long blown_up;
 };
 
 /* Reads a basin map's rows (fp after the column names) for description d,
  * clusters the settled cycles into attractors (same period and winding,
  * representative states within 2% of their scale) and computes basin
- * fractions, S_b and S_bb (Daza et al., Sci. Rep. 6, 31416 (2016), boxes of
- * 5 x 5 points). Returns 0, SP_E_NOMEM or SP_E_INPUT. */
+ * fractions, S_b and S_bb (Daza et al., Sci. Rep. 6, 31416 (2016), whole
+ * boxes of 5 x 5 points from the grid's first point; NaN for a grid under 5
+ * on a side). Returns 0, SP_E_NOMEM or SP_E_INPUT. */
 int sp_basins_read(FILE *fp, const struct sp_sweep_desc *d, struct sp_basin_map *map);
+
+/* How map's entropies were taken, for a legend or a message: "boxes of 5x5
+ * points", "...; the last 2 of 12 columns left out", or "none: the 40x4
+ * grid has no box ..." when it has none. */
+void sp_basins_box_text(const struct sp_basin_map *map, char *buf, size_t size);
 
 void sp_basins_free(struct sp_basin_map *map);
 

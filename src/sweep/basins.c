@@ -24,10 +24,13 @@
  * a chaotic attractor is reported as "undecided" rather than found.
  *
  * Basin entropy (Daza, Wagemakers, Georgeot, Guery-Odelin and Sanjuan, Sci.
- * Rep. 6, 31416 (2016)): the map is cut into boxes of 5 x 5 points; box i
- * with outcome fractions p_ij has S_i = -sum_j p_ij ln p_ij; S_b is the mean
- * of S_i over all boxes, S_bb over the boxes with S_i > 0 (on a boundary).
- * Undecided counts as an outcome; blown-up points are left out. */
+ * Rep. 6, 31416 (2016)): the map is cut into boxes of 5 x 5 points from its
+ * first point (the last nx % 5 columns and ny % 5 rows, which make no whole
+ * box, are left out, as in Attractors.jl's basin_entropy; a grid under 5 on
+ * a side has no entropies); box i with outcome fractions p_ij has S_i =
+ * -sum_j p_ij ln p_ij; S_b is the mean of S_i over all boxes, S_bb over the
+ * boxes with more than one outcome (on a boundary). Undecided counts as an
+ * outcome; blown-up points are left out. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -342,17 +345,17 @@ int sp_basins_read(FILE *fp, const struct sp_sweep_desc *d, struct sp_basin_map 
     for (long p = 0; p < n; p++)
         if (map->label[p] >= 0)
             map->label[p] = inv[map->label[p]];
-    /* the entropies over boxes of BOX x BOX points */
+    /* the entropies over boxes of BOX x BOX points (Daza et al.; as
+     * Attractors.jl's basin_entropy): whole boxes from the grid's first
+     * point, the last nx % BOX columns and ny % BOX rows left out; a grid
+     * under BOX on a side has no box, and no entropies (NaN) */
     int bx = map->nx / BOX, by = map->ny / BOX, boundary = 0, boxes = 0;
     double total = 0;
-    if (bx == 0 || by == 0) /* a grid smaller than a box: one box, the whole */
-        bx = by = 1;
-    int wx = map->nx / bx, wy = map->ny / by;
     for (int j = 0; j < by; j++)
         for (int i = 0; i < bx; i++) {
             long cnt[SP_BASINS_MAX_ATTRACTORS] = {0}, all = 0;
-            for (int y = j * wy; y < (j + 1) * wy; y++)
-                for (int x = i * wx; x < (i + 1) * wx; x++) {
+            for (int y = j * BOX; y < (j + 1) * BOX; y++)
+                for (int x = i * BOX; x < (i + 1) * BOX; x++) {
                     int a = map->label[(long)y * map->nx + x];
                     if (a >= 0)
                         cnt[a]++, all++;
@@ -360,18 +363,36 @@ int sp_basins_read(FILE *fp, const struct sp_sweep_desc *d, struct sp_basin_map 
             if (!all)
                 continue;
             double s = 0;
+            int kinds = 0;
             for (int a = 0; a < map->n_attractors; a++)
                 if (cnt[a])
-                    s -= (double)cnt[a] / all * log((double)cnt[a] / all);
+                    s -= (double)cnt[a] / all * log((double)cnt[a] / all), kinds++;
             total += s;
             boxes++;
-            if (s > 0)
+            if (kinds > 1)
                 boundary++;
         }
-    map->box = wx;
+    map->boxes_x = bx, map->boxes_y = by;
     map->entropy = boxes ? total / boxes : NAN;
-    map->boundary_entropy = boundary ? total / boundary : 0;
+    map->boundary_entropy = !boxes ? NAN : boundary ? total / boundary : 0;
     return 0;
+}
+
+void sp_basins_box_text(const struct sp_basin_map *map, char *buf, size_t size)
+{
+    if (map->boxes_x == 0 || map->boxes_y == 0) {
+        snprintf(buf, size, "none: the %dx%d grid has no box of %dx%d points (--vary COUNT "
+                 "%d or more on each key)", map->nx, map->ny, map->box, map->box, map->box);
+        return;
+    }
+    const int lx = map->nx - map->box * map->boxes_x, ly = map->ny - map->box * map->boxes_y;
+    char cols[64] = "", rows[64] = "";
+    if (lx) /* the first key's values are the map's columns */
+        snprintf(cols, sizeof(cols), "the last %d of %d columns", lx, map->nx);
+    if (ly)
+        snprintf(rows, sizeof(rows), "the last %d of %d rows", ly, map->ny);
+    snprintf(buf, size, "boxes of %dx%d points%s%s%s%s%s", map->box, map->box,
+             lx || ly ? "; " : "", cols, lx && ly ? " and " : "", rows, lx || ly ? " left out" : "");
 }
 
 void sp_basins_free(struct sp_basin_map *map)

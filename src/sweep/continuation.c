@@ -7,7 +7,8 @@
  * the largest |theta| (or r) over the period that ends there, from the state
  * at every step of dt and at the sample itself (error ~ theta'' dt^2 / 8).
  *
- * Continuation: a branch walks the grid's values in order; each value starts
+ * Continuation: a branch walks the grid's values in order (up: increasing,
+ * down: decreasing, whichever way the range was given); each value starts
  * from the relative state (position and velocity relative to the pivot) that
  * the previous value's run had at its last whole drive period, so the drive's
  * phase (0 at t = 0) matches. */
@@ -166,7 +167,9 @@ int sp_orbit_continue(const struct sp_sweep_desc *d, const struct sp_scene *base
         struct sp_scene carried = *base;
         int have = 0;
         for (long j = 0; j < N && !ret; j++) {
-            long p = br ? N - 1 - j : j;
+            /* up: in increasing values of the key, whichever way --vary
+             * gave its range (FROM > TO lists them from the top) */
+            long p = (br != 0) != (d->axis[0].to < d->axis[0].from) ? N - 1 - j : j;
             struct sp_scene sc;
             const struct sp_scene *ptr = &sc;
             struct sp_batch *b;
@@ -186,13 +189,16 @@ int sp_orbit_continue(const struct sp_sweep_desc *d, const struct sp_scene *base
             sp_batch_destroy(&b);
         }
     }
-    for (long q = 0; q < N; q++)
+    for (long q = 0; q < N; q++) {
+        long dead = 0; /* the point's branches that blew up: the point counts once */
         for (int br = 0; br < 2; br++) {
             if (!ret && (br ? down : up))
-                write_rows(fp, d, q, br ? -1 : 1, &runs[br][q], blown_up);
+                write_rows(fp, d, q, br ? -1 : 1, &runs[br][q], &dead);
             if (runs[br])
                 free(runs[br][q].s);
         }
+        *blown_up += dead > 0;
+    }
     free(runs[0]), free(runs[1]);
     if (ret == SP_E_NOMEM)
         sp_log_error("out of memory for a continued orbit diagram");

@@ -39,6 +39,19 @@ static const char *const method_names[] = {"rk4", "verlet", "yoshida4", "dopri5"
 
 /* ---- the grid and its description ---------------------------------------- */
 
+void sp_sweep_method_text(const struct sp_sweep_desc *d, char *buf, size_t size)
+{
+    const int dopri5 = !strcmp(d->method, "dopri5");
+    if (dopri5 || !strcmp(d->method, "dop853")) {
+        char tol[48] = " at its tolerance"; /* an older CSV: not recorded */
+        if (d->tolerance > 0)
+            snprintf(tol, sizeof(tol), " at tolerance %g", d->tolerance);
+        snprintf(buf, size, "DOP853%s%s", tol, dopri5 ? " (dopri5 runs as DOP853)" : "");
+    } else {
+        snprintf(buf, size, "%s at dt = %g s", d->method, d->dt);
+    }
+}
+
 long sp_sweep_points(const struct sp_sweep_desc *d)
 {
     long n = 1;
@@ -143,6 +156,8 @@ int sp_sweep_write_header(FILE *fp, const struct sp_sweep_desc *d, const char *b
             "energy=%.17g driven=%d method=%s dt=%.17g theme=%d colormap=%d",
             d->scene, measure_names[d->measure], d->time, d->transient, d->energy, d->driven,
             d->method, d->dt, d->theme, d->colormap);
+    if (d->tolerance > 0) /* adaptive: what decided the steps (older sweeps' bytes stay) */
+        fprintf(fp, " tolerance=%.17g", d->tolerance);
     if (d->cont) /* only when asked for: older sweeps' bytes stay as they were */
         fprintf(fp, " continue=%s", continue_names[d->cont]);
     if (d->peak)
@@ -207,6 +222,11 @@ int sp_sweep_parse_header(const char *line, struct sp_sweep_desc *d)
             snprintf(d->method, sizeof(d->method), "%s", v);
         else if (!strcmp(w, "dt"))
             d->dt = strtod(v, NULL);
+        else if (!strcmp(w, "tolerance")) {
+            d->tolerance = strtod(v, NULL);
+            if (!(d->tolerance > 0 && d->tolerance < 1))
+                return SP_E_INPUT;
+        }
         else if (!strcmp(w, "theme"))
             d->theme = atoi(v);
         else if (!strcmp(w, "colormap"))
@@ -490,8 +510,10 @@ static int check_axis(const struct sp_sweep_desc *d, const struct sp_scene *base
         }
     for (int end = 0; end < 2; end++) {
         struct sp_scene s = *base;
-        char origin[96];
-        snprintf(origin, sizeof(origin), "--vary %s", k);
+        char origin[192]; /* as sp_log_error's messages, the option and the end named */
+        snprintf(origin, sizeof(origin), "springpend: --vary %s=%.9g:%.9g:%d (%s %.9g)", k,
+                 d->axis[a].from, d->axis[a].to, d->axis[a].count, end ? "TO" : "FROM",
+                 end ? d->axis[a].to : d->axis[a].from);
         if (sp_scene_set_number(&s, k, end ? d->axis[a].to : d->axis[a].from, origin))
             return SP_E_INPUT;
     }
@@ -578,11 +600,61 @@ static int check_renormalisation(const struct sp_sweep_desc *d, const struct sp_
     return 0;
 }
 
+/* On the vertical as the scene check has it (scene.c): within 1e-9 degrees
+ * of a multiple of 180. */
+static int on_vertical(double degrees)
+{
+    const double v = fmod(fabs(degrees), 180);
+    return !(v > 1e-9 && v < 180 - 1e-9);
+}
+
+/* A grid point inside the range that the scene check refuses though both
+ * ends pass (check_axis): a 3-D start on the vertical, where the azimuth
+ * rate has nothing to turn (initial.angle=-5:5:3 has 0 in the middle;
+ * attack13 #27). The point's angle depends on its angle axis alone and its
+ * rate on its rate axis alone, so one look along each finds it. 0, or
+ * SP_E_INPUT (said). */
+static int check_vertical_points(const struct sp_sweep_desc *d, const struct sp_scene *base)
+{
+    int ia = -1, ir = -1, idx[SP_SWEEP_MAX_AXES] = {0};
+    for (int a = 0; a < d->n_axes; a++) {
+        ia = !strcmp(d->axis[a].key, "initial.angle") ? a : ia;
+        ir = !strcmp(d->axis[a].key, "initial.azimuth_rate") ? a : ir;
+    }
+    double angle = base->initial.angle * 180 / M_PI, rate = base->initial.azimuth_rate;
+    int found = 0;
+    for (int i = 0; ia >= 0 && i < d->axis[ia].count && !found; i++)
+        if (on_vertical(sp_sweep_axis_value(&d->axis[ia], i)))
+            found = 1, idx[ia] = i, angle = sp_sweep_axis_value(&d->axis[ia], i);
+    if (ia >= 0 ? !found : !on_vertical(angle))
+        return 0;
+    found = 0;
+    for (int j = 0; ir >= 0 && j < d->axis[ir].count && !found; j++)
+        if (sp_sweep_axis_value(&d->axis[ir], j) != 0)
+            found = 1, idx[ir] = j, rate = sp_sweep_axis_value(&d->axis[ir], j);
+    if (ir >= 0 ? !found : rate == 0)
+        return 0;
+    const int a = ia >= 0 ? ia : ir; /* the axis that brings it in */
+    const struct sp_sweep_axis *x = &d->axis[a];
+    sp_log_error("--vary %s=%.9g:%.9g:%d: point %ld has initial.angle = %g degrees, on the "
+                 "vertical, with initial.azimuth_rate = %g rad/s, which has nothing to turn "
+                 "there (the scene check refuses such a start); allowed: a grid whose "
+                 "initial.angle values miss 0 and 180 degrees (e.g. an even COUNT over a range "
+                 "symmetric about 0), or initial.azimuth_rate = 0 there", x->key, x->from,
+                 x->to, x->count, (long)idx[0] + (d->n_axes > 1 ? (long)idx[1] * d->axis[0].count : 0),
+                 angle + 0.0, rate);
+    return SP_E_INPUT;
+}
+
 int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int energy_given)
 {
     header_name(d->scene, sizeof(d->scene), base->name);
     snprintf(d->method, sizeof(d->method), "%s", method_names[base->integrator.method]);
     d->dt = base->integrator.dt;
+    d->tolerance = base->integrator.method == SP_METHOD_DOPRI5 ||
+                           base->integrator.method == SP_METHOD_DOP853
+                       ? base->integrator.tolerance
+                       : 0;
     d->theme = base->view.theme;
     d->colormap = base->view.colormap;
     if (base->integrator.method == SP_METHOD_RKN1210) {
@@ -596,6 +668,8 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
             return SP_E_INPUT;
         varies_frequency |= !strcmp(d->axis[a].key, "pivot.frequency");
     }
+    if (check_vertical_points(d, base))
+        return SP_E_INPUT;
     if (sp_sweep_points(d) > SP_SWEEP_MAX_POINTS) {
         sp_log_error("--vary: %ld grid points; at most %ld (the figure keeps two numbers "
                      "per point); split the range over several sweeps", sp_sweep_points(d),
@@ -611,6 +685,27 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
         sp_log_error("--continue and --peak belong to orbit diagrams of a driven scene "
                      "(--measure orbit, pivot.frequency > 0)");
         return SP_E_INPUT;
+    }
+    /* continuation carries each value's final state to the next: a key of
+     * [initial] would be overwritten by it (attack13 #3) */
+    if (d->cont && !strncmp(d->axis[0].key, "initial.", 8)) {
+        sp_log_error("--continue %s: continuation follows a parameter; %s is the start, which "
+                     "each value takes from the last one's final state; allowed: vary a "
+                     "[pendulum] or [pivot] key (pivot.amplitude, pivot.frequency, "
+                     "pendulum.stiffness, ...)", continue_names[d->cont], d->axis[0].key);
+        return SP_E_INPUT;
+    }
+    /* an orbit diagram of a driven scene samples at t = k/f: a point of 0 Hz
+     * has no such time (attack13 #13; basins refuses it too) */
+    if (d->measure == SP_MEASURE_ORBIT && varies_frequency) {
+        const struct sp_sweep_axis *x = &d->axis[0];
+        if (!(x->from > 0 && x->to > 0)) {
+            sp_log_error("--vary pivot.frequency=%g:%g:%d: an orbit diagram over the drive's "
+                         "frequency samples theta at t = k/f, and %g Hz has no drive period; "
+                         "allowed: FROM > 0 and TO > 0", x->from, x->to, x->count,
+                         x->from > 0 ? x->to : x->from);
+            return SP_E_INPUT;
+        }
     }
     if (d->measure == SP_MEASURE_BASINS && check_basins(d, base))
         return SP_E_INPUT;

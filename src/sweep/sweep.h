@@ -81,6 +81,9 @@ struct sp_sweep_desc {
     int driven;                  /* orbit: 1 stroboscopic (drive period), 0 Poincare crossings */
     char method[16];             /* the integrator's name */
     double dt;                   /* its step, s (fixed-step methods) */
+    double tolerance;            /* dopri5 and dop853 (run as DOP853): integrator.tolerance
+                                  * (header word tolerance=, written when > 0; 0 in a
+                                  * sweep of a fixed-step method or an older CSV) */
     int theme, colormap;         /* the scene's look, for the figure */
     enum sp_continue cont;       /* orbit: continuation (header word continue=) */
     int peak;                    /* orbit: 0, or SP_PEAK_THETA / SP_PEAK_R: also the
@@ -106,6 +109,10 @@ void sp_sweep_point_index(const struct sp_sweep_desc *d, long p, int idx[SP_SWEE
 
 /* The value of axis a at index i, in file units. */
 double sp_sweep_axis_value(const struct sp_sweep_axis *a, int i);
+
+/* How d's points were integrated, for a figure or a message: "rk4 at dt =
+ * 0.001 s", "DOP853 at tolerance 1e-06" (dopri5: "... (dopri5 runs as DOP853)"). */
+void sp_sweep_method_text(const struct sp_sweep_desc *d, char *buf, size_t size);
 
 /* Grid points in all. */
 long sp_sweep_points(const struct sp_sweep_desc *d);

@@ -89,8 +89,10 @@ static void basins_json(FILE *out, FILE *rows, long at, const struct sp_sweep_de
     fputs("\n  ],\n  \"labels\": [", out); /* each point's attractor, -1: blown up */
     for (long p = 0; p < (long)map.nx * map.ny; p++)
         fprintf(out, "%s%d", p ? (p % map.nx ? ", " : ",\n    ") : "\n    ", map.label[p]);
-    fprintf(out, "\n  ],\n  \"blown_up\": %ld,\n  \"entropy_box\": %d,\n  \"basin_entropy\": ",
-            map.blown_up, map.box);
+    /* entropy_boxes: whole 5x5 boxes along each key (the rest of the grid
+     * left out); basin_entropy null when there is none */
+    fprintf(out, "\n  ],\n  \"blown_up\": %ld,\n  \"entropy_box\": %d,\n  \"entropy_boxes\": "
+            "[%d, %d],\n  \"basin_entropy\": ", map.blown_up, map.box, map.boxes_x, map.boxes_y);
     json_number(out, map.entropy);
     fputs(",\n  \"boundary_basin_entropy\": ", out);
     json_number(out, map.boundary_entropy);
@@ -186,7 +188,12 @@ void sp_sweep_print_legend(FILE *rows, FILE *out)
     for (int a = 0; a < map.n_attractors; a++)
         fprintf(out, "attractor %d: %s: %.2f%% of the map\n", a, map.att[a].label,
                 all ? 100.0 * map.att[a].count / all : 0.0);
-    fprintf(out, "basin entropy S_b = %.4f, boundary basin entropy S_bb = %.4f (nats, boxes "
-            "of %dx%d points)\n", map.entropy, map.boundary_entropy, map.box, map.box);
+    char how[200];
+    sp_basins_box_text(&map, how, sizeof(how));
+    if (isfinite(map.entropy))
+        fprintf(out, "basin entropy S_b = %.4f, boundary basin entropy S_bb = %.4f (nats, %s)\n",
+                map.entropy, map.boundary_entropy, how);
+    else
+        fprintf(out, "basin entropy S_b, boundary basin entropy S_bb: %s\n", how);
     sp_basins_free(&map);
 }

@@ -205,6 +205,31 @@ static void fix_key_range(double *lo, double *hi)
         fix_range(lo, hi);
 }
 
+/* A swept key's range, low to high: a --vary written from high to low
+ * (KEY=170:10:5) is drawn as any other, ascending, each point at its value
+ * (the CSV keeps the order it was given). */
+static void key_span(const struct sp_sweep_axis *a, double *lo, double *hi)
+{
+    *lo = fmin(a->from, a->to), *hi = fmax(a->from, a->to);
+}
+
+/* A map's range along a key: key_span and half a step beyond each end, the
+ * cells centred on the grid values. */
+static void key_cells(const struct sp_sweep_axis *a, double *lo, double *hi)
+{
+    const double step = a->count > 1 ? fabs(a->to - a->from) / (a->count - 1) : 1;
+    key_span(a, lo, hi);
+    *lo -= step / 2, *hi += step / 2;
+}
+
+/* The cell, of n in a map drawn ascending (left to right, bottom to top),
+ * that holds index i of the key (of n too): the same, or mirrored for a key
+ * given from high to low. */
+static long key_cell(const struct sp_sweep_axis *a, long i, long n)
+{
+    return a->to < a->from ? n - 1 - i : i;
+}
+
 /* The size text is drawn at from now on, pt. */
 static void font_pt(double pt)
 {
@@ -582,8 +607,10 @@ static void draw_title(const struct sp_sweep_desc *d, const struct sp_palette *p
         snprintf(sampled, sizeof(sampled), "Benettin, QR (modified Gram-Schmidt) every τ ≈ 1 s; ");
     else if (d->measure == SP_MEASURE_BASINS)
         snprintf(sampled, sizeof(sampled), "stroboscopic map (t = k/f) settled by recurrence; ");
-    snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s at dt = %g s", sampled, energy, d->time,
-             transient, d->method, d->dt);
+    char method[96];
+    sp_sweep_method_text(d, method, sizeof(method));
+    snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s", sampled, energy, d->time, transient,
+             method);
     sp_axis_minus(buf, sizeof(buf)); /* a negative energy: −0.5 J */
     text_at(80, 34 + title_extra(), buf, 0, 0);
 }
@@ -801,7 +828,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
     char xl[96], yl[96];
     key_label(xl, sizeof(xl), ax->key);
     if (d->n_axes == 1) {
-        struct frame f = {80, 56, W - 110, H - 116, ax->from, ax->to, lo, hi + 0.05 * (hi - lo)};
+        struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo, hi + 0.05 * (hi - lo)};
+        key_span(ax, &f.xlo, &f.xhi);
         fix_key_range(&f.xlo, &f.xhi);
         title(d, look->title, look->short_title);
         place(&f, 30, U(18), 0);
@@ -830,10 +858,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
         free(cv.p);
     } else {
         /* cells centred on the grid values */
-        double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
-        double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
-        struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
-                          ay->from - dy / 2, ay->to + dy / 2};
+        struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
+        key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
         title(d, look->title, look->short_title);
         place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
         draw_title(d, pal, &f);
@@ -862,7 +888,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
                 float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
                 if (got)
                     colormap_rgb(d, (sum / (double)got - lo) / (hi - lo), rgb);
-                put_rgb(data + 4 * ((size_t)(ih - 1 - j) * (size_t)iw + (size_t)i), rgb);
+                put_rgb(data + 4 * ((size_t)(ih - 1 - key_cell(ay, j, ih)) * (size_t)iw +
+                                    (size_t)key_cell(ax, i, iw)), rgb);
             }
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(&f, pal, xl, yl);
@@ -924,6 +951,38 @@ static void orbit_legend(const struct sp_sweep_desc *d, const struct sp_palette 
     }
 }
 
+/* Which colour of a Poincare mosaic is which start: at a printed size a
+ * colour bar right of the plot f over the first key's values (low to high,
+ * the colours reversed with a falling range), else a small gradient from
+ * FROM to TO at the top right. */
+static void poincare_key(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                         const struct frame *pf, const char *xl)
+{
+    if (G.print) {
+        double lo, hi;
+        key_span(&d->axis[0], &lo, &hi);
+        fix_key_range(&lo, &hi);
+        const int falling = d->axis[0].to < d->axis[0].from; /* the first orbit's colour at FROM */
+        draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, pf, falling ? 0.95 : 0.1, falling ? 0.1 : 0.95);
+        return;
+    }
+    const double x0 = W - 250, y0 = 22, w = 150;
+    colormap_strip(d, x0, y0, w, 10, 0, 0.1, 0.95);
+    char buf[64];
+    font_pt(11);
+    set_rgba(pal->muted);
+    snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
+    sp_axis_minus(buf, sizeof(buf));
+    text_at(x0 - 5, y0 + 5, buf, 1, 0.5);
+    snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
+    sp_axis_minus(buf, sizeof(buf));
+    text_at(x0 + w + 5, y0 + 5, buf, 0, 0.5);
+    if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
+        label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
+                   "over the colour gradient at the top right");
+    text_at(x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
+}
+
 /* Orbit diagram and Poincare mosaic: two passes over the rows, for the range
  * and for the dots. */
 static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
@@ -948,7 +1007,7 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
         dots++;
     }
     if (orbit)
-        xlo = d->axis[0].from, xhi = d->axis[0].to;
+        key_span(&d->axis[0], &xlo, &xhi);
     if (orbit) /* the key's range */
         fix_key_range(&xlo, &xhi);
     else
@@ -962,7 +1021,9 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
                                                : "orbit diagram at the Poincaré crossings")
                                  : "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit",
                orbit ? "orbit diagram" : "Poincaré sections");
-    place(&f, 30, orbit ? U(18) : colorbar_room(d->axis[0].from, d->axis[0].to),
+    double klo, khi; /* the first key's values, low to high */
+    key_span(&d->axis[0], &klo, &khi);
+    place(&f, 30, orbit ? U(18) : colorbar_room(klo, khi),
           orbit ? 0 : BAR_GAP);
     draw_title(d, pal, &f);
     draw_axes(&f, pal, orbit ? xl : "r (m)",
@@ -1001,28 +1062,8 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
     clip_to(NULL);
     if (ext && !G.v->legend) /* over the dots */
         orbit_legend(d, pal, &f);
-    if (!orbit && G.print) { /* which colour is which start: a colour bar */
-        double lo = d->axis[0].from, hi = d->axis[0].to;
-        fix_key_range(&lo, &hi);
-        draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, &f, 0.1, 0.95);
-    } else if (!orbit) {
-        /* which colour is which start: a small gradient over the first key */
-        const double x0 = W - 250, y0 = 22, w = 150;
-        colormap_strip(d, x0, y0, w, 10, 0, 0.1, 0.95);
-        char buf[64];
-        font_pt(11);
-        set_rgba(pal->muted);
-        snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
-        sp_axis_minus(buf, sizeof(buf));
-        text_at(x0 - 5, y0 + 5, buf, 1, 0.5);
-        snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
-        sp_axis_minus(buf, sizeof(buf));
-        text_at(x0 + w + 5, y0 + 5, buf, 0, 0.5);
-        if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
-            label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
-                       "over the colour gradient at the top right");
-        text_at(x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
-    }
+    if (!orbit)
+        poincare_key(d, pal, &f, xl);
     return 0;
 }
 
@@ -1073,10 +1114,8 @@ static int draw_spectrum_map(const struct sp_sweep_desc *d, const struct sp_pale
 {
     const struct sp_sweep_axis *ax = &d->axis[0], *ay = &d->axis[1];
     const double lo = s->lo, hi = s->hi;
-    double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
-    double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
-    struct frame f = {80, 56, W - 200, H - 116, ax->from - dx / 2, ax->to + dx / 2,
-                      ay->from - dy / 2, ay->to + dy / 2};
+    struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
+    key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
     char yl[96];
     title(d, "Lyapunov spectrum", "Lyapunov spectrum");
     place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
@@ -1093,7 +1132,8 @@ static int draw_spectrum_map(const struct sp_sweep_desc *d, const struct sp_pale
         float rgb[3] = {pal->muted[0] * 0.5f, pal->muted[1] * 0.5f, pal->muted[2] * 0.5f};
         if (isfinite(s->y[i][0]))
             colormap_rgb(d, (s->y[i][0] - lo) / (hi - lo), rgb);
-        put_rgb(img + 4 * ((size_t)(ay->count - 1 - idx[1]) * (size_t)ax->count + (size_t)idx[0]),
+        put_rgb(img + 4 * ((size_t)(ay->count - 1 - key_cell(ay, idx[1], ay->count)) *
+                               (size_t)ax->count + (size_t)key_cell(ax, idx[0], ax->count)),
                 rgb);
     }
     key_label(yl, sizeof(yl), ay->key);
@@ -1128,7 +1168,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         f.xlo = log10(x[0] > 0 ? x[0] : 1);
         f.xhi = log10(m ? fmax(x[m - 1], x[0] * 10) : 10);
     } else {
-        f.xlo = d->axis[0].from, f.xhi = d->axis[0].to;
+        key_span(&d->axis[0], &f.xlo, &f.xhi);
     }
     fix_key_range(&f.xlo, &f.xhi);
     title(d, conv ? "Lyapunov spectrum: running values against T"
@@ -1186,6 +1226,42 @@ nomem:
 
 /* ---- basins of attraction ---- */
 
+/* The basin legend's entropies at (lx, ly) pt: S_b and S_bb, their boxes,
+ * what no whole box holds (or that there is none). Returns ly moved down
+ * by the extra line when there is one. */
+static double entropy_legend(const struct sp_basin_map *map, const struct sp_palette *pal,
+                             double lx, double ly)
+{
+    char buf[200];
+    set_rgba(pal->text);
+    font_pt(U(12));
+    const int cut_x = map->nx - map->box * map->boxes_x, cut_y = map->ny - map->box * map->boxes_y;
+    if (isfinite(map->entropy))
+        snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map->entropy, map->boundary_entropy);
+    else
+        snprintf(buf, sizeof(buf), "S_b, S_bb: none");
+    text_at(lx, ly + U(8), buf, 0, 0);
+    set_rgba(pal->muted);
+    font_pt(U(10));
+    if (isfinite(map->entropy))
+        snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map->box, map->box);
+    else
+        snprintf(buf, sizeof(buf), "the %dx%d grid has no %dx%d box", map->nx, map->ny, map->box,
+                 map->box);
+    text_at(lx, ly + U(26), buf, 0, 0);
+    if (isfinite(map->entropy) && (cut_x || cut_y)) { /* what no whole box holds */
+        char cols[48] = "", rows[48] = "";
+        if (cut_x)
+            snprintf(cols, sizeof(cols), "last %d column%s", cut_x, cut_x > 1 ? "s" : "");
+        if (cut_y)
+            snprintf(rows, sizeof(rows), "last %d row%s", cut_y, cut_y > 1 ? "s" : "");
+        snprintf(buf, sizeof(buf), "(%s%s%s left out)", cols, cut_x && cut_y ? ", " : "", rows);
+        ly += U(16);
+        text_at(lx, ly + U(26), buf, 0, 0);
+    }
+    return ly;
+}
+
 /* The map, one colour per attractor (the colormap's spread for periodic
  * ones, grey for undecided), and the legend with each basin's fraction. */
 static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
@@ -1214,10 +1290,8 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
     char xl[96], yl[96], buf[200];
     key_label(xl, sizeof(xl), ax->key);
     key_label(yl, sizeof(yl), ay->key);
-    double dx = ax->count > 1 ? (ax->to - ax->from) / (ax->count - 1) : 1;
-    double dy = ay->count > 1 ? (ay->to - ay->from) / (ay->count - 1) : 1;
-    struct frame f = {80, 56, W - 380, H - 116, ax->from - dx / 2, ax->to + dx / 2,
-                      ay->from - dy / 2, ay->to + dy / 2};
+    struct frame f = {80, 56, W - 380, H - 116, 0, 1, 0, 1};
+    key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
     title(d, "basins of attraction", "basins of attraction");
     place(&f, 300, U(300), U(20)); /* the legend U(20) right of the plot */
     draw_title(d, pal, &f);
@@ -1234,7 +1308,8 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
         int idx[SP_SWEEP_MAX_AXES], a = map.label[p];
         sp_sweep_point_index(d, p, idx);
         static const float black[3] = {0, 0, 0};
-        put_rgb(data + 4 * ((size_t)(ay->count - 1 - idx[1]) * (size_t)ax->count + (size_t)idx[0]),
+        put_rgb(data + 4 * ((size_t)(ay->count - 1 - key_cell(ay, idx[1], ay->count)) *
+                                (size_t)ax->count + (size_t)key_cell(ax, idx[0], ax->count)),
                 a >= 0 ? rgb[a] : black);
     }
     draw_axes(&f, pal, xl, yl);
@@ -1263,14 +1338,7 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
             text_at(lx + U(20), ly, buf, 0, 0);
         }
     }
-    set_rgba(pal->text);
-    font_pt(U(12));
-    snprintf(buf, sizeof(buf), "S_b = %.3f, S_bb = %.3f", map.entropy, map.boundary_entropy);
-    text_at(lx, ly + U(8), buf, 0, 0);
-    set_rgba(pal->muted);
-    font_pt(U(10));
-    snprintf(buf, sizeof(buf), "basin entropies, nats, %dx%d boxes", map.box, map.box);
-    text_at(lx, ly + U(26), buf, 0, 0);
+    ly = entropy_legend(&map, pal, lx, ly);
     if (map.blown_up) {
         snprintf(buf, sizeof(buf), "%ld blown up (black)", map.blown_up);
         text_at(lx, ly + U(42), buf, 0, 0);

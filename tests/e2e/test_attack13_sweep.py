@@ -169,9 +169,9 @@ for what, args in [
         ("data chaotic.ini --set initial.azimuth_rate=1",
          ["data", chaotic, "--set", "initial.azimuth_rate=1", "--set", "video.duration=0.5",
           "-o", "d3.csv", "-q"]),
-        ("data with view.vectors and a 3-D scene",
-         ["data", default, "--set", "initial.azimuth_rate=1", "--set", "view.vectors=velocity",
-          "--set", "video.duration=0.5", "-o", "d4.csv", "-q"]),
+        # (data refuses a --set of a [view] key it does not read: test attack13-lead)
+        ("info with view.vectors and a 3-D scene",
+         ["info", default, "--set", "initial.azimuth_rate=1", "--set", "view.vectors=velocity"]),
         ("info chaotic.ini --set initial.azimuth_rate=1",
          ["info", chaotic, "--set", "initial.azimuth_rate=1"])]:
     r = run(*args, timeout=120)

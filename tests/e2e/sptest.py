@@ -10,8 +10,21 @@ script's own folder first on sys.path, so each test imports this with
 `from sptest import ...`."""
 import math
 import os
+import signal
 import subprocess
 import sys
+
+# A suite started in the background of a non-interactive shell (`sh -c
+# 'meson test &'`, a CI step run that way) inherits SIGINT and SIGQUIT
+# ignored, and springpend rightly keeps an inherited ignored signal
+# ignored (signals.c), so a test that sends one would wait for a run that
+# never stops. The binaries under test start with every stop signal at its
+# default; a test that wants one ignored (nohup) says so itself.
+for _sig in (signal.SIGINT, signal.SIGQUIT, signal.SIGHUP, signal.SIGTERM, signal.SIGUSR1,
+             signal.SIGUSR2, signal.SIGALRM, signal.SIGVTALRM, signal.SIGXCPU, signal.SIGPWR,
+             signal.SIGPROF, signal.SIGIO, *range(signal.SIGRTMIN, signal.SIGRTMAX + 1)):
+    if signal.getsignal(_sig) == signal.SIG_IGN:
+        signal.signal(_sig, signal.SIG_DFL)
 
 _count = _failed = 0
 

@@ -78,8 +78,9 @@ void sp_video_reader_destroy(struct sp_video_reader **r);
  * the file is read in earnest (which then says what is wrong with it).
  * Only a regular file is opened. 0, or SP_E_INPUT (*width = *height = 0),
  * also for a size beyond SP_VIDEO_MAX_PIXELS, which the reader refuses
- * unread. */
-int sp_video_frame_size(const char *path, int *width, int *height);
+ * unread. *alpha: 1 when its frames carry an alpha the reader decodes too
+ * (a WebM's VP9 with AlphaMode 1: a second decoder), else 0. */
+int sp_video_frame_size(const char *path, int *width, int *height, int *alpha);
 
 /* The container tag key of the video at path (springpend writes its PNG
  * text chunks there too: provenance.h) into buf. Returns 1 when found, 0

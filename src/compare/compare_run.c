@@ -1144,6 +1144,12 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
  * rest is headroom). */
 #define VIDEO_THREAD_BYTES_PER_PX 24.0
 
+/* What a video pair holds besides, when a file's frames carry an alpha the
+ * reader decodes (a transparent WebM: two more VP9 decoders, one a side),
+ * bytes per pixel of a frame (measured 13 at 1920x1080: 118.6 MB peak for
+ * a transparent WebM against itself, 91.3 MB for the opaque one). */
+#define VIDEO_ALPHA_BYTES_PER_PX 16.0
+
 /* What a thread costs besides its images, bytes, as the limit that decides
  * counts it (`what`, memory_limit.h): its stack (ulimit -s; glibc's 2 MiB
  * when unlimited) under ulimit -v or -d, which count mappings, and under
@@ -1202,7 +1208,7 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
             continue;
         for (int side = 0; side < 2; side++) {
             struct sp_png_info info;
-            int w = 0, h = 0;
+            int w = 0, h = 0, alpha = 0;
             if (snprintf(p, sizeof(p), "%s/%s", side ? dir_a : dir_e,
                          side || l->items[i].expected ? l->items[i].name
                                                       : l->items[i].alts[0]) >= (int)sizeof(p))
@@ -1214,10 +1220,11 @@ static int jobs_for_memory(const struct compare_run *c, const struct sp_snapshot
                 (double)info.width * info.height <= (double)SP_PNG_MAX_PIXELS)
                 w = info.width, h = info.height;
             else if (!png)
-                sp_video_frame_size(p, &w, &h);
+                sp_video_frame_size(p, &w, &h, &alpha);
             const double at = (double)w * h;
             const double need = png ? at * THREAD_BYTES_PER_PX
-                                    : at * VIDEO_THREAD_BYTES_PER_PX + base;
+                                    : at * (VIDEO_THREAD_BYTES_PER_PX +
+                                            (alpha ? VIDEO_ALPHA_BYTES_PER_PX : 0)) + base;
             if (need > item)
                 item = need;
             if (at > px)

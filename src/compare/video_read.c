@@ -979,14 +979,14 @@ void sp_video_reader_destroy(struct sp_video_reader **rp)
     *rp = NULL;
 }
 
-int sp_video_frame_size(const char *path, int *width, int *height)
+int sp_video_frame_size(const char *path, int *width, int *height, int *alpha)
 {
     AVFormatContext *fmt = NULL;
     struct stat st;
     char name[32];
     const char *why;
     int fd = sp_infile_try(path, &why), ret = SP_E_INPUT; /* a regular file only */
-    *width = *height = 0;
+    *width = *height = *alpha = 0;
     if (fd < 0)
         return SP_E_INPUT;
     if (fstat(fd, &st) == 0 &&
@@ -1001,6 +1001,10 @@ int sp_video_frame_size(const char *path, int *width, int *height)
             enum AVCodecID id;
             if (!header_check(fmt, &w, &h, &id) && w > 0)
                 *width = w, *height = h, ret = 0;
+            int mode = -1;
+            if (!ret && id == AV_CODEC_ID_VP9 && !strcmp(fmt->iformat->name, "matroska,webm"))
+                mkv_alpha_mode(fd, 0, st.st_size, 0, 0, &mode);
+            *alpha = mode > 0;
             avformat_close_input(&fmt);
         }
         av_quiet = 0;

@@ -64,10 +64,10 @@ int sp_video_read_text(const char *path, const char *key, char *buf, size_t size
     return fn ? fn(path, key, buf, size) : sp_av_module_error();
 }
 
-int sp_video_frame_size(const char *path, int *width, int *height)
+int sp_video_frame_size(const char *path, int *width, int *height, int *alpha)
 {
-    int (*fn)(const char *, int *, int *);
+    int (*fn)(const char *, int *, int *, int *);
     *(void **)&fn = sp_av_module_symbol("sp_video_frame_size");
-    *width = *height = 0;
-    return fn ? fn(path, width, height) : sp_av_module_error();
+    *width = *height = *alpha = 0;
+    return fn ? fn(path, width, height, alpha) : sp_av_module_error();
 }

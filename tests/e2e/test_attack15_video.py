@@ -27,7 +27,7 @@ sptest.need_scipy()  # numpy, with Debian's python3 if need be
 import numpy as np  # noqa: E402
 
 exe, src, work, run, path, scenes, sanitized = sptest.attack_setup("attack15-video")
-W, H, FRAMES, BLOCK, LEVELS = 320, 180, 30, 8, 16  # 0.5 s at 60 fps; the videos' default rule
+W, H, FRAMES, BLOCK, LEVELS = 320, 180, 15, 8, 16  # 0.25 s at 60 fps; the videos' default rule
 
 
 def ffmpeg(*args):
@@ -36,7 +36,7 @@ def ffmpeg(*args):
 
 
 def render(scene, out, *more):
-    r = run("render", os.path.join(scenes, scene), "--set", "video.duration=0.5", "--size",
+    r = run("render", os.path.join(scenes, scene), "--set", "video.duration=0.25", "--size",
             f"{W}x{H}", *more, "-o", path(out), "-q")
     return r.returncode == 0 and os.path.exists(path(out))
 

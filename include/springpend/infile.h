@@ -13,6 +13,9 @@
  *   reading through /proc/self/fd, so a path swapped meanwhile opens
  *   nothing else (without /proc: reopened by name, O_NONBLOCK, and
  *   compared);
+ * - a path under a folder compare walked is resolved beneath that folder
+ *   (sp_infile_confine): a file swapped for a link out of it after the
+ *   walk is refused, not read;
  * - a whole-file read stops when a signal that stops the run arrives
  *   (SP_E_INTERRUPTED, sp_infile_stop_on), rather than retrying the read;
  * - a whole-file read is bounded, so that a forged file cannot cost more

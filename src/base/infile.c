@@ -7,7 +7,9 @@
 #include <stdio.h>
 #include <string.h>
 #include <linux/magic.h>
-#include <linux/openat2.h>
+#if __has_include(<linux/openat2.h>)
+#include <linux/openat2.h> /* Linux 5.6 */
+#endif
 #include <sys/stat.h>
 #include <sys/statfs.h>
 #include <sys/syscall.h>
@@ -151,13 +153,18 @@ static int lies_in(int at, const char *path, const char *real)
  * ESCAPED (escaped_to and escaped_from say where). */
 static int open_beneath(const struct confined *c, const char *rel, const char *path)
 {
+#if defined(SYS_openat2) && defined(RESOLVE_BENEATH)
     struct open_how how = {.flags = O_PATH | O_CLOEXEC,
                            .resolve = RESOLVE_BENEATH | RESOLVE_NO_MAGICLINKS};
+#define OPEN_BENEATH(dir, rel) (int)syscall(SYS_openat2, dir, rel, &how, sizeof(how))
+#else /* headers before Linux 5.6: as a kernel without it */
+#define OPEN_BENEATH(dir, rel) ((void)(dir), (void)(rel), errno = ENOSYS, -1)
+#endif
     const int dir = c->fd >= 0 ? c->fd : open(c->dir, O_PATH | O_DIRECTORY | O_CLOEXEC);
     char *real = c->fd >= 0 ? c->real : dir >= 0 ? realpath(c->dir, NULL) : NULL;
     int at = -1;
     for (int k = 0; k < 16 && dir >= 0; k++) { /* EAGAIN: a rename meanwhile; again */
-        at = (int)syscall(SYS_openat2, dir, rel, &how, sizeof(how));
+        at = OPEN_BENEATH(dir, rel);
         if (at >= 0 || errno != EAGAIN)
             break;
     }

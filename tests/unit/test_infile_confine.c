@@ -15,7 +15,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
+#if __has_include(<linux/openat2.h>)
+#include <linux/openat2.h>
+#endif
 
 #include "springpend/common.h"
 #include "springpend/infile.h"
@@ -95,6 +99,20 @@ static int escapes(const char *path, const char *where, const char *dir)
            ret == SP_E_INPUT && !text[0] && !strcmp(said, want);
 }
 
+/* 1 when this kernel has openat2 (Linux 5.6) and lets this process call it. */
+static int openat2_works(void)
+{
+#if defined(SYS_openat2) && defined(RESOLVE_BENEATH)
+    struct open_how how = {.flags = O_PATH | O_CLOEXEC, .resolve = RESOLVE_BENEATH};
+    const int fd = (int)syscall(SYS_openat2, AT_FDCWD, ".", &how, sizeof(how));
+    if (fd >= 0)
+        close(fd);
+    return fd >= 0;
+#else
+    return 0;
+#endif
+}
+
 int main(void)
 {
     char real_top[4096], in[600];
@@ -146,8 +164,13 @@ int main(void)
     /* the folder itself swapped for a link to the folder above */
     rename(at("in"), at("in.old"));
     symlink(".", at("in"));
-    sp_tap_ok(reads(at("in/x.png"), "inside"), "the folder renamed, a link in its place: its "
-              "own x.png still read, through the descriptor taken when confined");
+    if (openat2_works())
+        sp_tap_ok(reads(at("in/x.png"), "inside"), "the folder renamed, a link in its place: "
+                  "its own x.png still read, through the descriptor taken when confined");
+    else /* opened by name, kept where it lies in the folder's real path */
+        sp_tap_ok(read_said(at("in/x.png"), text, sizeof(text), said, sizeof(said)) ==
+                      SP_E_INPUT && !text[0], "the folder renamed, a link in its place, no "
+                  "openat2 here: in/x.png (now top/x.png) not read");
     sp_tap_ok(read_said(at("in/out.png"), text, sizeof(text), said, sizeof(said)) ==
                   SP_E_INPUT && !text[0], "... and in/out.png (now top/out.png) not read");
     unlink(at("in"));

@@ -121,9 +121,8 @@ if kind == "man":
               ".SH EXIT STATUS", ".nf", roff(exit_status), ".fi",
               ".SH FILES", f".TP\n{roff(installed_scenes)}/", "The shipped scenes (INI text), to "
               "start from: default.ini, chaotic.ini, ... (scenes/ in the source).",
-              f".TP\n{roff(installed_docs)}/", "README.md, and doc/ with the guides: doc/scenes.md "
-              "(scene files), doc/outputs.md, doc/ci.md, doc/teaching.md, ... (the same in the "
-              "source).", ".SH SEE ALSO", ".nh",
+              f".TP\n{roff(installed_docs)}/", "README.md and the guides: scenes.md (scene "
+              "files), outputs.md, ci.md, teaching.md, ... (README.md and doc/ in the source).", ".SH SEE ALSO", ".nh",
               ",\n".join(f".BR springpend\\-{name} (1)" for name, _ in commands) + ",",
               ".BR ffmpeg (1)"]
     open(out, "w").write("\n".join(parts) + "\n")

@@ -100,8 +100,8 @@ if debs:
     shipped = sorted(f for f in os.listdir(os.path.join(root, "scenes")) if f.endswith(".ini"))
     guides = sorted(f for f in os.listdir(os.path.join(root, "doc")) if f.endswith(".md"))
     lost = [f for f in shipped if f"./usr/share/springpend/scenes/{f}\n" not in files]
-    lost += [f"{d}{f}" for d, f in [("", "README.md")] + [("doc/", g) for g in guides]
-             if not re.search(rf"\./usr/share/doc/springpend/{d}{re.escape(f)}(\.gz)?\n", files)]
+    lost += [f for f in ["README.md"] + guides
+             if not re.search(rf"\./usr/share/doc/springpend/{re.escape(f)}(\.gz)?\n", files)]
     ok(not lost, f"the package holds the {len(shipped)} scenes in /usr/share/springpend/scenes and "
        f"README.md and the {len(guides)} doc/*.md in /usr/share/doc/springpend (missing: {lost[:4]})")
     scenes = os.path.realpath(os.path.join(unpacked, "usr", "share", "springpend", "scenes"))

@@ -320,11 +320,15 @@ static void panel_refused(struct sp_canvas *c, const struct sp_rect *r, const st
     char what[256], rows[64] = "";
     if (leg_rows)
         snprintf(rows, sizeof(rows), " and its legend's %d row%s", leg_rows, leg_rows > 1 ? "s" : "");
+    /* the three parts of the height, each as printed, add up to it as printed */
+    const float h_said = roundf((r->y1 - r->y0) / pt * 10) / 10,
+                t_said = roundf((top - r->y0) / pt * 10) / 10,
+                b_said = roundf((r->y1 - bottom) / pt * 10) / 10;
     if (plot < min_plot)
-        snprintf(what, sizeof(what), "its title row%s take%s %.1f of its %.1f pt height, leaving "
-                 "%.1f pt for the plot under %s (at least %.0f pt)", rows, leg_rows ? "" : "s",
-                 (top - r->y0) / pt, (r->y1 - r->y0) / pt, fmaxf(plot, 0) / pt,
-                 leg_rows ? "them" : "it", min_plot / pt);
+        snprintf(what, sizeof(what), "of its %.1f pt height its title row%s take%s %.1f pt and "
+                 "the padding and ticks under the plot %.1f pt, leaving %.1f pt for the plot "
+                 "(at least %.0f pt)", h_said, rows, leg_rows ? "" : "s", t_said, b_said,
+                 roundf((h_said - t_said - b_said) * 10) / 10 + 0.0f, min_plot / pt);
     else
         snprintf(what, sizeof(what), "its %s is %.0f pt wide, and the panel has %.0f pt for it",
                  title_w > room_w ? "title" : "widest legend entry",

@@ -270,7 +270,9 @@ static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, 
 {
     const char *where = axis ? st->ylabel_where : st->xlabel_where;
     const char *key = axis ? "ylabel" : "xlabel";
-    const float ss = st->ss > 0 ? (float)st->ss : 1;
+    /* drawn px per output px, or per pt at a printed size: said in its unit */
+    const float ss = st->pt > 0 ? st->pt : st->ss > 0 ? (float)st->ss : 1;
+    const char *unit = st->pt > 0 ? "pt" : "px";
     char at[600];
     if (!where || !where[0])
         snprintf(at, sizeof(at), "[view] %s", key);
@@ -279,12 +281,12 @@ static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, 
     else
         snprintf(at, sizeof(at), "%s: [view] %s", where, key);
     if (!c->err)
-        sp_log_error("%s: the %s axis's name \"%s\" cannot fit the %s panel: it is %.0f px "
-                     "wide, and the panel has %.0f px for it%s; allowed: at most %.0f px; shorten "
+        sp_log_error("%s: the %s axis's name \"%s\" cannot fit the %s panel: it is %.0f %s "
+                     "wide, and the panel has %.0f %s for it%s; allowed: at most %.0f %s; shorten "
                      "it, use a smaller font_size or font_scale, fewer panels or a larger frame",
                      at, axis ? "y" : "x", text, sp_scene_plot_name(st->order[st->index]),
-                     width / ss, fmaxf(room, 0) / ss, axis ? " beside the panel's title" : "",
-                     fmaxf(room, 0) / ss);
+                     width / ss, unit, fmaxf(room, 0) / ss, unit,
+                     axis ? " beside the panel's title" : "", fmaxf(room, 0) / ss, unit);
     c->err = SP_E_INPUT;
 }
 

@@ -219,7 +219,7 @@ static int panels_advice(const struct sp_figure_fit *fit, const struct sp_frame 
             if (!fits(fit, f, (struct trial){fit->page_w, fit->page_h, 0, set}))
                 continue;
             if (m)
-                snprintf(buf, size, "--set view.panels=%s (its first %d of %d)", list, m, n);
+                snprintf(buf, size, "--set view.panels=%s (the first %d of its %d)", list, m, n);
             else
                 snprintf(buf, size, "--set view.panels=%s (alone: no first %s fit)", list,
                          n > 1 ? "panels" : "panel");

@@ -949,6 +949,16 @@ static void curve_to(struct curves *c, double x, double y)
     c->p[c->n][0] = x, c->p[c->n][1] = y, c->n++;
 }
 
+/* The box of draw_legend's n entries text[i], w x h pt. */
+static void legend_size(const char *const *text, int n, double *w, double *h)
+{
+    font_pt(G.label_pt);
+    *w = 0;
+    for (int i = 0; i < n; i++)
+        *w = fmax(*w, text_width(text[i]));
+    *h = U(16) * (n - 1) + G.label_pt;
+}
+
 /* Draws the n legend entries text[i] in colour[i] at G.label_pt, each
  * U(16) below the last, inside the plot f where no curve of c passes: the
  * first free of its corners (top right, top left, bottom right, bottom
@@ -958,11 +968,9 @@ static void curve_to(struct curves *c, double x, double y)
 static void draw_legend(const struct frame *f, const struct curves *c, const char *const *text,
                         const float *const *colour, int n, const struct sp_palette *pal)
 {
-    font_pt(G.label_pt);
-    double w = 0;
-    for (int i = 0; i < n; i++)
-        w = fmax(w, text_width(text[i]));
-    const double h = U(16) * (n - 1) + G.label_pt, in = U(8), pad = U(3);
+    double w, h;
+    legend_size(text, n, &w, &h);
+    const double in = U(8), pad = U(3);
     legend_room(f, w, h, in);
     /* top-left corners (x: fraction of the free width, y: of the free height) */
     static const double place_at[][2] = {{1, 0}, {0, 0}, {1, 1}, {0, 1},
@@ -1007,6 +1015,26 @@ static const struct scalar_look {
                                "° per exchange", {"precession per exchange", NULL}},
 };
 
+/* What the default figure's title says the figure of d shows. */
+static const char *figure_what(const struct sp_sweep_desc *d)
+{
+    switch (d->measure) {
+    case SP_MEASURE_LYAPUNOV:
+    case SP_MEASURE_PRECESSION:
+        return scalar_looks[d->measure].title;
+    case SP_MEASURE_ORBIT:
+        return d->driven ? "orbit diagram, once per drive period"
+                         : "orbit diagram at the Poincaré crossings";
+    case SP_MEASURE_POINCARE:
+        return "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit";
+    case SP_MEASURE_SPECTRUM:
+        return sp_sweep_points(d) == 1 ? "Lyapunov spectrum: running values against T"
+                                       : "Lyapunov spectrum";
+    default:
+        return "basins of attraction";
+    }
+}
+
 static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
                          const struct sp_palette *pal)
 {
@@ -1039,7 +1067,7 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
         struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo, hi + 0.05 * (hi - lo)};
         key_span(ax, &f.xlo, &f.xhi);
         fix_key_range(&f.xlo, &f.xhi);
-        title(d, look->title, look->short_title);
+        title(d, figure_what(d), look->short_title);
         place(&f, fmax(30, U(18)), U(18), 0);
         draw_title(d, pal, &f);
         draw_axes(&f, pal, xl, look->label);
@@ -1068,7 +1096,7 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
         /* cells centred on the grid values */
         struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
         key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
-        title(d, look->title, look->short_title);
+        title(d, figure_what(d), look->short_title);
         place(&f, bar_right(lo, hi, look->bar), colorbar_room(lo, hi), BAR_GAP);
         draw_title(d, pal, &f);
         /* one image pixel per grid point up to MAP_MAX_PX a side (cairo
@@ -1285,10 +1313,7 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
     struct frame f = {80, 56, W - 110, H - 116, xlo - mx, xhi + mx, ylo - my, yhi + my};
     char xl[96];
     key_label(xl, sizeof(xl), d->axis[0].key);
-    title(d, orbit ? (d->driven ? "orbit diagram, once per drive period"
-                                               : "orbit diagram at the Poincaré crossings")
-                                 : "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit",
-               orbit ? "orbit diagram" : "Poincaré sections");
+    title(d, figure_what(d), orbit ? "orbit diagram" : "Poincaré sections");
     double klo, khi; /* the first key's values, low to high */
     key_span(&d->axis[0], &klo, &khi);
     G.key.row = 0;
@@ -1387,7 +1412,7 @@ static int draw_spectrum_map(const struct sp_sweep_desc *d, const struct sp_pale
     struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
     key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
     char yl[96];
-    title(d, "Lyapunov spectrum", "Lyapunov spectrum");
+    title(d, figure_what(d), "Lyapunov spectrum");
     place(&f, bar_right(lo, hi, "λ1 (1/s)"), colorbar_room(lo, hi), BAR_GAP);
     draw_title(d, pal, &f);
     /* one image pixel per grid point; a point without a row is clear */
@@ -1442,8 +1467,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         key_span(&d->axis[0], &f.xlo, &f.xhi);
     }
     fix_key_range(&f.xlo, &f.xhi);
-    title(d, conv ? "Lyapunov spectrum: running values against T"
-                                : "Lyapunov spectrum", "Lyapunov spectrum");
+    title(d, figure_what(d), "Lyapunov spectrum");
     place(&f, fmax(30, U(18)), U(18), 0);
     draw_title(d, pal, &f);
     draw_axes(&f, pal, conv ? "log10 T (s)" : xl, "λ (1/s)");
@@ -1619,7 +1643,7 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
     key_label(yl, sizeof(yl), ay->key);
     struct frame f = {80, 56, W - 380, H - 116, 0, 1, 0, 1};
     key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
-    title(d, "basins of attraction", "basins of attraction");
+    title(d, figure_what(d), "basins of attraction");
     const double right = G.print ? 0 : basins_right(&map, (const float(*)[3])rgb, pal);
     place(&f, right, U(300), U(20)); /* the legend U(20) right of the plot */
     draw_title(d, pal, &f);
@@ -1646,13 +1670,116 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
     return 0;
 }
 
+/* The room right of the plot and the legend inside it, w x h pt, that the
+ * default figure of d takes without its data (fit_plot): its colour bar
+ * over 0..1, its legend's entries with zeros for their numbers. */
+static void fit_extras(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                       double *right, double *lw, double *lh)
+{
+    static const char *const spectrum[5] = {"λ1 = −0.0000 1/s", "λ2 = −0.0000 1/s",
+                                            "λ3 = −0.0000 1/s", "λ4 = −0.0000 1/s",
+                                            "sum −0.000 1/s, Kaplan-Yorke dimension 0.000"};
+    static const char *const lambdas[4] = {"λ1", "λ2", "λ3", "λ4"};
+    const int scalar = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_PRECESSION;
+    const int conv = sp_sweep_points(d) == 1;
+    *right = fmax(30, U(18)), *lw = *lh = 0;
+    if (d->n_axes > 1 && (scalar || d->measure == SP_MEASURE_SPECTRUM)) {
+        *right = bar_right(0, 1, scalar ? scalar_looks[d->measure].bar : "λ1 (1/s)");
+    } else if (d->measure == SP_MEASURE_BASINS) { /* its entropies' lines, undecided starts' */
+        font_pt(U(12));
+        double w = text_width("S_b = 0.000, S_bb = 0.000");
+        font_pt(U(10));
+        w = fmax(w, text_width("basin entropies, nats, 5x5 boxes"));
+        font_pt(U(11));
+        w = fmax(w, U(20) + text_width("100.0%  undecided (not periodic by the end)"));
+        *right = fmax(300, U(20) + w + D(4));
+    } else if (d->measure == SP_MEASURE_ORBIT && (d->cont || d->peak) && !G.v->legend) {
+        orbit_legend_size(d, pal, W, lw, lh);
+        *lw += 2 * U(2), *lh += 2 * U(2);
+    } else if (scalar && !G.v->legend) {
+        const struct scalar_look *look = &scalar_looks[d->measure];
+        legend_size(look->series, look->series[1] ? 2 : 1, lw, lh);
+        *lw += 2 * U(8), *lh += 2 * U(8);
+    } else if (d->measure == SP_MEASURE_SPECTRUM && !G.v->legend) {
+        legend_size(conv ? spectrum : lambdas, conv ? 5 : 4, lw, lh);
+        *lw += 2 * U(8), *lh += 2 * U(8);
+    }
+}
+
+/* The default figure's plot at the text's size G.u, got = w x h pt, and
+ * what its text needs, need: the margins place() gives for d's title and
+ * subtitle (without d: one line of each) and a Poincare mosaic's key, the
+ * colour bar or legend of its measure (fit_extras), a map's y tick
+ * labels, and for other figures, whose data it has not yet, labels as
+ * over 0..1. G's title is left unset. */
+static void fit_plot(const struct sp_sweep_desc *d, const struct sp_palette *pal, double got[2],
+                     double need[2])
+{
+    double right = fmax(30, U(18)), lw = 0, lh = 0;
+    G.label_pt = sp_axis_label_pt(U(14), 0);
+    G.title_pt = U(17), G.quiet = 1, G.key.row = 0;
+    if (d) {
+        title(d, figure_what(d), "");
+    } else {
+        free(G.title_lines), free(G.sub_lines);
+        G.title_lines = G.sub_lines = NULL, G.title_n = G.sub_n = 0;
+        if (G.title && G.title[0])
+            G.err = wrap_title(G.title, "");
+    }
+    if (d && d->measure == SP_MEASURE_POINCARE) {
+        char xl[96];
+        key_label(xl, sizeof(xl), d->axis[0].key);
+        key_layout(d, xl);
+    }
+    if (d)
+        fit_extras(d, pal, &right, &lw, &lh);
+    /* the y tick labels: a map's of its second key, else as over 0..1 */
+    struct frame f = {0, 0, 1, H - default_top() - default_bottom(), 0, 1, 0, 1};
+    if (d && d->n_axes > 1 && d->measure != SP_MEASURE_ORBIT && d->measure != SP_MEASURE_POINCARE)
+        key_cells(&d->axis[1], &f.ylo, &f.yhi);
+    got[0] = W - default_left(f.h > 0 ? ylabels_width(&f) : 0) - right, got[1] = f.h;
+    need[0] = fmax(LEAST_W, lw), need[1] = fmax(LEAST_H, lh);
+    free(G.title_lines), free(G.sub_lines);
+    G.title_lines = G.sub_lines = NULL, G.title_n = G.sub_n = 0;
+    G.quiet = 0, G.key.row = 0;
+}
+
+/* Refuses, before the sweep runs, a default figure (of d; NULL: any) whose
+ * text is too large for its plot (fit_plot), with the largest
+ * view.font_size that fits. 0, or SP_E_INPUT (said) / SP_E_NOMEM. */
+static int fit_check(const struct sp_sweep_desc *d, const struct sp_palette *pal)
+{
+    double got[2], need[2], lo = 0, hi = G.u;
+    const double u = G.u, scale = G.v->font_scale > 0 ? G.v->font_scale : 1;
+    char why[256];
+    fit_plot(d, pal, got, need);
+    if (G.err || (got[0] >= need[0] && got[1] >= need[1]))
+        return G.err;
+    plot_why(why, sizeof(why), got[0], got[1], need[0], need[1]);
+    for (int i = 0; i < 40 && !G.err; i++) { /* the largest text that fits */
+        G.u = 0.5 * (lo + hi);
+        fit_plot(d, pal, got, need);
+        *(got[0] >= need[0] && got[1] >= need[1] ? &lo : &hi) = G.u;
+    }
+    double best = floor(lo * 14 / scale * 10) / 10;
+    for (int i = 0; i < 50 && best > 0.1 && !G.err; i++, best -= 0.1) { /* and says so */
+        G.u = best * scale / 14;
+        fit_plot(d, pal, got, need);
+        if (got[0] >= need[0] && got[1] >= need[1])
+            break;
+    }
+    G.u = u, G.label_pt = sp_axis_label_pt(U(14), 0), G.title_pt = U(17);
+    return G.err ? G.err : font_refused(why, best);
+}
+
 /* Sets G up for a figure of the style, look being its scene with the
  * style's [view] copied in (kept by the caller until end()): the page, the
  * text's scale, the font ([view] font, with fontconfig's fallbacks), and
  * checks the [view] texts it draws: every character in some font, a title
  * that fits the page (wrap_title). 0, or SP_E_INPUT (said), SP_E_NOMEM,
  * SP_E_IO. */
-static int begin(const struct sp_plot_style *style, struct sp_scene *look)
+static int begin(const struct sp_plot_style *style, struct sp_scene *look,
+                 const struct sp_sweep_desc *d)
 {
     const int print = style && style->page_w > 0;
     const double body = look->view.font_size > 0 ? look->view.font_size : print ? 10 : 14;
@@ -1727,6 +1854,11 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
         font_pt(U(12));
         err = G.err;
     }
+    if (!err && !print) { /* text the default figure's page cannot hold */
+        struct sp_palette pal;
+        sp_palette_get(v, &pal);
+        err = fit_check(d, &pal);
+    }
     if (!err && G.title && G.title[0]) {
         char where[512];
         title_where(where, sizeof(where));
@@ -1754,7 +1886,7 @@ int sp_sweep_plot_check(const struct sp_plot_style *style)
     sp_scene_defaults(&look);
     if (style && style->view)
         look.view = *style->view;
-    const int err = begin(style, &look);
+    const int err = begin(style, &look, style ? style->desc : NULL);
     end();
     return err;
 }
@@ -1810,7 +1942,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     }
     look.view.theme = d.theme;
     sp_palette_get(&look.view, &pal);
-    if ((ret = begin(style, &look))) { /* the page, the text's scale and font (G) */
+    if ((ret = begin(style, &look, &d))) { /* the page, the text's scale and font (G) */
         end();
         return ret;
     }

@@ -267,7 +267,33 @@ int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags)
     return err;
 }
 
-int sp_outfile_commit(struct sp_outfile *f)
+/* Puts the .part in place: rename() over the target, or (no_replace)
+ * renameat2's RENAME_NOREPLACE, a hard link where the file system has no
+ * such rename: 1 when a file appeared at the target (nothing said). 0, 1
+ * or SP_E_IO; the .part is gone either way. */
+static int put_in_place(struct sp_outfile *f, int no_replace)
+{
+    int r;
+    if (!no_replace) {
+        r = rename(f->path, f->target);
+    } else {
+        r = renameat2(AT_FDCWD, f->path, AT_FDCWD, f->target, RENAME_NOREPLACE);
+        if (r != 0 && (errno == EINVAL || errno == ENOSYS)) { /* not on this file system */
+            if ((r = link(f->path, f->target)) == 0)
+                unlink(f->path);
+        }
+        if (r != 0 && errno == EEXIST)
+            return 1;
+    }
+    if (r != 0) {
+        sp_log_error("cannot rename %s to %s: %s", f->path, f->target, strerror(errno));
+        return SP_E_IO;
+    }
+    return 0;
+}
+
+/* sp_outfile_commit and sp_outfile_commit_new: no_replace picks the rename. */
+static int commit(struct sp_outfile *f, int no_replace)
 {
     int err = 0;
     if (!f->target)
@@ -277,10 +303,8 @@ int sp_outfile_commit(struct sp_outfile *f)
         err = SP_E_IO;
     }
     f->fd = -1;
-    if (!err && !f->through && rename(f->path, f->target) != 0) {
-        sp_log_error("cannot rename %s to %s: %s", f->path, f->target, strerror(errno));
-        err = SP_E_IO;
-    }
+    if (!err && !f->through)
+        err = put_in_place(f, no_replace);
     if (err) {
         sp_outfile_discard(f);
         return err;
@@ -290,40 +314,14 @@ int sp_outfile_commit(struct sp_outfile *f)
     return 0;
 }
 
+int sp_outfile_commit(struct sp_outfile *f)
+{
+    return commit(f, 0);
+}
+
 int sp_outfile_commit_new(struct sp_outfile *f)
 {
-    int err = 0;
-    if (!f->target)
-        return 0;
-    if (f->through)
-        return sp_outfile_commit(f);
-    if (f->fd >= 0 && close(f->fd) != 0) {
-        sp_log_error("%s: cannot finish writing: %s", f->target, strerror(errno));
-        err = SP_E_IO;
-    }
-    f->fd = -1;
-    if (!err) {
-        int r = renameat2(AT_FDCWD, f->path, AT_FDCWD, f->target, RENAME_NOREPLACE);
-        if (r != 0 && (errno == EINVAL || errno == ENOSYS)) { /* not on this file system */
-            if ((r = link(f->path, f->target)) == 0)
-                unlink(f->path);
-        }
-        if (r != 0 && errno == EEXIST) {
-            sp_outfile_discard(f);
-            return 1; /* the caller says so */
-        }
-        if (r != 0) {
-            sp_log_error("cannot rename %s to %s: %s", f->path, f->target, strerror(errno));
-            err = SP_E_IO;
-        }
-    }
-    if (err) {
-        sp_outfile_discard(f);
-        return err;
-    }
-    slot_give(f->slot);
-    outfile_free(f);
-    return 0;
+    return commit(f, 1);
 }
 
 int sp_outfile_commit_pair(struct sp_outfile *first, struct sp_outfile *second,

@@ -842,8 +842,9 @@ static double colorbar_room(double lo, double hi)
 }
 
 /* The room right of the plot a default figure's colour bar (draw_colorbar)
- * takes, pt: 120, or its gap, width, ticks and their labels, or its name
- * (`label`, or [view] colorbar_label) centred above it, when wider. */
+ * takes, pt: 120, or its gap, width, ticks and their labels, or its own
+ * name `label` centred above it, when wider. A [view] colorbar_label does
+ * not widen it: one wider than the room is refused (draw_colorbar). */
 static double bar_right(double lo, double hi, const char *label)
 {
     struct frame f = {0, 0, 1, H, 0, 1, lo, hi}; /* ticks as for a bar as tall as the page */
@@ -851,7 +852,7 @@ static double bar_right(double lo, double hi, const char *label)
     char named[256];
     const double ylw = ylabels_width(&f), pt = G.pt;
     ticks(&a, lo, hi, H, 1);
-    sp_axis_name(&a, G.v->colorbar_label[0] ? G.v->colorbar_label : label, named, sizeof(named));
+    sp_axis_name(&a, label, named, sizeof(named));
     font_pt(G.label_pt);
     const double tw = text_width(named);
     font_pt(pt);
@@ -1236,7 +1237,8 @@ static void poincare_key(const struct sp_sweep_desc *d, const struct sp_palette 
     text_at(x0 - D(5), y0 + h / 2, G.key.lo, 1, 0.5);
     text_at(x0 + w + D(5), y0 + h / 2, G.key.hi, 0, 0.5);
     if (G.v->colorbar_label[0]) /* over the gradient, inside the page */
-        label_room(2, G.v->colorbar_label, W - 2 * D(4), "over the colour gradient at the top right");
+        label_room(2, G.v->colorbar_label, 2 * (W - D(4) - (x0 + w / 2)),
+                   "over the colour gradient at the top right");
     text_at(G.key.lx, y0 - D(4), G.key.name, 0.5, 1);
 }
 

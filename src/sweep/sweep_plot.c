@@ -854,7 +854,9 @@ static double bar_right(double lo, double hi, const char *label)
     ticks(&a, lo, hi, H, 1);
     sp_axis_name(&a, label, named, sizeof(named));
     font_pt(G.label_pt);
-    const double tw = text_width(named);
+    /* only text that is drawn is measured: a font shaped is a font the
+     * figure records as drawn from (its provenance) */
+    const double tw = G.v->colorbar_label[0] ? 0 : text_width(named);
     font_pt(pt);
     const double bar = D(30) + D(18) + G.tick + U(3) + ylw;
     return fmax(120, fmax(bar, fmax(D(30) + D(9) + tw / 2, D(6) + tw)) + D(4));
@@ -1778,10 +1780,13 @@ static int fit_check(const struct sp_sweep_desc *d, const struct sp_palette *pal
  * style's [view] copied in (kept by the caller until end()): the page, the
  * text's scale, the font ([view] font, with fontconfig's fallbacks), and
  * checks the [view] texts it draws: every character in some font, a title
- * that fits the page (wrap_title). 0, or SP_E_INPUT (said), SP_E_NOMEM,
+ * that fits the page (wrap_title); with check (sp_sweep_plot_check, before
+ * the sweep: its estimates' text is shaped, and a font shaped is recorded
+ * as drawn from), a default figure's text that fits its page, d's
+ * (fit_check). 0, or SP_E_INPUT (said), SP_E_NOMEM,
  * SP_E_IO. */
 static int begin(const struct sp_plot_style *style, struct sp_scene *look,
-                 const struct sp_sweep_desc *d)
+                 const struct sp_sweep_desc *d, int check)
 {
     const int print = style && style->page_w > 0;
     const double body = look->view.font_size > 0 ? look->view.font_size : print ? 10 : 14;
@@ -1856,7 +1861,7 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look,
         font_pt(U(12));
         err = G.err;
     }
-    if (!err && !print) { /* text the default figure's page cannot hold */
+    if (!err && !print && check) { /* text the default figure's page cannot hold */
         struct sp_palette pal;
         sp_palette_get(v, &pal);
         err = fit_check(d, &pal);
@@ -1888,7 +1893,7 @@ int sp_sweep_plot_check(const struct sp_plot_style *style)
     sp_scene_defaults(&look);
     if (style && style->view)
         look.view = *style->view;
-    const int err = begin(style, &look, style ? style->desc : NULL);
+    const int err = begin(style, &look, style ? style->desc : NULL, 1);
     end();
     return err;
 }
@@ -1944,7 +1949,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     }
     look.view.theme = d.theme;
     sp_palette_get(&look.view, &pal);
-    if ((ret = begin(style, &look, &d))) { /* the page, the text's scale and font (G) */
+    if ((ret = begin(style, &look, &d, 0))) { /* the page, the text's scale and font (G) */
         end();
         return ret;
     }

@@ -9,6 +9,7 @@
 #include <png.h>
 #include <lcms2.h>
 #include <stdlib.h>
+#include <stdint.h>
 #include <string.h>
 #include <pthread.h>
 
@@ -61,6 +62,7 @@ struct png_reader {
     int text_dropped; /* text chunks libpng dropped: damaged or beyond the bounds */
     char text_why[128]; /* libpng's words for the first one dropped */
     char iccp_why[128]; /* libpng's words when it dropped an iCCP (a profile unread) */
+    char exif_why[128]; /* libpng's words when it dropped an eXIf (an orientation unread) */
 };
 
 /* A damaged PNG is logged; an error after a failed allocation is not: the
@@ -105,6 +107,11 @@ static void on_png_read_warning(png_structp png, png_const_charp msg)
         /* a profile libpng did not take (too large, malformed, a second one):
          * viewers may still apply it, so shown_as_read refuses the file */
         snprintf(r->iccp_why, sizeof(r->iccp_why), "%s", msg);
+    } else if (!strncmp(msg, "eXIf", 4)) {
+        /* one libpng did not take (malformed, a second one): viewers may
+         * still turn the image by it, so exif_refused refuses the file */
+        if (!r->exif_why[0])
+            snprintf(r->exif_why, sizeof(r->exif_why), "%s", msg);
     }
     else if (!r->nomem) /* after a failed allocation: the caller's to say */
         sp_log_error("%s: libpng warning: %s", r->path, msg);
@@ -555,6 +562,89 @@ static const char *unknown_refused(struct png_reader *r, char *buf, size_t size)
     return NULL;
 }
 
+/* The EXIF Orientation (tag 0x0112) that an eXIf chunk's data x (n
+ * bytes: a TIFF header and its IFD0) holds: its value; 1 (as read) when
+ * there is none; -1 when x is not TIFF data whose IFD0 lies whole within
+ * it; -2 when the tag is not one SHORT. Every offset is checked against n
+ * (64-bit sums: a hostile offset or count cannot wrap). */
+static long exif_orientation(const png_byte *x, png_uint_32 n)
+{
+    if (n < 8 || x[0] != x[1] || (x[0] != 'I' && x[0] != 'M'))
+        return -1;
+    const int big = x[0] == 'M';
+#define U16(p) (big ? (unsigned)x[p] << 8 | x[(p) + 1] : (unsigned)x[(p) + 1] << 8 | x[p])
+#define U32(p) ((uint32_t)U16(big ? (p) : (p) + 2) << 16 | U16(big ? (p) + 2 : (p)))
+    const uint64_t ifd = U32(4);
+    if (U16(2) != 42 || ifd < 8 || ifd + 2 > n)
+        return -1;
+    const uint64_t count = U16(ifd);
+    if (ifd + 2 + 12 * count > n)
+        return -1;
+    for (uint64_t e = ifd + 2; e < ifd + 2 + 12 * count; e += 12) {
+        if (U16(e) != 0x0112)
+            continue;
+        if (U16(e + 2) != 3 || U32(e + 4) != 1)
+            return -2;
+        if (U16(e + 8) != 1) /* the first that turns */
+            return U16(e + 8);
+    }
+#undef U16
+#undef U32
+    return 1;
+}
+
+/* NULL when the PNG's eXIf chunk (if any) turns and mirrors nothing: no
+ * EXIF Orientation, or 1; else what it does, in buf. Browsers show a PNG
+ * turned or mirrored by it (CSS image-orientation: from-image, the
+ * default), the still image's twin of a video's display matrix
+ * (attack15 #12); springpend writes none. */
+static const char *exif_refused(struct png_reader *r, char *buf, size_t size)
+{
+    static const char *const shown[9] = {
+        NULL, NULL, "mirrored left to right", "turned by 180 degrees", "mirrored top to bottom",
+        "mirrored left to right and turned by 90 degrees counterclockwise (transposed)",
+        "turned by 90 degrees clockwise",
+        "mirrored left to right and turned by 90 degrees clockwise (transversed)",
+        "turned by 90 degrees counterclockwise"};
+    png_bytep exif = NULL;
+    png_uint_32 n = 0;
+    if (r->exif_why[0]) {
+        snprintf(buf, size, "holds an eXIf chunk that libpng does not read (%s), by which "
+                 "viewers may still turn or mirror it; save it without the eXIf chunk",
+                 r->exif_why);
+        return buf;
+    }
+    if (!png_get_valid(r->png, r->info, PNG_INFO_eXIf) ||
+        !png_get_eXIf_1(r->png, r->info, &n, &exif) || !exif)
+        return NULL;
+    const long o = exif_orientation(exif, n);
+    if (o == 1)
+        return NULL;
+    if (o < 0)
+        snprintf(buf, size, "holds an eXIf chunk whose %s, by which viewers may "
+                 "still turn or mirror it; save it without the eXIf chunk",
+                 o == -1 ? "data is not a whole TIFF header and first directory"
+                         : "Orientation tag is not one SHORT");
+    else if (o <= 8)
+        snprintf(buf, size, "holds an EXIF Orientation of %ld (an eXIf chunk), by which "
+                 "viewers show it %s; save its pixels as shown, without the eXIf chunk or "
+                 "with Orientation 1", o, shown[o]);
+    else
+        snprintf(buf, size, "holds an EXIF Orientation of %ld (an eXIf chunk), which EXIF "
+                 "does not define (1 shows the pixels as read); save it without the eXIf "
+                 "chunk or with Orientation 1", o);
+    return buf;
+}
+
+/* Says that a viewer shows r's PNG otherwise than its pixels read, by
+ * what; SP_E_INPUT. */
+static int not_shown_as_read(const struct png_reader *r, const char *what)
+{
+    sp_log_error("%s %s; springpend reads still PNGs drawn as their pixels (as it writes "
+                 "them), so it would judge pixels that no viewer shows", r->path, what);
+    return SP_E_INPUT;
+}
+
 /* After png_read_info: 0 when a viewer shows the PNG as its pixels read
  * (no gamma or colour-space conversion, one image); else SP_E_INPUT,
  * said. An APNG (acTL) is shown as its animation, whose frames need not
@@ -562,7 +652,9 @@ static const char *unknown_refused(struct png_reader *r, char *buf, size_t size)
  * sRGB's (1/2.2), a cHRM other than sRGB's without an sRGB chunk, an ICC
  * profile (iCCP) other than sRGB (attack12 #11), a cICP other than sRGB's
  * or HDR metadata (mDCv, cLLi; attack12 #10) makes browsers, and so
- * compare's own HTML report, draw other colours than the pixels compared.
+ * compare's own HTML report, draw other colours than the pixels compared;
+ * an EXIF Orientation other than 1 (eXIf) turns or mirrors them
+ * (exif_refused; sp_png_read looks again for an eXIf after the pixels).
  * springpend writes none of them. */
 static int shown_as_read(struct png_reader *r)
 {
@@ -571,6 +663,8 @@ static int shown_as_read(struct png_reader *r)
     int intent;
     const int srgb = png_get_sRGB(r->png, r->info, &intent) != 0;
     const char *what = unknown_refused(r, buf, sizeof(buf));
+    if (!what)
+        what = exif_refused(r, buf, sizeof(buf));
     /* viewers convert by an ICC profile rather than by gAMA and cHRM */
     if (!what && (r->iccp_why[0] || png_get_valid(r->png, r->info, PNG_INFO_iCCP)) &&
         !(what = iccp_refused(r, buf, sizeof(buf))))
@@ -581,11 +675,7 @@ static int shown_as_read(struct png_reader *r)
         (gamma < 44955 || gamma > 45955))
         what = "holds a gamma (gAMA) other than sRGB's 1/2.2, by which viewers convert its "
                "colours";
-    if (!what)
-        return 0;
-    sp_log_error("%s %s; springpend reads still PNGs drawn as their pixels (as it writes "
-                 "them), so it would judge pixels that no viewer shows", r->path, what);
-    return SP_E_INPUT;
+    return what ? not_shown_as_read(r, what) : 0;
 }
 
 /* After libpng's error: closes r; SP_E_NOMEM when an allocation failed
@@ -703,9 +793,15 @@ int sp_png_read(const char *path, struct sp_image *img)
     for (int y = 0; y < hdr.height; y++)
         r->rows[y] = img->pixels + (size_t)y * img->stride;
     png_read_image(r->png, r->rows);
-    png_read_end(r->png, NULL); /* a missing IEND is a truncated file */
+    png_read_end(r->png, r->info); /* a missing IEND is a truncated file */
+    char buf[512];
+    const char *what = exif_refused(r, buf, sizeof(buf)); /* an eXIf after the pixels */
+    if (what) {
+        sp_image_free(img);
+        err = not_shown_as_read(r, what);
+    }
     reader_close(r);
-    return 0;
+    return err;
 }
 
 int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)

@@ -461,6 +461,124 @@ static int icc_srgb_distance(const void *prof, png_uint_32 len, int gray)
     return worst;
 }
 
+/* sRGB's encoding (IEC 61966-2-1) of linear light lin. */
+static double srgb_encoded(double lin)
+{
+    return lin <= 0.0031308 ? 12.92 * lin : 1.055 * pow(lin, 1 / 2.4) - 0.055;
+}
+
+/* The most levels (of 255) by which profile p's tone curve tag sig moves a
+ * value from sRGB's, over every 16-bit value (PNG's deepest samples; a
+ * table's entries between 8-bit levels count too); 256 when it has none. */
+static double trc_distance(cmsHPROFILE p, cmsTagSignature sig)
+{
+    const cmsToneCurve *curve = cmsReadTag(p, sig);
+    double worst = 0;
+    if (!curve)
+        return 256;
+    for (int v = 0; v < 65536; v++) {
+        const double x = v / 65535.0;
+        const double d = fabs(srgb_encoded(cmsEvalToneCurveFloat(curve, (cmsFloat32Number)x)) - x);
+        if (!(d * 255 < 256)) /* NaN too */
+            return 256;
+        worst = d * 255 > worst ? d * 255 : worst;
+    }
+    return worst;
+}
+
+/* Opens the ICC profile prof (len bytes) in a context of its own (*ctx)
+ * when it is of a gray (gray != 0) or colour PNG's colour space; NULL
+ * when it is not, or lcms cannot read it (icc_srgb_distance says so). */
+static cmsHPROFILE icc_open(cmsContext *ctx, const void *prof, png_uint_32 len, int gray)
+{
+    cmsHPROFILE p = NULL;
+    if (!(*ctx = cmsCreateContext(NULL, NULL)))
+        return NULL;
+    cmsSetLogErrorHandlerTHR(*ctx, lcms_quiet);
+    p = cmsOpenProfileFromMemTHR(*ctx, prof, len);
+    if (p && cmsGetColorSpace(p) != (gray ? cmsSigGrayData : cmsSigRgbData)) {
+        cmsCloseProfile(p);
+        p = NULL;
+    }
+    if (!p)
+        cmsDeleteContext(*ctx);
+    return p;
+}
+
+static void icc_close(cmsContext ctx, cmsHPROFILE p)
+{
+    cmsCloseProfile(p);
+    cmsDeleteContext(ctx);
+}
+
+/* NULL when the ICC profile prof (len bytes) of a gray (gray != 0) or
+ * colour PNG is converted by its matrix and tone curves alone (lcms2's
+ * cmsIsMatrixShaper; for gray, its curve); else what is wrong, in buf. A
+ * table (A2B0..2, B2A0..2, D2B0..3, B2D0..3) or a cicp tag is what colour
+ * managers convert by in preference (Chromium's skcms does by A2B0): a
+ * table exact on any fixed sample set and inverting the colours between
+ * them was taken (attack15 #11). NULL too for a profile lcms cannot read
+ * or of another colour space: icc_srgb_distance says so. */
+static const char *icc_structure_refused(const void *prof, png_uint_32 len, int gray, char *buf,
+                                         size_t size)
+{
+    static const cmsTagSignature preferred[] = {
+        cmsSigAToB0Tag, cmsSigAToB1Tag, cmsSigAToB2Tag, cmsSigBToA0Tag, cmsSigBToA1Tag,
+        cmsSigBToA2Tag, cmsSigDToB0Tag, cmsSigDToB1Tag, cmsSigDToB2Tag, cmsSigDToB3Tag,
+        cmsSigBToD0Tag, cmsSigBToD1Tag, cmsSigBToD2Tag, cmsSigBToD3Tag,
+        (cmsTagSignature)0x63696370 /* cicp */};
+    const char *what = NULL;
+    cmsContext ctx;
+    cmsHPROFILE p = icc_open(&ctx, prof, len, gray);
+    if (!p)
+        return NULL;
+    for (size_t i = 0; !what && i < sizeof(preferred) / sizeof(preferred[0]); i++) {
+        const unsigned t = (unsigned)preferred[i];
+        if (cmsIsTag(p, preferred[i]))
+            snprintf(buf, size, "holds an ICC colour profile (iCCP) with %s %c%c%c%c %s, which "
+                     "colour managers use instead of its matrix and curves (Chromium does); "
+                     "compare takes only sRGB's matrix and curves: save its pixels in sRGB, "
+                     "without the iCCP chunk", t == 0x63696370 ? "a" : "an", t >> 24,
+                     t >> 16 & 0xff, t >> 8 & 0xff, t & 0xff,
+                     t == 0x63696370 ? "tag (coding-independent code points)" : "table"),
+                what = buf;
+    }
+    if (!what && !cmsIsMatrixShaper(p))
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) that is not a matrix and curves "
+                 "(%s); compare takes only sRGB's matrix and curves: save its pixels in sRGB, "
+                 "without the iCCP chunk", gray ? "kTRC" : "rXYZ gXYZ bXYZ, rTRC gTRC bTRC"),
+            what = buf;
+    icc_close(ctx, p);
+    return what;
+}
+
+/* NULL when the tone curves of the matrix/TRC profile prof (len bytes;
+ * icc_structure_refused took it) are sRGB's to within ICC_SRGB_LEVELS at
+ * every 16-bit value, between the 8-bit levels icc_srgb_distance samples
+ * too (a 16-bit PNG's samples are there); else what is wrong, in buf. */
+static const char *icc_curves_refused(const void *prof, png_uint_32 len, int gray, char *buf,
+                                      size_t size)
+{
+    static const cmsTagSignature trcs[] = {cmsSigRedTRCTag, cmsSigGreenTRCTag, cmsSigBlueTRCTag};
+    const char *what = NULL;
+    cmsContext ctx;
+    cmsHPROFILE p = icc_open(&ctx, prof, len, gray);
+    if (!p)
+        return NULL;
+    for (int c = 0; !what && c < (gray ? 1 : 3); c++) {
+        const double d = trc_distance(p, gray ? cmsSigGrayTRCTag : trcs[c]);
+        if (d > ICC_SRGB_LEVELS)
+            snprintf(buf, size, "holds an ICC colour profile (iCCP) other than sRGB, whose %s "
+                     "tone curve moves a 16-bit value by %s%.0f levels of 255 (sRGB's moves none "
+                     "by more than %d), by which viewers convert its colours; save its pixels "
+                     "converted to sRGB, without the iCCP chunk", gray ? "gray" : c == 0 ? "red"
+                     : c == 1 ? "green" : "blue", d > 255 ? "over " : "up to ",
+                     d > 255 ? 255 : d, ICC_SRGB_LEVELS), what = buf;
+    }
+    icc_close(ctx, p);
+    return what;
+}
+
 /* NULL when the PNG's ICC profile (iCCP) shows its pixels as read on an
  * sRGB screen (libpng recognised one of the ICC's sRGB profiles, or lcms2
  * converts every colour to within ICC_SRGB_LEVELS); else what is wrong,
@@ -483,9 +601,12 @@ static const char *iccp_refused(struct png_reader *r, char *buf, size_t size)
     if (png_get_sRGB(r->png, r->info, &intent))
         return NULL; /* libpng knew the profile: one of the ICC's own sRGB ones */
     const int gray = !(png_get_color_type(r->png, r->info) & PNG_COLOR_MASK_COLOR);
+    const char *structure = icc_structure_refused(prof, len, gray, buf, size);
+    if (structure)
+        return structure;
     const int d = icc_srgb_distance(prof, len, gray);
     if (d <= ICC_SRGB_LEVELS)
-        return NULL;
+        return icc_curves_refused(prof, len, gray, buf, size);
     if (d > 255)
         snprintf(buf, size, "holds an ICC colour profile (iCCP) that is not a usable %s "
                  "profile, by which viewers may still convert its colours; save it without "

@@ -24,9 +24,6 @@
 #include "base/utf8.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
-/* Frame times are indexed by int; what a command makes of them has its own
- * limit (render: video frames, data: rows). */
-#define SP_MAX_FRAMES 1000000000
 #define SP_MAX_RATE2 1e24  /* k/m and b/m, 1/s^2 and 1/s: omega up to 1e12 rad/s */
 #define SP_MAX_STRETCH 1e9 /* m g / k, m: beyond it nothing is on screen */
 #define SP_ENSEMBLE_MAX 10000 /* [ensemble] count */

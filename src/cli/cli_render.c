@@ -239,8 +239,11 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
     }
     if (ret || !o->still.state)
         return ret;
-    if (sp_outfile_same_file(o->still.state, o->scene_path) || !strcmp(o->still.state, out) ||
-        sp_outfile_same_file(o->still.state, out)) {
+    int clash = 0; /* every scene side by side; the image by its name too, made or not
+                    * (./s.png, d//s.png, its absolute path: attack15 #14) */
+    for (int i = 0; i < o->n_scenes; i++)
+        clash |= sp_outfile_same_file(o->still.state, o->scene_paths[i]);
+    if (clash || sp_outfile_same_output(o->still.state, out)) {
         sp_log_error("--state %s would overwrite the scene or the image; choose another path",
                      o->still.state);
         return SP_E_INPUT;
@@ -464,6 +467,28 @@ static int video_kind(const char *out, const char *format)
     return !strcasecmp(kind, "mp4") || !strcasecmp(kind, "webm");
 }
 
+/* Side by side, each scene is held at its own last frame ("Durations" in
+ * doc/teaching.md): a still past the longest one's drew every cell ended
+ * and charts stretched to --at, empty past the end (attack15 #9). Alone, a
+ * still past the end goes on (pipeline.c still_past_end). */
+static int check_still_side_end(const struct sp_cli_options *o, const struct sp_scene *scenes)
+{
+    double end = 0, step = 0; /* the longest's end, the largest frame step */
+    for (int i = 0; i < o->n_scenes; i++) {
+        struct sp_moment m;
+        sp_timeline_frame(&scenes[i], sp_timeline_frames(&scenes[i]) - 1, &m);
+        end = fmax(end, m.t);
+        step = fmax(step, (scenes[i].timeline && scenes[i].timeline->clocked ? scenes[i].timeline->speed_max
+                                              : scenes[i].video.speed) / scenes[i].video.fps);
+    }
+    if (o->still.at <= end)
+        return 0;
+    sp_log_error("--at %g: side by side, each scene is held at its own last frame, and the "
+                 "longest ends at t = %g s; allowed: --at up to %g, or a longer video.duration "
+                 "(--set video.duration=%g)", o->still.at, end, end, ceil(o->still.at + step));
+    return SP_E_INPUT;
+}
+
 /* The longest video render and still make and show, frames. */
 #define SP_MAX_VIDEO_FRAMES 1000000
 
@@ -521,6 +546,8 @@ static int run(int argc, char **argv, int still)
         ret = sp_cli_frame_range(&o, n_frames, &first, &last);
     if (!ret && still)
         ret = check_still(&o, &scenes[0], out);
+    if (!ret && still && o.n_scenes > 1)
+        ret = check_still_side_end(&o, scenes);
     struct sp_pipeline_desc pd = {0};
     const struct sp_scene recorded = scenes[0]; /* before --size 8.6cm sets its px */
     if (!ret && still && o.still.paper_w)

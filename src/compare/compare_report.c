@@ -1114,8 +1114,10 @@ static void md_text(FILE *fp, const char *s, int name)
             fputs("\\~", fp);
         else if (*s == '.' && s - start >= 3 && !strncasecmp(s - 3, "www", 3))
             fputs("&#8203;.", fp); /* "www." and "://" start no autolink */
-        else if (*s == ':' && s[1] == '/' && s[2] == '/')
-            fputs(":&#8203;", fp);
+        else if (*s == ':') /* no "://" autolink, no :ok: or :+1: emoji (GitHub) */
+            fputs("&#58;", fp);
+        else if (*s == '$') /* no $x^2$ math (GitHub's Markdown since 2022) */
+            fputs("&#36;", fp);
         else if (*s == '<')
             fputs("&lt;", fp);
         else if (*s == '>')

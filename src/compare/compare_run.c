@@ -2047,16 +2047,16 @@ static int check_candidates_empty(const char *dir)
         named = diff ? named : i; /* the first image that is not a diff */
     }
     if (l.n && diffs < l.n)
-        sp_log_error("--candidates %s holds %d image%s already (%s/%s%s), which --approve would "
-                     "install with this run's candidates though this run never wrote them; "
+        sp_log_error("--candidates %s holds %d image%s already (%s/%s%s): %d that --approve would "
+                     "install with this run's candidates though this run never wrote them%s; "
                      "allowed: an empty or new folder (remove them, or name another folder)",
-                     dir, l.n - diffs, l.n - diffs == 1 ? "" : "s", dir, l.items[named].name,
-                     l.n - diffs > 1 ? ", ..." : "");
+                     dir, l.n, l.n == 1 ? "" : "s", dir, l.items[named].name,
+                     l.n > 1 ? ", ..." : "", l.n - diffs, diffs ? " and diffs" : "");
     else if (l.n)
-        sp_log_error("--candidates %s holds %d diff image%s of an earlier run already (%s/%s%s), "
-                     "which this run's would mix with; allowed: an empty or new folder (remove "
-                     "them, or name another folder)", dir, l.n, l.n == 1 ? "" : "s", dir,
-                     l.items[0].name, l.n > 1 ? ", ..." : "");
+        sp_log_error("--candidates %s holds %d image%s already (%s/%s%s), diffs of an earlier run "
+                     "that this run's would mix with (--approve leaves diffs); allowed: an empty "
+                     "or new folder (remove them, or name another folder)", dir, l.n,
+                     l.n == 1 ? "" : "s", dir, l.items[0].name, l.n > 1 ? ", ..." : "");
     ret = l.n ? SP_E_INPUT : 0;
     sp_snapshot_list_free(&l);
     return ret;

@@ -10,7 +10,15 @@
   --approve leaves): the interrupted run leaves the folder as it found it
   and says so, and a folder of diffs is named as such;
 - #9: a still past the video's end drew no trail: the frames go on at the
-  last speed, so the still equals the one of a scene whose video reaches it.
+  last speed, so the still equals the one of a scene whose video reaches it;
+  side by side (each cell held at its own end) --at past the longest end is
+  refused, naming the duration that would reach it;
+- #10: the Markdown summary let GitHub read `$x^2$` as math and `:ok:` as an
+  emoji: `$` and `:` are written as character references;
+- #14: still --state ./s.png (or d//s.png, the absolute path) wrote the
+  state over the image: refused before anything is computed;
+- #15: a timeline time followed by `:` (`0:30 = caption: …`, `12:speed 0.5`)
+  was split by libinih at the `:`: refused, saying a time is seconds.
 usage: test_attack15_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
@@ -99,7 +107,8 @@ os.makedirs(cand)
 for i in range(2):
     shutil.copy(first[1], os.path.join(cand, f"x{i}.diff.png"))
 r = run("compare", os.path.join(d, "e"), os.path.join(d, "a"), "--candidates", cand, "-q")
-ok(r.returncode == 2 and "2 diff images of an earlier run" in err(r) and "would install" not in err(r),
+ok(r.returncode == 2 and "2 images already" in err(r) and "diffs of an earlier run" in err(r)
+   and "would install" not in err(r),
    f"6: a candidates folder holding diffs only is refused as such, not as images --approve "
    f"would install (exit {r.returncode}: {err(r)[:200]})")
 
@@ -117,5 +126,63 @@ if shutil.which("ffmpeg"):
        f"frame without a trail), as with video.duration = 200 (largest difference {worst})")
 else:
     skip("9: a still past the video's end", "ffmpeg missing")
+
+
+# ---- 9: side by side, --at past the longest scene's end is refused ---------------------------
+r = run("still", default, stiff, "--at", "100", "--size", "640x360", "-o", "two.png")
+ok(r.returncode == 2 and "longest ends at t = 9.98333 s" in err(r) and "video.duration=101" in err(r)
+   and not os.path.exists(path("two.png")),
+   f"9: side by side at --at 100 (both 10 s long): refused, naming the end and a duration that "
+   f"reaches it (exit {r.returncode}: {err(r)[:200]})")
+r = run("still", default, stiff, "--at", "100", "--set", "video.duration=101", "--size", "640x360",
+        "-o", "two.png", "-q")
+ok(r.returncode == 0 and os.path.exists(path("two.png")),
+   f"9: with the duration it names, the same still is drawn (exit {r.returncode}: {err(r)[:160]})")
+
+# ---- 10: the summary writes $ and : as character references ----------------------------------
+d = path("md")
+shutil.rmtree(d, ignore_errors=True)
+for sub in ("e", "a"):
+    os.makedirs(os.path.join(d, sub))
+run("still", default, "--at", "0", "--size", "80x45", "-o", os.path.join(d, "e0.png"), "-q")
+run("still", stiff, "--at", "1", "--size", "80x45", "-o", os.path.join(d, "a0.png"), "-q")
+names = ["$x^2$", ":+1:", ":ok:", "$PASS$"]
+for n in names:
+    shutil.copy(os.path.join(d, "e0.png"), os.path.join(d, "e", n + ".png"))
+    shutil.copy(os.path.join(d, "a0.png"), os.path.join(d, "a", n + ".png"))
+r = run("compare", os.path.join(d, "e"), os.path.join(d, "a"), "--summary", os.path.join(d, "s.md"), "-q")
+md = open(os.path.join(d, "s.md")).read() if os.path.exists(os.path.join(d, "s.md")) else ""
+rows = [l for l in md.splitlines() if l.startswith("| ") and ".png" in l]
+import html  # noqa: E402
+shown = sorted(html.unescape(l.split(" | ")[0][2:]) for l in rows)
+ok(r.returncode == 1 and len(rows) == 4 and not any("$" in l or re.search(r":[a-z0-9+]+:", l) for l in rows)
+   and shown == sorted(n + ".png" for n in names),
+   f"10: the summary's rows hold no raw $ or :name: and read back as the names ({shown})")
+
+# ---- 14: --state at the image's path, however spelled, is refused ----------------------------
+d = path("state")
+shutil.rmtree(d, ignore_errors=True)
+os.makedirs(os.path.join(d, "d"))
+for o_, st in (("s.png", "./s.png"), ("d/s.png", "d//s.png"), ("t.png", os.path.join(d, "t.png"))):
+    r = subprocess.run([exe, "still", default, "--at", "1", "--size", "320x180", "-o", o_, "--state", st,
+                        "-q"], cwd=d, capture_output=True, text=True)
+    ok(r.returncode == 2 and "would overwrite the scene or the image" in r.stderr
+       and not os.path.exists(os.path.join(d, o_)),
+       f"14: still -o {o_} --state {st}: refused, nothing written (exit {r.returncode}: {r.stderr[:140]})")
+
+# ---- 15: a timeline time followed by ':' is refused ------------------------------------------
+for cue in ("0:30 = caption: half a minute", "12:speed 0.5", "5: pause 2: note"):
+    name = path("colon.ini")
+    with open(name, "w") as f:
+        f.write(head + "[timeline]\n" + cue + "\n")
+    r = run("info", name)
+    ok(r.returncode == 2 and f"colon.ini:{line}: [timeline] the line starts" in err(r)
+       and "not 0:30" in err(r),
+       f"15: [timeline] {cue!r}: refused at its line (exit {r.returncode}: {err(r)[:160]})")
+name = path("colon-ok.ini")
+with open(name, "w") as f:
+    f.write(head + "[timeline]\n3 = caption: a: b\n")
+r = run("info", name)
+ok(r.returncode == 0, f"15: '3 = caption: a: b' (a ':' in the text) is still taken (exit {r.returncode})")
 
 done()

@@ -18,7 +18,13 @@
 - #14: still --state ./s.png (or d//s.png, the absolute path) wrote the
   state over the image: refused before anything is computed;
 - #15: a timeline time followed by `:` (`0:30 = caption: …`, `12:speed 0.5`)
-  was split by libinih at the `:`: refused, saying a time is seconds.
+  was split by libinih at the `:`: refused, saying a time is seconds;
+- #13: data took --set video.fps (and speed) with --every, where it refuses
+  --fps, and ensemble.trails, which it never writes; info took every key:
+  refused, and the keys they read still change what they print;
+- #17: a video whose caption says "run 7" where its baseline says "run 1"
+  passes the block rule: the Markdown summary lists such passing images
+  with the text keys that differ.
 usage: test_attack15_lead.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import json
 import os
@@ -184,5 +190,48 @@ with open(name, "w") as f:
     f.write(head + "[timeline]\n3 = caption: a: b\n")
 r = run("info", name)
 ok(r.returncode == 0, f"15: '3 = caption: a: b' (a ':' in the text) is still taken (exit {r.returncode})")
+
+
+# ---- 13: data and info refuse the --set keys they do not read --------------------------------
+for args, key in [(["data", default, "--every", "0.5", "--set", "video.fps=30"], "video.fps"),
+                  (["data", default, "--every", "0.5", "--set", "video.speed=3"], "video.speed"),
+                  (["data", default, "--poincare", "--set", "video.fps=30"], "video.fps"),
+                  (["data", default, "--set", "ensemble.trails=true"], "ensemble.trails"),
+                  (["info", default, "--set", "view.hud=true"], "view.hud"),
+                  (["info", default, "--set", "video.crf=20"], "video.crf"),
+                  (["info", default, "--set", "ensemble.count=10"], "ensemble.count")]:
+    r = run(*args, "-o" if args[0] == "data" else "--json", *(["unread.csv"] if args[0] == "data" else []))
+    ok(r.returncode == 2 and f"does not read {key}" in err(r) and not os.path.exists(path("unread.csv"))
+       and not r.stdout.strip(),
+       f"13: {' '.join(a for a in args[2:])}: {args[0]} refuses {key}, exit 2, nothing written "
+       f"(exit {r.returncode}: {err(r)[:140]})")
+# what they read still counts: video.fps without --every sets data's rows, pendulum.mass
+# sets info's omega_spring = sqrt(k/m)
+r = run("data", default, "--set", "video.fps=10", "--set", "video.duration=1", "-o", "-", "-q")
+rows = r.stdout.decode().splitlines()[1:] if r.returncode == 0 else []
+ok(len(rows) == 10, f"13: data --set video.fps=10 over 1 s (no --every): 10 rows ({len(rows)})")
+r = run("info", default, "--set", "pendulum.mass=2", "--json")
+k = float(re.search(r"^stiffness\s*=\s*([0-9.eE+-]+)", open(default).read(), re.M).group(1))
+w = json.loads(r.stdout).get("omega_spring") if r.returncode == 0 else None
+ok(w is not None and abs(w - (k / 2) ** 0.5) < 1e-9,
+   f"13: info --set pendulum.mass=2: omega_spring = sqrt(k/m) = {(k / 2) ** 0.5:.6g} ({w})")
+
+# ---- 17: a passing video drawn with another caption is listed in the summary ------------------
+d = path("cap")
+shutil.rmtree(d, ignore_errors=True)
+for sub in ("e", "a"):
+    os.makedirs(os.path.join(d, sub))
+for sub, cap in (("e", "Energy exchange, run 1"), ("a", "Energy exchange, run 7")):
+    run("render", default, "--set", "video.duration=0.5", "--size", "640x360", "--set",
+        f"view.caption={cap}", "-o", os.path.join(d, sub, "v.mp4"), "-q")
+    run("render", default, "--set", "video.duration=0.5", "--size", "640x360",
+        "-o", os.path.join(d, sub, "same.mp4"), "-q")
+r = run("compare", os.path.join(d, "e"), os.path.join(d, "a"), "--summary", os.path.join(d, "s.md"))
+md = open(os.path.join(d, "s.md")).read() if os.path.exists(os.path.join(d, "s.md")) else ""
+listed = [l for l in md.splitlines() if l.startswith("| v.mp4 | view.caption |")]
+ok(r.returncode == 0 and "drawn with other text than the baseline" in md and len(listed) == 1
+   and "run 1" in listed[0] and "run 7" in listed[0] and "same.mp4" not in md,
+   f"17: a caption 'run 1' vs 'run 7' passes the block rule (exit {r.returncode}) and the summary "
+   f"lists it with both texts, not the unchanged video ({listed})")
 
 done()

@@ -577,7 +577,8 @@ static int run(int argc, char **argv, int still)
         .write_partner = o.still.state ? write_state : NULL, .partner_ctx = &state_ctx,
         .partner = &state_file,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
-        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
+        .page_h = pd.page_h, .size_unit = {o.still.paper_unit[0], o.still.paper_unit[1]},
+        .more = more, .n_more = o.n_scenes - 1,
         .recorded = pd.pt_px > 0 ? &recorded : NULL,
         .part = o.video.frames || o.video.shard,
         .piece = !still && (o.video.frames || o.video.shard) && video_kind(out, o.video.format)});

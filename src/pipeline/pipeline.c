@@ -780,6 +780,21 @@ static void run_close(struct run *run, int ret)
     sp_provenance_free(&run->prov);
 }
 
+/* A still of physical size refused while composed (its panels cannot hold
+ * their texts, a label cannot fit): says what would fit, laid out again
+ * with the frame it refused (sp_figure_fit_advise). */
+static void advise_fit(struct run *run)
+{
+    const struct sp_pipeline_desc *d = run->desc;
+    struct sp_frame frames[SP_PIPELINE_MAX_SCENES];
+    sp_progress_end();
+    sp_figure_fit_advise(&(struct sp_figure_fit){
+        .page_w = d->page_w, .page_h = d->page_h, .pt_px = d->pt_px,
+        .supersample = run->figure ? 0 : d->supersample, .png = !run->figure,
+        .unit = {d->size_unit[0], d->size_unit[1]}, .extent = run->extent,
+        .looks = run->looks, .cells = 1 + run->n_more}, frames_of(run, d->still_at, frames));
+}
+
 /* check -> setup -> (figure | still | video) -> finish -> close. */
 int sp_pipeline_run(const struct sp_pipeline_desc *desc)
 {
@@ -806,8 +821,11 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (ret)
         return ret;
     ret = run_setup(&run);
-    if (!ret)
+    if (!ret) {
         ret = run.figure ? run_figure(&run) : desc->still ? run_still(&run) : run_video(&run);
+        if (ret == SP_E_INPUT && desc->still && desc->pt_px > 0 && desc->size_unit[0])
+            advise_fit(&run);
+    }
     if (!ret && !run.figure)
         ret = run_finish(&run);
     run_close(&run, ret);

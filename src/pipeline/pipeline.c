@@ -195,6 +195,7 @@ struct run {
     int signals_held;            /* desc->handle_signals: signals.h's hold */
     struct sp_signals_saved saved_signals;
     int emitted;                 /* frames handed to the encoder */
+    int stop_said;               /* 1: an interruption is said already */
     struct stage_times tm;
     double t_start;              /* s, monotonic */
     struct sp_moment moment;     /* what the frame being drawn shows (timeline.h) */
@@ -711,7 +712,7 @@ static int run_finish(struct run *run)
         ret = q->err;
         if (ret == SP_E_INTERRUPTED && run->emitted) /* a frame's FIFO waited for a reader */
             sp_log_error("interrupted by %s while an output waited: the frames written are "
-                         "removed", sp_signal_name(sp_signal_seen()));
+                         "removed", sp_signal_name(sp_signal_seen())), run->stop_said = 1;
         if (ret)
             return ret;
     }
@@ -727,7 +728,7 @@ static int run_finish(struct run *run)
     ret = sp_sink_close(&run->sink);
     if (ret == SP_E_INTERRUPTED) /* a frame's FIFO waited for a reader */
         sp_log_error("interrupted by %s while an output waited: the frames written are "
-                     "removed", sp_signal_name(sp_signal_seen()));
+                     "removed", sp_signal_name(sp_signal_seen())), run->stop_said = 1;
     run->tm.finish = sp_clock_s() - t0;
     run->tm.total = sp_clock_s() - run->t_start;
     if (!ret && stopped(run)) {
@@ -751,7 +752,11 @@ static void run_close(struct run *run, int ret)
 {
     struct queue *q = &run->q;
     sp_progress_end();
-    if (ret == SP_E_INTERRUPTED && !run->emitted) {
+    if (ret == SP_E_INTERRUPTED && !run->stop_said && sp_outfile_write_was_stopped()) {
+        /* raw frames, a still or a figure through a FIFO whose reader did not read */
+        sp_log_error("interrupted by %s while %s waited for its reader: what went through "
+                     "it stops short", sp_signal_name(sp_signal_seen()), run->desc->output);
+    } else if (ret == SP_E_INTERRUPTED && !run->stop_said && !run->emitted) {
         sp_log_error("interrupted by %s before the first frame: nothing written",
                      sp_signal_name(sp_signal_seen()));
     }

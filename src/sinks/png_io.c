@@ -26,6 +26,8 @@
  * jumps back to the setjmp in the writer; never returns. */
 static void on_png_error(png_structp png, png_const_charp msg)
 {
+    if (sp_outfile_write_was_stopped())
+        png_longjmp(png, 1); /* a signal: the command names it */
     sp_log_error("%s: libpng: %s", (const char *)png_get_error_ptr(png), msg);
     png_longjmp(png, 1);
 }
@@ -35,6 +37,8 @@ static void on_png_error(png_structp png, png_const_charp msg)
 static void on_png_write(png_structp png, png_bytep data, size_t n)
 {
     if (fwrite(data, 1, n, (FILE *)png_get_io_ptr(png)) != n) {
+        if (sp_outfile_write_was_stopped())
+            png_longjmp(png, 1); /* a signal: the command names it */
         sp_log_error("%s: cannot write: %s", (const char *)png_get_error_ptr(png),
                      strerror(errno));
         png_longjmp(png, 1);
@@ -183,7 +187,8 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
         goto done;
     }
     if (setjmp(png_jmpbuf(png))) {
-        err = SP_E_IO; /* on_png_error has logged */
+        /* on_png_error has logged, or a signal stopped a write */
+        err = sp_outfile_write_was_stopped() ? SP_E_INTERRUPTED : SP_E_IO;
         goto done;
     }
 
@@ -218,8 +223,10 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
     png_write_end(png, NULL);
 
     if (fflush(fp) != 0 || ferror(fp)) {
-        sp_log_error("%s: cannot write: %s", what, strerror(errno));
-        err = SP_E_IO;
+        if (sp_outfile_write_was_stopped())
+            err = SP_E_INTERRUPTED; /* a signal: the command names it */
+        else
+            sp_log_error("%s: cannot write: %s", what, strerror(errno)), err = SP_E_IO;
     }
 done:
     png_destroy_write_struct(&png, &info);
@@ -229,14 +236,15 @@ done:
 int sp_png_write_outfile(struct sp_outfile *f, const struct sp_image *img,
                          const struct sp_png_write_opts *opts)
 {
-    FILE *fp = fdopen(f->fd, "wb");
+    FILE *fp = sp_outfile_fdopen(f); /* f->fd is fp's now */
     if (!fp) {
         sp_log_error("%s: %s", f->target, strerror(errno));
         return SP_E_NOMEM;
     }
-    f->fd = -1; /* fp owns it now */
     int err = sp_png_write_stream_opts(fp, img, opts, f->target);
     if (fclose(fp) != 0 && !err) {
+        if (sp_outfile_write_was_stopped())
+            return SP_E_INTERRUPTED; /* a signal: the command names it */
         sp_log_error("%s: cannot write: %s", f->target, strerror(errno));
         err = SP_E_IO;
     }

@@ -478,19 +478,15 @@ static int video_kind(const char *out, const char *format)
  * still past the end goes on (pipeline.c still_past_end). */
 static int check_still_side_end(const struct sp_cli_options *o, const struct sp_scene *scenes)
 {
-    double end = 0, step = 0; /* the longest's end, the largest frame step */
-    for (int i = 0; i < o->n_scenes; i++) {
-        struct sp_moment m;
-        sp_timeline_frame(&scenes[i], sp_timeline_frames(&scenes[i]) - 1, &m);
-        end = fmax(end, m.t);
-        step = fmax(step, (scenes[i].timeline && scenes[i].timeline->clocked ? scenes[i].timeline->speed_max
-                                              : scenes[i].video.speed) / scenes[i].video.fps);
-    }
+    double end = 0; /* the longest scene's simulated end */
+    for (int i = 0; i < o->n_scenes; i++)
+        end = fmax(end, scenes[i].video.duration);
     if (o->still.at <= end)
         return 0;
-    sp_log_error("--at %g: side by side, each scene is held at its own last frame, and the "
-                 "longest ends at t = %g s; allowed: --at up to %g, or a longer video.duration "
-                 "(--set video.duration=%g)", o->still.at, end, end, ceil(o->still.at + step));
+    sp_log_error("--at %g: side by side, each scene is held at its own end, and the longest "
+                 "ends at t = %g s (video.duration); allowed: --at up to %g, or a longer "
+                 "video.duration (--set video.duration=%g)", o->still.at, end, end,
+                 ceil(o->still.at));
     return SP_E_INPUT;
 }
 

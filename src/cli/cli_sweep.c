@@ -489,7 +489,8 @@ static int check_outputs(const struct sweep_opts *o)
 #define SWEEP_MAX_ROWS 1e8
 #define SWEEP_NOTE_ROWS 1e7
 #define SWEEP_ROW_BYTES 60
-#define SWEEP_ROWS_SUMMED 4000000 /* points whose bounds are summed */
+#define SWEEP_ROWS_SUMMED 1000000 /* points whose bounds are summed (each takes a
+                                   * scene check, about 4 us) */
 
 /* The rows points [first, last) of d write at most: a driven orbit one per
  * drive period at the grid's fastest drive (each branch of --continue

@@ -13,6 +13,9 @@
  *   reading through /proc/self/fd, so a path swapped meanwhile opens
  *   nothing else (without /proc: reopened by name, O_NONBLOCK, and
  *   compared);
+ * - a path under a folder compare walked is resolved beneath that folder
+ *   (sp_infile_confine): a file swapped for a link out of it after the
+ *   walk is refused, not read;
  * - a whole-file read stops when a signal that stops the run arrives
  *   (SP_E_INTERRUPTED, sp_infile_stop_on), rather than retrying the read;
  * - a whole-file read is bounded, so that a forged file cannot cost more
@@ -27,6 +30,28 @@
 /* The flag that, set, stops a whole-file read cut by a signal (main.c hands
  * signals.c's; until then, and with NULL, a cut read is retried). */
 void sp_infile_stop_on(const volatile sig_atomic_t *flag);
+
+/* Confines every later open here of a path that lies in folder dir by
+ * name ("DIR/NAME", DIR as given, the longest such folder) to files inside
+ * it: the name is resolved beneath the descriptor of dir taken now
+ * (openat2 RESOLVE_BENEATH | RESOLVE_NO_MAGICLINKS), so a file a folder
+ * walk took that is swapped for a link out of dir afterwards is refused,
+ * never read: "PATH changed after the folder was listed: it leads to
+ * WHERE, not inside DIR: not read" (SP_E_INPUT). Links within dir are
+ * followed: one that leaves dir and comes back (an absolute link into it),
+ * or every one where the kernel has no openat2 (before Linux 5.6), is
+ * opened as any name and kept only when the file opened lies in dir's
+ * real path (its /proc/self/fd name; without /proc, the name's real path
+ * now, if that is the file opened). A folder that does not exist yet (new
+ * baselines) is resolved at each open. Compare's folder mode confines its
+ * two folders (the walk screens links out of them: compare_run.c), from
+ * before compare.ini is read until its reports are written; not
+ * thread-safe: call before threads start, end after they are joined. 0,
+ * or SP_E_* (said). */
+int sp_infile_confine(const char *dir);
+
+/* Ends every confinement (sp_infile_confine). */
+void sp_infile_confine_end(void);
 
 /* Opens the regular file at path for reading (O_CLOEXEC). want ends the
  * message when it is not one ("a PNG must be a file"). Returns the

@@ -1787,9 +1787,14 @@ int sp_compare_approve(const struct sp_compare_desc *d)
     struct compare_run c;
     int ret;
     run_init(&c, d);
-    if ((ret = sp_compare_config_load(&c.cfg, d->actual)) == 0 &&
+    /* the candidates and the baselines are read only inside their folders
+     * (infile.h): approve_refusal's screening holds when the files are read */
+    if ((ret = sp_infile_confine(d->expected)) == 0 &&
+        (ret = sp_infile_confine(d->actual)) == 0 &&
+        (ret = sp_compare_config_load(&c.cfg, d->actual)) == 0 &&
         (ret = check_env(&c, d->actual)) == 0)
         ret = approve(&c, d->expected, d->actual);
+    sp_infile_confine_end();
     sp_compare_config_free(&c.cfg);
     return ret;
 }
@@ -2029,8 +2034,17 @@ int sp_compare_run(const struct sp_compare_desc *d)
         return ret;
     snprintf(dir, sizeof(dir), "%s", e);
     const char *base_dir = de ? e : dirname(dir); /* the baselines' folder */
-    if ((ret = sp_compare_config_load(&c.cfg, base_dir)) != 0)
+    /* compare.ini, and in folder mode every file the walk takes, is read
+     * only inside its folder, whatever its name became since it was
+     * screened (screen_item): every reader, the memory plan, the reports,
+     * --update and --candidates (infile.h; attack13 #23) */
+    if ((ret = sp_infile_confine(base_dir)) != 0 || (de && (ret = sp_infile_confine(a)) != 0) ||
+        (ret = sp_compare_config_load(&c.cfg, base_dir)) != 0) {
+        sp_infile_confine_end();
         return ret;
+    }
+    if (!de)
+        sp_infile_confine_end(); /* two files named: their links are followed */
     if ((ret = check_env(&c, base_dir)) != 0 || (ret = check_rule_options(&c)) != 0)
         goto done;
     /* JUnit's suite: the baselines' folder, as given. */
@@ -2082,6 +2096,7 @@ done:
         if (!ret || ret == SP_E_MISMATCH)
             ret = SP_E_IO;
     }
+    sp_infile_confine_end();
     sp_compare_config_free(&c.cfg);
     sp_compare_report_free(&rep);
     return ret;

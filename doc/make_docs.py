@@ -7,7 +7,10 @@ or the bash completion, from the built executable's own texts: 'springpend
 per command, in the order --help lists them (doc/meson.build declares them;
 a command added to --help and not there, or the other way round, fails the
 build naming both lists).
-usage: make_docs.py man SPRINGPEND springpend.1 springpend-COMMAND.1 ...
+The pages are installed: where --help names the source tree's scenes/ (the
+built executable runs from the build tree), they name the installed
+folder, SCENES (and DOCS, where README.md and doc/*.md are installed).
+usage: make_docs.py man SPRINGPEND SCENES DOCS springpend.1 springpend-COMMAND.1 ...
        make_docs.py bash SPRINGPEND OUTPUT"""
 import os
 import re
@@ -19,7 +22,11 @@ if sys.argv[1:2] in (["-h"], ["--help"]):
 if len(sys.argv) < 4 or sys.argv[1] not in ("man", "bash"):
     print(__doc__, file=sys.stderr)
     sys.exit(2)
-kind, exe, out = sys.argv[1], sys.argv[2], sys.argv[3]
+kind, exe = sys.argv[1], sys.argv[2]
+if kind == "man":
+    installed_scenes, installed_docs = sys.argv[3], sys.argv[4]
+    del sys.argv[3:5]
+out = sys.argv[3]
 
 
 def text(*args):
@@ -27,6 +34,14 @@ def text(*args):
 
 
 top = text("--help")
+if kind == "man":
+    # the build tree's executable names the source's scenes/; the page is
+    # for the installed program
+    source_scenes = os.path.realpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                  "..", "scenes"))
+    if f"  {source_scenes}/\n" not in top:
+        sys.exit(f"make_docs.py: --help does not name the source's scenes folder {source_scenes}/")
+    top = top.replace(f"  {source_scenes}/\n", f"  {installed_scenes}/\n")
 block = top.split("commands:\n", 1)[1].split("\n\n", 1)[0]
 # a command's line, with the lines its description wraps onto
 commands = [(m.group(1), " ".join(m.group(2).split()))
@@ -104,8 +119,10 @@ if kind == "man":
             parts += [".PP", ".nf", roff(helps[name]), ".fi"]
     parts += [".SH SCENE KEYS", ".nf", roff(keys_text), ".fi",
               ".SH EXIT STATUS", ".nf", roff(exit_status), ".fi",
-              ".SH FILES", "Scene files are INI text; see the scenes/ folder of the source and "
-              "README.md, doc/scenes.md.", ".SH SEE ALSO", ".nh",
+              ".SH FILES", f".TP\n{roff(installed_scenes)}/", "The shipped scenes (INI text), to "
+              "start from: default.ini, chaotic.ini, ... (scenes/ in the source).",
+              f".TP\n{roff(installed_docs)}/", "README.md and the guides: scenes.md (scene "
+              "files), outputs.md, ci.md, teaching.md, ... (README.md and doc/ in the source).", ".SH SEE ALSO", ".nh",
               ",\n".join(f".BR springpend\\-{name} (1)" for name, _ in commands) + ",",
               ".BR ffmpeg (1)"]
     open(out, "w").write("\n".join(parts) + "\n")

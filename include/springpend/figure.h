@@ -62,4 +62,31 @@ int sp_figure_read_command(const char *path, char *text, size_t size);
  * SP_E_INPUT (not .svg/.pdf), SP_E_IO or SP_E_NOMEM (logged). */
 int sp_figure_write(const struct sp_figure_desc *d, const struct sp_frame *f);
 
+/* A still of physical size (--size 8.6cm) as it was asked for, for
+ * sp_figure_fit_advise. */
+struct sp_figure_fit {
+    double page_w, page_h;        /* pt */
+    double pt_px;                 /* px per pt it is laid out at */
+    int supersample;              /* a PNG's --scale; 0 or 1 = none */
+    int png;                      /* 1: a PNG (16x16 to 7680x4320 px) */
+    const char *unit[2];          /* --size's units as given ("cm", "mm", "in",
+                                     "pt"), width's and height's; unit[1] "" =
+                                     WIDTH alone: the height followed the scene's
+                                     aspect */
+    struct sp_view_extent extent; /* as for sp_render_desc */
+    const struct sp_look *looks;  /* each cell's (side by side), as drawn */
+    int cells;
+};
+
+/* After a refusal of fit's figure (its panels cannot hold their texts, a
+ * label cannot fit): lays frames f[0..cells) out again (compose only,
+ * nothing drawn, the inner messages muted) at other settings and says, on
+ * one line, those that fit: the smallest --size in fit's units (0.1 cm,
+ * 1 mm, 0.1 in or 1 pt steps; one step smaller is refused; the same aspect,
+ * or for WIDTH alone the smallest height at that width), the largest
+ * view.font_size (0.5 pt steps, down to 5 pt) and the longest view.panels
+ * list (the first ones, else one alone) at fit's size. Says nothing when
+ * fit's own settings lay out (the refusal was another's). */
+void sp_figure_fit_advise(const struct sp_figure_fit *fit, const struct sp_frame *f);
+
 #endif

@@ -72,6 +72,12 @@ struct sp_compare_opts {
      * when 0, a share cap_fraction; both 0 = no limit. */
     long cap_pixels;
     double cap_fraction;
+    /* The rules checked besides metric's, bits 1 << SP_COMPARE_REFTEST,
+     * _RMS, _PIXELMATCH: the command line's limits that compare.ini's metric
+     * does not read (attack15 #7: `metric = rms` loosened --max-diff 0
+     * --max-pixels 0). Each is checked with these same limits; the image
+     * passes only when every rule does. */
+    unsigned also;
 };
 
 struct sp_compare_result {
@@ -88,7 +94,13 @@ struct sp_compare_result {
     double rms;           /* levels of 255, see above */
     int bbox[4];          /* x0, y0, x1, y1 (inclusive, px, top-left origin)
                              of the differing pixels; all -1 when none */
-    int pass;             /* 1: the images match under opts->metric */
+    int pass;             /* 1: the images match under opts->metric and
+                             every rule in opts->also */
+    unsigned also;        /* opts->also: the rules checked besides */
+    long also_reftest;    /* with also: pixels off by more than max_diff */
+    long also_pixelmatch; /* with also: pixels pixelmatch counts */
+    int decided_by;       /* -1: metric decided (or every rule passed); else
+                             the rule of also that failed */
 };
 
 /* Compares expected with actual. They must have the same size: otherwise

@@ -34,6 +34,7 @@
 
 #include <signal.h>
 #include <stddef.h>
+#include <stdio.h>
 
 struct sp_outfile {
     char *target;  /* owned: the file that appears in the end; NULL = closed */
@@ -98,6 +99,27 @@ int sp_outfile_is_stream(const char *target);
  * signal flag): a wait for a FIFO's reader ends when it is set. NULL, the
  * default: the wait ends only when the open fails otherwise. */
 void sp_outfile_set_cancel(const volatile sig_atomic_t *cancel);
+
+/* Writes all n bytes of buf to fd (an outfile's): 0, or -1 with errno.
+ * What is written through is non-blocking (a pipe's or FIFO's reader that
+ * does not read must not keep a writer thread deaf to signals): EAGAIN is
+ * waited out with poll(), 50 ms at a time, never an error. Once the stop
+ * flag (sp_outfile_set_cancel) is set, a write that must wait is given a
+ * second from the first such wait (a reader that reads takes the frame in
+ * hand), then ends: -1 with errno EINTR, and sp_outfile_write_was_stopped
+ * says so; the caller returns SP_E_INTERRUPTED without a message, and the
+ * command names the signal. A blocking descriptor's write cut by a signal
+ * (a socket as stdout) ends at once. */
+int sp_outfile_write_all(int fd, const void *buf, size_t n);
+
+/* Once a write ended for the stop flag (sp_outfile_write_all): the flag's
+ * value then (main's: the signal's number); 0 before. */
+int sp_outfile_write_was_stopped(void);
+
+/* f->fd as a stdio stream for writing ("w"): a stream whose writes go
+ * through sp_outfile_write_all where f is written through, else fdopen's.
+ * f->fd is the stream's then (-1 in f); NULL with errno on failure. */
+FILE *sp_outfile_fdopen(struct sp_outfile *f);
 
 /* Removes every .part now open in this process. Async-signal-safe: for the
  * handler of a second Ctrl-C. */

@@ -32,6 +32,10 @@ struct sp_pipeline_desc {
                             video.width x height px are page_w x page_h pt at
                             pt_px px per pt (sp_look.pt_px); 0 = a video frame */
     double page_w, page_h; /* pt: an SVG or PDF still's page, when pt_px > 0 */
+    const char *size_unit[2]; /* --size's units as given ("cm", ...), width's and
+                            height's ("" = WIDTH alone): a still refused for its
+                            layout then says what fits (sp_figure_fit_advise);
+                            NULL = says nothing more */
     const struct sp_scene *recorded; /* the scene provenance records; NULL =
                                         scene. A still of physical size records
                                         its scene before --size set its px, so

@@ -135,6 +135,34 @@ void sp_memory_rlimit_said(char *buf, size_t size)
         snprintf(buf, size, "no ulimit -v or -d");
 }
 
+double sp_memory_rlimit(void)
+{
+    struct rlimit as, data;
+    double least = 0;
+    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+        least = (double)as.rlim_cur;
+    if (getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY &&
+        (least == 0 || (double)data.rlim_cur < least))
+        least = (double)data.rlim_cur;
+    return least;
+}
+
+double sp_memory_peak(void)
+{
+    FILE *fp = fopen("/proc/self/status", "r");
+    char line[256];
+    double peak = 0;
+    if (!fp)
+        return 0;
+    while (peak == 0 && fgets(line, sizeof(line), fp)) {
+        unsigned long long kb;
+        if (sscanf(line, "VmPeak: %llu kB", &kb) == 1)
+            peak = (double)kb * 1024;
+    }
+    fclose(fp);
+    return peak;
+}
+
 int sp_memory_rlimited(void)
 {
     struct rlimit as, data;

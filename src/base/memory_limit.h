@@ -31,4 +31,14 @@ int sp_memory_rlimited(void);
  * ("ulimit -v 270000 kB"), or "no ulimit -v or -d". */
 void sp_memory_rlimit_said(char *buf, size_t size);
 
+/* Bytes: the least of ulimit -v and -d (their soft limits), 0 when neither
+ * is set. */
+double sp_memory_rlimit(void);
+
+/* Bytes: the most address space this process has held (VmPeak, in
+ * /proc/self/status), which bounds its data too: under ulimit -v or -d an
+ * allocation fails only when what is held and what is asked for exceed the
+ * limit. 0 when it cannot be read. */
+double sp_memory_peak(void);
+
 #endif

@@ -15,16 +15,9 @@
 #include "module_abi.h"
 #include "springpend/common.h"
 #include "module.h"
+#include "places.h"
 
 enum { MAX_MODULES = 4 };
-
-/* 1 when a and b name the same file or folder. */
-static int same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino;
-}
 
 /* 1 when members of group gid other than root and this user cannot be
  * told apart from root or this user: gid 0 (root's group), or this user's
@@ -196,7 +189,7 @@ void *sp_module_symbol(const char *name, const char *needed_for, const char *sym
     }
     module = loaded[slot].handle;
     if (!module) {
-        char exe[PATH_MAX], up[PATH_MAX + 4], up2[PATH_MAX + 8], where[4][PATH_MAX + 256];
+        char exe[PATH_MAX], build[PATH_MAX], where[4][PATH_MAX + 256];
         char tried[4 * (sizeof(where[0]) + PATH_MAX + 128 + 2)] = "";
         struct stat st;
         int n_where = 0;
@@ -206,14 +199,10 @@ void *sp_module_symbol(const char *name, const char *needed_for, const char *sym
             char *slash = strrchr(exe, '/');
             if (slash)
                 *slash = '\0';
-            snprintf(up, sizeof(up), "%s/..", exe);
-            snprintf(up2, sizeof(up2), "%s/../..", exe);
             /* The build tree: the executable, or a test one or two folders
-             * down (tests/, tests/unit/). */
-            if (same_file(exe, SP_BUILD_DIR))
-                snprintf(where[n_where++], sizeof(where[0]), "%s/%s", exe, name);
-            else if (same_file(up, SP_BUILD_DIR) || same_file(up2, SP_BUILD_DIR))
-                snprintf(where[n_where++], sizeof(where[0]), "%s/%s", SP_BUILD_DIR, name);
+             * down (tests/, tests/unit/), found at run time (places.h). */
+            if (sp_build_tree(build, NULL))
+                snprintf(where[n_where++], sizeof(where[0]), "%s/%s", build, name);
             /* The installed layout, wherever the prefix now is. */
             snprintf(where[n_where++], sizeof(where[0]), "%s/%s/%s", exe, SP_MODULE_RELDIR, name);
         }

@@ -12,8 +12,8 @@
 /* The address of `symbol` in module `name` ("springpend-av.so"), loading it
  * on the first call; NULL (logged, naming `needed_for`) if it cannot be
  * loaded or lacks the symbol. Not thread-safe on the first call. A module is
- * looked for in the build tree (SP_BUILD_DIR) only by an executable in it or
- * one folder down (tests), then at SP_MODULE_RELDIR from the executable's
+ * looked for in the build tree (sp_build_tree) only by an executable in it or
+ * one or two folders down (tests), then at SP_MODULE_RELDIR from the executable's
  * folder (installed, wherever the prefix now is: found through
  * /proc/self/exe), then in SP_MODULE_DIR (the configured prefix); never in
  * any other folder (a binary copied to /x/tools/ never loads a module from /x/). A

@@ -2,8 +2,10 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <poll.h>
 #include <pthread.h>
 #include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -122,11 +124,31 @@ static void unique_suffix(char out[7])
     out[6] = 0;
 }
 
-/* Writes through the non-regular target (or the stdio descriptor fd). */
+/* A stdio descriptor that is a pipe or FIFO, opened anew through
+ * /proc/self/fd/N: a description of its own, which may be non-blocking
+ * without changing the one the shell and the reader's other writers share.
+ * -1 when it is not a pipe or cannot be opened so (then it is dup'ed). */
+static int reopen_pipe(int fd)
+{
+    struct stat st;
+    char name[40];
+    if (fstat(fd, &st) != 0 || !S_ISFIFO(st.st_mode))
+        return -1;
+    snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
+    return open(name, O_WRONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+}
+
+/* Writes through the non-regular target (or the stdio descriptor fd). The
+ * descriptor stays non-blocking (a pipe's or FIFO's, a device's opened by
+ * name): sp_outfile_write_all waits for its reader with poll(), looking at
+ * the stop flag, where a blocking write() on a writer thread would wait
+ * deaf to every signal (attack15 #1). */
 static int open_through(struct sp_outfile *f, int fd)
 {
     if (fd >= 0) {
-        f->fd = fcntl(fd, F_DUPFD_CLOEXEC, 3);
+        f->fd = reopen_pipe(fd);
+        if (f->fd < 0)
+            f->fd = fcntl(fd, F_DUPFD_CLOEXEC, 3);
         if (f->fd < 0) {
             sp_log_error("%s: cannot write to descriptor %d: %s", f->target, fd,
                          strerror(errno));
@@ -137,10 +159,7 @@ static int open_through(struct sp_outfile *f, int fd)
     /* A FIFO without a reader would wait unseen: say so, then wait (a
      * signal stops the wait) */
     f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
-    if (f->fd >= 0 && fcntl(f->fd, F_SETFL, fcntl(f->fd, F_GETFL) & ~O_NONBLOCK) != 0) {
-        close(f->fd);
-        f->fd = -1;
-    } else if (f->fd < 0 && errno == ENXIO) {
+    if (f->fd < 0 && errno == ENXIO) {
         fputs("springpend: ", stderr);
         sp_fputs_line(f->target, stderr);
         fputs(" is a FIFO with no reader yet: waiting for one (Ctrl-C stops)\n", stderr);
@@ -151,11 +170,6 @@ static int open_through(struct sp_outfile *f, int fd)
     while (f->fd < 0 && (errno == ENXIO || errno == EINTR) && !(cancel && *cancel)) {
         nanosleep(&(struct timespec){.tv_nsec = 50 * 1000 * 1000}, NULL);
         f->fd = open(f->target, O_WRONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
-        if (f->fd >= 0 && fcntl(f->fd, F_SETFL, fcntl(f->fd, F_GETFL) & ~O_NONBLOCK) != 0) {
-            close(f->fd);
-            f->fd = -1;
-            break;
-        }
     }
     if (f->fd < 0 && (errno == EINTR || errno == ENXIO) && cancel && *cancel)
         return SP_E_INTERRUPTED; /* the caller says what stopped it */
@@ -164,6 +178,86 @@ static int open_through(struct sp_outfile *f, int fd)
         return SP_E_IO;
     }
     return 0;
+}
+
+/* ---- writing through ---- */
+
+static volatile sig_atomic_t write_stopped; /* the stop flag that ended a write; 0 = none */
+static long long stop_seen_ms; /* when a write first saw the stop flag; 0 = not yet */
+
+static long long now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (long long)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+/* Whether a write that cannot go on now should stop: the stop flag is set
+ * and (interrupted, or) the readers have had STOP_GRACE_MS since a write
+ * first saw it, to take the frame in hand. */
+#define STOP_GRACE_MS 1000
+static int stop_now(int interrupted)
+{
+    if (!cancel || !*cancel)
+        return 0;
+    long long seen = __atomic_load_n(&stop_seen_ms, __ATOMIC_RELAXED), t = now_ms();
+    if (!seen)
+        __atomic_compare_exchange_n(&stop_seen_ms, &seen, t, 0, __ATOMIC_RELAXED,
+                                    __ATOMIC_RELAXED);
+    return interrupted || t - (seen ? seen : t) >= STOP_GRACE_MS;
+}
+
+int sp_outfile_write_all(int fd, const void *buf, size_t n)
+{
+    const char *p = buf;
+    while (n > 0) {
+        ssize_t k = write(fd, p, n);
+        if (k > 0) {
+            p += k, n -= (size_t)k;
+            continue;
+        }
+        if (k == 0 || (errno != EINTR && errno != EAGAIN && errno != EWOULDBLOCK)) {
+            if (k == 0)
+                errno = EIO;
+            return -1;
+        }
+        /* EINTR: a blocking descriptor's write cut by a signal, which the
+         * next write would not see; EAGAIN: the reader has not read */
+        if (stop_now(errno == EINTR)) {
+            write_stopped = *cancel;
+            errno = EINTR;
+            return -1;
+        }
+        if (errno != EINTR)
+            poll(&(struct pollfd){.fd = fd, .events = POLLOUT}, 1, 50);
+    }
+    return 0;
+}
+
+int sp_outfile_write_was_stopped(void)
+{
+    return write_stopped;
+}
+
+static ssize_t cookie_write(void *c, const char *buf, size_t n)
+{
+    return sp_outfile_write_all((int)(intptr_t)c, buf, n) ? -1 : (ssize_t)n;
+}
+
+static int cookie_close(void *c)
+{
+    return close((int)(intptr_t)c);
+}
+
+FILE *sp_outfile_fdopen(struct sp_outfile *f)
+{
+    FILE *fp = f->through ? fopencookie((void *)(intptr_t)f->fd, "w",
+                                        (cookie_io_functions_t){.write = cookie_write,
+                                                                .close = cookie_close})
+                          : fdopen(f->fd, "w");
+    if (fp)
+        f->fd = -1; /* the stream's now */
+    return fp;
 }
 
 /* Creates target.XXXXXX.part with O_EXCL (mode 0666 less the umask) and

@@ -168,8 +168,15 @@ static int add_size(struct sp_cli_options *o, const char *arg)
     char origin[96], side[2][SP_CLI_NUMBER_MAX + 1];
     const char *x = strchr(arg, 'x');
     const size_t w = x ? (size_t)(x - arg) : 0;
-    if (paper_given(arg))
+    if (paper_given(arg)) { /* the units, for a refusal's sizes that fit (print_fit.c) */
+        const size_t n = x ? (size_t)(x - arg) : strlen(arg);
+        memset(o->still.paper_unit, 0, sizeof(o->still.paper_unit));
+        if (n >= 2)
+            memcpy(o->still.paper_unit[0], arg + n - 2, 2);
+        if (x && strlen(x + 1) >= 2)
+            memcpy(o->still.paper_unit[1], arg + strlen(arg) - 2, 2);
         return sp_cli_paper_size("--size", arg, &o->still.paper_w, &o->still.paper_h);
+    }
     if (!x || strchr(x + 1, 'x'))
         return sp_cli_refuse("--size", arg, "not WIDTHxHEIGHT", allowed);
     if (w >= sizeof(side[0]) || strlen(x + 1) >= sizeof(side[1]))

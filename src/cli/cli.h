@@ -23,6 +23,8 @@ struct sp_cli_still_options {
     double paper_w, paper_h; /* --size with units: the figure's physical
                                 size, pt; 0 = not given (paper_h 0 alone: the
                                 height follows the scene's aspect) */
+    char paper_unit[2][3];   /* --size's units as given ("cm", "in", "pt", "mm"),
+                                width's and height's; "" = not given */
     double dpi;              /* --dpi (PNG with paper_w): dots per inch, 0 = not given */
     const char *state;       /* --state: JSON path, NULL = none */
 };

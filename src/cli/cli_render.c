@@ -15,6 +15,7 @@
 #include "springpend/sim.h"
 #include "springpend/sink.h"
 #include "springpend/timeline.h"
+#include "base/signal_name.h"
 
 /* The end of render's and still's help: scenes side by side. */
 #define SIDE_BY_SIDE_HELP \
@@ -160,13 +161,12 @@ static int write_state(void *ctx, const struct sp_state *st, struct sp_outfile *
         snprintf(spatial, sizeof(spatial),
                  "  \"z\": %.17g,\n  \"vz\": %.17g,\n  \"azimuth\": %.17g,\n", st->z, st->vz,
                  azimuth * 180 / M_PI);
-    FILE *fp = fdopen(f.fd, "w");
+    FILE *fp = sp_outfile_fdopen(&f); /* f.fd is fp's now */
     if (!fp) {
         sp_log_error("%s: %s", path, strerror(errno));
         sp_outfile_discard(&f);
         return SP_E_NOMEM;
     }
-    f.fd = -1; /* fp owns it */
     fprintf(fp,
             "{\n  \"springpend\": \"%s\",\n  \"scene_sha256\": \"%s\",\n"
             "  \"units\": {\"t\": \"s\", \"x\": \"m\", \"y\": \"m\", \"vx\": \"m/s\", "
@@ -185,9 +185,14 @@ static int write_state(void *ctx, const struct sp_state *st, struct sp_outfile *
             pol.theta, pol.r_dot, pol.theta_dot, spatial, e.kinetic, e.spring, e.gravity,
             e.total, sim.energy0);
     if (ferror(fp) | fclose(fp)) {
-        sp_log_error("%s: cannot write: %s", path, strerror(errno));
+        const int sig = sp_outfile_write_was_stopped();
+        if (sig)
+            sp_log_error("interrupted by %s while %s waited for its reader: the state stops "
+                         "short", sp_signal_name(sig), path);
+        else
+            sp_log_error("%s: cannot write: %s", path, strerror(errno));
         sp_outfile_discard(&f);
-        return SP_E_IO;
+        return sig ? SP_E_INTERRUPTED : SP_E_IO;
     }
     *out = f; /* written; committed with the image */
     return 0;
@@ -549,7 +554,8 @@ static int run(int argc, char **argv, int still)
         .write_partner = o.still.state ? write_state : NULL, .partner_ctx = &state_ctx,
         .partner = &state_file,
         .progress = !o.quiet && isatty(2), .pt_px = pd.pt_px, .page_w = pd.page_w,
-        .page_h = pd.page_h, .more = more, .n_more = o.n_scenes - 1,
+        .page_h = pd.page_h, .size_unit = {o.still.paper_unit[0], o.still.paper_unit[1]},
+        .more = more, .n_more = o.n_scenes - 1,
         .recorded = pd.pt_px > 0 ? &recorded : NULL,
         .part = o.video.frames || o.video.shard,
         .piece = !still && (o.video.frames || o.video.shard) && video_kind(out, o.video.format)});

@@ -1,6 +1,7 @@
 /* springpend: entry point. Dispatches to a command; the only place that
  * turns an SP_E_* code into an exit status. */
 #include <errno.h>
+#include <limits.h>
 #include <malloc.h>
 #include <signal.h>
 #include <stdio.h>
@@ -8,6 +9,7 @@
 
 #include "cli.h"
 #include "base/command_line.h"
+#include "base/places.h"
 #include "springpend/common.h"
 #include "springpend/environment.h"
 #include "springpend/infile.h"
@@ -34,7 +36,9 @@ static const char usage[] =
     "  version  springpend's version (also --version); --verbose: the environment\n"
     "           a PNG records (renderer, libraries, fonts), for a bug report\n"
     "\n"
-    "'springpend COMMAND --help' tells more. Scenes are INI files; see scenes/.\n"
+    "'springpend COMMAND --help' tells more. Scenes are INI files; the shipped\n"
+    "ones, to start from (default.ini, chaotic.ini, ...), are in\n"
+    "  %s/\n"
     "\n"
     "exit status: 0 done, 1 failed (I/O, encoder, GL; compare: images differ),\n"
     "             2 bad input, 3 the simulation became unstable,\n"
@@ -133,7 +137,9 @@ int main(int argc, char **argv)
     sp_infile_stop_on(sp_signal_flag()); /* a read cut by a stop signal ends */
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
         !strcmp(argv[1], "help")) {
-        fputs(usage, argc < 2 ? stderr : stdout);
+        char scenes[PATH_MAX];
+        sp_scenes_dir(scenes, sizeof(scenes));
+        fprintf(argc < 2 ? stderr : stdout, usage, scenes);
         return argc < 2 ? 2 : exit_status(stdout_checked(0));
     }
     if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {

@@ -604,6 +604,18 @@ void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
                 masks[(*n_masks)++] = r->masks[k];
         }
     tighten(cli, opts);
+    /* A limit of the command line's that compare.ini's metric does not
+     * read is checked by its own rule too: never loosened (attack15 #7) */
+    if (!(cli->set & SP_COMPARE_SET_METRIC)) {
+        const unsigned m = (unsigned)opts->metric;
+        if (((cli->set & SP_COMPARE_SET_MAX_DIFF) && m != SP_COMPARE_REFTEST) ||
+            ((cli->set & SP_COMPARE_SET_MAX_PIXELS) && m == SP_COMPARE_RMS))
+            opts->also |= 1u << SP_COMPARE_REFTEST;
+        if ((cli->set & SP_COMPARE_SET_TOL) && m != SP_COMPARE_RMS)
+            opts->also |= 1u << SP_COMPARE_RMS;
+        if ((cli->set & SP_COMPARE_SET_THRESHOLD) && m != SP_COMPARE_PIXELMATCH)
+            opts->also |= 1u << SP_COMPARE_PIXELMATCH;
+    }
     opts->given = cli->set;
     for (int i = 0; i < cfg->n_rules; i++)
         if (section_match(cfg->rules[i].name, name))

@@ -108,6 +108,31 @@ static const char *verdict_word(enum sp_verdict v)
     return v == SP_VERDICT_PASS ? "pass" : v == SP_VERDICT_FAIL ? "fail" : "error";
 }
 
+static const char *const rule_names[3] = {
+    [SP_COMPARE_REFTEST] = "reftest", [SP_COMPARE_RMS] = "rms",
+    [SP_COMPARE_PIXELMATCH] = "pixelmatch"};
+
+/* The command line's rules checked besides compare.ini's metric (x->also):
+ * each one's figures, and which decided when one failed the image. */
+static void text_also(FILE *fp, const struct sp_compare_result *x)
+{
+    for (int k = 0; k < 3; k++) {
+        if (!(x->also & (1u << k)))
+            continue;
+        fprintf(fp, "; and the command line's %s rule (limits compare.ini's metric does not "
+                "read): ", rule_names[k]);
+        if (k == SP_COMPARE_REFTEST)
+            fprintf(fp, "%ld pixels differ by more than %d levels (%ld allowed)",
+                    x->also_reftest, x->max_diff, x->allowed);
+        else if (k == SP_COMPARE_RMS)
+            fprintf(fp, "rms %.3f %s tol %g", x->rms, x->rms <= x->tol ? "<=" : ">", x->tol);
+        else
+            fprintf(fp, "%ld pixels differ (pixelmatch, threshold %g) (%ld allowed)",
+                    x->also_pixelmatch, x->threshold, x->allowed);
+        fputs(x->decided_by == k ? ", which decided: fail" : ", passed", fp);
+    }
+}
+
 /* The figures of a compared record, as the rest of a line. */
 static void text_figures(FILE *fp, const struct sp_compare_record *r)
 {
@@ -139,6 +164,8 @@ static void text_figures(FILE *fp, const struct sp_compare_record *r)
             fprintf(fp, "; in x %d..%d, y %d..%d", x->bbox[0], x->bbox[2], x->bbox[1],
                     x->bbox[3]);
     }
+    if (x->also && !r->size_mismatch && !r->exact && r->metric != SP_COMPARE_BLOCKS)
+        text_also(fp, x);
     if (r->masked_pixels)
         fprintf(fp, "; %ld pixels masked", r->masked_pixels);
     if (r->baseline_key[0])
@@ -1161,6 +1188,9 @@ static void md_figures(FILE *fp, const struct sp_compare_record *r)
         snprintf(a, sizeof(a), "%ld %s", x->allowed,
                  r->metric == SP_COMPARE_BLOCKS ? "blocks" : "px");
     }
+    if (x->also && x->decided_by >= 0 && x->decided_by < 3 && !r->size_mismatch)
+        snprintf(m + strlen(m), sizeof(m) - strlen(m), "; the command line's %s rule "
+                 "decided", rule_names[x->decided_by]);
     fputs(" | ", fp);
     if (r->frames > 0)
         fprintf(fp, "%d of %d frames; worst frame %d: ", r->failed_frames, r->frames,

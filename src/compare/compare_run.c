@@ -602,14 +602,24 @@ static int record_lengths(struct compare_run *c, struct sp_compare_record *r,
  * once (decoding it again would only double its cost: attack9 #6), and
  * SP_E_NOMEM is memory. Returns record_error's or record_nomem's code, or
  * SP_E_INTERRUPTED (recorded). */
-/* Records that path did not decode alone under ulimit -v or -d. Its
- * container, read packet by packet with little memory, tells a cut or
+/* The least room under ulimit -v or -d that the process kept at its
+ * peak for a decoder's error to be the file's: more than any one
+ * allocation of a single-threaded decoder asks for (a frame's plane of
+ * 8192x4352 16-bit samples is 71 MB). */
+#define DECODE_SPARE (256.0 * 1024 * 1024)
+
+/* Records that path did not decode alone under ulimit -v or -d (its
+ * error neither ENOMEM nor a frame buffer refused: those are memory's).
+ * Its container, read packet by packet with little memory, tells a cut or
  * damaged file the same way under any limit: "cannot decode", exit 2.
  * Where it finds nothing wrong, the decoder's error may be the file's or
  * memory's (FFmpeg reports some failed allocations as damaged data: an
- * intact 1080p video was called damaged, attack12 #5), and no limit
- * springpend may lift (ulimit sets the hard limit too) tells them apart:
- * said so, exit 1, as memory's. */
+ * intact 1080p video was called damaged, attack12 #5): the file's when
+ * the process never came within DECODE_SPARE of the limit (an allocation
+ * fails only where what is held and asked for exceed it: a damaged
+ * payload under 16 GB was called memory's, attack15 #16), "cannot
+ * decode", exit 2; else said so, exit 1, as memory's (no limit springpend
+ * may lift, ulimit sets the hard limit too, tells them apart). */
 static int record_undecoded(struct sp_compare_record *r, const char *path)
 {
     char why[160] = "";
@@ -618,6 +628,11 @@ static int record_undecoded(struct sp_compare_record *r, const char *path)
         return record_error(r, "cannot decode %s (decoded again alone: damaged: %s)", path, why);
     char limit[64];
     sp_memory_rlimit_said(limit, sizeof(limit));
+    const double most = sp_memory_rlimit(), peak = sp_memory_peak();
+    if (whole == 1 && most > 0 && peak > 0 && most - peak >= DECODE_SPARE)
+        return record_error(r, "cannot decode %s (decoded again alone, with memory to spare: "
+                               "the process held at most %.0f MB of the %.0f MB that %s allows)",
+                            path, peak / 1048576, most / 1048576, limit);
     record_error(r, "cannot decode %s under this memory limit (%s): its container is whole, "
                     "and the decoder's error may be the file's or memory's; allow more memory "
                     "to tell", path, limit);

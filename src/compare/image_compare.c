@@ -72,7 +72,8 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
     resolve(opts, res->pixels, res);
     res->bbox[0] = res->bbox[1] = res->bbox[2] = res->bbox[3] = -1;
     uint8_t *marks = NULL; /* pixelmatch's verdict per pixel */
-    if (opts->metric == SP_COMPARE_PIXELMATCH) {
+    const int pm = opts->metric == SP_COMPARE_PIXELMATCH;
+    if (pm || (opts->also & (1u << SP_COMPARE_PIXELMATCH))) {
         if (!(marks = malloc((size_t)res->pixels))) {
             sp_log_error("out of memory comparing two %dx%d images", e->width, e->height);
             if (diff)
@@ -98,8 +99,12 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
             opaque &= p[3] == 255 && q[3] == 255;
             if (m > res->max_channel_diff)
                 res->max_channel_diff = m;
-            int level = marks ? marks[(size_t)y * e->width + x] : m > res->max_diff ? 2 : m > 0;
-            res->antialiased += level == 1 && marks;
+            const int ref = m > res->max_diff ? 2 : m > 0;
+            const int pml = marks ? marks[(size_t)y * e->width + x] : 0;
+            const int level = pm ? pml : ref;
+            res->also_reftest += ref == 2;
+            res->also_pixelmatch += pml == 2;
+            res->antialiased += level == 1 && pm;
             res->changed += m > 0;
             if (level == 2) {
                 if (!res->differing++) {
@@ -122,6 +127,15 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
         res->pass = res->rms <= res->tol;
     else
         res->pass = res->differing <= res->allowed;
+    res->also = opts->also;
+    res->decided_by = -1;
+    const int fails[3] = {
+        [SP_COMPARE_REFTEST] = res->also_reftest > res->allowed,
+        [SP_COMPARE_RMS] = res->rms > res->tol,
+        [SP_COMPARE_PIXELMATCH] = res->also_pixelmatch > res->allowed};
+    for (int k = 0; k < 3 && res->pass; k++)
+        if ((opts->also & (1u << k)) && fails[k])
+            res->pass = 0, res->decided_by = k;
     return 0;
 }
 

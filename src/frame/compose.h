@@ -77,6 +77,13 @@ int sp_compose_cells_make(struct sp_compose_cells **out, const struct sp_compose
  * scale. */
 int sp_compose_cells_frame(struct sp_compose_cells *c, const struct sp_frame *frames,
                            const struct sp_canvas **out);
+/* 1 when frames[0..n) lay out as sp_compose_cells_make and _frame would
+ * compose them (a figure of physical size: its panels hold their texts,
+ * its labels fit), 0 when either refuses. Composes into a draw list only:
+ * nothing drawn or written, and the refusals' messages muted (a probe for
+ * what would fit: render/figure_fit.c). */
+int sp_compose_cells_fits(const struct sp_compose_desc *desc, const struct sp_look *looks, int n,
+                          const struct sp_frame *frames);
 const struct sp_font *sp_compose_cells_font(const struct sp_compose_cells *c);
 const struct sp_palette *sp_compose_cells_palette(const struct sp_compose_cells *c);
 /* Every cell's sp_compose_overlay, prefixed "cellN." when n > 1. */

@@ -101,6 +101,21 @@ int sp_compose_cells_frame(struct sp_compose_cells *c, const struct sp_frame *fr
     return err;
 }
 
+int sp_compose_cells_fits(const struct sp_compose_desc *desc, const struct sp_look *looks, int n,
+                          const struct sp_frame *frames)
+{
+    struct sp_compose_cells *c = NULL;
+    const struct sp_canvas *cv;
+    const int muted = sp_log_muted();
+    sp_log_mute(1);
+    int err = sp_compose_cells_make(&c, desc, looks, n);
+    if (!err)
+        err = sp_compose_cells_frame(c, frames, &cv);
+    sp_compose_cells_destroy(&c);
+    sp_log_mute(muted);
+    return !err;
+}
+
 const struct sp_font *sp_compose_cells_font(const struct sp_compose_cells *c)
 {
     return sp_compose_font(c->cell[0]);

@@ -239,13 +239,12 @@ int sp_data_run(const struct sp_data_desc *d)
         ret = sp_outfile_open(&f, out, SP_OUTFILE_STREAM);
     if (ret)
         goto done;
-    FILE *fp = fdopen(f.fd, "w");
+    FILE *fp = sp_outfile_fdopen(&f); /* f.fd is fp's now */
     if (!fp) {
         sp_log_error("%s: %s", what, strerror(errno));
         ret = SP_E_NOMEM;
         goto done;
     }
-    f.fd = -1; /* fp owns it */
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
     sp_progress_begin(!d->quiet && !(to_stdout && isatty(1)), "data", d->t_end);
@@ -257,6 +256,8 @@ int sp_data_run(const struct sp_data_desc *d)
     int write_errno = errno;
     if (fclose(fp) != 0 && !ret)
         ret = SP_E_IO, write_errno = errno;
+    if (ret == SP_E_IO && sp_outfile_write_was_stopped()) /* a reader that did not read */
+        ret = SP_E_INTERRUPTED;
     if (ret == SP_E_IO)
         sp_log_error("cannot write the CSV to %s: %s", what, write_errno == EPIPE
                      ? "the reader closed the pipe" : strerror(write_errno));
@@ -269,6 +270,9 @@ int sp_data_run(const struct sp_data_desc *d)
     if (ret == SP_E_INTERRUPTED && !through) /* once, from either step (attack10 #17) */
         sp_log_error("interrupted by %s: %s not written",
                      sp_signal_name(d->cancel ? (int)*d->cancel : 0), out);
+    else if (ret == SP_E_INTERRUPTED && sp_outfile_write_was_stopped())
+        sp_log_error("interrupted by %s while %s waited for its reader: the CSV stops short",
+                     sp_signal_name(d->cancel ? (int)*d->cancel : 0), what);
     if (!ret && !d->quiet && !through)
         sp_fprintf_line(stderr, "wrote %s", out);
 done:

@@ -270,7 +270,9 @@ static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, 
 {
     const char *where = axis ? st->ylabel_where : st->xlabel_where;
     const char *key = axis ? "ylabel" : "xlabel";
-    const float ss = st->ss > 0 ? (float)st->ss : 1;
+    /* drawn px per output px, or per pt at a printed size: said in its unit */
+    const float ss = st->pt > 0 ? st->pt : st->ss > 0 ? (float)st->ss : 1;
+    const char *unit = st->pt > 0 ? "pt" : "px";
     char at[600];
     if (!where || !where[0])
         snprintf(at, sizeof(at), "[view] %s", key);
@@ -279,12 +281,12 @@ static void label_refused(struct sp_canvas *c, const struct sp_panel_style *st, 
     else
         snprintf(at, sizeof(at), "%s: [view] %s", where, key);
     if (!c->err)
-        sp_log_error("%s: the %s axis's name \"%s\" cannot fit the %s panel: it is %.0f px "
-                     "wide, and the panel has %.0f px for it%s; allowed: at most %.0f px; shorten "
+        sp_log_error("%s: the %s axis's name \"%s\" cannot fit the %s panel: it is %.0f %s "
+                     "wide, and the panel has %.0f %s for it%s; allowed: at most %.0f %s; shorten "
                      "it, use a smaller font_size or font_scale, fewer panels or a larger frame",
                      at, axis ? "y" : "x", text, sp_scene_plot_name(st->order[st->index]),
-                     width / ss, fmaxf(room, 0) / ss, axis ? " beside the panel's title" : "",
-                     fmaxf(room, 0) / ss);
+                     width / ss, unit, fmaxf(room, 0) / ss, unit,
+                     axis ? " beside the panel's title" : "", fmaxf(room, 0) / ss, unit);
     c->err = SP_E_INPUT;
 }
 
@@ -320,11 +322,15 @@ static void panel_refused(struct sp_canvas *c, const struct sp_rect *r, const st
     char what[256], rows[64] = "";
     if (leg_rows)
         snprintf(rows, sizeof(rows), " and its legend's %d row%s", leg_rows, leg_rows > 1 ? "s" : "");
+    /* the three parts of the height, each as printed, add up to it as printed */
+    const float h_said = roundf((r->y1 - r->y0) / pt * 10) / 10,
+                t_said = roundf((top - r->y0) / pt * 10) / 10,
+                b_said = roundf((r->y1 - bottom) / pt * 10) / 10;
     if (plot < min_plot)
-        snprintf(what, sizeof(what), "its title row%s take%s %.1f of its %.1f pt height, leaving "
-                 "%.1f pt for the plot under %s (at least %.0f pt)", rows, leg_rows ? "" : "s",
-                 (top - r->y0) / pt, (r->y1 - r->y0) / pt, fmaxf(plot, 0) / pt,
-                 leg_rows ? "them" : "it", min_plot / pt);
+        snprintf(what, sizeof(what), "of its %.1f pt height its title row%s take%s %.1f pt and "
+                 "the padding and ticks under the plot %.1f pt, leaving %.1f pt for the plot "
+                 "(at least %.0f pt)", h_said, rows, leg_rows ? "" : "s", t_said, b_said,
+                 roundf((h_said - t_said - b_said) * 10) / 10 + 0.0f, min_plot / pt);
     else
         snprintf(what, sizeof(what), "its %s is %.0f pt wide, and the panel has %.0f pt for it",
                  title_w > room_w ? "title" : "widest legend entry",

@@ -195,6 +195,7 @@ struct run {
     int signals_held;            /* desc->handle_signals: signals.h's hold */
     struct sp_signals_saved saved_signals;
     int emitted;                 /* frames handed to the encoder */
+    int stop_said;               /* 1: an interruption is said already */
     struct stage_times tm;
     double t_start;              /* s, monotonic */
     struct sp_moment moment;     /* what the frame being drawn shows (timeline.h) */
@@ -688,7 +689,7 @@ static int run_finish(struct run *run)
         ret = q->err;
         if (ret == SP_E_INTERRUPTED && run->emitted) /* a frame's FIFO waited for a reader */
             sp_log_error("interrupted by %s while an output waited: the frames written are "
-                         "removed", sp_signal_name(sp_signal_seen()));
+                         "removed", sp_signal_name(sp_signal_seen())), run->stop_said = 1;
         if (ret)
             return ret;
     }
@@ -704,7 +705,7 @@ static int run_finish(struct run *run)
     ret = sp_sink_close(&run->sink);
     if (ret == SP_E_INTERRUPTED) /* a frame's FIFO waited for a reader */
         sp_log_error("interrupted by %s while an output waited: the frames written are "
-                     "removed", sp_signal_name(sp_signal_seen()));
+                     "removed", sp_signal_name(sp_signal_seen())), run->stop_said = 1;
     run->tm.finish = sp_clock_s() - t0;
     run->tm.total = sp_clock_s() - run->t_start;
     if (!ret && stopped(run)) {
@@ -728,7 +729,11 @@ static void run_close(struct run *run, int ret)
 {
     struct queue *q = &run->q;
     sp_progress_end();
-    if (ret == SP_E_INTERRUPTED && !run->emitted) {
+    if (ret == SP_E_INTERRUPTED && !run->stop_said && sp_outfile_write_was_stopped()) {
+        /* raw frames, a still or a figure through a FIFO whose reader did not read */
+        sp_log_error("interrupted by %s while %s waited for its reader: what went through "
+                     "it stops short", sp_signal_name(sp_signal_seen()), run->desc->output);
+    } else if (ret == SP_E_INTERRUPTED && !run->stop_said && !run->emitted) {
         sp_log_error("interrupted by %s before the first frame: nothing written",
                      sp_signal_name(sp_signal_seen()));
     }
@@ -757,6 +762,21 @@ static void run_close(struct run *run, int ret)
     sp_provenance_free(&run->prov);
 }
 
+/* A still of physical size refused while composed (its panels cannot hold
+ * their texts, a label cannot fit): says what would fit, laid out again
+ * with the frame it refused (sp_figure_fit_advise). */
+static void advise_fit(struct run *run)
+{
+    const struct sp_pipeline_desc *d = run->desc;
+    struct sp_frame frames[SP_PIPELINE_MAX_SCENES];
+    sp_progress_end();
+    sp_figure_fit_advise(&(struct sp_figure_fit){
+        .page_w = d->page_w, .page_h = d->page_h, .pt_px = d->pt_px,
+        .supersample = run->figure ? 0 : d->supersample, .png = !run->figure,
+        .unit = {d->size_unit[0], d->size_unit[1]}, .extent = run->extent,
+        .looks = run->looks, .cells = 1 + run->n_more}, frames_of(run, d->still_at, frames));
+}
+
 /* check -> setup -> (figure | still | video) -> finish -> close. */
 int sp_pipeline_run(const struct sp_pipeline_desc *desc)
 {
@@ -783,8 +803,11 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (ret)
         return ret;
     ret = run_setup(&run);
-    if (!ret)
+    if (!ret) {
         ret = run.figure ? run_figure(&run) : desc->still ? run_still(&run) : run_video(&run);
+        if (ret == SP_E_INPUT && desc->still && desc->pt_px > 0 && desc->size_unit[0])
+            advise_fit(&run);
+    }
     if (!ret && !run.figure)
         ret = run_finish(&run);
     run_close(&run, ret);

@@ -10,6 +10,7 @@
 #include "cairo_fd.h"
 #include "springpend/common.h"
 #include "springpend/figure.h"
+#include "springpend/outfile.h"
 
 cairo_status_t sp_cairo_fd_write(void *closure, const unsigned char *data, unsigned int length)
 {
@@ -23,15 +24,9 @@ cairo_status_t sp_cairo_fd_write(void *closure, const unsigned char *data, unsig
         sp_cairo_fd_write(k, (const unsigned char *)meta, (unsigned int)strlen(meta));
         data += length - n_end, length = n_end;
     }
-    while (length && !k->err) {
-        ssize_t n = write(k->fd, data, length);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            k->err = n < 0 ? errno : EIO;
-        else
-            data += n, length -= (unsigned int)n;
-    }
+    /* a FIFO whose reader does not read waits with the stop flag in view */
+    if (length && !k->err && sp_outfile_write_all(k->fd, data, length) != 0)
+        k->err = errno;
     return k->err ? CAIRO_STATUS_WRITE_ERROR : CAIRO_STATUS_SUCCESS;
 }
 

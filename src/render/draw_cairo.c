@@ -15,6 +15,7 @@
 #include "cairo_text.h"
 #include "draw_cairo.h"
 #include "frame/text.h"
+#include "springpend/outfile.h"
 
 static void source(cairo_t *cr, const float c[4])
 {
@@ -270,6 +271,8 @@ static int cairo_err(struct sp_draw_cairo *dc, cairo_status_t st)
 {
     if (dc->err || !st)
         return dc->err;
+    if (dc->sink.err && sp_outfile_write_was_stopped())
+        return dc->err = SP_E_INTERRUPTED; /* a FIFO's reader did not read: the caller says it */
     if (dc->sink.err)
         sp_log_error("%s: cannot write: %s", dc->d.path, strerror(dc->sink.err));
     else

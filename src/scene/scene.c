@@ -3,6 +3,7 @@
  * FILE:LINE messages. Pure: nothing but stderr is touched. */
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <stdarg.h>
@@ -20,6 +21,7 @@
 #include "springpend/timeline.h"
 #include "base/array.h"
 #include "base/decimal.h"
+#include "base/places.h"
 #include "base/ini_lines.h"
 #include "base/utf8.h"
 
@@ -1082,8 +1084,10 @@ static int check_text(struct parse_ctx *c, const char *text)
         p += n;
     }
     if (blank) {
+        char scenes[PATH_MAX];
+        sp_scenes_dir(scenes, sizeof(scenes)); /* the installed or the source's scenes/ */
         report(c, 0, "the scene is empty; set at least one key (e.g. '[pendulum]' then "
-               "'mass = 1'), or start from scenes/default.ini");
+               "'mass = 1'), or start from %s/default.ini", scenes);
         return 0;
     }
     return 1;
@@ -1278,6 +1282,21 @@ int sp_scene_parse(struct sp_scene *s, const char *text, const char *origin,
 /* How long a FIFO scene waits for its writer before giving up. */
 #define SCENE_FIFO_WAIT_MS 5000
 
+/* 1 when path is a bare name ("default", "chaotic.ini": no folder) of a
+ * shipped scene, whose path goes to out: a hint for a scene not found. */
+static int shipped_scene(const char *path, char *out, size_t size)
+{
+    char dir[PATH_MAX];
+    size_t len = strlen(path);
+    if (!len || len > 200 || strchr(path, '/') || path[0] == '.')
+        return 0;
+    sp_scenes_dir(dir, sizeof(dir));
+    const int ini = len > 4 && !strcmp(path + len - 4, ".ini");
+    if ((size_t)snprintf(out, size, "%s/%s%s", dir, path, ini ? "" : ".ini") >= size)
+        return 0;
+    return access(out, R_OK) == 0;
+}
+
 /* Reads the whole scene at path into *text (NUL-terminated, caller frees).
  * A regular file is read by its size; a pipe, FIFO or device as a stream
  * (`<(cat x)`, `/dev/stdin`), at most 1 MiB, after waiting at most
@@ -1293,7 +1312,13 @@ static int read_scene(const char *path, char **text, size_t *size)
     /* O_NONBLOCK: opening a FIFO must not wait for a writer forever. */
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) {
-        sp_fprintf_line(stderr, "%s: cannot open scene: %s", path, strerror(errno));
+        char shipped[PATH_MAX + 64];
+        const int err = errno;
+        if (err == ENOENT && shipped_scene(path, shipped, sizeof(shipped)))
+            sp_fprintf_line(stderr, "%s: cannot open scene: %s; the shipped scene of that "
+                            "name is %s", path, strerror(err), shipped);
+        else
+            sp_fprintf_line(stderr, "%s: cannot open scene: %s", path, strerror(err));
         return SP_E_INPUT;
     }
     if (fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {

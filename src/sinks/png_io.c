@@ -9,6 +9,7 @@
 #include <png.h>
 #include <lcms2.h>
 #include <stdlib.h>
+#include <stdint.h>
 #include <string.h>
 #include <pthread.h>
 
@@ -26,6 +27,8 @@
  * jumps back to the setjmp in the writer; never returns. */
 static void on_png_error(png_structp png, png_const_charp msg)
 {
+    if (sp_outfile_write_was_stopped())
+        png_longjmp(png, 1); /* a signal: the command names it */
     sp_log_error("%s: libpng: %s", (const char *)png_get_error_ptr(png), msg);
     png_longjmp(png, 1);
 }
@@ -35,6 +38,8 @@ static void on_png_error(png_structp png, png_const_charp msg)
 static void on_png_write(png_structp png, png_bytep data, size_t n)
 {
     if (fwrite(data, 1, n, (FILE *)png_get_io_ptr(png)) != n) {
+        if (sp_outfile_write_was_stopped())
+            png_longjmp(png, 1); /* a signal: the command names it */
         sp_log_error("%s: cannot write: %s", (const char *)png_get_error_ptr(png),
                      strerror(errno));
         png_longjmp(png, 1);
@@ -61,6 +66,7 @@ struct png_reader {
     int text_dropped; /* text chunks libpng dropped: damaged or beyond the bounds */
     char text_why[128]; /* libpng's words for the first one dropped */
     char iccp_why[128]; /* libpng's words when it dropped an iCCP (a profile unread) */
+    char exif_why[128]; /* libpng's words when it dropped an eXIf (an orientation unread) */
 };
 
 /* A damaged PNG is logged; an error after a failed allocation is not: the
@@ -105,6 +111,11 @@ static void on_png_read_warning(png_structp png, png_const_charp msg)
         /* a profile libpng did not take (too large, malformed, a second one):
          * viewers may still apply it, so shown_as_read refuses the file */
         snprintf(r->iccp_why, sizeof(r->iccp_why), "%s", msg);
+    } else if (!strncmp(msg, "eXIf", 4)) {
+        /* one libpng did not take (malformed, a second one): viewers may
+         * still turn the image by it, so exif_refused refuses the file */
+        if (!r->exif_why[0])
+            snprintf(r->exif_why, sizeof(r->exif_why), "%s", msg);
     }
     else if (!r->nomem) /* after a failed allocation: the caller's to say */
         sp_log_error("%s: libpng warning: %s", r->path, msg);
@@ -183,7 +194,8 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
         goto done;
     }
     if (setjmp(png_jmpbuf(png))) {
-        err = SP_E_IO; /* on_png_error has logged */
+        /* on_png_error has logged, or a signal stopped a write */
+        err = sp_outfile_write_was_stopped() ? SP_E_INTERRUPTED : SP_E_IO;
         goto done;
     }
 
@@ -218,8 +230,10 @@ int sp_png_write_stream_opts(FILE *fp, const struct sp_image *img,
     png_write_end(png, NULL);
 
     if (fflush(fp) != 0 || ferror(fp)) {
-        sp_log_error("%s: cannot write: %s", what, strerror(errno));
-        err = SP_E_IO;
+        if (sp_outfile_write_was_stopped())
+            err = SP_E_INTERRUPTED; /* a signal: the command names it */
+        else
+            sp_log_error("%s: cannot write: %s", what, strerror(errno)), err = SP_E_IO;
     }
 done:
     png_destroy_write_struct(&png, &info);
@@ -229,14 +243,15 @@ done:
 int sp_png_write_outfile(struct sp_outfile *f, const struct sp_image *img,
                          const struct sp_png_write_opts *opts)
 {
-    FILE *fp = fdopen(f->fd, "wb");
+    FILE *fp = sp_outfile_fdopen(f); /* f->fd is fp's now */
     if (!fp) {
         sp_log_error("%s: %s", f->target, strerror(errno));
         return SP_E_NOMEM;
     }
-    f->fd = -1; /* fp owns it now */
     int err = sp_png_write_stream_opts(fp, img, opts, f->target);
     if (fclose(fp) != 0 && !err) {
+        if (sp_outfile_write_was_stopped())
+            return SP_E_INTERRUPTED; /* a signal: the command names it */
         sp_log_error("%s: cannot write: %s", f->target, strerror(errno));
         err = SP_E_IO;
     }
@@ -454,6 +469,124 @@ static int icc_srgb_distance(const void *prof, png_uint_32 len, int gray)
     return worst;
 }
 
+/* sRGB's encoding (IEC 61966-2-1) of linear light lin. */
+static double srgb_encoded(double lin)
+{
+    return lin <= 0.0031308 ? 12.92 * lin : 1.055 * pow(lin, 1 / 2.4) - 0.055;
+}
+
+/* The most levels (of 255) by which profile p's tone curve tag sig moves a
+ * value from sRGB's, over every 16-bit value (PNG's deepest samples; a
+ * table's entries between 8-bit levels count too); 256 when it has none. */
+static double trc_distance(cmsHPROFILE p, cmsTagSignature sig)
+{
+    const cmsToneCurve *curve = cmsReadTag(p, sig);
+    double worst = 0;
+    if (!curve)
+        return 256;
+    for (int v = 0; v < 65536; v++) {
+        const double x = v / 65535.0;
+        const double d = fabs(srgb_encoded(cmsEvalToneCurveFloat(curve, (cmsFloat32Number)x)) - x);
+        if (!(d * 255 < 256)) /* NaN too */
+            return 256;
+        worst = d * 255 > worst ? d * 255 : worst;
+    }
+    return worst;
+}
+
+/* Opens the ICC profile prof (len bytes) in a context of its own (*ctx)
+ * when it is of a gray (gray != 0) or colour PNG's colour space; NULL
+ * when it is not, or lcms cannot read it (icc_srgb_distance says so). */
+static cmsHPROFILE icc_open(cmsContext *ctx, const void *prof, png_uint_32 len, int gray)
+{
+    cmsHPROFILE p = NULL;
+    if (!(*ctx = cmsCreateContext(NULL, NULL)))
+        return NULL;
+    cmsSetLogErrorHandlerTHR(*ctx, lcms_quiet);
+    p = cmsOpenProfileFromMemTHR(*ctx, prof, len);
+    if (p && cmsGetColorSpace(p) != (gray ? cmsSigGrayData : cmsSigRgbData)) {
+        cmsCloseProfile(p);
+        p = NULL;
+    }
+    if (!p)
+        cmsDeleteContext(*ctx);
+    return p;
+}
+
+static void icc_close(cmsContext ctx, cmsHPROFILE p)
+{
+    cmsCloseProfile(p);
+    cmsDeleteContext(ctx);
+}
+
+/* NULL when the ICC profile prof (len bytes) of a gray (gray != 0) or
+ * colour PNG is converted by its matrix and tone curves alone (lcms2's
+ * cmsIsMatrixShaper; for gray, its curve); else what is wrong, in buf. A
+ * table (A2B0..2, B2A0..2, D2B0..3, B2D0..3) or a cicp tag is what colour
+ * managers convert by in preference (Chromium's skcms does by A2B0): a
+ * table exact on any fixed sample set and inverting the colours between
+ * them was taken (attack15 #11). NULL too for a profile lcms cannot read
+ * or of another colour space: icc_srgb_distance says so. */
+static const char *icc_structure_refused(const void *prof, png_uint_32 len, int gray, char *buf,
+                                         size_t size)
+{
+    static const cmsTagSignature preferred[] = {
+        cmsSigAToB0Tag, cmsSigAToB1Tag, cmsSigAToB2Tag, cmsSigBToA0Tag, cmsSigBToA1Tag,
+        cmsSigBToA2Tag, cmsSigDToB0Tag, cmsSigDToB1Tag, cmsSigDToB2Tag, cmsSigDToB3Tag,
+        cmsSigBToD0Tag, cmsSigBToD1Tag, cmsSigBToD2Tag, cmsSigBToD3Tag,
+        (cmsTagSignature)0x63696370 /* cicp */};
+    const char *what = NULL;
+    cmsContext ctx;
+    cmsHPROFILE p = icc_open(&ctx, prof, len, gray);
+    if (!p)
+        return NULL;
+    for (size_t i = 0; !what && i < sizeof(preferred) / sizeof(preferred[0]); i++) {
+        const unsigned t = (unsigned)preferred[i];
+        if (cmsIsTag(p, preferred[i]))
+            snprintf(buf, size, "holds an ICC colour profile (iCCP) with %s %c%c%c%c %s, which "
+                     "colour managers use instead of its matrix and curves (Chromium does); "
+                     "compare takes only sRGB's matrix and curves: save its pixels in sRGB, "
+                     "without the iCCP chunk", t == 0x63696370 ? "a" : "an", t >> 24,
+                     t >> 16 & 0xff, t >> 8 & 0xff, t & 0xff,
+                     t == 0x63696370 ? "tag (coding-independent code points)" : "table"),
+                what = buf;
+    }
+    if (!what && !cmsIsMatrixShaper(p))
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) that is not a matrix and curves "
+                 "(%s); compare takes only sRGB's matrix and curves: save its pixels in sRGB, "
+                 "without the iCCP chunk", gray ? "kTRC" : "rXYZ gXYZ bXYZ, rTRC gTRC bTRC"),
+            what = buf;
+    icc_close(ctx, p);
+    return what;
+}
+
+/* NULL when the tone curves of the matrix/TRC profile prof (len bytes;
+ * icc_structure_refused took it) are sRGB's to within ICC_SRGB_LEVELS at
+ * every 16-bit value, between the 8-bit levels icc_srgb_distance samples
+ * too (a 16-bit PNG's samples are there); else what is wrong, in buf. */
+static const char *icc_curves_refused(const void *prof, png_uint_32 len, int gray, char *buf,
+                                      size_t size)
+{
+    static const cmsTagSignature trcs[] = {cmsSigRedTRCTag, cmsSigGreenTRCTag, cmsSigBlueTRCTag};
+    const char *what = NULL;
+    cmsContext ctx;
+    cmsHPROFILE p = icc_open(&ctx, prof, len, gray);
+    if (!p)
+        return NULL;
+    for (int c = 0; !what && c < (gray ? 1 : 3); c++) {
+        const double d = trc_distance(p, gray ? cmsSigGrayTRCTag : trcs[c]);
+        if (d > ICC_SRGB_LEVELS)
+            snprintf(buf, size, "holds an ICC colour profile (iCCP) other than sRGB, whose %s "
+                     "tone curve moves a 16-bit value by %s%.0f levels of 255 (sRGB's moves none "
+                     "by more than %d), by which viewers convert its colours; save its pixels "
+                     "converted to sRGB, without the iCCP chunk", gray ? "gray" : c == 0 ? "red"
+                     : c == 1 ? "green" : "blue", d > 255 ? "over " : "up to ",
+                     d > 255 ? 255 : d, ICC_SRGB_LEVELS), what = buf;
+    }
+    icc_close(ctx, p);
+    return what;
+}
+
 /* NULL when the PNG's ICC profile (iCCP) shows its pixels as read on an
  * sRGB screen (libpng recognised one of the ICC's sRGB profiles, or lcms2
  * converts every colour to within ICC_SRGB_LEVELS); else what is wrong,
@@ -476,9 +609,12 @@ static const char *iccp_refused(struct png_reader *r, char *buf, size_t size)
     if (png_get_sRGB(r->png, r->info, &intent))
         return NULL; /* libpng knew the profile: one of the ICC's own sRGB ones */
     const int gray = !(png_get_color_type(r->png, r->info) & PNG_COLOR_MASK_COLOR);
+    const char *structure = icc_structure_refused(prof, len, gray, buf, size);
+    if (structure)
+        return structure;
     const int d = icc_srgb_distance(prof, len, gray);
     if (d <= ICC_SRGB_LEVELS)
-        return NULL;
+        return icc_curves_refused(prof, len, gray, buf, size);
     if (d > 255)
         snprintf(buf, size, "holds an ICC colour profile (iCCP) that is not a usable %s "
                  "profile, by which viewers may still convert its colours; save it without "
@@ -555,6 +691,89 @@ static const char *unknown_refused(struct png_reader *r, char *buf, size_t size)
     return NULL;
 }
 
+/* The EXIF Orientation (tag 0x0112) that an eXIf chunk's data x (n
+ * bytes: a TIFF header and its IFD0) holds: its value; 1 (as read) when
+ * there is none; -1 when x is not TIFF data whose IFD0 lies whole within
+ * it; -2 when the tag is not one SHORT. Every offset is checked against n
+ * (64-bit sums: a hostile offset or count cannot wrap). */
+static long exif_orientation(const png_byte *x, png_uint_32 n)
+{
+    if (n < 8 || x[0] != x[1] || (x[0] != 'I' && x[0] != 'M'))
+        return -1;
+    const int big = x[0] == 'M';
+#define U16(p) (big ? (unsigned)x[p] << 8 | x[(p) + 1] : (unsigned)x[(p) + 1] << 8 | x[p])
+#define U32(p) ((uint32_t)U16(big ? (p) : (p) + 2) << 16 | U16(big ? (p) + 2 : (p)))
+    const uint64_t ifd = U32(4);
+    if (U16(2) != 42 || ifd < 8 || ifd + 2 > n)
+        return -1;
+    const uint64_t count = U16(ifd);
+    if (ifd + 2 + 12 * count > n)
+        return -1;
+    for (uint64_t e = ifd + 2; e < ifd + 2 + 12 * count; e += 12) {
+        if (U16(e) != 0x0112)
+            continue;
+        if (U16(e + 2) != 3 || U32(e + 4) != 1)
+            return -2;
+        if (U16(e + 8) != 1) /* the first that turns */
+            return U16(e + 8);
+    }
+#undef U16
+#undef U32
+    return 1;
+}
+
+/* NULL when the PNG's eXIf chunk (if any) turns and mirrors nothing: no
+ * EXIF Orientation, or 1; else what it does, in buf. Browsers show a PNG
+ * turned or mirrored by it (CSS image-orientation: from-image, the
+ * default), the still image's twin of a video's display matrix
+ * (attack15 #12); springpend writes none. */
+static const char *exif_refused(struct png_reader *r, char *buf, size_t size)
+{
+    static const char *const shown[9] = {
+        NULL, NULL, "mirrored left to right", "turned by 180 degrees", "mirrored top to bottom",
+        "mirrored left to right and turned by 90 degrees counterclockwise (transposed)",
+        "turned by 90 degrees clockwise",
+        "mirrored left to right and turned by 90 degrees clockwise (transversed)",
+        "turned by 90 degrees counterclockwise"};
+    png_bytep exif = NULL;
+    png_uint_32 n = 0;
+    if (r->exif_why[0]) {
+        snprintf(buf, size, "holds an eXIf chunk that libpng does not read (%s), by which "
+                 "viewers may still turn or mirror it; save it without the eXIf chunk",
+                 r->exif_why);
+        return buf;
+    }
+    if (!png_get_valid(r->png, r->info, PNG_INFO_eXIf) ||
+        !png_get_eXIf_1(r->png, r->info, &n, &exif) || !exif)
+        return NULL;
+    const long o = exif_orientation(exif, n);
+    if (o == 1)
+        return NULL;
+    if (o < 0)
+        snprintf(buf, size, "holds an eXIf chunk whose %s, by which viewers may "
+                 "still turn or mirror it; save it without the eXIf chunk",
+                 o == -1 ? "data is not a whole TIFF header and first directory"
+                         : "Orientation tag is not one SHORT");
+    else if (o <= 8)
+        snprintf(buf, size, "holds an EXIF Orientation of %ld (an eXIf chunk), by which "
+                 "viewers show it %s; save its pixels as shown, without the eXIf chunk or "
+                 "with Orientation 1", o, shown[o]);
+    else
+        snprintf(buf, size, "holds an EXIF Orientation of %ld (an eXIf chunk), which EXIF "
+                 "does not define (1 shows the pixels as read); save it without the eXIf "
+                 "chunk or with Orientation 1", o);
+    return buf;
+}
+
+/* Says that a viewer shows r's PNG otherwise than its pixels read, by
+ * what; SP_E_INPUT. */
+static int not_shown_as_read(const struct png_reader *r, const char *what)
+{
+    sp_log_error("%s %s; springpend reads still PNGs drawn as their pixels (as it writes "
+                 "them), so it would judge pixels that no viewer shows", r->path, what);
+    return SP_E_INPUT;
+}
+
 /* After png_read_info: 0 when a viewer shows the PNG as its pixels read
  * (no gamma or colour-space conversion, one image); else SP_E_INPUT,
  * said. An APNG (acTL) is shown as its animation, whose frames need not
@@ -562,7 +781,9 @@ static const char *unknown_refused(struct png_reader *r, char *buf, size_t size)
  * sRGB's (1/2.2), a cHRM other than sRGB's without an sRGB chunk, an ICC
  * profile (iCCP) other than sRGB (attack12 #11), a cICP other than sRGB's
  * or HDR metadata (mDCv, cLLi; attack12 #10) makes browsers, and so
- * compare's own HTML report, draw other colours than the pixels compared.
+ * compare's own HTML report, draw other colours than the pixels compared;
+ * an EXIF Orientation other than 1 (eXIf) turns or mirrors them
+ * (exif_refused; sp_png_read looks again for an eXIf after the pixels).
  * springpend writes none of them. */
 static int shown_as_read(struct png_reader *r)
 {
@@ -571,6 +792,8 @@ static int shown_as_read(struct png_reader *r)
     int intent;
     const int srgb = png_get_sRGB(r->png, r->info, &intent) != 0;
     const char *what = unknown_refused(r, buf, sizeof(buf));
+    if (!what)
+        what = exif_refused(r, buf, sizeof(buf));
     /* viewers convert by an ICC profile rather than by gAMA and cHRM */
     if (!what && (r->iccp_why[0] || png_get_valid(r->png, r->info, PNG_INFO_iCCP)) &&
         !(what = iccp_refused(r, buf, sizeof(buf))))
@@ -581,11 +804,7 @@ static int shown_as_read(struct png_reader *r)
         (gamma < 44955 || gamma > 45955))
         what = "holds a gamma (gAMA) other than sRGB's 1/2.2, by which viewers convert its "
                "colours";
-    if (!what)
-        return 0;
-    sp_log_error("%s %s; springpend reads still PNGs drawn as their pixels (as it writes "
-                 "them), so it would judge pixels that no viewer shows", r->path, what);
-    return SP_E_INPUT;
+    return what ? not_shown_as_read(r, what) : 0;
 }
 
 /* After libpng's error: closes r; SP_E_NOMEM when an allocation failed
@@ -703,9 +922,15 @@ int sp_png_read(const char *path, struct sp_image *img)
     for (int y = 0; y < hdr.height; y++)
         r->rows[y] = img->pixels + (size_t)y * img->stride;
     png_read_image(r->png, r->rows);
-    png_read_end(r->png, NULL); /* a missing IEND is a truncated file */
+    png_read_end(r->png, r->info); /* a missing IEND is a truncated file */
+    char buf[512];
+    const char *what = exif_refused(r, buf, sizeof(buf)); /* an eXIf after the pixels */
+    if (what) {
+        sp_image_free(img);
+        err = not_shown_as_read(r, what);
+    }
     reader_close(r);
-    return 0;
+    return err;
 }
 
 int sp_png_read_text(const char *path, const char *key, char *buf, size_t size)

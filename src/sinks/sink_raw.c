@@ -22,25 +22,18 @@ static int raw_open(struct sp_sink *s)
     return sp_outfile_open(&o->out, s->path, SP_OUTFILE_STREAM);
 }
 
-/* Writes all n bytes of buf, retrying after signals and short writes. */
+/* Writes all n bytes of buf (sp_outfile_write_all: a FIFO whose reader
+ * does not read waits with the stop flag in view). */
 static int write_all(struct sp_sink *s, const uint8_t *buf, size_t n)
 {
     struct raw *o = s->priv;
-    while (n > 0) {
-        ssize_t k = write(o->out.fd, buf, n);
-        if (k < 0 && errno == EINTR)
-            continue;
-        if (k < 0) {
-            sp_log_error("%s: cannot write frame %ld: %s",
-                         strcmp(s->path, "-") ? s->path : "stdout",
-                         s->frames, errno == EPIPE ? "the reader closed the "
-                         "pipe" : strerror(errno));
-            return SP_E_IO;
-        }
-        buf += k;
-        n -= (size_t)k;
-    }
-    return 0;
+    if (sp_outfile_write_all(o->out.fd, buf, n) == 0)
+        return 0;
+    if (sp_outfile_write_was_stopped())
+        return SP_E_INTERRUPTED; /* a reader that did not read: the pipeline says it */
+    sp_log_error("%s: cannot write frame %ld: %s", strcmp(s->path, "-") ? s->path : "stdout",
+                 s->frames, errno == EPIPE ? "the reader closed the pipe" : strerror(errno));
+    return SP_E_IO;
 }
 
 static int raw_write(struct sp_sink *s, const struct sp_image *img)

@@ -4,7 +4,9 @@ the source tree with `dpkg-buildpackage -b -us -uc`, checks it with lintian
 (no error or warning), asks apt whether `apt install ./springpend_*.deb`
 would install (every dependency resolvable here, simulated), unpacks it and
 runs the packaged program from there: a still, an MP4 (the FFmpeg module,
-found beside the program as installed), the man page and bash completion.
+found beside the program as installed), the man page and bash completion;
+the shipped scenes and the docs are in it, where --help, the empty-scene
+message and springpend(1) say, and no file holds the build folder's path.
 Skips (77) without dpkg-buildpackage, debhelper or lintian (Debian:
 dpkg-dev debhelper lintian).
 usage: test_deb.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
@@ -93,4 +95,34 @@ if debs:
     ok(version in v.stdout and png == b"\x89PNG\r\n\x1a\n" and head[4:8] == b"ftyp",
        f"the packaged program runs from where it is unpacked: --version, a still and an MP4 "
        f"(its module beside it) ({v.stdout.strip()!r} {s.stderr.strip()} {m.stderr.strip()})")
+    # attack14 #6: the scenes and docs the program and its page send the
+    # user to are in the package, where they say; no build path in it
+    shipped = sorted(f for f in os.listdir(os.path.join(root, "scenes")) if f.endswith(".ini"))
+    guides = sorted(f for f in os.listdir(os.path.join(root, "doc")) if f.endswith(".md"))
+    lost = [f for f in shipped if f"./usr/share/springpend/scenes/{f}\n" not in files]
+    lost += [f for f in ["README.md"] + guides
+             if not re.search(rf"\./usr/share/doc/springpend/{re.escape(f)}(\.gz)?\n", files)]
+    ok(not lost, f"the package holds the {len(shipped)} scenes in /usr/share/springpend/scenes and "
+       f"README.md and the {len(guides)} doc/*.md in /usr/share/doc/springpend (missing: {lost[:4]})")
+    scenes = os.path.realpath(os.path.join(unpacked, "usr", "share", "springpend", "scenes"))
+    top = subprocess.run([prog, "--help"], capture_output=True, text=True).stdout
+    open(os.path.join(work, "empty.ini"), "w").close()
+    e = subprocess.run([prog, "still", os.path.join(work, "empty.ini"), "-o", os.path.join(work, "e.png")],
+                       capture_output=True, text=True)
+    named = re.findall(r"start from (\S+)/default\.ini", e.stderr)
+    ok(f"\n  {scenes}/\n" in top and named == [scenes] and os.path.isfile(os.path.join(scenes, "default.ini")),
+       f"the packaged program's --help and empty-scene message name its scenes folder, in the package "
+       f"({[l for l in top.splitlines() if 'scenes' in l]} {e.stderr.strip()})")
+    man = subprocess.run(["zcat", os.path.join(unpacked, "usr/share/man/man1/springpend.1.gz")],
+                         capture_output=True, text=True).stdout.replace("\\-", "-")
+    ok("/usr/share/springpend/scenes/" in man and "/usr/share/doc/springpend/" in man
+       and "see scenes/" not in man and tree not in man,
+       f"springpend(1) names /usr/share/springpend/scenes/ and /usr/share/doc/springpend/ "
+       f"({[l for l in man.splitlines() if 'scenes' in l][:3]})")
+    binaries = [os.path.join(d, f) for d, _, fs in os.walk(unpacked) for f in fs
+                if (f == "springpend" and d.endswith("/usr/bin")) or f.endswith(".so")]
+    holding = [b for b in binaries if tree.encode() in open(b, "rb").read()]
+    ok(len(binaries) == 4 and not holding,
+       f"no packaged executable or module holds the build folder's path {tree} (the package is the same "
+       f"built in any folder) ({len(binaries)} checked; holding: {holding})")
 done()

@@ -3,7 +3,8 @@
 the installed tool, moved elsewhere, runs render (MP4: the FFmpeg module is
 found relative to the executable), still and compare; springpend(1) and the
 bash completion are installed and agree with --help, and so does each
-command's page (springpend-render(1), ...).
+command's page (springpend-render(1), ...). The shipped scenes and the docs
+are installed, and the program names the scenes' folder where it is.
 usage: test_install.py BUILD_ROOT PREFIX BINDIR MANDIR DATADIR OUTPUT_DIR (TAP)"""
 import os
 import re
@@ -46,6 +47,55 @@ env = dict(os.environ, PATH=os.path.dirname(exe) + ":" + os.environ["PATH"])
 def run(*args):
     return subprocess.run(["springpend", *args], capture_output=True, text=True, cwd=work, env=env)
 
+
+# The shipped scenes and the documentation are installed (attack14 #6), the
+# program names the installed scenes' folder (which exists, moved as it is)
+# in --help, the empty-scene message and a bare scene name's hint, and
+# springpend(1) names the configured one; the build tree's program names the
+# source's scenes/; no executable holds the build folder's path.
+source = os.path.realpath(os.path.join(os.path.dirname(scene), ".."))
+scenes = os.path.join(moved, datadir, "springpend", "scenes")
+shipped = sorted(f for f in os.listdir(os.path.dirname(scene)) if f.endswith(".ini"))
+ok(os.path.isdir(scenes) and sorted(os.listdir(scenes)) == shipped
+   and all(open(os.path.join(scenes, f), "rb").read() == open(os.path.join(source, "scenes", f), "rb").read()
+           for f in shipped),
+   f"the {len(shipped)} shipped scenes are installed in DATADIR/springpend/scenes "
+   f"({sorted(os.listdir(scenes)) if os.path.isdir(scenes) else 'none'})")
+docs = os.path.join(moved, datadir, "doc", "springpend")
+guides = sorted(f for f in os.listdir(os.path.join(source, "doc")) if f.endswith(".md"))
+ok(os.path.isdir(docs) and sorted(os.listdir(docs)) == sorted(["README.md"] + guides),
+   f"README.md and the {len(guides)} doc/*.md (not doc/notes/, doc/pictures/) are installed in "
+   f"DATADIR/doc/springpend ({sorted(os.listdir(docs)) if os.path.isdir(docs) else 'none'})")
+real = os.path.realpath(scenes)
+top = run("--help").stdout
+ok(f"\n  {real}/\n" in top and os.path.isfile(os.path.join(real, "default.ini")),
+   f"the installed --help names its scenes folder, which holds default.ini "
+   f"({[l for l in top.splitlines() if 'scenes' in l]})")
+open(os.path.join(work, "empty.ini"), "w").close()
+r = run("still", "empty.ini", "-o", "e.png")
+named = re.findall(r"start from (\S+\.ini)", r.stderr)
+ok(r.returncode == 2 and named == [os.path.join(real, "default.ini")] and os.path.isfile(named[0]),
+   f"an empty scene: the message names the installed default.ini ({r.stderr.strip()})")
+r = run("still", "chaotic", "-o", "e.png")
+ok(r.returncode == 2 and r.stderr.strip().endswith(
+   f"the shipped scene of that name is {os.path.join(real, 'chaotic.ini')}"),
+   f"a scene named without a folder that is not a file: the message names the shipped one ({r.stderr.strip()})")
+built = subprocess.run([os.path.join(build, "springpend"), "--help"], capture_output=True, text=True).stdout
+ok(f"\n  {os.path.join(source, 'scenes')}/\n" in built,
+   f"the build tree's --help names the source's scenes/ "
+   f"({[l for l in built.splitlines() if 'scenes' in l]})")
+paths = [os.path.realpath(build), os.path.abspath(build), source]
+holding = [f"{b} holds {p}" for b in [exe] + [os.path.join(d, f) for d, _, fs in os.walk(moved)
+                                              for f in fs if f.endswith(".so")]
+           for p in paths if p.encode() in open(b, "rb").read()]
+ok(not holding, f"no installed executable or module holds the build or source folder's path "
+   f"(a package is the same, built in any folder) {holding[:3]}")
+with open(os.path.join(moved, mandir, "man1", "springpend.1")) as f:
+    page1 = f.read()
+configured = os.path.join(prefix, datadir)  # datadir when absolute
+ok(f"{configured}/springpend/scenes/".replace("-", "\\-") in page1 and source not in page1,
+   f"springpend(1) names the installed scenes folder {configured}/springpend/scenes/, not the source's "
+   f"({[l for l in page1.splitlines() if 'scenes' in l][:3]})")
 
 r = run("render", scene, "--size", "96x64", "--set", "video.duration=0.3", "-o", "v.mp4", "-q")
 ok(r.returncode == 0 and os.path.getsize(os.path.join(work, "v.mp4")) > 0,

@@ -867,9 +867,11 @@ static int finish(FILE *fp, const struct sweep_opts *o, int ret, const struct pr
  * merged shards'), its title in force when the scene or a --set gives one;
  * checked (fonts, sizes) when a figure is asked for. 0 or SP_E_*. */
 static int figure_look(struct sweep_opts *o, const struct sp_scene *scene,
-                       const char *const *overrides, int n_overrides)
+                       const char *const *overrides, int n_overrides,
+                       const struct sp_sweep_desc *d)
 {
     o->style.view = &scene->view;
+    o->style.desc = d; /* its figure's measure and keys: the text's room checked */
     o->style.title_set = scene->view.title[0] != 0;
     for (int i = 0; i < n_overrides; i++)
         o->style.title_set |= !strncmp(overrides[i], "view.title=", 11);
@@ -1106,7 +1108,7 @@ static int merge(const struct sweep_opts *opts)
     if (!ret) /* checked whatever is written; recorded by a figure */
         ret = merged_command(&m, &record);
     if (!ret) /* as sweep_scene sets it for the one-piece run (its --set applied in m.scene) */
-        ret = figure_look(o, &m.scene, m.overrides, m.n_overrides);
+        ret = figure_look(o, &m.scene, m.overrides, m.n_overrides, &m.d);
     if (!ret)
         ret = open_rows(&out);
     if (!ret) {
@@ -1152,7 +1154,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
 {
     int ret;
     if ((ret = check_set_varied(o, d)) || (ret = sp_sweep_check(d, scene, o->energy_given)) ||
-        (ret = figure_look(o, scene, o->overrides, o->n_overrides)))
+        (ret = figure_look(o, scene, o->overrides, o->n_overrides, d)))
         return ret;
     long total = sp_sweep_points(d), first = 0, last = total;
     int si = 0, sn = 0;

@@ -209,6 +209,9 @@ struct sp_plot_style {
     const volatile sig_atomic_t *cancel; /* the caller's stop flag: once set, drawing
                                    stops and nothing is written
                                    (SP_E_INTERRUPTED); NULL = never */
+    const struct sp_sweep_desc *desc; /* sp_sweep_plot_check: the sweep the figure is
+                                   of (its measure, keys, title and legend); NULL =
+                                   any. sp_sweep_plot takes the CSV's */
 };
 
 /* Draws the figure for the CSV in fp (rewound and read to the end) into
@@ -226,8 +229,10 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
 
 /* Checks, before a sweep runs, that its figure can draw the style's texts:
  * the [view] font exists, every character of the title, xlabel, ylabel and
- * colorbar_label is in some installed font, and the title wraps to at
- * most half the page's height. 0, or SP_E_INPUT having said what is wrong
+ * colorbar_label is in some installed font, the title wraps to at
+ * most half the page's height, and the plot inside the margins its text
+ * takes at view.font_size is large enough for it (the default figure's
+ * of style->desc; a printed size's). 0, or SP_E_INPUT having said what is wrong
  * and where it was set; SP_E_NOMEM / SP_E_IO. In the plot module too. */
 int sp_sweep_plot_check(const struct sp_plot_style *style);
 

@@ -56,10 +56,26 @@ static struct {
     int title_n;        /* its lines */
     double title_pt;    /* its size, pt */
     const volatile sig_atomic_t *cancel; /* the style's: once set, drawing stops */
+    /* the default figure's layout, measured at the text's size (place) */
+    char *sub_lines;    /* the subtitle wrapped to the page; NULL = none */
+    int sub_n;          /* its lines */
+    int quiet;          /* wrapping for the font size check: nothing said */
+    int measuring;      /* text is measured into box, nothing drawn */
+    double box[4];      /* what was measured: x0, y0, x1, y1, pt */
+    struct {            /* a Poincare mosaic's key (key_layout) */
+        double gx, gy, gw, gh; /* its gradient, pt */
+        double lx;      /* the centre of its name */
+        double row;     /* the height of its own row over the plot; 0: beside the title */
+        char lo[64], hi[64];
+        const char *name;
+    } key;
 } G = {.w = 900, .h = 600, .u = 1, .lw = 1, .tick = 5};
 #define W G.w
 #define H G.h
 #define U(x) ((x) * G.u)
+/* A length of the default figure (a margin, a gap, a bar's width), pt: as
+ * at 14 pt text (view.font_size's default) and below, scaled with larger. */
+#define D(x) fmax((x), U(x))
 #define PNG_SCALE_DEFAULT 2 /* px per pt without a printed size */
 /* A Lyapunov map's image, pixels a side at most: more than the plot's
  * 720 pt (1440 PNG px) can show, far less than cairo's limit (32767). */
@@ -78,7 +94,7 @@ static struct {
 #define SMALLEST_TEXT_PX 4
 /* Where a colour bar stands right of the plot, pt: at a printed size
  * (draw_colorbar), and in the default figure (its callers: 30). */
-#define BAR_GAP (G.print ? U(14) : 30)
+#define BAR_GAP (G.print ? U(14) : D(30))
 
 /* The plot area and the data range it shows. */
 struct frame {
@@ -115,6 +131,8 @@ static void set_line_width(double w)
 /* A line from a to b in the colour and width set. */
 static void line(double ax, double ay, double bx, double by)
 {
+    if (G.measuring)
+        return;
     sp_canvas_line(&G.cv, (float)ax, (float)ay, (float)bx, (float)by, (float)(0.5 * G.lwidth),
                    G.col);
 }
@@ -122,12 +140,16 @@ static void line(double ax, double ay, double bx, double by)
 /* A filled rectangle in the colour set. */
 static void fill_rect(double x, double y, double w, double h)
 {
+    if (G.measuring)
+        return;
     sp_canvas_rect(&G.cv, (float)x, (float)y, (float)(x + w), (float)(y + h), G.col);
 }
 
 /* A rectangle's outline in the colour and width set: one closed path. */
 static void stroke_rect(double x, double y, double w, double h)
 {
+    if (G.measuring)
+        return;
     sp_canvas_path_begin(&G.cv);
     line(x, y, x + w, y);
     line(x + w, y, x + w, y + h);
@@ -289,6 +311,15 @@ static void text_turned(double x, double y, const char *s, double ax, double ay,
     /* the pen from the anchor, along the baseline and down across it */
     const double lx = -ax * k * l.width, ly = (1 - ay) * k * sp_font_cap(G.font, LAYOUT);
     const double c = cos(angle), sn = sin(angle);
+    if (G.measuring) { /* its box: the advance, an em above the baseline, a quarter below */
+        for (int i = 0; i < 4; i++) {
+            const double bx = lx + (i & 1) * k * l.width, by = ly + (i & 2 ? 0.25 : -1) * G.pt;
+            const double X = x + bx * c - by * sn, Y = y + bx * sn + by * c;
+            G.box[0] = fmin(G.box[0], X), G.box[1] = fmin(G.box[1], Y);
+            G.box[2] = fmax(G.box[2], X), G.box[3] = fmax(G.box[3], Y);
+        }
+        return;
+    }
     sp_canvas_text_turned(&G.cv, LAYOUT, (float)(x + lx * c - ly * sn), (float)(y + lx * sn + ly * c),
                           (float)k, (float)angle, G.col, s);
 }
@@ -297,6 +328,23 @@ static void text_turned(double x, double y, const char *s, double ax, double ay,
 static void text_at(double x, double y, const char *s, double ax, double ay)
 {
     text_turned(x, y, s, ax, ay, 0);
+}
+
+/* Measures what is added from now on instead of drawing it: its text's
+ * box, pt, into G.box (measure_end). */
+static void measure_begin(void)
+{
+    G.measuring = 1;
+    G.box[0] = G.box[1] = INFINITY, G.box[2] = G.box[3] = -INFINITY;
+}
+
+/* Stops measuring: the box of the text added since measure_begin (x0, y0,
+ * x1, y1; all 0 when none was). */
+static void measure_end(double box[4])
+{
+    G.measuring = 0;
+    for (int i = 0; i < 4; i++)
+        box[i] = isfinite(G.box[i]) ? G.box[i] : 0;
 }
 
 /* text_width, as sp_axis_fit measures a label (ctx unused). */
@@ -344,6 +392,54 @@ static double title_extra(void)
     return G.title_n > 1 ? (G.title_n - 1) * G.title_pt * TITLE_LEADING : 0;
 }
 
+/* The default figure's subtitle: its size, pt, and the height its lines
+ * below its first take. */
+#define SUB_PT U(12)
+static double sub_extra(void)
+{
+    return G.sub_n > 1 ? (G.sub_n - 1) * SUB_PT * TITLE_LEADING : 0;
+}
+
+/* Where the default figure's title and subtitle start, pt: 80, or clear of
+ * the panel label "(a)" left of them when the text is large. */
+static double title_left(void)
+{
+    if (G.print || !G.v || !G.v->panel_labels)
+        return 80;
+    const double pt = G.pt;
+    font_pt(U(17));
+    const double x = fmax(80, 10 + text_width(G.v->panel_labels == 1 ? "(a)" : "(A)") + D(8));
+    font_pt(pt);
+    return x;
+}
+
+/* Where the default figure's x axis's name starts below the plot, pt:
+ * under its tick labels (draw_axes). */
+static double xname_drop(void)
+{
+    return G.print ? U(30) : fmax(D(30), G.tick + U(4) + G.label_pt * 1.2 + U(5));
+}
+
+/* The default figure's margins above and below its plot, pt: the title's
+ * and subtitle's lines (and a Poincare mosaic's key in its own row); the
+ * tick labels and the x axis's name. 56 and 60 at 14 pt text. */
+static double default_top(void)
+{
+    return D(56) + title_extra() + sub_extra() + G.key.row;
+}
+
+static double default_bottom(void)
+{
+    return fmax(60, xname_drop() + G.label_pt * 1.25 + D(4));
+}
+
+/* The default figure's left margin, pt, for y tick labels ylw pt wide:
+ * room for them and the y axis's name, 80 at least. */
+static double default_left(double ylw)
+{
+    return fmax(80, U(4) + G.label_pt * 1.2 + U(6) + ylw + U(4) + G.tick);
+}
+
 /* Narrows f until each x tick label (centred on its tick, as draw_axes
  * draws it) ends U(2) short of what stands right of the plot: the next
  * drawing `gap` pt on (gap > 0: a colour bar, a legend), else the page's
@@ -368,17 +464,84 @@ static void fit_x_labels(struct frame *f, double right, double gap)
     }
 }
 
+/* The least plot the default figure's ticks and axis names need, pt: as
+ * at a printed size, 12 x 7 times the body text's size. */
+#define LEAST_W (12 * U(14))
+#define LEAST_H (7 * U(14))
+
+/* Says that the default figure's text is too large for its page: what
+ * does not fit (`why`), and best > 0: the largest view.font_size that
+ * fits (at the font_scale in force). Returns SP_E_INPUT. */
+static int font_refused(const char *why, double best)
+{
+    const char *where = G.v->text_size_where[0] ? G.v->text_size_where : "[view] font_size";
+    const double scale = G.v->font_scale > 0 ? G.v->font_scale : 1;
+    char allowed[160];
+    if (best > 0)
+        snprintf(allowed, sizeof(allowed), "at most view.font_size %.1f%s for this figure", best,
+                 scale != 1 ? " at this font_scale" : "");
+    else
+        snprintf(allowed, sizeof(allowed), "a smaller view.font_size for this figure");
+    sp_log_error("%s: text of %.3g pt (font_size %g, font_scale %g) cannot fit the sweep's "
+                 "%.0f x %.0f pt figure: %s; allowed: %s; use a smaller font_size or "
+                 "font_scale, or a printed size (--size)", where, U(14), U(14) / scale, scale, W,
+                 H, why, allowed);
+    return SP_E_INPUT;
+}
+
+/* The plot's w x h pt against the need_w x need_h its text needs: said. */
+static void plot_why(char *buf, size_t size, double w, double h, double need_w, double need_h)
+{
+    snprintf(buf, size, "the plot inside its margins would be %.0f x %.0f pt, and its ticks, axis "
+             "names and legend need at least %.0f x %.0f pt", fmax(w, 0), fmax(h, 0), need_w,
+             need_h);
+}
+
+/* Refuses (G.err) a default figure's plot f smaller than its text needs:
+ * text so large that the margins leave too little (the data's own tick
+ * labels, which the check before the sweep cannot know, make it so). */
+static void plot_room(const struct frame *f)
+{
+    char why[256];
+    if (G.err || (f->w >= LEAST_W && f->h >= LEAST_H))
+        return;
+    plot_why(why, sizeof(why), f->w, f->h, LEAST_W, LEAST_H);
+    G.err = font_refused(why, 0);
+}
+
+/* Refuses (G.err) a legend w x h pt that the default figure's plot f
+ * cannot hold with `in` pt around it. */
+static void legend_room(const struct frame *f, double w, double h, double in)
+{
+    char why[256];
+    if (G.print || G.err || (w + 2 * in <= f->w && h + 2 * in <= f->h))
+        return;
+    snprintf(why, sizeof(why), "its legend would be %.0f x %.0f pt in a plot of %.0f x %.0f pt",
+             w + 2 * in, h + 2 * in, f->w, f->h);
+    G.err = font_refused(why, 0);
+}
+
 /* Places the plot rectangle of f (its data range set) on the page: the
- * default figure's fixed margins, right = `right` pt (room for a colour
- * bar or legend); at a printed size margins that fit the labels, right =
- * print_right pt. Either way narrower when the last x tick label would
+ * default figure's margins from its text (the title's and subtitle's
+ * lines, the tick labels, the axes' names: default_top, _bottom, _left),
+ * right = `right` pt (room for a colour bar or legend), its plot refused
+ * when too small for its text (plot_room); at a printed size margins that
+ * fit the labels, right = print_right pt. Either way narrower when the last x tick label would
  * reach past the page's edge, or the drawing `gap` pt right of the plot
  * (fit_x_labels). A title of several lines (title()) moves the plot down. */
 static void place(struct frame *f, double right, double print_right, double gap)
 {
-    if (!G.print) {
-        f->x0 = 80, f->y0 = 56 + title_extra(), f->w = W - 80 - right, f->h = H - 116 - title_extra();
+    if (!G.print) { /* the margins from the text at its size: 80, 56, right, 60 at 14 pt */
+        f->y0 = default_top();
+        f->h = H - f->y0 - default_bottom();
+        if (f->h < LEAST_H) {
+            plot_room(f);
+            f->h = fmax(f->h, U(20));
+        }
+        f->x0 = default_left(ylabels_width(f));
+        f->w = fmax(W - f->x0 - right, U(20));
         fit_x_labels(f, right, gap);
+        plot_room(f);
         return;
     }
     const double title = G.title_n ? G.title_n * G.title_pt * TITLE_LEADING
@@ -439,10 +602,11 @@ static void draw_axes(const struct frame *f, const struct sp_palette *pal, const
      * colour bar */
     label_room(own_x, xlabel, f->w, "the plot's width");
     label_room(own_y, ylabel, f->h, "the plot's height, along which it is turned");
-    text_at(f->x0 + f->w / 2, f->y0 + f->h + U(30), xlabel, 0.5, 0);
+    text_at(f->x0 + f->w / 2, f->y0 + f->h + xname_drop(), xlabel, 0.5, 0);
     /* the y axis's name clear of its widest tick label, reading upward */
-    text_turned(f->x0 - (G.print ? G.tick + U(4) + ylabels_width(f) + U(12) : 58), f->y0 + f->h / 2,
-                ylabel, 0.5, 0.5, -M_PI / 2);
+    const double yoff = G.tick + U(4) + ylabels_width(f) + U(12);
+    text_turned(f->x0 - (G.print ? yoff : fmax(58, yoff)), f->y0 + f->h / 2, ylabel, 0.5, 0.5,
+                -M_PI / 2);
 }
 
 /* "initial.angle (degrees)" */
@@ -514,11 +678,14 @@ static void title_where(char *buf, size_t size)
 static int wrap_title(const char *text, const char *what)
 {
     const double k = G.title_pt / LAYOUT_PX, lead = G.title_pt * TITLE_LEADING;
-    const double width = G.print ? W - 2 * U(4) : W - 80 - 10; /* pt */
-    const int max_lines = (int)fmax(1, floor(H / 2 / lead));
+    const double width = G.print ? W - 2 * U(4) : W - title_left() - 10; /* pt */
+    const int max_lines = G.quiet ? 1000 : (int)fmax(1, floor(H / 2 / lead));
     free(G.title_lines);
     G.title_lines = NULL, G.title_n = 0;
-    int err = sp_font_check(G.font, what, text);
+    int err = G.quiet ? 0 : sp_font_check(G.font, what, text);
+    if (G.quiet) /* fit_check: only its lines */
+        return sp_font_wrap(G.font, LAYOUT, text, (float)(width / k), max_lines, &G.title_lines,
+                            &G.title_n);
     if (!err)
         err = sp_font_wrap(G.font, LAYOUT, text, (float)(width / k), max_lines, &G.title_lines,
                            &G.title_n);
@@ -544,54 +711,10 @@ static int wrap_title(const char *text, const char *what)
     return err;
 }
 
-/* Sets the figure's title before place(): [view] title when set, else the
- * measure's (the default figure's "SCENE: what", a printed figure's
- * short_what), none with title = "" or panel_titles = false; wrapped
- * (wrap_title). Failures go to G.err. */
-static void title(const struct sp_sweep_desc *d, const char *what, const char *short_what)
+/* The default figure's subtitle: what was sampled, over what time, by
+ * which method. */
+static void subtitle_text(const struct sp_sweep_desc *d, char *buf, size_t size)
 {
-    char buf[512], where[512], name[256];
-    free(G.title_lines);
-    G.title_lines = NULL, G.title_n = 0;
-    if (G.err || (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
-        return;
-    G.title_pt = G.print || G.title ? U(17) : 17;
-    /* the scene's name as messages show it: a file name may hold controls
-     * and noncharacters, which no font draws (common.h) */
-    sp_text_shown(d->scene, 0, name, sizeof(name));
-    snprintf(buf, sizeof(buf), "%s: %s", name, what);
-    title_where(where, sizeof(where));
-    G.err = wrap_title(G.title ? G.title : G.print ? short_what : buf,
-                       G.title ? where : "the figure's title");
-}
-
-static void draw_title(const struct sp_sweep_desc *d, const struct sp_palette *pal,
-                       const struct frame *f)
-{
-    char buf[256];
-    if (G.v->panel_labels) { /* the figure is panel (a) */
-        font_pt(U(17));
-        set_rgba(pal->text);
-        text_at(G.print ? U(4) : 10, G.print ? U(6) : 10, G.v->panel_labels == 1 ? "(a)" : "(A)",
-                0, 0);
-    }
-    /* the title's lines: a printed figure's centred over the plot (inside
-     * the page), the default figure's from the plot's left edge */
-    font_pt(G.title_pt);
-    set_rgba(pal->text);
-    const char *line = G.title_lines;
-    for (int i = 0; i < G.title_n; i++, line += strlen(line) + 1) {
-        const double w = text_width(line), y = (G.print ? U(6) : 10) + i * G.title_pt * TITLE_LEADING;
-        if (G.print)
-            text_at(fmin(fmax(f->x0 + f->w / 2, U(4) + w / 2), W - U(4) - w / 2), y, line,
-                    0.5, 0);
-        else
-            text_at(80, y, line, 0, 0);
-    }
-    if (G.print || (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
-        return; /* [view] title = "" or panel_titles = false: no subtitle either */
-    font_pt(12);
-    set_rgba(pal->muted);
     char energy[48] = "", transient[48] = "";
     if (d->measure == SP_MEASURE_POINCARE)
         snprintf(energy, sizeof(energy), "energy %.6g J, ", d->energy);
@@ -609,10 +732,75 @@ static void draw_title(const struct sp_sweep_desc *d, const struct sp_palette *p
         snprintf(sampled, sizeof(sampled), "stroboscopic map (t = k/f) settled by recurrence; ");
     char method[96];
     sp_sweep_method_text(d, method, sizeof(method));
-    snprintf(buf, sizeof(buf), "%s%sover %g s%s, %s", sampled, energy, d->time, transient,
-             method);
-    sp_axis_minus(buf, sizeof(buf)); /* a negative energy: −0.5 J */
-    text_at(80, 34 + title_extra(), buf, 0, 0);
+    snprintf(buf, size, "%s%sover %g s%s, %s", sampled, energy, d->time, transient, method);
+    sp_axis_minus(buf, size); /* a negative energy: −0.5 J */
+}
+
+/* The default figure's subtitle wrapped into G.sub_lines at SUB_PT to the
+ * width its title has. 0 or SP_E_NOMEM. */
+static int wrap_subtitle(const struct sp_sweep_desc *d)
+{
+    char buf[512];
+    subtitle_text(d, buf, sizeof(buf));
+    const double k = SUB_PT / LAYOUT_PX;
+    return sp_font_wrap(G.font, LAYOUT, buf, (float)((W - title_left() - 10) / k), 1000,
+                        &G.sub_lines, &G.sub_n);
+}
+
+/* Sets the figure's title before place(): [view] title when set, else the
+ * measure's (the default figure's "SCENE: what", a printed figure's
+ * short_what), none with title = "" or panel_titles = false; wrapped
+ * (wrap_title), and the default figure's subtitle under it (wrap_subtitle).
+ * Failures go to G.err. */
+static void title(const struct sp_sweep_desc *d, const char *what, const char *short_what)
+{
+    char buf[512], where[512], name[256];
+    free(G.title_lines), free(G.sub_lines);
+    G.title_lines = G.sub_lines = NULL, G.title_n = G.sub_n = 0;
+    if (G.err || (G.title && !G.title[0]) || (!G.title && !G.v->panel_titles))
+        return;
+    G.title_pt = U(17);
+    /* the scene's name as messages show it: a file name may hold controls
+     * and noncharacters, which no font draws (common.h) */
+    sp_text_shown(d->scene, 0, name, sizeof(name));
+    snprintf(buf, sizeof(buf), "%s: %s", name, what);
+    title_where(where, sizeof(where));
+    G.err = wrap_title(G.title ? G.title : G.print ? short_what : buf,
+                       G.title ? where : "the figure's title");
+    if (!G.err && !G.print)
+        G.err = wrap_subtitle(d);
+}
+
+static void draw_title(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                       const struct frame *f)
+{
+    (void)d;
+    if (G.v->panel_labels) { /* the figure is panel (a) */
+        font_pt(U(17));
+        set_rgba(pal->text);
+        text_at(G.print ? U(4) : 10, G.print ? U(6) : D(10), G.v->panel_labels == 1 ? "(a)" : "(A)",
+                0, 0);
+    }
+    /* the title's lines: a printed figure's centred over the plot (inside
+     * the page), the default figure's from the plot's left edge, with the
+     * subtitle's under them */
+    font_pt(G.title_pt);
+    set_rgba(pal->text);
+    const char *line = G.title_lines;
+    for (int i = 0; i < G.title_n; i++, line += strlen(line) + 1) {
+        const double w = text_width(line);
+        const double y = (G.print ? U(6) : D(10)) + i * G.title_pt * TITLE_LEADING;
+        if (G.print)
+            text_at(fmin(fmax(f->x0 + f->w / 2, U(4) + w / 2), W - U(4) - w / 2), y, line,
+                    0.5, 0);
+        else
+            text_at(title_left(), y, line, 0, 0);
+    }
+    font_pt(SUB_PT);
+    set_rgba(pal->muted);
+    line = G.sub_lines;
+    for (int i = 0; i < G.sub_n; i++, line += strlen(line) + 1)
+        text_at(title_left(), D(34) + title_extra() + i * SUB_PT * TITLE_LEADING, line, 0, 0);
 }
 
 static void colormap_rgb(const struct sp_sweep_desc *d, double t, float rgb[3])
@@ -653,6 +841,27 @@ static double colorbar_room(double lo, double hi)
     return U(14) + U(12) + G.tick + U(3) + ylabels_width(&f) + U(6) + G.label_pt * 1.2 + U(4);
 }
 
+/* The room right of the plot a default figure's colour bar (draw_colorbar)
+ * takes, pt: 120, or its gap, width, ticks and their labels, or its own
+ * name `label` centred above it, when wider. A [view] colorbar_label does
+ * not widen it: one wider than the room is refused (draw_colorbar). */
+static double bar_right(double lo, double hi, const char *label)
+{
+    struct frame f = {0, 0, 1, H, 0, 1, lo, hi}; /* ticks as for a bar as tall as the page */
+    struct sp_axis a;
+    char named[256];
+    const double ylw = ylabels_width(&f), pt = G.pt;
+    ticks(&a, lo, hi, H, 1);
+    sp_axis_name(&a, label, named, sizeof(named));
+    font_pt(G.label_pt);
+    /* only text that is drawn is measured: a font shaped is a font the
+     * figure records as drawn from (its provenance) */
+    const double tw = G.v->colorbar_label[0] ? 0 : text_width(named);
+    font_pt(pt);
+    const double bar = D(30) + D(18) + G.tick + U(3) + ylw;
+    return fmax(120, fmax(bar, fmax(D(30) + D(9) + tw / 2, D(6) + tw)) + D(4));
+}
+
 /* A colour bar from t0 to t1 of the colormap, ticks lo..hi. By default at
  * (x, y), h tall, its label above; at a printed size right of the plot f,
  * as tall, its label turned along it. */
@@ -660,7 +869,7 @@ static void draw_colorbar(const struct sp_sweep_desc *d, const struct sp_palette
                           double x, double y, double h, double lo, double hi, const char *label,
                           const struct frame *pf, double t0, double t1)
 {
-    const double bw = G.print ? U(12) : 18;
+    const double bw = G.print ? U(12) : D(18);
     if (G.print)
         x = pf->x0 + pf->w + BAR_GAP, y = pf->y0, h = pf->h;
     colormap_strip(d, x, y, bw, h, 1, t0, t1);
@@ -686,10 +895,11 @@ static void draw_colorbar(const struct sp_sweep_desc *d, const struct sp_palette
     char named[256];
     sp_axis_name(&a, label, named, sizeof(named)); /* its ticks' offset or power of ten */
     label = named;
-    if (!G.print) { /* centred above the bar, clear of the plot on its left */
-        const double left = pf->x0 + pf->w + 6, cx = fmax(x + 9, left + 0.5 * text_width(label));
-        label_room(own, label, W - 4 - left, "right of the plot, above the bar");
-        text_at(cx, y - 10, label, 0.5, 1);
+    if (!G.print) { /* centred above the bar, clear of the plot on its left, on the page */
+        const double tw = text_width(label), left = pf->x0 + pf->w + D(6);
+        const double cx = fmin(fmax(x + bw / 2, left + 0.5 * tw), W - D(4) - 0.5 * tw);
+        label_room(own, label, W - D(4) - left, "right of the plot, above the bar");
+        text_at(cx, y - D(10), label, 0.5, 1);
         return;
     }
     label_room(own, label, h, "the bar's height, along which it is turned");
@@ -742,6 +952,16 @@ static void curve_to(struct curves *c, double x, double y)
     c->p[c->n][0] = x, c->p[c->n][1] = y, c->n++;
 }
 
+/* The box of draw_legend's n entries text[i], w x h pt. */
+static void legend_size(const char *const *text, int n, double *w, double *h)
+{
+    font_pt(G.label_pt);
+    *w = 0;
+    for (int i = 0; i < n; i++)
+        *w = fmax(*w, text_width(text[i]));
+    *h = U(16) * (n - 1) + G.label_pt;
+}
+
 /* Draws the n legend entries text[i] in colour[i] at G.label_pt, each
  * U(16) below the last, inside the plot f where no curve of c passes: the
  * first free of its corners (top right, top left, bottom right, bottom
@@ -751,11 +971,10 @@ static void curve_to(struct curves *c, double x, double y)
 static void draw_legend(const struct frame *f, const struct curves *c, const char *const *text,
                         const float *const *colour, int n, const struct sp_palette *pal)
 {
-    font_pt(G.label_pt);
-    double w = 0;
-    for (int i = 0; i < n; i++)
-        w = fmax(w, text_width(text[i]));
-    const double h = U(16) * (n - 1) + G.label_pt, in = U(8), pad = U(3);
+    double w, h;
+    legend_size(text, n, &w, &h);
+    const double in = U(8), pad = U(3);
+    legend_room(f, w, h, in);
     /* top-left corners (x: fraction of the free width, y: of the free height) */
     static const double place_at[][2] = {{1, 0}, {0, 0}, {1, 1}, {0, 1},
                                          {0.5, 0}, {0.5, 1}, {1, 0.5}, {0, 0.5}};
@@ -799,6 +1018,26 @@ static const struct scalar_look {
                                "° per exchange", {"precession per exchange", NULL}},
 };
 
+/* What the default figure's title says the figure of d shows. */
+static const char *figure_what(const struct sp_sweep_desc *d)
+{
+    switch (d->measure) {
+    case SP_MEASURE_LYAPUNOV:
+    case SP_MEASURE_PRECESSION:
+        return scalar_looks[d->measure].title;
+    case SP_MEASURE_ORBIT:
+        return d->driven ? "orbit diagram, once per drive period"
+                         : "orbit diagram at the Poincaré crossings";
+    case SP_MEASURE_POINCARE:
+        return "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit";
+    case SP_MEASURE_SPECTRUM:
+        return sp_sweep_points(d) == 1 ? "Lyapunov spectrum: running values against T"
+                                       : "Lyapunov spectrum";
+    default:
+        return "basins of attraction";
+    }
+}
+
 static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
                          const struct sp_palette *pal)
 {
@@ -831,8 +1070,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
         struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo, hi + 0.05 * (hi - lo)};
         key_span(ax, &f.xlo, &f.xhi);
         fix_key_range(&f.xlo, &f.xhi);
-        title(d, look->title, look->short_title);
-        place(&f, 30, U(18), 0);
+        title(d, figure_what(d), look->short_title);
+        place(&f, fmax(30, U(18)), U(18), 0);
         draw_title(d, pal, &f);
         draw_axes(&f, pal, xl, look->label);
         clip_to(&f);
@@ -860,8 +1099,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
         /* cells centred on the grid values */
         struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
         key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
-        title(d, look->title, look->short_title);
-        place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
+        title(d, figure_what(d), look->short_title);
+        place(&f, bar_right(lo, hi, look->bar), colorbar_room(lo, hi), BAR_GAP);
         draw_title(d, pal, &f);
         /* one image pixel per grid point up to MAP_MAX_PX a side (cairo
          * makes none wider than 32767); beyond, each pixel is the mean of
@@ -893,7 +1132,8 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
             }
         key_label(yl, sizeof(yl), ay->key);
         draw_axes(&f, pal, xl, yl);
-        draw_colorbar(d, pal, f.x0 + f.w + BAR_GAP, f.y0 + 20, f.h - 20, lo, hi, look->bar, &f, 0, 1);
+        draw_colorbar(d, pal, f.x0 + f.w + BAR_GAP, f.y0 + D(20), f.h - D(20), lo, hi, look->bar,
+                      &f, 0, 1);
     }
     free(lam), free(half);
     return 0;
@@ -914,18 +1154,14 @@ static void peak_colour(const struct sp_palette *pal, const float *c, float out[
     out[3] = 1;
 }
 
-/* What an orbit diagram with --continue or --peak samples, in the corner. */
-static void orbit_legend(const struct sp_sweep_desc *d, const struct sp_palette *pal,
-                         const struct frame *f)
+/* The lines of an orbit diagram's legend (orbit_legend), right-aligned at
+ * x from y down, pt. */
+static void orbit_legend_lines(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                               double x, double y)
 {
     const char *q = d->peak == SP_PEAK_R ? "r" : "θ";
     char buf[160];
-    double y = f->y0 + U(8);
-    int lines = (d->cont == SP_CONTINUE_BOTH ? 2 : 1) * (d->peak ? 2 : 1) + (d->cont != 0);
     font_pt(U(12));
-    const double bw = G.print ? fmin(text_width("each value starts from the last one's state") + U(16), f->w - U(2)) : 288;
-    set_rgba4(pal->background[0], pal->background[1], pal->background[2], 0.85);
-    fill_rect(f->x0 + f->w - bw - U(2), f->y0 + U(2), bw, U(16) * lines + U(10));
     for (int br = 1; br >= -1; br -= 2) {
         if (d->cont != SP_CONTINUE_BOTH && br != (d->cont == SP_CONTINUE_DOWN ? -1 : 1))
             continue;
@@ -933,7 +1169,7 @@ static void orbit_legend(const struct sp_sweep_desc *d, const struct sp_palette 
         snprintf(buf, sizeof(buf), "%s%s at t = k/f", !d->cont ? "" : br > 0 ? "up: " : "down: ",
                  q);
         set_rgba(c);
-        text_at(f->x0 + f->w - U(8), y, buf, 1, 0);
+        text_at(x, y, buf, 1, 0);
         y += U(16);
         if (d->peak) {
             float light[4];
@@ -941,14 +1177,43 @@ static void orbit_legend(const struct sp_sweep_desc *d, const struct sp_palette 
             set_rgba(light);
             snprintf(buf, sizeof(buf), "○ largest %s%s%s over each period",
                      d->peak == SP_PEAK_R ? "" : "|", q, d->peak == SP_PEAK_R ? "" : "|");
-            text_at(f->x0 + f->w - U(8), y, buf, 1, 0);
+            text_at(x, y, buf, 1, 0);
             y += U(16);
         }
     }
     if (d->cont) {
         set_rgba(pal->muted);
-        text_at(f->x0 + f->w - U(8), y, "each value starts from the last one's state", 1, 0);
+        text_at(x, y, "each value starts from the last one's state", 1, 0);
     }
+}
+
+/* An orbit diagram's legend's box, w x h pt (orbit_legend): 288 pt wide
+ * at least in the default figure. */
+static void orbit_legend_size(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                              double plot_w, double *w, double *h)
+{
+    const int lines = (d->cont == SP_CONTINUE_BOTH ? 2 : 1) * (d->peak ? 2 : 1) + (d->cont != 0);
+    double box[4];
+    measure_begin();
+    orbit_legend_lines(d, pal, 0, 0);
+    measure_end(box);
+    font_pt(U(12));
+    *w = G.print ? fmin(text_width("each value starts from the last one's state") + U(16),
+                        plot_w - U(2))
+                 : fmax(288, -box[0] + U(14));
+    *h = U(16) * lines + U(10);
+}
+
+/* What an orbit diagram with --continue or --peak samples, in the corner. */
+static void orbit_legend(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                         const struct frame *f)
+{
+    double bw, bh;
+    orbit_legend_size(d, pal, f->w, &bw, &bh);
+    legend_room(f, bw, bh, U(2));
+    set_rgba4(pal->background[0], pal->background[1], pal->background[2], 0.85);
+    fill_rect(f->x0 + f->w - bw - U(2), f->y0 + U(2), bw, bh);
+    orbit_legend_lines(d, pal, f->x0 + f->w - U(8), f->y0 + U(8));
 }
 
 /* Which colour of a Poincare mosaic is which start: at a printed size a
@@ -966,21 +1231,56 @@ static void poincare_key(const struct sp_sweep_desc *d, const struct sp_palette 
         draw_colorbar(d, pal, 0, 0, 0, lo, hi, xl, pf, falling ? 0.95 : 0.1, falling ? 0.1 : 0.95);
         return;
     }
-    const double x0 = W - 250, y0 = 22, w = 150;
-    colormap_strip(d, x0, y0, w, 10, 0, 0.1, 0.95);
-    char buf[64];
-    font_pt(11);
+    (void)pf, (void)xl;
+    const double x0 = G.key.gx, y0 = G.key.gy, w = G.key.gw, h = G.key.gh;
+    colormap_strip(d, x0, y0, w, h, 0, 0.1, 0.95);
+    font_pt(U(11));
     set_rgba(pal->muted);
-    snprintf(buf, sizeof(buf), "%g", d->axis[0].from);
-    sp_axis_minus(buf, sizeof(buf));
-    text_at(x0 - 5, y0 + 5, buf, 1, 0.5);
-    snprintf(buf, sizeof(buf), "%g", d->axis[0].to);
-    sp_axis_minus(buf, sizeof(buf));
-    text_at(x0 + w + 5, y0 + 5, buf, 0, 0.5);
-    if (G.v->colorbar_label[0]) /* centred over the gradient, inside the page */
-        label_room(2, G.v->colorbar_label, 2 * (W - 4 - (x0 + w / 2)),
+    text_at(x0 - D(5), y0 + h / 2, G.key.lo, 1, 0.5);
+    text_at(x0 + w + D(5), y0 + h / 2, G.key.hi, 0, 0.5);
+    if (G.v->colorbar_label[0]) /* over the gradient, inside the page */
+        label_room(2, G.v->colorbar_label, 2 * (W - D(4) - (x0 + w / 2)),
                    "over the colour gradient at the top right");
-    text_at(x0 + w / 2, y0 - 4, G.v->colorbar_label[0] ? G.v->colorbar_label : xl, 0.5, 1);
+    text_at(G.key.lx, y0 - D(4), G.key.name, 0.5, 1);
+}
+
+/* Lays out the default Poincare mosaic's key (poincare_key), the first key's
+ * values FROM and TO either side of a gradient with the key's name xl (or
+ * [view] colorbar_label) over it, after title(): at the top right beside
+ * the title, or, where a line of the title or subtitle would reach it, in a
+ * row of its own over the plot (G.key.row: its height). */
+static void key_layout(const struct sp_sweep_desc *d, const char *xl)
+{
+    const double pt = G.pt;
+    snprintf(G.key.lo, sizeof(G.key.lo), "%g", d->axis[0].from);
+    sp_axis_minus(G.key.lo, sizeof(G.key.lo));
+    snprintf(G.key.hi, sizeof(G.key.hi), "%g", d->axis[0].to);
+    sp_axis_minus(G.key.hi, sizeof(G.key.hi));
+    G.key.name = G.v->colorbar_label[0] ? G.v->colorbar_label : xl;
+    font_pt(U(11));
+    const double wl = text_width(G.key.lo), wr = text_width(G.key.hi), wn = text_width(G.key.name);
+    G.key.gw = D(150), G.key.gh = D(10), G.key.row = 0;
+    G.key.gx = W - fmax(100, D(5) + wr + D(10)) - G.key.gw;
+    G.key.lx = fmax(fmin(G.key.gx + G.key.gw / 2, W - D(4) - wn / 2), D(4) + wn / 2);
+    const double left = fmin(G.key.gx - D(5) - wl, G.key.lx - wn / 2) - D(10);
+    G.key.gy = D(22); /* beside the title, unless a line of it reaches the key */
+    const double bottom = G.key.gy + G.key.gh;
+    int clash = 0;
+    font_pt(G.title_pt);
+    const char *line = G.title_lines;
+    for (int i = 0; i < G.title_n; i++, line += strlen(line) + 1)
+        clash |= D(10) + i * G.title_pt * TITLE_LEADING < bottom &&
+                 title_left() + text_width(line) > left;
+    font_pt(SUB_PT);
+    line = G.sub_lines;
+    for (int i = 0; i < G.sub_n; i++, line += strlen(line) + 1)
+        clash |= D(34) + title_extra() + i * SUB_PT * TITLE_LEADING < bottom &&
+                 title_left() + text_width(line) > left;
+    if (clash) { /* under the subtitle: its name's line, the gradient, a gap */
+        G.key.gy = D(50) + title_extra() + sub_extra() + U(11) + D(4);
+        G.key.row = G.key.gy + G.key.gh + D(10) - (D(56) + title_extra() + sub_extra());
+    }
+    font_pt(pt);
 }
 
 /* Orbit diagram and Poincare mosaic: two passes over the rows, for the range
@@ -1017,14 +1317,13 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
     struct frame f = {80, 56, W - 110, H - 116, xlo - mx, xhi + mx, ylo - my, yhi + my};
     char xl[96];
     key_label(xl, sizeof(xl), d->axis[0].key);
-    title(d, orbit ? (d->driven ? "orbit diagram, once per drive period"
-                                               : "orbit diagram at the Poincaré crossings")
-                                 : "Poincaré sections (θ = 0, θ̇ > 0), one colour per orbit",
-               orbit ? "orbit diagram" : "Poincaré sections");
+    title(d, figure_what(d), orbit ? "orbit diagram" : "Poincaré sections");
     double klo, khi; /* the first key's values, low to high */
     key_span(&d->axis[0], &klo, &khi);
-    place(&f, 30, orbit ? U(18) : colorbar_room(klo, khi),
-          orbit ? 0 : BAR_GAP);
+    G.key.row = 0;
+    if (!orbit && !G.print)
+        key_layout(d, xl);
+    place(&f, fmax(30, U(18)), orbit ? U(18) : colorbar_room(klo, khi), orbit ? 0 : BAR_GAP);
     draw_title(d, pal, &f);
     draw_axes(&f, pal, orbit ? xl : "r (m)",
               orbit ? (d->driven && d->peak != SP_PEAK_R ? "θ (degrees)" : "r (m)")
@@ -1117,8 +1416,8 @@ static int draw_spectrum_map(const struct sp_sweep_desc *d, const struct sp_pale
     struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
     key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
     char yl[96];
-    title(d, "Lyapunov spectrum", "Lyapunov spectrum");
-    place(&f, 120, colorbar_room(lo, hi), BAR_GAP);
+    title(d, figure_what(d), "Lyapunov spectrum");
+    place(&f, bar_right(lo, hi, "λ1 (1/s)"), colorbar_room(lo, hi), BAR_GAP);
     draw_title(d, pal, &f);
     /* one image pixel per grid point; a point without a row is clear */
     unsigned char *img = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
@@ -1138,7 +1437,8 @@ static int draw_spectrum_map(const struct sp_sweep_desc *d, const struct sp_pale
     }
     key_label(yl, sizeof(yl), ay->key);
     draw_axes(&f, pal, xl, yl);
-    draw_colorbar(d, pal, f.x0 + f.w + BAR_GAP, f.y0 + 20, f.h - 20, lo, hi, "λ1 (1/s)", &f, 0, 1);
+    draw_colorbar(d, pal, f.x0 + f.w + BAR_GAP, f.y0 + D(20), f.h - D(20), lo, hi, "λ1 (1/s)",
+                  &f, 0, 1);
     return 0;
 }
 
@@ -1171,9 +1471,8 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
         key_span(&d->axis[0], &f.xlo, &f.xhi);
     }
     fix_key_range(&f.xlo, &f.xhi);
-    title(d, conv ? "Lyapunov spectrum: running values against T"
-                                : "Lyapunov spectrum", "Lyapunov spectrum");
-    place(&f, 30, U(18), 0);
+    title(d, figure_what(d), "Lyapunov spectrum");
+    place(&f, fmax(30, U(18)), U(18), 0);
     draw_title(d, pal, &f);
     draw_axes(&f, pal, conv ? "log10 T (s)" : xl, "λ (1/s)");
     /* zero, where lambda_2 and lambda_3 of a free orbit belong */
@@ -1262,6 +1561,62 @@ static double entropy_legend(const struct sp_basin_map *map, const struct sp_pal
     return ly;
 }
 
+/* The basins' legend at (lx, ly), pt: each attractor's colour, basin
+ * fraction and state, the entropies, the blown-up starts. */
+static void basins_legend(const struct sp_basin_map *map, const float (*rgb)[3],
+                          const struct sp_palette *pal, double lx, double ly)
+{
+    char buf[200];
+    long all = 0;
+    for (int a = 0; a < map->n_attractors; a++)
+        all += map->att[a].count;
+    font_pt(U(11));
+    for (int a = 0; a < map->n_attractors && !G.v->legend; a++, ly += U(30)) {
+        set_rgba4(rgb[a][0], rgb[a][1], rgb[a][2], 1);
+        fill_rect(lx, ly, U(14), U(14));
+        set_rgba(pal->axis), set_line_width(0.6);
+        stroke_rect(lx, ly, U(14), U(14));
+        set_rgba(pal->text);
+        snprintf(buf, sizeof(buf), "%.1f%%  %s", all ? 100.0 * map->att[a].count / all : 0.0,
+                 map->att[a].label);
+        sp_axis_minus(buf, sizeof(buf)); /* θ −12.3°, −1 turn */
+        char *comma = map->att[a].period > 0 ? strstr(buf, ", θ") : NULL;
+        if (comma) { /* the state on a second line */
+            *comma = 0;
+            text_at(lx + U(20), ly, buf, 0, 0);
+            set_rgba(pal->muted);
+            text_at(lx + U(20), ly + U(14), comma + 2, 0, 0);
+        } else {
+            text_at(lx + U(20), ly, buf, 0, 0);
+        }
+    }
+    ly = entropy_legend(map, pal, lx, ly);
+    if (map->blown_up) {
+        snprintf(buf, sizeof(buf), "%ld blown up (black)", map->blown_up);
+        text_at(lx, ly + U(42), buf, 0, 0);
+    }
+}
+
+/* The room right of the plot the default basins figure's legend takes, pt
+ * (300 at least), and refuses (G.err) a legend taller than the page has
+ * under the plot's top. */
+static double basins_right(const struct sp_basin_map *map, const float (*rgb)[3],
+                           const struct sp_palette *pal)
+{
+    double box[4];
+    measure_begin();
+    basins_legend(map, rgb, pal, 0, 0);
+    measure_end(box);
+    const double top = default_top() + U(4);
+    if (!G.err && top + box[3] > H - D(4)) {
+        char why[200];
+        snprintf(why, sizeof(why), "its basins' legend would be %.0f pt tall, and the page has "
+                 "%.0f pt for it under the plot's top", box[3], H - D(4) - top);
+        G.err = font_refused(why, 0);
+    }
+    return fmax(300, U(20) + box[2] + D(4));
+}
+
 /* The map, one colour per attractor (the colormap's spread for periodic
  * ones, grey for undecided), and the legend with each basin's fraction. */
 static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
@@ -1287,13 +1642,14 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
             rgb[a][0] = rgb[a][1] = rgb[a][2] = g;
         }
     }
-    char xl[96], yl[96], buf[200];
+    char xl[96], yl[96];
     key_label(xl, sizeof(xl), ax->key);
     key_label(yl, sizeof(yl), ay->key);
     struct frame f = {80, 56, W - 380, H - 116, 0, 1, 0, 1};
     key_cells(ax, &f.xlo, &f.xhi), key_cells(ay, &f.ylo, &f.yhi);
-    title(d, "basins of attraction", "basins of attraction");
-    place(&f, 300, U(300), U(20)); /* the legend U(20) right of the plot */
+    title(d, figure_what(d), "basins of attraction");
+    const double right = G.print ? 0 : basins_right(&map, (const float(*)[3])rgb, pal);
+    place(&f, right, U(300), U(20)); /* the legend U(20) right of the plot */
     draw_title(d, pal, &f);
     /* one image pixel per grid point, black where the orbit blew up */
     unsigned char *data = sp_canvas_image(&G.cv, (float)f.x0, (float)f.y0, (float)(f.x0 + f.w),
@@ -1313,47 +1669,124 @@ static int draw_basins(FILE *fp, const struct sp_sweep_desc *d,
                 a >= 0 ? rgb[a] : black);
     }
     draw_axes(&f, pal, xl, yl);
-    /* the legend */
-    long all = 0;
-    for (int a = 0; a < map.n_attractors; a++)
-        all += map.att[a].count;
-    double lx = f.x0 + f.w + U(20), ly = f.y0 + U(4);
-    font_pt(U(11));
-    for (int a = 0; a < map.n_attractors && !G.v->legend; a++, ly += U(30)) {
-        set_rgba4(rgb[a][0], rgb[a][1], rgb[a][2], 1);
-        fill_rect(lx, ly, U(14), U(14));
-        set_rgba(pal->axis), set_line_width(0.6);
-        stroke_rect(lx, ly, U(14), U(14));
-        set_rgba(pal->text);
-        snprintf(buf, sizeof(buf), "%.1f%%  %s", all ? 100.0 * map.att[a].count / all : 0.0,
-                 map.att[a].label);
-        sp_axis_minus(buf, sizeof(buf)); /* θ −12.3°, −1 turn */
-        char *comma = map.att[a].period > 0 ? strstr(buf, ", θ") : NULL;
-        if (comma) { /* the state on a second line */
-            *comma = 0;
-            text_at(lx + U(20), ly, buf, 0, 0);
-            set_rgba(pal->muted);
-            text_at(lx + U(20), ly + U(14), comma + 2, 0, 0);
-        } else {
-            text_at(lx + U(20), ly, buf, 0, 0);
-        }
-    }
-    ly = entropy_legend(&map, pal, lx, ly);
-    if (map.blown_up) {
-        snprintf(buf, sizeof(buf), "%ld blown up (black)", map.blown_up);
-        text_at(lx, ly + U(42), buf, 0, 0);
-    }
+    basins_legend(&map, rgb, pal, f.x0 + f.w + U(20), f.y0 + U(4));
     sp_basins_free(&map);
     return 0;
+}
+
+/* The room right of the plot and the legend inside it, w x h pt, that the
+ * default figure of d takes without its data (fit_plot): its colour bar
+ * over 0..1, its legend's entries with zeros for their numbers. */
+static void fit_extras(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                       double *right, double *lw, double *lh)
+{
+    static const char *const spectrum[5] = {"λ1 = −0.0000 1/s", "λ2 = −0.0000 1/s",
+                                            "λ3 = −0.0000 1/s", "λ4 = −0.0000 1/s",
+                                            "sum −0.000 1/s, Kaplan-Yorke dimension 0.000"};
+    static const char *const lambdas[4] = {"λ1", "λ2", "λ3", "λ4"};
+    const int scalar = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_PRECESSION;
+    const int conv = sp_sweep_points(d) == 1;
+    *right = fmax(30, U(18)), *lw = *lh = 0;
+    if (d->n_axes > 1 && (scalar || d->measure == SP_MEASURE_SPECTRUM)) {
+        *right = bar_right(0, 1, scalar ? scalar_looks[d->measure].bar : "λ1 (1/s)");
+    } else if (d->measure == SP_MEASURE_BASINS) { /* its entropies' lines, undecided starts' */
+        font_pt(U(12));
+        double w = text_width("S_b = 0.000, S_bb = 0.000");
+        font_pt(U(10));
+        w = fmax(w, text_width("basin entropies, nats, 5x5 boxes"));
+        font_pt(U(11));
+        w = fmax(w, U(20) + text_width("100.0%  undecided (not periodic by the end)"));
+        *right = fmax(300, U(20) + w + D(4));
+    } else if (d->measure == SP_MEASURE_ORBIT && (d->cont || d->peak) && !G.v->legend) {
+        orbit_legend_size(d, pal, W, lw, lh);
+        *lw += 2 * U(2), *lh += 2 * U(2);
+    } else if (scalar && !G.v->legend) {
+        const struct scalar_look *look = &scalar_looks[d->measure];
+        legend_size(look->series, look->series[1] ? 2 : 1, lw, lh);
+        *lw += 2 * U(8), *lh += 2 * U(8);
+    } else if (d->measure == SP_MEASURE_SPECTRUM && !G.v->legend) {
+        legend_size(conv ? spectrum : lambdas, conv ? 5 : 4, lw, lh);
+        *lw += 2 * U(8), *lh += 2 * U(8);
+    }
+}
+
+/* The default figure's plot at the text's size G.u, got = w x h pt, and
+ * what its text needs, need: the margins place() gives for d's title and
+ * subtitle (without d: one line of each) and a Poincare mosaic's key, the
+ * colour bar or legend of its measure (fit_extras), a map's y tick
+ * labels, and for other figures, whose data it has not yet, labels as
+ * over 0..1. G's title is left unset. */
+static void fit_plot(const struct sp_sweep_desc *d, const struct sp_palette *pal, double got[2],
+                     double need[2])
+{
+    double right = fmax(30, U(18)), lw = 0, lh = 0;
+    G.label_pt = sp_axis_label_pt(U(14), 0);
+    G.title_pt = U(17), G.quiet = 1, G.key.row = 0;
+    if (d) {
+        title(d, figure_what(d), "");
+    } else {
+        free(G.title_lines), free(G.sub_lines);
+        G.title_lines = G.sub_lines = NULL, G.title_n = G.sub_n = 0;
+        if (G.title && G.title[0])
+            G.err = wrap_title(G.title, "");
+    }
+    if (d && d->measure == SP_MEASURE_POINCARE) {
+        char xl[96];
+        key_label(xl, sizeof(xl), d->axis[0].key);
+        key_layout(d, xl);
+    }
+    if (d)
+        fit_extras(d, pal, &right, &lw, &lh);
+    /* the y tick labels: a map's of its second key, else as over 0..1 */
+    struct frame f = {0, 0, 1, H - default_top() - default_bottom(), 0, 1, 0, 1};
+    if (d && d->n_axes > 1 && d->measure != SP_MEASURE_ORBIT && d->measure != SP_MEASURE_POINCARE)
+        key_cells(&d->axis[1], &f.ylo, &f.yhi);
+    got[0] = W - default_left(f.h > 0 ? ylabels_width(&f) : 0) - right, got[1] = f.h;
+    need[0] = fmax(LEAST_W, lw), need[1] = fmax(LEAST_H, lh);
+    free(G.title_lines), free(G.sub_lines);
+    G.title_lines = G.sub_lines = NULL, G.title_n = G.sub_n = 0;
+    G.quiet = 0, G.key.row = 0;
+}
+
+/* Refuses, before the sweep runs, a default figure (of d; NULL: any) whose
+ * text is too large for its plot (fit_plot), with the largest
+ * view.font_size that fits. 0, or SP_E_INPUT (said) / SP_E_NOMEM. */
+static int fit_check(const struct sp_sweep_desc *d, const struct sp_palette *pal)
+{
+    double got[2], need[2], lo = 0, hi = G.u;
+    const double u = G.u, scale = G.v->font_scale > 0 ? G.v->font_scale : 1;
+    char why[256];
+    fit_plot(d, pal, got, need);
+    if (G.err || (got[0] >= need[0] && got[1] >= need[1]))
+        return G.err;
+    plot_why(why, sizeof(why), got[0], got[1], need[0], need[1]);
+    for (int i = 0; i < 40 && !G.err; i++) { /* the largest text that fits */
+        G.u = 0.5 * (lo + hi);
+        fit_plot(d, pal, got, need);
+        *(got[0] >= need[0] && got[1] >= need[1] ? &lo : &hi) = G.u;
+    }
+    double best = floor(lo * 14 / scale * 10) / 10;
+    for (int i = 0; i < 50 && best > 0.1 && !G.err; i++, best -= 0.1) { /* and says so */
+        G.u = best * scale / 14;
+        fit_plot(d, pal, got, need);
+        if (got[0] >= need[0] && got[1] >= need[1])
+            break;
+    }
+    G.u = u, G.label_pt = sp_axis_label_pt(U(14), 0), G.title_pt = U(17);
+    return G.err ? G.err : font_refused(why, best);
 }
 
 /* Sets G up for a figure of the style, look being its scene with the
  * style's [view] copied in (kept by the caller until end()): the page, the
  * text's scale, the font ([view] font, with fontconfig's fallbacks), and
  * checks the [view] texts it draws: every character in some font, a title
- * that fits the page (wrap_title). 0, or SP_E_INPUT (said), SP_E_NOMEM,
+ * that fits the page (wrap_title); with check (sp_sweep_plot_check, before
+ * the sweep: its estimates' text is shaped, and a font shaped is recorded
+ * as drawn from), a default figure's text that fits its page, d's
+ * (fit_check). 0, or SP_E_INPUT (said), SP_E_NOMEM,
  * SP_E_IO. */
-static int begin(const struct sp_plot_style *style, struct sp_scene *look)
+static int begin(const struct sp_plot_style *style, struct sp_scene *look,
+                 const struct sp_sweep_desc *d, int check)
 {
     const int print = style && style->page_w > 0;
     const double body = look->view.font_size > 0 ? look->view.font_size : print ? 10 : 14;
@@ -1370,7 +1803,8 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
     sp_canvas_reset(&G.cv);
     G.cv.font = NULL;
     G.lwidth = G.lw;
-    G.title_lines = NULL, G.title_n = 0;
+    G.title_lines = G.sub_lines = NULL, G.title_n = G.sub_n = 0;
+    G.key.row = 0, G.measuring = G.quiet = 0;
     struct sp_font_desc fd = {.family = v->font, .where = v->font_where};
     for (int i = 0; i < SP_TEXT_SIZES; i++)
         fd.px[i] = LAYOUT_PX;
@@ -1427,6 +1861,11 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
         font_pt(U(12));
         err = G.err;
     }
+    if (!err && !print && check) { /* text the default figure's page cannot hold */
+        struct sp_palette pal;
+        sp_palette_get(v, &pal);
+        err = fit_check(d, &pal);
+    }
     if (!err && G.title && G.title[0]) {
         char where[512];
         title_where(where, sizeof(where));
@@ -1439,8 +1878,8 @@ static int begin(const struct sp_plot_style *style, struct sp_scene *look)
 /* Gives back what begin() and title() took. */
 static void end(void)
 {
-    free(G.title_lines);
-    G.title_lines = NULL, G.title_n = 0;
+    free(G.title_lines), free(G.sub_lines);
+    G.title_lines = G.sub_lines = NULL, G.title_n = G.sub_n = 0;
     sp_canvas_free(&G.cv);
     sp_font_destroy(&G.font);
     /* fontconfig keeps its configuration for the next figure; there is
@@ -1454,7 +1893,7 @@ int sp_sweep_plot_check(const struct sp_plot_style *style)
     sp_scene_defaults(&look);
     if (style && style->view)
         look.view = *style->view;
-    const int err = begin(style, &look);
+    const int err = begin(style, &look, style ? style->desc : NULL, 1);
     end();
     return err;
 }
@@ -1510,7 +1949,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     }
     look.view.theme = d.theme;
     sp_palette_get(&look.view, &pal);
-    if ((ret = begin(style, &look))) { /* the page, the text's scale and font (G) */
+    if ((ret = begin(style, &look, &d, 0))) { /* the page, the text's scale and font (G) */
         end();
         return ret;
     }

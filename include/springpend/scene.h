@@ -250,6 +250,11 @@ void sp_scene_view_drawn(int drawn);
  * auto on a 3-D scene (initial.azimuth_rate != 0). */
 int sp_scene_perspective(const struct sp_scene *s);
 
+/* Frame times are indexed by int: a scene (its [timeline] included) makes
+ * at most this many; what a command makes of them has its own limit
+ * (render: video frames, data: rows). */
+#define SP_MAX_FRAMES 1000000000
+
 /* Number of video frames, N = round(duration * fps / speed), without the
  * timeline ([timeline] changes it for render and still: timeline.h;
  * data and sweep use this). */

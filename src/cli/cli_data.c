@@ -128,15 +128,26 @@ static int check_rates(const struct sp_cli_options *o)
 }
 
 /* data refuses a --set key it does not read (attack13 #5): it draws
- * nothing, and its rows are the physics at the frame times. */
+ * nothing, and its rows are the physics at the frame times; with --every
+ * or --poincare, which replace the frame times, not video.fps or speed
+ * either, as it refuses --fps there; ensemble.trails is drawn, never
+ * written (attack15 #13). */
 static int check_set_read(const struct sp_cli_options *o)
 {
-    static const char *const read[] = {"pendulum", "initial", "pivot", "integrator", "ensemble",
+    static const char *const read[] = {"pendulum", "initial", "pivot", "integrator",
+                                       "ensemble.count", "ensemble.key", "ensemble.spread",
                                        "video.duration", "video.fps", "video.speed"};
-    return sp_cli_check_set_read(o, "data", read, sizeof(read) / sizeof(read[0]), 0,
-                                 "the [pendulum], [initial], [pivot], [integrator] and "
-                                 "[ensemble] keys and video.duration, fps and speed (the "
-                                 "frame times); it draws nothing");
+    const int frame_times = !(o->data.every > 0) && !o->data.poincare;
+    const size_t n = sizeof(read) / sizeof(read[0]) - (frame_times ? 0 : 2);
+    return sp_cli_check_set_read(o, "data", read, n, 0,
+                                 frame_times
+                                     ? "the [pendulum], [initial], [pivot] and [integrator] keys, "
+                                       "ensemble.count, key and spread, and video.duration, fps "
+                                       "and speed (the frame times); it draws nothing"
+                                     : "the [pendulum], [initial], [pivot] and [integrator] keys, "
+                                       "ensemble.count, key and spread, and video.duration; with "
+                                       "--every or --poincare, not the frame times' video.fps and "
+                                       "speed; it draws nothing");
 }
 
 int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)

@@ -394,7 +394,16 @@ int sp_cmd_info(int argc, char **argv, const volatile sig_atomic_t *cancel)
     int ret = sp_cli_parse(&o, argc, argv, info_usage, SP_CLI_TAKES_JSON);
     if (ret)
         return ret > 0 ? 0 : ret;
-    ret = sp_cli_load_scene(&o, &sc);
+    /* a --set key info does not read is refused, as data refuses one
+     * (attack15 #13): it prints the physics and the video's length */
+    static const char *const read[] = {"pendulum", "initial", "pivot", "integrator",
+                                       "video.duration", "video.fps", "video.speed"};
+    ret = sp_cli_check_set_read(&o, "info", read, sizeof(read) / sizeof(read[0]), 0,
+                                "the [pendulum], [initial], [pivot] and [integrator] keys and "
+                                "video.duration, fps and speed (the video's length); it draws "
+                                "nothing");
+    if (!ret)
+        ret = sp_cli_load_scene(&o, &sc);
     if (ret)
         return ret;
     ret = info_scene(&o, &sc, cancel);

@@ -91,7 +91,8 @@ static const char still_usage[] =
     "                       [options]\n"
     "\n"
     "Renders one frame at simulated time SECONDS (default 0), integrating only up\n"
-    "to it; the trail holds the positions at the video's frame times before it.\n"
+    "to it; the trail holds the positions at the video's frame times before it\n"
+    "(past the video's end, the frames go on at its last speed).\n"
     "With a [timeline], the caption in force at SECONDS shows at full strength (a\n"
     "pause's note, with the marker 'paused', when a pause is at SECONDS).\n"
     "Default output: out/<scene>.png. NAME.svg and NAME.pdf are vector figures of\n"
@@ -243,8 +244,11 @@ static int check_still(const struct sp_cli_options *o, const struct sp_scene *sc
     }
     if (ret || !o->still.state)
         return ret;
-    if (sp_outfile_same_file(o->still.state, o->scene_path) || !strcmp(o->still.state, out) ||
-        sp_outfile_same_file(o->still.state, out)) {
+    int clash = 0; /* every scene side by side; the image by its name too, made or not
+                    * (./s.png, d//s.png, its absolute path: attack15 #14) */
+    for (int i = 0; i < o->n_scenes; i++)
+        clash |= sp_outfile_same_file(o->still.state, o->scene_paths[i]);
+    if (clash || sp_outfile_same_output(o->still.state, out)) {
         sp_log_error("--state %s would overwrite the scene or the image; choose another path",
                      o->still.state);
         return SP_E_INPUT;
@@ -468,6 +472,24 @@ static int video_kind(const char *out, const char *format)
     return !strcasecmp(kind, "mp4") || !strcasecmp(kind, "webm");
 }
 
+/* Side by side, each scene is held at its own last frame ("Durations" in
+ * doc/teaching.md): a still past the longest one's drew every cell ended
+ * and charts stretched to --at, empty past the end (attack15 #9). Alone, a
+ * still past the end goes on (pipeline.c still_past_end). */
+static int check_still_side_end(const struct sp_cli_options *o, const struct sp_scene *scenes)
+{
+    double end = 0; /* the longest scene's simulated end */
+    for (int i = 0; i < o->n_scenes; i++)
+        end = fmax(end, scenes[i].video.duration);
+    if (o->still.at <= end)
+        return 0;
+    sp_log_error("--at %g: side by side, each scene is held at its own end, and the longest "
+                 "ends at t = %g s (video.duration); allowed: --at up to %g, or a longer "
+                 "video.duration (--set video.duration=%g)", o->still.at, end, end,
+                 ceil(o->still.at));
+    return SP_E_INPUT;
+}
+
 /* The longest video render and still make and show, frames. */
 #define SP_MAX_VIDEO_FRAMES 1000000
 
@@ -525,6 +547,8 @@ static int run(int argc, char **argv, int still)
         ret = sp_cli_frame_range(&o, n_frames, &first, &last);
     if (!ret && still)
         ret = check_still(&o, &scenes[0], out);
+    if (!ret && still && o.n_scenes > 1)
+        ret = check_still_side_end(&o, scenes);
     struct sp_pipeline_desc pd = {0};
     const struct sp_scene recorded = scenes[0]; /* before --size 8.6cm sets its px */
     if (!ret && still && o.still.paper_w)

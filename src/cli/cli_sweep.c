@@ -81,7 +81,9 @@ static const char sweep_usage[] =
     "FROM > TO is taken: the CSV in that order, the figure's axis ascending.\n"
     "A point whose integration blows up is NaN in the CSV and the figure, and\n"
     "counted; the sweep goes on (every point blown up: nothing written, exit 3).\n"
-    "orbit and poincare estimate their rows (CSV lines): at most 1e8.\n"
+    "orbit and poincare bound their rows (CSV lines) before they run, from each\n"
+    "start's energy (else one every two steps): past 1e8 refused; a run whose rows\n"
+    "pass 1e8 stops and writes nothing (exit 2).\n"
     "Ctrl-C stops and writes nothing (exit 130).\n"
     "The scene's [timeline] (captions, speed changes, pauses) is presentation for\n"
     "render and still: sweep ignores it.\n"
@@ -487,49 +489,86 @@ static int check_outputs(const struct sweep_opts *o)
 #define SWEEP_MAX_ROWS 1e8
 #define SWEEP_NOTE_ROWS 1e7
 #define SWEEP_ROW_BYTES 60
+#define SWEEP_ROWS_SUMMED 1000000 /* points whose bounds are summed (each takes a
+                                   * scene check, about 4 us) */
 
-/* The rows a point of d writes at most, about: driven orbits one per drive
- * period (each branch of --continue both), Poincare crossings (orbit
- * undriven, poincare) about one per swing at the grid's fastest swing,
- * never more than one per step. */
-static int estimate_rows(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
-                      double steps, int quiet)
+/* The rows points [first, last) of d write at most: a driven orbit one per
+ * drive period at the grid's fastest drive (each branch of --continue
+ * both); crossings of theta = 0 (orbit undriven, poincare) what each
+ * point's energy allows (sp_sweep_point_rows_max), summed. Over
+ * SWEEP_ROWS_SUMMED points every point takes the bound of one every two
+ * steps. *by_steps: the points bounded by steps only, *loose their rows. */
+static double max_rows(const struct sp_sweep_desc *d, const struct sp_scene *base, long first,
+                       long last, long *by_steps, double *loose)
+{
+    double rows = 0, rate = 0;
+    *by_steps = 0, *loose = 0;
+    if (d->measure == SP_MEASURE_ORBIT && d->driven) {
+        for (int corner = 0; corner < (1 << d->n_axes); corner++) {
+            struct sp_scene s = *base;
+            for (int a = 0; a < d->n_axes; a++) /* checked: the ends are valid */
+                sp_scene_set_number(&s, d->axis[a].key,
+                                    (corner >> a) & 1 ? d->axis[a].to : d->axis[a].from, "--vary");
+            rate = fmax(rate, s.pivot.frequency);
+        }
+        return (double)(last - first) * ceil(d->time * rate + 1) *
+               (d->cont == SP_CONTINUE_BOTH ? 2 : 1);
+    }
+    if (last - first > SWEEP_ROWS_SUMMED) {
+        *by_steps = last - first;
+        return *loose = (double)(last - first) * (floor(d->time / d->dt / 2) + 2);
+    }
+    for (long p = first; p < last; p++) {
+        struct sp_scene s;
+        int steps = 0;
+        if (sp_sweep_point_scene(d, base, p, &s))
+            continue; /* the energy is out of its reach: no rows */
+        const double most = sp_sweep_point_rows_max(d, &s, &steps);
+        rows += most, *by_steps += steps, *loose += steps ? most : 0;
+    }
+    return rows;
+}
+
+/* Holds an orbit diagram's or a Poincare mosaic's rows (max_rows) to the
+ * limits: refused past SWEEP_MAX_ROWS, said past SWEEP_NOTE_ROWS; the run
+ * itself stops at SWEEP_MAX_ROWS (d->max_rows) should it get there. Rows
+ * bounded only by the steps (a start whose energy reaches the pivot, a
+ * drive, 3-D) can be thousands of times what they come to, so past the
+ * limit through them the run is not refused but told it may be stopped. */
+static int estimate_rows(struct sp_sweep_desc *d, const struct sp_scene *base, long first,
+                         long last, int quiet, double *bound)
 {
     if (d->measure != SP_MEASURE_ORBIT && d->measure != SP_MEASURE_POINCARE)
         return 0;
-    double per_point, rate = 0; /* rows a second */
-    for (int corner = 0; corner < (1 << d->n_axes); corner++) {
-        struct sp_scene s = *base;
-        for (int a = 0; a < d->n_axes; a++) /* checked: the ends are valid */
-            sp_scene_set_number(&s, d->axis[a].key,
-                                (corner >> a) & 1 ? d->axis[a].to : d->axis[a].from, "--vary");
-        if (d->measure == SP_MEASURE_ORBIT && d->driven) {
-            rate = fmax(rate, s.pivot.frequency);
-        } else {
-            struct sp_sim sim;
-            struct sp_physics ph;
-            sp_sim_init(&sim, &s);
-            sp_params_physics(&sim.p, &ph);
-            rate = fmax(rate, ph.omega_p / (2 * M_PI));
-        }
-    }
-    per_point = fmin(d->time * rate * (d->cont == SP_CONTINUE_BOTH ? 2 : 1), steps);
-    if (!(rate > 0)) /* no gravity: no swing to count by; at most a row a step */
-        per_point = steps;
-    const double rows = per_point * (double)points, gb = rows * SWEEP_ROW_BYTES / 1e9;
-    if (rows > SWEEP_MAX_ROWS) {
-        sp_log_error("--measure %s over %ld points for --time %g: about %.2g rows (%s), about "
+    const char *cap = getenv("SPRINGPEND_SWEEP_ROW_CAP"); /* tests: a lower cap */
+    d->max_rows = cap && atof(cap) > 0 ? atof(cap) : SWEEP_MAX_ROWS;
+    long by_steps;
+    double loose;
+    const long points = last - first;
+    const double rows = max_rows(d, base, first, last, &by_steps, &loose),
+                 gb = rows * SWEEP_ROW_BYTES / 1e9;
+    *bound = rows;
+    char how[160];
+    if (d->measure == SP_MEASURE_ORBIT && d->driven)
+        snprintf(how, sizeof(how), "one a drive period");
+    else if (!by_steps)
+        snprintf(how, sizeof(how), "crossings of θ = 0 as often as each start's energy "
+                 "allows");
+    else
+        snprintf(how, sizeof(how), "crossings of θ = 0, for %ld point%s at most one every "
+                 "two steps of %g s", by_steps, by_steps == 1 ? "" : "s", d->dt);
+    if (rows - loose > SWEEP_MAX_ROWS) {
+        sp_log_error("--measure %s over %ld points for --time %g: at most %.2g rows (%s), about "
                      "%.3g GB of CSV; at most %.0e rows; allowed: fewer points (--vary's COUNT) "
                      "or a shorter --time", d->measure == SP_MEASURE_ORBIT ? "orbit" : "poincare",
-                     points, d->time, rows,
-                     d->measure == SP_MEASURE_ORBIT && d->driven ? "one a drive period"
-                                                                 : "about one a swing",
-                     gb, SWEEP_MAX_ROWS);
+                     points, d->time, rows, how, gb, SWEEP_MAX_ROWS);
         return SP_E_INPUT;
     }
     if (rows > SWEEP_NOTE_ROWS && !quiet)
-        sp_fprintf_line(stderr, "springpend: about %.2g rows, %.3g GB of CSV (in --csv, or in "
-                        "temporary files under /tmp until the figure is drawn)", rows, gb);
+        sp_fprintf_line(stderr, "springpend: at most %.2g rows (%s), %.3g GB of CSV (in --csv, "
+                        "or in temporary files under /tmp until the figure is drawn)%s", rows,
+                        how, gb, rows > SWEEP_MAX_ROWS ? "; past 1e+08 rows the run stops, "
+                        "nothing written" : "");
     return 0;
 }
 
@@ -541,9 +580,10 @@ static int estimate_rows(const struct sp_sweep_desc *d, const struct sp_scene *b
  * spectrum steps four copies (each with its tangent), basins lands on
  * SP_BASINS_SAMPLES times a drive period (one more step each), and a
  * continued orbit diagram runs each of its branches. */
-static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base, long points,
-                      int quiet)
+static int check_work(struct sp_sweep_desc *d, const struct sp_scene *base, long first,
+                      long last, int quiet, double *rows)
 {
+    const long points = last - first;
     const int lyap = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_SPECTRUM;
     const double span = d->transient + d->time;
     double per_point = span / d->dt;
@@ -585,7 +625,7 @@ static int check_work(const struct sp_sweep_desc *d, const struct sp_scene *base
                              "larger integrator.dt, or split the grid over machines with "
                              "--shard I/N",
                        quiet);
-    return ret ? ret : estimate_rows(d, base, points, per_point, quiet);
+    return ret ? ret : estimate_rows(d, base, first, last, quiet, rows);
 }
 
 struct progress {
@@ -1124,7 +1164,8 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
         first = total * (si - 1) / sn;
         last = total * si / sn;
     }
-    if ((ret = check_work(d, scene, last - first, o->quiet)))
+    double rows = -1; /* orbit and poincare: the most rows */
+    if ((ret = check_work(d, scene, first, last, o->quiet, &rows)))
         return ret;
     FILE *fp;
     struct sp_dirs made[2] = {{0}, {0}};
@@ -1174,9 +1215,11 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
         sp_log_error("%ld of %ld points cannot have energy %g J (skipped)", unreachable,
                      last - first, d->energy);
     if (!o->quiet)
-        sp_fprintf_line(stderr, "wrote %s%s%s: %ld points in %.2f s",
+        sp_fprintf_line(stderr, "wrote %s%s%s: %ld points in %.2f s%s%.0f%s",
                 o->output ? o->output : o->csv ? "" : "stdout", o->output && o->csv ? " and " : "",
-                o->csv ? o->csv : "", last - first, sp_clock_s() - t0);
+                o->csv ? o->csv : "", last - first, sp_clock_s() - t0,
+                rows >= 0 ? " (rows estimated: at most " : "", rows >= 0 ? rows : 0.0,
+                rows >= 0 ? ")" : "");
     return 0;
 }
 

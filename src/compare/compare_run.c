@@ -50,6 +50,8 @@ struct compare_run {
     int json, quiet, failures_only;
     int jobs;                      /* threads comparing folders */
     int candidates_failed;         /* candidates that could not be written */
+    int candidates_made;           /* this run made the candidates folder */
+    int diff_in_candidates;        /* the diffs go beside the candidates */
     unsigned diff_links;           /* write_whole's flags for diff images:
                                       SP_OUTFILE_REPLACE_LINK in folder mode */
     const volatile sig_atomic_t *cancel; /* the desc's */
@@ -1908,11 +1910,32 @@ static int compare_pair(struct compare_run *c, struct sp_compare_report *rep,
 
 /* Prints the records and writes the reports; the run's status from the
  * records when nothing failed before (ret). */
+/* An interrupted run writes no candidate (compare_folders): the diffs it
+ * put beside them are removed too, and the folder if this run made it, so
+ * the folder is as the run found it, empty or new, and no approve hint is
+ * given for nothing (attack15 #6). Before the reports, which then name no
+ * removed diff. */
+static void candidates_undo(const struct compare_run *c, struct sp_compare_report *rep)
+{
+    if (!c->candidates || !rep->interrupted)
+        return;
+    for (int i = 0; i < rep->n; i++) {
+        struct sp_compare_record *r = &rep->records[i];
+        if (r->candidate[0] && unlink(r->candidate) == 0)
+            r->candidate[0] = 0;
+        if (c->diff_in_candidates && r->diff[0] && unlink(r->diff) == 0)
+            r->diff[0] = 0;
+    }
+    if (c->candidates_made)
+        rmdir(c->candidates); /* fails, rightly, where something else is in it */
+}
+
 static int report(const struct compare_run *c, struct sp_compare_report *rep, const char *e,
                   int folders, int ret)
 {
     if (!rep->interrupted)
         sp_compare_config_warn_unused(&c->cfg);
+    candidates_undo(c, rep);
     if (c->json)
         sp_compare_report_json(stdout, rep);
     else
@@ -1931,7 +1954,11 @@ static int report(const struct compare_run *c, struct sp_compare_report *rep, co
         struct sp_compare_counts n = sp_compare_report_count(rep);
         ret = n.unresolved_errors ? SP_E_INPUT : n.unresolved_failed ? SP_E_MISMATCH : 0;
     }
-    if (c->candidates && !c->json) {
+    if (c->candidates && rep->interrupted) {
+        sp_fprintf_line(stdout, "interrupted: no candidate kept in %s%s; run compare again",
+                        c->candidates, c->diff_in_candidates ? " (the diffs this run made there "
+                        "removed)" : "");
+    } else if (c->candidates && !c->json) {
         int k = 0;
         for (int i = 0; i < rep->n; i++)
             k += rep->records[i].candidate[0] != 0;
@@ -2034,11 +2061,24 @@ static int check_candidates_empty(const char *dir)
         return 0;
     if ((ret = sp_snapshot_list_make(&l, dir, dir, NULL, 0, NULL, 0)) != 0)
         return ret;
-    if (l.n)
-        sp_log_error("--candidates %s holds %d image%s already (%s/%s%s), which --approve would "
-                     "install with this run's candidates though this run never wrote them; "
+    int diffs = 0, named = 0; /* NAME.diff.png: --approve leaves them */
+    for (int i = l.n - 1; i >= 0; i--) {
+        const size_t n = strlen(l.items[i].name);
+        const int diff = n > 9 && !strcmp(l.items[i].name + n - 9, ".diff.png");
+        diffs += diff;
+        named = diff ? named : i; /* the first image that is not a diff */
+    }
+    if (l.n && diffs < l.n)
+        sp_log_error("--candidates %s holds %d image%s already (%s/%s%s): %d that --approve would "
+                     "install with this run's candidates though this run never wrote them%s; "
                      "allowed: an empty or new folder (remove them, or name another folder)",
-                     dir, l.n, l.n == 1 ? "" : "s", dir, l.items[0].name, l.n > 1 ? ", ..." : "");
+                     dir, l.n, l.n == 1 ? "" : "s", dir, l.items[named].name,
+                     l.n > 1 ? ", ..." : "", l.n - diffs, diffs ? " and diffs" : "");
+    else if (l.n)
+        sp_log_error("--candidates %s holds %d image%s already (%s/%s%s), diffs of an earlier run "
+                     "that this run's would mix with (--approve leaves diffs); allowed: an empty "
+                     "or new folder (remove them, or name another folder)", dir, l.n,
+                     l.n == 1 ? "" : "s", dir, l.items[0].name, l.n > 1 ? ", ..." : "");
     ret = l.n ? SP_E_INPUT : 0;
     sp_snapshot_list_free(&l);
     return ret;
@@ -2077,6 +2117,7 @@ int sp_compare_run(const struct sp_compare_desc *d)
     rep.report_path = c.html;
     rep.junit_path = c.junit;
     rep.failures_only = c.failures_only;
+    c.diff_in_candidates = c.candidates && !c.diff;
     if (c.candidates && !c.diff && de)
         c.diff = c.candidates; /* the diffs beside the candidates */
     if (c.candidates && !c.diff && !de) {
@@ -2088,11 +2129,14 @@ int sp_compare_run(const struct sp_compare_desc *d)
     }
     if (c.candidates && (ret = check_candidates_empty(c.candidates)) != 0)
         goto done;
-    if (c.candidates && !is_dir(c.candidates) && mkdir(c.candidates, 0777) != 0) {
-        sp_log_error("--candidates %s: cannot create the folder: %s", c.candidates,
-                     strerror(errno));
-        ret = SP_E_INPUT;
-        goto done;
+    if (c.candidates && !is_dir(c.candidates)) {
+        if (mkdir(c.candidates, 0777) != 0) {
+            sp_log_error("--candidates %s: cannot create the folder: %s", c.candidates,
+                         strerror(errno));
+            ret = SP_E_INPUT;
+            goto done;
+        }
+        c.candidates_made = 1;
     }
     if (de) {
         if (c.diff && !is_dir(c.diff) && mkdir(c.diff, 0777) != 0) {

@@ -439,7 +439,10 @@ static int run_setup(struct run *run)
         ss * fmin(w / fmax(extent.xmax - extent.xmin, 1e-9), h / fmax(extent.ymax - extent.ymin, 1e-9));
     int substeps = sp_trail_substeps(dt_max, extent.max_speed * sp_params_omega_max(&run->sim.p),
                                      px_per_m);
-    ret = trail_setup(&run->trail, &run->substeps, sc, n, substeps, frame_dt, slow);
+    /* a still past the video's end: its frames go on (still_past_end), a
+     * trail = all holds them too, at most 4e6 */
+    const double n_at = desc->still ? fmin(floor(desc->still_at / frame_dt) + 1, 4e6) : 0;
+    ret = trail_setup(&run->trail, &run->substeps, sc, (int)fmax(n, n_at), substeps, frame_dt, slow);
     if (!ret)
         ret = sp_history_make(&run->hist, sc);
     for (int i = 0; !ret && i < run->n_more; i++) { /* the others, as the first */
@@ -525,15 +528,32 @@ static int run_follow(struct run *run, double t_target)
     return ret;
 }
 
+/* A still past the video's last frame (at t_last, speed simulated s per
+ * video s): the frames go on at that speed, so the trail holds the frame
+ * times before `at` as a longer video's would (attack15 #9: past the end it
+ * held none and was not drawn). The sim jumps to a trail's length (and a
+ * frame) before `at`; from there on each frame is followed. */
+static int still_past_end(struct run *run, double at, double t_last, double speed)
+{
+    const double dt = speed / run->sc->video.fps;
+    const double after = floor((at - t_last) / dt * (1 + 1e-12)); /* frames past the last */
+    const double window = run->substeps > 0 ? run->trail.capacity / run->substeps + 2 : 2;
+    int ret = 0;
+    for (double k = fmax(1, after - window); !ret && k <= after; k++)
+        ret = run_follow(run, t_last + k * dt);
+    return ret;
+}
+
 /* A still: the sim to still_at, the trail holding the video's frame
- * positions before it. The progress line stays up (run_close ends it). */
+ * positions before it (past its end, still_past_end's). The progress
+ * line stays up (run_close ends it). */
 static int run_still_follow(struct run *run)
 {
     const struct sp_scene *sc = run->sc;
     const double at = run->desc->still_at;
-    int ret;
+    int ret, k;
     sp_progress_begin(run->desc->progress, "integrating", at);
-    for (int k = 0; k < run->n; k++) {
+    for (k = 0; k < run->n; k++) {
         sp_timeline_frame(sc, k, &run->moment);
         if (run->moment.t > at)
             break;
@@ -541,6 +561,9 @@ static int run_still_follow(struct run *run)
         if (ret)
             return ret;
     }
+    if (k == run->n && run->n > 0 && at > run->moment.t && !run->n_more &&
+        (ret = still_past_end(run, at, run->moment.t, run->moment.speed)) != 0)
+        return ret;
     sp_timeline_still(sc, at, &run->moment);
     return run_follow(run, at); /* nothing when it is there already */
 }

@@ -26,9 +26,6 @@
 #include "base/utf8.h"
 
 #define SP_MAX_PIXELS (7680L * 4320L)
-/* Frame times are indexed by int; what a command makes of them has its own
- * limit (render: video frames, data: rows). */
-#define SP_MAX_FRAMES 1000000000
 #define SP_MAX_RATE2 1e24  /* k/m and b/m, 1/s^2 and 1/s: omega up to 1e12 rad/s */
 #define SP_MAX_STRETCH 1e9 /* m g / k, m: beyond it nothing is on screen */
 #define SP_ENSEMBLE_MAX 10000 /* [ensemble] count */
@@ -906,6 +903,14 @@ static char *read_line(char *str, int num, void *stream)
          * by the text rule (sp_ini_text) */
         const size_t k = strcspn(q, "=:");
         c->line_has_content = 1;
+        if (q[k] == ':') { /* inih's other separator: "0:30 = caption: x" read as 0 */
+            report(c, c->line, "[timeline] the line starts '%.*s:', but a cue is TIME = VERB, "
+                   "with TIME a decimal number of simulated seconds (30, not 0:30); allowed: "
+                   "e.g. '30 = caption: half a minute'", (int)(k < 20 ? k : 20), q);
+            c->line_handled = 1;
+            snprintf(str, (size_t)num, "#\n");
+            return str;
+        }
         if (k > 64) { /* a time that long was cut at 64 bytes: another time */
             report(c, c->line, "[timeline] time '%.20s...' is %zu bytes long; at most 64 "
                    "are allowed", q, k);

@@ -381,6 +381,27 @@ int sp_timeline_check(const struct sp_timeline *tl, const struct sp_scene *s)
     return errors;
 }
 
+/* The frame times the clock makes, as the scene's own check counts
+ * video.duration * video.fps / video.speed: at most SP_MAX_FRAMES (a slow
+ * speed cue, 1e-7, made 3.9e8 s of video and a frame count past int's
+ * range, printed negative by info: attack15 #2). Said at the slowest speed
+ * cue's line (the first, if several); SP_E_INPUT. */
+static int check_length(const struct sp_timeline *tl, const struct sp_scene *s)
+{
+    const double frames = tl->length * s->video.fps;
+    if (!tl->clocked || frames <= SP_MAX_FRAMES)
+        return 0;
+    int line = tl->n_cues ? tl->cues[0].line : 0;
+    for (int i = tl->n_cues - 1; i >= 0; i--)
+        if (tl->cues[i].kind == SP_CUE_SPEED && tl->cues[i].value == tl->speed_min)
+            line = tl->cues[i].line;
+    report(tl->origin, line, "[timeline] the speeds and pauses make the video %.4g s long at %g "
+           "fps: %.3g frame times; at most %d are allowed (the slowest speed here is %g; raise it, "
+           "or shorten video.duration)", tl->length, s->video.fps, frames, SP_MAX_FRAMES,
+           tl->speed_min);
+    return SP_E_INPUT;
+}
+
 int sp_timeline_plan(struct sp_timeline *tl, const struct sp_scene *s)
 {
     for (int i = 0; i < tl->n_cues; i++)
@@ -393,9 +414,11 @@ int sp_timeline_plan(struct sp_timeline *tl, const struct sp_scene *s)
     int ret = build_clock(tl, s->video.speed, s->video.duration);
     if (!ret)
         ret = build_band(tl, s->view.caption);
-    if (ret)
+    if (ret) {
         sp_log_error("out of memory for the timeline");
-    return ret;
+        return ret;
+    }
+    return check_length(tl, s);
 }
 
 /* ---- what a frame shows ---- */

@@ -6,7 +6,10 @@
  * stroboscopic map. After the transient, a start is settled at the first
  * period k at which, for some p <= SP_BASINS_MAX_PERIOD, each of its last
  * p + 2 samples is within the recurrence tolerance of the sample p periods
- * before it: the smallest such p is its period. Tolerance: 1e-3 rad in
+ * before it: the smallest such p, reduced to a divisor q whose q-shifted
+ * samples are within 3 tolerances (the cycle's least period), is its period;
+ * a cycle within 10 tolerances of a q-cycle is held until told apart
+ * (near_shorter). Tolerance: 1e-3 rad in
  * theta, 1e-3 of the equilibrium length in r, the same times the drive's
  * angular frequency in the rates. A start not settled by transient + time is
  * undecided (chaotic, or still on its way). Its row holds the cycle's sample
@@ -14,10 +17,11 @@
  *
  * Which cycles are the same attractor is decided from the rows alone
  * (sp_basins_read), so the whole run and any merge of shards agree: cycles of
- * equal winding whose representatives lie within 2 degrees, 1% of r, 0.1
- * rad/s and 2% of r per second are one attractor (of the least period among
- * them: a cycle settled while still closing in on a shorter one is that
- * one), in order of first appearance over the grid. This is the clustering of final states;
+ * equal turns per drive period (winding / period) whose representatives
+ * lie within 2 degrees, 1% of r, 0.1 rad/s and 2% of r per second are one
+ * attractor (of the least period among them, and its winding: a cycle
+ * settled while still closing in on a shorter one is that one), in order of
+ * first appearance over the grid. This is the clustering of final states;
  * unlike Attractors.jl's AttractorsViaRecurrences (Datseris and Wagemakers,
  * Chaos 32, 023104 (2022)), which finds recurrences in the cells of a
  * state-space grid shared by all starts, each start here is judged alone, so
@@ -53,6 +57,9 @@ struct lane {
     double turns;          /* unwrapped theta, rad */
     int period, winding, decided;
     double rep[4], settled;
+    int held;              /* 1: a cycle close to a shorter one is held below */
+    int held_period, held_winding;
+    double held_rep[4], held_settled;
 };
 
 static double wrap(double a)
@@ -114,6 +121,43 @@ static int least_period(const struct lane *L, int p, const double tol[4])
     return p;
 }
 
+/* Whether a settled cycle of period p lies within SP_BASINS_NEAR tolerances
+ * of a shorter one (period q dividing p) without being it: a start still
+ * shedding a slow, beating transient around a period-q cycle (successive
+ * samples alternating by a few tolerances, attack15 #8) passes the p test
+ * first. Such a cycle is held, not settled: the start runs on until the
+ * q-cycle settles, or the p-cycle moves further from it, or the run ends
+ * (then the held cycle is its outcome). */
+#define SP_BASINS_NEAR 10
+static int near_shorter(const struct lane *L, int p, const double tol[4])
+{
+    for (int q = 1; q < p; q++)
+        if (p % q == 0 && gap(L, q, 0, p, tol) < SP_BASINS_NEAR)
+            return 1;
+    return 0;
+}
+
+/* Settles lane L as a cycle of period p (already its least) at time t: its
+ * winding and its sample of least theta; a cycle near a shorter one is held
+ * (near_shorter) unless `hold` is 0. */
+static void settle(struct lane *L, int p, double t, int hold)
+{
+    int winding = (int)lround((L->turns - L->unwrapped[(L->k - 1 - p) % RING]) / (2 * M_PI));
+    int best = 0; /* the cycle's sample of least theta */
+    for (int q = 1; q < p; q++)
+        if (L->ring[(L->k - 1 - q) % RING][0] < L->ring[(L->k - 1 - best) % RING][0])
+            best = q;
+    if (hold) {
+        if (!L->held) {
+            L->held = 1, L->held_period = p, L->held_winding = winding, L->held_settled = t;
+            memcpy(L->held_rep, L->ring[(L->k - 1 - best) % RING], sizeof(L->held_rep));
+        }
+        return;
+    }
+    L->decided = 1, L->period = p, L->winding = winding, L->settled = t;
+    memcpy(L->rep, L->ring[(L->k - 1 - best) % RING], sizeof(L->rep));
+}
+
 /* Runs the lanes idx[0..m) of one drive frequency f (scenes[idx[i]]) in a
  * batch of their own and settles each. */
 static int run_group(const struct sp_sweep_desc *d, const struct sp_scene *scenes,
@@ -167,17 +211,9 @@ static int run_group(const struct sp_sweep_desc *d, const struct sp_scene *scene
                 if (t >= d->transient * (1 - 1e-12))
                     for (int p = 1; p <= SP_BASINS_MAX_PERIOD && !L->decided; p++)
                         if (repeats(L, p, tol[i])) {
-                            L->decided = 1;
-                            L->period = p = least_period(L, p, tol[i]);
-                            L->winding = (int)lround(
-                                (L->turns - L->unwrapped[(L->k - 1 - p) % RING]) / (2 * M_PI));
-                            L->settled = t;
-                            int best = 0; /* the cycle's sample of least theta */
-                            for (int q = 1; q < p; q++)
-                                if (L->ring[(L->k - 1 - q) % RING][0] <
-                                    L->ring[(L->k - 1 - best) % RING][0])
-                                    best = q;
-                            memcpy(L->rep, L->ring[(L->k - 1 - best) % RING], sizeof(L->rep));
+                            int q = least_period(L, p, tol[i]);
+                            settle(L, q, t, near_shorter(L, q, tol[i]));
+                            break;
                         }
             }
             open |= !L->decided;
@@ -191,6 +227,10 @@ static int run_group(const struct sp_sweep_desc *d, const struct sp_scene *scene
             L->decided = -1;
             if (!skip[idx[i]])
                 (*blown_up)++;
+        } else if (!L->decided && L->held) { /* never told apart: the held cycle */
+            L->decided = 1, L->period = L->held_period, L->winding = L->held_winding;
+            L->settled = L->held_settled;
+            memcpy(L->rep, L->held_rep, sizeof(L->rep));
         } else if (!L->decided) { /* undecided: its last sample */
             memcpy(L->rep, L->ring[(L->k + RING - 1) % RING], sizeof(L->rep));
             L->settled = t_max;
@@ -246,7 +286,10 @@ int sp_basins_measure(const struct sp_sweep_desc *d, const struct sp_scene *scen
 
 static int same(const struct sp_attractor *a, int period, int winding, const double s[4])
 {
-    if ((a->period == 0) != (period == 0) || a->winding != winding)
+    /* the same turns per drive period: a p-cycle of winding w is the
+     * cycle of period p / n and winding w / n traced n times */
+    if ((a->period == 0) != (period == 0) ||
+        (long)a->winding * period != (long)winding * a->period)
         return 0;
     if (period == 0)
         return 1; /* one "undecided" */
@@ -324,7 +367,8 @@ int sp_basins_read(FILE *fp, const struct sp_sweep_desc *d, struct sp_basin_map 
         }
         if (period > 0 && period < map->att[a].period) { /* the cleaner cycle names it */
             struct sp_attractor *t = &map->att[a];
-            t->period = period, t->theta = v[4], t->r = v[5], t->theta_dot = v[6];
+            t->period = period, t->winding = winding, t->theta = v[4], t->r = v[5];
+            t->theta_dot = v[6];
             t->r_dot = v[7];
         }
         map->att[a].count++;

@@ -10,6 +10,7 @@
 #include <float.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -389,6 +390,49 @@ int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *b
     if (d->measure == SP_MEASURE_POINCARE)
         return set_energy(out, d->energy, base->initial.angle_rate < 0 ? -1 : 1);
     return 0;
+}
+
+/* The most rows grid point s of an event sweep (orbit undriven, poincare:
+ * upward crossings of theta = 0, checked once a step dt after the
+ * transient) can write over d->time. A crossing needs x < 0 at one check
+ * and x >= 0 at the next, so there is at most one every two steps: that
+ * bound (*by_steps = 1) is all there is when a drive can pump energy in, in
+ * 3-D, or when the energy lets the bob reach the pivot. Else, with damping
+ * b >= 0, the energy never exceeds E (the start's, plus 2% for the
+ * integration's drift), and V = k/2 (r - L0)^2 - m g r cos(theta) >=
+ * W(r) = k/2 (r - L0)^2 - m g r keeps r in [r1, r2] where W = E, and
+ * m/2 r^2 theta'^2 <= E - W(r) bounds |theta'| by
+ * w1^2 = 2/m (B^2 / (4 |A|) - k/2), A = E - k L0^2 / 2 < 0, B = k L0 + m g.
+ * Between two crossings theta either turns 2 pi (taking >= 2 pi / w1) or
+ * has two zeros; theta'' + (2 r'/r + b/m) theta' + (g/r)(sin theta/theta)
+ * theta = 0 is, with theta = u exp(-1/2 int a), u'' + Q u = 0 with
+ * Q = (g/r)(sin theta/theta - cos theta) - (b/2m)^2 - theta'^2 +
+ * (k/m)(1 - L0/r) <= 1.07 g / r1 + (k/m)(1 - L0/r2) = w2^2, so (Sturm)
+ * zeros are >= pi / w2 apart. Hence at most 1 + T max(w1, w2) / (2 pi). */
+double sp_sweep_point_rows_max(const struct sp_sweep_desc *d, const struct sp_scene *s,
+                               int *by_steps)
+{
+    const double steps = floor(d->time / d->dt / 2) + 2;
+    struct sp_sim sim;
+    sp_sim_init(&sim, s);
+    const struct sp_params *p = &sim.p;
+    const double m = p->mass, k = p->stiffness, L0 = p->L0, g = p->g;
+    *by_steps = 1;
+    if (sim.spatial || p->drive_amp != 0 || !(p->b_over_m >= 0) || !(k > 0) || !(m > 0) ||
+        !(g >= 0))
+        return steps;
+    const double E = sim.energy0 + 0.02 * (fabs(sim.energy0) + m * g * (L0 + m * g / k));
+    const double A = E - 0.5 * k * L0 * L0, B = k * L0 + m * g, disc = B * B + 2 * k * A;
+    if (!(A < 0) || !(disc >= 0))
+        return steps; /* the bob may reach the pivot: theta' unbounded */
+    const double r1 = (B - sqrt(disc)) / k, r2 = (B + sqrt(disc)) / k;
+    const double w1 = sqrt(fmax(0, 2 / m * (B * B / (4 * -A) - k / 2)));
+    const double w2 = sqrt(fmax(0, 1.07 * g / r1 + k / m * (1 - L0 / r2)));
+    const double rows = 1 + ceil(d->time * fmax(w1, w2) / (2 * M_PI));
+    if (!(r1 > 0) || !(rows < steps))
+        return steps;
+    *by_steps = 0;
+    return rows;
 }
 
 /* The scene's name as the CSV header's one word and the figure's title:
@@ -832,7 +876,24 @@ struct chunk_out {
     long n_blocks, cap_blocks;
     int spill_failed;            /* errno of a failed spill, else 0 */
     long blown_up, unreachable;
+    atomic_long *made;           /* the rows every chunk of the run has made */
 };
+
+/* Counts a row of an event sweep; 1 (after a message, once a run) when the
+ * run's rows pass d->max_rows: the estimate (cli_sweep.c) bounds them, so
+ * this is the backstop that keeps a run from filling the disk if it is
+ * ever wrong. */
+static int row_made(const struct sp_sweep_desc *d, struct chunk_out *out)
+{
+    const long made = out->made ? atomic_fetch_add(out->made, 1) + 1 : 0;
+    if (!(d->max_rows > 0) || made <= d->max_rows)
+        return 0;
+    if (made == (long)d->max_rows + 1)
+        sp_log_error("the sweep's rows passed the limit of %.0f; stopped, "
+                     "nothing written; allowed: fewer points (--vary's COUNT) or a shorter "
+                     "--time", floor(d->max_rows));
+    return 1;
+}
 
 /* Moves lane i's rows to the spill file. */
 static void spill_lane(struct chunk_out *o, int i)
@@ -955,7 +1016,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
     int ret = 0;
     for (long step = 0;; step++) {
         double t0 = (double)step * dt, t1 = (double)(step + 1) * dt;
-        if (t0 >= t_end)
+        if (t0 >= t_end || ret)
             break;
         if (step % 1024 == 0 && sp_sweep_cancelled(d)) {
             ret = SP_E_INTERRUPTED;
@@ -988,6 +1049,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
                 row_start(&rows[i], d, pts[i]);
                 sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", te, atan2(x, -y) * RAD2DEG + 0.0,
                           hypot(x, y)); /* + 0.0: never "-0" */
+                ret = row_made(d, out) ? SP_E_INPUT : ret;
                 continue;
             }
             if (!(x0 < 0 && x1 >= 0 && y0 < 0 && y1 < 0))
@@ -1008,6 +1070,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
             else
                 sb_printf(&rows[i], "%.10g,%.9g,%.9g,%.9g\n", t0 + s * dt, r, rd + 0.0,
                           thd + 0.0); /* + 0.0: never "-0" */
+            ret = row_made(d, out) ? SP_E_INPUT : ret;
         }
     }
     for (int i = 0; i < n; i++) {
@@ -1117,8 +1180,9 @@ struct run {
     pthread_mutex_t lock;
     pthread_cond_t changed;
     long next, written;
-    int stop;
+    int stop, ret;                /* ret: the first failed chunk's */
     struct slot *slots;
+    atomic_long made;             /* rows made (event sweeps) */
 };
 
 static void *worker(void *arg)
@@ -1136,6 +1200,7 @@ static void *worker(void *arg)
         pthread_mutex_unlock(&r->lock);
         struct chunk_out out;
         memset(&out, 0, sizeof(out));
+        out.made = &r->made;
         long p0 = r->first + c * CHUNK;
         int n = (int)(r->last - p0 < CHUNK ? r->last - p0 : CHUNK);
         int ret = run_chunk(r->d, r->base, r->forced, p0, n, &out);
@@ -1143,7 +1208,7 @@ static void *worker(void *arg)
         struct slot *s = &r->slots[c % r->window];
         s->out = out, s->ret = ret, s->done = 1;
         if (ret)
-            r->stop = 1;
+            r->stop = 1, r->ret = r->ret ? r->ret : ret;
         pthread_cond_broadcast(&r->changed);
         pthread_mutex_unlock(&r->lock);
     }
@@ -1169,6 +1234,7 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
                  sp_sweep_progress_fn progress, void *user)
 {
     struct run r = {.d = d, .base = base, .first = first, .last = last};
+    atomic_init(&r.made, 0);
     int ret = 0;
     *blown_up = *unreachable = 0;
     if (threads <= 0)
@@ -1212,9 +1278,10 @@ int sp_sweep_run(const struct sp_sweep_desc *d, const struct sp_scene *base, lon
                 until.tv_sec++, until.tv_nsec -= 1000000000;
             pthread_cond_timedwait(&r.changed, &r.lock, &until);
         }
+        const int failed = r.ret; /* a later chunk's, which said why */
         pthread_mutex_unlock(&r.lock);
         if (!s->done) {
-            ret = sp_sweep_cancelled(d) ? SP_E_INTERRUPTED : SP_E_NOMEM;
+            ret = sp_sweep_cancelled(d) ? SP_E_INTERRUPTED : failed ? failed : SP_E_NOMEM;
             break;
         }
         ret = s->ret;

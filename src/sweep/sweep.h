@@ -96,6 +96,9 @@ struct sp_sweep_desc {
     const volatile sig_atomic_t *cancel; /* the caller's stop flag (not in the
                                   * header): once set, a run stops with
                                   * SP_E_INTERRUPTED; NULL = never */
+    double max_rows;             /* orbit and poincare: a run whose rows pass it
+                                  * stops, SP_E_INPUT after a message (not in the
+                                  * header); 0 = no limit */
 };
 
 /* 1 once d's caller asked the sweep to stop (*d->cancel set). */
@@ -180,6 +183,13 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
  * when the energy cannot be reached from that start. */
 int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *base, long p,
                          struct sp_scene *out);
+
+/* The most rows grid point s (its scene, from sp_sweep_point_scene) of an
+ * orbit diagram of an undriven scene or a Poincare mosaic can write: its
+ * crossings of theta = 0 over d->time, bounded from its energy (see
+ * sweep.c), else by one every two steps of d->dt (*by_steps = 1). */
+double sp_sweep_point_rows_max(const struct sp_sweep_desc *d, const struct sp_scene *s,
+                               int *by_steps);
 
 /* How a sweep's figure looks (sweep_plot.c): its printed size and the
  * scene's [view]. Zero means the default: 900 x 600 pt, the CSV's theme and

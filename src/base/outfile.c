@@ -606,7 +606,15 @@ int sp_outfile_same_output(const char *a, const char *b)
     struct stat sa, sb;
     char da[PATH_MAX], db[PATH_MAX], fa[PATH_MAX], fb[PATH_MAX];
     const char *na, *nb;
-    const int ea = stat(a, &sa) == 0, eb = stat(b, &sb) == 0;
+    /* "-", /dev/stdout, /dev/fd/1 …: the file their descriptor has open
+     * (-o /dev/stdout --state - wrote both into one stdout: attack16 #4) */
+    const int xa = stdio_alias(a), xb = stdio_alias(b);
+    if (xa >= 0 && xa == xb)
+        return 1;
+    const int ea = (xa >= 0 ? fstat(xa, &sa) : stat(a, &sa)) == 0,
+              eb = (xb >= 0 ? fstat(xb, &sb) : stat(b, &sb)) == 0;
+    if (xa >= 0 || xb >= 0)
+        return ea && eb && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
     if (ea && eb)
         return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
     split_output(a, da, sizeof(da), &na);

@@ -483,8 +483,8 @@ static int check_still_side_end(const struct sp_cli_options *o, const struct sp_
         end = fmax(end, scenes[i].video.duration);
     if (o->still.at <= end)
         return 0;
-    sp_log_error("--at %g: side by side, each scene is held at its own end, and the longest "
-                 "ends at t = %g s (video.duration); allowed: --at up to %g, or a longer "
+    sp_log_error("--at %.15g: side by side, each scene is held at its own end, and the longest "
+                 "ends at t = %.15g s (video.duration); allowed: --at up to %.15g, or a longer "
                  "video.duration (--set video.duration=%g)", o->still.at, end, end,
                  ceil(o->still.at));
     return SP_E_INPUT;

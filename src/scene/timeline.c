@@ -391,10 +391,26 @@ static int check_length(const struct sp_timeline *tl, const struct sp_scene *s)
     const double frames = tl->length * s->video.fps;
     if (!tl->clocked || frames <= SP_MAX_FRAMES)
         return 0;
-    int line = tl->n_cues ? tl->cues[0].line : 0;
-    for (int i = tl->n_cues - 1; i >= 0; i--)
+    int line = tl->n_cues ? tl->cues[0].line : 0, longest = -1;
+    double held = 0; /* video s the pauses hold */
+    for (int i = tl->n_cues - 1; i >= 0; i--) {
         if (tl->cues[i].kind == SP_CUE_SPEED && tl->cues[i].value == tl->speed_min)
             line = tl->cues[i].line;
+        if (tl->cues[i].kind == SP_CUE_PAUSE) {
+            held += tl->cues[i].value;
+            if (longest < 0 || tl->cues[i].value >= tl->cues[longest].value)
+                longest = i;
+        }
+    }
+    /* the advice that helps: the pauses where they hold most of it
+     * (attack16 #5: "raise the slowest speed" for a video of pauses) */
+    if (longest >= 0 && held >= 0.5 * tl->length) {
+        report(tl->origin, tl->cues[longest].line, "[timeline] the speeds and pauses make the "
+               "video %.4g s long at %g fps: %.3g frame times; at most %d are allowed (the "
+               "pauses hold %.4g s of it; shorten them)", tl->length, s->video.fps, frames,
+               SP_MAX_FRAMES, held);
+        return SP_E_INPUT;
+    }
     report(tl->origin, line, "[timeline] the speeds and pauses make the video %.4g s long at %g "
            "fps: %.3g frame times; at most %d are allowed (the slowest speed here is %g; raise it, "
            "or shorten video.duration)", tl->length, s->video.fps, frames, SP_MAX_FRAMES,

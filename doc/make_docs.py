@@ -9,7 +9,7 @@ a command added to --help and not there, or the other way round, fails the
 build naming both lists).
 The pages are installed: where --help names the source tree's scenes/ (the
 built executable runs from the build tree), they name the installed
-folder, SCENES (and DOCS, where README.md and doc/*.md are installed).
+folders, SCENES and DOCS (where README.md and doc/*.md are installed).
 usage: make_docs.py man SPRINGPEND SCENES DOCS springpend.1 springpend-COMMAND.1 ...
        make_docs.py bash SPRINGPEND OUTPUT"""
 import os
@@ -42,6 +42,10 @@ if kind == "man":
     if f"  {source_scenes}/\n" not in top:
         sys.exit(f"make_docs.py: --help does not name the source's scenes folder {source_scenes}/")
     top = top.replace(f"  {source_scenes}/\n", f"  {installed_scenes}/\n")
+    source_docs = os.path.dirname(os.path.realpath(os.path.abspath(__file__)))
+    if f"  {source_docs}/\n" not in top:
+        sys.exit(f"make_docs.py: --help does not name the source's guides folder {source_docs}/")
+    top = top.replace(f"  {source_docs}/\n", f"  {installed_docs}/\n")
 block = top.split("commands:\n", 1)[1].split("\n\n", 1)[0]
 # a command's line, with the lines its description wraps onto
 commands = [(m.group(1), " ".join(m.group(2).split()))

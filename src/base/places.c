@@ -83,17 +83,31 @@ int sp_build_tree(char *build, char *source)
     return 0;
 }
 
-void sp_scenes_dir(char *dir, size_t size)
+/* The folder named sub in the source tree when run from a build tree; else
+ * reldir from the executable's folder (an absolute reldir as it is), where
+ * it is a folder; else absdir. Resolved, into dir. */
+static void shipped_dir(char *dir, size_t size, const char *sub, const char *reldir,
+                        const char *absdir)
 {
     char exe[PATH_MAX], source[PATH_MAX], path[2 * PATH_MAX + 64], real[PATH_MAX];
     struct stat st;
     if (sp_build_tree(NULL, source))
-        snprintf(path, sizeof(path), "%s/scenes", source);
-    else if (exe_folder(exe) == 0 && SP_SCENES_RELDIR[0] != '/')
-        snprintf(path, sizeof(path), "%s/%s", exe, SP_SCENES_RELDIR);
+        snprintf(path, sizeof(path), "%s/%s", source, sub);
+    else if (exe_folder(exe) == 0 && reldir[0] != '/')
+        snprintf(path, sizeof(path), "%s/%s", exe, reldir);
     else
-        snprintf(path, sizeof(path), "%s", SP_SCENES_DIR);
+        snprintf(path, sizeof(path), "%s", absdir);
     if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode))
-        snprintf(path, sizeof(path), "%s", SP_SCENES_DIR);
+        snprintf(path, sizeof(path), "%s", absdir);
     snprintf(dir, size, "%s", realpath(path, real) ? real : path);
+}
+
+void sp_scenes_dir(char *dir, size_t size)
+{
+    shipped_dir(dir, size, "scenes", SP_SCENES_RELDIR, SP_SCENES_DIR);
+}
+
+void sp_docs_dir(char *dir, size_t size)
+{
+    shipped_dir(dir, size, "doc", SP_DOCS_RELDIR, SP_DOCS_DIR);
 }

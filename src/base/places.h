@@ -1,6 +1,7 @@
 /* springpend (internal): where the running executable is, and the places
  * around it that it names or loads from (places.c): the build tree it was
- * built in, when it runs from there, and the shipped scenes' folder. No
+ * built in, when it runs from there, and the shipped scenes' and guides'
+ * folders. No
  * absolute build path is compiled in (a package built in two folders is the
  * same package): the build tree is recognised at run time by the file
  * meson writes at its root (SP_BUILD_MARK, from src/base/build-tree.in).
@@ -23,5 +24,11 @@ int sp_build_tree(char *build, char *source);
  * (SP_SCENES_RELDIR: a moved or DESTDIR install too), else the configured
  * SP_SCENES_DIR. For messages, --help and a scene named without a folder. */
 void sp_scenes_dir(char *dir, size_t size);
+
+/* The folder of the guides (outputs.md, ci.md, ...; README.md beside them
+ * when installed), found as sp_scenes_dir finds the scenes: the source
+ * tree's doc/ from a build tree, else the installed one (SP_DOCS_RELDIR
+ * from the executable, else SP_DOCS_DIR). For --help's pointers. */
+void sp_docs_dir(char *dir, size_t size);
 
 #endif

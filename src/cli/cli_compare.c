@@ -84,7 +84,8 @@ static const char compare_usage[] =
     "                         video frame, and each thread's stack and malloc\n"
     "                         arena would pass half the memory it may use)\n"
     "  --junit FILE.xml       JUnit XML, a test case per image\n"
-    "  --json                 print the records as JSON (schema in doc/ci.md)\n"
+    "  --json                 print the records as JSON (schema in ci.md, in the\n"
+    "                         guides' folder 'springpend --help' names)\n"
     "  -q, --quiet            print failures only (no effect with --json)\n"
     "  -h, --help             this text\n";
 

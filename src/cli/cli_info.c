@@ -162,7 +162,7 @@ static void print_spatial(const struct sp_scene *sc, const struct sp_sim *sim,
                "every %.3g s (first swing peak at t = %.3g s), by the averaged three-wave "
                "equations (Lynch and Houghton); amplitude %.3g of l: %s\n",
                pr->angle * 180 / M_PI, pr->period, pr->first_peak, pr->epsilon,
-               pr->applies ? "within 4% of the full motion's where measured (doc/physics.md: amplitudes up "
+               pr->applies ? "within 4% of the full motion's where measured (physics.md: amplitudes up "
                              "to 0.065 l, within 1% of 2:1)"
                            : pr->why);
 }

@@ -39,6 +39,8 @@ static const char usage[] =
     "'springpend COMMAND --help' tells more. Scenes are INI files; the shipped\n"
     "ones, to start from (default.ini, chaotic.ini, ...), are in\n"
     "  %s/\n"
+    "and the guides (scenes.md, outputs.md, ci.md, teaching.md, ...) in\n"
+    "  %s/\n"
     "\n"
     "exit status: 0 done, 1 failed (I/O, encoder, GL; compare: images differ),\n"
     "             2 bad input, 3 the simulation became unstable,\n"
@@ -137,9 +139,10 @@ int main(int argc, char **argv)
     sp_infile_stop_on(sp_signal_flag()); /* a read cut by a stop signal ends */
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
         !strcmp(argv[1], "help")) {
-        char scenes[PATH_MAX];
+        char scenes[PATH_MAX], docs[PATH_MAX];
         sp_scenes_dir(scenes, sizeof(scenes));
-        fprintf(argc < 2 ? stderr : stdout, usage, scenes);
+        sp_docs_dir(docs, sizeof(docs));
+        fprintf(argc < 2 ? stderr : stdout, usage, scenes, docs);
         return argc < 2 ? 2 : exit_status(stdout_checked(0));
     }
     if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {

@@ -113,6 +113,11 @@ if debs:
     ok(f"\n  {scenes}/\n" in top and named == [scenes] and os.path.isfile(os.path.join(scenes, "default.ini")),
        f"the packaged program's --help and empty-scene message name its scenes folder, in the package "
        f"({[l for l in top.splitlines() if 'scenes' in l]} {e.stderr.strip()})")
+    docs = os.path.realpath(os.path.join(unpacked, "usr", "share", "doc", "springpend"))
+    ok(f"\n  {docs}/\n" in top and "doc/" not in subprocess.run([prog, "render", "--help"], capture_output=True,
+                                                                   text=True).stdout,
+       f"the packaged --help names its guides' folder (attack16 #6), render --help no doc/ path "
+       f"({[l for l in top.splitlines() if 'doc' in l]})")
     man = subprocess.run(["zcat", os.path.join(unpacked, "usr/share/man/man1/springpend.1.gz")],
                          capture_output=True, text=True).stdout.replace("\\-", "-")
     ok("/usr/share/springpend/scenes/" in man and "/usr/share/doc/springpend/" in man

@@ -71,6 +71,19 @@ top = run("--help").stdout
 ok(f"\n  {real}/\n" in top and os.path.isfile(os.path.join(real, "default.ini")),
    f"the installed --help names its scenes folder, which holds default.ini "
    f"({[l for l in top.splitlines() if 'scenes' in l]})")
+# attack16 #6: the guides are installed flat (no doc/ folder): --help names
+# the folder that holds them, and no command's --help or page points to a
+# doc/ path an install does not have.
+real_docs = os.path.realpath(docs)
+ok(f"\n  {real_docs}/\n" in top and os.path.isfile(os.path.join(real_docs, "outputs.md")),
+   f"the installed --help names its guides' folder, which holds outputs.md "
+   f"({[l for l in top.splitlines() if 'doc' in l]})")
+helps = {c: run(c, "--help").stdout for c in ("render", "still", "data", "info", "keys", "scene",
+                                               "compare", "sweep", "version")}
+pointing = [f"{c}: {l.strip()}" for c, t in helps.items() for l in t.splitlines() if "doc/" in l]
+ok(not pointing and "outputs.md" in helps["render"] and "ci.md" in helps["compare"],
+   f"no command's --help points to a doc/ path; render's names outputs.md, compare's ci.md "
+   f"{pointing[:3]}")
 open(os.path.join(work, "empty.ini"), "w").close()
 r = run("still", "empty.ini", "-o", "e.png")
 named = re.findall(r"start from (\S+\.ini)", r.stderr)
@@ -81,8 +94,8 @@ ok(r.returncode == 2 and r.stderr.strip().endswith(
    f"the shipped scene of that name is {os.path.join(real, 'chaotic.ini')}"),
    f"a scene named without a folder that is not a file: the message names the shipped one ({r.stderr.strip()})")
 built = subprocess.run([os.path.join(build, "springpend"), "--help"], capture_output=True, text=True).stdout
-ok(f"\n  {os.path.join(source, 'scenes')}/\n" in built,
-   f"the build tree's --help names the source's scenes/ "
+ok(f"\n  {os.path.join(source, 'scenes')}/\n" in built and f"\n  {os.path.join(source, 'doc')}/\n" in built,
+   f"the build tree's --help names the source's scenes/ and doc/ "
    f"({[l for l in built.splitlines() if 'scenes' in l]})")
 paths = [os.path.realpath(build), os.path.abspath(build), source]
 holding = [f"{b} holds {p}" for b in [exe] + [os.path.join(d, f) for d, _, fs in os.walk(moved)
@@ -96,6 +109,11 @@ configured = os.path.join(prefix, datadir)  # datadir when absolute
 ok(f"{configured}/springpend/scenes/".replace("-", "\\-") in page1 and source not in page1,
    f"springpend(1) names the installed scenes folder {configured}/springpend/scenes/, not the source's "
    f"({[l for l in page1.splitlines() if 'scenes' in l][:3]})")
+pages = {f: open(os.path.join(moved, mandir, "man1", f)).read() for f in os.listdir(os.path.join(moved, mandir, "man1"))}
+pointing = [f"{f}: {l}" for f, t in pages.items() for l in t.splitlines() if "doc/" in l and "doc/ in the source" not in l
+            and f"{configured}/doc/springpend/".replace("-", "\\-") not in l]
+ok(len(pages) >= 10 and not pointing and f"{configured}/doc/springpend/".replace("-", "\\-") in page1,
+   f"the man pages name the installed guides' folder and no source doc/ path {pointing[:3]}")
 
 r = run("render", scene, "--size", "96x64", "--set", "video.duration=0.3", "-o", "v.mp4", "-q")
 ok(r.returncode == 0 and os.path.getsize(os.path.join(work, "v.mp4")) > 0,

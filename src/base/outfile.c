@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -124,29 +126,38 @@ static void unique_suffix(char out[7])
     out[6] = 0;
 }
 
-/* A stdio descriptor that is a pipe or FIFO, opened anew through
- * /proc/self/fd/N: a description of its own, which may be non-blocking
- * without changing the one the shell and the reader's other writers share.
- * -1 when it is not a pipe or cannot be opened so (then it is dup'ed). */
-static int reopen_pipe(int fd)
+/* A stdio descriptor that is a pipe, a FIFO or a terminal, opened anew
+ * through /proc/self/fd/N: a description of its own, which may be
+ * non-blocking without changing the one the shell and the reader's other
+ * writers share. -1 when it is none of these or cannot be opened so (then it
+ * is dup'ed; a socket is written with send(MSG_DONTWAIT) instead, which
+ * leaves its shared description blocking: sp_outfile_write_all). Other
+ * devices are not opened again (a tape rewinds on open and close), nor a
+ * pseudo-terminal's master (its name, /dev/ptmx, opens a new terminal):
+ * these are written blocking, as before. */
+static int reopen_nonblocking(int fd)
 {
     struct stat st;
     char name[40];
-    if (fstat(fd, &st) != 0 || !S_ISFIFO(st.st_mode))
+    unsigned pty;
+    if (fstat(fd, &st) != 0 || !(S_ISFIFO(st.st_mode) || (S_ISCHR(st.st_mode) && isatty(fd))))
         return -1;
+    if (ioctl(fd, TIOCGPTN, &pty) == 0)
+        return -1; /* a pseudo-terminal's master: opened again, /dev/ptmx makes a new one */
     snprintf(name, sizeof(name), "/proc/self/fd/%d", fd);
     return open(name, O_WRONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
 }
 
 /* Writes through the non-regular target (or the stdio descriptor fd). The
- * descriptor stays non-blocking (a pipe's or FIFO's, a device's opened by
- * name): sp_outfile_write_all waits for its reader with poll(), looking at
- * the stop flag, where a blocking write() on a writer thread would wait
- * deaf to every signal (attack15 #1). */
+ * descriptor stays non-blocking (a pipe's, FIFO's or terminal's, a device's
+ * opened by name; a socket's writes are each non-blocking):
+ * sp_outfile_write_all waits for its reader with poll(), looking at the stop
+ * flag, where a blocking write() on a writer thread would wait deaf to every
+ * signal (attack15 #1, attack16 #1). */
 static int open_through(struct sp_outfile *f, int fd)
 {
     if (fd >= 0) {
-        f->fd = reopen_pipe(fd);
+        f->fd = reopen_nonblocking(fd);
         if (f->fd < 0)
             f->fd = fcntl(fd, F_DUPFD_CLOEXEC, 3);
         if (f->fd < 0) {
@@ -210,8 +221,10 @@ static int stop_now(int interrupted)
 int sp_outfile_write_all(int fd, const void *buf, size_t n)
 {
     const char *p = buf;
+    struct stat st;
+    int sock = fstat(fd, &st) == 0 && S_ISSOCK(st.st_mode);
     while (n > 0) {
-        ssize_t k = write(fd, p, n);
+        ssize_t k = sock ? send(fd, p, n, MSG_DONTWAIT | MSG_NOSIGNAL) : write(fd, p, n);
         if (k > 0) {
             p += k, n -= (size_t)k;
             continue;

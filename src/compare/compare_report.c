@@ -466,7 +466,7 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
         fputs("{\"key\": ", fp), sp_report_json_string(fp, r->changes[k].key);
         fputs(", \"expected\": ", fp), sp_report_json_string(fp, r->changes[k].expected);
         fputs(", \"actual\": ", fp), sp_report_json_string(fp, r->changes[k].actual);
-        fputs("}", fp);
+        fprintf(fp, ", \"cut\": %s}", r->changes[k].cut ? "true" : "false");
     }
     fputs("]}", fp);
 }
@@ -551,7 +551,11 @@ static void xml_string(FILE *fp, const char *s, int mode)
     }
 }
 
-/* One record's text line, for messages inside XML and HTML. */
+/* Room for record_line: the figures, four notes and 16 scene changes. */
+#define RECORD_LINE_MAX 16384
+
+/* One record's text line, for messages inside XML and HTML (cut, where
+ * size is too small, at a character's boundary). */
 static void record_line(const struct sp_compare_record *r, char *buf, size_t size)
 {
     FILE *m = fmemopen(buf, size, "w");
@@ -572,6 +576,11 @@ static void record_line(const struct sp_compare_record *r, char *buf, size_t siz
                 r->changes[k].expected, r->changes[k].actual);
     fclose(m);
     buf[size - 1] = 0;
+    size_t n = strlen(buf), q = n;
+    while (n == size - 1 && q > 0 && n - q < 3 && ((unsigned char)buf[q - 1] & 0xC0) == 0x80)
+        q--; /* cut: the last character's start, which must hold it whole */
+    if (q > 0 && ((unsigned char)buf[q - 1] & 0xC0) == 0xC0 && sp_utf8_char(buf + q - 1) == 0)
+        buf[q - 1] = 0;
 }
 
 /* 1 when path can stand in [[ATTACHMENT|path]] whole: nothing that ends
@@ -628,7 +637,7 @@ static void suite_name(FILE *fp, const struct sp_compare_report *rep,
 static void junit_case(FILE *fp, const struct sp_compare_report *rep,
                        const struct sp_compare_record *r)
 {
-    char line[4096];
+    char line[RECORD_LINE_MAX];
     const char *u = update_word(r->update);
     record_line(r, line, sizeof(line));
     fputs("    <testcase classname=\"", fp);
@@ -1074,7 +1083,7 @@ static int html_row(FILE *fp, const struct sp_compare_report *rep,
 
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
 {
-    char line[4096];
+    char line[RECORD_LINE_MAX];
     const char *envs[HTML_MAX_ENVIRONMENTS];
     const int n_envs = distinct_environments(rep, envs);
     fputs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"

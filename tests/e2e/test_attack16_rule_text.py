@@ -229,4 +229,174 @@ for ini in ("[*]\nmetric = pixelmatch\nthreshold = 1\n", "[*]\nmax_diff = 255\n"
        f"7: compare.ini {ini!r} with --max-pixels 0: the line names the command line's rule at 3 "
        f"levels (exit {r.returncode}: {line[-150:]})")
 
+
+# ---- 9: scene values compared whole, shown whole or cut around the first difference -----------
+SHOWN, SLACK = 100, 24  # doc/ci.md: values over 100 bytes are cut; 24 more to reach the end
+e9, a9 = path("e9"), path("a9")
+os.makedirs(e9)
+os.makedirs(a9)
+with open(default) as f:
+    default_text = f.read()
+with open(lesson) as f:
+    lesson_text = f.read()
+assert "flows back to the bounce" in lesson_text and "[timeline]" not in default_text
+
+ru = "Энергия переходит от вертикальных колебаний к маятниковым, прогон 1"
+ja = "ばねの振り子でエネルギーが上下の振動から左右の振り子運動へ移り、また戻ってくる様子、試行一"
+hi = ("मुख्य ऊर्जा का आदान-प्रदान उछाल और झूले के बीच स्प्रिंग लोलक में होता है और फिर वापस "
+      "उछाल में लौटता है, प्रयोग संख्या एक")
+CASES = [  # name, scene kind, text, key, (what the actual replaces, by what)
+    ("latin48", None, "Energy exchange between bounce and swingg, run 1", "view.caption", ("run 1", "run 7")),
+    ("ru_end", None, ru, "view.caption", ("прогон 1", "прогон 7")),
+    ("ja_mid", None, ja, "view.caption", ("上下", "前後")),
+    ("hi_mid", None, hi, "view.caption", ("झूले", "झूलों")),
+    ("hi_end", None, hi, "view.title", ("संख्या एक", "संख्या दो")),
+    ("cue_end", "lesson", "flows back to the bounce", "timeline.5", ("the bounce", "the bounce, 7")),
+    ("cue_ja", "cue", ja, "timeline.0", ("試行一", "試行二")),
+]
+
+
+def scene_for(kind, text, key):
+    if kind == "lesson":
+        return lesson_text.replace("flows back to the bounce", text)
+    if kind == "cue":
+        return default_text + "\n[timeline]\n0 = caption: " + text + "\n"
+    return default_text.replace("[view]\n", f"[view]\n{key.split('.')[1]} = {text}\n", 1)
+
+
+assert "[view]\n" in default_text
+whole = {}
+for name, kind, text, key, (old, new) in CASES:
+    texts = (text, text.replace(old, new, 1))
+    assert texts[0] != texts[1]
+    for folder, t in zip((e9, a9), texts):
+        ini = os.path.join(work, f"{name}-{os.path.basename(folder)}.ini")
+        with open(ini, "w") as f:
+            f.write(scene_for(kind, t, key))
+        at = "31" if kind == "lesson" else "1"
+        r = run("still", ini, "--at", at, "--size", "1280x720", "-o", os.path.join(folder, name + ".png"), "-q")
+        assert r.returncode == 0, (name, err(r))
+    # the recorded values, as the scene records them (a cue: TIME caption 0 TEXT)
+    if kind == "lesson":
+        whole[name] = tuple(f"30 caption 0 ... and {t}" for t in texts)
+    elif kind == "cue":
+        whole[name] = tuple(f"0 caption 0 {t}" for t in texts)
+    else:
+        whole[name] = texts
+# a cue only the actual has
+with open(os.path.join(work, "added-e.ini"), "w") as f:
+    f.write(lesson_text)
+with open(os.path.join(work, "added-a.ini"), "w") as f:
+    f.write(lesson_text.rstrip("\n") + "\n35 = caption: one more cue\n")
+for folder, side in ((e9, "e"), (a9, "a")):
+    assert run("still", os.path.join(work, f"added-{side}.ini"), "--at", "31", "--size", "1280x720", "-o",
+               os.path.join(folder, "added.png"), "-q").returncode == 0
+
+r = run("compare", e9, a9, "--max-pixels", "100%", "--json")
+js = json.loads(r.stdout) if r.stdout else {"results": []}
+rt = run("compare", e9, a9, "--max-pixels", "100%", "--summary", path("s.md"), "--junit", path("j.xml"),
+         "--report", path("r.html"))
+text = rt.stdout.decode(errors="replace")
+md = open(path("s.md"), encoding="utf-8").read() if os.path.exists(path("s.md")) else ""
+junit = open(path("j.xml"), encoding="utf-8").read() if os.path.exists(path("j.xml")) else ""
+page = open(path("r.html"), encoding="utf-8").read() if os.path.exists(path("r.html")) else ""
+
+
+def changes_of(name):
+    res = next((x for x in js["results"] if x["name"] == name + ".png"), {})
+    return {c["key"]: c for c in res.get("scene_changes", [])}
+
+
+def md_unescape(cell):
+    import html
+    import re
+    return html.unescape(re.sub(r"\\([\\~|`*_\[\]#!])", r"\1", cell.strip()))
+
+
+def breaks_well(whole_text, piece, at_start):
+    """A cut at a character boundary that splits nothing drawn as one: the
+    piece does not start with a mark or format character, nor after a
+    virama or joiner; nor ends before one (unicodedata, independently)."""
+    import unicodedata
+    i = whole_text.find(piece)
+    if i < 0:
+        return False
+    if at_start:
+        first, prev = piece[0], whole_text[i - 1] if i else ""
+        return i == 0 or (unicodedata.category(first)[0] != "M" and unicodedata.category(first) != "Cf"
+                          and prev not in "\u200c\u200d" and unicodedata.combining(prev) != 9)
+    j = i + len(piece)
+    if j == len(whole_text):
+        return True
+    nxt, last = whole_text[j], piece[-1]
+    return (unicodedata.category(nxt)[0] != "M" and unicodedata.category(nxt) != "Cf"
+            and last not in "\u200c\u200d" and unicodedata.combining(last) != 9)
+
+
+for name, kind, text_, key, (old, new) in CASES:
+    we, wa = whole[name]
+    ch = changes_of(name).get(key)
+    if not ok(ch is not None, f"9: {name}: {key} listed in the JSON's scene_changes ({list(changes_of(name))})"):
+        continue
+    se, sa = ch["expected"], ch["actual"]
+    long_ = max(len(we.encode()), len(wa.encode())) > SHOWN
+    d = next((i for i, (x, y) in enumerate(zip(we, wa)) if x != y), min(len(we), len(wa)))
+    good = True
+    why = ""
+    if not long_:
+        good = se == we and sa == wa and ch.get("cut") is False
+        why = "whole"
+    else:
+        for w, shown in ((we, se), (wa, sa)):
+            piece = shown[1:] if shown.startswith("…") else shown
+            piece = piece[:-1] if piece.endswith("…") else piece
+            i = w.find(piece)
+            good &= (i >= 0 and i <= d <= i + len(piece) and shown.startswith("…") == (i > 0)
+                     and shown.endswith("…") == (i + len(piece) < len(w))
+                     and len(piece.encode()) <= SHOWN + SLACK
+                     and breaks_well(w, piece, True) and breaks_well(w, piece, False))
+        good &= ch.get("cut") is True and new.split()[-1][:1] in sa
+        why = "cut around the first difference, at boundaries"
+    ok(good, f"9: {name} ({len(we.encode())} bytes, first difference at character {d}): {key} shown "
+       f"{why}: {se!r} vs {sa!r}")
+    # the same values in text, Markdown, JUnit and HTML
+    import html as html_
+    import xml.etree.ElementTree as ET
+    line = f"scene: {key} = {se} (expected) vs {sa} (actual)"
+    in_text = line in text
+    row = next((ln for ln in md.splitlines() if ln.startswith("| ") and len(ln.split(" | ")) == 4
+                and md_unescape(ln.split(" | ")[0][2:]) == name + ".png"
+                and md_unescape(ln.split(" | ")[1]) == key), "")
+    cells = row.split(" | ")
+    in_md = len(cells) == 4 and md_unescape(cells[2]) == se and md_unescape(cells[3].rstrip(" |")) == sa
+    try:
+        jtext = " ".join(t for t in ET.fromstring(junit).itertext())
+    except ET.ParseError:
+        jtext = ""
+    pair = f"scene {key}: {se} vs {sa}"
+    in_junit, in_html = pair in jtext, pair in html_.unescape(page)
+    ok(in_text and in_md and in_junit and in_html,
+       f"9: {name}: the same values in text ({in_text}), the Markdown list ({in_md}: {row[:100]!r}), "
+       f"JUnit ({in_junit}) and HTML ({in_html})")
+
+ch = changes_of("added").get("timeline.6")
+ok(ch is not None and ch["expected"] == "(none)" and ch["actual"] == "35 caption 0 one more cue"
+   and "| added.png | timeline.6 | (none) | 35 caption 0 one more cue |" in md,
+   f"9: a cue only the actual has is listed: {ch}")
+
+# a video under the default block rule, a 70-character caption changed at its end
+ev, av = path("ev"), path("av")
+os.makedirs(ev)
+os.makedirs(av)
+cap = "Energy exchange between bounce and swing of the spring pendulum, run 1"
+for folder, c in ((ev, cap), (av, cap.replace("run 1", "run 7"))):
+    assert run("render", default, "--set", "video.duration=0.5", "--size", "640x360", "--set",
+               f"view.caption={c}", "-o", os.path.join(folder, "v.mp4"), "-q").returncode == 0
+r = run("compare", ev, av, "--summary", path("v.md"))
+vmd = open(path("v.md"), encoding="utf-8").read() if os.path.exists(path("v.md")) else ""
+ok(r.returncode == 0 and f"scene: view.caption = {cap} (expected) vs {cap.replace('run 1', 'run 7')} (actual)"
+   in r.stdout.decode(errors="replace") and "other text than the baseline" in vmd
+   and "run 7" in vmd,
+   f"9: a video passing under the block rule with its 70-character caption changed at the end: "
+   f"the scene line and the Markdown list show it (exit {r.returncode})")
 done()

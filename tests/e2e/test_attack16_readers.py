@@ -117,6 +117,17 @@ else:
     ok(refused(r, "evil_good.png", "2 ICC colour profiles"),
        f"#2: compare base.png evil_good.png (the inverting profile, then lcms2's sRGB one): "
        f"refused, exit 2, naming the two profiles ({said(r)})")
+    # an iCCP not whole (libpng dropped these, and they were refused before too)
+    whole = zlib.compress(open(path("evil.icc"), "rb").read(), 9)
+    for name, body, what in (("icc_cut.png", b"display\0\0" + whole[:len(whole) // 2],
+                              "its zlib stream cut in half"),
+                             ("icc_method.png", b"display\0\1" + whole, "compression method 1"),
+                             ("icc_noname.png", b"\0\0" + whole, "an empty name")):
+        with_chunks(base, path(name), [(b"iCCP", body)])
+        r = run("compare", "base.png", name)
+        ok(refused(r, name, "iCCP"),
+           f"#2: compare base.png {name} (an iCCP with {what}): refused, exit 2, naming the "
+           f"iCCP ({said(r)})")
     # many sPLT chunks first: libpng keeps a bounded number of them and of the chunks
     # springpend reads raw, and drops the rest unsaid
     splt = [(b"sPLT", b"p%d\0\x08" % i + b"\0\0\0\0\0\0") for i in range(40)]

@@ -107,8 +107,10 @@ int sp_compare_config_load(struct sp_compare_config *cfg, const char *dir);
  * then [name]; a section without '/' matches the file name in any folder, one
  * with '/' the relative path. Then the command line's rule `cli` as a limit:
  * each option it set is kept where compare.ini's is looser (the stricter of
- * the two applies; its metric is the metric), so the command line can
- * tighten compare.ini but never loosen it. The masks of every matching
+ * the two applies; its metric is the metric), and when it sets a limit, its
+ * own rule (its limits and the defaults, never compare.ini's fields) goes
+ * into opts->also and opts->own, so the command line can tighten
+ * compare.ini but never loosen it. The masks of every matching
  * section go into masks (at most SP_COMPARE_RESOLVED_MASKS; n_masks). Safe
  * to call from several threads at once. */
 void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,

@@ -26,10 +26,21 @@ enum sp_update_action {
 #define SP_COMPARE_MAX_FRAMES_LISTED 10
 #define SP_COMPARE_MAX_NOTES 4
 
-/* A scene key whose value differs between the two images' provenance. */
+/* The most bytes of a changed scene value a report shows: a longer one
+ * is cut around the first difference, "…" where it is cut. */
+#define SP_SCENE_CHANGE_SHOWN 100
+#define SP_SCENE_CHANGE_SLACK 24 /* shown too where that reaches the end */
+
+/* A scene key whose value differs between the two images' provenance
+ * (the whole values compared): each value as shown, whole or cut (at most
+ * SP_SCENE_CHANGE_SHOWN + SP_SCENE_CHANGE_SLACK bytes of it, at a
+ * character's boundary, and the ellipses), with room for the shown form's escapes (a \u200b for 3 bytes,
+ * a \U000e0001 for 4, a \\ for 1). */
 struct sp_scene_change {
     char key[64];
-    char expected[48], actual[48];
+    char expected[5 * (SP_SCENE_CHANGE_SHOWN + SP_SCENE_CHANGE_SLACK) / 2 + 16];
+    char actual[5 * (SP_SCENE_CHANGE_SHOWN + SP_SCENE_CHANGE_SLACK) / 2 + 16];
+    int cut; /* 1: expected or actual is cut */
 };
 
 /* One comparison: an image pair, or two videos. */

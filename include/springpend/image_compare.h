@@ -52,6 +52,16 @@ enum sp_compare_metric {
  * SP_E_NOMEM. */
 int sp_compare_block_means(const struct sp_image *img, int block, struct sp_image *out);
 
+/* The limits of one rule, as sp_compare_opts holds them (zero: the
+ * default; SP_COMPARE_NONE: 0). */
+struct sp_compare_limits {
+    int max_diff;
+    long max_pixels;
+    double max_fraction;
+    double tol;
+    double threshold;
+};
+
 /* Zero fields take the defaults above. */
 struct sp_compare_opts {
     enum sp_compare_metric metric;
@@ -72,12 +82,18 @@ struct sp_compare_opts {
      * when 0, a share cap_fraction; both 0 = no limit. */
     long cap_pixels;
     double cap_fraction;
-    /* The rules checked besides metric's, bits 1 << SP_COMPARE_REFTEST,
-     * _RMS, _PIXELMATCH: the command line's limits that compare.ini's metric
-     * does not read (attack15 #7: `metric = rms` loosened --max-diff 0
-     * --max-pixels 0). Each is checked with these same limits; the image
-     * passes only when every rule does. */
+    /* The command line's own rule, checked besides metric's whenever the
+     * command line gives a limit: bits 1 << SP_COMPARE_REFTEST, _RMS,
+     * _PIXELMATCH (--metric's; else reftest for --max-diff, or --max-pixels
+     * without --threshold; rms for --tol; pixelmatch for --threshold), each
+     * judged by `own`, the command line's limits with the defaults for what
+     * it did not give, never compare.ini's fields (attack15 #7: `metric =
+     * rms` loosened --max-diff 0 --max-pixels 0; attack16 #7: `threshold =
+     * 1` or `max_diff = 255` loosened --max-pixels 0). A rule that metric's
+     * own limits already imply (the same metric, no looser) is not checked
+     * again; the image passes only when every rule does. */
     unsigned also;
+    struct sp_compare_limits own;
 };
 
 struct sp_compare_result {
@@ -96,9 +112,14 @@ struct sp_compare_result {
                              of the differing pixels; all -1 when none */
     int pass;             /* 1: the images match under opts->metric and
                              every rule in opts->also */
-    unsigned also;        /* opts->also: the rules checked besides */
-    long also_reftest;    /* with also: pixels off by more than max_diff */
-    long also_pixelmatch; /* with also: pixels pixelmatch counts */
+    unsigned also;        /* opts->also less the rules metric's limits
+                             imply: the rules checked besides */
+    long also_reftest;    /* pixels off by more than also_max_diff */
+    long also_pixelmatch; /* with also's pixelmatch: pixels it counts at
+                             also_threshold */
+    int also_max_diff;    /* the limits of also's rules (opts->own with */
+    long also_allowed;    /* the defaults patched in) */
+    double also_tol, also_threshold;
     int decided_by;       /* -1: metric decided (or every rule passed); else
                              the rule of also that failed */
 };

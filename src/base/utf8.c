@@ -309,3 +309,37 @@ int sp_utf8_hidden_at(const char *start, const char *at)
     const uint32_t u = sp_utf8_decode(at, &n);
     return n > 1 && sp_utf8_is_hidden(u) && !sp_utf8_is_joiner(start, at);
 }
+
+int sp_utf8_breakable(const char *start, const char *at)
+{
+    if (at == start || !*at)
+        return 1;
+    if (((unsigned char)*at & 0xC0) == 0x80) {
+        const char *q = at; /* inside a well-formed character? */
+        while (q > start && at - q < 3 && ((unsigned char)*q & 0xC0) == 0x80)
+            q--;
+        if (sp_utf8_char(q) > (size_t)(at - q))
+            return 0;
+    }
+    if (!sp_utf8_char(at))
+        return 1; /* a byte that is not UTF-8: shown as \xHH, alone */
+    size_t n;
+    uint32_t u = sp_utf8_decode(at, &n), p = 0;
+    hb_unicode_funcs_t *uf = hb_unicode_funcs_get_default();
+    switch (hb_unicode_general_category(uf, u)) {
+    case HB_UNICODE_GENERAL_CATEGORY_NON_SPACING_MARK:
+    case HB_UNICODE_GENERAL_CATEGORY_SPACING_MARK:
+    case HB_UNICODE_GENERAL_CATEGORY_ENCLOSING_MARK:
+    case HB_UNICODE_GENERAL_CATEGORY_FORMAT:
+        return 0;
+    default:
+        break;
+    }
+    if (u >= 0x1F3FB && u <= 0x1F3FF) /* an emoji's skin tone */
+        return 0;
+    if (!before(start, at, &p))
+        return 1;
+    if (p == 0x200C || p == 0x200D || virama(p))
+        return 0;
+    return !(u >= 0x1F1E6 && u <= 0x1F1FF && p >= 0x1F1E6 && p <= 0x1F1FF); /* a flag */
+}

@@ -57,4 +57,13 @@ int sp_utf8_is_joiner(const char *start, const char *at);
  * one but a joiner (sp_utf8_is_joiner): a byte (ASCII, not UTF-8) is 0. */
 int sp_utf8_hidden_at(const char *start, const char *at);
 
+/* 1 when the text that begins at start may be cut before `at` without
+ * splitting a character or what draws as one: at is start, or at a
+ * character's first byte that is no mark (Mn, Mc, Me: an accent, a vowel
+ * sign, a variation selector), format character (Cf: a joiner, a tag),
+ * emoji modifier or second regional indicator of a pair, and that follows
+ * no ZWJ, ZWNJ or virama. A byte that is not UTF-8 is a character of its
+ * own. */
+int sp_utf8_breakable(const char *start, const char *at);
+
 #endif

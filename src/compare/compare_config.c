@@ -568,6 +568,37 @@ static void tighten(const struct sp_compare_rule *cli, struct sp_compare_opts *o
         o->cap_pixels = c->max_pixels, o->cap_fraction = c->max_fraction;
 }
 
+/* The command line's own rule, when it gives a limit: its limits with the
+ * defaults for the rest, never compare.ini's fields, which could loosen a
+ * limit through another field (attack16 #7: `threshold = 1` or `max_diff =
+ * 255` made --max-pixels 0 pass anything; attack15 #7: `metric = rms`).
+ * Its metric is --metric's; else each limit brings the rule that reads it
+ * on the command line alone: reftest for --max-diff, and for --max-pixels
+ * unless --threshold makes it pixelmatch's; rms for --tol; pixelmatch for
+ * --threshold. sp_compare_images checks each beside the metric's rule
+ * (unless the latter's limits imply it). */
+static void own_rule(const struct sp_compare_rule *cli, struct sp_compare_opts *o)
+{
+    const unsigned s = cli->set;
+    const struct sp_compare_opts *c = &cli->opts;
+    if (!(s & (SP_COMPARE_SET_MAX_DIFF | SP_COMPARE_SET_MAX_PIXELS | SP_COMPARE_SET_TOL |
+               SP_COMPARE_SET_THRESHOLD)))
+        return; /* --metric alone, or nothing: compare.ini's limits */
+    o->own = (struct sp_compare_limits){c->max_diff, c->max_pixels, c->max_fraction, c->tol,
+                                        c->threshold};
+    if (s & SP_COMPARE_SET_METRIC) {
+        o->also = 1u << c->metric;
+        return;
+    }
+    if ((s & SP_COMPARE_SET_MAX_DIFF) ||
+        ((s & SP_COMPARE_SET_MAX_PIXELS) && !(s & SP_COMPARE_SET_THRESHOLD)))
+        o->also |= 1u << SP_COMPARE_REFTEST;
+    if (s & SP_COMPARE_SET_TOL)
+        o->also |= 1u << SP_COMPARE_RMS;
+    if (s & SP_COMPARE_SET_THRESHOLD)
+        o->also |= 1u << SP_COMPARE_PIXELMATCH;
+}
+
 /* How section `sect` applies to image `name` (relative path): 0 not at
  * all, 1 [*], 2 a wildcard section, 3 the image's own section. */
 static int section_match(const char *sect, const char *name)
@@ -604,18 +635,7 @@ void sp_compare_config_resolve(struct sp_compare_config *cfg, const char *name,
                 masks[(*n_masks)++] = r->masks[k];
         }
     tighten(cli, opts);
-    /* A limit of the command line's that compare.ini's metric does not
-     * read is checked by its own rule too: never loosened (attack15 #7) */
-    if (!(cli->set & SP_COMPARE_SET_METRIC)) {
-        const unsigned m = (unsigned)opts->metric;
-        if (((cli->set & SP_COMPARE_SET_MAX_DIFF) && m != SP_COMPARE_REFTEST) ||
-            ((cli->set & SP_COMPARE_SET_MAX_PIXELS) && m == SP_COMPARE_RMS))
-            opts->also |= 1u << SP_COMPARE_REFTEST;
-        if ((cli->set & SP_COMPARE_SET_TOL) && m != SP_COMPARE_RMS)
-            opts->also |= 1u << SP_COMPARE_RMS;
-        if ((cli->set & SP_COMPARE_SET_THRESHOLD) && m != SP_COMPARE_PIXELMATCH)
-            opts->also |= 1u << SP_COMPARE_PIXELMATCH;
-    }
+    own_rule(cli, opts);
     opts->given = cli->set;
     for (int i = 0; i < cfg->n_rules; i++)
         if (section_match(cfg->rules[i].name, name))

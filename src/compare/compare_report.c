@@ -112,23 +112,24 @@ static const char *const rule_names[3] = {
     [SP_COMPARE_REFTEST] = "reftest", [SP_COMPARE_RMS] = "rms",
     [SP_COMPARE_PIXELMATCH] = "pixelmatch"};
 
-/* The command line's rules checked besides compare.ini's metric (x->also):
+/* The command line's own rules checked besides the metric's (x->also):
  * each one's figures, and which decided when one failed the image. */
 static void text_also(FILE *fp, const struct sp_compare_result *x)
 {
     for (int k = 0; k < 3; k++) {
         if (!(x->also & (1u << k)))
             continue;
-        fprintf(fp, "; and the command line's %s rule (limits compare.ini's metric does not "
-                "read): ", rule_names[k]);
+        fprintf(fp, "; and the command line's %s rule (its limits and the defaults, not "
+                "compare.ini's): ", rule_names[k]);
         if (k == SP_COMPARE_REFTEST)
             fprintf(fp, "%ld pixels differ by more than %d levels (%ld allowed)",
-                    x->also_reftest, x->max_diff, x->allowed);
+                    x->also_reftest, x->also_max_diff, x->also_allowed);
         else if (k == SP_COMPARE_RMS)
-            fprintf(fp, "rms %.3f %s tol %g", x->rms, x->rms <= x->tol ? "<=" : ">", x->tol);
+            fprintf(fp, "rms %.3f %s tol %g", x->rms, x->rms <= x->also_tol ? "<=" : ">",
+                    x->also_tol);
         else
             fprintf(fp, "%ld pixels differ (pixelmatch, threshold %g) (%ld allowed)",
-                    x->also_pixelmatch, x->threshold, x->allowed);
+                    x->also_pixelmatch, x->also_threshold, x->also_allowed);
         fputs(x->decided_by == k ? ", which decided: fail" : ", passed", fp);
     }
 }
@@ -356,6 +357,33 @@ static void json_size(FILE *fp, int w, int h)
         fputs("null", fp);
 }
 
+/* The command line's own rules checked besides the metric's (x->also), in
+ * the tolerance object: each one's limits, figure and outcome. */
+static void json_also(FILE *fp, const struct sp_compare_result *x)
+{
+    fputs(", \"command_line_rules\": [", fp);
+    for (int k = 0, n = 0; k < 3; k++) {
+        if (!(x->also & (1u << k)))
+            continue;
+        const long count = k == SP_COMPARE_PIXELMATCH ? x->also_pixelmatch : x->also_reftest;
+        const int pass = k == SP_COMPARE_RMS ? x->rms <= x->also_tol : count <= x->also_allowed;
+        fprintf(fp, "%s{\"metric\": \"%s\", ", n++ ? ", " : "", rule_names[k]);
+        if (k == SP_COMPARE_RMS) {
+            fputs("\"max_rms\": ", fp);
+            json_number(fp, "%g", x->also_tol);
+        } else {
+            if (k == SP_COMPARE_REFTEST)
+                fprintf(fp, "\"max_channel_diff\": %d", x->also_max_diff);
+            else
+                fputs("\"threshold\": ", fp), json_number(fp, "%g", x->also_threshold);
+            fprintf(fp, ", \"max_differing_pixels\": %ld, \"differing_pixels\": %ld",
+                    x->also_allowed, count);
+        }
+        fprintf(fp, ", \"pass\": %s}", pass ? "true" : "false");
+    }
+    fputs("]", fp);
+}
+
 static void json_record(FILE *fp, const struct sp_compare_record *r)
 {
     const struct sp_compare_result *x = &r->result;
@@ -405,6 +433,7 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
         json_number(fp, "%g", x->tol);
         fputs(", \"threshold\": ", fp);
         json_number(fp, "%g", x->threshold);
+        json_also(fp, x);
         fputs("}", fp);
     } else
         fputs(",\n     \"tolerance\": null", fp);
@@ -437,7 +466,7 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
         fputs("{\"key\": ", fp), sp_report_json_string(fp, r->changes[k].key);
         fputs(", \"expected\": ", fp), sp_report_json_string(fp, r->changes[k].expected);
         fputs(", \"actual\": ", fp), sp_report_json_string(fp, r->changes[k].actual);
-        fputs("}", fp);
+        fprintf(fp, ", \"cut\": %s}", r->changes[k].cut ? "true" : "false");
     }
     fputs("]}", fp);
 }
@@ -522,7 +551,11 @@ static void xml_string(FILE *fp, const char *s, int mode)
     }
 }
 
-/* One record's text line, for messages inside XML and HTML. */
+/* Room for record_line: the figures, four notes and 16 scene changes. */
+#define RECORD_LINE_MAX 16384
+
+/* One record's text line, for messages inside XML and HTML (cut, where
+ * size is too small, at a character's boundary). */
 static void record_line(const struct sp_compare_record *r, char *buf, size_t size)
 {
     FILE *m = fmemopen(buf, size, "w");
@@ -543,6 +576,11 @@ static void record_line(const struct sp_compare_record *r, char *buf, size_t siz
                 r->changes[k].expected, r->changes[k].actual);
     fclose(m);
     buf[size - 1] = 0;
+    size_t n = strlen(buf), q = n;
+    while (n == size - 1 && q > 0 && n - q < 3 && ((unsigned char)buf[q - 1] & 0xC0) == 0x80)
+        q--; /* cut: the last character's start, which must hold it whole */
+    if (q > 0 && ((unsigned char)buf[q - 1] & 0xC0) == 0xC0 && sp_utf8_char(buf + q - 1) == 0)
+        buf[q - 1] = 0;
 }
 
 /* 1 when path can stand in [[ATTACHMENT|path]] whole: nothing that ends
@@ -599,7 +637,7 @@ static void suite_name(FILE *fp, const struct sp_compare_report *rep,
 static void junit_case(FILE *fp, const struct sp_compare_report *rep,
                        const struct sp_compare_record *r)
 {
-    char line[4096];
+    char line[RECORD_LINE_MAX];
     const char *u = update_word(r->update);
     record_line(r, line, sizeof(line));
     fputs("    <testcase classname=\"", fp);
@@ -1045,7 +1083,7 @@ static int html_row(FILE *fp, const struct sp_compare_report *rep,
 
 int sp_compare_report_html(FILE *fp, const struct sp_compare_report *rep)
 {
-    char line[4096];
+    char line[RECORD_LINE_MAX];
     const char *envs[HTML_MAX_ENVIRONMENTS];
     const int n_envs = distinct_environments(rep, envs);
     fputs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"

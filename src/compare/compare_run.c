@@ -23,6 +23,7 @@
 #include "base/command_line.h"
 #include "base/memory_limit.h"
 #include "base/signal_name.h"
+#include "base/utf8.h"
 #include "springpend/common.h"
 #include "springpend/compare_config.h"
 #include "springpend/compare_report.h"
@@ -32,6 +33,7 @@
 #include "springpend/infile.h"
 #include "springpend/outfile.h"
 #include "springpend/png_io.h"
+#include "springpend/provenance.h"
 #include "springpend/scene.h"
 #include "springpend/snapshot_list.h"
 #include "springpend/video_read.h"
@@ -237,17 +239,82 @@ static const char *const provenance_keys[][2] = {
     {"Source", "made by another GL renderer (Source)"},
 };
 
-/* The value of key in canonical scene text ("key=value\n" lines), into
- * val; 0 when absent. */
-static int scene_value(const char *text, const char *key, char *val, size_t size)
+/* The value of the key that is the first n bytes of `key` in canonical
+ * scene text ("key=value\n" lines): where it starts, its length in *len;
+ * NULL when absent. */
+static const char *scene_find(const char *text, const char *key, size_t n, size_t *len)
 {
-    size_t n = strlen(key);
-    for (const char *p = text; *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : p + strlen(p))
+    for (const char *p = text; *p; p += strcspn(p, "\n"), p += *p == '\n')
         if (!strncmp(p, key, n) && p[n] == '=') {
-            snprintf(val, size, "%.*s", (int)strcspn(p + n + 1, "\n"), p + n + 1);
-            return 1;
+            *len = strcspn(p + n + 1, "\n");
+            return p + n + 1;
         }
-    return 0;
+    return NULL;
+}
+
+/* A changed value v (n bytes) as a report shows it, into out: whole when
+ * both values are at most SP_SCENE_CHANGE_SHOWN bytes, else the bytes from
+ * `from` (a boundary, at or before the first difference), at most
+ * SP_SCENE_CHANGE_SHOWN of them up to a boundary (to the end when at most
+ * SP_SCENE_CHANGE_SLACK more are left), "…" before and after where cut.
+ * 1 when cut. */
+static int shown_value(const char *v, size_t n, size_t from, size_t longest, char *out,
+                       size_t size)
+{
+    if (longest <= SP_SCENE_CHANGE_SHOWN) {
+        snprintf(out, size, "%.*s", (int)n, v);
+        return 0;
+    }
+    size_t to = from + SP_SCENE_CHANGE_SHOWN < n ? from + SP_SCENE_CHANGE_SHOWN : n;
+    while (to > from && to < n && !sp_utf8_breakable(v, v + to))
+        to--;
+    if (n - to <= SP_SCENE_CHANGE_SLACK)
+        to = n; /* the few bytes left (from moved back to a boundary): whole */
+    from = from < n ? from : n;
+    snprintf(out, size, "%s%.*s%s", from ? "…" : "", (int)(to - from), v + from,
+             to < n ? "…" : "");
+    return from > 0 || to < n;
+}
+
+/* Records that key (n bytes) changed from ve (ne bytes; NULL: absent) to
+ * va (na bytes; NULL: absent), both values compared whole: shown as
+ * sp_scene_canonical_display shows them, cut around their first difference
+ * when long (shown_value: a caption changed after its 47th byte was never
+ * listed, attack16 #9). */
+static void add_change(struct sp_compare_record *r, const char *key, size_t n, const char *ve,
+                       size_t ne, const char *va, size_t na)
+{
+    if (r->n_changes == SP_COMPARE_MAX_CHANGES) {
+        r->more_changes++;
+        return;
+    }
+    struct sp_scene_change *ch = &r->changes[r->n_changes++];
+    snprintf(ch->key, sizeof(ch->key), "%.*s", (int)n, key);
+    /* the shown forms (a camera in degrees, panels by name): at most 512
+     * bytes longer than the recorded value */
+    char *se = malloc(ne + 512), *sa = malloc(na + 512), *raw = malloc(ne + na + 2);
+    if (!se || !sa || !raw) {
+        snprintf(ch->expected, sizeof(ch->expected), "(out of memory)");
+        snprintf(ch->actual, sizeof(ch->actual), "(out of memory)");
+        free(se), free(sa), free(raw);
+        return;
+    }
+    snprintf(raw, ne + 1, "%.*s", (int)ne, ve ? ve : "");
+    snprintf(raw + ne + 1, na + 1, "%.*s", (int)na, va ? va : "");
+    sp_scene_canonical_display(ch->key, ve ? raw : "(none)", se, ne + 512);
+    sp_scene_canonical_display(ch->key, va ? raw + ne + 1 : "(none)", sa, na + 512);
+    const size_t le = strlen(se), la = strlen(sa), longest = le > la ? le : la;
+    size_t d = 0; /* the first difference, then where the shown part starts */
+    while (d < le && d < la && se[d] == sa[d])
+        d++;
+    d = d > SP_SCENE_CHANGE_SHOWN / 3 ? d - SP_SCENE_CHANGE_SHOWN / 3 : 0;
+    if (longest > SP_SCENE_CHANGE_SHOWN && d + SP_SCENE_CHANGE_SHOWN > longest)
+        d = longest > SP_SCENE_CHANGE_SHOWN ? longest - SP_SCENE_CHANGE_SHOWN : 0;
+    while (d > 0 && !sp_utf8_breakable(se, se + d))
+        d--; /* the bytes before the difference are the same in both */
+    ch->cut = shown_value(se, le, d, longest, ch->expected, sizeof(ch->expected)) |
+              shown_value(sa, la, d, longest, ch->actual, sizeof(ch->actual));
+    free(se), free(sa), free(raw);
 }
 
 /* Notes the provenance chunks that differ, and the scene keys that
@@ -303,9 +370,35 @@ static void note_environment(struct sp_compare_record *r)
     snprintf(r->notes[r->n_notes++], sizeof(r->notes[0]), "%s", note);
 }
 
+/* The scene keys that changed (from springpend.scene, read whole: up to
+ * SP_PROVENANCE_SCENE_MAX), with both values: each key of the expected
+ * scene whose value differs or that the actual lacks, then each key only
+ * the actual has (a timeline cue added). */
+static void scene_changes(struct sp_compare_record *r)
+{
+    char *se = malloc(SP_PROVENANCE_SCENE_MAX), *sa = malloc(SP_PROVENANCE_SCENE_MAX);
+    if (!se || !sa || read_text(r->expected, "springpend.scene", se, SP_PROVENANCE_SCENE_MAX) != 1 ||
+        read_text(r->actual, "springpend.scene", sa, SP_PROVENANCE_SCENE_MAX) != 1) {
+        free(se), free(sa);
+        return;
+    }
+    for (int side = 0; side < 2; side++)
+        for (const char *p = side ? sa : se; *p; p += strcspn(p, "\n"), p += *p == '\n') {
+            const size_t eq = strcspn(p, "=\n"), len = strcspn(p, "\n");
+            size_t n = 0;
+            if (p[eq] != '=' || eq >= sizeof(r->changes[0].key))
+                continue;
+            const char *v = p + eq + 1, *o = scene_find(side ? se : sa, p, eq, &n);
+            if (side && !o)
+                add_change(r, p, eq, NULL, 0, v, len - eq - 1);
+            else if (!side && (!o || n != len - eq - 1 || memcmp(v, o, n)))
+                add_change(r, p, eq, v, len - eq - 1, o, n);
+        }
+    free(se), free(sa);
+}
+
 static void note_provenance(struct sp_compare_record *r)
 {
-    char se[16384], sa[16384]; /* canonical scene texts (threads: on the stack) */
     for (size_t i = 0; i < sizeof(provenance_keys) / sizeof(provenance_keys[0]); i++) {
         char e[256], a[256];
         if (r->n_notes == (int)(sizeof(r->notes) / sizeof(r->notes[0])))
@@ -318,28 +411,7 @@ static void note_provenance(struct sp_compare_record *r)
                  provenance_keys[i][1], e, a);
     }
     note_environment(r);
-    if (read_text(r->expected, "springpend.scene", se, sizeof(se)) != 1 ||
-        read_text(r->actual, "springpend.scene", sa, sizeof(sa)) != 1)
-        return;
-    for (const char *p = se; *p;) {
-        size_t eq = strcspn(p, "=\n"), len = strcspn(p, "\n");
-        char key[64], ve[48], va[48] = "(none)";
-        if (p[eq] == '=' && eq < sizeof(key)) {
-            snprintf(key, sizeof(key), "%.*s", (int)eq, p);
-            snprintf(ve, sizeof(ve), "%.*s", (int)(len - eq - 1), p + eq + 1);
-            if (!scene_value(sa, key, va, sizeof(va)) || strcmp(ve, va)) {
-                if (r->n_changes < SP_COMPARE_MAX_CHANGES) {
-                    struct sp_scene_change *ch = &r->changes[r->n_changes++];
-                    snprintf(ch->key, sizeof(ch->key), "%s", key);
-                    sp_scene_canonical_display(key, ve, ch->expected, sizeof(ch->expected));
-                    sp_scene_canonical_display(key, va, ch->actual, sizeof(ch->actual));
-                } else {
-                    r->more_changes++;
-                }
-            }
-        }
-        p += len + (p[len] == '\n');
-    }
+    scene_changes(r);
 }
 
 /* Marks r as not comparable. */

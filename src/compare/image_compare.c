@@ -8,28 +8,50 @@
 #include "springpend/common.h"
 #include "springpend/image_compare.h"
 
-/* The rule with defaults patched in. */
+/* Limits l with the defaults patched in, for an image of `pixels`. */
+static void limits_resolve(const struct sp_compare_limits *l, long pixels, int *max_diff,
+                           long *allowed, double *tol, double *threshold)
+{
+    *max_diff = l->max_diff == SP_COMPARE_NONE ? 0
+                : l->max_diff > 0             ? l->max_diff
+                                              : SP_COMPARE_MAX_DIFF_DEFAULT;
+    if (l->max_pixels == SP_COMPARE_NONE)
+        *allowed = 0;
+    else if (l->max_pixels > 0)
+        *allowed = l->max_pixels;
+    else
+        *allowed = (long)floor(
+            (l->max_fraction > 0 ? l->max_fraction : SP_COMPARE_MAX_FRACTION_DEFAULT) * pixels);
+    *threshold = l->threshold == SP_COMPARE_NONE ? 0
+                 : l->threshold > 0 ? l->threshold : SP_COMPARE_THRESHOLD_DEFAULT;
+    *tol = l->tol == SP_COMPARE_NONE ? 0 : l->tol > 0 ? l->tol : SP_COMPARE_TOL_DEFAULT;
+}
+
+/* The rule with defaults patched in; the command line's own rule's limits
+ * (opts->own), and which of its rules are checked: those that metric's
+ * limits do not imply (the same metric, no looser). */
 static void resolve(const struct sp_compare_opts *o, long pixels, struct sp_compare_result *res)
 {
-    res->max_diff = o->max_diff == SP_COMPARE_NONE ? 0
-                    : o->max_diff > 0             ? o->max_diff
-                                                  : SP_COMPARE_MAX_DIFF_DEFAULT;
-    if (o->max_pixels == SP_COMPARE_NONE)
-        res->allowed = 0;
-    else if (o->max_pixels > 0)
-        res->allowed = o->max_pixels;
-    else
-        res->allowed = (long)floor(
-            (o->max_fraction > 0 ? o->max_fraction : SP_COMPARE_MAX_FRACTION_DEFAULT) * pixels);
+    const struct sp_compare_limits l = {o->max_diff, o->max_pixels, o->max_fraction, o->tol,
+                                        o->threshold};
+    limits_resolve(&l, pixels, &res->max_diff, &res->allowed, &res->tol, &res->threshold);
     if (o->cap_pixels || o->cap_fraction > 0) {
         long cap = o->cap_pixels == SP_COMPARE_NONE ? 0
                    : o->cap_pixels > 0 ? o->cap_pixels
                                        : (long)floor(o->cap_fraction * pixels);
         res->allowed = cap < res->allowed ? cap : res->allowed;
     }
-    res->threshold = o->threshold == SP_COMPARE_NONE ? 0
-                     : o->threshold > 0 ? o->threshold : SP_COMPARE_THRESHOLD_DEFAULT;
-    res->tol = o->tol == SP_COMPARE_NONE ? 0 : o->tol > 0 ? o->tol : SP_COMPARE_TOL_DEFAULT;
+    limits_resolve(&o->own, pixels, &res->also_max_diff, &res->also_allowed, &res->also_tol,
+                   &res->also_threshold);
+    const int implied[3] = {
+        [SP_COMPARE_REFTEST] = res->max_diff <= res->also_max_diff &&
+                               res->allowed <= res->also_allowed,
+        [SP_COMPARE_RMS] = res->tol <= res->also_tol,
+        [SP_COMPARE_PIXELMATCH] = res->threshold <= res->also_threshold &&
+                                  res->allowed <= res->also_allowed};
+    res->also = o->also;
+    if (o->metric >= 0 && o->metric < 3 && implied[o->metric])
+        res->also &= ~(1u << o->metric);
 }
 
 /* Paints one diff pixel: grey from the expected pixel's luma, magenta
@@ -73,7 +95,7 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
     res->bbox[0] = res->bbox[1] = res->bbox[2] = res->bbox[3] = -1;
     uint8_t *marks = NULL; /* pixelmatch's verdict per pixel */
     const int pm = opts->metric == SP_COMPARE_PIXELMATCH;
-    if (pm || (opts->also & (1u << SP_COMPARE_PIXELMATCH))) {
+    if (pm) {
         if (!(marks = malloc((size_t)res->pixels))) {
             sp_log_error("out of memory comparing two %dx%d images", e->width, e->height);
             if (diff)
@@ -82,6 +104,10 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
         }
         sp_compare_pixelmatch(e, a, res->threshold, 0, marks);
     }
+    /* the command line's own pixelmatch rule, at its own threshold */
+    const int also_pm = (res->also & (1u << SP_COMPARE_PIXELMATCH)) != 0;
+    if (also_pm && !(pm && res->also_threshold == res->threshold))
+        res->also_pixelmatch = sp_compare_pixelmatch(e, a, res->also_threshold, 0, NULL);
 
     for (int y = 0; y < e->height; y++) {
         const uint8_t *p = e->pixels + (size_t)y * e->stride;
@@ -102,8 +128,7 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
             const int ref = m > res->max_diff ? 2 : m > 0;
             const int pml = marks ? marks[(size_t)y * e->width + x] : 0;
             const int level = pm ? pml : ref;
-            res->also_reftest += ref == 2;
-            res->also_pixelmatch += pml == 2;
+            res->also_reftest += m > res->also_max_diff;
             res->antialiased += level == 1 && pm;
             res->changed += m > 0;
             if (level == 2) {
@@ -123,18 +148,19 @@ int sp_compare_images(const struct sp_image *expected, const struct sp_image *ac
     res->rms = opaque ? sqrt(sum_rgb / (3.0 * res->pixels))
                       : sqrt((sum_rgb + sum_a) / (4.0 * res->pixels));
     free(marks);
+    if (also_pm && pm && res->also_threshold == res->threshold)
+        res->also_pixelmatch = res->differing; /* the same marks */
     if (opts->metric == SP_COMPARE_RMS)
         res->pass = res->rms <= res->tol;
     else
         res->pass = res->differing <= res->allowed;
-    res->also = opts->also;
     res->decided_by = -1;
     const int fails[3] = {
-        [SP_COMPARE_REFTEST] = res->also_reftest > res->allowed,
-        [SP_COMPARE_RMS] = res->rms > res->tol,
-        [SP_COMPARE_PIXELMATCH] = res->also_pixelmatch > res->allowed};
+        [SP_COMPARE_REFTEST] = res->also_reftest > res->also_allowed,
+        [SP_COMPARE_RMS] = res->rms > res->also_tol,
+        [SP_COMPARE_PIXELMATCH] = res->also_pixelmatch > res->also_allowed};
     for (int k = 0; k < 3 && res->pass; k++)
-        if ((opts->also & (1u << k)) && fails[k])
+        if ((res->also & (1u << k)) && fails[k])
             res->pass = 0, res->decided_by = k;
     return 0;
 }

@@ -12,6 +12,7 @@
 #include <stdint.h>
 #include <string.h>
 #include <pthread.h>
+#include <zlib.h>
 
 #include "springpend/common.h"
 #include "springpend/outfile.h"
@@ -67,6 +68,10 @@ struct png_reader {
     char text_why[128]; /* libpng's words for the first one dropped */
     char iccp_why[128]; /* libpng's words when it dropped an iCCP (a profile unread) */
     char exif_why[128]; /* libpng's words when it dropped an eXIf (an orientation unread) */
+    char lost_why[128]; /* libpng's words when the chunk cache filled: a chunk kept unread */
+    int quiet;          /* iccp_libpng_knows asks libpng: its words about the profile unsaid */
+    png_bytep icc;      /* an iCCP's profile, inflated (iccp_inflate) */
+    png_infop scratch;  /* iccp_libpng_knows's info */
 };
 
 /* A damaged PNG is logged; an error after a failed allocation is not: the
@@ -104,9 +109,17 @@ static void reader_free(png_structp png, png_voidp p)
 static void on_png_read_warning(png_structp png, png_const_charp msg)
 {
     struct png_reader *r = png_get_error_ptr(png);
+    if (r->quiet)
+        return;
     if (!strncmp(msg, "tEXt", 4) || !strncmp(msg, "zTXt", 4) || !strncmp(msg, "iTXt", 4)) {
         if (!r->text_dropped++)
             snprintf(r->text_why, sizeof(r->text_why), "%s", msg);
+    } else if (strstr(msg, "o space in chunk cache")) {
+        /* the chunks kept (reader_setup: iCCP, sRGB, cICP...) and sPLT
+         * share a bound; past it libpng drops the rest unsaid, so that
+         * shown_as_read would not see what viewers apply */
+        if (!r->lost_why[0])
+            snprintf(r->lost_why, sizeof(r->lost_why), "%s", msg);
     } else if (!strncmp(msg, "iCCP", 4) && !r->iccp_why[0]) {
         /* a profile libpng did not take (too large, malformed, a second one):
          * viewers may still apply it, so shown_as_read refuses the file */
@@ -341,6 +354,10 @@ static void reader_close(struct png_reader *r)
                      "among the first %d", r->path, r->text_dropped,
                      r->text_dropped == 1 ? "" : "s", r->text_why, TEXT_CHUNK_MAX / 1024,
                      TEXT_CHUNKS_MAX);
+    if (r->png && r->icc)
+        png_free(r->png, r->icc);
+    if (r->png && r->scratch)
+        png_destroy_info_struct(r->png, &r->scratch);
     png_destroy_read_struct(&r->png, &r->info, NULL);
     free(r->rows);
     if (r->fp)
@@ -384,8 +401,15 @@ static void reader_setup(struct png_reader *r, int with_text)
      * chunks (cICP: coding-independent code points; mDCv, cLLi: HDR
      * mastering metadata), which libpng 1.6.39 does not know: kept (a few
      * bytes each), so that shown_as_read sees them */
-    static const png_byte kept[] = "acTL\0cICP\0mDCv\0cLLi";
-    png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_ALWAYS, kept, 4);
+    /* Where the pixels are read (with_text = 0), the iCCP and sRGB chunks
+     * too, each as it stands in the file: libpng's own reading takes an
+     * sRGB after an iCCP as its verdict on the profile, drops an iCCP
+     * after an sRGB, and forgets an iCCP whose neighbours (a second sRGB,
+     * a gAMA out of range, a second cHRM) it finds inconsistent, while
+     * viewers convert by the profile (attack16 #2): iccp_refused judges
+     * every profile itself. */
+    static const png_byte kept[] = "acTL\0cICP\0mDCv\0cLLi\0iCCP\0sRGB";
+    png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_ALWAYS, kept, with_text ? 4 : 6);
     png_set_chunk_malloc_max(r->png, TEXT_CHUNK_MAX);
     png_set_chunk_cache_max(r->png, TEXT_CHUNKS_MAX);
 }
@@ -587,27 +611,78 @@ static const char *icc_curves_refused(const void *prof, png_uint_32 len, int gra
     return what;
 }
 
-/* NULL when the PNG's ICC profile (iCCP) shows its pixels as read on an
- * sRGB screen (libpng recognised one of the ICC's sRGB profiles, or lcms2
- * converts every colour to within ICC_SRGB_LEVELS); else what is wrong,
- * in buf. */
-static const char *iccp_refused(struct png_reader *r, char *buf, size_t size)
+/* An iCCP's profile inflated is read up to this many bytes (libpng's own
+ * bound for it here, png_set_chunk_malloc_max). */
+#define ICC_MAX TEXT_CHUNK_MAX
+
+/* The profile of the iCCP chunk c (a name of 1 to 79 bytes, a NUL, the
+ * compression method 0 and a zlib stream), inflated into r->icc: its
+ * length in *len; NULL when the chunk is not whole, with why (the rules
+ * libpng kept it by: the profile at most ICC_MAX bytes, its header's
+ * length the bytes inflated, at least a header and a tag count). */
+static const png_byte *iccp_inflate(struct png_reader *r, const png_unknown_chunk *c,
+                                    png_uint_32 *len, const char **why)
 {
-    png_charp name;
-    png_bytep prof;
-    png_uint_32 len = 0;
-    int compression, intent;
-    if (r->iccp_why[0] && !png_get_valid(r->png, r->info, PNG_INFO_iCCP)) {
-        /* dropped; one libpng warned of but kept is judged as any other */
-        snprintf(buf, size, "holds an ICC colour profile (iCCP) that libpng does not read "
-                 "(%s), by which viewers may still convert its colours; save it without the "
-                 "iCCP chunk, its pixels in sRGB", r->iccp_why);
-        return buf;
-    }
-    if (!png_get_iCCP(r->png, r->info, &name, &compression, &prof, &len) || !len)
+    size_t k = 0;
+    while (k < c->size && k < 80 && c->data[k])
+        k++;
+    if (k == 0 || k >= 80 || k + 2 > c->size) {
+        *why = "its name is not 1 to 79 bytes ended by a NUL";
         return NULL;
-    if (png_get_sRGB(r->png, r->info, &intent))
-        return NULL; /* libpng knew the profile: one of the ICC's own sRGB ones */
+    }
+    if (c->data[k + 1] != 0) {
+        *why = "its compression method is not 0 (zlib)";
+        return NULL;
+    }
+    if (!r->icc)
+        r->icc = png_malloc(r->png, ICC_MAX + 1); /* out of memory: libpng's error */
+    z_stream z = {.next_in = c->data + k + 2, .avail_in = (uInt)(c->size - k - 2),
+                  .next_out = r->icc, .avail_out = ICC_MAX + 1};
+    if (inflateInit(&z) != Z_OK) {
+        r->nomem = 1;
+        png_error(r->png, "out of memory"); /* zlib's only failure here */
+    }
+    const int end = inflate(&z, Z_FINISH) == Z_STREAM_END;
+    const size_t n = ICC_MAX + 1 - z.avail_out;
+    inflateEnd(&z);
+    const png_byte *p = r->icc;
+    if (!end)
+        *why = n > ICC_MAX ? "its profile inflates to more than 256 KiB"
+                           : "its zlib stream is damaged or cut short";
+    else if (n < 132 || ((size_t)p[0] << 24 | (size_t)p[1] << 16 | (size_t)p[2] << 8 | p[3]) != n)
+        *why = "its profile's length (its first 4 bytes) is not the bytes inflated, 132 or more";
+    else
+        *len = (png_uint_32)n, *why = NULL;
+    return *why ? NULL : p;
+}
+
+/* 1 when libpng recognises the profile prof (len bytes) as one of the
+ * ICC's own sRGB profiles (png.c's list of them, by their MD5, Adler-32,
+ * CRC-32, length and intent), asked with the profile alone on an info of
+ * its own: an sRGB chunk beside it says nothing of the profile (attack16
+ * #2: png_get_sRGB on the file's info said yes for an inverting table
+ * with an sRGB chunk after it). */
+static int iccp_libpng_knows(struct png_reader *r, const png_byte *prof, png_uint_32 len)
+{
+    png_uint_32 w, h;
+    int depth, type, interlace, compression, filter, intent;
+    if (!r->scratch && !(r->scratch = png_create_info_struct(r->png)))
+        return 0;
+    png_get_IHDR(r->png, r->info, &w, &h, &depth, &type, &interlace, &compression, &filter);
+    png_set_IHDR(r->png, r->scratch, w, h, depth, type, interlace, compression, filter);
+    r->quiet = 1; /* libpng's words on a profile it does not know: the caller judges it */
+    png_set_iCCP(r->png, r->scratch, "iCCP", PNG_COMPRESSION_TYPE_BASE, prof, len);
+    r->quiet = 0;
+    return png_get_sRGB(r->png, r->scratch, &intent) != 0;
+}
+
+/* NULL when the ICC profile prof (len bytes) of r's PNG shows its pixels
+ * as read on an sRGB screen: a matrix/TRC profile that lcms2 converts
+ * every colour by to within ICC_SRGB_LEVELS, by curves sRGB's at every
+ * 16-bit value; else what is wrong, in buf. */
+static const char *iccp_judged(struct png_reader *r, const png_byte *prof, png_uint_32 len,
+                               char *buf, size_t size)
+{
     const int gray = !(png_get_color_type(r->png, r->info) & PNG_COLOR_MASK_COLOR);
     const char *structure = icc_structure_refused(prof, len, gray, buf, size);
     if (structure)
@@ -625,6 +700,62 @@ static const char *iccp_refused(struct png_reader *r, char *buf, size_t size)
                  "by more than %d); save its pixels converted to sRGB, without the iCCP "
                  "chunk", d, ICC_SRGB_LEVELS);
     return buf;
+}
+
+/* NULL when the PNG has no ICC profile (iCCP) before its pixels, or one
+ * that shows its pixels as read on an sRGB screen (libpng recognises one
+ * of the ICC's sRGB profiles, or iccp_judged takes it), whatever sRGB
+ * chunk stands before or after it (viewers convert by the profile); else
+ * what is wrong, in buf: a profile libpng dropped unread, more than one,
+ * one after the palette, one not whole. reader_setup keeps iCCP chunks
+ * unread by libpng. *present: 1 when the PNG has a profile. */
+static const char *iccp_refused(struct png_reader *r, char *buf, size_t size, int *present)
+{
+    png_unknown_chunkp u;
+    const png_unknown_chunk *c = NULL;
+    const int n = png_get_unknown_chunks(r->png, r->info, &u);
+    int count = 0;
+    png_uint_32 len = 0;
+    const char *why = NULL;
+    for (int i = 0; i < n; i++)
+        if (!strcmp((const char *)u[i].name, "iCCP") && (c = c ? c : &u[i]))
+            count++;
+    *present = count > 0 || r->iccp_why[0];
+    if (r->iccp_why[0])
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) that libpng does not read "
+                 "(%s), by which viewers may still convert its colours; save it without the "
+                 "iCCP chunk, its pixels in sRGB", r->iccp_why);
+    else if (count > 1)
+        snprintf(buf, size, "holds %d ICC colour profiles (iCCP chunks), where PNG allows one "
+                 "and viewers convert its colours by one or another; save it with its pixels "
+                 "in sRGB, without the iCCP chunks", count);
+    else if (c && (c->location & (PNG_HAVE_PLTE | PNG_AFTER_IDAT)))
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) after its palette (PLTE), "
+                 "where PNG allows none, by which viewers may still convert its colours; save "
+                 "it without the iCCP chunk, its pixels in sRGB");
+    else if (c && !iccp_inflate(r, c, &len, &why))
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) that is not whole (%s), by "
+                 "which viewers may still convert its colours; save it without the iCCP chunk, "
+                 "its pixels in sRGB", why);
+    else if (!c || iccp_libpng_knows(r, r->icc, len))
+        return NULL;
+    else
+        return iccp_judged(r, r->icc, len, buf, size);
+    return buf;
+}
+
+/* 1 when an sRGB chunk before the palette and the pixels says sRGB (one
+ * byte: a rendering intent, 0 to 3), as libpng takes one; viewers then
+ * convert by no gAMA or cHRM (but by an iCCP: iccp_refused). */
+static int srgb_chunk(struct png_reader *r)
+{
+    png_unknown_chunkp u;
+    const int n = png_get_unknown_chunks(r->png, r->info, &u);
+    for (int i = 0; i < n; i++)
+        if (!strcmp((const char *)u[i].name, "sRGB") && u[i].size == 1 && u[i].data[0] <= 3 &&
+            !(u[i].location & (PNG_HAVE_PLTE | PNG_AFTER_IDAT)))
+            return 1;
+    return 0;
 }
 
 /* NULL when the cHRM is sRGB's (its primaries and D65 white within 0.001
@@ -691,25 +822,31 @@ static const char *unknown_refused(struct png_reader *r, char *buf, size_t size)
     return NULL;
 }
 
-/* The EXIF Orientation (tag 0x0112) that an eXIf chunk's data x (n
- * bytes: a TIFF header and its IFD0) holds: its value; 1 (as read) when
- * there is none; -1 when x is not TIFF data whose IFD0 lies whole within
- * it; -2 when the tag is not one SHORT. Every offset is checked against n
- * (64-bit sums: a hostile offset or count cannot wrap). */
-static long exif_orientation(const png_byte *x, png_uint_32 n)
-{
-    if (n < 8 || x[0] != x[1] || (x[0] != 'I' && x[0] != 'M'))
-        return -1;
-    const int big = x[0] == 'M';
+/* Reads an eXIf chunk's TIFF data x (big-endian when big), at offset p. */
 #define U16(p) (big ? (unsigned)x[p] << 8 | x[(p) + 1] : (unsigned)x[(p) + 1] << 8 | x[p])
 #define U32(p) ((uint32_t)U16(big ? (p) : (p) + 2) << 16 | U16(big ? (p) + 2 : (p)))
-    const uint64_t ifd = U32(4);
-    if (U16(2) != 42 || ifd < 8 || ifd + 2 > n)
+
+/* The first EXIF Orientation (tag 0x0112) other than 1 in the TIFF
+ * directory at offset ifd of x (n bytes); 1 when it holds none other; -1
+ * when the directory does not lie whole within x; -2 when the tag is not
+ * one SHORT. With sub (IFD0), the Exif directory's offset (its pointer,
+ * tag 0x8769) is put in *sub (0: none); -3 when that pointer is not one
+ * LONG (or IFD), or is there twice. Every offset is checked against n
+ * (64-bit sums: a hostile offset or count cannot wrap). */
+static long exif_ifd(const png_byte *x, uint64_t n, int big, uint64_t ifd, uint64_t *sub)
+{
+    if (ifd < 8 || ifd + 2 > n)
         return -1;
     const uint64_t count = U16(ifd);
     if (ifd + 2 + 12 * count > n)
         return -1;
     for (uint64_t e = ifd + 2; e < ifd + 2 + 12 * count; e += 12) {
+        if (U16(e) == 0x8769 && sub) {
+            if (*sub || (U16(e + 2) != 4 && U16(e + 2) != 13) || U32(e + 4) != 1 ||
+                !U32(e + 8))
+                return -3;
+            *sub = U32(e + 8);
+        }
         if (U16(e) != 0x0112)
             continue;
         if (U16(e + 2) != 3 || U32(e + 4) != 1)
@@ -717,10 +854,31 @@ static long exif_orientation(const png_byte *x, png_uint_32 n)
         if (U16(e + 8) != 1) /* the first that turns */
             return U16(e + 8);
     }
-#undef U16
-#undef U32
     return 1;
 }
+
+/* The EXIF Orientation that an eXIf chunk's data x (n bytes: a TIFF
+ * header, its IFD0 and the Exif directory IFD0 points to, tag 0x8769)
+ * holds: the first other than 1, in IFD0 or the Exif directory (Chromium
+ * turns a PNG by one there too: attack16 #3); 1 (as read) when there is
+ * none; -1 when x is not TIFF data whose IFD0 and Exif directory lie
+ * whole within it; -2 when the tag is not one SHORT; -3 when the Exif
+ * directory's pointer is not one LONG, or is there twice. Only these two
+ * directories are read, IFD0's pointer first: no loop can form. IFD1's
+ * (a thumbnail's) orientation is not one viewers apply. */
+static long exif_orientation(const png_byte *x, png_uint_32 n)
+{
+    if (n < 8 || x[0] != x[1] || (x[0] != 'I' && x[0] != 'M'))
+        return -1;
+    const int big = x[0] == 'M';
+    uint64_t sub = 0;
+    if (U16(2) != 42)
+        return -1;
+    const long o = exif_ifd(x, n, big, U32(4), &sub);
+    return o == 1 && sub ? exif_ifd(x, n, big, sub, NULL) : o;
+}
+#undef U16
+#undef U32
 
 /* NULL when the PNG's eXIf chunk (if any) turns and mirrors nothing: no
  * EXIF Orientation, or 1; else what it does, in buf. Browsers show a PNG
@@ -752,8 +910,11 @@ static const char *exif_refused(struct png_reader *r, char *buf, size_t size)
     if (o < 0)
         snprintf(buf, size, "holds an eXIf chunk whose %s, by which viewers may "
                  "still turn or mirror it; save it without the eXIf chunk",
-                 o == -1 ? "data is not a whole TIFF header and first directory"
-                         : "Orientation tag is not one SHORT");
+                 o == -1 ? "data is not a whole TIFF header, first directory and Exif "
+                           "directory"
+                 : o == -2 ? "Orientation tag is not one SHORT"
+                           : "Exif directory pointer (tag 0x8769) is not one LONG, or is "
+                             "there twice");
     else if (o <= 8)
         snprintf(buf, size, "holds an EXIF Orientation of %ld (an eXIf chunk), by which "
                  "viewers show it %s; save its pixels as shown, without the eXIf chunk or "
@@ -789,14 +950,17 @@ static int shown_as_read(struct png_reader *r)
 {
     char buf[512];
     png_fixed_point gamma = 0;
-    int intent;
-    const int srgb = png_get_sRGB(r->png, r->info, &intent) != 0;
-    const char *what = unknown_refused(r, buf, sizeof(buf));
+    const int srgb = srgb_chunk(r);
+    int icc = 0;
+    const char *what = r->lost_why[0] ? buf : unknown_refused(r, buf, sizeof(buf));
+    if (r->lost_why[0])
+        snprintf(buf, sizeof(buf), "holds more chunks than springpend reads of the kinds "
+                 "viewers show it by (iCCP, sRGB, cICP, sPLT...: libpng: %s), so that some "
+                 "would go unread; save it without them", r->lost_why);
     if (!what)
         what = exif_refused(r, buf, sizeof(buf));
     /* viewers convert by an ICC profile rather than by gAMA and cHRM */
-    if (!what && (r->iccp_why[0] || png_get_valid(r->png, r->info, PNG_INFO_iCCP)) &&
-        !(what = iccp_refused(r, buf, sizeof(buf))))
+    if (!what && !(what = iccp_refused(r, buf, sizeof(buf), &icc)) && icc)
         return 0;
     if (!what && !srgb && png_get_valid(r->png, r->info, PNG_INFO_cHRM))
         what = chrm_refused(r);

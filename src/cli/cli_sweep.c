@@ -572,59 +572,196 @@ static int estimate_rows(struct sp_sweep_desc *d, const struct sp_scene *base, l
     return 0;
 }
 
+/* Grid points whose adaptive step is probed for a sweep's estimate: every
+ * point of a grid this small, else a sub-grid of this many spanning the
+ * run's points, their corners among them (a probe is a DOP853 run over 100
+ * radians of the fastest motion: about 300 steps, 0.1 ms). */
+#define SWEEP_PROBES 256
+
+/* What the probes found: the mean and the most trajectory-steps a point
+ * (each at least floor_steps; a point that blows up in its probe none),
+ * the costliest point, how many were probed; the base scene's cost (< 0
+ * until probed). */
+struct probe {
+    double mean, most, floor_steps, span, base_cost;
+    long costliest;
+    int n;
+};
+
+/* A scene's trajectory-steps over the span with DOP853 (its probe, sim.h),
+ * at least floor_steps; 0 when the probe blows up. */
+static double probe_cost(const struct sp_scene *scene, const struct probe *pr)
+{
+    struct sp_scene s = *scene;
+    s.integrator.method = SP_METHOD_DOP853;
+    const double steps = sp_sim_estimate_steps(&s, pr->span);
+    return steps > 0 ? fmax(steps, pr->floor_steps) : 0;
+}
+
+/* Probes grid point p (its own scene: a varied stiffness, mass, length,
+ * drive or start sets its step) with DOP853 over the span. A point that
+ * cannot have poincare's energy writes nothing but is integrated as the
+ * base scene (sweep.c: company in its batch; 0 returned); one whose
+ * probe blows up stops there and counts as none. */
+static int probe_point(const struct sp_sweep_desc *d, const struct sp_scene *base, long p,
+                       struct probe *pr)
+{
+    struct sp_scene s;
+    pr->n++;
+    if (sp_sweep_point_scene(d, base, p, &s)) {
+        if (pr->base_cost < 0)
+            pr->base_cost = probe_cost(base, pr);
+        pr->mean += pr->base_cost;
+        return 0;
+    }
+    const double cost = probe_cost(&s, pr);
+    pr->mean += cost;
+    if (cost > pr->most)
+        pr->most = cost, pr->costliest = p;
+    return 1;
+}
+
+/* The j-th of n indices spread evenly over [lo, hi], both ends among them. */
+static int spread(int lo, int hi, int n, int j)
+{
+    return n <= 1 ? lo : lo + (int)((long)(hi - lo) * j / (n - 1));
+}
+
+/* Probes the adaptive step over points [first, last) of d's grid: every
+ * point when they are at most SWEEP_PROBES, else a sub-grid of the box of
+ * axis indices they fill (a shard of a map fills whole rows but its first
+ * and last), its corners among the probes. pr->mean: the points' mean. A
+ * poincare point that cannot have the energy costs the base scene's steps
+ * when its batch of SP_SWEEP_CHUNK integrates someone, else none. */
+static void probe_grid(const struct sp_sweep_desc *d, const struct sp_scene *base, long first,
+                       long last, struct probe *pr)
+{
+    int i0[SP_SWEEP_MAX_AXES], i1[SP_SWEEP_MAX_AXES];
+    sp_sweep_point_index(d, first, i0);
+    sp_sweep_point_index(d, last - 1, i1);
+    const int c0 = d->axis[0].count;
+    int lo[2] = {i0[0], i0[1]}, hi[2] = {i1[0], i1[1]};
+    if (lo[1] != hi[1])
+        lo[0] = 0, hi[0] = c0 - 1;
+    const long span0 = hi[0] - lo[0] + 1, span1 = hi[1] - lo[1] + 1;
+    const int n0 = (int)fmin(span0, fmax(16, SWEEP_PROBES / span1)),
+              n1 = (int)fmin(span1, fmax(1, SWEEP_PROBES / n0));
+    int reached = 0;
+    if (last - first <= SWEEP_PROBES) {
+        for (long c = first; c < last; c += SP_SWEEP_CHUNK) { /* the run's batches */
+            int in_chunk = 0, company = 0;
+            for (long p = c; p < last && p < c + SP_SWEEP_CHUNK; p++)
+                probe_point(d, base, p, pr) ? in_chunk++ : company++;
+            if (!in_chunk) /* a batch of skipped points only is not integrated */
+                pr->mean -= company * pr->base_cost;
+            reached += in_chunk;
+        }
+    } else {
+        for (int j1 = 0; j1 < n1; j1++)
+            for (int j0 = 0; j0 < n0; j0++) {
+                const long p = spread(lo[0], hi[0], n0, j0) +
+                               (long)c0 * spread(lo[1], hi[1], n1, j1);
+                if (p >= first && p < last)
+                    reached += probe_point(d, base, p, pr);
+            }
+        if (!pr->n) /* a shard of two rows' ends the sub-grid missed */
+            reached += probe_point(d, base, first, pr) + probe_point(d, base, last - 1, pr);
+    }
+    /* none reachable: every batch skipped (the run is refused at once) */
+    pr->mean = reached ? pr->mean / pr->n : 0;
+}
+
+/* ", the costliest probed about N (KEY = V[, KEY2 = V2])" when the probed
+ * points differ by more than a tenth, else "". */
+static void costliest_text(const struct sp_sweep_desc *d, const struct probe *pr, char *buf,
+                           size_t size)
+{
+    buf[0] = 0;
+    if (pr->costliest < 0 || !(pr->most > 1.1 * pr->mean))
+        return;
+    int idx[SP_SWEEP_MAX_AXES];
+    sp_sweep_point_index(d, pr->costliest, idx);
+    int n = snprintf(buf, size, ", the costliest probed about %.3g (", pr->most);
+    for (int a = 0; a < d->n_axes && n > 0 && (size_t)n < size; a++)
+        n += snprintf(buf + n, size - n, "%s%s = %.6g", a ? ", " : "", d->axis[a].key,
+                      sp_sweep_axis_value(&d->axis[a], idx[a]));
+    if (n > 0 && (size_t)n < size)
+        snprintf(buf + n, size - n, ")");
+}
+
+/* What a point costs given its trajectory's steps: spectrum steps four
+ * copies (each with its tangent), basins lands on SP_BASINS_SAMPLES times a
+ * drive period (one more step each), precession on 32 samples a period,
+ * and a continued orbit diagram runs each of its branches (*extra says
+ * which). */
+static double point_cost(const struct sp_sweep_desc *d, const struct sp_scene *base,
+                         double span, double steps, const char **extra)
+{
+    *extra = "";
+    if (d->measure == SP_MEASURE_SPECTRUM) {
+        *extra = ", four copies with tangents";
+        return 4 * steps;
+    }
+    if (d->measure == SP_MEASURE_BASINS) {
+        double f = base->pivot.frequency; /* the fastest drive on the grid */
+        for (int a = 0; a < d->n_axes; a++)
+            if (!strcmp(d->axis[a].key, "pivot.frequency"))
+                f = fmax(d->axis[a].from, d->axis[a].to);
+        *extra = ", landing on 8 samples a drive period";
+        return steps + SP_BASINS_SAMPLES * f * span;
+    }
+    if (d->measure == SP_MEASURE_PRECESSION) {
+        *extra = ", landing on 32 samples a pendulum period";
+        return fmax(steps, span / d->sample); /* lands on every sample */
+    }
+    if (d->cont == SP_CONTINUE_BOTH) {
+        *extra = ", both branches";
+        return 2 * steps;
+    }
+    return steps;
+}
+
 /* Estimates points * (trajectory-steps a point) for this run (a shard's
  * points only) and holds it to the limits (sp_cli_work). A point integrates
  * the transient and the span; fixed steps at integrator.dt, dop853 at its
- * tolerance (probed on the base scene, sim.h) and, for events, at least one
- * step per dt. What a point costs beyond one trajectory is counted too:
- * spectrum steps four copies (each with its tangent), basins lands on
- * SP_BASINS_SAMPLES times a drive period (one more step each), and a
- * continued orbit diagram runs each of its branches. */
+ * tolerance (probed on the grid's own points, probe_grid: a varied key can
+ * set the step; the mean counted, the costliest named) and, for events, at
+ * least one step per dt; then what it costs beyond one trajectory
+ * (point_cost). */
 static int check_work(struct sp_sweep_desc *d, const struct sp_scene *base, long first,
                       long last, int quiet, double *rows)
 {
     const long points = last - first;
     const int lyap = d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_SPECTRUM;
+    const int adaptive = strcmp(d->method, "rk4") && strcmp(d->method, "verlet") &&
+                         strcmp(d->method, "yoshida4");
     const double span = d->transient + d->time;
-    double per_point = span / d->dt;
-    if (strcmp(d->method, "rk4") && strcmp(d->method, "verlet") && strcmp(d->method, "yoshida4")) {
-        struct sp_scene s = *base;
-        s.integrator.method = SP_METHOD_DOP853;
-        const double adaptive = sp_sim_estimate_steps(&s, span);
-        per_point = lyap ? adaptive : fmax(adaptive, per_point);
-    }
-    const char *extra = "";
-    if (d->measure == SP_MEASURE_SPECTRUM) {
-        per_point *= 4;
-        extra = ", four copies with tangents";
-    } else if (d->measure == SP_MEASURE_BASINS) {
-        double f = base->pivot.frequency; /* the fastest drive on the grid */
-        for (int a = 0; a < d->n_axes; a++)
-            if (!strcmp(d->axis[a].key, "pivot.frequency"))
-                f = fmax(d->axis[a].from, d->axis[a].to);
-        per_point += SP_BASINS_SAMPLES * f * span;
-        extra = ", landing on 8 samples a drive period";
-    } else if (d->measure == SP_MEASURE_PRECESSION) {
-        per_point = fmax(per_point, span / d->sample); /* lands on every sample */
-        extra = ", landing on 32 samples a pendulum period";
-    } else if (d->cont == SP_CONTINUE_BOTH) {
-        per_point *= 2;
-        extra = ", both branches";
-    }
-    char what[256];
-    char method[96];
+    struct probe pr = {.span = span, .floor_steps = lyap ? 0 : span / d->dt, .costliest = -1,
+                       .base_cost = -1};
+    if (adaptive)
+        probe_grid(d, base, first, last, &pr);
+    else
+        pr.mean = pr.most = span / d->dt;
+    const char *extra;
+    const double per_point = point_cost(d, base, span, pr.mean, &extra);
+    /* the step's own size sets the cost, unless the events' dt does */
+    const int by_tolerance = adaptive && pr.mean > pr.floor_steps;
+    pr.most = point_cost(d, base, span, pr.most, &extra);
+    pr.mean = per_point;
+    char what[512], method[96], costliest[192], advice[320];
+    costliest_text(d, &pr, costliest, sizeof(costliest));
     sp_sweep_method_text(d, method, sizeof(method));
     snprintf(what, sizeof(what), "sweeping %ld points over %g s each (%s%s: about %.3g steps a "
-             "point)", points, span, method, extra, per_point);
+             "point%s)", points, span, method, extra, per_point, costliest);
     /* a continued sweep cannot be cut into shards (--continue refuses --shard) */
-    const int ret = sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS, what,
-                       d->cont != SP_CONTINUE_NONE
-                           ? "fewer points (--vary's COUNT), a shorter --time or --transient, "
-                             "or a larger integrator.dt"
-                           : "fewer points (--vary's COUNT), a shorter --time or --transient, a "
-                             "larger integrator.dt, or split the grid over machines with "
-                             "--shard I/N",
-                       quiet);
+    snprintf(advice, sizeof(advice), "fewer points (--vary's COUNT), a shorter --time or "
+             "--transient, %s%s", d->cont != SP_CONTINUE_NONE ? "or " : "",
+             by_tolerance ? "a larger integrator.tolerance" : "a larger integrator.dt");
+    if (d->cont == SP_CONTINUE_NONE)
+        snprintf(advice + strlen(advice), sizeof(advice) - strlen(advice),
+                 ", or split the grid over machines with --shard I/N");
+    const int ret = sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS,
+                                what, advice, quiet);
     return ret ? ret : estimate_rows(d, base, first, last, quiet, rows);
 }
 
@@ -1149,6 +1286,35 @@ static int check_set_varied(const struct sweep_opts *o, const struct sp_sweep_de
     return 0;
 }
 
+/* A Poincare mosaic none of whose points can have the sweep's energy is
+ * refused, named by where the energy came from (--energy, or the scene's
+ * own when none was given), with the least energy the grid's starts need
+ * (a grid of at most SWEEP_LEAST_SUMMED points). */
+#define SWEEP_LEAST_SUMMED 100000
+static int refuse_energy(const struct sweep_opts *o, const struct sp_sweep_desc *d,
+                         const struct sp_scene *scene, long first, long last)
+{
+    /* each point's least energy takes a scene check (about 7 us) */
+    const double least = last - first <= SWEEP_LEAST_SUMMED
+                             ? sp_sweep_least_energy(d, scene, first, last) : NAN,
+                 own = scene_energy(scene);
+    char need[96] = "", give[96] = "a larger --energy E";
+    if (isfinite(least)) {
+        snprintf(need, sizeof(need), " (its starts need at least %g J, with θ̇ = 0)", least);
+        snprintf(give, sizeof(give), "--energy E with E >= %g", least);
+    }
+    if (o->energy_given)
+        sp_log_error("--energy %g: no point of the grid can have this energy%s; nothing "
+                     "written; allowed: %s%s, or a grid (--vary) whose starts need less",
+                     d->energy, need, give, own >= least ? " (or no --energy: the scene's own)"
+                     : "");
+    else
+        sp_log_error("no --energy given, so every orbit takes the scene's own energy, %g J, "
+                     "and no point of the grid can have it%s; nothing written; allowed: %s, or "
+                     "a grid (--vary) whose starts need less", d->energy, need, give);
+    return SP_E_INPUT;
+}
+
 /* Runs the sweep of the scene sp_cmd_sweep loaded (it frees the scene). */
 static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_scene *scene)
 {
@@ -1181,9 +1347,7 @@ static int sweep_scene(struct sweep_opts *o, struct sp_sweep_desc *d, struct sp_
         ret = sp_sweep_run(d, scene, first, last, o->threads, fp, &blown, &unreachable,
                            !o->quiet && isatty(2) ? show_progress : NULL, &prog);
     if (!ret && !o->shard && unreachable == last - first) { /* an empty figure */
-        sp_log_error("--energy %g: no point of the grid can have this energy; nothing "
-                     "written (omit --energy for the scene's own)", d->energy);
-        ret = SP_E_INPUT;
+        ret = refuse_energy(o, d, scene, first, last);
     }
     if (!ret && !o->shard && blown > 0 && blown + unreachable == last - first) {
         /* nothing to draw: an empty figure is no result (data exits 3 too) */

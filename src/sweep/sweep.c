@@ -28,7 +28,7 @@
 #include "sweep.h"
 #include "frame/text.h"
 
-#define CHUNK 32  /* points per batch */
+#define CHUNK SP_SWEEP_CHUNK /* points per batch (sweep.h) */
 #define WINDOW 4  /* chunks held per worker, finished or not */
 #define RAD2DEG 57.29577951308232
 
@@ -361,20 +361,41 @@ static double scene_energy(const struct sp_scene *s)
     return sim.energy0;
 }
 
+/* The least energy scene s's start can have: its potential and radial
+ * kinetic energy (dtheta/dt = 0), J. */
+static double start_energy_least(const struct sp_scene *s)
+{
+    const double m = s->pendulum.mass, r = s->initial.length, rd = s->initial.length_rate;
+    return 0.5 * s->pendulum.stiffness * (r - s->pendulum.natural_length) *
+               (r - s->pendulum.natural_length) -
+           m * s->pendulum.gravity * r * cos(s->initial.angle) + 0.5 * m * rd * rd;
+}
+
 /* Poincare sweeps at one energy E: dtheta/dt at t = 0 from
  * E = m/2 (r'^2 + r^2 theta'^2) + k/2 (r - L0)^2 - m g r cos(theta), with the
  * sign of the base scene's rate (+ when 0). Returns 1 when E is too low. */
 static int set_energy(struct sp_scene *s, double energy, double sign)
 {
-    double m = s->pendulum.mass, r = s->initial.length, rd = s->initial.length_rate;
-    double u = 0.5 * s->pendulum.stiffness * (r - s->pendulum.natural_length) *
-                   (r - s->pendulum.natural_length) -
-               m * s->pendulum.gravity * r * cos(s->initial.angle);
-    double kin = energy - u - 0.5 * m * rd * rd;
+    const double m = s->pendulum.mass, r = s->initial.length;
+    const double kin = energy - start_energy_least(s);
     if (!(kin >= 0))
         return 1;
     s->initial.angle_rate = sign * sqrt(2 * kin / m) / r;
     return 0;
+}
+
+double sp_sweep_least_energy(const struct sp_sweep_desc *d, const struct sp_scene *base,
+                             long first, long last)
+{
+    double least = INFINITY;
+    struct sp_sweep_desc free_start = *d;
+    free_start.measure = SP_MEASURE_LYAPUNOV; /* the axes' values only, no energy set */
+    for (long p = first; p < last; p++) {
+        struct sp_scene s;
+        if (!sp_sweep_point_scene(&free_start, base, p, &s))
+            least = fmin(least, start_energy_least(&s));
+    }
+    return least;
 }
 
 int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *base, long p,
@@ -1136,6 +1157,8 @@ static int run_chunk(const struct sp_sweep_desc *d, const struct sp_scene *base,
         }
         ptr[i] = &scenes[i];
     }
+    if (out->unreachable == n)
+        return 0; /* no point to write: no company to keep (poincare) */
     if (d->measure == SP_MEASURE_SPECTRUM || d->measure == SP_MEASURE_BASINS ||
         d->measure == SP_MEASURE_PRECESSION || (d->measure == SP_MEASURE_ORBIT && d->peak))
         return analysis_chunk(d, scenes, pts, skip, n, forced, out);

@@ -58,6 +58,9 @@ const char *sp_sweep_columns(const struct sp_sweep_desc *d);
 
 #define SP_SWEEP_MAX_AXES 2
 #define SP_SWEEP_MAX_POINTS 50000000L /* a map's figure holds 16 bytes per point */
+#define SP_SWEEP_CHUNK 32 /* points integrated as one batch, from a run's first on
+                           * (a batch whose poincare points all miss the
+                           * energy is skipped; else they keep company) */
 
 struct sp_sweep_axis {
     char key[48];  /* "section.key" */
@@ -183,6 +186,12 @@ int sp_sweep_check(struct sp_sweep_desc *d, const struct sp_scene *base, int ene
  * when the energy cannot be reached from that start. */
 int sp_sweep_point_scene(const struct sp_sweep_desc *d, const struct sp_scene *base, long p,
                          struct sp_scene *out);
+
+/* The least energy a start of points [first, last) can have (each point's
+ * potential and radial kinetic energy; dtheta/dt = 0), J: a poincare
+ * sweep's energy below it reaches none of them. */
+double sp_sweep_least_energy(const struct sp_sweep_desc *d, const struct sp_scene *base,
+                             long first, long last);
 
 /* The most rows grid point s (its scene, from sp_sweep_point_scene) of an
  * orbit diagram of an undriven scene or a Poincare mosaic can write: its

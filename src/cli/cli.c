@@ -17,6 +17,7 @@
 #include "springpend/outfile.h"
 #include "springpend/pipeline.h"
 #include "springpend/sim.h"
+#include "springpend/timeline.h"
 
 #define STRING(x) #x
 #define QUOTE(x) STRING(x)
@@ -593,7 +594,7 @@ int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
     const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
     const double steps = sp_sim_estimate_steps(sc, t_end);
     const int members = sc->ensemble.count > 1 ? sc->ensemble.count : 0;
-    const double frames = sp_scene_frame_count(sc);
+    const double frames = sp_timeline_frames(sc); /* a [timeline]'s own count, as render makes */
     /* the camera's pre-pass integrates the run once more, sampling every
      * integrator.dt (adaptive methods too) */
     const double pre = camera ? steps + (mi->adaptive ? t_end / sc->integrator.dt : 0) : 0;

@@ -560,7 +560,7 @@ static int run(int argc, char **argv, int still)
     if (!ret)
         ret = sp_cli_check_work(&o, &scenes[0], still ? fmax(end.t, o.still.at) : end.t, 1);
     for (int i = 1; !ret && i < o.n_scenes; i++)
-        ret = sp_cli_check_work(&o, &sp[i], sp_scene_frame_time(&sp[i], sp_scene_frame_count(&sp[i]) - 1), 1);
+        ret = sp_cli_check_work(&o, &sp[i], sp_scene_frame_time(&sp[i], sp_timeline_frames(&sp[i]) - 1), 1);
     const struct sp_scene *more[SP_CLI_MAX_SCENES - 1];
     for (int i = 1; i < o.n_scenes; i++)
         more[i - 1] = &sp[i];

@@ -1291,8 +1291,9 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
                link_out(r, it->name, pa, dir_a)) {
         r->refused = 1; /* recorded as an error; nothing is updated */
     } else if (!it->actual ? kind_clash(r, it->name, dir_e, dir_a)
-                           : !it->expected && !it->n_alts && kind_clash(r, it->name, dir_a, dir_e)) {
-        return 0;
+                           : !it->expected && !it->n_alts &&
+                                 kind_clash(r, it->name, dir_a, dir_e)) {
+        return 0; /* a file beside a folder of its name: said, refused */
     } else if (!it->actual || (!it->expected && !it->n_alts)) {
         snprintf(r->name, sizeof(r->name), "%s", it->name);
         snprintf(it->actual ? r->actual : r->expected, sizeof(r->actual), "%s",
@@ -1511,7 +1512,7 @@ static int nothing_compared(struct sp_compare_report *rep)
  * symbolic link where a diff image would go, before anything is compared:
  * an output is never written through a link nor replaces one (doc/outputs.md;
  * attack17 #14: a link there was replaced without a word). */
-static int refuse_diff_links(const struct compare_run *c, const struct sp_snapshot_list *l)
+static int refuse_diff_links(struct compare_run *c, const struct sp_snapshot_list *l)
 {
     struct stat st;
     char pd[PATH_MAX];
@@ -1524,6 +1525,7 @@ static int refuse_diff_links(const struct compare_run *c, const struct sp_snapsh
                          "link nor replaces one: remove the link", pd);
         sp_log_error("--diff %s: nothing compared, the link and what it names left as they "
                      "were", c->diff);
+        c->refused = 1; /* before any output: sp_compare_run writes no report */
         return SP_E_INPUT;
     }
     return 0;
@@ -1549,12 +1551,8 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
         }
         return ret;
     }
-    if ((ret = refuse_diff_links(c, &list)) != 0) {
-        c->refused = 1; /* before any output: no report either */
-        goto done;
-    }
-    if (!(todo = calloc((size_t)list.n + 1, 1))) {
-        ret = nothing_compared(rep);
+    if ((ret = refuse_diff_links(c, &list)) != 0 || !(todo = calloc((size_t)list.n + 1, 1))) {
+        ret = ret ? ret : nothing_compared(rep); /* a link: c->refused, no report */
         goto done;
     }
     for (int i = 0; i < list.n; i++)

@@ -268,6 +268,23 @@ static int printf_form(const char *f, double v)
     return 0;
 }
 
+/* What kind of row an orbit's or poincare row is: 0 measured, 1 the NaN
+ * row of a point that blew up, 2 the row of a point without an event (one
+ * row of its own: t = T0 + T, tf, and the values NaN, the branch column
+ * kept), -1 neither (NaN in some values only). Other measures: 0. */
+static int row_mark(const struct sp_sweep_desc *d, const char *tf, int first_nan, int nan,
+                    int nv)
+{
+    const int ext = d->measure == SP_MEASURE_ORBIT && (d->cont || d->peak);
+    char end[32];
+    if (d->measure != SP_MEASURE_ORBIT && d->measure != SP_MEASURE_POINCARE)
+        return 0;
+    if (first_nan || !nan)
+        return first_nan;
+    snprintf(end, sizeof(end), "%.10g", d->transient + d->time);
+    return !strcmp(tf, end) && nan == nv - 1 - ext ? 2 : -1;
+}
+
 const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
 {
     const struct sp_sweep_desc *d = r->d;
@@ -334,18 +351,10 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
     }
     if (*p)
         return "more than a row";
-    /* orbit, poincare: a point without an event writes one row of its own,
-     * t = T0 + T and the values NaN (the branch column kept) */
-    const int events = d->measure == SP_MEASURE_ORBIT || d->measure == SP_MEASURE_POINCARE;
-    const int ext = d->measure == SP_MEASURE_ORBIT && (d->cont || d->peak);
-    int mark = events && first_nan ? 1 : 0; /* 1: blew up, 2: no event */
-    if (events && !first_nan && nan) {
-        snprintf(want, sizeof(want), "%.10g", d->transient + d->time);
-        if (strcmp(tf, want) || nan != nv - 1 - ext)
-            return "a row is all numbers, all nan (a point that blew up) or, for a point "
-                   "without an event, the span's end T0 + T and nan";
-        mark = 2;
-    }
+    const int mark = row_mark(d, tf, first_nan, nan, nv);
+    if (mark < 0)
+        return "a row is all numbers, all nan (a point that blew up) or, for a point "
+               "without an event, the span's end T0 + T and nan";
     if (one_per_point && point != r->first + r->rows)
         return "not the next point's row (one row per point, in order)";
     if (point < r->point)

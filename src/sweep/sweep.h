@@ -20,6 +20,10 @@
  *             (basins.h)
  *   precession: point,KEY[,KEY2],precession,exchanges,exchange_period
  *             (degrees per exchange, 1, s; analysis.h; 3-D scenes)
+ * orbit and poincare: a point without a sample or crossing in the span (or,
+ * poincare, a start that cannot have the energy) writes one row of its own,
+ * t = T0 + T and the values nan, so that every point has rows (a merge
+ * tells a point dropped: sweep_rows.c).
  * lyapunov and precession sweep 3-D scenes (initial.azimuth_rate != 0);
  * the other measures are of the planar motion and refuse them.
  * A shard's CSV has a "# shard I/N" line after the description and ends
@@ -171,13 +175,13 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line);
  *     of the checkpoints, in order, the last at T = time (or one row at
  *     T = time of NaN: it blew up);
  *   orbit of a driven scene (with --peak and --continue too, per branch):
- *     rows at exactly t = k/f for every whole k with T0 <= k/f <= T0 + T
- *     (the steps' sampling: sp_sweep_strobe_range), in order, or one NaN
- *     row; a point with no such k writes none, every other point is there;
+ *     rows at exactly t = k/f for every whole k with T0 <= k/f up to the
+ *     last step's end (sp_sweep_strobe_range), in order, each once;
  *   orbit of an undriven scene, poincare: each point's times strictly
- *     ascending in the measured span, or one NaN row (a point without a
- *     crossing, or a poincare point that cannot have the energy, writes no
- *     row, so such a point's absence cannot be told). */
+ *     ascending in the measured span;
+ *   or, for a point (branch) of the last two, one NaN row (it blew up) or
+ *     one row t = T0 + T and NaN (no sample or crossing; poincare: nor the
+ *     energy). Every point of the shard is there. */
 const char *sp_sweep_rows_end(struct sp_sweep_rows *r);
 
 /* A driven orbit's samples at drive frequency f (Hz): the first and last k

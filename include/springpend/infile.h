@@ -26,10 +26,15 @@
 
 #include <signal.h>
 #include <stddef.h>
+#include <sys/types.h>
 
 /* The flag that, set, stops a whole-file read cut by a signal (main.c hands
  * signals.c's; until then, and with NULL, a cut read is retried). */
 void sp_infile_stop_on(const volatile sig_atomic_t *flag);
+
+/* What a file that is not a regular one is, for messages: "a folder",
+ * "a FIFO", "a character device", ... (st_mode's type bits). */
+const char *sp_file_kind(mode_t m);
 
 /* Confines every later open here of a path that lies in folder dir by
  * name ("DIR/NAME", DIR as given, the longest such folder) to files inside

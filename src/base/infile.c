@@ -26,7 +26,7 @@ void sp_infile_stop_on(const volatile sig_atomic_t *flag)
     stop_flag = flag;
 }
 
-static const char *kind(mode_t m)
+const char *sp_file_kind(mode_t m)
 {
     return S_ISDIR(m) ? "a folder" : S_ISFIFO(m) ? "a FIFO" : S_ISCHR(m) ? "a character device"
          : S_ISBLK(m) ? "a block device" : S_ISSOCK(m) ? "a socket" : "a special file";
@@ -266,7 +266,7 @@ int sp_infile_open(const char *path, const char *want)
     if (fd >= 0)
         return fd;
     if (fd == NOT_REGULAR)
-        sp_log_error("%s: is %s, not a regular file; %s", path, kind(st.st_mode), want);
+        sp_log_error("%s: is %s, not a regular file; %s", path, sp_file_kind(st.st_mode), want);
     else if (fd == SWAPPED)
         sp_log_error("%s: was replaced by another file while it was opened; %s", path, want);
     else if (fd == ESCAPED)

@@ -1,5 +1,6 @@
 /* springpend: the line-counting reader for libinih (ini_lines.h). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "ini_lines.h"
@@ -50,4 +51,16 @@ enum sp_ini_text sp_ini_text(const char *value, size_t *len, size_t *at)
             return SP_INI_TEXT_COMMENT;
         }
     return SP_INI_TEXT_OK;
+}
+
+char *sp_ini_text_quoted(const char *text, size_t n)
+{
+    char *q = malloc(n + 3);
+    if (!q)
+        return NULL;
+    q[0] = '"';
+    for (size_t i = 0; i < n; i++)
+        q[i + 1] = text[i] == '\t' ? ' ' : text[i];
+    q[n + 1] = '"', q[n + 2] = 0;
+    return q;
 }

@@ -34,4 +34,9 @@ enum sp_ini_text {
 };
 enum sp_ini_text sp_ini_text(const char *value, size_t *len, size_t *at);
 
+/* The remedy for SP_INI_TEXT_COMMENT: the n bytes of text in double quotes,
+ * each tab written as a space (a tab is not text a scene may hold), as a
+ * NUL-terminated string the caller frees; NULL when memory ran out. */
+char *sp_ini_text_quoted(const char *text, size_t n);
+
 #endif

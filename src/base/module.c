@@ -14,6 +14,7 @@
 #include "memory_limit.h"
 #include "module_abi.h"
 #include "springpend/common.h"
+#include "springpend/infile.h"
 #include "module.h"
 #include "places.h"
 
@@ -125,6 +126,18 @@ static void *load(const char *path, uid_t exe_uid, char *why, size_t size)
         return NULL;
     }
     if (trusted(real, exe_uid, why, size)) {
+        free(real);
+        return NULL;
+    }
+    /* dlopen opens whatever is there: a FIFO would wait for a writer, a
+     * device would run its driver's open (attack17 #4). Only a regular
+     * file is a module; trusted() keeps others from swapping it after. */
+    struct stat st;
+    if (stat(real, &st) != 0 || !S_ISREG(st.st_mode)) {
+        if (errno = 0, stat(real, &st) == 0)
+            snprintf(why, size, "is %s, not a module; not loaded", sp_file_kind(st.st_mode));
+        else
+            snprintf(why, size, "%s", strerror(errno));
         free(real);
         return NULL;
     }

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "springpend/common.h"
+#include "springpend/infile.h"
 #include "springpend/outfile.h"
 
 /* ---- the .part table a signal handler reads ---- */
@@ -86,12 +87,6 @@ static int stdio_alias(const char *target)
     if (!n || !*n || strspn(n, "0123456789") != strlen(n) || strlen(n) > 6)
         return -1;
     return atoi(n);
-}
-
-static const char *file_kind(mode_t m)
-{
-    return S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
-         : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket" : "a special file";
 }
 
 int sp_outfile_is_stream(const char *target)
@@ -347,7 +342,7 @@ int sp_outfile_open(struct sp_outfile *f, const char *target, unsigned flags)
                          "a file (raw frames, single PNGs and CSV can be written through "
                          "one)", target, fd >= 0 ? "standard output or error"
                          : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
-                         : file_kind(st.st_mode));
+                         : sp_file_kind(st.st_mode));
             return SP_E_INPUT;
         }
         f->through = 1;

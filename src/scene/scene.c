@@ -861,12 +861,16 @@ static int text_value(struct parse_ctx *c, const struct key_info *k, const char 
         report(c, c->line, "%s.%s: only a '#' or ';' comment may follow the closing "
                "quote, not '%.*s'", k->section, k->name, (int)(n - at), value + at);
         return -1;
-    case SP_INI_TEXT_COMMENT:
-        report(c, c->line, "%s.%s: ' %c' would start a comment here; to show it, "
-               "write the text in double quotes (%s = \"Run %c3\"); a comment may "
-               "follow the closing quote", k->section, k->name, value[at], k->name,
-               value[at]);
+    case SP_INI_TEXT_COMMENT: {
+        char *quoted = sp_ini_text_quoted(value, n);
+        report(c, c->line, "%s.%s: %s%c' would start a comment here; to show it, "
+               "write the text in double quotes (%s = %s)%s; a comment may follow the "
+               "closing quote", k->section, k->name,
+               value[at - 1] == '\t' ? "a tab then '" : "' ", value[at], k->name,
+               quoted ? quoted : "\"TEXT\"", memchr(value, '\t', n) ? ", a tab written as a space" : "");
+        free(quoted);
         return -1;
+    }
     default:
         break;
     }

@@ -70,20 +70,24 @@ static long pool_add(struct sp_timeline *tl, const char *text, size_t n)
  * *text and *tn (its bytes; surrounding double quotes taken off). 0, or 1
  * when it was refused (said): a comment sign where it would cut the text,
  * or more than a comment after a closing quote. */
-static int cue_text(const char *origin, int line, enum sp_cue_kind kind, const char *colon,
-                    const char **text, size_t *tn)
+static int cue_text(const char *origin, int line, enum sp_cue_kind kind, const char *cue,
+                    const char *colon, const char **text, size_t *tn)
 {
     const char *t = *text = colon + 1 + strspn(colon + 1, " \t");
     size_t at;
-    const enum sp_ini_text how = t > colon + 1 && (*t == '#' || *t == ';')
-                                     ? SP_INI_TEXT_COMMENT : sp_ini_text(t, tn, &at);
+    const int first = t > colon + 1 && (*t == '#' || *t == ';'); /* the text starts with it */
+    const enum sp_ini_text how = first ? SP_INI_TEXT_COMMENT : sp_ini_text(t, tn, &at);
     if (how == SP_INI_TEXT_COMMENT) {
-        report(origin, line, "[timeline] %s: ' %c' would start a comment here; to show it, "
-               "write the text in double quotes (%s: \"Run %c3\"); a comment may follow "
-               "the closing quote", kind == SP_CUE_CAPTION ? "caption" : "pause note",
-               t > colon + 1 && (*t == '#' || *t == ';') ? *t : t[at],
-               kind == SP_CUE_CAPTION ? "caption" : "pause 3",
-               t > colon + 1 && (*t == '#' || *t == ';') ? *t : t[at]);
+        size_t whole, ignored;
+        sp_ini_text(t, &whole, &ignored); /* the text as written, to quote it back */
+        const char sign = first ? *t : t[at], blank = first ? t[-1] : t[at - 1];
+        char *quoted = sp_ini_text_quoted(t, whole);
+        report(origin, line, "[timeline] %s: %s%c' would start a comment here; to show it, "
+               "write the text in double quotes (%.*s: %s)%s; a comment may follow the "
+               "closing quote", kind == SP_CUE_CAPTION ? "caption" : "pause note",
+               blank == '\t' ? "a tab then '" : "' ", sign, (int)(colon - cue), cue,
+               quoted ? quoted : "\"TEXT\"", memchr(t, '\t', whole) ? ", a tab written as a space" : "");
+        free(quoted);
         return 1;
     }
     if (how == SP_INI_TEXT_AFTER_QUOTE) {
@@ -197,7 +201,7 @@ int sp_timeline_read(struct sp_timeline **tlp, const char *origin, int line, con
         return 1;
     }
     if (colon && colon < comment && kind != SP_CUE_SPEED && /* the caption or the note */
-        cue_text(origin, line, kind, colon, &text, &tn))
+        cue_text(origin, line, kind, cue, colon, &text, &tn))
         return 1;
     if (kind != SP_CUE_CAPTION && cue_number(origin, line, kind, rest, colon, comment, &value))
         return 1;

@@ -144,6 +144,29 @@ static void video_release(struct sp_sink *s)
     sp_outfile_discard(&v->file);
 }
 
+/* A WebM's packet times (pkt in frame numbers, enc) in the muxer's time
+ * base (mux: Matroska's 1 ms), for a video whose first frame is number
+ * first of the whole (--frames, --shard): frame first + j at
+ * T(first + j) - T(first), T(k) = k / fps rounded once to the time base, and
+ * lasting T(first + j + 1) - T(first + j). A piece then lasts
+ * T(last + 1) - T(first), and ffmpeg's concat demuxer, which starts each
+ * piece where the ones before it end, puts every frame at T(k), as the
+ * one-piece render does (rounding each piece's times on its own put frames
+ * 1 ms off: attack17 #7). MP4 holds frame times exactly (mp4_options). */
+static void piece_times(AVPacket *pkt, AVRational enc, AVRational mux, long first)
+{
+    const int64_t start = av_rescale_q(first, enc, mux);
+    const int64_t k = pkt->pts;
+    if (pkt->pts != AV_NOPTS_VALUE)
+        pkt->pts = av_rescale_q(first + pkt->pts, enc, mux) - start;
+    if (pkt->dts != AV_NOPTS_VALUE)
+        pkt->dts = av_rescale_q(first + pkt->dts, enc, mux) - start;
+    if (k != AV_NOPTS_VALUE)
+        pkt->duration = av_rescale_q(first + k + 1, enc, mux) - av_rescale_q(first + k, enc, mux);
+    else
+        pkt->duration = av_rescale_q(pkt->duration, enc, mux);
+}
+
 /* Sends frame (NULL = flush) and writes every packet the encoder returns. */
 static int video_encode(struct sp_sink *s, const AVFrame *frame)
 {
@@ -157,7 +180,10 @@ static int video_encode(struct sp_sink *s, const AVFrame *frame)
             return 0;
         if (ret < 0)
             return av_failed(s, "encoding failed", ret, SP_E_CODEC);
-        av_packet_rescale_ts(v->pkt, v->enc->time_base, v->st->time_base);
+        if (strcmp(v->codec->muxer, "mp4"))
+            piece_times(v->pkt, v->enc->time_base, v->st->time_base, s->desc.first_frame);
+        else
+            av_packet_rescale_ts(v->pkt, v->enc->time_base, v->st->time_base);
         v->pkt->stream_index = v->st->index;
         /* Takes the packet's reference and leaves pkt blank for reuse. */
         ret = av_interleaved_write_frame(v->oc, v->pkt);

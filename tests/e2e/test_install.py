@@ -229,5 +229,34 @@ r2 = sh(ci)
 ok(r.returncode == 0 and "replaced" in r.stdout and r2.returncode == 0,
    f"doc/ci.md: {update} takes the change, the job passes again ({r.stdout.strip()[-120:]})")
 
+# attack17 #4: a module's path holding a FIFO or a device is not opened
+# (dlopen would wait on a FIFO for a writer, or run a device's driver): the
+# run says what is there, at once, and loads nothing.
+mods = [os.path.join(d, f) for d, _, fs in os.walk(moved) for f in fs if f == "springpend-cairo.so"]
+if mods:
+    real_mod = mods[0] + ".real"
+    os.rename(mods[0], real_mod)
+    kinds = [("a FIFO", lambda p: os.mkfifo(p, 0o644))]
+    if os.geteuid() == 0:  # /dev/null's numbers, made in the temporary install only
+        kinds.append(("a character device", lambda p: os.mknod(p, 0o644 | 0o020000, os.makedev(1, 3))))
+    for what, make in kinds:
+        make(mods[0])
+        try:
+            r = subprocess.run(["springpend", "still", scene, "--at", "1", "--size", "96x64", "-o", "m.svg"],
+                               capture_output=True, text=True, cwd=work, env=env, timeout=20)
+            said, rc = r.stderr.strip(), r.returncode
+        except subprocess.TimeoutExpired:
+            said, rc = "still running after 20 s", None
+        ok(rc == 1 and f"springpend-cairo.so: is {what}, not a module; not loaded" in said
+           and not os.path.exists(os.path.join(work, "m.svg")),
+           f"attack17 #4: the SVG module's path holding {what}: not opened, said at once, exit 1 "
+           f"({rc}: {said[-240:]})")
+        os.unlink(mods[0])
+    os.rename(real_mod, mods[0])
+    r = run("still", scene, "--at", "1", "--size", "96x64", "-o", "m.svg", "-q")
+    ok(r.returncode == 0, f"the module put back: the SVG is drawn ({r.stderr.strip()[-200:]})")
+else:
+    ok(False, "the installed SVG module springpend-cairo.so was not found")
+
 print(f"1..{count}")
 sys.exit(1 if failed else 0)

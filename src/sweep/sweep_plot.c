@@ -12,6 +12,7 @@
 #include <errno.h>
 #include <fontconfig/fontconfig.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,6 +62,7 @@ static struct {
     int sub_n;          /* its lines */
     int quiet;          /* wrapping for the font size check: nothing said */
     int measuring;      /* text is measured into box, nothing drawn */
+    int vector;         /* an SVG or PDF: dots at one spot merged (struct dot_grid) */
     double box[4];      /* what was measured: x0, y0, x1, y1, pt */
     struct {            /* a Poincare mosaic's key (key_layout) */
         double gx, gy, gw, gh; /* its gradient, pt */
@@ -1283,8 +1285,143 @@ static void key_layout(const struct sp_sweep_desc *d, const char *xl)
     font_pt(pt);
 }
 
-/* Orbit diagram and Poincare mosaic: two passes over the rows, for the range
- * and for the dots. */
+/* An SVG or PDF keeps every shape it is given (cairo records the page until
+ * it ends, and SVG writes an element a shape), so an orbit diagram's dots
+ * would grow the file and the memory with --time. There the dots that fall
+ * in one cell of a grid over the plot are drawn as one: at the last of them
+ * (what is drawn later stays on top, as in the PNG), its colour, with the
+ * opacity all of them make together, 1 - (1 - a)^k for k dots of opacity a
+ * (dense spots read as dense, as in the PNG). A cell is DOT_CELL_PT a side,
+ * a third of a pixel at an SVG's normal zoom and a dot at 300 dpi, larger
+ * where the plot would need more than DOT_CELLS of them: the dots, their
+ * memory and the file are bounded by the figure's size, not --time. A PNG
+ * draws every dot (its memory is its pixels). */
+#define DOT_CELL_PT 0.25
+#define DOT_CELLS (1L << 22)
+
+/* Each cell: how many dots fall in it (high 16 bits, at most 65535) and
+ * how many of them the drawing pass has met (low 16 bits). */
+struct dot_grid {
+    uint32_t *c; /* NULL: every dot drawn (a PNG) */
+    long nx, ny;
+    double x0, y0, cell;
+};
+
+/* A grid over the plot f (nothing for a PNG). 0 or SP_E_NOMEM. */
+static int dot_grid_new(struct dot_grid *g, const struct frame *f)
+{
+    *g = (struct dot_grid){.x0 = f->x0, .y0 = f->y0};
+    if (!G.vector)
+        return 0;
+    g->cell = fmax(DOT_CELL_PT, sqrt(f->w * f->h / (double)DOT_CELLS));
+    g->nx = (long)ceil(f->w / g->cell) + 1, g->ny = (long)ceil(f->h / g->cell) + 1;
+    if (!(g->c = calloc((size_t)(g->nx * g->ny), sizeof(*g->c)))) {
+        sp_log_error("out of memory for the figure's grid of dots");
+        return SP_E_NOMEM;
+    }
+    return 0;
+}
+
+/* The cell of the point (x, y), pt (clamped to the grid). */
+static uint32_t *dot_cell(const struct dot_grid *g, double x, double y)
+{
+    long i = (long)floor((x - g->x0) / g->cell), j = (long)floor((y - g->y0) / g->cell);
+    i = i < 0 ? 0 : i >= g->nx ? g->nx - 1 : i;
+    j = j < 0 ? 0 : j >= g->ny ? g->ny - 1 : j;
+    return &g->c[j * g->nx + i];
+}
+
+/* Counts a dot at (x, y) into its cell (the first pass). */
+static void dot_count(const struct dot_grid *g, double x, double y)
+{
+    if (!g->c || !isfinite(x) || !isfinite(y))
+        return;
+    uint32_t *c = dot_cell(g, x, y);
+    if (*c >> 16 < 0xffff)
+        *c += 1u << 16;
+}
+
+/* Whether the dot at (x, y) is drawn (the drawing pass): with no grid,
+ * each one at opacity a; else the last one of its cell at the opacity its
+ * cell's k dots make together (*a), the others not. */
+static int dot_drawn(const struct dot_grid *g, double x, double y, double *a)
+{
+    if (!g->c)
+        return 1;
+    uint32_t *c = dot_cell(g, x, y);
+    const uint32_t k = *c >> 16, seen = *c & 0xffff;
+    if (seen >= k)
+        return 0; /* drawn already (a cell of more than 65535) */
+    *c += 1;
+    if (seen + 1 < k)
+        return 0;
+    *a = *a >= 1 ? 1 : 1 - pow(1 - *a, (double)k);
+    return 1;
+}
+
+/* The x and y of an orbit diagram's or a Poincare mosaic's dot of row r:
+ * orbit: x = the key, y = theta (driven; r with --peak r) or r;
+ * poincare: x = r, y = dr/dt. */
+static void dot_xy(const struct sp_sweep_desc *d, const struct row *r, double *x, double *y)
+{
+    const int orbit = d->measure == SP_MEASURE_ORBIT;
+    *x = orbit ? r->key[0] : r->v[1];
+    *y = orbit ? (d->driven && d->peak != SP_PEAK_R ? r->v[1] : r->v[2]) : r->v[2];
+}
+
+/* The dots' pass over the rows from fp's first: with count, into the
+ * grids (dots g, the peaks' rings ring); else drawn in the plot f at
+ * radius pt and opacity alpha. 0 or SP_E_INPUT. */
+static int dot_pass(FILE *fp, const char *name, struct sp_sweep_desc *d,
+                    const struct sp_palette *pal, const struct frame *f,
+                    const struct dot_grid *g, const struct dot_grid *ring, int count,
+                    double radius, double alpha)
+{
+    const int orbit = d->measure == SP_MEASURE_ORBIT;
+    const int ext = orbit && (d->cont || d->peak); /* t,theta,r,branch,peak */
+    const long n = sp_sweep_points(d);
+    struct row r;
+    double x, y, a;
+    if (to_rows(fp, name, d))
+        return SP_E_INPUT;
+    while (next_row(fp, d, ext ? 5 : 3, &r)) {
+        dot_xy(d, &r, &x, &y);
+        if (!isfinite(x) || !isfinite(y))
+            continue;
+        const int peak = ext && d->peak && isfinite(r.v[4]);
+        if (count) {
+            dot_count(g, px(f, x), py(f, y));
+            if (peak)
+                dot_count(ring, px(f, x), py(f, r.v[4]));
+            continue;
+        }
+        if (ext) {
+            const float *c = branch_colour(pal, (int)r.v[3]);
+            if (peak && (a = 1, dot_drawn(ring, px(f, x), py(f, r.v[4]), &a))) {
+                float light[4]; /* the period's peak: a light ring */
+                peak_colour(pal, c, light);
+                set_rgba(light), set_line_width(0.7);
+                stroke_ring(px(f, x), py(f, r.v[4]), 1.8);
+            }
+            set_rgba4(c[0], c[1], c[2], a = alpha);
+        } else if (orbit) {
+            set_rgba4(pal->series[1][0], pal->series[1][1], pal->series[1][2], a = alpha);
+        } else {
+            float rgb[3];
+            colormap_rgb(d, 0.1 + 0.85 * (n > 1 ? (double)r.point / (n - 1) : 0.5), rgb);
+            set_rgba4(rgb[0], rgb[1], rgb[2], a = fmax(alpha, 0.5));
+        }
+        if (dot_drawn(g, px(f, x), py(f, y), &a)) {
+            G.col[3] = (float)a;
+            fill_rect(px(f, x) - radius, py(f, y) - radius, 2 * radius, 2 * radius);
+        }
+        flush_if_long();
+    }
+    return 0;
+}
+
+/* Orbit diagram and Poincare mosaic: a pass over the rows for the range,
+ * one for the grid of an SVG or PDF (struct dot_grid), one for the dots. */
 static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
                      const struct sp_palette *pal)
 {
@@ -1292,16 +1429,13 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
     const int ext = orbit && (d->cont || d->peak); /* t,theta,r,branch,peak */
     const int nv = ext ? 5 : 3;
     struct row r;
-    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
-    long n = sp_sweep_points(d), dots = 0;
-    /* orbit: x = the key, y = theta (driven; r with --peak r) or r; poincare:
-     * x = r, y = dr/dt */
-#define XV (orbit ? r.key[0] : r.v[1])
-#define YV (orbit ? (d->driven && d->peak != SP_PEAK_R ? r.v[1] : r.v[2]) : r.v[2])
+    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY, x, y;
+    long dots = 0;
     while (next_row(fp, d, nv, &r)) {
-        if (!isfinite(XV) || !isfinite(YV))
+        dot_xy(d, &r, &x, &y);
+        if (!isfinite(x) || !isfinite(y))
             continue;
-        xlo = fmin(xlo, XV), xhi = fmax(xhi, XV), ylo = fmin(ylo, YV), yhi = fmax(yhi, YV);
+        xlo = fmin(xlo, x), xhi = fmax(xhi, x), ylo = fmin(ylo, y), yhi = fmax(yhi, y);
         if (d->peak && isfinite(r.v[4]))
             ylo = fmin(ylo, r.v[4]), yhi = fmax(yhi, r.v[4]);
         dots++;
@@ -1328,36 +1462,21 @@ static int draw_dots(FILE *fp, const char *name, struct sp_sweep_desc *d,
     draw_axes(&f, pal, orbit ? xl : "r (m)",
               orbit ? (d->driven && d->peak != SP_PEAK_R ? "θ (degrees)" : "r (m)")
                     : "ṙ (m/s)");
-    if (to_rows(fp, name, d))
-        return SP_E_INPUT;
-    clip_to(&f);
     /* dots fade with their number, so dense regions read as density */
     double radius = G.v->marker_size > 0 ? 0.5 * G.v->marker_size : ext ? 1.1 : orbit ? 0.7 : 0.9;
     double alpha = fmin(0.9, fmax(0.15, 3e4 / (double)(dots + 1)));
-    while (next_row(fp, d, nv, &r)) {
-        if (!isfinite(XV) || !isfinite(YV))
-            continue;
-        if (ext) {
-            const float *c = branch_colour(pal, (int)r.v[3]);
-            if (d->peak && isfinite(r.v[4])) { /* the period's peak: a light ring */
-                float light[4];
-                peak_colour(pal, c, light);
-                set_rgba(light), set_line_width(0.7);
-                stroke_ring(px(&f, XV), py(&f, r.v[4]), 1.8);
-            }
-            set_rgba4(c[0], c[1], c[2], alpha);
-        } else if (orbit) {
-            set_rgba4(pal->series[1][0], pal->series[1][1], pal->series[1][2], alpha);
-        } else {
-            float rgb[3];
-            colormap_rgb(d, 0.1 + 0.85 * (n > 1 ? (double)r.point / (n - 1) : 0.5), rgb);
-            set_rgba4(rgb[0], rgb[1], rgb[2], fmax(alpha, 0.5));
-        }
-        fill_rect(px(&f, XV) - radius, py(&f, YV) - radius, 2 * radius, 2 * radius);
-        flush_if_long();
-    }
-#undef XV
-#undef YV
+    struct dot_grid g, ring = {0};
+    int ret = dot_grid_new(&g, &f);
+    if (!ret && ext && d->peak)
+        ret = dot_grid_new(&ring, &f);
+    if (!ret && g.c)
+        ret = dot_pass(fp, name, d, pal, &f, &g, &ring, 1, radius, alpha);
+    clip_to(&f);
+    if (!ret)
+        ret = dot_pass(fp, name, d, pal, &f, &g, &ring, 0, radius, alpha);
+    free(g.c), free(ring.c);
+    if (ret)
+        return ret;
     clip_to(NULL);
     if (ext && !G.v->legend) /* over the dots */
         orbit_legend(d, pal, &f);
@@ -1960,6 +2079,7 @@ int sp_sweep_plot(FILE *csv, const char *csv_name, const char *path,
     }
     const char *ext = strrchr(path, '.');
     const int png = !strcasecmp(ext, ".png");
+    G.vector = !png;
     const double scale = !png ? 0 : G.print ? (style->dpi > 0 ? style->dpi : 300) / 72 : PNG_SCALE_DEFAULT;
     if (G.print) /* in whole px of the output, as a still's at the same size and dpi */
         G.label_pt = sp_axis_label_pt(U(14), png ? scale : SP_FIGURE_PX_PER_PT);

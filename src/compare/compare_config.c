@@ -19,7 +19,7 @@
 #include "base/array.h"
 #include "base/decimal.h"
 #include "base/ini_lines.h"
-#include "compare/video_names.h"
+#include "video_names.h"
 
 /* The largest max_pixels count: any count beyond an image's pixels passes it;
  * this one stays below LONG_MAX. */

@@ -11,7 +11,7 @@
 #include "springpend/common.h"
 #include "springpend/snapshot_list.h"
 #include "base/array.h"
-#include "compare/video_names.h"
+#include "video_names.h"
 
 /* The extension's dot in name's last component, or NULL. */
 static const char *ext_of(const char *name)

@@ -6,7 +6,7 @@
  * environment keys (compare_config.c), none of which may be an ending.
  * A name read as a video alone is never left out of a folder silently
  * (attack17 #8).
- * Shared with: src/compare (the executable and springpend-av.so). */
+ * Private to src/compare (the executable and springpend-av.so both). */
 #ifndef SPRINGPEND_VIDEO_NAMES_H
 #define SPRINGPEND_VIDEO_NAMES_H
 

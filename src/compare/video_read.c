@@ -25,7 +25,7 @@
 #include "springpend/infile.h"
 #include "springpend/provenance.h"
 #include "springpend/video_read.h"
-#include "compare/video_names.h"
+#include "video_names.h"
 
 struct sp_video_reader {
     char *path;              /* owned copy, for messages */
@@ -185,7 +185,7 @@ static int metadata_bounded(int fd, const char *path, off_t from, off_t to, int 
 #define SP_VIDEO_CODECS "h264,hevc,vp9,gif"
 #define SP_VIDEO_CODECS_SAID "H.264, VP9 and GIF, the codecs springpend writes, and HEVC"
 
-/* What a video's name promises: compare/video_names.h, one table with the
+/* What a video's name promises: video_names.h, one table with the
  * folder walk's. */
 
 /* The entry of video_names that path's ending names, or NULL. */

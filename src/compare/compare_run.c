@@ -251,25 +251,53 @@ static const char *scene_find(const char *text, const char *key, size_t n, size_
     return NULL;
 }
 
+/* A place at or before `at` (and not before `floor`) where both a and b
+ * (their first `at` bytes the same) may be cut: a boundary of what draws as
+ * one character (sp_utf8_breakable); where none lies that far back (a
+ * grapheme longer than a report holds: a stack of marks, a chain of
+ * conjuncts), the start of the code point at `at`. */
+static size_t cut_before(const char *a, const char *b, size_t at, size_t floor)
+{
+    for (size_t k = at; k >= floor && k > 0; k--)
+        if (sp_utf8_breakable(a, a + k) && sp_utf8_breakable(b, b + k))
+            return k;
+    if (floor == 0)
+        return 0;
+    while (at > 0 && ((unsigned char)a[at] & 0xC0) == 0x80)
+        at--;
+    return at;
+}
+
 /* A changed value v (n bytes) as a report shows it, into out: whole when
  * both values are at most SP_SCENE_CHANGE_SHOWN bytes, else the bytes from
- * `from` (a boundary, at or before the first difference), at most
- * SP_SCENE_CHANGE_SHOWN of them up to a boundary (to the end when at most
- * SP_SCENE_CHANGE_SLACK more are left), "…" before and after where cut.
+ * `from` (a boundary before the first difference, diff), about
+ * SP_SCENE_CHANGE_SHOWN of them, always past diff: to a boundary at or
+ * before that, else (no boundary between diff and it) to the next boundary,
+ * at most what out holds (then at a code point); to the end when at most
+ * SP_SCENE_CHANGE_SLACK more are left; "…" before and after where cut.
  * 1 when cut. */
-static int shown_value(const char *v, size_t n, size_t from, size_t longest, char *out,
-                       size_t size)
+static int shown_value(const char *v, size_t n, size_t from, size_t diff, size_t longest,
+                       char *out, size_t size)
 {
     if (longest <= SP_SCENE_CHANGE_SHOWN) {
         snprintf(out, size, "%.*s", (int)n, v);
         return 0;
     }
-    size_t to = from + SP_SCENE_CHANGE_SHOWN < n ? from + SP_SCENE_CHANGE_SHOWN : n;
-    while (to > from && to < n && !sp_utf8_breakable(v, v + to))
-        to--;
-    if (n - to <= SP_SCENE_CHANGE_SLACK)
-        to = n; /* the few bytes left (from moved back to a boundary): whole */
     from = from < n ? from : n;
+    const size_t room = size - 7, lo = diff < n ? diff + 1 : n, /* "…" twice, NUL */
+        start = from + SP_SCENE_CHANGE_SHOWN < n ? from + SP_SCENE_CHANGE_SHOWN : n;
+    size_t to = start;
+    while (to > lo && to > from && !sp_utf8_breakable(v, v + to))
+        to--;
+    if (to < n && !sp_utf8_breakable(v, v + to)) { /* none behind: the next one */
+        to = start > lo ? start : lo;
+        while (to < n && to - from < room && !sp_utf8_breakable(v, v + to))
+            to++;
+        while (to < n && to > lo && ((unsigned char)v[to] & 0xC0) == 0x80)
+            to--; /* none within room: a code point's start */
+    }
+    if (n - to <= SP_SCENE_CHANGE_SLACK && n - from <= room)
+        to = n; /* the few bytes left (from moved back to a boundary): whole */
     snprintf(out, size, "%s%.*s%s", from ? "…" : "", (int)(to - from), v + from,
              to < n ? "…" : "");
     return from > 0 || to < n;
@@ -303,16 +331,18 @@ static void add_change(struct sp_compare_record *r, const char *key, size_t n, c
     sp_scene_canonical_display(ch->key, ve ? raw : "(none)", se, ne + 512);
     sp_scene_canonical_display(ch->key, va ? raw + ne + 1 : "(none)", sa, na + 512);
     const size_t le = strlen(se), la = strlen(sa), longest = le > la ? le : la;
-    size_t d = 0; /* the first difference, then where the shown part starts */
-    while (d < le && d < la && se[d] == sa[d])
-        d++;
-    d = d > SP_SCENE_CHANGE_SHOWN / 3 ? d - SP_SCENE_CHANGE_SHOWN / 3 : 0;
+    size_t diff = 0, d; /* the first difference; where the shown part starts */
+    while (diff < le && diff < la && se[diff] == sa[diff])
+        diff++;
+    d = diff > SP_SCENE_CHANGE_SHOWN / 3 ? diff - SP_SCENE_CHANGE_SHOWN / 3 : 0;
     if (longest > SP_SCENE_CHANGE_SHOWN && d + SP_SCENE_CHANGE_SHOWN > longest)
-        d = longest > SP_SCENE_CHANGE_SHOWN ? longest - SP_SCENE_CHANGE_SHOWN : 0;
-    while (d > 0 && !sp_utf8_breakable(se, se + d))
-        d--; /* the bytes before the difference are the same in both */
-    ch->cut = shown_value(se, le, d, longest, ch->expected, sizeof(ch->expected)) |
-              shown_value(sa, la, d, longest, ch->actual, sizeof(ch->actual));
+        d = longest - SP_SCENE_CHANGE_SHOWN;
+    /* a boundary of both (the bytes before diff are the same in both), no
+     * further back than leaves half the room for what follows diff */
+    const size_t half = (sizeof(ch->expected) - 7) / 2;
+    d = cut_before(se, sa, d, diff > half ? diff - half : 0);
+    ch->cut = shown_value(se, le, d, diff, longest, ch->expected, sizeof(ch->expected)) |
+              shown_value(sa, la, d, diff, longest, ch->actual, sizeof(ch->actual));
     free(se), free(sa), free(raw);
 }
 

@@ -45,7 +45,10 @@ struct sp_scene_change {
 
 /* One comparison: an image pair, or two videos. */
 struct sp_compare_record {
-    char name[256];           /* the file name (folders) or the actual path */
+    char name[4096];          /* the file name (folders: its path under the
+                                 folder, whole: any that the walk lists, as
+                                 PATH_MAX bounds FOLDER/NAME; attack17 #3)
+                                 or the actual path */
     char expected[4096];      /* path, "" when there is none */
     char actual[4096];        /* path, "" when there is none */
     char diff[4096];          /* diff image written, "" when none */

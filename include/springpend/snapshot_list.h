@@ -48,8 +48,9 @@ int sp_snapshot_is_folder_link(const char *name);
 /* 1 when name ends in .png (any case). */
 int sp_snapshot_is_png(const char *name);
 
-/* 1 when name ends in a video extension compare reads in folders (.mp4,
- * .webm, .mkv, .mov, .gif). */
+/* 1 when name ends in an extension compare reads as a video, in folders
+ * as alone (src/compare/video_names.h: .mp4, .m4v, .mov, .webm, .mkv,
+ * .gif, .h264, .264, .hevc, .h265, .265). */
 int sp_snapshot_is_video(const char *name);
 
 /* Lists dir_e and dir_a (a missing dir_e lists as empty) into l, skipping

@@ -19,6 +19,7 @@
 #include "base/array.h"
 #include "base/decimal.h"
 #include "base/ini_lines.h"
+#include "video_names.h"
 
 /* The largest max_pixels count: any count beyond an image's pixels passes it;
  * this one stays below LONG_MAX. */
@@ -161,6 +162,7 @@ struct config_ctx {
     struct sp_compare_config *cfg;
     struct sp_ini_lines lines;
     int section_line; /* of the last [header] read */
+    char section[256];    /* its name whole (a line holds at most 198 bytes) */
     int key_line[4];  /* where the last section set each SP_COMPARE_SET_* key */
     int errors, nomem;
 };
@@ -183,8 +185,14 @@ static char *read_line(char *str, int num, void *stream)
     struct config_ctx *c = stream;
     size_t len;
     char *s = sp_ini_lines_next(&c->lines, str, num, &len);
-    if (s && s[strspn(s, " \t")] == '[')
+    if (s && s[strspn(s, " \t")] == '[') {
+        /* libinih keeps the first 49 bytes of a section name (MAX_SECTION,
+         * 50 in Debian's build) and says nothing: a cut path could widen to
+         * a whole folder (attack17 #2). handle() takes it whole from here. */
+        const char *open = s + strspn(s, " \t") + 1, *close = strchr(open, ']');
         c->section_line = c->lines.line;
+        snprintf(c->section, sizeof(c->section), "%.*s", close ? (int)(close - open) : 0, open);
+    }
     if (s && len) {
         say("%s:%d: line is %zu bytes long; at most %d are allowed\n",
                 c->cfg->path, c->lines.line, len, num - 2);
@@ -195,14 +203,15 @@ static char *read_line(char *str, int num, void *stream)
 
 const char *sp_compare_env_key_check(const char *key)
 {
-    static const char *const reserved[] = {"diff", "png", "mp4", "webm", "mkv", "mov", "gif"};
     static const char word[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-";
     if (!key[0] || strlen(key) > 32 || strspn(key, word) != strlen(key))
         return "expected a key of 1 to 32 letters, digits, '_' or '-' (like llvm19)";
-    for (size_t i = 0; i < sizeof(reserved) / sizeof(reserved[0]); i++)
-        if (!strcasecmp(key, reserved[i]))
-            return "reserved: compare names its own files NAME.diff.png, and NAME.png, "
-                   "NAME.mp4... are images; choose another key (like llvm19)";
+    int reserved = !strcasecmp(key, "diff") || !strcasecmp(key, "png");
+    for (int i = 0; i < SP_VIDEO_NAMES_COUNT; i++) /* the video endings, dot aside */
+        reserved |= !strcasecmp(key, sp_video_names[i].ending + 1);
+    if (reserved)
+        return "reserved: compare names its own files NAME.diff.png, and NAME.png, "
+               "NAME.mp4... are images; choose another key (like llvm19)";
     return NULL;
 }
 
@@ -271,6 +280,10 @@ static int handle(void *user, const char *section, const char *name, const char 
     for (size_t n = strlen(v); n && (v[n - 1] == ' ' || v[n - 1] == '\t');)
         v[--n] = 0;
     value = v;
+    /* inih's name a strict prefix of the line's: cut (a line inih refuses,
+     * "[a ;b]", fails the whole file) */
+    if (strlen(section) < strlen(c->section) && !strncmp(section, c->section, strlen(section)))
+        section = c->section;
     if (!section[0] && !strcmp(name, "envs"))
         return read_envs(c, value);
     if (!section[0]) {

@@ -11,6 +11,7 @@
 #include "springpend/common.h"
 #include "springpend/snapshot_list.h"
 #include "base/array.h"
+#include "video_names.h"
 
 /* The extension's dot in name's last component, or NULL. */
 static const char *ext_of(const char *name)
@@ -34,10 +35,9 @@ int sp_snapshot_is_png(const char *name)
 
 int sp_snapshot_is_video(const char *name)
 {
-    static const char *const exts[] = {".mp4", ".webm", ".mkv", ".mov", ".gif"};
     const char *e = ext_of(name);
-    for (size_t i = 0; e && i < sizeof(exts) / sizeof(exts[0]); i++)
-        if (!strcasecmp(e, exts[i]))
+    for (int i = 0; e && i < SP_VIDEO_NAMES_COUNT; i++) /* the reader's own list */
+        if (!strcasecmp(e, sp_video_names[i].ending))
             return 1;
     return 0;
 }

@@ -25,6 +25,7 @@
 #include "springpend/infile.h"
 #include "springpend/provenance.h"
 #include "springpend/video_read.h"
+#include "video_names.h"
 
 struct sp_video_reader {
     char *path;              /* owned copy, for messages */
@@ -184,33 +185,17 @@ static int metadata_bounded(int fd, const char *path, off_t from, off_t to, int 
 #define SP_VIDEO_CODECS "h264,hevc,vp9,gif"
 #define SP_VIDEO_CODECS_SAID "H.264, VP9 and GIF, the codecs springpend writes, and HEVC"
 
-/* What a video's name promises, by its ending (case aside): the formats
- * of SP_VIDEO_FORMATS that FFmpeg may find in a file of that name (its
- * demuxer names) and what to call them. A raw H.264 stream named .mp4, an
- * MKV named .mp4, an MP4 named .gif are not what their names say: refused
- * (attack10 #7), as a reader of the name would not take them for it. */
-static const struct video_name {
-    const char *ending, *formats, *said;
-} video_names[] = {
-    {".mp4", "mov,mp4", "MP4"},      {".m4v", "mov,mp4", "MP4"},
-    {".mov", "mov,mp4", "MOV"},      {".webm", "matroska,webm", "WebM"},
-    {".mkv", "matroska,webm", "Matroska"}, {".gif", "gif", "GIF"},
-    {".h264", "h264", "a raw H.264 stream"}, {".264", "h264", "a raw H.264 stream"},
-    {".hevc", "hevc", "a raw HEVC stream"},  {".h265", "hevc", "a raw HEVC stream"},
-    {".265", "hevc", "a raw HEVC stream"},
-};
-#define SP_VIDEO_NAMES_SAID                                                                  \
-    "compare reads .mp4, .m4v and .mov files as MP4/MOV, .webm and .mkv as WebM/Matroska, "  \
-    ".gif as GIF, .h264 and .264 as raw H.264, .hevc, .h265 and .265 as raw HEVC"
+/* What a video's name promises: video_names.h, one table with the
+ * folder walk's. */
 
 /* The entry of video_names that path's ending names, or NULL. */
-static const struct video_name *video_name_of(const char *path)
+static const struct sp_video_name *video_name_of(const char *path)
 {
     const size_t n = strlen(path);
-    for (size_t i = 0; i < sizeof(video_names) / sizeof(video_names[0]); i++) {
-        const size_t k = strlen(video_names[i].ending);
-        if (n > k && path[n - k - 1] != '/' && !strcasecmp(path + n - k, video_names[i].ending))
-            return &video_names[i];
+    for (int i = 0; i < SP_VIDEO_NAMES_COUNT; i++) {
+        const size_t k = strlen(sp_video_names[i].ending);
+        if (n > k && path[n - k - 1] != '/' && !strcasecmp(path + n - k, sp_video_names[i].ending))
+            return &sp_video_names[i];
     }
     return NULL;
 }
@@ -220,7 +205,7 @@ static const struct video_name *video_name_of(const char *path)
  * logged when say. */
 static int format_named(const char *path, const AVInputFormat *found, int say)
 {
-    const struct video_name *v = video_name_of(path);
+    const struct sp_video_name *v = video_name_of(path);
     if (v && av_match_list(found->name, v->formats, ',') > 0)
         return 0;
     if (say && v)
@@ -242,7 +227,7 @@ static int format_named(const char *path, const AVInputFormat *found, int say)
  * codecs are the Matroska header's: nothing is decoded. */
 static int webm_codecs(const char *path, const AVFormatContext *fmt, int say)
 {
-    const struct video_name *v = video_name_of(path);
+    const struct sp_video_name *v = video_name_of(path);
     if (!v || strcmp(v->ending, ".webm"))
         return 0;
     for (unsigned i = 0; i < fmt->nb_streams; i++) {

@@ -791,7 +791,7 @@ static int line_has_content(struct parse_ctx *c, const char *s)
             report(c, c->line, "section header without ']'");
             return 0;
         }
-        char name[64];
+        char name[256]; /* whole: the line holds at most 198 bytes (inih cuts at 49) */
         size_t n = (size_t)(close - s - 1);
         if (n >= sizeof(name))
             n = sizeof(name) - 1;

@@ -685,8 +685,7 @@ static const char *iccp_judged(struct png_reader *r, const png_byte *prof, png_u
  * for them binds only checksums and a length a forger sets, attack18
  * #4), whatever sRGB chunk stands before or after it (viewers convert by
  * the profile); else what is wrong, in buf: a profile libpng dropped
- * unread, one not whole (a second one, or one after the palette:
- * colour_chunks_refused). reader_setup keeps iCCP chunks unread by
+ * unread, more than one, one after the palette, one not whole. reader_setup keeps iCCP chunks unread by
  * libpng. *present: 1 when the PNG has a profile. */
 static const char *iccp_refused(struct png_reader *r, char *buf, size_t size, int *present)
 {
@@ -704,6 +703,14 @@ static const char *iccp_refused(struct png_reader *r, char *buf, size_t size, in
         snprintf(buf, size, "holds an ICC colour profile (iCCP) that libpng does not read "
                  "(%s), by which viewers may still convert its colours; save it without the "
                  "iCCP chunk, its pixels in sRGB", r->iccp_why);
+    else if (count > 1)
+        snprintf(buf, size, "holds %d ICC colour profiles (iCCP chunks), where PNG allows one "
+                 "and viewers convert its colours by one or another; save it with its pixels "
+                 "in sRGB, without the iCCP chunks", count);
+    else if (c && (c->location & (PNG_HAVE_PLTE | PNG_AFTER_IDAT)))
+        snprintf(buf, size, "holds an ICC colour profile (iCCP) after its palette (PLTE), "
+                 "where PNG allows none, by which viewers may still convert its colours; save "
+                 "it without the iCCP chunk, its pixels in sRGB");
     else if (c && !iccp_inflate(r, c, &len, &why))
         snprintf(buf, size, "holds an ICC colour profile (iCCP) that is not whole (%s), by "
                  "which viewers may still convert its colours; save it without the iCCP chunk, "
@@ -1002,11 +1009,13 @@ static int shown_as_read(struct png_reader *r)
                  "viewers show it by (iCCP, sRGB, cICP, sPLT...: libpng: %s), so that some "
                  "would go unread; save it without them", r->lost_why);
     if (!what)
-        what = colour_chunks_refused(r, buf, sizeof(buf));
-    if (!what)
         what = exif_refused(r, buf, sizeof(buf));
+    if (!what)
+        what = iccp_refused(r, buf, sizeof(buf), &icc);
+    if (!what) /* a gAMA, cHRM, sRGB or cICP twice or after PLTE (iCCP: just above) */
+        what = colour_chunks_refused(r, buf, sizeof(buf));
     /* viewers convert by an ICC profile rather than by gAMA and cHRM */
-    if (!what && !(what = iccp_refused(r, buf, sizeof(buf), &icc)) && icc)
+    if (!what && icc)
         return 0;
     if (!what && !srgb)
         what = chrm_refused(r, kept_chunk(r, "gAMA") != NULL);

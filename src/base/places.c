@@ -85,9 +85,10 @@ int sp_build_tree(char *build, char *source)
 
 /* The folder named sub in the source tree when run from a build tree; else
  * reldir from the executable's folder (an absolute reldir as it is), where
- * it is a folder; else absdir. Resolved, into dir. */
-static void shipped_dir(char *dir, size_t size, const char *sub, const char *reldir,
-                        const char *absdir)
+ * it is a folder; else absdir. Resolved, into dir. 0 when dir is a folder,
+ * -1 when not (absdir, where nothing was installed or it was removed). */
+static int shipped_dir(char *dir, size_t size, const char *sub, const char *reldir,
+                       const char *absdir)
 {
     char exe[PATH_MAX], source[PATH_MAX], path[2 * PATH_MAX + 64], real[PATH_MAX];
     struct stat st;
@@ -100,14 +101,15 @@ static void shipped_dir(char *dir, size_t size, const char *sub, const char *rel
     if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode))
         snprintf(path, sizeof(path), "%s", absdir);
     snprintf(dir, size, "%s", realpath(path, real) ? real : path);
+    return stat(dir, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }
 
 void sp_scenes_dir(char *dir, size_t size)
 {
-    shipped_dir(dir, size, "scenes", SP_SCENES_RELDIR, SP_SCENES_DIR);
+    (void)shipped_dir(dir, size, "scenes", SP_SCENES_RELDIR, SP_SCENES_DIR);
 }
 
-void sp_docs_dir(char *dir, size_t size)
+int sp_docs_dir(char *dir, size_t size)
 {
-    shipped_dir(dir, size, "doc", SP_DOCS_RELDIR, SP_DOCS_DIR);
+    return shipped_dir(dir, size, "doc", SP_DOCS_RELDIR, SP_DOCS_DIR);
 }

@@ -310,6 +310,48 @@ int sp_utf8_hidden_at(const char *start, const char *at)
     return n > 1 && sp_utf8_is_hidden(u) && !sp_utf8_is_joiner(start, at);
 }
 
+/* A Hangul jamo's or syllable's Hangul_Syllable_Type (Unicode's
+ * HangulSyllableType.txt): 'L' a leading consonant, 'V' a vowel, 'T' a
+ * trailing consonant, 'l' an LV syllable, 'x' an LVT syllable; 0 none. */
+static int hangul_type(uint32_t u)
+{
+    if ((u >= 0x1100 && u <= 0x115F) || (u >= 0xA960 && u <= 0xA97C))
+        return 'L';
+    if ((u >= 0x1160 && u <= 0x11A7) || (u >= 0xD7B0 && u <= 0xD7C6))
+        return 'V';
+    if ((u >= 0x11A8 && u <= 0x11FF) || (u >= 0xD7CB && u <= 0xD7FB))
+        return 'T';
+    if (u >= 0xAC00 && u <= 0xD7A3)
+        return (u - 0xAC00) % 28 ? 'x' : 'l';
+    return 0;
+}
+
+/* 1 when UAX #29 keeps p and u (p's next character) in one Hangul
+ * syllable: L x (L|V|LV|LVT), (LV|V) x (V|T), (LVT|T) x T (GB6-GB8). */
+static int hangul_joined(uint32_t p, uint32_t u)
+{
+    const int a = hangul_type(p), b = hangul_type(u);
+    if (!a || !b)
+        return 0;
+    if (a == 'L')
+        return b != 'T';
+    if (a == 'l' || a == 'V')
+        return b == 'V' || b == 'T';
+    return (a == 'x' || a == 'T') && b == 'T';
+}
+
+/* 1 when the regional indicator at `at` is the second of a flag: an odd
+ * number of regional indicators stand right before it (GB12, GB13). */
+static int second_of_flag(const char *start, const char *at)
+{
+    int odd = 0;
+    uint32_t p = 0;
+    for (const char *q = before(start, at, &p); q && p >= 0x1F1E6 && p <= 0x1F1FF;
+         q = before(start, q, &p))
+        odd = !odd;
+    return odd;
+}
+
 int sp_utf8_breakable(const char *start, const char *at)
 {
     if (at == start || !*at)
@@ -339,7 +381,7 @@ int sp_utf8_breakable(const char *start, const char *at)
         return 0;
     if (!before(start, at, &p))
         return 1;
-    if (p == 0x200C || p == 0x200D || virama(p))
+    if (p == 0x200C || p == 0x200D || virama(p) || hangul_joined(p, u))
         return 0;
-    return !(u >= 0x1F1E6 && u <= 0x1F1FF && p >= 0x1F1E6 && p <= 0x1F1FF); /* a flag */
+    return !(u >= 0x1F1E6 && u <= 0x1F1FF && second_of_flag(start, at));
 }

@@ -61,8 +61,10 @@ int sp_utf8_hidden_at(const char *start, const char *at);
  * splitting a character or what draws as one: at is start, or at a
  * character's first byte that is no mark (Mn, Mc, Me: an accent, a vowel
  * sign, a variation selector), format character (Cf: a joiner, a tag),
- * emoji modifier or second regional indicator of a pair, and that follows
- * no ZWJ, ZWNJ or virama. A byte that is not UTF-8 is a character of its
+ * emoji modifier or second regional indicator of a pair (counted from the
+ * run's start), that follows no ZWJ, ZWNJ or virama, and that splits no
+ * Hangul syllable written as jamo (UAX #29's GB6-GB8: L x L|V|LV|LVT,
+ * LV|V x V|T, LVT|T x T). A byte that is not UTF-8 is a character of its
  * own. */
 int sp_utf8_breakable(const char *start, const char *at);
 

@@ -72,6 +72,8 @@ static const char sweep_usage[] =
     "            initial.angle_rate is derived from --energy E (J; default the\n"
     "            scene's own), so vary initial.length, initial.angle or\n"
     "            initial.length_rate. Points that cannot reach E are skipped.\n"
+    "orbit and poincare: a point without a crossing or sample in the span (or\n"
+    "without the energy) has one CSV row of its own: t = T0 + T, the values nan.\n"
     "3-D scenes (initial.azimuth_rate != 0, or varied) take lyapunov (a 6-D tangent)\n"
     "and precession; the other measures are of the planar motion. A sweep draws\n"
     "no panel: [view] panels and vectors are not checked against the 3-D motion.\n"

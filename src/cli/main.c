@@ -39,8 +39,7 @@ static const char usage[] =
     "'springpend COMMAND --help' tells more. Scenes are INI files; the shipped\n"
     "ones, to start from (default.ini, chaotic.ini, ...), are in\n"
     "  %s/\n"
-    "and the guides (scenes.md, outputs.md, ci.md, teaching.md, ...) in\n"
-    "  %s/\n"
+    "%s"
     "\n"
     "exit status: 0 done, 1 failed (I/O, encoder, GL; compare: images differ),\n"
     "             2 bad input, 3 the simulation became unstable,\n"
@@ -139,10 +138,16 @@ int main(int argc, char **argv)
     sp_infile_stop_on(sp_signal_flag()); /* a read cut by a stop signal ends */
     if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") ||
         !strcmp(argv[1], "help")) {
-        char scenes[PATH_MAX], docs[PATH_MAX];
+        char scenes[PATH_MAX], docs[PATH_MAX], guides[PATH_MAX + 160];
         sp_scenes_dir(scenes, sizeof(scenes));
-        sp_docs_dir(docs, sizeof(docs));
-        fprintf(argc < 2 ? stderr : stdout, usage, scenes, docs);
+        if (sp_docs_dir(docs, sizeof(docs)) == 0)
+            snprintf(guides, sizeof(guides), "and the guides (scenes.md, outputs.md, ci.md, "
+                     "teaching.md, ...) in\n  %s/\n", docs);
+        else /* a system without /usr/share/doc */
+            snprintf(guides, sizeof(guides), "and the guides (scenes.md, outputs.md, ci.md, "
+                     "teaching.md, ...) are not\ninstalled here: they are doc/*.md in "
+                     "springpend's source\n");
+        fprintf(argc < 2 ? stderr : stdout, usage, scenes, guides);
         return argc < 2 ? 2 : exit_status(stdout_checked(0));
     }
     if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {

@@ -54,8 +54,7 @@ struct compare_run {
     int candidates_failed;         /* candidates that could not be written */
     int candidates_made;           /* this run made the candidates folder */
     int diff_in_candidates;        /* the diffs go beside the candidates */
-    unsigned diff_links;           /* write_whole's flags for diff images:
-                                      SP_OUTFILE_REPLACE_LINK in folder mode */
+    int refused;                   /* refused before comparing: no report */
     const volatile sig_atomic_t *cancel; /* the desc's */
 };
 
@@ -252,25 +251,53 @@ static const char *scene_find(const char *text, const char *key, size_t n, size_
     return NULL;
 }
 
+/* A place at or before `at` (and not before `floor`) where both a and b
+ * (their first `at` bytes the same) may be cut: a boundary of what draws as
+ * one character (sp_utf8_breakable); where none lies that far back (a
+ * grapheme longer than a report holds: a stack of marks, a chain of
+ * conjuncts), the start of the code point at `at`. */
+static size_t cut_before(const char *a, const char *b, size_t at, size_t floor)
+{
+    for (size_t k = at; k >= floor && k > 0; k--)
+        if (sp_utf8_breakable(a, a + k) && sp_utf8_breakable(b, b + k))
+            return k;
+    if (floor == 0)
+        return 0;
+    while (at > 0 && ((unsigned char)a[at] & 0xC0) == 0x80)
+        at--;
+    return at;
+}
+
 /* A changed value v (n bytes) as a report shows it, into out: whole when
  * both values are at most SP_SCENE_CHANGE_SHOWN bytes, else the bytes from
- * `from` (a boundary, at or before the first difference), at most
- * SP_SCENE_CHANGE_SHOWN of them up to a boundary (to the end when at most
- * SP_SCENE_CHANGE_SLACK more are left), "…" before and after where cut.
+ * `from` (a boundary before the first difference, diff), about
+ * SP_SCENE_CHANGE_SHOWN of them, always past diff: to a boundary at or
+ * before that, else (no boundary between diff and it) to the next boundary,
+ * at most what out holds (then at a code point); to the end when at most
+ * SP_SCENE_CHANGE_SLACK more are left; "…" before and after where cut.
  * 1 when cut. */
-static int shown_value(const char *v, size_t n, size_t from, size_t longest, char *out,
-                       size_t size)
+static int shown_value(const char *v, size_t n, size_t from, size_t diff, size_t longest,
+                       char *out, size_t size)
 {
     if (longest <= SP_SCENE_CHANGE_SHOWN) {
         snprintf(out, size, "%.*s", (int)n, v);
         return 0;
     }
-    size_t to = from + SP_SCENE_CHANGE_SHOWN < n ? from + SP_SCENE_CHANGE_SHOWN : n;
-    while (to > from && to < n && !sp_utf8_breakable(v, v + to))
-        to--;
-    if (n - to <= SP_SCENE_CHANGE_SLACK)
-        to = n; /* the few bytes left (from moved back to a boundary): whole */
     from = from < n ? from : n;
+    const size_t room = size - 7, lo = diff < n ? diff + 1 : n, /* "…" twice, NUL */
+        start = from + SP_SCENE_CHANGE_SHOWN < n ? from + SP_SCENE_CHANGE_SHOWN : n;
+    size_t to = start;
+    while (to > lo && to > from && !sp_utf8_breakable(v, v + to))
+        to--;
+    if (to < n && !sp_utf8_breakable(v, v + to)) { /* none behind: the next one */
+        to = start > lo ? start : lo;
+        while (to < n && to - from < room && !sp_utf8_breakable(v, v + to))
+            to++;
+        while (to < n && to > lo && ((unsigned char)v[to] & 0xC0) == 0x80)
+            to--; /* none within room: a code point's start */
+    }
+    if (n - to <= SP_SCENE_CHANGE_SLACK && n - from <= room)
+        to = n; /* the few bytes left (from moved back to a boundary): whole */
     snprintf(out, size, "%s%.*s%s", from ? "…" : "", (int)(to - from), v + from,
              to < n ? "…" : "");
     return from > 0 || to < n;
@@ -304,16 +331,18 @@ static void add_change(struct sp_compare_record *r, const char *key, size_t n, c
     sp_scene_canonical_display(ch->key, ve ? raw : "(none)", se, ne + 512);
     sp_scene_canonical_display(ch->key, va ? raw + ne + 1 : "(none)", sa, na + 512);
     const size_t le = strlen(se), la = strlen(sa), longest = le > la ? le : la;
-    size_t d = 0; /* the first difference, then where the shown part starts */
-    while (d < le && d < la && se[d] == sa[d])
-        d++;
-    d = d > SP_SCENE_CHANGE_SHOWN / 3 ? d - SP_SCENE_CHANGE_SHOWN / 3 : 0;
+    size_t diff = 0, d; /* the first difference; where the shown part starts */
+    while (diff < le && diff < la && se[diff] == sa[diff])
+        diff++;
+    d = diff > SP_SCENE_CHANGE_SHOWN / 3 ? diff - SP_SCENE_CHANGE_SHOWN / 3 : 0;
     if (longest > SP_SCENE_CHANGE_SHOWN && d + SP_SCENE_CHANGE_SHOWN > longest)
-        d = longest > SP_SCENE_CHANGE_SHOWN ? longest - SP_SCENE_CHANGE_SHOWN : 0;
-    while (d > 0 && !sp_utf8_breakable(se, se + d))
-        d--; /* the bytes before the difference are the same in both */
-    ch->cut = shown_value(se, le, d, longest, ch->expected, sizeof(ch->expected)) |
-              shown_value(sa, la, d, longest, ch->actual, sizeof(ch->actual));
+        d = longest - SP_SCENE_CHANGE_SHOWN;
+    /* a boundary of both (the bytes before diff are the same in both), no
+     * further back than leaves half the room for what follows diff */
+    const size_t half = (sizeof(ch->expected) - 7) / 2;
+    d = cut_before(se, sa, d, diff > half ? diff - half : 0);
+    ch->cut = shown_value(se, le, d, diff, longest, ch->expected, sizeof(ch->expected)) |
+              shown_value(sa, la, d, diff, longest, ch->actual, sizeof(ch->actual));
     free(se), free(sa), free(raw);
 }
 
@@ -479,6 +508,34 @@ static void record_start(struct compare_run *c, struct sp_compare_record *r, con
     r->metric = opts->metric;
 }
 
+/* The command line's limits: under any of them compare.ini's masks may hide
+ * at most half an image (attack17 #13: `mask = 0, 0, W, H` passed any image
+ * under --max-pixels 0 --max-diff 0, a limit compare.ini must not loosen).
+ * A clock or a timestamp is far smaller; a mask that hides more judges
+ * nothing, so the image is an error that names the masks. Returns 1 then. */
+#define CLI_LIMITS (SP_COMPARE_SET_MAX_DIFF | SP_COMPARE_SET_MAX_PIXELS | \
+                    SP_COMPARE_SET_TOL | SP_COMPARE_SET_THRESHOLD)
+static int masks_too_wide(const struct compare_run *c, struct sp_compare_record *r, long pixels)
+{
+    if (!(c->base.set & CLI_LIMITS) || pixels <= 0 || 2 * r->masked_pixels <= pixels)
+        return 0;
+    char list[160] = "";
+    size_t k = 0;
+    for (int i = 0; i < r->n_masks && i < 3 && k < sizeof(list); i++) {
+        const struct sp_compare_mask *m = &r->masks[i];
+        int n = snprintf(list + k, sizeof(list) - k, "%s%d, %d, %d, %d%s", i ? "; " : "",
+                         m->x, m->y, m->w, m->h, i == 2 && r->n_masks > 3 ? "; ..." : "");
+        k += n > 0 ? (size_t)n : 0;
+    }
+    record_error(r, "%s: its masks for %s (%s) hide %ld of the %ld pixels (%.1f%%); under a "
+                 "command-line limit masks may hide at most half an image, so it was not "
+                 "judged", c->cfg.path, r->name, list, r->masked_pixels, pixels,
+                 100.0 * (double)r->masked_pixels / (double)pixels);
+    snprintf(r->hint, sizeof(r->hint), "mask only what changes by itself (a clock, a "
+             "timestamp), or compare without a command-line limit to let compare.ini decide");
+    return 1;
+}
+
 /* Compares two PNG files into record r. diff_path may be NULL. */
 static void compare_files(struct compare_run *c, struct sp_compare_record *r,
                           const char *name, const char *rule_name, const char *expected,
@@ -542,6 +599,8 @@ static void compare_files(struct compare_run *c, struct sp_compare_record *r,
         sp_compare_apply_masks(&e, &a, masks, n_masks);
         r->masked_pixels = sp_compare_masked_pixels(e.width, e.height, star_masks,
                                                     n_star_masks, masks, n_masks);
+        if (masks_too_wide(c, r, (long)e.width * e.height))
+            goto done;
         const int err = sp_compare_images(&e, &a, &opts, &r->result, diff_path ? &d : NULL);
         if (err) {
             if (err == SP_E_NOMEM)
@@ -553,9 +612,10 @@ static void compare_files(struct compare_run *c, struct sp_compare_record *r,
         r->ssim = sp_compare_ssim(&e, &a);
         r->verdict = r->result.pass ? SP_VERDICT_PASS : SP_VERDICT_FAIL;
     }
-    /* A diff image in a folder replaces a link there, never follows it. */
+    /* A link at a diff image's path is refused (refuse_diff_links, and
+     * write_whole if one appeared since). */
     if (r->verdict == SP_VERDICT_FAIL && diff_path &&
-        write_whole(diff_path, c->diff_links, fill_png, &(struct png_out){&d, diff_path}) == 0)
+        write_whole(diff_path, 0, fill_png, &(struct png_out){&d, diff_path}) == 0)
         snprintf(r->diff, sizeof(r->diff), "%s", diff_path);
 done:
     /* What made the two images, pass or fail: a pass across renderers is
@@ -807,6 +867,10 @@ static int compare_videos(struct compare_run *c, struct sp_compare_record *r,
         sp_compare_apply_masks(&fe, &fa, masks, n_masks);
         r->masked_pixels = sp_compare_masked_pixels(fe.width, fe.height, star_masks,
                                                     n_star_masks, masks, n_masks);
+        if (masks_too_wide(c, r, (long)fe.width * fe.height)) {
+            ret = SP_E_INPUT;
+            goto done;
+        }
         ret = blocks ? compare_blocks(&fe, &fa, &opts, &res, diff_path ? &d : NULL)
                      : sp_compare_images(&fe, &fa, &opts, &res, diff_path ? &d : NULL);
         if (ret) {
@@ -942,6 +1006,14 @@ static void record_reset(struct sp_compare_record *r)
     r->worst_frame = -1;
 }
 
+/* The diff image's path of folder item name (size bytes). */
+static void diff_name(const struct compare_run *c, const char *name, char *out, size_t size)
+{
+    const char *dot = strrchr(name, '.');
+    snprintf(out, size, "%s/%.*s.diff.png", c->diff,
+             (int)(dot ? dot - name : (long)strlen(name)), name);
+}
+
 /* Compares image `it` into r against its baselines: the plain one first,
  * then each alternative; the first that passes is the match (r then holds
  * that comparison and names the alternative). When none passes, r holds the
@@ -956,9 +1028,7 @@ static void compare_item(struct compare_run *c, struct sp_compare_record *r,
     double t0 = sp_clock_s();
     snprintf(pa, sizeof(pa), "%s/%s", dir_a, it->name);
     if (c->diff) {
-        const char *dot = strrchr(it->name, '.');
-        snprintf(pd, sizeof(pd), "%s/%.*s.diff.png", c->diff,
-                 (int)(dot ? dot - it->name : (long)strlen(it->name)), it->name);
+        diff_name(c, it->name, pd, sizeof(pd));
         char where[PATH_MAX];
         if (sp_compare_parent_outside(pd, c->diff, where, sizeof(where)))
             sp_log_error("%s would be written to %s, through a link out of %s: not written",
@@ -1132,6 +1202,48 @@ static void write_candidate(struct compare_run *c, struct sp_compare_record *r,
         c->candidates_failed++;
 }
 
+/* What is at path, in words ("a folder", "a file"), NULL when nothing. */
+static const char *kind_at(const char *path, struct stat *st)
+{
+    if (lstat(path, st) != 0)
+        return NULL;
+    return S_ISDIR(st->st_mode)    ? "a folder"
+           : S_ISREG(st->st_mode)  ? "a file"
+           : S_ISLNK(st->st_mode)  ? "a link"
+           : S_ISFIFO(st->st_mode) ? "a FIFO"
+                                   : "a device or socket";
+}
+
+/* An image found on one side only (in folder have, not in miss): 1, with
+ * the error in r, when its path in miss is taken by another kind, or a
+ * folder on its way is a file there (attack17 #12: a/x.png a folder beside
+ * e/x.png a file read as "no actual image", and the --update=missing hint
+ * offered then failed). Nothing is hinted, and --update leaves it. */
+static int kind_clash(struct sp_compare_record *r, const char *name, const char *have,
+                      const char *miss)
+{
+    char pm[PATH_MAX], ph[PATH_MAX];
+    struct stat st;
+    for (const char *s = strchr(name, '/');; s = strchr(s + 1, '/')) {
+        const int n = s ? (int)(s - name) : (int)strlen(name);
+        snprintf(pm, sizeof(pm), "%s/%.*s", miss, n, name);
+        snprintf(ph, sizeof(ph), "%s/%.*s", have, n, name);
+        const char *km = kind_at(pm, &st);
+        if (!km || (s ? S_ISDIR(st.st_mode) : S_ISREG(st.st_mode))) {
+            if (!km || !s)
+                return 0;
+            continue; /* the folder on the way is one on both sides */
+        }
+        const char *kh = kind_at(ph, &st);
+        snprintf(r->name, sizeof(r->name), "%s", name);
+        record_error(r, "%s is %s, %s %s: one of them is misplaced, so %s was not compared",
+                     pm, km, ph, kh ? kh : "a file", name);
+        snprintf(r->hint, sizeof(r->hint), "move or rename one of them");
+        r->refused = 1; /* --update would fail there, or remove a baseline */
+        return 1;
+    }
+}
+
 /* Folder mode: records in r why item `it` cannot be compared (a link to a
  * folder or out of its folder, or an image on one side only); 1 when it can
  * (the threads compare it), else 0. */
@@ -1208,6 +1320,10 @@ static int screen_item(struct sp_compare_record *r, const struct sp_snapshot *it
     } else if (refused || link_out(r, it->name, pe, dir_e) ||
                link_out(r, it->name, pa, dir_a)) {
         r->refused = 1; /* recorded as an error; nothing is updated */
+    } else if (!it->actual ? kind_clash(r, it->name, dir_e, dir_a)
+                           : !it->expected && !it->n_alts &&
+                                 kind_clash(r, it->name, dir_a, dir_e)) {
+        return 0; /* a file beside a folder of its name: said, refused */
     } else if (!it->actual || (!it->expected && !it->n_alts)) {
         snprintf(r->name, sizeof(r->name), "%s", it->name);
         snprintf(it->actual ? r->actual : r->expected, sizeof(r->actual), "%s",
@@ -1422,6 +1538,29 @@ static int nothing_compared(struct sp_compare_report *rep)
  * under dir_a, subfolders too, on c->jobs threads; an image in only one of
  * them is an error (a missing render or a missing baseline). Then applies
  * --update and --candidates, in order, on this thread. */
+/* Refuses (SP_E_INPUT, said) a folder run whose --diff folder holds a
+ * symbolic link where a diff image would go, before anything is compared:
+ * an output is never written through a link nor replaces one (doc/outputs.md;
+ * attack17 #14: a link there was replaced without a word). */
+static int refuse_diff_links(struct compare_run *c, const struct sp_snapshot_list *l)
+{
+    struct stat st;
+    char pd[PATH_MAX];
+    for (int i = 0; c->diff && i < l->n; i++) {
+        diff_name(c, l->items[i].name, pd, sizeof(pd));
+        if (lstat(pd, &st) != 0 || !S_ISLNK(st.st_mode))
+            continue;
+        if (!sp_outfile_refuse_link(pd)) /* a link to a folder, a FIFO, a device */
+            sp_log_error("%s is a symbolic link; a diff image is never written through a "
+                         "link nor replaces one: remove the link", pd);
+        sp_log_error("--diff %s: nothing compared, the link and what it names left as they "
+                     "were", c->diff);
+        c->refused = 1; /* before any output: sp_compare_run writes no report */
+        return SP_E_INPUT;
+    }
+    return 0;
+}
+
 static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
                            const char *dir_e, const char *dir_a)
 {
@@ -1442,8 +1581,8 @@ static int compare_folders(struct compare_run *c, struct sp_compare_report *rep,
         }
         return ret;
     }
-    if (!(todo = calloc((size_t)list.n + 1, 1))) {
-        ret = nothing_compared(rep);
+    if ((ret = refuse_diff_links(c, &list)) != 0 || !(todo = calloc((size_t)list.n + 1, 1))) {
+        ret = ret ? ret : nothing_compared(rep); /* a link: c->refused, no report */
         goto done;
     }
     for (int i = 0; i < list.n; i++)
@@ -2217,8 +2356,12 @@ int sp_compare_run(const struct sp_compare_desc *d)
             ret = SP_E_INPUT;
             goto done;
         }
-        c.diff_links = SP_OUTFILE_REPLACE_LINK;
         ret = compare_folders(&c, &rep, e, a);
+        if (c.refused) {
+            if (c.candidates_made)
+                rmdir(c.candidates);
+            goto done;
+        }
     } else {
         struct sp_compare_record *r = sp_compare_report_add(&rep);
         if (!r) {

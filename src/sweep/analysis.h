@@ -46,6 +46,15 @@ struct sp_lyap_grid {
 };
 void sp_sweep_lyap_grid(double time, enum sp_method method, double dt, struct sp_lyap_grid *g);
 
+/* sweep_rows.c: row (point p, branch b, its first value's field tf read as
+ * t; mark: 0 a measured row, 1 the NaN row of a point that blew up, 2 the
+ * row of an orbit's or poincare point without an event) in the sequence of
+ * the shard's rows r (the rules: sweep.h's sp_sweep_rows_end). NULL, or
+ * what is wrong. Called by sp_sweep_row_check before it takes the row as
+ * the last (r->point). */
+const char *sp_sweep_row_sequence(struct sp_sweep_rows *r, long p, int b, const char *tf,
+                                  double t, int mark);
+
 /* ---- spectrum.c ---------------------------------------------------------- */
 
 /* The Lyapunov spectrum of scenes[0..n) (grid points pts[], skip[i]: not
@@ -56,6 +65,13 @@ void sp_sweep_lyap_grid(double time, enum sp_method method, double dt, struct sp
  * vectors are re-orthonormalised by modified Gram-Schmidt, ln R_jj summed.
  * Rows at checkpoints T (about ten per decade of T, and T = d->time).
  * forced: the grid's (sweep.c). Returns 0, SP_E_NOMEM or SP_E_INTERRUPTED. */
+#define SP_SPECTRUM_MAX_CHECKS 128 /* checkpoints per point: ten per decade of T/tau */
+
+/* The renormalisation times T of a spectrum point's rows (the checkpoints
+ * k tau: k = round(10^(i/10)) up to K, and K), in order, into T[0..max);
+ * returns how many (sweep_rows.c: what a merge checks the rows against). */
+int sp_spectrum_checkpoints(const struct sp_sweep_desc *d, double *T, int max);
+
 int sp_spectrum_measure(const struct sp_sweep_desc *d, const struct sp_scene *scenes,
                         const long *pts, const int *skip, int n, int forced, FILE *rows,
                         long *blown_up);

@@ -51,7 +51,7 @@ static int sample_lanes(const struct sp_sweep_desc *d, struct sp_batch *b,
 {
     const double dt = d->dt, t_end = d->transient + d->time;
     const int by_r = d->peak == SP_PEAK_R;
-    double prev[4][64], peak[64];
+    double prev[4][64], peak[64], last_k[64] = {0}; /* the last k sampled (k >= 1) */
     if (n > 64)
         return SP_E_INPUT; /* not reached: chunks are smaller */
     for (int i = 0; i < n; i++) {
@@ -75,7 +75,8 @@ static int sample_lanes(const struct sp_sweep_desc *d, struct sp_batch *b,
             const double vx1 = b->out[SP_BVX][i], vy1 = b->out[SP_BVY][i];
             const double f = scenes[i]->pivot.frequency;
             double k = floor(t1 * f * (1 + 1e-15)), te = k / f;
-            if (te > t0 && te <= t1 * (1 + 1e-15)) { /* as sweep.c's measure_events */
+            if (te > t0 && te <= t1 * (1 + 1e-15) && k > last_k[i]) { /* as measure_events */
+                last_k[i] = k;
                 double s = fmin(1, (te - t0) / dt);
                 double x = sp_hermite(s, dt, x0, vx0, x1, vx1);
                 double y = sp_hermite(s, dt, y0, vy0, y1, vy1);
@@ -106,6 +107,8 @@ static void write_rows(FILE *fp, const struct sp_sweep_desc *d, long p, int bran
         fprintf(fp, "%snan,nan,nan,%d,nan\n", head, branch);
         return;
     }
+    if (!v->n) /* no drive period in the span: one row says so (sweep_rows.c) */
+        fprintf(fp, "%s%.10g,nan,nan,%d,nan\n", head, d->transient + d->time, branch);
     for (long j = 0; j < v->n; j++)
         fprintf(fp, "%s%.10g,%.9g,%.9g,%d,%.9g\n", head, v->s[j].t, v->s[j].theta + 0.0,
                 v->s[j].r, branch, v->s[j].peak + 0.0); /* + 0.0: never "-0" (sweep.c) */

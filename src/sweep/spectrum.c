@@ -22,7 +22,7 @@
 #include "springpend/common.h"
 
 #define COPIES 4
-#define MAX_CHECKS 128 /* checkpoints per point: ten per decade of T/tau */
+#define MAX_CHECKS SP_SPECTRUM_MAX_CHECKS
 
 void sp_spectrum_mgs(double v[4][4], double r[4])
 {

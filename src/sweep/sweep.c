@@ -268,6 +268,23 @@ static int printf_form(const char *f, double v)
     return 0;
 }
 
+/* What kind of row an orbit's or poincare row is: 0 measured, 1 the NaN
+ * row of a point that blew up, 2 the row of a point without an event (one
+ * row of its own: t = T0 + T, tf, and the values NaN, the branch column
+ * kept), -1 neither (NaN in some values only). Other measures: 0. */
+static int row_mark(const struct sp_sweep_desc *d, const char *tf, int first_nan, int nan,
+                    int nv)
+{
+    const int ext = d->measure == SP_MEASURE_ORBIT && (d->cont || d->peak);
+    char end[32];
+    if (d->measure != SP_MEASURE_ORBIT && d->measure != SP_MEASURE_POINCARE)
+        return 0;
+    if (first_nan || !nan)
+        return first_nan;
+    snprintf(end, sizeof(end), "%.10g", d->transient + d->time);
+    return !strcmp(tf, end) && nan == nv - 1 - ext ? 2 : -1;
+}
+
 const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
 {
     const struct sp_sweep_desc *d = r->d;
@@ -285,8 +302,9 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
                               d->measure == SP_MEASURE_BASINS ||
                               d->measure == SP_MEASURE_PRECESSION;
     const int n = 1 + d->n_axes + nv;
-    char field[64], want[32];
-    double t = 0, v;
+    char field[64], want[32], tf[64] = "";
+    double t = 0, v, branch = 0;
+    int first_nan = 0;
     int nan = 0, idx[SP_SWEEP_MAX_AXES];
     long point = -1;
     const char *p = line;
@@ -297,6 +315,10 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
         memcpy(field, p, len);
         field[len] = 0;
         p += len + 1;
+        if (i == d->n_axes + 1) /* the first value: a time (T for spectrum) */
+            memcpy(tf, field, len + 1), first_nan = !strcmp(field, "nan");
+        if (i == d->n_axes + 4 && (d->cont || d->peak)) /* orbit's branch column */
+            branch = !strcmp(field, "nan") ? 2 : strtod(field, NULL);
         if (i == 0) { /* the point, as "%ld" */
             point = strtol(field, NULL, 10);
             snprintf(want, sizeof(want), "%ld", point);
@@ -329,18 +351,30 @@ const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line)
     }
     if (*p)
         return "more than a row";
+    const int mark = row_mark(d, tf, first_nan, nan, nv);
+    if (mark < 0)
+        return "a row is all numbers, all nan (a point that blew up) or, for a point "
+               "without an event, the span's end T0 + T and nan";
     if (one_per_point && point != r->first + r->rows)
         return "not the next point's row (one row per point, in order)";
     if (point < r->point)
         return "a point's rows after a later point's";
-    if (plain && nan && nan != nv)
+    if (branch != floor(branch) || fabs(branch) > 1)
+        return "the branch is not 1, -1 or 0";
+    /* the point's rows in sequence (sweep_rows.c); a spectrum's NaN row has T */
+    const char *wrong = sp_sweep_row_sequence(r, point, (int)branch, tf, t,
+                                              d->measure == SP_MEASURE_SPECTRUM ? nan > 0 : mark);
+    if (wrong)
+        return wrong;
+    if (plain && nan && nan != nv && mark != 2)
         return "a row is either all numbers or all nan (a point that blew up)";
     if (plain && d->measure != SP_MEASURE_LYAPUNOV) {
         const double slack = d->dt > 0 ? d->dt : 0;
         if (point == r->point && (nan || r->blown))
             return "a point that blew up has one row";
-        if (point == r->point && t < r->t)
-            return "a point's times do not ascend";
+        if (point == r->point && !(t > r->t))
+            return "a point's times do not strictly ascend (allowed: one row per event, each "
+                   "later than the last)";
         if (!nan && !(t >= d->transient - slack && t <= d->transient + d->time + slack))
             return "a time outside the measured span";
         r->t = t;
@@ -1012,7 +1046,8 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
     const double dt = d->dt, t_end = d->transient + d->time;
     const int strobe = d->measure == SP_MEASURE_ORBIT && d->driven;
     struct sbuf *rows = out->lane;
-    double prev[4][CHUNK];
+    double prev[4][CHUNK], last_k[CHUNK] = {0}; /* strobe: the last k sampled (k >= 1) */
+    long made[CHUNK] = {0};                       /* each lane's rows */
     int ret = 0;
     for (long step = 0;; step++) {
         double t0 = (double)step * dt, t1 = (double)(step + 1) * dt;
@@ -1042,13 +1077,19 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
                 if (!(f > 0))
                     continue;
                 double k = floor(t1 * f * (1 + 1e-15)), te = k / f;
-                if (!(te > t0 && te <= t1 * (1 + 1e-15) && te >= d->transient))
+                /* k/f just past t1 (within the 1e-15) is this step's; the
+                 * next step would take it again: once only, so a point's
+                 * times strictly ascend (sp_sweep_rows_end) */
+                if (!(te > t0 && te <= t1 * (1 + 1e-15) && te >= d->transient) ||
+                    k <= last_k[i])
                     continue;
+                last_k[i] = k;
                 s = fmin(1, (te - t0) / dt);
                 double x = sp_hermite(s, dt, x0, vx0, x1, vx1), y = sp_hermite(s, dt, y0, vy0, y1, vy1);
                 row_start(&rows[i], d, pts[i]);
                 sb_printf(&rows[i], "%.10g,%.9g,%.9g\n", te, atan2(x, -y) * RAD2DEG + 0.0,
                           hypot(x, y)); /* + 0.0: never "-0" */
+                made[i]++;
                 ret = row_made(d, out) ? SP_E_INPUT : ret;
                 continue;
             }
@@ -1070,6 +1111,7 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
             else
                 sb_printf(&rows[i], "%.10g,%.9g,%.9g,%.9g\n", t0 + s * dt, r, rd + 0.0,
                           thd + 0.0); /* + 0.0: never "-0" */
+            made[i]++;
             ret = row_made(d, out) ? SP_E_INPUT : ret;
         }
     }
@@ -1083,6 +1125,13 @@ static int measure_events(const struct sp_sweep_desc *d, struct sp_batch *b,
                     out->blocks[k].lane = -1;
             row_start(&rows[i], d, pts[i]);
             sb_printf(&rows[i], d->measure == SP_MEASURE_ORBIT ? "nan,nan,nan\n" : "nan,nan,nan,nan\n");
+        } else if (skip[i] || !made[i]) {
+            /* no event in the span (or, poincare, a start that cannot have
+             * the energy): one row says so, so that every point has rows
+             * and a merge can tell a point dropped (sweep_rows.c) */
+            row_start(&rows[i], d, pts[i]);
+            sb_printf(&rows[i], "%.10g,%s\n", t_end,
+                      d->measure == SP_MEASURE_ORBIT ? "nan,nan" : "nan,nan,nan");
         }
     }
     return ret;

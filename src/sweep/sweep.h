@@ -20,6 +20,10 @@
  *             (basins.h)
  *   precession: point,KEY[,KEY2],precession,exchanges,exchange_period
  *             (degrees per exchange, 1, s; analysis.h; 3-D scenes)
+ * orbit and poincare: a point without a sample or crossing in the span (or,
+ * poincare, a start that cannot have the energy) writes one row of its own,
+ * t = T0 + T and the values nan, so that every point has rows (a merge
+ * tells a point dropped: sweep_rows.c).
  * lyapunov and precession sweep 3-D scenes (initial.azimuth_rate != 0);
  * the other measures are of the planar motion and refuse them.
  * A shard's CSV has a "# shard I/N" line after the description and ends
@@ -142,6 +146,14 @@ struct sp_sweep_rows {
     long point;       /* the last row's point, -1 before the first */
     double t;         /* orbit, poincare: the last row's time, s */
     int blown;        /* the last row was a blown-up point's NaN row */
+    /* the rows of a point as a sequence (sweep_rows.c) */
+    const struct sp_scene *base; /* the sweep's scene (the shards' dc:source, --set
+                                  * applied): a driven orbit's drive frequency when it
+                                  * is not varied; NULL: that rule is not checked */
+    int branch;       /* orbit --continue/--peak: the last row's branch column */
+    long seq;         /* rows of the current point and branch so far */
+    double k;         /* driven orbit: the last row's drive period k (t = k/f) */
+    int group_blown;  /* the current point and branch is one NaN row */
 };
 
 /* Checks one row (with its newline) as the sweep writes it: as many
@@ -154,6 +166,30 @@ struct sp_sweep_rows {
  * measured span (within a step) and a point's times ascend. Returns NULL,
  * or what is wrong (for "FILE:LINE: WHAT"). */
 const char *sp_sweep_row_check(struct sp_sweep_rows *r, const char *line);
+
+/* After a shard's last row (sweep_rows.c): the last point's rows whole and
+ * every point after it one that writes no row. Returns NULL, or what is
+ * wrong. The row rules of every measure, beyond each row's own form:
+ *   lyapunov, basins, precession: one row per point, every point;
+ *   spectrum: every point, its rows at exactly the renormalisation times T
+ *     of the checkpoints, in order, the last at T = time (or one row at
+ *     T = time of NaN: it blew up);
+ *   orbit of a driven scene (with --peak and --continue too, per branch):
+ *     rows at exactly t = k/f for every whole k with T0 <= k/f up to the
+ *     last step's end (sp_sweep_strobe_range), in order, each once;
+ *   orbit of an undriven scene, poincare: each point's times strictly
+ *     ascending in the measured span;
+ *   or, for a point (branch) of the last two, one NaN row (it blew up) or
+ *     one row t = T0 + T and NaN (no sample or crossing; poincare: nor the
+ *     energy). Every point of the shard is there. */
+const char *sp_sweep_rows_end(struct sp_sweep_rows *r);
+
+/* A driven orbit's samples at drive frequency f (Hz): the first and last k
+ * of t = k/f that the steps of d->dt over [0, T0 + T] sample (none when
+ * *k1 < *k0), and whether some are skipped (*gaps: a drive period no
+ * longer than a step, which samples once a step). */
+void sp_sweep_strobe_range(const struct sp_sweep_desc *d, double f, double *k0, double *k1,
+                           int *gaps);
 
 /* A running sweep's report to its caller (progress bar), from the calling
  * thread: points done of total. */

@@ -204,10 +204,11 @@ static int same_sweep(const struct sp_sweep_shard *a, const struct sp_sweep_shar
  * be drawn without a word. fp is left after the column names.
  * SP_E_INPUT with FILE:LINE, or SP_E_INTERRUPTED. */
 static int check_rows(struct sp_sweep_shard *s, const char *columns, const struct sp_sweep_desc *d,
-                      long first, long last, const volatile sig_atomic_t *cancel)
+                      const struct sp_scene *base, long first, long last,
+                      const volatile sig_atomic_t *cancel)
 {
     char line[1024], hex[65];
-    struct sp_sweep_rows r = {.d = d, .first = first, .last = last, .point = -1};
+    struct sp_sweep_rows r = {.d = d, .base = base, .first = first, .last = last, .point = -1};
     struct sha256_ctx sha;
     long lineno = 1, at;
     const char *wrong = NULL;
@@ -228,9 +229,11 @@ static int check_rows(struct sp_sweep_shard *s, const char *columns, const struc
     if (!wrong && (r.rows != s->rows || strcmp(hex, s->sha256)))
         wrong = "the rows are not those the metadata counts (dc:extent) and hashes "
                 "(schema:sha256)", lineno++;
-    if (!wrong && (d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS) &&
-        r.rows != last - first)
-        wrong = "fewer rows than the shard's points";
+    if (!wrong && (d->measure == SP_MEASURE_LYAPUNOV || d->measure == SP_MEASURE_BASINS ||
+                   d->measure == SP_MEASURE_PRECESSION) && r.rows != last - first)
+        wrong = "fewer rows than the shard's points (allowed: one row per point)";
+    if (!wrong) /* the last point whole, none after it missing (sweep_rows.c) */
+        wrong = sp_sweep_rows_end(&r);
     if (wrong) {
         sp_log_error("%s:%ld: %s; the file was cut short or edited: write it again with "
                      "'springpend sweep ... --shard I/N --csv FILE'", s->path, lineno, wrong);
@@ -316,8 +319,8 @@ static int open_one(struct sp_sweep_merge *m, int k, const struct sp_sweep_merge
     }
     m->order[s->i - 1] = s;
     const long points = sp_sweep_points(&m->d);
-    return check_rows(s, m->columns, &m->d, points * (s->i - 1) / n, points * s->i / n,
-                      desc->cancel);
+    return check_rows(s, m->columns, &m->d, &m->scene, points * (s->i - 1) / n,
+                      points * s->i / n, desc->cancel);
 }
 
 int sp_sweep_merge_open(struct sp_sweep_merge *m, const struct sp_sweep_merge_desc *desc)

@@ -321,10 +321,10 @@ os.symlink("../victim.png", os.path.join(d, "diffs", "c.diff.png"))
 png(os.path.join(d, "base", "c.png"), level=10)
 r = run("compare", "base", "act", "--diff", "diffs", cwd=d)
 ok(open(os.path.join(d, "victim.png"), "rb").read() == victim
-   and not os.path.islink(os.path.join(d, "diffs", "c.diff.png"))
-   and open(os.path.join(d, "diffs", "c.diff.png"), "rb").read(8) == b"\x89PNG\r\n\x1a\n",
-   f"folders: a diff image replaces a link in the --diff folder, never writes through it "
-   f"(exit {r.returncode})")
+   and os.readlink(os.path.join(d, "diffs", "c.diff.png")) == "../victim.png"
+   and r.returncode == 2 and "is a symbolic link" in r.stderr.decode(),
+   f"folders: a link in the --diff folder is refused before comparing, never written through "
+   f"nor replaced (attack17 #14; exit {r.returncode})")
 os.symlink(os.path.join(d, "victim.png"), os.path.join(d, "one.png"))
 r = run("compare", "one.png", "act/c.png", "--update=changed", cwd=d)
 ok(open(os.path.join(d, "victim.png"), "rb").read() == victim

@@ -84,6 +84,15 @@ pointing = [f"{c}: {l.strip()}" for c, t in helps.items() for l in t.splitlines(
 ok(not pointing and "outputs.md" in helps["render"] and "ci.md" in helps["compare"],
    f"no command's --help points to a doc/ path; render's names outputs.md, compare's ci.md "
    f"{pointing[:3]}")
+# attack18 #3: where the guides' folder is gone (a system that drops
+# /usr/share/doc), --help says they are not installed, naming no folder
+shutil.move(docs, docs + ".moved")
+gone = run("--help")
+ok(gone.returncode == 0 and "are not\ninstalled here: they are doc/*.md in springpend's source" in gone.stdout
+   and real_docs not in gone.stdout,
+   f"without the guides' folder, --help says they are not installed here "
+   f"({[l for l in gone.stdout.splitlines() if 'guides' in l or 'installed' in l]})")
+shutil.move(docs + ".moved", docs)
 open(os.path.join(work, "empty.ini"), "w").close()
 r = run("still", "empty.ini", "-o", "e.png")
 named = re.findall(r"start from (\S+\.ini)", r.stderr)

@@ -69,9 +69,7 @@ struct png_reader {
     char iccp_why[128]; /* libpng's words when it dropped an iCCP (a profile unread) */
     char exif_why[128]; /* libpng's words when it dropped an eXIf (an orientation unread) */
     char lost_why[128]; /* libpng's words when the chunk cache filled: a chunk kept unread */
-    int quiet;          /* iccp_libpng_knows asks libpng: its words about the profile unsaid */
     png_bytep icc;      /* an iCCP's profile, inflated (iccp_inflate) */
-    png_infop scratch;  /* iccp_libpng_knows's info */
 };
 
 /* A damaged PNG is logged; an error after a failed allocation is not: the
@@ -109,8 +107,6 @@ static void reader_free(png_structp png, png_voidp p)
 static void on_png_read_warning(png_structp png, png_const_charp msg)
 {
     struct png_reader *r = png_get_error_ptr(png);
-    if (r->quiet)
-        return;
     if (!strncmp(msg, "tEXt", 4) || !strncmp(msg, "zTXt", 4) || !strncmp(msg, "iTXt", 4)) {
         if (!r->text_dropped++)
             snprintf(r->text_why, sizeof(r->text_why), "%s", msg);
@@ -356,8 +352,6 @@ static void reader_close(struct png_reader *r)
                      TEXT_CHUNKS_MAX);
     if (r->png && r->icc)
         png_free(r->png, r->icc);
-    if (r->png && r->scratch)
-        png_destroy_info_struct(r->png, &r->scratch);
     png_destroy_read_struct(&r->png, &r->info, NULL);
     free(r->rows);
     if (r->fp)
@@ -407,9 +401,12 @@ static void reader_setup(struct png_reader *r, int with_text)
      * after an sRGB, and forgets an iCCP whose neighbours (a second sRGB,
      * a gAMA out of range, a second cHRM) it finds inconsistent, while
      * viewers convert by the profile (attack16 #2): iccp_refused judges
-     * every profile itself. */
-    static const png_byte kept[] = "acTL\0cICP\0mDCv\0cLLi\0iCCP\0sRGB";
-    png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_ALWAYS, kept, with_text ? 4 : 6);
+     * every profile itself. gAMA and cHRM too: libpng forgets one written
+     * twice or after a palette, and its neighbours, where Chromium draws
+     * by the first (attack18 #1): colour_chunks_refused, chrm_refused and
+     * gama_refused read them as they stand. */
+    static const png_byte kept[] = "acTL\0cICP\0mDCv\0cLLi\0iCCP\0sRGB\0gAMA\0cHRM";
+    png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_ALWAYS, kept, with_text ? 4 : 8);
     png_set_chunk_malloc_max(r->png, TEXT_CHUNK_MAX);
     png_set_chunk_cache_max(r->png, TEXT_CHUNKS_MAX);
 }
@@ -656,26 +653,6 @@ static const png_byte *iccp_inflate(struct png_reader *r, const png_unknown_chun
     return *why ? NULL : p;
 }
 
-/* 1 when libpng recognises the profile prof (len bytes) as one of the
- * ICC's own sRGB profiles (png.c's list of them, by their MD5, Adler-32,
- * CRC-32, length and intent), asked with the profile alone on an info of
- * its own: an sRGB chunk beside it says nothing of the profile (attack16
- * #2: png_get_sRGB on the file's info said yes for an inverting table
- * with an sRGB chunk after it). */
-static int iccp_libpng_knows(struct png_reader *r, const png_byte *prof, png_uint_32 len)
-{
-    png_uint_32 w, h;
-    int depth, type, interlace, compression, filter, intent;
-    if (!r->scratch && !(r->scratch = png_create_info_struct(r->png)))
-        return 0;
-    png_get_IHDR(r->png, r->info, &w, &h, &depth, &type, &interlace, &compression, &filter);
-    png_set_IHDR(r->png, r->scratch, w, h, depth, type, interlace, compression, filter);
-    r->quiet = 1; /* libpng's words on a profile it does not know: the caller judges it */
-    png_set_iCCP(r->png, r->scratch, "iCCP", PNG_COMPRESSION_TYPE_BASE, prof, len);
-    r->quiet = 0;
-    return png_get_sRGB(r->png, r->scratch, &intent) != 0;
-}
-
 /* NULL when the ICC profile prof (len bytes) of r's PNG shows its pixels
  * as read on an sRGB screen: a matrix/TRC profile that lcms2 converts
  * every colour by to within ICC_SRGB_LEVELS, by curves sRGB's at every
@@ -703,12 +680,13 @@ static const char *iccp_judged(struct png_reader *r, const png_byte *prof, png_u
 }
 
 /* NULL when the PNG has no ICC profile (iCCP) before its pixels, or one
- * that shows its pixels as read on an sRGB screen (libpng recognises one
- * of the ICC's sRGB profiles, or iccp_judged takes it), whatever sRGB
- * chunk stands before or after it (viewers convert by the profile); else
- * what is wrong, in buf: a profile libpng dropped unread, more than one,
- * one after the palette, one not whole. reader_setup keeps iCCP chunks
- * unread by libpng. *present: 1 when the PNG has a profile. */
+ * that shows its pixels as read on an sRGB screen (iccp_judged takes its
+ * content: the ICC's own sRGB profiles are judged too, as libpng's test
+ * for them binds only checksums and a length a forger sets, attack18
+ * #4), whatever sRGB chunk stands before or after it (viewers convert by
+ * the profile); else what is wrong, in buf: a profile libpng dropped
+ * unread, more than one, one after the palette, one not whole. reader_setup keeps iCCP chunks unread by
+ * libpng. *present: 1 when the PNG has a profile. */
 static const char *iccp_refused(struct png_reader *r, char *buf, size_t size, int *present)
 {
     png_unknown_chunkp u;
@@ -737,10 +715,8 @@ static const char *iccp_refused(struct png_reader *r, char *buf, size_t size, in
         snprintf(buf, size, "holds an ICC colour profile (iCCP) that is not whole (%s), by "
                  "which viewers may still convert its colours; save it without the iCCP chunk, "
                  "its pixels in sRGB", why);
-    else if (!c || iccp_libpng_knows(r, r->icc, len))
-        return NULL;
     else
-        return iccp_judged(r, r->icc, len, buf, size);
+        return c ? iccp_judged(r, r->icc, len, buf, size) : NULL;
     return buf;
 }
 
@@ -758,31 +734,107 @@ static int srgb_chunk(struct png_reader *r)
     return 0;
 }
 
-/* NULL when the cHRM is sRGB's (its primaries and D65 white within 0.001
- * of PNG's recommended 0.64,0.33 0.30,0.60 0.15,0.06 0.3127,0.3290) and
- * stands without a gAMA: Chromium then draws the pixels as read. Beside a
+/* The first chunk named name that reader_setup kept unread by libpng;
+ * NULL when there is none. */
+static const png_unknown_chunk *kept_chunk(struct png_reader *r, const char *name)
+{
+    png_unknown_chunkp u;
+    const int n = png_get_unknown_chunks(r->png, r->info, &u);
+    for (int i = 0; i < n; i++)
+        if (!strcmp((const char *)u[i].name, name))
+            return &u[i];
+    return NULL;
+}
+
+static unsigned long be32(const png_byte *d)
+{
+    return (unsigned long)d[0] << 24 | (unsigned long)d[1] << 16 | (unsigned long)d[2] << 8 | d[3];
+}
+
+/* The colour chunks, each of which PNG allows once, before the palette
+ * (PLTE) and the pixels (IDAT), and what one holds. */
+static const char *const colour_chunks[][2] = {
+    {"gAMA", "gammas"}, {"cHRM", "sets of chromaticities"}, {"sRGB", "sRGB chunks"},
+    {"iCCP", "ICC colour profiles"}, {"cICP", "sets of code points"}};
+
+/* NULL when each colour chunk the PNG holds is there once, before its
+ * palette and pixels; else what is wrong, in buf. libpng forgets a gAMA,
+ * cHRM or sRGB written twice, or after a palette (a truecolour PNG may
+ * carry a suggested one), and what stands beside it, while Chromium draws
+ * the image by the first (attack18 #1). reader_setup keeps them all
+ * unread by libpng; after png_read_end, those after the pixels too. */
+static const char *colour_chunks_refused(struct png_reader *r, char *buf, size_t size)
+{
+    png_unknown_chunkp u;
+    const int n = png_get_unknown_chunks(r->png, r->info, &u);
+    for (size_t k = 0; k < sizeof(colour_chunks) / sizeof(colour_chunks[0]); k++) {
+        const char *name = colour_chunks[k][0];
+        int count = 0, late = 0;
+        for (int i = 0; i < n; i++)
+            if (!strcmp((const char *)u[i].name, name))
+                count++, late |= u[i].location & (PNG_HAVE_PLTE | PNG_AFTER_IDAT);
+        if (count > 1)
+            snprintf(buf, size, "holds %d %s (%s chunks), where PNG allows one and viewers "
+                     "convert its colours by one or another (Chromium by the first); save it "
+                     "with one %s chunk, or with none and its pixels in sRGB", count,
+                     colour_chunks[k][1], name, name);
+        else if (late)
+            snprintf(buf, size, "holds %s %s chunk after its %s, where PNG allows none, by "
+                     "which viewers may still convert its colours; save it with the %s chunk "
+                     "before PLTE and IDAT, or without it and its pixels in sRGB",
+                     name[0] == 's' || name[0] == 'i' ? "an" : "a", name,
+                     late & PNG_AFTER_IDAT ? "pixels (IDAT)" : "palette (PLTE)", name);
+        else
+            continue;
+        return buf;
+    }
+    return NULL;
+}
+
+/* NULL when the PNG's cHRM (kept unread: reader_setup) is sRGB's (its
+ * primaries and D65 white within 0.001 of PNG's recommended 0.64,0.33
+ * 0.30,0.60 0.15,0.06 0.3127,0.3290) and stands without a gAMA (gama: 1
+ * when the PNG has one): Chromium then draws the pixels as read. Beside a
  * gAMA, even sRGB's 1/2.2 (what ImageMagick writes), Chromium converts by
  * the pure power curve 2.2, not sRGB's, and draws levels up to 9 apart
  * (level 16 as 25; attack12 #11, measured with chromium --headless): that
  * pair is refused unless an sRGB chunk says sRGB. Else what is wrong. */
-static const char *chrm_refused(struct png_reader *r)
+static const char *chrm_refused(struct png_reader *r, int gama)
 {
-    static const png_fixed_point srgb[8] = {31270, 32900, 64000, 33000,
-                                            30000, 60000, 15000, 6000};
-    png_fixed_point c[8];
-    if (!png_get_cHRM_fixed(r->png, r->info, &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6],
-                            &c[7]))
+    static const long srgb[8] = {31270, 32900, 64000, 33000, 30000, 60000, 15000, 6000};
+    const png_unknown_chunk *c = kept_chunk(r, "cHRM");
+    if (!c)
         return NULL;
+    if (c->size != 32)
+        return "holds a cHRM chunk that is not 32 bytes (8 chromaticities), by which viewers "
+               "may still convert its colours; save its pixels in sRGB, without the cHRM chunk";
     for (int i = 0; i < 8; i++)
-        if (c[i] < srgb[i] - 100 || c[i] > srgb[i] + 100)
+        if ((long)be32(c->data + 4 * i) < srgb[i] - 100 ||
+            (long)be32(c->data + 4 * i) > srgb[i] + 100)
             return "holds chromaticities (cHRM) other than sRGB's (primaries 0.64,0.33 "
                    "0.30,0.60 0.15,0.06, white 0.3127,0.3290), by which viewers convert its "
                    "colours; save its pixels in sRGB, without the cHRM chunk";
-    if (png_get_valid(r->png, r->info, PNG_INFO_gAMA))
+    if (gama)
         return "holds chromaticities (cHRM) beside a gamma (gAMA), by which viewers convert "
                "its colours by a pure power curve, not sRGB's (Chromium draws a gAMA of 1/2.2 "
                "up to 9 levels off: level 16 as 25); add an sRGB chunk, or save it without "
                "the gAMA and cHRM chunks (ImageMagick: -define png:exclude-chunk=gAMA,cHRM)";
+    return NULL;
+}
+
+/* NULL when the PNG has no gAMA (kept unread: reader_setup), or sRGB's
+ * 1/2.2 (45455 in 100000ths, within 500); else what is wrong. */
+static const char *gama_refused(struct png_reader *r)
+{
+    const png_unknown_chunk *c = kept_chunk(r, "gAMA");
+    if (!c)
+        return NULL;
+    if (c->size != 4)
+        return "holds a gAMA chunk that is not 4 bytes, by which viewers may still convert "
+               "its colours; save its pixels in sRGB, without the gAMA chunk";
+    if (be32(c->data) < 44955 || be32(c->data) > 45955)
+        return "holds a gamma (gAMA) other than sRGB's 1/2.2, by which viewers convert its "
+               "colours";
     return NULL;
 }
 
@@ -949,7 +1001,6 @@ static int not_shown_as_read(const struct png_reader *r, const char *what)
 static int shown_as_read(struct png_reader *r)
 {
     char buf[512];
-    png_fixed_point gamma = 0;
     const int srgb = srgb_chunk(r);
     int icc = 0;
     const char *what = r->lost_why[0] ? buf : unknown_refused(r, buf, sizeof(buf));
@@ -959,15 +1010,17 @@ static int shown_as_read(struct png_reader *r)
                  "would go unread; save it without them", r->lost_why);
     if (!what)
         what = exif_refused(r, buf, sizeof(buf));
+    if (!what)
+        what = iccp_refused(r, buf, sizeof(buf), &icc);
+    if (!what) /* a gAMA, cHRM, sRGB or cICP twice or after PLTE (iCCP: just above) */
+        what = colour_chunks_refused(r, buf, sizeof(buf));
     /* viewers convert by an ICC profile rather than by gAMA and cHRM */
-    if (!what && !(what = iccp_refused(r, buf, sizeof(buf), &icc)) && icc)
+    if (!what && icc)
         return 0;
-    if (!what && !srgb && png_get_valid(r->png, r->info, PNG_INFO_cHRM))
-        what = chrm_refused(r);
-    if (!what && !srgb && png_get_gAMA_fixed(r->png, r->info, &gamma) &&
-        (gamma < 44955 || gamma > 45955))
-        what = "holds a gamma (gAMA) other than sRGB's 1/2.2, by which viewers convert its "
-               "colours";
+    if (!what && !srgb)
+        what = chrm_refused(r, kept_chunk(r, "gAMA") != NULL);
+    if (!what && !srgb)
+        what = gama_refused(r);
     return what ? not_shown_as_read(r, what) : 0;
 }
 
@@ -1089,6 +1142,8 @@ int sp_png_read(const char *path, struct sp_image *img)
     png_read_end(r->png, r->info); /* a missing IEND is a truncated file */
     char buf[512];
     const char *what = exif_refused(r, buf, sizeof(buf)); /* an eXIf after the pixels */
+    if (!what) /* a colour chunk after them (reader_setup kept them) */
+        what = colour_chunks_refused(r, buf, sizeof(buf));
     if (what) {
         sp_image_free(img);
         err = not_shown_as_read(r, what);

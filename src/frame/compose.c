@@ -10,6 +10,7 @@
 #include "axis.h"
 #include "camera.h"
 #include "compose.h"
+#include "cover.h"
 #include "layout.h"
 #include "vectors.h"
 
@@ -80,6 +81,7 @@ struct sp_composer {
     /* trail = all: the part older than ALL_FADE is drawn once (SP_LAYER_ACCUM) */
     double accum_t;           /* s: the last trail point accumulated; < 0 = none */
     struct sp_trail_point accum_p; /* the last one drawn (the dynamic part starts there) */
+    struct sp_cover cover;    /* the cells it has crossed: a repeat is left out */
     struct sp_vectors vectors;    /* [view] vectors' scales (set with the layout) */
     double room;                  /* <= 1: the camera's margin (and the arrows) as a
                                      share of their size in a large view */
@@ -1055,7 +1057,10 @@ static void put_trail(struct sp_composer *r, const struct sp_trail *tr)
             world_px(r, q->x, q->y, q->z, b);
             if (fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
                 continue;
-            trail_segment(r, a, b, 0.5f * (r->accum_p.speed + q->speed), 0);
+            const float speed = 0.5f * (r->accum_p.speed + q->speed);
+            if (sp_cover_new(&r->cover, r->width, r->height, a, b,
+                             sp_cover_color(speed / (float)r->max_speed)))
+                trail_segment(r, a, b, speed, 0);
             a[0] = b[0], a[1] = b[1];
             r->accum_p = *q;
         }
@@ -1238,7 +1243,8 @@ static void put_floor_trace(struct sp_composer *r, const struct sp_trail *tr)
             r->floor_t = q->t;
             if (!world_px(r, q->x, fy, q->z, b) || fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) < 1.0f)
                 continue;
-            floor_segment(r, a, b, floor_alpha);
+            if (sp_cover_new(&r->cover, r->width, r->height, a, b, SP_COVER_FLOOR))
+                floor_segment(r, a, b, floor_alpha);
             a[0] = b[0], a[1] = b[1];
         }
         sp_canvas_path_end(&r->canvas);
@@ -1620,6 +1626,7 @@ void sp_compose_destroy(struct sp_composer **cp)
     free(c->title);
     free(c->caption);
     free(c->cbar);
+    sp_cover_destroy(&c->cover);
     sp_canvas_free(&c->canvas);
     free(c);
     *cp = NULL;

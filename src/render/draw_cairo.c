@@ -97,25 +97,40 @@ static int similar(const struct sp_shape *a, const struct sp_shape *b)
     return fabsf(a->style[0] - b->style[0]) <= 0.15f;
 }
 
-/* A polyline: one path per run of segments of about the same colour and
- * width (all of it when it has one colour). Runs meet with butt caps, so a
- * translucent curve shows no beads where they join. */
-static void path(cairo_t *cr, const struct sp_shape *s, int n)
+/* Segment j continues run i: about the same colour and width, starting
+ * where segment j - 1 ends (a long exposure's trail leaves out repeats,
+ * cover.h, so its polyline has gaps). */
+static int continues(const struct sp_shape *s, int i, int j)
+{
+    return similar(&s[i], &s[j]) && s[j].seg[0] == s[j - 1].seg[2] &&
+           s[j].seg[1] == s[j - 1].seg[3];
+}
+
+/* A polyline: one path per run of joined segments of about the same colour
+ * and width (all of it when it has one colour and no gap). Runs meet with
+ * butt caps, so a translucent curve shows no beads where they join. */
+static void path(cairo_t *cr, const struct sp_shape *s, int n, const float *max_over)
 {
     int runs = 0;
     for (int i = 0; i < n; runs++) {
         int j = i + 1;
-        while (j < n && similar(&s[i], &s[j]))
+        while (j < n && continues(s, i, j))
             j++;
         i = j;
     }
-    cairo_set_line_cap(cr, runs > 1 ? CAIRO_LINE_CAP_BUTT : CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_cap(cr, runs > 1 && !max_over ? CAIRO_LINE_CAP_BUTT : CAIRO_LINE_CAP_ROUND);
     for (int i = 0; i < n;) {
         int j = i + 1;
         double w = s[i].style[0];
-        while (j < n && similar(&s[i], &s[j]))
+        while (j < n && continues(s, i, j))
             w += s[j++].style[0];
-        source(cr, s[(i + j) / 2].color);
+        if (max_over) { /* GL_MAX's colour over the background, opaque */
+            const float *c = s[(i + j) / 2].color;
+            source(cr, (const float[4]){fmaxf(c[0] * c[3], max_over[0]), fmaxf(c[1] * c[3], max_over[1]),
+                                        fmaxf(c[2] * c[3], max_over[2]), 1});
+        } else {
+            source(cr, s[(i + j) / 2].color);
+        }
         cairo_move_to(cr, s[i].seg[0], s[i].seg[1]);
         for (int k = i; k < j; k++)
             cairo_line_to(cr, s[k].seg[2], s[k].seg[3]);
@@ -141,7 +156,7 @@ static int lanes(cairo_t *cr, const struct sp_shape *s, int n, int lanes)
         for (int k = l; k < n; k += lanes)
             lane[m++] = s[k];
         if (m)
-            path(cr, lane, m);
+            path(cr, lane, m, NULL);
     }
     free(lane);
     return 0;
@@ -203,7 +218,8 @@ struct sp_draw_cairo {
 /* The items of c but its text, on cr (user space: the list's px): the
  * accumulated layer first, then the rest in order; the clip ends with
  * them. 0, or SP_E_NOMEM (logged). */
-static int draw_shapes(cairo_t *cr, const struct sp_canvas *c, const volatile sig_atomic_t *cancel)
+static int draw_shapes(cairo_t *cr, const struct sp_canvas *c, const float background[4],
+                       const volatile sig_atomic_t *cancel)
 {
     int err = 0;
     for (int pass = 0; pass < 2 && !err; pass++) {
@@ -223,7 +239,14 @@ static int draw_shapes(cairo_t *cr, const struct sp_canvas *c, const volatile si
             } else if (it->kind == SP_ITEM_PATH && it->lanes > 1) {
                 err = lanes(cr, c->shapes + it->first, it->count, it->lanes);
             } else if (it->kind == SP_ITEM_PATH) {
-                path(cr, c->shapes + it->first, it->count);
+                /* A long exposure's settled trail (max-blended, over an
+                 * opaque background): each run opaque in the colour GL's
+                 * GL_MAX gives it there, so laps over the same place do not
+                 * stack into a brighter, banded band as translucent strokes
+                 * would, and the figure looks as the PNG does. */
+                const int max = it->layer == SP_LAYER_ACCUM && it->blend == SP_BLEND_MAX &&
+                                background[3] >= 1;
+                path(cr, c->shapes + it->first, it->count, max ? background : NULL);
             } else if (it->kind == SP_ITEM_SHAPES) {
                 for (int k = 0; k < it->count; k++)
                     shape(cr, &c->shapes[it->first + k]);
@@ -354,7 +377,7 @@ int sp_draw_cairo_begin(struct sp_draw_cairo **out, const struct sp_draw_cairo_d
 int sp_draw_cairo_shapes(struct sp_draw_cairo *dc, const struct sp_canvas *c)
 {
     if (!dc->err)
-        dc->err = draw_shapes(dc->cr, c, dc->d.cancel);
+        dc->err = draw_shapes(dc->cr, c, dc->d.background, dc->d.cancel);
     return cairo_err(dc, cairo_status(dc->cr));
 }
 
@@ -367,7 +390,7 @@ int sp_draw_cairo_end(struct sp_draw_cairo **dcp, const struct sp_canvas *c, str
         return 0;
     *dcp = NULL;
     if (c && !dc->err)
-        dc->err = draw_shapes(dc->cr, c, dc->d.cancel);
+        dc->err = draw_shapes(dc->cr, c, dc->d.background, dc->d.cancel);
     if (c && !dc->err)
         dc->err = draw_text(dc->cr, c, dc->d.font,
                             !dc->px_w && dc->d.format == SP_FIGURE_PDF ? dc->surface : NULL);

@@ -154,10 +154,13 @@ int sp_sim_advance(struct sp_sim *sim, double t_target);
 
 /* The steps an integration of scene from 0 to t_end takes: t_end / dt for
  * a fixed-step method; for an adaptive one, the steps of a probe over the
- * first 100 / omega_max seconds scaled to t_end. An estimate within a
- * factor of a few (the motion may change its pace); 0 when the probe
- * itself fails (the real run then reports why). */
-double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end);
+ * first 100 radians of the fastest motion (the pendulum's, the damping's,
+ * the drive's), at most about 2e4 steps, scaled to t_end. An estimate
+ * within a factor of a few (the motion may change its pace); 0 when the
+ * probe itself fails (the real run then reports why) or cancel (may be
+ * NULL) is set while it runs. */
+double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end,
+                             const volatile sig_atomic_t *cancel);
 
 /* r, theta and their rates. A state off the x-y plane (z or vz nonzero) has
  * theta as the polar angle from the downward vertical, in [0, pi] (for

@@ -483,6 +483,12 @@ static int check_outputs(const struct sweep_opts *o)
  * million a second), beyond SWEEP_NOTE_STEPS (about 2 minutes) it says so. */
 #define SWEEP_MAX_STEPS 1e12
 #define SWEEP_NOTE_STEPS 1.5e10
+/* A batched DOP853 step costs about this many rk4 steps: 23x measured for a
+ * Lyapunov map (chaotic.ini, 64 points, --time 5000: 5.6e6 DOP853 steps in
+ * 1.76 s, 6.4e8 rk4 steps in 8.57 s), 3.7x for an orbit diagram; the limits
+ * are held at the Lyapunov map's (attack19 #1: a grid ran silently for
+ * minutes under a note meant for rk4). */
+#define SWEEP_ADAPTIVE_COST 20.0
 
 /* An orbit diagram's or a Poincare mosaic's rows, one a sample: beyond
  * SWEEP_MAX_ROWS (about 6 GB of CSV, which without --csv waits in unlinked
@@ -577,7 +583,8 @@ static int estimate_rows(struct sp_sweep_desc *d, const struct sp_scene *base, l
 /* Grid points whose adaptive step is probed for a sweep's estimate: every
  * point of a grid this small, else a sub-grid of this many spanning the
  * run's points, their corners among them (a probe is a DOP853 run over 100
- * radians of the fastest motion: about 300 steps, 0.1 ms). */
+ * radians of the fastest motion: about 300 steps, 0.1 ms; at most about 2e4
+ * steps, sim.h). A signal stops the probes (the run then stops). */
 #define SWEEP_PROBES 256
 
 /* What the probes found: the mean and the most trajectory-steps a point
@@ -588,7 +595,10 @@ struct probe {
     double mean, most, floor_steps, span, base_cost;
     long costliest;
     int n;
+    const volatile sig_atomic_t *cancel; /* main's stop flag: stops the probes */
 };
+
+static int stopped(const struct probe *pr) { return pr->cancel && *pr->cancel; }
 
 /* A scene's trajectory-steps over the span with DOP853 (its probe, sim.h),
  * at least floor_steps; 0 when the probe blows up. */
@@ -596,7 +606,7 @@ static double probe_cost(const struct sp_scene *scene, const struct probe *pr)
 {
     struct sp_scene s = *scene;
     s.integrator.method = SP_METHOD_DOP853;
-    const double steps = sp_sim_estimate_steps(&s, pr->span);
+    const double steps = sp_sim_estimate_steps(&s, pr->span, pr->cancel);
     return steps > 0 ? fmax(steps, pr->floor_steps) : 0;
 }
 
@@ -652,7 +662,7 @@ static void probe_grid(const struct sp_sweep_desc *d, const struct sp_scene *bas
     if (last - first <= SWEEP_PROBES) {
         for (long c = first; c < last; c += SP_SWEEP_CHUNK) { /* the run's batches */
             int in_chunk = 0, company = 0;
-            for (long p = c; p < last && p < c + SP_SWEEP_CHUNK; p++)
+            for (long p = c; p < last && p < c + SP_SWEEP_CHUNK && !stopped(pr); p++)
                 probe_point(d, base, p, pr) ? in_chunk++ : company++;
             if (!in_chunk) /* a batch of skipped points only is not integrated */
                 pr->mean -= company * pr->base_cost;
@@ -663,7 +673,7 @@ static void probe_grid(const struct sp_sweep_desc *d, const struct sp_scene *bas
             for (int j0 = 0; j0 < n0; j0++) {
                 const long p = spread(lo[0], hi[0], n0, j0) +
                                (long)c0 * spread(lo[1], hi[1], n1, j1);
-                if (p >= first && p < last)
+                if (p >= first && p < last && !stopped(pr))
                     reached += probe_point(d, base, p, pr);
             }
         if (!pr->n) /* a shard of two rows' ends the sub-grid missed */
@@ -739,7 +749,7 @@ static int check_work(struct sp_sweep_desc *d, const struct sp_scene *base, long
                          strcmp(d->method, "yoshida4");
     const double span = d->transient + d->time;
     struct probe pr = {.span = span, .floor_steps = lyap ? 0 : span / d->dt, .costliest = -1,
-                       .base_cost = -1};
+                       .base_cost = -1, .cancel = d->cancel};
     if (adaptive)
         probe_grid(d, base, first, last, &pr);
     else
@@ -762,8 +772,9 @@ static int check_work(struct sp_sweep_desc *d, const struct sp_scene *base, long
     if (d->cont == SP_CONTINUE_NONE)
         snprintf(advice + strlen(advice), sizeof(advice) - strlen(advice),
                  ", or split the grid over machines with --shard I/N");
-    const int ret = sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS, SWEEP_NOTE_STEPS,
-                                what, advice, quiet);
+    const double cost = adaptive ? SWEEP_ADAPTIVE_COST : 1; /* the limits in its steps */
+    const int ret = sp_cli_work((double)points * per_point, SWEEP_MAX_STEPS / cost,
+                                SWEEP_NOTE_STEPS / cost, what, advice, quiet);
     return ret ? ret : estimate_rows(d, base, first, last, quiet, rows);
 }
 

@@ -997,15 +997,36 @@ int sp_sim_advance(struct sp_sim *sim, double t_target)
     return SPECIALISE(advance_fixed, sim, t_target);
 }
 
-double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end)
+/* A probe takes at most about this many steps: past them, what it took to
+ * the time it reached is scaled to t_end, so that a drive far faster than
+ * the pendulum or a step set by a huge stiffness keeps it to milliseconds
+ * (attack19 #1: one probe took 20 s). */
+#define PROBE_STEPS 20000
+
+double sp_sim_estimate_steps(const struct sp_scene *scene, double t_end,
+                             const volatile sig_atomic_t *cancel)
 {
     struct sp_sim sim;
     if (!sp_method_info(scene->integrator.method)->adaptive)
         return t_end / scene->integrator.dt;
     sp_sim_init(&sim, scene);
-    const double t_probe = fmin(t_end, 100 / sp_params_omega_max(&sim.p));
-    int err = t_probe > 0 ? sp_sim_advance(&sim, t_probe) : SP_E_INPUT;
-    if (err)
+    sim.cancel = cancel;
+    /* 100 radians of the fastest motion: the pendulum's, the damping's or
+     * the pivot's drive */
+    const double w = fmax(sp_params_omega_max(&sim.p),
+                          sim.p.drive_amp != 0 ? fabs(sim.p.drive_omega) : 0);
+    const double t_probe = fmin(t_end, 100 / w);
+    if (!(t_probe > 0))
         return 0;
-    return (double)(sim.steps + sim.rejected) * (t_end / t_probe);
+    /* spans doubling up to t_probe from 2^-12 of it: each takes about as
+     * many steps as all before it, so the bound is passed by at most twice */
+    double t = 0;
+    for (int k = 12; k >= 0; k--) {
+        t = ldexp(t_probe, -k);
+        if (sp_sim_advance(&sim, t))
+            return 0;
+        if (sim.steps + sim.rejected > PROBE_STEPS)
+            break;
+    }
+    return (double)(sim.steps + sim.rejected) * (t_end / t);
 }

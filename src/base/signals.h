@@ -9,8 +9,7 @@
  * itself. While a render holds them (sp_signals_hold), a second signal
  * calls the hold's cleanup (the pipeline's: outfile.h's, which removes the
  * partial files) and exits at once.
- * Shared with: cli (main.c; cli.c's work estimate, whose probe a signal
- * stops), pipeline. */
+ * Shared with: cli (main.c only), pipeline. */
 #ifndef SPRINGPEND_SIGNALS_H
 #define SPRINGPEND_SIGNALS_H
 

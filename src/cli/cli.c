@@ -9,7 +9,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "base/signals.h"
 #include "cli.h"
 #include "base/command_line.h"
 #include "base/decimal.h"
@@ -590,10 +589,10 @@ int sp_cli_work(double steps, double limit, double note, const char *what, const
 }
 
 int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
-                      double t_end, int camera)
+                      double t_end, int camera, const volatile sig_atomic_t *cancel)
 {
     const struct sp_method_info *mi = sp_method_info(sc->integrator.method);
-    const double steps = sp_sim_estimate_steps(sc, t_end, sp_signal_flag()) /* a signal stops the probe */;
+    const double steps = sp_sim_estimate_steps(sc, t_end, cancel) /* a signal stops the probe */;
     const int members = sc->ensemble.count > 1 ? sc->ensemble.count : 0;
     const double frames = sp_timeline_frames(sc); /* a [timeline]'s own count, as render makes */
     /* the camera's pre-pass integrates the run once more, sampling every

@@ -178,9 +178,10 @@ int sp_cli_work(double steps, double limit, double note, const char *what, const
 /* Estimates the integration to t_end: the run, and with camera (render,
  * still) the camera's pre-pass and the trails; an ensemble's members (each
  * integrated twice) and its Lyapunov run. Refuses beyond 1e10 steps with
- * every part's count and what to change; says so on stderr beyond 3e8. */
+ * every part's count and what to change; says so on stderr beyond 3e8.
+ * cancel (main's stop flag) stops an adaptive method's probe. */
 int sp_cli_check_work(const struct sp_cli_options *o, const struct sp_scene *sc,
-                      double t_end, int camera);
+                      double t_end, int camera, const volatile sig_atomic_t *cancel);
 
 /* The commands. Each parses argv (argv[0] is the command's name) into its
  * options and runs; cancel is main's stop flag (the signal's number once

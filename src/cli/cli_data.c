@@ -231,7 +231,7 @@ int sp_cmd_data(int argc, char **argv, const volatile sig_atomic_t *cancel)
         const double t_sc = o.data.every > 0 || o.data.poincare
                            ? sc->video.duration
                            : sp_scene_frame_time(sc, sp_scene_frame_count(sc) - 1);
-        if ((ret = sp_cli_check_work(&o, sc, t_sc, 0)) != 0)
+        if ((ret = sp_cli_check_work(&o, sc, t_sc, 0, cancel)) != 0)
             goto done;
         t_end = fmax(t_end, t_sc);
     }

@@ -494,7 +494,7 @@ static int check_still_side_end(const struct sp_cli_options *o, const struct sp_
 /* The longest video render and still make and show, frames. */
 #define SP_MAX_VIDEO_FRAMES 1000000
 
-static int run(int argc, char **argv, int still)
+static int run(int argc, char **argv, int still, const volatile sig_atomic_t *cancel)
 {
     struct sp_cli_options o;
     static struct sp_scene scenes[SP_CLI_MAX_SCENES]; /* big: not on the stack */
@@ -558,9 +558,10 @@ static int run(int argc, char **argv, int still)
     if (!ret)
         sp_timeline_frame(&scenes[0], sp_timeline_frames(&scenes[0]) - 1, &end);
     if (!ret)
-        ret = sp_cli_check_work(&o, &scenes[0], still ? fmax(end.t, o.still.at) : end.t, 1);
+        ret = sp_cli_check_work(&o, &scenes[0], still ? fmax(end.t, o.still.at) : end.t, 1, cancel);
     for (int i = 1; !ret && i < o.n_scenes; i++)
-        ret = sp_cli_check_work(&o, &sp[i], sp_scene_frame_time(&sp[i], sp_timeline_frames(&sp[i]) - 1), 1);
+        ret = sp_cli_check_work(&o, &sp[i], sp_scene_frame_time(&sp[i], sp_timeline_frames(&sp[i]) - 1), 1,
+                                cancel);
     const struct sp_scene *more[SP_CLI_MAX_SCENES - 1];
     for (int i = 1; i < o.n_scenes; i++)
         more[i - 1] = &sp[i];
@@ -596,15 +597,14 @@ static int run(int argc, char **argv, int still)
 }
 
 /* The pipeline owns the signals while it runs (sp_signals_hold): it reads
- * the flag that main's cancel points to itself. */
+ * the flag that main's cancel points to itself; before it, cancel stops the
+ * work estimate's probe. */
 int sp_cmd_render(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
-    (void)cancel;
-    return run(argc, argv, 0);
+    return run(argc, argv, 0, cancel);
 }
 
 int sp_cmd_still(int argc, char **argv, const volatile sig_atomic_t *cancel)
 {
-    (void)cancel;
-    return run(argc, argv, 1);
+    return run(argc, argv, 1, cancel);
 }

@@ -41,6 +41,9 @@ struct sp_scene_change {
     char expected[5 * (SP_SCENE_CHANGE_SHOWN + SP_SCENE_CHANGE_SLACK) / 2 + 16];
     char actual[5 * (SP_SCENE_CHANGE_SHOWN + SP_SCENE_CHANGE_SLACK) / 2 + 16];
     int cut; /* 1: expected or actual is cut */
+    int same_text; /* 1: the two are the same text in other Unicode normal
+                      forms (their NFD equal): each shown value ends with
+                      its form, " (NFC)", " (NFD)" or " (neither NFC nor NFD)" */
 };
 
 /* One comparison: an image pair, or two videos. */

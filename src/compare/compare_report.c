@@ -466,7 +466,8 @@ static void json_record(FILE *fp, const struct sp_compare_record *r)
         fputs("{\"key\": ", fp), sp_report_json_string(fp, r->changes[k].key);
         fputs(", \"expected\": ", fp), sp_report_json_string(fp, r->changes[k].expected);
         fputs(", \"actual\": ", fp), sp_report_json_string(fp, r->changes[k].actual);
-        fprintf(fp, ", \"cut\": %s}", r->changes[k].cut ? "true" : "false");
+        fprintf(fp, ", \"cut\": %s, \"same_text\": %s}", r->changes[k].cut ? "true" : "false",
+                r->changes[k].same_text ? "true" : "false");
     }
     fprintf(fp, "], \"more_changes\": %d}", r->more_changes);
 }

@@ -19,6 +19,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <glib.h>
+
 #include "base/clock.h"
 #include "base/command_line.h"
 #include "base/memory_limit.h"
@@ -303,6 +305,40 @@ static int shown_value(const char *v, size_t n, size_t from, size_t diff, size_t
     return from > 0 || to < n;
 }
 
+/* v's Unicode normal form, as a report names it. */
+static const char *form_of(const char *v)
+{
+    char *c = g_utf8_normalize(v, -1, G_NORMALIZE_NFC), *d = g_utf8_normalize(v, -1, G_NORMALIZE_NFD);
+    const char *f = c && !strcmp(c, v) ? "NFC" : d && !strcmp(d, v) ? "NFD" : "neither NFC nor NFD";
+    g_free(c);
+    g_free(d);
+    return f;
+}
+
+/* Two values that differ in bytes but not as text (their canonical
+ * decompositions are equal: é as U+00E9 and as e + U+0301, a Hangul
+ * syllable and its jamo) would show as one string twice: each shown value
+ * gets its normal form, " (NFC)" (attack19 #2). se and sa: the shown forms,
+ * whole. */
+static void mark_forms(struct sp_scene_change *ch, const char *se, const char *sa)
+{
+    ch->same_text = 0;
+    if (!strcmp(se, sa) || !g_utf8_validate(se, -1, NULL) || !g_utf8_validate(sa, -1, NULL))
+        return;
+    char *de = g_utf8_normalize(se, -1, G_NORMALIZE_NFD), *da = g_utf8_normalize(sa, -1, G_NORMALIZE_NFD);
+    ch->same_text = de && da && !strcmp(de, da);
+    g_free(de);
+    g_free(da);
+    if (!ch->same_text)
+        return;
+    char *shown[2] = {ch->expected, ch->actual};
+    const char *whole[2] = {se, sa};
+    for (int k = 0; k < 2; k++) {
+        const size_t used = strlen(shown[k]);
+        snprintf(shown[k] + used, sizeof(ch->expected) - used, " (%s)", form_of(whole[k]));
+    }
+}
+
 /* Records that key (n bytes) changed from ve (ne bytes; NULL: absent) to
  * va (na bytes; NULL: absent), both values compared whole: shown as
  * sp_scene_canonical_display shows them, cut around their first difference
@@ -343,6 +379,7 @@ static void add_change(struct sp_compare_record *r, const char *key, size_t n, c
     d = cut_before(se, sa, d, diff > half ? diff - half : 0);
     ch->cut = shown_value(se, le, d, diff, longest, ch->expected, sizeof(ch->expected)) |
               shown_value(sa, la, d, diff, longest, ch->actual, sizeof(ch->actual));
+    mark_forms(ch, se, sa);
     free(se), free(sa), free(raw);
 }
 

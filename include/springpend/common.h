@@ -86,12 +86,13 @@ int sp_text_same_name(const char *a, const char *b);
  * by a shell reading its shown form, and must be retyped. */
 const char *sp_text_next_escaped(const char *start, const char *s);
 
-/* Progress of a long integration, drawn on stderr when it is a terminal:
- * a command calls sp_progress_begin before integrating to t_goal
- * (simulated s; what names the pass), hands sp_progress_sim to the
- * simulation as its progress callback (sim.h; ctx unused; cheap: it redraws
- * at most 4 times a second and only after 2 s), and sp_progress_end clears
- * the line. enable = 0 draws nothing. */
+/* Progress of a long integration on stderr: a command calls
+ * sp_progress_begin before integrating to t_goal (simulated s; what names
+ * the pass), hands sp_progress_sim to the simulation as its progress
+ * callback (sim.h; ctx unused; cheap), and sp_progress_end ends it. On a
+ * terminal one line is redrawn at most 4 times a second, after 2 s; else
+ * (a CI log, a pipe) a line of its own after 10 s, then once a minute.
+ * enable = 0 draws nothing. */
 void sp_progress_begin(int enable, const char *what, double t_goal);
 void sp_progress_sim(void *ctx, double t);
 void sp_progress_end(void);

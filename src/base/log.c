@@ -188,19 +188,27 @@ void sp_log_note(const char *fmt, ...)
 /* ---- progress of long integrations ---- */
 
 static struct {
-    int on, drawn;
+    int on, drawn, tty;
     unsigned calls;
     double goal, t_from;      /* simulated s */
     double wall0, wall_last;  /* s, monotonic */
     const char *what;
 } progress;
 
+/* Not on a terminal (a CI log, a pipe, a file): a line of its own after
+ * PROGRESS_LOG_FIRST s, then every PROGRESS_LOG_EVERY s, so a long run is
+ * never silent there (attack19 #8: a still's pre-pass ran 10 minutes under
+ * the estimate's note without a word). */
+#define PROGRESS_LOG_FIRST 10.0
+#define PROGRESS_LOG_EVERY 60.0
+
 void sp_progress_begin(int enable, const char *what, double t_goal)
 {
     sp_progress_end();
-    if (!enable || !isatty(2))
+    if (!enable)
         return;
     progress.on = 1;
+    progress.tty = isatty(2);
     progress.what = what;
     progress.goal = t_goal;
     progress.t_from = -1;
@@ -214,19 +222,25 @@ void sp_progress_sim(void *ctx, double t)
         return;
     double now = sp_clock_s();
     if (progress.t_from < 0)
-        progress.t_from = t, progress.wall0 = now;
-    if (now - progress.wall_last < 0.25 || now - progress.wall0 < 2 || !(progress.goal > 0))
+        progress.t_from = t, progress.wall0 = progress.wall_last = now;
+    if (!(progress.goal > 0))
+        return;
+    if (progress.tty ? now - progress.wall_last < 0.25 || now - progress.wall0 < 2
+                     : now - progress.wall_last < (progress.drawn ? PROGRESS_LOG_EVERY
+                                                                  : PROGRESS_LOG_FIRST))
         return;
     progress.wall_last = now;
     double rate = (t - progress.t_from) / (now - progress.wall0); /* simulated s per s */
-    fprintf(stderr, "\r%s: t = %.4g of %.4g s (%.1f%%), ETA %.0f s ", progress.what, t,
-            progress.goal, 100 * t / progress.goal, rate > 0 ? (progress.goal - t) / rate : 0);
+    fprintf(stderr, progress.tty ? "\r%s: t = %.4g of %.4g s (%.1f%%), ETA %.0f s "
+                                 : "springpend: %s: t = %.4g of %.4g s (%.1f%%), ETA %.0f s\n",
+            progress.what, t, progress.goal, 100 * t / progress.goal,
+            rate > 0 ? (progress.goal - t) / rate : 0);
     progress.drawn = 1;
 }
 
 void sp_progress_end(void)
 {
-    if (progress.drawn)
+    if (progress.drawn && progress.tty)
         fputc('\n', stderr);
     progress.on = progress.drawn = 0;
 }

@@ -560,8 +560,7 @@ static int run(int argc, char **argv, int still, const volatile sig_atomic_t *ca
     if (!ret)
         ret = sp_cli_check_work(&o, &scenes[0], still ? fmax(end.t, o.still.at) : end.t, 1, cancel);
     for (int i = 1; !ret && i < o.n_scenes; i++)
-        ret = sp_cli_check_work(&o, &sp[i], sp_scene_frame_time(&sp[i], sp_timeline_frames(&sp[i]) - 1), 1,
-                                cancel);
+        ret = sp_cli_check_work(&o, &sp[i], sp_scene_frame_time(&sp[i], sp_timeline_frames(&sp[i]) - 1), 1, cancel);
     const struct sp_scene *more[SP_CLI_MAX_SCENES - 1];
     for (int i = 1; i < o.n_scenes; i++)
         more[i - 1] = &sp[i];

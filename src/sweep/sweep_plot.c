@@ -1066,6 +1066,47 @@ static const char *figure_what(const struct sp_sweep_desc *d)
     }
 }
 
+/* draw_lyapunov's line over one key: lam (and half, where the look has a
+ * second series) at the n points, the y axis from lo to hi, x labelled xl. */
+static void scalar_line(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                        const double *lam, const double *half, double lo, double hi,
+                        const char *xl)
+{
+    const struct scalar_look *look = &scalar_looks[d->measure];
+    const struct sp_sweep_axis *ax = &d->axis[0];
+    const long n = sp_sweep_points(d);
+    struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo, hi + 0.05 * (hi - lo)};
+    key_span(ax, &f.xlo, &f.xhi);
+    fix_key_range(&f.xlo, &f.xhi);
+    title(d, figure_what(d), look->short_title);
+    place(&f, fmax(30, U(18)), U(18), 0);
+    draw_title(d, pal, &f);
+    draw_axes(&f, pal, xl, look->label);
+    clip_to(&f);
+    struct curves cv = {0};
+    for (int pass = look->series[1] ? 0 : 1; pass < 2; pass++) {
+        const double *v = pass ? lam : half;
+        double last[2];
+        int pen = 0;
+        const long from = cv.n;
+        set_rgba(pass ? pal->series[1] : pal->muted), set_line_width(pass ? 1.6 : 1.0);
+        sp_canvas_path_begin(&G.cv);
+        for (long i = 0; i < n; i++) {
+            const double x = px(&f, sp_sweep_axis_value(ax, (int)i)), y = py(&f, v[i]);
+            poly_to(&pen, last, x, y);
+            curve_to(&cv, x, y);
+        }
+        sp_canvas_path_end(&G.cv);
+        mark_isolated(&cv, from);
+        curve_to(&cv, NAN, NAN);
+    }
+    clip_to(NULL);
+    const float *const colour[2] = {pal->series[1], pal->muted};
+    if (!G.v->legend)
+        draw_legend(&f, &cv, look->series, colour, look->series[1] ? 2 : 1, pal);
+    free(cv.p);
+}
+
 static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
                          const struct sp_palette *pal)
 {
@@ -1095,36 +1136,7 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
     char xl[96], yl[96];
     key_label(xl, sizeof(xl), ax->key);
     if (d->n_axes == 1) {
-        struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo, hi + 0.05 * (hi - lo)};
-        key_span(ax, &f.xlo, &f.xhi);
-        fix_key_range(&f.xlo, &f.xhi);
-        title(d, figure_what(d), look->short_title);
-        place(&f, fmax(30, U(18)), U(18), 0);
-        draw_title(d, pal, &f);
-        draw_axes(&f, pal, xl, look->label);
-        clip_to(&f);
-        struct curves cv = {0};
-        for (int pass = look->series[1] ? 0 : 1; pass < 2; pass++) {
-            const double *v = pass ? lam : half;
-            double last[2];
-            int pen = 0;
-            const long from = cv.n;
-            set_rgba(pass ? pal->series[1] : pal->muted), set_line_width(pass ? 1.6 : 1.0);
-            sp_canvas_path_begin(&G.cv);
-            for (long i = 0; i < n; i++) {
-                const double x = px(&f, sp_sweep_axis_value(ax, (int)i)), y = py(&f, v[i]);
-                poly_to(&pen, last, x, y);
-                curve_to(&cv, x, y);
-            }
-            sp_canvas_path_end(&G.cv);
-            mark_isolated(&cv, from);
-            curve_to(&cv, NAN, NAN);
-        }
-        clip_to(NULL);
-        const float *const colour[2] = {pal->series[1], pal->muted};
-        if (!G.v->legend)
-            draw_legend(&f, &cv, look->series, colour, look->series[1] ? 2 : 1, pal);
-        free(cv.p);
+        scalar_line(d, pal, lam, half, lo, hi, xl);
     } else {
         /* cells centred on the grid values */
         struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};

@@ -6,10 +6,11 @@
  * stroboscopic map. After the transient, a start is settled at the first
  * period k at which, for some p <= SP_BASINS_MAX_PERIOD, each of its last
  * p + 2 samples is within the recurrence tolerance of the sample p periods
- * before it, the contraction of those gaps since the same samples a window
- * earlier puts the distance left below the tolerance, and that contraction
- * accounts for the gaps: what it leaves (a drift that does not fade) is
- * under 0.03 tolerances per p periods (repeats): the smallest such p, reduced to a divisor q whose q-shifted
+ * before it, the contraction of those gaps since the window before puts
+ * the distance left below the tolerance, and those samples differ from the
+ * ones 16 periods or more before (a multiple of p) by under 0.02 tolerances
+ * a period, so a swing still drifting away is not settled (repeats): the
+ * smallest such p, reduced to a divisor q whose q-shifted
  * samples are within 3 tolerances (the cycle's least period), is its period;
  * a cycle within 10 tolerances of a q-cycle is held until told apart
  * (near_shorter). Tolerance: 1e-3 rad in
@@ -48,7 +49,8 @@
 
 #define RAD2DEG 57.29577951308232
 #define SUB SP_BASINS_SAMPLES          /* samples per drive period */
-#define RING 48 /* stroboscopic samples kept per start (>= 4 * max period + 2) */
+#define RING 32 /* stroboscopic samples kept per start (>= 3 * max period + 4, and > the
+                 * longest lag + its period + 1: 21 + 7 + 1 at p = 7) */
 #define MAXL 64                        /* lanes: a chunk (sweep.c's CHUNK) */
 #define BOX 5                          /* points per side of an entropy box */
 
@@ -95,52 +97,31 @@ static double gap(const struct lane *L, int p, int back, int count, const double
     return worst;
 }
 
-/* The drift a window leaves once its contraction rho is taken out: the
- * largest |d0 - rho d1| / (1 - rho), in tolerances per p periods, over the
- * signed differences d0 of the last n samples from those p before and d1 of
- * the same samples s earlier (s a multiple of p: the same phases of the
- * cycle). A geometric approach to a cycle (d0 = rho d1) leaves none; a
- * start drifting away under a fading transient (d = D rho^m + G: a period-2
- * swing still growing, attack19 #3) leaves its G. */
-static double drift(const struct lane *L, int p, int s, int n, double rho, const double tol[4])
-{
-    double worst = 0;
-    for (int q = 0; q < n; q++) {
-        const double *a = L->ring[(L->k - 1 - q) % RING], *c = L->ring[(L->k - 1 - q - p) % RING];
-        const double *a1 = L->ring[(L->k - 1 - q - s) % RING];
-        const double *c1 = L->ring[(L->k - 1 - q - s - p) % RING];
-        for (int i = 0; i < 4; i++) {
-            double d0 = i ? a[i] - c[i] : wrap(a[0] - c[0]);
-            double d1 = i ? a1[i] - c1[i] : wrap(a1[0] - c1[0]);
-            worst = fmax(worst, fabs(d0 - rho * d1) / tol[i]);
-        }
-    }
-    return worst / (1 - rho);
-}
-
 /* Whether the last samples repeat with period p, converged (see the top):
- * the gaps over the last n = p + 2 samples (g) and over the n that end s
- * samples before (g1; s the least multiple of p >= n) give the contraction
- * per s periods, rho = g / g1, and the distance left to the cycle, about
- * g rho / (1 - rho); it must be below the tolerance, and what the window
- * keeps once that contraction is taken out (drift) below SP_BASINS_DRIFT
- * tolerances per p periods. A gap under 1e-3 of the tolerance (the rounding
- * floor of a cycle reached) is settled as it stands. */
-#define SP_BASINS_DRIFT 0.03
+ * the gaps over the last p + 2 samples (g) and over the p + 2 before them
+ * (g1) give the contraction per p periods, rho = g / g1, and the distance
+ * left to the cycle, about g rho / (1 - rho); it must be below the
+ * tolerance. Not contracting (rho >= 1) is settled only at 1e-3 of it (the
+ * rounding floor of a cycle reached). And the same p + 2 samples against
+ * those `lag` periods before (the least multiple of p from SP_BASINS_LAG)
+ * must differ by under SP_BASINS_DRIFT tolerances a period: a start whose
+ * swing still grows under a fading transient contracts between two windows
+ * while it drifts away (attack19 #3), a start closing in on its cycle, even
+ * spiralling, does not drift. */
+#define SP_BASINS_LAG 16
+#define SP_BASINS_DRIFT 0.02
 static int repeats(const struct lane *L, int p, const double tol[4])
 {
-    const int n = p + 2, s = p * ((n + p - 1) / p);
-    if (L->k < s + n + p)
+    const int lag = p * ((SP_BASINS_LAG + p - 1) / p);
+    if (L->k < 3 * p + 4 || L->k < lag + p + 2)
         return 0;
-    double g = gap(L, p, 0, n, tol);
+    double g = gap(L, p, 0, p + 2, tol);
     if (!(g < 1))
         return 0;
-    if (g < 1e-3)
-        return 1;
-    double g1 = gap(L, p, s, n, tol), rho = g1 > 0 ? g / g1 : 1;
-    if (!(rho < 1 && g * rho / (1 - rho) < 1))
+    double g1 = gap(L, p, p + 2, p + 2, tol), rho = g1 > 0 ? g / g1 : 1;
+    if (!(rho < 1 ? g * rho / (1 - rho) < 1 : g < 1e-3))
         return 0;
-    return drift(L, p, s, n, rho, tol) < SP_BASINS_DRIFT;
+    return gap(L, lag, 0, p + 2, tol) < SP_BASINS_DRIFT * lag;
 }
 
 /* The least period that a settled cycle of period p also has, within three

@@ -4,8 +4,9 @@
 whose period-2 swing was still growing (driven.ini at b = 0.3, f = 1.1 Hz:
 one period-2 cycle, but the map listed two, with transients such as
 theta -0.34 deg at 33.6 s as representatives). A start is now settled only
-when the contraction between its windows accounts for the differences
-(no drift left), so every decided start is on the cycle.
+when, besides contracting between two windows, its samples differ from
+those 16 periods before by under 0.02 tolerances a period (no drift), so
+every decided start is on the cycle.
 Expected values come from scipy (the equations of doc/physics.md, the
 pivot y = A sin 2 pi f t, damping on the velocity relative to the air as
 sptest.model), strobed at t = k / f, never from springpend's output.

@@ -8,8 +8,9 @@
  *   }
  *
  * The promises:
- * - A regular file (or a new name) is written as NAME.XXXXXX.part, a name
- *   made unique with O_EXCL in the target's folder, and renamed over the
+ * - A regular file (or a new name) is written as NAME.XXXXXX.part (as
+ *   springpend-XXXXXX.part where that name would pass the folder's NAME_MAX),
+ *   a name made unique with O_EXCL in the target's folder, and renamed over the
  *   target only when complete: concurrent runs never share a .part, the last
  *   one to finish wins with a whole file, and nothing that already exists is
  *   opened, truncated or removed (not even a file named like a .part).
@@ -145,6 +146,19 @@ int sp_outfile_lies_in(const char *path, const char *dir);
  * written: a folder, or under something that is not a writable folder.
  * Looks only; creates nothing. `what` names the option ("-o"). */
 int sp_outfile_check_writable(const char *path, const char *what);
+
+/* Refuses (SP_E_INPUT, with a message: what is wrong, what is allowed) an
+ * output path whose name, with suffix appended (a partner written beside
+ * it, e.g. SP_CSV_METADATA_SUFFIX; "": the name itself), passes its
+ * folder's NAME_MAX (the nearest folder that exists). partner names what
+ * the longer name is ("metadata"). A stream is never refused. Looks only. */
+int sp_outfile_check_name(const char *path, const char *suffix, const char *what,
+                          const char *partner);
+
+/* The start of a .part's name where NAME.XXXXXX.part would pass its
+ * folder's NAME_MAX (a target name of 244 bytes or more):
+ * FOLDER/springpend-XXXXXX.part, in the target's folder. */
+#define SP_OUTFILE_SHORT_PART "springpend-"
 
 /* The folders a run created, so that a failed run can remove them. */
 struct sp_dirs {

@@ -268,13 +268,61 @@ FILE *sp_outfile_fdopen(struct sp_outfile *f)
     return fp;
 }
 
-/* Creates target.XXXXXX.part with O_EXCL (mode 0666 less the umask) and
- * arms its slot. */
+/* The longest name a file in path's folder may have (pathconf's
+ * _PC_NAME_MAX of its nearest folder that exists; NAME_MAX where it cannot
+ * be told), that folder into dir (size bytes). */
+static long folder_name_max(const char *path, char *dir, size_t size)
+{
+    struct stat st;
+    snprintf(dir, size, "%s", path);
+    for (;;) {
+        char *slash = strrchr(dir, '/');
+        if (!slash) {
+            snprintf(dir, size, ".");
+            break;
+        }
+        *slash = 0;
+        if (slash == dir)
+            snprintf(dir, size, "/");
+        if (!dir[0] || stat(dir, &st) == 0 || (errno != ENOENT && errno != ENOTDIR))
+            break;
+    }
+    long max = pathconf(dir, _PC_NAME_MAX);
+    return max > 0 ? max : NAME_MAX;
+}
+
+/* The .part's name for a target whose folder is dir_len bytes of target
+ * ("" or "…/") and its name the rest: target.XXXXXX.part beside it; where
+ * that passes the folder's NAME_MAX (a name of 244+ bytes, legal) or
+ * PATH_MAX, FOLDER/springpend-XXXXXX.part, in the same folder (rename()
+ * stays on one file system: attack19 #5). */
+static void part_name_for(char *name, const char *target, size_t dir_len, long name_max,
+                          const char suffix[7])
+{
+    const size_t n = strlen(target);
+    if (n - dir_len + sizeof(".XXXXXX.part") - 1 <= (size_t)name_max &&
+        n + sizeof(".XXXXXX.part") <= PATH_MAX)
+        snprintf(name, PATH_MAX, "%s.%s.part", target, suffix);
+    else
+        snprintf(name, PATH_MAX, "%.*s" SP_OUTFILE_SHORT_PART "%s.part", (int)dir_len, target,
+                 suffix);
+}
+
+/* Creates the .part (part_name_for) with O_EXCL (mode 0666 less the umask:
+ * a link or any file at that name is never opened) and arms its slot. */
 static int open_part(struct sp_outfile *f)
 {
-    size_t n = strlen(f->target);
-    if (n + sizeof(".XXXXXX.part") > PATH_MAX) {
+    char dir[PATH_MAX];
+    const char *slash = strrchr(f->target, '/');
+    const size_t n = strlen(f->target), dir_len = slash ? (size_t)(slash + 1 - f->target) : 0;
+    const long name_max = folder_name_max(f->target, dir, sizeof(dir));
+    if (n + 1 > PATH_MAX || dir_len + sizeof(SP_OUTFILE_SHORT_PART "XXXXXX.part") > PATH_MAX) {
         sp_log_error("%s: the path is too long", f->target);
+        return SP_E_INPUT;
+    }
+    if (n - dir_len > (size_t)name_max) {
+        sp_log_error("%s: the name is %zu bytes; a name in %s has at most %ld", f->target,
+                     n - dir_len, dir, name_max);
         return SP_E_INPUT;
     }
     if ((f->slot = slot_take()) < 0) {
@@ -286,7 +334,7 @@ static int open_part(struct sp_outfile *f)
     for (int tries = 0; tries < 100; tries++) {
         char suffix[7];
         unique_suffix(suffix);
-        snprintf(name, PATH_MAX, "%s.%s.part", f->target, suffix);
+        part_name_for(name, f->target, dir_len, name_max, suffix);
         f->fd = open(name, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOCTTY, 0666);
         if (f->fd >= 0 || errno != EEXIST)
             break;
@@ -644,6 +692,27 @@ int sp_outfile_lies_in(const char *path, const char *dir)
     return !strncmp(fp, fd, n) && (fp[n] == 0 || fp[n] == '/' || (n == 1 && fd[0] == '/'));
 }
 
+int sp_outfile_check_name(const char *path, const char *suffix, const char *what,
+                          const char *partner)
+{
+    char dir[PATH_MAX];
+    if (sp_outfile_is_stream(path))
+        return 0; /* written through: no name made */
+    const char *slash = strrchr(path, '/'), *name = slash ? slash + 1 : path;
+    const size_t n = strlen(name), more = strlen(suffix);
+    const long max = folder_name_max(path, dir, sizeof(dir));
+    if (n + more <= (size_t)max)
+        return 0;
+    if (!more)
+        sp_log_error("%s %s: the name is %zu bytes; a name in %s has at most %ld", what, path, n,
+                     dir, max);
+    else
+        sp_log_error("%s %s: its %s, NAME%s beside it, would have a name of %zu bytes; a name "
+                     "in %s has at most %ld: give a name of at most %ld bytes", what, path,
+                     partner, suffix, n + more, dir, max, max - (long)more);
+    return SP_E_INPUT;
+}
+
 int sp_outfile_check_writable(const char *path, const char *what)
 {
     char dir[PATH_MAX];
@@ -658,19 +727,7 @@ int sp_outfile_check_writable(const char *path, const char *what)
     }
     /* The nearest ancestor that exists must be a folder we may write in;
      * the sink creates the missing ones below it. */
-    snprintf(dir, sizeof(dir), "%s", path);
-    for (;;) {
-        char *slash = strrchr(dir, '/');
-        if (!slash) {
-            snprintf(dir, sizeof(dir), ".");
-            break;
-        }
-        *slash = 0;
-        if (slash == dir)
-            snprintf(dir, sizeof(dir), "/");
-        if (!dir[0] || stat(dir, &st) == 0 || (errno != ENOENT && errno != ENOTDIR))
-            break;
-    }
+    (void)folder_name_max(path, dir, sizeof(dir));
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
         sp_log_error("%s %s: %s is not a folder", what, path, dir);
         return SP_E_INPUT;
@@ -679,5 +736,5 @@ int sp_outfile_check_writable(const char *path, const char *what)
         sp_log_error("%s %s: cannot write in folder %s: %s", what, path, dir, strerror(errno));
         return SP_E_INPUT;
     }
-    return 0;
+    return sp_outfile_check_name(path, "", what, NULL);
 }

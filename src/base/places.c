@@ -83,33 +83,49 @@ int sp_build_tree(char *build, char *source)
     return 0;
 }
 
+/* 1 when path is a folder and (probe not NULL) holds the readable file
+ * probe: a guides' folder that dpkg's path-exclude emptied but for its
+ * copyright file is no guides' folder (attack19 #6). */
+static int holds(const char *path, const char *probe)
+{
+    struct stat st;
+    char file[2 * PATH_MAX + 128];
+    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode))
+        return 0;
+    if (!probe)
+        return 1;
+    snprintf(file, sizeof(file), "%s/%s", path, probe);
+    return stat(file, &st) == 0 && S_ISREG(st.st_mode) && access(file, R_OK) == 0;
+}
+
 /* The folder named sub in the source tree when run from a build tree; else
  * reldir from the executable's folder (an absolute reldir as it is), where
- * it is a folder; else absdir. Resolved, into dir. 0 when dir is a folder,
- * -1 when not (absdir, where nothing was installed or it was removed). */
+ * it is a folder (holding probe, unless NULL); else absdir. Resolved, into
+ * dir. 0 when dir is such a folder, -1 when not (absdir, where nothing was
+ * installed or it was removed). */
 static int shipped_dir(char *dir, size_t size, const char *sub, const char *reldir,
-                       const char *absdir)
+                       const char *absdir, const char *probe)
 {
     char exe[PATH_MAX], source[PATH_MAX], path[2 * PATH_MAX + 64], real[PATH_MAX];
-    struct stat st;
     if (sp_build_tree(NULL, source))
         snprintf(path, sizeof(path), "%s/%s", source, sub);
     else if (exe_folder(exe) == 0 && reldir[0] != '/')
         snprintf(path, sizeof(path), "%s/%s", exe, reldir);
     else
         snprintf(path, sizeof(path), "%s", absdir);
-    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode))
+    if (!holds(path, probe))
         snprintf(path, sizeof(path), "%s", absdir);
     snprintf(dir, size, "%s", realpath(path, real) ? real : path);
-    return stat(dir, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
+    return holds(dir, probe) ? 0 : -1;
 }
 
 void sp_scenes_dir(char *dir, size_t size)
 {
-    (void)shipped_dir(dir, size, "scenes", SP_SCENES_RELDIR, SP_SCENES_DIR);
+    (void)shipped_dir(dir, size, "scenes", SP_SCENES_RELDIR, SP_SCENES_DIR, NULL);
 }
 
 int sp_docs_dir(char *dir, size_t size)
 {
-    return shipped_dir(dir, size, "doc", SP_DOCS_RELDIR, SP_DOCS_DIR);
+    /* outputs.md: the guide most --help texts point to */
+    return shipped_dir(dir, size, "doc", SP_DOCS_RELDIR, SP_DOCS_DIR, "outputs.md");
 }

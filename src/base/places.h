@@ -29,7 +29,8 @@ void sp_scenes_dir(char *dir, size_t size);
  * when installed), found as sp_scenes_dir finds the scenes: the source
  * tree's doc/ from a build tree, else the installed one (SP_DOCS_RELDIR
  * from the executable, else SP_DOCS_DIR). For --help's pointers. 0, or -1
- * when no such folder exists (a system that drops /usr/share/doc). */
+ * when no such folder holds outputs.md (a system that drops /usr/share/doc,
+ * or keeps only its copyright files there). */
 int sp_docs_dir(char *dir, size_t size);
 
 #endif

@@ -565,7 +565,10 @@ int sp_cli_output_path(const struct sp_cli_options *o, const struct sp_scene *sc
             return SP_E_INPUT;
         }
     }
-    return sp_outfile_check_writable(buf, "output");
+    int err = sp_outfile_check_writable(buf, "output");
+    /* the metadata's own name must fit the folder too (attack19 #5) */
+    return err ? err : csv ? sp_outfile_check_name(buf, SP_CSV_METADATA_SUFFIX, "output",
+                                                   "metadata") : 0;
 }
 
 /* Past this many steps a run is refused: hours of integration. The same

@@ -437,7 +437,8 @@ static int check_outputs(const struct sweep_opts *o)
                      "so --csv must name a regular file", o->csv);
         return SP_E_INPUT;
     }
-    if (o->csv && sp_outfile_check_writable(o->csv, "--csv"))
+    if (o->csv && (sp_outfile_check_writable(o->csv, "--csv") ||
+                   sp_outfile_check_name(o->csv, SP_CSV_METADATA_SUFFIX, "--csv", "metadata")))
         return SP_E_INPUT;
     char csv_meta[4096]; /* --csv's metadata, written beside it */
     if (o->csv && o->output &&

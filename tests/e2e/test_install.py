@@ -92,7 +92,22 @@ ok(gone.returncode == 0 and "are not\ninstalled here: they are doc/*.md in sprin
    and real_docs not in gone.stdout,
    f"without the guides' folder, --help says they are not installed here "
    f"({[l for l in gone.stdout.splitlines() if 'guides' in l or 'installed' in l]})")
+# attack19 #6: a minimal image's dpkg path-exclude keeps the package's
+# folder with only its copyright file: the guides are not there, and --help
+# says so rather than naming a folder without them
+os.makedirs(docs)
+with open(os.path.join(docs, "copyright"), "w") as f:
+    f.write("springpend: MIT\n")
+bare = run("--help")
+ok(bare.returncode == 0 and "are not\ninstalled here: they are doc/*.md in springpend's source" in bare.stdout
+   and real_docs not in bare.stdout,
+   f"attack19 #6: a guides' folder holding only copyright: --help says they are not installed "
+   f"here ({[l for l in bare.stdout.splitlines() if 'guides' in l or 'installed' in l or 'doc' in l]})")
+shutil.rmtree(docs)
 shutil.move(docs + ".moved", docs)
+again = run("--help").stdout
+ok(f"\n  {real_docs}/\n" in again,
+   f"the guides put back: --help names their folder again ({[l for l in again.splitlines() if 'doc' in l]})")
 open(os.path.join(work, "empty.ini"), "w").close()
 r = run("still", "empty.ini", "-o", "e.png")
 named = re.findall(r"start from (\S+\.ini)", r.stderr)

@@ -236,6 +236,18 @@ static void text_label(char *buf, size_t size, const char *where, const char *ke
         snprintf(buf, size, "%s%s[view] %s", where, where[0] ? ": " : "", key);
 }
 
+/* How wrap_texts states a length of drawn px: in pt for a figure of
+ * physical size (as its layout's refusals and notes are), else in px. */
+static double text_len(const struct sp_composer *r, double px)
+{
+    return r->look.pt_px > 0 ? round(10 * px / (r->ss * r->look.pt_px)) / 10 : round(px);
+}
+
+static const char *text_unit(const struct sp_composer *r)
+{
+    return r->look.pt_px > 0 ? "pt" : "px";
+}
+
 /* Wraps the title and caption to the frame's width and checks that every
  * character has a font and that the bands leave the picture at least half
  * the frame: there is no other limit on their length. Each refusal names
@@ -263,28 +275,34 @@ static int wrap_texts(struct sp_composer *r)
         return err;
     for (int i = 0; i < r->title_lines; i++)
         if (sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i)) > width) {
-            sp_log_error("%s: \"%s\" is %d px wide, wider than the frame's %.0f px for "
+            sp_log_error("%s: \"%s\" is %g %s wide, wider than the frame's %g %s for "
                          "text; use a smaller font_size or font_scale, or a wider frame", title,
-                         line_of(r->title, i), sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i)), width);
+                         line_of(r->title, i),
+                         text_len(r, sp_font_width(f, SP_TEXT_TITLE, line_of(r->title, i))),
+                         text_unit(r), text_len(r, width), text_unit(r));
             return SP_E_INPUT;
         }
     for (int i = 0; i < r->caption_lines; i++)
         if (sp_font_width(f, SP_TEXT_NORMAL, line_of(r->caption, i)) > width) {
-            sp_log_error("%s: \"%s\" is %d px wide, wider than the frame's %.0f px "
+            sp_log_error("%s: \"%s\" is %g %s wide, wider than the frame's %g %s "
                          "for text; use a smaller font_size or font_scale, or a wider frame", caption,
-                         line_of(r->caption, i), sp_font_width(f, SP_TEXT_NORMAL, line_of(r->caption, i)), width);
+                         line_of(r->caption, i),
+                         text_len(r, sp_font_width(f, SP_TEXT_NORMAL, line_of(r->caption, i))),
+                         text_unit(r), text_len(r, width), text_unit(r));
             return SP_E_INPUT;
         }
     const int text_h = r->title_lines * sp_font_line(f, SP_TEXT_TITLE) +
                        r->caption_lines * sp_font_line(f, SP_TEXT_NORMAL);
     if (text_h > r->height / 2) {
         /* both named when both are set: either may be the one to shorten */
-        sp_log_error("%s%s%s: the title and caption cannot fit: they wrap to %d + %d lines at %.0f px wide, "
-                     "%d px of the frame's %d; allowed: at most half the height (%d px); "
+        const char *u = text_unit(r);
+        sp_log_error("%s%s%s: the title and caption cannot fit: they wrap to %d + %d lines at %g %s wide, "
+                     "%g %s of the frame's %g; allowed: at most half the height (%g %s); "
                      "shorten them, use a smaller font_size or font_scale, or a larger frame",
                      v->title[0] ? title : "", v->title[0] && v->caption[0] ? " and " : "",
-                     v->caption[0] ? caption : "", r->title_lines, r->caption_lines, width,
-                     text_h, r->height, r->height / 2);
+                     v->caption[0] ? caption : "", r->title_lines, r->caption_lines,
+                     text_len(r, width), u, text_len(r, text_h), u, text_len(r, r->height),
+                     text_len(r, r->height / 2), u);
         return SP_E_INPUT;
     }
     return 0;

@@ -213,6 +213,8 @@ struct run {
         double followed_t;       /* s; < 0 = none */
     } more[SP_PIPELINE_MAX_SCENES - 1];
     int n_more;
+    int compose_refused;         /* 1: the PNG's frame was refused as composed
+                                    (its title or caption cannot fit, ...) */
     struct sp_look looks[SP_PIPELINE_MAX_SCENES]; /* side by side: each cell's look */
     char labels[SP_PIPELINE_MAX_SCENES][SP_VIEW_TEXT_BYTES];
     char label_what[SP_PIPELINE_MAX_SCENES][320]; /* for messages about a label */
@@ -470,6 +472,7 @@ static int run_setup(struct run *run)
         .width = w, .height = h, .extent = extent, .gl = desc->gl,
         .look = &run->looks[0], .supersample = desc->supersample,
         .cells = 1 + run->n_more, .looks = run->looks});
+    run->compose_refused = ret == SP_E_INPUT;
     if (ret || (ret = sp_provenance_init(&run->prov, desc->recorded ? desc->recorded : sc,
                                          sp_render_renderer_name(run->r),
                                          sp_render_gl_version(run->r))) != 0)
@@ -826,9 +829,12 @@ int sp_pipeline_run(const struct sp_pipeline_desc *desc)
     if (ret)
         return ret;
     ret = run_setup(&run);
+    const int fit = desc->still && desc->pt_px > 0 && desc->size_unit[0];
+    if (ret == SP_E_INPUT && run.compose_refused && fit && !run_still_follow(&run))
+        advise_fit(&run); /* a PNG refused as composed, before the sim ran: at --at */
     if (!ret) {
         ret = run.figure ? run_figure(&run) : desc->still ? run_still(&run) : run_video(&run);
-        if (ret == SP_E_INPUT && desc->still && desc->pt_px > 0 && desc->size_unit[0])
+        if (ret == SP_E_INPUT && fit)
             advise_fit(&run);
     }
     if (!ret && !run.figure)

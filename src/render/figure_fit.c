@@ -39,15 +39,25 @@ struct trial {
     unsigned panels;
 };
 
+/* 1 when a page (pt) is past 10:1, where compose.c's small_frame draws a
+ * figure without its heads-up text, panels and colour bar. */
+static int drops_panels(double w, double h)
+{
+    return fmax(w, h) > 10 * fmin(w, h);
+}
+
 /* 1 when t is past what a still takes: a side over 200 in or under 1 in,
- * more than 10:1 (where compose.c's small_frame drops the panels), a PNG
- * over 7680x4320 px or too large to supersample. */
+ * a PNG over 7680x4320 px or too large to supersample; or on the other
+ * side of 10:1 from the size refused, so that every trial is laid out as
+ * that one was (with its panels, or, past 10:1, without them: there only
+ * the title, caption and the pendulum are laid out, and a size that brought
+ * the panels back would be another figure). */
 static int beyond(const struct sp_figure_fit *fit, struct trial t)
 {
     const double w = round(t.w * fit->pt_px), h = round(t.h * fit->pt_px);
     const double ss = fit->supersample > 1 ? fit->supersample : 1;
     return t.w > FIT_PAGE_MAX + 1e-6 || t.h > FIT_PAGE_MAX + 1e-6 || fmin(t.w, t.h) < 72 - 1e-6 ||
-           fmax(t.w, t.h) > 10 * fmin(t.w, t.h) ||
+           drops_panels(t.w, t.h) != drops_panels(fit->page_w, fit->page_h) ||
            (fit->png && (w > 7680 || h > 4320 || w * h * ss * ss > 7680.0 * 4320 * 4));
 }
 
@@ -231,8 +241,9 @@ static int panels_advice(const struct sp_figure_fit *fit, const struct sp_frame 
 
 void sp_figure_fit_advise(const struct sp_figure_fit *fit, const struct sp_frame *f)
 {
-    if (!(fit->pt_px > 0) || !fit->looks || fits(fit, f, (struct trial){fit->page_w, fit->page_h, 0, ~0u}))
-        return; /* not refused for its layout: nothing to say here */
+    const struct trial given = {fit->page_w, fit->page_h, 0, ~0u};
+    if (!(fit->pt_px > 0) || !fit->looks || beyond(fit, given) || fits(fit, f, given))
+        return; /* not refused for its layout (too large a PNG to draw): nothing to say here */
     char said[3][400];
     const int has[3] = {size_advice(fit, f, said[0], sizeof(said[0])),
                         font_advice(fit, f, said[1], sizeof(said[1])),

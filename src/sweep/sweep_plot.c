@@ -954,6 +954,30 @@ static void curve_to(struct curves *c, double x, double y)
     c->p[c->n][0] = x, c->p[c->n][1] = y, c->n++;
 }
 
+/* Whether c's point i is finite with neither neighbour finite: a lone
+ * value (a sweep of one point, or one between blown-up ones) that no
+ * segment of its curve draws. */
+static int isolated(const struct curves *c, long i)
+{
+    const double *p = c->p[i];
+    return isfinite(p[0] + p[1]) && (i == 0 || !isfinite(c->p[i - 1][0] + c->p[i - 1][1])) &&
+           (i + 1 >= c->n || !isfinite(c->p[i + 1][0] + c->p[i + 1][1]));
+}
+
+/* Marks each isolated point of c from its index `from` on (the curve just
+ * drawn) with a disc 4 line widths across (6.4 pt for a 1.6 pt line, about
+ * matplotlib's 6 pt marker), in the colour set; outside a
+ * path. */
+static void mark_isolated(const struct curves *c, long from)
+{
+    if (G.measuring)
+        return;
+    for (long i = from; i < c->n; i++)
+        if (isolated(c, i))
+            sp_canvas_disc(&G.cv, (float)c->p[i][0], (float)c->p[i][1], (float)(2 * G.lwidth), 0,
+                           G.col);
+}
+
 /* The box of draw_legend's n entries text[i], w x h pt. */
 static void legend_size(const char *const *text, int n, double *w, double *h)
 {
@@ -987,9 +1011,11 @@ static void draw_legend(const struct frame *f, const struct curves *c, const cha
         const double y = f->y0 + in + place_at[k][1] * (f->h - 2 * in - h);
         const double r[4] = {x - pad, y - pad, x + w + pad, y + h + pad};
         long hits = 0;
-        for (long i = 0; i + 1 < c->n; i++)
-            hits += isfinite(c->p[i][0] + c->p[i][1] + c->p[i + 1][0] + c->p[i + 1][1]) &&
-                    crosses(c->p[i], c->p[i + 1], r);
+        for (long i = 0; i < c->n; i++)
+            hits += (i + 1 < c->n &&
+                     isfinite(c->p[i][0] + c->p[i][1] + c->p[i + 1][0] + c->p[i + 1][1]) &&
+                     crosses(c->p[i], c->p[i + 1], r)) ||
+                    (isolated(c, i) && crosses(c->p[i], c->p[i], r)); /* its mark */
         if (hits < best_hits)
             best = k, best_hits = hits;
     }
@@ -1040,6 +1066,47 @@ static const char *figure_what(const struct sp_sweep_desc *d)
     }
 }
 
+/* draw_lyapunov's line over one key: lam (and half, where the look has a
+ * second series) at the n points, the y axis from lo to hi, x labelled xl. */
+static void scalar_line(const struct sp_sweep_desc *d, const struct sp_palette *pal,
+                        const double *lam, const double *half, double lo, double hi,
+                        const char *xl)
+{
+    const struct scalar_look *look = &scalar_looks[d->measure];
+    const struct sp_sweep_axis *ax = &d->axis[0];
+    const long n = sp_sweep_points(d);
+    struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo, hi + 0.05 * (hi - lo)};
+    key_span(ax, &f.xlo, &f.xhi);
+    fix_key_range(&f.xlo, &f.xhi);
+    title(d, figure_what(d), look->short_title);
+    place(&f, fmax(30, U(18)), U(18), 0);
+    draw_title(d, pal, &f);
+    draw_axes(&f, pal, xl, look->label);
+    clip_to(&f);
+    struct curves cv = {0};
+    for (int pass = look->series[1] ? 0 : 1; pass < 2; pass++) {
+        const double *v = pass ? lam : half;
+        double last[2];
+        int pen = 0;
+        const long from = cv.n;
+        set_rgba(pass ? pal->series[1] : pal->muted), set_line_width(pass ? 1.6 : 1.0);
+        sp_canvas_path_begin(&G.cv);
+        for (long i = 0; i < n; i++) {
+            const double x = px(&f, sp_sweep_axis_value(ax, (int)i)), y = py(&f, v[i]);
+            poly_to(&pen, last, x, y);
+            curve_to(&cv, x, y);
+        }
+        sp_canvas_path_end(&G.cv);
+        mark_isolated(&cv, from);
+        curve_to(&cv, NAN, NAN);
+    }
+    clip_to(NULL);
+    const float *const colour[2] = {pal->series[1], pal->muted};
+    if (!G.v->legend)
+        draw_legend(&f, &cv, look->series, colour, look->series[1] ? 2 : 1, pal);
+    free(cv.p);
+}
+
 static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
                          const struct sp_palette *pal)
 {
@@ -1069,34 +1136,7 @@ static int draw_lyapunov(FILE *fp, const struct sp_sweep_desc *d,
     char xl[96], yl[96];
     key_label(xl, sizeof(xl), ax->key);
     if (d->n_axes == 1) {
-        struct frame f = {80, 56, W - 110, H - 116, 0, 1, lo, hi + 0.05 * (hi - lo)};
-        key_span(ax, &f.xlo, &f.xhi);
-        fix_key_range(&f.xlo, &f.xhi);
-        title(d, figure_what(d), look->short_title);
-        place(&f, fmax(30, U(18)), U(18), 0);
-        draw_title(d, pal, &f);
-        draw_axes(&f, pal, xl, look->label);
-        clip_to(&f);
-        struct curves cv = {0};
-        for (int pass = look->series[1] ? 0 : 1; pass < 2; pass++) {
-            const double *v = pass ? lam : half;
-            double last[2];
-            int pen = 0;
-            set_rgba(pass ? pal->series[1] : pal->muted), set_line_width(pass ? 1.6 : 1.0);
-            sp_canvas_path_begin(&G.cv);
-            for (long i = 0; i < n; i++) {
-                const double x = px(&f, sp_sweep_axis_value(ax, (int)i)), y = py(&f, v[i]);
-                poly_to(&pen, last, x, y);
-                curve_to(&cv, x, y);
-            }
-            sp_canvas_path_end(&G.cv);
-            curve_to(&cv, NAN, NAN);
-        }
-        clip_to(NULL);
-        const float *const colour[2] = {pal->series[1], pal->muted};
-        if (!G.v->legend)
-            draw_legend(&f, &cv, look->series, colour, look->series[1] ? 2 : 1, pal);
-        free(cv.p);
+        scalar_line(d, pal, lam, half, lo, hi, xl);
     } else {
         /* cells centred on the grid values */
         struct frame f = {80, 56, W - 200, H - 116, 0, 1, 0, 1};
@@ -1603,6 +1643,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
     for (int j = 0; j < 4; j++) {
         double last[2];
         int pen = 0;
+        const long from = cv.n;
         set_rgba(pal->series[colour[j]]), set_line_width(1.6);
         sp_canvas_path_begin(&G.cv);
         for (long i = 0; i < m; i++) {
@@ -1611,6 +1652,7 @@ static int draw_spectrum(FILE *fp, const struct sp_sweep_desc *d,
             curve_to(&cv, px(&f, xv), py(&f, y[i][j]));
         }
         sp_canvas_path_end(&G.cv);
+        mark_isolated(&cv, from);
         curve_to(&cv, NAN, NAN);
     }
     clip_to(NULL);

@@ -6,7 +6,11 @@
  * stroboscopic map. After the transient, a start is settled at the first
  * period k at which, for some p <= SP_BASINS_MAX_PERIOD, each of its last
  * p + 2 samples is within the recurrence tolerance of the sample p periods
- * before it: the smallest such p, reduced to a divisor q whose q-shifted
+ * before it, the contraction of those gaps since the window before puts
+ * the distance left below the tolerance, and those samples differ from the
+ * ones 16 periods or more before (a multiple of p) by under 0.02 tolerances
+ * a period, so a swing still drifting away is not settled (repeats): the
+ * smallest such p, reduced to a divisor q whose q-shifted
  * samples are within 3 tolerances (the cycle's least period), is its period;
  * a cycle within 10 tolerances of a q-cycle is held until told apart
  * (near_shorter). Tolerance: 1e-3 rad in
@@ -45,7 +49,8 @@
 
 #define RAD2DEG 57.29577951308232
 #define SUB SP_BASINS_SAMPLES          /* samples per drive period */
-#define RING 32 /* stroboscopic samples kept per start (>= 3 * max period + 4) */
+#define RING 32 /* stroboscopic samples kept per start (>= 3 * max period + 4, and > the
+                 * longest lag + its period + 1: 21 + 7 + 1 at p = 7) */
 #define MAXL 64                        /* lanes: a chunk (sweep.c's CHUNK) */
 #define BOX 5                          /* points per side of an entropy box */
 
@@ -97,16 +102,26 @@ static double gap(const struct lane *L, int p, int back, int count, const double
  * (g1) give the contraction per p periods, rho = g / g1, and the distance
  * left to the cycle, about g rho / (1 - rho); it must be below the
  * tolerance. Not contracting (rho >= 1) is settled only at 1e-3 of it (the
- * rounding floor of a cycle reached). */
+ * rounding floor of a cycle reached). And the same p + 2 samples against
+ * those `lag` periods before (the least multiple of p from SP_BASINS_LAG)
+ * must differ by under SP_BASINS_DRIFT tolerances a period: a start whose
+ * swing still grows under a fading transient contracts between two windows
+ * while it drifts away (attack19 #3), a start closing in on its cycle, even
+ * spiralling, does not drift. */
+#define SP_BASINS_LAG 16
+#define SP_BASINS_DRIFT 0.02
 static int repeats(const struct lane *L, int p, const double tol[4])
 {
-    if (L->k < 3 * p + 4)
+    const int lag = p * ((SP_BASINS_LAG + p - 1) / p);
+    if (L->k < 3 * p + 4 || L->k < lag + p + 2)
         return 0;
     double g = gap(L, p, 0, p + 2, tol);
     if (!(g < 1))
         return 0;
     double g1 = gap(L, p, p + 2, p + 2, tol), rho = g1 > 0 ? g / g1 : 1;
-    return rho < 1 ? g * rho / (1 - rho) < 1 : g < 1e-3;
+    if (!(rho < 1 ? g * rho / (1 - rho) < 1 : g < 1e-3))
+        return 0;
+    return gap(L, lag, 0, p + 2, tol) < SP_BASINS_DRIFT * lag;
 }
 
 /* The least period that a settled cycle of period p also has, within three

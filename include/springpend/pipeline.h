@@ -22,7 +22,10 @@ struct sp_pipeline_desc {
     int first, last;     /* video frames [first, last) only; last 0 = to the
                             end. The physics still runs from t = 0. */
     enum sp_gl gl; /* GL backend; 0 = default */
-    int progress;        /* 1: draw a progress line on stderr */
+    int progress;        /* 1: say progress on stderr: the integration's
+                            (sp_progress_*: redrawn on a terminal, else a line
+                            after 10 s and once a minute), and on a terminal
+                            the frames' bar */
     int verbose;         /* 1: print per-stage times on stderr at the end */
     int handle_signals;  /* 1: SIGINT/SIGTERM/SIGHUP finish the file so far (see
                             sp_pipeline_run, and signals.h's hold); 0 leaves

@@ -692,7 +692,7 @@ static int run_video(struct run *run)
         tm->render += sp_clock_s() - ts;
         publish(q, run->sim.s.t);
         run->emitted++;
-        if (run->desc->progress && (run->emitted % 10 == 0 || k == run->last - 1))
+        if (run->desc->progress && isatty(2) && (run->emitted % 10 == 0 || k == run->last - 1))
             show_progress(run->emitted, run->last - run->first, t0);
     }
     return 0;
@@ -720,7 +720,7 @@ static int run_finish(struct run *run)
             return ret;
     }
     const double t0 = sp_clock_s();
-    if (stopped(run) && desc->progress)
+    if (stopped(run) && desc->progress && isatty(2))
         fputc('\n', stderr);
     if (stopped(run) && !run->emitted && !desc->still)
         return SP_E_INTERRUPTED; /* said by run_close, which aborts the sink */

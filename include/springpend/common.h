@@ -94,6 +94,9 @@ const char *sp_text_next_escaped(const char *start, const char *s);
  * (a CI log, a pipe) a line of its own after 10 s, then once a minute.
  * enable = 0 draws nothing. */
 void sp_progress_begin(int enable, const char *what, double t_goal);
+/* 1 when stderr and stdout are one open file (`-o - 2>&1`): a command whose
+ * output goes to stdout then keeps its progress off stderr (attack20 #2). */
+int sp_stderr_is_stdout(void);
 void sp_progress_sim(void *ctx, double t);
 void sp_progress_end(void);
 

@@ -1,4 +1,5 @@
 /* springpend: logging, and the progress line of long integrations. */
+#include <sys/stat.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -201,6 +202,12 @@ static struct {
  * the estimate's note without a word). */
 #define PROGRESS_LOG_FIRST 10.0
 #define PROGRESS_LOG_EVERY 60.0
+
+int sp_stderr_is_stdout(void)
+{
+    struct stat a, b;
+    return fstat(1, &a) == 0 && fstat(2, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
 
 void sp_progress_begin(int enable, const char *what, double t_goal)
 {

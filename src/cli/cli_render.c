@@ -579,7 +579,7 @@ static int run(int argc, char **argv, int still, const volatile sig_atomic_t *ca
         .handle_signals = !still, .supersample = o.still.scale,
         .write_partner = o.still.state ? write_state : NULL, .partner_ctx = &state_ctx,
         .partner = &state_file,
-        .progress = !o.quiet, .pt_px = pd.pt_px, .page_w = pd.page_w,
+        .progress = !o.quiet && !(!strcmp(out, "-") && sp_stderr_is_stdout()), .pt_px = pd.pt_px, .page_w = pd.page_w,
         .page_h = pd.page_h, .size_unit = {o.still.paper_unit[0], o.still.paper_unit[1]},
         .more = more, .n_more = o.n_scenes - 1,
         .recorded = pd.pt_px > 0 ? &recorded : NULL,

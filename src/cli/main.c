@@ -1,11 +1,13 @@
 /* springpend: entry point. Dispatches to a command; the only place that
  * turns an SP_E_* code into an exit status. */
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <malloc.h>
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "base/command_line.h"
@@ -129,8 +131,25 @@ static const struct command commands[] = {
     {"scene", sp_cmd_scene, 0, 0},
 };
 
+/* Fills a closed stdin, stdout or stderr with /dev/null opened the wrong way
+ * round (reads and writes still fail, EBADF, as on a closed descriptor), so
+ * that no file springpend opens becomes fd 0-2 and takes its messages
+ * (attack20 #2: `data ... 2>&-` wrote its progress into the CSV). */
+static void hold_standard_fds(void)
+{
+    for (int fd = 0; fd <= 2; fd++)
+        if (fcntl(fd, F_GETFD) < 0 && errno == EBADF) {
+            const int got = open("/dev/null", fd ? O_RDONLY : O_WRONLY);
+            if (got >= 0 && got != fd) { /* a lower one was closed too: fill in order */
+                dup2(got, fd);
+                close(got);
+            }
+        }
+}
+
 int main(int argc, char **argv)
 {
+    hold_standard_fds();
     /* A closed pipe (e.g. `springpend render --format raw -o - | head -c 1`)
      * becomes a write error with a message instead of a silent death. */
     signal(SIGPIPE, SIG_IGN);

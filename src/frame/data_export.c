@@ -247,7 +247,8 @@ int sp_data_run(const struct sp_data_desc *d)
     }
     static char buf[1 << 16];
     setvbuf(fp, buf, _IOFBF, sizeof(buf));
-    sp_progress_begin(!d->quiet && !(to_stdout && isatty(1)), "data", d->t_end);
+    sp_progress_begin(!d->quiet && !(to_stdout && (isatty(1) || sp_stderr_is_stdout())), "data",
+                      d->t_end);
     for (int i = 0; !ret && i < d->n_scenes; i++)
         ret = write_samples(fp, &d->scenes[i], d->every, d->poincare,
                             d->n_scenes > 1 ? d->names[i] : NULL, i == 0,

@@ -11,7 +11,10 @@ What is checked, reading stderr through a pipe as a CI log does:
 - a still of about 1e7 steps (under the note) says "camera pre-pass: t = …
   of … s (…%), ETA … s" within 20 s, then stops on SIGTERM, exit 143;
 - the same with -q says nothing in 15 s;
-- data to a file says "data: t = …" the same way.
+- data to a file says "data: t = …" the same way;
+- attack20 #2: with stderr closed (2>&-) the progress never lands in the
+  CSV (springpend fills a closed fd 0-2 so no output file takes it), and
+  with `-o - 2>&1` the CSV stream holds no progress line.
 usage: test_attack19_progress.py SPRINGPEND TESTS_SOURCE_DIR OUTPUT_DIR   (TAP on stdout)"""
 import os
 import re
@@ -69,4 +72,22 @@ line, code = first_line(["data", driven, "--set", "video.duration=200", *SLOW, "
                          "-o", "d.csv"], r"data: t = [0-9.e+]+ of [0-9.e+]+ s .*ETA", 20)
 ok(line != "" and code == 143 and not os.path.exists(os.path.join(work, "d.csv")),
    "data to a file says its progress on a pipe within 20 s, and stops on SIGTERM")
+
+# attack20 #2: a closed stderr, and stdout and stderr one pipe (about 20 s each
+# here; a progress line is due at 10 s)
+LONG = ["data", driven, "--set", "integrator.method=rk4", "--set", "integrator.dt=2e-7", "--set",
+        "video.duration=24"]
+r = subprocess.run([exe, *LONG, "--every", "0.01", "-o", "closed.csv"], cwd=work,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=600,
+                   preexec_fn=lambda: os.close(2))
+csv = open(os.path.join(work, "closed.csv"), errors="replace").read() if r.returncode == 0 else ""
+sptest.diag(f"2>&-: exit {r.returncode}, {len(csv)} bytes of CSV")
+ok(r.returncode == 0 and csv.count("\n") > 2000 and "springpend" not in csv,
+   "data with stderr closed: the CSV holds rows only (no message took the closed fd 2)")
+r = subprocess.run([exe, *LONG, "--every", "0.001", "-o", "-"], cwd=work, stdout=subprocess.PIPE,
+                   stderr=subprocess.STDOUT, timeout=600)
+text = r.stdout.decode(errors="replace")
+sptest.diag(f"-o - 2>&1: exit {r.returncode}, {len(text)} bytes")
+ok(r.returncode == 0 and text.count("\n") > 20000 and "springpend" not in text,
+   "data -o - with stderr on the same pipe: no progress line inside the CSV stream")
 done()

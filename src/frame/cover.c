@@ -4,13 +4,17 @@
 
 #include "cover.h"
 
-/* Cells of half a pixel up to this many, else whole pixels (a 4K drawing:
- * 8.3e6 cells, 16.6 MB). */
+/* Cells of half a pixel up to this many, else larger cells, at most
+ * MAX_CELLS of them (16.8 MB: a 4K drawing in whole pixels; a poster's
+ * drawing of 30000 px a side in cells of 10 px: attack20 #3, where the map
+ * had grown to 2.3 GB). */
 #define FINE_CELLS 4.2e6
+#define MAX_CELLS 8.4e6
 
 static int cover_make(struct sp_cover *c, int width, int height)
 {
-    c->cell = (double)width * height * 4 <= FINE_CELLS ? 0.5f : 1.0f;
+    const double area = (double)width * height;
+    c->cell = area * 4 <= FINE_CELLS ? 0.5f : (float)fmax(1.0, sqrt(area / MAX_CELLS));
     c->w = (int)ceilf(width / c->cell);
     c->h = (int)ceilf(height / c->cell);
     c->bits = c->w > 0 && c->h > 0 ? calloc((size_t)c->w * (size_t)c->h, sizeof(*c->bits)) : NULL;

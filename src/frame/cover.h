@@ -20,7 +20,8 @@
 struct sp_cover {
     uint16_t *bits; /* w * h cells, bit k: crossed in colour k; NULL: not made */
     int w, h;       /* cells */
-    float cell;     /* px a cell's side */
+    float cell;     /* px a cell's side: 0.5, or larger so that a large
+                       drawing has at most 8.4e6 cells (cover.c) */
     int failed;     /* out of memory: every segment is drawn, as before */
 };
 
